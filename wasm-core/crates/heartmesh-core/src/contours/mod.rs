@@ -1,0 +1,64 @@
+//! Contours: the input of the method. Cleaning, resampling, plane fits, the long axis, the SAX/LAX
+//! split and the rings that seed the initial tube.
+
+use crate::geometry::Vec3;
+
+/// One piece of a contour: an ordered polyline, closed (a ring) or open (e.g. a U-shaped long-axis
+/// curve open at the valves).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Polyline {
+    pub points: Vec<Vec3>,
+    pub closed: bool,
+}
+
+/// One delineated curve as the user gave it: an identifier, the surface it belongs to and one or
+/// more pieces (real files store some curves in two pieces, or as free-wall + septum).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contour {
+    pub id: String,
+    /// LV_ENDO, LV_EPI, RV_ENDO, RV_EPI or any other label; None when the file has no surface column.
+    pub surface: Option<String>,
+    pub pieces: Vec<Polyline>,
+    /// 1-based line of the contour's first point in its file (0 if not from a file).
+    pub first_line: usize,
+}
+
+impl Contour {
+    /// All points of all pieces.
+    pub fn points(&self) -> impl Iterator<Item = &Vec3> {
+        self.pieces.iter().flat_map(|p| p.points.iter())
+    }
+
+    pub fn point_count(&self) -> usize {
+        self.pieces.iter().map(|p| p.points.len()).sum()
+    }
+}
+
+/// Everything read from one input: contours, possibly of several surfaces, and named landmarks.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ContourSet {
+    pub contours: Vec<Contour>,
+    /// Named single points (MITRAL_VALVE, APEX_POINT, ...) kept for display and lids.
+    pub landmarks: Vec<(String, Vec3)>,
+    /// Warnings found while reading (units, non-planarity, ...), shown to the user.
+    pub warnings: Vec<String>,
+}
+
+impl ContourSet {
+    /// Distinct surface labels in order of first appearance.
+    pub fn surfaces(&self) -> Vec<String> {
+        let mut out: Vec<String> = Vec::new();
+        for c in &self.contours {
+            if let Some(s) = &c.surface {
+                if !out.contains(s) {
+                    out.push(s.clone());
+                }
+            }
+        }
+        out
+    }
+
+    pub fn point_count(&self) -> usize {
+        self.contours.iter().map(|c| c.point_count()).sum()
+    }
+}

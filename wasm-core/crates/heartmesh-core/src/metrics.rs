@@ -1,0 +1,1 @@
+//! Distances and measures (under construction).

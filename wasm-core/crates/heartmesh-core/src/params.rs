@@ -1,0 +1,256 @@
+//! Reconstruction parameters, their defaults (../shared/design/METHOD.md) and allowed ranges.
+//!
+//! One schema ([`Params::schema`]) is the single source of truth for names, defaults and ranges: the
+//! CLI flags, the browser sliders and the TypeScript tests all derive from it.
+
+use crate::error::{CoreError, Result};
+use crate::geometry::Vec3;
+use serde::Serialize;
+
+/// How attractor points are chosen from the contour points.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AttractorMode {
+    /// max(150, 25 x number of contours), the method's default.
+    Auto,
+    /// A fixed count.
+    Count(usize),
+    /// Farthest-point sampling until no contour point is farther than this many mm from a chosen one.
+    SpacingMm(f64),
+}
+
+/// How the tube is closed at its ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LidMode {
+    /// From the long-axis extremes (or the end SAX centroids without LAX).
+    Auto,
+    /// Open mesh: no lids.
+    None,
+    /// Explicit lid points in mm (either may be absent: that end stays automatic).
+    Explicit { apex: Option<Vec3>, base: Option<Vec3> },
+}
+
+/// All tunable parameters of a reconstruction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Params {
+    pub iterations: usize,
+    pub lambda: f64,
+    pub beta: f64,
+    pub attractors: AttractorMode,
+    pub resample_attractors_every: usize,
+    pub remesh_every: usize,
+    pub smoothing_iterations: usize,
+    pub smoothing_factor: f64,
+    pub target_reduction: f64,
+    pub ring_points: usize,
+    pub lids: LidMode,
+    /// Early stop when max squared attractor distance (normalised units) falls below this.
+    pub stop_threshold: f64,
+    /// Which surface of a multi-surface file to reconstruct (None: the only one).
+    pub surface: Option<String>,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            iterations: 250,
+            lambda: 1e5,
+            beta: 0.1,
+            attractors: AttractorMode::Auto,
+            resample_attractors_every: 25,
+            remesh_every: 20,
+            smoothing_iterations: 200,
+            smoothing_factor: 0.1,
+            target_reduction: 0.72,
+            ring_points: 50,
+            lids: LidMode::Auto,
+            stop_threshold: 1e-5,
+            surface: None,
+        }
+    }
+}
+
+/// One numeric parameter as the UI and the CLI see it.
+#[derive(Debug, Clone, Serialize)]
+pub struct ParamSpec {
+    /// snake_case name; the CLI flag is the same with dashes.
+    pub name: &'static str,
+    pub default: f64,
+    pub min: f64,
+    pub max: f64,
+    /// Sliders move on a log scale.
+    pub log: bool,
+    /// Whole numbers only.
+    pub integer: bool,
+    pub unit: &'static str,
+    pub help: &'static str,
+}
+
+const SCHEMA: &[ParamSpec] = &[
+    ParamSpec { name: "iterations", default: 250.0, min: 1.0, max: 2000.0, log: false, integer: true, unit: "", help: "deformation steps" },
+    ParamSpec { name: "lambda", default: 1e5, min: 1e-2, max: 1e9, log: true, integer: false, unit: "", help: "data weight of each thin-plate-spline step (divided by the attractor count); low = smooth, elliptical" },
+    ParamSpec { name: "beta", default: 0.1, min: 0.01, max: 1.0, log: false, integer: false, unit: "", help: "fraction of the way towards the attractors taken each step" },
+    ParamSpec { name: "attractors", default: 0.0, min: 0.0, max: 5000.0, log: false, integer: true, unit: "", help: "attractor count (0 = max(150, 25 x contours))" },
+    ParamSpec { name: "attractor_spacing", default: 0.0, min: 0.0, max: 50.0, log: false, integer: false, unit: "mm", help: "minimum attractor spacing in mm (0 = use the count)" },
+    ParamSpec { name: "resample_attractors_every", default: 25.0, min: 1.0, max: 2000.0, log: false, integer: true, unit: "", help: "iterations between attractor re-sampling" },
+    ParamSpec { name: "remesh_every", default: 20.0, min: 1.0, max: 2000.0, log: false, integer: true, unit: "", help: "iterations between subdivide + smooth + decimate" },
+    ParamSpec { name: "smoothing_iterations", default: 200.0, min: 0.0, max: 2000.0, log: false, integer: true, unit: "", help: "Laplacian smoothing iterations per remesh" },
+    ParamSpec { name: "smoothing_factor", default: 0.1, min: 0.0, max: 1.0, log: false, integer: false, unit: "", help: "Laplacian relaxation factor" },
+    ParamSpec { name: "target_reduction", default: 0.72, min: 0.0, max: 0.95, log: false, integer: false, unit: "", help: "fraction of triangles removed by decimation after subdivision" },
+    ParamSpec { name: "ring_points", default: 50.0, min: 8.0, max: 500.0, log: false, integer: true, unit: "", help: "points per contour ring of the initial tube" },
+];
+
+impl Params {
+    /// Names, defaults and ranges of the numeric parameters (lids and surface are modes, not numbers).
+    pub fn schema() -> &'static [ParamSpec] {
+        SCHEMA
+    }
+
+    /// The schema as JSON, for the browser and for tests that compare it with the TypeScript side.
+    pub fn schema_json() -> String {
+        serde_json::to_string(SCHEMA).unwrap_or_else(|_| "[]".to_string())
+    }
+
+    /// Sets a numeric parameter by its schema name, checking its range.
+    pub fn set(&mut self, name: &str, value: f64) -> Result<()> {
+        let spec = SCHEMA
+            .iter()
+            .find(|s| s.name == name)
+            .ok_or_else(|| CoreError::ParamInvalid {
+                name: name.to_string(),
+                message: "unknown parameter".to_string(),
+            })?;
+        if !value.is_finite() || value < spec.min || value > spec.max {
+            return Err(CoreError::ParamOutOfRange {
+                name: name.to_string(),
+                value,
+                min: spec.min,
+                max: spec.max,
+            });
+        }
+        if spec.integer && value.fract() != 0.0 {
+            return Err(CoreError::ParamInvalid {
+                name: name.to_string(),
+                message: format!("{value} is not a whole number"),
+            });
+        }
+        let n = value as usize;
+        match name {
+            "iterations" => self.iterations = n,
+            "lambda" => self.lambda = value,
+            "beta" => self.beta = value,
+            "attractors" => {
+                self.attractors = if n == 0 {
+                    AttractorMode::Auto
+                } else {
+                    AttractorMode::Count(n)
+                }
+            }
+            "attractor_spacing" => {
+                if value > 0.0 {
+                    self.attractors = AttractorMode::SpacingMm(value)
+                } else if matches!(self.attractors, AttractorMode::SpacingMm(_)) {
+                    self.attractors = AttractorMode::Auto
+                }
+            }
+            "resample_attractors_every" => self.resample_attractors_every = n,
+            "remesh_every" => self.remesh_every = n,
+            "smoothing_iterations" => self.smoothing_iterations = n,
+            "smoothing_factor" => self.smoothing_factor = value,
+            "target_reduction" => self.target_reduction = value,
+            "ring_points" => self.ring_points = n,
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// Reads the value of a numeric parameter by its schema name.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        Some(match name {
+            "iterations" => self.iterations as f64,
+            "lambda" => self.lambda,
+            "beta" => self.beta,
+            "attractors" => match self.attractors {
+                AttractorMode::Count(n) => n as f64,
+                _ => 0.0,
+            },
+            "attractor_spacing" => match self.attractors {
+                AttractorMode::SpacingMm(s) => s,
+                _ => 0.0,
+            },
+            "resample_attractors_every" => self.resample_attractors_every as f64,
+            "remesh_every" => self.remesh_every as f64,
+            "smoothing_iterations" => self.smoothing_iterations as f64,
+            "smoothing_factor" => self.smoothing_factor,
+            "target_reduction" => self.target_reduction,
+            "ring_points" => self.ring_points as f64,
+            _ => return None,
+        })
+    }
+
+    /// Parses a lids mode: `auto`, `none`.
+    pub fn set_lids(&mut self, mode: &str) -> Result<()> {
+        self.lids = match mode {
+            "auto" => LidMode::Auto,
+            "none" => LidMode::None,
+            other => {
+                return Err(CoreError::ParamInvalid {
+                    name: "lids".to_string(),
+                    message: format!("unknown mode {other:?} (allowed: auto, none)"),
+                })
+            }
+        };
+        Ok(())
+    }
+
+    /// Checks every value against its range (also for values set directly on the struct).
+    pub fn validate(&self) -> Result<()> {
+        for spec in SCHEMA {
+            if let Some(v) = self.get(spec.name) {
+                let mut probe = Params::default();
+                probe.set(spec.name, v)?;
+            }
+        }
+        if !(self.stop_threshold.is_finite() && self.stop_threshold >= 0.0) {
+            return Err(CoreError::ParamOutOfRange {
+                name: "stop_threshold".into(),
+                value: self.stop_threshold,
+                min: 0.0,
+                max: f64::INFINITY,
+            });
+        }
+        if let LidMode::Explicit { apex, base } = self.lids {
+            for p in [apex, base].into_iter().flatten() {
+                if !p.iter().all(|c| c.is_finite()) {
+                    return Err(CoreError::ParamInvalid {
+                        name: "lids".into(),
+                        message: "lid point has a non-finite coordinate".into(),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn schema_defaults_match_struct_defaults() {
+        let p = Params::default();
+        for s in Params::schema() {
+            assert_eq!(p.get(s.name), Some(s.default), "{}", s.name);
+            assert!(s.min <= s.default && s.default <= s.max, "{}", s.name);
+        }
+        p.validate().unwrap();
+    }
+
+    #[test]
+    fn out_of_range_names_the_range() {
+        let mut p = Params::default();
+        let e = p.set("beta", 2.0).unwrap_err();
+        assert_eq!(e.code(), "param_out_of_range");
+        assert!(e.to_string().contains("0.01"), "{e}");
+    }
+}

@@ -1,0 +1,1 @@
+//! WebAssembly binding of heartmesh-core (under construction).
