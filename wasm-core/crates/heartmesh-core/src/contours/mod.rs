@@ -62,3 +62,12 @@ impl ContourSet {
         self.contours.iter().map(|c| c.point_count()).sum()
     }
 }
+
+/// Short-axis (the parallel stack) or long-axis contour.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum ContourKind {
+    #[serde(rename = "SAX")]
+    Sax,
+    #[serde(rename = "LAX")]
+    Lax,
+}

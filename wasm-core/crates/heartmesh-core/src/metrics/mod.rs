@@ -1,0 +1,1 @@
+//! Distances and measures (lead: stats, contour-to-mesh; validation helper: compare.rs).
