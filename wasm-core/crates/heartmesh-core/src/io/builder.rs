@@ -31,7 +31,7 @@ pub struct ContourBuilder {
     warnings: Vec<String>,
 }
 
-#[allow(dead_code)] // break_run, landmark, warn: for the GPFile and XYZ readers (next commits)
+#[allow(dead_code)] // warn: for the GPFile reader (next commit)
 impl ContourBuilder {
     pub fn new() -> Self {
         Self::default()

@@ -3,7 +3,7 @@
 //! semicolon or tab separated, optional UTF-8 BOM and CRLF line ends.
 
 use super::builder::ContourBuilder;
-use super::text::{data_lines, decode, parse_coord};
+use super::text::{decode, lines, parse_coord};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
 use crate::geometry::v3;
@@ -22,15 +22,30 @@ struct Columns {
 /// Reads canonical CSV contours.
 pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
     let text = decode(bytes)?;
-    let mut rows = data_lines(text);
-    let (header_line, header) = rows
-        .next()
-        .ok_or_else(|| CoreError::parse(0, "empty file (only comments)"))?;
+    let mut rows = lines(text);
+    let mut header = None;
+    for (line, row) in rows.by_ref() {
+        let t = row.trim_start();
+        if !t.is_empty() && !t.starts_with('#') {
+            header = Some((line, row));
+            break;
+        }
+    }
+    let (header_line, header) =
+        header.ok_or_else(|| CoreError::parse(0, "empty file (only comments)"))?;
     let sep = detect_separator(header);
     let cols = parse_header(header, sep, header_line)?;
     let mut b = ContourBuilder::new();
     let mut fields: Vec<&str> = Vec::new();
     for (line, row) in rows {
+        let t = row.trim_start();
+        if t.is_empty() {
+            continue;
+        }
+        if let Some(c) = t.strip_prefix('#') {
+            read_comment(c.trim(), &mut b, line)?;
+            continue;
+        }
         split_fields(row, sep, &mut fields);
         if fields.len() <= cols.x.max(cols.y).max(cols.z).max(cols.contour) {
             return Err(CoreError::parse(
@@ -64,6 +79,23 @@ pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
         ));
     }
     b.finish()
+}
+
+/// The two comments heartmesh writes itself: `# piece ...` starts a new piece of the next contour
+/// (so that pieces survive a round trip), `# landmark NAME x y z` is a named point.
+fn read_comment(c: &str, b: &mut ContourBuilder, line: usize) -> Result<()> {
+    if c.starts_with("piece") {
+        b.break_run();
+    } else if let Some(rest) = c.strip_prefix("landmark ") {
+        let f: Vec<&str> = rest.split_whitespace().collect();
+        if f.len() == 4 {
+            let x = parse_coord(f[1], line, "landmark x")?;
+            let y = parse_coord(f[2], line, "landmark y")?;
+            let z = parse_coord(f[3], line, "landmark z")?;
+            b.landmark(f[0], v3(x, y, z), line)?;
+        }
+    }
+    Ok(())
 }
 
 /// Tab if the header has one, else semicolon if it has one, else comma.
@@ -166,6 +198,93 @@ fn unquote(field: &str) -> &str {
         .trim()
 }
 
+/// Writes contours as canonical CSV (`contour,x,y,z[,surface][,distance]`); every piece after the
+/// first is preceded by a comment so that pieces stay apart when read back (an id that reappears
+/// after another id is a new piece, so consecutive pieces are separated by a `# piece` marker and a
+/// repeated id is not enough on its own); landmarks become `# landmark` comments.
+///
+/// `distances` holds one value per point in contour, piece, point order (as
+/// `Reconstruction::contour_distances().per_point`).
+pub fn write_csv(set: &ContourSet, distances: Option<&[f64]>) -> Result<Vec<u8>> {
+    use super::fmt_num;
+    if let Some(d) = distances {
+        if d.len() != set.point_count() {
+            return Err(CoreError::Io(format!(
+                "{} distances for {} contour points",
+                d.len(),
+                set.point_count()
+            )));
+        }
+    }
+    let with_surface = set.contours.iter().any(|c| c.surface.is_some());
+    let mut out = String::from("contour,x,y,z");
+    if with_surface {
+        out.push_str(",surface");
+    }
+    if distances.is_some() {
+        out.push_str(",distance");
+    }
+    out.push('\n');
+    let mut k = 0;
+    for c in &set.contours {
+        let id = csv_field(&c.id);
+        for (pi, piece) in c.pieces.iter().enumerate() {
+            if pi > 0 {
+                out.push_str(&format!(
+                    "# piece {} of {}\n",
+                    pi + 1,
+                    c.id.replace('\n', " ")
+                ));
+            }
+            let mut pts: Vec<_> = piece.points.clone();
+            // A closed ring is written with its first point repeated, so that the closed-ring
+            // heuristic of the reader recognises it again whatever the spacing.
+            if piece.closed && pts.len() >= 3 {
+                pts.push(pts[0]);
+            }
+            for (j, p) in pts.iter().enumerate() {
+                out.push_str(&format!(
+                    "{id},{},{},{}",
+                    fmt_num(p.x),
+                    fmt_num(p.y),
+                    fmt_num(p.z)
+                ));
+                if with_surface {
+                    out.push(',');
+                    out.push_str(&csv_field(c.surface.as_deref().unwrap_or("")));
+                }
+                if let Some(d) = distances {
+                    // The repeated closing point has the first point's distance.
+                    let idx = if j < piece.points.len() { k + j } else { k };
+                    out.push(',');
+                    out.push_str(&fmt_num(d[idx]));
+                }
+                out.push('\n');
+            }
+            k += piece.points.len();
+        }
+    }
+    for (name, p) in &set.landmarks {
+        out.push_str(&format!(
+            "# landmark {} {} {} {}\n",
+            name.replace(char::is_whitespace, "_"),
+            fmt_num(p.x),
+            fmt_num(p.y),
+            fmt_num(p.z)
+        ));
+    }
+    Ok(out.into_bytes())
+}
+
+/// Quotes a field when it holds a separator, a quote or surrounding spaces.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', ';', '\t', '"', '\n', '\r']) || s.trim() != s {
+        format!("\"{}\"", s.replace('"', "\"\"").replace(['\n', '\r'], " "))
+    } else {
+        s.to_string()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -215,6 +334,25 @@ mod tests {
         assert!(e.to_string().contains("column \"z\""), "{e}");
         assert_eq!(read("").unwrap_err().code(), "parse");
         assert!(read("contour,x,y,z\n# nothing\n").is_err());
+    }
+
+    #[test]
+    fn writer_round_trips_pieces_rings_landmarks_distances() {
+        let bytes = super::super::sample("contours/bivme-example-patient1/patient1-ED.csv");
+        let mut set = read_csv(&bytes).unwrap();
+        set.landmarks.push(("APEX_POINT".into(), v3(1.0, 2.0, 3.5)));
+        let d: Vec<f64> = (0..set.point_count()).map(|i| i as f64 * 0.01).collect();
+        let out = write_csv(&set, Some(&d)).unwrap();
+        let back = read_csv(&out).unwrap();
+        assert_eq!(back.contours.len(), set.contours.len());
+        for (a, b) in back.contours.iter().zip(&set.contours) {
+            assert_eq!((&a.id, &a.surface), (&b.id, &b.surface));
+            assert!(a.pieces == b.pieces, "pieces of {} differ", a.id);
+        }
+        assert_eq!(back.landmarks, set.landmarks);
+        let text = String::from_utf8(out).unwrap();
+        assert!(text.starts_with("contour,x,y,z,surface,distance\n"));
+        assert!(write_csv(&set, Some(&d[1..])).is_err());
     }
 
     #[test]
