@@ -225,9 +225,13 @@ impl UnionFind {
 /// Checks closedness, manifoldness, orientation and counts defects. Never panics, whatever the
 /// indices hold.
 pub fn validity(mesh: &TriMesh) -> MeshValidity {
+    validity_with_map(mesh, &EdgeMap::new(mesh))
+}
+
+/// [`validity`] reusing an edge map built for `mesh`.
+pub fn validity_with_map(mesh: &TriMesh, map: &EdgeMap) -> MeshValidity {
     let tris = &mesh.triangles;
     let nv = mesh.positions.len();
-    let map = EdgeMap::new(mesh);
 
     let mut degenerate = 0usize;
     let mut referenced = vec![false; map.vertex_slots()];
@@ -401,6 +405,25 @@ pub fn boundary_half_edges(mesh: &TriMesh, map: &EdgeMap) -> Vec<(u32, u32)> {
         .collect()
 }
 
+/// Previous and next vertex along the boundary (in the direction of the boundary half-edges) of
+/// every vertex with exactly one boundary passage; `[NO_TWIN, NO_TWIN]` for interior vertices and
+/// for vertices where several boundary loops touch (non-manifold).
+pub fn boundary_links(mesh: &TriMesh, map: &EdgeMap) -> Vec<[u32; 2]> {
+    let mut links = vec![[NO_TWIN, NO_TWIN]; map.vertex_slots()];
+    let mut passages = vec![0u8; map.vertex_slots()];
+    for (a, b) in boundary_half_edges(mesh, map) {
+        links[a as usize][1] = b;
+        links[b as usize][0] = a;
+        passages[a as usize] = passages[a as usize].saturating_add(1);
+    }
+    for (link, &p) in links.iter_mut().zip(&passages) {
+        if p > 1 || (link[0] == NO_TWIN) != (link[1] == NO_TWIN) {
+            *link = [NO_TWIN, NO_TWIN];
+        }
+    }
+    links
+}
+
 /// Which vertices lie on a boundary edge (mask of length `positions.len()`).
 pub fn boundary_vertices(mesh: &TriMesh) -> Vec<bool> {
     let map = EdgeMap::new(mesh);
@@ -514,7 +537,12 @@ mod tests {
 
     fn tetra() -> TriMesh {
         TriMesh::new(
-            vec![v3(0., 0., 0.), v3(1., 0., 0.), v3(0., 1., 0.), v3(0., 0., 1.)],
+            vec![
+                v3(0., 0., 0.),
+                v3(1., 0., 0.),
+                v3(0., 1., 0.),
+                v3(0., 0., 1.),
+            ],
             vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
         )
     }
@@ -533,7 +561,12 @@ mod tests {
     #[test]
     fn single_triangle_is_open_disk() {
         let m = TriMesh::new(
-            vec![v3(0., 0., 0.), v3(1., 0., 0.), v3(0., 1., 0.), v3(5., 5., 5.)],
+            vec![
+                v3(0., 0., 0.),
+                v3(1., 0., 0.),
+                v3(0., 1., 0.),
+                v3(5., 5., 5.),
+            ],
             vec![[0, 1, 2]],
         );
         let v = validity(&m);
