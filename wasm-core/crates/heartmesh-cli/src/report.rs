@@ -9,6 +9,7 @@ use serde_json::{json, Map, Value};
 /// What the command knows besides the reconstruction itself.
 pub struct Facts<'a> {
     pub input: &'a str,
+    pub input_format: &'a str,
     pub output: &'a str,
     pub params: &'a Params,
     pub iterations: usize,
@@ -40,6 +41,7 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
     json!({
         "version": heartmesh_core::VERSION,
         "input": f.input,
+        "input_format": f.input_format,
         "output": f.output,
         "surface": f.params.surface,
         "iterations": f.iterations,

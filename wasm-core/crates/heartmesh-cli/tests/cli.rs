@@ -157,3 +157,49 @@ fn convert_contours_and_meshes() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn convert_every_contour_format_to_csv_and_session() {
+    let dir = scratch("contour-formats");
+    for (rel, expect) in [
+        (
+            "contours/surfco-example.mat",
+            "8 contours, 3008 points, 0 landmarks",
+        ),
+        (
+            "contours/bivme-example-patient1/GPFile_000.txt",
+            "40 contours, 1791 points, 23 landmarks",
+        ),
+    ] {
+        let csv = dir.join("c.csv");
+        let (code, out, err) = run(bin().args(["convert", s(&data(rel)), s(&csv)]));
+        assert_eq!(code, 0, "{rel}: {err}");
+        assert!(
+            err.is_empty(),
+            "{rel}: SliceInfoFile planes fit, no warnings: {err}"
+        );
+        assert_eq!(out, format!("{}: {expect}\n", s(&csv)), "{rel}");
+        // csv -> session -> csv keeps everything.
+        let json = dir.join("c.json");
+        let (code, out, err) = run(bin().args(["convert", s(&csv), s(&json)]));
+        assert_eq!(code, 0, "{err}");
+        assert_eq!(out, format!("{}: {expect}\n", s(&json)), "{rel}");
+        let back = dir.join("back.csv");
+        let (code, out, _) = run(bin().args(["convert", s(&json), s(&back)]));
+        assert_eq!(code, 0);
+        assert_eq!(out, format!("{}: {expect}\n", s(&back)), "{rel}");
+    }
+    let (code, _, err) = run(bin().args([
+        "convert",
+        s(&data("contours/bivme-example-patient1/GPFile_009.txt")),
+        s(&dir.join("f.csv")),
+        "--frame",
+        "3",
+    ]));
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("no contour points in frame 3 (frames in the file: 9, 1)"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
