@@ -11,6 +11,8 @@ pub mod mat;
 pub mod obj;
 pub mod ply;
 pub mod session;
+#[cfg(test)]
+mod smoke;
 pub mod stl;
 mod text;
 pub mod vtk;
