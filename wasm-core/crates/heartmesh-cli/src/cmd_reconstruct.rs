@@ -79,17 +79,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
 
     let started = Instant::now();
     let mut rec = Reconstruction::new(&set, params.clone()).map_err(|e| classify(input, e))?;
-    // The pipeline reports `done` after its last iteration; the bound only guards against a
-    // pipeline bug turning into an endless loop.
-    let max_steps = params.iterations + 2;
-    let mut iterations = 0;
-    for _ in 0..=max_steps {
-        let r = rec.step().map_err(|e| classify(input, e))?;
-        iterations = r.iteration;
-        if r.done {
-            break;
-        }
-    }
+    rec.run().map_err(|e| classify(input, e))?;
     let seconds = started.elapsed().as_secs_f64();
 
     let facts = report::Facts {
@@ -97,14 +87,13 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         input_format,
         output: file_name(output),
         params: &params,
-        iterations,
         seconds,
         warnings: &set.warnings,
     };
     let rep = report::build(&rec, &facts);
     let comment = report::header_comment(&facts);
     let distances = report::vertex_distances(&rec);
-    let point_data = distances.as_deref().map(|d| ("distance", d));
+    let point_data = Some(("distance", distances.as_slice()));
     let mesh_bytes = io::write_mesh(rec.mesh(), format, point_data, &comment)
         .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
     files::write(output, &mesh_bytes)?;
