@@ -31,7 +31,6 @@ pub struct ContourBuilder {
     warnings: Vec<String>,
 }
 
-#[allow(dead_code)] // warn: for the GPFile reader (next commit)
 impl ContourBuilder {
     pub fn new() -> Self {
         Self::default()

@@ -301,7 +301,8 @@ fn read_cells(c: &mut Cursor, binary: bool, npoints: usize) -> Result<Vec<Vec<u3
     let mut used = 0usize;
     for _ in 0..n {
         let k = c.number("int")?;
-        if !(k >= 0.0 && k.fract() == 0.0 && used + 1 + k as usize <= size) {
+        let room = size.saturating_sub(used + 1) as f64;
+        if !(k >= 0.0 && k.fract() == 0.0 && k <= room) {
             return Err(c.err(format!(
                 "cell size {k} does not fit the declared data size {size}"
             )));
@@ -370,19 +371,35 @@ pub(crate) fn mesh_from_cells(
     polys: &[Vec<u32>],
     point_data: Option<(String, Vec<f64>)>,
 ) -> Result<MeshData> {
+    check_indices(points.len(), polys)?;
     let mut triangles = Vec::new();
     for p in polys {
         for k in 1..p.len().saturating_sub(1) {
+            if triangles.len() >= MAX_MESH_ELEMENTS {
+                return Err(CoreError::parse(0, "too many triangles"));
+            }
             triangles.push([p[0], p[k], p[k + 1]]);
         }
     }
     if triangles.is_empty() {
         return Err(CoreError::parse(0, "no polygons found"));
     }
+    let point_data = point_data.filter(|(_, v)| v.len() == points.len());
     Ok(MeshData {
         mesh: TriMesh::new(points, triangles),
         point_data,
     })
+}
+
+/// Cells read before a later POINTS section replaced the points may point past the end.
+fn check_indices(n: usize, cells: &[Vec<u32>]) -> Result<()> {
+    match cells.iter().flatten().find(|&&i| i as usize >= n) {
+        Some(i) => Err(CoreError::parse(
+            0,
+            format!("cell refers to point {i}, but there are {n} points"),
+        )),
+        None => Ok(()),
+    }
 }
 
 /// Reads the line cells of a POLYDATA file as contours `line1`, `line2`, ... (one per cell).
@@ -399,6 +416,7 @@ pub(crate) fn contours_from_lines(
     if lines.is_empty() {
         return Err(CoreError::parse(0, "no LINES (polylines) found"));
     }
+    check_indices(points.len(), lines)?;
     let mut b = ContourBuilder::new();
     for (k, cell) in lines.iter().enumerate() {
         let id = format!("line{}", k + 1);
