@@ -130,7 +130,7 @@ fn parse_header(header: &str, sep: char, line: usize) -> Result<Columns> {
                 format!(
                     "missing column {:?} in the header (found: {})",
                     wanted[0],
-                    names.join(", ")
+                    super::text::shorten(&names.join(", "), 80)
                 ),
             )
         })
