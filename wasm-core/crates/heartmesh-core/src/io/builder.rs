@@ -258,6 +258,21 @@ mod tests {
     }
 
     #[test]
+    fn point_limit_is_refused_with_the_limit() {
+        let mut b = ContourBuilder::new();
+        let mut result = Ok(());
+        for i in 0..=MAX_POINTS {
+            result = b.push("a", None, v3(i as f64, 0.0, 0.0), i + 2);
+            if result.is_err() {
+                break;
+            }
+        }
+        let e = result.unwrap_err();
+        assert_eq!(e.line(), Some(MAX_POINTS + 2));
+        assert!(e.to_string().contains("2000000"), "{e}");
+    }
+
+    #[test]
     fn duplicates_are_reported() {
         let mut b = ContourBuilder::new();
         for (k, id) in ["a", "b", "c"].iter().enumerate() {
