@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use heartmesh_core::io::{self, MeshFormat};
 use heartmesh_core::pipeline::Reconstruction;
-use heartmesh_core::{ContourSet, CoreError, Params};
+use heartmesh_core::{ContourSet, CoreError, LidMode, Params};
 
 use crate::args::{parse, Parsed, Spec};
 use crate::cmd_convert::file_name;
@@ -18,10 +18,11 @@ pub const USAGE: &str =
     "heartmesh reconstruct CONTOURS -o MESH.obj [--report REPORT.json] [--surface LV_ENDO]
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
-    [--target-reduction 0.72] [--lids auto|none] [--resample-attractors-every 25]
+    [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
     [--ring-points 50] [--frame N] [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
+  --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time
   frame), xyz text, vtk/vtp lines, SurFCo .mat, heartmesh session .json (its parameters are
@@ -82,6 +83,15 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let params = params_from(&p, loaded.session_params.unwrap_or_default())?;
     let input_format = loaded.format.name();
     let set = loaded.set;
+    let mut params = params;
+    if p.value("lids") == Some("apex") {
+        params.lids = apex_lid(&set).ok_or_else(|| {
+            CliError::input(
+                input,
+                CoreError::parse(0, "--lids apex needs an APEX_POINT landmark in the file"),
+            )
+        })?;
+    }
     if !quiet {
         for w in &set.warnings {
             eprintln!("heartmesh: warning: {input}: {w}");
@@ -148,7 +158,8 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
             params.set(&key, v).map_err(CliError::param)?;
         }
     }
-    if let Some(l) = p.value("lids") {
+    // `apex` is resolved once the file is read (it needs the APEX_POINT landmark).
+    if let Some(l) = p.value("lids").filter(|l| *l != "apex") {
         params.set_lids(l).map_err(CliError::param)?;
     }
     if let Some(s) = p.value("surface") {
@@ -156,6 +167,20 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     }
     params.validate().map_err(CliError::param)?;
     Ok(params)
+}
+
+/// The apex lid at the file's APEX_POINT landmark (biv-me guide points carry one); the base lid
+/// stays automatic.
+fn apex_lid(set: &ContourSet) -> Option<LidMode> {
+    let apex = set
+        .landmarks
+        .iter()
+        .find(|(name, _)| name == "APEX_POINT")
+        .map(|(_, p)| *p)?;
+    Some(LidMode::Explicit {
+        apex: Some(apex),
+        base: None,
+    })
 }
 
 /// Input problems exit with 2 and name the file; numerical failures are the tool's (exit 1).

@@ -286,6 +286,8 @@ fn reconstruct_gpfile_surface_to_ply() {
         "LV_ENDO",
         "--iterations",
         "60",
+        "--lids",
+        "apex",
         "--report",
         s(&report),
         "--contour-distances",
@@ -307,6 +309,7 @@ fn reconstruct_gpfile_surface_to_ply() {
     assert_eq!(r["surface"], "LV_ENDO");
     assert_eq!(r["input_format"], "biv-me GPFile");
     assert_eq!(r["iterations"], 60);
+    assert_eq!(r["parameters"]["lids"], "apex");
     assert_eq!(r["watertight"], true, "{r}");
     assert!(num(&r, &["contour_to_mesh", "mean"]) <= 1.5, "{r}");
     let max = dist.iter().cloned().fold(0.0, f64::max);
@@ -322,5 +325,15 @@ fn reconstruct_gpfile_surface_to_ply() {
         header.contains(&format!("element vertex {}\n", r["vertices"])),
         "{header}"
     );
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        s(&data("contours/surfco-example.csv")),
+        "-o",
+        s(&ply),
+        "--lids",
+        "apex",
+    ]));
+    assert_eq!(code, 2);
+    assert!(err.contains("needs an APEX_POINT landmark"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
