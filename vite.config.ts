@@ -1,4 +1,4 @@
-import { defineConfig } from 'vite';
+import { defineConfig } from 'vitest/config';
 
 // Static site: relative base so dist/ works from any path on any static server.
 export default defineConfig({
