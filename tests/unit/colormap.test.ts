@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { colorAt, colorize, cssColorAt, LUT_SIZE, lutIndex, niceTicks, robustMax, VIRIDIS_LUT } from '../../web/src/viewer/colormap';
+import { colorAt, colorize, colorizeU8, cssColorAt, LUT_SIZE, lutIndex, niceTicks, robustMax, VIRIDIS_LUT } from '../../web/src/viewer/colormap';
 
 const lum = (r: number, g: number, b: number) => 0.2126 * r + 0.7152 * g + 0.0722 * b;
 
@@ -50,5 +50,12 @@ describe('legend ticks in mm', () => {
     expect(robustMax([0.13, 0.21, 0.27])).toBe(0.25); // p98 of three values is the middle one
     expect(robustMax([])).toBe(1);
     expect(robustMax([0, 0])).toBe(1);
+  });
+});
+
+describe('byte colours', () => {
+  it('match the float LUT rounded to bytes', () => {
+    const out = colorizeU8([0, 0.5, 1], 0, 1);
+    expect(Array.from(out)).toEqual([68, 1, 84, 33, 145, 140, 253, 231, 37]);
   });
 });

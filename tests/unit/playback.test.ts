@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { initialPlayback, isAtEnd, restart, seek, step, tick, togglePlaying } from '../../web/src/app/playback';
+import { initialPlayback, type Playback, isAtEnd, restart, seek, step, tick, togglePlaying } from '../../web/src/app/playback';
 
 describe('playback', () => {
   it('live speed always shows the newest frame', () => {
@@ -10,7 +10,7 @@ describe('playback', () => {
     expect(isAtEnd(p, 7)).toBe(true);
   });
   it('a finite speed replays at that many steps per second', () => {
-    let p = { ...initialPlayback, speed: 10 };
+    let p: Playback = { ...initialPlayback, speed: 10 };
     p = tick(p, 100, 0);
     expect(p.cursor).toBe(0);
     p = tick(p, 100, 250); // 2.5 intervals of 100 ms
@@ -43,7 +43,7 @@ describe('playback', () => {
     expect(step(initialPlayback, 0, 1)).toBe(initialPlayback);
   });
   it('playing at the end of a slow replay starts again; a new run follows live', () => {
-    let p = { ...initialPlayback, speed: 30, playing: false, cursor: 9 };
+    let p: Playback = { ...initialPlayback, speed: 30, playing: false, cursor: 9 };
     p = togglePlaying(p, 10, 0);
     expect(p.cursor).toBe(0);
     expect(restart({ ...p, playing: false }).playing).toBe(true);

@@ -1,13 +1,12 @@
 // Reads the parameter schema from the Rust source (the single source of truth), so the TS tests
 // use exactly the names, defaults and ranges the core will send over CoreClient.schema().
-import { readFileSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
 import type { ParamSpec } from '../../web/src/core-client/protocol';
+import paramsRs from '../../wasm-core/crates/heartmesh-core/src/params.rs?raw';
 
-const PARAMS_RS = fileURLToPath(new URL('../../wasm-core/crates/heartmesh-core/src/params.rs', import.meta.url));
+const PARAMS_RS = 'wasm-core/crates/heartmesh-core/src/params.rs';
 
 export function rustSchema(): ParamSpec[] {
-  const text = readFileSync(PARAMS_RS, 'utf8');
+  const text: string = paramsRs;
   const re =
     /ParamSpec\s*\{\s*name:\s*"([^"]+)",\s*default:\s*([^,]+),\s*min:\s*([^,]+),\s*max:\s*([^,]+),\s*log:\s*(true|false),\s*integer:\s*(true|false),\s*unit:\s*"([^"]*)",\s*help:\s*"([^"]*)"/g;
   const out: ParamSpec[] = [];

@@ -103,3 +103,18 @@ export function robustMax(values: ArrayLike<number>): number {
   const nice = [1, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10].map((m) => m * mag).find((s) => s >= p - 1e-12);
   return nice ?? 10 * mag;
 }
+
+/** The LUT as bytes, for compact normalized Uint8 colour attributes. */
+export const VIRIDIS_LUT_U8: Uint8Array = Uint8Array.from(VIRIDIS_LUT, (v) => Math.round(v * 255));
+
+/** Like `colorize`, but into bytes (3 per value) for a normalized Uint8 colour attribute. */
+export function colorizeU8(values: ArrayLike<number>, min: number, max: number, out?: Uint8Array): Uint8Array {
+  const target = out && out.length === values.length * 3 ? out : new Uint8Array(values.length * 3);
+  for (let v = 0; v < values.length; v++) {
+    const i = lutIndex(values[v], min, max) * 3;
+    target[v * 3] = VIRIDIS_LUT_U8[i];
+    target[v * 3 + 1] = VIRIDIS_LUT_U8[i + 1];
+    target[v * 3 + 2] = VIRIDIS_LUT_U8[i + 2];
+  }
+  return target;
+}

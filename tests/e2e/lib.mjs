@@ -1,0 +1,70 @@
+// Shared helpers of the browser end-to-end tests: serve the built dist/ with `vite preview` and
+// drive Debian's chromium with playwright-core (never a downloaded browser).
+import { spawn } from 'node:child_process';
+import { mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join, dirname } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+export const ROOT = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
+export const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
+export const FLAGS = [
+  '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+  '--disable-background-networking', '--disable-component-update', '--disable-sync',
+  // WebGL on the CPU (SwiftShader): --disable-gpu alone leaves the 3D view without a context.
+  '--enable-unsafe-swiftshader', '--use-angle=swiftshader',
+];
+
+/** Starts `vite preview` on dist/ at a free-ish port; resolves to { url, stop }. */
+export async function startPreview(port = 4173 + Math.floor(Math.random() * 800)) {
+  const vite = join(ROOT, 'node_modules', '.bin', 'vite');
+  const child = spawn(vite, ['preview', '--port', String(port), '--strictPort', '--host', '127.0.0.1'], {
+    cwd: ROOT, stdio: ['ignore', 'pipe', 'pipe'], detached: false,
+  });
+  let output = '';
+  child.stdout.on('data', (d) => (output += d));
+  child.stderr.on('data', (d) => (output += d));
+  const url = `http://127.0.0.1:${port}/`;
+  const deadline = Date.now() + 20000;
+  for (;;) {
+    try {
+      const r = await fetch(url);
+      if (r.ok) break;
+    } catch {
+      /* not up yet */
+    }
+    if (child.exitCode !== null || Date.now() > deadline) throw new Error(`vite preview did not start:\n${output}`);
+    await new Promise((r) => setTimeout(r, 150));
+  }
+  return { url, stop: () => child.kill('SIGTERM') };
+}
+
+/** Launches chromium with a fresh profile; resolves to { browser, close }. */
+export async function launch() {
+  const userDataDir = mkdtempSync(join(tmpdir(), 'heartmesh-e2e-'));
+  const context = await chromium.launchPersistentContext(userDataDir, {
+    executablePath: CHROMIUM,
+    headless: true,
+    args: FLAGS,
+    viewport: { width: 1280, height: 720 },
+    acceptDownloads: true,
+  });
+  return {
+    context,
+    close: async () => {
+      await context.close();
+      rmSync(userDataDir, { recursive: true, force: true });
+    },
+  };
+}
+
+/** Records every request; `foreign()` lists those that left the page's origin. */
+export function watchRequests(context, origin) {
+  const seen = [];
+  context.on('request', (r) => seen.push(r.url()));
+  return {
+    all: () => seen.slice(),
+    foreign: () => seen.filter((u) => !u.startsWith(origin) && !u.startsWith('data:') && !u.startsWith('blob:')),
+  };
+}
