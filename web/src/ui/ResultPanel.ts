@@ -30,13 +30,16 @@ export class ResultPanel {
     this.element.dataset.maxMm = String(r.overall.max);
     const row = (k: string, v: string, testid?: string) => [h('dt', {}, k), h('dd', testid ? { 'data-testid': testid } : {}, v)];
     this.body.replaceChildren(
-      ...row('Mesh', `${vertices} vertices, ${triangles} triangles${r.watertight ? ', closed' : ', open'}`, 'result-mesh'),
-      ...row('Contour → mesh mean', mm(r.overall.mean, 3), 'result-mean'),
-      ...row('median / p95', `${mm(r.overall.median, 3)} / ${mm(r.overall.p95, 3)}`),
+      ...row('Vertices', String(vertices), 'result-vertices'),
+      ...row('Triangles', `${triangles} (${r.watertight ? 'closed' : 'open'})`, 'result-triangles'),
+      ...row('Contour→mesh mean', mm(r.overall.mean, 3), 'result-mean'),
+      ...row('median', mm(r.overall.median, 3)),
+      ...row('95th percentile', mm(r.overall.p95, 3)),
       ...row('max', mm(r.overall.max, 3), 'result-max'),
-      ...row('Volume', r.watertight ? `${r.volumeMl.toFixed(1)} ml` : '– (open mesh)'),
+      ...row('Volume', r.watertight ? `${r.volumeMl.toFixed(1)} ml` : '– (open)'),
       ...row('Area', `${(r.areaMm2 / 100).toFixed(1)} cm²`),
-      ...row('Time', `${r.seconds.toFixed(2)} s (${r.overall.count} contour points)`),
+      ...row('Contour points', String(r.overall.count)),
+      ...row('Time', `${r.seconds.toFixed(2)} s`),
     );
   }
 }
