@@ -1,7 +1,7 @@
 // Shared helpers of the browser end-to-end tests: serve the built dist/ with `vite preview` and
 // drive Debian's chromium with playwright-core (never a downloaded browser).
 import { spawn } from 'node:child_process';
-import { mkdtempSync, rmSync } from 'node:fs';
+import { existsSync, mkdtempSync, readdirSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -67,4 +67,42 @@ export function watchRequests(context, origin) {
     all: () => seen.slice(),
     foreign: () => seen.filter((u) => !u.startsWith(origin) && !u.startsWith('data:') && !u.startsWith('blob:')),
   };
+}
+
+/** The shared data folder (../shared beside the repo in CI; /work/shared on the dev machines). */
+export function sharedDir() {
+  const candidates = [process.env.HEARTMESH_SHARED, join(ROOT, '..', 'shared'), join(ROOT, '..', '..', 'shared'), '/work/shared'];
+  for (const c of candidates) if (c && existsSync(join(c, 'data', 'contours'))) return c;
+  throw new Error(`shared/ data not found (tried ${candidates.filter(Boolean).join(', ')}); set HEARTMESH_SHARED`);
+}
+
+/** Fails clearly when the site has not been built (the e2e tests run on dist/, never on sources). */
+export function requireDist() {
+  const index = join(ROOT, 'dist', 'index.html');
+  if (!existsSync(index)) throw new Error('dist/ is missing: run `npm run build` before the browser tests');
+  const wasm = readdirSync(join(ROOT, 'dist', 'assets')).filter((f) => f.endsWith('.wasm'));
+  if (wasm.length === 0) throw new Error('dist/ has no .wasm file: build the WebAssembly core first (npm run build)');
+}
+
+/** Waits until `[data-testid=status]` says done (or fails with the status text on error/timeout). */
+export async function waitForDone(page, timeout = 90000) {
+  const status = page.locator('[data-testid=status]');
+  const deadline = Date.now() + timeout;
+  for (;;) {
+    const text = (await status.textContent()) ?? '';
+    if (text.trim() === 'done') return;
+    if (text.startsWith('error')) throw new Error(`status: ${text}`);
+    if (Date.now() > deadline) throw new Error(`timed out waiting for done; status: ${text}`);
+    await page.waitForTimeout(50);
+  }
+}
+
+/** The numbers of `[data-testid=result]`. */
+export async function readResult(page) {
+  return page.locator('[data-testid=result]').evaluate((el) => ({
+    vertices: Number(el.getAttribute('data-vertices')),
+    triangles: Number(el.getAttribute('data-triangles')),
+    meanMm: Number(el.getAttribute('data-mean-mm')),
+    maxMm: Number(el.getAttribute('data-max-mm')),
+  }));
 }
