@@ -8,6 +8,7 @@ export default defineConfig({
   publicDir: '../public',
   build: { outDir: '../dist', emptyOutDir: true, target: 'es2022', chunkSizeWarningLimit: 1024 },
   worker: { format: 'es' },
+  // Offline: writes dist/sw.js with a precache of every file of the build.
   plugins: [precache()],
   test: { root: '.', include: ['tests/unit/**/*.test.ts'] },
 });
