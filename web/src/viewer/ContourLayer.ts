@@ -6,16 +6,12 @@
  */
 import * as THREE from 'three';
 import type { ContourInfo } from '../core-client/protocol';
+import { classifyContours } from './classify';
 import { colorizeU8 } from './colormap';
 
 export const SAX_COLOR = new THREE.Color('#4fc3f7');
 export const LAX_COLOR = new THREE.Color('#ffb74d');
 
-/** The kind of a contour, guessed from its name when the core has not classified it yet. */
-export function contourKind(c: ContourInfo): 'SAX' | 'LAX' {
-  if (c.kind) return c.kind;
-  return /LAX|[234]CH|LONG/i.test(c.id) ? 'LAX' : 'SAX';
-}
 
 interface Built {
   positions: number[];
@@ -54,16 +50,18 @@ export class ContourLayer {
    */
   set(contours: readonly ContourInfo[], points: Float32Array, surface: string | null, distances: Float32Array | null, maxMm = 1): void {
     this.clear();
-    const selected = contours.filter((c) => surface === null || c.surface === surface || c.surface === null);
-    const others = contours.filter((c) => !selected.includes(c));
+    const isSelected = (c: ContourInfo) => surface === null || c.surface === surface || c.surface === null;
+    const selected = contours.filter(isSelected);
+    const others = contours.filter((c) => !isSelected(c));
+    const kinds = classifyContours(selected, points);
     const colorBytes = distances ? colorizeU8(distances, 0, maxMm) : null;
     const tmp = new THREE.Color();
     const colorOf = (kind: 'SAX' | 'LAX') => (i: number) =>
       colorBytes ? tmp.setRGB(colorBytes[i * 3] / 255, colorBytes[i * 3 + 1] / 255, colorBytes[i * 3 + 2] / 255) : kind === 'SAX' ? SAX_COLOR : LAX_COLOR;
     const sax: Built = { positions: [], colors: [] };
     const lax: Built = { positions: [], colors: [] };
-    for (const c of selected) {
-      const kind = contourKind(c);
+    for (const [i, c] of selected.entries()) {
+      const kind = kinds[i];
       pushSegments(kind === 'SAX' ? sax : lax, c, points, colorOf(kind));
     }
     const other: Built = { positions: [], colors: [] };
