@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { formatValue, LOG_STEPS_PER_DECADE, SLIDER_STEPS, sliderSteps, sliderToValue, valueToSlider } from '../../web/src/ui/sliderScale';
+import { formatValue, linearStep, LOG_STEPS_PER_DECADE, sliderSteps, sliderToValue, valueToSlider } from '../../web/src/ui/sliderScale';
 import { rustSchema } from './rustSchema';
 
 const schema = rustSchema();
@@ -20,22 +20,27 @@ describe('slider scale', () => {
     expect(sliderToValue(lambda, 7 * LOG_STEPS_PER_DECADE + 10)).toBe(3.2e5);
     expect(sliderToValue(lambda, 0)).toBe(1e-2);
   });
-  it('integer parameters give whole numbers within range', () => {
-    const it = spec('iterations');
-    expect(sliderSteps(it)).toBe(SLIDER_STEPS);
-    for (let p = 0; p <= SLIDER_STEPS; p += 37) {
+  it('integer parameters move by one and stay whole and in range', () => {
+    const it = spec('iterations'); // 1..2000
+    expect(linearStep(it)).toBe(1);
+    expect(sliderSteps(it)).toBe(1999);
+    for (let p = 0; p <= sliderSteps(it); p += 37) {
       const v = sliderToValue(it, p);
       expect(Number.isInteger(v)).toBe(true);
       expect(v).toBeGreaterThanOrEqual(it.min);
       expect(v).toBeLessThanOrEqual(it.max);
     }
+    expect(sliderToValue(it, valueToSlider(it, 250) + 1)).toBe(251);
   });
-  it('every default survives value -> slider -> value within one slider step', () => {
-    for (const s of schema) {
-      const back = sliderToValue(s, valueToSlider(s, s.default));
-      if (s.log) expect(Math.abs(Math.log10(back) - Math.log10(s.default))).toBeLessThan(0.02);
-      else expect(Math.abs(back - s.default)).toBeLessThanOrEqual((s.max - s.min) / sliderSteps(s) + 1e-9);
-    }
+  it('linear float parameters move by round steps', () => {
+    const beta = spec('beta'); // 0.01..1
+    expect(linearStep(beta)).toBe(0.005);
+    expect(sliderToValue(beta, valueToSlider(beta, 0.1) + 1)).toBe(0.105);
+    expect(sliderToValue(beta, sliderSteps(beta))).toBe(1);
+    expect(linearStep(spec('attractor_spacing'))).toBe(0.5); // 0..50 mm in 100 stops
+  });
+  it('every default of the Rust schema is exactly reachable', () => {
+    for (const s of schema) expect(sliderToValue(s, valueToSlider(s, s.default))).toBe(s.default);
   });
   it('formats values with units', () => {
     expect(formatValue(spec('lambda'), 1e5)).toBe('1e5');

@@ -471,11 +471,7 @@ export class Controller {
 
   private setStatus(): void {
     const s = this.state;
-    this.parts.status.setStatus(statusWord(s), s.kind);
-    const runId = currentRunId(s);
-    const el = this.parts.status.element;
-    if (runId !== null) el.dataset.runId = String(runId);
-    else delete el.dataset.runId;
+    this.parts.status.setStatus(statusWord(s), s.kind, currentRunId(s));
     document.body.dataset.state = s.kind;
     document.body.dataset.hasFile = this.currentFile() ? '1' : '0';
     this.parts.timeline.update({

@@ -28,9 +28,12 @@ export class StatusLine {
     this.element = h('div', { class: 'statusline' }, h('div', { class: 'status-row' }, this.status, this.detail), this.progress);
   }
 
-  setStatus(text: string, kind: string): void {
+  setStatus(text: string, kind: string, runId: number | null): void {
     this.status.textContent = text;
     this.status.dataset.state = kind;
+    // Lets tests (and curious users) see that a parameter change started a new run.
+    if (runId !== null) this.status.dataset.runId = String(runId);
+    else delete this.status.dataset.runId;
   }
 
   /** The step on screen. */

@@ -1,43 +1,63 @@
 /**
- * Mapping between a parameter's value and an `<input type=range>` position (0..STEPS). Log-scale
- * parameters (lambda spans 1e-2..1e9) move by decades; linear ones by equal steps. Pure and tested.
+ * Mapping between a parameter's value and an `<input type=range>` position (0..sliderSteps).
+ * Log-scale parameters (lambda spans 1e-2..1e9) move 20 stops per decade, so every power of ten is
+ * exact; whole-number parameters move by 1; other linear ones by a round step (1, 2 or 5 x 10^k,
+ * about 200 stops), so arrow keys give values people can type back (0.1 -> 0.105, not 0.101).
+ * Pure and tested.
  */
 import type { ParamSpec } from '../core-client/protocol';
 
-export const SLIDER_STEPS = 1000;
 /** Log sliders stop 20 times per decade, so every power of ten (1e5, the default) is reachable exactly. */
 export const LOG_STEPS_PER_DECADE = 20;
+/** Target number of stops of a linear, non-integer slider. */
+export const LINEAR_STOPS = 200;
+
+function isLog(spec: ParamSpec): boolean {
+  return spec.log && spec.min > 0 && spec.max > spec.min;
+}
+
+/** Value change per slider stop of a linear parameter. */
+export function linearStep(spec: ParamSpec): number {
+  const range = spec.max - spec.min;
+  if (!(range > 0)) return 1;
+  if (spec.integer) return Math.max(1, niceStep(range / 5000));
+  return niceStep(range / LINEAR_STOPS);
+}
+
+/** Smallest of 1, 2, 5 x 10^k that is >= x. */
+function niceStep(x: number): number {
+  const mag = Math.pow(10, Math.floor(Math.log10(x)));
+  for (const m of [1, 2, 5, 10]) if (m * mag >= x * (1 - 1e-12)) return m * mag;
+  return 10 * mag;
+}
 
 /** Number of slider positions for a parameter (the range input's max). */
 export function sliderSteps(spec: ParamSpec): number {
-  if (spec.log && spec.min > 0) {
-    return Math.max(1, Math.round((Math.log10(spec.max) - Math.log10(spec.min)) * LOG_STEPS_PER_DECADE));
-  }
-  return SLIDER_STEPS;
+  if (isLog(spec)) return Math.max(1, Math.round((Math.log10(spec.max) - Math.log10(spec.min)) * LOG_STEPS_PER_DECADE));
+  if (!(spec.max > spec.min)) return 1;
+  return Math.ceil((spec.max - spec.min) / linearStep(spec) - 1e-9);
 }
 
 export function valueToSlider(spec: ParamSpec, value: number): number {
   const v = Math.min(spec.max, Math.max(spec.min, value));
-  let t: number;
-  if (spec.log && spec.min > 0) {
-    t = (Math.log10(v) - Math.log10(spec.min)) / (Math.log10(spec.max) - Math.log10(spec.min));
-  } else {
-    t = spec.max > spec.min ? (v - spec.min) / (spec.max - spec.min) : 0;
+  if (isLog(spec)) {
+    const t = (Math.log10(v) - Math.log10(spec.min)) / (Math.log10(spec.max) - Math.log10(spec.min));
+    return Math.round(t * sliderSteps(spec));
   }
-  return Math.round(t * sliderSteps(spec));
+  return Math.min(sliderSteps(spec), Math.round((v - spec.min) / linearStep(spec)));
 }
 
 export function sliderToValue(spec: ParamSpec, position: number): number {
-  const t = Math.min(1, Math.max(0, position / sliderSteps(spec)));
+  const steps = sliderSteps(spec);
+  const p = Math.min(steps, Math.max(0, Math.round(position)));
   let v: number;
-  if (spec.log && spec.min > 0) {
+  if (isLog(spec)) {
     const lo = Math.log10(spec.min);
     const hi = Math.log10(spec.max);
-    v = Math.pow(10, lo + t * (hi - lo));
-    v = Number(v.toPrecision(2)); // 1e5, 3.2e4: values people can type back
+    v = Number(Math.pow(10, lo + (p / steps) * (hi - lo)).toPrecision(2)); // 1e5, 3.2e4
   } else {
-    v = spec.min + t * (spec.max - spec.min);
-    v = spec.integer ? Math.round(v) : Number(v.toPrecision(3));
+    v = spec.min + p * linearStep(spec);
+    v = spec.integer ? Math.round(v) : Number(v.toPrecision(10)); // no 0.30000000000000004
   }
   return Math.min(spec.max, Math.max(spec.min, v));
 }
