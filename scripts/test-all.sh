@@ -33,6 +33,7 @@ vitest run
 section "node tests of the wasm build"
 node_tests=(tests/node/*.test.mjs)
 node --test "${node_tests[@]}"
+vitest run -c tests/node/vitest.config.ts
 
 section "site build"
 vite build --logLevel warn

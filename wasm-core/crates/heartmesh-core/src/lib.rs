@@ -27,6 +27,5 @@ pub use error::CoreError;
 pub use mesh::TriMesh;
 pub use params::{AttractorMode, LidMode, Params};
 
-
 /// Version of the core, recorded in exports so results can be traced to the code that made them.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
