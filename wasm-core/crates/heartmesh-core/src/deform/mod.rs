@@ -1,3 +1,5 @@
-//! Deformation of the mesh towards the contour points by composed thin-plate splines.
+//! Deformation of the mesh towards the contour points: attractor selection and composed
+//! thin-plate splines.
 
+pub mod attractors;
 pub mod tps;
