@@ -89,7 +89,7 @@ beforeEach(() => {
   vi.stubGlobal('cancelAnimationFrame', () => undefined);
   client = new FakeClient();
   parts = {
-    legend: recorder(), params: recorder(), timeline: recorder(), status: recorder(), plot: recorder(), result: recorder(),
+    legend: recorder(), meshLegend: recorder(), params: recorder(), timeline: recorder(), status: recorder(), plot: recorder(), result: recorder(),
     banner: recorder(), files: recorder(), exports: recorder(), view: recorder(), hover: recorder(),
   };
   controller = new Controller({ ...parts, viewer: null, warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');

@@ -23,5 +23,7 @@ describe('fitView', () => {
   it('survives empty and non-finite input', () => {
     expect(fitView([]).radius).toBe(50);
     expect(fitView([NaN, 0, 0, 1, 2, 3]).center).toEqual([1, 2, 3]);
+    // bounding-box centre, not the centroid of unevenly dense samples
+    expect(fitView([0, 0, 0, 0, 0, 0, 0, 0, 0, 10, 0, 0]).center).toEqual([5, 0, 0]);
   });
 });

@@ -42,7 +42,8 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
 
   const parts: Parts = {
     viewer,
-    legend: new Legend(),
+    legend: new Legend('contour points: distance to mesh', 'legend-contours'),
+    meshLegend: new Legend('mesh: distance to nearest contour', 'legend-mesh'),
     params: new ParamPanel((v, lids) => c().setParams(v, lids), () => c().resetParams()),
     timeline: new Timeline({
       togglePlay: () => c().togglePlay(),
@@ -75,7 +76,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
   slot('slot-right').append(parts.status.element, parts.plot.element, parts.result.element, parts.exports.element);
   slot('slot-bottom').append(parts.timeline.element);
   slot('slot-banner').append(parts.banner.element);
-  slot('slot-legend').append(parts.legend.element);
+  slot('slot-legend').append(parts.legend.element, parts.meshLegend.element);
   slot('slot-viewcontrols').append(parts.view.element);
   slot('slot-hover').append(parts.hover.element);
   viewer?.setHoverListener((h) => controller.onHover(h));

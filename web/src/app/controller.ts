@@ -33,7 +33,10 @@ export const RESTART_DEBOUNCE_MS = 300;
 
 export interface Parts {
   viewer: Viewer | null;
+  /** Scale of the contour-point colours (contour-to-mesh distance). */
   legend: Legend;
+  /** Scale of the mesh colours (vertex-to-nearest-contour distance). */
+  meshLegend: Legend;
   params: ParamPanel;
   timeline: Timeline;
   status: StatusLine;
@@ -75,7 +78,9 @@ export class Controller {
   private shown = { cursor: -2, result: false, historyVersion: -1 };
   private historyVersion = 0;
   private contourMode: 'plain' | 'distances' | 'none' = 'none';
-  private colorMaxMm = 1;
+  /** Top of the colour scales in mm: contour points (to mesh) and mesh vertices (to contours). */
+  private pointMaxMm = 1;
+  private meshMaxMm = 1;
   private rafHandle = 0;
 
   constructor(
@@ -175,6 +180,7 @@ export class Controller {
     if (!file || !file.surfaces.includes(surface)) return;
     this.surface = surface;
     this.showContours(null);
+    this.frameSurface(file);
     this.updateUrl();
     this.startRun();
   }
@@ -197,8 +203,19 @@ export class Controller {
     this.parts.warnings.hidden = warnings.length === 0;
     this.clearRunDisplay();
     this.showContours(null);
-    this.parts.viewer?.frame(file.points);
+    this.frameSurface(file);
     this.updateUrl();
+  }
+
+  /** Points the camera at the contours of the chosen surface. */
+  private frameSurface(file: LoadedFile): void {
+    const chosen = file.contours.filter((c) => this.surface === null || c.surface === this.surface || c.surface === null);
+    const xyz: number[] = [];
+    for (const c of chosen) for (const p of c.pieces) for (let k = 0; k < p.count; k++) {
+      const i = (p.start + k) * 3;
+      xyz.push(file.points[i], file.points[i + 1], file.points[i + 2]);
+    }
+    this.parts.viewer?.frame(xyz.length ? xyz : file.points);
   }
 
   private currentFile(): LoadedFile | null {
@@ -275,7 +292,8 @@ export class Controller {
     if (!this.active || r.runId !== this.active.runId) return;
     this.active = null;
     this.result = r;
-    this.colorMaxMm = Math.max(robustMax(r.pointDistances), robustMax(r.vertexDistances));
+    this.pointMaxMm = robustMax(r.pointDistances);
+    this.meshMaxMm = robustMax(r.vertexDistances);
     this.parts.status.setProgress(1);
     this.parts.result.show(r);
     this.parts.exports.setAvailable(true, true);
@@ -296,6 +314,7 @@ export class Controller {
     this.parts.viewer?.attractorLayer.clear();
     this.parts.viewer?.requestRender();
     this.parts.legend.hide();
+    this.parts.meshLegend.hide();
     this.parts.status.setStep(null);
     this.parts.status.setProgress(0);
     this.parts.plot.set([], 1, null);
@@ -359,7 +378,7 @@ export class Controller {
   }
 
   onHover(info: Parameters<HoverReadout['show']>[0]): void {
-    this.parts.hover.show(info, this.colorMaxMm);
+    this.parts.hover.show(info, info?.what === 'mesh' ? this.meshMaxMm : this.pointMaxMm);
   }
 
   screenshot(): Promise<Blob> {
@@ -414,16 +433,18 @@ export class Controller {
     const r = this.result;
     if (showResult && r) {
       viewer?.meshLayer.update(r.positions, r.indices);
-      viewer?.meshLayer.setDistances(r.vertexDistances, 0, this.colorMaxMm);
+      viewer?.meshLayer.setDistances(r.vertexDistances, 0, this.meshMaxMm);
       viewer?.attractorLayer.set(entry?.attractors ?? this.attractors);
       this.showContours(r);
-      this.parts.legend.show(this.colorMaxMm);
+      this.parts.legend.show(this.pointMaxMm);
+      this.parts.meshLegend.show(this.meshMaxMm);
     } else if (entry) {
       viewer?.meshLayer.update(entry.positions, entry.indices);
       viewer?.meshLayer.setDistances(null, 0, 1);
       viewer?.attractorLayer.set(entry.attractors);
       if (this.contourMode === 'distances') this.showContours(null);
       this.parts.legend.hide();
+      this.parts.meshLegend.hide();
     }
     viewer?.requestRender();
     const report = entry?.report ?? null;
@@ -446,7 +467,7 @@ export class Controller {
     if (!viewer || !file) return;
     if (r) {
       // Other surfaces from the file for context, then the run's own contours with distances.
-      viewer.contourLayer.set(r.contours, r.contourPoints, r.surface, r.pointDistances, this.colorMaxMm);
+      viewer.contourLayer.set(r.contours, r.contourPoints, r.surface, r.pointDistances, this.pointMaxMm);
       this.contourMode = 'distances';
     } else {
       viewer.contourLayer.set(file.contours, file.points, this.surface, null);

@@ -3,12 +3,13 @@
  * change only when re-sampled, so the geometry is rebuilt only when a new array arrives.
  */
 import * as THREE from 'three';
+import { discTexture } from './discTexture';
 
 export class AttractorLayer {
   readonly group = new THREE.Group();
   private points: THREE.Points | null = null;
   private current: Float32Array | null = null;
-  private readonly material = new THREE.PointsMaterial({ color: 0xff4fd8, size: 6, sizeAttenuation: false, depthTest: true });
+  private readonly material = new THREE.PointsMaterial({ color: 0xff4fd8, size: 6, sizeAttenuation: false, map: discTexture(), alphaTest: 0.5, transparent: true, opacity: 0.85 });
 
   set(attractors: Float32Array | null): void {
     if (attractors === this.current) return;

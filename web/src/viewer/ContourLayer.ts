@@ -8,6 +8,7 @@ import * as THREE from 'three';
 import type { ContourInfo } from '../core-client/protocol';
 import { classifyContours } from './classify';
 import { colorizeU8 } from './colormap';
+import { discTexture } from './discTexture';
 
 export const SAX_COLOR = new THREE.Color('#4fc3f7');
 export const LAX_COLOR = new THREE.Color('#ffb74d');
@@ -41,7 +42,7 @@ export class ContourLayer {
     sax: new THREE.LineBasicMaterial({ vertexColors: true }),
     lax: new THREE.LineDashedMaterial({ vertexColors: true, dashSize: 3, gapSize: 2 }),
     other: new THREE.LineBasicMaterial({ color: 0x7a8594, transparent: true, opacity: 0.28, depthWrite: false }),
-    points: new THREE.PointsMaterial({ vertexColors: true, size: 4, sizeAttenuation: false }),
+    points: new THREE.PointsMaterial({ vertexColors: true, size: 5, sizeAttenuation: false, map: discTexture(), alphaTest: 0.5 }),
   };
 
   /**

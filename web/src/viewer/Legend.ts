@@ -7,13 +7,13 @@ export class Legend {
   private readonly bar: HTMLElement;
   private readonly ticks: HTMLElement;
 
-  constructor() {
+  constructor(title: string, testid: string) {
     this.bar = h('div', { class: 'legend-bar' });
     this.ticks = h('div', { class: 'legend-ticks' });
     this.element = h(
       'div',
-      { class: 'legend', 'data-testid': 'legend', hidden: true },
-      h('div', { class: 'legend-title' }, 'contour-to-mesh distance'),
+      { class: 'legend', 'data-testid': testid, hidden: true },
+      h('div', { class: 'legend-title' }, title),
       this.bar,
       this.ticks,
     );

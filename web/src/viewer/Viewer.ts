@@ -111,7 +111,11 @@ export class Viewer {
     const side = new THREE.Vector3(...fit.side);
     // Look along the second principal direction, slightly from above.
     const dir = side.clone().multiplyScalar(-1).addScaledVector(up, 0.35).normalize();
-    const distance = fit.radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2)) * 1.05;
+    // The whole bounding sphere fits the narrower field of view (the mesh may reach a little past
+    // the contours at the lids).
+    const halfFov = THREE.MathUtils.degToRad(this.camera.fov / 2);
+    const fovFit = Math.min(halfFov, Math.atan(Math.tan(halfFov) * this.camera.aspect));
+    const distance = (fit.radius / Math.sin(fovFit)) * 1.05;
     this.camera.up.copy(up);
     this.camera.position.copy(center).addScaledVector(dir, distance);
     this.camera.near = Math.max(0.1, distance / 100);

@@ -6,6 +6,7 @@
  */
 
 export interface ViewFit {
+  /** Centre of the bounding box (the centroid would lean towards densely sampled curves). */
   center: [number, number, number];
   radius: number;
   /** Unit vector along the largest spread. */
@@ -35,20 +36,29 @@ function powerIteration(c: number[], start: V3): V3 {
 export function fitView(points: ArrayLike<number>): ViewFit {
   let n = 0;
   const m: V3 = [0, 0, 0];
+  const lo: V3 = [Infinity, Infinity, Infinity];
+  const hi: V3 = [-Infinity, -Infinity, -Infinity];
   for (let i = 0; i + 2 < points.length; i += 3) {
-    const x = points[i], y = points[i + 1], z = points[i + 2];
-    if (!Number.isFinite(x) || !Number.isFinite(y) || !Number.isFinite(z)) continue;
-    m[0] += x; m[1] += y; m[2] += z; n++;
+    const p = [points[i], points[i + 1], points[i + 2]];
+    if (!p.every(Number.isFinite)) continue;
+    for (let k = 0; k < 3; k++) {
+      m[k] += p[k];
+      lo[k] = Math.min(lo[k], p[k]);
+      hi[k] = Math.max(hi[k], p[k]);
+    }
+    n++;
   }
   if (n === 0) return { center: [0, 0, 0], radius: 50, axis: [0, 0, 1], side: [1, 0, 0] };
-  const center: V3 = [m[0] / n, m[1] / n, m[2] / n];
+  const mean: V3 = [m[0] / n, m[1] / n, m[2] / n];
+  const center: V3 = [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2];
   const c = [0, 0, 0, 0, 0, 0, 0, 0, 0];
   let r2 = 0;
   for (let i = 0; i + 2 < points.length; i += 3) {
-    const d = [points[i] - center[0], points[i + 1] - center[1], points[i + 2] - center[2]];
+    const d = [points[i] - mean[0], points[i + 1] - mean[1], points[i + 2] - mean[2]];
     if (!d.every(Number.isFinite)) continue;
     for (let a = 0; a < 3; a++) for (let b = 0; b < 3; b++) c[a * 3 + b] += d[a] * d[b];
-    r2 = Math.max(r2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const e = [points[i] - center[0], points[i + 1] - center[1], points[i + 2] - center[2]];
+    r2 = Math.max(r2, e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
   }
   // Start away from any exact eigenvector of axis-aligned data.
   const axis = powerIteration(c, [0.577, 0.577, 0.578]);
