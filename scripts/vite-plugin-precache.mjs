@@ -50,13 +50,15 @@ self.addEventListener('fetch', (event) => {
   if (req.method !== 'GET' || new URL(req.url).origin !== self.location.origin) return;
   event.respondWith((async () => {
     const cache = await caches.open(CACHE);
-    const hit = await cache.match(req, { ignoreSearch: req.mode === 'navigate' });
+    // ignoreVary: servers send 'Vary: Origin', and module scripts are requested with an Origin
+    // header that the precache requests did not have.
+    const hit = await cache.match(req, { ignoreSearch: req.mode === 'navigate', ignoreVary: true });
     if (hit) return hit;
     try {
       return await fetch(req);
     } catch (e) {
       if (req.mode === 'navigate') {
-        const index = await cache.match(new URL('./index.html', scope).href);
+        const index = await cache.match(new URL('./index.html', scope).href, { ignoreVary: true });
         if (index) return index;
       }
       throw e;

@@ -6,7 +6,7 @@ import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, mkdirSync } from 'node:fs';
 import { join } from 'node:path';
-import { ROOT, launch, readResult, requireDist, sharedDir, startPreview, waitForDone, watchRequests } from './lib.mjs';
+import { ROOT, launch, readResult, requireDist, runAndWait, sharedDir, startPreview, waitForDone, watchRequests } from './lib.mjs';
 
 const SHOTS = join(ROOT, 'docs', 'screenshots');
 const SAMPLES = ['patient1-ED', 'patient1-ES', 'patient2-ED'];
@@ -57,8 +57,7 @@ describe('heartmesh in the browser', () => {
   for (const id of SAMPLES) {
     it(`sample ${id}: reaches done with contour-to-mesh mean <= 1 mm`, async () => {
       const t0 = Date.now();
-      await page.click(`[data-testid=sample-${id}]`);
-      await waitForDone(page);
+      await runAndWait(page, () => page.click(`[data-testid=sample-${id}]`));
       const r = await readResult(page);
       console.log(`# ${id}: ${r.vertices} vertices, ${r.triangles} triangles, mean ${r.meanMm.toFixed(3)} mm, max ${r.maxMm.toFixed(3)} mm, ${Date.now() - t0} ms`);
       assert.ok(r.vertices > 100, `vertices ${r.vertices}`);
@@ -81,7 +80,7 @@ describe('heartmesh in the browser', () => {
     const obj = (await download('export-obj')).bytes.toString('utf8');
     assert.equal(obj.split('\n').filter((l) => l.startsWith('v ')).length, r.vertices);
     assert.equal(obj.split('\n').filter((l) => l.startsWith('f ')).length, r.triangles);
-    assert.match(obj, /# lids: auto iterations=250 lambda=100000/);
+    assert.match(obj, /# lids: auto iterations=250 lambda=100000 beta=0.1 /);
     const ply = (await download('export-ply')).bytes;
     const plyHead = ply.subarray(0, 1024).toString('latin1');
     assert.match(plyHead, new RegExp(`element vertex ${r.vertices}\\n`));
@@ -112,9 +111,10 @@ describe('heartmesh in the browser', () => {
     assert.match(page.url(), /lambda=1e4/);
     const r = await readResult(page);
     assert.ok(r.meanMm <= 1.5, `lambda 1e4 mean ${r.meanMm} mm`);
-    await page.click('[data-testid=reset-params]');
-    await page.waitForFunction(() => !location.search.includes('lambda='), null, { timeout: 5000 });
-    await waitForDone(page);
+    await runAndWait(page, async () => {
+      await page.click('[data-testid=reset-params]');
+      await page.waitForFunction(() => !location.search.includes('lambda='), null, { timeout: 5000 });
+    });
   });
 
   it('a link with parameters reproduces the view', async () => {
@@ -129,8 +129,7 @@ describe('heartmesh in the browser', () => {
 
   it('opens the canonical CSV through the file input (SurFCo example, not shipped)', async () => {
     const file = join(sharedDir(), 'data', 'contours', 'surfco-example.csv');
-    await page.setInputFiles('[data-testid=file-input]', file);
-    await waitForDone(page);
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', file));
     const r = await readResult(page);
     console.log(`# surfco-example: ${r.vertices} vertices, mean ${r.meanMm.toFixed(3)} mm, max ${r.maxMm.toFixed(3)} mm`);
     assert.ok(r.meanMm <= 1, `mean ${r.meanMm} mm`);
@@ -149,8 +148,7 @@ describe('heartmesh in the browser', () => {
     assert.match(text, /line 3/);
     assert.equal(await page.isVisible('[data-testid=error-banner]'), true);
     await page.screenshot({ path: join(SHOTS, 'error-bad-file.png') });
-    await page.click('[data-testid=sample-patient1-ED]');
-    await waitForDone(page);
+    await runAndWait(page, () => page.click('[data-testid=sample-patient1-ED]'));
   });
 
   it('keeps working offline after the first visit (service worker precache)', async () => {
@@ -163,8 +161,8 @@ describe('heartmesh in the browser', () => {
     await browser.context.setOffline(true);
     try {
       await page.reload();
-      await page.click('[data-testid=sample-patient1-ES]');
-      await waitForDone(page);
+      await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
+      await runAndWait(page, () => page.click('[data-testid=sample-patient1-ES]'));
       const r = await readResult(page);
       assert.ok(r.meanMm <= 1, `offline mean ${r.meanMm} mm`);
     } finally {

@@ -84,6 +84,21 @@ export function requireDist() {
   if (wasm.length === 0) throw new Error('dist/ has no .wasm file: build the WebAssembly core first (npm run build)');
 }
 
+/** Runs `action` (a click, a file upload, ...) and waits until the new run it started is done. */
+export async function runAndWait(page, action, timeout = 90000) {
+  const runId = async () => Number((await page.getAttribute('[data-testid=status]', 'data-run-id')) ?? 0);
+  const before = await runId();
+  await action();
+  const deadline = Date.now() + timeout;
+  while ((await runId()) <= before) {
+    const text = (await page.textContent('[data-testid=status]')) ?? '';
+    if (text.startsWith('error')) throw new Error(`status: ${text}`);
+    if (Date.now() > deadline) throw new Error(`no new run started; status: ${text}`);
+    await page.waitForTimeout(20);
+  }
+  await waitForDone(page, Math.max(1000, deadline - Date.now()));
+}
+
 /** Waits until `[data-testid=status]` says done (or fails with the status text on error/timeout). */
 export async function waitForDone(page, timeout = 90000) {
   const status = page.locator('[data-testid=status]');

@@ -121,6 +121,10 @@ export class Controller {
   // ---- loading --------------------------------------------------------------------------------
 
   async openFiles(files: File[]): Promise<void> {
+    if (files.length === 0 || !this.client) return;
+    // Say "loading" at once, before the bytes are read.
+    this.cancelRun();
+    this.dispatch({ type: 'load', fileName: files[0].name });
     let first: string | null = null;
     for (const file of files) {
       const bytes = await file.arrayBuffer();
@@ -135,6 +139,9 @@ export class Controller {
   }
 
   async trySample(sample: Sample, surface: string | null = null): Promise<void> {
+    if (!this.client) return;
+    this.cancelRun();
+    this.dispatch({ type: 'load', fileName: sample.file });
     let bytes: ArrayBuffer;
     try {
       bytes = await fetchSample(sample);
@@ -390,13 +397,18 @@ export class Controller {
     const file = this.currentFile();
     if (!file) return null;
     const r = this.result;
+    const params = r ? r.params : this.params;
+    // Schema order (iterations, lambda, beta, ...) reads better in file headers than the core's.
+    const ordered: ParamValues = {};
+    for (const s of this.schema) if (params[s.name] !== undefined) ordered[s.name] = params[s.name];
+    for (const k of Object.keys(params)) if (ordered[k] === undefined) ordered[k] = params[k];
     return {
       appVersion: this.appVersion,
       coreVersion: r?.version ?? this.coreVersion,
       fileName: file.fileName,
       surface: r ? r.surface : this.surface,
       lids: r ? r.lids : this.lids,
-      params: r ? r.params : { ...this.params },
+      params: ordered,
     };
   }
 
