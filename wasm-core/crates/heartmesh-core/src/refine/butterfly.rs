@@ -167,12 +167,17 @@ pub fn subdivide(mesh: &TriMesh) -> Result<TriMesh> {
             validity.describe()
         )));
     }
+    subdivide_manifold(mesh, &map)
+}
+
+/// [`subdivide`] for a mesh already known to be manifold, with its edge map.
+pub(crate) fn subdivide_manifold(mesh: &TriMesh, map: &EdgeMap) -> Result<TriMesh> {
     let stencils = Stencils {
         positions: &mesh.positions,
         triangles: &mesh.triangles,
         twin: map.twins(mesh),
-        neighbours: vertex_neighbours_from(&map),
-        links: boundary_links(mesh, &map),
+        neighbours: vertex_neighbours_from(map),
+        links: boundary_links(mesh, map),
     };
     let n = mesh.positions.len();
     let mut positions = Vec::with_capacity(n + map.edges.len());

@@ -126,14 +126,16 @@ struct Decimator {
 }
 
 impl Decimator {
-    fn new(mesh: &TriMesh, centre: Vec3) -> Result<Decimator> {
+    fn new(mesh: &TriMesh, centre: Vec3, check: bool) -> Result<Decimator> {
         let map = EdgeMap::new(mesh);
-        let validity = validity_with_map(mesh, &map);
-        if !validity.manifold {
-            return Err(CoreError::InvalidMesh(format!(
-                "decimation needs a manifold, oriented mesh ({})",
-                validity.describe()
-            )));
+        if check {
+            let validity = validity_with_map(mesh, &map);
+            if !validity.manifold {
+                return Err(CoreError::InvalidMesh(format!(
+                    "decimation needs a manifold, oriented mesh ({})",
+                    validity.describe()
+                )));
+            }
         }
         let n = mesh.positions.len();
         let positions: Vec<Vec3> = mesh.positions.iter().map(|p| p - centre).collect();
@@ -480,6 +482,14 @@ impl Decimator {
         self.refs.truncate(write);
     }
 
+    fn drop_outdated(&mut self) {
+        let (alive, stamps) = (&self.vertex_alive, &self.stamps);
+        self.heap.retain(|e| {
+            let (a, b) = (e.a as usize, e.b as usize);
+            alive[a] && alive[b] && e.is_current(stamps[a], stamps[b])
+        });
+    }
+
     fn run(&mut self, target: usize) {
         self.seed();
         for _ in 0..MAX_PASSES {
@@ -497,6 +507,11 @@ impl Decimator {
                 if self.legal(c.a, c.b, p) {
                     self.collapse(c.a, c.b, p);
                     collapsed += 1;
+                    // A closed mesh has 1.5 edges per triangle; beyond twice that, most queued
+                    // entries are outdated and one sweep is cheaper than popping them.
+                    if self.heap.len() > 3 * self.live_triangles + 64 {
+                        self.drop_outdated();
+                    }
                 }
             }
             if self.live_triangles <= target || collapsed == 0 {
@@ -543,6 +558,16 @@ fn quality(corners: &[Vec3; 3], cross_norm: f64) -> f64 {
 /// oriented; the output is too, closed if the input was, with unused vertices dropped (vertex
 /// order follows first use by the surviving triangles).
 pub fn decimate(mesh: &TriMesh, target_reduction: f64) -> Result<TriMesh> {
+    decimate_checked(mesh, target_reduction, true)
+}
+
+/// [`decimate`] for a mesh known to be manifold (`check` = false skips the validity pass, e.g.
+/// right after subdividing and smoothing a mesh that was checked before).
+pub(crate) fn decimate_checked(
+    mesh: &TriMesh,
+    target_reduction: f64,
+    check: bool,
+) -> Result<TriMesh> {
     if !(0.0..1.0).contains(&target_reduction) {
         return Err(CoreError::ParamOutOfRange {
             name: "target_reduction".into(),
@@ -566,7 +591,7 @@ pub fn decimate(mesh: &TriMesh, target_reduction: f64) -> Result<TriMesh> {
     } else {
         mesh.positions.iter().fold(Vec3::zeros(), |s, p| s + p) / mesh.positions.len() as f64
     };
-    let mut state = Decimator::new(mesh, centre)?;
+    let mut state = Decimator::new(mesh, centre, check)?;
     let target = ((1.0 - target_reduction) * mesh.triangles.len() as f64).round() as usize;
     state.run(target);
     Ok(state.finish(centre))

@@ -79,14 +79,22 @@ impl MinHeap4 {
         self.items[i] = e;
     }
 
-    pub fn pop(&mut self) -> Option<Entry> {
-        let last = self.items.pop()?;
-        if self.items.is_empty() {
-            return Some(last);
-        }
-        let top = self.items[0];
+    /// Drops the entries `keep` rejects and restores the heap order in O(n). Cheaper than popping
+    /// outdated entries one by one: a scan touches memory in order, a pop walks a root-to-leaf path.
+    pub fn retain(&mut self, keep: impl FnMut(&Entry) -> bool) {
+        self.items.retain(keep);
         let n = self.items.len();
-        let mut i = 0;
+        if n > 1 {
+            for i in (0..=(n - 2) / 4).rev() {
+                let e = self.items[i];
+                self.sift_down(i, e);
+            }
+        }
+    }
+
+    /// Puts `e` into the hole at `i`, moving smaller children up.
+    fn sift_down(&mut self, mut i: usize, e: Entry) {
+        let n = self.items.len();
         loop {
             let first = 4 * i + 1;
             if first >= n {
@@ -99,13 +107,26 @@ impl MinHeap4 {
                     best = c;
                 }
             }
-            if !self.items[best].before(&last) {
+            if !self.items[best].before(&e) {
                 break;
             }
             self.items[i] = self.items[best];
             i = best;
         }
-        self.items[i] = last;
+        self.items[i] = e;
+    }
+
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    pub fn pop(&mut self) -> Option<Entry> {
+        let last = self.items.pop()?;
+        if self.items.is_empty() {
+            return Some(last);
+        }
+        let top = self.items[0];
+        self.sift_down(0, last);
         Some(top)
     }
 }
@@ -134,6 +155,20 @@ mod tests {
         let want: Vec<(u32, u32)> = expected.iter().map(|&(_, a, b)| (a, b)).collect();
         assert_eq!(got, want);
         assert!(h.pop().is_none());
+    }
+
+    #[test]
+    fn retain_keeps_order() {
+        let mut h = MinHeap4::with_capacity(8);
+        for i in 0..500u32 {
+            h.push(Entry::new(((i * 7919) % 113) as f64, i, i + 1, i % 3, 0));
+        }
+        h.retain(|e| e.is_current(1, 0));
+        let costs: Vec<(u32, u32)> = std::iter::from_fn(|| h.pop())
+            .map(|e| (e.cost_bits, e.a))
+            .collect();
+        assert_eq!(costs.len(), (0..500).filter(|i| i % 3 == 1).count());
+        assert!(costs.windows(2).all(|w| w[0] < w[1]));
     }
 
     #[test]

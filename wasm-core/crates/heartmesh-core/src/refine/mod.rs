@@ -16,7 +16,7 @@ pub use decimate::decimate;
 pub use smooth::{affine_fit, laplacian, smooth};
 
 use crate::error::{CoreError, Result};
-use crate::mesh::topology::{compact, validity};
+use crate::mesh::topology::{compact, validity, validity_with_map, EdgeMap};
 use crate::mesh::TriMesh;
 
 /// Subdivide, smooth (+ shrink correction), decimate, drop unused vertices; then check the result:
@@ -27,10 +27,18 @@ pub fn remesh(
     smoothing_factor: f64,
     target_reduction: f64,
 ) -> Result<TriMesh> {
-    let before = validity(mesh);
-    let subdivided = subdivide(mesh)?;
+    let map = EdgeMap::new(mesh);
+    let before = validity_with_map(mesh, &map);
+    if !before.manifold {
+        return Err(CoreError::InvalidMesh(format!(
+            "remeshing needs a manifold, oriented mesh ({})",
+            before.describe()
+        )));
+    }
+    // Subdivision and smoothing keep a manifold mesh manifold, so decimation skips its check.
+    let subdivided = butterfly::subdivide_manifold(mesh, &map)?;
     let smoothed = smooth(&subdivided, smoothing_iterations, smoothing_factor)?;
-    let decimated = decimate(&smoothed, target_reduction)?;
+    let decimated = decimate::decimate_checked(&smoothed, target_reduction, false)?;
     let result = compact(&decimated)?;
     let after = validity(&result);
     if !after.manifold || !after.oriented || (before.closed && !after.closed) {

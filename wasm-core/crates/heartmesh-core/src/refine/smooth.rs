@@ -57,21 +57,28 @@ fn umbrella(mesh: &TriMesh) -> Umbrella {
 pub fn laplacian(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh> {
     check_factor(factor)?;
     let stencil = umbrella(mesh);
+    // p + f (mean - p) = (1 - f) p + (f / k) sum: per-vertex coefficients keep divisions and
+    // branches out of the loop (fixed vertices get 1 and 0).
+    let n = mesh.positions.len();
+    let mut keep = vec![1.0; n];
+    let mut weight = vec![0.0; n];
+    for v in 0..n {
+        let k = stencil.offsets[v + 1] - stencil.offsets[v];
+        if k > 0 {
+            keep[v] = 1.0 - factor;
+            weight[v] = factor / k as f64;
+        }
+    }
     let mut current = mesh.positions.clone();
     let mut next = current.clone();
     for _ in 0..iterations {
         for (v, out) in next.iter_mut().enumerate() {
             let nbrs =
                 &stencil.targets[stencil.offsets[v] as usize..stencil.offsets[v + 1] as usize];
-            let p = current[v];
-            *out = if nbrs.is_empty() {
-                p
-            } else {
-                let sum = nbrs
-                    .iter()
-                    .fold(Vec3::zeros(), |s, &w| s + current[w as usize]);
-                p + (sum / nbrs.len() as f64 - p) * factor
-            };
+            let sum = nbrs
+                .iter()
+                .fold(Vec3::zeros(), |s, &w| s + current[w as usize]);
+            *out = current[v] * keep[v] + sum * weight[v];
         }
         std::mem::swap(&mut current, &mut next);
     }
