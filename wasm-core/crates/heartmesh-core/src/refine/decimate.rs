@@ -13,8 +13,10 @@
 //!   edges joining two boundary vertices are never collapsed (that would pinch the surface).
 //! - Rejection of collapses that turn a triangle by more than ~80 degrees or make it (nearly)
 //!   degenerate, so the result stays oriented without fold-overs.
-//! - A priority queue with lazy invalidation (per-vertex stamps) instead of decrease-key (a 4-ary
-//!   heap, see `heap.rs`); ties are broken by vertex index, so results are deterministic. Vertex-to-triangle lists live in one
+//! - A priority queue with lazy invalidation instead of decrease-key (a 4-ary heap, see
+//!   `heap.rs`): entries of collapsed vertices are skipped, and since merging only adds quadrics,
+//!   a queued cost is a lower bound of the edge's current cost, so a popped entry whose cost has
+//!   grown is simply queued again. Ties are broken by vertex index: results are deterministic. Vertex-to-triangle lists live in one
 //!   shared array (a merged vertex's list is appended at its end), so the hot loop does not allocate.
 
 use crate::error::{CoreError, Result};
@@ -115,7 +117,6 @@ struct Decimator {
     quadrics: Vec<Quadric>,
     boundary: Vec<bool>,
     vertex_alive: Vec<bool>,
-    stamps: Vec<u32>,
     /// Vertex v's triangles are refs[start[v]..start[v] + count[v]] (dead ones filtered on read).
     refs: Vec<u32>,
     start: Vec<u32>,
@@ -204,7 +205,6 @@ impl Decimator {
             quadrics,
             boundary,
             vertex_alive: vec![true; n],
-            stamps: vec![0; n],
             refs,
             start,
             count,
@@ -264,19 +264,24 @@ impl Decimator {
     fn push(&mut self, a: u32, b: u32) {
         let (a, b) = (a.min(b), a.max(b));
         let (cost, _) = self.evaluate(a, b);
-        self.heap.push(Entry::new(
-            cost,
-            a,
-            b,
-            self.stamps[a as usize],
-            self.stamps[b as usize],
-        ));
+        self.heap.push(Entry::new(cost, a, b));
     }
 
-    /// Queues every edge around `v` once.
-    fn push_around(&mut self, v: u32) {
-        let m = self.next_mark();
+    /// Marks `v` and its neighbours with `m`.
+    fn mark_ring(&mut self, v: u32, m: u32) {
         self.marks[v as usize] = m;
+        for i in self.list(v) {
+            let t = self.refs[i] as usize;
+            if self.triangle_alive[t] {
+                for w in self.triangles[t] {
+                    self.marks[w as usize] = m;
+                }
+            }
+        }
+    }
+
+    /// Queues the edges around `v` to vertices not marked with `m` (each once).
+    fn push_unmarked(&mut self, v: u32, m: u32) {
         for i in self.list(v) {
             let t = self.refs[i] as usize;
             if !self.triangle_alive[t] {
@@ -293,7 +298,8 @@ impl Decimator {
 
     /// Queues every live edge (each once, from its lower vertex).
     fn seed(&mut self) {
-        self.heap.clear();
+        let mut seeds = self.heap.take();
+        seeds.clear();
         for v in 0..self.positions.len() as u32 {
             if !self.vertex_alive[v as usize] {
                 continue;
@@ -307,11 +313,13 @@ impl Decimator {
                 for w in self.triangles[t] {
                     if w > v && self.marks[w as usize] != m {
                         self.marks[w as usize] = m;
-                        self.push(v, w);
+                        let (cost, _) = self.evaluate(v, w);
+                        seeds.push(Entry::new(cost, v, w));
                     }
                 }
             }
         }
+        self.heap.rebuild(seeds);
     }
 
     /// Whether collapsing (a, b) to `p` keeps the mesh manifold, oriented and non-degenerate.
@@ -420,6 +428,10 @@ impl Decimator {
 
     /// Collapses b into a at p (a keeps its index).
     fn collapse(&mut self, a: u32, b: u32, p: Vec3) {
+        // a's old edges keep their queue entries: quadrics only grow, so their queued costs are
+        // lower bounds, refreshed when popped. Only edges a inherits from b are new.
+        let m = self.next_mark();
+        self.mark_ring(a, m);
         for i in self.list(b) {
             let t = self.refs[i] as usize;
             if !self.triangle_alive[t] {
@@ -458,9 +470,7 @@ impl Decimator {
         self.quadrics[a as usize].add(&qb);
         self.positions[a as usize] = p;
         self.boundary[a as usize] |= self.boundary[b as usize];
-        self.stamps[a as usize] = self.stamps[a as usize].wrapping_add(1);
-        self.stamps[b as usize] = self.stamps[b as usize].wrapping_add(1);
-        self.push_around(a);
+        self.push_unmarked(a, m);
     }
 
     /// Rewrites the vertex-triangle lists without dead entries (rarely: when the shared array
@@ -483,11 +493,9 @@ impl Decimator {
     }
 
     fn drop_outdated(&mut self) {
-        let (alive, stamps) = (&self.vertex_alive, &self.stamps);
-        self.heap.retain(|e| {
-            let (a, b) = (e.a as usize, e.b as usize);
-            alive[a] && alive[b] && e.is_current(stamps[a], stamps[b])
-        });
+        let alive = &self.vertex_alive;
+        self.heap
+            .retain(|e| alive[e.a as usize] && alive[e.b as usize]);
     }
 
     fn run(&mut self, target: usize) {
@@ -496,19 +504,20 @@ impl Decimator {
             let mut collapsed = 0usize;
             while self.live_triangles > target {
                 let Some(c) = self.heap.pop() else { break };
-                let (a, b) = (c.a as usize, c.b as usize);
-                if !self.vertex_alive[a]
-                    || !self.vertex_alive[b]
-                    || !c.is_current(self.stamps[a], self.stamps[b])
-                {
+                // Both alive means still adjacent: an edge only disappears by collapsing.
+                if !self.vertex_alive[c.a as usize] || !self.vertex_alive[c.b as usize] {
                     continue;
                 }
-                let (_, p) = self.evaluate(c.a, c.b);
+                let (cost, p) = self.evaluate(c.a, c.b);
+                if c.is_below(cost) {
+                    self.heap.push(Entry::new(cost, c.a, c.b));
+                    continue;
+                }
                 if self.legal(c.a, c.b, p) {
                     self.collapse(c.a, c.b, p);
                     collapsed += 1;
                     // A closed mesh has 1.5 edges per triangle; beyond twice that, most queued
-                    // entries are outdated and one sweep is cheaper than popping them.
+                    // entries are dead and one sweep is cheaper than popping them.
                     if self.heap.len() > 3 * self.live_triangles + 64 {
                         self.drop_outdated();
                     }
