@@ -1,1 +1,6 @@
-//! (module under construction)
+//! Deformation of the mesh towards the contour points: attractor selection and composed
+//! thin-plate splines.
+
+pub mod attractors;
+mod lanes;
+pub mod tps;
