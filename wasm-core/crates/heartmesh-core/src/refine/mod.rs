@@ -9,6 +9,7 @@
 pub mod butterfly;
 pub mod decimate;
 mod heap;
+mod quadric;
 pub mod smooth;
 
 pub use butterfly::subdivide;
