@@ -741,7 +741,7 @@ mod tests {
     #[test]
     fn augmented_system_residual_is_tiny() {
         let mut rng = SplitMix64::new(3);
-        for n in [50, 300, 1000] {
+        for n in [50, 51, 300, 1000] {
             let centres = cloud(&mut rng, n);
             let targets: Vec<Vec3> = centres
                 .iter()
@@ -868,6 +868,26 @@ mod tests {
             cholesky_in_place(&mut a, 2).unwrap_err().code(),
             "numerical"
         );
+    }
+
+    /// Two attractors can share a closest mesh point: at the pipeline's lambda the smoothing term
+    /// keeps the system definite, and F there is the mean of the two targets (minus the small
+    /// kernel correction), not a blow-up.
+    #[test]
+    fn duplicate_centres_are_handled_at_finite_lambda() {
+        let mut rng = SplitMix64::new(8);
+        let mut centres = cloud(&mut rng, 150);
+        centres[7] = centres[3];
+        let mut targets: Vec<Vec3> = centres.iter().map(warp).collect();
+        targets[3] += v3(0.004, 0.0, 0.0);
+        targets[7] -= v3(0.004, 0.0, 0.0);
+        let mut s = TpsSolver::new();
+        s.fit(&centres, &targets, 1e5 / 150.0).unwrap();
+        let mid = (targets[3] + targets[7]) / 2.0;
+        let f = s.evaluate(centres[3]);
+        assert!((f - mid).norm() < 1e-3, "F = {f:?}, mean target {mid:?}");
+        let w = s.weights();
+        assert!(w.iter().all(|w| w.norm() < 1e3), "weights blew up");
     }
 
     #[test]
