@@ -13,8 +13,9 @@
 //! (G is conditionally positive definite of order 2 in 3D, and I / lambda_eff > 0), which a
 //! Cholesky factorises in half the work and with residuals near machine precision. With the
 //! Householder QR A = Q [R; 0], Q = [Q1 Q2]: w = Q2 g where (Q2^T K Q2) g = Q2^T b, and
-//! R a = Q1^T (b - K w). Q^T K Q is formed by applying the four reflectors from both sides in
-//! O(N^2), and its top-right block gives Q1^T K w without keeping K.
+//! R a = Q1^T (b - K w). Q^T K Q is formed in O(N^2) by applying the four reflectors from both
+//! sides as one block reflector, on the lower triangle only; its off-diagonal block gives
+//! Q1^T K w without keeping K.
 //!
 //! The affine part is fitted in a basis centred on the mean of the centres (1, x - c): the same
 //! function F, but R no longer mixes the constant column with large coordinates, which keeps the
