@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use heartmesh_core::io::{self, MeshFormat};
 use heartmesh_core::pipeline::Reconstruction;
-use heartmesh_core::{CoreError, Params};
+use heartmesh_core::{ContourSet, CoreError, LidMode, Params};
 
 use crate::args::{parse, Parsed, Spec};
 use crate::cmd_convert::file_name;
@@ -18,13 +18,25 @@ pub const USAGE: &str =
     "heartmesh reconstruct CONTOURS -o MESH.obj [--report REPORT.json] [--surface LV_ENDO]
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
-    [--target-reduction 0.72] [--lids auto|none] [--resample-attractors-every 25]
-    [--ring-points 50] [--frame N] [--ascii] [--quiet]
+    [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
+    [--ring-points 50] [--frame N] [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
-  VTP carry each vertex's distance to the nearest contour point (mm) as point data.
+  VTP carry each vertex's distance to the nearest contour point (mm) as point data;
+  --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
+  --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time
   frame), xyz text, vtk/vtp lines, SurFCo .mat, heartmesh session .json (its parameters are
   the starting point; flags override them).";
+
+/// Options that take a value, besides the numeric parameters.
+const VALUE_FLAGS: &[&str] = &[
+    "output",
+    "report",
+    "surface",
+    "lids",
+    "frame",
+    "contour-distances",
+];
 
 /// Flag names (dashes) of the numeric parameters, from the core's schema.
 fn numeric_flags() -> Vec<String> {
@@ -36,7 +48,7 @@ fn numeric_flags() -> Vec<String> {
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
     let numeric = numeric_flags();
-    let mut with_value: Vec<&str> = vec!["output", "report", "surface", "lids", "frame"];
+    let mut with_value: Vec<&str> = VALUE_FLAGS.to_vec();
     with_value.extend(numeric.iter().map(String::as_str));
     let p = parse(
         args,
@@ -71,6 +83,15 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let params = params_from(&p, loaded.session_params.unwrap_or_default())?;
     let input_format = loaded.format.name();
     let set = loaded.set;
+    let mut params = params;
+    if p.value("lids") == Some("apex") {
+        params.lids = apex_lid(&set).ok_or_else(|| {
+            CliError::input(
+                input,
+                CoreError::parse(0, "--lids apex needs an APEX_POINT landmark in the file"),
+            )
+        })?;
+    }
     if !quiet {
         for w in &set.warnings {
             eprintln!("heartmesh: warning: {input}: {w}");
@@ -97,6 +118,16 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let mesh_bytes = io::write_mesh(rec.mesh(), format, point_data, &comment)
         .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
     files::write(output, &mesh_bytes)?;
+    if let Some(path) = p.value("contour-distances") {
+        let cleaned = ContourSet {
+            contours: rec.contours().to_vec(),
+            ..ContourSet::default()
+        };
+        let d = rec.contour_distances();
+        let csv = io::csv::write_csv(&cleaned, Some(&d.per_point))
+            .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
+        files::write(path, &csv)?;
+    }
     if let Some(path) = p.value("report") {
         let text = serde_json::to_string_pretty(&rep)
             .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
@@ -127,7 +158,8 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
             params.set(&key, v).map_err(CliError::param)?;
         }
     }
-    if let Some(l) = p.value("lids") {
+    // `apex` is resolved once the file is read (it needs the APEX_POINT landmark).
+    if let Some(l) = p.value("lids").filter(|l| *l != "apex") {
         params.set_lids(l).map_err(CliError::param)?;
     }
     if let Some(s) = p.value("surface") {
@@ -135,6 +167,20 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     }
     params.validate().map_err(CliError::param)?;
     Ok(params)
+}
+
+/// The apex lid at the file's APEX_POINT landmark (biv-me guide points carry one); the base lid
+/// stays automatic.
+fn apex_lid(set: &ContourSet) -> Option<LidMode> {
+    let apex = set
+        .landmarks
+        .iter()
+        .find(|(name, _)| name == "APEX_POINT")
+        .map(|(_, p)| *p)?;
+    Some(LidMode::Explicit {
+        apex: Some(apex),
+        base: None,
+    })
 }
 
 /// Input problems exit with 2 and name the file; numerical failures are the tool's (exit 1).
@@ -155,7 +201,7 @@ mod tests {
 
     fn parsed(a: &[&str]) -> Parsed {
         let numeric = numeric_flags();
-        let mut with_value: Vec<&str> = vec!["output", "report", "surface", "lids", "frame"];
+        let mut with_value: Vec<&str> = VALUE_FLAGS.to_vec();
         with_value.extend(numeric.iter().map(String::as_str));
         let v: Vec<String> = a.iter().map(|s| s.to_string()).collect();
         parse(

@@ -26,7 +26,7 @@ pub fn parameters(params: &Params) -> Value {
     let lids = match params.lids {
         LidMode::Auto => "auto",
         LidMode::None => "none",
-        LidMode::Explicit { .. } => "explicit",
+        LidMode::Explicit { .. } => "apex",
     };
     m.insert("lids".into(), json!(lids));
     m.insert("surface".into(), json!(params.surface));

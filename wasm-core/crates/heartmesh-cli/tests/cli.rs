@@ -286,17 +286,38 @@ fn reconstruct_gpfile_surface_to_ply() {
         "LV_ENDO",
         "--iterations",
         "60",
+        "--lids",
+        "apex",
         "--report",
         s(&report),
+        "--contour-distances",
+        s(&dir.join("d.csv")),
         "--quiet",
     ]));
     assert_eq!(code, 0, "{err}");
+    // Per-point distances: the cleaned LV_ENDO contours, each point with its distance in mm,
+    // summarising to the report's figures.
+    let d = std::fs::read_to_string(dir.join("d.csv")).unwrap();
+    let mut lines = d.lines();
+    assert_eq!(lines.next(), Some("contour,x,y,z,surface,distance"));
+    let dist: Vec<f64> = lines
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(dist.iter().all(|&x| x >= 0.0));
     let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
     assert_eq!(r["surface"], "LV_ENDO");
     assert_eq!(r["input_format"], "biv-me GPFile");
     assert_eq!(r["iterations"], 60);
+    assert_eq!(r["parameters"]["lids"], "apex");
     assert_eq!(r["watertight"], true, "{r}");
     assert!(num(&r, &["contour_to_mesh", "mean"]) <= 1.5, "{r}");
+    let max = dist.iter().cloned().fold(0.0, f64::max);
+    assert!(
+        (max - num(&r, &["contour_to_mesh", "max"])).abs() < 1e-9,
+        "{max}"
+    );
+    assert!(dist.len() >= num(&r, &["contour_to_mesh", "points"]) as usize);
     let bytes = std::fs::read(&ply).unwrap();
     let header = String::from_utf8_lossy(&bytes[..bytes.len().min(600)]).into_owned();
     assert!(header.contains("property float distance"), "{header}");
@@ -304,5 +325,15 @@ fn reconstruct_gpfile_surface_to_ply() {
         header.contains(&format!("element vertex {}\n", r["vertices"])),
         "{header}"
     );
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        s(&data("contours/surfco-example.csv")),
+        "-o",
+        s(&ply),
+        "--lids",
+        "apex",
+    ]));
+    assert_eq!(code, 2);
+    assert!(err.contains("needs an APEX_POINT landmark"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

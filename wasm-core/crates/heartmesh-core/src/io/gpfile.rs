@@ -87,7 +87,7 @@ fn header_columns(fields: &[&str], line: usize) -> Result<Columns> {
                 format!(
                     "missing column {:?} in the header (found: {})",
                     w[0],
-                    names.join(", ")
+                    super::text::shorten(&names.join(", "), 80)
                 ),
             )
         })

@@ -101,7 +101,7 @@ impl Reader {
                             })?;
                     self.elements(&inflated, depth + 1)?;
                 }
-                MI_MATRIX => self.matrix(data, "", depth)?,
+                MI_MATRIX => self.matrix(data, depth)?,
                 _ => {}
             }
             at = next;
@@ -110,7 +110,7 @@ impl Reader {
     }
 
     /// One miMATRIX: array flags, dimensions, name, then content by class.
-    fn matrix(&mut self, b: &[u8], _parent: &str, depth: usize) -> Result<()> {
+    fn matrix(&mut self, b: &[u8], depth: usize) -> Result<()> {
         if depth > MAX_DEPTH {
             return Err(err("arrays nested too deeply"));
         }
@@ -122,7 +122,6 @@ impl Reader {
             .u32_at(flags, 0)
             .ok_or_else(|| err("bad array flags"))?;
         let class = (flags0 & 0xff) as u8;
-        let complex = flags0 & 0x0800 != 0;
         let (_, dims_raw, at) = self.element(b, at)?;
         let dims: Vec<usize> = (0..dims_raw.len() / 4)
             .filter_map(|k| self.u32_at(dims_raw, 4 * k))
@@ -142,7 +141,7 @@ impl Reader {
                 for _ in 0..count {
                     let (ty, data, next) = self.element(b, at)?;
                     if ty == MI_MATRIX {
-                        self.matrix(data, &name, depth + 1)?;
+                        self.matrix(data, depth + 1)?;
                     }
                     at = next;
                 }
@@ -159,7 +158,7 @@ impl Reader {
                 for _ in 0..total {
                     let (ty, data, next) = self.element(b, a3)?;
                     if ty == MI_MATRIX {
-                        self.matrix(data, &name, depth + 1)?;
+                        self.matrix(data, depth + 1)?;
                     }
                     a3 = next;
                 }
@@ -169,6 +168,7 @@ impl Reader {
                 if class == 4 || class == 5 || dims.len() != 2 {
                     return Ok(());
                 }
+                // The real part; an imaginary part (complex flag) would follow and is ignored.
                 let (ty, real, _) = self.element(b, at)?;
                 let values = self.numbers(ty, real)?;
                 if values.len() != count {
@@ -179,7 +179,6 @@ impl Reader {
                         dims[1]
                     )));
                 }
-                let _ = complex; // the real part is used; imaginary parts are not coordinates
                 let (rows, cols) = (dims[0], dims[1]);
                 let pts: Vec<[f64; 3]> = if cols == 3 {
                     (0..rows)

@@ -163,6 +163,12 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     }
 }
 
+fn looks_like_slice_info(bytes: &[u8]) -> bool {
+    let head = &bytes[..bytes.len().min(1024)];
+    let has = |w: &[u8]| head.windows(w.len()).any(|x| x == w);
+    has(b"ImagePositionPatient") && has(b"ImageOrientationPatient")
+}
+
 /// Reads contours from any supported format (detected from content and extension).
 pub fn read_contours(file_name: &str, bytes: &[u8]) -> Result<ContourSet> {
     read_contours_with(file_name, bytes, &ContourOptions::default())
@@ -175,6 +181,10 @@ pub fn read_contours_with(
     options: &ContourOptions,
 ) -> Result<ContourSet> {
     match detect_contour_format(file_name, bytes) {
+        ContourFormat::Csv if looks_like_slice_info(bytes) => Err(CoreError::parse(
+            1,
+            "this is a biv-me SliceInfoFile (image planes), not contours; read the GPFile_*.txt beside it",
+        )),
         ContourFormat::Csv => csv::read_csv(bytes),
         ContourFormat::GpFile => {
             let mut set = gpfile::read_gpfile(text::decode(bytes)?, options.frame)?;

@@ -427,17 +427,21 @@ pub(crate) fn contours_from_lines(
     b.finish()
 }
 
+const TITLE_MAX: usize = 160;
+
 /// VTK legacy 3.0 ASCII POLYDATA with triangles and the optional point scalars.
 pub fn write_vtk(
     mesh: &TriMesh,
     point_data: Option<(&str, &[f64])>,
     header_comment: &str,
 ) -> Vec<u8> {
+    // Readers such as three.js' VTKLoader look for "ASCII" within the first 250 bytes, so the
+    // title (limited to 256 characters by the format) is kept well below that.
     let title: String = header_lines(header_comment)
         .join(" | ")
         .chars()
-        .filter(|c| !c.is_control())
-        .take(255)
+        .filter(|c| c.is_ascii() && !c.is_ascii_control())
+        .take(TITLE_MAX)
         .collect();
     let mut out = format!(
         "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
@@ -517,6 +521,17 @@ mod tests {
         assert_eq!(set.contours[0].pieces[0].points[2], v3(10.0, 10.0, 0.0));
         // Truncated binary data is an error, not a panic.
         assert!(read_vtk_contours(&b[..b.len() - 6]).is_err());
+    }
+
+    #[test]
+    fn long_comment_keeps_ascii_keyword_early() {
+        let m = TriMesh::new(
+            vec![v3(0., 0., 0.), v3(1., 0., 0.), v3(0., 1., 0.)],
+            vec![[0, 1, 2]],
+        );
+        let out = write_vtk(&m, None, &"x".repeat(1000));
+        let head = String::from_utf8_lossy(&out[..250]).into_owned();
+        assert_eq!(head.split('\n').nth(2), Some("ASCII"));
     }
 
     #[test]
