@@ -337,3 +337,42 @@ fn reconstruct_gpfile_surface_to_ply() {
     assert!(err.contains("needs an APEX_POINT landmark"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A session JSON carries its parameters: they are the starting point, flags override them.
+#[test]
+fn reconstruct_from_session_uses_its_parameters() {
+    let dir = scratch("session");
+    let json = dir.join("s.json");
+    let (code, _, err) = run(bin().args([
+        "convert",
+        s(&data("contours/surfco-example.csv")),
+        s(&json),
+        "-q",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let session = std::fs::read_to_string(&json).unwrap();
+    let edited = session.replace("\"iterations\":250.0", "\"iterations\":6.0");
+    assert_ne!(edited, session, "the session stores the iteration count");
+    std::fs::write(&json, edited).unwrap();
+    let report = dir.join("r.json");
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        s(&json),
+        "-o",
+        s(&dir.join("m.vtp")),
+        "--report",
+        s(&report),
+        "--beta",
+        "0.2",
+        "-q",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["iterations"], 6);
+    assert_eq!(r["parameters"]["iterations"], 6.0);
+    assert_eq!(r["parameters"]["beta"], 0.2);
+    assert_eq!(r["input_format"], "heartmesh session");
+    let vtp = std::fs::read_to_string(dir.join("m.vtp")).unwrap();
+    assert!(vtp.contains("<PointData Scalars=\"distance\">"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
