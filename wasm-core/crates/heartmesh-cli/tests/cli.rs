@@ -376,3 +376,25 @@ fn reconstruct_from_session_uses_its_parameters() {
     assert!(vtp.contains("<PointData Scalars=\"distance\">"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Contours in metres: the reconstruction fails (or not), but stderr stays one line, and the
+/// units warning is on it when it fails.
+#[test]
+fn failure_after_a_warning_is_still_one_line() {
+    let dir = scratch("metres");
+    let f = dir.join("m.csv");
+    // Two tiny SAX rings 10 mm apart in metres: too few contour points to build attractors.
+    let mut text = String::from("contour,x,y,z\n");
+    for (c, z) in [("a", 0.0), ("b", 0.01)] {
+        for i in 0..3 {
+            let t = i as f64 * 2.0;
+            text.push_str(&format!("{c},{},{},{z}\n", 0.02 * t.cos(), 0.02 * t.sin()));
+        }
+    }
+    std::fs::write(&f, text).unwrap();
+    let (code, _, err) = run(bin().args(["reconstruct", s(&f), "-o", s(&dir.join("o.obj"))]));
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("(warning: coordinates span 0.0"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
