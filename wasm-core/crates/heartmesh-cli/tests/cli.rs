@@ -188,6 +188,20 @@ fn convert_every_contour_format_to_csv_and_session() {
         let (code, out, _) = run(bin().args(["convert", s(&json), s(&back)]));
         assert_eq!(code, 0);
         assert_eq!(out, format!("{}: {expect}\n", s(&back)), "{rel}");
+        // Contours to VTK/VTP polylines and back: the same number of points.
+        for ext in ["vtk", "vtp"] {
+            let lines = dir.join(format!("c.{ext}"));
+            let (code, _, err) = run(bin().args(["convert", s(&csv), s(&lines), "-q"]));
+            assert_eq!(code, 0, "{ext}: {err}");
+            let again = dir.join("again.csv");
+            let (code, out, err) = run(bin().args(["convert", s(&lines), s(&again)]));
+            assert_eq!(code, 0, "{ext}: {err}");
+            let points = expect.split(", ").nth(1).unwrap();
+            assert!(
+                out.contains(&format!(", {points}, 0 landmarks")),
+                "{ext}: {out}"
+            );
+        }
     }
     let (code, _, err) = run(bin().args([
         "convert",
