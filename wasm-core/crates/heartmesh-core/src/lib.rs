@@ -20,13 +20,13 @@ pub mod metrics;
 pub mod params;
 pub mod pipeline;
 pub mod refine;
+pub mod sim;
 pub mod spatial;
 
 pub use contours::{Contour, ContourSet, Polyline};
 pub use error::CoreError;
 pub use mesh::TriMesh;
 pub use params::{AttractorMode, LidMode, Params};
-
 
 /// Version of the core, recorded in exports so results can be traced to the code that made them.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

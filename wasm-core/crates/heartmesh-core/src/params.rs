@@ -26,7 +26,10 @@ pub enum LidMode {
     /// Open mesh: no lids.
     None,
     /// Explicit lid points in mm (either may be absent: that end stays automatic).
-    Explicit { apex: Option<Vec3>, base: Option<Vec3> },
+    Explicit {
+        apex: Option<Vec3>,
+        base: Option<Vec3>,
+    },
 }
 
 /// All tunable parameters of a reconstruction.
@@ -112,13 +115,14 @@ impl Params {
 
     /// Sets a numeric parameter by its schema name, checking its range.
     pub fn set(&mut self, name: &str, value: f64) -> Result<()> {
-        let spec = SCHEMA
-            .iter()
-            .find(|s| s.name == name)
-            .ok_or_else(|| CoreError::ParamInvalid {
-                name: name.to_string(),
-                message: "unknown parameter".to_string(),
-            })?;
+        let spec =
+            SCHEMA
+                .iter()
+                .find(|s| s.name == name)
+                .ok_or_else(|| CoreError::ParamInvalid {
+                    name: name.to_string(),
+                    message: "unknown parameter".to_string(),
+                })?;
         if !value.is_finite() || value < spec.min || value > spec.max {
             return Err(CoreError::ParamOutOfRange {
                 name: name.to_string(),

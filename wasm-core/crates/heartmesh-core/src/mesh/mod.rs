@@ -67,9 +67,11 @@ impl TriMesh {
     /// Axis-aligned bounds (min, max); None for an empty mesh.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let first = *self.positions.first()?;
-        Some(self.positions.iter().fold((first, first), |(lo, hi), p| {
-            (lo.inf(p), hi.sup(p))
-        }))
+        Some(
+            self.positions
+                .iter()
+                .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p))),
+        )
     }
 
     /// Positions as flat f32 triples, for renderers and wasm (converted once, at the boundary).
@@ -94,7 +96,12 @@ mod tests {
     /// A unit right tetrahedron with outward faces.
     pub fn tetra() -> TriMesh {
         TriMesh::new(
-            vec![v3(0., 0., 0.), v3(1., 0., 0.), v3(0., 1., 0.), v3(0., 0., 1.)],
+            vec![
+                v3(0., 0., 0.),
+                v3(1., 0., 0.),
+                v3(0., 1., 0.),
+                v3(0., 0., 1.),
+            ],
             vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
         )
     }

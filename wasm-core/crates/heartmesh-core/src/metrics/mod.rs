@@ -1,1 +1,3 @@
 //! Distances and measures (lead: stats, contour-to-mesh; validation helper: compare.rs).
+
+pub mod compare;
