@@ -1,1 +1,3 @@
-//! (module under construction)
+//! Deformation of the mesh towards the contour points by composed thin-plate splines.
+
+pub mod tps;

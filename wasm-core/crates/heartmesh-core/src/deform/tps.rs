@@ -1,0 +1,801 @@
+//! Approximating 3D thin-plate spline, fitted once per deformation step.
+//!
+//! Reference: F. L. Bookstein, "Principal warps: thin-plate splines and the decomposition of
+//! deformations", IEEE TPAMI 11(6), 1989; approximating (smoothing) form as in G. Wahba, "Spline
+//! Models for Observational Data", SIAM 1990; use in Villard, Grau & Zacur, J. Imaging 2018
+//! (see METHOD.md section 4).
+//!
+//! F(x) = sum_i w_i G(|x - P_i|) + a0 + a1 x + a2 y + a3 z with G(r) = -r / (8 pi), solving
+//! [[G + I / lambda_eff, A], [A^T, 0]] [w; a] = [Q'; 0] for the three coordinates at once.
+//!
+//! Why this solution path: the saddle-point system is symmetric but indefinite, so a general LU
+//! would be needed; projected onto the null space of A^T it becomes symmetric positive definite
+//! (G is conditionally positive definite of order 2 in 3D, and I / lambda_eff > 0), which a
+//! Cholesky factorises in half the work and with residuals near machine precision. With the
+//! Householder QR A = Q [R; 0], Q = [Q1 Q2]: w = Q2 g where (Q2^T K Q2) g = Q2^T b, and
+//! R a = Q1^T (b - K w). Q^T K Q is formed by applying the four reflectors from both sides in
+//! O(N^2), and its top-right block gives Q1^T K w without keeping K.
+//!
+//! The affine part is fitted in a basis centred on the mean of the centres (1, x - c): the same
+//! function F, but R no longer mixes the constant column with large coordinates, which keeps the
+//! coplanarity test and the 4 x 4 solve well conditioned. Nothing else is rescaled: the pipeline
+//! passes normalised units already.
+//!
+//! Evaluation is the hot loop of the whole reconstruction (vertices x centres per iteration): the
+//! centres are stored as structure-of-arrays chunks of four with the weights pre-multiplied by
+//! -1/(8 pi), summed in four lanes in a fixed order. The wasm simd128 path uses two f64x2 vectors
+//! for the same four lanes and the same order, so both paths give identical bits.
+
+use crate::error::{CoreError, Result};
+use crate::geometry::Vec3;
+
+/// Lanes of the evaluation kernel (two f64x2 vectors in wasm).
+const LANES: usize = 4;
+/// Relative size below which a column of the centred affine basis counts as zero (coplanar,
+/// collinear or coincident centres).
+const COPLANAR_TOL: f64 = 1e-10;
+
+/// -1 / (8 pi): the 3D biharmonic Green's function is G(r) = KERNEL_SCALE * r.
+const KERNEL_SCALE: f64 = -1.0 / (8.0 * std::f64::consts::PI);
+
+/// Four centres and their weights, structure-of-arrays so the kernel loads whole lanes.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Chunk {
+    x: [f64; LANES],
+    y: [f64; LANES],
+    z: [f64; LANES],
+    wx: [f64; LANES],
+    wy: [f64; LANES],
+    wz: [f64; LANES],
+}
+
+/// Fits and applies approximating thin-plate splines, reusing its buffers across fits: after the
+/// first fit at a given number of centres, neither `fit` nor `apply` allocates.
+#[derive(Debug, Clone, Default)]
+pub struct TpsSolver {
+    n: usize,
+    /// N x N row-major: the kernel matrix, then Q^T K Q in place.
+    kmat: Vec<f64>,
+    /// Householder vectors, 4 x N (row k is zero before index k).
+    hv: Vec<f64>,
+    hbeta: [f64; 4],
+    /// R of the QR of the centred affine basis (upper triangular).
+    r: [[f64; 4]; 4],
+    /// (N-4) x (N-4) row-major; the Cholesky factor L in its lower triangle.
+    chol: Vec<f64>,
+    /// Right-hand sides, 3 x N (x, y, z rows): b, then Q^T b, then the solution w.
+    rhs: Vec<f64>,
+    /// Scratch vector of length N.
+    tmp: Vec<f64>,
+    /// Evaluation data.
+    chunks: Vec<Chunk>,
+    centre: Vec3,
+    /// Affine part per output coordinate in the centred basis: (a0, ax, ay, az).
+    affine_c: [[f64; 4]; 3],
+    fitted: bool,
+}
+
+impl TpsSolver {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Number of centres of the current fit (0 before the first).
+    pub fn len(&self) -> usize {
+        if self.fitted {
+            self.n
+        } else {
+            0
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Fits F with F(centres[i]) ~ targets[i]; `lambda_eff` weighs the data term against the
+    /// bending energy (large: interpolating; small: close to the least-squares affine map).
+    pub fn fit(&mut self, centres: &[Vec3], targets: &[Vec3], lambda_eff: f64) -> Result<()> {
+        self.fitted = false;
+        let n = centres.len();
+        if targets.len() != n {
+            return Err(CoreError::Numerical(format!(
+                "TPS: {} centres but {} targets",
+                n,
+                targets.len()
+            )));
+        }
+        if n < 4 {
+            return Err(CoreError::Numerical(format!(
+                "TPS: {n} centres, at least 4 non-coplanar centres are needed"
+            )));
+        }
+        if !(lambda_eff.is_finite() && lambda_eff > 0.0) {
+            return Err(CoreError::Numerical(format!(
+                "TPS: lambda_eff = {lambda_eff} must be finite and positive"
+            )));
+        }
+        if centres
+            .iter()
+            .chain(targets)
+            .any(|p| !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()))
+        {
+            return Err(CoreError::Numerical(
+                "TPS: non-finite centre or target".into(),
+            ));
+        }
+        self.n = n;
+        let m = n - 4;
+        self.kmat.resize(n * n, 0.0);
+        self.hv.resize(4 * n, 0.0);
+        self.chol.resize(m * m, 0.0);
+        self.rhs.resize(3 * n, 0.0);
+        self.tmp.resize(n, 0.0);
+
+        self.centre = centres.iter().sum::<Vec3>() / n as f64;
+        self.householder_affine(centres)?;
+        self.assemble_kernel(centres, 1.0 / lambda_eff);
+        self.project_kernel();
+        self.project_rhs(targets);
+        cholesky_in_place(&mut self.chol, m)?;
+        self.solve_projected();
+        self.recover_weights_and_affine()?;
+        self.build_chunks(centres);
+        self.fitted = true;
+        Ok(())
+    }
+
+    /// Householder QR of the centred affine basis A = [1, x - c] (N x 4); keeps the reflectors
+    /// and R, fails on coplanar centres.
+    fn householder_affine(&mut self, centres: &[Vec3]) -> Result<()> {
+        let n = self.n;
+        let c = self.centre;
+        // Columns of A, stored in hv (then turned into the reflectors row by row).
+        let (col0, rest) = self.hv.split_at_mut(n);
+        let (col1, rest) = rest.split_at_mut(n);
+        let (col2, col3) = rest.split_at_mut(n);
+        for (i, p) in centres.iter().enumerate() {
+            col0[i] = 1.0;
+            col1[i] = p.x - c.x;
+            col2[i] = p.y - c.y;
+            col3[i] = p.z - c.z;
+        }
+        let scale = (0..4)
+            .map(|k| dot(&self.hv[k * n..(k + 1) * n], &self.hv[k * n..(k + 1) * n]).sqrt())
+            .fold(0.0, f64::max);
+        self.r = [[0.0; 4]; 4];
+        for k in 0..4 {
+            let (done, rest) = self.hv.split_at_mut((k + 1) * n);
+            let v = &mut done[k * n..];
+            for x in &mut v[..k] {
+                *x = 0.0;
+            }
+            let norm = dot(&v[k..], &v[k..]).sqrt();
+            if norm.is_nan() || norm <= COPLANAR_TOL * scale {
+                return Err(CoreError::Numerical(
+                    "TPS: the centres are coplanar (or collinear, or coincident)".into(),
+                ));
+            }
+            let alpha = if v[k] > 0.0 { -norm } else { norm };
+            v[k] -= alpha;
+            // |v[k]| = norm + |x_k| >= norm > 0, so v^T v > 0.
+            let beta = 2.0 / dot(&v[k..], &v[k..]);
+            self.hbeta[k] = beta;
+            self.r[k][k] = alpha;
+            // Apply H_k to the remaining columns (stored after v in `rest`).
+            for j in 0..(3 - k) {
+                let col = &mut rest[j * n..(j + 1) * n];
+                let s = beta * dot(&v[k..], &col[k..]);
+                axpy(-s, &v[k..], &mut col[k..]);
+                self.r[k][k + 1 + j] = col[k];
+            }
+        }
+        Ok(())
+    }
+
+    /// K = G + I / lambda_eff over the centres (full symmetric storage).
+    fn assemble_kernel(&mut self, centres: &[Vec3], diag: f64) {
+        let n = self.n;
+        for i in 0..n {
+            let pi = centres[i];
+            self.kmat[i * n + i] = diag;
+            for (j, pj) in centres[..i].iter().enumerate() {
+                let g = KERNEL_SCALE * (pi - pj).norm();
+                self.kmat[i * n + j] = g;
+                self.kmat[j * n + i] = g;
+            }
+        }
+    }
+
+    /// K <- H_k K H_k for the four reflectors, i.e. Q^T K Q; then copies the trailing
+    /// (N-4) x (N-4) block (lower triangle) into the Cholesky buffer.
+    fn project_kernel(&mut self) {
+        let n = self.n;
+        for k in 0..4 {
+            let v = &self.hv[k * n..(k + 1) * n];
+            let beta = self.hbeta[k];
+            // p = beta K v (v is zero before k).
+            for i in 0..n {
+                self.tmp[i] = beta * dot(&self.kmat[i * n + k..(i + 1) * n], &v[k..]);
+            }
+            // u = p - (beta / 2) (p . v) v; then K -= v u^T + u v^T.
+            let s = 0.5 * beta * dot(&self.tmp[k..], &v[k..]);
+            axpy(-s, &v[k..], &mut self.tmp[k..]);
+            let u = &self.tmp;
+            for i in 0..n {
+                let row = &mut self.kmat[i * n..(i + 1) * n];
+                let (vi, ui) = (v[i], u[i]);
+                for ((r, &uj), &vj) in row[k..].iter_mut().zip(&u[k..]).zip(&v[k..]) {
+                    *r -= vi * uj + ui * vj;
+                }
+                if i >= k {
+                    // Columns before k: v_j = 0 there, so only v_i u_j remains.
+                    for (r, &uj) in row[..k].iter_mut().zip(&u[..k]) {
+                        *r -= vi * uj;
+                    }
+                }
+            }
+        }
+        let m = n - 4;
+        for i in 0..m {
+            let src = &self.kmat[(4 + i) * n + 4..(4 + i) * n + 5 + i];
+            self.chol[i * m..i * m + i + 1].copy_from_slice(src);
+        }
+    }
+
+    /// rhs <- Q^T b for the three coordinates of the targets.
+    fn project_rhs(&mut self, targets: &[Vec3]) {
+        let n = self.n;
+        for (i, t) in targets.iter().enumerate() {
+            self.rhs[i] = t.x;
+            self.rhs[n + i] = t.y;
+            self.rhs[2 * n + i] = t.z;
+        }
+        for k in 0..4 {
+            let v = &self.hv[k * n + k..(k + 1) * n];
+            for b in self.rhs.chunks_exact_mut(n) {
+                let s = self.hbeta[k] * dot(v, &b[k..]);
+                axpy(-s, v, &mut b[k..]);
+            }
+        }
+    }
+
+    /// Solves L L^T g = (Q^T b)[4..] in place for the three coordinates.
+    fn solve_projected(&mut self) {
+        let (n, m) = (self.n, self.n - 4);
+        for b in self.rhs.chunks_exact_mut(n) {
+            let y = &mut b[4..];
+            for i in 0..m {
+                let row = &self.chol[i * m..i * m + i + 1];
+                y[i] = (y[i] - dot(&row[..i], &y[..i])) / row[i];
+            }
+            for i in (0..m).rev() {
+                let row = &self.chol[i * m..i * m + i + 1];
+                let xi = y[i] / row[i];
+                y[i] = xi;
+                axpy(-xi, &row[..i], &mut y[..i]);
+            }
+        }
+    }
+
+    /// a from R a = Q1^T b - (Q^T K Q)[0..4, 4..] g, then w = Q [0; g].
+    fn recover_weights_and_affine(&mut self) -> Result<()> {
+        let n = self.n;
+        for (c, b) in self.rhs.chunks_exact_mut(n).enumerate() {
+            let mut t = [0.0; 4];
+            for (k, tk) in t.iter_mut().enumerate() {
+                *tk = b[k] - dot(&self.kmat[k * n + 4..(k + 1) * n], &b[4..]);
+            }
+            let mut a = [0.0; 4];
+            for k in (0..4).rev() {
+                let mut s = t[k];
+                for (rkj, aj) in self.r[k][k + 1..].iter().zip(&a[k + 1..]) {
+                    s -= rkj * aj;
+                }
+                a[k] = s / self.r[k][k];
+            }
+            self.affine_c[c] = a;
+            b[..4].fill(0.0);
+            for k in (0..4).rev() {
+                let v = &self.hv[k * n + k..(k + 1) * n];
+                let s = self.hbeta[k] * dot(v, &b[k..]);
+                axpy(-s, v, &mut b[k..]);
+            }
+        }
+        let finite = self.rhs.iter().all(|x| x.is_finite())
+            && self.affine_c.iter().flatten().all(|x| x.is_finite());
+        if finite {
+            Ok(())
+        } else {
+            Err(CoreError::Numerical(
+                "TPS: the solution is not finite (ill-conditioned centres)".into(),
+            ))
+        }
+    }
+
+    /// Evaluation chunks; the padding lanes repeat the first centre with zero weight, which adds
+    /// exactly zero.
+    fn build_chunks(&mut self, centres: &[Vec3]) {
+        let n = self.n;
+        let n_chunks = n.div_ceil(LANES);
+        let pad = centres[0];
+        self.chunks.resize(n_chunks, Chunk::default());
+        for (ci, ch) in self.chunks.iter_mut().enumerate() {
+            for l in 0..LANES {
+                let i = ci * LANES + l;
+                let (p, w) = if i < n {
+                    let w = [self.rhs[i], self.rhs[n + i], self.rhs[2 * n + i]];
+                    (centres[i], w.map(|x| x * KERNEL_SCALE))
+                } else {
+                    (pad, [0.0; 3])
+                };
+                ch.x[l] = p.x;
+                ch.y[l] = p.y;
+                ch.z[l] = p.z;
+                ch.wx[l] = w[0];
+                ch.wy[l] = w[1];
+                ch.wz[l] = w[2];
+            }
+        }
+    }
+
+    /// Kernel weights w_i of the current fit (one per centre).
+    pub fn weights(&self) -> Vec<Vec3> {
+        let n = self.len();
+        (0..n)
+            .map(|i| Vec3::new(self.rhs[i], self.rhs[n + i], self.rhs[2 * n + i]))
+            .collect()
+    }
+
+    /// Affine part of the current fit in the plain basis: row c gives (a0, ax, ay, az) with
+    /// F_c(x) = ... + a0 + ax x + ay y + az z.
+    pub fn affine(&self) -> [[f64; 4]; 3] {
+        let c = self.centre;
+        self.affine_c
+            .map(|[a0, ax, ay, az]| [a0 - ax * c.x - ay * c.y - az * c.z, ax, ay, az])
+    }
+
+    /// F at one point (the identity before a successful fit).
+    #[inline]
+    pub fn evaluate(&self, p: Vec3) -> Vec3 {
+        if !self.fitted {
+            return p;
+        }
+        let k = kernel_sum(&self.chunks, p);
+        let d = p - self.centre;
+        let af = |a: &[f64; 4]| a[0] + a[1] * d.x + a[2] * d.y + a[3] * d.z;
+        Vec3::new(
+            k[0] + af(&self.affine_c[0]),
+            k[1] + af(&self.affine_c[1]),
+            k[2] + af(&self.affine_c[2]),
+        )
+    }
+
+    /// Replaces every point by F(point); leaves them unchanged before a successful fit.
+    pub fn apply(&self, points: &mut [Vec3]) {
+        if !self.fitted {
+            return;
+        }
+        for p in points {
+            *p = self.evaluate(*p);
+        }
+    }
+}
+
+/// sum_i w_i G(|p - P_i|) for the three coordinates: four lanes, lane l summing centres l, l + 4,
+/// ..., then (l0 + l1) + (l2 + l3).
+#[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+#[inline]
+fn kernel_sum(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
+    kernel_sum_scalar(chunks, p)
+}
+
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+#[inline]
+fn kernel_sum(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
+    simd::kernel_sum_simd128(chunks, p)
+}
+
+/// The portable kernel; also the reference the SIMD path must reproduce bit for bit.
+#[inline]
+fn kernel_sum_scalar(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
+    let mut ax = [0.0; LANES];
+    let mut ay = [0.0; LANES];
+    let mut az = [0.0; LANES];
+    for ch in chunks {
+        for l in 0..LANES {
+            let dx = p.x - ch.x[l];
+            let dy = p.y - ch.y[l];
+            let dz = p.z - ch.z[l];
+            let r = (dx * dx + dy * dy + dz * dz).sqrt();
+            ax[l] += ch.wx[l] * r;
+            ay[l] += ch.wy[l] * r;
+            az[l] += ch.wz[l] * r;
+        }
+    }
+    let h = |a: [f64; LANES]| (a[0] + a[1]) + (a[2] + a[3]);
+    [h(ax), h(ay), h(az)]
+}
+
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+mod simd {
+    use super::{Chunk, Vec3};
+    use core::arch::wasm32::*;
+
+    /// Same lanes and order as `kernel_sum_scalar`: lanes (0, 1) and (2, 3) as two f64x2.
+    #[inline]
+    pub(super) fn kernel_sum_simd128(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
+        let (px, py, pz) = (f64x2_splat(p.x), f64x2_splat(p.y), f64x2_splat(p.z));
+        let zero = f64x2_splat(0.0);
+        let mut acc = [zero; 6]; // x lo, x hi, y lo, y hi, z lo, z hi
+        let ld = |a: &[f64; 4], h: usize| f64x2(a[2 * h], a[2 * h + 1]);
+        for ch in chunks {
+            for h in 0..2 {
+                let dx = f64x2_sub(px, ld(&ch.x, h));
+                let dy = f64x2_sub(py, ld(&ch.y, h));
+                let dz = f64x2_sub(pz, ld(&ch.z, h));
+                let r2 = f64x2_add(
+                    f64x2_add(f64x2_mul(dx, dx), f64x2_mul(dy, dy)),
+                    f64x2_mul(dz, dz),
+                );
+                let r = f64x2_sqrt(r2);
+                acc[h] = f64x2_add(acc[h], f64x2_mul(ld(&ch.wx, h), r));
+                acc[2 + h] = f64x2_add(acc[2 + h], f64x2_mul(ld(&ch.wy, h), r));
+                acc[4 + h] = f64x2_add(acc[4 + h], f64x2_mul(ld(&ch.wz, h), r));
+            }
+        }
+        let h = |lo: v128, hi: v128| {
+            (f64x2_extract_lane::<0>(lo) + f64x2_extract_lane::<1>(lo))
+                + (f64x2_extract_lane::<0>(hi) + f64x2_extract_lane::<1>(hi))
+        };
+        [h(acc[0], acc[1]), h(acc[2], acc[3]), h(acc[4], acc[5])]
+    }
+}
+
+/// Cholesky factorisation A = L L^T of the lower triangle of an m x m row-major matrix, in place
+/// (dot-product form: each entry is one contiguous dot product of two rows).
+fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<()> {
+    for i in 0..m {
+        let (done, rest) = a.split_at_mut(i * m);
+        let row_i = &mut rest[..i + 1];
+        for j in 0..i {
+            let row_j = &done[j * m..j * m + j + 1];
+            let s = row_i[j] - dot(&row_i[..j], &row_j[..j]);
+            row_i[j] = s / row_j[j];
+        }
+        let d = row_i[i] - dot(&row_i[..i], &row_i[..i]);
+        if !(d > 0.0 && d.is_finite()) {
+            return Err(CoreError::Numerical(format!(
+                "TPS: projected system is not positive definite (pivot {i} = {d:e})"
+            )));
+        }
+        row_i[i] = d.sqrt();
+    }
+    Ok(())
+}
+
+/// Dot product in eight independent lanes (fixed order, so results are reproducible; eight
+/// accumulators hide the add latency and let LLVM use vector registers).
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut acc = [0.0; 8];
+    let (ca, cb) = (a.chunks_exact(8), b.chunks_exact(8));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        for l in 0..8 {
+            acc[l] += x[l] * y[l];
+        }
+    }
+    let mut s = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
+    for (x, y) in ra.iter().zip(rb) {
+        s += x * y;
+    }
+    s
+}
+
+/// y += alpha x.
+#[inline]
+fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
+    for (yi, xi) in y.iter_mut().zip(x) {
+        *yi += alpha * xi;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::v3;
+    use crate::spatial::testutil::SplitMix64;
+
+    /// Random centres in a unit-diameter-ish cloud away from the origin (normalised units, not
+    /// centred, as the pipeline passes them).
+    fn cloud(rng: &mut SplitMix64, n: usize) -> Vec<Vec3> {
+        (0..n)
+            .map(|_| v3(1.5, -0.7, 0.3) + rng.vec3(-0.35, 0.35))
+            .collect()
+    }
+
+    /// A smooth non-affine displacement of about 0.05.
+    fn warp(p: &Vec3) -> Vec3 {
+        p + v3(
+            0.05 * (3.0 * p.y).sin(),
+            0.04 * p.x * p.z,
+            0.03 * (2.0 * p.x + p.y).cos(),
+        )
+    }
+
+    fn affine_map(p: &Vec3) -> Vec3 {
+        v3(
+            1.1 * p.x - 0.2 * p.y + 0.05 * p.z + 0.3,
+            0.1 * p.x + 0.9 * p.y - 0.1 * p.z - 0.2,
+            -0.05 * p.x + 0.15 * p.y + 1.2 * p.z + 0.1,
+        )
+    }
+
+    /// Normwise backward error of the full augmented system in the plain basis (1, x, y, z):
+    /// max |residual| / (||M||_inf max|x| + max|rhs|).
+    fn augmented_residual(
+        centres: &[Vec3],
+        targets: &[Vec3],
+        lambda_eff: f64,
+        s: &TpsSolver,
+    ) -> f64 {
+        let n = centres.len();
+        let w = s.weights();
+        let a = s.affine();
+        let mut max_res: f64 = 0.0;
+        let mut m_norm: f64 = 0.0;
+        for i in 0..n {
+            let mut row_sum = 1.0 / lambda_eff;
+            let mut f = [0.0; 3];
+            for j in 0..n {
+                let g = if i == j {
+                    1.0 / lambda_eff
+                } else {
+                    KERNEL_SCALE * (centres[i] - centres[j]).norm()
+                };
+                if i != j {
+                    row_sum += g.abs();
+                }
+                for c in 0..3 {
+                    f[c] += g * w[j][c];
+                }
+            }
+            let p = centres[i];
+            row_sum += 1.0 + p.x.abs() + p.y.abs() + p.z.abs();
+            m_norm = m_norm.max(row_sum);
+            for c in 0..3 {
+                let fa = f[c] + a[c][0] + a[c][1] * p.x + a[c][2] * p.y + a[c][3] * p.z;
+                max_res = max_res.max((fa - targets[i][c]).abs());
+            }
+        }
+        // A^T w = 0 rows.
+        let col_sum: f64 = centres.iter().map(|p| p.abs().max()).sum::<f64>() + n as f64;
+        m_norm = m_norm.max(col_sum);
+        for c in 0..3 {
+            let mut r = [0.0; 4];
+            for (p, wi) in centres.iter().zip(&w) {
+                r[0] += wi[c];
+                r[1] += wi[c] * p.x;
+                r[2] += wi[c] * p.y;
+                r[3] += wi[c] * p.z;
+            }
+            max_res = max_res.max(r.iter().fold(0.0, |m, x| m.max(x.abs())));
+        }
+        let x_max = w
+            .iter()
+            .map(|v| v.abs().max())
+            .chain(a.iter().flatten().map(|x| x.abs()))
+            .fold(0.0, f64::max);
+        let b_max = targets.iter().map(|t| t.abs().max()).fold(0.0, f64::max);
+        max_res / (m_norm * x_max + b_max)
+    }
+
+    #[test]
+    fn large_lambda_reproduces_targets() {
+        let mut rng = SplitMix64::new(1);
+        let centres = cloud(&mut rng, 120);
+        let targets: Vec<Vec3> = centres.iter().map(warp).collect();
+        let mut s = TpsSolver::new();
+        s.fit(&centres, &targets, 1e12).unwrap();
+        let worst = centres
+            .iter()
+            .zip(&targets)
+            .map(|(c, t)| (s.evaluate(*c) - t).norm())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-6, "max |F(P) - Q'| = {worst:e}");
+        // And it is a genuine warp, not the affine fit: the affine part alone misses by far more.
+        let mut plain = TpsSolver::new();
+        plain.fit(&centres, &targets, 1e-9).unwrap();
+        let affine_miss = centres
+            .iter()
+            .zip(&targets)
+            .map(|(c, t)| (plain.evaluate(*c) - t).norm())
+            .fold(0.0, f64::max);
+        assert!(affine_miss > 1e-3, "affine misses by {affine_miss:e}");
+    }
+
+    #[test]
+    fn affine_targets_give_an_affine_map_everywhere() {
+        let mut rng = SplitMix64::new(2);
+        let centres = cloud(&mut rng, 80);
+        let targets: Vec<Vec3> = centres.iter().map(affine_map).collect();
+        for lambda_eff in [1e-8, 1.0, 1e5 / 80.0, 1e12] {
+            let mut s = TpsSolver::new();
+            s.fit(&centres, &targets, lambda_eff).unwrap();
+            let mut probes: Vec<Vec3> = (0..200).map(|_| rng.vec3(-3.0, 3.0)).collect();
+            let want: Vec<Vec3> = probes.iter().map(affine_map).collect();
+            s.apply(&mut probes);
+            for (got, want) in probes.iter().zip(&want) {
+                assert!(
+                    (got - want).norm() < 1e-9,
+                    "lambda {lambda_eff}: {got:?} vs {want:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn tiny_lambda_is_the_least_squares_affine_fit() {
+        let mut rng = SplitMix64::new(9);
+        let centres = cloud(&mut rng, 60);
+        let targets: Vec<Vec3> = centres.iter().map(warp).collect();
+        let mut s = TpsSolver::new();
+        s.fit(&centres, &targets, 1e-10).unwrap();
+        // Least-squares residuals are orthogonal to the affine basis: sum r = 0, sum r x^T = 0.
+        let mut moments = [[0.0f64; 4]; 3];
+        for (p, t) in centres.iter().zip(&targets) {
+            let r = s.evaluate(*p) - t;
+            for c in 0..3 {
+                moments[c][0] += r[c];
+                moments[c][1] += r[c] * p.x;
+                moments[c][2] += r[c] * p.y;
+                moments[c][3] += r[c] * p.z;
+            }
+        }
+        for m in moments.iter().flatten() {
+            assert!(m.abs() < 1e-9, "moment {m:e}");
+        }
+    }
+
+    #[test]
+    fn augmented_system_residual_is_tiny() {
+        let mut rng = SplitMix64::new(3);
+        for n in [50, 300, 1000] {
+            let centres = cloud(&mut rng, n);
+            let targets: Vec<Vec3> = centres
+                .iter()
+                .map(|p| warp(p) + rng.vec3(-0.01, 0.01))
+                .collect();
+            let mut s = TpsSolver::new();
+            for lambda_eff in [1e5 / n as f64, 1e12] {
+                s.fit(&centres, &targets, lambda_eff).unwrap();
+                let res = augmented_residual(&centres, &targets, lambda_eff, &s);
+                assert!(
+                    res <= 1e-10,
+                    "N = {n}, lambda_eff = {lambda_eff}: residual {res:e}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn repeated_fits_give_identical_bits_and_reuse_buffers() {
+        let mut rng = SplitMix64::new(4);
+        let centres = cloud(&mut rng, 200);
+        let targets: Vec<Vec3> = centres.iter().map(warp).collect();
+        let mut probes: Vec<Vec3> = (0..500)
+            .map(|_| v3(1.5, -0.7, 0.3) + rng.vec3(-0.5, 0.5))
+            .collect();
+        let mut s = TpsSolver::new();
+        s.fit(&centres, &targets, 1e5 / 200.0).unwrap();
+        let ptrs = (
+            s.kmat.as_ptr(),
+            s.chol.as_ptr(),
+            s.chunks.as_ptr(),
+            s.rhs.as_ptr(),
+        );
+        let w1 = s.weights();
+        let mut a = probes.clone();
+        s.apply(&mut a);
+        // Another fit in between, then the same fit again on the same solver and a fresh one.
+        s.fit(&targets, &centres, 3.0).unwrap();
+        s.fit(&centres, &targets, 1e5 / 200.0).unwrap();
+        assert_eq!(
+            ptrs,
+            (
+                s.kmat.as_ptr(),
+                s.chol.as_ptr(),
+                s.chunks.as_ptr(),
+                s.rhs.as_ptr()
+            ),
+            "a fit at the same N reallocated"
+        );
+        let mut fresh = TpsSolver::new();
+        fresh.fit(&centres, &targets, 1e5 / 200.0).unwrap();
+        let mut b = probes.clone();
+        s.apply(&mut b);
+        fresh.apply(&mut probes);
+        assert_eq!(w1, s.weights());
+        assert_eq!(w1, fresh.weights());
+        assert_eq!(a, b);
+        assert_eq!(a, probes);
+    }
+
+    #[test]
+    fn kernel_matches_a_plain_sum() {
+        let mut rng = SplitMix64::new(5);
+        for n in [4, 5, 7, 31, 300] {
+            let centres = cloud(&mut rng, n);
+            let targets: Vec<Vec3> = centres.iter().map(warp).collect();
+            let mut s = TpsSolver::new();
+            s.fit(&centres, &targets, 50.0).unwrap();
+            let w = s.weights();
+            let aff = s.affine();
+            for _ in 0..50 {
+                let p = v3(1.5, -0.7, 0.3) + rng.vec3(-0.6, 0.6);
+                let mut want = Vec3::zeros();
+                for (c, wi) in centres.iter().zip(&w) {
+                    want += wi * (KERNEL_SCALE * (p - c).norm());
+                }
+                for c in 0..3 {
+                    want[c] += aff[c][0] + aff[c][1] * p.x + aff[c][2] * p.y + aff[c][3] * p.z;
+                }
+                let got = s.evaluate(p);
+                assert!(
+                    (got - want).norm() <= 1e-12 * want.norm(),
+                    "{got:?} vs {want:?}"
+                );
+                assert_eq!(kernel_sum(&s.chunks, p), kernel_sum_scalar(&s.chunks, p));
+            }
+        }
+    }
+
+    #[test]
+    fn bad_input_is_an_error_not_a_panic() {
+        let mut s = TpsSolver::new();
+        let sq = [
+            v3(0., 0., 0.),
+            v3(1., 0., 0.),
+            v3(0., 1., 0.),
+            v3(1., 1., 0.),
+            v3(0.5, 0.2, 0.),
+        ];
+        let tet = [
+            v3(0., 0., 0.),
+            v3(1., 0., 0.),
+            v3(0., 1., 0.),
+            v3(0., 0., 1.),
+        ];
+        let cases: Vec<(Vec<Vec3>, Vec<Vec3>, f64)> = vec![
+            (tet[..3].to_vec(), tet[..3].to_vec(), 1.0), // too few
+            (sq.to_vec(), sq.to_vec(), 1.0),             // coplanar
+            (vec![tet[0]; 6], vec![tet[0]; 6], 1.0),     // coincident
+            (tet.to_vec(), tet[..3].to_vec(), 1.0),      // length mismatch
+            (tet.to_vec(), tet.to_vec(), 0.0),           // lambda 0
+            (tet.to_vec(), tet.to_vec(), f64::NAN),      // lambda NaN
+            (
+                tet.to_vec(),
+                vec![tet[0], tet[1], tet[2], v3(f64::INFINITY, 0., 0.)],
+                1.0,
+            ),
+        ];
+        for (c, t, l) in cases {
+            let e = s.fit(&c, &t, l).unwrap_err();
+            assert_eq!(e.code(), "numerical");
+            assert!(s.is_empty());
+            // An unfitted solver is the identity.
+            let mut p = [v3(1., 2., 3.)];
+            s.apply(&mut p);
+            assert_eq!(p[0], v3(1., 2., 3.));
+        }
+        // The minimal case works: 4 non-coplanar centres interpolate exactly (w = 0 there).
+        let t: Vec<Vec3> = tet.iter().map(|p| p * 2.0 + v3(0.1, 0.0, 0.0)).collect();
+        s.fit(&tet, &t, 1e3).unwrap();
+        for (c, t) in tet.iter().zip(&t) {
+            assert!((s.evaluate(*c) - t).norm() < 1e-12);
+        }
+    }
+}
