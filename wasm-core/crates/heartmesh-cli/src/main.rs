@@ -1,4 +1,59 @@
-//! The heartmesh command-line tool (under construction).
+//! The heartmesh command-line tool: reconstruct cardiac surface meshes from contours
+//! (Villard, Grau & Zacur, J. Imaging 2018) and convert contour and mesh files.
+//!
+//! Exit status: 0 success, 2 bad input or usage (one line on stderr: `heartmesh: FILE:LINE:
+//! problem`), 1 the reconstruction or writing failed.
+
+mod args;
+mod cmd_convert;
+mod cmd_reconstruct;
+mod error;
+mod files;
+mod report;
+
+use error::CliError;
+
+fn usage() -> String {
+    format!(
+        "heartmesh {} - surface meshes from cardiac MRI contours (Villard, Grau & Zacur 2018)\n\n\
+         usage:\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
+         exit status: 0 ok, 2 bad input or usage, 1 reconstruction failed",
+        heartmesh_core::VERSION,
+        cmd_reconstruct::USAGE,
+        cmd_convert::USAGE
+    )
+}
+
+fn run(argv: &[String]) -> Result<(), CliError> {
+    let Some((cmd, rest)) = argv.split_first() else {
+        return Err(CliError::usage("no command given"));
+    };
+    let wants_help = rest.iter().any(|a| a == "--help" || a == "-h");
+    match cmd.as_str() {
+        "--help" | "-h" | "help" => println!("{}", usage()),
+        "--version" | "-V" | "version" => println!("heartmesh {}", heartmesh_core::VERSION),
+        "reconstruct" if wants_help => println!("usage: {}", cmd_reconstruct::USAGE),
+        "convert" if wants_help => println!("usage: {}", cmd_convert::USAGE),
+        "reconstruct" => cmd_reconstruct::run(rest)?,
+        "convert" => cmd_convert::run(rest)?,
+        other => return Err(CliError::usage(format!("unknown command {other:?}"))),
+    }
+    Ok(())
+}
+
 fn main() {
-    println!("heartmesh {}", heartmesh_core::VERSION);
+    let mut argv = Vec::new();
+    for a in std::env::args_os().skip(1) {
+        match a.into_string() {
+            Ok(s) => argv.push(s),
+            Err(raw) => {
+                eprintln!("heartmesh: argument {raw:?} is not valid UTF-8 (see heartmesh --help)");
+                std::process::exit(2);
+            }
+        }
+    }
+    if let Err(e) = run(&argv) {
+        eprintln!("heartmesh: {}", e.message());
+        std::process::exit(e.exit_code());
+    }
 }

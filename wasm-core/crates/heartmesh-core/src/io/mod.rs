@@ -1,1 +1,314 @@
-//! (module under construction)
+//! Reading contours and meshes, writing meshes: the file formats people bring (see issue 4).
+//!
+//! Every reader takes bytes (the core never touches the file system, so it runs in the browser
+//! worker unchanged) and returns [`CoreError::Parse`] with a 1-based line on bad input; none may
+//! panic. Format detection looks at the content first and the file extension second.
+
+mod builder;
+pub mod csv;
+pub mod obj;
+pub mod ply;
+pub mod stl;
+mod text;
+pub mod vtk;
+pub mod vtp;
+
+pub use builder::{polyline_from_run, MAX_POINTS};
+
+use crate::contours::ContourSet;
+use crate::error::{CoreError, Result};
+use crate::mesh::TriMesh;
+
+/// Largest vertex or triangle count accepted when reading a mesh.
+pub const MAX_MESH_ELEMENTS: usize = 20_000_000;
+
+/// A mesh read from a file, with the per-vertex scalar the file carried (if any).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshData {
+    pub mesh: TriMesh,
+    /// (name, one value per vertex), e.g. ("distance", ...).
+    pub point_data: Option<(String, Vec<f64>)>,
+}
+
+/// Contour file formats the core reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContourFormat {
+    Csv,
+}
+
+/// Mesh file formats the core writes (and reads back).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeshFormat {
+    Obj,
+    StlBinary,
+    StlAscii,
+    Ply,
+    Vtk,
+    Vtp,
+}
+
+impl MeshFormat {
+    /// From a file name's extension (`.stl` means binary STL).
+    pub fn from_path(path: &str) -> Option<MeshFormat> {
+        Some(match extension(path).as_str() {
+            "obj" => MeshFormat::Obj,
+            "stl" => MeshFormat::StlBinary,
+            "ply" => MeshFormat::Ply,
+            "vtk" => MeshFormat::Vtk,
+            "vtp" => MeshFormat::Vtp,
+            _ => return None,
+        })
+    }
+
+    /// Usual file extension.
+    pub fn extension(self) -> &'static str {
+        match self {
+            MeshFormat::Obj => "obj",
+            MeshFormat::StlBinary | MeshFormat::StlAscii => "stl",
+            MeshFormat::Ply => "ply",
+            MeshFormat::Vtk => "vtk",
+            MeshFormat::Vtp => "vtp",
+        }
+    }
+}
+
+/// Lower-case extension of a file name ("" when there is none).
+pub fn extension(path: &str) -> String {
+    let name = path.rsplit(['/', '\\']).next().unwrap_or(path);
+    match name.rsplit_once('.') {
+        Some((stem, ext)) if !stem.is_empty() => ext.to_ascii_lowercase(),
+        _ => String::new(),
+    }
+}
+
+/// Guesses the contour format from the content, then from the extension.
+pub fn detect_contour_format(_file_name: &str, _bytes: &[u8]) -> ContourFormat {
+    ContourFormat::Csv
+}
+
+/// Reads contours from any supported format.
+pub fn read_contours(file_name: &str, bytes: &[u8]) -> Result<ContourSet> {
+    match detect_contour_format(file_name, bytes) {
+        ContourFormat::Csv => csv::read_csv(bytes),
+    }
+}
+
+/// Reads a triangle mesh (format from the content, then the extension).
+pub fn read_mesh(file_name: &str, bytes: &[u8]) -> Result<MeshData> {
+    let head = &bytes[..bytes.len().min(256)];
+    let starts = |magic: &[u8]| head.trim_ascii_start().starts_with(magic);
+    if head.starts_with(b"ply") {
+        return ply::read_ply(bytes);
+    }
+    if starts(b"# vtk DataFile") {
+        return vtk::read_vtk_mesh(bytes);
+    }
+    if starts(b"<?xml") || starts(b"<VTKFile") {
+        return vtp::read_vtp_mesh(bytes);
+    }
+    match extension(file_name).as_str() {
+        "stl" => stl::read_stl(bytes),
+        "obj" => obj::read_obj(bytes),
+        _ if starts(b"solid") || (bytes.len() >= 84 && bytes.len() % 50 == 34) => {
+            stl::read_stl(bytes)
+        }
+        _ if starts(b"v ") || starts(b"#") || starts(b"o ") || starts(b"mtllib") => {
+            obj::read_obj(bytes)
+        }
+        other => Err(CoreError::parse(
+            0,
+            format!("unrecognised mesh format {other:?} (expected obj, stl, ply, vtk or vtp)"),
+        )),
+    }
+}
+
+/// Serialises a mesh; `point_data` is one scalar per vertex (written where the format allows:
+/// PLY, VTK, VTP); `header_comment` goes into the file's header or comment lines.
+pub fn write_mesh(
+    mesh: &TriMesh,
+    format: MeshFormat,
+    point_data: Option<(&str, &[f64])>,
+    header_comment: &str,
+) -> Result<Vec<u8>> {
+    check_mesh(mesh, point_data)?;
+    Ok(match format {
+        MeshFormat::Obj => obj::write_obj(mesh, header_comment),
+        MeshFormat::StlBinary => stl::write_stl_binary(mesh, header_comment),
+        MeshFormat::StlAscii => stl::write_stl_ascii(mesh, header_comment),
+        MeshFormat::Ply => ply::write_ply(mesh, point_data, header_comment),
+        MeshFormat::Vtk => vtk::write_vtk(mesh, point_data, header_comment),
+        MeshFormat::Vtp => vtp::write_vtp(mesh, point_data, header_comment),
+    })
+}
+
+/// Refuses meshes that would produce broken files (dangling indices, wrong data length).
+fn check_mesh(mesh: &TriMesh, point_data: Option<(&str, &[f64])>) -> Result<()> {
+    let n = mesh.positions.len();
+    if let Some(t) = mesh
+        .triangles
+        .iter()
+        .find(|t| t.iter().any(|&i| i as usize >= n))
+    {
+        return Err(CoreError::InvalidMesh(format!(
+            "triangle {t:?} refers to a vertex beyond the {n} vertices"
+        )));
+    }
+    if let Some((name, values)) = point_data {
+        if values.len() != n {
+            return Err(CoreError::Io(format!(
+                "point data {name:?} has {} values for {n} vertices",
+                values.len()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The header every writer puts first: `heartmesh <version>` and the caller's comment, one
+/// entry per line of the comment (empty lines dropped).
+pub(crate) fn header_lines(comment: &str) -> Vec<String> {
+    let mut out = vec![format!("heartmesh {}", crate::VERSION)];
+    out.extend(
+        comment
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty())
+            .map(str::to_string),
+    );
+    out
+}
+
+/// Shortest text that reads back to the same f64 (`{}` never uses exponents, which would make
+/// tiny or huge values very long, so those use `{:e}`).
+pub(crate) fn fmt_num(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-5..1e15).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// Test data lives in `shared/data` next to the checkout (../../../../shared/data from a crate in
+/// the main checkout, one level more from a worktree under wt/): the nearest ancestor that has it.
+/// Shortest text that reads back to the same f32 (STL and PLY-style single precision).
+pub(crate) fn fmt_f32(v: f64) -> String {
+    let f = v as f32;
+    let a = f.abs();
+    if a == 0.0 || (1e-5..1e15).contains(&a) {
+        format!("{f}")
+    } else {
+        format!("{f:e}")
+    }
+}
+
+#[cfg(test)]
+pub(crate) fn sample(rel: &str) -> Vec<u8> {
+    let here = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = here
+        .ancestors()
+        .map(|a| a.join("shared/data"))
+        .find(|d| d.join("README.md").is_file())
+        .expect("shared/data not found above CARGO_MANIFEST_DIR");
+    let path = dir.join(rel);
+    std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extensions() {
+        assert_eq!(MeshFormat::from_path("a/b.OBJ"), Some(MeshFormat::Obj));
+        assert_eq!(MeshFormat::from_path("x.stl"), Some(MeshFormat::StlBinary));
+        assert_eq!(MeshFormat::from_path(".vtp"), None);
+        assert_eq!(MeshFormat::from_path("mesh"), None);
+    }
+
+    /// A closed octahedron-like mesh with awkward coordinates (not exactly representable in f32).
+    fn sample_mesh() -> TriMesh {
+        let s = 37.123456789;
+        let p = |x: f64, y: f64, z: f64| crate::geometry::v3(x * s - 101.3, y * s + 0.1, z * s);
+        TriMesh::new(
+            vec![
+                p(1., 0., 0.),
+                p(-1., 0., 0.),
+                p(0., 1., 0.),
+                p(0., -1., 0.),
+                p(0., 0., 1.),
+                p(0., 0., -1.),
+            ],
+            vec![
+                [0, 2, 4],
+                [2, 1, 4],
+                [1, 3, 4],
+                [3, 0, 4],
+                [2, 0, 5],
+                [1, 2, 5],
+                [3, 1, 5],
+                [0, 3, 5],
+            ],
+        )
+    }
+
+    /// Corner coordinates of every triangle, in f32: what survives any format.
+    fn corners_f32(m: &TriMesh) -> Vec<[[f32; 3]; 3]> {
+        (0..m.triangles.len())
+            .map(|t| m.corners(t).map(|c| [c.x as f32, c.y as f32, c.z as f32]))
+            .collect()
+    }
+
+    #[test]
+    fn every_writer_round_trips() {
+        let m = sample_mesh();
+        assert!(m.signed_volume() > 0.0);
+        let dist: Vec<f64> = (0..6).map(|i| 0.25 * i as f64).collect();
+        let cases = [
+            (MeshFormat::Obj, "m.obj", false),
+            (MeshFormat::StlBinary, "m.stl", false),
+            (MeshFormat::StlAscii, "m.stl", false),
+            (MeshFormat::Ply, "m.ply", true),
+            (MeshFormat::Vtk, "m.vtk", true),
+            (MeshFormat::Vtp, "m.vtp", true),
+        ];
+        for (fmt, name, has_data) in cases {
+            let bytes =
+                write_mesh(&m, fmt, Some(("distance", &dist)), "test run\nsecond line").unwrap();
+            let back = read_mesh(name, &bytes).unwrap_or_else(|e| panic!("{fmt:?}: {e}"));
+            assert_eq!(back.mesh.positions.len(), 6, "{fmt:?}");
+            assert_eq!(back.mesh.triangles.len(), 8, "{fmt:?}");
+            assert_eq!(corners_f32(&back.mesh), corners_f32(&m), "{fmt:?}");
+            let vol = back.mesh.signed_volume();
+            assert!((vol - m.signed_volume()).abs() < 1e-3, "{fmt:?}: {vol}");
+            if has_data {
+                let (n, v) = back.point_data.clone().unwrap();
+                assert_eq!(n, "distance", "{fmt:?}");
+                assert_eq!(v, dist, "{fmt:?}");
+            }
+            // The writers that keep vertex order give back the very same vertex list.
+            if !matches!(fmt, MeshFormat::StlBinary | MeshFormat::StlAscii) {
+                assert_eq!(back.mesh.triangles, m.triangles, "{fmt:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn headers_carry_version_and_comment() {
+        let m = sample_mesh();
+        let obj = write_mesh(&m, MeshFormat::Obj, None, "from x.csv").unwrap();
+        let text = String::from_utf8(obj).unwrap();
+        assert!(text.starts_with(&format!("# heartmesh {}\n# from x.csv\n", crate::VERSION)));
+        let stl = write_mesh(&m, MeshFormat::StlBinary, None, "from x.csv").unwrap();
+        assert_eq!(stl.len(), 84 + 50 * 8);
+        assert!(stl.starts_with(b"heartmesh "));
+        assert!(write_mesh(&m, MeshFormat::Ply, Some(("d", &[1.0])), "").is_err());
+    }
+
+    #[test]
+    fn numbers_round_trip() {
+        for v in [0.0, -1.5, 1e-12, 123.456789012345, 3e20, -0.1] {
+            assert_eq!(fmt_num(v).parse::<f64>().unwrap(), v);
+        }
+    }
+}

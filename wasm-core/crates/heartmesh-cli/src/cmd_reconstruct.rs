@@ -1,0 +1,216 @@
+//! `heartmesh reconstruct CONTOURS -o MESH`: the whole method of Villard, Grau & Zacur
+//! (J. Imaging 2018) from a contour file to a mesh file and an optional JSON report.
+
+use std::time::Instant;
+
+use heartmesh_core::io::{self, MeshFormat};
+use heartmesh_core::pipeline::Reconstruction;
+use heartmesh_core::{CoreError, Params};
+
+use crate::args::{parse, Parsed, Spec};
+use crate::cmd_convert::file_name;
+use crate::error::CliError;
+use crate::files;
+use crate::report;
+
+pub const USAGE: &str =
+    "heartmesh reconstruct CONTOURS -o MESH.obj [--report REPORT.json] [--surface LV_ENDO]
+    [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
+    [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
+    [--target-reduction 0.72] [--lids auto|none] [--resample-attractors-every 25]
+    [--ring-points 50] [--ascii] [--quiet]
+  MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
+  VTP carry each vertex's distance to the nearest contour point (mm) as point data.";
+
+/// Flag names (dashes) of the numeric parameters, from the core's schema.
+fn numeric_flags() -> Vec<String> {
+    Params::schema()
+        .iter()
+        .map(|s| s.name.replace('_', "-"))
+        .collect()
+}
+
+pub fn run(args: &[String]) -> Result<(), CliError> {
+    let numeric = numeric_flags();
+    let mut with_value: Vec<&str> = vec!["output", "report", "surface", "lids"];
+    with_value.extend(numeric.iter().map(String::as_str));
+    let p = parse(
+        args,
+        &Spec {
+            with_value: &with_value,
+            switches: &["ascii", "quiet"],
+            aliases: &[("-o", "output"), ("-q", "quiet")],
+        },
+    )?;
+    let [input] = p.positional.as_slice() else {
+        return Err(CliError::usage(format!(
+            "reconstruct needs exactly one contour file, got {}",
+            p.positional.len()
+        )));
+    };
+    let output = p
+        .value("output")
+        .ok_or_else(|| CliError::usage("reconstruct needs -o MESH (e.g. -o mesh.obj)"))?;
+    let mut format = MeshFormat::from_path(output).ok_or_else(|| {
+        CliError::usage(format!(
+            "cannot tell the mesh format of {output} (use .obj .stl .ply .vtk or .vtp)"
+        ))
+    })?;
+    if p.switch("ascii") && format == MeshFormat::StlBinary {
+        format = MeshFormat::StlAscii;
+    }
+    let params = params_from(&p)?;
+    let quiet = p.switch("quiet");
+
+    let bytes = files::read(input)?;
+    let set = io::read_contours(input, &bytes).map_err(|e| CliError::input(input, e))?;
+    if !quiet {
+        for w in &set.warnings {
+            eprintln!("heartmesh: warning: {input}: {w}");
+        }
+    }
+
+    let started = Instant::now();
+    let mut rec = Reconstruction::new(&set, params.clone()).map_err(|e| classify(input, e))?;
+    // The pipeline reports `done` after its last iteration; the bound only guards against a
+    // pipeline bug turning into an endless loop.
+    let max_steps = params.iterations + 2;
+    let mut iterations = 0;
+    for _ in 0..=max_steps {
+        let r = rec.step().map_err(|e| classify(input, e))?;
+        iterations = r.iteration;
+        if r.done {
+            break;
+        }
+    }
+    let seconds = started.elapsed().as_secs_f64();
+
+    let facts = report::Facts {
+        input: file_name(input),
+        output: file_name(output),
+        params: &params,
+        iterations,
+        seconds,
+        warnings: &set.warnings,
+    };
+    let rep = report::build(&rec, &facts);
+    let comment = report::header_comment(&facts);
+    let distances = report::vertex_distances(&rec);
+    let point_data = distances.as_deref().map(|d| ("distance", d));
+    let mesh_bytes = io::write_mesh(rec.mesh(), format, point_data, &comment)
+        .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
+    files::write(output, &mesh_bytes)?;
+    if let Some(path) = p.value("report") {
+        let text = serde_json::to_string_pretty(&rep)
+            .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
+        files::write(path, format!("{text}\n").as_bytes())?;
+    }
+    if !quiet {
+        println!("{}", report::summary(output, &rep));
+    }
+    Ok(())
+}
+
+/// Parameters from the flags; every numeric flag maps onto `Params::set` (dashes to underscores),
+/// which checks the range.
+fn params_from(p: &Parsed) -> Result<Params, CliError> {
+    if p.value("attractors").is_some() && p.value("attractor-spacing").is_some() {
+        return Err(CliError::usage(
+            "give either --attractors or --attractor-spacing, not both",
+        ));
+    }
+    let mut params = Params::default();
+    for (name, value) in &p.values {
+        let key = name.replace('-', "_");
+        if Params::schema().iter().any(|s| s.name == key) {
+            let v: f64 = value
+                .trim()
+                .parse()
+                .map_err(|_| CliError::usage(format!("--{name}: {value:?} is not a number")))?;
+            params.set(&key, v).map_err(CliError::param)?;
+        }
+    }
+    if let Some(l) = p.value("lids") {
+        params.set_lids(l).map_err(CliError::param)?;
+    }
+    if let Some(s) = p.value("surface") {
+        params.surface = Some(s.to_string());
+    }
+    params.validate().map_err(CliError::param)?;
+    Ok(params)
+}
+
+/// Input problems exit with 2 and name the file; numerical failures are the tool's (exit 1).
+fn classify(input: &str, e: CoreError) -> CliError {
+    match e {
+        CoreError::Numerical(_) | CoreError::InvalidMesh(_) | CoreError::Io(_) => {
+            CliError::Failed(format!("{input}: reconstruction failed: {e}"))
+        }
+        CoreError::ParamOutOfRange { .. } | CoreError::ParamInvalid { .. } => CliError::param(e),
+        _ => CliError::input(input, e),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::args::parse;
+
+    fn parsed(a: &[&str]) -> Parsed {
+        let numeric = numeric_flags();
+        let mut with_value: Vec<&str> = vec!["output", "report", "surface", "lids"];
+        with_value.extend(numeric.iter().map(String::as_str));
+        let v: Vec<String> = a.iter().map(|s| s.to_string()).collect();
+        parse(
+            &v,
+            &Spec {
+                with_value: &with_value,
+                switches: &[],
+                aliases: &[],
+            },
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn flags_map_onto_params() {
+        let p = params_from(&parsed(&[
+            "--iterations",
+            "40",
+            "--lambda=1e3",
+            "--attractor-spacing",
+            "2.5",
+            "--target-reduction",
+            "0.5",
+            "--lids",
+            "none",
+            "--surface",
+            "LV_EPI",
+        ]))
+        .unwrap();
+        assert_eq!(p.iterations, 40);
+        assert_eq!(p.lambda, 1e3);
+        assert_eq!(p.attractors, heartmesh_core::AttractorMode::SpacingMm(2.5));
+        assert_eq!(p.target_reduction, 0.5);
+        assert_eq!(p.lids, heartmesh_core::LidMode::None);
+        assert_eq!(p.surface.as_deref(), Some("LV_EPI"));
+    }
+
+    #[test]
+    fn bad_values() {
+        let e = params_from(&parsed(&["--beta", "2"])).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.message().contains("allowed 0.01 to 1"), "{}", e.message());
+        let e = params_from(&parsed(&["--beta", "x"])).unwrap_err();
+        assert!(e.message().contains("not a number"), "{}", e.message());
+        let e = params_from(&parsed(&[
+            "--attractors",
+            "200",
+            "--attractor-spacing",
+            "2",
+        ]));
+        assert!(e.is_err());
+        let e = params_from(&parsed(&["--lids", "maybe"])).unwrap_err();
+        assert!(e.message().contains("auto, none"), "{}", e.message());
+    }
+}

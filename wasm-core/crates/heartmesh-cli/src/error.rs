@@ -1,0 +1,67 @@
+//! How the CLI fails: one line on stderr and an exit status scripts can rely on
+//! (2 = bad input or usage, 1 = the tool itself failed).
+
+use heartmesh_core::CoreError;
+
+/// A failure of a command, already knowing how to present itself.
+#[derive(Debug)]
+pub enum CliError {
+    /// Wrong command line (exit 2).
+    Usage(String),
+    /// A problem with an input file or a parameter (exit 2): `file` is None for parameters.
+    Input {
+        file: Option<String>,
+        error: CoreError,
+    },
+    /// A file could not be read (exit 2).
+    Read { file: String, message: String },
+    /// Reconstruction or writing failed (exit 1).
+    Failed(String),
+}
+
+impl CliError {
+    pub fn usage(msg: impl Into<String>) -> Self {
+        CliError::Usage(msg.into())
+    }
+
+    pub fn input(file: &str, error: CoreError) -> Self {
+        CliError::Input {
+            file: Some(file.to_string()),
+            error,
+        }
+    }
+
+    pub fn param(error: CoreError) -> Self {
+        CliError::Input { file: None, error }
+    }
+
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            CliError::Failed(_) => 1,
+            _ => 2,
+        }
+    }
+
+    /// The single stderr line (without the `heartmesh: ` prefix): `FILE:LINE: problem` for parse
+    /// errors with a line, `FILE: problem` otherwise.
+    pub fn message(&self) -> String {
+        let one_line = |s: String| s.replace(['\n', '\r'], " ");
+        one_line(match self {
+            CliError::Usage(m) => format!("{m} (see heartmesh --help)"),
+            CliError::Read { file, message } => format!("{file}: {message}"),
+            CliError::Failed(m) => m.clone(),
+            CliError::Input { file, error } => {
+                let problem = match error {
+                    CoreError::Parse { message, .. } => message.clone(),
+                    CoreError::SurfaceRequired { .. } => format!("{error} (use --surface)"),
+                    other => other.to_string(),
+                };
+                match (file, error.line()) {
+                    (Some(f), Some(line)) => format!("{f}:{line}: {problem}"),
+                    (Some(f), None) => format!("{f}: {problem}"),
+                    (None, _) => problem,
+                }
+            }
+        })
+    }
+}

@@ -1,0 +1,255 @@
+//! Assembles contours from a stream of points, the shape every contour reader produces.
+//!
+//! The rules follow the canonical CSV of ../shared/data/README.md: the points of a contour are
+//! consecutive and ordered along the curve; an identifier that reappears after another one is the
+//! same contour continued (biv-me files store some curves in two pieces), so it gets a new piece.
+
+use std::collections::HashMap;
+
+use crate::contours::{Contour, ContourSet, Polyline};
+use crate::error::{CoreError, Result};
+use crate::geometry::Vec3;
+
+/// Largest number of points accepted from one file: far above any real cardiac data set (tens of
+/// thousands of points), low enough that a browser tab survives a hostile file.
+pub const MAX_POINTS: usize = 2_000_000;
+
+/// Bounding-box extents outside this range (in file units) suggest pixels or metres, not mm.
+const MIN_EXTENT_MM: f64 = 1.0;
+const MAX_EXTENT_MM: f64 = 2000.0;
+
+/// Collects points run by run and turns each run into a [`Polyline`].
+#[derive(Debug, Default)]
+pub struct ContourBuilder {
+    contours: Vec<Contour>,
+    index: HashMap<String, usize>,
+    /// Contour receiving the current run.
+    current: Option<usize>,
+    run: Vec<Vec3>,
+    total: usize,
+    landmarks: Vec<(String, Vec3)>,
+    warnings: Vec<String>,
+}
+
+#[allow(dead_code)] // warn: for the GPFile reader (next commit)
+impl ContourBuilder {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Appends point `p` of contour `id` read at 1-based `line`.
+    pub fn push(&mut self, id: &str, surface: Option<&str>, p: Vec3, line: usize) -> Result<()> {
+        let same = self
+            .current
+            .is_some_and(|c| self.contours.get(c).is_some_and(|c| c.id == id));
+        if !same {
+            self.flush();
+            let idx = match self.index.get(id) {
+                Some(&i) => i,
+                None => {
+                    self.contours.push(Contour {
+                        id: id.to_string(),
+                        surface: surface.map(str::to_string),
+                        pieces: Vec::new(),
+                        first_line: line,
+                    });
+                    self.index.insert(id.to_string(), self.contours.len() - 1);
+                    self.contours.len() - 1
+                }
+            };
+            self.current = Some(idx);
+        }
+        if let Some(c) = self.current.and_then(|i| self.contours.get(i)) {
+            if c.surface.as_deref() != surface {
+                return Err(CoreError::parse(
+                    line,
+                    format!(
+                        "contour {:?} has surface {} here but {} on line {}",
+                        id,
+                        surface.unwrap_or("(none)"),
+                        c.surface.as_deref().unwrap_or("(none)"),
+                        c.first_line
+                    ),
+                ));
+            }
+        }
+        self.count(line)?;
+        self.run.push(p);
+        Ok(())
+    }
+
+    /// Ends the current run: the next point starts a new piece even with the same identifier.
+    pub fn break_run(&mut self) {
+        self.flush();
+        self.current = None;
+    }
+
+    /// Records a named single point (valve, apex, ...).
+    pub fn landmark(&mut self, name: &str, p: Vec3, line: usize) -> Result<()> {
+        self.count(line)?;
+        self.landmarks.push((name.to_string(), p));
+        Ok(())
+    }
+
+    pub fn warn(&mut self, message: impl Into<String>) {
+        self.warnings.push(message.into());
+    }
+
+    /// Number of points (contour points and landmarks) so far.
+    pub fn total(&self) -> usize {
+        self.total
+    }
+
+    fn count(&mut self, line: usize) -> Result<()> {
+        self.total += 1;
+        if self.total > MAX_POINTS {
+            return Err(CoreError::parse(
+                line,
+                format!("too many points: the limit is {MAX_POINTS} points per file"),
+            ));
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) {
+        if self.run.is_empty() {
+            return;
+        }
+        let run = std::mem::take(&mut self.run);
+        if let Some(c) = self.current.and_then(|i| self.contours.get_mut(i)) {
+            c.pieces.push(polyline_from_run(run));
+        }
+    }
+
+    /// Finishes the set; refuses input without any contour point and adds the unit warning.
+    pub fn finish(mut self) -> Result<ContourSet> {
+        self.flush();
+        self.contours.retain(|c| c.point_count() > 0);
+        if self.contours.is_empty() {
+            return Err(CoreError::parse(0, "no contour points found"));
+        }
+        let mut set = ContourSet {
+            contours: self.contours,
+            landmarks: self.landmarks,
+            warnings: self.warnings,
+        };
+        if let Some(w) = unit_warning(&set) {
+            set.warnings.push(w);
+        }
+        Ok(set)
+    }
+}
+
+/// Decides whether a run of points is a ring.
+///
+/// Files rarely say so: a ring is recognised when its ends are within twice the median spacing of
+/// consecutive points; a repeated first point at the end is dropped. U-shaped long-axis curves
+/// (open at the valves) have ends far apart and stay open.
+pub fn polyline_from_run(mut points: Vec<Vec3>) -> Polyline {
+    if points.len() < 3 {
+        return Polyline {
+            points,
+            closed: false,
+        };
+    }
+    let mut gaps: Vec<f64> = points.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
+    gaps.sort_by(f64::total_cmp);
+    let median = gaps[gaps.len() / 2];
+    let first = points[0];
+    let last = points[points.len() - 1];
+    let ends = (last - first).norm();
+    // "The same point" relative to the curve's size, so that float noise in a repeat counts.
+    let tiny = 1e-9 * (1.0 + first.amax());
+    if ends <= tiny {
+        points.pop();
+        return Polyline {
+            closed: points.len() >= 3,
+            points,
+        };
+    }
+    Polyline {
+        closed: ends <= 2.0 * median,
+        points,
+    }
+}
+
+/// The "pixels or metres?" warning, from the bounding box of all points.
+fn unit_warning(set: &ContourSet) -> Option<String> {
+    let mut pts = set.contours.iter().flat_map(|c| c.points());
+    let first = *pts.next()?;
+    let (lo, hi) = pts.fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+    let extent = (hi - lo).amax();
+    if extent < MIN_EXTENT_MM {
+        Some(format!(
+            "coordinates span {extent:.4}; expected mm (a heart spans about 50-150 mm: metres?)"
+        ))
+    } else if extent > MAX_EXTENT_MM {
+        Some(format!(
+            "coordinates span {extent:.0}; expected mm (a heart spans about 50-150 mm: pixels or micrometres?)"
+        ))
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::v3;
+
+    fn ring(n: usize, r: f64, repeat_first: bool) -> Vec<Vec3> {
+        let mut v: Vec<Vec3> = (0..n)
+            .map(|i| {
+                let a = i as f64 / n as f64 * std::f64::consts::TAU;
+                v3(r * a.cos(), r * a.sin(), 0.0)
+            })
+            .collect();
+        if repeat_first {
+            v.push(v[0]);
+        }
+        v
+    }
+
+    #[test]
+    fn rings_and_open_curves() {
+        let p = polyline_from_run(ring(40, 20.0, false));
+        assert!(p.closed);
+        assert_eq!(p.points.len(), 40);
+        let p = polyline_from_run(ring(40, 20.0, true));
+        assert!(p.closed);
+        assert_eq!(p.points.len(), 40, "repeated first point dropped");
+        // A U: three quarters of the ring, ends ~28 mm apart with 3 mm spacing.
+        let u: Vec<Vec3> = ring(40, 20.0, false).into_iter().take(30).collect();
+        assert!(!polyline_from_run(u).closed);
+    }
+
+    #[test]
+    fn reappearing_id_is_a_new_piece() {
+        let mut b = ContourBuilder::new();
+        for (i, id) in ["a", "a", "b", "a", "a"].iter().enumerate() {
+            b.push(id, None, v3(i as f64 * 10.0, 0.0, 0.0), i + 2)
+                .unwrap();
+        }
+        let set = b.finish().unwrap();
+        assert_eq!(set.contours.len(), 2);
+        assert_eq!(set.contours[0].pieces.len(), 2);
+        assert_eq!(set.contours[0].point_count(), 4);
+        assert_eq!(set.contours[0].first_line, 2);
+        assert_eq!(set.contours[1].first_line, 4);
+    }
+
+    #[test]
+    fn surface_conflict_and_units() {
+        let mut b = ContourBuilder::new();
+        b.push("a", Some("LV_ENDO"), v3(0.0, 0.0, 0.0), 2).unwrap();
+        let e = b
+            .push("a", Some("LV_EPI"), v3(0.0, 0.0, 0.0), 3)
+            .unwrap_err();
+        assert_eq!(e.line(), Some(3));
+        let mut b = ContourBuilder::new();
+        b.push("a", None, v3(0.0, 0.0, 0.0), 2).unwrap();
+        b.push("a", None, v3(0.05, 0.02, 0.0), 3).unwrap();
+        let set = b.finish().unwrap();
+        assert!(set.warnings[0].starts_with("coordinates span 0.0500; expected mm"));
+    }
+}

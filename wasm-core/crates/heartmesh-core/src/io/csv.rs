@@ -1,0 +1,385 @@
+//! The canonical contour CSV of ../shared/data/README.md: a header naming `contour,x,y,z` and
+//! optionally `surface` (any order, extra columns ignored), one row per point, `#` comments, comma,
+//! semicolon or tab separated, optional UTF-8 BOM and CRLF line ends.
+
+use super::builder::ContourBuilder;
+use super::text::{decode, lines, parse_coord};
+use crate::contours::ContourSet;
+use crate::error::{CoreError, Result};
+use crate::geometry::v3;
+
+/// Column positions found in the header.
+struct Columns {
+    contour: usize,
+    x: usize,
+    y: usize,
+    z: usize,
+    surface: Option<usize>,
+    /// Number of columns the header declares.
+    width: usize,
+}
+
+/// Reads canonical CSV contours.
+pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
+    let text = decode(bytes)?;
+    let mut rows = lines(text);
+    let mut header = None;
+    for (line, row) in rows.by_ref() {
+        let t = row.trim_start();
+        if !t.is_empty() && !t.starts_with('#') {
+            header = Some((line, row));
+            break;
+        }
+    }
+    let (header_line, header) =
+        header.ok_or_else(|| CoreError::parse(0, "empty file (only comments)"))?;
+    let sep = detect_separator(header);
+    let cols = parse_header(header, sep, header_line)?;
+    let mut b = ContourBuilder::new();
+    let mut fields: Vec<&str> = Vec::new();
+    for (line, row) in rows {
+        let t = row.trim_start();
+        if t.is_empty() {
+            continue;
+        }
+        if let Some(c) = t.strip_prefix('#') {
+            read_comment(c.trim(), &mut b, line)?;
+            continue;
+        }
+        split_fields(row, sep, &mut fields);
+        if fields.len() <= cols.x.max(cols.y).max(cols.z).max(cols.contour) {
+            return Err(CoreError::parse(
+                line,
+                format!(
+                    "row has {} fields but the header has {} columns ({})",
+                    fields.len(),
+                    cols.width,
+                    missing_name(&cols, fields.len())
+                ),
+            ));
+        }
+        let id = unquote(fields[cols.contour]);
+        if id.is_empty() {
+            return Err(CoreError::parse(line, "column \"contour\" is empty"));
+        }
+        let x = parse_number(fields[cols.x], sep, line, "x")?;
+        let y = parse_number(fields[cols.y], sep, line, "y")?;
+        let z = parse_number(fields[cols.z], sep, line, "z")?;
+        let surface = cols
+            .surface
+            .and_then(|i| fields.get(i))
+            .map(|s| unquote(s))
+            .filter(|s| !s.is_empty());
+        b.push(id, surface, v3(x, y, z), line)?;
+    }
+    if b.total() == 0 {
+        return Err(CoreError::parse(
+            header_line,
+            "no data rows after the header",
+        ));
+    }
+    b.finish()
+}
+
+/// The two comments heartmesh writes itself: `# piece ...` starts a new piece of the next contour
+/// (so that pieces survive a round trip), `# landmark NAME x y z` is a named point.
+fn read_comment(c: &str, b: &mut ContourBuilder, line: usize) -> Result<()> {
+    if c.starts_with("piece") {
+        b.break_run();
+    } else if let Some(rest) = c.strip_prefix("landmark ") {
+        let f: Vec<&str> = rest.split_whitespace().collect();
+        if f.len() == 4 {
+            let x = parse_coord(f[1], line, "landmark x")?;
+            let y = parse_coord(f[2], line, "landmark y")?;
+            let z = parse_coord(f[3], line, "landmark z")?;
+            b.landmark(f[0], v3(x, y, z), line)?;
+        }
+    }
+    Ok(())
+}
+
+/// Tab if the header has one, else semicolon if it has one, else comma.
+fn detect_separator(header: &str) -> char {
+    if header.contains('\t') {
+        '\t'
+    } else if header.contains(';') {
+        ';'
+    } else {
+        ','
+    }
+}
+
+fn parse_header(header: &str, sep: char, line: usize) -> Result<Columns> {
+    let mut fields = Vec::new();
+    split_fields(header, sep, &mut fields);
+    let names: Vec<String> = fields
+        .iter()
+        .map(|f| unquote(f).to_ascii_lowercase())
+        .collect();
+    if !names.is_empty() && names.iter().all(|n| n.parse::<f64>().is_ok()) {
+        return Err(CoreError::parse(
+            line,
+            "header missing: the first line must name the columns, e.g. contour,x,y,z,surface",
+        ));
+    }
+    let find = |wanted: &[&str]| names.iter().position(|n| wanted.contains(&n.as_str()));
+    let need = |wanted: &[&str]| {
+        find(wanted).ok_or_else(|| {
+            CoreError::parse(
+                line,
+                format!(
+                    "missing column {:?} in the header (found: {})",
+                    wanted[0],
+                    names.join(", ")
+                ),
+            )
+        })
+    };
+    Ok(Columns {
+        contour: need(&["contour", "contour_id", "id"])?,
+        x: need(&["x"])?,
+        y: need(&["y"])?,
+        z: need(&["z"])?,
+        surface: find(&["surface"]),
+        width: names.len(),
+    })
+}
+
+/// Name of the first required column a short row lacks, for the message.
+fn missing_name(cols: &Columns, have: usize) -> String {
+    let mut named = [
+        (cols.contour, "contour"),
+        (cols.x, "x"),
+        (cols.y, "y"),
+        (cols.z, "z"),
+    ];
+    named.sort();
+    named
+        .iter()
+        .find(|(i, _)| *i >= have)
+        .map(|(i, n)| format!("column {n:?} would be field {}", i + 1))
+        .unwrap_or_default()
+}
+
+/// A coordinate; with `;` or tab separators a decimal comma (`1,5`) is accepted too.
+fn parse_number(field: &str, sep: char, line: usize, column: &str) -> Result<f64> {
+    let what = format!("column {column:?}");
+    let f = unquote(field);
+    if sep != ',' && f.matches(',').count() == 1 && !f.contains('.') {
+        if let Ok(v) = parse_coord(&f.replace(',', "."), line, &what) {
+            return Ok(v);
+        }
+    }
+    parse_coord(f, line, &what)
+}
+
+/// Splits a row; double-quoted fields may contain the separator (`""` is a literal quote).
+fn split_fields<'a>(row: &'a str, sep: char, out: &mut Vec<&'a str>) {
+    out.clear();
+    let mut start = 0;
+    let mut in_quotes = false;
+    for (i, ch) in row.char_indices() {
+        if ch == '"' {
+            in_quotes = !in_quotes;
+        } else if ch == sep && !in_quotes {
+            out.push(&row[start..i]);
+            start = i + ch.len_utf8();
+        }
+    }
+    out.push(&row[start..]);
+}
+
+/// Trims spaces and surrounding quotes.
+fn unquote(field: &str) -> &str {
+    let f = field.trim();
+    f.strip_prefix('"')
+        .and_then(|s| s.strip_suffix('"'))
+        .unwrap_or(f)
+        .trim()
+}
+
+/// Writes contours as canonical CSV (`contour,x,y,z[,surface][,distance]`); every piece after the
+/// first is preceded by a comment so that pieces stay apart when read back (an id that reappears
+/// after another id is a new piece, so consecutive pieces are separated by a `# piece` marker and a
+/// repeated id is not enough on its own); landmarks become `# landmark` comments.
+///
+/// `distances` holds one value per point in contour, piece, point order (as
+/// `Reconstruction::contour_distances().per_point`).
+pub fn write_csv(set: &ContourSet, distances: Option<&[f64]>) -> Result<Vec<u8>> {
+    use super::fmt_num;
+    if let Some(d) = distances {
+        if d.len() != set.point_count() {
+            return Err(CoreError::Io(format!(
+                "{} distances for {} contour points",
+                d.len(),
+                set.point_count()
+            )));
+        }
+    }
+    let with_surface = set.contours.iter().any(|c| c.surface.is_some());
+    let mut out = String::from("contour,x,y,z");
+    if with_surface {
+        out.push_str(",surface");
+    }
+    if distances.is_some() {
+        out.push_str(",distance");
+    }
+    out.push('\n');
+    let mut k = 0;
+    for c in &set.contours {
+        let id = csv_field(&c.id);
+        for (pi, piece) in c.pieces.iter().enumerate() {
+            if pi > 0 {
+                out.push_str(&format!(
+                    "# piece {} of {}\n",
+                    pi + 1,
+                    c.id.replace('\n', " ")
+                ));
+            }
+            let mut pts: Vec<_> = piece.points.clone();
+            // A closed ring is written with its first point repeated, so that the closed-ring
+            // heuristic of the reader recognises it again whatever the spacing.
+            if piece.closed && pts.len() >= 3 {
+                pts.push(pts[0]);
+            }
+            for (j, p) in pts.iter().enumerate() {
+                out.push_str(&format!(
+                    "{id},{},{},{}",
+                    fmt_num(p.x),
+                    fmt_num(p.y),
+                    fmt_num(p.z)
+                ));
+                if with_surface {
+                    out.push(',');
+                    out.push_str(&csv_field(c.surface.as_deref().unwrap_or("")));
+                }
+                if let Some(d) = distances {
+                    // The repeated closing point has the first point's distance.
+                    let idx = if j < piece.points.len() { k + j } else { k };
+                    out.push(',');
+                    out.push_str(&fmt_num(d[idx]));
+                }
+                out.push('\n');
+            }
+            k += piece.points.len();
+        }
+    }
+    for (name, p) in &set.landmarks {
+        out.push_str(&format!(
+            "# landmark {} {} {} {}\n",
+            name.replace(char::is_whitespace, "_"),
+            fmt_num(p.x),
+            fmt_num(p.y),
+            fmt_num(p.z)
+        ));
+    }
+    Ok(out.into_bytes())
+}
+
+/// Quotes a field when it holds a separator, a quote or surrounding spaces.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', ';', '\t', '"', '\n', '\r']) || s.trim() != s {
+        format!("\"{}\"", s.replace('"', "\"\"").replace(['\n', '\r'], " "))
+    } else {
+        s.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(s: &str) -> Result<ContourSet> {
+        read_csv(s.as_bytes())
+    }
+
+    #[test]
+    fn columns_in_any_order_with_surface() {
+        let set = read(
+            "# made by hand\nsurface,z,contour,y,x,extra\nLV_ENDO,1,a,2,3,foo\nLV_ENDO,1,a,2,4,foo\n",
+        )
+        .unwrap();
+        assert_eq!(set.contours.len(), 1);
+        let c = &set.contours[0];
+        assert_eq!(c.surface.as_deref(), Some("LV_ENDO"));
+        assert_eq!(c.first_line, 3);
+        assert_eq!(c.pieces[0].points[1], v3(4.0, 2.0, 1.0));
+    }
+
+    #[test]
+    fn separators_bom_crlf_blank_lines() {
+        let s = "\u{feff}contour;x;y;z\r\n\r\na;1,5;2;3\r\na;1;2;3\r\n";
+        let set = read(s).unwrap();
+        assert_eq!(set.point_count(), 2);
+        assert_eq!(set.contours[0].pieces[0].points[0].x, 1.5);
+        let set = read("contour\tx\ty\tz\nb\t1\t2\t3\n").unwrap();
+        assert_eq!(set.contours[0].id, "b");
+        assert_eq!(set.contours[0].surface, None);
+    }
+
+    #[test]
+    fn errors_name_line_and_column() {
+        let e = read("contour,x,y,z\na,1,2,3\na,1,oops,3\n").unwrap_err();
+        assert_eq!(e.line(), Some(3));
+        assert!(e.to_string().contains("column \"y\""), "{e}");
+        assert!(e.to_string().contains("oops"), "{e}");
+        let e = read("contour,x,y,z\na,1,2,NaN\n").unwrap_err();
+        assert_eq!(e.line(), Some(2));
+        assert!(e.to_string().contains("column \"z\""), "{e}");
+        let e = read("contour,x,z\na,1,2\n").unwrap_err();
+        assert!(e.to_string().contains("missing column \"y\""), "{e}");
+        let e = read("1,2,3,4\n").unwrap_err();
+        assert!(e.to_string().contains("header missing"), "{e}");
+        let e = read("contour,x,y,z\na,1,2\n").unwrap_err();
+        assert!(e.to_string().contains("column \"z\""), "{e}");
+        assert_eq!(read("").unwrap_err().code(), "parse");
+        assert!(read("contour,x,y,z\n# nothing\n").is_err());
+    }
+
+    #[test]
+    fn writer_round_trips_pieces_rings_landmarks_distances() {
+        let bytes = super::super::sample("contours/bivme-example-patient1/patient1-ED.csv");
+        let mut set = read_csv(&bytes).unwrap();
+        set.landmarks.push(("APEX_POINT".into(), v3(1.0, 2.0, 3.5)));
+        let d: Vec<f64> = (0..set.point_count()).map(|i| i as f64 * 0.01).collect();
+        let out = write_csv(&set, Some(&d)).unwrap();
+        let back = read_csv(&out).unwrap();
+        assert_eq!(back.contours.len(), set.contours.len());
+        for (a, b) in back.contours.iter().zip(&set.contours) {
+            assert_eq!((&a.id, &a.surface), (&b.id, &b.surface));
+            assert!(a.pieces == b.pieces, "pieces of {} differ", a.id);
+        }
+        assert_eq!(back.landmarks, set.landmarks);
+        let text = String::from_utf8(out).unwrap();
+        assert!(text.starts_with("contour,x,y,z,surface,distance\n"));
+        assert!(write_csv(&set, Some(&d[1..])).is_err());
+    }
+
+    #[test]
+    fn surfco_sample() {
+        let bytes = super::super::sample("contours/surfco-example.csv");
+        let set = read_csv(&bytes).unwrap();
+        assert_eq!(set.contours.len(), 8);
+        // 3014 rows; the six SAX rings repeat their first point at the end, which is dropped.
+        assert_eq!(set.point_count(), 3008);
+        let closed = set.contours.iter().filter(|c| c.pieces[0].closed).count();
+        assert_eq!(closed, 6, "6 SAX rings closed, 2 LAX curves open");
+        assert!(set.warnings.is_empty(), "{:?}", set.warnings);
+    }
+
+    #[test]
+    fn bivme_sample_two_pieces() {
+        let bytes = super::super::sample("contours/bivme-example-patient1/patient1-ED.csv");
+        let set = read_csv(&bytes).unwrap();
+        assert_eq!(set.contours.len(), 40);
+        assert_eq!(set.point_count(), 1791);
+        let two: Vec<_> = set
+            .contours
+            .iter()
+            .filter(|c| c.pieces.len() == 2)
+            .map(|c| c.id.as_str())
+            .collect();
+        assert_eq!(two.len(), 2, "{two:?}");
+        assert_eq!(set.surfaces().len(), 4);
+    }
+}

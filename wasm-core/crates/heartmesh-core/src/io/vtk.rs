@@ -1,0 +1,510 @@
+//! VTK legacy files ("The VTK User's Guide", file formats chapter), POLYDATA only: points, lines,
+//! polygons and triangle strips, ASCII or BINARY (big-endian), in the classic cell layout and in
+//! the 5.1 OFFSETS/CONNECTIVITY layout, plus the first point SCALARS array. Used both for meshes
+//! (polygons) and for contours (lines). The writer emits version 3.0 ASCII, which every VTK-based
+//! tool and three.js' VTKLoader read.
+
+use super::builder::ContourBuilder;
+use super::text::quote;
+use super::{fmt_num, header_lines, MeshData, MAX_MESH_ELEMENTS};
+use crate::contours::ContourSet;
+use crate::error::{CoreError, Result};
+use crate::geometry::{v3, Vec3};
+use crate::mesh::TriMesh;
+
+/// The parts of a POLYDATA file heartmesh uses.
+#[derive(Debug, Default)]
+pub struct PolyData {
+    pub points: Vec<Vec3>,
+    pub lines: Vec<Vec<u32>>,
+    pub polys: Vec<Vec<u32>>,
+    pub point_scalars: Option<(String, Vec<f64>)>,
+    /// 1-based line where each line cell's data starts (ASCII), for messages.
+    pub lines_at: usize,
+}
+
+struct Cursor<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+    binary: bool,
+}
+
+impl Cursor<'_> {
+    fn line(&self) -> usize {
+        super::text::line_of(self.bytes, self.pos)
+    }
+
+    fn err(&self, msg: impl Into<String>) -> CoreError {
+        if self.binary {
+            CoreError::parse(0, format!("at byte {}: {}", self.pos, msg.into()))
+        } else {
+            CoreError::parse(self.line(), msg)
+        }
+    }
+
+    fn skip_ws(&mut self) {
+        while self
+            .bytes
+            .get(self.pos)
+            .is_some_and(u8::is_ascii_whitespace)
+        {
+            self.pos += 1;
+        }
+    }
+
+    /// Next whitespace-delimited word, or None at the end.
+    fn word(&mut self) -> Option<&str> {
+        self.skip_ws();
+        let start = self.pos;
+        while self
+            .bytes
+            .get(self.pos)
+            .is_some_and(|c| !c.is_ascii_whitespace())
+        {
+            self.pos += 1;
+        }
+        if start == self.pos {
+            return None;
+        }
+        std::str::from_utf8(&self.bytes[start..self.pos]).ok()
+    }
+
+    fn need_word(&mut self, what: &str) -> Result<String> {
+        match self.word() {
+            Some(w) => Ok(w.to_string()),
+            None => Err(self.err(format!("file ends early: expected {what}"))),
+        }
+    }
+
+    fn count(&mut self, what: &str) -> Result<usize> {
+        let w = self.need_word(what)?;
+        let n: usize = w
+            .parse()
+            .map_err(|_| self.err(format!("{what}: {} is not a count", quote(&w))))?;
+        if n > 4 * MAX_MESH_ELEMENTS {
+            return Err(self.err(format!("{what} {n} exceeds the limit")));
+        }
+        Ok(n)
+    }
+
+    /// Moves past the end of the current line (binary data starts on the next line).
+    fn end_line(&mut self) {
+        while let Some(&c) = self.bytes.get(self.pos) {
+            self.pos += 1;
+            if c == b'\n' {
+                break;
+            }
+        }
+    }
+
+    fn number(&mut self, ty: &str) -> Result<f64> {
+        if !self.binary {
+            let w = self.need_word("a number")?;
+            return w
+                .parse::<f64>()
+                .map_err(|_| self.err(format!("{} is not a number", quote(&w))));
+        }
+        let size = match ty {
+            "char" | "unsigned_char" | "bit" => 1,
+            "short" | "unsigned_short" => 2,
+            "int" | "unsigned_int" | "float" | "vtktypeint32" | "vtktypeuint32" => 4,
+            "long" | "unsigned_long" | "double" | "vtktypeint64" | "vtktypeuint64"
+            | "vtkidtype" => 8,
+            other => return Err(self.err(format!("unknown data type {}", quote(other)))),
+        };
+        let raw = self
+            .bytes
+            .get(self.pos..self.pos + size)
+            .ok_or_else(|| self.err("file ends early (truncated binary data)"))?;
+        let mut b = [0u8; 8];
+        b[8 - size..].copy_from_slice(raw);
+        self.pos += size;
+        let be = u64::from_be_bytes(b);
+        Ok(match ty {
+            "char" => raw[0] as i8 as f64,
+            "unsigned_char" | "bit" => raw[0] as f64,
+            "short" => be as u16 as i16 as f64,
+            "unsigned_short" => be as u16 as f64,
+            "int" | "vtktypeint32" => be as u32 as i32 as f64,
+            "unsigned_int" | "vtktypeuint32" => be as u32 as f64,
+            "float" => f32::from_bits(be as u32) as f64,
+            "double" => f64::from_bits(be),
+            "long" | "vtktypeint64" | "vtkidtype" => be as i64 as f64,
+            _ => be as f64,
+        })
+    }
+
+    fn index(&mut self, ty: &str, npoints: usize) -> Result<u32> {
+        let v = self.number(ty)?;
+        if v >= 0.0 && v.fract() == 0.0 && (v as usize) < npoints {
+            Ok(v as u32)
+        } else {
+            Err(self.err(format!("point index {v} is outside 0..{npoints}")))
+        }
+    }
+}
+
+/// Parses a legacy POLYDATA file.
+pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    if !bytes.starts_with(b"# vtk DataFile") {
+        return Err(CoreError::parse(
+            1,
+            "not a VTK legacy file (no \"# vtk DataFile\")",
+        ));
+    }
+    let mut c = Cursor {
+        bytes,
+        pos: 0,
+        binary: false,
+    };
+    c.end_line(); // version
+    c.end_line(); // title
+    let fmt = c.need_word("ASCII or BINARY")?.to_ascii_uppercase();
+    let binary = match fmt.as_str() {
+        "ASCII" => false,
+        "BINARY" => true,
+        other => return Err(c.err(format!("expected ASCII or BINARY, found {}", quote(other)))),
+    };
+    let kw = c.need_word("DATASET")?.to_ascii_uppercase();
+    let kind = c.need_word("a dataset type")?.to_ascii_uppercase();
+    if kw != "DATASET" || kind != "POLYDATA" {
+        return Err(c.err(format!(
+            "only DATASET POLYDATA is supported, found {kw} {kind}"
+        )));
+    }
+    let mut pd = PolyData::default();
+    while let Some(w) = c.word() {
+        let w = w.to_ascii_uppercase();
+        match w.as_str() {
+            "POINTS" => {
+                let n = c.count("point count")?;
+                let ty = c.need_word("point data type")?.to_ascii_lowercase();
+                c.end_line();
+                c.binary = binary;
+                pd.points = Vec::with_capacity(n.min(bytes.len() / 3));
+                for _ in 0..n {
+                    let p = v3(c.number(&ty)?, c.number(&ty)?, c.number(&ty)?);
+                    if !p.iter().all(|x| x.is_finite()) {
+                        return Err(c.err("point with a non-finite coordinate"));
+                    }
+                    pd.points.push(p);
+                }
+                c.binary = false;
+            }
+            "LINES" | "POLYGONS" | "TRIANGLE_STRIPS" | "VERTICES" => {
+                let at = c.line();
+                let cells = read_cells(&mut c, binary, pd.points.len())?;
+                match w.as_str() {
+                    "LINES" => {
+                        pd.lines_at = at + 1;
+                        pd.lines = cells;
+                    }
+                    "POLYGONS" => pd.polys.extend(cells),
+                    "TRIANGLE_STRIPS" => {
+                        for s in cells {
+                            for k in 2..s.len() {
+                                let t = if k % 2 == 0 {
+                                    vec![s[k - 2], s[k - 1], s[k]]
+                                } else {
+                                    vec![s[k - 1], s[k - 2], s[k]]
+                                };
+                                pd.polys.push(t);
+                            }
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            "POINT_DATA" => {
+                let n = c.count("point data count")?;
+                if let Some(s) = read_point_scalars(&mut c, binary, n)? {
+                    if s.1.len() == pd.points.len() {
+                        pd.point_scalars = Some(s);
+                    }
+                }
+                break;
+            }
+            "CELL_DATA" | "FIELD" => break,
+            "METADATA" => skip_metadata(&mut c),
+            other => {
+                return Err(c.err(format!("unexpected keyword {}", quote(other))));
+            }
+        }
+    }
+    if pd.points.is_empty() {
+        return Err(CoreError::parse(0, "no POINTS found"));
+    }
+    Ok(pd)
+}
+
+/// METADATA blocks (VTK 8+) end at a blank line.
+fn skip_metadata(c: &mut Cursor) {
+    while c.pos < c.bytes.len() {
+        c.end_line();
+        let rest = &c.bytes[c.pos..];
+        let blank = rest
+            .iter()
+            .take_while(|&&b| b != b'\n')
+            .all(|b| b.is_ascii_whitespace());
+        if blank {
+            c.end_line();
+            return;
+        }
+    }
+}
+
+/// Cells in either layout: `n size` + `k i0 .. ik` records, or (5.1) `OFFSETS`/`CONNECTIVITY`.
+fn read_cells(c: &mut Cursor, binary: bool, npoints: usize) -> Result<Vec<Vec<u32>>> {
+    let n = c.count("cell count")?;
+    let size = c.count("cell data size")?;
+    let save = c.pos;
+    let next = c.word().map(str::to_ascii_uppercase);
+    if next.as_deref() == Some("OFFSETS") {
+        // 5.1 layout: n is the number of offsets (cells + 1), size the connectivity length.
+        let ty = c.need_word("offset type")?.to_ascii_lowercase();
+        c.end_line();
+        c.binary = binary;
+        let mut offsets = Vec::with_capacity(n.min(c.bytes.len()));
+        for _ in 0..n {
+            offsets.push(c.number(&ty)?);
+        }
+        c.binary = false;
+        if !c
+            .need_word("CONNECTIVITY")?
+            .eq_ignore_ascii_case("CONNECTIVITY")
+        {
+            return Err(c.err("expected CONNECTIVITY after OFFSETS"));
+        }
+        let ty = c.need_word("connectivity type")?.to_ascii_lowercase();
+        c.end_line();
+        c.binary = binary;
+        let mut conn = Vec::with_capacity(size.min(c.bytes.len()));
+        for _ in 0..size {
+            conn.push(c.index(&ty, npoints)?);
+        }
+        c.binary = false;
+        let mut cells = Vec::new();
+        for w in offsets.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            if !(a >= 0.0 && a <= b && b <= size as f64) {
+                return Err(c.err(format!("bad cell offsets {a}..{b}")));
+            }
+            cells.push(conn[a as usize..b as usize].to_vec());
+        }
+        return Ok(cells);
+    }
+    c.pos = save;
+    c.end_line();
+    c.binary = binary;
+    let mut cells = Vec::with_capacity(n.min(c.bytes.len()));
+    let mut used = 0usize;
+    for _ in 0..n {
+        let k = c.number("int")?;
+        if !(k >= 0.0 && k.fract() == 0.0 && used + 1 + k as usize <= size) {
+            return Err(c.err(format!(
+                "cell size {k} does not fit the declared data size {size}"
+            )));
+        }
+        used += 1 + k as usize;
+        let mut cell = Vec::with_capacity(k as usize);
+        for _ in 0..k as usize {
+            cell.push(c.index("int", npoints)?);
+        }
+        cells.push(cell);
+    }
+    c.binary = false;
+    Ok(cells)
+}
+
+/// The first `SCALARS name type [components]` array of POINT_DATA (first component).
+fn read_point_scalars(
+    c: &mut Cursor,
+    binary: bool,
+    n: usize,
+) -> Result<Option<(String, Vec<f64>)>> {
+    let Some(w) = c.word().map(str::to_ascii_uppercase) else {
+        return Ok(None);
+    };
+    if w != "SCALARS" {
+        return Ok(None);
+    }
+    let name = c.need_word("scalar name")?;
+    let ty = c.need_word("scalar type")?.to_ascii_lowercase();
+    // Optional component count, then an optional LOOKUP_TABLE line.
+    let save = c.pos;
+    let mut comps = 1usize;
+    if let Some(x) = c.word() {
+        match x.parse::<usize>() {
+            Ok(k) if (1..=4).contains(&k) => comps = k,
+            _ => c.pos = save,
+        }
+    }
+    let save = c.pos;
+    if c.word().map(str::to_ascii_uppercase).as_deref() == Some("LOOKUP_TABLE") {
+        c.need_word("lookup table name")?;
+    } else {
+        c.pos = save;
+    }
+    c.end_line();
+    c.binary = binary;
+    let mut v = Vec::with_capacity(n.min(c.bytes.len()));
+    for _ in 0..n {
+        v.push(c.number(&ty)?);
+        for _ in 1..comps {
+            c.number(&ty)?;
+        }
+    }
+    c.binary = false;
+    Ok(Some((name, v)))
+}
+
+/// Reads the polygons of a POLYDATA file as a triangle mesh (fan-triangulated).
+pub fn read_vtk_mesh(bytes: &[u8]) -> Result<MeshData> {
+    let pd = read_polydata(bytes)?;
+    mesh_from_cells(pd.points, &pd.polys, pd.point_scalars)
+}
+
+pub(crate) fn mesh_from_cells(
+    points: Vec<Vec3>,
+    polys: &[Vec<u32>],
+    point_data: Option<(String, Vec<f64>)>,
+) -> Result<MeshData> {
+    let mut triangles = Vec::new();
+    for p in polys {
+        for k in 1..p.len().saturating_sub(1) {
+            triangles.push([p[0], p[k], p[k + 1]]);
+        }
+    }
+    if triangles.is_empty() {
+        return Err(CoreError::parse(0, "no polygons found"));
+    }
+    Ok(MeshData {
+        mesh: TriMesh::new(points, triangles),
+        point_data,
+    })
+}
+
+/// Reads the line cells of a POLYDATA file as contours `line1`, `line2`, ... (one per cell).
+pub fn read_vtk_contours(bytes: &[u8]) -> Result<ContourSet> {
+    let pd = read_polydata(bytes)?;
+    contours_from_lines(&pd.points, &pd.lines, pd.lines_at)
+}
+
+pub(crate) fn contours_from_lines(
+    points: &[Vec3],
+    lines: &[Vec<u32>],
+    line: usize,
+) -> Result<ContourSet> {
+    if lines.is_empty() {
+        return Err(CoreError::parse(0, "no LINES (polylines) found"));
+    }
+    let mut b = ContourBuilder::new();
+    for (k, cell) in lines.iter().enumerate() {
+        let id = format!("line{}", k + 1);
+        for &i in cell {
+            b.push(&id, None, points[i as usize], line)?;
+        }
+    }
+    b.finish()
+}
+
+/// VTK legacy 3.0 ASCII POLYDATA with triangles and the optional point scalars.
+pub fn write_vtk(
+    mesh: &TriMesh,
+    point_data: Option<(&str, &[f64])>,
+    header_comment: &str,
+) -> Vec<u8> {
+    let title: String = header_lines(header_comment)
+        .join(" | ")
+        .chars()
+        .filter(|c| !c.is_control())
+        .take(255)
+        .collect();
+    let mut out = format!(
+        "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
+        mesh.positions.len()
+    );
+    for p in &mesh.positions {
+        out.push_str(&format!(
+            "{} {} {}\n",
+            fmt_num(p.x),
+            fmt_num(p.y),
+            fmt_num(p.z)
+        ));
+    }
+    out.push_str(&format!(
+        "POLYGONS {} {}\n",
+        mesh.triangles.len(),
+        4 * mesh.triangles.len()
+    ));
+    for t in &mesh.triangles {
+        out.push_str(&format!("3 {} {} {}\n", t[0], t[1], t[2]));
+    }
+    if let Some((name, values)) = point_data {
+        let name: String = name
+            .chars()
+            .map(|c| if c.is_ascii_graphic() { c } else { '_' })
+            .collect();
+        out.push_str(&format!(
+            "POINT_DATA {}\nSCALARS {name} double 1\nLOOKUP_TABLE default\n",
+            values.len()
+        ));
+        for v in values {
+            out.push_str(&fmt_num(*v));
+            out.push('\n');
+        }
+    }
+    out.into_bytes()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LINES: &str = "# vtk DataFile Version 3.0\ncontours\nASCII\nDATASET POLYDATA\n\
+        POINTS 5 float\n0 0 0 1 0 0 1 1 0\n0 0 5 0 1 5\nLINES 2 7\n3 0 1 2\n2 3 4\n";
+
+    #[test]
+    fn lines_become_contours() {
+        let set = read_vtk_contours(LINES.as_bytes()).unwrap();
+        assert_eq!(set.contours.len(), 2);
+        assert_eq!(set.contours[0].point_count(), 3);
+        assert_eq!(set.contours[1].pieces[0].points[1], v3(0.0, 1.0, 5.0));
+    }
+
+    #[test]
+    fn version_51_layout() {
+        let s = "# vtk DataFile Version 5.1\nx\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n\
+                 0 0 0 1 0 0 1 1 0 0 1 0\nPOLYGONS 2 4\nOFFSETS vtktypeint64\n0 4\n\
+                 CONNECTIVITY vtktypeint64\n0 1 2 3\n";
+        let m = read_vtk_mesh(s.as_bytes()).unwrap().mesh;
+        assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+    }
+
+    #[test]
+    fn binary_lines() {
+        let mut b =
+            b"# vtk DataFile Version 3.0\nb\nBINARY\nDATASET POLYDATA\nPOINTS 3 float\n".to_vec();
+        for x in [0f32, 0., 0., 10., 0., 0., 10., 10., 0.] {
+            b.extend_from_slice(&x.to_be_bytes());
+        }
+        b.extend_from_slice(b"\nLINES 1 4\n");
+        for i in [3i32, 0, 1, 2] {
+            b.extend_from_slice(&i.to_be_bytes());
+        }
+        b.push(b'\n');
+        let set = read_vtk_contours(&b).unwrap();
+        assert_eq!(set.point_count(), 3);
+        assert_eq!(set.contours[0].pieces[0].points[2], v3(10.0, 10.0, 0.0));
+        // Truncated binary data is an error, not a panic.
+        assert!(read_vtk_contours(&b[..b.len() - 6]).is_err());
+    }
+
+    #[test]
+    fn bad_index_has_line() {
+        let s = LINES.replace("2 3 4", "2 3 9");
+        let e = read_vtk_contours(s.as_bytes()).unwrap_err();
+        assert_eq!(e.line(), Some(10), "{e}");
+    }
+}
