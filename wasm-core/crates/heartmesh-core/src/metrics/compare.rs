@@ -14,7 +14,7 @@ use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
 use crate::sim::slice::Plane;
-use interim::Bvh;
+use crate::spatial::Bvh;
 use serde::Serialize;
 
 /// A clipping plane: points with `signed_distance > 0` (the basal side, where the normal points)
@@ -227,60 +227,6 @@ pub fn clipped_volume_mm3(mesh: &TriMesh, clip: Option<&ClipPlane>) -> f64 {
         }
     }
     vol
-}
-
-/// Brute-force stand-in for `spatial::Bvh` (same API) until the spatial branch is merged.
-mod interim {
-    use crate::geometry::Vec3;
-    use crate::mesh::TriMesh;
-
-    pub struct Bvh;
-    pub struct ClosestHit {
-        pub distance_sq: f64,
-    }
-
-    impl Bvh {
-        pub fn build(_mesh: &TriMesh) -> Bvh {
-            Bvh
-        }
-
-        pub fn closest_point(&self, mesh: &TriMesh, p: Vec3) -> Option<ClosestHit> {
-            (0..mesh.triangles.len())
-                .map(|t| {
-                    let [a, b, c] = mesh.corners(t);
-                    (closest(&p, &a, &b, &c) - p).norm_squared()
-                })
-                .min_by(f64::total_cmp)
-                .map(|distance_sq| ClosestHit { distance_sq })
-        }
-    }
-
-    fn seg(p: &Vec3, a: &Vec3, b: &Vec3) -> Vec3 {
-        let ab = b - a;
-        let l = ab.norm_squared();
-        if l <= 0.0 {
-            return *a;
-        }
-        a + ab * ((p - a).dot(&ab) / l).clamp(0.0, 1.0)
-    }
-
-    fn closest(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3) -> Vec3 {
-        let n = (b - a).cross(&(c - a));
-        let n2 = n.norm_squared();
-        if n2 > 0.0 {
-            let q = p - n * (n.dot(&(p - a)) / n2);
-            let inside = [(a, b), (b, c), (c, a)]
-                .iter()
-                .all(|(u, v)| (*v - *u).cross(&(q - *u)).dot(&n) >= 0.0);
-            if inside {
-                return q;
-            }
-        }
-        [seg(p, a, b), seg(p, b, c), seg(p, c, a)]
-            .into_iter()
-            .min_by(|x, y| (x - p).norm_squared().total_cmp(&(y - p).norm_squared()))
-            .unwrap_or(*a)
-    }
 }
 
 #[cfg(test)]

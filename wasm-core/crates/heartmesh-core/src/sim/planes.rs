@@ -322,34 +322,6 @@ fn any_perpendicular(n: &Vec3) -> Vec3 {
     n.cross(&helper).normalize()
 }
 
-/// Writes contours in the canonical CSV (`contour,x,y,z[,surface]`), one row per point, each piece
-/// in order. Open/closed is not stored: readers infer it (a closed loop's ends are one spacing apart).
-pub fn to_csv(set: &ContourSet, comment: &str) -> String {
-    let with_surface = set.contours.iter().any(|c| c.surface.is_some());
-    let mut out = String::new();
-    for line in comment.lines() {
-        out.push_str("# ");
-        out.push_str(line);
-        out.push('\n');
-    }
-    out.push_str(if with_surface {
-        "contour,x,y,z,surface\n"
-    } else {
-        "contour,x,y,z\n"
-    });
-    for c in &set.contours {
-        for p in c.points() {
-            out.push_str(&format!("{},{:.6},{:.6},{:.6}", c.id, p.x, p.y, p.z));
-            if with_surface {
-                out.push(',');
-                out.push_str(c.surface.as_deref().unwrap_or(""));
-            }
-            out.push('\n');
-        }
-    }
-    out
-}
-
 /// Shorthand: a polyline's points all within `tol` mm of a plane.
 pub fn lies_in_plane(pl: &Polyline, plane: &Plane, tol: f64) -> bool {
     pl.points
@@ -475,21 +447,24 @@ mod tests {
     }
 
     #[test]
-    fn csv_round_trip_shape() {
+    fn csv_round_trip() {
         let truth = lv();
-        let mut spec = AcquisitionSpec {
+        let spec = AcquisitionSpec {
             surface: Some("LV_ENDO".into()),
+            lax_count: 2,
             ..AcquisitionSpec::default()
         };
-        spec.lax_count = 1;
         let acq = simulate(&truth, &spec).unwrap();
-        let csv = to_csv(&acq.contours, "simulated");
-        let mut lines = csv.lines();
-        assert_eq!(lines.next(), Some("# simulated"));
-        assert_eq!(lines.next(), Some("contour,x,y,z,surface"));
-        assert_eq!(csv.lines().count(), 2 + acq.contours.point_count());
-        assert!(csv.lines().nth(2).unwrap().starts_with("sax01,"));
-        assert!(csv.lines().nth(2).unwrap().ends_with(",LV_ENDO"));
+        let csv = crate::io::csv::write_csv(&acq.contours, None).unwrap();
+        let back = crate::io::read_contours("sim.csv", &csv).unwrap();
+        assert_eq!(back.contours.len(), acq.contours.contours.len());
+        for (a, b) in acq.contours.contours.iter().zip(&back.contours) {
+            assert_eq!(a.id, b.id);
+            assert_eq!(b.surface.as_deref(), Some("LV_ENDO"));
+            assert_eq!(a.pieces.len(), b.pieces.len(), "{}", a.id);
+            assert_eq!(a.pieces[0].closed, b.pieces[0].closed, "{}", a.id);
+            assert_eq!(a.point_count(), b.point_count(), "{}", a.id);
+        }
     }
 
     fn centroid<'a>(pts: impl Iterator<Item = &'a Vec3>) -> Vec3 {
