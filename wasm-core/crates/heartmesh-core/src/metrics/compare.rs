@@ -29,6 +29,8 @@ pub struct DistanceStats {
     pub p95: f64,
     /// Largest distance over the samples and the vertices.
     pub max: f64,
+    /// Where the largest distance occurs (a point of the measured surface, mm): the place to look.
+    pub max_at: [f64; 3],
     pub min: f64,
     /// Number of area samples measured.
     pub count: usize,
@@ -87,12 +89,25 @@ pub fn directed(
     };
     let mut samples: Vec<(f64, f64)> = Vec::new();
     let mut err = None;
+    let mut max = f64::NEG_INFINITY;
+    let mut max_at = Vec3::zeros();
+    let mut min = f64::INFINITY;
+    let mut record = |p: &Vec3, d: f64| {
+        if d > max {
+            max = d;
+            max_at = *p;
+        }
+        min = min.min(d);
+    };
     for_each_sample(from, |p, w| {
         if err.is_some() || !keep(&p) {
             return;
         }
         match dist(&p) {
-            Ok(d) => samples.push((d, w)),
+            Ok(d) => {
+                record(&p, d);
+                samples.push((d, w));
+            }
             Err(e) => err = Some(e),
         }
     });
@@ -104,14 +119,10 @@ pub fn directed(
             "nothing left to measure below the clip plane".into(),
         ));
     }
-    let mut max = samples.iter().map(|s| s.0).fold(0.0, f64::max);
-    let mut min = samples.iter().map(|s| s.0).fold(f64::INFINITY, f64::min);
     for p in from.positions.iter().filter(|p| keep(p)) {
-        let d = dist(p)?;
-        max = max.max(d);
-        min = min.min(d);
+        record(p, dist(p)?);
     }
-    Ok(weighted_stats(samples, max, min))
+    Ok(weighted_stats(samples, max, max_at, min))
 }
 
 /// Distance from every vertex of `truth` to `mesh` (the colour map on the truth).
@@ -166,7 +177,7 @@ pub fn for_each_sample(mesh: &TriMesh, mut f: impl FnMut(Vec3, f64)) {
 
 /// Mean and quantiles of distances weighted by area; `max`/`min` come from the caller (samples and
 /// vertices).
-fn weighted_stats(mut samples: Vec<(f64, f64)>, max: f64, min: f64) -> DistanceStats {
+fn weighted_stats(mut samples: Vec<(f64, f64)>, max: f64, max_at: Vec3, min: f64) -> DistanceStats {
     samples.sort_by(|a, b| a.0.total_cmp(&b.0));
     let total: f64 = samples.iter().map(|s| s.1).sum();
     let mean = samples.iter().map(|s| s.0 * s.1).sum::<f64>() / total;
@@ -186,6 +197,7 @@ fn weighted_stats(mut samples: Vec<(f64, f64)>, max: f64, min: f64) -> DistanceS
         median: quantile(0.5),
         p95: quantile(0.95),
         max,
+        max_at: [max_at.x, max_at.y, max_at.z],
         min,
         count: samples.len(),
     }
@@ -319,6 +331,8 @@ mod tests {
         }
         let r = compare(&truth, &mesh, None).unwrap();
         assert!(r.hausdorff > 1.5, "{r:?}");
+        // The worst place is on the pushed-out cap (a point of the measured mesh, z > 9.9 * 1.2).
+        assert!(r.mesh_to_truth.max_at[2] > 11.0, "{r:?}");
         assert!(r.truth_to_mesh.mean < 0.05, "{r:?}");
         assert!(r.truth_to_mesh.median < 1e-9, "{r:?}");
     }

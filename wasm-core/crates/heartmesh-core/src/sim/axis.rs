@@ -5,6 +5,7 @@
 //! the apex is decided from the shape: an open base (the valve rim) marks the base; otherwise the
 //! apex is the end farther from the surface centroid (ventricles taper towards the apex).
 
+use super::repair::{boundary_loops, loop_diameter};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
@@ -60,13 +61,16 @@ impl LongAxis {
             return Err(CoreError::Degenerate("shape has no principal axis".into()));
         }
         dir.normalize_mut();
-        let boundary = boundary_vertices(mesh);
-        let base_towards_positive = if !boundary.is_empty() {
-            let mean_h: f64 = boundary
+        // The widest boundary loop is the valve rim (small loops are mesh defects).
+        let rim = boundary_loops(mesh)
+            .into_iter()
+            .max_by(|a, b| loop_diameter(mesh, a).total_cmp(&loop_diameter(mesh, b)));
+        let base_towards_positive = if let Some(rim) = rim {
+            let mean_h: f64 = rim
                 .iter()
-                .map(|&v| dir.dot(&(mesh.positions[v] - centre)))
+                .map(|&v| dir.dot(&(mesh.positions[v as usize] - centre)))
                 .sum::<f64>()
-                / boundary.len() as f64;
+                / rim.len() as f64;
             mean_h > 0.0
         } else {
             let (lo, hi) = mesh.positions.iter().fold((0.0f64, 0.0f64), |(lo, hi), p| {

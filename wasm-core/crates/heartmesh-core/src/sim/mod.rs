@@ -3,9 +3,11 @@
 //! convex hull baseline). Follows the validation protocol of Villard, Grau & Zacur (J. Imaging 2018).
 
 pub mod axis;
+pub mod cavity;
 pub mod hull;
 pub mod planes;
 pub mod prng;
+pub mod repair;
 pub mod shapes;
 pub mod slice;
 

@@ -12,7 +12,7 @@
 
 use super::axis::LongAxis;
 use super::prng::SplitMix64;
-use super::slice::{polyline_length, resample, slice_mesh, Plane};
+use super::slice::{join_chains, polyline_length, resample, slice_mesh, Plane};
 use crate::contours::{Contour, ContourSet, Polyline};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
@@ -58,6 +58,9 @@ pub struct AcquisitionSpec {
     pub misalignment: Option<Misalignment>,
     /// Standard deviation of in-plane Gaussian noise added to every contour point, mm.
     pub noise_mm: f64,
+    /// Section pieces whose ends are at most this far apart are joined (composite surfaces such as
+    /// an RV cavity made of free wall and septum), mm.
+    pub join_gap_mm: f64,
     /// Resample contours to about this spacing (0: keep the raw mesh crossings).
     pub resample_mm: f64,
     pub seed: u64,
@@ -77,6 +80,7 @@ impl Default for AcquisitionSpec {
             base_margin_mm: 3.0,
             misalignment: None,
             noise_mm: 0.0,
+            join_gap_mm: 3.0,
             resample_mm: 1.0,
             seed: 1,
             surface: None,
@@ -101,15 +105,18 @@ pub fn simulate(truth: &TriMesh, spec: &AcquisitionSpec) -> Result<Acquisition> 
     validate(spec)?;
     let (pca_axis, second) = LongAxis::from_mesh(truth)?;
     let axis = spec.axis.unwrap_or(pca_axis);
-    let (lo, _hi, rim) = axis
+    let (lo, _hi, _rim) = axis
         .extent(truth)
         .ok_or_else(|| CoreError::Degenerate("reference shape has no finite vertex".into()))?;
-    let bottom = lo + spec.apex_margin_mm;
-    let top = rim - spec.base_margin_mm;
+    let (span_lo, span_hi) = single_loop_span(truth, &axis, spec.join_gap_mm).ok_or_else(|| {
+        CoreError::Degenerate("no plane across the axis cuts the shape in one closed loop".into())
+    })?;
+    let bottom = (lo + spec.apex_margin_mm).max(span_lo);
+    let top = span_hi - spec.base_margin_mm;
     if top <= bottom {
         return Err(CoreError::Degenerate(format!(
-            "shape is only {:.1} mm long along its axis: no room for a SAX stack",
-            rim - lo
+            "the shape has closed sections over only {:.1} mm of its axis: no room for a SAX stack",
+            span_hi - span_lo
         )));
     }
     let heights: Vec<f64> = match spec.sax {
@@ -179,7 +186,7 @@ pub fn simulate(truth: &TriMesh, spec: &AcquisitionSpec) -> Result<Acquisition> 
             Some(m) => m.apply_to_plane(nominal),
             None => *nominal,
         };
-        let mut pieces = slice_mesh(truth, &imaged);
+        let mut pieces = join_chains(slice_mesh(truth, &imaged), spec.join_gap_mm, &imaged);
         if pieces.is_empty() {
             set.warnings
                 .push(format!("{id}: the plane misses the shape; no contour"));
@@ -228,6 +235,60 @@ pub fn simulate(truth: &TriMesh, spec: &AcquisitionSpec) -> Result<Acquisition> 
     })
 }
 
+/// Scan step of [`single_loop_span`], mm.
+const SCAN_STEP_MM: f64 = 0.5;
+
+/// The heights along `axis` between which every plane perpendicular to it cuts `mesh` in one closed
+/// loop, give or take small fragments (the longest such run, scanned every 0.5 mm). SAX planes belong there: below the
+/// valve rim of an open shape, below where a closed shape's base splits into valve and outflow
+/// tract, above any hole at the apex.
+pub fn single_loop_span(mesh: &TriMesh, axis: &LongAxis, join_gap_mm: f64) -> Option<(f64, f64)> {
+    let (lo, hi, _) = axis.extent(mesh)?;
+    let steps = ((hi - lo) / SCAN_STEP_MM).floor() as usize;
+    let mut best: Option<(f64, f64)> = None;
+    let mut run_start: Option<f64> = None;
+    let mut last_good = lo;
+    for k in 0..=steps {
+        let h = lo + SCAN_STEP_MM * (k as f64 + 0.5);
+        let good = h < hi && {
+            let plane = Plane {
+                origin: axis.centre + axis.direction * h,
+                normal: axis.direction,
+            };
+            let pieces = join_chains(slice_mesh(mesh, &plane), join_gap_mm, &plane);
+            let lengths: Vec<f64> = pieces.iter().map(polyline_length).collect();
+            // The longest piece is a closed loop and every other piece is small (fragments where
+            // the surfaces of a composite truth overlap, or a small separate structure, dropped by
+            // `simulate`). A second large loop means the base splits (valve, outflow tract).
+            let longest = lengths.iter().cloned().fold(0.0, f64::max);
+            !pieces.is_empty()
+                && pieces.iter().zip(&lengths).all(|(p, &l)| {
+                    if l == longest {
+                        p.closed
+                    } else if p.closed {
+                        l <= 0.2 * longest
+                    } else {
+                        l <= 0.1 * longest
+                    }
+                })
+        };
+        if good {
+            run_start.get_or_insert(h);
+            last_good = h;
+        } else if let Some(s) = run_start.take() {
+            if best.is_none_or(|(a, b)| last_good - s > b - a) {
+                best = Some((s, last_good));
+            }
+        }
+    }
+    if let Some(s) = run_start {
+        if best.is_none_or(|(a, b)| last_good - s > b - a) {
+            best = Some((s, last_good));
+        }
+    }
+    best
+}
+
 fn validate(spec: &AcquisitionSpec) -> Result<()> {
     let bad = |name: &str, value: f64, min: f64, max: f64| CoreError::ParamOutOfRange {
         name: name.into(),
@@ -257,6 +318,7 @@ fn validate(spec: &AcquisitionSpec) -> Result<()> {
         ("base_margin", spec.base_margin_mm, 1e4),
         ("noise", spec.noise_mm, 50.0),
         ("resample", spec.resample_mm, 100.0),
+        ("join_gap", spec.join_gap_mm, 100.0),
     ] {
         if !(v.is_finite() && (0.0..=max).contains(&v)) {
             return Err(bad(name, v, 0.0, max));
@@ -342,8 +404,12 @@ mod tests {
     fn default_stack_and_lax() {
         let truth = lv();
         let acq = simulate(&truth, &AcquisitionSpec::default()).unwrap();
-        // Base rim at 80 mm, top slice at 77, then every 10 mm down to >= 3 mm: 77, 67, ..., 7.
+        // Base rim at 80 mm, last closed section scanned at 79.75, top slice 3 mm below it, then
+        // every 10 mm down to >= 3 mm: 76.75, 66.75, ..., 6.75.
         assert_eq!(acq.sax_planes.len(), 8);
+        let (lo, _, _) = acq.axis.extent(&truth).unwrap();
+        let top = acq.axis.height(&acq.clip.origin) - lo;
+        assert!((top - 76.75).abs() < 1e-6, "top slice at {top}");
         assert_eq!(acq.lax_planes.len(), 3);
         assert_eq!(acq.contours.contours.len(), 11);
         let ids: Vec<&str> = acq
@@ -431,7 +497,7 @@ mod tests {
             .iter()
             .map(|p| acq.axis.height(&p.origin))
             .collect();
-        assert!((h[3] - h[0] - (80.0 - 6.0)).abs() < 1e-6);
+        assert!((h[3] - h[0] - (79.75 - 6.0)).abs() < 1e-6);
         // Noise stays in plane.
         for (c, plane) in acq.contours.contours.iter().zip(&acq.sax_planes) {
             assert!(lies_in_plane(&c.pieces[0], plane, 1e-9));

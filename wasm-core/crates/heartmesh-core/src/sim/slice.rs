@@ -169,6 +169,70 @@ fn make_polyline(
     })
 }
 
+/// Joins open chains whose ends are at most `max_gap_mm` apart (closest pair first), and closes a
+/// chain whose own ends come that close. Sections of composite surfaces need it: an RV cavity made
+/// of the free wall and the septal part of the LV epicardium gives two arcs per plane that meet
+/// across a small gap, drawn by an analyst as one ring. Open slivers shorter than the gap (where the
+/// two surfaces overlap) are dropped first.
+pub fn join_chains(pieces: Vec<Polyline>, max_gap_mm: f64, plane: &Plane) -> Vec<Polyline> {
+    let (mut closed, mut open): (Vec<Polyline>, Vec<Polyline>) =
+        pieces.into_iter().partition(|p| p.closed);
+    if max_gap_mm > 0.0 {
+        open.retain(|p| polyline_length(p) >= max_gap_mm);
+    }
+    loop {
+        // (gap, i, i_end_is_last, j, j_end_is_last)
+        let mut best: Option<(f64, usize, bool, usize, bool)> = None;
+        for i in 0..open.len() {
+            let ends_i = [open[i].points[0], open[i].points[open[i].points.len() - 1]];
+            // Own ends: close the chain (only if it is not a short stub).
+            let own = (ends_i[0] - ends_i[1]).norm();
+            if open[i].points.len() >= 3 && polyline_length(&open[i]) > 4.0 * own {
+                if best.is_none_or(|b| own < b.0) {
+                    best = Some((own, i, true, i, false));
+                }
+            }
+            for j in i + 1..open.len() {
+                let ends_j = [open[j].points[0], open[j].points[open[j].points.len() - 1]];
+                for (a, pa) in ends_i.iter().enumerate() {
+                    for (b, pb) in ends_j.iter().enumerate() {
+                        let g = (pa - pb).norm();
+                        if best.is_none_or(|x| g < x.0) {
+                            best = Some((g, i, a == 1, j, b == 1));
+                        }
+                    }
+                }
+            }
+        }
+        let Some((gap, i, i_last, j, j_last)) = best else {
+            break;
+        };
+        if gap > max_gap_mm {
+            break;
+        }
+        if i == j {
+            let mut pl = open.swap_remove(i);
+            pl.closed = true;
+            if signed_area(&pl.points, &plane.normal) < 0.0 {
+                pl.points.reverse();
+            }
+            closed.push(pl);
+            continue;
+        }
+        let mut b = open.swap_remove(j); // j > i, so i stays valid
+        let a = &mut open[i];
+        if !i_last {
+            a.points.reverse();
+        }
+        if j_last {
+            b.points.reverse();
+        }
+        a.points.extend(b.points);
+    }
+    closed.extend(open);
+    closed
+}
+
 /// Area of a closed planar polygon projected on `normal` (Newell's formula), signed: positive when
 /// counter-clockwise about `normal`.
 pub fn signed_area(points: &[Vec3], normal: &Vec3) -> f64 {
@@ -302,6 +366,33 @@ mod tests {
         assert!((len - std::f64::consts::PI * 10.0).abs() < 0.5, "len {len}");
         let far = Plane::new(v3(0.0, 0.0, 50.0), v3(0.0, 0.0, 1.0)).unwrap();
         assert!(slice_mesh(&m, &far).is_empty());
+    }
+
+    #[test]
+    fn two_arcs_with_small_gaps_become_one_ring() {
+        let plane = Plane::new(v3(0.0, 0.0, 0.0), v3(0.0, 0.0, 1.0)).unwrap();
+        let arc = |from: f64, to: f64, n: usize| Polyline {
+            points: (0..=n)
+                .map(|k| {
+                    let t = (from + (to - from) * k as f64 / n as f64).to_radians();
+                    v3(10.0 * t.cos(), 10.0 * t.sin(), 0.0)
+                })
+                .collect(),
+            closed: false,
+        };
+        // Gaps of ~1.7 mm at 0 and 180 degrees; the second arc runs backwards.
+        let pieces = vec![arc(5.0, 175.0, 30), arc(355.0, 185.0, 30)];
+        let joined = join_chains(pieces.clone(), 2.0, &plane);
+        assert_eq!(joined.len(), 1);
+        assert!(joined[0].closed);
+        assert_eq!(joined[0].points.len(), 62);
+        assert!(signed_area(&joined[0].points, &plane.normal) > 0.0);
+        // Gaps larger than allowed: left alone.
+        assert_eq!(join_chains(pieces, 1.0, &plane).len(), 2);
+        // A U-shape with far ends stays open.
+        let u = vec![arc(200.0, 340.0, 20)];
+        let kept = join_chains(u, 3.0, &plane);
+        assert!(!kept[0].closed);
     }
 
     #[test]
