@@ -1,1 +1,244 @@
-//! WebAssembly binding of heartmesh-core (under construction).
+//! WebAssembly binding of heartmesh-core: one stateful export, [`Session`], used only by the
+//! browser worker (web/src/core-client/reconstruct.worker.ts) and the Node tests.
+//!
+//! Rules of the boundary (ARCHITECTURE.md): bulk data leave wasm memory exactly once, as fresh
+//! `Float32Array`/`Uint32Array` copies (wasm-bindgen copies a returned `Vec<f32>` into a new typed
+//! array; no view into wasm memory survives a call), small descriptions leave as JSON strings,
+//! errors are thrown as JSON strings `{code, message, line?, available?}`. The reconstruction
+//! itself (Villard, Grau & Zacur, J. Imaging 2018) lives entirely in heartmesh-core.
+
+mod clock;
+mod convert;
+mod errors;
+mod panic;
+
+use std::collections::BTreeMap;
+
+use heartmesh_core::geometry::Vec3;
+use heartmesh_core::mesh::topology;
+use heartmesh_core::pipeline::Reconstruction;
+use heartmesh_core::{io, ContourSet, Params};
+use serde_json::json;
+use wasm_bindgen::prelude::*;
+
+pub use panic::take_panic_message;
+
+/// Runs when the module is instantiated.
+#[wasm_bindgen(start)]
+pub fn on_start() {
+    panic::install();
+}
+
+/// JSON array of the numeric parameters (`Params::schema()`): name, default, min, max, log,
+/// integer, unit, help.
+#[wasm_bindgen]
+pub fn schema_json() -> String {
+    Params::schema_json()
+}
+
+/// Version of the core, recorded in exports.
+#[wasm_bindgen]
+pub fn version() -> String {
+    heartmesh_core::VERSION.to_string()
+}
+
+/// A reconstruction in progress, with what it needs to report.
+struct ActiveRun {
+    rec: Reconstruction,
+    lids: String,
+    /// Attractors at the last step, to tell when they were re-sampled.
+    last_attractors: Vec<Vec3>,
+    attractors_changed: bool,
+}
+
+/// Loaded contour files and at most one reconstruction.
+#[wasm_bindgen]
+pub struct Session {
+    files: BTreeMap<String, ContourSet>,
+    run: Option<ActiveRun>,
+}
+
+impl Default for Session {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+#[wasm_bindgen]
+impl Session {
+    #[wasm_bindgen(constructor)]
+    pub fn new() -> Session {
+        Session {
+            files: BTreeMap::new(),
+            run: None,
+        }
+    }
+
+    /// Parses a contour file and keeps it under `file_name` (replacing an earlier one). Returns
+    /// the JSON of the protocol's `LoadedFile` without `points` (see [`Session::file_points`]).
+    pub fn load(&mut self, file_name: &str, bytes: &[u8]) -> Result<String, JsValue> {
+        let set = io::read_contours(file_name, bytes).map_err(|e| errors::to_js(&e))?;
+        let landmarks: Vec<_> = set
+            .landmarks
+            .iter()
+            .map(|(name, p)| json!({ "name": name, "x": p.x, "y": p.y, "z": p.z }))
+            .collect();
+        let info = json!({
+            "fileName": file_name,
+            "surfaces": set.surfaces(),
+            "contours": convert::contour_infos(&set.contours, None),
+            "landmarks": landmarks,
+            "warnings": set.warnings,
+        });
+        self.files.insert(file_name.to_string(), set);
+        Ok(info.to_string())
+    }
+
+    /// xyz (mm) of all points of a loaded file, in the order `load`'s pieces index.
+    pub fn file_points(&self, file_name: &str) -> Result<Vec<f32>, JsValue> {
+        let set = self.file(file_name)?;
+        Ok(convert::flat_points(&set.contours))
+    }
+
+    /// Forgets a loaded file.
+    pub fn unload(&mut self, file_name: &str) {
+        self.files.remove(file_name);
+    }
+
+    /// Starts a reconstruction of a loaded file, replacing any run in progress. `params_json` is
+    /// an object of schema names to numbers (missing ones take their defaults); `lids` is "auto"
+    /// or "none"; `surface` picks one surface of a multi-surface file.
+    pub fn start(
+        &mut self,
+        file_name: &str,
+        surface: Option<String>,
+        params_json: &str,
+        lids: &str,
+    ) -> Result<(), JsValue> {
+        self.run = None;
+        let params =
+            convert::params_from_json(params_json, lids, surface).map_err(|e| errors::to_js(&e))?;
+        let set = self.file(file_name)?;
+        let mut rec = Reconstruction::new(set, params).map_err(|e| errors::to_js(&e))?;
+        rec.set_clock(Box::new(clock::PerformanceClock::new()));
+        self.run = Some(ActiveRun {
+            rec,
+            lids: lids.to_string(),
+            last_attractors: Vec::new(),
+            attractors_changed: false,
+        });
+        Ok(())
+    }
+
+    /// Advances one iteration; returns the JSON of the core's `StepReport`.
+    pub fn step(&mut self) -> Result<String, JsValue> {
+        let run = self.run_mut()?;
+        let report = run.rec.step().map_err(|e| errors::to_js(&e))?;
+        let attractors = run.rec.attractors();
+        run.attractors_changed = attractors != run.last_attractors;
+        run.last_attractors = attractors;
+        serde_json::to_string(&report).map_err(|e| errors::usage("internal", e.to_string()))
+    }
+
+    pub fn is_done(&self) -> bool {
+        self.run.as_ref().is_some_and(|r| r.rec.is_done())
+    }
+
+    /// True when the last step re-sampled the attractors.
+    pub fn attractors_changed(&self) -> bool {
+        self.run.as_ref().is_some_and(|r| r.attractors_changed)
+    }
+
+    /// Current mesh vertices, xyz, mm.
+    pub fn positions(&self) -> Result<Vec<f32>, JsValue> {
+        Ok(self.run_ref()?.rec.mesh().positions_f32())
+    }
+
+    /// Current mesh vertices in full precision (for differential tests against the native CLI).
+    pub fn positions_f64(&self) -> Result<Vec<f64>, JsValue> {
+        let mesh = self.run_ref()?.rec.mesh();
+        Ok(mesh
+            .positions
+            .iter()
+            .flat_map(|p| [p.x, p.y, p.z])
+            .collect())
+    }
+
+    /// Current triangles, three vertex indices each, counter-clockwise seen from outside.
+    pub fn indices(&self) -> Result<Vec<u32>, JsValue> {
+        Ok(self.run_ref()?.rec.mesh().indices_u32())
+    }
+
+    /// Current attractor points, xyz, mm.
+    pub fn attractors(&self) -> Result<Vec<f32>, JsValue> {
+        Ok(convert::flat_vec3(&self.run_ref()?.last_attractors))
+    }
+
+    /// The selected surface's cleaned contour points, xyz, mm (the order of `result_json`'s
+    /// contour pieces and of `point_distances`).
+    pub fn contour_points(&self) -> Result<Vec<f32>, JsValue> {
+        Ok(convert::flat_points(self.run_ref()?.rec.contours()))
+    }
+
+    /// Distance (mm) from each contour point to the mesh, in f64 (tests) ...
+    pub fn point_distances_f64(&self) -> Result<Vec<f64>, JsValue> {
+        Ok(self.run_ref()?.rec.contour_distances().per_point)
+    }
+
+    /// ... and in f32 (display).
+    pub fn point_distances(&self) -> Result<Vec<f32>, JsValue> {
+        Ok(convert::to_f32(&self.point_distances_f64()?))
+    }
+
+    /// Distance (mm) from each mesh vertex to the nearest contour point.
+    pub fn vertex_distances(&self) -> Result<Vec<f32>, JsValue> {
+        Ok(convert::to_f32(&self.run_ref()?.rec.vertex_distances()))
+    }
+
+    /// JSON of the small part of the protocol's `RunResult`: surface, contours, perContour,
+    /// overall, volumeMl, areaMm2, watertight, params, lids, version.
+    pub fn result_json(&self) -> Result<String, JsValue> {
+        let run = self.run_ref()?;
+        let rec = &run.rec;
+        let mesh = rec.mesh();
+        let distances = rec.contour_distances();
+        let per_contour: Vec<_> = distances
+            .per_contour
+            .iter()
+            .map(|c| json!({ "id": c.id, "kind": c.kind, "stats": c.stats }))
+            .collect();
+        let out = json!({
+            "surface": rec.params().surface,
+            "contours": convert::contour_infos(rec.contours(), Some(rec.kinds())),
+            "perContour": per_contour,
+            "overall": distances.overall,
+            "volumeMl": mesh.volume_ml(),
+            "areaMm2": mesh.area(),
+            "watertight": topology::validity(mesh).is_closed_manifold(),
+            "params": convert::params_to_json(rec.params()),
+            "lids": run.lids,
+            "version": heartmesh_core::VERSION,
+        });
+        Ok(out.to_string())
+    }
+}
+
+impl Session {
+    fn file(&self, file_name: &str) -> Result<&ContourSet, JsValue> {
+        self.files
+            .get(file_name)
+            .ok_or_else(|| errors::usage("not_loaded", format!("{file_name} has not been loaded")))
+    }
+
+    fn run_ref(&self) -> Result<&ActiveRun, JsValue> {
+        self.run
+            .as_ref()
+            .ok_or_else(|| errors::usage("no_run", "no reconstruction has been started"))
+    }
+
+    fn run_mut(&mut self) -> Result<&mut ActiveRun, JsValue> {
+        self.run
+            .as_mut()
+            .ok_or_else(|| errors::usage("no_run", "no reconstruction has been started"))
+    }
+}

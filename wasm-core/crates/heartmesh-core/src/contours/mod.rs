@@ -1,6 +1,11 @@
 //! Contours: the input of the method. Cleaning, resampling, plane fits, the long axis, the SAX/LAX
 //! split and the rings that seed the initial tube.
 
+pub mod axis;
+pub mod clean;
+pub mod plane;
+pub mod rings;
+
 use crate::geometry::Vec3;
 
 /// One piece of a contour: an ordered polyline, closed (a ring) or open (e.g. a U-shaped long-axis
@@ -25,7 +30,7 @@ pub struct Contour {
 
 impl Contour {
     /// All points of all pieces.
-    pub fn points(&self) -> impl Iterator<Item = &Vec3> {
+    pub fn points(&self) -> impl Iterator<Item = &Vec3> + Clone {
         self.pieces.iter().flat_map(|p| p.points.iter())
     }
 

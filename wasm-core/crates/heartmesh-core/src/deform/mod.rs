@@ -1,3 +1,6 @@
-//! Deformation of the mesh towards the contour points by composed thin-plate splines.
+//! Deformation of the mesh towards the contour points: attractor selection and composed
+//! thin-plate splines.
 
+pub mod attractors;
+mod lanes;
 pub mod tps;

@@ -1,3 +1,161 @@
-//! Distances and measures (lead: stats, contour-to-mesh; validation helper: compare.rs).
+//! Distances and measures: summary statistics, contour-to-mesh distances (the colour map on the
+//! contours), the distance field on the mesh, and (compare.rs) mesh-to-mesh comparison.
 
 pub mod compare;
+
+use crate::contours::{Contour, ContourKind};
+use crate::geometry::Vec3;
+use crate::mesh::TriMesh;
+use crate::spatial::Bvh;
+use serde::Serialize;
+
+/// Summary of a set of distances (mm).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Stats {
+    pub mean: f64,
+    pub median: f64,
+    pub p95: f64,
+    pub max: f64,
+    pub min: f64,
+    pub count: usize,
+}
+
+/// Mean, median, 95th percentile (nearest rank), max and min; all zero for an empty input.
+pub fn stats(values: &[f64]) -> Stats {
+    if values.is_empty() {
+        return Stats::default();
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    let median = if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    };
+    let rank = ((0.95 * n as f64).ceil() as usize).clamp(1, n) - 1;
+    Stats {
+        mean: v.iter().sum::<f64>() / n as f64,
+        median,
+        p95: v[rank],
+        max: v[n - 1],
+        min: v[0],
+        count: n,
+    }
+}
+
+/// Per-contour summary of contour-to-mesh distances.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ContourStats {
+    pub id: String,
+    pub kind: ContourKind,
+    pub stats: Stats,
+}
+
+/// Contour-to-mesh distances for every contour point.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct ContourDistances {
+    /// One distance per contour point: contour order, then piece order, then point order.
+    pub per_point: Vec<f64>,
+    pub per_contour: Vec<ContourStats>,
+    pub overall: Stats,
+}
+
+/// Distance from each point to the mesh surface (point-to-triangle, through a BVH). An empty mesh
+/// gives infinite distances.
+pub fn points_to_mesh(points: &[Vec3], mesh: &TriMesh) -> Vec<f64> {
+    let bvh = Bvh::build(mesh);
+    points
+        .iter()
+        .map(|p| {
+            bvh.closest_point(mesh, *p)
+                .map_or(f64::INFINITY, |h| h.distance_sq.sqrt())
+        })
+        .collect()
+}
+
+/// Distances of every contour point to the mesh, summarised per contour and overall.
+pub fn contour_to_mesh(
+    contours: &[Contour],
+    kinds: &[ContourKind],
+    mesh: &TriMesh,
+) -> ContourDistances {
+    let points: Vec<Vec3> = contours.iter().flat_map(|c| c.points().copied()).collect();
+    let per_point = points_to_mesh(&points, mesh);
+    let mut per_contour = Vec::with_capacity(contours.len());
+    let mut offset = 0;
+    for (i, c) in contours.iter().enumerate() {
+        let n = c.point_count();
+        per_contour.push(ContourStats {
+            id: c.id.clone(),
+            kind: kinds.get(i).copied().unwrap_or(ContourKind::Lax),
+            stats: stats(&per_point[offset..offset + n]),
+        });
+        offset += n;
+    }
+    let overall = stats(&per_point);
+    ContourDistances {
+        per_point,
+        per_contour,
+        overall,
+    }
+}
+
+/// For every mesh vertex, the distance (mm) to the nearest point of any contour polyline (segments
+/// included, so sparse contour sampling does not inflate it): the distance field shown on the mesh,
+/// large where the surface is far from any data.
+pub fn vertex_to_contours(mesh: &TriMesh, contours: &[Contour]) -> Vec<f64> {
+    let mut segments: Vec<(Vec3, Vec3)> = Vec::new();
+    for c in contours {
+        for piece in &c.pieces {
+            let p = &piece.points;
+            match p.len() {
+                0 => {}
+                1 => segments.push((p[0], p[0])),
+                n => {
+                    segments.extend(p.windows(2).map(|w| (w[0], w[1])));
+                    if piece.closed && n > 2 {
+                        segments.push((p[n - 1], p[0]));
+                    }
+                }
+            }
+        }
+    }
+    mesh.positions
+        .iter()
+        .map(|v| {
+            segments
+                .iter()
+                .map(|(a, b)| {
+                    let ab = b - a;
+                    let l2 = ab.norm_squared();
+                    let t = if l2 > 0.0 {
+                        ((v - a).dot(&ab) / l2).clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
+                    (a + ab * t - v).norm_squared()
+                })
+                .fold(f64::INFINITY, f64::min)
+                .sqrt()
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stats_of_known_values() {
+        let s = stats(&[4.0, 1.0, 3.0, 2.0]);
+        assert_eq!(s.mean, 2.5);
+        assert_eq!(s.median, 2.5);
+        assert_eq!(s.max, 4.0);
+        assert_eq!(s.min, 1.0);
+        assert_eq!(s.p95, 4.0);
+        let v: Vec<f64> = (1..=100).map(|i| i as f64).collect();
+        assert_eq!(stats(&v).p95, 95.0);
+        assert_eq!(stats(&[]).count, 0);
+    }
+}

@@ -1,14 +1,38 @@
-//! The reconstruction pipeline of Villard, Grau & Zacur (J. Imaging 2018) as a stepping state
-//! machine: `new` validates, `step` advances one iteration, `run` loops.
-//! (API fixed; implementation in progress.)
+//! The reconstruction pipeline of Villard, Grau & Zacur, "Surface Mesh Reconstruction from Cardiac
+//! MRI Contours", J. Imaging 2018, 4(1):16, as a stepping state machine: `new` validates everything,
+//! `step` advances one iteration (so callers can show and cancel every step), `run` loops.
+//!
+//! The deformation runs in normalised units (centred on the contour points, divided by their largest
+//! inter-point distance) so that lambda, beta and the stop threshold do not depend on the size of the
+//! heart; everything handed out is converted back to millimetres.
 
-use crate::clock::Clock;
-use crate::contours::{Contour, ContourSet};
+mod prepare;
+pub mod tube;
+
+use crate::clock::{Clock, DefaultClock};
+use crate::contours::axis::{analyse, Layout};
+use crate::contours::clean::resample_spacing;
+use crate::contours::rings::tube_rings;
+use crate::contours::{Contour, ContourKind, ContourSet};
+use crate::deform::attractors::{farthest_point_sampling, Budget};
+use crate::deform::tps::TpsSolver;
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
+use crate::mesh::topology::validity;
 use crate::mesh::TriMesh;
-use crate::params::Params;
+use crate::metrics::{contour_to_mesh, vertex_to_contours, ContourDistances};
+use crate::params::{AttractorMode, Params};
+use crate::refine::remesh;
+use crate::spatial::Bvh;
 use serde::Serialize;
+
+/// Spacing (mm) of the contour resampling that feeds attractor selection.
+const CANDIDATE_SPACING_MM: f64 = 1.0;
+/// The fewest attractors a thin-plate spline in 3D can use (4 affine terms + 1).
+const MIN_ATTRACTORS: usize = 5;
+/// Above this many candidate points the diameter is estimated by repeated farthest-point sweeps
+/// instead of all pairs (a scale factor only needs to be consistent, not exact).
+const EXACT_DIAMETER_LIMIT: usize = 6000;
 
 /// What the last step did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -35,6 +59,17 @@ pub struct PhaseTimings {
     pub total_ms: f64,
 }
 
+impl std::ops::AddAssign for PhaseTimings {
+    fn add_assign(&mut self, o: Self) {
+        self.attractors_ms += o.attractors_ms;
+        self.closest_ms += o.closest_ms;
+        self.solve_ms += o.solve_ms;
+        self.apply_ms += o.apply_ms;
+        self.remesh_ms += o.remesh_ms;
+        self.total_ms += o.total_ms;
+    }
+}
+
 /// Report of one step, small enough to send to the browser every frame.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StepReport {
@@ -44,6 +79,8 @@ pub struct StepReport {
     pub phase: Phase,
     /// The vertex/triangle arrays were rebuilt (remesh, initial tube): renderers rebuild geometry.
     pub topology_changed: bool,
+    /// The attractors were re-sampled in this step.
+    pub attractors_changed: bool,
     /// Max and mean attractor-to-mesh distance in mm, measured before this step's deformation.
     pub max_distance_mm: f64,
     pub mean_distance_mm: f64,
@@ -54,37 +91,447 @@ pub struct StepReport {
     pub done: bool,
 }
 
-/// A reconstruction in progress. See the crate docs for the method.
+/// Maps millimetres to the scale-free units of the deformation loop and back.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Normalisation {
+    centre: Vec3,
+    scale: f64,
+}
+
+impl Normalisation {
+    fn to_unit(self, p: &Vec3) -> Vec3 {
+        (p - self.centre) / self.scale
+    }
+    fn to_mm(self, p: &Vec3) -> Vec3 {
+        p * self.scale + self.centre
+    }
+}
+
+/// A reconstruction in progress. See the module docs for the method.
 pub struct Reconstruction {
-    _contours: Vec<Contour>,
-    _params: Params,
-    _clock: Box<dyn Clock>,
+    params: Params,
+    contours: Vec<Contour>,
+    layout: Layout,
+    norm: Normalisation,
+    /// Contour points resampled at ~1 mm, normalised: the attractor candidates.
+    candidates: Vec<Vec3>,
+    attractor_budget: Budget,
+    attractors: Vec<Vec3>,
+    /// Working mesh in normalised units, and its copy in mm handed to callers.
     mesh: TriMesh,
+    mesh_mm: TriMesh,
+    bvh: Option<Bvh>,
+    tps: TpsSolver,
+    /// Scratch buffers reused every iteration.
+    closest: Vec<Vec3>,
+    targets: Vec<Vec3>,
+    fps_scratch: Vec<f64>,
+    iteration: usize,
+    started: bool,
+    done: bool,
+    clock: Box<dyn Clock>,
+    totals: PhaseTimings,
 }
 
 impl Reconstruction {
     /// Validates contours and parameters and prepares the run (no mesh yet: the first `step`
     /// builds the initial tube).
-    pub fn new(_set: &ContourSet, _params: Params) -> Result<Self> {
-        Err(CoreError::Numerical("not implemented yet".into()))
+    pub fn new(set: &ContourSet, params: Params) -> Result<Self> {
+        params.validate()?;
+        let selected = prepare::select_surface(set, params.surface.as_deref())?;
+        let contours = prepare::clean_contours(&selected);
+        if contours.len() < 2 {
+            return Err(CoreError::TooFewContours {
+                found: contours.len(),
+                needed: 2,
+            });
+        }
+        let layout = analyse(&contours)?;
+
+        let candidates_mm: Vec<Vec3> = contours
+            .iter()
+            .flat_map(|c| c.pieces.iter())
+            .flat_map(|p| resample_spacing(&p.points, p.closed, CANDIDATE_SPACING_MM))
+            .collect();
+        let centre = candidates_mm.iter().fold(Vec3::zeros(), |a, p| a + p)
+            / candidates_mm.len().max(1) as f64;
+        let scale = diameter(&candidates_mm);
+        if !(scale.is_finite() && scale > 1e-9) {
+            return Err(CoreError::Degenerate(
+                "the contour points have no extent".into(),
+            ));
+        }
+        let norm = Normalisation { centre, scale };
+        let candidates: Vec<Vec3> = candidates_mm.iter().map(|p| norm.to_unit(p)).collect();
+        let attractor_budget = match params.attractors {
+            AttractorMode::Auto => Budget::Count((25 * contours.len()).max(150)),
+            AttractorMode::Count(n) => Budget::Count(n.max(MIN_ATTRACTORS)),
+            AttractorMode::SpacingMm(mm) => Budget::Spacing(mm / scale),
+        };
+        if candidates.len() < MIN_ATTRACTORS {
+            return Err(CoreError::TooFewContours {
+                found: contours.len(),
+                needed: MIN_ATTRACTORS,
+            });
+        }
+        Ok(Reconstruction {
+            params,
+            contours,
+            layout,
+            norm,
+            candidates,
+            attractor_budget,
+            attractors: Vec::new(),
+            mesh: TriMesh::default(),
+            mesh_mm: TriMesh::default(),
+            bvh: None,
+            tps: TpsSolver::new(),
+            closest: Vec::new(),
+            targets: Vec::new(),
+            fps_scratch: Vec::new(),
+            iteration: 0,
+            started: false,
+            done: false,
+            clock: Box::new(DefaultClock::default()),
+            totals: PhaseTimings::default(),
+        })
     }
 
-    /// Advances one iteration.
+    /// Advances one step: the initial tube first, then one deformation iteration per call.
     pub fn step(&mut self) -> Result<StepReport> {
-        Err(CoreError::Numerical("not implemented yet".into()))
+        if self.done {
+            return Ok(self.report(
+                Phase::Done,
+                false,
+                false,
+                (0.0, 0.0),
+                PhaseTimings::default(),
+            ));
+        }
+        let t0 = self.clock.now_ms();
+        let mut timings = PhaseTimings::default();
+        if !self.started {
+            let r = self.start(&mut timings);
+            timings.total_ms = self.clock.now_ms() - t0;
+            self.totals += timings;
+            return r;
+        }
+        let it = self.iteration + 1;
+        let resample = (it - 1) % self.params.resample_attractors_every == 0 && it > 1;
+        if resample {
+            let t = self.clock.now_ms();
+            self.resample_attractors()?;
+            timings.attractors_ms = self.clock.now_ms() - t;
+        }
+        let t = self.clock.now_ms();
+        let (max_d, mean_d) = self.closest_points()?;
+        timings.closest_ms = self.clock.now_ms() - t;
+
+        let beta = self.params.beta;
+        self.targets.clear();
+        self.targets.extend(
+            self.closest
+                .iter()
+                .zip(&self.attractors)
+                .map(|(p, q)| p + (q - p) * beta),
+        );
+        let t = self.clock.now_ms();
+        let lambda_eff = self.params.lambda / self.attractors.len() as f64;
+        self.tps.fit(&self.closest, &self.targets, lambda_eff)?;
+        timings.solve_ms = self.clock.now_ms() - t;
+        let t = self.clock.now_ms();
+        self.tps.apply(&mut self.mesh.positions);
+        timings.apply_ms = self.clock.now_ms() - t;
+        if !self
+            .mesh
+            .positions
+            .iter()
+            .all(|p| p.iter().all(|c| c.is_finite()))
+        {
+            return Err(CoreError::Numerical(format!(
+                "the deformation produced non-finite vertices at iteration {it}"
+            )));
+        }
+        self.iteration = it;
+        let converged = max_d * max_d < self.params.stop_threshold;
+        let last = it >= self.params.iterations || converged;
+        let mut phase = Phase::Deform;
+        if last {
+            self.done = true;
+        } else if it % self.params.remesh_every == 0 {
+            let t = self.clock.now_ms();
+            self.remesh()?;
+            timings.remesh_ms = self.clock.now_ms() - t;
+            phase = Phase::Remesh;
+        }
+        if let Some(bvh) = self.bvh.as_mut() {
+            if phase != Phase::Remesh {
+                bvh.refit(&self.mesh)?;
+            }
+        }
+        self.update_mesh_mm();
+        timings.total_ms = self.clock.now_ms() - t0;
+        self.totals += timings;
+        let s = self.norm.scale;
+        Ok(self.report(
+            phase,
+            phase == Phase::Remesh,
+            resample,
+            (max_d * s, mean_d * s),
+            timings,
+        ))
+    }
+
+    /// Runs to the end.
+    pub fn run(&mut self) -> Result<()> {
+        while !self.done {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// Builds the initial tube, remeshes it once and picks the first attractors.
+    fn start(&mut self, timings: &mut PhaseTimings) -> Result<StepReport> {
+        let slices: Vec<Vec<usize>> = self
+            .layout
+            .slices
+            .iter()
+            .map(|s| s.contours.clone())
+            .collect();
+        let rings = tube_rings(
+            &self.contours,
+            &slices,
+            &self.layout.axis,
+            self.params.ring_points,
+        );
+        if rings.len() < 2 {
+            return Err(CoreError::Degenerate(format!(
+                "only {} short-axis slice(s) form a ring of 3 or more points",
+                rings.len()
+            )));
+        }
+        let lids = tube::lids(&self.params.lids, &rings, &self.contours, &self.layout);
+        let mut mesh = tube::ruled_tube(&rings, &lids);
+        for p in &mut mesh.positions {
+            *p = self.norm.to_unit(p);
+        }
+        let closed = lids.apex.is_some() && lids.base.is_some();
+        if closed && mesh.signed_volume() < 0.0 {
+            mesh.flip_orientation();
+        }
+        let t = self.clock.now_ms();
+        self.mesh = self.remeshed(&mesh)?;
+        timings.remesh_ms = self.clock.now_ms() - t;
+        self.bvh = Some(Bvh::build(&self.mesh));
+        let t = self.clock.now_ms();
+        self.resample_attractors()?;
+        timings.attractors_ms = self.clock.now_ms() - t;
+        self.started = true;
+        self.update_mesh_mm();
+        Ok(self.report(Phase::InitialTube, true, true, (0.0, 0.0), *timings))
+    }
+
+    /// Farthest-point sampling of the attractors, seeded at the candidate farthest from the mesh.
+    fn resample_attractors(&mut self) -> Result<()> {
+        let bvh = self
+            .bvh
+            .as_ref()
+            .ok_or_else(|| CoreError::InvalidMesh("no mesh to measure against".into()))?;
+        let mut seed = (f64::NEG_INFINITY, 0usize);
+        for (i, q) in self.candidates.iter().enumerate() {
+            let d = bvh
+                .closest_point(&self.mesh, *q)
+                .map_or(f64::INFINITY, |h| h.distance_sq);
+            if d > seed.0 {
+                seed = (d, i);
+            }
+        }
+        let idx = farthest_point_sampling(
+            &self.candidates,
+            seed.1,
+            self.attractor_budget,
+            MIN_ATTRACTORS,
+            &mut self.fps_scratch,
+        );
+        if idx.len() < MIN_ATTRACTORS {
+            return Err(CoreError::Degenerate(format!(
+                "only {} distinct contour points; at least {MIN_ATTRACTORS} are needed",
+                idx.len()
+            )));
+        }
+        self.attractors.clear();
+        self.attractors
+            .extend(idx.iter().map(|&i| self.candidates[i]));
+        Ok(())
+    }
+
+    /// Closest mesh point of every attractor into `self.closest`; returns (max, mean) distance.
+    fn closest_points(&mut self) -> Result<(f64, f64)> {
+        let bvh = self
+            .bvh
+            .as_ref()
+            .ok_or_else(|| CoreError::InvalidMesh("no mesh to measure against".into()))?;
+        self.closest.clear();
+        let (mut max_d, mut sum_d) = (0.0f64, 0.0);
+        for q in &self.attractors {
+            let hit = bvh
+                .closest_point(&self.mesh, *q)
+                .ok_or_else(|| CoreError::InvalidMesh("the mesh has no triangles".into()))?;
+            let d = hit.distance_sq.sqrt();
+            max_d = max_d.max(d);
+            sum_d += d;
+            self.closest.push(hit.point);
+        }
+        Ok((max_d, sum_d / self.attractors.len().max(1) as f64))
+    }
+
+    /// Subdivide + smooth + decimate, keeping the closed/open state of the mesh.
+    fn remeshed(&self, mesh: &TriMesh) -> Result<TriMesh> {
+        let p = &self.params;
+        let out = remesh(
+            mesh,
+            p.smoothing_iterations,
+            p.smoothing_factor,
+            p.target_reduction,
+        )?;
+        let v = validity(&out);
+        if !v.manifold {
+            return Err(CoreError::InvalidMesh(
+                "remeshing produced a non-manifold mesh".into(),
+            ));
+        }
+        Ok(out)
+    }
+
+    fn remesh(&mut self) -> Result<()> {
+        self.mesh = self.remeshed(&self.mesh)?;
+        self.bvh = Some(Bvh::build(&self.mesh));
+        Ok(())
+    }
+
+    fn update_mesh_mm(&mut self) {
+        let norm = self.norm;
+        self.mesh_mm.positions.clear();
+        self.mesh_mm
+            .positions
+            .extend(self.mesh.positions.iter().map(|p| norm.to_mm(p)));
+        if self.mesh_mm.triangles != self.mesh.triangles {
+            self.mesh_mm.triangles.clone_from(&self.mesh.triangles);
+        }
+    }
+
+    fn report(
+        &self,
+        phase: Phase,
+        topology_changed: bool,
+        attractors_changed: bool,
+        (max_distance_mm, mean_distance_mm): (f64, f64),
+        timings: PhaseTimings,
+    ) -> StepReport {
+        StepReport {
+            iteration: self.iteration,
+            total_iterations: self.params.iterations,
+            phase,
+            topology_changed,
+            attractors_changed,
+            max_distance_mm,
+            mean_distance_mm,
+            vertices: self.mesh.positions.len(),
+            triangles: self.mesh.triangles.len(),
+            attractors: self.attractors.len(),
+            timings,
+            done: self.done,
+        }
     }
 
     /// Current mesh in mm.
     pub fn mesh(&self) -> &TriMesh {
-        &self.mesh
+        &self.mesh_mm
     }
 
     /// Current attractor points in mm.
     pub fn attractors(&self) -> Vec<Vec3> {
-        Vec::new()
+        self.attractors.iter().map(|p| self.norm.to_mm(p)).collect()
+    }
+
+    /// The selected surface's contours after cleaning, in mm.
+    pub fn contours(&self) -> &[Contour] {
+        &self.contours
+    }
+
+    /// SAX or LAX, per contour of [`Reconstruction::contours`].
+    pub fn kinds(&self) -> &[ContourKind] {
+        &self.layout.kinds
+    }
+
+    /// The long axis (unit, apex to base) found from the short-axis normals.
+    pub fn long_axis(&self) -> Vec3 {
+        self.layout.axis
+    }
+
+    /// Heights (mm along the long axis) of the short-axis slices, apex to base.
+    pub fn slice_heights(&self) -> Vec<f64> {
+        self.layout.slices.iter().map(|s| s.height).collect()
+    }
+
+    /// Contour-to-mesh distance of every contour point.
+    pub fn contour_distances(&self) -> ContourDistances {
+        contour_to_mesh(&self.contours, &self.layout.kinds, &self.mesh_mm)
+    }
+
+    /// Per mesh vertex, the distance (mm) to the nearest contour.
+    pub fn vertex_distances(&self) -> Vec<f64> {
+        vertex_to_contours(&self.mesh_mm, &self.contours)
+    }
+
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+
+    pub fn iteration(&self) -> usize {
+        self.iteration
+    }
+
+    pub fn total_iterations(&self) -> usize {
+        self.params.iterations
+    }
+
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// Time spent per phase since the start.
+    pub fn total_timings(&self) -> PhaseTimings {
+        self.totals
     }
 
     pub fn set_clock(&mut self, clock: Box<dyn Clock>) {
-        self._clock = clock;
+        self.clock = clock;
     }
+}
+
+/// Largest inter-point distance (exact up to [`EXACT_DIAMETER_LIMIT`] points, else the best of a few
+/// farthest-point sweeps).
+fn diameter(points: &[Vec3]) -> f64 {
+    if points.len() <= EXACT_DIAMETER_LIMIT {
+        let mut best = 0.0f64;
+        for (i, a) in points.iter().enumerate() {
+            for b in &points[i + 1..] {
+                best = best.max((a - b).norm_squared());
+            }
+        }
+        return best.sqrt();
+    }
+    let mut from = 0usize;
+    let mut best = 0.0f64;
+    for _ in 0..4 {
+        let (d, i) = points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| ((p - points[from]).norm_squared(), i))
+            .fold((0.0, from), |a, b| if b.0 > a.0 { b } else { a });
+        best = best.max(d);
+        from = i;
+    }
+    best.sqrt()
 }

@@ -1,1 +1,114 @@
-//! (module under construction)
+//! Remeshing step of Villard, Grau & Zacur 2018 (METHOD.md section 5): butterfly subdivision,
+//! Laplacian smoothing with affine shrink correction, quadric decimation.
+//!
+//! The deformation composes many small thin-plate-spline maps, which stretch triangles unevenly;
+//! every S iterations this step restores an even, smooth triangulation of about the same size
+//! while keeping the surface closed, manifold and outward-oriented, which the closest-point queries
+//! and the volume measures rely on.
+
+pub mod butterfly;
+pub mod decimate;
+mod heap;
+pub mod smooth;
+
+pub use butterfly::subdivide;
+pub use decimate::decimate;
+pub use smooth::{affine_fit, laplacian, smooth};
+
+use crate::error::{CoreError, Result};
+use crate::mesh::topology::{compact, validity};
+use crate::mesh::TriMesh;
+
+/// Subdivide, smooth (+ shrink correction), decimate, drop unused vertices; then check the result:
+/// it must be manifold and oriented, and closed when the input was closed.
+pub fn remesh(
+    mesh: &TriMesh,
+    smoothing_iterations: usize,
+    smoothing_factor: f64,
+    target_reduction: f64,
+) -> Result<TriMesh> {
+    let before = validity(mesh);
+    let subdivided = subdivide(mesh)?;
+    let smoothed = smooth(&subdivided, smoothing_iterations, smoothing_factor)?;
+    let decimated = decimate(&smoothed, target_reduction)?;
+    let result = compact(&decimated)?;
+    let after = validity(&result);
+    if !after.manifold || !after.oriented || (before.closed && !after.closed) {
+        return Err(CoreError::InvalidMesh(format!(
+            "remeshing broke the surface ({})",
+            after.describe()
+        )));
+    }
+    Ok(result)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Vec3;
+    use crate::mesh::shapes::{cylinder_tube, icosphere};
+
+    #[test]
+    fn sphere_round_trip_keeps_volume_and_radius() {
+        let m = icosphere(10.0, 3);
+        let r = remesh(&m, 200, 0.1, 0.72).unwrap();
+        let v = validity(&r);
+        assert!(v.is_closed_manifold(), "{}", v.describe());
+        assert_eq!(v.euler_characteristic, 2);
+        // 4x then keep 28%: about 1.12x the triangles.
+        let ratio = r.triangles.len() as f64 / m.triangles.len() as f64;
+        assert!((ratio - 1.12).abs() < 0.05, "triangle ratio {ratio}");
+        let vol = r.signed_volume() / m.signed_volume();
+        assert!((vol - 1.0).abs() < 0.02, "volume ratio {vol}");
+        let worst = r
+            .positions
+            .iter()
+            .map(|p| (p.norm() - 10.0).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 0.3, "max radius error {worst} mm");
+    }
+
+    #[test]
+    fn twelve_rounds_on_a_lidded_tube_stay_valid() {
+        // 50 segments: the lid apexes start with valence 50, like the method's initial tube.
+        let mut m = cylinder_tube(20.0, 60.0, 50, 4, true);
+        let v0 = m.signed_volume();
+        let mut volumes = Vec::new();
+        for round in 0..12 {
+            m = remesh(&m, 200, 0.1, 0.72).unwrap();
+            let v = validity(&m);
+            assert!(v.is_closed_manifold(), "round {round}: {}", v.describe());
+            assert_eq!(v.euler_characteristic, 2, "round {round}");
+            assert_eq!(v.duplicate_triangles, 0, "round {round}");
+            assert_eq!(v.degenerate_triangles, 0, "round {round}");
+            assert!(m.signed_volume() > 0.0, "round {round}");
+            volumes.push(m.signed_volume() / v0);
+        }
+        // Without the method's data term, smoothing rounds the flat lids into domes and the
+        // affine correction re-inflates the rounded shape to the least-squares size of the
+        // previous one: the tube turns into a capsule (measured: +13% volume after round 1,
+        // +18.5% after 12, height 60 -> 85 mm), converging rather than drifting.
+        let last = volumes[11];
+        assert!(last > 1.0 && last < 1.3, "volume ratios {volumes:?}");
+        assert!(
+            (volumes[11] / volumes[10] - 1.0).abs() < 0.01,
+            "{volumes:?}"
+        );
+        let (lo, hi) = m.bounds().unwrap();
+        let extent: Vec3 = hi - lo;
+        assert!(extent.z > 60.0 && extent.z < 90.0, "height {}", extent.z);
+        assert!(extent.x > 38.0 && extent.x < 50.0, "width {}", extent.x);
+        // Triangle count grows ~1.12x per round (4x, then keep 28%).
+        assert!(m.triangles.len() > 1300 && m.triangles.len() < 1800);
+    }
+
+    #[test]
+    fn open_tube_round_keeps_boundaries() {
+        let m = cylinder_tube(10.0, 30.0, 50, 7, false);
+        let r = remesh(&m, 200, 0.1, 0.72).unwrap();
+        let v = validity(&r);
+        assert!(v.manifold && v.oriented && !v.closed, "{}", v.describe());
+        assert_eq!(v.boundary_loops, 2);
+        assert_eq!(v.euler_characteristic, 0);
+    }
+}

@@ -1,0 +1,35 @@
+# Shared helpers for the scripts in this folder (sourced, not run).
+# shellcheck shell=bash
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+export PATH="${CARGO_HOME:-$HOME/.cargo}/bin:$ROOT/node_modules/.bin:$PATH"
+
+# Runs a command silently; shows its output only when it fails.
+quiet() {
+  local log
+  log="$(mktemp)"
+  if "$@" >"$log" 2>&1; then
+    rm -f "$log"
+  else
+    local status=$?
+    echo "FAILED ($status): $*" >&2
+    tail -n 60 "$log" >&2
+    rm -f "$log"
+    return "$status"
+  fi
+}
+
+# The wasm-bindgen version locked in Cargo.lock (the CLI must match it exactly).
+wasm_bindgen_version() {
+  awk '/^name = "wasm-bindgen"$/ { getline; gsub(/version = |"/, ""); print; exit }' \
+    "$ROOT/wasm-core/Cargo.lock"
+}
+
+as_root() {
+  if [ "$(id -u)" = 0 ]; then "$@"; elif command -v sudo >/dev/null; then sudo "$@"; else
+    echo "need root for: $*" >&2
+    return 1
+  fi
+}
+
+section() { printf '\n== %s\n' "$*"; }

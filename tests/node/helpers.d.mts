@@ -1,0 +1,17 @@
+// Types of helpers.mjs for the TypeScript tests.
+export const ROOT: string;
+export const PKG: string;
+export const CLI: string;
+export function loadWasm(): Promise<typeof import('../../web/pkg/heartmesh_wasm.js')>;
+export function dataDir(): string;
+export function SURFCO(): string;
+export function PATIENT1_ED(): string;
+export function thrownError(f: () => unknown): { code: string; message: string; line?: number; available?: string[] };
+export function reconstruct(
+  wasm: typeof import('../../web/pkg/heartmesh_wasm.js'),
+  path: string,
+  options?: { surface?: string | null; params?: Record<string, number>; lids?: 'auto' | 'none' },
+): { session: import('../../web/pkg/heartmesh_wasm.js').Session; reports: { done: boolean }[]; ms: number };
+export function readObj(text: string): { positions: Float64Array; indices: Uint32Array };
+export function maxRelativeDifference(a: ArrayLike<number>, b: ArrayLike<number>, floor?: number): number;
+export function readBytes(path: string): Uint8Array;

@@ -1,0 +1,94 @@
+// Shared helpers of the Node tests of the built wasm (web/pkg, from scripts/build-wasm.sh) and of
+// the wasm benchmark: load the module synchronously, find the shared test data, run a
+// reconstruction to the end through the Session, read OBJ files.
+import { existsSync, readFileSync } from 'node:fs';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+export const ROOT = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..');
+export const PKG = join(ROOT, 'web', 'pkg');
+export const CLI = join(ROOT, 'wasm-core', 'target', 'release', 'heartmesh');
+
+/** The wasm module, initialised synchronously from web/pkg. */
+export async function loadWasm() {
+  const glue = join(PKG, 'heartmesh_wasm.js');
+  if (!existsSync(glue)) throw new Error(`${glue} is missing: run scripts/build-wasm.sh first`);
+  const wasm = await import(glue);
+  wasm.initSync({ module: readFileSync(join(PKG, 'heartmesh_wasm_bg.wasm')) });
+  return wasm;
+}
+
+/** The shared data folder: $HEARTMESH_DATA, or shared/data beside the repository (CI layout), or
+ * two levels up (git worktrees under wt/). Missing data is an error, never a skipped test. */
+export function dataDir() {
+  const candidates = [
+    process.env.HEARTMESH_DATA,
+    join(ROOT, '..', 'shared', 'data'),
+    join(ROOT, '..', '..', 'shared', 'data'),
+  ].filter(Boolean);
+  const found = candidates.find((d) => existsSync(join(d, 'contours')));
+  if (!found) throw new Error(`test data not found; looked in ${candidates.join(', ')}`);
+  return found;
+}
+
+export const SURFCO = () => join(dataDir(), 'contours', 'surfco-example.csv');
+export const PATIENT1_ED = () => join(dataDir(), 'contours', 'bivme-example-patient1', 'patient1-ED.csv');
+
+/** A file's bytes. */
+export function readBytes(path) {
+  return new Uint8Array(readFileSync(path));
+}
+
+/** The CoreErrorData a Session call threw (errors cross as JSON strings). */
+export function thrownError(f) {
+  try {
+    f();
+  } catch (e) {
+    if (typeof e !== 'string') throw e;
+    return JSON.parse(e);
+  }
+  throw new Error('expected the call to throw');
+}
+
+/**
+ * Loads `path`, runs a full reconstruction and returns the session with the step reports.
+ * `params` maps schema names to numbers.
+ */
+export function reconstruct(wasm, path, { surface = null, params = {}, lids = 'auto' } = {}) {
+  const session = new wasm.Session();
+  const name = path.split('/').at(-1);
+  session.load(name, readFileSync(path));
+  const t0 = performance.now();
+  session.start(name, surface, JSON.stringify(params), lids);
+  const reports = [];
+  for (let guard = 0; guard < 100000; guard++) {
+    const report = JSON.parse(session.step());
+    reports.push(report);
+    if (report.done) break;
+  }
+  const ms = performance.now() - t0;
+  return { session, reports, ms };
+}
+
+/** Vertices (flat f64 xyz) and triangles (flat, 0-based) of an OBJ file. */
+export function readObj(text) {
+  const positions = [];
+  const indices = [];
+  for (const line of text.split('\n')) {
+    const f = line.trim().split(/\s+/);
+    if (f[0] === 'v') positions.push(Number(f[1]), Number(f[2]), Number(f[3]));
+    else if (f[0] === 'f') for (const c of f.slice(1, 4)) indices.push(parseInt(c, 10) - 1);
+  }
+  return { positions: Float64Array.from(positions), indices: Uint32Array.from(indices) };
+}
+
+/** Largest |a - b| / max(|b|, floor) over two equally long arrays. */
+export function maxRelativeDifference(a, b, floor = 1) {
+  if (a.length !== b.length) throw new Error(`length ${a.length} != ${b.length}`);
+  let worst = 0;
+  for (let i = 0; i < a.length; i++) {
+    const d = Math.abs(a[i] - b[i]) / Math.max(Math.abs(b[i]), floor);
+    if (!(d <= worst)) worst = Number.isNaN(d) ? Infinity : d;
+  }
+  return worst;
+}

@@ -1,0 +1,98 @@
+import { describe, expect, it } from 'vitest';
+import {
+  assertNever,
+  isFatal,
+  isFromWorker,
+  isToWorker,
+  mergeFrames,
+  runIdOf,
+  toCoreErrorData,
+  transferablesOf,
+  type Frame,
+  type FromWorker,
+  type StepReport,
+} from '../../../web/src/core-client/protocol';
+
+const report: StepReport = {
+  iteration: 3,
+  total_iterations: 250,
+  phase: 'deform',
+  topology_changed: false,
+  max_distance_mm: 4.5,
+  mean_distance_mm: 1.25,
+  vertices: 4,
+  triangles: 4,
+  attractors: 150,
+  timings: { attractors_ms: 0, closest_ms: 0.1, solve_ms: 1, apply_ms: 0.2, remesh_ms: 0, total_ms: 1.3 },
+  done: false,
+};
+
+function frame(seq: number, extra: Partial<Frame> = {}): Frame {
+  return { runId: 1, seq, report, positions: new Float32Array([seq, 0, 0]), ...extra };
+}
+
+describe('protocol helpers', () => {
+  it('lists each transferable buffer once', () => {
+    const positions = new Float32Array(9);
+    const indices = new Uint32Array(3);
+    const msg: FromWorker = { type: 'frame', ...frame(1), positions, indices };
+    const t = transferablesOf(msg);
+    expect(t).toHaveLength(2);
+    expect(t).toContain(positions.buffer);
+    expect(t).toContain(indices.buffer);
+    // Two views on one buffer are one transferable.
+    const shared = new Float32Array(6);
+    const done: FromWorker = {
+      type: 'done',
+      result: {
+        runId: 1, surface: null, contours: [], contourPoints: shared, positions: shared.subarray(0, 3),
+        indices: new Uint32Array(0), pointDistances: new Float32Array(2), vertexDistances: new Float32Array(1),
+        perContour: [], overall: { mean: 0, median: 0, p95: 0, max: 0, min: 0, count: 0 }, volumeMl: 1,
+        areaMm2: 1, watertight: true, seconds: 0.5, params: {}, lids: 'auto', version: '0.1.0',
+      },
+    };
+    // The empty index buffer is not listed (nothing to transfer), the shared one only once.
+    expect(transferablesOf(done)).toHaveLength(3);
+    expect(transferablesOf({ type: 'load', reqId: 1, fileName: 'a.csv', bytes: new ArrayBuffer(5) })).toHaveLength(1);
+    expect(transferablesOf({ type: 'ack', runId: 1, seq: 2 })).toHaveLength(0);
+  });
+
+  it('merging a skipped frame keeps its topology and attractors', () => {
+    const indices = new Uint32Array([0, 1, 2]);
+    const attractors = new Float32Array([1, 2, 3]);
+    const merged = mergeFrames(frame(1, { indices, attractors }), frame(2));
+    expect(merged.seq).toBe(2);
+    expect(merged.positions[0]).toBe(2);
+    expect(merged.indices).toBe(indices);
+    expect(merged.attractors).toBe(attractors);
+    const newer = new Uint32Array([2, 1, 0]);
+    expect(mergeFrames(frame(1, { indices }), frame(2, { indices: newer })).indices).toBe(newer);
+    expect(mergeFrames(frame(1), frame(2)).indices).toBeUndefined();
+  });
+
+  it('normalises thrown values into CoreErrorData', () => {
+    expect(toCoreErrorData('{"code":"parse","message":"line 3: bad","line":3}', 'a.csv')).toEqual({
+      code: 'parse', message: 'line 3: bad', line: 3, file: 'a.csv',
+    });
+    expect(toCoreErrorData(new Error('boom'))).toEqual({ code: 'internal', message: 'boom' });
+    expect(toCoreErrorData({ code: 'x', message: 'y', file: 'b' }, 'a')).toEqual({ code: 'x', message: 'y', file: 'b' });
+    expect(toCoreErrorData(42).code).toBe('internal');
+    expect(isFatal({ code: 'worker_crashed', message: '' })).toBe(true);
+    expect(isFatal({ code: 'parse', message: '' })).toBe(false);
+  });
+
+  it('recognises messages and their runs', () => {
+    expect(isFromWorker({ type: 'ready' })).toBe(true);
+    expect(isFromWorker({ type: 'load' })).toBe(false);
+    expect(isFromWorker(null)).toBe(false);
+    expect(isToWorker({ type: 'cancel', runId: 3 })).toBe(true);
+    expect(isToWorker({ type: 'frame' })).toBe(false);
+    expect(runIdOf({ type: 'frame', ...frame(4) })).toBe(1);
+    expect(runIdOf({ type: 'error', runId: 7, error: { code: 'a', message: 'b' } })).toBe(7);
+    expect(runIdOf({ type: 'ready' })).toBeUndefined();
+  });
+
+  it('assertNever throws on an unexpected message', () => {
+    expect(() => assertNever({ type: 'bogus' } as never)).toThrow(/bogus/);
+  });
+});

@@ -1,0 +1,193 @@
+import { describe, expect, it } from 'vitest';
+import type { FromWorker } from '../../../web/src/core-client/protocol';
+import { WorkerCore, wasmErrorData, type SessionApi, type WasmApi } from '../../../web/src/core-client/workerCore';
+import { stepReport } from './fakes';
+
+/** A scripted session: `total` iterations, remesh at `remeshAt`, attractors re-sampled at `resampleAt`. */
+class FakeSession implements SessionApi {
+  iteration = -1;
+  clock: { t: number };
+  failAt: number | null = null;
+  trapAt: number | null = null;
+  constructor(clock: { t: number }, private total = 20, private remeshAt = [7], private resampleAt = [0, 12]) {
+    this.clock = clock;
+  }
+  load(fileName: string, bytes: Uint8Array): string {
+    if (bytes.length === 0) throw JSON.stringify({ code: 'parse', message: 'line 1: empty file', line: 1 });
+    return JSON.stringify({ fileName, surfaces: [], contours: [], landmarks: [], warnings: [] });
+  }
+  file_points(): Float32Array {
+    return new Float32Array([1, 2, 3]);
+  }
+  start(_f: string, surface: string | null | undefined): void {
+    if (surface === 'RV_EPI') throw JSON.stringify({ code: 'unknown_surface', message: 'no RV_EPI', available: ['LV_ENDO'] });
+    this.iteration = -1;
+  }
+  step(): string {
+    this.clock.t += 1; // every step costs 1 ms
+    this.iteration += 1;
+    if (this.iteration === this.failAt) throw JSON.stringify({ code: 'numerical', message: 'factorisation failed' });
+    if (this.iteration === this.trapAt) throw new Error('unreachable');
+    const i = this.iteration;
+    return JSON.stringify(
+      stepReport(i, {
+        total_iterations: this.total,
+        topology_changed: i === 0 || this.remeshAt.includes(i),
+        done: i >= this.total,
+        phase: i >= this.total ? 'done' : i === 0 ? 'initial_tube' : 'deform',
+      }),
+    );
+  }
+  attractors_changed(): boolean {
+    return this.resampleAt.includes(this.iteration);
+  }
+  positions(): Float32Array {
+    return new Float32Array([this.iteration, 0, 0]);
+  }
+  indices(): Uint32Array {
+    return new Uint32Array([0, 1, this.iteration]);
+  }
+  attractors(): Float32Array {
+    return new Float32Array([this.iteration, 1, 1]);
+  }
+  contour_points(): Float32Array {
+    return new Float32Array(6);
+  }
+  point_distances(): Float32Array {
+    return new Float32Array(2);
+  }
+  vertex_distances(): Float32Array {
+    return new Float32Array(1);
+  }
+  result_json(): string {
+    return JSON.stringify({
+      surface: null, contours: [], perContour: [], overall: { mean: 0.3, median: 0.2, p95: 0.8, max: 1, min: 0, count: 2 },
+      volumeMl: 50, areaMm2: 7000, watertight: true, params: {}, lids: 'auto', version: '0.1.0',
+    });
+  }
+}
+
+function setup(total = 20) {
+  const clock = { t: 0 };
+  const session = new FakeSession(clock, total);
+  const out: FromWorker[] = [];
+  const ticks: (() => void)[] = [];
+  const wasm: WasmApi = {
+    createSession: () => session,
+    schemaJson: () => '[]',
+    version: () => '9.9.9',
+    takePanicMessage: () => 'panicked at src/x.rs:1: index out of bounds',
+  };
+  const core = new WorkerCore(wasm, (m) => out.push(m), {
+    yieldToEventLoop: (cb) => ticks.push(cb),
+    now: () => clock.t,
+    sliceMs: 4,
+  });
+  const runTicks = (max = 1000) => {
+    for (let i = 0; i < max && ticks.length > 0; i++) ticks.shift()!();
+  };
+  const frames = () => out.filter((m): m is Extract<FromWorker, { type: 'frame' }> => m.type === 'frame');
+  return { core, session, out, runTicks, frames, ticks };
+}
+
+const runMsg = { type: 'run' as const, runId: 5, fileName: 'a.csv', surface: null, params: {}, lids: 'auto' as const };
+
+describe('WorkerCore', () => {
+  it('keeps at most two frames unacknowledged and always sends the final one', () => {
+    const { core, out, runTicks, frames } = setup(20);
+    core.handle(runMsg);
+    runTicks();
+    const f = frames();
+    // Two frames while nobody acks, then the final frame.
+    expect(f.map((x) => x.seq)).toEqual([1, 2, 3]);
+    expect(f[0].report.iteration).toBe(0);
+    expect(f[0].indices).toBeDefined();
+    expect(f[0].attractors).toBeDefined();
+    expect(f[1].indices).toBeUndefined();
+    const last = f[2];
+    expect(last.report.done).toBe(true);
+    // The remesh at iteration 7 and the re-sampling at 12 were not sent: the final frame carries them.
+    expect(last.indices).toEqual(new Uint32Array([0, 1, 20]));
+    expect(last.attractors).toBeDefined();
+    const done = out.at(-1)!;
+    expect(done.type).toBe('done');
+    if (done.type === 'done') {
+      expect(done.result.runId).toBe(5);
+      expect(done.result.volumeMl).toBe(50);
+      expect(done.result.seconds).toBeCloseTo(0.021, 6); // 21 steps at 1 ms
+    }
+  });
+
+  it('an ack releases the newest state at once', () => {
+    const { core, runTicks, frames, ticks } = setup(100);
+    core.handle(runMsg);
+    ticks.shift()!(); // first slice: iterations 0..3, frames 1 and 2 sent
+    expect(frames().map((x) => x.report.iteration)).toEqual([0, 1]);
+    core.handle({ type: 'ack', runId: 5, seq: 1 });
+    // One slot free: the newest computed state (iteration 3) goes out immediately.
+    expect(frames().map((x) => x.report.iteration)).toEqual([0, 1, 3]);
+    core.handle({ type: 'ack', runId: 99, seq: 3 }); // another run's ack: ignored
+    expect(frames()).toHaveLength(3);
+    core.handle({ type: 'ack', runId: 5, seq: 3 });
+    ticks.shift()!(); // iterations 4..7; two slots free -> frames for 4 and 5
+    expect(frames().map((x) => x.report.iteration)).toEqual([0, 1, 3, 4, 5]);
+    runTicks();
+    expect(frames().at(-1)!.report.done).toBe(true);
+  });
+
+  it('stops computing when the run is cancelled or replaced', () => {
+    const { core, session, out, runTicks, ticks } = setup(1000);
+    core.handle(runMsg);
+    ticks.shift()!();
+    const at = session.iteration;
+    core.handle({ type: 'cancel', runId: 5 });
+    runTicks();
+    expect(session.iteration).toBe(at);
+    expect(out.some((m) => m.type === 'done')).toBe(false);
+    // A new run replaces the previous one.
+    core.handle({ ...runMsg, runId: 6 });
+    core.handle({ ...runMsg, runId: 7 });
+    runTicks();
+    const doneIds = out.filter((m) => m.type === 'done').map((m) => (m.type === 'done' ? m.result.runId : 0));
+    expect(doneIds).toEqual([7]);
+  });
+
+  it('reports core errors as data and stays usable', () => {
+    const { core, session, out, runTicks } = setup(10);
+    core.handle({ type: 'load', reqId: 1, fileName: 'empty.csv', bytes: new ArrayBuffer(0) });
+    expect(out.at(-1)).toEqual({
+      type: 'error', reqId: 1, error: { code: 'parse', message: 'line 1: empty file', line: 1, file: 'empty.csv' },
+    });
+    core.handle({ ...runMsg, surface: 'RV_EPI' });
+    expect(out.at(-1)).toMatchObject({ type: 'error', runId: 5, error: { code: 'unknown_surface', available: ['LV_ENDO'] } });
+    session.failAt = 3;
+    core.handle(runMsg);
+    runTicks();
+    expect(out.at(-1)).toMatchObject({ type: 'error', runId: 5, error: { code: 'numerical' } });
+    session.failAt = null;
+    core.handle({ ...runMsg, runId: 6 });
+    runTicks();
+    expect(out.at(-1)).toMatchObject({ type: 'done' });
+    core.handle({ type: 'schema', reqId: 2 });
+    expect(out.at(-1)).toEqual({ type: 'schema', reqId: 2, schema: [], version: '9.9.9' });
+  });
+
+  it('treats a trap as fatal and refuses further work', () => {
+    const { core, session, out, runTicks } = setup(10);
+    session.trapAt = 2;
+    core.handle(runMsg);
+    runTicks();
+    const err = out.at(-1)!;
+    expect(err).toMatchObject({ type: 'error', runId: 5, error: { code: 'worker_crashed' } });
+    if (err.type === 'error') expect(err.error.message).toContain('index out of bounds');
+    core.handle({ type: 'schema', reqId: 3 });
+    expect(out.at(-1)).toMatchObject({ type: 'error', reqId: 3, error: { code: 'worker_crashed' } });
+  });
+
+  it('parses only JSON CoreErrorData strings as core errors', () => {
+    expect(wasmErrorData('{"code":"parse","message":"m"}')).toEqual({ code: 'parse', message: 'm' });
+    expect(wasmErrorData('{"nope":1}')).toBeNull();
+    expect(wasmErrorData('{broken')).toBeNull();
+    expect(wasmErrorData(new Error('x'))).toBeNull();
+  });
+});

@@ -1,0 +1,61 @@
+//! Developer tool: reconstruct one contour file and print every step's distances and timings.
+//! `cargo run --release --example trace -- FILE [SURFACE]`
+use heartmesh_core::{io, Params, Reconstruction};
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let Some(path) = args.get(1) else {
+        eprintln!("usage: trace FILE [SURFACE]");
+        std::process::exit(2);
+    };
+    let bytes = match std::fs::read(path) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("{path}: {e}");
+            std::process::exit(2);
+        }
+    };
+    let run = || -> Result<(), heartmesh_core::CoreError> {
+        let set = io::read_contours(path, &bytes)?;
+        let params = Params {
+            surface: args.get(2).cloned(),
+            ..Params::default()
+        };
+        let mut r = Reconstruction::new(&set, params)?;
+        while !r.is_done() {
+            let s = r.step()?;
+            if s.iteration % 10 == 0 || s.done || s.topology_changed {
+                println!(
+                    "it {:3} {:?} max {:.3} mean {:.3} mm  V {} T {}  {:.2} ms",
+                    s.iteration,
+                    s.phase,
+                    s.max_distance_mm,
+                    s.mean_distance_mm,
+                    s.vertices,
+                    s.triangles,
+                    s.timings.total_ms
+                );
+            }
+        }
+        let d = r.contour_distances();
+        for c in &d.per_contour {
+            println!(
+                "{:28} {:?} mean {:.3} max {:.3}",
+                c.id, c.kind, c.stats.mean, c.stats.max
+            );
+        }
+        println!(
+            "overall mean {:.3} median {:.3} max {:.3}  volume {:.1} ml  timings {:?}",
+            d.overall.mean,
+            d.overall.median,
+            d.overall.max,
+            r.mesh().volume_ml(),
+            r.total_timings()
+        );
+        Ok(())
+    };
+    if let Err(e) = run() {
+        eprintln!("{path}: {e}");
+        std::process::exit(1);
+    }
+}

@@ -1,0 +1,366 @@
+//! The long axis, the SAX/LAX split and the apex-to-base order of the short-axis slices
+//! (Villard et al. 2018, section 2.1).
+//!
+//! The central direction is the contour normal with the smallest sum of log(180 + angle) to all other
+//! normals: a robust location that a few long-axis views cannot pull away from the short-axis stack.
+
+use super::plane::{axis_angle_deg, fit_plane, PlaneFit};
+use super::{Contour, ContourKind};
+use crate::error::{CoreError, Result};
+use crate::geometry::Vec3;
+
+/// Contours whose normal is within this angle of the central direction are short-axis.
+pub const SAX_MAX_ANGLE_DEG: f64 = 20.0;
+
+/// Short-axis contours closer than this to each other's plane (mm, plus a multiple of the fit
+/// residuals) lie in the same image slice (e.g. RV free wall and septum).
+const SAME_SLICE_MM: f64 = 1.5;
+
+/// One short-axis image slice: the contours that lie in it and its height along the axis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Slice {
+    pub contours: Vec<usize>,
+    /// Mean of point . axis over the slice's points (mm).
+    pub height: f64,
+}
+
+/// The geometric layout of a contour set.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Layout {
+    pub kinds: Vec<ContourKind>,
+    /// Plane fits (None for contours whose points are collinear or fewer than 3).
+    pub planes: Vec<Option<PlaneFit>>,
+    /// Long axis, unit, pointing from apex to base.
+    pub axis: Vec3,
+    /// In-plane frame completing a right-handed (x, y, axis).
+    pub frame_x: Vec3,
+    pub frame_y: Vec3,
+    /// Short-axis slices sorted apex to base.
+    pub slices: Vec<Slice>,
+}
+
+/// Principal direction of a point set (for collinear contours, which have no plane).
+fn principal_direction(c: &Contour) -> Option<Vec3> {
+    let pts: Vec<&Vec3> = c.points().collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let first = pts[0];
+    let far = pts
+        .iter()
+        .max_by(|a, b| (**a - first).norm().total_cmp(&(**b - first).norm()))?;
+    let d = *far - first;
+    (d.norm() > 0.0).then(|| d.normalize())
+}
+
+fn mean_height(c: &Contour, axis: &Vec3) -> f64 {
+    let n = c.point_count().max(1) as f64;
+    c.points().map(|p| p.dot(axis)).sum::<f64>() / n
+}
+
+/// Completes `axis` to a right-handed orthonormal frame.
+pub fn frame_for(axis: &Vec3) -> (Vec3, Vec3) {
+    let helper = if axis.x.abs() < 0.9 {
+        Vec3::x()
+    } else {
+        Vec3::y()
+    };
+    let x = (helper - axis * helper.dot(axis)).normalize();
+    let y = axis.cross(&x);
+    (x, y)
+}
+
+/// Classifies contours, finds the long axis and groups the short-axis contours into slices.
+pub fn analyse(contours: &[Contour]) -> Result<Layout> {
+    let planes: Vec<Option<PlaneFit>> = contours.iter().map(|c| fit_plane(c.points())).collect();
+    let normals: Vec<(usize, Vec3)> = planes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| p.map(|p| (i, p.normal)))
+        .collect();
+    if normals.len() < 2 {
+        return Err(CoreError::NoSaxGroup(format!(
+            "only {} contour(s) span a plane",
+            normals.len()
+        )));
+    }
+    // Central direction: the normal minimising sum_j log(180 + angle).
+    let cost = |n: &Vec3| -> f64 {
+        normals
+            .iter()
+            .map(|(_, m)| (180.0 + axis_angle_deg(n, m)).ln())
+            .sum()
+    };
+    let central = normals
+        .iter()
+        .map(|(_, n)| (cost(n), *n))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, n)| n)
+        .ok_or_else(|| CoreError::NoSaxGroup("no contour normals".into()))?;
+    let sax_normals: Vec<Vec3> = normals
+        .iter()
+        .filter(|(_, n)| axis_angle_deg(n, &central) <= SAX_MAX_ANGLE_DEG)
+        .map(|(_, n)| *n)
+        .collect();
+    // Robust mean of the SAX normals: their medoid by sum of angles, then the sign-aligned average.
+    let medoid = sax_normals
+        .iter()
+        .map(|n| {
+            let s: f64 = sax_normals.iter().map(|m| axis_angle_deg(n, m)).sum();
+            (s, *n)
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, n)| n)
+        .unwrap_or(central);
+    let mut sum = Vec3::zeros();
+    for n in &sax_normals {
+        sum += if n.dot(&medoid) < 0.0 { -n } else { *n };
+    }
+    let mut axis = if sum.norm() > 0.0 {
+        sum.normalize()
+    } else {
+        medoid
+    };
+
+    let kinds: Vec<ContourKind> = contours
+        .iter()
+        .zip(&planes)
+        .map(|(c, p)| match p {
+            Some(p) if axis_angle_deg(&p.normal, &central) <= SAX_MAX_ANGLE_DEG => ContourKind::Sax,
+            Some(_) => ContourKind::Lax,
+            // A straight piece: it lies in a short-axis plane if it runs across the axis.
+            None => match principal_direction(c) {
+                Some(d) if axis_angle_deg(&d, &axis) > 90.0 - SAX_MAX_ANGLE_DEG => ContourKind::Sax,
+                _ => ContourKind::Lax,
+            },
+        })
+        .collect();
+
+    let mut slices = group_slices(contours, &planes, &kinds, &axis);
+    if slices.len() < 2 {
+        return Err(CoreError::NoSaxGroup(format!(
+            "found {} short-axis slice(s); at least 2 parallel slices at different heights are needed",
+            slices.len()
+        )));
+    }
+    if !apex_is_low(contours, &slices, &axis) {
+        axis = -axis;
+        for s in &mut slices {
+            s.height = -s.height;
+        }
+        slices.reverse();
+    }
+    let (frame_x, frame_y) = frame_for(&axis);
+    Ok(Layout {
+        kinds,
+        planes,
+        axis,
+        frame_x,
+        frame_y,
+        slices,
+    })
+}
+
+/// Groups SAX contours lying in one plane into slices, sorted by height along `axis`.
+fn group_slices(
+    contours: &[Contour],
+    planes: &[Option<PlaneFit>],
+    kinds: &[ContourKind],
+    axis: &Vec3,
+) -> Vec<Slice> {
+    let mut sax: Vec<(usize, f64)> = (0..contours.len())
+        .filter(|&i| kinds[i] == ContourKind::Sax && contours[i].point_count() > 0)
+        .map(|i| (i, mean_height(&contours[i], axis)))
+        .collect();
+    sax.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    let mut slices: Vec<Slice> = Vec::new();
+    for (i, h) in sax {
+        let joins = slices.last().is_some_and(|s| {
+            s.contours
+                .iter()
+                .all(|&j| same_slice(&contours[i], planes[i], &contours[j], planes[j], axis))
+        });
+        match slices.last_mut() {
+            Some(s) if joins => s.contours.push(i),
+            _ => slices.push(Slice {
+                contours: vec![i],
+                height: h,
+            }),
+        }
+    }
+    for s in &mut slices {
+        let (sum, n) = s.contours.iter().fold((0.0, 0usize), |(sum, n), &j| {
+            let c = &contours[j];
+            (
+                sum + c.points().map(|p| p.dot(axis)).sum::<f64>(),
+                n + c.point_count(),
+            )
+        });
+        s.height = sum / n.max(1) as f64;
+    }
+    slices
+}
+
+/// Whether two SAX contours lie in one image plane: each one's points are close to the other's plane
+/// (or, for straight pieces without a plane, at the same height).
+fn same_slice(
+    a: &Contour,
+    pa: Option<PlaneFit>,
+    b: &Contour,
+    pb: Option<PlaneFit>,
+    axis: &Vec3,
+) -> bool {
+    let offset = |c: &Contour, p: &PlaneFit| -> f64 {
+        let n = c.point_count().max(1) as f64;
+        (c.points()
+            .map(|q| (q - p.centroid).dot(&p.normal))
+            .sum::<f64>()
+            / n)
+            .abs()
+    };
+    let tol = |p: &Option<PlaneFit>| SAME_SLICE_MM + 3.0 * p.map_or(0.0, |p| p.rms_residual);
+    match (pa, pb) {
+        (Some(pa), Some(pb)) => {
+            offset(b, &pa) <= tol(&Some(pa)) && offset(a, &pb) <= tol(&Some(pb))
+        }
+        (Some(p), None) => offset(b, &p) <= tol(&Some(p)),
+        (None, Some(p)) => offset(a, &p) <= tol(&Some(p)),
+        (None, None) => (mean_height(a, axis) - mean_height(b, axis)).abs() <= SAME_SLICE_MM,
+    }
+}
+
+/// The ventricles taper towards the apex: slices grow with height when the axis points apex to base.
+/// Decided by the sign of the regression slope of each slice's extent (RMS radius about its centroid)
+/// against its height.
+fn apex_is_low(contours: &[Contour], slices: &[Slice], axis: &Vec3) -> bool {
+    let stats: Vec<(f64, f64)> = slices
+        .iter()
+        .map(|s| {
+            let pts: Vec<&Vec3> = s
+                .contours
+                .iter()
+                .flat_map(|&j| contours[j].points())
+                .collect();
+            let n = pts.len().max(1) as f64;
+            let c = pts.iter().fold(Vec3::zeros(), |acc, p| acc + *p) / n;
+            let r2 = pts
+                .iter()
+                .map(|p| {
+                    let d = *p - c;
+                    (d - axis * d.dot(axis)).norm_squared()
+                })
+                .sum::<f64>()
+                / n;
+            (s.height, r2.sqrt())
+        })
+        .collect();
+    let n = stats.len() as f64;
+    let mh = stats.iter().map(|s| s.0).sum::<f64>() / n;
+    let mr = stats.iter().map(|s| s.1).sum::<f64>() / n;
+    let slope: f64 = stats.iter().map(|s| (s.0 - mh) * (s.1 - mr)).sum();
+    slope >= 0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contours::Polyline;
+    use crate::geometry::v3;
+
+    fn ring(id: &str, z: f64, r: f64) -> Contour {
+        Contour {
+            id: id.into(),
+            surface: None,
+            pieces: vec![Polyline {
+                points: (0..40)
+                    .map(|i| {
+                        let a = i as f64 / 40.0 * std::f64::consts::TAU;
+                        v3(r * a.cos(), r * a.sin(), z)
+                    })
+                    .collect(),
+                closed: true,
+            }],
+            first_line: 0,
+        }
+    }
+
+    fn lax(id: &str, angle: f64) -> Contour {
+        let (c, s) = (angle.cos(), angle.sin());
+        Contour {
+            id: id.into(),
+            surface: None,
+            pieces: vec![Polyline {
+                points: (0..30)
+                    .map(|i| {
+                        let t = i as f64 / 29.0 * std::f64::consts::PI;
+                        let x = 20.0 * t.cos();
+                        v3(x * c, x * s, 40.0 - 50.0 * t.sin())
+                    })
+                    .collect(),
+                closed: false,
+            }],
+            first_line: 0,
+        }
+    }
+
+    #[test]
+    fn splits_sax_and_lax_and_orders_apex_to_base() {
+        // Radius grows with z: the apex is at low z. Shuffle the input order.
+        let cs = vec![
+            ring("s3", 30.0, 20.0),
+            lax("l1", 0.0),
+            ring("s1", 10.0, 12.0),
+            lax("l2", 1.2),
+            ring("s2", 20.0, 17.0),
+            lax("l3", 2.0),
+        ];
+        let l = analyse(&cs).unwrap();
+        assert_eq!(
+            l.kinds,
+            vec![
+                ContourKind::Sax,
+                ContourKind::Lax,
+                ContourKind::Sax,
+                ContourKind::Lax,
+                ContourKind::Sax,
+                ContourKind::Lax
+            ]
+        );
+        assert!(axis_angle_deg(&l.axis, &v3(0., 0., 1.)) < 1e-6);
+        assert!(l.axis.z > 0.0);
+        let order: Vec<usize> = l.slices.iter().map(|s| s.contours[0]).collect();
+        assert_eq!(order, vec![2, 4, 0]);
+    }
+
+    #[test]
+    fn flips_axis_when_apex_is_high() {
+        let cs = vec![
+            ring("a", 0.0, 20.0),
+            ring("b", 10.0, 15.0),
+            ring("c", 20.0, 8.0),
+        ];
+        let l = analyse(&cs).unwrap();
+        assert!(l.axis.z < 0.0);
+        assert_eq!(l.slices[0].contours, vec![2]);
+    }
+
+    #[test]
+    fn pieces_in_one_plane_form_one_slice() {
+        let mut a = ring("fw", 10.0, 15.0);
+        a.pieces[0].points.truncate(25);
+        a.pieces[0].closed = false;
+        let mut b = ring("sp", 10.0, 15.0);
+        b.pieces[0].points.drain(0..25);
+        b.pieces[0].closed = false;
+        let cs = vec![a, b, ring("s2", 20.0, 18.0)];
+        let l = analyse(&cs).unwrap();
+        assert_eq!(l.slices.len(), 2);
+        assert_eq!(l.slices[0].contours, vec![0, 1]);
+    }
+
+    #[test]
+    fn one_plane_only_is_an_error() {
+        let cs = vec![ring("a", 0.0, 20.0), ring("b", 0.0, 10.0)];
+        assert_eq!(analyse(&cs).unwrap_err().code(), "no_sax_group");
+    }
+}

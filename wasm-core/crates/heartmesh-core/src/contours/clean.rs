@@ -1,0 +1,225 @@
+//! Cleaning contour polylines: non-finite points, consecutive duplicates, jumps that reveal a curve
+//! stored in several pieces, and arc-length resampling.
+//!
+//! Villard et al. 2018 (section 2) assume each contour is a clean ordered polyline at roughly 1 mm
+//! spacing; real exports are not, so this is the first thing the pipeline does.
+
+use super::Polyline;
+use crate::geometry::Vec3;
+
+/// A jump longer than this many times the median spacing splits a curve into pieces.
+pub const JUMP_FACTOR: f64 = 5.0;
+
+/// Points closer than this (mm) to their predecessor are duplicates.
+const DUPLICATE_MM: f64 = 1e-6;
+
+/// Drops non-finite points and consecutive duplicates, and, for closed curves, a repeated first point
+/// at the end.
+pub fn clean_points(points: &[Vec3], closed: bool) -> Vec<Vec3> {
+    let mut out: Vec<Vec3> = Vec::with_capacity(points.len());
+    for p in points.iter().filter(|p| p.iter().all(|c| c.is_finite())) {
+        if out
+            .last()
+            .is_none_or(|q: &Vec3| (p - q).norm() > DUPLICATE_MM)
+        {
+            out.push(*p);
+        }
+    }
+    if closed && out.len() > 1 && (out[0] - out[out.len() - 1]).norm() <= DUPLICATE_MM {
+        out.pop();
+    }
+    out
+}
+
+/// Median of the consecutive spacings of an open run of points (0 for fewer than 2 points).
+pub fn median_spacing(points: &[Vec3]) -> f64 {
+    let mut d: Vec<f64> = points.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
+    if d.is_empty() {
+        return 0.0;
+    }
+    d.sort_by(f64::total_cmp);
+    d[d.len() / 2]
+}
+
+/// Cleans a polyline and splits it where consecutive points jump by more than
+/// [`JUMP_FACTOR`] x its median spacing. A closed curve with a jump is no longer closed: it is
+/// rotated to start after the first jump so that the wrap-around joins its two ends into one piece.
+pub fn clean_and_split(piece: &Polyline) -> Vec<Polyline> {
+    let pts = clean_points(&piece.points, piece.closed);
+    if pts.len() < 2 {
+        return if pts.is_empty() {
+            Vec::new()
+        } else {
+            vec![Polyline {
+                points: pts,
+                closed: false,
+            }]
+        };
+    }
+    let n = pts.len();
+    let segs = if piece.closed { n } else { n - 1 };
+    let seg_len = |i: usize| (pts[(i + 1) % n] - pts[i]).norm();
+    let mut lens: Vec<f64> = (0..segs).map(seg_len).collect();
+    lens.sort_by(f64::total_cmp);
+    let median = lens[lens.len() / 2];
+    let limit = JUMP_FACTOR * median;
+    let jumps: Vec<usize> = (0..segs).filter(|&i| seg_len(i) > limit).collect();
+    if jumps.is_empty() {
+        return vec![Polyline {
+            points: pts,
+            closed: piece.closed,
+        }];
+    }
+    // Walk the curve from just after the first jump; every further jump starts a new piece.
+    let start = if piece.closed { (jumps[0] + 1) % n } else { 0 };
+    let steps = if piece.closed { n } else { n };
+    let mut pieces = Vec::new();
+    let mut current: Vec<Vec3> = Vec::new();
+    for k in 0..steps {
+        let i = (start + k) % n;
+        current.push(pts[i]);
+        let is_last = k + 1 == steps;
+        if is_last || jumps.contains(&i) {
+            if !current.is_empty() {
+                pieces.push(Polyline {
+                    points: std::mem::take(&mut current),
+                    closed: false,
+                });
+            }
+        }
+    }
+    pieces
+}
+
+/// Total length of a polyline (including the closing segment when closed).
+pub fn length(points: &[Vec3], closed: bool) -> f64 {
+    let open: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    if closed && points.len() > 2 {
+        open + (points[0] - points[points.len() - 1]).norm()
+    } else {
+        open
+    }
+}
+
+/// Resamples a polyline to `count` points equally spaced by arc length. Closed curves are sampled
+/// over their full loop starting at the first point; open curves keep both end points.
+pub fn resample_count(points: &[Vec3], closed: bool, count: usize) -> Vec<Vec3> {
+    if points.len() < 2 || count == 0 {
+        return points.iter().copied().take(count.max(1)).collect();
+    }
+    let n = points.len();
+    let segs = if closed { n } else { n - 1 };
+    let mut cum = Vec::with_capacity(segs + 1);
+    cum.push(0.0);
+    for i in 0..segs {
+        let l = (points[(i + 1) % n] - points[i]).norm();
+        cum.push(cum[i] + l);
+    }
+    let total = cum[segs];
+    if total <= 0.0 {
+        return vec![points[0]; count];
+    }
+    let denom = if closed {
+        count as f64
+    } else {
+        (count.max(2) - 1) as f64
+    };
+    let mut out = Vec::with_capacity(count);
+    let mut seg = 0usize;
+    for k in 0..count {
+        let s = total * k as f64 / denom;
+        while seg + 1 < segs && cum[seg + 1] < s {
+            seg += 1;
+        }
+        let l = cum[seg + 1] - cum[seg];
+        let t = if l > 0.0 {
+            ((s - cum[seg]) / l).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        out.push(points[seg] + (points[(seg + 1) % n] - points[seg]) * t);
+    }
+    out
+}
+
+/// Resamples to about `spacing` mm between consecutive points (at least 2 points, or 3 when closed).
+pub fn resample_spacing(points: &[Vec3], closed: bool, spacing: f64) -> Vec<Vec3> {
+    let len = length(points, closed);
+    let min = if closed { 3 } else { 2 };
+    if points.len() < 2 || !(spacing > 0.0) {
+        return points.to_vec();
+    }
+    let segments = (len / spacing).round() as usize;
+    let count = if closed { segments } else { segments + 1 };
+    resample_count(points, closed, count.max(min))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::v3;
+
+    fn circle(n: usize, r: f64) -> Vec<Vec3> {
+        (0..n)
+            .map(|i| {
+                let a = i as f64 / n as f64 * std::f64::consts::TAU;
+                v3(r * a.cos(), r * a.sin(), 0.0)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn drops_nan_and_duplicates() {
+        let pts = vec![
+            v3(0., 0., 0.),
+            v3(0., 0., 0.),
+            v3(f64::NAN, 0., 0.),
+            v3(1., 0., 0.),
+            v3(0., 0., 0.),
+        ];
+        let c = clean_points(&pts, true);
+        assert_eq!(c.len(), 2);
+    }
+
+    #[test]
+    fn splits_closed_curve_with_one_jump_into_one_open_piece() {
+        // A circle with a 90-degree arc missing: one big jump.
+        let mut pts = circle(40, 20.0);
+        pts.drain(5..15);
+        let pieces = clean_and_split(&Polyline {
+            points: pts.clone(),
+            closed: true,
+        });
+        assert_eq!(pieces.len(), 1);
+        assert!(!pieces[0].closed);
+        assert_eq!(pieces[0].points.len(), 30);
+        assert_eq!(pieces[0].points[0], pts[5]);
+    }
+
+    #[test]
+    fn splits_open_curve_in_two() {
+        let mut pts: Vec<Vec3> = (0..10).map(|i| v3(i as f64, 0., 0.)).collect();
+        pts.extend((0..10).map(|i| v3(40.0 + i as f64, 0., 0.)));
+        let pieces = clean_and_split(&Polyline {
+            points: pts,
+            closed: false,
+        });
+        assert_eq!(pieces.len(), 2);
+        assert_eq!(pieces[0].points.len(), 10);
+        assert_eq!(pieces[1].points.len(), 10);
+    }
+
+    #[test]
+    fn resampling_is_equally_spaced() {
+        let pts = circle(7, 10.0);
+        let r = resample_count(&pts, true, 50);
+        assert_eq!(r.len(), 50);
+        let d: Vec<f64> = (0..50).map(|i| (r[(i + 1) % 50] - r[i]).norm()).collect();
+        let (lo, hi) = d
+            .iter()
+            .fold((f64::MAX, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(hi - lo < 0.35, "{lo} {hi}");
+        let s = resample_spacing(&pts, true, 1.0);
+        assert!((s.len() as f64 - length(&pts, true)).abs() <= 1.0);
+    }
+}

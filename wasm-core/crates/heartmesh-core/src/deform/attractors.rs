@@ -1,0 +1,92 @@
+//! Attractor selection by farthest-point sampling (Villard et al. 2018, section 2.3; the sampling
+//! itself is the classic greedy k-centre heuristic of Gonzalez 1985).
+//!
+//! Farthest-point sampling spreads a fixed budget of thin-plate-spline centres evenly over all contour
+//! points, whatever their original density, so dense and sparse contours pull equally.
+
+use crate::geometry::Vec3;
+
+/// How many attractors to pick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Budget {
+    Count(usize),
+    /// Keep adding points while the farthest remaining point is at least this far (same units as the
+    /// points) from every chosen one.
+    Spacing(f64),
+}
+
+/// Greedy farthest-point sampling starting at `seed`. Returns indices into `points`, in the order
+/// chosen. `dist` is scratch space (resized as needed) so repeated calls do not allocate.
+pub fn farthest_point_sampling(
+    points: &[Vec3],
+    seed: usize,
+    budget: Budget,
+    min_count: usize,
+    dist: &mut Vec<f64>,
+) -> Vec<usize> {
+    if points.is_empty() {
+        return Vec::new();
+    }
+    let seed = seed.min(points.len() - 1);
+    dist.clear();
+    dist.resize(points.len(), f64::INFINITY);
+    let max_count = match budget {
+        Budget::Count(n) => n.min(points.len()),
+        Budget::Spacing(_) => points.len(),
+    };
+    let mut chosen = Vec::with_capacity(max_count.min(4096));
+    let mut next = seed;
+    while chosen.len() < max_count {
+        chosen.push(next);
+        let c = points[next];
+        let mut far = (f64::NEG_INFINITY, 0usize);
+        for (i, p) in points.iter().enumerate() {
+            let d = (p - c).norm_squared();
+            if d < dist[i] {
+                dist[i] = d;
+            }
+            if dist[i] > far.0 {
+                far = (dist[i], i);
+            }
+        }
+        if far.0 <= 0.0 {
+            break;
+        }
+        if let Budget::Spacing(s) = budget {
+            if chosen.len() >= min_count && far.0.sqrt() < s {
+                break;
+            }
+        }
+        next = far.1;
+    }
+    chosen
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::v3;
+
+    #[test]
+    fn picks_extremes_first_and_respects_spacing() {
+        let pts: Vec<Vec3> = (0..=100).map(|i| v3(i as f64, 0.0, 0.0)).collect();
+        let mut scratch = Vec::new();
+        let idx = farthest_point_sampling(&pts, 50, Budget::Count(3), 0, &mut scratch);
+        assert_eq!(idx, vec![50, 0, 100]);
+        let idx = farthest_point_sampling(&pts, 0, Budget::Spacing(10.0), 0, &mut scratch);
+        // Spacing 10 on a 100-long line: 0, 100, 50, 25, 75, then 12/13... stop once gaps < 10:
+        let mut xs: Vec<f64> = idx.iter().map(|&i| pts[i].x).collect();
+        xs.sort_by(f64::total_cmp);
+        let max_gap = xs.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+        assert!(max_gap <= 20.0, "{max_gap}");
+        assert!(idx.len() >= 9 && idx.len() <= 17, "{}", idx.len());
+    }
+
+    #[test]
+    fn duplicates_do_not_loop() {
+        let pts = vec![v3(1.0, 1.0, 1.0); 10];
+        let mut scratch = Vec::new();
+        let idx = farthest_point_sampling(&pts, 0, Budget::Count(5), 0, &mut scratch);
+        assert_eq!(idx, vec![0]);
+    }
+}

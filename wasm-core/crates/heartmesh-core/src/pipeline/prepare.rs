@@ -1,0 +1,53 @@
+//! From a user's contour set to the cleaned contours of one surface (Villard et al. 2018, section 2:
+//! "one surface at a time"; cleaning as in METHOD.md's Input section).
+
+use crate::contours::clean::clean_and_split;
+use crate::contours::{Contour, ContourSet};
+use crate::error::{CoreError, Result};
+
+/// Picks the contours of the requested surface: the only surface by default, an error listing the
+/// surfaces when there are several and none was chosen.
+pub fn select_surface<'a>(
+    set: &'a ContourSet,
+    requested: Option<&str>,
+) -> Result<Vec<&'a Contour>> {
+    let available = set.surfaces();
+    match requested {
+        Some(name) => {
+            let chosen: Vec<&Contour> = set
+                .contours
+                .iter()
+                .filter(|c| {
+                    c.surface
+                        .as_deref()
+                        .is_some_and(|s| s.eq_ignore_ascii_case(name))
+                })
+                .collect();
+            if chosen.is_empty() {
+                return Err(CoreError::UnknownSurface {
+                    requested: name.to_string(),
+                    available,
+                });
+            }
+            Ok(chosen)
+        }
+        None if available.len() > 1 => Err(CoreError::SurfaceRequired { available }),
+        None => Ok(set.contours.iter().collect()),
+    }
+}
+
+/// Cleans every piece (non-finite points, duplicates, jumps) and drops contours left empty.
+pub fn clean_contours(contours: &[&Contour]) -> Vec<Contour> {
+    contours
+        .iter()
+        .filter_map(|c| {
+            let pieces: Vec<_> = c.pieces.iter().flat_map(clean_and_split).collect();
+            (!pieces.is_empty()).then(|| Contour {
+                id: c.id.clone(),
+                surface: c.surface.clone(),
+                pieces,
+                first_line: c.first_line,
+            })
+        })
+        .collect()
+}

@@ -1,0 +1,132 @@
+//! The initial mesh M0: a ruled tube through the short-axis rings, closed by lids
+//! (Villard et al. 2018, section 2.2; METHOD.md sections 2 and 3).
+
+use crate::contours::axis::Layout;
+use crate::contours::{Contour, ContourKind};
+use crate::geometry::Vec3;
+use crate::mesh::TriMesh;
+use crate::params::LidMode;
+
+/// Where the lids go: apex (below the first ring) and base (above the last), if any.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lids {
+    pub apex: Option<Vec3>,
+    pub base: Option<Vec3>,
+}
+
+fn centroid(points: &[Vec3]) -> Vec3 {
+    points.iter().fold(Vec3::zeros(), |a, p| a + p) / points.len().max(1) as f64
+}
+
+/// Lid points: each end ring's centroid, moved along the axis to the farthest long-axis point beyond
+/// that ring (no LAX, or LAX not reaching past the ring: the lid stays flat at the ring).
+pub fn lids(mode: &LidMode, rings: &[Vec<Vec3>], contours: &[Contour], layout: &Layout) -> Lids {
+    let (Some(first), Some(last)) = (rings.first(), rings.last()) else {
+        return Lids {
+            apex: None,
+            base: None,
+        };
+    };
+    let z = layout.axis;
+    let lax_heights = contours
+        .iter()
+        .zip(&layout.kinds)
+        .filter(|(_, k)| **k == ContourKind::Lax)
+        .flat_map(|(c, _)| c.points().map(|p| p.dot(&z)));
+    let (lo, hi) = lax_heights.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), h| {
+        (lo.min(h), hi.max(h))
+    });
+    let auto_apex = {
+        let c = centroid(first);
+        let h = c.dot(&z);
+        c + z * (lo.min(h) - h)
+    };
+    let auto_base = {
+        let c = centroid(last);
+        let h = c.dot(&z);
+        c + z * (hi.max(h) - h)
+    };
+    match mode {
+        LidMode::None => Lids {
+            apex: None,
+            base: None,
+        },
+        LidMode::Auto => Lids {
+            apex: Some(auto_apex),
+            base: Some(auto_base),
+        },
+        LidMode::Explicit { apex, base } => Lids {
+            apex: Some(apex.unwrap_or(auto_apex)),
+            base: Some(base.unwrap_or(auto_base)),
+        },
+    }
+}
+
+/// Triangulates consecutive rings (all of the same length, counter-clockwise about the axis, apex to
+/// base) two triangles per quad, with fan lids; faces point outwards.
+pub fn ruled_tube(rings: &[Vec<Vec3>], lids: &Lids) -> TriMesh {
+    let k = rings.first().map_or(0, |r| r.len());
+    let mut positions: Vec<Vec3> = rings.iter().flatten().copied().collect();
+    let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(2 * k * rings.len());
+    let idx = |ring: usize, i: usize| (ring * k + i % k) as u32;
+    for j in 0..rings.len().saturating_sub(1) {
+        for i in 0..k {
+            triangles.push([idx(j, i), idx(j, i + 1), idx(j + 1, i)]);
+            triangles.push([idx(j + 1, i), idx(j, i + 1), idx(j + 1, i + 1)]);
+        }
+    }
+    if let Some(apex) = lids.apex {
+        let a = positions.len() as u32;
+        positions.push(apex);
+        for i in 0..k {
+            triangles.push([a, idx(0, i + 1), idx(0, i)]);
+        }
+    }
+    if let Some(base) = lids.base {
+        let b = positions.len() as u32;
+        positions.push(base);
+        let last = rings.len() - 1;
+        for i in 0..k {
+            triangles.push([b, idx(last, i), idx(last, i + 1)]);
+        }
+    }
+    TriMesh::new(positions, triangles)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::v3;
+
+    #[test]
+    fn closed_tube_has_outward_faces_and_right_counts() {
+        let rings: Vec<Vec<Vec3>> = [0.0, 10.0, 20.0]
+            .iter()
+            .map(|&z| {
+                (0..50)
+                    .map(|i| {
+                        let a = i as f64 / 50.0 * std::f64::consts::TAU;
+                        v3(10.0 * a.cos(), 10.0 * a.sin(), z)
+                    })
+                    .collect()
+            })
+            .collect();
+        let m = ruled_tube(
+            &rings,
+            &Lids {
+                apex: Some(v3(0., 0., -5.)),
+                base: Some(v3(0., 0., 25.)),
+            },
+        );
+        assert_eq!(m.positions.len(), 152);
+        assert_eq!(m.triangles.len(), 2 * 50 * 2 + 100);
+        // Cylinder 20 mm tall of a 50-gon plus two cones of height 5.
+        let polygon_area = 0.5 * 50.0 * 100.0 * (std::f64::consts::TAU / 50.0).sin();
+        let expected = polygon_area * (20.0 + 2.0 * 5.0 / 3.0);
+        assert!(
+            (m.signed_volume() - expected).abs() < 1e-6 * expected,
+            "{}",
+            m.signed_volume()
+        );
+    }
+}

@@ -1,0 +1,188 @@
+//! Conversions between the core's types and the flat, JSON-described data the worker protocol
+//! carries (web/src/core-client/protocol.ts). Pure Rust, so it is unit-tested natively.
+//!
+//! Bulk data leave as flat f32/u32 vectors (converted once, here, from the core's f64); small
+//! descriptions leave as JSON with the protocol's field names.
+
+use heartmesh_core::contours::{Contour, ContourKind};
+use heartmesh_core::error::{CoreError, Result};
+use heartmesh_core::geometry::Vec3;
+use heartmesh_core::Params;
+use serde_json::{json, Map, Value};
+
+/// Builds parameters from a JSON object of schema names to numbers, applied in schema order (so
+/// `attractor_spacing` > 0 wins over `attractors`, whatever the key order), plus the lids mode and
+/// the surface.
+pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) -> Result<Params> {
+    let value: Value = serde_json::from_str(params_json).map_err(|e| CoreError::ParamInvalid {
+        name: "params".into(),
+        message: format!("not a JSON object: {e}"),
+    })?;
+    let object = value.as_object().ok_or_else(|| CoreError::ParamInvalid {
+        name: "params".into(),
+        message: "not a JSON object".into(),
+    })?;
+    let schema = Params::schema();
+    if let Some(unknown) = object.keys().find(|k| !schema.iter().any(|s| s.name == *k)) {
+        return Err(CoreError::ParamInvalid {
+            name: unknown.clone(),
+            message: "unknown parameter".into(),
+        });
+    }
+    let mut params = Params::default();
+    for spec in schema {
+        if let Some(v) = object.get(spec.name) {
+            let number = v.as_f64().ok_or_else(|| CoreError::ParamInvalid {
+                name: spec.name.to_string(),
+                message: format!("{v} is not a number"),
+            })?;
+            params.set(spec.name, number)?;
+        }
+    }
+    params.set_lids(lids)?;
+    params.surface = surface;
+    params.validate()?;
+    Ok(params)
+}
+
+/// Every schema parameter's effective value, for the run result and exports.
+pub fn params_to_json(params: &Params) -> Value {
+    let mut out = Map::new();
+    for spec in Params::schema() {
+        if let Some(v) = params.get(spec.name) {
+            out.insert(spec.name.to_string(), json!(v));
+        }
+    }
+    Value::Object(out)
+}
+
+/// `ContourInfo[]` of the protocol; `start`/`count` index points in [`flat_points`] order.
+pub fn contour_infos(contours: &[Contour], kinds: Option<&[ContourKind]>) -> Value {
+    let mut start = 0usize;
+    let infos: Vec<Value> = contours
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let pieces: Vec<Value> = c
+                .pieces
+                .iter()
+                .map(|p| {
+                    let piece =
+                        json!({ "closed": p.closed, "start": start, "count": p.points.len() });
+                    start += p.points.len();
+                    piece
+                })
+                .collect();
+            let kind = kinds
+                .and_then(|k| k.get(i))
+                .map(|k| json!(k))
+                .unwrap_or(Value::Null);
+            json!({ "id": c.id, "surface": c.surface, "kind": kind, "pieces": pieces })
+        })
+        .collect();
+    Value::Array(infos)
+}
+
+/// xyz of all points of all pieces of all contours, in order, as f32.
+pub fn flat_points(contours: &[Contour]) -> Vec<f32> {
+    contours
+        .iter()
+        .flat_map(|c| c.points())
+        .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+        .collect()
+}
+
+/// Points as flat f32 triples.
+pub fn flat_vec3(points: &[Vec3]) -> Vec<f32> {
+    points
+        .iter()
+        .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+        .collect()
+}
+
+/// f64 values as f32, for per-point and per-vertex distances.
+pub fn to_f32(values: &[f64]) -> Vec<f32> {
+    values.iter().map(|&v| v as f32).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use heartmesh_core::contours::Polyline;
+    use heartmesh_core::geometry::v3;
+    use heartmesh_core::params::{AttractorMode, LidMode};
+
+    fn contour(id: &str, pieces: &[usize]) -> Contour {
+        Contour {
+            id: id.into(),
+            surface: Some("LV_ENDO".into()),
+            pieces: pieces
+                .iter()
+                .map(|&n| Polyline {
+                    points: (0..n).map(|i| v3(i as f64, 0.5, -1.0)).collect(),
+                    closed: n > 2,
+                })
+                .collect(),
+            first_line: 2,
+        }
+    }
+
+    #[test]
+    fn params_apply_in_schema_order() {
+        let p = params_from_json(
+            r#"{"attractors": 200, "attractor_spacing": 3.5, "beta": 0.2}"#,
+            "none",
+            Some("LV_EPI".into()),
+        )
+        .unwrap();
+        assert_eq!(p.attractors, AttractorMode::SpacingMm(3.5));
+        assert_eq!(p.beta, 0.2);
+        assert_eq!(p.lids, LidMode::None);
+        assert_eq!(p.surface.as_deref(), Some("LV_EPI"));
+        let q = params_from_json(
+            r#"{"attractors": 200, "attractor_spacing": 0}"#,
+            "auto",
+            None,
+        )
+        .unwrap();
+        assert_eq!(q.attractors, AttractorMode::Count(200));
+    }
+
+    #[test]
+    fn params_errors_are_typed() {
+        let e = params_from_json(r#"{"beta": 5}"#, "auto", None).unwrap_err();
+        assert_eq!(e.code(), "param_out_of_range");
+        let e = params_from_json(r#"{"gamma": 1}"#, "auto", None).unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+        let e = params_from_json(r#"{"beta": "x"}"#, "auto", None).unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+        let e = params_from_json("[1]", "auto", None).unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+        let e = params_from_json("{}", "sideways", None).unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+    }
+
+    #[test]
+    fn params_round_trip_through_json() {
+        let p = params_from_json(r#"{"iterations": 40, "lambda": 1000}"#, "auto", None).unwrap();
+        let v = params_to_json(&p);
+        assert_eq!(v["iterations"], 40.0);
+        assert_eq!(v["lambda"], 1000.0);
+        assert_eq!(v.as_object().unwrap().len(), Params::schema().len());
+    }
+
+    #[test]
+    fn contour_pieces_index_the_flat_points() {
+        let cs = vec![contour("a", &[3, 2]), contour("b", &[4])];
+        let info = contour_infos(&cs, Some(&[ContourKind::Sax, ContourKind::Lax]));
+        assert_eq!(info[0]["pieces"][1]["start"], 3);
+        assert_eq!(info[0]["pieces"][1]["count"], 2);
+        assert_eq!(info[1]["pieces"][0]["start"], 5);
+        assert_eq!(info[1]["kind"], "LAX");
+        assert_eq!(info[0]["pieces"][1]["closed"], false);
+        let flat = flat_points(&cs);
+        assert_eq!(flat.len(), 9 * 3);
+        assert_eq!(&flat[15..18], &[0.0, 0.5, -1.0]);
+        assert_eq!(contour_infos(&cs, None)[0]["kind"], Value::Null);
+    }
+}

@@ -1,0 +1,429 @@
+/**
+ * The main thread's only door to the reconstruction core: an async API over the worker protocol
+ * (protocol.ts). The wasm module lives in the worker; the main thread never blocks on geometry.
+ *
+ * - Frames are throttled to the display: at most one `onFrame` call per animation frame; frames
+ *   that arrive in between are merged (newest positions, carried-over topology and attractors)
+ *   and the client acknowledges each frame it hands over, which lets the worker send more
+ *   (back-pressure: the worker keeps at most two unacknowledged frames in flight).
+ * - One run at a time: starting a run cancels the previous one; a cancelled run's `done` rejects
+ *   with `{ code: 'cancelled' }` and its late frames are dropped by run id.
+ * - A worker crash (wasm trap, Rust panic, script error) rejects everything pending with
+ *   `{ code: 'worker_crashed' }`; the next call starts a fresh worker and re-sends the loaded files.
+ */
+
+import {
+  ErrorCodes,
+  assertNever,
+  isFatal,
+  isFromWorker,
+  mergeFrames,
+  toCoreErrorData,
+  transferablesOf,
+  type CoreErrorData,
+  type Frame,
+  type FromWorker,
+  type LidsMode,
+  type LoadedFile,
+  type ParamSpec,
+  type ParamValues,
+  type RunResult,
+  type ToWorker,
+} from './protocol';
+
+/** The part of `Worker` the client uses (a fake implements it in unit tests). */
+export interface WorkerLike {
+  postMessage(message: ToWorker, transfer: Transferable[]): void;
+  terminate(): void;
+  onmessage: ((ev: { data: unknown }) => void) | null;
+  onerror: ((ev: { message?: string; preventDefault?: () => void }) => void) | null;
+  onmessageerror?: ((ev: unknown) => void) | null;
+}
+
+export interface CoreClientOptions {
+  /** Creates the worker; defaults to the bundled reconstruct.worker.ts as a module worker. */
+  createWorker?: () => WorkerLike;
+  /** Runs a callback at the next display frame; defaults to requestAnimationFrame (with a timer
+   * fallback so hidden tabs, where animation frames stop, still finish their runs). */
+  schedule?: (callback: () => void) => void;
+  /** Told about every worker crash (after pending promises were rejected). */
+  onWorkerCrash?: (error: CoreErrorData) => void;
+}
+
+export interface RunOptions {
+  fileName: string;
+  surface: string | null;
+  params: ParamValues;
+  lids: LidsMode;
+}
+
+export interface RunHandle {
+  runId: number;
+  done: Promise<RunResult>;
+  cancel(): void;
+}
+
+interface PendingRequest {
+  resolve: (value: unknown) => void;
+  reject: (error: CoreErrorData) => void;
+}
+
+interface RunState {
+  runId: number;
+  onFrame: (f: Frame) => void;
+  resolve: (r: RunResult) => void;
+  reject: (e: CoreErrorData) => void;
+  /** Newest frame not yet handed to onFrame. */
+  pending: Frame | undefined;
+  flushScheduled: boolean;
+  /** Result received while a frame was still waiting for its display slot. */
+  result: RunResult | undefined;
+}
+
+function defaultCreateWorker(): WorkerLike {
+  // Vite recognises this exact pattern and bundles the worker as a separate module chunk.
+  const worker = new Worker(new URL('./reconstruct.worker.ts', import.meta.url), { type: 'module' });
+  return worker as unknown as WorkerLike;
+}
+
+function defaultSchedule(callback: () => void): void {
+  let fired = false;
+  const once = () => {
+    if (fired) return;
+    fired = true;
+    callback();
+  };
+  if (typeof requestAnimationFrame === 'function') requestAnimationFrame(once);
+  // Animation frames pause in hidden tabs; the timer keeps runs finishing there.
+  setTimeout(once, 100);
+}
+
+export class CoreClient {
+  private readonly createWorker: () => WorkerLike;
+  private readonly schedule: (callback: () => void) => void;
+  private readonly onWorkerCrash: ((error: CoreErrorData) => void) | undefined;
+
+  private worker: WorkerLike | null = null;
+  private ready: Promise<void> | null = null;
+  private readyResolve: (() => void) | null = null;
+  private readyReject: ((e: CoreErrorData) => void) | null = null;
+
+  private nextId = 1;
+  private readonly requests = new Map<number, PendingRequest>();
+  private readonly runs = new Map<number, RunState>();
+  /** Bytes of every successfully loaded file, kept to re-send them to a recreated worker. */
+  private readonly files = new Map<string, ArrayBuffer>();
+  /** Files the current worker has been sent. */
+  private readonly workerFiles = new Set<string>();
+  private schemaCache: { schema: ParamSpec[]; version: string } | null = null;
+  private disposed = false;
+
+  /** Use `CoreClient.create()` in the app; the constructor is for tests that inject a worker. */
+  constructor(options: CoreClientOptions = {}) {
+    this.createWorker = options.createWorker ?? defaultCreateWorker;
+    this.schedule = options.schedule ?? defaultSchedule;
+    this.onWorkerCrash = options.onWorkerCrash;
+  }
+
+  /** Spawns the worker and waits until its wasm module is initialised. */
+  static async create(options: CoreClientOptions = {}): Promise<CoreClient> {
+    const client = new CoreClient(options);
+    await client.ensureWorker();
+    return client;
+  }
+
+  /** Resolves once the current worker is ready (spawning one if needed). */
+  whenReady(): Promise<void> {
+    return this.ensureWorker();
+  }
+
+  schema(): Promise<{ schema: ParamSpec[]; version: string }> {
+    if (this.schemaCache) return Promise.resolve(this.schemaCache);
+    return this.request<{ schema: ParamSpec[]; version: string }>((reqId) => ({
+      type: 'schema',
+      reqId,
+    })).then((s) => {
+      this.schemaCache = s;
+      return s;
+    });
+  }
+
+  /** Parses a contour file in the worker. Rejects with CoreErrorData (file and line named). */
+  load(fileName: string, bytes: ArrayBuffer): Promise<LoadedFile> {
+    // One copy stays here for crash recovery; the other is transferred to the worker.
+    const kept = bytes.slice(0);
+    const sent = bytes.slice(0);
+    this.files.set(fileName, kept);
+    const promise = this.request<LoadedFile>((reqId) => ({
+      type: 'load',
+      reqId,
+      fileName,
+      bytes: sent,
+    }));
+    this.workerFiles.add(fileName);
+    return promise.catch((e: CoreErrorData) => {
+      if (this.files.get(fileName) === kept && e.code !== ErrorCodes.workerCrashed) {
+        this.files.delete(fileName);
+      }
+      this.workerFiles.delete(fileName);
+      throw e;
+    });
+  }
+
+  /** Starts a reconstruction of a loaded file; cancels the run in progress, if any. */
+  run(opts: RunOptions, onFrame: (f: Frame) => void): RunHandle {
+    const runId = this.nextId++;
+    let resolve!: (r: RunResult) => void;
+    let reject!: (e: CoreErrorData) => void;
+    const done = new Promise<RunResult>((res, rej) => {
+      resolve = res;
+      reject = rej;
+    });
+    const handle: RunHandle = { runId, done, cancel: () => this.cancelRun(runId) };
+
+    if (this.disposed) {
+      reject(this.disposedError());
+      return handle;
+    }
+    const bytes = this.files.get(opts.fileName);
+    if (bytes === undefined) {
+      reject({
+        code: ErrorCodes.notLoaded,
+        message: `${opts.fileName} has not been loaded`,
+        file: opts.fileName,
+      });
+      return handle;
+    }
+    for (const other of [...this.runs.keys()]) this.cancelRun(other);
+
+    const state: RunState = {
+      runId,
+      onFrame,
+      resolve,
+      reject,
+      pending: undefined,
+      flushScheduled: false,
+      result: undefined,
+    };
+    this.runs.set(runId, state);
+    void this.ensureWorker().catch(() => {
+      // The crash handler already rejected this run.
+    });
+    if (!this.workerFiles.has(opts.fileName)) {
+      // A recreated worker: re-send the file first (the worker handles messages in order).
+      this.request<LoadedFile>((reqId) => ({
+        type: 'load',
+        reqId,
+        fileName: opts.fileName,
+        bytes: bytes.slice(0),
+      })).catch((e: CoreErrorData) => {
+        this.workerFiles.delete(opts.fileName);
+        this.finishRun(runId, e);
+      });
+      this.workerFiles.add(opts.fileName);
+    }
+    this.post({
+      type: 'run',
+      runId,
+      fileName: opts.fileName,
+      surface: opts.surface,
+      params: { ...opts.params },
+      lids: opts.lids,
+    });
+    return handle;
+  }
+
+  /** Terminates the worker and rejects everything pending with `{ code: 'disposed' }`. */
+  dispose(): void {
+    if (this.disposed) return;
+    this.disposed = true;
+    const error = this.disposedError();
+    this.readyReject?.(error);
+    this.teardownWorker(error);
+    this.files.clear();
+  }
+
+  // -------------------------------------------------------------------------------------------
+
+  private disposedError(): CoreErrorData {
+    return { code: ErrorCodes.disposed, message: 'the core client was disposed' };
+  }
+
+  private ensureWorker(): Promise<void> {
+    if (this.disposed) return Promise.reject(this.disposedError());
+    if (this.worker && this.ready) return this.ready;
+    const worker = this.createWorker();
+    this.worker = worker;
+    this.workerFiles.clear();
+    this.ready = new Promise<void>((resolve, reject) => {
+      this.readyResolve = resolve;
+      this.readyReject = reject;
+    });
+    // Avoid unhandled-rejection noise when nobody awaits readiness.
+    this.ready.catch(() => undefined);
+    worker.onmessage = (ev) => {
+      if (this.worker !== worker) return;
+      this.onMessage(ev.data);
+    };
+    worker.onerror = (ev) => {
+      if (this.worker !== worker) return;
+      ev.preventDefault?.();
+      this.crash(ev.message ? `worker error: ${ev.message}` : 'the worker failed');
+    };
+    worker.onmessageerror = () => {
+      if (this.worker !== worker) return;
+      this.crash('a worker message could not be deserialised');
+    };
+    return this.ready;
+  }
+
+  private post(msg: ToWorker): void {
+    if (!this.worker) {
+      void this.ensureWorker().catch(() => undefined);
+    }
+    this.worker?.postMessage(msg, transferablesOf(msg));
+  }
+
+  private request<T>(make: (reqId: number) => ToWorker): Promise<T> {
+    if (this.disposed) return Promise.reject(this.disposedError());
+    const reqId = this.nextId++;
+    const promise = new Promise<T>((resolve, reject) => {
+      this.requests.set(reqId, { resolve: resolve as (v: unknown) => void, reject });
+    });
+    void this.ensureWorker().catch(() => undefined);
+    this.post(make(reqId));
+    return promise;
+  }
+
+  private settleRequest(reqId: number, ok: boolean, value: unknown): void {
+    const req = this.requests.get(reqId);
+    if (!req) return;
+    this.requests.delete(reqId);
+    if (ok) req.resolve(value);
+    else req.reject(value as CoreErrorData);
+  }
+
+  private onMessage(data: unknown): void {
+    if (!isFromWorker(data)) {
+      console.warn('CoreClient: ignoring a message outside the protocol', data);
+      return;
+    }
+    const msg: FromWorker = data;
+    switch (msg.type) {
+      case 'ready':
+        this.readyResolve?.();
+        break;
+      case 'loaded':
+        this.settleRequest(msg.reqId, true, msg.file);
+        break;
+      case 'schema':
+        this.settleRequest(msg.reqId, true, { schema: msg.schema, version: msg.version });
+        break;
+      case 'frame':
+        this.onFrameMessage(msg);
+        break;
+      case 'done':
+        this.onDone(msg.result);
+        break;
+      case 'error':
+        if (isFatal(msg.error)) {
+          this.crash(msg.error.message, msg.error);
+          break;
+        }
+        if (msg.reqId !== undefined) this.settleRequest(msg.reqId, false, msg.error);
+        if (msg.runId !== undefined) this.finishRun(msg.runId, msg.error);
+        if (msg.reqId === undefined && msg.runId === undefined) {
+          // Not tied to a request: the worker could not start (e.g. the wasm failed to load).
+          this.crash(msg.error.message, msg.error);
+        }
+        break;
+      default:
+        assertNever(msg);
+    }
+  }
+
+  private onFrameMessage(msg: Frame & { type: 'frame' }): void {
+    const run = this.runs.get(msg.runId);
+    if (!run) return; // stale frame of a cancelled or finished run
+    const frame: Frame = {
+      runId: msg.runId,
+      seq: msg.seq,
+      report: msg.report,
+      positions: msg.positions,
+    };
+    if (msg.indices !== undefined) frame.indices = msg.indices;
+    if (msg.attractors !== undefined) frame.attractors = msg.attractors;
+    run.pending = run.pending ? mergeFrames(run.pending, frame) : frame;
+    if (!run.flushScheduled) {
+      run.flushScheduled = true;
+      this.schedule(() => this.flush(run.runId));
+    }
+  }
+
+  /** Hands the newest pending frame to the renderer (once per display frame) and acks it. */
+  private flush(runId: number): void {
+    const run = this.runs.get(runId);
+    if (!run) return;
+    run.flushScheduled = false;
+    const frame = run.pending;
+    run.pending = undefined;
+    if (frame) {
+      this.post({ type: 'ack', runId, seq: frame.seq });
+      try {
+        run.onFrame(frame);
+      } catch (e) {
+        console.error('CoreClient: onFrame threw', e);
+      }
+    }
+    if (run.result && this.runs.get(runId) === run) {
+      this.finishRun(runId, null, run.result);
+    }
+  }
+
+  private onDone(result: RunResult): void {
+    const run = this.runs.get(result.runId);
+    if (!run) return;
+    if (run.pending !== undefined && run.flushScheduled) {
+      // Deliver the last frame first; flush() then resolves.
+      run.result = result;
+      return;
+    }
+    this.finishRun(result.runId, null, result);
+  }
+
+  private finishRun(runId: number, error: CoreErrorData | null, result?: RunResult): void {
+    const run = this.runs.get(runId);
+    if (!run) return;
+    this.runs.delete(runId);
+    run.pending = undefined;
+    if (error) run.reject(error);
+    else if (result) run.resolve(result);
+  }
+
+  private cancelRun(runId: number): void {
+    if (!this.runs.has(runId)) return;
+    if (this.worker) this.post({ type: 'cancel', runId });
+    this.finishRun(runId, { code: ErrorCodes.cancelled, message: 'the run was cancelled' });
+  }
+
+  /** Discards the worker after a fatal error; the next call starts a new one. */
+  private crash(message: string, data?: CoreErrorData): void {
+    const error = toCoreErrorData(data ?? { code: ErrorCodes.workerCrashed, message });
+    error.code = ErrorCodes.workerCrashed;
+    this.readyReject?.(error);
+    this.teardownWorker(error);
+    this.onWorkerCrash?.(error);
+  }
+
+  private teardownWorker(error: CoreErrorData): void {
+    const worker = this.worker;
+    this.worker = null;
+    this.ready = null;
+    this.readyResolve = null;
+    this.readyReject = null;
+    this.workerFiles.clear();
+    worker?.terminate();
+    for (const [reqId] of [...this.requests]) this.settleRequest(reqId, false, error);
+    for (const runId of [...this.runs.keys()]) this.finishRun(runId, { ...error });
+  }
+}

@@ -1,0 +1,377 @@
+/**
+ * The typed message protocol between the main thread (CoreClient) and the reconstruction worker.
+ *
+ * Every message is a discriminated union on `type`; every run-scoped message carries its `runId`
+ * so that stale frames of a cancelled run can be dropped. Bulk data travel as flat typed arrays in
+ * millimetres, transferred (never copied) between threads; small reports are plain objects whose
+ * field names follow the Rust structs (snake_case) they are serialised from.
+ */
+
+/** Numeric parameter values by Rust schema name (`Params::schema()`). */
+export interface ParamValues {
+  [name: string]: number;
+}
+
+export type LidsMode = 'auto' | 'none';
+
+/** One numeric parameter as described by the Rust `Params::schema()`. */
+export interface ParamSpec {
+  name: string;
+  default: number;
+  min: number;
+  max: number;
+  log: boolean;
+  integer: boolean;
+  unit: string;
+  help: string;
+}
+
+/** An error that crossed the worker boundary as data, with the core's stable code. */
+export interface CoreErrorData {
+  code: string;
+  message: string;
+  file?: string;
+  line?: number;
+  /** Surfaces to choose from, for `surface_required` / `unknown_surface`. */
+  available?: string[];
+}
+
+export type ContourKindName = 'SAX' | 'LAX';
+
+export interface ContourInfo {
+  id: string;
+  surface: string | null;
+  kind: ContourKindName | null;
+  /** `start`/`count` index points (not floats) into the accompanying point array. */
+  pieces: { closed: boolean; start: number; count: number }[];
+}
+
+export interface Landmark {
+  name: string;
+  x: number;
+  y: number;
+  z: number;
+}
+
+export interface LoadedFile {
+  fileName: string;
+  surfaces: string[];
+  contours: ContourInfo[];
+  /** xyz of all contour points, mm. */
+  points: Float32Array;
+  landmarks: Landmark[];
+  warnings: string[];
+}
+
+export type Phase = 'initial_tube' | 'deform' | 'remesh' | 'done';
+
+export interface PhaseTimings {
+  attractors_ms: number;
+  closest_ms: number;
+  solve_ms: number;
+  apply_ms: number;
+  remesh_ms: number;
+  total_ms: number;
+}
+
+/** Mirror of the Rust `pipeline::StepReport`. */
+export interface StepReport {
+  iteration: number;
+  total_iterations: number;
+  phase: Phase;
+  topology_changed: boolean;
+  max_distance_mm: number;
+  mean_distance_mm: number;
+  vertices: number;
+  triangles: number;
+  attractors: number;
+  timings: PhaseTimings;
+  done: boolean;
+}
+
+export interface Frame {
+  runId: number;
+  seq: number;
+  report: StepReport;
+  /** Vertex positions, xyz, mm. Always present. */
+  positions: Float32Array;
+  /** Triangle indices; only when the topology changed since the last frame the receiver got. */
+  indices?: Uint32Array;
+  /** Attractor points, xyz, mm; only when they were re-sampled since the last frame sent. */
+  attractors?: Float32Array;
+}
+
+export interface Stats {
+  mean: number;
+  median: number;
+  p95: number;
+  max: number;
+  min: number;
+  count: number;
+}
+
+export interface ContourStats {
+  id: string;
+  kind: ContourKindName;
+  stats: Stats;
+}
+
+export interface RunResult {
+  runId: number;
+  surface: string | null;
+  contours: ContourInfo[];
+  contourPoints: Float32Array;
+  positions: Float32Array;
+  indices: Uint32Array;
+  /** Per contour point, mm, same order as contourPoints. */
+  pointDistances: Float32Array;
+  /** Per mesh vertex, mm. */
+  vertexDistances: Float32Array;
+  perContour: ContourStats[];
+  overall: Stats;
+  volumeMl: number;
+  areaMm2: number;
+  watertight: boolean;
+  seconds: number;
+  params: ParamValues;
+  lids: LidsMode;
+  version: string;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Messages
+
+export interface LoadRequest {
+  type: 'load';
+  reqId: number;
+  fileName: string;
+  bytes: ArrayBuffer;
+}
+export interface RunRequest {
+  type: 'run';
+  runId: number;
+  fileName: string;
+  surface: string | null;
+  params: ParamValues;
+  lids: LidsMode;
+}
+/** Acknowledges every frame of `runId` up to and including `seq` (cumulative). */
+export interface AckRequest {
+  type: 'ack';
+  runId: number;
+  seq: number;
+}
+export interface CancelRequest {
+  type: 'cancel';
+  runId: number;
+}
+export interface SchemaRequest {
+  type: 'schema';
+  reqId: number;
+}
+
+export type ToWorker = LoadRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest;
+
+export interface ReadyMessage {
+  type: 'ready';
+}
+export interface LoadedMessage {
+  type: 'loaded';
+  reqId: number;
+  file: LoadedFile;
+}
+export interface FrameMessage extends Frame {
+  type: 'frame';
+}
+export interface DoneMessage {
+  type: 'done';
+  result: RunResult;
+}
+export interface ErrorMessage {
+  type: 'error';
+  reqId?: number;
+  runId?: number;
+  error: CoreErrorData;
+}
+export interface SchemaMessage {
+  type: 'schema';
+  reqId: number;
+  schema: ParamSpec[];
+  version: string;
+}
+
+export type FromWorker =
+  | ReadyMessage
+  | LoadedMessage
+  | FrameMessage
+  | DoneMessage
+  | ErrorMessage
+  | SchemaMessage;
+
+// ---------------------------------------------------------------------------------------------
+// Helpers
+
+/** Error codes produced outside the Rust core. */
+export const ErrorCodes = {
+  /** The worker died (wasm trap, Rust panic, script error): it is discarded and recreated. */
+  workerCrashed: 'worker_crashed',
+  /** The run was cancelled (explicitly, or superseded by a newer run). */
+  cancelled: 'cancelled',
+  /** `run` named a file that was never loaded. */
+  notLoaded: 'not_loaded',
+  /** The client was disposed while the request was pending. */
+  disposed: 'disposed',
+  /** A message that does not match the protocol. */
+  protocol: 'protocol',
+} as const;
+
+/** Compile-time exhaustiveness check for switches over a union's `type`. */
+export function assertNever(value: never, what = 'message'): never {
+  const type = (value as { type?: unknown } | null)?.type;
+  throw new Error(`unexpected ${what}: ${JSON.stringify(type ?? value)}`);
+}
+
+/** True for errors after which the worker must be discarded. */
+export function isFatal(error: CoreErrorData): boolean {
+  return error.code === ErrorCodes.workerCrashed;
+}
+
+/** Normalises anything thrown (an Error, a CoreErrorData, a JSON string from wasm) into data. */
+export function toCoreErrorData(e: unknown, file?: string): CoreErrorData {
+  let data: CoreErrorData;
+  if (isCoreErrorData(e)) {
+    data = { ...e };
+  } else if (typeof e === 'string') {
+    data = parseErrorJson(e) ?? { code: 'internal', message: e };
+  } else if (e instanceof Error) {
+    data = parseErrorJson(e.message) ?? { code: 'internal', message: e.message || String(e) };
+  } else {
+    data = { code: 'internal', message: String(e) };
+  }
+  if (file !== undefined && data.file === undefined) data.file = file;
+  return data;
+}
+
+function parseErrorJson(text: string): CoreErrorData | null {
+  if (!text.startsWith('{')) return null;
+  try {
+    const v: unknown = JSON.parse(text);
+    return isCoreErrorData(v) ? v : null;
+  } catch {
+    return null;
+  }
+}
+
+export function isCoreErrorData(v: unknown): v is CoreErrorData {
+  return (
+    typeof v === 'object' &&
+    v !== null &&
+    typeof (v as CoreErrorData).code === 'string' &&
+    typeof (v as CoreErrorData).message === 'string'
+  );
+}
+
+/** Buffers of a message that can be transferred instead of copied (each listed once). */
+export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
+  const out = new Set<ArrayBuffer>();
+  const add = (a: ArrayBufferView | ArrayBuffer | undefined) => {
+    if (a === undefined) return;
+    const buf = a instanceof ArrayBuffer ? a : a.buffer;
+    if (buf instanceof ArrayBuffer && buf.byteLength > 0) out.add(buf);
+  };
+  switch (msg.type) {
+    case 'load':
+      add(msg.bytes);
+      break;
+    case 'loaded':
+      add(msg.file.points);
+      break;
+    case 'frame':
+      add(msg.positions);
+      add(msg.indices);
+      add(msg.attractors);
+      break;
+    case 'done': {
+      const r = msg.result;
+      add(r.contourPoints);
+      add(r.positions);
+      add(r.indices);
+      add(r.pointDistances);
+      add(r.vertexDistances);
+      break;
+    }
+    case 'run':
+    case 'ack':
+    case 'cancel':
+    case 'schema':
+    case 'ready':
+    case 'error':
+      break;
+    default:
+      return assertNever(msg);
+  }
+  return [...out];
+}
+
+/** The run a message belongs to, if any. */
+export function runIdOf(msg: FromWorker): number | undefined {
+  switch (msg.type) {
+    case 'frame':
+      return msg.runId;
+    case 'done':
+      return msg.result.runId;
+    case 'error':
+      return msg.runId;
+    case 'ready':
+    case 'loaded':
+    case 'schema':
+      return undefined;
+    default:
+      return assertNever(msg);
+  }
+}
+
+/** Cheap structural check of an incoming worker message (guards against foreign postMessage). */
+export function isFromWorker(v: unknown): v is FromWorker {
+  if (typeof v !== 'object' || v === null) return false;
+  switch ((v as { type?: unknown }).type) {
+    case 'ready':
+    case 'loaded':
+    case 'frame':
+    case 'done':
+    case 'error':
+    case 'schema':
+      return true;
+    default:
+      return false;
+  }
+}
+
+/** Cheap structural check of an incoming request on the worker side. */
+export function isToWorker(v: unknown): v is ToWorker {
+  if (typeof v !== 'object' || v === null) return false;
+  switch ((v as { type?: unknown }).type) {
+    case 'load':
+    case 'run':
+    case 'ack':
+    case 'cancel':
+    case 'schema':
+      return true;
+    default:
+      return false;
+  }
+}
+
+/**
+ * Merges a newer frame over an older one that was never handed to the renderer: the newer
+ * positions win, but topology (indices) and attractors of the skipped frame are carried over when
+ * the newer frame does not have its own, so the receiver never misses a topology change.
+ */
+export function mergeFrames(older: Frame, newer: Frame): Frame {
+  const merged: Frame = { ...newer };
+  if (merged.indices === undefined && older.indices !== undefined) merged.indices = older.indices;
+  if (merged.attractors === undefined && older.attractors !== undefined) {
+    merged.attractors = older.attractors;
+  }
+  return merged;
+}

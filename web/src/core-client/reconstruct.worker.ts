@@ -1,0 +1,60 @@
+/**
+ * The reconstruction worker: loads the wasm core once, then serves the protocol (protocol.ts)
+ * through WorkerCore. Messages that arrive while the module is still loading are queued and
+ * handled in order. The only code that runs wasm; the main thread never does.
+ */
+
+import init, { Session, schema_json, take_panic_message, version } from '../../pkg/heartmesh_wasm.js';
+import { ErrorCodes, isToWorker, type FromWorker, type ToWorker } from './protocol';
+import { WorkerCore, type WasmApi } from './workerCore';
+
+const scope = self as unknown as {
+  postMessage(message: FromWorker, transfer: Transferable[]): void;
+  onmessage: ((ev: MessageEvent) => void) | null;
+};
+
+/** A zero-delay yield that, unlike setTimeout, is not clamped to 4 ms after a few nestings. */
+function makeTick(): (callback: () => void) => void {
+  const channel = new MessageChannel();
+  const queue: (() => void)[] = [];
+  channel.port1.onmessage = () => queue.shift()?.();
+  return (callback) => {
+    queue.push(callback);
+    channel.port2.postMessage(null);
+  };
+}
+
+const post = (msg: FromWorker, transfer: ArrayBuffer[]) => scope.postMessage(msg, transfer);
+const queued: ToWorker[] = [];
+let core: WorkerCore | null = null;
+
+scope.onmessage = (ev: MessageEvent) => {
+  if (!isToWorker(ev.data)) return;
+  if (core) core.handle(ev.data);
+  else queued.push(ev.data);
+};
+
+init()
+  .then(() => {
+    const wasm: WasmApi = {
+      createSession: () => new Session(),
+      schemaJson: schema_json,
+      version,
+      takePanicMessage: () => take_panic_message() ?? undefined,
+    };
+    core = new WorkerCore(wasm, post, { yieldToEventLoop: makeTick(), now: () => performance.now() });
+    post({ type: 'ready' }, []);
+    for (const msg of queued.splice(0)) core.handle(msg);
+  })
+  .catch((e: unknown) => {
+    post(
+      {
+        type: 'error',
+        error: {
+          code: ErrorCodes.workerCrashed,
+          message: `could not load the WebAssembly core: ${e instanceof Error ? e.message : String(e)}`,
+        },
+      },
+      [],
+    );
+  });

@@ -1,0 +1,316 @@
+/**
+ * The worker's logic, independent of the worker global scope so that the Node tests can drive it
+ * with the real wasm module (differential test) and the unit tests with a fake one.
+ *
+ * One run at a time: a run computes in slices of a few milliseconds, yielding to the event loop
+ * between slices so that 'ack' and 'cancel' messages are seen. Back-pressure: at most two frames
+ * are unacknowledged; while the limit is reached the worker keeps computing and sends only the
+ * latest state once an ack arrives (with the indices if the topology changed in between, and the
+ * attractors if they were re-sampled). The final frame is always sent, then 'done'.
+ *
+ * Errors thrown by the wasm Session are JSON strings (CoreErrorData); anything else thrown (a wasm
+ * trap, "unreachable" after a Rust panic) is fatal: the worker reports 'worker_crashed' and
+ * refuses further work, and the client replaces it.
+ */
+
+import {
+  ErrorCodes,
+  assertNever,
+  isCoreErrorData,
+  transferablesOf,
+  type ContourInfo,
+  type CoreErrorData,
+  type FromWorker,
+  type LoadedFile,
+  type ParamSpec,
+  type RunRequest,
+  type RunResult,
+  type StepReport,
+  type ToWorker,
+} from './protocol';
+
+/** The part of the wasm `Session` (wasm-core/crates/heartmesh-wasm) the worker uses. */
+export interface SessionApi {
+  load(fileName: string, bytes: Uint8Array): string;
+  file_points(fileName: string): Float32Array;
+  start(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string): void;
+  step(): string;
+  attractors_changed(): boolean;
+  positions(): Float32Array;
+  indices(): Uint32Array;
+  attractors(): Float32Array;
+  contour_points(): Float32Array;
+  point_distances(): Float32Array;
+  vertex_distances(): Float32Array;
+  result_json(): string;
+}
+
+export interface WasmApi {
+  createSession(): SessionApi;
+  schemaJson(): string;
+  version(): string;
+  /** The message of the Rust panic that caused a trap, if any. */
+  takePanicMessage(): string | undefined;
+}
+
+export interface WorkerCoreOptions {
+  /** Runs a callback soon, after pending messages (MessageChannel tick in the worker). */
+  yieldToEventLoop: (callback: () => void) => void;
+  now: () => number;
+  /** Milliseconds of computing between yields. */
+  sliceMs?: number;
+  /** Unacknowledged frames allowed in flight. */
+  maxInFlight?: number;
+}
+
+interface ActiveRun {
+  runId: number;
+  seq: number;
+  /** Sequence numbers sent and not yet acknowledged. */
+  unacked: number[];
+  /** A step happened since the last frame was sent. */
+  unsent: boolean;
+  indicesDirty: boolean;
+  attractorsDirty: boolean;
+  report: StepReport | null;
+  startedMs: number;
+  finished: boolean;
+}
+
+/** Resources of a finished run's result, in the shape the protocol sends. */
+type ResultJson = Omit<
+  RunResult,
+  | 'runId'
+  | 'contourPoints'
+  | 'positions'
+  | 'indices'
+  | 'pointDistances'
+  | 'vertexDistances'
+  | 'seconds'
+>;
+
+export class WorkerCore {
+  private readonly session: SessionApi;
+  private readonly sliceMs: number;
+  private readonly maxInFlight: number;
+  private run: ActiveRun | null = null;
+  private crashed = false;
+
+  constructor(
+    private readonly wasm: WasmApi,
+    private readonly post: (msg: FromWorker, transfer: ArrayBuffer[]) => void,
+    private readonly options: WorkerCoreOptions,
+  ) {
+    this.session = wasm.createSession();
+    this.sliceMs = options.sliceMs ?? 8;
+    this.maxInFlight = options.maxInFlight ?? 2;
+  }
+
+  handle(msg: ToWorker): void {
+    if (this.crashed) {
+      this.send({
+        type: 'error',
+        ...idsOf(msg),
+        error: { code: ErrorCodes.workerCrashed, message: 'the worker crashed earlier' },
+      });
+      return;
+    }
+    try {
+      this.dispatch(msg);
+    } catch (e) {
+      this.fail(e, idsOf(msg), msg.type === 'load' ? msg.fileName : undefined);
+    }
+  }
+
+  private dispatch(msg: ToWorker): void {
+    switch (msg.type) {
+      case 'schema':
+        this.send({
+          type: 'schema',
+          reqId: msg.reqId,
+          schema: JSON.parse(this.wasm.schemaJson()) as ParamSpec[],
+          version: this.wasm.version(),
+        });
+        break;
+      case 'load':
+        this.load(msg.reqId, msg.fileName, msg.bytes);
+        break;
+      case 'run':
+        this.startRun(msg);
+        break;
+      case 'ack':
+        this.ack(msg.runId, msg.seq);
+        break;
+      case 'cancel':
+        if (this.run?.runId === msg.runId) this.stopRun();
+        break;
+      default:
+        assertNever(msg);
+    }
+  }
+
+  private load(reqId: number, fileName: string, bytes: ArrayBuffer): void {
+    const info = JSON.parse(this.session.load(fileName, new Uint8Array(bytes))) as Omit<
+      LoadedFile,
+      'points'
+    >;
+    const file: LoadedFile = { ...info, points: this.session.file_points(fileName) };
+    this.send({ type: 'loaded', reqId, file });
+  }
+
+  private startRun(msg: RunRequest): void {
+    this.stopRun();
+    const run: ActiveRun = {
+      runId: msg.runId,
+      seq: 0,
+      unacked: [],
+      unsent: false,
+      indicesDirty: true,
+      attractorsDirty: true,
+      report: null,
+      startedMs: this.options.now(),
+      finished: false,
+    };
+    this.run = run;
+    try {
+      this.session.start(msg.fileName, msg.surface, JSON.stringify(msg.params), msg.lids);
+    } catch (e) {
+      this.stopRun();
+      this.fail(e, { runId: msg.runId }, msg.fileName);
+      return;
+    }
+    this.options.yieldToEventLoop(() => this.compute(run));
+  }
+
+  private stopRun(): void {
+    if (this.run) this.run.finished = true;
+    this.run = null;
+  }
+
+  /** One slice of steps, then yield (or finish). */
+  private compute(run: ActiveRun): void {
+    if (run.finished || this.run !== run || this.crashed) return;
+    const sliceEnd = this.options.now() + this.sliceMs;
+    try {
+      do {
+        const report = JSON.parse(this.session.step()) as StepReport;
+        run.report = report;
+        run.unsent = true;
+        if (report.topology_changed) run.indicesDirty = true;
+        if (this.session.attractors_changed()) run.attractorsDirty = true;
+        if (report.done) {
+          this.finish(run);
+          return;
+        }
+        if (run.unacked.length < this.maxInFlight) this.sendFrame(run);
+      } while (this.options.now() < sliceEnd);
+    } catch (e) {
+      this.stopRun();
+      this.fail(e, { runId: run.runId });
+      return;
+    }
+    this.options.yieldToEventLoop(() => this.compute(run));
+  }
+
+  private ack(runId: number, seq: number): void {
+    const run = this.run;
+    if (!run || run.runId !== runId) return;
+    run.unacked = run.unacked.filter((s) => s > seq);
+    // Between slices the session is consistent: catch up with the newest state right away.
+    if (run.unsent && run.unacked.length < this.maxInFlight) this.sendFrame(run);
+  }
+
+  private sendFrame(run: ActiveRun): void {
+    if (!run.report) return;
+    run.seq += 1;
+    const msg: FromWorker = {
+      type: 'frame',
+      runId: run.runId,
+      seq: run.seq,
+      report: run.report,
+      positions: this.session.positions(),
+    };
+    if (run.indicesDirty) msg.indices = this.session.indices();
+    if (run.attractorsDirty) msg.attractors = this.session.attractors();
+    run.indicesDirty = false;
+    run.attractorsDirty = false;
+    run.unsent = false;
+    run.unacked.push(run.seq);
+    this.send(msg);
+  }
+
+  private finish(run: ActiveRun): void {
+    this.sendFrame(run); // the final frame goes out whatever the back-pressure
+    const small = JSON.parse(this.session.result_json()) as ResultJson;
+    const result: RunResult = {
+      ...small,
+      runId: run.runId,
+      contours: small.contours as ContourInfo[],
+      contourPoints: this.session.contour_points(),
+      positions: this.session.positions(),
+      indices: this.session.indices(),
+      pointDistances: this.session.point_distances(),
+      vertexDistances: this.session.vertex_distances(),
+      seconds: (this.options.now() - run.startedMs) / 1000,
+    };
+    this.stopRun();
+    this.send({ type: 'done', result });
+  }
+
+  private send(msg: FromWorker): void {
+    this.post(msg, transferablesOf(msg));
+  }
+
+  /** Reports an error; a non-CoreError (trap, panic, bug) marks the worker as crashed. */
+  private fail(e: unknown, ids: { reqId?: number; runId?: number }, file?: string): void {
+    const data = wasmErrorData(e);
+    if (data) {
+      if (file !== undefined && data.file === undefined) data.file = file;
+      this.send({ type: 'error', ...ids, error: data });
+      return;
+    }
+    this.crashed = true;
+    this.stopRun();
+    const panic = safe(() => this.wasm.takePanicMessage());
+    const detail = e instanceof Error ? `${e.name}: ${e.message}` : String(e);
+    const error: CoreErrorData = {
+      code: ErrorCodes.workerCrashed,
+      message: panic ? `${panic} (${detail})` : detail,
+    };
+    if (file !== undefined) error.file = file;
+    this.send({ type: 'error', ...ids, error });
+  }
+}
+
+/** The CoreErrorData in a value thrown by the wasm Session, or null if it is not one. */
+export function wasmErrorData(e: unknown): CoreErrorData | null {
+  if (typeof e !== 'string' || !e.startsWith('{')) return null;
+  try {
+    const v: unknown = JSON.parse(e);
+    return isCoreErrorData(v) ? { ...v } : null;
+  } catch {
+    return null;
+  }
+}
+
+function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
+  switch (msg.type) {
+    case 'load':
+    case 'schema':
+      return { reqId: msg.reqId };
+    case 'run':
+    case 'ack':
+    case 'cancel':
+      return { runId: msg.runId };
+    default:
+      return assertNever(msg);
+  }
+}
+
+function safe<T>(f: () => T): T | undefined {
+  try {
+    return f();
+  } catch {
+    return undefined;
+  }
+}
