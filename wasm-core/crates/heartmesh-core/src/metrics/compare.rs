@@ -10,9 +10,12 @@
 //! property of the surfaces, not of their tessellations. Distances go to the whole other surface,
 //! so the clip adds no artificial boundary to measure against.
 
+use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
+use crate::params::Params;
+use crate::pipeline::Reconstruction;
 use crate::sim::slice::Plane;
 use crate::spatial::Bvh;
 use serde::Serialize;
@@ -71,6 +74,20 @@ pub fn compare(truth: &TriMesh, mesh: &TriMesh, clip: Option<&ClipPlane>) -> Res
         volume_mesh_ml: clipped_volume_mm3(mesh, clip).abs() / 1000.0,
         clipped: clip.is_some(),
     })
+}
+
+/// The most basal short-axis plane of a contour set, as the pipeline classifies and orders it (the
+/// paper clips there): the normal is the long axis, pointing to the base. `params` selects the
+/// surface of multi-surface files.
+pub fn clip_plane_from_contours(set: &ContourSet, params: Params) -> Result<ClipPlane> {
+    let rec = Reconstruction::new(set, params)?;
+    let axis = rec.long_axis();
+    let top = rec
+        .slice_heights()
+        .into_iter()
+        .fold(f64::NEG_INFINITY, f64::max);
+    Plane::new(axis * top, axis)
+        .ok_or_else(|| CoreError::Degenerate("no short-axis slice to clip at".into()))
 }
 
 /// Distance statistics from the surface of `from` to the surface of `to`.

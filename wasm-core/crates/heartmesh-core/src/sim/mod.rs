@@ -5,6 +5,7 @@
 pub mod axis;
 pub mod cavity;
 pub mod hull;
+pub mod leave_one_out;
 pub mod planes;
 pub mod prng;
 pub mod repair;
