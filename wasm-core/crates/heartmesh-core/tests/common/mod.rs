@@ -2,7 +2,7 @@
 //! reconstruction at the defaults, contour-to-mesh distances and mesh validity checks.
 #![allow(dead_code)] // each test binary uses a subset
 
-use heartmesh_core::contours::ContourSet;
+use heartmesh_core::contours::{Contour, ContourSet};
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::TriMesh;
 use heartmesh_core::pipeline::Reconstruction;
@@ -73,8 +73,14 @@ pub fn reconstruct(set: &ContourSet, params: Params) -> (TriMesh, f64) {
 
 /// Distance in mm from every contour point of `set` to the surface of `mesh`.
 pub fn contour_to_mesh(set: &ContourSet, mesh: &TriMesh) -> Vec<f64> {
+    contour_to_mesh_of(&set.contours, mesh)
+}
+
+/// Distance in mm from every point of `contours` to `mesh` (own BVH query, independent of the
+/// pipeline's measure).
+pub fn contour_to_mesh_of(contours: &[Contour], mesh: &TriMesh) -> Vec<f64> {
     let bvh = Bvh::build(mesh);
-    set.contours
+    contours
         .iter()
         .flat_map(|c| c.points())
         .map(|p| {
