@@ -96,15 +96,13 @@ pub fn convex_hull(points: &[Vec3]) -> Result<TriMesh> {
     let mut positions = Vec::new();
     let mut triangles = Vec::with_capacity(faces.len());
     for f in &faces {
-        let mut t = [0u32; 3];
-        for k in 0..3 {
-            let v = f.v[k];
+        let t = f.v.map(|v| {
             if remap[v] == u32::MAX {
                 remap[v] = positions.len() as u32;
                 positions.push(pts[v]);
             }
-            t[k] = remap[v];
-        }
+            remap[v]
+        });
         triangles.push(t);
     }
     Ok(TriMesh::new(positions, triangles))

@@ -24,7 +24,7 @@ impl Plane {
     /// None when the normal is zero or not finite.
     pub fn new(origin: Vec3, normal: Vec3) -> Option<Plane> {
         let n = normal.norm();
-        if !(n.is_finite() && n > 0.0) || !origin.iter().all(|c| c.is_finite()) {
+        if !(n.is_finite() && n > 0.0 && origin.iter().all(|c| c.is_finite())) {
             return None;
         }
         Some(Plane {
@@ -187,13 +187,14 @@ pub fn join_chains(pieces: Vec<Polyline>, max_gap_mm: f64, plane: &Plane) -> Vec
             let ends_i = [open[i].points[0], open[i].points[open[i].points.len() - 1]];
             // Own ends: close the chain (only if it is not a short stub).
             let own = (ends_i[0] - ends_i[1]).norm();
-            if open[i].points.len() >= 3 && polyline_length(&open[i]) > 4.0 * own {
-                if best.is_none_or(|b| own < b.0) {
-                    best = Some((own, i, true, i, false));
-                }
+            if open[i].points.len() >= 3
+                && polyline_length(&open[i]) > 4.0 * own
+                && best.is_none_or(|b| own < b.0)
+            {
+                best = Some((own, i, true, i, false));
             }
-            for j in i + 1..open.len() {
-                let ends_j = [open[j].points[0], open[j].points[open[j].points.len() - 1]];
+            for (j, other) in open.iter().enumerate().skip(i + 1) {
+                let ends_j = [other.points[0], other.points[other.points.len() - 1]];
                 for (a, pa) in ends_i.iter().enumerate() {
                     for (b, pb) in ends_j.iter().enumerate() {
                         let g = (pa - pb).norm();
