@@ -2,7 +2,7 @@
 //! (SAX stack, radial LAX, breath-hold misalignment, noise) to get contours with a known truth.
 
 use heartmesh_core::io;
-use heartmesh_core::sim::repair::weld;
+use heartmesh_core::sim::repair::{orient_consistently, weld};
 use heartmesh_core::sim::{simulate, AcquisitionSpec, LongAxis, Misalignment, SaxStack};
 
 use crate::args::{parse, Parsed, Spec};
@@ -86,11 +86,12 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     Ok(())
 }
 
-/// A reference surface, welded (unwelded poles read as holes).
+/// A reference surface, welded (unwelded poles read as holes) and consistently oriented (mixed
+/// orientations spoil volumes).
 pub fn read_surface(path: &str) -> Result<heartmesh_core::TriMesh, CliError> {
     let bytes = files::read(path)?;
     let data = io::read_mesh(path, &bytes).map_err(|e| CliError::input(path, e))?;
-    Ok(weld(&data.mesh, 1e-6).0)
+    Ok(orient_consistently(&weld(&data.mesh, 1e-6).0).0)
 }
 
 fn number(p: &Parsed, name: &str) -> Result<Option<f64>, CliError> {

@@ -34,9 +34,11 @@ pub fn load_mesh(name: &str) -> TriMesh {
         .mesh
 }
 
-/// A reference mesh as ground truth: welded (the CAP atlas mean shape has an unwelded apex).
+/// A reference mesh as ground truth: welded (the CAP atlas mean shape has an unwelded apex) and
+/// consistently oriented (biv-me's RV mixes orientations, which spoils volumes).
 pub fn load_truth(name: &str) -> TriMesh {
-    heartmesh_core::sim::repair::weld(&load_mesh(name), 1e-6).0
+    use heartmesh_core::sim::repair::{orient_consistently, weld};
+    orient_consistently(&weld(&load_mesh(name), 1e-6).0).0
 }
 
 /// The spasm subject's RV cavity: its RV free wall plus the septal part of its LV epicardium.
