@@ -4,18 +4,20 @@
 use heartmesh_core::io::{self, MeshFormat};
 
 use crate::args::{parse, Spec};
+use crate::contours;
 use crate::error::CliError;
 use crate::files;
 
-pub const USAGE: &str = "heartmesh convert IN OUT [--ascii] [--quiet]
-    contours (csv, GPFile txt, xyz txt, vtk/vtp lines, SurFCo .mat, session json) -> OUT.csv
+pub const USAGE: &str = "heartmesh convert IN OUT [--frame N] [--ascii] [--quiet]
+    contours (csv, GPFile txt, xyz txt, vtk/vtp lines, SurFCo .mat, session json)
+      -> OUT.csv (canonical CSV) or OUT.json (heartmesh session)
     meshes (obj, stl, ply, vtk, vtp) -> OUT.obj|.stl|.ply|.vtk|.vtp  (--ascii: ASCII STL)";
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
     let p = parse(
         args,
         &Spec {
-            with_value: &[],
+            with_value: &["frame"],
             switches: &["ascii", "quiet"],
             aliases: &[("-q", "quiet")],
         },
@@ -26,18 +28,25 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             p.positional.len()
         )));
     };
-    let bytes = files::read(input)?;
     let out_ext = io::extension(output);
     let comment = format!("converted from {}", file_name(input));
-    if out_ext == "csv" {
-        let set = io::read_contours(input, &bytes).map_err(|e| CliError::input(input, e))?;
+    if out_ext == "csv" || out_ext == "json" {
+        let frame = contours::frame_flag(p.value("frame"))?;
+        let loaded = contours::load(input, frame)?;
+        let set = loaded.set;
         if !p.switch("quiet") {
             for w in &set.warnings {
                 eprintln!("heartmesh: warning: {input}: {w}");
             }
         }
-        let csv = io::csv::write_csv(&set, None).map_err(|e| CliError::Failed(e.to_string()))?;
-        files::write(output, &csv)?;
+        let out = if out_ext == "csv" {
+            io::csv::write_csv(&set, None)
+        } else {
+            let params = loaded.session_params.unwrap_or_default();
+            io::session::write_session(&set, &params, heartmesh_core::VERSION)
+        }
+        .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
+        files::write(output, &out)?;
         if !p.switch("quiet") {
             println!(
                 "{output}: {} contours, {} points, {} landmarks",
@@ -56,6 +65,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     if p.switch("ascii") && format == MeshFormat::StlBinary {
         format = MeshFormat::StlAscii;
     }
+    let bytes = files::read(input)?;
     let data = io::read_mesh(input, &bytes).map_err(|e| CliError::input(input, e))?;
     let pd = data
         .point_data

@@ -7,6 +7,7 @@
 mod args;
 mod cmd_convert;
 mod cmd_reconstruct;
+mod contours;
 mod error;
 mod files;
 mod report;

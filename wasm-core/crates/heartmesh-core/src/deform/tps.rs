@@ -23,9 +23,12 @@
 //!
 //! Evaluation is the hot loop of the whole reconstruction (vertices x centres per iteration): the
 //! centres are stored as structure-of-arrays chunks of four with the weights pre-multiplied by
-//! -1/(8 pi), summed in four lanes in a fixed order. The wasm simd128 path uses two f64x2 vectors
-//! for the same four lanes and the same order, so both paths give identical bits.
+//! -1/(8 pi), summed in four lanes in a fixed order. The lanes are explicit two-lane vectors
+//! (`lanes.rs`: SSE2 natively, simd128 in wasm, plain arrays elsewhere) with the same arithmetic
+//! in the same order, so every target, and the portable reference `evaluate_portable`, gives
+//! identical bits. The dot products of the factorisation use the same vectors.
 
+use super::lanes::{portable, Lanes, F2};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 
@@ -41,12 +44,12 @@ const KERNEL_SCALE: f64 = -1.0 / (8.0 * std::f64::consts::PI);
 /// Four centres and their weights, structure-of-arrays so the kernel loads whole lanes.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 struct Chunk {
-    x: [f64; LANES],
-    y: [f64; LANES],
-    z: [f64; LANES],
-    wx: [f64; LANES],
-    wy: [f64; LANES],
-    wz: [f64; LANES],
+    x: [[f64; 2]; 2],
+    y: [[f64; 2]; 2],
+    z: [[f64; 2]; 2],
+    wx: [[f64; 2]; 2],
+    wy: [[f64; 2]; 2],
+    wz: [[f64; 2]; 2],
 }
 
 /// Fits and applies approximating thin-plate splines, reusing its buffers across fits: after the
@@ -147,6 +150,7 @@ impl TpsSolver {
 
     /// Householder QR of the centred affine basis A = [1, x - c] (N x 4); keeps the reflectors
     /// and R, fails on coplanar centres.
+    #[inline(never)] // one call per fit: kept out of line for profiles
     fn householder_affine(&mut self, centres: &[Vec3]) -> Result<()> {
         let n = self.n;
         let c = self.centre;
@@ -194,6 +198,7 @@ impl TpsSolver {
     }
 
     /// K = G + I / lambda_eff over the centres (full symmetric storage).
+    #[inline(never)] // one call per fit: kept out of line for profiles
     fn assemble_kernel(&mut self, centres: &[Vec3], diag: f64) {
         let n = self.n;
         for i in 0..n {
@@ -209,6 +214,7 @@ impl TpsSolver {
 
     /// K <- H_k K H_k for the four reflectors, i.e. Q^T K Q; then copies the trailing
     /// (N-4) x (N-4) block (lower triangle) into the Cholesky buffer.
+    #[inline(never)] // one call per fit: kept out of line for profiles
     fn project_kernel(&mut self) {
         let n = self.n;
         for k in 0..4 {
@@ -244,6 +250,7 @@ impl TpsSolver {
     }
 
     /// rhs <- Q^T b for the three coordinates of the targets.
+    #[inline(never)] // one call per fit: kept out of line for profiles
     fn project_rhs(&mut self, targets: &[Vec3]) {
         let n = self.n;
         for (i, t) in targets.iter().enumerate() {
@@ -329,12 +336,13 @@ impl TpsSolver {
                 } else {
                     (pad, [0.0; 3])
                 };
-                ch.x[l] = p.x;
-                ch.y[l] = p.y;
-                ch.z[l] = p.z;
-                ch.wx[l] = w[0];
-                ch.wy[l] = w[1];
-                ch.wz[l] = w[2];
+                let (h, k) = (l / 2, l % 2);
+                ch.x[h][k] = p.x;
+                ch.y[h][k] = p.y;
+                ch.z[h][k] = p.z;
+                ch.wx[h][k] = w[0];
+                ch.wy[h][k] = w[1];
+                ch.wz[h][k] = w[2];
             }
         }
     }
@@ -361,7 +369,24 @@ impl TpsSolver {
         if !self.fitted {
             return p;
         }
-        let k = kernel_sum(&self.chunks, p);
+        let k = kernel_sum::<F2>(&self.chunks, p);
+        let d = p - self.centre;
+        let af = |a: &[f64; 4]| a[0] + a[1] * d.x + a[2] * d.y + a[3] * d.z;
+        Vec3::new(
+            k[0] + af(&self.affine_c[0]),
+            k[1] + af(&self.affine_c[1]),
+            k[2] + af(&self.affine_c[2]),
+        )
+    }
+
+    /// F at one point through the portable scalar kernel. `evaluate` gives the same bits on every
+    /// target (the wasm simd128 kernel keeps the scalar lane order); this is the reference that
+    /// checks it, natively in the tests and in wasm by the binding's tests.
+    pub fn evaluate_portable(&self, p: Vec3) -> Vec3 {
+        if !self.fitted {
+            return p;
+        }
+        let k = kernel_sum::<portable::F2>(&self.chunks, p);
         let d = p - self.centre;
         let af = |a: &[f64; 4]| a[0] + a[1] * d.x + a[2] * d.y + a[3] * d.z;
         Vec3::new(
@@ -383,78 +408,138 @@ impl TpsSolver {
 }
 
 /// sum_i w_i G(|p - P_i|) for the three coordinates: four lanes, lane l summing centres l, l + 4,
-/// ..., then (l0 + l1) + (l2 + l3).
-#[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
-#[inline]
-fn kernel_sum(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
-    kernel_sum_scalar(chunks, p)
-}
-
-#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-#[inline]
-fn kernel_sum(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
-    simd::kernel_sum_simd128(chunks, p)
-}
-
-/// The portable kernel; also the reference the SIMD path must reproduce bit for bit.
-#[inline]
-fn kernel_sum_scalar(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
-    let mut ax = [0.0; LANES];
-    let mut ay = [0.0; LANES];
-    let mut az = [0.0; LANES];
+/// ..., then (l0 + l1) + (l2 + l3); the same bits with every `Lanes` implementation.
+#[inline(always)]
+fn kernel_sum<V: Lanes>(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
+    let (px, py, pz) = (V::splat(p.x), V::splat(p.y), V::splat(p.z));
+    let mut acc = [V::zero(); 6]; // x lo, x hi, y lo, y hi, z lo, z hi
     for ch in chunks {
-        for l in 0..LANES {
-            let dx = p.x - ch.x[l];
-            let dy = p.y - ch.y[l];
-            let dz = p.z - ch.z[l];
-            let r = (dx * dx + dy * dy + dz * dz).sqrt();
-            ax[l] += ch.wx[l] * r;
-            ay[l] += ch.wy[l] * r;
-            az[l] += ch.wz[l] * r;
+        for h in 0..2 {
+            let dx = px.sub(V::load(&ch.x[h]));
+            let dy = py.sub(V::load(&ch.y[h]));
+            let dz = pz.sub(V::load(&ch.z[h]));
+            let r = dx.mul(dx).add(dy.mul(dy)).add(dz.mul(dz)).sqrt();
+            acc[h] = acc[h].add(V::load(&ch.wx[h]).mul(r));
+            acc[2 + h] = acc[2 + h].add(V::load(&ch.wy[h]).mul(r));
+            acc[4 + h] = acc[4 + h].add(V::load(&ch.wz[h]).mul(r));
         }
     }
-    let h = |a: [f64; LANES]| (a[0] + a[1]) + (a[2] + a[3]);
-    [h(ax), h(ay), h(az)]
+    [
+        acc[0].sum4(acc[1]),
+        acc[2].sum4(acc[3]),
+        acc[4].sum4(acc[5]),
+    ]
 }
 
-#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-mod simd {
-    use super::{Chunk, Vec3};
-    use core::arch::wasm32::*;
-
-    /// Same lanes and order as `kernel_sum_scalar`: lanes (0, 1) and (2, 3) as two f64x2.
-    #[inline]
-    pub(super) fn kernel_sum_simd128(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
-        let (px, py, pz) = (f64x2_splat(p.x), f64x2_splat(p.y), f64x2_splat(p.z));
-        let zero = f64x2_splat(0.0);
-        let mut acc = [zero; 6]; // x lo, x hi, y lo, y hi, z lo, z hi
-        let ld = |a: &[f64; 4], h: usize| f64x2(a[2 * h], a[2 * h + 1]);
-        for ch in chunks {
-            for h in 0..2 {
-                let dx = f64x2_sub(px, ld(&ch.x, h));
-                let dy = f64x2_sub(py, ld(&ch.y, h));
-                let dz = f64x2_sub(pz, ld(&ch.z, h));
-                let r2 = f64x2_add(
-                    f64x2_add(f64x2_mul(dx, dx), f64x2_mul(dy, dy)),
-                    f64x2_mul(dz, dz),
-                );
-                let r = f64x2_sqrt(r2);
-                acc[h] = f64x2_add(acc[h], f64x2_mul(ld(&ch.wx, h), r));
-                acc[2 + h] = f64x2_add(acc[2 + h], f64x2_mul(ld(&ch.wy, h), r));
-                acc[4 + h] = f64x2_add(acc[4 + h], f64x2_mul(ld(&ch.wz, h), r));
-            }
-        }
-        let h = |lo: v128, hi: v128| {
-            (f64x2_extract_lane::<0>(lo) + f64x2_extract_lane::<1>(lo))
-                + (f64x2_extract_lane::<0>(hi) + f64x2_extract_lane::<1>(hi))
-        };
-        [h(acc[0], acc[1]), h(acc[2], acc[3]), h(acc[4], acc[5])]
-    }
-}
-
-/// Cholesky factorisation A = L L^T of the lower triangle of an m x m row-major matrix, in place
-/// (dot-product form: each entry is one contiguous dot product of two rows).
+/// Cholesky factorisation A = L L^T of the lower triangle of an m x m row-major matrix, in place.
+///
+/// Dot-product (Crout) form, register-blocked two rows by two columns: the four dot products of
+/// rows (i, i+1) with rows (j, j+1) share their loads, which halves the memory traffic that bounds
+/// the plain form (about N^3 / 6 loads from L2). Every entry's arithmetic is fixed, so results are
+/// reproducible.
+#[inline(never)] // one call per fit: kept out of line for profiles
 fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<()> {
+    let mut i = 0;
+    while i + 1 < m {
+        let (done, rest) = a.split_at_mut(i * m);
+        let (ri, rest) = rest.split_at_mut(m);
+        let ri = &mut ri[..i + 1];
+        let ri1 = &mut rest[..i + 2];
+        let mut j = 0;
+        while j + 1 < i {
+            let rj = &done[j * m..j * m + j + 1];
+            let rj1 = &done[(j + 1) * m..(j + 1) * m + j + 2];
+            let [d00, d01, d10, d11] = dot2x2(&ri[..j], &ri1[..j], &rj[..j], &rj1[..j]);
+            let (ljj, lj1j, lj1j1) = (rj[j], rj1[j], rj1[j + 1]);
+            let x00 = (ri[j] - d00) / ljj;
+            let x10 = (ri1[j] - d10) / ljj;
+            ri[j + 1] = (ri[j + 1] - d01 - x00 * lj1j) / lj1j1;
+            ri1[j + 1] = (ri1[j + 1] - d11 - x10 * lj1j) / lj1j1;
+            ri[j] = x00;
+            ri1[j] = x10;
+            j += 2;
+        }
+        if j < i {
+            let rj = &done[j * m..j * m + j + 1];
+            ri[j] = (ri[j] - dot(&ri[..j], &rj[..j])) / rj[j];
+            ri1[j] = (ri1[j] - dot(&ri1[..j], &rj[..j])) / rj[j];
+        }
+        // Diagonal 2 x 2 block.
+        let lii = pivot(ri[i] - dot(&ri[..i], &ri[..i]), i)?;
+        ri[i] = lii;
+        ri1[i] = (ri1[i] - dot(&ri1[..i], &ri[..i])) / lii;
+        ri1[i + 1] = pivot(ri1[i + 1] - dot(&ri1[..i + 1], &ri1[..i + 1]), i + 1)?;
+        i += 2;
+    }
+    if i < m {
+        let (done, rest) = a.split_at_mut(i * m);
+        let ri = &mut rest[..i + 1];
+        for j in 0..i {
+            let rj = &done[j * m..j * m + j + 1];
+            ri[j] = (ri[j] - dot(&ri[..j], &rj[..j])) / rj[j];
+        }
+        ri[i] = pivot(ri[i] - dot(&ri[..i], &ri[..i]), i)?;
+    }
+    Ok(())
+}
+
+/// Square root of a Cholesky pivot, or the error that says the system is not SPD.
+#[inline]
+fn pivot(d: f64, i: usize) -> Result<f64> {
+    if d > 0.0 && d.is_finite() {
+        Ok(d.sqrt())
+    } else {
+        Err(CoreError::Numerical(format!(
+            "TPS: projected system is not positive definite (pivot {i} = {d:e})"
+        )))
+    }
+}
+
+/// The four dot products of (a0, a1) with (b0, b1), four lanes each, all slices of one length.
+#[inline]
+fn dot2x2(a0: &[f64], a1: &[f64], b0: &[f64], b1: &[f64]) -> [f64; 4] {
+    let n = a0.len().min(a1.len()).min(b0.len()).min(b1.len());
+    let c = n / 4 * 4;
+    fn pairs(s: &[f64], c: usize) -> &[[f64; 2]] {
+        s[..c].as_chunks::<2>().0
+    }
+    let mut acc = [F2::zero(); 8]; // (lo, hi) for a0.b0, a0.b1, a1.b0, a1.b1
+    for ((x0, x1), (y0, y1)) in pairs(a0, c)
+        .chunks_exact(2)
+        .zip(pairs(a1, c).chunks_exact(2))
+        .zip(
+            pairs(b0, c)
+                .chunks_exact(2)
+                .zip(pairs(b1, c).chunks_exact(2)),
+        )
+    {
+        for h in 0..2 {
+            let (x0, x1) = (F2::load(&x0[h]), F2::load(&x1[h]));
+            let (y0, y1) = (F2::load(&y0[h]), F2::load(&y1[h]));
+            acc[h] = acc[h].add(x0.mul(y0));
+            acc[2 + h] = acc[2 + h].add(x0.mul(y1));
+            acc[4 + h] = acc[4 + h].add(x1.mul(y0));
+            acc[6 + h] = acc[6 + h].add(x1.mul(y1));
+        }
+    }
+    let mut out = [
+        acc[0].sum4(acc[1]),
+        acc[2].sum4(acc[3]),
+        acc[4].sum4(acc[5]),
+        acc[6].sum4(acc[7]),
+    ];
+    for k in c..n {
+        out[0] += a0[k] * b0[k];
+        out[1] += a0[k] * b1[k];
+        out[2] += a1[k] * b0[k];
+        out[3] += a1[k] * b1[k];
+    }
+    out
+}
+
+#[cfg(test)]
+/// The unblocked dot-product Cholesky, kept as the reference of the blocked one.
+fn cholesky_reference(a: &mut [f64], m: usize) -> Result<()> {
     for i in 0..m {
         let (done, rest) = a.split_at_mut(i * m);
         let row_i = &mut rest[..i + 1];
@@ -463,33 +548,26 @@ fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<()> {
             let s = row_i[j] - dot(&row_i[..j], &row_j[..j]);
             row_i[j] = s / row_j[j];
         }
-        let d = row_i[i] - dot(&row_i[..i], &row_i[..i]);
-        if !(d > 0.0 && d.is_finite()) {
-            return Err(CoreError::Numerical(format!(
-                "TPS: projected system is not positive definite (pivot {i} = {d:e})"
-            )));
-        }
-        row_i[i] = d.sqrt();
+        row_i[i] = pivot(row_i[i] - dot(&row_i[..i], &row_i[..i]), i)?;
     }
     Ok(())
 }
 
-/// Dot product in eight independent lanes (fixed order, so results are reproducible; eight
-/// accumulators hide the add latency and let LLVM use vector registers).
+/// Dot product in eight lanes (four two-lane accumulators hide the add latency) with a fixed
+/// summation order, so results are reproducible on every target.
 #[inline]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
-    let (a, b) = (&a[..n], &b[..n]);
-    let mut acc = [0.0; 8];
-    let (ca, cb) = (a.chunks_exact(8), b.chunks_exact(8));
-    let (ra, rb) = (ca.remainder(), cb.remainder());
-    for (x, y) in ca.zip(cb) {
-        for l in 0..8 {
-            acc[l] += x[l] * y[l];
+    let c = n / 8 * 8;
+    let (pa, pb) = (a[..c].as_chunks::<2>().0, b[..c].as_chunks::<2>().0);
+    let mut acc = [F2::zero(); 4];
+    for (x, y) in pa.chunks_exact(4).zip(pb.chunks_exact(4)) {
+        for l in 0..4 {
+            acc[l] = acc[l].add(F2::load(&x[l]).mul(F2::load(&y[l])));
         }
     }
-    let mut s = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
-    for (x, y) in ra.iter().zip(rb) {
+    let mut s = acc[0].sum4(acc[1]) + acc[2].sum4(acc[3]);
+    for (x, y) in a[c..n].iter().zip(&b[c..n]) {
         s += x * y;
     }
     s
@@ -748,9 +826,48 @@ mod tests {
                     (got - want).norm() <= 1e-12 * want.norm(),
                     "{got:?} vs {want:?}"
                 );
-                assert_eq!(kernel_sum(&s.chunks, p), kernel_sum_scalar(&s.chunks, p));
+                assert_eq!(s.evaluate(p), s.evaluate_portable(p));
             }
         }
+    }
+
+    #[test]
+    fn blocked_cholesky_equals_the_plain_one() {
+        let mut rng = SplitMix64::new(6);
+        for m in [1, 2, 3, 4, 5, 8, 9, 37, 64] {
+            // SPD: B B^T + m I.
+            let b: Vec<f64> = (0..m * m).map(|_| rng.range(-1.0, 1.0)).collect();
+            let mut a = vec![0.0; m * m];
+            for i in 0..m {
+                for j in 0..m {
+                    let s: f64 = (0..m).map(|k| b[i * m + k] * b[j * m + k]).sum();
+                    a[i * m + j] = s + if i == j { m as f64 } else { 0.0 };
+                }
+            }
+            let (mut l1, mut l2) = (a.clone(), a.clone());
+            cholesky_in_place(&mut l1, m).unwrap();
+            cholesky_reference(&mut l2, m).unwrap();
+            for i in 0..m {
+                for j in 0..=i {
+                    let (x, y) = (l1[i * m + j], l2[i * m + j]);
+                    assert!(
+                        (x - y).abs() <= 1e-12 * (1.0 + y.abs()),
+                        "m {m} ({i},{j}): {x} {y}"
+                    );
+                }
+                // L L^T reproduces A.
+                for j in 0..=i {
+                    let s: f64 = (0..=j).map(|k| l1[i * m + k] * l1[j * m + k]).sum();
+                    assert!((s - a[i * m + j]).abs() <= 1e-12 * m as f64 * m as f64);
+                }
+            }
+        }
+        // Not SPD: an error, not a NaN factor.
+        let mut a = vec![1.0, 0.0, 2.0, 1.0];
+        assert_eq!(
+            cholesky_in_place(&mut a, 2).unwrap_err().code(),
+            "numerical"
+        );
     }
 
     #[test]

@@ -252,7 +252,8 @@ pub fn validity_with_map(mesh: &TriMesh, map: &EdgeMap) -> MeshValidity {
                 .norm_squared()
                 .max((pc - pa).norm_squared())
                 .max((pc - pb).norm_squared());
-            !(n > 1e-12 * scale)
+            // NaN coordinates count as degenerate too.
+            n.is_nan() || n <= 1e-12 * scale
         };
         if bad_index || zero_area {
             degenerate += 1;

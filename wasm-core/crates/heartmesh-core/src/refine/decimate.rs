@@ -13,16 +13,15 @@
 //!   edges joining two boundary vertices are never collapsed (that would pinch the surface).
 //! - Rejection of collapses that turn a triangle by more than ~80 degrees or make it (nearly)
 //!   degenerate, so the result stays oriented without fold-overs.
-//! - A binary heap with lazy invalidation (per-vertex stamps) instead of a decrease-key queue; ties
-//!   are broken by vertex index, so results are deterministic. Vertex-to-triangle lists live in one
+//! - A priority queue with lazy invalidation (per-vertex stamps) instead of decrease-key (a 4-ary
+//!   heap, see `heap.rs`); ties are broken by vertex index, so results are deterministic. Vertex-to-triangle lists live in one
 //!   shared array (a merged vertex's list is appended at its end), so the hot loop does not allocate.
 
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::topology::{validity_with_map, EdgeMap};
 use crate::mesh::TriMesh;
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+use crate::refine::heap::{Entry, MinHeap4};
 
 /// Weight of a boundary-edge constraint plane relative to the area weight of ordinary planes
 /// (per mm^2 of squared edge length).
@@ -91,7 +90,7 @@ impl Quadric {
         let c02 = ab * bc - ac * b2;
         let det = a2 * c00 + ab * c01 + ac * c02;
         let trace = a2 + b2 + c2;
-        if !(det.abs() > 1e-9 * trace * trace * trace) {
+        if det.is_nan() || det.abs() <= 1e-9 * trace * trace * trace {
             return None;
         }
         let c11 = a2 * c2 - ac * ac;
@@ -104,37 +103,6 @@ impl Quadric {
             c02 * rx + c12 * ry + c22 * rz,
         ) / det;
         p.iter().all(|c| c.is_finite()).then_some(p)
-    }
-}
-
-/// A queued collapse of edge (a, b), valid while both vertices still carry the stamps it saw.
-#[derive(Debug, Clone, Copy)]
-struct Candidate {
-    cost: f64,
-    a: u32,
-    b: u32,
-    stamp_a: u32,
-    stamp_b: u32,
-}
-
-impl PartialEq for Candidate {
-    fn eq(&self, o: &Self) -> bool {
-        self.cmp(o) == Ordering::Equal
-    }
-}
-impl Eq for Candidate {}
-impl PartialOrd for Candidate {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Candidate {
-    /// Reversed, so `BinaryHeap` (a max-heap) pops the cheapest, then the lowest indices.
-    fn cmp(&self, o: &Self) -> Ordering {
-        o.cost
-            .total_cmp(&self.cost)
-            .then_with(|| o.a.cmp(&self.a))
-            .then_with(|| o.b.cmp(&self.b))
     }
 }
 
@@ -154,7 +122,7 @@ struct Decimator {
     count: Vec<u32>,
     marks: Vec<u32>,
     mark: u32,
-    heap: BinaryHeap<Candidate>,
+    heap: MinHeap4,
 }
 
 impl Decimator {
@@ -240,7 +208,7 @@ impl Decimator {
             count,
             marks: vec![0; n],
             mark: 0,
-            heap: BinaryHeap::with_capacity(map.edges.len() * 2),
+            heap: MinHeap4::with_capacity(map.edges.len() * 2),
         })
     }
 
@@ -294,13 +262,13 @@ impl Decimator {
     fn push(&mut self, a: u32, b: u32) {
         let (a, b) = (a.min(b), a.max(b));
         let (cost, _) = self.evaluate(a, b);
-        self.heap.push(Candidate {
+        self.heap.push(Entry::new(
             cost,
             a,
             b,
-            stamp_a: self.stamps[a as usize],
-            stamp_b: self.stamps[b as usize],
-        });
+            self.stamps[a as usize],
+            self.stamps[b as usize],
+        ));
     }
 
     /// Queues every edge around `v` once.
@@ -433,7 +401,10 @@ impl Decimator {
                 let n_old = (old[1] - old[0]).cross(&(old[2] - old[0]));
                 let n_new = (new[1] - new[0]).cross(&(new[2] - new[0]));
                 let (l_old, l_new) = (n_old.norm(), n_new.norm());
-                if !(l_new > 0.0) || n_old.dot(&n_new) < MIN_NORMAL_COS * l_old * l_new {
+                if l_new.is_nan()
+                    || l_new <= 0.0
+                    || n_old.dot(&n_new) < MIN_NORMAL_COS * l_old * l_new
+                {
                     return false;
                 }
                 let q_new = quality(&new, l_new);
@@ -518,8 +489,7 @@ impl Decimator {
                 let (a, b) = (c.a as usize, c.b as usize);
                 if !self.vertex_alive[a]
                     || !self.vertex_alive[b]
-                    || self.stamps[a] != c.stamp_a
-                    || self.stamps[b] != c.stamp_b
+                    || !c.is_current(self.stamps[a], self.stamps[b])
                 {
                     continue;
                 }

@@ -8,6 +8,7 @@
 
 pub mod butterfly;
 pub mod decimate;
+mod heap;
 pub mod smooth;
 
 pub use butterfly::subdivide;

@@ -1,0 +1,178 @@
+// Browser end-to-end tests of the built site (dist/, served by `vite preview`) in Debian's chromium
+// via playwright-core: every bundled sample reaches done with contour-to-mesh mean <= 1 mm, a slider
+// restarts the run, exports parse, errors name file and line, the site works offline after the first
+// visit, and no request ever leaves the origin. Screenshots go to docs/screenshots/ for people to look at.
+import { after, before, describe, it } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync, mkdirSync } from 'node:fs';
+import { join } from 'node:path';
+import { ROOT, launch, readResult, requireDist, runAndWait, sharedDir, startPreview, waitForDone, watchRequests } from './lib.mjs';
+
+const SHOTS = join(ROOT, 'docs', 'screenshots');
+const SAMPLES = ['patient1-ED', 'patient1-ES', 'patient2-ED'];
+
+let server;
+let browser;
+let requests;
+let page;
+
+before(async () => {
+  requireDist();
+  mkdirSync(SHOTS, { recursive: true });
+  server = await startPreview();
+  browser = await launch();
+  requests = watchRequests(browser.context, server.url.replace(/\/$/, ''));
+  page = await browser.context.newPage();
+  page.on('pageerror', (e) => console.log('pageerror:', e.message));
+  await page.goto(server.url);
+  await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
+});
+
+after(async () => {
+  await browser?.close();
+  server?.stop();
+});
+
+function parseBinaryStl(buf) {
+  const dv = new DataView(buf.buffer, buf.byteOffset, buf.byteLength);
+  const n = dv.getUint32(80, true);
+  assert.equal(buf.byteLength, 84 + 50 * n, 'STL size matches its triangle count');
+  let volume = 0;
+  for (let t = 0; t < n; t++) {
+    const o = 84 + t * 50 + 12;
+    const p = [];
+    for (let k = 0; k < 9; k++) p.push(dv.getFloat32(o + k * 4, true));
+    volume += (p[0] * (p[4] * p[8] - p[5] * p[7]) - p[1] * (p[3] * p[8] - p[5] * p[6]) + p[2] * (p[3] * p[7] - p[4] * p[6])) / 6;
+  }
+  return { triangles: n, header: Buffer.from(buf.subarray(0, 80)).toString('latin1'), volumeMm3: volume };
+}
+
+async function download(testid) {
+  const [dl] = await Promise.all([page.waitForEvent('download'), page.click(`[data-testid=${testid}]`)]);
+  const path = await dl.path();
+  return { name: dl.suggestedFilename(), bytes: readFileSync(path) };
+}
+
+describe('heartmesh in the browser', () => {
+  for (const id of SAMPLES) {
+    it(`sample ${id}: reaches done with contour-to-mesh mean <= 1 mm`, async () => {
+      const t0 = Date.now();
+      await runAndWait(page, () => page.click(`[data-testid=sample-${id}]`));
+      const r = await readResult(page);
+      console.log(`# ${id}: ${r.vertices} vertices, ${r.triangles} triangles, mean ${r.meanMm.toFixed(3)} mm, max ${r.maxMm.toFixed(3)} mm, ${Date.now() - t0} ms`);
+      assert.ok(r.vertices > 100, `vertices ${r.vertices}`);
+      assert.ok(r.triangles > 100, `triangles ${r.triangles}`);
+      assert.equal(r.triangles, 2 * r.vertices - 4, 'closed genus-0 surface: T = 2V - 4');
+      assert.ok(r.meanMm > 0 && r.meanMm <= 1, `mean ${r.meanMm} mm`);
+      assert.ok(Number.isFinite(r.maxMm) && r.maxMm >= r.meanMm, `max ${r.maxMm} mm`);
+      assert.match(page.url(), new RegExp(`sample=${id}`));
+      await page.mouse.move(0, 0);
+      await page.screenshot({ path: join(SHOTS, `sample-${id}.png`) });
+    });
+  }
+
+  it('exports STL, OBJ, PLY, VTK, CSV and JSON that parse and record parameters and version', async () => {
+    const r = await readResult(page);
+    const stl = parseBinaryStl((await download('export-stl')).bytes);
+    assert.equal(stl.triangles, r.triangles);
+    assert.match(stl.header, /^heartmesh \d+\.\d+\.\d+/);
+    assert.ok(stl.volumeMm3 > 1000, `outward-oriented closed mesh has positive volume (${stl.volumeMm3} mm^3)`);
+    const obj = (await download('export-obj')).bytes.toString('utf8');
+    assert.equal(obj.split('\n').filter((l) => l.startsWith('v ')).length, r.vertices);
+    assert.equal(obj.split('\n').filter((l) => l.startsWith('f ')).length, r.triangles);
+    assert.match(obj, /# lids: auto iterations=250 lambda=100000 beta=0.1 /);
+    const ply = (await download('export-ply')).bytes;
+    const plyHead = ply.subarray(0, 1024).toString('latin1');
+    assert.match(plyHead, new RegExp(`element vertex ${r.vertices}\\n`));
+    assert.match(plyHead, new RegExp(`element face ${r.triangles}\\n`));
+    const vtk = (await download('export-vtk')).bytes.toString('utf8');
+    assert.match(vtk, new RegExp(`POINTS ${r.vertices} float`));
+    assert.match(vtk, new RegExp(`POLYGONS ${r.triangles} ${r.triangles * 4}`));
+    const csv = (await download('export-csv')).bytes.toString('utf8');
+    const rows = csv.split('\n').filter((l) => l && !l.startsWith('#'));
+    assert.equal(rows[0], 'contour,x,y,z,surface,kind,distance_mm');
+    const d = rows.slice(1).map((l) => Number(l.split(',').at(-1)));
+    const mean = d.reduce((a, b) => a + b, 0) / d.length;
+    assert.ok(Math.abs(mean - r.meanMm) < 1e-3, `CSV mean ${mean} vs shown ${r.meanMm} mm`);
+    const json = JSON.parse((await download('export-json')).bytes.toString('utf8'));
+    assert.equal(json.params.lambda, 100000);
+    assert.equal(json.result.vertices, r.vertices);
+    const png = (await download('export-png')).bytes;
+    assert.equal(png.subarray(1, 4).toString('latin1'), 'PNG');
+  });
+
+  it('moving a slider restarts the run (debounced) and puts the value in the URL', async () => {
+    const before = Number(await page.getAttribute('[data-testid=status]', 'data-run-id'));
+    const slider = page.locator('[data-testid=param-lambda]');
+    await slider.focus();
+    for (let i = 0; i < 20; i++) await page.keyboard.press('ArrowLeft'); // one decade down: 1e4
+    await page.waitForFunction((b) => Number(document.querySelector('[data-testid=status]')?.getAttribute('data-run-id')) > b, before, { timeout: 5000 });
+    await waitForDone(page);
+    assert.match(page.url(), /lambda=1e4/);
+    const r = await readResult(page);
+    assert.ok(r.meanMm <= 1.5, `lambda 1e4 mean ${r.meanMm} mm`);
+    await runAndWait(page, async () => {
+      await page.click('[data-testid=reset-params]');
+      await page.waitForFunction(() => !location.search.includes('lambda='), null, { timeout: 5000 });
+    });
+  });
+
+  it('a link with parameters reproduces the view', async () => {
+    await page.goto(`${server.url}?sample=patient1-ED&surface=LV_EPI&iterations=120&wireframe=1`);
+    await waitForDone(page);
+    assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'LV_EPI');
+    assert.equal(await page.isChecked('[data-testid=view-wireframe]'), true);
+    assert.equal(await page.textContent('output[for=param-iterations]'), '120');
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SHOTS, 'link-LV_EPI-wireframe.png') });
+  });
+
+  it('opens the canonical CSV through the file input (SurFCo example, not shipped)', async () => {
+    const file = join(sharedDir(), 'data', 'contours', 'surfco-example.csv');
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', file));
+    const r = await readResult(page);
+    console.log(`# surfco-example: ${r.vertices} vertices, mean ${r.meanMm.toFixed(3)} mm, max ${r.maxMm.toFixed(3)} mm`);
+    assert.ok(r.meanMm <= 1, `mean ${r.meanMm} mm`);
+    assert.doesNotMatch(page.url(), /sample=/);
+    await page.screenshot({ path: join(SHOTS, 'surfco-example.png') });
+  });
+
+  it('a bad file shows an error naming file and line, and the app stays usable', async () => {
+    await page.setInputFiles('[data-testid=file-input]', {
+      name: 'broken.csv', mimeType: 'text/csv',
+      buffer: Buffer.from('contour,x,y,z\nc1,1,2,3\nc1,1,oops,3\n'),
+    });
+    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent?.startsWith('error'), null, { timeout: 10000 });
+    const text = await page.textContent('[data-testid=status]');
+    assert.match(text, /broken\.csv/);
+    assert.match(text, /line 3/);
+    assert.equal(await page.isVisible('[data-testid=error-banner]'), true);
+    await page.screenshot({ path: join(SHOTS, 'error-bad-file.png') });
+    await runAndWait(page, () => page.click('[data-testid=sample-patient1-ED]'));
+  });
+
+  it('keeps working offline after the first visit (service worker precache)', async () => {
+    await page.goto(server.url);
+    await page.evaluate(async () => {
+      const reg = await navigator.serviceWorker.ready;
+      if (!navigator.serviceWorker.controller) await new Promise((r) => navigator.serviceWorker.addEventListener('controllerchange', r, { once: true }));
+      return reg.active?.state;
+    });
+    await browser.context.setOffline(true);
+    try {
+      await page.reload();
+      await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
+      await runAndWait(page, () => page.click('[data-testid=sample-patient1-ES]'));
+      const r = await readResult(page);
+      assert.ok(r.meanMm <= 1, `offline mean ${r.meanMm} mm`);
+    } finally {
+      await browser.context.setOffline(false);
+    }
+  });
+
+  it('no request ever left the page origin', () => {
+    const all = requests.all();
+    assert.ok(all.length > 5, `saw ${all.length} requests`);
+    assert.deepEqual(requests.foreign(), []);
+  });
+});

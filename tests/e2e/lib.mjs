@@ -1,0 +1,123 @@
+// Shared helpers of the browser end-to-end tests: serve the built dist/ with `vite preview` and
+// drive Debian's chromium with playwright-core (never a downloaded browser).
+import { spawn } from 'node:child_process';
+import { existsSync, mkdtempSync, readdirSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join, dirname } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+export const ROOT = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
+export const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
+export const FLAGS = [
+  '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+  '--disable-background-networking', '--disable-component-update', '--disable-sync',
+  // WebGL on the CPU (SwiftShader): --disable-gpu alone leaves the 3D view without a context.
+  '--enable-unsafe-swiftshader', '--use-angle=swiftshader',
+];
+
+/** Starts `vite preview` on dist/ at a free-ish port; resolves to { url, stop }. */
+export async function startPreview(port = 4173 + Math.floor(Math.random() * 800)) {
+  const vite = join(ROOT, 'node_modules', '.bin', 'vite');
+  const child = spawn(vite, ['preview', '--port', String(port), '--strictPort', '--host', '127.0.0.1'], {
+    cwd: ROOT, stdio: ['ignore', 'pipe', 'pipe'], detached: false,
+  });
+  let output = '';
+  child.stdout.on('data', (d) => (output += d));
+  child.stderr.on('data', (d) => (output += d));
+  const url = `http://127.0.0.1:${port}/`;
+  const deadline = Date.now() + 20000;
+  for (;;) {
+    try {
+      const r = await fetch(url);
+      if (r.ok) break;
+    } catch {
+      /* not up yet */
+    }
+    if (child.exitCode !== null || Date.now() > deadline) throw new Error(`vite preview did not start:\n${output}`);
+    await new Promise((r) => setTimeout(r, 150));
+  }
+  return { url, stop: () => child.kill('SIGTERM') };
+}
+
+/** Launches chromium with a fresh profile; resolves to { browser, close }. */
+export async function launch() {
+  const userDataDir = mkdtempSync(join(tmpdir(), 'heartmesh-e2e-'));
+  const context = await chromium.launchPersistentContext(userDataDir, {
+    executablePath: CHROMIUM,
+    headless: true,
+    args: FLAGS,
+    viewport: { width: 1280, height: 720 },
+    acceptDownloads: true,
+  });
+  return {
+    context,
+    close: async () => {
+      await context.close();
+      rmSync(userDataDir, { recursive: true, force: true });
+    },
+  };
+}
+
+/** Records every request; `foreign()` lists those that left the page's origin. */
+export function watchRequests(context, origin) {
+  const seen = [];
+  context.on('request', (r) => seen.push(r.url()));
+  return {
+    all: () => seen.slice(),
+    foreign: () => seen.filter((u) => !u.startsWith(origin) && !u.startsWith('data:') && !u.startsWith('blob:')),
+  };
+}
+
+/** The shared data folder (../shared beside the repo in CI; /work/shared on the dev machines). */
+export function sharedDir() {
+  const candidates = [process.env.HEARTMESH_SHARED, join(ROOT, '..', 'shared'), join(ROOT, '..', '..', 'shared'), '/work/shared'];
+  for (const c of candidates) if (c && existsSync(join(c, 'data', 'contours'))) return c;
+  throw new Error(`shared/ data not found (tried ${candidates.filter(Boolean).join(', ')}); set HEARTMESH_SHARED`);
+}
+
+/** Fails clearly when the site has not been built (the e2e tests run on dist/, never on sources). */
+export function requireDist() {
+  const index = join(ROOT, 'dist', 'index.html');
+  if (!existsSync(index)) throw new Error('dist/ is missing: run `npm run build` before the browser tests');
+  const wasm = readdirSync(join(ROOT, 'dist', 'assets')).filter((f) => f.endsWith('.wasm'));
+  if (wasm.length === 0) throw new Error('dist/ has no .wasm file: build the WebAssembly core first (npm run build)');
+}
+
+/** Runs `action` (a click, a file upload, ...) and waits until the new run it started is done. */
+export async function runAndWait(page, action, timeout = 90000) {
+  const runId = async () => Number((await page.getAttribute('[data-testid=status]', 'data-run-id')) ?? 0);
+  const before = await runId();
+  await action();
+  const deadline = Date.now() + timeout;
+  while ((await runId()) <= before) {
+    const text = (await page.textContent('[data-testid=status]')) ?? '';
+    if (text.startsWith('error')) throw new Error(`status: ${text}`);
+    if (Date.now() > deadline) throw new Error(`no new run started; status: ${text}`);
+    await page.waitForTimeout(20);
+  }
+  await waitForDone(page, Math.max(1000, deadline - Date.now()));
+}
+
+/** Waits until `[data-testid=status]` says done (or fails with the status text on error/timeout). */
+export async function waitForDone(page, timeout = 90000) {
+  const status = page.locator('[data-testid=status]');
+  const deadline = Date.now() + timeout;
+  for (;;) {
+    const text = (await status.textContent()) ?? '';
+    if (text.trim() === 'done') return;
+    if (text.startsWith('error')) throw new Error(`status: ${text}`);
+    if (Date.now() > deadline) throw new Error(`timed out waiting for done; status: ${text}`);
+    await page.waitForTimeout(50);
+  }
+}
+
+/** The numbers of `[data-testid=result]`. */
+export async function readResult(page) {
+  return page.locator('[data-testid=result]').evaluate((el) => ({
+    vertices: Number(el.getAttribute('data-vertices')),
+    triangles: Number(el.getAttribute('data-triangles')),
+    meanMm: Number(el.getAttribute('data-mean-mm')),
+    maxMm: Number(el.getAttribute('data-max-mm')),
+  }));
+}

@@ -1,0 +1,179 @@
+// The controller's wiring with a fake core client and recording stand-ins for the DOM parts
+// (fakes are fine in unit tests; the e2e tests drive the real worker and page).
+import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
+import { Controller, RESTART_DEBOUNCE_MS, type Parts } from '../../web/src/app/controller';
+import type { CoreClient } from '../../web/src/core-client/CoreClient';
+import type { Frame, LidsMode, LoadedFile, ParamValues, RunResult, StepReport } from '../../web/src/core-client/protocol';
+import { rustSchema } from './rustSchema';
+
+interface FakeRun {
+  runId: number;
+  opts: { fileName: string; surface: string | null; params: ParamValues; lids: LidsMode };
+  onFrame: (f: Frame) => void;
+  resolve: (r: RunResult) => void;
+  reject: (e: unknown) => void;
+  cancelled: boolean;
+}
+
+class FakeClient {
+  runs: FakeRun[] = [];
+  private next = 1;
+  schema() {
+    return Promise.resolve({ schema: rustSchema(), version: 'core-test' });
+  }
+  load(fileName: string, bytes: ArrayBuffer): Promise<LoadedFile> {
+    if (new TextDecoder().decode(bytes).includes('bad')) return Promise.reject({ code: 'parse', message: 'line 2: bad number', line: 2 });
+    return Promise.resolve({
+      fileName, surfaces: ['RV_ENDO', 'LV_ENDO'], landmarks: [], warnings: [],
+      contours: [{ id: 'c1', surface: 'LV_ENDO', kind: null, pieces: [{ closed: true, start: 0, count: 3 }] }],
+      points: new Float32Array([0, 0, 0, 10, 0, 0, 0, 10, 0]),
+    });
+  }
+  run(opts: FakeRun['opts'], onFrame: (f: Frame) => void) {
+    const runId = this.next++;
+    let resolve!: (r: RunResult) => void;
+    let reject!: (e: unknown) => void;
+    const done = new Promise<RunResult>((a, b) => { resolve = a; reject = b; });
+    const run: FakeRun = { runId, opts, onFrame, resolve, reject, cancelled: false };
+    this.runs.push(run);
+    return { runId, done, cancel: () => { run.cancelled = true; reject({ code: 'cancelled', message: 'cancelled' }); } };
+  }
+  dispose() {}
+}
+
+function report(iteration: number): StepReport {
+  return {
+    iteration, total_iterations: 10, phase: iteration === 0 ? 'initial_tube' : 'deform', topology_changed: iteration === 0,
+    max_distance_mm: 5, mean_distance_mm: 1, vertices: 4, triangles: 4, attractors: 3,
+    timings: { attractors_ms: 0, closest_ms: 0, solve_ms: 0, apply_ms: 0, remesh_ms: 0, total_ms: 0 }, done: false,
+  };
+}
+
+function result(runId: number): RunResult {
+  const stats = { mean: 0.4, median: 0.3, p95: 0.8, max: 0.9, min: 0, count: 3 };
+  return {
+    runId, surface: 'LV_ENDO', contours: [], contourPoints: new Float32Array(9), positions: new Float32Array(12),
+    indices: new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]), pointDistances: new Float32Array(3), vertexDistances: new Float32Array(4),
+    perContour: [], overall: stats, volumeMl: 0.2, areaMm2: 200, watertight: true, seconds: 0.5, params: {}, lids: 'auto', version: 'core-test',
+  };
+}
+
+/** A stand-in whose every method records its calls. */
+function recorder() {
+  const calls: Record<string, unknown[][]> = {};
+  const proxy = new Proxy({} as Record<string, unknown>, {
+    get: (_t, key: string) => {
+      if (key === 'calls') return calls;
+      return (...args: unknown[]) => { (calls[key] ??= []).push(args); };
+    },
+  });
+  return proxy as unknown as Record<string, (...a: unknown[]) => void> & { calls: Record<string, unknown[][]> };
+}
+
+let client: FakeClient;
+let parts: Record<string, ReturnType<typeof recorder>>;
+let controller: Controller;
+let url: string;
+
+beforeEach(() => {
+  vi.useFakeTimers();
+  url = '/app/?lambda=1e3&lids=none';
+  vi.stubGlobal('location', {
+    get pathname() { return url.split('?')[0]; },
+    get search() { const i = url.indexOf('?'); return i < 0 ? '' : url.slice(i); },
+    hash: '',
+  });
+  vi.stubGlobal('history', { replaceState: (_s: unknown, _t: string, u: string) => { url = u; } });
+  vi.stubGlobal('document', { body: { dataset: {} }, baseURI: 'http://x/app/' });
+  vi.stubGlobal('requestAnimationFrame', () => 0);
+  vi.stubGlobal('cancelAnimationFrame', () => undefined);
+  client = new FakeClient();
+  parts = {
+    legend: recorder(), meshLegend: recorder(), params: recorder(), timeline: recorder(), status: recorder(), plot: recorder(), result: recorder(),
+    banner: recorder(), files: recorder(), exports: recorder(), view: recorder(), hover: recorder(),
+  };
+  controller = new Controller({ ...parts, viewer: null, warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');
+});
+
+afterEach(() => {
+  controller.dispose();
+  vi.useRealTimers();
+  vi.unstubAllGlobals();
+});
+
+const file = (name: string, text = 'contour,x,y,z') => ({ name, arrayBuffer: () => Promise.resolve(new TextEncoder().encode(text).buffer) }) as unknown as File;
+const lastStatus = () => parts.status.calls.setStatus?.at(-1)?.[0];
+
+describe('controller', () => {
+  it('reads parameters from the URL and runs a dropped file with the preferred surface', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('a.csv')]);
+    expect(client.runs).toHaveLength(1);
+    expect(client.runs[0].opts.params.lambda).toBe(1000);
+    expect(client.runs[0].opts.lids).toBe('none');
+    expect(client.runs[0].opts.surface).toBe('LV_ENDO');
+    expect(lastStatus()).toBe('running');
+    expect(url).toBe('/app/?surface=LV_ENDO&lambda=1e3&lids=none');
+  });
+
+  it('debounces parameter changes into one restart and cancels the old run', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('a.csv')]);
+    controller.setParams({ beta: 0.2 }, 'auto');
+    vi.advanceTimersByTime(RESTART_DEBOUNCE_MS - 50);
+    controller.setParams({ beta: 0.3 }, 'auto');
+    vi.advanceTimersByTime(RESTART_DEBOUNCE_MS - 50);
+    expect(client.runs).toHaveLength(1);
+    vi.advanceTimersByTime(100);
+    expect(client.runs).toHaveLength(2);
+    expect(client.runs[0].cancelled).toBe(true);
+    expect(client.runs[1].opts.params.beta).toBe(0.3);
+    expect(url).toContain('beta=0.3');
+    await Promise.resolve();
+    expect(lastStatus()).toBe('running'); // the cancelled run's rejection is not an error
+  });
+
+  it('drops frames and results of a replaced run and shows the current one', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('a.csv')]);
+    const old = client.runs[0];
+    controller.startRun();
+    const cur = client.runs[1];
+    old.onFrame({ runId: old.runId, seq: 0, report: report(0), positions: new Float32Array(12), indices: new Uint32Array(12) });
+    expect(controller.debug.historyLength).toBe(0);
+    cur.onFrame({ runId: cur.runId, seq: 0, report: report(0), positions: new Float32Array(12), indices: new Uint32Array(12) });
+    cur.onFrame({ runId: cur.runId, seq: 1, report: report(1), positions: new Float32Array(12) });
+    expect(controller.debug.historyLength).toBe(2);
+    old.resolve(result(old.runId));
+    await Promise.resolve();
+    expect(lastStatus()).toBe('running');
+    cur.resolve(result(cur.runId));
+    await vi.runAllTimersAsync();
+    expect(lastStatus()).toBe('done');
+    expect(parts.result.calls.show).toHaveLength(1);
+    expect(controller.exportInfo()).toMatchObject({ appVersion: '9.9.9', coreVersion: 'core-test', fileName: 'a.csv', surface: 'LV_ENDO' });
+  });
+
+  it('a bad file is an error naming the file and line; the previous file stays usable', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('good.csv')]);
+    await controller.openFiles([file('bad.csv', 'bad')]);
+    expect(lastStatus()).toBe('error: bad.csv, line 2: bad number');
+    expect(parts.banner.calls.showError).toHaveLength(1);
+    controller.startRun();
+    expect(client.runs.at(-1)?.opts.fileName).toBe('good.csv');
+    expect(lastStatus()).toBe('running');
+  });
+
+  it('a failing run and an unavailable core are errors', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('a.csv')]);
+    client.runs[0].reject({ code: 'numerical', message: 'factorisation failed' });
+    await vi.runAllTimersAsync();
+    expect(lastStatus()).toBe('error: a.csv: factorisation failed');
+    const c2 = new Controller({ ...parts, viewer: null, warnings: {} } as unknown as Parts, '1');
+    await c2.start(() => Promise.reject({ code: 'worker_crashed', message: 'no wasm' }));
+    expect(lastStatus()).toBe('error: no wasm');
+    c2.dispose();
+  });
+});

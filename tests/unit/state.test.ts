@@ -1,0 +1,63 @@
+import { describe, expect, it } from 'vitest';
+import { describeError, initialState, loadedFile, statusWord, transition, type AppState } from '../../web/src/app/state';
+
+const run = (events: Parameters<typeof transition>[1][], from: AppState = initialState) => events.reduce(transition, from);
+
+describe('app state machine', () => {
+  it('goes empty -> loading -> ready -> running -> done', () => {
+    let s = transition(initialState, { type: 'load', fileName: 'a.csv' });
+    expect(s.kind).toBe('loading');
+    s = transition(s, { type: 'loaded', fileName: 'a.csv' });
+    expect(s).toEqual({ kind: 'ready', fileName: 'a.csv' });
+    s = transition(s, { type: 'run', runId: 1 });
+    expect(s).toEqual({ kind: 'running', fileName: 'a.csv', runId: 1 });
+    s = transition(s, { type: 'finished', runId: 1 });
+    expect(s).toEqual({ kind: 'done', fileName: 'a.csv', runId: 1 });
+    expect(statusWord(s)).toBe('done');
+  });
+  it('ignores a late result of a cancelled run', () => {
+    const s = run([{ type: 'load', fileName: 'a' }, { type: 'loaded', fileName: 'a' }, { type: 'run', runId: 1 }, { type: 'run', runId: 2 }]);
+    expect(transition(s, { type: 'finished', runId: 1 })).toBe(s);
+    expect(transition(s, { type: 'failed', runId: 1, error: { code: 'x', message: 'm' } })).toBe(s);
+    expect(transition(s, { type: 'finished', runId: 2 }).kind).toBe('done');
+  });
+  it('pause freezes the display; a result arriving meanwhile is kept for resume', () => {
+    let s = run([{ type: 'load', fileName: 'a' }, { type: 'loaded', fileName: 'a' }, { type: 'run', runId: 3 }, { type: 'pause' }]);
+    expect(s).toEqual({ kind: 'paused', fileName: 'a', runId: 3, finished: false });
+    s = transition(s, { type: 'finished', runId: 3 });
+    expect(s.kind === 'paused' && s.finished).toBe(true);
+    s = transition(s, { type: 'resume' });
+    expect(s.kind).toBe('done');
+    const unfinished = run([{ type: 'load', fileName: 'a' }, { type: 'loaded', fileName: 'a' }, { type: 'run', runId: 3 }, { type: 'pause' }, { type: 'resume' }]);
+    expect(unfinished.kind).toBe('running');
+  });
+  it('cannot run or pause without a file', () => {
+    expect(transition(initialState, { type: 'run', runId: 1 })).toBe(initialState);
+    expect(transition(initialState, { type: 'pause' })).toBe(initialState);
+    const loading = transition(initialState, { type: 'load', fileName: 'a' });
+    expect(transition(loading, { type: 'run', runId: 1 })).toBe(loading);
+  });
+  it('a failed load keeps the previously loaded file usable', () => {
+    let s = run([{ type: 'load', fileName: 'good.csv' }, { type: 'loaded', fileName: 'good.csv' }, { type: 'run', runId: 1 }, { type: 'finished', runId: 1 }]);
+    s = run([{ type: 'load', fileName: 'bad.csv' }, { type: 'failed', error: { code: 'parse', message: 'line 3: bad number', file: 'bad.csv', line: 3 } }], s);
+    expect(s.kind).toBe('error');
+    expect(loadedFile(s)).toBe('good.csv');
+    expect(statusWord(s)).toBe('error: bad.csv, line 3: bad number');
+    expect(transition(s, { type: 'run', runId: 2 })).toEqual({ kind: 'running', fileName: 'good.csv', runId: 2 });
+  });
+  it('a run error is an error state that still allows a re-run', () => {
+    let s = run([{ type: 'load', fileName: 'a' }, { type: 'loaded', fileName: 'a' }, { type: 'run', runId: 1 }]);
+    s = transition(s, { type: 'failed', runId: 1, error: { code: 'numerical', message: 'boom' } });
+    expect(s).toEqual({ kind: 'error', fileName: 'a', error: { code: 'numerical', message: 'boom' } });
+    expect(transition(s, { type: 'run', runId: 2 }).kind).toBe('running');
+  });
+  it('ignores a loaded event for another file', () => {
+    const s = transition(initialState, { type: 'load', fileName: 'b' });
+    expect(transition(s, { type: 'loaded', fileName: 'a' })).toBe(s);
+  });
+  it('describes errors with file and line once', () => {
+    expect(describeError({ code: 'parse', message: 'line 7: not a number', line: 7, file: 'x.csv' })).toBe('x.csv, line 7: not a number');
+    expect(describeError({ code: 'parse', message: 'empty file', file: 'x.csv' })).toBe('x.csv: empty file');
+    expect(describeError({ code: 'numerical', message: 'singular' })).toBe('singular');
+  });
+});

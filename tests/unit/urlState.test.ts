@@ -1,0 +1,73 @@
+import { describe, expect, it } from 'vitest';
+import { changedParams, defaultParams, formatParam, normalizeParam, parseUrlState, serializeUrlState } from '../../web/src/app/urlState';
+import { rustSchema } from './rustSchema';
+
+const schema = rustSchema();
+
+describe('parameter schema (from the Rust source)', () => {
+  it('has the defaults of METHOD.md', () => {
+    const d = defaultParams(schema);
+    expect(d.iterations).toBe(250);
+    expect(d.lambda).toBe(1e5);
+    expect(d.beta).toBe(0.1);
+    expect(d.remesh_every).toBe(20);
+    expect(d.smoothing_iterations).toBe(200);
+    expect(d.smoothing_factor).toBe(0.1);
+    expect(d.target_reduction).toBe(0.72);
+    expect(d.resample_attractors_every).toBe(25);
+    expect(d.ring_points).toBe(50);
+    const lambda = schema.find((s) => s.name === 'lambda');
+    expect(lambda?.log).toBe(true);
+  });
+});
+
+describe('URL state', () => {
+  it('an empty query gives the defaults and an all-default state writes an empty query', () => {
+    const s = parseUrlState('', schema);
+    expect(s.params).toEqual(defaultParams(schema));
+    expect(s.lids).toBe('auto');
+    expect(s.surface).toBeNull();
+    expect(serializeUrlState(s, schema)).toBe('');
+  });
+  it('round-trips changed parameters, lids, surface, sample and view', () => {
+    const s = parseUrlState('', schema);
+    s.params.lambda = 1000;
+    s.params.iterations = 120;
+    s.params.beta = 0.25;
+    s.lids = 'none';
+    s.surface = 'LV_EPI';
+    s.sample = 'patient1-ED';
+    s.view = { wireframe: true, attractors: false, opacity: 0.5, clip: 0.4 };
+    const q = serializeUrlState(s, schema);
+    expect(q).toContain('lambda=1e3');
+    expect(q).not.toContain('smoothing_factor');
+    expect(parseUrlState(q, schema)).toEqual(s);
+  });
+  it('clamps out-of-range values, rounds integers and drops garbage', () => {
+    const s = parseUrlState('?beta=7&iterations=12.6&lambda=abc&ring_points=-3&lids=weird&opacity=9', schema);
+    expect(s.params.beta).toBe(1);
+    expect(s.params.iterations).toBe(13);
+    expect(s.params.lambda).toBe(1e5);
+    expect(s.params.ring_points).toBe(8);
+    expect(s.lids).toBe('auto');
+    expect(s.view.opacity).toBe(1);
+  });
+  it('normalizes single values', () => {
+    const it = schema.find((x) => x.name === 'iterations');
+    if (!it) throw new Error('iterations missing from schema');
+    expect(normalizeParam(it, NaN)).toBe(250);
+    expect(normalizeParam(it, 5000)).toBe(2000);
+  });
+  it('formats numbers short and exactly', () => {
+    expect(formatParam(100000)).toBe('1e5');
+    expect(formatParam(0.72)).toBe('0.72');
+    expect(formatParam(250)).toBe('250');
+    expect(formatParam(0.00001)).toBe('1e-5');
+    expect(Number(formatParam(123456.7))).toBe(123456.7);
+  });
+  it('lists only changed parameters', () => {
+    const p = defaultParams(schema);
+    p.beta = 0.3;
+    expect(changedParams(p, schema)).toEqual({ beta: 0.3 });
+  });
+});

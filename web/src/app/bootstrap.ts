@@ -1,0 +1,96 @@
+/**
+ * Builds the parts of the page, mounts them into index.html's slots and wires them to the
+ * controller. Separate from main.ts so the visual test harness can start the same page with a
+ * synthetic core (tests/visual/).
+ */
+import '../styles.css';
+import { version as appVersion } from '../../../package.json';
+import { Controller, type Parts } from './controller';
+import type { CoreClient } from '../core-client/CoreClient';
+import { installDropZone } from '../io/dropZone';
+import { ExportPanel } from '../io/ExportPanel';
+import { FileBar } from '../io/FileBar';
+import { installKeyboard } from '../ui/keyboard';
+import { ErrorBanner } from '../ui/ErrorBanner';
+import { HoverReadout } from '../ui/HoverReadout';
+import { LivePlot } from '../ui/LivePlot';
+import { ParamPanel } from '../ui/ParamPanel';
+import { ResultPanel } from '../ui/ResultPanel';
+import { StatusLine } from '../ui/StatusLine';
+import { Timeline } from '../ui/Timeline';
+import { ViewControls } from '../ui/ViewControls';
+import { Legend } from '../viewer/Legend';
+import { Viewer } from '../viewer/Viewer';
+
+function slot(id: string): HTMLElement {
+  const el = document.getElementById(id);
+  if (!el) throw new Error(`index.html lacks #${id}`);
+  return el;
+}
+
+export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
+  let controller: Controller;
+  const c = () => controller;
+  const viewport = slot('slot-viewport');
+  let viewer: Viewer | null = null;
+  try {
+    viewer = new Viewer(viewport);
+  } catch {
+    viewport.classList.add('no-webgl');
+    viewport.append(Object.assign(document.createElement('p'), { className: 'no-webgl-note', textContent: '3D view unavailable: this browser has WebGL disabled. Reconstruction, numbers and exports still work.' }));
+  }
+
+  const parts: Parts = {
+    viewer,
+    legend: new Legend('contour points: distance to mesh', 'legend-contours'),
+    meshLegend: new Legend('mesh: distance to nearest contour', 'legend-mesh'),
+    params: new ParamPanel((v, lids) => c().setParams(v, lids), () => c().resetParams()),
+    timeline: new Timeline({
+      togglePlay: () => c().togglePlay(),
+      step: (d) => c().step(d),
+      seek: (i) => c().seek(i),
+      first: () => c().first(),
+      latest: () => c().latestStep(),
+      setSpeed: (s) => c().setSpeed(s),
+      rerun: () => c().startRun(),
+    }),
+    status: new StatusLine(),
+    plot: new LivePlot(),
+    result: new ResultPanel(),
+    banner: new ErrorBanner(),
+    files: new FileBar({
+      openFiles: (f) => void c().openFiles(f),
+      trySample: (s) => void c().trySample(s),
+      chooseFile: (n) => c().chooseFile(n),
+      chooseSurface: (s) => c().chooseSurface(s),
+    }),
+    exports: new ExportPanel({ info: () => c().exportInfo(), result: () => c().currentResult(), screenshot: () => c().screenshot() }),
+    view: new ViewControls((v) => c().setView(v), () => c().resetView()),
+    hover: new HoverReadout(),
+    warnings: slot('slot-warnings'),
+  };
+  controller = new Controller(parts, appVersion);
+
+  slot('slot-filebar').append(parts.files.element);
+  slot('slot-left').append(parts.params.element);
+  slot('slot-right').append(parts.status.element, parts.plot.element, parts.result.element, parts.exports.element);
+  slot('slot-bottom').append(parts.timeline.element);
+  slot('slot-banner').append(parts.banner.element);
+  slot('slot-legend').append(parts.legend.element, parts.meshLegend.element);
+  slot('slot-viewcontrols').append(parts.view.element);
+  slot('slot-hover').append(parts.hover.element);
+  viewer?.setHoverListener((h) => controller.onHover(h));
+
+  installDropZone(document.body, slot('drop-overlay'), (files) => void controller.openFiles(files));
+  installKeyboard(document, {
+    togglePlay: () => controller.togglePlay(),
+    step: (d) => controller.step(d),
+    first: () => controller.first(),
+    latest: () => controller.latestStep(),
+    resetView: () => controller.resetView(),
+  });
+
+  void controller.start(createClient);
+  (window as unknown as { heartmesh: Controller }).heartmesh = controller;
+  return controller;
+}

@@ -1,0 +1,551 @@
+/**
+ * Wires the core client, the viewer and the UI together. Owns the application state (the pure
+ * machine in state.ts), the loaded files, the parameters (mirrored in the URL), the running
+ * reconstruction and the recorded frames. All heavy work happens in the worker; this class only
+ * routes data and decides what is on screen, once per animation frame.
+ */
+import type { CoreClient } from '../core-client/CoreClient';
+import type {
+  CoreErrorData, Frame, LidsMode, LoadedFile, ParamSpec, ParamValues, RunResult, StepReport,
+} from '../core-client/protocol';
+import type { ExportInfo } from '../io/export/header';
+import type { ExportPanel } from '../io/ExportPanel';
+import type { FileBar } from '../io/FileBar';
+import { findSample, fetchSample, type Sample } from '../io/samples';
+import type { ErrorBanner } from '../ui/ErrorBanner';
+import type { HoverReadout } from '../ui/HoverReadout';
+import type { LivePlot } from '../ui/LivePlot';
+import type { ParamPanel } from '../ui/ParamPanel';
+import type { ResultPanel } from '../ui/ResultPanel';
+import type { StatusLine } from '../ui/StatusLine';
+import type { Timeline } from '../ui/Timeline';
+import type { ViewControls } from '../ui/ViewControls';
+import { robustMax } from '../viewer/colormap';
+import type { Legend } from '../viewer/Legend';
+import type { Viewer } from '../viewer/Viewer';
+import { FrameHistory } from './history';
+import * as pb from './playback';
+import { currentRunId, initialState, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
+import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
+
+/** Delay between the last parameter change and the restart of the run. */
+export const RESTART_DEBOUNCE_MS = 300;
+
+export interface Parts {
+  viewer: Viewer | null;
+  /** Scale of the contour-point colours (contour-to-mesh distance). */
+  legend: Legend;
+  /** Scale of the mesh colours (vertex-to-nearest-contour distance). */
+  meshLegend: Legend;
+  params: ParamPanel;
+  timeline: Timeline;
+  status: StatusLine;
+  plot: LivePlot;
+  result: ResultPanel;
+  banner: ErrorBanner;
+  files: FileBar;
+  exports: ExportPanel;
+  view: ViewControls;
+  hover: HoverReadout;
+  warnings: HTMLElement;
+}
+
+interface ActiveRun {
+  runId: number;
+  cancel(): void;
+}
+
+export class Controller {
+  private state: AppState = initialState;
+  private client: CoreClient | null = null;
+  private schema: ParamSpec[] = [];
+  private coreVersion = '';
+  private readonly files = new Map<string, LoadedFile>();
+  private params: ParamValues = {};
+  private lids: LidsMode = 'auto';
+  private surface: string | null = null;
+  private sampleId: string | null = null;
+  private view: ViewSettings = { ...DEFAULT_VIEW };
+  private readonly history = new FrameHistory();
+  private playback: pb.Playback = pb.initialPlayback;
+  private active: ActiveRun | null = null;
+  private result: RunResult | null = null;
+  private latest: StepReport | null = null;
+  private indices: Uint32Array | null = null;
+  private attractors: Float32Array | null = null;
+  private restartTimer: ReturnType<typeof setTimeout> | null = null;
+  /** What is on screen: the history index shown, and whether the final result is. */
+  private shown = { cursor: -2, result: false, historyVersion: -1 };
+  private historyVersion = 0;
+  private contourMode: 'plain' | 'distances' | 'none' = 'none';
+  /** Top of the colour scales in mm: contour points (to mesh) and mesh vertices (to contours). */
+  private pointMaxMm = 1;
+  private meshMaxMm = 1;
+  private rafHandle = 0;
+
+  constructor(
+    private readonly parts: Parts,
+    private readonly appVersion: string,
+  ) {}
+
+  // ---- start-up -------------------------------------------------------------------------------
+
+  /** Connects the core; reads the URL; loads the sample the URL names. */
+  async start(createClient: () => Promise<CoreClient>): Promise<void> {
+    this.parts.view.show(this.view);
+    this.setStatus();
+    this.loop();
+    try {
+      this.client = await createClient();
+      const { schema, version } = await this.client.schema();
+      this.schema = schema;
+      this.coreVersion = version;
+    } catch (e) {
+      const err = asCoreError(e, 'the WebAssembly core could not start');
+      this.fail({ ...err, code: err.code === 'worker_crashed' ? 'core_unavailable' : err.code });
+      return;
+    }
+    const url = parseUrlState(location.search, this.schema);
+    this.params = url.params;
+    this.lids = url.lids;
+    this.view = url.view;
+    this.parts.params.setSchema(this.schema);
+    this.parts.params.setValues(this.params, this.lids);
+    this.parts.view.show(this.view);
+    this.applyView();
+    this.setStatus();
+    const sample = findSample(url.sample);
+    if (sample) await this.trySample(sample, url.surface);
+  }
+
+  // ---- loading --------------------------------------------------------------------------------
+
+  async openFiles(files: File[]): Promise<void> {
+    if (files.length === 0 || !this.client) return;
+    // Say "loading" at once, before the bytes are read.
+    this.cancelRun();
+    this.dispatch({ type: 'load', fileName: files[0].name });
+    let first: string | null = null;
+    for (const file of files) {
+      const bytes = await file.arrayBuffer();
+      const ok = await this.loadBytes(file.name, bytes, null);
+      if (ok && first === null) first = file.name;
+    }
+    if (first !== null) {
+      this.sampleId = null;
+      this.selectFile(first, null);
+      this.startRun();
+    }
+  }
+
+  async trySample(sample: Sample, surface: string | null = null): Promise<void> {
+    if (!this.client) return;
+    this.cancelRun();
+    this.dispatch({ type: 'load', fileName: sample.file });
+    let bytes: ArrayBuffer;
+    try {
+      bytes = await fetchSample(sample);
+    } catch (e) {
+      this.fail(asCoreError(e, `could not load ${sample.file}`, sample.file));
+      return;
+    }
+    if (await this.loadBytes(sample.file, bytes, null)) {
+      this.sampleId = sample.id;
+      this.selectFile(sample.file, surface ?? sample.surface);
+      this.startRun();
+    }
+  }
+
+  /** Parses a file in the worker; returns whether it worked (errors are shown). */
+  private async loadBytes(fileName: string, bytes: ArrayBuffer, _surface: string | null): Promise<boolean> {
+    const client = this.client;
+    if (!client) return false;
+    this.cancelRun();
+    this.dispatch({ type: 'load', fileName });
+    try {
+      const loaded = await client.load(fileName, bytes);
+      this.files.delete(fileName); // re-insert at the end: newest last in the picker
+      this.files.set(fileName, loaded);
+      this.dispatch({ type: 'loaded', fileName });
+      this.parts.banner.hide();
+      return true;
+    } catch (e) {
+      this.fail(asCoreError(e, 'could not read the file', fileName));
+      return false;
+    }
+  }
+
+  chooseFile(fileName: string): void {
+    if (!this.files.has(fileName)) return;
+    this.sampleId = null;
+    this.selectFile(fileName, this.surface);
+    this.startRun();
+  }
+
+  chooseSurface(surface: string): void {
+    const file = this.currentFile();
+    if (!file || !file.surfaces.includes(surface)) return;
+    this.surface = surface;
+    this.showContours(null);
+    this.frameSurface(file);
+    this.updateUrl();
+    this.startRun();
+  }
+
+  /** Makes `fileName` current (state -> ready) and shows its contours. */
+  private selectFile(fileName: string, preferredSurface: string | null): void {
+    const file = this.files.get(fileName);
+    if (!file) return;
+    if (loadedFile(this.state) !== fileName || this.state.kind === 'loading') {
+      this.dispatch({ type: 'load', fileName });
+      this.dispatch({ type: 'loaded', fileName });
+    }
+    const s = file.surfaces;
+    this.surface =
+      preferredSurface && s.includes(preferredSurface) ? preferredSurface : s.includes('LV_ENDO') ? 'LV_ENDO' : (s[0] ?? null);
+    this.parts.files.setFiles([...this.files.keys()], fileName);
+    this.parts.files.setSurfaces(s, this.surface);
+    const warnings = file.warnings;
+    this.parts.warnings.textContent = warnings.length ? `⚠ ${warnings.join(' · ')}` : '';
+    this.parts.warnings.hidden = warnings.length === 0;
+    this.clearRunDisplay();
+    this.showContours(null);
+    this.frameSurface(file);
+    this.updateUrl();
+  }
+
+  /** Points the camera at the contours of the chosen surface. */
+  private frameSurface(file: LoadedFile): void {
+    const chosen = file.contours.filter((c) => this.surface === null || c.surface === this.surface || c.surface === null);
+    const xyz: number[] = [];
+    for (const c of chosen) for (const p of c.pieces) for (let k = 0; k < p.count; k++) {
+      const i = (p.start + k) * 3;
+      xyz.push(file.points[i], file.points[i + 1], file.points[i + 2]);
+    }
+    this.parts.viewer?.frame(xyz.length ? xyz : file.points);
+  }
+
+  private currentFile(): LoadedFile | null {
+    const name = loadedFile(this.state);
+    return name ? (this.files.get(name) ?? null) : null;
+  }
+
+  // ---- runs -----------------------------------------------------------------------------------
+
+  /** (Re)starts the reconstruction of the current file with the current parameters. */
+  startRun(): void {
+    if (this.restartTimer) clearTimeout(this.restartTimer);
+    this.restartTimer = null;
+    const client = this.client;
+    const file = this.currentFile();
+    if (!client || !file || this.state.kind === 'loading') return;
+    this.cancelRun();
+    this.clearRunDisplay();
+    this.parts.result.clear('running…');
+    const handle = client.run(
+      { fileName: file.fileName, surface: file.surfaces.length ? this.surface : null, params: { ...this.params }, lids: this.lids },
+      (f) => this.onFrame(f),
+    );
+    this.active = { runId: handle.runId, cancel: () => handle.cancel() };
+    this.dispatch({ type: 'run', runId: handle.runId });
+    handle.done.then(
+      (r) => this.onDone(r),
+      (e) => {
+        if (this.active?.runId !== handle.runId) return; // cancelled or replaced: not an error
+        this.active = null;
+        this.fail(asCoreError(e, 'the reconstruction failed', file.fileName), handle.runId);
+      },
+    );
+  }
+
+  private cancelRun(): void {
+    const a = this.active;
+    this.active = null;
+    a?.cancel();
+  }
+
+  /** A parameter changed: debounce, then restart (cancelling the run in progress). */
+  setParams(values: ParamValues, lids: LidsMode): void {
+    this.params = { ...this.params, ...values };
+    this.lids = lids;
+    this.updateUrl();
+    if (this.restartTimer) clearTimeout(this.restartTimer);
+    this.restartTimer = setTimeout(() => this.startRun(), RESTART_DEBOUNCE_MS);
+  }
+
+  resetParams(): void {
+    this.params = defaultParams(this.schema);
+    this.lids = 'auto';
+    this.parts.params.setValues(this.params, this.lids);
+    this.setParams(this.params, this.lids);
+  }
+
+  private onFrame(f: Frame): void {
+    if (!this.active || f.runId !== this.active.runId) return;
+    if (f.indices) this.indices = f.indices;
+    if (f.attractors) this.attractors = f.attractors;
+    this.latest = f.report;
+    this.parts.status.setProgress(f.report.total_iterations > 0 ? f.report.iteration / f.report.total_iterations : 0);
+    if (!this.indices || this.indices.length === 0) return;
+    const shownIteration = this.history.at(this.playback.cursor)?.report.iteration;
+    const dropped = this.history.push({ report: f.report, positions: f.positions, indices: this.indices, attractors: this.attractors });
+    this.historyVersion++;
+    if (dropped > 0 && !this.playback.playing && shownIteration !== undefined) {
+      this.playback = { ...this.playback, cursor: this.history.indexOfIteration(shownIteration) };
+    }
+  }
+
+  private onDone(r: RunResult): void {
+    if (!this.active || r.runId !== this.active.runId) return;
+    this.active = null;
+    this.result = r;
+    this.pointMaxMm = robustMax(r.pointDistances);
+    this.meshMaxMm = robustMax(r.vertexDistances);
+    this.parts.status.setProgress(1);
+    this.parts.result.show(r);
+    this.parts.exports.setAvailable(true, true);
+    this.historyVersion++;
+    this.dispatch({ type: 'finished', runId: r.runId });
+  }
+
+  private clearRunDisplay(): void {
+    this.history.clear();
+    this.historyVersion++;
+    this.result = null;
+    this.latest = null;
+    this.indices = null;
+    this.attractors = null;
+    this.playback = pb.restart(this.playback);
+    this.shown = { cursor: -2, result: false, historyVersion: -1 };
+    this.parts.viewer?.meshLayer.clear();
+    this.parts.viewer?.attractorLayer.clear();
+    this.parts.viewer?.requestRender();
+    this.parts.legend.hide();
+    this.parts.meshLegend.hide();
+    this.parts.status.setStep(null);
+    this.parts.status.setProgress(0);
+    this.parts.plot.set([], 1, null);
+    this.parts.exports.setAvailable(false, this.currentFile() !== null);
+    this.parts.result.clear('no result yet');
+    if (this.contourMode === 'distances') this.showContours(null);
+  }
+
+  // ---- timeline -------------------------------------------------------------------------------
+
+  togglePlay(): void {
+    this.playback = pb.togglePlaying(this.playback, this.history.length, performance.now());
+    if (!this.playback.playing) this.dispatch({ type: 'pause' });
+    else this.dispatch({ type: 'resume' });
+  }
+
+  step(delta: number): void {
+    this.playback = pb.step(this.playback, this.history.length, delta);
+    this.dispatch({ type: 'pause' });
+  }
+
+  seek(index: number): void {
+    this.playback = pb.seek(this.playback, this.history.length, index);
+    this.dispatch({ type: 'pause' });
+  }
+
+  first(): void {
+    this.seek(0);
+  }
+
+  latestStep(): void {
+    this.playback = { ...this.playback, playing: true, speed: this.playback.speed, cursor: this.history.length - 1 };
+    if (this.playback.speed !== 'live') this.playback = { ...this.playback, playing: false };
+    this.dispatch({ type: 'resume' });
+  }
+
+  setSpeed(speed: pb.Speed): void {
+    this.playback = { ...this.playback, speed, lastAdvanceMs: performance.now() };
+  }
+
+  // ---- view -----------------------------------------------------------------------------------
+
+  setView(v: ViewSettings): void {
+    this.view = v;
+    this.applyView();
+    this.updateUrl();
+  }
+
+  resetView(): void {
+    this.parts.viewer?.resetView();
+  }
+
+  private applyView(): void {
+    const viewer = this.parts.viewer;
+    if (!viewer) return;
+    viewer.meshLayer.setWireframe(this.view.wireframe);
+    viewer.meshLayer.setOpacity(this.view.opacity);
+    viewer.attractorLayer.setVisible(this.view.attractors);
+    viewer.setClip(this.view.clip);
+    viewer.requestRender();
+  }
+
+  onHover(info: Parameters<HoverReadout['show']>[0]): void {
+    this.parts.hover.show(info, info?.what === 'mesh' ? this.meshMaxMm : this.pointMaxMm);
+  }
+
+  screenshot(): Promise<Blob> {
+    const viewer = this.parts.viewer;
+    return viewer ? viewer.screenshot() : Promise.reject(new Error('no 3D view'));
+  }
+
+  exportInfo(): ExportInfo | null {
+    const file = this.currentFile();
+    if (!file) return null;
+    const r = this.result;
+    const params = r ? r.params : this.params;
+    // Schema order (iterations, lambda, beta, ...) reads better in file headers than the core's.
+    const ordered: ParamValues = {};
+    for (const s of this.schema) if (params[s.name] !== undefined) ordered[s.name] = params[s.name];
+    for (const k of Object.keys(params)) if (ordered[k] === undefined) ordered[k] = params[k];
+    return {
+      appVersion: this.appVersion,
+      coreVersion: r?.version ?? this.coreVersion,
+      fileName: file.fileName,
+      surface: r ? r.surface : this.surface,
+      lids: r ? r.lids : this.lids,
+      params: ordered,
+    };
+  }
+
+  currentResult(): RunResult | null {
+    return this.result;
+  }
+
+  // ---- display (once per animation frame) -----------------------------------------------------
+
+  private loop(): void {
+    const frame = (now: number) => {
+      this.rafHandle = requestAnimationFrame(frame);
+      this.display(now);
+    };
+    this.rafHandle = requestAnimationFrame(frame);
+  }
+
+  private display(now: number): void {
+    this.playback = pb.tick(this.playback, this.history.length, now);
+    const cursor = this.playback.cursor;
+    const atEnd = cursor === this.history.length - 1;
+    const showResult = this.result !== null && (atEnd || this.history.length === 0);
+    const s = this.shown;
+    if (s.cursor !== cursor || s.result !== showResult || (s.historyVersion !== this.historyVersion && showResult !== s.result)) {
+      this.shown = { cursor, result: showResult, historyVersion: this.historyVersion };
+      this.showStep(cursor, showResult);
+    }
+    this.parts.viewer?.renderIfNeeded();
+  }
+
+  private showStep(cursor: number, showResult: boolean): void {
+    const viewer = this.parts.viewer;
+    const entry = this.history.at(cursor);
+    const r = this.result;
+    if (showResult && r) {
+      viewer?.meshLayer.update(r.positions, r.indices);
+      viewer?.meshLayer.setDistances(r.vertexDistances, 0, this.meshMaxMm);
+      viewer?.attractorLayer.set(entry?.attractors ?? this.attractors);
+      this.showContours(r);
+      this.parts.legend.show(this.pointMaxMm);
+      this.parts.meshLegend.show(this.meshMaxMm);
+    } else if (entry) {
+      viewer?.meshLayer.update(entry.positions, entry.indices);
+      viewer?.meshLayer.setDistances(null, 0, 1);
+      viewer?.attractorLayer.set(entry.attractors);
+      if (this.contourMode === 'distances') this.showContours(null);
+      this.parts.legend.hide();
+      this.parts.meshLegend.hide();
+    }
+    viewer?.requestRender();
+    const report = entry?.report ?? null;
+    this.parts.status.setStep(report);
+    const total = report?.total_iterations ?? this.latest?.total_iterations ?? (this.params.iterations || 1);
+    this.parts.timeline.update({
+      length: this.history.length,
+      cursor,
+      playing: this.playback.playing,
+      iteration: report?.iteration ?? null,
+      total: report?.total_iterations ?? null,
+    });
+    this.parts.plot.set(this.history.series(), total, report?.iteration ?? null);
+  }
+
+  /** Contours of the current file; with a result, its points coloured by distance. */
+  private showContours(r: RunResult | null): void {
+    const viewer = this.parts.viewer;
+    const file = this.currentFile();
+    if (!viewer || !file) return;
+    if (r) {
+      // Other surfaces from the file for context, then the run's own contours with distances.
+      viewer.contourLayer.set(r.contours, r.contourPoints, r.surface, r.pointDistances, this.pointMaxMm);
+      this.contourMode = 'distances';
+    } else {
+      viewer.contourLayer.set(file.contours, file.points, this.surface, null);
+      this.contourMode = 'plain';
+    }
+    viewer.requestRender();
+  }
+
+  // ---- state ----------------------------------------------------------------------------------
+
+  private dispatch(e: AppEvent): void {
+    const next = transition(this.state, e);
+    if (next === this.state) return;
+    this.state = next;
+    this.setStatus();
+  }
+
+  private fail(error: CoreErrorData, runId?: number): void {
+    this.dispatch({ type: 'failed', error, runId });
+    if (this.state.kind === 'error') this.parts.banner.showError(error);
+  }
+
+  private setStatus(): void {
+    const s = this.state;
+    this.parts.status.setStatus(statusWord(s), s.kind, currentRunId(s));
+    document.body.dataset.state = s.kind;
+    document.body.dataset.hasFile = this.currentFile() ? '1' : '0';
+    this.parts.timeline.update({
+      length: this.history.length,
+      cursor: this.playback.cursor,
+      playing: this.playback.playing,
+      iteration: this.history.at(this.playback.cursor)?.report.iteration ?? null,
+      total: this.latest?.total_iterations ?? null,
+    });
+    this.parts.exports.setAvailable(this.result !== null, this.currentFile() !== null);
+  }
+
+  private updateUrl(): void {
+    if (this.schema.length === 0) return;
+    const query = serializeUrlState(
+      { params: this.params, lids: this.lids, surface: this.surface, sample: this.sampleId, view: this.view },
+      this.schema,
+    );
+    const url = `${location.pathname}${query}${location.hash}`;
+    if (url !== `${location.pathname}${location.search}${location.hash}`) history.replaceState(null, '', url);
+  }
+
+  /** For tests and the console. */
+  get debug(): { state: AppState; historyLength: number; runId: number | null } {
+    return { state: this.state, historyLength: this.history.length, runId: this.active?.runId ?? currentRunId(this.state) };
+  }
+
+  dispose(): void {
+    cancelAnimationFrame(this.rafHandle);
+    this.cancelRun();
+    this.client?.dispose();
+    this.parts.viewer?.dispose();
+  }
+}
+
+/** Anything thrown or rejected, as the protocol's error data (with the file when known). */
+export function asCoreError(e: unknown, fallback: string, file?: string): CoreErrorData {
+  if (e && typeof e === 'object' && 'code' in e && 'message' in e) {
+    const d = e as CoreErrorData;
+    return { ...d, file: d.file ?? file };
+  }
+  const message = e instanceof Error ? e.message : typeof e === 'string' ? e : fallback;
+  return { code: 'app', message: message || fallback, file };
+}

@@ -1,0 +1,112 @@
+/**
+ * Parameters in the URL, so that a link reproduces a view. Only values that differ from the
+ * schema defaults are written (short links that survive default changes); anything malformed or
+ * out of range in a hand-edited link is dropped or clamped rather than breaking the page.
+ * Pure: works on query strings, not on `location`.
+ */
+import type { LidsMode, ParamSpec, ParamValues } from '../core-client/protocol';
+
+export interface ViewSettings {
+  wireframe: boolean;
+  attractors: boolean;
+  opacity: number;
+  /** Clipping plane position in [0, 1] of the model's extent along the view axis; 1 = off. */
+  clip: number;
+}
+
+export interface UrlState {
+  params: ParamValues;
+  lids: LidsMode;
+  surface: string | null;
+  /** Bundled sample to load on start (its id), if any. */
+  sample: string | null;
+  view: ViewSettings;
+}
+
+export const DEFAULT_VIEW: ViewSettings = { wireframe: false, attractors: true, opacity: 1, clip: 1 };
+
+export function defaultParams(schema: readonly ParamSpec[]): ParamValues {
+  const out: ParamValues = {};
+  for (const s of schema) out[s.name] = s.default;
+  return out;
+}
+
+/** Brings a value into its spec's range and form; NaN becomes the default. */
+export function normalizeParam(spec: ParamSpec, value: number): number {
+  if (!Number.isFinite(value)) return spec.default;
+  let v = Math.min(spec.max, Math.max(spec.min, value));
+  if (spec.integer) v = Math.round(v);
+  return v;
+}
+
+function parseNumber(text: string | null): number | null {
+  if (text === null || text.trim() === '') return null;
+  const v = Number(text);
+  return Number.isFinite(v) ? v : null;
+}
+
+function parseBool(text: string | null, fallback: boolean): boolean {
+  if (text === '1' || text === 'true') return true;
+  if (text === '0' || text === 'false') return false;
+  return fallback;
+}
+
+/** Reads the state from a query string (with or without the leading `?`). */
+export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlState {
+  const q = new URLSearchParams(query.startsWith('?') ? query.slice(1) : query);
+  const params = defaultParams(schema);
+  for (const spec of schema) {
+    const v = parseNumber(q.get(spec.name));
+    if (v !== null) params[spec.name] = normalizeParam(spec, v);
+  }
+  const lidsText = q.get('lids');
+  const lids: LidsMode = lidsText === 'none' ? 'none' : 'auto';
+  const opacity = parseNumber(q.get('opacity'));
+  const clip = parseNumber(q.get('clip'));
+  return {
+    params,
+    lids,
+    surface: q.get('surface') || null,
+    sample: q.get('sample') || null,
+    view: {
+      wireframe: parseBool(q.get('wireframe'), DEFAULT_VIEW.wireframe),
+      attractors: parseBool(q.get('attractors_shown'), DEFAULT_VIEW.attractors),
+      opacity: opacity === null ? DEFAULT_VIEW.opacity : Math.min(1, Math.max(0.05, opacity)),
+      clip: clip === null ? DEFAULT_VIEW.clip : Math.min(1, Math.max(0, clip)),
+    },
+  };
+}
+
+/** Writes the state as a query string (with `?`, or '' when everything is at its default). */
+export function serializeUrlState(state: UrlState, schema: readonly ParamSpec[]): string {
+  const q = new URLSearchParams();
+  if (state.sample) q.set('sample', state.sample);
+  if (state.surface) q.set('surface', state.surface);
+  for (const spec of schema) {
+    const v = state.params[spec.name];
+    if (v !== undefined && Number.isFinite(v) && v !== spec.default) q.set(spec.name, formatParam(v));
+  }
+  if (state.lids !== 'auto') q.set('lids', state.lids);
+  const view = state.view;
+  if (view.wireframe !== DEFAULT_VIEW.wireframe) q.set('wireframe', view.wireframe ? '1' : '0');
+  if (view.attractors !== DEFAULT_VIEW.attractors) q.set('attractors_shown', view.attractors ? '1' : '0');
+  if (view.opacity !== DEFAULT_VIEW.opacity) q.set('opacity', formatParam(view.opacity));
+  if (view.clip !== DEFAULT_VIEW.clip) q.set('clip', formatParam(view.clip));
+  const text = q.toString();
+  return text ? `?${text}` : '';
+}
+
+/** Shortest text that reads back as the same number (1e5 rather than 100000). */
+export function formatParam(v: number): string {
+  const plain = String(v);
+  const exp = v.toExponential().replace('e+', 'e');
+  const shortExp = exp.replace(/\.?0+e/, 'e');
+  return Number(shortExp) === v && shortExp.length < plain.length ? shortExp : plain;
+}
+
+/** The parameters that differ from the defaults (for export headers). */
+export function changedParams(params: ParamValues, schema: readonly ParamSpec[]): ParamValues {
+  const out: ParamValues = {};
+  for (const s of schema) if (params[s.name] !== undefined && params[s.name] !== s.default) out[s.name] = params[s.name];
+  return out;
+}

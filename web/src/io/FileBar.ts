@@ -1,0 +1,79 @@
+/**
+ * Getting data in: the Open button (a real `<input type="file">` accepting the canonical CSV and
+ * the other contour formats), "Try an example" buttons, the picker of loaded files and the surface
+ * picker for files holding several surfaces.
+ */
+import { h } from '../ui/dom';
+import { SAMPLES, type Sample } from './samples';
+
+export const ACCEPT = '.csv,.txt,.tsv,.dat,.json,text/csv,text/plain';
+
+export interface FileBarHandlers {
+  openFiles(files: File[]): void;
+  trySample(sample: Sample): void;
+  chooseFile(fileName: string): void;
+  chooseSurface(surface: string): void;
+}
+
+export class FileBar {
+  readonly element: HTMLElement;
+  readonly input: HTMLInputElement;
+  private readonly files: HTMLSelectElement;
+  private readonly surfaces: HTMLSelectElement;
+  private readonly filesWrap: HTMLElement;
+  private readonly surfacesWrap: HTMLElement;
+  private readonly sampleButtons: HTMLButtonElement[] = [];
+
+  constructor(handlers: FileBarHandlers) {
+    this.input = h('input', { type: 'file', accept: ACCEPT, multiple: true, id: 'file-input', 'data-testid': 'file-input', class: 'visually-hidden' });
+    this.input.addEventListener('change', () => {
+      const files = Array.from(this.input.files ?? []);
+      this.input.value = '';
+      if (files.length) handlers.openFiles(files);
+    });
+    const open = h('label', { for: 'file-input', class: 'button primary', role: 'button', tabindex: 0, title: 'Open contour files (or drop them anywhere)' }, 'Open…');
+    open.addEventListener('keydown', (e) => {
+      if (e.key === 'Enter' || e.key === ' ') {
+        e.preventDefault();
+        this.input.click();
+      }
+    });
+    const samples = h('div', { class: 'samples' }, h('span', { class: 'muted' }, 'Try an example:'));
+    for (const s of SAMPLES) {
+      const b = h('button', { type: 'button', class: 'small', title: s.description, 'data-testid': `sample-${s.id}`, 'data-sample': s.id }, s.label);
+      b.addEventListener('click', () => handlers.trySample(s));
+      this.sampleButtons.push(b);
+      samples.append(b);
+    }
+    this.files = h('select', { 'aria-label': 'Loaded file', 'data-testid': 'file-picker' });
+    this.files.addEventListener('change', () => handlers.chooseFile(this.files.value));
+    this.surfaces = h('select', { 'aria-label': 'Surface', 'data-testid': 'surface-picker' });
+    this.surfaces.addEventListener('change', () => handlers.chooseSurface(this.surfaces.value));
+    this.filesWrap = h('label', { class: 'picker', hidden: true }, 'File', this.files);
+    this.surfacesWrap = h('label', { class: 'picker', hidden: true }, 'Surface', this.surfaces);
+    this.element = h('div', { class: 'filebar' }, this.input, open, samples, this.filesWrap, this.surfacesWrap);
+  }
+
+  setFiles(names: string[], current: string | null): void {
+    this.files.replaceChildren(...names.map((n) => h('option', { value: n }, n)));
+    if (current) this.files.value = current;
+    this.filesWrap.hidden = names.length < 2;
+  }
+
+  setSurfaces(surfaces: string[], current: string | null): void {
+    this.surfaces.replaceChildren(...surfaces.map((s) => h('option', { value: s }, surfaceLabel(s))));
+    if (current) this.surfaces.value = current;
+    this.surfacesWrap.hidden = surfaces.length < 2;
+  }
+}
+
+const SURFACE_LABELS: Record<string, string> = {
+  LV_ENDO: 'LV endocardium',
+  LV_EPI: 'LV epicardium',
+  RV_ENDO: 'RV endocardium',
+  RV_EPI: 'RV epicardium',
+};
+
+export function surfaceLabel(s: string): string {
+  return SURFACE_LABELS[s] ?? s;
+}

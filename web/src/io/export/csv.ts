@@ -1,0 +1,40 @@
+/**
+ * Contour-to-mesh distances as CSV: the canonical contour CSV (contour,x,y,z,surface) plus kind and
+ * distance_mm columns, with `#` comment metadata, so the file can be loaded back into heartmesh.
+ */
+import type { ContourInfo } from '../../core-client/protocol';
+import { headerLines, type ExportInfo } from './header';
+
+function csvField(s: string): string {
+  return /[",\n\r]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s;
+}
+
+export function writeDistancesCsv(
+  contours: readonly ContourInfo[],
+  points: Float32Array,
+  distances: Float32Array,
+  info: ExportInfo,
+): string {
+  const lines = headerLines(info).map((l) => `# ${l}`);
+  lines.push('contour,x,y,z,surface,kind,distance_mm');
+  for (const c of contours) {
+    for (const piece of c.pieces) {
+      for (let k = 0; k < piece.count; k++) {
+        const i = piece.start + k;
+        lines.push(
+          [
+            csvField(c.id),
+            points[i * 3],
+            points[i * 3 + 1],
+            points[i * 3 + 2],
+            csvField(c.surface ?? ''),
+            c.kind ?? '',
+            Number.isFinite(distances[i]) ? distances[i].toFixed(4) : '',
+          ].join(','),
+        );
+      }
+    }
+  }
+  lines.push('');
+  return lines.join('\n');
+}

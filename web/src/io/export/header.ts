@@ -1,0 +1,46 @@
+/**
+ * What every export records about how it was made: app and core version, input file, surface,
+ * lids mode and every parameter value. One place, so that all formats say the same thing.
+ */
+import type { LidsMode, ParamValues } from '../../core-client/protocol';
+
+export interface ExportInfo {
+  appVersion: string;
+  coreVersion: string;
+  fileName: string;
+  surface: string | null;
+  lids: LidsMode;
+  params: ParamValues;
+}
+
+export interface MeshData {
+  /** xyz per vertex, mm. */
+  positions: Float32Array;
+  /** three vertex indices per triangle, counter-clockwise seen from outside. */
+  indices: Uint32Array;
+  /** per-vertex contour distance in mm (optional in PLY/VTK). */
+  vertexDistances?: Float32Array;
+}
+
+/** Parameters as `name=value` pairs in schema order. */
+export function paramText(params: ParamValues): string {
+  return Object.keys(params)
+    .map((k) => `${k}=${params[k]}`)
+    .join(' ');
+}
+
+/** Header lines (without comment markers), each free of newlines. */
+export function headerLines(info: ExportInfo): string[] {
+  const clean = (s: string) => s.replace(/[\r\n]+/g, ' ');
+  return [
+    `heartmesh ${clean(info.appVersion)} (core ${clean(info.coreVersion)}), units: mm`,
+    `input: ${clean(info.fileName)}${info.surface ? ` surface: ${clean(info.surface)}` : ''}`,
+    `lids: ${info.lids} ${paramText(info.params)}`,
+  ];
+}
+
+/** Base name for downloads: input name without extension, plus surface. */
+export function exportBaseName(info: ExportInfo): string {
+  const base = info.fileName.replace(/\.[^.]*$/, '').replace(/[^A-Za-z0-9._-]+/g, '_') || 'heartmesh';
+  return info.surface ? `${base}-${info.surface.replace(/[^A-Za-z0-9._-]+/g, '_')}` : base;
+}

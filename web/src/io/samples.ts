@@ -1,0 +1,29 @@
+/**
+ * The bundled samples behind the "Try an example" buttons. Only data whose licence allows shipping:
+ * the biv-me patient files (Apache-2.0, UOA Heart Mechanics Research; attribution in
+ * public/samples/NOTICE.md). Fetched relative to the page, so dist/ works from any path.
+ */
+export interface Sample {
+  id: string;
+  label: string;
+  file: string;
+  surface: string;
+  description: string;
+}
+
+export const SAMPLES: readonly Sample[] = [
+  { id: 'patient1-ED', label: 'Patient 1 · ED', file: 'patient1-ED.csv', surface: 'LV_ENDO', description: 'biv-me patient 1, end-diastole: 5 SAX + 4 LAX, LV/RV endo and epi' },
+  { id: 'patient1-ES', label: 'Patient 1 · ES', file: 'patient1-ES.csv', surface: 'LV_ENDO', description: 'biv-me patient 1, end-systole' },
+  { id: 'patient2-ED', label: 'Patient 2 · ED', file: 'patient2-ED.csv', surface: 'LV_ENDO', description: 'biv-me test patient 2, end-diastole, dense contours (~0.4 mm spacing)' },
+];
+
+export function findSample(id: string | null): Sample | undefined {
+  return SAMPLES.find((s) => s.id === id);
+}
+
+export async function fetchSample(sample: Sample): Promise<ArrayBuffer> {
+  const url = new URL(`samples/${sample.file}`, document.baseURI);
+  const response = await fetch(url);
+  if (!response.ok) throw new Error(`could not load the sample ${sample.file} (HTTP ${response.status})`);
+  return response.arrayBuffer();
+}

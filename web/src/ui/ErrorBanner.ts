@@ -1,0 +1,35 @@
+/** A dismissible banner for errors (naming file and line) and warnings; the app stays usable. */
+import type { CoreErrorData } from '../core-client/protocol';
+import { describeError } from '../app/state';
+import { h } from './dom';
+
+export class ErrorBanner {
+  readonly element: HTMLElement;
+  private readonly text: HTMLElement;
+
+  constructor() {
+    this.text = h('span', { class: 'banner-text', 'data-testid': 'error-text' });
+    const close = h('button', { type: 'button', class: 'icon', 'aria-label': 'Dismiss', title: 'Dismiss' }, '✕');
+    close.addEventListener('click', () => this.hide());
+    this.element = h('div', { class: 'banner', role: 'alert', hidden: true, 'data-testid': 'error-banner' }, this.text, close);
+  }
+
+  showError(e: CoreErrorData): void {
+    this.element.dataset.kind = 'error';
+    const hint =
+      e.code === 'worker_crashed' ? ' The computation engine was restarted; try again.' :
+      e.code === 'surface_required' && e.available ? ` Pick one of: ${e.available.join(', ')}.` : '';
+    this.text.textContent = `${describeError(e)}${hint}`;
+    this.element.hidden = false;
+  }
+
+  showWarning(text: string): void {
+    this.element.dataset.kind = 'warning';
+    this.text.textContent = text;
+    this.element.hidden = false;
+  }
+
+  hide(): void {
+    this.element.hidden = true;
+  }
+}

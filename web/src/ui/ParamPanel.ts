@@ -1,0 +1,113 @@
+/**
+ * The parameter panel, generated from the core's schema (ParamSpec[] from CoreClient.schema()), so
+ * a parameter added in Rust appears here without UI changes. Log-scale parameters (lambda) get a
+ * log slider. Emits every change; the controller debounces and restarts the run.
+ */
+import type { LidsMode, ParamSpec, ParamValues } from '../core-client/protocol';
+import { h } from './dom';
+import { formatValue, sliderSteps, sliderToValue, valueToSlider } from './sliderScale';
+
+/** Short labels for the schema names (the help text from the schema is the tooltip). */
+const LABELS: Record<string, string> = {
+  iterations: 'Iterations',
+  lambda: 'λ (lambda)',
+  beta: 'β (beta)',
+  attractors: 'Attractor count',
+  attractor_spacing: 'Attractor spacing',
+  resample_attractors_every: 'Re-sample attractors every',
+  remesh_every: 'Remesh every',
+  smoothing_iterations: 'Smoothing iterations',
+  smoothing_factor: 'Smoothing factor',
+  target_reduction: 'Decimation target reduction',
+  ring_points: 'Initial ring points',
+};
+
+/** Text shown instead of 0 for parameters where 0 means "automatic". */
+const ZERO_MEANS: Record<string, string> = { attractors: 'auto', attractor_spacing: 'off' };
+
+interface Row {
+  spec: ParamSpec;
+  slider: HTMLInputElement;
+  output: HTMLOutputElement;
+}
+
+export class ParamPanel {
+  readonly element: HTMLElement;
+  private rows = new Map<string, Row>();
+  private readonly list: HTMLElement;
+  private readonly lids: HTMLSelectElement;
+  private values: ParamValues = {};
+  private lidsMode: LidsMode = 'auto';
+
+  constructor(private readonly onChange: (values: ParamValues, lids: LidsMode) => void, onReset: () => void) {
+    this.list = h('div', { class: 'param-list' });
+    this.lids = h(
+      'select',
+      { id: 'param-lids', 'data-testid': 'param-lids' },
+      h('option', { value: 'auto' }, 'closed (lids from long axis)'),
+      h('option', { value: 'none' }, 'open (no lids)'),
+    );
+    this.lids.addEventListener('change', () => {
+      this.lidsMode = this.lids.value === 'none' ? 'none' : 'auto';
+      this.onChange({ ...this.values }, this.lidsMode);
+    });
+    const reset = h('button', { type: 'button', class: 'small', 'data-testid': 'reset-params', title: 'All parameters back to the defaults of the method' }, 'Reset to defaults');
+    reset.addEventListener('click', onReset);
+    this.element = h(
+      'section',
+      { class: 'panel params', 'aria-label': 'Parameters' },
+      h('h2', {}, 'Parameters'),
+      this.list,
+      h('div', { class: 'param-row' }, h('label', { for: 'param-lids' }, 'Mesh ends'), this.lids),
+      h('div', { class: 'panel-actions' }, reset),
+    );
+  }
+
+  /** Builds the rows from the schema (once the core answered). */
+  setSchema(schema: readonly ParamSpec[]): void {
+    this.list.replaceChildren();
+    this.rows.clear();
+    for (const spec of schema) {
+      const id = `param-${spec.name}`;
+      const slider = h('input', {
+        type: 'range', id, min: 0, max: sliderSteps(spec), step: 1,
+        'data-testid': id, 'data-param': spec.name, 'aria-describedby': `${id}-help`,
+      });
+      const output = h('output', { for: id, class: 'param-value' });
+      const label = h('label', { for: id, title: spec.help }, LABELS[spec.name] ?? spec.name.replace(/_/g, ' '));
+      const help = h('div', { class: 'param-help', id: `${id}-help` }, spec.help);
+      const row = h('div', { class: 'param-row', title: spec.help }, h('div', { class: 'param-head' }, label, output), slider, help);
+      slider.addEventListener('input', () => {
+        const v = sliderToValue(spec, Number(slider.value));
+        this.values[spec.name] = v;
+        output.textContent = this.format(spec, v);
+        output.classList.toggle('changed', v !== spec.default);
+        this.onChange({ ...this.values }, this.lidsMode);
+      });
+      this.rows.set(spec.name, { spec, slider, output });
+      this.list.append(row);
+    }
+    this.render();
+  }
+
+  /** Shows values without emitting a change. */
+  setValues(values: ParamValues, lids: LidsMode): void {
+    this.values = { ...values };
+    this.lidsMode = lids;
+    this.render();
+  }
+
+  private format(spec: ParamSpec, v: number): string {
+    return v === 0 && ZERO_MEANS[spec.name] ? ZERO_MEANS[spec.name] : formatValue(spec, v);
+  }
+
+  private render(): void {
+    for (const { spec, slider, output } of this.rows.values()) {
+      const v = this.values[spec.name] ?? spec.default;
+      slider.value = String(valueToSlider(spec, v));
+      output.textContent = this.format(spec, v);
+      output.classList.toggle('changed', v !== spec.default);
+    }
+    this.lids.value = this.lidsMode;
+  }
+}

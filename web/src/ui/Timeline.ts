@@ -1,0 +1,68 @@
+/**
+ * Timeline controls: play/pause, step back/forward, first/latest, a scrubber over the recorded
+ * frames and a speed control. Pure view: it reports intents and is told what to show.
+ */
+import { SPEEDS, type Speed } from '../app/playback';
+import { h } from './dom';
+import { icon, type IconName } from './icons';
+
+export interface TimelineHandlers {
+  togglePlay(): void;
+  step(delta: number): void;
+  seek(index: number): void;
+  first(): void;
+  latest(): void;
+  setSpeed(speed: Speed): void;
+  rerun(): void;
+}
+
+export class Timeline {
+  readonly element: HTMLElement;
+  private readonly play: HTMLButtonElement;
+  private readonly scrubber: HTMLInputElement;
+  private readonly label: HTMLElement;
+  private readonly speed: HTMLSelectElement;
+  private readonly buttons: HTMLButtonElement[];
+  private readonly rerun: HTMLButtonElement;
+
+  constructor(handlers: TimelineHandlers) {
+    const button = (name: IconName, title: string, testid: string, fn: () => void) => {
+      const b = h('button', { type: 'button', class: 'icon', title, 'aria-label': title, 'data-testid': testid }, icon(name));
+      b.addEventListener('click', fn);
+      return b;
+    };
+    const first = button('first', 'First step (Home)', 'tl-first', handlers.first);
+    const back = button('back', 'Step back (←)', 'tl-back', () => handlers.step(-1));
+    this.play = button('pause', 'Pause (space)', 'tl-play', handlers.togglePlay);
+    const fwd = button('forward', 'Step forward (→)', 'tl-forward', () => handlers.step(1));
+    const latest = button('latest', 'Latest step (End)', 'tl-latest', handlers.latest);
+    this.buttons = [first, back, this.play, fwd, latest];
+    this.rerun = button('restart', 'Run again from the start', 'tl-rerun', handlers.rerun);
+    this.scrubber = h('input', { type: 'range', min: 0, max: 0, step: 1, value: 0, 'aria-label': 'Recorded steps', 'data-testid': 'tl-scrubber', class: 'scrubber' });
+    this.scrubber.addEventListener('input', () => handlers.seek(Number(this.scrubber.value)));
+    this.label = h('span', { class: 'tl-label', 'data-testid': 'tl-label' }, 'iteration – / –');
+    this.speed = h('select', { 'aria-label': 'Playback speed', 'data-testid': 'tl-speed', title: 'Playback speed' });
+    for (const s of SPEEDS) this.speed.append(h('option', { value: String(s) }, s === 'live' ? 'live' : `${s} steps/s`));
+    this.speed.addEventListener('change', () => {
+      const v = this.speed.value;
+      handlers.setSpeed(v === 'live' ? 'live' : Number(v));
+    });
+    this.element = h('div', { class: 'timeline', role: 'group', 'aria-label': 'Timeline' }, first, back, this.play, fwd, latest, this.scrubber, this.label, this.speed, this.rerun);
+    this.update({ length: 0, cursor: -1, playing: true, iteration: null, total: null });
+  }
+
+  update(s: { length: number; cursor: number; playing: boolean; iteration: number | null; total: number | null }): void {
+    this.scrubber.max = String(Math.max(0, s.length - 1));
+    this.scrubber.value = String(Math.max(0, s.cursor));
+    this.scrubber.disabled = s.length < 2;
+    for (const b of this.buttons) b.disabled = s.length === 0;
+    this.play.replaceChildren(icon(s.playing ? 'pause' : 'play'));
+    this.play.title = s.playing ? 'Pause (space)' : 'Play (space)';
+    this.play.setAttribute('aria-label', this.play.title);
+    this.label.textContent = s.iteration === null ? 'iteration – / –' : `iteration ${s.iteration} / ${s.total ?? '–'}`;
+  }
+
+  setSpeed(speed: Speed): void {
+    this.speed.value = String(speed);
+  }
+}

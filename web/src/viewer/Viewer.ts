@@ -1,0 +1,211 @@
+/**
+ * The 3D view: a three.js WebGLRenderer, orbit/zoom/pan (OrbitControls), the layers (mesh,
+ * contours, attractors), a clipping plane facing the viewer to look inside, a hover read-out of
+ * the distance under the pointer (raycast), reset view and PNG screenshots. Renders on demand
+ * (`requestRender`) so an idle page costs nothing. Owns GPU resources: call `dispose()`.
+ */
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { AttractorLayer } from './AttractorLayer';
+import { ContourLayer } from './ContourLayer';
+import { fitView, type ViewFit } from './fitView';
+import { MeshLayer } from './MeshLayer';
+
+export interface HoverInfo {
+  /** Screen position (px, relative to the viewport). */
+  x: number;
+  y: number;
+  what: 'mesh' | 'contour point';
+  point: THREE.Vector3;
+  /** Contour-to-mesh distance in mm when known (after a finished run). */
+  distanceMm: number | null;
+}
+
+export class Viewer {
+  readonly renderer: THREE.WebGLRenderer;
+  readonly scene = new THREE.Scene();
+  readonly camera = new THREE.PerspectiveCamera(35, 1, 0.5, 5000);
+  readonly controls: OrbitControls;
+  readonly meshLayer: MeshLayer;
+  readonly contourLayer = new ContourLayer();
+  readonly attractorLayer = new AttractorLayer();
+  /** Clipping plane facing the camera; `clip` in [0, 1] moves it through the model (1 = off). */
+  private readonly clipPlane = new THREE.Plane(new THREE.Vector3(0, 0, -1), 1e6);
+  private clip = 1;
+  private fit: ViewFit | null = null;
+  private dirty = true;
+  private readonly raycaster = new THREE.Raycaster();
+  private readonly resizeObserver: ResizeObserver;
+  private hoverListener: ((h: HoverInfo | null) => void) | null = null;
+  private readonly onPointerMove: (e: PointerEvent) => void;
+  private readonly onPointerLeave: () => void;
+
+  constructor(readonly container: HTMLElement) {
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, alpha: false, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
+    this.renderer.localClippingEnabled = true;
+    this.renderer.setClearColor(0x0d1117, 1);
+    this.renderer.domElement.setAttribute('data-testid', 'viewport-canvas');
+    container.append(this.renderer.domElement);
+
+    this.meshLayer = new MeshLayer([this.clipPlane]);
+    this.scene.add(this.meshLayer.group, this.contourLayer.group, this.attractorLayer.group);
+    this.scene.add(new THREE.HemisphereLight(0xdde6f0, 0x30261f, 1.3));
+    const key = new THREE.DirectionalLight(0xffffff, 1.6);
+    key.position.set(1, 1.2, 1.5);
+    this.camera.add(key); // light follows the camera: the visible side is always lit
+    const fill = new THREE.DirectionalLight(0xffffff, 0.5);
+    fill.position.set(-1.5, -0.5, 0.5);
+    this.camera.add(fill);
+    this.scene.add(this.camera);
+
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.enableDamping = false;
+    this.controls.addEventListener('change', () => {
+      this.updateClipPlane();
+      this.requestRender();
+    });
+
+    this.resizeObserver = new ResizeObserver(() => this.resize());
+    this.resizeObserver.observe(container);
+    this.resize();
+
+    this.onPointerMove = (e: PointerEvent) => this.hover(e);
+    this.onPointerLeave = () => this.hoverListener?.(null);
+    this.renderer.domElement.addEventListener('pointermove', this.onPointerMove);
+    this.renderer.domElement.addEventListener('pointerleave', this.onPointerLeave);
+  }
+
+  requestRender(): void {
+    this.dirty = true;
+  }
+
+  /** Renders if something changed since the last call (called once per animation frame). */
+  renderIfNeeded(): void {
+    if (!this.dirty) return;
+    this.dirty = false;
+    this.renderer.render(this.scene, this.camera);
+  }
+
+  private resize(): void {
+    const w = Math.max(1, this.container.clientWidth);
+    const hgt = Math.max(1, this.container.clientHeight);
+    this.renderer.setSize(w, hgt, false);
+    this.renderer.domElement.style.width = `${w}px`;
+    this.renderer.domElement.style.height = `${hgt}px`;
+    this.camera.aspect = w / hgt;
+    this.camera.updateProjectionMatrix();
+    this.requestRender();
+  }
+
+  /** Frames the given points (xyz, mm): looks from the side with their principal axis up. */
+  frame(points: ArrayLike<number>): void {
+    this.fit = fitView(points);
+    this.resetView();
+  }
+
+  resetView(): void {
+    const fit = this.fit ?? fitView([]);
+    const center = new THREE.Vector3(...fit.center);
+    const up = new THREE.Vector3(...fit.axis);
+    const side = new THREE.Vector3(...fit.side);
+    // Look along the second principal direction, slightly from above.
+    const dir = side.clone().multiplyScalar(-1).addScaledVector(up, 0.35).normalize();
+    // The whole bounding sphere fits the narrower field of view (the mesh may reach a little past
+    // the contours at the lids).
+    const halfFov = THREE.MathUtils.degToRad(this.camera.fov / 2);
+    const fovFit = Math.min(halfFov, Math.atan(Math.tan(halfFov) * this.camera.aspect));
+    const distance = (fit.radius / Math.sin(fovFit)) * 1.05;
+    this.camera.up.copy(up);
+    this.camera.position.copy(center).addScaledVector(dir, distance);
+    this.camera.near = Math.max(0.1, distance / 100);
+    this.camera.far = distance * 10;
+    this.camera.updateProjectionMatrix();
+    this.controls.target.copy(center);
+    this.controls.update();
+    this.updateClipPlane();
+    this.requestRender();
+  }
+
+  /** Clipping: 1 = off, 0.5 = the near half cut away at the centre, 0 = everything cut. */
+  setClip(t: number): void {
+    this.clip = Math.min(1, Math.max(0, t));
+    this.updateClipPlane();
+    this.requestRender();
+  }
+
+  private updateClipPlane(): void {
+    const fit = this.fit;
+    if (!fit || this.clip >= 1) {
+      // three clips where the signed distance is negative: this plane keeps everything.
+      this.clipPlane.normal.set(0, 0, 1);
+      this.clipPlane.constant = 1e9;
+      return;
+    }
+    // Plane perpendicular to the view direction; keeps what is behind it (away from the camera).
+    const view = new THREE.Vector3();
+    this.camera.getWorldDirection(view);
+    const center = new THREE.Vector3(...fit.center);
+    const offset = (this.clip * 2 - 1) * fit.radius; // -R (near side) .. +R (far side)
+    const point = center.clone().addScaledVector(view, -offset);
+    this.clipPlane.setFromNormalAndCoplanarPoint(view, point);
+  }
+
+  setHoverListener(fn: ((h: HoverInfo | null) => void) | null): void {
+    this.hoverListener = fn;
+  }
+
+  private hover(e: PointerEvent): void {
+    if (!this.hoverListener || e.buttons !== 0) return;
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const x = e.clientX - rect.left;
+    const y = e.clientY - rect.top;
+    const ndc = new THREE.Vector2((x / rect.width) * 2 - 1, -(y / rect.height) * 2 + 1);
+    this.raycaster.setFromCamera(ndc, this.camera);
+    const fitRadius = this.fit?.radius ?? 50;
+    this.raycaster.params.Points = { threshold: fitRadius * 0.012 };
+    const points = this.contourLayer.pickable;
+    if (points && points.visible) {
+      const hit = this.raycaster.intersectObject(points, false)[0];
+      if (hit && hit.index !== undefined && this.isVisiblePoint(hit.point)) {
+        this.hoverListener({ x, y, what: 'contour point', point: hit.point.clone(), distanceMm: this.contourLayer.distanceOfPoint(hit.index) });
+        return;
+      }
+    }
+    const mesh = this.meshLayer.pickable;
+    if (this.meshLayer.group.visible) {
+      const hits = this.raycaster.intersectObject(mesh, false).filter((h) => this.isVisiblePoint(h.point));
+      const hit = hits[0];
+      if (hit && hit.face) {
+        const d = this.meshLayer.distanceAt(hit.face.a, hit.face.b, hit.face.c, hit.point);
+        this.hoverListener({ x, y, what: 'mesh', point: hit.point.clone(), distanceMm: d });
+        return;
+      }
+    }
+    this.hoverListener(null);
+  }
+
+  private isVisiblePoint(p: THREE.Vector3): boolean {
+    return this.clip >= 1 || this.clipPlane.distanceToPoint(p) >= 0;
+  }
+
+  /** PNG of the current view. */
+  screenshot(): Promise<Blob> {
+    this.renderer.render(this.scene, this.camera);
+    return new Promise((resolve, reject) =>
+      this.renderer.domElement.toBlob((b) => (b ? resolve(b) : reject(new Error('screenshot failed'))), 'image/png'),
+    );
+  }
+
+  dispose(): void {
+    this.resizeObserver.disconnect();
+    this.renderer.domElement.removeEventListener('pointermove', this.onPointerMove);
+    this.renderer.domElement.removeEventListener('pointerleave', this.onPointerLeave);
+    this.controls.dispose();
+    this.meshLayer.dispose();
+    this.contourLayer.dispose();
+    this.attractorLayer.dispose();
+    this.renderer.dispose();
+    this.renderer.domElement.remove();
+  }
+}

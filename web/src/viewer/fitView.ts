@@ -1,0 +1,73 @@
+/**
+ * Where to put the camera for a set of points: their centre, bounding radius and principal axis
+ * (largest eigenvector of the covariance, found by power iteration). For a heart the principal axis
+ * of the contour points is close to the long axis, so the default view looks at the ventricle from
+ * the side with the long axis pointing up, whatever the scanner coordinates are. Pure and tested.
+ */
+
+export interface ViewFit {
+  /** Centre of the bounding box (the centroid would lean towards densely sampled curves). */
+  center: [number, number, number];
+  radius: number;
+  /** Unit vector along the largest spread. */
+  axis: [number, number, number];
+  /** Unit vector along the second largest spread (perpendicular to axis). */
+  side: [number, number, number];
+}
+
+type V3 = [number, number, number];
+
+function normalize(v: V3): V3 {
+  const n = Math.hypot(v[0], v[1], v[2]);
+  return n > 0 ? [v[0] / n, v[1] / n, v[2] / n] : [0, 0, 1];
+}
+
+function mul(c: number[], v: V3): V3 {
+  return [c[0] * v[0] + c[1] * v[1] + c[2] * v[2], c[3] * v[0] + c[4] * v[1] + c[5] * v[2], c[6] * v[0] + c[7] * v[1] + c[8] * v[2]];
+}
+
+function powerIteration(c: number[], start: V3): V3 {
+  let v = normalize(start);
+  for (let i = 0; i < 100; i++) v = normalize(mul(c, v));
+  return v;
+}
+
+/** Fits a view to xyz triples (NaN/inf skipped). */
+export function fitView(points: ArrayLike<number>): ViewFit {
+  let n = 0;
+  const m: V3 = [0, 0, 0];
+  const lo: V3 = [Infinity, Infinity, Infinity];
+  const hi: V3 = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i + 2 < points.length; i += 3) {
+    const p = [points[i], points[i + 1], points[i + 2]];
+    if (!p.every(Number.isFinite)) continue;
+    for (let k = 0; k < 3; k++) {
+      m[k] += p[k];
+      lo[k] = Math.min(lo[k], p[k]);
+      hi[k] = Math.max(hi[k], p[k]);
+    }
+    n++;
+  }
+  if (n === 0) return { center: [0, 0, 0], radius: 50, axis: [0, 0, 1], side: [1, 0, 0] };
+  const mean: V3 = [m[0] / n, m[1] / n, m[2] / n];
+  const center: V3 = [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2];
+  const c = [0, 0, 0, 0, 0, 0, 0, 0, 0];
+  let r2 = 0;
+  for (let i = 0; i + 2 < points.length; i += 3) {
+    const d = [points[i] - mean[0], points[i + 1] - mean[1], points[i + 2] - mean[2]];
+    if (!d.every(Number.isFinite)) continue;
+    for (let a = 0; a < 3; a++) for (let b = 0; b < 3; b++) c[a * 3 + b] += d[a] * d[b];
+    const e = [points[i] - center[0], points[i + 1] - center[1], points[i + 2] - center[2]];
+    r2 = Math.max(r2, e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+  }
+  // Start away from any exact eigenvector of axis-aligned data.
+  const axis = powerIteration(c, [0.577, 0.577, 0.578]);
+  // Deflate to get the second direction.
+  const lambda1 = mul(c, axis).reduce((s, v, i) => s + v * axis[i], 0);
+  const c2 = c.map((v, k) => v - lambda1 * axis[Math.floor(k / 3)] * axis[k % 3]);
+  let side = powerIteration(c2, [0.6, -0.3, 0.74]);
+  // Make side exactly perpendicular to axis.
+  const dot = side[0] * axis[0] + side[1] * axis[1] + side[2] * axis[2];
+  side = normalize([side[0] - dot * axis[0], side[1] - dot * axis[1], side[2] - dot * axis[2]]);
+  return { center, radius: Math.max(1, Math.sqrt(r2)), axis, side };
+}
