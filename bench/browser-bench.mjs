@@ -26,6 +26,7 @@ async function measure(url) {
     const ms = await page.evaluate(async (text) => {
       const status = document.querySelector('[data-testid=status]');
       const done = new Promise((resolve, reject) => {
+        setTimeout(() => reject(new Error(`no done after 60 s; status: ${status?.textContent}`)), 60000);
         const check = () => {
           const s = status?.textContent ?? '';
           if (s === 'done') resolve(performance.now());
