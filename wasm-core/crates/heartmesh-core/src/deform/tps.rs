@@ -238,8 +238,8 @@ impl TpsSolver {
             for (k, zk) in z.iter_mut().enumerate().take(j) {
                 *zk = dot(&v[k * n + j..(k + 1) * n], &v[j * n + j..(j + 1) * n]);
             }
-            for a in 0..j {
-                t[a][j] = -self.hbeta[j] * (a..j).map(|b| t[a][b] * z[b]).sum::<f64>();
+            for (a, row) in t.iter_mut().enumerate().take(j) {
+                row[j] = -self.hbeta[j] * (a..j).map(|b| row[b] * z[b]).sum::<f64>();
             }
             t[j][j] = self.hbeta[j];
         }
