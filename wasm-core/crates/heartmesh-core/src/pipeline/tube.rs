@@ -36,10 +36,29 @@ pub fn lids(mode: &LidMode, rings: &[Vec<Vec3>], contours: &[Contour], layout: &
     let (lo, hi) = lax_heights.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), h| {
         (lo.min(h), hi.max(h))
     });
+    // The apex of a ventricle need not lie above the centre of its most apical ring (the RV's does
+    // not): where long-axis curves reach below that ring, the lid goes under the mean of their
+    // lowest points, else under the ring's centroid.
+    let ring_centre = centroid(first);
+    let ring_height = ring_centre.dot(&z);
+    let lowest: Vec<Vec3> = contours
+        .iter()
+        .zip(&layout.kinds)
+        .filter(|(_, k)| **k == ContourKind::Lax)
+        .filter_map(|(c, _)| {
+            c.points()
+                .min_by(|a, b| a.dot(&z).total_cmp(&b.dot(&z)))
+                .copied()
+        })
+        .filter(|p| p.dot(&z) < ring_height)
+        .collect();
     let auto_apex = {
-        let c = centroid(first);
-        let h = c.dot(&z);
-        c + z * (lo.min(h) - h)
+        let c = if lowest.is_empty() {
+            ring_centre
+        } else {
+            centroid(&lowest)
+        };
+        c + z * (lo.min(ring_height) - c.dot(&z))
     };
     let auto_base = {
         let c = centroid(last);
