@@ -3,57 +3,24 @@
 // Checks: the SurFCo example reconstructs through the worker with frames and a final result
 // that agree, cancel works with no late frames, file errors arrive as data with file and line.
 import assert from 'node:assert/strict';
-import { createReadStream, existsSync, readFileSync, statSync } from 'node:fs';
-import { createServer } from 'node:http';
-import { extname, join, normalize } from 'node:path';
+import { readFileSync } from 'node:fs';
 import { after, before, describe, it } from 'node:test';
-import { build } from 'vite';
-import { chromium } from 'playwright-core';
-import { ROOT, SURFCO, loadWasm } from '../node/helpers.mjs';
+import { SURFCO, loadWasm } from '../node/helpers.mjs';
+import { openHarness } from './lib.mjs';
 
-const OUT = join(ROOT, '.cache', 'harness');
-const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
-const FLAGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-  '--disable-background-networking', '--disable-component-update', '--disable-sync'];
-const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.wasm': 'application/wasm', '.css': 'text/css' };
-
-let server;
-let browser;
+let h;
 let page;
-let origin;
-const foreign = [];
+let foreign;
 
 before(async () => {
-  assert.ok(existsSync(CHROMIUM), `${CHROMIUM} missing: run scripts/setup.sh`);
-  await build({ configFile: join(ROOT, 'tests', 'browser', 'vite.config.mjs') });
-  server = createServer((req, res) => {
-    const path = normalize(decodeURIComponent(new URL(req.url, 'http://x').pathname)).replace(/^(\.\.[/\\])+/, '');
-    let file = join(OUT, path);
-    if (existsSync(file) && statSync(file).isDirectory()) file = join(file, 'index.html');
-    if (!file.startsWith(OUT) || !existsSync(file)) {
-      res.writeHead(404).end();
-      return;
-    }
-    res.writeHead(200, { 'content-type': TYPES[extname(file)] ?? 'application/octet-stream' });
-    createReadStream(file).pipe(res);
-  });
-  await new Promise((r) => server.listen(0, '127.0.0.1', r));
-  origin = `http://127.0.0.1:${server.address().port}`;
-  browser = await chromium.launch({ executablePath: CHROMIUM, headless: true, args: FLAGS });
-  page = await browser.newPage();
-  page.on('request', (r) => {
-    if (!r.url().startsWith(origin) && !r.url().startsWith('data:') && !r.url().startsWith('blob:')) foreign.push(r.url());
-  });
-  const errors = [];
-  page.on('pageerror', (e) => errors.push(e.message));
-  await page.goto(`${origin}/index.html`);
-  await page.waitForFunction(() => document.getElementById('status')?.textContent === 'ready', null, { timeout: 20000 });
-  assert.deepEqual(errors, []);
+  h = await openHarness();
+  page = h.page;
+  foreign = h.foreign;
+  assert.deepEqual(h.pageErrors, []);
 });
 
 after(async () => {
-  await browser?.close();
-  server?.close();
+  await h?.close();
 });
 
 describe('CoreClient in chromium', () => {

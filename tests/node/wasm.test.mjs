@@ -90,6 +90,7 @@ describe('wasm Session', () => {
     assert.equal(lambda.default, 1e5);
     assert.equal(lambda.log, true);
     assert.match(wasm.version(), /^\d+\.\d+\.\d+/);
+    assert.equal(wasm.take_panic_message(), undefined, 'no panic recorded');
   });
 
   it('loads a contour file and describes it', () => {
@@ -135,6 +136,14 @@ describe('wasm Session', () => {
     console.log(`patient1 LV_ENDO: ${run.reports.length} steps in ${run.ms.toFixed(0)} ms, mean ${result.overall.mean.toFixed(3)} mm, ` +
       `max ${result.overall.max.toFixed(3)} mm, ${result.volumeMl.toFixed(2)} ml`);
     compareWithCli(run, result, PATIENT1_ED(), ['--surface', 'LV_ENDO'], 'patient1');
+  });
+
+  it('reconstructs biv-me patient 1 ED RV endocardium (free wall + septum pieces), identical to the native CLI', () => {
+    const run = reconstruct(wasm, PATIENT1_ED(), { surface: 'RV_ENDO' });
+    const result = checkFinished(run, 'patient1 RV_ENDO');
+    console.log(`patient1 RV_ENDO: ${run.reports.length} steps in ${run.ms.toFixed(0)} ms, mean ${result.overall.mean.toFixed(3)} mm, ` +
+      `max ${result.overall.max.toFixed(3)} mm, ${result.volumeMl.toFixed(2)} ml`);
+    compareWithCli(run, result, PATIENT1_ED(), ['--surface', 'RV_ENDO'], 'patient1-rv');
   });
 
   it('applies parameters and lids (an open mesh is not watertight)', () => {
