@@ -16,8 +16,9 @@
 //! - A priority queue with lazy invalidation instead of decrease-key (a 4-ary heap, see
 //!   `heap.rs`): entries of collapsed vertices are skipped, and since merging only adds quadrics,
 //!   a queued cost is a lower bound of the edge's current cost, so a popped entry whose cost has
-//!   grown is simply queued again. Ties are broken by vertex index: results are deterministic. Vertex-to-triangle lists live in one
-//!   shared array (a merged vertex's list is appended at its end), so the hot loop does not allocate.
+//!   grown is simply queued again. Ties are broken by vertex index: results are deterministic.
+//! - Vertex-to-triangle lists live in one shared array (a merged vertex's list is appended at its
+//!   end), so the hot loop does not allocate.
 
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
