@@ -14,7 +14,7 @@ use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::topology::{boundary_links, vertex_neighbours_from, EdgeMap, NO_TWIN};
 use crate::mesh::TriMesh;
-use nalgebra::{Matrix3x4, Matrix4, Vector4};
+use nalgebra::{Matrix3x4, Matrix4, Vector4, SVD};
 
 /// Which vertices each vertex averages: a CSR list (interior: one-ring; boundary: the two
 /// boundary neighbours; fixed: none).
@@ -64,10 +64,15 @@ struct Row {
 /// correction. Allocation-free inner loop: two position buffers swap roles every round.
 pub fn laplacian(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh> {
     check_factor(factor)?;
+    let n = mesh.positions.len();
+    if let Some(i) = mesh.triangles.iter().flatten().find(|&&i| i as usize >= n) {
+        return Err(CoreError::InvalidMesh(format!(
+            "vertex index {i} out of range ({n} vertices)"
+        )));
+    }
     let stencil = umbrella(mesh);
     // p + f (mean - p) = (1 - f) p + (f / k) sum: per-vertex coefficients keep divisions and
     // branches out of the loop (fixed vertices get 1 and 0).
-    let n = mesh.positions.len();
     let rows: Vec<Row> = (0..n)
         .map(|v| {
             let (start, end) = (stencil.offsets[v], stencil.offsets[v + 1]);
@@ -162,9 +167,15 @@ pub fn affine_fit(from: &[Vec3], to: &[Vec3]) -> Option<Matrix3x4<f64>> {
         normal += s * s.transpose();
         rhs += q * s.transpose();
     }
+    // Non-finite input would make the SVD below iterate forever (nalgebra's default has no cap).
+    if !normal.iter().chain(rhs.iter()).all(|x| x.is_finite()) {
+        return None;
+    }
     let inverse = match normal.cholesky() {
         Some(c) => c.inverse(),
-        None => normal.pseudo_inverse(1e-10).ok()?,
+        None => SVD::try_new(normal, true, true, f64::EPSILON, 200)?
+            .pseudo_inverse(1e-10)
+            .ok()?,
     };
     // A_normalised maps normalised homogeneous coordinates; fold the normalisation in.
     let a = rhs * inverse;
@@ -200,6 +211,17 @@ mod tests {
             .collect();
         let fit = affine_fit(&from, &to).unwrap();
         assert!((fit - truth).abs().max() < 1e-9, "{fit}");
+    }
+
+    #[test]
+    fn affine_fit_rejects_non_finite_input() {
+        let mut from = icosphere(1.0, 1).positions;
+        let to = from.clone();
+        from[3].y = f64::NAN;
+        assert!(affine_fit(&from, &to).is_none());
+        let mut m = icosphere(1.0, 1);
+        m.positions[0].z = f64::INFINITY;
+        assert!(matches!(smooth(&m, 2, 0.1), Err(CoreError::Numerical(_))));
     }
 
     #[test]
