@@ -245,8 +245,9 @@ mod tests {
         let m = icosphere(10.0, 3);
         let v0 = m.signed_volume();
         let shrunk = laplacian(&m, 200, 0.1).unwrap();
-        // Uniform umbrella on a sphere barely shrinks with a regular mesh, but it does shrink.
-        assert!(shrunk.signed_volume() < 0.99 * v0);
+        // 200 rounds at 0.1 halve the volume of this 642-vertex sphere (measured 0.506); the
+        // affine correction brings it back to 0.997.
+        assert!(shrunk.signed_volume() < 0.6 * v0);
         let s = smooth(&m, 200, 0.1).unwrap();
         let ratio = s.signed_volume() / v0;
         assert!((ratio - 1.0).abs() < 0.02, "volume ratio {ratio}");
