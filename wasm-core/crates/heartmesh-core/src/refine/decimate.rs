@@ -16,8 +16,9 @@
 //! - A priority queue with lazy invalidation instead of decrease-key (a 4-ary heap, see
 //!   `heap.rs`): entries of collapsed vertices are skipped, and since merging only adds quadrics,
 //!   a queued cost is a lower bound of the edge's current cost, so a popped entry whose cost has
-//!   grown is simply queued again. Ties are broken by vertex index: results are deterministic. Vertex-to-triangle lists live in one
-//!   shared array (a merged vertex's list is appended at its end), so the hot loop does not allocate.
+//!   grown is simply queued again. Ties are broken by vertex index: results are deterministic.
+//! - Vertex-to-triangle lists live in one shared array (a merged vertex's list is appended at its
+//!   end), so the hot loop does not allocate.
 
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
@@ -54,6 +55,8 @@ struct Decimator {
     marks: Vec<u32>,
     mark: u32,
     heap: MinHeap4,
+    /// Queue entries that name a collapsed vertex (estimate, reset by each sweep).
+    dead_entries: usize,
 }
 
 impl Decimator {
@@ -141,6 +144,7 @@ impl Decimator {
             marks: vec![0; n],
             mark: 0,
             heap: MinHeap4::with_capacity(map.edges.len() * 2),
+            dead_entries: 0,
         })
     }
 
@@ -230,6 +234,7 @@ impl Decimator {
     fn seed(&mut self) {
         let mut seeds = self.heap.take();
         seeds.clear();
+        self.dead_entries = 0;
         for v in 0..self.positions.len() as u32 {
             if !self.vertex_alive[v as usize] {
                 continue;
@@ -362,6 +367,8 @@ impl Decimator {
         // lower bounds, refreshed when popped. Only edges a inherits from b are new.
         let m = self.next_mark();
         self.mark_ring(a, m);
+        // b's edges (one per live triangle, plus one on a boundary) lose their entries.
+        self.dead_entries += self.live_count(b) + usize::from(self.boundary[b as usize]);
         for i in self.list(b) {
             let t = self.refs[i] as usize;
             if !self.triangle_alive[t] {
@@ -423,6 +430,7 @@ impl Decimator {
     }
 
     fn drop_outdated(&mut self) {
+        self.dead_entries = 0;
         let alive = &self.vertex_alive;
         self.heap
             .retain(|e| alive[e.a as usize] && alive[e.b as usize]);
@@ -446,9 +454,10 @@ impl Decimator {
                 if self.legal(c.a, c.b, p) {
                     self.collapse(c.a, c.b, p);
                     collapsed += 1;
-                    // A closed mesh has 1.5 edges per triangle; beyond twice that, most queued
-                    // entries are dead and one sweep is cheaper than popping them.
-                    if self.heap.len() > 3 * self.live_triangles + 64 {
+                    // Each edge has one entry, so a collapsed vertex leaves about one dead entry
+                    // per edge it had. Popping one costs a root-to-leaf walk; once a third of the
+                    // queue is dead, one sequential sweep is cheaper.
+                    if 3 * self.dead_entries > self.heap.len() + 64 {
                         self.drop_outdated();
                     }
                 }

@@ -150,4 +150,63 @@ mod tests {
         assert_eq!(v.boundary_loops, 2);
         assert_eq!(v.euler_characteristic, 0);
     }
+
+    /// Random triangle soups (bad indices, NaN, duplicates, flips): every entry point returns a
+    /// value or an error, never panics, and whatever `validity` calls manifold subdivides with
+    /// the same Euler characteristic.
+    #[test]
+    fn random_soups_never_panic() {
+        let mut state = 2024u64;
+        let mut next = |m: u64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) % m
+        };
+        let mut manifold_cases = 0;
+        for case in 0..300 {
+            let mut m = if case % 3 == 0 {
+                icosphere(5.0, 1)
+            } else {
+                cylinder_tube(5.0, 10.0, 8, 3, case % 2 == 0)
+            };
+            let edits = next(4);
+            for _ in 0..edits {
+                let t = next(m.triangles.len() as u64) as usize;
+                match next(6) {
+                    0 => {
+                        let (k, v) = (next(3) as usize, next(m.positions.len() as u64 + 3));
+                        m.triangles[t][k] = v as u32;
+                    }
+                    1 => m.triangles[t].swap(1, 2),
+                    2 => m.triangles.push(m.triangles[t]),
+                    3 => {
+                        m.triangles.swap_remove(t);
+                    }
+                    4 => {
+                        let v = next(m.positions.len() as u64) as usize;
+                        m.positions[v].x = f64::NAN;
+                    }
+                    _ => m.positions.push(Vec3::new(1.0, 2.0, 3.0)),
+                }
+            }
+            let v = validity(&m);
+            let _ = compact(&m);
+            let _ = crate::mesh::topology::orient_outward(&mut m.clone());
+            let _ = smooth(&m, 3, 0.1);
+            let _ = decimate(&m, 0.5);
+            let _ = remesh(&m, 3, 0.1, 0.5);
+            match subdivide(&m) {
+                Ok(s) => {
+                    assert!(v.manifold);
+                    manifold_cases += 1;
+                    let w = validity(&s);
+                    assert!(w.manifold, "case {case}: {}", w.describe());
+                    assert_eq!(w.euler_characteristic, v.euler_characteristic);
+                }
+                Err(e) => assert!(!v.manifold, "case {case}: {e}"),
+            }
+        }
+        assert!(manifold_cases > 30, "only {manifold_cases} manifold cases");
+    }
 }

@@ -14,7 +14,7 @@ use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::topology::{boundary_links, vertex_neighbours_from, EdgeMap, NO_TWIN};
 use crate::mesh::TriMesh;
-use nalgebra::{Matrix3x4, Matrix4, Vector4};
+use nalgebra::{Matrix3x4, Matrix4, Vector4, SVD};
 
 /// Which vertices each vertex averages: a CSR list (interior: one-ring; boundary: the two
 /// boundary neighbours; fixed: none).
@@ -64,10 +64,15 @@ struct Row {
 /// correction. Allocation-free inner loop: two position buffers swap roles every round.
 pub fn laplacian(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh> {
     check_factor(factor)?;
+    let n = mesh.positions.len();
+    if let Some(i) = mesh.triangles.iter().flatten().find(|&&i| i as usize >= n) {
+        return Err(CoreError::InvalidMesh(format!(
+            "vertex index {i} out of range ({n} vertices)"
+        )));
+    }
     let stencil = umbrella(mesh);
     // p + f (mean - p) = (1 - f) p + (f / k) sum: per-vertex coefficients keep divisions and
     // branches out of the loop (fixed vertices get 1 and 0).
-    let n = mesh.positions.len();
     let rows: Vec<Row> = (0..n)
         .map(|v| {
             let (start, end) = (stencil.offsets[v], stencil.offsets[v + 1]);
@@ -162,9 +167,15 @@ pub fn affine_fit(from: &[Vec3], to: &[Vec3]) -> Option<Matrix3x4<f64>> {
         normal += s * s.transpose();
         rhs += q * s.transpose();
     }
+    // Non-finite input would make the SVD below iterate forever (nalgebra's default has no cap).
+    if !normal.iter().chain(rhs.iter()).all(|x| x.is_finite()) {
+        return None;
+    }
     let inverse = match normal.cholesky() {
         Some(c) => c.inverse(),
-        None => normal.pseudo_inverse(1e-10).ok()?,
+        None => SVD::try_new(normal, true, true, f64::EPSILON, 200)?
+            .pseudo_inverse(1e-10)
+            .ok()?,
     };
     // A_normalised maps normalised homogeneous coordinates; fold the normalisation in.
     let a = rhs * inverse;
@@ -203,6 +214,17 @@ mod tests {
     }
 
     #[test]
+    fn affine_fit_rejects_non_finite_input() {
+        let mut from = icosphere(1.0, 1).positions;
+        let to = from.clone();
+        from[3].y = f64::NAN;
+        assert!(affine_fit(&from, &to).is_none());
+        let mut m = icosphere(1.0, 1);
+        m.positions[0].z = f64::INFINITY;
+        assert!(matches!(smooth(&m, 2, 0.1), Err(CoreError::Numerical(_))));
+    }
+
+    #[test]
     fn affine_fit_of_a_flat_patch() {
         // Coplanar points: the map is not unique, but it must still take them onto the targets.
         let from = vec![
@@ -223,8 +245,9 @@ mod tests {
         let m = icosphere(10.0, 3);
         let v0 = m.signed_volume();
         let shrunk = laplacian(&m, 200, 0.1).unwrap();
-        // Uniform umbrella on a sphere barely shrinks with a regular mesh, but it does shrink.
-        assert!(shrunk.signed_volume() < 0.99 * v0);
+        // 200 rounds at 0.1 halve the volume of this 642-vertex sphere (measured 0.506); the
+        // affine correction brings it back to 0.997.
+        assert!(shrunk.signed_volume() < 0.6 * v0);
         let s = smooth(&m, 200, 0.1).unwrap();
         let ratio = s.signed_volume() / v0;
         assert!((ratio - 1.0).abs() < 0.02, "volume ratio {ratio}");
