@@ -7,7 +7,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { AttractorLayer } from './AttractorLayer';
-import { ContourLayer } from './ContourLayer';
+import { ContourLayer, warmupGeometry } from './ContourLayer';
 import { fitView, type ViewFit } from './fitView';
 import { MeshLayer } from './MeshLayer';
 
@@ -19,6 +19,20 @@ export interface HoverInfo {
   point: THREE.Vector3;
   /** Contour-to-mesh distance in mm when known (after a finished run). */
   distanceMm: number | null;
+}
+
+/** Whether WebGL runs on a software rasteriser (SwiftShader, llvmpipe), probed on a scratch canvas. */
+export function isSoftwareRenderer(): boolean {
+  try {
+    const gl = document.createElement('canvas').getContext('webgl2');
+    if (!gl) return true;
+    const info = gl.getExtension('WEBGL_debug_renderer_info');
+    const name = String(info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
+    gl.getExtension('WEBGL_lose_context')?.loseContext();
+    return /swiftshader|llvmpipe|software|softpipe/i.test(name);
+  } catch {
+    return false;
+  }
 }
 
 export class Viewer {
@@ -41,8 +55,12 @@ export class Viewer {
   private readonly onPointerLeave: () => void;
 
   constructor(readonly container: HTMLElement) {
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, alpha: false, preserveDrawingBuffer: true });
-    this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
+    // On a CPU rasteriser (no GPU, or a headless browser) multisampling costs more than the whole
+    // reconstruction step: drop it there so the display does not slow the worker down.
+    const software = isSoftwareRenderer();
+    this.renderer = new THREE.WebGLRenderer({ antialias: !software, alpha: false, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(software ? 1 : Math.min(2, window.devicePixelRatio || 1));
+    this.renderer.domElement.dataset.software = software ? '1' : '0';
     this.renderer.localClippingEnabled = true;
     this.renderer.setClearColor(0x0d1117, 1);
     this.renderer.domElement.setAttribute('data-testid', 'viewport-canvas');
@@ -70,10 +88,30 @@ export class Viewer {
     this.resizeObserver.observe(container);
     this.resize();
 
+    this.warmUp();
+
     this.onPointerMove = (e: PointerEvent) => this.hover(e);
     this.onPointerLeave = () => this.hoverListener?.(null);
     this.renderer.domElement.addEventListener('pointermove', this.onPointerMove);
     this.renderer.domElement.addEventListener('pointerleave', this.onPointerLeave);
+  }
+
+  /**
+   * Compiles every shader program the layers will use before the first frame arrives, in parallel
+   * where the browser can (KHR_parallel_shader_compile), so the animation does not stall on it.
+   */
+  private warmUp(): void {
+    const g = warmupGeometry();
+    const group = new THREE.Group();
+    for (const m of this.meshLayer.materials) group.add(new THREE.Mesh(g, m));
+    group.add(...this.contourLayer.materialObjects, this.attractorLayer.materialObject);
+    this.scene.add(group);
+    const done = () => {
+      this.scene.remove(group);
+      group.traverse((o) => (o as THREE.Mesh).geometry?.dispose());
+      this.requestRender();
+    };
+    this.renderer.compileAsync(this.scene, this.camera).then(done, done);
   }
 
   requestRender(): void {
