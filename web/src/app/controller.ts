@@ -138,7 +138,7 @@ export class Controller {
     let first: string | null = null;
     for (const file of files) {
       const bytes = await file.arrayBuffer();
-      const ok = await this.loadBytes(file.name, bytes, null);
+      const ok = await this.loadBytes(file.name, bytes);
       if (ok && first === null) first = file.name;
     }
     if (first !== null) {
@@ -159,7 +159,7 @@ export class Controller {
       this.fail(asCoreError(e, `could not load ${sample.file}`, sample.file));
       return;
     }
-    if (await this.loadBytes(sample.file, bytes, null)) {
+    if (await this.loadBytes(sample.file, bytes)) {
       this.sampleId = sample.id;
       this.selectFile(sample.file, surface ?? sample.surface);
       this.startRun();
@@ -167,7 +167,7 @@ export class Controller {
   }
 
   /** Parses a file in the worker; returns whether it worked (errors are shown). */
-  private async loadBytes(fileName: string, bytes: ArrayBuffer, _surface: string | null): Promise<boolean> {
+  private async loadBytes(fileName: string, bytes: ArrayBuffer): Promise<boolean> {
     const client = this.client;
     if (!client) return false;
     this.cancelRun();
