@@ -35,6 +35,9 @@ node_tests=(tests/node/*.test.mjs)
 node --test "${node_tests[@]}"
 vitest run -c tests/node/vitest.config.ts
 
+section "core client in chromium (worker + wasm)"
+node --test tests/browser/*.test.mjs
+
 section "site build"
 vite build --logLevel warn
 

@@ -5,10 +5,11 @@ use std::time::Instant;
 
 use heartmesh_core::io::{self, MeshFormat};
 use heartmesh_core::pipeline::Reconstruction;
-use heartmesh_core::{CoreError, Params};
+use heartmesh_core::{ContourSet, CoreError, LidMode, Params};
 
 use crate::args::{parse, Parsed, Spec};
 use crate::cmd_convert::file_name;
+use crate::contours;
 use crate::error::CliError;
 use crate::files;
 use crate::report;
@@ -17,10 +18,25 @@ pub const USAGE: &str =
     "heartmesh reconstruct CONTOURS -o MESH.obj [--report REPORT.json] [--surface LV_ENDO]
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
-    [--target-reduction 0.72] [--lids auto|none] [--resample-attractors-every 25]
-    [--ring-points 50] [--ascii] [--quiet]
+    [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
+    [--ring-points 50] [--frame N] [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
-  VTP carry each vertex's distance to the nearest contour point (mm) as point data.";
+  VTP carry each vertex's distance to the nearest contour point (mm) as point data;
+  --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
+  --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
+  CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time
+  frame), xyz text, vtk/vtp lines, SurFCo .mat, heartmesh session .json (its parameters are
+  the starting point; flags override them).";
+
+/// Options that take a value, besides the numeric parameters.
+const VALUE_FLAGS: &[&str] = &[
+    "output",
+    "report",
+    "surface",
+    "lids",
+    "frame",
+    "contour-distances",
+];
 
 /// Flag names (dashes) of the numeric parameters, from the core's schema.
 fn numeric_flags() -> Vec<String> {
@@ -32,7 +48,7 @@ fn numeric_flags() -> Vec<String> {
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
     let numeric = numeric_flags();
-    let mut with_value: Vec<&str> = vec!["output", "report", "surface", "lids"];
+    let mut with_value: Vec<&str> = VALUE_FLAGS.to_vec();
     with_value.extend(numeric.iter().map(String::as_str));
     let p = parse(
         args,
@@ -59,67 +75,79 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     if p.switch("ascii") && format == MeshFormat::StlBinary {
         format = MeshFormat::StlAscii;
     }
-    let params = params_from(&p)?;
     let quiet = p.switch("quiet");
-
-    let bytes = files::read(input)?;
-    let set = io::read_contours(input, &bytes).map_err(|e| CliError::input(input, e))?;
-    if !quiet {
-        for w in &set.warnings {
-            eprintln!("heartmesh: warning: {input}: {w}");
-        }
+    let frame = contours::frame_flag(p.value("frame"))?;
+    // Check the flags before reading (a usage error should not wait for a big file).
+    params_from(&p, Params::default())?;
+    let loaded = contours::load(input, frame)?;
+    let params = params_from(&p, loaded.session_params.unwrap_or_default())?;
+    let input_format = loaded.format.name();
+    let set = loaded.set;
+    let mut params = params;
+    if p.value("lids") == Some("apex") {
+        params.lids = apex_lid(&set).ok_or_else(|| {
+            CliError::input(
+                input,
+                CoreError::parse(0, "--lids apex needs an APEX_POINT landmark in the file"),
+            )
+        })?;
     }
-
+    // Warnings are printed after success; on failure the first one joins the single error line
+    // (the contract: one line on stderr), since it may well be the cause.
+    let fail = |e: CoreError| classify(input, e).with_hint(&set.warnings);
     let started = Instant::now();
-    let mut rec = Reconstruction::new(&set, params.clone()).map_err(|e| classify(input, e))?;
-    // The pipeline reports `done` after its last iteration; the bound only guards against a
-    // pipeline bug turning into an endless loop.
-    let max_steps = params.iterations + 2;
-    let mut iterations = 0;
-    for _ in 0..=max_steps {
-        let r = rec.step().map_err(|e| classify(input, e))?;
-        iterations = r.iteration;
-        if r.done {
-            break;
-        }
-    }
+    let mut rec = Reconstruction::new(&set, params.clone()).map_err(fail)?;
+    rec.run().map_err(fail)?;
     let seconds = started.elapsed().as_secs_f64();
 
     let facts = report::Facts {
         input: file_name(input),
+        input_format,
         output: file_name(output),
         params: &params,
-        iterations,
         seconds,
         warnings: &set.warnings,
     };
     let rep = report::build(&rec, &facts);
     let comment = report::header_comment(&facts);
     let distances = report::vertex_distances(&rec);
-    let point_data = distances.as_deref().map(|d| ("distance", d));
+    let point_data = Some(("distance", distances.as_slice()));
     let mesh_bytes = io::write_mesh(rec.mesh(), format, point_data, &comment)
         .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
     files::write(output, &mesh_bytes)?;
+    if let Some(path) = p.value("contour-distances") {
+        let cleaned = ContourSet {
+            contours: rec.contours().to_vec(),
+            ..ContourSet::default()
+        };
+        let d = rec.contour_distances();
+        let csv = io::csv::write_csv(&cleaned, Some(&d.per_point))
+            .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
+        files::write(path, &csv)?;
+    }
     if let Some(path) = p.value("report") {
         let text = serde_json::to_string_pretty(&rep)
             .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
         files::write(path, format!("{text}\n").as_bytes())?;
     }
     if !quiet {
+        for w in &set.warnings {
+            eprintln!("heartmesh: warning: {input}: {w}");
+        }
         println!("{}", report::summary(output, &rep));
     }
     Ok(())
 }
 
-/// Parameters from the flags; every numeric flag maps onto `Params::set` (dashes to underscores),
-/// which checks the range.
-fn params_from(p: &Parsed) -> Result<Params, CliError> {
+/// Parameters from the flags on top of `base` (the defaults, or a session's parameters); every
+/// numeric flag maps onto `Params::set` (dashes to underscores), which checks the range.
+fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     if p.value("attractors").is_some() && p.value("attractor-spacing").is_some() {
         return Err(CliError::usage(
             "give either --attractors or --attractor-spacing, not both",
         ));
     }
-    let mut params = Params::default();
+    let mut params = base;
     for (name, value) in &p.values {
         let key = name.replace('-', "_");
         if Params::schema().iter().any(|s| s.name == key) {
@@ -130,7 +158,8 @@ fn params_from(p: &Parsed) -> Result<Params, CliError> {
             params.set(&key, v).map_err(CliError::param)?;
         }
     }
-    if let Some(l) = p.value("lids") {
+    // `apex` is resolved once the file is read (it needs the APEX_POINT landmark).
+    if let Some(l) = p.value("lids").filter(|l| *l != "apex") {
         params.set_lids(l).map_err(CliError::param)?;
     }
     if let Some(s) = p.value("surface") {
@@ -138,6 +167,20 @@ fn params_from(p: &Parsed) -> Result<Params, CliError> {
     }
     params.validate().map_err(CliError::param)?;
     Ok(params)
+}
+
+/// The apex lid at the file's APEX_POINT landmark (biv-me guide points carry one); the base lid
+/// stays automatic.
+fn apex_lid(set: &ContourSet) -> Option<LidMode> {
+    let apex = set
+        .landmarks
+        .iter()
+        .find(|(name, _)| name == "APEX_POINT")
+        .map(|(_, p)| *p)?;
+    Some(LidMode::Explicit {
+        apex: Some(apex),
+        base: None,
+    })
 }
 
 /// Input problems exit with 2 and name the file; numerical failures are the tool's (exit 1).
@@ -158,7 +201,7 @@ mod tests {
 
     fn parsed(a: &[&str]) -> Parsed {
         let numeric = numeric_flags();
-        let mut with_value: Vec<&str> = vec!["output", "report", "surface", "lids"];
+        let mut with_value: Vec<&str> = VALUE_FLAGS.to_vec();
         with_value.extend(numeric.iter().map(String::as_str));
         let v: Vec<String> = a.iter().map(|s| s.to_string()).collect();
         parse(
@@ -172,9 +215,13 @@ mod tests {
         .unwrap()
     }
 
+    fn params_from_default(p: &Parsed) -> Result<Params, CliError> {
+        params_from(p, Params::default())
+    }
+
     #[test]
     fn flags_map_onto_params() {
-        let p = params_from(&parsed(&[
+        let p = params_from_default(&parsed(&[
             "--iterations",
             "40",
             "--lambda=1e3",
@@ -198,19 +245,19 @@ mod tests {
 
     #[test]
     fn bad_values() {
-        let e = params_from(&parsed(&["--beta", "2"])).unwrap_err();
+        let e = params_from_default(&parsed(&["--beta", "2"])).unwrap_err();
         assert_eq!(e.exit_code(), 2);
         assert!(e.message().contains("allowed 0.01 to 1"), "{}", e.message());
-        let e = params_from(&parsed(&["--beta", "x"])).unwrap_err();
+        let e = params_from_default(&parsed(&["--beta", "x"])).unwrap_err();
         assert!(e.message().contains("not a number"), "{}", e.message());
-        let e = params_from(&parsed(&[
+        let e = params_from_default(&parsed(&[
             "--attractors",
             "200",
             "--attractor-spacing",
             "2",
         ]));
         assert!(e.is_err());
-        let e = params_from(&parsed(&["--lids", "maybe"])).unwrap_err();
+        let e = params_from_default(&parsed(&["--lids", "maybe"])).unwrap_err();
         assert!(e.message().contains("auto, none"), "{}", e.message());
     }
 }

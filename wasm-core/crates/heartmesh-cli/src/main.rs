@@ -5,8 +5,12 @@
 //! problem`), 1 the reconstruction or writing failed.
 
 mod args;
+mod cmd_compare;
 mod cmd_convert;
+mod cmd_leave_one_out;
 mod cmd_reconstruct;
+mod cmd_simulate;
+mod contours;
 mod error;
 mod files;
 mod report;
@@ -16,11 +20,14 @@ use error::CliError;
 fn usage() -> String {
     format!(
         "heartmesh {} - surface meshes from cardiac MRI contours (Villard, Grau & Zacur 2018)\n\n\
-         usage:\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
+         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
          exit status: 0 ok, 2 bad input or usage, 1 reconstruction failed",
         heartmesh_core::VERSION,
         cmd_reconstruct::USAGE,
-        cmd_convert::USAGE
+        cmd_convert::USAGE,
+        cmd_simulate::USAGE,
+        cmd_compare::USAGE,
+        cmd_leave_one_out::USAGE
     )
 }
 
@@ -36,6 +43,12 @@ fn run(argv: &[String]) -> Result<(), CliError> {
         "convert" if wants_help => println!("usage: {}", cmd_convert::USAGE),
         "reconstruct" => cmd_reconstruct::run(rest)?,
         "convert" => cmd_convert::run(rest)?,
+        "simulate" if wants_help => println!("usage: {}", cmd_simulate::USAGE),
+        "compare" if wants_help => println!("usage: {}", cmd_compare::USAGE),
+        "leave-one-out" if wants_help => println!("usage: {}", cmd_leave_one_out::USAGE),
+        "simulate" => cmd_simulate::run(rest)?,
+        "compare" => cmd_compare::run(rest)?,
+        "leave-one-out" => cmd_leave_one_out::run(rest)?,
         other => return Err(CliError::usage(format!("unknown command {other:?}"))),
     }
     Ok(())

@@ -1,17 +1,16 @@
 //! The JSON report of `heartmesh reconstruct` (scripts rely on its keys) and the one-line summary.
 
-use std::collections::HashMap;
-
+use heartmesh_core::mesh::topology::validity;
 use heartmesh_core::pipeline::Reconstruction;
-use heartmesh_core::{LidMode, Params, TriMesh};
+use heartmesh_core::{LidMode, Params};
 use serde_json::{json, Map, Value};
 
 /// What the command knows besides the reconstruction itself.
 pub struct Facts<'a> {
     pub input: &'a str,
+    pub input_format: &'a str,
     pub output: &'a str,
     pub params: &'a Params,
-    pub iterations: usize,
     pub seconds: f64,
     pub warnings: &'a [String],
 }
@@ -27,7 +26,7 @@ pub fn parameters(params: &Params) -> Value {
     let lids = match params.lids {
         LidMode::Auto => "auto",
         LidMode::None => "none",
-        LidMode::Explicit { .. } => "explicit",
+        LidMode::Explicit { .. } => "apex",
     };
     m.insert("lids".into(), json!(lids));
     m.insert("surface".into(), json!(params.surface));
@@ -36,37 +35,79 @@ pub fn parameters(params: &Params) -> Value {
 
 pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
     let mesh = rec.mesh();
-    let (watertight, manifold) = mesh_checks(mesh);
+    let v = validity(mesh);
+    let d = rec.contour_distances();
+    let per_contour: Vec<Value> = d
+        .per_contour
+        .iter()
+        .map(|c| {
+            json!({
+                "id": c.id,
+                "kind": c.kind,
+                "mean": c.stats.mean,
+                "median": c.stats.median,
+                "p95": c.stats.p95,
+                "max": c.stats.max,
+                "points": c.stats.count,
+            })
+        })
+        .collect();
+    let o = d.overall;
+    // The surface actually reconstructed (the only one of the file when none was asked for).
+    let surface = rec
+        .contours()
+        .iter()
+        .find_map(|c| c.surface.clone())
+        .or_else(|| f.params.surface.clone());
+    let t = rec.total_timings();
     json!({
         "version": heartmesh_core::VERSION,
         "input": f.input,
+        "input_format": f.input_format,
         "output": f.output,
-        "surface": f.params.surface,
-        "iterations": f.iterations,
+        "surface": surface,
+        "iterations": rec.iteration(),
         "seconds": f.seconds,
         "vertices": mesh.positions.len(),
         "triangles": mesh.triangles.len(),
         "volume_ml": mesh.volume_ml(),
         "area_mm2": mesh.area(),
-        "watertight": watertight,
-        "manifold": manifold,
+        "watertight": v.closed && v.manifold && v.oriented,
+        "manifold": v.manifold,
+        "oriented": v.oriented,
+        "boundary_edges": v.boundary_edges,
+        "euler_characteristic": v.euler_characteristic,
+        "contours": rec.contours().len(),
+        "contour_to_mesh": {
+            "mean": o.mean,
+            "median": o.median,
+            "p95": o.p95,
+            "max": o.max,
+            "points": o.count,
+        },
+        "per_contour": per_contour,
+        "timings_ms": {
+            "attractors": t.attractors_ms,
+            "closest": t.closest_ms,
+            "solve": t.solve_ms,
+            "apply": t.apply_ms,
+            "remesh": t.remesh_ms,
+            "total": t.total_ms,
+        },
         "parameters": parameters(f.params),
         "warnings": f.warnings,
     })
 }
 
-/// Per-vertex distance to the nearest contour point (mm), when the pipeline provides it.
-pub fn vertex_distances(_rec: &Reconstruction) -> Option<Vec<f64>> {
-    None
+/// Per-vertex distance to the nearest contour point (mm): the colour on the mesh.
+pub fn vertex_distances(rec: &Reconstruction) -> Vec<f64> {
+    rec.vertex_distances()
 }
 
 /// The comment written into the mesh file's header.
 pub fn header_comment(f: &Facts) -> String {
     let p = parameters(f.params);
-    format!(
-        "reconstructed from {} ({} iterations); parameters {p}",
-        f.input, f.iterations
-    )
+    format!("reconstructed from {}; parameters {p}", f.input)
 }
 
 /// One line for stdout.
@@ -89,52 +130,4 @@ pub fn summary(output: &str, rep: &Value) -> String {
     }
     s.push_str(&format!(" ({:.2} s)", num("seconds")));
     s
-}
-
-/// (watertight, manifold): every edge shared by exactly two triangles traversing it in opposite
-/// directions; no edge shared by more than two triangles.
-pub fn mesh_checks(mesh: &TriMesh) -> (bool, bool) {
-    let mut directed: HashMap<(u32, u32), u32> = HashMap::new();
-    for t in &mesh.triangles {
-        for k in 0..3 {
-            *directed.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
-        }
-    }
-    let mut manifold = !mesh.triangles.is_empty();
-    let mut watertight = manifold;
-    for (&(a, b), &n) in &directed {
-        let back = directed.get(&(b, a)).copied().unwrap_or(0);
-        if n + back > 2 {
-            manifold = false;
-        }
-        if n != 1 || back != 1 {
-            watertight = false;
-        }
-    }
-    (watertight, manifold)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use heartmesh_core::geometry::v3;
-
-    #[test]
-    fn checks_tetra_and_open() {
-        let mut m = TriMesh::new(
-            vec![
-                v3(0., 0., 0.),
-                v3(1., 0., 0.),
-                v3(0., 1., 0.),
-                v3(0., 0., 1.),
-            ],
-            vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
-        );
-        assert_eq!(mesh_checks(&m), (true, true));
-        m.triangles.pop();
-        assert_eq!(mesh_checks(&m), (false, true));
-        m.triangles.push([1, 3, 2]);
-        m.triangles.push([1, 2, 3]);
-        assert_eq!(mesh_checks(&m), (false, false));
-    }
 }

@@ -157,3 +157,258 @@ fn convert_contours_and_meshes() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn convert_every_contour_format_to_csv_and_session() {
+    let dir = scratch("contour-formats");
+    for (rel, expect) in [
+        (
+            "contours/surfco-example.mat",
+            "8 contours, 3008 points, 0 landmarks",
+        ),
+        (
+            "contours/bivme-example-patient1/GPFile_000.txt",
+            "40 contours, 1791 points, 23 landmarks",
+        ),
+    ] {
+        let csv = dir.join("c.csv");
+        let (code, out, err) = run(bin().args(["convert", s(&data(rel)), s(&csv)]));
+        assert_eq!(code, 0, "{rel}: {err}");
+        assert!(
+            err.is_empty(),
+            "{rel}: SliceInfoFile planes fit, no warnings: {err}"
+        );
+        assert_eq!(out, format!("{}: {expect}\n", s(&csv)), "{rel}");
+        // csv -> session -> csv keeps everything.
+        let json = dir.join("c.json");
+        let (code, out, err) = run(bin().args(["convert", s(&csv), s(&json)]));
+        assert_eq!(code, 0, "{err}");
+        assert_eq!(out, format!("{}: {expect}\n", s(&json)), "{rel}");
+        let back = dir.join("back.csv");
+        let (code, out, _) = run(bin().args(["convert", s(&json), s(&back)]));
+        assert_eq!(code, 0);
+        assert_eq!(out, format!("{}: {expect}\n", s(&back)), "{rel}");
+        // Contours to VTK/VTP polylines and back: the same number of points.
+        for ext in ["vtk", "vtp"] {
+            let lines = dir.join(format!("c.{ext}"));
+            let (code, _, err) = run(bin().args(["convert", s(&csv), s(&lines), "-q"]));
+            assert_eq!(code, 0, "{ext}: {err}");
+            let again = dir.join("again.csv");
+            let (code, out, err) = run(bin().args(["convert", s(&lines), s(&again)]));
+            assert_eq!(code, 0, "{ext}: {err}");
+            let points = expect.split(", ").nth(1).unwrap();
+            assert!(
+                out.contains(&format!(", {points}, 0 landmarks")),
+                "{ext}: {out}"
+            );
+        }
+    }
+    let (code, _, err) = run(bin().args([
+        "convert",
+        s(&data("contours/bivme-example-patient1/GPFile_009.txt")),
+        s(&dir.join("f.csv")),
+        "--frame",
+        "3",
+    ]));
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("no contour points in frame 3 (frames in the file: 9, 1)"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Reads a JSON number from the report.
+fn num(v: &serde_json::Value, path: &[&str]) -> f64 {
+    let mut x = v;
+    for k in path {
+        x = &x[*k];
+    }
+    x.as_f64()
+        .unwrap_or_else(|| panic!("{path:?} is not a number in {v}"))
+}
+
+#[test]
+fn reconstruct_surfco_at_defaults() {
+    let dir = scratch("surfco");
+    let mesh = dir.join("lv.obj");
+    let report = dir.join("report.json");
+    let (code, out, err) = run(bin().args([
+        "reconstruct",
+        s(&data("contours/surfco-example.csv")),
+        "-o",
+        s(&mesh),
+        "--report",
+        s(&report),
+    ]));
+    assert_eq!(code, 0, "{err}");
+    assert!(err.is_empty(), "{err}");
+    assert!(out.contains("contour-to-mesh mean"), "{out}");
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["watertight"], true, "{r}");
+    assert_eq!(r["manifold"], true);
+    assert_eq!(r["iterations"], 250);
+    assert_eq!(r["version"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(r["parameters"]["lambda"], 1e5);
+    let mean = num(&r, &["contour_to_mesh", "mean"]);
+    let max = num(&r, &["contour_to_mesh", "max"]);
+    assert!(mean <= 1.0, "contour-to-mesh mean {mean} mm");
+    assert!(max < 5.0, "contour-to-mesh max {max} mm");
+    assert!(num(&r, &["contour_to_mesh", "median"]) <= mean * 1.5);
+    // An LV endocardium: tens to a few hundred millilitres; the SurFCo LV is about 250 ml.
+    let ml = num(&r, &["volume_ml"]);
+    assert!((100.0..400.0).contains(&ml), "{ml} ml");
+    assert!(num(&r, &["area_mm2"]) > 1000.0);
+    let per = r["per_contour"].as_array().unwrap();
+    assert_eq!(per.len(), 8);
+    assert_eq!(per.iter().filter(|c| c["kind"] == "SAX").count(), 6);
+    assert_eq!(per.iter().filter(|c| c["kind"] == "LAX").count(), 2);
+    for c in per {
+        assert!(num(c, &["mean"]) <= 1.0, "{c}");
+        assert!(num(c, &["median"]) <= num(c, &["max"]));
+    }
+    // The mesh file matches the report.
+    let text = std::fs::read_to_string(&mesh).unwrap();
+    assert!(text.starts_with(&format!("# heartmesh {}\n", env!("CARGO_PKG_VERSION"))));
+    let verts = text.lines().filter(|l| l.starts_with("v ")).count();
+    let tris = text.lines().filter(|l| l.starts_with("f ")).count();
+    assert_eq!(verts as f64, num(&r, &["vertices"]));
+    assert_eq!(tris as f64, num(&r, &["triangles"]));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A GPFile (another format, several surfaces): the surface must be chosen, PLY carries the
+/// distance per vertex, and the report names the surface.
+#[test]
+fn reconstruct_gpfile_surface_to_ply() {
+    let dir = scratch("gpfile");
+    let input = data("contours/bivme-example-patient1/GPFile_000.txt");
+    let ply = dir.join("lv.ply");
+    let (code, _, err) = run(bin().args(["reconstruct", s(&input), "-o", s(&ply)]));
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("choose one of: RV_ENDO, RV_EPI, LV_EPI, LV_ENDO (use --surface)"),
+        "{err}"
+    );
+    let report = dir.join("r.json");
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        s(&input),
+        "-o",
+        s(&ply),
+        "--surface",
+        "LV_ENDO",
+        "--iterations",
+        "60",
+        "--lids",
+        "apex",
+        "--report",
+        s(&report),
+        "--contour-distances",
+        s(&dir.join("d.csv")),
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    // Per-point distances: the cleaned LV_ENDO contours, each point with its distance in mm,
+    // summarising to the report's figures.
+    let d = std::fs::read_to_string(dir.join("d.csv")).unwrap();
+    let mut lines = d.lines();
+    assert_eq!(lines.next(), Some("contour,x,y,z,surface,distance"));
+    let dist: Vec<f64> = lines
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(dist.iter().all(|&x| x >= 0.0));
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["surface"], "LV_ENDO");
+    assert_eq!(r["input_format"], "biv-me GPFile");
+    assert_eq!(r["iterations"], 60);
+    assert_eq!(r["parameters"]["lids"], "apex");
+    assert_eq!(r["watertight"], true, "{r}");
+    assert!(num(&r, &["contour_to_mesh", "mean"]) <= 1.5, "{r}");
+    let max = dist.iter().cloned().fold(0.0, f64::max);
+    assert!(
+        (max - num(&r, &["contour_to_mesh", "max"])).abs() < 1e-9,
+        "{max}"
+    );
+    assert!(dist.len() >= num(&r, &["contour_to_mesh", "points"]) as usize);
+    let bytes = std::fs::read(&ply).unwrap();
+    let header = String::from_utf8_lossy(&bytes[..bytes.len().min(600)]).into_owned();
+    assert!(header.contains("property float distance"), "{header}");
+    assert!(
+        header.contains(&format!("element vertex {}\n", r["vertices"])),
+        "{header}"
+    );
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        s(&data("contours/surfco-example.csv")),
+        "-o",
+        s(&ply),
+        "--lids",
+        "apex",
+    ]));
+    assert_eq!(code, 2);
+    assert!(err.contains("needs an APEX_POINT landmark"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A session JSON carries its parameters: they are the starting point, flags override them.
+#[test]
+fn reconstruct_from_session_uses_its_parameters() {
+    let dir = scratch("session");
+    let json = dir.join("s.json");
+    let (code, _, err) = run(bin().args([
+        "convert",
+        s(&data("contours/surfco-example.csv")),
+        s(&json),
+        "-q",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let session = std::fs::read_to_string(&json).unwrap();
+    let edited = session.replace("\"iterations\":250.0", "\"iterations\":6.0");
+    assert_ne!(edited, session, "the session stores the iteration count");
+    std::fs::write(&json, edited).unwrap();
+    let report = dir.join("r.json");
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        s(&json),
+        "-o",
+        s(&dir.join("m.vtp")),
+        "--report",
+        s(&report),
+        "--beta",
+        "0.2",
+        "-q",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["iterations"], 6);
+    assert_eq!(r["parameters"]["iterations"], 6.0);
+    assert_eq!(r["parameters"]["beta"], 0.2);
+    assert_eq!(r["input_format"], "heartmesh session");
+    let vtp = std::fs::read_to_string(dir.join("m.vtp")).unwrap();
+    assert!(vtp.contains("<PointData Scalars=\"distance\">"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Contours in metres: the reconstruction fails (or not), but stderr stays one line, and the
+/// units warning is on it when it fails.
+#[test]
+fn failure_after_a_warning_is_still_one_line() {
+    let dir = scratch("metres");
+    let f = dir.join("m.csv");
+    // Two tiny SAX rings 10 mm apart in metres: too few contour points to build attractors.
+    let mut text = String::from("contour,x,y,z\n");
+    for (c, z) in [("a", 0.0), ("b", 0.01)] {
+        for i in 0..3 {
+            let t = i as f64 * 2.0;
+            text.push_str(&format!("{c},{},{},{z}\n", 0.02 * t.cos(), 0.02 * t.sin()));
+        }
+    }
+    std::fs::write(&f, text).unwrap();
+    let (code, _, err) = run(bin().args(["reconstruct", s(&f), "-o", s(&dir.join("o.obj"))]));
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("(warning: coordinates span 0.0"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

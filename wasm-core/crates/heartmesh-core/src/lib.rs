@@ -20,6 +20,7 @@ pub mod metrics;
 pub mod params;
 pub mod pipeline;
 pub mod refine;
+pub mod sim;
 pub mod spatial;
 
 pub use contours::{Contour, ContourSet, Polyline};

@@ -67,12 +67,16 @@ pub fn contour_infos(contours: &[Contour], kinds: Option<&[ContourKind]>) -> Val
                 .pieces
                 .iter()
                 .map(|p| {
-                    let piece = json!({ "closed": p.closed, "start": start, "count": p.points.len() });
+                    let piece =
+                        json!({ "closed": p.closed, "start": start, "count": p.points.len() });
                     start += p.points.len();
                     piece
                 })
                 .collect();
-            let kind = kinds.and_then(|k| k.get(i)).map(|k| json!(k)).unwrap_or(Value::Null);
+            let kind = kinds
+                .and_then(|k| k.get(i))
+                .map(|k| json!(k))
+                .unwrap_or(Value::Null);
             json!({ "id": c.id, "surface": c.surface, "kind": kind, "pieces": pieces })
         })
         .collect();
@@ -135,8 +139,12 @@ mod tests {
         assert_eq!(p.beta, 0.2);
         assert_eq!(p.lids, LidMode::None);
         assert_eq!(p.surface.as_deref(), Some("LV_EPI"));
-        let q = params_from_json(r#"{"attractors": 200, "attractor_spacing": 0}"#, "auto", None)
-            .unwrap();
+        let q = params_from_json(
+            r#"{"attractors": 200, "attractor_spacing": 0}"#,
+            "auto",
+            None,
+        )
+        .unwrap();
         assert_eq!(q.attractors, AttractorMode::Count(200));
     }
 

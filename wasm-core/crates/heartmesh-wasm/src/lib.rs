@@ -116,8 +116,8 @@ impl Session {
         lids: &str,
     ) -> Result<(), JsValue> {
         self.run = None;
-        let params = convert::params_from_json(params_json, lids, surface)
-            .map_err(|e| errors::to_js(&e))?;
+        let params =
+            convert::params_from_json(params_json, lids, surface).map_err(|e| errors::to_js(&e))?;
         let set = self.file(file_name)?;
         let mut rec = Reconstruction::new(set, params).map_err(|e| errors::to_js(&e))?;
         rec.set_clock(Box::new(clock::PerformanceClock::new()));
@@ -157,7 +157,11 @@ impl Session {
     /// Current mesh vertices in full precision (for differential tests against the native CLI).
     pub fn positions_f64(&self) -> Result<Vec<f64>, JsValue> {
         let mesh = self.run_ref()?.rec.mesh();
-        Ok(mesh.positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect())
+        Ok(mesh
+            .positions
+            .iter()
+            .flat_map(|p| [p.x, p.y, p.z])
+            .collect())
     }
 
     /// Current triangles, three vertex indices each, counter-clockwise seen from outside.
@@ -221,9 +225,9 @@ impl Session {
 
 impl Session {
     fn file(&self, file_name: &str) -> Result<&ContourSet, JsValue> {
-        self.files.get(file_name).ok_or_else(|| {
-            errors::usage("not_loaded", format!("{file_name} has not been loaded"))
-        })
+        self.files
+            .get(file_name)
+            .ok_or_else(|| errors::usage("not_loaded", format!("{file_name} has not been loaded")))
     }
 
     fn run_ref(&self) -> Result<&ActiveRun, JsValue> {

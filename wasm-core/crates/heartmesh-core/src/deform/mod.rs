@@ -2,4 +2,5 @@
 //! thin-plate splines.
 
 pub mod attractors;
+mod lanes;
 pub mod tps;

@@ -31,7 +31,6 @@ pub struct ContourBuilder {
     warnings: Vec<String>,
 }
 
-#[allow(dead_code)] // warn: for the GPFile reader (next commit)
 impl ContourBuilder {
     pub fn new() -> Self {
         Self::default()
@@ -136,8 +135,28 @@ impl ContourBuilder {
         if let Some(w) = unit_warning(&set) {
             set.warnings.push(w);
         }
+        let dups = duplicate_warnings(&set);
+        set.warnings.extend(dups);
         Ok(set)
     }
+}
+
+/// Contours whose points repeat an earlier contour's exactly (a copy-paste or export slip that
+/// would double the weight of one curve).
+fn duplicate_warnings(set: &ContourSet) -> Vec<String> {
+    let mut out = Vec::new();
+    for (j, b) in set.contours.iter().enumerate() {
+        let first = set.contours[..j]
+            .iter()
+            .find(|a| a.point_count() == b.point_count() && a.points().eq(b.points()));
+        if let Some(a) = first {
+            out.push(format!(
+                "contour {:?} (line {}) repeats the points of contour {:?} (line {})",
+                b.id, b.first_line, a.id, a.first_line
+            ));
+        }
+    }
+    out
 }
 
 /// Decides whether a run of points is a ring.
@@ -236,6 +255,38 @@ mod tests {
         assert_eq!(set.contours[0].point_count(), 4);
         assert_eq!(set.contours[0].first_line, 2);
         assert_eq!(set.contours[1].first_line, 4);
+    }
+
+    #[test]
+    fn point_limit_is_refused_with_the_limit() {
+        let mut b = ContourBuilder::new();
+        let mut result = Ok(());
+        for i in 0..=MAX_POINTS {
+            result = b.push("a", None, v3(i as f64, 0.0, 0.0), i + 2);
+            if result.is_err() {
+                break;
+            }
+        }
+        let e = result.unwrap_err();
+        assert_eq!(e.line(), Some(MAX_POINTS + 2));
+        assert!(e.to_string().contains("2000000"), "{e}");
+    }
+
+    #[test]
+    fn duplicates_are_reported() {
+        let mut b = ContourBuilder::new();
+        for (k, id) in ["a", "b", "c"].iter().enumerate() {
+            for i in 0..4 {
+                let z = if k == 2 { 5.0 } else { 0.0 };
+                b.push(id, None, v3(10.0 * i as f64, 3.0, z), 2 + 4 * k + i)
+                    .unwrap();
+            }
+        }
+        let set = b.finish().unwrap();
+        assert_eq!(
+            set.warnings,
+            vec!["contour \"b\" (line 6) repeats the points of contour \"a\" (line 2)"]
+        );
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The canonical contour CSV of ../shared/data/README.md: a header naming `contour,x,y,z` and
 //! optionally `surface` (any order, extra columns ignored), one row per point, `#` comments, comma,
-//! semicolon or tab separated, optional UTF-8 BOM and CRLF line ends.
+//! semicolon or tab separated, optional UTF-8 BOM and CRLF line ends. A header with `x,y,z` but no
+//! `contour` column is read like XYZ text: blank lines separate the contours `c1`, `c2`, ...
 
 use super::builder::ContourBuilder;
 use super::text::{decode, lines, parse_coord};
@@ -10,7 +11,8 @@ use crate::geometry::v3;
 
 /// Column positions found in the header.
 struct Columns {
-    contour: usize,
+    /// None: an `x,y,z` file without identifiers, where blank lines separate the contours.
+    contour: Option<usize>,
     x: usize,
     y: usize,
     z: usize,
@@ -37,9 +39,16 @@ pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
     let cols = parse_header(header, sep, header_line)?;
     let mut b = ContourBuilder::new();
     let mut fields: Vec<&str> = Vec::new();
+    // Numbering of contours in files without a contour column.
+    let mut unnamed = 1;
+    let mut in_unnamed = false;
     for (line, row) in rows {
         let t = row.trim_start();
         if t.is_empty() {
+            if in_unnamed {
+                unnamed += 1;
+                in_unnamed = false;
+            }
             continue;
         }
         if let Some(c) = t.strip_prefix('#') {
@@ -47,7 +56,12 @@ pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
             continue;
         }
         split_fields(row, sep, &mut fields);
-        if fields.len() <= cols.x.max(cols.y).max(cols.z).max(cols.contour) {
+        let needed = cols
+            .x
+            .max(cols.y)
+            .max(cols.z)
+            .max(cols.contour.unwrap_or(0));
+        if fields.len() <= needed {
             return Err(CoreError::parse(
                 line,
                 format!(
@@ -58,7 +72,15 @@ pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
                 ),
             ));
         }
-        let id = unquote(fields[cols.contour]);
+        let generated;
+        let id = match cols.contour {
+            Some(i) => unquote(fields[i]),
+            None => {
+                in_unnamed = true;
+                generated = format!("c{unnamed}");
+                &generated
+            }
+        };
         if id.is_empty() {
             return Err(CoreError::parse(line, "column \"contour\" is empty"));
         }
@@ -130,13 +152,13 @@ fn parse_header(header: &str, sep: char, line: usize) -> Result<Columns> {
                 format!(
                     "missing column {:?} in the header (found: {})",
                     wanted[0],
-                    names.join(", ")
+                    super::text::shorten(&names.join(", "), 80)
                 ),
             )
         })
     };
     Ok(Columns {
-        contour: need(&["contour", "contour_id", "id"])?,
+        contour: find(&["contour", "contour_id", "id"]),
         x: need(&["x"])?,
         y: need(&["y"])?,
         z: need(&["z"])?,
@@ -148,7 +170,7 @@ fn parse_header(header: &str, sep: char, line: usize) -> Result<Columns> {
 /// Name of the first required column a short row lacks, for the message.
 fn missing_name(cols: &Columns, have: usize) -> String {
     let mut named = [
-        (cols.contour, "contour"),
+        (cols.contour.unwrap_or(usize::MAX), "contour"),
         (cols.x, "x"),
         (cols.y, "y"),
         (cols.z, "z"),
@@ -304,6 +326,15 @@ mod tests {
         assert_eq!(c.surface.as_deref(), Some("LV_ENDO"));
         assert_eq!(c.first_line, 3);
         assert_eq!(c.pieces[0].points[1], v3(4.0, 2.0, 1.0));
+    }
+
+    #[test]
+    fn no_contour_column_uses_blank_lines() {
+        let set = read("x,y,z\n0,0,0\n1,0,0\n\n\n0,0,5\n1,0,5\n1,1,5\n").unwrap();
+        assert_eq!(set.contours.len(), 2);
+        assert_eq!(set.contours[1].id, "c2");
+        assert_eq!(set.contours[1].point_count(), 3);
+        assert_eq!(set.contours[1].first_line, 6);
     }
 
     #[test]

@@ -6,12 +6,18 @@
 
 mod builder;
 pub mod csv;
+pub mod gpfile;
+pub mod mat;
 pub mod obj;
 pub mod ply;
+pub mod session;
+#[cfg(test)]
+mod smoke;
 pub mod stl;
 mod text;
 pub mod vtk;
 pub mod vtp;
+pub mod xyz;
 
 pub use builder::{polyline_from_run, MAX_POINTS};
 
@@ -33,7 +39,43 @@ pub struct MeshData {
 /// Contour file formats the core reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ContourFormat {
+    /// Canonical CSV (`contour,x,y,z[,surface]`).
     Csv,
+    /// biv-me / Cardiac Atlas Project guide points (`GPFile_*.txt`).
+    GpFile,
+    /// Whitespace XYZ text, blank lines between contours.
+    Xyz,
+    /// VTK legacy POLYDATA with LINES.
+    VtkLines,
+    /// VTK XML PolyData with Lines.
+    VtpLines,
+    /// MATLAB v5 MAT-file with a cell array of Nx3 matrices (SurFCo).
+    Mat,
+    /// heartmesh session JSON.
+    Session,
+}
+
+impl ContourFormat {
+    pub fn name(self) -> &'static str {
+        match self {
+            ContourFormat::Csv => "CSV",
+            ContourFormat::GpFile => "biv-me GPFile",
+            ContourFormat::Xyz => "XYZ text",
+            ContourFormat::VtkLines => "VTK legacy lines",
+            ContourFormat::VtpLines => "VTP lines",
+            ContourFormat::Mat => "MATLAB MAT-file",
+            ContourFormat::Session => "heartmesh session",
+        }
+    }
+}
+
+/// Extra inputs some formats use.
+#[derive(Debug, Clone, Default)]
+pub struct ContourOptions<'a> {
+    /// Time frame to read from a GPFile (default: each slice's first frame).
+    pub frame: Option<u32>,
+    /// Text of the `SliceInfoFile.txt` that accompanies a GPFile (adds off-plane warnings).
+    pub slice_info: Option<&'a str>,
 }
 
 /// Mesh file formats the core writes (and reads back).
@@ -82,14 +124,100 @@ pub fn extension(path: &str) -> String {
 }
 
 /// Guesses the contour format from the content, then from the extension.
-pub fn detect_contour_format(_file_name: &str, _bytes: &[u8]) -> ContourFormat {
-    ContourFormat::Csv
+pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
+    let ext = extension(file_name);
+    let head = &bytes[..bytes.len().min(4096)];
+    let head = head.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(head);
+    let starts = |magic: &[u8]| head.trim_ascii_start().starts_with(magic);
+    if mat::is_mat(bytes) {
+        return ContourFormat::Mat;
+    }
+    if starts(b"# vtk DataFile") {
+        return ContourFormat::VtkLines;
+    }
+    if starts(b"<?xml") || starts(b"<VTKFile") {
+        return ContourFormat::VtpLines;
+    }
+    if session::looks_like_session(head) || (starts(b"{") && ext == "json") {
+        return ContourFormat::Session;
+    }
+    // Text formats: judge by the first lines (cut at a character boundary).
+    let text = match std::str::from_utf8(head) {
+        Ok(t) => t,
+        Err(e) => std::str::from_utf8(&head[..e.valid_up_to()]).unwrap_or(""),
+    };
+    if gpfile::looks_like_gpfile(text) {
+        return ContourFormat::GpFile;
+    }
+    if xyz::looks_like_xyz(text) {
+        return ContourFormat::Xyz;
+    }
+    match ext.as_str() {
+        "mat" => ContourFormat::Mat,
+        "vtk" => ContourFormat::VtkLines,
+        "vtp" => ContourFormat::VtpLines,
+        "json" => ContourFormat::Session,
+        "xyz" => ContourFormat::Xyz,
+        // CSV also reports the clearest errors for unknown text (header missing, ...).
+        _ => ContourFormat::Csv,
+    }
 }
 
-/// Reads contours from any supported format.
+fn looks_like_mesh(file_name: &str, bytes: &[u8]) -> bool {
+    let head = bytes.trim_ascii_start();
+    matches!(extension(file_name).as_str(), "obj" | "stl" | "ply")
+        || head.starts_with(b"ply\n")
+        || head.starts_with(b"solid ")
+        || head.starts_with(b"v ")
+        || head.starts_with(b"o ")
+        || head.starts_with(b"mtllib ")
+}
+
+fn looks_like_slice_info(bytes: &[u8]) -> bool {
+    let head = &bytes[..bytes.len().min(1024)];
+    let has = |w: &[u8]| head.windows(w.len()).any(|x| x == w);
+    has(b"ImagePositionPatient") && has(b"ImageOrientationPatient")
+}
+
+/// Reads contours from any supported format (detected from content and extension).
 pub fn read_contours(file_name: &str, bytes: &[u8]) -> Result<ContourSet> {
+    read_contours_with(file_name, bytes, &ContourOptions::default())
+}
+
+/// [`read_contours`] with format-specific options (GPFile frame and slice info).
+pub fn read_contours_with(
+    file_name: &str,
+    bytes: &[u8],
+    options: &ContourOptions,
+) -> Result<ContourSet> {
     match detect_contour_format(file_name, bytes) {
+        ContourFormat::Csv if looks_like_slice_info(bytes) => Err(CoreError::parse(
+            1,
+            "this is a biv-me SliceInfoFile (image planes), not contours; read the GPFile_*.txt beside it",
+        )),
+        ContourFormat::Csv if looks_like_mesh(file_name, bytes) => Err(CoreError::parse(
+            0,
+            "this is a mesh file (OBJ, STL or PLY), not contours",
+        )),
         ContourFormat::Csv => csv::read_csv(bytes),
+        ContourFormat::GpFile => {
+            let mut set = gpfile::read_gpfile(text::decode(bytes)?, options.frame)?;
+            if let Some(info) = options.slice_info {
+                let slices = gpfile::read_slice_info(info).map_err(|e| match e {
+                    CoreError::Parse { line, message } => {
+                        CoreError::parse(0, format!("slice info file, line {line}: {message}"))
+                    }
+                    other => other,
+                })?;
+                gpfile::check_slices(&mut set, &slices);
+            }
+            Ok(set)
+        }
+        ContourFormat::Xyz => xyz::read_xyz(bytes),
+        ContourFormat::VtkLines => vtk::read_vtk_contours(bytes),
+        ContourFormat::VtpLines => vtp::read_vtp_contours(bytes),
+        ContourFormat::Mat => mat::read_mat(bytes),
+        ContourFormat::Session => session::read_session(bytes).map(|s| s.contours),
     }
 }
 
@@ -139,6 +267,27 @@ pub fn write_mesh(
         MeshFormat::Vtk => vtk::write_vtk(mesh, point_data, header_comment),
         MeshFormat::Vtp => vtp::write_vtp(mesh, point_data, header_comment),
     })
+}
+
+/// Contours as polylines (one line cell per piece; rings repeat their first point so that they
+/// read back closed) for VTK-based viewers: legacy VTK (`vtp == false`) or VTP.
+pub fn write_contour_lines(set: &ContourSet, vtp: bool, header_comment: &str) -> Vec<u8> {
+    let mut points = Vec::with_capacity(set.point_count());
+    let mut cells: Vec<Vec<u32>> = Vec::new();
+    for piece in set.contours.iter().flat_map(|c| c.pieces.iter()) {
+        let start = points.len() as u32;
+        points.extend_from_slice(&piece.points);
+        let mut cell: Vec<u32> = (start..points.len() as u32).collect();
+        if piece.closed && cell.len() >= 3 {
+            cell.push(start);
+        }
+        cells.push(cell);
+    }
+    if vtp {
+        vtp::write_lines(&points, &cells, header_comment)
+    } else {
+        vtk::write_lines(&points, &cells, header_comment)
+    }
 }
 
 /// Refuses meshes that would produce broken files (dangling indices, wrong data length).
@@ -303,6 +452,80 @@ mod tests {
         assert_eq!(stl.len(), 84 + 50 * 8);
         assert!(stl.starts_with(b"heartmesh "));
         assert!(write_mesh(&m, MeshFormat::Ply, Some(("d", &[1.0])), "").is_err());
+    }
+
+    #[test]
+    fn contour_lines_round_trip() {
+        let rel = "contours/bivme-example-patient1/patient1-ED.csv";
+        let set = read_contours(rel, &sample(rel)).unwrap();
+        let pieces: Vec<_> = set.contours.iter().flat_map(|c| c.pieces.iter()).collect();
+        for (vtp, name) in [(false, "c.vtk"), (true, "c.vtp")] {
+            let bytes = write_contour_lines(&set, vtp, "patient1 ED");
+            let back = read_contours(name, &bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
+            // One contour per piece, same points in the same order, same ring/open status.
+            assert_eq!(back.contours.len(), pieces.len(), "{name}");
+            for (c, p) in back.contours.iter().zip(&pieces) {
+                assert_eq!(c.pieces.len(), 1);
+                assert_eq!(c.pieces[0].closed, p.closed, "{name} {}", c.id);
+                assert_eq!(c.pieces[0].points, p.points, "{name} {}", c.id);
+            }
+        }
+    }
+
+    #[test]
+    fn detection_by_content_then_extension() {
+        let d = |name: &str, bytes: &[u8]| detect_contour_format(name, bytes);
+        assert_eq!(d("a.txt", b"contour,x,y,z\n"), ContourFormat::Csv);
+        assert_eq!(d("a", b"\xEF\xBB\xBFcontour;x;y;z\n"), ContourFormat::Csv);
+        assert_eq!(
+            d("GPFile_000.txt", b"x\ty\tz\tcontour type\n"),
+            ContourFormat::GpFile
+        );
+        assert_eq!(
+            d("a.csv", b"1 2 3 SAX_LV_EPICARDIAL 1 1.0 0\n"),
+            ContourFormat::GpFile
+        );
+        assert_eq!(d("pts.txt", b"# c\n1 2 3\n"), ContourFormat::Xyz);
+        assert_eq!(
+            d("l.vtk", b"# vtk DataFile Version 3.0\n"),
+            ContourFormat::VtkLines
+        );
+        assert_eq!(d("l", b"<?xml version=\"1.0\"?>"), ContourFormat::VtpLines);
+        assert_eq!(
+            d("s", b" {\"heartmesh_session\": 1}"),
+            ContourFormat::Session
+        );
+        assert_eq!(d("x.mat", b"MATLAB 5.0 MAT-file"), ContourFormat::Mat);
+        assert_eq!(d("x.bin", b"\x00\x01garbage"), ContourFormat::Csv);
+        let e = read_contours("m.obj", b"v 1 2 3\n").unwrap_err();
+        assert!(e.to_string().contains("mesh file"), "{e}");
+    }
+
+    /// Every sample in shared/data/contours through the detecting entry point. Expected points:
+    /// the CSV data rows minus one for each ring that repeats its first point at the end (0 in
+    /// patient1, 17 in each patient2 file, 6 in SurFCo), as counted independently with a script.
+    #[test]
+    fn samples_through_read_contours() {
+        let cases = [
+            ("contours/surfco-example.csv", 8, 3008),
+            ("contours/surfco-example.mat", 8, 3008),
+            ("contours/bivme-example-patient1/GPFile_000.txt", 40, 1791),
+            ("contours/bivme-example-patient1/GPFile_009.txt", 35, 1204),
+            ("contours/bivme-example-patient1/patient1-ED.csv", 40, 1791),
+            ("contours/bivme-example-patient1/patient1-ES.csv", 35, 1204),
+            ("contours/bivme-test-patient2/GPFile_000.txt", 28, 7466),
+            ("contours/bivme-test-patient2/GPFile_012.txt", 24, 5562),
+            ("contours/bivme-test-patient2/patient2-ED.csv", 28, 7466),
+            ("contours/bivme-test-patient2/patient2-ES.csv", 24, 5562),
+        ];
+        for (rel, contours, points) in cases {
+            let set = read_contours(rel, &sample(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"));
+            assert_eq!(
+                (set.contours.len(), set.point_count()),
+                (contours, points),
+                "{rel}"
+            );
+        }
     }
 
     #[test]

@@ -81,6 +81,15 @@ pub fn parse_coord(field: &str, line: usize, what: &str) -> Result<f64> {
     }
 }
 
+/// At most `max` characters of `s`, with an ellipsis when cut.
+pub fn shorten(s: &str, max: usize) -> String {
+    let mut out: String = s.chars().take(max).collect();
+    if s.chars().nth(max).is_some() {
+        out.push('…');
+    }
+    out
+}
+
 /// Quotes a field for a message, shortened so that garbage cannot flood the terminal.
 pub fn quote(field: &str) -> String {
     const MAX: usize = 40;

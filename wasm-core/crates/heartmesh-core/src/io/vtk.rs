@@ -301,7 +301,8 @@ fn read_cells(c: &mut Cursor, binary: bool, npoints: usize) -> Result<Vec<Vec<u3
     let mut used = 0usize;
     for _ in 0..n {
         let k = c.number("int")?;
-        if !(k >= 0.0 && k.fract() == 0.0 && used + 1 + k as usize <= size) {
+        let room = size.saturating_sub(used + 1) as f64;
+        if !(k >= 0.0 && k.fract() == 0.0 && k <= room) {
             return Err(c.err(format!(
                 "cell size {k} does not fit the declared data size {size}"
             )));
@@ -370,19 +371,35 @@ pub(crate) fn mesh_from_cells(
     polys: &[Vec<u32>],
     point_data: Option<(String, Vec<f64>)>,
 ) -> Result<MeshData> {
+    check_indices(points.len(), polys)?;
     let mut triangles = Vec::new();
     for p in polys {
         for k in 1..p.len().saturating_sub(1) {
+            if triangles.len() >= MAX_MESH_ELEMENTS {
+                return Err(CoreError::parse(0, "too many triangles"));
+            }
             triangles.push([p[0], p[k], p[k + 1]]);
         }
     }
     if triangles.is_empty() {
         return Err(CoreError::parse(0, "no polygons found"));
     }
+    let point_data = point_data.filter(|(_, v)| v.len() == points.len());
     Ok(MeshData {
         mesh: TriMesh::new(points, triangles),
         point_data,
     })
+}
+
+/// Cells read before a later POINTS section replaced the points may point past the end.
+fn check_indices(n: usize, cells: &[Vec<u32>]) -> Result<()> {
+    match cells.iter().flatten().find(|&&i| i as usize >= n) {
+        Some(i) => Err(CoreError::parse(
+            0,
+            format!("cell refers to point {i}, but there are {n} points"),
+        )),
+        None => Ok(()),
+    }
 }
 
 /// Reads the line cells of a POLYDATA file as contours `line1`, `line2`, ... (one per cell).
@@ -399,6 +416,7 @@ pub(crate) fn contours_from_lines(
     if lines.is_empty() {
         return Err(CoreError::parse(0, "no LINES (polylines) found"));
     }
+    check_indices(points.len(), lines)?;
     let mut b = ContourBuilder::new();
     for (k, cell) in lines.iter().enumerate() {
         let id = format!("line{}", k + 1);
@@ -409,18 +427,54 @@ pub(crate) fn contours_from_lines(
     b.finish()
 }
 
+const TITLE_MAX: usize = 160;
+
+/// The title line: version and comment, short (see [`write_vtk`]).
+fn title(header_comment: &str) -> String {
+    // Readers such as three.js' VTKLoader look for "ASCII" within the first 250 bytes, so the
+    // title (limited to 256 characters by the format) is kept well below that.
+    header_lines(header_comment)
+        .join(" | ")
+        .chars()
+        .filter(|c| c.is_ascii() && !c.is_ascii_control())
+        .take(TITLE_MAX)
+        .collect()
+}
+
+/// Polylines (contours) as VTK legacy 3.0 ASCII POLYDATA LINES.
+pub(crate) fn write_lines(points: &[Vec3], cells: &[Vec<u32>], header_comment: &str) -> Vec<u8> {
+    let mut out = format!(
+        "# vtk DataFile Version 3.0\n{}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
+        title(header_comment),
+        points.len()
+    );
+    for p in points {
+        out.push_str(&format!(
+            "{} {} {}\n",
+            fmt_num(p.x),
+            fmt_num(p.y),
+            fmt_num(p.z)
+        ));
+    }
+    let size: usize = cells.iter().map(|c| c.len() + 1).sum();
+    out.push_str(&format!("LINES {} {size}\n", cells.len()));
+    for c in cells {
+        out.push_str(&c.len().to_string());
+        for i in c {
+            out.push_str(&format!(" {i}"));
+        }
+        out.push('\n');
+    }
+    out.into_bytes()
+}
+
 /// VTK legacy 3.0 ASCII POLYDATA with triangles and the optional point scalars.
 pub fn write_vtk(
     mesh: &TriMesh,
     point_data: Option<(&str, &[f64])>,
     header_comment: &str,
 ) -> Vec<u8> {
-    let title: String = header_lines(header_comment)
-        .join(" | ")
-        .chars()
-        .filter(|c| !c.is_control())
-        .take(255)
-        .collect();
+    let title = title(header_comment);
     let mut out = format!(
         "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
         mesh.positions.len()
@@ -499,6 +553,17 @@ mod tests {
         assert_eq!(set.contours[0].pieces[0].points[2], v3(10.0, 10.0, 0.0));
         // Truncated binary data is an error, not a panic.
         assert!(read_vtk_contours(&b[..b.len() - 6]).is_err());
+    }
+
+    #[test]
+    fn long_comment_keeps_ascii_keyword_early() {
+        let m = TriMesh::new(
+            vec![v3(0., 0., 0.), v3(1., 0., 0.), v3(0., 1., 0.)],
+            vec![[0, 1, 2]],
+        );
+        let out = write_vtk(&m, None, &"x".repeat(1000));
+        let head = String::from_utf8_lossy(&out[..250]).into_owned();
+        assert_eq!(head.split('\n').nth(2), Some("ASCII"));
     }
 
     #[test]

@@ -1,6 +1,8 @@
 //! Distances and measures: summary statistics, contour-to-mesh distances (the colour map on the
 //! contours), the distance field on the mesh, and (compare.rs) mesh-to-mesh comparison.
 
+pub mod compare;
+
 use crate::contours::{Contour, ContourKind};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;

@@ -14,7 +14,9 @@
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
-use crate::spatial::triangle::closest_point_on_triangle;
+use crate::spatial::triangle::{
+    closest_on_edges, closest_point_on_regular_triangle, is_degenerate,
+};
 
 /// Triangles per leaf: small leaves keep the exact point-triangle tests few per query.
 const LEAF_SIZE: usize = 4;
@@ -23,6 +25,9 @@ const BINS: usize = 12;
 /// Below this depth the SAH chooses splits; deeper nodes are halved by count, which bounds the
 /// depth by `SAH_DEPTH + log2(triangles)` whatever the geometry.
 const SAH_DEPTH: usize = 48;
+/// Nodes with at most this many triangles are halved by count: binning them costs more than the
+/// few extra box tests a less careful split causes.
+const SAH_MIN: usize = 16;
 /// Traversal stack size; the depth bound above (with u32 triangle indices) stays below it.
 const STACK: usize = SAH_DEPTH + 34;
 
@@ -53,20 +58,46 @@ impl Node {
     fn distance_sq(&self, q: &[f64; 3]) -> f64 {
         let mut d = 0.0;
         for ((lo, hi), q) in self.lo.iter().zip(&self.hi).zip(q) {
-            let e = (lo - q).max(q - hi).max(0.0);
+            let e = if q < lo {
+                lo - q
+            } else if q > hi {
+                q - hi
+            } else {
+                0.0
+            };
             d += e * e;
         }
         d
     }
 }
 
-/// A BVH over a mesh's triangles. It stores no geometry: queries and refits read the mesh that is
-/// passed in, which must have the same triangles as the one it was built from.
+/// A triangle's corners copied in leaf order, with its degeneracy decided once per refit: queries
+/// then read contiguous memory and skip the thinness test.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct LeafTri {
+    corners: [Vec3; 3],
+    degenerate: bool,
+}
+
+impl LeafTri {
+    #[inline]
+    fn new(c: [Vec3; 3]) -> LeafTri {
+        LeafTri {
+            degenerate: is_degenerate(&c[0], &c[1], &c[2]),
+            corners: c,
+        }
+    }
+}
+
+/// A BVH over a mesh's triangles. It keeps a copy of the triangles' corners (refreshed by
+/// [`Bvh::refit`]), so queries answer for the mesh as it was at the last build or refit.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Bvh {
     nodes: Vec<Node>,
     /// Triangle indices in leaf order.
     order: Vec<u32>,
+    /// Corners of `order[k]` at index k.
+    tris: Vec<LeafTri>,
     /// Number of triangles of the mesh the tree was built for.
     n_triangles: usize,
     depth: usize,
@@ -82,6 +113,28 @@ fn corners(mesh: &TriMesh, t: usize) -> Option<[Vec3; 3]> {
         *p.get(b as usize)?,
         *p.get(c as usize)?,
     ])
+}
+
+/// Minimum by comparison: `f64::min` lowers to a libm call in wasm (its NaN rule has no wasm
+/// instruction), which made building and refitting several times slower there. A NaN `b` is
+/// ignored, as with `f64::min`.
+#[inline(always)]
+fn min(a: f64, b: f64) -> f64 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
+/// Maximum by comparison; see [`min`].
+#[inline(always)]
+fn max(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
 }
 
 /// Running min/max of points.
@@ -100,16 +153,16 @@ impl Aabb {
     #[inline]
     fn grow(&mut self, p: &[f64; 3]) {
         for ((lo, hi), p) in self.lo.iter_mut().zip(&mut self.hi).zip(p) {
-            *lo = lo.min(*p);
-            *hi = hi.max(*p);
+            *lo = min(*lo, *p);
+            *hi = max(*hi, *p);
         }
     }
 
     #[inline]
     fn merge(&mut self, o: &Aabb) {
         for k in 0..3 {
-            self.lo[k] = self.lo[k].min(o.lo[k]);
-            self.hi[k] = self.hi[k].max(o.hi[k]);
+            self.lo[k] = min(self.lo[k], o.lo[k]);
+            self.hi[k] = max(self.hi[k], o.hi[k]);
         }
     }
 
@@ -117,9 +170,9 @@ impl Aabb {
     #[inline]
     fn half_area(&self) -> f64 {
         let d = [
-            (self.hi[0] - self.lo[0]).max(0.0),
-            (self.hi[1] - self.lo[1]).max(0.0),
-            (self.hi[2] - self.lo[2]).max(0.0),
+            max(self.hi[0] - self.lo[0], 0.0),
+            max(self.hi[1] - self.lo[1], 0.0),
+            max(self.hi[2] - self.lo[2], 0.0),
         ];
         d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
     }
@@ -156,6 +209,7 @@ impl Bvh {
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(2 * order.len() / LEAF_SIZE + 1),
             order,
+            tris: Vec::new(),
             n_triangles: n,
             depth: 0,
         };
@@ -174,16 +228,18 @@ impl Bvh {
             bvh.depth = bvh.depth.max(depth);
             let (start, count) = (bvh.nodes[ni].start as usize, bvh.nodes[ni].count as usize);
             let range = &mut bvh.order[start..start + count];
-            let mut bounds = Aabb::EMPTY;
+            let (mut bounds, mut cb) = (Aabb::EMPTY, Aabb::EMPTY);
             for &t in range.iter() {
                 bounds.merge(&boxes[t as usize]);
+                cb.grow(&centroids[t as usize]);
             }
             bvh.nodes[ni].lo = bounds.lo;
             bvh.nodes[ni].hi = bounds.hi;
             if count <= LEAF_SIZE {
                 continue;
             }
-            let mid = split(range, &boxes, &centroids, depth <= SAH_DEPTH);
+            let sah = depth <= SAH_DEPTH && count > SAH_MIN;
+            let mid = split(range, &boxes, &centroids, &cb, sah);
             let left = bvh.nodes.len();
             for (s, c) in [(start, mid), (start + mid, count - mid)] {
                 bvh.nodes.push(Node {
@@ -198,6 +254,12 @@ impl Bvh {
             todo.push((left + 1, depth + 1));
             todo.push((left, depth + 1));
         }
+        bvh.tris = bvh
+            .order
+            .iter()
+            .filter_map(|&t| corners(mesh, t as usize))
+            .map(LeafTri::new)
+            .collect();
         bvh
     }
 
@@ -224,7 +286,8 @@ impl Bvh {
                 b.merge(&Aabb { lo: r.lo, hi: r.hi });
             } else {
                 let s = node.start as usize;
-                for &t in &self.order[s..s + node.count as usize] {
+                let e = s + node.count as usize;
+                for (&t, lt) in self.order[s..e].iter().zip(&mut self.tris[s..e]) {
                     let c = corners(mesh, t as usize).ok_or_else(|| {
                         CoreError::InvalidMesh(format!(
                             "BVH refit: triangle {t} refers to a missing vertex"
@@ -233,6 +296,7 @@ impl Bvh {
                     for p in &c {
                         b.grow(&[p.x, p.y, p.z]);
                     }
+                    *lt = LeafTri::new(c);
                 }
             }
             self.nodes[ni].lo = b.lo;
@@ -257,9 +321,11 @@ impl Bvh {
     }
 
     /// The closest point of the mesh surface to `q`; None when the tree is empty (or every
-    /// distance is NaN). Ties go to the lowest triangle index, so results are deterministic and
+    /// distance is NaN). `mesh` must be the mesh of the last build or refit (its geometry is read
+    /// from the tree's copy). Ties go to the lowest triangle index, so results are deterministic and
     /// equal to a brute-force scan.
     pub fn closest_point(&self, mesh: &TriMesh, q: Vec3) -> Option<ClosestHit> {
+        let _ = mesh; // kept in the signature so callers pair each query with its mesh
         if self.nodes.is_empty() {
             return None;
         }
@@ -299,17 +365,21 @@ impl Bvh {
                     continue;
                 }
                 let s = node.start as usize;
-                for &t in &self.order[s..s + node.count as usize] {
-                    if let Some([a, b, c]) = corners(mesh, t as usize) {
-                        let p = closest_point_on_triangle(&q, &a, &b, &c);
-                        let d = (q - p).norm_squared();
-                        if d < best.distance_sq || (d == best.distance_sq && t < best.triangle) {
-                            best = ClosestHit {
-                                point: p,
-                                distance_sq: d,
-                                triangle: t,
-                            };
-                        }
+                let e = s + node.count as usize;
+                for (&t, lt) in self.order[s..e].iter().zip(&self.tris[s..e]) {
+                    let [a, b, c] = &lt.corners;
+                    let p = if lt.degenerate {
+                        closest_on_edges(&q, a, b, c)
+                    } else {
+                        closest_point_on_regular_triangle(&q, a, b, c)
+                    };
+                    let d = (q - p).norm_squared();
+                    if d < best.distance_sq || (d == best.distance_sq && t < best.triangle) {
+                        best = ClosestHit {
+                            point: p,
+                            distance_sq: d,
+                            triangle: t,
+                        };
                     }
                 }
             }
@@ -341,34 +411,33 @@ impl Bvh {
     }
 }
 
-/// Reorders `range` into two non-empty halves and returns the size of the first: the cheapest
-/// binned-SAH split over the three axes, or (when `sah` is false, or every centroid coincides on
+/// Reorders `range` (whose centroids span `cb`) into two non-empty halves and returns the size of
+/// the first: the cheapest binned-SAH split over the three axes, or (when `sah` is false, or every centroid coincides on
 /// the chosen axis) a split by count at the median along the widest centroid axis.
-fn split(range: &mut [u32], boxes: &[Aabb], centroids: &[[f64; 3]], sah: bool) -> usize {
-    let mut cb = Aabb::EMPTY;
-    for &t in range.iter() {
-        cb.grow(&centroids[t as usize]);
-    }
+fn split(range: &mut [u32], boxes: &[Aabb], centroids: &[[f64; 3]], cb: &Aabb, sah: bool) -> usize {
     let ext = [
         cb.hi[0] - cb.lo[0],
         cb.hi[1] - cb.lo[1],
         cb.hi[2] - cb.lo[2],
     ];
-    if sah {
+    // Axes with a positive extent (this also skips NaN extents) and their bin scales.
+    let usable = ext.map(|e| e.partial_cmp(&0.0) == Some(std::cmp::Ordering::Greater));
+    let scale = [0, 1, 2].map(|k| if usable[k] { BINS as f64 / ext[k] } else { 0.0 });
+    if sah && usable.iter().any(|&u| u) {
+        // One pass bins every triangle on the three axes at once.
+        let mut bins = [[(Aabb::EMPTY, 0usize); BINS]; 3];
+        for &t in range.iter() {
+            let (c, bx) = (&centroids[t as usize], &boxes[t as usize]);
+            for axis in 0..3 {
+                let b = bin_of(c[axis], cb.lo[axis], scale[axis]);
+                bins[axis][b].0.merge(bx);
+                bins[axis][b].1 += 1;
+            }
+        }
         let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, bins on the left)
-        for axis in 0..3 {
-            // Also skips NaN extents.
-            if ext[axis].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                continue;
-            }
-            let scale = BINS as f64 / ext[axis];
-            let mut bins = [(Aabb::EMPTY, 0usize); BINS];
-            for &t in range.iter() {
-                let b = bin_of(centroids[t as usize][axis], cb.lo[axis], scale);
-                bins[b].0.merge(&boxes[t as usize]);
-                bins[b].1 += 1;
-            }
-            // Sweep from the right to get the right-side areas, then from the left.
+        for axis in (0..3).filter(|&k| usable[k]) {
+            let bins = &bins[axis];
+            // Sweep from the right to get the right-side costs, then from the left.
             let mut right_cost = [0.0; BINS];
             let (mut acc, mut cnt) = (Aabb::EMPTY, 0usize);
             for i in (1..BINS).rev() {
@@ -390,9 +459,8 @@ fn split(range: &mut [u32], boxes: &[Aabb], centroids: &[[f64; 3]], sah: bool) -
             }
         }
         if let Some((_, axis, nbins)) = best {
-            let scale = BINS as f64 / ext[axis];
             let mid = partition(range, |t| {
-                bin_of(centroids[t as usize][axis], cb.lo[axis], scale) < nbins
+                bin_of(centroids[t as usize][axis], cb.lo[axis], scale[axis]) < nbins
             });
             if mid > 0 && mid < range.len() {
                 return mid;
@@ -436,6 +504,7 @@ mod tests {
     use super::*;
     use crate::geometry::v3;
     use crate::spatial::testutil::{random_soup, uv_sphere, SplitMix64};
+    use crate::spatial::triangle::closest_point_on_triangle;
 
     fn brute(mesh: &TriMesh, q: Vec3) -> Option<ClosestHit> {
         let mut best: Option<ClosestHit> = None;
@@ -476,14 +545,14 @@ mod tests {
     #[test]
     fn sphere_queries_equal_brute_force() {
         let mut rng = SplitMix64::new(3);
-        let mut mesh = uv_sphere(30.0, 40, 76);
+        let mut mesh = uv_sphere(30.0, 24, 40);
         // Jitter the vertices so the sphere is not symmetric, and query near and far from it.
         for p in &mut mesh.positions {
             *p += rng.vec3(-0.5, 0.5);
         }
         let bvh = Bvh::build(&mesh);
         assert!(bvh.depth() < STACK);
-        let mut queries: Vec<Vec3> = (0..300).map(|_| rng.vec3(-40.0, 40.0)).collect();
+        let mut queries: Vec<Vec3> = (0..200).map(|_| rng.vec3(-40.0, 40.0)).collect();
         queries.extend(mesh.positions.iter().take(50).copied()); // on vertices: exact ties
         check_against_brute(&mesh, &bvh, &queries);
         // A query on a shared vertex has distance 0 and the lowest incident triangle.

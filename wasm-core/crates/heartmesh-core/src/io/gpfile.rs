@@ -1,0 +1,443 @@
+//! Cardiac Atlas Project / biv-me guide-point files (`GPFile_*.txt`, see ../shared/data/README.md):
+//! `x y z contour-type slice-id weight frame`, tab separated, header optional, plus the optional
+//! `SliceInfoFile.txt` that gives each slice's image plane.
+//!
+//! Contour types map to surfaces (RV endocardium arrives as free wall + septum curves, joined
+//! later by the pipeline); landmarks (valves, apex, RV inserts) are kept as named points. One
+//! contour per (slice, type), named `s<slice>_<type>` like the canonical CSV files.
+
+use super::builder::ContourBuilder;
+use super::text::{lines, parse_coord, quote};
+use crate::contours::ContourSet;
+use crate::error::{CoreError, Result};
+use crate::geometry::{v3, Vec3};
+
+/// Landmark types: single named points, not curves.
+const LANDMARKS: &[&str] = &[
+    "MITRAL_VALVE",
+    "TRICUSPID_VALVE",
+    "AORTA_VALVE",
+    "PULMONARY_VALVE",
+    "APEX_POINT",
+    "RV_INSERT",
+];
+
+/// Surface of a contour type (without its SAX_/LAX_ prefix).
+pub fn surface_of(kind: &str) -> Option<&'static str> {
+    Some(match kind {
+        "LV_ENDOCARDIAL" => "LV_ENDO",
+        "LV_EPICARDIAL" => "LV_EPI",
+        "RV_FREEWALL" | "RV_SEPTUM" | "RV_ENDOCARDIAL" => "RV_ENDO",
+        "RV_EPICARDIAL" => "RV_EPI",
+        _ => return None,
+    })
+}
+
+/// Column positions; without a header the biv-me order is assumed.
+#[derive(Debug, Clone, Copy)]
+struct Columns {
+    x: usize,
+    y: usize,
+    z: usize,
+    kind: usize,
+    slice: Option<usize>,
+    frame: Option<usize>,
+}
+
+const DEFAULT_COLUMNS: Columns = Columns {
+    x: 0,
+    y: 1,
+    z: 2,
+    kind: 3,
+    slice: Some(4),
+    frame: Some(6),
+};
+
+/// True when `text` looks like a guide-point file (used by format detection).
+pub fn looks_like_gpfile(text: &str) -> bool {
+    let Some((_, first)) = lines(text).find(|(_, l)| !l.trim().is_empty()) else {
+        return false;
+    };
+    let f = split(first);
+    let lower = first.to_ascii_lowercase();
+    if lower.contains("contour type") || lower.contains("contour_type") {
+        return true;
+    }
+    f.len() >= 4
+        && f[..3].iter().all(|v| v.parse::<f64>().is_ok())
+        && (f[3].starts_with("SAX_") || f[3].starts_with("LAX_") || LANDMARKS.contains(&f[3]))
+}
+
+/// Tab-separated (header names contain spaces), else whitespace-separated.
+fn split(line: &str) -> Vec<&str> {
+    if line.contains('\t') {
+        line.split('\t').map(str::trim).collect()
+    } else {
+        line.split_whitespace().collect()
+    }
+}
+
+fn header_columns(fields: &[&str], line: usize) -> Result<Columns> {
+    let names: Vec<String> = fields.iter().map(|f| f.to_ascii_lowercase()).collect();
+    let find = |w: &[&str]| names.iter().position(|n| w.contains(&n.as_str()));
+    let need = |w: &[&str]| {
+        find(w).ok_or_else(|| {
+            CoreError::parse(
+                line,
+                format!(
+                    "missing column {:?} in the header (found: {})",
+                    w[0],
+                    super::text::shorten(&names.join(", "), 80)
+                ),
+            )
+        })
+    };
+    Ok(Columns {
+        x: need(&["x"])?,
+        y: need(&["y"])?,
+        z: need(&["z"])?,
+        kind: need(&["contour type", "contour_type", "type"])?,
+        slice: find(&["frameid", "sliceid", "slice", "slice id", "slice_id"]),
+        frame: find(&["time frame", "time_frame", "frame"]),
+    })
+}
+
+/// Reads a guide-point file. `frame`: keep only rows of that time frame; None keeps, for each
+/// slice, the first frame that slice has in the file (files normally hold one frame, but a slice
+/// may carry another frame number, as in the biv-me example).
+pub fn read_gpfile(text: &str, frame: Option<u32>) -> Result<ContourSet> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut rows = lines(text)
+        .filter(|(_, l)| {
+            let t = l.trim_start();
+            !t.is_empty() && !t.starts_with('#')
+        })
+        .peekable();
+    let (first_line, first) = *rows
+        .peek()
+        .ok_or_else(|| CoreError::parse(0, "empty file"))?;
+    let ff = split(first);
+    let cols = if ff.first().is_some_and(|v| v.parse::<f64>().is_err()) {
+        rows.next();
+        header_columns(&ff, first_line)?
+    } else {
+        DEFAULT_COLUMNS
+    };
+    let needed = cols.x.max(cols.y).max(cols.z).max(cols.kind) + 1;
+    let mut b = ContourBuilder::new();
+    // First frame seen per slice (None frame selector).
+    let mut slice_frame: Vec<(String, f64)> = Vec::new();
+    let mut frames_seen: Vec<f64> = Vec::new();
+    let mut unknown: Vec<(String, usize)> = Vec::new();
+    let mut kept = 0usize;
+    for (line, row) in rows {
+        let f = split(row);
+        if f.len() < needed {
+            return Err(CoreError::parse(
+                line,
+                format!(
+                    "row has {} fields; at least {needed} needed (x y z type ...)",
+                    f.len()
+                ),
+            ));
+        }
+        let x = parse_coord(f[cols.x], line, "column \"x\"")?;
+        let y = parse_coord(f[cols.y], line, "column \"y\"")?;
+        let z = parse_coord(f[cols.z], line, "column \"z\"")?;
+        let kind = f[cols.kind];
+        let slice = cols.slice.and_then(|i| f.get(i)).copied().unwrap_or("0");
+        let slice_id = match slice.parse::<f64>() {
+            Ok(v) if v.fract() == 0.0 && (0.0..1e6).contains(&v) => format!("{:02}", v as u32),
+            _ => {
+                return Err(CoreError::parse(
+                    line,
+                    format!("slice id {} is not a whole number", quote(slice)),
+                ))
+            }
+        };
+        if let Some(fr) = cols.frame.and_then(|i| f.get(i)) {
+            let fr = parse_coord(fr, line, "column \"time frame\"")?;
+            if !frames_seen.contains(&fr) {
+                frames_seen.push(fr);
+            }
+            let keep = match frame {
+                Some(want) => fr == want as f64,
+                None => match slice_frame.iter().find(|(s, _)| *s == slice_id) {
+                    Some((_, first)) => *first == fr,
+                    None => {
+                        slice_frame.push((slice_id.clone(), fr));
+                        true
+                    }
+                },
+            };
+            if !keep {
+                continue;
+            }
+        }
+        let p = v3(x, y, z);
+        if LANDMARKS.contains(&kind) {
+            b.landmark(kind, p, line)?;
+            continue;
+        }
+        let base = kind
+            .strip_prefix("SAX_")
+            .or_else(|| kind.strip_prefix("LAX_"))
+            .unwrap_or(kind);
+        match surface_of(base) {
+            Some(surface) => {
+                b.push(&format!("s{slice_id}_{kind}"), Some(surface), p, line)?;
+                kept += 1;
+            }
+            None => match unknown.iter_mut().find(|(k, _)| k == kind) {
+                Some((_, n)) => *n += 1,
+                None => unknown.push((kind.to_string(), 1)),
+            },
+        }
+    }
+    if kept == 0 {
+        if let Some(want) = frame {
+            let list: Vec<String> = frames_seen.iter().map(|f| f.to_string()).collect();
+            return Err(CoreError::parse(
+                0,
+                format!(
+                    "no contour points in frame {want} (frames in the file: {})",
+                    list.join(", ")
+                ),
+            ));
+        }
+    }
+    for (k, n) in unknown {
+        b.warn(format!("{n} points of unknown contour type {k} skipped"));
+    }
+    b.finish()
+}
+
+/// One slice of `SliceInfoFile.txt`: its image plane in patient coordinates (mm).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SliceInfo {
+    pub slice_id: u32,
+    pub position: Vec3,
+    /// Direction of the image rows and columns (ImageOrientationPatient).
+    pub row_dir: Vec3,
+    pub col_dir: Vec3,
+    pub pixel_spacing: [f64; 2],
+}
+
+impl SliceInfo {
+    /// Unit normal of the image plane.
+    pub fn normal(&self) -> Vec3 {
+        self.row_dir.cross(&self.col_dir).normalize()
+    }
+}
+
+/// Reads `SliceInfoFile.txt` (`<file> sliceID: <id> ImagePositionPatient x y z
+/// ImageOrientationPatient r1 r2 r3 c1 c2 c3 PixelSpacing a b`; `frameID:` also accepted).
+pub fn read_slice_info(text: &str) -> Result<Vec<SliceInfo>> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut out = Vec::new();
+    for (line, row) in lines(text) {
+        let f: Vec<&str> = row.split_whitespace().collect();
+        if f.is_empty() {
+            continue;
+        }
+        let after = |key: &str, n: usize| -> Result<Vec<f64>> {
+            let i = f
+                .iter()
+                .position(|t| t.eq_ignore_ascii_case(key))
+                .ok_or_else(|| CoreError::parse(line, format!("missing {key}")))?;
+            (1..=n)
+                .map(|k| {
+                    let t = f.get(i + k).ok_or_else(|| {
+                        CoreError::parse(line, format!("{key} needs {n} numbers"))
+                    })?;
+                    parse_coord(t, line, key)
+                })
+                .collect()
+        };
+        let id_key = f
+            .iter()
+            .find(|t| t.to_ascii_lowercase().ends_with("id:"))
+            .copied()
+            .unwrap_or("sliceID:");
+        let id = after(id_key, 1)?[0];
+        let pos = after("ImagePositionPatient", 3)?;
+        let o = after("ImageOrientationPatient", 6)?;
+        let ps = after("PixelSpacing", 2).unwrap_or_else(|_| vec![1.0, 1.0]);
+        let row_dir = v3(o[0], o[1], o[2]);
+        let col_dir = v3(o[3], o[4], o[5]);
+        if row_dir.cross(&col_dir).norm() < 1e-6 {
+            return Err(CoreError::parse(
+                line,
+                "ImageOrientationPatient is degenerate",
+            ));
+        }
+        out.push(SliceInfo {
+            slice_id: id as u32,
+            position: v3(pos[0], pos[1], pos[2]),
+            row_dir,
+            col_dir,
+            pixel_spacing: [ps[0], ps[1]],
+        });
+    }
+    if out.is_empty() {
+        return Err(CoreError::parse(0, "no slices in the slice info file"));
+    }
+    Ok(out)
+}
+
+/// Points farther than this from their slice's plane are reported.
+const OFF_PLANE_WARN_MM: f64 = 2.0;
+
+/// Checks each contour against its image plane and adds a warning for those lying off it (a
+/// sign of a mismatched SliceInfoFile or of through-plane motion correction).
+pub fn check_slices(set: &mut ContourSet, slices: &[SliceInfo]) {
+    let mut warnings = Vec::new();
+    for c in &set.contours {
+        let Some(id) =
+            c.id.strip_prefix('s')
+                .and_then(|r| r.split('_').next())
+                .and_then(|s| s.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        let Some(s) = slices.iter().find(|s| s.slice_id == id) else {
+            warnings.push(format!(
+                "contour {}: slice {id} is not in the slice info file",
+                c.id
+            ));
+            continue;
+        };
+        let n = s.normal();
+        let worst = c
+            .points()
+            .map(|p| (p - s.position).dot(&n).abs())
+            .fold(0.0, f64::max);
+        if worst > OFF_PLANE_WARN_MM {
+            warnings.push(format!(
+                "contour {}: points lie up to {worst:.1} mm from the image plane of slice {id}",
+                c.id
+            ));
+        }
+    }
+    set.warnings.extend(warnings);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::csv::read_csv;
+    use crate::io::sample;
+
+    fn text(rel: &str) -> String {
+        String::from_utf8(sample(rel)).unwrap()
+    }
+
+    /// Same contours, pieces and points (to the canonical files' 4 decimals) as the CSV.
+    fn assert_same_as_canonical(gp: &ContourSet, csv: &ContourSet) {
+        assert_eq!(gp.contours.len(), csv.contours.len());
+        for s in ["LV_ENDO", "LV_EPI", "RV_ENDO", "RV_EPI"] {
+            let count = |set: &ContourSet| -> usize {
+                set.contours
+                    .iter()
+                    .filter(|c| c.surface.as_deref() == Some(s))
+                    .map(|c| c.point_count())
+                    .sum()
+            };
+            assert_eq!(count(gp), count(csv), "{s}");
+        }
+        for c in &csv.contours {
+            let g = gp.contours.iter().find(|g| g.id == c.id).expect(&c.id);
+            assert_eq!(g.surface, c.surface, "{}", c.id);
+            assert_eq!(g.pieces.len(), c.pieces.len(), "{}", c.id);
+            for (a, b) in g.pieces.iter().zip(&c.pieces) {
+                assert_eq!(a.closed, b.closed, "{}", c.id);
+                assert_eq!(a.points.len(), b.points.len(), "{}", c.id);
+                for (p, q) in a.points.iter().zip(&b.points) {
+                    assert!((p - q).amax() < 6e-5, "{}: {p:?} vs {q:?}", c.id);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn patient1_matches_canonical_csv() {
+        for (gp, csv, frame) in [
+            ("GPFile_000.txt", "patient1-ED.csv", None),
+            ("GPFile_009.txt", "patient1-ES.csv", None),
+        ] {
+            let dir = "contours/bivme-example-patient1/";
+            let g = read_gpfile(&text(&format!("{dir}{gp}")), frame).unwrap();
+            let c = read_csv(&sample(&format!("{dir}{csv}"))).unwrap();
+            assert_same_as_canonical(&g, &c);
+        }
+        let g = read_gpfile(
+            &text("contours/bivme-example-patient1/GPFile_000.txt"),
+            None,
+        )
+        .unwrap();
+        assert_eq!(g.landmarks.len(), 23);
+        assert_eq!(
+            g.landmarks.iter().filter(|l| l.0 == "APEX_POINT").count(),
+            1
+        );
+        assert_eq!(g.contours.len(), 40);
+        assert_eq!(g.point_count(), 1791);
+        // GPFile_009 holds frame 9 for most slices and "1.0" for slice 8: an explicit frame keeps
+        // only its rows, and the two selections partition the contour points.
+        let es = text("contours/bivme-example-patient1/GPFile_009.txt");
+        let all = read_gpfile(&es, None).unwrap();
+        let f9 = read_gpfile(&es, Some(9)).unwrap();
+        let f1 = read_gpfile(&es, Some(1)).unwrap();
+        assert_eq!(f9.contours.len(), 30);
+        assert_eq!(f9.contours.len() + f1.contours.len(), all.contours.len());
+        assert!(f1.contours.iter().all(|c| c.id.starts_with("s08_")));
+    }
+
+    #[test]
+    fn patient2_with_and_without_header() {
+        let dir = "contours/bivme-test-patient2/";
+        for (gp, csv) in [
+            ("GPFile_000.txt", "patient2-ED.csv"),
+            ("GPFile_012.txt", "patient2-ES.csv"),
+        ] {
+            let g = read_gpfile(&text(&format!("{dir}{gp}")), None).unwrap();
+            let c = read_csv(&sample(&format!("{dir}{csv}"))).unwrap();
+            assert_same_as_canonical(&g, &c);
+            assert_eq!(g.surfaces(), vec!["LV_ENDO", "LV_EPI", "RV_ENDO"]);
+        }
+        let e = read_gpfile(&text(&format!("{dir}GPFile_012.txt")), Some(3)).unwrap_err();
+        assert!(e.to_string().contains("frames in the file: 12"), "{e}");
+    }
+
+    #[test]
+    fn slice_info_planes_fit_the_contours() {
+        for dir in ["bivme-example-patient1", "bivme-test-patient2"] {
+            let info =
+                read_slice_info(&text(&format!("contours/{dir}/SliceInfoFile.txt"))).unwrap();
+            let mut set =
+                read_gpfile(&text(&format!("contours/{dir}/GPFile_000.txt")), None).unwrap();
+            let before = set.warnings.len();
+            check_slices(&mut set, &info);
+            let off: Vec<_> = set.warnings[before..].to_vec();
+            assert!(off.is_empty(), "{dir}: {off:?}");
+        }
+    }
+
+    #[test]
+    fn errors_and_unknown_types() {
+        let e = read_gpfile("1\t2\tx\tSAX_LV_ENDOCARDIAL\t1\t1.0\t0\n", None).unwrap_err();
+        assert_eq!(e.line(), Some(1));
+        assert!(e.to_string().contains("column \"z\""), "{e}");
+        let s = "1 2 3 SAX_LV_ENDOCARDIAL 1 1.0 0\n4 5 6 SAX_LV_ENDOCARDIAL 1 1.0 0\n\
+                 7 8 9 SAX_LA 1 1.0 0\n";
+        let set = read_gpfile(s, None).unwrap();
+        assert_eq!(set.contours[0].id, "s01_SAX_LV_ENDOCARDIAL");
+        assert!(
+            set.warnings.iter().any(|w| w.contains("SAX_LA")),
+            "{:?}",
+            set.warnings
+        );
+        assert!(looks_like_gpfile(s));
+        assert!(!looks_like_gpfile("contour,x,y,z\n"));
+    }
+}

@@ -1,0 +1,271 @@
+//! Saved heartmesh sessions: JSON with the contours, the parameters and the app version, written
+//! by the browser app and by [`write_session`], so that a result can be reproduced later.
+//!
+//! ```json
+//! {"heartmesh_session": 1, "app_version": "0.1.0",
+//!  "contours": [{"id": "c1", "surface": "LV_ENDO", "points": [[x, y, z], ...]}],
+//!  "landmarks": [{"name": "APEX_POINT", "point": [x, y, z]}],
+//!  "parameters": {"iterations": 250, "lambda": 100000, "lids": "auto", "surface": null}}
+//! ```
+
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+
+use super::builder::ContourBuilder;
+use crate::contours::ContourSet;
+use crate::error::{CoreError, Result};
+use crate::geometry::v3;
+use crate::params::{LidMode, Params};
+
+/// Format version written and accepted.
+pub const SESSION_VERSION: u32 = 1;
+
+#[derive(Debug, Deserialize, Serialize)]
+struct SessionFile {
+    heartmesh_session: u32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    app_version: Option<String>,
+    contours: Vec<SessionContour>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    landmarks: Vec<SessionLandmark>,
+    #[serde(default)]
+    parameters: Map<String, Value>,
+}
+
+#[derive(Debug, Deserialize, Serialize)]
+struct SessionContour {
+    id: String,
+    #[serde(default)]
+    surface: Option<String>,
+    /// One piece; or use `pieces` for several.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    points: Vec<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pieces: Vec<Vec<[f64; 3]>>,
+    /// Ring or open curve; when absent the reader decides from the geometry.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    closed: Option<bool>,
+}
+
+#[derive(Debug, Deserialize, Serialize)]
+struct SessionLandmark {
+    name: String,
+    point: [f64; 3],
+}
+
+/// A session read back: the contours plus its raw parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Session {
+    pub contours: ContourSet,
+    /// As saved (numbers by schema name, `lids`, `surface`); apply with [`Session::params`].
+    pub parameters: Map<String, Value>,
+    pub app_version: Option<String>,
+}
+
+impl Session {
+    /// The saved parameters on top of the defaults, each checked against its range.
+    pub fn params(&self) -> Result<Params> {
+        let mut p = Params::default();
+        for (name, value) in &self.parameters {
+            match (name.as_str(), value) {
+                ("lids", Value::String(s)) => p.set_lids(s)?,
+                ("surface", Value::String(s)) => p.surface = Some(s.clone()),
+                ("surface", Value::Null) => p.surface = None,
+                (n, Value::Number(v)) if Params::schema().iter().any(|s| s.name == n) => {
+                    let v = v.as_f64().unwrap_or(f64::NAN);
+                    p.set(n, v)?
+                }
+                _ => {} // unknown keys come from newer versions: ignored
+            }
+        }
+        // Applying "attractors" after "attractor_spacing" (or the reverse) must not lose the
+        // spacing: re-apply a positive spacing last.
+        if let Some(Value::Number(v)) = self.parameters.get("attractor_spacing") {
+            if let Some(v) = v.as_f64().filter(|v| *v > 0.0) {
+                p.set("attractor_spacing", v)?;
+            }
+        }
+        p.validate()?;
+        Ok(p)
+    }
+}
+
+/// True when the bytes look like a session (a JSON object naming `heartmesh_session`).
+pub fn looks_like_session(bytes: &[u8]) -> bool {
+    let head = &bytes[..bytes.len().min(4096)];
+    head.trim_ascii_start().starts_with(b"{") && head.windows(17).any(|w| w == b"heartmesh_session")
+}
+
+pub fn read_session(bytes: &[u8]) -> Result<Session> {
+    let text = super::text::decode(bytes)?;
+    let file: SessionFile = serde_json::from_str(text).map_err(|e| {
+        let msg = e.to_string();
+        // serde_json appends " at line L column C"; the line is reported separately.
+        let msg = match msg.rfind(" at line ") {
+            Some(i) => msg[..i].to_string(),
+            None => msg,
+        };
+        CoreError::parse(e.line(), format!("invalid session JSON: {msg}"))
+    })?;
+    if file.heartmesh_session != SESSION_VERSION {
+        return Err(CoreError::parse(
+            0,
+            format!(
+                "session format {} is not supported (this version reads {SESSION_VERSION})",
+                file.heartmesh_session
+            ),
+        ));
+    }
+    let mut b = ContourBuilder::new();
+    let mut closed_flags: Vec<Option<bool>> = Vec::new();
+    for (k, c) in file.contours.iter().enumerate() {
+        let pieces: Vec<&Vec<[f64; 3]>> = if c.pieces.is_empty() {
+            vec![&c.points]
+        } else {
+            c.pieces.iter().collect()
+        };
+        for piece in pieces {
+            for p in piece {
+                if !p.iter().all(|v| v.is_finite()) {
+                    return Err(CoreError::parse(
+                        0,
+                        format!("contour {} (number {}) has a non-finite point", c.id, k + 1),
+                    ));
+                }
+                b.push(&c.id, c.surface.as_deref(), v3(p[0], p[1], p[2]), 0)?;
+            }
+            b.break_run();
+        }
+        closed_flags.push(c.closed);
+    }
+    for l in &file.landmarks {
+        b.landmark(&l.name, v3(l.point[0], l.point[1], l.point[2]), 0)?;
+    }
+    let mut set = b.finish()?;
+    // Explicit closed flags win over the heuristic (ids are unique in the set; look them up).
+    for (c, flag) in file.contours.iter().zip(closed_flags) {
+        if let (Some(flag), Some(sc)) = (flag, set.contours.iter_mut().find(|s| s.id == c.id)) {
+            for piece in &mut sc.pieces {
+                piece.closed = flag && piece.points.len() >= 3;
+            }
+        }
+    }
+    Ok(Session {
+        contours: set,
+        parameters: file.parameters,
+        app_version: file.app_version,
+    })
+}
+
+/// The parameters as a session stores them.
+pub fn params_json(params: &Params) -> Map<String, Value> {
+    let mut m = Map::new();
+    for s in Params::schema() {
+        if let Some(v) = params.get(s.name) {
+            m.insert(s.name.into(), Value::from(v));
+        }
+    }
+    let lids = match params.lids {
+        LidMode::None => "none",
+        _ => "auto",
+    };
+    m.insert("lids".into(), Value::from(lids));
+    m.insert(
+        "surface".into(),
+        params
+            .surface
+            .clone()
+            .map(Value::from)
+            .unwrap_or(Value::Null),
+    );
+    m
+}
+
+/// Writes a session; every piece is stored with its closed flag so it reads back identically.
+pub fn write_session(set: &ContourSet, params: &Params, app_version: &str) -> Result<Vec<u8>> {
+    let contours = set
+        .contours
+        .iter()
+        .map(|c| {
+            let all_closed = c.pieces.iter().all(|p| p.closed);
+            let pts = |p: &crate::contours::Polyline| -> Vec<[f64; 3]> {
+                p.points.iter().map(|q| [q.x, q.y, q.z]).collect()
+            };
+            SessionContour {
+                id: c.id.clone(),
+                surface: c.surface.clone(),
+                points: if c.pieces.len() == 1 {
+                    pts(&c.pieces[0])
+                } else {
+                    Vec::new()
+                },
+                pieces: if c.pieces.len() == 1 {
+                    Vec::new()
+                } else {
+                    c.pieces.iter().map(pts).collect()
+                },
+                closed: Some(all_closed),
+            }
+        })
+        .collect();
+    let file = SessionFile {
+        heartmesh_session: SESSION_VERSION,
+        app_version: Some(app_version.to_string()),
+        contours,
+        landmarks: set
+            .landmarks
+            .iter()
+            .map(|(n, p)| SessionLandmark {
+                name: n.clone(),
+                point: [p.x, p.y, p.z],
+            })
+            .collect(),
+        parameters: params_json(params),
+    };
+    let mut out = serde_json::to_vec(&file).map_err(|e| CoreError::Io(e.to_string()))?;
+    out.push(b'\n');
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::csv::read_csv;
+    use crate::io::sample;
+
+    #[test]
+    fn round_trip_with_parameters() {
+        let set = read_csv(&sample("contours/bivme-example-patient1/patient1-ED.csv")).unwrap();
+        let mut params = Params::default();
+        params.set("beta", 0.2).unwrap();
+        params.set("attractor_spacing", 3.0).unwrap();
+        params.set_lids("none").unwrap();
+        params.surface = Some("LV_EPI".into());
+        let bytes = write_session(&set, &params, "9.9.9").unwrap();
+        assert!(looks_like_session(&bytes));
+        let s = read_session(&bytes).unwrap();
+        assert_eq!(s.app_version.as_deref(), Some("9.9.9"));
+        assert_eq!(s.params().unwrap(), params);
+        assert_eq!(s.contours.contours.len(), set.contours.len());
+        for (a, b) in s.contours.contours.iter().zip(&set.contours) {
+            assert_eq!((&a.id, &a.surface), (&b.id, &b.surface));
+            assert!(a.pieces == b.pieces, "{}", a.id);
+        }
+    }
+
+    #[test]
+    fn errors() {
+        let e = read_session(
+            b"{\"heartmesh_session\": 1,\n \"contours\": [{\"id\": \"a\", \"points\": [[1, 2]]}]}",
+        )
+        .unwrap_err();
+        assert_eq!(e.line(), Some(2), "{e}");
+        let e = read_session(b"{\"heartmesh_session\": 7, \"contours\": []}").unwrap_err();
+        assert!(e.to_string().contains("format 7"), "{e}");
+        let s = read_session(
+            b"{\"heartmesh_session\":1,\"contours\":[{\"id\":\"a\",\"points\":[[0,0,0],[9,0,0],[9,9,0]]}],\"parameters\":{\"beta\":5}}",
+        )
+        .unwrap();
+        assert_eq!(s.params().unwrap_err().code(), "param_out_of_range");
+    }
+}

@@ -1,0 +1,120 @@
+//! Real contours (issue 2 acceptance): the SurFCo example and the biv-me patients, every surface,
+//! end-diastole and end-systole, reconstruct at the defaults to closed, manifold, outward meshes
+//! whose contour-to-mesh mean distance is at most 1 mm. Each case prints its numbers.
+
+mod common;
+
+use common::*;
+use heartmesh_core::contours::ContourKind;
+use heartmesh_core::pipeline::Reconstruction;
+use heartmesh_core::Params;
+
+const MEAN_MM: f64 = 1.0;
+
+/// Reconstructs every surface of one file; returns failures as messages (all cases run).
+fn file_case(sub: &str) -> Vec<String> {
+    let set = load_contours(sub);
+    let mut surfaces: Vec<Option<String>> = set.surfaces().into_iter().map(Some).collect();
+    if surfaces.is_empty() {
+        surfaces.push(None);
+    }
+    let mut failures = Vec::new();
+    for surface in surfaces {
+        let label = format!("{sub} {}", surface.as_deref().unwrap_or("(single surface)"));
+        let params = Params {
+            surface: surface.clone(),
+            ..Params::default()
+        };
+        let started = std::time::Instant::now();
+        let mut rec = match Reconstruction::new(&set, params) {
+            Ok(r) => r,
+            Err(e) => {
+                failures.push(format!("{label}: new: {e}"));
+                continue;
+            }
+        };
+        if let Err(e) = rec.run() {
+            failures.push(format!("{label}: run: {e}"));
+            continue;
+        }
+        let seconds = started.elapsed().as_secs_f64();
+        let d = rec.contour_distances();
+        // Independent check of the pipeline's own measure.
+        let ours = contour_to_mesh_of(rec.contours(), rec.mesh());
+        let worst = d
+            .per_contour
+            .iter()
+            .max_by(|a, b| a.stats.mean.total_cmp(&b.stats.mean));
+        let n_lax = rec
+            .kinds()
+            .iter()
+            .filter(|k| **k == ContourKind::Lax)
+            .count();
+        eprintln!(
+            "REAL {label}: {} contours ({} LAX); contour->mesh mean {:.3} median {:.3} p95 {:.3} \
+             max {:.3} mm (independent mean {:.3}); worst contour {} mean {:.3} max {:.3}; \
+             {} vertices, volume {:.2} ml; {:.2} s",
+            rec.contours().len(),
+            n_lax,
+            d.overall.mean,
+            d.overall.median,
+            d.overall.p95,
+            d.overall.max,
+            mean(&ours),
+            worst.map_or("-", |w| w.id.as_str()),
+            worst.map_or(0.0, |w| w.stats.mean),
+            worst.map_or(0.0, |w| w.stats.max),
+            rec.mesh().positions.len(),
+            rec.mesh().volume_ml(),
+            seconds
+        );
+        if let Err(e) = check_closed_manifold_outward(rec.mesh()) {
+            failures.push(format!("{label}: mesh is not closed/manifold/outward: {e}"));
+        }
+        if (d.overall.mean - mean(&ours)).abs() > 1e-6 {
+            failures.push(format!(
+                "{label}: pipeline's contour distance {:.6} disagrees with the independent {:.6}",
+                d.overall.mean,
+                mean(&ours)
+            ));
+        }
+        if d.overall.mean.is_nan() || d.overall.mean > MEAN_MM {
+            failures.push(format!(
+                "{label}: contour-to-mesh mean {:.3} mm > {MEAN_MM} (max {:.3}, worst contour {})",
+                d.overall.mean,
+                d.overall.max,
+                worst.map_or("-", |w| w.id.as_str())
+            ));
+        }
+    }
+    failures
+}
+
+fn assert_none(failures: Vec<String>) {
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn surfco_example() {
+    assert_none(file_case("surfco-example.csv"));
+}
+
+#[test]
+fn bivme_patient1_ed() {
+    assert_none(file_case("bivme-example-patient1/patient1-ED.csv"));
+}
+
+#[test]
+fn bivme_patient1_es() {
+    assert_none(file_case("bivme-example-patient1/patient1-ES.csv"));
+}
+
+#[test]
+fn bivme_patient2_ed() {
+    assert_none(file_case("bivme-test-patient2/patient2-ED.csv"));
+}
+
+#[test]
+fn bivme_patient2_es() {
+    assert_none(file_case("bivme-test-patient2/patient2-ES.csv"));
+}
