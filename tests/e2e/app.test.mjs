@@ -6,7 +6,7 @@ import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, mkdirSync } from 'node:fs';
 import { join } from 'node:path';
-import { ROOT, launch, readResult, requireDist, runAndWait, sharedDir, startPreview, waitForDone, watchRequests } from './lib.mjs';
+import { ROOT, launch, readResult, requireDist, runAndWait, sharedDir, startPreview, startStatic, waitForDone, watchRequests } from './lib.mjs';
 
 const SHOTS = join(ROOT, 'docs', 'screenshots');
 const SAMPLES = ['patient1-ED', 'patient1-ES', 'patient2-ED'];
@@ -21,7 +21,7 @@ before(async () => {
   mkdirSync(SHOTS, { recursive: true });
   server = await startPreview();
   browser = await launch();
-  requests = watchRequests(browser.context, server.url.replace(/\/$/, ''));
+  requests = watchRequests(browser.context);
   page = await browser.context.newPage();
   page.on('pageerror', (e) => console.log('pageerror:', e.message));
   await page.goto(server.url);
@@ -215,9 +215,40 @@ describe('heartmesh in the browser', () => {
     }
   });
 
+  it('works from a sub-path of another static server (relative paths, service worker scope)', async () => {
+    const other = await startStatic('/some/deep/path/heartmesh/');
+    const sub = await browser.context.newPage();
+    try {
+      await sub.goto(`${other.url}?sample=patient1-ES&iterations=100`);
+      await waitForDone(sub);
+      const r = await readResult(sub);
+      assert.ok(r.vertices > 100 && r.meanMm <= 1.5, `sub-path run: ${JSON.stringify(r)}`);
+      const scope = await sub.evaluate(async () => (await navigator.serviceWorker.ready).scope);
+      assert.equal(scope, other.url);
+    } finally {
+      await sub.close();
+      other.stop();
+    }
+  });
+
   it('no request ever left the page origin', () => {
     const all = requests.all();
     assert.ok(all.length > 5, `saw ${all.length} requests`);
     assert.deepEqual(requests.foreign(), []);
+  });
+});
+
+describe('request watcher (the origin check above can fail)', () => {
+  it('flags a request to another origin and accepts same-origin and worker requests', () => {
+    const handlers = [];
+    const w = watchRequests({ on: (_e, f) => handlers.push(f) });
+    const emit = (url, page) => handlers.forEach((f) => f({ url: () => url, frame: () => { if (!page) throw new Error('no frame'); return { page: () => ({ url: () => page }) }; } }));
+    emit('http://127.0.0.1:5000/index.html', 'http://127.0.0.1:5000/');
+    emit('http://127.0.0.1:5000/assets/x.wasm', null); // worker request
+    emit('data:image/png;base64,AAAA', 'http://127.0.0.1:5000/');
+    assert.deepEqual(w.foreign(), []);
+    emit('https://cdn.example.com/font.woff2', 'http://127.0.0.1:5000/');
+    emit('https://tracker.example.com/t', null);
+    assert.equal(w.foreign().length, 2);
   });
 });
