@@ -516,6 +516,7 @@ export class Controller {
     const s = this.state;
     const starting = !this.coreUp && s.kind === 'empty';
     this.parts.status.setStatus(starting ? 'starting the core…' : statusWord(s), starting ? 'starting' : s.kind, currentRunId(s));
+    this.parts.viewer?.setAnimating(s.kind === 'running');
     document.body.dataset.state = s.kind;
     document.body.dataset.hasFile = this.currentFile() ? '1' : '0';
     this.parts.timeline.update({

@@ -48,6 +48,9 @@ export class Viewer {
   private clip = 1;
   private fit: ViewFit | null = null;
   private dirty = true;
+  /** WebGL runs on the CPU: render animations at reduced resolution (see setAnimating). */
+  private readonly software: boolean;
+  private animating = false;
   private readonly raycaster = new THREE.Raycaster();
   private readonly resizeObserver: ResizeObserver;
   private hoverListener: ((h: HoverInfo | null) => void) | null = null;
@@ -58,7 +61,10 @@ export class Viewer {
     // On a CPU rasteriser (no GPU, or a headless browser) multisampling costs more than the whole
     // reconstruction step: drop it there so the display does not slow the worker down.
     const software = isSoftwareRenderer();
-    this.renderer = new THREE.WebGLRenderer({ antialias: !software, alpha: false, preserveDrawingBuffer: true });
+    this.software = software;
+    // No preserveDrawingBuffer: it makes the compositor read the frame back every time (a stall on
+    // CPU rasterisers); screenshots render and capture within one task instead.
+    this.renderer = new THREE.WebGLRenderer({ antialias: !software, alpha: false });
     this.renderer.setPixelRatio(software ? 1 : Math.min(2, window.devicePixelRatio || 1));
     this.renderer.domElement.dataset.software = software ? '1' : '0';
     this.renderer.localClippingEnabled = true;
@@ -97,21 +103,26 @@ export class Viewer {
   }
 
   /**
-   * Compiles every shader program the layers will use before the first frame arrives, in parallel
-   * where the browser can (KHR_parallel_shader_compile), so the animation does not stall on it.
+   * Compiles and links every shader program the layers will use before the first frame arrives:
+   * one draw of each material, placed behind the camera so nothing shows. Without this, a CPU
+   * rasteriser (SwiftShader, llvmpipe) stalls the page for about a second on the first frames of a
+   * run, in the middle of the animation; here it happens once while the core is loading.
    */
   private warmUp(): void {
     const g = warmupGeometry();
     const group = new THREE.Group();
     for (const m of this.meshLayer.materials) group.add(new THREE.Mesh(g, m));
     group.add(...this.contourLayer.materialObjects, this.attractorLayer.materialObject);
+    group.traverse((o) => (o.frustumCulled = false));
+    group.position.set(0, 0, 1e6); // behind the default camera (at the origin, looking down -z)
     this.scene.add(group);
-    const done = () => {
+    try {
+      this.renderer.render(this.scene, this.camera);
+    } finally {
       this.scene.remove(group);
       group.traverse((o) => (o as THREE.Mesh).geometry?.dispose());
       this.requestRender();
-    };
-    this.renderer.compileAsync(this.scene, this.camera).then(done, done);
+    }
   }
 
   requestRender(): void {
@@ -125,7 +136,20 @@ export class Viewer {
     this.renderer.render(this.scene, this.camera);
   }
 
+  /**
+   * While a run animates on a CPU rasteriser, draw at half resolution: full-size frames cost more
+   * CPU than the reconstruction step they show and would slow the worker down. Still frames (done,
+   * paused) are always drawn at full resolution.
+   */
+  setAnimating(on: boolean): void {
+    if (on === this.animating) return;
+    this.animating = on;
+    if (this.software) this.resize();
+  }
+
   private resize(): void {
+    const ratio = this.software ? (this.animating ? 0.5 : 1) : Math.min(2, window.devicePixelRatio || 1);
+    if (this.renderer.getPixelRatio() !== ratio) this.renderer.setPixelRatio(ratio);
     const w = Math.max(1, this.container.clientWidth);
     const hgt = Math.max(1, this.container.clientHeight);
     this.renderer.setSize(w, hgt, false);
