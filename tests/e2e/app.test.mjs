@@ -4,7 +4,7 @@
 // visit, and no request ever leaves the origin. Screenshots go to docs/screenshots/ for people to look at.
 import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { readFileSync, mkdirSync } from 'node:fs';
+import { readFileSync, mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { ROOT, launch, readResult, requireDist, runAndWait, sharedDir, startPreview, startStatic, waitForDone, watchRequests } from './lib.mjs';
 
@@ -99,6 +99,10 @@ describe('heartmesh in the browser', () => {
     assert.equal(json.result.vertices, r.vertices);
     const png = (await download('export-png')).bytes;
     assert.equal(png.subarray(1, 4).toString('latin1'), 'PNG');
+    // A cleared (blank) canvas compresses to a few KB; a rendered heart does not.
+    assert.ok(png.length > 20000, `PNG of ${png.length} bytes looks blank`);
+    mkdirSync(join(ROOT, 'test-results'), { recursive: true });
+    writeFileSync(join(ROOT, 'test-results', 'export.png'), png);
   });
 
   it('moving a slider restarts the run (debounced) and puts the value in the URL', async () => {
