@@ -10,7 +10,9 @@ use heartmesh_core::{io, ContourSet, Params, Reconstruction};
 use std::path::PathBuf;
 
 fn shared(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../../shared/data/contours").join(rel)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../../shared/data/contours")
+        .join(rel)
 }
 
 fn load(rel: &str) -> ContourSet {

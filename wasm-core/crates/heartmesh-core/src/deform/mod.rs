@@ -2,5 +2,6 @@
 //! thin-plate splines.
 
 pub mod attractors;
+mod dense;
 mod lanes;
 pub mod tps;

@@ -29,6 +29,7 @@
 //! in the same order, so every target, and the portable reference `evaluate_portable`, gives
 //! identical bits. The dot products of the factorisation use the same vectors.
 
+use super::dense::{axpy, cholesky_in_place, dot};
 use super::lanes::{portable, Lanes, F2};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
@@ -511,156 +512,6 @@ fn kernel_sum<V: Lanes>(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
     ]
 }
 
-/// Cholesky factorisation A = L L^T of the lower triangle of an m x m row-major matrix, in place.
-///
-/// Dot-product (Crout) form, register-blocked two rows by two columns: the four dot products of
-/// rows (i, i+1) with rows (j, j+1) share their loads, which halves the memory traffic that bounds
-/// the plain form (about N^3 / 6 loads from L2). Every entry's arithmetic is fixed, so results are
-/// reproducible.
-#[inline(never)] // one call per fit: kept out of line for profiles
-fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<()> {
-    let mut i = 0;
-    while i + 1 < m {
-        let (done, rest) = a.split_at_mut(i * m);
-        let (ri, rest) = rest.split_at_mut(m);
-        let ri = &mut ri[..i + 1];
-        let ri1 = &mut rest[..i + 2];
-        let mut j = 0;
-        while j + 1 < i {
-            let rj = &done[j * m..j * m + j + 1];
-            let rj1 = &done[(j + 1) * m..(j + 1) * m + j + 2];
-            let [d00, d01, d10, d11] = dot2x2(&ri[..j], &ri1[..j], &rj[..j], &rj1[..j]);
-            let (ljj, lj1j, lj1j1) = (rj[j], rj1[j], rj1[j + 1]);
-            let x00 = (ri[j] - d00) / ljj;
-            let x10 = (ri1[j] - d10) / ljj;
-            ri[j + 1] = (ri[j + 1] - d01 - x00 * lj1j) / lj1j1;
-            ri1[j + 1] = (ri1[j + 1] - d11 - x10 * lj1j) / lj1j1;
-            ri[j] = x00;
-            ri1[j] = x10;
-            j += 2;
-        }
-        if j < i {
-            let rj = &done[j * m..j * m + j + 1];
-            ri[j] = (ri[j] - dot(&ri[..j], &rj[..j])) / rj[j];
-            ri1[j] = (ri1[j] - dot(&ri1[..j], &rj[..j])) / rj[j];
-        }
-        // Diagonal 2 x 2 block.
-        let lii = pivot(ri[i] - dot(&ri[..i], &ri[..i]), i)?;
-        ri[i] = lii;
-        ri1[i] = (ri1[i] - dot(&ri1[..i], &ri[..i])) / lii;
-        ri1[i + 1] = pivot(ri1[i + 1] - dot(&ri1[..i + 1], &ri1[..i + 1]), i + 1)?;
-        i += 2;
-    }
-    if i < m {
-        let (done, rest) = a.split_at_mut(i * m);
-        let ri = &mut rest[..i + 1];
-        for j in 0..i {
-            let rj = &done[j * m..j * m + j + 1];
-            ri[j] = (ri[j] - dot(&ri[..j], &rj[..j])) / rj[j];
-        }
-        ri[i] = pivot(ri[i] - dot(&ri[..i], &ri[..i]), i)?;
-    }
-    Ok(())
-}
-
-/// Square root of a Cholesky pivot, or the error that says the system is not SPD.
-#[inline]
-fn pivot(d: f64, i: usize) -> Result<f64> {
-    if d > 0.0 && d.is_finite() {
-        Ok(d.sqrt())
-    } else {
-        Err(CoreError::Numerical(format!(
-            "TPS: projected system is not positive definite (pivot {i} = {d:e})"
-        )))
-    }
-}
-
-/// The four dot products of (a0, a1) with (b0, b1), four lanes each, all slices of one length.
-#[inline]
-fn dot2x2(a0: &[f64], a1: &[f64], b0: &[f64], b1: &[f64]) -> [f64; 4] {
-    let n = a0.len().min(a1.len()).min(b0.len()).min(b1.len());
-    let c = n / 4 * 4;
-    fn pairs(s: &[f64], c: usize) -> &[[f64; 2]] {
-        s[..c].as_chunks::<2>().0
-    }
-    let mut acc = [F2::zero(); 8]; // (lo, hi) for a0.b0, a0.b1, a1.b0, a1.b1
-    for ((x0, x1), (y0, y1)) in pairs(a0, c)
-        .chunks_exact(2)
-        .zip(pairs(a1, c).chunks_exact(2))
-        .zip(
-            pairs(b0, c)
-                .chunks_exact(2)
-                .zip(pairs(b1, c).chunks_exact(2)),
-        )
-    {
-        for h in 0..2 {
-            let (x0, x1) = (F2::load(&x0[h]), F2::load(&x1[h]));
-            let (y0, y1) = (F2::load(&y0[h]), F2::load(&y1[h]));
-            acc[h] = acc[h].add(x0.mul(y0));
-            acc[2 + h] = acc[2 + h].add(x0.mul(y1));
-            acc[4 + h] = acc[4 + h].add(x1.mul(y0));
-            acc[6 + h] = acc[6 + h].add(x1.mul(y1));
-        }
-    }
-    let mut out = [
-        acc[0].sum4(acc[1]),
-        acc[2].sum4(acc[3]),
-        acc[4].sum4(acc[5]),
-        acc[6].sum4(acc[7]),
-    ];
-    for k in c..n {
-        out[0] += a0[k] * b0[k];
-        out[1] += a0[k] * b1[k];
-        out[2] += a1[k] * b0[k];
-        out[3] += a1[k] * b1[k];
-    }
-    out
-}
-
-#[cfg(test)]
-/// The unblocked dot-product Cholesky, kept as the reference of the blocked one.
-fn cholesky_reference(a: &mut [f64], m: usize) -> Result<()> {
-    for i in 0..m {
-        let (done, rest) = a.split_at_mut(i * m);
-        let row_i = &mut rest[..i + 1];
-        for j in 0..i {
-            let row_j = &done[j * m..j * m + j + 1];
-            let s = row_i[j] - dot(&row_i[..j], &row_j[..j]);
-            row_i[j] = s / row_j[j];
-        }
-        row_i[i] = pivot(row_i[i] - dot(&row_i[..i], &row_i[..i]), i)?;
-    }
-    Ok(())
-}
-
-/// Dot product in eight lanes (four two-lane accumulators hide the add latency) with a fixed
-/// summation order, so results are reproducible on every target.
-#[inline]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let n = a.len().min(b.len());
-    let c = n / 8 * 8;
-    let (pa, pb) = (a[..c].as_chunks::<2>().0, b[..c].as_chunks::<2>().0);
-    let mut acc = [F2::zero(); 4];
-    for (x, y) in pa.chunks_exact(4).zip(pb.chunks_exact(4)) {
-        for l in 0..4 {
-            acc[l] = acc[l].add(F2::load(&x[l]).mul(F2::load(&y[l])));
-        }
-    }
-    let mut s = acc[0].sum4(acc[1]) + acc[2].sum4(acc[3]);
-    for (x, y) in a[c..n].iter().zip(&b[c..n]) {
-        s += x * y;
-    }
-    s
-}
-
-/// y += alpha x.
-#[inline]
-fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
-    for (yi, xi) in y.iter_mut().zip(x) {
-        *yi += alpha * xi;
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -909,45 +760,6 @@ mod tests {
                 assert_eq!(s.evaluate(p), s.evaluate_portable(p));
             }
         }
-    }
-
-    #[test]
-    fn blocked_cholesky_equals_the_plain_one() {
-        let mut rng = SplitMix64::new(6);
-        for m in [1, 2, 3, 4, 5, 8, 9, 37, 64] {
-            // SPD: B B^T + m I.
-            let b: Vec<f64> = (0..m * m).map(|_| rng.range(-1.0, 1.0)).collect();
-            let mut a = vec![0.0; m * m];
-            for i in 0..m {
-                for j in 0..m {
-                    let s: f64 = (0..m).map(|k| b[i * m + k] * b[j * m + k]).sum();
-                    a[i * m + j] = s + if i == j { m as f64 } else { 0.0 };
-                }
-            }
-            let (mut l1, mut l2) = (a.clone(), a.clone());
-            cholesky_in_place(&mut l1, m).unwrap();
-            cholesky_reference(&mut l2, m).unwrap();
-            for i in 0..m {
-                for j in 0..=i {
-                    let (x, y) = (l1[i * m + j], l2[i * m + j]);
-                    assert!(
-                        (x - y).abs() <= 1e-12 * (1.0 + y.abs()),
-                        "m {m} ({i},{j}): {x} {y}"
-                    );
-                }
-                // L L^T reproduces A.
-                for j in 0..=i {
-                    let s: f64 = (0..=j).map(|k| l1[i * m + k] * l1[j * m + k]).sum();
-                    assert!((s - a[i * m + j]).abs() <= 1e-12 * m as f64 * m as f64);
-                }
-            }
-        }
-        // Not SPD: an error, not a NaN factor.
-        let mut a = vec![1.0, 0.0, 2.0, 1.0];
-        assert_eq!(
-            cholesky_in_place(&mut a, 2).unwrap_err().code(),
-            "numerical"
-        );
     }
 
     /// Two attractors can share a closest mesh point: at the pipeline's lambda the smoothing term

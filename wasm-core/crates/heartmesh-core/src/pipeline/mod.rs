@@ -258,7 +258,9 @@ impl Reconstruction {
         let mut phase = Phase::Deform;
         if last {
             self.done = true;
-        } else if it.is_multiple_of(self.params.remesh_every) {
+        } else if it.is_multiple_of(self.params.remesh_every)
+            && it + self.params.remesh_every <= self.params.iterations
+        {
             let t = self.clock.now_ms();
             self.remesh()?;
             timings.remesh_ms = self.clock.now_ms() - t;

@@ -627,6 +627,14 @@ mod tests {
         shrunk.positions.truncate(2);
         assert_eq!(bvh.refit(&shrunk).unwrap_err().code(), "invalid_mesh");
 
+        // A NaN vertex poisons only its own triangles: the others still answer.
+        let mut mesh = uv_sphere(5.0, 8, 12);
+        mesh.positions[3] = v3(f64::NAN, 0.0, 0.0);
+        let mut bvh = Bvh::build(&mesh);
+        bvh.refit(&mesh).unwrap();
+        let h = bvh.closest_point(&mesh, v3(0.0, 0.0, 9.0)).unwrap();
+        assert!((h.distance_sq.sqrt() - 4.0).abs() < 1e-9, "{h:?}");
+
         // Many identical triangles (all centroids equal) still build a shallow tree.
         let mesh = TriMesh::new(
             vec![v3(0., 0., 0.), v3(1., 0., 0.), v3(0., 1., 0.)],
