@@ -78,6 +78,8 @@ export class Controller {
   private shown = { cursor: -2, result: false, historyVersion: -1 };
   private historyVersion = 0;
   private contourMode: 'plain' | 'distances' | 'none' = 'none';
+  /** The view was widened to the first mesh of this run. */
+  private framedRun = false;
   /** Top of the colour scales in mm: contour points (to mesh) and mesh vertices (to contours). */
   private pointMaxMm = 1;
   private meshMaxMm = 1;
@@ -326,6 +328,7 @@ export class Controller {
     this.indices = null;
     this.attractors = null;
     this.playback = pb.restart(this.playback);
+    this.framedRun = false;
     this.shown = { cursor: -2, result: false, historyVersion: -1 };
     this.parts.viewer?.meshLayer.clear();
     this.parts.viewer?.attractorLayer.clear();
@@ -461,6 +464,10 @@ export class Controller {
       this.parts.legend.show(this.pointMaxMm);
       this.parts.meshLegend.show(this.meshMaxMm);
     } else if (entry) {
+      if (!this.framedRun) {
+        this.framedRun = true;
+        viewer?.extendFrame(entry.positions);
+      }
       viewer?.meshLayer.update(entry.positions, entry.indices);
       viewer?.meshLayer.setDistances(null, 0, 1);
       viewer?.attractorLayer.set(entry.attractors);

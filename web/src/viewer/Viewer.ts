@@ -51,6 +51,9 @@ export class Viewer {
   /** WebGL runs on the CPU: render animations at reduced resolution (see setAnimating). */
   private readonly software: boolean;
   private animating = false;
+  /** The user orbited/zoomed since the last `frame`: automatic re-framing would be rude. */
+  private userMoved = false;
+  private framePoints: ArrayLike<number> = [];
   private readonly raycaster = new THREE.Raycaster();
   private readonly resizeObserver: ResizeObserver;
   private hoverListener: ((h: HoverInfo | null) => void) | null = null;
@@ -85,6 +88,7 @@ export class Viewer {
 
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.enableDamping = false;
+    this.controls.addEventListener('start', () => (this.userMoved = true));
     this.controls.addEventListener('change', () => {
       this.updateClipPlane();
       this.requestRender();
@@ -162,7 +166,26 @@ export class Viewer {
 
   /** Frames the given points (xyz, mm): looks from the side with their principal axis up. */
   frame(points: ArrayLike<number>): void {
+    this.framePoints = points;
     this.fit = fitView(points);
+    this.userMoved = false;
+    this.resetView();
+  }
+
+  /**
+   * Widens the framing to also hold `extra` points (the first mesh of a run, whose lids reach past
+   * the contours), unless the user has moved the camera since.
+   */
+  extendFrame(extra: Float32Array): void {
+    if (this.userMoved) return;
+    const all = new Float32Array(this.framePoints.length + extra.length);
+    all.set(Array.from(this.framePoints), 0);
+    all.set(extra, this.framePoints.length);
+    const axis = this.fit?.axis;
+    const side = this.fit?.side;
+    this.fit = fitView(all);
+    // Keep the orientation found from the contours (the tube alone would tilt it).
+    if (axis && side) this.fit = { ...this.fit, axis, side };
     this.resetView();
   }
 
