@@ -59,13 +59,40 @@ export async function launch() {
   };
 }
 
-/** Records every request; `foreign()` lists those that left the page's origin. */
-export function watchRequests(context, origin) {
+/**
+ * Records every request with the page that made it; `foreign()` lists those that left their page's
+ * origin (service workers and web workers count as their page's origin).
+ */
+export function watchRequests(context) {
   const seen = [];
-  context.on('request', (r) => seen.push(r.url()));
+  context.on('request', (r) => {
+    let pageUrl = null;
+    try {
+      pageUrl = r.frame().page().url();
+    } catch {
+      pageUrl = null; // service-worker requests have no frame: judged by the origins seen so far
+    }
+    seen.push({ url: r.url(), page: pageUrl });
+  });
+  const origin = (u) => {
+    try {
+      return new URL(u).origin;
+    } catch {
+      return null;
+    }
+  };
   return {
-    all: () => seen.slice(),
-    foreign: () => seen.filter((u) => !u.startsWith(origin) && !u.startsWith('data:') && !u.startsWith('blob:')),
+    all: () => seen.map((s) => s.url),
+    foreign: () => {
+      const pageOrigins = new Set(seen.map((s) => s.page && origin(s.page)).filter((o) => o && o !== 'null'));
+      return seen
+        .filter((s) => !/^(data|blob):/.test(s.url))
+        .filter((s) => {
+          const own = s.page && origin(s.page) !== 'null' ? origin(s.page) : null;
+          return own ? origin(s.url) !== own : !pageOrigins.has(origin(s.url));
+        })
+        .map((s) => `${s.url} (from ${s.page ?? 'a worker'})`);
+    },
   };
 }
 
@@ -120,4 +147,36 @@ export async function readResult(page) {
     meanMm: Number(el.getAttribute('data-mean-mm')),
     maxMm: Number(el.getAttribute('data-max-mm')),
   }));
+}
+
+const MIME = {
+  '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.mjs': 'text/javascript', '.css': 'text/css',
+  '.wasm': 'application/wasm', '.svg': 'image/svg+xml', '.json': 'application/json', '.webmanifest': 'application/manifest+json',
+  '.csv': 'text/csv', '.md': 'text/markdown', '.png': 'image/png',
+};
+
+/** A minimal static server (not vite) that serves dist/ under `prefix` (e.g. '/deep/path/'). */
+export async function startStatic(prefix) {
+  const { createServer } = await import('node:http');
+  const { readFile } = await import('node:fs/promises');
+  const { extname, normalize } = await import('node:path');
+  const dist = join(ROOT, 'dist');
+  const server = createServer(async (req, res) => {
+    const path = decodeURIComponent(new URL(req.url ?? '/', 'http://x').pathname);
+    if (!path.startsWith(prefix)) {
+      res.writeHead(404).end('not found');
+      return;
+    }
+    let rel = normalize(path.slice(prefix.length)).replace(/^(\.\.[/\\])+/, '');
+    if (rel === '' || rel === '.' || rel.endsWith('/')) rel = join(rel, 'index.html');
+    try {
+      const body = await readFile(join(dist, rel));
+      res.writeHead(200, { 'Content-Type': MIME[extname(rel)] ?? 'application/octet-stream' }).end(body);
+    } catch {
+      res.writeHead(404).end('not found');
+    }
+  });
+  await new Promise((r) => server.listen(0, '127.0.0.1', r));
+  const { port } = server.address();
+  return { url: `http://127.0.0.1:${port}${prefix}`, stop: () => server.close() };
 }

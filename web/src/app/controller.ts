@@ -78,6 +78,8 @@ export class Controller {
   private shown = { cursor: -2, result: false, historyVersion: -1 };
   private historyVersion = 0;
   private contourMode: 'plain' | 'distances' | 'none' = 'none';
+  /** The view was widened to the first mesh of this run. */
+  private framedRun = false;
   /** Top of the colour scales in mm: contour points (to mesh) and mesh vertices (to contours). */
   private pointMaxMm = 1;
   private meshMaxMm = 1;
@@ -138,7 +140,7 @@ export class Controller {
     let first: string | null = null;
     for (const file of files) {
       const bytes = await file.arrayBuffer();
-      const ok = await this.loadBytes(file.name, bytes, null);
+      const ok = await this.loadBytes(file.name, bytes);
       if (ok && first === null) first = file.name;
     }
     if (first !== null) {
@@ -159,7 +161,7 @@ export class Controller {
       this.fail(asCoreError(e, `could not load ${sample.file}`, sample.file));
       return;
     }
-    if (await this.loadBytes(sample.file, bytes, null)) {
+    if (await this.loadBytes(sample.file, bytes)) {
       this.sampleId = sample.id;
       this.selectFile(sample.file, surface ?? sample.surface);
       this.startRun();
@@ -167,7 +169,7 @@ export class Controller {
   }
 
   /** Parses a file in the worker; returns whether it worked (errors are shown). */
-  private async loadBytes(fileName: string, bytes: ArrayBuffer, _surface: string | null): Promise<boolean> {
+  private async loadBytes(fileName: string, bytes: ArrayBuffer): Promise<boolean> {
     const client = this.client;
     if (!client) return false;
     this.cancelRun();
@@ -326,6 +328,7 @@ export class Controller {
     this.indices = null;
     this.attractors = null;
     this.playback = pb.restart(this.playback);
+    this.framedRun = false;
     this.shown = { cursor: -2, result: false, historyVersion: -1 };
     this.parts.viewer?.meshLayer.clear();
     this.parts.viewer?.attractorLayer.clear();
@@ -461,6 +464,10 @@ export class Controller {
       this.parts.legend.show(this.pointMaxMm);
       this.parts.meshLegend.show(this.meshMaxMm);
     } else if (entry) {
+      if (!this.framedRun) {
+        this.framedRun = true;
+        viewer?.extendFrame(entry.positions);
+      }
       viewer?.meshLayer.update(entry.positions, entry.indices);
       viewer?.meshLayer.setDistances(null, 0, 1);
       viewer?.attractorLayer.set(entry.attractors);
@@ -516,6 +523,7 @@ export class Controller {
     const s = this.state;
     const starting = !this.coreUp && s.kind === 'empty';
     this.parts.status.setStatus(starting ? 'starting the core…' : statusWord(s), starting ? 'starting' : s.kind, currentRunId(s));
+    this.parts.viewer?.setAnimating(s.kind === 'running');
     document.body.dataset.state = s.kind;
     document.body.dataset.hasFile = this.currentFile() ? '1' : '0';
     this.parts.timeline.update({

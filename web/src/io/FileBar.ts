@@ -6,7 +6,8 @@
 import { h } from '../ui/dom';
 import { SAMPLES, type Sample } from './samples';
 
-export const ACCEPT = '.csv,.txt,.tsv,.dat,.json,text/csv,text/plain';
+/** The contour formats the core reads (canonical CSV first; see README "Files"). */
+export const ACCEPT = '.csv,.txt,.tsv,.dat,.xyz,.vtk,.vtp,.mat,.json,text/csv,text/plain';
 
 export interface FileBarHandlers {
   openFiles(files: File[]): void;

@@ -23,6 +23,12 @@ export class AttractorLayer {
     this.group.add(this.points);
   }
 
+  get materialObject(): THREE.Object3D {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.Float32BufferAttribute([0, 0, 0], 3));
+    return new THREE.Points(g, this.material);
+  }
+
   setVisible(on: boolean): void {
     this.group.visible = on;
   }

@@ -33,6 +33,14 @@ function pushSegments(out: Built, c: ContourInfo, points: Float32Array, colorOf:
   }
 }
 
+/** A one-triangle geometry with colours, only for compiling shaders. */
+export function warmupGeometry(): THREE.BufferGeometry {
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.Float32BufferAttribute([0, 0, 0, 1, 0, 0, 0, 1, 0], 3));
+  g.setAttribute('color', new THREE.BufferAttribute(new Uint8Array(9), 3, true));
+  return g;
+}
+
 export class ContourLayer {
   readonly group = new THREE.Group();
   private objects: THREE.Object3D[] = [];
@@ -95,6 +103,15 @@ export class ContourLayer {
     lines.renderOrder = 2;
     this.group.add(lines);
     this.objects.push(lines);
+  }
+
+  /** Line and point materials, for compiling their shaders ahead of the first frame. */
+  get materialObjects(): THREE.Object3D[] {
+    const g = warmupGeometry();
+    const m = this.materials;
+    const lax = new THREE.LineSegments(g, m.lax);
+    lax.computeLineDistances();
+    return [new THREE.LineSegments(g, m.sax), lax, new THREE.LineSegments(g, m.other), new THREE.Points(g, m.points)];
   }
 
   get pickable(): THREE.Points | null {

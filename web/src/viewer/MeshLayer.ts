@@ -8,13 +8,14 @@
 import * as THREE from 'three';
 import { colorizeU8 } from './colormap';
 
-const BASE_COLOR = new THREE.Color('#c9a27e');
+/** Uniform surface colour (sRGB bytes) while no distances are shown. */
+const BASE_RGB = [201, 162, 126];
 
 export class MeshLayer {
   readonly group = new THREE.Group();
   private geometry: THREE.BufferGeometry | null = null;
   private indices: Uint32Array | null = null;
-  private readonly material: THREE.MeshStandardMaterial;
+  private readonly material: THREE.MeshPhongMaterial;
   private readonly wireMaterial: THREE.MeshBasicMaterial;
   private readonly mesh: THREE.Mesh;
   private readonly wire: THREE.Mesh;
@@ -22,10 +23,12 @@ export class MeshLayer {
   private distances: Float32Array | null = null;
 
   constructor(clippingPlanes: THREE.Plane[]) {
-    this.material = new THREE.MeshStandardMaterial({
-      color: BASE_COLOR,
-      roughness: 0.55,
-      metalness: 0.05,
+    // Phong and always per-vertex colours: one shader program for the whole session (a CPU
+    // rasteriser needs about a second to compile a PBR program, which would freeze the page).
+    this.material = new THREE.MeshPhongMaterial({
+      vertexColors: true,
+      shininess: 18,
+      specular: 0x222222,
       side: THREE.DoubleSide,
       clippingPlanes,
       polygonOffset: true,
@@ -88,26 +91,24 @@ export class MeshLayer {
     const geometry = this.geometry;
     if (!geometry) return;
     const count = geometry.getAttribute('position').count;
+    const attr = geometry.getAttribute('color') as THREE.BufferAttribute | undefined;
+    const reuse = attr && attr.array instanceof Uint8Array && attr.array.length === count * 3 ? attr.array : undefined;
+    let bytes: Uint8Array;
     if (distances && distances.length === count) {
-      const attr = geometry.getAttribute('color') as THREE.BufferAttribute | undefined;
-      const bytes = colorizeU8(distances, min, max, attr?.array instanceof Uint8Array ? attr.array : undefined);
-      if (attr && attr.array === bytes) attr.needsUpdate = true;
-      else geometry.setAttribute('color', new THREE.BufferAttribute(bytes, 3, true));
+      bytes = colorizeU8(distances, min, max, reuse);
       this.distances = distances;
-      if (!this.material.vertexColors) {
-        this.material.vertexColors = true;
-        this.material.color.set(0xffffff);
-        this.material.needsUpdate = true;
-      }
     } else {
-      if (geometry.getAttribute('color')) geometry.deleteAttribute('color');
+      bytes = reuse ?? new Uint8Array(count * 3);
+      for (let i = 0; i < count; i++) bytes.set(BASE_RGB, i * 3);
       this.distances = null;
-      if (this.material.vertexColors) {
-        this.material.vertexColors = false;
-        this.material.color.copy(BASE_COLOR);
-        this.material.needsUpdate = true;
-      }
     }
+    if (attr && attr.array === bytes) attr.needsUpdate = true;
+    else geometry.setAttribute('color', new THREE.BufferAttribute(bytes, 3, true));
+  }
+
+  /** The materials, for compiling their shaders ahead of the first frame. */
+  get materials(): THREE.Material[] {
+    return [this.material, this.wireMaterial];
   }
 
   setWireframe(on: boolean): void {

@@ -7,7 +7,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { AttractorLayer } from './AttractorLayer';
-import { ContourLayer } from './ContourLayer';
+import { ContourLayer, warmupGeometry } from './ContourLayer';
 import { fitView, type ViewFit } from './fitView';
 import { MeshLayer } from './MeshLayer';
 
@@ -19,6 +19,20 @@ export interface HoverInfo {
   point: THREE.Vector3;
   /** Contour-to-mesh distance in mm when known (after a finished run). */
   distanceMm: number | null;
+}
+
+/** Whether WebGL runs on a software rasteriser (SwiftShader, llvmpipe), probed on a scratch canvas. */
+export function isSoftwareRenderer(): boolean {
+  try {
+    const gl = document.createElement('canvas').getContext('webgl2');
+    if (!gl) return true;
+    const info = gl.getExtension('WEBGL_debug_renderer_info');
+    const name = String(info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
+    gl.getExtension('WEBGL_lose_context')?.loseContext();
+    return /swiftshader|llvmpipe|software|softpipe/i.test(name);
+  } catch {
+    return false;
+  }
 }
 
 export class Viewer {
@@ -34,6 +48,12 @@ export class Viewer {
   private clip = 1;
   private fit: ViewFit | null = null;
   private dirty = true;
+  /** WebGL runs on the CPU: render animations at reduced resolution (see setAnimating). */
+  private readonly software: boolean;
+  private animating = false;
+  /** The user orbited/zoomed since the last `frame`: automatic re-framing would be rude. */
+  private userMoved = false;
+  private framePoints: ArrayLike<number> = [];
   private readonly raycaster = new THREE.Raycaster();
   private readonly resizeObserver: ResizeObserver;
   private hoverListener: ((h: HoverInfo | null) => void) | null = null;
@@ -41,8 +61,15 @@ export class Viewer {
   private readonly onPointerLeave: () => void;
 
   constructor(readonly container: HTMLElement) {
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, alpha: false, preserveDrawingBuffer: true });
-    this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
+    // On a CPU rasteriser (no GPU, or a headless browser) multisampling costs more than the whole
+    // reconstruction step: drop it there so the display does not slow the worker down.
+    const software = isSoftwareRenderer();
+    this.software = software;
+    // No preserveDrawingBuffer: it makes the compositor read the frame back every time (a stall on
+    // CPU rasterisers); screenshots render and capture within one task instead.
+    this.renderer = new THREE.WebGLRenderer({ antialias: !software, alpha: false });
+    this.renderer.setPixelRatio(software ? 1 : Math.min(2, window.devicePixelRatio || 1));
+    this.renderer.domElement.dataset.software = software ? '1' : '0';
     this.renderer.localClippingEnabled = true;
     this.renderer.setClearColor(0x0d1117, 1);
     this.renderer.domElement.setAttribute('data-testid', 'viewport-canvas');
@@ -61,6 +88,7 @@ export class Viewer {
 
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.enableDamping = false;
+    this.controls.addEventListener('start', () => (this.userMoved = true));
     this.controls.addEventListener('change', () => {
       this.updateClipPlane();
       this.requestRender();
@@ -70,10 +98,35 @@ export class Viewer {
     this.resizeObserver.observe(container);
     this.resize();
 
+    this.warmUp();
+
     this.onPointerMove = (e: PointerEvent) => this.hover(e);
     this.onPointerLeave = () => this.hoverListener?.(null);
     this.renderer.domElement.addEventListener('pointermove', this.onPointerMove);
     this.renderer.domElement.addEventListener('pointerleave', this.onPointerLeave);
+  }
+
+  /**
+   * Compiles and links every shader program the layers will use before the first frame arrives:
+   * one draw of each material, placed behind the camera so nothing shows. Without this, a CPU
+   * rasteriser (SwiftShader, llvmpipe) stalls the page for about a second on the first frames of a
+   * run, in the middle of the animation; here it happens once while the core is loading.
+   */
+  private warmUp(): void {
+    const g = warmupGeometry();
+    const group = new THREE.Group();
+    for (const m of this.meshLayer.materials) group.add(new THREE.Mesh(g, m));
+    group.add(...this.contourLayer.materialObjects, this.attractorLayer.materialObject);
+    group.traverse((o) => (o.frustumCulled = false));
+    group.position.set(0, 0, 1e6); // behind the default camera (at the origin, looking down -z)
+    this.scene.add(group);
+    try {
+      this.renderer.render(this.scene, this.camera);
+    } finally {
+      this.scene.remove(group);
+      group.traverse((o) => (o as THREE.Mesh).geometry?.dispose());
+      this.requestRender();
+    }
   }
 
   requestRender(): void {
@@ -87,7 +140,20 @@ export class Viewer {
     this.renderer.render(this.scene, this.camera);
   }
 
+  /**
+   * While a run animates on a CPU rasteriser, draw at half resolution: full-size frames cost more
+   * CPU than the reconstruction step they show and would slow the worker down. Still frames (done,
+   * paused) are always drawn at full resolution.
+   */
+  setAnimating(on: boolean): void {
+    if (on === this.animating) return;
+    this.animating = on;
+    if (this.software) this.resize();
+  }
+
   private resize(): void {
+    const ratio = this.software ? (this.animating ? 0.5 : 1) : Math.min(2, window.devicePixelRatio || 1);
+    if (this.renderer.getPixelRatio() !== ratio) this.renderer.setPixelRatio(ratio);
     const w = Math.max(1, this.container.clientWidth);
     const hgt = Math.max(1, this.container.clientHeight);
     this.renderer.setSize(w, hgt, false);
@@ -100,7 +166,26 @@ export class Viewer {
 
   /** Frames the given points (xyz, mm): looks from the side with their principal axis up. */
   frame(points: ArrayLike<number>): void {
+    this.framePoints = points;
     this.fit = fitView(points);
+    this.userMoved = false;
+    this.resetView();
+  }
+
+  /**
+   * Widens the framing to also hold `extra` points (the first mesh of a run, whose lids reach past
+   * the contours), unless the user has moved the camera since.
+   */
+  extendFrame(extra: Float32Array): void {
+    if (this.userMoved) return;
+    const all = new Float32Array(this.framePoints.length + extra.length);
+    all.set(Array.from(this.framePoints), 0);
+    all.set(extra, this.framePoints.length);
+    const axis = this.fit?.axis;
+    const side = this.fit?.side;
+    this.fit = fitView(all);
+    // Keep the orientation found from the contours (the tube alone would tilt it).
+    if (axis && side) this.fit = { ...this.fit, axis, side };
     this.resetView();
   }
 
