@@ -117,6 +117,35 @@ describe('heartmesh in the browser', () => {
     });
   });
 
+  it('timeline: slow replay, keyboard pause and step, scrub, back to live', async () => {
+    await page.selectOption('[data-testid=tl-speed]', '10');
+    await page.click('[data-testid=sample-patient1-ES]');
+    await page.waitForFunction(() => /iteration [1-9]/.test(document.querySelector('[data-testid=tl-label]')?.textContent ?? ''), null, { timeout: 30000 });
+    await page.waitForTimeout(600);
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SHOTS, 'replay-in-progress.png') });
+    const iteration = async () => Number(/iteration (\d+)/.exec((await page.textContent('[data-testid=tl-label]')) ?? '')?.[1]);
+    await page.evaluate(() => (document.activeElement instanceof HTMLElement ? document.activeElement.blur() : undefined));
+    await page.keyboard.press('Space');
+    assert.match(await page.textContent('[data-testid=status]'), /^paused|^done/);
+    const paused = await iteration();
+    await page.waitForTimeout(400);
+    assert.equal(await iteration(), paused, 'paused display does not move');
+    await page.keyboard.press('ArrowRight');
+    await page.keyboard.press('ArrowRight');
+    assert.ok((await iteration()) > paused, 'arrow right steps forward');
+    const scrub = page.locator('[data-testid=tl-scrubber]');
+    await scrub.evaluate((el) => { el.value = '0'; el.dispatchEvent(new Event('input', { bubbles: true })); });
+    assert.equal(await iteration(), 0, 'scrubbed to the initial tube');
+    await page.selectOption('[data-testid=tl-speed]', 'live');
+    await page.click('[data-testid=tl-latest]');
+    await waitForDone(page);
+    await page.waitForFunction(() => {
+      const m = /iteration (\d+) \/ (\d+)/.exec(document.querySelector('[data-testid=tl-label]')?.textContent ?? '');
+      return m && m[1] === m[2];
+    }, null, { timeout: 10000 });
+  });
+
   it('a link with parameters reproduces the view', async () => {
     await page.goto(`${server.url}?sample=patient1-ED&surface=LV_EPI&iterations=120&wireframe=1`);
     await waitForDone(page);
@@ -125,6 +154,8 @@ describe('heartmesh in the browser', () => {
     assert.equal(await page.textContent('output[for=param-iterations]'), '120');
     await page.mouse.move(0, 0);
     await page.screenshot({ path: join(SHOTS, 'link-LV_EPI-wireframe.png') });
+    await page.goto(server.url); // back to the defaults for the tests that follow
+    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
   });
 
   it('opens the canonical CSV through the file input (SurFCo example, not shipped)', async () => {

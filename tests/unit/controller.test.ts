@@ -165,6 +165,19 @@ describe('controller', () => {
     expect(lastStatus()).toBe('running');
   });
 
+  it('a file dropped while the core is starting waits for it instead of being lost', async () => {
+    let up!: (c: CoreClient) => void;
+    const starting = controller.start(() => new Promise((r) => (up = r)));
+    expect(lastStatus()).toBe('starting the core…');
+    const opening = controller.openFiles([file('early.csv')]);
+    expect(lastStatus()).toBe('loading early.csv');
+    up(client as unknown as CoreClient);
+    await starting;
+    await opening;
+    expect(client.runs).toHaveLength(1);
+    expect(client.runs[0].opts.fileName).toBe('early.csv');
+  });
+
   it('a failing run and an unavailable core are errors', async () => {
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('a.csv')]);

@@ -82,11 +82,17 @@ export class Controller {
   private pointMaxMm = 1;
   private meshMaxMm = 1;
   private rafHandle = 0;
+  /** Resolves once the core answered (true) or failed to start (false); input waits for it. */
+  private readonly ready: Promise<boolean>;
+  private markReady: (ok: boolean) => void = () => undefined;
+  private coreUp = false;
 
   constructor(
     private readonly parts: Parts,
     private readonly appVersion: string,
-  ) {}
+  ) {
+    this.ready = new Promise((resolve) => (this.markReady = resolve));
+  }
 
   // ---- start-up -------------------------------------------------------------------------------
 
@@ -103,8 +109,10 @@ export class Controller {
     } catch (e) {
       const err = asCoreError(e, 'the WebAssembly core could not start');
       this.fail({ ...err, code: err.code === 'worker_crashed' ? 'core_unavailable' : err.code });
+      this.markReady(false);
       return;
     }
+    this.coreUp = true;
     const url = parseUrlState(location.search, this.schema);
     this.params = url.params;
     this.lids = url.lids;
@@ -114,6 +122,7 @@ export class Controller {
     this.parts.view.show(this.view);
     this.applyView();
     this.setStatus();
+    this.markReady(true);
     const sample = findSample(url.sample);
     if (sample) await this.trySample(sample, url.surface);
   }
@@ -121,10 +130,11 @@ export class Controller {
   // ---- loading --------------------------------------------------------------------------------
 
   async openFiles(files: File[]): Promise<void> {
-    if (files.length === 0 || !this.client) return;
-    // Say "loading" at once, before the bytes are read.
+    if (files.length === 0) return;
+    // Say "loading" at once, before the bytes are read (and before the core is up, if it is not).
     this.cancelRun();
     this.dispatch({ type: 'load', fileName: files[0].name });
+    if (!(await this.ready)) return;
     let first: string | null = null;
     for (const file of files) {
       const bytes = await file.arrayBuffer();
@@ -139,9 +149,9 @@ export class Controller {
   }
 
   async trySample(sample: Sample, surface: string | null = null): Promise<void> {
-    if (!this.client) return;
     this.cancelRun();
     this.dispatch({ type: 'load', fileName: sample.file });
+    if (!(await this.ready)) return;
     let bytes: ArrayBuffer;
     try {
       bytes = await fetchSample(sample);
@@ -504,7 +514,8 @@ export class Controller {
 
   private setStatus(): void {
     const s = this.state;
-    this.parts.status.setStatus(statusWord(s), s.kind, currentRunId(s));
+    const starting = !this.coreUp && s.kind === 'empty';
+    this.parts.status.setStatus(starting ? 'starting the core…' : statusWord(s), starting ? 'starting' : s.kind, currentRunId(s));
     document.body.dataset.state = s.kind;
     document.body.dataset.hasFile = this.currentFile() ? '1' : '0';
     this.parts.timeline.update({

@@ -38,7 +38,7 @@ export class FileBar {
         this.input.click();
       }
     });
-    const samples = h('div', { class: 'samples' }, h('span', { class: 'muted' }, 'Try an example:'));
+    const samples = h('div', { class: 'samples' }, h('span', { class: 'muted samples-label' }, 'Try an example:'));
     for (const s of SAMPLES) {
       const b = h('button', { type: 'button', class: 'small', title: s.description, 'data-testid': `sample-${s.id}`, 'data-sample': s.id }, s.label);
       b.addEventListener('click', () => handlers.trySample(s));
@@ -49,8 +49,10 @@ export class FileBar {
     this.files.addEventListener('change', () => handlers.chooseFile(this.files.value));
     this.surfaces = h('select', { 'aria-label': 'Surface', 'data-testid': 'surface-picker' });
     this.surfaces.addEventListener('change', () => handlers.chooseSurface(this.surfaces.value));
-    this.filesWrap = h('label', { class: 'picker', hidden: true }, 'File', this.files);
-    this.surfacesWrap = h('label', { class: 'picker', hidden: true }, 'Surface', this.surfaces);
+    this.files.title = 'Loaded file';
+    this.surfaces.title = 'Surface to reconstruct';
+    this.filesWrap = h('span', { class: 'picker', hidden: true }, this.files);
+    this.surfacesWrap = h('span', { class: 'picker', hidden: true }, this.surfaces);
     this.element = h('div', { class: 'filebar' }, this.input, open, samples, this.filesWrap, this.surfacesWrap);
   }
 

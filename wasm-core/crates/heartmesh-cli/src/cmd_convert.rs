@@ -10,7 +10,7 @@ use crate::files;
 
 pub const USAGE: &str = "heartmesh convert IN OUT [--frame N] [--ascii] [--quiet]
     contours (csv, GPFile txt, xyz txt, vtk/vtp lines, SurFCo .mat, session json)
-      -> OUT.csv (canonical CSV) or OUT.json (heartmesh session)
+      -> OUT.csv (canonical CSV), OUT.json (heartmesh session), OUT.vtk|.vtp (polylines)
     meshes (obj, stl, ply, vtk, vtp) -> OUT.obj|.stl|.ply|.vtk|.vtp  (--ascii: ASCII STL)";
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
@@ -30,51 +30,81 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     };
     let out_ext = io::extension(output);
     let comment = format!("converted from {}", file_name(input));
-    if out_ext == "csv" || out_ext == "json" {
-        let frame = contours::frame_flag(p.value("frame"))?;
-        let loaded = contours::load(input, frame)?;
-        let set = loaded.set;
-        if !p.switch("quiet") {
-            for w in &set.warnings {
-                eprintln!("heartmesh: warning: {input}: {w}");
+    let format = MeshFormat::from_path(output);
+    let contour_out = matches!(out_ext.as_str(), "csv" | "json");
+    if format.is_none() && !contour_out {
+        return Err(CliError::usage(format!(
+            "cannot tell the output format of {output} (contours: .csv .json .vtk .vtp; meshes: .obj .stl .ply .vtk .vtp)"
+        )));
+    }
+    // .vtk and .vtp hold either: a mesh when the input is one, else contour polylines.
+    let lines_ok = matches!(out_ext.as_str(), "vtk" | "vtp");
+    let in_ext = io::extension(input);
+    let mesh_in = matches!(in_ext.as_str(), "obj" | "stl" | "ply" | "vtk" | "vtp");
+    if let (Some(mut format), true) = (format, mesh_in) {
+        let bytes = files::read(input)?;
+        match io::read_mesh(input, &bytes) {
+            Ok(data) => {
+                if p.switch("ascii") && format == MeshFormat::StlBinary {
+                    format = MeshFormat::StlAscii;
+                }
+                return write_mesh(&data, format, output, &comment, p.switch("quiet"));
             }
+            // A .vtk/.vtp of polylines is contours, not a mesh: fall through.
+            Err(e) if !(lines_ok && matches!(in_ext.as_str(), "vtk" | "vtp")) => {
+                return Err(CliError::input(input, e))
+            }
+            Err(_) => {}
         }
-        let out = if out_ext == "csv" {
-            io::csv::write_csv(&set, None)
-        } else {
+    } else if format.is_some() && !lines_ok {
+        return Err(CliError::usage(format!(
+            "{input} is not a mesh file (obj, stl, ply, vtk, vtp); contours convert to .csv .json .vtk .vtp"
+        )));
+    }
+    let frame = contours::frame_flag(p.value("frame"))?;
+    let loaded = contours::load(input, frame)?;
+    let set = loaded.set;
+    if !p.switch("quiet") {
+        for w in &set.warnings {
+            eprintln!("heartmesh: warning: {input}: {w}");
+        }
+    }
+    let out = match out_ext.as_str() {
+        "csv" => io::csv::write_csv(&set, None),
+        "json" => {
             let params = loaded.session_params.unwrap_or_default();
             io::session::write_session(&set, &params, heartmesh_core::VERSION)
         }
-        .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
-        files::write(output, &out)?;
-        if !p.switch("quiet") {
-            println!(
-                "{output}: {} contours, {} points, {} landmarks",
-                set.contours.len(),
-                set.point_count(),
-                set.landmarks.len()
-            );
-        }
-        return Ok(());
+        ext => Ok(io::write_contour_lines(&set, ext == "vtp", &comment)),
     }
-    let mut format = MeshFormat::from_path(output).ok_or_else(|| {
-        CliError::usage(format!(
-            "cannot tell the output format of {output} (use .csv for contours, .obj .stl .ply .vtk .vtp for meshes)"
-        ))
-    })?;
-    if p.switch("ascii") && format == MeshFormat::StlBinary {
-        format = MeshFormat::StlAscii;
+    .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
+    files::write(output, &out)?;
+    if !p.switch("quiet") {
+        println!(
+            "{output}: {} contours, {} points, {} landmarks",
+            set.contours.len(),
+            set.point_count(),
+            set.landmarks.len()
+        );
     }
-    let bytes = files::read(input)?;
-    let data = io::read_mesh(input, &bytes).map_err(|e| CliError::input(input, e))?;
+    Ok(())
+}
+
+fn write_mesh(
+    data: &io::MeshData,
+    format: MeshFormat,
+    output: &str,
+    comment: &str,
+    quiet: bool,
+) -> Result<(), CliError> {
     let pd = data
         .point_data
         .as_ref()
         .map(|(n, v)| (n.as_str(), v.as_slice()));
-    let out = io::write_mesh(&data.mesh, format, pd, &comment)
+    let out = io::write_mesh(&data.mesh, format, pd, comment)
         .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
     files::write(output, &out)?;
-    if !p.switch("quiet") {
+    if !quiet {
         println!(
             "{output}: {} vertices, {} triangles",
             data.mesh.positions.len(),

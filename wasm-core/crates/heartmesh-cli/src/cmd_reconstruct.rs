@@ -92,15 +92,12 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             )
         })?;
     }
-    if !quiet {
-        for w in &set.warnings {
-            eprintln!("heartmesh: warning: {input}: {w}");
-        }
-    }
-
+    // Warnings are printed after success; on failure the first one joins the single error line
+    // (the contract: one line on stderr), since it may well be the cause.
+    let fail = |e: CoreError| classify(input, e).with_hint(&set.warnings);
     let started = Instant::now();
-    let mut rec = Reconstruction::new(&set, params.clone()).map_err(|e| classify(input, e))?;
-    rec.run().map_err(|e| classify(input, e))?;
+    let mut rec = Reconstruction::new(&set, params.clone()).map_err(fail)?;
+    rec.run().map_err(fail)?;
     let seconds = started.elapsed().as_secs_f64();
 
     let facts = report::Facts {
@@ -134,6 +131,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         files::write(path, format!("{text}\n").as_bytes())?;
     }
     if !quiet {
+        for w in &set.warnings {
+            eprintln!("heartmesh: warning: {input}: {w}");
+        }
         println!("{}", report::summary(output, &rep));
     }
     Ok(())

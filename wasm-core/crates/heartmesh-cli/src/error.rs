@@ -17,6 +17,9 @@ pub enum CliError {
     Read { file: String, message: String },
     /// Reconstruction or writing failed (exit 1).
     Failed(String),
+    /// Another error with a reading warning that may explain it (e.g. coordinates in metres),
+    /// kept on the same single line.
+    Hinted(Box<CliError>, String),
 }
 
 impl CliError {
@@ -35,9 +38,18 @@ impl CliError {
         CliError::Input { file: None, error }
     }
 
+    /// Appends the first of `warnings` (if any) to the message.
+    pub fn with_hint(self, warnings: &[String]) -> Self {
+        match warnings.first() {
+            Some(w) => CliError::Hinted(Box::new(self), w.clone()),
+            None => self,
+        }
+    }
+
     pub fn exit_code(&self) -> i32 {
         match self {
             CliError::Failed(_) => 1,
+            CliError::Hinted(inner, _) => inner.exit_code(),
             _ => 2,
         }
     }
@@ -50,6 +62,7 @@ impl CliError {
             CliError::Usage(m) => format!("{m} (see heartmesh --help)"),
             CliError::Read { file, message } => format!("{file}: {message}"),
             CliError::Failed(m) => m.clone(),
+            CliError::Hinted(inner, hint) => format!("{} (warning: {hint})", inner.message()),
             CliError::Input { file, error } => {
                 let problem = match error {
                     CoreError::Parse { message, .. } => message.clone(),

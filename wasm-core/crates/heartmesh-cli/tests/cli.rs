@@ -188,6 +188,20 @@ fn convert_every_contour_format_to_csv_and_session() {
         let (code, out, _) = run(bin().args(["convert", s(&json), s(&back)]));
         assert_eq!(code, 0);
         assert_eq!(out, format!("{}: {expect}\n", s(&back)), "{rel}");
+        // Contours to VTK/VTP polylines and back: the same number of points.
+        for ext in ["vtk", "vtp"] {
+            let lines = dir.join(format!("c.{ext}"));
+            let (code, _, err) = run(bin().args(["convert", s(&csv), s(&lines), "-q"]));
+            assert_eq!(code, 0, "{ext}: {err}");
+            let again = dir.join("again.csv");
+            let (code, out, err) = run(bin().args(["convert", s(&lines), s(&again)]));
+            assert_eq!(code, 0, "{ext}: {err}");
+            let points = expect.split(", ").nth(1).unwrap();
+            assert!(
+                out.contains(&format!(", {points}, 0 landmarks")),
+                "{ext}: {out}"
+            );
+        }
     }
     let (code, _, err) = run(bin().args([
         "convert",
@@ -335,5 +349,66 @@ fn reconstruct_gpfile_surface_to_ply() {
     ]));
     assert_eq!(code, 2);
     assert!(err.contains("needs an APEX_POINT landmark"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A session JSON carries its parameters: they are the starting point, flags override them.
+#[test]
+fn reconstruct_from_session_uses_its_parameters() {
+    let dir = scratch("session");
+    let json = dir.join("s.json");
+    let (code, _, err) = run(bin().args([
+        "convert",
+        s(&data("contours/surfco-example.csv")),
+        s(&json),
+        "-q",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let session = std::fs::read_to_string(&json).unwrap();
+    let edited = session.replace("\"iterations\":250.0", "\"iterations\":6.0");
+    assert_ne!(edited, session, "the session stores the iteration count");
+    std::fs::write(&json, edited).unwrap();
+    let report = dir.join("r.json");
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        s(&json),
+        "-o",
+        s(&dir.join("m.vtp")),
+        "--report",
+        s(&report),
+        "--beta",
+        "0.2",
+        "-q",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["iterations"], 6);
+    assert_eq!(r["parameters"]["iterations"], 6.0);
+    assert_eq!(r["parameters"]["beta"], 0.2);
+    assert_eq!(r["input_format"], "heartmesh session");
+    let vtp = std::fs::read_to_string(dir.join("m.vtp")).unwrap();
+    assert!(vtp.contains("<PointData Scalars=\"distance\">"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Contours in metres: the reconstruction fails (or not), but stderr stays one line, and the
+/// units warning is on it when it fails.
+#[test]
+fn failure_after_a_warning_is_still_one_line() {
+    let dir = scratch("metres");
+    let f = dir.join("m.csv");
+    // Two tiny SAX rings 10 mm apart in metres: too few contour points to build attractors.
+    let mut text = String::from("contour,x,y,z\n");
+    for (c, z) in [("a", 0.0), ("b", 0.01)] {
+        for i in 0..3 {
+            let t = i as f64 * 2.0;
+            text.push_str(&format!("{c},{},{},{z}\n", 0.02 * t.cos(), 0.02 * t.sin()));
+        }
+    }
+    std::fs::write(&f, text).unwrap();
+    let (code, _, err) = run(bin().args(["reconstruct", s(&f), "-o", s(&dir.join("o.obj"))]));
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("(warning: coordinates span 0.0"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

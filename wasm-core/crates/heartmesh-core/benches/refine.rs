@@ -32,6 +32,12 @@ fn benches(c: &mut Criterion) {
     g.bench_function("subdivide 5120 tris", |b| {
         b.iter(|| subdivide(black_box(&base)))
     });
+    g.bench_function("smooth 200 x 5120 tris", |b| {
+        b.iter(|| smooth(black_box(&base), 200, 0.1))
+    });
+    g.bench_function("decimate 0.72 of 5120 tris", |b| {
+        b.iter(|| decimate(black_box(&base), 0.72))
+    });
     g.bench_function("smooth 200 x 20480 tris", |b| {
         b.iter(|| smooth(black_box(&fine), 200, 0.1))
     });
@@ -63,6 +69,12 @@ fn min_times(runs: usize) {
     };
     time("subdivide 5120 tris", &|| {
         black_box(subdivide(&base).ok());
+    });
+    time("smooth 200 x 5120 tris", &|| {
+        black_box(smooth(&base, 200, 0.1).ok());
+    });
+    time("decimate 0.72 of 5120 tris", &|| {
+        black_box(decimate(&base, 0.72).ok());
     });
     time("smooth 200 x 20480 tris", &|| {
         black_box(smooth(&fine, 200, 0.1).ok());

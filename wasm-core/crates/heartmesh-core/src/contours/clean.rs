@@ -72,20 +72,17 @@ pub fn clean_and_split(piece: &Polyline) -> Vec<Polyline> {
     }
     // Walk the curve from just after the first jump; every further jump starts a new piece.
     let start = if piece.closed { (jumps[0] + 1) % n } else { 0 };
-    let steps = if piece.closed { n } else { n };
     let mut pieces = Vec::new();
     let mut current: Vec<Vec3> = Vec::new();
-    for k in 0..steps {
+    for k in 0..n {
         let i = (start + k) % n;
         current.push(pts[i]);
-        let is_last = k + 1 == steps;
-        if is_last || jumps.contains(&i) {
-            if !current.is_empty() {
-                pieces.push(Polyline {
-                    points: std::mem::take(&mut current),
-                    closed: false,
-                });
-            }
+        let is_last = k + 1 == n;
+        if (is_last || jumps.contains(&i)) && !current.is_empty() {
+            pieces.push(Polyline {
+                points: std::mem::take(&mut current),
+                closed: false,
+            });
         }
     }
     pieces
@@ -146,7 +143,7 @@ pub fn resample_count(points: &[Vec3], closed: bool, count: usize) -> Vec<Vec3> 
 pub fn resample_spacing(points: &[Vec3], closed: bool, spacing: f64) -> Vec<Vec3> {
     let len = length(points, closed);
     let min = if closed { 3 } else { 2 };
-    if points.len() < 2 || !(spacing > 0.0) {
+    if points.len() < 2 || spacing.is_nan() || spacing <= 0.0 {
         return points.to_vec();
     }
     let segments = (len / spacing).round() as usize;

@@ -43,7 +43,7 @@ pub fn fit_plane<'a>(points: impl Iterator<Item = &'a Vec3> + Clone) -> Option<P
         eig.eigenvalues[order[1]].max(0.0),
         eig.eigenvalues[order[2]].max(0.0),
     );
-    if !(large > 0.0) || mid.sqrt() < 1e-6 * large.sqrt() {
+    if large.is_nan() || large <= 0.0 || mid.sqrt() < 1e-6 * large.sqrt() {
         return None;
     }
     let normal = eig.eigenvectors.column(order[0]).into_owned().normalize();

@@ -13,8 +13,9 @@
 //! (G is conditionally positive definite of order 2 in 3D, and I / lambda_eff > 0), which a
 //! Cholesky factorises in half the work and with residuals near machine precision. With the
 //! Householder QR A = Q [R; 0], Q = [Q1 Q2]: w = Q2 g where (Q2^T K Q2) g = Q2^T b, and
-//! R a = Q1^T (b - K w). Q^T K Q is formed by applying the four reflectors from both sides in
-//! O(N^2), and its top-right block gives Q1^T K w without keeping K.
+//! R a = Q1^T (b - K w). Q^T K Q is formed in O(N^2) by applying the four reflectors from both
+//! sides as one block reflector, on the lower triangle only; its off-diagonal block gives
+//! Q1^T K w without keeping K.
 //!
 //! The affine part is fitted in a basis centred on the mean of the centres (1, x - c): the same
 //! function F, but R no longer mixes the constant column with large coordinates, which keeps the
@@ -57,7 +58,7 @@ struct Chunk {
 #[derive(Debug, Clone, Default)]
 pub struct TpsSolver {
     n: usize,
-    /// N x N row-major: the kernel matrix, then Q^T K Q in place.
+    /// N x N row-major, lower triangle used: the kernel matrix, then Q^T K Q in place.
     kmat: Vec<f64>,
     /// Householder vectors, 4 x N (row k is zero before index k).
     hv: Vec<f64>,
@@ -68,7 +69,7 @@ pub struct TpsSolver {
     chol: Vec<f64>,
     /// Right-hand sides, 3 x N (x, y, z rows): b, then Q^T b, then the solution w.
     rhs: Vec<f64>,
-    /// Scratch vector of length N.
+    /// Scratch, 4 x N: X = K V, then Y, of the block reflector update.
     tmp: Vec<f64>,
     /// Evaluation data.
     chunks: Vec<Chunk>,
@@ -133,7 +134,7 @@ impl TpsSolver {
         self.hv.resize(4 * n, 0.0);
         self.chol.resize(m * m, 0.0);
         self.rhs.resize(3 * n, 0.0);
-        self.tmp.resize(n, 0.0);
+        self.tmp.resize(4 * n, 0.0);
 
         self.centre = centres.iter().sum::<Vec3>() / n as f64;
         self.householder_affine(centres)?;
@@ -197,49 +198,123 @@ impl TpsSolver {
         Ok(())
     }
 
-    /// K = G + I / lambda_eff over the centres (full symmetric storage).
+    /// K = G + I / lambda_eff over the centres, lower triangle only (K is symmetric; every later
+    /// step reads the lower triangle). Rows are filled from structure-of-arrays coordinates so the
+    /// square roots vectorise.
     #[inline(never)] // one call per fit: kept out of line for profiles
     fn assemble_kernel(&mut self, centres: &[Vec3], diag: f64) {
         let n = self.n;
-        for i in 0..n {
-            let pi = centres[i];
-            self.kmat[i * n + i] = diag;
-            for (j, pj) in centres[..i].iter().enumerate() {
-                let g = KERNEL_SCALE * (pi - pj).norm();
-                self.kmat[i * n + j] = g;
-                self.kmat[j * n + i] = g;
+        let (xs, rest) = self.tmp.split_at_mut(n);
+        let (ys, rest) = rest.split_at_mut(n);
+        let zs = &mut rest[..n];
+        for (i, p) in centres.iter().enumerate() {
+            (xs[i], ys[i], zs[i]) = (p.x, p.y, p.z);
+        }
+        for (i, p) in centres.iter().enumerate() {
+            let row = &mut self.kmat[i * n..i * n + i + 1];
+            let cols = xs[..i].iter().zip(&ys[..i]).zip(&zs[..i]);
+            for (g, ((x, y), z)) in row[..i].iter_mut().zip(cols) {
+                let (dx, dy, dz) = (p.x - x, p.y - y, p.z - z);
+                *g = KERNEL_SCALE * (dx * dx + dy * dy + dz * dz).sqrt();
             }
+            row[i] = diag;
         }
     }
 
-    /// K <- H_k K H_k for the four reflectors, i.e. Q^T K Q; then copies the trailing
-    /// (N-4) x (N-4) block (lower triangle) into the Cholesky buffer.
+    /// K <- Q^T K Q for Q = H_0 H_1 H_2 H_3, then copies the trailing (N-4) x (N-4) block (lower
+    /// triangle) into the Cholesky buffer.
+    ///
+    /// The four reflectors are applied as one block (compact WY form, Q = I - V T V^T; Schreiber &
+    /// Van Loan, SIAM J. Sci. Stat. Comput. 10(1), 1989), so K is read twice instead of eight
+    /// times: X = K V, then K -= Y V^T + V Y^T with Y = X T - V (T^T V^T X T) / 2.
     #[inline(never)] // one call per fit: kept out of line for profiles
     fn project_kernel(&mut self) {
         let n = self.n;
-        for k in 0..4 {
-            let v = &self.hv[k * n..(k + 1) * n];
-            let beta = self.hbeta[k];
-            // p = beta K v (v is zero before k).
-            for i in 0..n {
-                self.tmp[i] = beta * dot(&self.kmat[i * n + k..(i + 1) * n], &v[k..]);
+        let v = &self.hv;
+        // T: upper triangular with H_0 ... H_3 = I - V T V^T.
+        let mut t = [[0.0; 4]; 4];
+        for j in 0..4 {
+            let mut z = [0.0; 4];
+            for (k, zk) in z.iter_mut().enumerate().take(j) {
+                *zk = dot(&v[k * n + j..(k + 1) * n], &v[j * n + j..(j + 1) * n]);
             }
-            // u = p - (beta / 2) (p . v) v; then K -= v u^T + u v^T.
-            let s = 0.5 * beta * dot(&self.tmp[k..], &v[k..]);
-            axpy(-s, &v[k..], &mut self.tmp[k..]);
-            let u = &self.tmp;
-            for i in 0..n {
-                let row = &mut self.kmat[i * n..(i + 1) * n];
-                let (vi, ui) = (v[i], u[i]);
-                for ((r, &uj), &vj) in row[k..].iter_mut().zip(&u[k..]).zip(&v[k..]) {
-                    *r -= vi * uj + ui * vj;
+            for (a, row) in t.iter_mut().enumerate().take(j) {
+                row[j] = -self.hbeta[j] * (a..j).map(|b| row[b] * z[b]).sum::<f64>();
+            }
+            t[j][j] = self.hbeta[j];
+        }
+        // X = K V (column-major, 4 x N, in tmp) from the lower triangle: row i gives the j <= i
+        // terms of X[i] by dot products and the j < i terms of X[j] by axpys.
+        self.tmp.fill(0.0);
+        for i in 0..n {
+            let row = &self.kmat[i * n..i * n + i + 1];
+            for k in 0..4 {
+                let vk = &v[k * n..(k + 1) * n];
+                let xk = &mut self.tmp[k * n..(k + 1) * n];
+                xk[i] += dot(row, &vk[..i + 1]);
+                if vk[i] != 0.0 {
+                    axpy(vk[i], &row[..i], &mut xk[..i]);
                 }
-                if i >= k {
-                    // Columns before k: v_j = 0 there, so only v_i u_j remains.
-                    for (r, &uj) in row[..k].iter_mut().zip(&u[..k]) {
-                        *r -= vi * uj;
-                    }
-                }
+            }
+        }
+        // S = T^T (V^T X) T (symmetric 4 x 4).
+        let mut vx = [[0.0; 4]; 4];
+        for (a, row) in vx.iter_mut().enumerate() {
+            for (b, e) in row.iter_mut().enumerate() {
+                *e = dot(
+                    &v[a * n + a..(a + 1) * n],
+                    &self.tmp[b * n + a..(b + 1) * n],
+                );
+            }
+        }
+        let mut mt = [[0.0; 4]; 4];
+        for a in 0..4 {
+            for b in 0..4 {
+                mt[a][b] = (0..=b).map(|c| vx[a][c] * t[c][b]).sum();
+            }
+        }
+        let mut sm = [[0.0; 4]; 4];
+        for a in 0..4 {
+            for b in 0..4 {
+                sm[a][b] = (0..=a).map(|c| t[c][a] * mt[c][b]).sum();
+            }
+        }
+        // Y = X T - V S / 2, row by row in place.
+        for i in 0..n {
+            let x = [0, 1, 2, 3].map(|k| self.tmp[k * n + i]);
+            let vi = [0, 1, 2, 3].map(|k| v[k * n + i]);
+            for b in 0..4 {
+                let xt: f64 = (0..=b).map(|a| x[a] * t[a][b]).sum();
+                let vs: f64 = (0..4).map(|a| vi[a] * sm[a][b]).sum();
+                self.tmp[b * n + i] = xt - 0.5 * vs;
+            }
+        }
+        // K -= Y V^T + V Y^T in one pass over the lower triangle.
+        let (y, v) = (&self.tmp, &self.hv);
+        for i in 0..n {
+            let yi = [y[i], y[n + i], y[2 * n + i], y[3 * n + i]];
+            let vi = [v[i], v[n + i], v[2 * n + i], v[3 * n + i]];
+            let e = i + 1;
+            let row = &mut self.kmat[i * n..i * n + e];
+            let cols = (
+                (
+                    &v[..e],
+                    &v[n..n + e],
+                    &v[2 * n..2 * n + e],
+                    &v[3 * n..3 * n + e],
+                ),
+                (
+                    &y[..e],
+                    &y[n..n + e],
+                    &y[2 * n..2 * n + e],
+                    &y[3 * n..3 * n + e],
+                ),
+            );
+            let ((v0, v1, v2, v3), (y0, y1, y2, y3)) = cols;
+            for j in 0..e {
+                let a = (yi[0] * v0[j] + yi[1] * v1[j]) + (yi[2] * v2[j] + yi[3] * v3[j]);
+                let b = (vi[0] * y0[j] + vi[1] * y1[j]) + (vi[2] * y2[j] + vi[3] * y3[j]);
+                row[j] -= a + b;
             }
         }
         let m = n - 4;
@@ -289,10 +364,15 @@ impl TpsSolver {
     fn recover_weights_and_affine(&mut self) -> Result<()> {
         let n = self.n;
         for (c, b) in self.rhs.chunks_exact_mut(n).enumerate() {
-            let mut t = [0.0; 4];
-            for (k, tk) in t.iter_mut().enumerate() {
-                *tk = b[k] - dot(&self.kmat[k * n + 4..(k + 1) * n], &b[4..]);
+            // (Q^T K Q)[0..4, 4..] is read through its mirror in the lower triangle.
+            let mut bg = [0.0; 4];
+            for (j, gj) in b[4..].iter().enumerate() {
+                let row = &self.kmat[(4 + j) * n..(4 + j) * n + 4];
+                for k in 0..4 {
+                    bg[k] += row[k] * gj;
+                }
             }
+            let t = [0, 1, 2, 3].map(|k| b[k] - bg[k]);
             let mut a = [0.0; 4];
             for k in (0..4).rev() {
                 let mut s = t[k];
@@ -741,7 +821,7 @@ mod tests {
     #[test]
     fn augmented_system_residual_is_tiny() {
         let mut rng = SplitMix64::new(3);
-        for n in [50, 300, 1000] {
+        for n in [50, 51, 300, 1000] {
             let centres = cloud(&mut rng, n);
             let targets: Vec<Vec3> = centres
                 .iter()
@@ -868,6 +948,26 @@ mod tests {
             cholesky_in_place(&mut a, 2).unwrap_err().code(),
             "numerical"
         );
+    }
+
+    /// Two attractors can share a closest mesh point: at the pipeline's lambda the smoothing term
+    /// keeps the system definite, and F there is the mean of the two targets (minus the small
+    /// kernel correction), not a blow-up.
+    #[test]
+    fn duplicate_centres_are_handled_at_finite_lambda() {
+        let mut rng = SplitMix64::new(8);
+        let mut centres = cloud(&mut rng, 150);
+        centres[7] = centres[3];
+        let mut targets: Vec<Vec3> = centres.iter().map(warp).collect();
+        targets[3] += v3(0.004, 0.0, 0.0);
+        targets[7] -= v3(0.004, 0.0, 0.0);
+        let mut s = TpsSolver::new();
+        s.fit(&centres, &targets, 1e5 / 150.0).unwrap();
+        let mid = (targets[3] + targets[7]) / 2.0;
+        let f = s.evaluate(centres[3]);
+        assert!((f - mid).norm() < 1e-3, "F = {f:?}, mean target {mid:?}");
+        let w = s.weights();
+        assert!(w.iter().all(|w| w.norm() < 1e3), "weights blew up");
     }
 
     #[test]

@@ -163,6 +163,16 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     }
 }
 
+fn looks_like_mesh(file_name: &str, bytes: &[u8]) -> bool {
+    let head = bytes.trim_ascii_start();
+    matches!(extension(file_name).as_str(), "obj" | "stl" | "ply")
+        || head.starts_with(b"ply\n")
+        || head.starts_with(b"solid ")
+        || head.starts_with(b"v ")
+        || head.starts_with(b"o ")
+        || head.starts_with(b"mtllib ")
+}
+
 fn looks_like_slice_info(bytes: &[u8]) -> bool {
     let head = &bytes[..bytes.len().min(1024)];
     let has = |w: &[u8]| head.windows(w.len()).any(|x| x == w);
@@ -184,6 +194,10 @@ pub fn read_contours_with(
         ContourFormat::Csv if looks_like_slice_info(bytes) => Err(CoreError::parse(
             1,
             "this is a biv-me SliceInfoFile (image planes), not contours; read the GPFile_*.txt beside it",
+        )),
+        ContourFormat::Csv if looks_like_mesh(file_name, bytes) => Err(CoreError::parse(
+            0,
+            "this is a mesh file (OBJ, STL or PLY), not contours",
         )),
         ContourFormat::Csv => csv::read_csv(bytes),
         ContourFormat::GpFile => {
@@ -253,6 +267,27 @@ pub fn write_mesh(
         MeshFormat::Vtk => vtk::write_vtk(mesh, point_data, header_comment),
         MeshFormat::Vtp => vtp::write_vtp(mesh, point_data, header_comment),
     })
+}
+
+/// Contours as polylines (one line cell per piece; rings repeat their first point so that they
+/// read back closed) for VTK-based viewers: legacy VTK (`vtp == false`) or VTP.
+pub fn write_contour_lines(set: &ContourSet, vtp: bool, header_comment: &str) -> Vec<u8> {
+    let mut points = Vec::with_capacity(set.point_count());
+    let mut cells: Vec<Vec<u32>> = Vec::new();
+    for piece in set.contours.iter().flat_map(|c| c.pieces.iter()) {
+        let start = points.len() as u32;
+        points.extend_from_slice(&piece.points);
+        let mut cell: Vec<u32> = (start..points.len() as u32).collect();
+        if piece.closed && cell.len() >= 3 {
+            cell.push(start);
+        }
+        cells.push(cell);
+    }
+    if vtp {
+        vtp::write_lines(&points, &cells, header_comment)
+    } else {
+        vtk::write_lines(&points, &cells, header_comment)
+    }
 }
 
 /// Refuses meshes that would produce broken files (dangling indices, wrong data length).
@@ -420,6 +455,24 @@ mod tests {
     }
 
     #[test]
+    fn contour_lines_round_trip() {
+        let rel = "contours/bivme-example-patient1/patient1-ED.csv";
+        let set = read_contours(rel, &sample(rel)).unwrap();
+        let pieces: Vec<_> = set.contours.iter().flat_map(|c| c.pieces.iter()).collect();
+        for (vtp, name) in [(false, "c.vtk"), (true, "c.vtp")] {
+            let bytes = write_contour_lines(&set, vtp, "patient1 ED");
+            let back = read_contours(name, &bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
+            // One contour per piece, same points in the same order, same ring/open status.
+            assert_eq!(back.contours.len(), pieces.len(), "{name}");
+            for (c, p) in back.contours.iter().zip(&pieces) {
+                assert_eq!(c.pieces.len(), 1);
+                assert_eq!(c.pieces[0].closed, p.closed, "{name} {}", c.id);
+                assert_eq!(c.pieces[0].points, p.points, "{name} {}", c.id);
+            }
+        }
+    }
+
+    #[test]
     fn detection_by_content_then_extension() {
         let d = |name: &str, bytes: &[u8]| detect_contour_format(name, bytes);
         assert_eq!(d("a.txt", b"contour,x,y,z\n"), ContourFormat::Csv);
@@ -444,6 +497,8 @@ mod tests {
         );
         assert_eq!(d("x.mat", b"MATLAB 5.0 MAT-file"), ContourFormat::Mat);
         assert_eq!(d("x.bin", b"\x00\x01garbage"), ContourFormat::Csv);
+        let e = read_contours("m.obj", b"v 1 2 3\n").unwrap_err();
+        assert!(e.to_string().contains("mesh file"), "{e}");
     }
 
     /// Every sample in shared/data/contours through the detecting entry point. Expected points:

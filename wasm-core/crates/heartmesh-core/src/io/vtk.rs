@@ -429,20 +429,52 @@ pub(crate) fn contours_from_lines(
 
 const TITLE_MAX: usize = 160;
 
+/// The title line: version and comment, short (see [`write_vtk`]).
+fn title(header_comment: &str) -> String {
+    // Readers such as three.js' VTKLoader look for "ASCII" within the first 250 bytes, so the
+    // title (limited to 256 characters by the format) is kept well below that.
+    header_lines(header_comment)
+        .join(" | ")
+        .chars()
+        .filter(|c| c.is_ascii() && !c.is_ascii_control())
+        .take(TITLE_MAX)
+        .collect()
+}
+
+/// Polylines (contours) as VTK legacy 3.0 ASCII POLYDATA LINES.
+pub(crate) fn write_lines(points: &[Vec3], cells: &[Vec<u32>], header_comment: &str) -> Vec<u8> {
+    let mut out = format!(
+        "# vtk DataFile Version 3.0\n{}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
+        title(header_comment),
+        points.len()
+    );
+    for p in points {
+        out.push_str(&format!(
+            "{} {} {}\n",
+            fmt_num(p.x),
+            fmt_num(p.y),
+            fmt_num(p.z)
+        ));
+    }
+    let size: usize = cells.iter().map(|c| c.len() + 1).sum();
+    out.push_str(&format!("LINES {} {size}\n", cells.len()));
+    for c in cells {
+        out.push_str(&c.len().to_string());
+        for i in c {
+            out.push_str(&format!(" {i}"));
+        }
+        out.push('\n');
+    }
+    out.into_bytes()
+}
+
 /// VTK legacy 3.0 ASCII POLYDATA with triangles and the optional point scalars.
 pub fn write_vtk(
     mesh: &TriMesh,
     point_data: Option<(&str, &[f64])>,
     header_comment: &str,
 ) -> Vec<u8> {
-    // Readers such as three.js' VTKLoader look for "ASCII" within the first 250 bytes, so the
-    // title (limited to 256 characters by the format) is kept well below that.
-    let title: String = header_lines(header_comment)
-        .join(" | ")
-        .chars()
-        .filter(|c| c.is_ascii() && !c.is_ascii_control())
-        .take(TITLE_MAX)
-        .collect();
+    let title = title(header_comment);
     let mut out = format!(
         "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
         mesh.positions.len()

@@ -325,6 +325,43 @@ pub fn write_vtp(
     out.into_bytes()
 }
 
+/// Polylines (contours) as XML PolyData with ascii arrays.
+pub(crate) fn write_lines(points: &[Vec3], cells: &[Vec<u32>], header_comment: &str) -> Vec<u8> {
+    let comment = header_lines(header_comment)
+        .join(" | ")
+        .replace("--", "- -");
+    let mut out = format!(
+        "<?xml version=\"1.0\"?>\n<!-- {comment} -->\n\
+         <VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">\n<PolyData>\n\
+         <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"{}\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n\
+         <Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
+        points.len(),
+        cells.len()
+    );
+    for p in points {
+        out.push_str(&format!(
+            "{} {} {}\n",
+            fmt_num(p.x),
+            fmt_num(p.y),
+            fmt_num(p.z)
+        ));
+    }
+    out.push_str("</DataArray>\n</Points>\n<Lines>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
+    for c in cells {
+        let row: Vec<String> = c.iter().map(|i| i.to_string()).collect();
+        out.push_str(&row.join(" "));
+        out.push('\n');
+    }
+    out.push_str("</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n");
+    let mut end = 0;
+    for c in cells {
+        end += c.len();
+        out.push_str(&format!("{end}\n"));
+    }
+    out.push_str("</DataArray>\n</Lines>\n</Piece>\n</PolyData>\n</VTKFile>\n");
+    out.into_bytes()
+}
+
 fn xml_escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")

@@ -61,51 +61,51 @@ impl EdgeMap {
         let vertex_slots = mesh.positions.len().max(max_index);
         let nh = tris.len() * 3;
 
-        // Counting sort of half-edges by their lower vertex.
+        // Counting sort of half-edges by their lower vertex; each slot holds the sort key
+        // (higher vertex << 32 | half-edge), so buckets sort as plain integers.
         let mut bucket_start = vec![0u32; vertex_slots + 1];
-        for h in 0..nh as u32 {
-            let (a, b) = half_edge_ends(tris, h);
-            bucket_start[a.min(b) as usize + 1] += 1;
+        for t in tris {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                bucket_start[a.min(b) as usize + 1] += 1;
+            }
         }
         for v in 0..vertex_slots {
             bucket_start[v + 1] += bucket_start[v];
         }
         let mut fill = bucket_start.clone();
-        let mut sorted = vec![0u32; nh];
-        for h in 0..nh as u32 {
-            let (a, b) = half_edge_ends(tris, h);
-            let lo = a.min(b) as usize;
-            sorted[fill[lo] as usize] = h;
-            fill[lo] += 1;
+        let mut keys = vec![0u64; nh];
+        for (ti, t) in tris.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let lo = a.min(b) as usize;
+                keys[fill[lo] as usize] = ((a.max(b) as u64) << 32) | (3 * ti + k) as u64;
+                fill[lo] += 1;
+            }
         }
+        drop(fill);
 
         let mut edges = Vec::with_capacity(nh / 2 + 1);
         let mut offsets = Vec::with_capacity(nh / 2 + 2);
         let mut edge_of = vec![0u32; nh];
+        let mut sorted = vec![0u32; nh];
         for lo in 0..vertex_slots {
-            let bucket = &mut sorted[bucket_start[lo] as usize..bucket_start[lo + 1] as usize];
+            let base = bucket_start[lo] as usize;
+            let bucket = &mut keys[base..bucket_start[lo + 1] as usize];
             // Buckets hold a vertex's few edges: sorting by (higher vertex, half-edge) is cheap and
             // makes the edge order independent of anything but the mesh.
-            bucket.sort_unstable_by_key(|&h| {
-                let (a, b) = half_edge_ends(tris, h);
-                ((a.max(b) as u64) << 32) | h as u64
-            });
-            let base = bucket_start[lo] as usize;
-            let mut i = 0;
-            while i < bucket.len() {
-                let (a, b) = half_edge_ends(tris, bucket[i]);
-                let hi = a.max(b);
-                let e = edges.len() as u32;
-                edges.push([lo as u32, hi]);
-                offsets.push((base + i) as u32);
-                while i < bucket.len() {
-                    let (c, d) = half_edge_ends(tris, bucket[i]);
-                    if c.max(d) != hi {
-                        break;
-                    }
-                    edge_of[bucket[i] as usize] = e;
-                    i += 1;
+            bucket.sort_unstable();
+            let mut previous_hi = u32::MAX;
+            for (i, &key) in bucket.iter().enumerate() {
+                let hi = (key >> 32) as u32;
+                let h = key as u32;
+                if hi != previous_hi {
+                    edges.push([lo as u32, hi]);
+                    offsets.push((base + i) as u32);
+                    previous_hi = hi;
                 }
+                edge_of[h as usize] = (edges.len() - 1) as u32;
+                sorted[base + i] = h;
             }
         }
         offsets.push(nh as u32);

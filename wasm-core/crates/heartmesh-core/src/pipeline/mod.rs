@@ -118,7 +118,7 @@ pub struct Reconstruction {
     attractor_budget: Budget,
     attractors: Vec<Vec3>,
     /// Working mesh in normalised units, and its copy in mm handed to callers.
-    mesh: TriMesh,
+    mesh_unit: TriMesh,
     mesh_mm: TriMesh,
     bvh: Option<Bvh>,
     tps: TpsSolver,
@@ -182,7 +182,7 @@ impl Reconstruction {
             candidates,
             attractor_budget,
             attractors: Vec::new(),
-            mesh: TriMesh::default(),
+            mesh_unit: TriMesh::default(),
             mesh_mm: TriMesh::default(),
             bvh: None,
             tps: TpsSolver::new(),
@@ -217,7 +217,7 @@ impl Reconstruction {
             return r;
         }
         let it = self.iteration + 1;
-        let resample = (it - 1) % self.params.resample_attractors_every == 0 && it > 1;
+        let resample = (it - 1).is_multiple_of(self.params.resample_attractors_every) && it > 1;
         if resample {
             let t = self.clock.now_ms();
             self.resample_attractors()?;
@@ -240,10 +240,10 @@ impl Reconstruction {
         self.tps.fit(&self.closest, &self.targets, lambda_eff)?;
         timings.solve_ms = self.clock.now_ms() - t;
         let t = self.clock.now_ms();
-        self.tps.apply(&mut self.mesh.positions);
+        self.tps.apply(&mut self.mesh_unit.positions);
         timings.apply_ms = self.clock.now_ms() - t;
         if !self
-            .mesh
+            .mesh_unit
             .positions
             .iter()
             .all(|p| p.iter().all(|c| c.is_finite()))
@@ -258,7 +258,7 @@ impl Reconstruction {
         let mut phase = Phase::Deform;
         if last {
             self.done = true;
-        } else if it % self.params.remesh_every == 0 {
+        } else if it.is_multiple_of(self.params.remesh_every) {
             let t = self.clock.now_ms();
             self.remesh()?;
             timings.remesh_ms = self.clock.now_ms() - t;
@@ -266,7 +266,7 @@ impl Reconstruction {
         }
         if let Some(bvh) = self.bvh.as_mut() {
             if phase != Phase::Remesh {
-                bvh.refit(&self.mesh)?;
+                bvh.refit(&self.mesh_unit)?;
             }
         }
         self.update_mesh_mm();
@@ -320,9 +320,9 @@ impl Reconstruction {
             mesh.flip_orientation();
         }
         let t = self.clock.now_ms();
-        self.mesh = self.remeshed(&mesh)?;
+        self.mesh_unit = self.remeshed(&mesh)?;
         timings.remesh_ms = self.clock.now_ms() - t;
-        self.bvh = Some(Bvh::build(&self.mesh));
+        self.bvh = Some(Bvh::build(&self.mesh_unit));
         let t = self.clock.now_ms();
         self.resample_attractors()?;
         timings.attractors_ms = self.clock.now_ms() - t;
@@ -340,7 +340,7 @@ impl Reconstruction {
         let mut seed = (f64::NEG_INFINITY, 0usize);
         for (i, q) in self.candidates.iter().enumerate() {
             let d = bvh
-                .closest_point(&self.mesh, *q)
+                .closest_point(&self.mesh_unit, *q)
                 .map_or(f64::INFINITY, |h| h.distance_sq);
             if d > seed.0 {
                 seed = (d, i);
@@ -375,7 +375,7 @@ impl Reconstruction {
         let (mut max_d, mut sum_d) = (0.0f64, 0.0);
         for q in &self.attractors {
             let hit = bvh
-                .closest_point(&self.mesh, *q)
+                .closest_point(&self.mesh_unit, *q)
                 .ok_or_else(|| CoreError::InvalidMesh("the mesh has no triangles".into()))?;
             let d = hit.distance_sq.sqrt();
             max_d = max_d.max(d);
@@ -404,8 +404,8 @@ impl Reconstruction {
     }
 
     fn remesh(&mut self) -> Result<()> {
-        self.mesh = self.remeshed(&self.mesh)?;
-        self.bvh = Some(Bvh::build(&self.mesh));
+        self.mesh_unit = self.remeshed(&self.mesh_unit)?;
+        self.bvh = Some(Bvh::build(&self.mesh_unit));
         Ok(())
     }
 
@@ -414,9 +414,9 @@ impl Reconstruction {
         self.mesh_mm.positions.clear();
         self.mesh_mm
             .positions
-            .extend(self.mesh.positions.iter().map(|p| norm.to_mm(p)));
-        if self.mesh_mm.triangles != self.mesh.triangles {
-            self.mesh_mm.triangles.clone_from(&self.mesh.triangles);
+            .extend(self.mesh_unit.positions.iter().map(|p| norm.to_mm(p)));
+        if self.mesh_mm.triangles != self.mesh_unit.triangles {
+            self.mesh_mm.triangles.clone_from(&self.mesh_unit.triangles);
         }
     }
 
@@ -436,8 +436,8 @@ impl Reconstruction {
             attractors_changed,
             max_distance_mm,
             mean_distance_mm,
-            vertices: self.mesh.positions.len(),
-            triangles: self.mesh.triangles.len(),
+            vertices: self.mesh_unit.positions.len(),
+            triangles: self.mesh_unit.triangles.len(),
             attractors: self.attractors.len(),
             timings,
             done: self.done,

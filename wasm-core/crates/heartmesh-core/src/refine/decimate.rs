@@ -13,8 +13,10 @@
 //!   edges joining two boundary vertices are never collapsed (that would pinch the surface).
 //! - Rejection of collapses that turn a triangle by more than ~80 degrees or make it (nearly)
 //!   degenerate, so the result stays oriented without fold-overs.
-//! - A priority queue with lazy invalidation (per-vertex stamps) instead of decrease-key (a 4-ary
-//!   heap, see `heap.rs`); ties are broken by vertex index, so results are deterministic. Vertex-to-triangle lists live in one
+//! - A priority queue with lazy invalidation instead of decrease-key (a 4-ary heap, see
+//!   `heap.rs`): entries of collapsed vertices are skipped, and since merging only adds quadrics,
+//!   a queued cost is a lower bound of the edge's current cost, so a popped entry whose cost has
+//!   grown is simply queued again. Ties are broken by vertex index: results are deterministic. Vertex-to-triangle lists live in one
 //!   shared array (a merged vertex's list is appended at its end), so the hot loop does not allocate.
 
 use crate::error::{CoreError, Result};
@@ -22,6 +24,7 @@ use crate::geometry::Vec3;
 use crate::mesh::topology::{validity_with_map, EdgeMap};
 use crate::mesh::TriMesh;
 use crate::refine::heap::{Entry, MinHeap4};
+use crate::refine::quadric::Quadric;
 
 /// Weight of a boundary-edge constraint plane relative to the area weight of ordinary planes
 /// (per mm^2 of squared edge length).
@@ -35,77 +38,6 @@ const MIN_QUALITY: f64 = 0.02;
 /// popped but became legal later; a few passes are enough in practice.
 const MAX_PASSES: usize = 8;
 
-/// Symmetric 4x4 quadric sum w (n.p + d)^2, stored as its upper triangle.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct Quadric([f64; 10]);
-
-impl Quadric {
-    fn plane(n: Vec3, d: f64, w: f64) -> Quadric {
-        let (a, b, c) = (n.x, n.y, n.z);
-        Quadric(
-            [
-                a * a,
-                a * b,
-                a * c,
-                a * d,
-                b * b,
-                b * c,
-                b * d,
-                c * c,
-                c * d,
-                d * d,
-            ]
-            .map(|x| x * w),
-        )
-    }
-
-    fn add(&mut self, o: &Quadric) {
-        for (x, y) in self.0.iter_mut().zip(&o.0) {
-            *x += y;
-        }
-    }
-
-    fn sum(&self, o: &Quadric) -> Quadric {
-        let mut s = *self;
-        s.add(o);
-        s
-    }
-
-    fn error(&self, p: Vec3) -> f64 {
-        let [a2, ab, ac, ad, b2, bc, bd, c2, cd, d2] = self.0;
-        let (x, y, z) = (p.x, p.y, p.z);
-        let e = x * (a2 * x + 2.0 * (ab * y + ac * z + ad))
-            + y * (b2 * y + 2.0 * (bc * z + bd))
-            + z * (c2 * z + 2.0 * cd)
-            + d2;
-        e.max(0.0)
-    }
-
-    /// The point of least error, or None when the 3x3 part is (nearly) singular: flat or
-    /// cylindrical neighbourhoods, where the minimum is a plane or a line.
-    fn optimum(&self) -> Option<Vec3> {
-        let [a2, ab, ac, ad, b2, bc, bd, c2, cd, _] = self.0;
-        let c00 = b2 * c2 - bc * bc;
-        let c01 = ac * bc - ab * c2;
-        let c02 = ab * bc - ac * b2;
-        let det = a2 * c00 + ab * c01 + ac * c02;
-        let trace = a2 + b2 + c2;
-        if det.is_nan() || det.abs() <= 1e-9 * trace * trace * trace {
-            return None;
-        }
-        let c11 = a2 * c2 - ac * ac;
-        let c12 = ab * ac - a2 * bc;
-        let c22 = a2 * b2 - ab * ab;
-        let (rx, ry, rz) = (-ad, -bd, -cd);
-        let p = Vec3::new(
-            c00 * rx + c01 * ry + c02 * rz,
-            c01 * rx + c11 * ry + c12 * rz,
-            c02 * rx + c12 * ry + c22 * rz,
-        ) / det;
-        p.iter().all(|c| c.is_finite()).then_some(p)
-    }
-}
-
 /// Mutable state of one decimation.
 struct Decimator {
     positions: Vec<Vec3>,
@@ -115,7 +47,6 @@ struct Decimator {
     quadrics: Vec<Quadric>,
     boundary: Vec<bool>,
     vertex_alive: Vec<bool>,
-    stamps: Vec<u32>,
     /// Vertex v's triangles are refs[start[v]..start[v] + count[v]] (dead ones filtered on read).
     refs: Vec<u32>,
     start: Vec<u32>,
@@ -126,14 +57,16 @@ struct Decimator {
 }
 
 impl Decimator {
-    fn new(mesh: &TriMesh, centre: Vec3) -> Result<Decimator> {
+    fn new(mesh: &TriMesh, centre: Vec3, check: bool) -> Result<Decimator> {
         let map = EdgeMap::new(mesh);
-        let validity = validity_with_map(mesh, &map);
-        if !validity.manifold {
-            return Err(CoreError::InvalidMesh(format!(
-                "decimation needs a manifold, oriented mesh ({})",
-                validity.describe()
-            )));
+        if check {
+            let validity = validity_with_map(mesh, &map);
+            if !validity.manifold {
+                return Err(CoreError::InvalidMesh(format!(
+                    "decimation needs a manifold, oriented mesh ({})",
+                    validity.describe()
+                )));
+            }
         }
         let n = mesh.positions.len();
         let positions: Vec<Vec3> = mesh.positions.iter().map(|p| p - centre).collect();
@@ -202,7 +135,6 @@ impl Decimator {
             quadrics,
             boundary,
             vertex_alive: vec![true; n],
-            stamps: vec![0; n],
             refs,
             start,
             count,
@@ -262,19 +194,24 @@ impl Decimator {
     fn push(&mut self, a: u32, b: u32) {
         let (a, b) = (a.min(b), a.max(b));
         let (cost, _) = self.evaluate(a, b);
-        self.heap.push(Entry::new(
-            cost,
-            a,
-            b,
-            self.stamps[a as usize],
-            self.stamps[b as usize],
-        ));
+        self.heap.push(Entry::new(cost, a, b));
     }
 
-    /// Queues every edge around `v` once.
-    fn push_around(&mut self, v: u32) {
-        let m = self.next_mark();
+    /// Marks `v` and its neighbours with `m`.
+    fn mark_ring(&mut self, v: u32, m: u32) {
         self.marks[v as usize] = m;
+        for i in self.list(v) {
+            let t = self.refs[i] as usize;
+            if self.triangle_alive[t] {
+                for w in self.triangles[t] {
+                    self.marks[w as usize] = m;
+                }
+            }
+        }
+    }
+
+    /// Queues the edges around `v` to vertices not marked with `m` (each once).
+    fn push_unmarked(&mut self, v: u32, m: u32) {
         for i in self.list(v) {
             let t = self.refs[i] as usize;
             if !self.triangle_alive[t] {
@@ -291,7 +228,8 @@ impl Decimator {
 
     /// Queues every live edge (each once, from its lower vertex).
     fn seed(&mut self) {
-        self.heap.clear();
+        let mut seeds = self.heap.take();
+        seeds.clear();
         for v in 0..self.positions.len() as u32 {
             if !self.vertex_alive[v as usize] {
                 continue;
@@ -305,11 +243,13 @@ impl Decimator {
                 for w in self.triangles[t] {
                     if w > v && self.marks[w as usize] != m {
                         self.marks[w as usize] = m;
-                        self.push(v, w);
+                        let (cost, _) = self.evaluate(v, w);
+                        seeds.push(Entry::new(cost, v, w));
                     }
                 }
             }
         }
+        self.heap.rebuild(seeds);
     }
 
     /// Whether collapsing (a, b) to `p` keeps the mesh manifold, oriented and non-degenerate.
@@ -418,6 +358,10 @@ impl Decimator {
 
     /// Collapses b into a at p (a keeps its index).
     fn collapse(&mut self, a: u32, b: u32, p: Vec3) {
+        // a's old edges keep their queue entries: quadrics only grow, so their queued costs are
+        // lower bounds, refreshed when popped. Only edges a inherits from b are new.
+        let m = self.next_mark();
+        self.mark_ring(a, m);
         for i in self.list(b) {
             let t = self.refs[i] as usize;
             if !self.triangle_alive[t] {
@@ -456,9 +400,7 @@ impl Decimator {
         self.quadrics[a as usize].add(&qb);
         self.positions[a as usize] = p;
         self.boundary[a as usize] |= self.boundary[b as usize];
-        self.stamps[a as usize] = self.stamps[a as usize].wrapping_add(1);
-        self.stamps[b as usize] = self.stamps[b as usize].wrapping_add(1);
-        self.push_around(a);
+        self.push_unmarked(a, m);
     }
 
     /// Rewrites the vertex-triangle lists without dead entries (rarely: when the shared array
@@ -480,23 +422,35 @@ impl Decimator {
         self.refs.truncate(write);
     }
 
+    fn drop_outdated(&mut self) {
+        let alive = &self.vertex_alive;
+        self.heap
+            .retain(|e| alive[e.a as usize] && alive[e.b as usize]);
+    }
+
     fn run(&mut self, target: usize) {
         self.seed();
         for _ in 0..MAX_PASSES {
             let mut collapsed = 0usize;
             while self.live_triangles > target {
                 let Some(c) = self.heap.pop() else { break };
-                let (a, b) = (c.a as usize, c.b as usize);
-                if !self.vertex_alive[a]
-                    || !self.vertex_alive[b]
-                    || !c.is_current(self.stamps[a], self.stamps[b])
-                {
+                // Both alive means still adjacent: an edge only disappears by collapsing.
+                if !self.vertex_alive[c.a as usize] || !self.vertex_alive[c.b as usize] {
                     continue;
                 }
-                let (_, p) = self.evaluate(c.a, c.b);
+                let (cost, p) = self.evaluate(c.a, c.b);
+                if c.is_below(cost) {
+                    self.heap.push(Entry::new(cost, c.a, c.b));
+                    continue;
+                }
                 if self.legal(c.a, c.b, p) {
                     self.collapse(c.a, c.b, p);
                     collapsed += 1;
+                    // A closed mesh has 1.5 edges per triangle; beyond twice that, most queued
+                    // entries are dead and one sweep is cheaper than popping them.
+                    if self.heap.len() > 3 * self.live_triangles + 64 {
+                        self.drop_outdated();
+                    }
                 }
             }
             if self.live_triangles <= target || collapsed == 0 {
@@ -543,6 +497,16 @@ fn quality(corners: &[Vec3; 3], cross_norm: f64) -> f64 {
 /// oriented; the output is too, closed if the input was, with unused vertices dropped (vertex
 /// order follows first use by the surviving triangles).
 pub fn decimate(mesh: &TriMesh, target_reduction: f64) -> Result<TriMesh> {
+    decimate_checked(mesh, target_reduction, true)
+}
+
+/// [`decimate`] for a mesh known to be manifold (`check` = false skips the validity pass, e.g.
+/// right after subdividing and smoothing a mesh that was checked before).
+pub(crate) fn decimate_checked(
+    mesh: &TriMesh,
+    target_reduction: f64,
+    check: bool,
+) -> Result<TriMesh> {
     if !(0.0..1.0).contains(&target_reduction) {
         return Err(CoreError::ParamOutOfRange {
             name: "target_reduction".into(),
@@ -566,7 +530,7 @@ pub fn decimate(mesh: &TriMesh, target_reduction: f64) -> Result<TriMesh> {
     } else {
         mesh.positions.iter().fold(Vec3::zeros(), |s, p| s + p) / mesh.positions.len() as f64
     };
-    let mut state = Decimator::new(mesh, centre)?;
+    let mut state = Decimator::new(mesh, centre, check)?;
     let target = ((1.0 - target_reduction) * mesh.triangles.len() as f64).round() as usize;
     state.run(target);
     Ok(state.finish(centre))
@@ -598,20 +562,6 @@ mod tests {
         assert_eq!(v.closed, closed, "{what}: {}", v.describe());
         assert_eq!(v.duplicate_triangles, 0, "{what}");
         assert_eq!(v.unreferenced_vertices, 0, "{what}");
-    }
-
-    #[test]
-    fn quadric_optimum_of_three_planes_is_their_corner() {
-        let mut q = Quadric::default();
-        q.add(&Quadric::plane(Vec3::x(), -1.0, 1.0));
-        q.add(&Quadric::plane(Vec3::y(), -2.0, 1.0));
-        q.add(&Quadric::plane(Vec3::z(), -3.0, 1.0));
-        let p = q.optimum().unwrap();
-        assert!((p - Vec3::new(1.0, 2.0, 3.0)).norm() < 1e-12);
-        assert!(q.error(p) < 1e-12);
-        assert!((q.error(Vec3::new(2.0, 2.0, 3.0)) - 1.0).abs() < 1e-12);
-        // One plane: singular.
-        assert!(Quadric::plane(Vec3::z(), 0.0, 1.0).optimum().is_none());
     }
 
     #[test]

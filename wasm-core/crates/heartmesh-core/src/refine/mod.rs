@@ -9,6 +9,7 @@
 pub mod butterfly;
 pub mod decimate;
 mod heap;
+mod quadric;
 pub mod smooth;
 
 pub use butterfly::subdivide;
@@ -16,7 +17,7 @@ pub use decimate::decimate;
 pub use smooth::{affine_fit, laplacian, smooth};
 
 use crate::error::{CoreError, Result};
-use crate::mesh::topology::{compact, validity};
+use crate::mesh::topology::{compact, validity, validity_with_map, EdgeMap};
 use crate::mesh::TriMesh;
 
 /// Subdivide, smooth (+ shrink correction), decimate, drop unused vertices; then check the result:
@@ -27,10 +28,18 @@ pub fn remesh(
     smoothing_factor: f64,
     target_reduction: f64,
 ) -> Result<TriMesh> {
-    let before = validity(mesh);
-    let subdivided = subdivide(mesh)?;
+    let map = EdgeMap::new(mesh);
+    let before = validity_with_map(mesh, &map);
+    if !before.manifold {
+        return Err(CoreError::InvalidMesh(format!(
+            "remeshing needs a manifold, oriented mesh ({})",
+            before.describe()
+        )));
+    }
+    // Subdivision and smoothing keep a manifold mesh manifold, so decimation skips its check.
+    let subdivided = butterfly::subdivide_manifold(mesh, &map)?;
     let smoothed = smooth(&subdivided, smoothing_iterations, smoothing_factor)?;
-    let decimated = decimate(&smoothed, target_reduction)?;
+    let decimated = decimate::decimate_checked(&smoothed, target_reduction, false)?;
     let result = compact(&decimated)?;
     let after = validity(&result);
     if !after.manifold || !after.oriented || (before.closed && !after.closed) {
@@ -47,6 +56,20 @@ mod tests {
     use super::*;
     use crate::geometry::Vec3;
     use crate::mesh::shapes::{cylinder_tube, icosphere};
+
+    /// Triangle qualities 2 sqrt(3) |n| / sum(l^2) (1 = equilateral, 0 = degenerate), sorted.
+    fn qualities(m: &TriMesh) -> Vec<f64> {
+        let mut q: Vec<f64> = (0..m.triangles.len())
+            .map(|t| {
+                let [a, b, c] = m.corners(t);
+                let n = (b - a).cross(&(c - a)).norm();
+                let s = (b - a).norm_squared() + (c - b).norm_squared() + (a - c).norm_squared();
+                2.0 * 3f64.sqrt() * n / s
+            })
+            .collect();
+        q.sort_by(f64::total_cmp);
+        q
+    }
 
     #[test]
     fn sphere_round_trip_keeps_volume_and_radius() {
@@ -66,6 +89,14 @@ mod tests {
             .map(|p| (p.norm() - 10.0).abs())
             .fold(0.0, f64::max);
         assert!(worst < 0.3, "max radius error {worst} mm");
+        // Measured: worst 0.52, median 0.92; no slivers.
+        let q = qualities(&r);
+        assert!(
+            q[0] > 0.4 && q[q.len() / 2] > 0.85,
+            "quality min {} median {}",
+            q[0],
+            q[q.len() / 2]
+        );
     }
 
     #[test]
@@ -83,6 +114,14 @@ mod tests {
             assert_eq!(v.degenerate_triangles, 0, "round {round}");
             assert!(m.signed_volume() > 0.0, "round {round}");
             volumes.push(m.signed_volume() / v0);
+            // Measured: worst quality 0.16-0.22, under 0.3% of triangles below 0.2.
+            let q = qualities(&m);
+            let slivers = q.iter().filter(|&&x| x < 0.2).count() as f64 / q.len() as f64;
+            assert!(
+                q[0] > 0.1 && slivers < 0.01,
+                "round {round}: min {} slivers {slivers}",
+                q[0]
+            );
         }
         // Without the method's data term, smoothing rounds the flat lids into domes and the
         // affine correction re-inflates the rounded shape to the least-squares size of the

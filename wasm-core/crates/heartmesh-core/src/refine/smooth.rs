@@ -52,26 +52,51 @@ fn umbrella(mesh: &TriMesh) -> Umbrella {
     Umbrella { offsets, targets }
 }
 
+/// One vertex's stencil: its targets and the coefficients of its update.
+struct Row {
+    start: u32,
+    end: u32,
+    keep: f64,
+    weight: f64,
+}
+
 /// `iterations` rounds of umbrella smoothing with step `factor` (0..=1), without shrink
 /// correction. Allocation-free inner loop: two position buffers swap roles every round.
 pub fn laplacian(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh> {
     check_factor(factor)?;
     let stencil = umbrella(mesh);
+    // p + f (mean - p) = (1 - f) p + (f / k) sum: per-vertex coefficients keep divisions and
+    // branches out of the loop (fixed vertices get 1 and 0).
+    let n = mesh.positions.len();
+    let rows: Vec<Row> = (0..n)
+        .map(|v| {
+            let (start, end) = (stencil.offsets[v], stencil.offsets[v + 1]);
+            let k = end - start;
+            Row {
+                start,
+                end,
+                keep: if k > 0 { 1.0 - factor } else { 1.0 },
+                weight: if k > 0 { factor / k as f64 } else { 0.0 },
+            }
+        })
+        .collect();
+    let targets = &stencil.targets;
     let mut current = mesh.positions.clone();
     let mut next = current.clone();
     for _ in 0..iterations {
-        for (v, out) in next.iter_mut().enumerate() {
-            let nbrs =
-                &stencil.targets[stencil.offsets[v] as usize..stencil.offsets[v + 1] as usize];
-            let p = current[v];
-            *out = if nbrs.is_empty() {
-                p
-            } else {
-                let sum = nbrs
-                    .iter()
-                    .fold(Vec3::zeros(), |s, &w| s + current[w as usize]);
-                p + (sum / nbrs.len() as f64 - p) * factor
-            };
+        for ((out, row), p) in next.iter_mut().zip(&rows).zip(&current) {
+            let (mut x, mut y, mut z) = (0.0, 0.0, 0.0);
+            for &w in &targets[row.start as usize..row.end as usize] {
+                let q = &current[w as usize];
+                x += q.x;
+                y += q.y;
+                z += q.z;
+            }
+            *out = Vec3::new(
+                p.x * row.keep + x * row.weight,
+                p.y * row.keep + y * row.weight,
+                p.z * row.keep + z * row.weight,
+            );
         }
         std::mem::swap(&mut current, &mut next);
     }

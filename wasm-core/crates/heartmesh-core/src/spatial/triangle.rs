@@ -3,18 +3,20 @@
 //! Reference: C. Ericson, "Real-Time Collision Detection", Morgan Kaufmann 2005, section 5.1.5
 //! (Voronoi-region method). The query is classified against the Voronoi regions of the three
 //! vertices, the three edges and the face using only dot products, so the common vertex and edge
-//! cases never divide and the face case divides by `|n|^2` once.
+//! cases never divide; the face case is a projection onto the plane (more accurate than Ericson's
+//! barycentric form for thin triangles, see the comment there).
 //!
-//! Degenerate triangles (zero or near-zero area, coincident vertices) make that division, and the
-//! edge divisions by `|edge|^2`, meaningless. A degenerate triangle is the union of its three edges,
-//! so it is answered exactly as the closest point over the three segments instead. Meshes in the
-//! deformation loop do get sliver triangles between remesh steps, hence the care.
+//! Degenerate triangles (zero or near-zero area, coincident vertices) make the face projection
+//! and the edge divisions by `|edge|^2` meaningless. A degenerate triangle is the union of its
+//! three edges, so it is answered as the closest point over the three segments instead. Meshes in
+//! the deformation loop do get sliver triangles between remesh steps, hence the care.
 
 use crate::geometry::Vec3;
 
-/// Threshold on `|n|^2 / max_edge^4` (at most `sin^2` of a corner angle): below it the triangle is
-/// thinner than 1e-10 of its size, the face formula loses precision, and its edges are as close.
-const DEGENERATE_SIN2: f64 = 1e-20;
+/// Threshold on `|n|^2 / max_edge^4` (about `sin^2` of the sliver angle): below it the triangle is
+/// thinner than ~1e-8 of its size, so its edges are within 1e-8 of its size, while the face
+/// projection's rounding error (~1e-16 / sin) would exceed that.
+const DEGENERATE_SIN2: f64 = 1e-16;
 
 /// Closest point of segment `[a, b]` to `p`; `a == b` is answered with `a`.
 #[inline]
@@ -102,11 +104,13 @@ pub fn closest_point_on_regular_triangle(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3)
         let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
         return b + bc * w;
     }
-    // Face region: va + vb + vc = |n|^2 (Lagrange's identity), bounded away from zero above.
-    let denom = 1.0 / (va + vb + vc);
-    let v = vb * denom;
-    let w = vc * denom;
-    a + ab * v + ac * w
+    // Face region. Ericson returns a + ab v + ac w with v = vb / |n|^2, w = vc / |n|^2, but for
+    // a sliver va, vb and vc carry absolute errors of eps |d|^2 against |n|^2 = sin^2 |e|^4,
+    // which moves that point along the long edges by up to O(eps / sin^2) of their length (0.2
+    // of it at sin = 1e-7). Projecting onto the plane errs by O(eps / sin) instead; a wrong
+    // face/edge decision near a boundary costs the same order.
+    let n = ab.cross(&ac);
+    p - n * (n.dot(&ap) / n.norm_squared())
 }
 
 /// Closest point over the three edges; exact for a degenerate (collinear) triangle.
@@ -181,6 +185,62 @@ mod tests {
             );
             assert!(sampled - exact < 0.06, "exact {exact} sampled {sampled}");
         }
+    }
+
+    /// Slivers (height 1e-4 .. 1e-9 of their length), rotated arbitrarily: the distance must match
+    /// an exact construction in the sliver's own frame, where the answer is a 2D problem.
+    #[test]
+    fn slivers_are_accurate() {
+        let mut rng = SplitMix64::new(21);
+        let mut worst: f64 = 0.0;
+        for k in 0..2000 {
+            let h = 10f64.powf(-4.0 - 5.0 * rng.unit());
+            // Random rotation from a random unit quaternion, random offset.
+            let q = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            ));
+            let t = rng.vec3(-2.0, 2.0);
+            let world = |l: Vec3| q * l + t;
+            let apex = rng.range(0.0, 1.0);
+            let (la, lb, lc) = (v3(0., 0., 0.), v3(1., 0., 0.), v3(apex, h, 0.));
+            // Local query: near the sliver, inside its footprint half the time.
+            let lp = if k % 2 == 0 {
+                let x = rng.range(0.01, 0.99);
+                let top = if x < apex {
+                    h * x / apex
+                } else {
+                    h * (1.0 - x) / (1.0 - apex)
+                };
+                v3(x, rng.range(0.0, 1.0) * top, rng.range(-0.5, 0.5))
+            } else {
+                v3(
+                    rng.range(-0.3, 1.3),
+                    rng.range(-0.3, 0.3),
+                    rng.range(-0.5, 0.5),
+                )
+            };
+            // Exact answer in the local frame.
+            let inside = lp.y >= 0.0
+                && lp.x >= 0.0
+                && lp.x <= 1.0
+                && lp.y * apex <= h * lp.x
+                && lp.y * (1.0 - apex) <= h * (1.0 - lp.x);
+            let want = if inside {
+                lp.z.abs()
+            } else {
+                [(la, lb), (lb, lc), (lc, la)]
+                    .iter()
+                    .map(|(s, e)| (lp - closest_point_on_segment(&lp, s, e)).norm())
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let (a, b, c, p) = (world(la), world(lb), world(lc), world(lp));
+            let got = (p - closest_point_on_triangle(&p, &a, &b, &c)).norm();
+            worst = worst.max((got - want).abs());
+        }
+        assert!(worst < 1e-9, "worst distance error {worst:e}");
     }
 
     #[test]
