@@ -65,6 +65,8 @@ struct Outcome {
     worst_height: f64,
     c2m_mean: f64,
     c2m_max: f64,
+    /// Contour holding the largest contour-to-mesh distance.
+    c2m_worst: String,
     seconds: f64,
     contours: usize,
 }
@@ -76,8 +78,18 @@ fn run(name: &str, truth: &TriMesh, spec: &AcquisitionSpec) -> (Outcome, Acquisi
     let (lo, hi, _) = acq.axis.extent(truth).unwrap();
     let w = report.truth_to_mesh.max_at;
     let worst_height = (acq.axis.height(&Vec3::new(w[0], w[1], w[2])) - lo) / (hi - lo);
+    let m = report.mesh_to_truth.max_at;
+    let mesh_worst_height = (acq.axis.height(&Vec3::new(m[0], m[1], m[2])) - lo) / (hi - lo);
     let c2m = contour_to_mesh(&acq.contours, &mesh);
+    let mut owner = Vec::with_capacity(c2m.len());
+    for c in &acq.contours.contours {
+        owner.extend(std::iter::repeat_n(c.id.clone(), c.point_count()));
+    }
+    let worst_idx = (0..c2m.len())
+        .max_by(|&a, &b| c2m[a].total_cmp(&c2m[b]))
+        .unwrap_or(0);
     let out = Outcome {
+        c2m_worst: owner.get(worst_idx).cloned().unwrap_or_default(),
         report,
         worst_height,
         c2m_mean: mean(&c2m),
@@ -87,15 +99,17 @@ fn run(name: &str, truth: &TriMesh, spec: &AcquisitionSpec) -> (Outcome, Acquisi
     };
     let r = &out.report;
     eprintln!(
-        "ACCURACY {name}: {} contours; mesh->truth mean {:.3} median {:.3} p95 {:.3} max {:.3}; \
+        "ACCURACY {name}: {} contours; mesh->truth mean {:.3} median {:.3} p95 {:.3} max {:.3} \
+         at height {:.2}; \
          truth->mesh mean {:.3} median {:.3} p95 {:.3} max {:.3} at height {:.2} (0 apex, 1 base) \
          [{:.1}, {:.1}, {:.1}]; hausdorff {:.3}; volume truth {:.2} ml mesh {:.2} ml; \
-         contour->mesh mean {:.3} max {:.3}; {:.2} s",
+         contour->mesh mean {:.3} max {:.3} (on {}); {:.2} s",
         out.contours,
         r.mesh_to_truth.mean,
         r.mesh_to_truth.median,
         r.mesh_to_truth.p95,
         r.mesh_to_truth.max,
+        mesh_worst_height,
         r.truth_to_mesh.mean,
         r.truth_to_mesh.median,
         r.truth_to_mesh.p95,
@@ -109,6 +123,7 @@ fn run(name: &str, truth: &TriMesh, spec: &AcquisitionSpec) -> (Outcome, Acquisi
         r.volume_mesh_ml,
         out.c2m_mean,
         out.c2m_max,
+        out.c2m_worst,
         out.seconds
     );
     (out, acq, mesh)
