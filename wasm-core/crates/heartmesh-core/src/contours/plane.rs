@@ -36,7 +36,12 @@ pub fn fit_plane<'a>(points: impl Iterator<Item = &'a Vec3> + Clone) -> Option<P
         cov += d * d.transpose();
     }
     cov /= n as f64;
-    let eig = SymmetricEigen::new(cov);
+    // nalgebra's eigen-solver never returns on non-finite input (overflowing coordinates can make
+    // the covariance infinite even after cleaning), so check first and cap the iterations.
+    if !cov.iter().all(|c| c.is_finite()) {
+        return None;
+    }
+    let eig = SymmetricEigen::try_new(cov, f64::EPSILON, 200)?;
     let mut order = [0usize, 1, 2];
     order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
     let (mid, large) = (
@@ -88,6 +93,12 @@ mod tests {
         assert!(axis_angle_deg(&f.normal, &n) < 1e-6);
         assert!(f.rms_residual < 1e-9);
         assert!((f.centroid - v3(5., 5., 5.)).norm() < 1e-9);
+    }
+
+    #[test]
+    fn overflowing_points_have_no_plane() {
+        let pts = vec![v3(1e200, 0., 0.), v3(-1e200, 1e200, 0.), v3(0., 0., 1e200)];
+        assert!(fit_plane(pts.iter()).is_none());
     }
 
     #[test]
