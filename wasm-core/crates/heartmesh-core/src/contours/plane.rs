@@ -97,7 +97,7 @@ mod tests {
 
     #[test]
     fn overflowing_points_have_no_plane() {
-        let pts = vec![v3(1e200, 0., 0.), v3(-1e200, 1e200, 0.), v3(0., 0., 1e200)];
+        let pts = [v3(1e200, 0., 0.), v3(-1e200, 1e200, 0.), v3(0., 0., 1e200)];
         assert!(fit_plane(pts.iter()).is_none());
     }
 
