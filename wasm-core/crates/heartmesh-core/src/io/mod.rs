@@ -375,30 +375,9 @@ mod tests {
         assert_eq!(MeshFormat::from_path("mesh"), None);
     }
 
-    /// A closed octahedron-like mesh with awkward coordinates (not exactly representable in f32).
+    /// A closed octahedron with awkward coordinates (not exactly representable in f32).
     fn sample_mesh() -> TriMesh {
-        let s = 37.123456789;
-        let p = |x: f64, y: f64, z: f64| crate::geometry::v3(x * s - 101.3, y * s + 0.1, z * s);
-        TriMesh::new(
-            vec![
-                p(1., 0., 0.),
-                p(-1., 0., 0.),
-                p(0., 1., 0.),
-                p(0., -1., 0.),
-                p(0., 0., 1.),
-                p(0., 0., -1.),
-            ],
-            vec![
-                [0, 2, 4],
-                [2, 1, 4],
-                [1, 3, 4],
-                [3, 0, 4],
-                [2, 0, 5],
-                [1, 2, 5],
-                [3, 1, 5],
-                [0, 3, 5],
-            ],
-        )
+        crate::mesh::shapes::octahedron(37.123456789, crate::geometry::v3(-101.3, 0.1, 0.0))
     }
 
     /// Corner coordinates of every triangle, in f32: what survives any format.

@@ -3,7 +3,7 @@
 //! panic anywhere fails the test; errors are the expected outcome.
 
 use super::*;
-use crate::geometry::v3;
+use crate::geometry::Vec3;
 use crate::params::Params;
 
 /// xorshift64*: deterministic, no dependency.
@@ -124,26 +124,7 @@ fn head(rel: &str, n: usize) -> Vec<u8> {
 }
 
 fn small_mesh() -> TriMesh {
-    TriMesh::new(
-        vec![
-            v3(10.0, 0.0, 0.0),
-            v3(-10.0, 0.0, 0.0),
-            v3(0.0, 10.0, 0.0),
-            v3(0.0, -10.0, 0.0),
-            v3(0.0, 0.0, 10.0),
-            v3(0.0, 0.0, -10.0),
-        ],
-        vec![
-            [0, 2, 4],
-            [2, 1, 4],
-            [1, 3, 4],
-            [3, 0, 4],
-            [2, 0, 5],
-            [1, 2, 5],
-            [3, 1, 5],
-            [0, 3, 5],
-        ],
-    )
+    crate::mesh::shapes::octahedron(10.0, Vec3::zeros())
 }
 
 fn lines_vtk() -> Vec<u8> {

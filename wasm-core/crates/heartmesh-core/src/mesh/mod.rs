@@ -92,19 +92,10 @@ impl TriMesh {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::v3;
 
     /// A unit right tetrahedron with outward faces.
-    pub fn tetra() -> TriMesh {
-        TriMesh::new(
-            vec![
-                v3(0., 0., 0.),
-                v3(1., 0., 0.),
-                v3(0., 1., 0.),
-                v3(0., 0., 1.),
-            ],
-            vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
-        )
+    fn tetra() -> TriMesh {
+        crate::mesh::shapes::unit_tetrahedron()
     }
 
     #[test]

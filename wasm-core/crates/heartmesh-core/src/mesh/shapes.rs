@@ -5,6 +5,44 @@ use crate::geometry::{v3, Vec3};
 use crate::mesh::TriMesh;
 use std::collections::HashMap;
 
+/// The right tetrahedron on the unit axes (volume 1/6), faces outward: the smallest closed mesh.
+pub fn unit_tetrahedron() -> TriMesh {
+    TriMesh::new(
+        vec![
+            v3(0., 0., 0.),
+            v3(1., 0., 0.),
+            v3(0., 1., 0.),
+            v3(0., 0., 1.),
+        ],
+        vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+    )
+}
+
+/// A regular octahedron with vertices `radius` mm from `centre` on the axes, faces outward.
+pub fn octahedron(radius: f64, centre: Vec3) -> TriMesh {
+    let p = |x: f64, y: f64, z: f64| centre + v3(x, y, z) * radius;
+    TriMesh::new(
+        vec![
+            p(1., 0., 0.),
+            p(-1., 0., 0.),
+            p(0., 1., 0.),
+            p(0., -1., 0.),
+            p(0., 0., 1.),
+            p(0., 0., -1.),
+        ],
+        vec![
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ],
+    )
+}
+
 /// An icosphere of `radius` mm centred at the origin: an icosahedron whose faces are split into 4,
 /// `level` times, with every vertex projected onto the sphere. 20 * 4^level triangles, outward.
 pub fn icosphere(radius: f64, level: u32) -> TriMesh {

@@ -537,15 +537,7 @@ mod tests {
     use crate::mesh::shapes::{cylinder_tube, icosphere};
 
     fn tetra() -> TriMesh {
-        TriMesh::new(
-            vec![
-                v3(0., 0., 0.),
-                v3(1., 0., 0.),
-                v3(0., 1., 0.),
-                v3(0., 0., 1.),
-            ],
-            vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
-        )
+        crate::mesh::shapes::unit_tetrahedron()
     }
 
     #[test]
