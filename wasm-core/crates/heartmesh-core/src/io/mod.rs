@@ -5,11 +5,13 @@
 //! panic. Format detection looks at the content first and the file extension second.
 
 mod builder;
+mod dicom_scan;
 pub mod csv;
 pub mod gpfile;
 pub mod mat;
 pub mod obj;
 pub mod ply;
+pub mod rtstruct;
 pub mod session;
 #[cfg(test)]
 mod smoke;
@@ -53,6 +55,8 @@ pub enum ContourFormat {
     Mat,
     /// heartmesh session JSON.
     Session,
+    /// DICOM RT Structure Set (ROI names as surfaces).
+    Rtstruct,
 }
 
 impl ContourFormat {
@@ -65,6 +69,7 @@ impl ContourFormat {
             ContourFormat::VtpLines => "VTP lines",
             ContourFormat::Mat => "MATLAB MAT-file",
             ContourFormat::Session => "heartmesh session",
+            ContourFormat::Rtstruct => "DICOM RTSTRUCT",
         }
     }
 }
@@ -132,6 +137,9 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     if mat::is_mat(bytes) {
         return ContourFormat::Mat;
     }
+    if rtstruct::is_dicom(bytes) {
+        return ContourFormat::Rtstruct;
+    }
     if starts(b"# vtk DataFile") {
         return ContourFormat::VtkLines;
     }
@@ -158,6 +166,7 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
         "vtp" => ContourFormat::VtpLines,
         "json" => ContourFormat::Session,
         "xyz" => ContourFormat::Xyz,
+        "dcm" | "dicom" => ContourFormat::Rtstruct,
         // CSV also reports the clearest errors for unknown text (header missing, ...).
         _ => ContourFormat::Csv,
     }
@@ -218,6 +227,7 @@ pub fn read_contours_with(
         ContourFormat::VtpLines => vtp::read_vtp_contours(bytes),
         ContourFormat::Mat => mat::read_mat(bytes),
         ContourFormat::Session => session::read_session(bytes).map(|s| s.contours),
+        ContourFormat::Rtstruct => rtstruct::read_rtstruct(bytes),
     }
 }
 
