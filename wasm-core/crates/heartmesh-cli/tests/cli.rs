@@ -423,18 +423,27 @@ fn rtstruct_convert_and_reconstruct() {
     let csv = dir.join("p1.csv");
     let (code, out, err) = run(bin().args(["convert", s(&dcm), s(&csv)]));
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("40 contours, 1791 points, 23 landmarks"), "{out}");
+    assert!(
+        out.contains("40 contours, 1791 points, 23 landmarks"),
+        "{out}"
+    );
     let text = std::fs::read_to_string(&csv).unwrap();
     // The 441 LV_ENDO points of patient1-ED.csv, plus the repeated first point the CSV writer
     // adds to each of the 6 closed LV_ENDO pieces.
-    assert_eq!(text.lines().filter(|l| l.ends_with(",LV_ENDO")).count(), 447);
+    assert_eq!(
+        text.lines().filter(|l| l.ends_with(",LV_ENDO")).count(),
+        447
+    );
     let back = dir.join("back.dcm");
     let (code, out, err) = run(bin().args(["convert", s(&csv), s(&back)]));
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("40 contours, 1791 points"), "{out}");
     let (code, _, err) = run(bin().args(["reconstruct", s(&dcm), "-o", s(&dir.join("m.obj"))]));
     assert_eq!(code, 2);
-    assert!(err.contains("choose one of: RV_ENDO, RV_EPI, LV_EPI, LV_ENDO"), "{err}");
+    assert!(
+        err.contains("choose one of: RV_ENDO, RV_EPI, LV_EPI, LV_ENDO"),
+        "{err}"
+    );
     let report = dir.join("r.json");
     let (code, _, err) = run(bin().args([
         "reconstruct",

@@ -192,9 +192,9 @@ pub fn read_rtstruct(bytes: &[u8]) -> Result<ContourSet> {
         }
     }
     b.finish().map_err(|e| match e {
-        CoreError::Parse { line: 0, message } if message == "no contour points found" => err(
-            "RT structure set without contour points (only empty ROIs or POINT contours)",
-        ),
+        CoreError::Parse { line: 0, message } if message == "no contour points found" => {
+            err("RT structure set without contour points (only empty ROIs or POINT contours)")
+        }
         other => other,
     })
 }
@@ -204,9 +204,11 @@ fn contour_points(c: &InMemDicomObject, what: &str) -> Result<Vec<Vec3>> {
     let data = c
         .get(tags::CONTOUR_DATA)
         .ok_or_else(|| err(format!("{what}: ContourData is missing")))?;
-    let values = data
-        .to_multi_float64()
-        .map_err(|e| err(format!("{what}: ContourData is not a list of numbers ({e})")))?;
+    let values = data.to_multi_float64().map_err(|e| {
+        err(format!(
+            "{what}: ContourData is not a list of numbers ({e})"
+        ))
+    })?;
     if values.is_empty() {
         return Err(err(format!("{what}: ContourData is empty")));
     }
@@ -248,7 +250,13 @@ fn ds(v: f64) -> String {
 }
 
 fn ds_values(points: &[Vec3]) -> PrimitiveValue {
-    PrimitiveValue::Strs(points.iter().flat_map(|p| [p.x, p.y, p.z]).map(ds).collect())
+    PrimitiveValue::Strs(
+        points
+            .iter()
+            .flat_map(|p| [p.x, p.y, p.z])
+            .map(ds)
+            .collect(),
+    )
 }
 
 /// A UID under the 2.25 (UUID-derived) root from a hash of the content: the same contours give
@@ -429,7 +437,10 @@ mod tests {
         let back = read_contours("x.dcm", &bytes).unwrap();
         // One ROI per surface, in the order the surfaces first appear.
         assert_eq!(back.surfaces(), set.surfaces());
-        assert_eq!(back.surfaces(), vec!["RV_ENDO", "RV_EPI", "LV_EPI", "LV_ENDO"]);
+        assert_eq!(
+            back.surfaces(),
+            vec!["RV_ENDO", "RV_EPI", "LV_EPI", "LV_ENDO"]
+        );
         assert_eq!(back.contours.len(), 40);
         assert_eq!(back.point_count(), 1791);
         assert_eq!(back.landmarks.len(), 23);
@@ -437,7 +448,11 @@ mod tests {
         // Grouped by ROI: the contours of each surface in file order.
         let mut grouped: Vec<&crate::contours::Contour> = Vec::new();
         for surface in set.surfaces() {
-            grouped.extend(set.contours.iter().filter(|c| c.surface.as_ref() == Some(&surface)));
+            grouped.extend(
+                set.contours
+                    .iter()
+                    .filter(|c| c.surface.as_ref() == Some(&surface)),
+            );
         }
         for (a, b) in grouped.into_iter().zip(&back.contours) {
             assert_eq!(a.surface, b.surface, "{}", a.id);
@@ -449,7 +464,10 @@ mod tests {
             }
         }
         // The ROI name becomes the surface, the contour number the identifier.
-        assert_eq!(back.contours[0].id, format!("{}:1", back.contours[0].surface.as_deref().unwrap()));
+        assert_eq!(
+            back.contours[0].id,
+            format!("{}:1", back.contours[0].surface.as_deref().unwrap())
+        );
     }
 
     #[test]
@@ -544,14 +562,20 @@ mod tests {
                     7,
                     vec![
                         // A ring that repeats its first point, and one that does not.
-                        contour("CLOSED_PLANAR", "0\\0\\10\\10\\0\\10\\10\\10\\10\\0\\10\\10\\0\\0\\10"),
+                        contour(
+                            "CLOSED_PLANAR",
+                            "0\\0\\10\\10\\0\\10\\10\\10\\10\\0\\10\\10\\0\\0\\10",
+                        ),
                         contour("CLOSED_PLANAR", "0\\0\\20\\10\\0\\20\\10\\10\\20"),
                         // A U-shaped long-axis curve whose ends are close: open all the same.
                         contour("OPEN_PLANAR", "0\\5\\0\\0\\5\\30\\1\\5\\30\\1\\5\\0.5"),
                     ],
                 ),
                 (9, vec![contour("POINT", "5\\5\\-3.25")]),
-                (4, vec![contour("CLOSED_PLANAR", "1\\2\\3\\4\\5\\6\\7\\8\\9.5")]),
+                (
+                    4,
+                    vec![contour("CLOSED_PLANAR", "1\\2\\3\\4\\5\\6\\7\\8\\9.5")],
+                ),
             ],
         )
     }
@@ -568,7 +592,10 @@ mod tests {
         assert_eq!(closed, [true, true, false, true]);
         assert_eq!(set.contours[2].pieces[0].points[3], v3(1.0, 5.0, 0.5));
         assert_eq!(set.contours[3].pieces[0].points[2], v3(7.0, 8.0, 9.5));
-        assert_eq!(set.landmarks, vec![("Apex".to_string(), v3(5.0, 5.0, -3.25))]);
+        assert_eq!(
+            set.landmarks,
+            vec![("Apex".to_string(), v3(5.0, 5.0, -3.25))]
+        );
         assert_eq!(set.point_count(), 14);
     }
 
@@ -608,7 +635,10 @@ mod tests {
         assert!(message(b"DI").contains("truncated"));
         let mr = rt_file("MR", &[], vec![]);
         let m = message(&mr);
-        assert!(m.contains("not an RT structure set") && m.contains("modality MR"), "{m}");
+        assert!(
+            m.contains("not an RT structure set") && m.contains("modality MR"),
+            "{m}"
+        );
         let empty = rt_file("RTSTRUCT", &[(1, "LV")], vec![]);
         assert!(message(&empty).contains("ROIContourSequence"));
         let missing = rt_file(
@@ -623,7 +653,10 @@ mod tests {
                 )])],
             )],
         );
-        assert_eq!(message(&missing), "ROI \"LV\", contour 1: ContourData is missing");
+        assert_eq!(
+            message(&missing),
+            "ROI \"LV\", contour 1: ContourData is missing"
+        );
         let odd = rt_file(
             "RTSTRUCT",
             &[(1, "LV")],
@@ -650,7 +683,15 @@ mod tests {
 
     #[test]
     fn decimal_strings_fit_sixteen_characters() {
-        for v in [0.0, -42.0947, 1.0 / 3.0, -1234.567890123, 1e-300, -6.02e23, 123456789012.5] {
+        for v in [
+            0.0,
+            -42.0947,
+            1.0 / 3.0,
+            -1234.567890123,
+            1e-300,
+            -6.02e23,
+            123456789012.5,
+        ] {
             let s = ds(v);
             assert!(s.len() <= 16, "{s}");
             let back: f64 = s.parse().unwrap();
