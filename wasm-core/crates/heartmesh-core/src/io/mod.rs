@@ -4,6 +4,7 @@
 //! worker unchanged) and returns [`CoreError::Parse`] with a 1-based line on bad input; none may
 //! panic. Format detection looks at the content first and the file extension second.
 
+mod buffers;
 mod builder;
 pub mod csv;
 mod dicom_scan;
@@ -21,6 +22,7 @@ pub mod vtk;
 pub mod vtp;
 pub mod xyz;
 
+pub use buffers::mesh_from_buffers;
 pub use builder::{polyline_from_run, MAX_POINTS};
 
 use crate::contours::ContourSet;
