@@ -117,8 +117,8 @@ describe('wasm Lab', () => {
     assert.equal(items.filter((i) => i.kind === 'LAX').length, 1);
     assert.equal(thrownError(() => lab.batch_step()).code, 'no_batch');
 
-    const grid = JSON.stringify({ lambda: [1e3, 1e5], target_reduction: [0.6, 0.72] });
-    assert.equal(JSON.parse(lab.start_sweep(session, 'small.csv', null, params, 'auto', grid, true)).total, 4);
+    const sweepJson = JSON.stringify({ grid: { lambda: [1e3, 1e5], target_reduction: [0.6, 0.72] }, with_truth: true });
+    assert.equal(JSON.parse(lab.start_sweep(session, 'small.csv', null, params, 'auto', sweepJson)).total, 4);
     const sweep = drainBatch(lab).items;
     assert.equal(sweep.length, 4);
     for (const r of sweep) {
@@ -126,7 +126,7 @@ describe('wasm Lab', () => {
       assert.ok(r.truth_mean > 0 && r.truth_mean < 3, `truth mean ${r.truth_mean}`);
       assert.ok(r.hausdorff >= r.truth_mean);
     }
-    assert.equal(thrownError(() => lab.start_sweep(session, 'small.csv', null, params, 'auto', '{"beta":[1]}', false)).code, 'param_invalid');
+    assert.equal(thrownError(() => lab.start_sweep(session, 'small.csv', null, params, 'auto', '{"grid":{"beta":[1]}}')).code, 'param_invalid');
     assert.equal(thrownError(() => lab.start_leave_one_out(session, 'missing.csv', null, params, 'auto')).code, 'not_loaded');
   });
 });

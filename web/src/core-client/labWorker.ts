@@ -36,8 +36,7 @@ export interface LabApi {
     surface: string | null | undefined,
     paramsJson: string,
     lids: string,
-    gridJson: string,
-    withTruth: boolean,
+    sweepJson: string,
   ): string;
   batch_step(): string;
   stop_batch(): void;
@@ -132,7 +131,7 @@ export class LabWorker {
     const infoJson =
       j.kind === 'loo'
         ? this.lab.start_leave_one_out(this.session, j.fileName, j.surface, params, j.lids)
-        : this.lab.start_sweep(this.session, j.fileName, j.surface, params, j.lids, JSON.stringify(j.grid), j.withTruth);
+        : this.lab.start_sweep(this.session, j.fileName, j.surface, params, j.lids, JSON.stringify({ grid: j.grid, with_truth: j.withTruth }));
     const info = JSON.parse(infoJson) as { total: number; contours?: ContourInfo[] };
     const batch: ActiveBatch = { runId: msg.runId, finished: false, lastProgressMs: this.options.now() };
     this.batch = batch;

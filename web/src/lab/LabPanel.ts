@@ -419,7 +419,10 @@ export class LabPanel {
     b.looCancel.disabled = false;
     this.looProgress.value = 0;
     this.looInfo.textContent = 'starting…';
+    delete this.looInfo.dataset.done;
+    delete this.looInfo.dataset.selected;
     this.truthLayer.setHighlight(null);
+    this.deps.viewer?.requestRender();
     const handle = client.labBatch({ kind: 'loo', ...settings }, (p) => {
       this.looProgress.max = Math.max(1, p.total);
       this.looProgress.value = p.completed;
@@ -500,6 +503,7 @@ export class LabPanel {
     const b = this.buttons;
     b.sweepRun.disabled = true;
     b.sweepCancel.disabled = false;
+    delete this.sweepInfo.dataset.done;
     this.sweepRows = [];
     this.sweepPlot.render([]);
     this.sweepComment = [

@@ -9,7 +9,7 @@ import { parallelAxes, rowPath, formatTick, type AxisSpec } from './chartScale';
 import { s } from './svg';
 
 const WIDTH = 300;
-const HEIGHT = 170;
+const HEIGHT = 180;
 
 const PARAM_AXES: AxisSpec[] = [
   { key: 'lambda', label: 'λ', log: true },
@@ -29,8 +29,8 @@ export class SweepPlot {
     const withTruth = rows.some((r) => typeof r.truth_mean === 'number');
     const specs: AxisSpec[] = [
       ...PARAM_AXES,
-      { key: 'contour_mean', label: 'contour mm', log: false },
-      ...(withTruth ? [{ key: 'truth_mean', label: 'truth mm', log: false }] : []),
+      { key: 'contour_mean', label: 'contour', log: false },
+      ...(withTruth ? [{ key: 'truth_mean', label: 'truth', log: false }] : []),
     ];
     const records = rows.map((r) => r as unknown as Record<string, number | null | undefined>);
     const axes = parallelAxes(specs, records, WIDTH, HEIGHT);
@@ -48,12 +48,13 @@ export class SweepPlot {
     }
     for (const a of axes) {
       nodes.push(s('line', { x1: a.x, x2: a.x, y1: a.y(a.max), y2: a.y(a.min), class: 'axis' }));
-      if (a.min === a.max) nodes.push(s('line', { x1: a.x, x2: a.x, y1: 22, y2: HEIGHT - 14, class: 'axis' }));
+      if (a.min === a.max) nodes.push(s('line', { x1: a.x, x2: a.x, y1: 22, y2: HEIGHT - 22, class: 'axis' }));
       nodes.push(s('text', { x: a.x, y: 10, 'text-anchor': 'middle', class: 'axis-label' }, a.label));
       for (const t of a.ticks) {
         nodes.push(s('text', { x: a.x + 3, y: t.pos + 3, class: 'tick' }, t.label));
       }
     }
+    nodes.push(s('text', { x: WIDTH / 2, y: HEIGHT - 2, 'text-anchor': 'middle', class: 'tick' }, `contour: contour points → mesh${withTruth ? ', truth: mesh → truth' : ''} (mean, mm); brighter = lower`));
     this.element.replaceChildren(...nodes);
   }
 }

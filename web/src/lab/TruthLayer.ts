@@ -8,6 +8,8 @@ import * as THREE from 'three';
 import { colorizeU8 } from '../viewer/colormap';
 
 const TRUTH_RGB = [150, 190, 230];
+/** Where nothing was measured (above the most basal SAX plane). */
+const UNMEASURED_RGB = [92, 99, 110];
 const HIGHLIGHT = 0xff4081;
 
 export class TruthLayer {
@@ -56,6 +58,7 @@ export class TruthLayer {
     let bytes: Uint8Array;
     if (distances && distances.length === count) {
       bytes = colorizeU8(distances, 0, maxMm);
+      for (let i = 0; i < count; i++) if (!Number.isFinite(distances[i])) bytes.set(UNMEASURED_RGB, i * 3);
     } else {
       bytes = new Uint8Array(count * 3);
       for (let i = 0; i < count; i++) bytes.set(TRUTH_RGB, i * 3);

@@ -46,11 +46,8 @@ export interface BarLayout {
 export function barLayout(values: readonly (number | null)[], width: number, height: number): BarLayout {
   const plot = { left: 34, top: 8, width: Math.max(1, width - 40), height: Math.max(1, height - 30) };
   const finite = values.filter((v): v is number => v !== null && Number.isFinite(v));
-  const top = finite.length ? Math.max(...finite) : 1;
-  const ticks0 = niceTicks(0, top > 0 ? top : 1, 5);
-  const max = Math.max(ticks0[ticks0.length - 1] ?? 1, top > 0 ? top : 1);
-  const ticks0Top = ticks0[ticks0.length - 1] ?? 0;
-  const tickValues = ticks0Top < max ? [...ticks0, max] : ticks0;
+  const top = finite.length ? Math.max(...finite) : 0;
+  const { max, ticks: tickValues } = roundAxis(top);
   const y = (v: number) => plot.top + plot.height * (1 - v / max);
   const worstValue = finite.length ? top : NaN;
   let worstIndex = -1;
@@ -76,6 +73,17 @@ export function barLayout(values: readonly (number | null)[], width: number, hei
   return { bars, ticks: tickValues.map((t) => ({ value: t, pos: y(t), label: formatTick(t) })), max, plot };
 }
 
+/** An axis from 0 to a round number at or above `top` (1 when there is nothing to show). */
+export function roundAxis(top: number): { max: number; ticks: number[] } {
+  if (!(top > 0) || !Number.isFinite(top)) return { max: 1, ticks: [0, 0.5, 1] };
+  const ticks = niceTicks(0, top, 5);
+  const step = ticks.length > 1 ? ticks[1] - ticks[0] : top;
+  const steps = Math.max(1, Math.ceil(top / step - 1e-9));
+  const out: number[] = [];
+  for (let k = 0; k <= steps; k++) out.push(Number((k * step).toPrecision(12)));
+  return { max: out[out.length - 1], ticks: out };
+}
+
 export interface AxisSpec {
   key: string;
   label: string;
@@ -99,7 +107,7 @@ export function parallelAxes(
   height: number,
 ): ParallelAxis[] {
   const top = 22;
-  const bottom = height - 14;
+  const bottom = height - 22;
   const left = 30;
   const right = width - 30;
   return specs.map((spec, k) => {

@@ -146,7 +146,15 @@ impl Lab {
         let truth = self.truth()?;
         let report =
             compare(&truth.mesh, &mesh, self.clip.as_ref()).map_err(|e| errors::to_js(&e))?;
-        let distances = vertex_distances(&truth.mesh, &mesh);
+        let mut distances = vertex_distances(&truth.mesh, &mesh);
+        if let Some(clip) = &self.clip {
+            // Above the most basal SAX plane nothing was measured: NaN (drawn neutral).
+            for (d, p) in distances.iter_mut().zip(&truth.mesh.positions) {
+                if clip.signed_distance(p) > 0.0 {
+                    *d = f64::NAN;
+                }
+            }
+        }
         self.last_distances = distances;
         serde_json::to_string(&report).map_err(|e| errors::usage("internal", e.to_string()))
     }
@@ -182,10 +190,10 @@ impl Lab {
         Ok(info.to_string())
     }
 
-    /// Starts a sweep over `grid_json` = `{lambda: [..], smoothing_iterations: [..],
-    /// target_reduction: [..], attractor_spacing: [..]}` (missing or empty: the base value) on a
-    /// loaded file; with `with_truth`, every result is also compared with the truth. Returns
-    /// `{total}`.
+    /// Starts a sweep on a loaded file. `sweep_json` = `{grid: {lambda: [..],
+    /// smoothing_iterations: [..], target_reduction: [..], attractor_spacing: [..]}, with_truth}`
+    /// (a missing or empty list keeps the base value; with `with_truth`, every result is also
+    /// compared with the truth). Returns `{total}`.
     pub fn start_sweep(
         &mut self,
         session: &Session,
@@ -193,13 +201,12 @@ impl Lab {
         surface: Option<String>,
         params_json: &str,
         lids: &str,
-        grid_json: &str,
-        with_truth: bool,
+        sweep_json: &str,
     ) -> Result<String, JsValue> {
         self.batch = None;
         let params =
             convert::params_from_json(params_json, lids, surface).map_err(|e| errors::to_js(&e))?;
-        let grid = sweep_grid(grid_json).map_err(|e| errors::to_js(&e))?;
+        let (grid, with_truth) = sweep_request(sweep_json).map_err(|e| errors::to_js(&e))?;
         let set = session.file(file_name)?;
         let truth = match (&self.truth, with_truth) {
             (Some(t), true) => Some((t.mesh.clone(), self.clip)),
@@ -267,7 +274,8 @@ impl Lab {
 /// A mesh from flat buffers, refusing what would mislead the measures.
 fn mesh_from_buffers(positions: &[f32], indices: &[u32]) -> heartmesh_core::error::Result<TriMesh> {
     let n = positions.len() / 3;
-    if positions.len() % 3 != 0 || indices.len() % 3 != 0 || indices.is_empty() {
+    if !positions.len().is_multiple_of(3) || !indices.len().is_multiple_of(3) || indices.is_empty()
+    {
         return Err(CoreError::Degenerate(
             "mesh buffers are not whole triangles".into(),
         ));
@@ -291,9 +299,30 @@ fn mesh_from_buffers(positions: &[f32], indices: &[u32]) -> heartmesh_core::erro
     Ok(TriMesh::new(pts, tris))
 }
 
-/// The sweep's value lists in `batch::SWEEP_NAMES` order.
-fn sweep_grid(text: &str) -> heartmesh_core::error::Result<[Vec<f64>; 4]> {
+/// `{grid, with_truth}` of [`Lab::start_sweep`].
+fn sweep_request(text: &str) -> heartmesh_core::error::Result<([Vec<f64>; 4], bool)> {
     let map = spec::object(text, "sweep")?;
+    let grid = match map.get("grid") {
+        Some(serde_json::Value::Object(g)) => sweep_grid(g)?,
+        None => Default::default(),
+        Some(_) => {
+            return Err(CoreError::ParamInvalid {
+                name: "grid".into(),
+                message: "not an object of value lists".into(),
+            })
+        }
+    };
+    let with_truth = map
+        .get("with_truth")
+        .and_then(serde_json::Value::as_bool)
+        .unwrap_or(false);
+    Ok((grid, with_truth))
+}
+
+/// The sweep's value lists in `batch::SWEEP_NAMES` order.
+fn sweep_grid(
+    map: &serde_json::Map<String, serde_json::Value>,
+) -> heartmesh_core::error::Result<[Vec<f64>; 4]> {
     if let Some(k) = map
         .keys()
         .find(|k| !batch::SWEEP_NAMES.contains(&k.as_str()))
@@ -351,7 +380,12 @@ mod tests {
             report["volume_mesh_ml"].as_f64().unwrap(),
         );
         assert!(vt > 10.0 && (vt - vm).abs() < 1e-3, "{vt} {vm}");
-        assert_eq!(lab.truth_distances().len(), t.positions.len());
+        // Distances per truth vertex; NaN exactly above the clip plane.
+        let d = lab.truth_distances();
+        assert_eq!(d.len(), t.positions.len());
+        let above = t.positions.iter().filter(|p| p.z > 79.0).count();
+        assert!(above > 0 && d.iter().filter(|x| x.is_nan()).count() >= above);
+        assert!(d.iter().filter(|x| x.is_finite()).all(|x| *x < 1e-4));
     }
 
     #[test]
@@ -359,10 +393,12 @@ mod tests {
         assert!(mesh_from_buffers(&[0.0; 9], &[0, 1, 3]).is_err());
         assert!(mesh_from_buffers(&[0.0; 8], &[0, 1, 2]).is_err());
         assert!(mesh_from_buffers(&[f32::NAN; 9], &[0, 1, 2]).is_err());
-        assert!(sweep_grid(r#"{"beta": [1]}"#).is_err());
-        assert!(sweep_grid(r#"{"lambda": ["x"]}"#).is_err());
-        let g = sweep_grid(r#"{"lambda": [1, 10]}"#).unwrap();
+        assert!(sweep_request(r#"{"grid": {"beta": [1]}}"#).is_err());
+        assert!(sweep_request(r#"{"grid": {"lambda": ["x"]}}"#).is_err());
+        assert!(sweep_request(r#"{"grid": [1]}"#).is_err());
+        let (g, with_truth) =
+            sweep_request(r#"{"grid": {"lambda": [1, 10]}, "with_truth": true}"#).unwrap();
         assert_eq!(g[0], vec![1.0, 10.0]);
-        assert!(g[1].is_empty());
+        assert!(g[1].is_empty() && with_truth);
     }
 }
