@@ -64,7 +64,20 @@ describe('wasm Lab', () => {
     assert.ok(Math.abs(report.volume_mesh_ml - report.volume_truth_ml) / report.volume_truth_ml < 0.03, 'clipped volumes within 3 %');
     const d = lab.truth_distances();
     assert.equal(d.length, truth.vertices);
-    assert.ok(d.every((x) => Number.isFinite(x) && x >= 0));
+    // Measured below the most basal SAX plane, NaN (not measured) above it.
+    const pos = lab.truth_positions();
+    const zClip = acq.clip.origin[2] * Math.sign(acq.clip.normal[2]);
+    let measured = 0;
+    for (let i = 0; i < d.length; i++) {
+      const above = pos[i * 3 + 2] * Math.sign(acq.clip.normal[2]) > zClip + 1e-3;
+      const below = pos[i * 3 + 2] * Math.sign(acq.clip.normal[2]) < zClip - 1e-3;
+      if (above) assert.ok(Number.isNaN(d[i]), `vertex ${i} above the clip: ${d[i]}`);
+      if (below) {
+        assert.ok(Number.isFinite(d[i]) && d[i] >= 0 && d[i] < 2, `vertex ${i}: ${d[i]} mm`);
+        measured++;
+      }
+    }
+    assert.ok(measured > truth.vertices * 0.8, `${measured} of ${truth.vertices} measured`);
   });
 
   it('a surface compared with itself: zero distances, equal volumes', () => {
