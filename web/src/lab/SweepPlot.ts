@@ -54,7 +54,7 @@ export class SweepPlot {
         nodes.push(s('text', { x: a.x + 3, y: t.pos + 3, class: 'tick' }, t.label));
       }
     }
-    nodes.push(s('text', { x: WIDTH / 2, y: HEIGHT - 2, 'text-anchor': 'middle', class: 'tick' }, `contour: contour points → mesh${withTruth ? ', truth: mesh → truth' : ''} (mean, mm); brighter = lower`));
+    nodes.push(s('text', { x: WIDTH / 2, y: HEIGHT - 2, 'text-anchor': 'middle', class: 'tick' }, `mean distance, mm${withTruth ? ' (truth: mesh → truth)' : ''}; brighter = lower`));
     this.element.replaceChildren(...nodes);
   }
 }
