@@ -212,7 +212,9 @@ export class LabPanel {
       paramsTab.setAttribute('aria-selected', String(!lab));
       labTab.setAttribute('aria-selected', String(lab));
       document.body.classList.toggle('lab-open', lab);
-      if (lab && this.truthName === null) void this.makeTruth();
+      // A first truth to look at, unless contours are already on screen (their coordinates have
+      // nothing to do with the truth's: it would only hide them).
+      if (lab && this.truthName === null && this.deps.controller.runSettings() === null) void this.makeTruth();
     };
     paramsTab.addEventListener('click', () => show(false));
     labTab.addEventListener('click', () => show(true));
