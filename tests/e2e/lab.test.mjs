@@ -168,6 +168,43 @@ describe('the Lab panel', () => {
     assert.deepEqual(pageErrors, []);
   });
 
+  it('a mesh dropped on the page while the Lab is open becomes the truth (not contours)', async () => {
+    // A UV sphere of radius 20 mm as OBJ: 4/3 pi r^3 = 33.5 ml.
+    const lines = [];
+    const nLon = 48;
+    const nLat = 24;
+    lines.push('v 0 0 -20');
+    for (let k = 1; k < nLat; k++) {
+      const t = (Math.PI * k) / nLat;
+      for (let i = 0; i < nLon; i++) {
+        const p = (2 * Math.PI * i) / nLon;
+        lines.push(`v ${20 * Math.sin(t) * Math.cos(p)} ${20 * Math.sin(t) * Math.sin(p)} ${-20 * Math.cos(t)}`);
+      }
+    }
+    lines.push('v 0 0 20');
+    const ring = (k, i) => 2 + (k - 1) * nLon + (i % nLon);
+    const top = 2 + (nLat - 1) * nLon;
+    for (let i = 0; i < nLon; i++) lines.push(`f 1 ${ring(1, i + 1)} ${ring(1, i)}`);
+    for (let k = 1; k < nLat - 1; k++) {
+      for (let i = 0; i < nLon; i++) {
+        lines.push(`f ${ring(k, i)} ${ring(k, i + 1)} ${ring(k + 1, i + 1)}`, `f ${ring(k, i)} ${ring(k + 1, i + 1)} ${ring(k + 1, i)}`);
+      }
+    }
+    for (let i = 0; i < nLon; i++) lines.push(`f ${top} ${ring(nLat - 1, i)} ${ring(nLat - 1, i + 1)}`);
+    const fileBefore = await page.inputValue('[data-testid=file-picker]').catch(() => null);
+    await page.evaluate((text) => {
+      const dt = new DataTransfer();
+      dt.items.add(new File([text], 'sphere.obj', { type: 'model/obj' }));
+      document.body.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+    }, lines.join('\n'));
+    await page.waitForFunction(() => document.querySelector('[data-testid=lab-truth-info]')?.textContent?.startsWith('sphere.obj'), null, { timeout: 20000 });
+    const info = await page.textContent('[data-testid=lab-truth-info]');
+    const ml = Number(/([\d.]+) ml/.exec(info ?? '')?.[1]);
+    assert.ok(Math.abs(ml - 33.5) < 0.5, `sphere volume ${ml} ml (${info})`);
+    assert.equal(await page.inputValue('[data-testid=file-picker]').catch(() => null), fileBefore, 'not loaded as contours');
+    assert.equal(await labMessage(), '');
+  });
+
   it('a bundled reference shape (biv-me LV, Apache-2.0) becomes the truth', async () => {
     await page.selectOption('[data-testid=lab-source]', 'bivme-lv');
     await page.waitForFunction(() => document.querySelector('[data-testid=lab-truth-info]')?.textContent?.startsWith('bivme-patient1'), null, { timeout: 20000 });
