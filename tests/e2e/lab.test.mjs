@@ -149,8 +149,25 @@ describe('the Lab panel', () => {
       const truthMean = Number(f[header.indexOf('truth_mean')]);
       assert.ok(truthMean > 0 && truthMean < 3, `truth mean ${truthMean}`);
     }
-    await page.mouse.move(0, 0);
+    // Brushing: drag over the top of the λ axis (the 1e5 end) keeps the two runs with λ = 1e5.
     await page.locator('[data-testid=lab-sweep]').scrollIntoViewIfNeeded();
+    const box = await page.locator('[data-testid=axis-lambda]').boundingBox();
+    const x = box.x + box.width / 2;
+    await page.mouse.move(x, box.y + 1);
+    await page.mouse.down();
+    await page.mouse.move(x, box.y + box.height * 0.2, { steps: 4 });
+    await page.mouse.move(x, box.y + box.height * 0.3, { steps: 4 });
+    await page.mouse.up();
+    const selected = await page.locator('[data-testid=sweep-line][data-selected="1"]').evaluateAll((els) => els.map((e) => e.querySelector('title')?.textContent ?? ''));
+    assert.equal(selected.length, 2, `brushed lines: ${selected.join(' | ')}`);
+    for (const t of selected) assert.match(t, /^λ 1e5 /);
+    assert.equal(await page.textContent('[data-testid=lab-sweep-brush]'), '2 of 4 runs selected');
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SCRATCH, 'heartmesh-lab-sweep-brushed.png') });
+    // A click on the axis clears its brush.
+    await page.mouse.click(x, box.y + box.height / 2);
+    assert.equal(await page.locator('[data-testid=sweep-line][data-selected="1"]').count(), 4);
+    await page.mouse.move(0, 0);
     await page.screenshot({ path: join(SCRATCH, 'heartmesh-lab-sweep.png') });
   });
 

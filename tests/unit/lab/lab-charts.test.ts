@@ -122,3 +122,32 @@ describe('sweep CSV', () => {
     expect(() => parseValueList('1, x', 'λ')).toThrow('λ: "x" is not a number');
   });
 });
+
+describe('brushing', () => {
+  it('keeps rows inside every brushed range, inclusive, in either drag direction', async () => {
+    const { inBrushes } = await import('../../../web/src/lab/chartScale');
+    const row = { lambda: 1e5, err: 0.2 };
+    expect(inBrushes(row, new Map())).toBe(true);
+    expect(inBrushes(row, new Map([['lambda', [1e4, 1e5] as const]]))).toBe(true);
+    expect(inBrushes(row, new Map([['lambda', [1e6, 1e4] as const]]))).toBe(true);
+    expect(inBrushes(row, new Map([['lambda', [1e4, 1e5] as const], ['err', [0.3, 0.5] as const]]))).toBe(false);
+    expect(inBrushes({ lambda: 1e5 }, new Map([['err', [0, 1] as const]]))).toBe(false);
+  });
+
+  it('inverts the axis scale (log and linear)', () => {
+    const [l, s] = parallelAxes(
+      [
+        { key: 'lambda', label: 'λ', log: true },
+        { key: 'smooth', label: 's', log: false },
+      ],
+      [
+        { lambda: 1e3, smooth: 50 },
+        { lambda: 1e5, smooth: 200 },
+      ],
+      300,
+      180,
+    );
+    for (const v of [1e3, 3e3, 1e4, 1e5]) expect(l.value(l.y(v)) / v).toBeCloseTo(1, 9);
+    for (const v of [50, 77, 200]) expect(s.value(s.y(v))).toBeCloseTo(v, 9);
+  });
+});

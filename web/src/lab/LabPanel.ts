@@ -55,6 +55,7 @@ export class LabPanel {
   private readonly sweepPlot = new SweepPlot();
   private readonly sweepProgress = h('progress', { max: 1, value: 0, 'data-testid': 'lab-sweep-progress' });
   private readonly sweepInfo = h('p', { class: 'muted', 'data-testid': 'lab-sweep-info' });
+  private readonly sweepBrush = h('span', { class: 'muted small', 'data-testid': 'lab-sweep-brush' });
   private readonly source: HTMLSelectElement;
   private readonly lvBox: HTMLElement;
   private readonly lv;
@@ -189,11 +190,16 @@ export class LabPanel {
         ...Object.values(this.grid).map((g) => g.element),
         h('div', { class: 'lab-row' }, b.sweepRun, b.sweepCancel, this.sweepProgress),
         this.sweepPlot.element,
-        h('div', { class: 'lab-row' }, b.sweepCsv, this.sweepInfo),
+        h('div', { class: 'lab-row' }, b.sweepCsv, this.sweepBrush),
+        this.sweepInfo,
       ),
       h('p', { class: 'muted small' }, 'Method and protocol: Villard, Grau & Zacur, J. Imaging 2018. Reference shapes: biv-me (Apache-2.0), CardioMesh (MIT); see lab/NOTICE.md.'),
     );
 
+    this.sweepPlot.onBrush = (selected, total) => {
+      this.sweepBrush.textContent = total > 0 ? (selected === total ? 'drag along an axis to select' : `${selected} of ${total} runs selected`) : '';
+      this.sweepBrush.dataset.selected = String(selected);
+    };
     deps.controller.onResult((r) => this.onResult(r));
   }
 

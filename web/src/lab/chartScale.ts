@@ -97,6 +97,8 @@ export interface ParallelAxis extends AxisSpec {
   ticks: Tick[];
   /** y of a value on this axis (mid-height when the axis has a single value). */
   y(v: number): number;
+  /** The value at height y (inverse of `y`; the axis minimum when it has a single value). */
+  value(y: number): number;
 }
 
 /** Vertical axes spread over the width, each scaled to the finite values of its key in `rows`. */
@@ -125,8 +127,13 @@ export function parallelAxes(
       const f = (t(v) - lo) / (hi - lo);
       return bottom - f * (bottom - top);
     };
+    const value = (yy: number) => {
+      if (!(hi > lo)) return min;
+      const tv = lo + ((bottom - yy) / (bottom - top)) * (hi - lo);
+      return spec.log ? Math.pow(10, tv) : tv;
+    };
     const tickValues = distinct(vals).length <= 4 ? distinct(vals) : spec.log ? [min, max] : niceTicks(min, max, 4).filter((v) => v >= min && v <= max);
-    return { ...spec, x, min, max, y, ticks: tickValues.map((v) => ({ value: v, pos: y(v), label: formatTick(v) })) };
+    return { ...spec, x, min, max, y, value, ticks: tickValues.map((v) => ({ value: v, pos: y(v), label: formatTick(v) })) };
   });
 }
 
@@ -143,4 +150,20 @@ export function rowPath(axes: readonly ParallelAxis[], row: Record<string, numbe
     parts.push(`${a.x.toFixed(1)},${a.y(v).toFixed(1)}`);
   }
   return parts.join(' ');
+}
+
+/** A brushed value range per axis key (inclusive). */
+export type Brushes = ReadonlyMap<string, readonly [number, number]>;
+
+/** Whether a row lies inside every brush (a row missing a brushed value is outside). */
+export function inBrushes(row: Record<string, number | null | undefined>, brushes: Brushes): boolean {
+  for (const [key, [a, b]] of brushes) {
+    const v = row[key];
+    const lo = Math.min(a, b);
+    const hi = Math.max(a, b);
+    // A small relative tolerance, so a brush drawn exactly over a grid value keeps it.
+    const tol = 1e-9 * Math.max(1, Math.abs(lo), Math.abs(hi));
+    if (typeof v !== 'number' || !Number.isFinite(v) || v < lo - tol || v > hi + tol) return false;
+  }
+  return true;
 }
