@@ -60,15 +60,14 @@ impl Subject {
 /// What an experiment varies.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Design {
-    /// SAX count from..=to spread from near the apex to near the base; LAX count fixed (None:
-    /// each subject's own, 3 for LV shapes, 1 for RV shapes).
+    /// Each SAX count of `counts`, spread from near the apex to near the base; LAX count fixed
+    /// (None: each subject's own, 3 for LV shapes, 1 for RV shapes).
     SaxCount {
-        from: usize,
-        to: usize,
+        counts: Vec<usize>,
         lax: Option<usize>,
     },
-    /// LAX count from..=to at the paper's angles with `sax` SAX slices.
-    LaxCount { from: usize, to: usize, sax: usize },
+    /// Each LAX count of `counts` at the paper's angles, with `sax` SAX slices.
+    LaxCount { counts: Vec<usize>, sax: usize },
     /// Every misalignment level (max shift mm, max tilt degrees) with every seed.
     Misalignment {
         levels: Vec<(f64, f64)>,
@@ -83,8 +82,7 @@ impl Design {
     /// The paper's SAX experiment: 2 to 15 slices.
     pub fn sax_count() -> Design {
         Design::SaxCount {
-            from: 2,
-            to: 15,
+            counts: (2..=15).collect(),
             lax: None,
         }
     }
@@ -92,8 +90,7 @@ impl Design {
     /// The paper's LAX experiment: 1 to 8 views with 4 SAX.
     pub fn lax_count() -> Design {
         Design::LaxCount {
-            from: 1,
-            to: 8,
+            counts: (1..=8).collect(),
             sax: 4,
         }
     }
@@ -160,15 +157,21 @@ pub fn trials(design: &Design, subjects: &[Subject], params: &Params) -> Result<
             params,
         };
         match design {
-            Design::SaxCount { from, to, lax } => {
-                if *from < 2 || to < from || *to > 200 {
-                    return Err(bad("sax_from", *from as f64, 2.0, (*to).min(200) as f64));
+            Design::SaxCount { counts, lax } => {
+                if counts.is_empty() {
+                    return Err(CoreError::ParamInvalid {
+                        name: "sax".into(),
+                        message: "no SAX count to run".into(),
+                    });
+                }
+                if let Some(&n) = counts.iter().find(|n| !(2..=200).contains(*n)) {
+                    return Err(bad("sax", n as f64, 2.0, 200.0));
                 }
                 let lax = lax.unwrap_or(subject.base.lax_count);
                 if lax > PAPER_LAX_ANGLES_DEG.len() {
                     return Err(bad("lax", lax as f64, 0.0, 8.0));
                 }
-                for n in *from..=*to {
+                for &n in counts {
                     let spec = AcquisitionSpec {
                         sax: SaxStack::Count(n),
                         lax_count: lax,
@@ -177,14 +180,21 @@ pub fn trials(design: &Design, subjects: &[Subject], params: &Params) -> Result<
                     out.push(trial(vec![("sax".into(), n as f64)], spec, params.clone()));
                 }
             }
-            Design::LaxCount { from, to, sax } => {
-                if to < from || *to > PAPER_LAX_ANGLES_DEG.len() {
-                    return Err(bad("lax_to", *to as f64, *from as f64, 8.0));
+            Design::LaxCount { counts, sax } => {
+                if counts.is_empty() {
+                    return Err(CoreError::ParamInvalid {
+                        name: "lax".into(),
+                        message: "no LAX count to run".into(),
+                    });
+                }
+                let max = PAPER_LAX_ANGLES_DEG.len();
+                if let Some(&k) = counts.iter().find(|k| **k > max) {
+                    return Err(bad("lax", k as f64, 0.0, max as f64));
                 }
                 if !(2..=200).contains(sax) {
                     return Err(bad("sax", *sax as f64, 2.0, 200.0));
                 }
-                for k in *from..=*to {
+                for &k in counts {
                     let spec = AcquisitionSpec {
                         sax: SaxStack::Count(*sax),
                         lax_count: k,
@@ -313,16 +323,14 @@ mod tests {
         let code = |d: Design| trials(&d, &s, &p).unwrap_err().code();
         assert_eq!(
             code(Design::SaxCount {
-                from: 1,
-                to: 4,
+                counts: vec![1, 4],
                 lax: None
             }),
             "param_out_of_range"
         );
         assert_eq!(
             code(Design::LaxCount {
-                from: 1,
-                to: 9,
+                counts: vec![9],
                 sax: 4
             }),
             "param_out_of_range"
