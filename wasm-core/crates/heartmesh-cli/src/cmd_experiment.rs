@@ -22,7 +22,7 @@ pub const USAGE: &str =
     "heartmesh experiment sax-count|lax-count|misalignment|sweep TRUTH... -o OUT_DIR
     [--from N] [--to N] [--step N] [--lax K] [--sax N] [--levels S:T,...] [--seeds N]
     [--lambda LIST] [--smoothing-iterations LIST] [--target-reduction LIST]
-    [--attractor-spacing LIST] [--iterations N] [--quiet]
+    [--attractor-spacing LIST] [--iterations N] [--tag NAME] [--quiet]
   Slices each TRUTH like a CMR acquisition, reconstructs and measures against the truth (clipped
   at the most basal SAX plane); writes OUT_DIR/KIND.csv (one row per run: settings, distances in
   mm both ways, Hausdorff, volumes in ml, contour-to-mesh, seconds) and OUT_DIR/KIND.svg.
@@ -33,9 +33,10 @@ pub const USAGE: &str =
   misalignment: --levels 0:0,1:1,2:2,3:3,4:4 (max shift mm : max tilt degrees), --seeds 5.
   sweep: the grid --lambda 1e3,1e5,1e7 --smoothing-iterations 50,200 --target-reduction
   0.5,0.72 --attractor-spacing 0,3 (0: default attractor count); parallel-coordinates plot.
-  --iterations N: deformation iterations of every run (default 250; fewer for quick checks).";
+  --iterations N: deformation iterations of every run (default 250; fewer for quick checks).
+  --tag NAME: write KIND-NAME.csv/.svg instead (several variants in one directory).";
 
-const COMMON: [&str; 2] = ["output", "iterations"];
+const COMMON: [&str; 3] = ["output", "iterations", "tag"];
 const SWEEP_PARAMS: [&str; 4] = [
     "lambda",
     "smoothing-iterations",
@@ -77,6 +78,17 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let out_dir = p
         .value("output")
         .ok_or_else(|| CliError::usage(format!("experiment {kind} needs -o OUT_DIR")))?;
+    if let Some(tag) = p.value("tag") {
+        if tag.is_empty()
+            || !tag
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+        {
+            return Err(CliError::usage(format!(
+                "--tag {tag:?}: use letters, digits, - and _ only"
+            )));
+        }
+    }
     let design = design(kind, &p)?;
     let mut params = Params::default();
     if let Some(n) = whole(&p, "iterations")? {
@@ -115,8 +127,12 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
                 .unwrap_or_default()
         )));
     }
-    let csv_path = Path::new(out_dir).join(format!("{kind}.csv"));
-    let svg_path = Path::new(out_dir).join(format!("{kind}.svg"));
+    let base = match p.value("tag") {
+        Some(tag) => format!("{kind}-{tag}"),
+        None => kind.to_string(),
+    };
+    let csv_path = Path::new(out_dir).join(format!("{base}.csv"));
+    let svg_path = Path::new(out_dir).join(format!("{base}.svg"));
     let csv_name = csv_path.to_string_lossy().to_string();
     let svg_name = svg_path.to_string_lossy().to_string();
     files::write(&csv_name, to_csv(&rows).as_bytes())?;
