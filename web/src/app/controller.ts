@@ -88,6 +88,7 @@ export class Controller {
   private readonly ready: Promise<boolean>;
   private markReady: (ok: boolean) => void = () => undefined;
   private coreUp = false;
+  private readonly resultListeners: ((r: RunResult | null) => void)[] = [];
 
   constructor(
     private readonly parts: Parts,
@@ -242,6 +243,45 @@ export class Controller {
     return name ? (this.files.get(name) ?? null) : null;
   }
 
+  // ---- hooks for the validation lab (web/src/lab) -----------------------------------------------
+
+  /** The core client once it is up (the lab sends its own requests through it). */
+  get coreClient(): CoreClient | null {
+    return this.client;
+  }
+
+  /** Loads generated contour bytes (a simulated acquisition) and shows them, without a run. */
+  async loadGenerated(fileName: string, bytes: ArrayBuffer): Promise<boolean> {
+    this.cancelRun();
+    if (!(await this.ready)) return false;
+    if (!(await this.loadBytes(fileName, bytes))) return false;
+    this.sampleId = null;
+    this.selectFile(fileName, null);
+    return true;
+  }
+
+  /** What a run would use now: the current file, surface, parameters and lids. */
+  runSettings(): { fileName: string; surface: string | null; params: ParamValues; lids: LidsMode } | null {
+    const file = this.currentFile();
+    if (!file) return null;
+    return { fileName: file.fileName, surface: file.surfaces.length ? this.surface : null, params: { ...this.params }, lids: this.lids };
+  }
+
+  /** Called with each finished run's result, and with null whenever the shown result is cleared. */
+  onResult(listener: (r: RunResult | null) => void): void {
+    this.resultListeners.push(listener);
+  }
+
+  private emitResult(r: RunResult | null): void {
+    for (const l of this.resultListeners) {
+      try {
+        l(r);
+      } catch (e) {
+        console.error('result listener failed', e);
+      }
+    }
+  }
+
   // ---- runs -----------------------------------------------------------------------------------
 
   /** (Re)starts the reconstruction of the current file with the current parameters. */
@@ -318,6 +358,7 @@ export class Controller {
     this.parts.exports.setAvailable(true, true);
     this.historyVersion++;
     this.dispatch({ type: 'finished', runId: r.runId });
+    this.emitResult(r);
   }
 
   private clearRunDisplay(): void {
@@ -341,6 +382,7 @@ export class Controller {
     this.parts.exports.setAvailable(false, this.currentFile() !== null);
     this.parts.result.clear('no result yet');
     if (this.contourMode === 'distances') this.showContours(null);
+    this.emitResult(null);
   }
 
   // ---- timeline -------------------------------------------------------------------------------
