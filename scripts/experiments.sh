@@ -4,8 +4,8 @@
 # Zacur, J. Imaging 2018, section 3) on the reference shapes in ../shared/data/meshes and the
 # built-in parametric LV.
 #
-#   bash scripts/experiments.sh [sax-count|sax-count-no-lax|lax-count|misalignment|sweep ...]
-#   (default: all five)
+#   bash scripts/experiments.sh [sax-count|sax-count-no-lax|lax-count|misalignment|sweep|
+#                                sweep-reduction ...]   (default: all six)
 #
 # Takes about 20 minutes on an idle 2-vCPU machine (see docs/VALIDATION.md for each experiment's
 # time); every run is deterministic except the `seconds` column.
@@ -39,12 +39,16 @@ SHAPES=(
 SWEEP_SHAPES=("${SHAPES[1]}" "${SHAPES[3]}" "${SHAPES[6]}")
 
 KINDS=("$@")
-[ ${#KINDS[@]} -gt 0 ] || KINDS=(sax-count sax-count-no-lax lax-count misalignment sweep)
+[ ${#KINDS[@]} -gt 0 ] || KINDS=(sax-count sax-count-no-lax lax-count misalignment sweep sweep-reduction)
 for kind in "${KINDS[@]}"; do
   section "experiment $kind"
   start=$SECONDS
   case "$kind" in
     sweep) "$BIN" experiment sweep "${SWEEP_SHAPES[@]}" -o "$OUT" ;;
+    # Decimation beyond the x4 subdivision's balance point (0.75) coarsens the mesh every remesh.
+    sweep-reduction)
+      "$BIN" experiment sweep "${SWEEP_SHAPES[@]}" -o "$OUT" --target-reduction 0.72,0.8 \
+        --smoothing-iterations 200 --attractor-spacing 0 --tag reduction ;;
     # Parallel SAX only (no LAX): the paper's "SAX only" case.
     sax-count-no-lax)
       "$BIN" experiment sax-count "${SHAPES[@]}" -o "$OUT" --lax 0 --from 4 --to 14 --step 2 --tag no-lax ;;

@@ -31,8 +31,9 @@ pub const USAGE: &str =
   sax-count: SAX --from 2 --to 15 (--step 1), LAX fixed (--lax, default 3; 1 for RV@LV).
   lax-count: LAX --from 1 --to 8 at 0, 90, 45, 135, 22.5, 157.5, 112.5, 67.5 degrees, --sax 4.
   misalignment: --levels 0:0,1:1,2:2,3:3,4:4 (max shift mm : max tilt degrees), --seeds 5.
-  sweep: the grid --lambda 1e3,1e5,1e7 --smoothing-iterations 50,200 --target-reduction
-  0.5,0.72 --attractor-spacing 0,3 (0: default attractor count); parallel-coordinates plot.
+  sweep: the grid --lambda 1e3,1e5,1e7 --smoothing-iterations 20,50,200 --target-reduction
+  0.72,0.75 --attractor-spacing 0,3 (0: default attractor count); parallel-coordinates plot.
+  Each remesh subdivides x4: target reductions below 0.75 grow the mesh (slow), above shrink it.
   --iterations N: deformation iterations of every run (default 250; fewer for quick checks).
   --tag NAME: write KIND-NAME.csv/.svg instead (several variants in one directory).";
 
