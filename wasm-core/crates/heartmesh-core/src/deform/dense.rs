@@ -152,59 +152,6 @@ pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     s
 }
 
-/// The three dot products of `a` with `b0`, `b1`, `b2` (all of `a`'s length), four lanes each in a
-/// fixed order: one pass over `a` serves the three coordinates of a thin-plate-spline system.
-#[inline]
-pub(super) fn dot3(a: &[f64], b0: &[f64], b1: &[f64], b2: &[f64]) -> [f64; 3] {
-    let n = a.len();
-    let (b0, b1, b2) = (&b0[..n], &b1[..n], &b2[..n]);
-    let c = n / 4 * 4;
-    let pa = a[..c].as_chunks::<2>().0;
-    let (p0, p1, p2) = (
-        b0[..c].as_chunks::<2>().0,
-        b1[..c].as_chunks::<2>().0,
-        b2[..c].as_chunks::<2>().0,
-    );
-    let mut acc = [F2::zero(); 6]; // (lo, hi) per right-hand side
-    for (((x, y0), y1), y2) in pa
-        .chunks_exact(2)
-        .zip(p0.chunks_exact(2))
-        .zip(p1.chunks_exact(2))
-        .zip(p2.chunks_exact(2))
-    {
-        for h in 0..2 {
-            let xa = F2::load(&x[h]);
-            acc[h] = acc[h].add(xa.mul(F2::load(&y0[h])));
-            acc[2 + h] = acc[2 + h].add(xa.mul(F2::load(&y1[h])));
-            acc[4 + h] = acc[4 + h].add(xa.mul(F2::load(&y2[h])));
-        }
-    }
-    let mut out = [
-        acc[0].sum4(acc[1]),
-        acc[2].sum4(acc[3]),
-        acc[4].sum4(acc[5]),
-    ];
-    for k in c..n {
-        out[0] += a[k] * b0[k];
-        out[1] += a[k] * b1[k];
-        out[2] += a[k] * b2[k];
-    }
-    out
-}
-
-/// y_c += alpha_c x for three pairs (alpha_c, y_c), one pass over `x`.
-#[inline]
-pub(super) fn axpy3(alpha: [f64; 3], x: &[f64], y0: &mut [f64], y1: &mut [f64], y2: &mut [f64]) {
-    let n = x.len();
-    let (y0, y1, y2) = (&mut y0[..n], &mut y1[..n], &mut y2[..n]);
-    for i in 0..n {
-        let xi = x[i];
-        y0[i] += alpha[0] * xi;
-        y1[i] += alpha[1] * xi;
-        y2[i] += alpha[2] * xi;
-    }
-}
-
 /// y += alpha x.
 #[inline]
 pub(super) fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {

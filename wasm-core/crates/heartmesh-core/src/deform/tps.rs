@@ -29,7 +29,7 @@
 //! in the same order, so every target, and the portable reference `evaluate_portable`, gives
 //! identical bits. The dot products of the factorisation use the same vectors.
 
-use super::dense::{axpy, axpy3, cholesky_in_place, dot, dot3};
+use super::dense::{axpy, cholesky_in_place, dot};
 use super::lanes::{portable, Lanes, F2};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
@@ -42,31 +42,6 @@ const COPLANAR_TOL: f64 = 1e-10;
 
 /// -1 / (8 pi): the 3D biharmonic Green's function is G(r) = KERNEL_SCALE * r.
 const KERNEL_SCALE: f64 = -1.0 / (8.0 * std::f64::consts::PI);
-
-/// Relative residual |b - A g| / |b| (2-norm, per coordinate) at which the preconditioned
-/// conjugate gradients stop: the level a backward-stable direct solve of these systems reaches
-/// (see `augmented_system_residual_is_tiny`), so the warm solve gives the same answer.
-const CG_TOL: f64 = 1e-12;
-/// The true residual, recomputed after convergence, may exceed `CG_TOL` by this factor (the
-/// recursively updated residual drifts by a few ulps per iteration).
-const CG_VERIFY_SLACK: f64 = 4.0;
-/// More iterations than this cost about as much as a fresh factorisation: give up and factorise.
-const CG_MAX_ITERS: usize = 20;
-
-/// How the fits so far were solved (for benchmarks and tests).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct SolveStats {
-    /// Fits solved by a fresh Cholesky factorisation.
-    pub factorisations: usize,
-    /// Fits solved by conjugate gradients preconditioned with an earlier factor.
-    pub warm_solves: usize,
-    /// Conjugate-gradient iterations summed over the warm solves.
-    pub cg_iterations: usize,
-    /// Warm attempts that did not converge in `CG_MAX_ITERS` and fell back to a factorisation.
-    pub fallbacks: usize,
-    /// Largest verified relative residual of a warm solve.
-    pub worst_residual: f64,
-}
 
 /// Four centres and their weights, structure-of-arrays so the kernel loads whole lanes.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -103,26 +78,6 @@ pub struct TpsSolver {
     /// Affine part per output coordinate in the centred basis: (a0, ax, ay, az).
     affine_c: [[f64; 4]; 3],
     fitted: bool,
-    /// (Q^T K Q)[0..4, 4..] g per coordinate: what the affine part must absorb.
-    coupling: [[f64; 4]; 3],
-    /// `chol` holds a valid factor for N = `n` and this diagonal 1 / lambda_eff, usable as the
-    /// preconditioner of the next `fit_warm`.
-    warm: bool,
-    factor_diag: f64,
-    /// Conjugate-gradient vectors, 3 x N each (projected vectors live in [4..]).
-    cg: CgScratch,
-    stats: SolveStats,
-}
-
-/// Scratch of the preconditioned conjugate gradients, reused across fits.
-#[derive(Debug, Clone, Default)]
-struct CgScratch {
-    x: Vec<f64>,
-    r: Vec<f64>,
-    z: Vec<f64>,
-    p: Vec<f64>,
-    q: Vec<f64>,
-    w: Vec<f64>,
 }
 
 impl TpsSolver {
@@ -143,41 +98,9 @@ impl TpsSolver {
         self.len() == 0
     }
 
-    /// How the fits so far were solved.
-    pub fn stats(&self) -> SolveStats {
-        self.stats
-    }
-
     /// Fits F with F(centres[i]) ~ targets[i]; `lambda_eff` weighs the data term against the
     /// bending energy (large: interpolating; small: close to the least-squares affine map).
-    /// Always factorises afresh, so the result depends on this call's input only.
     pub fn fit(&mut self, centres: &[Vec3], targets: &[Vec3], lambda_eff: f64) -> Result<()> {
-        self.fit_with(centres, targets, lambda_eff, false)
-    }
-
-    /// The same fit, for a system close to the previous one (same number of centres, same
-    /// lambda_eff, centres moved a little): solved by conjugate gradients preconditioned with the
-    /// previous fit's Cholesky factor, to the residual of a direct solve; falls back to a fresh
-    /// factorisation when that does not converge within a few iterations.
-    ///
-    /// Why this is sound: PCG solves A g = b for the current A exactly as a direct method would,
-    /// for any symmetric positive definite preconditioner M; M only sets the speed. With
-    /// M = L_old L_old^T, the factor of a nearby system, M^-1 A is close to the identity, its
-    /// eigenvalues cluster near 1 and a handful of iterations reach a relative residual of 1e-12,
-    /// which is then recomputed from scratch and checked before the solution is accepted. The
-    /// answer differs from a direct solve's by at most cond(A) times that residual (a direct solve
-    /// has an error of cond(A) times its own backward error, of the same order).
-    pub fn fit_warm(&mut self, centres: &[Vec3], targets: &[Vec3], lambda_eff: f64) -> Result<()> {
-        self.fit_with(centres, targets, lambda_eff, true)
-    }
-
-    fn fit_with(
-        &mut self,
-        centres: &[Vec3],
-        targets: &[Vec3],
-        lambda_eff: f64,
-        warm: bool,
-    ) -> Result<()> {
         self.fitted = false;
         let n = centres.len();
         if targets.len() != n {
@@ -206,11 +129,6 @@ impl TpsSolver {
                 "TPS: non-finite centre or target".into(),
             ));
         }
-        let diag = 1.0 / lambda_eff;
-        let reuse = std::env::var_os("HM_COLD").is_none() && warm && self.warm && self.n == n && self.factor_diag == diag;
-        if !reuse {
-            self.warm = false;
-        }
         self.n = n;
         let m = n - 4;
         self.kmat.resize(n * n, 0.0);
@@ -221,22 +139,11 @@ impl TpsSolver {
 
         self.centre = centres.iter().sum::<Vec3>() / n as f64;
         self.householder_affine(centres)?;
-        self.assemble_kernel(centres, diag);
+        self.assemble_kernel(centres, 1.0 / lambda_eff);
+        self.project_kernel();
         self.project_rhs(targets);
-        let solved = reuse && self.solve_preconditioned();
-        if reuse && !solved {
-            self.stats.fallbacks += 1;
-        }
-        if !solved {
-            self.warm = false;
-            self.project_kernel();
-            cholesky_in_place(&mut self.chol, m)?;
-            self.warm = true;
-            self.factor_diag = diag;
-            self.stats.factorisations += 1;
-            self.solve_projected();
-            self.coupling_from_projected();
-        }
+        cholesky_in_place(&mut self.chol, m)?;
+        self.solve_projected();
         self.recover_weights_and_affine()?;
         self.build_chunks(centres);
         self.fitted = true;
@@ -312,12 +219,6 @@ impl TpsSolver {
                 *g = KERNEL_SCALE * (dx * dx + dy * dy + dz * dz).sqrt();
             }
             row[i] = diag;
-        }
-        // Mirror into the upper triangle: the warm solve multiplies by whole rows.
-        for i in 0..n {
-            for j in 0..i {
-                self.kmat[j * n + i] = self.kmat[i * n + j];
-            }
         }
     }
 
@@ -460,11 +361,11 @@ impl TpsSolver {
         }
     }
 
-    /// (Q^T K Q)[0..4, 4..] g after a direct solve, read through its mirror in the lower
-    /// triangle of the projected kernel.
-    fn coupling_from_projected(&mut self) {
+    /// a from R a = Q1^T b - (Q^T K Q)[0..4, 4..] g, then w = Q [0; g].
+    fn recover_weights_and_affine(&mut self) -> Result<()> {
         let n = self.n;
-        for (c, b) in self.rhs.chunks_exact(n).enumerate() {
+        for (c, b) in self.rhs.chunks_exact_mut(n).enumerate() {
+            // (Q^T K Q)[0..4, 4..] is read through its mirror in the lower triangle.
             let mut bg = [0.0; 4];
             for (j, gj) in b[4..].iter().enumerate() {
                 let row = &self.kmat[(4 + j) * n..(4 + j) * n + 4];
@@ -472,118 +373,6 @@ impl TpsSolver {
                     bg[k] += row[k] * gj;
                 }
             }
-            self.coupling[c] = bg;
-        }
-    }
-
-    /// Preconditioned conjugate gradients on (Q2^T K Q2) g = (Q^T b)[4..] for the three
-    /// coordinates in lockstep, with the Cholesky factor in `chol` (of an earlier, nearby system)
-    /// as the preconditioner and K read unprojected (A y = (Q^T K Q [0; y])[4..]). On success the
-    /// solution is in rhs[4..] and the coupling is set; false leaves rhs untouched.
-    fn solve_preconditioned(&mut self) -> bool {
-        let n = self.n;
-        let cg = &mut self.cg;
-        for v in [&mut cg.x, &mut cg.r, &mut cg.z, &mut cg.p, &mut cg.q, &mut cg.w] {
-            v.clear();
-            v.resize(3 * n, 0.0);
-        }
-        // x = 0, r = b.
-        cg.r.copy_from_slice(&self.rhs);
-        let mut tol = [0.0; 3];
-        let mut active = [false; 3];
-        for c in 0..3 {
-            let r = &mut cg.r[c * n..(c + 1) * n];
-            r[..4].fill(0.0);
-            let b_norm = dot(&r[4..], &r[4..]).sqrt();
-            let t: f64 = std::env::var("HM_TOL").ok().and_then(|s| s.parse().ok()).unwrap_or(CG_TOL);
-            tol[c] = t * b_norm;
-            active[c] = b_norm > 0.0;
-        }
-        let mut rz = [0.0; 3];
-        if active.iter().any(|&a| a) {
-            precondition(&self.chol, n, &cg.r, &mut cg.z);
-            cg.p.copy_from_slice(&cg.z);
-            for (c, rzc) in rz.iter_mut().enumerate() {
-                let s = c * n + 4..(c + 1) * n;
-                *rzc = dot(&cg.r[s.clone()], &cg.z[s]);
-            }
-        }
-        let mut iterations = 0;
-        while active.iter().any(|&a| a) {
-            if iterations == CG_MAX_ITERS {
-                self.stats.cg_iterations += iterations;
-                return false;
-            }
-            iterations += 1;
-            project_matvec(&self.kmat, &self.hv, &self.hbeta, n, &cg.p, &mut cg.w, &mut cg.q);
-            for c in 0..3 {
-                if !active[c] {
-                    continue;
-                }
-                let s = c * n + 4..(c + 1) * n;
-                let pq = dot(&cg.p[s.clone()], &cg.q[s.clone()]);
-                let alpha = rz[c] / pq;
-                if !(pq > 0.0 && alpha.is_finite()) {
-                    self.stats.cg_iterations += iterations;
-                    return false;
-                }
-                axpy(alpha, &cg.p[s.clone()], &mut cg.x[s.clone()]);
-                axpy(-alpha, &cg.q[s.clone()], &mut cg.r[s.clone()]);
-                let r_norm = dot(&cg.r[s.clone()], &cg.r[s]).sqrt();
-                active[c] = r_norm > tol[c];
-            }
-            if !active.iter().any(|&a| a) {
-                break;
-            }
-            precondition(&self.chol, n, &cg.r, &mut cg.z);
-            for c in 0..3 {
-                if !active[c] {
-                    continue;
-                }
-                let s = c * n + 4..(c + 1) * n;
-                let rz_new = dot(&cg.r[s.clone()], &cg.z[s.clone()]);
-                let beta = rz_new / rz[c];
-                rz[c] = rz_new;
-                for (p, z) in cg.p[s.clone()].iter_mut().zip(&cg.z[s]) {
-                    *p = z + beta * *p;
-                }
-            }
-        }
-        self.stats.cg_iterations += iterations;
-        if std::env::var_os("HM_CGDEBUG").is_some() { eprintln!("cg {iterations}"); }
-        // Verify with the true residual; the full product also gives the coupling rows.
-        project_matvec(&self.kmat, &self.hv, &self.hbeta, n, &cg.x, &mut cg.w, &mut cg.q);
-        let mut worst: f64 = 0.0;
-        for c in 0..3 {
-            let s = c * n + 4..(c + 1) * n;
-            let (b, ax) = (&self.rhs[s.clone()], &cg.q[s]);
-            let (mut rr, mut bb) = (0.0, 0.0);
-            for (bi, ai) in b.iter().zip(ax) {
-                rr += (bi - ai) * (bi - ai);
-                bb += bi * bi;
-            }
-            let rel = if bb > 0.0 { (rr / bb).sqrt() } else { rr.sqrt() };
-            let t: f64 = std::env::var("HM_TOL").ok().and_then(|s| s.parse().ok()).unwrap_or(CG_TOL);
-            if !(rel <= CG_VERIFY_SLACK * t) {
-                return false;
-            }
-            worst = worst.max(rel);
-        }
-        for c in 0..3 {
-            let s = c * n + 4..(c + 1) * n;
-            self.rhs[s.clone()].copy_from_slice(&cg.x[s]);
-            self.coupling[c] = [0, 1, 2, 3].map(|k| cg.q[c * n + k]);
-        }
-        self.stats.warm_solves += 1;
-        self.stats.worst_residual = self.stats.worst_residual.max(worst);
-        true
-    }
-
-    /// a from R a = Q1^T b - (Q^T K Q)[0..4, 4..] g, then w = Q [0; g].
-    fn recover_weights_and_affine(&mut self) -> Result<()> {
-        let n = self.n;
-        for (c, b) in self.rhs.chunks_exact_mut(n).enumerate() {
-            let bg = self.coupling[c];
             let t = [0, 1, 2, 3].map(|k| b[k] - bg[k]);
             let mut a = [0.0; 4];
             for k in (0..4).rev() {
@@ -696,79 +485,6 @@ impl TpsSolver {
         for p in points {
             *p = self.evaluate(*p);
         }
-    }
-}
-
-/// Splits a 3 x n buffer into its three rows.
-fn rows3(v: &mut [f64], n: usize) -> (&mut [f64], &mut [f64], &mut [f64]) {
-    let (a, rest) = v.split_at_mut(n);
-    let (b, c) = rest.split_at_mut(n);
-    (a, b, &mut c[..n])
-}
-
-/// x <- H_k x for the reflector k (row k of `hv`, zero before index k).
-#[inline]
-fn reflect(hv: &[f64], beta: f64, n: usize, k: usize, x: &mut [f64]) {
-    let v = &hv[k * n + k..(k + 1) * n];
-    let s = beta * dot(v, &x[k..]);
-    axpy(-s, v, &mut x[k..]);
-}
-
-/// out = Q^T K Q [0; y] for the three rows of `src` (y = row[4..]; row[..4] is ignored), with K
-/// the full symmetric kernel matrix; `w` is scratch. Entries 4.. are the projected system's
-/// product, entries ..4 its coupling with the affine part.
-fn project_matvec(
-    kmat: &[f64],
-    hv: &[f64],
-    hbeta: &[f64; 4],
-    n: usize,
-    src: &[f64],
-    w: &mut [f64],
-    out: &mut [f64],
-) {
-    w.copy_from_slice(src);
-    for row in w.chunks_exact_mut(n) {
-        row[..4].fill(0.0);
-        for k in (0..4).rev() {
-            reflect(hv, hbeta[k], n, k, row);
-        }
-    }
-    {
-        let (w0, w1, w2) = (&w[..n], &w[n..2 * n], &w[2 * n..3 * n]);
-        let (o0, o1, o2) = rows3(out, n);
-        for (i, krow) in kmat.chunks_exact(n).enumerate() {
-            [o0[i], o1[i], o2[i]] = dot3(krow, w0, w1, w2);
-        }
-    }
-    for row in out.chunks_exact_mut(n) {
-        for (k, &beta) in hbeta.iter().enumerate() {
-            reflect(hv, beta, n, k, row);
-        }
-    }
-}
-
-/// z = (L L^T)^-1 r on entries 4.. of the three rows (L: (n-4) x (n-4) row-major lower
-/// triangle): forward substitution by rows, back substitution by columns.
-fn precondition(l: &[f64], n: usize, r: &[f64], z: &mut [f64]) {
-    let m = n - 4;
-    let (z0, z1, z2) = rows3(z, n);
-    let (z0, z1, z2) = (&mut z0[4..], &mut z1[4..], &mut z2[4..]);
-    let (r0, r1, r2) = (&r[4..n], &r[n + 4..2 * n], &r[2 * n + 4..3 * n]);
-    for i in 0..m {
-        let row = &l[i * m..i * m + i + 1];
-        let d = dot3(&row[..i], &z0[..i], &z1[..i], &z2[..i]);
-        z0[i] = (r0[i] - d[0]) / row[i];
-        z1[i] = (r1[i] - d[1]) / row[i];
-        z2[i] = (r2[i] - d[2]) / row[i];
-    }
-    for i in (0..m).rev() {
-        let row = &l[i * m..i * m + i + 1];
-        let x = [z0[i] / row[i], z1[i] / row[i], z2[i] / row[i]];
-        z0[i] = x[0];
-        z1[i] = x[1];
-        z2[i] = x[2];
-        let (a, b, c) = (&mut z0[..i], &mut z1[..i], &mut z2[..i]);
-        axpy3([-x[0], -x[1], -x[2]], &row[..i], a, b, c);
     }
 }
 

@@ -15,7 +15,7 @@ use crate::contours::clean::resample_spacing;
 use crate::contours::rings::tube_rings;
 use crate::contours::{Contour, ContourKind, ContourSet};
 use crate::deform::attractors::{farthest_point_sampling, Budget};
-use crate::deform::tps::{SolveStats, TpsSolver};
+use crate::deform::tps::TpsSolver;
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::topology::validity;
@@ -237,13 +237,7 @@ impl Reconstruction {
         );
         let t = self.clock.now_ms();
         let lambda_eff = self.params.lambda / self.attractors.len() as f64;
-        if resample {
-            self.tps.fit(&self.closest, &self.targets, lambda_eff)?;
-        } else {
-            // Same attractors, centres moved a little: the previous factor preconditions.
-            self.tps
-                .fit_warm(&self.closest, &self.targets, lambda_eff)?;
-        }
+        self.tps.fit(&self.closest, &self.targets, lambda_eff)?;
         timings.solve_ms = self.clock.now_ms() - t;
         let t = self.clock.now_ms();
         self.tps.apply(&mut self.mesh_unit.positions);
@@ -506,11 +500,6 @@ impl Reconstruction {
 
     pub fn params(&self) -> &Params {
         &self.params
-    }
-
-    /// How the thin-plate-spline systems of the run were solved.
-    pub fn solve_stats(&self) -> SolveStats {
-        self.tps.stats()
     }
 
     /// Time spent per phase since the start.
