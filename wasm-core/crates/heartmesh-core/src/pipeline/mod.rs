@@ -18,7 +18,6 @@ use crate::deform::attractors::{farthest_point_sampling, Budget};
 use crate::deform::tps::TpsSolver;
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
-use crate::mesh::topology::validity;
 use crate::mesh::TriMesh;
 use crate::metrics::{contour_to_mesh, vertex_to_contours, ContourDistances};
 use crate::params::{AttractorMode, Params};
@@ -400,19 +399,13 @@ impl Reconstruction {
     /// Subdivide + smooth + decimate, keeping the closed/open state of the mesh.
     fn remeshed(&self, mesh: &TriMesh) -> Result<TriMesh> {
         let p = &self.params;
-        let out = remesh(
+        // `remesh` checks that its result is manifold, oriented and as closed as its input.
+        remesh(
             mesh,
             p.smoothing_iterations,
             p.smoothing_factor,
             p.target_reduction,
-        )?;
-        let v = validity(&out);
-        if !v.manifold {
-            return Err(CoreError::InvalidMesh(
-                "remeshing produced a non-manifold mesh".into(),
-            ));
-        }
-        Ok(out)
+        )
     }
 
     fn remesh(&mut self) -> Result<()> {
