@@ -12,13 +12,13 @@ use crate::mesh::TriMesh;
 /// triangle, counter-clockwise seen from outside).
 pub fn mesh_from_buffers(positions: &[f32], indices: &[u32]) -> Result<TriMesh> {
     let bad = |m: String| Err(CoreError::InvalidMesh(m));
-    if positions.len() % 3 != 0 {
+    if !positions.len().is_multiple_of(3) {
         return bad(format!(
             "{} position values are not whole xyz triples",
             positions.len()
         ));
     }
-    if indices.len() % 3 != 0 || indices.is_empty() {
+    if !indices.len().is_multiple_of(3) || indices.is_empty() {
         return bad(format!("{} indices are not whole triangles", indices.len()));
     }
     let n = positions.len() / 3;
