@@ -118,3 +118,25 @@ fn bivme_patient2_ed() {
 fn bivme_patient2_es() {
     assert_none(file_case("bivme-test-patient2/patient2-ES.csv"));
 }
+
+/// A small target reduction grows the mesh at every remesh (subdivision x4, keep 1 - r): the
+/// remesh caps it at `MAX_REMESH_TRIANGLES` instead of running out of memory.
+#[test]
+fn low_target_reduction_is_capped() {
+    use heartmesh_core::pipeline::MAX_REMESH_TRIANGLES;
+    let set = load_contours("surfco-example.csv");
+    let params = Params {
+        target_reduction: 0.0,
+        iterations: 60,
+        remesh_every: 10,
+        smoothing_iterations: 10,
+        ..Params::default()
+    };
+    let (mesh, _) = reconstruct(&set, params);
+    let t = mesh.triangles.len();
+    println!("target reduction 0: {t} triangles after the last remesh");
+    // Uncapped, 4^k growth over the remeshes would pass a million triangles.
+    assert!(t <= MAX_REMESH_TRIANGLES, "{t} triangles");
+    assert!(t > MAX_REMESH_TRIANGLES / 2, "{t} triangles: the cap should have been reached");
+    check_closed_manifold_outward(&mesh).unwrap();
+}

@@ -193,6 +193,16 @@ fn header(bytes: &[u8]) -> Result<(Vec<Element>, Encoding, usize, usize)> {
                         format!("{count} {name} elements: the limit is {MAX_MESH_ELEMENTS}"),
                     ));
                 }
+                // A second vertex or face element would mix two meshes (and their point data)
+                // into one; no writer produces it.
+                if matches!(name.as_str(), "vertex" | "face")
+                    && elements.iter().any(|e| e.name == name)
+                {
+                    return Err(CoreError::parse(
+                        line,
+                        format!("a second {name} element; a PLY mesh has one"),
+                    ));
+                }
                 elements.push(Element {
                     name,
                     count,
@@ -420,6 +430,19 @@ mod tests {
         let (name, v) = d.point_data.unwrap();
         assert_eq!(name, "quality");
         assert_eq!(v, vec![0.5, 1.5, 2.5, 3.5]);
+    }
+
+    #[test]
+    fn second_vertex_element_is_refused() {
+        // Found by the ply fuzz target: positions came from both vertex elements but the point
+        // data only from the second.
+        let s = "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n\
+                 property float z\nelement vertex 3\nproperty float x\nproperty float y\n\
+                 property float z\nproperty float d\nelement face 1\n\
+                 property list uchar int vertex_indices\nend_header\n\
+                 0 0 0 1\n1 0 0 2\n0 1 0 3\n3 0 1 2\n";
+        let e = read_ply(s.as_bytes()).unwrap_err().to_string();
+        assert!(e.contains("line 7") && e.contains("second vertex element"), "{e}");
     }
 
     #[test]

@@ -404,7 +404,7 @@ impl Reconstruction {
             mesh,
             p.smoothing_iterations,
             p.smoothing_factor,
-            p.target_reduction,
+            capped_reduction(p.target_reduction, mesh.triangles.len()),
         )
     }
 
@@ -515,6 +515,20 @@ impl Reconstruction {
     pub fn set_clock(&mut self, clock: Box<dyn Clock>) {
         self.clock = clock;
     }
+}
+
+/// Most triangles a remesh may leave. Subdivision quadruples the triangle count, so any target
+/// reduction below 0.75 grows the mesh geometrically over the run (0.5 doubles it at every remesh:
+/// about 5 million triangles after ten remeshes, gigabytes in a browser tab). Twenty times the
+/// default mesh is far beyond what the contours can resolve.
+pub const MAX_REMESH_TRIANGLES: usize = 200_000;
+
+/// The reduction a remesh applies: the user's, or more when the subdivided mesh would otherwise
+/// end above [`MAX_REMESH_TRIANGLES`].
+fn capped_reduction(target_reduction: f64, triangles: usize) -> f64 {
+    let subdivided = (4 * triangles).max(1) as f64;
+    let needed = 1.0 - MAX_REMESH_TRIANGLES as f64 / subdivided;
+    target_reduction.max(needed)
 }
 
 /// Share of a remesh's displacement (the smoothing pulls the surface off the data) still left when
