@@ -262,7 +262,7 @@ impl Reconstruction {
         if last {
             self.done = true;
         } else if it.is_multiple_of(self.params.remesh_every)
-            && it + self.params.remesh_every <= self.params.iterations
+            && it + final_steps_without_remesh(&self.params) <= self.params.iterations
         {
             let t = self.clock.now_ms();
             self.remesh()?;
@@ -515,6 +515,26 @@ impl Reconstruction {
     pub fn set_clock(&mut self, clock: Box<dyn Clock>) {
         self.clock = clock;
     }
+}
+
+/// Share of a remesh's displacement (the smoothing pulls the surface off the data) still left when
+/// the run ends.
+const FINAL_REMESH_RESIDUAL: f64 = 0.01;
+
+/// No remesh within this many final iterations: each step moves the surface a fraction beta of the
+/// way back to the data, so the smoothing offset of the last remesh decays as (1 - beta)^n and needs
+/// n = ln(0.01) / ln(1 - beta) steps (44 at beta 0.1) to fall below 1%; at least one remesh
+/// interval. Measured in docs/VALIDATION.md (accuracy section).
+fn final_steps_without_remesh(p: &Params) -> usize {
+    let decay = (1.0 - p.beta).clamp(0.0, 1.0);
+    let n = if decay > 0.0 && decay < 1.0 {
+        (FINAL_REMESH_RESIDUAL.ln() / decay.ln()).ceil()
+    } else {
+        0.0
+    };
+    // At most half the run: a tiny beta cannot recover within the run anyway, and the first half
+    // still needs its remeshes to keep the triangles even.
+    (n.min((p.iterations / 2) as f64) as usize).max(p.remesh_every)
 }
 
 /// Largest inter-point distance (exact up to [`EXACT_DIAMETER_LIMIT`] points, else the best of a few
