@@ -35,18 +35,26 @@ pub fn farthest_point_sampling(
         Budget::Spacing(_) => points.len(),
     };
     let mut chosen = Vec::with_capacity(max_count.min(4096));
+    // Structure of arrays, so the distance update (the bulk of the work) vectorises.
+    let xs: Vec<f64> = points.iter().map(|p| p.x).collect();
+    let ys: Vec<f64> = points.iter().map(|p| p.y).collect();
+    let zs: Vec<f64> = points.iter().map(|p| p.z).collect();
     let mut next = seed;
     while chosen.len() < max_count {
         chosen.push(next);
         let c = points[next];
-        let mut far = (f64::NEG_INFINITY, 0usize);
-        for (i, p) in points.iter().enumerate() {
-            let d = (p - c).norm_squared();
-            if d < dist[i] {
-                dist[i] = d;
+        for (((d, x), y), z) in dist.iter_mut().zip(&xs).zip(&ys).zip(&zs) {
+            let (dx, dy, dz) = (x - c.x, y - c.y, z - c.z);
+            let e = dx * dx + dy * dy + dz * dz;
+            if e < *d {
+                *d = e;
             }
-            if dist[i] > far.0 {
-                far = (dist[i], i);
+        }
+        // The first index of the largest distance (a NaN never wins).
+        let mut far = (f64::NEG_INFINITY, 0usize);
+        for (i, &d) in dist.iter().enumerate() {
+            if d > far.0 {
+                far = (d, i);
             }
         }
         if far.0 <= 0.0 {

@@ -24,10 +24,11 @@
 //!
 //! Evaluation is the hot loop of the whole reconstruction (vertices x centres per iteration): the
 //! centres are stored as structure-of-arrays chunks of four with the weights pre-multiplied by
-//! -1/(8 pi), summed in four lanes in a fixed order. The lanes are explicit two-lane vectors
-//! (`lanes.rs`: SSE2 natively, simd128 in wasm, plain arrays elsewhere) with the same arithmetic
-//! in the same order, so every target, and the portable reference `evaluate_portable`, gives
-//! identical bits. The dot products of the factorisation use the same vectors.
+//! -1/(8 pi), summed in four lanes in a fixed order. The lanes are explicit four-lane vectors
+//! (`lanes.rs`: two SSE2 / simd128 / plain-array halves, or one AVX register natively when the CPU
+//! has it) with the same arithmetic in the same order, so every target, and the portable reference
+//! `evaluate_portable`, gives identical bits. The dot products of the factorisation, the
+//! projection and the triangular solves use the same vectors.
 
 use super::dense::{axpy, cholesky_in_place, dot, dot_q};
 #[cfg(target_arch = "x86_64")]
