@@ -8,6 +8,7 @@ import { version as appVersion } from '../../../package.json';
 import { Controller, type Parts } from './controller';
 import type { CoreClient } from '../core-client/CoreClient';
 import { installDropZone } from '../io/dropZone';
+import { LabPanel } from '../lab/LabPanel';
 import { ExportPanel } from '../io/ExportPanel';
 import { FileBar } from '../io/FileBar';
 import { installKeyboard } from '../ui/keyboard';
@@ -77,11 +78,15 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
   slot('slot-bottom').append(parts.timeline.element);
   slot('slot-banner').append(parts.banner.element);
   slot('slot-legend').append(parts.legend.element, parts.meshLegend.element);
+  if (viewer) slot('slot-legend').append(viewer.landmarkLayer.legend);
   slot('slot-viewcontrols').append(parts.view.element);
   slot('slot-hover').append(parts.hover.element);
   viewer?.setHoverListener((h) => controller.onHover(h));
 
-  installDropZone(document.body, slot('drop-overlay'), (files) => void controller.openFiles(files));
+  const lab = new LabPanel({ controller, viewer, legendSlot: slot('slot-legend') });
+  lab.mount(slot('slot-left'), parts.params.element);
+
+  installDropZone(document.body, slot('drop-overlay'), (files) => lab.claimDrop(files) || void controller.openFiles(files));
   installKeyboard(document, {
     togglePlay: () => controller.togglePlay(),
     step: (d) => controller.step(d),

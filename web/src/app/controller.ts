@@ -88,6 +88,7 @@ export class Controller {
   private readonly ready: Promise<boolean>;
   private markReady: (ok: boolean) => void = () => undefined;
   private coreUp = false;
+  private readonly resultListeners: ((r: RunResult | null) => void)[] = [];
 
   constructor(
     private readonly parts: Parts,
@@ -222,6 +223,7 @@ export class Controller {
     this.parts.warnings.hidden = warnings.length === 0;
     this.clearRunDisplay();
     this.showContours(null);
+    this.parts.viewer?.landmarkLayer.set(file.landmarks);
     this.frameSurface(file);
     this.updateUrl();
   }
@@ -240,6 +242,45 @@ export class Controller {
   private currentFile(): LoadedFile | null {
     const name = loadedFile(this.state);
     return name ? (this.files.get(name) ?? null) : null;
+  }
+
+  // ---- hooks for the validation lab (web/src/lab) -----------------------------------------------
+
+  /** The core client once it is up (the lab sends its own requests through it). */
+  get coreClient(): CoreClient | null {
+    return this.client;
+  }
+
+  /** Loads generated contour bytes (a simulated acquisition) and shows them, without a run. */
+  async loadGenerated(fileName: string, bytes: ArrayBuffer): Promise<boolean> {
+    this.cancelRun();
+    if (!(await this.ready)) return false;
+    if (!(await this.loadBytes(fileName, bytes))) return false;
+    this.sampleId = null;
+    this.selectFile(fileName, null);
+    return true;
+  }
+
+  /** What a run would use now: the current file, surface, parameters and lids. */
+  runSettings(): { fileName: string; surface: string | null; params: ParamValues; lids: LidsMode } | null {
+    const file = this.currentFile();
+    if (!file) return null;
+    return { fileName: file.fileName, surface: file.surfaces.length ? this.surface : null, params: { ...this.params }, lids: this.lids };
+  }
+
+  /** Called with each finished run's result, and with null whenever the shown result is cleared. */
+  onResult(listener: (r: RunResult | null) => void): void {
+    this.resultListeners.push(listener);
+  }
+
+  private emitResult(r: RunResult | null): void {
+    for (const l of this.resultListeners) {
+      try {
+        l(r);
+      } catch (e) {
+        console.error('result listener failed', e);
+      }
+    }
   }
 
   // ---- runs -----------------------------------------------------------------------------------
@@ -318,6 +359,7 @@ export class Controller {
     this.parts.exports.setAvailable(true, true);
     this.historyVersion++;
     this.dispatch({ type: 'finished', runId: r.runId });
+    this.emitResult(r);
   }
 
   private clearRunDisplay(): void {
@@ -341,6 +383,7 @@ export class Controller {
     this.parts.exports.setAvailable(false, this.currentFile() !== null);
     this.parts.result.clear('no result yet');
     if (this.contourMode === 'distances') this.showContours(null);
+    this.emitResult(null);
   }
 
   // ---- timeline -------------------------------------------------------------------------------
@@ -393,6 +436,7 @@ export class Controller {
     viewer.meshLayer.setWireframe(this.view.wireframe);
     viewer.meshLayer.setOpacity(this.view.opacity);
     viewer.attractorLayer.setVisible(this.view.attractors);
+    viewer.landmarkLayer.setVisible(this.view.landmarks);
     viewer.setClip(this.view.clip);
     viewer.requestRender();
   }

@@ -23,6 +23,14 @@ import {
   type CoreErrorData,
   type Frame,
   type FromWorker,
+  type AcquisitionSpec,
+  type LabAcquisition,
+  type LabBatchInfo,
+  type LabBatchJob,
+  type LabComparison,
+  type LabProgress,
+  type LabTruth,
+  type LabTruthSource,
   type LidsMode,
   type LoadedFile,
   type ParamSpec,
@@ -61,6 +69,23 @@ export interface RunHandle {
   runId: number;
   done: Promise<RunResult>;
   cancel(): void;
+}
+
+/** A running lab batch (leave-one-out or sweep); cancel() stops it in the worker. */
+export interface LabBatchHandle {
+  runId: number;
+  /** Resolves when the worker accepted the job (with the contours of a leave-one-out). */
+  started: Promise<LabBatchInfo>;
+  /** Resolves when every item was reported; rejects with CoreErrorData (also 'cancelled'). */
+  done: Promise<void>;
+  cancel(): void;
+}
+
+interface BatchState {
+  onProgress: (p: LabProgress) => void;
+  started: { resolve: (i: LabBatchInfo) => void; reject: (e: CoreErrorData) => void };
+  resolve: () => void;
+  reject: (e: CoreErrorData) => void;
 }
 
 interface PendingRequest {
@@ -116,6 +141,11 @@ export class CoreClient {
   /** Files the current worker has been sent. */
   private readonly workerFiles = new Set<string>();
   private schemaCache: { schema: ParamSpec[]; version: string } | null = null;
+  private readonly batches = new Map<number, BatchState>();
+  /** The lab's truth and acquisition, replayed to a recreated worker before the next lab call. */
+  private labTruthSource: LabTruthSource | null = null;
+  private labAcquisition: AcquisitionSpec | null = null;
+  private labInWorker = false;
   private disposed = false;
 
   /** Use `CoreClient.create()` in the app; the constructor is for tests that inject a worker. */
@@ -233,6 +263,109 @@ export class CoreClient {
     return handle;
   }
 
+  // ---- validation lab ------------------------------------------------------------------------
+
+  /** Makes the lab's ground-truth surface (parametric LV or a mesh file) in the worker. */
+  labTruth(source: LabTruthSource): Promise<LabTruth> {
+    const kept: LabTruthSource = source.kind === 'file' ? { ...source, bytes: source.bytes.slice(0) } : source;
+    const sent: LabTruthSource = source.kind === 'file' ? { ...source, bytes: source.bytes.slice(0) } : source;
+    this.labAcquisition = null;
+    const p = this.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source: sent }));
+    this.labInWorker = true;
+    return p.then((t) => {
+      this.labTruthSource = kept;
+      return t;
+    });
+  }
+
+  /** Slices the truth like a CMR acquisition; resolves to the contours as CSV bytes. */
+  labSimulate(acquisition: AcquisitionSpec): Promise<LabAcquisition> {
+    this.labReplay();
+    return this.request<LabAcquisition>((reqId) => ({ type: 'lab-simulate', reqId, acquisition: { ...acquisition } })).then((a) => {
+      this.labAcquisition = { ...acquisition };
+      return a;
+    });
+  }
+
+  /** Compares a mesh with the truth (clipped at the last acquisition's most basal SAX plane). */
+  labCompare(positions: Float32Array, indices: Uint32Array): Promise<LabComparison> {
+    this.labReplay();
+    // Copies: the caller keeps displaying its arrays, these are transferred.
+    return this.request<LabComparison>((reqId) => ({ type: 'lab-compare', reqId, positions: positions.slice(), indices: indices.slice() }));
+  }
+
+  /** Starts a leave-one-out or a parameter sweep on a loaded file; replaces a batch in progress. */
+  labBatch(job: LabBatchJob, onProgress: (p: LabProgress) => void): LabBatchHandle {
+    const runId = this.nextId++;
+    let started!: BatchState['started'];
+    const startedP = new Promise<LabBatchInfo>((resolve, reject) => (started = { resolve, reject }));
+    let resolve!: () => void;
+    let reject!: (e: CoreErrorData) => void;
+    const done = new Promise<void>((res, rej) => {
+      resolve = res;
+      reject = rej;
+    });
+    startedP.catch(() => undefined);
+    const handle: LabBatchHandle = { runId, started: startedP, done, cancel: () => this.cancelBatch(runId) };
+    if (this.disposed) {
+      started.reject(this.disposedError());
+      reject(this.disposedError());
+      return handle;
+    }
+    const bytes = this.files.get(job.fileName);
+    if (bytes === undefined) {
+      const e = { code: ErrorCodes.notLoaded, message: `${job.fileName} has not been loaded`, file: job.fileName };
+      started.reject(e);
+      reject(e);
+      return handle;
+    }
+    for (const other of [...this.batches.keys()]) this.cancelBatch(other);
+    this.batches.set(runId, { onProgress, started, resolve, reject });
+    void this.ensureWorker().catch(() => undefined);
+    this.labReplay();
+    if (!this.workerFiles.has(job.fileName)) {
+      this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName: job.fileName, bytes: bytes.slice(0) })).catch(
+        (e: CoreErrorData) => {
+          this.workerFiles.delete(job.fileName);
+          this.finishBatch(runId, e);
+        },
+      );
+      this.workerFiles.add(job.fileName);
+    }
+    const copy: LabBatchJob = job.kind === 'sweep' ? { ...job, grid: { ...job.grid }, params: { ...job.params } } : { ...job, params: { ...job.params } };
+    this.post({ type: 'lab-batch', runId, job: copy });
+    return handle;
+  }
+
+  /** Re-sends the truth (and acquisition) to a worker that does not have them (after a crash). */
+  private labReplay(): void {
+    if (this.labInWorker || !this.labTruthSource) return;
+    const src = this.labTruthSource;
+    const source: LabTruthSource = src.kind === 'file' ? { ...src, bytes: src.bytes.slice(0) } : src;
+    this.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source })).catch(() => undefined);
+    const acq = this.labAcquisition;
+    if (acq) this.request<LabAcquisition>((reqId) => ({ type: 'lab-simulate', reqId, acquisition: { ...acq } })).catch(() => undefined);
+    this.labInWorker = true;
+  }
+
+  private cancelBatch(runId: number): void {
+    if (!this.batches.has(runId)) return;
+    if (this.worker) this.post({ type: 'cancel', runId });
+    this.finishBatch(runId, { code: ErrorCodes.cancelled, message: 'the batch was cancelled' });
+  }
+
+  private finishBatch(runId: number, error: CoreErrorData | null): void {
+    const b = this.batches.get(runId);
+    if (!b) return;
+    this.batches.delete(runId);
+    if (error) {
+      b.started.reject(error);
+      b.reject(error);
+    } else {
+      b.resolve();
+    }
+  }
+
   /** Terminates the worker and rejects everything pending with `{ code: 'disposed' }`. */
   dispose(): void {
     if (this.disposed) return;
@@ -322,6 +455,28 @@ export class CoreClient {
       case 'frame':
         this.onFrameMessage(msg);
         break;
+      case 'lab-truth':
+        this.settleRequest(msg.reqId, true, msg.truth);
+        break;
+      case 'lab-simulated':
+        this.settleRequest(msg.reqId, true, msg.acquisition);
+        break;
+      case 'lab-compared':
+        this.settleRequest(msg.reqId, true, msg.comparison);
+        break;
+      case 'lab-batch-started':
+        this.batches.get(msg.runId)?.started.resolve(msg.info);
+        break;
+      case 'lab-progress':
+        try {
+          this.batches.get(msg.runId)?.onProgress(msg.progress);
+        } catch (e) {
+          console.error('CoreClient: onProgress threw', e);
+        }
+        break;
+      case 'lab-batch-done':
+        this.finishBatch(msg.runId, null);
+        break;
       case 'done':
         this.onDone(msg.result);
         break;
@@ -331,7 +486,10 @@ export class CoreClient {
           break;
         }
         if (msg.reqId !== undefined) this.settleRequest(msg.reqId, false, msg.error);
-        if (msg.runId !== undefined) this.finishRun(msg.runId, msg.error);
+        if (msg.runId !== undefined) {
+          this.finishRun(msg.runId, msg.error);
+          this.finishBatch(msg.runId, msg.error);
+        }
         if (msg.reqId === undefined && msg.runId === undefined) {
           // Not tied to a request: the worker could not start (e.g. the wasm failed to load).
           this.crash(msg.error.message, msg.error);
@@ -422,8 +580,10 @@ export class CoreClient {
     this.readyResolve = null;
     this.readyReject = null;
     this.workerFiles.clear();
+    this.labInWorker = false;
     worker?.terminate();
     for (const [reqId] of [...this.requests]) this.settleRequest(reqId, false, error);
     for (const runId of [...this.runs.keys()]) this.finishRun(runId, { ...error });
+    for (const runId of [...this.batches.keys()]) this.finishBatch(runId, { ...error });
   }
 }

@@ -138,6 +138,144 @@ export interface RunResult {
   version: string;
 }
 
+
+// ---------------------------------------------------------------------------------------------
+// Validation lab (issue 5; web/src/lab). Field names of reports follow the Rust structs.
+
+/** The built-in parametric LV (truncated prolate spheroid), mm and degrees; missing = defaults. */
+export interface ParametricLvSpec {
+  length_mm?: number;
+  radius_mm?: number;
+  base_radius_mm?: number;
+  /** Regional bulge: outward displacement at its centre (0 = none). */
+  bulge_mm?: number;
+  /** Height of the bulge centre, 0 = apex, 1 = base. */
+  bulge_height?: number;
+  bulge_angle_deg?: number;
+  bulge_width_mm?: number;
+}
+
+export type LabTruthSource =
+  | { kind: 'parametric'; lv: ParametricLvSpec }
+  | { kind: 'file'; fileName: string; bytes: ArrayBuffer };
+
+/** A simulated CMR acquisition: SAX count or spacing, LAX count (paper angles), misalignment, noise. */
+export interface AcquisitionSpec {
+  sax_count?: number;
+  sax_spacing_mm?: number;
+  lax_count?: number;
+  shift_mm?: number;
+  tilt_deg?: number;
+  noise_mm?: number;
+  seed?: number;
+}
+
+export interface LabTruth {
+  name: string;
+  vertices: number;
+  triangles: number;
+  volumeMl: number;
+  closed: boolean;
+  positions: Float32Array;
+  indices: Uint32Array;
+}
+
+export interface LabAcquisition {
+  sax: number;
+  lax: number;
+  points: number;
+  /** The most basal SAX plane (both surfaces are clipped there before measuring). */
+  clip: { origin: [number, number, number]; normal: [number, number, number] };
+  /** The contours as canonical CSV, loaded like a dropped file. */
+  csv: ArrayBuffer;
+}
+
+/** Mirror of the Rust `metrics::compare::DistanceStats`. */
+export interface DistanceStats {
+  mean: number;
+  median: number;
+  p95: number;
+  max: number;
+  max_at: [number, number, number];
+  min: number;
+  count: number;
+}
+
+/** Mirror of the Rust `metrics::compare::CompareReport`. */
+export interface CompareReport {
+  mesh_to_truth: DistanceStats;
+  truth_to_mesh: DistanceStats;
+  hausdorff: number;
+  volume_truth_ml: number;
+  volume_mesh_ml: number;
+  clipped: boolean;
+}
+
+export interface LabComparison {
+  report: CompareReport;
+  /** Per truth vertex, distance to the mesh, mm. */
+  truthDistances: Float32Array;
+}
+
+/** Which contours, surface and parameters a batch rebuilds. */
+export interface LabBatchBase {
+  fileName: string;
+  surface: string | null;
+  params: ParamValues;
+  lids: LidsMode;
+}
+
+/** Values per swept parameter (empty or missing: the base value). */
+export interface SweepGrid {
+  lambda?: number[];
+  smoothing_iterations?: number[];
+  target_reduction?: number[];
+  attractor_spacing?: number[];
+}
+
+export type LabBatchJob =
+  | ({ kind: 'loo' } & LabBatchBase)
+  | ({ kind: 'sweep'; grid: SweepGrid; withTruth: boolean } & LabBatchBase);
+
+export interface LabBatchInfo {
+  total: number;
+  /** Leave-one-out: the cleaned contours in item order, and their points (xyz mm). */
+  contours?: ContourInfo[];
+  points?: Float32Array;
+}
+
+/** One left-out contour: its points' distance to the mesh rebuilt without it. */
+export interface LooItem {
+  index: number;
+  id: string | null;
+  kind: ContourKindName;
+  stats: Stats | null;
+  error: string | null;
+}
+
+/** One point of the parameter sweep. */
+export interface SweepItem {
+  index: number;
+  lambda: number;
+  smoothing_iterations: number;
+  target_reduction: number;
+  attractor_spacing: number;
+  error: string | null;
+  contour_mean?: number;
+  contour_max?: number;
+  volume_ml?: number;
+  triangles?: number;
+  /** Mesh-to-truth mean and Hausdorff (mm), when swept with the truth. */
+  truth_mean?: number;
+  hausdorff?: number;
+}
+
+export interface LabProgress {
+  completed: number;
+  total: number;
+  item?: LooItem | SweepItem;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Messages
 
@@ -170,7 +308,33 @@ export interface SchemaRequest {
   reqId: number;
 }
 
-export type ToWorker = LoadRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest;
+export interface LabTruthRequest {
+  type: 'lab-truth';
+  reqId: number;
+  source: LabTruthSource;
+}
+export interface LabSimulateRequest {
+  type: 'lab-simulate';
+  reqId: number;
+  acquisition: AcquisitionSpec;
+}
+/** Positions and indices are copies: they are transferred to the worker. */
+export interface LabCompareRequest {
+  type: 'lab-compare';
+  reqId: number;
+  positions: Float32Array;
+  indices: Uint32Array;
+}
+/** Starts a batch under `runId` (cancelled with a 'cancel' of the same id). */
+export interface LabBatchRequest {
+  type: 'lab-batch';
+  runId: number;
+  job: LabBatchJob;
+}
+
+export type LabRequest = LabTruthRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
+
+export type ToWorker = LoadRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | LabRequest;
 
 export interface ReadyMessage {
   type: 'ready';
@@ -200,7 +364,46 @@ export interface SchemaMessage {
   version: string;
 }
 
+export interface LabTruthMessage {
+  type: 'lab-truth';
+  reqId: number;
+  truth: LabTruth;
+}
+export interface LabSimulatedMessage {
+  type: 'lab-simulated';
+  reqId: number;
+  acquisition: LabAcquisition;
+}
+export interface LabComparedMessage {
+  type: 'lab-compared';
+  reqId: number;
+  comparison: LabComparison;
+}
+export interface LabBatchStartedMessage {
+  type: 'lab-batch-started';
+  runId: number;
+  info: LabBatchInfo;
+}
+export interface LabProgressMessage {
+  type: 'lab-progress';
+  runId: number;
+  progress: LabProgress;
+}
+export interface LabBatchDoneMessage {
+  type: 'lab-batch-done';
+  runId: number;
+}
+
+export type LabMessage =
+  | LabTruthMessage
+  | LabSimulatedMessage
+  | LabComparedMessage
+  | LabBatchStartedMessage
+  | LabProgressMessage
+  | LabBatchDoneMessage;
+
 export type FromWorker =
+  | LabMessage
   | ReadyMessage
   | LoadedMessage
   | FrameMessage
@@ -300,12 +503,37 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       add(r.vertexDistances);
       break;
     }
+    case 'lab-truth':
+      if ('truth' in msg) {
+        add(msg.truth.positions);
+        add(msg.truth.indices);
+      } else if (msg.source.kind === 'file') {
+        add(msg.source.bytes);
+      }
+      break;
+    case 'lab-simulated':
+      add(msg.acquisition.csv);
+      break;
+    case 'lab-compare':
+      add(msg.positions);
+      add(msg.indices);
+      break;
+    case 'lab-compared':
+      add(msg.comparison.truthDistances);
+      break;
+    case 'lab-batch-started':
+      add(msg.info.points);
+      break;
     case 'run':
     case 'ack':
     case 'cancel':
     case 'schema':
     case 'ready':
     case 'error':
+    case 'lab-simulate':
+    case 'lab-batch':
+    case 'lab-progress':
+    case 'lab-batch-done':
       break;
     default:
       return assertNever(msg);
@@ -322,9 +550,16 @@ export function runIdOf(msg: FromWorker): number | undefined {
       return msg.result.runId;
     case 'error':
       return msg.runId;
+    case 'lab-batch-started':
+    case 'lab-progress':
+    case 'lab-batch-done':
+      return msg.runId;
     case 'ready':
     case 'loaded':
     case 'schema':
+    case 'lab-truth':
+    case 'lab-simulated':
+    case 'lab-compared':
       return undefined;
     default:
       return assertNever(msg);
@@ -341,6 +576,12 @@ export function isFromWorker(v: unknown): v is FromWorker {
     case 'done':
     case 'error':
     case 'schema':
+    case 'lab-truth':
+    case 'lab-simulated':
+    case 'lab-compared':
+    case 'lab-batch-started':
+    case 'lab-progress':
+    case 'lab-batch-done':
       return true;
     default:
       return false;
@@ -356,6 +597,10 @@ export function isToWorker(v: unknown): v is ToWorker {
     case 'ack':
     case 'cancel':
     case 'schema':
+    case 'lab-truth':
+    case 'lab-simulate':
+    case 'lab-compare':
+    case 'lab-batch':
       return true;
     default:
       return false;

@@ -4,8 +4,9 @@
  * handled in order. The only code that runs wasm; the main thread never does.
  */
 
-import init, { Session, schema_json, take_panic_message, version } from '../../pkg/heartmesh_wasm.js';
+import init, { Lab, Session, schema_json, take_panic_message, version } from '../../pkg/heartmesh_wasm.js';
 import { ErrorCodes, isToWorker, type FromWorker, type ToWorker } from './protocol';
+import type { LabApi } from './labWorker';
 import { WorkerCore, type WasmApi } from './workerCore';
 
 const scope = self as unknown as {
@@ -41,6 +42,7 @@ init()
       schemaJson: schema_json,
       version,
       takePanicMessage: () => take_panic_message() ?? undefined,
+      createLab: () => new Lab() as unknown as LabApi,
     };
     core = new WorkerCore(wasm, post, { yieldToEventLoop: makeTick(), now: () => performance.now() });
     post({ type: 'ready' }, []);

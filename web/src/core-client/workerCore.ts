@@ -28,6 +28,7 @@ import {
   type StepReport,
   type ToWorker,
 } from './protocol';
+import { LabWorker, type LabApi } from './labWorker';
 
 /** The part of the wasm `Session` (wasm-core/crates/heartmesh-wasm) the worker uses. */
 export interface SessionApi {
@@ -51,6 +52,8 @@ export interface WasmApi {
   version(): string;
   /** The message of the Rust panic that caused a trap, if any. */
   takePanicMessage(): string | undefined;
+  /** The validation lab's state (absent: lab requests fail with 'lab_unavailable'). */
+  createLab?(): LabApi;
 }
 
 export interface WorkerCoreOptions {
@@ -95,6 +98,7 @@ export class WorkerCore {
   private readonly maxInFlight: number;
   private run: ActiveRun | null = null;
   private crashed = false;
+  private readonly lab: LabWorker | null;
 
   constructor(
     private readonly wasm: WasmApi,
@@ -104,6 +108,15 @@ export class WorkerCore {
     this.session = wasm.createSession();
     this.sliceMs = options.sliceMs ?? 8;
     this.maxInFlight = options.maxInFlight ?? 2;
+    const labApi = wasm.createLab?.();
+    this.lab = labApi
+      ? new LabWorker(labApi, this.session, (m) => this.send(m), {
+          yieldToEventLoop: options.yieldToEventLoop,
+          now: options.now,
+          sliceMs: this.sliceMs,
+          fail: (e, runId) => this.fail(e, { runId }),
+        })
+      : null;
   }
 
   handle(msg: ToWorker): void {
@@ -118,7 +131,8 @@ export class WorkerCore {
     try {
       this.dispatch(msg);
     } catch (e) {
-      this.fail(e, idsOf(msg), msg.type === 'load' ? msg.fileName : undefined);
+      const file = msg.type === 'load' ? msg.fileName : msg.type === 'lab-truth' && msg.source.kind === 'file' ? msg.source.fileName : undefined;
+      this.fail(e, idsOf(msg), file);
     }
   }
 
@@ -143,6 +157,17 @@ export class WorkerCore {
         break;
       case 'cancel':
         if (this.run?.runId === msg.runId) this.stopRun();
+        else this.lab?.cancel(msg.runId);
+        break;
+      case 'lab-truth':
+      case 'lab-simulate':
+      case 'lab-compare':
+      case 'lab-batch':
+        if (!this.lab) {
+          this.send({ type: 'error', ...idsOf(msg), error: { code: 'lab_unavailable', message: 'this core has no validation lab' } });
+          break;
+        }
+        this.lab.handle(msg);
         break;
       default:
         assertNever(msg);
@@ -271,6 +296,7 @@ export class WorkerCore {
     }
     this.crashed = true;
     this.stopRun();
+    this.lab?.stop();
     const panic = safe(() => this.wasm.takePanicMessage());
     const detail = e instanceof Error ? `${e.name}: ${e.message}` : String(e);
     const error: CoreErrorData = {
@@ -297,10 +323,14 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
   switch (msg.type) {
     case 'load':
     case 'schema':
+    case 'lab-truth':
+    case 'lab-simulate':
+    case 'lab-compare':
       return { reqId: msg.reqId };
     case 'run':
     case 'ack':
     case 'cancel':
+    case 'lab-batch':
       return { runId: msg.runId };
     default:
       return assertNever(msg);

@@ -10,6 +10,7 @@
 mod clock;
 mod convert;
 mod errors;
+mod lab;
 mod panic;
 
 use std::collections::BTreeMap;
@@ -21,6 +22,7 @@ use heartmesh_core::{io, ContourSet, Params};
 use serde_json::json;
 use wasm_bindgen::prelude::*;
 
+pub use lab::Lab;
 pub use panic::take_panic_message;
 
 /// Runs when the module is instantiated.

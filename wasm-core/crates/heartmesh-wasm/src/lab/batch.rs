@@ -1,0 +1,325 @@
+//! Many reconstructions in a row, advanced one pipeline step per call so the worker can report
+//! progress and honour a cancel between steps: leave-one-out (Villard, Grau & Zacur, J. Imaging
+//! 2018, section 3.3, Figures 10-11: rebuild without contour j, measure contour j against the new
+//! mesh) and a parameter sweep (the same contours rebuilt over a small grid of parameters, each
+//! result measured against its contours and, when a truth is known, against the truth).
+//!
+//! The per-job measures are the core's (`metrics::points_to_mesh`, `metrics::compare`); this file
+//! only schedules the jobs and describes each finished one as JSON.
+
+use heartmesh_core::contours::{Contour, ContourKind, ContourSet};
+use heartmesh_core::error::{CoreError, Result};
+use heartmesh_core::metrics::compare::{compare, ClipPlane};
+use heartmesh_core::metrics::{points_to_mesh, stats};
+use heartmesh_core::pipeline::Reconstruction;
+use heartmesh_core::{Params, TriMesh};
+use serde_json::{json, Value};
+
+/// Largest sweep grid accepted (each point is a full reconstruction).
+pub const MAX_SWEEP_JOBS: usize = 256;
+
+/// The four swept parameters, in the order of the plot's axes.
+pub const SWEEP_NAMES: [&str; 4] = [
+    "lambda",
+    "smoothing_iterations",
+    "target_reduction",
+    "attractor_spacing",
+];
+
+enum Kind {
+    /// The contour left out of each job, with its kind.
+    LeaveOneOut {
+        left_out: Vec<(Contour, ContourKind)>,
+    },
+    /// Each job's swept values (in `SWEEP_NAMES` order), and the truth to measure against.
+    Sweep {
+        values: Vec<[f64; 4]>,
+        truth: Option<(TriMesh, Option<ClipPlane>)>,
+    },
+}
+
+struct Job {
+    contours: ContourSet,
+    params: Params,
+}
+
+/// A queue of reconstructions and the one in progress.
+pub struct Batch {
+    kind: Kind,
+    jobs: Vec<Job>,
+    next: usize,
+    current: Option<Reconstruction>,
+}
+
+/// What one call to [`Batch::step`] did.
+pub struct Progress {
+    /// Jobs finished so far.
+    pub completed: usize,
+    pub total: usize,
+    /// The job that just finished, described for the page.
+    pub item: Option<Value>,
+}
+
+impl Batch {
+    /// Leave-one-out over the cleaned contours of `set` (the surface `params` selects). Fails only
+    /// when the full set cannot be reconstructed.
+    pub fn leave_one_out(
+        set: &ContourSet,
+        params: &Params,
+    ) -> Result<(Batch, Vec<Contour>, Vec<ContourKind>)> {
+        let full = Reconstruction::new(set, params.clone())?;
+        let cleaned = full.contours().to_vec();
+        let kinds = full.kinds().to_vec();
+        drop(full);
+        let mut left_out = Vec::with_capacity(cleaned.len());
+        let mut jobs = Vec::with_capacity(cleaned.len());
+        for (j, c) in cleaned.iter().enumerate() {
+            let rest = ContourSet {
+                contours: cleaned
+                    .iter()
+                    .enumerate()
+                    .filter(|(k, _)| *k != j)
+                    .map(|(_, c)| c.clone())
+                    .collect(),
+                ..ContourSet::default()
+            };
+            jobs.push(Job {
+                contours: rest,
+                params: params.clone(),
+            });
+            left_out.push((c.clone(), kinds.get(j).copied().unwrap_or(ContourKind::Sax)));
+        }
+        let batch = Batch {
+            kind: Kind::LeaveOneOut { left_out },
+            jobs,
+            next: 0,
+            current: None,
+        };
+        Ok((batch, cleaned, kinds))
+    }
+
+    /// Every combination of `grid` (values per swept name; an empty list keeps `base`'s value).
+    /// Each combination is validated up front, so a bad value fails before any work.
+    pub fn sweep(
+        set: &ContourSet,
+        base: &Params,
+        grid: &[Vec<f64>; 4],
+        truth: Option<(TriMesh, Option<ClipPlane>)>,
+    ) -> Result<Batch> {
+        // Checks the contours once (and selects the surface) before queueing many jobs.
+        drop(Reconstruction::new(set, base.clone())?);
+        let axes: Vec<Vec<f64>> = SWEEP_NAMES
+            .iter()
+            .zip(grid)
+            .map(|(name, vals)| {
+                if vals.is_empty() {
+                    vec![base.get(name).unwrap_or(0.0)]
+                } else {
+                    vals.clone()
+                }
+            })
+            .collect();
+        let total: usize = axes.iter().map(Vec::len).product();
+        if total > MAX_SWEEP_JOBS {
+            return Err(CoreError::ParamInvalid {
+                name: "sweep".into(),
+                message: format!("{total} combinations; at most {MAX_SWEEP_JOBS}"),
+            });
+        }
+        let mut values = Vec::with_capacity(total);
+        let mut jobs = Vec::with_capacity(total);
+        for i in 0..total {
+            let mut rest = i;
+            let mut combo = [0.0; 4];
+            // The last axis varies fastest.
+            for (k, axis) in axes.iter().enumerate().rev() {
+                combo[k] = axis[rest % axis.len()];
+                rest /= axis.len();
+            }
+            let mut params = base.clone();
+            for (name, v) in SWEEP_NAMES.iter().zip(combo) {
+                params.set(name, v)?;
+            }
+            params.validate()?;
+            values.push(combo);
+            jobs.push(Job {
+                contours: set.clone(),
+                params,
+            });
+        }
+        Ok(Batch {
+            kind: Kind::Sweep { values, truth },
+            jobs,
+            next: 0,
+            current: None,
+        })
+    }
+
+    pub fn total(&self) -> usize {
+        self.jobs.len()
+    }
+
+    pub fn is_done(&self) -> bool {
+        self.current.is_none() && self.next >= self.jobs.len()
+    }
+
+    /// Starts the next job or advances the current one by one pipeline step. A job that fails
+    /// (e.g. too few contours once one is left out) is reported as an item with an error.
+    pub fn step(&mut self) -> Progress {
+        let mut item = None;
+        if let Some(rec) = self.current.as_mut() {
+            match rec.step() {
+                Ok(report) if report.done => {
+                    let index = self.next - 1;
+                    item = Some(self.describe(index, Ok(())));
+                    self.current = None;
+                }
+                Ok(_) => {}
+                Err(e) => {
+                    let index = self.next - 1;
+                    item = Some(self.describe(index, Err(e)));
+                    self.current = None;
+                }
+            }
+        } else if let Some(job) = self.jobs.get(self.next) {
+            let index = self.next;
+            self.next += 1;
+            match Reconstruction::new(&job.contours, job.params.clone()) {
+                Ok(rec) => self.current = Some(rec),
+                Err(e) => item = Some(self.describe(index, Err(e))),
+            }
+        }
+        let completed = self.next - usize::from(self.current.is_some());
+        Progress {
+            completed,
+            total: self.jobs.len(),
+            item,
+        }
+    }
+
+    /// The JSON item of job `index`, measured on the finished reconstruction (`self.current`).
+    fn describe(&self, index: usize, outcome: Result<()>) -> Value {
+        let rec = self.current.as_ref().filter(|_| outcome.is_ok());
+        let error = outcome.err().map(|e| e.to_string());
+        match &self.kind {
+            Kind::LeaveOneOut { left_out } => {
+                let (contour, kind) = match left_out.get(index) {
+                    Some((c, k)) => (Some(c), *k),
+                    None => (None, ContourKind::Sax),
+                };
+                let stats = rec.zip(contour).map(|(r, c)| {
+                    let pts: Vec<_> = c.points().copied().collect();
+                    stats(&points_to_mesh(&pts, r.mesh()))
+                });
+                json!({
+                    "index": index,
+                    "id": contour.map(|c| c.id.clone()),
+                    "kind": kind,
+                    "stats": stats,
+                    "error": error,
+                })
+            }
+            Kind::Sweep { values, truth } => {
+                let combo = values.get(index).copied().unwrap_or([f64::NAN; 4]);
+                let mut out = json!({
+                    "index": index,
+                    "lambda": combo[0],
+                    "smoothing_iterations": combo[1],
+                    "target_reduction": combo[2],
+                    "attractor_spacing": combo[3],
+                    "error": error,
+                });
+                if let Some(r) = rec {
+                    let mesh = r.mesh();
+                    out["contour_mean"] = json!(r.contour_distances().overall.mean);
+                    out["contour_max"] = json!(r.contour_distances().overall.max);
+                    out["volume_ml"] = json!(mesh.volume_ml());
+                    out["triangles"] = json!(mesh.triangles.len());
+                    if let Some((t, clip)) = truth {
+                        match compare(t, mesh, clip.as_ref()) {
+                            Ok(c) => {
+                                out["truth_mean"] = json!(c.mesh_to_truth.mean);
+                                out["hausdorff"] = json!(c.hausdorff);
+                            }
+                            Err(e) => out["error"] = json!(e.to_string()),
+                        }
+                    }
+                }
+                out
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use heartmesh_core::sim::shapes::ParametricLv;
+    use heartmesh_core::sim::{simulate, AcquisitionSpec, SaxStack};
+
+    fn lv_contours() -> ContourSet {
+        let truth = ParametricLv::default().mesh(64, 48).unwrap();
+        let spec = AcquisitionSpec {
+            sax: SaxStack::Count(5),
+            lax_count: 2,
+            ..AcquisitionSpec::default()
+        };
+        simulate(&truth, &spec).unwrap().contours
+    }
+
+    fn fast() -> Params {
+        let mut p = Params::default();
+        p.set("iterations", 40.0).unwrap();
+        p
+    }
+
+    fn drain(b: &mut Batch) -> Vec<Value> {
+        let mut items = Vec::new();
+        let mut guard = 0;
+        while !b.is_done() {
+            if let Some(i) = b.step().item {
+                items.push(i);
+            }
+            guard += 1;
+            assert!(guard < 100_000, "batch does not finish");
+        }
+        items
+    }
+
+    #[test]
+    fn leave_one_out_reports_every_contour() {
+        let set = lv_contours();
+        let (mut b, cleaned, kinds) = Batch::leave_one_out(&set, &fast()).unwrap();
+        assert_eq!(cleaned.len(), 7);
+        assert_eq!(kinds.iter().filter(|k| **k == ContourKind::Lax).count(), 2);
+        let items = drain(&mut b);
+        assert_eq!(items.len(), 7);
+        for (j, it) in items.iter().enumerate() {
+            assert_eq!(it["index"], j);
+            let mean = it["stats"]["mean"].as_f64().unwrap_or(f64::NAN);
+            // A smooth spheroid predicts its missing slices to within a couple of mm.
+            assert!(mean.is_finite() && mean < 3.0, "contour {j}: {it}");
+        }
+    }
+
+    #[test]
+    fn sweep_covers_the_grid_in_order() {
+        let set = lv_contours();
+        let grid = [vec![1e3, 1e5], vec![], vec![0.5, 0.72], vec![]];
+        let mut b = Batch::sweep(&set, &fast(), &grid, None).unwrap();
+        assert_eq!(b.total(), 4);
+        let items = drain(&mut b);
+        assert_eq!(items.len(), 4);
+        assert_eq!(items[1]["lambda"], 1e3);
+        assert_eq!(items[1]["target_reduction"], 0.72);
+        assert_eq!(items[2]["lambda"], 1e5);
+        for it in &items {
+            let m = it["contour_mean"].as_f64().unwrap();
+            assert!(m > 0.0 && m < 2.0, "{it}");
+        }
+        let too_big = [vec![1.0; 10], vec![1.0; 10], vec![0.5; 10], vec![]];
+        assert!(Batch::sweep(&set, &fast(), &too_big, None).is_err());
+        let bad = [vec![-1.0], vec![], vec![], vec![]];
+        assert!(Batch::sweep(&set, &fast(), &bad, None).is_err());
+    }
+}

@@ -1,0 +1,173 @@
+/**
+ * The worker side of the validation lab (issue 5): owns the wasm `Lab` (truth surface, simulated
+ * acquisition, comparison, batches) next to WorkerCore's `Session`, and serves the lab messages
+ * of the protocol. A batch (leave-one-out, parameter sweep: many full reconstructions) advances one
+ * pipeline step at a time in slices of a few milliseconds, yielding between slices so that a
+ * 'cancel' is seen within one step; progress goes out with every finished item and otherwise at
+ * most every `progressMs`. It runs beside a reconstruction run (the slices interleave).
+ *
+ * Errors are thrown to WorkerCore, which tells core errors (sent as data) from crashes.
+ */
+import {
+  assertNever,
+  type ContourInfo,
+  type FromWorker,
+  type LabBatchRequest,
+  type LabProgress,
+  type LabRequest,
+  type CompareReport,
+  type LabTruth,
+} from './protocol';
+
+/** The part of the wasm `Lab` (heartmesh-wasm/src/lab.rs) the worker uses. */
+export interface LabApi {
+  make_parametric(lvJson: string): string;
+  load_truth(fileName: string, bytes: Uint8Array): string;
+  truth_positions(): Float32Array;
+  truth_indices(): Uint32Array;
+  simulate(acquisitionJson: string): string;
+  simulated_csv(): Uint8Array;
+  compare(positions: Float32Array, indices: Uint32Array): string;
+  truth_distances(): Float32Array;
+  start_leave_one_out(session: unknown, fileName: string, surface: string | null | undefined, paramsJson: string, lids: string): string;
+  start_sweep(
+    session: unknown,
+    fileName: string,
+    surface: string | null | undefined,
+    paramsJson: string,
+    lids: string,
+    sweepJson: string,
+  ): string;
+  batch_step(): string;
+  stop_batch(): void;
+  batch_points(): Float32Array;
+}
+
+export interface LabWorkerOptions {
+  yieldToEventLoop: (callback: () => void) => void;
+  now: () => number;
+  sliceMs: number;
+  /** Least time between progress messages without a finished item. */
+  progressMs?: number;
+  /** Reports a failure of a batch step (WorkerCore decides whether it is a crash). */
+  fail: (e: unknown, runId: number) => void;
+}
+
+interface ActiveBatch {
+  runId: number;
+  finished: boolean;
+  lastProgressMs: number;
+}
+
+export class LabWorker {
+  private batch: ActiveBatch | null = null;
+
+  constructor(
+    private readonly lab: LabApi,
+    /** The wasm Session, whose loaded files batches rebuild. */
+    private readonly session: unknown,
+    private readonly send: (msg: FromWorker) => void,
+    private readonly options: LabWorkerOptions,
+  ) {}
+
+  /** Handles one lab request; throws what the wasm threw (WorkerCore reports it). */
+  handle(msg: LabRequest): void {
+    switch (msg.type) {
+      case 'lab-truth': {
+        const src = msg.source;
+        const infoJson =
+          src.kind === 'parametric'
+            ? this.lab.make_parametric(JSON.stringify(src.lv))
+            : this.lab.load_truth(src.fileName, new Uint8Array(src.bytes));
+        const info = JSON.parse(infoJson) as Omit<LabTruth, 'positions' | 'indices'>;
+        const truth: LabTruth = { ...info, positions: this.lab.truth_positions(), indices: this.lab.truth_indices() };
+        this.send({ type: 'lab-truth', reqId: msg.reqId, truth });
+        break;
+      }
+      case 'lab-simulate': {
+        const info = JSON.parse(this.lab.simulate(JSON.stringify(msg.acquisition))) as {
+          sax: number;
+          lax: number;
+          points: number;
+          clip: { origin: [number, number, number]; normal: [number, number, number] };
+        };
+        const csv = this.lab.simulated_csv();
+        const bytes = csv.buffer.byteLength === csv.byteLength ? (csv.buffer as ArrayBuffer) : csv.slice().buffer;
+        this.send({ type: 'lab-simulated', reqId: msg.reqId, acquisition: { ...info, csv: bytes } });
+        break;
+      }
+      case 'lab-compare': {
+        const report = JSON.parse(this.lab.compare(msg.positions, msg.indices)) as CompareReport;
+        this.send({ type: 'lab-compared', reqId: msg.reqId, comparison: { report, truthDistances: this.lab.truth_distances() } });
+        break;
+      }
+      case 'lab-batch':
+        this.startBatch(msg);
+        break;
+      default:
+        assertNever(msg);
+    }
+  }
+
+  /** True when `runId` was this worker's batch (then it is stopped). */
+  cancel(runId: number): boolean {
+    if (this.batch?.runId !== runId) return false;
+    this.stop();
+    return true;
+  }
+
+  stop(): void {
+    if (this.batch) {
+      this.batch.finished = true;
+      this.lab.stop_batch();
+    }
+    this.batch = null;
+  }
+
+  private startBatch(msg: LabBatchRequest): void {
+    this.stop();
+    const j = msg.job;
+    const params = JSON.stringify(j.params);
+    const infoJson =
+      j.kind === 'loo'
+        ? this.lab.start_leave_one_out(this.session, j.fileName, j.surface, params, j.lids)
+        : this.lab.start_sweep(this.session, j.fileName, j.surface, params, j.lids, JSON.stringify({ grid: j.grid, with_truth: j.withTruth }));
+    const info = JSON.parse(infoJson) as { total: number; contours?: ContourInfo[] };
+    const batch: ActiveBatch = { runId: msg.runId, finished: false, lastProgressMs: this.options.now() };
+    this.batch = batch;
+    this.send({
+      type: 'lab-batch-started',
+      runId: msg.runId,
+      info: j.kind === 'loo' ? { ...info, points: this.lab.batch_points() } : { total: info.total },
+    });
+    this.options.yieldToEventLoop(() => this.compute(batch));
+  }
+
+  private compute(batch: ActiveBatch): void {
+    if (batch.finished || this.batch !== batch) return;
+    const end = this.options.now() + this.options.sliceMs;
+    try {
+      do {
+        const p = JSON.parse(this.lab.batch_step()) as LabProgress & { done: boolean };
+        const now = this.options.now();
+        const progress: LabProgress = { completed: p.completed, total: p.total };
+        if (p.item) progress.item = p.item;
+        if (p.item || p.done || now - batch.lastProgressMs >= (this.options.progressMs ?? 100)) {
+          batch.lastProgressMs = now;
+          this.send({ type: 'lab-progress', runId: batch.runId, progress });
+        }
+        if (p.done) {
+          this.batch = null;
+          batch.finished = true;
+          this.send({ type: 'lab-batch-done', runId: batch.runId });
+          return;
+        }
+      } while (this.options.now() < end);
+    } catch (e) {
+      this.stop();
+      this.options.fail(e, batch.runId);
+      return;
+    }
+    this.options.yieldToEventLoop(() => this.compute(batch));
+  }
+}
