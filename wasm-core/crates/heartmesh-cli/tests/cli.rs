@@ -247,7 +247,10 @@ fn reconstruct_surfco_at_defaults() {
     let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
     assert_eq!(r["watertight"], true, "{r}");
     assert_eq!(r["manifold"], true);
-    assert_eq!(r["iterations"], 250);
+    // 250 at most; the method's stop rule (max attractor distance^2 < 1e-5 in normalised units)
+    // may end the run a few iterations early once no remesh is left to disturb it (SurFCo: 244).
+    let iterations = num(&r, &["iterations"]);
+    assert!((200.0..=250.0).contains(&iterations), "{iterations}");
     assert_eq!(r["version"], env!("CARGO_PKG_VERSION"));
     assert_eq!(r["parameters"]["lambda"], 1e5);
     let mean = num(&r, &["contour_to_mesh", "mean"]);

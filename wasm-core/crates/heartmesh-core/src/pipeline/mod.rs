@@ -316,6 +316,8 @@ impl Reconstruction {
             )));
         }
         let lids = tube::lids(&self.params.lids, &rings, &self.contours, &self.layout);
+        let mut rings = rings;
+        tube::extend_to_base(&mut rings, &lids, &self.layout.axis);
         let mut mesh = tube::ruled_tube(&rings, &lids);
         for p in &mut mesh.positions {
             *p = self.norm.to_unit(p);

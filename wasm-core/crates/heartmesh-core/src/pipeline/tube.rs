@@ -81,6 +81,28 @@ pub fn lids(mode: &LidMode, rings: &[Vec<Vec3>], contours: &[Contour], layout: &
     }
 }
 
+/// Share of the way from the most basal ring to the base lid at which [`extend_to_base`] adds a ring.
+/// Below 1 so the lid stays a shallow cone rather than a flat fan folded at the rim (measured in
+/// docs/VALIDATION.md: 0.5, 0.9 and 1.0 all lower the LV means; 0.9 kept the maxima lowest).
+const BASE_RING_FRACTION: f64 = 0.9;
+
+/// Where the long-axis curves run on above the most basal short-axis ring (open LV curves reach the
+/// valve plane, often 10-20 mm higher), the wall there is nearly parallel to the axis, not a cone
+/// closing on the lid: the tube gets one more ring, the basal ring moved up most of the way to the
+/// lid, so the initial mesh already has that wall and the deformation only has to refine it.
+pub fn extend_to_base(rings: &mut Vec<Vec<Vec3>>, lids: &Lids, z: &Vec3) {
+    let (Some(base), Some(last)) = (lids.base, rings.last()) else {
+        return;
+    };
+    let gap = (base - centroid(last)).dot(z);
+    if !(gap.is_finite() && gap > 0.0) {
+        return;
+    }
+    let shift = z * (gap * BASE_RING_FRACTION);
+    let ring: Vec<Vec3> = last.iter().map(|p| p + shift).collect();
+    rings.push(ring);
+}
+
 /// Triangulates consecutive rings (all of the same length, counter-clockwise about the axis, apex to
 /// base) two triangles per quad, with fan lids; faces point outwards.
 pub fn ruled_tube(rings: &[Vec<Vec3>], lids: &Lids) -> TriMesh {
@@ -116,6 +138,41 @@ pub fn ruled_tube(rings: &[Vec<Vec3>], lids: &Lids) -> TriMesh {
 mod tests {
     use super::*;
     use crate::geometry::v3;
+
+    #[test]
+    fn base_ring_added_below_a_high_lid_only() {
+        let ring: Vec<Vec3> = (0..8)
+            .map(|i| {
+                let a = i as f64 / 8.0 * std::f64::consts::TAU;
+                v3(10.0 * a.cos(), 10.0 * a.sin(), 0.0)
+            })
+            .collect();
+        let z = v3(0.0, 0.0, 1.0);
+        let mut rings = vec![ring.clone()];
+        let high = Lids {
+            apex: None,
+            base: Some(v3(0.0, 0.0, 20.0)),
+        };
+        extend_to_base(&mut rings, &high, &z);
+        assert_eq!(rings.len(), 2);
+        assert!((rings[1][3] - (ring[3] + z * 18.0)).norm() < 1e-12);
+        // A lid at the ring's height (no LAX above it) or none: unchanged.
+        let mut rings = vec![ring.clone()];
+        let flat = Lids {
+            apex: None,
+            base: Some(v3(0.0, 0.0, 0.0)),
+        };
+        extend_to_base(&mut rings, &flat, &z);
+        extend_to_base(
+            &mut rings,
+            &Lids {
+                apex: None,
+                base: None,
+            },
+            &z,
+        );
+        assert_eq!(rings.len(), 1);
+    }
 
     #[test]
     fn closed_tube_has_outward_faces_and_right_counts() {
