@@ -186,6 +186,29 @@ describe('heartmesh in the browser', () => {
     await page.screenshot({ path: join(SHOTS, 'surfco-example.png') });
   });
 
+  it('opens a DICOM RT structure set in the worker and draws its 23 landmarks (biv-me patient 1)', async () => {
+    const file = join(ROOT, 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'patient1-ED-rtstruct.dcm');
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', file));
+    const r = await readResult(page);
+    console.log(`# patient1-ED-rtstruct.dcm: ${r.vertices} vertices, mean ${r.meanMm.toFixed(3)} mm`);
+    assert.ok(r.meanMm > 0 && r.meanMm <= 1, `mean ${r.meanMm} mm`);
+    // ROI names are the surfaces; the default pick is LV_ENDO.
+    const surfaces = await page.$$eval('[data-testid=surface-picker] option', (os) => os.map((o) => o.value));
+    assert.deepEqual([...surfaces].sort(), ['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']);
+    // POINT ROIs: 23 landmarks drawn (6 mitral, 2 tricuspid, 2 aortic, 2 pulmonary, 1 apex, 10 RV inserts).
+    const legend = page.locator('[data-testid=landmark-legend]');
+    assert.equal(await legend.getAttribute('data-count'), '23');
+    assert.equal(await legend.isVisible(), true);
+    assert.match((await legend.textContent()) ?? '', /APEX_POINT/);
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SHOTS, 'rtstruct-landmarks.png') });
+    // The toggle hides the points and the legend.
+    await page.click('[data-testid=view-landmarks]');
+    assert.equal(await legend.isVisible(), false);
+    await page.click('[data-testid=view-landmarks]');
+    assert.equal(await legend.isVisible(), true);
+  });
+
   it('a bad file shows an error naming file and line, and the app stays usable', async () => {
     await page.setInputFiles('[data-testid=file-input]', {
       name: 'broken.csv', mimeType: 'text/csv',

@@ -223,6 +223,7 @@ export class Controller {
     this.parts.warnings.hidden = warnings.length === 0;
     this.clearRunDisplay();
     this.showContours(null);
+    this.parts.viewer?.landmarkLayer.set(file.landmarks);
     this.frameSurface(file);
     this.updateUrl();
   }
@@ -435,6 +436,7 @@ export class Controller {
     viewer.meshLayer.setWireframe(this.view.wireframe);
     viewer.meshLayer.setOpacity(this.view.opacity);
     viewer.attractorLayer.setVisible(this.view.attractors);
+    viewer.landmarkLayer.setVisible(this.view.landmarks);
     viewer.setClip(this.view.clip);
     viewer.requestRender();
   }

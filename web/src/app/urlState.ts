@@ -9,6 +9,8 @@ import type { LidsMode, ParamSpec, ParamValues } from '../core-client/protocol';
 export interface ViewSettings {
   wireframe: boolean;
   attractors: boolean;
+  /** Landmark points (valves, apex, ...) of the file, when it has any. */
+  landmarks: boolean;
   opacity: number;
   /** Clipping plane position in [0, 1] of the model's extent along the view axis; 1 = off. */
   clip: number;
@@ -23,7 +25,7 @@ export interface UrlState {
   view: ViewSettings;
 }
 
-export const DEFAULT_VIEW: ViewSettings = { wireframe: false, attractors: true, opacity: 1, clip: 1 };
+export const DEFAULT_VIEW: ViewSettings = { wireframe: false, attractors: true, landmarks: true, opacity: 1, clip: 1 };
 
 export function defaultParams(schema: readonly ParamSpec[]): ParamValues {
   const out: ParamValues = {};
@@ -71,6 +73,7 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
     view: {
       wireframe: parseBool(q.get('wireframe'), DEFAULT_VIEW.wireframe),
       attractors: parseBool(q.get('attractors_shown'), DEFAULT_VIEW.attractors),
+      landmarks: parseBool(q.get('landmarks_shown'), DEFAULT_VIEW.landmarks),
       opacity: opacity === null ? DEFAULT_VIEW.opacity : Math.min(1, Math.max(0.05, opacity)),
       clip: clip === null ? DEFAULT_VIEW.clip : Math.min(1, Math.max(0, clip)),
     },
@@ -90,6 +93,7 @@ export function serializeUrlState(state: UrlState, schema: readonly ParamSpec[])
   const view = state.view;
   if (view.wireframe !== DEFAULT_VIEW.wireframe) q.set('wireframe', view.wireframe ? '1' : '0');
   if (view.attractors !== DEFAULT_VIEW.attractors) q.set('attractors_shown', view.attractors ? '1' : '0');
+  if (view.landmarks !== DEFAULT_VIEW.landmarks) q.set('landmarks_shown', view.landmarks ? '1' : '0');
   if (view.opacity !== DEFAULT_VIEW.opacity) q.set('opacity', formatParam(view.opacity));
   if (view.clip !== DEFAULT_VIEW.clip) q.set('clip', formatParam(view.clip));
   const text = q.toString();

@@ -7,7 +7,7 @@ import { h } from '../ui/dom';
 import { SAMPLES, type Sample } from './samples';
 
 /** The contour formats the core reads (canonical CSV first; see README "Files"). */
-export const ACCEPT = '.csv,.txt,.tsv,.dat,.xyz,.vtk,.vtp,.mat,.json,text/csv,text/plain';
+export const ACCEPT = '.csv,.txt,.tsv,.dat,.xyz,.vtk,.vtp,.mat,.json,.dcm,text/csv,text/plain,application/dicom';
 
 export interface FileBarHandlers {
   openFiles(files: File[]): void;

@@ -6,6 +6,7 @@
  */
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { LandmarkLayer } from './LandmarkLayer';
 import { AttractorLayer } from './AttractorLayer';
 import { ContourLayer, warmupGeometry } from './ContourLayer';
 import { fitView, type ViewFit } from './fitView';
@@ -43,6 +44,7 @@ export class Viewer {
   readonly meshLayer: MeshLayer;
   readonly contourLayer = new ContourLayer();
   readonly attractorLayer = new AttractorLayer();
+  readonly landmarkLayer = new LandmarkLayer();
   /** Clipping plane facing the camera; `clip` in [0, 1] moves it through the model (1 = off). */
   private readonly clipPlane = new THREE.Plane(new THREE.Vector3(0, 0, -1), 1e6);
   private clip = 1;
@@ -76,7 +78,7 @@ export class Viewer {
     container.append(this.renderer.domElement);
 
     this.meshLayer = new MeshLayer([this.clipPlane]);
-    this.scene.add(this.meshLayer.group, this.contourLayer.group, this.attractorLayer.group);
+    this.scene.add(this.meshLayer.group, this.contourLayer.group, this.attractorLayer.group, this.landmarkLayer.group);
     this.scene.add(new THREE.HemisphereLight(0xdde6f0, 0x30261f, 1.3));
     const key = new THREE.DirectionalLight(0xffffff, 1.6);
     key.position.set(1, 1.2, 1.5);
@@ -290,6 +292,7 @@ export class Viewer {
     this.meshLayer.dispose();
     this.contourLayer.dispose();
     this.attractorLayer.dispose();
+    this.landmarkLayer.dispose();
     this.renderer.dispose();
     this.renderer.domElement.remove();
   }

@@ -9,8 +9,9 @@ use crate::error::CliError;
 use crate::files;
 
 pub const USAGE: &str = "heartmesh convert IN OUT [--frame N] [--ascii] [--quiet]
-    contours (csv, GPFile txt, xyz txt, vtk/vtp lines, SurFCo .mat, session json)
-      -> OUT.csv (canonical CSV), OUT.json (heartmesh session), OUT.vtk|.vtp (polylines)
+    contours (csv, GPFile txt, xyz txt, vtk/vtp lines, SurFCo .mat, session json, DICOM RTSTRUCT)
+      -> OUT.csv (canonical CSV), OUT.json (heartmesh session), OUT.vtk|.vtp (polylines),
+         OUT.dcm (DICOM RT structure set, one ROI per surface)
     meshes (obj, stl, ply, vtk, vtp) -> OUT.obj|.stl|.ply|.vtk|.vtp  (--ascii: ASCII STL)";
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
@@ -31,10 +32,10 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let out_ext = io::extension(output);
     let comment = format!("converted from {}", file_name(input));
     let format = MeshFormat::from_path(output);
-    let contour_out = matches!(out_ext.as_str(), "csv" | "json");
+    let contour_out = matches!(out_ext.as_str(), "csv" | "json" | "dcm");
     if format.is_none() && !contour_out {
         return Err(CliError::usage(format!(
-            "cannot tell the output format of {output} (contours: .csv .json .vtk .vtp; meshes: .obj .stl .ply .vtk .vtp)"
+            "cannot tell the output format of {output} (contours: .csv .json .vtk .vtp .dcm; meshes: .obj .stl .ply .vtk .vtp)"
         )));
     }
     // .vtk and .vtp hold either: a mesh when the input is one, else contour polylines.
@@ -58,7 +59,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         }
     } else if format.is_some() && !lines_ok {
         return Err(CliError::usage(format!(
-            "{input} is not a mesh file (obj, stl, ply, vtk, vtp); contours convert to .csv .json .vtk .vtp"
+            "{input} is not a mesh file (obj, stl, ply, vtk, vtp); contours convert to .csv .json .vtk .vtp .dcm"
         )));
     }
     let frame = contours::frame_flag(p.value("frame"))?;
@@ -75,6 +76,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             let params = loaded.session_params.unwrap_or_default();
             io::session::write_session(&set, &params, heartmesh_core::VERSION)
         }
+        "dcm" => io::rtstruct::write_rtstruct(&set, stem(input)),
         ext => Ok(io::write_contour_lines(&set, ext == "vtp", &comment)),
     }
     .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
@@ -112,6 +114,12 @@ fn write_mesh(
         );
     }
     Ok(())
+}
+
+/// File name without its extension (the RT structure set label).
+fn stem(path: &str) -> &str {
+    let name = file_name(path);
+    name.rsplit_once('.').map_or(name, |(s, _)| s)
 }
 
 /// The last path component, for headers (full paths may be private).

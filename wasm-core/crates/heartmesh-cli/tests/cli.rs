@@ -412,3 +412,63 @@ fn failure_after_a_warning_is_still_one_line() {
     assert!(err.contains("(warning: coordinates span 0.0"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// DICOM RTSTRUCT in and out: the committed sample (biv-me patient 1, ED) converts to CSV with
+/// every point, reconstructs by ROI name, and CSV converts back to an RT structure set.
+#[test]
+fn rtstruct_convert_and_reconstruct() {
+    let dir = scratch("rtstruct");
+    let dcm = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../heartmesh-core/tests/data/patient1-ED-rtstruct.dcm");
+    let csv = dir.join("p1.csv");
+    let (code, out, err) = run(bin().args(["convert", s(&dcm), s(&csv)]));
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("40 contours, 1791 points, 23 landmarks"),
+        "{out}"
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    // The 441 LV_ENDO points of patient1-ED.csv, plus the repeated first point the CSV writer
+    // adds to each of the 6 closed LV_ENDO pieces.
+    assert_eq!(
+        text.lines().filter(|l| l.ends_with(",LV_ENDO")).count(),
+        447
+    );
+    let back = dir.join("back.dcm");
+    let (code, out, err) = run(bin().args(["convert", s(&csv), s(&back)]));
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("40 contours, 1791 points"), "{out}");
+    let (code, _, err) = run(bin().args(["reconstruct", s(&dcm), "-o", s(&dir.join("m.obj"))]));
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("choose one of: RV_ENDO, RV_EPI, LV_EPI, LV_ENDO"),
+        "{err}"
+    );
+    let report = dir.join("r.json");
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        s(&back),
+        "-o",
+        s(&dir.join("m.obj")),
+        "--surface",
+        "LV_ENDO",
+        "--iterations",
+        "60",
+        "--report",
+        s(&report),
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["input_format"], "DICOM RTSTRUCT");
+    assert_eq!(r["watertight"], true, "{r}");
+    assert!(num(&r, &["contour_to_mesh", "mean"]) <= 1.5, "{r}");
+    // A DICOM file that is not an RT structure set: exit 2, one line naming the file.
+    let bad = dir.join("bad.dcm");
+    std::fs::write(&bad, b"\x08\x00\x05\x00garbage that is no DICOM").unwrap();
+    let (code, _, err) = run(bin().args(["convert", s(&bad), s(&csv)]));
+    assert_eq!(code, 2);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("bad.dcm") && err.contains("declares"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

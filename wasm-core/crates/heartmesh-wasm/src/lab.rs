@@ -10,7 +10,6 @@ mod spec;
 
 use heartmesh_core::contours::ContourSet;
 use heartmesh_core::error::CoreError;
-use heartmesh_core::geometry::Vec3;
 use heartmesh_core::io;
 use heartmesh_core::mesh::topology;
 use heartmesh_core::metrics::compare::{compare, vertex_distances, ClipPlane};
@@ -271,32 +270,10 @@ impl Lab {
     }
 }
 
-/// A mesh from flat buffers, refusing what would mislead the measures.
+/// A mesh from flat buffers, refusing what would mislead the measures (the core's checks, which
+/// the `mesh_from_buffers` fuzz target covers).
 fn mesh_from_buffers(positions: &[f32], indices: &[u32]) -> heartmesh_core::error::Result<TriMesh> {
-    let n = positions.len() / 3;
-    if !positions.len().is_multiple_of(3) || !indices.len().is_multiple_of(3) || indices.is_empty()
-    {
-        return Err(CoreError::Degenerate(
-            "mesh buffers are not whole triangles".into(),
-        ));
-    }
-    if indices.iter().any(|&i| i as usize >= n) {
-        return Err(CoreError::Degenerate(
-            "mesh index past the last vertex".into(),
-        ));
-    }
-    if positions.iter().any(|v| !v.is_finite()) {
-        return Err(CoreError::Degenerate("mesh has non-finite vertices".into()));
-    }
-    let pts = positions
-        .chunks_exact(3)
-        .map(|c| Vec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
-        .collect();
-    let tris = indices
-        .chunks_exact(3)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect();
-    Ok(TriMesh::new(pts, tris))
+    heartmesh_core::io::mesh_from_buffers(positions, indices)
 }
 
 /// `{grid, with_truth}` of [`Lab::start_sweep`].

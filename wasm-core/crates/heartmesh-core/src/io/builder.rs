@@ -77,6 +77,41 @@ impl ContourBuilder {
         Ok(())
     }
 
+    /// Appends a whole piece at once. `ring` is the file's own statement (DICOM's geometric type)
+    /// when it has one; `None` leaves the decision to the end-point heuristic of
+    /// [`polyline_from_run`]. The piece always ends here: a following piece with the same
+    /// identifier becomes another piece of the same contour.
+    pub fn push_piece(
+        &mut self,
+        id: &str,
+        surface: Option<&str>,
+        points: Vec<Vec3>,
+        ring: Option<bool>,
+        line: usize,
+    ) -> Result<()> {
+        self.break_run();
+        for &p in &points {
+            self.push(id, surface, p, line)?;
+        }
+        let run = std::mem::take(&mut self.run);
+        if run.is_empty() {
+            return Ok(());
+        }
+        let mut piece = polyline_from_run(run);
+        if let Some(ring) = ring {
+            if !ring && !piece.closed && piece.points.len() + 1 == points.len() {
+                // The heuristic dropped a repeated end point of a curve declared open: keep it.
+                piece.points = points;
+            }
+            piece.closed = ring && piece.points.len() >= 3;
+        }
+        if let Some(c) = self.current.and_then(|i| self.contours.get_mut(i)) {
+            c.pieces.push(piece);
+        }
+        self.current = None;
+        Ok(())
+    }
+
     /// Ends the current run: the next point starts a new piece even with the same identifier.
     pub fn break_run(&mut self) {
         self.flush();

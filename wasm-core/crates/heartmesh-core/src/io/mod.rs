@@ -4,12 +4,15 @@
 //! worker unchanged) and returns [`CoreError::Parse`] with a 1-based line on bad input; none may
 //! panic. Format detection looks at the content first and the file extension second.
 
+mod buffers;
 mod builder;
 pub mod csv;
+mod dicom_scan;
 pub mod gpfile;
 pub mod mat;
 pub mod obj;
 pub mod ply;
+pub mod rtstruct;
 pub mod session;
 #[cfg(test)]
 mod smoke;
@@ -19,6 +22,7 @@ pub mod vtk;
 pub mod vtp;
 pub mod xyz;
 
+pub use buffers::mesh_from_buffers;
 pub use builder::{polyline_from_run, MAX_POINTS};
 
 use crate::contours::ContourSet;
@@ -53,6 +57,8 @@ pub enum ContourFormat {
     Mat,
     /// heartmesh session JSON.
     Session,
+    /// DICOM RT Structure Set (ROI names as surfaces).
+    Rtstruct,
 }
 
 impl ContourFormat {
@@ -65,6 +71,7 @@ impl ContourFormat {
             ContourFormat::VtpLines => "VTP lines",
             ContourFormat::Mat => "MATLAB MAT-file",
             ContourFormat::Session => "heartmesh session",
+            ContourFormat::Rtstruct => "DICOM RTSTRUCT",
         }
     }
 }
@@ -132,6 +139,9 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     if mat::is_mat(bytes) {
         return ContourFormat::Mat;
     }
+    if rtstruct::is_dicom(bytes) {
+        return ContourFormat::Rtstruct;
+    }
     if starts(b"# vtk DataFile") {
         return ContourFormat::VtkLines;
     }
@@ -158,6 +168,7 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
         "vtp" => ContourFormat::VtpLines,
         "json" => ContourFormat::Session,
         "xyz" => ContourFormat::Xyz,
+        "dcm" | "dicom" => ContourFormat::Rtstruct,
         // CSV also reports the clearest errors for unknown text (header missing, ...).
         _ => ContourFormat::Csv,
     }
@@ -218,6 +229,7 @@ pub fn read_contours_with(
         ContourFormat::VtpLines => vtp::read_vtp_contours(bytes),
         ContourFormat::Mat => mat::read_mat(bytes),
         ContourFormat::Session => session::read_session(bytes).map(|s| s.contours),
+        ContourFormat::Rtstruct => rtstruct::read_rtstruct(bytes),
     }
 }
 
@@ -270,11 +282,19 @@ pub fn write_mesh(
 }
 
 /// Contours as polylines (one line cell per piece; rings repeat their first point so that they
-/// read back closed) for VTK-based viewers: legacy VTK (`vtp == false`) or VTP.
+/// read back closed) for VTK-based viewers: legacy VTK (`vtp == false`) or VTP. Each cell carries
+/// its contour's identifier and surface as cell data, so that our readers give back the same
+/// contours (pieces joined again by identifier).
 pub fn write_contour_lines(set: &ContourSet, vtp: bool, header_comment: &str) -> Vec<u8> {
     let mut points = Vec::with_capacity(set.point_count());
     let mut cells: Vec<Vec<u32>> = Vec::new();
-    for piece in set.contours.iter().flat_map(|c| c.pieces.iter()) {
+    let mut labels: Vec<(&str, &str)> = Vec::new();
+    for (c, piece) in set
+        .contours
+        .iter()
+        .flat_map(|c| c.pieces.iter().map(move |p| (c, p)))
+    {
+        labels.push((c.id.as_str(), c.surface.as_deref().unwrap_or("")));
         let start = points.len() as u32;
         points.extend_from_slice(&piece.points);
         let mut cell: Vec<u32> = (start..points.len() as u32).collect();
@@ -284,9 +304,9 @@ pub fn write_contour_lines(set: &ContourSet, vtp: bool, header_comment: &str) ->
         cells.push(cell);
     }
     if vtp {
-        vtp::write_lines(&points, &cells, header_comment)
+        vtp::write_lines(&points, &cells, &labels, header_comment)
     } else {
-        vtk::write_lines(&points, &cells, header_comment)
+        vtk::write_lines(&points, &cells, &labels, header_comment)
     }
 }
 
@@ -438,16 +458,49 @@ mod tests {
         let rel = "contours/bivme-example-patient1/patient1-ED.csv";
         let set = read_contours(rel, &sample(rel)).unwrap();
         let pieces: Vec<_> = set.contours.iter().flat_map(|c| c.pieces.iter()).collect();
+        assert!(
+            pieces.len() > set.contours.len(),
+            "some contours have several pieces"
+        );
         for (vtp, name) in [(false, "c.vtk"), (true, "c.vtp")] {
             let bytes = write_contour_lines(&set, vtp, "patient1 ED");
             let back = read_contours(name, &bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
-            // One contour per piece, same points in the same order, same ring/open status.
+            // Lossless: same identifiers, surfaces, pieces, points and ring/open status.
+            assert_eq!(back.contours.len(), 40, "{name}");
+            assert_eq!(back.surfaces(), set.surfaces(), "{name}");
+            for (b, c) in back.contours.iter().zip(&set.contours) {
+                assert_eq!(b.id, c.id, "{name}");
+                assert_eq!(b.surface, c.surface, "{name} {}", c.id);
+                assert_eq!(b.pieces, c.pieces, "{name} {}", c.id);
+            }
+            // Without the labels (files from other tools) every cell is a contour of its own.
+            let text = String::from_utf8(bytes).unwrap();
+            let cut = text
+                .find(if vtp { "<CellData>" } else { "CELL_DATA" })
+                .unwrap();
+            let bare = if vtp {
+                format!("{}</Piece>\n</PolyData>\n</VTKFile>\n", &text[..cut])
+            } else {
+                text[..cut].to_string()
+            };
+            let back = read_contours(name, bare.as_bytes()).unwrap();
             assert_eq!(back.contours.len(), pieces.len(), "{name}");
+            assert_eq!(back.contours[0].id, "line1");
             for (c, p) in back.contours.iter().zip(&pieces) {
                 assert_eq!(c.pieces.len(), 1);
                 assert_eq!(c.pieces[0].closed, p.closed, "{name} {}", c.id);
                 assert_eq!(c.pieces[0].points, p.points, "{name} {}", c.id);
             }
+        }
+        // Awkward identifiers survive: spaces, percent signs, non-ASCII, no surface.
+        let mut odd = set.clone();
+        odd.contours[0].id = "slice 3 % endo µ".into();
+        odd.contours[1].surface = None;
+        for (vtp, name) in [(false, "c.vtk"), (true, "c.vtp")] {
+            let back = read_contours(name, &write_contour_lines(&odd, vtp, "")).unwrap();
+            assert_eq!(back.contours[0].id, "slice 3 % endo µ", "{name}");
+            assert_eq!(back.contours[1].surface, None, "{name}");
+            assert_eq!(back.contours[2].surface, odd.contours[2].surface, "{name}");
         }
     }
 

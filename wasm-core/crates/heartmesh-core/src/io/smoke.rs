@@ -195,9 +195,20 @@ fn contour_readers_survive_mutations() {
     run("mat", &[mat[..4096].to_vec(), plain], |b| {
         let _ = mat::read_mat(b);
     });
+    // DICOM RTSTRUCT: a few biv-me contours and a landmark, with and without the preamble.
+    let mut few =
+        csv::read_csv(&head("contours/bivme-example-patient1/patient1-ED.csv", 40)).unwrap();
+    few.landmarks
+        .push(("APEX_POINT".into(), Vec3::new(1.0, 2.0, 3.0)));
+    let dcm = rtstruct::write_rtstruct(&few, "smoke").unwrap();
+    let rt = vec![dcm.clone(), dcm[128..].to_vec()];
+    run("rtstruct", &rt, |b| {
+        let _ = rtstruct::read_rtstruct(b);
+    });
     // And the detecting entry point over all of them.
     let mut all: Vec<Vec<u8>> = csv.into_iter().chain(gp).chain(xyz).chain(vtk).collect();
     all.extend(session);
+    all.extend(rt);
     run("detect", &all, |b| {
         let _ = read_contours("x.txt", b);
     });

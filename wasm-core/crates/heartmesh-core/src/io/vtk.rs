@@ -21,6 +21,39 @@ pub struct PolyData {
     pub point_scalars: Option<(String, Vec<f64>)>,
     /// 1-based line where each line cell's data starts (ASCII), for messages.
     pub lines_at: usize,
+    /// Number of VERTICES cells (they come first in the cell data order).
+    pub verts: usize,
+    /// String arrays of CELL_DATA fields (name, one value per cell).
+    pub cell_strings: Vec<(String, Vec<String>)>,
+}
+
+/// Per-line labels kept through the polyline formats: the contour identifier and the surface.
+pub const CONTOUR_ID_ARRAY: &str = "contour_id";
+pub const SURFACE_ARRAY: &str = "surface";
+
+/// The contour identifier and surface of every line cell, when the file carries them.
+#[derive(Debug, Default, Clone, PartialEq)]
+pub struct LineLabels {
+    pub ids: Option<Vec<String>>,
+    pub surfaces: Option<Vec<String>>,
+}
+
+impl LineLabels {
+    /// Picks the label arrays from a file's cell string arrays; `first` is the index of the first
+    /// line cell in the cell order (after vertices), `n` the number of lines.
+    pub fn from_cell_strings(arrays: &[(String, Vec<String>)], first: usize, n: usize) -> Self {
+        let pick = |name: &str| {
+            arrays
+                .iter()
+                .find(|(a, _)| a == name)
+                .and_then(|(_, v)| v.get(first..first + n))
+                .map(<[String]>::to_vec)
+        };
+        LineLabels {
+            ids: pick(CONTOUR_ID_ARRAY),
+            surfaces: pick(SURFACE_ARRAY),
+        }
+    }
 }
 
 struct Cursor<'a> {
@@ -95,6 +128,18 @@ impl Cursor<'_> {
                 break;
             }
         }
+    }
+
+    /// The rest of the current line (without its `\r\n`), moving past it.
+    fn rest_of_line(&mut self) -> &[u8] {
+        let start = self.pos.min(self.bytes.len());
+        let len = self.bytes[start..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .unwrap_or(self.bytes.len() - start);
+        self.pos = start + len + 1;
+        let line = &self.bytes[start..start + len];
+        line.strip_suffix(b"\r").unwrap_or(line)
     }
 
     fn number(&mut self, ty: &str) -> Result<f64> {
@@ -201,6 +246,7 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
                         pd.lines = cells;
                     }
                     "POLYGONS" => pd.polys.extend(cells),
+                    "VERTICES" => pd.verts += cells.len(),
                     "TRIANGLE_STRIPS" => {
                         for s in cells {
                             for k in 2..s.len() {
@@ -225,7 +271,28 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
                 }
                 break;
             }
-            "CELL_DATA" | "FIELD" => break,
+            "CELL_DATA" => {
+                // Labels are extras: a cell data layout this reader does not follow drops them,
+                // never the geometry.
+                let n = c.count("cell data count")?;
+                if !binary {
+                    let save = c.pos;
+                    match read_cell_fields(&mut c, n) {
+                        Ok(arrays) => pd.cell_strings = arrays,
+                        Err(_) => c.pos = save,
+                    }
+                }
+                if c.word().map(str::to_ascii_uppercase).as_deref() == Some("POINT_DATA") {
+                    let n = c.count("point data count")?;
+                    if let Some(s) = read_point_scalars(&mut c, binary, n)? {
+                        if s.1.len() == pd.points.len() {
+                            pd.point_scalars = Some(s);
+                        }
+                    }
+                }
+                break;
+            }
+            "FIELD" => break,
             "METADATA" => skip_metadata(&mut c),
             other => {
                 return Err(c.err(format!("unexpected keyword {}", quote(other))));
@@ -236,6 +303,89 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
         return Err(CoreError::parse(0, "no POINTS found"));
     }
     Ok(pd)
+}
+
+/// The string arrays of the FIELD blocks that follow `CELL_DATA n` (ASCII files); numeric
+/// arrays are skipped. Strings are one per line, percent-encoded as VTK's own writer does.
+fn read_cell_fields(c: &mut Cursor, ncells: usize) -> Result<Vec<(String, Vec<String>)>> {
+    let mut out = Vec::new();
+    loop {
+        let save = c.pos;
+        if c.word().map(str::to_ascii_uppercase).as_deref() != Some("FIELD") {
+            c.pos = save;
+            return Ok(out);
+        }
+        c.need_word("field name")?;
+        let arrays = c.count("field array count")?;
+        for _ in 0..arrays {
+            let name = c.need_word("array name")?;
+            if name == "NULL_ARRAY" {
+                continue;
+            }
+            let comps = c.count("component count")?;
+            let tuples = c.count("tuple count")?;
+            let ty = c.need_word("array type")?.to_ascii_lowercase();
+            let total = comps.saturating_mul(tuples);
+            if ty == "string" {
+                c.end_line();
+                let mut v = Vec::with_capacity(total.min(c.bytes.len()));
+                for _ in 0..total {
+                    if c.pos >= c.bytes.len() {
+                        return Err(c.err("file ends early in a string array"));
+                    }
+                    v.push(percent_decode(c.rest_of_line()));
+                }
+                if comps == 1 && tuples == ncells {
+                    out.push((name, v));
+                }
+            } else {
+                for _ in 0..total {
+                    c.number(&ty)?;
+                }
+            }
+            let save = c.pos;
+            if c.word().map(str::to_ascii_uppercase).as_deref() == Some("METADATA") {
+                skip_metadata(c);
+            } else {
+                c.pos = save;
+            }
+        }
+    }
+}
+
+/// VTK's string encoding in legacy files: `%XX` for '%', spaces, control and non-ASCII bytes.
+fn percent_encode(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for b in s.bytes() {
+        if b <= b' ' || b > b'~' || b == b'%' {
+            out.push_str(&format!("%{b:02X}"));
+        } else {
+            out.push(b as char);
+        }
+    }
+    out
+}
+
+fn percent_decode(line: &[u8]) -> String {
+    let mut out = Vec::with_capacity(line.len());
+    let mut i = 0;
+    while i < line.len() {
+        let hex = line
+            .get(i + 1..i + 3)
+            .and_then(|h| std::str::from_utf8(h).ok())
+            .and_then(|h| u8::from_str_radix(h, 16).ok());
+        match (line[i], hex) {
+            (b'%', Some(v)) => {
+                out.push(v);
+                i += 3;
+            }
+            (b, _) => {
+                out.push(b);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 /// METADATA blocks (VTK 8+) end at a blank line.
@@ -405,13 +555,17 @@ fn check_indices(n: usize, cells: &[Vec<u32>]) -> Result<()> {
 /// Reads the line cells of a POLYDATA file as contours `line1`, `line2`, ... (one per cell).
 pub fn read_vtk_contours(bytes: &[u8]) -> Result<ContourSet> {
     let pd = read_polydata(bytes)?;
-    contours_from_lines(&pd.points, &pd.lines, pd.lines_at)
+    let labels = LineLabels::from_cell_strings(&pd.cell_strings, pd.verts, pd.lines.len());
+    contours_from_lines(&pd.points, &pd.lines, pd.lines_at, &labels)
 }
 
+/// One contour per line cell, `line1`, `line2`, ... unless the file names them; cells with the
+/// same identifier are the pieces of one contour.
 pub(crate) fn contours_from_lines(
     points: &[Vec3],
     lines: &[Vec<u32>],
     line: usize,
+    labels: &LineLabels,
 ) -> Result<ContourSet> {
     if lines.is_empty() {
         return Err(CoreError::parse(0, "no LINES (polylines) found"));
@@ -419,10 +573,19 @@ pub(crate) fn contours_from_lines(
     check_indices(points.len(), lines)?;
     let mut b = ContourBuilder::new();
     for (k, cell) in lines.iter().enumerate() {
-        let id = format!("line{}", k + 1);
+        let id = match labels.ids.as_ref().and_then(|v| v.get(k)) {
+            Some(id) if !id.is_empty() => id.clone(),
+            _ => format!("line{}", k + 1),
+        };
+        let surface = labels
+            .surfaces
+            .as_ref()
+            .and_then(|v| v.get(k))
+            .filter(|s| !s.is_empty());
         for &i in cell {
-            b.push(&id, None, points[i as usize], line)?;
+            b.push(&id, surface.map(String::as_str), points[i as usize], line)?;
         }
+        b.break_run();
     }
     b.finish()
 }
@@ -441,8 +604,14 @@ fn title(header_comment: &str) -> String {
         .collect()
 }
 
-/// Polylines (contours) as VTK legacy 3.0 ASCII POLYDATA LINES.
-pub(crate) fn write_lines(points: &[Vec3], cells: &[Vec<u32>], header_comment: &str) -> Vec<u8> {
+/// Polylines (contours) as VTK legacy 3.0 ASCII POLYDATA LINES; `labels` (one (id, surface)
+/// per cell, or empty) go into a CELL_DATA field of two string arrays.
+pub(crate) fn write_lines(
+    points: &[Vec3],
+    cells: &[Vec<u32>],
+    labels: &[(&str, &str)],
+    header_comment: &str,
+) -> Vec<u8> {
     let mut out = format!(
         "# vtk DataFile Version 3.0\n{}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
         title(header_comment),
@@ -464,6 +633,22 @@ pub(crate) fn write_lines(points: &[Vec3], cells: &[Vec<u32>], header_comment: &
             out.push_str(&format!(" {i}"));
         }
         out.push('\n');
+    }
+    if !labels.is_empty() && labels.len() == cells.len() {
+        out.push_str(&format!(
+            "CELL_DATA {}\nFIELD FieldData 2\n{CONTOUR_ID_ARRAY} 1 {} string\n",
+            cells.len(),
+            cells.len()
+        ));
+        for (id, _) in labels {
+            out.push_str(&percent_encode(id));
+            out.push('\n');
+        }
+        out.push_str(&format!("{SURFACE_ARRAY} 1 {} string\n", cells.len()));
+        for (_, surface) in labels {
+            out.push_str(&percent_encode(surface));
+            out.push('\n');
+        }
     }
     out.into_bytes()
 }

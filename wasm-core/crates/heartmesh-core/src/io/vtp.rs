@@ -4,7 +4,9 @@
 
 use roxmltree::{Document, Node};
 
-use super::vtk::{contours_from_lines, mesh_from_cells};
+use super::vtk::{
+    contours_from_lines, mesh_from_cells, LineLabels, CONTOUR_ID_ARRAY, SURFACE_ARRAY,
+};
 use super::{fmt_num, header_lines, MeshData, MAX_MESH_ELEMENTS};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
@@ -17,6 +19,7 @@ struct Parsed {
     lines: Vec<Vec<u32>>,
     lines_at: usize,
     point_data: Option<(String, Vec<f64>)>,
+    labels: LineLabels,
 }
 
 fn line_of(doc: &Document, node: Node) -> usize {
@@ -149,12 +152,24 @@ fn parse(bytes: &[u8]) -> Result<Parsed> {
             }
         }
     }
+    // Cell data runs over verts, lines, strips, polys in that order.
+    let verts = count("NumberOfVerts")?;
+    let strings: Vec<(String, Vec<String>)> = section("CellData")
+        .map(|cd| {
+            cd.children()
+                .filter(|n| n.has_tag_name("DataArray") && n.attribute("type") == Some("String"))
+                .filter_map(|n| Some((n.attribute("Name")?.to_string(), ascii_strings(n)?)))
+                .collect()
+        })
+        .unwrap_or_default();
+    let labels = LineLabels::from_cell_strings(&strings, verts, lines.len());
     Ok(Parsed {
         points,
         polys,
         lines,
         lines_at,
         point_data,
+        labels,
     })
 }
 
@@ -269,10 +284,41 @@ pub fn read_vtp_mesh(bytes: &[u8]) -> Result<MeshData> {
     mesh_from_cells(p.points, &p.polys, p.point_data)
 }
 
-/// Reads the polylines of a VTP file as contours `line1`, `line2`, ...
+/// Reads the polylines of a VTP file as contours (named by a `contour_id` cell array when there is
+/// one, else `line1`, `line2`, ...).
 pub fn read_vtp_contours(bytes: &[u8]) -> Result<ContourSet> {
     let p = parse(bytes)?;
-    contours_from_lines(&p.points, &p.lines, p.lines_at)
+    contours_from_lines(&p.points, &p.lines, p.lines_at, &p.labels)
+}
+
+/// An ascii String DataArray as VTK writes it: each string as its byte values, ended by a 0.
+/// Other encodings of string arrays are not read (the labels are then simply absent).
+fn ascii_strings(node: Node) -> Option<Vec<String>> {
+    if node.attribute("format").unwrap_or("ascii") != "ascii" {
+        return None;
+    }
+    let mut out = Vec::new();
+    let mut cur = Vec::new();
+    for w in node.text().unwrap_or("").split_ascii_whitespace() {
+        match w.parse::<u8>().ok()? {
+            0 => out.push(String::from_utf8_lossy(&std::mem::take(&mut cur)).into_owned()),
+            b => cur.push(b),
+        }
+    }
+    Some(out)
+}
+
+fn push_string_array(out: &mut String, name: &str, values: &[&str]) {
+    out.push_str(&format!(
+        "<DataArray type=\"String\" Name=\"{name}\" format=\"ascii\">\n"
+    ));
+    for v in values {
+        for b in v.bytes() {
+            out.push_str(&format!("{b} "));
+        }
+        out.push_str("0\n");
+    }
+    out.push_str("</DataArray>\n");
 }
 
 /// XML PolyData with ascii arrays: Float64 points, Int32 connectivity/offsets, the point data.
@@ -326,7 +372,14 @@ pub fn write_vtp(
 }
 
 /// Polylines (contours) as XML PolyData with ascii arrays.
-pub(crate) fn write_lines(points: &[Vec3], cells: &[Vec<u32>], header_comment: &str) -> Vec<u8> {
+/// Polylines as VTK XML PolyData; `labels` (one (id, surface) per cell, or empty) become the
+/// `contour_id` and `surface` string arrays of CellData.
+pub(crate) fn write_lines(
+    points: &[Vec3],
+    cells: &[Vec<u32>],
+    labels: &[(&str, &str)],
+    header_comment: &str,
+) -> Vec<u8> {
     let comment = header_lines(header_comment)
         .join(" | ")
         .replace("--", "- -");
@@ -358,7 +411,16 @@ pub(crate) fn write_lines(points: &[Vec3], cells: &[Vec<u32>], header_comment: &
         end += c.len();
         out.push_str(&format!("{end}\n"));
     }
-    out.push_str("</DataArray>\n</Lines>\n</Piece>\n</PolyData>\n</VTKFile>\n");
+    out.push_str("</DataArray>\n</Lines>\n");
+    if !labels.is_empty() && labels.len() == cells.len() {
+        out.push_str("<CellData>\n");
+        let ids: Vec<&str> = labels.iter().map(|l| l.0).collect();
+        let surfaces: Vec<&str> = labels.iter().map(|l| l.1).collect();
+        push_string_array(&mut out, CONTOUR_ID_ARRAY, &ids);
+        push_string_array(&mut out, SURFACE_ARRAY, &surfaces);
+        out.push_str("</CellData>\n");
+    }
+    out.push_str("</Piece>\n</PolyData>\n</VTKFile>\n");
     out.into_bytes()
 }
 

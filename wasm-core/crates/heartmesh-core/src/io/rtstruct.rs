@@ -1,0 +1,701 @@
+//! DICOM RT Structure Set (RTSTRUCT) contours, read and written with the dicom-rs crates.
+//!
+//! Reference: DICOM PS3.3 C.8.8.5 (Structure Set module: StructureSetROISequence with ROI number
+//! and name) and C.8.8.6 (ROI Contour module: ROIContourSequence, each item pointing at an ROI
+//! through ReferencedROINumber and holding a ContourSequence of ContourData triplets in patient
+//! coordinates, mm). Clinical contouring tools export cardiac delineations this way, so every ROI
+//! becomes a surface named after it.
+//!
+//! Geometric types: CLOSED_PLANAR (and CLOSED_PLANAR_XOR) are rings whatever their end points say,
+//! OPEN_PLANAR / OPEN_NONPLANAR stay open, POINT contours become landmarks named after their ROI
+//! (an apex marked as a point ROI can then serve as the lower lid). Contours that share a
+//! ContourNumber within one ROI are pieces of one contour (the writer uses this for curves stored
+//! in several pieces); without a ContourNumber every contour stands alone.
+//!
+//! Only the transfer syntaxes built into dicom-rs without the `inventory` registry (which does not
+//! work on wasm32) are read: implicit and explicit VR little endian, explicit big endian and
+//! deflated-less encapsulated variants — every RTSTRUCT in practice.
+
+use std::collections::HashMap;
+use std::io::Cursor;
+
+use dicom_core::value::DataSetSequence;
+use dicom_core::{DataElement, PrimitiveValue, Tag, VR};
+use dicom_dictionary_std::{tags, uids};
+use dicom_object::{FileMetaTableBuilder, InMemDicomObject, OpenFileOptions};
+
+use super::builder::ContourBuilder;
+use crate::contours::ContourSet;
+use crate::error::{CoreError, Result};
+use crate::geometry::{v3, Vec3};
+
+/// True when the bytes carry the DICOM magic, after the 128-byte preamble or at the start.
+pub fn is_dicom(bytes: &[u8]) -> bool {
+    bytes.get(128..132) == Some(b"DICM") || bytes.starts_with(b"DICM")
+}
+
+fn err(message: impl Into<String>) -> CoreError {
+    CoreError::parse(0, message)
+}
+
+/// Parses the DICOM object; files without the file meta group (a bare data set, which some
+/// exporters write) are tried as implicit VR little endian, the DICOM default.
+fn parse(bytes: &[u8]) -> Result<InMemDicomObject> {
+    if bytes.len() < 4 {
+        return Err(err("truncated DICOM file (fewer than 4 bytes)"));
+    }
+    super::dicom_scan::check_lengths(bytes)?;
+    let body = if bytes.get(128..132) == Some(b"DICM") {
+        &bytes[128..]
+    } else {
+        bytes
+    };
+    if body.starts_with(b"DICM") {
+        let obj = OpenFileOptions::new()
+            .read_preamble(dicom_object::file::ReadPreamble::Never)
+            .from_reader(Cursor::new(body))
+            .map_err(|e| err(format!("not a readable DICOM file: {}", flatten(&e))))?;
+        return Ok(obj.into_inner());
+    }
+    let ts = dicom_transfer_syntax_registry::entries::IMPLICIT_VR_LITTLE_ENDIAN.erased();
+    InMemDicomObject::read_dataset_with_ts(Cursor::new(bytes), &ts).map_err(|e| {
+        err(format!(
+            "no DICOM header (\"DICM\") and not a bare DICOM data set: {}",
+            flatten(&e)
+        ))
+    })
+}
+
+/// The error with its chain of causes on one line (snafu errors keep the detail in sources).
+fn flatten(e: &dyn std::error::Error) -> String {
+    let mut out = e.to_string();
+    let mut src = e.source();
+    while let Some(s) = src {
+        out.push_str(": ");
+        out.push_str(&s.to_string());
+        src = s.source();
+    }
+    out
+}
+
+fn text(obj: &InMemDicomObject, tag: Tag) -> Option<String> {
+    let e = obj.get(tag)?;
+    let s = e.to_str().ok()?;
+    let s = s.trim_matches(|c: char| c.is_whitespace() || c == '\0');
+    (!s.is_empty()).then(|| s.to_string())
+}
+
+fn int(obj: &InMemDicomObject, tag: Tag) -> Option<i64> {
+    obj.get(tag)?.to_int::<i64>().ok()
+}
+
+fn items(obj: &InMemDicomObject, tag: Tag) -> &[InMemDicomObject] {
+    obj.get(tag).and_then(|e| e.items()).unwrap_or(&[])
+}
+
+/// How a contour of the file is to be used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Geometry {
+    Ring,
+    Open,
+    Point,
+}
+
+fn geometry(kind: Option<&str>) -> Option<Geometry> {
+    match kind? {
+        "CLOSED_PLANAR" | "CLOSED_PLANAR_XOR" => Some(Geometry::Ring),
+        "OPEN_PLANAR" | "OPEN_NONPLANAR" => Some(Geometry::Open),
+        "POINT" => Some(Geometry::Point),
+        _ => None,
+    }
+}
+
+/// Reads the contours of an RT Structure Set; ROI names become surfaces.
+pub fn read_rtstruct(bytes: &[u8]) -> Result<ContourSet> {
+    let obj = parse(bytes)?;
+    let modality = text(&obj, tags::MODALITY);
+    let sop_class = text(&obj, tags::SOP_CLASS_UID);
+    let roi_contours = items(&obj, tags::ROI_CONTOUR_SEQUENCE);
+    let is_rt = modality.as_deref() == Some("RTSTRUCT")
+        || sop_class.as_deref() == Some(uids::RT_STRUCTURE_SET_STORAGE);
+    if !is_rt && roi_contours.is_empty() {
+        return Err(err(format!(
+            "this DICOM file is not an RT structure set (modality {}, SOP class {}); \
+             export the contours as RTSTRUCT",
+            modality.as_deref().unwrap_or("missing"),
+            sop_class.as_deref().unwrap_or("missing"),
+        )));
+    }
+    if roi_contours.is_empty() {
+        return Err(err(
+            "RT structure set without contours (ROIContourSequence is missing or empty)",
+        ));
+    }
+    let mut names: HashMap<i64, String> = HashMap::new();
+    for roi in items(&obj, tags::STRUCTURE_SET_ROI_SEQUENCE) {
+        if let (Some(n), Some(name)) = (int(roi, tags::ROI_NUMBER), text(roi, tags::ROI_NAME)) {
+            names.insert(n, name);
+        }
+    }
+
+    let mut b = ContourBuilder::new();
+    for (r, roi) in roi_contours.iter().enumerate() {
+        let number = int(roi, tags::REFERENCED_ROI_NUMBER);
+        let name = match number {
+            Some(n) => names.get(&n).cloned().unwrap_or_else(|| format!("ROI {n}")),
+            None => format!("ROI item {}", r + 1),
+        };
+        let contours = items(roi, tags::CONTOUR_SEQUENCE);
+        if contours.is_empty() {
+            b.warn(format!("ROI {name:?} has no contours"));
+        }
+        for (k, c) in contours.iter().enumerate() {
+            let what = format!("ROI {name:?}, contour {}", k + 1);
+            let kind = text(c, tags::CONTOUR_GEOMETRIC_TYPE);
+            let points = contour_points(c, &what)?;
+            let geom = match geometry(kind.as_deref()) {
+                Some(g) => g,
+                None if points.len() == 1 => Geometry::Point,
+                None => {
+                    b.warn(format!(
+                        "{what}: geometric type {} not understood; ring or open curve decided \
+                         from its ends",
+                        kind.as_deref().unwrap_or("missing")
+                    ));
+                    Geometry::Open
+                }
+            };
+            if let Some(n) = int(c, tags::NUMBER_OF_CONTOUR_POINTS) {
+                if n != points.len() as i64 {
+                    b.warn(format!(
+                        "{what}: NumberOfContourPoints says {n} but ContourData has {} points",
+                        points.len()
+                    ));
+                }
+            }
+            if geom == Geometry::Point {
+                for p in points {
+                    b.landmark(&name, p, 0)?;
+                }
+                continue;
+            }
+            let id = match int(c, tags::CONTOUR_NUMBER) {
+                Some(n) => format!("{name}:{n}"),
+                None => format!("{name}:#{}", k + 1),
+            };
+            let ring = match geometry(kind.as_deref()) {
+                Some(Geometry::Ring) => Some(true),
+                Some(Geometry::Open) => Some(false),
+                _ => None,
+            };
+            b.push_piece(&id, Some(&name), points, ring, 0)?;
+        }
+    }
+    b.finish().map_err(|e| match e {
+        CoreError::Parse { line: 0, message } if message == "no contour points found" => {
+            err("RT structure set without contour points (only empty ROIs or POINT contours)")
+        }
+        other => other,
+    })
+}
+
+/// ContourData as points, refusing what cannot be a contour.
+fn contour_points(c: &InMemDicomObject, what: &str) -> Result<Vec<Vec3>> {
+    let data = c
+        .get(tags::CONTOUR_DATA)
+        .ok_or_else(|| err(format!("{what}: ContourData is missing")))?;
+    let values = data.to_multi_float64().map_err(|e| {
+        err(format!(
+            "{what}: ContourData is not a list of numbers ({e})"
+        ))
+    })?;
+    if values.is_empty() {
+        return Err(err(format!("{what}: ContourData is empty")));
+    }
+    if values.len() % 3 != 0 {
+        return Err(err(format!(
+            "{what}: ContourData has {} values, not x\\y\\z triplets",
+            values.len()
+        )));
+    }
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(err(format!(
+            "{what}: ContourData value {} is not a finite number",
+            i + 1
+        )));
+    }
+    Ok(values
+        .chunks_exact(3)
+        .map(|p| v3(p[0], p[1], p[2]))
+        .collect())
+}
+
+/// Decimal String value: at most 16 characters (DICOM PS3.5 6.2), shortest form that fits.
+fn ds(v: f64) -> String {
+    let plain = super::fmt_num(v);
+    if plain.len() <= 16 {
+        return plain;
+    }
+    for digits in (1..=10).rev() {
+        let s = format!("{v:.digits$}");
+        if s.len() <= 16 {
+            return s;
+        }
+        let s = format!("{v:.digits$e}");
+        if s.len() <= 16 {
+            return s;
+        }
+    }
+    format!("{v:.0e}")
+}
+
+fn ds_values(points: &[Vec3]) -> PrimitiveValue {
+    PrimitiveValue::Strs(
+        points
+            .iter()
+            .flat_map(|p| [p.x, p.y, p.z])
+            .map(ds)
+            .collect(),
+    )
+}
+
+/// A UID under the 2.25 (UUID-derived) root from a hash of the content: the same contours give
+/// the same file, which keeps generated test samples reproducible.
+fn uid(seed: &[u8], salt: u8) -> String {
+    // FNV-1a, 128 bits folded from two 64-bit lanes; uniqueness, not security, is the point.
+    let mut a: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut c: u64 = 0x8422_2325_cbf2_9ce4 ^ u64::from(salt);
+    for &x in seed {
+        a = (a ^ u64::from(x)).wrapping_mul(0x0000_0100_0000_01b3);
+        c = (c ^ u64::from(x.rotate_left(3))).wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    let n = (u128::from(a) << 64 | u128::from(c)) >> 1;
+    format!("2.25.{n}")
+}
+
+/// Writes contours as an RT Structure Set (explicit VR little endian): one ROI per surface
+/// (contours without a surface go to ROI "CONTOURS"), closed pieces as CLOSED_PLANAR, open
+/// pieces as OPEN_PLANAR, landmarks as POINT ROIs. The pieces of one contour share a
+/// ContourNumber so that [`read_rtstruct`] joins them again.
+pub fn write_rtstruct(set: &ContourSet, label: &str) -> Result<Vec<u8>> {
+    let mut rois: Vec<(String, Vec<InMemDicomObject>)> = Vec::new();
+    let mut seed: Vec<u8> = label.as_bytes().to_vec();
+    for (k, c) in set.contours.iter().enumerate() {
+        let name = c.surface.as_deref().unwrap_or("CONTOURS");
+        let i = slot(&mut rois, name);
+        for piece in &c.pieces {
+            if piece.points.is_empty() {
+                continue;
+            }
+            let kind = if piece.closed {
+                "CLOSED_PLANAR"
+            } else {
+                "OPEN_PLANAR"
+            };
+            let data = ds_values(&piece.points);
+            if let PrimitiveValue::Strs(s) = &data {
+                seed.extend(s.iter().take(6).flat_map(|v| v.bytes()));
+            }
+            rois[i].1.push(InMemDicomObject::from_element_iter([
+                DataElement::new(tags::CONTOUR_GEOMETRIC_TYPE, VR::CS, kind),
+                DataElement::new(
+                    tags::NUMBER_OF_CONTOUR_POINTS,
+                    VR::IS,
+                    piece.points.len().to_string(),
+                ),
+                DataElement::new(tags::CONTOUR_NUMBER, VR::IS, (k + 1).to_string()),
+                DataElement::new(tags::CONTOUR_DATA, VR::DS, data),
+            ]));
+        }
+    }
+    for (name, p) in &set.landmarks {
+        let i = slot(&mut rois, name);
+        rois[i].1.push(InMemDicomObject::from_element_iter([
+            DataElement::new(tags::CONTOUR_GEOMETRIC_TYPE, VR::CS, "POINT"),
+            DataElement::new(tags::NUMBER_OF_CONTOUR_POINTS, VR::IS, "1"),
+            DataElement::new(tags::CONTOUR_DATA, VR::DS, ds_values(&[*p])),
+        ]));
+    }
+    if rois.is_empty() {
+        return Err(CoreError::Io("no contours to write".into()));
+    }
+    let structure_set_rois: Vec<InMemDicomObject> = rois
+        .iter()
+        .enumerate()
+        .map(|(i, (name, _))| {
+            InMemDicomObject::from_element_iter([
+                DataElement::new(tags::ROI_NUMBER, VR::IS, (i + 1).to_string()),
+                DataElement::new(tags::ROI_NAME, VR::LO, name.as_str()),
+                DataElement::new(tags::ROI_GENERATION_ALGORITHM, VR::CS, "MANUAL"),
+            ])
+        })
+        .collect();
+    let roi_contours: Vec<InMemDicomObject> = rois
+        .into_iter()
+        .enumerate()
+        .map(|(i, (_, contours))| {
+            InMemDicomObject::from_element_iter([
+                DataElement::new(tags::REFERENCED_ROI_NUMBER, VR::IS, (i + 1).to_string()),
+                DataElement::new(
+                    tags::CONTOUR_SEQUENCE,
+                    VR::SQ,
+                    DataSetSequence::from(contours),
+                ),
+            ])
+        })
+        .collect();
+    let instance = uid(&seed, 1);
+    let obj = InMemDicomObject::from_element_iter([
+        DataElement::new(tags::SOP_CLASS_UID, VR::UI, uids::RT_STRUCTURE_SET_STORAGE),
+        DataElement::new(tags::SOP_INSTANCE_UID, VR::UI, instance.as_str()),
+        DataElement::new(tags::MODALITY, VR::CS, "RTSTRUCT"),
+        DataElement::new(tags::MANUFACTURER, VR::LO, "heartmesh"),
+        DataElement::new(tags::PATIENT_NAME, VR::PN, ""),
+        DataElement::new(tags::PATIENT_ID, VR::LO, ""),
+        DataElement::new(tags::STUDY_INSTANCE_UID, VR::UI, uid(&seed, 2).as_str()),
+        DataElement::new(tags::SERIES_INSTANCE_UID, VR::UI, uid(&seed, 3).as_str()),
+        DataElement::new(tags::STRUCTURE_SET_LABEL, VR::SH, short(label)),
+        DataElement::new(
+            tags::STRUCTURE_SET_ROI_SEQUENCE,
+            VR::SQ,
+            DataSetSequence::from(structure_set_rois),
+        ),
+        DataElement::new(
+            tags::ROI_CONTOUR_SEQUENCE,
+            VR::SQ,
+            DataSetSequence::from(roi_contours),
+        ),
+    ]);
+    let file = obj
+        .with_meta(
+            FileMetaTableBuilder::new()
+                .transfer_syntax(uids::EXPLICIT_VR_LITTLE_ENDIAN)
+                .implementation_class_uid(uid(b"heartmesh", 0))
+                .implementation_version_name(short(&format!("HEARTMESH_{}", crate::VERSION))),
+        )
+        .map_err(|e| CoreError::Io(format!("DICOM meta group: {}", flatten(&e))))?;
+    let mut out = Vec::new();
+    file.write_all(&mut out)
+        .map_err(|e| CoreError::Io(format!("DICOM encoding: {}", flatten(&e))))?;
+    Ok(out)
+}
+
+/// Index of the ROI called `name`, added at the end when new.
+fn slot(rois: &mut Vec<(String, Vec<InMemDicomObject>)>, name: &str) -> usize {
+    match rois.iter().position(|(n, _)| n == name) {
+        Some(i) => i,
+        None => {
+            rois.push((name.to_string(), Vec::new()));
+            rois.len() - 1
+        }
+    }
+}
+
+/// Structure Set Label is a Short String (16 characters at most).
+fn short(label: &str) -> String {
+    let s: String = label
+        .chars()
+        .filter(|c| !c.is_control() && *c != '\\')
+        .take(16)
+        .collect();
+    if s.is_empty() {
+        "heartmesh".into()
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::{read_contours, sample};
+
+    /// Committed sample: biv-me patient 1 at end-diastole (Apache-2.0 data), written by
+    /// [`write_rtstruct`]; regenerate with HEARTMESH_WRITE_SAMPLES=1.
+    const SAMPLE: &str = "tests/data/patient1-ED-rtstruct.dcm";
+
+    fn patient1() -> ContourSet {
+        let rel = "contours/bivme-example-patient1/GPFile_000.txt";
+        read_contours(rel, &sample(rel)).unwrap()
+    }
+
+    fn sorted_landmarks(set: &ContourSet) -> Vec<(String, [u64; 3])> {
+        let mut l: Vec<_> = set
+            .landmarks
+            .iter()
+            .map(|(n, p)| (n.clone(), [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]))
+            .collect();
+        l.sort();
+        l
+    }
+
+    #[test]
+    fn patient1_round_trips_through_rtstruct() {
+        let set = patient1();
+        let bytes = write_rtstruct(&set, "patient1 ED").unwrap();
+        assert!(is_dicom(&bytes));
+        let back = read_contours("x.dcm", &bytes).unwrap();
+        // One ROI per surface, in the order the surfaces first appear.
+        assert_eq!(back.surfaces(), set.surfaces());
+        assert_eq!(
+            back.surfaces(),
+            vec!["RV_ENDO", "RV_EPI", "LV_EPI", "LV_ENDO"]
+        );
+        assert_eq!(back.contours.len(), 40);
+        assert_eq!(back.point_count(), 1791);
+        assert_eq!(back.landmarks.len(), 23);
+        assert_eq!(sorted_landmarks(&back), sorted_landmarks(&set));
+        // Grouped by ROI: the contours of each surface in file order.
+        let mut grouped: Vec<&crate::contours::Contour> = Vec::new();
+        for surface in set.surfaces() {
+            grouped.extend(
+                set.contours
+                    .iter()
+                    .filter(|c| c.surface.as_ref() == Some(&surface)),
+            );
+        }
+        for (a, b) in grouped.into_iter().zip(&back.contours) {
+            assert_eq!(a.surface, b.surface, "{}", a.id);
+            assert_eq!(a.pieces.len(), b.pieces.len(), "{}", a.id);
+            for (pa, pb) in a.pieces.iter().zip(&b.pieces) {
+                assert_eq!(pa.closed, pb.closed, "{}", a.id);
+                // The biv-me values have at most 16 characters: the DS text is exact.
+                assert_eq!(pa.points, pb.points, "{}", a.id);
+            }
+        }
+        // The ROI name becomes the surface, the contour number the identifier.
+        assert_eq!(
+            back.contours[0].id,
+            format!("{}:1", back.contours[0].surface.as_deref().unwrap())
+        );
+    }
+
+    #[test]
+    fn committed_sample_is_what_the_writer_makes() {
+        let bytes = write_rtstruct(&patient1(), "patient1 ED").unwrap();
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(SAMPLE);
+        if std::env::var_os("HEARTMESH_WRITE_SAMPLES").is_some() {
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(&path, &bytes).unwrap();
+        }
+        let committed = std::fs::read(&path).unwrap();
+        assert_eq!(committed.len(), bytes.len());
+        assert!(committed == bytes, "{SAMPLE} is stale: regenerate it");
+        // Deterministic: same contours, same UIDs, same bytes.
+        assert_eq!(write_rtstruct(&patient1(), "patient1 ED").unwrap(), bytes);
+    }
+
+    fn el(tag: Tag, vr: VR, v: &str) -> DataElement<InMemDicomObject> {
+        DataElement::new(tag, vr, v)
+    }
+
+    fn contour(kind: &str, data: &str) -> InMemDicomObject {
+        InMemDicomObject::from_element_iter([
+            el(tags::CONTOUR_GEOMETRIC_TYPE, VR::CS, kind),
+            el(tags::CONTOUR_DATA, VR::DS, data),
+        ])
+    }
+
+    /// An RT structure set with the given ROIs (number, name) and ROI contours (referenced
+    /// number, contours), as a clinical tool would write it (with preamble and meta group).
+    fn rt_file(
+        modality: &str,
+        rois: &[(u32, &str)],
+        roi_contours: Vec<(u32, Vec<InMemDicomObject>)>,
+    ) -> Vec<u8> {
+        let ss: Vec<InMemDicomObject> = rois
+            .iter()
+            .map(|(n, name)| {
+                InMemDicomObject::from_element_iter([
+                    el(tags::ROI_NUMBER, VR::IS, &n.to_string()),
+                    el(tags::ROI_NAME, VR::LO, name),
+                ])
+            })
+            .collect();
+        let rc: Vec<InMemDicomObject> = roi_contours
+            .into_iter()
+            .map(|(n, cs)| {
+                InMemDicomObject::from_element_iter([
+                    el(tags::REFERENCED_ROI_NUMBER, VR::IS, &n.to_string()),
+                    DataElement::new(tags::CONTOUR_SEQUENCE, VR::SQ, DataSetSequence::from(cs)),
+                ])
+            })
+            .collect();
+        let class = if modality == "RTSTRUCT" {
+            uids::RT_STRUCTURE_SET_STORAGE
+        } else {
+            uids::MR_IMAGE_STORAGE
+        };
+        let mut elements = vec![
+            el(tags::SOP_CLASS_UID, VR::UI, class),
+            el(tags::SOP_INSTANCE_UID, VR::UI, "2.25.1234"),
+            el(tags::MODALITY, VR::CS, modality),
+        ];
+        if !ss.is_empty() {
+            elements.push(DataElement::new(
+                tags::STRUCTURE_SET_ROI_SEQUENCE,
+                VR::SQ,
+                DataSetSequence::from(ss),
+            ));
+        }
+        if !rc.is_empty() {
+            elements.push(DataElement::new(
+                tags::ROI_CONTOUR_SEQUENCE,
+                VR::SQ,
+                DataSetSequence::from(rc),
+            ));
+        }
+        let file = InMemDicomObject::from_element_iter(elements)
+            .with_meta(FileMetaTableBuilder::new().transfer_syntax(uids::EXPLICIT_VR_LITTLE_ENDIAN))
+            .unwrap();
+        let mut out = Vec::new();
+        file.write_all(&mut out).unwrap();
+        out
+    }
+
+    fn hand_made() -> Vec<u8> {
+        rt_file(
+            "RTSTRUCT",
+            &[(7, "LV Endo"), (9, "Apex")],
+            vec![
+                (
+                    7,
+                    vec![
+                        // A ring that repeats its first point, and one that does not.
+                        contour(
+                            "CLOSED_PLANAR",
+                            "0\\0\\10\\10\\0\\10\\10\\10\\10\\0\\10\\10\\0\\0\\10",
+                        ),
+                        contour("CLOSED_PLANAR", "0\\0\\20\\10\\0\\20\\10\\10\\20"),
+                        // A U-shaped long-axis curve whose ends are close: open all the same.
+                        contour("OPEN_PLANAR", "0\\5\\0\\0\\5\\30\\1\\5\\30\\1\\5\\0.5"),
+                    ],
+                ),
+                (9, vec![contour("POINT", "5\\5\\-3.25")]),
+                (
+                    4,
+                    vec![contour("CLOSED_PLANAR", "1\\2\\3\\4\\5\\6\\7\\8\\9.5")],
+                ),
+            ],
+        )
+    }
+
+    #[test]
+    fn hand_made_structure_set() {
+        let set = read_rtstruct(&hand_made()).unwrap();
+        assert_eq!(set.surfaces(), vec!["LV Endo", "ROI 4"]);
+        let ids: Vec<&str> = set.contours.iter().map(|c| c.id.as_str()).collect();
+        assert_eq!(ids, ["LV Endo:#1", "LV Endo:#2", "LV Endo:#3", "ROI 4:#1"]);
+        let counts: Vec<usize> = set.contours.iter().map(|c| c.point_count()).collect();
+        assert_eq!(counts, [4, 3, 4, 3]);
+        let closed: Vec<bool> = set.contours.iter().map(|c| c.pieces[0].closed).collect();
+        assert_eq!(closed, [true, true, false, true]);
+        assert_eq!(set.contours[2].pieces[0].points[3], v3(1.0, 5.0, 0.5));
+        assert_eq!(set.contours[3].pieces[0].points[2], v3(7.0, 8.0, 9.5));
+        assert_eq!(
+            set.landmarks,
+            vec![("Apex".to_string(), v3(5.0, 5.0, -3.25))]
+        );
+        assert_eq!(set.point_count(), 14);
+    }
+
+    #[test]
+    fn without_preamble_and_without_meta_group() {
+        let bytes = hand_made();
+        let whole = read_rtstruct(&bytes).unwrap();
+        // "DICM" first: the 128-byte preamble left out.
+        let no_preamble = read_contours("x", &bytes[128..]).unwrap();
+        assert_eq!(no_preamble, whole);
+        // A bare data set in implicit VR little endian, found by its extension.
+        let obj = parse(&bytes).unwrap();
+        let mut bare = Vec::new();
+        let ts = dicom_transfer_syntax_registry::entries::IMPLICIT_VR_LITTLE_ENDIAN.erased();
+        obj.write_dataset_with_ts(&mut bare, &ts).unwrap();
+        assert!(!is_dicom(&bare));
+        let set = read_contours("rs.dcm", &bare).unwrap();
+        assert_eq!(set, whole);
+    }
+
+    fn message(bytes: &[u8]) -> String {
+        match read_contours("x.dcm", bytes) {
+            Err(CoreError::Parse { message, .. }) => message,
+            other => panic!("expected a parse error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn malformed_files_give_clear_errors() {
+        let good = hand_made();
+        // Truncated anywhere after the header: never a panic, always a parse error.
+        for cut in [132, 200, good.len() / 2, good.len() - 7] {
+            let m = message(&good[..cut]);
+            assert!(!m.is_empty(), "cut {cut}");
+        }
+        assert!(message(&good[..good.len() / 2]).contains("DICOM"));
+        assert!(message(b"DI").contains("truncated"));
+        let mr = rt_file("MR", &[], vec![]);
+        let m = message(&mr);
+        assert!(
+            m.contains("not an RT structure set") && m.contains("modality MR"),
+            "{m}"
+        );
+        let empty = rt_file("RTSTRUCT", &[(1, "LV")], vec![]);
+        assert!(message(&empty).contains("ROIContourSequence"));
+        let missing = rt_file(
+            "RTSTRUCT",
+            &[(1, "LV")],
+            vec![(
+                1,
+                vec![InMemDicomObject::from_element_iter([el(
+                    tags::CONTOUR_GEOMETRIC_TYPE,
+                    VR::CS,
+                    "CLOSED_PLANAR",
+                )])],
+            )],
+        );
+        assert_eq!(
+            message(&missing),
+            "ROI \"LV\", contour 1: ContourData is missing"
+        );
+        let odd = rt_file(
+            "RTSTRUCT",
+            &[(1, "LV")],
+            vec![(1, vec![contour("CLOSED_PLANAR", "1\\2\\3\\4")])],
+        );
+        assert_eq!(
+            message(&odd),
+            "ROI \"LV\", contour 1: ContourData has 4 values, not x\\y\\z triplets"
+        );
+        let text = rt_file(
+            "RTSTRUCT",
+            &[(1, "LV")],
+            vec![(1, vec![contour("CLOSED_PLANAR", "1\\2\\abc")])],
+        );
+        assert!(message(&text).contains("not a list of numbers"));
+        let only_points = rt_file(
+            "RTSTRUCT",
+            &[(1, "Apex")],
+            vec![(1, vec![contour("POINT", "1\\2\\3")])],
+        );
+        assert!(message(&only_points).contains("without contour points"));
+        assert!(message(b"\x08\x00\x05\x00garbage that is no DICOM").contains("DICOM"));
+    }
+
+    #[test]
+    fn decimal_strings_fit_sixteen_characters() {
+        for v in [
+            0.0,
+            -42.0947,
+            1.0 / 3.0,
+            -1234.567890123,
+            1e-300,
+            -6.02e23,
+            123456789012.5,
+        ] {
+            let s = ds(v);
+            assert!(s.len() <= 16, "{s}");
+            let back: f64 = s.parse().unwrap();
+            assert!((back - v).abs() <= 1e-9 * v.abs().max(1.0), "{v} -> {s}");
+        }
+    }
+}
