@@ -6,7 +6,7 @@
 use heartmesh_core::sim::experiment::{Design, Row};
 use heartmesh_core::Params;
 
-use crate::svg_plot::{chart, parallel, Chart, Panel, ParallelAxis, Series};
+use crate::svg_plot::{chart, parallel, Chart, Panel, ParallelAxis, ParallelLine, Series};
 
 /// Mean surface distance: the average of the two directed means (mm).
 pub fn mean_distance(r: &Row) -> Option<f64> {
@@ -177,9 +177,27 @@ fn sweep(grid: &[(String, Vec<f64>)], rows: &[Row], shapes: &[String], iters: &s
             log: name != "seconds",
         });
     }
-    let lines: Vec<(usize, Vec<f64>)> = rows
+    // Emphasise each shape's best quarter of runs by mean distance: shapes differ in scale, so
+    // ranks are per shape.
+    let best: Vec<bool> = rows
         .iter()
         .map(|r| {
+            let Some(m) = mean_distance(r) else {
+                return false;
+            };
+            let mine: Vec<f64> = rows
+                .iter()
+                .filter(|o| o.shape == r.shape)
+                .filter_map(mean_distance)
+                .collect();
+            let better = mine.iter().filter(|&&o| o < m).count();
+            better < mine.len().div_ceil(4)
+        })
+        .collect();
+    let lines: Vec<ParallelLine> = rows
+        .iter()
+        .zip(best)
+        .map(|(r, emphasis)| {
             let group = shapes.iter().position(|s| *s == r.shape).unwrap_or(0);
             let mut v: Vec<f64> = grid
                 .iter()
@@ -192,7 +210,11 @@ fn sweep(grid: &[(String, Vec<f64>)], rows: &[Row], shapes: &[String], iters: &s
             } else {
                 f64::NAN
             });
-            (group, v)
+            ParallelLine {
+                group,
+                values: v,
+                emphasis,
+            }
         })
         .collect();
     parallel(
@@ -200,6 +222,7 @@ fn sweep(grid: &[(String, Vec<f64>)], rows: &[Row], shapes: &[String], iters: &s
         &axes,
         &lines,
         shapes,
+        "bold: the best quarter of each shape's runs by mean distance",
     )
 }
 

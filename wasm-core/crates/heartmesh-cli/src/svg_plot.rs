@@ -164,20 +164,31 @@ pub struct ParallelAxis {
     pub log: bool,
 }
 
-/// A parallel-coordinates plot: `lines` are (group, one value per axis); groups are coloured and
-/// named in the legend. Non-finite values break a line.
+/// One polyline of a parallel-coordinates plot.
+pub struct ParallelLine {
+    /// Colour and legend entry.
+    pub group: usize,
+    /// One value per axis.
+    pub values: Vec<f64>,
+    /// Drawn bold and on top (e.g. the best runs), the others faint.
+    pub emphasis: bool,
+}
+
+/// A parallel-coordinates plot; groups are coloured and named in the legend, `note` is printed
+/// under it. Non-finite values break a line.
 pub fn parallel(
     title: &str,
     axes: &[ParallelAxis],
-    lines: &[(usize, Vec<f64>)],
+    lines: &[ParallelLine],
     groups: &[String],
+    note: &str,
 ) -> String {
     let spacing = 130.0;
     let (top, height_axis) = (56.0, 300.0);
     let per_row = 2usize;
     let rows = groups.len().div_ceil(per_row);
     let width = LEFT + spacing * (axes.len().max(2) - 1) as f64 + 90.0;
-    let height = top + height_axis + 56.0 + rows as f64 * LEGEND_ROW;
+    let height = top + height_axis + 56.0 + (rows + 1) as f64 * LEGEND_ROW;
     let mut svg = Svg::new(width, height);
     svg.text(width / 2.0, 22.0, 15.0, "middle", 0.0, title);
     let y0 = top + height_axis;
@@ -186,7 +197,7 @@ pub fn parallel(
         .enumerate()
         .map(|(k, a)| {
             Scale::covering(
-                lines.iter().filter_map(|l| l.1.get(k).copied()),
+                lines.iter().filter_map(|l| l.values.get(k).copied()),
                 y0,
                 top,
                 a.log,
@@ -194,17 +205,21 @@ pub fn parallel(
         })
         .collect();
     let x_of = |k: usize| LEFT + spacing * k as f64;
-    for (group, values) in lines {
-        let mut run: Vec<(f64, f64)> = Vec::new();
-        for (k, v) in values.iter().enumerate().take(axes.len()) {
-            if v.is_finite() && (!axes[k].log || *v > 0.0) {
-                run.push((x_of(k), scales[k].px(*v)));
-            } else {
-                svg.polyline(&run, colour(*group), 1.5, 0.55);
-                run.clear();
+    // Faint lines first, emphasised ones on top.
+    for pass in [false, true] {
+        let (width, opacity) = if pass { (2.2, 0.9) } else { (1.0, 0.3) };
+        for line in lines.iter().filter(|l| l.emphasis == pass) {
+            let mut run: Vec<(f64, f64)> = Vec::new();
+            for (k, v) in line.values.iter().enumerate().take(axes.len()) {
+                if v.is_finite() && (!axes[k].log || *v > 0.0) {
+                    run.push((x_of(k), scales[k].px(*v)));
+                } else {
+                    svg.polyline(&run, colour(line.group), width, opacity);
+                    run.clear();
+                }
             }
+            svg.polyline(&run, colour(line.group), width, opacity);
         }
-        svg.polyline(&run, colour(*group), 1.5, 0.55);
     }
     for (k, (axis, scale)) in axes.iter().zip(&scales).enumerate() {
         let x = x_of(k);
@@ -222,6 +237,14 @@ pub fn parallel(
         .map(|(k, g)| (g.as_str(), k))
         .collect();
     draw_legend(&mut svg, &legend, y0 + 48.0, per_row, width);
+    svg.text(
+        LEFT,
+        y0 + 48.0 + rows as f64 * LEGEND_ROW,
+        11.0,
+        "start",
+        0.0,
+        note,
+    );
     svg.finish()
 }
 
@@ -273,13 +296,27 @@ mod tests {
                 log: true,
             })
             .collect();
+        let line = |group, values, emphasis| ParallelLine {
+            group,
+            values,
+            emphasis,
+        };
         let doc = parallel(
             "sweep",
             &axes,
-            &[(0, vec![1e3, 0.2]), (1, vec![1e5, f64::NAN])],
+            &[
+                line(0, vec![1e3, 0.2], true),
+                line(1, vec![1e5, f64::NAN], false),
+                line(1, vec![1e7, 0.5], false),
+            ],
             &["a".into(), "b".into()],
+            "bold: best",
         );
-        assert_eq!(doc.matches("<polyline").count(), 1);
+        assert_eq!(doc.matches("<polyline").count(), 2);
+        // The emphasised line is drawn last, bold.
+        let last = doc.rfind("<polyline").unwrap();
+        assert!(doc[last..].contains(r#"stroke-width="2.2""#));
+        assert!(doc.contains(">bold: best</text>"));
         assert!(doc.contains(">lambda</text>"));
     }
 }

@@ -33,6 +33,9 @@ pub struct Metrics {
     /// Distances of the simulated contour points to the reconstruction (what real data offers).
     pub contour_to_mesh_mean: f64,
     pub contour_to_mesh_max: f64,
+    /// Where the truth is farthest from the reconstruction: height along the long axis, 0 at the
+    /// truth's apex, 1 at its top (NaN if the axis gives no extent).
+    pub worst_height: f64,
 }
 
 /// One line of an experiment's table.
@@ -266,11 +269,25 @@ impl Experiment {
                     },
                     contour_to_mesh_mean: c2m.mean,
                     contour_to_mesh_max: c2m.max,
+                    worst_height: height_fraction(&run.acq, truth, r.truth_to_mesh.max_at),
                 }));
             }
             Err(e) => row.error = Some(format!("compare: {e}")),
         }
         row
+    }
+}
+
+/// Height of `p` along the acquisition's long axis, 0 at the truth's lowest point, 1 at its top.
+fn height_fraction(acq: &Acquisition, truth: &crate::mesh::TriMesh, p: [f64; 3]) -> f64 {
+    match acq.axis.extent(truth) {
+        Some((lo, hi, _)) if hi > lo => {
+            (acq.axis
+                .height(&crate::geometry::Vec3::new(p[0], p[1], p[2]))
+                - lo)
+                / (hi - lo)
+        }
+        _ => f64::NAN,
     }
 }
 
@@ -288,7 +305,7 @@ impl Iterator for Experiment {
 }
 
 /// Metric columns of [`to_csv`], after the settings.
-pub const METRIC_COLUMNS: [&str; 17] = [
+pub const METRIC_COLUMNS: [&str; 18] = [
     "mesh_to_truth_mean",
     "mesh_to_truth_median",
     "mesh_to_truth_p95",
@@ -304,13 +321,14 @@ pub const METRIC_COLUMNS: [&str; 17] = [
     "volume_diff_percent",
     "contour_to_mesh_mean",
     "contour_to_mesh_max",
+    "worst_height",
     "seconds",
     "error",
 ];
 
 impl Metrics {
     /// Values in the order of [`METRIC_COLUMNS`] (without seconds and error).
-    pub fn values(&self) -> [f64; 15] {
+    pub fn values(&self) -> [f64; 16] {
         let (a, b) = (&self.mesh_to_truth, &self.truth_to_mesh);
         [
             a.mean,
@@ -328,6 +346,7 @@ impl Metrics {
             self.volume_diff_percent,
             self.contour_to_mesh_mean,
             self.contour_to_mesh_max,
+            self.worst_height,
         ]
     }
 }
@@ -391,7 +410,7 @@ pub fn to_csv(rows: &[Row]) -> String {
                     out.push_str(&format!(",{v:.4}"));
                 }
             }
-            None => out.push_str(&",".repeat(15)),
+            None => out.push_str(&",".repeat(16)),
         }
         out.push_str(&format!(
             ",{:.3},{}\n",
@@ -450,6 +469,10 @@ mod tests {
         assert_eq!((rows[0].sax, rows[0].lax), (2, 0));
         assert_eq!((rows[1].sax, rows[1].lax), (8, 0));
         assert_eq!(rows[1].iterations, 40);
+        // Two rings near the ends and no LAX: the straight tube between them misses the widest
+        // part of the spheroid, at mid-height.
+        let h = rows[0].metric("worst_height").unwrap();
+        assert!((0.25..=0.75).contains(&h), "worst height {h}");
         // Two rings and flat lids miss the apex dome by millimetres; eight rings follow it.
         assert!(
             err(&rows[1]) < 0.5 * err(&rows[0]),
