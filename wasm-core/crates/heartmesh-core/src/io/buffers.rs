@@ -12,17 +12,14 @@ use crate::mesh::TriMesh;
 /// triangle, counter-clockwise seen from outside).
 pub fn mesh_from_buffers(positions: &[f32], indices: &[u32]) -> Result<TriMesh> {
     let bad = |m: String| Err(CoreError::InvalidMesh(m));
-    if positions.len() % 3 != 0 {
+    if !positions.len().is_multiple_of(3) {
         return bad(format!(
             "{} position values are not whole xyz triples",
             positions.len()
         ));
     }
-    if indices.len() % 3 != 0 || indices.is_empty() {
-        return bad(format!(
-            "{} indices are not whole triangles",
-            indices.len()
-        ));
+    if !indices.len().is_multiple_of(3) || indices.is_empty() {
+        return bad(format!("{} indices are not whole triangles", indices.len()));
     }
     let n = positions.len() / 3;
     if n > MAX_MESH_ELEMENTS || indices.len() / 3 > MAX_MESH_ELEMENTS {
@@ -40,7 +37,10 @@ pub fn mesh_from_buffers(positions: &[f32], indices: &[u32]) -> Result<TriMesh> 
         .chunks_exact(3)
         .map(|c| Vec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])))
         .collect();
-    let triangles = indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let triangles = indices
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
     Ok(TriMesh::new(points, triangles))
 }
 
@@ -59,13 +59,19 @@ mod tests {
             msg(&[0.0; 8], &[0, 1, 2]),
             "invalid mesh: 8 position values are not whole xyz triples"
         );
-        assert_eq!(msg(&[0.0; 9], &[]), "invalid mesh: 0 indices are not whole triangles");
+        assert_eq!(
+            msg(&[0.0; 9], &[]),
+            "invalid mesh: 0 indices are not whole triangles"
+        );
         assert_eq!(
             msg(&[0.0; 9], &[0, 1, 3]),
             "invalid mesh: index 3 is past the last of 3 vertices"
         );
         assert_eq!(
-            msg(&[0.0, 0.0, 0.0, 1.0, f32::NAN, 0.0, 0.0, 1.0, 0.0], &[0, 1, 2]),
+            msg(
+                &[0.0, 0.0, 0.0, 1.0, f32::NAN, 0.0, 0.0, 1.0, 0.0],
+                &[0, 1, 2]
+            ),
             "invalid mesh: vertex 1 has a non-finite coordinate"
         );
     }
