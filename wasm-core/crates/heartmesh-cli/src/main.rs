@@ -7,6 +7,8 @@
 mod args;
 mod cmd_compare;
 mod cmd_convert;
+mod cmd_experiment;
+mod cmd_experiment_plot;
 mod cmd_leave_one_out;
 mod cmd_reconstruct;
 mod cmd_simulate;
@@ -14,20 +16,23 @@ mod contours;
 mod error;
 mod files;
 mod report;
+mod svg;
+mod svg_plot;
 
 use error::CliError;
 
 fn usage() -> String {
     format!(
         "heartmesh {} - surface meshes from cardiac MRI contours (Villard, Grau & Zacur 2018)\n\n\
-         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
+         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
          exit status: 0 ok, 2 bad input or usage, 1 reconstruction failed",
         heartmesh_core::VERSION,
         cmd_reconstruct::USAGE,
         cmd_convert::USAGE,
         cmd_simulate::USAGE,
         cmd_compare::USAGE,
-        cmd_leave_one_out::USAGE
+        cmd_leave_one_out::USAGE,
+        cmd_experiment::USAGE
     )
 }
 
@@ -49,6 +54,8 @@ fn run(argv: &[String]) -> Result<(), CliError> {
         "simulate" => cmd_simulate::run(rest)?,
         "compare" => cmd_compare::run(rest)?,
         "leave-one-out" => cmd_leave_one_out::run(rest)?,
+        "experiment" if wants_help => println!("usage: {}", cmd_experiment::USAGE),
+        "experiment" => cmd_experiment::run(rest)?,
         other => return Err(CliError::usage(format!("unknown command {other:?}"))),
     }
     Ok(())

@@ -15,6 +15,7 @@ use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::TriMesh;
 use heartmesh_core::metrics::compare::{compare, CompareReport};
 use heartmesh_core::sim::hull::convex_hull;
+use heartmesh_core::sim::planes::anatomical_axis;
 use heartmesh_core::sim::shapes::{Bulge, ParametricLv};
 use heartmesh_core::sim::{simulate, Acquisition, AcquisitionSpec, LongAxis, Misalignment};
 use heartmesh_core::Params;
@@ -31,16 +32,19 @@ const RV_HULL_RATIO: f64 = 0.5;
 
 /// Cases that do not yet meet the acceptance targets above, with the limit they are held to until
 /// the method improves: the value measured at the defaults plus ~15%, so any regression still fails.
-/// Each is an open item on issue 2 (see the notes there): the maxima come from sharp features
-/// between 10 mm slices (bivme LV base, spasm LV epi) and from the RV apex that a single long-axis
-/// view leaves unconstrained. Remove a row as soon as the case meets the target.
+/// Each is an open item on issue 2, analysed in docs/VALIDATION.md (accuracy section): the LV maxima
+/// sit in long, thin triangles left by the quadric decimation (the surface between its vertices is a
+/// flat chord) or, on the biv-me LV, in the outflow-tract bulge between the two most basal slices
+/// that no contour crosses; the RV maxima are at an apex ~10 mm below every contour (one LAX misses
+/// it), where the remesh's affine shrink correction pushes the unconstrained surface outward at
+/// every remesh. Remove a row as soon as the case meets the target.
 const KNOWN_GAPS: &[(&str, &str, f64)] = &[
-    ("bivme LV_ENDO", "max", 4.4),
-    ("spasm LV epi", "mean", 0.27),
-    ("spasm LV epi", "max", 3.2),
-    ("bivme RV_ENDO", "max", 6.0),
-    ("spasm RV endo (free wall + septum)", "mean", 0.66),
-    ("spasm RV endo (free wall + septum)", "max", 6.8),
+    ("bivme LV_ENDO", "max", 2.75),
+    ("CAP mean LV endo", "max", 2.1),
+    ("spasm LV epi", "max", 2.1),
+    ("bivme RV_ENDO", "max", 5.1),
+    ("spasm RV endo (free wall + septum)", "mean", 0.74),
+    ("spasm RV endo (free wall + septum)", "max", 7.7),
 ];
 
 /// The limit a case is held to: the acceptance target, or its known-gap limit (printed loudly).
@@ -212,7 +216,7 @@ fn lv_parametric_with_bulge() {
 /// RV: the SAX stack is planned on the LV axis of the same subject; one LAX, a four-chamber-like
 /// plane through the LV axis and the RV centre.
 fn rv_case(name: &str, truth: &TriMesh, lv_file: &str) {
-    let (lv_axis, _) = LongAxis::from_mesh(&load_truth(lv_file)).unwrap();
+    let lv_axis = anatomical_axis(&load_truth(lv_file), 3.0).unwrap();
     let rv_centre = heartmesh_core::sim::axis::area_centroid(truth).unwrap().0;
     let spec = AcquisitionSpec {
         lax_count: 1,
@@ -335,12 +339,9 @@ fn misaligned_bivme_endo() {
 /// the reconstruction will be.
 #[test]
 fn acquisitions_of_reference_shapes() {
-    let spasm_lv_axis = LongAxis::from_mesh(&load_truth("cardiomesh-spasm-LV_endo.obj"))
-        .unwrap()
-        .0;
-    let bivme_lv_axis = LongAxis::from_mesh(&load_truth("bivme-patient1-ED-LV_ENDO-closed.obj"))
-        .unwrap()
-        .0;
+    let spasm_lv_axis = anatomical_axis(&load_truth("cardiomesh-spasm-LV_endo.obj"), 3.0).unwrap();
+    let bivme_lv_axis =
+        anatomical_axis(&load_truth("bivme-patient1-ED-LV_ENDO-closed.obj"), 3.0).unwrap();
     let cases: Vec<(&str, TriMesh, usize, Option<LongAxis>)> = vec![
         (
             "bivme LV_ENDO",

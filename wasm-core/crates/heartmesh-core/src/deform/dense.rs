@@ -7,7 +7,9 @@
 //! (PERFORMANCE.md); the sizes here (N ~ 150-400) fit in L2, where blocking for registers is what
 //! matters. All sums run in a fixed lane order (`lanes.rs`), so every target gives the same bits.
 
-use super::lanes::{Lanes, F2};
+#[cfg(target_arch = "x86_64")]
+use super::lanes::avx::{self, Avx};
+use super::lanes::{Quad, Q2};
 use crate::error::{CoreError, Result};
 
 /// Cholesky factorisation A = L L^T of the lower triangle of an m x m row-major matrix, in place.
@@ -16,8 +18,26 @@ use crate::error::{CoreError, Result};
 /// rows (i, i+1) with rows (j, j+1) share their loads, which halves the memory traffic that bounds
 /// the plain form (about N^3 / 6 loads from L2). Every entry's arithmetic is fixed, so results are
 /// reproducible.
+///
+/// Natively on a CPU with AVX the same arithmetic runs four lanes per instruction (same bits).
 #[inline(never)] // one call per fit: kept out of line for profiles
 pub(super) fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<()> {
+    #[cfg(target_arch = "x86_64")]
+    if avx::available() {
+        // SAFETY: the CPU has AVX.
+        return unsafe { cholesky_avx(a, m) };
+    }
+    cholesky_q::<Q2>(a, m)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn cholesky_avx(a: &mut [f64], m: usize) -> Result<()> {
+    cholesky_q::<Avx>(a, m)
+}
+
+#[inline(always)]
+fn cholesky_q<Q: Quad>(a: &mut [f64], m: usize) -> Result<()> {
     let mut i = 0;
     while i + 1 < m {
         let (done, rest) = a.split_at_mut(i * m);
@@ -28,7 +48,7 @@ pub(super) fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<()> {
         while j + 1 < i {
             let rj = &done[j * m..j * m + j + 1];
             let rj1 = &done[(j + 1) * m..(j + 1) * m + j + 2];
-            let [d00, d01, d10, d11] = dot2x2(&ri[..j], &ri1[..j], &rj[..j], &rj1[..j]);
+            let [d00, d01, d10, d11] = dot2x2::<Q>(&ri[..j], &ri1[..j], &rj[..j], &rj1[..j]);
             let (ljj, lj1j, lj1j1) = (rj[j], rj1[j], rj1[j + 1]);
             let x00 = (ri[j] - d00) / ljj;
             let x10 = (ri1[j] - d10) / ljj;
@@ -40,14 +60,14 @@ pub(super) fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<()> {
         }
         if j < i {
             let rj = &done[j * m..j * m + j + 1];
-            ri[j] = (ri[j] - dot(&ri[..j], &rj[..j])) / rj[j];
-            ri1[j] = (ri1[j] - dot(&ri1[..j], &rj[..j])) / rj[j];
+            ri[j] = (ri[j] - dot_q::<Q>(&ri[..j], &rj[..j])) / rj[j];
+            ri1[j] = (ri1[j] - dot_q::<Q>(&ri1[..j], &rj[..j])) / rj[j];
         }
         // Diagonal 2 x 2 block.
-        let lii = pivot(ri[i] - dot(&ri[..i], &ri[..i]), i)?;
+        let lii = pivot(ri[i] - dot_q::<Q>(&ri[..i], &ri[..i]), i)?;
         ri[i] = lii;
-        ri1[i] = (ri1[i] - dot(&ri1[..i], &ri[..i])) / lii;
-        ri1[i + 1] = pivot(ri1[i + 1] - dot(&ri1[..i + 1], &ri1[..i + 1]), i + 1)?;
+        ri1[i] = (ri1[i] - dot_q::<Q>(&ri1[..i], &ri[..i])) / lii;
+        ri1[i + 1] = pivot(ri1[i + 1] - dot_q::<Q>(&ri1[..i + 1], &ri1[..i + 1]), i + 1)?;
         i += 2;
     }
     if i < m {
@@ -55,9 +75,9 @@ pub(super) fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<()> {
         let ri = &mut rest[..i + 1];
         for j in 0..i {
             let rj = &done[j * m..j * m + j + 1];
-            ri[j] = (ri[j] - dot(&ri[..j], &rj[..j])) / rj[j];
+            ri[j] = (ri[j] - dot_q::<Q>(&ri[..j], &rj[..j])) / rj[j];
         }
-        ri[i] = pivot(ri[i] - dot(&ri[..i], &ri[..i]), i)?;
+        ri[i] = pivot(ri[i] - dot_q::<Q>(&ri[..i], &ri[..i]), i)?;
     }
     Ok(())
 }
@@ -75,38 +95,27 @@ fn pivot(d: f64, i: usize) -> Result<f64> {
 }
 
 /// The four dot products of (a0, a1) with (b0, b1), four lanes each, all slices of one length.
-#[inline]
-fn dot2x2(a0: &[f64], a1: &[f64], b0: &[f64], b1: &[f64]) -> [f64; 4] {
+#[inline(always)]
+fn dot2x2<Q: Quad>(a0: &[f64], a1: &[f64], b0: &[f64], b1: &[f64]) -> [f64; 4] {
     let n = a0.len().min(a1.len()).min(b0.len()).min(b1.len());
     let c = n / 4 * 4;
-    fn pairs(s: &[f64], c: usize) -> &[[f64; 2]] {
-        s[..c].as_chunks::<2>().0
+    fn quads(s: &[f64], c: usize) -> &[[f64; 4]] {
+        s[..c].as_chunks::<4>().0
     }
-    let mut acc = [F2::zero(); 8]; // (lo, hi) for a0.b0, a0.b1, a1.b0, a1.b1
-    for ((x0, x1), (y0, y1)) in pairs(a0, c)
-        .chunks_exact(2)
-        .zip(pairs(a1, c).chunks_exact(2))
-        .zip(
-            pairs(b0, c)
-                .chunks_exact(2)
-                .zip(pairs(b1, c).chunks_exact(2)),
-        )
+    let mut acc = [Q::zero(); 4]; // a0.b0, a0.b1, a1.b0, a1.b1
+    for ((x0, x1), (y0, y1)) in quads(a0, c)
+        .iter()
+        .zip(quads(a1, c))
+        .zip(quads(b0, c).iter().zip(quads(b1, c)))
     {
-        for h in 0..2 {
-            let (x0, x1) = (F2::load(&x0[h]), F2::load(&x1[h]));
-            let (y0, y1) = (F2::load(&y0[h]), F2::load(&y1[h]));
-            acc[h] = acc[h].add(x0.mul(y0));
-            acc[2 + h] = acc[2 + h].add(x0.mul(y1));
-            acc[4 + h] = acc[4 + h].add(x1.mul(y0));
-            acc[6 + h] = acc[6 + h].add(x1.mul(y1));
-        }
+        let (x0, x1) = (Q::load(x0), Q::load(x1));
+        let (y0, y1) = (Q::load(y0), Q::load(y1));
+        acc[0] = acc[0].add(x0.mul(y0));
+        acc[1] = acc[1].add(x0.mul(y1));
+        acc[2] = acc[2].add(x1.mul(y0));
+        acc[3] = acc[3].add(x1.mul(y1));
     }
-    let mut out = [
-        acc[0].sum4(acc[1]),
-        acc[2].sum4(acc[3]),
-        acc[4].sum4(acc[5]),
-        acc[6].sum4(acc[7]),
-    ];
+    let mut out = acc.map(Q::sum);
     for k in c..n {
         out[0] += a0[k] * b0[k];
         out[1] += a0[k] * b1[k];
@@ -132,20 +141,26 @@ fn cholesky_reference(a: &mut [f64], m: usize) -> Result<()> {
     Ok(())
 }
 
-/// Dot product in eight lanes (four two-lane accumulators hide the add latency) with a fixed
+/// Dot product in eight lanes (two four-lane accumulators hide the add latency) with a fixed
 /// summation order, so results are reproducible on every target.
 #[inline]
 pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    dot_q::<Q2>(a, b)
+}
+
+/// [`dot`] over any four-lane vector (same bits with each).
+#[inline(always)]
+pub(super) fn dot_q<Q: Quad>(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
     let c = n / 8 * 8;
-    let (pa, pb) = (a[..c].as_chunks::<2>().0, b[..c].as_chunks::<2>().0);
-    let mut acc = [F2::zero(); 4];
-    for (x, y) in pa.chunks_exact(4).zip(pb.chunks_exact(4)) {
-        for l in 0..4 {
-            acc[l] = acc[l].add(F2::load(&x[l]).mul(F2::load(&y[l])));
+    let (pa, pb) = (a[..c].as_chunks::<4>().0, b[..c].as_chunks::<4>().0);
+    let mut acc = [Q::zero(); 2];
+    for (x, y) in pa.chunks_exact(2).zip(pb.chunks_exact(2)) {
+        for l in 0..2 {
+            acc[l] = acc[l].add(Q::load(&x[l]).mul(Q::load(&y[l])));
         }
     }
-    let mut s = acc[0].sum4(acc[1]) + acc[2].sum4(acc[3]);
+    let mut s = acc[0].sum() + acc[1].sum();
     for (x, y) in a[c..n].iter().zip(&b[c..n]) {
         s += x * y;
     }
@@ -164,6 +179,46 @@ pub(super) fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
 mod tests {
     use super::*;
     use crate::spatial::testutil::SplitMix64;
+
+    /// The dispatched factorisation (AVX when the CPU has it) and the two-lane and portable
+    /// kernels give the same bits, so native results equal wasm's.
+    #[test]
+    fn every_lane_width_gives_the_same_bits() {
+        use crate::deform::lanes::{portable, Pair};
+        let mut rng = SplitMix64::new(7);
+        for m in [1, 2, 3, 7, 8, 9, 33, 64, 101] {
+            let b: Vec<f64> = (0..m * m).map(|_| rng.range(-1.0, 1.0)).collect();
+            let mut a = vec![0.0; m * m];
+            for i in 0..m {
+                for j in 0..m {
+                    let s: f64 = (0..m).map(|k| b[i * m + k] * b[j * m + k]).sum();
+                    a[i * m + j] = s + if i == j { m as f64 } else { 0.0 };
+                }
+            }
+            let (mut l1, mut l2, mut l3) = (a.clone(), a.clone(), a.clone());
+            cholesky_in_place(&mut l1, m).unwrap();
+            cholesky_q::<Q2>(&mut l2, m).unwrap();
+            cholesky_q::<Pair<portable::F2>>(&mut l3, m).unwrap();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&l1), bits(&l2), "m {m}");
+            assert_eq!(bits(&l1), bits(&l3), "m {m}");
+            let (x, y) = (&b[..m * m / 2 + 3.min(m)], &a[..m * m / 2 + 3.min(m)]);
+            let d = dot(x, y);
+            assert_eq!(d.to_bits(), dot_q::<Pair<portable::F2>>(x, y).to_bits());
+            #[cfg(target_arch = "x86_64")]
+            if super::avx::available() {
+                // SAFETY: the CPU has AVX.
+                let e = unsafe { dot_avx(x, y) };
+                assert_eq!(d.to_bits(), e.to_bits());
+            }
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn dot_avx(a: &[f64], b: &[f64]) -> f64 {
+        dot_q::<Avx>(a, b)
+    }
 
     #[test]
     fn blocked_cholesky_equals_the_plain_one() {

@@ -153,15 +153,122 @@ pub trait Lanes: Copy {
     fn mul(self, o: Self) -> Self;
     fn sqrt(self) -> Self;
     fn lanes(self) -> [f64; 2];
+}
+
+/// Four f64 lanes: the `(lo, hi)` pairs of two-lane vectors that the kernels accumulate in, as
+/// one value. [`Pair`] is exactly that pair of two-lane vectors; [`avx::Avx`] is one 256-bit AVX
+/// register, used natively when the CPU has AVX (checked at run time). Lane for lane both do the
+/// same IEEE operations (AVX without FMA), so the results have the same bits as the two-lane
+/// kernels in wasm and in the portable reference.
+pub trait Quad: Copy {
+    fn splat(x: f64) -> Self;
+    fn load(a: &[f64; 4]) -> Self;
+    fn add(self, o: Self) -> Self;
+    fn sub(self, o: Self) -> Self;
+    fn mul(self, o: Self) -> Self;
+    fn sqrt(self) -> Self;
+    fn lanes(self) -> [f64; 4];
 
     #[inline(always)]
     fn zero() -> Self {
         Self::splat(0.0)
     }
-    /// `(l0 + l1)` of `self` plus `(l0 + l1)` of `hi`: the fixed final order of a 4-lane sum.
+    /// `(l0 + l1) + (l2 + l3)`: the fixed final order of a four-lane sum (= `Lanes::sum4`).
     #[inline(always)]
-    fn sum4(self, hi: Self) -> f64 {
-        let (a, b) = (self.lanes(), hi.lanes());
-        (a[0] + a[1]) + (b[0] + b[1])
+    fn sum(self) -> f64 {
+        let l = self.lanes();
+        (l[0] + l[1]) + (l[2] + l[3])
+    }
+}
+
+/// Two two-lane vectors as four lanes.
+#[derive(Clone, Copy)]
+pub struct Pair<V: Lanes>(V, V);
+
+impl<V: Lanes> Quad for Pair<V> {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        Pair(V::splat(x), V::splat(x))
+    }
+    #[inline(always)]
+    fn load(a: &[f64; 4]) -> Self {
+        let h = a.as_chunks::<2>().0;
+        Pair(V::load(&h[0]), V::load(&h[1]))
+    }
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Pair(self.0.add(o.0), self.1.add(o.1))
+    }
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Pair(self.0.sub(o.0), self.1.sub(o.1))
+    }
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        Pair(self.0.mul(o.0), self.1.mul(o.1))
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Pair(self.0.sqrt(), self.1.sqrt())
+    }
+    #[inline(always)]
+    fn lanes(self) -> [f64; 4] {
+        let (a, b) = (self.0.lanes(), self.1.lanes());
+        [a[0], a[1], b[0], b[1]]
+    }
+}
+
+/// The four lanes of the target without run-time detection.
+pub type Q2 = Pair<F2>;
+
+#[cfg(target_arch = "x86_64")]
+pub mod avx {
+    //! SAFETY (every `unsafe` below): these methods are only called from functions compiled
+    //! with `#[target_feature(enable = "avx")]`, which run only after `available()` returned
+    //! true; the loads and stores stay within the 32 bytes of a `[f64; 4]`.
+    use core::arch::x86_64::*;
+
+    #[derive(Clone, Copy)]
+    pub struct Avx(__m256d);
+
+    /// Whether this CPU runs AVX code (cached by std after the first call).
+    #[inline]
+    pub fn available() -> bool {
+        std::arch::is_x86_feature_detected!("avx")
+    }
+
+    impl super::Quad for Avx {
+        #[inline(always)]
+        fn splat(x: f64) -> Avx {
+            Avx(unsafe { _mm256_set1_pd(x) })
+        }
+        #[inline(always)]
+        fn load(a: &[f64; 4]) -> Avx {
+            // SAFETY: `a` is valid for reading 32 bytes; the load is unaligned.
+            Avx(unsafe { _mm256_loadu_pd(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn add(self, o: Avx) -> Avx {
+            Avx(unsafe { _mm256_add_pd(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn sub(self, o: Avx) -> Avx {
+            Avx(unsafe { _mm256_sub_pd(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn mul(self, o: Avx) -> Avx {
+            Avx(unsafe { _mm256_mul_pd(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Avx {
+            Avx(unsafe { _mm256_sqrt_pd(self.0) })
+        }
+        #[inline(always)]
+        fn lanes(self) -> [f64; 4] {
+            let mut out = [0.0; 4];
+            // SAFETY: `out` is valid for writing 32 bytes; the store is unaligned.
+            unsafe { _mm256_storeu_pd(out.as_mut_ptr(), self.0) };
+            out
+        }
     }
 }

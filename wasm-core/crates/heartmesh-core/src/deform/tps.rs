@@ -29,8 +29,10 @@
 //! in the same order, so every target, and the portable reference `evaluate_portable`, gives
 //! identical bits. The dot products of the factorisation use the same vectors.
 
-use super::dense::{axpy, cholesky_in_place, dot};
-use super::lanes::{portable, Lanes, F2};
+use super::dense::{axpy, cholesky_in_place, dot, dot_q};
+#[cfg(target_arch = "x86_64")]
+use super::lanes::avx::{self, Avx};
+use super::lanes::{portable, Pair, Quad, Q2};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 
@@ -46,12 +48,12 @@ const KERNEL_SCALE: f64 = -1.0 / (8.0 * std::f64::consts::PI);
 /// Four centres and their weights, structure-of-arrays so the kernel loads whole lanes.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 struct Chunk {
-    x: [[f64; 2]; 2],
-    y: [[f64; 2]; 2],
-    z: [[f64; 2]; 2],
-    wx: [[f64; 2]; 2],
-    wy: [[f64; 2]; 2],
-    wz: [[f64; 2]; 2],
+    x: [f64; 4],
+    y: [f64; 4],
+    z: [f64; 4],
+    wx: [f64; 4],
+    wy: [f64; 4],
+    wz: [f64; 4],
 }
 
 /// Fits and applies approximating thin-plate splines, reusing its buffers across fits: after the
@@ -230,6 +232,22 @@ impl TpsSolver {
     /// times: X = K V, then K -= Y V^T + V Y^T with Y = X T - V (T^T V^T X T) / 2.
     #[inline(never)] // one call per fit: kept out of line for profiles
     fn project_kernel(&mut self) {
+        #[cfg(target_arch = "x86_64")]
+        if avx::available() {
+            // SAFETY: the CPU has AVX.
+            return unsafe { self.project_kernel_avx() };
+        }
+        self.project_kernel_q::<Q2>();
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn project_kernel_avx(&mut self) {
+        self.project_kernel_q::<Avx>();
+    }
+
+    #[inline(always)]
+    fn project_kernel_q<Q: Quad>(&mut self) {
         let n = self.n;
         let v = &self.hv;
         // T: upper triangular with H_0 ... H_3 = I - V T V^T.
@@ -237,7 +255,7 @@ impl TpsSolver {
         for j in 0..4 {
             let mut z = [0.0; 4];
             for (k, zk) in z.iter_mut().enumerate().take(j) {
-                *zk = dot(&v[k * n + j..(k + 1) * n], &v[j * n + j..(j + 1) * n]);
+                *zk = dot_q::<Q>(&v[k * n + j..(k + 1) * n], &v[j * n + j..(j + 1) * n]);
             }
             for (a, row) in t.iter_mut().enumerate().take(j) {
                 row[j] = -self.hbeta[j] * (a..j).map(|b| row[b] * z[b]).sum::<f64>();
@@ -252,7 +270,7 @@ impl TpsSolver {
             for k in 0..4 {
                 let vk = &v[k * n..(k + 1) * n];
                 let xk = &mut self.tmp[k * n..(k + 1) * n];
-                xk[i] += dot(row, &vk[..i + 1]);
+                xk[i] += dot_q::<Q>(row, &vk[..i + 1]);
                 if vk[i] != 0.0 {
                     axpy(vk[i], &row[..i], &mut xk[..i]);
                 }
@@ -262,7 +280,7 @@ impl TpsSolver {
         let mut vx = [[0.0; 4]; 4];
         for (a, row) in vx.iter_mut().enumerate() {
             for (b, e) in row.iter_mut().enumerate() {
-                *e = dot(
+                *e = dot_q::<Q>(
                     &v[a * n + a..(a + 1) * n],
                     &self.tmp[b * n + a..(b + 1) * n],
                 );
@@ -345,12 +363,28 @@ impl TpsSolver {
 
     /// Solves L L^T g = (Q^T b)[4..] in place for the three coordinates.
     fn solve_projected(&mut self) {
+        #[cfg(target_arch = "x86_64")]
+        if avx::available() {
+            // SAFETY: the CPU has AVX.
+            return unsafe { self.solve_projected_avx() };
+        }
+        self.solve_projected_q::<Q2>();
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn solve_projected_avx(&mut self) {
+        self.solve_projected_q::<Avx>();
+    }
+
+    #[inline(always)]
+    fn solve_projected_q<Q: Quad>(&mut self) {
         let (n, m) = (self.n, self.n - 4);
         for b in self.rhs.chunks_exact_mut(n) {
             let y = &mut b[4..];
             for i in 0..m {
                 let row = &self.chol[i * m..i * m + i + 1];
-                y[i] = (y[i] - dot(&row[..i], &y[..i])) / row[i];
+                y[i] = (y[i] - dot_q::<Q>(&row[..i], &y[..i])) / row[i];
             }
             for i in (0..m).rev() {
                 let row = &self.chol[i * m..i * m + i + 1];
@@ -417,13 +451,12 @@ impl TpsSolver {
                 } else {
                     (pad, [0.0; 3])
                 };
-                let (h, k) = (l / 2, l % 2);
-                ch.x[h][k] = p.x;
-                ch.y[h][k] = p.y;
-                ch.z[h][k] = p.z;
-                ch.wx[h][k] = w[0];
-                ch.wy[h][k] = w[1];
-                ch.wz[h][k] = w[2];
+                ch.x[l] = p.x;
+                ch.y[l] = p.y;
+                ch.z[l] = p.z;
+                ch.wx[l] = w[0];
+                ch.wy[l] = w[1];
+                ch.wz[l] = w[2];
             }
         }
     }
@@ -450,7 +483,7 @@ impl TpsSolver {
         if !self.fitted {
             return p;
         }
-        let k = kernel_sum::<F2>(&self.chunks, p);
+        let k = kernel_sum::<Q2>(&self.chunks, p);
         let d = p - self.centre;
         let af = |a: &[f64; 4]| a[0] + a[1] * d.x + a[2] * d.y + a[3] * d.z;
         Vec3::new(
@@ -467,7 +500,7 @@ impl TpsSolver {
         if !self.fitted {
             return p;
         }
-        let k = kernel_sum::<portable::F2>(&self.chunks, p);
+        let k = kernel_sum::<Pair<portable::F2>>(&self.chunks, p);
         let d = p - self.centre;
         let af = |a: &[f64; 4]| a[0] + a[1] * d.x + a[2] * d.y + a[3] * d.z;
         Vec3::new(
@@ -478,38 +511,56 @@ impl TpsSolver {
     }
 
     /// Replaces every point by F(point); leaves them unchanged before a successful fit.
+    /// Natively on a CPU with AVX the kernel runs four lanes per instruction (same bits).
     pub fn apply(&self, points: &mut [Vec3]) {
         if !self.fitted {
             return;
         }
+        #[cfg(target_arch = "x86_64")]
+        if avx::available() {
+            // SAFETY: the CPU has AVX.
+            return unsafe { self.apply_avx(points) };
+        }
+        self.apply_q::<Q2>(points);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn apply_avx(&self, points: &mut [Vec3]) {
+        self.apply_q::<Avx>(points);
+    }
+
+    #[inline(always)]
+    fn apply_q<Q: Quad>(&self, points: &mut [Vec3]) {
         for p in points {
-            *p = self.evaluate(*p);
+            let k = kernel_sum::<Q>(&self.chunks, *p);
+            let d = *p - self.centre;
+            let af = |a: &[f64; 4]| a[0] + a[1] * d.x + a[2] * d.y + a[3] * d.z;
+            *p = Vec3::new(
+                k[0] + af(&self.affine_c[0]),
+                k[1] + af(&self.affine_c[1]),
+                k[2] + af(&self.affine_c[2]),
+            );
         }
     }
 }
 
 /// sum_i w_i G(|p - P_i|) for the three coordinates: four lanes, lane l summing centres l, l + 4,
-/// ..., then (l0 + l1) + (l2 + l3); the same bits with every `Lanes` implementation.
+/// ..., then (l0 + l1) + (l2 + l3); the same bits with every `Quad` implementation.
 #[inline(always)]
-fn kernel_sum<V: Lanes>(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
-    let (px, py, pz) = (V::splat(p.x), V::splat(p.y), V::splat(p.z));
-    let mut acc = [V::zero(); 6]; // x lo, x hi, y lo, y hi, z lo, z hi
+fn kernel_sum<Q: Quad>(chunks: &[Chunk], p: Vec3) -> [f64; 3] {
+    let (px, py, pz) = (Q::splat(p.x), Q::splat(p.y), Q::splat(p.z));
+    let mut acc = [Q::zero(); 3];
     for ch in chunks {
-        for h in 0..2 {
-            let dx = px.sub(V::load(&ch.x[h]));
-            let dy = py.sub(V::load(&ch.y[h]));
-            let dz = pz.sub(V::load(&ch.z[h]));
-            let r = dx.mul(dx).add(dy.mul(dy)).add(dz.mul(dz)).sqrt();
-            acc[h] = acc[h].add(V::load(&ch.wx[h]).mul(r));
-            acc[2 + h] = acc[2 + h].add(V::load(&ch.wy[h]).mul(r));
-            acc[4 + h] = acc[4 + h].add(V::load(&ch.wz[h]).mul(r));
-        }
+        let dx = px.sub(Q::load(&ch.x));
+        let dy = py.sub(Q::load(&ch.y));
+        let dz = pz.sub(Q::load(&ch.z));
+        let r = dx.mul(dx).add(dy.mul(dy)).add(dz.mul(dz)).sqrt();
+        acc[0] = acc[0].add(Q::load(&ch.wx).mul(r));
+        acc[1] = acc[1].add(Q::load(&ch.wy).mul(r));
+        acc[2] = acc[2].add(Q::load(&ch.wz).mul(r));
     }
-    [
-        acc[0].sum4(acc[1]),
-        acc[2].sum4(acc[3]),
-        acc[4].sum4(acc[5]),
-    ]
+    acc.map(Q::sum)
 }
 
 #[cfg(test)]
@@ -758,6 +809,10 @@ mod tests {
                     "{got:?} vs {want:?}"
                 );
                 assert_eq!(s.evaluate(p), s.evaluate_portable(p));
+                // `apply` (AVX natively when available) gives the same bits as `evaluate`.
+                let mut q = [p];
+                s.apply(&mut q);
+                assert_eq!(q[0], s.evaluate_portable(p));
             }
         }
     }

@@ -29,6 +29,10 @@ struct Stencils<'a> {
     twin: Vec<u32>,
     neighbours: VertexNeighbours,
     links: Vec<[u32; 2]>,
+    /// `ring_weight(k, j)` at `weights[offset[k] + j]` for every valence k of the mesh: the
+    /// series behind them cost more than the rest of the subdivision when evaluated per edge.
+    weights: Vec<f64>,
+    weight_offset: Vec<usize>,
 }
 
 impl Stencils<'_> {
@@ -113,11 +117,18 @@ impl Stencils<'_> {
     /// does not matter).
     fn ring_rule(&self, v: u32, out: u32) -> Result<Vec3> {
         let k = self.neighbours.valence(v as usize);
+        if k <= 2 {
+            return Err(CoreError::InvalidMesh(format!(
+                "interior vertex of valence {k}"
+            )));
+        }
+        let start = self.weight_offset[k];
+        let weights = &self.weights[start..start + k];
         let mut sum = self.p(v) * 0.75;
         let mut h = out;
-        for j in 0..k {
+        for &weight in weights {
             let (_, w) = half_edge_ends(self.triangles, h);
-            sum += self.p(w) * ring_weight(k, j)?;
+            sum += self.p(w) * weight;
             h = self.twin[prev_half_edge(h) as usize];
             if h == NO_TWIN {
                 return Err(CoreError::InvalidMesh(format!(
@@ -187,12 +198,28 @@ pub fn subdivide(mesh: &TriMesh) -> Result<TriMesh> {
 
 /// [`subdivide`] for a mesh already known to be manifold, with its edge map.
 pub(crate) fn subdivide_manifold(mesh: &TriMesh, map: &EdgeMap) -> Result<TriMesh> {
+    let neighbours = vertex_neighbours_from(map);
+    let max_valence = (0..neighbours.vertex_count())
+        .map(|v| neighbours.valence(v))
+        .max()
+        .unwrap_or(0);
+    // Weights for valences 3..=max (valences 0..=2 have empty ranges: ring_rule rejects them).
+    let mut weights = Vec::new();
+    let mut weight_offset = vec![0; max_valence + 1];
+    for (k, offset) in weight_offset.iter_mut().enumerate().skip(3) {
+        *offset = weights.len();
+        for j in 0..k {
+            weights.push(ring_weight(k, j)?);
+        }
+    }
     let stencils = Stencils {
         positions: &mesh.positions,
         triangles: &mesh.triangles,
         twin: map.twins(mesh),
-        neighbours: vertex_neighbours_from(map),
+        neighbours,
         links: boundary_links(mesh, map),
+        weights,
+        weight_offset,
     };
     let n = mesh.positions.len();
     let mut positions = Vec::with_capacity(n + map.edges.len());

@@ -4,6 +4,8 @@
 
 pub mod axis;
 pub mod cavity;
+pub mod experiment;
+pub mod experiment_design;
 pub mod hull;
 pub mod leave_one_out;
 pub mod planes;

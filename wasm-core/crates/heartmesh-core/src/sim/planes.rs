@@ -103,8 +103,11 @@ pub struct Acquisition {
 /// Slices `truth` as a CMR acquisition described by `spec`.
 pub fn simulate(truth: &TriMesh, spec: &AcquisitionSpec) -> Result<Acquisition> {
     validate(spec)?;
-    let (pca_axis, second) = LongAxis::from_mesh(truth)?;
-    let axis = spec.axis.unwrap_or(pca_axis);
+    let (_, second) = LongAxis::from_mesh(truth)?;
+    let axis = match spec.axis {
+        Some(a) => a,
+        None => anatomical_axis(truth, spec.join_gap_mm)?,
+    };
     let (lo, _hi, _rim) = axis
         .extent(truth)
         .ok_or_else(|| CoreError::Degenerate("reference shape has no finite vertex".into()))?;
@@ -113,6 +116,10 @@ pub fn simulate(truth: &TriMesh, spec: &AcquisitionSpec) -> Result<Acquisition> 
     })?;
     let bottom = (lo + spec.apex_margin_mm).max(span_lo);
     let top = span_hi - spec.base_margin_mm;
+    // A scanner's stack runs on to the apex: below the single-loop span (composite truths such as
+    // an RV cavity can have a stray open section low down) a slice is still drawn wherever its
+    // section is one closed loop.
+    let apex_bottom = lo + spec.apex_margin_mm;
     if top <= bottom {
         return Err(CoreError::Degenerate(format!(
             "the shape has closed sections over only {:.1} mm of its axis: no room for a SAX stack",
@@ -123,8 +130,10 @@ pub fn simulate(truth: &TriMesh, spec: &AcquisitionSpec) -> Result<Acquisition> 
         SaxStack::SpacingMm(s) => {
             let mut hs = Vec::new();
             let mut h = top;
-            while h >= bottom - 1e-9 {
-                hs.push(h);
+            while h >= apex_bottom - 1e-9 {
+                if h >= bottom - 1e-9 || single_loop_at(truth, &axis, h, spec.join_gap_mm) {
+                    hs.push(h);
+                }
                 h -= s;
             }
             hs.reverse();
@@ -235,6 +244,62 @@ pub fn simulate(truth: &TriMesh, spec: &AcquisitionSpec) -> Result<Acquisition> 
     })
 }
 
+/// Rounds of [`anatomical_axis`]: apex and base centre settle after two (the first moves the axis by
+/// a few degrees from the principal direction, the second by hundredths of a degree).
+const AXIS_ROUNDS: usize = 3;
+
+/// The long axis a CMR planner would use: the line from the apex to the centre of the most basal
+/// closed section (the mitral valve plane's centre), found from the principal axis by a few rounds
+/// of: base centre = centroid of the highest single-loop section, apex = the surface point farthest
+/// from it. The long-axis views (2, 3, 4 chamber) are planned through this line, so they all pass
+/// through the apex; the principal axis through the centroid need not (a ventricle's apex is
+/// often off its centroid line), which would leave the apex between the long-axis planes.
+pub fn anatomical_axis(mesh: &TriMesh, join_gap_mm: f64) -> Result<LongAxis> {
+    let (mut axis, _) = LongAxis::from_mesh(mesh)?;
+    for _ in 0..AXIS_ROUNDS {
+        let Some((_, top)) = single_loop_span(mesh, &axis, join_gap_mm) else {
+            break;
+        };
+        let plane = Plane {
+            origin: axis.centre + axis.direction * top,
+            normal: axis.direction,
+        };
+        let pieces = join_chains(slice_mesh(mesh, &plane), join_gap_mm, &plane);
+        let Some(ring) = pieces
+            .iter()
+            .filter(|p| p.closed)
+            .max_by(|a, b| polyline_length(a).total_cmp(&polyline_length(b)))
+        else {
+            break;
+        };
+        let base = resample(ring, 1.0);
+        let base_centre =
+            base.points.iter().fold(Vec3::zeros(), |a, p| a + p) / base.points.len().max(1) as f64;
+        let Some(apex) = mesh
+            .positions
+            .iter()
+            .filter(|p| axis.height(p) < top)
+            .max_by(|a, b| {
+                (*a - base_centre)
+                    .norm_squared()
+                    .total_cmp(&(*b - base_centre).norm_squared())
+            })
+        else {
+            break;
+        };
+        // Keep the axis centre at the same height so heights stay comparable between rounds.
+        let Some(next) = LongAxis::new(*apex, base_centre - apex) else {
+            break;
+        };
+        let h = next.height(&axis.centre);
+        axis = LongAxis {
+            centre: next.centre + next.direction * h,
+            direction: next.direction,
+        };
+    }
+    Ok(axis)
+}
+
 /// Scan step of [`single_loop_span`], mm.
 const SCAN_STEP_MM: f64 = 0.5;
 
@@ -250,28 +315,7 @@ pub fn single_loop_span(mesh: &TriMesh, axis: &LongAxis, join_gap_mm: f64) -> Op
     let mut last_good = lo;
     for k in 0..=steps {
         let h = lo + SCAN_STEP_MM * (k as f64 + 0.5);
-        let good = h < hi && {
-            let plane = Plane {
-                origin: axis.centre + axis.direction * h,
-                normal: axis.direction,
-            };
-            let pieces = join_chains(slice_mesh(mesh, &plane), join_gap_mm, &plane);
-            let lengths: Vec<f64> = pieces.iter().map(polyline_length).collect();
-            // The longest piece is a closed loop and every other piece is small (fragments where
-            // the surfaces of a composite truth overlap, or a small separate structure, dropped by
-            // `simulate`). A second large loop means the base splits (valve, outflow tract).
-            let longest = lengths.iter().cloned().fold(0.0, f64::max);
-            !pieces.is_empty()
-                && pieces.iter().zip(&lengths).all(|(p, &l)| {
-                    if l == longest {
-                        p.closed
-                    } else if p.closed {
-                        l <= 0.2 * longest
-                    } else {
-                        l <= 0.1 * longest
-                    }
-                })
-        };
+        let good = h < hi && single_loop_at(mesh, axis, h, join_gap_mm);
         if good {
             run_start.get_or_insert(h);
             last_good = h;
@@ -287,6 +331,30 @@ pub fn single_loop_span(mesh: &TriMesh, axis: &LongAxis, join_gap_mm: f64) -> Op
         }
     }
     best
+}
+
+/// Whether the plane across `axis` at height `h` cuts `mesh` in one closed loop: the longest piece
+/// is closed and every other piece is small (fragments where the surfaces of a composite truth
+/// overlap, or a small separate structure, dropped by `simulate`). A second large loop means the
+/// base splits (valve, outflow tract).
+fn single_loop_at(mesh: &TriMesh, axis: &LongAxis, h: f64, join_gap_mm: f64) -> bool {
+    let plane = Plane {
+        origin: axis.centre + axis.direction * h,
+        normal: axis.direction,
+    };
+    let pieces = join_chains(slice_mesh(mesh, &plane), join_gap_mm, &plane);
+    let lengths: Vec<f64> = pieces.iter().map(polyline_length).collect();
+    let longest = lengths.iter().cloned().fold(0.0, f64::max);
+    !pieces.is_empty()
+        && pieces.iter().zip(&lengths).all(|(p, &l)| {
+            if l == longest {
+                p.closed
+            } else if p.closed {
+                l <= 0.2 * longest
+            } else {
+                l <= 0.1 * longest
+            }
+        })
 }
 
 fn validate(spec: &AcquisitionSpec) -> Result<()> {
@@ -437,6 +505,42 @@ mod tests {
         // 90 degrees between lax01 and lax02.
         let d = acq.lax_planes[0].normal.dot(&acq.lax_planes[1].normal);
         assert!(d.abs() < 1e-12);
+    }
+
+    /// A sheared LV (its base centre moved 24 mm sideways): the planner's axis passes through the
+    /// apex, the shape's lowest point along it (where the surface is perpendicular to the line from
+    /// the base centre, the farthest point from it); the principal axis passes 4+ mm from its own.
+    #[test]
+    fn anatomical_axis_passes_through_the_apex() {
+        let mut truth = lv();
+        for p in &mut truth.positions {
+            p.x += 0.3 * p.z;
+        }
+        let off_axis = |a: &LongAxis, p: &Vec3| {
+            let v = p - a.centre;
+            (v - a.direction * a.direction.dot(&v)).norm()
+        };
+        let lowest = |a: &LongAxis| {
+            *truth
+                .positions
+                .iter()
+                .min_by(|p, q| a.height(p).total_cmp(&a.height(q)))
+                .unwrap()
+        };
+        let axis = anatomical_axis(&truth, 3.0).unwrap();
+        let apex = lowest(&axis);
+        assert!(off_axis(&axis, &apex) < 0.5, "{}", off_axis(&axis, &apex));
+        let (pca, _) = LongAxis::from_mesh(&truth).unwrap();
+        assert!(off_axis(&pca, &lowest(&pca)) > 2.0);
+        // The long-axis planes of a simulated acquisition contain the apex.
+        let acq = simulate(&truth, &AcquisitionSpec::default()).unwrap();
+        for plane in &acq.lax_planes {
+            assert!(plane.signed_distance(&apex).abs() < 0.5);
+        }
+        // On the symmetric LV both axes are the z axis through the pole.
+        let axis = anatomical_axis(&lv(), 3.0).unwrap();
+        assert!(axis.direction.z > 0.99999, "{:?}", axis.direction);
+        assert!(off_axis(&axis, &Vec3::zeros()) < 1e-6);
     }
 
     #[test]

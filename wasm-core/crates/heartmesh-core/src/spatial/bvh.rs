@@ -87,6 +87,16 @@ impl LeafTri {
             corners: c,
         }
     }
+
+    #[inline(always)]
+    fn closest(&self, q: &Vec3) -> Vec3 {
+        let [a, b, c] = &self.corners;
+        if self.degenerate {
+            closest_on_edges(q, a, b, c)
+        } else {
+            closest_point_on_regular_triangle(q, a, b, c)
+        }
+    }
 }
 
 /// A BVH over a mesh's triangles. It keeps a copy of the triangles' corners (refreshed by
@@ -98,6 +108,8 @@ pub struct Bvh {
     order: Vec<u32>,
     /// Corners of `order[k]` at index k.
     tris: Vec<LeafTri>,
+    /// Position in `tris` of each mesh triangle (`u32::MAX` for one left out).
+    slot: Vec<u32>,
     /// Number of triangles of the mesh the tree was built for.
     n_triangles: usize,
     depth: usize,
@@ -210,6 +222,7 @@ impl Bvh {
             nodes: Vec::with_capacity(2 * order.len() / LEAF_SIZE + 1),
             order,
             tris: Vec::new(),
+            slot: Vec::new(),
             n_triangles: n,
             depth: 0,
         };
@@ -260,6 +273,10 @@ impl Bvh {
             .filter_map(|&t| corners(mesh, t as usize))
             .map(LeafTri::new)
             .collect();
+        bvh.slot = vec![u32::MAX; n];
+        for (k, &t) in bvh.order.iter().enumerate() {
+            bvh.slot[t as usize] = k as u32;
+        }
         bvh
     }
 
@@ -325,6 +342,15 @@ impl Bvh {
     /// from the tree's copy). Ties go to the lowest triangle index, so results are deterministic and
     /// equal to a brute-force scan.
     pub fn closest_point(&self, mesh: &TriMesh, q: Vec3) -> Option<ClosestHit> {
+        self.closest_point_near(mesh, q, u32::MAX)
+    }
+
+    /// [`Bvh::closest_point`], starting from triangle `hint` (any index; one out of range is
+    /// ignored). The answer is the same whatever the hint, because the hint only supplies the
+    /// first candidate: the traversal still visits every box that could hold a closer triangle or
+    /// an equally close one with a lower index. A good hint (the answer of a nearby query, or of
+    /// the same query before the mesh moved a little) prunes most boxes from the start.
+    pub fn closest_point_near(&self, mesh: &TriMesh, q: Vec3, hint: u32) -> Option<ClosestHit> {
         let _ = mesh; // kept in the signature so callers pair each query with its mesh
         if self.nodes.is_empty() {
             return None;
@@ -335,6 +361,20 @@ impl Bvh {
             distance_sq: f64::INFINITY,
             triangle: u32::MAX,
         };
+        if let Some(&k) = self.slot.get(hint as usize) {
+            if let Some(lt) = self.tris.get(k as usize) {
+                let p = lt.closest(&q);
+                let d = (q - p).norm_squared();
+                // A NaN distance is never a best (as in the leaf loop below).
+                if d < best.distance_sq {
+                    best = ClosestHit {
+                        point: p,
+                        distance_sq: d,
+                        triangle: hint,
+                    };
+                }
+            }
+        }
         // A box is pruned only when it is farther than the best hit by more than rounding, so a
         // triangle whose computed distance ties the best is never missed.
         let bound = |best: f64| best * (1.0 + 1e-12);
@@ -367,12 +407,7 @@ impl Bvh {
                 let s = node.start as usize;
                 let e = s + node.count as usize;
                 for (&t, lt) in self.order[s..e].iter().zip(&self.tris[s..e]) {
-                    let [a, b, c] = &lt.corners;
-                    let p = if lt.degenerate {
-                        closest_on_edges(&q, a, b, c)
-                    } else {
-                        closest_point_on_regular_triangle(&q, a, b, c)
-                    };
+                    let p = lt.closest(&q);
                     let d = (q - p).norm_squared();
                     if d < best.distance_sq || (d == best.distance_sq && t < best.triangle) {
                         best = ClosestHit {
@@ -648,6 +683,43 @@ mod tests {
                 .triangle,
             0
         );
+    }
+
+    #[test]
+    fn any_hint_gives_the_same_hit() {
+        let mut rng = SplitMix64::new(17);
+        let mut mesh = uv_sphere(30.0, 24, 40);
+        for p in &mut mesh.positions {
+            *p += rng.vec3(-0.5, 0.5);
+        }
+        let n = mesh.triangles.len() as u32;
+        let bvh = Bvh::build(&mesh);
+        let mut queries: Vec<Vec3> = (0..200).map(|_| rng.vec3(-40.0, 40.0)).collect();
+        queries.extend(mesh.positions.iter().take(50).copied()); // exact ties on vertices
+        let mut hinted = 0;
+        for q in &queries {
+            let want = brute(&mesh, *q).unwrap();
+            let near = bvh.closest_point(&mesh, *q).unwrap().triangle;
+            // The answer itself, a neighbour-ish index, a random one, and invalid ones.
+            let r = (rng.range(0.0, n as f64) as u32).min(n - 1);
+            for hint in [near, near.saturating_sub(1), r, n, u32::MAX] {
+                assert_eq!(
+                    bvh.closest_point_near(&mesh, *q, hint),
+                    Some(want),
+                    "hint {hint}"
+                );
+                hinted += 1;
+            }
+        }
+        assert_eq!(hinted, 5 * 250);
+        // A soup with a left-out triangle: its index as a hint is ignored.
+        let mesh = TriMesh::new(
+            vec![v3(0., 0., 0.), v3(1., 0., 0.), v3(0., 1., 0.)],
+            vec![[0, 1, 7], [0, 1, 2]],
+        );
+        let bvh = Bvh::build(&mesh);
+        let h = bvh.closest_point_near(&mesh, v3(0.2, 0.2, 1.0), 0).unwrap();
+        assert_eq!(h.triangle, 1);
     }
 
     #[test]

@@ -1,0 +1,352 @@
+//! Integration tests of `heartmesh experiment` (issue 5 item 4): each paper experiment on the
+//! built-in parametric LV with reduced settings (few iterations, few runs), asserting on the
+//! numbers in the CSV and on the shape of the SVG; and the usage errors (exit 2, one line).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_heartmesh"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("heartmesh-exp-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(args: &[&str]) -> (i32, String, String) {
+    let o = bin().args(args).output().unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// The CSV as one map per row (column name -> text).
+fn read_csv(path: &Path) -> Vec<HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    lines
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            assert_eq!(cells.len(), header.len(), "ragged row {l}");
+            header
+                .iter()
+                .cloned()
+                .zip(cells.iter().map(|c| c.to_string()))
+                .collect()
+        })
+        .collect()
+}
+
+fn num(row: &HashMap<String, String>, col: &str) -> f64 {
+    row[col]
+        .parse()
+        .unwrap_or_else(|_| panic!("{col} = {:?}", row[col]))
+}
+
+/// Average of the two directed means.
+fn mean(row: &HashMap<String, String>) -> f64 {
+    0.5 * (num(row, "mesh_to_truth_mean") + num(row, "truth_to_mesh_mean"))
+}
+
+fn experiment(kind: &str, dir: &Path, extra: &[&str]) -> Vec<HashMap<String, String>> {
+    let out = dir.to_str().unwrap();
+    let mut args = vec!["experiment", kind, "parametric-lv", "-o", out, "--quiet"];
+    args.extend_from_slice(extra);
+    let (code, stdout, err) = run(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.is_empty(), "--quiet printed {stdout}");
+    let svg = std::fs::read_to_string(dir.join(format!("{kind}.svg"))).unwrap();
+    assert!(svg.starts_with("<?xml") && svg.trim_end().ends_with("</svg>"));
+    read_csv(&dir.join(format!("{kind}.csv")))
+}
+
+#[test]
+fn sax_count_more_slices_less_error() {
+    let d = scratch("sax");
+    let rows = experiment(
+        "sax-count",
+        &d,
+        &[
+            "--from",
+            "2",
+            "--to",
+            "8",
+            "--step",
+            "3",
+            "--iterations",
+            "60",
+        ],
+    );
+    assert_eq!(rows.len(), 3);
+    let sax: Vec<f64> = rows.iter().map(|r| num(r, "sax")).collect();
+    assert_eq!(sax, [2.0, 5.0, 8.0]);
+    for r in &rows {
+        assert_eq!(r["shape"], "parametric-lv");
+        assert_eq!(num(r, "sax_contours"), num(r, "sax"));
+        assert_eq!(num(r, "lax_contours"), 3.0);
+        assert_eq!(num(r, "iterations"), 60.0);
+        assert!(r["error"].is_empty());
+    }
+    let (m2, m8) = (mean(&rows[0]), mean(&rows[2]));
+    eprintln!(
+        "EXPERIMENT sax-count parametric LV: mean {m2:.3} mm (2 SAX) -> {:.3} (5) -> {m8:.3} (8)",
+        mean(&rows[1])
+    );
+    // Two slices leave the bulge and the apex to the long axes alone: ~1 mm; eight: ~0.1 mm.
+    assert!(m8 < 0.25 * m2, "8 SAX {m8:.3} mm vs 2 SAX {m2:.3} mm");
+    assert!(m8 < 0.2, "8 SAX mean {m8:.3} mm");
+    assert!(num(&rows[2], "hausdorff") < num(&rows[0], "hausdorff"));
+    let svg = std::fs::read_to_string(d.join("sax-count.svg")).unwrap();
+    // Two panels (mean, Hausdorff), one line each for the one shape.
+    assert_eq!(svg.matches("<polyline").count(), 2);
+    assert_eq!(svg.matches("<circle").count(), 6);
+}
+
+#[test]
+fn lax_count_rows_and_counts() {
+    let d = scratch("lax");
+    let out = d.to_str().unwrap();
+    let (code, _, err) = run(&[
+        "experiment",
+        "lax-count",
+        "parametric-lv",
+        "-o",
+        out,
+        "--from",
+        "0",
+        "--to",
+        "3",
+        "--sax",
+        "3",
+        "--iterations",
+        "40",
+        "--tag",
+        "t1",
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(d.join("lax-count-t1.svg").exists());
+    let all = read_csv(&d.join("lax-count-t1.csv"));
+    assert_eq!(all.len(), 4);
+    // Parallel SAX only: the lids sit at the end rings' centroids and the apex dome is guessed.
+    let m0 = mean(&all[0]);
+    let rows = &all[1..];
+    assert_eq!(rows.len(), 3);
+    for (k, r) in rows.iter().enumerate() {
+        assert_eq!(num(r, "lax"), (k + 1) as f64);
+        assert_eq!(num(r, "lax_contours"), (k + 1) as f64);
+        assert_eq!(num(r, "sax_contours"), 3.0);
+    }
+    let (m1, m3) = (mean(&rows[0]), mean(&rows[2]));
+    eprintln!(
+        "EXPERIMENT lax-count parametric LV, 3 SAX: mean {m0:.3} mm (0 LAX) -> {m1:.3} (1) -> \
+         {m3:.3} (3)"
+    );
+    assert!(m1 < m0, "1 LAX {m1:.3} mm vs 0 LAX {m0:.3} mm");
+    assert!(m3 < m1, "3 LAX {m3:.3} mm vs 1 LAX {m1:.3} mm");
+}
+
+#[test]
+fn misalignment_raises_the_error() {
+    let d = scratch("mis");
+    let rows = experiment(
+        "misalignment",
+        &d,
+        &["--levels", "0,3:3", "--seeds", "2", "--iterations", "30"],
+    );
+    // The aligned level runs once, the misaligned one per seed.
+    assert_eq!(rows.len(), 3);
+    assert_eq!(num(&rows[0], "shift_mm"), 0.0);
+    assert_eq!(num(&rows[2], "seed"), 2.0);
+    // Different seeds, different acquisitions.
+    assert_ne!(
+        rows[1]["contour_to_mesh_max"],
+        rows[2]["contour_to_mesh_max"]
+    );
+    for r in &rows[1..] {
+        eprintln!(
+            "EXPERIMENT misalignment 3 mm / 3 deg seed {}: contour->mesh mean {:.3} mm (aligned \
+             {:.3}), mean to truth {:.3} mm (aligned {:.3})",
+            r["seed"],
+            num(r, "contour_to_mesh_mean"),
+            num(&rows[0], "contour_to_mesh_mean"),
+            mean(r),
+            mean(&rows[0])
+        );
+        // Contours that disagree cannot all be met, and the truth is missed by about the shift.
+        assert!(num(r, "contour_to_mesh_mean") > 2.0 * num(&rows[0], "contour_to_mesh_mean"));
+        assert!(mean(r) > 2.0 * mean(&rows[0]));
+        assert!(mean(r) < 3.0, "misaligned mean {:.3} mm", mean(r));
+    }
+}
+
+#[test]
+fn sweep_grid_and_parallel_coordinates() {
+    let d = scratch("sweep");
+    let rows = experiment(
+        "sweep",
+        &d,
+        &[
+            "--lambda",
+            "1e3,1e5",
+            "--smoothing-iterations",
+            "200",
+            "--target-reduction",
+            "0.72",
+            "--attractor-spacing",
+            "0,3",
+            "--iterations",
+            "30",
+        ],
+    );
+    assert_eq!(rows.len(), 4);
+    let lambdas: Vec<f64> = rows.iter().map(|r| num(r, "lambda")).collect();
+    assert_eq!(lambdas, [1e3, 1e3, 1e5, 1e5]);
+    // Low lambda: smooth, near-elliptical shapes that miss the bulge and the apex.
+    let (lo, hi) = (mean(&rows[0]), mean(&rows[2]));
+    eprintln!("EXPERIMENT sweep parametric LV: mean {lo:.3} mm (lambda 1e3) vs {hi:.3} (1e5)");
+    assert!(hi < 0.5 * lo, "lambda 1e5 {hi:.3} mm vs 1e3 {lo:.3} mm");
+    let svg = std::fs::read_to_string(d.join("sweep.svg")).unwrap();
+    assert_eq!(svg.matches("<polyline").count(), 4);
+    for axis in [
+        "lambda",
+        "attractor_spacing",
+        "mean distance (mm)",
+        "seconds",
+    ] {
+        assert!(svg.contains(&format!(">{axis}</text>")), "{axis}");
+    }
+}
+
+#[test]
+fn usage_errors_exit_2_with_one_line() {
+    let d = scratch("errors");
+    let out = d.to_str().unwrap();
+    let missing = d.join("missing.obj");
+    let missing = missing.to_str().unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["experiment"], "needs a kind"),
+        (
+            vec!["experiment", "nonsense", "parametric-lv", "-o", out],
+            "unknown experiment",
+        ),
+        (
+            vec!["experiment", "sax-count", "parametric-lv"],
+            "-o OUT_DIR",
+        ),
+        (
+            vec!["experiment", "sax-count", "-o", out],
+            "at least one TRUTH",
+        ),
+        (
+            vec![
+                "experiment",
+                "sax-count",
+                "parametric-lv",
+                "-o",
+                out,
+                "--from",
+                "9",
+                "--to",
+                "3",
+            ],
+            "no count",
+        ),
+        (
+            vec![
+                "experiment",
+                "sax-count",
+                "parametric-lv",
+                "-o",
+                out,
+                "--from",
+                "1",
+            ],
+            "sax",
+        ),
+        (
+            vec![
+                "experiment",
+                "sax-count",
+                "parametric-lv",
+                "-o",
+                out,
+                "--levels",
+                "1",
+            ],
+            "unknown option --levels",
+        ),
+        (
+            vec![
+                "experiment",
+                "sweep",
+                "parametric-lv",
+                "-o",
+                out,
+                "--lambda",
+                "abc",
+            ],
+            "not a list of numbers",
+        ),
+        (
+            vec![
+                "experiment",
+                "sweep",
+                "parametric-lv",
+                "-o",
+                out,
+                "--lambda",
+                "-5",
+            ],
+            "lambda",
+        ),
+        (
+            vec![
+                "experiment",
+                "misalignment",
+                "parametric-lv",
+                "-o",
+                out,
+                "--levels",
+                "1:2:3",
+            ],
+            "SHIFT:TILT",
+        ),
+        (
+            vec![
+                "experiment",
+                "lax-count",
+                "parametric-lv",
+                "-o",
+                out,
+                "--to",
+                "9",
+            ],
+            "lax",
+        ),
+        (
+            vec!["experiment", "lax-count", missing, "-o", out],
+            "missing.obj",
+        ),
+    ];
+    for (args, needle) in cases {
+        let (code, _, err) = run(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+    // Nothing was written by the failed runs.
+    assert!(!d.join("sax-count.csv").exists());
+}

@@ -1,0 +1,357 @@
+//! Developer tool for the accuracy cases (tests/accuracy.rs): slice a reference shape as the tests
+//! do, reconstruct, and show WHERE the error is and whether the contours hold the information.
+//! `cargo run --release --example probe -- CASE [iterations]`
+//! CASE: bivme-lv | cap-endo | cap-epi | spasm-endo | spasm-epi | bivme-rv | spasm-rv | param
+//!       (suffix `-mis` for the 2 mm / 2 degree misaligned acquisition, seed 1..3 as in the tests).
+use heartmesh_core::geometry::Vec3;
+use heartmesh_core::mesh::TriMesh;
+use heartmesh_core::metrics::compare::compare;
+use heartmesh_core::sim::repair::{orient_consistently, weld};
+use heartmesh_core::sim::{simulate, slice_mesh, AcquisitionSpec, LongAxis, Misalignment};
+use heartmesh_core::spatial::Bvh;
+use heartmesh_core::{io, Params, Reconstruction};
+use std::path::PathBuf;
+
+fn data(sub: &str) -> PathBuf {
+    let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    manifest
+        .ancestors()
+        .map(|a| a.join("shared/data"))
+        .find(|d| d.is_dir())
+        .unwrap_or_default()
+        .join(sub)
+}
+
+type Res<T> = Result<T, Box<dyn std::error::Error>>;
+
+fn truth(name: &str) -> Res<TriMesh> {
+    let bytes = std::fs::read(data(&format!("meshes/{name}")))?;
+    let m = io::read_mesh(name, &bytes)?.mesh;
+    Ok(orient_consistently(&weld(&m, 1e-6).0).0)
+}
+
+type Case = (TriMesh, usize, Option<(LongAxis, Vec3)>);
+
+/// An LV case: 3 LAX, planned on the shape's own axis.
+fn lv(t: TriMesh) -> Case {
+    (t, 3, None)
+}
+
+/// An RV case: SAX planned on the LV's axis, one LAX through that axis and the RV centre.
+fn rv(t: TriMesh, lv_file: &str) -> Res<Case> {
+    let axis = heartmesh_core::sim::planes::anatomical_axis(&truth(lv_file)?, 3.0)?;
+    let c = heartmesh_core::sim::axis::area_centroid(&t)?.0;
+    let r = c - axis.centre;
+    Ok((t, 1, Some((axis, r))))
+}
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("probe: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> Res<()> {
+    let args: Vec<String> = std::env::args().collect();
+    let case = args.get(1).cloned().unwrap_or_else(|| "spasm-epi".into());
+    let iterations: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(250);
+    let (base, mis) = match case.strip_suffix("-mis") {
+        Some(b) => (b.to_string(), true),
+        None => (case.clone(), false),
+    };
+    let (t, lax, rvax) = match base.as_str() {
+        "bivme-lv" => lv(truth("bivme-patient1-ED-LV_ENDO-closed.obj")?),
+        "cap-endo" => lv(truth("cap-atlas-mean-ED-LV_ENDO-open.obj")?),
+        "cap-epi" => lv(truth("cap-atlas-mean-ED-LV_EPI-open.obj")?),
+        "spasm-endo" => lv(truth("cardiomesh-spasm-LV_endo.obj")?),
+        "spasm-epi" => lv(truth("cardiomesh-spasm-LV_epi.obj")?),
+        "bivme-rv" => rv(
+            truth("bivme-patient1-ED-RV_ENDO-closed.obj")?,
+            "bivme-patient1-ED-LV_ENDO-closed.obj",
+        )?,
+        "spasm-rv" => rv(
+            heartmesh_core::sim::cavity::rv_cavity(
+                &truth("cardiomesh-spasm-RV_endo.obj")?,
+                &truth("cardiomesh-spasm-LV_epi.obj")?,
+                40.0,
+            )?,
+            "cardiomesh-spasm-LV_endo.obj",
+        )?,
+        "param" => lv(heartmesh_core::sim::shapes::ParametricLv {
+            bulge: Some(heartmesh_core::sim::shapes::Bulge {
+                amplitude_mm: 4.0,
+                height_fraction: 0.5,
+                angle_deg: 30.0,
+                width_mm: 10.0,
+            }),
+            ..Default::default()
+        }
+        .mesh(96, 64)?),
+        other => return Err(format!("unknown case {other}").into()),
+    };
+    let seed = match base.as_str() {
+        "cap-endo" => 1,
+        "spasm-epi" => 2,
+        _ => 3,
+    };
+    let spec = AcquisitionSpec {
+        lax_count: lax,
+        axis: rvax.map(|r| r.0),
+        lax_reference: rvax.map(|r| r.1),
+        join_gap_mm: if rvax.is_some() { 6.0 } else { 3.0 },
+        misalignment: mis.then_some(Misalignment {
+            shift_mm: 2.0,
+            tilt_deg: 2.0,
+        }),
+        seed: if mis { seed } else { 1 },
+        ..AcquisitionSpec::default()
+    };
+    let acq = simulate(&t, &spec)?;
+    if std::env::var("PROBE_SECTIONS").is_ok() {
+        use heartmesh_core::sim::slice::{join_chains, polyline_length, Plane};
+        let (lo, hi, _) = acq.axis.extent(&t).ok_or("no extent")?;
+        let mut h = lo + 0.5;
+        while h < hi {
+            let plane = Plane {
+                origin: acq.axis.centre + acq.axis.direction * h,
+                normal: acq.axis.direction,
+            };
+            let pieces = join_chains(slice_mesh(&t, &plane), spec.join_gap_mm, &plane);
+            let d: Vec<String> = pieces
+                .iter()
+                .map(|p| {
+                    format!(
+                        "{:.0}{}",
+                        polyline_length(p),
+                        if p.closed { "c" } else { "o" }
+                    )
+                })
+                .collect();
+            println!("section {:.1}: {}", h - lo, d.join(" "));
+            h += 2.0;
+        }
+    }
+    let mut params = Params {
+        iterations,
+        ..Params::default()
+    };
+    for kv in std::env::var("PROBE_PARAMS").unwrap_or_default().split(',') {
+        let Some((k, v)) = kv.split_once('=') else {
+            continue;
+        };
+        let f: f64 = v.parse()?;
+        match k {
+            "remesh_every" => params.remesh_every = f as usize,
+            "resample" => params.resample_attractors_every = f as usize,
+            "attractors" => params.attractors = heartmesh_core::AttractorMode::Count(f as usize),
+            "spacing" => params.attractors = heartmesh_core::AttractorMode::SpacingMm(f),
+            "lambda" => params.lambda = f,
+            "beta" => params.beta = f,
+            "smooth" => params.smoothing_iterations = f as usize,
+            _ => return Err(format!("unknown param {k}").into()),
+        }
+    }
+    let mut rec = Reconstruction::new(&acq.contours, params)?;
+    let (lo0, _, _) = acq.axis.extent(&t).ok_or("no extent")?;
+    let t0 = std::time::Instant::now();
+    while !rec.is_done() {
+        let s = rec.step()?;
+        if s.iteration.is_multiple_of(10) || s.done || s.iteration < 3 {
+            let low = rec
+                .mesh()
+                .positions
+                .iter()
+                .map(|p| acq.axis.height(p) - lo0)
+                .fold(f64::INFINITY, f64::min);
+            println!(
+                "it {:3} {:?} attractor max {:.3} mean {:.3} mesh low {low:.1}",
+                s.iteration, s.phase, s.max_distance_mm, s.mean_distance_mm
+            );
+        }
+    }
+    let secs = t0.elapsed().as_secs_f64();
+    let mut mesh = rec.mesh().clone();
+    if std::env::var("PROBE_SUBDIV").is_ok() {
+        mesh = heartmesh_core::refine::subdivide(&mesh)?;
+    }
+    let r = compare(&t, &mesh, Some(&acq.clip))?;
+    let (lo, hi, _) = acq.axis.extent(&t).ok_or("no extent")?;
+    let hfrac = |p: &Vec3| (acq.axis.height(p) - lo) / (hi - lo);
+    println!(
+        "{case}: m->t mean {:.3} max {:.3}; t->m mean {:.3} max {:.3}; vol {:.2}/{:.2} ml; {:.2} s",
+        r.mesh_to_truth.mean,
+        r.mesh_to_truth.max,
+        r.truth_to_mesh.mean,
+        r.truth_to_mesh.max,
+        r.volume_truth_ml,
+        r.volume_mesh_ml,
+        secs
+    );
+    {
+        let m = r.mesh_to_truth.max_at;
+        let m = Vec3::new(m[0], m[1], m[2]);
+        let near_t = (0..mesh.triangles.len())
+            .min_by(|&a, &b| {
+                let c = |t: usize| mesh.corners(t).iter().fold(Vec3::zeros(), |s, p| s + p) / 3.0;
+                (c(a) - m).norm().total_cmp(&(c(b) - m).norm())
+            })
+            .unwrap_or(0);
+        let [a, b, c] = mesh.corners(near_t);
+        println!(
+            "  mesh->truth max at h {:.1} mm; nearest triangle edges {:.1} {:.1} {:.1} mm; mean edge {:.2} mm",
+            acq.axis.height(&m) - lo,
+            (a - b).norm(),
+            (b - c).norm(),
+            (c - a).norm(),
+            {
+                let mut s = 0.0;
+                for t in 0..mesh.triangles.len() {
+                    let [a, b, c] = mesh.corners(t);
+                    s += (a - b).norm() + (b - c).norm() + (c - a).norm();
+                }
+                s / (3 * mesh.triangles.len()).max(1) as f64
+            }
+        );
+    }
+    let sax_h: Vec<f64> = acq
+        .sax_planes
+        .iter()
+        .map(|p| acq.axis.height(&p.origin) - lo)
+        .collect();
+    println!(
+        "shape length {:.1} mm; SAX heights (mm above apex) {:?}",
+        hi - lo,
+        sax_h
+            .iter()
+            .map(|h| (h * 10.0).round() / 10.0)
+            .collect::<Vec<_>>()
+    );
+    for c in &acq.contours.contours {
+        let hs: Vec<f64> = c.points().map(|p| acq.axis.height(p) - lo).collect();
+        let (a, b) = hs
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), h| {
+                (a.min(*h), b.max(*h))
+            });
+        if c.id.starts_with("lax") {
+            println!("  {} heights {:.1}..{:.1} mm", c.id, a, b);
+        }
+    }
+    let mh: Vec<f64> = mesh
+        .positions
+        .iter()
+        .map(|p| acq.axis.height(p) - lo)
+        .collect();
+    println!(
+        "  mesh heights {:.1}..{:.1} mm",
+        mh.iter().cloned().fold(f64::INFINITY, f64::min),
+        mh.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+    );
+    let pts: Vec<Vec3> = acq
+        .contours
+        .contours
+        .iter()
+        .flat_map(|c| c.points().copied())
+        .collect();
+    let near_contour = |p: &Vec3| {
+        pts.iter()
+            .map(|q| (p - q).norm())
+            .fold(f64::INFINITY, f64::min)
+    };
+    // Error by height band, both directions.
+    for (label, from, to) in [("truth->mesh", &t, &mesh), ("mesh->truth", &mesh, &t)] {
+        let bvh = Bvh::build(to);
+        let mut worst: Vec<(f64, Vec3)> = from
+            .positions
+            .iter()
+            .filter(|p| acq.clip.signed_distance(p) <= 0.0)
+            .map(|p| {
+                (
+                    bvh.closest_point(to, *p)
+                        .map_or(0.0, |h| h.distance_sq.sqrt()),
+                    *p,
+                )
+            })
+            .collect();
+        let mut bands = [(0.0f64, 0usize, 0.0f64); 10];
+        for (d, p) in &worst {
+            let b = ((hfrac(p) * 10.0).floor().clamp(0.0, 9.0)) as usize;
+            bands[b].0 += d;
+            bands[b].1 += 1;
+            bands[b].2 = bands[b].2.max(*d);
+        }
+        println!("{label} by height (vertex mean / max):");
+        for (k, b) in bands.iter().enumerate() {
+            if b.1 > 0 {
+                println!(
+                    "  {:.1}-{:.1}: n {:5} mean {:.3} max {:.3}",
+                    k as f64 / 10.0,
+                    (k + 1) as f64 / 10.0,
+                    b.1,
+                    b.0 / b.1 as f64,
+                    b.2
+                );
+            }
+        }
+        worst.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (d, p) in worst.iter().take(5) {
+            let rad = {
+                let v = p - acq.axis.centre;
+                (v - acq.axis.direction * acq.axis.direction.dot(&v)).norm()
+            };
+            println!(
+                "  worst {d:.3} at h {:.1} mm ({:.2}), radius {rad:.1}; nearest contour point {:.2} mm; [{:.1},{:.1},{:.1}]",
+                acq.axis.height(p) - lo,
+                hfrac(p),
+                near_contour(p),
+                p.x,
+                p.y,
+                p.z
+            );
+        }
+    }
+    {
+        let bvh = Bvh::build(&mesh);
+        let mut all: Vec<(f64, String, Vec3)> = acq
+            .contours
+            .contours
+            .iter()
+            .flat_map(|c| c.points().map(move |p| (c.id.clone(), *p)))
+            .map(|(id, p)| {
+                (
+                    bvh.closest_point(&mesh, p)
+                        .map_or(0.0, |h| h.distance_sq.sqrt()),
+                    id,
+                    p,
+                )
+            })
+            .collect();
+        all.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (d, id, p) in all.iter().take(8) {
+            println!(
+                "  c2m worst {d:.3} on {id} at h {:.1} mm ({:.2}) above clip {:.1}",
+                acq.axis.height(p) - lo,
+                hfrac(p),
+                acq.clip.signed_distance(p)
+            );
+        }
+    }
+    let d = rec.contour_distances();
+    for c in &d.per_contour {
+        println!(
+            "  {:8} {:?} mean {:.3} max {:.3}",
+            c.id, c.kind, c.stats.mean, c.stats.max
+        );
+    }
+    if let Ok(dir) = std::env::var("PROBE_OUT") {
+        std::fs::create_dir_all(&dir)?;
+        for (m, n) in [(&mesh, "mesh"), (&t, "truth")] {
+            let s = heartmesh_core::io::obj::write_obj(m, "probe");
+            std::fs::write(format!("{dir}/{case}-{n}.obj"), s)?;
+        }
+        let csv = heartmesh_core::io::csv::write_csv(&acq.contours, None)?;
+        std::fs::write(format!("{dir}/{case}-contours.csv"), csv)?;
+    }
+    Ok(())
+}
