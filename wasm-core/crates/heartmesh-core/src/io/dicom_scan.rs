@@ -120,6 +120,14 @@ fn walk(data: &[u8], enc: Encoding, only_group: Option<u16>) -> Result<(usize, O
             // Item or delimiter: tag and a 32-bit length, never a VR.
             let Some(len) = u32_at(pos + 4) else { break };
             pos += 8;
+            // Delimiters have length 0 (PS3.5 7.5); dicom-rs reads a value for one that does not,
+            // so such a file is refused here.
+            if matches!(element, 0xE00D | 0xE0DD) && len != 0 {
+                return Err(CoreError::parse(
+                    0,
+                    format!("DICOM delimiter (FFFE,{element:04X}) with length {len}: corrupt file"),
+                ));
+            }
             match (element, stack.last().copied()) {
                 (0xE0DD, Some(inside)) => {
                     stack.pop();
@@ -245,6 +253,22 @@ mod tests {
         assert!(
             e.to_string()
                 .contains("(0027,0000) declares 4294967042 bytes"),
+            "{e}"
+        );
+    }
+
+    /// Second fuzz find: sequence delimiters with non-zero lengths (one of 0xFA000000), which
+    /// dicom-rs reads as values.
+    #[test]
+    fn delimiters_with_a_length_are_refused() {
+        let b = std::fs::read(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../fuzz/regressions/rtstruct-oom-fd873c90.dcm"
+        ))
+        .unwrap();
+        let e = check_lengths(&b).unwrap_err();
+        assert!(
+            e.to_string().contains("delimiter (FFFE,E0DD) with length"),
             "{e}"
         );
     }
