@@ -20,6 +20,19 @@ const SHORT_VRS: [&[u8; 2]; 21] = [
     b"SH", b"SL", b"SS", b"ST", b"TM", b"UI", b"UL", b"US",
 ];
 
+/// Bytes dicom-rs actually consumes for a value of `len` bytes: binary numbers are read whole
+/// (a UL of length 1 reads nothing), so the walk must step as far as the parser does or the two
+/// would read different headers from then on.
+fn consumed(vr: [u8; 2], len: usize) -> usize {
+    let unit = match &vr {
+        b"US" | b"SS" | b"OW" => 2,
+        b"UL" | b"SL" | b"FL" | b"AT" | b"OF" | b"OL" => 4,
+        b"FD" | b"OD" | b"SV" | b"UV" | b"OV" => 8,
+        _ => 1,
+    };
+    len - len % unit
+}
+
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Encoding {
     ExplicitLittle,
@@ -107,6 +120,14 @@ fn walk(data: &[u8], enc: Encoding, only_group: Option<u16>) -> Result<(usize, O
             // Item or delimiter: tag and a 32-bit length, never a VR.
             let Some(len) = u32_at(pos + 4) else { break };
             pos += 8;
+            // Delimiters have length 0 (PS3.5 7.5); dicom-rs reads a value for one that does not,
+            // so such a file is refused here.
+            if matches!(element, 0xE00D | 0xE0DD) && len != 0 {
+                return Err(CoreError::parse(
+                    0,
+                    format!("DICOM delimiter (FFFE,{element:04X}) with length {len}: corrupt file"),
+                ));
+            }
             match (element, stack.last().copied()) {
                 (0xE0DD, Some(inside)) => {
                     stack.pop();
@@ -150,10 +171,16 @@ fn walk(data: &[u8], enc: Encoding, only_group: Option<u16>) -> Result<(usize, O
             }
         } else {
             let Some(len) = u32_at(pos + 4) else { break };
-            let sq = StandardDataDictionary
-                .by_tag(tag)
-                .is_some_and(|e| matches!(e.vr(), VirtualVr::Exact(VR::SQ)));
-            (len, 8, if sq { *b"SQ" } else { *b"UN" })
+            // The dictionary's VR, as dicom-rs uses it for implicit VR data sets.
+            let vr = match StandardDataDictionary.by_tag(tag).map(|e| e.vr()) {
+                Some(VirtualVr::Exact(vr)) => vr,
+                _ => VR::UN,
+            };
+            let code = match vr.to_string().as_bytes() {
+                [a, b, ..] => [*a, *b],
+                _ => *b"UN",
+            };
+            (len, 8, code)
         };
         pos += header;
         if len == u32::MAX {
@@ -184,7 +211,7 @@ fn walk(data: &[u8], enc: Encoding, only_group: Option<u16>) -> Result<(usize, O
             let v = String::from_utf8_lossy(&data[pos..pos + len]);
             syntax = Some(v.trim_end_matches(['\0', ' ']).to_string());
         }
-        pos += len;
+        pos += consumed(vr, len);
     }
     Ok((pos, syntax))
 }
@@ -209,6 +236,39 @@ mod tests {
         assert!(
             e.to_string()
                 .contains("declares 2147483647 bytes but only 10 remain"),
+            "{e}"
+        );
+    }
+
+    /// Found by the rtstruct fuzz target: (000F,0000) is a group length (UL) of declared length 1,
+    /// which dicom-rs reads as zero values, so the next header starts one byte earlier than the
+    /// declared length says; there it finds a length of 0xFFFFFF02.
+    #[test]
+    fn walk_follows_the_parser_through_short_numbers() {
+        let b = [
+            0u8, 0, 0, 0, 0, 0, 0, 0, 15, 0, 0, 0, 1, 0, 0, 0, 39, 0, 0, 0, 2, 255, 255, 255, 255,
+            0, 0, 39, 0,
+        ];
+        let e = check_lengths(&b).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("(0027,0000) declares 4294967042 bytes"),
+            "{e}"
+        );
+    }
+
+    /// Second fuzz find: sequence delimiters with non-zero lengths (one of 0xFA000000), which
+    /// dicom-rs reads as values.
+    #[test]
+    fn delimiters_with_a_length_are_refused() {
+        let b = std::fs::read(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../fuzz/regressions/rtstruct-oom-fd873c90.dcm"
+        ))
+        .unwrap();
+        let e = check_lengths(&b).unwrap_err();
+        assert!(
+            e.to_string().contains("delimiter (FFFE,E0DD) with length"),
             "{e}"
         );
     }

@@ -212,7 +212,7 @@ fn contour_points(c: &InMemDicomObject, what: &str) -> Result<Vec<Vec3>> {
     if values.is_empty() {
         return Err(err(format!("{what}: ContourData is empty")));
     }
-    if values.len() % 3 != 0 {
+    if !values.len().is_multiple_of(3) {
         return Err(err(format!(
             "{what}: ContourData has {} values, not x\\y\\z triplets",
             values.len()

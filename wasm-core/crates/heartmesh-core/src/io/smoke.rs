@@ -175,9 +175,16 @@ fn contour_readers_survive_mutations() {
     run("xyz", &xyz, |b| {
         let _ = xyz::read_xyz(b);
     });
-    let vtk = vec![lines_vtk()];
+    // Polylines with contour_id / surface cell data (as heartmesh writes them) and without.
+    let labelled =
+        csv::read_csv(&head("contours/bivme-example-patient1/patient1-ED.csv", 30)).unwrap();
+    let vtk = vec![lines_vtk(), write_contour_lines(&labelled, false, "smoke")];
     run("vtk-lines", &vtk, |b| {
         let _ = vtk::read_vtk_contours(b);
+    });
+    let vtp_lines = vec![write_contour_lines(&labelled, true, "smoke")];
+    run("vtp-lines", &vtp_lines, |b| {
+        let _ = vtp::read_vtp_contours(b);
     });
     let set = csv::read_csv(&head("contours/surfco-example.csv", 30)).unwrap();
     let session = vec![session::write_session(&set, &Params::default(), "0").unwrap()];
