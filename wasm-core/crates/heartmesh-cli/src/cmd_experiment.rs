@@ -8,8 +8,9 @@ use std::time::Instant;
 
 use heartmesh_core::sim::experiment::{to_csv, Design, Experiment, Progress, Row};
 use heartmesh_core::sim::experiment_design::Subject;
+use heartmesh_core::sim::planes::anatomical_axis;
 use heartmesh_core::sim::shapes::{Bulge, ParametricLv};
-use heartmesh_core::sim::LongAxis;
+use heartmesh_core::sim::AcquisitionSpec;
 use heartmesh_core::Params;
 
 use crate::args::{parse, Parsed, Spec};
@@ -296,8 +297,9 @@ fn subject(arg: &str) -> Result<Subject, CliError> {
     match split {
         Some((shape, lv)) => {
             let mesh = read_surface(shape)?;
-            let (axis, _) =
-                LongAxis::from_mesh(&read_surface(lv)?).map_err(|e| CliError::input(lv, e))?;
+            // The LV's anatomical axis (apex to mitral centre), as a scanner plans the RV views.
+            let axis = anatomical_axis(&read_surface(lv)?, AcquisitionSpec::default().join_gap_mm)
+                .map_err(|e| CliError::input(lv, e))?;
             Subject::planned_on(stem(shape), mesh, axis).map_err(|e| CliError::input(shape, e))
         }
         None => Ok(Subject::new(stem(arg), read_surface(arg)?)),

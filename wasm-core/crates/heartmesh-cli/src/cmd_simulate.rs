@@ -2,8 +2,9 @@
 //! (SAX stack, radial LAX, breath-hold misalignment, noise) to get contours with a known truth.
 
 use heartmesh_core::io;
+use heartmesh_core::sim::planes::anatomical_axis;
 use heartmesh_core::sim::repair::{orient_consistently, weld};
-use heartmesh_core::sim::{simulate, AcquisitionSpec, LongAxis, Misalignment, SaxStack};
+use heartmesh_core::sim::{simulate, AcquisitionSpec, Misalignment, SaxStack};
 
 use crate::args::{parse, Parsed, Spec};
 use crate::cmd_convert::file_name;
@@ -52,7 +53,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let truth = read_surface(input)?;
     if let Some(lv) = p.value("axis-from") {
         let lv_mesh = read_surface(lv)?;
-        let (axis, _) = LongAxis::from_mesh(&lv_mesh).map_err(|e| CliError::input(lv, e))?;
+        // Planned like a scanner: through the LV apex and mitral centre, as `simulate` does.
+        let axis =
+            anatomical_axis(&lv_mesh, spec.join_gap_mm).map_err(|e| CliError::input(lv, e))?;
         spec.axis = Some(axis);
     }
     let acq = simulate(&truth, &spec).map_err(|e| match e {

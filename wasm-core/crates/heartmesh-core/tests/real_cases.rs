@@ -137,6 +137,9 @@ fn low_target_reduction_is_capped() {
     println!("target reduction 0: {t} triangles after the last remesh");
     // Uncapped, 4^k growth over the remeshes would pass a million triangles.
     assert!(t <= MAX_REMESH_TRIANGLES, "{t} triangles");
-    assert!(t > MAX_REMESH_TRIANGLES / 2, "{t} triangles: the cap should have been reached");
+    assert!(
+        t > MAX_REMESH_TRIANGLES / 2,
+        "{t} triangles: the cap should have been reached"
+    );
     check_closed_manifold_outward(&mesh).unwrap();
 }

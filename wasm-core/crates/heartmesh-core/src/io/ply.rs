@@ -442,7 +442,10 @@ mod tests {
                  property list uchar int vertex_indices\nend_header\n\
                  0 0 0 1\n1 0 0 2\n0 1 0 3\n3 0 1 2\n";
         let e = read_ply(s.as_bytes()).unwrap_err().to_string();
-        assert!(e.contains("line 7") && e.contains("second vertex element"), "{e}");
+        assert!(
+            e.contains("line 7") && e.contains("second vertex element"),
+            "{e}"
+        );
     }
 
     #[test]
