@@ -142,6 +142,11 @@ fn walk(data: &[u8], enc: Encoding, only_group: Option<u16>) -> Result<(usize, O
                     }
                     pos += len as usize;
                 }
+                // An item of defined length can never run past the end of the file; outside a
+                // sequence dicom-rs would read it as one value of that length.
+                (0xE000, _) if len != u32::MAX && len as usize > data.len().saturating_sub(pos) => {
+                    return Err(too_long(tag, len as usize, data.len().saturating_sub(pos)));
+                }
                 // Items holding data sets are stepped into.
                 (0xE000 | 0xE00D | 0xE0DD, _) => {}
                 // Any other element of group FFFE is read as a plain value by dicom-rs.
@@ -271,6 +276,19 @@ mod tests {
             e.to_string().contains("delimiter (FFFE,E0DD) with length"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn items_longer_than_the_file_are_refused() {
+        // Found by the rtstruct fuzz target (third run): an item of length 0xFFDFFFFF after a
+        // sequence's delimiter made dicom-rs allocate 4 GiB.
+        let b = std::fs::read(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../fuzz/regressions/rtstruct-oom-c00fae35.dcm"
+        ))
+        .unwrap();
+        let e = check_lengths(&b).unwrap_err();
+        assert!(e.to_string().contains("FFFE,E000"), "{e}");
     }
 
     #[test]
