@@ -100,7 +100,7 @@ describe('wasm Lab', () => {
     assert.equal(thrownError(() => lab.make_parametric(JSON.stringify({ base_radius_mm: 30 }))).code, 'degenerate');
     lab.make_parametric('{}');
     assert.equal(thrownError(() => lab.simulate(JSON.stringify({ lax_count: 9 }))).code, 'param_out_of_range');
-    assert.equal(thrownError(() => lab.compare(new Float32Array(9), new Uint32Array([0, 1, 5]))).code, 'degenerate');
+    assert.equal(thrownError(() => lab.compare(new Float32Array(9), new Uint32Array([0, 1, 5]))).code, 'invalid_mesh');
     // An OBJ truth read through the core's mesh readers.
     const obj = ['v 0 0 0', 'v 10 0 0', 'v 0 10 0', 'v 0 0 10', 'f 1 3 2', 'f 1 2 4', 'f 2 3 4', 'f 3 1 4'].join('\n');
     const t = JSON.parse(lab.load_truth('tet.obj', new TextEncoder().encode(obj)));
