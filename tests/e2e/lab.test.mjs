@@ -94,6 +94,11 @@ describe('the Lab panel', () => {
     assert.ok(m.t2m > 0 && m.t2m < 0.5, `truth->mesh mean ${m.t2m}`);
     assert.match(m.hausdorff, /^\d+\.\d+ mm$/);
     assert.equal(await page.isVisible('[data-testid=legend-truth]'), true, 'distance colour map legend shown');
+    assert.equal(await page.isVisible('[data-testid=legend-mesh]'), false, 'the hidden mesh has no legend on screen');
+    await page.click('[data-testid=lab-map]');
+    assert.equal(await page.isVisible('[data-testid=legend-truth]'), false, 'map off: truth legend hidden');
+    assert.equal(await page.isVisible('[data-testid=legend-mesh]'), true, 'map off: the mesh and its legend are back');
+    await page.click('[data-testid=lab-map]');
     await page.locator('[data-testid=lab-compare]').scrollIntoViewIfNeeded();
     await page.mouse.move(0, 0);
     await page.screenshot({ path: join(SHOTS, 'lab-metrics.png') });
