@@ -28,6 +28,9 @@ const ITEM_END: Tag = (0xFFFE, 0xE00D);
 const SEQUENCE_END: Tag = (0xFFFE, 0xE0DD);
 const TRANSFER_SYNTAX: Tag = (0x0002, 0x0010);
 
+const DEFLATED: &str =
+    "deflated transfer syntax is not supported; export the structure set uncompressed";
+
 /// Value representations with a 16-bit length in explicit VR (PS3.5 table 7.1-2); every other VR
 /// has two reserved bytes and a 32-bit length.
 const SHORT_VRS: [&[u8; 2]; 21] = [
@@ -138,17 +141,18 @@ pub fn read_file<'a>(bytes: &'a [u8], sequences: &[Tag]) -> Result<DataSet<'a>> 
             .push(r.element(end, Encoding::ExplicitLittle, 0)?);
     }
     let syntax = meta.text(TRANSFER_SYNTAX);
-    let enc =
-        match syntax.as_deref() {
-            Some("1.2.840.10008.1.2") => Encoding::ImplicitLittle,
-            Some("1.2.840.10008.1.2.2") => Encoding::ExplicitBig,
-            Some("1.2.840.10008.1.2.1.99") => return Err(fail(
-                r.pos,
-                "deflated transfer syntax is not supported; export the structure set uncompressed",
-            )),
-            // Explicit VR little endian, and every encapsulated (compressed pixel data) syntax.
+    let enc = match syntax.as_deref() {
+        Some("1.2.840.10008.1.2") => Encoding::ImplicitLittle,
+        Some("1.2.840.10008.1.2.2") => Encoding::ExplicitBig,
+        Some("1.2.840.10008.1.2.1.99") => return Err(fail(r.pos, DEFLATED)),
+        // Explicit VR little endian, and every encapsulated (compressed pixel data) syntax.
+        Some(_) => Encoding::ExplicitLittle,
+        // No transfer syntax named: a VR after the first tag tells explicit from implicit.
+        None => match bytes.get(r.pos + 4..r.pos + 6) {
+            Some(vr) if !vr.iter().all(u8::is_ascii_uppercase) => Encoding::ImplicitLittle,
             _ => Encoding::ExplicitLittle,
-        };
+        },
+    };
     let mut set = r.dataset(end, enc, 0, false)?;
     let mut all = meta.elements;
     all.append(&mut set.elements);
@@ -307,13 +311,17 @@ impl<'a> Reader<'a, '_> {
         }
         let len = self.fits(tag, len, end)?;
         let value_end = self.pos + len;
-        let sequence = if enc.explicit() {
-            &vr == b"SQ"
-        } else {
-            self.sequences.contains(&tag)
+        let listed = self.sequences.contains(&tag);
+        // A listed sequence written as UN (by a tool that did not know it) holds implicit VR
+        // little endian items (PS3.5 6.2.2).
+        let inner = match (&vr, enc.explicit()) {
+            (b"SQ", true) => Some(enc),
+            (b"UN", true) if listed => Some(Encoding::ImplicitLittle),
+            (_, false) if listed => Some(enc),
+            _ => None,
         };
-        if sequence {
-            let items = self.items(value_end, Some(value_end), enc, depth + 1)?;
+        if let Some(inner) = inner {
+            let items = self.items(value_end, Some(value_end), inner, depth + 1)?;
             return Ok((tag, Value::Items(items)));
         }
         let value = &self.data[self.pos..value_end];
@@ -530,6 +538,32 @@ mod tests {
             Some(items.len())
         );
         assert_eq!(raw.text((0x0008, 0x0060)).as_deref(), Some("RTSTRUCT"));
+    }
+
+    #[test]
+    fn un_sequences_and_a_missing_transfer_syntax() {
+        // A listed sequence written as explicit UN of defined length: implicit VR items inside.
+        let inner = [header((0x3006, 0x0026), 2), b"LV".to_vec()].concat();
+        let mut f = vec![0u8; 128];
+        f.extend(b"DICM");
+        f.extend(ex((2, 1), b"OB", &[0, 1]));
+        f.extend(ex((0x3006, 0x0020), b"UN", &item(&inner)));
+        let set = read_file(&f, &[(0x3006, 0x0020)]).unwrap();
+        let name = set.items((0x3006, 0x0020))[0].text((0x3006, 0x0026));
+        assert_eq!(name.as_deref(), Some("LV"));
+        // Not listed: raw bytes.
+        assert!(read_file(&f, &[])
+            .unwrap()
+            .bytes((0x3006, 0x0020))
+            .is_some());
+        // A meta group without a transfer syntax, then an implicit VR data set.
+        let mut f = vec![0u8; 128];
+        f.extend(b"DICM");
+        f.extend(ex((2, 1), b"OB", &[0, 1]));
+        f.extend(header((0x0008, 0x0060), 8));
+        f.extend(b"RTSTRUCT");
+        let set = read_file(&f, &[]).unwrap();
+        assert_eq!(set.text((0x0008, 0x0060)).as_deref(), Some("RTSTRUCT"));
     }
 
     fn message(bytes: &[u8]) -> String {
