@@ -1,4 +1,5 @@
-//! DICOM RT Structure Set (RTSTRUCT) contours, read and written with the dicom-rs crates.
+//! DICOM RT Structure Set (RTSTRUCT) contours: read with our bounded reader (`dicom_read`, which
+//! never allocates from a declared length), written with the dicom-rs crates.
 //!
 //! Reference: DICOM PS3.3 C.8.8.5 (Structure Set module: StructureSetROISequence with ROI number
 //! and name) and C.8.8.6 (ROI Contour module: ROIContourSequence, each item pointing at an ROI
@@ -12,9 +13,8 @@
 //! ContourNumber within one ROI are pieces of one contour (the writer uses this for curves stored
 //! in several pieces); without a ContourNumber every contour stands alone.
 //!
-//! Only the transfer syntaxes built into dicom-rs without the `inventory` registry (which does not
-//! work on wasm32) are read: implicit and explicit VR little endian, explicit big endian and
-//! deflated-less encapsulated variants — every RTSTRUCT in practice.
+//! Transfer syntaxes read: implicit and explicit VR little endian, explicit VR big endian and the
+//! encapsulated (explicit little endian) ones — every RTSTRUCT in practice; deflated is refused.
 
 use std::collections::HashMap;
 
