@@ -1,5 +1,6 @@
 //! The JSON report of `heartmesh reconstruct` (scripts rely on its keys) and the one-line summary.
 
+use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::mesh::topology::validity;
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{LidMode, Params};
@@ -36,6 +37,7 @@ pub fn parameters(params: &Params) -> Value {
 pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
     let mesh = rec.mesh();
     let v = validity(mesh);
+    let q = quality(mesh);
     let d = rec.contour_distances();
     let per_contour: Vec<Value> = d
         .per_contour
@@ -77,6 +79,16 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         "oriented": v.oriented,
         "boundary_edges": v.boundary_edges,
         "euler_characteristic": v.euler_characteristic,
+        // Geometry, not topology: creases where neighbouring triangles turn more than 90 degrees
+        // against each other (where contours that disagree pulled the surface two ways).
+        "quality": {
+            "folded_edges": q.folded_edges,
+            "max_dihedral_deg": q.max_dihedral_deg,
+            "min_triangle_quality": q.min_triangle_quality,
+            "median_triangle_quality": q.median_triangle_quality,
+            "max_edge_mm": q.max_edge_mm,
+            "mean_edge_mm": q.mean_edge_mm,
+        },
         "contours": rec.contours().len(),
         "contour_to_mesh": {
             "mean": o.mean,

@@ -226,6 +226,34 @@ fn reconstruct_surfco_at_defaults() {
     let ml = num(&r, &["volume_ml"]);
     assert!((100.0..400.0).contains(&ml), "{ml} ml");
     assert!(num(&r, &["area_mm2"]) > 1000.0);
+    // Consistent contours leave a smooth surface: no creases, no degenerate triangles, and no edge
+    // longer than a fifth of the ventricle's ~90 mm length.
+    assert_eq!(
+        num(&r, &["quality", "folded_edges"]),
+        0.0,
+        "{}",
+        r["quality"]
+    );
+    assert!(
+        num(&r, &["quality", "max_dihedral_deg"]) < 60.0,
+        "{}",
+        r["quality"]
+    );
+    assert!(
+        num(&r, &["quality", "min_triangle_quality"]) > 0.05,
+        "{}",
+        r["quality"]
+    );
+    assert!(
+        num(&r, &["quality", "median_triangle_quality"]) > 0.5,
+        "{}",
+        r["quality"]
+    );
+    assert!(
+        num(&r, &["quality", "max_edge_mm"]) < 20.0,
+        "{}",
+        r["quality"]
+    );
     let per = r["per_contour"].as_array().unwrap();
     assert_eq!(per.len(), 8);
     assert_eq!(per.iter().filter(|c| c["kind"] == "SAX").count(), 6);

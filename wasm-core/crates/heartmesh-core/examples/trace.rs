@@ -1,5 +1,7 @@
-//! Developer tool: reconstruct one contour file and print every step's distances and timings.
+//! Developer tool: reconstruct one contour file and print every step's distances, mesh quality
+//! (folds, triangle shape) and timings.
 //! `cargo run --release --example trace -- FILE [SURFACE]`
+use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::{io, Params, Reconstruction};
 
 fn main() {
@@ -25,14 +27,19 @@ fn main() {
         while !r.is_done() {
             let s = r.step()?;
             if s.iteration % 10 == 0 || s.done || s.topology_changed {
+                let q = quality(r.mesh());
                 println!(
-                    "it {:3} {:?} max {:.3} mean {:.3} mm  V {} T {}  {:.2} ms",
+                    "it {:3} {:?} max {:.3} mean {:.3} mm  V {} T {}  folds {} (max dihedral {:.0} deg) min q {:.2} longest edge {:.1} mm  {:.2} ms",
                     s.iteration,
                     s.phase,
                     s.max_distance_mm,
                     s.mean_distance_mm,
                     s.vertices,
                     s.triangles,
+                    q.folded_edges,
+                    q.max_dihedral_deg,
+                    q.min_triangle_quality,
+                    q.max_edge_mm,
                     s.timings.total_ms
                 );
             }
