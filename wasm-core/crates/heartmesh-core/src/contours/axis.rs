@@ -513,4 +513,45 @@ mod tests {
         ]));
         assert_eq!(k, vec![Some(Sax), Some(Sax), None]);
     }
+
+    /// On real files, every surface's kinds at load are the kinds its reconstruction uses.
+    #[test]
+    fn kinds_at_load_are_the_run_kinds() {
+        use crate::io::{read_contours, sample};
+        use crate::{Params, Reconstruction};
+        let mut checked = 0;
+        for rel in [
+            "contours/surfco-example.csv",
+            "contours/bivme-example-patient1/patient1-ED.csv",
+            "contours/bivme-test-patient2/patient2-ES.csv",
+        ] {
+            let set = read_contours(rel, &sample(rel)).unwrap();
+            let kinds = classify_kinds(&set);
+            assert!(kinds.iter().all(Option::is_some), "{rel}: {kinds:?}");
+            let surfaces = set.surfaces();
+            let runs: Vec<Option<String>> = if surfaces.is_empty() {
+                vec![None]
+            } else {
+                surfaces.into_iter().map(Some).collect()
+            };
+            for surface in runs {
+                let params = Params {
+                    surface: surface.clone(),
+                    ..Params::default()
+                };
+                let rec = Reconstruction::new(&set, params).unwrap();
+                for (c, k) in rec.contours().iter().zip(rec.kinds()) {
+                    let i = set
+                        .contours
+                        .iter()
+                        .position(|d| d.id == c.id && d.surface == c.surface)
+                        .unwrap();
+                    assert_eq!(kinds[i], Some(*k), "{rel} {surface:?} {}", c.id);
+                    checked += 1;
+                }
+            }
+        }
+        // Every contour of the three files (8 + 40 + 24).
+        assert_eq!(checked, 72);
+    }
 }
