@@ -207,6 +207,23 @@ impl TpsSolver {
     /// square roots vectorise.
     #[inline(never)] // one call per fit: kept out of line for profiles
     fn assemble_kernel(&mut self, centres: &[Vec3], diag: f64) {
+        #[cfg(target_arch = "x86_64")]
+        if avx::available() {
+            // SAFETY: the CPU has AVX.
+            return unsafe { self.assemble_kernel_avx(centres, diag) };
+        }
+        self.assemble_kernel_lanes(centres, diag);
+    }
+
+    /// Elementwise (no sums), so the 256-bit build gives the same bits as the 128-bit one.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn assemble_kernel_avx(&mut self, centres: &[Vec3], diag: f64) {
+        self.assemble_kernel_lanes(centres, diag);
+    }
+
+    #[inline(always)]
+    fn assemble_kernel_lanes(&mut self, centres: &[Vec3], diag: f64) {
         let n = self.n;
         let (xs, rest) = self.tmp.split_at_mut(n);
         let (ys, rest) = rest.split_at_mut(n);
