@@ -352,6 +352,13 @@ impl Reconstruction {
         // Consecutive candidates lie ~1 mm apart along a contour: each hit seeds the next query.
         let mut hint = u32::MAX;
         for (i, q) in self.candidates.iter().enumerate() {
+            // Only the farthest candidate matters: one no farther from the previous hit's triangle
+            // than the farthest so far cannot beat it (that distance bounds its own from above).
+            if let Some(bound) = bvh.distance_sq_to_triangle(*q, hint) {
+                if bound <= seed.0 {
+                    continue;
+                }
+            }
             let hit = bvh.closest_point_near(&self.mesh_unit, *q, hint);
             hint = hit.map_or(u32::MAX, |h| h.triangle);
             let d = hit.map_or(f64::INFINITY, |h| h.distance_sq);
