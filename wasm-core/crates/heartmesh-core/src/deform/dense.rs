@@ -167,6 +167,36 @@ pub(super) fn dot_q<Q: Quad>(a: &[f64], b: &[f64]) -> f64 {
     s
 }
 
+/// Three [`dot_q`]s of `a` with `b0`, `b1`, `b2` sharing the loads of `a`; each result has the
+/// bits of its own `dot_q`.
+#[inline(always)]
+pub(super) fn dot3_q<Q: Quad>(a: &[f64], b0: &[f64], b1: &[f64], b2: &[f64]) -> [f64; 3] {
+    let n = a.len().min(b0.len()).min(b1.len()).min(b2.len());
+    let c = n / 8 * 8;
+    fn pairs(s: &[f64], c: usize) -> &[[[f64; 4]; 2]] {
+        s[..c].as_chunks::<4>().0.as_chunks::<2>().0
+    }
+    let mut acc = [[Q::zero(); 2]; 3];
+    for (x, ((y0, y1), y2)) in pairs(a, c)
+        .iter()
+        .zip(pairs(b0, c).iter().zip(pairs(b1, c)).zip(pairs(b2, c)))
+    {
+        for l in 0..2 {
+            let xl = Q::load(&x[l]);
+            acc[0][l] = acc[0][l].add(xl.mul(Q::load(&y0[l])));
+            acc[1][l] = acc[1][l].add(xl.mul(Q::load(&y1[l])));
+            acc[2][l] = acc[2][l].add(xl.mul(Q::load(&y2[l])));
+        }
+    }
+    let mut s = acc.map(|a| a[0].sum() + a[1].sum());
+    for (k, x) in a.iter().enumerate().take(n).skip(c) {
+        s[0] += x * b0[k];
+        s[1] += x * b1[k];
+        s[2] += x * b2[k];
+    }
+    s
+}
+
 /// y += alpha x.
 #[inline]
 pub(super) fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {

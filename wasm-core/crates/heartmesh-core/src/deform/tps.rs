@@ -30,7 +30,7 @@
 //! `evaluate_portable`, gives identical bits. The dot products of the factorisation, the
 //! projection and the triangular solves use the same vectors.
 
-use super::dense::{axpy, cholesky_in_place, dot, dot_q};
+use super::dense::{axpy, cholesky_in_place, dot, dot3_q, dot_q};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::avx::{self, Avx};
 use super::lanes::{portable, Pair, Quad, Q2};
@@ -207,6 +207,23 @@ impl TpsSolver {
     /// square roots vectorise.
     #[inline(never)] // one call per fit: kept out of line for profiles
     fn assemble_kernel(&mut self, centres: &[Vec3], diag: f64) {
+        #[cfg(target_arch = "x86_64")]
+        if avx::available() {
+            // SAFETY: the CPU has AVX.
+            return unsafe { self.assemble_kernel_avx(centres, diag) };
+        }
+        self.assemble_kernel_lanes(centres, diag);
+    }
+
+    /// Elementwise (no sums), so the 256-bit build gives the same bits as the 128-bit one.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn assemble_kernel_avx(&mut self, centres: &[Vec3], diag: f64) {
+        self.assemble_kernel_lanes(centres, diag);
+    }
+
+    #[inline(always)]
+    fn assemble_kernel_lanes(&mut self, centres: &[Vec3], diag: f64) {
         let n = self.n;
         let (xs, rest) = self.tmp.split_at_mut(n);
         let (ys, rest) = rest.split_at_mut(n);
@@ -378,20 +395,31 @@ impl TpsSolver {
         self.solve_projected_q::<Avx>();
     }
 
+    /// The three coordinates go through each row of L together (one load of the row for three
+    /// right-hand sides); each one's arithmetic is that of a separate `dot_q` / `axpy` solve.
     #[inline(always)]
     fn solve_projected_q<Q: Quad>(&mut self) {
         let (n, m) = (self.n, self.n - 4);
-        for b in self.rhs.chunks_exact_mut(n) {
-            let y = &mut b[4..];
-            for i in 0..m {
-                let row = &self.chol[i * m..i * m + i + 1];
-                y[i] = (y[i] - dot_q::<Q>(&row[..i], &y[..i])) / row[i];
-            }
-            for i in (0..m).rev() {
-                let row = &self.chol[i * m..i * m + i + 1];
-                let xi = y[i] / row[i];
-                y[i] = xi;
-                axpy(-xi, &row[..i], &mut y[..i]);
+        let (bx, rest) = self.rhs.split_at_mut(n);
+        let (by, bz) = rest.split_at_mut(n);
+        let (yx, yy, yz) = (&mut bx[4..], &mut by[4..], &mut bz[4..n]);
+        for i in 0..m {
+            let row = &self.chol[i * m..i * m + i + 1];
+            let d = dot3_q::<Q>(&row[..i], &yx[..i], &yy[..i], &yz[..i]);
+            yx[i] = (yx[i] - d[0]) / row[i];
+            yy[i] = (yy[i] - d[1]) / row[i];
+            yz[i] = (yz[i] - d[2]) / row[i];
+        }
+        for i in (0..m).rev() {
+            let row = &self.chol[i * m..i * m + i + 1];
+            let x = [yx[i] / row[i], yy[i] / row[i], yz[i] / row[i]];
+            (yx[i], yy[i], yz[i]) = (x[0], x[1], x[2]);
+            let a = x.map(|v| -v);
+            let (px, py, pz) = (&mut yx[..i], &mut yy[..i], &mut yz[..i]);
+            for (((r, ex), ey), ez) in row[..i].iter().zip(px).zip(py).zip(pz) {
+                *ex += a[0] * r;
+                *ey += a[1] * r;
+                *ez += a[2] * r;
             }
         }
     }

@@ -128,6 +128,9 @@ pub struct Reconstruction {
     hints: Vec<u32>,
     targets: Vec<Vec3>,
     fps_scratch: Vec<f64>,
+    /// Seed and result of the last farthest-point sampling: the candidates never change, so the
+    /// same seed gives the same attractors without the O(candidates x attractors) pass.
+    fps_last: Option<(usize, Vec<usize>)>,
     iteration: usize,
     started: bool,
     done: bool,
@@ -192,6 +195,7 @@ impl Reconstruction {
             hints: Vec::new(),
             targets: Vec::new(),
             fps_scratch: Vec::new(),
+            fps_last: None,
             iteration: 0,
             started: false,
             done: false,
@@ -348,6 +352,13 @@ impl Reconstruction {
         // Consecutive candidates lie ~1 mm apart along a contour: each hit seeds the next query.
         let mut hint = u32::MAX;
         for (i, q) in self.candidates.iter().enumerate() {
+            // Only the farthest candidate matters: one no farther from the previous hit's triangle
+            // than the farthest so far cannot beat it (that distance bounds its own from above).
+            if let Some(bound) = bvh.distance_sq_to_triangle(*q, hint) {
+                if bound <= seed.0 {
+                    continue;
+                }
+            }
             let hit = bvh.closest_point_near(&self.mesh_unit, *q, hint);
             hint = hit.map_or(u32::MAX, |h| h.triangle);
             let d = hit.map_or(f64::INFINITY, |h| h.distance_sq);
@@ -355,13 +366,16 @@ impl Reconstruction {
                 seed = (d, i);
             }
         }
-        let idx = farthest_point_sampling(
-            &self.candidates,
-            seed.1,
-            self.attractor_budget,
-            MIN_ATTRACTORS,
-            &mut self.fps_scratch,
-        );
+        let idx = match self.fps_last.take() {
+            Some((last, idx)) if last == seed.1 => idx,
+            _ => farthest_point_sampling(
+                &self.candidates,
+                seed.1,
+                self.attractor_budget,
+                MIN_ATTRACTORS,
+                &mut self.fps_scratch,
+            ),
+        };
         if idx.len() < MIN_ATTRACTORS {
             return Err(CoreError::Degenerate(format!(
                 "only {} distinct contour points; at least {MIN_ATTRACTORS} are needed",
@@ -373,6 +387,7 @@ impl Reconstruction {
             .extend(idx.iter().map(|&i| self.candidates[i]));
         self.hints.clear();
         self.hints.resize(self.attractors.len(), u32::MAX);
+        self.fps_last = Some((seed.1, idx));
         Ok(())
     }
 

@@ -60,10 +60,16 @@ struct Decimator {
 }
 
 impl Decimator {
-    fn new(mesh: &TriMesh, centre: Vec3, check: bool) -> Result<Decimator> {
-        let map = EdgeMap::new(mesh);
-        if check {
-            let validity = validity_with_map(mesh, &map);
+    fn new(mesh: &TriMesh, centre: Vec3, known: Known) -> Result<Decimator> {
+        // The edge map only finds the boundary edges (and checks the input): a mesh known to be
+        // closed has none, and on the 4x subdivided mesh of a remesh step the map costs as much
+        // as a tenth of the decimation.
+        let map = match known {
+            Known::ClosedManifold => None,
+            _ => Some(EdgeMap::new(mesh)),
+        };
+        if let (Known::Nothing, Some(map)) = (known, &map) {
+            let validity = validity_with_map(mesh, map);
             if !validity.manifold {
                 return Err(CoreError::InvalidMesh(format!(
                     "decimation needs a manifold, oriented mesh ({})",
@@ -87,25 +93,31 @@ impl Decimator {
             }
         }
         let mut boundary = vec![false; n];
-        for e in 0..map.edges.len() {
-            if let &[h] = map.half_edges_of(e) {
-                let t = mesh.triangles[(h / 3) as usize];
-                let [pa, pb, pc] = t.map(|i| positions[i as usize]);
-                let normal = (pb - pa).cross(&(pc - pa));
-                let [a, b] = map.edges[e];
-                let (p, q) = (positions[a as usize], positions[b as usize]);
-                let along = q - p;
-                let side = along.cross(&normal);
-                let len = side.norm();
-                if len > 0.0 {
-                    let side = side / len;
-                    let quad =
-                        Quadric::plane(side, -side.dot(&p), BOUNDARY_WEIGHT * along.norm_squared());
-                    quadrics[a as usize].add(&quad);
-                    quadrics[b as usize].add(&quad);
+        let edges = map.as_ref().map_or(0, |m| m.edges.len());
+        if let Some(map) = &map {
+            for e in 0..map.edges.len() {
+                if let &[h] = map.half_edges_of(e) {
+                    let t = mesh.triangles[(h / 3) as usize];
+                    let [pa, pb, pc] = t.map(|i| positions[i as usize]);
+                    let normal = (pb - pa).cross(&(pc - pa));
+                    let [a, b] = map.edges[e];
+                    let (p, q) = (positions[a as usize], positions[b as usize]);
+                    let along = q - p;
+                    let side = along.cross(&normal);
+                    let len = side.norm();
+                    if len > 0.0 {
+                        let side = side / len;
+                        let quad = Quadric::plane(
+                            side,
+                            -side.dot(&p),
+                            BOUNDARY_WEIGHT * along.norm_squared(),
+                        );
+                        quadrics[a as usize].add(&quad);
+                        quadrics[b as usize].add(&quad);
+                    }
+                    boundary[a as usize] = true;
+                    boundary[b as usize] = true;
                 }
-                boundary[a as usize] = true;
-                boundary[b as usize] = true;
             }
         }
         let mut count = vec![0u32; n];
@@ -143,7 +155,8 @@ impl Decimator {
             count,
             marks: vec![0; n],
             mark: 0,
-            heap: MinHeap4::with_capacity(map.edges.len() * 2),
+            // Two entries per edge; a closed triangle mesh has 3T / 2 edges.
+            heap: MinHeap4::with_capacity(edges.max(3 * mesh.triangles.len() / 2) * 2),
             dead_entries: 0,
         })
     }
@@ -506,15 +519,26 @@ fn quality(corners: &[Vec3; 3], cross_norm: f64) -> f64 {
 /// oriented; the output is too, closed if the input was, with unused vertices dropped (vertex
 /// order follows first use by the surviving triangles).
 pub fn decimate(mesh: &TriMesh, target_reduction: f64) -> Result<TriMesh> {
-    decimate_checked(mesh, target_reduction, true)
+    decimate_checked(mesh, target_reduction, Known::Nothing)
 }
 
-/// [`decimate`] for a mesh known to be manifold (`check` = false skips the validity pass, e.g.
-/// right after subdividing and smoothing a mesh that was checked before).
+/// What the caller already knows about a mesh handed to [`decimate_checked`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Known {
+    /// Check that it is manifold and oriented.
+    Nothing,
+    /// Manifold and oriented, e.g. right after subdividing and smoothing a checked mesh.
+    Manifold,
+    /// Manifold, oriented and closed (no boundary edges).
+    ClosedManifold,
+}
+
+/// [`decimate`] for a mesh whose validity the caller may already know (`known` other than
+/// `Nothing` skips the validity pass; `ClosedManifold` also skips the boundary search).
 pub(crate) fn decimate_checked(
     mesh: &TriMesh,
     target_reduction: f64,
-    check: bool,
+    known: Known,
 ) -> Result<TriMesh> {
     if !(0.0..1.0).contains(&target_reduction) {
         return Err(CoreError::ParamOutOfRange {
@@ -539,7 +563,7 @@ pub(crate) fn decimate_checked(
     } else {
         mesh.positions.iter().fold(Vec3::zeros(), |s, p| s + p) / mesh.positions.len() as f64
     };
-    let mut state = Decimator::new(mesh, centre, check)?;
+    let mut state = Decimator::new(mesh, centre, known)?;
     let target = ((1.0 - target_reduction) * mesh.triangles.len() as f64).round() as usize;
     state.run(target);
     Ok(state.finish(centre))

@@ -39,7 +39,13 @@ pub fn remesh(
     // Subdivision and smoothing keep a manifold mesh manifold, so decimation skips its check.
     let subdivided = butterfly::subdivide_manifold(mesh, &map)?;
     let smoothed = smooth(&subdivided, smoothing_iterations, smoothing_factor)?;
-    let decimated = decimate::decimate_checked(&smoothed, target_reduction, false)?;
+    // Subdivision and smoothing do not open a closed mesh either.
+    let known = if before.closed {
+        decimate::Known::ClosedManifold
+    } else {
+        decimate::Known::Manifold
+    };
+    let decimated = decimate::decimate_checked(&smoothed, target_reduction, known)?;
     let result = compact(&decimated)?;
     let after = validity(&result);
     if !after.manifold || !after.oriented || (before.closed && !after.closed) {

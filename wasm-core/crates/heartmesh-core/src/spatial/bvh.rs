@@ -427,6 +427,15 @@ impl Bvh {
         (best.triangle != u32::MAX).then_some(best)
     }
 
+    /// Squared distance from `q` to triangle `t`, computed exactly as the queries compute it, so it
+    /// is never below what `closest_point_near` returns for `q`: a cheap upper bound. None when `t`
+    /// is not in the tree (out of range, or skipped for non-finite corners).
+    pub fn distance_sq_to_triangle(&self, q: Vec3, t: u32) -> Option<f64> {
+        let &k = self.slot.get(t as usize)?;
+        let lt = self.tris.get(k as usize)?;
+        Some((q - lt.closest(&q)).norm_squared())
+    }
+
     /// Closest points of many queries: `out` is cleared and receives one hit per query, in order,
     /// or stays empty when the tree is empty. Reuses `out`'s allocation.
     pub fn closest_points(&self, mesh: &TriMesh, queries: &[Vec3], out: &mut Vec<ClosestHit>) {
