@@ -14,16 +14,33 @@ pub mod smooth;
 
 pub use butterfly::subdivide;
 pub use decimate::decimate;
-pub use smooth::{affine_fit, laplacian, smooth};
+pub use smooth::{affine_fit, laplacian, smooth, smooth_with, taubin, SmoothingMethod};
 
 use crate::error::{CoreError, Result};
 use crate::mesh::topology::{compact, validity, validity_with_map, EdgeMap};
 use crate::mesh::TriMesh;
 
-/// Subdivide, smooth (+ shrink correction), decimate, drop unused vertices; then check the result:
-/// it must be manifold and oriented, and closed when the input was closed.
+/// [`remesh_with`] with the method's own smoothing (Laplacian + affine shrink correction).
 pub fn remesh(
     mesh: &TriMesh,
+    smoothing_iterations: usize,
+    smoothing_factor: f64,
+    target_reduction: f64,
+) -> Result<TriMesh> {
+    remesh_with(
+        mesh,
+        SmoothingMethod::LaplacianAffine,
+        smoothing_iterations,
+        smoothing_factor,
+        target_reduction,
+    )
+}
+
+/// Subdivide, smooth, decimate, drop unused vertices; then check the result: it must be
+/// manifold and oriented, and closed when the input was closed.
+pub fn remesh_with(
+    mesh: &TriMesh,
+    smoothing: SmoothingMethod,
     smoothing_iterations: usize,
     smoothing_factor: f64,
     target_reduction: f64,
@@ -38,7 +55,12 @@ pub fn remesh(
     }
     // Subdivision and smoothing keep a manifold mesh manifold, so decimation skips its check.
     let subdivided = butterfly::subdivide_manifold(mesh, &map)?;
-    let smoothed = smooth(&subdivided, smoothing_iterations, smoothing_factor)?;
+    let smoothed = smooth_with(
+        &subdivided,
+        smoothing,
+        smoothing_iterations,
+        smoothing_factor,
+    )?;
     let decimated = decimate::decimate_checked(&smoothed, target_reduction, false)?;
     let result = compact(&decimated)?;
     let after = validity(&result);
