@@ -164,6 +164,23 @@ mod tests {
     }
 
     #[test]
+    fn taubin_rounds_stay_valid_and_keep_volume() {
+        let mut m = icosphere(10.0, 3);
+        let v0 = m.signed_volume();
+        for round in 0..3 {
+            m = remesh_with(&m, SmoothingMethod::Taubin, 200, 0.1, 0.72).unwrap();
+            let v = validity(&m);
+            assert!(v.is_closed_manifold(), "round {round}: {}", v.describe());
+            assert_eq!(v.euler_characteristic, 2, "round {round}");
+        }
+        // No affine correction needed: the volume stays without one.
+        let vol = m.signed_volume() / v0;
+        assert!((vol - 1.0).abs() < 0.02, "volume ratio {vol}");
+        let q = qualities(&m);
+        assert!(q[0] > 0.3, "worst quality {}", q[0]);
+    }
+
+    #[test]
     fn open_tube_round_keeps_boundaries() {
         let m = cylinder_tube(10.0, 30.0, 50, 7, false);
         let r = remesh(&m, 200, 0.1, 0.72).unwrap();
