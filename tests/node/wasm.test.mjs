@@ -103,6 +103,8 @@ describe('wasm Session', () => {
     assert.equal(points.length, count * 3);
     assert.ok(count > 2000 && count < 4000, `surfco has ~3000 points, got ${count}`);
     assert.ok(points.every(Number.isFinite));
+    // The core's SAX/LAX split, at load (no run yet).
+    assert.deepEqual(info.contours.map((c) => c.kind).sort(), ['LAX', 'LAX', 'SAX', 'SAX', 'SAX', 'SAX', 'SAX', 'SAX']);
   });
 
   it('throws errors as data with code, line and choices', () => {
@@ -136,6 +138,12 @@ describe('wasm Session', () => {
     console.log(`patient1 LV_ENDO: ${run.reports.length} steps in ${run.ms.toFixed(0)} ms, mean ${result.overall.mean.toFixed(3)} mm, ` +
       `max ${result.overall.max.toFixed(3)} mm, ${result.volumeMl.toFixed(2)} ml`);
     compareWithCli(run, result, PATIENT1_ED(), ['--surface', 'LV_ENDO'], 'patient1');
+    // The kinds given at load are the run's kinds (per surface, before any run).
+    const loaded = JSON.parse(new wasm.Session().load('p1.csv', readFileSync(PATIENT1_ED())));
+    const atLoad = new Map(loaded.contours.filter((c) => c.surface === 'LV_ENDO').map((c) => [c.id, c.kind]));
+    assert.equal(atLoad.size, result.contours.length);
+    for (const c of result.contours) assert.equal(atLoad.get(c.id), c.kind, `kind of ${c.id}`);
+    assert.ok(loaded.contours.every((c) => c.kind === 'SAX' || c.kind === 'LAX'));
   });
 
   it('reconstructs biv-me patient 1 ED RV endocardium (free wall + septum pieces), identical to the native CLI', () => {

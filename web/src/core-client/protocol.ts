@@ -41,6 +41,7 @@ export type ContourKindName = 'SAX' | 'LAX';
 export interface ContourInfo {
   id: string;
   surface: string | null;
+  /** The core's SAX/LAX split (at load: per surface, null where undecidable; after a run: the run's). */
   kind: ContourKindName | null;
   /** `start`/`count` index points (not floats) into the accompanying point array. */
   pieces: { closed: boolean; start: number; count: number }[];

@@ -346,7 +346,7 @@ export class LabPanel {
       }
       this.truthLayer.setVisible(true);
       this.truthLayer.setDistances(null, 1);
-      this.acqInfo.textContent = `${acq.sax} SAX + ${acq.lax} LAX contours, ${acq.points} points → ${fileName}`;
+      this.acqInfo.textContent = `${acq.sax} SAX + ${acq.lax} LAX contours, ${acq.points} points${imperfections(spec)} → ${fileName}`;
       this.say('');
       return true;
     } catch (e) {
@@ -575,4 +575,13 @@ export class LabPanel {
     this.deps.viewer?.scene.remove(this.truthLayer.group);
     this.truthLayer.dispose();
   }
+}
+
+/** How the simulated acquisition departs from ideal planes, for the summary line ('' when ideal). */
+function imperfections(spec: AcquisitionSpec): string {
+  const parts: string[] = [];
+  if (spec.shift_mm) parts.push(`shift ≤ ${spec.shift_mm} mm`);
+  if (spec.tilt_deg) parts.push(`tilt ≤ ${spec.tilt_deg}°`);
+  if (spec.noise_mm) parts.push(`noise sd ${spec.noise_mm} mm`);
+  return parts.length ? ` (${parts.join(', ')}, seed ${spec.seed ?? 0})` : '';
 }

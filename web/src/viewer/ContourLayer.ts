@@ -6,7 +6,6 @@
  */
 import * as THREE from 'three';
 import type { ContourInfo } from '../core-client/protocol';
-import { classifyContours } from './classify';
 import { colorizeU8 } from './colormap';
 import { discTexture } from './discTexture';
 
@@ -62,15 +61,15 @@ export class ContourLayer {
     const isSelected = (c: ContourInfo) => surface === null || c.surface === surface || c.surface === null;
     const selected = contours.filter(isSelected);
     const others = contours.filter((c) => !isSelected(c));
-    const kinds = classifyContours(selected, points);
     const colorBytes = distances ? colorizeU8(distances, 0, maxMm) : null;
     const tmp = new THREE.Color();
     const colorOf = (kind: 'SAX' | 'LAX') => (i: number) =>
       colorBytes ? tmp.setRGB(colorBytes[i * 3] / 255, colorBytes[i * 3 + 1] / 255, colorBytes[i * 3 + 2] / 255) : kind === 'SAX' ? SAX_COLOR : LAX_COLOR;
     const sax: Built = { positions: [], colors: [] };
     const lax: Built = { positions: [], colors: [] };
-    for (const [i, c] of selected.entries()) {
-      const kind = kinds[i];
+    for (const c of selected) {
+      // The core's split (given at load, replaced by the run's); undecidable ones drawn solid.
+      const kind = c.kind ?? 'SAX';
       pushSegments(kind === 'SAX' ? sax : lax, c, points, colorOf(kind));
     }
     const other: Built = { positions: [], colors: [] };

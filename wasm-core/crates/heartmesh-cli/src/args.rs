@@ -24,6 +24,30 @@ impl Parsed {
     pub fn switch(&self, name: &str) -> bool {
         self.switches.iter().any(|s| s == name)
     }
+
+    /// The value of option `name` as a finite number, if given; a usage error names the option.
+    pub fn number(&self, name: &str) -> Result<Option<f64>, CliError> {
+        self.value(name)
+            .map(|v| {
+                v.trim()
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| CliError::usage(format!("--{name}: {v:?} is not a number")))
+            })
+            .transpose()
+    }
+
+    /// The value of option `name` as a whole number, if given; a usage error names the option.
+    pub fn whole(&self, name: &str) -> Result<Option<u64>, CliError> {
+        self.value(name)
+            .map(|v| {
+                v.trim()
+                    .parse::<u64>()
+                    .map_err(|_| CliError::usage(format!("--{name}: {v:?} is not a whole number")))
+            })
+            .transpose()
+    }
 }
 
 /// Options of a command: names that take a value and switches; `aliases` maps short forms

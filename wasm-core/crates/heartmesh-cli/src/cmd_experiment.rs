@@ -93,7 +93,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
     let design = design(kind, &p)?;
     let mut params = Params::default();
-    if let Some(n) = whole(&p, "iterations")? {
+    if let Some(n) = p.whole("iterations")? {
         params
             .set("iterations", n as f64)
             .map_err(CliError::param)?;
@@ -173,9 +173,9 @@ fn describe(row: &Row) -> String {
 
 fn design(kind: &str, p: &Parsed) -> Result<Design, CliError> {
     let counts = |from: u64, to: u64| -> Result<Vec<usize>, CliError> {
-        let from = whole(p, "from")?.unwrap_or(from);
-        let to = whole(p, "to")?.unwrap_or(to);
-        let step = whole(p, "step")?.unwrap_or(1);
+        let from = p.whole("from")?.unwrap_or(from);
+        let to = p.whole("to")?.unwrap_or(to);
+        let step = p.whole("step")?.unwrap_or(1);
         if step == 0 || to < from {
             return Err(CliError::usage(format!(
                 "--from {from} --to {to} --step {step} gives no count to run"
@@ -189,11 +189,11 @@ fn design(kind: &str, p: &Parsed) -> Result<Design, CliError> {
     Ok(match kind {
         "sax-count" => Design::SaxCount {
             counts: counts(2, 15)?,
-            lax: whole(p, "lax")?.map(|k| k as usize),
+            lax: p.whole("lax")?.map(|k| k as usize),
         },
         "lax-count" => Design::LaxCount {
             counts: counts(1, 8)?,
-            sax: whole(p, "sax")?.unwrap_or(4) as usize,
+            sax: p.whole("sax")?.unwrap_or(4) as usize,
         },
         "misalignment" => {
             let Design::Misalignment { levels, seeds } = Design::misalignment() else {
@@ -204,7 +204,7 @@ fn design(kind: &str, p: &Parsed) -> Result<Design, CliError> {
                     Some(v) => levels_from(v)?,
                     None => levels,
                 },
-                seeds: match whole(p, "seeds")? {
+                seeds: match p.whole("seeds")? {
                     Some(0) => return Err(CliError::usage("--seeds must be at least 1")),
                     Some(n) => (1..=n).collect(),
                     None => seeds,
@@ -259,16 +259,6 @@ fn list(flag: &str, v: &str) -> Result<Vec<f64>, CliError> {
         .collect::<Option<Vec<_>>>()
         .filter(|l| !l.is_empty())
         .ok_or_else(|| CliError::usage(format!("--{flag}: {v:?} is not a list of numbers")))
-}
-
-fn whole(p: &Parsed, name: &str) -> Result<Option<u64>, CliError> {
-    p.value(name)
-        .map(|v| {
-            v.trim()
-                .parse::<u64>()
-                .map_err(|_| CliError::usage(format!("--{name}: {v:?} is not a whole number")))
-        })
-        .transpose()
 }
 
 /// The built-in truth: the default parametric LV with a 4 mm regional bulge at mid-ventricle

@@ -97,31 +97,9 @@ pub fn read_surface(path: &str) -> Result<heartmesh_core::TriMesh, CliError> {
     Ok(orient_consistently(&weld(&data.mesh, 1e-6).0).0)
 }
 
-fn number(p: &Parsed, name: &str) -> Result<Option<f64>, CliError> {
-    p.value(name)
-        .map(|v| {
-            v.trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| CliError::usage(format!("--{name}: {v:?} is not a number")))
-        })
-        .transpose()
-}
-
-fn whole(p: &Parsed, name: &str) -> Result<Option<u64>, CliError> {
-    p.value(name)
-        .map(|v| {
-            v.trim()
-                .parse::<u64>()
-                .map_err(|_| CliError::usage(format!("--{name}: {v:?} is not a whole number")))
-        })
-        .transpose()
-}
-
 fn spec_from(p: &Parsed) -> Result<AcquisitionSpec, CliError> {
     let mut spec = AcquisitionSpec::default();
-    match (whole(p, "sax")?, number(p, "sax-spacing")?) {
+    match (p.whole("sax")?, p.number("sax-spacing")?) {
         (Some(_), Some(_)) => {
             return Err(CliError::usage(
                 "give either --sax or --sax-spacing, not both",
@@ -131,7 +109,7 @@ fn spec_from(p: &Parsed) -> Result<AcquisitionSpec, CliError> {
         (None, Some(s)) => spec.sax = SaxStack::SpacingMm(s),
         (None, None) => {}
     }
-    if let Some(k) = whole(p, "lax")? {
+    if let Some(k) = p.whole("lax")? {
         spec.lax_count = k as usize;
     }
     if let Some(m) = p.value("misalign") {
@@ -155,10 +133,10 @@ fn spec_from(p: &Parsed) -> Result<AcquisitionSpec, CliError> {
             tilt_deg: *tilt_deg,
         });
     }
-    if let Some(n) = number(p, "noise")? {
+    if let Some(n) = p.number("noise")? {
         spec.noise_mm = n;
     }
-    if let Some(s) = whole(p, "seed")? {
+    if let Some(s) = p.whole("seed")? {
         spec.seed = s;
     }
     spec.surface = p.value("surface").map(str::to_string);

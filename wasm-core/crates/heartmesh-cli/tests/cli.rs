@@ -1,45 +1,9 @@
 //! Integration tests of the `heartmesh` binary: the exit-status and stderr contract, conversion,
 //! and a full reconstruction of the SurFCo example checked by its report.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_heartmesh"))
-}
-
-/// `shared/data` is ../../../../shared/data from this crate in the main checkout (one level more
-/// from a worktree): the nearest ancestor holding it.
-fn data(rel: &str) -> PathBuf {
-    let here = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = here
-        .ancestors()
-        .map(|a| a.join("shared/data"))
-        .find(|d| d.join("README.md").is_file())
-        .expect("shared/data not found above CARGO_MANIFEST_DIR");
-    dir.join(rel)
-}
-
-/// A fresh scratch directory per test.
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("heartmesh-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(cmd: &mut Command) -> (i32, String, String) {
-    let Output {
-        status,
-        stdout,
-        stderr,
-    } = cmd.output().unwrap();
-    (
-        status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&stdout).into_owned(),
-        String::from_utf8_lossy(&stderr).into_owned(),
-    )
-}
+mod common;
+use common::{bin, data, run, scratch};
+use std::path::Path;
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()

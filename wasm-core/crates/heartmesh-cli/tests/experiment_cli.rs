@@ -3,28 +3,9 @@
 //! numbers in the CSV and on the shape of the SVG; and the usage errors (exit 2, one line).
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_heartmesh"))
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("heartmesh-exp-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(args: &[&str]) -> (i32, String, String) {
-    let o = bin().args(args).output().unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
+mod common;
+use common::{bin, run, scratch};
+use std::path::Path;
 
 /// The CSV as one map per row (column name -> text).
 fn read_csv(path: &Path) -> Vec<HashMap<String, String>> {
@@ -64,7 +45,7 @@ fn experiment(kind: &str, dir: &Path, extra: &[&str]) -> Vec<HashMap<String, Str
     let out = dir.to_str().unwrap();
     let mut args = vec!["experiment", kind, "parametric-lv", "-o", out, "--quiet"];
     args.extend_from_slice(extra);
-    let (code, stdout, err) = run(&args);
+    let (code, stdout, err) = run(bin().args(&args));
     assert_eq!(code, 0, "{err}");
     assert!(stdout.is_empty(), "--quiet printed {stdout}");
     let svg = std::fs::read_to_string(dir.join(format!("{kind}.svg"))).unwrap();
@@ -118,7 +99,7 @@ fn sax_count_more_slices_less_error() {
 fn lax_count_rows_and_counts() {
     let d = scratch("lax");
     let out = d.to_str().unwrap();
-    let (code, _, err) = run(&[
+    let (code, _, err) = run(bin().args([
         "experiment",
         "lax-count",
         "parametric-lv",
@@ -135,7 +116,7 @@ fn lax_count_rows_and_counts() {
         "--tag",
         "t1",
         "--quiet",
-    ]);
+    ]));
     assert_eq!(code, 0, "{err}");
     assert!(d.join("lax-count-t1.svg").exists());
     let all = read_csv(&d.join("lax-count-t1.csv"));
@@ -342,7 +323,7 @@ fn usage_errors_exit_2_with_one_line() {
         ),
     ];
     for (args, needle) in cases {
-        let (code, _, err) = run(&args);
+        let (code, _, err) = run(bin().args(&args));
         assert_eq!(code, 2, "{args:?}: {err}");
         assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
         assert!(err.contains(needle), "{args:?}: {err}");

@@ -4,28 +4,9 @@
 use heartmesh_core::io::obj::write_obj;
 use heartmesh_core::sim::shapes::{uv_sphere, ParametricLv};
 use heartmesh_core::TriMesh;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_heartmesh"))
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("heartmesh-val-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(cmd: &mut Command) -> (i32, String, String) {
-    let o = cmd.output().unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
+mod common;
+use common::{bin, run, scratch};
+use std::path::Path;
 
 fn write_mesh(dir: &Path, name: &str, m: &TriMesh) -> String {
     let p = dir.join(name);

@@ -15,6 +15,7 @@ mod panic;
 
 use std::collections::BTreeMap;
 
+use heartmesh_core::contours::axis::classify_kinds;
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::topology;
 use heartmesh_core::pipeline::Reconstruction;
@@ -85,10 +86,17 @@ impl Session {
             .iter()
             .map(|(name, p)| json!({ "name": name, "x": p.x, "y": p.y, "z": p.z }))
             .collect();
+        // SAX/LAX drawn before any run: the core's rule, per surface (null where undecidable).
+        let mut contours = convert::contour_infos(&set.contours, None);
+        if let serde_json::Value::Array(items) = &mut contours {
+            for (item, kind) in items.iter_mut().zip(classify_kinds(&set)) {
+                item["kind"] = json!(kind);
+            }
+        }
         let info = json!({
             "fileName": file_name,
             "surfaces": set.surfaces(),
-            "contours": convert::contour_infos(&set.contours, None),
+            "contours": contours,
             "landmarks": landmarks,
             "warnings": set.warnings,
         });

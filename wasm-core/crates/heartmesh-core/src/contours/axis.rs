@@ -4,8 +4,9 @@
 //! The central direction is the contour normal with the smallest sum of log(180 + angle) to all other
 //! normals: a robust location that a few long-axis views cannot pull away from the short-axis stack.
 
+use super::clean::clean_and_split;
 use super::plane::{axis_angle_deg, fit_plane, PlaneFit};
-use super::{Contour, ContourKind};
+use super::{Contour, ContourKind, ContourSet};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 
@@ -70,9 +71,14 @@ pub fn frame_for(axis: &Vec3) -> (Vec3, Vec3) {
     (x, y)
 }
 
-/// Classifies contours, finds the long axis and groups the short-axis contours into slices.
-pub fn analyse(contours: &[Contour]) -> Result<Layout> {
-    let planes: Vec<Option<PlaneFit>> = contours.iter().map(|c| fit_plane(c.points())).collect();
+/// The SAX/LAX split of contours with their plane fits: the mean short-axis normal (sign still
+/// free) and each contour's kind. Needs two contours that span a plane.
+struct Split {
+    axis: Vec3,
+    kinds: Vec<ContourKind>,
+}
+
+fn split(contours: &[Contour], planes: &[Option<PlaneFit>]) -> Result<Split> {
     let normals: Vec<(usize, Vec3)> = planes
         .iter()
         .enumerate()
@@ -116,7 +122,7 @@ pub fn analyse(contours: &[Contour]) -> Result<Layout> {
     for n in &sax_normals {
         sum += if n.dot(&medoid) < 0.0 { -n } else { *n };
     }
-    let mut axis = if sum.norm() > 0.0 {
+    let axis = if sum.norm() > 0.0 {
         sum.normalize()
     } else {
         medoid
@@ -124,7 +130,7 @@ pub fn analyse(contours: &[Contour]) -> Result<Layout> {
 
     let kinds: Vec<ContourKind> = contours
         .iter()
-        .zip(&planes)
+        .zip(planes)
         .map(|(c, p)| match p {
             Some(p) if axis_angle_deg(&p.normal, &central) <= SAX_MAX_ANGLE_DEG => ContourKind::Sax,
             Some(_) => ContourKind::Lax,
@@ -135,7 +141,15 @@ pub fn analyse(contours: &[Contour]) -> Result<Layout> {
             },
         })
         .collect();
+    Ok(Split { axis, kinds })
+}
 
+/// Classifies contours, finds the long axis and groups the short-axis contours into slices.
+pub fn analyse(contours: &[Contour]) -> Result<Layout> {
+    let planes: Vec<Option<PlaneFit>> = contours.iter().map(|c| fit_plane(c.points())).collect();
+    let Split {
+        mut axis, kinds, ..
+    } = split(contours, &planes)?;
     let mut slices = group_slices(contours, &planes, &kinds, &axis);
     if slices.len() < 2 {
         return Err(CoreError::NoSaxGroup(format!(
@@ -261,6 +275,67 @@ fn apex_is_low(contours: &[Contour], slices: &[Slice], axis: &Vec3) -> bool {
     slope >= 0.0
 }
 
+/// SAX/LAX kind of every contour of a freshly loaded set, by the same rule as [`analyse`] but
+/// without asking for two short-axis slices: the app draws the split before any run. Each surface
+/// is split on its own, as a run sees it (contours without a surface together with all others);
+/// None where the rule cannot decide: fewer than two contours span a plane, or just two that
+/// disagree (either could be the short axis), or a contour left empty by cleaning.
+pub fn classify_kinds(set: &ContourSet) -> Vec<Option<ContourKind>> {
+    let mut kinds = vec![None; set.contours.len()];
+    let surfaces = set.surfaces();
+    let all: Vec<usize> = (0..set.contours.len()).collect();
+    // (members, whether the split decides every member or only those without a surface).
+    let mut groups: Vec<(Vec<usize>, bool)> = Vec::new();
+    if surfaces.len() <= 1 {
+        groups.push((all, true));
+    } else {
+        for s in &surfaces {
+            let members = all
+                .iter()
+                .copied()
+                .filter(|&i| set.contours[i].surface.as_ref() == Some(s))
+                .collect();
+            groups.push((members, true));
+        }
+        if set.contours.iter().any(|c| c.surface.is_none()) {
+            groups.push((all, false));
+        }
+    }
+    for (group, decides_all) in groups {
+        // Cleaned as a run cleans them (non-finite points and jumps would tilt the planes).
+        let mut index = Vec::new();
+        let mut cleaned = Vec::new();
+        for &i in &group {
+            let c = &set.contours[i];
+            let pieces: Vec<_> = c.pieces.iter().flat_map(clean_and_split).collect();
+            if pieces.is_empty() {
+                continue;
+            }
+            index.push(i);
+            cleaned.push(Contour {
+                id: c.id.clone(),
+                surface: c.surface.clone(),
+                pieces,
+                first_line: c.first_line,
+            });
+        }
+        let planes: Vec<Option<PlaneFit>> = cleaned.iter().map(|c| fit_plane(c.points())).collect();
+        let Ok(split) = split(&cleaned, &planes) else {
+            continue;
+        };
+        let normals: Vec<&Vec3> = planes.iter().flatten().map(|p| &p.normal).collect();
+        if normals.len() == 2 && axis_angle_deg(normals[0], normals[1]) > SAX_MAX_ANGLE_DEG {
+            continue;
+        }
+        for (k, &i) in split.kinds.iter().zip(&index) {
+            if decides_all || set.contours[i].surface.is_none() {
+                kinds[i] = Some(*k);
+            }
+        }
+    }
+    kinds
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -362,5 +437,80 @@ mod tests {
     fn one_plane_only_is_an_error() {
         let cs = vec![ring("a", 0.0, 20.0), ring("b", 0.0, 10.0)];
         assert_eq!(analyse(&cs).unwrap_err().code(), "no_sax_group");
+    }
+
+    fn set_of(contours: Vec<Contour>) -> ContourSet {
+        ContourSet {
+            contours,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn kinds_without_two_slices() {
+        // One SAX ring and three LAX curves: analyse refuses (one slice), the kinds are known.
+        let cs = vec![
+            ring("s", 10.0, 15.0),
+            lax("l1", 0.0),
+            ring("s2", 10.0, 8.0),
+            lax("l2", 1.0),
+        ];
+        assert_eq!(analyse(&cs).unwrap_err().code(), "no_sax_group");
+        let k = classify_kinds(&set_of(cs));
+        use ContourKind::{Lax, Sax};
+        assert_eq!(k, vec![Some(Sax), Some(Lax), Some(Sax), Some(Lax)]);
+        // The same kinds as analyse gives when it can decide.
+        let cs = vec![
+            ring("s3", 30.0, 20.0),
+            lax("l1", 0.0),
+            ring("s1", 10.0, 12.0),
+            lax("l2", 1.2),
+            ring("s2", 20.0, 17.0),
+        ];
+        let expected: Vec<_> = analyse(&cs).unwrap().kinds.into_iter().map(Some).collect();
+        assert_eq!(classify_kinds(&set_of(cs)), expected);
+    }
+
+    #[test]
+    fn undecidable_kinds_are_none() {
+        use ContourKind::{Lax, Sax};
+        // A single contour, or one ring and one perpendicular curve: no rule decides.
+        assert_eq!(
+            classify_kinds(&set_of(vec![ring("s", 0.0, 9.0)])),
+            vec![None]
+        );
+        assert_eq!(
+            classify_kinds(&set_of(vec![ring("s", 0.0, 9.0), lax("l", 0.0)])),
+            vec![None, None]
+        );
+        // Two parallel rings agree: both short-axis.
+        assert_eq!(
+            classify_kinds(&set_of(vec![ring("a", 0.0, 9.0), ring("b", 0.0, 5.0)])),
+            vec![Some(Sax), Some(Sax)]
+        );
+        // Per surface: the RV surface here has one ring only (undecided); the LV its own split;
+        // a contour without a surface is split among all of them.
+        let mut cs = vec![
+            ring("lv1", 10.0, 15.0),
+            lax("lv2", 0.0),
+            ring("lv3", 20.0, 18.0),
+            ring("rv1", 10.0, 30.0),
+            lax("loose", 1.0),
+        ];
+        for c in &mut cs[..3] {
+            c.surface = Some("LV".into());
+        }
+        cs[3].surface = Some("RV".into());
+        let k = classify_kinds(&set_of(cs));
+        assert_eq!(k, vec![Some(Sax), Some(Lax), Some(Sax), None, Some(Lax)]);
+        // An empty contour stays undecided.
+        let mut empty = ring("e", 0.0, 1.0);
+        empty.pieces[0].points.clear();
+        let k = classify_kinds(&set_of(vec![
+            ring("a", 0.0, 9.0),
+            ring("b", 5.0, 5.0),
+            empty,
+        ]));
+        assert_eq!(k, vec![Some(Sax), Some(Sax), None]);
     }
 }

@@ -7,7 +7,7 @@
 mod buffers;
 mod builder;
 pub mod csv;
-mod dicom_scan;
+mod dicom_read;
 pub mod gpfile;
 pub mod mat;
 pub mod obj;

@@ -1,4 +1,5 @@
-//! DICOM RT Structure Set (RTSTRUCT) contours, read and written with the dicom-rs crates.
+//! DICOM RT Structure Set (RTSTRUCT) contours: read with our bounded reader (`dicom_read`, which
+//! never allocates from a declared length), written with the dicom-rs crates.
 //!
 //! Reference: DICOM PS3.3 C.8.8.5 (Structure Set module: StructureSetROISequence with ROI number
 //! and name) and C.8.8.6 (ROI Contour module: ROIContourSequence, each item pointing at an ROI
@@ -12,19 +13,18 @@
 //! ContourNumber within one ROI are pieces of one contour (the writer uses this for curves stored
 //! in several pieces); without a ContourNumber every contour stands alone.
 //!
-//! Only the transfer syntaxes built into dicom-rs without the `inventory` registry (which does not
-//! work on wasm32) are read: implicit and explicit VR little endian, explicit big endian and
-//! deflated-less encapsulated variants — every RTSTRUCT in practice.
+//! Transfer syntaxes read: implicit and explicit VR little endian, explicit VR big endian and the
+//! encapsulated (explicit little endian) ones — every RTSTRUCT in practice; deflated is refused.
 
 use std::collections::HashMap;
-use std::io::Cursor;
 
 use dicom_core::value::DataSetSequence;
-use dicom_core::{DataElement, PrimitiveValue, Tag, VR};
+use dicom_core::{DataElement, PrimitiveValue, VR};
 use dicom_dictionary_std::{tags, uids};
-use dicom_object::{FileMetaTableBuilder, InMemDicomObject, OpenFileOptions};
+use dicom_object::{FileMetaTableBuilder, InMemDicomObject};
 
 use super::builder::ContourBuilder;
+use super::dicom_read::{self, DataSet};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
 use crate::geometry::{v3, Vec3};
@@ -38,32 +38,36 @@ fn err(message: impl Into<String>) -> CoreError {
     CoreError::parse(0, message)
 }
 
-/// Parses the DICOM object; files without the file meta group (a bare data set, which some
-/// exporters write) are tried as implicit VR little endian, the DICOM default.
-fn parse(bytes: &[u8]) -> Result<InMemDicomObject> {
+/// Tags read from a structure set (PS3.3 C.8.8.5, C.8.8.6, C.12.1).
+mod tag {
+    use super::dicom_read::Tag;
+    pub const SOP_CLASS_UID: Tag = (0x0008, 0x0016);
+    pub const MODALITY: Tag = (0x0008, 0x0060);
+    pub const STRUCTURE_SET_ROI_SEQUENCE: Tag = (0x3006, 0x0020);
+    pub const ROI_NUMBER: Tag = (0x3006, 0x0022);
+    pub const ROI_NAME: Tag = (0x3006, 0x0026);
+    pub const ROI_CONTOUR_SEQUENCE: Tag = (0x3006, 0x0039);
+    pub const CONTOUR_SEQUENCE: Tag = (0x3006, 0x0040);
+    pub const CONTOUR_GEOMETRIC_TYPE: Tag = (0x3006, 0x0042);
+    pub const NUMBER_OF_CONTOUR_POINTS: Tag = (0x3006, 0x0046);
+    pub const CONTOUR_NUMBER: Tag = (0x3006, 0x0048);
+    pub const CONTOUR_DATA: Tag = (0x3006, 0x0050);
+    pub const REFERENCED_ROI_NUMBER: Tag = (0x3006, 0x0084);
+    /// The sequences read, which implicit VR files do not mark as such.
+    pub const SEQUENCES: [Tag; 3] = [
+        STRUCTURE_SET_ROI_SEQUENCE,
+        ROI_CONTOUR_SEQUENCE,
+        CONTOUR_SEQUENCE,
+    ];
+}
+
+/// Parses the DICOM data set with the bounded reader (no allocation sized from a declared
+/// length); files without the file meta group are read as implicit VR little endian.
+fn parse(bytes: &[u8]) -> Result<DataSet<'_>> {
     if bytes.len() < 4 {
         return Err(err("truncated DICOM file (fewer than 4 bytes)"));
     }
-    super::dicom_scan::check_lengths(bytes)?;
-    let body = if bytes.get(128..132) == Some(b"DICM") {
-        &bytes[128..]
-    } else {
-        bytes
-    };
-    if body.starts_with(b"DICM") {
-        let obj = OpenFileOptions::new()
-            .read_preamble(dicom_object::file::ReadPreamble::Never)
-            .from_reader(Cursor::new(body))
-            .map_err(|e| err(format!("not a readable DICOM file: {}", flatten(&e))))?;
-        return Ok(obj.into_inner());
-    }
-    let ts = dicom_transfer_syntax_registry::entries::IMPLICIT_VR_LITTLE_ENDIAN.erased();
-    InMemDicomObject::read_dataset_with_ts(Cursor::new(bytes), &ts).map_err(|e| {
-        err(format!(
-            "no DICOM header (\"DICM\") and not a bare DICOM data set: {}",
-            flatten(&e)
-        ))
-    })
+    dicom_read::read_file(bytes, &tag::SEQUENCES)
 }
 
 /// The error with its chain of causes on one line (snafu errors keep the detail in sources).
@@ -78,19 +82,8 @@ fn flatten(e: &dyn std::error::Error) -> String {
     out
 }
 
-fn text(obj: &InMemDicomObject, tag: Tag) -> Option<String> {
-    let e = obj.get(tag)?;
-    let s = e.to_str().ok()?;
-    let s = s.trim_matches(|c: char| c.is_whitespace() || c == '\0');
-    (!s.is_empty()).then(|| s.to_string())
-}
-
-fn int(obj: &InMemDicomObject, tag: Tag) -> Option<i64> {
-    obj.get(tag)?.to_int::<i64>().ok()
-}
-
-fn items(obj: &InMemDicomObject, tag: Tag) -> &[InMemDicomObject] {
-    obj.get(tag).and_then(|e| e.items()).unwrap_or(&[])
+fn int(obj: &DataSet, t: dicom_read::Tag) -> Option<i64> {
+    obj.text(t)?.parse().ok()
 }
 
 /// How a contour of the file is to be used.
@@ -113,9 +106,9 @@ fn geometry(kind: Option<&str>) -> Option<Geometry> {
 /// Reads the contours of an RT Structure Set; ROI names become surfaces.
 pub fn read_rtstruct(bytes: &[u8]) -> Result<ContourSet> {
     let obj = parse(bytes)?;
-    let modality = text(&obj, tags::MODALITY);
-    let sop_class = text(&obj, tags::SOP_CLASS_UID);
-    let roi_contours = items(&obj, tags::ROI_CONTOUR_SEQUENCE);
+    let modality = obj.text(tag::MODALITY);
+    let sop_class = obj.text(tag::SOP_CLASS_UID);
+    let roi_contours = obj.items(tag::ROI_CONTOUR_SEQUENCE);
     let is_rt = modality.as_deref() == Some("RTSTRUCT")
         || sop_class.as_deref() == Some(uids::RT_STRUCTURE_SET_STORAGE);
     if !is_rt && roi_contours.is_empty() {
@@ -132,26 +125,26 @@ pub fn read_rtstruct(bytes: &[u8]) -> Result<ContourSet> {
         ));
     }
     let mut names: HashMap<i64, String> = HashMap::new();
-    for roi in items(&obj, tags::STRUCTURE_SET_ROI_SEQUENCE) {
-        if let (Some(n), Some(name)) = (int(roi, tags::ROI_NUMBER), text(roi, tags::ROI_NAME)) {
+    for roi in obj.items(tag::STRUCTURE_SET_ROI_SEQUENCE) {
+        if let (Some(n), Some(name)) = (int(roi, tag::ROI_NUMBER), roi.text(tag::ROI_NAME)) {
             names.insert(n, name);
         }
     }
 
     let mut b = ContourBuilder::new();
     for (r, roi) in roi_contours.iter().enumerate() {
-        let number = int(roi, tags::REFERENCED_ROI_NUMBER);
+        let number = int(roi, tag::REFERENCED_ROI_NUMBER);
         let name = match number {
             Some(n) => names.get(&n).cloned().unwrap_or_else(|| format!("ROI {n}")),
             None => format!("ROI item {}", r + 1),
         };
-        let contours = items(roi, tags::CONTOUR_SEQUENCE);
+        let contours = roi.items(tag::CONTOUR_SEQUENCE);
         if contours.is_empty() {
             b.warn(format!("ROI {name:?} has no contours"));
         }
         for (k, c) in contours.iter().enumerate() {
             let what = format!("ROI {name:?}, contour {}", k + 1);
-            let kind = text(c, tags::CONTOUR_GEOMETRIC_TYPE);
+            let kind = c.text(tag::CONTOUR_GEOMETRIC_TYPE);
             let points = contour_points(c, &what)?;
             let geom = match geometry(kind.as_deref()) {
                 Some(g) => g,
@@ -165,7 +158,7 @@ pub fn read_rtstruct(bytes: &[u8]) -> Result<ContourSet> {
                     Geometry::Open
                 }
             };
-            if let Some(n) = int(c, tags::NUMBER_OF_CONTOUR_POINTS) {
+            if let Some(n) = int(c, tag::NUMBER_OF_CONTOUR_POINTS) {
                 if n != points.len() as i64 {
                     b.warn(format!(
                         "{what}: NumberOfContourPoints says {n} but ContourData has {} points",
@@ -179,7 +172,7 @@ pub fn read_rtstruct(bytes: &[u8]) -> Result<ContourSet> {
                 }
                 continue;
             }
-            let id = match int(c, tags::CONTOUR_NUMBER) {
+            let id = match int(c, tag::CONTOUR_NUMBER) {
                 Some(n) => format!("{name}:{n}"),
                 None => format!("{name}:#{}", k + 1),
             };
@@ -200,15 +193,27 @@ pub fn read_rtstruct(bytes: &[u8]) -> Result<ContourSet> {
 }
 
 /// ContourData as points, refusing what cannot be a contour.
-fn contour_points(c: &InMemDicomObject, what: &str) -> Result<Vec<Vec3>> {
-    let data = c
-        .get(tags::CONTOUR_DATA)
-        .ok_or_else(|| err(format!("{what}: ContourData is missing")))?;
-    let values = data.to_multi_float64().map_err(|e| {
-        err(format!(
-            "{what}: ContourData is not a list of numbers ({e})"
-        ))
-    })?;
+fn contour_points(c: &DataSet, what: &str) -> Result<Vec<Vec3>> {
+    let data = match c.get(tag::CONTOUR_DATA) {
+        Some(dicom_read::Value::Bytes(b)) => b,
+        Some(_) => return Err(err(format!("{what}: ContourData is not a list of numbers"))),
+        None => return Err(err(format!("{what}: ContourData is missing"))),
+    };
+    let text = dicom_read::decode(data);
+    let text = text.trim_matches(|c: char| c.is_whitespace() || c == '\0');
+    let mut values = Vec::new();
+    if !text.is_empty() {
+        for (i, v) in text.split('\\').enumerate() {
+            let v = v.trim_matches(|c: char| c.is_whitespace() || c == '\0');
+            let x: f64 = v.parse().map_err(|_| {
+                err(format!(
+                    "{what}: ContourData is not a list of numbers (value {} is {v:?})",
+                    i + 1
+                ))
+            })?;
+            values.push(x);
+        }
+    }
     if values.is_empty() {
         return Err(err(format!("{what}: ContourData is empty")));
     }
@@ -485,7 +490,7 @@ mod tests {
         assert_eq!(write_rtstruct(&patient1(), "patient1 ED").unwrap(), bytes);
     }
 
-    fn el(tag: Tag, vr: VR, v: &str) -> DataElement<InMemDicomObject> {
+    fn el(tag: dicom_core::Tag, vr: VR, v: &str) -> DataElement<InMemDicomObject> {
         DataElement::new(tag, vr, v)
     }
 
@@ -503,6 +508,19 @@ mod tests {
         rois: &[(u32, &str)],
         roi_contours: Vec<(u32, Vec<InMemDicomObject>)>,
     ) -> Vec<u8> {
+        let file = rt_object(modality, rois, roi_contours)
+            .with_meta(FileMetaTableBuilder::new().transfer_syntax(uids::EXPLICIT_VR_LITTLE_ENDIAN))
+            .unwrap();
+        let mut out = Vec::new();
+        file.write_all(&mut out).unwrap();
+        out
+    }
+
+    fn rt_object(
+        modality: &str,
+        rois: &[(u32, &str)],
+        roi_contours: Vec<(u32, Vec<InMemDicomObject>)>,
+    ) -> InMemDicomObject {
         let ss: Vec<InMemDicomObject> = rois
             .iter()
             .map(|(n, name)| {
@@ -545,7 +563,11 @@ mod tests {
                 DataSetSequence::from(rc),
             ));
         }
-        let file = InMemDicomObject::from_element_iter(elements)
+        InMemDicomObject::from_element_iter(elements)
+    }
+
+    fn hand_made() -> Vec<u8> {
+        let file = hand_made_object()
             .with_meta(FileMetaTableBuilder::new().transfer_syntax(uids::EXPLICIT_VR_LITTLE_ENDIAN))
             .unwrap();
         let mut out = Vec::new();
@@ -553,8 +575,8 @@ mod tests {
         out
     }
 
-    fn hand_made() -> Vec<u8> {
-        rt_file(
+    fn hand_made_object() -> InMemDicomObject {
+        rt_object(
             "RTSTRUCT",
             &[(7, "LV Endo"), (9, "Apex")],
             vec![
@@ -607,13 +629,22 @@ mod tests {
         let no_preamble = read_contours("x", &bytes[128..]).unwrap();
         assert_eq!(no_preamble, whole);
         // A bare data set in implicit VR little endian, found by its extension.
-        let obj = parse(&bytes).unwrap();
+        let obj = hand_made_object();
         let mut bare = Vec::new();
         let ts = dicom_transfer_syntax_registry::entries::IMPLICIT_VR_LITTLE_ENDIAN.erased();
         obj.write_dataset_with_ts(&mut bare, &ts).unwrap();
         assert!(!is_dicom(&bare));
         let set = read_contours("rs.dcm", &bare).unwrap();
         assert_eq!(set, whole);
+        // Implicit VR and explicit VR big endian with a file meta group.
+        for ts in [uids::IMPLICIT_VR_LITTLE_ENDIAN, "1.2.840.10008.1.2.2"] {
+            let file = hand_made_object()
+                .with_meta(FileMetaTableBuilder::new().transfer_syntax(ts))
+                .unwrap();
+            let mut out = Vec::new();
+            file.write_all(&mut out).unwrap();
+            assert_eq!(read_rtstruct(&out).unwrap(), whole, "{ts}");
+        }
     }
 
     fn message(bytes: &[u8]) -> String {

@@ -3,8 +3,9 @@
 //! lie from the new mesh. Where no truth exists, this shows how well the method predicts a slice
 //! it has not seen, and which contour disagrees most with the others.
 
-use crate::contours::{ContourKind, ContourSet};
+use crate::contours::{Contour, ContourKind, ContourSet};
 use crate::error::Result;
+use crate::mesh::TriMesh;
 use crate::metrics::{points_to_mesh, stats, Stats};
 use crate::params::Params;
 use crate::pipeline::Reconstruction;
@@ -31,48 +32,81 @@ pub struct LeaveOneOut {
     pub mean_of_means: f64,
 }
 
-/// Runs the analysis; `params` are used for every rebuild (and select the surface). Fails only if
-/// the full set itself cannot be reconstructed.
-pub fn leave_one_out(set: &ContourSet, params: &Params) -> Result<LeaveOneOut> {
-    // Validates the full input and gives the cleaned contours with their SAX/LAX kinds.
+/// One rebuild of the analysis: the contour held out, its kind, and the contours without it.
+#[derive(Debug, Clone)]
+pub struct HeldOut {
+    pub contour: Contour,
+    pub kind: ContourKind,
+    pub rest: ContourSet,
+}
+
+/// The analysis planned but not run: the cleaned contours of the selected surface, their kinds,
+/// and one [`HeldOut`] job per contour (in that order). Shared by the one-shot [`leave_one_out`]
+/// and the app's stepped batch, so both leave out exactly the same contours. Fails only if the
+/// full set itself is not a valid input.
+pub struct Plan {
+    pub cleaned: Vec<Contour>,
+    pub kinds: Vec<ContourKind>,
+    pub jobs: Vec<HeldOut>,
+}
+
+/// Validates the full input (which also selects the surface and cleans the contours) and plans
+/// one rebuild per contour.
+pub fn plan(set: &ContourSet, params: &Params) -> Result<Plan> {
     let full = Reconstruction::new(set, params.clone())?;
     let cleaned = full.contours().to_vec();
     let kinds = full.kinds().to_vec();
     drop(full);
-    let mut out = Vec::with_capacity(cleaned.len());
-    for (j, left) in cleaned.iter().enumerate() {
-        let rest = ContourSet {
-            contours: cleaned
-                .iter()
-                .enumerate()
-                .filter(|(k, _)| *k != j)
-                .map(|(_, c)| c.clone())
-                .collect(),
-            ..ContourSet::default()
-        };
-        let kind = kinds.get(j).copied().unwrap_or(ContourKind::Sax);
-        let rebuilt = Reconstruction::new(&rest, params.clone()).and_then(|mut rec| {
+    let jobs = cleaned
+        .iter()
+        .enumerate()
+        .map(|(j, left)| HeldOut {
+            contour: left.clone(),
+            kind: kinds.get(j).copied().unwrap_or(ContourKind::Sax),
+            rest: ContourSet {
+                contours: cleaned
+                    .iter()
+                    .enumerate()
+                    .filter(|(k, _)| *k != j)
+                    .map(|(_, c)| c.clone())
+                    .collect(),
+                ..ContourSet::default()
+            },
+        })
+        .collect();
+    Ok(Plan {
+        cleaned,
+        kinds,
+        jobs,
+    })
+}
+
+/// Distances (mm) of the held-out contour's points to the mesh rebuilt without it.
+pub fn measure(held: &Contour, mesh: &TriMesh) -> Stats {
+    let pts: Vec<_> = held.points().copied().collect();
+    stats(&points_to_mesh(&pts, mesh))
+}
+
+/// Runs the analysis; `params` are used for every rebuild (and select the surface). Fails only if
+/// the full set itself cannot be reconstructed.
+pub fn leave_one_out(set: &ContourSet, params: &Params) -> Result<LeaveOneOut> {
+    let plan = plan(set, params)?;
+    let mut out = Vec::with_capacity(plan.jobs.len());
+    for job in plan.jobs {
+        let rebuilt = Reconstruction::new(&job.rest, params.clone()).and_then(|mut rec| {
             rec.run()?;
             Ok(rec)
         });
-        let entry = match rebuilt {
-            Ok(rec) => {
-                let pts: Vec<_> = left.points().copied().collect();
-                LeftOut {
-                    id: left.id.clone(),
-                    kind,
-                    stats: Some(stats(&points_to_mesh(&pts, rec.mesh()))),
-                    error: None,
-                }
-            }
-            Err(e) => LeftOut {
-                id: left.id.clone(),
-                kind,
-                stats: None,
-                error: Some(e.to_string()),
-            },
+        let (stats, error) = match rebuilt {
+            Ok(rec) => (Some(measure(&job.contour, rec.mesh())), None),
+            Err(e) => (None, Some(e.to_string())),
         };
-        out.push(entry);
+        out.push(LeftOut {
+            id: job.contour.id,
+            kind: job.kind,
+            stats,
+            error,
+        });
     }
     let measured: Vec<(&str, f64)> = out
         .iter()

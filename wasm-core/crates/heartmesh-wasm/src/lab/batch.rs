@@ -10,8 +10,8 @@
 use heartmesh_core::contours::{Contour, ContourKind, ContourSet};
 use heartmesh_core::error::{CoreError, Result};
 use heartmesh_core::metrics::compare::{compare, ClipPlane};
-use heartmesh_core::metrics::{points_to_mesh, stats};
 use heartmesh_core::pipeline::Reconstruction;
+use heartmesh_core::sim::leave_one_out;
 use heartmesh_core::{Params, TriMesh};
 use serde_json::{json, Value};
 
@@ -67,27 +67,15 @@ impl Batch {
         set: &ContourSet,
         params: &Params,
     ) -> Result<(Batch, Vec<Contour>, Vec<ContourKind>)> {
-        let full = Reconstruction::new(set, params.clone())?;
-        let cleaned = full.contours().to_vec();
-        let kinds = full.kinds().to_vec();
-        drop(full);
-        let mut left_out = Vec::with_capacity(cleaned.len());
-        let mut jobs = Vec::with_capacity(cleaned.len());
-        for (j, c) in cleaned.iter().enumerate() {
-            let rest = ContourSet {
-                contours: cleaned
-                    .iter()
-                    .enumerate()
-                    .filter(|(k, _)| *k != j)
-                    .map(|(_, c)| c.clone())
-                    .collect(),
-                ..ContourSet::default()
-            };
+        let plan = leave_one_out::plan(set, params)?;
+        let mut left_out = Vec::with_capacity(plan.jobs.len());
+        let mut jobs = Vec::with_capacity(plan.jobs.len());
+        for held in plan.jobs {
             jobs.push(Job {
-                contours: rest,
+                contours: held.rest,
                 params: params.clone(),
             });
-            left_out.push((c.clone(), kinds.get(j).copied().unwrap_or(ContourKind::Sax)));
+            left_out.push((held.contour, held.kind));
         }
         let batch = Batch {
             kind: Kind::LeaveOneOut { left_out },
@@ -95,7 +83,7 @@ impl Batch {
             next: 0,
             current: None,
         };
-        Ok((batch, cleaned, kinds))
+        Ok((batch, plan.cleaned, plan.kinds))
     }
 
     /// Every combination of `grid` (values per swept name; an empty list keeps `base`'s value).
@@ -207,10 +195,9 @@ impl Batch {
                     Some((c, k)) => (Some(c), *k),
                     None => (None, ContourKind::Sax),
                 };
-                let stats = rec.zip(contour).map(|(r, c)| {
-                    let pts: Vec<_> = c.points().copied().collect();
-                    stats(&points_to_mesh(&pts, r.mesh()))
-                });
+                let stats = rec
+                    .zip(contour)
+                    .map(|(r, c)| leave_one_out::measure(c, r.mesh()));
                 json!({
                     "index": index,
                     "id": contour.map(|c| c.id.clone()),
