@@ -18,10 +18,12 @@ pub const USAGE: &str =
     "heartmesh reconstruct CONTOURS -o MESH.obj [--report REPORT.json] [--surface LV_ENDO]
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
-    [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
+    [--smoothing-method laplacian-affine|taubin] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
     [--ring-points 50] [--frame N] [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
+  --smoothing-method taubin: lambda/mu smoothing (lambda = smoothing factor, at most 0.6)
+  instead of Laplacian + affine shrink correction;
   --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time
@@ -34,6 +36,7 @@ const VALUE_FLAGS: &[&str] = &[
     "report",
     "surface",
     "lids",
+    "smoothing-method",
     "frame",
     "contour-distances",
 ];
@@ -162,6 +165,9 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     if let Some(l) = p.value("lids").filter(|l| *l != "apex") {
         params.set_lids(l).map_err(CliError::param)?;
     }
+    if let Some(m) = p.value("smoothing-method") {
+        params.set_smoothing_method(m).map_err(CliError::param)?;
+    }
     if let Some(s) = p.value("surface") {
         params.surface = Some(s.to_string());
     }
@@ -233,9 +239,12 @@ mod tests {
             "none",
             "--surface",
             "LV_EPI",
+            "--smoothing-method",
+            "taubin",
         ]))
         .unwrap();
         assert_eq!(p.iterations, 40);
+        assert_eq!(p.smoothing, heartmesh_core::params::SmoothingMethod::Taubin);
         assert_eq!(p.lambda, 1e3);
         assert_eq!(p.attractors, heartmesh_core::AttractorMode::SpacingMm(2.5));
         assert_eq!(p.target_reduction, 0.5);
@@ -259,5 +268,15 @@ mod tests {
         assert!(e.is_err());
         let e = params_from_default(&parsed(&["--lids", "maybe"])).unwrap_err();
         assert!(e.message().contains("auto, none"), "{}", e.message());
+        let e = params_from_default(&parsed(&["--smoothing-method", "gauss"])).unwrap_err();
+        assert!(e.message().contains("taubin"), "{}", e.message());
+        // Taubin with lambda 0.8 would amplify the highest frequencies: refused.
+        let e = params_from_default(&parsed(&[
+            "--smoothing-method",
+            "taubin",
+            "--smoothing-factor",
+            "0.8",
+        ]));
+        assert!(e.is_err());
     }
 }

@@ -5,6 +5,7 @@
 
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
+pub use crate::refine::SmoothingMethod;
 use serde::Serialize;
 
 /// How attractor points are chosen from the contour points.
@@ -43,6 +44,8 @@ pub struct Params {
     pub remesh_every: usize,
     pub smoothing_iterations: usize,
     pub smoothing_factor: f64,
+    /// How the remesh step smooths (refine/smooth.rs).
+    pub smoothing: SmoothingMethod,
     pub target_reduction: f64,
     pub ring_points: usize,
     pub lids: LidMode,
@@ -63,6 +66,7 @@ impl Default for Params {
             remesh_every: 20,
             smoothing_iterations: 200,
             smoothing_factor: 0.1,
+            smoothing: SmoothingMethod::LaplacianAffine,
             target_reduction: 0.72,
             ring_points: 50,
             lids: LidMode::Auto,
@@ -206,6 +210,18 @@ impl Params {
         Ok(())
     }
 
+    /// Parses a smoothing method: `laplacian-affine`, `taubin`.
+    pub fn set_smoothing_method(&mut self, name: &str) -> Result<()> {
+        self.smoothing = SmoothingMethod::parse(name).ok_or_else(|| {
+            let allowed: Vec<&str> = SmoothingMethod::ALL.iter().map(|(_, n)| *n).collect();
+            CoreError::ParamInvalid {
+                name: "smoothing_method".to_string(),
+                message: format!("unknown method {name:?} (allowed: {})", allowed.join(", ")),
+            }
+        })?;
+        Ok(())
+    }
+
     /// Checks every value against its range (also for values set directly on the struct).
     pub fn validate(&self) -> Result<()> {
         for spec in SCHEMA {
@@ -220,6 +236,16 @@ impl Params {
                 value: self.stop_threshold,
                 min: 0.0,
                 max: f64::INFINITY,
+            });
+        }
+        if self.smoothing == SmoothingMethod::Taubin
+            && self.smoothing_factor > crate::refine::smooth::TAUBIN_MAX_LAMBDA
+        {
+            return Err(CoreError::ParamOutOfRange {
+                name: "smoothing_factor".into(),
+                value: self.smoothing_factor,
+                min: 0.0,
+                max: crate::refine::smooth::TAUBIN_MAX_LAMBDA,
             });
         }
         if let LidMode::Explicit { apex, base } = self.lids {

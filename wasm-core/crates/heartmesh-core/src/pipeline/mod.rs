@@ -21,7 +21,7 @@ use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
 use crate::metrics::{contour_to_mesh, vertex_to_contours, ContourDistances};
 use crate::params::{AttractorMode, Params};
-use crate::refine::remesh;
+use crate::refine::remesh_with;
 use crate::spatial::Bvh;
 use serde::Serialize;
 
@@ -417,8 +417,9 @@ impl Reconstruction {
     fn remeshed(&self, mesh: &TriMesh) -> Result<TriMesh> {
         let p = &self.params;
         // `remesh` checks that its result is manifold, oriented and as closed as its input.
-        remesh(
+        remesh_with(
             mesh,
+            p.smoothing,
             p.smoothing_iterations,
             p.smoothing_factor,
             capped_reduction(p.target_reduction, mesh.triangles.len()),

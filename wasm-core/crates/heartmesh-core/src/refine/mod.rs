@@ -14,16 +14,33 @@ pub mod smooth;
 
 pub use butterfly::subdivide;
 pub use decimate::decimate;
-pub use smooth::{affine_fit, laplacian, smooth};
+pub use smooth::{affine_fit, laplacian, smooth, smooth_with, taubin, SmoothingMethod};
 
 use crate::error::{CoreError, Result};
 use crate::mesh::topology::{compact, validity, validity_with_map, EdgeMap};
 use crate::mesh::TriMesh;
 
-/// Subdivide, smooth (+ shrink correction), decimate, drop unused vertices; then check the result:
-/// it must be manifold and oriented, and closed when the input was closed.
+/// [`remesh_with`] with the method's own smoothing (Laplacian + affine shrink correction).
 pub fn remesh(
     mesh: &TriMesh,
+    smoothing_iterations: usize,
+    smoothing_factor: f64,
+    target_reduction: f64,
+) -> Result<TriMesh> {
+    remesh_with(
+        mesh,
+        SmoothingMethod::LaplacianAffine,
+        smoothing_iterations,
+        smoothing_factor,
+        target_reduction,
+    )
+}
+
+/// Subdivide, smooth, decimate, drop unused vertices; then check the result: it must be
+/// manifold and oriented, and closed when the input was closed.
+pub fn remesh_with(
+    mesh: &TriMesh,
+    smoothing: SmoothingMethod,
     smoothing_iterations: usize,
     smoothing_factor: f64,
     target_reduction: f64,
@@ -38,7 +55,12 @@ pub fn remesh(
     }
     // Subdivision and smoothing keep a manifold mesh manifold, so decimation skips its check.
     let subdivided = butterfly::subdivide_manifold(mesh, &map)?;
-    let smoothed = smooth(&subdivided, smoothing_iterations, smoothing_factor)?;
+    let smoothed = smooth_with(
+        &subdivided,
+        smoothing,
+        smoothing_iterations,
+        smoothing_factor,
+    )?;
     // Subdivision and smoothing do not open a closed mesh either.
     let known = if before.closed {
         decimate::Known::ClosedManifold
@@ -145,6 +167,23 @@ mod tests {
         assert!(extent.x > 38.0 && extent.x < 50.0, "width {}", extent.x);
         // Triangle count grows ~1.12x per round (4x, then keep 28%).
         assert!(m.triangles.len() > 1300 && m.triangles.len() < 1800);
+    }
+
+    #[test]
+    fn taubin_rounds_stay_valid_and_keep_volume() {
+        let mut m = icosphere(10.0, 3);
+        let v0 = m.signed_volume();
+        for round in 0..3 {
+            m = remesh_with(&m, SmoothingMethod::Taubin, 200, 0.1, 0.72).unwrap();
+            let v = validity(&m);
+            assert!(v.is_closed_manifold(), "round {round}: {}", v.describe());
+            assert_eq!(v.euler_characteristic, 2, "round {round}");
+        }
+        // No affine correction needed: the volume stays without one.
+        let vol = m.signed_volume() / v0;
+        assert!((vol - 1.0).abs() < 0.02, "volume ratio {vol}");
+        let q = qualities(&m);
+        assert!(q[0] > 0.3, "worst quality {}", q[0]);
     }
 
     #[test]

@@ -1,10 +1,18 @@
-//! Laplacian (umbrella) smoothing with an affine shrink correction.
+//! Remesh smoothing: Laplacian (umbrella) smoothing with an affine shrink correction, or Taubin's
+//! lambda/mu smoothing, which does not shrink.
 //!
 //! Reference: G. Taubin, "A signal processing approach to fair surface design", SIGGRAPH 1995
 //! (notation p <- p + f (mean(neighbours) - p)); the correction is the one of Villard, Grau &
 //! Zacur 2018 (METHOD.md section 5): fit by least squares the affine map that takes the smoothed
 //! vertices back onto the unsmoothed ones and apply it, which undoes the shrinkage that plain
 //! Laplacian smoothing causes while keeping the smoothing of the shape's details.
+//!
+//! Why Taubin as well: the affine correction is global. On a thin crescent (the RV) the Laplacian
+//! shrinks the shape across its width far more than along it, and the one affine map that undoes
+//! that on average stretches the whole mesh, which at an end no contour holds (the RV apex) is an
+//! outward drift of 1.5-3 mm at every remesh (docs/VALIDATION.md). Taubin alternates a shrinking
+//! step (lambda > 0) with an inflating one (mu < -lambda): a low-pass filter whose pass band
+//! (frequencies below k_pb = 1/lambda + 1/mu) is kept, so the shape needs no correction at all.
 //!
 //! Boundary vertices of open meshes relax only towards their two boundary neighbours (a 1D
 //! umbrella), so an open end is smoothed as a curve instead of being pulled into the surface;
@@ -60,10 +68,80 @@ struct Row {
     weight: f64,
 }
 
+/// How the remesh step smooths (see the module docs for the trade).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SmoothingMethod {
+    /// METHOD.md section 5: umbrella smoothing, then the least-squares affine map back.
+    LaplacianAffine,
+    /// Taubin lambda/mu smoothing (lambda = the smoothing factor, mu from the pass band
+    /// [`TAUBIN_PASS_BAND`]); no correction.
+    Taubin,
+}
+
+impl SmoothingMethod {
+    /// Every method with its name (CLI flag `--smoothing-method`, JSON).
+    pub const ALL: [(SmoothingMethod, &'static str); 2] = [
+        (SmoothingMethod::LaplacianAffine, "laplacian-affine"),
+        (SmoothingMethod::Taubin, "taubin"),
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SmoothingMethod::LaplacianAffine => "laplacian-affine",
+            SmoothingMethod::Taubin => "taubin",
+        }
+    }
+
+    pub fn parse(name: &str) -> Option<SmoothingMethod> {
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(m, _)| *m)
+    }
+}
+
+/// Taubin's pass-band frequency k_pb. Taubin (1995) recommends 0.01-0.1; 0.1 keeps every shape
+/// feature longer than about ten edges, which is where the contours' information lies at the
+/// remesh's edge lengths, and it gives the strongest smoothing above it.
+pub const TAUBIN_PASS_BAND: f64 = 0.1;
+
+/// Largest lambda for which lambda/mu with [`TAUBIN_PASS_BAND`] stays stable: the umbrella's
+/// frequencies reach k = 2, where the gain (1 - 2 lambda)(1 - 2 mu) must stay within [-1, 1]
+/// (0.6 gives -0.46; 0.7 already -1.002, which would amplify the highest frequency).
+pub const TAUBIN_MAX_LAMBDA: f64 = 0.6;
+
+/// Taubin's mu for a given lambda: 1/lambda + 1/mu = k_pb.
+pub fn taubin_mu(lambda: f64) -> f64 {
+    1.0 / (TAUBIN_PASS_BAND - 1.0 / lambda)
+}
+
 /// `iterations` rounds of umbrella smoothing with step `factor` (0..=1), without shrink
-/// correction. Allocation-free inner loop: two position buffers swap roles every round.
+/// correction.
 pub fn laplacian(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh> {
     check_factor(factor)?;
+    umbrella_steps(mesh, iterations, &[factor])
+}
+
+/// Taubin lambda/mu smoothing: `iterations` steps alternating lambda = `factor` and
+/// mu = [`taubin_mu`] (so 200 iterations are 100 lambda/mu pairs and cost what 200 Laplacian
+/// iterations cost). No shrink correction: the pass band is kept as it is.
+pub fn taubin(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh> {
+    check_factor(factor)?;
+    if factor > TAUBIN_MAX_LAMBDA {
+        return Err(CoreError::ParamOutOfRange {
+            name: "smoothing_factor".into(),
+            value: factor,
+            min: 0.0,
+            max: TAUBIN_MAX_LAMBDA,
+        });
+    }
+    if factor == 0.0 {
+        return umbrella_steps(mesh, 0, &[0.0]);
+    }
+    let smoothed = umbrella_steps(mesh, iterations, &[factor, taubin_mu(factor)])?;
+    check_finite(smoothed)
+}
+
+/// `iterations` umbrella steps, step i with factor `factors[i % len]`. Allocation-free inner
+/// loop: two position buffers swap roles every round.
+fn umbrella_steps(mesh: &TriMesh, iterations: usize, factors: &[f64]) -> Result<TriMesh> {
     let n = mesh.positions.len();
     if let Some(i) = mesh.triangles.iter().flatten().find(|&&i| i as usize >= n) {
         return Err(CoreError::InvalidMesh(format!(
@@ -72,17 +150,22 @@ pub fn laplacian(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMe
     }
     let stencil = umbrella(mesh);
     // p + f (mean - p) = (1 - f) p + (f / k) sum: per-vertex coefficients keep divisions and
-    // branches out of the loop (fixed vertices get 1 and 0).
-    let rows: Vec<Row> = (0..n)
-        .map(|v| {
-            let (start, end) = (stencil.offsets[v], stencil.offsets[v + 1]);
-            let k = end - start;
-            Row {
-                start,
-                end,
-                keep: if k > 0 { 1.0 - factor } else { 1.0 },
-                weight: if k > 0 { factor / k as f64 } else { 0.0 },
-            }
+    // branches out of the loop (fixed vertices get 1 and 0), one table per factor.
+    let rows: Vec<Vec<Row>> = factors
+        .iter()
+        .map(|&factor| {
+            (0..n)
+                .map(|v| {
+                    let (start, end) = (stencil.offsets[v], stencil.offsets[v + 1]);
+                    let k = end - start;
+                    Row {
+                        start,
+                        end,
+                        keep: if k > 0 { 1.0 - factor } else { 1.0 },
+                        weight: if k > 0 { factor / k as f64 } else { 0.0 },
+                    }
+                })
+                .collect()
         })
         .collect();
     let targets = &stencil.targets;
@@ -92,14 +175,14 @@ pub fn laplacian(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMe
     // as one plain loop.
     let mut six: Vec<(u32, [u32; 6])> = Vec::with_capacity(n);
     let mut general: Vec<u32> = Vec::new();
-    for (v, row) in rows.iter().enumerate() {
-        let nb = &targets[row.start as usize..row.end as usize];
+    for v in 0..n {
+        let (start, end) = (stencil.offsets[v], stencil.offsets[v + 1]);
+        let nb = &targets[start as usize..end as usize];
         match <[u32; 6]>::try_from(nb) {
             Ok(a) => six.push((v as u32, a)),
             Err(_) => general.push(v as u32),
         }
     }
-    let (keep6, weight6) = (1.0 - factor, factor / 6.0);
     // Padded [x, y, z, 0] rows: a neighbour is two 2-lane loads and adds after vectorisation,
     // and every lane does the scalar loop's arithmetic.
     let mut current: Vec<[f64; 4]> = mesh
@@ -108,7 +191,11 @@ pub fn laplacian(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMe
         .map(|p| [p.x, p.y, p.z, 0.0])
         .collect();
     let mut next = current.clone();
-    for _ in 0..iterations {
+    for round in 0..iterations {
+        let which = round % factors.len();
+        let factor = factors[which];
+        let rows = &rows[which];
+        let (keep6, weight6) = (1.0 - factor, factor / 6.0);
         for &(v, nb) in &six {
             let mut acc = [0.0f64; 4];
             for w in nb {
@@ -141,6 +228,32 @@ pub fn laplacian(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMe
     Ok(TriMesh::new(positions, mesh.triangles.clone()))
 }
 
+/// Smoothing of the remesh step with the chosen method.
+pub fn smooth_with(
+    mesh: &TriMesh,
+    method: SmoothingMethod,
+    iterations: usize,
+    factor: f64,
+) -> Result<TriMesh> {
+    match method {
+        SmoothingMethod::LaplacianAffine => smooth(mesh, iterations, factor),
+        SmoothingMethod::Taubin => taubin(mesh, iterations, factor),
+    }
+}
+
+fn check_finite(mesh: TriMesh) -> Result<TriMesh> {
+    if mesh
+        .positions
+        .iter()
+        .any(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        return Err(CoreError::Numerical(
+            "smoothing produced non-finite positions".into(),
+        ));
+    }
+    Ok(mesh)
+}
+
 /// Laplacian smoothing followed by the affine shrink correction (see the module docs).
 pub fn smooth(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh> {
     let mut smoothed = laplacian(mesh, iterations, factor)?;
@@ -151,16 +264,7 @@ pub fn smooth(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh>
             }
         }
     }
-    if smoothed
-        .positions
-        .iter()
-        .any(|p| !p.iter().all(|c| c.is_finite()))
-    {
-        return Err(CoreError::Numerical(
-            "smoothing produced non-finite positions".into(),
-        ));
-    }
-    Ok(smoothed)
+    check_finite(smoothed)
 }
 
 fn check_factor(factor: f64) -> Result<()> {
@@ -333,6 +437,93 @@ mod tests {
         // The ends did not collapse towards the middle.
         let (lo, hi) = s.bounds().unwrap();
         assert!(hi.z - lo.z > 29.0, "height {}", hi.z - lo.z);
+    }
+
+    #[test]
+    fn taubin_mu_sets_the_pass_band() {
+        for lambda in [0.05, 0.1, 0.33, TAUBIN_MAX_LAMBDA] {
+            let mu = taubin_mu(lambda);
+            assert!(mu < -lambda, "lambda {lambda} mu {mu}");
+            assert!((1.0 / lambda + 1.0 / mu - TAUBIN_PASS_BAND).abs() < 1e-12);
+            // Stable up to the umbrella's highest frequency, k = 2.
+            let gain = (1.0 - 2.0 * lambda) * (1.0 - 2.0 * mu);
+            assert!(gain.abs() < 1.0, "lambda {lambda}: gain {gain}");
+        }
+        assert!((taubin_mu(0.1) + 0.10101).abs() < 1e-5);
+    }
+
+    #[test]
+    fn taubin_keeps_volume_without_correction() {
+        let m = icosphere(10.0, 3);
+        let s = taubin(&m, 200, 0.1).unwrap();
+        let ratio = s.signed_volume() / m.signed_volume();
+        // Plain Laplacian at the same settings halves it (test above).
+        assert!((ratio - 1.0).abs() < 0.01, "volume ratio {ratio}");
+        assert_eq!(s.triangles, m.triangles);
+        let mut radius = s.positions.iter().map(|p| p.norm());
+        assert!(radius.all(|r| (r - 10.0).abs() < 0.2));
+    }
+
+    #[test]
+    fn taubin_removes_noise() {
+        let clean = icosphere(10.0, 3);
+        let mut m = clean.clone();
+        let mut state = 777u64;
+        for p in &mut m.positions {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let r = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.8;
+            *p *= 1.0 + r / 10.0;
+        }
+        let spread = |m: &TriMesh| {
+            let r: Vec<f64> = m.positions.iter().map(|p| p.norm()).collect();
+            let mean = r.iter().sum::<f64>() / r.len() as f64;
+            (r.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / r.len() as f64).sqrt()
+        };
+        let before = spread(&m);
+        let s = taubin(&m, 200, 0.1).unwrap();
+        let after = spread(&s);
+        // Measured 0.231 -> 0.122: lambda 0.1 is a gentle filter (per-vertex noise sits at
+        // k ~ 1, gain 0.99 per lambda/mu pair), far weaker than 200 Laplacian steps.
+        assert!(after < 0.6 * before, "radius std {before} -> {after}");
+        let ratio = s.signed_volume() / m.signed_volume();
+        assert!((ratio - 1.0).abs() < 0.01, "volume ratio {ratio}");
+    }
+
+    #[test]
+    fn taubin_keeps_a_thin_shape_thin() {
+        // A flat ellipsoid (40 x 40 x 8 mm, a crescent's cross-section ratio): Laplacian shrinks
+        // the thin axis fastest and the affine map stretches it back on average only; Taubin
+        // leaves the shape as it is.
+        let mut m = icosphere(1.0, 3);
+        for p in &mut m.positions {
+            *p = Vec3::new(20.0 * p.x, 20.0 * p.y, 4.0 * p.z);
+        }
+        let extent = |m: &TriMesh| {
+            let (lo, hi) = m.bounds().unwrap();
+            hi - lo
+        };
+        let t = extent(&taubin(&m, 200, 0.1).unwrap());
+        assert!((t.x - 40.0).abs() < 0.4 && (t.z - 8.0).abs() < 0.2, "{t:?}");
+    }
+
+    #[test]
+    fn taubin_rejects_unstable_lambda() {
+        let m = icosphere(1.0, 1);
+        assert!(matches!(
+            taubin(&m, 2, 0.8),
+            Err(CoreError::ParamOutOfRange { .. })
+        ));
+        assert!(smooth_with(&m, SmoothingMethod::Taubin, 2, 0.6).is_ok());
+        assert_eq!(
+            SmoothingMethod::parse("taubin"),
+            Some(SmoothingMethod::Taubin)
+        );
+        assert_eq!(SmoothingMethod::parse("x"), None);
+        for (m, n) in SmoothingMethod::ALL {
+            assert_eq!(m.name(), n);
+        }
     }
 
     #[test]
