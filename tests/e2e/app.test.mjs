@@ -1,14 +1,13 @@
 // Browser end-to-end tests of the built site (dist/, served by `vite preview`) in Debian's chromium
 // via playwright-core: every bundled sample reaches done with contour-to-mesh mean <= 1 mm, a slider
 // restarts the run, exports parse, errors name file and line, the site works offline after the first
-// visit, and no request ever leaves the origin. Screenshots go to docs/screenshots/ for people to look at.
+// visit, and no request ever leaves the origin. Screenshots go to a scratch folder (docs/screenshots/ with `npm run screenshots`).
 import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync, mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { ROOT, launch, readResult, requireDist, runAndWait, sharedDir, startPreview, startStatic, waitForDone, watchRequests } from './lib.mjs';
+import { ROOT, launch, readResult, requireDist, runAndWait, sharedDir, startPreview, startStatic, waitForDone, watchRequests, SHOTS } from './lib.mjs';
 
-const SHOTS = join(ROOT, 'docs', 'screenshots');
 const SAMPLES = ['patient1-ED', 'patient1-ES', 'patient2-ED'];
 
 let server;

@@ -3,17 +3,16 @@
 // 0.5 mm of the truth, and a misaligned noisy acquisition stays within 1 mm of its contours; leave-one-out gives one bar per contour and highlights the worst; a
 // parameter sweep draws one line per grid point and downloads as CSV; a cancelled batch stops;
 // a bad truth mesh shows a clear message and leaves the app usable. Screenshots go to
-// docs/screenshots/lab-*.png.
+// lab-*.png in the screenshot folder (tests/e2e/lib.mjs SHOTS).
 import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { mkdirSync, readFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { ROOT, launch, requireDist, runAndWait, startPreview } from './lib.mjs';
+import { launch, requireDist, runAndWait, startPreview, SHOTS } from './lib.mjs';
 
-// Two screenshots are kept in the repository (referenced by docs/USER-GUIDE.md); the others go to
-// the temporary folder, for people who want to look at them.
-const SHOTS = join(ROOT, 'docs', 'screenshots');
+// Two screenshots go to the screenshot folder (kept in the repository by `npm run screenshots`,
+// referenced by docs/USER-GUIDE.md); the others go to the temporary folder.
 const SCRATCH = tmpdir();
 
 let server;

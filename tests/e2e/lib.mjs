@@ -9,6 +9,13 @@ import { chromium } from 'playwright-core';
 
 export const ROOT = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 export const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
+/**
+ * Where the tests' screenshots go: a scratch folder, so a test run never rewrites tracked files;
+ * `npm run screenshots` points it at docs/screenshots (the README's and user guide's pictures).
+ */
+export const SHOTS = process.env.HEARTMESH_SCREENSHOTS
+  ? join(ROOT, process.env.HEARTMESH_SCREENSHOTS)
+  : join(tmpdir(), 'heartmesh-screenshots');
 export const FLAGS = [
   '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
   '--disable-background-networking', '--disable-component-update', '--disable-sync',
