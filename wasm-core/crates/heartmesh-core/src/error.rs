@@ -8,8 +8,9 @@ use thiserror::Error;
 /// kind of failure without parsing the message.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum CoreError {
-    /// A file could not be read; `line` is 1-based (0 when the problem is the whole file).
-    #[error("line {line}: {message}")]
+    /// A file could not be read; `line` is 1-based (0 when the problem is the whole file, and then
+    /// the message names no line).
+    #[error("{}", parse_text(*.line, .message))]
     Parse { line: usize, message: String },
     /// A parameter is outside its allowed range.
     #[error("parameter {name} = {value} is out of range (allowed {min} to {max})")]
@@ -83,6 +84,14 @@ impl CoreError {
             line,
             message: message.into(),
         }
+    }
+}
+
+fn parse_text(line: usize, message: &str) -> String {
+    if line > 0 {
+        format!("line {line}: {message}")
+    } else {
+        message.to_string()
     }
 }
 

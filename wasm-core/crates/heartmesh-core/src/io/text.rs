@@ -117,10 +117,7 @@ mod tests {
         let e = decode(b"abc\ndef\n\xff\xfe\x00").unwrap_err();
         assert_eq!(e.line(), Some(3));
         assert!(e.to_string().contains("binary"), "{e}");
-        assert_eq!(
-            decode(b"  \n\n").unwrap_err().to_string(),
-            "line 0: empty file"
-        );
+        assert_eq!(decode(b"  \n\n").unwrap_err().to_string(), "empty file");
     }
 
     #[test]
