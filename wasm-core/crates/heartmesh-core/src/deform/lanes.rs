@@ -272,6 +272,126 @@ pub trait Lanes: Copy {
     fn lanes(self) -> [f64; 2];
 }
 
+/// The scalars of the lane vectors (f64 and f32), for the kernels written once for both.
+pub trait Real:
+    Copy
+    + PartialOrd
+    + core::ops::Add<Output = Self>
+    + core::ops::Sub<Output = Self>
+    + core::ops::Mul<Output = Self>
+    + core::ops::Div<Output = Self>
+    + core::ops::AddAssign
+    + core::fmt::LowerExp
+{
+    const ZERO: Self;
+    fn sqrt(self) -> Self;
+    fn is_finite(self) -> bool;
+}
+
+impl Real for f64 {
+    const ZERO: f64 = 0.0;
+    #[inline(always)]
+    fn sqrt(self) -> f64 {
+        f64::sqrt(self)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
+    }
+}
+
+impl Real for f32 {
+    const ZERO: f32 = 0.0;
+    #[inline(always)]
+    fn sqrt(self) -> f32 {
+        f32::sqrt(self)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
+    }
+}
+
+/// What the dense kernels (dot products, Cholesky) need of a lane vector, for both precisions:
+/// every [`Quad`] (four f64 lanes) and every [`Oct`] (eight f32 lanes). `blocks` cuts a slice
+/// into whole vectors; `total` is the type's fixed lane sum.
+pub trait Vector: Copy {
+    type E: Real;
+    type Block;
+    fn blocks(s: &[Self::E]) -> &[Self::Block];
+    fn zero() -> Self;
+    fn load_block(b: &Self::Block) -> Self;
+    fn vadd(self, o: Self) -> Self;
+    fn vmul(self, o: Self) -> Self;
+    fn total(self) -> Self::E;
+}
+
+impl<T: Quad> Vector for T {
+    type E = f64;
+    type Block = [f64; 4];
+    #[inline(always)]
+    fn blocks(s: &[f64]) -> &[[f64; 4]] {
+        s.as_chunks::<4>().0
+    }
+    #[inline(always)]
+    fn zero() -> T {
+        Quad::zero()
+    }
+    #[inline(always)]
+    fn load_block(b: &[f64; 4]) -> T {
+        Quad::load(b)
+    }
+    #[inline(always)]
+    fn vadd(self, o: T) -> T {
+        Quad::add(self, o)
+    }
+    #[inline(always)]
+    fn vmul(self, o: T) -> T {
+        Quad::mul(self, o)
+    }
+    #[inline(always)]
+    fn total(self) -> f64 {
+        Quad::sum(self)
+    }
+}
+
+/// [`Vector`] for an [`Oct`] type (a blanket impl would overlap the [`Quad`] one).
+macro_rules! oct_vector {
+    ($t:ty $(, $gen:ident: $bound:ident)?) => {
+        impl$(<$gen: $bound>)? Vector for $t {
+            type E = f32;
+            type Block = [f32; 8];
+            #[inline(always)]
+            fn blocks(s: &[f32]) -> &[[f32; 8]] {
+                s.as_chunks::<8>().0
+            }
+            #[inline(always)]
+            fn zero() -> Self {
+                Oct::zero()
+            }
+            #[inline(always)]
+            fn load_block(b: &[f32; 8]) -> Self {
+                Oct::load(b)
+            }
+            #[inline(always)]
+            fn vadd(self, o: Self) -> Self {
+                Oct::add(self, o)
+            }
+            #[inline(always)]
+            fn vmul(self, o: Self) -> Self {
+                Oct::mul(self, o)
+            }
+            #[inline(always)]
+            fn total(self) -> f32 {
+                Oct::sum(self)
+            }
+        }
+    };
+}
+oct_vector!(Pair32<V>, V: Lanes32);
+#[cfg(target_arch = "x86_64")]
+oct_vector!(avx::Avx32);
+
 /// Four f32 lanes with lane-wise IEEE arithmetic (single precision: the mixed-precision kernels).
 pub trait Lanes32: Copy {
     fn splat(x: f32) -> Self;
