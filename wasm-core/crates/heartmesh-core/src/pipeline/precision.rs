@@ -35,6 +35,8 @@ struct Worst {
     /// Largest relative difference of a mixed solve from the all-f64 one.
     solve: f64,
     max_refinements: usize,
+    /// Refinement steps over all fits.
+    refinements: usize,
     fallbacks: usize,
     fits: usize,
 }
@@ -51,6 +53,7 @@ fn worst_differences(set: &ContourSet, surface: Option<&str>) -> Worst {
     let mut reference = TpsSolver::new();
     reference.f64_only = true;
     let (mut solve, mut max_refinements, mut fallbacks, mut fits) = (0.0f64, 0, 0, 0);
+    let mut refinements = 0;
     loop {
         before.clone_from(&rec.mesh_unit.positions);
         rec.step().unwrap_or_else(|e| panic!("step: {e}"));
@@ -67,6 +70,7 @@ fn worst_differences(set: &ContourSet, surface: Option<&str>) -> Worst {
             fits += 1;
             fallbacks += usize::from(st.fell_back);
             max_refinements = max_refinements.max(st.refinements);
+            refinements += st.refinements;
             let lambda_eff = rec.params.lambda / rec.attractors.len() as f64;
             reference
                 .fit(&rec.closest, &rec.targets, lambda_eff)
@@ -82,6 +86,7 @@ fn worst_differences(set: &ContourSet, surface: Option<&str>) -> Worst {
         largest_move_mm: largest_move,
         solve,
         max_refinements,
+        refinements,
         fallbacks,
         fits,
     }
@@ -97,9 +102,15 @@ fn mixed_precision_changes_micrometres() {
         let w = worst_differences(&load(file), surface);
         println!(
             "{file} {surface:?}: evaluation max |F32(x) - F64(x)| = {:.3e} mm (largest step \
-             {:.3} mm); solve max relative difference {:.3e}, {} fits, at most {} refinement \
-             steps, {} fallbacks",
-            w.eval_mm, w.largest_move_mm, w.solve, w.fits, w.max_refinements, w.fallbacks
+             {:.3} mm); solve max relative difference {:.3e}, {} fits, {} refinement steps (at most \
+             {}), {} fallbacks",
+            w.eval_mm,
+            w.largest_move_mm,
+            w.solve,
+            w.fits,
+            w.refinements,
+            w.max_refinements,
+            w.fallbacks
         );
         assert!(w.eval_mm < 1e-3, "{file}: {:e} mm", w.eval_mm);
         assert!(w.largest_move_mm > 0.1, "{file}: nothing moved");
