@@ -15,7 +15,8 @@
 //! Householder QR A = Q [R; 0], Q = [Q1 Q2]: w = Q2 g where (Q2^T K Q2) g = Q2^T b, and
 //! R a = Q1^T (b - K w). Q^T K Q is formed in O(N^2) by applying the four reflectors from both
 //! sides as one block reflector, on the lower triangle only; its off-diagonal block gives
-//! Q1^T K w without keeping K.
+//! Q1^T K w without keeping K. The projected system is solved in f64 accuracy by an f32 Cholesky
+//! factor and f64 iterative refinement, with the f64 Cholesky as fallback (`solve_mixed`).
 //!
 //! The affine part is fitted in a basis centred on the mean of the centres (1, x - c): the same
 //! function F, but R no longer mixes the constant column with large coordinates, which keeps the
@@ -29,8 +30,8 @@
 //! explicit vectors (`lanes.rs`: two SSE / simd128 / plain-array halves, or one AVX register
 //! natively when the CPU has it) with the same arithmetic in the same order, so every target, and
 //! the portable reference `evaluate_portable`, gives identical bits; `evaluate_f64` is the
-//! all-double reference. The dot products of the factorisation, the projection and the
-//! triangular solves use the f64 four-lane vectors.
+//! all-double reference. The projection, the residuals and the f64 fallback use the f64
+//! four-lane vectors; the f32 factor and its triangular solves the f32 eight-lane ones.
 
 use super::dense::{
     axpy, cholesky32_in_place, cholesky_in_place, dot, dot3_q, dot_q, padded_stride,
