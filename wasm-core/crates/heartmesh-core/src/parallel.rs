@@ -90,6 +90,17 @@ mod imp {
         }
     }
 
+    pub fn map_parts<R: Send>(
+        ranges: Vec<std::ops::Range<usize>>,
+        f: &(impl Fn(std::ops::Range<usize>) -> R + Sync),
+    ) -> Vec<R> {
+        use rayon::prelude::*;
+        match pool() {
+            Some(p) => p.install(|| ranges.into_par_iter().map(f).collect()),
+            None => ranges.into_iter().map(f).collect(),
+        }
+    }
+
     pub fn for_each_chunk<T: Send, U: Send>(
         a: &mut [T],
         b: &mut [U],
@@ -130,6 +141,13 @@ mod imp {
 
     pub fn install<R: Send>(f: impl FnOnce() -> R + Send) -> R {
         f()
+    }
+
+    pub fn map_parts<R: Send>(
+        ranges: Vec<std::ops::Range<usize>>,
+        f: &(impl Fn(std::ops::Range<usize>) -> R + Sync),
+    ) -> Vec<R> {
+        ranges.into_iter().map(f).collect()
     }
 
     pub fn for_each_chunk<T: Send, U: Send>(
@@ -182,6 +200,24 @@ pub fn for_each_chunk<T: Send, U: Send>(
         return f(0, a, b);
     }
     imp::for_each_chunk(a, b, parts.min(a.len()), &f)
+}
+
+/// `f` of each of `parts` contiguous ranges covering `0..n` (the parts of [`for_each_chunk`]), in
+/// parallel natively; the results come back in range order, so a caller that combines them in
+/// that order gets what one pass would.
+pub fn map_parts<R: Send>(
+    n: usize,
+    parts: usize,
+    f: impl Fn(std::ops::Range<usize>) -> R + Sync,
+) -> Vec<R> {
+    let len = n.div_ceil(parts.clamp(1, n.max(1))).max(1);
+    let ranges: Vec<_> = (0..n.div_ceil(len).max(1))
+        .map(|k| k * len..((k + 1) * len).min(n))
+        .collect();
+    if ranges.len() == 1 {
+        return ranges.into_iter().map(f).collect();
+    }
+    imp::map_parts(ranges, &f)
 }
 
 /// [`for_each_chunk`] over one slice.
@@ -237,6 +273,22 @@ mod tests {
             c.iter().sum::<u64>()
         });
         assert_eq!(total, 999 * 1000 / 2);
+    }
+
+    #[test]
+    fn map_parts_returns_ranges_in_order() {
+        for n in [0usize, 1, 5, 100, 1001] {
+            for parts in [0usize, 1, 2, 3, 4, 9] {
+                let got = map_parts(n, parts, |r| r);
+                assert!(got.len() <= parts.max(1), "n {n} parts {parts}: {got:?}");
+                let mut next = 0;
+                for r in &got {
+                    assert_eq!(r.start, next);
+                    next = r.end;
+                }
+                assert_eq!(next, n);
+            }
+        }
     }
 
     #[test]

@@ -366,22 +366,19 @@ impl Reconstruction {
             .bvh
             .as_ref()
             .ok_or_else(|| CoreError::InvalidMesh("no mesh to measure against".into()))?;
+        // The candidate farthest from the mesh (the first of equals), searched in contiguous
+        // ranges on the threads: each range's own farthest, then the first of the farthest in
+        // range order, which is the one a single pass finds.
+        let (candidates, mesh) = (&self.candidates, &self.mesh_unit);
+        let per_range = parallel::map_parts(
+            candidates.len(),
+            parallel::parts_for(candidates.len(), 1000),
+            |range| farthest_from_mesh(bvh, mesh, candidates, range),
+        );
         let mut seed = (f64::NEG_INFINITY, 0usize);
-        // Consecutive candidates lie ~1 mm apart along a contour: each hit seeds the next query.
-        let mut hint = u32::MAX;
-        for (i, q) in self.candidates.iter().enumerate() {
-            // Only the farthest candidate matters: one no farther from the previous hit's triangle
-            // than the farthest so far cannot beat it (that distance bounds its own from above).
-            if let Some(bound) = bvh.distance_sq_to_triangle(*q, hint) {
-                if bound <= seed.0 {
-                    continue;
-                }
-            }
-            let hit = bvh.closest_point_near(&self.mesh_unit, *q, hint);
-            hint = hit.map_or(u32::MAX, |h| h.triangle);
-            let d = hit.map_or(f64::INFINITY, |h| h.distance_sq);
-            if d > seed.0 {
-                seed = (d, i);
+        for best in per_range {
+            if best.0 > seed.0 {
+                seed = best;
             }
         }
         let idx = match self.fps_last.take() {
@@ -568,6 +565,35 @@ impl Reconstruction {
     pub fn set_clock(&mut self, clock: Box<dyn Clock>) {
         self.clock = clock;
     }
+}
+
+/// Squared distance to the mesh and index of the first farthest candidate of `range`
+/// ((-inf, range.start) if none has a distance).
+fn farthest_from_mesh(
+    bvh: &Bvh,
+    mesh: &TriMesh,
+    candidates: &[Vec3],
+    range: std::ops::Range<usize>,
+) -> (f64, usize) {
+    let mut seed = (f64::NEG_INFINITY, range.start);
+    // Consecutive candidates lie ~1 mm apart along a contour: each hit seeds the next query.
+    let mut hint = u32::MAX;
+    for (i, q) in candidates[range.clone()].iter().enumerate() {
+        // Only the farthest candidate matters: one no farther from the previous hit's triangle
+        // than the farthest so far cannot beat it (that distance bounds its own from above).
+        if let Some(bound) = bvh.distance_sq_to_triangle(*q, hint) {
+            if bound <= seed.0 {
+                continue;
+            }
+        }
+        let hit = bvh.closest_point_near(mesh, *q, hint);
+        hint = hit.map_or(u32::MAX, |h| h.triangle);
+        let d = hit.map_or(f64::INFINITY, |h| h.distance_sq);
+        if d > seed.0 {
+            seed = (d, range.start + i);
+        }
+    }
+    seed
 }
 
 /// Most triangles a remesh may leave. Subdivision quadruples the triangle count, so any target
