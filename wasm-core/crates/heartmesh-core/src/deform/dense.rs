@@ -36,97 +36,22 @@ unsafe fn cholesky_avx(a: &mut [f64], m: usize) -> Result<()> {
     cholesky_q::<Avx>(a, m)
 }
 
-/// Row stride of the padded f32 factor of [`cholesky32_in_place`]: m rounded up to whole
-/// eight-lane vectors.
-pub(super) fn padded_stride(m: usize) -> usize {
-    m.div_ceil(8) * 8
-}
-
 /// [`cholesky_in_place`] in single precision (eight f32 lanes): the factor of the mixed-precision
-/// solve, which refines its solutions against the f64 matrix (`tps.rs`). Same bits on every
-/// target.
-///
-/// Layout (why: no scalar tails): `a` is m rows of `padded_stride(m)` holding the strictly lower
-/// triangle, zeros elsewhere (the caller zeroes the diagonal and upper part); `diag` holds the
-/// diagonal, A's on entry, L's on return. With the diagonal kept out of the rows, every entry of a
-/// finished row j at or beyond column j is zero, so the 2 x 2 blocked dot products of the rows
-/// run over whole vectors (rounded up past j) and add only exact zeros: at this size the scalar
-/// tails and the per-entry overhead cost as much as the vector work.
+/// solve, which refines its solutions against the f64 matrix (`tps.rs`). Same bits on every target.
 #[inline(never)] // one call per fit: kept out of line for profiles
-pub(super) fn cholesky32_in_place(a: &mut [f32], diag: &mut [f32], m: usize) -> Result<()> {
+pub(super) fn cholesky32_in_place(a: &mut [f32], m: usize) -> Result<()> {
     #[cfg(target_arch = "x86_64")]
     if avx::available() {
         // SAFETY: the CPU has AVX.
-        return unsafe { cholesky32_avx(a, diag, m) };
+        return unsafe { cholesky32_avx(a, m) };
     }
-    cholesky_padded::<O4>(a, diag, m)
+    cholesky_q::<O4>(a, m)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-unsafe fn cholesky32_avx(a: &mut [f32], diag: &mut [f32], m: usize) -> Result<()> {
-    cholesky_padded::<Avx32>(a, diag, m)
-}
-
-/// The padded layout of [`cholesky32_in_place`] over any lane vector.
-#[inline(always)]
-fn cholesky_padded<Q: Vector>(a: &mut [Q::E], diag: &mut [Q::E], m: usize) -> Result<()> {
-    let w = lane_count::<Q>();
-    let p = m.div_ceil(w) * w;
-    let up = |k: usize| k.div_ceil(w) * w;
-    let zero = Q::E::ZERO;
-    let mut i = 0;
-    while i < m {
-        let two = i + 1 < m;
-        let (done, rest) = a.split_at_mut(i * p);
-        let (ri, rest) = rest.split_at_mut(p);
-        let ri1: &mut [Q::E] = if two { &mut rest[..p] } else { &mut [] };
-        let mut j = 0;
-        while j + 1 < i {
-            let (rj, rj1) = (&done[j * p..(j + 1) * p], &done[(j + 1) * p..(j + 2) * p]);
-            // Column j of rows i, i+1 is being replaced: zero it so the padded dot products
-            // (which reach column j) add nothing there.
-            let aij = ri[j];
-            ri[j] = zero;
-            let ai1j = if two { ri1[j] } else { zero };
-            if two {
-                ri1[j] = zero;
-            }
-            let c = up(j);
-            // The last row of an odd m pairs with itself (its second results are unused).
-            let r1: &[Q::E] = if two { &ri1[..c] } else { &ri[..c] };
-            let [d00, d01, d10, d11] = dot2x2::<Q>(&ri[..c], r1, &rj[..c], &rj1[..c]);
-            let (ljj, lj1j, lj1j1) = (diag[j], rj1[j], diag[j + 1]);
-            let x00 = (aij - d00) / ljj;
-            ri[j + 1] = (ri[j + 1] - d01 - x00 * lj1j) / lj1j1;
-            ri[j] = x00;
-            if two {
-                let x10 = (ai1j - d10) / ljj;
-                ri1[j + 1] = (ri1[j + 1] - d11 - x10 * lj1j) / lj1j1;
-                ri1[j] = x10;
-            }
-            j += 2;
-        }
-        if j < i {
-            let rj = &done[j * p..j * p + j];
-            ri[j] = (ri[j] - dot_q::<Q>(&ri[..j], rj)) / diag[j];
-            if two {
-                ri1[j] = (ri1[j] - dot_q::<Q>(&ri1[..j], rj)) / diag[j];
-            }
-        }
-        // Diagonal block.
-        let lii = pivot(diag[i] - dot_q::<Q>(&ri[..i], &ri[..i]), i)?;
-        diag[i] = lii;
-        if two {
-            ri1[i] = (ri1[i] - dot_q::<Q>(&ri1[..i], &ri[..i])) / lii;
-            diag[i + 1] = pivot(
-                diag[i + 1] - dot_q::<Q>(&ri1[..i + 1], &ri1[..i + 1]),
-                i + 1,
-            )?;
-        }
-        i += 2;
-    }
-    Ok(())
+unsafe fn cholesky32_avx(a: &mut [f32], m: usize) -> Result<()> {
+    cholesky_q::<Avx32>(a, m)
 }
 
 /// The blocked Cholesky over any lane vector (f64 or f32 elements).
@@ -350,55 +275,6 @@ mod tests {
     #[target_feature(enable = "avx")]
     unsafe fn dot_avx(a: &[f64], b: &[f64]) -> f64 {
         dot_q::<Avx>(a, b)
-    }
-
-    /// The padded f32 factor: L L^T reproduces A to f32 accuracy, for even and odd sizes, and the
-    /// dispatched (AVX natively), target and portable lanes give the same bits.
-    #[test]
-    fn padded_f32_cholesky_factors_and_gives_the_same_bits() {
-        use crate::deform::lanes::{portable, Pair32};
-        let mut rng = SplitMix64::new(17);
-        for m in [1, 2, 3, 7, 8, 9, 16, 17, 33, 64, 101] {
-            let b: Vec<f64> = (0..m * m).map(|_| rng.range(-1.0, 1.0)).collect();
-            let a = |i: usize, j: usize| {
-                let s: f64 = (0..m).map(|k| b[i * m + k] * b[j * m + k]).sum();
-                s + if i == j { m as f64 } else { 0.0 }
-            };
-            let p = padded_stride(m);
-            let mut l = vec![7.0f32; m * p]; // garbage that the layout must overwrite
-            let mut d = vec![0.0f32; m];
-            for i in 0..m {
-                for j in 0..p {
-                    l[i * p + j] = if j < i { a(i, j) as f32 } else { 0.0 };
-                }
-                d[i] = a(i, i) as f32;
-            }
-            let (mut l2, mut d2, mut l3, mut d3) = (l.clone(), d.clone(), l.clone(), d.clone());
-            cholesky32_in_place(&mut l, &mut d, m).unwrap();
-            cholesky_padded::<O4>(&mut l2, &mut d2, m).unwrap();
-            cholesky_padded::<Pair32<portable::F4>>(&mut l3, &mut d3, m).unwrap();
-            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!((bits(&l), bits(&d)), (bits(&l2), bits(&d2)), "m {m}");
-            assert_eq!((bits(&l), bits(&d)), (bits(&l3), bits(&d3)), "m {m}");
-            let lij = |i: usize, j: usize| -> f64 {
-                match i.cmp(&j) {
-                    std::cmp::Ordering::Greater => f64::from(l[i * p + j]),
-                    std::cmp::Ordering::Equal => f64::from(d[i]),
-                    std::cmp::Ordering::Less => 0.0,
-                }
-            };
-            for i in 0..m {
-                assert!(l[i * p + i..(i + 1) * p].iter().all(|x| *x == 0.0));
-                for j in 0..=i {
-                    let s: f64 = (0..=j).map(|k| lij(i, k) * lij(j, k)).sum();
-                    let want = a(i, j);
-                    assert!(
-                        (s - want).abs() <= 1e-5 * m as f64,
-                        "m {m} ({i},{j}): {s} vs {want}"
-                    );
-                }
-            }
-        }
     }
 
     #[test]

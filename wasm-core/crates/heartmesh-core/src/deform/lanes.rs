@@ -89,25 +89,6 @@ mod imp {
             unsafe { _mm_storeu_ps(out.as_mut_ptr(), self.0) };
             out
         }
-        #[inline(always)]
-        fn hsum(self) -> f32 {
-            F4(self.0).hsum_sse()
-        }
-    }
-
-    impl F4 {
-        #[inline(always)]
-        pub(in super::super) fn from_sse(v: __m128) -> F4 {
-            F4(v)
-        }
-        /// The `Lanes32::hsum` order: lanes (0 + 2, 1 + 3), then their sum.
-        #[inline(always)]
-        pub fn hsum_sse(self) -> f32 {
-            unsafe {
-                let h = _mm_add_ps(self.0, _mm_movehl_ps(self.0, self.0));
-                _mm_cvtss_f32(_mm_add_ss(h, _mm_shuffle_ps::<0b01>(h, h)))
-            }
-        }
     }
 }
 
@@ -191,12 +172,6 @@ mod imp {
                 f32x4_extract_lane::<3>(self.0),
             ]
         }
-        #[inline(always)]
-        fn hsum(self) -> f32 {
-            let h = f32x4_add(self.0, i32x4_shuffle::<2, 3, 2, 3>(self.0, self.0));
-            let s = f32x4_add(h, i32x4_shuffle::<1, 1, 1, 1>(h, h));
-            f32x4_extract_lane::<0>(s)
-        }
     }
 }
 
@@ -277,11 +252,6 @@ pub(crate) mod portable {
         #[inline(always)]
         fn lanes(self) -> [f32; 4] {
             self.0
-        }
-        #[inline(always)]
-        fn hsum(self) -> f32 {
-            let l = self.0;
-            (l[0] + l[2]) + (l[1] + l[3])
         }
     }
 }
@@ -430,10 +400,7 @@ pub trait Lanes32: Copy {
     fn sub(self, o: Self) -> Self;
     fn mul(self, o: Self) -> Self;
     fn sqrt(self) -> Self;
-    #[allow(dead_code)] // the tests read the lanes
     fn lanes(self) -> [f32; 4];
-    /// `(l0 + l2) + (l1 + l3)`: the fixed order of a four-lane sum (two shuffles and adds).
-    fn hsum(self) -> f32;
 }
 
 /// Four f64 lanes: the `(lo, hi)` pairs of two-lane vectors that the kernels accumulate in, as
@@ -512,17 +479,19 @@ pub trait Oct: Copy {
     fn sub(self, o: Self) -> Self;
     fn mul(self, o: Self) -> Self;
     fn sqrt(self) -> Self;
-    #[allow(dead_code)] // the tests read the lanes
     fn lanes(self) -> [f32; 8];
 
     #[inline(always)]
     fn zero() -> Self {
         Self::splat(0.0)
     }
-    /// The fixed order of an eight-lane sum, the same for every implementation: the two halves
-    /// lane by lane (h_k = l_k + l_(k+4)), then `(h0 + h2) + (h1 + h3)`. The order follows what
-    /// two shuffles do, so no implementation goes through memory.
-    fn sum(self) -> f32;
+    /// `((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7))`: the fixed final order of an
+    /// eight-lane sum, the same for every implementation.
+    #[inline(always)]
+    fn sum(self) -> f32 {
+        let l = self.lanes();
+        ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]))
+    }
 }
 
 /// Two four-lane f32 vectors as eight lanes.
@@ -559,10 +528,6 @@ impl<V: Lanes32> Oct for Pair32<V> {
     fn lanes(self) -> [f32; 8] {
         let (a, b) = (self.0.lanes(), self.1.lanes());
         [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]]
-    }
-    #[inline(always)]
-    fn sum(self) -> f32 {
-        self.0.add(self.1).hsum()
     }
 }
 
@@ -657,16 +622,6 @@ pub mod avx {
             unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) };
             out
         }
-        #[inline(always)]
-        fn sum(self) -> f32 {
-            let h = unsafe {
-                _mm_add_ps(
-                    _mm256_castps256_ps128(self.0),
-                    _mm256_extractf128_ps::<1>(self.0),
-                )
-            };
-            super::imp::F4::from_sse(h).hsum_sse()
-        }
     }
 }
 
@@ -711,10 +666,6 @@ mod tests {
                 // SAFETY: the CPU has AVX.
                 assert_eq!(bits(unsafe { mix_avx(&a, &b) }), bits(want));
             }
-            // The documented order of the eight-lane sum.
-            let l = want.0;
-            let h = [0, 1, 2, 3].map(|k| l[k] + l[k + 4]);
-            assert_eq!(want.1.to_bits(), ((h[0] + h[2]) + (h[1] + h[3])).to_bits());
             // And the lanes are plain IEEE single precision.
             let l0 = ((a[0] * a[0] + b[0] * b[0]).sqrt() - b[0]) * 0.3 + a[0];
             assert_eq!(want.0[0].to_bits(), l0.to_bits());

@@ -33,9 +33,7 @@
 //! all-double reference. The projection, the residuals and the f64 fallback use the f64
 //! four-lane vectors; the f32 factor and its triangular solves the f32 eight-lane ones.
 
-use super::dense::{
-    axpy, cholesky32_in_place, cholesky_in_place, dot, dot3_q, dot_q, padded_stride,
-};
+use super::dense::{axpy, cholesky32_in_place, cholesky_in_place, dot, dot3_q, dot_q};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::avx::{self, Avx, Avx32};
 use super::lanes::{portable, Oct, Pair32, Quad, Vector, O4, Q2};
@@ -48,7 +46,7 @@ const LANES: usize = 4;
 /// collinear or coincident centres).
 const COPLANAR_TOL: f64 = 1e-10;
 
-/// Refinement stops when max|b - A x| <= REFINE_TOL (||A||_F max|x| + max|b|): about the
+/// Refinement stops when max|b - A x| <= REFINE_TOL (||A||_inf max|x| + max|b|): the
 /// normwise backward error of an f64 Cholesky solve (see `solve_mixed`).
 const REFINE_TOL: f64 = 1e-14;
 /// Refinement steps before giving up on the f32 factor.
@@ -85,7 +83,7 @@ struct Chunk32 {
 pub(crate) struct SolveStats {
     /// f32 corrections applied (including the first solve); 0 after a fallback before any.
     pub refinements: usize,
-    /// Normwise relative residual max|b - A x| / (||A||_F max|x| + max|b|) at the end.
+    /// Normwise relative residual max|b - A x| / (||A||_inf max|x| + max|b|) at the end.
     pub residual: f64,
     /// The f32 route failed (factor not positive definite, or no convergence) and the f64
     /// Cholesky solved the system.
@@ -104,13 +102,11 @@ pub struct TpsSolver {
     hbeta: [f64; 4],
     /// R of the QR of the centred affine basis (upper triangular).
     r: [[f64; 4]; 4],
-    /// (N-4) x (N-4) row-major: on the f64 fallback the Cholesky factor of the projected matrix
-    /// A = (Q^T K Q)[4.., 4..] (which stays in `kmat` for the residuals) in its lower triangle.
+    /// (N-4) x (N-4) row-major: the projected matrix A = (Q^T K Q)[4.., 4..], both triangles (the
+    /// residuals of the refinement); on the f64 fallback its Cholesky factor L in the lower one.
     chol: Vec<f64>,
-    /// The strictly lower triangle of A in f32 (rows of `padded_stride(N-4)`, zeros elsewhere),
-    /// then that of its f32 Cholesky factor; the diagonal in `diag32`.
+    /// The lower triangle of A in f32, then its f32 Cholesky factor.
     chol32: Vec<f32>,
-    diag32: Vec<f32>,
     /// Refinement vectors, 3 x (N-4) each: solution, residual, and the f32 correction.
     sol: Vec<f64>,
     res: Vec<f64>,
@@ -187,8 +183,7 @@ impl TpsSolver {
         self.kmat.resize(n * n, 0.0);
         self.hv.resize(4 * n, 0.0);
         self.chol.resize(m * m, 0.0);
-        self.chol32.resize(m * padded_stride(m), 0.0);
-        self.diag32.resize(m, 0.0);
+        self.chol32.resize(m * m, 0.0);
         self.sol.resize(3 * m, 0.0);
         self.res.resize(3 * m, 0.0);
         self.work32.resize(3 * m, 0.0);
@@ -447,36 +442,33 @@ impl TpsSolver {
     #[inline(never)] // one call per fit: kept out of line for profiles
     fn solve_mixed(&mut self) -> Result<()> {
         let (n, m) = (self.n, self.n - 4);
-        // A in f32 in the padded layout of `cholesky32_in_place`, and ||A||_F (the scale of the
-        // residual test).
-        let p = padded_stride(m);
-        let mut frob2 = 0.0;
+        // A in both triangles (f64) and its lower triangle in f32; ||A||_inf on the way.
+        let rows = &mut self.res[..m];
+        rows.fill(0.0);
         for i in 0..m {
             let src = &self.kmat[(4 + i) * n + 4..(4 + i) * n + 5 + i];
-            let dst = &mut self.chol32[i * p..(i + 1) * p];
-            for (d, a) in dst.iter_mut().zip(&src[..i]) {
-                *d = *a as f32;
+            self.chol[i * m..i * m + i + 1].copy_from_slice(src);
+            for (j, &a) in src.iter().enumerate() {
+                self.chol[j * m + i] = a;
+                self.chol32[i * m + j] = a as f32;
+                rows[i] += a.abs();
+                if j < i {
+                    rows[j] += a.abs();
+                }
             }
-            dst[i..].fill(0.0);
-            self.diag32[i] = src[i] as f32;
-            frob2 += 2.0 * dot(&src[..i], &src[..i]) + src[i] * src[i];
         }
+        let a_norm = rows.iter().fold(0.0, |m: f64, x| m.max(*x));
         self.last_solve = SolveStats::default();
         #[cfg(test)]
         let mixed = !self.f64_only;
         #[cfg(not(test))]
         let mixed = true;
         if mixed
-            && cholesky32_in_place(&mut self.chol32, &mut self.diag32, m).is_ok()
-            && self.refine(frob2.sqrt())
-        {
+            && cholesky32_in_place(&mut self.chol32, m).is_ok() && self.refine(a_norm) {
             return Ok(());
         }
         self.last_solve.fell_back = true;
-        for i in 0..m {
-            let src = &self.kmat[(4 + i) * n + 4..(4 + i) * n + 5 + i];
-            self.chol[i * m..i * m + i + 1].copy_from_slice(src);
-        }
+        // `chol` still holds A in its lower triangle, all the factorisation reads.
         cholesky_in_place(&mut self.chol, m)?;
         self.solve_projected();
         Ok(())
@@ -484,7 +476,6 @@ impl TpsSolver {
 
     /// The refinement loop of [`solve_mixed`](Self::solve_mixed); true when it converged (the
     /// solution is then in `rhs`), false to fall back.
-    /// `a_norm` is ||A||_F.
     fn refine(&mut self, a_norm: f64) -> bool {
         #[cfg(target_arch = "x86_64")]
         if avx::available() {
@@ -520,31 +511,18 @@ impl TpsSolver {
             for (w, r) in self.work32.iter_mut().zip(&self.res) {
                 *w = (r / r_max) as f32;
             }
-            solve_lower_upper32::<O>(&self.chol32, &self.diag32, m, &mut self.work32);
+            solve_lower_upper32::<O>(&self.chol32, m, &mut self.work32);
             for (x, w) in self.sol.iter_mut().zip(&self.work32) {
                 *x += f64::from(*w) * r_max;
             }
-            // r = b - A x in f64, from the lower triangle of A: row i gives the j <= i terms of
-            // r_i by dot products and the j < i terms of r_j by axpys.
-            for c in 0..3 {
-                self.res[c * m..(c + 1) * m].copy_from_slice(&self.rhs[c * n + 4..(c + 1) * n]);
-            }
-            let (x0, rest) = self.sol.split_at(m);
-            let (x1, x2) = rest.split_at(m);
-            let (r0, rest) = self.res.split_at_mut(m);
-            let (r1, r2) = rest.split_at_mut(m);
+            // r = b - A x in f64.
             for i in 0..m {
-                let row = &self.kmat[(4 + i) * n + 4..(4 + i) * n + 5 + i];
-                let d = dot3_q::<Q>(row, &x0[..=i], &x1[..=i], &x2[..=i]);
-                r0[i] -= d[0];
-                r1[i] -= d[1];
-                r2[i] -= d[2];
-                let xi = [x0[i], x1[i], x2[i]];
-                let (p0, p1, p2) = (&mut r0[..i], &mut r1[..i], &mut r2[..i]);
-                for (((a, e0), e1), e2) in row[..i].iter().zip(p0).zip(p1).zip(p2) {
-                    *e0 -= xi[0] * a;
-                    *e1 -= xi[1] * a;
-                    *e2 -= xi[2] * a;
+                let row = &self.chol[i * m..(i + 1) * m];
+                let (x0, rest) = self.sol.split_at(m);
+                let (x1, x2) = rest.split_at(m);
+                let ax = dot3_q::<Q>(row, x0, x1, x2);
+                for (c, v) in ax.iter().enumerate() {
+                    self.res[c * m + i] = self.rhs[c * n + 4 + i] - v;
                 }
             }
             let rel = max_abs(&self.res) / (a_norm * max_abs(&self.sol) + b_norm);
@@ -807,27 +785,25 @@ impl TpsSolver {
     }
 }
 
-/// L L^T y = y in place in f32 for three right-hand sides (`y` is 3 x m), L in the padded layout
-/// of `cholesky32_in_place` (strictly lower rows `l`, diagonal `diag`). Same bits on every target
-/// (fixed lane order, elementwise updates).
+/// L L^T y = y in place in f32 for three right-hand sides (`y` is 3 x m), L the lower triangle
+/// of the m x m row-major `l`. Same bits on every target (fixed lane order, elementwise updates).
 #[inline(always)]
-fn solve_lower_upper32<O: Vector<E = f32>>(l: &[f32], diag: &[f32], m: usize, y: &mut [f32]) {
-    let p = padded_stride(m);
+fn solve_lower_upper32<O: Vector<E = f32>>(l: &[f32], m: usize, y: &mut [f32]) {
     let (y0, rest) = y.split_at_mut(m);
     let (y1, y2) = rest.split_at_mut(m);
     for i in 0..m {
-        let row = &l[i * p..i * p + i];
-        let d = dot3_q::<O>(row, &y0[..i], &y1[..i], &y2[..i]);
-        y0[i] = (y0[i] - d[0]) / diag[i];
-        y1[i] = (y1[i] - d[1]) / diag[i];
-        y2[i] = (y2[i] - d[2]) / diag[i];
+        let row = &l[i * m..i * m + i + 1];
+        let d = dot3_q::<O>(&row[..i], &y0[..i], &y1[..i], &y2[..i]);
+        y0[i] = (y0[i] - d[0]) / row[i];
+        y1[i] = (y1[i] - d[1]) / row[i];
+        y2[i] = (y2[i] - d[2]) / row[i];
     }
     for i in (0..m).rev() {
-        let row = &l[i * p..i * p + i];
-        let x = [y0[i] / diag[i], y1[i] / diag[i], y2[i] / diag[i]];
+        let row = &l[i * m..i * m + i + 1];
+        let x = [y0[i] / row[i], y1[i] / row[i], y2[i] / row[i]];
         (y0[i], y1[i], y2[i]) = (x[0], x[1], x[2]);
         let (p0, p1, p2) = (&mut y0[..i], &mut y1[..i], &mut y2[..i]);
-        for (((r, e0), e1), e2) in row.iter().zip(p0).zip(p1).zip(p2) {
+        for (((r, e0), e1), e2) in row[..i].iter().zip(p0).zip(p1).zip(p2) {
             *e0 -= x[0] * r;
             *e1 -= x[1] * r;
             *e2 -= x[2] * r;
@@ -1151,12 +1127,7 @@ pub(crate) mod tests {
             .iter()
             .zip(&wb)
             .map(|(x, y)| (x - y).abs().max())
-            .chain(
-                aa.iter()
-                    .flatten()
-                    .zip(ab.iter().flatten())
-                    .map(|(x, y)| (x - y).abs()),
-            )
+            .chain(aa.iter().flatten().zip(ab.iter().flatten()).map(|(x, y)| (x - y).abs()))
             .fold(0.0, f64::max);
         diff / scale
     }

@@ -4,8 +4,8 @@
 //! (f32 factor, f64 refinement) is from the all-f64 solve of the same system.
 
 use super::Reconstruction;
-use crate::contours::ContourSet;
 use crate::deform::tps::{tests::solution_difference, TpsSolver};
+use crate::contours::ContourSet;
 use crate::geometry::Vec3;
 use crate::{io, Params};
 use std::path::PathBuf;
@@ -115,10 +115,6 @@ fn mixed_precision_changes_micrometres() {
         assert!(w.eval_mm < 1e-3, "{file}: {:e} mm", w.eval_mm);
         assert!(w.largest_move_mm > 0.1, "{file}: nothing moved");
         assert!(w.solve < 1e-9, "{file}: solve {:e}", w.solve);
-        assert!(
-            w.fits > 100 && w.max_refinements <= 4,
-            "{file}: {} fits",
-            w.fits
-        );
+        assert!(w.fits > 100 && w.max_refinements <= 4, "{file}: {} fits", w.fits);
     }
 }
