@@ -8,8 +8,8 @@
 //! matters. All sums run in a fixed lane order (`lanes.rs`), so every target gives the same bits.
 
 #[cfg(target_arch = "x86_64")]
-use super::lanes::avx::{self, Avx, Avx32};
-use super::lanes::{Real, Vector, O4, Q2};
+use super::lanes::avx::{self, Avx};
+use super::lanes::{Quad, Q2};
 use crate::error::{CoreError, Result};
 
 /// Cholesky factorisation A = L L^T of the lower triangle of an m x m row-major matrix, in place.
@@ -36,27 +36,8 @@ unsafe fn cholesky_avx(a: &mut [f64], m: usize) -> Result<()> {
     cholesky_q::<Avx>(a, m)
 }
 
-/// [`cholesky_in_place`] in single precision (eight f32 lanes): the factor of the mixed-precision
-/// solve, which refines its solutions against the f64 matrix (`tps.rs`). Same bits on every target.
-#[inline(never)] // one call per fit: kept out of line for profiles
-pub(super) fn cholesky32_in_place(a: &mut [f32], m: usize) -> Result<()> {
-    #[cfg(target_arch = "x86_64")]
-    if avx::available() {
-        // SAFETY: the CPU has AVX.
-        return unsafe { cholesky32_avx(a, m) };
-    }
-    cholesky_q::<O4>(a, m)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-unsafe fn cholesky32_avx(a: &mut [f32], m: usize) -> Result<()> {
-    cholesky_q::<Avx32>(a, m)
-}
-
-/// The blocked Cholesky over any lane vector (f64 or f32 elements).
 #[inline(always)]
-fn cholesky_q<Q: Vector>(a: &mut [Q::E], m: usize) -> Result<()> {
+fn cholesky_q<Q: Quad>(a: &mut [f64], m: usize) -> Result<()> {
     let mut i = 0;
     while i + 1 < m {
         let (done, rest) = a.split_at_mut(i * m);
@@ -103,8 +84,8 @@ fn cholesky_q<Q: Vector>(a: &mut [Q::E], m: usize) -> Result<()> {
 
 /// Square root of a Cholesky pivot, or the error that says the system is not SPD.
 #[inline]
-fn pivot<E: Real>(d: E, i: usize) -> Result<E> {
-    if d > E::ZERO && d.is_finite() {
+fn pivot(d: f64, i: usize) -> Result<f64> {
+    if d > 0.0 && d.is_finite() {
         Ok(d.sqrt())
     } else {
         Err(CoreError::Numerical(format!(
@@ -113,25 +94,28 @@ fn pivot<E: Real>(d: E, i: usize) -> Result<E> {
     }
 }
 
-/// The four dot products of (a0, a1) with (b0, b1), one lane vector each, all slices of one length.
+/// The four dot products of (a0, a1) with (b0, b1), four lanes each, all slices of one length.
 #[inline(always)]
-fn dot2x2<Q: Vector>(a0: &[Q::E], a1: &[Q::E], b0: &[Q::E], b1: &[Q::E]) -> [Q::E; 4] {
+fn dot2x2<Q: Quad>(a0: &[f64], a1: &[f64], b0: &[f64], b1: &[f64]) -> [f64; 4] {
     let n = a0.len().min(a1.len()).min(b0.len()).min(b1.len());
-    let c = n - n % lane_count::<Q>();
-    let mut acc = [Q::zero(); 4]; // a0.b0, a0.b1, a1.b0, a1.b1
-    for ((x0, x1), (y0, y1)) in Q::blocks(&a0[..c])
-        .iter()
-        .zip(Q::blocks(&a1[..c]))
-        .zip(Q::blocks(&b0[..c]).iter().zip(Q::blocks(&b1[..c])))
-    {
-        let (x0, x1) = (Q::load_block(x0), Q::load_block(x1));
-        let (y0, y1) = (Q::load_block(y0), Q::load_block(y1));
-        acc[0] = acc[0].vadd(x0.vmul(y0));
-        acc[1] = acc[1].vadd(x0.vmul(y1));
-        acc[2] = acc[2].vadd(x1.vmul(y0));
-        acc[3] = acc[3].vadd(x1.vmul(y1));
+    let c = n / 4 * 4;
+    fn quads(s: &[f64], c: usize) -> &[[f64; 4]] {
+        s[..c].as_chunks::<4>().0
     }
-    let mut out = acc.map(Q::total);
+    let mut acc = [Q::zero(); 4]; // a0.b0, a0.b1, a1.b0, a1.b1
+    for ((x0, x1), (y0, y1)) in quads(a0, c)
+        .iter()
+        .zip(quads(a1, c))
+        .zip(quads(b0, c).iter().zip(quads(b1, c)))
+    {
+        let (x0, x1) = (Q::load(x0), Q::load(x1));
+        let (y0, y1) = (Q::load(y0), Q::load(y1));
+        acc[0] = acc[0].add(x0.mul(y0));
+        acc[1] = acc[1].add(x0.mul(y1));
+        acc[2] = acc[2].add(x1.mul(y0));
+        acc[3] = acc[3].add(x1.mul(y1));
+    }
+    let mut out = acc.map(Q::sum);
     for k in c..n {
         out[0] += a0[k] * b0[k];
         out[1] += a0[k] * b1[k];
@@ -139,12 +123,6 @@ fn dot2x2<Q: Vector>(a0: &[Q::E], a1: &[Q::E], b0: &[Q::E], b1: &[Q::E]) -> [Q::
         out[3] += a1[k] * b1[k];
     }
     out
-}
-
-/// Lanes of a vector type (4 for f64, 8 for f32).
-#[inline(always)]
-fn lane_count<Q: Vector>() -> usize {
-    size_of::<Q::Block>() / size_of::<Q::E>()
 }
 
 #[cfg(test)]
@@ -170,22 +148,21 @@ pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     dot_q::<Q2>(a, b)
 }
 
-/// [`dot`] over any lane vector: two vector accumulators (hiding the add latency) summed in a
-/// fixed order, so each vector type gives the same bits on every target.
+/// [`dot`] over any four-lane vector (same bits with each).
 #[inline(always)]
-pub(super) fn dot_q<Q: Vector>(a: &[Q::E], b: &[Q::E]) -> Q::E {
+pub(super) fn dot_q<Q: Quad>(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
-    let c = n - n % (2 * lane_count::<Q>());
-    let (pa, pb) = (Q::blocks(&a[..c]), Q::blocks(&b[..c]));
+    let c = n / 8 * 8;
+    let (pa, pb) = (a[..c].as_chunks::<4>().0, b[..c].as_chunks::<4>().0);
     let mut acc = [Q::zero(); 2];
     for (x, y) in pa.chunks_exact(2).zip(pb.chunks_exact(2)) {
         for l in 0..2 {
-            acc[l] = acc[l].vadd(Q::load_block(&x[l]).vmul(Q::load_block(&y[l])));
+            acc[l] = acc[l].add(Q::load(&x[l]).mul(Q::load(&y[l])));
         }
     }
-    let mut s = acc[0].total() + acc[1].total();
+    let mut s = acc[0].sum() + acc[1].sum();
     for (x, y) in a[c..n].iter().zip(&b[c..n]) {
-        s += *x * *y;
+        s += x * y;
     }
     s
 }
@@ -193,33 +170,29 @@ pub(super) fn dot_q<Q: Vector>(a: &[Q::E], b: &[Q::E]) -> Q::E {
 /// Three [`dot_q`]s of `a` with `b0`, `b1`, `b2` sharing the loads of `a`; each result has the
 /// bits of its own `dot_q`.
 #[inline(always)]
-pub(super) fn dot3_q<Q: Vector>(a: &[Q::E], b0: &[Q::E], b1: &[Q::E], b2: &[Q::E]) -> [Q::E; 3] {
+pub(super) fn dot3_q<Q: Quad>(a: &[f64], b0: &[f64], b1: &[f64], b2: &[f64]) -> [f64; 3] {
     let n = a.len().min(b0.len()).min(b1.len()).min(b2.len());
-    let c = n - n % (2 * lane_count::<Q>());
-    let (pa, p0, p1, p2) = (
-        Q::blocks(&a[..c]),
-        Q::blocks(&b0[..c]),
-        Q::blocks(&b1[..c]),
-        Q::blocks(&b2[..c]),
-    );
+    let c = n / 8 * 8;
+    fn pairs(s: &[f64], c: usize) -> &[[[f64; 4]; 2]] {
+        s[..c].as_chunks::<4>().0.as_chunks::<2>().0
+    }
     let mut acc = [[Q::zero(); 2]; 3];
-    for (x, ((y0, y1), y2)) in pa.chunks_exact(2).zip(
-        p0.chunks_exact(2)
-            .zip(p1.chunks_exact(2))
-            .zip(p2.chunks_exact(2)),
-    ) {
+    for (x, ((y0, y1), y2)) in pairs(a, c)
+        .iter()
+        .zip(pairs(b0, c).iter().zip(pairs(b1, c)).zip(pairs(b2, c)))
+    {
         for l in 0..2 {
-            let xl = Q::load_block(&x[l]);
-            acc[0][l] = acc[0][l].vadd(xl.vmul(Q::load_block(&y0[l])));
-            acc[1][l] = acc[1][l].vadd(xl.vmul(Q::load_block(&y1[l])));
-            acc[2][l] = acc[2][l].vadd(xl.vmul(Q::load_block(&y2[l])));
+            let xl = Q::load(&x[l]);
+            acc[0][l] = acc[0][l].add(xl.mul(Q::load(&y0[l])));
+            acc[1][l] = acc[1][l].add(xl.mul(Q::load(&y1[l])));
+            acc[2][l] = acc[2][l].add(xl.mul(Q::load(&y2[l])));
         }
     }
-    let mut s = acc.map(|a| a[0].total() + a[1].total());
+    let mut s = acc.map(|a| a[0].sum() + a[1].sum());
     for (k, x) in a.iter().enumerate().take(n).skip(c) {
-        s[0] += *x * b0[k];
-        s[1] += *x * b1[k];
-        s[2] += *x * b2[k];
+        s[0] += x * b0[k];
+        s[1] += x * b1[k];
+        s[2] += x * b2[k];
     }
     s
 }
