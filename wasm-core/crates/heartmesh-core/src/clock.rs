@@ -16,6 +16,8 @@ pub struct DefaultClock {
     origin: std::time::Instant,
 }
 
+// On wasm the struct has no field and Default could be derived; natively it cannot.
+#[cfg_attr(target_arch = "wasm32", allow(clippy::derivable_impls))]
 impl Default for DefaultClock {
     fn default() -> Self {
         DefaultClock {
