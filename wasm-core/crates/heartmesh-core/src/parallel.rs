@@ -10,10 +10,10 @@
 //! hundred microseconds each, plus 200 smoothing sweeps of ~60 us per remesh; spawning threads
 //! for each would cost as much as the work. The pool's workers stay warm between calls.
 //!
-//! The thread count is process-wide: automatic ([`available_parallelism`], at most
-//! [`MAX_THREADS`]) unless a front end sets it ([`set_threads`], e.g. from the
-//! `HEARTMESH_THREADS` environment variable, [`threads_from_env`]). It takes effect when the pool
-//! is first used.
+//! The thread count is process-wide, fixed when the pool is first used: the one a front end set
+//! ([`set_threads`]), else the `HEARTMESH_THREADS` environment variable ([`threads_from_env`];
+//! 1 = no threads, e.g. for timing or on a busy shared host), else automatic
+//! ([`available_parallelism`], at most [`MAX_THREADS`]).
 //!
 //! [`available_parallelism`]: std::thread::available_parallelism
 
@@ -58,7 +58,11 @@ mod imp {
 
     fn pool() -> Option<&'static rayon::ThreadPool> {
         POOL.get_or_init(|| {
-            let n = match REQUESTED.load(Ordering::Relaxed) {
+            let requested = match REQUESTED.load(Ordering::Relaxed) {
+                0 => super::threads_from_env().unwrap_or(0),
+                n => n,
+            };
+            let n = match requested {
                 0 => std::thread::available_parallelism()
                     .map_or(1, |n| n.get())
                     .min(MAX_THREADS),
