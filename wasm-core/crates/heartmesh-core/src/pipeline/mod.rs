@@ -6,6 +6,8 @@
 //! inter-point distance) so that lambda, beta and the stop threshold do not depend on the size of the
 //! heart; everything handed out is converted back to millimetres.
 
+#[cfg(test)]
+mod precision;
 mod prepare;
 pub mod tube;
 
