@@ -100,8 +100,9 @@ fn update_nearest_lanes(dist: &mut [f64], xs: &[f64], ys: &[f64], zs: &[f64], c:
 /// faster than the surface can follow: a map x -> x + d(x) stays one-to-one only while the
 /// gradient of d stays below 1, and a nearly interpolating spline driven past that creases the
 /// surface. For each attractor, g_i is the largest |d_i - d_j| / |P_i - P_j| over attractors j of
-/// another contour whose data point lies within `radius` (pairs on one contour are one curve:
-/// a sharp corner there is data, not conflict). The weight is 1 / (1 + (g_i / limit)^2): 1 where
+/// another group (`owner`: the pipeline passes short- vs long-axis) whose data point lies within
+/// `radius`. Pairs within a group are never compared: curves of one slice meet at sharp corners
+/// (the RV free wall and septum at the insertions) that are data, not conflict. The weight is 1 / (1 + (g_i / limit)^2): 1 where
 /// the data agree, falling once the asked-for gradient passes `limit`. Returns true when any
 /// weight is below 1.
 pub fn conflict_weights(

@@ -121,7 +121,7 @@ pub struct Reconstruction {
     norm: Normalisation,
     /// Contour points resampled at ~1 mm, normalised: the attractor candidates.
     candidates: Vec<Vec3>,
-    /// Index of the contour each candidate comes from.
+    /// Kind of the contour each candidate comes from (0 short axis, 1 long axis).
     candidate_owner: Vec<u32>,
     attractor_budget: Budget,
     attractors: Vec<Vec3>,
@@ -170,7 +170,10 @@ impl Reconstruction {
         for (k, c) in contours.iter().enumerate() {
             for p in &c.pieces {
                 let r = resample_spacing(&p.points, p.closed, CANDIDATE_SPACING_MM);
-                candidate_owner.extend(std::iter::repeat_n(k as u32, r.len()));
+                // Short- and long-axis curves are compared for conflicts, never two curves of one
+                // kind: a slice's RV free wall and septum meet at sharp corners that are data.
+                let group = u32::from(layout.kinds.get(k) == Some(&ContourKind::Lax));
+                candidate_owner.extend(std::iter::repeat_n(group, r.len()));
                 candidates_mm.extend(r);
             }
         }
