@@ -13,8 +13,9 @@ use heartmesh_core::Params;
 const MEAN_MM: f64 = 1.0;
 /// Creased edges (dihedral > 90 degrees, `mesh::quality`) a surface may end with. The goal is none;
 /// where short- and long-axis curves disagree by a few mm some remain after the conflict
-/// softening of the final steps (session 4: at most 3 per surface, 15 on 7 of 15 surfaces; 8 and
-/// 26 on 9 before). Held at the measured worst so a regression fails.
+/// softening of the final steps (session 4: at most 2 per surface, 8 on 5 of 15 surfaces; 8 and
+/// 26 on 9 before). One above the measured worst: fold counts move by one or two with any change
+/// of the arithmetic (the solver's precision), a regression moves them by more.
 const MAX_FOLDED_EDGES: usize = 3;
 
 /// Reconstructs every surface of one file; returns failures as messages (all cases run).

@@ -102,9 +102,10 @@ fn update_nearest_lanes(dist: &mut [f64], xs: &[f64], ys: &[f64], zs: &[f64], c:
 /// surface. For each attractor, g_i is the largest |d_i - d_j| / |P_i - P_j| over attractors j of
 /// another group (`owner`: the pipeline passes short- vs long-axis) whose data point lies within
 /// `radius`. Pairs within a group are never compared: curves of one slice meet at sharp corners
-/// (the RV free wall and septum at the insertions) that are data, not conflict. The weight is 1 / (1 + (g_i / limit)^2): 1 where
-/// the data agree, falling once the asked-for gradient passes `limit`. Returns true when any
-/// weight is below 1.
+/// (the RV free wall and septum at the insertions) that are data, not conflict.
+/// The weight is 1 up to `limit` (the surface can follow: nothing changes) and (limit / g_i)^2
+/// beyond, falling as the asked-for gradient passes what the surface can follow. Returns true
+/// when any weight is below 1 (else the caller's fit is the unweighted one).
 pub fn conflict_weights(
     attractors: &[Vec3],
     closest: &[Vec3],
@@ -144,7 +145,11 @@ pub fn conflict_weights(
     for w in grad.iter_mut() {
         let x = *w / limit;
         // Floor: the solver needs a positive weight; 1e-6 already leaves the point no pull.
-        *w = (1.0 / (1.0 + x * x)).max(MIN_WEIGHT);
+        *w = if x <= 1.0 {
+            1.0
+        } else {
+            (1.0 / (x * x)).max(MIN_WEIGHT)
+        };
         any |= *w < 1.0;
     }
     any
@@ -203,7 +208,7 @@ mod tests {
             &mut w
         ));
         assert!(
-            (w[0] - 0.1).abs() < 1e-12 && (w[1] - 0.1).abs() < 1e-12,
+            (w[0] - 1.0 / 9.0).abs() < 1e-12 && (w[1] - 1.0 / 9.0).abs() < 1e-12,
             "{w:?}"
         );
         // 2 is too far from anyone; 3/4 are one contour (a corner): untouched.

@@ -31,9 +31,12 @@ const CANDIDATE_SPACING_MM: f64 = 1.0;
 /// largest disagreement between contours that is normal in cine CMR (1-5 mm of segmentation and
 /// breath-hold error, METHOD.md), so any two data points such an error can pull apart are paired.
 const CONFLICT_RADIUS_MM: f64 = 10.0;
-/// Displacement gradient above which conflicting attractors are down-weighted: a map x -> x + d(x)
-/// is one-to-one while the gradient of d stays below 1, so beyond it the surface must fold.
-const CONFLICT_GRADIENT_LIMIT: f64 = 1.0;
+/// Displacement gradient above which conflicting attractors are down-weighted. A map x -> x + d(x)
+/// is one-to-one while the gradient of d stays below 1; the gradient here is a difference quotient
+/// between attractors 5-10 mm apart, which underestimates the peak of the field between them, so
+/// the limit is half that bound (1 itself left 19 folded edges on the real cases instead of 8:
+/// docs/VALIDATION.md, session 4).
+const CONFLICT_GRADIENT_LIMIT: f64 = 0.5;
 /// The fewest attractors a thin-plate spline in 3D can use (4 affine terms + 1).
 const MIN_ATTRACTORS: usize = 5;
 /// Above this many candidate points the diameter is estimated by repeated farthest-point sweeps
