@@ -2,19 +2,9 @@
 //! Fuzz target: stl (must never panic, whatever the bytes).
 
 use heartmesh_core::io;
+use heartmesh_fuzz::check_mesh;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     check_mesh(io::stl::read_stl(data));
 });
-
-/// Whatever a mesh reader accepts must be consistent: indices in range, one value per vertex.
-fn check_mesh(r: heartmesh_core::error::Result<io::MeshData>) {
-    if let Ok(d) = r {
-        let n = d.mesh.positions.len();
-        assert!(d.mesh.triangles.iter().flatten().all(|&i| (i as usize) < n));
-        if let Some((_, v)) = &d.point_data {
-            assert_eq!(v.len(), n);
-        }
-    }
-}

@@ -62,6 +62,8 @@ fn run(argv: &[String]) -> Result<(), CliError> {
 }
 
 fn main() {
+    // HEARTMESH_THREADS=1 forces one thread (same results either way; for timing and shared hosts).
+    heartmesh_core::parallel::configure_from_env();
     let mut argv = Vec::new();
     for a in std::env::args_os().skip(1) {
         match a.into_string() {

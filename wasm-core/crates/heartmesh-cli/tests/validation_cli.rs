@@ -51,22 +51,25 @@ fn simulate_then_compare_clipped_and_errors() {
     let truth = write_mesh(&d, "lv.obj", &ParametricLv::default().mesh(96, 60).unwrap());
     let csv = d.join("c.csv");
     let csv = csv.to_str().unwrap();
-    let (code, out, err) = run(bin().args([
-        "simulate",
-        &truth,
-        "-o",
-        csv,
-        "--sax",
-        "6",
-        "--lax",
-        "2",
-        "--misalign",
-        "2,2",
-        "--noise",
-        "0.2",
-        "--seed",
-        "5",
-    ]));
+    let simulate = |out: &str| {
+        run(bin().args([
+            "simulate",
+            &truth,
+            "-o",
+            out,
+            "--sax",
+            "6",
+            "--lax",
+            "2",
+            "--misalign",
+            "2,2",
+            "--noise",
+            "0.2",
+            "--seed",
+            "5",
+        ]))
+    };
+    let (code, out, err) = simulate(csv);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("6 SAX + 2 LAX"), "{out}");
     let text = std::fs::read_to_string(csv).unwrap();
@@ -75,22 +78,7 @@ fn simulate_then_compare_clipped_and_errors() {
     // Same seed, same bytes.
     let csv2 = d.join("c2.csv");
     let csv2 = csv2.to_str().unwrap();
-    run(bin().args([
-        "simulate",
-        &truth,
-        "-o",
-        csv2,
-        "--sax",
-        "6",
-        "--lax",
-        "2",
-        "--misalign",
-        "2,2",
-        "--noise",
-        "0.2",
-        "--seed",
-        "5",
-    ]));
+    simulate(csv2);
     assert_eq!(text, std::fs::read_to_string(csv2).unwrap());
     // The truth against itself, clipped at the most basal SAX plane of the contours.
     let (code, out, err) =

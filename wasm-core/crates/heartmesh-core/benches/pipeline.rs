@@ -2,7 +2,7 @@
 //! biv-me patient 1 at end-diastole), with the median per-phase split printed after criterion's
 //! timing. Data come from ../shared/data beside the repository (not shipped).
 //!
-//! `cargo bench --bench pipeline`
+//! `cargo bench --bench pipeline` (HEARTMESH_THREADS=1 for one thread)
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use heartmesh_core::pipeline::PhaseTimings;
@@ -37,6 +37,8 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn bench(c: &mut Criterion) {
+    // HEARTMESH_THREADS=1 times the single-threaded run.
+    heartmesh_core::parallel::configure_from_env();
     let cases = [
         ("surfco-example", "surfco-example.csv", None),
         (

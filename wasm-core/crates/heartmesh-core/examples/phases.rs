@@ -1,6 +1,7 @@
 //! Developer tool: time full default reconstructions of one contour file and print the median
 //! per-phase split plus the result figures (to check that a speed-up did not change the result).
-//! `cargo run --release --example phases -- FILE [SURFACE] [REPEATS]`
+//! `cargo run --release --example phases -- FILE [SURFACE] [REPEATS]`; HEARTMESH_THREADS=1 forces
+//! one thread (the default is automatic).
 use heartmesh_core::pipeline::PhaseTimings;
 use heartmesh_core::{io, Params, Reconstruction};
 
@@ -10,6 +11,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn main() {
+    heartmesh_core::parallel::configure_from_env();
     let args: Vec<String> = std::env::args().collect();
     let Some(path) = args.get(1) else {
         eprintln!("usage: phases FILE [SURFACE|-] [REPEATS]");
@@ -54,7 +56,8 @@ fn main() {
         }
         let m = |f: fn(&PhaseTimings) -> f64| median(runs.iter().map(f).collect());
         println!(
-            "median of {repeats} (ms): total {:.1} | attractors {:.1} closest {:.1} solve {:.1} apply {:.1} remesh {:.1}",
+            "median of {repeats} ({} thread(s), ms): total {:.1} | attractors {:.1} closest {:.1} solve {:.1} apply {:.1} remesh {:.1}",
+            heartmesh_core::parallel::threads(),
             m(|t| t.total_ms),
             m(|t| t.attractors_ms),
             m(|t| t.closest_ms),

@@ -17,6 +17,7 @@ pub mod geometry;
 pub mod io;
 pub mod mesh;
 pub mod metrics;
+pub mod parallel;
 pub mod params;
 pub mod pipeline;
 pub mod refine;

@@ -1,4 +1,4 @@
-//! Two-lane f64 vectors for the TPS kernels, one implementation per target with identical
+//! Two-lane f64 and four-lane f32 vectors for the TPS kernels, one implementation per target with identical
 //! arithmetic: SSE2 on x86_64 (part of the baseline, always present), simd128 on wasm32 when the
 //! feature is enabled, and plain arrays elsewhere.
 //!
@@ -11,7 +11,8 @@
 #[cfg(target_arch = "x86_64")]
 mod imp {
     //! SAFETY (every `unsafe` below): SSE2 is part of the x86_64 baseline, so these intrinsics
-    //! are always available; the load and store stay within the 16 bytes of a `[f64; 2]`.
+    //! are always available; the loads and stores stay within the 16 bytes of a `[f64; 2]` or `[f32; 4]` (SSE, for f32, is
+    //! baseline too).
     use core::arch::x86_64::*;
 
     #[derive(Clone, Copy)]
@@ -49,6 +50,63 @@ mod imp {
             // SAFETY: `out` is valid for writing 16 bytes; the store is unaligned.
             unsafe { _mm_storeu_pd(out.as_mut_ptr(), self.0) };
             out
+        }
+    }
+
+    #[derive(Clone, Copy)]
+    pub struct F4(__m128);
+
+    impl super::Lanes32 for F4 {
+        #[inline(always)]
+        fn splat(x: f32) -> F4 {
+            F4(unsafe { _mm_set1_ps(x) })
+        }
+        #[inline(always)]
+        fn load(a: &[f32; 4]) -> F4 {
+            // SAFETY: `a` is valid for reading 16 bytes; the load is unaligned.
+            F4(unsafe { _mm_loadu_ps(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn add(self, o: F4) -> F4 {
+            F4(unsafe { _mm_add_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn sub(self, o: F4) -> F4 {
+            F4(unsafe { _mm_sub_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn mul(self, o: F4) -> F4 {
+            F4(unsafe { _mm_mul_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> F4 {
+            F4(unsafe { _mm_sqrt_ps(self.0) })
+        }
+        #[inline(always)]
+        fn lanes(self) -> [f32; 4] {
+            let mut out = [0.0; 4];
+            // SAFETY: `out` is valid for writing 16 bytes; the store is unaligned.
+            unsafe { _mm_storeu_ps(out.as_mut_ptr(), self.0) };
+            out
+        }
+        #[inline(always)]
+        fn hsum(self) -> f32 {
+            F4(self.0).hsum_sse()
+        }
+    }
+
+    impl F4 {
+        #[inline(always)]
+        pub(in super::super) fn from_sse(v: __m128) -> F4 {
+            F4(v)
+        }
+        /// The `Lanes32::hsum` order: lanes (0 + 2, 1 + 3), then their sum.
+        #[inline(always)]
+        pub fn hsum_sse(self) -> f32 {
+            unsafe {
+                let h = _mm_add_ps(self.0, _mm_movehl_ps(self.0, self.0));
+                _mm_cvtss_f32(_mm_add_ss(h, _mm_shuffle_ps::<0b01>(h, h)))
+            }
         }
     }
 }
@@ -94,6 +152,52 @@ mod imp {
             ]
         }
     }
+
+    #[derive(Clone, Copy)]
+    pub struct F4(v128);
+
+    impl super::Lanes32 for F4 {
+        #[inline(always)]
+        fn splat(x: f32) -> F4 {
+            F4(f32x4_splat(x))
+        }
+        #[inline(always)]
+        fn load(a: &[f32; 4]) -> F4 {
+            // SAFETY: `a` is valid for reading 16 bytes; wasm loads need no alignment.
+            F4(unsafe { v128_load(a.as_ptr() as *const v128) })
+        }
+        #[inline(always)]
+        fn add(self, o: F4) -> F4 {
+            F4(f32x4_add(self.0, o.0))
+        }
+        #[inline(always)]
+        fn sub(self, o: F4) -> F4 {
+            F4(f32x4_sub(self.0, o.0))
+        }
+        #[inline(always)]
+        fn mul(self, o: F4) -> F4 {
+            F4(f32x4_mul(self.0, o.0))
+        }
+        #[inline(always)]
+        fn sqrt(self) -> F4 {
+            F4(f32x4_sqrt(self.0))
+        }
+        #[inline(always)]
+        fn lanes(self) -> [f32; 4] {
+            [
+                f32x4_extract_lane::<0>(self.0),
+                f32x4_extract_lane::<1>(self.0),
+                f32x4_extract_lane::<2>(self.0),
+                f32x4_extract_lane::<3>(self.0),
+            ]
+        }
+        #[inline(always)]
+        fn hsum(self) -> f32 {
+            let h = f32x4_add(self.0, i32x4_shuffle::<2, 3, 2, 3>(self.0, self.0));
+            let s = f32x4_add(h, i32x4_shuffle::<1, 1, 1, 1>(h, h));
+            f32x4_extract_lane::<0>(s)
+        }
+    }
 }
 
 #[cfg(not(any(
@@ -101,11 +205,13 @@ mod imp {
     all(target_arch = "wasm32", target_feature = "simd128")
 )))]
 mod imp {
-    pub use super::portable::F2;
+    pub use super::portable::{F2, F4};
 }
 
 /// The plain-array version: the fallback target, and the reference the tests compare with.
 pub(crate) mod portable {
+    // On the SIMD targets only the tests build these (the fallback target's lanes otherwise).
+    #[allow(dead_code)]
     #[derive(Clone, Copy)]
     pub struct F2([f64; 2]);
 
@@ -139,10 +245,51 @@ pub(crate) mod portable {
             self.0
         }
     }
+
+    #[derive(Clone, Copy)]
+    pub struct F4([f32; 4]);
+
+    impl super::Lanes32 for F4 {
+        #[inline(always)]
+        fn splat(x: f32) -> F4 {
+            F4([x; 4])
+        }
+        #[inline(always)]
+        fn load(a: &[f32; 4]) -> F4 {
+            F4(*a)
+        }
+        #[inline(always)]
+        fn add(self, o: F4) -> F4 {
+            F4([0, 1, 2, 3].map(|l| self.0[l] + o.0[l]))
+        }
+        #[inline(always)]
+        fn sub(self, o: F4) -> F4 {
+            F4([0, 1, 2, 3].map(|l| self.0[l] - o.0[l]))
+        }
+        #[inline(always)]
+        fn mul(self, o: F4) -> F4 {
+            F4([0, 1, 2, 3].map(|l| self.0[l] * o.0[l]))
+        }
+        #[inline(always)]
+        fn sqrt(self) -> F4 {
+            F4(self.0.map(f32::sqrt))
+        }
+        #[inline(always)]
+        fn lanes(self) -> [f32; 4] {
+            self.0
+        }
+        #[inline(always)]
+        fn hsum(self) -> f32 {
+            let l = self.0;
+            (l[0] + l[2]) + (l[1] + l[3])
+        }
+    }
 }
 
-/// The fastest two-lane vector of the target.
+/// The fastest two-lane f64 vector of the target.
 pub use imp::F2;
+/// The fastest four-lane f32 vector of the target.
+pub use imp::F4;
 
 /// Two f64 lanes with lane-wise IEEE arithmetic.
 pub trait Lanes: Copy {
@@ -153,6 +300,140 @@ pub trait Lanes: Copy {
     fn mul(self, o: Self) -> Self;
     fn sqrt(self) -> Self;
     fn lanes(self) -> [f64; 2];
+}
+
+/// The scalars of the lane vectors (f64 and f32), for the kernels written once for both.
+pub trait Real:
+    Copy
+    + PartialOrd
+    + core::ops::Add<Output = Self>
+    + core::ops::Sub<Output = Self>
+    + core::ops::Mul<Output = Self>
+    + core::ops::Div<Output = Self>
+    + core::ops::AddAssign
+    + core::fmt::LowerExp
+{
+    const ZERO: Self;
+    fn sqrt(self) -> Self;
+    fn is_finite(self) -> bool;
+}
+
+impl Real for f64 {
+    const ZERO: f64 = 0.0;
+    #[inline(always)]
+    fn sqrt(self) -> f64 {
+        f64::sqrt(self)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
+    }
+}
+
+impl Real for f32 {
+    const ZERO: f32 = 0.0;
+    #[inline(always)]
+    fn sqrt(self) -> f32 {
+        f32::sqrt(self)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
+    }
+}
+
+/// What the dense kernels (dot products, Cholesky) need of a lane vector, for both precisions:
+/// every [`Quad`] (four f64 lanes) and every [`Oct`] (eight f32 lanes). `blocks` cuts a slice
+/// into whole vectors; `total` is the type's fixed lane sum.
+pub trait Vector: Copy {
+    type E: Real;
+    type Block;
+    fn blocks(s: &[Self::E]) -> &[Self::Block];
+    fn zero() -> Self;
+    fn load_block(b: &Self::Block) -> Self;
+    fn vadd(self, o: Self) -> Self;
+    fn vmul(self, o: Self) -> Self;
+    fn total(self) -> Self::E;
+}
+
+impl<T: Quad> Vector for T {
+    type E = f64;
+    type Block = [f64; 4];
+    #[inline(always)]
+    fn blocks(s: &[f64]) -> &[[f64; 4]] {
+        s.as_chunks::<4>().0
+    }
+    #[inline(always)]
+    fn zero() -> T {
+        Quad::zero()
+    }
+    #[inline(always)]
+    fn load_block(b: &[f64; 4]) -> T {
+        Quad::load(b)
+    }
+    #[inline(always)]
+    fn vadd(self, o: T) -> T {
+        Quad::add(self, o)
+    }
+    #[inline(always)]
+    fn vmul(self, o: T) -> T {
+        Quad::mul(self, o)
+    }
+    #[inline(always)]
+    fn total(self) -> f64 {
+        Quad::sum(self)
+    }
+}
+
+/// [`Vector`] for an [`Oct`] type (a blanket impl would overlap the [`Quad`] one).
+macro_rules! oct_vector {
+    ($t:ty $(, $gen:ident: $bound:ident)?) => {
+        impl$(<$gen: $bound>)? Vector for $t {
+            type E = f32;
+            type Block = [f32; 8];
+            #[inline(always)]
+            fn blocks(s: &[f32]) -> &[[f32; 8]] {
+                s.as_chunks::<8>().0
+            }
+            #[inline(always)]
+            fn zero() -> Self {
+                Oct::zero()
+            }
+            #[inline(always)]
+            fn load_block(b: &[f32; 8]) -> Self {
+                Oct::load(b)
+            }
+            #[inline(always)]
+            fn vadd(self, o: Self) -> Self {
+                Oct::add(self, o)
+            }
+            #[inline(always)]
+            fn vmul(self, o: Self) -> Self {
+                Oct::mul(self, o)
+            }
+            #[inline(always)]
+            fn total(self) -> f32 {
+                Oct::sum(self)
+            }
+        }
+    };
+}
+oct_vector!(Pair32<V>, V: Lanes32);
+#[cfg(target_arch = "x86_64")]
+oct_vector!(avx::Avx32);
+
+/// Four f32 lanes with lane-wise IEEE arithmetic (single precision: the mixed-precision kernels).
+pub trait Lanes32: Copy {
+    fn splat(x: f32) -> Self;
+    fn load(a: &[f32; 4]) -> Self;
+    fn add(self, o: Self) -> Self;
+    fn sub(self, o: Self) -> Self;
+    fn mul(self, o: Self) -> Self;
+    fn sqrt(self) -> Self;
+    #[allow(dead_code)] // the tests read the lanes
+    fn lanes(self) -> [f32; 4];
+    /// `(l0 + l2) + (l1 + l3)`: the fixed order of a four-lane sum (two shuffles and adds).
+    fn hsum(self) -> f32;
 }
 
 /// Four f64 lanes: the `(lo, hi)` pairs of two-lane vectors that the kernels accumulate in, as
@@ -221,11 +502,78 @@ impl<V: Lanes> Quad for Pair<V> {
 /// The four lanes of the target without run-time detection.
 pub type Q2 = Pair<F2>;
 
+/// Eight f32 lanes, the single-precision counterpart of [`Quad`]: [`Pair32`] is two four-lane
+/// vectors (SSE, simd128 or arrays), [`avx::Avx32`] one 256-bit AVX register. Lane for lane both
+/// do the same IEEE single-precision operations (no FMA), so they give the same bits.
+pub trait Oct: Copy {
+    fn splat(x: f32) -> Self;
+    fn load(a: &[f32; 8]) -> Self;
+    fn add(self, o: Self) -> Self;
+    fn sub(self, o: Self) -> Self;
+    fn mul(self, o: Self) -> Self;
+    fn sqrt(self) -> Self;
+    #[allow(dead_code)] // the tests read the lanes
+    fn lanes(self) -> [f32; 8];
+
+    #[inline(always)]
+    fn zero() -> Self {
+        Self::splat(0.0)
+    }
+    /// The fixed order of an eight-lane sum, the same for every implementation: the two halves
+    /// lane by lane (h_k = l_k + l_(k+4)), then `(h0 + h2) + (h1 + h3)`. The order follows what
+    /// two shuffles do, so no implementation goes through memory.
+    fn sum(self) -> f32;
+}
+
+/// Two four-lane f32 vectors as eight lanes.
+#[derive(Clone, Copy)]
+pub struct Pair32<V: Lanes32>(V, V);
+
+impl<V: Lanes32> Oct for Pair32<V> {
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        Pair32(V::splat(x), V::splat(x))
+    }
+    #[inline(always)]
+    fn load(a: &[f32; 8]) -> Self {
+        let h = a.as_chunks::<4>().0;
+        Pair32(V::load(&h[0]), V::load(&h[1]))
+    }
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Pair32(self.0.add(o.0), self.1.add(o.1))
+    }
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Pair32(self.0.sub(o.0), self.1.sub(o.1))
+    }
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        Pair32(self.0.mul(o.0), self.1.mul(o.1))
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Pair32(self.0.sqrt(), self.1.sqrt())
+    }
+    #[inline(always)]
+    fn lanes(self) -> [f32; 8] {
+        let (a, b) = (self.0.lanes(), self.1.lanes());
+        [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]]
+    }
+    #[inline(always)]
+    fn sum(self) -> f32 {
+        self.0.add(self.1).hsum()
+    }
+}
+
+/// The eight f32 lanes of the target without run-time detection.
+pub type O4 = Pair32<F4>;
+
 #[cfg(target_arch = "x86_64")]
 pub mod avx {
     //! SAFETY (every `unsafe` below): these methods are only called from functions compiled
     //! with `#[target_feature(enable = "avx")]`, which run only after `available()` returned
-    //! true; the loads and stores stay within the 32 bytes of a `[f64; 4]`.
+    //! true; the loads and stores stay within the 32 bytes of a `[f64; 4]` or `[f32; 8]`.
     use core::arch::x86_64::*;
 
     #[derive(Clone, Copy)]
@@ -269,6 +617,107 @@ pub mod avx {
             // SAFETY: `out` is valid for writing 32 bytes; the store is unaligned.
             unsafe { _mm256_storeu_pd(out.as_mut_ptr(), self.0) };
             out
+        }
+    }
+
+    /// Eight f32 lanes in one 256-bit register.
+    #[derive(Clone, Copy)]
+    pub struct Avx32(__m256);
+
+    impl super::Oct for Avx32 {
+        #[inline(always)]
+        fn splat(x: f32) -> Avx32 {
+            Avx32(unsafe { _mm256_set1_ps(x) })
+        }
+        #[inline(always)]
+        fn load(a: &[f32; 8]) -> Avx32 {
+            // SAFETY: `a` is valid for reading 32 bytes; the load is unaligned.
+            Avx32(unsafe { _mm256_loadu_ps(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn add(self, o: Avx32) -> Avx32 {
+            Avx32(unsafe { _mm256_add_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn sub(self, o: Avx32) -> Avx32 {
+            Avx32(unsafe { _mm256_sub_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn mul(self, o: Avx32) -> Avx32 {
+            Avx32(unsafe { _mm256_mul_ps(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Avx32 {
+            Avx32(unsafe { _mm256_sqrt_ps(self.0) })
+        }
+        #[inline(always)]
+        fn lanes(self) -> [f32; 8] {
+            let mut out = [0.0; 8];
+            // SAFETY: `out` is valid for writing 32 bytes; the store is unaligned.
+            unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) };
+            out
+        }
+        #[inline(always)]
+        fn sum(self) -> f32 {
+            let h = unsafe {
+                _mm_add_ps(
+                    _mm256_castps256_ps128(self.0),
+                    _mm256_extractf128_ps::<1>(self.0),
+                )
+            };
+            super::imp::F4::from_sse(h).hsum_sse()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spatial::testutil::SplitMix64;
+
+    /// One pass of every operation over eight f32 lanes, summed at the end.
+    #[inline(always)]
+    fn mix<O: Oct>(a: &[f32; 8], b: &[f32; 8]) -> ([f32; 8], f32) {
+        let (x, y) = (O::load(a), O::load(b));
+        let r = x
+            .mul(x)
+            .add(y.mul(y))
+            .sqrt()
+            .sub(y)
+            .mul(O::splat(0.3))
+            .add(x);
+        (r.lanes(), r.sum())
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn mix_avx(a: &[f32; 8], b: &[f32; 8]) -> ([f32; 8], f32) {
+        mix::<avx::Avx32>(a, b)
+    }
+
+    /// The target's f32 lanes (SSE natively, simd128 in wasm), AVX and the plain arrays give the
+    /// same bits, which is what keeps native results equal to wasm's.
+    #[test]
+    fn f32_lanes_give_the_same_bits_everywhere() {
+        let mut rng = SplitMix64::new(11);
+        for _ in 0..2000 {
+            let a: [f32; 8] = std::array::from_fn(|_| rng.range(-3.0, 3.0) as f32);
+            let b: [f32; 8] = std::array::from_fn(|_| rng.range(-1e-3, 1e3) as f32);
+            let want = mix::<Pair32<portable::F4>>(&a, &b);
+            let bits = |(l, s): ([f32; 8], f32)| (l.map(f32::to_bits), s.to_bits());
+            assert_eq!(bits(mix::<O4>(&a, &b)), bits(want));
+            #[cfg(target_arch = "x86_64")]
+            if avx::available() {
+                // SAFETY: the CPU has AVX.
+                assert_eq!(bits(unsafe { mix_avx(&a, &b) }), bits(want));
+            }
+            // The documented order of the eight-lane sum.
+            let l = want.0;
+            let h = [0, 1, 2, 3].map(|k| l[k] + l[k + 4]);
+            assert_eq!(want.1.to_bits(), ((h[0] + h[2]) + (h[1] + h[3])).to_bits());
+            // And the lanes are plain IEEE single precision.
+            let l0 = ((a[0] * a[0] + b[0] * b[0]).sqrt() - b[0]) * 0.3 + a[0];
+            assert_eq!(want.0[0].to_bits(), l0.to_bits());
         }
     }
 }

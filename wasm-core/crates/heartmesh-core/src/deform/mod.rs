@@ -3,5 +3,5 @@
 
 pub mod attractors;
 mod dense;
-mod lanes;
+pub(crate) mod lanes;
 pub mod tps;

@@ -228,7 +228,7 @@ fn unquote(field: &str) -> &str {
 /// `distances` holds one value per point in contour, piece, point order (as
 /// `Reconstruction::contour_distances().per_point`).
 pub fn write_csv(set: &ContourSet, distances: Option<&[f64]>) -> Result<Vec<u8>> {
-    use super::fmt_num;
+    use super::{fmt_num, fmt_point};
     if let Some(d) = distances {
         if d.len() != set.point_count() {
             return Err(CoreError::Io(format!(
@@ -265,12 +265,7 @@ pub fn write_csv(set: &ContourSet, distances: Option<&[f64]>) -> Result<Vec<u8>>
                 pts.push(pts[0]);
             }
             for (j, p) in pts.iter().enumerate() {
-                out.push_str(&format!(
-                    "{id},{},{},{}",
-                    fmt_num(p.x),
-                    fmt_num(p.y),
-                    fmt_num(p.z)
-                ));
+                out.push_str(&format!("{id},{}", fmt_point(p, ",")));
                 if with_surface {
                     out.push(',');
                     out.push_str(&csv_field(c.surface.as_deref().unwrap_or("")));
@@ -288,11 +283,10 @@ pub fn write_csv(set: &ContourSet, distances: Option<&[f64]>) -> Result<Vec<u8>>
     }
     for (name, p) in &set.landmarks {
         out.push_str(&format!(
-            "# landmark {} {} {} {}\n",
+            "# landmark {} {}
+",
             name.replace(char::is_whitespace, "_"),
-            fmt_num(p.x),
-            fmt_num(p.y),
-            fmt_num(p.z)
+            fmt_point(p, " ")
         ));
     }
     Ok(out.into_bytes())

@@ -27,6 +27,7 @@ pub use builder::{polyline_from_run, MAX_POINTS};
 
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
+use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
 
 /// Largest vertex or triangle count accepted when reading a mesh.
@@ -345,6 +346,12 @@ pub(crate) fn header_lines(comment: &str) -> Vec<String> {
             .map(str::to_string),
     );
     out
+}
+
+/// A point's coordinates as `fmt_num` text joined by `sep`: one spelling of a point for every
+/// text writer, so a mesh read back from any of them has the same bits.
+pub(crate) fn fmt_point(p: &Vec3, sep: &str) -> String {
+    format!("{}{sep}{}{sep}{}", fmt_num(p.x), fmt_num(p.y), fmt_num(p.z))
 }
 
 /// Shortest text that reads back to the same f64 (`{}` never uses exponents, which would make

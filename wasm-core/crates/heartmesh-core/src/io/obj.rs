@@ -2,7 +2,7 @@
 //! polygons fan-triangulated; everything else ignored) and writing.
 
 use super::text::{data_lines, decode, parse_coord, quote};
-use super::{fmt_num, header_lines, MeshData, MAX_MESH_ELEMENTS};
+use super::{fmt_point, header_lines, MeshData, MAX_MESH_ELEMENTS};
 use crate::error::{CoreError, Result};
 use crate::geometry::v3;
 use crate::mesh::TriMesh;
@@ -103,12 +103,7 @@ pub fn write_obj(mesh: &TriMesh, header_comment: &str) -> Vec<u8> {
         mesh.triangles.len()
     ));
     for p in &mesh.positions {
-        out.push_str(&format!(
-            "v {} {} {}\n",
-            fmt_num(p.x),
-            fmt_num(p.y),
-            fmt_num(p.z)
-        ));
+        out.push_str(&format!("v {}\n", fmt_point(p, " ")));
     }
     for t in &mesh.triangles {
         out.push_str(&format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));

@@ -6,7 +6,7 @@
 
 use super::builder::ContourBuilder;
 use super::text::quote;
-use super::{fmt_num, header_lines, MeshData, MAX_MESH_ELEMENTS};
+use super::{fmt_num, fmt_point, header_lines, MeshData, MAX_MESH_ELEMENTS};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
 use crate::geometry::{v3, Vec3};
@@ -618,12 +618,7 @@ pub(crate) fn write_lines(
         points.len()
     );
     for p in points {
-        out.push_str(&format!(
-            "{} {} {}\n",
-            fmt_num(p.x),
-            fmt_num(p.y),
-            fmt_num(p.z)
-        ));
+        out.push_str(&format!("{}\n", fmt_point(p, " ")));
     }
     let size: usize = cells.iter().map(|c| c.len() + 1).sum();
     out.push_str(&format!("LINES {} {size}\n", cells.len()));
@@ -665,12 +660,7 @@ pub fn write_vtk(
         mesh.positions.len()
     );
     for p in &mesh.positions {
-        out.push_str(&format!(
-            "{} {} {}\n",
-            fmt_num(p.x),
-            fmt_num(p.y),
-            fmt_num(p.z)
-        ));
+        out.push_str(&format!("{}\n", fmt_point(p, " ")));
     }
     out.push_str(&format!(
         "POLYGONS {} {}\n",

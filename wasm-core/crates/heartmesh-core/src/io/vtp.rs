@@ -7,7 +7,7 @@ use roxmltree::{Document, Node};
 use super::vtk::{
     contours_from_lines, mesh_from_cells, LineLabels, CONTOUR_ID_ARRAY, SURFACE_ARRAY,
 };
-use super::{fmt_num, header_lines, MeshData, MAX_MESH_ELEMENTS};
+use super::{fmt_num, fmt_point, header_lines, MeshData, MAX_MESH_ELEMENTS};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
 use crate::geometry::{v3, Vec3};
@@ -321,21 +321,30 @@ fn push_string_array(out: &mut String, name: &str, values: &[&str]) {
     out.push_str("</DataArray>\n");
 }
 
+/// The XML declaration, the header as a comment (no `--` inside, which XML forbids) and the
+/// opening tags of one PolyData piece with its element counts.
+fn prologue(header_comment: &str, points: usize, lines: usize, polys: usize) -> String {
+    let comment = header_lines(header_comment)
+        .join(" | ")
+        .replace("--", "- -");
+    format!(
+        "<?xml version=\"1.0\"?>\n<!-- {comment} -->\n\
+         <VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">\n<PolyData>\n\
+         <Piece NumberOfPoints=\"{points}\" NumberOfVerts=\"0\" NumberOfLines=\"{lines}\" NumberOfStrips=\"0\" NumberOfPolys=\"{polys}\">\n"
+    )
+}
+
 /// XML PolyData with ascii arrays: Float64 points, Int32 connectivity/offsets, the point data.
 pub fn write_vtp(
     mesh: &TriMesh,
     point_data: Option<(&str, &[f64])>,
     header_comment: &str,
 ) -> Vec<u8> {
-    let comment = header_lines(header_comment)
-        .join(" | ")
-        .replace("--", "- -");
-    let mut out = format!(
-        "<?xml version=\"1.0\"?>\n<!-- {comment} -->\n\
-         <VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">\n<PolyData>\n\
-         <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
+    let mut out = prologue(
+        header_comment,
         mesh.positions.len(),
-        mesh.triangles.len()
+        0,
+        mesh.triangles.len(),
     );
     if let Some((name, values)) = point_data {
         let name = xml_escape(name);
@@ -352,12 +361,7 @@ pub fn write_vtp(
         "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
     );
     for p in &mesh.positions {
-        out.push_str(&format!(
-            "{} {} {}\n",
-            fmt_num(p.x),
-            fmt_num(p.y),
-            fmt_num(p.z)
-        ));
+        out.push_str(&format!("{}\n", fmt_point(p, " ")));
     }
     out.push_str("</DataArray>\n</Points>\n<Polys>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
     for t in &mesh.triangles {
@@ -371,7 +375,6 @@ pub fn write_vtp(
     out.into_bytes()
 }
 
-/// Polylines (contours) as XML PolyData with ascii arrays.
 /// Polylines as VTK XML PolyData; `labels` (one (id, surface) per cell, or empty) become the
 /// `contour_id` and `surface` string arrays of CellData.
 pub(crate) fn write_lines(
@@ -380,24 +383,12 @@ pub(crate) fn write_lines(
     labels: &[(&str, &str)],
     header_comment: &str,
 ) -> Vec<u8> {
-    let comment = header_lines(header_comment)
-        .join(" | ")
-        .replace("--", "- -");
-    let mut out = format!(
-        "<?xml version=\"1.0\"?>\n<!-- {comment} -->\n\
-         <VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">\n<PolyData>\n\
-         <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"{}\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n\
-         <Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
-        points.len(),
-        cells.len()
+    let mut out = prologue(header_comment, points.len(), cells.len(), 0);
+    out.push_str(
+        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
     );
     for p in points {
-        out.push_str(&format!(
-            "{} {} {}\n",
-            fmt_num(p.x),
-            fmt_num(p.y),
-            fmt_num(p.z)
-        ));
+        out.push_str(&format!("{}\n", fmt_point(p, " ")));
     }
     out.push_str("</DataArray>\n</Points>\n<Lines>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
     for c in cells {

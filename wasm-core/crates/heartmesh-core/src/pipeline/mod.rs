@@ -6,6 +6,8 @@
 //! inter-point distance) so that lambda, beta and the stop threshold do not depend on the size of the
 //! heart; everything handed out is converted back to millimetres.
 
+#[cfg(test)]
+mod precision;
 mod prepare;
 pub mod tube;
 
@@ -20,9 +22,10 @@ use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
 use crate::metrics::{contour_to_mesh, vertex_to_contours, ContourDistances};
+use crate::parallel;
 use crate::params::{AttractorMode, Params};
 use crate::refine::remesh_with;
-use crate::spatial::Bvh;
+use crate::spatial::{Bvh, ClosestHit};
 use serde::Serialize;
 
 /// Spacing (mm) of the contour resampling that feeds attractor selection.
@@ -141,6 +144,8 @@ pub struct Reconstruction {
     /// Per attractor, the triangle of its last closest point: the starting candidate of the next
     /// query (same answer, fewer boxes visited).
     hints: Vec<u32>,
+    /// Per attractor, its closest-point query's answer (scratch of `closest_points`).
+    hits: Vec<Option<ClosestHit>>,
     targets: Vec<Vec3>,
     fps_scratch: Vec<f64>,
     /// Seed and result of the last farthest-point sampling: the candidates never change, so the
@@ -218,6 +223,7 @@ impl Reconstruction {
             tps: TpsSolver::new(),
             closest: Vec::new(),
             hints: Vec::new(),
+            hits: Vec::new(),
             targets: Vec::new(),
             fps_scratch: Vec::new(),
             fps_last: None,
@@ -231,6 +237,12 @@ impl Reconstruction {
 
     /// Advances one step: the initial tube first, then one deformation iteration per call.
     pub fn step(&mut self) -> Result<StepReport> {
+        // On a pool worker natively, the step's parallel loops start without a cross-thread
+        // hand-over each (see `parallel`); in wasm this is a plain call.
+        parallel::install(|| self.step_here())
+    }
+
+    fn step_here(&mut self) -> Result<StepReport> {
         if self.done {
             return Ok(self.report(
                 Phase::Done,
@@ -290,7 +302,13 @@ impl Reconstruction {
         )?;
         timings.solve_ms = self.clock.now_ms() - t;
         let t = self.clock.now_ms();
-        self.tps.apply(&mut self.mesh_unit.positions);
+        // Each vertex is evaluated on its own (~1 ns per centre), so vertex ranges can go to
+        // different threads with the same bits.
+        let tps = &self.tps;
+        let parts = parallel::parts_for(self.mesh_unit.positions.len(), self.attractors.len());
+        parallel::for_each_chunk1(&mut self.mesh_unit.positions, parts, |_, part| {
+            tps.apply(part)
+        });
         timings.apply_ms = self.clock.now_ms() - t;
         if !self
             .mesh_unit
@@ -336,10 +354,12 @@ impl Reconstruction {
 
     /// Runs to the end.
     pub fn run(&mut self) -> Result<()> {
-        while !self.done {
-            self.step()?;
-        }
-        Ok(())
+        parallel::install(|| {
+            while !self.done {
+                self.step_here()?;
+            }
+            Ok(())
+        })
     }
 
     /// Builds the initial tube, remeshes it once and picks the first attractors.
@@ -391,22 +411,19 @@ impl Reconstruction {
             .bvh
             .as_ref()
             .ok_or_else(|| CoreError::InvalidMesh("no mesh to measure against".into()))?;
+        // The candidate farthest from the mesh (the first of equals), searched in contiguous
+        // ranges on the threads: each range's own farthest, then the first of the farthest in
+        // range order, which is the one a single pass finds.
+        let (candidates, mesh) = (&self.candidates, &self.mesh_unit);
+        let per_range = parallel::map_parts(
+            candidates.len(),
+            parallel::parts_for(candidates.len(), 1000),
+            |range| farthest_from_mesh(bvh, mesh, candidates, range),
+        );
         let mut seed = (f64::NEG_INFINITY, 0usize);
-        // Consecutive candidates lie ~1 mm apart along a contour: each hit seeds the next query.
-        let mut hint = u32::MAX;
-        for (i, q) in self.candidates.iter().enumerate() {
-            // Only the farthest candidate matters: one no farther from the previous hit's triangle
-            // than the farthest so far cannot beat it (that distance bounds its own from above).
-            if let Some(bound) = bvh.distance_sq_to_triangle(*q, hint) {
-                if bound <= seed.0 {
-                    continue;
-                }
-            }
-            let hit = bvh.closest_point_near(&self.mesh_unit, *q, hint);
-            hint = hit.map_or(u32::MAX, |h| h.triangle);
-            let d = hit.map_or(f64::INFINITY, |h| h.distance_sq);
-            if d > seed.0 {
-                seed = (d, i);
+        for best in per_range {
+            if best.0 > seed.0 {
+                seed = best;
             }
         }
         let idx = match self.fps_last.take() {
@@ -443,20 +460,37 @@ impl Reconstruction {
             .bvh
             .as_ref()
             .ok_or_else(|| CoreError::InvalidMesh("no mesh to measure against".into()))?;
+        let n = self.attractors.len();
+        self.hints.resize(n, u32::MAX);
+        self.hits.clear();
+        self.hits.resize(n, None);
+        // Independent queries (each starts from its own attractor's last triangle): ranges of
+        // attractors go to different threads (~1 us per query); the sums below stay in order.
+        let (attractors, mesh) = (&self.attractors, &self.mesh_unit);
+        parallel::for_each_chunk(
+            &mut self.hits,
+            &mut self.hints,
+            parallel::parts_for(n, 1000),
+            |start, hits, hints| {
+                for ((q, hit), hint) in attractors[start..].iter().zip(hits).zip(hints) {
+                    *hit = bvh.closest_point_near(mesh, *q, *hint);
+                    if let Some(h) = hit {
+                        *hint = h.triangle;
+                    }
+                }
+            },
+        );
         self.closest.clear();
         let (mut max_d, mut sum_d) = (0.0f64, 0.0);
-        self.hints.resize(self.attractors.len(), u32::MAX);
-        for (q, hint) in self.attractors.iter().zip(&mut self.hints) {
-            let hit = bvh
-                .closest_point_near(&self.mesh_unit, *q, *hint)
-                .ok_or_else(|| CoreError::InvalidMesh("the mesh has no triangles".into()))?;
-            *hint = hit.triangle;
+        for hit in &self.hits {
+            let hit =
+                hit.ok_or_else(|| CoreError::InvalidMesh("the mesh has no triangles".into()))?;
             let d = hit.distance_sq.sqrt();
             max_d = max_d.max(d);
             sum_d += d;
             self.closest.push(hit.point);
         }
-        Ok((max_d, sum_d / self.attractors.len().max(1) as f64))
+        Ok((max_d, sum_d / n.max(1) as f64))
     }
 
     /// Subdivide + smooth + decimate, keeping the closed/open state of the mesh.
@@ -579,6 +613,35 @@ impl Reconstruction {
     pub fn set_clock(&mut self, clock: Box<dyn Clock>) {
         self.clock = clock;
     }
+}
+
+/// Squared distance to the mesh and index of the first farthest candidate of `range`
+/// ((-inf, range.start) if none has a distance).
+fn farthest_from_mesh(
+    bvh: &Bvh,
+    mesh: &TriMesh,
+    candidates: &[Vec3],
+    range: std::ops::Range<usize>,
+) -> (f64, usize) {
+    let mut seed = (f64::NEG_INFINITY, range.start);
+    // Consecutive candidates lie ~1 mm apart along a contour: each hit seeds the next query.
+    let mut hint = u32::MAX;
+    for (i, q) in candidates[range.clone()].iter().enumerate() {
+        // Only the farthest candidate matters: one no farther from the previous hit's triangle
+        // than the farthest so far cannot beat it (that distance bounds its own from above).
+        if let Some(bound) = bvh.distance_sq_to_triangle(*q, hint) {
+            if bound <= seed.0 {
+                continue;
+            }
+        }
+        let hit = bvh.closest_point_near(mesh, *q, hint);
+        hint = hit.map_or(u32::MAX, |h| h.triangle);
+        let d = hit.map_or(f64::INFINITY, |h| h.distance_sq);
+        if d > seed.0 {
+            seed = (d, range.start + i);
+        }
+    }
+    seed
 }
 
 /// Most triangles a remesh may leave. Subdivision quadruples the triangle count, so any target
