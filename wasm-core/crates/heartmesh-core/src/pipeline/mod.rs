@@ -134,6 +134,8 @@ pub struct Reconstruction {
     attractor_owner: Vec<u32>,
     /// Per-attractor data weights of the current step (conflict softening).
     weights: Vec<f64>,
+    /// The last fit used `weights` (some attractors conflicted).
+    weighted: bool,
     /// Working mesh in normalised units, and its copy in mm handed to callers.
     mesh_unit: TriMesh,
     mesh_mm: TriMesh,
@@ -217,6 +219,7 @@ impl Reconstruction {
             attractors: Vec::new(),
             attractor_owner: Vec::new(),
             weights: Vec::new(),
+            weighted: false,
             mesh_unit: TriMesh::default(),
             mesh_mm: TriMesh::default(),
             bvh: None,
@@ -300,6 +303,7 @@ impl Reconstruction {
             lambda_eff,
             weighted.then_some(&self.weights[..]),
         )?;
+        self.weighted = weighted;
         timings.solve_ms = self.clock.now_ms() - t;
         let t = self.clock.now_ms();
         // Each vertex is evaluated on its own (~1 ns per centre), so vertex ranges can go to

@@ -68,8 +68,14 @@ fn worst_differences(set: &ContourSet, surface: Option<&str>) -> Worst {
             fallbacks += usize::from(st.fell_back);
             max_refinements = max_refinements.max(st.refinements);
             let lambda_eff = rec.params.lambda / rec.attractors.len() as f64;
+            // The same system: with the conflict weights of the step when it had any.
             reference
-                .fit(&rec.closest, &rec.targets, lambda_eff)
+                .fit_weighted(
+                    &rec.closest,
+                    &rec.targets,
+                    lambda_eff,
+                    rec.weighted.then_some(&rec.weights[..]),
+                )
                 .unwrap_or_else(|e| panic!("f64 fit: {e}"));
             solve = solve.max(solution_difference(&rec.tps, &reference));
         }
