@@ -19,11 +19,14 @@ pub const USAGE: &str =
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
     [--smoothing-method laplacian-affine|taubin] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
-    [--ring-points 50] [--frame N] [--contour-distances POINTS.csv] [--ascii] [--quiet]
+    [--ring-points 50] [--no-soften-conflicts] [--frame N] [--contour-distances POINTS.csv]
+    [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
   --smoothing-method taubin: lambda/mu smoothing (lambda = smoothing factor, at most 0.6)
   instead of Laplacian + affine shrink correction;
+  --no-soften-conflicts: keep full weight on short- and long-axis attractors that disagree in
+  the final steps (the default down-weights them there instead of letting the surface fold);
   --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time
@@ -41,6 +44,9 @@ const VALUE_FLAGS: &[&str] = &[
     "contour-distances",
 ];
 
+/// Options without a value.
+const SWITCHES: &[&str] = &["ascii", "quiet", "no-soften-conflicts"];
+
 /// Flag names (dashes) of the numeric parameters, from the core's schema.
 fn numeric_flags() -> Vec<String> {
     Params::schema()
@@ -57,7 +63,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         args,
         &Spec {
             with_value: &with_value,
-            switches: &["ascii", "quiet"],
+            switches: SWITCHES,
             aliases: &[("-o", "output"), ("-q", "quiet")],
         },
     )?;
@@ -171,6 +177,9 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     if let Some(s) = p.value("surface") {
         params.surface = Some(s.to_string());
     }
+    if p.switch("no-soften-conflicts") {
+        params.soften_conflicts = false;
+    }
     params.validate().map_err(CliError::param)?;
     Ok(params)
 }
@@ -214,7 +223,7 @@ mod tests {
             &v,
             &Spec {
                 with_value: &with_value,
-                switches: &[],
+                switches: SWITCHES,
                 aliases: &[],
             },
         )
@@ -250,6 +259,9 @@ mod tests {
         assert_eq!(p.target_reduction, 0.5);
         assert_eq!(p.lids, heartmesh_core::LidMode::None);
         assert_eq!(p.surface.as_deref(), Some("LV_EPI"));
+        assert!(p.soften_conflicts);
+        let p = params_from_default(&parsed(&["--no-soften-conflicts"])).unwrap();
+        assert!(!p.soften_conflicts);
     }
 
     #[test]

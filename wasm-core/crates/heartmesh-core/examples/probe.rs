@@ -149,6 +149,7 @@ fn run() -> Res<()> {
             "lambda" => params.lambda = f,
             "beta" => params.beta = f,
             "smooth" => params.smoothing_iterations = f as usize,
+            "soften" => params.soften_conflicts = f != 0.0,
             _ => return Err(format!("unknown param {k}").into()),
         }
     }

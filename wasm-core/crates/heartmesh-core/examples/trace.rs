@@ -1,6 +1,7 @@
 //! Developer tool: reconstruct one contour file and print every step's distances, mesh quality
 //! (folds, triangle shape) and timings.
-//! `cargo run --release --example trace -- FILE [SURFACE]`
+//! `cargo run --release --example trace -- FILE [SURFACE] [--no-soften]`
+//! (`--no-soften`: without the conflict softening of the final steps, `Params::soften_conflicts`)
 use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::{io, Params, Reconstruction};
 
@@ -20,7 +21,8 @@ fn main() {
     let run = || -> Result<(), heartmesh_core::CoreError> {
         let set = io::read_contours(path, &bytes)?;
         let params = Params {
-            surface: args.get(2).cloned(),
+            surface: args.get(2).filter(|a| !a.starts_with("--")).cloned(),
+            soften_conflicts: !args.iter().any(|a| a == "--no-soften"),
             ..Params::default()
         };
         let mut r = Reconstruction::new(&set, params)?;

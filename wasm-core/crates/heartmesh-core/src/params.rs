@@ -53,6 +53,10 @@ pub struct Params {
     pub stop_threshold: f64,
     /// Which surface of a multi-surface file to reconstruct (None: the only one).
     pub surface: Option<String>,
+    /// In the final steps without remeshing, down-weight attractors of different contours that
+    /// ask for displacements the surface cannot follow without folding
+    /// (`deform::attractors::conflict_weights`; docs/VALIDATION.md, session 4).
+    pub soften_conflicts: bool,
 }
 
 impl Default for Params {
@@ -72,6 +76,7 @@ impl Default for Params {
             lids: LidMode::Auto,
             stop_threshold: 1e-5,
             surface: None,
+            soften_conflicts: true,
         }
     }
 }

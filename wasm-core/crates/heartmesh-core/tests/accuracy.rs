@@ -32,11 +32,11 @@ const RV_HULL_RATIO: f64 = 0.5;
 
 /// Cases that do not yet meet the acceptance targets above, with the limit they are held to until
 /// the method improves: the value measured at the defaults plus ~15%, so any regression still fails.
-/// Each is an open item on issue 2, analysed in docs/VALIDATION.md (accuracy section): the LV maxima
-/// sit where no contour passes within 4-5 mm (spasm LV epi near the apex, between the LAX planes;
-/// the biv-me LV outflow-tract bulge between the two most basal slices); the RV maxima are at an apex ~10 mm below every contour (one LAX misses
-/// it), where the remesh's affine shrink correction pushes the unconstrained surface outward at
-/// every remesh. Remove a row as soon as the case meets the target.
+/// Each is an open item on issue 2, analysed in docs/VALIDATION.md ("Where the maxima are now",
+/// session 4): every maximum is where no contour point lies within 2-7 mm (spasm LV epi at the
+/// apex tip, off the long-axis planes; the biv-me LV outflow-tract bulge between the two most
+/// basal slices; both RV maxima on the free wall between two short-axis slices, the spasm RV apex
+/// close behind). Remove a row as soon as the case meets the target.
 const KNOWN_GAPS: &[(&str, &str, f64)] = &[
     ("bivme LV_ENDO", "max", 2.7),
     ("spasm LV epi", "max", 1.96),

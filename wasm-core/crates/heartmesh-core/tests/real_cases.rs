@@ -6,10 +6,17 @@ mod common;
 
 use common::*;
 use heartmesh_core::contours::ContourKind;
+use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::Params;
 
 const MEAN_MM: f64 = 1.0;
+/// Creased edges (dihedral > 90 degrees, `mesh::quality`) a surface may end with. The goal is none;
+/// where short- and long-axis curves disagree by a few mm some remain after the conflict
+/// softening of the final steps (session 4: at most 2 per surface, 8 on 5 of 15 surfaces; 8 and
+/// 26 on 9 before). One above the measured worst: fold counts move by one or two with any change
+/// of the arithmetic (the solver's precision), a regression moves them by more.
+const MAX_FOLDED_EDGES: usize = 3;
 
 /// Reconstructs every surface of one file; returns failures as messages (all cases run).
 fn file_case(sub: &str) -> Vec<String> {
@@ -38,6 +45,7 @@ fn file_case(sub: &str) -> Vec<String> {
             continue;
         }
         let seconds = started.elapsed().as_secs_f64();
+        let q = quality(rec.mesh());
         let d = rec.contour_distances();
         // Independent check of the pipeline's own measure.
         let ours = contour_to_mesh_of(rec.contours(), rec.mesh());
@@ -53,7 +61,7 @@ fn file_case(sub: &str) -> Vec<String> {
         eprintln!(
             "REAL {label}: {} contours ({} LAX); contour->mesh mean {:.3} median {:.3} p95 {:.3} \
              max {:.3} mm (independent mean {:.3}); worst contour {} mean {:.3} max {:.3}; \
-             {} vertices, volume {:.2} ml; {:.2} s",
+             {} vertices, volume {:.2} ml; folds {} max dihedral {:.0}; {:.2} s",
             rec.contours().len(),
             n_lax,
             d.overall.mean,
@@ -66,10 +74,18 @@ fn file_case(sub: &str) -> Vec<String> {
             worst.map_or(0.0, |w| w.stats.max),
             rec.mesh().positions.len(),
             rec.mesh().volume_ml(),
+            q.folded_edges,
+            q.max_dihedral_deg,
             seconds
         );
         if let Err(e) = check_closed_manifold_outward(rec.mesh()) {
             failures.push(format!("{label}: mesh is not closed/manifold/outward: {e}"));
+        }
+        if q.folded_edges > MAX_FOLDED_EDGES {
+            failures.push(format!(
+                "{label}: {} folded edges (max dihedral {:.0} deg) > {MAX_FOLDED_EDGES}",
+                q.folded_edges, q.max_dihedral_deg
+            ));
         }
         if (d.overall.mean - mean(&ours)).abs() > 1e-6 {
             failures.push(format!(

@@ -92,6 +92,72 @@ fn update_nearest_lanes(dist: &mut [f64], xs: &[f64], ys: &[f64], zs: &[f64], c:
     }
 }
 
+/// Per-attractor data weights that soften conflicts between contours.
+///
+/// Where two contours disagree (a short- and a long-axis curve a few mm apart where their planes
+/// cross: segmentation and breath-hold error), the attractors of both pull nearby parts of the
+/// surface to different places. The displacement the data ask for, d_i = Q_i - P_i, then changes
+/// faster than the surface can follow: a map x -> x + d(x) stays one-to-one only while the
+/// gradient of d stays below 1, and a nearly interpolating spline driven past that creases the
+/// surface. For each attractor, g_i is the largest |d_i - d_j| / |P_i - P_j| over attractors j of
+/// another group (`owner`: the pipeline passes short- vs long-axis) whose data point lies within
+/// `radius`. Pairs within a group are never compared: curves of one slice meet at sharp corners
+/// (the RV free wall and septum at the insertions) that are data, not conflict.
+/// The weight is 1 up to `limit` (the surface can follow: nothing changes) and (limit / g_i)^2
+/// beyond, falling as the asked-for gradient passes what the surface can follow. Returns true
+/// when any weight is below 1 (else the caller's fit is the unweighted one).
+pub fn conflict_weights(
+    attractors: &[Vec3],
+    closest: &[Vec3],
+    owner: &[u32],
+    radius: f64,
+    limit: f64,
+    weights: &mut Vec<f64>,
+) -> bool {
+    let n = attractors.len().min(closest.len()).min(owner.len());
+    // The buffer holds each attractor's largest gradient first, then its weight.
+    let grad = weights;
+    grad.clear();
+    grad.resize(n, 0.0);
+    let r2 = radius * radius;
+    let mut any = false;
+    for i in 0..n {
+        let di = attractors[i] - closest[i];
+        for j in (i + 1)..n {
+            if owner[i] == owner[j] || (attractors[i] - attractors[j]).norm_squared() > r2 {
+                continue;
+            }
+            let dj = attractors[j] - closest[j];
+            let span = (closest[i] - closest[j]).norm();
+            let change = (di - dj).norm();
+            // Coincident closest points with different displacements: an unbounded gradient.
+            let g = if span > 0.0 {
+                change / span
+            } else if change > 0.0 {
+                f64::INFINITY
+            } else {
+                0.0
+            };
+            grad[i] = grad[i].max(g);
+            grad[j] = grad[j].max(g);
+        }
+    }
+    for w in grad.iter_mut() {
+        let x = *w / limit;
+        // Floor: the solver needs a positive weight; 1e-6 already leaves the point no pull.
+        *w = if x <= 1.0 {
+            1.0
+        } else {
+            (1.0 / (x * x)).max(MIN_WEIGHT)
+        };
+        any |= *w < 1.0;
+    }
+    any
+}
+
+/// Smallest conflict weight (the thin-plate-spline system needs a positive diagonal).
+const MIN_WEIGHT: f64 = 1e-6;
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -110,6 +176,65 @@ mod tests {
         let max_gap = xs.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
         assert!(max_gap <= 20.0, "{max_gap}");
         assert!(idx.len() >= 9 && idx.len() <= 17, "{}", idx.len());
+    }
+
+    /// Two contours 3 mm apart where they meet pull one closest point both ways: both lose weight.
+    /// The same displacements on one contour (a sharp corner in the data), or agreeing
+    /// displacements on two, keep full weight.
+    #[test]
+    fn conflicting_contours_lose_weight_corners_do_not() {
+        let attractors = [
+            v3(0.0, 0.0, 1.5),
+            v3(1.0, 0.0, -1.5),
+            v3(30.0, 0.0, 0.0),
+            v3(0.0, 40.0, 0.0),
+            v3(0.0, 41.0, 3.0),
+        ];
+        let closest = [
+            v3(0.0, 0.0, 0.0),
+            v3(1.0, 0.0, 0.0),
+            v3(30.0, 0.0, 0.0),
+            v3(0.0, 40.0, 0.0),
+            v3(0.0, 41.0, 0.0),
+        ];
+        let mut w = Vec::new();
+        // Attractors 0/1: displacements +1.5 and -1.5 over 1 mm, a gradient of 3.
+        assert!(conflict_weights(
+            &attractors,
+            &closest,
+            &[0, 1, 1, 2, 2],
+            10.0,
+            1.0,
+            &mut w
+        ));
+        assert!(
+            (w[0] - 1.0 / 9.0).abs() < 1e-12 && (w[1] - 1.0 / 9.0).abs() < 1e-12,
+            "{w:?}"
+        );
+        // 2 is too far from anyone; 3/4 are one contour (a corner): untouched.
+        assert_eq!(&w[2..], &[1.0, 1.0, 1.0]);
+        // Agreeing displacements on two contours: no conflict.
+        let shifted: Vec<Vec3> = closest.iter().map(|p| p + v3(0.0, 0.0, 2.0)).collect();
+        assert!(!conflict_weights(
+            &shifted,
+            &closest,
+            &[0, 1, 2, 3, 4],
+            10.0,
+            1.0,
+            &mut w
+        ));
+        assert!(w.iter().all(|&x| x == 1.0), "{w:?}");
+        // Coincident closest points asked to move apart: the floor, never zero.
+        let same = [v3(0.0, 0.0, 0.0); 2];
+        conflict_weights(
+            &[v3(0.0, 0.0, 1.0), v3(0.0, 0.0, -1.0)],
+            &same,
+            &[0, 1],
+            10.0,
+            1.0,
+            &mut w,
+        );
+        assert!(w.iter().all(|&x| x > 0.0 && x < 1e-5), "{w:?}");
     }
 
     #[test]

@@ -121,6 +121,19 @@ impl TpsSolver {
     /// Fits F with F(centres[i]) ~ targets[i]; `lambda_eff` weighs the data term against the
     /// bending energy (large: interpolating; small: close to the least-squares affine map).
     pub fn fit(&mut self, centres: &[Vec3], targets: &[Vec3], lambda_eff: f64) -> Result<()> {
+        self.fit_weighted(centres, targets, lambda_eff, None)
+    }
+
+    /// [`TpsSolver::fit`] with a data weight per centre: the data term becomes
+    /// lambda_eff * sum_i weights[i] |F(P_i) - Q'_i|^2, so the diagonal of the system is
+    /// 1 / (lambda_eff weights[i]). Weights must be finite and positive; None is all ones.
+    pub fn fit_weighted(
+        &mut self,
+        centres: &[Vec3],
+        targets: &[Vec3],
+        lambda_eff: f64,
+        weights: Option<&[f64]>,
+    ) -> Result<()> {
         self.fitted = false;
         let n = centres.len();
         if targets.len() != n {
@@ -139,6 +152,13 @@ impl TpsSolver {
             return Err(CoreError::Numerical(format!(
                 "TPS: lambda_eff = {lambda_eff} must be finite and positive"
             )));
+        }
+        if let Some(w) = weights {
+            if w.len() != n || !w.iter().all(|x| x.is_finite() && *x > 0.0) {
+                return Err(CoreError::Numerical(
+                    "TPS: one finite, positive weight per centre is needed".into(),
+                ));
+            }
         }
         if centres
             .iter()
@@ -159,7 +179,7 @@ impl TpsSolver {
 
         self.centre = centres.iter().sum::<Vec3>() / n as f64;
         self.householder_affine(centres)?;
-        self.assemble_kernel(centres, 1.0 / lambda_eff);
+        self.assemble_kernel(centres, 1.0 / lambda_eff, weights);
         self.project_kernel();
         self.project_rhs(targets);
         cholesky_in_place(&mut self.chol, m)?;
@@ -219,17 +239,26 @@ impl TpsSolver {
         Ok(())
     }
 
-    /// K = G + I / lambda_eff over the centres, lower triangle only (K is symmetric; every later
-    /// step reads the lower triangle). Rows are filled from structure-of-arrays coordinates so the
+    /// K = G + diag(1 / (lambda_eff w_i)) over the centres (w_i = 1 without weights), lower
+    /// triangle only (K is symmetric; every later step reads the lower triangle). Rows are filled from structure-of-arrays coordinates so the
     /// square roots vectorise.
     #[inline(never)] // one call per fit: kept out of line for profiles
-    fn assemble_kernel(&mut self, centres: &[Vec3], diag: f64) {
+    fn assemble_kernel(&mut self, centres: &[Vec3], diag: f64, weights: Option<&[f64]>) {
         #[cfg(target_arch = "x86_64")]
         if avx::available() {
             // SAFETY: the CPU has AVX.
-            return unsafe { self.assemble_kernel_avx(centres, diag) };
+            unsafe { self.assemble_kernel_avx(centres, diag) };
+        } else {
+            self.assemble_kernel_lanes(centres, diag);
         }
+        #[cfg(not(target_arch = "x86_64"))]
         self.assemble_kernel_lanes(centres, diag);
+        if let Some(w) = weights {
+            let n = self.n;
+            for (i, wi) in w.iter().enumerate() {
+                self.kmat[i * n + i] = diag / wi;
+            }
+        }
     }
 
     /// Elementwise (no sums), so the 256-bit build gives the same bits as the 128-bit one.
@@ -781,6 +810,46 @@ mod tests {
             .map(|(c, t)| (plain.evaluate(*c) - t).norm())
             .fold(0.0, f64::max);
         assert!(affine_miss > 1e-3, "affine misses by {affine_miss:e}");
+    }
+
+    /// Unit weights are the unweighted fit (same bits); a tiny weight frees its centre while the
+    /// others are still interpolated.
+    #[test]
+    fn weights_scale_each_centres_data_term() {
+        let mut rng = SplitMix64::new(5);
+        let centres = cloud(&mut rng, 60);
+        let mut targets: Vec<Vec3> = centres.iter().map(warp).collect();
+        targets[7] += Vec3::new(0.5, 0.0, 0.0);
+        let mut plain = TpsSolver::new();
+        plain.fit(&centres, &targets, 1e8).unwrap();
+        let mut ones = TpsSolver::new();
+        ones.fit_weighted(&centres, &targets, 1e8, Some(&[1.0; 60]))
+            .unwrap();
+        let probe = Vec3::new(0.3, -0.2, 0.1);
+        assert_eq!(plain.evaluate(probe), ones.evaluate(probe));
+        // Interpolating fit: centre 7 is pulled 0.5 off the smooth warp.
+        assert!((plain.evaluate(centres[7]) - targets[7]).norm() < 1e-4);
+        let mut w = vec![1.0; 60];
+        w[7] = 1e-8;
+        let mut weighted = TpsSolver::new();
+        weighted
+            .fit_weighted(&centres, &targets, 1e8, Some(&w))
+            .unwrap();
+        let miss7 = (weighted.evaluate(centres[7]) - targets[7]).norm();
+        assert!(
+            miss7 > 0.3,
+            "down-weighted centre still interpolated: {miss7}"
+        );
+        let others = (0..60)
+            .filter(|&i| i != 7)
+            .map(|i| (weighted.evaluate(centres[i]) - targets[i]).norm())
+            .fold(0.0, f64::max);
+        assert!(others < 1e-4, "other centres miss by {others:e}");
+        for bad in [vec![1.0; 59], vec![0.0; 60], vec![f64::NAN; 60]] {
+            assert!(weighted
+                .fit_weighted(&centres, &targets, 1e8, Some(&bad))
+                .is_err());
+        }
     }
 
     #[test]

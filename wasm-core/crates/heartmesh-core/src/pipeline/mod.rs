@@ -16,7 +16,7 @@ use crate::contours::axis::{analyse, Layout};
 use crate::contours::clean::resample_spacing;
 use crate::contours::rings::tube_rings;
 use crate::contours::{Contour, ContourKind, ContourSet};
-use crate::deform::attractors::{farthest_point_sampling, Budget};
+use crate::deform::attractors::{conflict_weights, farthest_point_sampling, Budget};
 use crate::deform::tps::TpsSolver;
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
@@ -30,6 +30,16 @@ use serde::Serialize;
 
 /// Spacing (mm) of the contour resampling that feeds attractor selection.
 const CANDIDATE_SPACING_MM: f64 = 1.0;
+/// Attractors of different contours closer than this (mm) are compared for conflicts: twice the
+/// largest disagreement between contours that is normal in cine CMR (1-5 mm of segmentation and
+/// breath-hold error, METHOD.md), so any two data points such an error can pull apart are paired.
+const CONFLICT_RADIUS_MM: f64 = 10.0;
+/// Displacement gradient above which conflicting attractors are down-weighted. A map x -> x + d(x)
+/// is one-to-one while the gradient of d stays below 1; the gradient here is a difference quotient
+/// between attractors 5-10 mm apart, which underestimates the peak of the field between them, so
+/// the limit is half that bound (1 itself left 19 folded edges on the real cases instead of 8:
+/// docs/VALIDATION.md, session 4).
+const CONFLICT_GRADIENT_LIMIT: f64 = 0.5;
 /// The fewest attractors a thin-plate spline in 3D can use (4 affine terms + 1).
 const MIN_ATTRACTORS: usize = 5;
 /// Above this many candidate points the diameter is estimated by repeated farthest-point sweeps
@@ -117,8 +127,15 @@ pub struct Reconstruction {
     norm: Normalisation,
     /// Contour points resampled at ~1 mm, normalised: the attractor candidates.
     candidates: Vec<Vec3>,
+    /// Kind of the contour each candidate comes from (0 short axis, 1 long axis).
+    candidate_owner: Vec<u32>,
     attractor_budget: Budget,
     attractors: Vec<Vec3>,
+    attractor_owner: Vec<u32>,
+    /// Per-attractor data weights of the current step (conflict softening).
+    weights: Vec<f64>,
+    /// The last fit used `weights` (some attractors conflicted).
+    weighted: bool,
     /// Working mesh in normalised units, and its copy in mm handed to callers.
     mesh_unit: TriMesh,
     mesh_mm: TriMesh,
@@ -158,11 +175,18 @@ impl Reconstruction {
         }
         let layout = analyse(&contours)?;
 
-        let candidates_mm: Vec<Vec3> = contours
-            .iter()
-            .flat_map(|c| c.pieces.iter())
-            .flat_map(|p| resample_spacing(&p.points, p.closed, CANDIDATE_SPACING_MM))
-            .collect();
+        let mut candidates_mm: Vec<Vec3> = Vec::new();
+        let mut candidate_owner: Vec<u32> = Vec::new();
+        for (k, c) in contours.iter().enumerate() {
+            for p in &c.pieces {
+                let r = resample_spacing(&p.points, p.closed, CANDIDATE_SPACING_MM);
+                // Short- and long-axis curves are compared for conflicts, never two curves of one
+                // kind: a slice's RV free wall and septum meet at sharp corners that are data.
+                let group = u32::from(layout.kinds.get(k) == Some(&ContourKind::Lax));
+                candidate_owner.extend(std::iter::repeat_n(group, r.len()));
+                candidates_mm.extend(r);
+            }
+        }
         let centre = candidates_mm.iter().fold(Vec3::zeros(), |a, p| a + p)
             / candidates_mm.len().max(1) as f64;
         let scale = diameter(&candidates_mm);
@@ -190,8 +214,12 @@ impl Reconstruction {
             layout,
             norm,
             candidates,
+            candidate_owner,
             attractor_budget,
             attractors: Vec::new(),
+            attractor_owner: Vec::new(),
+            weights: Vec::new(),
+            weighted: false,
             mesh_unit: TriMesh::default(),
             mesh_mm: TriMesh::default(),
             bvh: None,
@@ -256,7 +284,26 @@ impl Reconstruction {
         );
         let t = self.clock.now_ms();
         let lambda_eff = self.params.lambda / self.attractors.len() as f64;
-        self.tps.fit(&self.closest, &self.targets, lambda_eff)?;
+        // Conflicts are softened only in the final steps without remeshing: that is where folds
+        // form (every remesh smooths them away), and earlier the full pull converges fastest.
+        let final_phase = it + final_steps_without_remesh(&self.params) > self.params.iterations;
+        let weighted = self.params.soften_conflicts
+            && final_phase
+            && conflict_weights(
+                &self.attractors,
+                &self.closest,
+                &self.attractor_owner,
+                CONFLICT_RADIUS_MM / self.norm.scale,
+                CONFLICT_GRADIENT_LIMIT,
+                &mut self.weights,
+            );
+        self.tps.fit_weighted(
+            &self.closest,
+            &self.targets,
+            lambda_eff,
+            weighted.then_some(&self.weights[..]),
+        )?;
+        self.weighted = weighted;
         timings.solve_ms = self.clock.now_ms() - t;
         let t = self.clock.now_ms();
         // Each vertex is evaluated on its own (~1 ns per centre), so vertex ranges can go to
@@ -402,6 +449,9 @@ impl Reconstruction {
         self.attractors.clear();
         self.attractors
             .extend(idx.iter().map(|&i| self.candidates[i]));
+        self.attractor_owner.clear();
+        self.attractor_owner
+            .extend(idx.iter().map(|&i| self.candidate_owner[i]));
         self.hints.clear();
         self.hints.resize(self.attractors.len(), u32::MAX);
         self.fps_last = Some((seed.1, idx));
