@@ -1,7 +1,7 @@
 //! Developer tool: time full default reconstructions of one contour file and print the median
 //! per-phase split plus the result figures (to check that a speed-up did not change the result).
-//! `cargo run --release --example phases -- FILE [SURFACE] [REPEATS]`; HEARTMESH_THREADS=1 forces
-//! one thread (the default is automatic).
+//! `cargo run --release --example phases -- FILE [SURFACE] [REPEATS]`; one thread
+//! unless HEARTMESH_THREADS=N asks for N.
 use heartmesh_core::pipeline::PhaseTimings;
 use heartmesh_core::{io, Params, Reconstruction};
 

@@ -11,11 +11,15 @@
 //! for each would cost as much as the work. The pool's workers stay warm between calls.
 //!
 //! The thread count is process-wide, fixed when the pool is first used: the one a front end set
-//! ([`set_threads`]), else the `HEARTMESH_THREADS` environment variable ([`threads_from_env`];
-//! 1 = no threads, e.g. for timing), else automatic: the cores the load average leaves idle
-//! ([`automatic_threads`], from [`available_parallelism`], at most [`MAX_THREADS`]).
-//!
-//! [`available_parallelism`]: std::thread::available_parallelism
+//! ([`set_threads`]), else the `HEARTMESH_THREADS` environment variable ([`threads_from_env`]),
+//! else one. Why one by default: on our 2-vCPU CI-class VM, quiet (load average ~1, SurFCo,
+//! medians of 7, two interleaved batches), two threads were SLOWER than one: total 391 / 430 ms
+//! against 364 / 362 ms, closest points 57 against 49 ms, evaluation 26 against 20 ms. The
+//! parallel parts are tens to hundreds of microseconds and the workers fall asleep during the
+//! single-threaded solve between them; waking a virtual CPU costs about what a part saves. On
+//! a loaded machine a descheduled worker holds up the join (load ~6: wall 4.8-6.1 s against
+//! 4.6-4.8 s at one thread). Asking for threads is for machines where that has been measured to
+//! pay.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -26,10 +30,10 @@ pub const MAX_THREADS: usize = 4;
 /// Environment variable the front ends read to force a thread count (1 = no threads).
 pub const THREADS_ENV: &str = "HEARTMESH_THREADS";
 
-/// 0 = not set: automatic.
+/// 0 = not set: one thread unless the environment asks for more.
 static REQUESTED: AtomicUsize = AtomicUsize::new(0);
 
-/// Asks for `n` worker threads (0 = automatic). Call before the first reconstruction: the pool is
+/// Asks for `n` worker threads (0 = the default). Call before the first reconstruction: the pool is
 /// built once, on first use, and keeps its size.
 pub fn set_threads(n: usize) {
     REQUESTED.store(n, Ordering::Relaxed);
@@ -62,13 +66,8 @@ mod imp {
                 0 => super::threads_from_env().unwrap_or(0),
                 n => n,
             };
-            let n = match requested {
-                0 => {
-                    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-                    super::automatic_threads(cores, super::load_average())
-                }
-                n => n.min(4 * MAX_THREADS),
-            };
+            // 0 (nothing asked for): one thread, see the module docs.
+            let n = requested.min(4 * MAX_THREADS);
             if n < 2 {
                 return None;
             }
@@ -163,31 +162,6 @@ mod imp {
     ) {
         f(0, a, b)
     }
-}
-
-/// The automatic thread count: the idle cores by the one-minute load average (Linux
-/// `/proc/loadavg`; all cores when unknown), rounded, at least 1, at most [`MAX_THREADS`]. On 2
-/// cores that is 2 threads below a load of 0.5 (a quiet machine), else 1.
-///
-/// Why look at the load: the parallel loops are short (a smoothing sweep is tens of
-/// microseconds) and end in a join. When every core is already busy, a worker that holds a part
-/// can be descheduled for a whole time slice while the others wait for it. Measured on a 2-core
-/// VM at load average ~6 (SurFCo, 5 runs): the same CPU time (2.13-2.15 s at one thread,
-/// 2.18-2.20 s at two) but wall 4.6-4.8 s against 4.8-6.1 s, so there one thread is faster.
-pub fn automatic_threads(cores: usize, load: Option<f64>) -> usize {
-    let cores = cores.max(1);
-    let free = match load {
-        Some(l) if l.is_finite() && l >= 0.0 => (cores as f64 - l + 0.5).floor().max(1.0) as usize,
-        _ => cores,
-    };
-    free.clamp(1, cores).min(MAX_THREADS)
-}
-
-/// The one-minute load average, where the system tells it.
-#[cfg(not(target_arch = "wasm32"))]
-fn load_average() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
-    text.split_whitespace().next()?.parse().ok()
 }
 
 /// Worker threads in use (1 in wasm, or when one was asked for).
@@ -303,20 +277,6 @@ mod tests {
             c.iter().sum::<u64>()
         });
         assert_eq!(total, 999 * 1000 / 2);
-    }
-
-    #[test]
-    fn automatic_count_leaves_busy_cores_alone() {
-        assert_eq!(automatic_threads(2, None), 2);
-        assert_eq!(automatic_threads(2, Some(0.2)), 2);
-        assert_eq!(automatic_threads(2, Some(0.4)), 2);
-        assert_eq!(automatic_threads(2, Some(0.6)), 1);
-        assert_eq!(automatic_threads(2, Some(1.4)), 1);
-        assert_eq!(automatic_threads(2, Some(6.0)), 1);
-        assert_eq!(automatic_threads(16, Some(1.0)), MAX_THREADS);
-        assert_eq!(automatic_threads(16, Some(13.0)), 3);
-        assert_eq!(automatic_threads(0, Some(f64::NAN)), 1);
-        assert_eq!(automatic_threads(8, Some(-1.0)), MAX_THREADS);
     }
 
     #[test]
