@@ -188,7 +188,12 @@ pub(super) fn dot3_q<Q: Quad>(a: &[f64], b0: &[f64], b1: &[f64], b2: &[f64]) -> 
             acc[2][l] = acc[2][l].add(xl.mul(Q::load(&y2[l])));
         }
     }
-    let mut s = acc.map(|a| a[0].sum() + a[1].sum());
+    // Written out: `acc.map(..)` was left as an out-of-line call that spilled the AVX registers.
+    let mut s = [
+        acc[0][0].sum() + acc[0][1].sum(),
+        acc[1][0].sum() + acc[1][1].sum(),
+        acc[2][0].sum() + acc[2][1].sum(),
+    ];
     for (k, x) in a.iter().enumerate().take(n).skip(c) {
         s[0] += x * b0[k];
         s[1] += x * b1[k];

@@ -4,4 +4,5 @@
 pub mod attractors;
 mod dense;
 pub(crate) mod lanes;
+mod pcg;
 pub mod tps;

@@ -9,6 +9,8 @@
 #[cfg(test)]
 mod precision;
 mod prepare;
+#[cfg(test)]
+mod reuse;
 pub mod tube;
 
 use crate::clock::{Clock, DefaultClock};
@@ -268,6 +270,8 @@ impl Reconstruction {
         if resample {
             let t = self.clock.now_ms();
             self.resample_attractors()?;
+            // New centres: the last factor says nothing about their system.
+            self.tps.invalidate_factor();
             timings.attractors_ms = self.clock.now_ms() - t;
         }
         let t = self.clock.now_ms();

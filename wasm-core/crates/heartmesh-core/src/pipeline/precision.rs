@@ -19,7 +19,7 @@ fn data_path(sub: &str) -> PathBuf {
         .join(sub)
 }
 
-fn load(sub: &str) -> ContourSet {
+pub(super) fn load(sub: &str) -> ContourSet {
     let path = data_path(&format!("contours/{sub}"));
     let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     io::read_contours(sub, &bytes).unwrap_or_else(|e| panic!("{sub}: {e}"))

@@ -1,0 +1,229 @@
+//! Kernels of the reused-factor thin-plate-spline solve: the projected operator
+//! v -> Z^T K Z v applied without forming Z^T K Z, the triangular solves with a kept Cholesky
+//! factor, and the preconditioned conjugate gradient iteration that combines them.
+//!
+//! Reference: M. R. Hestenes & E. Stiefel, "Methods of conjugate gradients for solving linear
+//! systems", J. Res. NBS 49(6), 1952; preconditioned form as in Y. Saad, "Iterative Methods for
+//! Sparse Linear Systems", 2nd ed. SIAM 2003, algorithm 9.1. Why: between two deformation steps
+//! the spline centres move by a small fraction of the remaining distance to the data, so the last
+//! step's factor L_old L_old^T is a close approximation of the new projected system. Used as the
+//! preconditioner it clusters the spectrum near 1, and a few iterations, each one pass over K and
+//! two over L_old, replace the projection and the O(N^3) factorisation (see `tps.rs`).
+//!
+//! Three right-hand sides (x, y, z) share every pass over a matrix; each keeps its own scalars.
+//! All sums go through the fixed-order lane kernels of `dense.rs`, so every target gives the same
+//! bits (no fused multiply-add).
+
+use super::dense::{axpy, dot, dot3_q};
+#[cfg(target_arch = "x86_64")]
+use super::lanes::avx::{self, Avx};
+use super::lanes::{Quad, Q2};
+
+/// x <- Q x = H_0 H_1 H_2 H_3 x for one N-vector (`hv`: 4 x N reflectors, row k zero before k).
+pub(super) fn apply_q(hv: &[f64], hbeta: &[f64; 4], n: usize, x: &mut [f64]) {
+    for k in (0..4).rev() {
+        let v = &hv[k * n + k..(k + 1) * n];
+        let s = hbeta[k] * dot(v, &x[k..]);
+        axpy(-s, v, &mut x[k..]);
+    }
+}
+
+/// x <- Q^T x = H_3 H_2 H_1 H_0 x for one N-vector.
+pub(super) fn apply_qt(hv: &[f64], hbeta: &[f64; 4], n: usize, x: &mut [f64]) {
+    for k in 0..4 {
+        let v = &hv[k * n + k..(k + 1) * n];
+        let s = hbeta[k] * dot(v, &x[k..]);
+        axpy(-s, v, &mut x[k..]);
+    }
+}
+
+/// Copies the lower triangle of an N x N row-major matrix onto its upper triangle, so that
+/// [`matvec3`] reads whole rows (one dot product per row instead of a dot product and three
+/// axpys over the lower triangle, which costs a third more time per product).
+pub(super) fn mirror_lower(a: &mut [f64], n: usize) {
+    for i in 1..n {
+        let (above, rest) = a.split_at_mut(i * n);
+        for (dst, v) in above.chunks_exact_mut(n).zip(&rest[..i]) {
+            dst[i] = *v;
+        }
+    }
+}
+
+/// y = K u for three N-vectors at once (`u`, `y`: 3 x N rows), K a full N x N row-major matrix:
+/// one pass over K, each row's three dot products sharing its loads.
+pub(super) fn matvec3(kmat: &[f64], n: usize, u: &[f64], y: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if avx::available() {
+        // SAFETY: the CPU has AVX.
+        return unsafe { matvec3_avx(kmat, n, u, y) };
+    }
+    matvec3_q::<Q2>(kmat, n, u, y);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn matvec3_avx(kmat: &[f64], n: usize, u: &[f64], y: &mut [f64]) {
+    matvec3_q::<Avx>(kmat, n, u, y);
+}
+
+#[inline(always)]
+fn matvec3_q<Q: Quad>(kmat: &[f64], n: usize, u: &[f64], y: &mut [f64]) {
+    let (u0, rest) = u.split_at(n);
+    let (u1, u2) = rest.split_at(n);
+    for (i, row) in kmat.chunks_exact(n).take(n).enumerate() {
+        let d = dot3_q::<Q>(row, u0, &u1[..n], &u2[..n]);
+        y[i] = d[0];
+        y[n + i] = d[1];
+        y[2 * n + i] = d[2];
+    }
+}
+
+/// Solves L L^T x = b in place for three m-vectors (`x`: 3 x `stride` rows, the unknowns at
+/// `[off, off + m)` of each row), L the lower triangle of an m x m row-major factor.
+pub(super) fn chol_solve3(chol: &[f64], m: usize, x: &mut [f64], stride: usize, off: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if avx::available() {
+        // SAFETY: the CPU has AVX.
+        return unsafe { chol_solve3_avx(chol, m, x, stride, off) };
+    }
+    chol_solve3_q::<Q2>(chol, m, x, stride, off);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn chol_solve3_avx(chol: &[f64], m: usize, x: &mut [f64], stride: usize, off: usize) {
+    chol_solve3_q::<Avx>(chol, m, x, stride, off);
+}
+
+/// The three right-hand sides go through each row of L together (one load of the row); each
+/// one's arithmetic is that of a separate `dot_q` / `axpy` solve.
+#[inline(always)]
+fn chol_solve3_q<Q: Quad>(chol: &[f64], m: usize, x: &mut [f64], stride: usize, off: usize) {
+    let (bx, rest) = x.split_at_mut(stride);
+    let (by, bz) = rest.split_at_mut(stride);
+    let (yx, yy, yz) = (
+        &mut bx[off..off + m],
+        &mut by[off..off + m],
+        &mut bz[off..off + m],
+    );
+    for i in 0..m {
+        let row = &chol[i * m..i * m + i + 1];
+        let d = dot3_q::<Q>(&row[..i], &yx[..i], &yy[..i], &yz[..i]);
+        yx[i] = (yx[i] - d[0]) / row[i];
+        yy[i] = (yy[i] - d[1]) / row[i];
+        yz[i] = (yz[i] - d[2]) / row[i];
+    }
+    for i in (0..m).rev() {
+        let row = &chol[i * m..i * m + i + 1];
+        let v = [yx[i] / row[i], yy[i] / row[i], yz[i] / row[i]];
+        (yx[i], yy[i], yz[i]) = (v[0], v[1], v[2]);
+        let a = v.map(|v| -v);
+        let (px, py, pz) = (&mut yx[..i], &mut yy[..i], &mut yz[..i]);
+        for (((r, ex), ey), ez) in row[..i].iter().zip(px).zip(py).zip(pz) {
+            *ex += a[0] * r;
+            *ey += a[1] * r;
+            *ez += a[2] * r;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::deform::dense::cholesky_in_place;
+    use crate::deform::lanes::{portable, Pair};
+    use crate::spatial::testutil::SplitMix64;
+
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// A random SPD m x m matrix (row-major, full).
+    fn spd(rng: &mut SplitMix64, m: usize) -> Vec<f64> {
+        let b: Vec<f64> = (0..m * m).map(|_| rng.range(-1.0, 1.0)).collect();
+        let mut a = vec![0.0; m * m];
+        for i in 0..m {
+            for j in 0..m {
+                let s: f64 = (0..m).map(|k| b[i * m + k] * b[j * m + k]).sum();
+                a[i * m + j] = s + if i == j { m as f64 } else { 0.0 };
+            }
+        }
+        a
+    }
+
+    #[test]
+    fn matvec_and_solve_match_plain_arithmetic_and_give_the_same_bits_in_every_lane_width() {
+        let mut rng = SplitMix64::new(11);
+        for n in [1, 3, 8, 9, 17, 64, 101] {
+            let a = spd(&mut rng, n);
+            let mut lower = a.clone();
+            for i in 0..n {
+                for j in i + 1..n {
+                    lower[i * n + j] = 7.0; // garbage above the diagonal, as after a fit
+                }
+            }
+            mirror_lower(&mut lower, n);
+            assert_eq!(lower, a, "n {n}: mirror");
+            let u: Vec<f64> = (0..3 * n).map(|_| rng.range(-1.0, 1.0)).collect();
+            let mut y = vec![0.0; 3 * n];
+            matvec3(&a, n, &u, &mut y);
+            let mut y2 = vec![0.0; 3 * n];
+            matvec3_q::<Pair<portable::F2>>(&a, n, &u, &mut y2);
+            assert_eq!(bits(&y), bits(&y2), "n {n}: matvec lanes");
+            for c in 0..3 {
+                for i in 0..n {
+                    let want: f64 = (0..n).map(|j| a[i * n + j] * u[c * n + j]).sum();
+                    assert!((y[c * n + i] - want).abs() < 1e-12 * n as f64, "n {n}");
+                }
+            }
+            // Solve L L^T x = y for rows of stride n + 2 at offset 2 (the layout of the fits).
+            let mut l = a.clone();
+            cholesky_in_place(&mut l, n).unwrap();
+            let stride = n + 2;
+            let mut x = vec![0.0; 3 * stride];
+            for c in 0..3 {
+                x[c * stride + 2..(c + 1) * stride].copy_from_slice(&y[c * n..(c + 1) * n]);
+            }
+            let mut x2 = x.clone();
+            chol_solve3(&l, n, &mut x, stride, 2);
+            chol_solve3_q::<Pair<portable::F2>>(&l, n, &mut x2, stride, 2);
+            assert_eq!(bits(&x), bits(&x2), "n {n}: solve lanes");
+            for c in 0..3 {
+                for i in 0..n {
+                    let got = x[c * stride + 2 + i];
+                    assert!(
+                        (got - u[c * n + i]).abs() < 1e-10,
+                        "n {n}: {got} vs {}",
+                        u[c * n + i]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn q_and_q_transpose_are_inverse_orthogonal_maps() {
+        let mut rng = SplitMix64::new(12);
+        let n = 37;
+        // Four unit-ish reflectors, row k zero before k, beta = 2 / |v|^2.
+        let mut hv = vec![0.0; 4 * n];
+        let mut hbeta = [0.0; 4];
+        for k in 0..4 {
+            for i in k..n {
+                hv[k * n + i] = rng.range(-1.0, 1.0);
+            }
+            let vv: f64 = hv[k * n..(k + 1) * n].iter().map(|x| x * x).sum();
+            hbeta[k] = 2.0 / vv;
+        }
+        let x: Vec<f64> = (0..n).map(|_| rng.range(-1.0, 1.0)).collect();
+        let mut y = x.clone();
+        apply_q(&hv, &hbeta, n, &mut y);
+        let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
+        assert!((norm(&y) - norm(&x)).abs() < 1e-13);
+        assert!(y.iter().zip(&x).any(|(a, b)| (a - b).abs() > 1e-3));
+        apply_qt(&hv, &hbeta, n, &mut y);
+        for (a, b) in y.iter().zip(&x) {
+            assert!((a - b).abs() < 1e-14);
+        }
+    }
+}
