@@ -7,6 +7,7 @@
 //! and the volume measures rely on.
 
 pub mod butterfly;
+pub mod chebyshev;
 pub mod decimate;
 mod heap;
 mod quadric;
