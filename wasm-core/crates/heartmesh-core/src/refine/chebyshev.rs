@@ -34,6 +34,8 @@
 //! O(d^2) (Trefethen ch. 7 notes O(d) in practice): with d = 37 and |c| summing to 1, ~1e-13
 //! relative, below the tests' 1e-9.
 
+use std::sync::{Arc, Mutex};
+
 /// Truncation tolerance on the coefficient tail, relative to the (centred) positions.
 pub const TOLERANCE: f64 = 1e-13;
 
@@ -70,6 +72,30 @@ pub fn smoothing_coefficients(factors: &[f64], iterations: usize) -> Vec<f64> {
         std::mem::swap(&mut c, &mut next);
     }
     c.truncate(iterations + 1);
+    c
+}
+
+/// The truncated series for these sweeps: [`smoothing_coefficients`] cut at
+/// [`truncation_degree`]. The last answer is remembered: the pipeline asks the same question at
+/// every remesh, and the O(n^2) recurrence (~0.65 M instructions at n = 200) is then skipped.
+pub fn truncated_series(factors: &[f64], iterations: usize) -> Arc<Vec<f64>> {
+    type Entry = (Vec<u64>, usize, Arc<Vec<f64>>);
+    static LAST: Mutex<Option<Entry>> = Mutex::new(None);
+    let key: Vec<u64> = factors.iter().map(|f| f.to_bits()).collect();
+    // A poisoned lock only means another thread panicked mid-update: recompute then.
+    if let Ok(last) = LAST.lock() {
+        if let Some((k, n, c)) = last.as_ref() {
+            if *k == key && *n == iterations {
+                return Arc::clone(c);
+            }
+        }
+    }
+    let mut c = smoothing_coefficients(factors, iterations);
+    c.truncate(truncation_degree(&c, TOLERANCE) + 1);
+    let c = Arc::new(c);
+    if let Ok(mut last) = LAST.lock() {
+        *last = Some((key, iterations, Arc::clone(&c)));
+    }
     c
 }
 
@@ -151,6 +177,17 @@ mod tests {
         assert_eq!(truncation_degree(&c, TOLERANCE), 20);
         assert!(worth_it(d(0.1, 200), 200));
         assert!(!worth_it(d(0.1, 10), 10));
+        // The remembered series follows its arguments.
+        for (f, n, len) in [
+            (0.1, 200, 36),
+            (0.1, 50, 20),
+            (0.1, 200, 36),
+            (0.3, 200, 59),
+        ] {
+            let c = truncated_series(&[f], n);
+            assert_eq!(c.len(), len);
+            assert_eq!(c[0], smoothing_coefficients(&[f], n)[0]);
+        }
         // Truncated at d, the series is within the tolerance of the product everywhere.
         let c = smoothing_coefficients(&[0.1], 200);
         let deg = d(0.1, 200);

@@ -387,10 +387,9 @@ fn unpadded(mesh: &TriMesh, rows: &[[f64; 4]], centre: Option<[f64; 3]>) -> TriM
 fn umbrella_steps(mesh: &TriMesh, iterations: usize, factors: &[f64]) -> Result<TriMesh> {
     let stencil = Stencil::new(mesh)?;
     if iterations > 0 {
-        let c = chebyshev::smoothing_coefficients(factors, iterations);
-        let degree = chebyshev::truncation_degree(&c, chebyshev::TOLERANCE);
-        if chebyshev::worth_it(degree, iterations) {
-            return Ok(apply_series(mesh, &stencil, &c[..=degree]));
+        let c = chebyshev::truncated_series(factors, iterations);
+        if chebyshev::worth_it(c.len() - 1, iterations) {
+            return Ok(apply_series(mesh, &stencil, &c));
         }
     }
     Ok(sweeps(mesh, &stencil, iterations, factors))
