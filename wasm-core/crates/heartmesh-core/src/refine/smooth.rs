@@ -29,14 +29,16 @@ use crate::mesh::TriMesh;
 use crate::parallel;
 use nalgebra::{Matrix3x4, Matrix4, Vector4, SVD};
 
-/// Which vertices each vertex averages: a CSR list (interior: one-ring; boundary: the two
-/// boundary neighbours; fixed: none).
-struct Umbrella {
-    offsets: Vec<u32>,
-    targets: Vec<u32>,
+/// Which vertices each vertex averages: a CSR list (interior: one-ring in ascending vertex
+/// order; boundary: the two boundary neighbours, previous then next along the loop; fixed:
+/// none). The order is the order of the sums, so it fixes the result's bits.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Umbrella {
+    pub(crate) offsets: Vec<u32>,
+    pub(crate) targets: Vec<u32>,
 }
 
-fn umbrella(mesh: &TriMesh) -> Umbrella {
+pub(crate) fn umbrella(mesh: &TriMesh) -> Umbrella {
     let map = EdgeMap::new(mesh);
     let ring = vertex_neighbours_from(&map);
     let links = boundary_links(mesh, &map);
@@ -120,14 +122,32 @@ pub fn taubin_mu(lambda: f64) -> f64 {
 /// `iterations` rounds of umbrella smoothing with step `factor` (0..=1), without shrink
 /// correction.
 pub fn laplacian(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh> {
+    laplacian_given(mesh, None, iterations, factor)
+}
+
+fn laplacian_given(
+    mesh: &TriMesh,
+    given: Option<Umbrella>,
+    iterations: usize,
+    factor: f64,
+) -> Result<TriMesh> {
     check_factor(factor)?;
-    umbrella_steps(mesh, iterations, &[factor])
+    umbrella_steps(mesh, given, iterations, &[factor])
 }
 
 /// Taubin lambda/mu smoothing: `iterations` steps alternating lambda = `factor` and
 /// mu = [`taubin_mu`] (so 200 iterations are 100 lambda/mu pairs and cost what 200 Laplacian
 /// iterations cost). No shrink correction: the pass band is kept as it is.
 pub fn taubin(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh> {
+    taubin_given(mesh, None, iterations, factor)
+}
+
+fn taubin_given(
+    mesh: &TriMesh,
+    given: Option<Umbrella>,
+    iterations: usize,
+    factor: f64,
+) -> Result<TriMesh> {
     check_factor(factor)?;
     if factor > TAUBIN_MAX_LAMBDA {
         return Err(CoreError::ParamOutOfRange {
@@ -138,9 +158,9 @@ pub fn taubin(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh>
         });
     }
     if factor == 0.0 {
-        return umbrella_steps(mesh, 0, &[0.0]);
+        return umbrella_steps(mesh, given, 0, &[0.0]);
     }
-    let smoothed = umbrella_steps(mesh, iterations, &[factor, taubin_mu(factor)])?;
+    let smoothed = umbrella_steps(mesh, given, iterations, &[factor, taubin_mu(factor)])?;
     check_finite(smoothed)
 }
 
@@ -157,14 +177,16 @@ struct Stencil {
 }
 
 impl Stencil {
-    fn new(mesh: &TriMesh) -> Result<Stencil> {
+    /// The stencil of `mesh`, from its own topology unless the caller `given` it (the butterfly
+    /// subdivision knows the umbrella of the mesh it makes).
+    fn new(mesh: &TriMesh, given: Option<Umbrella>) -> Result<Stencil> {
         let n = mesh.positions.len();
         if let Some(i) = mesh.triangles.iter().flatten().find(|&&i| i as usize >= n) {
             return Err(CoreError::InvalidMesh(format!(
                 "vertex index {i} out of range ({n} vertices)"
             )));
         }
-        let Umbrella { offsets, targets } = umbrella(mesh);
+        let Umbrella { offsets, targets } = given.unwrap_or_else(|| umbrella(mesh));
         // The sweeps read without bounds checks (see `Sweep::run_q`): every index must be a
         // vertex.
         if offsets.len() != n + 1 || targets.iter().any(|&w| w as usize >= n) {
@@ -384,8 +406,13 @@ fn unpadded(mesh: &TriMesh, rows: &[[f64; 4]], centre: Option<[f64; 3]>) -> TriM
 /// `iterations` umbrella steps, step i with factor `factors[i % len]`: as the truncated Chebyshev
 /// series of their product when that takes clearly fewer matrix products (`chebyshev` module:
 /// the same positions to ~1e-13 of the mesh's size), else sweep by sweep.
-fn umbrella_steps(mesh: &TriMesh, iterations: usize, factors: &[f64]) -> Result<TriMesh> {
-    let stencil = Stencil::new(mesh)?;
+fn umbrella_steps(
+    mesh: &TriMesh,
+    given: Option<Umbrella>,
+    iterations: usize,
+    factors: &[f64],
+) -> Result<TriMesh> {
+    let stencil = Stencil::new(mesh, given)?;
     if iterations > 0 {
         let c = chebyshev::truncated_series(factors, iterations);
         if chebyshev::worth_it(c.len() - 1, iterations) {
@@ -466,9 +493,30 @@ pub fn smooth_with(
     iterations: usize,
     factor: f64,
 ) -> Result<TriMesh> {
+    smooth_given(mesh, None, method, iterations, factor)
+}
+
+/// [`smooth_with`] with the mesh's umbrella already known (it must be `umbrella(mesh)`).
+pub(crate) fn smooth_with_umbrella(
+    mesh: &TriMesh,
+    umbrella: Umbrella,
+    method: SmoothingMethod,
+    iterations: usize,
+    factor: f64,
+) -> Result<TriMesh> {
+    smooth_given(mesh, Some(umbrella), method, iterations, factor)
+}
+
+fn smooth_given(
+    mesh: &TriMesh,
+    given: Option<Umbrella>,
+    method: SmoothingMethod,
+    iterations: usize,
+    factor: f64,
+) -> Result<TriMesh> {
     match method {
-        SmoothingMethod::LaplacianAffine => smooth(mesh, iterations, factor),
-        SmoothingMethod::Taubin => taubin(mesh, iterations, factor),
+        SmoothingMethod::LaplacianAffine => laplacian_affine(mesh, given, iterations, factor),
+        SmoothingMethod::Taubin => taubin_given(mesh, given, iterations, factor),
     }
 }
 
@@ -487,7 +535,16 @@ fn check_finite(mesh: TriMesh) -> Result<TriMesh> {
 
 /// Laplacian smoothing followed by the affine shrink correction (see the module docs).
 pub fn smooth(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh> {
-    let mut smoothed = laplacian(mesh, iterations, factor)?;
+    laplacian_affine(mesh, None, iterations, factor)
+}
+
+fn laplacian_affine(
+    mesh: &TriMesh,
+    given: Option<Umbrella>,
+    iterations: usize,
+    factor: f64,
+) -> Result<TriMesh> {
+    let mut smoothed = laplacian_given(mesh, given, iterations, factor)?;
     if iterations > 0 {
         if let Some(map) = affine_fit(&smoothed.positions, &mesh.positions) {
             for p in &mut smoothed.positions {
@@ -755,11 +812,11 @@ mod tests {
     /// Largest vertex difference (mm) between the Chebyshev series and the direct sweeps, and
     /// the mesh's size (mm), for `factors` over `iterations`; asserts the series was taken.
     fn series_vs_sweeps(m: &TriMesh, iterations: usize, factors: &[f64]) -> (f64, f64) {
-        let stencil = Stencil::new(m).unwrap();
+        let stencil = Stencil::new(m, None).unwrap();
         let c = chebyshev::smoothing_coefficients(factors, iterations);
         let degree = chebyshev::truncation_degree(&c, chebyshev::TOLERANCE);
         assert!(chebyshev::worth_it(degree, iterations), "degree {degree}");
-        let fast = umbrella_steps(m, iterations, factors).unwrap();
+        let fast = umbrella_steps(m, None, iterations, factors).unwrap();
         let slow = sweeps(m, &stencil, iterations, factors);
         let worst = fast
             .positions
