@@ -135,6 +135,14 @@ fn laplacian_given(
     umbrella_steps(mesh, given, iterations, &[factor])
 }
 
+/// [`laplacian`] sweep by sweep, never as the Chebyshev series: the reference the series is
+/// tested and benchmarked against.
+pub fn laplacian_direct(mesh: &TriMesh, iterations: usize, factor: f64) -> Result<TriMesh> {
+    check_factor(factor)?;
+    let stencil = Stencil::new(mesh, None)?;
+    Ok(sweeps(mesh, &stencil, iterations, &[factor]))
+}
+
 /// Taubin lambda/mu smoothing: `iterations` steps alternating lambda = `factor` and
 /// mu = [`taubin_mu`] (so 200 iterations are 100 lambda/mu pairs and cost what 200 Laplacian
 /// iterations cost). No shrink correction: the pass band is kept as it is.
