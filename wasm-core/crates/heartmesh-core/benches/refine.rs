@@ -6,7 +6,8 @@ use criterion::{black_box, criterion_group, Criterion};
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::shapes::icosphere;
 use heartmesh_core::mesh::TriMesh;
-use heartmesh_core::refine::{decimate, remesh, smooth, subdivide};
+use heartmesh_core::refine::smooth::laplacian_direct;
+use heartmesh_core::refine::{decimate, laplacian, remesh, smooth, subdivide};
 
 /// An icosphere of radius 10 mm (5120 triangles) with 0.1 mm of deterministic noise, so the
 /// decimation does not meet the perfectly regular special case.
@@ -78,6 +79,12 @@ fn min_times(runs: usize) {
     });
     time("smooth 200 x 20480 tris", &|| {
         black_box(smooth(&fine, 200, 0.1).ok());
+    });
+    time("laplacian 200 x 20480 tris, sweep by sweep", &|| {
+        black_box(laplacian_direct(&fine, 200, 0.1).ok());
+    });
+    time("laplacian 200 x 20480 tris, Chebyshev series", &|| {
+        black_box(laplacian(&fine, 200, 0.1).ok());
     });
     time("decimate 0.72 of 20480 tris", &|| {
         black_box(decimate(&smoothed, 0.72).ok());

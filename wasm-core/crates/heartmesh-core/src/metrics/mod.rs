@@ -6,7 +6,7 @@ pub mod compare;
 use crate::contours::{Contour, ContourKind};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
-use crate::spatial::Bvh;
+use crate::spatial::{Bvh, SegmentTree};
 use serde::Serialize;
 
 /// Summary of a set of distances (mm).
@@ -121,25 +121,8 @@ pub fn vertex_to_contours(mesh: &TriMesh, contours: &[Contour]) -> Vec<f64> {
             }
         }
     }
-    mesh.positions
-        .iter()
-        .map(|v| {
-            segments
-                .iter()
-                .map(|(a, b)| {
-                    let ab = b - a;
-                    let l2 = ab.norm_squared();
-                    let t = if l2 > 0.0 {
-                        ((v - a).dot(&ab) / l2).clamp(0.0, 1.0)
-                    } else {
-                        0.0
-                    };
-                    (a + ab * t - v).norm_squared()
-                })
-                .fold(f64::INFINITY, f64::min)
-                .sqrt()
-        })
-        .collect()
+    let tree = SegmentTree::new(segments);
+    mesh.positions.iter().map(|v| tree.distance(v)).collect()
 }
 
 #[cfg(test)]

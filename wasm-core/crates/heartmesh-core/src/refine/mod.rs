@@ -7,6 +7,7 @@
 //! and the volume measures rely on.
 
 pub mod butterfly;
+pub mod chebyshev;
 pub mod decimate;
 mod heap;
 mod quadric;
@@ -54,13 +55,22 @@ pub fn remesh_with(
         )));
     }
     // Subdivision and smoothing keep a manifold mesh manifold, so decimation skips its check.
-    let subdivided = butterfly::subdivide_manifold(mesh, &map)?;
-    let smoothed = smooth_with(
-        &subdivided,
-        smoothing,
-        smoothing_iterations,
-        smoothing_factor,
-    )?;
+    let (subdivided, umbrella) = butterfly::subdivide_with_umbrella(mesh, &map)?;
+    let smoothed = match umbrella {
+        Some(u) => smooth::smooth_with_umbrella(
+            &subdivided,
+            u,
+            smoothing,
+            smoothing_iterations,
+            smoothing_factor,
+        )?,
+        None => smooth_with(
+            &subdivided,
+            smoothing,
+            smoothing_iterations,
+            smoothing_factor,
+        )?,
+    };
     // Subdivision and smoothing do not open a closed mesh either.
     let known = if before.closed {
         decimate::Known::ClosedManifold
