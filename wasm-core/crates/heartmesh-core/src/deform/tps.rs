@@ -49,7 +49,7 @@ use super::dense::{axpy, cholesky_in_place, dot, dot_q};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::avx::{self, Avx, Avx32};
 use super::lanes::{portable, Oct, Pair32, Quad, O4, Q2};
-use super::pcg::{apply_q, apply_qt, chol_solve3, matvec3, mirror_lower};
+use super::pcg::{apply_q, apply_qt, chol_solve3, mirror_lower, projected_matvec};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 
@@ -860,27 +860,6 @@ fn targets_norms(targets: &[Vec3]) -> [f64; 3] {
         }
     }
     s.map(f64::sqrt)
-}
-
-/// y = Q^T K Q [0; v] for three N-vectors (`v` rows with zeros at 0..4); `u` is scratch.
-fn projected_matvec(
-    kmat: &[f64],
-    hv: &[f64],
-    hbeta: &[f64; 4],
-    n: usize,
-    v: &[f64],
-    u: &mut [f64],
-    y: &mut [f64],
-) {
-    u.copy_from_slice(v);
-    for row in u.chunks_exact_mut(n) {
-        row[..4].fill(0.0);
-        apply_q(hv, hbeta, n, row);
-    }
-    matvec3(kmat, n, u, y);
-    for row in y.chunks_exact_mut(n) {
-        apply_qt(hv, hbeta, n, row);
-    }
 }
 
 /// sum_i w_i G(|p - P_i|) in f32 for the three coordinates, `p` and the centres relative to the
