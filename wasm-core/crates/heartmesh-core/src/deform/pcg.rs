@@ -192,6 +192,81 @@ fn chol_solve3_q<Q: Quad>(chol: &[f64], m: usize, x: &mut [f64], stride: usize, 
     }
 }
 
+/// Writes the transpose of the lower triangle of `l` (m x m row-major) into the upper triangle
+/// of `lt`, so that the backward solve of [`precondition3`] reads rows.
+pub(super) fn transpose_lower(l: &[f64], lt: &mut [f64], m: usize) {
+    for (i, row) in l.chunks_exact(m).take(m).enumerate() {
+        for (j, v) in row[..=i].iter().enumerate() {
+            lt[j * m + i] = *v;
+        }
+    }
+}
+
+/// z <- (L L^T)^-1 z for three m-vectors (layout of [`chol_solve3`]), with `lt` holding L^T
+/// (from [`transpose_lower`]): both triangular solves in dot-product form, one pass over each
+/// triangle, which is a third faster than the axpy form of the backward solve. (Not the bits of
+/// `chol_solve3`; a preconditioner only has to be the same operator every time.)
+pub(super) fn precondition3(
+    l: &[f64],
+    lt: &[f64],
+    m: usize,
+    x: &mut [f64],
+    stride: usize,
+    off: usize,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if avx::available() {
+        // SAFETY: the CPU has AVX.
+        return unsafe { precondition3_avx(l, lt, m, x, stride, off) };
+    }
+    precondition3_q::<Q2>(l, lt, m, x, stride, off);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn precondition3_avx(
+    l: &[f64],
+    lt: &[f64],
+    m: usize,
+    x: &mut [f64],
+    stride: usize,
+    off: usize,
+) {
+    precondition3_q::<Avx>(l, lt, m, x, stride, off);
+}
+
+#[inline(always)]
+fn precondition3_q<Q: Quad>(
+    l: &[f64],
+    lt: &[f64],
+    m: usize,
+    x: &mut [f64],
+    stride: usize,
+    off: usize,
+) {
+    let (bx, rest) = x.split_at_mut(stride);
+    let (by, bz) = rest.split_at_mut(stride);
+    let (yx, yy, yz) = (
+        &mut bx[off..off + m],
+        &mut by[off..off + m],
+        &mut bz[off..off + m],
+    );
+    for i in 0..m {
+        let row = &l[i * m..i * m + i + 1];
+        let d = dot3_q::<Q>(&row[..i], &yx[..i], &yy[..i], &yz[..i]);
+        yx[i] = (yx[i] - d[0]) / row[i];
+        yy[i] = (yy[i] - d[1]) / row[i];
+        yz[i] = (yz[i] - d[2]) / row[i];
+    }
+    for i in (0..m).rev() {
+        let row = &lt[i * m + i..(i + 1) * m];
+        let d = dot3_q::<Q>(&row[1..], &yx[i + 1..], &yy[i + 1..], &yz[i + 1..]);
+        yx[i] = (yx[i] - d[0]) / row[0];
+        yy[i] = (yy[i] - d[1]) / row[0];
+        yz[i] = (yz[i] - d[2]) / row[0];
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -250,9 +325,19 @@ mod tests {
                 x[c * stride + 2..(c + 1) * stride].copy_from_slice(&y[c * n..(c + 1) * n]);
             }
             let mut x2 = x.clone();
+            let x0 = x.clone();
             chol_solve3(&l, n, &mut x, stride, 2);
             chol_solve3_q::<Pair<portable::F2>>(&l, n, &mut x2, stride, 2);
             assert_eq!(bits(&x), bits(&x2), "n {n}: solve lanes");
+            let mut lt = vec![0.0; n * n];
+            transpose_lower(&l, &mut lt, n);
+            let (mut x3, mut x4) = (x0.clone(), x0.clone());
+            precondition3(&l, &lt, n, &mut x3, stride, 2);
+            precondition3_q::<Pair<portable::F2>>(&l, &lt, n, &mut x4, stride, 2);
+            assert_eq!(bits(&x3), bits(&x4), "n {n}: preconditioner lanes");
+            for (a, b) in x3.iter().zip(&x) {
+                assert!((a - b).abs() < 1e-12, "n {n}: {a} vs {b}");
+            }
             for c in 0..3 {
                 for i in 0..n {
                     let got = x[c * stride + 2 + i];

@@ -49,7 +49,9 @@ use super::dense::{axpy, cholesky_in_place, dot, dot_q};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::avx::{self, Avx, Avx32};
 use super::lanes::{portable, Oct, Pair32, Quad, O4, Q2};
-use super::pcg::{apply_q, apply_qt, chol_solve3, mirror_lower, projected_matvec};
+use super::pcg::{
+    apply_q, apply_qt, chol_solve3, mirror_lower, precondition3, projected_matvec, transpose_lower,
+};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 
@@ -120,6 +122,9 @@ pub struct TpsSolver {
     /// Iterations of the last reused fit (0 after a factorisation).
     last_iterations: usize,
     stats: SolveStats,
+    /// L^T of the factor in `chol` (upper triangle), for the preconditioner's backward solve.
+    chol_t: Vec<f64>,
+    chol_t_ok: bool,
     /// `cg.w_prev` holds the weights of the fit before last, at the same centres' indices.
     w_prev_ok: bool,
 }
@@ -261,6 +266,7 @@ impl TpsSolver {
         self.kmat.resize(n * n, 0.0);
         self.hv.resize(4 * n, 0.0);
         self.chol.resize(m * m, 0.0);
+        self.chol_t.resize(m * m, 0.0);
         self.rhs.resize(3 * n, 0.0);
         self.tmp.resize(4 * n, 0.0);
         self.cg.resize(n);
@@ -306,6 +312,7 @@ impl TpsSolver {
         if !solved {
             self.project_kernel();
             cholesky_in_place(&mut self.chol, m)?;
+            self.chol_t_ok = false;
             chol_solve3(&self.chol, m, &mut self.rhs, n, 4);
             // (Q^T K Q)[0..4, 4..] g, read through its mirror in the lower triangle.
             for (c, b) in self.rhs.chunks_exact(n).enumerate() {
@@ -333,6 +340,10 @@ impl TpsSolver {
     /// the residual did not fall below `tol` within [`CG_MAX_ITERATIONS`] (rhs still holds Q^T b).
     fn solve_reusing(&mut self, tol: &[f64; 3]) -> Option<([[f64; 4]; 3], usize)> {
         let (n, m) = (self.n, self.n - 4);
+        if !self.chol_t_ok {
+            transpose_lower(&self.chol, &mut self.chol_t, m);
+            self.chol_t_ok = true;
+        }
         let cg = &mut self.cg;
         for g in cg.g.chunks_exact_mut(n) {
             apply_qt(&self.hv, &self.hbeta, n, g);
@@ -358,7 +369,7 @@ impl TpsSolver {
             tc.copy_from_slice(&y[..4]);
         }
         cg.z.copy_from_slice(&cg.r);
-        chol_solve3(&self.chol, m, &mut cg.z, n, 4);
+        precondition3(&self.chol, &self.chol_t, m, &mut cg.z, n, 4);
         cg.p.copy_from_slice(&cg.z);
         let mut rz = [0, 1, 2].map(|c| {
             let row = c * n + 4..(c + 1) * n;
@@ -404,7 +415,7 @@ impl TpsSolver {
                 }
             }
             cg.z.copy_from_slice(&cg.r);
-            chol_solve3(&self.chol, m, &mut cg.z, n, 4);
+            precondition3(&self.chol, &self.chol_t, m, &mut cg.z, n, 4);
             for c in (0..3).filter(|&c| active[c]) {
                 let row = c * n + 4..(c + 1) * n;
                 let rz_new = dot(&cg.r[row.clone()], &cg.z[row.clone()]);
