@@ -85,7 +85,9 @@ fn tps_problem(n: usize) -> (Vec<Vec3>, Vec<Vec3>) {
 fn bench_tps(c: &mut Criterion) {
     for n in [200usize, 300] {
         let (centres, targets) = tps_problem(n);
+        // Projection and factorisation every fit (a repeated fit would otherwise reuse it).
         let mut solver = TpsSolver::new();
+        solver.set_always_refactor(true);
         c.bench_function(&format!("tps_fit_n{n}"), |b| {
             b.iter(|| {
                 solver
@@ -94,6 +96,22 @@ fn bench_tps(c: &mut Criterion) {
             })
         });
     }
+    // A fit reusing the last factor: the centres alternate between two sets 1e-4 apart (about
+    // the move of one late deformation step), so every fit is a nearby system.
+    let (centres, targets) = tps_problem(200);
+    let mut rng = Rng(9);
+    let moved: Vec<Vec3> = centres.iter().map(|c| c + rng.vec3(1e-4)).collect();
+    let mut solver = TpsSolver::new();
+    let mut flip = false;
+    c.bench_function("tps_refit_n200_reused", |b| {
+        b.iter(|| {
+            flip = !flip;
+            let cs = if flip { &moved } else { &centres };
+            solver
+                .fit(black_box(cs), black_box(&targets), 1e5 / 200.0)
+                .expect("benchmark fit")
+        })
+    });
     let (centres, targets) = tps_problem(300);
     let mut solver = TpsSolver::new();
     solver
