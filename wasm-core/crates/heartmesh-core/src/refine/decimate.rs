@@ -298,11 +298,15 @@ impl Decimator {
     fn legal(&mut self, a: u32, b: u32, p: Vec3) -> bool {
         let mut edge_triangles = 0usize;
         let mut opposite = [u32::MAX; 2];
+        // Live fan sizes are counted on the walks the tests need anyway (a here, b in the link
+        // test) instead of walking both lists again for the fan-size test.
+        let mut live_a = 0usize;
         for i in self.list(a) {
             let t = self.refs[i] as usize;
             if !self.triangle_alive[t] {
                 continue;
             }
+            live_a += 1;
             let tri = self.triangles[t];
             if tri.contains(&b) {
                 if edge_triangles < 2 {
@@ -333,11 +337,13 @@ impl Decimator {
             }
         }
         let mut common = 0usize;
+        let mut live_b = 0usize;
         for i in self.list(b) {
             let t = self.refs[i] as usize;
             if !self.triangle_alive[t] {
                 continue;
             }
+            live_b += 1;
             for w in self.triangles[t] {
                 if w != a && w != b && self.marks[w as usize] == m {
                     self.marks[w as usize] = m + 1;
@@ -351,7 +357,7 @@ impl Decimator {
 
         // Fans must stay big enough to remain disks (a tetrahedron must not fold into a fin).
         let minimum = |boundary: bool| if boundary { 1 } else { 3 };
-        let merged = self.live_count(a) + self.live_count(b) - 2 * edge_triangles;
+        let merged = live_a + live_b - 2 * edge_triangles;
         if merged < minimum(ba || bb) {
             return false;
         }
@@ -405,12 +411,13 @@ impl Decimator {
         let m = self.next_mark();
         self.mark_ring(a, m);
         // b's edges (one per live triangle, plus one on a boundary) lose their entries.
-        self.dead_entries += self.live_count(b) + usize::from(self.boundary[b as usize]);
+        let mut live_b = 0usize;
         for i in self.list(b) {
             let t = self.refs[i] as usize;
             if !self.triangle_alive[t] {
                 continue;
             }
+            live_b += 1;
             if self.triangles[t].contains(&a) {
                 self.triangle_alive[t] = false;
                 self.live_triangles -= 1;
@@ -422,6 +429,7 @@ impl Decimator {
                 }
             }
         }
+        self.dead_entries += live_b + usize::from(self.boundary[b as usize]);
         if self.refs.len() + (self.count[a as usize] + self.count[b as usize]) as usize
             > self.refs.capacity()
         {
@@ -470,7 +478,7 @@ impl Decimator {
         self.dead_entries = 0;
         let alive = &self.vertex_alive;
         self.heap
-            .retain(|e| alive[e.a as usize] && alive[e.b as usize]);
+            .retain(|e| alive[e.a() as usize] && alive[e.b() as usize]);
     }
 
     fn run(&mut self, target: usize) {
@@ -480,16 +488,17 @@ impl Decimator {
             while self.live_triangles > target {
                 let Some(c) = self.heap.pop() else { break };
                 // Both alive means still adjacent: an edge only disappears by collapsing.
-                if !self.vertex_alive[c.a as usize] || !self.vertex_alive[c.b as usize] {
+                let (a, b) = (c.a(), c.b());
+                if !self.vertex_alive[a as usize] || !self.vertex_alive[b as usize] {
                     continue;
                 }
-                let (cost, p) = self.evaluate(c.a, c.b);
+                let (cost, p) = self.evaluate(a, b);
                 if c.is_below(cost) {
-                    self.heap.push(Entry::new(cost, c.a, c.b));
+                    self.heap.push(Entry::new(cost, a, b));
                     continue;
                 }
-                if self.legal(c.a, c.b, p) {
-                    self.collapse(c.a, c.b, p);
+                if self.legal(a, b, p) {
+                    self.collapse(a, b, p);
                     collapsed += 1;
                     // Each edge has one entry, so a collapsed vertex leaves about one dead entry
                     // per edge it had. Popping one costs a root-to-leaf walk; once a third of the

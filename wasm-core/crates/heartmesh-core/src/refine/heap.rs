@@ -7,12 +7,17 @@
 //! 12-byte entry (f32 cost, two vertex indices) halves the memory again.
 
 /// A queued edge collapse (a, b). Ordering: cost, then a, then b, so runs are deterministic.
+///
+/// Cost and a live in one u64 (cost bits high, a low), so a comparison is one 64-bit compare
+/// plus a tie test on b instead of building that key from two fields on every sift step (the
+/// heap's hottest line in callgrind). `packed(4)` keeps the entry at 12 bytes; unaligned 64-bit
+/// loads are cheap on x86-64 and wasm.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(C, packed(4))]
 pub struct Entry {
-    /// Bit pattern of a non-negative f32 cost: integer order equals numeric order.
-    cost_bits: u32,
-    pub a: u32,
-    pub b: u32,
+    /// Bit pattern of a non-negative f32 cost (integer order equals numeric order) << 32 | a.
+    key: u64,
+    b: u32,
 }
 
 /// f32 bit pattern of a cost; NaN or negative costs (impossible for quadrics, but cheap to guard)
@@ -24,29 +29,41 @@ fn cost_bits(cost: f64) -> u32 {
 }
 
 impl Entry {
+    #[inline]
     pub fn new(cost: f64, a: u32, b: u32) -> Entry {
         Entry {
-            cost_bits: cost_bits(cost),
-            a,
+            key: ((cost_bits(cost) as u64) << 32) | a as u64,
             b,
         }
+    }
+
+    #[inline]
+    pub fn a(&self) -> u32 {
+        // Truncation keeps the low half, which is a.
+        self.key as u32
+    }
+
+    #[inline]
+    pub fn b(&self) -> u32 {
+        self.b
+    }
+
+    #[inline]
+    fn cost_bits(&self) -> u32 {
+        (self.key >> 32) as u32
     }
 
     /// Whether `cost` (the edge's cost now) is higher than the queued one, i.e. the entry is a
     /// stale lower bound that must be queued again instead of being used.
     #[inline]
     pub fn is_below(&self, cost: f64) -> bool {
-        cost_bits(cost) > self.cost_bits
-    }
-
-    #[inline]
-    fn key(&self) -> (u64, u32) {
-        (((self.cost_bits as u64) << 32) | self.a as u64, self.b)
+        cost_bits(cost) > self.cost_bits()
     }
 
     #[inline]
     fn before(&self, other: &Entry) -> bool {
-        self.key() < other.key()
+        let (k, o) = (self.key, other.key);
+        k < o || (k == o && self.b < other.b)
     }
 }
 
@@ -160,7 +177,9 @@ mod tests {
             expected.push((cost, a, b));
         }
         expected.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
-        let got: Vec<(u32, u32)> = std::iter::from_fn(|| h.pop()).map(|e| (e.a, e.b)).collect();
+        let got: Vec<(u32, u32)> = std::iter::from_fn(|| h.pop())
+            .map(|e| (e.a(), e.b()))
+            .collect();
         let want: Vec<(u32, u32)> = expected.iter().map(|&(_, a, b)| (a, b)).collect();
         assert_eq!(got, want);
         assert!(h.pop().is_none());
@@ -172,9 +191,9 @@ mod tests {
         for i in 0..500u32 {
             h.push(Entry::new(((i * 7919) % 113) as f64, i, i + 1));
         }
-        h.retain(|e| e.a % 3 == 1);
+        h.retain(|e| e.a() % 3 == 1);
         let costs: Vec<(u32, u32)> = std::iter::from_fn(|| h.pop())
-            .map(|e| (e.cost_bits, e.a))
+            .map(|e| (e.cost_bits(), e.a()))
             .collect();
         assert_eq!(costs.len(), (0..500).filter(|i| i % 3 == 1).count());
         assert!(costs.windows(2).all(|w| w[0] < w[1]));
@@ -186,7 +205,7 @@ mod tests {
         assert!(e.is_below(1.5));
         assert!(!e.is_below(1.0));
         assert!(!e.is_below(0.5));
-        assert_eq!(Entry::new(f64::NAN, 0, 1).cost_bits, 0);
-        assert_eq!(Entry::new(-2.0, 0, 1).cost_bits, 0);
+        assert_eq!(Entry::new(f64::NAN, 0, 1).cost_bits(), 0);
+        assert_eq!(Entry::new(-2.0, 0, 1).cost_bits(), 0);
     }
 }
