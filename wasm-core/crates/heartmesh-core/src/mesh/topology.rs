@@ -230,15 +230,45 @@ pub fn validity(mesh: &TriMesh) -> MeshValidity {
 
 /// [`validity`] reusing an edge map built for `mesh`.
 pub fn validity_with_map(mesh: &TriMesh, map: &EdgeMap) -> MeshValidity {
+    check(mesh, map, true)
+}
+
+/// The three verdicts a pass/fail gate needs (see [`MeshValidity`] for their meaning).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Health {
+    pub closed: bool,
+    pub manifold: bool,
+    pub oriented: bool,
+}
+
+/// `closed`, `manifold` and `oriented` exactly as [`validity_with_map`] finds them, without the
+/// defect counts that do not decide them (duplicates need a sort of all triangles, boundary
+/// loops and the Euler characteristic more passes): the remesh checks every round's input and
+/// output, and only builds the full report when a check fails.
+pub fn health_with_map(mesh: &TriMesh, map: &EdgeMap) -> Health {
+    let v = check(mesh, map, false);
+    Health {
+        closed: v.closed,
+        manifold: v.manifold,
+        oriented: v.oriented,
+    }
+}
+
+/// The checks of [`validity_with_map`]; without `full`, the counts that do not decide
+/// `closed`, `manifold` or `oriented` (loops, Euler characteristic, duplicates, unreferenced)
+/// are left at 0.
+fn check(mesh: &TriMesh, map: &EdgeMap, full: bool) -> MeshValidity {
     let tris = &mesh.triangles;
     let nv = mesh.positions.len();
 
     let mut degenerate = 0usize;
-    let mut referenced = vec![false; map.vertex_slots()];
+    let mut referenced = vec![false; if full { map.vertex_slots() } else { 0 }];
     for t in tris {
         let [a, b, c] = *t;
-        for &i in t {
-            referenced[i as usize] = true;
+        if full {
+            for &i in t {
+                referenced[i as usize] = true;
+            }
         }
         let bad_index = a == b || b == c || a == c || t.iter().any(|&i| i as usize >= nv);
         let zero_area = !bad_index && {
@@ -260,35 +290,30 @@ pub fn validity_with_map(mesh: &TriMesh, map: &EdgeMap) -> MeshValidity {
         }
     }
     let referenced_count = referenced.iter().filter(|&&r| r).count();
-    let unreferenced = nv.saturating_sub(referenced[..nv].iter().filter(|&&r| r).count());
-
-    // Duplicates: sort the sorted vertex triples.
-    let mut keys: Vec<([u32; 3], u32)> = tris
-        .iter()
-        .enumerate()
-        .map(|(i, t)| {
-            let mut k = *t;
-            k.sort_unstable();
-            (k, i as u32)
-        })
-        .collect();
-    keys.sort_unstable();
-    let duplicates = keys.windows(2).filter(|w| w[0].0 == w[1].0).count();
+    let unreferenced = if full {
+        nv.saturating_sub(referenced[..nv].iter().filter(|&&r| r).count())
+    } else {
+        0
+    };
+    let duplicates = if full { duplicate_count(tris) } else { 0 };
 
     let mut boundary_edges = 0usize;
     let mut edge_manifold = true;
     let mut oriented = true;
     let mut corners = UnionFind::new(tris.len() * 3);
-    let mut boundary_graph = UnionFind::new(map.vertex_slots());
-    let mut on_boundary = vec![false; map.vertex_slots()];
+    let slots = if full { map.vertex_slots() } else { 0 };
+    let mut boundary_graph = UnionFind::new(slots);
+    let mut on_boundary = vec![false; slots];
     for e in 0..map.edges.len() {
         match *map.half_edges_of(e) {
             [_] => {
                 boundary_edges += 1;
-                let [a, b] = map.edges[e];
-                boundary_graph.union(a, b);
-                on_boundary[a as usize] = true;
-                on_boundary[b as usize] = true;
+                if full {
+                    let [a, b] = map.edges[e];
+                    boundary_graph.union(a, b);
+                    on_boundary[a as usize] = true;
+                    on_boundary[b as usize] = true;
+                }
             }
             [h, g] => {
                 let (a, _) = half_edge_ends(tris, h);
@@ -308,7 +333,7 @@ pub fn validity_with_map(mesh: &TriMesh, map: &EdgeMap) -> MeshValidity {
             _ => edge_manifold = false,
         }
     }
-    let boundary_loops = (0..map.vertex_slots() as u32)
+    let boundary_loops = (0..slots as u32)
         .filter(|&v| on_boundary[v as usize] && boundary_graph.find(v) == v)
         .count();
 
@@ -334,6 +359,22 @@ pub fn validity_with_map(mesh: &TriMesh, map: &EdgeMap) -> MeshValidity {
         duplicate_triangles: duplicates,
         unreferenced_vertices: unreferenced,
     }
+}
+
+/// Number of triangles whose vertex set equals an earlier triangle's (sorted vertex triples,
+/// sorted).
+fn duplicate_count(tris: &[[u32; 3]]) -> usize {
+    let mut keys: Vec<([u32; 3], u32)> = tris
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let mut k = *t;
+            k.sort_unstable();
+            (k, i as u32)
+        })
+        .collect();
+    keys.sort_unstable();
+    keys.windows(2).filter(|w| w[0].0 == w[1].0).count()
 }
 
 /// One-ring neighbours of every vertex in compressed-row form (one allocation for the whole mesh).
@@ -592,6 +633,40 @@ mod tests {
         assert!(inv.signed_volume() < 0.0);
         orient_outward(&mut inv).unwrap();
         assert!((inv.signed_volume() - 1.0 / 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn health_agrees_with_validity() {
+        let mut meshes = vec![tetra(), TriMesh::new(tetra().positions, vec![[0, 1, 2]])];
+        let mut flipped = tetra();
+        flipped.triangles[3].swap(1, 2);
+        meshes.push(flipped);
+        let mut pinched = tetra();
+        pinched
+            .positions
+            .extend([v3(-1., 0., 0.), v3(0., -1., 0.), v3(0., 0., -1.)]);
+        pinched
+            .triangles
+            .extend([[0, 4, 5], [0, 6, 4], [0, 5, 6], [4, 6, 5]]);
+        meshes.push(pinched);
+        let mut fin = tetra();
+        fin.triangles.push([0, 1, 2]);
+        meshes.push(fin);
+        let mut flat = tetra();
+        flat.positions[3] = flat.positions[0];
+        meshes.push(flat);
+        let mut verdicts = Vec::new();
+        for m in &meshes {
+            let map = EdgeMap::new(m);
+            let (v, h) = (validity_with_map(m, &map), health_with_map(m, &map));
+            assert_eq!(
+                (h.closed, h.manifold, h.oriented),
+                (v.closed, v.manifold, v.oriented)
+            );
+            verdicts.push(h.manifold);
+        }
+        // Only the tetrahedron and the lone triangle are manifold.
+        assert_eq!(verdicts, [true, true, false, false, false, false]);
     }
 
     #[test]
