@@ -50,7 +50,8 @@ use super::dense::{axpy, cholesky_in_place, dot, dot_q};
 use super::lanes::avx::{self, Avx, Avx32};
 use super::lanes::{portable, Oct, Pair32, Quad, O4, Q2};
 use super::pcg::{
-    apply_q, apply_qt, chol_solve3, mirror_lower, precondition3, projected_matvec, transpose_lower,
+    apply_q, apply_qt, chol_solve3, factor_to_f32, mirror_lower, precondition3_f32,
+    projected_matvec,
 };
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
@@ -122,8 +123,11 @@ pub struct TpsSolver {
     /// Iterations of the last reused fit (0 after a factorisation).
     last_iterations: usize,
     stats: SolveStats,
-    /// L^T of the factor in `chol` (upper triangle), for the preconditioner's backward solve.
-    chol_t: Vec<f64>,
+    /// The factor in `chol` rounded to f32: L (lower triangle) and L^T (upper triangle), the
+    /// preconditioner's two triangular solves; `pre_w` is its 3 x (N-4) scratch.
+    chol32: Vec<f32>,
+    chol_t32: Vec<f32>,
+    pre_w: Vec<f32>,
     chol_t_ok: bool,
     /// `cg.w_prev` holds the weights of the fit before last, at the same centres' indices.
     w_prev_ok: bool,
@@ -266,7 +270,9 @@ impl TpsSolver {
         self.kmat.resize(n * n, 0.0);
         self.hv.resize(4 * n, 0.0);
         self.chol.resize(m * m, 0.0);
-        self.chol_t.resize(m * m, 0.0);
+        self.chol32.resize(m * m, 0.0);
+        self.chol_t32.resize(m * m, 0.0);
+        self.pre_w.resize(3 * m, 0.0);
         self.rhs.resize(3 * n, 0.0);
         self.tmp.resize(4 * n, 0.0);
         self.cg.resize(n);
@@ -341,7 +347,7 @@ impl TpsSolver {
     fn solve_reusing(&mut self, tol: &[f64; 3]) -> Option<([[f64; 4]; 3], usize)> {
         let (n, m) = (self.n, self.n - 4);
         if !self.chol_t_ok {
-            transpose_lower(&self.chol, &mut self.chol_t, m);
+            factor_to_f32(&self.chol, &mut self.chol32, &mut self.chol_t32, m);
             self.chol_t_ok = true;
         }
         let cg = &mut self.cg;
@@ -369,7 +375,15 @@ impl TpsSolver {
             tc.copy_from_slice(&y[..4]);
         }
         cg.z.copy_from_slice(&cg.r);
-        precondition3(&self.chol, &self.chol_t, m, &mut cg.z, n, 4);
+        precondition3_f32(
+            &self.chol32,
+            &self.chol_t32,
+            m,
+            &mut cg.z,
+            n,
+            4,
+            &mut self.pre_w,
+        );
         cg.p.copy_from_slice(&cg.z);
         let mut rz = [0, 1, 2].map(|c| {
             let row = c * n + 4..(c + 1) * n;
@@ -415,7 +429,15 @@ impl TpsSolver {
                 }
             }
             cg.z.copy_from_slice(&cg.r);
-            precondition3(&self.chol, &self.chol_t, m, &mut cg.z, n, 4);
+            precondition3_f32(
+                &self.chol32,
+                &self.chol_t32,
+                m,
+                &mut cg.z,
+                n,
+                4,
+                &mut self.pre_w,
+            );
             for c in (0..3).filter(|&c| active[c]) {
                 let row = c * n + 4..(c + 1) * n;
                 let rz_new = dot(&cg.r[row.clone()], &cg.z[row.clone()]);
