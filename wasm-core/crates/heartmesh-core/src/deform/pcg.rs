@@ -192,28 +192,47 @@ fn chol_solve3_q<Q: Quad>(chol: &[f64], m: usize, x: &mut [f64], stride: usize, 
     }
 }
 
-/// Rounds the factor L (lower triangle of an m x m row-major f64 matrix) to single precision:
-/// L into the lower triangle of `l32`, L^T into the upper triangle of `lt32`, so that both
-/// triangular solves of [`precondition3_f32`] read rows.
-pub(super) fn factor_to_f32(l: &[f64], l32: &mut [f32], lt32: &mut [f32], m: usize) {
+/// Row stride of the f32 factor copies: m rounded up to whole eight-lane blocks.
+pub(super) fn f32_stride(m: usize) -> usize {
+    m.div_ceil(8) * 8
+}
+
+/// Rounds the factor L (lower triangle of an m x m row-major f64 matrix) to single precision
+/// for [`precondition3_f32`]: the strict lower triangle of L into `l32` and of L^T (its strict
+/// upper triangle) into `lt32`, rows of [`f32_stride`] with zeros everywhere else, and the
+/// reciprocals of the diagonal into `dinv`. The zeros let every dot product of the two solves
+/// run over whole aligned eight-lane blocks, with no scalar tail: the extra products are exact
+/// zeros (the unknowns are finite), so they do not change the sums.
+pub(super) fn factor_to_f32(
+    l: &[f64],
+    l32: &mut [f32],
+    lt32: &mut [f32],
+    dinv: &mut [f32],
+    m: usize,
+) {
+    let s = f32_stride(m);
+    l32.fill(0.0);
+    lt32.fill(0.0);
     for (i, row) in l.chunks_exact(m).take(m).enumerate() {
-        for (j, v) in row[..=i].iter().enumerate() {
+        for (j, v) in row[..i].iter().enumerate() {
             let v = *v as f32;
-            l32[i * m + j] = v;
-            lt32[j * m + i] = v;
+            l32[i * s + j] = v;
+            lt32[j * s + i] = v;
         }
+        dinv[i] = 1.0 / row[i] as f32;
     }
 }
 
 /// z <- (L L^T)^-1 z in single precision for three m-vectors (layout of [`chol_solve3`]), with
-/// the f32 factor of [`factor_to_f32`]; `w` is 3 x m f32 scratch. Why f32: the preconditioner
-/// of the reused-factor solve only approximates the new system's inverse (the factor is a step
-/// old), so its own rounding at 1e-7 relative is far below that approximation error, and each
-/// pass over a triangle moves half the bytes in twice the lanes. The residuals, the products
-/// and the solution stay f64, so the converged answer keeps its tolerance.
+/// the f32 factor of [`factor_to_f32`]; `w` is 3 x [`f32_stride`] f32 scratch. Why f32: the
+/// preconditioner of the reused-factor solve only approximates the new system's inverse (the
+/// factor is a step old), so its own rounding at 1e-7 relative is far below that approximation
+/// error, and each pass over a triangle moves half the bytes in twice the lanes. The residuals,
+/// the products and the solution stay f64, so the converged answer keeps its tolerance.
 pub(super) fn precondition3_f32(
     l32: &[f32],
     lt32: &[f32],
+    dinv: &[f32],
     m: usize,
     x: &mut [f64],
     stride: usize,
@@ -223,37 +242,42 @@ pub(super) fn precondition3_f32(
     #[cfg(target_arch = "x86_64")]
     if avx::available() {
         // SAFETY: the CPU has AVX.
-        return unsafe { precondition3_f32_avx(l32, lt32, m, x, stride, off, w) };
+        return unsafe { precondition3_f32_avx(l32, lt32, dinv, m, x, stride, off, w) };
     }
-    precondition3_f32_o::<O4>(l32, lt32, m, x, stride, off, w);
+    precondition3_f32_o::<O4>(l32, lt32, dinv, m, x, stride, off, w);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
+#[allow(clippy::too_many_arguments)]
 unsafe fn precondition3_f32_avx(
     l32: &[f32],
     lt32: &[f32],
+    dinv: &[f32],
     m: usize,
     x: &mut [f64],
     stride: usize,
     off: usize,
     w: &mut [f32],
 ) {
-    precondition3_f32_o::<Avx32>(l32, lt32, m, x, stride, off, w);
+    precondition3_f32_o::<Avx32>(l32, lt32, dinv, m, x, stride, off, w);
 }
 
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn precondition3_f32_o<O: Oct>(
     l32: &[f32],
     lt32: &[f32],
+    dinv: &[f32],
     m: usize,
     x: &mut [f64],
     stride: usize,
     off: usize,
     w: &mut [f32],
 ) {
-    let (wx, rest) = w[..3 * m].split_at_mut(m);
-    let (wy, wz) = rest.split_at_mut(m);
+    let s = f32_stride(m);
+    let (wx, rest) = w[..3 * s].split_at_mut(s);
+    let (wy, wz) = rest.split_at_mut(s);
     for (c, wc) in [&mut *wx, &mut *wy, &mut *wz].into_iter().enumerate() {
         for (a, b) in wc
             .iter_mut()
@@ -261,20 +285,23 @@ fn precondition3_f32_o<O: Oct>(
         {
             *a = *b as f32;
         }
+        wc[m..].fill(0.0);
     }
     for i in 0..m {
-        let row = &l32[i * m..i * m + i + 1];
-        let d = dot3_o::<O>(&row[..i], &wx[..i], &wy[..i], &wz[..i]);
-        wx[i] = (wx[i] - d[0]) / row[i];
-        wy[i] = (wy[i] - d[1]) / row[i];
-        wz[i] = (wz[i] - d[2]) / row[i];
+        let e = i.div_ceil(8) * 8;
+        let row = &l32[i * s..i * s + e];
+        let d = dot3_o::<O>(row, &wx[..e], &wy[..e], &wz[..e]);
+        wx[i] = (wx[i] - d[0]) * dinv[i];
+        wy[i] = (wy[i] - d[1]) * dinv[i];
+        wz[i] = (wz[i] - d[2]) * dinv[i];
     }
     for i in (0..m).rev() {
-        let row = &lt32[i * m + i..(i + 1) * m];
-        let d = dot3_o::<O>(&row[1..], &wx[i + 1..], &wy[i + 1..], &wz[i + 1..]);
-        wx[i] = (wx[i] - d[0]) / row[0];
-        wy[i] = (wy[i] - d[1]) / row[0];
-        wz[i] = (wz[i] - d[2]) / row[0];
+        let b = (i + 1) / 8 * 8;
+        let row = &lt32[i * s + b..(i + 1) * s];
+        let d = dot3_o::<O>(row, &wx[b..], &wy[b..], &wz[b..]);
+        wx[i] = (wx[i] - d[0]) * dinv[i];
+        wy[i] = (wy[i] - d[1]) * dinv[i];
+        wz[i] = (wz[i] - d[2]) * dinv[i];
     }
     for (c, wc) in [&*wx, &*wy, &*wz].into_iter().enumerate() {
         for (a, b) in x[c * stride + off..c * stride + off + m].iter_mut().zip(wc) {
@@ -373,17 +400,21 @@ mod tests {
             chol_solve3(&l, n, &mut x, stride, 2);
             chol_solve3_q::<Pair<portable::F2>>(&l, n, &mut x2, stride, 2);
             assert_eq!(bits(&x), bits(&x2), "n {n}: solve lanes");
-            let (mut l32, mut lt32) = (vec![0.0f32; n * n], vec![0.0f32; n * n]);
-            factor_to_f32(&l, &mut l32, &mut lt32, n);
-            let mut w = vec![0.0f32; 3 * n];
+            let s = f32_stride(n);
+            let (mut l32, mut lt32) = (vec![7.0f32; n * s], vec![7.0f32; n * s]);
+            let mut dinv = vec![0.0f32; n];
+            factor_to_f32(&l, &mut l32, &mut lt32, &mut dinv, n);
+            let mut w = vec![f32::NAN; 3 * s];
             let (mut x5, mut x6) = (x0.clone(), x0.clone());
-            precondition3_f32(&l32, &lt32, n, &mut x5, stride, 2, &mut w);
-            precondition3_f32_o::<Pair32<portable::F4>>(&l32, &lt32, n, &mut x6, stride, 2, &mut w);
+            precondition3_f32(&l32, &lt32, &dinv, n, &mut x5, stride, 2, &mut w);
+            precondition3_f32_o::<Pair32<portable::F4>>(
+                &l32, &lt32, &dinv, n, &mut x6, stride, 2, &mut w,
+            );
             assert_eq!(bits(&x5), bits(&x6), "n {n}: f32 preconditioner lanes");
             #[cfg(target_arch = "x86_64")]
             {
                 let mut x7 = x0.clone();
-                precondition3_f32_o::<O4>(&l32, &lt32, n, &mut x7, stride, 2, &mut w);
+                precondition3_f32_o::<O4>(&l32, &lt32, &dinv, n, &mut x7, stride, 2, &mut w);
                 assert_eq!(bits(&x5), bits(&x7), "n {n}: f32 preconditioner SSE");
             }
             // Single precision: within 1e-5 relative of the f64 solve (these matrices have

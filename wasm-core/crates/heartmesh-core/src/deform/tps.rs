@@ -50,7 +50,7 @@ use super::dense::{axpy, cholesky_in_place, dot, dot_q};
 use super::lanes::avx::{self, Avx, Avx32};
 use super::lanes::{portable, Oct, Pair32, Quad, O4, Q2};
 use super::pcg::{
-    apply_q, apply_qt, chol_solve3, factor_to_f32, mirror_lower, precondition3_f32,
+    apply_q, apply_qt, chol_solve3, f32_stride, factor_to_f32, mirror_lower, precondition3_f32,
     projected_matvec,
 };
 use crate::error::{CoreError, Result};
@@ -127,6 +127,7 @@ pub struct TpsSolver {
     /// preconditioner's two triangular solves; `pre_w` is its 3 x (N-4) scratch.
     chol32: Vec<f32>,
     chol_t32: Vec<f32>,
+    chol_dinv32: Vec<f32>,
     pre_w: Vec<f32>,
     chol_t_ok: bool,
     /// `cg.w_prev` holds the weights of the fit before last, at the same centres' indices.
@@ -270,9 +271,11 @@ impl TpsSolver {
         self.kmat.resize(n * n, 0.0);
         self.hv.resize(4 * n, 0.0);
         self.chol.resize(m * m, 0.0);
-        self.chol32.resize(m * m, 0.0);
-        self.chol_t32.resize(m * m, 0.0);
-        self.pre_w.resize(3 * m, 0.0);
+        let m32 = f32_stride(m);
+        self.chol32.resize(m * m32, 0.0);
+        self.chol_t32.resize(m * m32, 0.0);
+        self.chol_dinv32.resize(m, 0.0);
+        self.pre_w.resize(3 * m32, 0.0);
         self.rhs.resize(3 * n, 0.0);
         self.tmp.resize(4 * n, 0.0);
         self.cg.resize(n);
@@ -347,7 +350,13 @@ impl TpsSolver {
     fn solve_reusing(&mut self, tol: &[f64; 3]) -> Option<([[f64; 4]; 3], usize)> {
         let (n, m) = (self.n, self.n - 4);
         if !self.chol_t_ok {
-            factor_to_f32(&self.chol, &mut self.chol32, &mut self.chol_t32, m);
+            factor_to_f32(
+                &self.chol,
+                &mut self.chol32,
+                &mut self.chol_t32,
+                &mut self.chol_dinv32,
+                m,
+            );
             self.chol_t_ok = true;
         }
         let cg = &mut self.cg;
@@ -378,6 +387,7 @@ impl TpsSolver {
         precondition3_f32(
             &self.chol32,
             &self.chol_t32,
+            &self.chol_dinv32,
             m,
             &mut cg.z,
             n,
@@ -432,6 +442,7 @@ impl TpsSolver {
             precondition3_f32(
                 &self.chol32,
                 &self.chol_t32,
+                &self.chol_dinv32,
                 m,
                 &mut cg.z,
                 n,
