@@ -229,6 +229,7 @@ pub(super) fn factor_to_f32(
 /// factor is a step old), so its own rounding at 1e-7 relative is far below that approximation
 /// error, and each pass over a triangle moves half the bytes in twice the lanes. The residuals,
 /// the products and the solution stay f64, so the converged answer keeps its tolerance.
+#[allow(clippy::too_many_arguments)] // the factor's three arrays and the rows' layout
 pub(super) fn precondition3_f32(
     l32: &[f32],
     lt32: &[f32],
