@@ -400,6 +400,7 @@ impl TpsSolver {
             dot(&cg.r[row.clone()], &cg.z[row])
         });
         let mut active = [true; 3];
+        let mut alphas = [0.0; 3];
         let mut iterations = 0;
         loop {
             for c in 0..3 {
@@ -432,6 +433,7 @@ impl TpsSolver {
                     return None;
                 }
                 let alpha = rz[c] / pq;
+                alphas[c] = alpha;
                 axpy(alpha, &p[4..], &mut cg.g[c * n + 4..(c + 1) * n]);
                 axpy(-alpha, &y[4..], &mut cg.r[c * n + 4..(c + 1) * n]);
                 for k in 0..4 {
@@ -452,7 +454,9 @@ impl TpsSolver {
             for c in (0..3).filter(|&c| active[c]) {
                 let row = c * n + 4..(c + 1) * n;
                 let rz_new = dot(&cg.r[row.clone()], &cg.z[row.clone()]);
-                let beta = rz_new / rz[c];
+                // Polak-Ribiere: z_new . (r_new - r_old) / rz_old, r_new - r_old = -alpha y.
+                let zy = dot(&cg.y[row.clone()], &cg.z[row.clone()]);
+                let beta = -alphas[c] * zy / rz[c];
                 rz[c] = rz_new;
                 for (p, z) in cg.p[row.clone()].iter_mut().zip(&cg.z[row]) {
                     *p = z + beta * *p;
