@@ -25,10 +25,14 @@
 //! gradients preconditioned with the last factor (`pcg.rs`), warm-started from the last two
 //! solutions; it factorises afresh when the attractors were re-sampled
 //! ([`TpsSolver::invalidate_factor`]), when a reuse did not converge in `CG_MAX_ITERATIONS`, or
-//! after one needed more than `REFACTOR_AFTER`. Measured on whole default runs (session 5): the
-//! SurFCo example factorises 11 of 236 fits (3.6 iterations per reused fit), biv-me patient 1 ED
-//! RV endocardium 46 of 250 (5.7); solve phase 131 -> 85-95 ms native, 1.35x on the RV; vertices
-//! move by at most 1.6e-8 mm per step against factorising every step (`pipeline::reuse`).
+//! after one needed more than `REFACTOR_AFTER`. Measured on whole default runs (session 5, with
+//! `CG_RTOL` 1e-9 and the f32 preconditioner): the SurFCo example factorises 11 of 236 fits
+//! (3.07 iterations per reused fit), biv-me patient 1 ED RV endocardium 37 of 250 (5.45, 10
+//! reuses abandoned); vertices move by at most 1.4e-7 mm per step against factorising every step
+//! (`pipeline::reuse`). The preconditioner applies the kept factor in single precision (`pcg.rs`:
+//! half the bytes per pass, 147 M -> 88 M instructions on SurFCo, the same iteration counts
+//! as the f64 one); the CG uses the Polak-Ribiere beta, which tolerates its rounding (RV: 9 -> 8
+//! abandoned reuses), while residuals, products and solution stay f64.
 //!
 //! The affine part is fitted in a basis centred on the mean of the centres (1, x - c): the same
 //! function F, but R no longer mixes the constant column with large coordinates, which keeps the
@@ -881,16 +885,19 @@ impl TpsSolver {
     }
 }
 
-/// Relative residual at which a reused-factor solve stops (see `fit_weighted`).
 /// Residual, relative to each coordinate's target norm |b_c|, at which a reused-factor solve
-/// stops. Why this value: with the affine part fitted exactly to g, the spline's values at the
-/// centres differ from the exact solution's by e - D Z B^-1 r, where |e| = |r| and the
-/// eigenvalues of B are at least those of D >= 1 / lambda_eff, so by at most 2 |r|. Targets in the
-/// pipeline's normalised units lie within a unit-diameter cloud, |b_c| <= 0.5 sqrt(N), so with
-/// N = 200 the values move by at most 2e-10 * 7 = 1.4e-9 units, 1.4e-7 mm at a 100 mm heart: forty
-/// times below what the f32 evaluation already moves the vertices (`apply`, 5.5e-6 mm). Measured
-/// on whole runs (`pipeline::reuse`): at most 3e-8 mm per step against factorising every step.
-const CG_RTOL: f64 = 1e-10;
+/// stops (see `fit_weighted`). Why this value: with the affine part fitted exactly to g, the
+/// spline's values at the centres differ from the exact solution's by e - D Z B^-1 r, where
+/// |e| = |r| and the eigenvalues of B are at least those of D >= 1 / lambda_eff, so by at most
+/// 2 |r|. Targets in the pipeline's normalised units lie within a unit-diameter cloud,
+/// |b_c| <= 0.5 sqrt(N), so with N = 200 the values move by at most 2e-9 * 7 = 1.4e-8 units,
+/// 1.4e-6 mm at a 100 mm heart: below what the f32 evaluation already moves the vertices
+/// (`apply`, 5.5e-6 mm). Measured on whole runs (`pipeline::reuse`, session 5): at most
+/// 1.4e-7 mm per step against factorising every step (1.6e-8 mm at 1e-10), and the accuracy and
+/// real-case figures (`tests/accuracy.rs`, `tests/real_cases.rs`) identical to 3 decimals (mm,
+/// ml) to those at 1e-10; it saves 0.5 iterations per reused fit on SurFCo (3.56 -> 3.07) and
+/// 9 of 46 factorisations on the biv-me patient 1 ED RV endocardium.
+const CG_RTOL: f64 = 1e-9;
 /// Iterations after which a reuse is abandoned for this fit (then it factorises): a pass costs
 /// about a seventh of a projection and factorisation at N = 200, so eight passes that failed
 /// cost about what they could have saved.
