@@ -16,8 +16,8 @@
 
 use super::dense::{axpy, dot3_q, dot_q};
 #[cfg(target_arch = "x86_64")]
-use super::lanes::avx::{self, Avx};
-use super::lanes::{Quad, Q2};
+use super::lanes::avx::{self, Avx, Avx32};
+use super::lanes::{Oct, Quad, O4, Q2};
 
 /// x <- Q x = H_0 H_1 H_2 H_3 x for one N-vector (`hv`: 4 x N reflectors, row k zero before k).
 pub(super) fn apply_q(hv: &[f64], hbeta: &[f64; 4], n: usize, x: &mut [f64]) {
@@ -192,86 +192,158 @@ fn chol_solve3_q<Q: Quad>(chol: &[f64], m: usize, x: &mut [f64], stride: usize, 
     }
 }
 
-/// Writes the transpose of the lower triangle of `l` (m x m row-major) into the upper triangle
-/// of `lt`, so that the backward solve of [`precondition3`] reads rows.
-pub(super) fn transpose_lower(l: &[f64], lt: &mut [f64], m: usize) {
+/// Row stride of the f32 factor copies: m rounded up to whole eight-lane blocks.
+pub(super) fn f32_stride(m: usize) -> usize {
+    m.div_ceil(8) * 8
+}
+
+/// Rounds the factor L (lower triangle of an m x m row-major f64 matrix) to single precision
+/// for [`precondition3_f32`]: the strict lower triangle of L into `l32` and of L^T (its strict
+/// upper triangle) into `lt32`, rows of [`f32_stride`] with zeros everywhere else, and the
+/// reciprocals of the diagonal into `dinv`. The zeros let every dot product of the two solves
+/// run over whole aligned eight-lane blocks, with no scalar tail: the extra products are exact
+/// zeros (the unknowns are finite), so they do not change the sums.
+pub(super) fn factor_to_f32(
+    l: &[f64],
+    l32: &mut [f32],
+    lt32: &mut [f32],
+    dinv: &mut [f32],
+    m: usize,
+) {
+    let s = f32_stride(m);
+    l32.fill(0.0);
+    lt32.fill(0.0);
     for (i, row) in l.chunks_exact(m).take(m).enumerate() {
-        for (j, v) in row[..=i].iter().enumerate() {
-            lt[j * m + i] = *v;
+        for (j, v) in row[..i].iter().enumerate() {
+            let v = *v as f32;
+            l32[i * s + j] = v;
+            lt32[j * s + i] = v;
         }
+        dinv[i] = 1.0 / row[i] as f32;
     }
 }
 
-/// z <- (L L^T)^-1 z for three m-vectors (layout of [`chol_solve3`]), with `lt` holding L^T
-/// (from [`transpose_lower`]): both triangular solves in dot-product form, one pass over each
-/// triangle, which is a third faster than the axpy form of the backward solve. (Not the bits of
-/// `chol_solve3`; a preconditioner only has to be the same operator every time.)
-pub(super) fn precondition3(
-    l: &[f64],
-    lt: &[f64],
+/// z <- (L L^T)^-1 z in single precision for three m-vectors (layout of [`chol_solve3`]), with
+/// the f32 factor of [`factor_to_f32`]; `w` is 3 x [`f32_stride`] f32 scratch. Why f32: the
+/// preconditioner of the reused-factor solve only approximates the new system's inverse (the
+/// factor is a step old), so its own rounding at 1e-7 relative is far below that approximation
+/// error, and each pass over a triangle moves half the bytes in twice the lanes. The residuals,
+/// the products and the solution stay f64, so the converged answer keeps its tolerance.
+#[allow(clippy::too_many_arguments)] // the factor's three arrays and the rows' layout
+pub(super) fn precondition3_f32(
+    l32: &[f32],
+    lt32: &[f32],
+    dinv: &[f32],
     m: usize,
     x: &mut [f64],
     stride: usize,
     off: usize,
+    w: &mut [f32],
 ) {
     #[cfg(target_arch = "x86_64")]
     if avx::available() {
         // SAFETY: the CPU has AVX.
-        return unsafe { precondition3_avx(l, lt, m, x, stride, off) };
+        return unsafe { precondition3_f32_avx(l32, lt32, dinv, m, x, stride, off, w) };
     }
-    precondition3_q::<Q2>(l, lt, m, x, stride, off);
+    precondition3_f32_o::<O4>(l32, lt32, dinv, m, x, stride, off, w);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-unsafe fn precondition3_avx(
-    l: &[f64],
-    lt: &[f64],
+#[allow(clippy::too_many_arguments)]
+unsafe fn precondition3_f32_avx(
+    l32: &[f32],
+    lt32: &[f32],
+    dinv: &[f32],
     m: usize,
     x: &mut [f64],
     stride: usize,
     off: usize,
+    w: &mut [f32],
 ) {
-    precondition3_q::<Avx>(l, lt, m, x, stride, off);
+    precondition3_f32_o::<Avx32>(l32, lt32, dinv, m, x, stride, off, w);
 }
 
 #[inline(always)]
-fn precondition3_q<Q: Quad>(
-    l: &[f64],
-    lt: &[f64],
+#[allow(clippy::too_many_arguments)]
+fn precondition3_f32_o<O: Oct>(
+    l32: &[f32],
+    lt32: &[f32],
+    dinv: &[f32],
     m: usize,
     x: &mut [f64],
     stride: usize,
     off: usize,
+    w: &mut [f32],
 ) {
-    let (bx, rest) = x.split_at_mut(stride);
-    let (by, bz) = rest.split_at_mut(stride);
-    let (yx, yy, yz) = (
-        &mut bx[off..off + m],
-        &mut by[off..off + m],
-        &mut bz[off..off + m],
-    );
+    let s = f32_stride(m);
+    let (wx, rest) = w[..3 * s].split_at_mut(s);
+    let (wy, wz) = rest.split_at_mut(s);
+    for (c, wc) in [&mut *wx, &mut *wy, &mut *wz].into_iter().enumerate() {
+        for (a, b) in wc
+            .iter_mut()
+            .zip(&x[c * stride + off..c * stride + off + m])
+        {
+            *a = *b as f32;
+        }
+        wc[m..].fill(0.0);
+    }
     for i in 0..m {
-        let row = &l[i * m..i * m + i + 1];
-        let d = dot3_q::<Q>(&row[..i], &yx[..i], &yy[..i], &yz[..i]);
-        yx[i] = (yx[i] - d[0]) / row[i];
-        yy[i] = (yy[i] - d[1]) / row[i];
-        yz[i] = (yz[i] - d[2]) / row[i];
+        let e = i.div_ceil(8) * 8;
+        let row = &l32[i * s..i * s + e];
+        let d = dot3_o::<O>(row, &wx[..e], &wy[..e], &wz[..e]);
+        wx[i] = (wx[i] - d[0]) * dinv[i];
+        wy[i] = (wy[i] - d[1]) * dinv[i];
+        wz[i] = (wz[i] - d[2]) * dinv[i];
     }
     for i in (0..m).rev() {
-        let row = &lt[i * m + i..(i + 1) * m];
-        let d = dot3_q::<Q>(&row[1..], &yx[i + 1..], &yy[i + 1..], &yz[i + 1..]);
-        yx[i] = (yx[i] - d[0]) / row[0];
-        yy[i] = (yy[i] - d[1]) / row[0];
-        yz[i] = (yz[i] - d[2]) / row[0];
+        let b = (i + 1) / 8 * 8;
+        let row = &lt32[i * s + b..(i + 1) * s];
+        let d = dot3_o::<O>(row, &wx[b..], &wy[b..], &wz[b..]);
+        wx[i] = (wx[i] - d[0]) * dinv[i];
+        wy[i] = (wy[i] - d[1]) * dinv[i];
+        wz[i] = (wz[i] - d[2]) * dinv[i];
     }
+    for (c, wc) in [&*wx, &*wy, &*wz].into_iter().enumerate() {
+        for (a, b) in x[c * stride + off..c * stride + off + m].iter_mut().zip(wc) {
+            *a = f64::from(*b);
+        }
+    }
+}
+
+/// Three single-precision dot products of `a` with `b0`, `b1`, `b2` sharing the loads of `a`:
+/// eight lanes each, then the fixed `Oct::sum` and a plain tail, the same order on every target.
+#[inline(always)]
+fn dot3_o<O: Oct>(a: &[f32], b0: &[f32], b1: &[f32], b2: &[f32]) -> [f32; 3] {
+    let n = a.len().min(b0.len()).min(b1.len()).min(b2.len());
+    let c = n / 8 * 8;
+    fn octs(s: &[f32], c: usize) -> &[[f32; 8]] {
+        s[..c].as_chunks::<8>().0
+    }
+    let mut acc = [O::zero(); 3];
+    for (x, ((y0, y1), y2)) in octs(a, c)
+        .iter()
+        .zip(octs(b0, c).iter().zip(octs(b1, c)).zip(octs(b2, c)))
+    {
+        let xl = O::load(x);
+        acc[0] = acc[0].add(xl.mul(O::load(y0)));
+        acc[1] = acc[1].add(xl.mul(O::load(y1)));
+        acc[2] = acc[2].add(xl.mul(O::load(y2)));
+    }
+    let mut s = [acc[0].sum(), acc[1].sum(), acc[2].sum()];
+    for (k, x) in a.iter().enumerate().take(n).skip(c) {
+        s[0] += x * b0[k];
+        s[1] += x * b1[k];
+        s[2] += x * b2[k];
+    }
+    s
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::deform::dense::cholesky_in_place;
-    use crate::deform::lanes::{portable, Pair};
+    use crate::deform::lanes::{portable, Pair, Pair32};
     use crate::spatial::testutil::SplitMix64;
 
     fn bits(v: &[f64]) -> Vec<u64> {
@@ -329,14 +401,32 @@ mod tests {
             chol_solve3(&l, n, &mut x, stride, 2);
             chol_solve3_q::<Pair<portable::F2>>(&l, n, &mut x2, stride, 2);
             assert_eq!(bits(&x), bits(&x2), "n {n}: solve lanes");
-            let mut lt = vec![0.0; n * n];
-            transpose_lower(&l, &mut lt, n);
-            let (mut x3, mut x4) = (x0.clone(), x0.clone());
-            precondition3(&l, &lt, n, &mut x3, stride, 2);
-            precondition3_q::<Pair<portable::F2>>(&l, &lt, n, &mut x4, stride, 2);
-            assert_eq!(bits(&x3), bits(&x4), "n {n}: preconditioner lanes");
-            for (a, b) in x3.iter().zip(&x) {
-                assert!((a - b).abs() < 1e-12, "n {n}: {a} vs {b}");
+            let s = f32_stride(n);
+            let (mut l32, mut lt32) = (vec![7.0f32; n * s], vec![7.0f32; n * s]);
+            let mut dinv = vec![0.0f32; n];
+            factor_to_f32(&l, &mut l32, &mut lt32, &mut dinv, n);
+            let mut w = vec![f32::NAN; 3 * s];
+            let (mut x5, mut x6) = (x0.clone(), x0.clone());
+            precondition3_f32(&l32, &lt32, &dinv, n, &mut x5, stride, 2, &mut w);
+            precondition3_f32_o::<Pair32<portable::F4>>(
+                &l32, &lt32, &dinv, n, &mut x6, stride, 2, &mut w,
+            );
+            assert_eq!(bits(&x5), bits(&x6), "n {n}: f32 preconditioner lanes");
+            #[cfg(target_arch = "x86_64")]
+            {
+                let mut x7 = x0.clone();
+                precondition3_f32_o::<O4>(&l32, &lt32, &dinv, n, &mut x7, stride, 2, &mut w);
+                assert_eq!(bits(&x5), bits(&x7), "n {n}: f32 preconditioner SSE");
+            }
+            // Single precision: within 1e-5 relative of the f64 solve (these matrices have
+            // condition numbers of a few), and untouched outside the unknowns.
+            let scale = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            for (k, (a, b)) in x5.iter().zip(&x).enumerate() {
+                if k % stride < 2 {
+                    assert_eq!(a.to_bits(), x0[k].to_bits());
+                } else {
+                    assert!((a - b).abs() < 1e-5 * scale, "n {n}: f32 {a} vs {b}");
+                }
             }
             for c in 0..3 {
                 for i in 0..n {

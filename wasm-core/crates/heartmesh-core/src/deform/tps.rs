@@ -25,10 +25,14 @@
 //! gradients preconditioned with the last factor (`pcg.rs`), warm-started from the last two
 //! solutions; it factorises afresh when the attractors were re-sampled
 //! ([`TpsSolver::invalidate_factor`]), when a reuse did not converge in `CG_MAX_ITERATIONS`, or
-//! after one needed more than `REFACTOR_AFTER`. Measured on whole default runs (session 5): the
-//! SurFCo example factorises 11 of 236 fits (3.6 iterations per reused fit), biv-me patient 1 ED
-//! RV endocardium 46 of 250 (5.7); solve phase 131 -> 85-95 ms native, 1.35x on the RV; vertices
-//! move by at most 1.6e-8 mm per step against factorising every step (`pipeline::reuse`).
+//! after one needed more than `REFACTOR_AFTER`. Measured on whole default runs (session 5, with
+//! `CG_RTOL` 1e-9 and the f32 preconditioner): the SurFCo example factorises 11 of 236 fits
+//! (3.07 iterations per reused fit), biv-me patient 1 ED RV endocardium 37 of 250 (5.45, 10
+//! reuses abandoned); vertices move by at most 1.4e-7 mm per step against factorising every step
+//! (`pipeline::reuse`). The preconditioner applies the kept factor in single precision (`pcg.rs`:
+//! half the bytes per pass, 147 M -> 88 M instructions on SurFCo, the same iteration counts
+//! as the f64 one); the CG uses the Polak-Ribiere beta, which tolerates its rounding (RV: 9 -> 8
+//! abandoned reuses), while residuals, products and solution stay f64.
 //!
 //! The affine part is fitted in a basis centred on the mean of the centres (1, x - c): the same
 //! function F, but R no longer mixes the constant column with large coordinates, which keeps the
@@ -50,7 +54,8 @@ use super::dense::{axpy, cholesky_in_place, dot, dot_q};
 use super::lanes::avx::{self, Avx, Avx32};
 use super::lanes::{portable, Oct, Pair32, Quad, O4, Q2};
 use super::pcg::{
-    apply_q, apply_qt, chol_solve3, mirror_lower, precondition3, projected_matvec, transpose_lower,
+    apply_q, apply_qt, chol_solve3, f32_stride, factor_to_f32, mirror_lower, precondition3_f32,
+    projected_matvec,
 };
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
@@ -122,8 +127,12 @@ pub struct TpsSolver {
     /// Iterations of the last reused fit (0 after a factorisation).
     last_iterations: usize,
     stats: SolveStats,
-    /// L^T of the factor in `chol` (upper triangle), for the preconditioner's backward solve.
-    chol_t: Vec<f64>,
+    /// The factor in `chol` rounded to f32: L (lower triangle) and L^T (upper triangle), the
+    /// preconditioner's two triangular solves; `pre_w` is its 3 x (N-4) scratch.
+    chol32: Vec<f32>,
+    chol_t32: Vec<f32>,
+    chol_dinv32: Vec<f32>,
+    pre_w: Vec<f32>,
     chol_t_ok: bool,
     /// `cg.w_prev` holds the weights of the fit before last, at the same centres' indices.
     w_prev_ok: bool,
@@ -266,7 +275,11 @@ impl TpsSolver {
         self.kmat.resize(n * n, 0.0);
         self.hv.resize(4 * n, 0.0);
         self.chol.resize(m * m, 0.0);
-        self.chol_t.resize(m * m, 0.0);
+        let m32 = f32_stride(m);
+        self.chol32.resize(m * m32, 0.0);
+        self.chol_t32.resize(m * m32, 0.0);
+        self.chol_dinv32.resize(m, 0.0);
+        self.pre_w.resize(3 * m32, 0.0);
         self.rhs.resize(3 * n, 0.0);
         self.tmp.resize(4 * n, 0.0);
         self.cg.resize(n);
@@ -341,7 +354,13 @@ impl TpsSolver {
     fn solve_reusing(&mut self, tol: &[f64; 3]) -> Option<([[f64; 4]; 3], usize)> {
         let (n, m) = (self.n, self.n - 4);
         if !self.chol_t_ok {
-            transpose_lower(&self.chol, &mut self.chol_t, m);
+            factor_to_f32(
+                &self.chol,
+                &mut self.chol32,
+                &mut self.chol_t32,
+                &mut self.chol_dinv32,
+                m,
+            );
             self.chol_t_ok = true;
         }
         let cg = &mut self.cg;
@@ -369,13 +388,23 @@ impl TpsSolver {
             tc.copy_from_slice(&y[..4]);
         }
         cg.z.copy_from_slice(&cg.r);
-        precondition3(&self.chol, &self.chol_t, m, &mut cg.z, n, 4);
+        precondition3_f32(
+            &self.chol32,
+            &self.chol_t32,
+            &self.chol_dinv32,
+            m,
+            &mut cg.z,
+            n,
+            4,
+            &mut self.pre_w,
+        );
         cg.p.copy_from_slice(&cg.z);
         let mut rz = [0, 1, 2].map(|c| {
             let row = c * n + 4..(c + 1) * n;
             dot(&cg.r[row.clone()], &cg.z[row])
         });
         let mut active = [true; 3];
+        let mut alphas = [0.0; 3];
         let mut iterations = 0;
         loop {
             for c in 0..3 {
@@ -408,6 +437,7 @@ impl TpsSolver {
                     return None;
                 }
                 let alpha = rz[c] / pq;
+                alphas[c] = alpha;
                 axpy(alpha, &p[4..], &mut cg.g[c * n + 4..(c + 1) * n]);
                 axpy(-alpha, &y[4..], &mut cg.r[c * n + 4..(c + 1) * n]);
                 for k in 0..4 {
@@ -415,11 +445,22 @@ impl TpsSolver {
                 }
             }
             cg.z.copy_from_slice(&cg.r);
-            precondition3(&self.chol, &self.chol_t, m, &mut cg.z, n, 4);
+            precondition3_f32(
+                &self.chol32,
+                &self.chol_t32,
+                &self.chol_dinv32,
+                m,
+                &mut cg.z,
+                n,
+                4,
+                &mut self.pre_w,
+            );
             for c in (0..3).filter(|&c| active[c]) {
                 let row = c * n + 4..(c + 1) * n;
                 let rz_new = dot(&cg.r[row.clone()], &cg.z[row.clone()]);
-                let beta = rz_new / rz[c];
+                // Polak-Ribiere: z_new . (r_new - r_old) / rz_old, r_new - r_old = -alpha y.
+                let zy = dot(&cg.y[row.clone()], &cg.z[row.clone()]);
+                let beta = -alphas[c] * zy / rz[c];
                 rz[c] = rz_new;
                 for (p, z) in cg.p[row.clone()].iter_mut().zip(&cg.z[row]) {
                     *p = z + beta * *p;
@@ -844,16 +885,19 @@ impl TpsSolver {
     }
 }
 
-/// Relative residual at which a reused-factor solve stops (see `fit_weighted`).
 /// Residual, relative to each coordinate's target norm |b_c|, at which a reused-factor solve
-/// stops. Why this value: with the affine part fitted exactly to g, the spline's values at the
-/// centres differ from the exact solution's by e - D Z B^-1 r, where |e| = |r| and the
-/// eigenvalues of B are at least those of D >= 1 / lambda_eff, so by at most 2 |r|. Targets in the
-/// pipeline's normalised units lie within a unit-diameter cloud, |b_c| <= 0.5 sqrt(N), so with
-/// N = 200 the values move by at most 2e-10 * 7 = 1.4e-9 units, 1.4e-7 mm at a 100 mm heart: forty
-/// times below what the f32 evaluation already moves the vertices (`apply`, 5.5e-6 mm). Measured
-/// on whole runs (`pipeline::reuse`): at most 3e-8 mm per step against factorising every step.
-const CG_RTOL: f64 = 1e-10;
+/// stops (see `fit_weighted`). Why this value: with the affine part fitted exactly to g, the
+/// spline's values at the centres differ from the exact solution's by e - D Z B^-1 r, where
+/// |e| = |r| and the eigenvalues of B are at least those of D >= 1 / lambda_eff, so by at most
+/// 2 |r|. Targets in the pipeline's normalised units lie within a unit-diameter cloud,
+/// |b_c| <= 0.5 sqrt(N), so with N = 200 the values move by at most 2e-9 * 7 = 1.4e-8 units,
+/// 1.4e-6 mm at a 100 mm heart: below what the f32 evaluation already moves the vertices
+/// (`apply`, 5.5e-6 mm). Measured on whole runs (`pipeline::reuse`, session 5): at most
+/// 1.4e-7 mm per step against factorising every step (1.6e-8 mm at 1e-10), and the accuracy and
+/// real-case figures (`tests/accuracy.rs`, `tests/real_cases.rs`) identical to 3 decimals (mm,
+/// ml) to those at 1e-10; it saves 0.5 iterations per reused fit on SurFCo (3.56 -> 3.07) and
+/// 9 of 46 factorisations on the biv-me patient 1 ED RV endocardium.
+const CG_RTOL: f64 = 1e-9;
 /// Iterations after which a reuse is abandoned for this fit (then it factorises): a pass costs
 /// about a seventh of a projection and factorisation at N = 200, so eight passes that failed
 /// cost about what they could have saved.
