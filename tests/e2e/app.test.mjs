@@ -146,7 +146,10 @@ describe('heartmesh in the browser', () => {
     };
     await page.keyboard.press('ArrowLeft');
     await page.keyboard.press('ArrowLeft');
-    const back = await until((it) => it < paused, 'arrow left steps back');
+    await until((it) => it < paused, 'arrow left steps back');
+    // Both presses must have landed before `back` is read (each label update waits for a frame).
+    await page.waitForTimeout(300);
+    const back = await iteration();
     await page.keyboard.press('ArrowRight');
     await until((it) => it > back, 'arrow right steps forward');
     const scrub = page.locator('[data-testid=tl-scrubber]');
