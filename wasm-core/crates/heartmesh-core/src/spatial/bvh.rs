@@ -14,6 +14,7 @@
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
+use crate::spatial::pair::PairBoxes;
 use crate::spatial::triangle::{
     closest_on_edges, closest_point_on_regular_triangle, is_degenerate,
 };
@@ -104,6 +105,9 @@ impl LeafTri {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Bvh {
     nodes: Vec<Node>,
+    /// The boxes of nodes 2k + 1 and 2k + 2 (the children of one inner node: children are
+    /// always appended in pairs after the root) at index k, for the two-lane box tests.
+    pairs: Vec<PairBoxes>,
     /// Triangle indices in leaf order.
     order: Vec<u32>,
     /// Corners of `order[k]` at index k.
@@ -220,6 +224,7 @@ impl Bvh {
         }
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(2 * order.len() / LEAF_SIZE + 1),
+            pairs: Vec::new(),
             order,
             tris: Vec::new(),
             slot: Vec::new(),
@@ -266,6 +271,10 @@ impl Bvh {
             bvh.nodes[ni].count = 0;
             todo.push((left + 1, depth + 1));
             todo.push((left, depth + 1));
+        }
+        bvh.pairs = vec![PairBoxes::default(); (bvh.nodes.len() - 1) / 2];
+        for (ni, node) in bvh.nodes.iter().enumerate().skip(1) {
+            bvh.pairs[(ni - 1) / 2].set(ni - 1, node.lo, node.hi);
         }
         bvh.tris = bvh
             .order
@@ -318,6 +327,9 @@ impl Bvh {
             }
             self.nodes[ni].lo = b.lo;
             self.nodes[ni].hi = b.hi;
+            if let Some(pair) = ni.checked_sub(1).and_then(|c| self.pairs.get_mut(c / 2)) {
+                pair.set(ni - 1, b.lo, b.hi);
+            }
         }
         Ok(())
     }
@@ -350,6 +362,7 @@ impl Bvh {
     /// first candidate: the traversal still visits every box that could hold a closer triangle or
     /// an equally close one with a lower index. A good hint (the answer of a nearby query, or of
     /// the same query before the mesh moved a little) prunes most boxes from the start.
+    #[inline(never)] // one call per query; kept out of line for profiles
     pub fn closest_point_near(&self, mesh: &TriMesh, q: Vec3, hint: u32) -> Option<ClosestHit> {
         let _ = mesh; // kept in the signature so callers pair each query with its mesh
         if self.nodes.is_empty() {
@@ -387,10 +400,11 @@ impl Bvh {
                 let node = &self.nodes[ni];
                 if node.count == 0 {
                     let l = node.start as usize;
-                    let (dl, dr) = (
-                        self.nodes[l].distance_sq(&qa),
-                        self.nodes[l + 1].distance_sq(&qa),
-                    );
+                    // Children come in pairs after the root, so l >= 1 and l - 1 is even.
+                    let Some(pair) = self.pairs.get(l.wrapping_sub(1) / 2) else {
+                        break; // cannot happen in a tree built by `build`
+                    };
+                    let [dl, dr] = pair.distance_sq(&qa);
                     let (near, dn, far, df) = if dr < dl {
                         (l + 1, dr, l, dl)
                     } else {

@@ -2,6 +2,7 @@
 //! deformation loop's attractor-to-mesh queries, and a nearest-segment tree over the contours.
 
 pub mod bvh;
+mod pair;
 pub mod segments;
 pub mod triangle;
 
