@@ -151,9 +151,18 @@ unsafe fn mirror_lower_avx(a: &mut [f64], n: usize) {
                 let t2 = _mm256_unpacklo_pd(r2, r3);
                 let t3 = _mm256_unpackhi_pd(r2, r3);
                 _mm256_storeu_pd(p.add(bj * n + bi), _mm256_permute2f128_pd(t0, t2, 0x20));
-                _mm256_storeu_pd(p.add((bj + 1) * n + bi), _mm256_permute2f128_pd(t1, t3, 0x20));
-                _mm256_storeu_pd(p.add((bj + 2) * n + bi), _mm256_permute2f128_pd(t0, t2, 0x31));
-                _mm256_storeu_pd(p.add((bj + 3) * n + bi), _mm256_permute2f128_pd(t1, t3, 0x31));
+                _mm256_storeu_pd(
+                    p.add((bj + 1) * n + bi),
+                    _mm256_permute2f128_pd(t1, t3, 0x20),
+                );
+                _mm256_storeu_pd(
+                    p.add((bj + 2) * n + bi),
+                    _mm256_permute2f128_pd(t0, t2, 0x31),
+                );
+                _mm256_storeu_pd(
+                    p.add((bj + 3) * n + bi),
+                    _mm256_permute2f128_pd(t1, t3, 0x31),
+                );
             }
         }
     }

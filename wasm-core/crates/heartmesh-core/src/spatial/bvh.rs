@@ -11,6 +11,8 @@
 //! a single reverse sweep. Queries visit the nearer child first, keep the farther one on a fixed
 //! stack array, and prune any subtree whose box is farther than the best hit so far.
 
+use std::mem::MaybeUninit;
+
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
@@ -246,15 +248,14 @@ impl Bvh {
             bvh.depth = bvh.depth.max(depth);
             let (start, count) = (bvh.nodes[ni].start as usize, bvh.nodes[ni].count as usize);
             let range = &mut bvh.order[start..start + count];
-            let (mut bounds, mut cb) = (Aabb::EMPTY, Aabb::EMPTY);
-            for &t in range.iter() {
-                bounds.merge(&boxes[t as usize]);
-                cb.grow(&centroids[t as usize]);
-            }
-            bvh.nodes[ni].lo = bounds.lo;
-            bvh.nodes[ni].hi = bounds.hi;
             if count <= LEAF_SIZE {
                 continue;
+            }
+            // The node's own box comes from the refit below (children before parents, O(n)),
+            // not from merging every triangle box at every level.
+            let mut cb = Aabb::EMPTY;
+            for &t in range.iter() {
+                cb.grow(&centroids[t as usize]);
             }
             let sah = depth <= SAH_DEPTH && count > SAH_MIN;
             let mid = split(range, &boxes, &centroids, &cb, sah);
@@ -274,17 +275,21 @@ impl Bvh {
         }
         bvh.pairs = vec![PairBoxes::default(); (bvh.nodes.len() - 1) / 2];
         for (ni, node) in bvh.nodes.iter().enumerate().skip(1) {
-            bvh.pairs[(ni - 1) / 2].set(ni - 1, node.lo, node.hi);
+            bvh.pairs[(ni - 1) / 2].range[(ni - 1) % 2] = pack(node.start, node.count);
         }
-        bvh.tris = bvh
-            .order
-            .iter()
-            .filter_map(|&t| corners(mesh, t as usize))
-            .map(LeafTri::new)
-            .collect();
+        let unset = LeafTri {
+            corners: [Vec3::zeros(); 3],
+            degenerate: true,
+        };
+        bvh.tris = vec![unset; bvh.order.len()];
         bvh.slot = vec![u32::MAX; n];
         for (k, &t) in bvh.order.iter().enumerate() {
             bvh.slot[t as usize] = k as u32;
+        }
+        // Boxes and corners. Cannot fail: `order` holds only triangles whose corners exist, and
+        // the triangle count is the mesh's.
+        if bvh.refit(mesh).is_err() {
+            return Bvh::default();
         }
         bvh
     }
@@ -374,8 +379,12 @@ impl Bvh {
             distance_sq: f64::INFINITY,
             triangle: u32::MAX,
         };
+        // The hint's triangle, once tested here, is skipped in its leaf: the same test would give
+        // the same (point, distance), which the tie rule (a strictly lower index) never prefers.
+        let mut tested = u32::MAX;
         if let Some(&k) = self.slot.get(hint as usize) {
             if let Some(lt) = self.tris.get(k as usize) {
+                tested = hint;
                 let p = lt.closest(&q);
                 let d = (q - p).norm_squared();
                 // A NaN distance is never a best (as in the leaf loop below).
@@ -391,36 +400,43 @@ impl Bvh {
         // A box is pruned only when it is farther than the best hit by more than rounding, so a
         // triangle whose computed distance ties the best is never missed.
         let bound = |best: f64| best * (1.0 + 1e-12);
-        let mut stack = [(0u32, 0.0f64); STACK];
+        let mut limit = bound(best.distance_sq);
+        // Left uninitialised: zeroing the whole stack cost as much as a sixth of a query, and
+        // only entries below `sp` (all written first) are ever read.
+        let mut stack = [const { MaybeUninit::<(u64, f64)>::uninit() }; STACK];
         let mut sp = 0usize;
-        let mut ni = 0usize;
-        let mut nd = self.nodes[0].distance_sq(&qa);
+        // The node being visited, as its (start, count) packed in a u64 (see `PairBoxes::range`).
+        let root = &self.nodes[0];
+        let mut range = pack(root.start, root.count);
+        let mut nd = root.distance_sq(&qa);
         loop {
-            if nd <= bound(best.distance_sq) {
-                let node = &self.nodes[ni];
-                if node.count == 0 {
-                    let l = node.start as usize;
-                    // Children come in pairs after the root, so l >= 1 and l - 1 is even.
-                    let Some(pair) = self.pairs.get(l.wrapping_sub(1) / 2) else {
+            if nd <= limit {
+                let (start, count) = unpack(range);
+                if count == 0 {
+                    // Children come in pairs after the root, so start >= 1 and start - 1 is even.
+                    let Some(pair) = self.pairs.get((start as usize).wrapping_sub(1) / 2) else {
                         break; // cannot happen in a tree built by `build`
                     };
                     let [dl, dr] = pair.distance_sq(&qa);
                     let (near, dn, far, df) = if dr < dl {
-                        (l + 1, dr, l, dl)
+                        (pair.range[1], dr, pair.range[0], dl)
                     } else {
-                        (l, dl, l + 1, dr)
+                        (pair.range[0], dl, pair.range[1], dr)
                     };
-                    if df <= bound(best.distance_sq) && sp < STACK {
-                        stack[sp] = (far as u32, df);
+                    if df <= limit && sp < STACK {
+                        stack[sp].write((far, df));
                         sp += 1;
                     }
-                    ni = near;
+                    range = near;
                     nd = dn;
                     continue;
                 }
-                let s = node.start as usize;
-                let e = s + node.count as usize;
+                let s = start as usize;
+                let e = s + count as usize;
                 for (&t, lt) in self.order[s..e].iter().zip(&self.tris[s..e]) {
+                    if t == tested {
+                        continue;
+                    }
                     let p = lt.closest(&q);
                     let d = (q - p).norm_squared();
                     if d < best.distance_sq || (d == best.distance_sq && t < best.triangle) {
@@ -429,6 +445,7 @@ impl Bvh {
                             distance_sq: d,
                             triangle: t,
                         };
+                        limit = bound(d);
                     }
                 }
             }
@@ -436,7 +453,9 @@ impl Bvh {
                 break;
             }
             sp -= 1;
-            (ni, nd) = (stack[sp].0 as usize, stack[sp].1);
+            // SAFETY: every entry below the old `sp` was written by the push above before `sp`
+            // passed it.
+            (range, nd) = unsafe { stack[sp].assume_init() };
         }
         (best.triangle != u32::MAX).then_some(best)
     }
@@ -538,10 +557,31 @@ fn split(range: &mut [u32], boxes: &[Aabb], centroids: &[[f64; 3]], cb: &Aabb, s
     mid
 }
 
+/// A node's (start, count) in one word, as the traversal carries it.
+#[inline(always)]
+fn pack(start: u32, count: u32) -> u64 {
+    u64::from(start) | (u64::from(count) << 32)
+}
+
+#[inline(always)]
+fn unpack(range: u64) -> (u32, u32) {
+    (range as u32, (range >> 32) as u32)
+}
+
 #[inline]
 fn bin_of(c: f64, lo: f64, scale: f64) -> usize {
-    // `as usize` saturates (NaN -> 0), and min keeps the maximum centroid in the last bin.
-    (((c - lo) * scale) as usize).min(BINS - 1)
+    // Clamped to [0, BINS - 1] in floating point first (NaN -> 0; the maximum centroid goes to
+    // the last bin), so the conversion is a plain truncation: the saturating `as` conversion
+    // needed two conversions and five fix-ups per axis in the binning loop.
+    let x = (c - lo) * scale;
+    let x = if x > 0.0 { x } else { 0.0 };
+    let x = if x < (BINS - 1) as f64 {
+        x
+    } else {
+        (BINS - 1) as f64
+    };
+    // SAFETY: x is finite and in [0, BINS - 1], so its truncation fits in a u32.
+    (unsafe { x.to_int_unchecked::<u32>() }) as usize
 }
 
 /// Stable-enough in-place partition (order inside each side is deterministic); returns the number

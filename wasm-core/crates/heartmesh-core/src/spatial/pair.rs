@@ -14,6 +14,9 @@
 pub(super) struct PairBoxes {
     pub lo: [[f64; 2]; 3],
     pub hi: [[f64; 2]; 3],
+    /// Each child's (start, count) packed as `start | count << 32`, so the traversal never
+    /// reads the node array below the root.
+    pub range: [u64; 2],
 }
 
 impl PairBoxes {
@@ -133,6 +136,7 @@ mod tests {
         let b = PairBoxes {
             lo: [[0.0, -3.0], [1.0, 2.0], [-1.0, 5.0]],
             hi: [[2.0, -1.0], [4.0, 2.5], [1.0, 9.0]],
+            range: [0; 2],
         };
         let queries = [
             [1.0, 2.0, 0.0],   // inside the first box
