@@ -121,6 +121,16 @@ pub struct Bvh {
     depth: usize,
 }
 
+/// Whether this CPU runs AVX code (cached by std after the first call). The build and the queries
+/// are then compiled with the three-operand VEX encoding, which drops most of the register copies
+/// that made up a fifth of their SSE2 instructions; the arithmetic (IEEE adds, muls, min/max, no
+/// fused multiply-add) and so every result is the same. (The refit came out 4% longer: left as is.)
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn avx_available() -> bool {
+    std::arch::is_x86_feature_detected!("avx")
+}
+
 /// Corners of triangle `t`, or None if it refers to a missing vertex.
 #[inline(always)]
 fn corners(mesh: &TriMesh, t: usize) -> Option<[Vec3; 3]> {
@@ -208,6 +218,22 @@ impl Bvh {
     /// Builds the tree with a binned SAH. Triangles that refer to missing vertices are left out
     /// (they have no geometry to be close to); an empty mesh gives an empty tree.
     pub fn build(mesh: &TriMesh) -> Bvh {
+        #[cfg(target_arch = "x86_64")]
+        if avx_available() {
+            // SAFETY: the CPU has AVX.
+            return unsafe { Bvh::build_avx(mesh) };
+        }
+        Bvh::build_body(mesh)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn build_avx(mesh: &TriMesh) -> Bvh {
+        Bvh::build_body(mesh)
+    }
+
+    #[inline(always)]
+    fn build_body(mesh: &TriMesh) -> Bvh {
         let n = mesh.triangles.len();
         let mut boxes = Vec::with_capacity(n);
         let mut centroids = Vec::with_capacity(n);
@@ -370,6 +396,22 @@ impl Bvh {
     #[inline(never)] // one call per query; kept out of line for profiles
     pub fn closest_point_near(&self, mesh: &TriMesh, q: Vec3, hint: u32) -> Option<ClosestHit> {
         let _ = mesh; // kept in the signature so callers pair each query with its mesh
+        #[cfg(target_arch = "x86_64")]
+        if avx_available() {
+            // SAFETY: the CPU has AVX.
+            return unsafe { self.closest_avx(q, hint) };
+        }
+        self.closest_body(q, hint)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn closest_avx(&self, q: Vec3, hint: u32) -> Option<ClosestHit> {
+        self.closest_body(q, hint)
+    }
+
+    #[inline(always)]
+    fn closest_body(&self, q: Vec3, hint: u32) -> Option<ClosestHit> {
         if self.nodes.is_empty() {
             return None;
         }
@@ -491,6 +533,7 @@ impl Bvh {
 /// Reorders `range` (whose centroids span `cb`) into two non-empty halves and returns the size of
 /// the first: the cheapest binned-SAH split over the three axes, or (when `sah` is false, or every centroid coincides on
 /// the chosen axis) a split by count at the median along the widest centroid axis.
+#[inline(always)] // once per node; inlined so the binning loop gets the caller's AVX encoding
 fn split(range: &mut [u32], boxes: &[Aabb], centroids: &[[f64; 3]], cb: &Aabb, sah: bool) -> usize {
     let ext = [
         cb.hi[0] - cb.lo[0],
