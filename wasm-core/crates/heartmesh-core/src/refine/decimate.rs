@@ -201,12 +201,32 @@ impl Decimator {
     /// Cost and target point of collapsing (a, b): the quadric error plus the edge-length
     /// penalty.
     fn evaluate(&self, a: u32, b: u32) -> (f64, Vec3) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the CPU has AVX.
+            return unsafe { self.evaluate_avx(a, b) };
+        }
+        self.evaluate_body(a, b)
+    }
+
+    /// [`Decimator::evaluate`] compiled with the three-operand VEX encoding: a quarter of its
+    /// SSE2 instructions were register copies. Same IEEE operations (no fused multiply-add), so
+    /// the same costs and points.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn evaluate_avx(&self, a: u32, b: u32) -> (f64, Vec3) {
+        self.evaluate_body(a, b)
+    }
+
+    #[inline(always)]
+    fn evaluate_body(&self, a: u32, b: u32) -> (f64, Vec3) {
         let (pa, pb) = (self.positions[a as usize], self.positions[b as usize]);
         let (error, p) = self.quadric_cost(a, b);
         (error + self.length_weight * (pb - pa).norm_squared(), p)
     }
 
     /// Quadric error and target point of collapsing (a, b).
+    #[inline(always)]
     fn quadric_cost(&self, a: u32, b: u32) -> (f64, Vec3) {
         let q = self.quadrics[a as usize].sum(&self.quadrics[b as usize]);
         let (pa, pb) = (self.positions[a as usize], self.positions[b as usize]);

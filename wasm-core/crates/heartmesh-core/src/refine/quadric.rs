@@ -29,18 +29,21 @@ impl Quadric {
         )
     }
 
+    #[inline(always)]
     pub fn add(&mut self, o: &Quadric) {
         for (x, y) in self.0.iter_mut().zip(&o.0) {
             *x += y;
         }
     }
 
+    #[inline(always)]
     pub fn sum(&self, o: &Quadric) -> Quadric {
         let mut s = *self;
         s.add(o);
         s
     }
 
+    #[inline(always)]
     pub fn error(&self, p: Vec3) -> f64 {
         let [a2, ab, ac, ad, b2, bc, bd, c2, cd, d2] = self.0;
         let (x, y, z) = (p.x, p.y, p.z);
@@ -53,6 +56,7 @@ impl Quadric {
 
     /// The point of least error, or None when the 3x3 part is (nearly) singular: flat or
     /// cylindrical neighbourhoods, where the minimum is a plane or a line.
+    #[inline(always)]
     pub fn optimum(&self) -> Option<Vec3> {
         let [a2, ab, ac, ad, b2, bc, bd, c2, cd, _] = self.0;
         let c00 = b2 * c2 - bc * bc;

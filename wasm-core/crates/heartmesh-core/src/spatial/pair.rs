@@ -50,8 +50,8 @@ mod imp {
         unsafe {
             let zero = _mm_setzero_pd();
             let mut d = zero;
-            for k in 0..3 {
-                let qk = _mm_set1_pd(q[k]);
+            for (k, &qk) in q.iter().enumerate() {
+                let qk = _mm_set1_pd(qk);
                 let lo = _mm_loadu_pd(b.lo[k].as_ptr());
                 let hi = _mm_loadu_pd(b.hi[k].as_ptr());
                 // maxpd returns its second operand when either is NaN: a NaN query gives 0.
@@ -74,8 +74,8 @@ mod imp {
     pub fn distance_sq(b: &PairBoxes, q: &[f64; 3]) -> [f64; 2] {
         let zero = f64x2_splat(0.0);
         let mut d = zero;
-        for k in 0..3 {
-            let qk = f64x2_splat(q[k]);
+        for (k, &qk) in q.iter().enumerate() {
+            let qk = f64x2_splat(qk);
             let lo = f64x2(b.lo[k][0], b.lo[k][1]);
             let hi = f64x2(b.hi[k][0], b.hi[k][1]);
             let g = f64x2_pmax(f64x2_sub(lo, qk), f64x2_sub(qk, hi));
@@ -97,14 +97,14 @@ mod imp {
     #[inline(always)]
     pub fn distance_sq(b: &PairBoxes, q: &[f64; 3]) -> [f64; 2] {
         let mut d = [0.0; 2];
-        for k in 0..3 {
-            for c in 0..2 {
-                let g = b.lo[k][c] - q[k];
-                let h = q[k] - b.hi[k][c];
+        for (k, &qk) in q.iter().enumerate() {
+            for (c, dc) in d.iter_mut().enumerate() {
+                let g = b.lo[k][c] - qk;
+                let h = qk - b.hi[k][c];
                 let g = if h > g { h } else { g };
                 // `0 < g` is false for NaN: a NaN query gives 0, as on x86.
                 let e = if 0.0 < g { g } else { 0.0 };
-                d[c] += e * e;
+                *dc += e * e;
             }
         }
         d
@@ -147,10 +147,10 @@ mod tests {
         ];
         for q in queries {
             let got = b.distance_sq(&q);
-            for c in 0..2 {
+            for (c, g) in got.iter().enumerate() {
                 let lo = [b.lo[0][c], b.lo[1][c], b.lo[2][c]];
                 let hi = [b.hi[0][c], b.hi[1][c], b.hi[2][c]];
-                assert_eq!(got[c].to_bits(), branchy(lo, hi, &q).to_bits(), "{q:?} {c}");
+                assert_eq!(g.to_bits(), branchy(lo, hi, &q).to_bits(), "{q:?} {c}");
             }
         }
         assert_eq!(b.distance_sq(&[1.0, 2.0, 0.0])[0], 0.0);
