@@ -19,7 +19,6 @@
 //! boundary vertices where several loops touch stay fixed.
 
 use super::chebyshev;
-#[cfg(target_arch = "x86_64")]
 use crate::deform::lanes::{run_rows, Quad, RowKernel};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
