@@ -261,6 +261,72 @@ fn run() -> Res<()> {
             .map(|q| (p - q).norm())
             .fold(f64::INFINITY, f64::min)
     };
+    if let Ok(file) = std::env::var("PROBE_SECTION") {
+        // SVG of the long-axis section through the worst truth point: truth black, mesh red,
+        // contour points within 1 mm of the plane blue (SAX) and green (LAX), the point orange.
+        use heartmesh_core::sim::slice::Plane;
+        let w = r.truth_to_mesh.max_at;
+        let w = Vec3::new(w[0], w[1], w[2]);
+        let (c, z) = (acq.axis.centre, acq.axis.direction);
+        let radial = {
+            let v = w - c;
+            (v - z * z.dot(&v)).normalize()
+        };
+        let plane = Plane {
+            origin: c,
+            normal: z.cross(&radial).normalize(),
+        };
+        let uv = |p: &Vec3| ((p - c).dot(&radial), -(acq.axis.height(p) - lo));
+        let mut svg = String::new();
+        let mut all = Vec::new();
+        for (m, colour) in [(&t, "black"), (&mesh, "red")] {
+            for piece in slice_mesh(m, &plane) {
+                let pts: Vec<(f64, f64)> = piece.points.iter().map(&uv).collect();
+                all.extend(pts.iter().copied());
+                let d: Vec<String> = pts.iter().map(|(x, y)| format!("{x:.2},{y:.2}")).collect();
+                svg += &format!(
+                    "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"0.3\"/>\n",
+                    d.join(" ")
+                );
+            }
+        }
+        for ct in &acq.contours.contours {
+            let colour = if ct.id.starts_with("lax") { "green" } else { "blue" };
+            for p in ct.points().filter(|p| plane.signed_distance(p).abs() < 1.0) {
+                let (x, y) = uv(p);
+                svg += &format!("<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"0.4\" fill=\"{colour}\"/>\n");
+            }
+        }
+        let (x, y) = uv(&w);
+        svg += &format!(
+            "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"1.5\" fill=\"none\" stroke=\"orange\" stroke-width=\"0.4\"/>\n"
+        );
+        let (x0, x1, y0, y1) = all.iter().fold(
+            (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY),
+            |(a, b, c, d), (x, y)| (a.min(*x), b.max(*x), c.min(*y), d.max(*y)),
+        );
+        let (wd, ht) = (x1 - x0 + 20.0, y1 - y0 + 20.0);
+        let doc = format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"{:.0}\" viewBox=\"{:.1} {:.1} {wd:.1} {ht:.1}\">\n\
+             <rect x=\"{:.1}\" y=\"{:.1}\" width=\"{wd:.1}\" height=\"{ht:.1}\" fill=\"white\"/>\n{svg}\
+             <text x=\"{:.1}\" y=\"{:.1}\" font-size=\"{:.2}\">{case}, worst truth point {:.2} mm: truth black, mesh red, SAX blue, LAX green; bar 10 mm</text>\n\
+             <line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"black\" stroke-width=\"0.6\"/>\n</svg>\n",
+            800.0 * ht / wd,
+            x0 - 10.0,
+            y0 - 10.0,
+            x0 - 10.0,
+            y0 - 10.0,
+            x0 - 8.0,
+            y0 - 6.0,
+            wd / 40.0,
+            r.truth_to_mesh.max,
+            x0 - 8.0,
+            y1 + 6.0,
+            x0 + 2.0,
+            y1 + 6.0,
+        );
+        std::fs::write(&file, doc)?;
+    }
     if std::env::var("PROBE_SIGNED").is_ok() {
         // Truth->mesh signed error (+: truth outside the mesh, i.e. the mesh sags inwards) binned by
         // the truth point's distance to the nearest contour point.
