@@ -291,10 +291,15 @@ fn run() -> Res<()> {
             }
         }
         for ct in &acq.contours.contours {
-            let colour = if ct.id.starts_with("lax") { "green" } else { "blue" };
+            let colour = if ct.id.starts_with("lax") {
+                "green"
+            } else {
+                "blue"
+            };
             for p in ct.points().filter(|p| plane.signed_distance(p).abs() < 1.0) {
                 let (x, y) = uv(p);
-                svg += &format!("<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"0.4\" fill=\"{colour}\"/>\n");
+                svg +=
+                    &format!("<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"0.4\" fill=\"{colour}\"/>\n");
             }
         }
         let (x, y) = uv(&w);
@@ -302,7 +307,12 @@ fn run() -> Res<()> {
             "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"1.5\" fill=\"none\" stroke=\"orange\" stroke-width=\"0.4\"/>\n"
         );
         let (x0, x1, y0, y1) = all.iter().fold(
-            (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY),
+            (
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            ),
             |(a, b, c, d), (x, y)| (a.min(*x), b.max(*x), c.min(*y), d.max(*y)),
         );
         let (wd, ht) = (x1 - x0 + 20.0, y1 - y0 + 20.0);
