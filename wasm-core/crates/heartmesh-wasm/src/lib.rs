@@ -116,7 +116,8 @@ impl Session {
     }
 
     /// Starts a reconstruction of a loaded file, replacing any run in progress. `params_json` is
-    /// an object of schema names to numbers (missing ones take their defaults); `lids` is "auto"
+    /// an object of schema names to numbers (missing ones take their defaults), which may also
+    /// carry `smoothing_method` and `soften_conflicts` (see `convert`); `lids` is "auto"
     /// or "none"; `surface` picks one surface of a multi-surface file.
     pub fn start(
         &mut self,
@@ -206,7 +207,7 @@ impl Session {
     }
 
     /// JSON of the small part of the protocol's `RunResult`: surface, contours, perContour,
-    /// overall, volumeMl, areaMm2, watertight, params, lids, version.
+    /// overall, volumeMl, areaMm2, watertight, params, lids, options, version.
     pub fn result_json(&self) -> Result<String, JsValue> {
         let run = self.run_ref()?;
         let rec = &run.rec;
@@ -227,6 +228,7 @@ impl Session {
             "watertight": topology::validity(mesh).is_closed_manifold(),
             "params": convert::params_to_json(rec.params()),
             "lids": run.lids,
+            "options": convert::options_to_json(rec.params()),
             "version": heartmesh_core::VERSION,
         });
         Ok(out.to_string())
