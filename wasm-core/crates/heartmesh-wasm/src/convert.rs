@@ -7,7 +7,7 @@
 use heartmesh_core::contours::{Contour, ContourKind};
 use heartmesh_core::error::{CoreError, Result};
 use heartmesh_core::geometry::Vec3;
-use heartmesh_core::params::SmoothingMethod;
+use heartmesh_core::params::{LidMode, SmoothingMethod};
 use heartmesh_core::Params;
 use serde_json::{json, Map, Value};
 
@@ -107,6 +107,21 @@ pub fn params_to_json(params: &Params) -> Value {
     Value::Object(out)
 }
 
+/// The settings of a saved session in the protocol's terms (`SessionSettings`): `{params,
+/// lids, options, surface}`.
+pub fn session_settings(params: &Params) -> Value {
+    let lids = match params.lids {
+        LidMode::None => "none",
+        _ => "auto",
+    };
+    json!({
+        "params": params_to_json(params),
+        "lids": lids,
+        "options": options_to_json(params),
+        "surface": params.surface,
+    })
+}
+
 /// `ContourInfo[]` of the protocol; `start`/`count` index points in [`flat_points`] order.
 pub fn contour_infos(contours: &[Contour], kinds: Option<&[ContourKind]>) -> Value {
     let mut start = 0usize;
@@ -161,7 +176,7 @@ mod tests {
     use super::*;
     use heartmesh_core::contours::Polyline;
     use heartmesh_core::geometry::v3;
-    use heartmesh_core::params::{AttractorMode, LidMode};
+    use heartmesh_core::params::AttractorMode;
 
     fn contour(id: &str, pieces: &[usize]) -> Contour {
         Contour {
@@ -273,6 +288,32 @@ mod tests {
         assert!(e.to_string().contains("0.6"), "{e}");
         // The same factor is fine with the default method.
         assert!(params_from_json(r#"{"smoothing_factor": 0.8}"#, "auto", None).is_ok());
+    }
+
+    #[test]
+    fn session_settings_carry_the_options() {
+        let p = params_from_json(
+            r#"{"smoothing_method": "taubin", "soften_conflicts": false, "beta": 0.3}"#,
+            "none",
+            Some("LV_EPI".into()),
+        )
+        .unwrap();
+        let v = session_settings(&p);
+        assert_eq!(v["lids"], "none");
+        assert_eq!(v["surface"], "LV_EPI");
+        assert_eq!(v["params"]["beta"], 0.3);
+        assert_eq!(v["options"]["smoothing_method"], "taubin");
+        assert_eq!(v["options"]["soften_conflicts"], false);
+        // What the app sends back reproduces the parameters.
+        let mut object = v["params"].as_object().unwrap().clone();
+        object.extend(v["options"].as_object().unwrap().clone());
+        let again = params_from_json(
+            &Value::Object(object).to_string(),
+            v["lids"].as_str().unwrap(),
+            Some("LV_EPI".into()),
+        )
+        .unwrap();
+        assert_eq!(again, p);
     }
 
     #[test]

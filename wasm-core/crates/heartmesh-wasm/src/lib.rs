@@ -78,7 +78,8 @@ impl Session {
     }
 
     /// Parses a contour file and keeps it under `file_name` (replacing an earlier one). Returns
-    /// the JSON of the protocol's `LoadedFile` without `points` (see [`Session::file_points`]).
+    /// the JSON of the protocol's `LoadedFile` without `points` (see [`Session::file_points`]);
+    /// for a saved session, `session` holds its settings (`convert::session_settings`).
     pub fn load(&mut self, file_name: &str, bytes: &[u8]) -> Result<String, JsValue> {
         let set = io::read_contours(file_name, bytes).map_err(|e| errors::to_js(&e))?;
         let landmarks: Vec<_> = set
@@ -93,12 +94,26 @@ impl Session {
                 item["kind"] = json!(kind);
             }
         }
+        let mut warnings = set.warnings.clone();
+        // A saved session also carries the settings it was made with: the app applies them.
+        let settings = if io::session::looks_like_session(bytes) {
+            match io::session::read_session(bytes).and_then(|s| s.params()) {
+                Ok(p) => convert::session_settings(&p),
+                Err(e) => {
+                    warnings.push(format!("the session's parameters were not applied: {e}"));
+                    serde_json::Value::Null
+                }
+            }
+        } else {
+            serde_json::Value::Null
+        };
         let info = json!({
             "fileName": file_name,
             "surfaces": set.surfaces(),
             "contours": contours,
             "landmarks": landmarks,
-            "warnings": set.warnings,
+            "warnings": warnings,
+            "session": settings,
         });
         self.files.insert(file_name.to_string(), set);
         Ok(info.to_string())
