@@ -45,7 +45,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
     viewer,
     legend: new Legend('contour points: distance to mesh', 'legend-contours'),
     meshLegend: new Legend('mesh: distance to nearest contour', 'legend-mesh'),
-    params: new ParamPanel((v, lids) => c().setParams(v, lids), () => c().resetParams()),
+    params: new ParamPanel((v, lids, options) => c().setParams(v, lids, options), () => c().resetParams()),
     timeline: new Timeline({
       togglePlay: () => c().togglePlay(),
       step: (d) => c().step(d),

@@ -32,6 +32,7 @@ import {
   type LabTruth,
   type LabTruthSource,
   type LidsMode,
+  type ReconOptions,
   type LoadedFile,
   type ParamSpec,
   type ParamValues,
@@ -63,6 +64,8 @@ export interface RunOptions {
   surface: string | null;
   params: ParamValues;
   lids: LidsMode;
+  /** Missing: the core's defaults. */
+  options?: ReconOptions;
 }
 
 export interface RunHandle {
@@ -259,6 +262,7 @@ export class CoreClient {
       surface: opts.surface,
       params: { ...opts.params },
       lids: opts.lids,
+      ...(opts.options ? { options: { ...opts.options } } : {}),
     });
     return handle;
   }
@@ -332,7 +336,8 @@ export class CoreClient {
       );
       this.workerFiles.add(job.fileName);
     }
-    const copy: LabBatchJob = job.kind === 'sweep' ? { ...job, grid: { ...job.grid }, params: { ...job.params } } : { ...job, params: { ...job.params } };
+    const options = job.options ? { options: { ...job.options } } : {};
+    const copy: LabBatchJob = job.kind === 'sweep' ? { ...job, grid: { ...job.grid }, params: { ...job.params }, ...options } : { ...job, params: { ...job.params }, ...options };
     this.post({ type: 'lab-batch', runId, job: copy });
     return handle;
   }

@@ -17,6 +17,7 @@ import {
   ErrorCodes,
   assertNever,
   isCoreErrorData,
+  paramsJson,
   transferablesOf,
   type ContourInfo,
   type CoreErrorData,
@@ -198,7 +199,7 @@ export class WorkerCore {
     };
     this.run = run;
     try {
-      this.session.start(msg.fileName, msg.surface, JSON.stringify(msg.params), msg.lids);
+      this.session.start(msg.fileName, msg.surface, paramsJson(msg.params, msg.options), msg.lids);
     } catch (e) {
       this.stopRun();
       this.fail(e, { runId: msg.runId }, msg.fileName);
