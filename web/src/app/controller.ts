@@ -331,6 +331,7 @@ export class Controller {
       (e) => {
         if (this.active?.runId !== handle.runId) return; // cancelled or replaced: not an error
         this.active = null;
+        this.parts.result.clear('no result (see the error)');
         this.fail(asCoreError(e, 'the reconstruction failed', file.fileName), handle.runId);
       },
     );
@@ -383,6 +384,7 @@ export class Controller {
     this.meshMaxMm = robustMax(r.vertexDistances);
     this.parts.status.setProgress(1);
     this.parts.result.show(r);
+    this.parts.banner.hide(); // a run finished: whatever error was shown has been dealt with
     this.parts.exports.setAvailable(true, true);
     this.historyVersion++;
     this.dispatch({ type: 'finished', runId: r.runId });

@@ -42,7 +42,7 @@ export function headerLines(info: ExportInfo): string[] {
   return [
     `heartmesh ${clean(info.appVersion)} (core ${clean(info.coreVersion)}), units: mm`,
     `input: ${clean(info.fileName)}${info.surface ? ` surface: ${clean(info.surface)}` : ''}`,
-    `lids: ${info.lids}${optionText(info.options)} ${paramText(info.params)}`,
+    `lids: ${info.lids} ${paramText(info.params)}${optionText(info.options)}`,
   ];
 }
 
