@@ -125,6 +125,23 @@ impl Session {
         Ok(convert::flat_points(&set.contours))
     }
 
+    /// A heartmesh session file (the core's `io::session` JSON) of a loaded file with these
+    /// settings (same arguments as [`Session::start`]), so that opening it again brings back the
+    /// contours, the parameters, the options, the lids and the surface.
+    pub fn session_json(
+        &self,
+        file_name: &str,
+        surface: Option<String>,
+        params_json: &str,
+        lids: &str,
+        app_version: &str,
+    ) -> Result<Vec<u8>, JsValue> {
+        let params =
+            convert::params_from_json(params_json, lids, surface).map_err(|e| errors::to_js(&e))?;
+        let set = self.file(file_name)?;
+        io::session::write_session(set, &params, app_version).map_err(|e| errors::to_js(&e))
+    }
+
     /// Forgets a loaded file.
     pub fn unload(&mut self, file_name: &str) {
         self.files.remove(file_name);
@@ -267,5 +284,41 @@ impl Session {
         self.run
             .as_mut()
             .ok_or_else(|| errors::usage("no_run", "no reconstruction has been started"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const RINGS: &str = "contour,x,y,z\n\
+        a,20,0,0\na,0,20,0\na,-20,0,0\na,0,-20,0\n\
+        b,20,0,10\nb,0,20,10\nb,-20,0,10\nb,0,-20,10\n";
+
+    #[test]
+    fn a_written_session_loads_back_with_its_settings() {
+        let mut s = Session::new();
+        s.load("rings.csv", RINGS.as_bytes()).unwrap();
+        let bytes = s
+            .session_json(
+                "rings.csv",
+                None,
+                r#"{"beta": 0.3, "smoothing_method": "taubin", "soften_conflicts": false}"#,
+                "none",
+                "9.9.9",
+            )
+            .unwrap();
+        let info: serde_json::Value =
+            serde_json::from_str(&s.load("rings.json", &bytes).unwrap()).unwrap();
+        let settings = &info["session"];
+        assert_eq!(settings["options"]["smoothing_method"], "taubin");
+        assert_eq!(settings["options"]["soften_conflicts"], false);
+        assert_eq!(settings["lids"], "none");
+        assert_eq!(settings["params"]["beta"], 0.3);
+        assert_eq!(info["contours"].as_array().map(Vec::len), Some(2));
+        // A plain contour file carries no settings.
+        let plain: serde_json::Value =
+            serde_json::from_str(&s.load("rings.csv", RINGS.as_bytes()).unwrap()).unwrap();
+        assert!(plain["session"].is_null());
     }
 }
