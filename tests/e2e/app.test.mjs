@@ -121,7 +121,7 @@ describe('heartmesh in the browser', () => {
     });
   });
 
-  it('smoothing options: soften off changes the result and is exported; Taubin with factor 0.8 is a clear error', async () => {
+  it('smoothing options: soften off changes the result, is exported and reopened; Taubin with factor 0.8 is a clear error', async () => {
     const base = await readResult(page);
     await runAndWait(page, () => page.uncheck('[data-testid=param-soften-conflicts]'));
     assert.match(page.url(), /soften_conflicts=0/);
@@ -131,6 +131,11 @@ describe('heartmesh in the browser', () => {
     const json = JSON.parse((await download('export-json')).bytes.toString('utf8'));
     assert.equal(json.soften_conflicts, false);
     assert.equal(json.smoothing_method, 'laplacian-affine');
+    const session = await download('export-session');
+    const saved = JSON.parse(session.bytes.toString('utf8'));
+    assert.equal(saved.heartmesh_session, 1);
+    assert.equal(saved.parameters.soften_conflicts, false);
+    assert.equal(saved.parameters.smoothing_method, 'laplacian-affine');
     // Taubin is unstable above a factor of 0.6: the core refuses, the banner says why.
     await page.selectOption('[data-testid=param-smoothing-method]', 'taubin');
     await page.$eval('[data-testid=param-smoothing_factor]', (el) => {
@@ -156,6 +161,13 @@ describe('heartmesh in the browser', () => {
     assert.doesNotMatch(page.url(), /soften_conflicts|smoothing_method|smoothing_factor/);
     const again = await readResult(page);
     assert.equal(again.meanMm, base.meanMm, 'reset gives the default result back');
+    // Opening the saved session brings its settings back, and with them the same mesh.
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', { name: session.name, mimeType: 'application/json', buffer: session.bytes }));
+    assert.equal(await page.isChecked('[data-testid=param-soften-conflicts]'), false);
+    assert.match(page.url(), /soften_conflicts=0/);
+    const reopened = await readResult(page);
+    assert.ok(Math.abs(reopened.meanMm - off.meanMm) < 1e-9 && reopened.vertices === off.vertices, `session ${reopened.meanMm} vs ${off.meanMm} mm`);
+    await runAndWait(page, () => page.click('[data-testid=reset-params]'));
   });
 
   it('timeline: slow replay, keyboard pause and step, scrub, back to live', async () => {

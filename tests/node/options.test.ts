@@ -112,4 +112,32 @@ describe('smoothing options through the worker', () => {
     const csv = await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     expect(csv.session ?? null).toBeNull();
   });
+
+  it('a session written by the worker opens again with the same settings and contours', async () => {
+    const { ask } = makeCore();
+    const file = await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
+    const options: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false };
+    const written = await ask(
+      { type: 'session-export', reqId: 2, fileName: PATIENT, surface: 'LV_EPI', params: { beta: 0.2, smoothing_factor: 0.4 }, lids: 'none', options, appVersion: '9.9.9' },
+      'session-json',
+      'error',
+    );
+    if (written.type !== 'session-json') throw new Error(written.error.message);
+    const doc = JSON.parse(new TextDecoder().decode(written.bytes));
+    expect(doc.app_version).toBe('9.9.9');
+    expect(doc.parameters).toMatchObject({ smoothing_method: 'taubin', soften_conflicts: false, lids: 'none', surface: 'LV_EPI', beta: 0.2 });
+    const back = await loaded(ask, 'saved.json', written.bytes);
+    expect(back.session).toMatchObject({ lids: 'none', surface: 'LV_EPI', options });
+    expect(back.session?.params.smoothing_factor).toBe(0.4);
+    expect(back.surfaces).toEqual(file.surfaces);
+    expect(back.contours.map((c) => c.id)).toEqual(file.contours.map((c) => c.id));
+    expect(back.points).toEqual(file.points);
+    // A bad combination is refused with the core's error, not written.
+    const bad = await ask(
+      { type: 'session-export', reqId: 3, fileName: PATIENT, surface: null, params: { smoothing_factor: 0.8 }, lids: 'auto', options, appVersion: '9.9.9' },
+      'session-json',
+      'error',
+    );
+    expect(bad.type === 'error' && bad.error.code).toBe('param_out_of_range');
+  });
 });

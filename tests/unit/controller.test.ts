@@ -46,6 +46,11 @@ class FakeClient {
     this.runs.push(run);
     return { runId, done, cancel: () => { run.cancelled = true; reject({ code: 'cancelled', message: 'cancelled' }); } };
   }
+  sessions: { opts: FakeRun['opts']; appVersion: string }[] = [];
+  sessionFile(opts: FakeRun['opts'], appVersion: string) {
+    this.sessions.push({ opts, appVersion });
+    return Promise.resolve(new Uint8Array([123, 125]));
+  }
   dispose() {}
 }
 
@@ -141,6 +146,19 @@ describe('controller', () => {
     expect(client.runs[2].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
     expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
     expect(url).toBe('/app/?surface=LV_ENDO');
+  });
+
+  it('a session export asks the core with the settings now in the panel', async () => {
+    expect(controller.sessionFile()).toBeNull();
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('a.csv')]);
+    controller.setParams({ beta: 0.25 }, 'auto', { smoothing_method: 'taubin', soften_conflicts: false });
+    expect(await controller.sessionFile()).toEqual(new Uint8Array([123, 125]));
+    expect(client.sessions[0].appVersion).toBe('9.9.9');
+    expect(client.sessions[0].opts).toMatchObject({
+      fileName: 'a.csv', surface: 'LV_ENDO', lids: 'auto', options: { smoothing_method: 'taubin', soften_conflicts: false },
+    });
+    expect(client.sessions[0].opts.params).toMatchObject({ beta: 0.25, lambda: 1000 });
   });
 
   it('a loaded session file brings its parameters, lids, options and surface', async () => {

@@ -499,6 +499,20 @@ export class Controller {
     };
   }
 
+  /**
+   * The current file as a heartmesh session (its contours with the settings now in the panel:
+   * parameters, mesh ends, options, surface), to open again later; null without a file.
+   */
+  sessionFile(): Promise<Uint8Array> | null {
+    const settings = this.runSettings();
+    return settings && this.client ? this.client.sessionFile(settings, this.appVersion) : null;
+  }
+
+  /** An export that failed (a bad setting, say): the banner says why; the state does not change. */
+  showExportError(e: unknown): void {
+    this.parts.banner.showError(asCoreError(e, 'the export failed', this.currentFile()?.fileName));
+  }
+
   currentResult(): RunResult | null {
     return this.result;
   }

@@ -267,6 +267,34 @@ export class CoreClient {
     return handle;
   }
 
+  /**
+   * A heartmesh session file (the core's JSON: the file's contours with these settings), to open
+   * again later with the same settings. Rejects with CoreErrorData (a bad setting is named).
+   */
+  sessionFile(opts: RunOptions, appVersion: string): Promise<Uint8Array> {
+    const bytes = this.files.get(opts.fileName);
+    if (bytes === undefined) {
+      return Promise.reject({ code: ErrorCodes.notLoaded, message: `${opts.fileName} has not been loaded`, file: opts.fileName });
+    }
+    if (!this.workerFiles.has(opts.fileName)) {
+      // A recreated worker: re-send the file first (the worker handles messages in order).
+      void this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName: opts.fileName, bytes: bytes.slice(0) })).catch(() => {
+        this.workerFiles.delete(opts.fileName);
+      });
+      this.workerFiles.add(opts.fileName);
+    }
+    return this.request<Uint8Array>((reqId) => ({
+      type: 'session-export',
+      reqId,
+      fileName: opts.fileName,
+      surface: opts.surface,
+      params: { ...opts.params },
+      lids: opts.lids,
+      ...(opts.options ? { options: { ...opts.options } } : {}),
+      appVersion,
+    }));
+  }
+
   // ---- validation lab ------------------------------------------------------------------------
 
   /** Makes the lab's ground-truth surface (parametric LV or a mesh file) in the worker. */
@@ -468,6 +496,9 @@ export class CoreClient {
         break;
       case 'lab-compared':
         this.settleRequest(msg.reqId, true, msg.comparison);
+        break;
+      case 'session-json':
+        this.settleRequest(msg.reqId, true, msg.bytes);
         break;
       case 'lab-batch-started':
         this.batches.get(msg.runId)?.started.resolve(msg.info);

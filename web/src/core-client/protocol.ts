@@ -345,6 +345,17 @@ export interface SchemaRequest {
   type: 'schema';
   reqId: number;
 }
+/** A heartmesh session file (contours + settings, the core's format) of a loaded file. */
+export interface SessionExportRequest {
+  type: 'session-export';
+  reqId: number;
+  fileName: string;
+  surface: string | null;
+  params: ParamValues;
+  lids: LidsMode;
+  options?: ReconOptions;
+  appVersion: string;
+}
 
 export interface LabTruthRequest {
   type: 'lab-truth';
@@ -372,7 +383,7 @@ export interface LabBatchRequest {
 
 export type LabRequest = LabTruthRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
 
-export type ToWorker = LoadRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | LabRequest;
+export type ToWorker = LoadRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | LabRequest;
 
 export interface ReadyMessage {
   type: 'ready';
@@ -394,6 +405,12 @@ export interface ErrorMessage {
   reqId?: number;
   runId?: number;
   error: CoreErrorData;
+}
+export interface SessionJsonMessage {
+  type: 'session-json';
+  reqId: number;
+  /** UTF-8 JSON. */
+  bytes: Uint8Array;
 }
 export interface SchemaMessage {
   type: 'schema';
@@ -447,7 +464,8 @@ export type FromWorker =
   | FrameMessage
   | DoneMessage
   | ErrorMessage
-  | SchemaMessage;
+  | SchemaMessage
+  | SessionJsonMessage;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
@@ -562,6 +580,10 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
     case 'lab-batch-started':
       add(msg.info.points);
       break;
+    case 'session-json':
+      add(msg.bytes);
+      break;
+    case 'session-export':
     case 'run':
     case 'ack':
     case 'cancel':
@@ -598,6 +620,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
     case 'lab-truth':
     case 'lab-simulated':
     case 'lab-compared':
+    case 'session-json':
       return undefined;
     default:
       return assertNever(msg);
@@ -620,6 +643,7 @@ export function isFromWorker(v: unknown): v is FromWorker {
     case 'lab-batch-started':
     case 'lab-progress':
     case 'lab-batch-done':
+    case 'session-json':
       return true;
     default:
       return false;
@@ -639,6 +663,7 @@ export function isToWorker(v: unknown): v is ToWorker {
     case 'lab-simulate':
     case 'lab-compare':
     case 'lab-batch':
+    case 'session-export':
       return true;
     default:
       return false;
