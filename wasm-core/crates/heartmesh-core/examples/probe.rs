@@ -78,16 +78,7 @@ fn run() -> Res<()> {
             )?,
             "cardiomesh-spasm-LV_endo.obj",
         )?,
-        "param" => lv(heartmesh_core::sim::shapes::ParametricLv {
-            bulge: Some(heartmesh_core::sim::shapes::Bulge {
-                amplitude_mm: 4.0,
-                height_fraction: 0.5,
-                angle_deg: 30.0,
-                width_mm: 10.0,
-            }),
-            ..Default::default()
-        }
-        .mesh(96, 64)?),
+        "param" => lv(heartmesh_core::sim::shapes::ParametricLv::bulged_truth()?),
         other => return Err(format!("unknown case {other}").into()),
     };
     let seed = match base.as_str() {
@@ -96,7 +87,6 @@ fn run() -> Res<()> {
         _ => 3,
     };
     let spec = AcquisitionSpec {
-        lax_count: lax,
         axis: rvax.map(|r| r.0),
         lax_reference: rvax.map(|r| r.1),
         join_gap_mm: if rvax.is_some() { 6.0 } else { 3.0 },
@@ -105,6 +95,17 @@ fn run() -> Res<()> {
             tilt_deg: 2.0,
         }),
         seed: if mis { seed } else { 1 },
+        // PROBE_SAX=5: a denser stack, to tell an information limit from a fitting error.
+        sax: heartmesh_core::sim::planes::SaxStack::SpacingMm(
+            std::env::var("PROBE_SAX")
+                .ok()
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(10.0),
+        ),
+        lax_count: std::env::var("PROBE_LAX")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(lax),
         ..AcquisitionSpec::default()
     };
     let acq = simulate(&t, &spec)?;
@@ -260,6 +261,43 @@ fn run() -> Res<()> {
             .map(|q| (p - q).norm())
             .fold(f64::INFINITY, f64::min)
     };
+    if std::env::var("PROBE_SIGNED").is_ok() {
+        // Truth->mesh signed error (+: truth outside the mesh, i.e. the mesh sags inwards) binned by
+        // the truth point's distance to the nearest contour point.
+        let bvh = Bvh::build(&mesh);
+        let mut bins = [(0usize, 0.0f64, 0.0f64, 0.0f64); 8];
+        for p in t
+            .positions
+            .iter()
+            .filter(|p| acq.clip.signed_distance(p) <= 0.0)
+        {
+            let Some(h) = bvh.closest_point(&mesh, *p) else {
+                continue;
+            };
+            let [a, b, c] = mesh.corners(h.triangle as usize);
+            let n = (b - a).cross(&(c - a));
+            let d = h.distance_sq.sqrt();
+            let s = if (p - h.point).dot(&n) >= 0.0 { d } else { -d };
+            let k = (near_contour(p).floor() as usize).min(7);
+            bins[k].0 += 1;
+            bins[k].1 += s;
+            bins[k].2 += d;
+            bins[k].3 = bins[k].3.max(d);
+        }
+        println!("truth->mesh by distance to contours (n, signed mean +out, abs mean, max):");
+        for (k, b) in bins.iter().enumerate() {
+            if b.0 > 0 {
+                println!(
+                    "  {k}-{} mm: n {:5} signed {:+.3} abs {:.3} max {:.3}",
+                    k + 1,
+                    b.0,
+                    b.1 / b.0 as f64,
+                    b.2 / b.0 as f64,
+                    b.3
+                );
+            }
+        }
+    }
     // Error by height band, both directions.
     for (label, from, to) in [("truth->mesh", &t, &mesh), ("mesh->truth", &mesh, &t)] {
         let bvh = Bvh::build(to);

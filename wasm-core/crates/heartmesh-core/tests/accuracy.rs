@@ -16,7 +16,7 @@ use heartmesh_core::mesh::TriMesh;
 use heartmesh_core::metrics::compare::{compare, CompareReport};
 use heartmesh_core::sim::hull::convex_hull;
 use heartmesh_core::sim::planes::anatomical_axis;
-use heartmesh_core::sim::shapes::{Bulge, ParametricLv};
+use heartmesh_core::sim::shapes::ParametricLv;
 use heartmesh_core::sim::{simulate, Acquisition, AcquisitionSpec, LongAxis, Misalignment};
 use heartmesh_core::Params;
 
@@ -194,17 +194,7 @@ fn lv_spasm_epi() {
 #[test]
 fn lv_parametric_with_bulge() {
     // The built-in shape: no fixture needed.
-    let truth = ParametricLv {
-        bulge: Some(Bulge {
-            amplitude_mm: 4.0,
-            height_fraction: 0.5,
-            angle_deg: 30.0,
-            width_mm: 10.0,
-        }),
-        ..ParametricLv::default()
-    }
-    .mesh(96, 64)
-    .unwrap();
+    let truth = ParametricLv::bulged_truth().unwrap();
     let (o, _, mesh) = run("parametric LV + bulge", &truth, &lv_spec());
     check_closed_manifold_outward(&mesh).unwrap_or_else(|e| panic!("parametric: {e}"));
     assert_lv("parametric LV + bulge", &o);
