@@ -4,7 +4,7 @@
  * out of range in a hand-edited link is dropped or clamped rather than breaking the page.
  * Pure: works on query strings, not on `location`.
  */
-import { DEFAULT_OPTIONS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
+import { DEFAULT_OPTIONS, SMOOTHING_METHODS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
 
 export interface ViewSettings {
   wireframe: boolean;
@@ -66,7 +66,7 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
   const lidsText = q.get('lids');
   const lids: LidsMode = lidsText === 'none' ? 'none' : 'auto';
   const options: ReconOptions = {
-    smoothing_method: q.get('smoothing_method') === 'taubin' ? 'taubin' : DEFAULT_OPTIONS.smoothing_method,
+    smoothing_method: SMOOTHING_METHODS.find((m) => m === q.get('smoothing_method')) ?? DEFAULT_OPTIONS.smoothing_method,
     soften_conflicts: parseBool(q.get('soften_conflicts'), DEFAULT_OPTIONS.soften_conflicts),
   };
   const opacity = parseNumber(q.get('opacity'));
