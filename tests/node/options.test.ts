@@ -47,8 +47,8 @@ async function loaded(ask: ReturnType<typeof makeCore>['ask'], fileName: string,
   return m.file;
 }
 
-async function run(ask: ReturnType<typeof makeCore>['ask'], runId: number, options?: ReconOptions, params = {}) {
-  const m = await ask({ type: 'run', runId, fileName: PATIENT, surface: 'LV_ENDO', params, lids: 'auto', options }, 'done', 'error');
+async function run(ask: ReturnType<typeof makeCore>['ask'], runId: number, options?: ReconOptions, params = {}, surface = 'LV_ENDO') {
+  const m = await ask({ type: 'run', runId, fileName: PATIENT, surface, params, lids: 'auto', options }, 'done', 'error');
   return m.type === 'done' ? { result: m.result as RunResult, error: null } : { result: null, error: m.error };
 }
 
@@ -56,13 +56,14 @@ describe('smoothing options through the worker', () => {
   it('reach the run: soften off gives another mesh; Taubin runs at 0.5 and is refused at 0.8', async () => {
     const { ask } = makeCore();
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
-    const on = (await run(ask, 1)).result;
-    const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false })).result;
+    // The RV endocardium, whose septum curves disagree between SAX and LAX: softening acts there.
+    const on = (await run(ask, 1, undefined, {}, 'RV_ENDO')).result;
+    const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false }, {}, 'RV_ENDO')).result;
     expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
     expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false });
     if (!on || !off) throw new Error('runs failed');
-    // Same sample, same numbers otherwise: only the softening differs (0.379 vs 0.373 mm natively).
-    expect(Math.abs(on.overall.mean - off.overall.mean)).toBeGreaterThan(1e-3);
+    // Same sample, same numbers otherwise: only the softening differs (0.445 vs 0.408 mm natively).
+    expect(on.overall.mean - off.overall.mean).toBeGreaterThan(0.01);
     expect(on.overall.mean).toBeLessThan(1);
     expect(off.overall.mean).toBeLessThan(1);
 
