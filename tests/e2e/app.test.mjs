@@ -1,6 +1,7 @@
 // Browser end-to-end tests of the built site (dist/, served by `vite preview`) in Debian's chromium
 // via playwright-core: every bundled sample reaches done with contour-to-mesh mean <= 1 mm, a slider
-// restarts the run, exports parse, errors name file and line, the site works offline after the first
+// restarts the run, the smoothing options reach the core (and a bad combination is a clear error),
+// exports parse, errors name file and line, the site works offline after the first
 // visit, and no request ever leaves the origin. Screenshots go to a scratch folder (docs/screenshots/ with `npm run screenshots`).
 import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
@@ -118,6 +119,55 @@ describe('heartmesh in the browser', () => {
       await page.click('[data-testid=reset-params]');
       await page.waitForFunction(() => !location.search.includes('lambda='), null, { timeout: 5000 });
     });
+  });
+
+  it('smoothing options: soften off changes the result, is exported and reopened; Taubin with factor 0.8 is a clear error', async () => {
+    const base = await readResult(page);
+    await runAndWait(page, () => page.uncheck('[data-testid=param-soften-conflicts]'));
+    assert.match(page.url(), /soften_conflicts=0/);
+    const off = await readResult(page);
+    console.log(`# ${SAMPLES.at(-1)} soften on: mean ${base.meanMm.toFixed(4)} max ${base.maxMm.toFixed(4)} mm; off: mean ${off.meanMm.toFixed(4)} max ${off.maxMm.toFixed(4)} mm`);
+    assert.ok(Math.abs(off.meanMm - base.meanMm) > 1e-4 || Math.abs(off.maxMm - base.maxMm) > 1e-4, 'soften_conflicts=false gives another mesh');
+    const json = JSON.parse((await download('export-json')).bytes.toString('utf8'));
+    assert.equal(json.soften_conflicts, false);
+    assert.equal(json.smoothing_method, 'laplacian-affine');
+    const session = await download('export-session');
+    const saved = JSON.parse(session.bytes.toString('utf8'));
+    assert.equal(saved.heartmesh_session, 1);
+    assert.equal(saved.parameters.soften_conflicts, false);
+    assert.equal(saved.parameters.smoothing_method, 'laplacian-affine');
+    // Taubin is unstable above a factor of 0.6: the core refuses, the banner says why.
+    await page.selectOption('[data-testid=param-smoothing-method]', 'taubin');
+    await page.$eval('[data-testid=param-smoothing_factor]', (el) => {
+      el.value = String(Math.round(0.8 * Number(el.max)));
+      el.dispatchEvent(new Event('input'));
+    });
+    assert.equal(await page.textContent('output[for=param-smoothing_factor]'), '0.8');
+    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent?.startsWith('error'), null, { timeout: 10000 });
+    assert.equal(await page.isVisible('[data-testid=error-banner]'), true);
+    const text = await page.textContent('[data-testid=error-text]');
+    assert.match(text, /smoothing_factor = 0\.8 is out of range \(allowed 0 to 0\.6\)/);
+    assert.match(text, /Taubin/);
+    assert.match(page.url(), /smoothing_method=taubin/);
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SHOTS, 'error-taubin-factor.png') });
+    // The user fixes it: back to Laplacian + affine, the run finishes and the banner goes away.
+    await page.selectOption('[data-testid=param-smoothing-method]', 'laplacian-affine');
+    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'done', null, { timeout: 90000 });
+    assert.equal(await page.isVisible('[data-testid=error-banner]'), false);
+    await runAndWait(page, () => page.click('[data-testid=reset-params]'));
+    assert.equal(await page.isChecked('[data-testid=param-soften-conflicts]'), true);
+    assert.equal(await page.inputValue('[data-testid=param-smoothing-method]'), 'laplacian-affine');
+    assert.doesNotMatch(page.url(), /soften_conflicts|smoothing_method|smoothing_factor/);
+    const again = await readResult(page);
+    assert.equal(again.meanMm, base.meanMm, 'reset gives the default result back');
+    // Opening the saved session brings its settings back, and with them the same mesh.
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', { name: session.name, mimeType: 'application/json', buffer: session.bytes }));
+    assert.equal(await page.isChecked('[data-testid=param-soften-conflicts]'), false);
+    assert.match(page.url(), /soften_conflicts=0/);
+    const reopened = await readResult(page);
+    assert.ok(Math.abs(reopened.meanMm - off.meanMm) < 1e-9 && reopened.vertices === off.vertices, `session ${reopened.meanMm} vs ${off.meanMm} mm`);
+    await runAndWait(page, () => page.click('[data-testid=reset-params]'));
   });
 
   it('timeline: slow replay, keyboard pause and step, scrub, back to live', async () => {

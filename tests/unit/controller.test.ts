@@ -3,12 +3,12 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
 import { Controller, RESTART_DEBOUNCE_MS, type Parts } from '../../web/src/app/controller';
 import type { CoreClient } from '../../web/src/core-client/CoreClient';
-import type { Frame, LidsMode, LoadedFile, ParamValues, RunResult, StepReport } from '../../web/src/core-client/protocol';
+import type { Frame, LidsMode, LoadedFile, ParamValues, ReconOptions, RunResult, StepReport } from '../../web/src/core-client/protocol';
 import { rustSchema } from './rustSchema';
 
 interface FakeRun {
   runId: number;
-  opts: { fileName: string; surface: string | null; params: ParamValues; lids: LidsMode };
+  opts: { fileName: string; surface: string | null; params: ParamValues; lids: LidsMode; options?: ReconOptions };
   onFrame: (f: Frame) => void;
   resolve: (r: RunResult) => void;
   reject: (e: unknown) => void;
@@ -23,8 +23,16 @@ class FakeClient {
   }
   load(fileName: string, bytes: ArrayBuffer): Promise<LoadedFile> {
     if (new TextDecoder().decode(bytes).includes('bad')) return Promise.reject({ code: 'parse', message: 'line 2: bad number', line: 2 });
+    // A saved session: the settings the binding reads from it (convert::session_settings).
+    const session = fileName.endsWith('.json')
+      ? {
+          params: { ...Object.fromEntries(rustSchema().map((p) => [p.name, p.default])), beta: 0.3, smoothing_factor: 0.5 },
+          lids: 'none' as const, surface: 'RV_ENDO',
+          options: { smoothing_method: 'taubin' as const, soften_conflicts: false },
+        }
+      : null;
     return Promise.resolve({
-      fileName, surfaces: ['RV_ENDO', 'LV_ENDO'], landmarks: [], warnings: [],
+      fileName, surfaces: ['RV_ENDO', 'LV_ENDO'], landmarks: [], warnings: [], session,
       contours: [{ id: 'c1', surface: 'LV_ENDO', kind: null, pieces: [{ closed: true, start: 0, count: 3 }] }],
       points: new Float32Array([0, 0, 0, 10, 0, 0, 0, 10, 0]),
     });
@@ -37,6 +45,11 @@ class FakeClient {
     const run: FakeRun = { runId, opts, onFrame, resolve, reject, cancelled: false };
     this.runs.push(run);
     return { runId, done, cancel: () => { run.cancelled = true; reject({ code: 'cancelled', message: 'cancelled' }); } };
+  }
+  sessions: { opts: FakeRun['opts']; appVersion: string }[] = [];
+  sessionFile(opts: FakeRun['opts'], appVersion: string) {
+    this.sessions.push({ opts, appVersion });
+    return Promise.resolve(new Uint8Array([123, 125]));
   }
   dispose() {}
 }
@@ -54,7 +67,7 @@ function result(runId: number): RunResult {
   return {
     runId, surface: 'LV_ENDO', contours: [], contourPoints: new Float32Array(9), positions: new Float32Array(12),
     indices: new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]), pointDistances: new Float32Array(3), vertexDistances: new Float32Array(4),
-    perContour: [], overall: stats, volumeMl: 0.2, areaMm2: 200, watertight: true, seconds: 0.5, params: {}, lids: 'auto', version: 'core-test',
+    perContour: [], overall: stats, volumeMl: 0.2, areaMm2: 200, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true }, version: 'core-test',
   };
 }
 
@@ -114,6 +127,51 @@ describe('controller', () => {
     expect(client.runs[0].opts.surface).toBe('LV_ENDO');
     expect(lastStatus()).toBe('running');
     expect(url).toBe('/app/?surface=LV_ENDO&lambda=1e3&lids=none');
+  });
+
+  it('sends the smoothing options with every run, keeps them in the URL and resets them', async () => {
+    url = '/app/?smoothing_method=taubin&soften_conflicts=0';
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('a.csv')]);
+    expect(client.runs[0].opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false });
+    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'taubin', soften_conflicts: false });
+    expect(controller.runSettings()?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false });
+    controller.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: false });
+    vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
+    expect(client.runs).toHaveLength(2);
+    expect(client.runs[1].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false });
+    expect(url).toBe('/app/?surface=LV_ENDO&soften_conflicts=0');
+    controller.resetParams();
+    vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
+    expect(client.runs[2].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
+    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
+    expect(url).toBe('/app/?surface=LV_ENDO');
+  });
+
+  it('a session export asks the core with the settings now in the panel', async () => {
+    expect(controller.sessionFile()).toBeNull();
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('a.csv')]);
+    controller.setParams({ beta: 0.25 }, 'auto', { smoothing_method: 'taubin', soften_conflicts: false });
+    expect(await controller.sessionFile()).toEqual(new Uint8Array([123, 125]));
+    expect(client.sessions[0].appVersion).toBe('9.9.9');
+    expect(client.sessions[0].opts).toMatchObject({
+      fileName: 'a.csv', surface: 'LV_ENDO', lids: 'auto', options: { smoothing_method: 'taubin', soften_conflicts: false },
+    });
+    expect(client.sessions[0].opts.params).toMatchObject({ beta: 0.25, lambda: 1000 });
+  });
+
+  it('a loaded session file brings its parameters, lids, options and surface', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('saved.json')]);
+    const opts = client.runs[0].opts;
+    expect(opts.params.beta).toBe(0.3);
+    expect(opts.params.lambda).toBe(1e5); // the session's value replaces the URL's 1e3
+    expect(opts.lids).toBe('none');
+    expect(opts.surface).toBe('RV_ENDO');
+    expect(opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false });
+    expect(url).toContain('smoothing_method=taubin');
+    expect(url).toContain('soften_conflicts=0');
   });
 
   it('debounces parameter changes into one restart and cancels the old run', async () => {

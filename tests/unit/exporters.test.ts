@@ -135,6 +135,18 @@ describe('exporters parse back', () => {
     expect(doc.generator).toBe('heartmesh 0.1.0');
   });
 
+  it('parameters JSON and headers record the smoothing options (defaults when unknown)', () => {
+    const taubin: ExportInfo = { ...info, options: { smoothing_method: 'taubin', soften_conflicts: false } };
+    const doc = JSON.parse(writeParamsJson(taubin, null));
+    expect(doc.smoothing_method).toBe('taubin');
+    expect(doc.soften_conflicts).toBe(false);
+    expect(doc.params).toEqual(info.params);
+    const old = JSON.parse(writeParamsJson(info, null));
+    expect(old.smoothing_method).toBe('laplacian-affine');
+    expect(old.soften_conflicts).toBe(true);
+    expect(writeObj(mesh, taubin)).toContain('# lids: auto iterations=250 lambda=100000 beta=0.1 smoothing_method=taubin soften_conflicts=false\n');
+  });
+
   it('names downloads after the input and surface', () => {
     expect(exportBaseName(info)).toBe('patient1-ED-LV_ENDO');
     expect(exportBaseName({ ...info, fileName: 'my file.csv', surface: null })).toBe('my_file');

@@ -4,7 +4,7 @@
  * ellipsoid, remeshed twice), so the viewer, timeline, colour maps and layout can be looked at in
  * Chromium before the real WebAssembly core exists, and with deterministic pictures afterwards.
  */
-import type { Frame, LidsMode, LoadedFile, ParamSpec, ParamValues, RunResult, StepReport, ContourInfo } from '../../web/src/core-client/protocol';
+import type { Frame, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, StepReport, ContourInfo } from '../../web/src/core-client/protocol';
 import paramsRs from '../../wasm-core/crates/heartmesh-core/src/params.rs?raw';
 
 function schemaFromRust(): ParamSpec[] {
@@ -97,7 +97,7 @@ export class FakeCoreClient {
     const c = contours();
     return Promise.resolve({ fileName, surfaces: ['LV_ENDO', 'LV_EPI'], contours: c.info, points: c.points, landmarks: [], warnings: [] });
   }
-  run(opts: { fileName: string; surface: string | null; params: ParamValues; lids: LidsMode }, onFrame: (f: Frame) => void) {
+  run(opts: { fileName: string; surface: string | null; params: ParamValues; lids: LidsMode; options?: ReconOptions }, onFrame: (f: Frame) => void) {
     const runId = ++this.runId;
     const total = Math.min(120, opts.params.iterations ?? 60);
     let cancelled = false;
@@ -140,7 +140,7 @@ export class FakeCoreClient {
           resolve({
             runId, surface: opts.surface, contours: contoursOut, contourPoints: cp, positions, indices: mesh.indices, pointDistances: pd,
             vertexDistances: vd, perContour: contoursOut.map((x) => ({ id: x.id, kind: x.kind ?? 'SAX', stats })), overall: stats,
-            volumeMl: 95.2, areaMm2: 11800, watertight: opts.lids === 'auto', seconds: 1.23, params: opts.params, lids: opts.lids, version: 'fake-core',
+            volumeMl: 95.2, areaMm2: 11800, watertight: opts.lids === 'auto', seconds: 1.23, params: opts.params, lids: opts.lids, options: opts.options ?? { smoothing_method: 'laplacian-affine', soften_conflicts: true }, version: 'fake-core',
           });
           return;
         }

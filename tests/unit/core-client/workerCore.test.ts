@@ -59,6 +59,11 @@ class FakeSession implements SessionApi {
   vertex_distances(): Float32Array {
     return new Float32Array(1);
   }
+  /** Echoes its arguments, so the test sees what the worker passed (options inside the params JSON). */
+  session_json(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string, appVersion: string): Uint8Array {
+    if (fileName === 'missing.csv') throw JSON.stringify({ code: 'not_loaded', message: 'missing.csv has not been loaded' });
+    return new TextEncoder().encode(JSON.stringify({ fileName, surface, params: JSON.parse(paramsJson), lids, appVersion }));
+  }
   result_json(): string {
     return JSON.stringify({
       surface: null, contours: [], perContour: [], overall: { mean: 0.3, median: 0.2, p95: 0.8, max: 1, min: 0, count: 2 },
@@ -93,6 +98,22 @@ function setup(total = 20) {
 const runMsg = { type: 'run' as const, runId: 5, fileName: 'a.csv', surface: null, params: {}, lids: 'auto' as const };
 
 describe('WorkerCore', () => {
+  it('writes a session file with the options inside the params JSON; errors name the file', () => {
+    const { core, out } = setup(5);
+    const options = { smoothing_method: 'taubin' as const, soften_conflicts: false };
+    core.handle({ type: 'session-export', reqId: 3, fileName: 'a.csv', surface: 'LV_ENDO', params: { beta: 0.2 }, lids: 'none', options, appVersion: '9.9.9' });
+    const m = out.at(-1)!;
+    expect(m.type).toBe('session-json');
+    if (m.type !== 'session-json') return;
+    expect(m.reqId).toBe(3);
+    expect(JSON.parse(new TextDecoder().decode(m.bytes))).toEqual({
+      fileName: 'a.csv', surface: 'LV_ENDO', params: { beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false }, lids: 'none', appVersion: '9.9.9',
+    });
+    core.handle({ type: 'session-export', reqId: 4, fileName: 'missing.csv', surface: null, params: {}, lids: 'auto', appVersion: '9.9.9' });
+    const e = out.at(-1)!;
+    expect(e).toMatchObject({ type: 'error', reqId: 4, error: { code: 'not_loaded', file: 'missing.csv' } });
+  });
+
   it('keeps at most two frames unacknowledged and always sends the final one', () => {
     const { core, out, runTicks, frames } = setup(20);
     core.handle(runMsg);

@@ -45,7 +45,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
     viewer,
     legend: new Legend('contour points: distance to mesh', 'legend-contours'),
     meshLegend: new Legend('mesh: distance to nearest contour', 'legend-mesh'),
-    params: new ParamPanel((v, lids) => c().setParams(v, lids), () => c().resetParams()),
+    params: new ParamPanel((v, lids, options) => c().setParams(v, lids, options), () => c().resetParams()),
     timeline: new Timeline({
       togglePlay: () => c().togglePlay(),
       step: (d) => c().step(d),
@@ -65,7 +65,13 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
       chooseFile: (n) => c().chooseFile(n),
       chooseSurface: (s) => c().chooseSurface(s),
     }),
-    exports: new ExportPanel({ info: () => c().exportInfo(), result: () => c().currentResult(), screenshot: () => c().screenshot() }),
+    exports: new ExportPanel({
+      info: () => c().exportInfo(),
+      result: () => c().currentResult(),
+      screenshot: () => c().screenshot(),
+      session: () => c().sessionFile(),
+      failed: (e) => c().showExportError(e),
+    }),
     view: new ViewControls((v) => c().setView(v), () => c().resetView()),
     hover: new HoverReadout(),
     warnings: slot('slot-warnings'),

@@ -6,8 +6,9 @@
  */
 import type { CoreClient } from '../core-client/CoreClient';
 import type {
-  CoreErrorData, Frame, LidsMode, LoadedFile, ParamSpec, ParamValues, RunResult, StepReport,
+  CoreErrorData, Frame, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, StepReport,
 } from '../core-client/protocol';
+import { DEFAULT_OPTIONS } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
 import type { ExportPanel } from '../io/ExportPanel';
 import type { FileBar } from '../io/FileBar';
@@ -63,6 +64,7 @@ export class Controller {
   private readonly files = new Map<string, LoadedFile>();
   private params: ParamValues = {};
   private lids: LidsMode = 'auto';
+  private options: ReconOptions = { ...DEFAULT_OPTIONS };
   private surface: string | null = null;
   private sampleId: string | null = null;
   private view: ViewSettings = { ...DEFAULT_VIEW };
@@ -119,9 +121,10 @@ export class Controller {
     const url = parseUrlState(location.search, this.schema);
     this.params = url.params;
     this.lids = url.lids;
+    this.options = url.options;
     this.view = url.view;
     this.parts.params.setSchema(this.schema);
-    this.parts.params.setValues(this.params, this.lids);
+    this.parts.params.setValues(this.params, this.lids, this.options);
     this.parts.view.show(this.view);
     this.applyView();
     this.setStatus();
@@ -146,7 +149,7 @@ export class Controller {
     }
     if (first !== null) {
       this.sampleId = null;
-      this.selectFile(first, null);
+      this.selectFile(first, this.files.get(first)?.session?.surface ?? null);
       this.startRun();
     }
   }
@@ -179,6 +182,7 @@ export class Controller {
       const loaded = await client.load(fileName, bytes);
       this.files.delete(fileName); // re-insert at the end: newest last in the picker
       this.files.set(fileName, loaded);
+      if (loaded.session) this.applySession(loaded.session);
       this.dispatch({ type: 'loaded', fileName });
       this.parts.banner.hide();
       return true;
@@ -186,6 +190,15 @@ export class Controller {
       this.fail(asCoreError(e, 'could not read the file', fileName));
       return false;
     }
+  }
+
+  /** A saved session brings the settings it was made with: they replace the current ones. */
+  private applySession(session: SessionSettings): void {
+    this.params = { ...defaultParams(this.schema), ...session.params };
+    this.lids = session.lids;
+    this.options = { ...session.options };
+    this.parts.params.setValues(this.params, this.lids, this.options);
+    this.updateUrl();
   }
 
   chooseFile(fileName: string): void {
@@ -261,11 +274,17 @@ export class Controller {
     return true;
   }
 
-  /** What a run would use now: the current file, surface, parameters and lids. */
-  runSettings(): { fileName: string; surface: string | null; params: ParamValues; lids: LidsMode } | null {
+  /** What a run would use now: the current file, surface, parameters, lids and options. */
+  runSettings(): { fileName: string; surface: string | null; params: ParamValues; lids: LidsMode; options: ReconOptions } | null {
     const file = this.currentFile();
     if (!file) return null;
-    return { fileName: file.fileName, surface: file.surfaces.length ? this.surface : null, params: { ...this.params }, lids: this.lids };
+    return {
+      fileName: file.fileName,
+      surface: file.surfaces.length ? this.surface : null,
+      params: { ...this.params },
+      lids: this.lids,
+      options: { ...this.options },
+    };
   }
 
   /** Called with each finished run's result, and with null whenever the shown result is cleared. */
@@ -296,7 +315,13 @@ export class Controller {
     this.clearRunDisplay();
     this.parts.result.clear('running…');
     const handle = client.run(
-      { fileName: file.fileName, surface: file.surfaces.length ? this.surface : null, params: { ...this.params }, lids: this.lids },
+      {
+        fileName: file.fileName,
+        surface: file.surfaces.length ? this.surface : null,
+        params: { ...this.params },
+        lids: this.lids,
+        options: { ...this.options },
+      },
       (f) => this.onFrame(f),
     );
     this.active = { runId: handle.runId, cancel: () => handle.cancel() };
@@ -306,6 +331,7 @@ export class Controller {
       (e) => {
         if (this.active?.runId !== handle.runId) return; // cancelled or replaced: not an error
         this.active = null;
+        this.parts.result.clear('no result (see the error)');
         this.fail(asCoreError(e, 'the reconstruction failed', file.fileName), handle.runId);
       },
     );
@@ -318,9 +344,10 @@ export class Controller {
   }
 
   /** A parameter changed: debounce, then restart (cancelling the run in progress). */
-  setParams(values: ParamValues, lids: LidsMode): void {
+  setParams(values: ParamValues, lids: LidsMode, options: ReconOptions = this.options): void {
     this.params = { ...this.params, ...values };
     this.lids = lids;
+    this.options = { ...options };
     this.updateUrl();
     if (this.restartTimer) clearTimeout(this.restartTimer);
     this.restartTimer = setTimeout(() => this.startRun(), RESTART_DEBOUNCE_MS);
@@ -329,8 +356,9 @@ export class Controller {
   resetParams(): void {
     this.params = defaultParams(this.schema);
     this.lids = 'auto';
-    this.parts.params.setValues(this.params, this.lids);
-    this.setParams(this.params, this.lids);
+    this.options = { ...DEFAULT_OPTIONS };
+    this.parts.params.setValues(this.params, this.lids, this.options);
+    this.setParams(this.params, this.lids, this.options);
   }
 
   private onFrame(f: Frame): void {
@@ -356,6 +384,7 @@ export class Controller {
     this.meshMaxMm = robustMax(r.vertexDistances);
     this.parts.status.setProgress(1);
     this.parts.result.show(r);
+    this.parts.banner.hide(); // a run finished: whatever error was shown has been dealt with
     this.parts.exports.setAvailable(true, true);
     this.historyVersion++;
     this.dispatch({ type: 'finished', runId: r.runId });
@@ -465,8 +494,23 @@ export class Controller {
       fileName: file.fileName,
       surface: r ? r.surface : this.surface,
       lids: r ? r.lids : this.lids,
+      options: r?.options ?? this.options,
       params: ordered,
     };
+  }
+
+  /**
+   * The current file as a heartmesh session (its contours with the settings now in the panel:
+   * parameters, mesh ends, options, surface), to open again later; null without a file.
+   */
+  sessionFile(): Promise<Uint8Array> | null {
+    const settings = this.runSettings();
+    return settings && this.client ? this.client.sessionFile(settings, this.appVersion) : null;
+  }
+
+  /** An export that failed (a bad setting, say): the banner says why; the state does not change. */
+  showExportError(e: unknown): void {
+    this.parts.banner.showError(asCoreError(e, 'the export failed', this.currentFile()?.fileName));
   }
 
   currentResult(): RunResult | null {
@@ -583,7 +627,7 @@ export class Controller {
   private updateUrl(): void {
     if (this.schema.length === 0) return;
     const query = serializeUrlState(
-      { params: this.params, lids: this.lids, surface: this.surface, sample: this.sampleId, view: this.view },
+      { params: this.params, lids: this.lids, options: this.options, surface: this.surface, sample: this.sampleId, view: this.view },
       this.schema,
     );
     const url = `${location.pathname}${query}${location.hash}`;

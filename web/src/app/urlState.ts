@@ -4,7 +4,7 @@
  * out of range in a hand-edited link is dropped or clamped rather than breaking the page.
  * Pure: works on query strings, not on `location`.
  */
-import type { LidsMode, ParamSpec, ParamValues } from '../core-client/protocol';
+import { DEFAULT_OPTIONS, SMOOTHING_METHODS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
 
 export interface ViewSettings {
   wireframe: boolean;
@@ -19,6 +19,8 @@ export interface ViewSettings {
 export interface UrlState {
   params: ParamValues;
   lids: LidsMode;
+  /** Smoothing method and conflict softening (`smoothing_method=taubin`, `soften_conflicts=0`). */
+  options: ReconOptions;
   surface: string | null;
   /** Bundled sample to load on start (its id), if any. */
   sample: string | null;
@@ -63,11 +65,16 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
   }
   const lidsText = q.get('lids');
   const lids: LidsMode = lidsText === 'none' ? 'none' : 'auto';
+  const options: ReconOptions = {
+    smoothing_method: SMOOTHING_METHODS.find((m) => m === q.get('smoothing_method')) ?? DEFAULT_OPTIONS.smoothing_method,
+    soften_conflicts: parseBool(q.get('soften_conflicts'), DEFAULT_OPTIONS.soften_conflicts),
+  };
   const opacity = parseNumber(q.get('opacity'));
   const clip = parseNumber(q.get('clip'));
   return {
     params,
     lids,
+    options,
     surface: q.get('surface') || null,
     sample: q.get('sample') || null,
     view: {
@@ -90,6 +97,8 @@ export function serializeUrlState(state: UrlState, schema: readonly ParamSpec[])
     if (v !== undefined && Number.isFinite(v) && v !== spec.default) q.set(spec.name, formatParam(v));
   }
   if (state.lids !== 'auto') q.set('lids', state.lids);
+  if (state.options.smoothing_method !== DEFAULT_OPTIONS.smoothing_method) q.set('smoothing_method', state.options.smoothing_method);
+  if (state.options.soften_conflicts !== DEFAULT_OPTIONS.soften_conflicts) q.set('soften_conflicts', state.options.soften_conflicts ? '1' : '0');
   const view = state.view;
   if (view.wireframe !== DEFAULT_VIEW.wireframe) q.set('wireframe', view.wireframe ? '1' : '0');
   if (view.attractors !== DEFAULT_VIEW.attractors) q.set('attractors_shown', view.attractors ? '1' : '0');

@@ -32,6 +32,7 @@ import {
   type LabTruth,
   type LabTruthSource,
   type LidsMode,
+  type ReconOptions,
   type LoadedFile,
   type ParamSpec,
   type ParamValues,
@@ -63,6 +64,8 @@ export interface RunOptions {
   surface: string | null;
   params: ParamValues;
   lids: LidsMode;
+  /** Missing: the core's defaults. */
+  options?: ReconOptions;
 }
 
 export interface RunHandle {
@@ -259,8 +262,37 @@ export class CoreClient {
       surface: opts.surface,
       params: { ...opts.params },
       lids: opts.lids,
+      ...(opts.options ? { options: { ...opts.options } } : {}),
     });
     return handle;
+  }
+
+  /**
+   * A heartmesh session file (the core's JSON: the file's contours with these settings), to open
+   * again later with the same settings. Rejects with CoreErrorData (a bad setting is named).
+   */
+  sessionFile(opts: RunOptions, appVersion: string): Promise<Uint8Array> {
+    const bytes = this.files.get(opts.fileName);
+    if (bytes === undefined) {
+      return Promise.reject({ code: ErrorCodes.notLoaded, message: `${opts.fileName} has not been loaded`, file: opts.fileName });
+    }
+    if (!this.workerFiles.has(opts.fileName)) {
+      // A recreated worker: re-send the file first (the worker handles messages in order).
+      void this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName: opts.fileName, bytes: bytes.slice(0) })).catch(() => {
+        this.workerFiles.delete(opts.fileName);
+      });
+      this.workerFiles.add(opts.fileName);
+    }
+    return this.request<Uint8Array>((reqId) => ({
+      type: 'session-export',
+      reqId,
+      fileName: opts.fileName,
+      surface: opts.surface,
+      params: { ...opts.params },
+      lids: opts.lids,
+      ...(opts.options ? { options: { ...opts.options } } : {}),
+      appVersion,
+    }));
   }
 
   // ---- validation lab ------------------------------------------------------------------------
@@ -332,7 +364,8 @@ export class CoreClient {
       );
       this.workerFiles.add(job.fileName);
     }
-    const copy: LabBatchJob = job.kind === 'sweep' ? { ...job, grid: { ...job.grid }, params: { ...job.params } } : { ...job, params: { ...job.params } };
+    const options = job.options ? { options: { ...job.options } } : {};
+    const copy: LabBatchJob = job.kind === 'sweep' ? { ...job, grid: { ...job.grid }, params: { ...job.params }, ...options } : { ...job, params: { ...job.params }, ...options };
     this.post({ type: 'lab-batch', runId, job: copy });
     return handle;
   }
@@ -463,6 +496,9 @@ export class CoreClient {
         break;
       case 'lab-compared':
         this.settleRequest(msg.reqId, true, msg.comparison);
+        break;
+      case 'session-json':
+        this.settleRequest(msg.reqId, true, msg.bytes);
         break;
       case 'lab-batch-started':
         this.batches.get(msg.runId)?.started.resolve(msg.info);

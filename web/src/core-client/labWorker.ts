@@ -10,6 +10,7 @@
  */
 import {
   assertNever,
+  paramsJson,
   type ContourInfo,
   type FromWorker,
   type LabBatchRequest,
@@ -127,7 +128,7 @@ export class LabWorker {
   private startBatch(msg: LabBatchRequest): void {
     this.stop();
     const j = msg.job;
-    const params = JSON.stringify(j.params);
+    const params = paramsJson(j.params, j.options);
     const infoJson =
       j.kind === 'loo'
         ? this.lab.start_leave_one_out(this.session, j.fileName, j.surface, params, j.lids)

@@ -14,6 +14,36 @@ export interface ParamValues {
 
 export type LidsMode = 'auto' | 'none';
 
+/** How the remesh step smooths (the core's `SmoothingMethod::ALL` names). */
+export type SmoothingMethodName = 'laplacian-affine' | 'taubin';
+export const SMOOTHING_METHODS: readonly SmoothingMethodName[] = ['laplacian-affine', 'taubin'];
+
+/**
+ * The reconstruction options that are not numbers (so not in the schema). They travel inside the
+ * params JSON object under these names (the binding's convert.rs), for the run, the sweep and
+ * leave-one-out alike; absent means the core's default.
+ */
+export interface ReconOptions {
+  smoothing_method: SmoothingMethodName;
+  /** Down-weight SAX vs LAX attractors that disagree in the final steps (the core's default). */
+  soften_conflicts: boolean;
+}
+
+export const DEFAULT_OPTIONS: Readonly<ReconOptions> = { smoothing_method: 'laplacian-affine', soften_conflicts: true };
+
+/** The params JSON object the binding reads: schema numbers plus the options. */
+export function paramsJson(params: ParamValues, options?: ReconOptions): string {
+  return JSON.stringify(options ? { ...params, smoothing_method: options.smoothing_method, soften_conflicts: options.soften_conflicts } : params);
+}
+
+/** What a saved heartmesh session file carries besides its contours (applied by the app on load). */
+export interface SessionSettings {
+  params: ParamValues;
+  lids: LidsMode;
+  options: ReconOptions;
+  surface: string | null;
+}
+
 /** One numeric parameter as described by the Rust `Params::schema()`. */
 export interface ParamSpec {
   name: string;
@@ -62,6 +92,8 @@ export interface LoadedFile {
   points: Float32Array;
   landmarks: Landmark[];
   warnings: string[];
+  /** Settings of a saved session file (null or absent for other formats). */
+  session?: SessionSettings | null;
 }
 
 export type Phase = 'initial_tube' | 'deform' | 'remesh' | 'done';
@@ -136,6 +168,7 @@ export interface RunResult {
   seconds: number;
   params: ParamValues;
   lids: LidsMode;
+  options: ReconOptions;
   version: string;
 }
 
@@ -224,6 +257,8 @@ export interface LabBatchBase {
   surface: string | null;
   params: ParamValues;
   lids: LidsMode;
+  /** Missing: the core's defaults. */
+  options?: ReconOptions;
 }
 
 /** Values per swept parameter (empty or missing: the base value). */
@@ -293,6 +328,8 @@ export interface RunRequest {
   surface: string | null;
   params: ParamValues;
   lids: LidsMode;
+  /** Missing: the core's defaults. */
+  options?: ReconOptions;
 }
 /** Acknowledges every frame of `runId` up to and including `seq` (cumulative). */
 export interface AckRequest {
@@ -307,6 +344,17 @@ export interface CancelRequest {
 export interface SchemaRequest {
   type: 'schema';
   reqId: number;
+}
+/** A heartmesh session file (contours + settings, the core's format) of a loaded file. */
+export interface SessionExportRequest {
+  type: 'session-export';
+  reqId: number;
+  fileName: string;
+  surface: string | null;
+  params: ParamValues;
+  lids: LidsMode;
+  options?: ReconOptions;
+  appVersion: string;
 }
 
 export interface LabTruthRequest {
@@ -335,7 +383,7 @@ export interface LabBatchRequest {
 
 export type LabRequest = LabTruthRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
 
-export type ToWorker = LoadRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | LabRequest;
+export type ToWorker = LoadRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | LabRequest;
 
 export interface ReadyMessage {
   type: 'ready';
@@ -357,6 +405,12 @@ export interface ErrorMessage {
   reqId?: number;
   runId?: number;
   error: CoreErrorData;
+}
+export interface SessionJsonMessage {
+  type: 'session-json';
+  reqId: number;
+  /** UTF-8 JSON. */
+  bytes: Uint8Array;
 }
 export interface SchemaMessage {
   type: 'schema';
@@ -410,7 +464,8 @@ export type FromWorker =
   | FrameMessage
   | DoneMessage
   | ErrorMessage
-  | SchemaMessage;
+  | SchemaMessage
+  | SessionJsonMessage;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
@@ -525,6 +580,10 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
     case 'lab-batch-started':
       add(msg.info.points);
       break;
+    case 'session-json':
+      add(msg.bytes);
+      break;
+    case 'session-export':
     case 'run':
     case 'ack':
     case 'cancel':
@@ -561,6 +620,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
     case 'lab-truth':
     case 'lab-simulated':
     case 'lab-compared':
+    case 'session-json':
       return undefined;
     default:
       return assertNever(msg);
@@ -583,6 +643,7 @@ export function isFromWorker(v: unknown): v is FromWorker {
     case 'lab-batch-started':
     case 'lab-progress':
     case 'lab-batch-done':
+    case 'session-json':
       return true;
     default:
       return false;
@@ -602,6 +663,7 @@ export function isToWorker(v: unknown): v is ToWorker {
     case 'lab-simulate':
     case 'lab-compare':
     case 'lab-batch':
+    case 'session-export':
       return true;
     default:
       return false;

@@ -17,6 +17,7 @@ import {
   ErrorCodes,
   assertNever,
   isCoreErrorData,
+  paramsJson,
   transferablesOf,
   type ContourInfo,
   type CoreErrorData,
@@ -44,6 +45,7 @@ export interface SessionApi {
   point_distances(): Float32Array;
   vertex_distances(): Float32Array;
   result_json(): string;
+  session_json(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string, appVersion: string): Uint8Array;
 }
 
 export interface WasmApi {
@@ -131,7 +133,7 @@ export class WorkerCore {
     try {
       this.dispatch(msg);
     } catch (e) {
-      const file = msg.type === 'load' ? msg.fileName : msg.type === 'lab-truth' && msg.source.kind === 'file' ? msg.source.fileName : undefined;
+      const file = msg.type === 'load' || msg.type === 'session-export' ? msg.fileName : msg.type === 'lab-truth' && msg.source.kind === 'file' ? msg.source.fileName : undefined;
       this.fail(e, idsOf(msg), file);
     }
   }
@@ -151,6 +153,13 @@ export class WorkerCore {
         break;
       case 'run':
         this.startRun(msg);
+        break;
+      case 'session-export':
+        this.send({
+          type: 'session-json',
+          reqId: msg.reqId,
+          bytes: this.session.session_json(msg.fileName, msg.surface, paramsJson(msg.params, msg.options), msg.lids, msg.appVersion),
+        });
         break;
       case 'ack':
         this.ack(msg.runId, msg.seq);
@@ -198,7 +207,7 @@ export class WorkerCore {
     };
     this.run = run;
     try {
-      this.session.start(msg.fileName, msg.surface, JSON.stringify(msg.params), msg.lids);
+      this.session.start(msg.fileName, msg.surface, paramsJson(msg.params, msg.options), msg.lids);
     } catch (e) {
       this.stopRun();
       this.fail(e, { runId: msg.runId }, msg.fileName);
@@ -326,6 +335,7 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
     case 'lab-truth':
     case 'lab-simulate':
     case 'lab-compare':
+    case 'session-export':
       return { reqId: msg.reqId };
     case 'run':
     case 'ack':

@@ -1,6 +1,7 @@
 /**
  * Export buttons: mesh as STL (binary), OBJ, PLY, VTK; contour distances CSV; parameters JSON;
- * PNG screenshot. Every file records the parameters and the app version (see export/header.ts).
+ * the session (contours + settings, the core's format, opens again with the same settings); PNG
+ * screenshot. Every file records the parameters and the app version (see export/header.ts).
  */
 import type { RunResult } from '../core-client/protocol';
 import { h } from '../ui/dom';
@@ -17,6 +18,10 @@ export interface ExportSource {
   info(): ExportInfo | null;
   result(): RunResult | null;
   screenshot(): Promise<Blob>;
+  /** The current file and settings as a heartmesh session file (null without a file). */
+  session(): Promise<Uint8Array> | null;
+  /** Reports a failed export. */
+  failed(e: unknown): void;
 }
 
 export class ExportPanel {
@@ -24,6 +29,7 @@ export class ExportPanel {
   private readonly meshButtons: HTMLButtonElement[] = [];
   private readonly png: HTMLButtonElement;
   private readonly json: HTMLButtonElement;
+  private readonly session: HTMLButtonElement;
 
   constructor(private readonly source: ExportSource) {
     const button = (label: string, testid: string, title: string, fn: () => void | Promise<void>) => {
@@ -41,14 +47,16 @@ export class ExportPanel {
       button('Distances CSV', 'export-csv', 'Contour-to-mesh distance of every contour point', () => this.exportCsv()),
     );
     this.json = button('Parameters JSON', 'export-json', 'Parameters (and result numbers) as JSON', () => this.exportJson());
+    this.session = button('Session', 'export-session', 'Contours and settings as a heartmesh session (.json): open it again to get the same settings back', () => this.exportSession());
     this.png = button('PNG', 'export-png', 'Screenshot of the 3D view', () => this.exportPng());
-    this.element = h('section', { class: 'panel exports', 'aria-label': 'Export' }, h('h2', {}, 'Export'), h('div', { class: 'button-grid' }, ...this.meshButtons, this.json, this.png));
+    this.element = h('section', { class: 'panel exports', 'aria-label': 'Export' }, h('h2', {}, 'Export'), h('div', { class: 'button-grid' }, ...this.meshButtons, this.json, this.session, this.png));
     this.setAvailable(false, false);
   }
 
   setAvailable(hasResult: boolean, hasFile: boolean): void {
     for (const b of this.meshButtons) b.disabled = !hasResult;
     this.json.disabled = !hasFile;
+    this.session.disabled = !hasFile;
     this.png.disabled = !hasFile;
   }
 
@@ -85,6 +93,18 @@ export class ExportPanel {
       ? { vertices: r.positions.length / 3, triangles: r.indices.length / 3, overall: r.overall, volumeMl: r.volumeMl, areaMm2: r.areaMm2, watertight: r.watertight, seconds: r.seconds }
       : null;
     download(writeParamsJson(info, summary), `${exportBaseName(info)}-params.json`, 'application/json');
+  }
+
+  private async exportSession(): Promise<void> {
+    const info = this.source.info();
+    const pending = this.source.session();
+    if (!info || !pending) return;
+    try {
+      const bytes = await pending;
+      download(bytes.slice(), `${exportBaseName(info)}-session.json`, 'application/json');
+    } catch (e) {
+      this.source.failed(e);
+    }
   }
 
   private async exportPng(): Promise<void> {

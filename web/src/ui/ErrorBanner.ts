@@ -18,7 +18,8 @@ export class ErrorBanner {
     this.element.dataset.kind = 'error';
     const hint =
       e.code === 'worker_crashed' ? ' The computation engine was restarted; try again.' :
-      e.code === 'surface_required' && e.available ? ` Pick one of: ${e.available.join(', ')}.` : '';
+      e.code === 'surface_required' && e.available ? ` Pick one of: ${e.available.join(', ')}.` :
+      taubinHint(e);
     this.text.textContent = `${describeError(e)}${hint}`;
     this.element.hidden = false;
   }
@@ -32,4 +33,15 @@ export class ErrorBanner {
   hide(): void {
     this.element.hidden = true;
   }
+}
+
+/**
+ * The smoothing factor's slider reaches 1, but Taubin smoothing is only stable up to a lower
+ * limit, which the core reports as the factor's allowed range: say why, and what to change.
+ */
+export function taubinHint(e: CoreErrorData): string {
+  if (e.code !== 'param_out_of_range') return '';
+  const m = /parameter smoothing_factor = \S+ is out of range \(allowed \S+ to (\S+)\)/.exec(e.message);
+  if (!m || !(Number(m[1]) < 1)) return '';
+  return ` — with Taubin smoothing the factor must be at most ${m[1]}: lower it, or choose Laplacian + affine correction.`;
 }

@@ -1,9 +1,11 @@
 /**
  * The parameter panel, generated from the core's schema (ParamSpec[] from CoreClient.schema()), so
  * a parameter added in Rust appears here without UI changes. Log-scale parameters (lambda) get a
- * log slider. Emits every change; the controller debounces and restarts the run.
+ * log slider. Below them, the modes that are not numbers: mesh ends (lids), the smoothing method
+ * and the softening of conflicting attractors. Emits every change; the controller debounces and
+ * restarts the run.
  */
-import type { LidsMode, ParamSpec, ParamValues } from '../core-client/protocol';
+import { DEFAULT_OPTIONS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
 import { h } from './dom';
 import { formatValue, sliderSteps, sliderToValue, valueToSlider } from './sliderScale';
 
@@ -22,6 +24,10 @@ const LABELS: Record<string, string> = {
   ring_points: 'Initial ring points',
 };
 
+/** One line under each option, like the sliders' schema help. */
+const SMOOTHING_HELP = 'how each remesh smooths: the paper\'s umbrella smoothing with an affine correction, or Taubin λ/μ (factor at most 0.6)';
+const SOFTEN_HELP = 'in the final steps, down-weight short- and long-axis attractors that disagree instead of letting the surface fold';
+
 /** Text shown instead of 0 for parameters where 0 means "automatic". */
 const ZERO_MEANS: Record<string, string> = { attractors: 'auto', attractor_spacing: 'off' };
 
@@ -38,8 +44,14 @@ export class ParamPanel {
   private readonly lids: HTMLSelectElement;
   private values: ParamValues = {};
   private lidsMode: LidsMode = 'auto';
+  private readonly smoothing: HTMLSelectElement;
+  private readonly soften: HTMLInputElement;
+  private options: ReconOptions = { ...DEFAULT_OPTIONS };
 
-  constructor(private readonly onChange: (values: ParamValues, lids: LidsMode) => void, onReset: () => void) {
+  constructor(
+    private readonly onChange: (values: ParamValues, lids: LidsMode, options: ReconOptions) => void,
+    onReset: () => void,
+  ) {
     this.list = h('div', { class: 'param-list' });
     this.lids = h(
       'select',
@@ -49,7 +61,27 @@ export class ParamPanel {
     );
     this.lids.addEventListener('change', () => {
       this.lidsMode = this.lids.value === 'none' ? 'none' : 'auto';
-      this.onChange({ ...this.values }, this.lidsMode);
+      this.emit();
+    });
+    this.smoothing = h(
+      'select',
+      { id: 'param-smoothing-method', 'data-testid': 'param-smoothing-method', 'aria-describedby': 'param-smoothing-method-help' },
+      h('option', { value: 'laplacian-affine' }, 'Laplacian + affine correction'),
+      h('option', { value: 'taubin' }, 'Taubin (λ/μ)'),
+    );
+    this.smoothing.addEventListener('change', () => {
+      this.options = { ...this.options, smoothing_method: this.smoothing.value === 'taubin' ? 'taubin' : 'laplacian-affine' };
+      this.renderOptions();
+      this.emit();
+    });
+    this.soften = h('input', {
+      type: 'checkbox', id: 'param-soften-conflicts', 'data-testid': 'param-soften-conflicts',
+      'aria-describedby': 'param-soften-conflicts-help',
+    });
+    this.soften.addEventListener('change', () => {
+      this.options = { ...this.options, soften_conflicts: this.soften.checked };
+      this.renderOptions();
+      this.emit();
     });
     const reset = h('button', { type: 'button', class: 'small', 'data-testid': 'reset-params', title: 'All parameters back to the defaults of the method' }, 'Reset to defaults');
     reset.addEventListener('click', onReset);
@@ -59,6 +91,19 @@ export class ParamPanel {
       h('h2', {}, 'Parameters'),
       this.list,
       h('div', { class: 'param-row' }, h('label', { for: 'param-lids' }, 'Mesh ends'), this.lids),
+      h(
+        'div',
+        { class: 'param-row param-option', title: SMOOTHING_HELP },
+        h('label', { for: 'param-smoothing-method' }, 'Smoothing'),
+        this.smoothing,
+        h('div', { class: 'param-help', id: 'param-smoothing-method-help' }, SMOOTHING_HELP),
+      ),
+      h(
+        'div',
+        { class: 'param-row param-option', title: SOFTEN_HELP },
+        h('label', { class: 'param-check', for: 'param-soften-conflicts' }, this.soften, 'Soften conflicting SAX/LAX attractors'),
+        h('div', { class: 'param-help', id: 'param-soften-conflicts-help' }, SOFTEN_HELP),
+      ),
       h('div', { class: 'panel-actions' }, reset),
     );
   }
@@ -82,7 +127,7 @@ export class ParamPanel {
         this.values[spec.name] = v;
         output.textContent = this.format(spec, v);
         output.classList.toggle('changed', v !== spec.default);
-        this.onChange({ ...this.values }, this.lidsMode);
+        this.emit();
       });
       this.rows.set(spec.name, { spec, slider, output });
       this.list.append(row);
@@ -91,10 +136,23 @@ export class ParamPanel {
   }
 
   /** Shows values without emitting a change. */
-  setValues(values: ParamValues, lids: LidsMode): void {
+  setValues(values: ParamValues, lids: LidsMode, options: ReconOptions): void {
     this.values = { ...values };
     this.lidsMode = lids;
+    this.options = { ...options };
     this.render();
+  }
+
+  private emit(): void {
+    this.onChange({ ...this.values }, this.lidsMode, { ...this.options });
+  }
+
+  /** The options' controls, marked like a changed slider when not at the core's default. */
+  private renderOptions(): void {
+    this.smoothing.value = this.options.smoothing_method;
+    this.soften.checked = this.options.soften_conflicts;
+    this.smoothing.classList.toggle('changed', this.options.smoothing_method !== DEFAULT_OPTIONS.smoothing_method);
+    this.soften.parentElement?.classList.toggle('changed', this.options.soften_conflicts !== DEFAULT_OPTIONS.soften_conflicts);
   }
 
   private format(spec: ParamSpec, v: number): string {
@@ -109,5 +167,6 @@ export class ParamPanel {
       output.classList.toggle('changed', v !== spec.default);
     }
     this.lids.value = this.lidsMode;
+    this.renderOptions();
   }
 }

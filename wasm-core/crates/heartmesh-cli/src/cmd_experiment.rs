@@ -9,7 +9,7 @@ use std::time::Instant;
 use heartmesh_core::sim::experiment::{to_csv, Design, Experiment, Progress, Row};
 use heartmesh_core::sim::experiment_design::Subject;
 use heartmesh_core::sim::planes::anatomical_axis;
-use heartmesh_core::sim::shapes::{Bulge, ParametricLv};
+use heartmesh_core::sim::shapes::ParametricLv;
 use heartmesh_core::sim::AcquisitionSpec;
 use heartmesh_core::Params;
 
@@ -264,17 +264,7 @@ fn list(flag: &str, v: &str) -> Result<Vec<f64>, CliError> {
 /// The built-in truth: the default parametric LV with a 4 mm regional bulge at mid-ventricle
 /// (as in the accuracy tests), finely triangulated.
 pub fn parametric_lv() -> Result<heartmesh_core::TriMesh, CliError> {
-    ParametricLv {
-        bulge: Some(Bulge {
-            amplitude_mm: 4.0,
-            height_fraction: 0.5,
-            angle_deg: 30.0,
-            width_mm: 10.0,
-        }),
-        ..ParametricLv::default()
-    }
-    .mesh(96, 64)
-    .map_err(|e| CliError::Failed(format!("parametric-lv: {e}")))
+    ParametricLv::bulged_truth().map_err(|e| CliError::Failed(format!("parametric-lv: {e}")))
 }
 
 fn subject(arg: &str) -> Result<Subject, CliError> {

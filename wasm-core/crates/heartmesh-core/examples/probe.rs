@@ -78,16 +78,7 @@ fn run() -> Res<()> {
             )?,
             "cardiomesh-spasm-LV_endo.obj",
         )?,
-        "param" => lv(heartmesh_core::sim::shapes::ParametricLv {
-            bulge: Some(heartmesh_core::sim::shapes::Bulge {
-                amplitude_mm: 4.0,
-                height_fraction: 0.5,
-                angle_deg: 30.0,
-                width_mm: 10.0,
-            }),
-            ..Default::default()
-        }
-        .mesh(96, 64)?),
+        "param" => lv(heartmesh_core::sim::shapes::ParametricLv::bulged_truth()?),
         other => return Err(format!("unknown case {other}").into()),
     };
     let seed = match base.as_str() {
@@ -96,7 +87,6 @@ fn run() -> Res<()> {
         _ => 3,
     };
     let spec = AcquisitionSpec {
-        lax_count: lax,
         axis: rvax.map(|r| r.0),
         lax_reference: rvax.map(|r| r.1),
         join_gap_mm: if rvax.is_some() { 6.0 } else { 3.0 },
@@ -105,6 +95,17 @@ fn run() -> Res<()> {
             tilt_deg: 2.0,
         }),
         seed: if mis { seed } else { 1 },
+        // PROBE_SAX=5: a denser stack, to tell an information limit from a fitting error.
+        sax: heartmesh_core::sim::planes::SaxStack::SpacingMm(
+            std::env::var("PROBE_SAX")
+                .ok()
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(10.0),
+        ),
+        lax_count: std::env::var("PROBE_LAX")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(lax),
         ..AcquisitionSpec::default()
     };
     let acq = simulate(&t, &spec)?;
@@ -260,6 +261,119 @@ fn run() -> Res<()> {
             .map(|q| (p - q).norm())
             .fold(f64::INFINITY, f64::min)
     };
+    if let Ok(file) = std::env::var("PROBE_SECTION") {
+        // SVG of the long-axis section through the worst truth point: truth black, mesh red,
+        // contour points within 1 mm of the plane blue (SAX) and green (LAX), the point orange.
+        use heartmesh_core::sim::slice::Plane;
+        let w = r.truth_to_mesh.max_at;
+        let w = Vec3::new(w[0], w[1], w[2]);
+        let (c, z) = (acq.axis.centre, acq.axis.direction);
+        let radial = {
+            let v = w - c;
+            (v - z * z.dot(&v)).normalize()
+        };
+        let plane = Plane {
+            origin: c,
+            normal: z.cross(&radial).normalize(),
+        };
+        let uv = |p: &Vec3| ((p - c).dot(&radial), -(acq.axis.height(p) - lo));
+        let mut svg = String::new();
+        let mut all = Vec::new();
+        for (m, colour) in [(&t, "black"), (&mesh, "red")] {
+            for piece in slice_mesh(m, &plane) {
+                let pts: Vec<(f64, f64)> = piece.points.iter().map(&uv).collect();
+                all.extend(pts.iter().copied());
+                let d: Vec<String> = pts.iter().map(|(x, y)| format!("{x:.2},{y:.2}")).collect();
+                svg += &format!(
+                    "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"0.3\"/>\n",
+                    d.join(" ")
+                );
+            }
+        }
+        for ct in &acq.contours.contours {
+            let colour = if ct.id.starts_with("lax") {
+                "green"
+            } else {
+                "blue"
+            };
+            for p in ct.points().filter(|p| plane.signed_distance(p).abs() < 1.0) {
+                let (x, y) = uv(p);
+                svg +=
+                    &format!("<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"0.4\" fill=\"{colour}\"/>\n");
+            }
+        }
+        let (x, y) = uv(&w);
+        svg += &format!(
+            "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"1.5\" fill=\"none\" stroke=\"orange\" stroke-width=\"0.4\"/>\n"
+        );
+        let (x0, x1, y0, y1) = all.iter().fold(
+            (
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            ),
+            |(a, b, c, d), (x, y)| (a.min(*x), b.max(*x), c.min(*y), d.max(*y)),
+        );
+        let (wd, ht) = (x1 - x0 + 20.0, y1 - y0 + 20.0);
+        let doc = format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"{:.0}\" viewBox=\"{:.1} {:.1} {wd:.1} {ht:.1}\">\n\
+             <rect x=\"{:.1}\" y=\"{:.1}\" width=\"{wd:.1}\" height=\"{ht:.1}\" fill=\"white\"/>\n{svg}\
+             <text x=\"{:.1}\" y=\"{:.1}\" font-size=\"{:.2}\">{case}, worst truth point {:.2} mm: truth black, mesh red, SAX blue, LAX green; bar 10 mm</text>\n\
+             <line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"black\" stroke-width=\"0.6\"/>\n</svg>\n",
+            800.0 * ht / wd,
+            x0 - 10.0,
+            y0 - 10.0,
+            x0 - 10.0,
+            y0 - 10.0,
+            x0 - 8.0,
+            y0 - 6.0,
+            wd / 40.0,
+            r.truth_to_mesh.max,
+            x0 - 8.0,
+            y1 + 6.0,
+            x0 + 2.0,
+            y1 + 6.0,
+        );
+        std::fs::write(&file, doc)?;
+    }
+    if std::env::var("PROBE_SIGNED").is_ok() {
+        // Truth->mesh signed error (+: truth outside the mesh, i.e. the mesh sags inwards) binned by
+        // the truth point's distance to the nearest contour point.
+        let bvh = Bvh::build(&mesh);
+        let mut bins = [(0usize, 0.0f64, 0.0f64, 0.0f64); 8];
+        for p in t
+            .positions
+            .iter()
+            .filter(|p| acq.clip.signed_distance(p) <= 0.0)
+        {
+            let Some(h) = bvh.closest_point(&mesh, *p) else {
+                continue;
+            };
+            let [a, b, c] = mesh.corners(h.triangle as usize);
+            let n = (b - a).cross(&(c - a));
+            let d = h.distance_sq.sqrt();
+            let s = if (p - h.point).dot(&n) >= 0.0 { d } else { -d };
+            let k = (near_contour(p).floor() as usize).min(7);
+            bins[k].0 += 1;
+            bins[k].1 += s;
+            bins[k].2 += d;
+            bins[k].3 = bins[k].3.max(d);
+        }
+        println!("truth->mesh by distance to contours (n, signed mean +out, abs mean, max):");
+        for (k, b) in bins.iter().enumerate() {
+            if b.0 > 0 {
+                println!(
+                    "  {k}-{} mm: n {:5} signed {:+.3} abs {:.3} max {:.3}",
+                    k + 1,
+                    b.0,
+                    b.1 / b.0 as f64,
+                    b.2 / b.0 as f64,
+                    b.3
+                );
+            }
+        }
+    }
     // Error by height band, both directions.
     for (label, from, to) in [("truth->mesh", &t, &mesh), ("mesh->truth", &mesh, &t)] {
         let bvh = Bvh::build(to);

@@ -7,12 +7,19 @@
 use heartmesh_core::contours::{Contour, ContourKind};
 use heartmesh_core::error::{CoreError, Result};
 use heartmesh_core::geometry::Vec3;
+use heartmesh_core::params::{LidMode, SmoothingMethod};
 use heartmesh_core::Params;
 use serde_json::{json, Map, Value};
 
-/// Builds parameters from a JSON object of schema names to numbers, applied in schema order (so
-/// `attractor_spacing` > 0 wins over `attractors`, whatever the key order), plus the lids mode and
-/// the surface.
+/// The non-numeric options the params JSON object may also carry (beside the schema's numbers):
+/// `smoothing_method` (a string, `SmoothingMethod::ALL`) and `soften_conflicts` (a bool). They
+/// travel inside the same object so that the run, the sweep and leave-one-out take them one way.
+pub const SMOOTHING_METHOD: &str = "smoothing_method";
+pub const SOFTEN_CONFLICTS: &str = "soften_conflicts";
+
+/// Builds parameters from a JSON object of schema names to numbers (plus the options above),
+/// applied in schema order (so `attractor_spacing` > 0 wins over `attractors`, whatever the key
+/// order), plus the lids mode and the surface.
 pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) -> Result<Params> {
     let value: Value = serde_json::from_str(params_json).map_err(|e| CoreError::ParamInvalid {
         name: "params".into(),
@@ -23,7 +30,11 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
         message: "not a JSON object".into(),
     })?;
     let schema = Params::schema();
-    if let Some(unknown) = object.keys().find(|k| !schema.iter().any(|s| s.name == *k)) {
+    let is_option = |k: &str| k == SMOOTHING_METHOD || k == SOFTEN_CONFLICTS;
+    if let Some(unknown) = object
+        .keys()
+        .find(|k| !is_option(k) && !schema.iter().any(|s| s.name == *k))
+    {
         return Err(CoreError::ParamInvalid {
             name: unknown.clone(),
             message: "unknown parameter".into(),
@@ -39,10 +50,50 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
             params.set(spec.name, number)?;
         }
     }
+    apply_options(&mut params, object)?;
     params.set_lids(lids)?;
     params.surface = surface;
     params.validate()?;
     Ok(params)
+}
+
+/// Applies `smoothing_method` and `soften_conflicts` when present, with the core's setters; a
+/// wrong type or name is an error naming the option and what it accepts.
+fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()> {
+    match object.get(SMOOTHING_METHOD) {
+        None => {}
+        Some(Value::String(name)) => params.set_smoothing_method(name)?,
+        Some(other) => {
+            return Err(CoreError::ParamInvalid {
+                name: SMOOTHING_METHOD.into(),
+                message: format!("{other} is not a method name (allowed: {})", method_names()),
+            })
+        }
+    }
+    match object.get(SOFTEN_CONFLICTS) {
+        None => {}
+        Some(Value::Bool(on)) => params.soften_conflicts = *on,
+        Some(other) => {
+            return Err(CoreError::ParamInvalid {
+                name: SOFTEN_CONFLICTS.into(),
+                message: format!("{other} is not true or false"),
+            })
+        }
+    }
+    Ok(())
+}
+
+fn method_names() -> String {
+    let names: Vec<&str> = SmoothingMethod::ALL.iter().map(|(_, n)| *n).collect();
+    names.join(", ")
+}
+
+/// The options of `params` as `{smoothing_method, soften_conflicts}` (run results, exports).
+pub fn options_to_json(params: &Params) -> Value {
+    json!({
+        SMOOTHING_METHOD: params.smoothing.name(),
+        SOFTEN_CONFLICTS: params.soften_conflicts,
+    })
 }
 
 /// Every schema parameter's effective value, for the run result and exports.
@@ -54,6 +105,21 @@ pub fn params_to_json(params: &Params) -> Value {
         }
     }
     Value::Object(out)
+}
+
+/// The settings of a saved session in the protocol's terms (`SessionSettings`): `{params,
+/// lids, options, surface}`.
+pub fn session_settings(params: &Params) -> Value {
+    let lids = match params.lids {
+        LidMode::None => "none",
+        _ => "auto",
+    };
+    json!({
+        "params": params_to_json(params),
+        "lids": lids,
+        "options": options_to_json(params),
+        "surface": params.surface,
+    })
 }
 
 /// `ContourInfo[]` of the protocol; `start`/`count` index points in [`flat_points`] order.
@@ -110,7 +176,7 @@ mod tests {
     use super::*;
     use heartmesh_core::contours::Polyline;
     use heartmesh_core::geometry::v3;
-    use heartmesh_core::params::{AttractorMode, LidMode};
+    use heartmesh_core::params::AttractorMode;
 
     fn contour(id: &str, pieces: &[usize]) -> Contour {
         Contour {
@@ -160,6 +226,94 @@ mod tests {
         assert_eq!(e.code(), "param_invalid");
         let e = params_from_json("{}", "sideways", None).unwrap_err();
         assert_eq!(e.code(), "param_invalid");
+    }
+
+    #[test]
+    fn options_ride_in_the_params_object() {
+        let p = params_from_json(
+            r#"{"smoothing_method": "taubin", "soften_conflicts": false, "smoothing_factor": 0.5}"#,
+            "auto",
+            None,
+        )
+        .unwrap();
+        assert_eq!(p.smoothing, SmoothingMethod::Taubin);
+        assert!(!p.soften_conflicts);
+        assert_eq!(p.smoothing_factor, 0.5);
+        let o = options_to_json(&p);
+        assert_eq!(
+            o,
+            json!({"smoothing_method": "taubin", "soften_conflicts": false})
+        );
+        // Absent: the core's defaults.
+        let d = params_from_json("{}", "auto", None).unwrap();
+        assert_eq!(d.smoothing, SmoothingMethod::LaplacianAffine);
+        assert!(d.soften_conflicts);
+        let q = params_from_json(
+            r#"{"smoothing_method": "laplacian-affine", "soften_conflicts": true}"#,
+            "auto",
+            None,
+        )
+        .unwrap();
+        assert_eq!(q, d);
+        assert_eq!(
+            options_to_json(&d),
+            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true})
+        );
+    }
+
+    #[test]
+    fn bad_options_name_the_option_and_the_allowed_values() {
+        let e = params_from_json(r#"{"smoothing_method": "gaussian"}"#, "auto", None).unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+        let text = e.to_string();
+        assert!(text.contains("smoothing_method"), "{text}");
+        assert!(text.contains("gaussian"), "{text}");
+        assert!(text.contains("laplacian-affine, taubin"), "{text}");
+        let e = params_from_json(r#"{"smoothing_method": 2}"#, "auto", None).unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+        assert!(e.to_string().contains("laplacian-affine, taubin"), "{e}");
+        let e = params_from_json(r#"{"soften_conflicts": "no"}"#, "auto", None).unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+        assert!(e.to_string().contains("soften_conflicts"), "{e}");
+        assert!(e.to_string().contains("true or false"), "{e}");
+        // Taubin is unstable above a factor of 0.6: the core's range error, naming the limit.
+        let e = params_from_json(
+            r#"{"smoothing_method": "taubin", "smoothing_factor": 0.8}"#,
+            "auto",
+            None,
+        )
+        .unwrap_err();
+        assert_eq!(e.code(), "param_out_of_range");
+        assert!(e.to_string().contains("smoothing_factor"), "{e}");
+        assert!(e.to_string().contains("0.6"), "{e}");
+        // The same factor is fine with the default method.
+        assert!(params_from_json(r#"{"smoothing_factor": 0.8}"#, "auto", None).is_ok());
+    }
+
+    #[test]
+    fn session_settings_carry_the_options() {
+        let p = params_from_json(
+            r#"{"smoothing_method": "taubin", "soften_conflicts": false, "beta": 0.3}"#,
+            "none",
+            Some("LV_EPI".into()),
+        )
+        .unwrap();
+        let v = session_settings(&p);
+        assert_eq!(v["lids"], "none");
+        assert_eq!(v["surface"], "LV_EPI");
+        assert_eq!(v["params"]["beta"], 0.3);
+        assert_eq!(v["options"]["smoothing_method"], "taubin");
+        assert_eq!(v["options"]["soften_conflicts"], false);
+        // What the app sends back reproduces the parameters.
+        let mut object = v["params"].as_object().unwrap().clone();
+        object.extend(v["options"].as_object().unwrap().clone());
+        let again = params_from_json(
+            &Value::Object(object).to_string(),
+            v["lids"].as_str().unwrap(),
+            Some("LV_EPI".into()),
+        )
+        .unwrap();
+        assert_eq!(again, p);
     }
 
     #[test]

@@ -78,7 +78,8 @@ impl Session {
     }
 
     /// Parses a contour file and keeps it under `file_name` (replacing an earlier one). Returns
-    /// the JSON of the protocol's `LoadedFile` without `points` (see [`Session::file_points`]).
+    /// the JSON of the protocol's `LoadedFile` without `points` (see [`Session::file_points`]);
+    /// for a saved session, `session` holds its settings (`convert::session_settings`).
     pub fn load(&mut self, file_name: &str, bytes: &[u8]) -> Result<String, JsValue> {
         let set = io::read_contours(file_name, bytes).map_err(|e| errors::to_js(&e))?;
         let landmarks: Vec<_> = set
@@ -93,12 +94,26 @@ impl Session {
                 item["kind"] = json!(kind);
             }
         }
+        let mut warnings = set.warnings.clone();
+        // A saved session also carries the settings it was made with: the app applies them.
+        let settings = if io::session::looks_like_session(bytes) {
+            match io::session::read_session(bytes).and_then(|s| s.params()) {
+                Ok(p) => convert::session_settings(&p),
+                Err(e) => {
+                    warnings.push(format!("the session's parameters were not applied: {e}"));
+                    serde_json::Value::Null
+                }
+            }
+        } else {
+            serde_json::Value::Null
+        };
         let info = json!({
             "fileName": file_name,
             "surfaces": set.surfaces(),
             "contours": contours,
             "landmarks": landmarks,
-            "warnings": set.warnings,
+            "warnings": warnings,
+            "session": settings,
         });
         self.files.insert(file_name.to_string(), set);
         Ok(info.to_string())
@@ -110,13 +125,31 @@ impl Session {
         Ok(convert::flat_points(&set.contours))
     }
 
+    /// A heartmesh session file (the core's `io::session` JSON) of a loaded file with these
+    /// settings (same arguments as [`Session::start`]), so that opening it again brings back the
+    /// contours, the parameters, the options, the lids and the surface.
+    pub fn session_json(
+        &self,
+        file_name: &str,
+        surface: Option<String>,
+        params_json: &str,
+        lids: &str,
+        app_version: &str,
+    ) -> Result<Vec<u8>, JsValue> {
+        let params =
+            convert::params_from_json(params_json, lids, surface).map_err(|e| errors::to_js(&e))?;
+        let set = self.file(file_name)?;
+        io::session::write_session(set, &params, app_version).map_err(|e| errors::to_js(&e))
+    }
+
     /// Forgets a loaded file.
     pub fn unload(&mut self, file_name: &str) {
         self.files.remove(file_name);
     }
 
     /// Starts a reconstruction of a loaded file, replacing any run in progress. `params_json` is
-    /// an object of schema names to numbers (missing ones take their defaults); `lids` is "auto"
+    /// an object of schema names to numbers (missing ones take their defaults), which may also
+    /// carry `smoothing_method` and `soften_conflicts` (see `convert`); `lids` is "auto"
     /// or "none"; `surface` picks one surface of a multi-surface file.
     pub fn start(
         &mut self,
@@ -206,7 +239,7 @@ impl Session {
     }
 
     /// JSON of the small part of the protocol's `RunResult`: surface, contours, perContour,
-    /// overall, volumeMl, areaMm2, watertight, params, lids, version.
+    /// overall, volumeMl, areaMm2, watertight, params, lids, options, version.
     pub fn result_json(&self) -> Result<String, JsValue> {
         let run = self.run_ref()?;
         let rec = &run.rec;
@@ -227,6 +260,7 @@ impl Session {
             "watertight": topology::validity(mesh).is_closed_manifold(),
             "params": convert::params_to_json(rec.params()),
             "lids": run.lids,
+            "options": convert::options_to_json(rec.params()),
             "version": heartmesh_core::VERSION,
         });
         Ok(out.to_string())
@@ -250,5 +284,41 @@ impl Session {
         self.run
             .as_mut()
             .ok_or_else(|| errors::usage("no_run", "no reconstruction has been started"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const RINGS: &str = "contour,x,y,z\n\
+        a,20,0,0\na,0,20,0\na,-20,0,0\na,0,-20,0\n\
+        b,20,0,10\nb,0,20,10\nb,-20,0,10\nb,0,-20,10\n";
+
+    #[test]
+    fn a_written_session_loads_back_with_its_settings() {
+        let mut s = Session::new();
+        s.load("rings.csv", RINGS.as_bytes()).unwrap();
+        let bytes = s
+            .session_json(
+                "rings.csv",
+                None,
+                r#"{"beta": 0.3, "smoothing_method": "taubin", "soften_conflicts": false}"#,
+                "none",
+                "9.9.9",
+            )
+            .unwrap();
+        let info: serde_json::Value =
+            serde_json::from_str(&s.load("rings.json", &bytes).unwrap()).unwrap();
+        let settings = &info["session"];
+        assert_eq!(settings["options"]["smoothing_method"], "taubin");
+        assert_eq!(settings["options"]["soften_conflicts"], false);
+        assert_eq!(settings["lids"], "none");
+        assert_eq!(settings["params"]["beta"], 0.3);
+        assert_eq!(info["contours"].as_array().map(Vec::len), Some(2));
+        // A plain contour file carries no settings.
+        let plain: serde_json::Value =
+            serde_json::from_str(&s.load("rings.csv", RINGS.as_bytes()).unwrap()).unwrap();
+        assert!(plain["session"].is_null());
     }
 }

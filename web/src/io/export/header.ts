@@ -1,8 +1,8 @@
 /**
  * What every export records about how it was made: app and core version, input file, surface,
- * lids mode and every parameter value. One place, so that all formats say the same thing.
+ * lids mode, the smoothing options and every parameter value. One place, so that all formats say the same thing.
  */
-import type { LidsMode, ParamValues } from '../../core-client/protocol';
+import type { LidsMode, ParamValues, ReconOptions } from '../../core-client/protocol';
 
 export interface ExportInfo {
   appVersion: string;
@@ -10,6 +10,8 @@ export interface ExportInfo {
   fileName: string;
   surface: string | null;
   lids: LidsMode;
+  /** Smoothing method and conflict softening (missing in callers that predate them: defaults). */
+  options?: ReconOptions;
   params: ParamValues;
 }
 
@@ -29,13 +31,18 @@ export function paramText(params: ParamValues): string {
     .join(' ');
 }
 
+/** ` smoothing_method=... soften_conflicts=...` when known. */
+function optionText(options: ReconOptions | undefined): string {
+  return options ? ` smoothing_method=${options.smoothing_method} soften_conflicts=${options.soften_conflicts}` : '';
+}
+
 /** Header lines (without comment markers), each free of newlines. */
 export function headerLines(info: ExportInfo): string[] {
   const clean = (s: string) => s.replace(/[\r\n]+/g, ' ');
   return [
     `heartmesh ${clean(info.appVersion)} (core ${clean(info.coreVersion)}), units: mm`,
     `input: ${clean(info.fileName)}${info.surface ? ` surface: ${clean(info.surface)}` : ''}`,
-    `lids: ${info.lids} ${paramText(info.params)}`,
+    `lids: ${info.lids} ${paramText(info.params)}${optionText(info.options)}`,
   ];
 }
 

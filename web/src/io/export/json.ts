@@ -1,5 +1,5 @@
 /** The parameters of a run (and its measured result) as JSON, to reproduce or report it. */
-import type { Stats } from '../../core-client/protocol';
+import { DEFAULT_OPTIONS, type Stats } from '../../core-client/protocol';
 import type { ExportInfo } from './header';
 
 export interface RunSummary {
@@ -20,6 +20,8 @@ export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): s
     input: info.fileName,
     surface: info.surface,
     lids: info.lids,
+    smoothing_method: (info.options ?? DEFAULT_OPTIONS).smoothing_method,
+    soften_conflicts: (info.options ?? DEFAULT_OPTIONS).soften_conflicts,
     params: info.params,
     ...(summary
       ? {

@@ -85,18 +85,14 @@ pub fn tube_rings(
         if loop_pts.len() < 3 {
             continue;
         }
+        // First ring: start at its first point as delineated. A direction fixed in scanner
+        // coordinates would make the mesh depend on how the patient lies in the scanner frame;
+        // the file's own order moves with the contours under any rotation or translation.
+        let first_point = loop_pts[0];
         if signed_area(&loop_pts, axis) < 0.0 {
             loop_pts.reverse();
         }
-        let start = match prev_start {
-            Some(s) => nearest_on_loop(&loop_pts, &s),
-            None => {
-                // First ring: start where the loop crosses a fixed direction, for determinism.
-                let c = loop_pts.iter().fold(Vec3::zeros(), |a, p| a + p) / loop_pts.len() as f64;
-                let (fx, _) = super::axis::frame_for(axis);
-                nearest_on_loop(&loop_pts, &(c + fx * 1e6))
-            }
-        };
+        let start = nearest_on_loop(&loop_pts, &prev_start.unwrap_or(first_point));
         let rotated = rotate_loop_to(&loop_pts, start);
         let ring = resample_count(&rotated, true, k);
         prev_start = ring.first().copied();

@@ -215,6 +215,19 @@ mod tests {
     use super::*;
     use crate::spatial::testutil::SplitMix64;
 
+    /// A random m x m factor B and the symmetric positive definite A = B B^T + m I.
+    fn random_spd(rng: &mut SplitMix64, m: usize) -> (Vec<f64>, Vec<f64>) {
+        let b: Vec<f64> = (0..m * m).map(|_| rng.range(-1.0, 1.0)).collect();
+        let mut a = vec![0.0; m * m];
+        for i in 0..m {
+            for j in 0..m {
+                let s: f64 = (0..m).map(|k| b[i * m + k] * b[j * m + k]).sum();
+                a[i * m + j] = s + if i == j { m as f64 } else { 0.0 };
+            }
+        }
+        (b, a)
+    }
+
     /// The dispatched factorisation (AVX when the CPU has it) and the two-lane and portable
     /// kernels give the same bits, so native results equal wasm's.
     #[test]
@@ -222,14 +235,7 @@ mod tests {
         use crate::deform::lanes::{portable, Pair};
         let mut rng = SplitMix64::new(7);
         for m in [1, 2, 3, 7, 8, 9, 33, 64, 101] {
-            let b: Vec<f64> = (0..m * m).map(|_| rng.range(-1.0, 1.0)).collect();
-            let mut a = vec![0.0; m * m];
-            for i in 0..m {
-                for j in 0..m {
-                    let s: f64 = (0..m).map(|k| b[i * m + k] * b[j * m + k]).sum();
-                    a[i * m + j] = s + if i == j { m as f64 } else { 0.0 };
-                }
-            }
+            let (b, a) = random_spd(&mut rng, m);
             let (mut l1, mut l2, mut l3) = (a.clone(), a.clone(), a.clone());
             cholesky_in_place(&mut l1, m).unwrap();
             cholesky_q::<Q2>(&mut l2, m).unwrap();
@@ -259,15 +265,7 @@ mod tests {
     fn blocked_cholesky_equals_the_plain_one() {
         let mut rng = SplitMix64::new(6);
         for m in [1, 2, 3, 4, 5, 8, 9, 37, 64] {
-            // SPD: B B^T + m I.
-            let b: Vec<f64> = (0..m * m).map(|_| rng.range(-1.0, 1.0)).collect();
-            let mut a = vec![0.0; m * m];
-            for i in 0..m {
-                for j in 0..m {
-                    let s: f64 = (0..m).map(|k| b[i * m + k] * b[j * m + k]).sum();
-                    a[i * m + j] = s + if i == j { m as f64 } else { 0.0 };
-                }
-            }
+            let (_, a) = random_spd(&mut rng, m);
             let (mut l1, mut l2) = (a.clone(), a.clone());
             cholesky_in_place(&mut l1, m).unwrap();
             cholesky_reference(&mut l2, m).unwrap();

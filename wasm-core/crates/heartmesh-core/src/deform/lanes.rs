@@ -414,6 +414,30 @@ impl<V: Lanes32> Oct for Pair32<V> {
 /// The eight f32 lanes of the target without run-time detection.
 pub type O4 = Pair32<F4>;
 
+/// A kernel over rows of four f64 lanes (`out` holds rows `start..start + out.len()`), written once
+/// over [`Quad`]; [`run_rows`] picks the lanes.
+pub trait RowKernel {
+    fn rows<Q: Quad>(&self, start: usize, out: &mut [[f64; 4]]);
+}
+
+/// Runs `k` with one AVX register per row when the CPU has AVX (checked at run time), otherwise
+/// with [`Q2`]: the same lane operations, so the same bits on every target.
+pub fn run_rows<K: RowKernel>(k: &K, start: usize, out: &mut [[f64; 4]]) {
+    #[cfg(target_arch = "x86_64")]
+    if avx::available() {
+        // SAFETY: the CPU has AVX.
+        return unsafe { run_rows_avx(k, start, out) };
+    }
+    k.rows::<Q2>(start, out);
+}
+
+/// [`run_rows`] compiled for AVX, so that the inlined kernel is too.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn run_rows_avx<K: RowKernel>(k: &K, start: usize, out: &mut [[f64; 4]]) {
+    k.rows::<avx::Avx>(start, out);
+}
+
 #[cfg(target_arch = "x86_64")]
 pub mod avx {
     //! SAFETY (every `unsafe` below): these methods are only called from functions compiled

@@ -2,7 +2,7 @@
 //! and list property types, and a binary little-endian writer with an optional per-vertex float
 //! property (e.g. `distance`) that three.js' PLYLoader and ParaView show as a scalar.
 
-use super::text::quote;
+use super::text::{quote, word_end};
 use super::{header_lines, MeshData, MAX_MESH_ELEMENTS};
 use crate::error::{CoreError, Result};
 use crate::geometry::v3;
@@ -121,13 +121,7 @@ impl Body<'_> {
             self.pos += 1;
         }
         let start = self.pos;
-        while self
-            .bytes
-            .get(self.pos)
-            .is_some_and(|c| !c.is_ascii_whitespace())
-        {
-            self.pos += 1;
-        }
+        self.pos = word_end(self.bytes, start);
         if start == self.pos {
             return Err(self.err("file ends early (truncated)"));
         }

@@ -5,8 +5,12 @@
 //! {"heartmesh_session": 1, "app_version": "0.1.0",
 //!  "contours": [{"id": "c1", "surface": "LV_ENDO", "points": [[x, y, z], ...]}],
 //!  "landmarks": [{"name": "APEX_POINT", "point": [x, y, z]}],
-//!  "parameters": {"iterations": 250, "lambda": 100000, "lids": "auto", "surface": null}}
+//!  "parameters": {"iterations": 250, "lambda": 100000, "lids": "auto", "surface": null,
+//!                 "smoothing_method": "laplacian-affine", "soften_conflicts": true}}
 //! ```
+//!
+//! Sessions written before `smoothing_method` and `soften_conflicts` existed lack them and read
+//! back with their defaults.
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
@@ -57,7 +61,8 @@ struct SessionLandmark {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Session {
     pub contours: ContourSet,
-    /// As saved (numbers by schema name, `lids`, `surface`); apply with [`Session::params`].
+    /// As saved (numbers by schema name, `lids`, `surface`, `smoothing_method`,
+    /// `soften_conflicts`); apply with [`Session::params`].
     pub parameters: Map<String, Value>,
     pub app_version: Option<String>,
 }
@@ -71,6 +76,14 @@ impl Session {
                 ("lids", Value::String(s)) => p.set_lids(s)?,
                 ("surface", Value::String(s)) => p.surface = Some(s.clone()),
                 ("surface", Value::Null) => p.surface = None,
+                ("smoothing_method", Value::String(s)) => p.set_smoothing_method(s)?,
+                ("soften_conflicts", Value::Bool(on)) => p.soften_conflicts = *on,
+                ("smoothing_method" | "soften_conflicts", other) => {
+                    return Err(CoreError::ParamInvalid {
+                        name: name.clone(),
+                        message: format!("{other} is not a valid value"),
+                    })
+                }
                 (n, Value::Number(v)) if Params::schema().iter().any(|s| s.name == n) => {
                     let v = v.as_f64().unwrap_or(f64::NAN);
                     p.set(n, v)?
@@ -171,6 +184,14 @@ pub fn params_json(params: &Params) -> Map<String, Value> {
     };
     m.insert("lids".into(), Value::from(lids));
     m.insert(
+        "smoothing_method".into(),
+        Value::from(params.smoothing.name()),
+    );
+    m.insert(
+        "soften_conflicts".into(),
+        Value::from(params.soften_conflicts),
+    );
+    m.insert(
         "surface".into(),
         params
             .surface
@@ -251,6 +272,61 @@ mod tests {
             assert_eq!((&a.id, &a.surface), (&b.id, &b.surface));
             assert!(a.pieces == b.pieces, "{}", a.id);
         }
+    }
+
+    #[test]
+    fn round_trip_with_smoothing_options() {
+        let set = read_csv(&sample("contours/bivme-example-patient1/patient1-ED.csv")).unwrap();
+        let mut params = Params::default();
+        params.set_smoothing_method("taubin").unwrap();
+        params.set("smoothing_factor", 0.5).unwrap();
+        params.soften_conflicts = false;
+        params.surface = Some("LV_ENDO".into());
+        let bytes = write_session(&set, &params, "9.9.9").unwrap();
+        let s = read_session(&bytes).unwrap();
+        assert_eq!(s.parameters["smoothing_method"], "taubin");
+        assert_eq!(s.parameters["soften_conflicts"], false);
+        let back = s.params().unwrap();
+        assert_eq!(back.smoothing, crate::params::SmoothingMethod::Taubin);
+        assert!(!back.soften_conflicts);
+        assert_eq!(back, params);
+    }
+
+    #[test]
+    fn older_sessions_read_with_default_options() {
+        // Written before the options existed: no smoothing_method, no soften_conflicts.
+        let s = read_session(
+            b"{\"heartmesh_session\":1,\"contours\":[{\"id\":\"a\",\"points\":[[0,0,0],[9,0,0],[9,9,0]]}],\"parameters\":{\"beta\":0.2,\"lids\":\"auto\",\"surface\":null}}",
+        )
+        .unwrap();
+        let p = s.params().unwrap();
+        assert_eq!(p.smoothing, Params::default().smoothing);
+        assert!(p.soften_conflicts);
+        assert_eq!(p.beta, 0.2);
+    }
+
+    #[test]
+    fn bad_options_are_errors() {
+        let session = |parameters: &str| {
+            let text = format!(
+                "{{\"heartmesh_session\":1,\"contours\":[{{\"id\":\"a\",\"points\":[[0,0,0],[9,0,0],[9,9,0]]}}],\"parameters\":{parameters}}}"
+            );
+            read_session(text.as_bytes()).unwrap()
+        };
+        let e = session(r#"{"smoothing_method":"gaussian"}"#)
+            .params()
+            .unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+        assert!(e.to_string().contains("taubin"), "{e}");
+        let e = session(r#"{"soften_conflicts":"no"}"#)
+            .params()
+            .unwrap_err();
+        assert!(e.to_string().contains("soften_conflicts"), "{e}");
+        // Taubin with a factor above 0.6 is refused as in the app and the CLI.
+        let e = session(r#"{"smoothing_method":"taubin","smoothing_factor":0.8}"#)
+            .params()
+            .unwrap_err();
+        assert_eq!(e.code(), "param_out_of_range");
     }
 
     #[test]

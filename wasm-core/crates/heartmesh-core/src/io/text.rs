@@ -81,6 +81,14 @@ pub fn parse_coord(field: &str, line: usize, what: &str) -> Result<f64> {
     }
 }
 
+/// End of the run of non-whitespace bytes that starts at `from` (`from` itself if there is none):
+/// the token scanners of the text mesh formats share it.
+pub fn word_end(bytes: &[u8], from: usize) -> usize {
+    from + bytes.get(from..).map_or(0, |rest| {
+        rest.iter().take_while(|c| !c.is_ascii_whitespace()).count()
+    })
+}
+
 /// At most `max` characters of `s`, with an ellipsis when cut.
 pub fn shorten(s: &str, max: usize) -> String {
     let mut out: String = s.chars().take(max).collect();

@@ -5,7 +5,7 @@
 //! tool and three.js' VTKLoader read.
 
 use super::builder::ContourBuilder;
-use super::text::quote;
+use super::text::{quote, word_end};
 use super::{fmt_num, fmt_point, header_lines, MeshData, MAX_MESH_ELEMENTS};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
@@ -89,13 +89,7 @@ impl Cursor<'_> {
     fn word(&mut self) -> Option<&str> {
         self.skip_ws();
         let start = self.pos;
-        while self
-            .bytes
-            .get(self.pos)
-            .is_some_and(|c| !c.is_ascii_whitespace())
-        {
-            self.pos += 1;
-        }
+        self.pos = word_end(self.bytes, start);
         if start == self.pos {
             return None;
         }

@@ -19,9 +19,7 @@
 //! boundary vertices where several loops touch stay fixed.
 
 use super::chebyshev;
-#[cfg(target_arch = "x86_64")]
-use crate::deform::lanes::avx::{self, Avx};
-use crate::deform::lanes::{Quad, Q2};
+use crate::deform::lanes::{run_rows, Quad, RowKernel};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::topology::{boundary_links, vertex_neighbours_from, EdgeMap, NO_TWIN};
@@ -251,26 +249,11 @@ struct Sweep<'a> {
     factor: f64,
 }
 
-impl Sweep<'_> {
-    /// New positions of vertices `start..start + out.len()` into `out`. Natively on a CPU with
-    /// AVX a row is one register (same lane operations, so the same bits as SSE2 and wasm).
-    fn run(&self, start: usize, out: &mut [[f64; 4]]) {
-        #[cfg(target_arch = "x86_64")]
-        if avx::available() {
-            // SAFETY: the CPU has AVX.
-            return unsafe { self.run_avx(start, out) };
-        }
-        self.run_q::<Q2>(start, out);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    unsafe fn run_avx(&self, start: usize, out: &mut [[f64; 4]]) {
-        self.run_q::<Avx>(start, out);
-    }
-
+/// New positions of vertices `start..start + out.len()` into `out`. Natively on a CPU with AVX a
+/// row is one register (same lane operations, so the same bits as SSE2 and wasm).
+impl RowKernel for Sweep<'_> {
     #[inline(always)]
-    fn run_q<Q: Quad>(&self, start: usize, out: &mut [[f64; 4]]) {
+    fn rows<Q: Quad>(&self, start: usize, out: &mut [[f64; 4]]) {
         let (lo, hi) = (start as u32, (start + out.len()) as u32);
         let cur = self.current;
         let st = self.stencil;
@@ -320,31 +303,18 @@ struct Clenshaw<'a> {
     last: bool,
 }
 
-impl Clenshaw<'_> {
-    fn run(&self, start: usize, out: &mut [[f64; 4]]) {
-        #[cfg(target_arch = "x86_64")]
-        if avx::available() {
-            // SAFETY: the CPU has AVX.
-            return unsafe { self.run_avx(start, out) };
-        }
-        self.run_q::<Q2>(start, out);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    unsafe fn run_avx(&self, start: usize, out: &mut [[f64; 4]]) {
-        self.run_q::<Avx>(start, out);
-    }
-
+impl RowKernel for Clenshaw<'_> {
     #[inline(always)]
-    fn run_q<Q: Quad>(&self, start: usize, out: &mut [[f64; 4]]) {
+    fn rows<Q: Quad>(&self, start: usize, out: &mut [[f64; 4]]) {
         if self.last {
             self.rows_q::<Q, true>(start, out)
         } else {
             self.rows_q::<Q, false>(start, out)
         }
     }
+}
 
+impl Clenshaw<'_> {
     #[inline(always)]
     fn rows_q<Q: Quad, const LAST: bool>(&self, start: usize, out: &mut [[f64; 4]]) {
         let (lo, hi) = (start as u32, (start + out.len()) as u32);
@@ -460,7 +430,9 @@ fn apply_series(mesh: &TriMesh, stencil: &Stencil, c: &[f64]) -> TriMesh {
                 coefficient: if k == 0 { 2.0 * c[0] } else { c[k] },
                 last: k == 0,
             };
-            parallel::for_each_chunk1(&mut below, parts, |start, part| step.run(start, part));
+            parallel::for_each_chunk1(&mut below, parts, |start, part| {
+                run_rows(&step, start, part)
+            });
             // `below` now holds b_k: it is the next step's b_{k+1}.
             std::mem::swap(&mut above, &mut below);
         }
@@ -487,7 +459,9 @@ fn sweeps(mesh: &TriMesh, stencil: &Stencil, iterations: usize, factors: &[f64])
                 rows: &rows[which],
                 factor: factors[which],
             };
-            parallel::for_each_chunk1(&mut next, parts, |start, part| sweep.run(start, part));
+            parallel::for_each_chunk1(&mut next, parts, |start, part| {
+                run_rows(&sweep, start, part)
+            });
             std::mem::swap(&mut current, &mut next);
         }
     });

@@ -72,6 +72,21 @@ impl Default for ParametricLv {
 }
 
 impl ParametricLv {
+    /// The validation truth of the accuracy tests and the CLI experiments: the default LV with a
+    /// 4 mm regional bulge at mid-ventricle (a feature only some planes see), finely triangulated.
+    pub fn bulged_truth() -> Result<TriMesh> {
+        ParametricLv {
+            bulge: Some(Bulge {
+                amplitude_mm: 4.0,
+                height_fraction: 0.5,
+                angle_deg: 30.0,
+                width_mm: 10.0,
+            }),
+            ..ParametricLv::default()
+        }
+        .mesh(96, 64)
+    }
+
     /// Triangulates the shape with `n_around` points per ring and `n_along` rings from apex to base.
     pub fn mesh(&self, n_around: usize, n_along: usize) -> Result<TriMesh> {
         let (l, b, ro) = (self.length_mm, self.radius_mm, self.base_radius_mm);

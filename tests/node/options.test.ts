@@ -1,0 +1,144 @@
+// The two non-numeric options (smoothing method, conflict softening) through the worker's logic
+// with the real wasm: they reach the run and both lab batches inside the params JSON object, the
+// result reports them, a bad combination comes back as the core's error, and a saved session
+// brings them back on load (older sessions: the defaults).
+import { beforeAll, describe, expect, it } from 'vitest';
+import type { FromWorker, LoadedFile, ReconOptions, RunResult, ToWorker } from '../../web/src/core-client/protocol';
+import type { LabApi } from '../../web/src/core-client/labWorker';
+import { WorkerCore, type WasmApi } from '../../web/src/core-client/workerCore';
+import { PATIENT1_ED, loadWasm, readBytes } from './helpers.mjs';
+
+type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
+let wasm: Wasm;
+
+beforeAll(async () => {
+  wasm = await loadWasm();
+});
+
+/** A worker core whose answers are awaited one request at a time. */
+function makeCore() {
+  let listener: ((m: FromWorker) => void) | null = null;
+  const api: WasmApi = {
+    createSession: () => new wasm.Session(),
+    schemaJson: wasm.schema_json,
+    version: wasm.version,
+    takePanicMessage: () => wasm.take_panic_message() ?? undefined,
+    createLab: () => new wasm.Lab() as unknown as LabApi,
+  };
+  const core = new WorkerCore(api, (m) => listener?.(m), { yieldToEventLoop: (cb) => setTimeout(cb, 0), now: () => performance.now() });
+  /** Sends `msg` and resolves with the first answer of one of `types` (frames are acknowledged). */
+  function ask<T extends FromWorker['type']>(msg: ToWorker, ...types: T[]): Promise<Extract<FromWorker, { type: T }>> {
+    return new Promise((resolve) => {
+      listener = (m) => {
+        if (m.type === 'frame') core.handle({ type: 'ack', runId: m.runId, seq: m.seq });
+        if ((types as string[]).includes(m.type)) resolve(m as Extract<FromWorker, { type: T }>);
+      };
+      core.handle(msg);
+    });
+  }
+  return { core, ask };
+}
+
+const PATIENT = 'patient1-ED.csv';
+
+async function loaded(ask: ReturnType<typeof makeCore>['ask'], fileName: string, bytes: Uint8Array): Promise<LoadedFile> {
+  const m = await ask({ type: 'load', reqId: 1, fileName, bytes: bytes.slice().buffer as ArrayBuffer }, 'loaded', 'error');
+  if (m.type === 'error') throw new Error(m.error.message);
+  return m.file;
+}
+
+async function run(ask: ReturnType<typeof makeCore>['ask'], runId: number, options?: ReconOptions, params = {}, surface = 'LV_ENDO') {
+  const m = await ask({ type: 'run', runId, fileName: PATIENT, surface, params, lids: 'auto', options }, 'done', 'error');
+  return m.type === 'done' ? { result: m.result as RunResult, error: null } : { result: null, error: m.error };
+}
+
+describe('smoothing options through the worker', () => {
+  it('reach the run: soften off gives another mesh; Taubin runs at 0.5 and is refused at 0.8', async () => {
+    const { ask } = makeCore();
+    await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
+    // The RV endocardium, whose septum curves disagree between SAX and LAX: softening acts there.
+    const on = (await run(ask, 1, undefined, {}, 'RV_ENDO')).result;
+    const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false }, {}, 'RV_ENDO')).result;
+    expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
+    expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false });
+    if (!on || !off) throw new Error('runs failed');
+    // Same sample, same numbers otherwise: only the softening differs (0.445 vs 0.408 mm natively).
+    expect(on.overall.mean - off.overall.mean).toBeGreaterThan(0.01);
+    expect(on.overall.mean).toBeLessThan(1);
+    expect(off.overall.mean).toBeLessThan(1);
+
+    const taubin = await run(ask, 3, { smoothing_method: 'taubin', soften_conflicts: true }, { smoothing_factor: 0.5 });
+    expect(taubin.result?.options.smoothing_method).toBe('taubin');
+    expect(taubin.result?.overall.mean).toBeLessThan(1.5);
+    const bad = await run(ask, 4, { smoothing_method: 'taubin', soften_conflicts: true }, { smoothing_factor: 0.8 });
+    expect(bad.error?.code).toBe('param_out_of_range');
+    expect(bad.error?.message).toMatch(/smoothing_factor = 0\.8 .*allowed 0 to 0\.6/);
+  });
+
+  it('reach leave-one-out and the sweep (the same refusal, from the lab)', async () => {
+    const { ask } = makeCore();
+    await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
+    const base = { fileName: PATIENT, surface: 'LV_ENDO', params: { smoothing_factor: 0.8 }, lids: 'auto' as const };
+    const taubin: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false };
+    const loo = await ask({ type: 'lab-batch', runId: 5, job: { kind: 'loo', ...base, options: taubin } }, 'lab-batch-started', 'error');
+    expect(loo.type === 'error' && loo.error.code).toBe('param_out_of_range');
+    const sweep = await ask(
+      { type: 'lab-batch', runId: 6, job: { kind: 'sweep', ...base, options: taubin, grid: { lambda: [1e4] }, withTruth: false } },
+      'lab-batch-started',
+      'error',
+    );
+    expect(sweep.type === 'error' && sweep.error.code).toBe('param_out_of_range');
+    // The same factor with the default method is accepted.
+    const ok = await ask({ type: 'lab-batch', runId: 7, job: { kind: 'sweep', ...base, grid: { lambda: [1e4] }, withTruth: false } }, 'lab-batch-started', 'error');
+    expect(ok.type).toBe('lab-batch-started');
+  });
+
+  it('a saved session brings its options back on load; an older one the defaults', async () => {
+    const { ask } = makeCore();
+    const ring = (z: number) => Array.from({ length: 12 }, (_, i) => [20 * Math.cos(i / 2), 20 * Math.sin(i / 2), z]);
+    const contours = [0, 10, 20].map((z) => ({ id: `sax${z}`, surface: 'LV_ENDO', points: ring(z) }));
+    const session = (parameters: object) =>
+      new TextEncoder().encode(JSON.stringify({ heartmesh_session: 1, app_version: '0.1.0', contours, parameters }));
+    const saved = await loaded(ask, 'saved.json', session({ beta: 0.3, lids: 'none', smoothing_method: 'taubin', soften_conflicts: false, surface: 'LV_ENDO' }));
+    expect(saved.session?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false });
+    expect(saved.session?.lids).toBe('none');
+    expect(saved.session?.surface).toBe('LV_ENDO');
+    expect(saved.session?.params.beta).toBe(0.3);
+    expect(saved.session?.params.lambda).toBe(1e5);
+    const old = await loaded(ask, 'old.json', session({ beta: 0.3, lids: 'auto', surface: null }));
+    expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
+    const bad = await loaded(ask, 'bad.json', session({ smoothing_method: 'gaussian' }));
+    expect(bad.session ?? null).toBeNull();
+    expect(bad.warnings.join(' ')).toMatch(/not applied: parameter smoothing_method: unknown method "gaussian" \(allowed: laplacian-affine, taubin\)/);
+    const csv = await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
+    expect(csv.session ?? null).toBeNull();
+  });
+
+  it('a session written by the worker opens again with the same settings and contours', async () => {
+    const { ask } = makeCore();
+    const file = await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
+    const options: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false };
+    const written = await ask(
+      { type: 'session-export', reqId: 2, fileName: PATIENT, surface: 'LV_EPI', params: { beta: 0.2, smoothing_factor: 0.4 }, lids: 'none', options, appVersion: '9.9.9' },
+      'session-json',
+      'error',
+    );
+    if (written.type !== 'session-json') throw new Error(written.error.message);
+    const doc = JSON.parse(new TextDecoder().decode(written.bytes));
+    expect(doc.app_version).toBe('9.9.9');
+    expect(doc.parameters).toMatchObject({ smoothing_method: 'taubin', soften_conflicts: false, lids: 'none', surface: 'LV_EPI', beta: 0.2 });
+    const back = await loaded(ask, 'saved.json', written.bytes);
+    expect(back.session).toMatchObject({ lids: 'none', surface: 'LV_EPI', options });
+    expect(back.session?.params.smoothing_factor).toBe(0.4);
+    expect(back.surfaces).toEqual(file.surfaces);
+    expect(back.contours.map((c) => c.id)).toEqual(file.contours.map((c) => c.id));
+    expect(back.points).toEqual(file.points);
+    // A bad combination is refused with the core's error, not written.
+    const bad = await ask(
+      { type: 'session-export', reqId: 3, fileName: PATIENT, surface: null, params: { smoothing_factor: 0.8 }, lids: 'auto', options, appVersion: '9.9.9' },
+      'session-json',
+      'error',
+    );
+    expect(bad.type === 'error' && bad.error.code).toBe('param_out_of_range');
+  });
+});
