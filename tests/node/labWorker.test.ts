@@ -3,8 +3,7 @@
 // batch between steps, and errors that come back as data without killing the worker.
 import { beforeAll, describe, expect, it } from 'vitest';
 import type { FromWorker, LabAcquisition, LooItem, ToWorker } from '../../web/src/core-client/protocol';
-import type { LabApi } from '../../web/src/core-client/labWorker';
-import { WorkerCore, type WasmApi } from '../../web/src/core-client/workerCore';
+import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
 import { loadWasm } from './helpers.mjs';
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
@@ -17,13 +16,7 @@ beforeAll(async () => {
 function makeCore() {
   const inbox: FromWorker[] = [];
   const waiters: (() => void)[] = [];
-  const api: WasmApi = {
-    createSession: () => new wasm.Session(),
-    schemaJson: wasm.schema_json,
-    version: wasm.version,
-    takePanicMessage: () => wasm.take_panic_message() ?? undefined,
-    createLab: () => new wasm.Lab() as unknown as LabApi,
-  };
+  const api = wasmApiOf(wasm);
   const core = new WorkerCore(
     api,
     (msg) => {

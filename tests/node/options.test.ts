@@ -4,8 +4,7 @@
 // brings them back on load (older sessions: the defaults).
 import { beforeAll, describe, expect, it } from 'vitest';
 import type { FromWorker, LoadedFile, ReconOptions, RunResult, ToWorker } from '../../web/src/core-client/protocol';
-import type { LabApi } from '../../web/src/core-client/labWorker';
-import { WorkerCore, type WasmApi } from '../../web/src/core-client/workerCore';
+import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
 import { PATIENT1_ED, loadWasm, readBytes } from './helpers.mjs';
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
@@ -18,13 +17,7 @@ beforeAll(async () => {
 /** A worker core whose answers are awaited one request at a time. */
 function makeCore() {
   let listener: ((m: FromWorker) => void) | null = null;
-  const api: WasmApi = {
-    createSession: () => new wasm.Session(),
-    schemaJson: wasm.schema_json,
-    version: wasm.version,
-    takePanicMessage: () => wasm.take_panic_message() ?? undefined,
-    createLab: () => new wasm.Lab() as unknown as LabApi,
-  };
+  const api = wasmApiOf(wasm);
   const core = new WorkerCore(api, (m) => listener?.(m), { yieldToEventLoop: (cb) => setTimeout(cb, 0), now: () => performance.now() });
   /** Sends `msg` and resolves with the first answer of one of `types` (frames are acknowledged). */
   function ask<T extends FromWorker['type']>(msg: ToWorker, ...types: T[]): Promise<Extract<FromWorker, { type: T }>> {

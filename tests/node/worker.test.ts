@@ -3,7 +3,7 @@
 // and every frame it sends must be renderable (positions match the topology last sent).
 import { beforeAll, describe, expect, it } from 'vitest';
 import type { Frame, FromWorker, RunResult } from '../../web/src/core-client/protocol';
-import { WorkerCore, type WasmApi } from '../../web/src/core-client/workerCore';
+import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
 import { SURFCO, loadWasm, readBytes, reconstruct } from './helpers.mjs';
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
@@ -15,12 +15,7 @@ beforeAll(async () => {
 
 function runThroughWorker(fileName: string, bytes: Uint8Array, params: Record<string, number>) {
   return new Promise<{ frames: Frame[]; result: RunResult; acks: number }>((resolve, reject) => {
-    const api: WasmApi = {
-      createSession: () => new wasm.Session(),
-      schemaJson: wasm.schema_json,
-      version: wasm.version,
-      takePanicMessage: () => wasm.take_panic_message() ?? undefined,
-    };
+    const api = wasmApiOf(wasm);
     const frames: Frame[] = [];
     let acks = 0;
     const core: WorkerCore = new WorkerCore(

@@ -242,29 +242,22 @@ export class CoreClient {
     void this.ensureWorker().catch(() => {
       // The crash handler already rejected this run.
     });
-    if (!this.workerFiles.has(opts.fileName)) {
-      // A recreated worker: re-send the file first (the worker handles messages in order).
-      this.request<LoadedFile>((reqId) => ({
-        type: 'load',
-        reqId,
-        fileName: opts.fileName,
-        bytes: bytes.slice(0),
-      })).catch((e: CoreErrorData) => {
-        this.workerFiles.delete(opts.fileName);
-        this.finishRun(runId, e);
-      });
-      this.workerFiles.add(opts.fileName);
-    }
-    this.post({
-      type: 'run',
-      runId,
-      fileName: opts.fileName,
-      surface: opts.surface,
-      params: { ...opts.params },
-      lids: opts.lids,
-      ...(opts.options ? { options: { ...opts.options } } : {}),
-    });
+    this.resendIfRecreated(opts.fileName, bytes, (e) => this.finishRun(runId, e));
+    this.post({ type: 'run', runId, ...settingsOf(opts) });
     return handle;
+  }
+
+  /**
+   * A recreated worker has lost the files: re-send this one first (the worker handles messages in
+   * order, so a request posted next finds it); `onError` hears if the reload fails.
+   */
+  private resendIfRecreated(fileName: string, bytes: ArrayBuffer, onError: (e: CoreErrorData) => void): void {
+    if (this.workerFiles.has(fileName)) return;
+    this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0) })).catch((e: CoreErrorData) => {
+      this.workerFiles.delete(fileName);
+      onError(e);
+    });
+    this.workerFiles.add(fileName);
   }
 
   /**
@@ -276,23 +269,9 @@ export class CoreClient {
     if (bytes === undefined) {
       return Promise.reject({ code: ErrorCodes.notLoaded, message: `${opts.fileName} has not been loaded`, file: opts.fileName });
     }
-    if (!this.workerFiles.has(opts.fileName)) {
-      // A recreated worker: re-send the file first (the worker handles messages in order).
-      void this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName: opts.fileName, bytes: bytes.slice(0) })).catch(() => {
-        this.workerFiles.delete(opts.fileName);
-      });
-      this.workerFiles.add(opts.fileName);
-    }
-    return this.request<Uint8Array>((reqId) => ({
-      type: 'session-export',
-      reqId,
-      fileName: opts.fileName,
-      surface: opts.surface,
-      params: { ...opts.params },
-      lids: opts.lids,
-      ...(opts.options ? { options: { ...opts.options } } : {}),
-      appVersion,
-    }));
+    // A failed reload also fails the export request that follows it, which the caller hears.
+    this.resendIfRecreated(opts.fileName, bytes, () => {});
+    return this.request<Uint8Array>((reqId) => ({ type: 'session-export', reqId, ...settingsOf(opts), appVersion }));
   }
 
   // ---- validation lab ------------------------------------------------------------------------
@@ -622,4 +601,15 @@ export class CoreClient {
     for (const runId of [...this.runs.keys()]) this.finishRun(runId, { ...error });
     for (const runId of [...this.batches.keys()]) this.finishBatch(runId, { ...error });
   }
+}
+
+/** The settings a run and a session export send: copies, so later edits by the caller do not leak. */
+function settingsOf(opts: RunOptions) {
+  return {
+    fileName: opts.fileName,
+    surface: opts.surface,
+    params: { ...opts.params },
+    lids: opts.lids,
+    ...(opts.options ? { options: { ...opts.options } } : {}),
+  };
 }

@@ -4,10 +4,9 @@
  * handled in order. The only code that runs wasm; the main thread never does.
  */
 
-import init, { Lab, Session, schema_json, take_panic_message, version } from '../../pkg/heartmesh_wasm.js';
+import init, * as wasmModule from '../../pkg/heartmesh_wasm.js';
 import { ErrorCodes, isToWorker, type FromWorker, type ToWorker } from './protocol';
-import type { LabApi } from './labWorker';
-import { WorkerCore, type WasmApi } from './workerCore';
+import { WorkerCore, wasmApiOf } from './workerCore';
 
 const scope = self as unknown as {
   postMessage(message: FromWorker, transfer: Transferable[]): void;
@@ -37,14 +36,7 @@ scope.onmessage = (ev: MessageEvent) => {
 
 init()
   .then(() => {
-    const wasm: WasmApi = {
-      createSession: () => new Session(),
-      schemaJson: schema_json,
-      version,
-      takePanicMessage: () => take_panic_message() ?? undefined,
-      createLab: () => new Lab() as unknown as LabApi,
-    };
-    core = new WorkerCore(wasm, post, { yieldToEventLoop: makeTick(), now: () => performance.now() });
+    core = new WorkerCore(wasmApiOf(wasmModule), post, { yieldToEventLoop: makeTick(), now: () => performance.now() });
     post({ type: 'ready' }, []);
     for (const msg of queued.splice(0)) core.handle(msg);
   })

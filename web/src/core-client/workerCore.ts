@@ -58,6 +58,29 @@ export interface WasmApi {
   createLab?(): LabApi;
 }
 
+/** The parts of the generated wasm-bindgen module (after its init) that the worker core uses. */
+export interface WasmModule {
+  Session: new () => SessionApi;
+  Lab: new () => unknown;
+  schema_json(): string;
+  version(): string;
+  take_panic_message(): string | undefined;
+}
+
+/**
+ * The worker core's view of the generated module. One place, so that the production worker and
+ * the Node tests that drive the real wasm build it the same way.
+ */
+export function wasmApiOf(m: WasmModule): WasmApi {
+  return {
+    createSession: () => new m.Session(),
+    schemaJson: () => m.schema_json(),
+    version: () => m.version(),
+    takePanicMessage: () => m.take_panic_message() ?? undefined,
+    createLab: () => new m.Lab() as LabApi,
+  };
+}
+
 export interface WorkerCoreOptions {
   /** Runs a callback soon, after pending messages (MessageChannel tick in the worker). */
   yieldToEventLoop: (callback: () => void) => void;

@@ -213,20 +213,7 @@ pub(super) fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::spatial::testutil::SplitMix64;
-
-    /// A random m x m factor B and the symmetric positive definite A = B B^T + m I.
-    fn random_spd(rng: &mut SplitMix64, m: usize) -> (Vec<f64>, Vec<f64>) {
-        let b: Vec<f64> = (0..m * m).map(|_| rng.range(-1.0, 1.0)).collect();
-        let mut a = vec![0.0; m * m];
-        for i in 0..m {
-            for j in 0..m {
-                let s: f64 = (0..m).map(|k| b[i * m + k] * b[j * m + k]).sum();
-                a[i * m + j] = s + if i == j { m as f64 } else { 0.0 };
-            }
-        }
-        (b, a)
-    }
+    use crate::spatial::testutil::{random_spd, SplitMix64};
 
     /// The dispatched factorisation (AVX when the CPU has it) and the two-lane and portable
     /// kernels give the same bits, so native results equal wasm's.

@@ -400,7 +400,7 @@ mod tests {
     use super::*;
     use crate::deform::dense::cholesky_in_place;
     use crate::deform::lanes::{portable, Pair, Pair32};
-    use crate::spatial::testutil::SplitMix64;
+    use crate::spatial::testutil::{random_spd, SplitMix64};
 
     fn bits(v: &[f64]) -> Vec<u64> {
         v.iter().map(|x| x.to_bits()).collect()
@@ -408,15 +408,7 @@ mod tests {
 
     /// A random SPD m x m matrix (row-major, full).
     fn spd(rng: &mut SplitMix64, m: usize) -> Vec<f64> {
-        let b: Vec<f64> = (0..m * m).map(|_| rng.range(-1.0, 1.0)).collect();
-        let mut a = vec![0.0; m * m];
-        for i in 0..m {
-            for j in 0..m {
-                let s: f64 = (0..m).map(|k| b[i * m + k] * b[j * m + k]).sum();
-                a[i * m + j] = s + if i == j { m as f64 } else { 0.0 };
-            }
-        }
-        a
+        random_spd(rng, m).1
     }
 
     #[test]

@@ -105,3 +105,17 @@ pub fn random_soup(rng: &mut SplitMix64, n_vertices: usize, n_triangles: usize) 
     }
     TriMesh::new(positions, triangles)
 }
+
+/// A random m x m factor B and the symmetric positive definite A = B B^T + m I (row-major, full),
+/// for the dense and preconditioned solver tests.
+pub fn random_spd(rng: &mut SplitMix64, m: usize) -> (Vec<f64>, Vec<f64>) {
+    let b: Vec<f64> = (0..m * m).map(|_| rng.range(-1.0, 1.0)).collect();
+    let mut a = vec![0.0; m * m];
+    for i in 0..m {
+        for j in 0..m {
+            let s: f64 = (0..m).map(|k| b[i * m + k] * b[j * m + k]).sum();
+            a[i * m + j] = s + if i == j { m as f64 } else { 0.0 };
+        }
+    }
+    (b, a)
+}
