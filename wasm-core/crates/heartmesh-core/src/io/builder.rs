@@ -172,8 +172,50 @@ impl ContourBuilder {
         }
         let dups = duplicate_warnings(&set);
         set.warnings.extend(dups);
+        let tangled = order_warnings(&set);
+        set.warnings.extend(tangled);
         Ok(set)
     }
+}
+
+/// A delineated curve's path is a few times its width (a circle: pi; a U-shaped long-axis curve:
+/// about 2.5). Far beyond that, its points zig-zag across the curve: shuffled by an exporter, or
+/// noise much larger than their spacing. Either way the surface would chase the zig-zag.
+const MAX_PATH_TO_WIDTH: f64 = 10.0;
+
+/// Pieces whose path is more than [`MAX_PATH_TO_WIDTH`] times their width (twice the largest
+/// distance from their centroid, which does not depend on the scanner frame).
+fn order_warnings(set: &ContourSet) -> Vec<String> {
+    let mut out = Vec::new();
+    for c in &set.contours {
+        for piece in &c.pieces {
+            let pts = &piece.points;
+            if pts.len() < 8 {
+                continue;
+            }
+            let centroid = pts.iter().fold(Vec3::zeros(), |a, p| a + p) / pts.len() as f64;
+            let width = 2.0
+                * pts
+                    .iter()
+                    .map(|p| (p - centroid).norm())
+                    .fold(0.0, f64::max);
+            let mut path: f64 = pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+            if piece.closed {
+                path += (pts[0] - pts[pts.len() - 1]).norm();
+            }
+            if width > 0.0 && path > MAX_PATH_TO_WIDTH * width {
+                out.push(format!(
+                    "contour {:?} (line {}): its path is {:.0} times its width; are its points out \
+                     of order, or is it very noisy?",
+                    c.id,
+                    c.first_line,
+                    path / width
+                ));
+                break;
+            }
+        }
+    }
+    out
 }
 
 /// Contours whose points repeat an earlier contour's exactly (a copy-paste or export slip that
@@ -250,6 +292,37 @@ fn unit_warning(set: &ContourSet) -> Option<String> {
 mod tests {
     use super::*;
     use crate::geometry::v3;
+
+    #[test]
+    fn shuffled_points_are_flagged_and_ordered_ones_are_not() {
+        // A 30 mm ring of 60 points in order, then the same points in a fixed shuffled order.
+        let ordered = ring(60, 15.0, false);
+        let shuffled: Vec<Vec3> = (0..60).map(|i| ordered[(i * 37) % 60]).collect();
+        let csv = |pts: &[Vec3], z: f64| -> String {
+            pts.iter()
+                .map(|p| format!("c{z},{},{},{}\n", p.x, p.y, z))
+                .collect()
+        };
+        let good = format!(
+            "contour,x,y,z\n{}{}",
+            csv(&ordered, 0.0),
+            csv(&ordered, 10.0)
+        );
+        let set = crate::io::read_contours("good.csv", good.as_bytes()).unwrap();
+        assert!(set.warnings.is_empty(), "{:?}", set.warnings);
+        let bad = format!(
+            "contour,x,y,z\n{}{}",
+            csv(&ordered, 0.0),
+            csv(&shuffled, 10.0)
+        );
+        let set = crate::io::read_contours("bad.csv", bad.as_bytes()).unwrap();
+        assert_eq!(set.warnings.len(), 1, "{:?}", set.warnings);
+        assert!(
+            set.warnings[0].starts_with("contour \"c10\" (line 62): its path is"),
+            "{}",
+            set.warnings[0]
+        );
+    }
 
     fn ring(n: usize, r: f64, repeat_first: bool) -> Vec<Vec3> {
         let mut v: Vec<Vec3> = (0..n)
