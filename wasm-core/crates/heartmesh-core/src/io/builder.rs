@@ -183,39 +183,61 @@ impl ContourBuilder {
 /// noise much larger than their spacing. Either way the surface would chase the zig-zag.
 const MAX_PATH_TO_WIDTH: f64 = 10.0;
 
-/// Pieces whose path is more than [`MAX_PATH_TO_WIDTH`] times their width (twice the largest
-/// distance from their centroid, which does not depend on the scanner frame).
+/// Contours with a piece whose path is more than [`MAX_PATH_TO_WIDTH`] times its width (twice the
+/// largest distance from its centroid, which does not depend on the scanner frame). One message
+/// for all of them: a shuffling exporter shuffles every curve, and one line is what a user reads.
 fn order_warnings(set: &ContourSet) -> Vec<String> {
-    let mut out = Vec::new();
+    let mut flagged: Vec<(String, f64)> = Vec::new();
     for c in &set.contours {
-        for piece in &c.pieces {
-            let pts = &piece.points;
-            if pts.len() < 8 {
-                continue;
-            }
-            let centroid = pts.iter().fold(Vec3::zeros(), |a, p| a + p) / pts.len() as f64;
-            let width = 2.0
-                * pts
-                    .iter()
-                    .map(|p| (p - centroid).norm())
-                    .fold(0.0, f64::max);
-            let mut path: f64 = pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-            if piece.closed {
-                path += (pts[0] - pts[pts.len() - 1]).norm();
-            }
-            if width > 0.0 && path > MAX_PATH_TO_WIDTH * width {
-                out.push(format!(
-                    "contour {:?} (line {}): its path is {:.0} times its width; are its points out \
-                     of order, or is it very noisy?",
-                    c.id,
-                    c.first_line,
+        let worst = c
+            .pieces
+            .iter()
+            .filter(|piece| piece.points.len() >= 8)
+            .map(|piece| {
+                let pts = &piece.points;
+                let centroid = pts.iter().fold(Vec3::zeros(), |a, p| a + p) / pts.len() as f64;
+                let width = 2.0
+                    * pts
+                        .iter()
+                        .map(|p| (p - centroid).norm())
+                        .fold(0.0, f64::max);
+                let mut path: f64 = pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+                if piece.closed {
+                    path += (pts[0] - pts[pts.len() - 1]).norm();
+                }
+                if width > 0.0 {
                     path / width
-                ));
-                break;
-            }
+                } else {
+                    0.0
+                }
+            })
+            .fold(0.0, f64::max);
+        if worst > MAX_PATH_TO_WIDTH {
+            flagged.push((format!("{:?} (line {})", c.id, c.first_line), worst));
         }
     }
-    out
+    let question = "out of order, or very noisy?";
+    match flagged.as_slice() {
+        [] => Vec::new(),
+        [(name, ratio)] => vec![format!(
+            "contour {name}: its path is {ratio:.0} times its width; are its points {question}"
+        )],
+        many => {
+            let (lo, hi) = many
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(lo, hi), (_, r)| {
+                    (lo.min(*r), hi.max(*r))
+                });
+            let names: Vec<&str> = many.iter().take(3).map(|(n, _)| n.as_str()).collect();
+            let more = if many.len() > 3 { ", ..." } else { "" };
+            vec![format!(
+                "{} contours ({}{more}): their paths are {lo:.0}-{hi:.0} times their width; are \
+                 their points {question}",
+                many.len(),
+                names.join(", ")
+            )]
+        }
+    }
 }
 
 /// Contours whose points repeat an earlier contour's exactly (a copy-paste or export slip that
@@ -322,6 +344,16 @@ mod tests {
             "{}",
             set.warnings[0]
         );
+        // Every curve shuffled: one message for all of them.
+        let all = format!(
+            "contour,x,y,z\n{}{}",
+            csv(&shuffled, 0.0),
+            csv(&shuffled, 10.0)
+        );
+        let set = crate::io::read_contours("all.csv", all.as_bytes()).unwrap();
+        assert_eq!(set.warnings.len(), 1, "{:?}", set.warnings);
+        let expected = "2 contours (\"c0\" (line 2), \"c10\" (line 62)): their paths are";
+        assert!(set.warnings[0].starts_with(expected), "{}", set.warnings[0]);
     }
 
     fn ring(n: usize, r: f64, repeat_first: bool) -> Vec<Vec3> {
