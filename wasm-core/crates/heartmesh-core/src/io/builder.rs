@@ -325,35 +325,26 @@ mod tests {
                 .map(|p| format!("c{z},{},{},{}\n", p.x, p.y, z))
                 .collect()
         };
-        let good = format!(
-            "contour,x,y,z\n{}{}",
-            csv(&ordered, 0.0),
-            csv(&ordered, 10.0)
-        );
-        let set = crate::io::read_contours("good.csv", good.as_bytes()).unwrap();
-        assert!(set.warnings.is_empty(), "{:?}", set.warnings);
-        let bad = format!(
-            "contour,x,y,z\n{}{}",
-            csv(&ordered, 0.0),
-            csv(&shuffled, 10.0)
-        );
-        let set = crate::io::read_contours("bad.csv", bad.as_bytes()).unwrap();
-        assert_eq!(set.warnings.len(), 1, "{:?}", set.warnings);
+        // The warnings of a file with ring `a` at z = 0 and ring `b` at z = 10.
+        let warnings = |a: &[Vec3], b: &[Vec3]| {
+            let text = format!("contour,x,y,z\n{}{}", csv(a, 0.0), csv(b, 10.0));
+            crate::io::read_contours("rings.csv", text.as_bytes())
+                .unwrap()
+                .warnings
+        };
+        assert!(warnings(&ordered, &ordered).is_empty());
+        let one = warnings(&ordered, &shuffled);
+        assert_eq!(one.len(), 1, "{one:?}");
         assert!(
-            set.warnings[0].starts_with("contour \"c10\" (line 62): its path is"),
+            one[0].starts_with("contour \"c10\" (line 62): its path is"),
             "{}",
-            set.warnings[0]
+            one[0]
         );
         // Every curve shuffled: one message for all of them.
-        let all = format!(
-            "contour,x,y,z\n{}{}",
-            csv(&shuffled, 0.0),
-            csv(&shuffled, 10.0)
-        );
-        let set = crate::io::read_contours("all.csv", all.as_bytes()).unwrap();
-        assert_eq!(set.warnings.len(), 1, "{:?}", set.warnings);
+        let all = warnings(&shuffled, &shuffled);
+        assert_eq!(all.len(), 1, "{all:?}");
         let expected = "2 contours (\"c0\" (line 2), \"c10\" (line 62)): their paths are";
-        assert!(set.warnings[0].starts_with(expected), "{}", set.warnings[0]);
+        assert!(all[0].starts_with(expected), "{}", all[0]);
     }
 
     fn ring(n: usize, r: f64, repeat_first: bool) -> Vec<Vec3> {
