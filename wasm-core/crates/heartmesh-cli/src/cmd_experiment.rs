@@ -6,9 +6,11 @@
 use std::path::Path;
 use std::time::Instant;
 
+use heartmesh_core::sim::cavity::rv_cavity;
 use heartmesh_core::sim::experiment::{to_csv, Design, Experiment, Progress, Row};
 use heartmesh_core::sim::experiment_design::Subject;
 use heartmesh_core::sim::planes::anatomical_axis;
+use heartmesh_core::sim::population::{generate, Base, Member, Plan, Source};
 use heartmesh_core::sim::shapes::ParametricLv;
 use heartmesh_core::sim::AcquisitionSpec;
 use heartmesh_core::Params;
@@ -20,21 +22,27 @@ use crate::error::CliError;
 use crate::files;
 
 pub const USAGE: &str =
-    "heartmesh experiment sax-count|lax-count|misalignment|sweep TRUTH... -o OUT_DIR
+    "heartmesh experiment sax-count|lax-count|misalignment|sweep|population TRUTH... -o OUT_DIR
     [--from N] [--to N] [--step N] [--lax K] [--sax N] [--levels S:T,...] [--seeds N]
+    [--count N] [--seed N]
     [--lambda LIST] [--smoothing-iterations LIST] [--target-reduction LIST]
     [--attractor-spacing LIST] [--iterations N] [--tag NAME] [--quiet]
   Slices each TRUTH like a CMR acquisition, reconstructs and measures against the truth (clipped
   at the most basal SAX plane); writes OUT_DIR/KIND.csv (one row per run: settings, distances in
   mm both ways, Hausdorff, volumes in ml, contour-to-mesh, seconds) and OUT_DIR/KIND.svg.
   TRUTH: a surface file (obj, stl, ply, vtk, vtp), `parametric-lv` (built-in LV with a regional
-  bulge), or RV.obj@LV.obj (planned on LV.obj's long axis, one four-chamber-like LAX: for an RV).
+  bulge), or RV.obj@LV.obj (planned on LV.obj's long axis, one four-chamber-like LAX: for an RV;
+  RV.obj+SEPTUM.obj@LV.obj: an RV free wall closed by the part of SEPTUM.obj it faces).
   sax-count: SAX --from 2 --to 15 (--step 1), LAX fixed (--lax, default 3; 1 for RV@LV).
   lax-count: LAX --from 1 --to 8 at 0, 90, 45, 135, 22.5, 157.5, 112.5, 67.5 degrees, --sax 4.
   misalignment: --levels 0:0,1:1,2:2,3:3,4:4 (max shift mm : max tilt degrees), --seeds 5.
   sweep: the grid --lambda 1e3,1e5,1e7 --smoothing-iterations 20,50,200 --target-reduction
   0.72,0.75 --attractor-spacing 0,3 (0: default attractor count); parallel-coordinates plot.
   Each remesh subdivides x4: target reductions below 0.75 grow the mesh (slow), above shrink it.
+  population: --count 40 shapes drawn with --seed 1 from the TRUTH shapes in turn (parametric-lv:
+  random dimensions; NAME=TRUTH labels a shape), each scaled, bent, warped and posed at random,
+  at --levels 0:0,2:2;
+  also writes OUT_DIR/population-shapes.csv (what was drawn for each shape).
   --iterations N: deformation iterations of every run (default 250; fewer for quick checks).
   --tag NAME: write KIND-NAME.csv/.svg instead (several variants in one directory).";
 
@@ -57,9 +65,11 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         "lax-count" => &["from", "to", "step", "sax"],
         "misalignment" => &["levels", "seeds"],
         "sweep" => &SWEEP_PARAMS,
+        "population" => &["count", "seed", "levels"],
         other => {
             return Err(CliError::usage(format!(
-                "unknown experiment {other:?} (sax-count, lax-count, misalignment, sweep)"
+                "unknown experiment {other:?} (sax-count, lax-count, misalignment, sweep, \
+                 population)"
             )))
         }
     };
@@ -98,11 +108,30 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             .set("iterations", n as f64)
             .map_err(CliError::param)?;
     }
-    let subjects = p
-        .positional
-        .iter()
-        .map(|t| subject(t))
-        .collect::<Result<Vec<_>, _>>()?;
+    let (subjects, members) = match &design {
+        Design::Population { seed, .. } => {
+            let bases = p
+                .positional
+                .iter()
+                .map(|t| population_base(t))
+                .collect::<Result<Vec<_>, _>>()?;
+            let count = match p.whole("count")? {
+                Some(0) => return Err(CliError::usage("--count must be at least 1")),
+                Some(n) => n as usize,
+                None => DEFAULT_POPULATION,
+            };
+            let members = generate(&bases, count, *seed).map_err(CliError::param)?;
+            let subjects = members.iter().map(|m| m.subject.clone()).collect();
+            (subjects, members)
+        }
+        _ => (
+            p.positional
+                .iter()
+                .map(|t| subject(t))
+                .collect::<Result<Vec<_>, _>>()?,
+            Vec::new(),
+        ),
+    };
     let mut exp = Experiment::new(&design, subjects, &params).map_err(CliError::param)?;
     std::fs::create_dir_all(out_dir)
         .map_err(|e| CliError::Failed(format!("{out_dir}: cannot create directory: {e}")))?;
@@ -138,6 +167,10 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let csv_name = csv_path.to_string_lossy().to_string();
     let svg_name = svg_path.to_string_lossy().to_string();
     files::write(&csv_name, to_csv(&rows).as_bytes())?;
+    if !members.is_empty() {
+        let shapes = Path::new(out_dir).join(format!("{base}-shapes.csv"));
+        files::write(&shapes.to_string_lossy(), members_csv(&members).as_bytes())?;
+    }
     let names: Vec<String> = exp.subjects().iter().map(|s| s.name.clone()).collect();
     files::write(&svg_name, plot(&design, &rows, &names, &params).as_bytes())?;
     if !quiet {
@@ -195,6 +228,18 @@ fn design(kind: &str, p: &Parsed) -> Result<Design, CliError> {
             counts: counts(1, 8)?,
             sax: p.whole("sax")?.unwrap_or(4) as usize,
         },
+        "population" => {
+            let Design::Population { levels, .. } = Design::population(1) else {
+                return Err(CliError::Failed("internal: population design".into()));
+            };
+            Design::Population {
+                levels: match p.value("levels") {
+                    Some(v) => levels_from(v)?,
+                    None => levels,
+                },
+                seed: p.whole("seed")?.unwrap_or(1),
+            }
+        }
         "misalignment" => {
             let Design::Misalignment { levels, seeds } = Design::misalignment() else {
                 return Err(CliError::Failed("internal: misalignment design".into()));
@@ -276,7 +321,7 @@ fn subject(arg: &str) -> Result<Subject, CliError> {
         .flatten();
     match split {
         Some((shape, lv)) => {
-            let mesh = read_surface(shape)?;
+            let mesh = rv_surface(shape)?;
             // The LV's anatomical axis (apex to mitral centre), as a scanner plans the RV views.
             let axis = anatomical_axis(&read_surface(lv)?, AcquisitionSpec::default().join_gap_mm)
                 .map_err(|e| CliError::input(lv, e))?;
@@ -284,6 +329,93 @@ fn subject(arg: &str) -> Result<Subject, CliError> {
         }
         None => Ok(Subject::new(stem(arg), read_surface(arg)?)),
     }
+}
+
+/// Shapes drawn when --count is not given: the paper's population size.
+const DEFAULT_POPULATION: usize = 40;
+
+/// An RV surface: a file, or `FREEWALL+SEPTUM` (the free wall closed by the part of SEPTUM, an LV
+/// epicardium, that it faces within 40 mm, as `sim::cavity` builds a CMR-like RV cavity).
+fn rv_surface(arg: &str) -> Result<heartmesh_core::TriMesh, CliError> {
+    match (!Path::new(arg).exists())
+        .then(|| arg.split_once('+'))
+        .flatten()
+    {
+        Some((wall, septum)) => rv_cavity(&read_surface(wall)?, &read_surface(septum)?, 40.0)
+            .map_err(|e| CliError::input(arg, e)),
+        None => read_surface(arg),
+    }
+}
+
+/// A base shape of the population: `parametric-lv`, an LV surface file, or `RV@LV` as for the
+/// other experiments, optionally labelled `NAME=...` (members are named `pNN-NAME`).
+fn population_base(arg: &str) -> Result<Base, CliError> {
+    if let Some((name, rest)) = (!Path::new(arg).exists())
+        .then(|| arg.split_once('='))
+        .flatten()
+    {
+        return Ok(Base {
+            name: name.to_string(),
+            ..population_base(rest)?
+        });
+    }
+    if arg == "parametric-lv" {
+        return Ok(Base {
+            name: "parametric".into(),
+            source: Source::Parametric,
+            plan: Plan::Lv,
+        });
+    }
+    match (!Path::new(arg).exists())
+        .then(|| arg.split_once('@'))
+        .flatten()
+    {
+        Some((shape, lv)) => Ok(Base {
+            name: stem(shape.split('+').next().unwrap_or(shape)),
+            source: Source::Mesh(rv_surface(shape)?),
+            plan: Plan::Rv {
+                lv: read_surface(lv)?,
+            },
+        }),
+        None => Ok(Base {
+            name: stem(arg),
+            source: Source::Mesh(read_surface(arg)?),
+            plan: Plan::Lv,
+        }),
+    }
+}
+
+/// What was drawn for each population member, one row each (scales, sag and offset in mm).
+fn members_csv(members: &[Member]) -> String {
+    let mut out = String::from(
+        "shape,base,scale_x,scale_y,scale_z,sag_mm,bumps,max_bump_mm,warp_lipschitz,\
+         rotation_deg,offset_x,offset_y,offset_z\n",
+    );
+    for m in members {
+        let v = &m.variation;
+        let max_bump = v
+            .bumps
+            .iter()
+            .map(|b| b.displacement.norm())
+            .fold(0.0, f64::max);
+        out.push_str(&format!(
+            "{},{},{:.3},{:.3},{:.3},{:.2},{},{:.2},{:.3},{:.1},{:.1},{:.1},{:.1}\n",
+            m.subject.name,
+            m.base,
+            v.scale[0],
+            v.scale[1],
+            v.scale[2],
+            v.sag_mm,
+            v.bumps.len(),
+            max_bump,
+            v.warp_lipschitz(),
+            v.rotation.angle().to_degrees(),
+            v.offset.x,
+            v.offset.y,
+            v.offset.z
+        ));
+    }
+    out
 }
 
 fn stem(path: &str) -> String {

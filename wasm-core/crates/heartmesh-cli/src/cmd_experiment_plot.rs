@@ -54,7 +54,44 @@ pub fn plot(design: &Design, rows: &[Row], shapes: &[String], params: &Params) -
             rows,
             shapes,
         ),
-        Design::Misalignment { levels, .. } => misalignment(levels, rows, shapes, &iters),
+        Design::Misalignment { levels, .. } => misalignment(
+            levels,
+            rows,
+            shapes,
+            &[C2M_MEAN, C2M_MAX, MEAN],
+            &format!(
+                "Breath-hold misalignment: each plane shifted and tilted at random (dots: seeds; \
+                 lines: medians{iters})"
+            ),
+        ),
+        Design::Population { levels, .. } => {
+            // One series per base shape (member names are `pNN-<base>`), one dot per member.
+            let base = |name: &str| name.split_once('-').map_or(name, |(_, b)| b).to_string();
+            let grouped: Vec<Row> = rows
+                .iter()
+                .map(|r| Row {
+                    shape: base(&r.shape),
+                    ..r.clone()
+                })
+                .collect();
+            let mut bases: Vec<String> = Vec::new();
+            for s in shapes.iter().map(|s| base(s)) {
+                if !bases.contains(&s) {
+                    bases.push(s);
+                }
+            }
+            misalignment(
+                levels,
+                &grouped,
+                &bases,
+                &[MEAN, HAUSDORFF, C2M_MEAN],
+                &format!(
+                    "Population: {} shapes drawn from {} bases (dots: shapes; lines: medians{iters})",
+                    shapes.len(),
+                    bases.len()
+                ),
+            )
+        }
         Design::Sweep { grid } => sweep(grid, rows, shapes, &iters),
     }
 }
@@ -92,13 +129,19 @@ fn by_count(title: &str, x_label: &str, setting: &str, rows: &[Row], shapes: &[S
     })
 }
 
-fn misalignment(levels: &[(f64, f64)], rows: &[Row], shapes: &[String], iters: &str) -> String {
+fn misalignment(
+    levels: &[(f64, f64)],
+    rows: &[Row],
+    shapes: &[String],
+    measures: &[Measure],
+    title: &str,
+) -> String {
     let level_of = |r: &Row| {
         let (s, t) = (r.setting("shift_mm")?, r.setting("tilt_deg")?);
         levels.iter().position(|&(a, b)| a == s && b == t)
     };
     let n = shapes.len().max(1) as f64;
-    let panels = [C2M_MEAN, C2M_MAX, MEAN]
+    let panels = measures
         .iter()
         .map(|&(name, unit, _, f)| {
             let mut series = Vec::new();
@@ -147,10 +190,7 @@ fn misalignment(levels: &[(f64, f64)], rows: &[Row], shapes: &[String], iters: &
         })
         .collect();
     chart(&Chart {
-        title: format!(
-            "Breath-hold misalignment: each plane shifted and tilted at random (dots: seeds; \
-             lines: medians{iters})"
-        ),
+        title: title.into(),
         x_label: "max shift (mm) / max tilt (degrees)".into(),
         x_ticks: Some(
             levels

@@ -12,6 +12,8 @@ use super::experiment_design::{Subject, Trial};
 use super::planes::{simulate, Acquisition};
 use crate::clock::{Clock, DefaultClock};
 use crate::error::Result;
+use crate::mesh::quality::quality;
+use crate::mesh::topology::validity;
 use crate::metrics::compare::{compare, DistanceStats};
 use crate::pipeline::Reconstruction;
 use serde::Serialize;
@@ -36,6 +38,10 @@ pub struct Metrics {
     /// Where the truth is farthest from the reconstruction: height along the long axis, 0 at the
     /// truth's apex, 1 at its top (NaN if the axis gives no extent).
     pub worst_height: f64,
+    /// Creased edges of the reconstruction (dihedral > 90 degrees, [`quality`]).
+    pub folded_edges: usize,
+    /// Closed, manifold, consistently oriented and enclosing a positive volume (outward).
+    pub closed_manifold_outward: bool,
 }
 
 /// One line of an experiment's table.
@@ -270,6 +276,9 @@ impl Experiment {
                     contour_to_mesh_mean: c2m.mean,
                     contour_to_mesh_max: c2m.max,
                     worst_height: height_fraction(&run.acq, truth, r.truth_to_mesh.max_at),
+                    folded_edges: quality(run.rec.mesh()).folded_edges,
+                    closed_manifold_outward: validity(run.rec.mesh()).is_closed_manifold()
+                        && run.rec.mesh().signed_volume() > 0.0,
                 }));
             }
             Err(e) => row.error = Some(format!("compare: {e}")),
@@ -305,7 +314,7 @@ impl Iterator for Experiment {
 }
 
 /// Metric columns of [`to_csv`], after the settings.
-pub const METRIC_COLUMNS: [&str; 18] = [
+pub const METRIC_COLUMNS: [&str; 20] = [
     "mesh_to_truth_mean",
     "mesh_to_truth_median",
     "mesh_to_truth_p95",
@@ -322,13 +331,18 @@ pub const METRIC_COLUMNS: [&str; 18] = [
     "contour_to_mesh_mean",
     "contour_to_mesh_max",
     "worst_height",
+    "folded_edges",
+    "closed_manifold_outward",
     "seconds",
     "error",
 ];
 
+/// Index of the first [`Metrics::values`] entry that is a whole number (folds, the validity flag).
+const COUNT_COLUMNS_FROM: usize = 16;
+
 impl Metrics {
     /// Values in the order of [`METRIC_COLUMNS`] (without seconds and error).
-    pub fn values(&self) -> [f64; 16] {
+    pub fn values(&self) -> [f64; 18] {
         let (a, b) = (&self.mesh_to_truth, &self.truth_to_mesh);
         [
             a.mean,
@@ -347,6 +361,12 @@ impl Metrics {
             self.contour_to_mesh_mean,
             self.contour_to_mesh_max,
             self.worst_height,
+            self.folded_edges as f64,
+            if self.closed_manifold_outward {
+                1.0
+            } else {
+                0.0
+            },
         ]
     }
 }
@@ -406,11 +426,16 @@ pub fn to_csv(rows: &[Row]) -> String {
         out.push_str(&format!(",{},{},{}", r.sax, r.lax, r.iterations));
         match &r.metrics {
             Some(m) => {
-                for v in m.values() {
-                    out.push_str(&format!(",{v:.4}"));
+                for (k, v) in m.values().into_iter().enumerate() {
+                    // The last two are a count and a 0/1 flag.
+                    if k >= COUNT_COLUMNS_FROM {
+                        out.push_str(&format!(",{v}"));
+                    } else {
+                        out.push_str(&format!(",{v:.4}"));
+                    }
                 }
             }
-            None => out.push_str(&",".repeat(16)),
+            None => out.push_str(&",".repeat(18)),
         }
         out.push_str(&format!(
             ",{:.3},{}\n",

@@ -76,6 +76,10 @@ pub enum Design {
     /// The full grid over reconstruction parameters, by their schema names
     /// ([`Params::schema`]); `attractor_spacing` 0 means the default attractor count.
     Sweep { grid: Vec<(String, Vec<f64>)> },
+    /// Every subject (a population member, [`super::population`]) at every misalignment level,
+    /// subject k drawing its plane motions from seed `seed + k` (one draw per shape: the
+    /// population, not the seeds, gives the spread).
+    Population { levels: Vec<(f64, f64)>, seed: u64 },
 }
 
 impl Design {
@@ -118,6 +122,14 @@ impl Design {
         }
     }
 
+    /// The population study: aligned and 2 mm / 2 degree misaligned, as the accuracy tests.
+    pub fn population(seed: u64) -> Design {
+        Design::Population {
+            levels: vec![(0.0, 0.0), (2.0, 2.0)],
+            seed,
+        }
+    }
+
     /// Short name used for files and the CLI (`sax-count`, ...).
     pub fn name(&self) -> &'static str {
         match self {
@@ -125,6 +137,7 @@ impl Design {
             Design::LaxCount { .. } => "lax-count",
             Design::Misalignment { .. } => "misalignment",
             Design::Sweep { .. } => "sweep",
+            Design::Population { .. } => "population",
         }
     }
 }
@@ -208,39 +221,11 @@ pub fn trials(design: &Design, subjects: &[Subject], params: &Params) -> Result<
                 }
             }
             Design::Misalignment { levels, seeds } => {
-                if levels.is_empty() || seeds.is_empty() {
-                    return Err(CoreError::ParamInvalid {
-                        name: "misalignment".into(),
-                        message: "needs at least one level and one seed".into(),
-                    });
-                }
-                for &(shift_mm, tilt_deg) in levels {
-                    // Without misalignment the seed changes nothing: one run is enough.
-                    let aligned = shift_mm == 0.0 && tilt_deg == 0.0;
-                    for &seed in seeds.iter().take(if aligned { 1 } else { seeds.len() }) {
-                        let spec = AcquisitionSpec {
-                            misalignment: Some(Misalignment { shift_mm, tilt_deg }),
-                            seed,
-                            ..subject.base.clone()
-                        };
-                        // Validated by `simulate` too; checked here so the whole design fails early.
-                        if !(shift_mm.is_finite() && (0.0..=50.0).contains(&shift_mm)) {
-                            return Err(bad("misalign_shift", shift_mm, 0.0, 50.0));
-                        }
-                        if !(tilt_deg.is_finite() && (0.0..=45.0).contains(&tilt_deg)) {
-                            return Err(bad("misalign_tilt", tilt_deg, 0.0, 45.0));
-                        }
-                        out.push(trial(
-                            vec![
-                                ("shift_mm".into(), shift_mm),
-                                ("tilt_deg".into(), tilt_deg),
-                                ("seed".into(), seed as f64),
-                            ],
-                            spec,
-                            params.clone(),
-                        ));
-                    }
-                }
+                out.extend(misaligned(s, &subject.base, levels, seeds, params)?);
+            }
+            Design::Population { levels, seed } => {
+                let seeds = [seed.wrapping_add(s as u64)];
+                out.extend(misaligned(s, &subject.base, levels, &seeds, params)?);
             }
             Design::Sweep { grid } => {
                 for combo in grid_points(grid) {
@@ -251,6 +236,59 @@ pub fn trials(design: &Design, subjects: &[Subject], params: &Params) -> Result<
                     out.push(trial(combo, subject.base.clone(), p));
                 }
             }
+        }
+    }
+    Ok(out)
+}
+
+/// Trials of subject `s` at every misalignment level (max shift mm, max tilt degrees) with every
+/// seed; the aligned level runs once.
+fn misaligned(
+    s: usize,
+    base: &AcquisitionSpec,
+    levels: &[(f64, f64)],
+    seeds: &[u64],
+    params: &Params,
+) -> Result<Vec<Trial>> {
+    let bad = |name: &str, value: f64, min: f64, max: f64| CoreError::ParamOutOfRange {
+        name: name.into(),
+        value,
+        min,
+        max,
+    };
+    if levels.is_empty() || seeds.is_empty() {
+        return Err(CoreError::ParamInvalid {
+            name: "misalignment".into(),
+            message: "needs at least one level and one seed".into(),
+        });
+    }
+    let mut out = Vec::new();
+    for &(shift_mm, tilt_deg) in levels {
+        // Validated by `simulate` too; checked here so the whole design fails early.
+        if !(shift_mm.is_finite() && (0.0..=50.0).contains(&shift_mm)) {
+            return Err(bad("misalign_shift", shift_mm, 0.0, 50.0));
+        }
+        if !(tilt_deg.is_finite() && (0.0..=45.0).contains(&tilt_deg)) {
+            return Err(bad("misalign_tilt", tilt_deg, 0.0, 45.0));
+        }
+        // Without misalignment the seed changes nothing: one run is enough.
+        let aligned = shift_mm == 0.0 && tilt_deg == 0.0;
+        for &seed in seeds.iter().take(if aligned { 1 } else { seeds.len() }) {
+            let spec = AcquisitionSpec {
+                misalignment: Some(Misalignment { shift_mm, tilt_deg }),
+                seed,
+                ..base.clone()
+            };
+            out.push(Trial {
+                subject: s,
+                settings: vec![
+                    ("shift_mm".into(), shift_mm),
+                    ("tilt_deg".into(), tilt_deg),
+                    ("seed".into(), seed as f64),
+                ],
+                spec,
+                params: params.clone(),
+            });
         }
     }
     Ok(out)

@@ -9,6 +9,7 @@ pub mod experiment_design;
 pub mod hull;
 pub mod leave_one_out;
 pub mod planes;
+pub mod population;
 pub mod prng;
 pub mod repair;
 pub mod shapes;
