@@ -3,6 +3,9 @@
 //! `cargo run --release --example probe -- CASE [iterations]`
 //! CASE: bivme-lv | cap-endo | cap-epi | spasm-endo | spasm-epi | bivme-rv | spasm-rv | param
 //!       (suffix `-mis` for the 2 mm / 2 degree misaligned acquisition, seed 1..3 as in the tests).
+//! PROBE_POP=SEED:K: the case's shape as member K of the population drawn with SEED
+//! (`heartmesh experiment population --seed SEED`, member `pK-...` of that base; misaligned with
+//! seed SEED + K as there).
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::TriMesh;
 use heartmesh_core::metrics::compare::compare;
@@ -81,10 +84,50 @@ fn run() -> Res<()> {
         "param" => lv(heartmesh_core::sim::shapes::ParametricLv::bulged_truth()?),
         other => return Err(format!("unknown case {other}").into()),
     };
-    let seed = match base.as_str() {
+    let mut seed = match base.as_str() {
         "cap-endo" => 1,
         "spasm-epi" => 2,
         _ => 3,
+    };
+    let (t, rvax) = match std::env::var("PROBE_POP") {
+        Ok(v) => {
+            use heartmesh_core::sim::population::{generate, Base, Plan, Source};
+            let (s, k) = v.split_once(':').ok_or("PROBE_POP=SEED:K")?;
+            let (s, k): (u64, usize) = (s.parse()?, k.parse()?);
+            let plan = match rvax {
+                Some(_) => Plan::Rv {
+                    lv: truth(match base.as_str() {
+                        "bivme-rv" => "bivme-patient1-ED-LV_ENDO-closed.obj",
+                        _ => "cardiomesh-spasm-LV_endo.obj",
+                    })?,
+                },
+                None => Plan::Lv,
+            };
+            let source = match base.as_str() {
+                "param" => Source::Parametric,
+                _ => Source::Mesh(t),
+            };
+            let members = generate(
+                &[Base {
+                    name: base.clone(),
+                    source,
+                    plan,
+                }],
+                k + 1,
+                s,
+            )?;
+            let m = members.last().ok_or("no member")?;
+            println!("member {} variation {:?}", m.subject.name, m.variation);
+            seed = s + k as u64;
+            let sub = &m.subject;
+            let rvax = sub
+                .base
+                .axis
+                .zip(sub.base.lax_reference)
+                .filter(|_| rvax.is_some());
+            (sub.mesh.clone(), rvax)
+        }
+        Err(_) => (t, rvax),
     };
     let spec = AcquisitionSpec {
         axis: rvax.map(|r| r.0),

@@ -12,6 +12,7 @@
 
 use super::axis::LongAxis;
 use super::prng::SplitMix64;
+use super::repair::{boundary_loops, loop_diameter};
 use super::slice::{join_chains, polyline_length, resample, slice_mesh, Plane};
 use crate::contours::{Contour, ContourSet, Polyline};
 use crate::error::{CoreError, Result};
@@ -254,8 +255,41 @@ const AXIS_ROUNDS: usize = 3;
 /// from it. The long-axis views (2, 3, 4 chamber) are planned through this line, so they all pass
 /// through the apex; the principal axis through the centroid need not (a ventricle's apex is
 /// often off its centroid line), which would leave the apex between the long-axis planes.
+///
+/// An open shape is also tried from its valve rim (apex = the surface point farthest from the rim
+/// centre), and the start whose axis gives closed SAX sections over the longer length wins (the
+/// principal one on a tie): the principal axis is the long axis only while the ventricle is
+/// longer than wide, and a dilated, near-spherical ventricle can turn it into the base plane,
+/// where the rounds cannot recover and the SAX planes cut the rim (found by the session-7
+/// population study). A scanner's stack is a pile of closed rings; the plan that allows the
+/// longer pile is the one that follows the ventricle.
 pub fn anatomical_axis(mesh: &TriMesh, join_gap_mm: f64) -> Result<LongAxis> {
-    let (mut axis, _) = LongAxis::from_mesh(mesh)?;
+    let (pca, _) = LongAxis::from_mesh(mesh)?;
+    let principal = refine_axis(mesh, pca, join_gap_mm);
+    let Some(rim) = rim_axis(mesh) else {
+        return Ok(principal);
+    };
+    // Same centre height convention as the rounds.
+    let h = rim.height(&pca.centre);
+    let from_rim = refine_axis(
+        mesh,
+        LongAxis {
+            centre: rim.centre + rim.direction * h,
+            direction: rim.direction,
+        },
+        join_gap_mm,
+    );
+    let span =
+        |a: &LongAxis| single_loop_span(mesh, a, join_gap_mm).map_or(0.0, |(lo, hi)| hi - lo);
+    Ok(if span(&from_rim) > span(&principal) {
+        from_rim
+    } else {
+        principal
+    })
+}
+
+/// The rounds of [`anatomical_axis`] from a starting axis.
+fn refine_axis(mesh: &TriMesh, mut axis: LongAxis, join_gap_mm: f64) -> LongAxis {
     for _ in 0..AXIS_ROUNDS {
         let Some((_, top)) = single_loop_span(mesh, &axis, join_gap_mm) else {
             break;
@@ -297,7 +331,34 @@ pub fn anatomical_axis(mesh: &TriMesh, join_gap_mm: f64) -> Result<LongAxis> {
             direction: next.direction,
         };
     }
-    Ok(axis)
+    axis
+}
+
+/// For an open shape, the line from the apex (the vertex farthest from the rim centre) to the
+/// centre of its widest boundary loop (the valve rim; smaller loops are mesh defects). The rim
+/// centre is length-weighted so uneven rim sampling does not pull it.
+fn rim_axis(mesh: &TriMesh) -> Option<LongAxis> {
+    let rim = boundary_loops(mesh)
+        .into_iter()
+        .max_by(|a, b| loop_diameter(mesh, a).total_cmp(&loop_diameter(mesh, b)))?;
+    let (mut sum, mut len) = (Vec3::zeros(), 0.0);
+    for (k, &v) in rim.iter().enumerate() {
+        let a = mesh.positions[v as usize];
+        let b = mesh.positions[rim[(k + 1) % rim.len()] as usize];
+        let l = (b - a).norm();
+        sum += (a + b) * (0.5 * l);
+        len += l;
+    }
+    if !(len > 0.0 && len.is_finite()) {
+        return None;
+    }
+    let centre = sum / len;
+    let apex = mesh.positions.iter().max_by(|a, b| {
+        (*a - centre)
+            .norm_squared()
+            .total_cmp(&(*b - centre).norm_squared())
+    })?;
+    LongAxis::new(*apex, centre - apex)
 }
 
 /// Scan step of [`single_loop_span`], mm.
@@ -466,6 +527,59 @@ mod tests {
 
     fn lv() -> TriMesh {
         ParametricLv::default().mesh(96, 60).unwrap()
+    }
+
+    /// A dilated, squat open ventricle (wider than long, tilted in the scanner): its principal
+    /// axis lies in the base plane, and the rounds from it stop more than 14 degrees off (on
+    /// population member p69 the stack then cut the rim and left a 40 mm gap); the rim start
+    /// finds the true axis.
+    #[test]
+    fn squat_open_ventricle_is_planned_along_its_axis() {
+        let squat = ParametricLv {
+            length_mm: 50.0,
+            radius_mm: 34.0,
+            base_radius_mm: 30.0,
+            ..ParametricLv::default()
+        }
+        .mesh(96, 60)
+        .unwrap();
+        let turn = Rotation3::from_euler_angles(0.4, -0.7, 1.1);
+        let offset = Vec3::new(120.0, -250.0, 80.0);
+        let truth = TriMesh::new(
+            squat.positions.iter().map(|p| turn * p + offset).collect(),
+            squat.triangles.clone(),
+        );
+        let true_axis = turn * Vec3::z();
+        let (pca, _) = LongAxis::from_mesh(&truth).unwrap();
+        let principal = refine_axis(&truth, pca, 3.0);
+        assert!(
+            principal.direction.dot(&true_axis).abs() < 0.97,
+            "the principal start should fail on this shape: {:?}, dot {}",
+            principal.direction,
+            principal.direction.dot(&true_axis)
+        );
+        let axis = anatomical_axis(&truth, 3.0).unwrap();
+        assert!(
+            axis.direction.dot(&true_axis) > 0.999,
+            "{:?} vs {true_axis:?}",
+            axis.direction
+        );
+        let acq = simulate(&truth, &AcquisitionSpec::default()).unwrap();
+        let (lo, _, _) = acq.axis.extent(&truth).unwrap();
+        let heights: Vec<f64> = acq
+            .sax_planes
+            .iter()
+            .map(|p| acq.axis.height(&p.origin) - lo)
+            .collect();
+        // A regular 10 mm stack from near the apex to below the rim (50 mm): 3-47 mm.
+        assert!(heights.len() >= 4, "{heights:?}");
+        assert!(heights
+            .windows(2)
+            .all(|w| (w[1] - w[0] - 10.0).abs() < 1e-6));
+        assert!(
+            heights[0] < 10.0 && *heights.last().unwrap() > 40.0,
+            "{heights:?}"
+        );
     }
 
     #[test]
