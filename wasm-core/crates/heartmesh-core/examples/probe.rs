@@ -221,6 +221,61 @@ fn run() -> Res<()> {
         mesh = heartmesh_core::refine::subdivide(&mesh)?;
     }
     let r = compare(&t, &mesh, Some(&acq.clip))?;
+    {
+        use heartmesh_core::mesh::quality::{dihedral_deg, face_normals, quality, FOLD_DEG};
+        use heartmesh_core::mesh::topology::EdgeMap;
+        let q = quality(&mesh);
+        let qt = quality(&t);
+        println!(
+            "folds {} (max dihedral {:.0} deg); {} vertices; truth folds {} (max dihedral {:.0})",
+            q.folded_edges,
+            q.max_dihedral_deg,
+            mesh.positions.len(),
+            qt.folded_edges,
+            qt.max_dihedral_deg
+        );
+        // Where the folds are: height, nearest contour point, and the truth's own sharpest
+        // dihedral within 5 mm (a fold on a creased truth is faithful, not a defect).
+        let (map, normals) = (EdgeMap::new(&mesh), face_normals(&mesh));
+        let (tmap, tnormals) = (EdgeMap::new(&t), face_normals(&t));
+        let tsharp: Vec<(Vec3, f64)> = (0..tmap.edges.len())
+            .filter_map(|e| {
+                let a = dihedral_deg(&tmap, &tnormals, e)?;
+                let [u, v] = tmap.edges[e];
+                Some(((t.positions[u as usize] + t.positions[v as usize]) * 0.5, a))
+            })
+            .collect();
+        let pts: Vec<Vec3> = acq
+            .contours
+            .contours
+            .iter()
+            .flat_map(|c| c.points().copied())
+            .collect();
+        for e in 0..map.edges.len() {
+            let Some(a) = dihedral_deg(&map, &normals, e) else {
+                continue;
+            };
+            if a <= FOLD_DEG {
+                continue;
+            }
+            let [u, v] = map.edges[e];
+            let m = (mesh.positions[u as usize] + mesh.positions[v as usize]) * 0.5;
+            let near = pts
+                .iter()
+                .map(|p| (p - m).norm())
+                .fold(f64::INFINITY, f64::min);
+            let sharp = tsharp
+                .iter()
+                .filter(|(p, _)| (p - m).norm() < 5.0)
+                .map(|(_, a)| *a)
+                .fold(0.0, f64::max);
+            let (lo, _, _) = acq.axis.extent(&t).ok_or("no extent")?;
+            println!(
+                "  fold {a:.0} deg at h {:.1} mm; nearest contour point {near:.2} mm; truth's sharpest dihedral within 5 mm {sharp:.0} deg",
+                acq.axis.height(&m) - lo
+            );
+        }
+    }
     let (lo, hi, _) = acq.axis.extent(&t).ok_or("no extent")?;
     let hfrac = |p: &Vec3| (acq.axis.height(p) - lo) / (hi - lo);
     println!(
