@@ -175,6 +175,42 @@ fn misalignment_raises_the_error() {
 }
 
 #[test]
+fn population_of_posed_parametric_shapes() {
+    let d = scratch("pop");
+    let rows = experiment(
+        "population",
+        &d,
+        &["--count", "3", "--seed", "5", "--iterations", "40"],
+    );
+    // Three shapes, each aligned and at 2 mm / 2 degrees, misaligned with seed 5 + k.
+    assert_eq!(rows.len(), 6);
+    assert_eq!(rows[0]["shape"], "p00-parametric");
+    assert_eq!(rows[5]["shape"], "p02-parametric");
+    assert_eq!(num(&rows[3], "shift_mm"), 2.0);
+    assert_eq!(num(&rows[3], "seed"), 6.0);
+    let shapes = std::fs::read_to_string(d.join("population-shapes.csv")).unwrap();
+    let lines: Vec<&str> = shapes.lines().collect();
+    assert_eq!(lines.len(), 4, "{shapes}");
+    assert!(lines[0].starts_with("shape,base,scale_x"));
+    for r in &rows {
+        eprintln!(
+            "EXPERIMENT population {} shift {}: mean {:.3} mm, Hausdorff {:.2} mm, folds {}",
+            r["shape"],
+            r["shift_mm"],
+            mean(r),
+            num(r, "hausdorff"),
+            r["folded_edges"]
+        );
+        assert_eq!(r["closed_manifold_outward"], "1");
+        assert_eq!(r["folded_edges"], "0");
+        // 40 iterations, posed hundreds of mm from the origin: still well under a millimetre
+        // aligned, and about the misalignment when misaligned.
+        let limit = if num(r, "shift_mm") == 0.0 { 0.2 } else { 1.5 };
+        assert!(mean(r) < limit, "{}: mean {:.3} mm", r["shape"], mean(r));
+    }
+}
+
+#[test]
 fn sweep_grid_and_parallel_coordinates() {
     let d = scratch("sweep");
     let rows = experiment(
@@ -231,6 +267,18 @@ fn usage_errors_exit_2_with_one_line() {
         (
             vec!["experiment", "sax-count", "-o", out],
             "at least one TRUTH",
+        ),
+        (
+            vec![
+                "experiment",
+                "population",
+                "parametric-lv",
+                "-o",
+                out,
+                "--count",
+                "0",
+            ],
+            "--count must be at least 1",
         ),
         (
             vec![
