@@ -251,6 +251,20 @@ fn run() -> Res<()> {
             .iter()
             .flat_map(|c| c.points().copied())
             .collect();
+        let w = r.truth_to_mesh.max_at;
+        let w = Vec3::new(w[0], w[1], w[2]);
+        let sharp_near = |radius: f64| {
+            tsharp
+                .iter()
+                .filter(|(p, _)| (p - w).norm() < radius)
+                .map(|(_, a)| *a)
+                .fold(0.0, f64::max)
+        };
+        println!(
+            "  truth's sharpest dihedral near the worst truth point: {:.0} deg within 3 mm, {:.0} within 6 mm",
+            sharp_near(3.0),
+            sharp_near(6.0)
+        );
         for e in 0..map.edges.len() {
             let Some(a) = dihedral_deg(&map, &normals, e) else {
                 continue;
