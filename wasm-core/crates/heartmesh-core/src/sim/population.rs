@@ -156,7 +156,7 @@ pub fn generate(bases: &[Base], count: usize, seed: u64) -> Result<Vec<Member>> 
     let mut out = Vec::with_capacity(count);
     for k in 0..count {
         let base = &bases[k % bases.len()];
-        // One generator per member: adding bases or members does not change the others.
+        // One generator per member: adding members does not change the earlier ones.
         let mut rng = SplitMix64::new(seed ^ (k as u64 + 1).wrapping_mul(0xA076_1D64_78BD_642F));
         out.push(member(base, k, &mut rng)?);
     }
