@@ -1,7 +1,7 @@
 #!/bin/sh
 # The session-7 population study (docs/VALIDATION.md "Session 7: population"): 80 shapes drawn from
 # 8 reference shapes (4 LV endo, 2 LV epi, 2 RV), aligned and 2 mm / 2 degree misaligned.
-# Usage: scripts/population.sh [OUT_DIR] [extra experiment flags]
+# Usage: [SEED=1] [COUNT=80] scripts/population.sh [OUT_DIR] [extra experiment flags]
 set -e
 M=${MESHES:-$(dirname "$0")/../../shared/data/meshes}
 [ -d "$M" ] || M=/work/shared/data/meshes
@@ -17,4 +17,4 @@ BIN=${HEARTMESH:-wasm-core/target/release/heartmesh}
   lv-epi-spasm="$M/cardiomesh-spasm-LV_epi.obj" \
   rv-bivme="$M/bivme-patient1-ED-RV_ENDO-closed.obj@$M/bivme-patient1-ED-LV_ENDO-closed.obj" \
   rv-spasm="$M/cardiomesh-spasm-RV_endo.obj+$M/cardiomesh-spasm-LV_epi.obj@$M/cardiomesh-spasm-LV_endo.obj" \
-  --count 80 --seed 1 -o "$OUT" "$@"
+  --count "${COUNT:-80}" --seed "${SEED:-1}" -o "$OUT" "$@"
