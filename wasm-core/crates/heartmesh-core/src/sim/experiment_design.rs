@@ -351,6 +351,21 @@ mod tests {
             ]
         );
 
+        // Population: every subject aligned and at 2 mm / 2 degrees, subject k with seed + k.
+        let pop = trials(&Design::population(10), &s, &p).unwrap();
+        assert_eq!(pop.len(), 4);
+        assert_eq!(Design::population(10).name(), "population");
+        assert_eq!(pop[1].settings[2], ("seed".to_string(), 10.0));
+        assert_eq!(pop[3].subject, 1);
+        assert_eq!(pop[3].spec.seed, 11);
+        assert_eq!(
+            pop[3].spec.misalignment,
+            Some(Misalignment {
+                shift_mm: 2.0,
+                tilt_deg: 2.0
+            })
+        );
+
         let sweep = trials(&Design::sweep(), &s[..1], &p).unwrap();
         assert_eq!(sweep.len(), 36);
         // Last dimension fastest: attractor spacing alternates 0, 3.
