@@ -70,6 +70,8 @@ struct Decimator {
     dead_entries: usize,
     /// Cost per mm^2 of squared collapsed-edge length (see [`LENGTH_PENALTY`]).
     length_weight: f64,
+    /// Scratch of `seed`: one vertex's neighbours still to queue.
+    ends: Vec<u32>,
 }
 
 impl Decimator {
@@ -174,6 +176,7 @@ impl Decimator {
             heap: MinHeap4::with_capacity(edges.max(3 * mesh.triangles.len() / 2) * 2),
             dead_entries: 0,
             length_weight: LENGTH_PENALTY * area / mesh.triangles.len().max(1) as f64,
+            ends: Vec::new(),
         })
     }
 
@@ -291,26 +294,41 @@ impl Decimator {
     fn seed(&mut self) {
         let mut seeds = self.heap.take();
         seeds.clear();
+        let mut ends = std::mem::take(&mut self.ends);
         self.dead_entries = 0;
         for v in 0..self.positions.len() as u32 {
             if !self.vertex_alive[v as usize] {
                 continue;
             }
             let m = self.next_mark();
-            for i in self.list(v) {
+            // First the new neighbours in discovery order, without a branch on each (whether
+            // w > v is a coin toss): every corner is written and the end advances past new
+            // ones only. Marking v itself and lower neighbours too is harmless, as they are
+            // never queued from v.
+            let list = self.list(v);
+            ends.clear();
+            ends.resize(3 * list.len(), 0);
+            let mut end = 0;
+            for i in list {
                 let t = self.refs[i] as usize;
                 if !self.triangle_alive[t] {
                     continue;
                 }
                 for w in self.triangles[t] {
-                    if w > v && self.marks[w as usize] != m {
-                        self.marks[w as usize] = m;
-                        let (cost, _) = self.evaluate(v, w);
-                        seeds.push(Entry::new(cost, v, w));
-                    }
+                    let slot = &mut self.marks[w as usize];
+                    let new = (w > v) & (*slot != m);
+                    *slot = m;
+                    ends[end] = w;
+                    end += usize::from(new);
                 }
             }
+            ends.truncate(end);
+            for &w in &ends {
+                let (cost, _) = self.evaluate(v, w);
+                seeds.push(Entry::new(cost, v, w));
+            }
         }
+        self.ends = ends;
         self.heap.rebuild(seeds);
     }
 
@@ -364,11 +382,12 @@ impl Decimator {
                 continue;
             }
             live_b += 1;
+            // Branch-free: whether a neighbour of b is also one of a is a coin toss.
             for w in self.triangles[t] {
-                if w != a && w != b && self.marks[w as usize] == m {
-                    self.marks[w as usize] = m + 1;
-                    common += 1;
-                }
+                let slot = &mut self.marks[w as usize];
+                let hit = w != a && w != b && *slot == m;
+                *slot = if hit { m + 1 } else { *slot };
+                common += usize::from(hit);
             }
         }
         if common != edge_triangles {
@@ -456,14 +475,19 @@ impl Decimator {
             self.compact_refs();
         }
         let new_start = self.refs.len();
+        // Every entry is written and the end advances only past live ones (no branch on
+        // liveness, which mispredicts); the room was checked above.
+        let room = (self.count[a as usize] + self.count[b as usize]) as usize;
+        self.refs.resize(new_start + room, 0);
+        let mut end = new_start;
         for v in [a, b] {
             for i in self.list(v) {
                 let t = self.refs[i];
-                if self.triangle_alive[t as usize] {
-                    self.refs.push(t);
-                }
+                self.refs[end] = t;
+                end += usize::from(self.triangle_alive[t as usize]);
             }
         }
+        self.refs.truncate(end);
         self.start[a as usize] = new_start as u32;
         self.count[a as usize] = (self.refs.len() - new_start) as u32;
         self.count[b as usize] = 0;
