@@ -71,6 +71,7 @@ struct Decimator {
     /// Cost per mm^2 of squared collapsed-edge length (see [`LENGTH_PENALTY`]).
     length_weight: f64,
     /// The CPU has AVX: checked once per decimation instead of once per cost evaluation.
+    #[cfg(target_arch = "x86_64")]
     avx: bool,
 }
 
@@ -178,8 +179,6 @@ impl Decimator {
             length_weight: LENGTH_PENALTY * area / mesh.triangles.len().max(1) as f64,
             #[cfg(target_arch = "x86_64")]
             avx: std::arch::is_x86_feature_detected!("avx"),
-            #[cfg(not(target_arch = "x86_64"))]
-            avx: false,
         })
     }
 
