@@ -65,6 +65,14 @@ impl Entry {
         let (k, o) = (self.key, other.key);
         k < o || (k == o && self.b < other.b)
     }
+
+    /// The whole ordering key (cost, a, b) as one integer: comparing two of them is a
+    /// compare-and-borrow pair with no branch, which the child selection of a sift-down needs
+    /// (which of four children is smallest is a coin toss, so branches on it mispredict).
+    #[inline(always)]
+    fn rank(&self) -> u128 {
+        ((self.key as u128) << 32) | self.b as u128
+    }
 }
 
 /// Min-heap of [`Entry`] (smallest cost first).
@@ -126,13 +134,22 @@ impl MinHeap4 {
             if first >= n {
                 break;
             }
-            let end = (first + 4).min(n);
-            let mut best = first;
-            for c in first + 1..end {
-                if self.items[c].before(&self.items[best]) {
-                    best = c;
+            let best = if let Some(children) = self.items.get(first..first + 4) {
+                // A full node (all but at most one per sift-down): a branch-free tournament.
+                // Equal ranks are equal entries, so which one wins a tie does not matter.
+                let r = [0, 1, 2, 3].map(|k| children[k].rank());
+                let (i01, r01) = if r[1] < r[0] { (1, r[1]) } else { (0, r[0]) };
+                let (i23, r23) = if r[3] < r[2] { (3, r[3]) } else { (2, r[2]) };
+                first + if r23 < r01 { i23 } else { i01 }
+            } else {
+                let mut best = first;
+                for c in first + 1..n {
+                    if self.items[c].before(&self.items[best]) {
+                        best = c;
+                    }
                 }
-            }
+                best
+            };
             if !self.items[best].before(&e) {
                 break;
             }
