@@ -245,12 +245,7 @@ fn run() -> Res<()> {
                 Some(((t.positions[u as usize] + t.positions[v as usize]) * 0.5, a))
             })
             .collect();
-        let pts: Vec<Vec3> = acq
-            .contours
-            .contours
-            .iter()
-            .flat_map(|c| c.points().copied())
-            .collect();
+        let pts = acq.contours.all_points();
         let w = r.truth_to_mesh.max_at;
         let w = Vec3::new(w[0], w[1], w[2]);
         let sharp_near = |radius: f64| {
@@ -362,12 +357,7 @@ fn run() -> Res<()> {
         mh.iter().cloned().fold(f64::INFINITY, f64::min),
         mh.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
     );
-    let pts: Vec<Vec3> = acq
-        .contours
-        .contours
-        .iter()
-        .flat_map(|c| c.points().copied())
-        .collect();
+    let pts = acq.contours.all_points();
     let near_contour = |p: &Vec3| {
         pts.iter()
             .map(|q| (p - q).norm())

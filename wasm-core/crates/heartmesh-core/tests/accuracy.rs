@@ -215,12 +215,7 @@ fn rv_case(name: &str, truth: &TriMesh, lv_file: &str) {
     };
     let (o, acq, mesh) = run(name, truth, &spec);
     check_closed_manifold_outward(&mesh).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let points: Vec<Vec3> = acq
-        .contours
-        .contours
-        .iter()
-        .flat_map(|c| c.points().copied())
-        .collect();
+    let points = acq.contours.all_points();
     let hull = convex_hull(&points).unwrap();
     let h = compare(truth, &hull, Some(&acq.clip)).unwrap();
     let r = &o.report;

@@ -66,6 +66,14 @@ impl ContourSet {
     pub fn point_count(&self) -> usize {
         self.contours.iter().map(|c| c.point_count()).sum()
     }
+
+    /// Every point of every contour, in file order (for hulls and nearest-data queries).
+    pub fn all_points(&self) -> Vec<Vec3> {
+        self.contours
+            .iter()
+            .flat_map(|c| c.points().copied())
+            .collect()
+    }
 }
 
 /// Short-axis (the parallel stack) or long-axis contour.

@@ -319,6 +319,16 @@ mod tests {
         }
     }
 
+    /// The built-in LV test shape, closed or open at the base.
+    fn parametric(closed_base: bool) -> TriMesh {
+        ParametricLv {
+            closed_base,
+            ..ParametricLv::default()
+        }
+        .mesh(48, 32)
+        .unwrap()
+    }
+
     #[test]
     fn members_are_reproducible_varied_and_valid() {
         let a = generate(&[lv_base()], 6, 7).unwrap();
@@ -350,12 +360,7 @@ mod tests {
 
     #[test]
     fn warp_keeps_a_closed_shape_closed_and_outward() {
-        let truth = ParametricLv {
-            closed_base: true,
-            ..ParametricLv::default()
-        }
-        .mesh(48, 32)
-        .unwrap();
+        let truth = parametric(true);
         let base = Base {
             name: "closed".into(),
             source: Source::Mesh(truth.clone()),
@@ -376,12 +381,7 @@ mod tests {
 
     #[test]
     fn rv_members_are_planned_on_their_moved_lv() {
-        let lv = ParametricLv {
-            closed_base: false,
-            ..ParametricLv::default()
-        }
-        .mesh(48, 32)
-        .unwrap();
+        let lv = parametric(false);
         // A stand-in RV beside the LV: a smaller copy shifted sideways.
         let rv = TriMesh::new(
             lv.positions
