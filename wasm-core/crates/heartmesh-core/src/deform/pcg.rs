@@ -14,7 +14,7 @@
 //! All sums go through the fixed-order lane kernels of `dense.rs`, so every target gives the same
 //! bits (no fused multiply-add).
 
-use super::dense::{axpy, dot3_q, dot_q};
+use super::dense::{axpy, dot3_q, dot3x2_q, dot_q};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::avx::{self, Avx, Avx32};
 use super::lanes::{Oct, Quad, O4, Q2};
@@ -191,11 +191,26 @@ unsafe fn matvec3_avx(kmat: &[f64], n: usize, u: &[f64], y: &mut [f64]) {
 fn matvec3_q<Q: Quad>(kmat: &[f64], n: usize, u: &[f64], y: &mut [f64]) {
     let (u0, rest) = u.split_at(n);
     let (u1, u2) = rest.split_at(n);
-    for (i, row) in kmat.chunks_exact(n).take(n).enumerate() {
-        let d = dot3_q::<Q>(row, u0, &u1[..n], &u2[..n]);
-        y[i] = d[0];
-        y[n + i] = d[1];
-        y[2 * n + i] = d[2];
+    let (u1, u2) = (&u1[..n], &u2[..n]);
+    // Rows in pairs sharing the loads of u (same bits per row as one row at a time).
+    let mut rows = kmat.chunks_exact(n).take(n);
+    let mut i = 0;
+    while let (Some(r0), Some(r1)) = (rows.next(), rows.next()) {
+        let d = dot3x2_q::<Q>(r0, r1, u0, u1, u2);
+        for (k, dk) in d.iter().enumerate() {
+            y[i + k] = dk[0];
+            y[n + i + k] = dk[1];
+            y[2 * n + i + k] = dk[2];
+        }
+        i += 2;
+    }
+    if i + 1 == n {
+        if let Some(row) = kmat.get(i * n..(i + 1) * n) {
+            let d = dot3_q::<Q>(row, u0, u1, u2);
+            y[i] = d[0];
+            y[n + i] = d[1];
+            y[2 * n + i] = d[2];
+        }
     }
 }
 
@@ -433,6 +448,13 @@ mod tests {
             let mut y2 = vec![0.0; 3 * n];
             matvec3_q::<Pair<portable::F2>>(&a, n, &u, &mut y2);
             assert_eq!(bits(&y), bits(&y2), "n {n}: matvec lanes");
+            // Rows in pairs: the bits of one row at a time.
+            for i in 0..n {
+                let d = dot3_q::<Q2>(&a[i * n..(i + 1) * n], &u[..n], &u[n..2 * n], &u[2 * n..]);
+                for (c, dc) in d.iter().enumerate() {
+                    assert_eq!(y[c * n + i].to_bits(), dc.to_bits(), "n {n}: row {i}");
+                }
+            }
             for c in 0..3 {
                 for i in 0..n {
                     let want: f64 = (0..n).map(|j| a[i * n + j] * u[c * n + j]).sum();
