@@ -14,7 +14,7 @@
 //! All sums go through the fixed-order lane kernels of `dense.rs`, so every target gives the same
 //! bits (no fused multiply-add).
 
-use super::dense::{axpy, dot3_q, dot3x2_q, dot_q};
+use super::dense::{axpy, dot, dot3_q, dot3x2_q, dot_q};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::avx::{self, Avx, Avx32};
 use super::lanes::{Oct, Quad, O4, Q2};
@@ -259,6 +259,17 @@ fn chol_solve3_q<Q: Quad>(chol: &[f64], m: usize, x: &mut [f64], stride: usize, 
             *ex += a[0] * r;
             *ey += a[1] * r;
             *ez += a[2] * r;
+        }
+    }
+}
+
+/// Clears `active[c]` for each coordinate whose residual (rows of `r`, 3 x n, unknowns at 4..n)
+/// has a norm at or below `tol[c]`.
+pub(super) fn deactivate_converged(r: &[f64], n: usize, tol: &[f64; 3], active: &mut [bool; 3]) {
+    for (c, a) in active.iter_mut().enumerate() {
+        let row = &r[c * n + 4..(c + 1) * n];
+        if *a && dot(row, row).sqrt() <= tol[c] {
+            *a = false;
         }
     }
 }

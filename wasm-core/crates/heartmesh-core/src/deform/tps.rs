@@ -54,8 +54,8 @@ use super::dense::{axpy, cholesky_in_place, dot, dot_q};
 use super::lanes::avx::{self, Avx, Avx32};
 use super::lanes::{portable, Oct, Pair32, Quad, O4, Q2};
 use super::pcg::{
-    apply_q, apply_qt, chol_solve3, f32_stride, factor_to_f32, mirror_lower, precondition3_f32,
-    projected_matvec,
+    apply_q, apply_qt, chol_solve3, deactivate_converged, f32_stride, factor_to_f32, mirror_lower,
+    precondition3_f32, projected_matvec,
 };
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
@@ -913,17 +913,6 @@ const CG_MAX_ITERATIONS: usize = 8;
 const REFACTOR_AFTER: usize = 6;
 
 /// Euclidean norm of each coordinate of the targets over the centres.
-/// Clears `active[c]` for each coordinate whose residual (rows of `r`, 3 x n, unknowns at 4..n)
-/// has a norm at or below `tol[c]`.
-fn deactivate_converged(r: &[f64], n: usize, tol: &[f64; 3], active: &mut [bool; 3]) {
-    for (c, a) in active.iter_mut().enumerate() {
-        let row = &r[c * n + 4..(c + 1) * n];
-        if *a && dot(row, row).sqrt() <= tol[c] {
-            *a = false;
-        }
-    }
-}
-
 fn targets_norms(targets: &[Vec3]) -> [f64; 3] {
     let mut s = [0.0; 3];
     for t in targets {
