@@ -243,6 +243,12 @@ def malformed(p1, surfco, rng):
         cases.append(Case("only-" + name, write_csv([("c1", None, pts)])))
         cases.append(Case("plus-" + name, write_csv(good + [("bad", None, pts)]), expect="any"))
     cases.append(Case("one-contour", write_csv(good[:1])))
+    # A contour column holding a point index: every row its own contour.
+    per_point = [(f"p{i}", None, [p]) for i, p in enumerate(q for b in good for q in b[2])]
+    cases.append(Case("id-per-point", write_csv(per_point)))
+    many = [(f"c{k}", None, [(20 * math.cos(k + 2.1 * i), 20 * math.sin(k + 2.1 * i), k * 1e-3)
+                             for i in range(3)]) for k in range(100_000)]
+    cases.append(Case("100k-tiny-contours", write_csv(many, fmt="{:.4f}")))
     cases.append(Case("two-sax", write_csv(good[:2]), expect="any"))
 
     # Duplicate ids in separate blocks (the second block is another curve with the same name).

@@ -45,10 +45,6 @@ const CONFLICT_GRADIENT_LIMIT: f64 = 0.5;
 /// The fewest attractors a thin-plate spline in 3D can use (4 affine terms + 1).
 const MIN_ATTRACTORS: usize = 5;
 
-/// Most contours of one surface a reconstruction takes: real acquisitions have tens; the SAX/LAX
-/// analysis is quadratic in the count (100,000 one-point "contours" took minutes).
-const MAX_CONTOURS: usize = 1000;
-
 /// Cap of the automatic attractor count max(150, 25 x contours): the largest count the
 /// `attractors` parameter allows, so that many contours cannot ask for an unsolvable TPS.
 const MAX_AUTO_ATTRACTORS: usize = 5000;
@@ -183,14 +179,7 @@ impl Reconstruction {
                 needed: 2,
             });
         }
-        if contours.len() > MAX_CONTOURS {
-            return Err(CoreError::TooManyContours {
-                found: contours.len(),
-                max: MAX_CONTOURS,
-            });
-        }
-        // Before the SAX/LAX split, whose mm tolerances would fail with a misleading message.
-        crate::contours::checks::check_units(&contours)?;
+        prepare::check_count_and_units(&contours)?;
         let layout = analyse(&contours)?;
 
         let mut candidates_mm: Vec<Vec3> = Vec::new();
