@@ -243,6 +243,8 @@ def malformed(p1, surfco, rng):
         cases.append(Case("only-" + name, write_csv([("c1", None, pts)])))
         cases.append(Case("plus-" + name, write_csv(good + [("bad", None, pts)]), expect="any"))
     cases.append(Case("one-contour", write_csv(good[:1])))
+    far = [("far", None, [(1e308, 1e308, 1e308), (-1e308, -1e308, -1e308), (1e308, -1e308, 0)])]
+    cases.append(Case("overflowing-span", write_csv(good + far, fmt="{:.6g}")))
     # A contour column holding a point index: every row its own contour.
     per_point = [(f"p{i}", None, [p]) for i, p in enumerate(q for b in good for q in b[2])]
     cases.append(Case("id-per-point", write_csv(per_point)))

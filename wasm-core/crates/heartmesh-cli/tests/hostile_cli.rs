@@ -338,3 +338,18 @@ fn a_hundred_thousand_tiny_contours_are_refused_quickly() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Finite coordinates near 1e308: their distances overflow to infinity. This panicked (capacity
+/// overflow in the 1 mm resampling); now a typed refusal.
+#[test]
+fn coordinates_near_the_float_limit_are_refused_not_a_panic() {
+    let dir = scratch("huge");
+    let mut text = surfco();
+    text.push_str("far,1e308,1e308,1e308\nfar,-1e308,-1e308,-1e308\nfar,1e308,-1e308,0\n");
+    let f = dir.join("huge.csv");
+    std::fs::write(&f, text).unwrap();
+    let (code, err, _) = reconstruct(&dir, &f, &[]);
+    assert_one_line_error(code, &err, &f, "huge");
+    assert!(err.contains("coordinates too large"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

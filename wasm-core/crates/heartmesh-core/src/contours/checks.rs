@@ -75,7 +75,15 @@ pub fn check_units(contours: &[Contour]) -> Result<()> {
     let Some(e) = extent(contours.iter().flat_map(|c| c.points())) else {
         return Ok(());
     };
-    if !(e.is_finite() && e > 0.0) || (MIN_EXTENT_MM..=MAX_EXTENT_MM).contains(&e) {
+    if !e.is_finite() {
+        // Finite coordinates whose differences overflow (near 1e308).
+        return Err(CoreError::Degenerate(
+            "coordinates too large: their span overflows (values near 1e308); heartmesh works \
+             in millimetres"
+                .into(),
+        ));
+    }
+    if e <= 0.0 || (MIN_EXTENT_MM..=MAX_EXTENT_MM).contains(&e) {
         return Ok(());
     }
     let hint = unit_question(e).unwrap_or_default();
@@ -291,6 +299,11 @@ mod tests {
                 assert!(e.to_string().contains("millimetres"), "{e}");
             }
         }
+        let mut huge = stack(1.0);
+        huge.contours[0].pieces[0].points[0] = v3(1e308, 1e308, 0.0);
+        huge.contours[0].pieces[0].points[1] = v3(-1e308, -1e308, 0.0);
+        let e = check_units(&huge.contours).err().map(|e| e.to_string());
+        assert!(e.is_some_and(|e| e.contains("overflows")));
         let mut lone = ContourSet::default();
         let mut one = ring("one", v3(0.0, 0.0, 0.0), 25.0);
         one.pieces[0].points.truncate(2);
