@@ -38,11 +38,14 @@ impl CliError {
         CliError::Input { file: None, error }
     }
 
-    /// Appends the first of `warnings` (if any) to the message.
+    /// Appends the first of `warnings` (if any) to the message, unless the message already says
+    /// it (the unit refusal repeats the unit warning).
     pub fn with_hint(self, warnings: &[String]) -> Self {
         match warnings.first() {
-            Some(w) => CliError::Hinted(Box::new(self), w.clone()),
-            None => self,
+            Some(w) if !self.message().contains(w.as_str()) => {
+                CliError::Hinted(Box::new(self), w.clone())
+            }
+            _ => self,
         }
     }
 

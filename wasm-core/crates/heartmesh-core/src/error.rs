@@ -26,6 +26,10 @@ pub enum CoreError {
     /// Not enough usable contours to build a surface.
     #[error("too few contours: {found} usable, at least {needed} needed")]
     TooFewContours { found: usize, needed: usize },
+    /// More contours in one surface than any acquisition has (often a file whose contour column
+    /// is a point index): refused before the quadratic SAX/LAX analysis would seem to hang.
+    #[error("too many contours: {found} in one surface, at most {max}; is the contour column a point index?")]
+    TooManyContours { found: usize, max: usize },
     /// No group of parallel (short-axis) contours could be found.
     #[error("no short-axis group: need at least 2 roughly parallel contours ({0})")]
     NoSaxGroup(String),
@@ -60,6 +64,7 @@ impl CoreError {
             CoreError::ParamOutOfRange { .. } => "param_out_of_range",
             CoreError::ParamInvalid { .. } => "param_invalid",
             CoreError::TooFewContours { .. } => "too_few_contours",
+            CoreError::TooManyContours { .. } => "too_many_contours",
             CoreError::NoSaxGroup(_) => "no_sax_group",
             CoreError::SurfaceRequired { .. } => "surface_required",
             CoreError::UnknownSurface { .. } => "unknown_surface",

@@ -43,6 +43,47 @@ mod tests {
         assert_eq!(v["message"], "line 12: bad number");
     }
 
+    /// What the app's banner gets for two hostile files (session 8): a row with text in a number,
+    /// and rings in metres, refused by `Reconstruction::new` (the worker's `start`) for their units.
+    #[test]
+    fn malformed_and_metre_files_reach_the_app_as_typed_errors() {
+        use heartmesh_core::{io, pipeline::Reconstruction, Params};
+        let bad = "contour,x,y,z\na,1,2,3\na,1,x2,3\n";
+        let e = io::read_contours("bad.csv", bad.as_bytes()).err();
+        let v = error_json(&e.unwrap_or(CoreError::Io("read".into())));
+        assert_eq!(v["code"], "parse");
+        assert_eq!(v["line"], 3);
+        assert_eq!(v["message"], "line 3: column \"y\": \"x2\" is not a number");
+
+        let mut metres = String::from("contour,x,y,z\n");
+        for (k, z) in [0.0, 0.01, 0.02].iter().enumerate() {
+            for i in 0..24 {
+                let a = f64::from(i) / 24.0 * std::f64::consts::TAU;
+                metres.push_str(&format!(
+                    "s{k},{},{},{z}\n",
+                    0.025 * a.cos(),
+                    0.025 * a.sin()
+                ));
+            }
+        }
+        let set = io::read_contours("m.csv", metres.as_bytes());
+        let set = set.unwrap_or_default();
+        assert!(
+            set.warnings.iter().any(|w| w.contains("metres?")),
+            "{:?}",
+            set.warnings
+        );
+        let e = Reconstruction::new(&set, Params::default()).err();
+        let v = error_json(&e.unwrap_or(CoreError::Io("accepted".into())));
+        assert_eq!(v["code"], "degenerate");
+        assert!(v.get("line").is_none());
+        let text = v["message"].as_str().unwrap_or("");
+        assert!(
+            text.contains("coordinates span 0.0500") && text.contains("millimetres"),
+            "{text}"
+        );
+    }
+
     #[test]
     fn surface_required_lists_surfaces() {
         let v = error_json(&CoreError::SurfaceRequired {

@@ -10,6 +10,9 @@ use crate::geometry::Vec3;
 /// A jump longer than this many times the median spacing splits a curve into pieces.
 pub const JUMP_FACTOR: f64 = 5.0;
 
+/// Most points [`resample_spacing`] makes of one polyline (a 1,000 km curve at 1 mm).
+pub const MAX_RESAMPLED: usize = 1 << 20;
+
 /// Points closer than this (mm) to their predecessor are duplicates.
 const DUPLICATE_MM: f64 = 1e-6;
 
@@ -146,7 +149,9 @@ pub fn resample_spacing(points: &[Vec3], closed: bool, spacing: f64) -> Vec<Vec3
     if points.len() < 2 || spacing.is_nan() || spacing <= 0.0 {
         return points.to_vec();
     }
-    let segments = (len / spacing).round() as usize;
+    // Capped, so that a curve of absurd length (coordinates near 1e308 make it infinite) cannot
+    // ask for more memory than exists: a panic (capacity overflow) before this cap.
+    let segments = (len / spacing).round().min(MAX_RESAMPLED as f64) as usize;
     let count = if closed { segments } else { segments + 1 };
     resample_count(points, closed, count.max(min))
 }
@@ -155,6 +160,20 @@ pub fn resample_spacing(points: &[Vec3], closed: bool, spacing: f64) -> Vec<Vec3
 mod tests {
     use super::*;
     use crate::geometry::v3;
+
+    #[test]
+    fn resampling_a_curve_of_overflowing_length_is_capped() {
+        // Finite coordinates whose distances overflow to infinity (found by scripts/hostile.py).
+        let pts = [
+            v3(1e308, 1e308, 0.0),
+            v3(-1e308, -1e308, 0.0),
+            v3(1e308, -1e308, 0.0),
+        ];
+        let r = resample_spacing(&pts, true, 1.0);
+        assert!(r.len() <= MAX_RESAMPLED, "{}", r.len());
+        let r = resample_spacing(&[v3(0.0, 0.0, 0.0), v3(1e9, 0.0, 0.0)], false, 1.0);
+        assert_eq!(r.len(), MAX_RESAMPLED + 1);
+    }
 
     fn circle(n: usize, r: f64) -> Vec<Vec3> {
         (0..n)

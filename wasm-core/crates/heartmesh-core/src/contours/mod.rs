@@ -2,6 +2,7 @@
 //! split and the rings that seed the initial tube.
 
 pub mod axis;
+pub mod checks;
 pub mod clean;
 pub mod plane;
 pub mod rings;

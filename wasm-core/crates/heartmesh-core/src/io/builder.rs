@@ -6,17 +6,13 @@
 
 use std::collections::HashMap;
 
-use crate::contours::{Contour, ContourSet, Polyline};
+use crate::contours::{checks, Contour, ContourSet, Polyline};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 
 /// Largest number of points accepted from one file: far above any real cardiac data set (tens of
 /// thousands of points), low enough that a browser tab survives a hostile file.
 pub const MAX_POINTS: usize = 2_000_000;
-
-/// Bounding-box extents outside this range (in file units) suggest pixels or metres, not mm.
-const MIN_EXTENT_MM: f64 = 1.0;
-const MAX_EXTENT_MM: f64 = 2000.0;
 
 /// Collects points run by run and turns each run into a [`Polyline`].
 #[derive(Debug, Default)]
@@ -155,7 +151,8 @@ impl ContourBuilder {
         }
     }
 
-    /// Finishes the set; refuses input without any contour point and adds the unit warning.
+    /// Finishes the set; refuses input without any contour point and adds the warnings of
+    /// [`checks`] (units, non-curves, strays, reused names) and of this module.
     pub fn finish(mut self) -> Result<ContourSet> {
         self.flush();
         self.contours.retain(|c| c.point_count() > 0);
@@ -167,13 +164,21 @@ impl ContourBuilder {
             landmarks: self.landmarks,
             warnings: self.warnings,
         };
-        if let Some(w) = unit_warning(&set) {
+        // Contours that are not curves first: on failure the first warning is the hint.
+        let lone = checks::few_point_warnings(&set);
+        set.warnings.extend(lone);
+        if let Some(w) = checks::unit_warning(&set) {
             set.warnings.push(w);
         }
         let dups = duplicate_warnings(&set);
         set.warnings.extend(dups);
         let tangled = order_warnings(&set);
         set.warnings.extend(tangled);
+        let found = [
+            checks::stray_warnings(&set),
+            checks::reused_id_warnings(&set),
+        ];
+        set.warnings.extend(found.into_iter().flatten());
         Ok(set)
     }
 }
@@ -241,19 +246,42 @@ fn order_warnings(set: &ContourSet) -> Vec<String> {
 }
 
 /// Contours whose points repeat an earlier contour's exactly (a copy-paste or export slip that
-/// would double the weight of one curve).
+/// would double the weight of one curve). Candidates are found by a hash of the coordinates, so
+/// that a file of a hundred thousand tiny contours is linear, not quadratic (it was: 100 s).
 fn duplicate_warnings(set: &ContourSet) -> Vec<String> {
+    use std::hash::{Hash, Hasher};
+    let key = |c: &Contour| {
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        for p in c.points() {
+            // + 0.0 makes -0.0 hash like 0.0, as they compare equal.
+            for v in p.iter() {
+                (v + 0.0).to_bits().hash(&mut h);
+            }
+        }
+        h.finish()
+    };
+    let mut seen: HashMap<u64, Vec<usize>> = HashMap::new();
     let mut out = Vec::new();
     for (j, b) in set.contours.iter().enumerate() {
-        let first = set.contours[..j]
+        let bucket = seen.entry(key(b)).or_default();
+        let first = bucket
             .iter()
+            .map(|&i| &set.contours[i])
             .find(|a| a.point_count() == b.point_count() && a.points().eq(b.points()));
-        if let Some(a) = first {
-            out.push(format!(
+        match first {
+            Some(a) => out.push(format!(
                 "contour {:?} (line {}) repeats the points of contour {:?} (line {})",
                 b.id, b.first_line, a.id, a.first_line
-            ));
+            )),
+            None => bucket.push(j),
         }
+    }
+    if out.len() > 3 {
+        let more = out.len() - 3;
+        out.truncate(3);
+        out.push(format!(
+            "{more} more contours repeat the points of earlier ones"
+        ));
     }
     out
 }
@@ -288,25 +316,6 @@ pub fn polyline_from_run(mut points: Vec<Vec3>) -> Polyline {
     Polyline {
         closed: ends <= 2.0 * median,
         points,
-    }
-}
-
-/// The "pixels or metres?" warning, from the bounding box of all points.
-fn unit_warning(set: &ContourSet) -> Option<String> {
-    let mut pts = set.contours.iter().flat_map(|c| c.points());
-    let first = *pts.next()?;
-    let (lo, hi) = pts.fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
-    let extent = (hi - lo).amax();
-    if extent < MIN_EXTENT_MM {
-        Some(format!(
-            "coordinates span {extent:.4}; expected mm (a heart spans about 50-150 mm: metres?)"
-        ))
-    } else if extent > MAX_EXTENT_MM {
-        Some(format!(
-            "coordinates span {extent:.0}; expected mm (a heart spans about 50-150 mm: pixels or micrometres?)"
-        ))
-    } else {
-        None
     }
 }
 
@@ -431,6 +440,8 @@ mod tests {
         let mut b = ContourBuilder::new();
         b.push("a", None, v3(0.0, 0.0, 0.0), 2).unwrap();
         b.push("a", None, v3(0.05, 0.02, 0.0), 3).unwrap();
+        // A third point: lone points and two-point segments say nothing about units.
+        b.push("a", None, v3(0.02, 0.04, 0.0), 4).unwrap();
         let set = b.finish().unwrap();
         assert!(set.warnings[0].starts_with("coordinates span 0.0500; expected mm"));
     }

@@ -44,6 +44,10 @@ const CONFLICT_RADIUS_MM: f64 = 10.0;
 const CONFLICT_GRADIENT_LIMIT: f64 = 0.5;
 /// The fewest attractors a thin-plate spline in 3D can use (4 affine terms + 1).
 const MIN_ATTRACTORS: usize = 5;
+
+/// Cap of the automatic attractor count max(150, 25 x contours): the largest count the
+/// `attractors` parameter allows, so that many contours cannot ask for an unsolvable TPS.
+const MAX_AUTO_ATTRACTORS: usize = 5000;
 /// Above this many candidate points the diameter is estimated by repeated farthest-point sweeps
 /// instead of all pairs (a scale factor only needs to be consistent, not exact).
 const EXACT_DIAMETER_LIMIT: usize = 6000;
@@ -175,6 +179,7 @@ impl Reconstruction {
                 needed: 2,
             });
         }
+        prepare::check_count_and_units(&contours)?;
         let layout = analyse(&contours)?;
 
         let mut candidates_mm: Vec<Vec3> = Vec::new();
@@ -200,7 +205,9 @@ impl Reconstruction {
         let norm = Normalisation { centre, scale };
         let candidates: Vec<Vec3> = candidates_mm.iter().map(|p| norm.to_unit(p)).collect();
         let attractor_budget = match params.attractors {
-            AttractorMode::Auto => Budget::Count((25 * contours.len()).max(150)),
+            AttractorMode::Auto => {
+                Budget::Count((25 * contours.len()).clamp(150, MAX_AUTO_ATTRACTORS))
+            }
             AttractorMode::Count(n) => Budget::Count(n.max(MIN_ATTRACTORS)),
             AttractorMode::SpacingMm(mm) => Budget::Spacing(mm / scale),
         };

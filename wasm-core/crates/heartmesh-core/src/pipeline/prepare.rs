@@ -1,6 +1,7 @@
 //! From a user's contour set to the cleaned contours of one surface (Villard et al. 2018, section 2:
 //! "one surface at a time"; cleaning as in METHOD.md's Input section).
 
+use crate::contours::checks::check_units;
 use crate::contours::clean::clean_and_split;
 use crate::contours::{Contour, ContourSet};
 use crate::error::{CoreError, Result};
@@ -50,4 +51,21 @@ pub fn clean_contours(contours: &[&Contour]) -> Vec<Contour> {
             })
         })
         .collect()
+}
+
+/// Most contours of one surface a reconstruction takes: real acquisitions have tens; the SAX/LAX
+/// analysis is quadratic in the count (100,000 one-point "contours" never finished).
+pub const MAX_CONTOURS: usize = 1000;
+
+/// Refuses, before the SAX/LAX split, what the split would handle badly: more contours than any
+/// acquisition (it would seem to hang) and coordinates that cannot be millimetres (its mm
+/// tolerances would fail with a misleading "no short-axis group").
+pub fn check_count_and_units(contours: &[Contour]) -> Result<()> {
+    if contours.len() > MAX_CONTOURS {
+        return Err(CoreError::TooManyContours {
+            found: contours.len(),
+            max: MAX_CONTOURS,
+        });
+    }
+    check_units(contours)
 }

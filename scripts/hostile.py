@@ -1,0 +1,546 @@
+#!/usr/bin/env python3
+"""Hostile and awkward inputs, end to end (session 8, brief ROB8).
+
+Generates malformed files (every reader) and awkward-but-valid acquisitions from the real contour
+files in /work/shared/data/contours and from simulated slices (`heartmesh simulate`), runs
+`heartmesh reconstruct X -o out.obj --report r.json` on each with a time limit, and prints one row
+per case with what went wrong, if anything:
+
+  PANIC    exit 101 or a Rust panic message
+  HANG     the time limit was hit
+  EXIT     an exit status other than 0 or 2
+  VAGUE    exit 2 but the message is not one line naming the file
+  MESH     exit 0 but the mesh is not closed, manifold and outward
+  C2M      exit 0 but the contour-to-mesh mean is above the case's bound
+  EXPECT   an error where a mesh was expected, or a mesh where an error was expected
+
+Standard library only, seeded (same seed -> same files). Usage:
+  scripts/hostile.py [OUT_DIR] [--seed S] [--only SUBSTRING] [--timeout SECONDS]
+"""
+
+import json
+import math
+import os
+import random
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BIN = os.environ.get("HEARTMESH", os.path.join(ROOT, "wasm-core/target/release/heartmesh"))
+DATA = os.environ.get("HEARTMESH_DATA", "/work/shared/data")
+CONTOURS = os.path.join(DATA, "contours")
+MESHES = os.path.join(DATA, "meshes")
+
+
+# ---------------------------------------------------------------------------------------------
+# Canonical CSV in and out
+
+
+def read_csv(path):
+    """[(id, surface, [(x, y, z)])] in file order, one entry per consecutive block."""
+    blocks = []
+    with open(path, encoding="utf-8") as f:
+        header = f.readline().strip().split(",")
+        has_surface = len(header) > 4
+        for line in f:
+            line = line.strip()
+            if not line or line.startswith("#"):
+                continue
+            cols = line.split(",")
+            cid, x, y, z = cols[0], float(cols[1]), float(cols[2]), float(cols[3])
+            surf = cols[4] if has_surface and len(cols) > 4 else None
+            if blocks and blocks[-1][0] == cid and blocks[-1][1] == surf:
+                blocks[-1][2].append((x, y, z))
+            else:
+                blocks.append((cid, surf, [(x, y, z)]))
+    return blocks
+
+
+def write_csv(blocks, sep=",", eol="\n", fmt="{:.5f}"):
+    with_surface = any(b[1] for b in blocks)
+    head = ["contour", "x", "y", "z"] + (["surface"] if with_surface else [])
+    out = [sep.join(head)]
+    for cid, surf, pts in blocks:
+        for p in pts:
+            row = [cid] + [fmt.format(v) for v in p]
+            if with_surface:
+                row.append(surf or "")
+            out.append(sep.join(row))
+    return (eol.join(out) + eol).encode()
+
+
+def surface(blocks, name):
+    return [b for b in blocks if b[1] == name]
+
+
+def is_sax(cid):
+    return "SAX" in cid.upper()
+
+
+# ---------------------------------------------------------------------------------------------
+# Geometry helpers (no numpy)
+
+
+def centroid(pts):
+    n = len(pts)
+    return tuple(sum(p[i] for p in pts) / n for i in range(3))
+
+
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+def scale(a, s):
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+def norm(a):
+    return math.sqrt(a[0] ** 2 + a[1] ** 2 + a[2] ** 2)
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def rotate(p, axis, angle):
+    """Rodrigues rotation of p about the unit axis."""
+    c, s = math.cos(angle), math.sin(angle)
+    return add(add(scale(p, c), scale(cross(axis, p), s)), scale(axis, dot(axis, p) * (1 - c)))
+
+
+def normal_of(pts):
+    """Newell normal of a ring (unit)."""
+    n = [0.0, 0.0, 0.0]
+    for i, p in enumerate(pts):
+        q = pts[(i + 1) % len(pts)]
+        n[0] += (p[1] - q[1]) * (p[2] + q[2])
+        n[1] += (p[2] - q[2]) * (p[0] + q[0])
+        n[2] += (p[0] - q[0]) * (p[1] + q[1])
+    length = norm(n) or 1.0
+    return (n[0] / length, n[1] / length, n[2] / length)
+
+
+def resample(pts, spacing, closed=True):
+    """Points every `spacing` mm along the polyline (linear)."""
+    ring = pts + [pts[0]] if closed else list(pts)
+    out = [ring[0]]
+    carry = 0.0
+    for a, b in zip(ring, ring[1:]):
+        seg = norm(sub(b, a))
+        t = spacing - carry
+        while t <= seg:
+            out.append(add(a, scale(sub(b, a), t / seg)))
+            t += spacing
+        carry = seg - (t - spacing)
+    if closed and len(out) > 1 and norm(sub(out[-1], out[0])) < spacing * 0.5:
+        out.pop()
+    return out
+
+
+def tilt(pts, degrees, rng):
+    """Rotate a contour about an in-plane axis through its centroid."""
+    c = centroid(pts)
+    n = normal_of(pts)
+    helper = (1.0, 0.0, 0.0) if abs(n[0]) < 0.9 else (0.0, 1.0, 0.0)
+    u = cross(n, helper)
+    u = scale(u, 1 / norm(u))
+    v = cross(n, u)
+    phi = rng.uniform(0, 2 * math.pi)
+    axis = add(scale(u, math.cos(phi)), scale(v, math.sin(phi)))
+    return [add(c, rotate(sub(p, c), axis, math.radians(degrees))) for p in pts]
+
+
+# ---------------------------------------------------------------------------------------------
+# Cases
+
+
+class Case:
+    def __init__(self, name, data, ext="csv", args=(), expect="error", c2m=3.0, extra=None):
+        self.name = name
+        self.data = data  # bytes
+        self.ext = ext
+        self.args = list(args)
+        self.expect = expect  # "ok", "error" or "any"
+        self.c2m = c2m  # bound on the contour-to-mesh mean (mm) when a mesh is made
+        self.extra = extra or {}  # other files to write beside it: name -> bytes
+
+
+def run(cmd, timeout=600):
+    return subprocess.run(cmd, capture_output=True, timeout=timeout)
+
+
+def simulate(out_dir, name, truth, args, seed):
+    path = os.path.join(out_dir, "sim-" + name + ".csv")
+    if not os.path.exists(path):
+        r = run([BIN, "simulate", truth, "-o", path, "--seed", str(seed), "--quiet"] + args)
+        if r.returncode != 0:
+            raise RuntimeError("simulate failed: " + r.stderr.decode(errors="replace"))
+    return path
+
+
+def malformed(p1, surfco, rng):
+    """Cases that must fail with exit 2 and one clear line (or, where noted, still work)."""
+    lines = surfco.decode().splitlines(keepends=True)
+    body = lines[1:]
+    cases = []
+
+    def with_row(i, row, expect="error", note=""):
+        new = lines[:1 + i] + [row + "\n"] + lines[1 + i + 1:]
+        cases.append(Case("row-" + note, "".join(new).encode(), expect=expect))
+
+    mid = len(body) // 2
+    with_row(mid, "c3,-30.1,-20.2", note="missing-column")
+    with_row(mid, "c3,-30.1,abc,35.0", note="text-in-number")
+    with_row(mid, "c3,-30.1,nan,35.0", expect="any", note="nan")
+    with_row(mid, "c3,-30.1,inf,35.0", expect="any", note="inf")
+    with_row(mid, "c3,-30.1,1e400,35.0", expect="any", note="overflow")
+    with_row(mid, "c3,-30.1,-20.2,35.0,extra,more", expect="any", note="extra-columns")
+    with_row(mid, ",-30.1,-20.2,35.0", expect="any", note="empty-id")
+    with_row(mid, "c3,,,", note="empty-fields")
+    with_row(mid, "c3;-30.1;-20.2;35.0", note="mixed-separator")
+    with_row(mid, "c3,1.2.3,-20.2,35.0", note="two-dots")
+    with_row(mid, "c3,0x1A,-20.2,35.0", note="hex")
+    cut = len(surfco) // 2
+    cut = surfco.index(b",", cut) + 4
+    cases.append(Case("truncated-row", surfco[:cut], expect="any"))
+    cases.append(Case("truncated-mid-number", surfco[:cut - 2] + b",", expect="error"))
+    cases.append(Case("empty-file", b""))
+    cases.append(Case("header-only", b"contour,x,y,z\n"))
+    cases.append(Case("header-only-crlf-bom", b"\xef\xbb\xbfcontour,x,y,z\r\n"))
+    cases.append(Case("bom", b"\xef\xbb\xbf" + surfco, expect="ok"))
+    cases.append(Case("crlf", surfco.replace(b"\n", b"\r\n"), expect="ok"))
+    cases.append(Case("cr-only", surfco.replace(b"\n", b"\r"), expect="any"))
+    cases.append(Case("utf16", b"\xff\xfe" + surfco.decode().encode("utf-16-le")))
+    cases.append(Case("binary-garbage", bytes(rng.randrange(256) for _ in range(4096))))
+    cases.append(Case("long-line", surfco + b"c9," + b"1" * 5_000_000 + b",2,3\n", expect="error"))
+    cases.append(Case("long-comment", b"#" + b"x" * 5_000_000 + b"\n" + surfco, expect="ok"))
+    cases.append(Case("nul-bytes", surfco[:200] + b"\x00" * 50 + surfco[200:], expect="error"))
+    cases.append(Case("semicolon", surfco.replace(b",", b";"), expect="ok"))
+    cases.append(Case("tab", surfco.replace(b",", b"\t"), expect="ok"))
+    cases.append(Case("decimal-comma", surfco.replace(b",", b";").replace(b".", b","), expect="any"))
+    # A heart in centimetres (warns, still works) and in metres (refused: says which units).
+
+    # Degenerate contours, alone and next to good ones.
+    good = read_csv_bytes(surfco)
+    ring = good[0][2]
+    c = centroid(ring)
+    degenerate = {
+        "single-point": [ring[0]],
+        "two-points": ring[:2],
+        "identical-points": [ring[0]] * 30,
+        "collinear": [add(c, (t, 0.0, 0.0)) for t in range(-20, 21)],
+    }
+    for name, pts in degenerate.items():
+        cases.append(Case("only-" + name, write_csv([("c1", None, pts)])))
+        cases.append(Case("plus-" + name, write_csv(good + [("bad", None, pts)]), expect="any"))
+    cases.append(Case("one-contour", write_csv(good[:1])))
+    far = [("far", None, [(1e308, 1e308, 1e308), (-1e308, -1e308, -1e308), (1e308, -1e308, 0)])]
+    cases.append(Case("overflowing-span", write_csv(good + far, fmt="{:.6g}")))
+    # A contour column holding a point index: every row its own contour.
+    per_point = [(f"p{i}", None, [p]) for i, p in enumerate(q for b in good for q in b[2])]
+    cases.append(Case("id-per-point", write_csv(per_point)))
+    many = [(f"c{k}", None, [(20 * math.cos(k + 2.1 * i), 20 * math.sin(k + 2.1 * i), k * 1e-3)
+                             for i in range(3)]) for k in range(100_000)]
+    cases.append(Case("100k-tiny-contours", write_csv(many, fmt="{:.4f}")))
+    cases.append(Case("two-sax", write_csv(good[:2]), expect="any"))
+
+    # Duplicate ids in separate blocks (the second block is another curve with the same name).
+    dup = [(b[0] if i != 3 else good[0][0], b[1], b[2]) for i, b in enumerate(good)]
+    cases.append(Case("duplicate-id-blocks", write_csv(dup), expect="any"))
+
+    # 10^6 points: one contour of the real file resampled very densely, and many points overall.
+    perimeter = sum(norm(sub(pts[(i + 1) % len(pts)], p)) for _, _, pts in good
+                    for i, p in enumerate(pts))
+    step = perimeter / 1_000_000
+    dense = [(cid, s, resample(pts, step)) for cid, s, pts in good]
+    cases.append(Case("million-points", write_csv(dense, fmt="{:.4f}"), expect="any", c2m=1.5))
+
+    # Patient 1: only LAX, only one SAX, one SAX plus LAX.
+    lv = surface(p1, "LV_ENDO")
+    lax = [b for b in lv if not is_sax(b[0])]
+    sax = [b for b in lv if is_sax(b[0])]
+    cases.append(Case("only-lax", write_csv(lax)))
+    cases.append(Case("only-one-sax", write_csv(sax[len(sax) // 2:len(sax) // 2 + 1])))
+    cases.append(Case("one-sax-plus-lax", write_csv(sax[:1] + lax), expect="any"))
+    cases.append(Case("no-surface-choice", write_csv(p1), args=[]))
+    cases.append(Case("unknown-surface", write_csv(p1), args=["--surface", "LA"]))
+    return cases
+
+
+def read_csv_bytes(data):
+    tmp = "/tmp/hostile-parse.csv"
+    with open(tmp, "wb") as f:
+        f.write(data)
+    return read_csv(tmp)
+
+
+def corruptions(name, data, ext, rng, count, extra=None, args=()):
+    """Seeded truncations and byte corruptions of a real file of another format."""
+    cases = [Case(name + "-intact", data, ext=ext, expect="ok", extra=extra, args=args)]
+    for k in range(count):
+        cut = rng.randrange(len(data))
+        cases.append(Case(f"{name}-trunc{k}@{cut}", data[:cut], ext=ext, expect="any",
+                          extra=extra, args=args))
+    for k in range(count):
+        b = bytearray(data)
+        for _ in range(rng.randrange(1, 8)):
+            b[rng.randrange(len(b))] = rng.randrange(256)
+        cases.append(Case(f"{name}-corrupt{k}", bytes(b), ext=ext, expect="any", extra=extra,
+                          args=args))
+    return cases
+
+
+def other_readers(out_dir, rng):
+    p1dir = os.path.join(CONTOURS, "bivme-example-patient1")
+    with open(os.path.join(p1dir, "GPFile_000.txt"), "rb") as f:
+        gp = f.read()
+    with open(os.path.join(p1dir, "SliceInfoFile.txt"), "rb") as f:
+        si = f.read()
+    with open(os.path.join(CONTOURS, "surfco-example.mat"), "rb") as f:
+        mat = f.read()
+    cases = []
+    cases += corruptions("gpfile", gp, "txt", rng, 4, extra={"SliceInfoFile.txt": si},
+                         args=["--surface", "LV_ENDO"])
+    cases += corruptions("sliceinfo", si, "txt", rng, 3, args=["--surface", "LV_ENDO"])
+    # The GPFile case is the one named GPFile_*.txt; swap roles for the SliceInfo corruptions.
+    for c in cases[-7:]:
+        c.extra = {"SliceInfoFile.txt": c.data}
+        c.data = gp
+    cases += corruptions("mat", mat, "mat", rng, 5)
+    src = os.path.join(CONTOURS, "surfco-example.csv")
+    for ext in ("vtk", "vtp", "json", "dcm"):
+        path = os.path.join(out_dir, "surfco." + ext)
+        if not os.path.exists(path):
+            r = run([BIN, "convert", src, path])
+            if r.returncode != 0:
+                print(f"convert to {ext} failed: {r.stderr.decode(errors='replace')}")
+                continue
+        with open(path, "rb") as f:
+            cases += corruptions(ext, f.read(), ext, rng, 5)
+    return cases
+
+
+def awkward(out_dir, p1, surfco, rng, seed):
+    """Valid but awkward acquisitions: they must reconstruct (closed, manifold, outward) with a
+    sane contour-to-mesh mean, or fail with a typed error that says why."""
+    truth = os.path.join(MESHES, "bivme-patient1-ED-LV_ENDO-closed.obj")
+    cases = []
+
+    def sim(name, args, c2m=2.5, expect="ok", transform=None):
+        path = simulate(out_dir, name, truth, args, seed)
+        blocks = read_csv(path)
+        if transform:
+            blocks = transform(blocks)
+        cases.append(Case("sim-" + name, write_csv(blocks), expect=expect, c2m=c2m))
+        return blocks
+
+    base = sim("default", [])
+    sim("misalign-5-5", ["--misalign", "5,5"], c2m=3.0)
+    sim("noise-1", ["--noise", "1"], c2m=2.5)
+    sim("noise-2", ["--noise", "2"], c2m=3.5)
+    for n in (4, 5, 6):
+        sim(f"sax{n}", ["--sax", str(n)])
+    sim("no-lax", ["--lax", "0"])
+    sim("one-lax", ["--lax", "1"])
+    sim("eight-lax", ["--lax", "8"])
+
+    def shuffled(blocks):
+        b = list(blocks)
+        rng.shuffle(b)
+        return b
+
+    def reversed_random_start(blocks):
+        out = []
+        for cid, s, pts in blocks:
+            k = rng.randrange(len(pts))
+            pts = pts[k:] + pts[:k]
+            if rng.random() < 0.5:
+                pts = pts[::-1]
+            out.append((cid, s, pts))
+        return out
+
+    def spacing(mm):
+        return lambda blocks: [(cid, s, resample(pts, mm)) for cid, s, pts in blocks]
+
+    def affine(offset, factor):
+        return lambda blocks: [(cid, s, [add(scale(p, factor), offset) for p in pts])
+                               for cid, s, pts in blocks]
+
+    def stray(blocks):
+        cid, s, pts = blocks[0]
+        return blocks + [("stray", s, [add(p, (200.0, 0.0, 0.0)) for p in pts])]
+
+    def twin(blocks):
+        return blocks + [(blocks[1][0] + "_copy", blocks[1][1], list(blocks[1][2]))]
+
+    def figure_eight(blocks):
+        out = list(blocks)
+        i = 2
+        cid, s, pts = out[i]
+        h = len(pts) // 2
+        out[i] = (cid, s, pts[:h] + pts[h:][::-1])
+        return out
+
+    def tilted(deg_lo, deg_hi, every=2):
+        def t(blocks):
+            out = []
+            for j, (cid, s, pts) in enumerate(blocks):
+                if is_sax(cid) and j % every == 1:
+                    pts = tilt(pts, rng.uniform(deg_lo, deg_hi), rng)
+                out.append((cid, s, pts))
+            return out
+        return t
+
+    sim("metres", [], expect="error", transform=affine((0, 0, 0), 0.001))
+    sim("micrometres", [], expect="error", transform=affine((0, 0, 0), 1000.0))
+    for name, tr, bound in [
+        ("shuffled", shuffled, 2.5),
+        ("reversed-random-start", reversed_random_start, 2.5),
+        ("dense-0.05", spacing(0.05), 2.5),
+        ("sparse-8", spacing(8.0), 3.0),
+        ("offset-1e5", affine((1e5, -1e5, 1e5), 1.0), 2.5),
+        ("centimetres", affine((0, 0, 0), 0.1), 0.25),
+        ("stray-200mm", stray, 3.0),
+        ("twin-contour", twin, 2.5),
+        ("figure-eight", figure_eight, 3.5),
+        ("tilt-15-19", tilted(15, 19), 3.5),
+    ]:
+        sim(name, [], c2m=bound, transform=tr)
+
+    # Uneven gaps 5-20 mm: a dense stack, keep slices with random gaps.
+    def uneven(blocks):
+        sax = [b for b in blocks if is_sax(b[0])]
+        lax = [b for b in blocks if not is_sax(b[0])]
+        keep, i = [], 0
+        while i < len(sax):
+            keep.append(sax[i])
+            i += rng.choice([1, 2, 3, 4])
+        return keep + lax
+
+    sim("uneven-gaps", ["--sax-spacing", "5"], c2m=3.0, transform=uneven)
+
+    # Real files with the same awkward treatments.
+    lv = surface(p1, "LV_ENDO")
+    cases.append(Case("p1-lv-endo", write_csv(lv), expect="ok", c2m=2.5))
+    cases.append(Case("p1-shuffled", write_csv(shuffled(lv)), expect="ok", c2m=2.5))
+    cases.append(Case("p1-reversed-random-start", write_csv(reversed_random_start(lv)), expect="ok", c2m=2.5))
+    cases.append(Case("p1-metres", write_csv(affine((0, 0, 0), 0.001)(lv), fmt="{:.8f}"),
+                      expect="error"))
+    cases.append(Case("p1-offset-1e5", write_csv(affine((1e5, 1e5, 1e5), 1.0)(lv)), expect="ok", c2m=2.5))
+    good = read_csv_bytes(surfco)
+    cases.append(Case("surfco-sparse-8", write_csv(spacing(8.0)(good)), expect="ok", c2m=3.0))
+    cases.append(Case("surfco-shuffled", write_csv(shuffled(good)), expect="ok", c2m=2.5))
+    return cases
+
+
+# ---------------------------------------------------------------------------------------------
+# Running and judging
+
+
+def judge(case, path, timeout, out_dir):
+    mesh = os.path.join(out_dir, "out.obj")
+    report = os.path.join(out_dir, "r.json")
+    for f in (mesh, report):
+        if os.path.exists(f):
+            os.remove(f)
+    t0 = time.time()
+    try:
+        r = run([BIN, "reconstruct", path, "-o", mesh, "--report", report, "--quiet"] + case.args,
+                timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return ["HANG"], f"> {timeout} s", time.time() - t0
+    dt = time.time() - t0
+    err = r.stderr.decode(errors="replace").strip()
+    problems = []
+    detail = ""
+    if r.returncode == 101 or "panicked" in err:
+        problems.append("PANIC")
+    elif r.returncode not in (0, 2):
+        problems.append("EXIT")
+    if r.returncode == 2:
+        lines = [ln for ln in err.splitlines() if not ln.startswith("heartmesh: warning")]
+        if len(lines) != 1 or os.path.basename(path) not in lines[0] and "--" not in lines[0]:
+            problems.append("VAGUE")
+        detail = lines[-1][:200] if lines else "(no message)"
+        if case.expect == "ok":
+            problems.append("EXPECT")
+    if r.returncode == 0:
+        try:
+            with open(report) as f:
+                rep = json.load(f)
+            topo = {k: rep.get(k) for k in ("watertight", "manifold", "oriented")}
+            closed = all(topo.values())
+            vol = rep.get("volume_ml", 0)
+            c2m = rep.get("contour_to_mesh", {}).get("mean")
+            warns = rep.get("warnings", [])
+            detail = f"c2m mean {c2m:.3g} mm, vol {vol:.4g}" if c2m is not None else "no c2m"
+            if warns:
+                detail += f"; {len(warns)} warning(s): " + " | ".join(warns)[:160]
+            if not closed or not (vol and vol > 0):
+                problems.append("MESH")
+                detail += f"; topology {topo}"
+            if c2m is None or not math.isfinite(c2m) or c2m > case.c2m:
+                problems.append("C2M")
+        except (OSError, ValueError) as e:
+            problems.append("MESH")
+            detail = f"no report: {e}"
+        if case.expect == "error":
+            problems.append("EXPECT")
+    return problems, detail, dt
+
+
+def main():
+    argv = sys.argv[1:]
+    out_dir = "/tmp/hostile"
+    seed, only, timeout = 8, None, 120
+    i = 0
+    while i < len(argv):
+        a = argv[i]
+        if a == "--seed":
+            seed = int(argv[i + 1]); i += 2
+        elif a == "--only":
+            only = argv[i + 1]; i += 2
+        elif a == "--timeout":
+            timeout = float(argv[i + 1]); i += 2
+        else:
+            out_dir = a; i += 1
+    os.makedirs(out_dir, exist_ok=True)
+    rng = random.Random(seed)
+    p1 = read_csv(os.path.join(CONTOURS, "bivme-example-patient1", "patient1-ED.csv"))
+    with open(os.path.join(CONTOURS, "surfco-example.csv"), "rb") as f:
+        surfco = f.read()
+    cases = malformed(p1, surfco, rng) + other_readers(out_dir, rng) + \
+        awkward(out_dir, p1, surfco, rng, seed)
+    bad = 0
+    for case in cases:
+        if only and only not in case.name:
+            continue
+        cdir = os.path.join(out_dir, "cases", case.name.replace("@", "_"))
+        os.makedirs(cdir, exist_ok=True)
+        base = "GPFile_000.txt" if case.name.startswith(("gpfile", "sliceinfo")) else \
+            "input." + case.ext
+        path = os.path.join(cdir, base)
+        with open(path, "wb") as f:
+            f.write(case.data)
+        for n, d in case.extra.items():
+            with open(os.path.join(cdir, n), "wb") as f:
+                f.write(d)
+        problems, detail, dt = judge(case, path, timeout, cdir)
+        bad += bool(problems)
+        flag = ",".join(problems) if problems else "ok"
+        print(f"{flag:12} {case.name:34} {dt:6.1f}s  {detail}", flush=True)
+    print(f"{bad} case(s) with problems")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,355 @@
+//! Hostile and awkward inputs through the binary (session 8, ROB8; the generator that found them is
+//! scripts/hostile.py). The contract: a bad file exits 2 with exactly one stderr line naming the
+//! file (and the line when there is one); nothing panics (exit 101); a suspicious but usable file
+//! reconstructs, with its warnings on stderr and in the report.
+
+mod common;
+use common::{bin, data, run, scratch};
+use std::path::{Path, PathBuf};
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// xorshift64*: seeded cuts and byte flips.
+struct Rng(u64);
+
+impl Rng {
+    fn below(&mut self, n: usize) -> usize {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) % n.max(1) as u64) as usize
+    }
+}
+
+fn surfco() -> String {
+    std::fs::read_to_string(data("contours/surfco-example.csv")).unwrap()
+}
+
+/// `reconstruct FILE -o out.obj --report r.json [extra]` in `dir`: (status, stderr, report).
+fn reconstruct(
+    dir: &Path,
+    file: &Path,
+    extra: &[&str],
+) -> (i32, String, Option<serde_json::Value>) {
+    let report = dir.join("r.json");
+    let _ = std::fs::remove_file(&report);
+    let (code, _, err) = run(bin()
+        .args(["reconstruct", s(file), "-o", s(&dir.join("out.obj"))])
+        .args(["--report", s(&report)])
+        .args(extra));
+    let rep = std::fs::read_to_string(&report)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok());
+    (code, err, rep)
+}
+
+/// Exit 2, one line, `heartmesh: FILE[:LINE]: ...`.
+fn assert_one_line_error(code: i32, err: &str, file: &Path, what: &str) {
+    assert_eq!(code, 2, "{what}: {err}");
+    assert_eq!(err.lines().count(), 1, "{what}: {err}");
+    assert!(
+        err.starts_with(&format!("heartmesh: {}", s(file))),
+        "{what}: {err}"
+    );
+}
+
+/// Closed, manifold, outward, and the contour-to-mesh mean (mm).
+fn valid_mesh_c2m(rep: &serde_json::Value, what: &str) -> f64 {
+    for key in ["watertight", "manifold", "oriented"] {
+        assert_eq!(rep[key], serde_json::Value::Bool(true), "{what}: {key}");
+    }
+    assert!(rep["volume_ml"].as_f64().unwrap_or(0.0) > 0.0, "{what}");
+    rep["contour_to_mesh"]["mean"].as_f64().unwrap_or(f64::NAN)
+}
+
+#[test]
+fn malformed_rows_name_the_file_and_the_line() {
+    let dir = scratch("rows");
+    let text = surfco();
+    let lines: Vec<&str> = text.lines().collect();
+    let mid = lines.len() / 2; // 0-based index, so file line mid + 1
+    for (row, expected) in [
+        (
+            "c3,-30.1,-20.2",
+            "row has 3 fields but the header has 4 columns",
+        ),
+        ("c3,-30.1,abc,35.0", "column \"y\": \"abc\" is not a number"),
+        (
+            "c3,-30.1,nan,35.0",
+            "column \"y\": \"nan\" is not a finite number",
+        ),
+        (
+            "c3,-30.1,1e400,35.0",
+            "column \"y\": \"1e400\" is not a finite number",
+        ),
+        (",-30.1,-20.2,35.0", "column \"contour\" is empty"),
+        ("c3;-30.1;-20.2;35.0", "row has 1 fields"),
+    ] {
+        let mut edited = lines.clone();
+        edited[mid] = row;
+        let f = dir.join("rows.csv");
+        std::fs::write(&f, edited.join("\n") + "\n").unwrap();
+        let (code, err, _) = reconstruct(&dir, &f, &[]);
+        assert_one_line_error(code, &err, &f, row);
+        assert!(
+            err.contains(&format!("{}:{}: {expected}", s(&f), mid + 1)),
+            "{row}: {err}"
+        );
+        assert!(!dir.join("out.obj").exists(), "{row}: no mesh on failure");
+    }
+    for (name, bytes, expected) in [
+        ("empty", Vec::new(), "empty file"),
+        ("header", b"contour,x,y,z\r\n".to_vec(), "no data rows"),
+        (
+            "utf16",
+            vec![0xFF, 0xFE, b'c', 0, b',', 0],
+            "not a UTF-8 text file",
+        ),
+        (
+            "nul",
+            [&text.as_bytes()[..200], &[0u8; 8], &text.as_bytes()[200..]].concat(),
+            "NUL byte",
+        ),
+    ] {
+        let f = dir.join(format!("{name}.csv"));
+        std::fs::write(&f, bytes).unwrap();
+        let (code, err, _) = reconstruct(&dir, &f, &[]);
+        assert_one_line_error(code, &err, &f, name);
+        assert!(err.contains(expected), "{name}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Seeded truncations and byte flips of real files in the other formats: exit 0 or 2, never a
+/// panic, and every failure is one line naming the file.
+#[test]
+fn truncated_and_corrupted_files_of_every_format_fail_cleanly() {
+    let dir = scratch("cuts");
+    let rtstruct = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../heartmesh-core/tests/data/patient1-ED-rtstruct.dcm");
+    let sources: Vec<(&str, Vec<u8>, Vec<&str>)> = vec![
+        (
+            "GPFile_000.txt",
+            std::fs::read(data("contours/bivme-example-patient1/GPFile_000.txt")).unwrap(),
+            vec!["--surface", "LV_ENDO"],
+        ),
+        (
+            "c.mat",
+            std::fs::read(data("contours/surfco-example.mat")).unwrap(),
+            vec![],
+        ),
+        (
+            "c.dcm",
+            std::fs::read(rtstruct).unwrap(),
+            vec!["--surface", "LV_ENDO"],
+        ),
+    ];
+    let mut rng = Rng(0x5EED_0008);
+    let (mut failures, mut successes) = (0, 0);
+    for (name, bytes, extra) in &sources {
+        for k in 0..12 {
+            let mut b = bytes.clone();
+            if k % 2 == 0 {
+                b.truncate(rng.below(b.len()));
+            } else {
+                for _ in 0..1 + rng.below(6) {
+                    let i = rng.below(b.len());
+                    b[i] = rng.below(256) as u8;
+                }
+            }
+            let f = dir.join(name);
+            std::fs::write(&f, &b).unwrap();
+            let (code, err, rep) = reconstruct(&dir, &f, extra);
+            let what = format!("{name} mutation {k}");
+            assert_ne!(code, 101, "{what}: panic: {err}");
+            if code == 0 {
+                let rep = rep.unwrap_or_else(|| panic!("{what}: no report"));
+                valid_mesh_c2m(&rep, &what);
+                successes += 1;
+            } else {
+                assert_one_line_error(code, &err, &f, &what);
+                failures += 1;
+            }
+        }
+    }
+    // Most mutations break the file; a few (a flip inside a comment, a cut after the last contour
+    // that matters) leave a readable one. Both must happen, or the mutations test nothing.
+    assert!(failures >= 18, "{failures} failures, {successes} successes");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_heart_in_metres_is_refused_with_the_units_and_in_centimetres_warns() {
+    let dir = scratch("units");
+    let scaled = |factor: f64| -> String {
+        let mut out = String::new();
+        for (i, line) in surfco().lines().enumerate() {
+            let cols: Vec<&str> = line.split(',').collect();
+            if i == 0 {
+                out.push_str(line);
+            } else {
+                let v: Vec<String> = cols[1..4]
+                    .iter()
+                    .map(|c| format!("{:.9}", c.parse::<f64>().unwrap() * factor))
+                    .collect();
+                out.push_str(&format!("{},{}", cols[0], v.join(",")));
+            }
+            out.push('\n');
+        }
+        out
+    };
+    let f = dir.join("metres.csv");
+    std::fs::write(&f, scaled(0.001)).unwrap();
+    let (code, err, _) = reconstruct(&dir, &f, &[]);
+    assert_one_line_error(code, &err, &f, "metres");
+    assert!(
+        err.contains("degenerate input: coordinates span 0.09")
+            && err.contains("metres?")
+            && err.contains("scale the coordinates by 1000"),
+        "{err}"
+    );
+    let f = dir.join("cm.csv");
+    std::fs::write(&f, scaled(0.1)).unwrap();
+    let (code, err, rep) = reconstruct(&dir, &f, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("warning") && err.contains("centimetres"),
+        "{err}"
+    );
+    let c2m = valid_mesh_c2m(&rep.unwrap(), "cm");
+    assert!(c2m < 0.02, "cm: c2m mean {c2m} (0.061 mm at full size)");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn odd_contours_warn_and_still_reconstruct() {
+    let dir = scratch("odd");
+    let text = surfco();
+    let first_ring: Vec<&str> = text.lines().filter(|l| l.starts_with("c1,")).collect();
+    let mut extra = String::new();
+    // A lone point, a copy of ring c1 200 mm away, and ring c1's name reused for another ring.
+    extra.push_str("lone,-30,-25,35\n");
+    for l in &first_ring {
+        let cols: Vec<&str> = l.split(',').collect();
+        let x: f64 = cols[1].parse().unwrap();
+        extra.push_str(&format!("stray,{},{},{}\n", x + 200.0, cols[2], cols[3]));
+    }
+    let c3 = text
+        .lines()
+        .filter(|l| l.starts_with("c3,"))
+        .map(|l| l.replacen("c3,", "c1,", 1) + "\n")
+        .collect::<String>();
+    let f = dir.join("odd.csv");
+    std::fs::write(&f, format!("{text}{extra}{c3}")).unwrap();
+    let (code, err, rep) = reconstruct(&dir, &f, &[]);
+    assert_eq!(code, 0, "{err}");
+    let rep = rep.unwrap();
+    let warnings: Vec<String> = rep["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_str().unwrap_or("").to_string())
+        .collect();
+    for needle in [
+        "\"lone\" (line",
+        "only 1 point) is not a curve",
+        "\"stray\" (line",
+        "lies far from the rest",
+        "\"c1\" (line 2, pieces 30.0 mm apart) is named again later",
+    ] {
+        assert!(
+            warnings.iter().any(|w| w.contains(needle)),
+            "{needle}: {warnings:?}"
+        );
+        assert!(err.contains(needle), "stderr lacks {needle}: {err}");
+    }
+    let c2m = valid_mesh_c2m(&rep, "odd");
+    assert!(c2m < 1.0, "odd: c2m mean {c2m}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// 10^6 points (the SurFCo rings resampled at about 3 um) read and reconstruct like the original.
+#[test]
+fn a_million_points_reconstruct() {
+    let dir = scratch("million");
+    let text = surfco();
+    let mut rows: Vec<(String, [f64; 3])> = Vec::new();
+    for l in text.lines().skip(1) {
+        let c: Vec<&str> = l.split(',').collect();
+        let p = [c[1], c[2], c[3]].map(|v| v.parse::<f64>().unwrap());
+        rows.push((c[0].to_string(), p));
+    }
+    // Subdivide every segment within a contour into equal parts.
+    let per = 1_000_000 / rows.len() + 2;
+    let mut out = String::from("contour,x,y,z\n");
+    let mut count = 0usize;
+    for w in rows.windows(2) {
+        let (a, b) = (&w[0], &w[1]);
+        let parts = if a.0 == b.0 { per } else { 1 };
+        for k in 0..parts {
+            let t = k as f64 / parts as f64;
+            let p: Vec<String> = (0..3)
+                .map(|i| format!("{:.5}", a.1[i] + (b.1[i] - a.1[i]) * t))
+                .collect();
+            out.push_str(&format!("{},{}\n", a.0, p.join(",")));
+            count += 1;
+        }
+    }
+    assert!(count >= 1_000_000, "{count} points");
+    let f = dir.join("million.csv");
+    std::fs::write(&f, out).unwrap();
+    let (code, err, rep) = reconstruct(&dir, &f, &[]);
+    assert_eq!(code, 0, "{err}");
+    let c2m = valid_mesh_c2m(&rep.unwrap(), "million");
+    assert!(
+        c2m < 0.15,
+        "million: c2m mean {c2m} (0.061 mm from the file itself)"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// 100,000 three-point "contours" (a contour column holding a point index): read in linear time
+/// (the duplicate check was quadratic: 100 s) and refused by count before the quadratic SAX/LAX
+/// analysis (which never finished).
+#[test]
+fn a_hundred_thousand_tiny_contours_are_refused_quickly() {
+    let dir = scratch("many");
+    let mut text = String::from("contour,x,y,z\n");
+    for k in 0..100_000 {
+        let z = k as f64 * 0.001;
+        for i in 0..3 {
+            let a = i as f64 * 2.1 + k as f64;
+            text.push_str(&format!(
+                "c{k},{:.4},{:.4},{z:.4}\n",
+                20.0 * a.cos(),
+                20.0 * a.sin()
+            ));
+        }
+    }
+    let f = dir.join("many.csv");
+    std::fs::write(&f, text).unwrap();
+    let (code, err, _) = reconstruct(&dir, &f, &[]);
+    assert_one_line_error(code, &err, &f, "many");
+    assert!(
+        err.contains("too many contours: 100000 in one surface, at most 1000"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Finite coordinates near 1e308: their distances overflow to infinity. This panicked (capacity
+/// overflow in the 1 mm resampling); now a typed refusal.
+#[test]
+fn coordinates_near_the_float_limit_are_refused_not_a_panic() {
+    let dir = scratch("huge");
+    let mut text = surfco();
+    text.push_str("far,1e308,1e308,1e308\nfar,-1e308,-1e308,-1e308\nfar,1e308,-1e308,0\n");
+    let f = dir.join("huge.csv");
+    std::fs::write(&f, text).unwrap();
+    let (code, err, _) = reconstruct(&dir, &f, &[]);
+    assert_one_line_error(code, &err, &f, "huge");
+    assert!(err.contains("coordinates too large"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,388 @@
+//! Load-time checks of a contour set: units, contours that are not curves, contours far from all
+//! the others, and identifiers reused for curves in different planes.
+//!
+//! Each check turns a suspicious but usable input into one warning line for the user (the run goes
+//! ahead); only coordinates whose span cannot be a heart in millimetres stop the reconstruction
+//! ([`check_units`]), because the method's fixed spacings (1 mm resampling, 1.5 mm slice
+//! tolerance) would then either merge every slice (metres) or multiply the work a thousandfold
+//! (micrometres) and the user would get a misleading error or a run that seems to hang.
+
+use crate::contours::plane::fit_plane;
+use crate::contours::{Contour, ContourSet};
+use crate::error::{CoreError, Result};
+use crate::geometry::Vec3;
+
+/// Bounding-box spans outside this range (file units) get a "which units?" warning: a human heart
+/// spans 50-150 mm; a small-animal heart about 10 mm.
+const WARN_MIN_EXTENT_MM: f64 = 20.0;
+const WARN_MAX_EXTENT_MM: f64 = 2000.0;
+
+/// Spans outside this range are refused: below it the 1.5 mm same-slice tolerance merges slices
+/// (a heart in metres spans about 0.1), above it the 1 mm resampling explodes (micrometres).
+const MIN_EXTENT_MM: f64 = 3.0;
+const MAX_EXTENT_MM: f64 = 10_000.0;
+
+/// Above this many contours the pairwise checks are skipped (they are quadratic, and a file that
+/// large is either generated or hostile; its other checks still run).
+const MAX_PAIRWISE_CONTOURS: usize = 2000;
+
+/// Pieces of one contour whose planes are further apart than this (mm, plus three times the first
+/// piece's residual) are not one curve: the slice tolerance of the SAX grouping is 1.5 mm.
+const REUSED_ID_GAP_MM: f64 = 3.0;
+
+/// Largest side of the bounding box of the points (None without points).
+pub fn extent<'a>(mut points: impl Iterator<Item = &'a Vec3>) -> Option<f64> {
+    let first = *points.next()?;
+    let (lo, hi) = points.fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+    Some((hi - lo).amax())
+}
+
+fn unit_question(extent: f64) -> Option<String> {
+    let question = if extent < 1.0 {
+        "metres?"
+    } else if extent < WARN_MIN_EXTENT_MM {
+        "centimetres, or a small-animal heart?"
+    } else if extent > WARN_MAX_EXTENT_MM {
+        "pixels or micrometres?"
+    } else {
+        return None;
+    };
+    let digits = match extent {
+        e if e < 1.0 => 4,
+        e if e < 100.0 => 1,
+        _ => 0,
+    };
+    Some(format!(
+        "coordinates span {extent:.digits$}; expected mm (a heart spans about 50-150 mm: {question})"
+    ))
+}
+
+/// The "which units?" warning, from the bounding box of the points of all contours that are curves
+/// (a lone point or two say nothing about units; [`few_point_warnings`] reports them).
+pub fn unit_warning(set: &ContourSet) -> Option<String> {
+    let curves = set.contours.iter().filter(|c| !is_point_like(c));
+    unit_question(extent(curves.flat_map(|c| c.points()))?)
+}
+
+/// Fewer than 3 points, or all points the same: not a curve.
+fn is_point_like(c: &Contour) -> bool {
+    c.point_count() < 3 || extent(c.points()) == Some(0.0)
+}
+
+/// Refuses contours whose span cannot be a heart in millimetres, saying which units they look like
+/// and by how much to scale them.
+pub fn check_units(contours: &[Contour]) -> Result<()> {
+    let Some(e) = extent(contours.iter().flat_map(|c| c.points())) else {
+        return Ok(());
+    };
+    if !e.is_finite() {
+        // Finite coordinates whose differences overflow (near 1e308).
+        return Err(CoreError::Degenerate(
+            "coordinates too large: their span overflows (values near 1e308); heartmesh works \
+             in millimetres"
+                .into(),
+        ));
+    }
+    if e <= 0.0 || (MIN_EXTENT_MM..=MAX_EXTENT_MM).contains(&e) {
+        return Ok(());
+    }
+    let hint = unit_question(e).unwrap_or_default();
+    let fix = if e < MIN_EXTENT_MM {
+        "heartmesh works in millimetres: scale the coordinates by 1000 if they are metres"
+    } else {
+        "heartmesh works in millimetres: convert pixels with the pixel spacing, micrometres by 0.001"
+    };
+    Err(CoreError::Degenerate(format!("{hint}; {fix}")))
+}
+
+/// Contours that are not curves: a single point, or all points the same. (Two points are a
+/// straight segment: real files draw a short RV septum that way, and it is used as one.)
+pub fn few_point_warnings(set: &ContourSet) -> Vec<String> {
+    let mut flagged: Vec<String> = Vec::new();
+    for c in &set.contours {
+        let n = c.point_count();
+        let what = if n < 2 {
+            "only 1 point".to_string()
+        } else if extent(c.points()) == Some(0.0) {
+            format!("{n} copies of one point")
+        } else {
+            continue;
+        };
+        flagged.push(format!("{:?} (line {}, {what})", c.id, c.first_line));
+    }
+    one_line(
+        flagged,
+        "is not a curve; its points are used as single data points",
+        "are not curves; their points are used as single data points",
+    )
+}
+
+/// Axis-aligned box of a contour's points.
+fn bounds(c: &Contour) -> Option<(Vec3, Vec3)> {
+    let mut pts = c.points();
+    let first = *pts.next()?;
+    Some(pts.fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p))))
+}
+
+/// Distance between two boxes (0 when they overlap); a lower bound of the points' distance.
+fn box_gap(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> f64 {
+    let d = (b.0 - a.1).sup(&(a.0 - b.1)).sup(&Vec3::zeros());
+    d.norm()
+}
+
+/// Contours further from every other contour of their surface than the span of all those others:
+/// a curve of another series, a typo in a coordinate or a wrong plane position. The surface would
+/// be pulled towards it (one such contour 200 mm away costs ~10 ml and 9 mm of contour distance).
+pub fn stray_warnings(set: &ContourSet) -> Vec<String> {
+    let mut flagged: Vec<String> = Vec::new();
+    for surface in surface_groups(set) {
+        let members: Vec<(&Contour, (Vec3, Vec3))> = surface
+            .iter()
+            .filter_map(|c| bounds(c).map(|b| (*c, b)))
+            .collect();
+        if members.len() < 3 || members.len() > MAX_PAIRWISE_CONTOURS {
+            continue;
+        }
+        for (i, (c, b)) in members.iter().enumerate() {
+            let mut gap = f64::INFINITY;
+            let mut others: Option<(Vec3, Vec3)> = None;
+            for (j, (_, o)) in members.iter().enumerate() {
+                if i == j {
+                    continue;
+                }
+                gap = gap.min(box_gap(b, o));
+                others = Some(match others {
+                    Some((lo, hi)) => (lo.inf(&o.0), hi.sup(&o.1)),
+                    None => *o,
+                });
+            }
+            let span = others.map_or(0.0, |(lo, hi)| (hi - lo).amax());
+            if gap.is_finite() && gap > span && span > 0.0 {
+                flagged.push(format!(
+                    "{:?} (line {}, {gap:.0} mm from the nearest other contour)",
+                    c.id, c.first_line
+                ));
+            }
+        }
+    }
+    one_line(
+        flagged,
+        "lies far from the rest (another series or a wrong coordinate?)",
+        "lie far from the rest (another series or a wrong coordinate?)",
+    )
+}
+
+/// Contours grouped by surface label (None is a group of its own).
+fn surface_groups(set: &ContourSet) -> Vec<Vec<&Contour>> {
+    let mut labels: Vec<Option<&str>> = Vec::new();
+    let mut groups: Vec<Vec<&Contour>> = Vec::new();
+    for c in &set.contours {
+        let label = c.surface.as_deref();
+        match labels.iter().position(|l| *l == label) {
+            Some(k) => groups[k].push(c),
+            None => {
+                labels.push(label);
+                groups.push(vec![c]);
+            }
+        }
+    }
+    groups
+}
+
+/// Contours whose later pieces (the identifier reappearing after other contours) lie in another
+/// plane than the first piece: two slices given the same name. Readers join such pieces into one
+/// contour because real files split one curve into pieces, always within one plane.
+pub fn reused_id_warnings(set: &ContourSet) -> Vec<String> {
+    let mut flagged: Vec<String> = Vec::new();
+    for c in set.contours.iter().filter(|c| c.pieces.len() > 1) {
+        let Some(plane) = c.pieces.iter().find_map(|p| fit_plane(p.points.iter())) else {
+            continue;
+        };
+        let tol = REUSED_ID_GAP_MM + 3.0 * plane.rms_residual;
+        let worst = c
+            .pieces
+            .iter()
+            .filter(|p| !p.points.is_empty())
+            .map(|p| {
+                let centroid =
+                    p.points.iter().fold(Vec3::zeros(), |a, q| a + q) / p.points.len() as f64;
+                (centroid - plane.centroid).dot(&plane.normal).abs()
+            })
+            .fold(0.0, f64::max);
+        if worst > tol {
+            flagged.push(format!(
+                "{:?} (line {}, pieces {worst:.1} mm apart)",
+                c.id, c.first_line
+            ));
+        }
+    }
+    one_line(
+        flagged,
+        "is named again later in the file in another plane; two slices with one name? They are \
+         read as one contour",
+        "are named again later in the file in other planes; slices with one name? Each is read \
+         as one contour",
+    )
+}
+
+/// One warning line for all flagged contours (a user reads one line, not fifty).
+fn one_line(flagged: Vec<String>, one: &str, many: &str) -> Vec<String> {
+    match flagged.as_slice() {
+        [] => Vec::new(),
+        [single] => vec![format!("contour {single} {one}")],
+        more => {
+            let shown: Vec<&str> = more.iter().take(3).map(String::as_str).collect();
+            let rest = if more.len() > 3 { "; ..." } else { "" };
+            vec![format!(
+                "{} contours ({}{rest}) {many}",
+                more.len(),
+                shown.join("; ")
+            )]
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contours::Polyline;
+    use crate::geometry::v3;
+
+    fn ring(id: &str, centre: Vec3, r: f64) -> Contour {
+        let points = (0..24)
+            .map(|i| {
+                let a = i as f64 / 24.0 * std::f64::consts::TAU;
+                centre + v3(r * a.cos(), r * a.sin(), 0.0)
+            })
+            .collect();
+        Contour {
+            id: id.into(),
+            surface: None,
+            pieces: vec![Polyline {
+                points,
+                closed: true,
+            }],
+            first_line: 2,
+        }
+    }
+
+    fn stack(scale: f64) -> ContourSet {
+        ContourSet {
+            contours: (0..5)
+                .map(|k| {
+                    ring(
+                        &format!("s{k}"),
+                        v3(0.0, 0.0, 10.0 * k as f64) * scale,
+                        25.0 * scale,
+                    )
+                })
+                .collect(),
+            ..ContourSet::default()
+        }
+    }
+
+    #[test]
+    fn units_warn_and_refuse_by_span() {
+        // Span 50 mm: nothing; 5 (cm?): warning only; 0.05 (m): warning and refusal; 5e4: both.
+        for (scale, warns, refused) in [
+            (1.0, false, false),
+            (0.1, true, false),
+            (0.001, true, true),
+            (1000.0, true, true),
+        ] {
+            let set = stack(scale);
+            assert_eq!(unit_warning(&set).is_some(), warns, "scale {scale}");
+            let r = check_units(&set.contours);
+            assert_eq!(r.is_err(), refused, "scale {scale}");
+            if let Err(e) = r {
+                assert_eq!(e.code(), "degenerate");
+                assert!(e.to_string().contains("millimetres"), "{e}");
+            }
+        }
+        let mut huge = stack(1.0);
+        huge.contours[0].pieces[0].points[0] = v3(1e308, 1e308, 0.0);
+        huge.contours[0].pieces[0].points[1] = v3(-1e308, -1e308, 0.0);
+        let e = check_units(&huge.contours).err().map(|e| e.to_string());
+        assert!(e.is_some_and(|e| e.contains("overflows")));
+        let mut lone = ContourSet::default();
+        let mut one = ring("one", v3(0.0, 0.0, 0.0), 25.0);
+        one.pieces[0].points.truncate(2);
+        lone.contours.push(one);
+        assert_eq!(
+            unit_warning(&lone),
+            None,
+            "two points say nothing about units"
+        );
+        assert!(unit_warning(&stack(0.001))
+            .is_some_and(|w| w.contains("span 0.0500") && w.contains("metres?")));
+    }
+
+    #[test]
+    fn few_points_and_identical_points_are_flagged_once() {
+        let mut set = stack(1.0);
+        assert!(few_point_warnings(&set).is_empty());
+        let mut one = ring("one", v3(0.0, 0.0, 0.0), 25.0);
+        one.pieces[0].points.truncate(1);
+        let mut same = ring("same", v3(0.0, 0.0, 0.0), 25.0);
+        same.pieces[0].points = vec![v3(1.0, 2.0, 3.0); 30];
+        set.contours.push(one);
+        assert_eq!(
+            few_point_warnings(&set),
+            vec![
+                "contour \"one\" (line 2, only 1 point) is not a curve; its points are used as \
+                  single data points"
+            ]
+        );
+        set.contours.push(same);
+        let w = few_point_warnings(&set);
+        assert_eq!(w.len(), 1);
+        assert!(w[0].starts_with("2 contours") && w[0].contains("30 copies of one point"));
+    }
+
+    #[test]
+    fn a_contour_far_from_the_rest_is_flagged_and_a_sparse_stack_is_not() {
+        // Five rings 10 mm apart (span 50 mm); a copy of the first 200 mm away along x.
+        let mut set = stack(1.0);
+        assert!(stray_warnings(&set).is_empty());
+        // Three slices 30 mm apart: the end ones are 30 mm from the rest, whose span is 50 mm.
+        let sparse = ContourSet {
+            contours: (0..3)
+                .map(|k| ring(&format!("t{k}"), v3(0.0, 0.0, 30.0 * k as f64), 25.0))
+                .collect(),
+            ..ContourSet::default()
+        };
+        assert!(stray_warnings(&sparse).is_empty());
+        set.contours.push(ring("stray", v3(200.0, 0.0, 0.0), 25.0));
+        let w = stray_warnings(&set);
+        assert_eq!(w.len(), 1);
+        assert_eq!(
+            w[0],
+            "contour \"stray\" (line 2, 150 mm from the nearest other contour) lies far from the \
+             rest (another series or a wrong coordinate?)"
+        );
+    }
+
+    #[test]
+    fn pieces_in_other_planes_are_flagged_and_pieces_in_one_plane_are_not() {
+        let mut set = stack(1.0);
+        // The same plane: a curve split in two (biv-me RV free wall + septum style).
+        let mut split = ring("split", v3(0.0, 0.0, 0.0), 25.0);
+        let tail = split.pieces[0].points.split_off(12);
+        split.pieces[0].closed = false;
+        split.pieces.push(Polyline {
+            points: tail,
+            closed: false,
+        });
+        set.contours.push(split);
+        assert!(reused_id_warnings(&set).is_empty());
+        // A second ring named "s0" 30 mm above the first.
+        let again = ring("s0", v3(0.0, 0.0, 30.0), 25.0);
+        set.contours[0].pieces.push(again.pieces[0].clone());
+        let w = reused_id_warnings(&set);
+        assert_eq!(w.len(), 1);
+        assert!(
+            w[0].starts_with("contour \"s0\" (line 2, pieces 30.0 mm apart) is named again"),
+            "{w:?}"
+        );
+    }
+}
