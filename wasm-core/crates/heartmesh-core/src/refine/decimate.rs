@@ -413,8 +413,8 @@ impl Decimator {
     }
 
     /// Every triangle of the merged fan keeps its orientation (turns by less than ~80 degrees)
-    /// and does not become (nearly) degenerate; collects the fan's triangles (b renamed a) and
-    /// their new normals into `fan`.
+    /// and does not become (nearly) degenerate; in the repair rounds (`guard_folds`) collects the
+    /// fan's triangles (b renamed a) and their new normals into `fan`.
     fn fan_is_sound(&self, a: u32, b: u32, p: Vec3, fan: &mut Vec<([u32; 3], Vec3)>) -> bool {
         for (v, other) in [(a, b), (b, a)] {
             for i in self.list(v) {
@@ -447,7 +447,9 @@ impl Decimator {
                 if q_new < MIN_QUALITY && q_new < quality(&old, l_old) {
                     return false;
                 }
-                fan.push((tri.map(|w| if w == b { a } else { w }), n_new));
+                if self.guard_folds {
+                    fan.push((tri.map(|w| if w == b { a } else { w }), n_new));
+                }
             }
         }
         true
