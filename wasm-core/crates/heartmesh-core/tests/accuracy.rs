@@ -27,6 +27,15 @@ const RV_MAX_MM: f64 = 4.0;
 const MISALIGNED_C2M_MEAN_MM: f64 = 1.0;
 /// Free wall and septum arcs of a composite RV cavity meet across gaps of up to ~3 mm in-plane.
 const RV_JOIN_GAP_MM: f64 = 6.0;
+/// Folded edges (dihedral > 90 degrees, `mesh::quality`) an RV case may end with: measured + 2
+/// (docs/VALIDATION.md, "Session 8: RV folds"). The biv-me RV's 6 all lie on the crescent's tips,
+/// where the truth itself is creased (dihedral 161-177 degrees within 5 mm) and the short-axis
+/// contours turn by 157-173 degrees: the mesh follows a real crease. Its 3 folds where the truth is
+/// smooth came from the decimation and are gone since its fold repair.
+const RV_MAX_FOLDED_EDGES: &[(&str, usize)] = &[
+    ("bivme RV_ENDO", 8),
+    ("spasm RV endo (free wall + septum)", 2),
+];
 /// "Clearly better than the convex hull": at most half its mean distance.
 const RV_HULL_RATIO: f64 = 0.5;
 
@@ -215,6 +224,20 @@ fn rv_case(name: &str, truth: &TriMesh, lv_file: &str) {
     };
     let (o, acq, mesh) = run(name, truth, &spec);
     check_closed_manifold_outward(&mesh).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let q = heartmesh_core::mesh::quality::quality(&mesh);
+    let fold_limit = RV_MAX_FOLDED_EDGES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map_or(0, |(_, l)| *l);
+    eprintln!(
+        "ACCURACY {name} folds: {} folded edges (max dihedral {:.0} deg), limit {fold_limit}",
+        q.folded_edges, q.max_dihedral_deg
+    );
+    assert!(
+        q.folded_edges <= fold_limit,
+        "{name}: {} folded edges > {fold_limit}",
+        q.folded_edges
+    );
     let points = acq.contours.all_points();
     let hull = convex_hull(&points).unwrap();
     let h = compare(truth, &hull, Some(&acq.clip)).unwrap();

@@ -8,7 +8,7 @@
 //! bound, and meet the acceptance means (LV 0.2 mm, RV 0.5 mm); misaligned (2 mm / 2 degrees)
 //! acquisitions must keep the contour-to-mesh mean within 1 mm. Maxima are printed for every
 //! shape; the accuracy tests' Hausdorff target is asserted only for the surface types that meet
-//! it (MAX_CHECKED). RV folds are a known gap (RV_MAX_FOLDED_EDGES).
+//! it (MAX_CHECKED). RVs may fold along their crescent's real creases (RV_MAX_FOLDED_EDGES).
 
 mod common;
 
@@ -22,13 +22,14 @@ const RV_MEAN_MM: f64 = 0.5;
 const MISALIGNED_C2M_MEAN_MM: f64 = 1.0;
 /// The real cases' fold bound (tests/real_cases.rs MAX_FOLDED_EDGES), held by every LV.
 const MAX_FOLDED_EDGES: f64 = 3.0;
-/// KNOWN GAP (reported to the lead, docs/VALIDATION.md "Session 7: population"): simulated RVs
-/// fold more than real ones. The unwarped biv-me RV of tests/accuracy.rs (which does not check
-/// folds) ends with 9 folded edges: 6 along the truth's own crescent-tip creases (truth dihedral
-/// 161-177 degrees within 5 mm: faithful), 3 between slices 4-6 mm from any contour; the spasm
-/// RV cavity with 4. Its members are held to that count plus one, as real_cases allows one
-/// above its measured worst. Remove when RV folds meet MAX_FOLDED_EDGES.
-const RV_MAX_FOLDED_EDGES: f64 = 10.0;
+/// RVs end with folded edges along the crescent's tips, where the truth is creased (biv-me:
+/// dihedral 161-177 degrees) or the short-axis contours turn by 110-180 degrees (the spasm cavity's
+/// free wall meeting its septum): the mesh follows a real crease (docs/VALIDATION.md, "Session 8:
+/// RV folds": all 55 folds of the 20 aligned RVs of `scripts/population.sh` are of that kind).
+/// How many edges line a crease varies with the mesh (0-8 aligned, 0-10 misaligned there), so the
+/// bound is this sample's measured 5 plus 2; it was 10 while the decimation also left folds where
+/// the truth is smooth.
+const RV_MAX_FOLDED_EDGES: f64 = 7.0;
 /// Surface types whose maxima meet the accuracy tests' Hausdorff target (LV 1.5 mm) on the
 /// reference shapes and across the population; the others are printed only (their maxima are
 /// the unobserved features analysed in docs/VALIDATION.md, sessions 6 and 7).

@@ -27,6 +27,8 @@ use crate::mesh::TriMesh;
 use crate::refine::heap::{Entry, MinHeap4};
 use crate::refine::quadric::Quadric;
 
+mod unfold;
+
 /// Weight of a boundary-edge constraint plane relative to the area weight of ordinary planes
 /// (per mm^2 of squared edge length).
 const BOUNDARY_WEIGHT: f64 = 10.0;
@@ -68,6 +70,10 @@ struct Decimator {
     heap: MinHeap4,
     /// Queue entries that name a collapsed vertex (estimate, reset by each sweep).
     dead_entries: usize,
+    /// Scratch of the legality test: the merged fan's triangles and their new normals.
+    fan: Vec<([u32; 3], Vec3)>,
+    /// Collapses must not leave a folded edge around the merged vertex (the repair rounds).
+    guard_folds: bool,
     /// Cost per mm^2 of squared collapsed-edge length (see [`LENGTH_PENALTY`]).
     length_weight: f64,
     /// The CPU has AVX: checked once per decimation instead of once per cost evaluation.
@@ -176,6 +182,8 @@ impl Decimator {
             // Two entries per edge; a closed triangle mesh has 3T / 2 edges.
             heap: MinHeap4::with_capacity(edges.max(3 * mesh.triangles.len() / 2) * 2),
             dead_entries: 0,
+            fan: Vec::new(),
+            guard_folds: false,
             length_weight: LENGTH_PENALTY * area / mesh.triangles.len().max(1) as f64,
             #[cfg(target_arch = "x86_64")]
             avx: std::arch::is_x86_feature_detected!("avx"),
@@ -396,6 +404,18 @@ impl Decimator {
         }
 
         // Geometry: no flipped or degenerate triangle around the moved vertex.
+        let mut fan = std::mem::take(&mut self.fan);
+        fan.clear();
+        let ok = self.fan_is_sound(a, b, p, &mut fan)
+            && (!self.guard_folds || self.fan_is_unfolded(a, b, &fan));
+        self.fan = fan;
+        ok
+    }
+
+    /// Every triangle of the merged fan keeps its orientation (turns by less than ~80 degrees)
+    /// and does not become (nearly) degenerate; in the repair rounds (`guard_folds`) collects the
+    /// fan's triangles (b renamed a) and their new normals into `fan`.
+    fn fan_is_sound(&self, a: u32, b: u32, p: Vec3, fan: &mut Vec<([u32; 3], Vec3)>) -> bool {
         for (v, other) in [(a, b), (b, a)] {
             for i in self.list(v) {
                 let t = self.refs[i] as usize;
@@ -426,6 +446,9 @@ impl Decimator {
                 let q_new = quality(&new, l_new);
                 if q_new < MIN_QUALITY && q_new < quality(&old, l_old) {
                     return false;
+                }
+                if self.guard_folds {
+                    fan.push((tri.map(|w| if w == b { a } else { w }), n_new));
                 }
             }
         }
@@ -632,6 +655,7 @@ pub(crate) fn decimate_checked(
     let mut state = Decimator::new(mesh, centre, known)?;
     let target = ((1.0 - target_reduction) * mesh.triangles.len() as f64).round() as usize;
     state.run(target);
+    state.unfold();
     Ok(state.finish(centre))
 }
 

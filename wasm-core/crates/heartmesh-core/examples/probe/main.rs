@@ -15,6 +15,8 @@ use heartmesh_core::spatial::Bvh;
 use heartmesh_core::{io, Params, Reconstruction};
 use std::path::PathBuf;
 
+mod folds;
+
 fn data(sub: &str) -> PathBuf {
     let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     manifest
@@ -200,8 +202,33 @@ fn run() -> Res<()> {
     let mut rec = Reconstruction::new(&acq.contours, params)?;
     let (lo0, _, _) = acq.axis.extent(&t).ok_or("no extent")?;
     let t0 = std::time::Instant::now();
+    let trace_folds = std::env::var("PROBE_FOLDS").is_ok();
+    let mut snaps: Vec<folds::Snapshot> = Vec::new();
     while !rec.is_done() {
         let s = rec.step()?;
+        if trace_folds {
+            let q = heartmesh_core::mesh::quality::quality(rec.mesh());
+            if q.folded_edges > 0 || s.topology_changed {
+                println!(
+                    "  step {} {:?}: folds {} max dihedral {:.0}",
+                    s.iteration, s.phase, q.folded_edges, q.max_dihedral_deg
+                );
+            }
+        }
+        if std::env::var("PROBE_STAGES")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            == Some(s.iteration)
+        {
+            folds::stages(rec.mesh())?;
+        }
+        if trace_folds && s.iteration + 50 >= iterations {
+            snaps.push(folds::Snapshot {
+                iteration: s.iteration,
+                mesh: rec.mesh().clone(),
+                attractors: rec.attractors(),
+            });
+        }
         if s.iteration.is_multiple_of(10) || s.done || s.iteration < 3 {
             let low = rec
                 .mesh()
@@ -216,6 +243,22 @@ fn run() -> Res<()> {
         }
     }
     let secs = t0.elapsed().as_secs_f64();
+    if trace_folds {
+        let tagged: Vec<(Vec3, bool)> = acq
+            .contours
+            .contours
+            .iter()
+            .flat_map(|c| c.points().map(move |p| (*p, c.id.starts_with("lax"))))
+            .collect();
+        let kind_of = |q: &Vec3| {
+            tagged
+                .iter()
+                .min_by(|a, b| (a.0 - q).norm().total_cmp(&(b.0 - q).norm()))
+                .is_some_and(|t| t.1)
+        };
+        let (lo, _, _) = acq.axis.extent(&t).ok_or("no extent")?;
+        folds::report(&snaps, &kind_of, &|p| acq.axis.height(p) - lo);
+    }
     let mut mesh = rec.mesh().clone();
     if std::env::var("PROBE_SUBDIV").is_ok() {
         mesh = heartmesh_core::refine::subdivide(&mesh)?;
@@ -279,8 +322,9 @@ fn run() -> Res<()> {
                 .map(|(_, a)| *a)
                 .fold(0.0, f64::max);
             let (lo, _, _) = acq.axis.extent(&t).ok_or("no extent")?;
+            let turn = folds::sharpest_turn(&acq.contours, &m, 5.0);
             println!(
-                "  fold {a:.0} deg at h {:.1} mm; nearest contour point {near:.2} mm; truth's sharpest dihedral within 5 mm {sharp:.0} deg",
+                "  fold {a:.0} deg at h {:.1} mm; nearest contour point {near:.2} mm; truth's sharpest dihedral within 5 mm {sharp:.0} deg; contours' sharpest turn within 5 mm {turn:.0} deg",
                 acq.axis.height(&m) - lo
             );
         }
