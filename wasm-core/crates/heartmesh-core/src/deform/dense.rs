@@ -5,7 +5,7 @@
 //! (Cholesky, dot-product form) and 1.5 (register blocking). Why hand-written: nalgebra's
 //! Cholesky allocates and was 1.5x slower in wasm, faer the slowest in wasm
 //! (PERFORMANCE.md); the sizes here (N ~ 150-400) fit in L2, where blocking for registers is what
-//! matters. All sums run in a fixed lane order (`lanes.rs`), so every target gives the same bits.
+//! matters. All sums run in a fixed lane order (`lanes/`), so every target gives the same bits.
 
 #[cfg(target_arch = "x86_64")]
 use super::lanes::avx::Avx;

@@ -8,7 +8,7 @@
 //! the spline centres move by a small fraction of the remaining distance to the data, so the last
 //! step's factor L_old L_old^T is a close approximation of the new projected system. Used as the
 //! preconditioner it clusters the spectrum near 1, and a few iterations, each one pass over K and
-//! two over L_old, replace the projection and the O(N^3) factorisation (see `tps.rs`).
+//! two over L_old, replace the projection and the O(N^3) factorisation (see `tps/mod.rs`).
 //!
 //! Three right-hand sides (x, y, z) share every pass over a matrix; each keeps its own scalars.
 //! All sums go through the fixed-order lane kernels of `dense.rs`, so every target gives the same

@@ -43,7 +43,7 @@
 //! mixed precision: the affine part in f64, the kernel sum (the non-affine correction) in f32 with
 //! the centres relative to their mean, stored as structure-of-arrays chunks of eight with the
 //! weights pre-multiplied by -1/(8 pi); `apply` states the error (micrometres). The lanes are
-//! explicit vectors (`lanes.rs`: two SSE / simd128 / plain-array halves, or one AVX register
+//! explicit vectors (`lanes/`: two SSE / simd128 / plain-array halves, or one AVX register
 //! natively when the CPU has it) with the same arithmetic in the same order, so every target, and
 //! the portable reference `evaluate_portable`, gives identical bits; `evaluate_f64` is the
 //! all-double reference. The projection, the residuals and the f64 fallback use the f64
