@@ -5,35 +5,26 @@
 //! (Cholesky, dot-product form) and 1.5 (register blocking). Why hand-written: nalgebra's
 //! Cholesky allocates and was 1.5x slower in wasm, faer the slowest in wasm
 //! (PERFORMANCE.md); the sizes here (N ~ 150-400) fit in L2, where blocking for registers is what
-//! matters. All sums run in a fixed lane order (`lanes.rs`), so every target gives the same bits.
+//! matters. All sums run in a fixed lane order (`lanes/`), so every target gives the same bits.
 
 #[cfg(target_arch = "x86_64")]
-use super::lanes::avx::{self, Avx};
-use super::lanes::{Quad, Q2};
+use super::lanes::avx::Avx;
+use super::lanes::{avx_dispatch, Quad, Q2};
 use crate::error::{CoreError, Result};
 
-/// Cholesky factorisation A = L L^T of the lower triangle of an m x m row-major matrix, in place.
-///
-/// Dot-product (Crout) form, register-blocked two rows by two columns: the four dot products of
-/// rows (i, i+1) with rows (j, j+1) share their loads, which halves the memory traffic that bounds
-/// the plain form (about N^3 / 6 loads from L2). Every entry's arithmetic is fixed, so results are
-/// reproducible.
-///
-/// Natively on a CPU with AVX the same arithmetic runs four lanes per instruction (same bits).
-#[inline(never)] // one call per fit: kept out of line for profiles
-pub(super) fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<()> {
-    #[cfg(target_arch = "x86_64")]
-    if avx::available() {
-        // SAFETY: the CPU has AVX.
-        return unsafe { cholesky_avx(a, m) };
-    }
-    cholesky_q::<Q2>(a, m)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-unsafe fn cholesky_avx(a: &mut [f64], m: usize) -> Result<()> {
-    cholesky_q::<Avx>(a, m)
+avx_dispatch! {
+    /// Cholesky factorisation A = L L^T of the lower triangle of an m x m row-major matrix, in
+    /// place.
+    ///
+    /// Dot-product (Crout) form, register-blocked two rows by two columns: the four dot products
+    /// of rows (i, i+1) with rows (j, j+1) share their loads, which halves the memory traffic that
+    /// bounds the plain form (about N^3 / 6 loads from L2). Every entry's arithmetic is fixed, so
+    /// results are reproducible.
+    ///
+    /// Natively on a CPU with AVX the same arithmetic runs four lanes per instruction (same bits).
+    #[inline(never)] // one call per fit: kept out of line for profiles
+    pub(super) fn cholesky_in_place / cholesky_avx (a: &mut [f64], m: usize) -> Result<()>
+        = cholesky_q::<Q2, Avx>;
 }
 
 #[inline(always)]
@@ -294,7 +285,7 @@ mod tests {
             let d = dot(x, y);
             assert_eq!(d.to_bits(), dot_q::<Pair<portable::F2>>(x, y).to_bits());
             #[cfg(target_arch = "x86_64")]
-            if super::avx::available() {
+            if crate::deform::lanes::avx::available() {
                 // SAFETY: the CPU has AVX.
                 let e = unsafe { dot_avx(x, y) };
                 assert_eq!(d.to_bits(), e.to_bits());

@@ -8,7 +8,7 @@
 //! the spline centres move by a small fraction of the remaining distance to the data, so the last
 //! step's factor L_old L_old^T is a close approximation of the new projected system. Used as the
 //! preconditioner it clusters the spectrum near 1, and a few iterations, each one pass over K and
-//! two over L_old, replace the projection and the O(N^3) factorisation (see `tps.rs`).
+//! two over L_old, replace the projection and the O(N^3) factorisation (see `tps/mod.rs`).
 //!
 //! Three right-hand sides (x, y, z) share every pass over a matrix; each keeps its own scalars.
 //! All sums go through the fixed-order lane kernels of `dense.rs`, so every target gives the same
@@ -17,7 +17,7 @@
 use super::dense::{axpy, dot, dot3_q, dot3x2_q, dot_q};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::avx::{self, Avx, Avx32};
-use super::lanes::{Oct, Quad, O4, Q2};
+use super::lanes::{avx_dispatch, Oct, Quad, O4, Q2};
 
 /// x <- Q x = H_0 H_1 H_2 H_3 x for one N-vector (`hv`: 4 x N reflectors, row k zero before k).
 pub(super) fn apply_q(hv: &[f64], hbeta: &[f64; 4], n: usize, x: &mut [f64]) {
@@ -47,37 +47,18 @@ fn apply_qt_q<Q: Quad>(hv: &[f64], hbeta: &[f64; 4], n: usize, x: &mut [f64]) {
     }
 }
 
-/// y = Q^T K Q [0; v] for three N-vectors (`v` rows with zeros at 0..4, K full); `u` is
-/// scratch. The product with the projected system without forming it.
-pub(super) fn projected_matvec(
-    kmat: &[f64],
-    hv: &[f64],
-    hbeta: &[f64; 4],
-    n: usize,
-    v: &[f64],
-    u: &mut [f64],
-    y: &mut [f64],
-) {
-    #[cfg(target_arch = "x86_64")]
-    if avx::available() {
-        // SAFETY: the CPU has AVX.
-        return unsafe { projected_matvec_avx(kmat, hv, hbeta, n, v, u, y) };
-    }
-    projected_matvec_q::<Q2>(kmat, hv, hbeta, n, v, u, y);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-unsafe fn projected_matvec_avx(
-    kmat: &[f64],
-    hv: &[f64],
-    hbeta: &[f64; 4],
-    n: usize,
-    v: &[f64],
-    u: &mut [f64],
-    y: &mut [f64],
-) {
-    projected_matvec_q::<Avx>(kmat, hv, hbeta, n, v, u, y);
+avx_dispatch! {
+    /// y = Q^T K Q [0; v] for three N-vectors (`v` rows with zeros at 0..4, K full); `u` is
+    /// scratch. The product with the projected system without forming it.
+    pub(super) fn projected_matvec / projected_matvec_avx (
+        kmat: &[f64],
+        hv: &[f64],
+        hbeta: &[f64; 4],
+        n: usize,
+        v: &[f64],
+        u: &mut [f64],
+        y: &mut [f64],
+    ) = projected_matvec_q::<Q2, Avx>;
 }
 
 #[inline(always)]
@@ -169,22 +150,12 @@ unsafe fn mirror_lower_avx(a: &mut [f64], n: usize) {
     mirror_lower_from(a, n, tiled);
 }
 
-/// y = K u for three N-vectors at once (`u`, `y`: 3 x N rows), K a full N x N row-major matrix:
-/// one pass over K, each row's three dot products sharing its loads.
-#[cfg(test)]
-fn matvec3(kmat: &[f64], n: usize, u: &[f64], y: &mut [f64]) {
-    #[cfg(target_arch = "x86_64")]
-    if avx::available() {
-        // SAFETY: the CPU has AVX.
-        return unsafe { matvec3_avx(kmat, n, u, y) };
-    }
-    matvec3_q::<Q2>(kmat, n, u, y);
-}
-
-#[cfg(all(test, target_arch = "x86_64"))]
-#[target_feature(enable = "avx")]
-unsafe fn matvec3_avx(kmat: &[f64], n: usize, u: &[f64], y: &mut [f64]) {
-    matvec3_q::<Avx>(kmat, n, u, y);
+avx_dispatch! {
+    /// y = K u for three N-vectors at once (`u`, `y`: 3 x N rows), K a full N x N row-major matrix:
+    /// one pass over K, each row's three dot products sharing its loads.
+    #[cfg(test)]
+    fn matvec3 / matvec3_avx (kmat: &[f64], n: usize, u: &[f64], y: &mut [f64])
+        = matvec3_q::<Q2, Avx>;
 }
 
 #[inline(always)]
@@ -214,21 +185,16 @@ fn matvec3_q<Q: Quad>(kmat: &[f64], n: usize, u: &[f64], y: &mut [f64]) {
     }
 }
 
-/// Solves L L^T x = b in place for three m-vectors (`x`: 3 x `stride` rows, the unknowns at
-/// `[off, off + m)` of each row), L the lower triangle of an m x m row-major factor.
-pub(super) fn chol_solve3(chol: &[f64], m: usize, x: &mut [f64], stride: usize, off: usize) {
-    #[cfg(target_arch = "x86_64")]
-    if avx::available() {
-        // SAFETY: the CPU has AVX.
-        return unsafe { chol_solve3_avx(chol, m, x, stride, off) };
-    }
-    chol_solve3_q::<Q2>(chol, m, x, stride, off);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-unsafe fn chol_solve3_avx(chol: &[f64], m: usize, x: &mut [f64], stride: usize, off: usize) {
-    chol_solve3_q::<Avx>(chol, m, x, stride, off);
+avx_dispatch! {
+    /// Solves L L^T x = b in place for three m-vectors (`x`: 3 x `stride` rows, the unknowns at
+    /// `[off, off + m)` of each row), L the lower triangle of an m x m row-major factor.
+    pub(super) fn chol_solve3 / chol_solve3_avx (
+        chol: &[f64],
+        m: usize,
+        x: &mut [f64],
+        stride: usize,
+        off: usize,
+    ) = chol_solve3_q::<Q2, Avx>;
 }
 
 /// The three right-hand sides go through each row of L together (one load of the row); each
@@ -305,45 +271,24 @@ pub(super) fn factor_to_f32(
     }
 }
 
-/// z <- (L L^T)^-1 z in single precision for three m-vectors (layout of [`chol_solve3`]), with
-/// the f32 factor of [`factor_to_f32`]; `w` is 3 x [`f32_stride`] f32 scratch. Why f32: the
-/// preconditioner of the reused-factor solve only approximates the new system's inverse (the
-/// factor is a step old), so its own rounding at 1e-7 relative is far below that approximation
-/// error, and each pass over a triangle moves half the bytes in twice the lanes. The residuals,
-/// the products and the solution stay f64, so the converged answer keeps its tolerance.
-#[allow(clippy::too_many_arguments)] // the factor's three arrays and the rows' layout
-pub(super) fn precondition3_f32(
-    l32: &[f32],
-    lt32: &[f32],
-    dinv: &[f32],
-    m: usize,
-    x: &mut [f64],
-    stride: usize,
-    off: usize,
-    w: &mut [f32],
-) {
-    #[cfg(target_arch = "x86_64")]
-    if avx::available() {
-        // SAFETY: the CPU has AVX.
-        return unsafe { precondition3_f32_avx(l32, lt32, dinv, m, x, stride, off, w) };
-    }
-    precondition3_f32_o::<O4>(l32, lt32, dinv, m, x, stride, off, w);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn precondition3_f32_avx(
-    l32: &[f32],
-    lt32: &[f32],
-    dinv: &[f32],
-    m: usize,
-    x: &mut [f64],
-    stride: usize,
-    off: usize,
-    w: &mut [f32],
-) {
-    precondition3_f32_o::<Avx32>(l32, lt32, dinv, m, x, stride, off, w);
+avx_dispatch! {
+    /// z <- (L L^T)^-1 z in single precision for three m-vectors (layout of [`chol_solve3`]), with
+    /// the f32 factor of [`factor_to_f32`]; `w` is 3 x [`f32_stride`] f32 scratch. Why f32: the
+    /// preconditioner of the reused-factor solve only approximates the new system's inverse (the
+    /// factor is a step old), so its own rounding at 1e-7 relative is far below that approximation
+    /// error, and each pass over a triangle moves half the bytes in twice the lanes. The residuals,
+    /// the products and the solution stay f64, so the converged answer keeps its tolerance.
+    #[allow(clippy::too_many_arguments)] // the factor's three arrays and the rows' layout
+    pub(super) fn precondition3_f32 / precondition3_f32_avx (
+        l32: &[f32],
+        lt32: &[f32],
+        dinv: &[f32],
+        m: usize,
+        x: &mut [f64],
+        stride: usize,
+        off: usize,
+        w: &mut [f32],
+    ) = precondition3_f32_o::<O4, Avx32>;
 }
 
 #[inline(always)]

@@ -439,95 +439,38 @@ unsafe fn run_rows_avx<K: RowKernel>(k: &K, start: usize, out: &mut [[f64; 4]]) 
 }
 
 #[cfg(target_arch = "x86_64")]
-pub mod avx {
-    //! SAFETY (every `unsafe` below): these methods are only called from functions compiled
-    //! with `#[target_feature(enable = "avx")]`, which run only after `available()` returned
-    //! true; the loads and stores stay within the 32 bytes of a `[f64; 4]` or `[f32; 8]`.
-    use core::arch::x86_64::*;
+pub mod avx;
 
-    #[derive(Clone, Copy)]
-    pub struct Avx(__m256d);
+/// Defines `$name`, which runs `$kernel::<$avx>` when the CPU has AVX (checked at run time) and
+/// `$kernel::<$base>` otherwise, and `$avx_name`, the AVX instance compiled with
+/// `#[target_feature(enable = "avx")]` so that the inlined kernel is too (x86_64 only). The two
+/// lane types do the same lane operations in the same order, so both give the same bits; the
+/// attributes (docs, `cfg`, `inline`, `allow`) apply to both functions.
+macro_rules! avx_dispatch {
+    (
+        $(#[$attr:meta])*
+        $vis:vis fn $name:ident / $avx_name:ident ($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)?
+            = $kernel:ident::<$base:ty, $avx:ty>;
+    ) => {
+        $(#[$attr])*
+        $vis fn $name($($arg: $ty),*) $(-> $ret)? {
+            #[cfg(target_arch = "x86_64")]
+            if $crate::deform::lanes::avx::available() {
+                // SAFETY: the CPU has AVX.
+                return unsafe { $avx_name($($arg),*) };
+            }
+            $kernel::<$base>($($arg),*)
+        }
 
-    /// Whether this CPU runs AVX code (cached by std after the first call).
-    #[inline]
-    pub fn available() -> bool {
-        std::arch::is_x86_feature_detected!("avx")
-    }
-
-    impl super::Quad for Avx {
-        #[inline(always)]
-        fn splat(x: f64) -> Avx {
-            Avx(unsafe { _mm256_set1_pd(x) })
+        $(#[$attr])*
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx")]
+        unsafe fn $avx_name($($arg: $ty),*) $(-> $ret)? {
+            $kernel::<$avx>($($arg),*)
         }
-        #[inline(always)]
-        fn load(a: &[f64; 4]) -> Avx {
-            // SAFETY: `a` is valid for reading 32 bytes; the load is unaligned.
-            Avx(unsafe { _mm256_loadu_pd(a.as_ptr()) })
-        }
-        #[inline(always)]
-        fn add(self, o: Avx) -> Avx {
-            Avx(unsafe { _mm256_add_pd(self.0, o.0) })
-        }
-        #[inline(always)]
-        fn sub(self, o: Avx) -> Avx {
-            Avx(unsafe { _mm256_sub_pd(self.0, o.0) })
-        }
-        #[inline(always)]
-        fn mul(self, o: Avx) -> Avx {
-            Avx(unsafe { _mm256_mul_pd(self.0, o.0) })
-        }
-        #[inline(always)]
-        fn sqrt(self) -> Avx {
-            Avx(unsafe { _mm256_sqrt_pd(self.0) })
-        }
-        #[inline(always)]
-        fn lanes(self) -> [f64; 4] {
-            let mut out = [0.0; 4];
-            // SAFETY: `out` is valid for writing 32 bytes; the store is unaligned.
-            unsafe { _mm256_storeu_pd(out.as_mut_ptr(), self.0) };
-            out
-        }
-    }
-
-    /// Eight f32 lanes in one 256-bit register.
-    #[derive(Clone, Copy)]
-    pub struct Avx32(__m256);
-
-    impl super::Oct for Avx32 {
-        #[inline(always)]
-        fn splat(x: f32) -> Avx32 {
-            Avx32(unsafe { _mm256_set1_ps(x) })
-        }
-        #[inline(always)]
-        fn load(a: &[f32; 8]) -> Avx32 {
-            // SAFETY: `a` is valid for reading 32 bytes; the load is unaligned.
-            Avx32(unsafe { _mm256_loadu_ps(a.as_ptr()) })
-        }
-        #[inline(always)]
-        fn add(self, o: Avx32) -> Avx32 {
-            Avx32(unsafe { _mm256_add_ps(self.0, o.0) })
-        }
-        #[inline(always)]
-        fn sub(self, o: Avx32) -> Avx32 {
-            Avx32(unsafe { _mm256_sub_ps(self.0, o.0) })
-        }
-        #[inline(always)]
-        fn mul(self, o: Avx32) -> Avx32 {
-            Avx32(unsafe { _mm256_mul_ps(self.0, o.0) })
-        }
-        #[inline(always)]
-        fn sqrt(self) -> Avx32 {
-            Avx32(unsafe { _mm256_sqrt_ps(self.0) })
-        }
-        #[inline(always)]
-        fn lanes(self) -> [f32; 8] {
-            let mut out = [0.0; 8];
-            // SAFETY: `out` is valid for writing 32 bytes; the store is unaligned.
-            unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) };
-            out
-        }
-    }
+    };
 }
+pub(crate) use avx_dispatch;
 
 #[cfg(test)]
 mod tests {
