@@ -2,7 +2,7 @@
 // core cannot silently fall back to the default in the URL parser or the panel.
 import { describe, expect, it } from 'vitest';
 import { DEFAULT_OPTIONS, SMOOTHING_METHODS, paramsJson } from '../../web/src/core-client/protocol';
-import smoothRs from '../../wasm-core/crates/heartmesh-core/src/refine/smooth.rs?raw';
+import smoothRs from '../../wasm-core/crates/heartmesh-core/src/refine/smooth/mod.rs?raw';
 import paramsRs from '../../wasm-core/crates/heartmesh-core/src/params.rs?raw';
 
 describe('reconstruction options', () => {

@@ -1,6 +1,6 @@
 #![no_main]
 //! Fuzz target: rtstruct (DICOM RT structure sets; must never panic, whatever the bytes, and never
-//! allocate beyond the input's size: io/dicom_read.rs bounds every declared length).
+//! allocate beyond the input's size: io/dicom_read/ bounds every declared length).
 
 use heartmesh_core::io;
 use libfuzzer_sys::fuzz_target;

@@ -239,7 +239,7 @@ fn reconstruct_surfco_at_defaults() {
         "{}",
         r["quality"]
     );
-    // The decimation refuses collapses that leave a triangle below quality 0.02 (refine/decimate.rs
+    // The decimation refuses collapses that leave a triangle below quality 0.02 (refine/decimate/mod.rs
     // MIN_QUALITY); the worst triangle is one sliver whose value depends on where the tube's seam
     // falls (0.08 with the seam on the scanner x axis, 0.027 at the first delineated point).
     assert!(

@@ -44,7 +44,7 @@ pub struct Params {
     pub remesh_every: usize,
     pub smoothing_iterations: usize,
     pub smoothing_factor: f64,
-    /// How the remesh step smooths (refine/smooth.rs).
+    /// How the remesh step smooths (refine/smooth/).
     pub smoothing: SmoothingMethod,
     pub target_reduction: f64,
     pub ring_points: usize,

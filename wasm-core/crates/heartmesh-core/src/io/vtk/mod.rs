@@ -6,11 +6,18 @@
 
 use super::builder::ContourBuilder;
 use super::text::{quote, word_end};
-use super::{fmt_num, fmt_point, header_lines, MeshData, MAX_MESH_ELEMENTS};
+use super::{MeshData, MAX_MESH_ELEMENTS};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
 use crate::geometry::{v3, Vec3};
 use crate::mesh::TriMesh;
+
+pub(crate) use write::write_lines;
+pub use write::write_vtk;
+
+#[cfg(test)]
+mod tests;
+mod write;
 
 /// The parts of a POLYDATA file heartmesh uses.
 #[derive(Debug, Default)]
@@ -347,19 +354,6 @@ fn read_cell_fields(c: &mut Cursor, ncells: usize) -> Result<Vec<(String, Vec<St
     }
 }
 
-/// VTK's string encoding in legacy files: `%XX` for '%', spaces, control and non-ASCII bytes.
-fn percent_encode(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for b in s.bytes() {
-        if b <= b' ' || b > b'~' || b == b'%' {
-            out.push_str(&format!("%{b:02X}"));
-        } else {
-            out.push(b as char);
-        }
-    }
-    out
-}
-
 fn percent_decode(line: &[u8]) -> String {
     let mut out = Vec::with_capacity(line.len());
     let mut i = 0;
@@ -582,163 +576,4 @@ pub(crate) fn contours_from_lines(
         b.break_run();
     }
     b.finish()
-}
-
-const TITLE_MAX: usize = 160;
-
-/// The title line: version and comment, short (see [`write_vtk`]).
-fn title(header_comment: &str) -> String {
-    // Readers such as three.js' VTKLoader look for "ASCII" within the first 250 bytes, so the
-    // title (limited to 256 characters by the format) is kept well below that.
-    header_lines(header_comment)
-        .join(" | ")
-        .chars()
-        .filter(|c| c.is_ascii() && !c.is_ascii_control())
-        .take(TITLE_MAX)
-        .collect()
-}
-
-/// Polylines (contours) as VTK legacy 3.0 ASCII POLYDATA LINES; `labels` (one (id, surface)
-/// per cell, or empty) go into a CELL_DATA field of two string arrays.
-pub(crate) fn write_lines(
-    points: &[Vec3],
-    cells: &[Vec<u32>],
-    labels: &[(&str, &str)],
-    header_comment: &str,
-) -> Vec<u8> {
-    let mut out = format!(
-        "# vtk DataFile Version 3.0\n{}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
-        title(header_comment),
-        points.len()
-    );
-    for p in points {
-        out.push_str(&format!("{}\n", fmt_point(p, " ")));
-    }
-    let size: usize = cells.iter().map(|c| c.len() + 1).sum();
-    out.push_str(&format!("LINES {} {size}\n", cells.len()));
-    for c in cells {
-        out.push_str(&c.len().to_string());
-        for i in c {
-            out.push_str(&format!(" {i}"));
-        }
-        out.push('\n');
-    }
-    if !labels.is_empty() && labels.len() == cells.len() {
-        out.push_str(&format!(
-            "CELL_DATA {}\nFIELD FieldData 2\n{CONTOUR_ID_ARRAY} 1 {} string\n",
-            cells.len(),
-            cells.len()
-        ));
-        for (id, _) in labels {
-            out.push_str(&percent_encode(id));
-            out.push('\n');
-        }
-        out.push_str(&format!("{SURFACE_ARRAY} 1 {} string\n", cells.len()));
-        for (_, surface) in labels {
-            out.push_str(&percent_encode(surface));
-            out.push('\n');
-        }
-    }
-    out.into_bytes()
-}
-
-/// VTK legacy 3.0 ASCII POLYDATA with triangles and the optional point scalars.
-pub fn write_vtk(
-    mesh: &TriMesh,
-    point_data: Option<(&str, &[f64])>,
-    header_comment: &str,
-) -> Vec<u8> {
-    let title = title(header_comment);
-    let mut out = format!(
-        "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
-        mesh.positions.len()
-    );
-    for p in &mesh.positions {
-        out.push_str(&format!("{}\n", fmt_point(p, " ")));
-    }
-    out.push_str(&format!(
-        "POLYGONS {} {}\n",
-        mesh.triangles.len(),
-        4 * mesh.triangles.len()
-    ));
-    for t in &mesh.triangles {
-        out.push_str(&format!("3 {} {} {}\n", t[0], t[1], t[2]));
-    }
-    if let Some((name, values)) = point_data {
-        let name: String = name
-            .chars()
-            .map(|c| if c.is_ascii_graphic() { c } else { '_' })
-            .collect();
-        out.push_str(&format!(
-            "POINT_DATA {}\nSCALARS {name} double 1\nLOOKUP_TABLE default\n",
-            values.len()
-        ));
-        for v in values {
-            out.push_str(&fmt_num(*v));
-            out.push('\n');
-        }
-    }
-    out.into_bytes()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const LINES: &str = "# vtk DataFile Version 3.0\ncontours\nASCII\nDATASET POLYDATA\n\
-        POINTS 5 float\n0 0 0 1 0 0 1 1 0\n0 0 5 0 1 5\nLINES 2 7\n3 0 1 2\n2 3 4\n";
-
-    #[test]
-    fn lines_become_contours() {
-        let set = read_vtk_contours(LINES.as_bytes()).unwrap();
-        assert_eq!(set.contours.len(), 2);
-        assert_eq!(set.contours[0].point_count(), 3);
-        assert_eq!(set.contours[1].pieces[0].points[1], v3(0.0, 1.0, 5.0));
-    }
-
-    #[test]
-    fn version_51_layout() {
-        let s = "# vtk DataFile Version 5.1\nx\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n\
-                 0 0 0 1 0 0 1 1 0 0 1 0\nPOLYGONS 2 4\nOFFSETS vtktypeint64\n0 4\n\
-                 CONNECTIVITY vtktypeint64\n0 1 2 3\n";
-        let m = read_vtk_mesh(s.as_bytes()).unwrap().mesh;
-        assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
-    }
-
-    #[test]
-    fn binary_lines() {
-        let mut b =
-            b"# vtk DataFile Version 3.0\nb\nBINARY\nDATASET POLYDATA\nPOINTS 3 float\n".to_vec();
-        for x in [0f32, 0., 0., 10., 0., 0., 10., 10., 0.] {
-            b.extend_from_slice(&x.to_be_bytes());
-        }
-        b.extend_from_slice(b"\nLINES 1 4\n");
-        for i in [3i32, 0, 1, 2] {
-            b.extend_from_slice(&i.to_be_bytes());
-        }
-        b.push(b'\n');
-        let set = read_vtk_contours(&b).unwrap();
-        assert_eq!(set.point_count(), 3);
-        assert_eq!(set.contours[0].pieces[0].points[2], v3(10.0, 10.0, 0.0));
-        // Truncated binary data is an error, not a panic.
-        assert!(read_vtk_contours(&b[..b.len() - 6]).is_err());
-    }
-
-    #[test]
-    fn long_comment_keeps_ascii_keyword_early() {
-        let m = TriMesh::new(
-            vec![v3(0., 0., 0.), v3(1., 0., 0.), v3(0., 1., 0.)],
-            vec![[0, 1, 2]],
-        );
-        let out = write_vtk(&m, None, &"x".repeat(1000));
-        let head = String::from_utf8_lossy(&out[..250]).into_owned();
-        assert_eq!(head.split('\n').nth(2), Some("ASCII"));
-    }
-
-    #[test]
-    fn bad_index_has_line() {
-        let s = LINES.replace("2 3 4", "2 3 9");
-        let e = read_vtk_contours(s.as_bytes()).unwrap_err();
-        assert_eq!(e.line(), Some(10), "{e}");
-    }
 }

@@ -1,0 +1,58 @@
+use super::*;
+
+const LINES: &str = "# vtk DataFile Version 3.0\ncontours\nASCII\nDATASET POLYDATA\n\
+    POINTS 5 float\n0 0 0 1 0 0 1 1 0\n0 0 5 0 1 5\nLINES 2 7\n3 0 1 2\n2 3 4\n";
+
+#[test]
+fn lines_become_contours() {
+    let set = read_vtk_contours(LINES.as_bytes()).unwrap();
+    assert_eq!(set.contours.len(), 2);
+    assert_eq!(set.contours[0].point_count(), 3);
+    assert_eq!(set.contours[1].pieces[0].points[1], v3(0.0, 1.0, 5.0));
+}
+
+#[test]
+fn version_51_layout() {
+    let s = "# vtk DataFile Version 5.1\nx\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n\
+             0 0 0 1 0 0 1 1 0 0 1 0\nPOLYGONS 2 4\nOFFSETS vtktypeint64\n0 4\n\
+             CONNECTIVITY vtktypeint64\n0 1 2 3\n";
+    let m = read_vtk_mesh(s.as_bytes()).unwrap().mesh;
+    assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+}
+
+#[test]
+fn binary_lines() {
+    let mut b =
+        b"# vtk DataFile Version 3.0\nb\nBINARY\nDATASET POLYDATA\nPOINTS 3 float\n".to_vec();
+    for x in [0f32, 0., 0., 10., 0., 0., 10., 10., 0.] {
+        b.extend_from_slice(&x.to_be_bytes());
+    }
+    b.extend_from_slice(b"\nLINES 1 4\n");
+    for i in [3i32, 0, 1, 2] {
+        b.extend_from_slice(&i.to_be_bytes());
+    }
+    b.push(b'\n');
+    let set = read_vtk_contours(&b).unwrap();
+    assert_eq!(set.point_count(), 3);
+    assert_eq!(set.contours[0].pieces[0].points[2], v3(10.0, 10.0, 0.0));
+    // Truncated binary data is an error, not a panic.
+    assert!(read_vtk_contours(&b[..b.len() - 6]).is_err());
+}
+
+#[test]
+fn long_comment_keeps_ascii_keyword_early() {
+    let m = TriMesh::new(
+        vec![v3(0., 0., 0.), v3(1., 0., 0.), v3(0., 1., 0.)],
+        vec![[0, 1, 2]],
+    );
+    let out = write_vtk(&m, None, &"x".repeat(1000));
+    let head = String::from_utf8_lossy(&out[..250]).into_owned();
+    assert_eq!(head.split('\n').nth(2), Some("ASCII"));
+}
+
+#[test]
+fn bad_index_has_line() {
+    let s = LINES.replace("2 3 4", "2 3 9");
+    let e = read_vtk_contours(s.as_bytes()).unwrap_err();
+    assert_eq!(e.line(), Some(10), "{e}");
+}

@@ -1,0 +1,117 @@
+//! The VTK legacy writer: version 3.0 ASCII POLYDATA, triangles with point scalars (meshes) or
+//! lines with string cell labels (contours).
+
+use super::{CONTOUR_ID_ARRAY, SURFACE_ARRAY};
+use crate::geometry::Vec3;
+use crate::io::{fmt_num, fmt_point, header_lines};
+use crate::mesh::TriMesh;
+
+/// VTK's string encoding in legacy files: `%XX` for '%', spaces, control and non-ASCII bytes.
+fn percent_encode(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for b in s.bytes() {
+        if b <= b' ' || b > b'~' || b == b'%' {
+            out.push_str(&format!("%{b:02X}"));
+        } else {
+            out.push(b as char);
+        }
+    }
+    out
+}
+
+const TITLE_MAX: usize = 160;
+
+/// The title line: version and comment, short (see [`write_vtk`]).
+fn title(header_comment: &str) -> String {
+    // Readers such as three.js' VTKLoader look for "ASCII" within the first 250 bytes, so the
+    // title (limited to 256 characters by the format) is kept well below that.
+    header_lines(header_comment)
+        .join(" | ")
+        .chars()
+        .filter(|c| c.is_ascii() && !c.is_ascii_control())
+        .take(TITLE_MAX)
+        .collect()
+}
+
+/// Polylines (contours) as VTK legacy 3.0 ASCII POLYDATA LINES; `labels` (one (id, surface)
+/// per cell, or empty) go into a CELL_DATA field of two string arrays.
+pub(crate) fn write_lines(
+    points: &[Vec3],
+    cells: &[Vec<u32>],
+    labels: &[(&str, &str)],
+    header_comment: &str,
+) -> Vec<u8> {
+    let mut out = format!(
+        "# vtk DataFile Version 3.0\n{}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
+        title(header_comment),
+        points.len()
+    );
+    for p in points {
+        out.push_str(&format!("{}\n", fmt_point(p, " ")));
+    }
+    let size: usize = cells.iter().map(|c| c.len() + 1).sum();
+    out.push_str(&format!("LINES {} {size}\n", cells.len()));
+    for c in cells {
+        out.push_str(&c.len().to_string());
+        for i in c {
+            out.push_str(&format!(" {i}"));
+        }
+        out.push('\n');
+    }
+    if !labels.is_empty() && labels.len() == cells.len() {
+        out.push_str(&format!(
+            "CELL_DATA {}\nFIELD FieldData 2\n{CONTOUR_ID_ARRAY} 1 {} string\n",
+            cells.len(),
+            cells.len()
+        ));
+        for (id, _) in labels {
+            out.push_str(&percent_encode(id));
+            out.push('\n');
+        }
+        out.push_str(&format!("{SURFACE_ARRAY} 1 {} string\n", cells.len()));
+        for (_, surface) in labels {
+            out.push_str(&percent_encode(surface));
+            out.push('\n');
+        }
+    }
+    out.into_bytes()
+}
+
+/// VTK legacy 3.0 ASCII POLYDATA with triangles and the optional point scalars.
+pub fn write_vtk(
+    mesh: &TriMesh,
+    point_data: Option<(&str, &[f64])>,
+    header_comment: &str,
+) -> Vec<u8> {
+    let title = title(header_comment);
+    let mut out = format!(
+        "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
+        mesh.positions.len()
+    );
+    for p in &mesh.positions {
+        out.push_str(&format!("{}\n", fmt_point(p, " ")));
+    }
+    out.push_str(&format!(
+        "POLYGONS {} {}\n",
+        mesh.triangles.len(),
+        4 * mesh.triangles.len()
+    ));
+    for t in &mesh.triangles {
+        out.push_str(&format!("3 {} {} {}\n", t[0], t[1], t[2]));
+    }
+    if let Some((name, values)) = point_data {
+        let name: String = name
+            .chars()
+            .map(|c| if c.is_ascii_graphic() { c } else { '_' })
+            .collect();
+        out.push_str(&format!(
+            "POINT_DATA {}\nSCALARS {name} double 1\nLOOKUP_TABLE default\n",
+            values.len()
+        ));
+        for v in values {
+            out.push_str(&fmt_num(*v));
+            out.push('\n');
+        }
+    }
+    out.into_bytes()
+}

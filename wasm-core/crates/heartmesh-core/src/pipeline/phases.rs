@@ -1,0 +1,231 @@
+//! The phases of a reconstruction step: the initial tube, attractor sampling, closest points,
+//! the remesh, and the step report.
+
+use super::tube;
+use super::{capped_reduction, Phase, PhaseTimings, Reconstruction, StepReport, MIN_ATTRACTORS};
+use crate::contours::rings::tube_rings;
+use crate::deform::attractors::farthest_point_sampling;
+use crate::error::{CoreError, Result};
+use crate::geometry::Vec3;
+use crate::mesh::TriMesh;
+use crate::parallel;
+use crate::refine::remesh_with;
+use crate::spatial::Bvh;
+
+impl Reconstruction {
+    /// Builds the initial tube, remeshes it once and picks the first attractors.
+    pub(super) fn start(&mut self, timings: &mut PhaseTimings) -> Result<StepReport> {
+        let slices: Vec<Vec<usize>> = self
+            .layout
+            .slices
+            .iter()
+            .map(|s| s.contours.clone())
+            .collect();
+        let rings = tube_rings(
+            &self.contours,
+            &slices,
+            &self.layout.axis,
+            self.params.ring_points,
+        );
+        if rings.len() < 2 {
+            return Err(CoreError::Degenerate(format!(
+                "only {} short-axis slice(s) form a ring of 3 or more points",
+                rings.len()
+            )));
+        }
+        let lids = tube::lids(&self.params.lids, &rings, &self.contours, &self.layout);
+        let mut rings = rings;
+        tube::extend_to_base(&mut rings, &lids, &self.layout.axis);
+        let mut mesh = tube::ruled_tube(&rings, &lids);
+        for p in &mut mesh.positions {
+            *p = self.norm.to_unit(p);
+        }
+        let closed = lids.apex.is_some() && lids.base.is_some();
+        if closed && mesh.signed_volume() < 0.0 {
+            mesh.flip_orientation();
+        }
+        let t = self.clock.now_ms();
+        self.mesh_unit = self.remeshed(&mesh)?;
+        timings.remesh_ms = self.clock.now_ms() - t;
+        self.bvh = Some(Bvh::build(&self.mesh_unit));
+        let t = self.clock.now_ms();
+        self.resample_attractors()?;
+        timings.attractors_ms = self.clock.now_ms() - t;
+        self.started = true;
+        self.update_mesh_mm();
+        Ok(self.report(Phase::InitialTube, true, true, (0.0, 0.0), *timings))
+    }
+
+    /// Farthest-point sampling of the attractors, seeded at the candidate farthest from the mesh.
+    pub(super) fn resample_attractors(&mut self) -> Result<()> {
+        let bvh = self
+            .bvh
+            .as_ref()
+            .ok_or_else(|| CoreError::InvalidMesh("no mesh to measure against".into()))?;
+        // The candidate farthest from the mesh (the first of equals), searched in contiguous
+        // ranges on the threads: each range's own farthest, then the first of the farthest in
+        // range order, which is the one a single pass finds.
+        let (candidates, mesh) = (&self.candidates, &self.mesh_unit);
+        let per_range = parallel::map_parts(
+            candidates.len(),
+            parallel::parts_for(candidates.len(), 1000),
+            |range| farthest_from_mesh(bvh, mesh, candidates, range),
+        );
+        let mut seed = (f64::NEG_INFINITY, 0usize);
+        for best in per_range {
+            if best.0 > seed.0 {
+                seed = best;
+            }
+        }
+        let idx = match self.fps_last.take() {
+            Some((last, idx)) if last == seed.1 => idx,
+            _ => farthest_point_sampling(
+                &self.candidates,
+                seed.1,
+                self.attractor_budget,
+                MIN_ATTRACTORS,
+                &mut self.fps_scratch,
+            ),
+        };
+        if idx.len() < MIN_ATTRACTORS {
+            return Err(CoreError::Degenerate(format!(
+                "only {} distinct contour points; at least {MIN_ATTRACTORS} are needed",
+                idx.len()
+            )));
+        }
+        self.attractors.clear();
+        self.attractors
+            .extend(idx.iter().map(|&i| self.candidates[i]));
+        self.attractor_owner.clear();
+        self.attractor_owner
+            .extend(idx.iter().map(|&i| self.candidate_owner[i]));
+        self.hints.clear();
+        self.hints.resize(self.attractors.len(), u32::MAX);
+        self.fps_last = Some((seed.1, idx));
+        Ok(())
+    }
+
+    /// Closest mesh point of every attractor into `self.closest`; returns (max, mean) distance.
+    pub(super) fn closest_points(&mut self) -> Result<(f64, f64)> {
+        let bvh = self
+            .bvh
+            .as_ref()
+            .ok_or_else(|| CoreError::InvalidMesh("no mesh to measure against".into()))?;
+        let n = self.attractors.len();
+        self.hints.resize(n, u32::MAX);
+        self.hits.clear();
+        self.hits.resize(n, None);
+        // Independent queries (each starts from its own attractor's last triangle): ranges of
+        // attractors go to different threads (~1 us per query); the sums below stay in order.
+        let (attractors, mesh) = (&self.attractors, &self.mesh_unit);
+        parallel::for_each_chunk(
+            &mut self.hits,
+            &mut self.hints,
+            parallel::parts_for(n, 1000),
+            |start, hits, hints| {
+                for ((q, hit), hint) in attractors[start..].iter().zip(hits).zip(hints) {
+                    *hit = bvh.closest_point_near(mesh, *q, *hint);
+                    if let Some(h) = hit {
+                        *hint = h.triangle;
+                    }
+                }
+            },
+        );
+        self.closest.clear();
+        let (mut max_d, mut sum_d) = (0.0f64, 0.0);
+        for hit in &self.hits {
+            let hit =
+                hit.ok_or_else(|| CoreError::InvalidMesh("the mesh has no triangles".into()))?;
+            let d = hit.distance_sq.sqrt();
+            max_d = max_d.max(d);
+            sum_d += d;
+            self.closest.push(hit.point);
+        }
+        Ok((max_d, sum_d / n.max(1) as f64))
+    }
+
+    /// Subdivide + smooth + decimate, keeping the closed/open state of the mesh.
+    pub(super) fn remeshed(&self, mesh: &TriMesh) -> Result<TriMesh> {
+        let p = &self.params;
+        // `remesh` checks that its result is manifold, oriented and as closed as its input.
+        remesh_with(
+            mesh,
+            p.smoothing,
+            p.smoothing_iterations,
+            p.smoothing_factor,
+            capped_reduction(p.target_reduction, mesh.triangles.len()),
+        )
+    }
+
+    pub(super) fn remesh(&mut self) -> Result<()> {
+        self.mesh_unit = self.remeshed(&self.mesh_unit)?;
+        self.bvh = Some(Bvh::build(&self.mesh_unit));
+        // New triangles: the old indices would still give the same answers, only slower.
+        self.hints.fill(u32::MAX);
+        Ok(())
+    }
+
+    pub(super) fn update_mesh_mm(&mut self) {
+        let norm = self.norm;
+        self.mesh_mm.positions.clear();
+        self.mesh_mm
+            .positions
+            .extend(self.mesh_unit.positions.iter().map(|p| norm.to_mm(p)));
+        if self.mesh_mm.triangles != self.mesh_unit.triangles {
+            self.mesh_mm.triangles.clone_from(&self.mesh_unit.triangles);
+        }
+    }
+
+    pub(super) fn report(
+        &self,
+        phase: Phase,
+        topology_changed: bool,
+        attractors_changed: bool,
+        (max_distance_mm, mean_distance_mm): (f64, f64),
+        timings: PhaseTimings,
+    ) -> StepReport {
+        StepReport {
+            iteration: self.iteration,
+            total_iterations: self.params.iterations,
+            phase,
+            topology_changed,
+            attractors_changed,
+            max_distance_mm,
+            mean_distance_mm,
+            vertices: self.mesh_unit.positions.len(),
+            triangles: self.mesh_unit.triangles.len(),
+            attractors: self.attractors.len(),
+            timings,
+            done: self.done,
+        }
+    }
+}
+
+/// Squared distance to the mesh and index of the first farthest candidate of `range`
+/// ((-inf, range.start) if none has a distance).
+fn farthest_from_mesh(
+    bvh: &Bvh,
+    mesh: &TriMesh,
+    candidates: &[Vec3],
+    range: std::ops::Range<usize>,
+) -> (f64, usize) {
+    let mut seed = (f64::NEG_INFINITY, range.start);
+    // Consecutive candidates lie ~1 mm apart along a contour: each hit seeds the next query.
+    let mut hint = u32::MAX;
+    for (i, q) in candidates[range.clone()].iter().enumerate() {
+        // Only the farthest candidate matters: one no farther from the previous hit's triangle
+        // than the farthest so far cannot beat it (that distance bounds its own from above).
+        if let Some(bound) = bvh.distance_sq_to_triangle(*q, hint) {
+            if bound <= seed.0 {
+                continue;
+            }
+        }
+        let hit = bvh.closest_point_near(mesh, *q, hint);
+        hint = hit.map_or(u32::MAX, |h| h.triangle);
+        let d = hit.map_or(f64::INFINITY, |h| h.distance_sq);
+        if d > seed.0 {
+            seed = (d, range.start + i);
+        }
+    }
+    seed
+}

@@ -1,0 +1,234 @@
+use super::anatomy::refine_axis;
+use super::*;
+use crate::sim::shapes::ParametricLv;
+
+fn lv() -> TriMesh {
+    ParametricLv::default().mesh(96, 60).unwrap()
+}
+
+/// A dilated, squat open ventricle (wider than long, tilted in the scanner): its principal
+/// axis lies in the base plane, and the rounds from it stop more than 14 degrees off (on
+/// population member p69 the stack then cut the rim and left a 40 mm gap); the rim start
+/// finds the true axis.
+#[test]
+fn squat_open_ventricle_is_planned_along_its_axis() {
+    let squat = ParametricLv {
+        length_mm: 50.0,
+        radius_mm: 34.0,
+        base_radius_mm: 30.0,
+        ..ParametricLv::default()
+    }
+    .mesh(96, 60)
+    .unwrap();
+    let turn = Rotation3::from_euler_angles(0.4, -0.7, 1.1);
+    let offset = Vec3::new(120.0, -250.0, 80.0);
+    let truth = TriMesh::new(
+        squat.positions.iter().map(|p| turn * p + offset).collect(),
+        squat.triangles.clone(),
+    );
+    let true_axis = turn * Vec3::z();
+    let (pca, _) = LongAxis::from_mesh(&truth).unwrap();
+    let principal = refine_axis(&truth, pca, 3.0);
+    assert!(
+        principal.direction.dot(&true_axis).abs() < 0.97,
+        "the principal start should fail on this shape: {:?}, dot {}",
+        principal.direction,
+        principal.direction.dot(&true_axis)
+    );
+    let axis = anatomical_axis(&truth, 3.0).unwrap();
+    assert!(
+        axis.direction.dot(&true_axis) > 0.999,
+        "{:?} vs {true_axis:?}",
+        axis.direction
+    );
+    let acq = simulate(&truth, &AcquisitionSpec::default()).unwrap();
+    let (lo, _, _) = acq.axis.extent(&truth).unwrap();
+    let heights: Vec<f64> = acq
+        .sax_planes
+        .iter()
+        .map(|p| acq.axis.height(&p.origin) - lo)
+        .collect();
+    // A regular 10 mm stack from near the apex to below the rim (50 mm): 3-47 mm.
+    assert!(heights.len() >= 4, "{heights:?}");
+    assert!(heights
+        .windows(2)
+        .all(|w| (w[1] - w[0] - 10.0).abs() < 1e-6));
+    assert!(
+        heights[0] < 10.0 && *heights.last().unwrap() > 40.0,
+        "{heights:?}"
+    );
+}
+
+#[test]
+fn default_stack_and_lax() {
+    let truth = lv();
+    let acq = simulate(&truth, &AcquisitionSpec::default()).unwrap();
+    // Base rim at 80 mm, last closed section scanned at 79.75, top slice 3 mm below it, then
+    // every 10 mm down to >= 3 mm: 76.75, 66.75, ..., 6.75.
+    assert_eq!(acq.sax_planes.len(), 8);
+    let (lo, _, _) = acq.axis.extent(&truth).unwrap();
+    let top = acq.axis.height(&acq.clip.origin) - lo;
+    assert!((top - 76.75).abs() < 1e-6, "top slice at {top}");
+    assert_eq!(acq.lax_planes.len(), 3);
+    assert_eq!(acq.contours.contours.len(), 11);
+    let ids: Vec<&str> = acq
+        .contours
+        .contours
+        .iter()
+        .map(|c| c.id.as_str())
+        .collect();
+    assert_eq!(ids[0], "sax01");
+    assert_eq!(ids[8], "lax01");
+    let h = |p: &Plane| acq.axis.height(&p.origin);
+    assert!((h(&acq.clip) - h(&acq.sax_planes[0]) - 70.0).abs() < 1e-9);
+    for (c, plane) in acq.contours.contours.iter().zip(&acq.sax_planes) {
+        assert!(c.pieces[0].closed, "{}", c.id);
+        assert!(lies_in_plane(&c.pieces[0], plane, 1e-9));
+        // ~1 mm spacing.
+        let pl = &c.pieces[0];
+        let spacing = polyline_length(pl) / pl.points.len() as f64;
+        assert!((spacing - 1.0).abs() < 0.05, "{} spacing {spacing}", c.id);
+    }
+    for c in &acq.contours.contours[8..] {
+        // The LV is open at the base: long-axis curves are U-shaped, open.
+        assert!(!c.pieces[0].closed, "{}", c.id);
+    }
+    // 90 degrees between lax01 and lax02.
+    let d = acq.lax_planes[0].normal.dot(&acq.lax_planes[1].normal);
+    assert!(d.abs() < 1e-12);
+}
+
+/// A sheared LV (its base centre moved 24 mm sideways): the planner's axis passes through the
+/// apex, the shape's lowest point along it (where the surface is perpendicular to the line from
+/// the base centre, the farthest point from it); the principal axis passes 4+ mm from its own.
+#[test]
+fn anatomical_axis_passes_through_the_apex() {
+    let mut truth = lv();
+    for p in &mut truth.positions {
+        p.x += 0.3 * p.z;
+    }
+    let off_axis = |a: &LongAxis, p: &Vec3| {
+        let v = p - a.centre;
+        (v - a.direction * a.direction.dot(&v)).norm()
+    };
+    let lowest = |a: &LongAxis| {
+        *truth
+            .positions
+            .iter()
+            .min_by(|p, q| a.height(p).total_cmp(&a.height(q)))
+            .unwrap()
+    };
+    let axis = anatomical_axis(&truth, 3.0).unwrap();
+    let apex = lowest(&axis);
+    assert!(off_axis(&axis, &apex) < 0.5, "{}", off_axis(&axis, &apex));
+    let (pca, _) = LongAxis::from_mesh(&truth).unwrap();
+    assert!(off_axis(&pca, &lowest(&pca)) > 2.0);
+    // The long-axis planes of a simulated acquisition contain the apex.
+    let acq = simulate(&truth, &AcquisitionSpec::default()).unwrap();
+    for plane in &acq.lax_planes {
+        assert!(plane.signed_distance(&apex).abs() < 0.5);
+    }
+    // On the symmetric LV both axes are the z axis through the pole.
+    let axis = anatomical_axis(&lv(), 3.0).unwrap();
+    assert!(axis.direction.z > 0.99999, "{:?}", axis.direction);
+    assert!(off_axis(&axis, &Vec3::zeros()) < 1e-6);
+}
+
+#[test]
+fn misalignment_is_bounded_and_seeded() {
+    let truth = lv();
+    let spec = AcquisitionSpec {
+        misalignment: Some(Misalignment {
+            shift_mm: 2.0,
+            tilt_deg: 2.0,
+        }),
+        seed: 7,
+        ..AcquisitionSpec::default()
+    };
+    let a = simulate(&truth, &spec).unwrap();
+    let b = simulate(&truth, &spec).unwrap();
+    assert_eq!(a.contours, b.contours);
+    let c = simulate(
+        &truth,
+        &AcquisitionSpec {
+            seed: 8,
+            ..spec.clone()
+        },
+    )
+    .unwrap();
+    assert_ne!(a.contours, c.contours);
+    // Contours stay in their nominal planes (the scanner's coordinates)...
+    for (cont, plane) in a.contours.contours.iter().zip(&a.sax_planes) {
+        assert!(lies_in_plane(&cont.pieces[0], plane, 1e-9), "{}", cont.id);
+    }
+    // ...but are displaced from the truth: at most shift + tilt * lever arm.
+    let aligned = simulate(&truth, &AcquisitionSpec::default()).unwrap();
+    let mut moved = 0;
+    for (m, s) in a.contours.contours.iter().zip(&aligned.contours.contours) {
+        let cm = centroid(m.points());
+        let cs = centroid(s.points());
+        let d = (cm - cs).norm();
+        assert!(d < 2.0 + 0.04 * 40.0 + 0.5, "{}: centroid moved {d}", m.id);
+        if d > 0.2 {
+            moved += 1;
+        }
+    }
+    assert!(moved >= 5, "only {moved} contours moved");
+}
+
+#[test]
+fn count_stack_and_noise() {
+    let truth = lv();
+    let spec = AcquisitionSpec {
+        sax: SaxStack::Count(4),
+        lax_count: 0,
+        noise_mm: 0.5,
+        ..AcquisitionSpec::default()
+    };
+    let acq = simulate(&truth, &spec).unwrap();
+    assert_eq!(acq.contours.contours.len(), 4);
+    let h: Vec<f64> = acq
+        .sax_planes
+        .iter()
+        .map(|p| acq.axis.height(&p.origin))
+        .collect();
+    assert!((h[3] - h[0] - (79.75 - 6.0)).abs() < 1e-6);
+    // Noise stays in plane.
+    for (c, plane) in acq.contours.contours.iter().zip(&acq.sax_planes) {
+        assert!(lies_in_plane(&c.pieces[0], plane, 1e-9));
+    }
+    let bad = AcquisitionSpec {
+        lax_count: 9,
+        ..AcquisitionSpec::default()
+    };
+    assert_eq!(
+        simulate(&truth, &bad).unwrap_err().code(),
+        "param_out_of_range"
+    );
+}
+
+#[test]
+fn csv_round_trip() {
+    let truth = lv();
+    let spec = AcquisitionSpec {
+        surface: Some("LV_ENDO".into()),
+        lax_count: 2,
+        ..AcquisitionSpec::default()
+    };
+    let acq = simulate(&truth, &spec).unwrap();
+    let csv = crate::io::csv::write_csv(&acq.contours, None).unwrap();
+    let back = crate::io::read_contours("sim.csv", &csv).unwrap();
+    assert_eq!(back.contours.len(), acq.contours.contours.len());
+    for (a, b) in acq.contours.contours.iter().zip(&back.contours) {
+        assert_eq!(a.id, b.id);
+        assert_eq!(b.surface.as_deref(), Some("LV_ENDO"));
+        assert_eq!(a.pieces.len(), b.pieces.len(), "{}", a.id);
+        assert_eq!(a.pieces[0].closed, b.pieces[0].closed, "{}", a.id);
+        assert_eq!(a.point_count(), b.point_count(), "{}", a.id);
+    }
+}
+
+fn centroid<'a>(pts: impl Iterator<Item = &'a Vec3>) -> Vec3 {
+    let (s, n) = pts.fold((Vec3::zeros(), 0usize), |(s, n), p| (s + p, n + 1));
+    s / n as f64
+}
