@@ -13,25 +13,13 @@ use common::{check_closed_manifold_outward, contour_to_mesh_of, load_truth, mean
 use heartmesh_core::contours::plane::fit_plane;
 use heartmesh_core::contours::{ContourSet, Polyline};
 use heartmesh_core::geometry::Vec3;
+use heartmesh_core::sim::prng::SplitMix64;
 use heartmesh_core::sim::{simulate, AcquisitionSpec, Misalignment, SaxStack};
 use heartmesh_core::{io, Params};
 
-/// Deterministic xorshift64* for shuffles, start points and tilt axes.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
+/// A uniform index below `n` (0 when `n` is 0) from the simulator's seeded generator.
+fn below(rng: &mut SplitMix64, n: usize) -> usize {
+    (rng.next_u64() % n.max(1) as u64) as usize
 }
 
 fn acquisition(spec: AcquisitionSpec) -> ContourSet {
@@ -97,7 +85,7 @@ fn is_sax(id: &str) -> bool {
 }
 
 /// Rotates every other SAX contour by `lo..hi` degrees about an in-plane axis through its centroid.
-fn tilted(set: &ContourSet, lo: f64, hi: f64, rng: &mut Rng) -> ContourSet {
+fn tilted(set: &ContourSet, lo: f64, hi: f64, rng: &mut SplitMix64) -> ContourSet {
     let mut out = set.clone();
     for (k, c) in out.contours.iter_mut().enumerate() {
         if !is_sax(&c.id) || k % 2 == 0 {
@@ -113,9 +101,9 @@ fn tilted(set: &ContourSet, lo: f64, hi: f64, rng: &mut Rng) -> ContourSet {
         };
         let u = plane.normal.cross(&helper).normalize();
         let v = plane.normal.cross(&u);
-        let phi = rng.unit() * std::f64::consts::TAU;
+        let phi = rng.next_f64() * std::f64::consts::TAU;
         let axis = nalgebra::Unit::new_normalize(u * phi.cos() + v * phi.sin());
-        let angle = (lo + (hi - lo) * rng.unit()).to_radians();
+        let angle = (lo + (hi - lo) * rng.next_f64()).to_radians();
         let rot = nalgebra::Rotation3::from_axis_angle(&axis, angle);
         for p in &mut c.pieces {
             for q in &mut p.points {
@@ -131,19 +119,19 @@ fn reordered_reversed_and_shifted_inputs_give_the_same_surface() {
     let base = acquisition(spec());
     let (b_mean, b_vol, _) = run(&base); // 0.068 mm, 174.5 ml
     assert!(b_mean < 0.15, "baseline c2m mean {b_mean}");
-    let mut rng = Rng(8);
+    let mut rng = SplitMix64::new(8);
 
     let mut shuffled = base.clone();
     for i in (1..shuffled.contours.len()).rev() {
-        shuffled.contours.swap(i, rng.below(i + 1));
+        shuffled.contours.swap(i, below(&mut rng, i + 1));
     }
     let reversed = map_pieces(&base, |p| {
         let mut points = p.points.clone();
         if p.closed {
-            let k = rng.below(points.len());
+            let k = below(&mut rng, points.len());
             points.rotate_left(k);
         }
-        if rng.below(2) == 1 {
+        if below(&mut rng, 2) == 1 {
             points.reverse();
         }
         Polyline {
@@ -221,7 +209,7 @@ fn misaligned_noisy_and_sparse_acquisitions_stay_close_to_their_contours() {
 
 #[test]
 fn spacing_tilt_gaps_and_self_crossing_contours_reconstruct() {
-    let mut rng = Rng(19);
+    let mut rng = SplitMix64::new(19);
     let base = acquisition(spec());
     // Uneven gaps: a 5 mm stack thinned to gaps of 5-20 mm.
     let dense_stack = acquisition(AcquisitionSpec {
