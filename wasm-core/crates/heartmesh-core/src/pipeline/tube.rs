@@ -86,6 +86,10 @@ pub fn lids(mode: &LidMode, rings: &[Vec<Vec3>], contours: &[Contour], layout: &
 /// docs/VALIDATION.md: 0.5, 0.9 and 1.0 all lower the LV means; 0.9 kept the maxima lowest).
 const BASE_RING_FRACTION: f64 = 0.9;
 
+/// Smallest lid height above the basal ring, as a share of that ring's mean radius, for which
+/// [`extend_to_base`] adds a ring (a scale-free tolerance, so millimetre and centimetre files agree).
+const MIN_BASE_GAP_PER_RADIUS: f64 = 1e-3;
+
 /// Where the long-axis curves run on above the most basal short-axis ring (open LV curves reach the
 /// valve plane, often 10-20 mm higher), the wall there is nearly parallel to the axis, not a cone
 /// closing on the lid: the tube gets one more ring, the basal ring moved up most of the way to the
@@ -94,8 +98,13 @@ pub fn extend_to_base(rings: &mut Vec<Vec<Vec3>>, lids: &Lids, z: &Vec3) {
     let (Some(base), Some(last)) = (lids.base, rings.last()) else {
         return;
     };
-    let gap = (base - centroid(last)).dot(z);
-    if !(gap.is_finite() && gap > 0.0) {
+    let centre = centroid(last);
+    let gap = (base - centre).dot(z);
+    // Long-axis curves that end in the basal slice's own plane leave a gap of rounding size: a ring
+    // there would sit on the basal ring and make a band of zero-area triangles, which the first
+    // remesh refuses. Below a thousandth of the ring's radius the extension adds nothing anyway.
+    let radius = last.iter().map(|p| (p - centre).norm()).sum::<f64>() / last.len().max(1) as f64;
+    if !(gap.is_finite() && gap > MIN_BASE_GAP_PER_RADIUS * radius) {
         return;
     }
     let shift = z * (gap * BASE_RING_FRACTION);
@@ -163,6 +172,12 @@ mod tests {
             base: Some(v3(0.0, 0.0, 0.0)),
         };
         extend_to_base(&mut rings, &flat, &z);
+        // Long-axis curves ending in the basal plane, up to rounding: no ring on top of the last.
+        let rounding = Lids {
+            apex: None,
+            base: Some(v3(0.0, 0.0, 3.7e-15)),
+        };
+        extend_to_base(&mut rings, &rounding, &z);
         extend_to_base(
             &mut rings,
             &Lids {
