@@ -173,7 +173,7 @@ fn residuals(groups: &[Group], t: &[Vec3], cap: f64) -> Vec<Residual> {
             // Group b's curves, shifted by t[b], are offset by t[b].n along a's normal.
             let offset = (t[b] - t[a]).dot(&n);
             for piece in &gb.pieces {
-                for x in plane_crossings(piece, &c, &n, offset) {
+                for (x, w) in plane_crossings(piece, &c, &n, offset) {
                     // The crossing relative to a's unshifted curves (a's shift moved them by t[a];
                     // `offset` already took t[a] out along the normal).
                     let x = x + t[b] - t[a];
@@ -181,8 +181,8 @@ fn residuals(groups: &[Group], t: &[Vec3], cap: f64) -> Vec<Residual> {
                     if let Some((d, normal)) = residual_to(ga, piece.surface, &x, &n, cap) {
                         r.count += 1;
                         r.length += d.norm();
-                        r.h += normal * normal.transpose();
-                        r.b += normal * normal.dot(&d);
+                        r.h += normal * normal.transpose() * w;
+                        r.b += normal * (normal.dot(&d) * w);
                     }
                 }
             }
@@ -192,13 +192,16 @@ fn residuals(groups: &[Group], t: &[Vec3], cap: f64) -> Vec<Residual> {
 }
 
 /// Points where `piece` (its points moved by `offset` along `n`) crosses the plane (c, n), on the
-/// unshifted piece.
+/// unshifted piece, each with its weight sin^2 of the angle between the curve and the plane: a
+/// curve crossing at a shallow angle puts its crossing far off for any error across the planes
+/// (a tilt, a shift through the plane, slice thickness): in-plane error ~ that error / tan, so
+/// with errors of either kind alike the variance grows as 1 + cot^2 = 1 / sin^2.
 fn plane_crossings<'a>(
     piece: &'a Piece,
     c: &'a Vec3,
     n: &'a Vec3,
     offset: f64,
-) -> impl Iterator<Item = Vec3> + 'a {
+) -> impl Iterator<Item = (Vec3, f64)> + 'a {
     let m = piece.points.len();
     let segments = if piece.closed && m > 2 {
         m
@@ -211,7 +214,11 @@ fn plane_crossings<'a>(
         let dp = (p - c).dot(n) + offset;
         let dq = (q - c).dot(n) + offset;
         // Half-open on one side so that a vertex exactly in the plane counts once.
-        ((dp < 0.0) != (dq < 0.0) && dp != dq).then(|| p + (q - p) * (dp / (dp - dq)))
+        ((dp < 0.0) != (dq < 0.0) && dp != dq).then(|| {
+            let d = q - p;
+            let sin2 = (dp - dq).powi(2) / d.norm_squared();
+            (p + d * (dp / (dp - dq)), sin2)
+        })
     })
 }
 
