@@ -315,8 +315,8 @@ fn real_cases() {
                 lv_folds.0 += f0;
                 lv_folds.1 += f1;
             } else {
-                // Measured: every RV surface's c2m falls too (0.224-0.481 -> 0.097-0.418 mm);
-                // a fold count moves by a few with any change of the input (0 -> 2, 2 -> 5).
+                // Measured: every RV surface's c2m falls too (0.224-0.481 -> 0.095-0.394 mm);
+                // a fold count moves by a few with any change of the input (0 -> 2, 2 -> 3).
                 assert!(c1 <= c0 + 0.05, "{file} {surf}: {c0} -> {c1}");
                 assert!(f1 <= 2 * f0 + 6, "{file} {surf}: folds {f0} -> {f1}");
                 rv_folds.0 += f0;
@@ -324,11 +324,12 @@ fn real_cases() {
             }
         }
     }
-    // Measured: LV 4 -> 4, RV 5 -> 11 folded edges over the eight LV and six RV meshes; the
-    // bounds are twice that.
+    // Measured: LV 4 -> 1, RV 5 -> 9 folded edges over the eight LV and six RV meshes (a fold
+    // count moves by a few with any change of the input); bounds: twice the unaligned LV count,
+    // twice the measured RV count.
     eprintln!("REAL folds LV {lv_folds:?}, RV {rv_folds:?}");
     assert!(lv_folds.1 <= 8, "{lv_folds:?}");
-    assert!(rv_folds.1 <= 22, "{rv_folds:?}");
+    assert!(rv_folds.1 <= 18, "{rv_folds:?}");
 }
 
 fn norm(v: &[f64; 3]) -> f64 {

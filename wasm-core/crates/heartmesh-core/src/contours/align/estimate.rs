@@ -12,8 +12,12 @@ use crate::contours::ContourKind;
 use crate::geometry::Vec3;
 use nalgebra::{Matrix2, Matrix3, Vector2};
 
-/// A group needs this many matched crossings to move: fewer cannot tell a shift from a bad match.
-pub(super) const MIN_CROSSINGS: usize = 2;
+/// A group needs this many matched crossings with a closed ring on either side to move: fewer
+/// cannot tell a shift from a bad match. Crossings between open curves only (an RV crescent
+/// against an RV-only view) still count once a group moves, but cannot move one on their own:
+/// where an open curve ends, or which of its sides a crossing belongs to, is far less certain
+/// than for the LV's rings (aligning an RV on its own made real RVs worse, session 8).
+const MIN_CROSSINGS: usize = 2;
 
 /// Rounds at most. Shifts the crossings determine settle within about 20 rounds (each round
 /// moves a group half way towards agreeing with the others); the rest only slides slowly along
@@ -39,6 +43,8 @@ const SHIFT_CAP_OF_RADIUS: f64 = 0.4;
 pub(super) struct Estimate {
     pub shifts: Vec<Vec3>,
     pub crossings: Vec<usize>,
+    /// Whether each group could move (enough crossings with a ring, [`MIN_CROSSINGS`]).
+    pub moving: Vec<bool>,
     pub rounds: usize,
     /// Mean in-plane distance of matched crossings to their curves, before and after (mm; 0 when
     /// nothing matched).
@@ -58,6 +64,8 @@ const DAMPING: f64 = 1.0;
 #[derive(Debug, Clone, Copy, Default)]
 struct Residual {
     count: usize,
+    /// Crossings with a closed ring on either side.
+    rings: usize,
     /// Sum of the residuals' lengths.
     length: f64,
     /// Normal equations of the group's shift: sum of n n^T and of n (n . r) over the crossings,
@@ -74,7 +82,7 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
     let mut t = vec![Vec3::zeros(); g];
     let start = residuals(groups, &t, residual_cap);
     let crossings: Vec<usize> = start.iter().map(|r| r.count).collect();
-    let active: Vec<bool> = crossings.iter().map(|&c| c >= MIN_CROSSINGS).collect();
+    let active: Vec<bool> = start.iter().map(|r| r.rings >= MIN_CROSSINGS).collect();
     let n_active = active.iter().filter(|&&a| a).count();
     let mut rounds = 0;
     let mut current = start.clone();
@@ -133,6 +141,7 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
         after_mm: mean_length(&current),
         shifts: t,
         crossings,
+        moving: active,
         rounds,
     }
 }
@@ -178,8 +187,9 @@ fn residuals(groups: &[Group], t: &[Vec3], cap: f64) -> Vec<Residual> {
                     // `offset` already took t[a] out along the normal).
                     let x = x + t[b] - t[a];
                     let x = x - n * (x - c).dot(&n);
-                    if let Some((d, normal)) = residual_to(ga, piece.surface, &x, &n, cap) {
+                    if let Some((d, normal, ring)) = residual_to(ga, piece.surface, &x, &n, cap) {
                         r.count += 1;
+                        r.rings += usize::from(ring || piece.closed);
                         r.length += d.norm();
                         r.h += normal * normal.transpose() * w;
                         r.b += normal * (normal.dot(&d) * w);
@@ -222,12 +232,18 @@ fn plane_crossings<'a>(
     })
 }
 
-/// In-plane vector from the nearest point of the group's curves of `surface` to `x`, and the
-/// curve's unit in-plane normal there, if that point is within `cap` and is not the end of an
-/// open curve (a crossing beyond a curve's end, e.g. past a crescent's tip, does not say where the
-/// curve is).
-fn residual_to(g: &Group, surface: u32, x: &Vec3, n: &Vec3, cap: f64) -> Option<(Vec3, Vec3)> {
-    let mut best: Option<(f64, Vec3, bool, Vec3)> = None;
+/// In-plane vector from the nearest point of the group's curves of `surface` to `x`, the curve's
+/// unit in-plane normal there and whether the curve is closed, if that point is within `cap` and
+/// is not the end of an open curve (a crossing beyond a curve's end, e.g. past a crescent's tip,
+/// does not say where the curve is).
+fn residual_to(
+    g: &Group,
+    surface: u32,
+    x: &Vec3,
+    n: &Vec3,
+    cap: f64,
+) -> Option<(Vec3, Vec3, bool)> {
+    let mut best: Option<(f64, Vec3, bool, Vec3, bool)> = None;
     for piece in g.pieces.iter().filter(|p| p.surface == surface) {
         let bound = best.map_or(cap * cap, |b| b.0);
         if box_distance_sq(x, &piece.lo, &piece.hi) > bound {
@@ -235,11 +251,11 @@ fn residual_to(g: &Group, surface: u32, x: &Vec3, n: &Vec3, cap: f64) -> Option<
         }
         if let Some((d2, q, at_end, along)) = closest_on_piece(piece, x, bound) {
             if d2 <= bound && best.is_none_or(|b| d2 < b.0) {
-                best = Some((d2, q, at_end, along));
+                best = Some((d2, q, at_end, along, piece.closed));
             }
         }
     }
-    let (_, q, at_end, along) = best?;
+    let (_, q, at_end, along, closed) = best?;
     if at_end {
         return None;
     }
@@ -247,7 +263,7 @@ fn residual_to(g: &Group, surface: u32, x: &Vec3, n: &Vec3, cap: f64) -> Option<
     let r = r - n * r.dot(n);
     let normal = along.cross(n);
     let len = normal.norm();
-    (r.norm() <= cap && len > 1e-12).then(|| (r, normal / len))
+    (r.norm() <= cap && len > 1e-12).then(|| (r, normal / len, closed))
 }
 
 fn box_distance_sq(x: &Vec3, lo: &Vec3, hi: &Vec3) -> f64 {
