@@ -19,6 +19,7 @@ import {
   isCoreErrorData,
   paramsJson,
   transferablesOf,
+  withDefaultOptions,
   type ContourInfo,
   type CoreErrorData,
   type FromWorker,
@@ -212,6 +213,8 @@ export class WorkerCore {
       'points'
     >;
     const file: LoadedFile = { ...info, points: this.session.file_points(fileName) };
+    // A session saved before an option existed loads with that option at its default.
+    if (file.session) file.session = { ...file.session, options: withDefaultOptions(file.session.options) };
     this.send({ type: 'loaded', reqId, file });
   }
 
@@ -299,8 +302,13 @@ export class WorkerCore {
   private finish(run: ActiveRun): void {
     this.sendFrame(run); // the final frame goes out whatever the back-pressure
     const small = JSON.parse(this.session.result_json()) as ResultJson;
+    const last = run.report;
     const result: RunResult = {
       ...small,
+      options: withDefaultOptions(small.options),
+      alignment: small.alignment ?? null,
+      contour_to_mesh_as_given: small.contour_to_mesh_as_given ?? null,
+      ...convergence(last),
       runId: run.runId,
       contours: small.contours as ContourInfo[],
       contourPoints: this.session.contour_points(),
@@ -338,6 +346,16 @@ export class WorkerCore {
     if (file !== undefined) error.file = file;
     this.send({ type: 'error', ...ids, error });
   }
+}
+
+/**
+ * How many deformation iterations the run did and whether it stopped early because the attractors
+ * were reached (the core's stop threshold): the final step's report says `done` before its
+ * `iteration` reaches `total_iterations`.
+ */
+export function convergence(last: StepReport | null): { iterations_done?: number; converged?: boolean } {
+  if (!last) return {};
+  return { iterations_done: last.iteration, converged: last.done && last.iteration < last.total_iterations };
 }
 
 /** The CoreErrorData in a value thrown by the wasm Session, or null if it is not one. */
