@@ -173,6 +173,8 @@ export class Viewer {
   frame(points: ArrayLike<number>): void {
     this.framePoints = points;
     this.fit = fitView(points);
+    // The framed radius (mm), for the browser tests: a refused file in metres is framed at its size.
+    this.renderer.domElement.dataset.viewRadius = String(this.fit.radius);
     this.userMoved = false;
     this.resetView();
   }
