@@ -117,7 +117,7 @@ describe('result panel', () => {
     const body = table.findAll((e) => e.tagName === 'tr').slice(1).map((tr) => (tr.children as FakeElement[]).map((td) => td.textContent));
     // |(0,1.2,-1.6)| = 2.0, |(-1.2,0,0.9)| = 1.5, |(0.3,0.4,0)| = 0.5
     expect(body).toEqual([['4ch', 'LAX', '2.00'], ['SAX 2', 'SAX', '1.50'], ['SAX 1', 'SAX', '0.50']]);
-    expect(table.findAll((e) => e.tagName === 'tr')[3].title).toBe('SAX s1_endo, s1_epi: moved by (0.30, 0.40, 0.00) mm in its own plane (scanner coordinates)');
+    expect(table.findAll((e) => e.tagName === 'tr')[3].title).toBe('SAX 1 (SAX: s1_endo, s1_epi): moved by (0.30, 0.40, 0.00) mm in its own plane (scanner coordinates)');
 
     // A run without alignment: no alignment box, no as-given rows, and a clear() forgets the numbers.
     panel.show(result({ iterations_done: 250, converged: false }));

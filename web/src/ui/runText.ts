@@ -57,7 +57,7 @@ export function alignmentRows(a: Alignment): AlignmentRow[] {
       kind: g.kind,
       magnitudeMm: m,
       title:
-        `${g.kind} ${g.contour_ids.join(', ')}: moved by (${g.shift_mm.map((v) => v.toFixed(2)).join(', ')}) mm ` +
+        `${g.label} (${g.kind}: ${g.contour_ids.join(', ')}): moved by (${g.shift_mm.map((v) => v.toFixed(2)).join(', ')}) mm ` +
         'in its own plane (scanner coordinates)',
     }));
 }

@@ -27,7 +27,7 @@ export class GivenContourLayer {
   readonly group = new THREE.Group();
   private lines: THREE.LineSegments | null = null;
   private readonly material = new THREE.LineDashedMaterial({
-    color: 0xd0d7de, transparent: true, opacity: 0.45, dashSize: 1.2, gapSize: 1.2, depthWrite: false,
+    color: 0xffffff, transparent: true, opacity: 0.8, dashSize: 1.5, gapSize: 1, depthWrite: false,
   });
 
   constructor() {
