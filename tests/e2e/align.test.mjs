@@ -39,6 +39,11 @@ describe('breath-hold alignment in the browser', () => {
     // Checked before any file: nothing runs yet; the option is in the URL at once.
     await page.check('[data-testid=param-align-slices]');
     assert.match(page.url(), /align_slices=1/);
+    // The parameter panel for the README and user guide (a taller window so it fits whole).
+    await page.setViewportSize({ width: 1280, height: 1000 });
+    await page.mouse.move(0, 0);
+    await page.locator('section.params').screenshot({ path: join(SHOTS, 'params.png') });
+    await page.setViewportSize({ width: 1280, height: 720 });
     const gp = join(sharedDir(), 'data', 'contours', 'bivme-test-patient2', 'GPFile_000.txt');
     await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', gp), 120000);
     const r = await readResult(page);

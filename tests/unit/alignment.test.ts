@@ -132,6 +132,17 @@ describe('result panel', () => {
     expect(box.hidden).toBe(true);
   });
 
+  it('shows why nothing moved (no long-axis view) and no table', () => {
+    const panel = new ResultPanel();
+    const el = panel.element as unknown as FakeElement;
+    panel.show(result({ alignment: { rounds: 0, residual_before_mm: 0, residual_after_mm: 0, groups: [], note: 'no long-axis views: nothing to align to' } }));
+    const box = el.byTestId('result-alignment')!;
+    expect(box.hidden).toBe(false);
+    expect(box.textContent).toContain('no long-axis views: nothing to align to');
+    expect(el.byTestId('alignment-groups')).toBeUndefined();
+    expect(el.dataset.residualAfterMm).toBe('0');
+  });
+
   it('formats the residual and sorts rows by shift length, stable on ties', () => {
     expect(residualText({ ...ALIGNMENT, rounds: 1 })).toBe('2.35 → 0.61 mm (1 round)');
     const tie = alignmentRows({ ...ALIGNMENT, groups: [ALIGNMENT.groups[0], { ...ALIGNMENT.groups[0], label: 'SAX 9' }] });
