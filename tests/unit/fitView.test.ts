@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { cameraPlacement, fitView } from '../../web/src/viewer/fitView';
+import { cameraPlacement, dashScale, fitView } from '../../web/src/viewer/fitView';
 
 describe('fitView', () => {
   it('finds centre, radius and the long axis of an elongated cloud', () => {
@@ -44,5 +44,10 @@ describe('fitView', () => {
     expect(fitView([3, 4, 5]).radius).toBe(1);
     const overflow = fitView([-1e308, 0, 0, 1e308, 0, 0]);
     expect(overflow).toEqual(fitView([]));
+    // Dashes keep their mm length for hearts, and scale with the scene outside that range.
+    expect([dashScale(60), dashScale(25), dashScale(200)]).toEqual([1, 1, 1]);
+    expect(dashScale(metres.radius)).toBeCloseTo(metres.radius / 25, 12);
+    expect(dashScale(5e4)).toBe(250);
+    expect([dashScale(0), dashScale(NaN), dashScale(Infinity)]).toEqual([1, 1, 1]);
   });
 });

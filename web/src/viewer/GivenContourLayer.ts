@@ -47,6 +47,13 @@ export class GivenContourLayer {
     this.group.add(this.lines);
   }
 
+  /** Dash lengths in proportion to the framed scene (see ContourLayer.setDashScale). */
+  setDashScale(scale: number): void {
+    const s = Number.isFinite(scale) && scale > 0 ? scale : 1;
+    this.material.dashSize = 1.5 * s;
+    this.material.gapSize = 1 * s;
+  }
+
   get shown(): boolean {
     return this.lines !== null && this.group.visible;
   }

@@ -9,7 +9,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { LandmarkLayer } from './LandmarkLayer';
 import { AttractorLayer } from './AttractorLayer';
 import { ContourLayer, warmupGeometry } from './ContourLayer';
-import { cameraPlacement, fitView, type ViewFit } from './fitView';
+import { cameraPlacement, dashScale, fitView, type ViewFit } from './fitView';
 import { GivenContourLayer } from './GivenContourLayer';
 import { MeshLayer } from './MeshLayer';
 
@@ -175,6 +175,8 @@ export class Viewer {
     this.fit = fitView(points);
     // The framed radius (mm), for the browser tests: a refused file in metres is framed at its size.
     this.renderer.domElement.dataset.viewRadius = String(this.fit.radius);
+    this.contourLayer.setDashScale(dashScale(this.fit.radius));
+    this.givenLayer.setDashScale(dashScale(this.fit.radius));
     this.userMoved = false;
     this.resetView();
   }

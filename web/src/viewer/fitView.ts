@@ -92,6 +92,18 @@ export function viewRadius(r: number): number {
 }
 
 /**
+ * Scale of dash lengths (drawn in mm) for a scene of this framing radius: 1 for hearts in mm (radius
+ * 25-200 mm, the drawing is unchanged there), proportional outside, so dashed curves of a file in
+ * metres or micrometres do not turn solid or dissolve.
+ */
+export function dashScale(radius: number): number {
+  if (!(radius > 0) || !Number.isFinite(radius)) return 1;
+  if (radius < 25) return radius / 25;
+  if (radius > 200) return radius / 200;
+  return 1;
+}
+
+/**
  * Camera distance and clipping planes that show a bounding sphere of `radius` whole in the
  * narrower field of view (the mesh may reach a little past the contours at the lids). Near and far
  * scale with the distance, so a tiny or huge scene is neither clipped nor lost in depth precision.
