@@ -7,19 +7,23 @@
 //! together; moving only the slices onto fixed views was worse (session 8), because the views are
 //! misaligned too.
 
-use super::groups::{Group, Piece};
+use super::groups::{Group, Piece, CHUNK};
+use crate::contours::ContourKind;
 use crate::geometry::Vec3;
+use nalgebra::{Matrix2, Matrix3, Vector2};
 
 /// A group needs this many matched crossings to move: fewer cannot tell a shift from a bad match.
 pub(super) const MIN_CROSSINGS: usize = 2;
 
-/// Rounds at most. Each round halves the disagreement between two groups; 100 rounds leave
-/// nothing of any realistic shift even when many groups share the correction.
-const MAX_ROUNDS: usize = 100;
+/// Rounds at most. Shifts the crossings determine settle within about 20 rounds (each round
+/// moves a group half way towards agreeing with the others); the rest only slides slowly along
+/// directions the crossings barely see (see [`DAMPING`]).
+const MAX_ROUNDS: usize = 50;
 
-/// Rounds stop once no group's shift changes by more than this (mm): far below the contours'
-/// own precision (~1 mm pixels).
-const CONVERGED_MM: f64 = 1e-3;
+/// Rounds stop once no group's shift changes by more than this (mm), or differs by no more than
+/// this from two rounds before (real contours can leave a crossing switching between two curve
+/// segments, a cycle of a few hundredths of a mm): a hundredth of a ~1 mm pixel.
+const CONVERGED_MM: f64 = 0.01;
 
 /// Residuals larger than this fraction of the ventricle's ring radius are ignored: a crossing
 /// farther than half a radius from its own surface's curve may be nearer the opposite wall, so
@@ -42,13 +46,24 @@ pub(super) struct Estimate {
     pub after_mm: f64,
 }
 
+/// Damping of each group's Gauss-Newton step, in crossings: each crossing says how far its curve
+/// lies off along the curve's normal (one direction); the damping adds this much "crossing" in
+/// every direction, against moving at all in one round. Where the crossings determine a shift the
+/// step is nearly the full Gauss-Newton step; where they leave a direction nearly undetermined
+/// (a long-axis view sliding along the axis past straight walls, where contour noise alone would
+/// set the shift) the group moves slowly that way. The fixed point is unchanged (no bias).
+const DAMPING: f64 = 1.0;
+
 /// One group's residuals in one round.
 #[derive(Debug, Clone, Copy, Default)]
 struct Residual {
-    sum: Vec3,
     count: usize,
     /// Sum of the residuals' lengths.
     length: f64,
+    /// Normal equations of the group's shift: sum of n n^T and of n (n . r) over the crossings,
+    /// n the unit in-plane normal of the matched curve, r the residual.
+    h: Matrix3<f64>,
+    b: Vec3,
 }
 
 /// Estimates the shifts of `groups`; `scale_mm` is the ring radius the caps are relative to.
@@ -63,22 +78,28 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
     let n_active = active.iter().filter(|&&a| a).count();
     let mut rounds = 0;
     let mut current = start.clone();
+    let mut before = t.clone();
     if n_active > 0 && residual_cap.is_finite() && residual_cap > 0.0 {
         for round in 1..=MAX_ROUNDS {
             let mut next = t.clone();
             for k in 0..g {
                 let r = &current[k];
                 if active[k] && r.count >= MIN_CROSSINGS {
-                    next[k] += r.sum * (0.5 / r.count as f64);
+                    next[k] += step(&groups[k], r);
                 }
             }
-            // The gauge: moving everything together changes no residual, so the mean shift of
-            // the moving groups is removed; each shift then goes back into its plane, capped.
-            let mean = (0..g)
-                .filter(|&k| active[k])
-                .fold(Vec3::zeros(), |s, k| s + next[k])
-                / n_active as f64;
-            let mut change = 0.0f64;
+            // The gauge: moving every image together across the long axis changes the residuals
+            // only to second order (a view through the axis of a round ventricle hardly changes
+            // when the heart slides sideways), so nothing pins that drift down. The short-axis
+            // stack, on average, stays where it was: the mean shift of its moving slices is
+            // removed from every group. Along the axis nothing is removed: views moving along it
+            // against the slices is what the apex and the tapering walls measure.
+            let sax: Vec<usize> = (0..g)
+                .filter(|&k| active[k] && groups[k].kind == ContourKind::Sax)
+                .collect();
+            let mean =
+                sax.iter().fold(Vec3::zeros(), |s, &k| s + next[k]) / sax.len().max(1) as f64;
+            let (mut change, mut cycle) = (0.0f64, 0.0f64);
             for k in (0..g).filter(|&k| active[k]) {
                 let mut w = groups[k].in_plane(&(next[k] - mean));
                 let len = w.norm();
@@ -86,12 +107,13 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
                     w *= shift_cap / len;
                 }
                 change = change.max((w - t[k]).norm());
+                cycle = cycle.max((w - before[k]).norm());
                 next[k] = w;
             }
-            t = next;
+            before = std::mem::replace(&mut t, next);
             rounds = round;
             current = residuals(groups, &t, residual_cap);
-            if change < CONVERGED_MM {
+            if change < CONVERGED_MM || cycle < CONVERGED_MM {
                 break;
             }
         }
@@ -115,6 +137,28 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
     }
 }
 
+/// Half of the damped Gauss-Newton step of a group's shift (the other half of a disagreement is
+/// the other group's to move): in the group's plane, (H + w I) d = b.
+fn step(g: &Group, r: &Residual) -> Vec3 {
+    let (u, v) = crate::contours::axis::frame_for(&g.normal);
+    let hu = r.h * u;
+    let hv = r.h * v;
+    let a = Matrix2::new(
+        u.dot(&hu) + DAMPING,
+        u.dot(&hv),
+        v.dot(&hu),
+        v.dot(&hv) + DAMPING,
+    );
+    let rhs = Vector2::new(u.dot(&r.b), v.dot(&r.b));
+    match a.try_inverse() {
+        Some(inv) => {
+            let d = inv * rhs;
+            (u * d.x + v * d.y) * 0.5
+        }
+        None => Vec3::zeros(),
+    }
+}
+
 /// Every group's residuals with the groups shifted by `t`.
 fn residuals(groups: &[Group], t: &[Vec3], cap: f64) -> Vec<Residual> {
     let mut out = vec![Residual::default(); groups.len()];
@@ -134,10 +178,11 @@ fn residuals(groups: &[Group], t: &[Vec3], cap: f64) -> Vec<Residual> {
                     // `offset` already took t[a] out along the normal).
                     let x = x + t[b] - t[a];
                     let x = x - n * (x - c).dot(&n);
-                    if let Some(d) = residual_to(ga, piece.surface, &x, &n, cap) {
-                        r.sum += d;
+                    if let Some((d, normal)) = residual_to(ga, piece.surface, &x, &n, cap) {
                         r.count += 1;
                         r.length += d.norm();
+                        r.h += normal * normal.transpose();
+                        r.b += normal * normal.dot(&d);
                     }
                 }
             }
@@ -170,29 +215,32 @@ fn plane_crossings<'a>(
     })
 }
 
-/// In-plane vector from the nearest point of the group's curves of `surface` to `x`, if one is
-/// within `cap` and is not the end of an open curve (a crossing beyond a curve's end, e.g. past a
-/// crescent's tip, does not say where the curve is).
-fn residual_to(g: &Group, surface: u32, x: &Vec3, n: &Vec3, cap: f64) -> Option<Vec3> {
-    let mut best: Option<(f64, Vec3, bool)> = None;
+/// In-plane vector from the nearest point of the group's curves of `surface` to `x`, and the
+/// curve's unit in-plane normal there, if that point is within `cap` and is not the end of an
+/// open curve (a crossing beyond a curve's end, e.g. past a crescent's tip, does not say where the
+/// curve is).
+fn residual_to(g: &Group, surface: u32, x: &Vec3, n: &Vec3, cap: f64) -> Option<(Vec3, Vec3)> {
+    let mut best: Option<(f64, Vec3, bool, Vec3)> = None;
     for piece in g.pieces.iter().filter(|p| p.surface == surface) {
         let bound = best.map_or(cap * cap, |b| b.0);
         if box_distance_sq(x, &piece.lo, &piece.hi) > bound {
             continue;
         }
-        if let Some((d2, q, at_end)) = closest_on_piece(piece, x) {
+        if let Some((d2, q, at_end, along)) = closest_on_piece(piece, x, bound) {
             if d2 <= bound && best.is_none_or(|b| d2 < b.0) {
-                best = Some((d2, q, at_end));
+                best = Some((d2, q, at_end, along));
             }
         }
     }
-    let (_, q, at_end) = best?;
+    let (_, q, at_end, along) = best?;
     if at_end {
         return None;
     }
     let r = x - q;
     let r = r - n * r.dot(n);
-    (r.norm() <= cap).then_some(r)
+    let normal = along.cross(n);
+    let len = normal.norm();
+    (r.norm() <= cap && len > 1e-12).then(|| (r, normal / len))
 }
 
 fn box_distance_sq(x: &Vec3, lo: &Vec3, hi: &Vec3) -> f64 {
@@ -204,29 +252,38 @@ fn box_distance_sq(x: &Vec3, lo: &Vec3, hi: &Vec3) -> f64 {
         .sum()
 }
 
-/// Squared distance, nearest point, and whether that point is an end of an open piece.
-fn closest_on_piece(piece: &Piece, x: &Vec3) -> Option<(f64, Vec3, bool)> {
+/// Squared distance, nearest point, whether that point is an end of an open piece, and the
+/// direction of its segment; None when no segment is within `bound` (squared distance).
+fn closest_on_piece(piece: &Piece, x: &Vec3, bound: f64) -> Option<(f64, Vec3, bool, Vec3)> {
     let pts = &piece.points;
     let m = pts.len();
-    if m == 1 {
-        return Some(((x - pts[0]).norm_squared(), pts[0], !piece.closed));
+    if m < 2 {
+        return None;
     }
     let segments = if piece.closed && m > 2 { m } else { m - 1 };
-    let mut best: Option<(f64, Vec3, bool)> = None;
-    for i in 0..segments {
-        let a = pts[i];
-        let ab = pts[(i + 1) % m] - a;
-        let l2 = ab.norm_squared();
-        let s = if l2 > 0.0 {
-            ((x - a).dot(&ab) / l2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let q = a + ab * s;
-        let d2 = (x - q).norm_squared();
-        if best.is_none_or(|b| d2 < b.0) {
-            let at_end = !piece.closed && ((i == 0 && s == 0.0) || (i + 1 == m - 1 && s == 1.0));
-            best = Some((d2, q, at_end));
+    let mut best: Option<(f64, Vec3, bool, Vec3)> = None;
+    for (c, (lo, hi)) in piece.chunks.iter().enumerate() {
+        // Chunks farther than the best so far hold no nearer segment (same answer as a full scan).
+        if box_distance_sq(x, lo, hi) > best.map_or(bound, |b| b.0) {
+            continue;
+        }
+        let first = c * CHUNK;
+        for i in first..(first + CHUNK).min(segments) {
+            let a = pts[i];
+            let ab = pts[(i + 1) % m] - a;
+            let l2 = ab.norm_squared();
+            let s = if l2 > 0.0 {
+                ((x - a).dot(&ab) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let q = a + ab * s;
+            let d2 = (x - q).norm_squared();
+            if best.is_none_or(|b| d2 < b.0) {
+                let at_end =
+                    !piece.closed && ((i == 0 && s == 0.0) || (i + 1 == m - 1 && s == 1.0));
+                best = Some((d2, q, at_end, ab));
+            }
         }
     }
     best

@@ -31,6 +31,11 @@ const SAME_VIEW_MM: f64 = 1.5;
 /// normal of its own: only its distance to a view's plane decides whether it belongs there.
 const MIN_FLATNESS: f64 = 0.1;
 
+/// Segments per bounding box of a piece's chunks: closest-point queries skip whole chunks
+/// farther than the best segment found (a ring of 250 points is then a few boxes, not 250
+/// segments, per crossing).
+pub(super) const CHUNK: usize = 16;
+
 /// One cleaned polyline of a group, tagged with its surface.
 #[derive(Debug, Clone)]
 pub(super) struct Piece {
@@ -41,6 +46,9 @@ pub(super) struct Piece {
     /// Axis-aligned bounds, for skipping pieces far from a query point.
     pub lo: Vec3,
     pub hi: Vec3,
+    /// Bounds of segments [CHUNK k, CHUNK (k + 1)) (segment i joins points i and i + 1, the
+    /// last of a closed piece back to point 0).
+    pub chunks: Vec<(Vec3, Vec3)>,
 }
 
 /// A short-axis slice or a long-axis view: the contours that move together, and their plane.
@@ -165,12 +173,28 @@ fn piece(surface: u32, points: &[Vec3], closed: bool) -> Piece {
         lo = lo.inf(p);
         hi = hi.sup(p);
     }
+    let m = points.len();
+    let segments = match m {
+        0 | 1 => 0,
+        _ if closed && m > 2 => m,
+        _ => m - 1,
+    };
+    let chunks = (0..segments.div_ceil(CHUNK))
+        .map(|c| {
+            let last = ((c + 1) * CHUNK).min(segments);
+            (c * CHUNK..=last).fold(
+                (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
+                |(l, h), i| (l.inf(&points[i % m]), h.sup(&points[i % m])),
+            )
+        })
+        .collect();
     Piece {
         surface,
         points: points.to_vec(),
         closed,
         lo,
         hi,
+        chunks,
     }
 }
 
