@@ -14,13 +14,19 @@ beforeAll(async () => {
   wasm = await loadWasm();
 });
 
+/** Frames seen, for checking what the first frame of an aligned run carries. */
+const frames: Extract<FromWorker, { type: 'frame' }>[] = [];
+
 function makeCore() {
   let listener: ((m: FromWorker) => void) | null = null;
   const core = new WorkerCore(wasmApiOf(wasm), (m) => listener?.(m), { yieldToEventLoop: (cb) => setTimeout(cb, 0), now: () => performance.now() });
   function ask<T extends FromWorker['type']>(msg: ToWorker, ...types: T[]): Promise<Extract<FromWorker, { type: T }>> {
     return new Promise((resolve) => {
       listener = (m) => {
-        if (m.type === 'frame') core.handle({ type: 'ack', runId: m.runId, seq: m.seq });
+        if (m.type === 'frame') {
+          frames.push(m);
+          core.handle({ type: 'ack', runId: m.runId, seq: m.seq });
+        }
         if ((types as string[]).includes(m.type)) resolve(m as Extract<FromWorker, { type: T }>);
       };
       core.handle(msg);
@@ -87,6 +93,12 @@ describe('breath-hold alignment through the worker', () => {
     }
     expect(checked).toBe(on.overall.count);
     expect(worst).toBeLessThan(1e-3);
+    // The first frame already carried these shifted contours (the display shows them while it runs).
+    const first = frames.filter((f) => f.runId === 2 && f.runContours);
+    expect(first.map((f) => f.seq)).toEqual([1]);
+    expect(first[0].runContours?.points).toEqual(on.contourPoints);
+    expect(first[0].runContours?.contours.map((c) => c.id)).toEqual(on.contours.map((c) => c.id));
+    expect(frames.some((f) => f.runId === 1 && f.runContours)).toBe(false);
   });
 
   it('a session keeps align_slices and brings it back on load', async () => {

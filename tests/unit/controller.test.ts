@@ -258,6 +258,13 @@ describe('controller', () => {
     const run = client.runs[0];
     expect(run.opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true });
     expect(url).toBe('/app/?surface=LV_ENDO&align_slices=1');
+    // While it runs, the first frame brings the shifted contours: they replace the file's on screen.
+    const shifted = new Float32Array([1, 0, 0, 11, 0, 0, 1, 10, 0]);
+    const contours = [{ id: 'c1', surface: 'LV_ENDO', kind: 'SAX' as const, pieces: [{ closed: true, start: 0, count: 3 }] }];
+    run.onFrame({ runId: run.runId, seq: 0, report: report(0), positions: new Float32Array(12), indices: new Uint32Array(12), runContours: { contours, points: shifted } });
+    expect(viewer.contourLayer.calls.set?.at(-1)?.[1]).toBe(shifted);
+    expect(Array.from(viewer.givenLayer.calls.set?.at(-1)?.[1] as Float32Array)).toEqual([0, 0, 0, 10, 0, 0, 0, 10, 0]);
+    expect(parts.view.calls.setAsGivenAvailable?.at(-1)).toEqual([true]);
     const alignment = { rounds: 3, residual_before_mm: 2, residual_after_mm: 0.5, groups: [] };
     run.resolve({ ...result(run.runId), alignment });
     await vi.runAllTimersAsync();
@@ -274,6 +281,8 @@ describe('controller', () => {
     expect(client.runs[1].opts.options?.align_slices).toBe(false);
     expect(parts.view.calls.setAsGivenAvailable?.at(-1)).toEqual([false]);
     expect(viewer.givenLayer.calls.clear?.length).toBeGreaterThan(0);
+    // ... and the file's own contours are back on screen for the unaligned run.
+    expect(Array.from(viewer.contourLayer.calls.set?.at(-1)?.[1] as Float32Array)).toEqual([0, 0, 0, 10, 0, 0, 0, 10, 0]);
     c.dispose();
   });
 

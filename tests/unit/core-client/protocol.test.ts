@@ -69,6 +69,13 @@ describe('protocol helpers', () => {
     expect(mergeFrames(frame(1, { indices }), frame(2, { indices: newer })).indices).toBe(newer);
     expect(mergeFrames(frame(1), frame(2)).indices).toBeUndefined();
   });
+  it('an aligned run\'s contours on its first frame survive a skipped frame and are transferred', () => {
+    const runContours = { contours: [], points: new Float32Array([4, 5, 6]) };
+    expect(mergeFrames(frame(1, { runContours }), frame(2)).runContours).toBe(runContours);
+    const msg = { type: 'frame' as const, ...frame(1, { runContours }) };
+    expect(transferablesOf(msg)).toContain(runContours.points.buffer);
+    expect(transferablesOf(msg)).toHaveLength(2);
+  });
 
   it('normalises thrown values into CoreErrorData', () => {
     expect(toCoreErrorData('{"code":"parse","message":"line 3: bad","line":3}', 'a.csv')).toEqual({

@@ -136,12 +136,21 @@ describe('WorkerCore', () => {
     expect(done.result.contour_to_mesh_as_given).toEqual({ mean: 0.6, median: 0.5, max: 2.1 });
     // An older core's options without align_slices read as the default (off).
     expect(done.result.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
+    // An aligned run sends its (shifted) contours once, on its first frame; others never do.
+    const aligned = setup(20);
+    aligned.core.handle({ ...runMsg, options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true } });
+    aligned.runTicks();
+    const withContours = aligned.frames().filter((f) => f.runContours);
+    expect(withContours.map((f) => f.seq)).toEqual([1]);
+    expect(withContours[0].runContours?.points).toEqual(new Float32Array(6));
+    expect(withContours[0].runContours?.contours).toEqual([]);
     const full = setup(20);
     full.core.handle(runMsg);
     full.runTicks();
     const all = full.out.at(-1)!;
     if (all.type !== 'done') throw new Error(all.type);
     expect([all.result.iterations_done, all.result.converged, all.result.alignment, all.result.contour_to_mesh_as_given]).toEqual([20, false, null, null]);
+    expect(full.frames().some((f) => f.runContours)).toBe(false);
   });
 
   it('keeps at most two frames unacknowledged and always sends the final one', () => {

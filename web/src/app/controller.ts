@@ -25,7 +25,7 @@ import { robustMax } from '../viewer/colormap';
 import type { Legend } from '../viewer/Legend';
 import type { Viewer } from '../viewer/Viewer';
 import { FrameHistory } from './history';
-import { asCoreError, keptText, schemaOrdered } from './errors';
+import { asCoreError, callSafely, keptText, schemaOrdered } from './errors';
 import { showSceneContours, surfacePoints } from './sceneContours';
 import * as pb from './playback';
 import { currentRunId, initialState, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
@@ -77,6 +77,8 @@ export class Controller {
   private latest: StepReport | null = null;
   private indices: Uint32Array | null = null;
   private attractors: Float32Array | null = null;
+  /** The running run's own contours when they are not the file's (breath-hold alignment). */
+  private runContours: Frame['runContours'] | null = null;
   private restartTimer: ReturnType<typeof setTimeout> | null = null;
   /** What is on screen: the history index shown, and whether the final result is. */
   private shown = { cursor: -2, result: false, historyVersion: -1 };
@@ -294,13 +296,7 @@ export class Controller {
   }
 
   private emitResult(r: RunResult | null): void {
-    for (const l of this.resultListeners) {
-      try {
-        l(r);
-      } catch (e) {
-        console.error('result listener failed', e);
-      }
-    }
+    for (const l of this.resultListeners) callSafely(() => l(r), 'result listener failed');
   }
 
   // ---- runs -----------------------------------------------------------------------------------
@@ -310,21 +306,12 @@ export class Controller {
     if (this.restartTimer) clearTimeout(this.restartTimer);
     this.restartTimer = null;
     const client = this.client;
-    const file = this.currentFile();
-    if (!client || !file || this.state.kind === 'loading') return;
+    const settings = this.runSettings();
+    if (!client || !settings || this.state.kind === 'loading') return;
     this.cancelRun();
     this.clearRunDisplay();
     this.parts.result.clear('running…');
-    const handle = client.run(
-      {
-        fileName: file.fileName,
-        surface: file.surfaces.length ? this.surface : null,
-        params: { ...this.params },
-        lids: this.lids,
-        options: { ...this.options },
-      },
-      (f) => this.onFrame(f),
-    );
+    const handle = client.run(settings, (f) => this.onFrame(f));
     this.active = { runId: handle.runId, cancel: () => handle.cancel() };
     this.dispatch({ type: 'run', runId: handle.runId });
     handle.done.then(
@@ -333,7 +320,7 @@ export class Controller {
         if (this.active?.runId !== handle.runId) return; // cancelled or replaced: not an error
         this.active = null;
         this.parts.result.clear('no result (see the error)');
-        this.fail(asCoreError(e, 'the reconstruction failed', file.fileName), handle.runId);
+        this.fail(asCoreError(e, 'the reconstruction failed', settings.fileName), handle.runId);
       },
     );
   }
@@ -366,6 +353,10 @@ export class Controller {
     if (!this.active || f.runId !== this.active.runId) return;
     if (f.indices) this.indices = f.indices;
     if (f.attractors) this.attractors = f.attractors;
+    if (f.runContours) {
+      this.runContours = f.runContours;
+      this.showContours(null); // the shifted contours the mesh now follows, and the file's as given
+    }
     this.latest = f.report;
     this.parts.status.setProgress(f.report.total_iterations > 0 ? f.report.iteration / f.report.total_iterations : 0);
     if (!this.indices || this.indices.length === 0) return;
@@ -399,6 +390,8 @@ export class Controller {
     this.latest = null;
     this.indices = null;
     this.attractors = null;
+    const shifted = this.runContours !== null; // an aligned run's contours are on screen
+    this.runContours = null;
     this.playback = pb.restart(this.playback);
     this.framedRun = false;
     this.shown = { cursor: -2, result: false, historyVersion: -1 };
@@ -414,7 +407,7 @@ export class Controller {
     this.parts.plot.set([], 1, null);
     this.parts.exports.setAvailable(false, this.currentFile() !== null);
     this.parts.result.clear('no result yet');
-    if (this.contourMode === 'distances') this.showContours(null);
+    if (this.contourMode === 'distances' || shifted) this.showContours(null);
     this.emitResult(null);
   }
 
@@ -586,7 +579,7 @@ export class Controller {
     const viewer = this.parts.viewer;
     const file = this.currentFile();
     if (!viewer || !file) return;
-    this.parts.view.setAsGivenAvailable(showSceneContours(viewer, file, this.surface, r, this.pointMaxMm));
+    this.parts.view.setAsGivenAvailable(showSceneContours(viewer, file, this.surface, r, this.pointMaxMm, this.runContours));
     this.contourMode = r ? 'distances' : 'plain';
     viewer.requestRender();
   }

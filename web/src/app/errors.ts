@@ -1,6 +1,6 @@
 /**
- * Small pure helpers of the controller: errors as the protocol's data, the banner's note on a
- * refused file, and parameters in schema order for export headers.
+ * Small helpers of the controller: errors as the protocol's data, the banner's note on a refused
+ * file, parameters in schema order for export headers, listeners that may throw.
  */
 import type { CoreErrorData, ParamSpec, ParamValues } from '../core-client/protocol';
 
@@ -25,4 +25,13 @@ export function schemaOrdered(params: ParamValues, schema: readonly ParamSpec[])
   for (const s of schema) if (params[s.name] !== undefined) ordered[s.name] = params[s.name];
   for (const k of Object.keys(params)) if (ordered[k] === undefined) ordered[k] = params[k];
   return ordered;
+}
+
+/** Runs a listener; an exception is logged, never propagated into the caller's bookkeeping. */
+export function callSafely(f: () => void, what: string): void {
+  try {
+    f();
+  } catch (e) {
+    console.error(what, e);
+  }
 }

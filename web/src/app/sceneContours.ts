@@ -2,9 +2,9 @@
  * What the viewer's contour layers show, decided in one place: before a run (or while one runs) the
  * file's contours; after a run its own contours coloured by distance (the shifted ones when the run
  * aligned breath-holds) and then, faint and dashed, the file's contours as given so the user sees
- * what moved. Also the points the camera frames for a surface.
+ * what moved (also while an aligned run runs). Also the points the camera frames for a surface.
  */
-import type { LoadedFile, RunResult } from '../core-client/protocol';
+import type { Frame, LoadedFile, RunResult } from '../core-client/protocol';
 import type { Viewer } from '../viewer/Viewer';
 
 /** xyz of the contour points of `surface` (all when null; the whole file when none match). */
@@ -23,11 +23,18 @@ export function surfacePoints(file: LoadedFile, surface: string | null): ArrayLi
 }
 
 /**
- * Shows the contours for `r` (null: the file's own, plain) and returns whether the as-given layer
- * has something to show (a result with alignment).
+ * Shows the contours for `r` (null: the file's own, plain; or, while an aligned run runs, its
+ * shifted contours `running`) and returns whether the as-given layer has something to show.
  */
-export function showSceneContours(viewer: Viewer, file: LoadedFile, surface: string | null, r: RunResult | null, pointMaxMm: number): boolean {
+export function showSceneContours(
+  viewer: Viewer, file: LoadedFile, surface: string | null, r: RunResult | null, pointMaxMm: number, running: Frame['runContours'] | null = null,
+): boolean {
   if (!r) {
+    if (running) {
+      viewer.contourLayer.set(running.contours, running.points, surface, null);
+      viewer.givenLayer.set(file.contours, file.points, surface);
+      return true;
+    }
     viewer.contourLayer.set(file.contours, file.points, surface, null);
     viewer.givenLayer.clear();
     return false;

@@ -148,6 +148,11 @@ export interface Frame {
   indices?: Uint32Array;
   /** Attractor points, xyz, mm; only when they were re-sampled since the last frame sent. */
   attractors?: Float32Array;
+  /**
+   * The contours the run follows, on its first frame, when they are not the file's as given (the
+   * run aligns breath-holds: these are the shifted ones), so the display shows them while it runs.
+   */
+  runContours?: { contours: ContourInfo[]; points: Float32Array };
 }
 
 export interface Stats {
@@ -604,6 +609,7 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       add(msg.positions);
       add(msg.indices);
       add(msg.attractors);
+      add(msg.runContours?.points);
       break;
     case 'done': {
       const r = msg.result;
@@ -727,7 +733,7 @@ export function isToWorker(v: unknown): v is ToWorker {
 
 /**
  * Merges a newer frame over an older one that was never handed to the renderer: the newer
- * positions win, but topology (indices) and attractors of the skipped frame are carried over when
+ * positions win, but topology (indices), attractors and run contours of the skipped frame are carried over when
  * the newer frame does not have its own, so the receiver never misses a topology change.
  */
 export function mergeFrames(older: Frame, newer: Frame): Frame {
@@ -736,5 +742,6 @@ export function mergeFrames(older: Frame, newer: Frame): Frame {
   if (merged.attractors === undefined && older.attractors !== undefined) {
     merged.attractors = older.attractors;
   }
+  if (merged.runContours === undefined && older.runContours !== undefined) merged.runContours = older.runContours;
   return merged;
 }

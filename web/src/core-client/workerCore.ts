@@ -101,6 +101,8 @@ interface ActiveRun {
   unsent: boolean;
   indicesDirty: boolean;
   attractorsDirty: boolean;
+  /** The run's contours differ from the file's (breath-hold alignment): send them on the first frame. */
+  contoursDirty: boolean;
   report: StepReport | null;
   startedMs: number;
   finished: boolean;
@@ -227,6 +229,7 @@ export class WorkerCore {
       unsent: false,
       indicesDirty: true,
       attractorsDirty: true,
+      contoursDirty: msg.options?.align_slices === true,
       report: null,
       startedMs: this.options.now(),
       finished: false,
@@ -292,6 +295,11 @@ export class WorkerCore {
     };
     if (run.indicesDirty) msg.indices = this.session.indices();
     if (run.attractorsDirty) msg.attractors = this.session.attractors();
+    if (run.contoursDirty) {
+      const { contours } = JSON.parse(this.session.result_json()) as { contours: ContourInfo[] };
+      msg.runContours = { contours, points: this.session.contour_points() };
+    }
+    run.contoursDirty = false;
     run.indicesDirty = false;
     run.attractorsDirty = false;
     run.unsent = false;
