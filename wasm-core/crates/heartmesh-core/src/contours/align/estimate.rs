@@ -12,8 +12,12 @@ use crate::contours::ContourKind;
 use crate::geometry::Vec3;
 use nalgebra::{Matrix2, Matrix3, Vector2};
 
-/// A group needs this many matched crossings to move: fewer cannot tell a shift from a bad match.
-pub(super) const MIN_CROSSINGS: usize = 2;
+/// A group needs this many matched crossings with a closed ring on either side to move: fewer
+/// cannot tell a shift from a bad match. Crossings between open curves only (an RV crescent
+/// against an RV-only view) still count once a group moves, but cannot move one on their own:
+/// where an open curve ends, or which of its sides a crossing belongs to, is far less certain
+/// than for the LV's rings (aligning an RV on its own made real RVs worse, session 8).
+const MIN_CROSSINGS: usize = 2;
 
 /// Rounds at most. Shifts the crossings determine settle within about 20 rounds (each round
 /// moves a group half way towards agreeing with the others); the rest only slides slowly along
@@ -39,6 +43,8 @@ const SHIFT_CAP_OF_RADIUS: f64 = 0.4;
 pub(super) struct Estimate {
     pub shifts: Vec<Vec3>,
     pub crossings: Vec<usize>,
+    /// Whether each group could move (enough crossings with a ring, [`MIN_CROSSINGS`]).
+    pub moving: Vec<bool>,
     pub rounds: usize,
     /// Mean in-plane distance of matched crossings to their curves, before and after (mm; 0 when
     /// nothing matched).
@@ -58,6 +64,8 @@ const DAMPING: f64 = 1.0;
 #[derive(Debug, Clone, Copy, Default)]
 struct Residual {
     count: usize,
+    /// Crossings with a closed ring on either side.
+    rings: usize,
     /// Sum of the residuals' lengths.
     length: f64,
     /// Normal equations of the group's shift: sum of n n^T and of n (n . r) over the crossings,
@@ -72,9 +80,10 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
     let residual_cap = RESIDUAL_CAP_OF_RADIUS * scale_mm;
     let shift_cap = SHIFT_CAP_OF_RADIUS * scale_mm;
     let mut t = vec![Vec3::zeros(); g];
-    let start = residuals(groups, &t, residual_cap);
+    let candidates = candidates(groups, shift_cap * 1.01);
+    let start = residuals(groups, &candidates, &t, residual_cap);
     let crossings: Vec<usize> = start.iter().map(|r| r.count).collect();
-    let active: Vec<bool> = crossings.iter().map(|&c| c >= MIN_CROSSINGS).collect();
+    let active: Vec<bool> = start.iter().map(|r| r.rings >= MIN_CROSSINGS).collect();
     let n_active = active.iter().filter(|&&a| a).count();
     let mut rounds = 0;
     let mut current = start.clone();
@@ -112,7 +121,7 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
             }
             before = std::mem::replace(&mut t, next);
             rounds = round;
-            current = residuals(groups, &t, residual_cap);
+            current = residuals(groups, &candidates, &t, residual_cap);
             if change < CONVERGED_MM || cycle < CONVERGED_MM {
                 break;
             }
@@ -133,6 +142,7 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
         after_mm: mean_length(&current),
         shifts: t,
         crossings,
+        moving: active,
         rounds,
     }
 }
@@ -159,68 +169,118 @@ fn step(g: &Group, r: &Residual) -> Vec3 {
     }
 }
 
+/// A segment of another group's curve that may cross a group's plane: its ends' signed
+/// distances to the plane before any shift.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    group: u32,
+    piece: u32,
+    segment: u32,
+    dp: f64,
+    dq: f64,
+}
+
+/// Per group, the other kind's segments that can cross its plane under any allowed shifts: the
+/// other group's shift moves its curves along this plane's normal by at most `band` mm (the shift
+/// cap), so segments entirely farther than that never cross. Computed once; each round then
+/// only tests these (the signed distances are the same expressions as a full scan, so the
+/// crossings are bit for bit the same).
+fn candidates(groups: &[Group], band: f64) -> Vec<Vec<Candidate>> {
+    groups
+        .iter()
+        .enumerate()
+        .map(|(a, ga)| {
+            let (n, c) = (ga.normal, ga.centroid);
+            let mut out = Vec::new();
+            for (b, gb) in groups.iter().enumerate() {
+                if gb.kind == ga.kind || b == a {
+                    continue;
+                }
+                for (k, piece) in gb.pieces.iter().enumerate() {
+                    let m = piece.points.len();
+                    let segments = if piece.closed && m > 2 {
+                        m
+                    } else {
+                        m.saturating_sub(1)
+                    };
+                    for i in 0..segments {
+                        let dp = (piece.points[i] - c).dot(&n);
+                        let dq = (piece.points[(i + 1) % m] - c).dot(&n);
+                        if dp.min(dq) <= band && dp.max(dq) >= -band {
+                            out.push(Candidate {
+                                group: b as u32,
+                                piece: k as u32,
+                                segment: i as u32,
+                                dp,
+                                dq,
+                            });
+                        }
+                    }
+                }
+            }
+            out
+        })
+        .collect()
+}
+
 /// Every group's residuals with the groups shifted by `t`.
-fn residuals(groups: &[Group], t: &[Vec3], cap: f64) -> Vec<Residual> {
+fn residuals(
+    groups: &[Group],
+    candidates: &[Vec<Candidate>],
+    t: &[Vec3],
+    cap: f64,
+) -> Vec<Residual> {
     let mut out = vec![Residual::default(); groups.len()];
     for (a, ga) in groups.iter().enumerate() {
         let n = ga.normal;
         let c = ga.centroid;
         let r = &mut out[a];
-        for (b, gb) in groups.iter().enumerate() {
-            if gb.kind == ga.kind || b == a {
-                continue;
-            }
+        for cand in &candidates[a] {
+            let b = cand.group as usize;
+            let piece = &groups[b].pieces[cand.piece as usize];
             // Group b's curves, shifted by t[b], are offset by t[b].n along a's normal.
             let offset = (t[b] - t[a]).dot(&n);
-            for piece in &gb.pieces {
-                for x in plane_crossings(piece, &c, &n, offset) {
-                    // The crossing relative to a's unshifted curves (a's shift moved them by t[a];
-                    // `offset` already took t[a] out along the normal).
-                    let x = x + t[b] - t[a];
-                    let x = x - n * (x - c).dot(&n);
-                    if let Some((d, normal)) = residual_to(ga, piece.surface, &x, &n, cap) {
-                        r.count += 1;
-                        r.length += d.norm();
-                        r.h += normal * normal.transpose();
-                        r.b += normal * normal.dot(&d);
-                    }
-                }
+            let (dp, dq) = (cand.dp + offset, cand.dq + offset);
+            // Half-open on one side so that a vertex exactly in the plane counts once.
+            if (dp < 0.0) == (dq < 0.0) || dp == dq {
+                continue;
+            }
+            let i = cand.segment as usize;
+            let p = piece.points[i];
+            let d = piece.points[(i + 1) % piece.points.len()] - p;
+            // Weight: sin^2 of the angle between the curve and the plane. A curve crossing at a
+            // shallow angle puts its crossing far off for any error across the planes (a tilt, a
+            // shift through the plane, slice thickness): in-plane error ~ that error / tan, so
+            // with errors of either kind alike the variance grows as 1 + cot^2 = 1 / sin^2.
+            let w = (dp - dq).powi(2) / d.norm_squared();
+            // The crossing relative to a's unshifted curves (a's shift moved them by t[a];
+            // `offset` already took t[a] out along the normal).
+            let x = p + d * (dp / (dp - dq)) + t[b] - t[a];
+            let x = x - n * (x - c).dot(&n);
+            if let Some((res, normal, ring)) = residual_to(ga, piece.surface, &x, &n, cap) {
+                r.count += 1;
+                r.rings += usize::from(ring || piece.closed);
+                r.length += res.norm();
+                r.h += normal * normal.transpose() * w;
+                r.b += normal * (normal.dot(&res) * w);
             }
         }
     }
     out
 }
 
-/// Points where `piece` (its points moved by `offset` along `n`) crosses the plane (c, n), on the
-/// unshifted piece.
-fn plane_crossings<'a>(
-    piece: &'a Piece,
-    c: &'a Vec3,
-    n: &'a Vec3,
-    offset: f64,
-) -> impl Iterator<Item = Vec3> + 'a {
-    let m = piece.points.len();
-    let segments = if piece.closed && m > 2 {
-        m
-    } else {
-        m.saturating_sub(1)
-    };
-    (0..segments).filter_map(move |i| {
-        let p = piece.points[i];
-        let q = piece.points[(i + 1) % m];
-        let dp = (p - c).dot(n) + offset;
-        let dq = (q - c).dot(n) + offset;
-        // Half-open on one side so that a vertex exactly in the plane counts once.
-        ((dp < 0.0) != (dq < 0.0) && dp != dq).then(|| p + (q - p) * (dp / (dp - dq)))
-    })
-}
-
-/// In-plane vector from the nearest point of the group's curves of `surface` to `x`, and the
-/// curve's unit in-plane normal there, if that point is within `cap` and is not the end of an
-/// open curve (a crossing beyond a curve's end, e.g. past a crescent's tip, does not say where the
-/// curve is).
-fn residual_to(g: &Group, surface: u32, x: &Vec3, n: &Vec3, cap: f64) -> Option<(Vec3, Vec3)> {
-    let mut best: Option<(f64, Vec3, bool, Vec3)> = None;
+/// In-plane vector from the nearest point of the group's curves of `surface` to `x`, the curve's
+/// unit in-plane normal there and whether the curve is closed, if that point is within `cap` and
+/// is not the end of an open curve (a crossing beyond a curve's end, e.g. past a crescent's tip,
+/// does not say where the curve is).
+fn residual_to(
+    g: &Group,
+    surface: u32,
+    x: &Vec3,
+    n: &Vec3,
+    cap: f64,
+) -> Option<(Vec3, Vec3, bool)> {
+    let mut best: Option<(f64, Vec3, bool, Vec3, bool)> = None;
     for piece in g.pieces.iter().filter(|p| p.surface == surface) {
         let bound = best.map_or(cap * cap, |b| b.0);
         if box_distance_sq(x, &piece.lo, &piece.hi) > bound {
@@ -228,11 +288,11 @@ fn residual_to(g: &Group, surface: u32, x: &Vec3, n: &Vec3, cap: f64) -> Option<
         }
         if let Some((d2, q, at_end, along)) = closest_on_piece(piece, x, bound) {
             if d2 <= bound && best.is_none_or(|b| d2 < b.0) {
-                best = Some((d2, q, at_end, along));
+                best = Some((d2, q, at_end, along, piece.closed));
             }
         }
     }
-    let (_, q, at_end, along) = best?;
+    let (_, q, at_end, along, closed) = best?;
     if at_end {
         return None;
     }
@@ -240,7 +300,7 @@ fn residual_to(g: &Group, surface: u32, x: &Vec3, n: &Vec3, cap: f64) -> Option<
     let r = r - n * r.dot(n);
     let normal = along.cross(n);
     let len = normal.norm();
-    (r.norm() <= cap && len > 1e-12).then(|| (r, normal / len))
+    (r.norm() <= cap && len > 1e-12).then(|| (r, normal / len, closed))
 }
 
 fn box_distance_sq(x: &Vec3, lo: &Vec3, hi: &Vec3) -> f64 {

@@ -28,8 +28,10 @@ pub struct GroupShift {
     pub contour_ids: Vec<String>,
     /// Shift applied to every point of the group's contours (mm, in the group's plane).
     pub shift_mm: [f64; 3],
-    /// Crossings of the other kind's curves matched to this group's curves before alignment
-    /// (fewer than two: the group stayed put).
+    /// Crossings of the other kind's curves matched to this group's curves before alignment. A
+    /// group moves only when at least two of them involve a closed ring (an LV ring or a view's
+    /// curve crossing one); views and slices of open curves alone (e.g. an RV-only view) stay
+    /// put.
     pub crossings: usize,
 }
 
@@ -110,13 +112,9 @@ pub fn align_slices(set: &ContourSet) -> (ContourSet, Alignment) {
     for (s, &c) in shifts.iter_mut().zip(&est.crossings) {
         s.crossings = c;
     }
-    let moving = est
-        .crossings
-        .iter()
-        .filter(|&&c| c >= estimate::MIN_CROSSINGS)
-        .count();
-    let note = (moving == 0).then(|| {
-        "no short- and long-axis curves of one surface cross each other's planes: nothing moved"
+    let note = (!est.moving.contains(&true)).then(|| {
+        "no short- and long-axis curves of one surface, one of them a closed ring, cross each \
+         other's planes: nothing moved"
             .to_string()
     });
     let alignment = Alignment {
