@@ -224,6 +224,25 @@ describe('controller', () => {
     expect(lastStatus()).toBe('running');
   });
 
+  it('a file refused while a run is in progress leaves that run going; a file that reads replaces it', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('good.csv')]);
+    const run = client.runs[0];
+    await controller.openFiles([file('bad.csv', 'bad')]);
+    expect(run.cancelled).toBe(false);
+    expect(lastStatus()).toBe('error: bad.csv, line 2: bad number');
+    const hidden = parts.banner.calls.hide?.length ?? 0;
+    run.resolve(result(run.runId));
+    await vi.runAllTimersAsync();
+    expect(parts.result.calls.show).toHaveLength(1); // the run's result is shown ...
+    expect(parts.banner.calls.hide?.length ?? 0).toBe(hidden); // ... and the refusal stays in the banner
+    expect(lastStatus()).toBe('error: bad.csv, line 2: bad number');
+    controller.startRun();
+    await controller.openFiles([file('other.csv')]);
+    expect(client.runs[1].cancelled).toBe(true);
+    expect(client.runs.at(-1)?.opts.fileName).toBe('other.csv');
+  });
+
   it('a file dropped while the core is starting waits for it instead of being lost', async () => {
     let up!: (c: CoreClient) => void;
     const starting = controller.start(() => new Promise((r) => (up = r)));

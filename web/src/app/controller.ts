@@ -142,7 +142,7 @@ export class Controller {
   async openFiles(files: File[]): Promise<void> {
     if (files.length === 0) return;
     // Say "loading" at once, before the bytes are read (and before the core is up, if it is not).
-    this.cancelRun();
+    // A run in progress goes on until a file has been read: a refused file leaves the work as it was.
     this.dispatch({ type: 'load', fileName: files[0].name });
     if (!(await this.ready)) return;
     let first: string | null = null;
@@ -180,10 +180,10 @@ export class Controller {
   private async loadBytes(fileName: string, bytes: ArrayBuffer): Promise<boolean> {
     const client = this.client;
     if (!client) return false;
-    this.cancelRun();
     this.dispatch({ type: 'load', fileName });
     try {
       const loaded = await client.load(fileName, bytes);
+      this.cancelRun(); // read: it replaces what was on screen
       this.files.delete(fileName); // re-insert at the end: newest last in the picker
       this.files.set(fileName, loaded);
       if (loaded.session) this.applySession(loaded.session);
@@ -376,7 +376,8 @@ export class Controller {
     this.meshMaxMm = robustMax(r.vertexDistances);
     this.parts.status.setProgress(1);
     this.parts.result.show(r);
-    this.parts.banner.hide(); // a run finished: whatever error was shown has been dealt with
+    // A run finished: whatever error was shown has been dealt with (not a file refused meanwhile).
+    if (this.state.kind !== 'error') this.parts.banner.hide();
     this.parts.exports.setAvailable(true, true);
     this.historyVersion++;
     this.dispatch({ type: 'finished', runId: r.runId });
