@@ -1,11 +1,11 @@
 //! The joint estimate of every group's in-plane shift (docs/VALIDATION.md, sessions 8 and 9).
 //!
 //! Where a long-axis curve crosses a short-axis plane it must meet that slice's curve of the same
-//! surface, and the other way round. Each round, every group measures the mean in-plane residual
-//! from the other kind's crossings of its plane to its own curves and moves half of it (the other
-//! half is the other group's to move: both are misaligned). Slices and views are estimated
-//! together; moving only the slices onto fixed views was worse (session 8), because the views are
-//! misaligned too.
+//! surface, and the other way round. Each round, every group takes half of a damped Gauss-Newton
+//! step towards agreeing with the other kind's crossings of its plane (the other half of a
+//! disagreement is the other group's to move: both are misaligned), and the short-axis stack's
+//! mean shift is removed. Slices and views are estimated together; moving only the slices onto
+//! fixed views was worse (session 8), because the views are misaligned too.
 
 use super::groups::{Group, Piece, CHUNK};
 use crate::contours::ContourKind;

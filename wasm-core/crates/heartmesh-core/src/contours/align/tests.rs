@@ -229,6 +229,23 @@ fn files_with_nothing_to_align_come_back_unchanged_with_a_note() {
     assert_eq!(a.max_shift_mm(), 0.0);
     let (_, a) = align_slices(&ContourSet::default());
     assert!(a.note.is_some());
+    // Coordinates far beyond any heart (1e150 mm): no panic, nothing non-finite invented.
+    let (mut huge, _) = acquisition(3);
+    for p in huge
+        .contours
+        .iter_mut()
+        .flat_map(|c| c.pieces.iter_mut())
+        .flat_map(|p| p.points.iter_mut())
+    {
+        *p *= 1e150;
+    }
+    let (s, a) = align_slices(&huge);
+    assert!(a
+        .groups
+        .iter()
+        .all(|g| g.shift_mm.iter().all(|c| c.is_finite())));
+    assert!(a.residual_before_mm.is_finite() && a.residual_after_mm.is_finite());
+    assert_eq!(s.point_count(), huge.point_count());
 }
 
 /// One breath-hold moves every surface of an image: the LV ring and RV curve of a slice get one
