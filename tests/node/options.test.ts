@@ -51,7 +51,7 @@ describe('smoothing options through the worker', () => {
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     // The RV endocardium, whose septum curves disagree between SAX and LAX: softening acts there.
     const on = (await run(ask, 1, undefined, {}, 'RV_ENDO')).result;
-    const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false }, {}, 'RV_ENDO')).result;
+    const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false }, {}, 'RV_ENDO')).result;
     expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
     expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false });
     if (!on || !off) throw new Error('runs failed');
@@ -60,10 +60,10 @@ describe('smoothing options through the worker', () => {
     expect(on.overall.mean).toBeLessThan(1);
     expect(off.overall.mean).toBeLessThan(1);
 
-    const taubin = await run(ask, 3, { smoothing_method: 'taubin', soften_conflicts: true }, { smoothing_factor: 0.5 });
+    const taubin = await run(ask, 3, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false }, { smoothing_factor: 0.5 });
     expect(taubin.result?.options.smoothing_method).toBe('taubin');
     expect(taubin.result?.overall.mean).toBeLessThan(1.5);
-    const bad = await run(ask, 4, { smoothing_method: 'taubin', soften_conflicts: true }, { smoothing_factor: 0.8 });
+    const bad = await run(ask, 4, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false }, { smoothing_factor: 0.8 });
     expect(bad.error?.code).toBe('param_out_of_range');
     expect(bad.error?.message).toMatch(/smoothing_factor = 0\.8 .*allowed 0 to 0\.6/);
   });
@@ -72,7 +72,7 @@ describe('smoothing options through the worker', () => {
     const { ask } = makeCore();
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     const base = { fileName: PATIENT, surface: 'LV_ENDO', params: { smoothing_factor: 0.8 }, lids: 'auto' as const };
-    const taubin: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false };
+    const taubin: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false };
     const loo = await ask({ type: 'lab-batch', runId: 5, job: { kind: 'loo', ...base, options: taubin } }, 'lab-batch-started', 'error');
     expect(loo.type === 'error' && loo.error.code).toBe('param_out_of_range');
     const sweep = await ask(
@@ -110,7 +110,7 @@ describe('smoothing options through the worker', () => {
   it('a session written by the worker opens again with the same settings and contours', async () => {
     const { ask } = makeCore();
     const file = await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
-    const options: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false };
+    const options: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false };
     const written = await ask(
       { type: 'session-export', reqId: 2, fileName: PATIENT, surface: 'LV_EPI', params: { beta: 0.2, smoothing_factor: 0.4 }, lids: 'none', options, appVersion: '9.9.9' },
       'session-json',

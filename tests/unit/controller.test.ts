@@ -28,7 +28,8 @@ class FakeClient {
       ? {
           params: { ...Object.fromEntries(rustSchema().map((p) => [p.name, p.default])), beta: 0.3, smoothing_factor: 0.5 },
           lids: 'none' as const, surface: 'RV_ENDO',
-          options: { smoothing_method: 'taubin' as const, soften_conflicts: false },
+          // As saved before align_slices existed: the app reads the missing option as off.
+          options: { smoothing_method: 'taubin', soften_conflicts: false } as unknown as ReconOptions,
         }
       : null;
     return Promise.resolve({
@@ -67,7 +68,7 @@ function result(runId: number): RunResult {
   return {
     runId, surface: 'LV_ENDO', contours: [], contourPoints: new Float32Array(9), positions: new Float32Array(12),
     indices: new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]), pointDistances: new Float32Array(3), vertexDistances: new Float32Array(4),
-    perContour: [], overall: stats, volumeMl: 0.2, areaMm2: 200, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true }, version: 'core-test',
+    perContour: [], overall: stats, volumeMl: 0.2, areaMm2: 200, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false }, version: 'core-test',
   };
 }
 
@@ -133,18 +134,18 @@ describe('controller', () => {
     url = '/app/?smoothing_method=taubin&soften_conflicts=0';
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('a.csv')]);
-    expect(client.runs[0].opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false });
-    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'taubin', soften_conflicts: false });
-    expect(controller.runSettings()?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false });
-    controller.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: false });
+    expect(client.runs[0].opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
+    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
+    expect(controller.runSettings()?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
+    controller.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false });
     vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
     expect(client.runs).toHaveLength(2);
-    expect(client.runs[1].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false });
+    expect(client.runs[1].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false });
     expect(url).toBe('/app/?surface=LV_ENDO&soften_conflicts=0');
     controller.resetParams();
     vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
-    expect(client.runs[2].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
-    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
+    expect(client.runs[2].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
+    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
     expect(url).toBe('/app/?surface=LV_ENDO');
   });
 
@@ -152,11 +153,11 @@ describe('controller', () => {
     expect(controller.sessionFile()).toBeNull();
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('a.csv')]);
-    controller.setParams({ beta: 0.25 }, 'auto', { smoothing_method: 'taubin', soften_conflicts: false });
+    controller.setParams({ beta: 0.25 }, 'auto', { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
     expect(await controller.sessionFile()).toEqual(new Uint8Array([123, 125]));
     expect(client.sessions[0].appVersion).toBe('9.9.9');
     expect(client.sessions[0].opts).toMatchObject({
-      fileName: 'a.csv', surface: 'LV_ENDO', lids: 'auto', options: { smoothing_method: 'taubin', soften_conflicts: false },
+      fileName: 'a.csv', surface: 'LV_ENDO', lids: 'auto', options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false },
     });
     expect(client.sessions[0].opts.params).toMatchObject({ beta: 0.25, lambda: 1000 });
   });
@@ -169,7 +170,7 @@ describe('controller', () => {
     expect(opts.params.lambda).toBe(1e5); // the session's value replaces the URL's 1e3
     expect(opts.lids).toBe('none');
     expect(opts.surface).toBe('RV_ENDO');
-    expect(opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false });
+    expect(opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
     expect(url).toContain('smoothing_method=taubin');
     expect(url).toContain('soften_conflicts=0');
   });
@@ -223,6 +224,25 @@ describe('controller', () => {
     expect(lastStatus()).toBe('running');
   });
 
+  it('a file refused while a run is in progress leaves that run going; a file that reads replaces it', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('good.csv')]);
+    const run = client.runs[0];
+    await controller.openFiles([file('bad.csv', 'bad')]);
+    expect(run.cancelled).toBe(false);
+    expect(lastStatus()).toBe('error: bad.csv, line 2: bad number');
+    const hidden = parts.banner.calls.hide?.length ?? 0;
+    run.resolve(result(run.runId));
+    await vi.runAllTimersAsync();
+    expect(parts.result.calls.show).toHaveLength(1); // the run's result is shown ...
+    expect(parts.banner.calls.hide?.length ?? 0).toBe(hidden); // ... and the refusal stays in the banner
+    expect(lastStatus()).toBe('error: bad.csv, line 2: bad number');
+    controller.startRun();
+    await controller.openFiles([file('other.csv')]);
+    expect(client.runs[1].cancelled).toBe(true);
+    expect(client.runs.at(-1)?.opts.fileName).toBe('other.csv');
+  });
+
   it('a file dropped while the core is starting waits for it instead of being lost', async () => {
     let up!: (c: CoreClient) => void;
     const starting = controller.start(() => new Promise((r) => (up = r)));
@@ -247,4 +267,72 @@ describe('controller', () => {
     expect(lastStatus()).toBe('error: no wasm');
     c2.dispose();
   });
+
+  it('sends align_slices from the URL; an aligned result shows the contours as given', async () => {
+    const viewer = viewerRecorder();
+    const c = new Controller({ ...parts, viewer, warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');
+    url = '/app/?align_slices=1';
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c.openFiles([file('a.csv')]);
+    const run = client.runs[0];
+    expect(run.opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true });
+    expect(url).toBe('/app/?surface=LV_ENDO&align_slices=1');
+    // While it runs, the first frame brings the shifted contours: they replace the file's on screen.
+    const shifted = new Float32Array([1, 0, 0, 11, 0, 0, 1, 10, 0]);
+    const contours = [{ id: 'c1', surface: 'LV_ENDO', kind: 'SAX' as const, pieces: [{ closed: true, start: 0, count: 3 }] }];
+    run.onFrame({ runId: run.runId, seq: 0, report: report(0), positions: new Float32Array(12), indices: new Uint32Array(12), runContours: { contours, points: shifted } });
+    expect(viewer.contourLayer.calls.set?.at(-1)?.[1]).toBe(shifted);
+    expect(Array.from(viewer.givenLayer.calls.set?.at(-1)?.[1] as Float32Array)).toEqual([0, 0, 0, 10, 0, 0, 0, 10, 0]);
+    expect(parts.view.calls.setAsGivenAvailable?.at(-1)).toEqual([true]);
+    const alignment = { rounds: 3, residual_before_mm: 2, residual_after_mm: 0.5, groups: [] };
+    run.resolve({ ...result(run.runId), alignment });
+    await vi.runAllTimersAsync();
+    expect(lastStatus()).toBe('done');
+    (c as unknown as { display(now: number): void }).display(0); // one animation frame
+    const given = viewer.givenLayer.calls.set?.at(-1);
+    expect(given?.[2]).toBe('LV_ENDO');
+    expect(Array.from(given?.[1] as Float32Array)).toEqual([0, 0, 0, 10, 0, 0, 0, 10, 0]); // the file's points as given
+    expect(parts.view.calls.setAsGivenAvailable?.at(-1)).toEqual([true]);
+    // Turning the option off and rerunning clears them.
+    c.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
+    vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
+    expect(url).toBe('/app/?surface=LV_ENDO');
+    expect(client.runs[1].opts.options?.align_slices).toBe(false);
+    expect(parts.view.calls.setAsGivenAvailable?.at(-1)).toEqual([false]);
+    expect(viewer.givenLayer.calls.clear?.length).toBeGreaterThan(0);
+    // ... and the file's own contours are back on screen for the unaligned run.
+    expect(Array.from(viewer.contourLayer.calls.set?.at(-1)?.[1] as Float32Array)).toEqual([0, 0, 0, 10, 0, 0, 0, 10, 0]);
+    c.dispose();
+  });
+
+  it('a file refused at load keeps the previous scene and its framing, and says so', async () => {
+    const viewer = viewerRecorder();
+    const c = new Controller({ ...parts, viewer, warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c.openFiles([file('good.csv')]);
+    const framed = viewer.calls.frame?.length ?? 0;
+    expect(framed).toBe(1);
+    const contourSets = viewer.contourLayer.calls.set?.length ?? 0;
+    await c.openFiles([file('bad.csv', 'bad')]);
+    expect(viewer.calls.frame?.length).toBe(framed);
+    expect(viewer.contourLayer.calls.set?.length ?? 0).toBe(contourSets);
+    expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' Not opened; still showing good.csv.');
+    expect(c.currentFileData()?.fileName).toBe('good.csv');
+    // Refused with nothing open before: the banner says only that.
+    const fresh = new Controller({ ...parts, viewer: viewerRecorder(), warnings: {} } as unknown as Parts, '1');
+    await fresh.start(() => Promise.resolve(client as unknown as CoreClient));
+    await fresh.openFiles([file('bad.csv', 'bad')]);
+    expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' Not opened.');
+    fresh.dispose();
+    c.dispose();
+  });
 });
+
+/** A Viewer stand-in: its layers and its own methods record their calls. */
+function viewerRecorder() {
+  const layers: Record<string, ReturnType<typeof recorder>> = {};
+  const own = recorder();
+  return new Proxy({} as Record<string, unknown>, {
+    get: (_t, key: string) => (key.endsWith('Layer') ? (layers[key] ??= recorder()) : (own as unknown as Record<string, unknown>)[key]),
+  }) as unknown as { calls: Record<string, unknown[][]> } & Record<'givenLayer' | 'contourLayer', { calls: Record<string, unknown[][]> }>;
+}

@@ -13,11 +13,11 @@ describe('reconstruction options', () => {
     const defaults = /impl Default for Params[\s\S]*?\n}/.exec(paramsRs)?.[0] ?? '';
     expect(defaults).toMatch(/smoothing: SmoothingMethod::LaplacianAffine,/);
     expect(defaults).toMatch(/soften_conflicts: true,/);
-    expect(DEFAULT_OPTIONS).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
+    expect(DEFAULT_OPTIONS).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
   });
   it('travel inside the params JSON object under the binding names', () => {
-    expect(JSON.parse(paramsJson({ beta: 0.2 }, { smoothing_method: 'taubin', soften_conflicts: false }))).toEqual({
-      beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false,
+    expect(JSON.parse(paramsJson({ beta: 0.2 }, { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false }))).toEqual({
+      beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false, align_slices: false,
     });
     expect(JSON.parse(paramsJson({ beta: 0.2 }))).toEqual({ beta: 0.2 });
   });

@@ -37,28 +37,29 @@ describe('URL state', () => {
     s.lids = 'none';
     s.surface = 'LV_EPI';
     s.sample = 'patient1-ED';
-    s.view = { wireframe: true, attractors: false, landmarks: false, opacity: 0.5, clip: 0.4 };
+    s.view = { wireframe: true, attractors: false, landmarks: false, asGiven: false, opacity: 0.5, clip: 0.4 };
     const q = serializeUrlState(s, schema);
     expect(q).toContain('lambda=1e3');
     expect(q).toContain('landmarks_shown=0');
+    expect(q).toContain('as_given_shown=0');
     expect(q).not.toContain('smoothing_factor');
     expect(parseUrlState(q, schema)).toEqual(s);
   });
   it('round-trips the smoothing method and conflict softening, written only when not the default', () => {
     const s = parseUrlState('', schema);
-    expect(s.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
-    s.options = { smoothing_method: 'taubin', soften_conflicts: false };
+    expect(s.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
+    s.options = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false };
     const q = serializeUrlState(s, schema);
     expect(q).toBe('?smoothing_method=taubin&soften_conflicts=0');
     expect(parseUrlState(q, schema)).toEqual(s);
-    s.options = { smoothing_method: 'laplacian-affine', soften_conflicts: false };
+    s.options = { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false };
     expect(serializeUrlState(s, schema)).toBe('?soften_conflicts=0');
     expect(parseUrlState('?soften_conflicts=false', schema).options.soften_conflicts).toBe(false);
     expect(parseUrlState('?soften_conflicts=1', schema).options.soften_conflicts).toBe(true);
   });
   it('an unknown smoothing method or a garbled switch falls back to the defaults', () => {
     const s = parseUrlState('?smoothing_method=gaussian&soften_conflicts=maybe', schema);
-    expect(s.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
+    expect(s.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
     expect(serializeUrlState(s, schema)).toBe('');
   });
   it('clamps out-of-range values, rounds integers and drops garbage', () => {

@@ -134,13 +134,27 @@ export class FakeCoreClient {
           });
           const cp = new Float32Array(idx.length * 3);
           idx.forEach((src, i) => cp.set(c.points.subarray(src * 3, src * 3 + 3), i * 3));
+          // Breath-hold alignment: a made-up in-plane shift per contour (SAX in x/y, LAX along z).
+          const align = opts.options?.align_slices === true;
+          const groups = contoursOut.map((x, k) => ({
+            kind: (x.kind ?? 'SAX') as 'SAX' | 'LAX', label: x.kind === 'LAX' ? x.id : `SAX ${k + 1}`, contour_ids: [x.id],
+            shift_mm: (x.kind === 'LAX' ? [0, 0, 0.6 * (k % 2 ? 1 : -1)] : [1.5 * Math.sin(k * 1.7), 1.2 * Math.cos(k * 2.3), 0]) as [number, number, number],
+          }));
+          if (align) {
+            contoursOut.forEach((x, k) => {
+              for (const p of x.pieces) for (let i = p.start; i < p.start + p.count; i++) for (let d = 0; d < 3; d++) cp[i * 3 + d] += groups[k].shift_mm[d];
+            });
+          }
           const pd = new Float32Array(idx.length).map((_, i) => Math.abs(Math.sin(i * 0.37)) * 0.9);
           const vd = new Float32Array(positions.length / 3).map((_, i) => Math.abs(Math.sin(i * 0.05)) * 0.7);
           const stats = { mean: 0.41, median: 0.38, p95: 0.84, max: 0.9, min: 0.0, count: idx.length };
           resolve({
             runId, surface: opts.surface, contours: contoursOut, contourPoints: cp, positions, indices: mesh.indices, pointDistances: pd,
             vertexDistances: vd, perContour: contoursOut.map((x) => ({ id: x.id, kind: x.kind ?? 'SAX', stats })), overall: stats,
-            volumeMl: 95.2, areaMm2: 11800, watertight: opts.lids === 'auto', seconds: 1.23, params: opts.params, lids: opts.lids, options: opts.options ?? { smoothing_method: 'laplacian-affine', soften_conflicts: true }, version: 'fake-core',
+            volumeMl: 95.2, areaMm2: 11800, watertight: opts.lids === 'auto', seconds: 1.23, params: opts.params, lids: opts.lids, options: opts.options ?? { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false }, version: 'fake-core',
+            iterations_done: total, converged: false,
+            alignment: align ? { rounds: 14, residual_before_mm: 2.41, residual_after_mm: 0.62, groups } : null,
+            contour_to_mesh_as_given: align ? { mean: 0.93, median: 0.81, max: 2.6 } : null,
           });
           return;
         }

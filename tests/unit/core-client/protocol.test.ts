@@ -48,7 +48,7 @@ describe('protocol helpers', () => {
         runId: 1, surface: null, contours: [], contourPoints: shared, positions: shared.subarray(0, 3),
         indices: new Uint32Array(0), pointDistances: new Float32Array(2), vertexDistances: new Float32Array(1),
         perContour: [], overall: { mean: 0, median: 0, p95: 0, max: 0, min: 0, count: 0 }, volumeMl: 1,
-        areaMm2: 1, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true }, version: '0.1.0',
+        areaMm2: 1, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false }, version: '0.1.0',
       },
     };
     // The empty index buffer is not listed (nothing to transfer), the shared one only once.
@@ -68,6 +68,13 @@ describe('protocol helpers', () => {
     const newer = new Uint32Array([2, 1, 0]);
     expect(mergeFrames(frame(1, { indices }), frame(2, { indices: newer })).indices).toBe(newer);
     expect(mergeFrames(frame(1), frame(2)).indices).toBeUndefined();
+  });
+  it('an aligned run\'s contours on its first frame survive a skipped frame and are transferred', () => {
+    const runContours = { contours: [], points: new Float32Array([4, 5, 6]) };
+    expect(mergeFrames(frame(1, { runContours }), frame(2)).runContours).toBe(runContours);
+    const msg = { type: 'frame' as const, ...frame(1, { runContours }) };
+    expect(transferablesOf(msg)).toContain(runContours.points.buffer);
+    expect(transferablesOf(msg)).toHaveLength(2);
   });
 
   it('normalises thrown values into CoreErrorData', () => {

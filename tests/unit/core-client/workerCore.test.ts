@@ -9,6 +9,10 @@ class FakeSession implements SessionApi {
   clock: { t: number };
   failAt: number | null = null;
   trapAt: number | null = null;
+  /** The stop threshold is met at this iteration (null: the run does all `total`). */
+  convergeAt: number | null = null;
+  /** What result_json says about the alignment (the core sends null when the option is off). */
+  alignment: unknown = null;
   constructor(clock: { t: number }, private total = 20, private remeshAt = [7], private resampleAt = [0, 12]) {
     this.clock = clock;
   }
@@ -29,12 +33,13 @@ class FakeSession implements SessionApi {
     if (this.iteration === this.failAt) throw JSON.stringify({ code: 'numerical', message: 'factorisation failed' });
     if (this.iteration === this.trapAt) throw new Error('unreachable');
     const i = this.iteration;
+    const end = this.convergeAt ?? this.total;
     return JSON.stringify(
       stepReport(i, {
         total_iterations: this.total,
         topology_changed: i === 0 || this.remeshAt.includes(i),
-        done: i >= this.total,
-        phase: i >= this.total ? 'done' : i === 0 ? 'initial_tube' : 'deform',
+        done: i >= end,
+        phase: i >= end ? 'done' : i === 0 ? 'initial_tube' : 'deform',
       }),
     );
   }
@@ -68,6 +73,9 @@ class FakeSession implements SessionApi {
     return JSON.stringify({
       surface: null, contours: [], perContour: [], overall: { mean: 0.3, median: 0.2, p95: 0.8, max: 1, min: 0, count: 2 },
       volumeMl: 50, areaMm2: 7000, watertight: true, params: {}, lids: 'auto', version: '0.1.0',
+      options: { smoothing_method: 'laplacian-affine', soften_conflicts: true },
+      alignment: this.alignment,
+      ...(this.alignment ? { contour_to_mesh_as_given: { mean: 0.6, median: 0.5, max: 2.1 } } : {}),
     });
   }
 }
@@ -100,18 +108,49 @@ const runMsg = { type: 'run' as const, runId: 5, fileName: 'a.csv', surface: nul
 describe('WorkerCore', () => {
   it('writes a session file with the options inside the params JSON; errors name the file', () => {
     const { core, out } = setup(5);
-    const options = { smoothing_method: 'taubin' as const, soften_conflicts: false };
+    const options = { smoothing_method: 'taubin' as const, soften_conflicts: false, align_slices: false };
     core.handle({ type: 'session-export', reqId: 3, fileName: 'a.csv', surface: 'LV_ENDO', params: { beta: 0.2 }, lids: 'none', options, appVersion: '9.9.9' });
     const m = out.at(-1)!;
     expect(m.type).toBe('session-json');
     if (m.type !== 'session-json') return;
     expect(m.reqId).toBe(3);
     expect(JSON.parse(new TextDecoder().decode(m.bytes))).toEqual({
-      fileName: 'a.csv', surface: 'LV_ENDO', params: { beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false }, lids: 'none', appVersion: '9.9.9',
+      fileName: 'a.csv', surface: 'LV_ENDO', params: { beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false, align_slices: false }, lids: 'none', appVersion: '9.9.9',
     });
     core.handle({ type: 'session-export', reqId: 4, fileName: 'missing.csv', surface: null, params: {}, lids: 'auto', appVersion: '9.9.9' });
     const e = out.at(-1)!;
     expect(e).toMatchObject({ type: 'error', reqId: 4, error: { code: 'not_loaded', file: 'missing.csv' } });
+  });
+
+  it('marks a run that met the stop threshold early as converged, and passes the alignment through', () => {
+    const { core, session, out, runTicks } = setup(20);
+    session.convergeAt = 13;
+    session.alignment = { rounds: 9, residual_before_mm: 2.2, residual_after_mm: 0.7, groups: [{ kind: 'SAX', label: 'SAX 1', contour_ids: ['s1'], shift_mm: [1, 0, 0] }] };
+    core.handle(runMsg);
+    runTicks();
+    const done = out.at(-1)!;
+    if (done.type !== 'done') throw new Error(done.type);
+    expect(done.result.iterations_done).toBe(13);
+    expect(done.result.converged).toBe(true);
+    expect(done.result.alignment?.residual_after_mm).toBe(0.7);
+    expect(done.result.contour_to_mesh_as_given).toEqual({ mean: 0.6, median: 0.5, max: 2.1 });
+    // An older core's options without align_slices read as the default (off).
+    expect(done.result.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
+    // An aligned run sends its (shifted) contours once, on its first frame; others never do.
+    const aligned = setup(20);
+    aligned.core.handle({ ...runMsg, options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true } });
+    aligned.runTicks();
+    const withContours = aligned.frames().filter((f) => f.runContours);
+    expect(withContours.map((f) => f.seq)).toEqual([1]);
+    expect(withContours[0].runContours?.points).toEqual(new Float32Array(6));
+    expect(withContours[0].runContours?.contours).toEqual([]);
+    const full = setup(20);
+    full.core.handle(runMsg);
+    full.runTicks();
+    const all = full.out.at(-1)!;
+    if (all.type !== 'done') throw new Error(all.type);
+    expect([all.result.iterations_done, all.result.converged, all.result.alignment, all.result.contour_to_mesh_as_given]).toEqual([20, false, null, null]);
+    expect(full.frames().some((f) => f.runContours)).toBe(false);
   });
 
   it('keeps at most two frames unacknowledged and always sends the final one', () => {

@@ -8,7 +8,7 @@ import type { CoreClient } from '../core-client/CoreClient';
 import type {
   CoreErrorData, Frame, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, StepReport,
 } from '../core-client/protocol';
-import { DEFAULT_OPTIONS } from '../core-client/protocol';
+import { DEFAULT_OPTIONS, withDefaultOptions } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
 import type { ExportPanel } from '../io/ExportPanel';
 import type { FileBar } from '../io/FileBar';
@@ -25,6 +25,8 @@ import { robustMax } from '../viewer/colormap';
 import type { Legend } from '../viewer/Legend';
 import type { Viewer } from '../viewer/Viewer';
 import { FrameHistory } from './history';
+import { asCoreError, callSafely, keptText, schemaOrdered } from './errors';
+import { showSceneContours, surfacePoints } from './sceneContours';
 import * as pb from './playback';
 import { currentRunId, initialState, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
@@ -75,6 +77,8 @@ export class Controller {
   private latest: StepReport | null = null;
   private indices: Uint32Array | null = null;
   private attractors: Float32Array | null = null;
+  /** The running run's own contours when they are not the file's (breath-hold alignment). */
+  private runContours: Frame['runContours'] | null = null;
   private restartTimer: ReturnType<typeof setTimeout> | null = null;
   /** What is on screen: the history index shown, and whether the final result is. */
   private shown = { cursor: -2, result: false, historyVersion: -1 };
@@ -138,7 +142,7 @@ export class Controller {
   async openFiles(files: File[]): Promise<void> {
     if (files.length === 0) return;
     // Say "loading" at once, before the bytes are read (and before the core is up, if it is not).
-    this.cancelRun();
+    // A run in progress goes on until a file has been read: a refused file leaves the work as it was.
     this.dispatch({ type: 'load', fileName: files[0].name });
     if (!(await this.ready)) return;
     let first: string | null = null;
@@ -176,10 +180,10 @@ export class Controller {
   private async loadBytes(fileName: string, bytes: ArrayBuffer): Promise<boolean> {
     const client = this.client;
     if (!client) return false;
-    this.cancelRun();
     this.dispatch({ type: 'load', fileName });
     try {
       const loaded = await client.load(fileName, bytes);
+      this.cancelRun(); // read: it replaces what was on screen
       this.files.delete(fileName); // re-insert at the end: newest last in the picker
       this.files.set(fileName, loaded);
       if (loaded.session) this.applySession(loaded.session);
@@ -187,7 +191,9 @@ export class Controller {
       this.parts.banner.hide();
       return true;
     } catch (e) {
-      this.fail(asCoreError(e, 'could not read the file', fileName));
+      // The file is not opened: the previous one (if any) stays current, with its scene and framing.
+      const previous = this.currentFile()?.fileName ?? null;
+      this.fail(asCoreError(e, 'could not read the file', fileName), undefined, keptText(previous));
       return false;
     }
   }
@@ -196,7 +202,7 @@ export class Controller {
   private applySession(session: SessionSettings): void {
     this.params = { ...defaultParams(this.schema), ...session.params };
     this.lids = session.lids;
-    this.options = { ...session.options };
+    this.options = withDefaultOptions(session.options);
     this.parts.params.setValues(this.params, this.lids, this.options);
     this.updateUrl();
   }
@@ -241,15 +247,12 @@ export class Controller {
     this.updateUrl();
   }
 
-  /** Points the camera at the contours of the chosen surface. */
+  /**
+   * Points the camera at the contours of the chosen surface, at their own scale: a file whose run
+   * the core then refuses (a heart in metres, say) stays framed, so the user sees what was refused.
+   */
   private frameSurface(file: LoadedFile): void {
-    const chosen = file.contours.filter((c) => this.surface === null || c.surface === this.surface || c.surface === null);
-    const xyz: number[] = [];
-    for (const c of chosen) for (const p of c.pieces) for (let k = 0; k < p.count; k++) {
-      const i = (p.start + k) * 3;
-      xyz.push(file.points[i], file.points[i + 1], file.points[i + 2]);
-    }
-    this.parts.viewer?.frame(xyz.length ? xyz : file.points);
+    this.parts.viewer?.frame(surfacePoints(file, this.surface));
   }
 
   private currentFile(): LoadedFile | null {
@@ -293,13 +296,7 @@ export class Controller {
   }
 
   private emitResult(r: RunResult | null): void {
-    for (const l of this.resultListeners) {
-      try {
-        l(r);
-      } catch (e) {
-        console.error('result listener failed', e);
-      }
-    }
+    for (const l of this.resultListeners) callSafely(() => l(r), 'result listener failed');
   }
 
   // ---- runs -----------------------------------------------------------------------------------
@@ -309,21 +306,12 @@ export class Controller {
     if (this.restartTimer) clearTimeout(this.restartTimer);
     this.restartTimer = null;
     const client = this.client;
-    const file = this.currentFile();
-    if (!client || !file || this.state.kind === 'loading') return;
+    const settings = this.runSettings();
+    if (!client || !settings || this.state.kind === 'loading') return;
     this.cancelRun();
     this.clearRunDisplay();
     this.parts.result.clear('running…');
-    const handle = client.run(
-      {
-        fileName: file.fileName,
-        surface: file.surfaces.length ? this.surface : null,
-        params: { ...this.params },
-        lids: this.lids,
-        options: { ...this.options },
-      },
-      (f) => this.onFrame(f),
-    );
+    const handle = client.run(settings, (f) => this.onFrame(f));
     this.active = { runId: handle.runId, cancel: () => handle.cancel() };
     this.dispatch({ type: 'run', runId: handle.runId });
     handle.done.then(
@@ -332,7 +320,7 @@ export class Controller {
         if (this.active?.runId !== handle.runId) return; // cancelled or replaced: not an error
         this.active = null;
         this.parts.result.clear('no result (see the error)');
-        this.fail(asCoreError(e, 'the reconstruction failed', file.fileName), handle.runId);
+        this.fail(asCoreError(e, 'the reconstruction failed', settings.fileName), handle.runId);
       },
     );
   }
@@ -365,6 +353,10 @@ export class Controller {
     if (!this.active || f.runId !== this.active.runId) return;
     if (f.indices) this.indices = f.indices;
     if (f.attractors) this.attractors = f.attractors;
+    if (f.runContours) {
+      this.runContours = f.runContours;
+      this.showContours(null); // the shifted contours the mesh now follows, and the file's as given
+    }
     this.latest = f.report;
     this.parts.status.setProgress(f.report.total_iterations > 0 ? f.report.iteration / f.report.total_iterations : 0);
     if (!this.indices || this.indices.length === 0) return;
@@ -384,7 +376,8 @@ export class Controller {
     this.meshMaxMm = robustMax(r.vertexDistances);
     this.parts.status.setProgress(1);
     this.parts.result.show(r);
-    this.parts.banner.hide(); // a run finished: whatever error was shown has been dealt with
+    // A run finished: whatever error was shown has been dealt with (not a file refused meanwhile).
+    if (this.state.kind !== 'error') this.parts.banner.hide();
     this.parts.exports.setAvailable(true, true);
     this.historyVersion++;
     this.dispatch({ type: 'finished', runId: r.runId });
@@ -398,11 +391,15 @@ export class Controller {
     this.latest = null;
     this.indices = null;
     this.attractors = null;
+    const shifted = this.runContours !== null; // an aligned run's contours are on screen
+    this.runContours = null;
     this.playback = pb.restart(this.playback);
     this.framedRun = false;
     this.shown = { cursor: -2, result: false, historyVersion: -1 };
     this.parts.viewer?.meshLayer.clear();
     this.parts.viewer?.attractorLayer.clear();
+    this.parts.viewer?.givenLayer.clear();
+    this.parts.view.setAsGivenAvailable(false);
     this.parts.viewer?.requestRender();
     this.parts.legend.hide();
     this.parts.meshLegend.hide();
@@ -411,7 +408,7 @@ export class Controller {
     this.parts.plot.set([], 1, null);
     this.parts.exports.setAvailable(false, this.currentFile() !== null);
     this.parts.result.clear('no result yet');
-    if (this.contourMode === 'distances') this.showContours(null);
+    if (this.contourMode === 'distances' || shifted) this.showContours(null);
     this.emitResult(null);
   }
 
@@ -466,6 +463,7 @@ export class Controller {
     viewer.meshLayer.setOpacity(this.view.opacity);
     viewer.attractorLayer.setVisible(this.view.attractors);
     viewer.landmarkLayer.setVisible(this.view.landmarks);
+    viewer.givenLayer.setVisible(this.view.asGiven);
     viewer.setClip(this.view.clip);
     viewer.requestRender();
   }
@@ -483,11 +481,6 @@ export class Controller {
     const file = this.currentFile();
     if (!file) return null;
     const r = this.result;
-    const params = r ? r.params : this.params;
-    // Schema order (iterations, lambda, beta, ...) reads better in file headers than the core's.
-    const ordered: ParamValues = {};
-    for (const s of this.schema) if (params[s.name] !== undefined) ordered[s.name] = params[s.name];
-    for (const k of Object.keys(params)) if (ordered[k] === undefined) ordered[k] = params[k];
     return {
       appVersion: this.appVersion,
       coreVersion: r?.version ?? this.coreVersion,
@@ -495,7 +488,7 @@ export class Controller {
       surface: r ? r.surface : this.surface,
       lids: r ? r.lids : this.lids,
       options: r?.options ?? this.options,
-      params: ordered,
+      params: schemaOrdered(r ? r.params : this.params, this.schema),
     };
   }
 
@@ -515,6 +508,11 @@ export class Controller {
 
   currentResult(): RunResult | null {
     return this.result;
+  }
+
+  /** The current file as loaded (its points as given), for the e2e tests and the console. */
+  currentFileData(): LoadedFile | null {
+    return this.currentFile();
   }
 
   // ---- display (once per animation frame) -----------------------------------------------------
@@ -577,19 +575,13 @@ export class Controller {
     this.parts.plot.set(this.history.series(), total, report?.iteration ?? null);
   }
 
-  /** Contours of the current file; with a result, its points coloured by distance. */
+  /** Contours of the current file; with a result, its points coloured by distance (and, aligned, the file's as given). */
   private showContours(r: RunResult | null): void {
     const viewer = this.parts.viewer;
     const file = this.currentFile();
     if (!viewer || !file) return;
-    if (r) {
-      // Other surfaces from the file for context, then the run's own contours with distances.
-      viewer.contourLayer.set(r.contours, r.contourPoints, r.surface, r.pointDistances, this.pointMaxMm);
-      this.contourMode = 'distances';
-    } else {
-      viewer.contourLayer.set(file.contours, file.points, this.surface, null);
-      this.contourMode = 'plain';
-    }
+    this.parts.view.setAsGivenAvailable(showSceneContours(viewer, file, this.surface, r, this.pointMaxMm, this.runContours));
+    this.contourMode = r ? 'distances' : 'plain';
     viewer.requestRender();
   }
 
@@ -602,9 +594,9 @@ export class Controller {
     this.setStatus();
   }
 
-  private fail(error: CoreErrorData, runId?: number): void {
+  private fail(error: CoreErrorData, runId?: number, context = ''): void {
     this.dispatch({ type: 'failed', error, runId });
-    if (this.state.kind === 'error') this.parts.banner.showError(error);
+    if (this.state.kind === 'error') this.parts.banner.showError(error, context);
   }
 
   private setStatus(): void {
@@ -647,12 +639,4 @@ export class Controller {
   }
 }
 
-/** Anything thrown or rejected, as the protocol's error data (with the file when known). */
-export function asCoreError(e: unknown, fallback: string, file?: string): CoreErrorData {
-  if (e && typeof e === 'object' && 'code' in e && 'message' in e) {
-    const d = e as CoreErrorData;
-    return { ...d, file: d.file ?? file };
-  }
-  const message = e instanceof Error ? e.message : typeof e === 'string' ? e : fallback;
-  return { code: 'app', message: message || fallback, file };
-}
+export { asCoreError } from './errors';

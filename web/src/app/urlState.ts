@@ -11,6 +11,8 @@ export interface ViewSettings {
   attractors: boolean;
   /** Landmark points (valves, apex, ...) of the file, when it has any. */
   landmarks: boolean;
+  /** The file's contours as given, faint and dashed, after a run with breath-hold alignment. */
+  asGiven: boolean;
   opacity: number;
   /** Clipping plane position in [0, 1] of the model's extent along the view axis; 1 = off. */
   clip: number;
@@ -19,7 +21,7 @@ export interface ViewSettings {
 export interface UrlState {
   params: ParamValues;
   lids: LidsMode;
-  /** Smoothing method and conflict softening (`smoothing_method=taubin`, `soften_conflicts=0`). */
+  /** Smoothing method, conflict softening, alignment (`smoothing_method=taubin`, `soften_conflicts=0`, `align_slices=1`). */
   options: ReconOptions;
   surface: string | null;
   /** Bundled sample to load on start (its id), if any. */
@@ -27,7 +29,7 @@ export interface UrlState {
   view: ViewSettings;
 }
 
-export const DEFAULT_VIEW: ViewSettings = { wireframe: false, attractors: true, landmarks: true, opacity: 1, clip: 1 };
+export const DEFAULT_VIEW: ViewSettings = { wireframe: false, attractors: true, landmarks: true, asGiven: true, opacity: 1, clip: 1 };
 
 export function defaultParams(schema: readonly ParamSpec[]): ParamValues {
   const out: ParamValues = {};
@@ -68,6 +70,7 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
   const options: ReconOptions = {
     smoothing_method: SMOOTHING_METHODS.find((m) => m === q.get('smoothing_method')) ?? DEFAULT_OPTIONS.smoothing_method,
     soften_conflicts: parseBool(q.get('soften_conflicts'), DEFAULT_OPTIONS.soften_conflicts),
+    align_slices: parseBool(q.get('align_slices'), DEFAULT_OPTIONS.align_slices),
   };
   const opacity = parseNumber(q.get('opacity'));
   const clip = parseNumber(q.get('clip'));
@@ -81,6 +84,7 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
       wireframe: parseBool(q.get('wireframe'), DEFAULT_VIEW.wireframe),
       attractors: parseBool(q.get('attractors_shown'), DEFAULT_VIEW.attractors),
       landmarks: parseBool(q.get('landmarks_shown'), DEFAULT_VIEW.landmarks),
+      asGiven: parseBool(q.get('as_given_shown'), DEFAULT_VIEW.asGiven),
       opacity: opacity === null ? DEFAULT_VIEW.opacity : Math.min(1, Math.max(0.05, opacity)),
       clip: clip === null ? DEFAULT_VIEW.clip : Math.min(1, Math.max(0, clip)),
     },
@@ -99,10 +103,12 @@ export function serializeUrlState(state: UrlState, schema: readonly ParamSpec[])
   if (state.lids !== 'auto') q.set('lids', state.lids);
   if (state.options.smoothing_method !== DEFAULT_OPTIONS.smoothing_method) q.set('smoothing_method', state.options.smoothing_method);
   if (state.options.soften_conflicts !== DEFAULT_OPTIONS.soften_conflicts) q.set('soften_conflicts', state.options.soften_conflicts ? '1' : '0');
+  if (state.options.align_slices !== DEFAULT_OPTIONS.align_slices) q.set('align_slices', state.options.align_slices ? '1' : '0');
   const view = state.view;
   if (view.wireframe !== DEFAULT_VIEW.wireframe) q.set('wireframe', view.wireframe ? '1' : '0');
   if (view.attractors !== DEFAULT_VIEW.attractors) q.set('attractors_shown', view.attractors ? '1' : '0');
   if (view.landmarks !== DEFAULT_VIEW.landmarks) q.set('landmarks_shown', view.landmarks ? '1' : '0');
+  if (view.asGiven !== DEFAULT_VIEW.asGiven) q.set('as_given_shown', view.asGiven ? '1' : '0');
   if (view.opacity !== DEFAULT_VIEW.opacity) q.set('opacity', formatParam(view.opacity));
   if (view.clip !== DEFAULT_VIEW.clip) q.set('clip', formatParam(view.clip));
   const text = q.toString();

@@ -526,6 +526,7 @@ export class CoreClient {
     };
     if (msg.indices !== undefined) frame.indices = msg.indices;
     if (msg.attractors !== undefined) frame.attractors = msg.attractors;
+    if (msg.runContours !== undefined) frame.runContours = msg.runContours;
     run.pending = run.pending ? mergeFrames(run.pending, frame) : frame;
     if (!run.flushScheduled) {
       run.flushScheduled = true;

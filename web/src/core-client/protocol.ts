@@ -27,13 +27,29 @@ export interface ReconOptions {
   smoothing_method: SmoothingMethodName;
   /** Down-weight SAX vs LAX attractors that disagree in the final steps (the core's default). */
   soften_conflicts: boolean;
+  /**
+   * Breath-hold alignment: shift each short-axis slice and long-axis view in its own plane so the
+   * curves agree where planes cross, then reconstruct the shifted contours (off by default: the
+   * paper's method takes the contours as given).
+   */
+  align_slices: boolean;
 }
 
-export const DEFAULT_OPTIONS: Readonly<ReconOptions> = { smoothing_method: 'laplacian-affine', soften_conflicts: true };
+export const DEFAULT_OPTIONS: Readonly<ReconOptions> = { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false };
+
+/**
+ * Options as saved by anything older than one of them (a session, a URL, a test double): the
+ * missing ones take the core's default.
+ */
+export function withDefaultOptions(options: Partial<ReconOptions> | null | undefined): ReconOptions {
+  return { ...DEFAULT_OPTIONS, ...(options ?? {}) };
+}
 
 /** The params JSON object the binding reads: schema numbers plus the options. */
 export function paramsJson(params: ParamValues, options?: ReconOptions): string {
-  return JSON.stringify(options ? { ...params, smoothing_method: options.smoothing_method, soften_conflicts: options.soften_conflicts } : params);
+  if (!options) return JSON.stringify(params);
+  const o = withDefaultOptions(options);
+  return JSON.stringify({ ...params, smoothing_method: o.smoothing_method, soften_conflicts: o.soften_conflicts, align_slices: o.align_slices });
 }
 
 /** What a saved heartmesh session file carries besides its contours (applied by the app on load). */
@@ -132,6 +148,11 @@ export interface Frame {
   indices?: Uint32Array;
   /** Attractor points, xyz, mm; only when they were re-sampled since the last frame sent. */
   attractors?: Float32Array;
+  /**
+   * The contours the run follows, on its first frame, when they are not the file's as given (the
+   * run aligns breath-holds: these are the shifted ones), so the display shows them while it runs.
+   */
+  runContours?: { contours: ContourInfo[]; points: Float32Array };
 }
 
 export interface Stats {
@@ -147,6 +168,34 @@ export interface ContourStats {
   id: string;
   kind: ContourKindName;
   stats: Stats;
+}
+
+/** One short-axis slice or long-axis view moved by the breath-hold alignment (the core's `GroupShift`). */
+export interface AlignmentGroup {
+  kind: ContourKindName;
+  /** "SAX 3" (apex to base), or the long-axis contour ids. */
+  label: string;
+  contour_ids: string[];
+  /** In-plane shift applied to every contour of the group, mm. */
+  shift_mm: [number, number, number];
+}
+
+/** What the breath-hold alignment did (the core's `Alignment`, in `result_json().alignment`). */
+export interface Alignment {
+  rounds: number;
+  /** Mean in-plane distance between crossing curves before and after the shifts, mm. */
+  residual_before_mm: number;
+  residual_after_mm: number;
+  groups: AlignmentGroup[];
+  /** Why nothing moved (no long-axis view, no crossings), when the core says so. */
+  note?: string | null;
+}
+
+/** Contour-to-mesh distance summary (mm). */
+export interface DistanceSummary {
+  mean: number;
+  median: number;
+  max: number;
 }
 
 export interface RunResult {
@@ -170,6 +219,17 @@ export interface RunResult {
   lids: LidsMode;
   options: ReconOptions;
   version: string;
+  /** Breath-hold alignment of the run: null or absent when the option was off. */
+  alignment?: Alignment | null;
+  /**
+   * With alignment on: contour-to-mesh distance to the file's contours as given (`overall` is to
+   * the shifted contours the mesh follows).
+   */
+  contour_to_mesh_as_given?: DistanceSummary | null;
+  /** Deformation iterations done (the last step's `iteration`), set by the worker. */
+  iterations_done?: number;
+  /** The run stopped before `params.iterations` because the attractors were reached (stop threshold). */
+  converged?: boolean;
 }
 
 
@@ -549,6 +609,7 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       add(msg.positions);
       add(msg.indices);
       add(msg.attractors);
+      add(msg.runContours?.points);
       break;
     case 'done': {
       const r = msg.result;
@@ -672,7 +733,7 @@ export function isToWorker(v: unknown): v is ToWorker {
 
 /**
  * Merges a newer frame over an older one that was never handed to the renderer: the newer
- * positions win, but topology (indices) and attractors of the skipped frame are carried over when
+ * positions win, but topology (indices), attractors and run contours of the skipped frame are carried over when
  * the newer frame does not have its own, so the receiver never misses a topology change.
  */
 export function mergeFrames(older: Frame, newer: Frame): Frame {
@@ -681,5 +742,6 @@ export function mergeFrames(older: Frame, newer: Frame): Frame {
   if (merged.attractors === undefined && older.attractors !== undefined) {
     merged.attractors = older.attractors;
   }
+  if (merged.runContours === undefined && older.runContours !== undefined) merged.runContours = older.runContours;
   return merged;
 }

@@ -19,6 +19,7 @@ import {
   isCoreErrorData,
   paramsJson,
   transferablesOf,
+  withDefaultOptions,
   type ContourInfo,
   type CoreErrorData,
   type FromWorker,
@@ -100,6 +101,8 @@ interface ActiveRun {
   unsent: boolean;
   indicesDirty: boolean;
   attractorsDirty: boolean;
+  /** The run's contours differ from the file's (breath-hold alignment): send them on the first frame. */
+  contoursDirty: boolean;
   report: StepReport | null;
   startedMs: number;
   finished: boolean;
@@ -212,6 +215,8 @@ export class WorkerCore {
       'points'
     >;
     const file: LoadedFile = { ...info, points: this.session.file_points(fileName) };
+    // A session saved before an option existed loads with that option at its default.
+    if (file.session) file.session = { ...file.session, options: withDefaultOptions(file.session.options) };
     this.send({ type: 'loaded', reqId, file });
   }
 
@@ -224,6 +229,7 @@ export class WorkerCore {
       unsent: false,
       indicesDirty: true,
       attractorsDirty: true,
+      contoursDirty: msg.options?.align_slices === true,
       report: null,
       startedMs: this.options.now(),
       finished: false,
@@ -289,6 +295,11 @@ export class WorkerCore {
     };
     if (run.indicesDirty) msg.indices = this.session.indices();
     if (run.attractorsDirty) msg.attractors = this.session.attractors();
+    if (run.contoursDirty) {
+      const { contours } = JSON.parse(this.session.result_json()) as { contours: ContourInfo[] };
+      msg.runContours = { contours, points: this.session.contour_points() };
+    }
+    run.contoursDirty = false;
     run.indicesDirty = false;
     run.attractorsDirty = false;
     run.unsent = false;
@@ -299,8 +310,13 @@ export class WorkerCore {
   private finish(run: ActiveRun): void {
     this.sendFrame(run); // the final frame goes out whatever the back-pressure
     const small = JSON.parse(this.session.result_json()) as ResultJson;
+    const last = run.report;
     const result: RunResult = {
       ...small,
+      options: withDefaultOptions(small.options),
+      alignment: small.alignment ?? null,
+      contour_to_mesh_as_given: small.contour_to_mesh_as_given ?? null,
+      ...convergence(last),
       runId: run.runId,
       contours: small.contours as ContourInfo[],
       contourPoints: this.session.contour_points(),
@@ -338,6 +354,16 @@ export class WorkerCore {
     if (file !== undefined) error.file = file;
     this.send({ type: 'error', ...ids, error });
   }
+}
+
+/**
+ * How many deformation iterations the run did and whether it stopped early because the attractors
+ * were reached (the core's stop threshold): the final step's report says `done` before its
+ * `iteration` reaches `total_iterations`.
+ */
+export function convergence(last: StepReport | null): { iterations_done?: number; converged?: boolean } {
+  if (!last) return {};
+  return { iterations_done: last.iteration, converged: last.done && last.iteration < last.total_iterations };
 }
 
 /** The CoreErrorData in a value thrown by the wasm Session, or null if it is not one. */

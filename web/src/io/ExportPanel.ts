@@ -8,7 +8,7 @@ import { h } from '../ui/dom';
 import { download } from './download';
 import { writeDistancesCsv } from './export/csv';
 import { exportBaseName, type ExportInfo } from './export/header';
-import { writeParamsJson } from './export/json';
+import { runSummary, writeParamsJson } from './export/json';
 import { writeObj } from './export/obj';
 import { writePly } from './export/ply';
 import { writeStl } from './export/stl';
@@ -89,10 +89,7 @@ export class ExportPanel {
     const info = this.source.info();
     if (!info) return;
     const r = this.source.result();
-    const summary = r
-      ? { vertices: r.positions.length / 3, triangles: r.indices.length / 3, overall: r.overall, volumeMl: r.volumeMl, areaMm2: r.areaMm2, watertight: r.watertight, seconds: r.seconds }
-      : null;
-    download(writeParamsJson(info, summary), `${exportBaseName(info)}-params.json`, 'application/json');
+    download(writeParamsJson(info, r ? runSummary(r) : null), `${exportBaseName(info)}-params.json`, 'application/json');
   }
 
   private async exportSession(): Promise<void> {

@@ -14,13 +14,14 @@ export class ErrorBanner {
     this.element = h('div', { class: 'banner', role: 'alert', hidden: true, 'data-testid': 'error-banner' }, this.text, close);
   }
 
-  showError(e: CoreErrorData): void {
+  /** `context` (e.g. which file the view still shows) follows the message and its hint. */
+  showError(e: CoreErrorData, context = ''): void {
     this.element.dataset.kind = 'error';
     const hint =
       e.code === 'worker_crashed' ? ' The computation engine was restarted; try again.' :
       e.code === 'surface_required' && e.available ? ` Pick one of: ${e.available.join(', ')}.` :
       taubinHint(e);
-    this.text.textContent = `${describeError(e)}${hint}`;
+    this.text.textContent = `${describeError(e)}${hint}${context}`;
     this.element.hidden = false;
   }
 

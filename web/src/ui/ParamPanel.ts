@@ -2,7 +2,7 @@
  * The parameter panel, generated from the core's schema (ParamSpec[] from CoreClient.schema()), so
  * a parameter added in Rust appears here without UI changes. Log-scale parameters (lambda) get a
  * log slider. Below them, the modes that are not numbers: mesh ends (lids), the smoothing method
- * and the softening of conflicting attractors. Emits every change; the controller debounces and
+ * the softening of conflicting attractors and the breath-hold alignment. Emits every change; the controller debounces and
  * restarts the run.
  */
 import { DEFAULT_OPTIONS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
@@ -27,6 +27,9 @@ const LABELS: Record<string, string> = {
 /** One line under each option, like the sliders' schema help. */
 const SMOOTHING_HELP = 'how each remesh smooths: the paper\'s umbrella smoothing with an affine correction, or Taubin λ/μ (factor at most 0.6)';
 const SOFTEN_HELP = 'in the final steps, down-weight short- and long-axis attractors that disagree instead of letting the surface fold';
+const ALIGN_HELP =
+  'before reconstructing, shift each short-axis slice and long-axis view in its own plane so the curves meet where the planes cross; ' +
+  'use it when slices were acquired in separate breath-holds and the stack looks staggered (the mesh then follows the shifted contours)';
 
 /** Text shown instead of 0 for parameters where 0 means "automatic". */
 const ZERO_MEANS: Record<string, string> = { attractors: 'auto', attractor_spacing: 'off' };
@@ -46,6 +49,7 @@ export class ParamPanel {
   private lidsMode: LidsMode = 'auto';
   private readonly smoothing: HTMLSelectElement;
   private readonly soften: HTMLInputElement;
+  private readonly align: HTMLInputElement;
   private options: ReconOptions = { ...DEFAULT_OPTIONS };
 
   constructor(
@@ -83,6 +87,15 @@ export class ParamPanel {
       this.renderOptions();
       this.emit();
     });
+    this.align = h('input', {
+      type: 'checkbox', id: 'param-align-slices', 'data-testid': 'param-align-slices',
+      'aria-describedby': 'param-align-slices-help',
+    });
+    this.align.addEventListener('change', () => {
+      this.options = { ...this.options, align_slices: this.align.checked };
+      this.renderOptions();
+      this.emit();
+    });
     const reset = h('button', { type: 'button', class: 'small', 'data-testid': 'reset-params', title: 'All parameters back to the defaults of the method' }, 'Reset to defaults');
     reset.addEventListener('click', onReset);
     this.element = h(
@@ -103,6 +116,12 @@ export class ParamPanel {
         { class: 'param-row param-option', title: SOFTEN_HELP },
         h('label', { class: 'param-check', for: 'param-soften-conflicts' }, this.soften, 'Soften conflicting SAX/LAX attractors'),
         h('div', { class: 'param-help', id: 'param-soften-conflicts-help' }, SOFTEN_HELP),
+      ),
+      h(
+        'div',
+        { class: 'param-row param-option', title: ALIGN_HELP },
+        h('label', { class: 'param-check', for: 'param-align-slices' }, this.align, 'Align breath-holds'),
+        h('div', { class: 'param-help', id: 'param-align-slices-help' }, ALIGN_HELP),
       ),
       h('div', { class: 'panel-actions' }, reset),
     );
@@ -153,6 +172,8 @@ export class ParamPanel {
     this.soften.checked = this.options.soften_conflicts;
     this.smoothing.classList.toggle('changed', this.options.smoothing_method !== DEFAULT_OPTIONS.smoothing_method);
     this.soften.parentElement?.classList.toggle('changed', this.options.soften_conflicts !== DEFAULT_OPTIONS.soften_conflicts);
+    this.align.checked = this.options.align_slices;
+    this.align.parentElement?.classList.toggle('changed', this.options.align_slices !== DEFAULT_OPTIONS.align_slices);
   }
 
   private format(spec: ParamSpec, v: number): string {

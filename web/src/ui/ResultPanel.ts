@@ -1,45 +1,116 @@
 /**
- * The result of a finished run: vertex and triangle counts, contour-to-mesh mean/median/p95/max in
- * mm, volume, area, time. `[data-testid=result]` carries `data-vertices`, `data-triangles`,
- * `data-mean-mm`, `data-max-mm` (the automated-check contract).
+ * The result of a finished run: vertex and triangle counts, iterations (and whether the run
+ * converged early), contour-to-mesh mean/median/p95/max in mm, volume, area, time; with breath-hold
+ * alignment on, also the distance to the contours as given and the alignment itself (residual
+ * before -> after, the groups' shifts, largest first). `[data-testid=result]` carries
+ * `data-vertices`, `data-triangles`, `data-mean-mm`, `data-max-mm` (the automated-check contract),
+ * plus `data-iterations`, `data-converged` and, when aligned, `data-residual-before-mm`,
+ * `data-residual-after-mm`, `data-given-mean-mm`.
  */
-import type { RunResult } from '../core-client/protocol';
+import type { Alignment, RunResult } from '../core-client/protocol';
 import { h, mm } from './dom';
+import { alignmentRows, iterationsDoneText, residualText } from './runText';
+
+const ATTRIBUTES = [
+  'data-vertices', 'data-triangles', 'data-mean-mm', 'data-max-mm', 'data-iterations', 'data-converged',
+  'data-residual-before-mm', 'data-residual-after-mm', 'data-given-mean-mm',
+];
+
+const SHIFTED_HELP = 'with breath-hold alignment: from the shifted contours, which the mesh follows, to the mesh';
+const GIVEN_HELP = 'distance from the contours as given in the file (before the breath-hold shifts) to the mesh';
+const RESIDUAL_HELP = 'mean in-plane distance between each slice\'s curves and where the other kind\'s curves cross its plane, before → after the shifts';
 
 export class ResultPanel {
   readonly element: HTMLElement;
   private readonly body: HTMLElement;
+  private readonly alignment: HTMLElement;
 
   constructor() {
     this.body = h('dl', { class: 'result-list' });
-    this.element = h('section', { class: 'panel result', 'data-testid': 'result', 'aria-label': 'Result' }, h('h2', {}, 'Result'), this.body);
+    this.alignment = h('div', { class: 'alignment', 'data-testid': 'result-alignment', hidden: true });
+    this.element = h('section', { class: 'panel result', 'data-testid': 'result', 'aria-label': 'Result' }, h('h2', {}, 'Result'), this.body, this.alignment);
     this.clear('no result yet');
   }
 
   clear(message: string): void {
-    for (const a of ['data-vertices', 'data-triangles', 'data-mean-mm', 'data-max-mm']) this.element.removeAttribute(a);
+    for (const a of ATTRIBUTES) this.element.removeAttribute(a);
     this.body.replaceChildren(h('dd', { class: 'muted' }, message));
+    this.alignment.replaceChildren();
+    this.alignment.hidden = true;
   }
 
   show(r: RunResult): void {
     const vertices = r.positions.length / 3;
     const triangles = r.indices.length / 3;
-    this.element.dataset.vertices = String(vertices);
-    this.element.dataset.triangles = String(triangles);
-    this.element.dataset.meanMm = String(r.overall.mean);
-    this.element.dataset.maxMm = String(r.overall.max);
-    const row = (k: string, v: string, testid?: string) => [h('dt', {}, k), h('dd', testid ? { 'data-testid': testid } : {}, v)];
-    this.body.replaceChildren(
-      ...row('Vertices', String(vertices), 'result-vertices'),
-      ...row('Triangles', `${triangles} (${r.watertight ? 'closed' : 'open'})`, 'result-triangles'),
-      ...row('Contour→mesh mean', mm(r.overall.mean, 3), 'result-mean'),
+    for (const attr of ATTRIBUTES) this.element.removeAttribute(attr); // nothing stale from the last run
+    const d = this.element.dataset;
+    d.vertices = String(vertices);
+    d.triangles = String(triangles);
+    d.meanMm = String(r.overall.mean);
+    d.maxMm = String(r.overall.max);
+    const row = (k: string, v: string, testid?: string, title?: string) => [
+      h('dt', title ? { title } : {}, k),
+      h('dd', { ...(testid ? { 'data-testid': testid } : {}), ...(title ? { title } : {}) }, v),
+    ];
+    const rows = [...row('Vertices', String(vertices), 'result-vertices'), ...row('Triangles', `${triangles} (${r.watertight ? 'closed' : 'open'})`, 'result-triangles')];
+    if (r.iterations_done !== undefined) {
+      d.iterations = String(r.iterations_done);
+      d.converged = r.converged ? '1' : '0';
+      const title = r.converged ? 'the attractors were reached (stop threshold) before the last iteration' : undefined;
+      rows.push(...row('Iterations', iterationsDoneText(r.iterations_done, r.params.iterations, r.converged ?? false), 'result-iterations', title));
+    }
+    const a = r.alignment ?? null;
+    const given = r.contour_to_mesh_as_given ?? null;
+    rows.push(
+      ...row('Contour→mesh mean', mm(r.overall.mean, 3), 'result-mean', a ? SHIFTED_HELP : undefined),
       ...row('median', mm(r.overall.median, 3)),
       ...row('95th percentile', mm(r.overall.p95, 3)),
       ...row('max', mm(r.overall.max, 3), 'result-max'),
+    );
+    if (a && given) {
+      d.givenMeanMm = String(given.mean);
+      rows.push(
+        ...row('as given: mean', mm(given.mean, 3), 'result-given-mean', GIVEN_HELP),
+        ...row('as given: max', mm(given.max, 3), 'result-given-max', GIVEN_HELP),
+      );
+    }
+    rows.push(
       ...row('Volume', r.watertight ? `${r.volumeMl.toFixed(1)} ml` : '– (open)'),
       ...row('Area', `${(r.areaMm2 / 100).toFixed(1)} cm²`),
       ...row('Contour points', String(r.overall.count)),
       ...row('Time', `${r.seconds.toFixed(2)} s`),
     );
+    this.body.replaceChildren(...rows);
+    this.showAlignment(a);
+  }
+
+  /** The breath-hold alignment: residual before -> after and the groups' shifts, largest first. */
+  private showAlignment(a: Alignment | null): void {
+    this.alignment.hidden = a === null;
+    if (!a) {
+      this.alignment.replaceChildren();
+      return;
+    }
+    const d = this.element.dataset;
+    d.residualBeforeMm = String(a.residual_before_mm);
+    d.residualAfterMm = String(a.residual_after_mm);
+    const rows = alignmentRows(a).map((g) =>
+      h('tr', { title: g.title }, h('td', {}, g.label), h('td', { class: `kind ${g.kind.toLowerCase()}` }, g.kind), h('td', { class: 'num' }, g.magnitudeMm.toFixed(2))),
+    );
+    const parts: Node[] = [
+      h('h3', {}, 'Breath-hold alignment'),
+      h('div', { class: 'alignment-residual', title: RESIDUAL_HELP }, 'Residual ', h('span', { 'data-testid': 'result-residual' }, residualText(a))),
+    ];
+    if (a.note) parts.push(h('div', { class: 'muted' }, a.note));
+    if (rows.length)
+      parts.push(
+        h(
+            'table',
+            { class: 'alignment-groups', 'data-testid': 'alignment-groups' },
+            h('thead', {}, h('tr', {}, h('th', {}, 'group'), h('th', {}, 'kind'), h('th', { class: 'num', title: 'length of the in-plane shift' }, 'shift (mm)'))),
+            h('tbody', {}, ...rows),
+          ),
+      );
+    this.alignment.replaceChildren(...parts);
   }
 }

@@ -1,17 +1,11 @@
 /**
  * Status line: the state word in `[data-testid=status]` (the automated-check contract: `done`,
- * `error: message`), the shown step's iteration, phase and max/mean distance in mm, and a progress
- * bar of the computation.
+ * `error: message`), the shown step's iteration (or where the run converged), phase and max/mean
+ * distance in mm, and a progress bar of the computation.
  */
 import type { StepReport } from '../core-client/protocol';
-import { h, mm } from './dom';
-
-const PHASES: Record<StepReport['phase'], string> = {
-  initial_tube: 'initial tube',
-  deform: 'deform',
-  remesh: 'remesh',
-  done: 'finished',
-};
+import { h } from './dom';
+import { stepText } from './runText';
 
 export class StatusLine {
   readonly element: HTMLElement;
@@ -42,9 +36,9 @@ export class StatusLine {
       this.detail.textContent = '';
       return;
     }
-    this.detail.textContent =
-      `iteration ${r.iteration} / ${r.total_iterations} · ${PHASES[r.phase]} · ` +
-      `max ${mm(r.max_distance_mm)} · mean ${mm(r.mean_distance_mm)} · ${r.vertices} vertices`;
+    this.detail.textContent = stepText(r);
+    // The final step of a run that met the stop threshold early: "converged at iteration ...".
+    this.detail.dataset.converged = r.done && r.iteration < r.total_iterations ? '1' : '0';
   }
 
   /** Computation progress in [0, 1]. */

@@ -1,12 +1,21 @@
-/** View toggles over the viewport: wireframe, attractors, landmarks, opacity, clipping plane, reset view. */
+/**
+ * View toggles over the viewport: wireframe, attractors, landmarks, the contours as given (only
+ * meaningful after a run with breath-hold alignment: disabled otherwise), opacity, clipping plane,
+ * reset view.
+ */
 import type { ViewSettings } from '../app/urlState';
 import { h } from './dom';
+
+const AS_GIVEN_ON = 'The file\'s contours before the breath-hold shifts, faint and dashed: the mesh follows the shifted ones';
+const AS_GIVEN_OFF = 'Contours as given: shown after a run with "Align breath-holds" on';
 
 export class ViewControls {
   readonly element: HTMLElement;
   private readonly wire: HTMLInputElement;
   private readonly attractors: HTMLInputElement;
   private readonly landmarks: HTMLInputElement;
+  private readonly asGiven: HTMLInputElement;
+  private readonly asGivenLabel: HTMLElement;
   private readonly opacity: HTMLInputElement;
   private readonly clip: HTMLInputElement;
   private readonly opacityOut: HTMLOutputElement;
@@ -16,6 +25,7 @@ export class ViewControls {
     this.wire = h('input', { type: 'checkbox', id: 'view-wire', 'data-testid': 'view-wireframe' });
     this.attractors = h('input', { type: 'checkbox', id: 'view-attr', 'data-testid': 'view-attractors' });
     this.landmarks = h('input', { type: 'checkbox', id: 'view-landmarks', 'data-testid': 'view-landmarks' });
+    this.asGiven = h('input', { type: 'checkbox', id: 'view-as-given', 'data-testid': 'view-as-given', disabled: true });
     this.opacity = h('input', { type: 'range', id: 'view-opacity', min: 5, max: 100, step: 1, 'data-testid': 'view-opacity' });
     this.clip = h('input', { type: 'range', id: 'view-clip', min: 0, max: 100, step: 1, 'data-testid': 'view-clip' });
     this.opacityOut = h('output', { for: 'view-opacity' });
@@ -27,7 +37,12 @@ export class ViewControls {
       this.show(v);
       onChange(v);
     };
-    for (const el of [this.wire, this.attractors, this.landmarks]) el.addEventListener('change', emit);
+    for (const el of [this.wire, this.attractors, this.landmarks, this.asGiven]) el.addEventListener('change', emit);
+    this.asGivenLabel = h(
+      'label',
+      { class: 'check', title: AS_GIVEN_OFF },
+      this.asGiven, h('span', { class: 'swatch given' }), 'Contours as given',
+    );
     for (const el of [this.opacity, this.clip]) el.addEventListener('input', emit);
     this.element = h(
       'div',
@@ -35,6 +50,7 @@ export class ViewControls {
       h('label', { class: 'check' }, this.wire, 'Wireframe'),
       h('label', { class: 'check' }, this.attractors, h('span', { class: 'swatch attr' }), 'Attractors'),
       h('label', { class: 'check', title: 'Valves, apex and other landmark points of the file' }, this.landmarks, h('span', { class: 'swatch lmk' }), 'Landmarks'),
+      this.asGivenLabel,
       h('label', { class: 'range', for: 'view-opacity' }, 'Opacity', this.opacity, this.opacityOut),
       h('label', { class: 'range', for: 'view-clip', title: 'Cut away the near part of the mesh to look inside' }, 'Clip', this.clip, this.clipOut),
       reset,
@@ -46,15 +62,24 @@ export class ViewControls {
       wireframe: this.wire.checked,
       attractors: this.attractors.checked,
       landmarks: this.landmarks.checked,
+      asGiven: this.asGiven.checked,
       opacity: Number(this.opacity.value) / 100,
       clip: Number(this.clip.value) / 100,
     };
+  }
+
+  /** Whether the shown result was aligned (the toggle does something only then). */
+  setAsGivenAvailable(on: boolean): void {
+    this.asGiven.disabled = !on;
+    this.asGivenLabel.classList.toggle('disabled', !on);
+    this.asGivenLabel.title = on ? AS_GIVEN_ON : AS_GIVEN_OFF;
   }
 
   show(v: ViewSettings): void {
     this.wire.checked = v.wireframe;
     this.attractors.checked = v.attractors;
     this.landmarks.checked = v.landmarks;
+    this.asGiven.checked = v.asGiven;
     this.opacity.value = String(Math.round(v.opacity * 100));
     this.clip.value = String(Math.round(v.clip * 100));
     this.opacityOut.textContent = `${Math.round(v.opacity * 100)} %`;

@@ -104,6 +104,16 @@ export class ContourLayer {
     this.objects.push(lines);
   }
 
+  /**
+   * Dash lengths in proportion to the framed scene (`scale` = 1 for a heart of radius 50 mm), so
+   * long-axis curves stay dashed for a file in metres or micrometres too.
+   */
+  setDashScale(scale: number): void {
+    const s = Number.isFinite(scale) && scale > 0 ? scale : 1;
+    this.materials.lax.dashSize = 3 * s;
+    this.materials.lax.gapSize = 2 * s;
+  }
+
   /** Line and point materials, for compiling their shaders ahead of the first frame. */
   get materialObjects(): THREE.Object3D[] {
     const g = warmupGeometry();

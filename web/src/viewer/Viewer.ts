@@ -9,7 +9,8 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { LandmarkLayer } from './LandmarkLayer';
 import { AttractorLayer } from './AttractorLayer';
 import { ContourLayer, warmupGeometry } from './ContourLayer';
-import { fitView, type ViewFit } from './fitView';
+import { cameraPlacement, dashScale, fitView, type ViewFit } from './fitView';
+import { GivenContourLayer } from './GivenContourLayer';
 import { MeshLayer } from './MeshLayer';
 
 export interface HoverInfo {
@@ -43,6 +44,8 @@ export class Viewer {
   readonly controls: OrbitControls;
   readonly meshLayer: MeshLayer;
   readonly contourLayer = new ContourLayer();
+  /** The file's contours as given, behind the shifted ones after a run with breath-hold alignment. */
+  readonly givenLayer = new GivenContourLayer();
   readonly attractorLayer = new AttractorLayer();
   readonly landmarkLayer = new LandmarkLayer();
   /** Clipping plane facing the camera; `clip` in [0, 1] moves it through the model (1 = off). */
@@ -78,7 +81,7 @@ export class Viewer {
     container.append(this.renderer.domElement);
 
     this.meshLayer = new MeshLayer([this.clipPlane]);
-    this.scene.add(this.meshLayer.group, this.contourLayer.group, this.attractorLayer.group, this.landmarkLayer.group);
+    this.scene.add(this.meshLayer.group, this.givenLayer.group, this.contourLayer.group, this.attractorLayer.group, this.landmarkLayer.group);
     this.scene.add(new THREE.HemisphereLight(0xdde6f0, 0x30261f, 1.3));
     const key = new THREE.DirectionalLight(0xffffff, 1.6);
     key.position.set(1, 1.2, 1.5);
@@ -118,7 +121,7 @@ export class Viewer {
     const g = warmupGeometry();
     const group = new THREE.Group();
     for (const m of this.meshLayer.materials) group.add(new THREE.Mesh(g, m));
-    group.add(...this.contourLayer.materialObjects, this.attractorLayer.materialObject);
+    group.add(...this.contourLayer.materialObjects, this.givenLayer.materialObject, this.attractorLayer.materialObject);
     group.traverse((o) => (o.frustumCulled = false));
     group.position.set(0, 0, 1e6); // behind the default camera (at the origin, looking down -z)
     this.scene.add(group);
@@ -170,6 +173,10 @@ export class Viewer {
   frame(points: ArrayLike<number>): void {
     this.framePoints = points;
     this.fit = fitView(points);
+    // The framed radius (mm), for the browser tests: a refused file in metres is framed at its size.
+    this.renderer.domElement.dataset.viewRadius = String(this.fit.radius);
+    this.contourLayer.setDashScale(dashScale(this.fit.radius));
+    this.givenLayer.setDashScale(dashScale(this.fit.radius));
     this.userMoved = false;
     this.resetView();
   }
@@ -198,15 +205,11 @@ export class Viewer {
     const side = new THREE.Vector3(...fit.side);
     // Look along the second principal direction, slightly from above.
     const dir = side.clone().multiplyScalar(-1).addScaledVector(up, 0.35).normalize();
-    // The whole bounding sphere fits the narrower field of view (the mesh may reach a little past
-    // the contours at the lids).
-    const halfFov = THREE.MathUtils.degToRad(this.camera.fov / 2);
-    const fovFit = Math.min(halfFov, Math.atan(Math.tan(halfFov) * this.camera.aspect));
-    const distance = (fit.radius / Math.sin(fovFit)) * 1.05;
+    const { distance, near, far } = cameraPlacement(fit.radius, this.camera.fov, this.camera.aspect);
     this.camera.up.copy(up);
     this.camera.position.copy(center).addScaledVector(dir, distance);
-    this.camera.near = Math.max(0.1, distance / 100);
-    this.camera.far = distance * 10;
+    this.camera.near = near;
+    this.camera.far = far;
     this.camera.updateProjectionMatrix();
     this.controls.target.copy(center);
     this.controls.update();
@@ -291,6 +294,7 @@ export class Viewer {
     this.controls.dispose();
     this.meshLayer.dispose();
     this.contourLayer.dispose();
+    this.givenLayer.dispose();
     this.attractorLayer.dispose();
     this.landmarkLayer.dispose();
     this.renderer.dispose();

@@ -1,8 +1,8 @@
 /**
  * What every export records about how it was made: app and core version, input file, surface,
- * lids mode, the smoothing options and every parameter value. One place, so that all formats say the same thing.
+ * lids mode, the options (smoothing, softening, breath-hold alignment) and every parameter value. One place, so that all formats say the same thing.
  */
-import type { LidsMode, ParamValues, ReconOptions } from '../../core-client/protocol';
+import { withDefaultOptions, type LidsMode, type ParamValues, type ReconOptions } from '../../core-client/protocol';
 
 export interface ExportInfo {
   appVersion: string;
@@ -10,7 +10,7 @@ export interface ExportInfo {
   fileName: string;
   surface: string | null;
   lids: LidsMode;
-  /** Smoothing method and conflict softening (missing in callers that predate them: defaults). */
+  /** Smoothing method, conflict softening, alignment (missing in callers that predate them: defaults). */
   options?: ReconOptions;
   params: ParamValues;
 }
@@ -31,9 +31,11 @@ export function paramText(params: ParamValues): string {
     .join(' ');
 }
 
-/** ` smoothing_method=... soften_conflicts=...` when known. */
+/** ` smoothing_method=... soften_conflicts=... align_slices=...` when known. */
 function optionText(options: ReconOptions | undefined): string {
-  return options ? ` smoothing_method=${options.smoothing_method} soften_conflicts=${options.soften_conflicts}` : '';
+  if (!options) return '';
+  const o = withDefaultOptions(options);
+  return ` smoothing_method=${o.smoothing_method} soften_conflicts=${o.soften_conflicts} align_slices=${o.align_slices}`;
 }
 
 /** Header lines (without comment markers), each free of newlines. */

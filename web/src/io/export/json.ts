@@ -1,5 +1,5 @@
 /** The parameters of a run (and its measured result) as JSON, to reproduce or report it. */
-import { DEFAULT_OPTIONS, type Stats } from '../../core-client/protocol';
+import { withDefaultOptions, type Alignment, type DistanceSummary, type RunResult, type Stats } from '../../core-client/protocol';
 import type { ExportInfo } from './header';
 
 export interface RunSummary {
@@ -10,9 +10,33 @@ export interface RunSummary {
   areaMm2: number;
   watertight: boolean;
   seconds: number;
+  /** Deformation iterations done, and whether the run stopped early at the stop threshold. */
+  iterations?: number;
+  converged?: boolean;
+  /** Breath-hold alignment (null: off) and the distance to the contours as given when on. */
+  alignment?: Alignment | null;
+  contourToMeshAsGiven?: DistanceSummary | null;
+}
+
+/** The summary of a finished run that the JSON export records. */
+export function runSummary(r: RunResult): RunSummary {
+  return {
+    vertices: r.positions.length / 3,
+    triangles: r.indices.length / 3,
+    overall: r.overall,
+    volumeMl: r.volumeMl,
+    areaMm2: r.areaMm2,
+    watertight: r.watertight,
+    seconds: r.seconds,
+    iterations: r.iterations_done,
+    converged: r.converged,
+    alignment: r.alignment ?? null,
+    contourToMeshAsGiven: r.contour_to_mesh_as_given ?? null,
+  };
 }
 
 export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): string {
+  const options = withDefaultOptions(info.options);
   const doc = {
     generator: `heartmesh ${info.appVersion}`,
     coreVersion: info.coreVersion,
@@ -20,15 +44,20 @@ export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): s
     input: info.fileName,
     surface: info.surface,
     lids: info.lids,
-    smoothing_method: (info.options ?? DEFAULT_OPTIONS).smoothing_method,
-    soften_conflicts: (info.options ?? DEFAULT_OPTIONS).soften_conflicts,
+    smoothing_method: options.smoothing_method,
+    soften_conflicts: options.soften_conflicts,
+    align_slices: options.align_slices,
     params: info.params,
     ...(summary
       ? {
           result: {
             vertices: summary.vertices,
             triangles: summary.triangles,
+            ...(summary.iterations !== undefined ? { iterations: summary.iterations, converged: summary.converged ?? false } : {}),
+            // With alignment on: to the shifted contours the mesh follows (see contourToMeshAsGivenMm).
             contourToMeshMm: summary.overall,
+            ...(summary.contourToMeshAsGiven ? { contourToMeshAsGivenMm: summary.contourToMeshAsGiven } : {}),
+            ...(summary.alignment !== undefined ? { alignment: summary.alignment } : {}),
             volumeMl: summary.volumeMl,
             areaMm2: summary.areaMm2,
             watertight: summary.watertight,

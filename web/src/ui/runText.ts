@@ -1,0 +1,68 @@
+/**
+ * The words the status line and the result panel use for a run's progress and for its breath-hold
+ * alignment. Pure (no DOM), so the wording and the numbers are unit-tested.
+ */
+import type { Alignment, AlignmentGroup, StepReport } from '../core-client/protocol';
+import { mm } from './dom';
+
+const PHASES: Record<StepReport['phase'], string> = {
+  initial_tube: 'initial tube',
+  deform: 'deform',
+  remesh: 'remesh',
+  done: 'finished',
+};
+
+/**
+ * "iteration 120 / 250" while running; the final step of a run that met the stop threshold before
+ * its last iteration says so ("converged at iteration 243 (of 250)"), so an early end is not read
+ * as a run cut short.
+ */
+export function iterationText(r: Pick<StepReport, 'iteration' | 'total_iterations' | 'done'>): string {
+  if (r.done && r.iteration < r.total_iterations) return `converged at iteration ${r.iteration} (of ${r.total_iterations})`;
+  return `iteration ${r.iteration} / ${r.total_iterations}`;
+}
+
+/** The status line's detail for the step on screen. */
+export function stepText(r: StepReport): string {
+  return `${iterationText(r)} · ${PHASES[r.phase]} · max ${mm(r.max_distance_mm)} · mean ${mm(r.mean_distance_mm)} · ${r.vertices} vertices`;
+}
+
+/** The result panel's iteration count: "243 of 250 (converged)" or "250". */
+export function iterationsDoneText(done: number, total: number | undefined, converged: boolean): string {
+  if (converged && total !== undefined && done < total) return `${done} of ${total} (converged)`;
+  return String(done);
+}
+
+/** Length of a shift vector, mm. */
+export function shiftMagnitude(g: Pick<AlignmentGroup, 'shift_mm'>): number {
+  const [x, y, z] = g.shift_mm;
+  return Math.hypot(x, y, z);
+}
+
+export interface AlignmentRow {
+  label: string;
+  kind: AlignmentGroup['kind'];
+  magnitudeMm: number;
+  /** Tooltip: the contours of the group and the shift vector. */
+  title: string;
+}
+
+/** The groups with their shift magnitude, largest first (ties: the core's order, which is stable). */
+export function alignmentRows(a: Alignment): AlignmentRow[] {
+  return a.groups
+    .map((g, i) => ({ g, i, m: shiftMagnitude(g) }))
+    .sort((p, q) => q.m - p.m || p.i - q.i)
+    .map(({ g, m }) => ({
+      label: g.label,
+      kind: g.kind,
+      magnitudeMm: m,
+      title:
+        `${g.label} (${g.kind}: ${g.contour_ids.join(', ')}): moved by (${g.shift_mm.map((v) => v.toFixed(2)).join(', ')}) mm ` +
+        'in its own plane (scanner coordinates)',
+    }));
+}
+
+/** "2.31 → 0.84 mm (30 rounds)": the mean in-plane residual where curves cross, before and after. */
+export function residualText(a: Alignment): string {
+  return `${a.residual_before_mm.toFixed(2)} → ${mm(a.residual_after_mm)} (${a.rounds} round${a.rounds === 1 ? '' : 's'})`;
+}
