@@ -131,6 +131,9 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         "lids": lids,
         "options": options_to_json(rec.params()),
         "alignment": rec.alignment(),
+        // With alignment on, `overall` is to the shifted contours the mesh follows; this is to the
+        // file's contours as drawn (the app shows both).
+        "contour_to_mesh_as_given": rec.contour_distances_as_given().map(|d| d.overall),
         "version": heartmesh_core::VERSION,
     })
 }

@@ -341,19 +341,19 @@ mod tests {
     /// `result_json` of a finished run (natively: `Session::start` needs the browser's clock).
     fn result_with(options: &str) -> serde_json::Value {
         let set = io::read_contours("lv.csv", misaligned_csv().as_bytes()).unwrap();
-        // Lids off: the auto lids of this exactly symmetric cavity fail (reported separately).
-        let params = convert::params_from_json(options, "none", None).unwrap();
+        let params = convert::params_from_json(options, "auto", None).unwrap();
         let mut rec = Reconstruction::new(&set, params).unwrap();
         rec.run().unwrap();
-        convert::result_value(&rec, "none")
+        convert::result_value(&rec, "auto")
     }
 
     #[test]
     fn result_json_carries_the_alignment() {
         let off = result_with(r#"{"iterations": 3}"#);
         assert!(off["alignment"].is_null());
+        assert!(off["contour_to_mesh_as_given"].is_null());
         assert_eq!(off["options"]["align_slices"], false);
-        let on = result_with(r#"{"iterations": 3, "align_slices": true}"#);
+        let on = result_with(r#"{"align_slices": true}"#);
         assert_eq!(on["options"]["align_slices"], true);
         let a = &on["alignment"];
         let groups = a["groups"].as_array().unwrap();
@@ -381,5 +381,17 @@ mod tests {
         let after = a["residual_after_mm"].as_f64().unwrap();
         // One slice in seven is off: the mean over all crossings starts at a fraction of 3 mm.
         assert!(before > 0.2 && after < 0.1 * before, "{before} -> {after}");
+        // The mesh follows the shifted contours: the file's own slice stays ~3 mm off it.
+        let to_shifted = on["overall"]["mean"].as_f64().unwrap();
+        let given = &on["contour_to_mesh_as_given"];
+        let (given_mean, given_max) = (
+            given["mean"].as_f64().unwrap(),
+            given["max"].as_f64().unwrap(),
+        );
+        assert!(
+            given_mean > to_shifted + 0.1,
+            "{given_mean} vs {to_shifted}"
+        );
+        assert!((2.0..4.0).contains(&given_max), "{given_max}");
     }
 }
