@@ -52,8 +52,8 @@ describe('smoothing options through the worker', () => {
     // The RV endocardium, whose septum curves disagree between SAX and LAX: softening acts there.
     const on = (await run(ask, 1, undefined, {}, 'RV_ENDO')).result;
     const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false }, {}, 'RV_ENDO')).result;
-    expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
-    expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false });
+    expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
+    expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false });
     if (!on || !off) throw new Error('runs failed');
     // Same sample, same numbers otherwise: only the softening differs (0.445 vs 0.408 mm natively).
     expect(on.overall.mean - off.overall.mean).toBeGreaterThan(0.01);
@@ -93,13 +93,13 @@ describe('smoothing options through the worker', () => {
     const session = (parameters: object) =>
       new TextEncoder().encode(JSON.stringify({ heartmesh_session: 1, app_version: '0.1.0', contours, parameters }));
     const saved = await loaded(ask, 'saved.json', session({ beta: 0.3, lids: 'none', smoothing_method: 'taubin', soften_conflicts: false, surface: 'LV_ENDO' }));
-    expect(saved.session?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false });
+    expect(saved.session?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
     expect(saved.session?.lids).toBe('none');
     expect(saved.session?.surface).toBe('LV_ENDO');
     expect(saved.session?.params.beta).toBe(0.3);
     expect(saved.session?.params.lambda).toBe(1e5);
     const old = await loaded(ask, 'old.json', session({ beta: 0.3, lids: 'auto', surface: null }));
-    expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true });
+    expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
     const bad = await loaded(ask, 'bad.json', session({ smoothing_method: 'gaussian' }));
     expect(bad.session ?? null).toBeNull();
     expect(bad.warnings.join(' ')).toMatch(/not applied: parameter smoothing_method: unknown method "gaussian" \(allowed: laplacian-affine, taubin\)/);

@@ -26,7 +26,7 @@ pub const USAGE: &str =
     [--from N] [--to N] [--step N] [--lax K] [--sax N] [--levels S:T,...] [--seeds N]
     [--count N] [--seed N]
     [--lambda LIST] [--smoothing-iterations LIST] [--target-reduction LIST]
-    [--attractor-spacing LIST] [--iterations N] [--tag NAME] [--quiet]
+    [--attractor-spacing LIST] [--iterations N] [--align-slices] [--tag NAME] [--quiet]
   Slices each TRUTH like a CMR acquisition, reconstructs and measures against the truth (clipped
   at the most basal SAX plane); writes OUT_DIR/KIND.csv (one row per run: settings, distances in
   mm both ways, Hausdorff, volumes in ml, contour-to-mesh, seconds) and OUT_DIR/KIND.svg.
@@ -44,6 +44,8 @@ pub const USAGE: &str =
   at --levels 0:0,2:2;
   also writes OUT_DIR/population-shapes.csv (what was drawn for each shape).
   --iterations N: deformation iterations of every run (default 250; fewer for quick checks).
+  --align-slices: every run aligns the slices first (breath-hold correction, as reconstruct
+  --align-slices; contour_to_mesh is then to the shifted contours); use with --tag to compare.
   --tag NAME: write KIND-NAME.csv/.svg instead (several variants in one directory).";
 
 const COMMON: [&str; 3] = ["output", "iterations", "tag"];
@@ -78,7 +80,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         rest,
         &Spec {
             with_value: &with_value,
-            switches: &["quiet"],
+            switches: &["quiet", "align-slices"],
             aliases: &[("-o", "output"), ("-q", "quiet")],
         },
     )?;
@@ -102,7 +104,10 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         }
     }
     let design = design(kind, &p)?;
-    let mut params = Params::default();
+    let mut params = Params {
+        align_slices: p.switch("align-slices"),
+        ..Params::default()
+    };
     if let Some(n) = p.whole("iterations")? {
         params
             .set("iterations", n as f64)

@@ -19,14 +19,18 @@ pub const USAGE: &str =
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
     [--smoothing-method laplacian-affine|taubin] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
-    [--ring-points 50] [--no-soften-conflicts] [--frame N] [--contour-distances POINTS.csv]
-    [--ascii] [--quiet]
+    [--ring-points 50] [--no-soften-conflicts] [--align-slices] [--frame N]
+    [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
   --smoothing-method taubin: lambda/mu smoothing (lambda = smoothing factor, at most 0.6)
   instead of Laplacian + affine shrink correction;
   --no-soften-conflicts: keep full weight on short- and long-axis attractors that disagree in
   the final steps (the default down-weights them there instead of letting the surface fold);
+  --align-slices: first shift every short-axis slice and long-axis view of the file (all
+  surfaces together) in its own plane until the curves meet where the planes cross (breath-hold
+  misalignment); the report gains the shifts (alignment) and the distances to the contours as
+  given (contour_to_mesh_as_given);
   --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time
@@ -45,7 +49,7 @@ const VALUE_FLAGS: &[&str] = &[
 ];
 
 /// Options without a value.
-const SWITCHES: &[&str] = &["ascii", "quiet", "no-soften-conflicts"];
+const SWITCHES: &[&str] = &["ascii", "quiet", "no-soften-conflicts", "align-slices"];
 
 /// Flag names (dashes) of the numeric parameters, from the core's schema.
 fn numeric_flags() -> Vec<String> {
@@ -180,6 +184,9 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     if p.switch("no-soften-conflicts") {
         params.soften_conflicts = false;
     }
+    if p.switch("align-slices") {
+        params.align_slices = true;
+    }
     params.validate().map_err(CliError::param)?;
     Ok(params)
 }
@@ -262,6 +269,9 @@ mod tests {
         assert!(p.soften_conflicts);
         let p = params_from_default(&parsed(&["--no-soften-conflicts"])).unwrap();
         assert!(!p.soften_conflicts);
+        assert!(!p.align_slices);
+        let p = params_from_default(&parsed(&["--align-slices"])).unwrap();
+        assert!(p.align_slices);
     }
 
     #[test]

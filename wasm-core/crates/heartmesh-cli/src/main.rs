@@ -5,6 +5,7 @@
 //! problem`), 1 the reconstruction or writing failed.
 
 mod args;
+mod cmd_align;
 mod cmd_compare;
 mod cmd_convert;
 mod cmd_experiment;
@@ -24,7 +25,7 @@ use error::CliError;
 fn usage() -> String {
     format!(
         "heartmesh {} - surface meshes from cardiac MRI contours (Villard, Grau & Zacur 2018)\n\n\
-         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
+         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
          exit status: 0 ok, 2 bad input or usage, 1 reconstruction failed",
         heartmesh_core::VERSION,
         cmd_reconstruct::USAGE,
@@ -32,7 +33,8 @@ fn usage() -> String {
         cmd_simulate::USAGE,
         cmd_compare::USAGE,
         cmd_leave_one_out::USAGE,
-        cmd_experiment::USAGE
+        cmd_experiment::USAGE,
+        cmd_align::USAGE
     )
 }
 
@@ -56,6 +58,8 @@ fn run(argv: &[String]) -> Result<(), CliError> {
         "leave-one-out" => cmd_leave_one_out::run(rest)?,
         "experiment" if wants_help => println!("usage: {}", cmd_experiment::USAGE),
         "experiment" => cmd_experiment::run(rest)?,
+        "align" if wants_help => println!("usage: {}", cmd_align::USAGE),
+        "align" => cmd_align::run(rest)?,
         other => return Err(CliError::usage(format!("unknown command {other:?}"))),
     }
     Ok(())

@@ -98,6 +98,16 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
             "points": o.count,
         },
         "per_contour": per_contour,
+        // With --align-slices: the shifts found; contour_to_mesh is then to the shifted contours
+        // the mesh follows, and this to the file's contours as given.
+        "alignment": rec.alignment(),
+        "contour_to_mesh_as_given": rec.contour_distances_as_given().map(|d| json!({
+            "mean": d.overall.mean,
+            "median": d.overall.median,
+            "p95": d.overall.p95,
+            "max": d.overall.max,
+            "points": d.overall.count,
+        })),
         "timings_ms": {
             "attractors": t.attractors_ms,
             "closest": t.closest_ms,
@@ -119,7 +129,12 @@ pub fn vertex_distances(rec: &Reconstruction) -> Vec<f64> {
 /// The comment written into the mesh file's header.
 pub fn header_comment(f: &Facts) -> String {
     let p = parameters(f.params);
-    format!("reconstructed from {}; parameters {p}", f.input)
+    let aligned = if f.params.align_slices {
+        "; slices aligned (breath-hold shifts, see the report)"
+    } else {
+        ""
+    };
+    format!("reconstructed from {}; parameters {p}{aligned}", f.input)
 }
 
 /// One line for stdout.
@@ -138,6 +153,27 @@ pub fn summary(output: &str, rep: &Value) -> String {
             ", contour-to-mesh mean {:.3} mm, max {:.3} mm",
             g("mean"),
             g("max")
+        ));
+    }
+    if let Some(groups) = rep
+        .get("alignment")
+        .and_then(|a| a.get("groups"))
+        .and_then(Value::as_array)
+    {
+        let largest = groups
+            .iter()
+            .filter_map(|g| g.get("shift_mm").and_then(Value::as_array))
+            .map(|v| {
+                v.iter()
+                    .filter_map(Value::as_f64)
+                    .map(|c| c * c)
+                    .sum::<f64>()
+                    .sqrt()
+            })
+            .fold(0.0, f64::max);
+        s.push_str(&format!(
+            ", {} slices/views aligned (largest shift {largest:.2} mm)",
+            groups.len()
         ));
     }
     s.push_str(&format!(" ({:.2} s)", num("seconds")));

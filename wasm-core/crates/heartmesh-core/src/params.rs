@@ -57,6 +57,11 @@ pub struct Params {
     /// ask for displacements the surface cannot follow without folding
     /// (`deform::attractors::conflict_weights`; docs/VALIDATION.md, session 4).
     pub soften_conflicts: bool,
+    /// Before anything else, shift every short-axis slice and long-axis view of the whole file
+    /// (all surfaces together) in its own plane until the curves meet where the planes cross:
+    /// breath-hold misalignment (`contours::align`; docs/VALIDATION.md, session 9). Off by
+    /// default: the paper's method reconstructs the contours as given.
+    pub align_slices: bool,
 }
 
 impl Default for Params {
@@ -77,6 +82,7 @@ impl Default for Params {
             stop_threshold: 1e-5,
             surface: None,
             soften_conflicts: true,
+            align_slices: false,
         }
     }
 }

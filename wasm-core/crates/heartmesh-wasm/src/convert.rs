@@ -7,15 +7,19 @@
 use heartmesh_core::contours::{Contour, ContourKind};
 use heartmesh_core::error::{CoreError, Result};
 use heartmesh_core::geometry::Vec3;
+use heartmesh_core::mesh::topology;
 use heartmesh_core::params::{LidMode, SmoothingMethod};
+use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::Params;
 use serde_json::{json, Map, Value};
 
 /// The non-numeric options the params JSON object may also carry (beside the schema's numbers):
-/// `smoothing_method` (a string, `SmoothingMethod::ALL`) and `soften_conflicts` (a bool). They
-/// travel inside the same object so that the run, the sweep and leave-one-out take them one way.
+/// `smoothing_method` (a string, `SmoothingMethod::ALL`), `soften_conflicts` and `align_slices`
+/// (bools). They travel inside the same object so that the run, the sweep and leave-one-out take
+/// them one way.
 pub const SMOOTHING_METHOD: &str = "smoothing_method";
 pub const SOFTEN_CONFLICTS: &str = "soften_conflicts";
+pub const ALIGN_SLICES: &str = "align_slices";
 
 /// Builds parameters from a JSON object of schema names to numbers (plus the options above),
 /// applied in schema order (so `attractor_spacing` > 0 wins over `attractors`, whatever the key
@@ -30,7 +34,7 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
         message: "not a JSON object".into(),
     })?;
     let schema = Params::schema();
-    let is_option = |k: &str| k == SMOOTHING_METHOD || k == SOFTEN_CONFLICTS;
+    let is_option = |k: &str| k == SMOOTHING_METHOD || k == SOFTEN_CONFLICTS || k == ALIGN_SLICES;
     if let Some(unknown) = object
         .keys()
         .find(|k| !is_option(k) && !schema.iter().any(|s| s.name == *k))
@@ -57,8 +61,8 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
     Ok(params)
 }
 
-/// Applies `smoothing_method` and `soften_conflicts` when present, with the core's setters; a
-/// wrong type or name is an error naming the option and what it accepts.
+/// Applies `smoothing_method`, `soften_conflicts` and `align_slices` when present, with the
+/// core's setters; a wrong type or name is an error naming the option and what it accepts.
 fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()> {
     match object.get(SMOOTHING_METHOD) {
         None => {}
@@ -70,14 +74,19 @@ fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()>
             })
         }
     }
-    match object.get(SOFTEN_CONFLICTS) {
-        None => {}
-        Some(Value::Bool(on)) => params.soften_conflicts = *on,
-        Some(other) => {
-            return Err(CoreError::ParamInvalid {
-                name: SOFTEN_CONFLICTS.into(),
-                message: format!("{other} is not true or false"),
-            })
+    for (name, field) in [
+        (SOFTEN_CONFLICTS, &mut params.soften_conflicts),
+        (ALIGN_SLICES, &mut params.align_slices),
+    ] {
+        match object.get(name) {
+            None => {}
+            Some(Value::Bool(on)) => *field = *on,
+            Some(other) => {
+                return Err(CoreError::ParamInvalid {
+                    name: name.into(),
+                    message: format!("{other} is not true or false"),
+                })
+            }
         }
     }
     Ok(())
@@ -88,11 +97,41 @@ fn method_names() -> String {
     names.join(", ")
 }
 
-/// The options of `params` as `{smoothing_method, soften_conflicts}` (run results, exports).
+/// The options of `params` as `{smoothing_method, soften_conflicts, align_slices}` (run
+/// results, exports).
 pub fn options_to_json(params: &Params) -> Value {
     json!({
         SMOOTHING_METHOD: params.smoothing.name(),
         SOFTEN_CONFLICTS: params.soften_conflicts,
+        ALIGN_SLICES: params.align_slices,
+    })
+}
+
+/// The small part of the protocol's `RunResult` (`Session::result_json`): surface, contours,
+/// perContour, overall, volumeMl, areaMm2, watertight, params, lids, options, alignment (the
+/// core's `Alignment`, null unless `align_slices`; `contours` are then the shifted contours),
+/// version.
+pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
+    let mesh = rec.mesh();
+    let distances = rec.contour_distances();
+    let per_contour: Vec<_> = distances
+        .per_contour
+        .iter()
+        .map(|c| json!({ "id": c.id, "kind": c.kind, "stats": c.stats }))
+        .collect();
+    json!({
+        "surface": rec.params().surface,
+        "contours": contour_infos(rec.contours(), Some(rec.kinds())),
+        "perContour": per_contour,
+        "overall": distances.overall,
+        "volumeMl": mesh.volume_ml(),
+        "areaMm2": mesh.area(),
+        "watertight": topology::validity(mesh).is_closed_manifold(),
+        "params": params_to_json(rec.params()),
+        "lids": lids,
+        "options": options_to_json(rec.params()),
+        "alignment": rec.alignment(),
+        "version": heartmesh_core::VERSION,
     })
 }
 
@@ -242,7 +281,7 @@ mod tests {
         let o = options_to_json(&p);
         assert_eq!(
             o,
-            json!({"smoothing_method": "taubin", "soften_conflicts": false})
+            json!({"smoothing_method": "taubin", "soften_conflicts": false, "align_slices": false})
         );
         // Absent: the core's defaults.
         let d = params_from_json("{}", "auto", None).unwrap();
@@ -257,8 +296,12 @@ mod tests {
         assert_eq!(q, d);
         assert_eq!(
             options_to_json(&d),
-            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true})
+            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true, "align_slices": false})
         );
+        assert!(!d.align_slices);
+        let a = params_from_json(r#"{"align_slices": true}"#, "auto", None).unwrap();
+        assert!(a.align_slices);
+        assert_eq!(options_to_json(&a)["align_slices"], true);
     }
 
     #[test]
@@ -276,6 +319,12 @@ mod tests {
         assert_eq!(e.code(), "param_invalid");
         assert!(e.to_string().contains("soften_conflicts"), "{e}");
         assert!(e.to_string().contains("true or false"), "{e}");
+        for bad in [r#""yes""#, "1", "null", "[true]"] {
+            let e = params_from_json(&format!(r#"{{"align_slices": {bad}}}"#), "auto", None)
+                .unwrap_err();
+            assert_eq!(e.code(), "param_invalid");
+            assert!(e.to_string().contains("align_slices"), "{e}");
+        }
         // Taubin is unstable above a factor of 0.6: the core's range error, naming the limit.
         let e = params_from_json(
             r#"{"smoothing_method": "taubin", "smoothing_factor": 0.8}"#,

@@ -1,6 +1,7 @@
 //! Contours: the input of the method. Cleaning, resampling, plane fits, the long axis, the SAX/LAX
 //! split and the rings that seed the initial tube.
 
+pub mod align;
 pub mod axis;
 pub mod checks;
 pub mod clean;

@@ -6,11 +6,12 @@
 //!  "contours": [{"id": "c1", "surface": "LV_ENDO", "points": [[x, y, z], ...]}],
 //!  "landmarks": [{"name": "APEX_POINT", "point": [x, y, z]}],
 //!  "parameters": {"iterations": 250, "lambda": 100000, "lids": "auto", "surface": null,
-//!                 "smoothing_method": "laplacian-affine", "soften_conflicts": true}}
+//!                 "smoothing_method": "laplacian-affine", "soften_conflicts": true,
+//!                 "align_slices": false}}
 //! ```
 //!
-//! Sessions written before `smoothing_method` and `soften_conflicts` existed lack them and read
-//! back with their defaults.
+//! Sessions written before `smoothing_method`, `soften_conflicts` and `align_slices` existed lack
+//! them and read back with their defaults.
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
@@ -62,7 +63,7 @@ struct SessionLandmark {
 pub struct Session {
     pub contours: ContourSet,
     /// As saved (numbers by schema name, `lids`, `surface`, `smoothing_method`,
-    /// `soften_conflicts`); apply with [`Session::params`].
+    /// `soften_conflicts`, `align_slices`); apply with [`Session::params`].
     pub parameters: Map<String, Value>,
     pub app_version: Option<String>,
 }
@@ -78,7 +79,8 @@ impl Session {
                 ("surface", Value::Null) => p.surface = None,
                 ("smoothing_method", Value::String(s)) => p.set_smoothing_method(s)?,
                 ("soften_conflicts", Value::Bool(on)) => p.soften_conflicts = *on,
-                ("smoothing_method" | "soften_conflicts", other) => {
+                ("align_slices", Value::Bool(on)) => p.align_slices = *on,
+                ("smoothing_method" | "soften_conflicts" | "align_slices", other) => {
                     return Err(CoreError::ParamInvalid {
                         name: name.clone(),
                         message: format!("{other} is not a valid value"),
@@ -191,6 +193,7 @@ pub fn params_json(params: &Params) -> Map<String, Value> {
         "soften_conflicts".into(),
         Value::from(params.soften_conflicts),
     );
+    m.insert("align_slices".into(), Value::from(params.align_slices));
     m.insert(
         "surface".into(),
         params
@@ -302,7 +305,23 @@ mod tests {
         let p = s.params().unwrap();
         assert_eq!(p.smoothing, Params::default().smoothing);
         assert!(p.soften_conflicts);
+        assert!(!p.align_slices);
         assert_eq!(p.beta, 0.2);
+    }
+
+    #[test]
+    fn round_trip_with_slice_alignment() {
+        let set = read_csv(&sample("contours/bivme-example-patient1/patient1-ED.csv")).unwrap();
+        for on in [true, false] {
+            let params = Params {
+                align_slices: on,
+                ..Params::default()
+            };
+            let bytes = write_session(&set, &params, "9.9.9").unwrap();
+            let s = read_session(&bytes).unwrap();
+            assert_eq!(s.parameters["align_slices"], on);
+            assert_eq!(s.params().unwrap().align_slices, on);
+        }
     }
 
     #[test]
@@ -322,6 +341,9 @@ mod tests {
             .params()
             .unwrap_err();
         assert!(e.to_string().contains("soften_conflicts"), "{e}");
+        let e = session(r#"{"align_slices":1}"#).params().unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+        assert!(e.to_string().contains("align_slices"), "{e}");
         // Taubin with a factor above 0.6 is refused as in the app and the CLI.
         let e = session(r#"{"smoothing_method":"taubin","smoothing_factor":0.8}"#)
             .params()

@@ -16,6 +16,7 @@ mod reuse;
 pub mod tube;
 
 use crate::clock::{Clock, DefaultClock};
+use crate::contours::align::{align_slices, Alignment};
 use crate::contours::axis::{analyse, Layout};
 use crate::contours::clean::resample_spacing;
 use crate::contours::{Contour, ContourKind, ContourSet};
@@ -127,6 +128,10 @@ impl Normalisation {
 pub struct Reconstruction {
     params: Params,
     contours: Vec<Contour>,
+    /// With `align_slices`: what the alignment did, and the selected contours as the file gave
+    /// them (cleaned; None if cleaning split them differently from the shifted ones).
+    alignment: Option<Alignment>,
+    contours_as_given: Option<Vec<Contour>>,
     layout: Layout,
     norm: Normalisation,
     /// Contour points resampled at ~1 mm, normalised: the attractor candidates.
@@ -169,8 +174,27 @@ impl Reconstruction {
     /// builds the initial tube).
     pub fn new(set: &ContourSet, params: Params) -> Result<Self> {
         params.validate()?;
-        let selected = prepare::select_surface(set, params.surface.as_deref())?;
+        // The whole file is aligned before a surface is chosen: one breath-hold moves every
+        // surface of an image, and the LV's rings fix the shifts better than an RV alone.
+        let (aligned, alignment) = if params.align_slices {
+            let (s, a) = align_slices(set);
+            (Some(s), Some(a))
+        } else {
+            (None, None)
+        };
+        let source = aligned.as_ref().unwrap_or(set);
+        let selected = prepare::select_surface(source, params.surface.as_deref())?;
         let contours = prepare::clean_contours(&selected);
+        let contours_as_given = match aligned {
+            Some(_) => {
+                let given = prepare::clean_contours(&prepare::select_surface(
+                    set,
+                    params.surface.as_deref(),
+                )?);
+                same_structure(&given, &contours).then_some(given)
+            }
+            None => None,
+        };
         if contours.len() < 2 {
             return Err(CoreError::TooFewContours {
                 found: contours.len(),
@@ -218,6 +242,8 @@ impl Reconstruction {
         Ok(Reconstruction {
             params,
             contours,
+            alignment,
+            contours_as_given,
             layout,
             norm,
             candidates,
@@ -390,6 +416,24 @@ impl Reconstruction {
         &self.contours
     }
 
+    /// What the breath-hold alignment did (None unless `Params::align_slices`).
+    pub fn alignment(&self) -> Option<&Alignment> {
+        self.alignment.as_ref()
+    }
+
+    /// With alignment on: the selected contours as the file gave them (cleaned, unshifted), in
+    /// the order of [`Reconstruction::contours`].
+    pub fn contours_as_given(&self) -> Option<&[Contour]> {
+        self.contours_as_given.as_deref()
+    }
+
+    /// With alignment on: contour-to-mesh distances to the unshifted contours (the mesh follows
+    /// the shifted ones, so this measures how far it moved from the file's curves).
+    pub fn contour_distances_as_given(&self) -> Option<ContourDistances> {
+        let given = self.contours_as_given.as_deref()?;
+        Some(contour_to_mesh(given, &self.layout.kinds, &self.mesh_mm))
+    }
+
     /// SAX or LAX, per contour of [`Reconstruction::contours`].
     pub fn kinds(&self) -> &[ContourKind] {
         &self.layout.kinds
@@ -439,6 +483,20 @@ impl Reconstruction {
     pub fn set_clock(&mut self, clock: Box<dyn Clock>) {
         self.clock = clock;
     }
+}
+
+/// Same contours, pieces and point counts (cleaning shifted and unshifted copies of a contour
+/// gives the same structure unless a spacing sits exactly on a cleaning threshold).
+fn same_structure(a: &[Contour], b: &[Contour]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            x.id == y.id
+                && x.pieces.len() == y.pieces.len()
+                && x.pieces
+                    .iter()
+                    .zip(&y.pieces)
+                    .all(|(p, q)| p.points.len() == q.points.len() && p.closed == q.closed)
+        })
 }
 
 /// Most triangles a remesh may leave. Subdivision quadruples the triangle count, so any target

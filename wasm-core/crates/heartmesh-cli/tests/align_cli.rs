@@ -1,0 +1,237 @@
+//! The breath-hold alignment option through the binary: `reconstruct --align-slices` and its
+//! report fields, `heartmesh align`, sessions that carry the option, `experiment --align-slices`.
+
+mod common;
+use common::{bin, data, run, scratch};
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn json(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("{v} is not a number"))
+}
+
+const P1: &str = "contours/bivme-example-patient1/patient1-ED.csv";
+
+#[test]
+fn reconstruct_reports_the_shifts_and_the_distance_to_the_file() {
+    let dir = scratch("reconstruct");
+    let input = data(P1);
+    let (mesh, report) = (dir.join("lv.obj"), dir.join("r.json"));
+    let args = [
+        "reconstruct",
+        s(&input),
+        "--surface",
+        "LV_ENDO",
+        "--iterations",
+        "60",
+        "-o",
+        s(&mesh),
+        "--report",
+        s(&report),
+    ];
+    let (code, _, err) = run(bin().args(args));
+    assert_eq!(code, 0, "{err}");
+    let off = json(&report);
+    assert!(off["alignment"].is_null());
+    assert!(off["contour_to_mesh_as_given"].is_null());
+
+    let (code, out, err) = run(bin().args(args).arg("--align-slices"));
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("slices/views aligned"), "{out}");
+    let on = json(&report);
+    let a = &on["alignment"];
+    let groups = a["groups"].as_array().unwrap();
+    // Patient 1 ED: five short-axis slices and four long-axis views, all surfaces together.
+    let kinds: Vec<&str> = groups.iter().map(|g| g["kind"].as_str().unwrap()).collect();
+    assert_eq!(
+        kinds,
+        ["SAX", "SAX", "SAX", "SAX", "SAX", "LAX", "LAX", "LAX", "LAX"]
+    );
+    assert_eq!(groups[0]["label"], "SAX 1");
+    // A slice holds every surface's contours of its image (LV endo and epi, RV endo pieces, RV epi).
+    let ids = groups[0]["contour_ids"].as_array().unwrap();
+    assert!(ids.len() >= 4, "{ids:?}");
+    for g in groups {
+        let shift: Vec<f64> = g["shift_mm"].as_array().unwrap().iter().map(f).collect();
+        assert_eq!(shift.len(), 3);
+        assert!(
+            shift.iter().map(|c| c * c).sum::<f64>().sqrt() < 15.0,
+            "{g}"
+        );
+    }
+    assert!(f(&a["rounds"]) >= 1.0);
+    let (before, after) = (f(&a["residual_before_mm"]), f(&a["residual_after_mm"]));
+    assert!(after < 0.8 * before, "{before} -> {after}");
+    // The mesh follows the shifted contours: closer to them than to the file's.
+    let c2m = f(&on["contour_to_mesh"]["mean"]);
+    let given = f(&on["contour_to_mesh_as_given"]["mean"]);
+    assert!(given > c2m, "{c2m} vs as given {given}");
+    assert_eq!(
+        on["contour_to_mesh_as_given"]["points"],
+        on["contour_to_mesh"]["points"]
+    );
+    let obj = std::fs::read_to_string(&mesh).unwrap();
+    assert!(obj.lines().take(3).any(|l| l.contains("slices aligned")));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Rows of a canonical CSV by contour id (points in order).
+fn rows(path: &Path) -> BTreeMap<String, Vec<[f64; 3]>> {
+    let mut out: BTreeMap<String, Vec<[f64; 3]>> = BTreeMap::new();
+    for line in std::fs::read_to_string(path).unwrap().lines().skip(1) {
+        if line.starts_with('#') {
+            continue;
+        }
+        let c: Vec<&str> = line.split(',').collect();
+        let p = [c[1], c[2], c[3]].map(|v| v.parse::<f64>().unwrap());
+        out.entry(c[0].to_string()).or_default().push(p);
+    }
+    out
+}
+
+#[test]
+fn align_writes_the_shifted_contours_and_the_shifts() {
+    let dir = scratch("align");
+    let input = data(P1);
+    let (csv, report) = (dir.join("aligned.csv"), dir.join("shifts.json"));
+    let (code, out, err) =
+        run(bin().args(["align", s(&input), "-o", s(&csv), "--report", s(&report)]));
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("slices/views shifted"), "{out}");
+    let header = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        header.starts_with("contour,x,y,z,surface\n"),
+        "{header:.40}"
+    );
+    // The file as read (the reader drops repeated points), unshifted, in the same writer.
+    let plain = dir.join("plain.csv");
+    let (code, _, err) = run(bin().args(["convert", s(&input), s(&plain)]));
+    assert_eq!(code, 0, "{err}");
+    let (given, aligned) = (rows(&plain), rows(&csv));
+    assert_eq!(
+        given.keys().collect::<Vec<_>>(),
+        aligned.keys().collect::<Vec<_>>()
+    );
+    // Every point of a contour moved by its group's shift (to the CSV's printed precision).
+    let a = json(&report);
+    let mut moved = 0;
+    for g in a["groups"].as_array().unwrap() {
+        let t: Vec<f64> = g["shift_mm"].as_array().unwrap().iter().map(f).collect();
+        for id in g["contour_ids"].as_array().unwrap() {
+            let id = id.as_str().unwrap();
+            let (p, q) = (&given[id], &aligned[id]);
+            assert_eq!(p.len(), q.len(), "{id}");
+            for (p, q) in p.iter().zip(q) {
+                for k in 0..3 {
+                    assert!(
+                        (q[k] - p[k] - t[k]).abs() < 1e-3,
+                        "{id}: {p:?} -> {q:?}, {t:?}"
+                    );
+                }
+            }
+            moved += 1;
+        }
+    }
+    assert_eq!(moved, given.len());
+    // Consistent synthetic contours need no shift.
+    let (code, out, err) = run(bin().args([
+        "align",
+        s(&data("contours/surfco-example.csv")),
+        "-o",
+        s(&dir.join("s.csv")),
+        "--report",
+        s(&report),
+    ]));
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("largest 0.00 mm"), "{out}");
+    // Usage errors: one line, exit 2.
+    for args in [
+        vec!["align", s(&input)],
+        vec!["align", s(&input), "-o", "x.obj"],
+        vec!["align", "-o", "x.csv"],
+    ] {
+        let (code, _, err) = run(bin().args(&args));
+        assert_eq!(code, 2, "{args:?}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_session_carries_the_option() {
+    let dir = scratch("session");
+    let session = dir.join("p1.json");
+    let (code, _, err) = run(bin().args(["convert", s(&data(P1)), s(&session)]));
+    assert_eq!(code, 0, "{err}");
+    let mut doc = json(&session);
+    assert_eq!(doc["parameters"]["align_slices"], false);
+    doc["parameters"]["align_slices"] = Value::Bool(true);
+    doc["parameters"]["surface"] = Value::from("LV_EPI");
+    doc["parameters"]["iterations"] = Value::from(30);
+    std::fs::write(&session, doc.to_string()).unwrap();
+    let (report, mesh) = (dir.join("r.json"), dir.join("m.obj"));
+    let args = [
+        "reconstruct",
+        s(&session),
+        "-o",
+        s(&mesh),
+        "--report",
+        s(&report),
+    ];
+    let (code, _, err) = run(bin().args(args));
+    assert_eq!(code, 0, "{err}");
+    assert!(json(&report)["alignment"]["groups"].is_array());
+    // A wrong type names the option.
+    doc["parameters"]["align_slices"] = Value::from("yes");
+    std::fs::write(&session, doc.to_string()).unwrap();
+    let (code, _, err) = run(bin().args(args));
+    assert_eq!(code, 2);
+    assert!(err.contains("align_slices"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn misalignment_experiment_with_alignment() {
+    let dir = scratch("experiment");
+    let mut means = Vec::new();
+    for extra in [&[][..], &["--align-slices"][..]] {
+        let (code, _, err) = run(bin()
+            .args([
+                "experiment",
+                "misalignment",
+                "parametric-lv",
+                "--levels",
+                "2:2",
+                "--seeds",
+                "1",
+                "--iterations",
+                "80",
+                "--quiet",
+                "-o",
+                s(&dir),
+            ])
+            .args(extra));
+        assert_eq!(code, 0, "{err}");
+        let csv = std::fs::read_to_string(dir.join("misalignment.csv")).unwrap();
+        let mut lines = csv.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let k = header
+            .iter()
+            .position(|h| *h == "mesh_to_truth_mean")
+            .unwrap();
+        means.push(row[k].parse::<f64>().unwrap());
+    }
+    // One misaligned acquisition of the parametric LV: closer to the truth once aligned.
+    assert!(means[1] < means[0], "{means:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,128 @@
+//! Breath-hold slice alignment (an option, `Params::align_slices`; off by default because the
+//! method of Villard et al. 2018 reconstructs the contours as given).
+//!
+//! Every image of a cine CMR study is acquired in its own breath-hold, and the heart never sits in
+//! quite the same place: each short-axis slice and each long-axis view is shifted in its own plane
+//! by a few mm. The reconstruction approximates the contours as given and so inherits the
+//! offsets. This module moves every slice and view (all surfaces in it together) in its plane
+//! until the short- and long-axis curves meet where their planes cross ([`estimate`]), and returns
+//! the shifted contours with the shifts found ([`Alignment`]). Measured in docs/VALIDATION.md,
+//! "Session 9: breath-hold alignment (option)".
+
+mod estimate;
+mod groups;
+#[cfg(test)]
+mod tests;
+
+use super::{ContourKind, ContourSet};
+use serde::Serialize;
+
+/// The shift found for one short-axis slice or long-axis view.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GroupShift {
+    /// "SAX" or "LAX".
+    pub kind: ContourKind,
+    /// "SAX 3" (slices numbered apex to base from 1), or the ids of a view's contours joined
+    /// by ", ".
+    pub label: String,
+    pub contour_ids: Vec<String>,
+    /// Shift applied to every point of the group's contours (mm, in the group's plane).
+    pub shift_mm: [f64; 3],
+    /// Crossings of the other kind's curves matched to this group's curves before alignment. A
+    /// group moves only when at least two of them involve a closed ring (an LV ring or a view's
+    /// curve crossing one); views and slices of open curves alone (e.g. an RV-only view) stay
+    /// put.
+    pub crossings: usize,
+}
+
+/// What the alignment did.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Alignment {
+    pub groups: Vec<GroupShift>,
+    /// Estimation rounds run.
+    pub rounds: usize,
+    /// Mean in-plane distance (mm) from where a curve crosses another image's plane to that
+    /// image's curve of the same surface, before and after the shifts (0 when nothing crossed).
+    pub residual_before_mm: f64,
+    pub residual_after_mm: f64,
+    /// Why nothing moved, when nothing could (no long-axis views, no crossings, ...).
+    pub note: Option<String>,
+}
+
+impl Alignment {
+    /// No shifts, with the reason.
+    fn unchanged(note: String) -> Alignment {
+        Alignment {
+            groups: Vec::new(),
+            rounds: 0,
+            residual_before_mm: 0.0,
+            residual_after_mm: 0.0,
+            note: Some(note),
+        }
+    }
+
+    /// Largest shift applied (mm).
+    pub fn max_shift_mm(&self) -> f64 {
+        self.groups
+            .iter()
+            .map(|g| g.shift_mm.iter().map(|c| c * c).sum::<f64>().sqrt())
+            .fold(0.0, f64::max)
+    }
+}
+
+/// Aligns the whole set (every surface: one breath-hold moves them all). Returns the shifted
+/// contours (landmarks and warnings as they were) and what was done. Never fails: a set with
+/// nothing to align comes back unchanged with a note saying why.
+pub fn align_slices(set: &ContourSet) -> (ContourSet, Alignment) {
+    let grouping = match groups::group(set) {
+        Ok(g) => g,
+        Err(note) => return (set.clone(), Alignment::unchanged(note)),
+    };
+    let groups = &grouping.groups;
+    let has = |k: ContourKind| groups.iter().any(|g| g.kind == k);
+    if !has(ContourKind::Lax) {
+        return (
+            set.clone(),
+            Alignment::unchanged("no long-axis views: nothing to align the slices to".into()),
+        );
+    }
+    let est = estimate::estimate(groups, grouping.scale_mm);
+    let mut out = set.clone();
+    let mut shifts = Vec::with_capacity(groups.len());
+    for (g, t) in groups.iter().zip(&est.shifts) {
+        for &i in &g.members {
+            if let Some(c) = out.contours.get_mut(i) {
+                for p in c.pieces.iter_mut().flat_map(|p| p.points.iter_mut()) {
+                    *p += t;
+                }
+            }
+        }
+        shifts.push(GroupShift {
+            kind: g.kind,
+            label: g.label.clone(),
+            contour_ids: g
+                .members
+                .iter()
+                .filter_map(|&i| set.contours.get(i).map(|c| c.id.clone()))
+                .collect(),
+            shift_mm: [t.x, t.y, t.z],
+            crossings: 0,
+        });
+    }
+    for (s, &c) in shifts.iter_mut().zip(&est.crossings) {
+        s.crossings = c;
+    }
+    let note = (!est.moving.contains(&true)).then(|| {
+        "no short- and long-axis curves of one surface, one of them a closed ring, cross each \
+         other's planes: nothing moved"
+            .to_string()
+    });
+    let alignment = Alignment {
+        groups: shifts,
+        rounds: est.rounds,
+        residual_before_mm: est.before_mm,
+        residual_after_mm: est.after_mm,
+        note,
+    };
+    (out, alignment)
+}

@@ -1,0 +1,337 @@
+//! Breath-hold slice alignment (`Params::align_slices`) on simulated misaligned acquisitions, with
+//! the truth known, and on the real biv-me contours (docs/VALIDATION.md, session 9).
+//! `cargo test --release -p heartmesh-core --test alignment -- --nocapture` prints the tables.
+
+mod common;
+use common::*;
+use heartmesh_core::contours::align::align_slices;
+use heartmesh_core::contours::{Contour, ContourSet};
+use heartmesh_core::geometry::Vec3;
+use heartmesh_core::mesh::quality::quality;
+use heartmesh_core::mesh::TriMesh;
+use heartmesh_core::metrics::compare::compare;
+use heartmesh_core::sim::prng::SplitMix64;
+use heartmesh_core::sim::slice::{join_chains, polyline_length, resample};
+use heartmesh_core::sim::{simulate, slice_mesh, AcquisitionSpec, Misalignment, Plane};
+use heartmesh_core::Params;
+use nalgebra::{Rotation3, Unit};
+
+fn aligned() -> Params {
+    Params {
+        align_slices: true,
+        ..Params::default()
+    }
+}
+
+/// The defaults for one surface, alignment on or off.
+fn surface(name: &str, align: bool) -> Params {
+    Params {
+        surface: Some(name.into()),
+        align_slices: align,
+        ..Params::default()
+    }
+}
+
+/// Mesh-to-truth mean and Hausdorff (mm), clipped at `clip`.
+fn versus_truth(truth: &TriMesh, mesh: &TriMesh, clip: &Plane) -> (f64, f64) {
+    let r = compare(truth, mesh, Some(clip)).unwrap_or_else(|e| panic!("compare: {e}"));
+    (r.mesh_to_truth.mean, r.hausdorff)
+}
+
+/// Simulated misaligned LVs (one surface each): 2 mm / 2 degrees per plane, as the paper's
+/// Figure 7 level 2. Alignment must lower mesh-to-truth in every case.
+#[test]
+fn misaligned_single_surfaces() {
+    let cases = [
+        ("cap-atlas-mean-ED-LV_ENDO-open.obj", 3),
+        ("cardiomesh-spasm-LV_endo.obj", 2),
+        ("cardiomesh-spasm-LV_epi.obj", 3),
+        ("bivme-patient1-ED-LV_ENDO-closed.obj", 3),
+    ];
+    let mut worst_after: f64 = 0.0;
+    let (mut sum_before, mut sum_after, mut n) = (0.0, 0.0, 0.0);
+    for (file, lax) in cases {
+        let truth = load_truth(file);
+        for seed in 1..=4u64 {
+            let spec = AcquisitionSpec {
+                misalignment: Some(Misalignment {
+                    shift_mm: 2.0,
+                    tilt_deg: 2.0,
+                }),
+                seed,
+                lax_count: lax,
+                ..AcquisitionSpec::default()
+            };
+            let acq = simulate(&truth, &spec).unwrap_or_else(|e| panic!("{file}: {e}"));
+            let (m0, _) = reconstruct(&acq.contours, Params::default());
+            let (m1, _) = reconstruct(&acq.contours, aligned());
+            let (a0, h0) = versus_truth(&truth, &m0, &acq.clip);
+            let (a1, h1) = versus_truth(&truth, &m1, &acq.clip);
+            let (_, al) = align_slices(&acq.contours);
+            eprintln!(
+                "MISALIGNED {file} seed {seed}: m2t {a0:.3} / H {h0:.2} -> {a1:.3} / H {h1:.2}; folds {} -> {}; residual {:.3} -> {:.3} mm, {} rounds, largest shift {:.2} mm",
+                quality(&m0).folded_edges,
+                quality(&m1).folded_edges,
+                al.residual_before_mm,
+                al.residual_after_mm,
+                al.rounds,
+                al.max_shift_mm()
+            );
+            check_closed_manifold_outward(&m1).unwrap_or_else(|e| panic!("{file} {seed}: {e}"));
+            assert!(a1 < a0, "{file} seed {seed}: {a0} -> {a1}");
+            worst_after = worst_after.max(a1);
+            sum_before += a0;
+            sum_after += a1;
+            n += 1.0;
+        }
+    }
+    eprintln!(
+        "MISALIGNED mean of means {:.3} -> {:.3} mm, worst after {worst_after:.3} mm",
+        sum_before / n,
+        sum_after / n
+    );
+    // Measured (session 9): 0.537 -> 0.291 mm on average, worst case 0.52 mm after. The
+    // tilts and the shifts across the planes are not recoverable by in-plane shifts, so the
+    // aligned acquisitions' 0.05-0.16 mm is out of reach.
+    assert!(sum_after / n < 0.35, "{}", sum_after / n);
+    assert!(worst_after < 0.6, "{worst_after}");
+}
+
+/// Clean acquisitions: alignment finds nothing to correct and the meshes stay as accurate.
+#[test]
+fn aligned_acquisitions_stay_put() {
+    for file in [
+        "cap-atlas-mean-ED-LV_ENDO-open.obj",
+        "cardiomesh-spasm-LV_epi.obj",
+    ] {
+        let truth = load_truth(file);
+        let acq = simulate(&truth, &AcquisitionSpec::default()).unwrap();
+        let (_, al) = align_slices(&acq.contours);
+        let (m0, _) = reconstruct(&acq.contours, Params::default());
+        let (m1, _) = reconstruct(&acq.contours, aligned());
+        let (a0, _) = versus_truth(&truth, &m0, &acq.clip);
+        let (a1, _) = versus_truth(&truth, &m1, &acq.clip);
+        eprintln!(
+            "ALIGNED {file}: largest shift {:.3} mm, residual {:.3} -> {:.3} mm; m2t {a0:.3} -> {a1:.3}",
+            al.max_shift_mm(),
+            al.residual_before_mm,
+            al.residual_after_mm
+        );
+        assert!(al.max_shift_mm() < 0.2, "{file}: {}", al.max_shift_mm());
+        assert!((a1 - a0).abs() < 0.02, "{file}: {a0} -> {a1}");
+    }
+}
+
+/// A rigid breath-hold motion of one image: tilt about an in-plane axis through the plane's origin
+/// and a shift, drawn as `sim::planes` draws them.
+struct Motion {
+    rotation: Rotation3<f64>,
+    centre: Vec3,
+    shift: Vec3,
+}
+
+impl Motion {
+    fn draw(rng: &mut SplitMix64, plane: &Plane, shift_mm: f64, tilt_deg: f64) -> Motion {
+        let helper = if plane.normal.x.abs() < 0.9 {
+            Vec3::x()
+        } else {
+            Vec3::y()
+        };
+        let u = plane.normal.cross(&helper).normalize();
+        let v = plane.normal.cross(&u);
+        let psi = rng.uniform(0.0, std::f64::consts::TAU);
+        let axis = Unit::new_normalize(u * psi.cos() + v * psi.sin());
+        let angle = rng.uniform(-1.0, 1.0) * tilt_deg.to_radians();
+        let shift = rng.unit_vector() * rng.uniform(0.0, shift_mm);
+        Motion {
+            rotation: Rotation3::from_axis_angle(&axis, angle),
+            centre: plane.origin,
+            shift,
+        }
+    }
+
+    fn moved(&self, plane: &Plane) -> Plane {
+        Plane {
+            origin: self.rotation * (plane.origin - self.centre) + self.centre + self.shift,
+            normal: self.rotation * plane.normal,
+        }
+    }
+
+    fn back(&self, p: &Vec3) -> Vec3 {
+        self.rotation.inverse() * (p - self.centre - self.shift) + self.centre
+    }
+}
+
+/// The section of `truth` an analyst draws on the image of `nominal` taken with `motion`: the
+/// longest piece, resampled at 1 mm, in the image's (nominal) frame.
+fn section(truth: &TriMesh, nominal: &Plane, motion: &Motion) -> Option<Vec<Vec3>> {
+    let imaged = motion.moved(nominal);
+    let mut pieces = join_chains(slice_mesh(truth, &imaged), 3.0, &imaged);
+    pieces.sort_by(|a, b| polyline_length(b).total_cmp(&polyline_length(a)));
+    let piece = resample(pieces.first()?, 1.0);
+    Some(piece.points.iter().map(|p| motion.back(p)).collect())
+}
+
+/// A biventricular acquisition: the LV's planes (as `simulate` plans them on the LV) cut the LV
+/// and the RV with the SAME breath-hold motion per image, as one scanner image shows both.
+fn biventricular(
+    lv: &TriMesh,
+    rv: &TriMesh,
+    seed: u64,
+    shift_mm: f64,
+    tilt_deg: f64,
+) -> (ContourSet, Plane) {
+    let nominal = simulate(lv, &AcquisitionSpec::default()).unwrap_or_else(|e| panic!("{e}"));
+    let planes = nominal
+        .sax_planes
+        .iter()
+        .map(|p| ("sax", *p))
+        .chain(nominal.lax_planes.iter().map(|p| ("lax", *p)));
+    let mut rng = SplitMix64::new(seed);
+    let mut set = ContourSet::default();
+    for (k, (kind, plane)) in planes.enumerate() {
+        let motion = Motion::draw(&mut rng, &plane, shift_mm, tilt_deg);
+        for (name, truth) in [("LV_ENDO", lv), ("RV_ENDO", rv)] {
+            if let Some(points) = section(truth, &plane, &motion) {
+                if points.len() < 5 {
+                    continue;
+                }
+                let closed = kind == "sax";
+                set.contours.push(Contour {
+                    id: format!("{kind}{k:02}_{name}"),
+                    surface: Some(name.into()),
+                    pieces: vec![heartmesh_core::Polyline { points, closed }],
+                    first_line: 0,
+                });
+            }
+        }
+    }
+    (set, nominal.clip)
+}
+
+/// LV and RV sliced by the same misaligned images: the shifts are estimated from both together,
+/// and each surface's mesh moves closer to its truth.
+#[test]
+fn misaligned_biventricular() {
+    let subjects = [
+        (
+            "spasm",
+            load_truth("cardiomesh-spasm-LV_endo.obj"),
+            spasm_rv_cavity(),
+        ),
+        (
+            "bivme",
+            load_truth("bivme-patient1-ED-LV_ENDO-closed.obj"),
+            load_truth("bivme-patient1-ED-RV_ENDO-closed.obj"),
+        ),
+    ];
+    for (name, lv, rv) in &subjects {
+        for seed in 1..=3u64 {
+            let (set, clip) = biventricular(lv, rv, seed, 2.0, 2.0);
+            let (_, al) = align_slices(&set);
+            for (surf, truth) in [("LV_ENDO", lv), ("RV_ENDO", rv)] {
+                let (m0, _) = reconstruct(&set, surface(surf, false));
+                let (m1, _) = reconstruct(&set, surface(surf, true));
+                let (a0, h0) = versus_truth(truth, &m0, &clip);
+                let (a1, h1) = versus_truth(truth, &m1, &clip);
+                // The prototype's way: the surface's own contours aligned alone.
+                let mut alone = set.clone();
+                alone
+                    .contours
+                    .retain(|c| c.surface.as_deref() == Some(surf));
+                let (m2, _) = reconstruct(&alone, surface(surf, true));
+                let (a2, _) = versus_truth(truth, &m2, &clip);
+                eprintln!(
+                    "BIV {name} seed {seed} {surf}: m2t {a0:.3} / H {h0:.2} -> {a1:.3} / H {h1:.2} (surface aligned alone {a2:.3}); folds {} -> {}; residual {:.3} -> {:.3}, {} rounds",
+                    quality(&m0).folded_edges,
+                    quality(&m1).folded_edges,
+                    al.residual_before_mm,
+                    al.residual_after_mm,
+                    al.rounds
+                );
+                check_closed_manifold_outward(&m1)
+                    .unwrap_or_else(|e| panic!("{name} {seed} {surf}: {e}"));
+                assert!(a1 < a0, "{name} seed {seed} {surf}: {a0} -> {a1}");
+                // Measured: LV 0.226-0.468, RV 0.354-0.615 mm after.
+                let bound = if surf == "LV_ENDO" { 0.55 } else { 0.7 };
+                assert!(a1 < bound, "{name} seed {seed} {surf}: {a1}");
+            }
+        }
+    }
+}
+
+/// The real biv-me contours, every surface: aligned jointly over the file.
+#[test]
+fn real_cases() {
+    let (mut lv_folds, mut rv_folds) = ((0, 0), (0, 0));
+    for file in [
+        "bivme-example-patient1/patient1-ED.csv",
+        "bivme-example-patient1/patient1-ES.csv",
+        "bivme-test-patient2/patient2-ED.csv",
+        "bivme-test-patient2/patient2-ES.csv",
+    ] {
+        let set = load_contours(file);
+        let (shifted, al) = align_slices(&set);
+        eprintln!(
+            "REAL {file}: residual {:.3} -> {:.3} mm, {} rounds, shifts {:?}",
+            al.residual_before_mm,
+            al.residual_after_mm,
+            al.rounds,
+            al.groups
+                .iter()
+                .map(|g| format!(
+                    "{} {:.2}",
+                    g.label.split(',').next().unwrap_or(""),
+                    norm(&g.shift_mm)
+                ))
+                .collect::<Vec<_>>()
+        );
+        for surf in set.surfaces() {
+            let (m0, _) = reconstruct(&set, surface(&surf, false));
+            let (m1, _) = reconstruct(&set, surface(&surf, true));
+            let mine = |s: &ContourSet| -> Vec<Contour> {
+                s.contours
+                    .iter()
+                    .filter(|c| c.surface.as_deref() == Some(&surf))
+                    .cloned()
+                    .collect()
+            };
+            let c0 = mean(&contour_to_mesh_of(&mine(&set), &m0));
+            let c1 = mean(&contour_to_mesh_of(&mine(&shifted), &m1));
+            let c1g = mean(&contour_to_mesh_of(&mine(&set), &m1));
+            eprintln!(
+                "REAL {file} {surf}: c2m {c0:.3} -> {c1:.3} (to as given {c1g:.3}); folds {} -> {}; volume {:.1} -> {:.1} ml",
+                quality(&m0).folded_edges,
+                quality(&m1).folded_edges,
+                m0.volume_ml(),
+                m1.volume_ml()
+            );
+            check_closed_manifold_outward(&m1).unwrap_or_else(|e| panic!("{file} {surf}: {e}"));
+            let (f0, f1) = (quality(&m0).folded_edges, quality(&m1).folded_edges);
+            if surf.starts_with("LV") {
+                // The shifted contours agree better: the mesh fits them at least as closely.
+                assert!(c1 <= c0, "{file} {surf}: {c0} -> {c1}");
+                assert!(f1 <= f0 + 4, "{file} {surf}: folds {f0} -> {f1}");
+                lv_folds.0 += f0;
+                lv_folds.1 += f1;
+            } else {
+                // Measured: every RV surface's c2m falls too (0.224-0.481 -> 0.095-0.394 mm);
+                // a fold count moves by a few with any change of the input (0 -> 2, 2 -> 3).
+                assert!(c1 <= c0 + 0.05, "{file} {surf}: {c0} -> {c1}");
+                assert!(f1 <= 2 * f0 + 6, "{file} {surf}: folds {f0} -> {f1}");
+                rv_folds.0 += f0;
+                rv_folds.1 += f1;
+            }
+        }
+    }
+    // Measured: LV 4 -> 1, RV 5 -> 9 folded edges over the eight LV and six RV meshes (a fold
+    // count moves by a few with any change of the input); bounds: twice the unaligned LV count,
+    // twice the measured RV count.
+    eprintln!("REAL folds LV {lv_folds:?}, RV {rv_folds:?}");
+    assert!(lv_folds.1 <= 8, "{lv_folds:?}");
+    assert!(rv_folds.1 <= 18, "{rv_folds:?}");
+}
+
+fn norm(v: &[f64; 3]) -> f64 {
+    v.iter().map(|c| c * c).sum::<f64>().sqrt()
+}
