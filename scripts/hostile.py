@@ -164,7 +164,8 @@ def tilt(pts, degrees, rng):
 
 
 class Case:
-    def __init__(self, name, data, ext="csv", args=(), expect="error", c2m=3.0, extra=None):
+    def __init__(self, name, data, ext="csv", args=(), expect="error", c2m=3.0, extra=None,
+                 open_mesh=False):
         self.name = name
         self.data = data  # bytes
         self.ext = ext
@@ -172,6 +173,7 @@ class Case:
         self.expect = expect  # "ok", "error" or "any"
         self.c2m = c2m  # bound on the contour-to-mesh mean (mm) when a mesh is made
         self.extra = extra or {}  # other files to write beside it: name -> bytes
+        self.open_mesh = open_mesh  # --lids none: manifold and oriented, but not closed
 
 
 def run(cmd, timeout=600):
@@ -478,8 +480,10 @@ def judge(case, path, timeout, out_dir):
             with open(report) as f:
                 rep = json.load(f)
             topo = {k: rep.get(k) for k in ("watertight", "manifold", "oriented")}
+            if case.open_mesh:
+                del topo["watertight"]
             closed = all(topo.values())
-            vol = rep.get("volume_ml", 0)
+            vol = rep.get("volume_ml", 0) if not case.open_mesh else 1.0
             c2m = rep.get("contour_to_mesh", {}).get("mean")
             warns = rep.get("warnings", [])
             detail = f"c2m mean {c2m:.3g} mm, vol {vol:.4g}" if c2m is not None else "no c2m"
@@ -520,6 +524,14 @@ def main():
         surfco = f.read()
     cases = malformed(p1, surfco, rng) + other_readers(out_dir, rng) + \
         awkward(out_dir, p1, surfco, rng, seed)
+    bad = run_cases(cases, out_dir, timeout, only)
+    print(f"{bad} case(s) with problems")
+    return 1 if bad else 0
+
+
+def run_cases(cases, out_dir, timeout, only=None, check=None):
+    """Write, run and judge every case; one printed row each. `check(case, case_dir)` may return
+    more (problems, detail) from the case's report and mesh. Returns the number of bad cases."""
     bad = 0
     for case in cases:
         if only and only not in case.name:
@@ -535,11 +547,14 @@ def main():
             with open(os.path.join(cdir, n), "wb") as f:
                 f.write(d)
         problems, detail, dt = judge(case, path, timeout, cdir)
+        if check and not any(p in problems for p in ("PANIC", "HANG", "EXIT")):
+            more, more_detail = check(case, cdir)
+            problems += more
+            detail += more_detail
         bad += bool(problems)
         flag = ",".join(problems) if problems else "ok"
         print(f"{flag:12} {case.name:34} {dt:6.1f}s  {detail}", flush=True)
-    print(f"{bad} case(s) with problems")
-    return 1 if bad else 0
+    return bad
 
 
 if __name__ == "__main__":

@@ -90,19 +90,51 @@ fn split(contours: &[Contour], planes: &[Option<PlaneFit>]) -> Result<Split> {
             normals.len()
         )));
     }
-    // Central direction: the normal minimising sum_j log(180 + angle).
+    // Central direction: the normal minimising sum_j log(180 + angle) (ties: the first listed).
     let cost = |n: &Vec3| -> f64 {
         normals
             .iter()
             .map(|(_, m)| (180.0 + axis_angle_deg(n, m)).ln())
             .sum()
     };
-    let central = normals
-        .iter()
-        .map(|(_, n)| (cost(n), *n))
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .map(|(_, n)| n)
-        .ok_or_else(|| CoreError::NoSaxGroup("no contour normals".into()))?;
+    let mut candidates: Vec<(f64, Vec3)> = normals.iter().map(|(_, n)| (cost(n), *n)).collect();
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let Some(&(_, central)) = candidates.first() else {
+        return Err(CoreError::NoSaxGroup("no contour normals".into()));
+    };
+    let first = split_about(contours, planes, &normals, central);
+    if group_slices(contours, planes, &first.kinds, &first.axis).len() >= 2 {
+        return Ok(first);
+    }
+    // The most central normal's group is not a stack (long-axis views outnumber the short-axis
+    // slices and lie within 20 degrees of each other: they all contain the axis, so they form one
+    // "slice"). Try the next directions by cost, one per 20-degree cone, for a group that is a
+    // stack of parallel slices at different heights; if none is, keep the first (its error).
+    let mut tried = vec![central];
+    for &(_, n) in candidates.iter().skip(1) {
+        if tried
+            .iter()
+            .any(|t| axis_angle_deg(t, &n) <= SAX_MAX_ANGLE_DEG)
+        {
+            continue;
+        }
+        tried.push(n);
+        let other = split_about(contours, planes, &normals, n);
+        if group_slices(contours, planes, &other.kinds, &other.axis).len() >= 2 {
+            return Ok(other);
+        }
+    }
+    Ok(first)
+}
+
+/// The split about a given central direction: contours within [`SAX_MAX_ANGLE_DEG`] of it are
+/// short-axis, the axis their robust mean normal.
+fn split_about(
+    contours: &[Contour],
+    planes: &[Option<PlaneFit>],
+    normals: &[(usize, Vec3)],
+    central: Vec3,
+) -> Split {
     let sax_normals: Vec<Vec3> = normals
         .iter()
         .filter(|(_, n)| axis_angle_deg(n, &central) <= SAX_MAX_ANGLE_DEG)
@@ -141,7 +173,7 @@ fn split(contours: &[Contour], planes: &[Option<PlaneFit>]) -> Result<Split> {
             },
         })
         .collect();
-    Ok(Split { axis, kinds })
+    Split { axis, kinds }
 }
 
 /// Classifies contours, finds the long axis and groups the short-axis contours into slices.

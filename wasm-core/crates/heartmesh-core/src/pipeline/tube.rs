@@ -38,19 +38,19 @@ pub fn lids(mode: &LidMode, rings: &[Vec<Vec3>], contours: &[Contour], layout: &
     });
     // The apex of a ventricle need not lie above the centre of its most apical ring (the RV's does
     // not): where long-axis curves reach below that ring, the lid goes under the mean of their
-    // lowest points, else under the ring's centroid.
+    // lowest points, else under the ring's centroid. "Below" means by more than a rounding-size
+    // tolerance: a curve ending in the ring's own plane (a flat-bottomed phantom, or slices
+    // shifted by --align-slices by 1e-15 mm) would otherwise put the lid on the ring's rim, and
+    // a lid on a ring vertex makes zero-area fan triangles that the first remesh refuses.
     let ring_centre = centroid(first);
     let ring_height = ring_centre.dot(&z);
+    let tolerance = MIN_LID_GAP_PER_RADIUS * mean_radius(first, &ring_centre);
     let lowest: Vec<Vec3> = contours
         .iter()
         .zip(&layout.kinds)
         .filter(|(_, k)| **k == ContourKind::Lax)
-        .filter_map(|(c, _)| {
-            c.points()
-                .min_by(|a, b| a.dot(&z).total_cmp(&b.dot(&z)))
-                .copied()
-        })
-        .filter(|p| p.dot(&z) < ring_height)
+        .filter_map(|(c, _)| lowest_points_centroid(c, &z, TIE_PER_RADIUS * tolerance))
+        .filter(|p| p.dot(&z) < ring_height - tolerance)
         .collect();
     let auto_apex = {
         let c = if lowest.is_empty() {
@@ -81,14 +81,37 @@ pub fn lids(mode: &LidMode, rings: &[Vec<Vec3>], contours: &[Contour], layout: &
     }
 }
 
+fn mean_radius(ring: &[Vec3], centre: &Vec3) -> f64 {
+    ring.iter().map(|p| (p - centre).norm()).sum::<f64>() / ring.len().max(1) as f64
+}
+
+/// Heights closer than this share of [`MIN_LID_GAP_PER_RADIUS`]'s tolerance are ties (rounding of
+/// an exactly flat part; neighbouring points of a measured curve's rounded bottom differ by ~1e-3 of
+/// the radius, far more, so they stay distinct).
+const TIE_PER_RADIUS: f64 = 1e-6;
+
+/// The centroid of a curve's points within `tolerance` of its lowest height along `z`: its lowest
+/// point, or the middle of an exactly flat bottom (a curve across a flat-bottomed phantom has many
+/// lowest points, and taking the first listed would put the lid at one end of the flat part).
+fn lowest_points_centroid(c: &Contour, z: &Vec3, tolerance: f64) -> Option<Vec3> {
+    let low = c.points().map(|p| p.dot(z)).min_by(|a, b| a.total_cmp(b))?;
+    let ties: Vec<Vec3> = c
+        .points()
+        .filter(|p| p.dot(z) <= low + tolerance)
+        .copied()
+        .collect();
+    Some(centroid(&ties))
+}
+
 /// Share of the way from the most basal ring to the base lid at which [`extend_to_base`] adds a ring.
 /// Below 1 so the lid stays a shallow cone rather than a flat fan folded at the rim (measured in
 /// docs/VALIDATION.md: 0.5, 0.9 and 1.0 all lower the LV means; 0.9 kept the maxima lowest).
 const BASE_RING_FRACTION: f64 = 0.9;
 
-/// Smallest lid height above the basal ring, as a share of that ring's mean radius, for which
-/// [`extend_to_base`] adds a ring (a scale-free tolerance, so millimetre and centimetre files agree).
-const MIN_BASE_GAP_PER_RADIUS: f64 = 1e-3;
+/// Smallest lid height beyond an end ring, as a share of that ring's mean radius, that counts: for
+/// [`extend_to_base`] to add a ring, and for long-axis curves to count as reaching below the apical
+/// ring in [`lids`] (a scale-free tolerance, so millimetre and centimetre files agree).
+const MIN_LID_GAP_PER_RADIUS: f64 = 1e-3;
 
 /// Where the long-axis curves run on above the most basal short-axis ring (open LV curves reach the
 /// valve plane, often 10-20 mm higher), the wall there is nearly parallel to the axis, not a cone
@@ -103,8 +126,7 @@ pub fn extend_to_base(rings: &mut Vec<Vec<Vec3>>, lids: &Lids, z: &Vec3) {
     // Long-axis curves that end in the basal slice's own plane leave a gap of rounding size: a ring
     // there would sit on the basal ring and make a band of zero-area triangles, which the first
     // remesh refuses. Below a thousandth of the ring's radius the extension adds nothing anyway.
-    let radius = last.iter().map(|p| (p - centre).norm()).sum::<f64>() / last.len().max(1) as f64;
-    if !(gap.is_finite() && gap > MIN_BASE_GAP_PER_RADIUS * radius) {
+    if !(gap.is_finite() && gap > MIN_LID_GAP_PER_RADIUS * mean_radius(last, &centre)) {
         return;
     }
     let shift = z * (gap * BASE_RING_FRACTION);
