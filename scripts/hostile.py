@@ -515,6 +515,12 @@ def main():
             only = argv[i + 1]; i += 2
         elif a == "--timeout":
             timeout = float(argv[i + 1]); i += 2
+        elif a in ("-h", "--help"):
+            print(__doc__)
+            return 0
+        elif a.startswith("-"):
+            print(f"unknown option {a}\n{__doc__}", file=sys.stderr)
+            return 2
         else:
             out_dir = a; i += 1
     os.makedirs(out_dir, exist_ok=True)
