@@ -10,6 +10,9 @@
  *   with `{ code: 'cancelled' }` and its late frames are dropped by run id.
  * - A worker crash (wasm trap, Rust panic, script error) rejects everything pending with
  *   `{ code: 'worker_crashed' }`; the next call starts a fresh worker and re-sends the loaded files.
+ *
+ * The frame throttling lives in runFrames.ts, the public API types in coreClientTypes.ts (re-exported
+ * here); this module keeps the worker's life cycle, requests and crash recovery.
  */
 
 import {
@@ -17,7 +20,6 @@ import {
   assertNever,
   isFatal,
   isFromWorker,
-  mergeFrames,
   toCoreErrorData,
   transferablesOf,
   type CoreErrorData,
@@ -31,58 +33,22 @@ import {
   type LabProgress,
   type LabTruth,
   type LabTruthSource,
-  type LidsMode,
-  type ReconOptions,
   type LoadedFile,
   type ParamSpec,
-  type ParamValues,
   type RunResult,
   type ToWorker,
 } from './protocol';
+import {
+  settingsOf,
+  type CoreClientOptions,
+  type LabBatchHandle,
+  type RunHandle,
+  type RunOptions,
+  type WorkerLike,
+} from './coreClientTypes';
+import { RunFrames } from './runFrames';
 
-/** The part of `Worker` the client uses (a fake implements it in unit tests). */
-export interface WorkerLike {
-  postMessage(message: ToWorker, transfer: Transferable[]): void;
-  terminate(): void;
-  onmessage: ((ev: { data: unknown }) => void) | null;
-  onerror: ((ev: { message?: string; preventDefault?: () => void }) => void) | null;
-  onmessageerror?: ((ev: unknown) => void) | null;
-}
-
-export interface CoreClientOptions {
-  /** Creates the worker; defaults to the bundled reconstruct.worker.ts as a module worker. */
-  createWorker?: () => WorkerLike;
-  /** Runs a callback at the next display frame; defaults to requestAnimationFrame (with a timer
-   * fallback so hidden tabs, where animation frames stop, still finish their runs). */
-  schedule?: (callback: () => void) => void;
-  /** Told about every worker crash (after pending promises were rejected). */
-  onWorkerCrash?: (error: CoreErrorData) => void;
-}
-
-export interface RunOptions {
-  fileName: string;
-  surface: string | null;
-  params: ParamValues;
-  lids: LidsMode;
-  /** Missing: the core's defaults. */
-  options?: ReconOptions;
-}
-
-export interface RunHandle {
-  runId: number;
-  done: Promise<RunResult>;
-  cancel(): void;
-}
-
-/** A running lab batch (leave-one-out or sweep); cancel() stops it in the worker. */
-export interface LabBatchHandle {
-  runId: number;
-  /** Resolves when the worker accepted the job (with the contours of a leave-one-out). */
-  started: Promise<LabBatchInfo>;
-  /** Resolves when every item was reported; rejects with CoreErrorData (also 'cancelled'). */
-  done: Promise<void>;
-  cancel(): void;
-}
+export type { CoreClientOptions, LabBatchHandle, RunHandle, RunOptions, WorkerLike } from './coreClientTypes';
 
 interface BatchState {
   onProgress: (p: LabProgress) => void;
@@ -94,18 +60,6 @@ interface BatchState {
 interface PendingRequest {
   resolve: (value: unknown) => void;
   reject: (error: CoreErrorData) => void;
-}
-
-interface RunState {
-  runId: number;
-  onFrame: (f: Frame) => void;
-  resolve: (r: RunResult) => void;
-  reject: (e: CoreErrorData) => void;
-  /** Newest frame not yet handed to onFrame. */
-  pending: Frame | undefined;
-  flushScheduled: boolean;
-  /** Result received while a frame was still waiting for its display slot. */
-  result: RunResult | undefined;
 }
 
 function defaultCreateWorker(): WorkerLike {
@@ -138,7 +92,8 @@ export class CoreClient {
 
   private nextId = 1;
   private readonly requests = new Map<number, PendingRequest>();
-  private readonly runs = new Map<number, RunState>();
+  /** The run in progress (at most one), with its display-throttled frames. */
+  private readonly runs: RunFrames;
   /** Bytes of every successfully loaded file, kept to re-send them to a recreated worker. */
   private readonly files = new Map<string, ArrayBuffer>();
   /** Files the current worker has been sent. */
@@ -156,6 +111,7 @@ export class CoreClient {
     this.createWorker = options.createWorker ?? defaultCreateWorker;
     this.schedule = options.schedule ?? defaultSchedule;
     this.onWorkerCrash = options.onWorkerCrash;
+    this.runs = new RunFrames(this.schedule, (runId, seq) => this.post({ type: 'ack', runId, seq }));
   }
 
   /** Spawns the worker and waits until its wasm module is initialised. */
@@ -227,22 +183,13 @@ export class CoreClient {
       });
       return handle;
     }
-    for (const other of [...this.runs.keys()]) this.cancelRun(other);
+    for (const other of this.runs.ids()) this.cancelRun(other);
 
-    const state: RunState = {
-      runId,
-      onFrame,
-      resolve,
-      reject,
-      pending: undefined,
-      flushScheduled: false,
-      result: undefined,
-    };
-    this.runs.set(runId, state);
+    this.runs.add(runId, onFrame, resolve, reject);
     void this.ensureWorker().catch(() => {
       // The crash handler already rejected this run.
     });
-    this.resendIfRecreated(opts.fileName, bytes, (e) => this.finishRun(runId, e));
+    this.resendIfRecreated(opts.fileName, bytes, (e) => this.runs.finish(runId, e));
     this.post({ type: 'run', runId, ...settingsOf(opts) });
     return handle;
   }
@@ -465,7 +412,7 @@ export class CoreClient {
         this.settleRequest(msg.reqId, true, { schema: msg.schema, version: msg.version });
         break;
       case 'frame':
-        this.onFrameMessage(msg);
+        this.runs.onFrameMessage(msg);
         break;
       case 'lab-truth':
         this.settleRequest(msg.reqId, true, msg.truth);
@@ -493,7 +440,7 @@ export class CoreClient {
         this.finishBatch(msg.runId, null);
         break;
       case 'done':
-        this.onDone(msg.result);
+        this.runs.onDone(msg.result);
         break;
       case 'error':
         if (isFatal(msg.error)) {
@@ -502,7 +449,7 @@ export class CoreClient {
         }
         if (msg.reqId !== undefined) this.settleRequest(msg.reqId, false, msg.error);
         if (msg.runId !== undefined) {
-          this.finishRun(msg.runId, msg.error);
+          this.runs.finish(msg.runId, msg.error);
           this.finishBatch(msg.runId, msg.error);
         }
         if (msg.reqId === undefined && msg.runId === undefined) {
@@ -515,69 +462,10 @@ export class CoreClient {
     }
   }
 
-  private onFrameMessage(msg: Frame & { type: 'frame' }): void {
-    const run = this.runs.get(msg.runId);
-    if (!run) return; // stale frame of a cancelled or finished run
-    const frame: Frame = {
-      runId: msg.runId,
-      seq: msg.seq,
-      report: msg.report,
-      positions: msg.positions,
-    };
-    if (msg.indices !== undefined) frame.indices = msg.indices;
-    if (msg.attractors !== undefined) frame.attractors = msg.attractors;
-    if (msg.runContours !== undefined) frame.runContours = msg.runContours;
-    run.pending = run.pending ? mergeFrames(run.pending, frame) : frame;
-    if (!run.flushScheduled) {
-      run.flushScheduled = true;
-      this.schedule(() => this.flush(run.runId));
-    }
-  }
-
-  /** Hands the newest pending frame to the renderer (once per display frame) and acks it. */
-  private flush(runId: number): void {
-    const run = this.runs.get(runId);
-    if (!run) return;
-    run.flushScheduled = false;
-    const frame = run.pending;
-    run.pending = undefined;
-    if (frame) {
-      this.post({ type: 'ack', runId, seq: frame.seq });
-      try {
-        run.onFrame(frame);
-      } catch (e) {
-        console.error('CoreClient: onFrame threw', e);
-      }
-    }
-    if (run.result && this.runs.get(runId) === run) {
-      this.finishRun(runId, null, run.result);
-    }
-  }
-
-  private onDone(result: RunResult): void {
-    const run = this.runs.get(result.runId);
-    if (!run) return;
-    if (run.pending !== undefined && run.flushScheduled) {
-      // Deliver the last frame first; flush() then resolves.
-      run.result = result;
-      return;
-    }
-    this.finishRun(result.runId, null, result);
-  }
-
-  private finishRun(runId: number, error: CoreErrorData | null, result?: RunResult): void {
-    const run = this.runs.get(runId);
-    if (!run) return;
-    this.runs.delete(runId);
-    run.pending = undefined;
-    if (error) run.reject(error);
-    else if (result) run.resolve(result);
-  }
-
   private cancelRun(runId: number): void {
     if (!this.runs.has(runId)) return;
     if (this.worker) this.post({ type: 'cancel', runId });
-    this.finishRun(runId, { code: ErrorCodes.cancelled, message: 'the run was cancelled' });
+    this.runs.finish(runId, { code: ErrorCodes.cancelled, message: 'the run was cancelled' });
   }
 
   /** Discards the worker after a fatal error; the next call starts a new one. */
@@ -599,18 +487,7 @@ export class CoreClient {
     this.labInWorker = false;
     worker?.terminate();
     for (const [reqId] of [...this.requests]) this.settleRequest(reqId, false, error);
-    for (const runId of [...this.runs.keys()]) this.finishRun(runId, { ...error });
+    for (const runId of this.runs.ids()) this.runs.finish(runId, { ...error });
     for (const runId of [...this.batches.keys()]) this.finishBatch(runId, { ...error });
   }
-}
-
-/** The settings a run and a session export send: copies, so later edits by the caller do not leak. */
-function settingsOf(opts: RunOptions) {
-  return {
-    fileName: opts.fileName,
-    surface: opts.surface,
-    params: { ...opts.params },
-    lids: opts.lids,
-    ...(opts.options ? { options: { ...opts.options } } : {}),
-  };
 }
