@@ -11,8 +11,9 @@
  * - A worker crash (wasm trap, Rust panic, script error) rejects everything pending with
  *   `{ code: 'worker_crashed' }`; the next call starts a fresh worker and re-sends the loaded files.
  *
- * The frame throttling lives in runFrames.ts, the public API types in coreClientTypes.ts (re-exported
- * here); this module keeps the worker's life cycle, requests and crash recovery.
+ * The frame throttling lives in runFrames.ts, the validation lab's requests and batches in
+ * labRequests.ts, the public API types in coreClientTypes.ts (re-exported here); this module keeps
+ * the worker's life cycle, requests, message routing and crash recovery.
  */
 
 import {
@@ -27,7 +28,6 @@ import {
   type FromWorker,
   type AcquisitionSpec,
   type LabAcquisition,
-  type LabBatchInfo,
   type LabBatchJob,
   type LabComparison,
   type LabProgress,
@@ -46,16 +46,10 @@ import {
   type RunOptions,
   type WorkerLike,
 } from './coreClientTypes';
+import { LabRequests } from './labRequests';
 import { RunFrames } from './runFrames';
 
 export type { CoreClientOptions, LabBatchHandle, RunHandle, RunOptions, WorkerLike } from './coreClientTypes';
-
-interface BatchState {
-  onProgress: (p: LabProgress) => void;
-  started: { resolve: (i: LabBatchInfo) => void; reject: (e: CoreErrorData) => void };
-  resolve: () => void;
-  reject: (e: CoreErrorData) => void;
-}
 
 interface PendingRequest {
   resolve: (value: unknown) => void;
@@ -99,11 +93,8 @@ export class CoreClient {
   /** Files the current worker has been sent. */
   private readonly workerFiles = new Set<string>();
   private schemaCache: { schema: ParamSpec[]; version: string } | null = null;
-  private readonly batches = new Map<number, BatchState>();
-  /** The lab's truth and acquisition, replayed to a recreated worker before the next lab call. */
-  private labTruthSource: LabTruthSource | null = null;
-  private labAcquisition: AcquisitionSpec | null = null;
-  private labInWorker = false;
+  /** The validation lab's requests and batches (labRequests.ts). */
+  private readonly lab: LabRequests;
   private disposed = false;
 
   /** Use `CoreClient.create()` in the app; the constructor is for tests that inject a worker. */
@@ -112,6 +103,16 @@ export class CoreClient {
     this.schedule = options.schedule ?? defaultSchedule;
     this.onWorkerCrash = options.onWorkerCrash;
     this.runs = new RunFrames(this.schedule, (runId, seq) => this.post({ type: 'ack', runId, seq }));
+    this.lab = new LabRequests({
+      request: (make) => this.request(make),
+      post: (msg) => this.post(msg),
+      hasWorker: () => this.worker !== null,
+      newId: () => this.nextId++,
+      disposedError: () => (this.disposed ? this.disposedError() : null),
+      fileBytes: (fileName) => this.files.get(fileName),
+      ensureWorker: () => void this.ensureWorker().catch(() => undefined),
+      resendIfRecreated: (fileName, bytes, onError) => this.resendIfRecreated(fileName, bytes, onError),
+    });
   }
 
   /** Spawns the worker and waits until its wasm module is initialised. */
@@ -225,104 +226,22 @@ export class CoreClient {
 
   /** Makes the lab's ground-truth surface (parametric LV or a mesh file) in the worker. */
   labTruth(source: LabTruthSource): Promise<LabTruth> {
-    const kept: LabTruthSource = source.kind === 'file' ? { ...source, bytes: source.bytes.slice(0) } : source;
-    const sent: LabTruthSource = source.kind === 'file' ? { ...source, bytes: source.bytes.slice(0) } : source;
-    this.labAcquisition = null;
-    const p = this.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source: sent }));
-    this.labInWorker = true;
-    return p.then((t) => {
-      this.labTruthSource = kept;
-      return t;
-    });
+    return this.lab.truth(source);
   }
 
   /** Slices the truth like a CMR acquisition; resolves to the contours as CSV bytes. */
   labSimulate(acquisition: AcquisitionSpec): Promise<LabAcquisition> {
-    this.labReplay();
-    return this.request<LabAcquisition>((reqId) => ({ type: 'lab-simulate', reqId, acquisition: { ...acquisition } })).then((a) => {
-      this.labAcquisition = { ...acquisition };
-      return a;
-    });
+    return this.lab.simulate(acquisition);
   }
 
   /** Compares a mesh with the truth (clipped at the last acquisition's most basal SAX plane). */
   labCompare(positions: Float32Array, indices: Uint32Array): Promise<LabComparison> {
-    this.labReplay();
-    // Copies: the caller keeps displaying its arrays, these are transferred.
-    return this.request<LabComparison>((reqId) => ({ type: 'lab-compare', reqId, positions: positions.slice(), indices: indices.slice() }));
+    return this.lab.compare(positions, indices);
   }
 
   /** Starts a leave-one-out or a parameter sweep on a loaded file; replaces a batch in progress. */
   labBatch(job: LabBatchJob, onProgress: (p: LabProgress) => void): LabBatchHandle {
-    const runId = this.nextId++;
-    let started!: BatchState['started'];
-    const startedP = new Promise<LabBatchInfo>((resolve, reject) => (started = { resolve, reject }));
-    let resolve!: () => void;
-    let reject!: (e: CoreErrorData) => void;
-    const done = new Promise<void>((res, rej) => {
-      resolve = res;
-      reject = rej;
-    });
-    startedP.catch(() => undefined);
-    const handle: LabBatchHandle = { runId, started: startedP, done, cancel: () => this.cancelBatch(runId) };
-    if (this.disposed) {
-      started.reject(this.disposedError());
-      reject(this.disposedError());
-      return handle;
-    }
-    const bytes = this.files.get(job.fileName);
-    if (bytes === undefined) {
-      const e = { code: ErrorCodes.notLoaded, message: `${job.fileName} has not been loaded`, file: job.fileName };
-      started.reject(e);
-      reject(e);
-      return handle;
-    }
-    for (const other of [...this.batches.keys()]) this.cancelBatch(other);
-    this.batches.set(runId, { onProgress, started, resolve, reject });
-    void this.ensureWorker().catch(() => undefined);
-    this.labReplay();
-    if (!this.workerFiles.has(job.fileName)) {
-      this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName: job.fileName, bytes: bytes.slice(0) })).catch(
-        (e: CoreErrorData) => {
-          this.workerFiles.delete(job.fileName);
-          this.finishBatch(runId, e);
-        },
-      );
-      this.workerFiles.add(job.fileName);
-    }
-    const options = job.options ? { options: { ...job.options } } : {};
-    const copy: LabBatchJob = job.kind === 'sweep' ? { ...job, grid: { ...job.grid }, params: { ...job.params }, ...options } : { ...job, params: { ...job.params }, ...options };
-    this.post({ type: 'lab-batch', runId, job: copy });
-    return handle;
-  }
-
-  /** Re-sends the truth (and acquisition) to a worker that does not have them (after a crash). */
-  private labReplay(): void {
-    if (this.labInWorker || !this.labTruthSource) return;
-    const src = this.labTruthSource;
-    const source: LabTruthSource = src.kind === 'file' ? { ...src, bytes: src.bytes.slice(0) } : src;
-    this.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source })).catch(() => undefined);
-    const acq = this.labAcquisition;
-    if (acq) this.request<LabAcquisition>((reqId) => ({ type: 'lab-simulate', reqId, acquisition: { ...acq } })).catch(() => undefined);
-    this.labInWorker = true;
-  }
-
-  private cancelBatch(runId: number): void {
-    if (!this.batches.has(runId)) return;
-    if (this.worker) this.post({ type: 'cancel', runId });
-    this.finishBatch(runId, { code: ErrorCodes.cancelled, message: 'the batch was cancelled' });
-  }
-
-  private finishBatch(runId: number, error: CoreErrorData | null): void {
-    const b = this.batches.get(runId);
-    if (!b) return;
-    this.batches.delete(runId);
-    if (error) {
-      b.started.reject(error);
-      b.reject(error);
-    } else {
-      b.resolve();
-    }
+    return this.lab.batch(job, onProgress);
   }
 
   /** Terminates the worker and rejects everything pending with `{ code: 'disposed' }`. */
@@ -427,17 +346,13 @@ export class CoreClient {
         this.settleRequest(msg.reqId, true, msg.bytes);
         break;
       case 'lab-batch-started':
-        this.batches.get(msg.runId)?.started.resolve(msg.info);
+        this.lab.onStarted(msg.runId, msg.info);
         break;
       case 'lab-progress':
-        try {
-          this.batches.get(msg.runId)?.onProgress(msg.progress);
-        } catch (e) {
-          console.error('CoreClient: onProgress threw', e);
-        }
+        this.lab.onProgress(msg.runId, msg.progress);
         break;
       case 'lab-batch-done':
-        this.finishBatch(msg.runId, null);
+        this.lab.finishBatch(msg.runId, null);
         break;
       case 'done':
         this.runs.onDone(msg.result);
@@ -450,7 +365,7 @@ export class CoreClient {
         if (msg.reqId !== undefined) this.settleRequest(msg.reqId, false, msg.error);
         if (msg.runId !== undefined) {
           this.runs.finish(msg.runId, msg.error);
-          this.finishBatch(msg.runId, msg.error);
+          this.lab.finishBatch(msg.runId, msg.error);
         }
         if (msg.reqId === undefined && msg.runId === undefined) {
           // Not tied to a request: the worker could not start (e.g. the wasm failed to load).
@@ -484,10 +399,10 @@ export class CoreClient {
     this.readyResolve = null;
     this.readyReject = null;
     this.workerFiles.clear();
-    this.labInWorker = false;
+    this.lab.workerLost();
     worker?.terminate();
     for (const [reqId] of [...this.requests]) this.settleRequest(reqId, false, error);
     for (const runId of this.runs.ids()) this.runs.finish(runId, { ...error });
-    for (const runId of [...this.batches.keys()]) this.finishBatch(runId, { ...error });
+    this.lab.failAll(error);
   }
 }
