@@ -288,7 +288,7 @@ describe('controller', () => {
     run.resolve({ ...result(run.runId), alignment });
     await vi.runAllTimersAsync();
     expect(lastStatus()).toBe('done');
-    (c as unknown as { display(now: number): void }).display(0); // one animation frame
+    (c as unknown as { runView: { display(now: number): void } }).runView.display(0); // one animation frame
     const given = viewer.givenLayer.calls.set?.at(-1);
     expect(given?.[2]).toBe('LV_ENDO');
     expect(Array.from(given?.[1] as Float32Array)).toEqual([0, 0, 0, 10, 0, 0, 0, 10, 0]); // the file's points as given

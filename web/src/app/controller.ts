@@ -1,57 +1,30 @@
 /**
  * Wires the core client, the viewer and the UI together. Owns the application state (the pure
  * machine in state.ts), the loaded files, the parameters (mirrored in the URL), the running
- * reconstruction and the recorded frames. All heavy work happens in the worker; this class only
- * routes data and decides what is on screen, once per animation frame.
+ * reconstruction. All heavy work happens in the worker; this class only routes data. What a run
+ * puts on screen (recorded frames, playback, result colours, contours), decided once per animation
+ * frame, is runDisplay.ts; the DOM parts it drives are named in parts.ts.
  */
 import type { CoreClient } from '../core-client/CoreClient';
 import type {
-  CoreErrorData, Frame, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, StepReport,
+  CoreErrorData, Frame, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings,
 } from '../core-client/protocol';
 import { DEFAULT_OPTIONS, withDefaultOptions } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
-import type { ExportPanel } from '../io/ExportPanel';
-import type { FileBar } from '../io/FileBar';
 import { findSample, fetchSample, type Sample } from '../io/samples';
-import type { ErrorBanner } from '../ui/ErrorBanner';
 import type { HoverReadout } from '../ui/HoverReadout';
-import type { LivePlot } from '../ui/LivePlot';
-import type { ParamPanel } from '../ui/ParamPanel';
-import type { ResultPanel } from '../ui/ResultPanel';
-import type { StatusLine } from '../ui/StatusLine';
-import type { Timeline } from '../ui/Timeline';
-import type { ViewControls } from '../ui/ViewControls';
-import { robustMax } from '../viewer/colormap';
-import type { Legend } from '../viewer/Legend';
-import type { Viewer } from '../viewer/Viewer';
-import { FrameHistory } from './history';
 import { asCoreError, callSafely, keptText, schemaOrdered } from './errors';
-import { showSceneContours, surfacePoints } from './sceneContours';
-import * as pb from './playback';
+import type { Parts } from './parts';
+import type { Speed } from './playback';
+import { RunDisplay } from './runDisplay';
+import { surfacePoints } from './sceneContours';
 import { currentRunId, initialState, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 
+export type { Parts } from './parts';
+
 /** Delay between the last parameter change and the restart of the run. */
 export const RESTART_DEBOUNCE_MS = 300;
-
-export interface Parts {
-  viewer: Viewer | null;
-  /** Scale of the contour-point colours (contour-to-mesh distance). */
-  legend: Legend;
-  /** Scale of the mesh colours (vertex-to-nearest-contour distance). */
-  meshLegend: Legend;
-  params: ParamPanel;
-  timeline: Timeline;
-  status: StatusLine;
-  plot: LivePlot;
-  result: ResultPanel;
-  banner: ErrorBanner;
-  files: FileBar;
-  exports: ExportPanel;
-  view: ViewControls;
-  hover: HoverReadout;
-  warnings: HTMLElement;
-}
 
 interface ActiveRun {
   runId: number;
@@ -70,26 +43,10 @@ export class Controller {
   private surface: string | null = null;
   private sampleId: string | null = null;
   private view: ViewSettings = { ...DEFAULT_VIEW };
-  private readonly history = new FrameHistory();
-  private playback: pb.Playback = pb.initialPlayback;
   private active: ActiveRun | null = null;
-  private result: RunResult | null = null;
-  private latest: StepReport | null = null;
-  private indices: Uint32Array | null = null;
-  private attractors: Float32Array | null = null;
-  /** The running run's own contours when they are not the file's (breath-hold alignment). */
-  private runContours: Frame['runContours'] | null = null;
+  /** The run on screen: recorded frames, playback, result, contours (runDisplay.ts). */
+  private readonly runView: RunDisplay;
   private restartTimer: ReturnType<typeof setTimeout> | null = null;
-  /** What is on screen: the history index shown, and whether the final result is. */
-  private shown = { cursor: -2, result: false, historyVersion: -1 };
-  private historyVersion = 0;
-  private contourMode: 'plain' | 'distances' | 'none' = 'none';
-  /** The view was widened to the first mesh of this run. */
-  private framedRun = false;
-  /** Top of the colour scales in mm: contour points (to mesh) and mesh vertices (to contours). */
-  private pointMaxMm = 1;
-  private meshMaxMm = 1;
-  private rafHandle = 0;
   /** Resolves once the core answered (true) or failed to start (false); input waits for it. */
   private readonly ready: Promise<boolean>;
   private markReady: (ok: boolean) => void = () => undefined;
@@ -101,6 +58,11 @@ export class Controller {
     private readonly appVersion: string,
   ) {
     this.ready = new Promise((resolve) => (this.markReady = resolve));
+    this.runView = new RunDisplay(parts, {
+      currentFile: () => this.currentFile(),
+      surface: () => this.surface,
+      iterations: () => this.params.iterations,
+    });
   }
 
   // ---- start-up -------------------------------------------------------------------------------
@@ -109,7 +71,7 @@ export class Controller {
   async start(createClient: () => Promise<CoreClient>): Promise<void> {
     this.parts.view.show(this.view);
     this.setStatus();
-    this.loop();
+    this.runView.startLoop();
     try {
       this.client = await createClient();
       const { schema, version } = await this.client.schema();
@@ -218,7 +180,7 @@ export class Controller {
     const file = this.currentFile();
     if (!file || !file.surfaces.includes(surface)) return;
     this.surface = surface;
-    this.showContours(null);
+    this.runView.showContours(null);
     this.frameSurface(file);
     this.updateUrl();
     this.startRun();
@@ -241,7 +203,7 @@ export class Controller {
     this.parts.warnings.textContent = warnings.length ? `⚠ ${warnings.join(' · ')}` : '';
     this.parts.warnings.hidden = warnings.length === 0;
     this.clearRunDisplay();
-    this.showContours(null);
+    this.runView.showContours(null);
     this.parts.viewer?.landmarkLayer.set(file.landmarks);
     this.frameSurface(file);
     this.updateUrl();
@@ -351,82 +313,40 @@ export class Controller {
 
   private onFrame(f: Frame): void {
     if (!this.active || f.runId !== this.active.runId) return;
-    if (f.indices) this.indices = f.indices;
-    if (f.attractors) this.attractors = f.attractors;
-    if (f.runContours) {
-      this.runContours = f.runContours;
-      this.showContours(null); // the shifted contours the mesh now follows, and the file's as given
-    }
-    this.latest = f.report;
-    this.parts.status.setProgress(f.report.total_iterations > 0 ? f.report.iteration / f.report.total_iterations : 0);
-    if (!this.indices || this.indices.length === 0) return;
-    const shownIteration = this.history.at(this.playback.cursor)?.report.iteration;
-    const dropped = this.history.push({ report: f.report, positions: f.positions, indices: this.indices, attractors: this.attractors });
-    this.historyVersion++;
-    if (dropped > 0 && !this.playback.playing && shownIteration !== undefined) {
-      this.playback = { ...this.playback, cursor: this.history.indexOfIteration(shownIteration) };
-    }
+    this.runView.frame(f);
   }
 
   private onDone(r: RunResult): void {
     if (!this.active || r.runId !== this.active.runId) return;
     this.active = null;
-    this.result = r;
-    this.pointMaxMm = robustMax(r.pointDistances);
-    this.meshMaxMm = robustMax(r.vertexDistances);
+    this.runView.finished(r);
     this.parts.status.setProgress(1);
     this.parts.result.show(r);
     // A run finished: whatever error was shown has been dealt with (not a file refused meanwhile).
     if (this.state.kind !== 'error') this.parts.banner.hide();
     this.parts.exports.setAvailable(true, true);
-    this.historyVersion++;
     this.dispatch({ type: 'finished', runId: r.runId });
     this.emitResult(r);
   }
 
   private clearRunDisplay(): void {
-    this.history.clear();
-    this.historyVersion++;
-    this.result = null;
-    this.latest = null;
-    this.indices = null;
-    this.attractors = null;
-    const shifted = this.runContours !== null; // an aligned run's contours are on screen
-    this.runContours = null;
-    this.playback = pb.restart(this.playback);
-    this.framedRun = false;
-    this.shown = { cursor: -2, result: false, historyVersion: -1 };
-    this.parts.viewer?.meshLayer.clear();
-    this.parts.viewer?.attractorLayer.clear();
-    this.parts.viewer?.givenLayer.clear();
-    this.parts.view.setAsGivenAvailable(false);
-    this.parts.viewer?.requestRender();
-    this.parts.legend.hide();
-    this.parts.meshLegend.hide();
-    this.parts.status.setStep(null);
-    this.parts.status.setProgress(0);
-    this.parts.plot.set([], 1, null);
-    this.parts.exports.setAvailable(false, this.currentFile() !== null);
-    this.parts.result.clear('no result yet');
-    if (this.contourMode === 'distances' || shifted) this.showContours(null);
+    this.runView.clear();
     this.emitResult(null);
   }
 
   // ---- timeline -------------------------------------------------------------------------------
 
   togglePlay(): void {
-    this.playback = pb.togglePlaying(this.playback, this.history.length, performance.now());
-    if (!this.playback.playing) this.dispatch({ type: 'pause' });
-    else this.dispatch({ type: 'resume' });
+    this.dispatch({ type: this.runView.togglePlay() ? 'resume' : 'pause' });
   }
 
   step(delta: number): void {
-    this.playback = pb.step(this.playback, this.history.length, delta);
+    this.runView.step(delta);
     this.dispatch({ type: 'pause' });
   }
 
   seek(index: number): void {
-    this.playback = pb.seek(this.playback, this.history.length, index);
+    this.runView.seek(index);
     this.dispatch({ type: 'pause' });
   }
 
@@ -435,13 +355,12 @@ export class Controller {
   }
 
   latestStep(): void {
-    this.playback = { ...this.playback, playing: true, speed: this.playback.speed, cursor: this.history.length - 1 };
-    if (this.playback.speed !== 'live') this.playback = { ...this.playback, playing: false };
+    this.runView.toLatest();
     this.dispatch({ type: 'resume' });
   }
 
-  setSpeed(speed: pb.Speed): void {
-    this.playback = { ...this.playback, speed, lastAdvanceMs: performance.now() };
+  setSpeed(speed: Speed): void {
+    this.runView.setSpeed(speed);
   }
 
   // ---- view -----------------------------------------------------------------------------------
@@ -469,7 +388,7 @@ export class Controller {
   }
 
   onHover(info: Parameters<HoverReadout['show']>[0]): void {
-    this.parts.hover.show(info, info?.what === 'mesh' ? this.meshMaxMm : this.pointMaxMm);
+    this.parts.hover.show(info, this.runView.colourMax(info?.what === 'mesh' ? 'mesh' : 'points'));
   }
 
   screenshot(): Promise<Blob> {
@@ -480,7 +399,7 @@ export class Controller {
   exportInfo(): ExportInfo | null {
     const file = this.currentFile();
     if (!file) return null;
-    const r = this.result;
+    const r = this.runView.currentResult;
     return {
       appVersion: this.appVersion,
       coreVersion: r?.version ?? this.coreVersion,
@@ -507,82 +426,12 @@ export class Controller {
   }
 
   currentResult(): RunResult | null {
-    return this.result;
+    return this.runView.currentResult;
   }
 
   /** The current file as loaded (its points as given), for the e2e tests and the console. */
   currentFileData(): LoadedFile | null {
     return this.currentFile();
-  }
-
-  // ---- display (once per animation frame) -----------------------------------------------------
-
-  private loop(): void {
-    const frame = (now: number) => {
-      this.rafHandle = requestAnimationFrame(frame);
-      this.display(now);
-    };
-    this.rafHandle = requestAnimationFrame(frame);
-  }
-
-  private display(now: number): void {
-    this.playback = pb.tick(this.playback, this.history.length, now);
-    const cursor = this.playback.cursor;
-    const atEnd = cursor === this.history.length - 1;
-    const showResult = this.result !== null && (atEnd || this.history.length === 0);
-    const s = this.shown;
-    if (s.cursor !== cursor || s.result !== showResult || (s.historyVersion !== this.historyVersion && showResult !== s.result)) {
-      this.shown = { cursor, result: showResult, historyVersion: this.historyVersion };
-      this.showStep(cursor, showResult);
-    }
-    this.parts.viewer?.renderIfNeeded();
-  }
-
-  private showStep(cursor: number, showResult: boolean): void {
-    const viewer = this.parts.viewer;
-    const entry = this.history.at(cursor);
-    const r = this.result;
-    if (showResult && r) {
-      viewer?.meshLayer.update(r.positions, r.indices);
-      viewer?.meshLayer.setDistances(r.vertexDistances, 0, this.meshMaxMm);
-      viewer?.attractorLayer.set(entry?.attractors ?? this.attractors);
-      this.showContours(r);
-      this.parts.legend.show(this.pointMaxMm);
-      this.parts.meshLegend.show(this.meshMaxMm);
-    } else if (entry) {
-      if (!this.framedRun) {
-        this.framedRun = true;
-        viewer?.extendFrame(entry.positions);
-      }
-      viewer?.meshLayer.update(entry.positions, entry.indices);
-      viewer?.meshLayer.setDistances(null, 0, 1);
-      viewer?.attractorLayer.set(entry.attractors);
-      if (this.contourMode === 'distances') this.showContours(null);
-      this.parts.legend.hide();
-      this.parts.meshLegend.hide();
-    }
-    viewer?.requestRender();
-    const report = entry?.report ?? null;
-    this.parts.status.setStep(report);
-    const total = report?.total_iterations ?? this.latest?.total_iterations ?? (this.params.iterations || 1);
-    this.parts.timeline.update({
-      length: this.history.length,
-      cursor,
-      playing: this.playback.playing,
-      iteration: report?.iteration ?? null,
-      total: report?.total_iterations ?? null,
-    });
-    this.parts.plot.set(this.history.series(), total, report?.iteration ?? null);
-  }
-
-  /** Contours of the current file; with a result, its points coloured by distance (and, aligned, the file's as given). */
-  private showContours(r: RunResult | null): void {
-    const viewer = this.parts.viewer;
-    const file = this.currentFile();
-    if (!viewer || !file) return;
-    this.parts.view.setAsGivenAvailable(showSceneContours(viewer, file, this.surface, r, this.pointMaxMm, this.runContours));
-    this.contourMode = r ? 'distances' : 'plain';
-    viewer.requestRender();
   }
 
   // ---- state ----------------------------------------------------------------------------------
@@ -606,14 +455,8 @@ export class Controller {
     this.parts.viewer?.setAnimating(s.kind === 'running');
     document.body.dataset.state = s.kind;
     document.body.dataset.hasFile = this.currentFile() ? '1' : '0';
-    this.parts.timeline.update({
-      length: this.history.length,
-      cursor: this.playback.cursor,
-      playing: this.playback.playing,
-      iteration: this.history.at(this.playback.cursor)?.report.iteration ?? null,
-      total: this.latest?.total_iterations ?? null,
-    });
-    this.parts.exports.setAvailable(this.result !== null, this.currentFile() !== null);
+    this.runView.updateTimeline();
+    this.parts.exports.setAvailable(this.runView.currentResult !== null, this.currentFile() !== null);
   }
 
   private updateUrl(): void {
@@ -628,11 +471,11 @@ export class Controller {
 
   /** For tests and the console. */
   get debug(): { state: AppState; historyLength: number; runId: number | null } {
-    return { state: this.state, historyLength: this.history.length, runId: this.active?.runId ?? currentRunId(this.state) };
+    return { state: this.state, historyLength: this.runView.historyLength, runId: this.active?.runId ?? currentRunId(this.state) };
   }
 
   dispose(): void {
-    cancelAnimationFrame(this.rafHandle);
+    this.runView.stopLoop();
     this.cancelRun();
     this.client?.dispose();
     this.parts.viewer?.dispose();

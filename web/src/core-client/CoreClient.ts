@@ -10,6 +10,10 @@
  *   with `{ code: 'cancelled' }` and its late frames are dropped by run id.
  * - A worker crash (wasm trap, Rust panic, script error) rejects everything pending with
  *   `{ code: 'worker_crashed' }`; the next call starts a fresh worker and re-sends the loaded files.
+ *
+ * The frame throttling lives in runFrames.ts, the validation lab's requests and batches in
+ * labRequests.ts, the public API types in coreClientTypes.ts (re-exported here); this module keeps
+ * the worker's life cycle, requests, message routing and crash recovery.
  */
 
 import {
@@ -17,7 +21,6 @@ import {
   assertNever,
   isFatal,
   isFromWorker,
-  mergeFrames,
   toCoreErrorData,
   transferablesOf,
   type CoreErrorData,
@@ -25,87 +28,32 @@ import {
   type FromWorker,
   type AcquisitionSpec,
   type LabAcquisition,
-  type LabBatchInfo,
   type LabBatchJob,
   type LabComparison,
   type LabProgress,
   type LabTruth,
   type LabTruthSource,
-  type LidsMode,
-  type ReconOptions,
   type LoadedFile,
   type ParamSpec,
-  type ParamValues,
   type RunResult,
   type ToWorker,
 } from './protocol';
+import {
+  settingsOf,
+  type CoreClientOptions,
+  type LabBatchHandle,
+  type RunHandle,
+  type RunOptions,
+  type WorkerLike,
+} from './coreClientTypes';
+import { LabRequests } from './labRequests';
+import { RunFrames } from './runFrames';
 
-/** The part of `Worker` the client uses (a fake implements it in unit tests). */
-export interface WorkerLike {
-  postMessage(message: ToWorker, transfer: Transferable[]): void;
-  terminate(): void;
-  onmessage: ((ev: { data: unknown }) => void) | null;
-  onerror: ((ev: { message?: string; preventDefault?: () => void }) => void) | null;
-  onmessageerror?: ((ev: unknown) => void) | null;
-}
-
-export interface CoreClientOptions {
-  /** Creates the worker; defaults to the bundled reconstruct.worker.ts as a module worker. */
-  createWorker?: () => WorkerLike;
-  /** Runs a callback at the next display frame; defaults to requestAnimationFrame (with a timer
-   * fallback so hidden tabs, where animation frames stop, still finish their runs). */
-  schedule?: (callback: () => void) => void;
-  /** Told about every worker crash (after pending promises were rejected). */
-  onWorkerCrash?: (error: CoreErrorData) => void;
-}
-
-export interface RunOptions {
-  fileName: string;
-  surface: string | null;
-  params: ParamValues;
-  lids: LidsMode;
-  /** Missing: the core's defaults. */
-  options?: ReconOptions;
-}
-
-export interface RunHandle {
-  runId: number;
-  done: Promise<RunResult>;
-  cancel(): void;
-}
-
-/** A running lab batch (leave-one-out or sweep); cancel() stops it in the worker. */
-export interface LabBatchHandle {
-  runId: number;
-  /** Resolves when the worker accepted the job (with the contours of a leave-one-out). */
-  started: Promise<LabBatchInfo>;
-  /** Resolves when every item was reported; rejects with CoreErrorData (also 'cancelled'). */
-  done: Promise<void>;
-  cancel(): void;
-}
-
-interface BatchState {
-  onProgress: (p: LabProgress) => void;
-  started: { resolve: (i: LabBatchInfo) => void; reject: (e: CoreErrorData) => void };
-  resolve: () => void;
-  reject: (e: CoreErrorData) => void;
-}
+export type { CoreClientOptions, LabBatchHandle, RunHandle, RunOptions, WorkerLike } from './coreClientTypes';
 
 interface PendingRequest {
   resolve: (value: unknown) => void;
   reject: (error: CoreErrorData) => void;
-}
-
-interface RunState {
-  runId: number;
-  onFrame: (f: Frame) => void;
-  resolve: (r: RunResult) => void;
-  reject: (e: CoreErrorData) => void;
-  /** Newest frame not yet handed to onFrame. */
-  pending: Frame | undefined;
-  flushScheduled: boolean;
-  /** Result received while a frame was still waiting for its display slot. */
-  result: RunResult | undefined;
 }
 
 function defaultCreateWorker(): WorkerLike {
@@ -138,17 +86,15 @@ export class CoreClient {
 
   private nextId = 1;
   private readonly requests = new Map<number, PendingRequest>();
-  private readonly runs = new Map<number, RunState>();
+  /** The run in progress (at most one), with its display-throttled frames. */
+  private readonly runs: RunFrames;
   /** Bytes of every successfully loaded file, kept to re-send them to a recreated worker. */
   private readonly files = new Map<string, ArrayBuffer>();
   /** Files the current worker has been sent. */
   private readonly workerFiles = new Set<string>();
   private schemaCache: { schema: ParamSpec[]; version: string } | null = null;
-  private readonly batches = new Map<number, BatchState>();
-  /** The lab's truth and acquisition, replayed to a recreated worker before the next lab call. */
-  private labTruthSource: LabTruthSource | null = null;
-  private labAcquisition: AcquisitionSpec | null = null;
-  private labInWorker = false;
+  /** The validation lab's requests and batches (labRequests.ts). */
+  private readonly lab: LabRequests;
   private disposed = false;
 
   /** Use `CoreClient.create()` in the app; the constructor is for tests that inject a worker. */
@@ -156,6 +102,17 @@ export class CoreClient {
     this.createWorker = options.createWorker ?? defaultCreateWorker;
     this.schedule = options.schedule ?? defaultSchedule;
     this.onWorkerCrash = options.onWorkerCrash;
+    this.runs = new RunFrames(this.schedule, (runId, seq) => this.post({ type: 'ack', runId, seq }));
+    this.lab = new LabRequests({
+      request: (make) => this.request(make),
+      post: (msg) => this.post(msg),
+      hasWorker: () => this.worker !== null,
+      newId: () => this.nextId++,
+      disposedError: () => (this.disposed ? this.disposedError() : null),
+      fileBytes: (fileName) => this.files.get(fileName),
+      ensureWorker: () => void this.ensureWorker().catch(() => undefined),
+      resendIfRecreated: (fileName, bytes, onError) => this.resendIfRecreated(fileName, bytes, onError),
+    });
   }
 
   /** Spawns the worker and waits until its wasm module is initialised. */
@@ -227,22 +184,13 @@ export class CoreClient {
       });
       return handle;
     }
-    for (const other of [...this.runs.keys()]) this.cancelRun(other);
+    for (const other of this.runs.ids()) this.cancelRun(other);
 
-    const state: RunState = {
-      runId,
-      onFrame,
-      resolve,
-      reject,
-      pending: undefined,
-      flushScheduled: false,
-      result: undefined,
-    };
-    this.runs.set(runId, state);
+    this.runs.add(runId, onFrame, resolve, reject);
     void this.ensureWorker().catch(() => {
       // The crash handler already rejected this run.
     });
-    this.resendIfRecreated(opts.fileName, bytes, (e) => this.finishRun(runId, e));
+    this.resendIfRecreated(opts.fileName, bytes, (e) => this.runs.finish(runId, e));
     this.post({ type: 'run', runId, ...settingsOf(opts) });
     return handle;
   }
@@ -278,104 +226,22 @@ export class CoreClient {
 
   /** Makes the lab's ground-truth surface (parametric LV or a mesh file) in the worker. */
   labTruth(source: LabTruthSource): Promise<LabTruth> {
-    const kept: LabTruthSource = source.kind === 'file' ? { ...source, bytes: source.bytes.slice(0) } : source;
-    const sent: LabTruthSource = source.kind === 'file' ? { ...source, bytes: source.bytes.slice(0) } : source;
-    this.labAcquisition = null;
-    const p = this.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source: sent }));
-    this.labInWorker = true;
-    return p.then((t) => {
-      this.labTruthSource = kept;
-      return t;
-    });
+    return this.lab.truth(source);
   }
 
   /** Slices the truth like a CMR acquisition; resolves to the contours as CSV bytes. */
   labSimulate(acquisition: AcquisitionSpec): Promise<LabAcquisition> {
-    this.labReplay();
-    return this.request<LabAcquisition>((reqId) => ({ type: 'lab-simulate', reqId, acquisition: { ...acquisition } })).then((a) => {
-      this.labAcquisition = { ...acquisition };
-      return a;
-    });
+    return this.lab.simulate(acquisition);
   }
 
   /** Compares a mesh with the truth (clipped at the last acquisition's most basal SAX plane). */
   labCompare(positions: Float32Array, indices: Uint32Array): Promise<LabComparison> {
-    this.labReplay();
-    // Copies: the caller keeps displaying its arrays, these are transferred.
-    return this.request<LabComparison>((reqId) => ({ type: 'lab-compare', reqId, positions: positions.slice(), indices: indices.slice() }));
+    return this.lab.compare(positions, indices);
   }
 
   /** Starts a leave-one-out or a parameter sweep on a loaded file; replaces a batch in progress. */
   labBatch(job: LabBatchJob, onProgress: (p: LabProgress) => void): LabBatchHandle {
-    const runId = this.nextId++;
-    let started!: BatchState['started'];
-    const startedP = new Promise<LabBatchInfo>((resolve, reject) => (started = { resolve, reject }));
-    let resolve!: () => void;
-    let reject!: (e: CoreErrorData) => void;
-    const done = new Promise<void>((res, rej) => {
-      resolve = res;
-      reject = rej;
-    });
-    startedP.catch(() => undefined);
-    const handle: LabBatchHandle = { runId, started: startedP, done, cancel: () => this.cancelBatch(runId) };
-    if (this.disposed) {
-      started.reject(this.disposedError());
-      reject(this.disposedError());
-      return handle;
-    }
-    const bytes = this.files.get(job.fileName);
-    if (bytes === undefined) {
-      const e = { code: ErrorCodes.notLoaded, message: `${job.fileName} has not been loaded`, file: job.fileName };
-      started.reject(e);
-      reject(e);
-      return handle;
-    }
-    for (const other of [...this.batches.keys()]) this.cancelBatch(other);
-    this.batches.set(runId, { onProgress, started, resolve, reject });
-    void this.ensureWorker().catch(() => undefined);
-    this.labReplay();
-    if (!this.workerFiles.has(job.fileName)) {
-      this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName: job.fileName, bytes: bytes.slice(0) })).catch(
-        (e: CoreErrorData) => {
-          this.workerFiles.delete(job.fileName);
-          this.finishBatch(runId, e);
-        },
-      );
-      this.workerFiles.add(job.fileName);
-    }
-    const options = job.options ? { options: { ...job.options } } : {};
-    const copy: LabBatchJob = job.kind === 'sweep' ? { ...job, grid: { ...job.grid }, params: { ...job.params }, ...options } : { ...job, params: { ...job.params }, ...options };
-    this.post({ type: 'lab-batch', runId, job: copy });
-    return handle;
-  }
-
-  /** Re-sends the truth (and acquisition) to a worker that does not have them (after a crash). */
-  private labReplay(): void {
-    if (this.labInWorker || !this.labTruthSource) return;
-    const src = this.labTruthSource;
-    const source: LabTruthSource = src.kind === 'file' ? { ...src, bytes: src.bytes.slice(0) } : src;
-    this.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source })).catch(() => undefined);
-    const acq = this.labAcquisition;
-    if (acq) this.request<LabAcquisition>((reqId) => ({ type: 'lab-simulate', reqId, acquisition: { ...acq } })).catch(() => undefined);
-    this.labInWorker = true;
-  }
-
-  private cancelBatch(runId: number): void {
-    if (!this.batches.has(runId)) return;
-    if (this.worker) this.post({ type: 'cancel', runId });
-    this.finishBatch(runId, { code: ErrorCodes.cancelled, message: 'the batch was cancelled' });
-  }
-
-  private finishBatch(runId: number, error: CoreErrorData | null): void {
-    const b = this.batches.get(runId);
-    if (!b) return;
-    this.batches.delete(runId);
-    if (error) {
-      b.started.reject(error);
-      b.reject(error);
-    } else {
-      b.resolve();
-    }
+    return this.lab.batch(job, onProgress);
   }
 
   /** Terminates the worker and rejects everything pending with `{ code: 'disposed' }`. */
@@ -465,7 +331,7 @@ export class CoreClient {
         this.settleRequest(msg.reqId, true, { schema: msg.schema, version: msg.version });
         break;
       case 'frame':
-        this.onFrameMessage(msg);
+        this.runs.onFrameMessage(msg);
         break;
       case 'lab-truth':
         this.settleRequest(msg.reqId, true, msg.truth);
@@ -480,20 +346,16 @@ export class CoreClient {
         this.settleRequest(msg.reqId, true, msg.bytes);
         break;
       case 'lab-batch-started':
-        this.batches.get(msg.runId)?.started.resolve(msg.info);
+        this.lab.onStarted(msg.runId, msg.info);
         break;
       case 'lab-progress':
-        try {
-          this.batches.get(msg.runId)?.onProgress(msg.progress);
-        } catch (e) {
-          console.error('CoreClient: onProgress threw', e);
-        }
+        this.lab.onProgress(msg.runId, msg.progress);
         break;
       case 'lab-batch-done':
-        this.finishBatch(msg.runId, null);
+        this.lab.finishBatch(msg.runId, null);
         break;
       case 'done':
-        this.onDone(msg.result);
+        this.runs.onDone(msg.result);
         break;
       case 'error':
         if (isFatal(msg.error)) {
@@ -502,8 +364,8 @@ export class CoreClient {
         }
         if (msg.reqId !== undefined) this.settleRequest(msg.reqId, false, msg.error);
         if (msg.runId !== undefined) {
-          this.finishRun(msg.runId, msg.error);
-          this.finishBatch(msg.runId, msg.error);
+          this.runs.finish(msg.runId, msg.error);
+          this.lab.finishBatch(msg.runId, msg.error);
         }
         if (msg.reqId === undefined && msg.runId === undefined) {
           // Not tied to a request: the worker could not start (e.g. the wasm failed to load).
@@ -515,69 +377,10 @@ export class CoreClient {
     }
   }
 
-  private onFrameMessage(msg: Frame & { type: 'frame' }): void {
-    const run = this.runs.get(msg.runId);
-    if (!run) return; // stale frame of a cancelled or finished run
-    const frame: Frame = {
-      runId: msg.runId,
-      seq: msg.seq,
-      report: msg.report,
-      positions: msg.positions,
-    };
-    if (msg.indices !== undefined) frame.indices = msg.indices;
-    if (msg.attractors !== undefined) frame.attractors = msg.attractors;
-    if (msg.runContours !== undefined) frame.runContours = msg.runContours;
-    run.pending = run.pending ? mergeFrames(run.pending, frame) : frame;
-    if (!run.flushScheduled) {
-      run.flushScheduled = true;
-      this.schedule(() => this.flush(run.runId));
-    }
-  }
-
-  /** Hands the newest pending frame to the renderer (once per display frame) and acks it. */
-  private flush(runId: number): void {
-    const run = this.runs.get(runId);
-    if (!run) return;
-    run.flushScheduled = false;
-    const frame = run.pending;
-    run.pending = undefined;
-    if (frame) {
-      this.post({ type: 'ack', runId, seq: frame.seq });
-      try {
-        run.onFrame(frame);
-      } catch (e) {
-        console.error('CoreClient: onFrame threw', e);
-      }
-    }
-    if (run.result && this.runs.get(runId) === run) {
-      this.finishRun(runId, null, run.result);
-    }
-  }
-
-  private onDone(result: RunResult): void {
-    const run = this.runs.get(result.runId);
-    if (!run) return;
-    if (run.pending !== undefined && run.flushScheduled) {
-      // Deliver the last frame first; flush() then resolves.
-      run.result = result;
-      return;
-    }
-    this.finishRun(result.runId, null, result);
-  }
-
-  private finishRun(runId: number, error: CoreErrorData | null, result?: RunResult): void {
-    const run = this.runs.get(runId);
-    if (!run) return;
-    this.runs.delete(runId);
-    run.pending = undefined;
-    if (error) run.reject(error);
-    else if (result) run.resolve(result);
-  }
-
   private cancelRun(runId: number): void {
     if (!this.runs.has(runId)) return;
     if (this.worker) this.post({ type: 'cancel', runId });
-    this.finishRun(runId, { code: ErrorCodes.cancelled, message: 'the run was cancelled' });
+    this.runs.finish(runId, { code: ErrorCodes.cancelled, message: 'the run was cancelled' });
   }
 
   /** Discards the worker after a fatal error; the next call starts a new one. */
@@ -596,21 +399,10 @@ export class CoreClient {
     this.readyResolve = null;
     this.readyReject = null;
     this.workerFiles.clear();
-    this.labInWorker = false;
+    this.lab.workerLost();
     worker?.terminate();
     for (const [reqId] of [...this.requests]) this.settleRequest(reqId, false, error);
-    for (const runId of [...this.runs.keys()]) this.finishRun(runId, { ...error });
-    for (const runId of [...this.batches.keys()]) this.finishBatch(runId, { ...error });
+    for (const runId of this.runs.ids()) this.runs.finish(runId, { ...error });
+    this.lab.failAll(error);
   }
-}
-
-/** The settings a run and a session export send: copies, so later edits by the caller do not leak. */
-function settingsOf(opts: RunOptions) {
-  return {
-    fileName: opts.fileName,
-    surface: opts.surface,
-    params: { ...opts.params },
-    lids: opts.lids,
-    ...(opts.options ? { options: { ...opts.options } } : {}),
-  };
 }

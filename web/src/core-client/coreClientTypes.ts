@@ -1,0 +1,62 @@
+/**
+ * The public shapes of the CoreClient API (what callers pass in and get back), apart from the
+ * class so that tests, the lab and the app can name them without reading the implementation.
+ * CoreClient.ts re-exports them.
+ */
+
+import type { CoreErrorData, LabBatchInfo, LidsMode, ParamValues, ReconOptions, RunResult, ToWorker } from './protocol';
+
+/** The part of `Worker` the client uses (a fake implements it in unit tests). */
+export interface WorkerLike {
+  postMessage(message: ToWorker, transfer: Transferable[]): void;
+  terminate(): void;
+  onmessage: ((ev: { data: unknown }) => void) | null;
+  onerror: ((ev: { message?: string; preventDefault?: () => void }) => void) | null;
+  onmessageerror?: ((ev: unknown) => void) | null;
+}
+
+export interface CoreClientOptions {
+  /** Creates the worker; defaults to the bundled reconstruct.worker.ts as a module worker. */
+  createWorker?: () => WorkerLike;
+  /** Runs a callback at the next display frame; defaults to requestAnimationFrame (with a timer
+   * fallback so hidden tabs, where animation frames stop, still finish their runs). */
+  schedule?: (callback: () => void) => void;
+  /** Told about every worker crash (after pending promises were rejected). */
+  onWorkerCrash?: (error: CoreErrorData) => void;
+}
+
+export interface RunOptions {
+  fileName: string;
+  surface: string | null;
+  params: ParamValues;
+  lids: LidsMode;
+  /** Missing: the core's defaults. */
+  options?: ReconOptions;
+}
+
+export interface RunHandle {
+  runId: number;
+  done: Promise<RunResult>;
+  cancel(): void;
+}
+
+/** A running lab batch (leave-one-out or sweep); cancel() stops it in the worker. */
+export interface LabBatchHandle {
+  runId: number;
+  /** Resolves when the worker accepted the job (with the contours of a leave-one-out). */
+  started: Promise<LabBatchInfo>;
+  /** Resolves when every item was reported; rejects with CoreErrorData (also 'cancelled'). */
+  done: Promise<void>;
+  cancel(): void;
+}
+
+/** The settings a run and a session export send: copies, so later edits by the caller do not leak. */
+export function settingsOf(opts: RunOptions) {
+  return {
+    fileName: opts.fileName,
+    surface: opts.surface,
+    params: { ...opts.params },
+    lids: opts.lids,
+    ...(opts.options ? { options: { ...opts.options } } : {}),
+  };
+}

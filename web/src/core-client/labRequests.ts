@@ -1,0 +1,179 @@
+/**
+ * The validation lab's side of the core client: truth, simulated acquisition, comparison, and the
+ * leave-one-out / sweep batches with their progress. It remembers the truth and acquisition it
+ * made so a worker recreated after a crash gets them again before the next lab call (the lab
+ * should not have to know the worker died). Split from CoreClient.ts because the main app never
+ * uses it; CoreClient keeps the worker and forwards the lab's calls and messages here.
+ */
+
+import {
+  ErrorCodes,
+  type AcquisitionSpec,
+  type CoreErrorData,
+  type LabAcquisition,
+  type LabBatchInfo,
+  type LabBatchJob,
+  type LabComparison,
+  type LabProgress,
+  type LabTruth,
+  type LabTruthSource,
+  type ToWorker,
+} from './protocol';
+import type { LabBatchHandle } from './coreClientTypes';
+
+/** What the lab needs from the client that owns the worker. */
+export interface LabHost {
+  request<T>(make: (reqId: number) => ToWorker): Promise<T>;
+  post(msg: ToWorker): void;
+  /** A worker exists now (a cancel is only worth posting then). */
+  hasWorker(): boolean;
+  /** The next request/run id (shared with the client's own). */
+  newId(): number;
+  /** The error calls get after dispose(); null while the client is usable. */
+  disposedError(): CoreErrorData | null;
+  /** Bytes of a loaded file, kept for crash recovery. */
+  fileBytes(fileName: string): ArrayBuffer | undefined;
+  /** Spawns a worker if there is none (its failure is heard elsewhere). */
+  ensureWorker(): void;
+  /** Re-sends a file to a recreated worker before the next request; `onError` hears a failed reload. */
+  resendIfRecreated(fileName: string, bytes: ArrayBuffer, onError: (e: CoreErrorData) => void): void;
+}
+
+interface BatchState {
+  onProgress: (p: LabProgress) => void;
+  started: { resolve: (i: LabBatchInfo) => void; reject: (e: CoreErrorData) => void };
+  resolve: () => void;
+  reject: (e: CoreErrorData) => void;
+}
+
+export class LabRequests {
+  private readonly batches = new Map<number, BatchState>();
+  /** The lab's truth and acquisition, replayed to a recreated worker before the next lab call. */
+  private truthSource: LabTruthSource | null = null;
+  private acquisition: AcquisitionSpec | null = null;
+  private inWorker = false;
+
+  constructor(private readonly host: LabHost) {}
+
+  /** Makes the lab's ground-truth surface (parametric LV or a mesh file) in the worker. */
+  truth(source: LabTruthSource): Promise<LabTruth> {
+    const kept: LabTruthSource = source.kind === 'file' ? { ...source, bytes: source.bytes.slice(0) } : source;
+    const sent: LabTruthSource = source.kind === 'file' ? { ...source, bytes: source.bytes.slice(0) } : source;
+    this.acquisition = null;
+    const p = this.host.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source: sent }));
+    this.inWorker = true;
+    return p.then((t) => {
+      this.truthSource = kept;
+      return t;
+    });
+  }
+
+  /** Slices the truth like a CMR acquisition; resolves to the contours as CSV bytes. */
+  simulate(acquisition: AcquisitionSpec): Promise<LabAcquisition> {
+    this.replay();
+    return this.host.request<LabAcquisition>((reqId) => ({ type: 'lab-simulate', reqId, acquisition: { ...acquisition } })).then((a) => {
+      this.acquisition = { ...acquisition };
+      return a;
+    });
+  }
+
+  /** Compares a mesh with the truth (clipped at the last acquisition's most basal SAX plane). */
+  compare(positions: Float32Array, indices: Uint32Array): Promise<LabComparison> {
+    this.replay();
+    // Copies: the caller keeps displaying its arrays, these are transferred.
+    return this.host.request<LabComparison>((reqId) => ({ type: 'lab-compare', reqId, positions: positions.slice(), indices: indices.slice() }));
+  }
+
+  /** Starts a leave-one-out or a parameter sweep on a loaded file; replaces a batch in progress. */
+  batch(job: LabBatchJob, onProgress: (p: LabProgress) => void): LabBatchHandle {
+    const runId = this.host.newId();
+    let started!: BatchState['started'];
+    const startedP = new Promise<LabBatchInfo>((resolve, reject) => (started = { resolve, reject }));
+    let resolve!: () => void;
+    let reject!: (e: CoreErrorData) => void;
+    const done = new Promise<void>((res, rej) => {
+      resolve = res;
+      reject = rej;
+    });
+    startedP.catch(() => undefined);
+    const handle: LabBatchHandle = { runId, started: startedP, done, cancel: () => this.cancelBatch(runId) };
+    const disposed = this.host.disposedError();
+    if (disposed) {
+      started.reject(disposed);
+      reject({ ...disposed });
+      return handle;
+    }
+    const bytes = this.host.fileBytes(job.fileName);
+    if (bytes === undefined) {
+      const e = { code: ErrorCodes.notLoaded, message: `${job.fileName} has not been loaded`, file: job.fileName };
+      started.reject(e);
+      reject(e);
+      return handle;
+    }
+    for (const other of [...this.batches.keys()]) this.cancelBatch(other);
+    this.batches.set(runId, { onProgress, started, resolve, reject });
+    this.host.ensureWorker();
+    this.replay();
+    this.host.resendIfRecreated(job.fileName, bytes, (e) => this.finishBatch(runId, e));
+    const options = job.options ? { options: { ...job.options } } : {};
+    const copy: LabBatchJob = job.kind === 'sweep' ? { ...job, grid: { ...job.grid }, params: { ...job.params }, ...options } : { ...job, params: { ...job.params }, ...options };
+    this.host.post({ type: 'lab-batch', runId, job: copy });
+    return handle;
+  }
+
+  // ---- messages from the worker (routed by CoreClient) -----------------------------------------
+
+  onStarted(runId: number, info: LabBatchInfo): void {
+    this.batches.get(runId)?.started.resolve(info);
+  }
+
+  onProgress(runId: number, progress: LabProgress): void {
+    try {
+      this.batches.get(runId)?.onProgress(progress);
+    } catch (e) {
+      console.error('CoreClient: onProgress threw', e);
+    }
+  }
+
+  /** Settles a batch (rejects with `error`, else resolves) and forgets it; no-op for other ids. */
+  finishBatch(runId: number, error: CoreErrorData | null): void {
+    const b = this.batches.get(runId);
+    if (!b) return;
+    this.batches.delete(runId);
+    if (error) {
+      b.started.reject(error);
+      b.reject(error);
+    } else {
+      b.resolve();
+    }
+  }
+
+  /** The worker is gone: the next lab call replays the truth and acquisition to a new one. */
+  workerLost(): void {
+    this.inWorker = false;
+  }
+
+  /** Fails every batch in progress (the worker crashed, or the client was disposed). */
+  failAll(error: CoreErrorData): void {
+    for (const runId of [...this.batches.keys()]) this.finishBatch(runId, { ...error });
+  }
+
+  // -------------------------------------------------------------------------------------------
+
+  /** Re-sends the truth (and acquisition) to a worker that does not have them (after a crash). */
+  private replay(): void {
+    if (this.inWorker || !this.truthSource) return;
+    const src = this.truthSource;
+    const source: LabTruthSource = src.kind === 'file' ? { ...src, bytes: src.bytes.slice(0) } : src;
+    this.host.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source })).catch(() => undefined);
+    const acq = this.acquisition;
+    if (acq) this.host.request<LabAcquisition>((reqId) => ({ type: 'lab-simulate', reqId, acquisition: { ...acq } })).catch(() => undefined);
+    this.inWorker = true;
+  }
+
+  private cancelBatch(runId: number): void {
+    if (!this.batches.has(runId)) return;
+    if (this.host.hasWorker()) this.host.post({ type: 'cancel', runId });
+    this.finishBatch(runId, { code: ErrorCodes.cancelled, message: 'the batch was cancelled' });
+  }
+}

@@ -1,0 +1,171 @@
+/**
+ * Functions over the messages: which buffers to transfer, which run a message belongs to, cheap
+ * structural guards against foreign postMessage traffic, and the frame merge the client uses when
+ * the display skips a frame. Every switch is exhaustive (assertNever), so a new message type
+ * cannot be forgotten here.
+ */
+
+import type { FromWorker, ToWorker } from './protocolMessages';
+import type { Frame } from './protocolResults';
+
+/** Compile-time exhaustiveness check for switches over a union's `type`. */
+export function assertNever(value: never, what = 'message'): never {
+  const type = (value as { type?: unknown } | null)?.type;
+  throw new Error(`unexpected ${what}: ${JSON.stringify(type ?? value)}`);
+}
+
+/** Buffers of a message that can be transferred instead of copied (each listed once). */
+export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
+  const out = new Set<ArrayBuffer>();
+  const add = (a: ArrayBufferView | ArrayBuffer | undefined) => {
+    if (a === undefined) return;
+    const buf = a instanceof ArrayBuffer ? a : a.buffer;
+    if (buf instanceof ArrayBuffer && buf.byteLength > 0) out.add(buf);
+  };
+  switch (msg.type) {
+    case 'load':
+      add(msg.bytes);
+      break;
+    case 'loaded':
+      add(msg.file.points);
+      break;
+    case 'frame':
+      add(msg.positions);
+      add(msg.indices);
+      add(msg.attractors);
+      add(msg.runContours?.points);
+      break;
+    case 'done': {
+      const r = msg.result;
+      add(r.contourPoints);
+      add(r.positions);
+      add(r.indices);
+      add(r.pointDistances);
+      add(r.vertexDistances);
+      break;
+    }
+    case 'lab-truth':
+      if ('truth' in msg) {
+        add(msg.truth.positions);
+        add(msg.truth.indices);
+      } else if (msg.source.kind === 'file') {
+        add(msg.source.bytes);
+      }
+      break;
+    case 'lab-simulated':
+      add(msg.acquisition.csv);
+      break;
+    case 'lab-compare':
+      add(msg.positions);
+      add(msg.indices);
+      break;
+    case 'lab-compared':
+      add(msg.comparison.truthDistances);
+      break;
+    case 'lab-batch-started':
+      add(msg.info.points);
+      break;
+    case 'session-json':
+      add(msg.bytes);
+      break;
+    case 'session-export':
+    case 'run':
+    case 'ack':
+    case 'cancel':
+    case 'schema':
+    case 'ready':
+    case 'error':
+    case 'lab-simulate':
+    case 'lab-batch':
+    case 'lab-progress':
+    case 'lab-batch-done':
+      break;
+    default:
+      return assertNever(msg);
+  }
+  return [...out];
+}
+
+/** The run a message belongs to, if any. */
+export function runIdOf(msg: FromWorker): number | undefined {
+  switch (msg.type) {
+    case 'frame':
+      return msg.runId;
+    case 'done':
+      return msg.result.runId;
+    case 'error':
+      return msg.runId;
+    case 'lab-batch-started':
+    case 'lab-progress':
+    case 'lab-batch-done':
+      return msg.runId;
+    case 'ready':
+    case 'loaded':
+    case 'schema':
+    case 'lab-truth':
+    case 'lab-simulated':
+    case 'lab-compared':
+    case 'session-json':
+      return undefined;
+    default:
+      return assertNever(msg);
+  }
+}
+
+/** Cheap structural check of an incoming worker message (guards against foreign postMessage). */
+export function isFromWorker(v: unknown): v is FromWorker {
+  if (typeof v !== 'object' || v === null) return false;
+  switch ((v as { type?: unknown }).type) {
+    case 'ready':
+    case 'loaded':
+    case 'frame':
+    case 'done':
+    case 'error':
+    case 'schema':
+    case 'lab-truth':
+    case 'lab-simulated':
+    case 'lab-compared':
+    case 'lab-batch-started':
+    case 'lab-progress':
+    case 'lab-batch-done':
+    case 'session-json':
+      return true;
+    default:
+      return false;
+  }
+}
+
+/** Cheap structural check of an incoming request on the worker side. */
+export function isToWorker(v: unknown): v is ToWorker {
+  if (typeof v !== 'object' || v === null) return false;
+  switch ((v as { type?: unknown }).type) {
+    case 'load':
+    case 'run':
+    case 'ack':
+    case 'cancel':
+    case 'schema':
+    case 'lab-truth':
+    case 'lab-simulate':
+    case 'lab-compare':
+    case 'lab-batch':
+    case 'session-export':
+      return true;
+    default:
+      return false;
+  }
+}
+
+/**
+ * Merges a newer frame over an older one that was never handed to the renderer: the newer
+ * positions win, but topology (indices), attractors and run contours of the skipped frame are carried over when
+ * the newer frame does not have its own, so the receiver never misses a topology change.
+ */
+export function mergeFrames(older: Frame, newer: Frame): Frame {
+  const merged: Frame = { ...newer };
+  if (merged.indices === undefined && older.indices !== undefined) merged.indices = older.indices;
+  if (merged.attractors === undefined && older.attractors !== undefined) {
+    merged.attractors = older.attractors;
+  }
+  if (merged.runContours === undefined && older.runContours !== undefined) merged.runContours = older.runContours;
+  return merged;
+}

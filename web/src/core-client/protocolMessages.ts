@@ -1,0 +1,164 @@
+/**
+ * The messages themselves: requests to the worker (`ToWorker`) and its answers (`FromWorker`),
+ * each a discriminated union on `type`. Run-scoped messages carry their `runId` so stale frames of
+ * a cancelled run can be dropped; one-shot requests carry a `reqId` their answer echoes.
+ */
+
+import type { CoreErrorData } from './protocolErrors';
+import type {
+  AcquisitionSpec, LabAcquisition, LabBatchInfo, LabBatchJob, LabComparison, LabProgress, LabTruth, LabTruthSource,
+} from './protocolLab';
+import type { LidsMode, ParamSpec, ParamValues, ReconOptions } from './protocolOptions';
+import type { Frame, LoadedFile, RunResult } from './protocolResults';
+
+export interface LoadRequest {
+  type: 'load';
+  reqId: number;
+  fileName: string;
+  bytes: ArrayBuffer;
+}
+export interface RunRequest {
+  type: 'run';
+  runId: number;
+  fileName: string;
+  surface: string | null;
+  params: ParamValues;
+  lids: LidsMode;
+  /** Missing: the core's defaults. */
+  options?: ReconOptions;
+}
+/** Acknowledges every frame of `runId` up to and including `seq` (cumulative). */
+export interface AckRequest {
+  type: 'ack';
+  runId: number;
+  seq: number;
+}
+export interface CancelRequest {
+  type: 'cancel';
+  runId: number;
+}
+export interface SchemaRequest {
+  type: 'schema';
+  reqId: number;
+}
+/** A heartmesh session file (contours + settings, the core's format) of a loaded file. */
+export interface SessionExportRequest {
+  type: 'session-export';
+  reqId: number;
+  fileName: string;
+  surface: string | null;
+  params: ParamValues;
+  lids: LidsMode;
+  options?: ReconOptions;
+  appVersion: string;
+}
+
+export interface LabTruthRequest {
+  type: 'lab-truth';
+  reqId: number;
+  source: LabTruthSource;
+}
+export interface LabSimulateRequest {
+  type: 'lab-simulate';
+  reqId: number;
+  acquisition: AcquisitionSpec;
+}
+/** Positions and indices are copies: they are transferred to the worker. */
+export interface LabCompareRequest {
+  type: 'lab-compare';
+  reqId: number;
+  positions: Float32Array;
+  indices: Uint32Array;
+}
+/** Starts a batch under `runId` (cancelled with a 'cancel' of the same id). */
+export interface LabBatchRequest {
+  type: 'lab-batch';
+  runId: number;
+  job: LabBatchJob;
+}
+
+export type LabRequest = LabTruthRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
+
+export type ToWorker = LoadRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | LabRequest;
+
+export interface ReadyMessage {
+  type: 'ready';
+}
+export interface LoadedMessage {
+  type: 'loaded';
+  reqId: number;
+  file: LoadedFile;
+}
+export interface FrameMessage extends Frame {
+  type: 'frame';
+}
+export interface DoneMessage {
+  type: 'done';
+  result: RunResult;
+}
+export interface ErrorMessage {
+  type: 'error';
+  reqId?: number;
+  runId?: number;
+  error: CoreErrorData;
+}
+export interface SessionJsonMessage {
+  type: 'session-json';
+  reqId: number;
+  /** UTF-8 JSON. */
+  bytes: Uint8Array;
+}
+export interface SchemaMessage {
+  type: 'schema';
+  reqId: number;
+  schema: ParamSpec[];
+  version: string;
+}
+
+export interface LabTruthMessage {
+  type: 'lab-truth';
+  reqId: number;
+  truth: LabTruth;
+}
+export interface LabSimulatedMessage {
+  type: 'lab-simulated';
+  reqId: number;
+  acquisition: LabAcquisition;
+}
+export interface LabComparedMessage {
+  type: 'lab-compared';
+  reqId: number;
+  comparison: LabComparison;
+}
+export interface LabBatchStartedMessage {
+  type: 'lab-batch-started';
+  runId: number;
+  info: LabBatchInfo;
+}
+export interface LabProgressMessage {
+  type: 'lab-progress';
+  runId: number;
+  progress: LabProgress;
+}
+export interface LabBatchDoneMessage {
+  type: 'lab-batch-done';
+  runId: number;
+}
+
+export type LabMessage =
+  | LabTruthMessage
+  | LabSimulatedMessage
+  | LabComparedMessage
+  | LabBatchStartedMessage
+  | LabProgressMessage
+  | LabBatchDoneMessage;
+
+export type FromWorker =
+  | LabMessage
+  | ReadyMessage
+  | LoadedMessage
+  | FrameMessage
+  | DoneMessage
+  | ErrorMessage
+  | SchemaMessage
+  | SessionJsonMessage;

@@ -1,0 +1,71 @@
+/**
+ * What a reconstruction is asked to do: the numeric parameters (by Rust schema name), the mesh
+ * ends, the non-numeric options with their defaults, and how they travel to the binding as one
+ * params JSON object. Kept apart from the message types because the UI, the URL state and the
+ * exporters need these without the rest of the worker protocol.
+ */
+
+/** Numeric parameter values by Rust schema name (`Params::schema()`). */
+export interface ParamValues {
+  [name: string]: number;
+}
+
+export type LidsMode = 'auto' | 'none';
+
+/** How the remesh step smooths (the core's `SmoothingMethod::ALL` names). */
+export type SmoothingMethodName = 'laplacian-affine' | 'taubin';
+export const SMOOTHING_METHODS: readonly SmoothingMethodName[] = ['laplacian-affine', 'taubin'];
+
+/**
+ * The reconstruction options that are not numbers (so not in the schema). They travel inside the
+ * params JSON object under these names (the binding's convert.rs), for the run, the sweep and
+ * leave-one-out alike; absent means the core's default.
+ */
+export interface ReconOptions {
+  smoothing_method: SmoothingMethodName;
+  /** Down-weight SAX vs LAX attractors that disagree in the final steps (the core's default). */
+  soften_conflicts: boolean;
+  /**
+   * Breath-hold alignment: shift each short-axis slice and long-axis view in its own plane so the
+   * curves agree where planes cross, then reconstruct the shifted contours (off by default: the
+   * paper's method takes the contours as given).
+   */
+  align_slices: boolean;
+}
+
+export const DEFAULT_OPTIONS: Readonly<ReconOptions> = { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false };
+
+/**
+ * Options as saved by anything older than one of them (a session, a URL, a test double): the
+ * missing ones take the core's default.
+ */
+export function withDefaultOptions(options: Partial<ReconOptions> | null | undefined): ReconOptions {
+  return { ...DEFAULT_OPTIONS, ...(options ?? {}) };
+}
+
+/** The params JSON object the binding reads: schema numbers plus the options. */
+export function paramsJson(params: ParamValues, options?: ReconOptions): string {
+  if (!options) return JSON.stringify(params);
+  const o = withDefaultOptions(options);
+  return JSON.stringify({ ...params, smoothing_method: o.smoothing_method, soften_conflicts: o.soften_conflicts, align_slices: o.align_slices });
+}
+
+/** What a saved heartmesh session file carries besides its contours (applied by the app on load). */
+export interface SessionSettings {
+  params: ParamValues;
+  lids: LidsMode;
+  options: ReconOptions;
+  surface: string | null;
+}
+
+/** One numeric parameter as described by the Rust `Params::schema()`. */
+export interface ParamSpec {
+  name: string;
+  default: number;
+  min: number;
+  max: number;
+  log: boolean;
+  integer: boolean;
+  unit: string;
+  help: string;
+}

@@ -1,0 +1,157 @@
+/**
+ * What the core hands back for the app's main path: a loaded file, the per-step reports and
+ * frames of a run, and its final result. Field names of reports follow the Rust structs (snake_case)
+ * they are serialised from; bulk data are flat typed arrays in millimetres.
+ */
+
+import type { LidsMode, ParamValues, ReconOptions, SessionSettings } from './protocolOptions';
+
+export type ContourKindName = 'SAX' | 'LAX';
+
+export interface ContourInfo {
+  id: string;
+  surface: string | null;
+  /** The core's SAX/LAX split (at load: per surface, null where undecidable; after a run: the run's). */
+  kind: ContourKindName | null;
+  /** `start`/`count` index points (not floats) into the accompanying point array. */
+  pieces: { closed: boolean; start: number; count: number }[];
+}
+
+export interface Landmark {
+  name: string;
+  x: number;
+  y: number;
+  z: number;
+}
+
+export interface LoadedFile {
+  fileName: string;
+  surfaces: string[];
+  contours: ContourInfo[];
+  /** xyz of all contour points, mm. */
+  points: Float32Array;
+  landmarks: Landmark[];
+  warnings: string[];
+  /** Settings of a saved session file (null or absent for other formats). */
+  session?: SessionSettings | null;
+}
+
+export type Phase = 'initial_tube' | 'deform' | 'remesh' | 'done';
+
+export interface PhaseTimings {
+  attractors_ms: number;
+  closest_ms: number;
+  solve_ms: number;
+  apply_ms: number;
+  remesh_ms: number;
+  total_ms: number;
+}
+
+/** Mirror of the Rust `pipeline::StepReport`. */
+export interface StepReport {
+  iteration: number;
+  total_iterations: number;
+  phase: Phase;
+  topology_changed: boolean;
+  max_distance_mm: number;
+  mean_distance_mm: number;
+  vertices: number;
+  triangles: number;
+  attractors: number;
+  timings: PhaseTimings;
+  done: boolean;
+}
+
+export interface Frame {
+  runId: number;
+  seq: number;
+  report: StepReport;
+  /** Vertex positions, xyz, mm. Always present. */
+  positions: Float32Array;
+  /** Triangle indices; only when the topology changed since the last frame the receiver got. */
+  indices?: Uint32Array;
+  /** Attractor points, xyz, mm; only when they were re-sampled since the last frame sent. */
+  attractors?: Float32Array;
+  /**
+   * The contours the run follows, on its first frame, when they are not the file's as given (the
+   * run aligns breath-holds: these are the shifted ones), so the display shows them while it runs.
+   */
+  runContours?: { contours: ContourInfo[]; points: Float32Array };
+}
+
+export interface Stats {
+  mean: number;
+  median: number;
+  p95: number;
+  max: number;
+  min: number;
+  count: number;
+}
+
+export interface ContourStats {
+  id: string;
+  kind: ContourKindName;
+  stats: Stats;
+}
+
+/** One short-axis slice or long-axis view moved by the breath-hold alignment (the core's `GroupShift`). */
+export interface AlignmentGroup {
+  kind: ContourKindName;
+  /** "SAX 3" (apex to base), or the long-axis contour ids. */
+  label: string;
+  contour_ids: string[];
+  /** In-plane shift applied to every contour of the group, mm. */
+  shift_mm: [number, number, number];
+}
+
+/** What the breath-hold alignment did (the core's `Alignment`, in `result_json().alignment`). */
+export interface Alignment {
+  rounds: number;
+  /** Mean in-plane distance between crossing curves before and after the shifts, mm. */
+  residual_before_mm: number;
+  residual_after_mm: number;
+  groups: AlignmentGroup[];
+  /** Why nothing moved (no long-axis view, no crossings), when the core says so. */
+  note?: string | null;
+}
+
+/** Contour-to-mesh distance summary (mm). */
+export interface DistanceSummary {
+  mean: number;
+  median: number;
+  max: number;
+}
+
+export interface RunResult {
+  runId: number;
+  surface: string | null;
+  contours: ContourInfo[];
+  contourPoints: Float32Array;
+  positions: Float32Array;
+  indices: Uint32Array;
+  /** Per contour point, mm, same order as contourPoints. */
+  pointDistances: Float32Array;
+  /** Per mesh vertex, mm. */
+  vertexDistances: Float32Array;
+  perContour: ContourStats[];
+  overall: Stats;
+  volumeMl: number;
+  areaMm2: number;
+  watertight: boolean;
+  seconds: number;
+  params: ParamValues;
+  lids: LidsMode;
+  options: ReconOptions;
+  version: string;
+  /** Breath-hold alignment of the run: null or absent when the option was off. */
+  alignment?: Alignment | null;
+  /**
+   * With alignment on: contour-to-mesh distance to the file's contours as given (`overall` is to
+   * the shifted contours the mesh follows).
+   */
+  contour_to_mesh_as_given?: DistanceSummary | null;
+  /** Deformation iterations done (the last step's `iteration`), set by the worker. */
+  iterations_done?: number;
+  /** The run stopped before `params.iterations` because the attractors were reached (stop threshold). */
+  converged?: boolean;
+}
