@@ -515,12 +515,8 @@ def main():
             only = argv[i + 1]; i += 2
         elif a == "--timeout":
             timeout = float(argv[i + 1]); i += 2
-        elif a in ("-h", "--help"):
-            print(__doc__)
-            return 0
         elif a.startswith("-"):
-            print(f"unknown option {a}\n{__doc__}", file=sys.stderr)
-            return 2
+            return usage(a, __doc__)
         else:
             out_dir = a; i += 1
     os.makedirs(out_dir, exist_ok=True)
@@ -533,6 +529,16 @@ def main():
     bad = run_cases(cases, out_dir, timeout, only)
     print(f"{bad} case(s) with problems")
     return 1 if bad else 0
+
+
+def usage(option, doc):
+    """Exit status for an option no parser took: 0 after printing `doc` for -h/--help, else 2
+    (an unknown option must not become the output directory)."""
+    if option in ("-h", "--help"):
+        print(doc)
+        return 0
+    print(f"unknown option {option}\n{doc}", file=sys.stderr)
+    return 2
 
 
 def run_cases(cases, out_dir, timeout, only=None, check=None):

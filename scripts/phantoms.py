@@ -448,12 +448,8 @@ def main():
                 count = int(v)
             else:
                 extra = v.split()
-        elif a in ("-h", "--help"):
-            print(__doc__)
-            return 0
         elif a.startswith("-"):
-            print(f"unknown option {a}\n{__doc__}", file=sys.stderr)
-            return 2
+            return H.usage(a, __doc__)
         else:
             out_dir = a
             i += 1

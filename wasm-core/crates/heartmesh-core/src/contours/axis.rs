@@ -4,7 +4,7 @@
 //! The central direction is the contour normal with the smallest sum of log(180 + angle) to all other
 //! normals: a robust location that a few long-axis views cannot pull away from the short-axis stack.
 
-use super::clean::clean_and_split;
+use super::clean::cleaned_contour;
 use super::plane::{axis_angle_deg, fit_plane, PlaneFit};
 use super::{Contour, ContourKind, ContourSet};
 use crate::error::{CoreError, Result};
@@ -338,18 +338,10 @@ pub fn classify_kinds(set: &ContourSet) -> Vec<Option<ContourKind>> {
         let mut index = Vec::new();
         let mut cleaned = Vec::new();
         for &i in &group {
-            let c = &set.contours[i];
-            let pieces: Vec<_> = c.pieces.iter().flat_map(clean_and_split).collect();
-            if pieces.is_empty() {
-                continue;
+            if let Some(c) = cleaned_contour(&set.contours[i]) {
+                index.push(i);
+                cleaned.push(c);
             }
-            index.push(i);
-            cleaned.push(Contour {
-                id: c.id.clone(),
-                surface: c.surface.clone(),
-                pieces,
-                first_line: c.first_line,
-            });
         }
         let planes: Vec<Option<PlaneFit>> = cleaned.iter().map(|c| fit_plane(c.points())).collect();
         let Ok(split) = split(&cleaned, &planes) else {

@@ -4,7 +4,7 @@
 //! Villard et al. 2018 (section 2) assume each contour is a clean ordered polyline at roughly 1 mm
 //! spacing; real exports are not, so this is the first thing the pipeline does.
 
-use super::Polyline;
+use super::{Contour, Polyline};
 use crate::geometry::Vec3;
 
 /// A jump longer than this many times the median spacing splits a curve into pieces.
@@ -42,6 +42,18 @@ pub fn median_spacing(points: &[Vec3]) -> f64 {
     }
     d.sort_by(f64::total_cmp);
     d[d.len() / 2]
+}
+
+/// The contour with every piece cleaned and split ([`clean_and_split`]); None when nothing is
+/// left. The axis search and the alignment both look at contours this way before fitting planes.
+pub fn cleaned_contour(c: &Contour) -> Option<Contour> {
+    let pieces: Vec<_> = c.pieces.iter().flat_map(clean_and_split).collect();
+    (!pieces.is_empty()).then(|| Contour {
+        id: c.id.clone(),
+        surface: c.surface.clone(),
+        pieces,
+        first_line: c.first_line,
+    })
 }
 
 /// Cleans a polyline and splits it where consecutive points jump by more than

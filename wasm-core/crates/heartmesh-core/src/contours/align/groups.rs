@@ -4,7 +4,7 @@
 //! the shift far better than the RV's open crescent could on its own.
 
 use crate::contours::axis::analyse;
-use crate::contours::clean::clean_and_split;
+use crate::contours::clean::cleaned_contour;
 use crate::contours::plane::{axis_angle_deg, fit_plane, PlaneFit};
 use crate::contours::{Contour, ContourKind, ContourSet};
 use crate::geometry::Vec3;
@@ -96,15 +96,9 @@ pub(super) fn group(set: &ContourSet) -> Result<Grouping, String> {
     let mut index = Vec::new();
     let mut cleaned = Vec::new();
     for (i, c) in set.contours.iter().enumerate() {
-        let pieces: Vec<_> = c.pieces.iter().flat_map(clean_and_split).collect();
-        if !pieces.is_empty() {
+        if let Some(c) = cleaned_contour(c) {
             index.push(i);
-            cleaned.push(Contour {
-                id: c.id.clone(),
-                surface: c.surface.clone(),
-                pieces,
-                first_line: c.first_line,
-            });
+            cleaned.push(c);
         }
     }
     let layout = analyse(&cleaned).map_err(|e| format!("no short-axis stack to align ({e})"))?;
