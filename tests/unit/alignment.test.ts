@@ -9,7 +9,7 @@ import { keptText } from '../../web/src/app/errors';
 import { surfacePoints } from '../../web/src/app/sceneContours';
 import { headerLines, type ExportInfo } from '../../web/src/io/export/header';
 import { runSummary, writeParamsJson } from '../../web/src/io/export/json';
-import { alignmentRows, iterationText, iterationsDoneText, residualText, stepText } from '../../web/src/ui/runText';
+import { alignmentRows, iterationText, iterationsDoneText, pastDataText, residualText, stepText } from '../../web/src/ui/runText';
 import { ResultPanel } from '../../web/src/ui/ResultPanel';
 import { givenSegments } from '../../web/src/viewer/GivenContourLayer';
 import { fakeDocument, type FakeElement } from './fakeDom';
@@ -130,6 +130,23 @@ describe('result panel', () => {
     expect(el.dataset.residualAfterMm).toBeUndefined();
     expect(el.dataset.givenMeanMm).toBeUndefined();
     expect(box.hidden).toBe(true);
+  });
+
+  it('says how far the mesh runs past the data, and flags an extrapolated end', () => {
+    const panel = new ResultPanel();
+    const el = panel.element as unknown as FakeElement;
+    panel.show(result({ pastData: { base_mm: 14.3032, apex_mm: 0.0838 } }));
+    expect(rows(el)['Past the data']).toBe('base +14.3 mm · apex +0.1 mm ⚠');
+    expect(el.byTestId('result-past-data')?.title).toMatch(/extrapolated/);
+    expect(el.dataset).toMatchObject({ pastBaseMm: '14.3032', pastApexMm: '0.0838' });
+    // Ends within 5 mm of the data (the lid rounds a little past closing curves): no warning sign.
+    expect(pastDataText({ base_mm: 1.2, apex_mm: -0.44 })).toEqual({ text: 'base +1.2 mm · apex −0.4 mm', extrapolated: false });
+    expect(pastDataText({ base_mm: 2.3, apex_mm: 5.01 }).extrapolated).toBe(true);
+    expect(pastDataText({ base_mm: 4.9, apex_mm: 0 }).extrapolated).toBe(false);
+    // Older cores send no figure: no row, no stale attributes.
+    panel.show(result());
+    expect(rows(el)['Past the data']).toBeUndefined();
+    expect(el.dataset.pastBaseMm).toBeUndefined();
   });
 
   it('shows why nothing moved (no long-axis view) and no table', () => {

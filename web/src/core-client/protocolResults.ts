@@ -122,6 +122,12 @@ export interface DistanceSummary {
   max: number;
 }
 
+/** The core's `metrics::extent::PastData` (mm along the long axis). */
+export interface PastData {
+  base_mm: number;
+  apex_mm: number;
+}
+
 export interface RunResult {
   runId: number;
   surface: string | null;
@@ -150,6 +156,12 @@ export interface RunResult {
    * the shifted contours the mesh follows).
    */
   contour_to_mesh_as_given?: DistanceSummary | null;
+  /**
+   * How far the mesh reaches past the highest (base) and lowest (apex) contour point along the long
+   * axis, mm (negative: it stops short). Where no curve closes an end the surface there, and its
+   * share of the volume, is extrapolated. Absent from results of older cores.
+   */
+  pastData?: PastData | null;
   /** Deformation iterations done (the last step's `iteration`), set by the worker. */
   iterations_done?: number;
   /** The run stopped before `params.iterations` because the attractors were reached (stop threshold). */

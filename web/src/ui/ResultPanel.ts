@@ -9,15 +9,17 @@
  */
 import type { Alignment, RunResult } from '../core-client/protocol';
 import { h, mm } from './dom';
-import { alignmentRows, iterationsDoneText, residualText } from './runText';
+import { alignmentRows, iterationsDoneText, pastDataText, residualText } from './runText';
 
 const ATTRIBUTES = [
   'data-vertices', 'data-triangles', 'data-mean-mm', 'data-max-mm', 'data-iterations', 'data-converged',
-  'data-residual-before-mm', 'data-residual-after-mm', 'data-given-mean-mm',
+  'data-residual-before-mm', 'data-residual-after-mm', 'data-given-mean-mm', 'data-past-base-mm', 'data-past-apex-mm',
 ];
 
 const SHIFTED_HELP = 'with breath-hold alignment: from the shifted contours, which the mesh follows, to the mesh';
 const GIVEN_HELP = 'distance from the contours as given in the file (before the breath-hold shifts) to the mesh';
+const PAST_HELP = 'how far the mesh reaches past the highest (base) and lowest (apex) contour point along the long axis';
+const PAST_EXTRAPOLATED_HELP = `${PAST_HELP}: more than 5 mm, so no curve closes that end and the surface there (and its share of the volume) is extrapolated`;
 const RESIDUAL_HELP = 'mean in-plane distance between each slice\'s curves and where the other kind\'s curves cross its plane, before → after the shifts';
 
 export class ResultPanel {
@@ -76,6 +78,14 @@ export class ResultPanel {
     }
     rows.push(
       ...row('Volume', r.watertight ? `${r.volumeMl.toFixed(1)} ml` : '– (open)'),
+    );
+    if (r.pastData) {
+      const past = pastDataText(r.pastData);
+      d.pastBaseMm = String(r.pastData.base_mm);
+      d.pastApexMm = String(r.pastData.apex_mm);
+      rows.push(...row('Past the data', past.extrapolated ? `${past.text} ⚠` : past.text, 'result-past-data', past.extrapolated ? PAST_EXTRAPOLATED_HELP : PAST_HELP));
+    }
+    rows.push(
       ...row('Area', `${(r.areaMm2 / 100).toFixed(1)} cm²`),
       ...row('Contour points', String(r.overall.count)),
       ...row('Time', `${r.seconds.toFixed(2)} s`),

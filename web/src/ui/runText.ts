@@ -2,7 +2,7 @@
  * The words the status line and the result panel use for a run's progress and for its breath-hold
  * alignment. Pure (no DOM), so the wording and the numbers are unit-tested.
  */
-import type { Alignment, AlignmentGroup, StepReport } from '../core-client/protocol';
+import type { Alignment, AlignmentGroup, PastData, StepReport } from '../core-client/protocol';
 import { mm } from './dom';
 
 const PHASES: Record<StepReport['phase'], string> = {
@@ -65,4 +65,23 @@ export function alignmentRows(a: Alignment): AlignmentRow[] {
 /** "2.31 → 0.84 mm (30 rounds)": the mean in-plane residual where curves cross, before and after. */
 export function residualText(a: Alignment): string {
   return `${a.residual_before_mm.toFixed(2)} → ${mm(a.residual_after_mm)} (${a.rounds} round${a.rounds === 1 ? '' : 's'})`;
+}
+
+/**
+ * Beyond this (mm) an end is flagged as extrapolated. Where curves close an end the lid still rounds
+ * a little past them (SurFCo: 2.3 mm at the base; the biv-me files -0.6 to +6.4 mm); where none does
+ * the mesh runs on by 8-26 mm on phantoms and 8-14 mm on patient 2's RV (VALIDATION, session 9).
+ */
+const PAST_DATA_NOTE_MM = 5;
+
+/**
+ * The result panel's "past the data" figure: "base +14.3 mm · apex +0.1 mm", and whether either
+ * end runs on far enough past the contours that its part of the volume is extrapolated.
+ */
+export function pastDataText(p: PastData): { text: string; extrapolated: boolean } {
+  const signed = (v: number) => `${v >= 0 ? '+' : '−'}${Math.abs(v).toFixed(1)} mm`;
+  return {
+    text: `base ${signed(p.base_mm)} · apex ${signed(p.apex_mm)}`,
+    extrapolated: Math.max(p.base_mm, p.apex_mm) > PAST_DATA_NOTE_MM,
+  };
 }

@@ -73,6 +73,8 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         "vertices": mesh.positions.len(),
         "triangles": mesh.triangles.len(),
         "volume_ml": mesh.volume_ml(),
+        // Where no curve closes an end, the mesh runs on past the data there (extrapolated).
+        "past_data": rec.past_data(),
         "area_mm2": mesh.area(),
         "watertight": v.closed && v.manifold && v.oriented,
         "manifold": v.manifold,

@@ -226,6 +226,16 @@ fn reconstruct_surfco_at_defaults() {
     let ml = num(&r, &["volume_ml"]);
     assert!((100.0..400.0).contains(&ml), "{ml} ml");
     assert!(num(&r, &["area_mm2"]) > 1000.0);
+    // SurFCo's long-axis curves close both ends: the mesh ends within a few mm of the data
+    // (measured 2.26 mm past the base points, 0.24 mm past the apex).
+    let (base, apex) = (
+        num(&r, &["past_data", "base_mm"]),
+        num(&r, &["past_data", "apex_mm"]),
+    );
+    assert!(
+        base.abs() < 4.0 && apex.abs() < 2.0,
+        "past the data: {base} / {apex} mm"
+    );
     // Consistent contours leave a smooth surface: no creases, no degenerate triangles, and no edge
     // longer than a fifth of the ventricle's ~90 mm length.
     assert_eq!(

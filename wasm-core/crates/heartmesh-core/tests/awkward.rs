@@ -356,6 +356,16 @@ fn long_axis_curves_ending_in_the_basal_plane_reconstruct() {
         io::read_contours("ellipsoid.csv", csv.as_bytes()).unwrap_or_else(|e| panic!("read: {e}"));
     let (c2m, ml, _) = run(&set);
     eprintln!("ellipsoid: c2m {c2m:.4} mm, {ml:.2} ml");
+    // Nothing closes the top: the report says how far the mesh runs past the data there (the
+    // extrapolated part of the volume), and that it stops at the apex the curves close.
+    let mut rec = heartmesh_core::Reconstruction::new(&set, Params::default())
+        .unwrap_or_else(|e| panic!("new: {e}"));
+    rec.run().unwrap_or_else(|e| panic!("run: {e}"));
+    let past = rec.past_data().expect("mesh and data");
+    assert!(
+        (5.0..20.0).contains(&past.base_mm) && past.apex_mm.abs() < 1.0,
+        "{past:?}"
+    );
     // The half ellipsoid below z = 0 holds 2/3 pi r^2 c = 78.5 ml. The basal ring is its equator,
     // where the wall is vertical, and no curve says where the cavity ends above it: the mesh runs
     // on ~12 mm before closing (94 ml measured), so allow up to a 12 mm cylinder more (102 ml).

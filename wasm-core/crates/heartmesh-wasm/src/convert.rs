@@ -125,6 +125,7 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         "perContour": per_contour,
         "overall": distances.overall,
         "volumeMl": mesh.volume_ml(),
+        "pastData": rec.past_data(),
         "areaMm2": mesh.area(),
         "watertight": topology::validity(mesh).is_closed_manifold(),
         "params": params_to_json(rec.params()),

@@ -352,9 +352,17 @@ mod tests {
         let off = result_with(r#"{"iterations": 3}"#);
         assert!(off["alignment"].is_null());
         assert!(off["contour_to_mesh_as_given"].is_null());
+        // Three iterations in, the mesh still stops short of the apex the curves reach.
+        assert!(off["pastData"]["apex_mm"].as_f64().unwrap() < 0.0);
         assert_eq!(off["options"]["align_slices"], false);
         let on = result_with(r#"{"align_slices": true}"#);
         assert_eq!(on["options"]["align_slices"], true);
+        // A full run: the long-axis curves close the apex, so the mesh ends at the data there.
+        let apex = on["pastData"]["apex_mm"].as_f64().unwrap();
+        assert!(
+            apex.abs() < 2.0 && on["pastData"]["base_mm"].is_f64(),
+            "{apex}"
+        );
         let a = &on["alignment"];
         let groups = a["groups"].as_array().unwrap();
         // Seven slices and two views, each with its kind, label, ids and a shift in mm.

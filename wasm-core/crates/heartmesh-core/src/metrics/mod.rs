@@ -2,6 +2,7 @@
 //! contours), the distance field on the mesh, and (compare.rs) mesh-to-mesh comparison.
 
 pub mod compare;
+pub mod extent;
 
 use crate::contours::{Contour, ContourKind};
 use crate::geometry::Vec3;

@@ -449,6 +449,16 @@ impl Reconstruction {
         self.layout.slices.iter().map(|s| s.height).collect()
     }
 
+    /// How far the current mesh reaches past the highest and lowest contour points along the long
+    /// axis (mm): the extrapolated part of the volume where no curve closes an end.
+    pub fn past_data(&self) -> Option<crate::metrics::extent::PastData> {
+        crate::metrics::extent::past_data(
+            &self.mesh_mm.positions,
+            &self.contours,
+            &self.layout.axis,
+        )
+    }
+
     /// Contour-to-mesh distance of every contour point.
     pub fn contour_distances(&self) -> ContourDistances {
         contour_to_mesh(&self.contours, &self.layout.kinds, &self.mesh_mm)
