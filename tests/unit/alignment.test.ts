@@ -136,11 +136,15 @@ describe('result panel', () => {
     const panel = new ResultPanel();
     const el = panel.element as unknown as FakeElement;
     panel.show(result({ pastData: { base_mm: 14.3032, apex_mm: 0.0838 } }));
-    expect(rows(el)['Past the data']).toBe('base +14.3 mm · apex +0.1 mm ⚠');
+    expect(rows(el)['Past the data']).toBe('+14.3 / +0.1 mm');
+    expect(el.byTestId('result-past-data')?.getAttribute('class')).toBe('warn');
+    expect(el.byTestId('result-past-data')?.title).toMatch(/^base \/ apex/);
     expect(el.byTestId('result-past-data')?.title).toMatch(/extrapolated/);
     expect(el.dataset).toMatchObject({ pastBaseMm: '14.3032', pastApexMm: '0.0838' });
     // Ends within 5 mm of the data (the lid rounds a little past closing curves): no warning sign.
-    expect(pastDataText({ base_mm: 1.2, apex_mm: -0.44 })).toEqual({ text: 'base +1.2 mm · apex −0.4 mm', extrapolated: false });
+    panel.show(result({ pastData: { base_mm: 2.26, apex_mm: 0.24 } }));
+    expect(el.byTestId('result-past-data')?.getAttribute('class')).toBeNull();
+    expect(pastDataText({ base_mm: 1.2, apex_mm: -0.44 })).toEqual({ text: '+1.2 / −0.4 mm', extrapolated: false });
     expect(pastDataText({ base_mm: 2.3, apex_mm: 5.01 }).extrapolated).toBe(true);
     expect(pastDataText({ base_mm: 4.9, apex_mm: 0 }).extrapolated).toBe(false);
     // Older cores send no figure: no row, no stale attributes.

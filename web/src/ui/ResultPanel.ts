@@ -18,7 +18,7 @@ const ATTRIBUTES = [
 
 const SHIFTED_HELP = 'with breath-hold alignment: from the shifted contours, which the mesh follows, to the mesh';
 const GIVEN_HELP = 'distance from the contours as given in the file (before the breath-hold shifts) to the mesh';
-const PAST_HELP = 'how far the mesh reaches past the highest (base) and lowest (apex) contour point along the long axis';
+const PAST_HELP = 'base / apex: how far the mesh reaches past the highest (base) and lowest (apex) contour point along the long axis';
 const PAST_EXTRAPOLATED_HELP = `${PAST_HELP}: more than 5 mm, so no curve closes that end and the surface there (and its share of the volume) is extrapolated`;
 const RESIDUAL_HELP = 'mean in-plane distance between each slice\'s curves and where the other kind\'s curves cross its plane, before → after the shifts';
 
@@ -50,9 +50,9 @@ export class ResultPanel {
     d.triangles = String(triangles);
     d.meanMm = String(r.overall.mean);
     d.maxMm = String(r.overall.max);
-    const row = (k: string, v: string, testid?: string, title?: string) => [
+    const row = (k: string, v: string, testid?: string, title?: string, warn = false) => [
       h('dt', title ? { title } : {}, k),
-      h('dd', { ...(testid ? { 'data-testid': testid } : {}), ...(title ? { title } : {}) }, v),
+      h('dd', { ...(testid ? { 'data-testid': testid } : {}), ...(title ? { title } : {}), ...(warn ? { class: 'warn' } : {}) }, v),
     ];
     const rows = [...row('Vertices', String(vertices), 'result-vertices'), ...row('Triangles', `${triangles} (${r.watertight ? 'closed' : 'open'})`, 'result-triangles')];
     if (r.iterations_done !== undefined) {
@@ -83,7 +83,7 @@ export class ResultPanel {
       const past = pastDataText(r.pastData);
       d.pastBaseMm = String(r.pastData.base_mm);
       d.pastApexMm = String(r.pastData.apex_mm);
-      rows.push(...row('Past the data', past.extrapolated ? `${past.text} ⚠` : past.text, 'result-past-data', past.extrapolated ? PAST_EXTRAPOLATED_HELP : PAST_HELP));
+      rows.push(...row('Past the data', past.text, 'result-past-data', past.extrapolated ? PAST_EXTRAPOLATED_HELP : PAST_HELP, past.extrapolated));
     }
     rows.push(
       ...row('Area', `${(r.areaMm2 / 100).toFixed(1)} cm²`),

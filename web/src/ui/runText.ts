@@ -75,13 +75,14 @@ export function residualText(a: Alignment): string {
 const PAST_DATA_NOTE_MM = 5;
 
 /**
- * The result panel's "past the data" figure: "base +14.3 mm · apex +0.1 mm", and whether either
+ * The result panel's "past the data" figure, base / apex: "+14.3 / +0.1 mm" (short: the panel's
+ * value column is narrow), and whether either
  * end runs on far enough past the contours that its part of the volume is extrapolated.
  */
 export function pastDataText(p: PastData): { text: string; extrapolated: boolean } {
   const signed = (v: number) => `${v >= 0 ? '+' : '−'}${Math.abs(v).toFixed(1)} mm`;
   return {
-    text: `base ${signed(p.base_mm)} · apex ${signed(p.apex_mm)}`,
+    text: `${signed(p.base_mm).replace(' mm', '')} / ${signed(p.apex_mm)}`,
     extrapolated: Math.max(p.base_mm, p.apex_mm) > PAST_DATA_NOTE_MM,
   };
 }
