@@ -2,7 +2,7 @@
 //! "one surface at a time"; cleaning as in METHOD.md's Input section).
 
 use crate::contours::checks::check_units;
-use crate::contours::clean::clean_and_split;
+use crate::contours::clean::cleaned_contour;
 use crate::contours::{Contour, ContourSet};
 use crate::error::{CoreError, Result};
 
@@ -39,18 +39,7 @@ pub fn select_surface<'a>(
 
 /// Cleans every piece (non-finite points, duplicates, jumps) and drops contours left empty.
 pub fn clean_contours(contours: &[&Contour]) -> Vec<Contour> {
-    contours
-        .iter()
-        .filter_map(|c| {
-            let pieces: Vec<_> = c.pieces.iter().flat_map(clean_and_split).collect();
-            (!pieces.is_empty()).then(|| Contour {
-                id: c.id.clone(),
-                surface: c.surface.clone(),
-                pieces,
-                first_line: c.first_line,
-            })
-        })
-        .collect()
+    contours.iter().filter_map(|c| cleaned_contour(c)).collect()
 }
 
 /// Most contours of one surface a reconstruction takes: real acquisitions have tens; the SAX/LAX
