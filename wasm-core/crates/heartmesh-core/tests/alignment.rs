@@ -5,7 +5,7 @@
 mod common;
 use common::*;
 use heartmesh_core::contours::align::align_slices;
-use heartmesh_core::contours::{Contour, ContourSet};
+use heartmesh_core::contours::{Contour, ContourKind, ContourSet};
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::mesh::TriMesh;
@@ -14,7 +14,7 @@ use heartmesh_core::sim::prng::SplitMix64;
 use heartmesh_core::sim::slice::{join_chains, polyline_length, resample};
 use heartmesh_core::sim::{simulate, slice_mesh, AcquisitionSpec, Misalignment, Plane};
 use heartmesh_core::Params;
-use nalgebra::{Rotation3, Unit};
+use nalgebra::{Matrix3, Rotation3, Unit};
 
 fn aligned() -> Params {
     Params {
@@ -95,6 +95,112 @@ fn misaligned_single_surfaces() {
     // aligned acquisitions' 0.05-0.16 mm is out of reach.
     assert!(sum_after / n < 0.35, "{}", sum_after / n);
     assert!(worst_after < 0.6, "{worst_after}");
+}
+
+/// The long-axis views' shift errors, split along and across the long axis, on the 16 misaligned
+/// LVs above with each image's shift known (`Motion::draw` draws as `sim` does: same generator
+/// calls in the same order). Errors are up to the gauge (one common translation across the axis,
+/// fitted). The views' slide along the axis is seen only through the wall's taper, so it is
+/// recovered less well than across (docs/VALIDATION.md, session 10).
+#[test]
+fn views_along_the_long_axis() {
+    let cases = [
+        ("cap-atlas-mean-ED-LV_ENDO-open.obj", 3),
+        ("cardiomesh-spasm-LV_endo.obj", 2),
+        ("cardiomesh-spasm-LV_epi.obj", 3),
+        ("bivme-patient1-ED-LV_ENDO-closed.obj", 3),
+    ];
+    let (mut before, mut after, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+    for (file, lax) in cases {
+        let truth = load_truth(file);
+        for seed in 1..=4u64 {
+            let spec = AcquisitionSpec {
+                misalignment: Some(Misalignment {
+                    shift_mm: 2.0,
+                    tilt_deg: 2.0,
+                }),
+                seed,
+                lax_count: lax,
+                ..AcquisitionSpec::default()
+            };
+            let acq = simulate(&truth, &spec).unwrap_or_else(|e| panic!("{file}: {e}"));
+            let mut rng = SplitMix64::new(seed);
+            let mut correction = std::collections::HashMap::new();
+            for (id, plane) in acq
+                .sax_planes
+                .iter()
+                .enumerate()
+                .map(|(k, p)| (format!("sax{:02}", k + 1), p))
+                .chain(
+                    acq.lax_planes
+                        .iter()
+                        .enumerate()
+                        .map(|(k, p)| (format!("lax{:02}", k + 1), p)),
+                )
+            {
+                let m = Motion::draw(&mut rng, plane, 2.0, 2.0);
+                let n = plane.normal;
+                correction.insert(id, (m.shift - n * m.shift.dot(&n), n));
+            }
+            let (_, al) = align_slices(&acq.contours);
+            let a = acq.axis.direction;
+            let rows: Vec<_> = al
+                .groups
+                .iter()
+                .filter_map(|g| {
+                    let (t, n) = correction.get(g.contour_ids.first()?)?;
+                    Some((g, Vec3::from(g.shift_mm), *t, *n))
+                })
+                .collect();
+            for (g, ..) in rows.iter().filter(|r| r.0.kind == ContourKind::Lax) {
+                ratios.push(g.information.along_axis / g.information.across_axis);
+            }
+            let q = Matrix3::identity() - a * a.transpose();
+            for (out, use_found) in [(&mut before, false), (&mut after, true)] {
+                let found = |f: &Vec3| if use_found { *f } else { Vec3::zeros() };
+                let mut m = a * a.transpose();
+                let mut b = Vec3::zeros();
+                for (_, f, t, n) in &rows {
+                    let p = Matrix3::identity() - n * n.transpose();
+                    m += q * p * q;
+                    b += q * p * (found(f) - t);
+                }
+                let c = m.try_inverse().unwrap_or_else(|| panic!("gauge")) * b;
+                for (_, f, t, n) in rows.iter().filter(|r| r.0.kind == ContourKind::Lax) {
+                    let e = found(f) - t - (Matrix3::identity() - n * n.transpose()) * c;
+                    let along = (a - n * a.dot(n)).normalize();
+                    out.push((e.dot(&along), e.dot(&n.cross(&along))));
+                }
+            }
+        }
+    }
+    let rms = |v: &[(f64, f64)], k: usize| {
+        let s: f64 = v
+            .iter()
+            .map(|x| if k == 0 { x.0 } else { x.1 }.powi(2))
+            .sum();
+        (s / v.len() as f64).sqrt()
+    };
+    ratios.sort_by(f64::total_cmp);
+    let (a0, a1, c0, c1) = (
+        rms(&before, 0),
+        rms(&after, 0),
+        rms(&before, 1),
+        rms(&after, 1),
+    );
+    eprintln!(
+        "VIEWS {} views: along the axis {a0:.3} -> {a1:.3} mm, across {c0:.3} -> {c1:.3} mm (RMS); information along / across median {:.3}, range {:.3}-{:.3}",
+        after.len(),
+        ratios[ratios.len() / 2],
+        ratios[0],
+        ratios[ratios.len() - 1]
+    );
+    // Measured (session 10): 44 views, along 0.670 -> 0.300, across 0.644 -> 0.077 mm; the
+    // information ratio 0.10-0.29 (median 0.18).
+    assert_eq!(after.len(), 44);
+    assert!(a1 < 0.6 * a0, "along {a0} -> {a1}");
+    assert!(c1 < 0.2 * c0, "across {c0} -> {c1}");
+    assert!(ratios[ratios.len() - 1] < 0.5, "{ratios:?}");
 }
 
 /// Clean acquisitions: alignment finds nothing to correct and the meshes stay as accurate.

@@ -50,6 +50,9 @@ pub(super) struct Estimate {
     /// nothing matched).
     pub before_mm: f64,
     pub after_mm: f64,
+    /// Per group, the weighted normal matrix of its shift from the crossings at the start
+    /// (`information::Information` splits it along and across the axis).
+    pub normal_matrices: Vec<Matrix3<f64>>,
 }
 
 /// Damping of each group's Gauss-Newton step, in crossings: each crossing says how far its curve
@@ -164,6 +167,7 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
         before_mm: mean_length(&start),
         after_mm: mean_length(&current),
         shifts: t,
+        normal_matrices: start.iter().map(|r| r.h).collect(),
         crossings,
         moving: active,
         rounds,

@@ -77,6 +77,8 @@ pub(super) struct Grouping {
     /// Median RMS radius of the short-axis rings (closed pieces; all short-axis pieces when none
     /// is closed): the size of the ventricle, against which residual and shift caps are set.
     pub scale_mm: f64,
+    /// The short-axis stack's axis (unit; the slices' normal).
+    pub axis: Vec3,
 }
 
 /// Groups the contours of `set` (every surface together).
@@ -157,7 +159,11 @@ pub(super) fn group(set: &ContourSet) -> Result<Grouping, String> {
             pieces,
         });
     }
-    Ok(Grouping { groups, scale_mm })
+    Ok(Grouping {
+        groups,
+        scale_mm,
+        axis: layout.axis,
+    })
 }
 
 fn piece(surface: u32, points: &[Vec3], closed: bool) -> Piece {

@@ -11,10 +11,12 @@
 
 mod estimate;
 mod groups;
+mod information;
 #[cfg(test)]
 mod tests;
 
 use super::{ContourKind, ContourSet};
+pub use information::Information;
 use serde::Serialize;
 
 /// The shift found for one short-axis slice or long-axis view.
@@ -33,6 +35,10 @@ pub struct GroupShift {
     /// curve crossing one); views and slices of open curves alone (e.g. an RV-only view) stay
     /// put.
     pub crossings: usize,
+    /// How well the crossings determine the shift, along and across the long axis (a study
+    /// figure, not in the report).
+    #[serde(skip)]
+    pub information: Information,
 }
 
 /// What the alignment did.
@@ -47,6 +53,9 @@ pub struct Alignment {
     pub residual_after_mm: f64,
     /// Why nothing moved, when nothing could (no long-axis views, no crossings, ...).
     pub note: Option<String>,
+    /// The short-axis stack's axis (unit; zero when nothing was aligned). Not in the report.
+    #[serde(skip)]
+    pub axis: [f64; 3],
 }
 
 impl Alignment {
@@ -58,6 +67,7 @@ impl Alignment {
             residual_before_mm: 0.0,
             residual_after_mm: 0.0,
             note: Some(note),
+            axis: [0.0; 3],
         }
     }
 
@@ -107,10 +117,17 @@ pub fn align_slices(set: &ContourSet) -> (ContourSet, Alignment) {
                 .collect(),
             shift_mm: [t.x, t.y, t.z],
             crossings: 0,
+            information: Information::default(),
         });
     }
-    for (s, &c) in shifts.iter_mut().zip(&est.crossings) {
+    let axis = grouping.axis;
+    for ((s, &c), (g, h)) in shifts
+        .iter_mut()
+        .zip(&est.crossings)
+        .zip(groups.iter().zip(&est.normal_matrices))
+    {
         s.crossings = c;
+        s.information = Information::of(h, &g.normal, &axis);
     }
     let note = (!est.moving.contains(&true)).then(|| {
         "no short- and long-axis curves of one surface, one of them a closed ring, cross each \
@@ -123,6 +140,7 @@ pub fn align_slices(set: &ContourSet) -> (ContourSet, Alignment) {
         residual_before_mm: est.before_mm,
         residual_after_mm: est.after_mm,
         note,
+        axis: [axis.x, axis.y, axis.z],
     };
     (out, alignment)
 }
