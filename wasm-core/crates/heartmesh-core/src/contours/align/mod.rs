@@ -12,6 +12,7 @@
 mod estimate;
 mod groups;
 mod information;
+mod prior;
 #[cfg(test)]
 mod tests;
 
