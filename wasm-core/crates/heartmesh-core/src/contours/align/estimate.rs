@@ -8,7 +8,6 @@
 //! fixed views was worse (session 8), because the views are misaligned too.
 
 use super::groups::{Group, Piece, CHUNK};
-use super::prior::{shrink, Variances};
 use crate::contours::ContourKind;
 use crate::geometry::Vec3;
 use nalgebra::{Matrix2, Matrix3, Vector2};
@@ -38,12 +37,6 @@ const RESIDUAL_CAP_OF_RADIUS: f64 = 0.5;
 /// No shift beyond this fraction of the ring radius: breath-hold errors are a few mm, a small
 /// part of the ventricle; larger corrections would come from bad matches, not from breathing.
 const SHIFT_CAP_OF_RADIUS: f64 = 0.4;
-
-/// EXPERIMENT (session 10, reverted in the next commit): 0 no prior (main); 1 the empirical-
-/// Bayes prior as a one-shot shrink of the final shifts, (H + kI)^-1 H t; 2 the prior in every
-/// round, isotropic k I; 3 views never move along the axis; 4 the prior in every round on the
-/// views' along-axis direction only, k e e^T.
-const PRIOR: u8 = 4;
 
 /// The estimate: per group its shift (mm, in its plane) and its matched crossings at the start.
 #[derive(Debug, Clone)]
@@ -78,8 +71,6 @@ struct Residual {
     rings: usize,
     /// Sum of the residuals' lengths.
     length: f64,
-    /// Sum of weight x (normal . residual)^2: the part of the misfit a shift can remove.
-    normal_sq: f64,
     /// Normal equations of the group's shift: sum of n n^T and of n (n . r) over the crossings,
     /// n the unit in-plane normal of the matched curve, r the residual.
     h: Matrix3<f64>,
@@ -98,47 +89,33 @@ fn mean_length(rs: &[Residual]) -> f64 {
     }
 }
 
-/// What every round needs: the groups, their candidate segments, which may move, the caps.
-struct Problem<'a> {
-    groups: &'a [Group],
-    candidates: Vec<Vec<Candidate>>,
-    active: Vec<bool>,
-    residual_cap: f64,
-    shift_cap: f64,
-    along: Vec<Option<Vec3>>,
-}
-
-impl Problem<'_> {
-    fn residuals(&self, t: &[Vec3]) -> Vec<Residual> {
-        residuals(self.groups, &self.candidates, t, self.residual_cap)
-    }
-
-    /// Rounds from shifts `t` (residuals `current`) with prior weight `prior` (0: none) until
-    /// the shifts settle; returns the shifts, their residuals and the rounds run. Without a
-    /// prior the result is the round with the lowest mean residual (see below); with one, the
-    /// last round (the prior, not the residual alone, is what the rounds then minimise).
-    fn run(
-        &self,
-        mut t: Vec<Vec3>,
-        mut current: Vec<Residual>,
-        prior: f64,
-    ) -> (Vec<Vec3>, Vec<Residual>, usize) {
-        let (groups, active, g) = (self.groups, &self.active, self.groups.len());
-        let mut rounds = 0;
-        let mut before = t.clone();
-        // Lowest mean residual seen so far (its shifts and residuals; None while it is the
-        // latest). A round may raise the residual where the crossings barely determine a
-        // direction (a view sliding along a capsule's straight walls went 2.7 mm and raised the
-        // residual 0.033 -> 0.074 mm on exact data): the result is the best round, never worse
-        // than the start.
-        let mut best_mm = mean_length(&current);
-        let mut best: Option<(Vec<Vec3>, Vec<Residual>)> = None;
+/// Estimates the shifts of `groups`; `scale_mm` is the ring radius the caps are relative to.
+pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
+    let g = groups.len();
+    let residual_cap = RESIDUAL_CAP_OF_RADIUS * scale_mm;
+    let shift_cap = SHIFT_CAP_OF_RADIUS * scale_mm;
+    let mut t = vec![Vec3::zeros(); g];
+    let candidates = candidates(groups, shift_cap * 1.01);
+    let start = residuals(groups, &candidates, &t, residual_cap);
+    let crossings: Vec<usize> = start.iter().map(|r| r.count).collect();
+    let active: Vec<bool> = start.iter().map(|r| r.rings >= MIN_CROSSINGS).collect();
+    let n_active = active.iter().filter(|&&a| a).count();
+    let mut rounds = 0;
+    let mut current = start.clone();
+    let mut before = t.clone();
+    // Lowest mean residual seen so far (its shifts and residuals; None while it is the latest). A
+    // round may raise the residual where the crossings barely determine a direction (a view
+    // sliding along a capsule's straight walls went 2.7 mm and raised the residual 0.033 ->
+    // 0.074 mm on exact data): the result is the best round, never worse than the start.
+    let mut best_mm = mean_length(&start);
+    let mut best: Option<(Vec<Vec3>, Vec<Residual>)> = None;
+    if n_active > 0 && residual_cap.is_finite() && residual_cap > 0.0 {
         for round in 1..=MAX_ROUNDS {
             let mut next = t.clone();
             for k in 0..g {
                 let r = &current[k];
                 if active[k] && r.count >= MIN_CROSSINGS {
-                    next[k] += step(&groups[k], r, &t[k], prior, self.along[k]);
+                    next[k] += step(&groups[k], r);
                 }
             }
             // The gauge: moving every image together across the long axis changes the residuals
@@ -156,8 +133,8 @@ impl Problem<'_> {
             for k in (0..g).filter(|&k| active[k]) {
                 let mut w = groups[k].in_plane(&(next[k] - mean));
                 let len = w.norm();
-                if len > self.shift_cap {
-                    w *= self.shift_cap / len;
+                if len > shift_cap {
+                    w *= shift_cap / len;
                 }
                 change = change.max((w - t[k]).norm());
                 cycle = cycle.max((w - before[k]).norm());
@@ -165,9 +142,12 @@ impl Problem<'_> {
             }
             before = std::mem::replace(&mut t, next);
             rounds = round;
-            let previous = std::mem::replace(&mut current, self.residuals(&t));
+            let previous = std::mem::replace(
+                &mut current,
+                residuals(groups, &candidates, &t, residual_cap),
+            );
             let now_mm = mean_length(&current);
-            if now_mm <= best_mm || prior > 0.0 {
+            if now_mm <= best_mm {
                 best_mm = now_mm;
                 best = None;
             } else if best.is_none() {
@@ -177,68 +157,11 @@ impl Problem<'_> {
                 break;
             }
         }
-        // The best round, if a later one drifted off it.
-        match best {
-            Some((shifts, residuals)) => (shifts, residuals, rounds),
-            None => (t, current, rounds),
-        }
     }
-}
-
-/// Estimates the shifts of `groups`; `scale_mm` is the ring radius the caps are relative to.
-pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
-    let g = groups.len();
-    let residual_cap = RESIDUAL_CAP_OF_RADIUS * scale_mm;
-    let shift_cap = SHIFT_CAP_OF_RADIUS * scale_mm;
-    let t = vec![Vec3::zeros(); g];
-    let candidates = candidates(groups, shift_cap * 1.01);
-    let start = residuals(groups, &candidates, &t, residual_cap);
-    let crossings: Vec<usize> = start.iter().map(|r| r.count).collect();
-    let active: Vec<bool> = start.iter().map(|r| r.rings >= MIN_CROSSINGS).collect();
-    let axis = groups
-        .iter()
-        .find(|g| g.kind == ContourKind::Sax)
-        .map_or(Vec3::zeros(), |g| g.normal);
-    let along = groups
-        .iter()
-        .map(|g| {
-            let e = g.in_plane(&axis);
-            (g.kind == ContourKind::Lax && e.norm() > 0.5).then(|| e.normalize())
-        })
-        .collect();
-    let problem = Problem {
-        along,
-        groups,
-        candidates,
-        active,
-        residual_cap,
-        shift_cap,
-    };
-    let (mut t, mut current, mut rounds) = (t, start.clone(), 0);
-    if problem.active.contains(&true) && residual_cap.is_finite() && residual_cap > 0.0 {
-        (t, current, rounds) = problem.run(t, current, 0.0);
-        // The prior (`prior`): its weight from this fit's residuals and shifts, then rounds on
-        // from here with it.
-        if PRIOR > 0 && PRIOR != 3 {
-            let moving: Vec<Vec3> = (0..g)
-                .filter(|&k| problem.active[k])
-                .map(|k| t[k])
-                .collect();
-            let sq: f64 = current.iter().map(|r| r.normal_sq).sum();
-            let n: usize = current.iter().map(|r| r.count).sum();
-            if let Some(var) = Variances::estimate(sq, n, &moving) {
-                if PRIOR == 1 {
-                    for j in (0..g).filter(|&j| problem.active[j]) {
-                        t[j] = shrink(&t[j], &current[j].h, &groups[j].normal, var.ratio());
-                    }
-                    current = problem.residuals(&t);
-                } else {
-                    let more;
-                    (t, current, more) = problem.run(t, current, var.ratio());
-                    rounds += more;
-                }
-            }
-        }
+    // The best round, if a later one drifted off it (see the loop).
+    if let Some((shifts, residuals)) = best {
+        t = shifts;
+        current = residuals;
     }
     Estimate {
         before_mm: mean_length(&start),
@@ -246,41 +169,28 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
         shifts: t,
         normal_matrices: start.iter().map(|r| r.h).collect(),
         crossings,
-        moving: problem.active,
+        moving: active,
         rounds,
     }
 }
 
 /// Half of the damped Gauss-Newton step of a group's shift (the other half of a disagreement is
-/// the other group's to move): in the group's plane, (H + (w + k) I) d = b - k t, k the prior's
-/// weight (`prior`; its fixed point H d = b - k t is the posterior mode, and without a prior the
-/// damping w leaves the fixed point alone).
-fn step(g: &Group, r: &Residual, t: &Vec3, prior: f64, along: Option<Vec3>) -> Vec3 {
+/// the other group's to move): in the group's plane, (H + w I) d = b.
+fn step(g: &Group, r: &Residual) -> Vec3 {
     let (u, v) = crate::contours::axis::frame_for(&g.normal);
-    let pm: Matrix3<f64> = match (PRIOR, along) {
-        (4, Some(e)) => e * e.transpose() * prior,
-        (4, None) => Matrix3::zeros(),
-        _ => Matrix3::identity() * prior,
-    };
-    let hp = r.h + pm;
-    let hu = hp * u;
-    let hv = hp * v;
+    let hu = r.h * u;
+    let hv = r.h * v;
     let a = Matrix2::new(
         u.dot(&hu) + DAMPING,
         u.dot(&hv),
         v.dot(&hu),
         v.dot(&hv) + DAMPING,
     );
-    let b = r.b - pm * t;
-    let rhs = Vector2::new(u.dot(&b), v.dot(&b));
+    let rhs = Vector2::new(u.dot(&r.b), v.dot(&r.b));
     match a.try_inverse() {
         Some(inv) => {
             let d = inv * rhs;
-            let d = (u * d.x + v * d.y) * 0.5;
-            match (PRIOR, along) {
-                (3, Some(e)) => d - e * e.dot(&d),
-                _ => d,
-            }
+            (u * d.x + v * d.y) * 0.5
         }
         None => Vec3::zeros(),
     }
@@ -380,7 +290,6 @@ fn residuals(
                 r.length += res.norm();
                 r.h += normal * normal.transpose() * w;
                 r.b += normal * (normal.dot(&res) * w);
-                r.normal_sq += normal.dot(&res).powi(2) * w;
             }
         }
     }

@@ -12,7 +12,6 @@
 mod estimate;
 mod groups;
 mod information;
-mod prior;
 #[cfg(test)]
 mod tests;
 
