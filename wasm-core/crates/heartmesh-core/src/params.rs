@@ -89,7 +89,9 @@ pub struct Params {
     /// default: the paper's method reconstructs the contours as given.
     pub align_slices: bool,
     /// Synthetic lid attractors at the ends no curve closes, pulling with a weight below 1
-    /// (`pipeline::ends`), so the mesh stops at the data there instead of running on.
+    /// (`pipeline::ends`), so the mesh stops at the data there instead of running on. Off by
+    /// default: the lid-to-wall corner raises the accuracy maxima at the basal rim
+    /// (docs/VALIDATION.md, session 10).
     pub end_caps: EndCapMode,
 }
 

@@ -327,6 +327,35 @@ mod tests {
     }
 
     #[test]
+    fn round_trip_with_end_caps() {
+        let set = read_csv(&sample("contours/bivme-example-patient1/patient1-ED.csv")).unwrap();
+        for mode in [
+            crate::params::EndCapMode::Auto,
+            crate::params::EndCapMode::Off,
+        ] {
+            let params = Params {
+                end_caps: mode,
+                ..Params::default()
+            };
+            let bytes = write_session(&set, &params, "9.9.9").unwrap();
+            let s = read_session(&bytes).unwrap();
+            assert_eq!(s.parameters["end_caps"], mode.name());
+            assert_eq!(s.params().unwrap(), params);
+        }
+        // Written before end caps existed: the default; a wrong value is a typed error.
+        let bytes = write_session(&set, &Params::default(), "9.9.9").unwrap();
+        let mut s = read_session(&bytes).unwrap();
+        s.parameters.remove("end_caps");
+        assert_eq!(s.params().unwrap().end_caps, Params::default().end_caps);
+        s.parameters.insert("end_caps".into(), Value::from("on"));
+        let e = s.params().unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+        assert!(e.to_string().contains("auto, off"), "{e}");
+        s.parameters.insert("end_caps".into(), Value::from(true));
+        assert_eq!(s.params().unwrap_err().code(), "param_invalid");
+    }
+
+    #[test]
     fn bad_options_are_errors() {
         let session = |parameters: &str| {
             let text = format!(

@@ -6,8 +6,9 @@
 //! and the smooth spline carry the unconstrained cap on past the data, by 0.4 ring radii on the
 //! phantoms (docs/VALIDATION.md, "Session 9: overrun past the data"). METHOD.md section 2 intends
 //! the lid to be where the mesh ends ("without LAX ... mesh ends flat there"), so such an end gets
-//! attractor points filling the end ring's outline in the plane of the tube's lid, perpendicular to
-//! the long axis: the flat section the ruled tube's lid spans. They are sampled at about the real
+//! attractor points filling the end ring's outline in the lid's plane: perpendicular to the long
+//! axis at the tube's lid, or through the tips of the long-axis curves that stop beyond the ring
+//! (the valve plane, [`TipPlane`]). They are sampled at about the real
 //! attractors' spacing, kept a spacing in from the rim (the rim is the wall data's), and pull with a
 //! weight below 1 so that real contours win where they disagree. They are never data: contour
 //! distances, per-contour tables, colour maps and the step report ignore them.
@@ -48,7 +49,9 @@ impl EndCapsReport {
 
 /// Data weight of a lid point (contour points have 1, before conflict softening): enough to hold
 /// an end no curve closes, low enough that real contours win where they disagree. Swept on the
-/// phantoms and the population study (docs/VALIDATION.md, "Session 10: closing open ends").
+/// phantoms and the real files (docs/VALIDATION.md, "Session 10: closing open ends": 1.0 doubles
+/// the folded edges on the real files, 0.05 lets the ends run on further; the spline is nearly
+/// interpolating, so the weight trades folds against hold rather than setting who wins).
 pub const END_CAP_WEIGHT: f64 = 0.3;
 
 /// A long-axis curve closes an end when, at or beyond the end ring's plane, it passes within this
@@ -159,6 +162,108 @@ fn span(q: &[Vec3]) -> f64 {
     far(&a).0
 }
 
+/// The plane of the tips of the long-axis curves that stop at an end (the valve plane, often tilted
+/// against the short-axis planes): heights along the axis as a linear function of the in-plane
+/// position, fitted through the curves' endpoints at or beyond the end ring. A flat lid at the
+/// highest tip would lie above the lower tips and pull the wall there past its data.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TipPlane {
+    /// A point of the plane (its height at the ring's centroid).
+    pub origin: Vec3,
+    /// Height change per mm across the axis (perpendicular to it).
+    pub gradient: Vec3,
+    /// Heights never fall back inside the ring's own plane (the end stays beyond the ring).
+    floor: f64,
+    outward: f64,
+}
+
+impl TipPlane {
+    pub fn height_at(&self, p: &Vec3, axis: &Vec3) -> f64 {
+        let d = p - self.origin;
+        let across = d - axis * d.dot(axis);
+        let h = self.origin.dot(axis) + self.gradient.dot(&across);
+        if self.outward * (h - self.floor) < 0.0 {
+            self.floor
+        } else {
+            h
+        }
+    }
+}
+
+/// Steepest lid: beyond 45 degrees from the short-axis plane an end is more wall than lid.
+const MAX_TIP_GRADIENT: f64 = 1.0;
+
+/// The [`TipPlane`] of the open long-axis curves' endpoints at or beyond `ring` (None without
+/// any). Least squares of height on in-plane position, with a small ridge on the gradient so that
+/// the tips of one curve (a line) give no tilt across it.
+pub fn tip_plane(
+    ring: &[Vec3],
+    contours: &[Contour],
+    kinds: &[ContourKind],
+    axis: &Vec3,
+    outward: f64,
+) -> Option<TipPlane> {
+    if ring.is_empty() {
+        return None;
+    }
+    let c = centroid(ring);
+    let radius = ring.iter().map(|p| (p - c).norm()).sum::<f64>() / ring.len() as f64;
+    let h0 = c.dot(axis);
+    let tolerance = PLANE_TOLERANCE_PER_RADIUS * radius;
+    let tips: Vec<Vec3> = contours
+        .iter()
+        .zip(kinds)
+        .filter(|(_, k)| **k == ContourKind::Lax)
+        .flat_map(|(c, _)| &c.pieces)
+        .filter(|piece| !piece.closed)
+        .flat_map(|piece| [piece.points.first(), piece.points.last()])
+        .flatten()
+        .filter(|p| outward * (p.dot(axis) - h0) >= -tolerance)
+        .copied()
+        .collect();
+    if tips.is_empty() {
+        return None;
+    }
+    // Any in-plane basis: the fitted gradient, a vector, does not depend on it.
+    let u = axis.cross(&Vec3::new(1.0, 0.0, 0.0));
+    let u = if u.norm() > 0.5 {
+        u.normalize()
+    } else {
+        axis.cross(&Vec3::new(0.0, 1.0, 0.0)).normalize()
+    };
+    let v = axis.cross(&u);
+    let mut m = nalgebra::Matrix3::<f64>::zeros();
+    let mut rhs = Vec3::zeros();
+    for t in &tips {
+        let d = t - c;
+        let row = Vec3::new(1.0, d.dot(&u), d.dot(&v));
+        m += row * row.transpose();
+        rhs += row * t.dot(axis);
+    }
+    let ridge = TIP_RIDGE * radius * radius * tips.len() as f64;
+    m[(1, 1)] += ridge;
+    m[(2, 2)] += ridge;
+    let sol = m.lu().solve(&rhs)?;
+    if !sol.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    let mut gradient = u * sol.y + v * sol.z;
+    let g = gradient.norm();
+    if g > MAX_TIP_GRADIENT {
+        gradient *= MAX_TIP_GRADIENT / g;
+    }
+    Some(TipPlane {
+        origin: c + axis * (sol.x - h0),
+        gradient,
+        floor: h0,
+        outward,
+    })
+}
+
+/// Ridge on the tip plane's gradient (per tip, relative to the ring's radius squared): negligible
+/// against tips spread across the end, enough to make one curve's two tips a well-posed fit.
+const TIP_RIDGE: f64 = 1e-3;
+
 /// Lid points filling `ring`'s outline moved along `axis` to the height of `lid`: a square grid of
 /// pitch `spacing` anchored at the outline's centroid and turned to the ring's first point (the
 /// tube's seam, so the points do not depend on the scanner frame), keeping the grid points inside
@@ -261,7 +366,12 @@ pub fn end_cap_points(
         let area = std::f64::consts::PI * radius * radius;
         let most = (MAX_POINTS_PER_REAL * real_attractors as f64).max(1.0);
         let pitch = spacing.max((area / most).sqrt());
-        let disc = disc_points(ring, &lid, axis, pitch, RIM_INSET_PER_SPACING * pitch);
+        let mut disc = disc_points(ring, &lid, axis, pitch, RIM_INSET_PER_SPACING * pitch);
+        if let Some(plane) = tip_plane(ring, contours, kinds, axis, outward) {
+            for p in &mut disc {
+                *p += axis * (plane.height_at(p, axis) - p.dot(axis));
+            }
+        }
         if disc.is_empty() {
             continue;
         }
@@ -374,6 +484,40 @@ mod tests {
         // Nothing for a bad spacing or too few ring points.
         assert!(disc_points(&ring, &lid, &Z, 0.0, 0.0).is_empty());
         assert!(disc_points(&ring[..2], &lid, &Z, 1.0, 0.0).is_empty());
+    }
+
+    /// Two curves stopping at the base ring (z = 20): one with ends at 22 (x = 8) and 18 (x = -8),
+    /// one with both ends at 20 (y = +-8). The end at 18 lies inside the ring's plane, so three
+    /// tips: a plane rising along x through 22 at x = 8 and 20 at y = +-8.
+    #[test]
+    fn tip_plane_follows_a_tilted_valve_plane() {
+        let ring = circle(10.0, 20.0, 40);
+        let curves = [
+            lax(vec![
+                v3(8.0, 0.0, 22.0),
+                v3(10.0, 0.0, 10.0),
+                v3(-8.0, 0.0, 18.0),
+            ]),
+            lax(vec![
+                v3(0.0, 8.0, 20.0),
+                v3(0.0, 10.0, 10.0),
+                v3(0.0, -8.0, 20.0),
+            ]),
+        ];
+        let kinds = [ContourKind::Lax; 2];
+        let plane = tip_plane(&ring, &curves, &kinds, &Z, 1.0).unwrap();
+        // Normal equations [3 8; 8 64 + r] (a, g) = (62, 176), ridge r = 1e-3 x 10^2 x 3 tips:
+        // g = 32 / 128.9 (0.25 without the ridge), a = 2578.6 / 128.9.
+        assert!(
+            (plane.gradient - v3(32.0 / 128.9, 0.0, 0.0)).norm() < 1e-12,
+            "{plane:?}"
+        );
+        let centre = plane.height_at(&v3(0.0, 0.0, 0.0), &Z);
+        assert!((centre - 2578.6 / 128.9).abs() < 1e-9, "{centre}");
+        // Far out along -x the plane would fall inside the ring's plane: floored at 20.
+        assert_eq!(plane.height_at(&v3(-30.0, 0.0, 0.0), &Z), 20.0);
+        // No open long-axis curve reaching the end: no plane.
+        assert!(tip_plane(&circle(10.0, 40.0, 40), &curves, &kinds, &Z, 1.0).is_none());
     }
 
     #[test]
