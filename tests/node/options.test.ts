@@ -45,6 +45,7 @@ async function run(ask: ReturnType<typeof makeCore>['ask'], runId: number, optio
   return m.type === 'done' ? { result: m.result as RunResult, error: null } : { result: null, error: m.error };
 }
 
+// The core's options also carry `end_caps` (session 10; "off" unless asked for).
 describe('smoothing options through the worker', () => {
   it('reach the run: soften off gives another mesh; Taubin runs at 0.5 and is refused at 0.8', async () => {
     const { ask } = makeCore();
@@ -52,8 +53,8 @@ describe('smoothing options through the worker', () => {
     // The RV endocardium, whose septum curves disagree between SAX and LAX: softening acts there.
     const on = (await run(ask, 1, undefined, {}, 'RV_ENDO')).result;
     const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false }, {}, 'RV_ENDO')).result;
-    expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
-    expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false });
+    expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: 'off' });
+    expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: 'off' });
     if (!on || !off) throw new Error('runs failed');
     // Same sample, same numbers otherwise: only the softening differs (0.445 vs 0.408 mm natively).
     expect(on.overall.mean - off.overall.mean).toBeGreaterThan(0.01);
@@ -93,13 +94,13 @@ describe('smoothing options through the worker', () => {
     const session = (parameters: object) =>
       new TextEncoder().encode(JSON.stringify({ heartmesh_session: 1, app_version: '0.1.0', contours, parameters }));
     const saved = await loaded(ask, 'saved.json', session({ beta: 0.3, lids: 'none', smoothing_method: 'taubin', soften_conflicts: false, surface: 'LV_ENDO' }));
-    expect(saved.session?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
+    expect(saved.session?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: 'off' });
     expect(saved.session?.lids).toBe('none');
     expect(saved.session?.surface).toBe('LV_ENDO');
     expect(saved.session?.params.beta).toBe(0.3);
     expect(saved.session?.params.lambda).toBe(1e5);
     const old = await loaded(ask, 'old.json', session({ beta: 0.3, lids: 'auto', surface: null }));
-    expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
+    expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: 'off' });
     const bad = await loaded(ask, 'bad.json', session({ smoothing_method: 'gaussian' }));
     expect(bad.session ?? null).toBeNull();
     expect(bad.warnings.join(' ')).toMatch(/not applied: parameter smoothing_method: unknown method "gaussian" \(allowed: laplacian-affine, taubin\)/);

@@ -1,0 +1,147 @@
+//! End caps (`Params::end_caps`, pipeline/ends.rs; docs/VALIDATION.md "Session 10: closing open
+//! ends"): at an end no curve closes, synthetic lid points stop the mesh at the data instead of
+//! letting it run on past it. The phantom is scripts/phantoms.py's `ell-lax-top`: a prolate
+//! half-ellipsoid (radius 25 mm, half-length 60 mm) cut at its equator, short-axis rings every
+//! 8 mm up to the cut and two long-axis curves through the apex that end exactly in the top plane.
+//! Analytic volume 2/3 pi a^2 c = 78.54 ml. Measured values are in the comments.
+
+mod common;
+
+use common::{check_closed_manifold_outward, contour_to_mesh_of, mean};
+use heartmesh_core::pipeline::Reconstruction;
+use heartmesh_core::{io, EndCapMode, Params};
+use std::f64::consts::{PI, TAU};
+
+const A: f64 = 25.0;
+const C: f64 = 60.0;
+
+fn half_ellipsoid_csv(lax: bool) -> String {
+    let mut csv = String::from("contour,x,y,z,surface\n");
+    for (k, z) in [-48.0f64, -40.0, -32.0, -24.0, -16.0, -8.0, 0.0]
+        .iter()
+        .enumerate()
+    {
+        let r = A * (1.0 - (z / C) * (z / C)).sqrt();
+        for i in 0..60 {
+            let t = TAU * i as f64 / 60.0;
+            csv += &format!("s{k},{},{},{z},LV_ENDO\n", r * t.cos(), r * t.sin());
+        }
+    }
+    if lax {
+        for (k, phi) in [0.3f64, 1.9].iter().enumerate() {
+            // From the top plane on one side, through the apex, to the top plane on the other.
+            for i in 0..=80 {
+                let t = PI * (0.5 + i as f64 / 80.0);
+                let (u, z) = (A * t.sin(), C * t.cos());
+                let z = if z.abs() < 1e-9 { 0.0 } else { z };
+                csv += &format!("l{k},{},{},{z},LV_ENDO\n", u * phi.cos(), u * phi.sin());
+            }
+        }
+    }
+    csv
+}
+
+struct Outcome {
+    base_mm: f64,
+    apex_mm: f64,
+    ml: f64,
+    c2m: f64,
+    base_capped: bool,
+    apex_capped: bool,
+    points: usize,
+}
+
+fn run(lax: bool, mode: EndCapMode) -> Outcome {
+    let set = io::read_contours("phantom.csv", half_ellipsoid_csv(lax).as_bytes())
+        .unwrap_or_else(|e| panic!("read: {e}"));
+    let params = Params {
+        end_caps: mode,
+        ..Params::default()
+    };
+    let mut rec = Reconstruction::new(&set, params).unwrap_or_else(|e| panic!("new: {e}"));
+    rec.run().unwrap_or_else(|e| panic!("run: {e}"));
+    check_closed_manifold_outward(rec.mesh()).unwrap_or_else(|e| panic!("mesh: {e}"));
+    let past = rec.past_data().unwrap_or_else(|| panic!("no extent"));
+    let caps = rec.end_caps();
+    assert_eq!(caps.mode, mode.name());
+    assert_eq!(caps.points, rec.end_cap_points().len());
+    // The lid points are not data: the contour distances count exactly the contour points.
+    let d = rec.contour_distances();
+    assert_eq!(
+        d.overall.count,
+        rec.contours()
+            .iter()
+            .map(|c| c.point_count())
+            .sum::<usize>()
+    );
+    let out = Outcome {
+        base_mm: past.base_mm,
+        apex_mm: past.apex_mm,
+        ml: rec.mesh().volume_ml(),
+        c2m: mean(&contour_to_mesh_of(rec.contours(), rec.mesh())),
+        base_capped: caps.base,
+        apex_capped: caps.apex,
+        points: caps.points,
+    };
+    eprintln!(
+        "lax {lax} {}: past base {:+.2} apex {:+.2} mm, {:.2} ml, c2m {:.4} mm, caps {}/{}/{}",
+        mode.name(),
+        out.base_mm,
+        out.apex_mm,
+        out.ml,
+        out.c2m,
+        out.base_capped,
+        out.apex_capped,
+        out.points
+    );
+    out
+}
+
+const ANALYTIC_ML: f64 = 2.0 / 3.0 * PI * A * A * C / 1000.0;
+
+/// The curves close the apex, not the top: only the top is capped, and the mesh stops there
+/// (measured +1.13 mm, 79.23 ml, 37 lid points; without caps +11.51 mm, 94.10 ml).
+#[test]
+fn capped_top_stops_at_the_data() {
+    let on = run(true, EndCapMode::Auto);
+    assert!(on.base_capped && !on.apex_capped && on.points > 0);
+    assert!(on.base_mm < 0.1 * A, "past the top: {} mm", on.base_mm);
+    assert!(on.apex_mm.abs() < 0.5, "past the apex: {} mm", on.apex_mm);
+    assert!(
+        (on.ml / ANALYTIC_ML - 1.0).abs() < 0.04,
+        "{} ml vs {ANALYTIC_ML} ml",
+        on.ml
+    );
+    assert!(on.c2m < 0.1, "contour-to-mesh {} mm", on.c2m);
+    // Off: the paper's method, running on past the top (the figure the caps remove).
+    let off = run(true, EndCapMode::Off);
+    assert!(!off.base_capped && !off.apex_capped && off.points == 0);
+    assert!(
+        off.base_mm > 0.3 * A,
+        "off: past the top {} mm",
+        off.base_mm
+    );
+    assert!(off.ml > 1.15 * ANALYTIC_ML, "off: {} ml", off.ml);
+}
+
+/// Short-axis rings only: both ends are open and both get caps; the analytic volume between the
+/// apical (z = -48) and top rings is 74.14 ml (measured 75.97 ml, +1.48 / +1.17 mm, 30 lid
+/// points; off, in scripts/phantoms.py: +15.8 / +13.2 mm).
+#[test]
+fn sax_only_caps_both_ends() {
+    let on = run(false, EndCapMode::Auto);
+    assert!(on.base_capped && on.apex_capped);
+    assert!(
+        on.base_mm < 0.1 * A && on.apex_mm < 0.2 * A,
+        "{} / {}",
+        on.base_mm,
+        on.apex_mm
+    );
+    // pi a^2 (h - (z1^3 - z0^3) / (3 c^2)) between z0 = -48 and z1 = 0.
+    let between = PI * A * A * (48.0 - 48.0f64.powi(3) / (3.0 * C * C)) / 1000.0;
+    assert!(
+        (on.ml / between - 1.0).abs() < 0.06,
+        "{} ml vs {between} ml",
+        on.ml
+    );
+}
