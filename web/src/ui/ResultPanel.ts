@@ -5,15 +5,17 @@
  * before -> after, the groups' shifts, largest first). `[data-testid=result]` carries
  * `data-vertices`, `data-triangles`, `data-mean-mm`, `data-max-mm` (the automated-check contract),
  * plus `data-iterations`, `data-converged` and, when aligned, `data-residual-before-mm`,
- * `data-residual-after-mm`, `data-given-mean-mm`.
+ * `data-residual-after-mm`, `data-given-mean-mm`; with close-open-ends on, `data-end-caps-base`,
+ * `data-end-caps-apex` (1/0) and `data-end-caps-points`.
  */
 import type { Alignment, RunResult } from '../core-client/protocol';
 import { h, mm } from './dom';
-import { alignmentRows, iterationsDoneText, pastDataText, residualText } from './runText';
+import { alignmentRows, endCapsText, iterationsDoneText, pastDataText, residualText } from './runText';
 
 const ATTRIBUTES = [
   'data-vertices', 'data-triangles', 'data-mean-mm', 'data-max-mm', 'data-iterations', 'data-converged',
   'data-residual-before-mm', 'data-residual-after-mm', 'data-given-mean-mm', 'data-past-base-mm', 'data-past-apex-mm',
+  'data-end-caps-base', 'data-end-caps-apex', 'data-end-caps-points',
 ];
 
 const SHIFTED_HELP = 'with breath-hold alignment: from the shifted contours, which the mesh follows, to the mesh';
@@ -84,6 +86,13 @@ export class ResultPanel {
       d.pastBaseMm = String(r.pastData.base_mm);
       d.pastApexMm = String(r.pastData.apex_mm);
       rows.push(...row('Past the data', past.text, 'result-past-data', past.extrapolated ? PAST_EXTRAPOLATED_HELP : PAST_HELP, past.extrapolated));
+    }
+    const caps = r.end_caps ? endCapsText(r.end_caps) : null;
+    if (r.end_caps && caps) {
+      d.endCapsBase = r.end_caps.base ? '1' : '0';
+      d.endCapsApex = r.end_caps.apex ? '1' : '0';
+      d.endCapsPoints = String(r.end_caps.points);
+      rows.push(...row('Closed ends', caps.text, 'result-end-caps', caps.title));
     }
     rows.push(
       ...row('Area', `${(r.areaMm2 / 100).toFixed(1)} cm²`),
