@@ -211,8 +211,9 @@ describe('heartmesh in the browser', () => {
     await page.click('[data-testid=tl-latest]');
     await waitForDone(page);
     await page.waitForFunction(() => {
-      const m = /iteration (\d+) \/ (\d+)/.exec(document.querySelector('[data-testid=tl-label]')?.textContent ?? '');
-      return m && m[1] === m[2];
+      // The last step: "iteration 250 / 250", or "converged at iteration 243 (of 250)" when it stopped early.
+      const m = /^(converged at )?iteration (\d+) (?:\/ |\(of )(\d+)/.exec(document.querySelector('[data-testid=tl-label]')?.textContent ?? '');
+      return m && (m[1] ? Number(m[2]) < Number(m[3]) : m[2] === m[3]);
     }, null, { timeout: 10000 });
   });
 

@@ -327,6 +327,90 @@ describe('controller', () => {
     fresh.dispose();
     c.dispose();
   });
+
+  it('a run that fails while a file is being read is reported with the refusal, not lost', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('good.csv')]);
+    const run = client.runs[0];
+    // The next file takes a while to read; the run goes on meanwhile, and fails.
+    const read = client.load.bind(client);
+    let release!: () => void;
+    client.load = (name: string, bytes: ArrayBuffer) => new Promise<LoadedFile>((ok, no) => { release = () => void read(name, bytes).then(ok, no); });
+    const opening = controller.openFiles([file('bad.csv', 'bad')]);
+    await vi.advanceTimersByTimeAsync(0);
+    expect(lastStatus()).toBe('loading bad.csv');
+    run.reject({ code: 'numerical', message: 'factorisation failed' });
+    await vi.advanceTimersByTimeAsync(0);
+    release();
+    await opening;
+    expect(lastStatus()).toBe('error: bad.csv, line 2: bad number');
+    const [shown, context] = parts.banner.calls.showError?.at(-1) ?? [];
+    expect((shown as { file: string }).file).toBe('bad.csv');
+    expect(context).toBe(' Not opened; still showing good.csv. Meanwhile the run of good.csv failed: factorisation failed');
+    expect(parts.result.calls.clear?.at(-1)?.[0]).toBe('no result (see the error)');
+  });
+
+  it('a run that fails while a refusal is showing becomes the error, with the refusal as a note', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('good.csv')]);
+    const run = client.runs[0];
+    await controller.openFiles([file('bad.csv', 'bad')]);
+    expect(run.cancelled).toBe(false);
+    run.reject({ code: 'numerical', message: 'factorisation failed' });
+    await vi.runAllTimersAsync();
+    // Status line and banner agree on the newest problem; the refusal is not forgotten.
+    expect(lastStatus()).toBe('error: good.csv: factorisation failed');
+    const [shown, context] = parts.banner.calls.showError?.at(-1) ?? [];
+    expect((shown as { message: string }).message).toBe('factorisation failed');
+    expect(context).toBe(' Earlier: bad.csv, line 2: bad number (not opened).');
+    // good.csv is still the file: a new run works on it.
+    controller.startRun();
+    expect(client.runs.at(-1)?.opts.fileName).toBe('good.csv');
+    expect(lastStatus()).toBe('running');
+  });
+
+  it('a file read while a run fails replaces the run: no stale failure later', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('one.csv')]);
+    const run = client.runs[0];
+    const read = client.load.bind(client);
+    let release!: () => void;
+    client.load = (name: string, bytes: ArrayBuffer) => new Promise<LoadedFile>((ok, no) => { release = () => void read(name, bytes).then(ok, no); });
+    const opening = controller.openFiles([file('two.csv')]);
+    await vi.advanceTimersByTimeAsync(0);
+    run.reject({ code: 'numerical', message: 'factorisation failed' });
+    await vi.advanceTimersByTimeAsync(0);
+    release();
+    await opening;
+    expect(lastStatus()).toBe('running');
+    expect(client.runs.at(-1)?.opts.fileName).toBe('two.csv');
+    client.load = read;
+    await controller.openFiles([file('bad.csv', 'bad')]);
+    expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' Not opened; still showing two.csv.');
+  });
+
+  it('the link\'s surface is used for a dropped file when it has it; otherwise the default, with a notice', async () => {
+    url = '/app/?surface=RV_ENDO';
+    const warnings = { textContent: '', hidden: true };
+    const c = new Controller({ ...parts, viewer: null, warnings } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c.openFiles([file('biv.csv')]);
+    expect(client.runs.at(-1)?.opts.surface).toBe('RV_ENDO');
+    expect(warnings.hidden).toBe(true);
+    expect(url).toBe('/app/?surface=RV_ENDO');
+    c.dispose();
+
+    url = '/app/?surface=LA_ENDO';
+    const w2 = { textContent: '', hidden: true };
+    const c2 = new Controller({ ...parts, viewer: null, warnings: w2 } as unknown as Parts, '9.9.9');
+    await c2.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c2.openFiles([file('biv.csv')]);
+    expect(client.runs.at(-1)?.opts.surface).toBe('LV_ENDO');
+    expect(w2.hidden).toBe(false);
+    expect(w2.textContent).toBe('⚠ surface LA_ENDO is not in biv.csv: showing LV_ENDO');
+    expect(url).toBe('/app/?surface=LV_ENDO');
+    c2.dispose();
+  });
 });
 
 /** A Viewer stand-in: its layers and its own methods record their calls. */

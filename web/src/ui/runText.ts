@@ -22,6 +22,17 @@ export function iterationText(r: Pick<StepReport, 'iteration' | 'total_iteration
   return `iteration ${r.iteration} / ${r.total_iterations}`;
 }
 
+/**
+ * The timeline's label for the recorded step on screen: the status line's words
+ * ({@link iterationText}), so a run that converged early reads "converged at iteration 243 (of 250)"
+ * there too; "iteration – / –" before the first step.
+ */
+export function timelineText(s: { iteration: number | null; total: number | null; done: boolean }): string {
+  if (s.iteration === null) return 'iteration – / –';
+  if (s.total === null) return `iteration ${s.iteration} / –`;
+  return iterationText({ iteration: s.iteration, total_iterations: s.total, done: s.done });
+}
+
 /** The status line's detail for the step on screen. */
 export function stepText(r: StepReport): string {
   return `${iterationText(r)} · ${PHASES[r.phase]} · max ${mm(r.max_distance_mm)} · mean ${mm(r.mean_distance_mm)} · ${r.vertices} vertices`;
