@@ -114,7 +114,7 @@ describe('end caps in the panels', () => {
     expect(el.dataset).toMatchObject({ endCapsBase: '1', endCapsApex: '0', endCapsPoints: '64' });
 
     panel.show(result({ end_caps: { mode: 'auto', base: true, apex: true, points: 130 } }));
-    expect(rows(el)['Closed ends']).toBe('base + apex · 130 pts');
+    expect(rows(el)['Closed ends']).toBe('both · 130 pts');
     expect(el.byTestId('result-end-caps')?.title).toMatch(/^base \+ apex closed \(130 lid points\): no contour closes these ends/);
 
     panel.show(result({ end_caps: { mode: 'auto', base: false, apex: false, points: 0 } }));

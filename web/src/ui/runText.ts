@@ -100,7 +100,7 @@ export function pastDataText(p: PastData): { text: string; extrapolated: boolean
 
 /**
  * The result panel's "Closed ends" figure for the close-open-ends option: which ends the core
- * closed with lid points, short for the narrow value column ("base · 64 pts"), with the long form
+ * closed with lid points, short for the narrow value column ("base · 64 pts", "both · 130 pts"), with the long form
  * for the tooltip ("base closed (64 lid points)"). Null when the option was off (nothing to say
  * beyond "Past the data").
  */
@@ -111,7 +111,7 @@ export function endCapsText(e: EndCaps): { text: string; title: string } | null 
     return { text: 'none needed', title: 'close open ends: contours already close both ends, no lid points added' };
   const which = ends.join(' + ');
   return {
-    text: `${which} · ${e.points} pt${e.points === 1 ? '' : 's'}`,
+    text: `${ends.length === 2 ? 'both' : which} · ${e.points} pt${e.points === 1 ? '' : 's'}`,
     title: `${which} closed (${e.points} lid point${e.points === 1 ? '' : 's'}): no contour closes ${ends.length === 2 ? 'these ends' : 'that end'}, so down-weighted lid points keep the mesh from running on past the data`,
   };
 }
