@@ -84,7 +84,7 @@ describe('converged runs', () => {
     expect(convergence(stepReport(243, { total_iterations: 250, done: true }))).toEqual({ iterations_done: 243, converged: true });
     expect(convergence(stepReport(250, { total_iterations: 250, done: true }))).toEqual({ iterations_done: 250, converged: false });
     expect(convergence(null)).toEqual({});
-    expect(iterationsDoneText(243, 250, true)).toBe('243 of 250 (converged)');
+    expect(iterationsDoneText(243, 250, true)).toBe('243 (converged)');
     expect(iterationsDoneText(250, 250, false)).toBe('250');
   });
 });
@@ -109,7 +109,8 @@ describe('result panel', () => {
     expect(r['Contour→mesh mean']).toBe('0.321 mm');
     expect(r['as given: mean']).toBe('0.713 mm');
     expect(r['as given: max']).toBe('2.500 mm');
-    expect(r['Iterations']).toBe('243 of 250 (converged)');
+    expect(r['Iterations']).toBe('243 (converged)');
+    expect(el.byTestId('result-iterations')?.title).toBe('the attractors were reached (stop threshold) before the last iteration (250)');
     expect(el.dataset).toMatchObject({ residualBeforeMm: '2.345', residualAfterMm: '0.612', givenMeanMm: '0.7125', iterations: '243', converged: '1', meanMm: '0.321' });
     const box = el.byTestId('result-alignment')!;
     expect(box.hidden).toBe(false);

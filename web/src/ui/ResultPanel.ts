@@ -60,7 +60,8 @@ export class ResultPanel {
     if (r.iterations_done !== undefined) {
       d.iterations = String(r.iterations_done);
       d.converged = r.converged ? '1' : '0';
-      const title = r.converged ? 'the attractors were reached (stop threshold) before the last iteration' : undefined;
+      const total = r.params.iterations;
+      const title = r.converged ? `the attractors were reached (stop threshold) before the last iteration${total !== undefined ? ` (${total})` : ''}` : undefined;
       rows.push(...row('Iterations', iterationsDoneText(r.iterations_done, r.params.iterations, r.converged ?? false), 'result-iterations', title));
     }
     const a = r.alignment ?? null;

@@ -38,9 +38,12 @@ export function stepText(r: StepReport): string {
   return `${iterationText(r)} · ${PHASES[r.phase]} · max ${mm(r.max_distance_mm)} · mean ${mm(r.mean_distance_mm)} · ${r.vertices} vertices`;
 }
 
-/** The result panel's iteration count: "243 of 250 (converged)" or "250". */
+/**
+ * The result panel's iteration count: "243 (converged)" or "250" (short: the value column is
+ * narrow; the row's tooltip and the status line give the total).
+ */
 export function iterationsDoneText(done: number, total: number | undefined, converged: boolean): string {
-  if (converged && total !== undefined && done < total) return `${done} of ${total} (converged)`;
+  if (converged && total !== undefined && done < total) return `${done} (converged)`;
   return String(done);
 }
 
