@@ -26,7 +26,8 @@ pub const USAGE: &str =
     [--from N] [--to N] [--step N] [--lax K] [--sax N] [--levels S:T,...] [--seeds N]
     [--count N] [--seed N]
     [--lambda LIST] [--smoothing-iterations LIST] [--target-reduction LIST]
-    [--attractor-spacing LIST] [--iterations N] [--align-slices] [--tag NAME] [--quiet]
+    [--attractor-spacing LIST] [--iterations N] [--align-slices] [--end-caps auto|off]
+    [--tag NAME] [--quiet]
   Slices each TRUTH like a CMR acquisition, reconstructs and measures against the truth (clipped
   at the most basal SAX plane); writes OUT_DIR/KIND.csv (one row per run: settings, distances in
   mm both ways, Hausdorff, volumes in ml, contour-to-mesh, seconds) and OUT_DIR/KIND.svg.
@@ -46,9 +47,10 @@ pub const USAGE: &str =
   --iterations N: deformation iterations of every run (default 250; fewer for quick checks).
   --align-slices: every run aligns the slices first (breath-hold correction, as reconstruct
   --align-slices; contour_to_mesh is then to the shifted contours); use with --tag to compare.
+  --end-caps auto|off: lid points at the ends no curve closes in every run (as reconstruct).
   --tag NAME: write KIND-NAME.csv/.svg instead (several variants in one directory).";
 
-const COMMON: [&str; 3] = ["output", "iterations", "tag"];
+const COMMON: [&str; 4] = ["output", "iterations", "tag", "end-caps"];
 const SWEEP_PARAMS: [&str; 4] = [
     "lambda",
     "smoothing-iterations",
@@ -108,6 +110,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         align_slices: p.switch("align-slices"),
         ..Params::default()
     };
+    if let Some(m) = p.value("end-caps") {
+        params.set_end_caps(m).map_err(CliError::param)?;
+    }
     if let Some(n) = p.whole("iterations")? {
         params
             .set("iterations", n as f64)

@@ -19,7 +19,7 @@ pub const USAGE: &str =
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
     [--smoothing-method laplacian-affine|taubin] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
-    [--ring-points 50] [--no-soften-conflicts] [--align-slices] [--frame N]
+    [--ring-points 50] [--no-soften-conflicts] [--align-slices] [--end-caps auto|off] [--frame N]
     [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
@@ -31,6 +31,10 @@ pub const USAGE: &str =
   surfaces together) in its own plane until the curves meet where the planes cross (breath-hold
   misalignment); the report gains the shifts (alignment) and the distances to the contours as
   given (contour_to_mesh_as_given);
+  --end-caps auto: at each end of the cavity no long-axis curve closes (usually the base; both
+  ends without LAX), synthetic lid points in the lid's plane pull the mesh with a weight below 1,
+  so it stops at the data instead of running on past it; they are not data (never in the
+  distances); the report's end_caps says which ends got them and how many;
   --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time
@@ -44,6 +48,7 @@ const VALUE_FLAGS: &[&str] = &[
     "surface",
     "lids",
     "smoothing-method",
+    "end-caps",
     "frame",
     "contour-distances",
 ];
@@ -187,6 +192,9 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     if p.switch("align-slices") {
         params.align_slices = true;
     }
+    if let Some(m) = p.value("end-caps") {
+        params.set_end_caps(m).map_err(CliError::param)?;
+    }
     params.validate().map_err(CliError::param)?;
     Ok(params)
 }
@@ -272,6 +280,13 @@ mod tests {
         assert!(!p.align_slices);
         let p = params_from_default(&parsed(&["--align-slices"])).unwrap();
         assert!(p.align_slices);
+        for (flag, mode) in [
+            ("auto", heartmesh_core::EndCapMode::Auto),
+            ("off", heartmesh_core::EndCapMode::Off),
+        ] {
+            let p = params_from_default(&parsed(&["--end-caps", flag])).unwrap();
+            assert_eq!(p.end_caps, mode);
+        }
     }
 
     #[test]
@@ -292,6 +307,9 @@ mod tests {
         assert!(e.message().contains("auto, none"), "{}", e.message());
         let e = params_from_default(&parsed(&["--smoothing-method", "gauss"])).unwrap_err();
         assert!(e.message().contains("taubin"), "{}", e.message());
+        let e = params_from_default(&parsed(&["--end-caps", "on"])).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.message().contains("auto, off"), "{}", e.message());
         // Taubin with lambda 0.8 would amplify the highest frequencies: refused.
         let e = params_from_default(&parsed(&[
             "--smoothing-method",

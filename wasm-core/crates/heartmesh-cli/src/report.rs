@@ -31,6 +31,7 @@ pub fn parameters(params: &Params) -> Value {
     };
     m.insert("lids".into(), json!(lids));
     m.insert("surface".into(), json!(params.surface));
+    m.insert("end_caps".into(), json!(params.end_caps.name()));
     Value::Object(m)
 }
 
@@ -75,6 +76,8 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         "volume_ml": mesh.volume_ml(),
         // Where no curve closes an end, the mesh runs on past the data there (extrapolated).
         "past_data": rec.past_data(),
+        // Which ends no curve closes got synthetic lid points (not data: in no distance).
+        "end_caps": rec.end_caps(),
         "area_mm2": mesh.area(),
         "watertight": v.closed && v.manifold && v.oriented,
         "manifold": v.manifold,

@@ -27,7 +27,7 @@ pub mod spatial;
 pub use contours::{Contour, ContourSet, Polyline};
 pub use error::CoreError;
 pub use mesh::TriMesh;
-pub use params::{AttractorMode, LidMode, Params};
+pub use params::{AttractorMode, EndCapMode, LidMode, Params};
 pub use pipeline::{Phase, Reconstruction, StepReport};
 
 /// Version of the core, recorded in exports so results can be traced to the code that made them.

@@ -33,6 +33,32 @@ pub enum LidMode {
     },
 }
 
+/// Whether ends of the cavity that no curve closes get synthetic lid attractors
+/// (`pipeline::ends`; docs/VALIDATION.md, "Session 10: closing open ends").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EndCapMode {
+    /// Lid points at every end no long-axis curve closes.
+    Auto,
+    /// Contour attractors only (the paper's method).
+    Off,
+}
+
+impl EndCapMode {
+    pub const ALL: [(EndCapMode, &'static str); 2] =
+        [(EndCapMode::Auto, "auto"), (EndCapMode::Off, "off")];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            EndCapMode::Auto => "auto",
+            EndCapMode::Off => "off",
+        }
+    }
+
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(m, _)| *m)
+    }
+}
+
 /// All tunable parameters of a reconstruction.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Params {
@@ -62,6 +88,9 @@ pub struct Params {
     /// breath-hold misalignment (`contours::align`; docs/VALIDATION.md, session 9). Off by
     /// default: the paper's method reconstructs the contours as given.
     pub align_slices: bool,
+    /// Synthetic lid attractors at the ends no curve closes, pulling with a weight below 1
+    /// (`pipeline::ends`), so the mesh stops at the data there instead of running on.
+    pub end_caps: EndCapMode,
 }
 
 impl Default for Params {
@@ -83,6 +112,7 @@ impl Default for Params {
             surface: None,
             soften_conflicts: true,
             align_slices: false,
+            end_caps: EndCapMode::Off,
         }
     }
 }
@@ -218,6 +248,15 @@ impl Params {
                 })
             }
         };
+        Ok(())
+    }
+
+    /// Parses an end-caps mode: `auto`, `off`.
+    pub fn set_end_caps(&mut self, mode: &str) -> Result<()> {
+        self.end_caps = EndCapMode::parse(mode).ok_or_else(|| CoreError::ParamInvalid {
+            name: "end_caps".to_string(),
+            message: format!("unknown mode {mode:?} (allowed: auto, off)"),
+        })?;
         Ok(())
     }
 

@@ -8,18 +8,19 @@ use heartmesh_core::contours::{Contour, ContourKind};
 use heartmesh_core::error::{CoreError, Result};
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::topology;
-use heartmesh_core::params::{LidMode, SmoothingMethod};
+use heartmesh_core::params::{EndCapMode, LidMode, SmoothingMethod};
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::Params;
 use serde_json::{json, Map, Value};
 
 /// The non-numeric options the params JSON object may also carry (beside the schema's numbers):
 /// `smoothing_method` (a string, `SmoothingMethod::ALL`), `soften_conflicts` and `align_slices`
-/// (bools). They travel inside the same object so that the run, the sweep and leave-one-out take
+/// (bools), `end_caps` (a string, `EndCapMode::ALL`; absent: the core's default). They travel inside the same object so that the run, the sweep and leave-one-out take
 /// them one way.
 pub const SMOOTHING_METHOD: &str = "smoothing_method";
 pub const SOFTEN_CONFLICTS: &str = "soften_conflicts";
 pub const ALIGN_SLICES: &str = "align_slices";
+pub const END_CAPS: &str = "end_caps";
 
 /// Builds parameters from a JSON object of schema names to numbers (plus the options above),
 /// applied in schema order (so `attractor_spacing` > 0 wins over `attractors`, whatever the key
@@ -34,7 +35,9 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
         message: "not a JSON object".into(),
     })?;
     let schema = Params::schema();
-    let is_option = |k: &str| k == SMOOTHING_METHOD || k == SOFTEN_CONFLICTS || k == ALIGN_SLICES;
+    let is_option = |k: &str| {
+        k == SMOOTHING_METHOD || k == SOFTEN_CONFLICTS || k == ALIGN_SLICES || k == END_CAPS
+    };
     if let Some(unknown) = object
         .keys()
         .find(|k| !is_option(k) && !schema.iter().any(|s| s.name == *k))
@@ -74,6 +77,16 @@ fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()>
             })
         }
     }
+    match object.get(END_CAPS) {
+        None => {}
+        Some(Value::String(mode)) => params.set_end_caps(mode)?,
+        Some(other) => {
+            return Err(CoreError::ParamInvalid {
+                name: END_CAPS.into(),
+                message: format!("{other} is not a mode (allowed: {})", end_cap_names()),
+            })
+        }
+    }
     for (name, field) in [
         (SOFTEN_CONFLICTS, &mut params.soften_conflicts),
         (ALIGN_SLICES, &mut params.align_slices),
@@ -92,18 +105,24 @@ fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()>
     Ok(())
 }
 
+fn end_cap_names() -> String {
+    let names: Vec<&str> = EndCapMode::ALL.iter().map(|(_, n)| *n).collect();
+    names.join(", ")
+}
+
 fn method_names() -> String {
     let names: Vec<&str> = SmoothingMethod::ALL.iter().map(|(_, n)| *n).collect();
     names.join(", ")
 }
 
-/// The options of `params` as `{smoothing_method, soften_conflicts, align_slices}` (run
-/// results, exports).
+/// The options of `params` as `{smoothing_method, soften_conflicts, align_slices, end_caps}`
+/// (run results, exports).
 pub fn options_to_json(params: &Params) -> Value {
     json!({
         SMOOTHING_METHOD: params.smoothing.name(),
         SOFTEN_CONFLICTS: params.soften_conflicts,
         ALIGN_SLICES: params.align_slices,
+        END_CAPS: params.end_caps.name(),
     })
 }
 
@@ -126,6 +145,8 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         "overall": distances.overall,
         "volumeMl": mesh.volume_ml(),
         "pastData": rec.past_data(),
+        // Which ends no curve closes got synthetic lid points (per resampling; not data).
+        "end_caps": rec.end_caps(),
         "areaMm2": mesh.area(),
         "watertight": topology::validity(mesh).is_closed_manifold(),
         "params": params_to_json(rec.params()),
@@ -285,7 +306,7 @@ mod tests {
         let o = options_to_json(&p);
         assert_eq!(
             o,
-            json!({"smoothing_method": "taubin", "soften_conflicts": false, "align_slices": false})
+            json!({"smoothing_method": "taubin", "soften_conflicts": false, "align_slices": false, "end_caps": "off"})
         );
         // Absent: the core's defaults.
         let d = params_from_json("{}", "auto", None).unwrap();
@@ -300,7 +321,7 @@ mod tests {
         assert_eq!(q, d);
         assert_eq!(
             options_to_json(&d),
-            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true, "align_slices": false})
+            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true, "align_slices": false, "end_caps": "off"})
         );
         assert!(!d.align_slices);
         let a = params_from_json(r#"{"align_slices": true}"#, "auto", None).unwrap();

@@ -148,7 +148,7 @@ impl Session {
 
     /// Starts a reconstruction of a loaded file, replacing any run in progress. `params_json` is
     /// an object of schema names to numbers (missing ones take their defaults), which may also
-    /// carry `smoothing_method`, `soften_conflicts` and `align_slices` (see `convert`); `lids` is "auto"
+    /// carry `smoothing_method`, `soften_conflicts`, `align_slices` and `end_caps` (see `convert`); `lids` is "auto"
     /// or "none"; `surface` picks one surface of a multi-surface file.
     pub fn start(
         &mut self,
@@ -401,5 +401,32 @@ mod tests {
             "{given_mean} vs {to_shifted}"
         );
         assert!((2.0..4.0).contains(&given_max), "{given_max}");
+    }
+
+    /// `end_caps` rides in the params JSON and comes back in the result: the ellipsoid's curves
+    /// close its apex, not its base (they stop 4 mm above the top ring, at the wall).
+    #[test]
+    fn result_json_carries_the_end_caps() {
+        let off = result_with(r#"{"iterations": 3, "end_caps": "off"}"#);
+        assert_eq!(
+            off["end_caps"],
+            serde_json::json!({"mode": "off", "base": false, "apex": false, "points": 0})
+        );
+        assert_eq!(off["options"]["end_caps"], "off");
+        let on = result_with(r#"{"iterations": 3, "end_caps": "auto"}"#);
+        assert_eq!(on["end_caps"]["mode"], "auto");
+        assert_eq!(on["end_caps"]["base"], true);
+        assert_eq!(on["end_caps"]["apex"], false);
+        let points = on["end_caps"]["points"].as_u64().unwrap();
+        assert!((5..=100).contains(&points), "{points}");
+        assert_eq!(on["options"]["end_caps"], "auto");
+        // Lid points are not data: the same contour points are measured either way.
+        assert_eq!(on["overall"]["count"], off["overall"]["count"]);
+        let e = convert::params_from_json(r#"{"end_caps": "on"}"#, "auto", None).unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+        assert!(e.to_string().contains("end_caps"), "{e}");
+        assert!(e.to_string().contains("auto, off"), "{e}");
+        let e = convert::params_from_json(r#"{"end_caps": true}"#, "auto", None).unwrap_err();
+        assert!(e.to_string().contains("auto, off"), "{e}");
     }
 }

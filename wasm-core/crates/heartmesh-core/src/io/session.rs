@@ -7,11 +7,11 @@
 //!  "landmarks": [{"name": "APEX_POINT", "point": [x, y, z]}],
 //!  "parameters": {"iterations": 250, "lambda": 100000, "lids": "auto", "surface": null,
 //!                 "smoothing_method": "laplacian-affine", "soften_conflicts": true,
-//!                 "align_slices": false}}
+//!                 "align_slices": false, "end_caps": "off"}}
 //! ```
 //!
-//! Sessions written before `smoothing_method`, `soften_conflicts` and `align_slices` existed lack
-//! them and read back with their defaults.
+//! Sessions written before `smoothing_method`, `soften_conflicts`, `align_slices` and `end_caps`
+//! existed lack them and read back with their defaults.
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
@@ -63,7 +63,7 @@ struct SessionLandmark {
 pub struct Session {
     pub contours: ContourSet,
     /// As saved (numbers by schema name, `lids`, `surface`, `smoothing_method`,
-    /// `soften_conflicts`, `align_slices`); apply with [`Session::params`].
+    /// `soften_conflicts`, `align_slices`, `end_caps`); apply with [`Session::params`].
     pub parameters: Map<String, Value>,
     pub app_version: Option<String>,
 }
@@ -80,7 +80,8 @@ impl Session {
                 ("smoothing_method", Value::String(s)) => p.set_smoothing_method(s)?,
                 ("soften_conflicts", Value::Bool(on)) => p.soften_conflicts = *on,
                 ("align_slices", Value::Bool(on)) => p.align_slices = *on,
-                ("smoothing_method" | "soften_conflicts" | "align_slices", other) => {
+                ("end_caps", Value::String(s)) => p.set_end_caps(s)?,
+                ("smoothing_method" | "soften_conflicts" | "align_slices" | "end_caps", other) => {
                     return Err(CoreError::ParamInvalid {
                         name: name.clone(),
                         message: format!("{other} is not a valid value"),
@@ -194,6 +195,7 @@ pub fn params_json(params: &Params) -> Map<String, Value> {
         Value::from(params.soften_conflicts),
     );
     m.insert("align_slices".into(), Value::from(params.align_slices));
+    m.insert("end_caps".into(), Value::from(params.end_caps.name()));
     m.insert(
         "surface".into(),
         params

@@ -7,6 +7,7 @@
 //! heart; everything handed out is converted back to millimetres.
 
 mod diameter;
+pub mod ends;
 mod phases;
 #[cfg(test)]
 mod precision;
@@ -139,7 +140,13 @@ pub struct Reconstruction {
     /// Kind of the contour each candidate comes from (0 short axis, 1 long axis).
     candidate_owner: Vec<u32>,
     attractor_budget: Budget,
+    /// The contour attractors first, then the end caps' lid points (`ends`; normalised).
     attractors: Vec<Vec3>,
+    /// How many of `attractors` are contour points (the rest are lid points, never data).
+    real_attractors: usize,
+    /// Lid points of the ends no curve closes (normalised), appended at every resampling.
+    cap_points: Vec<Vec3>,
+    end_caps: ends::EndCapsReport,
     attractor_owner: Vec<u32>,
     /// Per-attractor data weights of the current step (conflict softening).
     weights: Vec<f64>,
@@ -239,6 +246,7 @@ impl Reconstruction {
                 needed: MIN_ATTRACTORS,
             });
         }
+        let end_caps = ends::EndCapsReport::none(params.end_caps);
         Ok(Reconstruction {
             params,
             contours,
@@ -250,6 +258,9 @@ impl Reconstruction {
             candidate_owner,
             attractor_budget,
             attractors: Vec::new(),
+            real_attractors: 0,
+            cap_points: Vec::new(),
+            end_caps,
             attractor_owner: Vec::new(),
             weights: Vec::new(),
             weighted: false,
@@ -318,20 +329,32 @@ impl Reconstruction {
                 .map(|(p, q)| p + (q - p) * beta),
         );
         let t = self.clock.now_ms();
-        let lambda_eff = self.params.lambda / self.attractors.len() as f64;
+        // The data weight per contour attractor stays what it is without lid points.
+        let n = self.real_attractors.min(self.attractors.len());
+        let lambda_eff = self.params.lambda / n.max(1) as f64;
         // Conflicts are softened only in the final steps without remeshing: that is where folds
         // form (every remesh smooths them away), and earlier the full pull converges fastest.
         let final_phase = it + final_steps_without_remesh(&self.params) > self.params.iterations;
-        let weighted = self.params.soften_conflicts
+        let mut weighted = self.params.soften_conflicts
             && final_phase
             && conflict_weights(
-                &self.attractors,
-                &self.closest,
-                &self.attractor_owner,
+                &self.attractors[..n],
+                &self.closest[..n],
+                &self.attractor_owner[..n],
                 CONFLICT_RADIUS_MM / self.norm.scale,
                 CONFLICT_GRADIENT_LIMIT,
                 &mut self.weights,
             );
+        if n < self.attractors.len() {
+            // Lid points pull less than data, so real contours win where they disagree.
+            if !weighted {
+                self.weights.clear();
+                self.weights.resize(n, 1.0);
+            }
+            self.weights
+                .resize(self.attractors.len(), ends::END_CAP_WEIGHT);
+            weighted = true;
+        }
         self.tps.fit_weighted(
             &self.closest,
             &self.targets,
@@ -406,9 +429,23 @@ impl Reconstruction {
         &self.mesh_mm
     }
 
-    /// Current attractor points in mm.
+    /// Current attractor points in mm (contour points only: the end caps' lid points are not data).
     pub fn attractors(&self) -> Vec<Vec3> {
-        self.attractors.iter().map(|p| self.norm.to_mm(p)).collect()
+        let n = self.real_attractors.min(self.attractors.len());
+        self.attractors[..n]
+            .iter()
+            .map(|p| self.norm.to_mm(p))
+            .collect()
+    }
+
+    /// The end caps' lid points in mm (empty when off or when data close both ends).
+    pub fn end_cap_points(&self) -> Vec<Vec3> {
+        self.cap_points.iter().map(|p| self.norm.to_mm(p)).collect()
+    }
+
+    /// Which ends got lid points and how many (known after the first step).
+    pub fn end_caps(&self) -> ends::EndCapsReport {
+        self.end_caps
     }
 
     /// The selected surface's contours after cleaning, in mm.

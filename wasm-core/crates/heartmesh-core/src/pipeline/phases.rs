@@ -2,9 +2,13 @@
 //! the remesh, and the step report.
 
 use super::tube;
-use super::{capped_reduction, Phase, PhaseTimings, Reconstruction, StepReport, MIN_ATTRACTORS};
+use super::{
+    capped_reduction, ends, Phase, PhaseTimings, Reconstruction, StepReport, CANDIDATE_SPACING_MM,
+    MIN_ATTRACTORS,
+};
 use crate::contours::rings::tube_rings;
 use crate::deform::attractors::farthest_point_sampling;
+use crate::deform::attractors::Budget;
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
@@ -34,6 +38,7 @@ impl Reconstruction {
             )));
         }
         let lids = tube::lids(&self.params.lids, &rings, &self.contours, &self.layout);
+        self.place_end_caps(&rings, &lids);
         let mut rings = rings;
         tube::extend_to_base(&mut rings, &lids, &self.layout.axis);
         let mut mesh = tube::ruled_tube(&rings, &lids);
@@ -54,6 +59,35 @@ impl Reconstruction {
         self.started = true;
         self.update_mesh_mm();
         Ok(self.report(Phase::InitialTube, true, true, (0.0, 0.0), *timings))
+    }
+
+    /// Lid points for the ends no curve closes (`ends`), at about the contour attractors' spacing:
+    /// the contours' length (candidates lie ~1 mm apart) over the attractor count, or the spacing
+    /// asked for.
+    fn place_end_caps(&mut self, rings: &[Vec<Vec3>], lids: &tube::Lids) {
+        let length_mm = self.candidates.len() as f64 * CANDIDATE_SPACING_MM;
+        let (spacing_mm, count) = match self.attractor_budget {
+            Budget::Count(n) => {
+                let n = n.clamp(1, self.candidates.len().max(1));
+                (length_mm / n as f64, n)
+            }
+            Budget::Spacing(s) => {
+                let mm = s * self.norm.scale;
+                (mm, (length_mm / mm.max(1e-9)).ceil() as usize)
+            }
+        };
+        let (points, report) = ends::end_cap_points(
+            self.params.end_caps,
+            rings,
+            lids,
+            &self.contours,
+            &self.layout.kinds,
+            &self.layout.axis,
+            spacing_mm,
+            count,
+        );
+        self.cap_points = points.iter().map(|p| self.norm.to_unit(p)).collect();
+        self.end_caps = report;
     }
 
     /// Farthest-point sampling of the attractors, seeded at the candidate farthest from the mesh.
@@ -99,6 +133,10 @@ impl Reconstruction {
         self.attractor_owner.clear();
         self.attractor_owner
             .extend(idx.iter().map(|&i| self.candidate_owner[i]));
+        self.real_attractors = self.attractors.len();
+        self.attractors.extend_from_slice(&self.cap_points);
+        self.attractor_owner
+            .extend(std::iter::repeat_n(CAP_OWNER, self.cap_points.len()));
         self.hints.clear();
         self.hints.resize(self.attractors.len(), u32::MAX);
         self.fps_last = Some((seed.1, idx));
@@ -133,15 +171,19 @@ impl Reconstruction {
         );
         self.closest.clear();
         let (mut max_d, mut sum_d) = (0.0f64, 0.0);
-        for hit in &self.hits {
+        // Distances are to the data: lid points (after the first `real_attractors`) do not count.
+        let real = self.real_attractors.min(n);
+        for (k, hit) in self.hits.iter().enumerate() {
             let hit =
                 hit.ok_or_else(|| CoreError::InvalidMesh("the mesh has no triangles".into()))?;
-            let d = hit.distance_sq.sqrt();
-            max_d = max_d.max(d);
-            sum_d += d;
+            if k < real {
+                let d = hit.distance_sq.sqrt();
+                max_d = max_d.max(d);
+                sum_d += d;
+            }
             self.closest.push(hit.point);
         }
-        Ok((max_d, sum_d / n.max(1) as f64))
+        Ok((max_d, sum_d / real.max(1) as f64))
     }
 
     /// Subdivide + smooth + decimate, keeping the closed/open state of the mesh.
@@ -194,12 +236,15 @@ impl Reconstruction {
             mean_distance_mm,
             vertices: self.mesh_unit.positions.len(),
             triangles: self.mesh_unit.triangles.len(),
-            attractors: self.attractors.len(),
+            attractors: self.real_attractors.min(self.attractors.len()),
             timings,
             done: self.done,
         }
     }
 }
+
+/// Attractor group of the lid points (0 and 1 are short- and long-axis contours).
+const CAP_OWNER: u32 = 2;
 
 /// Squared distance to the mesh and index of the first farthest candidate of `range`
 /// ((-inf, range.start) if none has a distance).
