@@ -129,6 +129,16 @@ describe('end caps in the panels', () => {
     expect(rows(el)['Closed ends']).toBeUndefined();
   });
 
+  it('an extrapolated end with the option off points to it; with it on, not', () => {
+    const panel = new ResultPanel();
+    const el = panel.element as unknown as FakeElement;
+    const open = { base_mm: 14.3, apex_mm: 0.1 };
+    panel.show(result({ pastData: open, options: { ...DEFAULT_OPTIONS, end_caps: 'off' }, end_caps: { mode: 'off', base: false, apex: false, points: 0 } }));
+    expect(el.byTestId('result-past-data')?.title).toMatch(/extrapolated; the option Close open ends \(Parameters\) stops the mesh at the data there$/);
+    panel.show(result({ pastData: open, options: { ...DEFAULT_OPTIONS, end_caps: 'auto' }, end_caps: { mode: 'auto', base: false, apex: false, points: 0 } }));
+    expect(el.byTestId('result-past-data')?.title).toMatch(/extrapolated$/);
+  });
+
   it('endCapsText: one point is singular; apex alone', () => {
     expect(endCapsText({ mode: 'auto', base: false, apex: true, points: 1 })).toEqual({
       text: 'apex · 1 pt',

@@ -22,6 +22,7 @@ const SHIFTED_HELP = 'with breath-hold alignment: from the shifted contours, whi
 const GIVEN_HELP = 'distance from the contours as given in the file (before the breath-hold shifts) to the mesh';
 const PAST_HELP = 'base / apex: how far the mesh reaches past the highest (base) and lowest (apex) contour point along the long axis';
 const PAST_EXTRAPOLATED_HELP = `${PAST_HELP}: more than 5 mm, so no curve closes that end and the surface there (and its share of the volume) is extrapolated`;
+const PAST_CAPS_HINT = '; the option Close open ends (Parameters) stops the mesh at the data there';
 const RESIDUAL_HELP = 'mean in-plane distance between each slice\'s curves and where the other kind\'s curves cross its plane, before → after the shifts';
 
 export class ResultPanel {
@@ -86,7 +87,9 @@ export class ResultPanel {
       const past = pastDataText(r.pastData);
       d.pastBaseMm = String(r.pastData.base_mm);
       d.pastApexMm = String(r.pastData.apex_mm);
-      rows.push(...row('Past the data', past.text, 'result-past-data', past.extrapolated ? PAST_EXTRAPOLATED_HELP : PAST_HELP, past.extrapolated));
+      const capsOff = r.end_caps ? r.end_caps.mode === 'off' : r.options.end_caps === 'off';
+      const help = past.extrapolated ? `${PAST_EXTRAPOLATED_HELP}${capsOff ? PAST_CAPS_HINT : ''}` : PAST_HELP;
+      rows.push(...row('Past the data', past.text, 'result-past-data', help, past.extrapolated));
     }
     const caps = r.end_caps ? endCapsText(r.end_caps) : null;
     if (r.end_caps && caps) {
