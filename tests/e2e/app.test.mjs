@@ -211,8 +211,9 @@ describe('heartmesh in the browser', () => {
     await page.click('[data-testid=tl-latest]');
     await waitForDone(page);
     await page.waitForFunction(() => {
-      const m = /iteration (\d+) \/ (\d+)/.exec(document.querySelector('[data-testid=tl-label]')?.textContent ?? '');
-      return m && m[1] === m[2];
+      // The last step: "iteration 250 / 250", or "converged at iteration 243 (of 250)" when it stopped early.
+      const m = /^(converged at )?iteration (\d+) (?:\/ |\(of )(\d+)/.exec(document.querySelector('[data-testid=tl-label]')?.textContent ?? '');
+      return m && (m[1] ? Number(m[2]) < Number(m[3]) : m[2] === m[3]);
     }, null, { timeout: 10000 });
   });
 
@@ -236,6 +237,24 @@ describe('heartmesh in the browser', () => {
     assert.ok(r.meanMm <= 1, `mean ${r.meanMm} mm`);
     assert.doesNotMatch(page.url(), /sample=/);
     await page.screenshot({ path: join(SHOTS, 'surfco-example.png') });
+  });
+
+  it("a link's surface applies to a dropped file; a surface the file lacks falls back with a notice", async () => {
+    const file = join(sharedDir(), 'data', 'contours', 'bivme-example-patient1', 'patient1-ED.csv');
+    await page.goto(`${server.url}?surface=RV_ENDO&iterations=40`);
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', file));
+    assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'RV_ENDO');
+    // The picker lists LV before RV whatever the file's order (this file has RV first).
+    const surfaces = await page.$$eval('[data-testid=surface-picker] option', (os) => os.map((o) => o.value));
+    assert.deepEqual(surfaces, ['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']);
+    assert.equal(await page.isVisible('#slot-warnings'), false);
+    assert.match(page.url(), /surface=RV_ENDO/);
+    await page.goto(`${server.url}?surface=LA_ENDO&iterations=40`);
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', file));
+    assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'LV_ENDO');
+    assert.equal(await page.textContent('#slot-warnings'), '⚠ surface LA_ENDO is not in patient1-ED.csv: showing LV_ENDO');
+    await page.goto(server.url); // back to the defaults for the tests that follow
+    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
   });
 
   it('opens a DICOM RT structure set in the worker and draws its 23 landmarks (biv-me patient 1)', async () => {

@@ -6,6 +6,7 @@ export function loadWasm(): Promise<typeof import('../../web/pkg/heartmesh_wasm.
 export function dataDir(): string;
 export function SURFCO(): string;
 export function PATIENT1_ED(): string;
+export function PATIENT2_ES(): string;
 export function thrownError(f: () => unknown): { code: string; message: string; line?: number; available?: string[] };
 export function reconstruct(
   wasm: typeof import('../../web/pkg/heartmesh_wasm.js'),

@@ -33,6 +33,7 @@ export function dataDir() {
 
 export const SURFCO = () => join(dataDir(), 'contours', 'surfco-example.csv');
 export const PATIENT1_ED = () => join(dataDir(), 'contours', 'bivme-example-patient1', 'patient1-ED.csv');
+export const PATIENT2_ES = () => join(dataDir(), 'contours', 'bivme-test-patient2', 'patient2-ES.csv');
 
 /** A file's bytes. */
 export function readBytes(path) {

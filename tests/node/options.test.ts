@@ -6,6 +6,7 @@ import { beforeAll, describe, expect, it } from 'vitest';
 import type { FromWorker, LoadedFile, ReconOptions, RunResult, ToWorker } from '../../web/src/core-client/protocol';
 import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
 import { PATIENT1_ED, loadWasm, readBytes } from './helpers.mjs';
+import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
 let wasm: Wasm;
@@ -45,26 +46,25 @@ async function run(ask: ReturnType<typeof makeCore>['ask'], runId: number, optio
   return m.type === 'done' ? { result: m.result as RunResult, error: null } : { result: null, error: m.error };
 }
 
-// The core's options also carry `end_caps` (session 10; "off" unless asked for).
 describe('smoothing options through the worker', () => {
   it('reach the run: soften off gives another mesh; Taubin runs at 0.5 and is refused at 0.8', async () => {
     const { ask } = makeCore();
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     // The RV endocardium, whose septum curves disagree between SAX and LAX: softening acts there.
     const on = (await run(ask, 1, undefined, {}, 'RV_ENDO')).result;
-    const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false }, {}, 'RV_ENDO')).result;
-    expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: 'off' });
-    expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: 'off' });
+    const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS }, {}, 'RV_ENDO')).result;
+    expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
     if (!on || !off) throw new Error('runs failed');
     // Same sample, same numbers otherwise: only the softening differs (0.445 vs 0.408 mm natively).
     expect(on.overall.mean - off.overall.mean).toBeGreaterThan(0.01);
     expect(on.overall.mean).toBeLessThan(1);
     expect(off.overall.mean).toBeLessThan(1);
 
-    const taubin = await run(ask, 3, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false }, { smoothing_factor: 0.5 });
+    const taubin = await run(ask, 3, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS }, { smoothing_factor: 0.5 });
     expect(taubin.result?.options.smoothing_method).toBe('taubin');
     expect(taubin.result?.overall.mean).toBeLessThan(1.5);
-    const bad = await run(ask, 4, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false }, { smoothing_factor: 0.8 });
+    const bad = await run(ask, 4, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS }, { smoothing_factor: 0.8 });
     expect(bad.error?.code).toBe('param_out_of_range');
     expect(bad.error?.message).toMatch(/smoothing_factor = 0\.8 .*allowed 0 to 0\.6/);
   });
@@ -73,7 +73,7 @@ describe('smoothing options through the worker', () => {
     const { ask } = makeCore();
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     const base = { fileName: PATIENT, surface: 'LV_ENDO', params: { smoothing_factor: 0.8 }, lids: 'auto' as const };
-    const taubin: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false };
+    const taubin: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS };
     const loo = await ask({ type: 'lab-batch', runId: 5, job: { kind: 'loo', ...base, options: taubin } }, 'lab-batch-started', 'error');
     expect(loo.type === 'error' && loo.error.code).toBe('param_out_of_range');
     const sweep = await ask(
@@ -94,13 +94,13 @@ describe('smoothing options through the worker', () => {
     const session = (parameters: object) =>
       new TextEncoder().encode(JSON.stringify({ heartmesh_session: 1, app_version: '0.1.0', contours, parameters }));
     const saved = await loaded(ask, 'saved.json', session({ beta: 0.3, lids: 'none', smoothing_method: 'taubin', soften_conflicts: false, surface: 'LV_ENDO' }));
-    expect(saved.session?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: 'off' });
+    expect(saved.session?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
     expect(saved.session?.lids).toBe('none');
     expect(saved.session?.surface).toBe('LV_ENDO');
     expect(saved.session?.params.beta).toBe(0.3);
     expect(saved.session?.params.lambda).toBe(1e5);
     const old = await loaded(ask, 'old.json', session({ beta: 0.3, lids: 'auto', surface: null }));
-    expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: 'off' });
+    expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
     const bad = await loaded(ask, 'bad.json', session({ smoothing_method: 'gaussian' }));
     expect(bad.session ?? null).toBeNull();
     expect(bad.warnings.join(' ')).toMatch(/not applied: parameter smoothing_method: unknown method "gaussian" \(allowed: laplacian-affine, taubin\)/);
@@ -111,7 +111,7 @@ describe('smoothing options through the worker', () => {
   it('a session written by the worker opens again with the same settings and contours', async () => {
     const { ask } = makeCore();
     const file = await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
-    const options: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false };
+    const options: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS };
     const written = await ask(
       { type: 'session-export', reqId: 2, fileName: PATIENT, surface: 'LV_EPI', params: { beta: 0.2, smoothing_factor: 0.4 }, lids: 'none', options, appVersion: '9.9.9' },
       'session-json',

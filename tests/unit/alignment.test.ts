@@ -15,6 +15,7 @@ import { givenSegments } from '../../web/src/viewer/GivenContourLayer';
 import { fakeDocument, type FakeElement } from './fakeDom';
 import { stepReport } from './core-client/fakes';
 import { rustSchema } from './rustSchema';
+import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
 
 const ALIGNMENT: Alignment = {
   rounds: 17,
@@ -40,10 +41,10 @@ function result(extra: Partial<RunResult> = {}): RunResult {
 describe('align_slices option', () => {
   it('is off by default and travels in the params JSON, the URL and every export', () => {
     expect(DEFAULT_OPTIONS.align_slices).toBe(false);
-    const on = { ...DEFAULT_OPTIONS, align_slices: true };
-    expect(JSON.parse(paramsJson({ beta: 0.1 }, on))).toEqual({ beta: 0.1, smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true });
+    const on = { ...DEFAULT_OPTIONS, align_slices: true, end_caps: DEFAULT_END_CAPS };
+    expect(JSON.parse(paramsJson({ beta: 0.1 }, on))).toEqual({ beta: 0.1, smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS });
     // Options saved before the option existed read as off.
-    expect(withDefaultOptions({ smoothing_method: 'taubin', soften_conflicts: false })).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
+    expect(withDefaultOptions({ smoothing_method: 'taubin', soften_conflicts: false })).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
     expect(withDefaultOptions(null)).toEqual(DEFAULT_OPTIONS);
 
     const schema = rustSchema();
@@ -56,8 +57,8 @@ describe('align_slices option', () => {
     expect(parseUrlState('?align_slices=maybe', schema).options.align_slices).toBe(false);
 
     const info: ExportInfo = { appVersion: '1.0.0', coreVersion: '0.1.0', fileName: 'p.csv', surface: 'LV_ENDO', lids: 'auto', options: on, params: { iterations: 250 } };
-    expect(headerLines(info)[2]).toBe('lids: auto iterations=250 smoothing_method=laplacian-affine soften_conflicts=true align_slices=true');
-    expect(headerLines({ ...info, options: { smoothing_method: 'taubin', soften_conflicts: true } as never })[2]).toMatch(/align_slices=false$/);
+    expect(headerLines(info)[2]).toBe(`lids: auto iterations=250 smoothing_method=laplacian-affine soften_conflicts=true align_slices=true end_caps=${DEFAULT_END_CAPS}`);
+    expect(headerLines({ ...info, options: { smoothing_method: 'taubin', soften_conflicts: true } as never })[2]).toMatch(new RegExp(`align_slices=false end_caps=${DEFAULT_END_CAPS}$`));
     const doc = JSON.parse(writeParamsJson(info, runSummary(result({ alignment: ALIGNMENT, contour_to_mesh_as_given: { mean: 0.71, median: 0.6, max: 2.5 }, iterations_done: 243, converged: true }))));
     expect(doc.align_slices).toBe(true);
     expect(doc.result.iterations).toBe(243);
@@ -83,7 +84,7 @@ describe('converged runs', () => {
     expect(convergence(stepReport(243, { total_iterations: 250, done: true }))).toEqual({ iterations_done: 243, converged: true });
     expect(convergence(stepReport(250, { total_iterations: 250, done: true }))).toEqual({ iterations_done: 250, converged: false });
     expect(convergence(null)).toEqual({});
-    expect(iterationsDoneText(243, 250, true)).toBe('243 of 250 (converged)');
+    expect(iterationsDoneText(243, 250, true)).toBe('243 (converged)');
     expect(iterationsDoneText(250, 250, false)).toBe('250');
   });
 });
@@ -108,7 +109,8 @@ describe('result panel', () => {
     expect(r['Contour→mesh mean']).toBe('0.321 mm');
     expect(r['as given: mean']).toBe('0.713 mm');
     expect(r['as given: max']).toBe('2.500 mm');
-    expect(r['Iterations']).toBe('243 of 250 (converged)');
+    expect(r['Iterations']).toBe('243 (converged)');
+    expect(el.byTestId('result-iterations')?.title).toBe('the attractors were reached (stop threshold) before the last iteration (250)');
     expect(el.dataset).toMatchObject({ residualBeforeMm: '2.345', residualAfterMm: '0.612', givenMeanMm: '0.7125', iterations: '243', converged: '1', meanMm: '0.321' });
     const box = el.byTestId('result-alignment')!;
     expect(box.hidden).toBe(false);

@@ -5,6 +5,7 @@ import { Controller, RESTART_DEBOUNCE_MS, type Parts } from '../../web/src/app/c
 import type { CoreClient } from '../../web/src/core-client/CoreClient';
 import type { Frame, LidsMode, LoadedFile, ParamValues, ReconOptions, RunResult, StepReport } from '../../web/src/core-client/protocol';
 import { rustSchema } from './rustSchema';
+import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
 
 interface FakeRun {
   runId: number;
@@ -68,7 +69,7 @@ function result(runId: number): RunResult {
   return {
     runId, surface: 'LV_ENDO', contours: [], contourPoints: new Float32Array(9), positions: new Float32Array(12),
     indices: new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]), pointDistances: new Float32Array(3), vertexDistances: new Float32Array(4),
-    perContour: [], overall: stats, volumeMl: 0.2, areaMm2: 200, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false }, version: 'core-test',
+    perContour: [], overall: stats, volumeMl: 0.2, areaMm2: 200, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS }, version: 'core-test',
   };
 }
 
@@ -134,18 +135,18 @@ describe('controller', () => {
     url = '/app/?smoothing_method=taubin&soften_conflicts=0';
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('a.csv')]);
-    expect(client.runs[0].opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
-    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
-    expect(controller.runSettings()?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
-    controller.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false });
+    expect(client.runs[0].opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    expect(controller.runSettings()?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    controller.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
     vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
     expect(client.runs).toHaveLength(2);
-    expect(client.runs[1].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false });
+    expect(client.runs[1].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
     expect(url).toBe('/app/?surface=LV_ENDO&soften_conflicts=0');
     controller.resetParams();
     vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
-    expect(client.runs[2].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
-    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
+    expect(client.runs[2].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
     expect(url).toBe('/app/?surface=LV_ENDO');
   });
 
@@ -153,11 +154,11 @@ describe('controller', () => {
     expect(controller.sessionFile()).toBeNull();
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('a.csv')]);
-    controller.setParams({ beta: 0.25 }, 'auto', { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
+    controller.setParams({ beta: 0.25 }, 'auto', { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
     expect(await controller.sessionFile()).toEqual(new Uint8Array([123, 125]));
     expect(client.sessions[0].appVersion).toBe('9.9.9');
     expect(client.sessions[0].opts).toMatchObject({
-      fileName: 'a.csv', surface: 'LV_ENDO', lids: 'auto', options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false },
+      fileName: 'a.csv', surface: 'LV_ENDO', lids: 'auto', options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS },
     });
     expect(client.sessions[0].opts.params).toMatchObject({ beta: 0.25, lambda: 1000 });
   });
@@ -170,7 +171,7 @@ describe('controller', () => {
     expect(opts.params.lambda).toBe(1e5); // the session's value replaces the URL's 1e3
     expect(opts.lids).toBe('none');
     expect(opts.surface).toBe('RV_ENDO');
-    expect(opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false });
+    expect(opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
     expect(url).toContain('smoothing_method=taubin');
     expect(url).toContain('soften_conflicts=0');
   });
@@ -275,7 +276,7 @@ describe('controller', () => {
     await c.start(() => Promise.resolve(client as unknown as CoreClient));
     await c.openFiles([file('a.csv')]);
     const run = client.runs[0];
-    expect(run.opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true });
+    expect(run.opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS });
     expect(url).toBe('/app/?surface=LV_ENDO&align_slices=1');
     // While it runs, the first frame brings the shifted contours: they replace the file's on screen.
     const shifted = new Float32Array([1, 0, 0, 11, 0, 0, 1, 10, 0]);
@@ -294,7 +295,7 @@ describe('controller', () => {
     expect(Array.from(given?.[1] as Float32Array)).toEqual([0, 0, 0, 10, 0, 0, 0, 10, 0]); // the file's points as given
     expect(parts.view.calls.setAsGivenAvailable?.at(-1)).toEqual([true]);
     // Turning the option off and rerunning clears them.
-    c.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
+    c.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
     vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
     expect(url).toBe('/app/?surface=LV_ENDO');
     expect(client.runs[1].opts.options?.align_slices).toBe(false);
@@ -325,6 +326,90 @@ describe('controller', () => {
     expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' Not opened.');
     fresh.dispose();
     c.dispose();
+  });
+
+  it('a run that fails while a file is being read is reported with the refusal, not lost', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('good.csv')]);
+    const run = client.runs[0];
+    // The next file takes a while to read; the run goes on meanwhile, and fails.
+    const read = client.load.bind(client);
+    let release!: () => void;
+    client.load = (name: string, bytes: ArrayBuffer) => new Promise<LoadedFile>((ok, no) => { release = () => void read(name, bytes).then(ok, no); });
+    const opening = controller.openFiles([file('bad.csv', 'bad')]);
+    await vi.advanceTimersByTimeAsync(0);
+    expect(lastStatus()).toBe('loading bad.csv');
+    run.reject({ code: 'numerical', message: 'factorisation failed' });
+    await vi.advanceTimersByTimeAsync(0);
+    release();
+    await opening;
+    expect(lastStatus()).toBe('error: bad.csv, line 2: bad number');
+    const [shown, context] = parts.banner.calls.showError?.at(-1) ?? [];
+    expect((shown as { file: string }).file).toBe('bad.csv');
+    expect(context).toBe(' Not opened; still showing good.csv. Meanwhile the run of good.csv failed: factorisation failed');
+    expect(parts.result.calls.clear?.at(-1)?.[0]).toBe('no result (see the error)');
+  });
+
+  it('a run that fails while a refusal is showing becomes the error, with the refusal as a note', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('good.csv')]);
+    const run = client.runs[0];
+    await controller.openFiles([file('bad.csv', 'bad')]);
+    expect(run.cancelled).toBe(false);
+    run.reject({ code: 'numerical', message: 'factorisation failed' });
+    await vi.runAllTimersAsync();
+    // Status line and banner agree on the newest problem; the refusal is not forgotten.
+    expect(lastStatus()).toBe('error: good.csv: factorisation failed');
+    const [shown, context] = parts.banner.calls.showError?.at(-1) ?? [];
+    expect((shown as { message: string }).message).toBe('factorisation failed');
+    expect(context).toBe(' Earlier: bad.csv, line 2: bad number (not opened).');
+    // good.csv is still the file: a new run works on it.
+    controller.startRun();
+    expect(client.runs.at(-1)?.opts.fileName).toBe('good.csv');
+    expect(lastStatus()).toBe('running');
+  });
+
+  it('a file read while a run fails replaces the run: no stale failure later', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('one.csv')]);
+    const run = client.runs[0];
+    const read = client.load.bind(client);
+    let release!: () => void;
+    client.load = (name: string, bytes: ArrayBuffer) => new Promise<LoadedFile>((ok, no) => { release = () => void read(name, bytes).then(ok, no); });
+    const opening = controller.openFiles([file('two.csv')]);
+    await vi.advanceTimersByTimeAsync(0);
+    run.reject({ code: 'numerical', message: 'factorisation failed' });
+    await vi.advanceTimersByTimeAsync(0);
+    release();
+    await opening;
+    expect(lastStatus()).toBe('running');
+    expect(client.runs.at(-1)?.opts.fileName).toBe('two.csv');
+    client.load = read;
+    await controller.openFiles([file('bad.csv', 'bad')]);
+    expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' Not opened; still showing two.csv.');
+  });
+
+  it('the link\'s surface is used for a dropped file when it has it; otherwise the default, with a notice', async () => {
+    url = '/app/?surface=RV_ENDO';
+    const warnings = { textContent: '', hidden: true };
+    const c = new Controller({ ...parts, viewer: null, warnings } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c.openFiles([file('biv.csv')]);
+    expect(client.runs.at(-1)?.opts.surface).toBe('RV_ENDO');
+    expect(warnings.hidden).toBe(true);
+    expect(url).toBe('/app/?surface=RV_ENDO');
+    c.dispose();
+
+    url = '/app/?surface=LA_ENDO';
+    const w2 = { textContent: '', hidden: true };
+    const c2 = new Controller({ ...parts, viewer: null, warnings: w2 } as unknown as Parts, '9.9.9');
+    await c2.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c2.openFiles([file('biv.csv')]);
+    expect(client.runs.at(-1)?.opts.surface).toBe('LV_ENDO');
+    expect(w2.hidden).toBe(false);
+    expect(w2.textContent).toBe('⚠ surface LA_ENDO is not in biv.csv: showing LV_ENDO');
+    expect(url).toBe('/app/?surface=LV_ENDO');
+    c2.dispose();
   });
 });
 

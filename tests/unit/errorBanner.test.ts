@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { taubinHint } from '../../web/src/ui/ErrorBanner';
+import { bannerText, taubinHint } from '../../web/src/ui/ErrorBanner';
 
 describe('error banner hints', () => {
   it('explains the Taubin limit of the smoothing factor, and nothing else', () => {
@@ -9,5 +9,16 @@ describe('error banner hints', () => {
     expect(taubinHint({ code: 'param_out_of_range', message: 'parameter smoothing_factor = 2 is out of range (allowed 0 to 1)' })).toBe('');
     expect(taubinHint({ code: 'param_out_of_range', message: 'parameter beta = 2 is out of range (allowed 0.01 to 1)' })).toBe('');
     expect(taubinHint({ code: 'param_invalid', message: taubin.message })).toBe('');
+  });
+});
+
+describe('error banner text', () => {
+  it('ends the message with a full stop before a following sentence, once', () => {
+    const msg = 'SliceInfoFile.txt, line 1: this is a biv-me SliceInfoFile (image planes), not contours; read the GPFile_*.txt beside it';
+    expect(bannerText(msg, ' Not opened; still showing GPFile_000.txt.')).toBe(`${msg}. Not opened; still showing GPFile_000.txt.`);
+    expect(bannerText('bad.csv: too few points.', ' Not opened.')).toBe('bad.csv: too few points. Not opened.');
+    // A hint that continues the sentence, or nothing after: unchanged.
+    expect(bannerText('parameter smoothing_factor = 0.8 is out of range', ' — with Taubin smoothing ...')).toBe('parameter smoothing_factor = 0.8 is out of range — with Taubin smoothing ...');
+    expect(bannerText('a.csv: factorisation failed', '')).toBe('a.csv: factorisation failed');
   });
 });

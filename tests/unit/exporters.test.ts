@@ -8,6 +8,7 @@ import { writeDistancesCsv } from '../../web/src/io/export/csv';
 import { writeParamsJson } from '../../web/src/io/export/json';
 import { exportBaseName, type ExportInfo, type MeshData } from '../../web/src/io/export/header';
 import type { ContourInfo } from '../../web/src/core-client/protocol';
+import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
 
 // A tetrahedron with CCW-from-outside triangles, edge 10 mm.
 const mesh: MeshData = {
@@ -136,7 +137,7 @@ describe('exporters parse back', () => {
   });
 
   it('parameters JSON and headers record the smoothing options (defaults when unknown)', () => {
-    const taubin: ExportInfo = { ...info, options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false } };
+    const taubin: ExportInfo = { ...info, options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS } };
     const doc = JSON.parse(writeParamsJson(taubin, null));
     expect(doc.smoothing_method).toBe('taubin');
     expect(doc.soften_conflicts).toBe(false);
@@ -144,7 +145,7 @@ describe('exporters parse back', () => {
     const old = JSON.parse(writeParamsJson(info, null));
     expect(old.smoothing_method).toBe('laplacian-affine');
     expect(old.soften_conflicts).toBe(true);
-    expect(writeObj(mesh, taubin)).toContain('# lids: auto iterations=250 lambda=100000 beta=0.1 smoothing_method=taubin soften_conflicts=false align_slices=false\n');
+    expect(writeObj(mesh, taubin)).toContain(`# lids: auto iterations=250 lambda=100000 beta=0.1 smoothing_method=taubin soften_conflicts=false align_slices=false end_caps=${DEFAULT_END_CAPS}\n`);
   });
 
   it('names downloads after the input and surface', () => {

@@ -39,7 +39,14 @@ export class FakeElement {
     this.children.length = 0;
     this.children.push(...nodes);
   }
-  addEventListener(): void {}
+  private readonly listeners = new Map<string, (() => void)[]>();
+  addEventListener(type: string, fn: () => void): void {
+    this.listeners.set(type, [...(this.listeners.get(type) ?? []), fn]);
+  }
+  /** Calls the listeners of `type` (a user's click or change). */
+  fire(type: string): void {
+    for (const fn of this.listeners.get(type) ?? []) fn();
+  }
   get textContent(): string {
     return this.children.map((c) => (typeof c === 'string' ? c : c.textContent)).join('');
   }

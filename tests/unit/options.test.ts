@@ -4,6 +4,7 @@ import { describe, expect, it } from 'vitest';
 import { DEFAULT_OPTIONS, SMOOTHING_METHODS, paramsJson } from '../../web/src/core-client/protocol';
 import smoothRs from '../../wasm-core/crates/heartmesh-core/src/refine/smooth/mod.rs?raw';
 import paramsRs from '../../wasm-core/crates/heartmesh-core/src/params.rs?raw';
+import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
 
 describe('reconstruction options', () => {
   it('name the methods of SmoothingMethod::ALL and the core defaults', () => {
@@ -13,11 +14,11 @@ describe('reconstruction options', () => {
     const defaults = /impl Default for Params[\s\S]*?\n}/.exec(paramsRs)?.[0] ?? '';
     expect(defaults).toMatch(/smoothing: SmoothingMethod::LaplacianAffine,/);
     expect(defaults).toMatch(/soften_conflicts: true,/);
-    expect(DEFAULT_OPTIONS).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false });
+    expect(DEFAULT_OPTIONS).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
   });
   it('travel inside the params JSON object under the binding names', () => {
-    expect(JSON.parse(paramsJson({ beta: 0.2 }, { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false }))).toEqual({
-      beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false, align_slices: false,
+    expect(JSON.parse(paramsJson({ beta: 0.2 }, { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS }))).toEqual({
+      beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS,
     });
     expect(JSON.parse(paramsJson({ beta: 0.2 }))).toEqual({ beta: 0.2 });
   });

@@ -136,6 +136,8 @@ export class FakeCoreClient {
           idx.forEach((src, i) => cp.set(c.points.subarray(src * 3, src * 3 + 3), i * 3));
           // Breath-hold alignment: a made-up in-plane shift per contour (SAX in x/y, LAX along z).
           const align = opts.options?.align_slices === true;
+          // Close open ends: the fake file's base is open; capping it pulls the mesh back to the data.
+          const caps = opts.options?.end_caps === 'auto';
           const groups = contoursOut.map((x, k) => ({
             kind: (x.kind ?? 'SAX') as 'SAX' | 'LAX', label: x.kind === 'LAX' ? x.id : `SAX ${k + 1}`, contour_ids: [x.id],
             shift_mm: (x.kind === 'LAX' ? [0, 0, 0.6 * (k % 2 ? 1 : -1)] : [1.5 * Math.sin(k * 1.7), 1.2 * Math.cos(k * 2.3), 0]) as [number, number, number],
@@ -151,7 +153,9 @@ export class FakeCoreClient {
           resolve({
             runId, surface: opts.surface, contours: contoursOut, contourPoints: cp, positions, indices: mesh.indices, pointDistances: pd,
             vertexDistances: vd, perContour: contoursOut.map((x) => ({ id: x.id, kind: x.kind ?? 'SAX', stats })), overall: stats,
-            volumeMl: 95.2, areaMm2: 11800, watertight: opts.lids === 'auto', seconds: 1.23, params: opts.params, lids: opts.lids, options: opts.options ?? { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false }, version: 'fake-core',
+            volumeMl: 95.2, areaMm2: 11800, watertight: opts.lids === 'auto', seconds: 1.23, params: opts.params, lids: opts.lids, options: opts.options ?? { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: 'off' }, version: 'fake-core',
+            pastData: caps ? { base_mm: 1.8, apex_mm: 0.3 } : { base_mm: 12.4, apex_mm: 0.3 },
+            end_caps: { mode: caps ? 'auto' : 'off', base: caps, apex: false, points: caps ? 64 : 0 },
             iterations_done: total, converged: false,
             alignment: align ? { rounds: 14, residual_before_mm: 2.41, residual_after_mm: 0.62, groups } : null,
             contour_to_mesh_as_given: align ? { mean: 0.93, median: 0.81, max: 2.6 } : null,

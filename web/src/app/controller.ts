@@ -18,7 +18,7 @@ import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { RunDisplay } from './runDisplay';
 import { surfacePoints } from './sceneContours';
-import { currentRunId, initialState, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
+import { currentRunId, describeError, initialState, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 
 export type { Parts } from './parts';
@@ -46,6 +46,8 @@ export class Controller {
   private active: ActiveRun | null = null;
   /** The run on screen: recorded frames, playback, result, contours (runDisplay.ts). */
   private readonly runView: RunDisplay;
+  /** A run that failed while a file was being read: reported with the file's outcome. */
+  private pendingRunFailure: CoreErrorData | null = null;
   private restartTimer: ReturnType<typeof setTimeout> | null = null;
   /** Resolves once the core answered (true) or failed to start (false); input waits for it. */
   private readonly ready: Promise<boolean>;
@@ -88,6 +90,9 @@ export class Controller {
     this.params = url.params;
     this.lids = url.lids;
     this.options = url.options;
+    // The link's surface is the one wanted for any file opened later (dropped, picked, a sample),
+    // not only for the sample the link names: selectFile falls back, with a notice, when absent.
+    this.surface = url.surface;
     this.view = url.view;
     this.parts.params.setSchema(this.schema);
     this.parts.params.setValues(this.params, this.lids, this.options);
@@ -115,7 +120,8 @@ export class Controller {
     }
     if (first !== null) {
       this.sampleId = null;
-      this.selectFile(first, this.files.get(first)?.session?.surface ?? null);
+      // A session's own surface first, else the one asked for (the link's, or the one last chosen).
+      this.selectFile(first, this.files.get(first)?.session?.surface ?? this.surface);
       this.startRun();
     }
   }
@@ -151,11 +157,15 @@ export class Controller {
       if (loaded.session) this.applySession(loaded.session);
       this.dispatch({ type: 'loaded', fileName });
       this.parts.banner.hide();
+      this.pendingRunFailure = null; // that run was replaced by this file's
       return true;
     } catch (e) {
       // The file is not opened: the previous one (if any) stays current, with its scene and framing.
       const previous = this.currentFile()?.fileName ?? null;
-      this.fail(asCoreError(e, 'could not read the file', fileName), undefined, keptText(previous));
+      const failed = this.pendingRunFailure;
+      this.pendingRunFailure = null;
+      const also = failed ? ` Meanwhile the run of ${previous ?? 'the previous file'} failed: ${describeError({ ...failed, file: undefined })}` : '';
+      this.fail(asCoreError(e, 'could not read the file', fileName), undefined, keptText(previous) + also);
       return false;
     }
   }
@@ -199,7 +209,11 @@ export class Controller {
       preferredSurface && s.includes(preferredSurface) ? preferredSurface : s.includes('LV_ENDO') ? 'LV_ENDO' : (s[0] ?? null);
     this.parts.files.setFiles([...this.files.keys()], fileName);
     this.parts.files.setSurfaces(s, this.surface);
-    const warnings = file.warnings;
+    // Asked for a surface the file lacks (a link's ?surface=RV_ENDO, an LV-only file): say which one runs instead.
+    const missing = preferredSurface && !s.includes(preferredSurface) && this.surface
+      ? [`surface ${preferredSurface} is not in ${fileName}: showing ${this.surface}`]
+      : [];
+    const warnings = [...missing, ...file.warnings];
     this.parts.warnings.textContent = warnings.length ? `⚠ ${warnings.join(' · ')}` : '';
     this.parts.warnings.hidden = warnings.length === 0;
     this.clearRunDisplay();
@@ -282,7 +296,7 @@ export class Controller {
         if (this.active?.runId !== handle.runId) return; // cancelled or replaced: not an error
         this.active = null;
         this.parts.result.clear('no result (see the error)');
-        this.fail(asCoreError(e, 'the reconstruction failed', settings.fileName), handle.runId);
+        this.runFailed(asCoreError(e, 'the reconstruction failed', settings.fileName), handle.runId);
       },
     );
   }
@@ -441,6 +455,26 @@ export class Controller {
     if (next === this.state) return;
     this.state = next;
     this.setStatus();
+  }
+
+  /**
+   * The live run failed. A file being read meanwhile (the run goes on until it is) decides what
+   * the banner says: a refused file's message then carries this failure too, a file that reads
+   * replaces the run. With a refusal showing, the failure becomes the error (status line and
+   * banner agree) and the refusal stays as a note.
+   */
+  private runFailed(error: CoreErrorData, runId: number): void {
+    const s = this.state;
+    if (s.kind === 'loading') {
+      this.pendingRunFailure = error;
+      return;
+    }
+    if (s.kind === 'error') {
+      const refused = s.error.file && s.error.file !== error.file ? ' (not opened)' : '';
+      this.fail(error, undefined, ` Earlier: ${describeError(s.error)}${refused}.`);
+      return;
+    }
+    this.fail(error, runId);
   }
 
   private fail(error: CoreErrorData, runId?: number, context = ''): void {

@@ -151,6 +151,7 @@ export class RunDisplay {
       playing: this.playback.playing,
       iteration: this.history.at(this.playback.cursor)?.report.iteration ?? null,
       total: this.latest?.total_iterations ?? null,
+      done: this.history.at(this.playback.cursor)?.report.done ?? false,
     });
   }
 
@@ -214,6 +215,7 @@ export class RunDisplay {
       playing: this.playback.playing,
       iteration: report?.iteration ?? null,
       total: report?.total_iterations ?? null,
+      done: report?.done ?? false,
     });
     this.parts.plot.set(this.history.series(), total, report?.iteration ?? null);
   }

@@ -4,7 +4,7 @@
  * out of range in a hand-edited link is dropped or clamped rather than breaking the page.
  * Pure: works on query strings, not on `location`.
  */
-import { DEFAULT_OPTIONS, SMOOTHING_METHODS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
+import { DEFAULT_OPTIONS, END_CAPS_MODES, SMOOTHING_METHODS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
 
 export interface ViewSettings {
   wireframe: boolean;
@@ -21,7 +21,7 @@ export interface ViewSettings {
 export interface UrlState {
   params: ParamValues;
   lids: LidsMode;
-  /** Smoothing method, conflict softening, alignment (`smoothing_method=taubin`, `soften_conflicts=0`, `align_slices=1`). */
+  /** Smoothing method, conflict softening, alignment (`smoothing_method=taubin`, `soften_conflicts=0`, `align_slices=1`, `end_caps=auto|off`). */
   options: ReconOptions;
   surface: string | null;
   /** Bundled sample to load on start (its id), if any. */
@@ -71,6 +71,7 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
     smoothing_method: SMOOTHING_METHODS.find((m) => m === q.get('smoothing_method')) ?? DEFAULT_OPTIONS.smoothing_method,
     soften_conflicts: parseBool(q.get('soften_conflicts'), DEFAULT_OPTIONS.soften_conflicts),
     align_slices: parseBool(q.get('align_slices'), DEFAULT_OPTIONS.align_slices),
+    end_caps: END_CAPS_MODES.find((m) => m === q.get('end_caps')) ?? DEFAULT_OPTIONS.end_caps,
   };
   const opacity = parseNumber(q.get('opacity'));
   const clip = parseNumber(q.get('clip'));
@@ -104,6 +105,7 @@ export function serializeUrlState(state: UrlState, schema: readonly ParamSpec[])
   if (state.options.smoothing_method !== DEFAULT_OPTIONS.smoothing_method) q.set('smoothing_method', state.options.smoothing_method);
   if (state.options.soften_conflicts !== DEFAULT_OPTIONS.soften_conflicts) q.set('soften_conflicts', state.options.soften_conflicts ? '1' : '0');
   if (state.options.align_slices !== DEFAULT_OPTIONS.align_slices) q.set('align_slices', state.options.align_slices ? '1' : '0');
+  if (state.options.end_caps !== DEFAULT_OPTIONS.end_caps) q.set('end_caps', state.options.end_caps);
   const view = state.view;
   if (view.wireframe !== DEFAULT_VIEW.wireframe) q.set('wireframe', view.wireframe ? '1' : '0');
   if (view.attractors !== DEFAULT_VIEW.attractors) q.set('attractors_shown', view.attractors ? '1' : '0');

@@ -31,9 +31,30 @@ export interface ReconOptions {
    * paper's method takes the contours as given).
    */
   align_slices: boolean;
+  /**
+   * Close open ends: where no contour closes an end of the cavity (the base of most files; both
+   * ends of an RV without a long-axis curve), the core adds down-weighted lid points there so the
+   * mesh stops at the data instead of running on 8-14 mm and inflating the volume.
+   */
+  end_caps: EndCapsMode;
 }
 
-export const DEFAULT_OPTIONS: Readonly<ReconOptions> = { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false };
+/** `end_caps` values: `auto` closes ends no contour closes, `off` leaves them to extrapolation. */
+export type EndCapsMode = 'auto' | 'off';
+export const END_CAPS_MODES: readonly EndCapsMode[] = ['auto', 'off'];
+
+/**
+ * The app's default for `end_caps`, the one place it is set (the URL, the panel's "changed" mark,
+ * the sessions and the exports follow it). "off" until the core's default is decided.
+ */
+export const DEFAULT_END_CAPS: EndCapsMode = 'off';
+
+export const DEFAULT_OPTIONS: Readonly<ReconOptions> = {
+  smoothing_method: 'laplacian-affine',
+  soften_conflicts: true,
+  align_slices: false,
+  end_caps: DEFAULT_END_CAPS,
+};
 
 /**
  * Options as saved by anything older than one of them (a session, a URL, a test double): the
@@ -47,7 +68,13 @@ export function withDefaultOptions(options: Partial<ReconOptions> | null | undef
 export function paramsJson(params: ParamValues, options?: ReconOptions): string {
   if (!options) return JSON.stringify(params);
   const o = withDefaultOptions(options);
-  return JSON.stringify({ ...params, smoothing_method: o.smoothing_method, soften_conflicts: o.soften_conflicts, align_slices: o.align_slices });
+  return JSON.stringify({
+    ...params,
+    smoothing_method: o.smoothing_method,
+    soften_conflicts: o.soften_conflicts,
+    align_slices: o.align_slices,
+    end_caps: o.end_caps,
+  });
 }
 
 /** What a saved heartmesh session file carries besides its contours (applied by the app on load). */

@@ -128,6 +128,17 @@ export interface PastData {
   apex_mm: number;
 }
 
+/**
+ * What the "close open ends" option did (`result_json().end_caps`): which ends got synthetic,
+ * down-weighted lid points because no contour closes them, and how many points in all.
+ */
+export interface EndCaps {
+  mode: 'auto' | 'off';
+  base: boolean;
+  apex: boolean;
+  points: number;
+}
+
 export interface RunResult {
   runId: number;
   surface: string | null;
@@ -162,6 +173,8 @@ export interface RunResult {
    * share of the volume, is extrapolated. Absent from results of older cores.
    */
   pastData?: PastData | null;
+  /** Which open ends the core closed with lid points (absent from results of older cores). */
+  end_caps?: EndCaps | null;
   /** Deformation iterations done (the last step's `iteration`), set by the worker. */
   iterations_done?: number;
   /** The run stopped before `params.iterations` because the attractors were reached (stop threshold). */

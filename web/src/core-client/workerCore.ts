@@ -315,6 +315,7 @@ export class WorkerCore {
       ...small,
       options: withDefaultOptions(small.options),
       alignment: small.alignment ?? null,
+      end_caps: small.end_caps ?? null,
       contour_to_mesh_as_given: small.contour_to_mesh_as_given ?? null,
       ...convergence(last),
       runId: run.runId,

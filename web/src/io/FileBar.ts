@@ -64,7 +64,7 @@ export class FileBar {
   }
 
   setSurfaces(surfaces: string[], current: string | null): void {
-    this.surfaces.replaceChildren(...surfaces.map((s) => h('option', { value: s }, surfaceLabel(s))));
+    this.surfaces.replaceChildren(...surfaceOrder(surfaces).map((s) => h('option', { value: s }, surfaceLabel(s))));
     if (current) this.surfaces.value = current;
     this.surfacesWrap.hidden = surfaces.length < 2;
   }
@@ -76,6 +76,16 @@ const SURFACE_LABELS: Record<string, string> = {
   RV_ENDO: 'RV endocardium',
   RV_EPI: 'RV epicardium',
 };
+
+/**
+ * The picker's order: LV endo, LV epi, RV endo, RV epi, then any other surface in the file's order
+ * (files list them in whatever order their curves come, e.g. RV first).
+ */
+export function surfaceOrder(surfaces: readonly string[]): string[] {
+  const known = Object.keys(SURFACE_LABELS);
+  const rank = (s: string) => (known.includes(s) ? known.indexOf(s) : known.length);
+  return surfaces.map((s, i) => ({ s, i })).sort((a, b) => rank(a.s) - rank(b.s) || a.i - b.i).map(({ s }) => s);
+}
 
 export function surfaceLabel(s: string): string {
   return SURFACE_LABELS[s] ?? s;

@@ -21,7 +21,7 @@ export class ErrorBanner {
       e.code === 'worker_crashed' ? ' The computation engine was restarted; try again.' :
       e.code === 'surface_required' && e.available ? ` Pick one of: ${e.available.join(', ')}.` :
       taubinHint(e);
-    this.text.textContent = `${describeError(e)}${hint}${context}`;
+    this.text.textContent = bannerText(describeError(e), `${hint}${context}`);
     this.element.hidden = false;
   }
 
@@ -34,6 +34,16 @@ export class ErrorBanner {
   hide(): void {
     this.element.hidden = true;
   }
+}
+
+/**
+ * The message and what follows it (a hint, "Not opened; still showing ..."): a core message has
+ * no full stop of its own ("... read the GPFile_*.txt beside it"), so one is put in before a
+ * following sentence instead of running the two together.
+ */
+export function bannerText(message: string, tail: string): string {
+  const sentence = /^\s+[A-Z]/.test(tail) && !/[.!?:]$/.test(message.trimEnd());
+  return `${message.trimEnd()}${sentence ? '.' : ''}${tail}`;
 }
 
 /**

@@ -2,7 +2,8 @@
  * The parameter panel, generated from the core's schema (ParamSpec[] from CoreClient.schema()), so
  * a parameter added in Rust appears here without UI changes. Log-scale parameters (lambda) get a
  * log slider. Below them, the modes that are not numbers: mesh ends (lids), the smoothing method
- * the softening of conflicting attractors and the breath-hold alignment. Emits every change; the controller debounces and
+ * the softening of conflicting attractors, the breath-hold alignment and
+ * the closing of open ends. Emits every change; the controller debounces and
  * restarts the run.
  */
 import { DEFAULT_OPTIONS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
@@ -31,6 +32,11 @@ const ALIGN_HELP =
   'before reconstructing, shift each short-axis slice and long-axis view in its own plane so the curves meet where the planes cross; ' +
   'use it when slices were acquired in separate breath-holds and the stack looks staggered (the mesh then follows the shifted contours)';
 
+const END_CAPS_HELP =
+  'where no contour closes an end of the cavity (the base of most files; both ends of an RV without a long-axis curve), ' +
+  'add down-weighted lid points there so the mesh stops at the data instead of running on past it and inflating the volume; ' +
+  'turn it off when the anatomy really continues past the last slice, or to compare with the paper\'s method';
+
 /** Text shown instead of 0 for parameters where 0 means "automatic". */
 const ZERO_MEANS: Record<string, string> = { attractors: 'auto', attractor_spacing: 'off' };
 
@@ -50,6 +56,7 @@ export class ParamPanel {
   private readonly smoothing: HTMLSelectElement;
   private readonly soften: HTMLInputElement;
   private readonly align: HTMLInputElement;
+  private readonly endCaps: HTMLInputElement;
   private options: ReconOptions = { ...DEFAULT_OPTIONS };
 
   constructor(
@@ -96,6 +103,15 @@ export class ParamPanel {
       this.renderOptions();
       this.emit();
     });
+    this.endCaps = h('input', {
+      type: 'checkbox', id: 'param-end-caps', 'data-testid': 'param-end-caps',
+      'aria-describedby': 'param-end-caps-help',
+    });
+    this.endCaps.addEventListener('change', () => {
+      this.options = { ...this.options, end_caps: this.endCaps.checked ? 'auto' : 'off' };
+      this.renderOptions();
+      this.emit();
+    });
     const reset = h('button', { type: 'button', class: 'small', 'data-testid': 'reset-params', title: 'All parameters back to the defaults of the method' }, 'Reset to defaults');
     reset.addEventListener('click', onReset);
     this.element = h(
@@ -122,6 +138,12 @@ export class ParamPanel {
         { class: 'param-row param-option', title: ALIGN_HELP },
         h('label', { class: 'param-check', for: 'param-align-slices' }, this.align, 'Align breath-holds'),
         h('div', { class: 'param-help', id: 'param-align-slices-help' }, ALIGN_HELP),
+      ),
+      h(
+        'div',
+        { class: 'param-row param-option', title: END_CAPS_HELP },
+        h('label', { class: 'param-check', for: 'param-end-caps' }, this.endCaps, 'Close open ends'),
+        h('div', { class: 'param-help', id: 'param-end-caps-help' }, END_CAPS_HELP),
       ),
       h('div', { class: 'panel-actions' }, reset),
     );
@@ -174,6 +196,8 @@ export class ParamPanel {
     this.soften.parentElement?.classList.toggle('changed', this.options.soften_conflicts !== DEFAULT_OPTIONS.soften_conflicts);
     this.align.checked = this.options.align_slices;
     this.align.parentElement?.classList.toggle('changed', this.options.align_slices !== DEFAULT_OPTIONS.align_slices);
+    this.endCaps.checked = this.options.end_caps === 'auto';
+    this.endCaps.parentElement?.classList.toggle('changed', this.options.end_caps !== DEFAULT_OPTIONS.end_caps);
   }
 
   private format(spec: ParamSpec, v: number): string {

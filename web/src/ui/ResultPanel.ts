@@ -5,21 +5,24 @@
  * before -> after, the groups' shifts, largest first). `[data-testid=result]` carries
  * `data-vertices`, `data-triangles`, `data-mean-mm`, `data-max-mm` (the automated-check contract),
  * plus `data-iterations`, `data-converged` and, when aligned, `data-residual-before-mm`,
- * `data-residual-after-mm`, `data-given-mean-mm`.
+ * `data-residual-after-mm`, `data-given-mean-mm`; with close-open-ends on, `data-end-caps-base`,
+ * `data-end-caps-apex` (1/0) and `data-end-caps-points`.
  */
 import type { Alignment, RunResult } from '../core-client/protocol';
 import { h, mm } from './dom';
-import { alignmentRows, iterationsDoneText, pastDataText, residualText } from './runText';
+import { alignmentRows, endCapsText, iterationsDoneText, pastDataText, residualText } from './runText';
 
 const ATTRIBUTES = [
   'data-vertices', 'data-triangles', 'data-mean-mm', 'data-max-mm', 'data-iterations', 'data-converged',
   'data-residual-before-mm', 'data-residual-after-mm', 'data-given-mean-mm', 'data-past-base-mm', 'data-past-apex-mm',
+  'data-end-caps-base', 'data-end-caps-apex', 'data-end-caps-points',
 ];
 
 const SHIFTED_HELP = 'with breath-hold alignment: from the shifted contours, which the mesh follows, to the mesh';
 const GIVEN_HELP = 'distance from the contours as given in the file (before the breath-hold shifts) to the mesh';
 const PAST_HELP = 'base / apex: how far the mesh reaches past the highest (base) and lowest (apex) contour point along the long axis';
 const PAST_EXTRAPOLATED_HELP = `${PAST_HELP}: more than 5 mm, so no curve closes that end and the surface there (and its share of the volume) is extrapolated`;
+const PAST_CAPS_HINT = '; the option Close open ends (Parameters) stops the mesh at the data there';
 const RESIDUAL_HELP = 'mean in-plane distance between each slice\'s curves and where the other kind\'s curves cross its plane, before → after the shifts';
 
 export class ResultPanel {
@@ -58,7 +61,8 @@ export class ResultPanel {
     if (r.iterations_done !== undefined) {
       d.iterations = String(r.iterations_done);
       d.converged = r.converged ? '1' : '0';
-      const title = r.converged ? 'the attractors were reached (stop threshold) before the last iteration' : undefined;
+      const total = r.params.iterations;
+      const title = r.converged ? `the attractors were reached (stop threshold) before the last iteration${total !== undefined ? ` (${total})` : ''}` : undefined;
       rows.push(...row('Iterations', iterationsDoneText(r.iterations_done, r.params.iterations, r.converged ?? false), 'result-iterations', title));
     }
     const a = r.alignment ?? null;
@@ -83,7 +87,16 @@ export class ResultPanel {
       const past = pastDataText(r.pastData);
       d.pastBaseMm = String(r.pastData.base_mm);
       d.pastApexMm = String(r.pastData.apex_mm);
-      rows.push(...row('Past the data', past.text, 'result-past-data', past.extrapolated ? PAST_EXTRAPOLATED_HELP : PAST_HELP, past.extrapolated));
+      const capsOff = r.end_caps ? r.end_caps.mode === 'off' : r.options.end_caps === 'off';
+      const help = past.extrapolated ? `${PAST_EXTRAPOLATED_HELP}${capsOff ? PAST_CAPS_HINT : ''}` : PAST_HELP;
+      rows.push(...row('Past the data', past.text, 'result-past-data', help, past.extrapolated));
+    }
+    const caps = r.end_caps ? endCapsText(r.end_caps) : null;
+    if (r.end_caps && caps) {
+      d.endCapsBase = r.end_caps.base ? '1' : '0';
+      d.endCapsApex = r.end_caps.apex ? '1' : '0';
+      d.endCapsPoints = String(r.end_caps.points);
+      rows.push(...row('Closed ends', caps.text, 'result-end-caps', caps.title));
     }
     rows.push(
       ...row('Area', `${(r.areaMm2 / 100).toFixed(1)} cm²`),

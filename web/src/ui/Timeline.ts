@@ -5,6 +5,7 @@
 import { SPEEDS, type Speed } from '../app/playback';
 import { h } from './dom';
 import { icon, type IconName } from './icons';
+import { timelineText } from './runText';
 
 export interface TimelineHandlers {
   togglePlay(): void;
@@ -48,10 +49,11 @@ export class Timeline {
       handlers.setSpeed(v === 'live' ? 'live' : Number(v));
     });
     this.element = h('div', { class: 'timeline', role: 'group', 'aria-label': 'Timeline' }, first, back, this.play, fwd, latest, this.scrubber, this.label, this.speed, this.rerun);
-    this.update({ length: 0, cursor: -1, playing: true, iteration: null, total: null });
+    this.update({ length: 0, cursor: -1, playing: true, iteration: null, total: null, done: false });
   }
 
-  update(s: { length: number; cursor: number; playing: boolean; iteration: number | null; total: number | null }): void {
+  /** `done`: the step on screen is the run's last (so an early one reads "converged at ..."). */
+  update(s: { length: number; cursor: number; playing: boolean; iteration: number | null; total: number | null; done: boolean }): void {
     this.scrubber.max = String(Math.max(0, s.length - 1));
     this.scrubber.value = String(Math.max(0, s.cursor));
     this.scrubber.disabled = s.length < 2;
@@ -59,7 +61,7 @@ export class Timeline {
     this.play.replaceChildren(icon(s.playing ? 'pause' : 'play'));
     this.play.title = s.playing ? 'Pause (space)' : 'Play (space)';
     this.play.setAttribute('aria-label', this.play.title);
-    this.label.textContent = s.iteration === null ? 'iteration – / –' : `iteration ${s.iteration} / ${s.total ?? '–'}`;
+    this.label.textContent = timelineText(s);
   }
 
   setSpeed(speed: Speed): void {

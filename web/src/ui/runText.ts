@@ -2,7 +2,7 @@
  * The words the status line and the result panel use for a run's progress and for its breath-hold
  * alignment. Pure (no DOM), so the wording and the numbers are unit-tested.
  */
-import type { Alignment, AlignmentGroup, PastData, StepReport } from '../core-client/protocol';
+import type { Alignment, AlignmentGroup, EndCaps, PastData, StepReport } from '../core-client/protocol';
 import { mm } from './dom';
 
 const PHASES: Record<StepReport['phase'], string> = {
@@ -22,14 +22,28 @@ export function iterationText(r: Pick<StepReport, 'iteration' | 'total_iteration
   return `iteration ${r.iteration} / ${r.total_iterations}`;
 }
 
+/**
+ * The timeline's label for the recorded step on screen: the status line's words
+ * ({@link iterationText}), so a run that converged early reads "converged at iteration 243 (of 250)"
+ * there too; "iteration – / –" before the first step.
+ */
+export function timelineText(s: { iteration: number | null; total: number | null; done: boolean }): string {
+  if (s.iteration === null) return 'iteration – / –';
+  if (s.total === null) return `iteration ${s.iteration} / –`;
+  return iterationText({ iteration: s.iteration, total_iterations: s.total, done: s.done });
+}
+
 /** The status line's detail for the step on screen. */
 export function stepText(r: StepReport): string {
   return `${iterationText(r)} · ${PHASES[r.phase]} · max ${mm(r.max_distance_mm)} · mean ${mm(r.mean_distance_mm)} · ${r.vertices} vertices`;
 }
 
-/** The result panel's iteration count: "243 of 250 (converged)" or "250". */
+/**
+ * The result panel's iteration count: "243 (converged)" or "250" (short: the value column is
+ * narrow; the row's tooltip and the status line give the total).
+ */
 export function iterationsDoneText(done: number, total: number | undefined, converged: boolean): string {
-  if (converged && total !== undefined && done < total) return `${done} of ${total} (converged)`;
+  if (converged && total !== undefined && done < total) return `${done} (converged)`;
   return String(done);
 }
 
@@ -84,5 +98,23 @@ export function pastDataText(p: PastData): { text: string; extrapolated: boolean
   return {
     text: `${signed(p.base_mm).replace(' mm', '')} / ${signed(p.apex_mm)}`,
     extrapolated: Math.max(p.base_mm, p.apex_mm) > PAST_DATA_NOTE_MM,
+  };
+}
+
+/**
+ * The result panel's "Closed ends" figure for the close-open-ends option: which ends the core
+ * closed with lid points, short for the narrow value column ("base · 64 pts", "both · 130 pts"), with the long form
+ * for the tooltip ("base closed (64 lid points)"). Null when the option was off (nothing to say
+ * beyond "Past the data").
+ */
+export function endCapsText(e: EndCaps): { text: string; title: string } | null {
+  if (e.mode !== 'auto') return null;
+  const ends = [e.base ? 'base' : '', e.apex ? 'apex' : ''].filter(Boolean);
+  if (ends.length === 0 || e.points <= 0)
+    return { text: 'none needed', title: 'close open ends: contours already close both ends, no lid points added' };
+  const which = ends.join(' + ');
+  return {
+    text: `${ends.length === 2 ? 'both' : which} · ${e.points} pt${e.points === 1 ? '' : 's'}`,
+    title: `${which} closed (${e.points} lid point${e.points === 1 ? '' : 's'}): no contour closes ${ends.length === 2 ? 'these ends' : 'that end'}, so down-weighted lid points keep the mesh from running on past the data`,
   };
 }

@@ -47,6 +47,7 @@ export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): s
     smoothing_method: options.smoothing_method,
     soften_conflicts: options.soften_conflicts,
     align_slices: options.align_slices,
+    end_caps: options.end_caps,
     params: info.params,
     ...(summary
       ? {

@@ -1,0 +1,86 @@
+// Browser end-to-end test (dist/, Debian's chromium) of session 10's "Close open ends" option on a
+// real biv-me file: patient 2 ES right ventricle has no RV long-axis curve, so its base is open and
+// the mesh runs on past the top slice; ticking the option closes that end with lid points, the
+// result panel says so, the mesh stops near the data, and the URL, the exports and a session carry
+// the option. Two runs of one surface keep it to a few seconds of compute.
+import { after, before, describe, it } from 'node:test';
+import assert from 'node:assert/strict';
+import { mkdirSync, readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { launch, readResult, requireDist, runAndWait, sharedDir, startPreview, SHOTS } from './lib.mjs';
+
+let server;
+let browser;
+let page;
+
+before(async () => {
+  requireDist();
+  mkdirSync(SHOTS, { recursive: true });
+  server = await startPreview();
+  browser = await launch();
+  page = await browser.context.newPage();
+  page.on('pageerror', (e) => console.log('pageerror:', e.message));
+});
+
+after(async () => {
+  await browser?.close();
+  server?.stop();
+});
+
+async function download(testid) {
+  const [dl] = await Promise.all([page.waitForEvent('download'), page.click(`[data-testid=${testid}]`)]);
+  return { name: dl.suggestedFilename(), bytes: readFileSync(await dl.path()) };
+}
+
+const count = () => page.evaluate(() => window.heartmesh.currentResult().overall.count);
+const dataset = () => page.locator('[data-testid=result]').evaluate((el) => ({ ...el.dataset }));
+
+describe('close open ends in the browser', () => {
+  it('patient 2 ES RV: the open base is closed, the mesh stops at the data, the option travels', async () => {
+    const csv = join(sharedDir(), 'data', 'contours', 'bivme-test-patient2', 'patient2-ES.csv');
+    await page.goto(`${server.url}?surface=RV_ENDO&end_caps=off`);
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', csv), 120000);
+    assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'RV_ENDO');
+    assert.equal(await page.isChecked('[data-testid=param-end-caps]'), false);
+    const off = await dataset();
+    const offResult = await readResult(page);
+    assert.equal(await page.locator('[data-testid=result-end-caps]').count(), 0, 'no "Closed ends" row with the option off');
+    const offCount = await count();
+    assert.ok(offCount > 0);
+
+    await runAndWait(page, () => page.check('[data-testid=param-end-caps]'), 120000);
+    assert.match(page.url(), /end_caps=auto/);
+    const on = await dataset();
+    const onResult = await readResult(page);
+    console.log(`# patient2-ES RV: past the data base ${Number(off.pastBaseMm).toFixed(1)} -> ${Number(on.pastBaseMm).toFixed(1)} mm, ` +
+      `${on.endCapsPoints} lid points; contour-to-mesh mean ${offResult.meanMm.toFixed(3)} -> ${onResult.meanMm.toFixed(3)} mm`);
+    assert.equal(on.endCapsBase, '1');
+    assert.ok(Number(on.endCapsPoints) > 0, `lid points ${on.endCapsPoints}`);
+    assert.ok(Number(on.pastBaseMm) < Number(off.pastBaseMm), `base past the data ${off.pastBaseMm} -> ${on.pastBaseMm}`);
+    assert.ok(Number(off.pastBaseMm) > 5, `the base is open without the option (${off.pastBaseMm} mm)`);
+    const row = (await page.textContent('[data-testid=result-end-caps]')) ?? '';
+    assert.match(row, /^(base|both) · \d+ pts?$/);
+    assert.match((await page.getAttribute('[data-testid=result-end-caps]', 'title')) ?? '', /closed \(\d+ lid points?\)/);
+    // Lid points are not data: the contour-to-mesh figures count the file's points only.
+    assert.equal(await count(), offCount);
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SHOTS, 'close-open-ends.png') });
+
+    // Exports record it; a session brings it back.
+    const json = JSON.parse((await download('export-json')).bytes.toString('utf8'));
+    assert.equal(json.end_caps, 'auto');
+    const obj = (await download('export-obj')).bytes.toString('utf8');
+    assert.match(obj, /end_caps=auto/);
+    const session = await download('export-session');
+    assert.equal(JSON.parse(session.bytes.toString('utf8')).parameters.end_caps, 'auto');
+    await page.goto(server.url);
+    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
+    assert.equal(await page.isChecked('[data-testid=param-end-caps]'), false);
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', { name: session.name, mimeType: 'application/json', buffer: session.bytes }), 120000);
+    assert.equal(await page.isChecked('[data-testid=param-end-caps]'), true);
+    assert.equal((await dataset()).endCapsBase, '1');
+    // Unticked, the option leaves the URL (the app default is off).
+    await runAndWait(page, () => page.uncheck('[data-testid=param-end-caps]'), 120000);
+    assert.doesNotMatch(page.url(), /end_caps/);
+  });
+});

@@ -1,0 +1,95 @@
+// "Close open ends" through the worker's logic with the real wasm (session 10): `end_caps` reaches
+// the core inside the params JSON, the result says which ends were closed (patient 2 ES RV: no RV
+// long-axis curve, so its base is open) and the mesh then stops nearer the data; a session keeps
+// the option. The figures are the core's; only their direction and consistency are asserted here.
+import { beforeAll, describe, expect, it } from 'vitest';
+import { DEFAULT_OPTIONS, type EndCapsMode, type FromWorker, type LoadedFile, type RunResult, type ToWorker } from '../../web/src/core-client/protocol';
+import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
+import { PATIENT2_ES, loadWasm, readBytes } from './helpers.mjs';
+
+type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
+let wasm: Wasm;
+
+beforeAll(async () => {
+  wasm = await loadWasm();
+});
+
+function makeCore() {
+  let listener: ((m: FromWorker) => void) | null = null;
+  const core = new WorkerCore(wasmApiOf(wasm), (m) => listener?.(m), { yieldToEventLoop: (cb) => setTimeout(cb, 0), now: () => performance.now() });
+  return function ask<T extends FromWorker['type']>(msg: ToWorker, ...types: T[]): Promise<Extract<FromWorker, { type: T }>> {
+    return new Promise((resolve) => {
+      listener = (m) => {
+        if (m.type === 'frame') core.handle({ type: 'ack', runId: m.runId, seq: m.seq });
+        if ((types as string[]).includes(m.type)) resolve(m as Extract<FromWorker, { type: T }>);
+      };
+      core.handle(msg);
+    });
+  };
+}
+
+const NAME = 'patient2-ES.csv';
+const FILE = PATIENT2_ES;
+
+async function load(ask: ReturnType<typeof makeCore>, fileName: string, bytes: Uint8Array): Promise<LoadedFile> {
+  const m = await ask({ type: 'load', reqId: 1, fileName, bytes: bytes.slice().buffer as ArrayBuffer }, 'loaded', 'error');
+  if (m.type === 'error') throw new Error(m.error.message);
+  return m.file;
+}
+
+async function run(ask: ReturnType<typeof makeCore>, runId: number, endCaps: EndCapsMode): Promise<RunResult> {
+  const options = { ...DEFAULT_OPTIONS, end_caps: endCaps };
+  const m = await ask({ type: 'run', runId, fileName: NAME, surface: 'RV_ENDO', params: {}, lids: 'auto', options }, 'done', 'error');
+  if (m.type === 'error') throw new Error(m.error.message);
+  return m.result;
+}
+
+describe('close open ends through the worker', () => {
+  it('patient 2 ES RV: auto closes the open base with lid points and the mesh stops nearer the data', async () => {
+    const ask = makeCore();
+    await load(ask, NAME, readBytes(FILE()));
+    const off = await run(ask, 1, 'off');
+    const on = await run(ask, 2, 'auto');
+    expect(off.options.end_caps).toBe('off');
+    expect(on.options.end_caps).toBe('auto');
+    expect(off.end_caps).toEqual({ mode: 'off', base: false, apex: false, points: 0 });
+    const caps = on.end_caps;
+    if (!caps) throw new Error('no end_caps in the result');
+    expect(caps.mode).toBe('auto');
+    expect(caps.base).toBe(true);
+    expect(caps.points).toBeGreaterThan(0);
+    const offPast = off.pastData;
+    const onPast = on.pastData;
+    if (!offPast || !onPast) throw new Error('no pastData in the results');
+    console.log(`# patient2-ES RV: past the data base ${offPast.base_mm.toFixed(1)} -> ${onPast.base_mm.toFixed(1)} mm, volume ${off.volumeMl.toFixed(1)} -> ${on.volumeMl.toFixed(1)} ml, ${caps.points} lid points`);
+    expect(onPast.base_mm).toBeLessThan(offPast.base_mm);
+    expect(on.volumeMl).toBeLessThan(off.volumeMl);
+    // The lid points are not data: the contour-to-mesh figures count the file's points only.
+    expect(on.overall.count).toBe(off.overall.count);
+    expect(on.contourPoints.length).toBe(off.contourPoints.length);
+  });
+
+  it('a session keeps end_caps and brings it back on load', async () => {
+    const ask = makeCore();
+    await load(ask, NAME, readBytes(FILE()));
+    for (const mode of ['auto', 'off'] as const) {
+      const options = { ...DEFAULT_OPTIONS, end_caps: mode };
+      const written = await ask({ type: 'session-export', reqId: 2, fileName: NAME, surface: 'RV_ENDO', params: {}, lids: 'auto', options, appVersion: '9.9.9' }, 'session-json', 'error');
+      if (written.type !== 'session-json') throw new Error(written.error.message);
+      expect(JSON.parse(new TextDecoder().decode(written.bytes)).parameters.end_caps).toBe(mode);
+      const back = await load(ask, 'saved.json', written.bytes);
+      expect(back.session?.options).toEqual(options);
+    }
+  });
+
+  it('an unknown end_caps value is a typed error naming the allowed values', async () => {
+    const ask = makeCore();
+    await load(ask, NAME, readBytes(FILE()));
+    const options = { ...DEFAULT_OPTIONS, end_caps: 'sometimes' as EndCapsMode };
+    const m = await ask({ type: 'run', runId: 3, fileName: NAME, surface: 'RV_ENDO', params: {}, lids: 'auto', options }, 'done', 'error');
+    if (m.type !== 'error') throw new Error('expected an error');
+    expect(m.error.message).toMatch(/end_caps/);
+    expect(m.error.message).toMatch(/auto/);
+    expect(m.error.message).toMatch(/off/);
+  });
+});

@@ -1,0 +1,149 @@
+// "Close open ends" in the app (session 10): the `end_caps` option's plumbing (one app default,
+// params JSON, URL, exports, sessions, the panel's checkbox) and the result panel's "Closed ends"
+// row from `result_json().end_caps`. The real core's caps are exercised in tests/node.
+import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
+import {
+  DEFAULT_END_CAPS,
+  DEFAULT_OPTIONS,
+  paramsJson,
+  withDefaultOptions,
+  type EndCaps,
+  type LidsMode,
+  type ParamValues,
+  type ReconOptions,
+  type RunResult,
+} from '../../web/src/core-client/protocol';
+import { parseUrlState, serializeUrlState } from '../../web/src/app/urlState';
+import { headerLines, type ExportInfo } from '../../web/src/io/export/header';
+import { writeParamsJson } from '../../web/src/io/export/json';
+import { endCapsText } from '../../web/src/ui/runText';
+import { ResultPanel } from '../../web/src/ui/ResultPanel';
+import { ParamPanel } from '../../web/src/ui/ParamPanel';
+import { fakeDocument, type FakeElement } from './fakeDom';
+import { rustSchema } from './rustSchema';
+
+const OTHER = DEFAULT_END_CAPS === 'off' ? 'auto' : 'off';
+
+function result(extra: Partial<RunResult> = {}): RunResult {
+  const stats = { mean: 0.3, median: 0.25, p95: 0.8, max: 1.2, min: 0, count: 42 };
+  return {
+    runId: 1, surface: 'LV_ENDO', contours: [], contourPoints: new Float32Array(9), positions: new Float32Array(12),
+    indices: new Uint32Array(12), pointDistances: new Float32Array(3), vertexDistances: new Float32Array(4), perContour: [], overall: stats,
+    volumeMl: 120.4, areaMm2: 9000, watertight: true, seconds: 0.5, params: { iterations: 250 }, lids: 'auto',
+    options: { ...DEFAULT_OPTIONS }, version: 'core-test', ...extra,
+  };
+}
+
+describe('end_caps option', () => {
+  it('has one app default that the options, the params JSON and old sessions follow', () => {
+    expect(['auto', 'off']).toContain(DEFAULT_END_CAPS);
+    expect(DEFAULT_OPTIONS.end_caps).toBe(DEFAULT_END_CAPS);
+    // Sent explicitly, whatever the core's own default turns out to be.
+    expect(JSON.parse(paramsJson({ beta: 0.1 }, DEFAULT_OPTIONS)).end_caps).toBe(DEFAULT_END_CAPS);
+    expect(JSON.parse(paramsJson({}, { ...DEFAULT_OPTIONS, end_caps: 'auto' })).end_caps).toBe('auto');
+    expect(JSON.parse(paramsJson({}, { ...DEFAULT_OPTIONS, end_caps: 'off' })).end_caps).toBe('off');
+    // A session saved before the option existed reads as the app default.
+    expect(withDefaultOptions({ smoothing_method: 'taubin', soften_conflicts: true, align_slices: true }).end_caps).toBe(DEFAULT_END_CAPS);
+  });
+
+  it('is in the URL only when it differs from the default; junk reads as the default', () => {
+    const schema = rustSchema();
+    const s = parseUrlState('', schema);
+    expect(s.options.end_caps).toBe(DEFAULT_END_CAPS);
+    expect(serializeUrlState(s, schema)).toBe('');
+    s.options = { ...s.options, end_caps: OTHER };
+    expect(serializeUrlState(s, schema)).toBe(`?end_caps=${OTHER}`);
+    expect(parseUrlState(`?end_caps=${OTHER}`, schema).options.end_caps).toBe(OTHER);
+    expect(parseUrlState('?end_caps=auto', schema).options.end_caps).toBe('auto');
+    expect(parseUrlState('?end_caps=off', schema).options.end_caps).toBe('off');
+    expect(parseUrlState('?end_caps=1', schema).options.end_caps).toBe(DEFAULT_END_CAPS);
+    expect(parseUrlState('?end_caps=AUTO', schema).options.end_caps).toBe(DEFAULT_END_CAPS);
+  });
+
+  it('is recorded in the export header and the parameters JSON', () => {
+    const info: ExportInfo = {
+      appVersion: '1.0.0', coreVersion: '0.1.0', fileName: 'p.csv', surface: 'RV_ENDO', lids: 'auto',
+      options: { ...DEFAULT_OPTIONS, end_caps: 'auto' }, params: { iterations: 250 },
+    };
+    expect(headerLines(info)[2]).toMatch(/ align_slices=false end_caps=auto$/);
+    expect(JSON.parse(writeParamsJson(info, null)).end_caps).toBe('auto');
+    const old = { ...info, options: { smoothing_method: 'taubin', soften_conflicts: true } as never };
+    expect(headerLines(old)[2]).toMatch(new RegExp(`end_caps=${DEFAULT_END_CAPS}$`));
+    expect(JSON.parse(writeParamsJson(old, null)).end_caps).toBe(DEFAULT_END_CAPS);
+  });
+});
+
+describe('end caps in the panels', () => {
+  beforeEach(() => vi.stubGlobal('document', fakeDocument));
+  afterEach(() => vi.unstubAllGlobals());
+
+  const rows = (el: FakeElement) => {
+    const out: Record<string, string> = {};
+    const cells = el.findAll((e) => e.tagName === 'dl')[0].children as FakeElement[];
+    for (let i = 0; i + 1 < cells.length; i += 2) out[cells[i].textContent] = cells[i + 1].textContent;
+    return out;
+  };
+
+  it('the checkbox "Close open ends" shows the option and emits it', () => {
+    const emitted: ReconOptions[] = [];
+    const panel = new ParamPanel((_v: ParamValues, _l: LidsMode, o: ReconOptions) => emitted.push(o), () => undefined);
+    const root = panel.element as unknown as FakeElement;
+    const box = root.byTestId('param-end-caps') as FakeElement & { checked: boolean };
+    expect(root.textContent).toContain('Close open ends');
+    expect(box.getAttribute('aria-describedby')).toBe('param-end-caps-help');
+    panel.setValues({}, 'auto', { ...DEFAULT_OPTIONS, end_caps: 'auto' });
+    expect(box.checked).toBe(true);
+    panel.setValues({}, 'auto', { ...DEFAULT_OPTIONS, end_caps: 'off' });
+    expect(box.checked).toBe(false);
+    box.checked = true;
+    box.fire('change');
+    expect(emitted.at(-1)).toEqual({ ...DEFAULT_OPTIONS, end_caps: 'auto' });
+    box.checked = false;
+    box.fire('change');
+    expect(emitted.at(-1)).toEqual({ ...DEFAULT_OPTIONS, end_caps: 'off' });
+  });
+
+  it('the result panel says which ends were closed, and nothing when the option was off', () => {
+    const panel = new ResultPanel();
+    const el = panel.element as unknown as FakeElement;
+    const base: EndCaps = { mode: 'auto', base: true, apex: false, points: 64 };
+    panel.show(result({ pastData: { base_mm: 1.8, apex_mm: 0.2 }, end_caps: base }));
+    expect(rows(el)['Past the data']).toBe('+1.8 / +0.2 mm');
+    expect(rows(el)['Closed ends']).toBe('base · 64 pts');
+    expect(el.byTestId('result-end-caps')?.title).toMatch(/^base closed \(64 lid points\)/);
+    expect(el.dataset).toMatchObject({ endCapsBase: '1', endCapsApex: '0', endCapsPoints: '64' });
+
+    panel.show(result({ end_caps: { mode: 'auto', base: true, apex: true, points: 130 } }));
+    expect(rows(el)['Closed ends']).toBe('both · 130 pts');
+    expect(el.byTestId('result-end-caps')?.title).toMatch(/^base \+ apex closed \(130 lid points\): no contour closes these ends/);
+
+    panel.show(result({ end_caps: { mode: 'auto', base: false, apex: false, points: 0 } }));
+    expect(rows(el)['Closed ends']).toBe('none needed');
+    expect(el.dataset.endCapsPoints).toBe('0');
+
+    // Off, or an older core without the figure: no row and no stale attributes.
+    panel.show(result({ end_caps: { mode: 'off', base: false, apex: false, points: 0 } }));
+    expect(rows(el)['Closed ends']).toBeUndefined();
+    expect(el.dataset.endCapsPoints).toBeUndefined();
+    panel.show(result());
+    expect(rows(el)['Closed ends']).toBeUndefined();
+  });
+
+  it('an extrapolated end with the option off points to it; with it on, not', () => {
+    const panel = new ResultPanel();
+    const el = panel.element as unknown as FakeElement;
+    const open = { base_mm: 14.3, apex_mm: 0.1 };
+    panel.show(result({ pastData: open, options: { ...DEFAULT_OPTIONS, end_caps: 'off' }, end_caps: { mode: 'off', base: false, apex: false, points: 0 } }));
+    expect(el.byTestId('result-past-data')?.title).toMatch(/extrapolated; the option Close open ends \(Parameters\) stops the mesh at the data there$/);
+    panel.show(result({ pastData: open, options: { ...DEFAULT_OPTIONS, end_caps: 'auto' }, end_caps: { mode: 'auto', base: false, apex: false, points: 0 } }));
+    expect(el.byTestId('result-past-data')?.title).toMatch(/extrapolated$/);
+  });
+
+  it('endCapsText: one point is singular; apex alone', () => {
+    expect(endCapsText({ mode: 'auto', base: false, apex: true, points: 1 })).toEqual({
+      text: 'apex · 1 pt',
+      title: 'apex closed (1 lid point): no contour closes that end, so down-weighted lid points keep the mesh from running on past the data',
+    });
+    expect(endCapsText({ mode: 'off', base: true, apex: true, points: 10 })).toBeNull();
+  });
+});

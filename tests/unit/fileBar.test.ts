@@ -1,0 +1,14 @@
+// The surface picker lists the heart's surfaces in one fixed order whatever order the file has them in.
+import { describe, expect, it } from 'vitest';
+import { surfaceLabel, surfaceOrder } from '../../web/src/io/FileBar';
+
+describe('surface picker order', () => {
+  it('LV endo, LV epi, RV endo, RV epi, then other surfaces in the file order', () => {
+    // patient1-ED.csv lists its curves RV first.
+    expect(surfaceOrder(['RV_ENDO', 'RV_EPI', 'LV_EPI', 'LV_ENDO'])).toEqual(['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']);
+    expect(surfaceOrder(['LA_ENDO', 'RV_ENDO', 'AORTA', 'LV_ENDO'])).toEqual(['LV_ENDO', 'RV_ENDO', 'LA_ENDO', 'AORTA']);
+    expect(surfaceOrder([])).toEqual([]);
+    expect(surfaceLabel('RV_EPI')).toBe('RV epicardium');
+    expect(surfaceLabel('LA_ENDO')).toBe('LA_ENDO');
+  });
+});
