@@ -16,6 +16,7 @@ per case with what went wrong, if anything:
 
 Standard library only, seeded (same seed -> same files). Usage:
   scripts/hostile.py [OUT_DIR] [--seed S] [--only SUBSTRING] [--timeout SECONDS]
+                     [--args "EXTRA CLI FLAGS"]   (added to every reconstruct, e.g. "--end-caps auto")
 """
 
 import json
@@ -505,7 +506,7 @@ def judge(case, path, timeout, out_dir):
 def main():
     argv = sys.argv[1:]
     out_dir = "/tmp/hostile"
-    seed, only, timeout = 8, None, 120
+    seed, only, timeout, extra = 8, None, 120, []
     i = 0
     while i < len(argv):
         a = argv[i]
@@ -515,6 +516,8 @@ def main():
             only = argv[i + 1]; i += 2
         elif a == "--timeout":
             timeout = float(argv[i + 1]); i += 2
+        elif a == "--args":
+            extra = argv[i + 1].split(); i += 2
         elif a.startswith("-"):
             return usage(a, __doc__)
         else:
@@ -526,9 +529,23 @@ def main():
         surfco = f.read()
     cases = malformed(p1, surfco, rng) + other_readers(out_dir, rng) + \
         awkward(out_dir, p1, surfco, rng, seed)
+    for c in cases:
+        c.args = merge_args(c.args, extra)
     bad = run_cases(cases, out_dir, timeout, only)
     print(f"{bad} case(s) with problems")
     return 1 if bad else 0
+
+
+def merge_args(args, extra):
+    """`args` plus each option of `extra` ("--flag [values]") that `args` does not already set: a
+    case's own choice wins, and an option's value never gets separated from its flag."""
+    groups = []
+    for a in extra:
+        if a.startswith("--") or not groups:
+            groups.append([a])
+        else:
+            groups[-1].append(a)
+    return list(args) + [a for g in groups if g[0] not in args for a in g]
 
 
 def usage(option, doc):

@@ -457,7 +457,7 @@ def main():
     rng = random.Random(seed)
     cases = named_cases() + random_cases(count, rng)
     for c in cases:
-        c.args = c.args + [a for a in extra if a not in c.args]
+        c.args = H.merge_args(c.args, extra)
         c.open_mesh = "none" in c.args
     bad = H.run_cases(cases, out_dir, timeout, only, check)
     print(f"{bad} case(s) with problems")
