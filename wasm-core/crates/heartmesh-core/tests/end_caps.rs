@@ -100,7 +100,7 @@ fn run(lax: bool, mode: EndCapMode) -> Outcome {
 const ANALYTIC_ML: f64 = 2.0 / 3.0 * PI * A * A * C / 1000.0;
 
 /// The curves close the apex, not the top: only the top is capped, and the mesh stops there
-/// (measured +1.13 mm, 79.23 ml, 37 lid points; without caps +11.51 mm, 94.10 ml).
+/// (measured +1.00 mm, 79.25 ml, 37 lid points, one-sided lid; without caps +11.51 mm, 94.10 ml).
 #[test]
 fn capped_top_stops_at_the_data() {
     let on = run(true, EndCapMode::Auto);
@@ -125,7 +125,7 @@ fn capped_top_stops_at_the_data() {
 }
 
 /// Short-axis rings only: both ends are open and both get caps; the analytic volume between the
-/// apical (z = -48) and top rings is 74.14 ml (measured 75.97 ml, +1.48 / +1.17 mm, 30 lid
+/// apical (z = -48) and top rings is 74.14 ml (measured 76.40 ml, +1.50 / +1.12 mm, 30 lid
 /// points; off, in scripts/phantoms.py: +15.8 / +13.2 mm).
 #[test]
 fn sax_only_caps_both_ends() {

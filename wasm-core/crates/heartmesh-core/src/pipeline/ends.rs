@@ -10,7 +10,9 @@
 //! axis at the tube's lid, or through the tips of the long-axis curves that stop beyond the ring
 //! (the valve plane, [`TipPlane`]). They are sampled at about the real
 //! attractors' spacing, kept a spacing in from the rim (the rim is the wall data's), and pull with a
-//! weight below 1 so that real contours win where they disagree. They are never data: contour
+//! weight below 1 so that real contours win where they disagree, and only from outside: a lid point
+//! pulls while the mesh runs on past its plane, never into it (`lid_pull`, the one-sided lid;
+//! the disc's grid is `lid_disc`). They are never data: contour
 //! distances, per-contour tables, colour maps and the step report ignore them.
 //!
 //! Why a flat disc rather than the cone spanned by the ring and the lid point: the lid is above
@@ -20,6 +22,8 @@
 //! wall the curves describe (the tube's extra basal ring, `tube::extend_to_base`, is the same
 //! outline).
 
+pub use super::lid_disc::disc_points;
+use super::lid_pull::{lid_normal, LidSide, ONE_SIDED_TOLERANCE_PER_SPACING};
 use super::tube::Lids;
 use crate::contours::{Contour, ContourKind};
 use crate::geometry::Vec3;
@@ -264,72 +268,6 @@ pub fn tip_plane(
 /// against tips spread across the end, enough to make one curve's two tips a well-posed fit.
 const TIP_RIDGE: f64 = 1e-3;
 
-/// Lid points filling `ring`'s outline moved along `axis` to the height of `lid`: a square grid of
-/// pitch `spacing` anchored at the outline's centroid and turned to the ring's first point (the
-/// tube's seam, so the points do not depend on the scanner frame), keeping the grid points inside
-/// the outline and at least `inset` from it.
-pub fn disc_points(ring: &[Vec3], lid: &Vec3, axis: &Vec3, spacing: f64, inset: f64) -> Vec<Vec3> {
-    if ring.len() < 3 || !(spacing.is_finite() && spacing > 0.0) {
-        return Vec::new();
-    }
-    let h = lid.dot(axis);
-    let outline: Vec<Vec3> = ring.iter().map(|p| p + axis * (h - p.dot(axis))).collect();
-    let c = centroid(&outline);
-    let Some(u) = (outline[0] - c).try_normalize(1e-300) else {
-        return Vec::new();
-    };
-    let v = axis.cross(&u);
-    let flat: Vec<(f64, f64)> = outline
-        .iter()
-        .map(|p| ((p - c).dot(&u), (p - c).dot(&v)))
-        .collect();
-    let reach = flat.iter().map(|(x, y)| x.hypot(*y)).fold(0.0, f64::max);
-    let steps = (reach / spacing).ceil();
-    if !steps.is_finite() || steps > 1e4 {
-        return Vec::new();
-    }
-    let steps = steps as i64;
-    let mut out = Vec::new();
-    for j in -steps..=steps {
-        for i in -steps..=steps {
-            let (x, y) = (i as f64 * spacing, j as f64 * spacing);
-            if inside(&flat, x, y) && edge_distance(&flat, x, y) >= inset {
-                out.push(c + u * x + v * y);
-            }
-        }
-    }
-    out
-}
-
-/// Even-odd point-in-polygon test.
-fn inside(poly: &[(f64, f64)], x: f64, y: f64) -> bool {
-    let mut odd = false;
-    for (k, a) in poly.iter().enumerate() {
-        let b = poly[(k + 1) % poly.len()];
-        if (a.1 > y) != (b.1 > y) && x < a.0 + (y - a.1) / (b.1 - a.1) * (b.0 - a.0) {
-            odd = !odd;
-        }
-    }
-    odd
-}
-
-/// Distance from (x, y) to the polygon's edges.
-fn edge_distance(poly: &[(f64, f64)], x: f64, y: f64) -> f64 {
-    let mut best = f64::INFINITY;
-    for (k, a) in poly.iter().enumerate() {
-        let b = poly[(k + 1) % poly.len()];
-        let (ex, ey) = (b.0 - a.0, b.1 - a.1);
-        let len2 = ex * ex + ey * ey;
-        let t = if len2 > 0.0 {
-            (((x - a.0) * ex + (y - a.1) * ey) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        best = best.min((x - a.0 - t * ex).hypot(y - a.1 - t * ey));
-    }
-    best
-}
-
 /// The lid points of every end that no curve closes (mm), and what was done. `rings` are the
 /// tube's short-axis rings, apex to base (before the basal extension); `spacing` is the real
 /// attractors' spacing (mm) and `real_attractors` their count.
@@ -343,11 +281,12 @@ pub fn end_cap_points(
     axis: &Vec3,
     spacing: f64,
     real_attractors: usize,
-) -> (Vec<Vec3>, EndCapsReport) {
+) -> (Vec<Vec3>, Vec<LidSide>, EndCapsReport) {
     let mut report = EndCapsReport::none(mode);
     let mut points = Vec::new();
+    let mut sides = Vec::new();
     if mode == EndCapMode::Off {
-        return (points, report);
+        return (points, sides, report);
     }
     let ends = [
         (rings.first(), lids.apex, -1.0),
@@ -367,10 +306,23 @@ pub fn end_cap_points(
         let most = (MAX_POINTS_PER_REAL * real_attractors as f64).max(1.0);
         let pitch = spacing.max((area / most).sqrt());
         let mut disc = disc_points(ring, &lid, axis, pitch, RIM_INSET_PER_SPACING * pitch);
-        if let Some(plane) = tip_plane(ring, contours, kinds, axis, outward) {
-            for p in &mut disc {
-                *p += axis * (plane.height_at(p, axis) - p.dot(axis));
+        let tolerance = ONE_SIDED_TOLERANCE_PER_SPACING * pitch;
+        let plane = tip_plane(ring, contours, kinds, axis, outward);
+        for p in &mut disc {
+            let mut normal = axis * outward;
+            if let Some(plane) = &plane {
+                let h = plane.height_at(p, axis);
+                // A point held at the ring's plane (the floor) lies on a flat lid there.
+                if h != plane.floor {
+                    normal = lid_normal(axis, &plane.gradient, outward);
+                }
+                *p += axis * (h - p.dot(axis));
             }
+            sides.push(LidSide {
+                normal,
+                tolerance,
+                weight: END_CAP_WEIGHT,
+            });
         }
         if disc.is_empty() {
             continue;
@@ -383,7 +335,7 @@ pub fn end_cap_points(
         points.extend(disc);
     }
     report.points = points.len();
-    (points, report)
+    (points, sides, report)
 }
 
 #[cfg(test)]
@@ -539,7 +491,7 @@ mod tests {
             .collect();
         let contours = [lax(u)];
         let kinds = [ContourKind::Lax];
-        let (pts, report) = end_cap_points(
+        let (pts, sides, report) = end_cap_points(
             EndCapMode::Auto,
             &rings,
             &lids,
@@ -554,9 +506,13 @@ mod tests {
         // Pitch 2, inset 2: the 45 points of the test above, at the base's height.
         assert_eq!(pts.len(), 45);
         assert!(pts.iter().all(|p| (p.z - 20.0).abs() < 1e-12));
+        // One side per point: a flat lid facing up the axis, pulling 0.1 x pitch 2 past it.
+        assert_eq!(sides.len(), 45);
+        assert!(sides.iter().all(|s| s.normal == Z && s.tolerance == 0.2));
+        assert!(sides.iter().all(|s| s.weight == END_CAP_WEIGHT));
         // Few real attractors: the pitch grows so one end holds at most a quarter of them
         // (100 x 0.25 = 25 points over pi x 100 mm^2: pitch 3.54, inset 3.54).
-        let (few, _) = end_cap_points(
+        let (few, _, _) = end_cap_points(
             EndCapMode::Auto,
             &rings,
             &lids,
@@ -567,7 +523,7 @@ mod tests {
             100,
         );
         assert!(few.len() <= 25 && few.len() >= 9, "{}", few.len());
-        let (none, off) = end_cap_points(
+        let (none, _, off) = end_cap_points(
             EndCapMode::Off,
             &rings,
             &lids,

@@ -8,6 +8,8 @@
 
 mod diameter;
 pub mod ends;
+mod lid_disc;
+pub mod lid_pull;
 mod phases;
 #[cfg(test)]
 mod precision;
@@ -146,6 +148,10 @@ pub struct Reconstruction {
     real_attractors: usize,
     /// Lid points of the ends no curve closes (normalised), appended at every resampling.
     cap_points: Vec<Vec3>,
+    /// Each lid point's plane normal and tolerance (normalised units): `lid_pull`.
+    cap_sides: Vec<lid_pull::LidSide>,
+    /// The lid points' weights of the last step (`lid_pull::decide`: which pulled).
+    cap_weights: Vec<f64>,
     end_caps: ends::EndCapsReport,
     attractor_owner: Vec<u32>,
     /// Per-attractor data weights of the current step (conflict softening).
@@ -260,6 +266,8 @@ impl Reconstruction {
             attractors: Vec::new(),
             real_attractors: 0,
             cap_points: Vec::new(),
+            cap_sides: Vec::new(),
+            cap_weights: Vec::new(),
             end_caps,
             attractor_owner: Vec::new(),
             weights: Vec::new(),
@@ -353,6 +361,7 @@ impl Reconstruction {
             }
             self.weights
                 .resize(self.attractors.len(), ends::END_CAP_WEIGHT);
+            self.lid_weights();
             weighted = true;
         }
         self.tps.fit_weighted(

@@ -76,7 +76,7 @@ impl Reconstruction {
                 (mm, (length_mm / mm.max(1e-9)).ceil() as usize)
             }
         };
-        let (points, report) = ends::end_cap_points(
+        let (points, sides, report) = ends::end_cap_points(
             self.params.end_caps,
             rings,
             lids,
@@ -87,7 +87,35 @@ impl Reconstruction {
             count,
         );
         self.cap_points = points.iter().map(|p| self.norm.to_unit(p)).collect();
+        let scale = self.norm.scale;
+        self.cap_sides = sides
+            .iter()
+            .map(|s| super::lid_pull::LidSide {
+                tolerance: s.tolerance / scale,
+                ..*s
+            })
+            .collect();
         self.end_caps = report;
+    }
+
+    /// The one-sided lid (`lid_pull`): which lid points pull in this step, from its closest points
+    /// and which pulled in the last one; the released ones are left out of the step's fit.
+    pub(super) fn lid_weights(&mut self) {
+        let n = self.real_attractors.min(self.attractors.len());
+        super::lid_pull::decide(
+            n,
+            &self.attractors,
+            &self.closest,
+            &self.cap_sides,
+            &mut self.cap_weights,
+        );
+        super::lid_pull::apply(
+            n,
+            &self.cap_weights,
+            &mut self.closest,
+            &mut self.targets,
+            &mut self.weights,
+        );
     }
 
     /// Farthest-point sampling of the attractors, seeded at the candidate farthest from the mesh.

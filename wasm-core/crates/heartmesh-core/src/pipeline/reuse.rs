@@ -35,7 +35,8 @@ fn run(set: &ContourSet, surface: Option<&str>, always_refactor: bool) -> Outcom
         rec.step().unwrap_or_else(|e| panic!("step: {e}"));
         if rec.iteration > 0 && !rec.tps.is_empty() && !always_refactor {
             // `rec.closest`, `rec.targets` and `rec.weights` are this step's fit inputs.
-            let lambda_eff = lambda / rec.attractors.len() as f64;
+            // As the step: the data weight per contour attractor (end caps' lid points excluded).
+            let lambda_eff = lambda / rec.real_attractors.min(rec.attractors.len()).max(1) as f64;
             let weights = rec.weighted.then_some(&rec.weights[..]);
             exact
                 .fit_weighted(&rec.closest, &rec.targets, lambda_eff, weights)
