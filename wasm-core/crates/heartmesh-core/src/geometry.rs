@@ -8,3 +8,8 @@ pub type Vec3 = nalgebra::Vector3<f64>;
 pub fn v3(x: f64, y: f64, z: f64) -> Vec3 {
     Vec3::new(x, y, z)
 }
+
+/// The mean of `points` (the origin for none: callers check emptiness where it matters).
+pub fn centroid(points: &[Vec3]) -> Vec3 {
+    points.iter().fold(Vec3::zeros(), |a, p| a + p) / points.len().max(1) as f64
+}

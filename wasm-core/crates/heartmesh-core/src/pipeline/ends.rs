@@ -26,7 +26,7 @@ pub use super::lid_disc::disc_points;
 use super::lid_pull::{lid_normal, LidSide, ONE_SIDED_TOLERANCE_PER_SPACING};
 use super::tube::Lids;
 use crate::contours::{Contour, ContourKind};
-use crate::geometry::Vec3;
+use crate::geometry::{centroid, Vec3};
 use crate::params::EndCapMode;
 use serde::Serialize;
 
@@ -75,8 +75,29 @@ pub const RIM_INSET_PER_SPACING: f64 = 1.0;
 /// spacing: a dense disc would double the spline's size for no gain).
 const MAX_POINTS_PER_REAL: f64 = 0.25;
 
-fn centroid(points: &[Vec3]) -> Vec3 {
-    points.iter().fold(Vec3::zeros(), |a, p| a + p) / points.len().max(1) as f64
+/// An end ring's centre, mean radius, height along the axis and the "at or beyond its plane"
+/// tolerance: what deciding whether data close the end and fitting the tips' plane both measure from.
+struct EndRing {
+    centre: Vec3,
+    radius: f64,
+    height: f64,
+    tolerance: f64,
+}
+
+impl EndRing {
+    fn of(ring: &[Vec3], axis: &Vec3) -> Option<EndRing> {
+        if ring.is_empty() {
+            return None;
+        }
+        let centre = centroid(ring);
+        let radius = ring.iter().map(|p| (p - centre).norm()).sum::<f64>() / ring.len() as f64;
+        Some(EndRing {
+            centre,
+            radius,
+            height: centre.dot(axis),
+            tolerance: PLANE_TOLERANCE_PER_RADIUS * radius,
+        })
+    }
 }
 
 /// Whether long-axis data close the end at `ring` (`outward` = +1: the base, beyond the ring is
@@ -88,13 +109,15 @@ pub fn closed_by_data(
     axis: &Vec3,
     outward: f64,
 ) -> bool {
-    if ring.is_empty() {
+    let Some(EndRing {
+        centre: c,
+        radius,
+        height: h0,
+        tolerance,
+    }) = EndRing::of(ring, axis)
+    else {
         return false;
-    }
-    let c = centroid(ring);
-    let radius = ring.iter().map(|p| (p - c).norm()).sum::<f64>() / ring.len() as f64;
-    let h0 = c.dot(axis);
-    let tolerance = PLANE_TOLERANCE_PER_RADIUS * radius;
+    };
     let in_plane = |p: &Vec3| {
         let d = p - c;
         d - axis * d.dot(axis)
@@ -207,13 +230,12 @@ pub fn tip_plane(
     axis: &Vec3,
     outward: f64,
 ) -> Option<TipPlane> {
-    if ring.is_empty() {
-        return None;
-    }
-    let c = centroid(ring);
-    let radius = ring.iter().map(|p| (p - c).norm()).sum::<f64>() / ring.len() as f64;
-    let h0 = c.dot(axis);
-    let tolerance = PLANE_TOLERANCE_PER_RADIUS * radius;
+    let EndRing {
+        centre: c,
+        radius,
+        height: h0,
+        tolerance,
+    } = EndRing::of(ring, axis)?;
     let tips: Vec<Vec3> = contours
         .iter()
         .zip(kinds)

@@ -1,10 +1,6 @@
 //! The lid's disc: grid points filling an end ring's outline in the lid's plane (`ends`).
 
-use crate::geometry::Vec3;
-
-fn centroid(points: &[Vec3]) -> Vec3 {
-    points.iter().fold(Vec3::zeros(), |a, p| a + p) / points.len().max(1) as f64
-}
+use crate::geometry::{centroid, Vec3};
 
 /// Lid points filling `ring`'s outline moved along `axis` to the height of `lid`: a square grid of
 /// pitch `spacing` anchored at the outline's centroid and turned to the ring's first point (the

@@ -3,7 +3,7 @@
 
 use crate::contours::axis::Layout;
 use crate::contours::{Contour, ContourKind};
-use crate::geometry::Vec3;
+use crate::geometry::{centroid, Vec3};
 use crate::mesh::TriMesh;
 use crate::params::LidMode;
 
@@ -12,10 +12,6 @@ use crate::params::LidMode;
 pub struct Lids {
     pub apex: Option<Vec3>,
     pub base: Option<Vec3>,
-}
-
-fn centroid(points: &[Vec3]) -> Vec3 {
-    points.iter().fold(Vec3::zeros(), |a, p| a + p) / points.len().max(1) as f64
 }
 
 /// Lid points: each end ring's centroid, moved along the axis to the farthest long-axis point beyond
