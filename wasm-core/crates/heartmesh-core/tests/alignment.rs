@@ -33,6 +33,19 @@ fn surface(name: &str, align: bool) -> Params {
 }
 
 /// Mesh-to-truth mean and Hausdorff (mm), clipped at `clip`.
+/// The CMR-like acquisition with every plane shifted up to 2 mm and tilted up to 2 degrees.
+fn misaligned_spec(seed: u64, lax_count: usize) -> AcquisitionSpec {
+    AcquisitionSpec {
+        misalignment: Some(Misalignment {
+            shift_mm: 2.0,
+            tilt_deg: 2.0,
+        }),
+        seed,
+        lax_count,
+        ..AcquisitionSpec::default()
+    }
+}
+
 fn versus_truth(truth: &TriMesh, mesh: &TriMesh, clip: &Plane) -> (f64, f64) {
     let r = compare(truth, mesh, Some(clip)).unwrap_or_else(|e| panic!("compare: {e}"));
     (r.mesh_to_truth.mean, r.hausdorff)
@@ -53,15 +66,7 @@ fn misaligned_single_surfaces() {
     for (file, lax) in cases {
         let truth = load_truth(file);
         for seed in 1..=4u64 {
-            let spec = AcquisitionSpec {
-                misalignment: Some(Misalignment {
-                    shift_mm: 2.0,
-                    tilt_deg: 2.0,
-                }),
-                seed,
-                lax_count: lax,
-                ..AcquisitionSpec::default()
-            };
+            let spec = misaligned_spec(seed, lax);
             let acq = simulate(&truth, &spec).unwrap_or_else(|e| panic!("{file}: {e}"));
             let (m0, _) = reconstruct(&acq.contours, Params::default());
             let (m1, _) = reconstruct(&acq.contours, aligned());
@@ -114,15 +119,7 @@ fn views_along_the_long_axis() {
     for (file, lax) in cases {
         let truth = load_truth(file);
         for seed in 1..=4u64 {
-            let spec = AcquisitionSpec {
-                misalignment: Some(Misalignment {
-                    shift_mm: 2.0,
-                    tilt_deg: 2.0,
-                }),
-                seed,
-                lax_count: lax,
-                ..AcquisitionSpec::default()
-            };
+            let spec = misaligned_spec(seed, lax);
             let acq = simulate(&truth, &spec).unwrap_or_else(|e| panic!("{file}: {e}"));
             let mut rng = SplitMix64::new(seed);
             let mut correction = std::collections::HashMap::new();
