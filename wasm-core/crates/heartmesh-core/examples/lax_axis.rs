@@ -11,12 +11,13 @@ use heartmesh_core::contours::{Contour, ContourKind, ContourSet, Polyline};
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::io;
 use heartmesh_core::mesh::TriMesh;
+use heartmesh_core::sim::planes::draw_motion;
 use heartmesh_core::sim::population::{generate, Base, Plan, Source};
 use heartmesh_core::sim::prng::SplitMix64;
 use heartmesh_core::sim::repair::{orient_consistently, weld};
 use heartmesh_core::sim::slice::{join_chains, polyline_length, resample};
-use heartmesh_core::sim::{simulate, slice_mesh, AcquisitionSpec, Misalignment, Plane};
-use nalgebra::{Matrix3, Rotation3, Unit};
+use heartmesh_core::sim::{simulate, slice_mesh, AcquisitionSpec, Misalignment};
+use nalgebra::{Matrix3, Rotation3};
 use std::collections::HashMap;
 
 fn truth(dir: &str, name: &str) -> TriMesh {
@@ -28,34 +29,11 @@ fn truth(dir: &str, name: &str) -> TriMesh {
     orient_consistently(&weld(&m, 1e-6).0).0
 }
 
-/// A breath-hold motion drawn exactly as `sim::planes` draws it (same generator calls, same
-/// order), so the shift of each simulated image is known.
-struct Motion {
-    rotation: Rotation3<f64>,
-    centre: Vec3,
-    shift: Vec3,
-}
-
-impl Motion {
-    fn draw(rng: &mut SplitMix64, plane: &Plane, shift_mm: f64, tilt_deg: f64) -> Motion {
-        let helper = if plane.normal.x.abs() < 0.9 {
-            Vec3::x()
-        } else {
-            Vec3::y()
-        };
-        let u = (helper - plane.normal * helper.dot(&plane.normal)).normalize();
-        let v = plane.normal.cross(&u);
-        let psi = rng.uniform(0.0, std::f64::consts::TAU);
-        let axis = Unit::new_normalize(u * psi.cos() + v * psi.sin());
-        let angle = rng.uniform(-1.0, 1.0) * tilt_deg.to_radians();
-        let shift = rng.unit_vector() * rng.uniform(0.0, shift_mm);
-        Motion {
-            rotation: Rotation3::from_axis_angle(&axis, angle),
-            centre: plane.origin,
-            shift,
-        }
-    }
-}
+/// The acquisitions' misalignment: every image shifted up to 2 mm and tilted up to 2 degrees.
+const TWO_MM_TWO_DEG: Misalignment = Misalignment {
+    shift_mm: 2.0,
+    tilt_deg: 2.0,
+};
 
 /// One simulated case: the contours, each contour id's true in-plane correction (the image's
 /// shift, projected into its nominal plane) and plane normal, and the long axis.
@@ -71,10 +49,7 @@ struct Case {
 /// `sim::simulate` with 2 mm / 2 degree misalignment; the motions redrawn to know the shifts.
 fn lv_case(name: &str, mesh: &TriMesh, base: &AcquisitionSpec, seed: u64) -> Option<Case> {
     let spec = AcquisitionSpec {
-        misalignment: Some(Misalignment {
-            shift_mm: 2.0,
-            tilt_deg: 2.0,
-        }),
+        misalignment: Some(TWO_MM_TWO_DEG),
         seed,
         ..base.clone()
     };
@@ -94,7 +69,7 @@ fn lv_case(name: &str, mesh: &TriMesh, base: &AcquisitionSpec, seed: u64) -> Opt
                 .map(|(k, p)| (format!("lax{:02}", k + 1), p)),
         );
     for (id, plane) in named {
-        let m = Motion::draw(&mut rng, plane, 2.0, 2.0);
+        let m = draw_motion(&mut rng, plane, TWO_MM_TWO_DEG);
         let n = plane.normal;
         if id.starts_with("sax") {
             through.push(m.shift.dot(&n));
@@ -158,7 +133,7 @@ fn own_case(
     let mut truth = HashMap::new();
     let mut through = Vec::new();
     for (k, (kind, plane)) in planes.enumerate() {
-        let mut m = Motion::draw(&mut rng, &plane, 2.0, 2.0);
+        let mut m = draw_motion(&mut rng, &plane, TWO_MM_TWO_DEG);
         if !parts.tilt {
             m.rotation = Rotation3::identity();
         }
@@ -169,10 +144,7 @@ fn own_case(
         }) {
             m.shift -= plane.normal * m.shift.dot(&plane.normal);
         }
-        let imaged = Plane {
-            origin: m.rotation * (plane.origin - m.centre) + m.centre + m.shift,
-            normal: m.rotation * plane.normal,
-        };
+        let imaged = m.apply_to_plane(&plane);
         let n = plane.normal;
         if kind == "sax" {
             through.push(m.shift.dot(&n));
@@ -187,11 +159,7 @@ fn own_case(
             if piece.points.len() < 5 {
                 continue;
             }
-            let points = piece
-                .points
-                .iter()
-                .map(|p| m.rotation.inverse() * (p - m.centre - m.shift) + m.centre)
-                .collect();
+            let points = piece.points.iter().map(|p| m.inverse_apply(p)).collect();
             let id = format!("{kind}{k:02}_{surf}");
             truth.insert(id.clone(), (m.shift - n * m.shift.dot(&n), n));
             set.contours.push(Contour {

@@ -10,11 +10,12 @@ use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::mesh::TriMesh;
 use heartmesh_core::metrics::compare::compare;
+use heartmesh_core::sim::planes::{draw_motion, Motion};
 use heartmesh_core::sim::prng::SplitMix64;
 use heartmesh_core::sim::slice::{join_chains, polyline_length, resample};
 use heartmesh_core::sim::{simulate, slice_mesh, AcquisitionSpec, Misalignment, Plane};
 use heartmesh_core::Params;
-use nalgebra::{Matrix3, Rotation3, Unit};
+use nalgebra::Matrix3;
 
 fn aligned() -> Params {
     Params {
@@ -33,13 +34,16 @@ fn surface(name: &str, align: bool) -> Params {
 }
 
 /// Mesh-to-truth mean and Hausdorff (mm), clipped at `clip`.
+/// Every plane shifted up to 2 mm and tilted up to 2 degrees.
+const MISALIGNMENT: Misalignment = Misalignment {
+    shift_mm: 2.0,
+    tilt_deg: 2.0,
+};
+
 /// The CMR-like acquisition with every plane shifted up to 2 mm and tilted up to 2 degrees.
 fn misaligned_spec(seed: u64, lax_count: usize) -> AcquisitionSpec {
     AcquisitionSpec {
-        misalignment: Some(Misalignment {
-            shift_mm: 2.0,
-            tilt_deg: 2.0,
-        }),
+        misalignment: Some(MISALIGNMENT),
         seed,
         lax_count,
         ..AcquisitionSpec::default()
@@ -135,7 +139,7 @@ fn views_along_the_long_axis() {
                         .map(|(k, p)| (format!("lax{:02}", k + 1), p)),
                 )
             {
-                let m = Motion::draw(&mut rng, plane, 2.0, 2.0);
+                let m = draw_motion(&mut rng, plane, MISALIGNMENT);
                 let n = plane.normal;
                 correction.insert(id, (m.shift - n * m.shift.dot(&n), n));
             }
@@ -225,54 +229,20 @@ fn aligned_acquisitions_stay_put() {
     }
 }
 
-/// A rigid breath-hold motion of one image: tilt about an in-plane axis through the plane's origin
-/// and a shift, drawn as `sim::planes` draws them.
-struct Motion {
-    rotation: Rotation3<f64>,
-    centre: Vec3,
-    shift: Vec3,
-}
-
-impl Motion {
-    fn draw(rng: &mut SplitMix64, plane: &Plane, shift_mm: f64, tilt_deg: f64) -> Motion {
-        let helper = if plane.normal.x.abs() < 0.9 {
-            Vec3::x()
-        } else {
-            Vec3::y()
-        };
-        let u = plane.normal.cross(&helper).normalize();
-        let v = plane.normal.cross(&u);
-        let psi = rng.uniform(0.0, std::f64::consts::TAU);
-        let axis = Unit::new_normalize(u * psi.cos() + v * psi.sin());
-        let angle = rng.uniform(-1.0, 1.0) * tilt_deg.to_radians();
-        let shift = rng.unit_vector() * rng.uniform(0.0, shift_mm);
-        Motion {
-            rotation: Rotation3::from_axis_angle(&axis, angle),
-            centre: plane.origin,
-            shift,
-        }
-    }
-
-    fn moved(&self, plane: &Plane) -> Plane {
-        Plane {
-            origin: self.rotation * (plane.origin - self.centre) + self.centre + self.shift,
-            normal: self.rotation * plane.normal,
-        }
-    }
-
-    fn back(&self, p: &Vec3) -> Vec3 {
-        self.rotation.inverse() * (p - self.centre - self.shift) + self.centre
-    }
-}
-
 /// The section of `truth` an analyst draws on the image of `nominal` taken with `motion`: the
 /// longest piece, resampled at 1 mm, in the image's (nominal) frame.
 fn section(truth: &TriMesh, nominal: &Plane, motion: &Motion) -> Option<Vec<Vec3>> {
-    let imaged = motion.moved(nominal);
+    let imaged = motion.apply_to_plane(nominal);
     let mut pieces = join_chains(slice_mesh(truth, &imaged), 3.0, &imaged);
     pieces.sort_by(|a, b| polyline_length(b).total_cmp(&polyline_length(a)));
     let piece = resample(pieces.first()?, 1.0);
-    Some(piece.points.iter().map(|p| motion.back(p)).collect())
+    Some(
+        piece
+            .points
+            .iter()
+            .map(|p| motion.inverse_apply(p))
+            .collect(),
+    )
 }
 
 /// A biventricular acquisition: the LV's planes (as `simulate` plans them on the LV) cut the LV
@@ -293,7 +263,7 @@ fn biventricular(
     let mut rng = SplitMix64::new(seed);
     let mut set = ContourSet::default();
     for (k, (kind, plane)) in planes.enumerate() {
-        let motion = Motion::draw(&mut rng, &plane, shift_mm, tilt_deg);
+        let motion = draw_motion(&mut rng, &plane, Misalignment { shift_mm, tilt_deg });
         for (name, truth) in [("LV_ENDO", lv), ("RV_ENDO", rv)] {
             if let Some(points) = section(truth, &plane, &motion) {
                 if points.len() < 5 {

@@ -513,16 +513,9 @@ mod tests {
             .collect();
         let contours = [lax(u)];
         let kinds = [ContourKind::Lax];
-        let (pts, sides, report) = end_cap_points(
-            EndCapMode::Auto,
-            &rings,
-            &lids,
-            &contours,
-            &kinds,
-            &Z,
-            2.0,
-            400,
-        );
+        let caps =
+            |mode, real| end_cap_points(mode, &rings, &lids, &contours, &kinds, &Z, 2.0, real);
+        let (pts, sides, report) = caps(EndCapMode::Auto, 400);
         assert!(report.base && !report.apex);
         assert_eq!(report.points, pts.len());
         // Pitch 2, inset 2: the 45 points of the test above, at the base's height.
@@ -534,27 +527,9 @@ mod tests {
         assert!(sides.iter().all(|s| s.weight == END_CAP_WEIGHT));
         // Few real attractors: the pitch grows so one end holds at most a quarter of them
         // (100 x 0.25 = 25 points over pi x 100 mm^2: pitch 3.54, inset 3.54).
-        let (few, _, _) = end_cap_points(
-            EndCapMode::Auto,
-            &rings,
-            &lids,
-            &contours,
-            &kinds,
-            &Z,
-            2.0,
-            100,
-        );
+        let (few, _, _) = caps(EndCapMode::Auto, 100);
         assert!(few.len() <= 25 && few.len() >= 9, "{}", few.len());
-        let (none, _, off) = end_cap_points(
-            EndCapMode::Off,
-            &rings,
-            &lids,
-            &contours,
-            &kinds,
-            &Z,
-            2.0,
-            400,
-        );
+        let (none, _, off) = caps(EndCapMode::Off, 400);
         assert!(none.is_empty());
         assert_eq!(off, EndCapsReport::none(EndCapMode::Off));
         assert_eq!(off.mode, "off");

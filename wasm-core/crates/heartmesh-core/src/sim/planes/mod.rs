@@ -297,24 +297,26 @@ fn validate(spec: &AcquisitionSpec) -> Result<()> {
     Ok(())
 }
 
-/// A rigid motion x -> R (x - c) + c + t.
+/// A rigid motion x -> R (x - c) + c + t. Public, with [`draw_motion`], so that studies and tests
+/// that need each image's true shift redraw the very motions [`simulate`] drew (same generator,
+/// same calls) rather than a copy that could drift from it.
 #[derive(Debug, Clone, Copy)]
-struct Motion {
-    rotation: Rotation3<f64>,
-    centre: Vec3,
-    shift: Vec3,
+pub struct Motion {
+    pub rotation: Rotation3<f64>,
+    pub centre: Vec3,
+    pub shift: Vec3,
 }
 
 impl Motion {
-    fn apply(&self, p: &Vec3) -> Vec3 {
+    pub fn apply(&self, p: &Vec3) -> Vec3 {
         self.rotation * (p - self.centre) + self.centre + self.shift
     }
 
-    fn inverse_apply(&self, p: &Vec3) -> Vec3 {
+    pub fn inverse_apply(&self, p: &Vec3) -> Vec3 {
         self.rotation.inverse() * (p - self.centre - self.shift) + self.centre
     }
 
-    fn apply_to_plane(&self, plane: &Plane) -> Plane {
+    pub fn apply_to_plane(&self, plane: &Plane) -> Plane {
         Plane {
             origin: self.apply(&plane.origin),
             normal: self.rotation * plane.normal,
@@ -322,7 +324,9 @@ impl Motion {
     }
 }
 
-fn draw_motion(rng: &mut SplitMix64, plane: &Plane, m: Misalignment) -> Motion {
+/// One image's breath-hold motion: a tilt of up to `m.tilt_deg` about a random in-plane axis
+/// through the plane's origin, then a shift of up to `m.shift_mm` in a random direction.
+pub fn draw_motion(rng: &mut SplitMix64, plane: &Plane, m: Misalignment) -> Motion {
     let u = any_perpendicular(&plane.normal);
     let v = plane.normal.cross(&u);
     let psi = rng.uniform(0.0, 2.0 * std::f64::consts::PI);
