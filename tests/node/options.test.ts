@@ -103,7 +103,7 @@ describe('smoothing options through the worker', () => {
     expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
     const bad = await loaded(ask, 'bad.json', session({ smoothing_method: 'gaussian' }));
     expect(bad.session ?? null).toBeNull();
-    expect(bad.warnings.join(' ')).toMatch(/not applied: parameter smoothing_method: unknown method "gaussian" \(allowed: laplacian-affine, taubin\)/);
+    expect(bad.warnings.join(' ')).toMatch(/not applied: parameter smoothing_method: unknown method "gaussian" \(allowed: laplacian-affine, taubin, laplacian-hc, laplacian-twicing\)/);
     const csv = await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     expect(csv.session ?? null).toBeNull();
   });

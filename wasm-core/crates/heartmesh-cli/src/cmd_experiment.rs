@@ -27,7 +27,7 @@ pub const USAGE: &str =
     [--count N] [--seed N]
     [--lambda LIST] [--smoothing-iterations LIST] [--target-reduction LIST]
     [--attractor-spacing LIST] [--iterations N] [--align-slices] [--end-caps auto|off]
-    [--tag NAME] [--quiet]
+    [--smoothing-method NAME] [--tag NAME] [--quiet]
   Slices each TRUTH like a CMR acquisition, reconstructs and measures against the truth (clipped
   at the most basal SAX plane); writes OUT_DIR/KIND.csv (one row per run: settings, distances in
   mm both ways, Hausdorff, volumes in ml, contour-to-mesh, seconds) and OUT_DIR/KIND.svg.
@@ -48,9 +48,16 @@ pub const USAGE: &str =
   --align-slices: every run aligns the slices first (breath-hold correction, as reconstruct
   --align-slices; contour_to_mesh is then to the shifted contours); use with --tag to compare.
   --end-caps auto|off: lid points at the ends no curve closes in every run (as reconstruct).
+  --smoothing-method NAME: the remesh smoothing of every run (as reconstruct).
   --tag NAME: write KIND-NAME.csv/.svg instead (several variants in one directory).";
 
-const COMMON: [&str; 4] = ["output", "iterations", "tag", "end-caps"];
+const COMMON: [&str; 5] = [
+    "output",
+    "iterations",
+    "tag",
+    "end-caps",
+    "smoothing-method",
+];
 const SWEEP_PARAMS: [&str; 4] = [
     "lambda",
     "smoothing-iterations",
@@ -112,6 +119,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     };
     if let Some(m) = p.value("end-caps") {
         params.set_end_caps(m).map_err(CliError::param)?;
+    }
+    if let Some(m) = p.value("smoothing-method") {
+        params.set_smoothing_method(m).map_err(CliError::param)?;
     }
     if let Some(n) = p.whole("iterations")? {
         params

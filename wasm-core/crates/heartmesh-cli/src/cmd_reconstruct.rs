@@ -18,13 +18,15 @@ pub const USAGE: &str =
     "heartmesh reconstruct CONTOURS -o MESH.obj [--report REPORT.json] [--surface LV_ENDO]
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
-    [--smoothing-method laplacian-affine|taubin] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
+    [--smoothing-method laplacian-affine|taubin|laplacian-hc|laplacian-twicing] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
     [--ring-points 50] [--no-soften-conflicts] [--align-slices] [--end-caps auto|off] [--frame N]
     [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
   --smoothing-method taubin: lambda/mu smoothing (lambda = smoothing factor, at most 0.6)
-  instead of Laplacian + affine shrink correction;
+  instead of Laplacian + affine shrink correction; laplacian-hc: Laplacian sweeps with a local
+  shrink correction after each (HC, Vollmer et al. 1999); laplacian-twicing: each vertex pushed
+  back by the smoothed part of its own displacement (factor at most 0.5);
   --no-soften-conflicts: keep full weight on short- and long-axis attractors that disagree in
   the final steps (the default down-weights them there instead of letting the surface fold);
   --align-slices: first shift every short-axis slice and long-axis view of the file (all
@@ -318,5 +320,15 @@ mod tests {
             "0.8",
         ]));
         assert!(e.is_err());
+        // Twicing above factor 0.5 could amplify the highest frequency (gain -3): refused.
+        for (factor, ok) in [("0.5", true), ("0.6", false)] {
+            let p = params_from_default(&parsed(&[
+                "--smoothing-method",
+                "laplacian-twicing",
+                "--smoothing-factor",
+                factor,
+            ]));
+            assert_eq!(p.is_ok(), ok, "factor {factor}");
+        }
     }
 }

@@ -262,7 +262,8 @@ impl Params {
         Ok(())
     }
 
-    /// Parses a smoothing method: `laplacian-affine`, `taubin`.
+    /// Parses a smoothing method: `laplacian-affine`, `taubin`, `laplacian-hc`,
+    /// `laplacian-twicing`.
     pub fn set_smoothing_method(&mut self, name: &str) -> Result<()> {
         self.smoothing = SmoothingMethod::parse(name).ok_or_else(|| {
             let allowed: Vec<&str> = SmoothingMethod::ALL.iter().map(|(_, n)| *n).collect();
@@ -290,14 +291,13 @@ impl Params {
                 max: f64::INFINITY,
             });
         }
-        if self.smoothing == SmoothingMethod::Taubin
-            && self.smoothing_factor > crate::refine::smooth::TAUBIN_MAX_LAMBDA
-        {
+        let max_factor = self.smoothing.max_factor();
+        if self.smoothing_factor > max_factor {
             return Err(CoreError::ParamOutOfRange {
                 name: "smoothing_factor".into(),
                 value: self.smoothing_factor,
                 min: 0.0,
-                max: crate::refine::smooth::TAUBIN_MAX_LAMBDA,
+                max: max_factor,
             });
         }
         if let LidMode::Explicit { apex, base } = self.lids {

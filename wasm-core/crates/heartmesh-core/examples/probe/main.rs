@@ -6,6 +6,7 @@
 //! PROBE_POP=SEED:K: the case's shape as member K of the population drawn with SEED
 //! (`heartmesh experiment population --seed SEED`, member `pK-...` of that base; misaligned with
 //! seed SEED + K as there).
+//! PROBE_METHOD=NAME: the remesh smoothing method (`--smoothing-method` of the CLI).
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::TriMesh;
 use heartmesh_core::metrics::compare::compare;
@@ -198,6 +199,9 @@ fn run() -> Res<()> {
             "soften" => params.soften_conflicts = f != 0.0,
             _ => return Err(format!("unknown param {k}").into()),
         }
+    }
+    if let Ok(m) = std::env::var("PROBE_METHOD") {
+        params.set_smoothing_method(&m)?;
     }
     let mut rec = Reconstruction::new(&acq.contours, params)?;
     let (lo0, _, _) = acq.axis.extent(&t).ok_or("no extent")?;

@@ -1,5 +1,6 @@
 //! Remesh smoothing: Laplacian (umbrella) smoothing with an affine shrink correction, or Taubin's
-//! lambda/mu smoothing, which does not shrink.
+//! lambda/mu smoothing, which does not shrink, or Laplacian smoothing with a local shrink
+//! correction instead of the global one (HC, module `hc`; twicing, module `twicing`).
 //!
 //! Reference: G. Taubin, "A signal processing approach to fair surface design", SIGGRAPH 1995
 //! (notation p <- p + f (mean(neighbours) - p)); the correction is the one of Villard, Grau &
@@ -26,9 +27,16 @@ use crate::mesh::TriMesh;
 use nalgebra::{Matrix3x4, Matrix4, Vector4, SVD};
 use sweep::{sweeps, umbrella_steps, Stencil};
 
+mod hc;
 mod sweep;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_local;
+mod twicing;
+
+pub use hc::{hc, hc_factors, HC_BETA};
+pub use twicing::{twicing, TWICING_MAX_FACTOR};
 
 /// Which vertices each vertex averages: a CSR list (interior: one-ring in ascending vertex
 /// order; boundary: the two boundary neighbours, previous then next along the loop; fixed:
@@ -76,19 +84,38 @@ pub enum SmoothingMethod {
     /// Taubin lambda/mu smoothing (lambda = the smoothing factor, mu from the pass band
     /// [`TAUBIN_PASS_BAND`]); no correction.
     Taubin,
+    /// HC smoothing (Vollmer, Mencl & Mueller 1999; module `hc`): umbrella sweeps, each
+    /// followed by a local push-back of every vertex; no global correction.
+    LaplacianHc,
+    /// Umbrella sweeps, then every vertex pushed back by the smoothed part of its own
+    /// displacement (twicing; module `twicing`); no global correction.
+    LaplacianTwicing,
 }
 
 impl SmoothingMethod {
     /// Every method with its name (CLI flag `--smoothing-method`, JSON).
-    pub const ALL: [(SmoothingMethod, &'static str); 2] = [
+    pub const ALL: [(SmoothingMethod, &'static str); 4] = [
         (SmoothingMethod::LaplacianAffine, "laplacian-affine"),
         (SmoothingMethod::Taubin, "taubin"),
+        (SmoothingMethod::LaplacianHc, "laplacian-hc"),
+        (SmoothingMethod::LaplacianTwicing, "laplacian-twicing"),
     ];
 
     pub fn name(self) -> &'static str {
         match self {
             SmoothingMethod::LaplacianAffine => "laplacian-affine",
             SmoothingMethod::Taubin => "taubin",
+            SmoothingMethod::LaplacianHc => "laplacian-hc",
+            SmoothingMethod::LaplacianTwicing => "laplacian-twicing",
+        }
+    }
+
+    /// Largest smoothing factor the method is stable at (the parameter's range is 0..=1).
+    pub fn max_factor(self) -> f64 {
+        match self {
+            SmoothingMethod::Taubin => TAUBIN_MAX_LAMBDA,
+            SmoothingMethod::LaplacianTwicing => TWICING_MAX_FACTOR,
+            SmoothingMethod::LaplacianAffine | SmoothingMethod::LaplacianHc => 1.0,
         }
     }
 
@@ -196,6 +223,10 @@ fn smooth_given(
     match method {
         SmoothingMethod::LaplacianAffine => laplacian_affine(mesh, given, iterations, factor),
         SmoothingMethod::Taubin => taubin_given(mesh, given, iterations, factor),
+        SmoothingMethod::LaplacianHc => hc::hc_given(mesh, given, iterations, factor),
+        SmoothingMethod::LaplacianTwicing => {
+            twicing::twicing_given(mesh, given, iterations, factor)
+        }
     }
 }
 
@@ -225,13 +256,19 @@ fn laplacian_affine(
 ) -> Result<TriMesh> {
     let mut smoothed = laplacian_given(mesh, given, iterations, factor)?;
     if iterations > 0 {
-        if let Some(map) = affine_fit(&smoothed.positions, &mesh.positions) {
-            for p in &mut smoothed.positions {
-                *p = map * Vector4::new(p.x, p.y, p.z, 1.0);
-            }
-        }
+        map_back(&mut smoothed, mesh);
     }
     check_finite(smoothed)
+}
+
+/// The shrink correction of METHOD.md section 5: the least-squares affine map taking `smoothed`
+/// back onto `original`, applied to `smoothed` (left as it is when no map can be fitted).
+fn map_back(smoothed: &mut TriMesh, original: &TriMesh) {
+    if let Some(map) = affine_fit(&smoothed.positions, &original.positions) {
+        for p in &mut smoothed.positions {
+            *p = map * Vector4::new(p.x, p.y, p.z, 1.0);
+        }
+    }
 }
 
 fn check_factor(factor: f64) -> Result<()> {

@@ -63,7 +63,7 @@ fn plain_laplacian_shrinks_and_correction_restores_volume() {
 }
 
 /// `clean` with every vertex moved radially by up to +-4% (seeded LCG: the same every run).
-fn noisy(clean: &TriMesh, seed: u64) -> TriMesh {
+pub(super) fn noisy(clean: &TriMesh, seed: u64) -> TriMesh {
     let mut m = clean.clone();
     let mut state = seed;
     for p in &mut m.positions {
@@ -77,7 +77,7 @@ fn noisy(clean: &TriMesh, seed: u64) -> TriMesh {
 }
 
 /// Standard deviation of the distance to the origin (mm).
-fn spread(m: &TriMesh) -> f64 {
+pub(super) fn spread(m: &TriMesh) -> f64 {
     let r: Vec<f64> = m.positions.iter().map(|p| p.norm()).collect();
     let mean = r.iter().sum::<f64>() / r.len() as f64;
     (r.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / r.len() as f64).sqrt()
