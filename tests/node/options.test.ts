@@ -69,6 +69,29 @@ describe('smoothing options through the worker', () => {
     expect(bad.error?.message).toMatch(/smoothing_factor = 0\.8 .*allowed 0 to 0\.6/);
   });
 
+  it('run the local corrections (HC, twicing) and refuse twicing above its 0.5 factor limit', async () => {
+    const { ask } = makeCore();
+    await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
+    const base = (await run(ask, 1)).result;
+    const opts = (smoothing_method: ReconOptions['smoothing_method']): ReconOptions =>
+      ({ smoothing_method, soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    const hc = (await run(ask, 2, opts('laplacian-hc'))).result;
+    const twicing = (await run(ask, 3, opts('laplacian-twicing'))).result;
+    if (!base || !hc || !twicing) throw new Error('runs failed');
+    expect(hc.options.smoothing_method).toBe('laplacian-hc');
+    expect(twicing.options.smoothing_method).toBe('laplacian-twicing');
+    // Other smoothing, other meshes; all of them follow the contours (VALIDATION, session 11).
+    expect(Math.abs(hc.overall.mean - base.overall.mean)).toBeGreaterThan(1e-3);
+    expect(Math.abs(twicing.overall.mean - base.overall.mean)).toBeGreaterThan(1e-3);
+    for (const r of [base, hc, twicing]) {
+      expect(r.overall.mean).toBeLessThan(1);
+      expect(r.watertight).toBe(true);
+    }
+    const bad = await run(ask, 4, opts('laplacian-twicing'), { smoothing_factor: 0.8 });
+    expect(bad.error?.code).toBe('param_out_of_range');
+    expect(bad.error?.message).toMatch(/smoothing_factor = 0\.8 .*allowed 0 to 0\.5/);
+  });
+
   it('reach leave-one-out and the sweep (the same refusal, from the lab)', async () => {
     const { ask } = makeCore();
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));

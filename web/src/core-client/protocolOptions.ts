@@ -13,8 +13,8 @@ export interface ParamValues {
 export type LidsMode = 'auto' | 'none';
 
 /** How the remesh step smooths (the core's `SmoothingMethod::ALL` names). */
-export type SmoothingMethodName = 'laplacian-affine' | 'taubin';
-export const SMOOTHING_METHODS: readonly SmoothingMethodName[] = ['laplacian-affine', 'taubin'];
+export type SmoothingMethodName = 'laplacian-affine' | 'taubin' | 'laplacian-hc' | 'laplacian-twicing';
+export const SMOOTHING_METHODS: readonly SmoothingMethodName[] = ['laplacian-affine', 'taubin', 'laplacian-hc', 'laplacian-twicing'];
 
 /**
  * The reconstruction options that are not numbers (so not in the schema). They travel inside the

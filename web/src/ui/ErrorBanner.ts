@@ -47,12 +47,12 @@ export function bannerText(message: string, tail: string): string {
 }
 
 /**
- * The smoothing factor's slider reaches 1, but Taubin smoothing is only stable up to a lower
- * limit, which the core reports as the factor's allowed range: say why, and what to change.
+ * The smoothing factor's slider reaches 1, but Taubin and twicing smoothing are only stable up to
+ * a lower limit, which the core reports as the factor's allowed range: say why, and what to change.
  */
 export function taubinHint(e: CoreErrorData): string {
   if (e.code !== 'param_out_of_range') return '';
   const m = /parameter smoothing_factor = \S+ is out of range \(allowed \S+ to (\S+)\)/.exec(e.message);
   if (!m || !(Number(m[1]) < 1)) return '';
-  return ` — with Taubin smoothing the factor must be at most ${m[1]}: lower it, or choose Laplacian + affine correction.`;
+  return ` — with the chosen smoothing method (Taubin or twicing) the factor must be at most ${m[1]}: lower it, or choose Laplacian + affine correction.`;
 }

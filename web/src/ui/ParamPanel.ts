@@ -6,7 +6,7 @@
  * the closing of open ends. Emits every change; the controller debounces and
  * restarts the run.
  */
-import { DEFAULT_OPTIONS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
+import { DEFAULT_OPTIONS, SMOOTHING_METHODS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
 import { h } from './dom';
 import { formatValue, sliderSteps, sliderToValue, valueToSlider } from './sliderScale';
 
@@ -26,7 +26,9 @@ const LABELS: Record<string, string> = {
 };
 
 /** One line under each option, like the sliders' schema help. */
-const SMOOTHING_HELP = 'how each remesh smooths: the paper\'s umbrella smoothing with an affine correction, or Taubin λ/μ (factor at most 0.6)';
+const SMOOTHING_HELP =
+  'how each remesh smooths: the paper\'s umbrella smoothing with an affine correction (default), Taubin λ/μ (factor at most 0.6), ' +
+  'or umbrella smoothing with a local correction instead of the affine one: HC, or twicing (factor at most 0.5); see docs/VALIDATION.md, session 11';
 const SOFTEN_HELP = 'in the final steps, down-weight short- and long-axis attractors that disagree instead of letting the surface fold';
 const ALIGN_HELP =
   'before reconstructing, shift each short-axis slice and long-axis view in its own plane so the curves meet where the planes cross; ' +
@@ -79,9 +81,12 @@ export class ParamPanel {
       { id: 'param-smoothing-method', 'data-testid': 'param-smoothing-method', 'aria-describedby': 'param-smoothing-method-help' },
       h('option', { value: 'laplacian-affine' }, 'Laplacian + affine correction'),
       h('option', { value: 'taubin' }, 'Taubin (λ/μ)'),
+      h('option', { value: 'laplacian-hc' }, 'Laplacian + local correction (HC)'),
+      h('option', { value: 'laplacian-twicing' }, 'Laplacian + twicing'),
     );
     this.smoothing.addEventListener('change', () => {
-      this.options = { ...this.options, smoothing_method: this.smoothing.value === 'taubin' ? 'taubin' : 'laplacian-affine' };
+      const method = SMOOTHING_METHODS.find((m) => m === this.smoothing.value) ?? DEFAULT_OPTIONS.smoothing_method;
+      this.options = { ...this.options, smoothing_method: method };
       this.renderOptions();
       this.emit();
     });
