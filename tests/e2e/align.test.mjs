@@ -5,34 +5,23 @@
 // load. One aligned run and one refused run keep it to a few seconds of compute.
 import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdirSync, readFileSync } from 'node:fs';
+import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { launch, readResult, requireDist, runAndWait, sharedDir, startPreview, SHOTS } from './lib.mjs';
+import { download as downloadFrom, openApp, readResult, runAndWait, sharedDir, SHOTS } from './lib.mjs';
 
-let server;
-let browser;
+let app;
 let page;
 
 before(async () => {
-  requireDist();
-  mkdirSync(SHOTS, { recursive: true });
-  server = await startPreview();
-  browser = await launch();
-  page = await browser.context.newPage();
-  page.on('pageerror', (e) => console.log('pageerror:', e.message));
-  await page.goto(server.url);
-  await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
+  app = await openApp();
+  ({ page } = app);
 });
 
 after(async () => {
-  await browser?.close();
-  server?.stop();
+  await app?.close();
 });
 
-async function download(testid) {
-  const [dl] = await Promise.all([page.waitForEvent('download'), page.click(`[data-testid=${testid}]`)]);
-  return readFileSync(await dl.path());
-}
+const download = async (testid) => (await downloadFrom(page, testid)).bytes;
 
 describe('breath-hold alignment in the browser', () => {
   it('biv-me patient 2 ED, aligned: residual falls, contours move by the reported shifts', async () => {

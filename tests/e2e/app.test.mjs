@@ -5,32 +5,25 @@
 // visit, and no request ever leaves the origin. Screenshots go to a scratch folder (docs/screenshots/ with `npm run screenshots`).
 import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { readFileSync, mkdirSync, writeFileSync } from 'node:fs';
+import { mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { ROOT, launch, readResult, requireDist, runAndWait, sharedDir, startPreview, startStatic, waitForDone, watchRequests, SHOTS } from './lib.mjs';
+import { ROOT, download as downloadFrom, gotoEmpty, openApp, readResult, runAndWait, sharedDir, startStatic, waitForDone, watchRequests, SHOTS } from './lib.mjs';
 
 const SAMPLES = ['patient1-ED', 'patient1-ES', 'patient2-ED'];
 
+let app;
 let server;
 let browser;
 let requests;
 let page;
 
 before(async () => {
-  requireDist();
-  mkdirSync(SHOTS, { recursive: true });
-  server = await startPreview();
-  browser = await launch();
-  requests = watchRequests(browser.context);
-  page = await browser.context.newPage();
-  page.on('pageerror', (e) => console.log('pageerror:', e.message));
-  await page.goto(server.url);
-  await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
+  app = await openApp({ watch: true });
+  ({ server, browser, requests, page } = app);
 });
 
 after(async () => {
-  await browser?.close();
-  server?.stop();
+  await app?.close();
 });
 
 function parseBinaryStl(buf) {
@@ -47,11 +40,7 @@ function parseBinaryStl(buf) {
   return { triangles: n, header: Buffer.from(buf.subarray(0, 80)).toString('latin1'), volumeMm3: volume };
 }
 
-async function download(testid) {
-  const [dl] = await Promise.all([page.waitForEvent('download'), page.click(`[data-testid=${testid}]`)]);
-  const path = await dl.path();
-  return { name: dl.suggestedFilename(), bytes: readFileSync(path) };
-}
+const download = (testid) => downloadFrom(page, testid);
 
 describe('heartmesh in the browser', () => {
   for (const id of SAMPLES) {
@@ -225,8 +214,7 @@ describe('heartmesh in the browser', () => {
     assert.equal(await page.textContent('output[for=param-iterations]'), '120');
     await page.mouse.move(0, 0);
     await page.screenshot({ path: join(SHOTS, 'link-LV_EPI-wireframe.png') });
-    await page.goto(server.url); // back to the defaults for the tests that follow
-    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
+    await gotoEmpty(page, server.url); // back to the defaults for the tests that follow
   });
 
   it('opens the canonical CSV through the file input (SurFCo example, not shipped)', async () => {
@@ -253,8 +241,7 @@ describe('heartmesh in the browser', () => {
     await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', file));
     assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'LV_ENDO');
     assert.equal(await page.textContent('#slot-warnings'), '⚠ surface LA_ENDO is not in patient1-ED.csv: showing LV_ENDO');
-    await page.goto(server.url); // back to the defaults for the tests that follow
-    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
+    await gotoEmpty(page, server.url); // back to the defaults for the tests that follow
   });
 
   it('opens a DICOM RT structure set in the worker and draws its 23 landmarks (biv-me patient 1)', async () => {

@@ -5,32 +5,23 @@
 // the option. Two runs of one surface keep it to a few seconds of compute.
 import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdirSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { launch, readResult, requireDist, runAndWait, sharedDir, startPreview, SHOTS } from './lib.mjs';
+import { download as downloadFrom, gotoEmpty, openApp, readResult, runAndWait, sharedDir, SHOTS } from './lib.mjs';
 
+let app;
 let server;
-let browser;
 let page;
 
 before(async () => {
-  requireDist();
-  mkdirSync(SHOTS, { recursive: true });
-  server = await startPreview();
-  browser = await launch();
-  page = await browser.context.newPage();
-  page.on('pageerror', (e) => console.log('pageerror:', e.message));
+  app = await openApp({ goto: false });
+  ({ server, page } = app);
 });
 
 after(async () => {
-  await browser?.close();
-  server?.stop();
+  await app?.close();
 });
 
-async function download(testid) {
-  const [dl] = await Promise.all([page.waitForEvent('download'), page.click(`[data-testid=${testid}]`)]);
-  return { name: dl.suggestedFilename(), bytes: readFileSync(await dl.path()) };
-}
+const download = (testid) => downloadFrom(page, testid);
 
 const count = () => page.evaluate(() => window.heartmesh.currentResult().overall.count);
 const dataset = () => page.locator('[data-testid=result]').evaluate((el) => ({ ...el.dataset }));
@@ -73,8 +64,7 @@ describe('close open ends in the browser', () => {
     assert.match(obj, /end_caps=auto/);
     const session = await download('export-session');
     assert.equal(JSON.parse(session.bytes.toString('utf8')).parameters.end_caps, 'auto');
-    await page.goto(server.url);
-    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
+    await gotoEmpty(page, server.url);
     assert.equal(await page.isChecked('[data-testid=param-end-caps]'), false);
     await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', { name: session.name, mimeType: 'application/json', buffer: session.bytes }), 120000);
     assert.equal(await page.isChecked('[data-testid=param-end-caps]'), true);

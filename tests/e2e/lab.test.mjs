@@ -6,38 +6,26 @@
 // lab-*.png in the screenshot folder (tests/e2e/lib.mjs SHOTS).
 import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdirSync, readFileSync } from 'node:fs';
+import { readFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { launch, requireDist, runAndWait, startPreview, SHOTS } from './lib.mjs';
+import { openApp, runAndWait, SHOTS } from './lib.mjs';
 
 // Two screenshots go to the screenshot folder (kept in the repository by `npm run screenshots`,
 // referenced by docs/USER-GUIDE.md); the others go to the temporary folder.
 const SCRATCH = tmpdir();
 
-let server;
-let browser;
+let app;
 let page;
 const pageErrors = [];
 
 before(async () => {
-  requireDist();
-  mkdirSync(SHOTS, { recursive: true });
-  server = await startPreview();
-  browser = await launch();
-  page = await browser.context.newPage();
-  await page.setViewportSize({ width: 1440, height: 900 });
-  page.on('pageerror', (e) => {
-    pageErrors.push(e.message);
-    console.log('pageerror:', e.message);
-  });
-  await page.goto(server.url);
-  await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
+  app = await openApp({ viewport: { width: 1440, height: 900 }, onPageError: (m) => pageErrors.push(m) });
+  ({ page } = app);
 });
 
 after(async () => {
-  await browser?.close();
-  server?.stop();
+  await app?.close();
 });
 
 /** Sets a form field and fires the events the panel listens to. */

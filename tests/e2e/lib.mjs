@@ -1,7 +1,7 @@
 // Shared helpers of the browser end-to-end tests: serve the built dist/ with `vite preview` and
 // drive Debian's chromium with playwright-core (never a downloaded browser).
 import { spawn } from 'node:child_process';
-import { existsSync, mkdtempSync, readdirSync, rmSync } from 'node:fs';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, readdirSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -186,4 +186,43 @@ export async function startStatic(prefix) {
   await new Promise((r) => server.listen(0, '127.0.0.1', r));
   const { port } = server.address();
   return { url: `http://127.0.0.1:${port}${prefix}`, stop: () => server.close() };
+}
+
+/** Loads `url` and waits for the empty app (the status line's "no file loaded"). */
+export async function gotoEmpty(page, url) {
+  await page.goto(url);
+  await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
+}
+
+/**
+ * What every suite's before() needs: dist/ served by `vite preview`, chromium with a fresh profile
+ * and one page that logs page errors (and hands them to `onPageError`), at the empty app unless
+ * `goto` is false. `watch` records requests (see watchRequests). `close()` undoes all of it.
+ */
+export async function openApp({ goto = true, viewport, onPageError, watch = false } = {}) {
+  requireDist();
+  mkdirSync(SHOTS, { recursive: true });
+  const server = await startPreview();
+  const browser = await launch();
+  const requests = watch ? watchRequests(browser.context) : null;
+  const page = await browser.context.newPage();
+  if (viewport) await page.setViewportSize(viewport);
+  page.on('pageerror', (e) => {
+    onPageError?.(e.message);
+    console.log('pageerror:', e.message);
+  });
+  if (goto) await gotoEmpty(page, server.url);
+  return {
+    server, browser, page, requests,
+    close: async () => {
+      await browser.close();
+      server.stop();
+    },
+  };
+}
+
+/** Clicks an export button and resolves to the download's suggested name and bytes. */
+export async function download(page, testid) {
+  const [dl] = await Promise.all([page.waitForEvent('download'), page.click(`[data-testid=${testid}]`)]);
+  return { name: dl.suggestedFilename(), bytes: readFileSync(await dl.path()) };
 }

@@ -498,11 +498,13 @@ impl Reconstruction {
     /// How far the current mesh reaches past the highest and lowest contour points along the long
     /// axis (mm): the extrapolated part of the volume where no curve closes an end.
     pub fn past_data(&self) -> Option<crate::metrics::extent::PastData> {
-        crate::metrics::extent::past_data(
-            &self.mesh_mm.positions,
-            &self.contours,
-            &self.layout.axis,
-        )
+        self.past_data_of(&self.mesh_mm.positions)
+    }
+
+    /// The same measure for any points (a ground truth, to compare overruns), against this
+    /// reconstruction's contours and long axis.
+    pub fn past_data_of(&self, points: &[Vec3]) -> Option<crate::metrics::extent::PastData> {
+        crate::metrics::extent::past_data(points, &self.contours, &self.layout.axis)
     }
 
     /// Contour-to-mesh distance of every contour point.

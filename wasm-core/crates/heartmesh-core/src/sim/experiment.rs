@@ -38,6 +38,16 @@ pub struct Metrics {
     /// Where the truth is farthest from the reconstruction: height along the long axis, 0 at the
     /// truth's apex, 1 at its top (NaN if the axis gives no extent).
     pub worst_height: f64,
+    /// Enclosed volume of the whole reconstruction, not clipped: what a user of real data gets,
+    /// including any part extrapolated past an end no curve closes.
+    pub volume_mesh_unclipped_ml: f64,
+    /// How far the reconstruction reaches past the highest / lowest contour point along the long
+    /// axis ([`crate::metrics::extent`]), and the same for the truth: their difference is the
+    /// overrun (or shortfall) at an open end, which the clipped measures above cannot see.
+    pub past_base_mm: f64,
+    pub past_apex_mm: f64,
+    pub truth_past_base_mm: f64,
+    pub truth_past_apex_mm: f64,
     /// Creased edges of the reconstruction (dihedral > 90 degrees, [`quality`]).
     pub folded_edges: usize,
     /// Closed, manifold, consistently oriented and enclosing a positive volume (outward).
@@ -260,6 +270,12 @@ impl Experiment {
         match compare(truth, run.rec.mesh(), Some(&run.acq.clip)) {
             Ok(r) => {
                 let c2m = run.rec.contour_distances().overall;
+                let nan = crate::metrics::extent::PastData {
+                    base_mm: f64::NAN,
+                    apex_mm: f64::NAN,
+                };
+                let past = run.rec.past_data().unwrap_or(nan);
+                let truth_past = run.rec.past_data_of(&truth.positions).unwrap_or(nan);
                 let diff = r.volume_mesh_ml - r.volume_truth_ml;
                 row.metrics = Some(Box::new(Metrics {
                     mesh_to_truth: r.mesh_to_truth,
@@ -276,6 +292,11 @@ impl Experiment {
                     contour_to_mesh_mean: c2m.mean,
                     contour_to_mesh_max: c2m.max,
                     worst_height: height_fraction(&run.acq, truth, r.truth_to_mesh.max_at),
+                    volume_mesh_unclipped_ml: run.rec.mesh().volume_ml(),
+                    past_base_mm: past.base_mm,
+                    past_apex_mm: past.apex_mm,
+                    truth_past_base_mm: truth_past.base_mm,
+                    truth_past_apex_mm: truth_past.apex_mm,
                     folded_edges: quality(run.rec.mesh()).folded_edges,
                     closed_manifold_outward: validity(run.rec.mesh()).is_closed_manifold()
                         && run.rec.mesh().signed_volume() > 0.0,
@@ -314,7 +335,7 @@ impl Iterator for Experiment {
 }
 
 /// Metric columns of [`to_csv`], after the settings.
-pub const METRIC_COLUMNS: [&str; 20] = [
+pub const METRIC_COLUMNS: [&str; 25] = [
     "mesh_to_truth_mean",
     "mesh_to_truth_median",
     "mesh_to_truth_p95",
@@ -331,6 +352,11 @@ pub const METRIC_COLUMNS: [&str; 20] = [
     "contour_to_mesh_mean",
     "contour_to_mesh_max",
     "worst_height",
+    "volume_mesh_unclipped_ml",
+    "past_base_mm",
+    "past_apex_mm",
+    "truth_past_base_mm",
+    "truth_past_apex_mm",
     "folded_edges",
     "closed_manifold_outward",
     "seconds",
@@ -338,11 +364,11 @@ pub const METRIC_COLUMNS: [&str; 20] = [
 ];
 
 /// Index of the first [`Metrics::values`] entry that is a whole number (folds, the validity flag).
-const COUNT_COLUMNS_FROM: usize = 16;
+const COUNT_COLUMNS_FROM: usize = 21;
 
 impl Metrics {
     /// Values in the order of [`METRIC_COLUMNS`] (without seconds and error).
-    pub fn values(&self) -> [f64; 18] {
+    pub fn values(&self) -> [f64; 23] {
         let (a, b) = (&self.mesh_to_truth, &self.truth_to_mesh);
         [
             a.mean,
@@ -361,6 +387,11 @@ impl Metrics {
             self.contour_to_mesh_mean,
             self.contour_to_mesh_max,
             self.worst_height,
+            self.volume_mesh_unclipped_ml,
+            self.past_base_mm,
+            self.past_apex_mm,
+            self.truth_past_base_mm,
+            self.truth_past_apex_mm,
             self.folded_edges as f64,
             if self.closed_manifold_outward {
                 1.0
@@ -435,7 +466,7 @@ pub fn to_csv(rows: &[Row]) -> String {
                     }
                 }
             }
-            None => out.push_str(&",".repeat(18)),
+            None => out.push_str(&",".repeat(23)),
         }
         out.push_str(&format!(
             ",{:.3},{}\n",
@@ -506,6 +537,35 @@ mod tests {
             err(&rows[0])
         );
         assert!(err(&rows[1]) < 1.0, "8 SAX {:.3} mm", err(&rows[1]));
+        for r in &rows {
+            let m = |k: &str| r.metric(k).unwrap();
+            eprintln!(
+                "EXPERIMENT {} SAX: volume clipped {:.2} unclipped {:.2} ml; past base {:.2} (truth \
+                 {:.2}) apex {:.2} (truth {:.2}) mm",
+                r.sax,
+                m("volume_mesh_ml"),
+                m("volume_mesh_unclipped_ml"),
+                m("past_base_mm"),
+                m("truth_past_base_mm"),
+                m("past_apex_mm"),
+                m("truth_past_apex_mm")
+            );
+            assert!(m("volume_mesh_unclipped_ml") >= m("volume_mesh_ml") - 1e-6);
+        }
+        // What the clipped measures cannot see: two rings and no long-axis curve leave both ends
+        // to extrapolation, and the mesh runs on far past the truth's rim (session 9's overrun).
+        let over =
+            |r: &Row| r.metric("past_base_mm").unwrap() - r.metric("truth_past_base_mm").unwrap();
+        assert!(
+            over(&rows[0]) > 10.0,
+            "2 SAX overrun {:.2} mm",
+            over(&rows[0])
+        );
+        assert!(
+            over(&rows[1]).abs() < 1.5,
+            "8 SAX overrun {:.2} mm",
+            over(&rows[1])
+        );
         let csv = to_csv(&rows);
         let lines: Vec<&str> = csv.lines().collect();
         assert_eq!(lines.len(), 3);

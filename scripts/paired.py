@@ -1,14 +1,20 @@
 #!/usr/bin/env python3
-"""Summarise paired `--end-caps off` / `auto` experiment runs (scripts/endcaps_paired.sh).
+"""Summarise paired experiment runs of two flag sets A and B (scripts/paired.sh).
 
-Pairs every KIND-off-TAG.csv with KIND-auto-TAG.csv row by row (same shape, same slicing,
-same misalignment) and prints, per metric and misalignment level, the median paired difference
-(auto - off), its IQR, a bootstrap 95 % interval of the median (fixed seed: reproducible), and the
-share of pairs where auto is worse / better by more than 0.05 mm (1 % for volume, 1 for folds).
+Usage: scripts/paired.py OUT_DIR [NAME_A NAME_B]   (default names: a b)
+
+Pairs every KIND-A-TAG.csv with KIND-B-TAG.csv row by row (same shape, same slicing, same
+misalignment) and prints, per metric and misalignment level, the median paired difference (B - A),
+its IQR, a bootstrap 95 % interval of the median (fixed seed: reproducible), and the share of pairs
+where B is worse / better by more than 0.05 mm (1 % for volume, 1 for folds). Besides the clipped
+measures (both surfaces cut at the most basal SAX plane, as the paper does) it compares what the
+clip hides: the unclipped volume and the overrun past the data at each end (the mesh's reach past
+the highest / lowest contour point minus the truth's).
 The truth-to-mesh maximum is also split by where it lies (worst_height: fraction of the length
 from the apex; >= 0.9 = within 10 % of the length from the base)."""
 import csv
 import glob
+import math
 import os
 import random
 import re
@@ -26,6 +32,10 @@ METRICS = [  # (column, label, threshold for "worse by more than")
     ("volume_diff_percent", "signed volume error (%)", 1.0),
     ("contour_to_mesh_mean", "contour->mesh mean (mm)", 0.05),
     ("folded_edges", "folded edges", 1.0),
+    # Present in CSVs written since session 11 (NaN-free rows only):
+    ("base_overrun_abs", "|overrun past the data| at the base (mm)", 0.5),
+    ("apex_overrun_abs", "|overrun past the data| at the apex (mm)", 0.5),
+    ("volume_mesh_unclipped_ml", "unclipped mesh volume (ml)", 1.0),
 ]
 
 
@@ -39,6 +49,9 @@ def load(path):
             d = {k: float(v) for k, v in r.items() if k not in ("shape", "error") and v != ""}
             d["shape"] = r["shape"]
             d["abs_vol_pct"] = abs(d["volume_diff_percent"])
+            if "past_base_mm" in d and "truth_past_base_mm" in d:
+                d["base_overrun_abs"] = abs(d["past_base_mm"] - d["truth_past_base_mm"])
+                d["apex_overrun_abs"] = abs(d["past_apex_mm"] - d["truth_past_apex_mm"])
             rows[r["trial"]] = d
     return rows
 
@@ -61,18 +74,18 @@ def boot_median(xs, rng, n=2000):
     return meds[int(0.025 * n)], meds[int(0.975 * n) - 1]
 
 
-def main(out):
+def main(out, name_a, name_b):
     pairs, errors = [], 0
-    for off_path in sorted(glob.glob(os.path.join(out, "*-off-*.csv"))):
-        if off_path.endswith("-shapes.csv"):
+    for path_a in sorted(glob.glob(os.path.join(out, f"*-{name_a}-*.csv"))):
+        if path_a.endswith("-shapes.csv"):
             continue
-        seed = os.path.basename(off_path).replace("-off-", "-")[:-4]
-        auto_path = off_path.replace("-off-", "-auto-")
-        if not os.path.exists(auto_path):
+        seed = os.path.basename(path_a).replace(f"-{name_a}-", "-")[:-4]
+        path_b = path_a.replace(f"-{name_a}-", f"-{name_b}-")
+        if not os.path.exists(path_b):
             continue
-        off, auto = load(off_path), load(auto_path)
-        for t, a in off.items():
-            b = auto.get(t)
+        rows_a, rows_b = load(path_a), load(path_b)
+        for t, a in rows_a.items():
+            b = rows_b.get(t)
             if a is None or b is None:
                 errors += 1
                 continue
@@ -82,32 +95,39 @@ def main(out):
           f"{sorted({p[0] for p in pairs})}")
     for level, name in ((0.0, "aligned"), (2.0, "2 mm / 2 deg")):
         every = [(a, b) for _, a, b in pairs if a["shift_mm"] == level]
-        # Pairs where auto put no lid (the simulated LAX curves close both ends) are identical;
-        # they would make every median 0, so the statistics are over the changed pairs only.
-        sel = [(a, b) for a, b in every if any(abs(a[c] - b[c]) > 1e-9 for c, _, _ in METRICS)]
+        # Pairs B did not change (e.g. no lid placed where the simulated LAX curves close both
+        # ends) would make every median 0, so the statistics are over the changed pairs only.
+        sel = [(a, b) for a, b in every
+               if any(abs(a[c] - b[c]) > 1e-9 for c, _, _ in METRICS if c in a and c in b)]
         if not sel:
             continue
-        print(f"\n{name}: {len(every)} pairs, {len(sel)} changed by auto (statistics over these)")
-        print("| metric | off median | auto median | median diff (auto-off) | IQR of diff "
-              "| 95% CI of median diff | auto worse by > thr | auto better by > thr |")
+        print(f"\n{name}: {len(every)} pairs, {len(sel)} changed by {name_b} (statistics over these)")
+        print(f"| metric | {name_a} median | {name_b} median | median diff ({name_b}-{name_a}) "
+              f"| IQR of diff | 95% CI of median diff | {name_b} worse by > thr "
+              f"| {name_b} better by > thr |")
         print("|---|---|---|---|---|---|---|---|")
         for col, label, thr in METRICS:
-            d = [b[col] - a[col] for a, b in sel]
+            have = [(a, b) for a, b in sel if col in a and col in b
+                    and not (math.isnan(a[col]) or math.isnan(b[col]))]
+            if not have:
+                continue
+            d = [b[col] - a[col] for a, b in have]
             lo, hi = boot_median(d, rng)
             worse = sum(x > thr for x in d) / len(d)
             better = sum(x < -thr for x in d) / len(d)
-            print(f"| {label} (thr {thr:g}) | {statistics.median(a[col] for a, _ in sel):.3f} "
-                  f"| {statistics.median(b[col] for _, b in sel):.3f} "
+            print(f"| {label} (thr {thr:g}) | {statistics.median(a[col] for a, _ in have):.3f} "
+                  f"| {statistics.median(b[col] for _, b in have):.3f} "
                   f"| {statistics.median(d):+.4f} | {quant(d, .25):+.4f} .. {quant(d, .75):+.4f} "
                   f"| {lo:+.4f} .. {hi:+.4f} | {100 * worse:.0f}% | {100 * better:.0f}% |")
         fo = sum(a["folded_edges"] for a, _ in sel)
         fa = sum(b["folded_edges"] for _, b in sel)
-        print(f"folded edges total: off {fo:.0f}, auto {fa:.0f}")
+        print(f"folded edges total: {name_a} {fo:.0f}, {name_b} {fa:.0f}")
         # Where the truth->mesh maximum lies.
-        nb_off = sum(a["worst_height"] >= BASE_BAND for a, _ in sel)
-        nb_auto = sum(b["worst_height"] >= BASE_BAND for _, b in sel)
-        print(f"t2m max within 10 % of the base: off {nb_off}/{len(sel)}, auto {nb_auto}/{len(sel)}")
-        for tag, i in (("off", 0), ("auto", 1)):
+        nb_a = sum(a["worst_height"] >= BASE_BAND for a, _ in sel)
+        nb_b = sum(b["worst_height"] >= BASE_BAND for _, b in sel)
+        print(f"t2m max within 10 % of the base: {name_a} {nb_a}/{len(sel)}, "
+              f"{name_b} {nb_b}/{len(sel)}")
+        for tag, i in ((name_a, 0), (name_b, 1)):
             hist = [0] * 10
             for p in sel:
                 hist[min(9, max(0, int(p[i]["worst_height"] * 10)))] += 1
@@ -141,4 +161,5 @@ def main(out):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "/tmp/endcaps-paired")
+    argv = sys.argv[1:]
+    main(argv[0] if argv else "/tmp/paired", *(argv[1:3] if len(argv) >= 3 else ("a", "b")))
