@@ -8,12 +8,12 @@
 //! the lid to be where the mesh ends ("without LAX ... mesh ends flat there"), so such an end gets
 //! attractor points filling the end ring's outline in the lid's plane: perpendicular to the long
 //! axis at the tube's lid, or through the tips of the long-axis curves that stop beyond the ring
-//! (the valve plane, [`TipPlane`]). They are sampled at about the real
-//! attractors' spacing, kept a spacing in from the rim (the rim is the wall data's), and pull with a
-//! weight below 1 so that real contours win where they disagree, and only from outside: a lid point
-//! pulls while the mesh runs on past its plane, never into it (`lid_pull`, the one-sided lid;
-//! the disc's grid is `lid_disc`). They are never data: contour
-//! distances, per-contour tables, colour maps and the step report ignore them.
+//! (the valve plane, [`TipPlane`]). They are sampled at about the real attractors' spacing, kept
+//! two spacings in from the rim (the rim is the wall data's, and the wall needs room to turn into
+//! the lid: [`RIM_INSET_PER_SPACING`]), and pull with a weight below 1 so that real contours win
+//! where they disagree, and only from outside: a lid point pulls while the mesh runs on past its
+//! plane, never into it (`lid_pull`, the one-sided lid; the disc's grid is `lid_disc`). They are
+//! never data: contour distances, per-contour tables, colour maps and the step report ignore them.
 //!
 //! Why a flat disc rather than the cone spanned by the ring and the lid point: the lid is above
 //! the ring only where long-axis curves run on past the ring along the wall (the LV base, 10-20 mm
