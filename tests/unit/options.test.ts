@@ -14,6 +14,8 @@ describe('reconstruction options', () => {
     const defaults = /impl Default for Params[\s\S]*?\n}/.exec(paramsRs)?.[0] ?? '';
     expect(defaults).toMatch(/smoothing: SmoothingMethod::LaplacianAffine,/);
     expect(defaults).toMatch(/soften_conflicts: true,/);
+    const caps = /end_caps: EndCapMode::(\w+),/.exec(defaults)?.[1]?.toLowerCase();
+    expect(caps).toBe(DEFAULT_END_CAPS);
     expect(DEFAULT_OPTIONS).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
   });
   it('travel inside the params JSON object under the binding names', () => {
