@@ -33,11 +33,10 @@ pub const USAGE: &str =
   surfaces together) in its own plane until the curves meet where the planes cross (breath-hold
   misalignment); the report gains the shifts (alignment) and the distances to the contours as
   given (contour_to_mesh_as_given);
-  --end-caps auto (the default): at each end of the cavity no long-axis curve closes (usually
-  the base; both ends without LAX), synthetic lid points in the lid's plane pull the mesh with a
-  weight below 1, so it stops at the data instead of running on past it; they are not data (never
-  in the distances); the report's end_caps says which ends got them and how many; --end-caps off
-  leaves such ends to extrapolation (the paper's method);
+  --end-caps auto: at each end of the cavity no long-axis curve closes (usually the base; both
+  ends without LAX), synthetic lid points in the lid's plane pull the mesh with a weight below 1,
+  so it stops at the data instead of running on past it; they are not data (never in the
+  distances); the report's end_caps says which ends got them and how many;
   --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time

@@ -89,11 +89,9 @@ pub struct Params {
     /// default: the paper's method reconstructs the contours as given.
     pub align_slices: bool,
     /// Synthetic lid attractors at the ends no curve closes, pulling with a weight below 1
-    /// (`pipeline::ends`), so the mesh stops at the data there instead of running on. On (`auto`)
-    /// by default since session 11: without them an open end is extrapolated by up to a ring
-    /// radius (volume +22 % on phantoms), and since the lid-to-wall corner was fixed they cost
-    /// nothing measurable where the data are (docs/VALIDATION.md, "Session 11: the cap-to-wall
-    /// corner"). `off` is the paper's method.
+    /// (`pipeline::ends`), so the mesh stops at the data there instead of running on. Off by
+    /// default: the lid-to-wall corner raises the accuracy maxima at the basal rim
+    /// (docs/VALIDATION.md, session 10).
     pub end_caps: EndCapMode,
 }
 
@@ -116,7 +114,7 @@ impl Default for Params {
             surface: None,
             soften_conflicts: true,
             align_slices: false,
-            end_caps: EndCapMode::Auto,
+            end_caps: EndCapMode::Off,
         }
     }
 }
