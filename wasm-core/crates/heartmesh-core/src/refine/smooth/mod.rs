@@ -176,15 +176,7 @@ fn taubin_given(
     iterations: usize,
     factor: f64,
 ) -> Result<TriMesh> {
-    check_factor(factor)?;
-    if factor > TAUBIN_MAX_LAMBDA {
-        return Err(CoreError::ParamOutOfRange {
-            name: "smoothing_factor".into(),
-            value: factor,
-            min: 0.0,
-            max: TAUBIN_MAX_LAMBDA,
-        });
-    }
+    check_factor_at_most(factor, TAUBIN_MAX_LAMBDA)?;
     if factor == 0.0 {
         return umbrella_steps(mesh, given, 0, &[0.0]);
     }
@@ -272,12 +264,18 @@ fn map_back(smoothed: &mut TriMesh, original: &TriMesh) {
 }
 
 fn check_factor(factor: f64) -> Result<()> {
-    if !(0.0..=1.0).contains(&factor) {
+    check_factor_at_most(factor, 1.0)
+}
+
+/// The factor within 0..=`max`: the range a method is stable in (Taubin, twicing), reported as
+/// the parameter's allowed range so the message says what to change.
+fn check_factor_at_most(factor: f64, max: f64) -> Result<()> {
+    if !(0.0..=max).contains(&factor) {
         return Err(CoreError::ParamOutOfRange {
             name: "smoothing_factor".into(),
             value: factor,
             min: 0.0,
-            max: 1.0,
+            max,
         });
     }
     Ok(())

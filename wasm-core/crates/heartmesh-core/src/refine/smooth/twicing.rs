@@ -29,8 +29,8 @@
 //! ends halves (phantoms' median 11.7 -> 6.0 mm), aligned acquisitions gain a little (paired
 //! Hausdorff -0.04 mm), misaligned ones are unchanged; the paper's method stays the default.
 
-use super::{check_factor, check_finite, sweep::umbrella_steps, Umbrella};
-use crate::error::{CoreError, Result};
+use super::{check_factor_at_most, check_finite, sweep::umbrella_steps, Umbrella};
+use crate::error::Result;
 use crate::mesh::TriMesh;
 
 /// Largest step factor for which twicing never amplifies (module docs).
@@ -48,15 +48,7 @@ pub(super) fn twicing_given(
     iterations: usize,
     factor: f64,
 ) -> Result<TriMesh> {
-    check_factor(factor)?;
-    if factor > TWICING_MAX_FACTOR {
-        return Err(CoreError::ParamOutOfRange {
-            name: "smoothing_factor".into(),
-            value: factor,
-            min: 0.0,
-            max: TWICING_MAX_FACTOR,
-        });
-    }
+    check_factor_at_most(factor, TWICING_MAX_FACTOR)?;
     let once = umbrella_steps(mesh, given.clone(), iterations, &[factor])?;
     let twice = umbrella_steps(&once, given, iterations, &[factor])?;
     let mut out = once;
