@@ -8,6 +8,7 @@
 //! fixed views was worse (session 8), because the views are misaligned too.
 
 use super::groups::{Group, Piece, CHUNK};
+use super::through::{self, Through};
 use crate::contours::ContourKind;
 use crate::geometry::Vec3;
 use nalgebra::{Matrix2, Matrix3, Vector2};
@@ -53,6 +54,9 @@ pub(super) struct Estimate {
     /// Per group, the weighted normal matrix of its shift from the crossings at the start
     /// (`information::Information` splits it along and across the axis).
     pub normal_matrices: Vec<Matrix3<f64>>,
+    /// Per group, the information on its through-plane offset at the start (weighted crossings;
+    /// 0 for a view).
+    pub through_information: Vec<f64>,
 }
 
 /// Damping of each group's Gauss-Newton step, in crossings: each crossing says how far its curve
@@ -75,6 +79,8 @@ struct Residual {
     /// n the unit in-plane normal of the matched curve, r the residual.
     h: Matrix3<f64>,
     b: Vec3,
+    /// A slice's through-plane part of the normal equations (zero for a view).
+    through: Through,
 }
 
 /// Mean length of the matched residuals (mm; 0 when nothing matched).
@@ -90,12 +96,18 @@ fn mean_length(rs: &[Residual]) -> f64 {
 }
 
 /// Estimates the shifts of `groups`; `scale_mm` is the ring radius the caps are relative to.
-pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
+/// With `through_plane` each short-axis slice also moves along its normal ([`through`]).
+pub(super) fn estimate(groups: &[Group], scale_mm: f64, through_plane: bool) -> Estimate {
     let g = groups.len();
     let residual_cap = RESIDUAL_CAP_OF_RADIUS * scale_mm;
     let shift_cap = SHIFT_CAP_OF_RADIUS * scale_mm;
+    let through_cap = if through_plane {
+        through::cap(groups).min(shift_cap)
+    } else {
+        0.0
+    };
     let mut t = vec![Vec3::zeros(); g];
-    let candidates = candidates(groups, shift_cap * 1.01);
+    let candidates = candidates(groups, (shift_cap + through_cap) * 1.01);
     let start = residuals(groups, &candidates, &t, residual_cap);
     let crossings: Vec<usize> = start.iter().map(|r| r.count).collect();
     let active: Vec<bool> = start.iter().map(|r| r.rings >= MIN_CROSSINGS).collect();
@@ -115,7 +127,18 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
             for k in 0..g {
                 let r = &current[k];
                 if active[k] && r.count >= MIN_CROSSINGS {
-                    next[k] += step(&groups[k], r);
+                    next[k] += if through_cap > 0.0 && groups[k].kind == ContourKind::Sax {
+                        through::step(
+                            &groups[k],
+                            &r.h,
+                            &r.b,
+                            &r.through,
+                            DAMPING,
+                            t[k].dot(&groups[k].normal),
+                        )
+                    } else {
+                        step(&groups[k], r)
+                    };
                 }
             }
             // The gauge: moving every image together across the long axis changes the residuals
@@ -123,7 +146,9 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
             // when the heart slides sideways), so nothing pins that drift down. The short-axis
             // stack, on average, stays where it was: the mean shift of its moving slices is
             // removed from every group. Along the axis nothing is removed: views moving along it
-            // against the slices is what the apex and the tapering walls measure.
+            // against the slices is what the apex and the tapering walls measure. With
+            // through-plane offsets the stack's mean offset is removed the same way: moving every
+            // slice and view together along the axis changes no crossing.
             let sax: Vec<usize> = (0..g)
                 .filter(|&k| active[k] && groups[k].kind == ContourKind::Sax)
                 .collect();
@@ -131,10 +156,15 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
                 sax.iter().fold(Vec3::zeros(), |s, &k| s + next[k]) / sax.len().max(1) as f64;
             let (mut change, mut cycle) = (0.0f64, 0.0f64);
             for k in (0..g).filter(|&k| active[k]) {
-                let mut w = groups[k].in_plane(&(next[k] - mean));
+                let moved = next[k] - mean;
+                let mut w = groups[k].in_plane(&moved);
                 let len = w.norm();
                 if len > shift_cap {
                     w *= shift_cap / len;
+                }
+                if through_cap > 0.0 && groups[k].kind == ContourKind::Sax {
+                    let n = groups[k].normal;
+                    w += n * moved.dot(&n).clamp(-through_cap, through_cap);
                 }
                 change = change.max((w - t[k]).norm());
                 cycle = cycle.max((w - before[k]).norm());
@@ -168,6 +198,7 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64) -> Estimate {
         after_mm: mean_length(&current),
         shifts: t,
         normal_matrices: start.iter().map(|r| r.h).collect(),
+        through_information: start.iter().map(|r| r.through.info).collect(),
         crossings,
         moving: active,
         rounds,
@@ -290,6 +321,10 @@ fn residuals(
                 r.length += res.norm();
                 r.h += normal * normal.transpose() * w;
                 r.b += normal * (normal.dot(&res) * w);
+                if ga.kind == ContourKind::Sax {
+                    r.through
+                        .add(w, &normal, &res, &through::crossing_rate(&d, &n));
+                }
             }
         }
     }

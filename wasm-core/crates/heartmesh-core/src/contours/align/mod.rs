@@ -14,6 +14,7 @@ mod groups;
 mod information;
 #[cfg(test)]
 mod tests;
+mod through;
 
 use super::{ContourKind, ContourSet};
 pub use information::Information;
@@ -39,6 +40,22 @@ pub struct GroupShift {
     /// figure, not in the report).
     #[serde(skip)]
     pub information: Information,
+    /// A short-axis slice's shift along its own normal (mm; part of `shift_mm`; 0 for a view, or
+    /// without [`Options::through_plane`]). Not in the report.
+    #[serde(skip)]
+    pub through_plane_mm: f64,
+    /// How well the crossings determine that offset (weighted crossings, each at most the squared
+    /// cosine of its curve's angle to the plane; 0 for a view). Not in the report.
+    #[serde(skip)]
+    pub through_information: f64,
+}
+
+/// How the alignment runs.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Options {
+    /// Also move each short-axis slice along its own normal (docs/VALIDATION.md, "Session 11:
+    /// through-plane alignment"; a study switch, off in the product).
+    pub through_plane: bool,
 }
 
 /// What the alignment did.
@@ -84,6 +101,11 @@ impl Alignment {
 /// contours (landmarks and warnings as they were) and what was done. Never fails: a set with
 /// nothing to align comes back unchanged with a note saying why.
 pub fn align_slices(set: &ContourSet) -> (ContourSet, Alignment) {
+    align_slices_with(set, Options::default())
+}
+
+/// [`align_slices`] with `options`.
+pub fn align_slices_with(set: &ContourSet, options: Options) -> (ContourSet, Alignment) {
     let grouping = match groups::group(set) {
         Ok(g) => g,
         Err(note) => return (set.clone(), Alignment::unchanged(note)),
@@ -96,7 +118,7 @@ pub fn align_slices(set: &ContourSet) -> (ContourSet, Alignment) {
             Alignment::unchanged("no long-axis views: nothing to align the slices to".into()),
         );
     }
-    let est = estimate::estimate(groups, grouping.scale_mm);
+    let est = estimate::estimate(groups, grouping.scale_mm, options.through_plane);
     let mut out = set.clone();
     let mut shifts = Vec::with_capacity(groups.len());
     for (g, t) in groups.iter().zip(&est.shifts) {
@@ -118,15 +140,23 @@ pub fn align_slices(set: &ContourSet) -> (ContourSet, Alignment) {
             shift_mm: [t.x, t.y, t.z],
             crossings: 0,
             information: Information::default(),
+            through_plane_mm: if g.kind == ContourKind::Sax {
+                t.dot(&g.normal)
+            } else {
+                0.0
+            },
+            through_information: 0.0,
         });
     }
     let axis = grouping.axis;
-    for ((s, &c), (g, h)) in shifts
+    for (((s, &c), (g, h)), &ti) in shifts
         .iter_mut()
         .zip(&est.crossings)
         .zip(groups.iter().zip(&est.normal_matrices))
+        .zip(&est.through_information)
     {
         s.crossings = c;
+        s.through_information = ti;
         s.information = Information::of(h, &g.normal, &axis);
     }
     let note = (!est.moving.contains(&true)).then(|| {

@@ -3,184 +3,26 @@
 //! axis"). Simulated acquisitions with KNOWN per-plane motions; each view's shift error (up to the
 //! across-axis gauge) split into its along- and across-axis parts, before and after alignment; a
 //! pure along-axis shift of the views on clean acquisitions; the crossings' information per
-//! direction; and the real biv-me files' view shifts.
-//! `cargo run --release --example lax_axis -- DATA_DIR [population count]` (DATA_DIR holds
-//! meshes/ and contours/, e.g. /work/shared/data).
-use heartmesh_core::contours::align::{align_slices, Alignment};
-use heartmesh_core::contours::{Contour, ContourKind, ContourSet, Polyline};
+//! direction; and the real biv-me files' view shifts. Session 11 ("Session 11: through-plane
+//! alignment"): every table twice, in-plane only (the product) and with the study switch
+//! `Options::through_plane` (each slice's offset along its normal), the slices' through-plane
+//! error, and mesh-to-truth / contour-to-mesh of both.
+//! `cargo run --release --example lax_axis -- DATA_DIR [population count] [lv|clean|biv|parts|pop|pure|real]`
+//! (DATA_DIR holds meshes/ and contours/, e.g. /work/shared/data).
+mod cases;
+mod meshes;
+
+use cases::{biv_case, clean_case, lv_case, own_case, truth, Case, Parts, ALL_PARTS};
+use heartmesh_core::contours::align::{align_slices, align_slices_with, Alignment, Options};
+use heartmesh_core::contours::{ContourKind, ContourSet};
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::io;
 use heartmesh_core::mesh::TriMesh;
-use heartmesh_core::sim::planes::draw_motion;
 use heartmesh_core::sim::population::{generate, Base, Plan, Source};
-use heartmesh_core::sim::prng::SplitMix64;
-use heartmesh_core::sim::repair::{orient_consistently, weld};
-use heartmesh_core::sim::slice::{join_chains, polyline_length, resample};
-use heartmesh_core::sim::{simulate, slice_mesh, AcquisitionSpec, Misalignment};
-use nalgebra::{Matrix3, Rotation3};
+use heartmesh_core::sim::{simulate, AcquisitionSpec};
+use meshes::{meshes_vs_truth, run, BOTH};
+use nalgebra::Matrix3;
 use std::collections::HashMap;
-
-fn truth(dir: &str, name: &str) -> TriMesh {
-    let path = format!("{dir}/meshes/{name}");
-    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    let m = io::read_mesh(name, &bytes)
-        .unwrap_or_else(|e| panic!("{name}: {e}"))
-        .mesh;
-    orient_consistently(&weld(&m, 1e-6).0).0
-}
-
-/// The acquisitions' misalignment: every image shifted up to 2 mm and tilted up to 2 degrees.
-const TWO_MM_TWO_DEG: Misalignment = Misalignment {
-    shift_mm: 2.0,
-    tilt_deg: 2.0,
-};
-
-/// One simulated case: the contours, each contour id's true in-plane correction (the image's
-/// shift, projected into its nominal plane) and plane normal, and the long axis.
-struct Case {
-    name: String,
-    set: ContourSet,
-    truth: HashMap<String, (Vec3, Vec3)>,
-    axis: Vec3,
-    /// Mean shift of the short-axis images along the axis (through their planes; mm).
-    sax_through: f64,
-}
-
-/// `sim::simulate` with 2 mm / 2 degree misalignment; the motions redrawn to know the shifts.
-fn lv_case(name: &str, mesh: &TriMesh, base: &AcquisitionSpec, seed: u64) -> Option<Case> {
-    let spec = AcquisitionSpec {
-        misalignment: Some(TWO_MM_TWO_DEG),
-        seed,
-        ..base.clone()
-    };
-    let acq = simulate(mesh, &spec).ok()?;
-    let mut rng = SplitMix64::new(seed);
-    let mut truth = HashMap::new();
-    let mut through = Vec::new();
-    let named = acq
-        .sax_planes
-        .iter()
-        .enumerate()
-        .map(|(k, p)| (format!("sax{:02}", k + 1), p))
-        .chain(
-            acq.lax_planes
-                .iter()
-                .enumerate()
-                .map(|(k, p)| (format!("lax{:02}", k + 1), p)),
-        );
-    for (id, plane) in named {
-        let m = draw_motion(&mut rng, plane, TWO_MM_TWO_DEG);
-        let n = plane.normal;
-        if id.starts_with("sax") {
-            through.push(m.shift.dot(&n));
-        }
-        truth.insert(id, (m.shift - n * m.shift.dot(&n), n));
-    }
-    Some(Case {
-        name: format!("{name} s{seed}"),
-        set: acq.contours,
-        truth,
-        axis: acq.axis.direction,
-        sax_through: through.iter().sum::<f64>() / through.len().max(1) as f64,
-    })
-}
-
-/// Which parts of each image's motion an acquisition keeps.
-#[derive(Clone, Copy)]
-struct Parts {
-    /// The 2-degree tilts.
-    tilt: bool,
-    /// The shifts' components through the images' own planes: short-axis, long-axis images.
-    through_sax: bool,
-    through_lax: bool,
-}
-
-const ALL_PARTS: Parts = Parts {
-    tilt: true,
-    through_sax: true,
-    through_lax: true,
-};
-
-/// LV and RV cut by the same misaligned images (as tests/alignment.rs `biventricular`).
-fn biv_case(name: &str, lv: &TriMesh, rv: &TriMesh, seed: u64) -> Option<Case> {
-    let base = AcquisitionSpec::default();
-    own_case(
-        name,
-        &[("LV_ENDO", lv), ("RV_ENDO", rv)],
-        &base,
-        seed,
-        ALL_PARTS,
-    )
-}
-
-/// Surfaces cut by the same misaligned images planned on the first (motions drawn as `sim` draws
-/// them), keeping only `parts` of each motion.
-fn own_case(
-    name: &str,
-    surfaces: &[(&str, &TriMesh)],
-    base: &AcquisitionSpec,
-    seed: u64,
-    parts: Parts,
-) -> Option<Case> {
-    let nominal = simulate(surfaces.first()?.1, base).ok()?;
-    let planes = nominal
-        .sax_planes
-        .iter()
-        .map(|p| ("sax", *p))
-        .chain(nominal.lax_planes.iter().map(|p| ("lax", *p)));
-    let mut rng = SplitMix64::new(seed);
-    let mut set = ContourSet::default();
-    let mut truth = HashMap::new();
-    let mut through = Vec::new();
-    for (k, (kind, plane)) in planes.enumerate() {
-        let mut m = draw_motion(&mut rng, &plane, TWO_MM_TWO_DEG);
-        if !parts.tilt {
-            m.rotation = Rotation3::identity();
-        }
-        if !(if kind == "sax" {
-            parts.through_sax
-        } else {
-            parts.through_lax
-        }) {
-            m.shift -= plane.normal * m.shift.dot(&plane.normal);
-        }
-        let imaged = m.apply_to_plane(&plane);
-        let n = plane.normal;
-        if kind == "sax" {
-            through.push(m.shift.dot(&n));
-        }
-        for &(surf, mesh) in surfaces {
-            let mut pieces = join_chains(slice_mesh(mesh, &imaged), 3.0, &imaged);
-            pieces.sort_by(|a, b| polyline_length(b).total_cmp(&polyline_length(a)));
-            let Some(first) = pieces.first() else {
-                continue;
-            };
-            let piece = resample(first, 1.0);
-            if piece.points.len() < 5 {
-                continue;
-            }
-            let points = piece.points.iter().map(|p| m.inverse_apply(p)).collect();
-            let id = format!("{kind}{k:02}_{surf}");
-            truth.insert(id.clone(), (m.shift - n * m.shift.dot(&n), n));
-            set.contours.push(Contour {
-                id,
-                surface: Some(surf.into()),
-                pieces: vec![Polyline {
-                    points,
-                    closed: kind == "sax",
-                }],
-                first_line: 0,
-            });
-        }
-    }
-    Some(Case {
-        name: format!("{name} s{seed}"),
-        set,
-        truth,
-        axis: nominal.axis.direction,
-        sax_through: through.iter().sum::<f64>() / through.len().max(1) as f64,
-    })
-}
 
 /// Per view: (along-axis error, across-axis error) before and after, in mm, up to the gauge (a
 /// common translation across the axis, fitted to the errors); and the views' information.
@@ -190,6 +32,14 @@ struct ViewErrors {
     sax_before: Vec<f64>,
     sax_after: Vec<f64>,
     info: Vec<(f64, f64)>,
+    /// Slices' through-plane error (mm, up to the stack's mean), before and after; information.
+    through_before: Vec<f64>,
+    through_after: Vec<f64>,
+    through_info: Vec<f64>,
+    /// Views' along-axis error with the whole-stack gauge (the slices' mean through-plane error
+    /// taken out: a common translation along the axis changes no crossing).
+    along3_before: Vec<f64>,
+    along3_after: Vec<f64>,
 }
 
 fn errors(case: &Case, al: &Alignment) -> ViewErrors {
@@ -197,11 +47,28 @@ fn errors(case: &Case, al: &Alignment) -> ViewErrors {
     let q = Matrix3::identity() - a * a.transpose();
     // (kind, shift found, true correction, plane normal, information along / across)
     type Row = (ContourKind, Vec3, Vec3, Vec3, (f64, f64));
+    // Slices: (found through-plane, true through-plane, information).
+    let sax: Vec<(f64, f64, f64)> = al
+        .groups
+        .iter()
+        .filter(|g| g.kind == ContourKind::Sax)
+        .filter_map(|g| {
+            let (_, _, th) = case.truth.get(g.contour_ids.first()?)?;
+            Some((g.through_plane_mm, *th, g.through_information))
+        })
+        .collect();
+    let mean = |v: &dyn Fn(&(f64, f64, f64)) -> f64| {
+        sax.iter().map(v).sum::<f64>() / sax.len().max(1) as f64
+    };
+    let (mf, mt) = (mean(&|x| x.0), mean(&|x| x.1));
+    let through_before: Vec<f64> = sax.iter().map(|x| -(x.1 - mt)).collect();
+    let through_after: Vec<f64> = sax.iter().map(|x| (x.0 - mf) - (x.1 - mt)).collect();
+    let through_info: Vec<f64> = sax.iter().map(|x| x.2).collect();
     let rows: Vec<Row> = al
         .groups
         .iter()
         .filter_map(|g| {
-            let (t, n) = case.truth.get(g.contour_ids.first()?)?;
+            let (t, n, _) = case.truth.get(g.contour_ids.first()?)?;
             let i = &g.information;
             Some((
                 g.kind,
@@ -218,14 +85,15 @@ fn errors(case: &Case, al: &Alignment) -> ViewErrors {
         for (_, f, t, n, _) in &rows {
             let p = Matrix3::identity() - n * n.transpose();
             m += q * p * q;
-            b += q * p * (found(f) - t);
+            b += q * p * (p * found(f) - t);
         }
         let c = m.try_inverse().map_or(Vec3::zeros(), |inv| inv * b);
         let mut views = Vec::new();
         let mut slices = Vec::new();
         for (kind, f, t, n, _) in &rows {
             let p = Matrix3::identity() - n * n.transpose();
-            let e = found(f) - t - p * c;
+            // In-plane errors only (a slice's through-plane offset is measured on its own).
+            let e = p * found(f) - t - p * c;
             if *kind == ContourKind::Lax {
                 let along = (a - n * a.dot(n)).normalize();
                 let across = n.cross(&along);
@@ -243,12 +111,26 @@ fn errors(case: &Case, al: &Alignment) -> ViewErrors {
         .filter(|r| r.0 == ContourKind::Lax)
         .map(|r| r.4)
         .collect();
+    // Views' along-axis error against the slices' mean through-plane error (the common gauge).
+    let along3_before = before.iter().map(|x| x.0 + mt).collect();
+    let along3_after = after.iter().map(|x| x.0 - (mf - mt)).collect();
     ViewErrors {
         before,
         after,
         sax_before,
         sax_after,
         info,
+        through_before,
+        through_after,
+        through_info,
+        along3_before,
+        along3_after,
+    }
+}
+
+fn tables(title: &str, cases: &[Case]) {
+    for (tag, o) in meshes::BOTH {
+        table(&format!("{title} [{tag}]"), cases, o);
     }
 }
 
@@ -258,11 +140,11 @@ fn rms(v: impl Iterator<Item = f64>) -> f64 {
 }
 
 /// Runs the cases of one table; prints each and the RMS over all views.
-fn table(title: &str, cases: &[Case]) {
+fn table(title: &str, cases: &[Case], options: Options) {
     println!("\n## {title}: view errors (mm, RMS over the views) along / across the axis, before -> after; slices; view information along / across (weighted crossings)");
     let mut all = Vec::new();
     for case in cases {
-        let (_, al) = align_slices(&case.set);
+        let (_, al) = align_slices_with(&case.set, options);
         let e = errors(case, &al);
         println!(
             "{:28} along {:.2} -> {:.2}  across {:.2} -> {:.2}  SAX {:.2} -> {:.2}  info {}",
@@ -329,6 +211,23 @@ fn table(title: &str, cases: &[Case]) {
         .collect();
     let mut sorted = ratio.clone();
     sorted.sort_by(f64::total_cmp);
+    let mut ti: Vec<f64> = all.iter().flat_map(|e| e.through_info.clone()).collect();
+    ti.sort_by(f64::total_cmp);
+    println!(
+        "ALL {title}: SAX through-plane (up to the stack mean) {:.3} -> {:.3} mm, grew in {} of {}; views along with the stack gauge {:.3} -> {:.3} mm; through-plane information median {:.2} (range {:.2}-{:.2})",
+        views(&|e| e.through_before.clone()),
+        views(&|e| e.through_after.clone()),
+        all.iter()
+            .flat_map(|e| e.through_before.iter().zip(&e.through_after))
+            .filter(|(b, a)| a.abs() > b.abs())
+            .count(),
+        ti.len(),
+        views(&|e| e.along3_before.clone()),
+        views(&|e| e.along3_after.clone()),
+        ti.get(ti.len() / 2).copied().unwrap_or(f64::NAN),
+        ti.first().copied().unwrap_or(f64::NAN),
+        ti.last().copied().unwrap_or(f64::NAN),
+    );
     println!(
         "ALL {title}: along {:.3} -> {:.3}  across {:.3} -> {:.3}  SAX {:.3} -> {:.3}  mm; along/across information median {:.3} (range {:.3}-{:.3}); views {}",
         views(&|e| e.before.iter().map(|x| x.0).collect()),
@@ -406,32 +305,64 @@ fn real(dir: &str) {
         let Ok(set) = io::read_contours(file, &bytes) else {
             continue;
         };
-        let (_, al) = align_slices(&set);
-        let a = Vec3::from(al.axis);
-        let views: Vec<String> = al
-            .groups
-            .iter()
-            .filter(|g| g.kind == ContourKind::Lax)
-            .map(|g| {
-                let t = Vec3::from(g.shift_mm);
-                let i = &g.information;
-                format!(
-                    "{} {:+.2}/{:.2} (info {:.1}/{:.1})",
-                    g.label.split('_').next().unwrap_or(""),
-                    t.dot(&a),
-                    (t - a * t.dot(&a)).norm(),
-                    i.along_axis,
-                    i.across_axis
-                )
-            })
-            .collect();
-        println!(
-            "{file}: residual {:.3} -> {:.3}, {} rounds; {}",
+        for (tag, o) in BOTH {
+            let (_, al) = align_slices_with(&set, o);
+            let a = Vec3::from(al.axis);
+            let slices: Vec<String> = al
+                .groups
+                .iter()
+                .filter(|g| g.kind == ContourKind::Sax)
+                .map(|g| format!("{:+.2} ({:.2})", g.through_plane_mm, g.through_information))
+                .collect();
+            let views: Vec<String> = al
+                .groups
+                .iter()
+                .filter(|g| g.kind == ContourKind::Lax)
+                .map(|g| {
+                    let t = Vec3::from(g.shift_mm);
+                    let i = &g.information;
+                    format!(
+                        "{} {:+.2}/{:.2} (info {:.1}/{:.1})",
+                        g.label.split('_').next().unwrap_or(""),
+                        t.dot(&a),
+                        (t - a * t.dot(&a)).norm(),
+                        i.along_axis,
+                        i.across_axis
+                    )
+                })
+                .collect();
+            println!(
+            "{file} [{tag}]: residual {:.3} -> {:.3}, {} rounds; {}; slices through-plane (information) {}",
             al.residual_before_mm,
             al.residual_after_mm,
             al.rounds,
-            views.join("; ")
+            views.join("; "),
+            slices.join(" ")
         );
+            for surf in set.surfaces() {
+                let (shifted, _) = align_slices_with(&set, o);
+                let Some(mesh) = run(&shifted, Some(surf.clone())) else {
+                    continue;
+                };
+                let c2m = |s: &ContourSet| {
+                    let pts: Vec<Vec3> = s
+                        .contours
+                        .iter()
+                        .filter(|c| c.surface.as_deref() == Some(surf.as_str()))
+                        .flat_map(|c| c.points().copied())
+                        .collect();
+                    let d = heartmesh_core::metrics::points_to_mesh(&pts, &mesh);
+                    d.iter().sum::<f64>() / d.len().max(1) as f64
+                };
+                println!(
+                "  {surf} [{tag}]: c2m to the shifted contours {:.3}, to as given {:.3}; folds {}; volume {:.1} ml",
+                c2m(&shifted),
+                c2m(&set),
+                heartmesh_core::mesh::quality::quality(&mesh).folded_edges,
+                mesh.volume_ml()
+            );
+            }
+        }
     }
 }
 
@@ -459,7 +390,33 @@ fn main() {
             };
             cases.extend((1..=4).filter_map(|s| lv_case(name, mesh, &base, s)));
         }
-        table("16 misaligned LVs (tests/alignment.rs)", &cases);
+        tables("16 misaligned LVs (tests/alignment.rs)", &cases);
+        if only == "lv" || only.is_empty() {
+            meshes_vs_truth("16 misaligned LVs", &cases);
+        }
+    }
+    if only.is_empty() || only == "clean" {
+        let mut cases = Vec::new();
+        for (name, mesh, lax) in &meshes {
+            let base = AcquisitionSpec {
+                lax_count: *lax,
+                ..AcquisitionSpec::default()
+            };
+            cases.extend(clean_case(name, mesh, &base));
+        }
+        meshes_vs_truth("4 clean LVs", &cases);
+        for case in &cases {
+            let (_, al) = align_slices_with(&case.set, BOTH[1].1);
+            println!(
+                "{}: largest shift {:.3} mm, largest through-plane {:.3} mm",
+                case.name,
+                al.max_shift_mm(),
+                al.groups
+                    .iter()
+                    .map(|g| g.through_plane_mm.abs())
+                    .fold(0.0, f64::max)
+            );
+        }
     }
     if only.is_empty() || only == "biv" {
         let spasm_rv = heartmesh_core::sim::cavity::rv_cavity(
@@ -476,7 +433,8 @@ fn main() {
         ] {
             cases.extend((1..=3).filter_map(|s| biv_case(name, lv, rv, s)));
         }
-        table("6 LV+RV (tests/alignment.rs)", &cases);
+        tables("6 LV+RV (tests/alignment.rs)", &cases);
+        meshes_vs_truth("6 LV+RV", &cases);
     }
     if only.is_empty() || only == "parts" {
         println!("\n## which part of the motion leaves the views' along-axis error: the 16 LVs sliced here with parts of each image's motion");
@@ -503,7 +461,7 @@ fn main() {
                     (1..=4).filter_map(|s| own_case(name, &[("LV", mesh)], &base, s, parts)),
                 );
             }
-            table(&format!("16 LVs, {label}"), &cases);
+            tables(&format!("16 LVs, {label}"), &cases);
         }
     }
     let bases = [
@@ -541,7 +499,8 @@ fn main() {
                 ));
             }
         }
-        table(&format!("{count} population LVs x 2 seeds"), &cases);
+        tables(&format!("{count} population LVs x 2 seeds"), &cases);
+        meshes_vs_truth(&format!("{count} population LVs x 2 seeds"), &cases);
     }
     if only.is_empty() || only == "pure" {
         println!("\n## clean acquisitions, views moved +-s mm along the axis (alternating): RMS along-axis error left (mm) at s = 0..5 (largest SAX shift)");
