@@ -381,28 +381,23 @@ fn main() {
         .iter()
         .map(|(n, f, l)| (*n, truth(&dir, f), *l))
         .collect();
+    // Each shape's acquisition at its own long-axis count.
+    let spec = |lax: usize| AcquisitionSpec {
+        lax_count: lax,
+        ..AcquisitionSpec::default()
+    };
     if only.is_empty() || only == "lv" {
         let mut cases = Vec::new();
         for (name, mesh, lax) in &meshes {
-            let base = AcquisitionSpec {
-                lax_count: *lax,
-                ..AcquisitionSpec::default()
-            };
-            cases.extend((1..=4).filter_map(|s| lv_case(name, mesh, &base, s)));
+            cases.extend((1..=4).filter_map(|s| lv_case(name, mesh, &spec(*lax), s)));
         }
         tables("16 misaligned LVs (tests/alignment.rs)", &cases);
-        if only == "lv" || only.is_empty() {
-            meshes_vs_truth("16 misaligned LVs", &cases);
-        }
+        meshes_vs_truth("16 misaligned LVs", &cases);
     }
     if only.is_empty() || only == "clean" {
         let mut cases = Vec::new();
         for (name, mesh, lax) in &meshes {
-            let base = AcquisitionSpec {
-                lax_count: *lax,
-                ..AcquisitionSpec::default()
-            };
-            cases.extend(clean_case(name, mesh, &base));
+            cases.extend(clean_case(name, mesh, &spec(*lax)));
         }
         meshes_vs_truth("4 clean LVs", &cases);
         for case in &cases {
