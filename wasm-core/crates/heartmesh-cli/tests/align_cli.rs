@@ -235,3 +235,36 @@ fn misalignment_experiment_with_alignment() {
     assert!(means[1] < means[0], "{means:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The study switch `--align-through-plane`: the slices also move along their normals, which
+/// lets the crossings agree better (patient 1 ED: residual 1.38 -> 1.12 mm, docs/VALIDATION.md
+/// "Session 11: through-plane alignment", form B); alone it is a usage error.
+#[test]
+fn through_plane_switch_refines_the_alignment_and_needs_it() {
+    let dir = scratch("through");
+    let input = data(P1);
+    let (mesh, report) = (dir.join("lv.obj"), dir.join("r.json"));
+    let args = [
+        "reconstruct",
+        s(&input),
+        "--surface",
+        "LV_ENDO",
+        "--iterations",
+        "30",
+        "-o",
+        s(&mesh),
+        "--report",
+        s(&report),
+    ];
+    let residual = |extra: &[&str]| -> f64 {
+        let (code, _, err) = run(bin().args(args).args(extra));
+        assert_eq!(code, 0, "{err}");
+        f(&json(&report)["alignment"]["residual_after_mm"])
+    };
+    let in_plane = residual(&["--align-slices"]);
+    let through = residual(&["--align-slices", "--align-through-plane"]);
+    assert!(through < in_plane - 0.1, "{in_plane} -> {through}");
+    let (code, _, err) = run(bin().args(args).arg("--align-through-plane"));
+    assert_eq!(code, 2);
+    assert!(err.contains("needs --align-slices"), "{err}");
+}

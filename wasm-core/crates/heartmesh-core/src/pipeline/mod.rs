@@ -19,7 +19,7 @@ mod reuse;
 pub mod tube;
 
 use crate::clock::{Clock, DefaultClock};
-use crate::contours::align::{align_slices, Alignment};
+use crate::contours::align::{align_slices_with, Alignment, Options as AlignOptions};
 use crate::contours::axis::{analyse, Layout};
 use crate::contours::clean::resample_spacing;
 use crate::contours::{Contour, ContourKind, ContourSet};
@@ -190,7 +190,10 @@ impl Reconstruction {
         // The whole file is aligned before a surface is chosen: one breath-hold moves every
         // surface of an image, and the LV's rings fix the shifts better than an RV alone.
         let (aligned, alignment) = if params.align_slices {
-            let (s, a) = align_slices(set);
+            let options = AlignOptions {
+                through_plane: params.align_through_plane,
+            };
+            let (s, a) = align_slices_with(set, options);
             (Some(s), Some(a))
         } else {
             (None, None)
