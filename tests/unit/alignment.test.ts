@@ -24,7 +24,7 @@ const ALIGNMENT: Alignment = {
   groups: [
     { kind: 'SAX', label: 'SAX 1', contour_ids: ['s1_endo', 's1_epi'], shift_mm: [0.3, 0.4, 0] },
     { kind: 'LAX', label: '4ch', contour_ids: ['4ch_endo'], shift_mm: [0, 1.2, -1.6] },
-    { kind: 'SAX', label: 'SAX 2', contour_ids: ['s2_endo'], shift_mm: [-1.2, 0, 0.9] },
+    { kind: 'SAX', label: 'SAX 2', contour_ids: ['s2_endo'], shift_mm: [-1.2, 0, 0.9], through_plane_mm: -0.85 },
   ],
 };
 
@@ -120,6 +120,8 @@ describe('result panel', () => {
     // |(0,1.2,-1.6)| = 2.0, |(-1.2,0,0.9)| = 1.5, |(0.3,0.4,0)| = 0.5
     expect(body).toEqual([['4ch', 'LAX', '2.00'], ['SAX 2', 'SAX', '1.50'], ['SAX 1', 'SAX', '0.50']]);
     expect(table.findAll((e) => e.tagName === 'tr')[3].title).toBe('SAX 1 (SAX: s1_endo, s1_epi): moved by (0.30, 0.40, 0.00) mm in its own plane (scanner coordinates)');
+    // A slice that also moved along its normal says how much of the shift that was.
+    expect(table.findAll((e) => e.tagName === 'tr')[2].title).toBe('SAX 2 (SAX: s2_endo): moved by (-1.20, 0.00, 0.90) mm (scanner coordinates), −0.8 mm of it along the long axis');
 
     // A run without alignment: no alignment box, no as-given rows, and a clear() forgets the numbers.
     panel.show(result({ iterations_done: 250, converged: false }));

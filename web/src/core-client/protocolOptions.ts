@@ -26,8 +26,8 @@ export interface ReconOptions {
   /** Down-weight SAX vs LAX attractors that disagree in the final steps (the core's default). */
   soften_conflicts: boolean;
   /**
-   * Breath-hold alignment: shift each short-axis slice and long-axis view in its own plane so the
-   * curves agree where planes cross, then reconstruct the shifted contours (off by default: the
+   * Breath-hold alignment: shift each short-axis slice and long-axis view in its own plane (a slice
+   * also along its normal) so the curves agree where planes cross, then reconstruct the shifted contours (off by default: the
    * paper's method takes the contours as given).
    */
   align_slices: boolean;

@@ -100,8 +100,10 @@ export interface AlignmentGroup {
   /** "SAX 3" (apex to base), or the long-axis contour ids. */
   label: string;
   contour_ids: string[];
-  /** In-plane shift applied to every contour of the group, mm. */
+  /** Shift applied to every contour of the group, mm: in the image's plane, plus, for a slice, a part along the long axis. */
   shift_mm: [number, number, number];
+  /** A short-axis slice's part of the shift along the long axis (mm, + towards the base; 0 for a view). */
+  through_plane_mm?: number;
 }
 
 /** What the breath-hold alignment did (the core's `Alignment`, in `result_json().alignment`). */

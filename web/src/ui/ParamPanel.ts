@@ -31,7 +31,7 @@ const SMOOTHING_HELP =
   'or umbrella smoothing with a local correction instead of the affine one: HC, or twicing (factor at most 0.5); see docs/VALIDATION.md, session 11';
 const SOFTEN_HELP = 'in the final steps, down-weight short- and long-axis attractors that disagree instead of letting the surface fold';
 const ALIGN_HELP =
-  'before reconstructing, shift each short-axis slice and long-axis view in its own plane so the curves meet where the planes cross; ' +
+  'before reconstructing, shift each short-axis slice and long-axis view in its own plane (a slice also along the long axis, where the views show it) so the curves meet where the planes cross; ' +
   'use it when slices were acquired in separate breath-holds and the stack looks staggered (the mesh then follows the shifted contours)';
 
 const END_CAPS_HELP =

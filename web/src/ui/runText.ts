@@ -5,6 +5,11 @@
 import type { Alignment, AlignmentGroup, EndCaps, PastData, StepReport } from '../core-client/protocol';
 import { mm } from './dom';
 
+/** "+1.4 mm" / "−0.3 mm": a signed length with one decimal. */
+function signedMm(v: number): string {
+  return `${v >= 0 ? '+' : '−'}${Math.abs(v).toFixed(1)} mm`;
+}
+
 const PHASES: Record<StepReport['phase'], string> = {
   initial_tube: 'initial tube',
   deform: 'deform',
@@ -72,7 +77,8 @@ export function alignmentRows(a: Alignment): AlignmentRow[] {
       magnitudeMm: m,
       title:
         `${g.label} (${g.kind}: ${g.contour_ids.join(', ')}): moved by (${g.shift_mm.map((v) => v.toFixed(2)).join(', ')}) mm ` +
-        'in its own plane (scanner coordinates)',
+        // A slice may also move along its normal: say how much of the shift that is.
+        (g.through_plane_mm ? `(scanner coordinates), ${signedMm(g.through_plane_mm)} of it along the long axis` : 'in its own plane (scanner coordinates)'),
     }));
 }
 
@@ -94,9 +100,8 @@ const PAST_DATA_NOTE_MM = 5;
  * end runs on far enough past the contours that its part of the volume is extrapolated.
  */
 export function pastDataText(p: PastData): { text: string; extrapolated: boolean } {
-  const signed = (v: number) => `${v >= 0 ? '+' : '−'}${Math.abs(v).toFixed(1)} mm`;
   return {
-    text: `${signed(p.base_mm).replace(' mm', '')} / ${signed(p.apex_mm)}`,
+    text: `${signedMm(p.base_mm).replace(' mm', '')} / ${signedMm(p.apex_mm)}`,
     extrapolated: Math.max(p.base_mm, p.apex_mm) > PAST_DATA_NOTE_MM,
   };
 }

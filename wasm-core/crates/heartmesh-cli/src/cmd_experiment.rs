@@ -26,7 +26,7 @@ pub const USAGE: &str =
     [--from N] [--to N] [--step N] [--lax K] [--sax N] [--levels S:T,...] [--seeds N]
     [--count N] [--seed N]
     [--lambda LIST] [--smoothing-iterations LIST] [--target-reduction LIST]
-    [--attractor-spacing LIST] [--iterations N] [--align-slices [--align-through-plane]] [--end-caps auto|off]
+    [--attractor-spacing LIST] [--iterations N] [--align-slices [--align-in-plane-only]] [--end-caps auto|off]
     [--smoothing-method NAME] [--tag NAME] [--quiet]
   Slices each TRUTH like a CMR acquisition, reconstructs and measures against the truth (clipped
   at the most basal SAX plane); writes OUT_DIR/KIND.csv (one row per run: settings, distances in
@@ -47,7 +47,8 @@ pub const USAGE: &str =
   --iterations N: deformation iterations of every run (default 250; fewer for quick checks).
   --align-slices: every run aligns the slices first (breath-hold correction, as reconstruct
   --align-slices; contour_to_mesh is then to the shifted contours); use with --tag to compare.
-  --align-through-plane: with --align-slices, the slices also move along their normals (study).
+  --align-in-plane-only: with --align-slices, the session-9 alignment (no slice moves along its
+  normal; for comparisons).
   --end-caps auto|off: lid points at the ends no curve closes in every run (as reconstruct).
   --smoothing-method NAME: the remesh smoothing of every run (as reconstruct).
   --tag NAME: write KIND-NAME.csv/.svg instead (several variants in one directory).";
@@ -90,7 +91,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         rest,
         &Spec {
             with_value: &with_value,
-            switches: &["quiet", "align-slices", "align-through-plane"],
+            switches: &["quiet", "align-slices", "align-in-plane-only"],
             aliases: &[("-o", "output"), ("-q", "quiet")],
         },
     )?;

@@ -19,7 +19,7 @@ pub const USAGE: &str =
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
     [--smoothing-method laplacian-affine|taubin|laplacian-hc|laplacian-twicing] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
-    [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-through-plane]] [--end-caps auto|off] [--frame N]
+    [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--frame N]
     [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
@@ -33,8 +33,9 @@ pub const USAGE: &str =
   surfaces together) in its own plane until the curves meet where the planes cross (breath-hold
   misalignment); the report gains the shifts (alignment) and the distances to the contours as
   given (contour_to_mesh_as_given);
-  --align-through-plane (with --align-slices; a study switch): also move each short-axis slice
-  along its own normal, from the long-axis curves' slopes where they cross it;
+  each short-axis slice also moves along its own normal where the long-axis curves' slopes
+  show it (the report's through_plane_mm); --align-in-plane-only (a study switch) keeps the
+  shifts in the image planes (the alignment before through-plane offsets);
   --end-caps auto: at each end of the cavity no long-axis curve closes (usually the base; both
   ends without LAX), synthetic lid points in the lid's plane pull the mesh with a weight below 1,
   so it stops at the data instead of running on past it; they are not data (never in the
@@ -63,7 +64,7 @@ const SWITCHES: &[&str] = &[
     "quiet",
     "no-soften-conflicts",
     "align-slices",
-    "align-through-plane",
+    "align-in-plane-only",
 ];
 
 /// Flag names (dashes) of the numeric parameters, from the core's schema.
@@ -210,16 +211,17 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     Ok(params)
 }
 
-/// `--align-through-plane`, which only means something with the breath-hold alignment on
-/// (`aligning`): alone it is a usage error rather than silently nothing.
+/// Whether the alignment moves slices along their normals: unless `--align-in-plane-only`,
+/// which only means something with the breath-hold alignment on (`aligning`): alone it is a
+/// usage error rather than silently nothing.
 pub(crate) fn through_plane_switch(p: &Parsed, aligning: bool) -> Result<bool, CliError> {
-    let on = p.switch("align-through-plane");
-    if on && !aligning {
+    let in_plane = p.switch("align-in-plane-only");
+    if in_plane && !aligning {
         return Err(CliError::usage(
-            "--align-through-plane needs --align-slices (it refines the breath-hold alignment)",
+            "--align-in-plane-only needs --align-slices (it restricts the breath-hold alignment)",
         ));
     }
-    Ok(on)
+    Ok(!in_plane)
 }
 
 /// The apex lid at the file's APEX_POINT landmark (biv-me guide points carry one); the base lid
@@ -303,10 +305,10 @@ mod tests {
         assert!(!p.align_slices);
         let p = params_from_default(&parsed(&["--align-slices"])).unwrap();
         assert!(p.align_slices);
-        assert!(!p.align_through_plane);
-        let p = params_from_default(&parsed(&["--align-slices", "--align-through-plane"])).unwrap();
-        assert!(p.align_slices && p.align_through_plane);
-        let e = params_from_default(&parsed(&["--align-through-plane"])).unwrap_err();
+        assert!(p.align_through_plane);
+        let p = params_from_default(&parsed(&["--align-slices", "--align-in-plane-only"])).unwrap();
+        assert!(p.align_slices && !p.align_through_plane);
+        let e = params_from_default(&parsed(&["--align-in-plane-only"])).unwrap_err();
         assert!(
             matches!(&e, crate::error::CliError::Usage(m) if m.contains("needs --align-slices")),
             "{e:?}"

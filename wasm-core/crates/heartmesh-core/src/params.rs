@@ -88,9 +88,10 @@ pub struct Params {
     /// breath-hold misalignment (`contours::align`; docs/VALIDATION.md, session 9). Off by
     /// default: the paper's method reconstructs the contours as given.
     pub align_slices: bool,
-    /// With `align_slices`, also move each short-axis slice along its own normal (form B of
-    /// docs/VALIDATION.md, "Session 11: through-plane alignment": with a prior of one crossing).
-    /// A study switch (CLI `--align-through-plane`), off: not in the app or in sessions.
+    /// With `align_slices`, also move each short-axis slice along its own normal
+    /// (`contours::align::Options::through_plane`; docs/VALIDATION.md, "Session 12: through-plane
+    /// alignment, paired"). On; off (CLI `--align-in-plane-only`) is the session-9 alignment,
+    /// kept for studies: not in the app or in sessions.
     pub align_through_plane: bool,
     /// Synthetic lid attractors at the ends no curve closes, pulling with a weight below 1
     /// (`pipeline::ends`), so the mesh stops at the data there instead of running on. Off by
@@ -118,7 +119,7 @@ impl Default for Params {
             surface: None,
             soften_conflicts: true,
             align_slices: false,
-            align_through_plane: false,
+            align_through_plane: true,
             end_caps: EndCapMode::Off,
         }
     }

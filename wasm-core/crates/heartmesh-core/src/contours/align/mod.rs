@@ -6,8 +6,10 @@
 //! by a few mm. The reconstruction approximates the contours as given and so inherits the
 //! offsets. This module moves every slice and view (all surfaces in it together) in its plane
 //! until the short- and long-axis curves meet where their planes cross ([`estimate`]), and returns
-//! the shifted contours with the shifts found ([`Alignment`]). Measured in docs/VALIDATION.md,
-//! "Session 9: breath-hold alignment (option)".
+//! the shifted contours with the shifts found ([`Alignment`]); each short-axis slice also moves
+//! along its own normal where the long-axis curves' slopes see that ([`through`], since session
+//! 12). Measured in docs/VALIDATION.md, "Session 9: breath-hold alignment (option)", "Session 11:
+//! through-plane alignment" and "Session 12: through-plane alignment, paired".
 
 mod estimate;
 mod groups;
@@ -40,9 +42,8 @@ pub struct GroupShift {
     /// figure, not in the report).
     #[serde(skip)]
     pub information: Information,
-    /// A short-axis slice's shift along its own normal (mm; part of `shift_mm`; 0 for a view, or
-    /// without [`Options::through_plane`]). Not in the report.
-    #[serde(skip)]
+    /// A short-axis slice's shift along its own normal, the long axis (mm, + towards the base;
+    /// part of `shift_mm`; 0 for a view, or without [`Options::through_plane`]).
     pub through_plane_mm: f64,
     /// How well the crossings determine that offset (weighted crossings, each at most the squared
     /// cosine of its curve's angle to the plane; 0 for a view). Not in the report.
@@ -51,11 +52,28 @@ pub struct GroupShift {
 }
 
 /// How the alignment runs.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Options {
     /// Also move each short-axis slice along its own normal (docs/VALIDATION.md, "Session 11:
-    /// through-plane alignment"; a study switch, off in the product).
+    /// through-plane alignment"). On by default since session 12: paired over 192 misaligned
+    /// acquisitions it lowers the Hausdorff distance by 0.09 mm (median) and changes nothing
+    /// measurable on aligned ones; off is the session-9 in-plane alignment, kept for studies.
     pub through_plane: bool,
+}
+
+impl Options {
+    /// The session-9 alignment: shifts in each image's own plane only.
+    pub const IN_PLANE: Options = Options {
+        through_plane: false,
+    };
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            through_plane: true,
+        }
+    }
 }
 
 /// What the alignment did.

@@ -426,18 +426,15 @@ fn a_view_of_open_curves_only_stays_put() {
 }
 
 /// Slices moved along their own normal (+-s, alternating; the stack's mean offset is a gauge and
-/// comes out), nothing else. With the study switch `Options::through_plane` the offsets are
-/// measured where the views cross sloped walls: the slices near the apex and base, whose
-/// crossings see the offset, are partly recovered (the prior shrinks them); those along the
-/// nearly straight mid-ventricle walls are barely seen and stay near 0. Without the switch the
-/// shifts carry no through-plane part (docs/VALIDATION.md, session 11).
+/// comes out), nothing else. With `Options::through_plane` (the default since session 12) the
+/// offsets are measured where the views cross sloped walls: the slices near the apex and base,
+/// whose crossings see the offset, are partly recovered (the prior shrinks them); those along
+/// the nearly straight mid-ventricle walls are barely seen and stay near 0. In-plane only
+/// (`Options::IN_PLANE`) the shifts carry no through-plane part (docs/VALIDATION.md, session 11).
 #[test]
-fn recovers_slices_moved_through_their_planes_with_the_study_switch() {
+fn recovers_slices_moved_through_their_planes() {
     let (clean, _) = acquisition(3);
     let axis = Vec3::from(align_slices(&clean).1.axis);
-    let on = Options {
-        through_plane: true,
-    };
     for s in [0.5, 1.0, 2.0] {
         let mut set = clean.clone();
         let mut applied = Vec::new();
@@ -483,8 +480,8 @@ fn recovers_slices_moved_through_their_planes_with_the_study_switch() {
                 .map(|x| x.0.abs())
                 .fold(0.0, f64::max)
         };
-        let (_, off) = align_slices(&set);
-        let (_, with) = align_slices_with(&set, on);
+        let (_, off) = align_slices_with(&set, Options::IN_PLANE);
+        let (_, with) = align_slices(&set);
         let (l0, l1) = (left(&off), left(&with));
         let through_off = off
             .groups
