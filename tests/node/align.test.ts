@@ -68,6 +68,15 @@ describe('breath-hold alignment through the worker', () => {
     const a = on.alignment;
     if (!a) throw new Error('no alignment in the result');
     expect(a.residual_after_mm).toBeLessThan(a.residual_before_mm);
+    // Every run reports how far apart the images cross (the alignment's starting residual, 1.88 mm
+    // here); off, that is enough to suggest the alignment; on, nothing to suggest.
+    expect(off.crossing_residual_mm).toBe(a.residual_before_mm);
+    expect(off.crossing_residual_mm).toBeGreaterThan(1.5);
+    expect(off.suggest_alignment).toBe(true);
+    expect(on.suggest_alignment).toBe(false);
+    // Each slice's part of its shift along the long axis is in the result too (views: 0).
+    expect(a.groups.filter((g) => g.kind === 'LAX').every((g) => g.through_plane_mm === 0)).toBe(true);
+    expect(Math.max(...a.groups.map((g) => Math.abs(g.through_plane_mm ?? 0)))).toBeGreaterThan(0.3);
     expect(a.groups.some((g) => g.kind === 'SAX')).toBe(true);
     expect(a.groups.some((g) => g.kind === 'LAX')).toBe(true);
     // The distance to the contours as given (shown beside the usual figure when the core sends it):

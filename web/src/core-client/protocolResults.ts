@@ -170,6 +170,13 @@ export interface RunResult {
    */
   contour_to_mesh_as_given?: DistanceSummary | null;
   /**
+   * How far apart the file's images are where their planes cross, before any alignment (mean
+   * in-plane distance, mm; null: no curves of one surface cross). Absent from older cores.
+   */
+  crossing_residual_mm?: number | null;
+  /** Alignment off and the images far enough apart (the core's threshold) to suggest Align breath-holds. */
+  suggest_alignment?: boolean;
+  /**
    * How far the mesh reaches past the highest (base) and lowest (apex) contour point along the long
    * axis, mm (negative: it stops short). Where no curve closes an end the surface there, and its
    * share of the volume, is extrapolated. Absent from results of older cores.

@@ -5,7 +5,8 @@
  * before -> after, the groups' shifts, largest first). `[data-testid=result]` carries
  * `data-vertices`, `data-triangles`, `data-mean-mm`, `data-max-mm` (the automated-check contract),
  * plus `data-iterations`, `data-converged` and, when aligned, `data-residual-before-mm`,
- * `data-residual-after-mm`, `data-given-mean-mm`; with close-open-ends on, `data-end-caps-base`,
+ * `data-residual-after-mm`, `data-given-mean-mm`; without it, `data-crossing-residual-mm` and
+ * `data-suggest-alignment` (1/0: the images disagree where they cross); with close-open-ends on, `data-end-caps-base`,
  * `data-end-caps-apex` (1/0) and `data-end-caps-points`.
  */
 import type { Alignment, RunResult } from '../core-client/protocol';
@@ -15,7 +16,7 @@ import { alignmentRows, endCapsText, iterationsDoneText, pastDataText, residualT
 const ATTRIBUTES = [
   'data-vertices', 'data-triangles', 'data-mean-mm', 'data-max-mm', 'data-iterations', 'data-converged',
   'data-residual-before-mm', 'data-residual-after-mm', 'data-given-mean-mm', 'data-past-base-mm', 'data-past-apex-mm',
-  'data-end-caps-base', 'data-end-caps-apex', 'data-end-caps-points',
+  'data-end-caps-base', 'data-end-caps-apex', 'data-end-caps-points', 'data-crossing-residual-mm', 'data-suggest-alignment',
 ];
 
 const SHIFTED_HELP = 'with breath-hold alignment: from the shifted contours, which the mesh follows, to the mesh';
@@ -23,6 +24,8 @@ const GIVEN_HELP = 'distance from the contours as given in the file (before the 
 const PAST_HELP = 'base / apex: how far the mesh reaches past the highest (base) and lowest (apex) contour point along the long axis';
 const PAST_EXTRAPOLATED_HELP = `${PAST_HELP}: more than 5 mm, so no curve closes that end and the surface there (and its share of the volume) is extrapolated`;
 const PAST_CAPS_HINT = '; the option Close open ends (Parameters) stops the mesh at the data there';
+const CROSSING_HELP = 'mean in-plane distance between each image\'s curves and where the other images\' curves cross its plane, as the file places them';
+const CROSSING_SUGGEST_HINT = ': the images disagree, as breath-hold offsets make them; the option Align breath-holds (Parameters) shifts them into agreement first';
 const RESIDUAL_HELP = 'mean in-plane distance between each slice\'s curves and where the other kind\'s curves cross its plane, before → after the shifts';
 
 export class ResultPanel {
@@ -80,6 +83,13 @@ export class ResultPanel {
         ...row('as given: max', mm(given.max, 3), 'result-given-max', GIVEN_HELP),
       );
     }
+    const crossing = r.crossing_residual_mm;
+    if (!a && crossing !== undefined && crossing !== null) {
+      const suggest = r.suggest_alignment === true;
+      d.crossingResidualMm = String(crossing);
+      d.suggestAlignment = suggest ? '1' : '0';
+      rows.push(...row('Images cross', `${mm(crossing, 2)} apart`, 'result-crossing', `${CROSSING_HELP}${suggest ? CROSSING_SUGGEST_HINT : ''}`, suggest));
+    }
     rows.push(
       ...row('Volume', r.watertight ? `${r.volumeMl.toFixed(1)} ml` : '– (open)'),
     );
@@ -130,7 +140,7 @@ export class ResultPanel {
         h(
             'table',
             { class: 'alignment-groups', 'data-testid': 'alignment-groups' },
-            h('thead', {}, h('tr', {}, h('th', {}, 'group'), h('th', {}, 'kind'), h('th', { class: 'num', title: 'length of the in-plane shift' }, 'shift (mm)'))),
+            h('thead', {}, h('tr', {}, h('th', {}, 'group'), h('th', {}, 'kind'), h('th', { class: 'num', title: 'length of the shift' }, 'shift (mm)'))),
             h('tbody', {}, ...rows),
           ),
       );

@@ -163,6 +163,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         for w in &set.warnings {
             eprintln!("heartmesh: warning: {input}: {w}");
         }
+        if let Some(note) = report::alignment_note(&rep) {
+            eprintln!("heartmesh: note: {input}: {note}");
+        }
         println!("{}", report::summary(output, &rep));
     }
     Ok(())

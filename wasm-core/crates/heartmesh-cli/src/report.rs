@@ -1,5 +1,6 @@
 //! The JSON report of `heartmesh reconstruct` (scripts rely on its keys) and the one-line summary.
 
+use heartmesh_core::contours::align::SUGGEST_ALIGNMENT_ABOVE_MM;
 use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::mesh::topology::validity;
 use heartmesh_core::pipeline::Reconstruction;
@@ -106,6 +107,9 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         // With --align-slices: the shifts found; contour_to_mesh is then to the shifted contours
         // the mesh follows, and this to the file's contours as given.
         "alignment": rec.alignment(),
+        // Always (null when no curves of one surface cross): how far apart the file's images
+        // are where their planes cross, before any alignment.
+        "crossing_residual_mm": rec.crossing_residual_mm(),
         "contour_to_mesh_as_given": rec.contour_distances_as_given().map(|d| json!({
             "mean": d.overall.mean,
             "median": d.overall.median,
@@ -140,6 +144,18 @@ pub fn header_comment(f: &Facts) -> String {
         ""
     };
     format!("reconstructed from {}; parameters {p}{aligned}", f.input)
+}
+
+/// Without `--align-slices`, when the file's images disagree where their planes cross by more
+/// than [`SUGGEST_ALIGNMENT_ABOVE_MM`]: a note saying so and what to do about it.
+pub fn alignment_note(rep: &Value) -> Option<String> {
+    let r = rep.get("crossing_residual_mm")?.as_f64()?;
+    (rep.get("alignment")?.is_null() && r > SUGGEST_ALIGNMENT_ABOVE_MM).then(|| {
+        format!(
+            "the images disagree by {r:.2} mm (mean) where their planes cross, as breath-hold \
+             offsets do; --align-slices shifts them into agreement first"
+        )
+    })
 }
 
 /// One line for stdout.

@@ -129,7 +129,7 @@ pub fn options_to_json(params: &Params) -> Value {
 /// The small part of the protocol's `RunResult` (`Session::result_json`): surface, contours,
 /// perContour, overall, volumeMl, areaMm2, watertight, params, lids, options, alignment (the
 /// core's `Alignment`, null unless `align_slices`; `contours` are then the shifted contours),
-/// version.
+/// crossing_residual_mm, suggest_alignment, version.
 pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
     let mesh = rec.mesh();
     let distances = rec.contour_distances();
@@ -153,11 +153,24 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         "lids": lids,
         "options": options_to_json(rec.params()),
         "alignment": rec.alignment(),
+        // How far apart the file's images are where their planes cross (null: no crossings), and
+        // whether that is enough to suggest the alignment (off and above the core's threshold).
+        "crossing_residual_mm": rec.crossing_residual_mm(),
+        "suggest_alignment": suggest_alignment(rec),
         // With alignment on, `overall` is to the shifted contours the mesh follows; this is to the
         // file's contours as drawn (the app shows both).
         "contour_to_mesh_as_given": rec.contour_distances_as_given().map(|d| d.overall),
         "version": heartmesh_core::VERSION,
     })
+}
+
+/// Alignment off and the file's images more than `SUGGEST_ALIGNMENT_ABOVE_MM` apart where their
+/// planes cross: the app then offers *Align breath-holds*.
+fn suggest_alignment(rec: &Reconstruction) -> bool {
+    !rec.params().align_slices
+        && rec
+            .crossing_residual_mm()
+            .is_some_and(|r| r > heartmesh_core::contours::align::SUGGEST_ALIGNMENT_ABOVE_MM)
 }
 
 /// Every schema parameter's effective value, for the run result and exports.

@@ -364,6 +364,14 @@ mod tests {
             "{apex}"
         );
         let a = &on["alignment"];
+        // The residual every run reports is the alignment's starting point; one slice 3 mm off
+        // in seven is not enough to suggest aligning (measured 0.29 mm), and with it on, no need.
+        let r = off["crossing_residual_mm"].as_f64().unwrap();
+        assert_eq!(a["residual_before_mm"].as_f64(), Some(r));
+        assert_eq!(on["crossing_residual_mm"].as_f64(), Some(r));
+        assert!((0.2..1.0).contains(&r), "{r}");
+        assert_eq!(off["suggest_alignment"], false);
+        assert_eq!(on["suggest_alignment"], false);
         let groups = a["groups"].as_array().unwrap();
         // Seven slices and two views, each with its kind, label, ids and a shift in mm.
         assert_eq!(groups.len(), 9);

@@ -19,7 +19,9 @@ mod reuse;
 pub mod tube;
 
 use crate::clock::{Clock, DefaultClock};
-use crate::contours::align::{align_slices_with, Alignment, Options as AlignOptions};
+use crate::contours::align::{
+    align_slices_with, crossing_residual, Alignment, Options as AlignOptions,
+};
 use crate::contours::axis::{analyse, Layout};
 use crate::contours::clean::resample_spacing;
 use crate::contours::{Contour, ContourKind, ContourSet};
@@ -135,6 +137,9 @@ pub struct Reconstruction {
     /// them (cleaned; None if cleaning split them differently from the shifted ones).
     alignment: Option<Alignment>,
     contours_as_given: Option<Vec<Contour>>,
+    /// How far apart the file's images are where their planes cross (mm, whole file, before any
+    /// alignment; None when no curves of one surface cross).
+    crossing_residual_mm: Option<f64>,
     layout: Layout,
     norm: Normalisation,
     /// Contour points resampled at ~1 mm, normalised: the attractor candidates.
@@ -198,6 +203,7 @@ impl Reconstruction {
         } else {
             (None, None)
         };
+        let crossing_residual_mm = crossing_residual(set);
         let source = aligned.as_ref().unwrap_or(set);
         let selected = prepare::select_surface(source, params.surface.as_deref())?;
         let contours = prepare::clean_contours(&selected);
@@ -261,6 +267,7 @@ impl Reconstruction {
             contours,
             alignment,
             contours_as_given,
+            crossing_residual_mm,
             layout,
             norm,
             candidates,
@@ -468,6 +475,12 @@ impl Reconstruction {
     /// What the breath-hold alignment did (None unless `Params::align_slices`).
     pub fn alignment(&self) -> Option<&Alignment> {
         self.alignment.as_ref()
+    }
+
+    /// How far apart the file's images are where their planes cross, as given (mm; see
+    /// [`crossing_residual`]): above about 1 mm, the breath-hold alignment is worth a try.
+    pub fn crossing_residual_mm(&self) -> Option<f64> {
+        self.crossing_residual_mm
     }
 
     /// With alignment on: the selected contours as the file gave them (cleaned, unshifted), in

@@ -205,6 +205,22 @@ pub(super) fn estimate(groups: &[Group], scale_mm: f64, through_plane: bool) -> 
     }
 }
 
+/// The mean distance of the matched crossings to their curves with nothing moved (mm; 0 when
+/// nothing matched), and how many matched: [`estimate`]'s `before_mm` without the estimate.
+pub(super) fn residual_as_given(groups: &[Group], scale_mm: f64) -> (f64, usize) {
+    let residual_cap = RESIDUAL_CAP_OF_RADIUS * scale_mm;
+    // The estimate's band is wider (shifts may bring curves across a plane); at rest only the
+    // segments crossing it count, and a band of 0 keeps exactly those.
+    let candidates = candidates(groups, 0.0);
+    let rest = residuals(
+        groups,
+        &candidates,
+        &vec![Vec3::zeros(); groups.len()],
+        residual_cap,
+    );
+    (mean_length(&rest), rest.iter().map(|r| r.count).sum())
+}
+
 /// Half of the damped Gauss-Newton step of a group's shift (the other half of a disagreement is
 /// the other group's to move): in the group's plane, (H + w I) d = b.
 fn step(g: &Group, r: &Residual) -> Vec3 {

@@ -122,6 +122,24 @@ pub fn align_slices(set: &ContourSet) -> (ContourSet, Alignment) {
     align_slices_with(set, Options::default())
 }
 
+/// Above this crossing residual (mm) a run suggests the alignment: consistent contours give a few
+/// hundredths of a mm or less (simulated sections 0.01, the SurFCo example 3e-6), hand-traced real studies
+/// with breath-hold offsets 1.9-2.3 mm (the biv-me files; docs/VALIDATION.md, session 9). Between,
+/// tracing noise and small offsets cannot be told apart, so no suggestion.
+pub const SUGGEST_ALIGNMENT_ABOVE_MM: f64 = 1.0;
+
+/// How far apart the images' curves are where their planes cross, as the file places them: the
+/// mean in-plane distance (mm) from where a curve crosses another image's plane to that image's
+/// curve of the same surface, as [`Alignment::residual_before_mm`] but without aligning. A run
+/// reports it so that a user can see the images disagree (breath-hold misalignment, above about
+/// 1 mm; consistent contours a few hundredths) and try the alignment. None when no short- and
+/// long-axis curves of one surface cross.
+pub fn crossing_residual(set: &ContourSet) -> Option<f64> {
+    let grouping = groups::group(set).ok()?;
+    let (mean, matched) = estimate::residual_as_given(&grouping.groups, grouping.scale_mm);
+    (matched > 0).then_some(mean)
+}
+
 /// [`align_slices`] with `options`.
 pub fn align_slices_with(set: &ContourSet, options: Options) -> (ContourSet, Alignment) {
     let grouping = match groups::group(set) {
