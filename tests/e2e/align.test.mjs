@@ -11,6 +11,8 @@ import { download as downloadFrom, openApp, readResult, runAndWait, sharedDir, S
 
 let app;
 let page;
+/** The aligned run's residual before the shifts (patient 2 ED): what the run without alignment reports. */
+let before2 = NaN;
 
 before(async () => {
   app = await openApp();
@@ -38,6 +40,7 @@ describe('breath-hold alignment in the browser', () => {
     const r = await readResult(page);
     const d = await page.locator('[data-testid=result]').evaluate((el) => ({ ...el.dataset }));
     const before = Number(d.residualBeforeMm);
+    before2 = before;
     const afterMm = Number(d.residualAfterMm);
     // The distance to the contours as given, when the core sends it (larger: the mesh follows the shifted ones).
     const given = d.givenMeanMm === undefined ? null : Number(d.givenMeanMm);
@@ -115,6 +118,11 @@ describe('breath-hold alignment in the browser', () => {
     assert.equal(d.residualBeforeMm, undefined);
     assert.equal(await page.isVisible('[data-testid=result-alignment]'), false);
     assert.equal(await page.isEnabled('[data-testid=view-as-given]'), false);
+    // Off, the panel says how far apart the images cross: the aligned run's residual before, flagged.
+    assert.equal(Number(d.crossingResidualMm), before2);
+    assert.equal(d.suggestAlignment, '1');
+    assert.equal(await page.textContent('[data-testid=result-crossing]'), `${before2.toFixed(2)} mm apart`);
+    assert.equal(await page.getAttribute('[data-testid=result-crossing]', 'class'), 'warn');
   });
 
   it('a run that meets the stop threshold early says it converged (SurFCo example)', async () => {
