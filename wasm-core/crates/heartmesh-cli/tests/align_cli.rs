@@ -5,7 +5,7 @@ mod common;
 use common::{bin, data, run, scratch};
 use serde_json::Value;
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
@@ -21,30 +21,51 @@ fn f(v: &Value) -> f64 {
 
 const P1: &str = "contours/bivme-example-patient1/patient1-ED.csv";
 
+/// Files of a `reconstruct` of patient 1 ED's LV endocardium in a scratch directory `name`.
+struct P1Run {
+    dir: PathBuf,
+    mesh: PathBuf,
+    report: PathBuf,
+}
+
+impl P1Run {
+    fn new(name: &str) -> P1Run {
+        let dir = scratch(name);
+        let (mesh, report) = (dir.join("lv.obj"), dir.join("r.json"));
+        P1Run { dir, mesh, report }
+    }
+
+    /// The command line, with `iterations` deformation steps.
+    fn args(&self, iterations: &str) -> Vec<String> {
+        let input = data(P1);
+        let args = [
+            "reconstruct",
+            s(&input),
+            "--surface",
+            "LV_ENDO",
+            "--iterations",
+            iterations,
+            "-o",
+            s(&self.mesh),
+            "--report",
+            s(&self.report),
+        ];
+        args.map(String::from).to_vec()
+    }
+}
+
 #[test]
 fn reconstruct_reports_the_shifts_and_the_distance_to_the_file() {
-    let dir = scratch("reconstruct");
-    let input = data(P1);
-    let (mesh, report) = (dir.join("lv.obj"), dir.join("r.json"));
-    let args = [
-        "reconstruct",
-        s(&input),
-        "--surface",
-        "LV_ENDO",
-        "--iterations",
-        "60",
-        "-o",
-        s(&mesh),
-        "--report",
-        s(&report),
-    ];
-    let (code, _, err) = run(bin().args(args));
+    let p1 = P1Run::new("reconstruct");
+    let args = p1.args("60");
+    let P1Run { dir, mesh, report } = p1;
+    let (code, _, err) = run(bin().args(&args));
     assert_eq!(code, 0, "{err}");
     let off = json(&report);
     assert!(off["alignment"].is_null());
     assert!(off["contour_to_mesh_as_given"].is_null());
 
-    let (code, out, err) = run(bin().args(args).arg("--align-slices"));
+    let (code, out, err) = run(bin().args(&args).arg("--align-slices"));
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("slices/views aligned"), "{out}");
     let on = json(&report);
@@ -242,23 +263,10 @@ fn misalignment_experiment_with_alignment() {
 /// is a usage error.
 #[test]
 fn through_plane_switch_refines_the_alignment_and_needs_it() {
-    let dir = scratch("through");
-    let input = data(P1);
-    let (mesh, report) = (dir.join("lv.obj"), dir.join("r.json"));
-    let args = [
-        "reconstruct",
-        s(&input),
-        "--surface",
-        "LV_ENDO",
-        "--iterations",
-        "30",
-        "-o",
-        s(&mesh),
-        "--report",
-        s(&report),
-    ];
+    let p1 = P1Run::new("through");
+    let (args, report) = (p1.args("30"), &p1.report);
     let alignment = |extra: &[&str]| -> Value {
-        let (code, _, err) = run(bin().args(args).args(extra));
+        let (code, _, err) = run(bin().args(&args).args(extra));
         assert_eq!(code, 0, "{err}");
         json(&report)["alignment"].clone()
     };
@@ -283,7 +291,7 @@ fn through_plane_switch_refines_the_alignment_and_needs_it() {
     assert_eq!(t.len(), 9);
     assert!(t[..5].iter().any(|x| x.abs() > 0.3), "{t:?}");
     assert!(t[5..].iter().all(|x| *x == 0.0), "{t:?}");
-    let (code, _, err) = run(bin().args(args).arg("--align-in-plane-only"));
+    let (code, _, err) = run(bin().args(&args).arg("--align-in-plane-only"));
     assert_eq!(code, 2);
     assert!(err.contains("needs --align-slices"), "{err}");
 }
