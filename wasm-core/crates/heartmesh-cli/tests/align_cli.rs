@@ -268,7 +268,7 @@ fn through_plane_switch_refines_the_alignment_and_needs_it() {
     let alignment = |extra: &[&str]| -> Value {
         let (code, _, err) = run(bin().args(&args).args(extra));
         assert_eq!(code, 0, "{err}");
-        json(&report)["alignment"].clone()
+        json(report)["alignment"].clone()
     };
     // Each slice's part of the shift along the long axis, in the report.
     let along = |a: &Value| -> Vec<f64> {
