@@ -212,9 +212,10 @@ fn population_of_posed_parametric_shapes() {
 
 /// `--lax 0` (misalignment and population): short-axis slices only, the arm of the paired end-cap
 /// gate where no long-axis curve reaches an end (docs/VALIDATION.md, session 12). The parametric
-/// LV's 8 slices are 10 mm apart: with `--end-caps auto` the base stops half a spacing past the
-/// basal slice (measured 5.30 mm; off runs on to 10.62 mm) and the apex, which gets no lid, is
-/// extrapolated as off does (5.37 / 5.39 mm).
+/// LV's 8 slices are 10 mm apart: with `--end-caps auto` the base gets a ceiling at the next slice
+/// position (measured 10.52 mm past the basal slice; off runs on to 10.62 mm; session 11's lid at
+/// the ring stopped it within ~2 mm) and the apex, which gets no lid, is extrapolated as off does
+/// (5.388 / 5.389 mm).
 #[test]
 fn lax_zero_gives_short_axis_only_stacks() {
     let mut past = Vec::new();
@@ -245,13 +246,13 @@ fn lax_zero_gives_short_axis_only_stacks() {
         past.push((num(&rows[0], "past_base_mm"), num(&rows[0], "past_apex_mm")));
     }
     let ((off_base, off_apex), (auto_base, auto_apex)) = (past[0], past[1]);
-    assert!(off_base > 8.0, "off: {off_base} mm past the base");
+    assert!(off_base > 10.0, "off: {off_base} mm past the base");
     assert!(
-        (auto_base - 5.0).abs() < 1.0,
+        auto_base > 8.0 && auto_base < 11.0,
         "auto: {auto_base} mm past the base"
     );
     assert!(
-        (auto_apex - off_apex).abs() < 0.5,
+        (auto_apex - off_apex).abs() < 0.1,
         "apex {auto_apex} vs {off_apex} mm"
     );
     // population: every shape gets the override (3 LAX without it).

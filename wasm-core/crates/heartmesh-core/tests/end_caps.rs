@@ -126,17 +126,17 @@ fn capped_top_stops_at_the_data() {
 
 /// Short-axis rings only (docs/VALIDATION.md "Session 12: end caps where no long-axis curve
 /// reaches"): no curve reaches either end. The apex gets no lid points and is extrapolated as
-/// the paper does (the true apex lies 12 mm below the lowest ring; measured +8.26 mm); the base
-/// gets a flat lid half the 8 mm slice spacing beyond the top ring (measured +4.45 mm past the data,
-/// 84.79 ml, 9 lid points). The shape below the lid's plane holds 78.54 + pi a^2 x 4 = 86.39 ml.
-/// (Session 11 capped both ends at their rings: 76.40 ml, +1.50 / +1.12 mm; off, in
-/// scripts/phantoms.py: +15.8 / +13.2 mm.)
+/// the paper does (the true apex lies 12 mm below the lowest ring; measured +8.55 mm); the base a
+/// ceiling one 8 mm slice spacing beyond the top ring (measured +8.27 mm past the data, 89.67 ml,
+/// 9 lid points; off: +11.32 / +8.41 mm, 92.78 ml). The volume lies between the shape's below its top ring
+/// (78.54 ml) and that plus the ceiling's slab (pi a^2 x 8 mm: 94.25 ml). (Session 11 capped both
+/// ends at their rings: 76.40 ml, +1.50 / +1.12 mm.)
 #[test]
-fn sax_only_caps_the_base_beyond_the_top_ring() {
+fn sax_only_caps_the_base_at_the_next_slice() {
     let on = run(false, EndCapMode::Auto);
     assert!(on.base_capped && !on.apex_capped && on.points > 0);
     assert!(
-        (on.base_mm - 4.0).abs() < 1.0,
+        (on.base_mm - 8.0).abs() < 1.0,
         "past the top: {} mm",
         on.base_mm
     );
@@ -145,11 +145,18 @@ fn sax_only_caps_the_base_beyond_the_top_ring() {
         "past the apex: {} mm",
         on.apex_mm
     );
-    let below_lid = ANALYTIC_ML + PI * A * A * 4.0 / 1000.0;
+    let slab = ANALYTIC_ML + PI * A * A * 8.0 / 1000.0;
     assert!(
-        (on.ml / below_lid - 1.0).abs() < 0.04,
-        "{} ml vs {below_lid} ml",
+        on.ml > ANALYTIC_ML && on.ml < slab,
+        "{} ml, not between {ANALYTIC_ML} and {slab} ml",
         on.ml
     );
     assert!(on.c2m < 0.1, "contour-to-mesh {} mm", on.c2m);
+    let off = run(false, EndCapMode::Off);
+    assert!(
+        off.base_mm > on.base_mm + 0.1 * A,
+        "off {} mm past the top, auto {} mm",
+        off.base_mm,
+        on.base_mm
+    );
 }
