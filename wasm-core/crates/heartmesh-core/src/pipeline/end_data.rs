@@ -18,7 +18,8 @@ pub const CLOSE_SPAN_PER_RADIUS: f64 = 1.0;
 const PLANE_TOLERANCE_PER_RADIUS: f64 = 1e-3;
 
 /// An end ring's centre, mean radius, height along the axis and the "at or beyond its plane"
-/// tolerance: what deciding whether data close the end and fitting the tips' plane both measure from.
+/// tolerance: what deciding whether data close or reach the end and fitting the tips' plane
+/// measure from.
 pub(super) struct EndRing {
     pub centre: Vec3,
     pub radius: f64,

@@ -181,15 +181,16 @@ const TIP_RIDGE: f64 = 1e-3;
 /// Where the lid of an end no curve closes goes, from what the long-axis data say about it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum EndLid {
-    /// Long-axis curves reach the end (tips beyond the ring, or points past it): the lid lies where
-    /// they stop, through their tips ([`TipPlane`]) or flat at the tube's lid (their farthest point).
+    /// Long-axis curves reach the end (tips beyond the ring, or points past it): the lid lies
+    /// where they stop, through their tips ([`TipPlane`]) or flat at the tube's lid (their
+    /// farthest point).
     Reached,
-    /// The apex of a short-axis-only end: no lid points. The true apex runs on below the lowest
-    /// slice (up to a slice spacing), rounding to a tip; a flat lid at the slice cut that dome off
+    /// An apex no long-axis curve reaches: no lid points. The true apex runs on below the lowest
+    /// slice, rounding to a tip; a flat lid at the slice cut that dome off
     /// (docs/VALIDATION.md, "Session 11: the cap-to-wall corner", lead's decision: CAP LV epi
     /// truth->mesh max 0.82 -> 6.32 mm), while the paper's extrapolation came close there.
     OpenApex,
-    /// The base of a short-axis-only end: a flat lid this far (mm) beyond the basal ring's plane.
+    /// A base no long-axis curve reaches: a flat lid this far (mm) beyond the basal ring's plane.
     OpenBase(f64),
 }
 
@@ -201,16 +202,18 @@ pub enum EndLid {
 /// off. Scale-free: a share of the data's own spacing. Measured (docs/VALIDATION.md, "Session 12:
 /// end caps where no long-axis curve reaches"): the true base lies 0.55-2.3 spacings (median 0.9)
 /// past the basal slice in the simulated population and the long-axis tips 1.25-1.8 spacings past
-/// it on the real LV files, so a lid nearer the ring (half a spacing, or just outside the plane)
-/// cut the base short and lost the clipped accuracy the ceiling keeps. A lid at the ring's own
-/// plane (session 11) settled a fraction of a mm inside it, where the paper's clipped comparison
-/// keeps it (mesh->truth maxima of 18-26 mm).
+/// it on the real LV files (the bound is optimistic), so the ceiling binds only where the
+/// extrapolation ran on past the next slice position, and lids nearer the ring (half a spacing,
+/// just outside the plane) cut the base shorter still and lost clipped accuracy. A lid at the
+/// ring's own plane (session 11) settled a fraction of a mm inside it, where the paper's clipped
+/// comparison keeps it (mesh->truth maxima of 18-26 mm).
 pub const OPEN_BASE_PER_SLICE_GAP: f64 = 1.0;
 
-/// The rule for the end at `rings[end]` (`outward` +1: the base, the last ring; -1: the apex, the
-/// first), `None` when data close it. `tolerance` (mm) is the lid's one-sided tolerance: an open
-/// base's lid lies at least two of them out, so that the mesh it holds (within one tolerance of
-/// the plane, [`super::lid_pull`]) stays outside the ring's plane even for closely spaced slices.
+/// The rule for one end of the short-axis `rings` (apex to base; `outward` +1: the base, the last
+/// ring; -1: the apex, the first), `None` when data close it. `tolerance` (mm) is the lid's
+/// one-sided tolerance: an open base's lid lies at least two of them out, so that the mesh it holds
+/// (within one tolerance of the plane, [`super::lid_pull`]) stays outside the ring's plane even for
+/// closely spaced slices.
 pub fn end_lid(
     rings: &[Vec<Vec3>],
     contours: &[Contour],
