@@ -7,6 +7,9 @@
 # Usage: ARGS_A="--end-caps off" ARGS_B="--end-caps auto" [NAME_A=a] [NAME_B=b] [SEEDS="1 2 3"]
 #        [COUNT=80] [REFS=1] [REF_SEEDS=4] scripts/paired.sh [OUT_DIR]
 # (names: letters and digits only, they tag the CSV files; REFS=0: population only.)
+# Short-axis-only arm (session 12: ends no long-axis curve reaches): add --lax 0 to both flag sets,
+# e.g. ARGS_A="--end-caps off --lax 0" ARGS_B="--end-caps auto --lax 0" (every shape, LV or RV,
+# sliced without long-axis views; `experiment population|misalignment --lax K`).
 set -e
 OUT=${1:-/tmp/paired}
 A=${NAME_A:-a}

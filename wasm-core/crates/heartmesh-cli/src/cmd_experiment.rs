@@ -9,7 +9,7 @@ use std::time::Instant;
 use heartmesh_core::sim::cavity::rv_cavity;
 use heartmesh_core::sim::experiment::{to_csv, Design, Experiment, Progress, Row};
 use heartmesh_core::sim::experiment_design::Subject;
-use heartmesh_core::sim::planes::anatomical_axis;
+use heartmesh_core::sim::planes::{anatomical_axis, PAPER_LAX_ANGLES_DEG};
 use heartmesh_core::sim::population::{generate, Base, Member, Plan, Source};
 use heartmesh_core::sim::shapes::ParametricLv;
 use heartmesh_core::sim::AcquisitionSpec;
@@ -37,6 +37,8 @@ pub const USAGE: &str =
   sax-count: SAX --from 2 --to 15 (--step 1), LAX fixed (--lax, default 3; 1 for RV@LV).
   lax-count: LAX --from 1 --to 8 at 0, 90, 45, 135, 22.5, 157.5, 112.5, 67.5 degrees, --sax 4.
   misalignment: --levels 0:0,1:1,2:2,3:3,4:4 (max shift mm : max tilt degrees), --seeds 5.
+  misalignment and population: --lax K gives every shape K long-axis views (default: 3 for an
+  LV, 1 for RV@LV; 0: short-axis slices only).
   sweep: the grid --lambda 1e3,1e5,1e7 --smoothing-iterations 20,50,200 --target-reduction
   0.72,0.75 --attractor-spacing 0,3 (0: default attractor count); parallel-coordinates plot.
   Each remesh subdivides x4: target reductions below 0.75 grow the mesh (slow), above shrink it.
@@ -76,9 +78,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let own: &[&str] = match kind.as_str() {
         "sax-count" => &["from", "to", "step", "lax"],
         "lax-count" => &["from", "to", "step", "sax"],
-        "misalignment" => &["levels", "seeds"],
+        "misalignment" => &["levels", "seeds", "lax"],
         "sweep" => &SWEEP_PARAMS,
-        "population" => &["count", "seed", "levels"],
+        "population" => &["count", "seed", "levels", "lax"],
         other => {
             return Err(CliError::usage(format!(
                 "unknown experiment {other:?} (sax-count, lax-count, misalignment, sweep, \
@@ -134,7 +136,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             .set("iterations", n as f64)
             .map_err(CliError::param)?;
     }
-    let (subjects, members) = match &design {
+    let (mut subjects, members) = match &design {
         Design::Population { seed, .. } => {
             let bases = p
                 .positional
@@ -158,6 +160,18 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             Vec::new(),
         ),
     };
+    // misalignment and population take every subject's own LAX count (3 for an LV, 1 for an RV
+    // planned on its LV) unless --lax gives one for all (sax-count reads --lax itself).
+    if matches!(
+        design,
+        Design::Misalignment { .. } | Design::Population { .. }
+    ) {
+        if let Some(k) = lax_override(&p)? {
+            for s in &mut subjects {
+                s.base.lax_count = k;
+            }
+        }
+    }
     let mut exp = Experiment::new(&design, subjects, &params).map_err(CliError::param)?;
     std::fs::create_dir_all(out_dir)
         .map_err(|e| CliError::Failed(format!("{out_dir}: cannot create directory: {e}")))?;
@@ -298,6 +312,19 @@ fn design(kind: &str, p: &Parsed) -> Result<Design, CliError> {
             Design::Sweep { grid: out }
         }
     })
+}
+
+/// `--lax K` for every subject of misalignment and population: 0 (a short-axis stack only, no
+/// long-axis view: the paper's "parallel SAX only" case, where no long-axis curve reaches an end)
+/// up to the paper's 8 angles.
+fn lax_override(p: &Parsed) -> Result<Option<usize>, CliError> {
+    match p.whole("lax")? {
+        Some(k) if k as usize > PAPER_LAX_ANGLES_DEG.len() => Err(CliError::usage(format!(
+            "--lax {k}: at most {} long-axis views (0: short-axis slices only)",
+            PAPER_LAX_ANGLES_DEG.len()
+        ))),
+        k => Ok(k.map(|k| k as usize)),
+    }
 }
 
 /// `0:0,1:1,2` -> [(0,0), (1,1), (2,2)] (a bare number: the same shift in mm and tilt in degrees).

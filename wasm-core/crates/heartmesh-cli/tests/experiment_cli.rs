@@ -210,6 +210,62 @@ fn population_of_posed_parametric_shapes() {
     }
 }
 
+/// `--lax 0` (misalignment and population): short-axis slices only, the arm of the paired end-cap
+/// gate where no long-axis curve reaches an end (docs/VALIDATION.md, session 12). The parametric
+/// LV's 8 slices are 10 mm apart: with `--end-caps auto` the base gets a ceiling at the next slice
+/// position (measured 10.52 mm past the basal slice; off runs on to 10.62 mm; session 11's lid at
+/// the ring stopped it within ~2 mm) and the apex, which gets no lid, is extrapolated as off does
+/// (5.388 / 5.389 mm).
+#[test]
+fn lax_zero_gives_short_axis_only_stacks() {
+    let mut past = Vec::new();
+    for caps in ["off", "auto"] {
+        let d = scratch(&format!("lax0-{caps}"));
+        let rows = experiment(
+            "misalignment",
+            &d,
+            &[
+                "--levels",
+                "0:0",
+                "--seeds",
+                "1",
+                "--lax",
+                "0",
+                "--end-caps",
+                caps,
+            ],
+        );
+        assert_eq!(rows.len(), 1);
+        assert_eq!(
+            (
+                rows[0]["sax_contours"].as_str(),
+                rows[0]["lax_contours"].as_str()
+            ),
+            ("8", "0")
+        );
+        past.push((num(&rows[0], "past_base_mm"), num(&rows[0], "past_apex_mm")));
+    }
+    let ((off_base, off_apex), (auto_base, auto_apex)) = (past[0], past[1]);
+    assert!(off_base > 10.0, "off: {off_base} mm past the base");
+    assert!(
+        auto_base > 8.0 && auto_base < 11.0,
+        "auto: {auto_base} mm past the base"
+    );
+    assert!(
+        (auto_apex - off_apex).abs() < 0.1,
+        "apex {auto_apex} vs {off_apex} mm"
+    );
+    // population: every shape gets the override (3 LAX without it).
+    let d = scratch("lax0-pop");
+    for (extra, lax) in [(&["--lax", "0"][..], "0"), (&[][..], "3")] {
+        let mut args = vec!["--count", "2", "--levels", "0:0", "--iterations", "5"];
+        args.extend_from_slice(extra);
+        let rows = experiment("population", &d, &args);
+        assert_eq!(rows.len(), 2);
+        assert!(rows.iter().all(|r| r["lax_contours"] == lax), "{rows:?}");
+    }
+}
+
 #[test]
 fn sweep_grid_and_parallel_coordinates() {
     let d = scratch("sweep");
@@ -317,6 +373,30 @@ fn usage_errors_exit_2_with_one_line() {
                 "1",
             ],
             "unknown option --levels",
+        ),
+        (
+            vec![
+                "experiment",
+                "misalignment",
+                "parametric-lv",
+                "-o",
+                out,
+                "--lax",
+                "9",
+            ],
+            "--lax 9: at most 8 long-axis views",
+        ),
+        (
+            vec![
+                "experiment",
+                "lax-count",
+                "parametric-lv",
+                "-o",
+                out,
+                "--lax",
+                "0",
+            ],
+            "unknown option --lax",
         ),
         (
             vec![

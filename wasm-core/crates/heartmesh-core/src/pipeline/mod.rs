@@ -7,6 +7,7 @@
 //! heart; everything handed out is converted back to millimetres.
 
 mod diameter;
+mod end_data;
 pub mod ends;
 mod lid_disc;
 pub mod lid_pull;
