@@ -45,10 +45,10 @@ export const END_CAPS_MODES: readonly EndCapsMode[] = ['auto', 'off'];
 
 /**
  * The app's default for `end_caps`, the one place it is set (the URL, the panel's "changed" mark,
- * the sessions and the exports follow it). The core's default (`Params::default`: off, the paper's
- * method; docs/VALIDATION.md session 11 says why); tests/unit/options.test.ts holds the two together.
+ * the sessions and the exports follow it). The core's default (`Params::default`), `auto` since
+ * session 12; tests/unit/options.test.ts holds the two together.
  */
-export const DEFAULT_END_CAPS: EndCapsMode = 'off';
+export const DEFAULT_END_CAPS: EndCapsMode = 'auto';
 
 export const DEFAULT_OPTIONS: Readonly<ReconOptions> = {
   smoothing_method: 'laplacian-affine',

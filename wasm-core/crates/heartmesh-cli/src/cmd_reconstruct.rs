@@ -36,12 +36,13 @@ pub const USAGE: &str =
   each short-axis slice also moves along its own normal where the long-axis curves' slopes
   show it (the report's through_plane_mm); --align-in-plane-only (a study switch) keeps the
   shifts in the image planes (the alignment before through-plane offsets);
-  --end-caps auto: at each end of the cavity no long-axis curve closes (usually the base),
-  synthetic lid points in the lid's plane pull the mesh with a weight below 1, so it stops at the
-  data instead of running on past it: where long-axis curves reach the end, at their tips; where
+  --end-caps auto (the default): at each end of the cavity no long-axis curve closes (usually
+  the base), synthetic lid points in the lid's plane pull the mesh with a weight below 1, so it
+  stops at the data instead of running on past it: where long-axis curves reach the end, at their tips; where
   none does (short-axis only), none at the apex (extrapolated) and at the base a ceiling one slice
   spacing beyond the basal slice; they are not data (never in the distances); the report's
-  end_caps says which ends got them and how many;
+  end_caps says which ends got them and how many; --end-caps off leaves such ends to
+  extrapolation (the paper's method);
   --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time

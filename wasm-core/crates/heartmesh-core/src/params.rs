@@ -94,9 +94,13 @@ pub struct Params {
     /// kept for studies: not in the app or in sessions.
     pub align_through_plane: bool,
     /// Synthetic lid attractors at the ends no curve closes, pulling with a weight below 1
-    /// (`pipeline::ends`), so the mesh stops at the data there instead of running on. Off by
-    /// default: the lid-to-wall corner raises the accuracy maxima at the basal rim
-    /// (docs/VALIDATION.md, session 10).
+    /// (`pipeline::ends`), so the mesh stops at the data there instead of running on. On (`auto`)
+    /// by default since session 12: without them an open end is extrapolated by up to a ring
+    /// radius (volume +22 % on phantoms); since the lid-to-wall corner was fixed (session 11) and
+    /// ends no long-axis curve reaches are left alone at the apex and capped one slice spacing out
+    /// at the base (session 12) they cost nothing measurable where the data are, with or without
+    /// long-axis views (docs/VALIDATION.md, "Session 12: end caps where no long-axis curve
+    /// reaches"). `off` is the paper's method.
     pub end_caps: EndCapMode,
 }
 
@@ -120,7 +124,7 @@ impl Default for Params {
             soften_conflicts: true,
             align_slices: false,
             align_through_plane: true,
-            end_caps: EndCapMode::Off,
+            end_caps: EndCapMode::Auto,
         }
     }
 }

@@ -17,6 +17,10 @@ const MEAN_MM: f64 = 1.0;
 /// 26 on 9 before). One above the measured worst: fold counts move by one or two with any change
 /// of the arithmetic (the solver's precision), a regression moves them by more.
 const MAX_FOLDED_EDGES: usize = 3;
+/// Surfaces held to another fold count, with the reason. Patient 1 ES RV epicardium: 4 since end
+/// caps became the default (session 12; 3 with `--end-caps off`, 2 with session 10's lid, which
+/// had a worse basal corner: docs/VALIDATION.md, "Session 11: the cap-to-wall corner").
+const FOLD_EXCEPTIONS: &[(&str, usize)] = &[("patient1-ES.csv RV_EPI", 4)];
 
 /// Reconstructs every surface of one file; returns failures as messages (all cases run).
 fn file_case(sub: &str) -> Vec<String> {
@@ -81,9 +85,13 @@ fn file_case(sub: &str) -> Vec<String> {
         if let Err(e) = check_closed_manifold_outward(rec.mesh()) {
             failures.push(format!("{label}: mesh is not closed/manifold/outward: {e}"));
         }
-        if q.folded_edges > MAX_FOLDED_EDGES {
+        let max_folds = FOLD_EXCEPTIONS
+            .iter()
+            .find(|(l, _)| label.ends_with(l))
+            .map_or(MAX_FOLDED_EDGES, |(_, n)| *n);
+        if q.folded_edges > max_folds {
             failures.push(format!(
-                "{label}: {} folded edges (max dihedral {:.0} deg) > {MAX_FOLDED_EDGES}",
+                "{label}: {} folded edges (max dihedral {:.0} deg) > {max_folds}",
                 q.folded_edges, q.max_dihedral_deg
             ));
         }

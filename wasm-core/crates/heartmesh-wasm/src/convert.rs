@@ -319,7 +319,7 @@ mod tests {
         let o = options_to_json(&p);
         assert_eq!(
             o,
-            json!({"smoothing_method": "taubin", "soften_conflicts": false, "align_slices": false, "end_caps": "off"})
+            json!({"smoothing_method": "taubin", "soften_conflicts": false, "align_slices": false, "end_caps": "auto"})
         );
         // Absent: the core's defaults.
         let d = params_from_json("{}", "auto", None).unwrap();
@@ -334,7 +334,7 @@ mod tests {
         assert_eq!(q, d);
         assert_eq!(
             options_to_json(&d),
-            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true, "align_slices": false, "end_caps": "off"})
+            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true, "align_slices": false, "end_caps": "auto"})
         );
         assert!(!d.align_slices);
         let a = params_from_json(r#"{"align_slices": true}"#, "auto", None).unwrap();

@@ -10,8 +10,9 @@
 //!                 "align_slices": false, "end_caps": "off"}}
 //! ```
 //!
-//! Sessions written before `smoothing_method`, `soften_conflicts`, `align_slices` and `end_caps`
-//! existed lack them and read back with their defaults.
+//! Sessions written before `smoothing_method`, `soften_conflicts` and `align_slices` existed lack
+//! them and read back with their defaults; one without `end_caps` reads back with `off`, as it
+//! was made (the default became `auto` in session 12).
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
@@ -20,7 +21,7 @@ use super::builder::ContourBuilder;
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
 use crate::geometry::v3;
-use crate::params::{LidMode, Params};
+use crate::params::{EndCapMode, LidMode, Params};
 
 /// Format version written and accepted.
 pub const SESSION_VERSION: u32 = 1;
@@ -71,7 +72,12 @@ pub struct Session {
 impl Session {
     /// The saved parameters on top of the defaults, each checked against its range.
     pub fn params(&self) -> Result<Params> {
-        let mut p = Params::default();
+        // A session without `end_caps` was saved before end caps existed (session 10), when no
+        // end was capped: it reads back as it was made, although the default is now `auto`.
+        let mut p = Params {
+            end_caps: EndCapMode::Off,
+            ..Params::default()
+        };
         for (name, value) in &self.parameters {
             match (name.as_str(), value) {
                 ("lids", Value::String(s)) => p.set_lids(s)?,
@@ -342,11 +348,13 @@ mod tests {
             assert_eq!(s.parameters["end_caps"], mode.name());
             assert_eq!(s.params().unwrap(), params);
         }
-        // Written before end caps existed: the default; a wrong value is a typed error.
+        // Written before end caps existed: off, as it was made (not the default); a wrong value
+        // is a typed error.
         let bytes = write_session(&set, &Params::default(), "9.9.9").unwrap();
         let mut s = read_session(&bytes).unwrap();
         s.parameters.remove("end_caps");
-        assert_eq!(s.params().unwrap().end_caps, Params::default().end_caps);
+        assert_eq!(s.params().unwrap().end_caps, EndCapMode::Off);
+        assert_eq!(Params::default().end_caps, EndCapMode::Auto);
         s.parameters.insert("end_caps".into(), Value::from("on"));
         let e = s.params().unwrap_err();
         assert_eq!(e.code(), "param_invalid");
