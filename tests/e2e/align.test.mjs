@@ -121,8 +121,15 @@ describe('breath-hold alignment in the browser', () => {
     // Off, the panel says how far apart the images cross: the aligned run's residual before, flagged.
     assert.equal(Number(d.crossingResidualMm), before2);
     assert.equal(d.suggestAlignment, '1');
-    assert.equal(await page.textContent('[data-testid=result-crossing]'), `${before2.toFixed(2)} mm apart`);
+    assert.equal(await page.textContent('[data-testid=result-crossing]'), `${before2.toFixed(2)} mm align`);
     assert.equal(await page.getAttribute('[data-testid=result-crossing]', 'class'), 'warn');
+    // Its "align" button ticks the option and runs again: aligned, the row gives way to the alignment box.
+    await runAndWait(page, () => page.click('[data-testid=result-align-suggest]'));
+    assert.match(page.url(), /align_slices=1/);
+    assert.equal(await page.isChecked('[data-testid=param-align-slices]'), true);
+    assert.equal(await page.isVisible('[data-testid=result-alignment]'), true);
+    assert.equal(await page.$('[data-testid=result-crossing]'), null);
+    await runAndWait(page, () => page.uncheck('[data-testid=param-align-slices]'));
   });
 
   it('a run that meets the stop threshold early says it converged (SurFCo example)', async () => {

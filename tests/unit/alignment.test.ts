@@ -136,27 +136,32 @@ describe('result panel', () => {
     expect(box.hidden).toBe(true);
   });
 
-  it('says how far apart the images cross, and suggests the alignment when they disagree', () => {
-    const panel = new ResultPanel();
+  it('says how far apart the images cross (the crossing gap), and suggests the alignment when they disagree', () => {
+    let aligned = 0;
+    const panel = new ResultPanel(() => aligned++);
     const el = panel.element as unknown as FakeElement;
     panel.show(result({ crossing_residual_mm: 1.8771, suggest_alignment: true }));
-    expect(rows(el)['Images cross']).toBe('1.88 mm apart');
+    // The figure, then a one-click "align" that ticks the option (here: counts the calls).
+    expect(rows(el)['Crossing gap']).toBe('1.88 mm align');
+    el.byTestId('result-align-suggest')?.fire('click');
+    expect(aligned).toBe(1);
     const cell = el.byTestId('result-crossing');
     expect(cell?.getAttribute('class')).toBe('warn');
     expect(cell?.title).toMatch(/Align breath-holds/);
     expect(el.dataset).toMatchObject({ crossingResidualMm: '1.8771', suggestAlignment: '1' });
     // Consistent contours: the figure, no warning, no hint.
     panel.show(result({ crossing_residual_mm: 0.011, suggest_alignment: false }));
-    expect(rows(el)['Images cross']).toBe('0.01 mm apart');
+    expect(rows(el)['Crossing gap']).toBe('0.01 mm');
     expect(el.byTestId('result-crossing')?.getAttribute('class')).toBeNull();
     expect(el.byTestId('result-crossing')?.title).not.toMatch(/Align breath-holds/);
     expect(el.dataset.suggestAlignment).toBe('0');
+    expect(el.byTestId('result-align-suggest')).toBeUndefined();
     // With the alignment on, its own box shows the residual before -> after instead; no crossings: no row.
     panel.show(result({ crossing_residual_mm: 1.8771, suggest_alignment: false, alignment: ALIGNMENT }));
-    expect(rows(el)['Images cross']).toBeUndefined();
+    expect(rows(el)['Crossing gap']).toBeUndefined();
     expect(el.dataset.crossingResidualMm).toBeUndefined();
     panel.show(result({ crossing_residual_mm: null }));
-    expect(rows(el)['Images cross']).toBeUndefined();
+    expect(rows(el)['Crossing gap']).toBeUndefined();
   });
 
   it('says how far the mesh runs past the data, and flags an extrapolated end', () => {

@@ -57,7 +57,8 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
     }),
     status: new StatusLine(),
     plot: new LivePlot(),
-    result: new ResultPanel(),
+    // Its "align" button (images that disagree where they cross) ticks the parameter panel's option.
+    result: new ResultPanel(() => parts.params.alignBreathHolds()),
     banner: new ErrorBanner(),
     files: new FileBar({
       openFiles: (f) => void c().openFiles(f),

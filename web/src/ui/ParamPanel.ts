@@ -189,6 +189,14 @@ export class ParamPanel {
     this.render();
   }
 
+  /** Ticks Align breath-holds (if it is not already) and starts the run, as a click on it would. */
+  alignBreathHolds(): void {
+    if (this.options.align_slices) return;
+    this.options = { ...this.options, align_slices: true };
+    this.renderOptions();
+    this.emit();
+  }
+
   private emit(): void {
     this.onChange({ ...this.values }, this.lidsMode, { ...this.options });
   }

@@ -33,7 +33,8 @@ export class ResultPanel {
   private readonly body: HTMLElement;
   private readonly alignment: HTMLElement;
 
-  constructor() {
+  /** `onAlign`: what the button offered beside a crossing residual that suggests the alignment does. */
+  constructor(private readonly onAlign?: () => void) {
     this.body = h('dl', { class: 'result-list' });
     this.alignment = h('div', { class: 'alignment', 'data-testid': 'result-alignment', hidden: true });
     this.element = h('section', { class: 'panel result', 'data-testid': 'result', 'aria-label': 'Result' }, h('h2', {}, 'Result'), this.body, this.alignment);
@@ -88,7 +89,14 @@ export class ResultPanel {
       const suggest = r.suggest_alignment === true;
       d.crossingResidualMm = String(crossing);
       d.suggestAlignment = suggest ? '1' : '0';
-      rows.push(...row('Images cross', `${mm(crossing, 2)} apart`, 'result-crossing', `${CROSSING_HELP}${suggest ? CROSSING_SUGGEST_HINT : ''}`, suggest));
+      const cells = row('Crossing gap', mm(crossing, 2), 'result-crossing', `${CROSSING_HELP}${suggest ? CROSSING_SUGGEST_HINT : ''}`, suggest);
+      const onAlign = this.onAlign;
+      if (suggest && onAlign) {
+        const button = h('button', { type: 'button', class: 'small inline-action', 'data-testid': 'result-align-suggest', title: 'tick Align breath-holds and run again' }, 'align');
+        button.addEventListener('click', () => onAlign());
+        cells[1].append(' ', button);
+      }
+      rows.push(...cells);
     }
     rows.push(
       ...row('Volume', r.watertight ? `${r.volumeMl.toFixed(1)} ml` : '– (open)'),
