@@ -154,13 +154,14 @@ fn span(q: &[Vec3]) -> f64 {
     far(&a).0
 }
 
+/// Shapes the end tests of this module and of `ends` build on: a ring, an open long-axis curve.
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::contours::Polyline;
-    use crate::geometry::v3;
+pub(super) mod fixtures {
+    use crate::contours::{Contour, Polyline};
+    use crate::geometry::{v3, Vec3};
 
-    fn circle(r: f64, z: f64, n: usize) -> Vec<Vec3> {
+    /// `n` points of a circle of radius `r` about the z axis at height `z`.
+    pub fn circle(r: f64, z: f64, n: usize) -> Vec<Vec3> {
         (0..n)
             .map(|i| {
                 let a = i as f64 / n as f64 * std::f64::consts::TAU;
@@ -169,7 +170,8 @@ mod tests {
             .collect()
     }
 
-    fn lax(points: Vec<Vec3>) -> Contour {
+    /// An open long-axis curve through `points`.
+    pub fn lax(points: Vec<Vec3>) -> Contour {
         Contour {
             id: "lax".into(),
             surface: None,
@@ -181,7 +183,16 @@ mod tests {
         }
     }
 
-    const Z: Vec3 = Vec3::new(0.0, 0.0, 1.0);
+    /// The axis of those shapes.
+    pub const Z: Vec3 = Vec3::new(0.0, 0.0, 1.0);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::v3;
+
+    use super::fixtures::{circle, lax, Z};
 
     /// A radius-10 ring at z = 0 as the apex end, with long-axis curves of each kind.
     #[test]

@@ -327,31 +327,9 @@ pub fn end_cap_points(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contours::Polyline;
     use crate::geometry::v3;
 
-    fn circle(r: f64, z: f64, n: usize) -> Vec<Vec3> {
-        (0..n)
-            .map(|i| {
-                let a = i as f64 / n as f64 * std::f64::consts::TAU;
-                v3(r * a.cos(), r * a.sin(), z)
-            })
-            .collect()
-    }
-
-    fn lax(points: Vec<Vec3>) -> Contour {
-        Contour {
-            id: "lax".into(),
-            surface: None,
-            pieces: vec![Polyline {
-                points,
-                closed: false,
-            }],
-            first_line: 0,
-        }
-    }
-
-    const Z: Vec3 = Vec3::new(0.0, 0.0, 1.0);
+    use crate::pipeline::end_data::fixtures::{circle, lax, Z};
 
     /// A radius-10 disc at pitch 2 with a 2 mm inset: the grid points within radius 8 of the
     /// centre (up to the 40-gon's flats), all in the lid's plane.
