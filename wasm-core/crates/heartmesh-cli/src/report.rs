@@ -1,6 +1,5 @@
 //! The JSON report of `heartmesh reconstruct` (scripts rely on its keys) and the one-line summary.
 
-use heartmesh_core::contours::align::SUGGEST_ALIGNMENT_ABOVE_MM;
 use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::mesh::topology::validity;
 use heartmesh_core::pipeline::Reconstruction;
@@ -110,6 +109,7 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         // Always (null when no curves of one surface cross): how far apart the file's images
         // are where their planes cross, before any alignment.
         "crossing_residual_mm": rec.crossing_residual_mm(),
+        "alignment_suggested": rec.alignment_suggested(),
         "contour_to_mesh_as_given": rec.contour_distances_as_given().map(|d| json!({
             "mean": d.overall.mean,
             "median": d.overall.median,
@@ -146,11 +146,11 @@ pub fn header_comment(f: &Facts) -> String {
     format!("reconstructed from {}; parameters {p}{aligned}", f.input)
 }
 
-/// Without `--align-slices`, when the file's images disagree where their planes cross by more
-/// than [`SUGGEST_ALIGNMENT_ABOVE_MM`]: a note saying so and what to do about it.
+/// When the report says the alignment is worth a try (`Reconstruction::alignment_suggested`): a
+/// note saying how far apart the images cross and what to do about it.
 pub fn alignment_note(rep: &Value) -> Option<String> {
     let r = rep.get("crossing_residual_mm")?.as_f64()?;
-    (rep.get("alignment")?.is_null() && r > SUGGEST_ALIGNMENT_ABOVE_MM).then(|| {
+    (rep.get("alignment_suggested")?.as_bool() == Some(true)).then(|| {
         format!(
             "the images disagree by {r:.2} mm (mean) where their planes cross, as breath-hold \
              offsets do; --align-slices shifts them into agreement first"

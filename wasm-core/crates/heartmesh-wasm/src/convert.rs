@@ -156,21 +156,12 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         // How far apart the file's images are where their planes cross (null: no crossings), and
         // whether that is enough to suggest the alignment (off and above the core's threshold).
         "crossing_residual_mm": rec.crossing_residual_mm(),
-        "suggest_alignment": suggest_alignment(rec),
+        "suggest_alignment": rec.alignment_suggested(),
         // With alignment on, `overall` is to the shifted contours the mesh follows; this is to the
         // file's contours as drawn (the app shows both).
         "contour_to_mesh_as_given": rec.contour_distances_as_given().map(|d| d.overall),
         "version": heartmesh_core::VERSION,
     })
-}
-
-/// Alignment off and the file's images more than `SUGGEST_ALIGNMENT_ABOVE_MM` apart where their
-/// planes cross: the app then offers *Align breath-holds*.
-fn suggest_alignment(rec: &Reconstruction) -> bool {
-    !rec.params().align_slices
-        && rec
-            .crossing_residual_mm()
-            .is_some_and(|r| r > heartmesh_core::contours::align::SUGGEST_ALIGNMENT_ABOVE_MM)
 }
 
 /// Every schema parameter's effective value, for the run result and exports.

@@ -22,6 +22,7 @@ pub mod tube;
 use crate::clock::{Clock, DefaultClock};
 use crate::contours::align::{
     align_slices_with, crossing_residual, Alignment, Options as AlignOptions,
+    SUGGEST_ALIGNMENT_ABOVE_MM,
 };
 use crate::contours::axis::{analyse, Layout};
 use crate::contours::clean::resample_spacing;
@@ -482,6 +483,15 @@ impl Reconstruction {
     /// [`crossing_residual`]): above about 1 mm, the breath-hold alignment is worth a try.
     pub fn crossing_residual_mm(&self) -> Option<f64> {
         self.crossing_residual_mm
+    }
+
+    /// Alignment off and the images farther apart where they cross than
+    /// [`SUGGEST_ALIGNMENT_ABOVE_MM`]: the CLI's note and the app's "align" button both ask this.
+    pub fn alignment_suggested(&self) -> bool {
+        !self.params.align_slices
+            && self
+                .crossing_residual_mm
+                .is_some_and(|r| r > SUGGEST_ALIGNMENT_ABOVE_MM)
     }
 
     /// With alignment on: the selected contours as the file gave them (cleaned, unshifted), in

@@ -123,9 +123,9 @@ pub fn align_slices(set: &ContourSet) -> (ContourSet, Alignment) {
 }
 
 /// Above this crossing residual (mm) a run suggests the alignment: consistent contours give a few
-/// hundredths of a mm or less (simulated sections 0.01, the SurFCo example 3e-6), hand-traced real studies
-/// with breath-hold offsets 1.9-2.3 mm (the biv-me files; docs/VALIDATION.md, session 9). Between,
-/// tracing noise and small offsets cannot be told apart, so no suggestion.
+/// hundredths of a mm or less (simulated sections 0.01, the SurFCo example 3e-6), hand-traced
+/// real studies with breath-hold offsets 1.9-2.3 mm (the biv-me files; docs/VALIDATION.md,
+/// session 9). Between, tracing noise and small offsets cannot be told apart: no suggestion.
 pub const SUGGEST_ALIGNMENT_ABOVE_MM: f64 = 1.0;
 
 /// How far apart the images' curves are where their planes cross, as the file places them: the
