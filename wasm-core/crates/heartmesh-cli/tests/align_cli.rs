@@ -319,12 +319,15 @@ fn crossing_residual_is_reported_and_suggests_the_alignment() {
         err.contains("disagree by 1.88 mm") && err.contains("--align-slices"),
         "{err}"
     );
+    assert_eq!(plain["alignment_suggested"], true);
     let (aligned, err) = go(P1, &["--surface", "LV_ENDO", "--align-slices"]);
     assert_eq!(f(&aligned["crossing_residual_mm"]), r);
     assert_eq!(f(&aligned["alignment"]["residual_before_mm"]), r);
     assert!(!err.contains("disagree"), "{err}");
+    assert_eq!(aligned["alignment_suggested"], false);
     // Consistent contours (the SurFCo example): a few millionths of a mm, no note.
     let (surfco, err) = go("contours/surfco-example.csv", &[]);
     assert!(f(&surfco["crossing_residual_mm"]) < 0.01);
+    assert_eq!(surfco["alignment_suggested"], false);
     assert!(!err.contains("disagree"), "{err}");
 }
