@@ -12,6 +12,7 @@ per case with what went wrong, if anything:
   VAGUE    exit 2 but the message is not one line naming the file
   MESH     exit 0 but the mesh is not closed, manifold and outward
   C2M      exit 0 but the contour-to-mesh mean is above the case's bound
+  SELFX    exit 0 but triangles of the mesh pass through each other
   EXPECT   an error where a mesh was expected, or a mesh where an error was expected
 
 Standard library only, seeded (same seed -> same files). Usage:
@@ -495,6 +496,10 @@ def judge(case, path, timeout, out_dir):
                 detail += f"; topology {topo}"
             if c2m is None or not math.isfinite(c2m) or c2m > case.c2m:
                 problems.append("C2M")
+            crossing = rep.get("quality", {}).get("self_intersections", 0)
+            if crossing:
+                problems.append("SELFX")
+                detail += f"; {crossing} self-intersecting triangle pairs"
         except (OSError, ValueError) as e:
             problems.append("MESH")
             detail = f"no report: {e}"

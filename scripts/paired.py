@@ -122,6 +122,11 @@ def main(out, name_a, name_b):
         fo = sum(a["folded_edges"] for a, _ in sel)
         fa = sum(b["folded_edges"] for _, b in sel)
         print(f"folded edges total: {name_a} {fo:.0f}, {name_b} {fa:.0f}")
+        # Present in CSVs written since session 13.
+        if all("self_intersections" in a and "self_intersections" in b for a, b in sel):
+            xo = sum(a["self_intersections"] for a, _ in sel)
+            xa = sum(b["self_intersections"] for _, b in sel)
+            print(f"self-intersecting triangle pairs total: {name_a} {xo:.0f}, {name_b} {xa:.0f}")
         # Where the truth->mesh maximum lies.
         nb_a = sum(a["worst_height"] >= BASE_BAND for a, _ in sel)
         nb_b = sum(b["worst_height"] >= BASE_BAND for _, b in sel)

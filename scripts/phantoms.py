@@ -5,7 +5,7 @@ Hand-built shapes are what users feed a new tool first: perfect ellipsoids, sphe
 cones, integer coordinates, exactly symmetric layouts, long-axis curves that end exactly in a
 short-axis plane or at the apex tip. This script builds them (seeded, standard library only), runs
 each through the release CLI with scripts/hostile.py's runner and, besides hostile.py's flags
-(PANIC, HANG, EXIT, VAGUE, MESH, C2M, EXPECT), flags
+(PANIC, HANG, EXIT, VAGUE, MESH, C2M, SELFX, EXPECT), flags
 
   FOLD     the report counts folded edges
   VOL      the mesh volume is off the analytic volume between the lowest and highest data by more

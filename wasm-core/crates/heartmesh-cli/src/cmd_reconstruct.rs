@@ -169,6 +169,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         if let Some(note) = report::alignment_note(&rep) {
             eprintln!("heartmesh: note: {input}: {note}");
         }
+        if let Some(w) = report::self_intersection_warning(&rep) {
+            eprintln!("heartmesh: warning: {output}: {w}");
+        }
         println!("{}", report::summary(output, &rep));
     }
     Ok(())

@@ -88,6 +88,7 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         // against each other (where contours that disagree pulled the surface two ways).
         "quality": {
             "folded_edges": q.folded_edges,
+            "self_intersections": q.self_intersections,
             "max_dihedral_deg": q.max_dihedral_deg,
             "min_triangle_quality": q.min_triangle_quality,
             "median_triangle_quality": q.median_triangle_quality,
@@ -154,6 +155,20 @@ pub fn alignment_note(rep: &Value) -> Option<String> {
         format!(
             "the images disagree by {r:.2} mm (mean) where their planes cross, as breath-hold \
              offsets do; --align-slices shifts them into agreement first"
+        )
+    })
+}
+
+/// When triangles of the mesh pass through each other (`quality.self_intersections`): a warning,
+/// since the file is still written but a volume mesher or a slicer would refuse or misread it.
+/// On every real file and simulated acquisition measured (docs/VALIDATION.md, "Session 13: mesh
+/// self-intersections") the count is 0; inputs the load-time checks warn about can cause it.
+pub fn self_intersection_warning(rep: &Value) -> Option<String> {
+    let n = rep.get("quality")?.get("self_intersections")?.as_u64()?;
+    (n > 0).then(|| {
+        format!(
+            "the mesh passes through itself ({n} pairs of triangles cross): volume meshers and \
+             3D-printing slicers will refuse it; check the warnings about the contours"
         )
     })
 }

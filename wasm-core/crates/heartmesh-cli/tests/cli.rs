@@ -244,6 +244,12 @@ fn reconstruct_surfco_at_defaults() {
         "{}",
         r["quality"]
     );
+    assert_eq!(
+        num(&r, &["quality", "self_intersections"]),
+        0.0,
+        "{}",
+        r["quality"]
+    );
     assert!(
         num(&r, &["quality", "max_dihedral_deg"]) < 60.0,
         "{}",

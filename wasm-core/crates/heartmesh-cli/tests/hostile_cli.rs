@@ -353,3 +353,49 @@ fn coordinates_near_the_float_limit_are_refused_not_a_panic() {
     assert!(err.contains("coordinates too large"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A copy of the first short-axis ring 200 mm away (another series, or a typo in a coordinate):
+/// the load-time check warns, the tube threads the stray ring with the real ones, and the mesh
+/// it leaves passes through itself. The run still writes the mesh, but stderr and the report say
+/// that a volume mesher would refuse it (scripts/hostile.py `sim-stray-200mm`, session 13).
+#[test]
+fn a_stray_ring_that_makes_the_mesh_pass_through_itself_is_reported() {
+    let dir = scratch("stray-selfx");
+    let sim = dir.join("sim.csv");
+    let truth = data("meshes/bivme-patient1-ED-LV_ENDO-closed.obj");
+    let (code, _, err) = run(bin().args(["simulate", s(&truth), "-o", s(&sim), "--quiet"]));
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&sim).unwrap();
+    let first = text
+        .lines()
+        .find(|l| !l.starts_with('#') && !l.starts_with("contour,"))
+        .and_then(|l| l.split(',').next())
+        .unwrap()
+        .to_string();
+    let mut stray = String::new();
+    for l in text.lines().filter(|l| l.starts_with(&format!("{first},"))) {
+        let cols: Vec<&str> = l.split(',').collect();
+        let x: f64 = cols[1].parse().unwrap();
+        stray.push_str(&format!("stray,{},{}\n", x + 200.0, cols[2..].join(",")));
+    }
+    let f = dir.join("stray.csv");
+    std::fs::write(&f, format!("{text}{stray}")).unwrap();
+    let (code, err, rep) = reconstruct(&dir, &f, &[]);
+    assert_eq!(code, 0, "{err}");
+    let rep = rep.unwrap();
+    let crossing = rep["quality"]["self_intersections"].as_u64().unwrap();
+    assert!(crossing > 0, "{}", rep["quality"]);
+    assert!(err.contains("lies far from the rest"), "{err}");
+    assert!(
+        err.contains(&format!(
+            "out.obj: the mesh passes through itself ({crossing} pairs of triangles cross)"
+        )),
+        "{err}"
+    );
+    // Without the stray ring: no crossing, no such warning.
+    let (code, err, rep) = reconstruct(&dir, &sim, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(rep.unwrap()["quality"]["self_intersections"], 0);
+    assert!(!err.contains("passes through itself"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

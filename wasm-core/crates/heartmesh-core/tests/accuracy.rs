@@ -137,6 +137,12 @@ fn run(name: &str, truth: &TriMesh, spec: &AcquisitionSpec) -> (Outcome, Acquisi
         out.c2m_worst,
         out.seconds
     );
+    // Whatever the shape (an RV's creased tips may fold), the surface never passes through itself.
+    let crossing = heartmesh_core::mesh::intersect::self_intersections(&mesh);
+    assert_eq!(
+        crossing, 0,
+        "{name}: {crossing} self-intersecting triangle pairs"
+    );
     (out, acq, mesh)
 }
 

@@ -7,6 +7,7 @@
 use heartmesh_core::contours::{Contour, ContourKind};
 use heartmesh_core::error::{CoreError, Result};
 use heartmesh_core::geometry::Vec3;
+use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::mesh::topology;
 use heartmesh_core::params::{EndCapMode, LidMode, SmoothingMethod};
 use heartmesh_core::pipeline::Reconstruction;
@@ -127,11 +128,12 @@ pub fn options_to_json(params: &Params) -> Value {
 }
 
 /// The small part of the protocol's `RunResult` (`Session::result_json`): surface, contours,
-/// perContour, overall, volumeMl, areaMm2, watertight, params, lids, options, alignment (the
+/// perContour, overall, volumeMl, areaMm2, watertight, quality, params, lids, options, alignment (the
 /// core's `Alignment`, null unless `align_slices`; `contours` are then the shifted contours),
 /// crossing_residual_mm, suggest_alignment, version.
 pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
     let mesh = rec.mesh();
+    let q = quality(mesh);
     let distances = rec.contour_distances();
     let per_contour: Vec<_> = distances
         .per_contour
@@ -149,6 +151,9 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         "end_caps": rec.end_caps(),
         "areaMm2": mesh.area(),
         "watertight": topology::validity(mesh).is_closed_manifold(),
+        // What a volume mesher or a 3D-printing slicer would trip over: creased neighbours
+        // (more than 90 degrees) and triangles passing through each other.
+        "quality": { "folded_edges": q.folded_edges, "self_intersections": q.self_intersections },
         "params": params_to_json(rec.params()),
         "lids": lids,
         "options": options_to_json(rec.params()),

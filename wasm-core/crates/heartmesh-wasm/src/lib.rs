@@ -437,4 +437,13 @@ mod tests {
         let e = convert::params_from_json(r#"{"end_caps": true}"#, "auto", None).unwrap_err();
         assert!(e.to_string().contains("auto, off"), "{e}");
     }
+
+    /// The mesh checks a volume mesher needs ride in the result: the full run on the ellipsoid
+    /// gives a surface with no crossing triangles and no creases.
+    #[test]
+    fn result_json_carries_the_mesh_quality() {
+        let r = result_with(r#"{"iterations": 30}"#);
+        assert_eq!(r["quality"]["self_intersections"], 0);
+        assert_eq!(r["quality"]["folded_edges"], 0);
+    }
 }

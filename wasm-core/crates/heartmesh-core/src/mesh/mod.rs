@@ -1,5 +1,6 @@
 //! Indexed triangle meshes: the one mesh type of the core, plus measures and validity checks.
 
+pub mod intersect;
 pub mod quality;
 pub mod shapes;
 pub mod topology;

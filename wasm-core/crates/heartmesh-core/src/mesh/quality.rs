@@ -1,5 +1,5 @@
-//! Geometric quality of a triangle mesh: folds (adjacent triangles turned against each other) and
-//! triangle shape. A mesh can be closed, manifold and outward yet folded: a crease where two
+//! Geometric quality of a triangle mesh: folds (adjacent triangles turned against each other),
+//! self-intersections and triangle shape. A mesh can be closed, manifold and outward yet folded: a crease where two
 //! neighbouring triangles meet at a sharp angle shows as a dark shard in the viewer and is not
 //! part of any smooth heart surface, so the pipeline's tests hold real reconstructions to none.
 //!
@@ -18,6 +18,9 @@ pub const FOLD_DEG: f64 = 90.0;
 pub struct MeshQuality {
     /// Interior edges whose two triangles' normals differ by more than 90 degrees.
     pub folded_edges: usize,
+    /// Pairs of triangles that pass through each other ([`super::intersect`]): 0 for a surface a
+    /// volume mesher or a 3D-printing slicer can take.
+    pub self_intersections: usize,
     /// Largest angle between the normals of two triangles sharing an edge (degrees).
     pub max_dihedral_deg: f64,
     /// Smallest and median triangle quality q (see the module doc).
@@ -115,6 +118,7 @@ pub fn quality(mesh: &TriMesh) -> MeshQuality {
     q.sort_by(f64::total_cmp);
     MeshQuality {
         folded_edges: folded,
+        self_intersections: super::intersect::self_intersections(mesh),
         max_dihedral_deg: max_angle,
         min_triangle_quality: q.first().copied().unwrap_or(0.0),
         median_triangle_quality: q.get(q.len() / 2).copied().unwrap_or(0.0),

@@ -50,6 +50,8 @@ pub struct Metrics {
     pub truth_past_apex_mm: f64,
     /// Creased edges of the reconstruction (dihedral > 90 degrees, [`quality`]).
     pub folded_edges: usize,
+    /// Pairs of triangles passing through each other ([`crate::mesh::intersect`]).
+    pub self_intersections: usize,
     /// Closed, manifold, consistently oriented and enclosing a positive volume (outward).
     pub closed_manifold_outward: bool,
 }
@@ -277,6 +279,7 @@ impl Experiment {
                 let past = run.rec.past_data().unwrap_or(nan);
                 let truth_past = run.rec.past_data_of(&truth.positions).unwrap_or(nan);
                 let diff = r.volume_mesh_ml - r.volume_truth_ml;
+                let q = quality(run.rec.mesh());
                 row.metrics = Some(Box::new(Metrics {
                     mesh_to_truth: r.mesh_to_truth,
                     truth_to_mesh: r.truth_to_mesh,
@@ -297,7 +300,8 @@ impl Experiment {
                     past_apex_mm: past.apex_mm,
                     truth_past_base_mm: truth_past.base_mm,
                     truth_past_apex_mm: truth_past.apex_mm,
-                    folded_edges: quality(run.rec.mesh()).folded_edges,
+                    folded_edges: q.folded_edges,
+                    self_intersections: q.self_intersections,
                     closed_manifold_outward: validity(run.rec.mesh()).is_closed_manifold()
                         && run.rec.mesh().signed_volume() > 0.0,
                 }));
@@ -335,7 +339,7 @@ impl Iterator for Experiment {
 }
 
 /// Metric columns of [`to_csv`], after the settings.
-pub const METRIC_COLUMNS: [&str; 25] = [
+pub const METRIC_COLUMNS: [&str; 26] = [
     "mesh_to_truth_mean",
     "mesh_to_truth_median",
     "mesh_to_truth_p95",
@@ -358,17 +362,19 @@ pub const METRIC_COLUMNS: [&str; 25] = [
     "truth_past_base_mm",
     "truth_past_apex_mm",
     "folded_edges",
+    "self_intersections",
     "closed_manifold_outward",
     "seconds",
     "error",
 ];
 
-/// Index of the first [`Metrics::values`] entry that is a whole number (folds, the validity flag).
+/// Index of the first [`Metrics::values`] entry that is a whole number (folds, self-intersections,
+/// the validity flag).
 const COUNT_COLUMNS_FROM: usize = 21;
 
 impl Metrics {
     /// Values in the order of [`METRIC_COLUMNS`] (without seconds and error).
-    pub fn values(&self) -> [f64; 23] {
+    pub fn values(&self) -> [f64; 24] {
         let (a, b) = (&self.mesh_to_truth, &self.truth_to_mesh);
         [
             a.mean,
@@ -393,6 +399,7 @@ impl Metrics {
             self.truth_past_base_mm,
             self.truth_past_apex_mm,
             self.folded_edges as f64,
+            self.self_intersections as f64,
             if self.closed_manifold_outward {
                 1.0
             } else {
