@@ -236,8 +236,11 @@ describe('controller', () => {
     run.resolve(result(run.runId));
     await vi.runAllTimersAsync();
     expect(parts.result.calls.show).toHaveLength(1); // the run's result is shown ...
-    expect(parts.banner.calls.hide?.length ?? 0).toBe(hidden); // ... and the refusal stays in the banner
-    expect(lastStatus()).toBe('error: bad.csv, line 2: bad number');
+    expect(parts.banner.calls.hide?.length ?? 0).toBe(hidden); // ... and the refusal stays in the banner,
+    // while the status line follows the run that went on: it finished, so it says done (with its run id).
+    expect(lastStatus()).toBe('done');
+    expect(parts.status.calls.setStatus?.at(-1)).toEqual(['done', 'done', run.runId]);
+    expect(parts.exports.calls.setAvailable?.at(-1)).toEqual([true, true]);
     controller.startRun();
     await controller.openFiles([file('other.csv')]);
     expect(client.runs[1].cancelled).toBe(true);

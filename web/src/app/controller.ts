@@ -18,7 +18,7 @@ import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { RunDisplay } from './runDisplay';
 import { surfacePoints } from './sceneContours';
-import { currentRunId, describeError, initialState, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
+import { currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 
 export type { Parts } from './parts';
@@ -471,7 +471,7 @@ export class Controller {
     }
     if (s.kind === 'error') {
       const refused = s.error.file && s.error.file !== error.file ? ' (not opened)' : '';
-      this.fail(error, undefined, ` Earlier: ${describeError(s.error)}${refused}.`);
+      this.fail(error, runId, ` Earlier: ${describeError(s.error)}${refused}.`);
       return;
     }
     this.fail(error, runId);
@@ -486,7 +486,7 @@ export class Controller {
     const s = this.state;
     const starting = !this.coreUp && s.kind === 'empty';
     this.parts.status.setStatus(starting ? 'starting the core…' : statusWord(s), starting ? 'starting' : s.kind, currentRunId(s));
-    this.parts.viewer?.setAnimating(s.kind === 'running');
+    this.parts.viewer?.setAnimating(isComputing(s));
     document.body.dataset.state = s.kind;
     document.body.dataset.hasFile = this.currentFile() ? '1' : '0';
     this.runView.updateTimeline();
