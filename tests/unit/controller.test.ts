@@ -225,6 +225,32 @@ describe('controller', () => {
     expect(lastStatus()).toBe('running');
   });
 
+  it('Stop ends the computation (and a restart waiting for its debounce); the steps stay, ↻ runs again', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('a.csv')]);
+    const run = client.runs[0];
+    expect(parts.timeline.calls.setStoppable?.at(-1)).toEqual([true]);
+    run.onFrame({ runId: run.runId, seq: 0, report: report(0), positions: new Float32Array(12), indices: new Uint32Array(12) });
+    run.onFrame({ runId: run.runId, seq: 1, report: report(1), positions: new Float32Array(12) });
+    controller.setParams({ beta: 0.2 }, 'auto'); // a restart is waiting for its debounce ...
+    controller.stopRun(); // ... and Stop comes first
+    expect(run.cancelled).toBe(true);
+    expect(lastStatus()).toBe('stopped');
+    expect(parts.status.calls.setStatus?.at(-1)).toEqual(['stopped', 'stopped', run.runId]);
+    expect(parts.timeline.calls.setStoppable?.at(-1)).toEqual([false]);
+    expect(parts.result.calls.clear?.at(-1)).toEqual(['stopped before the end: no result (↻ runs again)']);
+    expect(controller.debug.historyLength).toBe(2); // the recorded steps stay to scrub through
+    await vi.advanceTimersByTimeAsync(RESTART_DEBOUNCE_MS * 3);
+    expect(client.runs).toHaveLength(1); // the pending restart did not start a run
+    expect(lastStatus()).toBe('stopped'); // the cancelled run's rejection is not an error
+    controller.stopRun(); // nothing going on: nothing happens
+    expect(lastStatus()).toBe('stopped');
+    controller.startRun();
+    expect(client.runs).toHaveLength(2);
+    expect(client.runs[1].opts.params.beta).toBe(0.2); // the change made before Stop is kept
+    expect(lastStatus()).toBe('running');
+  });
+
   it('a file refused while a run is in progress leaves that run going; a file that reads replaces it', async () => {
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('good.csv')]);

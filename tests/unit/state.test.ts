@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppState } from '../../web/src/app/state';
+import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppState } from '../../web/src/app/state';
 
 const run = (events: Parameters<typeof transition>[1][], from: AppState = initialState) => events.reduce(transition, from);
 
@@ -76,6 +76,28 @@ describe('app state machine', () => {
     const reading = transition(running, { type: 'load', fileName: 'slow.csv' });
     expect(transition(reading, { type: 'finished', runId: 4 })).toEqual({ kind: 'loading', fileName: 'slow.csv', previous: 'good.csv' });
     expect(transition(transition(reading, { type: 'pause' }), { type: 'resume' })).toEqual(reading);
+  });
+  it('stop ends the computation (also under a refusal or a pause); nothing to stop once it finished', () => {
+    const running = run([{ type: 'load', fileName: 'a.csv' }, { type: 'loaded', fileName: 'a.csv' }, { type: 'run', runId: 5 }]);
+    expect(canStop(running)).toBe(true);
+    const stopped = transition(running, { type: 'stop' });
+    expect(stopped).toEqual({ kind: 'stopped', fileName: 'a.csv', runId: 5 });
+    expect(statusWord(stopped)).toBe('stopped');
+    expect(canStop(stopped)).toBe(false);
+    expect(currentRunId(stopped)).toBe(5);
+    expect(transition(stopped, { type: 'finished', runId: 5 })).toBe(stopped); // a late result is dropped
+    expect(transition(stopped, { type: 'run', runId: 6 })).toEqual({ kind: 'running', fileName: 'a.csv', runId: 6 });
+    expect(transition(transition(running, { type: 'pause' }), { type: 'stop' })).toEqual(stopped);
+    const refused = run([{ type: 'load', fileName: 'bad.csv' }, { type: 'failed', error: { code: 'parse', message: 'x' } }], running);
+    expect(transition(refused, { type: 'stop' })).toEqual(stopped);
+    const done = transition(running, { type: 'finished', runId: 5 });
+    expect(canStop(done)).toBe(false);
+    expect(transition(done, { type: 'stop' })).toBe(done);
+    const pausedFinished = run([{ type: 'pause' }, { type: 'finished', runId: 5 }], running);
+    expect(canStop(pausedFinished)).toBe(false);
+    // Stopped while the next file is read: the read goes on, without the run.
+    const reading = transition(running, { type: 'load', fileName: 'b.csv' });
+    expect(transition(reading, { type: 'stop' })).toEqual({ kind: 'loading', fileName: 'b.csv', previous: 'a.csv' });
   });
   it('ignores a loaded event for another file', () => {
     const s = transition(initialState, { type: 'load', fileName: 'b' });

@@ -18,7 +18,7 @@ import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { RunDisplay } from './runDisplay';
 import { surfacePoints } from './sceneContours';
-import { currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
+import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 
 export type { Parts } from './parts';
@@ -307,6 +307,19 @@ export class Controller {
     a?.cancel();
   }
 
+  /**
+   * Stop: ends the computation in progress (and a restart still waiting for its debounce). The
+   * steps it recorded stay on screen to scrub through; there is no result; ↻ runs again.
+   */
+  stopRun(): void {
+    if (this.restartTimer) clearTimeout(this.restartTimer);
+    this.restartTimer = null;
+    if (!this.active || !canStop(this.state)) return;
+    this.cancelRun();
+    this.parts.result.clear('stopped before the end: no result (↻ runs again)');
+    this.dispatch({ type: 'stop' });
+  }
+
   /** A parameter changed: debounce, then restart (cancelling the run in progress). */
   setParams(values: ParamValues, lids: LidsMode, options: ReconOptions = this.options): void {
     this.params = { ...this.params, ...values };
@@ -487,6 +500,7 @@ export class Controller {
     const starting = !this.coreUp && s.kind === 'empty';
     this.parts.status.setStatus(starting ? 'starting the core…' : statusWord(s), starting ? 'starting' : s.kind, currentRunId(s));
     this.parts.viewer?.setAnimating(isComputing(s));
+    this.parts.timeline.setStoppable(canStop(s));
     document.body.dataset.state = s.kind;
     document.body.dataset.hasFile = this.currentFile() ? '1' : '0';
     this.runView.updateTimeline();

@@ -16,6 +16,8 @@ export type AppState =
   /** Display paused; the worker may still be computing (`finished` once its result arrived). */
   | { kind: 'paused'; fileName: string; runId: number; finished: boolean }
   | { kind: 'done'; fileName: string; runId: number }
+  /** The user stopped the computation: its recorded steps stay on screen, there is no result. */
+  | { kind: 'stopped'; fileName: string; runId: number }
   /**
    * `fileName` is the file still loaded (null when none is), so the app stays usable. `during`: a
    * run of that file that goes on after the error (a dropped file was refused meanwhile); when it
@@ -34,6 +36,7 @@ export type AppEvent =
   | { type: 'resume' }
   | { type: 'finished'; runId: number }
   | { type: 'failed'; error: CoreErrorData; runId?: number }
+  | { type: 'stop' }
   | { type: 'reset' };
 
 export const initialState: AppState = { kind: 'empty' };
@@ -49,6 +52,7 @@ export function loadedFile(s: AppState): string | null {
     case 'running':
     case 'paused':
     case 'done':
+    case 'stopped':
       return s.fileName;
     case 'error':
       return s.fileName;
@@ -57,7 +61,7 @@ export function loadedFile(s: AppState): string | null {
 
 /** Run id of the run in progress or last finished, if any. */
 export function currentRunId(s: AppState): number | null {
-  if (s.kind === 'running' || s.kind === 'paused' || s.kind === 'done') return s.runId;
+  if (s.kind === 'running' || s.kind === 'paused' || s.kind === 'done' || s.kind === 'stopped') return s.runId;
   return s.kind === 'loading' || s.kind === 'error' ? (s.during?.runId ?? null) : null;
 }
 
@@ -70,6 +74,12 @@ export function runInProgress(s: AppState): RunState | undefined {
 /** Whether the computation is animating the view (a run going, not paused). */
 export function isComputing(s: AppState): boolean {
   return runInProgress(s)?.kind === 'running';
+}
+
+/** Whether a computation is going on that Stop would end (also under an error or a load). */
+export function canStop(s: AppState): boolean {
+  const r = runInProgress(s);
+  return r !== undefined && !(r.kind === 'paused' && r.finished);
 }
 
 /** `extra` with `during` set only when there is one (states compare equal without the key). */
@@ -107,6 +117,13 @@ export function transition(s: AppState, e: AppEvent): AppState {
       if (e.runId !== undefined) return during?.runId === e.runId ? { kind: 'error', fileName, error: e.error } : s;
       // Anything else (a refused file, a core that failed to start) leaves a run in progress going.
       return withDuring({ kind: 'error' as const, fileName, error: e.error }, during);
+    }
+    case 'stop': {
+      // The user ends the computation: what it recorded stays on screen (a load goes on alone).
+      const r = runInProgress(s);
+      if (!r || !canStop(s)) return s;
+      if (s.kind === 'loading') return underLoad(s, { kind: 'empty' });
+      return { kind: 'stopped', fileName: r.fileName, runId: r.runId };
     }
     case 'reset':
       return initialState;
@@ -146,6 +163,8 @@ export function statusWord(s: AppState): string {
       return s.finished ? 'paused (computation finished)' : 'paused';
     case 'done':
       return 'done';
+    case 'stopped':
+      return 'stopped';
     case 'error':
       return `error: ${describeError(s.error)}`;
   }
