@@ -106,4 +106,25 @@ describe('a session with the app', () => {
     assert.ok(r.vertices > 100 && r.meanMm > 0 && r.meanMm < 1, `result ${JSON.stringify(r)}`);
     assert.equal(await page.isDisabled('[data-testid=export-stl]'), false);
   });
+  it('three files dropped at once, two unreadable: the good one runs, and both refusals stay named after its run', async () => {
+    await page.setViewportSize({ width: 1280, height: 720 });
+    const csv = readFileSync(contours('surfco-example.csv'), 'utf8').split('\n');
+    csv.splice(5, 0, 'c1,abc,1,2');
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', [
+      { name: 'bad-line.csv', mimeType: 'text/csv', buffer: Buffer.from(csv.join('\n')) },
+      { name: 'surfco-example.csv', mimeType: 'text/csv', buffer: readFileSync(contours('surfco-example.csv')) },
+      { name: 'empty.csv', mimeType: 'text/csv', buffer: Buffer.alloc(0) },
+    ]));
+    assert.equal(await status(), 'done');
+    assert.equal(await page.isVisible('[data-testid=error-banner]'), true, 'the refusals are not lost when the good file runs');
+    assert.equal(await page.getAttribute('[data-testid=error-banner]', 'data-kind'), 'warning');
+    assert.equal(await page.textContent('[data-testid=error-text]'),
+      '2 of 3 files not opened: bad-line.csv, line 6: column "x": "abc" is not a number; empty.csv: empty file. Showing surfco-example.csv.');
+    const r = await readResult(page);
+    assert.ok(r.meanMm > 0 && r.meanMm < 0.2, `SurFCo mean ${r.meanMm} mm`);
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SHOTS, 'files-not-opened.png') });
+    await page.click('[data-testid=error-banner] button');
+    assert.equal(await page.isVisible('[data-testid=error-banner]'), false);
+  });
 });

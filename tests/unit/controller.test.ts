@@ -251,6 +251,26 @@ describe('controller', () => {
     expect(lastStatus()).toBe('running');
   });
 
+  it('several files dropped at once: every file not opened is named, and stays named after the run', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    const gone = { name: 'moved.csv', arrayBuffer: () => Promise.reject(new Error('the file could not be read (moved?)')) } as unknown as File;
+    await controller.openFiles([file('bad.csv', 'bad'), file('good.csv'), gone, file('worse.csv', 'bad')]);
+    expect(client.runs).toHaveLength(1);
+    expect(client.runs[0].opts.fileName).toBe('good.csv');
+    expect(lastStatus()).toBe('running');
+    const notice = 'bad.csv, line 2: bad number; moved.csv: the file could not be read (moved?); worse.csv, line 2: bad number';
+    expect(parts.banner.calls.showWarning?.at(-1)).toEqual([`3 of 4 files not opened: ${notice}. Showing good.csv.`]);
+    client.runs[0].resolve(result(client.runs[0].runId));
+    await vi.runAllTimersAsync();
+    expect(lastStatus()).toBe('done');
+    expect(parts.banner.calls.hide ?? []).toHaveLength(1); // once, when good.csv opened; not at the end of its run
+    expect(parts.banner.calls.hideError).toHaveLength(1); // ErrorBanner keeps a warning there
+    // None opens: the error names them all.
+    await controller.openFiles([file('bad.csv', 'bad'), file('worse.csv', 'bad')]);
+    expect(lastStatus()).toBe('error: worse.csv, line 2: bad number');
+    expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' None of the 2 files opened: bad.csv, line 2: bad number; worse.csv, line 2: bad number.');
+  });
+
   it('a file refused while a run is in progress leaves that run going; a file that reads replaces it', async () => {
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('good.csv')]);

@@ -48,6 +48,8 @@ export class Controller {
   private readonly runView: RunDisplay;
   /** A run that failed while a file was being read: reported with the file's outcome. */
   private pendingRunFailure: CoreErrorData | null = null;
+  /** Why the last file read was refused (openFiles names every refused file of a drop). */
+  private lastRefusal: CoreErrorData | null = null;
   private restartTimer: ReturnType<typeof setTimeout> | null = null;
   /** Resolves once the core answered (true) or failed to start (false); input waits for it. */
   private readonly ready: Promise<boolean>;
@@ -113,16 +115,31 @@ export class Controller {
     this.dispatch({ type: 'load', fileName: files[0].name });
     if (!(await this.ready)) return;
     let first: string | null = null;
+    const refused: CoreErrorData[] = [];
     for (const file of files) {
-      const bytes = await file.arrayBuffer();
-      const ok = await this.loadBytes(file.name, bytes);
-      if (ok && first === null) first = file.name;
+      let bytes: ArrayBuffer;
+      try {
+        bytes = await file.arrayBuffer();
+      } catch (e) {
+        // The file went away (moved, no permission) between the drop and the read.
+        refused.push(this.refuse(file.name, e));
+        continue;
+      }
+      if (await this.loadBytes(file.name, bytes)) first ??= file.name;
+      else if (this.lastRefusal) refused.push(this.lastRefusal);
     }
     if (first !== null) {
       this.sampleId = null;
       // A session's own surface first, else the one asked for (the link's, or the one last chosen).
       this.selectFile(first, this.files.get(first)?.session?.surface ?? this.surface);
       this.startRun();
+    }
+    // Several files at once: each refusal would replace the one before in the banner (and a file
+    // that opens would hide them all), so the banner names every file not opened, once, at the end.
+    if (refused.length > 0 && files.length > 1) {
+      const list = refused.map((e) => describeError(e)).join('; ');
+      if (first !== null) this.parts.banner.showWarning(`${refused.length} of ${files.length} files not opened: ${list}. Showing ${first}.`);
+      else this.fail(refused[refused.length - 1], undefined, ` None of the ${files.length} files opened: ${list}.`);
     }
   }
 
@@ -149,6 +166,7 @@ export class Controller {
     const client = this.client;
     if (!client) return false;
     this.dispatch({ type: 'load', fileName });
+    this.lastRefusal = null;
     try {
       const loaded = await client.load(fileName, bytes);
       this.cancelRun(); // read: it replaces what was on screen
@@ -160,14 +178,21 @@ export class Controller {
       this.pendingRunFailure = null; // that run was replaced by this file's
       return true;
     } catch (e) {
-      // The file is not opened: the previous one (if any) stays current, with its scene and framing.
-      const previous = this.currentFile()?.fileName ?? null;
-      const failed = this.pendingRunFailure;
-      this.pendingRunFailure = null;
-      const also = failed ? ` Meanwhile the run of ${previous ?? 'the previous file'} failed: ${describeError({ ...failed, file: undefined })}` : '';
-      this.fail(asCoreError(e, 'could not read the file', fileName), undefined, keptText(previous) + also);
+      this.refuse(fileName, e);
       return false;
     }
+  }
+
+  /** A file not opened: the previous one (if any) stays current, with its scene and framing. */
+  private refuse(fileName: string, e: unknown): CoreErrorData {
+    const previous = this.currentFile()?.fileName ?? null;
+    const failed = this.pendingRunFailure;
+    this.pendingRunFailure = null;
+    const also = failed ? ` Meanwhile the run of ${previous ?? 'the previous file'} failed: ${describeError({ ...failed, file: undefined })}` : '';
+    const error = asCoreError(e, 'could not read the file', fileName);
+    this.lastRefusal = error;
+    this.fail(error, undefined, keptText(previous) + also);
+    return error;
   }
 
   /** A saved session brings the settings it was made with: they replace the current ones. */
@@ -349,8 +374,9 @@ export class Controller {
     this.runView.finished(r);
     this.parts.status.setProgress(1);
     this.parts.result.show(r);
-    // A run finished: whatever error was shown has been dealt with (not a file refused meanwhile).
-    if (this.state.kind !== 'error') this.parts.banner.hide();
+    // A run finished: whatever error was shown has been dealt with (not a file refused meanwhile,
+    // nor the files of a drop that were not opened: hideError keeps a warning).
+    if (this.state.kind !== 'error') this.parts.banner.hideError();
     this.parts.exports.setAvailable(true, true);
     this.dispatch({ type: 'finished', runId: r.runId });
     this.emitResult(r);
