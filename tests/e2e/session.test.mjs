@@ -43,6 +43,7 @@ describe('a session with the app', () => {
     await page.goto(`${app.server.url}?iterations=2000`);
     await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
     assert.equal(await page.isDisabled('[data-testid=tl-stop]'), true, 'nothing to stop before a run');
+    assert.equal(await page.isDisabled('[data-testid=tl-rerun]'), true, 'nothing to run before a file');
     await page.setInputFiles('[data-testid=file-input]', contours('bivme-example-patient1', 'patient1-ED.csv'));
     await untilIteration(20);
     assert.equal(await page.isDisabled('[data-testid=tl-stop]'), false);

@@ -227,9 +227,10 @@ describe('controller', () => {
 
   it('Stop ends the computation (and a restart waiting for its debounce); the steps stay, ↻ runs again', async () => {
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    expect(parts.timeline.calls.setRunControls?.at(-1)).toEqual([false, false]); // no file: nothing to run yet
     await controller.openFiles([file('a.csv')]);
     const run = client.runs[0];
-    expect(parts.timeline.calls.setStoppable?.at(-1)).toEqual([true]);
+    expect(parts.timeline.calls.setRunControls?.at(-1)).toEqual([true, true]);
     run.onFrame({ runId: run.runId, seq: 0, report: report(0), positions: new Float32Array(12), indices: new Uint32Array(12) });
     run.onFrame({ runId: run.runId, seq: 1, report: report(1), positions: new Float32Array(12) });
     controller.setParams({ beta: 0.2 }, 'auto'); // a restart is waiting for its debounce ...
@@ -237,7 +238,7 @@ describe('controller', () => {
     expect(run.cancelled).toBe(true);
     expect(lastStatus()).toBe('stopped');
     expect(parts.status.calls.setStatus?.at(-1)).toEqual(['stopped', 'stopped', run.runId]);
-    expect(parts.timeline.calls.setStoppable?.at(-1)).toEqual([false]);
+    expect(parts.timeline.calls.setRunControls?.at(-1)).toEqual([false, true]); // nothing to stop; ↻ runs again
     expect(parts.result.calls.clear?.at(-1)).toEqual(['stopped before the end: no result (↻ runs again)']);
     expect(controller.debug.historyLength).toBe(2); // the recorded steps stay to scrub through
     await vi.advanceTimersByTimeAsync(RESTART_DEBOUNCE_MS * 3);

@@ -526,7 +526,7 @@ export class Controller {
     const starting = !this.coreUp && s.kind === 'empty';
     this.parts.status.setStatus(starting ? 'starting the core…' : statusWord(s), starting ? 'starting' : s.kind, currentRunId(s));
     this.parts.viewer?.setAnimating(isComputing(s));
-    this.parts.timeline.setStoppable(canStop(s));
+    this.parts.timeline.setRunControls(canStop(s), this.currentFile() !== null && s.kind !== 'loading');
     document.body.dataset.state = s.kind;
     document.body.dataset.hasFile = this.currentFile() ? '1' : '0';
     this.runView.updateTimeline();

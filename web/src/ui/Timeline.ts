@@ -45,6 +45,7 @@ export class Timeline {
     // Play/pause only pause the display; this ends the computation itself (a long run, say).
     this.stop = button('stop', 'Stop the computation (Esc); its steps stay on screen', 'tl-stop', handlers.stop);
     this.stop.disabled = true;
+    this.rerun.disabled = true;
     this.scrubber = h('input', { type: 'range', min: 0, max: 0, step: 1, value: 0, 'aria-label': 'Recorded steps', 'data-testid': 'tl-scrubber', class: 'scrubber' });
     this.scrubber.addEventListener('input', () => handlers.seek(Number(this.scrubber.value)));
     this.label = h('span', { class: 'tl-label', 'data-testid': 'tl-label' }, 'iteration – / –');
@@ -70,9 +71,10 @@ export class Timeline {
     this.label.textContent = timelineText(s);
   }
 
-  /** Whether a computation is going on that Stop would end. */
-  setStoppable(on: boolean): void {
-    this.stop.disabled = !on;
+  /** Stop: a computation is going on that it would end; ↻: there is a file to run (none before the first). */
+  setRunControls(stop: boolean, rerun: boolean): void {
+    this.stop.disabled = !stop;
+    this.rerun.disabled = !rerun;
   }
 
   setSpeed(speed: Speed): void {
