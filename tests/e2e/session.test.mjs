@@ -111,11 +111,17 @@ describe('a session with the app', () => {
     await page.setViewportSize({ width: 1280, height: 720 });
     const csv = readFileSync(contours('surfco-example.csv'), 'utf8').split('\n');
     csv.splice(5, 0, 'c1,abc,1,2');
-    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', [
+    // (runAndWait would stop at the first refusal, which the status line shows in passing.)
+    const before = await runId();
+    await page.setInputFiles('[data-testid=file-input]', [
       { name: 'bad-line.csv', mimeType: 'text/csv', buffer: Buffer.from(csv.join('\n')) },
       { name: 'surfco-example.csv', mimeType: 'text/csv', buffer: readFileSync(contours('surfco-example.csv')) },
       { name: 'empty.csv', mimeType: 'text/csv', buffer: Buffer.alloc(0) },
-    ]));
+    ]);
+    await page.waitForFunction((b) => {
+      const s = document.querySelector('[data-testid=status]');
+      return s?.textContent === 'done' && Number(s.getAttribute('data-run-id')) > b;
+    }, before, { timeout: 60000 });
     assert.equal(await status(), 'done');
     assert.equal(await page.isVisible('[data-testid=error-banner]'), true, 'the refusals are not lost when the good file runs');
     assert.equal(await page.getAttribute('[data-testid=error-banner]', 'data-kind'), 'warning');
