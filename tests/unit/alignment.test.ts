@@ -179,6 +179,9 @@ describe('result panel', () => {
     expect(pastDataText({ base_mm: 1.2, apex_mm: -0.44 })).toEqual({ text: '+1.2 / −0.4 mm', extrapolated: false });
     expect(pastDataText({ base_mm: 2.3, apex_mm: 5.01 }).extrapolated).toBe(true);
     expect(pastDataText({ base_mm: 4.9, apex_mm: 0 }).extrapolated).toBe(false);
+    // Within 0.05 mm of the data is no overrun either way: no sign (was "−0.0 / +1.7 mm" on patient 2 ES).
+    expect(pastDataText({ base_mm: -0.04, apex_mm: 1.7 }).text).toBe('0.0 / +1.7 mm');
+    expect(pastDataText({ base_mm: 0.049, apex_mm: -0.05 }).text).toBe('0.0 / −0.1 mm');
     // Older cores send no figure: no row, no stale attributes.
     panel.show(result());
     expect(rows(el)['Past the data']).toBeUndefined();

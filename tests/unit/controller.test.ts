@@ -225,6 +225,53 @@ describe('controller', () => {
     expect(lastStatus()).toBe('running');
   });
 
+  it('Stop ends the computation (and a restart waiting for its debounce); the steps stay, ↻ runs again', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    expect(parts.timeline.calls.setRunControls?.at(-1)).toEqual([false, false]); // no file: nothing to run yet
+    await controller.openFiles([file('a.csv')]);
+    const run = client.runs[0];
+    expect(parts.timeline.calls.setRunControls?.at(-1)).toEqual([true, true]);
+    run.onFrame({ runId: run.runId, seq: 0, report: report(0), positions: new Float32Array(12), indices: new Uint32Array(12) });
+    run.onFrame({ runId: run.runId, seq: 1, report: report(1), positions: new Float32Array(12) });
+    controller.setParams({ beta: 0.2 }, 'auto'); // a restart is waiting for its debounce ...
+    controller.stopRun(); // ... and Stop comes first
+    expect(run.cancelled).toBe(true);
+    expect(lastStatus()).toBe('stopped');
+    expect(parts.status.calls.setStatus?.at(-1)).toEqual(['stopped', 'stopped', run.runId]);
+    expect(parts.timeline.calls.setRunControls?.at(-1)).toEqual([false, true]); // nothing to stop; ↻ runs again
+    expect(parts.result.calls.clear?.at(-1)).toEqual(['stopped before the end: no result (↻ runs again)']);
+    expect(controller.debug.historyLength).toBe(2); // the recorded steps stay to scrub through
+    await vi.advanceTimersByTimeAsync(RESTART_DEBOUNCE_MS * 3);
+    expect(client.runs).toHaveLength(1); // the pending restart did not start a run
+    expect(lastStatus()).toBe('stopped'); // the cancelled run's rejection is not an error
+    controller.stopRun(); // nothing going on: nothing happens
+    expect(lastStatus()).toBe('stopped');
+    controller.startRun();
+    expect(client.runs).toHaveLength(2);
+    expect(client.runs[1].opts.params.beta).toBe(0.2); // the change made before Stop is kept
+    expect(lastStatus()).toBe('running');
+  });
+
+  it('several files dropped at once: every file not opened is named, and stays named after the run', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    const gone = { name: 'moved.csv', arrayBuffer: () => Promise.reject(new Error('the file could not be read (moved?)')) } as unknown as File;
+    await controller.openFiles([file('bad.csv', 'bad'), file('good.csv'), gone, file('worse.csv', 'bad')]);
+    expect(client.runs).toHaveLength(1);
+    expect(client.runs[0].opts.fileName).toBe('good.csv');
+    expect(lastStatus()).toBe('running');
+    const notice = 'bad.csv, line 2: bad number; moved.csv: the file could not be read (moved?); worse.csv, line 2: bad number';
+    expect(parts.banner.calls.showWarning?.at(-1)).toEqual([`3 of 4 files not opened: ${notice}. Showing good.csv.`]);
+    client.runs[0].resolve(result(client.runs[0].runId));
+    await vi.runAllTimersAsync();
+    expect(lastStatus()).toBe('done');
+    expect(parts.banner.calls.hide ?? []).toHaveLength(1); // once, when good.csv opened; not at the end of its run
+    expect(parts.banner.calls.hideError).toHaveLength(1); // ErrorBanner keeps a warning there
+    // None opens: the error names them all.
+    await controller.openFiles([file('bad.csv', 'bad'), file('worse.csv', 'bad')]);
+    expect(lastStatus()).toBe('error: worse.csv, line 2: bad number');
+    expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' None of the 2 files opened: bad.csv, line 2: bad number; worse.csv, line 2: bad number.');
+  });
+
   it('a file refused while a run is in progress leaves that run going; a file that reads replaces it', async () => {
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('good.csv')]);
@@ -236,8 +283,11 @@ describe('controller', () => {
     run.resolve(result(run.runId));
     await vi.runAllTimersAsync();
     expect(parts.result.calls.show).toHaveLength(1); // the run's result is shown ...
-    expect(parts.banner.calls.hide?.length ?? 0).toBe(hidden); // ... and the refusal stays in the banner
-    expect(lastStatus()).toBe('error: bad.csv, line 2: bad number');
+    expect(parts.banner.calls.hide?.length ?? 0).toBe(hidden); // ... and the refusal stays in the banner,
+    // while the status line follows the run that went on: it finished, so it says done (with its run id).
+    expect(lastStatus()).toBe('done');
+    expect(parts.status.calls.setStatus?.at(-1)).toEqual(['done', 'done', run.runId]);
+    expect(parts.exports.calls.setAvailable?.at(-1)).toEqual([true, true]);
     controller.startRun();
     await controller.openFiles([file('other.csv')]);
     expect(client.runs[1].cancelled).toBe(true);

@@ -6,6 +6,7 @@ import { writePly } from '../../web/src/io/export/ply';
 import { writeVtk } from '../../web/src/io/export/vtk';
 import { writeDistancesCsv } from '../../web/src/io/export/csv';
 import { writeParamsJson } from '../../web/src/io/export/json';
+import { f32 } from '../../web/src/io/export/float32';
 import { exportBaseName, type ExportInfo, type MeshData } from '../../web/src/io/export/header';
 import type { ContourInfo } from '../../web/src/core-client/protocol';
 import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
@@ -105,10 +106,29 @@ describe('exporters parse back', () => {
     expect(polys.every((p) => p[0] === 3)).toBe(true);
     expect(polys.flatMap((p) => p.slice(1))).toEqual(Array.from(mesh.indices));
     const si = lines.indexOf('SCALARS distance_mm float 1');
-    expect(lines.slice(si + 2, si + 6).map(Number)).toEqual(Array.from(mesh.vertexDistances ?? []).map((x) => Math.fround(x)).map(Number));
+    // Written as the shortest decimal of each float32: it reads back as the same float32.
+    expect(lines.slice(si + 2, si + 6).map((l) => Math.fround(Number(l)))).toEqual(Array.from(mesh.vertexDistances ?? []));
     const field = lines.indexOf('FIELD heartmesh_params 3');
     expect(lines[field + 3]).toBe('lambda 1 1 double');
     expect(Number(lines[field + 4])).toBe(100000);
+  });
+
+  it('text exports write float32 coordinates as the shortest decimal that reads back the same', () => {
+    // The file's -32.83557, as the worker hands it over (a Float32Array), is -32.8355712890625 as a double.
+    const x = new Float32Array([-32.83557, 35, 0.1, -1e-7, 123456.789, 3.4e38]);
+    expect(Array.from(x, f32)).toEqual(['-32.83557', '35', '0.1', '-1e-7', '123456.79', '3.4e+38']);
+    let seed = 7;
+    for (let i = 0; i < 2000; i++) {
+      seed = (seed * 1103515245 + 12345) % 2147483648;
+      const v = Math.fround(((seed / 2147483648) - 0.5) * 10 ** ((i % 12) - 4));
+      expect(Math.fround(Number(f32(v)))).toBe(v); // lossless
+      expect(f32(v).replace(/^-|\.|e.*$/g, '').replace(/^0+/, '').length).toBeLessThanOrEqual(9);
+    }
+    const obj = writeObj({ ...mesh, positions: new Float32Array([-32.83557, -27.42256, 35, 1, 2, 3, 4, 5, 6, 7, 8, 9]) }, info);
+    expect(obj).toContain('\nv -32.83557 -27.42256 35\n');
+    const csv = writeDistancesCsv([{ id: 'c1', surface: null, kind: 'SAX', pieces: [{ closed: true, start: 0, count: 1 }] }], new Float32Array([-32.83557, -27.42256, 35]), new Float32Array([0.0024]), info);
+    expect(csv).toContain('\nc1,-32.83557,-27.42256,35,,SAX,0.0024\n');
+    expect(writeVtk(mesh, info).split('\n')).toContain('0.45'); // a distance scalar, not 0.44999998807907104
   });
 
   it('distance CSV: canonical columns + distance, readable again', () => {

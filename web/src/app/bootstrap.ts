@@ -54,6 +54,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
       latest: () => c().latestStep(),
       setSpeed: (s) => c().setSpeed(s),
       rerun: () => c().startRun(),
+      stop: () => c().stopRun(),
     }),
     status: new StatusLine(),
     plot: new LivePlot(),
@@ -100,6 +101,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
     first: () => controller.first(),
     latest: () => controller.latestStep(),
     resetView: () => controller.resetView(),
+    stop: () => controller.stopRun(),
   });
 
   void controller.start(createClient);

@@ -18,7 +18,7 @@ import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { RunDisplay } from './runDisplay';
 import { surfacePoints } from './sceneContours';
-import { currentRunId, describeError, initialState, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
+import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 
 export type { Parts } from './parts';
@@ -48,6 +48,8 @@ export class Controller {
   private readonly runView: RunDisplay;
   /** A run that failed while a file was being read: reported with the file's outcome. */
   private pendingRunFailure: CoreErrorData | null = null;
+  /** Why the last file read was refused (openFiles names every refused file of a drop). */
+  private lastRefusal: CoreErrorData | null = null;
   private restartTimer: ReturnType<typeof setTimeout> | null = null;
   /** Resolves once the core answered (true) or failed to start (false); input waits for it. */
   private readonly ready: Promise<boolean>;
@@ -113,16 +115,31 @@ export class Controller {
     this.dispatch({ type: 'load', fileName: files[0].name });
     if (!(await this.ready)) return;
     let first: string | null = null;
+    const refused: CoreErrorData[] = [];
     for (const file of files) {
-      const bytes = await file.arrayBuffer();
-      const ok = await this.loadBytes(file.name, bytes);
-      if (ok && first === null) first = file.name;
+      let bytes: ArrayBuffer;
+      try {
+        bytes = await file.arrayBuffer();
+      } catch (e) {
+        // The file went away (moved, no permission) between the drop and the read.
+        refused.push(this.refuse(file.name, e));
+        continue;
+      }
+      if (await this.loadBytes(file.name, bytes)) first ??= file.name;
+      else if (this.lastRefusal) refused.push(this.lastRefusal);
     }
     if (first !== null) {
       this.sampleId = null;
       // A session's own surface first, else the one asked for (the link's, or the one last chosen).
       this.selectFile(first, this.files.get(first)?.session?.surface ?? this.surface);
       this.startRun();
+    }
+    // Several files at once: each refusal would replace the one before in the banner (and a file
+    // that opens would hide them all), so the banner names every file not opened, once, at the end.
+    if (refused.length > 0 && files.length > 1) {
+      const list = refused.map((e) => describeError(e)).join('; ');
+      if (first !== null) this.parts.banner.showWarning(`${refused.length} of ${files.length} files not opened: ${list}. Showing ${first}.`);
+      else this.fail(refused[refused.length - 1], undefined, ` None of the ${files.length} files opened: ${list}.`);
     }
   }
 
@@ -149,6 +166,7 @@ export class Controller {
     const client = this.client;
     if (!client) return false;
     this.dispatch({ type: 'load', fileName });
+    this.lastRefusal = null;
     try {
       const loaded = await client.load(fileName, bytes);
       this.cancelRun(); // read: it replaces what was on screen
@@ -160,14 +178,21 @@ export class Controller {
       this.pendingRunFailure = null; // that run was replaced by this file's
       return true;
     } catch (e) {
-      // The file is not opened: the previous one (if any) stays current, with its scene and framing.
-      const previous = this.currentFile()?.fileName ?? null;
-      const failed = this.pendingRunFailure;
-      this.pendingRunFailure = null;
-      const also = failed ? ` Meanwhile the run of ${previous ?? 'the previous file'} failed: ${describeError({ ...failed, file: undefined })}` : '';
-      this.fail(asCoreError(e, 'could not read the file', fileName), undefined, keptText(previous) + also);
+      this.refuse(fileName, e);
       return false;
     }
+  }
+
+  /** A file not opened: the previous one (if any) stays current, with its scene and framing. */
+  private refuse(fileName: string, e: unknown): CoreErrorData {
+    const previous = this.currentFile()?.fileName ?? null;
+    const failed = this.pendingRunFailure;
+    this.pendingRunFailure = null;
+    const also = failed ? ` Meanwhile the run of ${previous ?? 'the previous file'} failed: ${describeError({ ...failed, file: undefined })}` : '';
+    const error = asCoreError(e, 'could not read the file', fileName);
+    this.lastRefusal = error;
+    this.fail(error, undefined, keptText(previous) + also);
+    return error;
   }
 
   /** A saved session brings the settings it was made with: they replace the current ones. */
@@ -307,6 +332,19 @@ export class Controller {
     a?.cancel();
   }
 
+  /**
+   * Stop: ends the computation in progress (and a restart still waiting for its debounce). The
+   * steps it recorded stay on screen to scrub through; there is no result; ↻ runs again.
+   */
+  stopRun(): void {
+    if (this.restartTimer) clearTimeout(this.restartTimer);
+    this.restartTimer = null;
+    if (!this.active || !canStop(this.state)) return;
+    this.cancelRun();
+    this.parts.result.clear('stopped before the end: no result (↻ runs again)');
+    this.dispatch({ type: 'stop' });
+  }
+
   /** A parameter changed: debounce, then restart (cancelling the run in progress). */
   setParams(values: ParamValues, lids: LidsMode, options: ReconOptions = this.options): void {
     this.params = { ...this.params, ...values };
@@ -336,8 +374,9 @@ export class Controller {
     this.runView.finished(r);
     this.parts.status.setProgress(1);
     this.parts.result.show(r);
-    // A run finished: whatever error was shown has been dealt with (not a file refused meanwhile).
-    if (this.state.kind !== 'error') this.parts.banner.hide();
+    // A run finished: whatever error was shown has been dealt with (not a file refused meanwhile,
+    // nor the files of a drop that were not opened: hideError keeps a warning).
+    if (this.state.kind !== 'error') this.parts.banner.hideError();
     this.parts.exports.setAvailable(true, true);
     this.dispatch({ type: 'finished', runId: r.runId });
     this.emitResult(r);
@@ -471,7 +510,7 @@ export class Controller {
     }
     if (s.kind === 'error') {
       const refused = s.error.file && s.error.file !== error.file ? ' (not opened)' : '';
-      this.fail(error, undefined, ` Earlier: ${describeError(s.error)}${refused}.`);
+      this.fail(error, runId, ` Earlier: ${describeError(s.error)}${refused}.`);
       return;
     }
     this.fail(error, runId);
@@ -486,7 +525,8 @@ export class Controller {
     const s = this.state;
     const starting = !this.coreUp && s.kind === 'empty';
     this.parts.status.setStatus(starting ? 'starting the core…' : statusWord(s), starting ? 'starting' : s.kind, currentRunId(s));
-    this.parts.viewer?.setAnimating(s.kind === 'running');
+    this.parts.viewer?.setAnimating(isComputing(s));
+    this.parts.timeline.setRunControls(canStop(s), this.currentFile() !== null && s.kind !== 'loading');
     document.body.dataset.state = s.kind;
     document.body.dataset.hasFile = this.currentFile() ? '1' : '0';
     this.runView.updateTimeline();

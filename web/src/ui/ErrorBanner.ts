@@ -34,6 +34,11 @@ export class ErrorBanner {
   hide(): void {
     this.element.hidden = true;
   }
+
+  /** Hides an error that has been dealt with; a warning (files of a drop not opened) stays until dismissed. */
+  hideError(): void {
+    if (this.element.dataset.kind !== 'warning') this.hide();
+  }
 }
 
 /**

@@ -15,6 +15,8 @@ export interface TimelineHandlers {
   latest(): void;
   setSpeed(speed: Speed): void;
   rerun(): void;
+  /** Ends the computation in progress (Esc). */
+  stop(): void;
 }
 
 export class Timeline {
@@ -25,6 +27,7 @@ export class Timeline {
   private readonly speed: HTMLSelectElement;
   private readonly buttons: HTMLButtonElement[];
   private readonly rerun: HTMLButtonElement;
+  private readonly stop: HTMLButtonElement;
 
   constructor(handlers: TimelineHandlers) {
     const button = (name: IconName, title: string, testid: string, fn: () => void) => {
@@ -39,6 +42,10 @@ export class Timeline {
     const latest = button('latest', 'Latest step (End)', 'tl-latest', handlers.latest);
     this.buttons = [first, back, this.play, fwd, latest];
     this.rerun = button('restart', 'Run again from the start', 'tl-rerun', handlers.rerun);
+    // Play/pause only pause the display; this ends the computation itself (a long run, say).
+    this.stop = button('stop', 'Stop the computation (Esc); its steps stay on screen', 'tl-stop', handlers.stop);
+    this.stop.disabled = true;
+    this.rerun.disabled = true;
     this.scrubber = h('input', { type: 'range', min: 0, max: 0, step: 1, value: 0, 'aria-label': 'Recorded steps', 'data-testid': 'tl-scrubber', class: 'scrubber' });
     this.scrubber.addEventListener('input', () => handlers.seek(Number(this.scrubber.value)));
     this.label = h('span', { class: 'tl-label', 'data-testid': 'tl-label' }, 'iteration – / –');
@@ -48,7 +55,7 @@ export class Timeline {
       const v = this.speed.value;
       handlers.setSpeed(v === 'live' ? 'live' : Number(v));
     });
-    this.element = h('div', { class: 'timeline', role: 'group', 'aria-label': 'Timeline' }, first, back, this.play, fwd, latest, this.scrubber, this.label, this.speed, this.rerun);
+    this.element = h('div', { class: 'timeline', role: 'group', 'aria-label': 'Timeline' }, first, back, this.play, fwd, latest, this.scrubber, this.label, this.speed, this.stop, this.rerun);
     this.update({ length: 0, cursor: -1, playing: true, iteration: null, total: null, done: false });
   }
 
@@ -62,6 +69,12 @@ export class Timeline {
     this.play.title = s.playing ? 'Pause (space)' : 'Play (space)';
     this.play.setAttribute('aria-label', this.play.title);
     this.label.textContent = timelineText(s);
+  }
+
+  /** Stop: a computation is going on that it would end; ↻: there is a file to run (none before the first). */
+  setRunControls(stop: boolean, rerun: boolean): void {
+    this.stop.disabled = !stop;
+    this.rerun.disabled = !rerun;
   }
 
   setSpeed(speed: Speed): void {

@@ -10,6 +10,7 @@ const PATHS = {
   first: 'M3 3h2v10H3zM13 3v10L6 8z',
   latest: 'M11 3h2v10h-2zM3 3v10l7-5z',
   lock: 'M5 7V5a3 3 0 016 0v2h1v7H4V7zm2 0h2V5a1 1 0 00-2 0z',
+  stop: 'M4 4h8v8H4z',
   restart: 'M8 3a5 5 0 11-4.6 3H1.5L4.5 2l3 4H5.6A3 3 0 108 5z',
 } as const;
 

@@ -1,5 +1,6 @@
 /**
- * Keyboard shortcuts: space play/pause, arrows step, Home/End first/latest, R reset view. Keys
+ * Keyboard shortcuts: space play/pause, arrows step, Home/End first/latest, R reset view, Esc stop
+ * the computation. Keys
  * typed into form fields stay with them (arrows move a focused slider, space toggles a checkbox).
  */
 export interface KeyHandlers {
@@ -8,6 +9,7 @@ export interface KeyHandlers {
   first(): void;
   latest(): void;
   resetView(): void;
+  stop(): void;
 }
 
 function isFormField(t: EventTarget | null): boolean {
@@ -39,6 +41,9 @@ export function installKeyboard(target: Document, h: KeyHandlers): () => void {
       case 'End':
         e.preventDefault();
         h.latest();
+        return;
+      case 'Escape':
+        h.stop();
         return;
       case 'r':
       case 'R':

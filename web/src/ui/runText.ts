@@ -5,9 +5,10 @@
 import type { Alignment, AlignmentGroup, EndCaps, PastData, StepReport } from '../core-client/protocol';
 import { mm } from './dom';
 
-/** "+1.4 mm" / "−0.3 mm": a signed length with one decimal. */
+/** "+1.4 mm" / "−0.3 mm": a signed length with one decimal ("0.0 mm" when it rounds to zero, not "−0.0"). */
 function signedMm(v: number): string {
-  return `${v >= 0 ? '+' : '−'}${Math.abs(v).toFixed(1)} mm`;
+  const size = Math.abs(v).toFixed(1);
+  return `${size === '0.0' ? '' : v > 0 ? '+' : '−'}${size} mm`;
 }
 
 const PHASES: Record<StepReport['phase'], string> = {

@@ -3,6 +3,7 @@
  * distance_mm columns, with `#` comment metadata, so the file can be loaded back into heartmesh.
  */
 import type { ContourInfo } from '../../core-client/protocol';
+import { f32 } from './float32';
 import { headerLines, type ExportInfo } from './header';
 
 function csvField(s: string): string {
@@ -24,9 +25,9 @@ export function writeDistancesCsv(
         lines.push(
           [
             csvField(c.id),
-            points[i * 3],
-            points[i * 3 + 1],
-            points[i * 3 + 2],
+            f32(points[i * 3]),
+            f32(points[i * 3 + 1]),
+            f32(points[i * 3 + 2]),
             csvField(c.surface ?? ''),
             c.kind ?? '',
             Number.isFinite(distances[i]) ? distances[i].toFixed(4) : '',

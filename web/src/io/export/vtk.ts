@@ -3,6 +3,7 @@
  * title holding the metadata (max 256 characters by the format), the full parameters follow as
  * FIELD data so nothing is lost. Vertex distances become POINT_DATA scalars.
  */
+import { f32 } from './float32';
 import { headerLines, type ExportInfo, type MeshData } from './header';
 
 export function writeVtk(mesh: MeshData, info: ExportInfo): string {
@@ -11,14 +12,14 @@ export function writeVtk(mesh: MeshData, info: ExportInfo): string {
   const title = headerLines(info).join(' | ').slice(0, 255);
   const lines = ['# vtk DataFile Version 3.0', title, 'ASCII', 'DATASET POLYDATA', `POINTS ${nv} float`];
   const p = mesh.positions;
-  for (let i = 0; i < p.length; i += 3) lines.push(`${p[i]} ${p[i + 1]} ${p[i + 2]}`);
+  for (let i = 0; i < p.length; i += 3) lines.push(`${f32(p[i])} ${f32(p[i + 1])} ${f32(p[i + 2])}`);
   lines.push(`POLYGONS ${nf} ${nf * 4}`);
   const f = mesh.indices;
   for (let i = 0; i < f.length; i += 3) lines.push(`3 ${f[i]} ${f[i + 1]} ${f[i + 2]}`);
   const names = Object.keys(info.params);
   if (mesh.vertexDistances && mesh.vertexDistances.length === nv) {
     lines.push(`POINT_DATA ${nv}`, 'SCALARS distance_mm float 1', 'LOOKUP_TABLE default');
-    for (let i = 0; i < nv; i++) lines.push(String(mesh.vertexDistances[i]));
+    for (let i = 0; i < nv; i++) lines.push(f32(mesh.vertexDistances[i]));
   }
   // Parameters as field data on the dataset: one single-value array per parameter.
   lines.push(`FIELD heartmesh_params ${names.length}`);
