@@ -55,6 +55,10 @@ describe('close open ends in the browser', () => {
     assert.match((await page.getAttribute('[data-testid=result-end-caps]', 'title')) ?? '', /closed \(\d+ lid points?\)/);
     // Lid points are not data: the contour-to-mesh figures count the file's points only.
     assert.equal(await count(), offCount);
+    // The mesh a volume mesher would take: closed, no triangles through each other (session 13).
+    assert.equal(on.selfIntersections, '0');
+    assert.match((await page.textContent('[data-testid=result-mesh-check]')) ?? '', /^closed, no crossings( · \d+ folds?)?$/);
+    assert.equal(await page.getAttribute('[data-testid=result-mesh-check]', 'class'), null);
     await page.mouse.move(0, 0);
     await page.screenshot({ path: join(SHOTS, 'close-open-ends.png') });
 

@@ -68,6 +68,12 @@ function compareWithCli(run, result, input, args, label) {
   const dArea = Math.abs(result.areaMm2 - report.area_mm2) / Math.abs(report.area_mm2);
   let diag = `${label}: wasm vs native relative differences: positions ${dPos.toExponential(2)}, ` +
     `volume ${dVol.toExponential(2)}, area ${dArea.toExponential(2)}`;
+  // The mesh checks agree too (same mesh, same counts); every real case is free of crossings.
+  assert.deepEqual(result.quality, {
+    folded_edges: report.quality.folded_edges,
+    self_intersections: report.quality.self_intersections,
+  }, `${label}: mesh checks differ`);
+  assert.equal(result.quality.self_intersections, 0, `${label}: self-intersecting triangles`);
   const c2m = report.contour_to_mesh;
   let dMean = 0;
   let dMax = 0;

@@ -141,6 +141,14 @@ export interface EndCaps {
   points: number;
 }
 
+/** The mesh checks of a finished run (`result_json().quality`). */
+export interface MeshQuality {
+  /** Neighbouring triangles turned more than 90 degrees against each other. */
+  folded_edges: number;
+  /** Pairs of triangles passing through each other (volume meshers and slicers refuse these). */
+  self_intersections: number;
+}
+
 export interface RunResult {
   runId: number;
   surface: string | null;
@@ -184,6 +192,8 @@ export interface RunResult {
   pastData?: PastData | null;
   /** Which open ends the core closed with lid points (absent from results of older cores). */
   end_caps?: EndCaps | null;
+  /** Folds and self-intersections of the final mesh (absent from results of older cores). */
+  quality?: MeshQuality | null;
   /** Deformation iterations done (the last step's `iteration`), set by the worker. */
   iterations_done?: number;
   /** The run stopped before `params.iterations` because the attractors were reached (stop threshold). */

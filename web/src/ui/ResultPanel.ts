@@ -11,7 +11,7 @@
  */
 import type { Alignment, RunResult } from '../core-client/protocol';
 import { h, mm } from './dom';
-import { alignmentRows, endCapsText, iterationsDoneText, pastDataText, residualText } from './runText';
+import { alignmentRows, endCapsText, iterationsDoneText, meshCheckText, pastDataText, residualText } from './runText';
 
 const ATTRIBUTES = [
   'data-vertices', 'data-triangles', 'data-mean-mm', 'data-max-mm', 'data-iterations', 'data-converged',
@@ -101,6 +101,12 @@ export class ResultPanel {
     rows.push(
       ...row('Volume', r.watertight ? `${r.volumeMl.toFixed(1)} ml` : '– (open)'),
     );
+    if (r.quality) {
+      const check = meshCheckText(r.watertight, r.quality);
+      d.selfIntersections = String(r.quality.self_intersections);
+      d.foldedEdges = String(r.quality.folded_edges);
+      rows.push(...row('Mesh check', check.text, 'result-mesh-check', check.title, check.warn));
+    }
     if (r.pastData) {
       const past = pastDataText(r.pastData);
       d.pastBaseMm = String(r.pastData.base_mm);

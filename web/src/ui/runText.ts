@@ -2,7 +2,7 @@
  * The words the status line and the result panel use for a run's progress and for its breath-hold
  * alignment. Pure (no DOM), so the wording and the numbers are unit-tested.
  */
-import type { Alignment, AlignmentGroup, EndCaps, PastData, StepReport } from '../core-client/protocol';
+import type { Alignment, AlignmentGroup, EndCaps, MeshQuality, PastData, StepReport } from '../core-client/protocol';
 import { mm } from './dom';
 
 /** "+1.4 mm" / "−0.3 mm": a signed length with one decimal ("0.0 mm" when it rounds to zero, not "−0.0"). */
@@ -122,5 +122,32 @@ export function endCapsText(e: EndCaps): { text: string; title: string } | null 
   return {
     text: `${ends.length === 2 ? 'both' : which} · ${e.points} pt${e.points === 1 ? '' : 's'}`,
     title: `${which} closed (${e.points} lid point${e.points === 1 ? '' : 's'}): no contour closes ${ends.length === 2 ? 'these ends' : 'that end'}, so down-weighted lid points keep the mesh from running on past the data`,
+  };
+}
+
+/**
+ * The result panel's "Mesh check": what a volume mesher or a 3D-printing slicer would trip over.
+ * Self-intersections are the blocking fault (warn); folded edges are creases the data asked for
+ * on the RV's tips more often than artefacts (docs/VALIDATION.md, "Session 8: RV folds"), so
+ * they are reported, not flagged.
+ */
+export function meshCheckText(watertight: boolean, q: MeshQuality): { text: string; title: string; warn: boolean } {
+  const folds = q.folded_edges > 0 ? ` · ${q.folded_edges} fold${q.folded_edges === 1 ? '' : 's'}` : '';
+  const foldHelp =
+    q.folded_edges > 0
+      ? `; ${q.folded_edges} edge${q.folded_edges === 1 ? '' : 's'} where neighbouring triangles turn more than 90° (a crease)`
+      : '; no creases';
+  if (q.self_intersections > 0) {
+    const n = q.self_intersections;
+    return {
+      text: `${n} crossing${n === 1 ? '' : 's'}${folds}`,
+      title: `the mesh passes through itself: ${n} pair${n === 1 ? '' : 's'} of triangles cross, which volume meshers and 3D-printing slicers refuse; check the warnings about the contours${foldHelp}`,
+      warn: true,
+    };
+  }
+  return {
+    text: `${watertight ? 'closed' : 'open'}, no crossings${folds}`,
+    title: `${watertight ? 'closed, manifold and outward' : 'open (boundary edges)'}; no triangles pass through each other${foldHelp}`,
+    warn: false,
   };
 }
