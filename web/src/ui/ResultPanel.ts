@@ -102,10 +102,13 @@ export class ResultPanel {
       ...row('Volume', r.watertight ? `${r.volumeMl.toFixed(1)} ml` : '– (open)'),
     );
     if (r.quality) {
-      const check = meshCheckText(r.watertight, r.quality);
+      const { crossings, folds } = meshCheckText(r.quality);
       d.selfIntersections = String(r.quality.self_intersections);
       d.foldedEdges = String(r.quality.folded_edges);
-      rows.push(...row('Mesh check', check.text, 'result-mesh-check', check.title, check.warn));
+      rows.push(
+        ...row('Self-intersections', crossings.text, 'result-self-intersections', crossings.title, crossings.warn),
+        ...row('Folded edges', folds.text, 'result-folded-edges', folds.title),
+      );
     }
     if (r.pastData) {
       const past = pastDataText(r.pastData);

@@ -126,28 +126,29 @@ export function endCapsText(e: EndCaps): { text: string; title: string } | null 
 }
 
 /**
- * The result panel's "Mesh check": what a volume mesher or a 3D-printing slicer would trip over.
- * Self-intersections are the blocking fault (warn); folded edges are creases the data asked for
- * on the RV's tips more often than artefacts (docs/VALIDATION.md, "Session 8: RV folds"), so
- * they are reported, not flagged.
+ * The result panel's mesh checks, short for the narrow value column: what a volume mesher or a
+ * 3D-printing slicer would trip over. Self-intersections are the blocking fault (warn); folded
+ * edges are creases the data asked for on the RV's tips more often than artefacts
+ * (docs/VALIDATION.md, "Session 8: RV folds"), so they are reported, not flagged.
  */
-export function meshCheckText(watertight: boolean, q: MeshQuality): { text: string; title: string; warn: boolean } {
-  const folds = q.folded_edges > 0 ? ` · ${q.folded_edges} fold${q.folded_edges === 1 ? '' : 's'}` : '';
-  const foldHelp =
-    q.folded_edges > 0
-      ? `; ${q.folded_edges} edge${q.folded_edges === 1 ? '' : 's'} where neighbouring triangles turn more than 90° (a crease)`
-      : '; no creases';
-  if (q.self_intersections > 0) {
-    const n = q.self_intersections;
-    return {
-      text: `${n} crossing${n === 1 ? '' : 's'}${folds}`,
-      title: `the mesh passes through itself: ${n} pair${n === 1 ? '' : 's'} of triangles cross, which volume meshers and 3D-printing slicers refuse; check the warnings about the contours${foldHelp}`,
-      warn: true,
-    };
-  }
+export function meshCheckText(q: MeshQuality): {
+  crossings: { text: string; title: string; warn: boolean };
+  folds: { text: string; title: string };
+} {
+  const n = q.self_intersections;
+  const f = q.folded_edges;
   return {
-    text: `${watertight ? 'closed' : 'open'}, no crossings${folds}`,
-    title: `${watertight ? 'closed, manifold and outward' : 'open (boundary edges)'}; no triangles pass through each other${foldHelp}`,
-    warn: false,
+    crossings:
+      n > 0
+        ? {
+            text: `${n} pair${n === 1 ? '' : 's'}`,
+            title: `the mesh passes through itself: ${n} pair${n === 1 ? '' : 's'} of triangles cross, which volume meshers and 3D-printing slicers refuse; check the warnings about the contours`,
+            warn: true,
+          }
+        : { text: 'none', title: 'no triangles pass through each other (what volume meshers and 3D-printing slicers need)', warn: false },
+    folds: {
+      text: String(f),
+      title: `edges where neighbouring triangles turn more than 90° against each other (a crease)${f > 0 ? ': on an RV usually a sharp corner of the contours' : ''}`,
+    },
   };
 }
