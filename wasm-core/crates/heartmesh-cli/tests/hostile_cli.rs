@@ -399,3 +399,25 @@ fn a_stray_ring_that_makes_the_mesh_pass_through_itself_is_reported() {
     assert!(!err.contains("passes through itself"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Points exported without blank lines between contours read as one curve; the one-line error
+/// says so instead of only "too few contours" (found using the app, session 13).
+#[test]
+fn xyz_without_blank_lines_says_why_it_is_one_contour() {
+    let dir = scratch("xyz-one-block");
+    let xyz: String = surfco()
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("contour,"))
+        .map(|l| l.split(',').skip(1).take(3).collect::<Vec<_>>().join(" ") + "\n")
+        .collect();
+    let f = dir.join("points.xyz");
+    std::fs::write(&f, xyz).unwrap();
+    let (code, err, _) = reconstruct(&dir, &f, &[]);
+    assert_one_line_error(code, &err, &f, "xyz");
+    assert!(err.contains("too few contours: 1 usable"), "{err}");
+    assert!(
+        err.contains("no blank line separates contours, so all 3014 points were read as one"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

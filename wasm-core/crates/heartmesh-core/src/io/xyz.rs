@@ -54,7 +54,22 @@ pub fn read_xyz(bytes: &[u8]) -> Result<ContourSet> {
         b.push(&format!("c{k}"), None, v3(x, y, z), line)?;
         in_contour = true;
     }
-    b.finish()
+    let mut set = b.finish()?;
+    // Without a blank line every point is one curve: the run then fails as "too few contours",
+    // which does not say why, so the reason travels with the set (the CLI joins the first warning
+    // to its error line; the app shows it).
+    if let [only] = set.contours.as_slice() {
+        let n = only.point_count();
+        // First: it explains the other warnings (a path far longer than wide) and the failure.
+        set.warnings.insert(
+            0,
+            format!(
+                "no blank line separates contours, so all {n} points were read as one contour \
+             (put a blank line between contours, or use CSV with a contour column)"
+            ),
+        );
+    }
+    Ok(set)
 }
 
 #[cfg(test)]
@@ -70,9 +85,25 @@ mod tests {
         assert_eq!(set.contours[1].id, "c2");
         assert_eq!(set.contours[1].first_line, 7);
         assert_eq!(set.point_count(), 5);
+        assert!(
+            !set.warnings.iter().any(|w| w.contains("blank line")),
+            "{:?}",
+            set.warnings
+        );
         let e = read_xyz(b"0 0 0\n1 2\n").unwrap_err();
         assert_eq!(e.line(), Some(2));
         let e = read_xyz(b"0 0 0\n1 2 inf\n").unwrap_err();
         assert!(e.to_string().contains("finite"), "{e}");
+    }
+
+    #[test]
+    fn one_block_of_points_says_that_blank_lines_separate_contours() {
+        let set = read_xyz(b"0 0 0\n1 0 0\n1 1 0\n0 0 5\n1 0 5\n").unwrap();
+        assert_eq!(set.contours.len(), 1);
+        assert!(
+            set.warnings[0].starts_with("no blank line separates contours, so all 5 points"),
+            "{:?}",
+            set.warnings
+        );
     }
 }
