@@ -5,9 +5,9 @@ Every study of ours slices a truth with the same planner: short-axis (SAX) plane
 perpendicular to the anatomical axis every 10 mm, long-axis (LAX) planes exactly through the apex.
 This script slices the truth meshes itself (standard library only) the way real acquisitions
 differ: stacks tilted off the axis, other spacings and counts, a slice missing, stacks short of
-the apex or past the base, LAX planes off the apex, one or two LAX views, LAX from another
-breath-hold, LAX drawn only in part, point spacing 0.2-6 mm, winding, order, duplicates, far
-coordinates and hand-drawing noise. Each case runs through the release CLI at defaults
+the apex or past the base, a second loop beside the basal ring, LAX planes off the apex, one or
+two LAX views, LAX from another breath-hold, LAX drawn only in part, point spacing 0.2-6 mm,
+winding, order, duplicates, far coordinates and hand-drawing noise. Each case runs through the release CLI at defaults
 (`reconstruct --report`, then `compare` against the truth clipped at the acquisition's own
 basal SAX plane and at the planner's), and the table gives mean (both ways, mm), Hausdorff (mm),
 volume error (%), topology, folded edges and time. Outliers against the same truth's planner
@@ -502,7 +502,7 @@ def run(cmd, timeout=300):
     return subprocess.run(cmd, capture_output=True, timeout=timeout)
 
 
-def compare(truth, mesh, clip_csv, offset=None):
+def compare(truth, mesh, clip_csv):
     r = run([H.BIN, "compare", truth, mesh, "--clip-contours", clip_csv, "--json"])
     if r.returncode != 0:
         return None
