@@ -7,9 +7,9 @@ This script slices the truth meshes itself (standard library only) the way real 
 differ: stacks tilted off the axis, other spacings and counts, a slice missing, stacks short of
 the apex or past the base, a second loop beside the basal ring, LAX planes off the apex, one or
 two LAX views, LAX from another breath-hold, LAX drawn only in part, point spacing 0.2-6 mm,
-winding, order, duplicates, far coordinates and hand-drawing noise. Each case runs through the release CLI at defaults
-(`reconstruct --report`, then `compare` against the truth clipped at the acquisition's own
-basal SAX plane and at the planner's), and the table gives mean (both ways, mm), Hausdorff (mm),
+winding, order, duplicates, far coordinates and hand-drawing noise. Each case runs through the
+release CLI at defaults (`reconstruct --report`, then `compare` against the truth clipped at the
+acquisition's own basal SAX plane and at the planner's), and the table gives mean (both ways, mm), Hausdorff (mm),
 volume error (%), topology, folded edges and time. Outliers against the same truth's planner
 case are flagged:
 
@@ -83,7 +83,8 @@ def parametric_obj(path, seed):
     long, with a 3-lobed and a 2-lobed wobble of its sections, a curved axis and an open base,
     placed on an oblique axis."""
     rng = random.Random(seed)
-    a2, a3, p2, p3 = rng.uniform(0.05, 0.12), rng.uniform(0.02, 0.06), rng.uniform(0, 6), rng.uniform(0, 6)
+    a2, a3 = rng.uniform(0.05, 0.12), rng.uniform(0.02, 0.06)
+    p2, p3 = rng.uniform(0, 6), rng.uniform(0, 6)
     rings, per = 40, 64
     verts = [(0.0, 0.0, -70.0)]
     for i in range(1, rings + 1):
