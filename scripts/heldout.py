@@ -9,9 +9,9 @@ the apex or past the base, a second loop beside the basal ring, LAX planes off t
 two LAX views, LAX from another breath-hold, LAX drawn only in part, point spacing 0.2-6 mm,
 winding, order, duplicates, far coordinates and hand-drawing noise. Each case runs through the
 release CLI at defaults (`reconstruct --report`, then `compare` against the truth clipped at the
-acquisition's own basal SAX plane and at the planner's), and the table gives mean (both ways, mm), Hausdorff (mm),
-volume error (%), topology, folded edges and time. Outliers against the same truth's planner
-case are flagged:
+acquisition's own basal SAX plane and at the planner's), and the table gives mean (both ways,
+mm), Hausdorff (mm), volume error (%), topology, folded edges and time. Outliers against the same
+truth's planner case are flagged:
 
   FAIL    the CLI refused or crashed            MESH   not watertight / manifold
   FOLD    folded edges                          MEAN   mean > 2x the planner case + 0.3 mm
