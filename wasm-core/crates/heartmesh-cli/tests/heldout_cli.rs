@@ -1,7 +1,8 @@
 //! Held-out acquisitions through the binary (session 13, EVAL13; the study that found them is
 //! scripts/heldout.py). A basal short-axis slice that also cuts another structure gives a second
 //! closed loop of the same surface in one slice: the run goes ahead, and the user is told which
-//! loop lies apart and how far (docs/VALIDATION.md, "Session 13: held-out acquisitions").
+//! loop lies apart and how far (docs/VALIDATION.md, "Session 13: held-out acquisitions");
+//! `--drop-second-loops` leaves such loops out.
 
 mod common;
 use common::{bin, run, scratch};
@@ -78,4 +79,38 @@ fn a_second_loop_in_the_basal_slice_is_named_with_its_distance() {
             assert_eq!(err.matches("second closed loop").count(), 1, "{err}");
         }
     }
+}
+
+/// Vertex and face lines of an OBJ (the header names the file and the flags).
+fn mesh_lines(path: &std::path::Path) -> Vec<String> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn drop_second_loops_gives_the_mesh_of_the_file_without_the_loop() {
+    let dir = scratch("heldout-drop-second-loop");
+    let mesh = |second: bool, extra: &[&str]| {
+        let file = dir.join(format!("lv-{second}.csv"));
+        std::fs::write(&file, lv_csv(second)).unwrap();
+        let out = dir.join(format!("out-{second}-{}.obj", extra.len()));
+        let (code, _, err) = run(bin()
+            .args(["reconstruct", file.to_str().unwrap(), "-o"])
+            .arg(&out)
+            .arg("--quiet")
+            .args(extra));
+        assert_eq!(code, 0, "{err}");
+        mesh_lines(&out)
+    };
+    let without = mesh(false, &[]);
+    let with_loop = mesh(true, &[]);
+    let dropped = mesh(true, &["--drop-second-loops"]);
+    assert_ne!(with_loop, without, "the loop pulls the surface by default");
+    assert_eq!(dropped, without);
+    // And on a file without such loops the option changes nothing.
+    assert_eq!(mesh(false, &["--drop-second-loops"]), without);
 }

@@ -10,7 +10,7 @@
 //! (docs/VALIDATION.md, "Session 13: held-out acquisitions"). The run goes ahead (the user may want
 //! exactly that); the warning says which loop and how far it lies from the one the tube follows.
 
-use super::axis::analyse;
+use super::axis::{analyse, Layout};
 use super::clean::{cleaned_contour, length};
 use super::{Contour, ContourSet, Polyline};
 use crate::geometry::Vec3;
@@ -36,32 +36,15 @@ pub fn second_loop_warnings(set: &ContourSet) -> Vec<String> {
         let Ok(layout) = analyse(&cleaned) else {
             continue;
         };
-        for slice in &layout.slices {
-            let loops: Vec<(&Contour, &Polyline)> = slice
-                .contours
-                .iter()
-                .filter_map(|&j| cleaned.get(j))
-                .flat_map(|c| c.pieces.iter().map(move |p| (c, p)))
-                .filter(|(_, p)| p.closed && p.points.len() >= 3)
-                .collect();
-            let Some(&(main_c, main)) = loops
-                .iter()
-                .max_by(|a, b| length(&a.1.points, true).total_cmp(&length(&b.1.points, true)))
+        for apart in second_loops(&cleaned, &layout) {
+            let (Some(c), Some(main)) = (cleaned.get(apart.contour), cleaned.get(apart.main))
             else {
                 continue;
             };
-            for &(c, p) in &loops {
-                if std::ptr::eq(p, main) {
-                    continue;
-                }
-                let gap = median_distance(&p.points, &main.points);
-                if gap > SECOND_LOOP_MM {
-                    flagged.push(format!(
-                        "{:?} (line {}, {gap:.0} mm from {:?})",
-                        c.id, c.first_line, main_c.id
-                    ));
-                }
-            }
+            flagged.push(format!(
+                "{:?} (line {}, {:.0} mm from {:?})",
+                c.id, c.first_line, apart.gap_mm, main.id
+            ));
         }
     }
     match flagged.as_slice() {
@@ -83,6 +66,80 @@ pub fn second_loop_warnings(set: &ContourSet) -> Vec<String> {
             )]
         }
     }
+}
+
+/// A closed loop lying apart from the main loop of its slice.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ApartLoop {
+    /// Index of its contour and of its piece in that contour.
+    pub contour: usize,
+    pub piece: usize,
+    /// Index of the contour holding the slice's main (longest closed) loop.
+    pub main: usize,
+    /// Median distance of its points from the main loop (mm).
+    pub gap_mm: f64,
+}
+
+/// The closed loops of `contours` (one surface, cleaned, `layout` from [`analyse`]) that lie
+/// more than [`SECOND_LOOP_MM`] from the longest closed loop of their slice.
+pub fn second_loops(contours: &[Contour], layout: &Layout) -> Vec<ApartLoop> {
+    let mut out = Vec::new();
+    for slice in &layout.slices {
+        let loops: Vec<(usize, usize, &Polyline)> = slice
+            .contours
+            .iter()
+            .filter_map(|&j| contours.get(j).map(|c| (j, c)))
+            .flat_map(|(j, c)| c.pieces.iter().enumerate().map(move |(k, p)| (j, k, p)))
+            .filter(|(_, _, p)| p.closed && p.points.len() >= 3)
+            .collect();
+        let Some(&(main_j, main_k, main)) = loops
+            .iter()
+            .max_by(|a, b| length(&a.2.points, true).total_cmp(&length(&b.2.points, true)))
+        else {
+            continue;
+        };
+        for &(j, k, p) in &loops {
+            if (j, k) == (main_j, main_k) {
+                continue;
+            }
+            let gap_mm = median_distance(&p.points, &main.points);
+            if gap_mm > SECOND_LOOP_MM {
+                out.push(ApartLoop {
+                    contour: j,
+                    piece: k,
+                    main: main_j,
+                    gap_mm,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// `contours` without the loops [`second_loops`] finds (contours left without a piece are
+/// dropped), and how many loops went. Behind `Params::drop_second_loops` (CLI
+/// `--drop-second-loops`; off by default): the surface then follows the main loop of each slice
+/// only, for when the other loop is another structure.
+pub fn without_second_loops(contours: &[Contour], layout: &Layout) -> (Vec<Contour>, usize) {
+    let apart = second_loops(contours, layout);
+    let kept = contours
+        .iter()
+        .enumerate()
+        .filter_map(|(j, c)| {
+            let pieces: Vec<Polyline> = c
+                .pieces
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| !apart.iter().any(|a| (a.contour, a.piece) == (j, *k)))
+                .map(|(_, p)| p.clone())
+                .collect();
+            (!pieces.is_empty()).then(|| Contour {
+                pieces,
+                ..c.clone()
+            })
+        })
+        .collect();
+    (kept, apart.len())
 }
 
 /// Contours grouped by surface label, in order of first appearance.
@@ -173,6 +230,24 @@ mod tests {
             w[0].starts_with("contour \"s4b\" (line 202, 13 mm from \"s4\") is a second"),
             "{w:?}"
         );
+    }
+
+    #[test]
+    fn without_second_loops_keeps_every_other_curve() {
+        let mut contours = stack();
+        contours.push(ring("s4b", 32.0, 6.0, 40.0, 202));
+        let mut two_pieces = ring("s2", 0.0, 20.0, 20.0, 82);
+        two_pieces
+            .pieces
+            .push(ring("x", -30.0, 5.0, 20.0, 0).pieces.remove(0));
+        contours[2] = two_pieces;
+        let layout = analyse(&contours).unwrap();
+        let (kept, dropped) = without_second_loops(&contours, &layout);
+        assert_eq!(dropped, 2);
+        let ids: Vec<&str> = kept.iter().map(|c| c.id.as_str()).collect();
+        assert_eq!(ids, ["s0", "s1", "s2", "s3", "s4"]);
+        assert_eq!(kept[2].pieces.len(), 1);
+        assert_eq!(kept[2].pieces[0], contours[2].pieces[0]);
     }
 
     #[test]
