@@ -32,6 +32,10 @@ pub fn parameters(params: &Params) -> Value {
     m.insert("lids".into(), json!(lids));
     m.insert("surface".into(), json!(params.surface));
     m.insert("end_caps".into(), json!(params.end_caps.name()));
+    // Only when on: every default file's header and report keep their bytes.
+    if params.drop_second_loops {
+        m.insert("drop_second_loops".into(), json!(true));
+    }
     Value::Object(m)
 }
 

@@ -102,6 +102,12 @@ pub struct Params {
     /// long-axis views (docs/VALIDATION.md, "Session 12: end caps where no long-axis curve
     /// reaches"). `off` is the paper's method.
     pub end_caps: EndCapMode,
+    /// Leave out closed loops that lie apart from the main loop of their short-axis slice
+    /// (`contours::slice_loops`): a basal slice that also cuts another structure. Off by default
+    /// (every loop is data and pulls; the load-time warning names such loops); on, the surface
+    /// follows each slice's main loop only (docs/VALIDATION.md, "Session 13: held-out
+    /// acquisitions").
+    pub drop_second_loops: bool,
 }
 
 impl Default for Params {
@@ -125,6 +131,7 @@ impl Default for Params {
             align_slices: false,
             align_through_plane: true,
             end_caps: EndCapMode::Auto,
+            drop_second_loops: false,
         }
     }
 }

@@ -7,6 +7,7 @@ pub mod checks;
 pub mod clean;
 pub mod plane;
 pub mod rings;
+pub mod slice_loops;
 
 use crate::geometry::Vec3;
 

@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use crate::contours::{checks, Contour, ContourSet, Polyline};
+use crate::contours::{checks, slice_loops, Contour, ContourSet, Polyline};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 
@@ -177,6 +177,7 @@ impl ContourBuilder {
         let found = [
             checks::stray_warnings(&set),
             checks::reused_id_warnings(&set),
+            slice_loops::second_loop_warnings(&set),
         ];
         set.warnings.extend(found.into_iter().flatten());
         Ok(set)

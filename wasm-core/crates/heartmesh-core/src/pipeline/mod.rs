@@ -24,7 +24,7 @@ use crate::contours::align::{
     align_slices_with, crossing_residual, Alignment, Options as AlignOptions,
     SUGGEST_ALIGNMENT_ABOVE_MM,
 };
-use crate::contours::axis::{analyse, Layout};
+use crate::contours::axis::Layout;
 use crate::contours::clean::resample_spacing;
 use crate::contours::{Contour, ContourKind, ContourSet};
 use crate::deform::attractors::{conflict_weights, Budget};
@@ -226,7 +226,9 @@ impl Reconstruction {
             });
         }
         prepare::check_count_and_units(&contours)?;
-        let layout = analyse(&contours)?;
+        let (contours, layout) = prepare::layout(contours, params.drop_second_loops)?;
+        // Loops left out of the run leave the file's curves with another structure.
+        let contours_as_given = contours_as_given.filter(|g| same_structure(g, &contours));
 
         let mut candidates_mm: Vec<Vec3> = Vec::new();
         let mut candidate_owner: Vec<u32> = Vec::new();

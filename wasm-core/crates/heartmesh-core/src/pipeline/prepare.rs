@@ -1,8 +1,10 @@
 //! From a user's contour set to the cleaned contours of one surface (Villard et al. 2018, section 2:
 //! "one surface at a time"; cleaning as in METHOD.md's Input section).
 
+use crate::contours::axis::{analyse, Layout};
 use crate::contours::checks::check_units;
 use crate::contours::clean::cleaned_contour;
+use crate::contours::slice_loops::without_second_loops;
 use crate::contours::{Contour, ContourSet};
 use crate::error::{CoreError, Result};
 
@@ -57,4 +59,19 @@ pub fn check_count_and_units(contours: &[Contour]) -> Result<()> {
         });
     }
     check_units(contours)
+}
+
+/// The layout of `contours`; with `drop_second_loops`, the closed loops lying apart from their
+/// slice's main loop (`contours::slice_loops`) are left out first and what is left is laid out.
+pub fn layout(contours: Vec<Contour>, drop_second_loops: bool) -> Result<(Vec<Contour>, Layout)> {
+    let layout = analyse(&contours)?;
+    if !drop_second_loops {
+        return Ok((contours, layout));
+    }
+    let (kept, dropped) = without_second_loops(&contours, &layout);
+    if dropped == 0 {
+        return Ok((contours, layout));
+    }
+    let layout = analyse(&kept)?;
+    Ok((kept, layout))
 }
