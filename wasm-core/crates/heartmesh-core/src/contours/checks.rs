@@ -173,7 +173,7 @@ pub fn stray_warnings(set: &ContourSet) -> Vec<String> {
 }
 
 /// Contours grouped by surface label (None is a group of its own).
-fn surface_groups(set: &ContourSet) -> Vec<Vec<&Contour>> {
+pub(super) fn surface_groups(set: &ContourSet) -> Vec<Vec<&Contour>> {
     let mut labels: Vec<Option<&str>> = Vec::new();
     let mut groups: Vec<Vec<&Contour>> = Vec::new();
     for c in &set.contours {

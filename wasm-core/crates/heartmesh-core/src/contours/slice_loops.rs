@@ -11,9 +11,11 @@
 //! exactly that); the warning says which loop and how far it lies from the one the tube follows.
 
 use super::axis::{analyse, Layout};
+use super::checks::surface_groups;
 use super::clean::{cleaned_contour, length};
 use super::{Contour, ContourSet, Polyline};
 use crate::geometry::Vec3;
+use crate::spatial::segments::segment_distance_sq;
 
 /// A loop whose points lie, at the median, further than this (mm) from the slice's main loop is
 /// a second loop: three times the 1-5 mm segmentation disagreement of METHOD.md would be 3-15;
@@ -28,7 +30,7 @@ const MAX_CONTOURS: usize = 2000;
 /// One warning line naming the closed loops that lie apart from the main loop of their slice.
 pub fn second_loop_warnings(set: &ContourSet) -> Vec<String> {
     let mut flagged: Vec<String> = Vec::new();
-    for surface in surfaces(set) {
+    for surface in surface_groups(set) {
         if surface.len() < 2 || surface.len() > MAX_CONTOURS {
             continue;
         }
@@ -142,23 +144,6 @@ pub fn without_second_loops(contours: &[Contour], layout: &Layout) -> (Vec<Conto
     (kept, apart.len())
 }
 
-/// Contours grouped by surface label, in order of first appearance.
-fn surfaces(set: &ContourSet) -> Vec<Vec<&Contour>> {
-    let mut labels: Vec<Option<&str>> = Vec::new();
-    let mut groups: Vec<Vec<&Contour>> = Vec::new();
-    for c in &set.contours {
-        let label = c.surface.as_deref();
-        match labels.iter().position(|l| *l == label) {
-            Some(k) => groups[k].push(c),
-            None => {
-                labels.push(label);
-                groups.push(vec![c]);
-            }
-        }
-    }
-    groups
-}
-
 /// Median over `points` of the distance to the closed polyline `ring` (mm).
 fn median_distance(points: &[Vec3], ring: &[Vec3]) -> f64 {
     let mut d: Vec<f64> = points.iter().map(|q| distance_to_ring(q, ring)).collect();
@@ -172,18 +157,9 @@ fn median_distance(points: &[Vec3], ring: &[Vec3]) -> f64 {
 fn distance_to_ring(q: &Vec3, ring: &[Vec3]) -> f64 {
     let n = ring.len();
     (0..n)
-        .map(|i| {
-            let (a, b) = (ring[i], ring[(i + 1) % n]);
-            let ab = b - a;
-            let l2 = ab.norm_squared();
-            let t = if l2 > 0.0 {
-                ((q - a).dot(&ab) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (a + ab * t - q).norm()
-        })
+        .map(|i| segment_distance_sq(q, &ring[i], &ring[(i + 1) % n]))
         .fold(f64::INFINITY, f64::min)
+        .sqrt()
 }
 
 #[cfg(test)]
