@@ -19,7 +19,7 @@ pub const USAGE: &str =
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
     [--smoothing-method laplacian-affine|taubin|laplacian-hc|laplacian-twicing] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
-    [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--drop-second-loops] [--frame N]
+    [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--apex-floor] [--drop-second-loops] [--frame N]
     [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
@@ -43,6 +43,10 @@ pub const USAGE: &str =
   spacing beyond the basal slice; they are not data (never in the distances); the report's
   end_caps says which ends got them and how many; --end-caps off leaves such ends to
   extrapolation (the paper's method);
+  --apex-floor (a study option, with end caps on): an apex no long-axis curve reaches gets one
+  lid point at the tip the two most apical slices' taper predicts (area linear in height),
+  pulling only while the mesh stops short of it; none where the slices do not taper (or the tip
+  would lie over two slice gaps below the apical slice); the report's end_caps.apex_floor;
   --drop-second-loops: leave out closed loops that lie apart (median over 3 mm) from the main
   loop of their short-axis slice (another structure the slice cut; the load-time warning names
   them), so the surface follows each slice's main loop only;
@@ -72,6 +76,7 @@ const SWITCHES: &[&str] = &[
     "align-slices",
     "align-in-plane-only",
     "drop-second-loops",
+    "apex-floor",
 ];
 
 /// Flag names (dashes) of the numeric parameters, from the core's schema.
@@ -219,6 +224,9 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     params.align_through_plane = through_plane_switch(p, params.align_slices)?;
     if p.switch("drop-second-loops") {
         params.drop_second_loops = true;
+    }
+    if p.switch("apex-floor") {
+        params.apex_floor = true;
     }
     if let Some(m) = p.value("end-caps") {
         params.set_end_caps(m).map_err(CliError::param)?;

@@ -36,6 +36,9 @@ pub fn parameters(params: &Params) -> Value {
     if params.drop_second_loops {
         m.insert("drop_second_loops".into(), json!(true));
     }
+    if params.apex_floor {
+        m.insert("apex_floor".into(), json!(true));
+    }
     Value::Object(m)
 }
 

@@ -108,6 +108,11 @@ pub struct Params {
     /// follows each slice's main loop only (docs/VALIDATION.md, "Session 13: held-out
     /// acquisitions").
     pub drop_second_loops: bool,
+    /// With end caps on, an apex no long-axis curve reaches (short-axis-only files) gets one lid
+    /// point at the tip the two most apical rings' taper predicts, pulling only while the mesh
+    /// stops short of it (`pipeline::apex_floor`). Off by default: a study option until gated
+    /// (docs/VALIDATION.md, "Session 13: an apex floor from the taper of the slices").
+    pub apex_floor: bool,
 }
 
 impl Default for Params {
@@ -132,6 +137,7 @@ impl Default for Params {
             align_through_plane: true,
             end_caps: EndCapMode::Auto,
             drop_second_loops: false,
+            apex_floor: false,
         }
     }
 }

@@ -18,7 +18,9 @@
 //! Per end, from what the long-axis data say ([`end_lid`], session 12): where curves reach the end
 //! the lid lies where they stop; where none does (short-axis-only files, an RV without RV views)
 //! the apex gets no lid (its dome runs on below the last slice, and the paper's extrapolation
-//! follows it better than a flat cut) and the base a ceiling at the next slice position.
+//! follows it better than a flat cut) and the base a ceiling at the next slice position. With
+//! `Params::apex_floor` (opt-in, session 13) such an apex gets one floor point instead, at the tip
+//! the slices' taper predicts, pulling only while the mesh stops short of it (`apex_floor`).
 //!
 //! Why a flat disc rather than the cone spanned by the ring and the lid point: the lid is above
 //! the ring only where long-axis curves run on past the ring along the wall (the LV base, 10-20 mm
@@ -27,6 +29,7 @@
 //! wall the curves describe (the tube's extra basal ring, `tube::extend_to_base`, is the same
 //! outline).
 
+use super::apex_floor::floor_point;
 use super::end_data::EndRing;
 pub use super::end_data::{closed_by_data, reached_by_lax};
 pub use super::lid_disc::disc_points;
@@ -45,6 +48,10 @@ pub struct EndCapsReport {
     pub base: bool,
     pub apex: bool,
     pub points: usize,
+    /// Whether the apex got a floor at the slices' taper tip (`apex_floor`; only with
+    /// `Params::apex_floor`, and left out of the JSON when false so default reports are as before).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub apex_floor: bool,
 }
 
 impl EndCapsReport {
@@ -54,6 +61,7 @@ impl EndCapsReport {
             base: false,
             apex: false,
             points: 0,
+            apex_floor: false,
         }
     }
 }
@@ -253,10 +261,13 @@ pub fn end_lid(
 /// tube's short-axis rings, apex to base (before the basal extension); `spacing` is the real
 /// attractors' spacing (mm) and `real_attractors` their count. Per end ([`end_lid`]): where
 /// long-axis curves reach it, the lid lies where they stop; a short-axis-only apex gets none; a
-/// short-axis-only base a flat lid one slice spacing out (the next slice position).
+/// short-axis-only base a flat lid one slice spacing out (the next slice position). With
+/// `apex_floor`, a short-axis-only apex gets one floor point at the slices' taper tip
+/// ([`super::apex_floor`]).
 #[allow(clippy::too_many_arguments)]
 pub fn end_cap_points(
     mode: EndCapMode,
+    apex_floor: bool,
     rings: &[Vec<Vec3>],
     lids: &Lids,
     contours: &[Contour],
@@ -287,6 +298,15 @@ pub fn end_cap_points(
         let pitch = spacing.max((area / most).sqrt());
         let tolerance = ONE_SIDED_TOLERANCE_PER_SPACING * pitch;
         let lid = match end_lid(rings, contours, kinds, axis, outward, tolerance) {
+            Some(EndLid::OpenApex) if apex_floor => {
+                if let Some((q, side)) = floor_point(rings, axis, tolerance, END_CAP_WEIGHT) {
+                    points.push(q);
+                    sides.push(side);
+                    report.apex = true;
+                    report.apex_floor = true;
+                }
+                continue;
+            }
             None | Some(EndLid::OpenApex) => continue,
             Some(EndLid::Reached) => lid,
             // The tube's lid of an end no curve reaches lies at the ring's centroid.
@@ -404,8 +424,9 @@ mod tests {
             .collect();
         let contours = [lax(u)];
         let kinds = [ContourKind::Lax];
-        let caps =
-            |mode, real| end_cap_points(mode, &rings, &lids, &contours, &kinds, &Z, 2.0, real);
+        let caps = |mode, real| {
+            end_cap_points(mode, false, &rings, &lids, &contours, &kinds, &Z, 2.0, real)
+        };
         let (pts, sides, report) = caps(EndCapMode::Auto, 400);
         assert!(report.base && !report.apex);
         assert_eq!(report.points, pts.len());
@@ -447,8 +468,17 @@ mod tests {
             end_lid(&rings, &[], &[], &Z, 1.0, 0.2),
             Some(EndLid::OpenBase(20.0))
         );
-        let (pts, sides, report) =
-            end_cap_points(EndCapMode::Auto, &rings, &lids, &[], &[], &Z, 2.0, 400);
+        let (pts, sides, report) = end_cap_points(
+            EndCapMode::Auto,
+            false,
+            &rings,
+            &lids,
+            &[],
+            &[],
+            &Z,
+            2.0,
+            400,
+        );
         assert!(report.base && !report.apex);
         // The same 25-point disc as a base the curves reach (`caps_only_where_no_curve_closes`),
         // 20 mm higher; flat, facing up the axis, pulling 0.1 x pitch 2 past its plane.
@@ -491,8 +521,17 @@ mod tests {
             apex: Some(v3(0.0, 0.0, -3.0)),
             base: Some(v3(0.0, 0.0, 20.0)),
         };
-        let (pts, sides, report) =
-            end_cap_points(EndCapMode::Auto, &rings, &lids, &low, &kinds, &Z, 2.0, 400);
+        let (pts, sides, report) = end_cap_points(
+            EndCapMode::Auto,
+            false,
+            &rings,
+            &lids,
+            &low,
+            &kinds,
+            &Z,
+            2.0,
+            400,
+        );
         assert!(report.apex && report.base);
         let apex: Vec<&Vec3> = pts.iter().filter(|p| p.z < 10.0).collect();
         assert_eq!(apex.len(), 25);

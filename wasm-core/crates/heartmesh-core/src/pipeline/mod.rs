@@ -6,6 +6,7 @@
 //! inter-point distance) so that lambda, beta and the stop threshold do not depend on the size of the
 //! heart; everything handed out is converted back to millimetres.
 
+pub mod apex_floor;
 mod diameter;
 mod end_data;
 pub mod ends;

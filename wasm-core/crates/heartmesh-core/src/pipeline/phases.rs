@@ -78,6 +78,7 @@ impl Reconstruction {
         };
         let (points, sides, report) = ends::end_cap_points(
             self.params.end_caps,
+            self.params.apex_floor,
             rings,
             lids,
             &self.contours,

@@ -1,0 +1,113 @@
+//! `--apex-floor` through the binary (session 13, APEX13): a study option that floors an apex no
+//! long-axis curve reaches at the slices' taper tip (`pipeline::apex_floor`). Where a long-axis
+//! curve reaches the apex it must change nothing; on a short-axis-only file the report says the
+//! floor was placed.
+
+mod common;
+use common::{bin, run, scratch};
+use std::f64::consts::TAU;
+use std::fmt::Write;
+
+/// An ellipsoidal LV (semi-axes 25 and 60 mm) sliced every 8 mm from z = -48 up to its equator,
+/// with two long-axis curves through the apex when `lax`.
+fn lv_csv(lax: bool) -> String {
+    let mut out = String::from("contour,x,y,z,surface\n");
+    for k in 0..7 {
+        let z = -48.0 + 8.0 * k as f64;
+        let r = 25.0 * (1.0 - (z / 60.0) * (z / 60.0)).sqrt();
+        for i in 0..60 {
+            let t = TAU * i as f64 / 60.0;
+            let _ = writeln!(out, "sax{k},{},{},{z},LV_ENDO", r * t.cos(), r * t.sin());
+        }
+    }
+    if lax {
+        for (j, phi) in [0.3f64, 1.9].iter().enumerate() {
+            for i in 0..=60 {
+                let t = std::f64::consts::PI * i as f64 / 60.0;
+                let (u, z) = (25.0 * t.sin(), -60.0 * t.cos().abs());
+                let side = if i <= 30 { 1.0 } else { -1.0 };
+                let _ = writeln!(
+                    out,
+                    "lax{j},{},{},{z},LV_ENDO",
+                    side * u * phi.cos(),
+                    side * u * phi.sin()
+                );
+            }
+        }
+    }
+    out
+}
+
+/// Runs reconstruct on `lv_csv(lax)` with `extra` flags: the OBJ's vertex and face lines (the
+/// header names the flags) and the report.
+fn reconstruct(
+    dir: &std::path::Path,
+    lax: bool,
+    extra: &[&str],
+) -> (Vec<String>, serde_json::Value) {
+    let file = dir.join(format!("lv-{lax}.csv"));
+    std::fs::write(&file, lv_csv(lax)).unwrap();
+    let out = dir.join(format!("out-{lax}-{}.obj", extra.len()));
+    let report = dir.join(format!("out-{lax}-{}.json", extra.len()));
+    let (code, _, err) = run(bin()
+        .args(["reconstruct", file.to_str().unwrap(), "-o"])
+        .arg(&out)
+        .arg("--report")
+        .arg(&report)
+        .arg("--quiet")
+        .args(extra));
+    assert_eq!(code, 0, "{err}");
+    let lines = std::fs::read_to_string(&out)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(str::to_string)
+        .collect();
+    let rep = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    (lines, rep)
+}
+
+/// Lowest z of an OBJ's vertices (mm).
+fn lowest(lines: &[String]) -> f64 {
+    lines
+        .iter()
+        .filter_map(|l| l.strip_prefix("v "))
+        .filter_map(|l| l.split_whitespace().nth(2)?.parse::<f64>().ok())
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn apex_floor_changes_nothing_where_a_long_axis_curve_reaches_the_apex() {
+    let dir = scratch("apex-floor-lax");
+    let (plain, rep) = reconstruct(&dir, true, &[]);
+    let (floored, rep_floored) = reconstruct(&dir, true, &["--apex-floor"]);
+    assert_eq!(floored, plain);
+    assert!(
+        rep["end_caps"].get("apex_floor").is_none(),
+        "{}",
+        rep["end_caps"]
+    );
+    assert!(rep_floored["end_caps"].get("apex_floor").is_none());
+    assert_eq!(rep_floored["parameters"]["apex_floor"], true);
+}
+
+#[test]
+fn apex_floor_on_a_short_axis_only_file() {
+    let dir = scratch("apex-floor-sax");
+    let (plain, rep) = reconstruct(&dir, false, &[]);
+    let (floored, rep_floored) = reconstruct(&dir, false, &["--apex-floor"]);
+    assert_eq!(rep["end_caps"]["apex"], false);
+    assert_eq!(rep_floored["end_caps"]["apex"], true);
+    assert_eq!(rep_floored["end_caps"]["apex_floor"], true);
+    // One floor point more than the base's lid.
+    assert_eq!(
+        rep_floored["end_caps"]["points"].as_u64(),
+        rep["end_caps"]["points"].as_u64().map(|n| n + 1)
+    );
+    // The tip: rings of radius 15 at z = -48 and 18.63 at z = -40 (areas 225 pi : 347.2 pi, up to
+    // the polygon factor) put it 8 x 225 / 122.2 = 14.7 mm below, at z = -62.7; the floor only
+    // pulls the mesh down towards it, never past the apical ring's side.
+    let (low, low_floored) = (lowest(&plain), lowest(&floored));
+    assert!(low_floored < low, "{low_floored} vs {low}");
+    assert!(low_floored > -62.8, "{low_floored}");
+}
