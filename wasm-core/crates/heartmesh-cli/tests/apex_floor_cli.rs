@@ -4,39 +4,7 @@
 //! floor was placed.
 
 mod common;
-use common::{bin, run, scratch};
-use std::f64::consts::TAU;
-use std::fmt::Write;
-
-/// An ellipsoidal LV (semi-axes 25 and 60 mm) sliced every 8 mm from z = -48 up to its equator,
-/// with two long-axis curves through the apex when `lax`.
-fn lv_csv(lax: bool) -> String {
-    let mut out = String::from("contour,x,y,z,surface\n");
-    for k in 0..7 {
-        let z = -48.0 + 8.0 * k as f64;
-        let r = 25.0 * (1.0 - (z / 60.0) * (z / 60.0)).sqrt();
-        for i in 0..60 {
-            let t = TAU * i as f64 / 60.0;
-            let _ = writeln!(out, "sax{k},{},{},{z},LV_ENDO", r * t.cos(), r * t.sin());
-        }
-    }
-    if lax {
-        for (j, phi) in [0.3f64, 1.9].iter().enumerate() {
-            for i in 0..=60 {
-                let t = std::f64::consts::PI * i as f64 / 60.0;
-                let (u, z) = (25.0 * t.sin(), -60.0 * t.cos().abs());
-                let side = if i <= 30 { 1.0 } else { -1.0 };
-                let _ = writeln!(
-                    out,
-                    "lax{j},{},{},{z},LV_ENDO",
-                    side * u * phi.cos(),
-                    side * u * phi.sin()
-                );
-            }
-        }
-    }
-    out
-}
+use common::{bin, ellipsoid_lv_csv as lv_csv, run, scratch};
 
 /// Runs reconstruct on `lv_csv(lax)` with `extra` flags: the OBJ's vertex and face lines (the
 /// header names the flags) and the report.

@@ -5,35 +5,14 @@
 //! `--drop-second-loops` leaves such loops out.
 
 mod common;
-use common::{bin, run, scratch};
+use common::{bin, ellipsoid_lv_csv, run, scratch};
 use std::f64::consts::TAU;
 use std::fmt::Write;
 
 /// An ellipsoidal LV (semi-axes 25 and 60 mm) sliced every 8 mm up to its equator, two long-axis
 /// curves through the apex, and optionally a 6 mm loop 10 mm beside the basal ring.
 fn lv_csv(second_loop: bool) -> String {
-    let mut out = String::from("contour,x,y,z,surface\n");
-    for k in 0..7 {
-        let z = -48.0 + 8.0 * k as f64;
-        let r = 25.0 * (1.0 - (z / 60.0) * (z / 60.0)).sqrt();
-        for i in 0..60 {
-            let t = TAU * i as f64 / 60.0;
-            let _ = writeln!(out, "sax{k},{},{},{z},LV_ENDO", r * t.cos(), r * t.sin());
-        }
-    }
-    for (j, phi) in [0.3f64, 1.9].iter().enumerate() {
-        for i in 0..=60 {
-            let t = std::f64::consts::PI * i as f64 / 60.0; // from one rim through the apex
-            let (u, z) = (25.0 * t.sin(), -60.0 * t.cos().abs());
-            let side = if i <= 30 { 1.0 } else { -1.0 };
-            let _ = writeln!(
-                out,
-                "lax{j},{},{},{z},LV_ENDO",
-                side * u * phi.cos(),
-                side * u * phi.sin()
-            );
-        }
-    }
+    let mut out = ellipsoid_lv_csv(true);
     if second_loop {
         for i in 0..30 {
             let t = TAU * i as f64 / 30.0;

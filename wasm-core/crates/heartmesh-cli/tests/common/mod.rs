@@ -47,3 +47,36 @@ pub fn run(cmd: &mut Command) -> (i32, String, String) {
         String::from_utf8_lossy(&stderr).into_owned(),
     )
 }
+
+/// An ellipsoidal LV endocardium (semi-axes 25 and 60 mm) as canonical CSV: short-axis rings every
+/// 8 mm from z = -48 up to its equator and, when `lax`, two long-axis curves through the apex
+/// (open at the rim, as real long-axis curves are).
+pub fn ellipsoid_lv_csv(lax: bool) -> String {
+    use std::f64::consts::{PI, TAU};
+    use std::fmt::Write;
+    let mut out = String::from("contour,x,y,z,surface\n");
+    for k in 0..7 {
+        let z = -48.0 + 8.0 * k as f64;
+        let r = 25.0 * (1.0 - (z / 60.0) * (z / 60.0)).sqrt();
+        for i in 0..60 {
+            let t = TAU * i as f64 / 60.0;
+            let _ = writeln!(out, "sax{k},{},{},{z},LV_ENDO", r * t.cos(), r * t.sin());
+        }
+    }
+    if lax {
+        for (j, phi) in [0.3f64, 1.9].iter().enumerate() {
+            for i in 0..=60 {
+                let t = PI * i as f64 / 60.0; // from one rim through the apex
+                let (u, z) = (25.0 * t.sin(), -60.0 * t.cos().abs());
+                let side = if i <= 30 { 1.0 } else { -1.0 };
+                let _ = writeln!(
+                    out,
+                    "lax{j},{},{},{z},LV_ENDO",
+                    side * u * phi.cos(),
+                    side * u * phi.sin()
+                );
+            }
+        }
+    }
+    out
+}
