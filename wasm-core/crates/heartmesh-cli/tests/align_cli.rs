@@ -331,3 +331,34 @@ fn crossing_residual_is_reported_and_suggests_the_alignment() {
     assert_eq!(surfco["alignment_suggested"], false);
     assert!(!err.contains("disagree"), "{err}");
 }
+
+/// An RV-only file (patient 1 ED's RV endocardium rows alone) crosses by 2.1 mm, but the
+/// alignment is not suggested: without an LV to anchor it, it was measured to do harm (session
+/// 13, held-out study). Choosing the RV in the whole file, where the LV anchors it, still does.
+#[test]
+fn an_rv_only_file_is_not_told_to_align() {
+    let dir = scratch("rv-only-crossing");
+    let text = std::fs::read_to_string(data(P1)).unwrap();
+    let rv: String = text
+        .lines()
+        .enumerate()
+        .filter(|(i, l)| *i == 0 || l.trim_end().ends_with(",RV_ENDO"))
+        .map(|(_, l)| format!("{}\n", l.trim_end()))
+        .collect();
+    let file = dir.join("rv.csv");
+    std::fs::write(&file, rv).unwrap();
+    let report = dir.join("r.json");
+    for (input, expect) in [(file.clone(), false), (data(P1), true)] {
+        let (code, _, err) = run(bin()
+            .args(["reconstruct", s(&input), "--surface", "RV_ENDO"])
+            .args(["--iterations", "20", "-o", s(&dir.join("m.obj"))])
+            .args(["--report", s(&report)]));
+        assert_eq!(code, 0, "{err}");
+        let r = json(&report);
+        let residual = f(&r["crossing_residual_mm"]);
+        assert!((1.5..2.5).contains(&residual), "{residual}");
+        assert_eq!(r["alignment_suggested"], expect, "{}", input.display());
+        assert_eq!(err.contains("--align-slices"), expect, "{err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

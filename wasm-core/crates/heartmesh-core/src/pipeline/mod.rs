@@ -22,7 +22,7 @@ pub mod tube;
 
 use crate::clock::{Clock, DefaultClock};
 use crate::contours::align::{
-    align_slices_with, crossing_residual, Alignment, Options as AlignOptions,
+    align_slices_with, anchored_beyond_rv, crossing_residual, Alignment, Options as AlignOptions,
     SUGGEST_ALIGNMENT_ABOVE_MM,
 };
 use crate::contours::axis::Layout;
@@ -143,6 +143,9 @@ pub struct Reconstruction {
     /// How far apart the file's images are where their planes cross (mm, whole file, before any
     /// alignment; None when no curves of one surface cross).
     crossing_residual_mm: Option<f64>,
+    /// Some surface of the file is not the RV's ([`anchored_beyond_rv`]): the alignment is only
+    /// suggested then.
+    alignment_anchored: bool,
     layout: Layout,
     norm: Normalisation,
     /// Contour points resampled at ~1 mm, normalised: the attractor candidates.
@@ -207,6 +210,7 @@ impl Reconstruction {
             (None, None)
         };
         let crossing_residual_mm = crossing_residual(set);
+        let alignment_anchored = anchored_beyond_rv(set);
         let source = aligned.as_ref().unwrap_or(set);
         let selected = prepare::select_surface(source, params.surface.as_deref())?;
         let contours = prepare::clean_contours(&selected);
@@ -273,6 +277,7 @@ impl Reconstruction {
             alignment,
             contours_as_given,
             crossing_residual_mm,
+            alignment_anchored,
             layout,
             norm,
             candidates,
@@ -488,10 +493,13 @@ impl Reconstruction {
         self.crossing_residual_mm
     }
 
-    /// Alignment off and the images farther apart where they cross than
-    /// [`SUGGEST_ALIGNMENT_ABOVE_MM`]: the CLI's note and the app's "align" button both ask this.
+    /// Alignment off, the images farther apart where they cross than
+    /// [`SUGGEST_ALIGNMENT_ABOVE_MM`], and not an RV-only file ([`anchored_beyond_rv`]: there the
+    /// alignment was measured to do harm): the CLI's note and the app's "align" button both ask
+    /// this.
     pub fn alignment_suggested(&self) -> bool {
         !self.params.align_slices
+            && self.alignment_anchored
             && self
                 .crossing_residual_mm
                 .is_some_and(|r| r > SUGGEST_ALIGNMENT_ABOVE_MM)

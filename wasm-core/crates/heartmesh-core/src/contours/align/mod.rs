@@ -140,6 +140,22 @@ pub fn crossing_residual(set: &ContourSet) -> Option<f64> {
     (matched > 0).then_some(mean)
 }
 
+/// Whether some contour of `set` belongs to a surface other than the right ventricle's (an LV
+/// surface, or an unlabelled one): what the alignment is worth suggesting for. On RV-only files
+/// the long-axis planes, planned through the LV's axis, cut the RV crescent obliquely, so a
+/// breath-hold's shift along a plane's normal changes the RV section there far more than an LV's,
+/// and the in-plane shifts chase it: in the held-out study of session 13 `--align-slices` made all
+/// four RV-only cases worse (mean 0.61 -> 0.77 mm; a long-axis view shifted 7.7 mm where 3.7 were
+/// injected) while it improved every LV case (docs/VALIDATION.md, "Session 13: held-out
+/// acquisitions"). With an LV in the file (the biv-me files) its rings anchor the shifts.
+pub fn anchored_beyond_rv(set: &ContourSet) -> bool {
+    set.contours.iter().any(|c| {
+        c.surface
+            .as_deref()
+            .is_none_or(|s| !s.trim().to_ascii_uppercase().starts_with("RV"))
+    })
+}
+
 /// [`align_slices`] with `options`.
 pub fn align_slices_with(set: &ContourSet, options: Options) -> (ContourSet, Alignment) {
     let grouping = match groups::group(set) {
