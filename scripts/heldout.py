@@ -5,7 +5,8 @@ Every study of ours slices a truth with the same planner: short-axis (SAX) plane
 perpendicular to the anatomical axis every 10 mm, long-axis (LAX) planes exactly through the apex.
 This script slices the truth meshes itself (standard library only) the way real acquisitions
 differ: stacks tilted off the axis, other spacings and counts, a slice missing, stacks short of
-the apex or past the base, a second loop beside the basal ring, LAX planes off the apex, one or
+the apex or past the base, a second loop beside the basal ring, a speck (a 3-point loop past the
+base or between slices, session 14), LAX planes off the apex, one or
 two LAX views, LAX from another breath-hold, LAX drawn only in part, point spacing 0.2-6 mm,
 winding, order, duplicates, far coordinates and hand-drawing noise. Each case runs through the
 release CLI at defaults (`reconstruct --report`, then `compare` against the truth clipped at the
@@ -431,6 +432,47 @@ def families():
             return bl + [(cid + "b", surf, ring)]
         a.post.append(f)
     F["second-loop-base"] = second_loop
+
+    def speck(where):
+        """A speck (session 14): a 3-point loop 0.5-1.5 mm in radius (2.6-7.8 mm around) in a
+        short-axis plane of its own, same label: a stray click inside the basal ring's outline
+        4-8 mm past it ("click-past-base"), a graze of the wall 3-6 mm past the basal ring
+        ("graze-past-base"), or a stray click inside the cavity halfway between two slices
+        ("click-mid")."""
+        def fam(a, r):
+            a.post.append(lambda bl, r: add_speck(a, bl, r))
+
+        def add_speck(a, bl, r):
+            sax = [b for b in bl if b[0].startswith("sax")]
+            if len(sax) < 4:
+                return bl
+            n = a.sax_normal
+            if where == "click-mid":
+                k = r.randrange(1, len(sax) - 2)
+                ring = sax[k][2]
+                c = H.scale(H.add(H.centroid(ring), H.centroid(sax[k + 1][2])), 0.5)
+            else:
+                ring = sax[-1][2]
+                c = H.centroid(ring)
+            u = perpendicular(n, r)
+            v = H.cross(n, u)
+            reach = max(H.dot(H.sub(p, c), u) for p in ring)
+            if where == "graze-past-base":
+                off, lift = reach, r.uniform(3.0, 6.0)
+            elif where == "click-past-base":
+                off, lift = r.uniform(0.0, 0.8) * reach, r.uniform(4.0, 8.0)
+            else:
+                off, lift = r.uniform(0.0, 0.8) * reach, 0.0
+            centre = H.add(c, H.add(H.scale(u, off), H.scale(n, lift)))
+            rad, phase = r.uniform(0.5, 1.5), r.uniform(0.0, 2 * math.pi)
+            pts = [H.add(centre, H.add(H.scale(u, rad * math.cos(phase + 2 * math.pi * i / 3)),
+                                       H.scale(v, rad * math.sin(phase + 2 * math.pi * i / 3))))
+                   for i in range(3)]
+            return bl + [("speck", sax[-1][1], pts)]
+        return fam
+
+    for where in ("click-past-base", "graze-past-base", "click-mid"):
+        F["speck-" + where] = speck(where)
 
     for off in (3, 6):
         def lax_off(a, r, off=off):

@@ -3,6 +3,7 @@
 
 use std::time::Instant;
 
+use heartmesh_core::contours::set_aside;
 use heartmesh_core::io::{self, MeshFormat};
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{ContourSet, CoreError, LidMode, Params};
@@ -19,7 +20,7 @@ pub const USAGE: &str =
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
     [--smoothing-method laplacian-affine|taubin|laplacian-hc|laplacian-twicing] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
-    [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--apex-floor] [--drop-second-loops] [--frame N]
+    [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--apex-floor] [--drop-second-loops] [--keep-specks] [--frame N]
     [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
@@ -50,6 +51,10 @@ pub const USAGE: &str =
   --drop-second-loops: leave out closed loops that lie apart (median over 3 mm) from the main
   loop of their short-axis slice (another structure the slice cut; the load-time warning names
   them), so the surface follows each slice's main loop only;
+  by default a contour further from the rest of its surface than the span of all the others
+  (a stray), and a short-axis slice whose ring is under a tenth of the ring one slice away
+  anywhere but at the apex (a speck), are left out of the reconstruction, each named in a
+  warning and in the report's set_aside; --keep-specks keeps them (the paper's method);
   --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time
@@ -77,6 +82,7 @@ const SWITCHES: &[&str] = &[
     "align-in-plane-only",
     "drop-second-loops",
     "apex-floor",
+    "keep-specks",
 ];
 
 /// Flag names (dashes) of the numeric parameters, from the core's schema.
@@ -141,13 +147,16 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     rec.run().map_err(fail)?;
     let seconds = started.elapsed().as_secs_f64();
 
+    // The load-time warnings name what the run leaves out; any it left out unnamed joins them.
+    let mut warnings = set.warnings.clone();
+    warnings.extend(set_aside::unannounced(rec.set_aside(), &set.warnings));
     let facts = report::Facts {
         input: file_name(input),
         input_format,
         output: file_name(output),
         params: &params,
         seconds,
-        warnings: &set.warnings,
+        warnings: &warnings,
     };
     let rep = report::build(&rec, &facts);
     let comment = report::header_comment(&facts);
@@ -172,8 +181,14 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         files::write(path, format!("{text}\n").as_bytes())?;
     }
     if !quiet {
-        for w in &set.warnings {
+        for w in &warnings {
             eprintln!("heartmesh: warning: {input}: {w}");
+        }
+        if params.keep_specks && !set_aside::found_in(&set).is_empty() {
+            eprintln!(
+                "heartmesh: note: {input}: --keep-specks: the contours named above as left out \
+                 are kept in the reconstruction"
+            );
         }
         if let Some(note) = report::alignment_note(&rep) {
             eprintln!("heartmesh: note: {input}: {note}");
@@ -227,6 +242,9 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     }
     if p.switch("apex-floor") {
         params.apex_floor = true;
+    }
+    if p.switch("keep-specks") {
+        params.keep_specks = true;
     }
     if let Some(m) = p.value("end-caps") {
         params.set_end_caps(m).map_err(CliError::param)?;

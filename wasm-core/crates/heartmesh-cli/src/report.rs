@@ -39,6 +39,9 @@ pub fn parameters(params: &Params) -> Value {
     if params.apex_floor {
         m.insert("apex_floor".into(), json!(true));
     }
+    if params.keep_specks {
+        m.insert("keep_specks".into(), json!(true));
+    }
     Value::Object(m)
 }
 
@@ -70,7 +73,7 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         .find_map(|c| c.surface.clone())
         .or_else(|| f.params.surface.clone());
     let t = rec.total_timings();
-    json!({
+    let mut rep = json!({
         "version": heartmesh_core::VERSION,
         "input": f.input,
         "input_format": f.input_format,
@@ -135,7 +138,12 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         },
         "parameters": parameters(f.params),
         "warnings": f.warnings,
-    })
+    });
+    // Only when some contour was left out (strays, specks): default reports keep their bytes.
+    if let (false, Some(m)) = (rec.set_aside().is_empty(), rep.as_object_mut()) {
+        m.insert("set_aside".into(), json!(rec.set_aside()));
+    }
+    rep
 }
 
 /// Per-vertex distance to the nearest contour point (mm): the colour on the mesh.

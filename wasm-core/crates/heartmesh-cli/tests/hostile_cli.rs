@@ -354,12 +354,14 @@ fn coordinates_near_the_float_limit_are_refused_not_a_panic() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A copy of the first short-axis ring 200 mm away (another series, or a typo in a coordinate):
-/// the load-time check warns, the tube threads the stray ring with the real ones, and the mesh
-/// it leaves passes through itself. The run still writes the mesh, but stderr and the report say
-/// that a volume mesher would refuse it (scripts/hostile.py `sim-stray-200mm`, session 13).
+/// A copy of the first short-axis ring 200 mm away (another series, or a typo in a coordinate,
+/// scripts/hostile.py `sim-stray-200mm`): it is left out of the reconstruction by default (session
+/// 14), named in the warning, and the mesh is the mesh of the file without it. Kept
+/// (`--keep-specks`), the tube threads it with the real rings and the mesh passes through itself;
+/// the run still writes the mesh, but stderr and the report say that a volume mesher would refuse
+/// it (session 13).
 #[test]
-fn a_stray_ring_that_makes_the_mesh_pass_through_itself_is_reported() {
+fn a_stray_ring_is_left_out_and_kept_it_makes_the_mesh_pass_through_itself() {
     let dir = scratch("stray-selfx");
     let sim = dir.join("sim.csv");
     let truth = data("meshes/bivme-patient1-ED-LV_ENDO-closed.obj");
@@ -378,25 +380,55 @@ fn a_stray_ring_that_makes_the_mesh_pass_through_itself_is_reported() {
         let x: f64 = cols[1].parse().unwrap();
         stray.push_str(&format!("stray,{},{}\n", x + 200.0, cols[2..].join(",")));
     }
+    let stray_line = text.lines().count() + 1;
     let f = dir.join("stray.csv");
     std::fs::write(&f, format!("{text}{stray}")).unwrap();
+    let mesh_lines = || -> Vec<String> {
+        std::fs::read_to_string(dir.join("out.obj"))
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(str::to_string)
+            .collect()
+    };
+    // Without the stray ring: no crossing, no such warning.
+    let (code, err, rep) = reconstruct(&dir, &sim, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(rep.unwrap()["quality"]["self_intersections"], 0);
+    assert!(!err.contains("passes through itself"), "{err}");
+    let without = mesh_lines();
+    // With it, by default: left out and named, and the same mesh.
     let (code, err, rep) = reconstruct(&dir, &f, &[]);
+    assert_eq!(code, 0, "{err}");
+    let rep = rep.unwrap();
+    let warning = format!(
+        "contour \"stray\" (line {stray_line}, 176 mm from the nearest other contour) lies far \
+         from the rest (another series or a wrong coordinate?); it is left out of the \
+         reconstruction"
+    );
+    assert!(err.contains(&warning), "{err}");
+    assert_eq!(rep["set_aside"][0]["id"], "stray");
+    assert_eq!(rep["set_aside"][0]["reason"], "stray");
+    assert_eq!(rep["quality"]["self_intersections"], 0);
+    assert!(!err.contains("passes through itself"), "{err}");
+    assert_eq!(mesh_lines(), without);
+    // Kept, the mesh passes through itself and the run says so.
+    let (code, err, rep) = reconstruct(&dir, &f, &["--keep-specks"]);
     assert_eq!(code, 0, "{err}");
     let rep = rep.unwrap();
     let crossing = rep["quality"]["self_intersections"].as_u64().unwrap();
     assert!(crossing > 0, "{}", rep["quality"]);
     assert!(err.contains("lies far from the rest"), "{err}");
     assert!(
+        err.contains("--keep-specks: the contours named above"),
+        "{err}"
+    );
+    assert!(
         err.contains(&format!(
             "out.obj: the mesh passes through itself ({crossing} pairs of triangles cross)"
         )),
         "{err}"
     );
-    // Without the stray ring: no crossing, no such warning.
-    let (code, err, rep) = reconstruct(&dir, &sim, &[]);
-    assert_eq!(code, 0, "{err}");
-    assert_eq!(rep.unwrap()["quality"]["self_intersections"], 0);
-    assert!(!err.contains("passes through itself"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -84,6 +84,9 @@ struct Outcome {
 
 fn run(name: &str, truth: &TriMesh, spec: &AcquisitionSpec) -> (Outcome, Acquisition, TriMesh) {
     let acq = simulate(truth, spec).unwrap_or_else(|e| panic!("{name}: simulate: {e}"));
+    // The planner's slices hold neither strays nor specks (session 14): every contour is used.
+    let left_out = heartmesh_core::contours::set_aside::found_in(&acq.contours);
+    assert!(left_out.is_empty(), "{name}: left out {left_out:?}");
     let (mesh, seconds) = reconstruct(&acq.contours, Params::default());
     let report = compare(truth, &mesh, Some(&acq.clip)).unwrap_or_else(|e| panic!("{name}: {e}"));
     let (lo, hi, _) = acq.axis.extent(truth).unwrap();

@@ -1,5 +1,6 @@
 //! Load-time checks of a contour set: units, contours that are not curves, contours far from all
-//! the others, and identifiers reused for curves in different planes.
+//! the others (left out of a reconstruction: `contours::set_aside`), and identifiers reused for
+//! curves in different planes.
 //!
 //! Each check turns a suspicious but usable input into one warning line for the user (the run goes
 //! ahead); only coordinates whose span cannot be a heart in millimetres stop the reconstruction
@@ -132,48 +133,43 @@ fn box_gap(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> f64 {
 
 /// Contours further from every other contour of their surface than the span of all those others:
 /// a curve of another series, a typo in a coordinate or a wrong plane position. The surface would
-/// be pulled towards it (one such contour 200 mm away costs ~10 ml and 9 mm of contour distance).
-pub fn stray_warnings(set: &ContourSet) -> Vec<String> {
-    let mut flagged: Vec<String> = Vec::new();
-    for surface in surface_groups(set) {
-        let members: Vec<(&Contour, (Vec3, Vec3))> = surface
-            .iter()
-            .filter_map(|c| bounds(c).map(|b| (*c, b)))
-            .collect();
-        if members.len() < 3 || members.len() > MAX_PAIRWISE_CONTOURS {
-            continue;
+/// be pulled towards it (one such contour 200 mm away costs ~10 ml and 9 mm of contour distance,
+/// and the tube threaded through it makes the mesh pass through itself: docs/VALIDATION.md,
+/// session 13), so a reconstruction leaves it out (`contours::set_aside`). `contours` are one
+/// surface's; returns each stray's index and its distance (mm) from the nearest other contour.
+pub fn strays(contours: &[Contour]) -> Vec<(usize, f64)> {
+    let members: Vec<(usize, (Vec3, Vec3))> = contours
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| bounds(c).map(|b| (i, b)))
+        .collect();
+    if members.len() < 3 || members.len() > MAX_PAIRWISE_CONTOURS {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    for (i, (c, b)) in members.iter().enumerate() {
+        let mut gap = f64::INFINITY;
+        let mut others: Option<(Vec3, Vec3)> = None;
+        for (j, (_, o)) in members.iter().enumerate() {
+            if i == j {
+                continue;
+            }
+            gap = gap.min(box_gap(b, o));
+            others = Some(match others {
+                Some((lo, hi)) => (lo.inf(&o.0), hi.sup(&o.1)),
+                None => *o,
+            });
         }
-        for (i, (c, b)) in members.iter().enumerate() {
-            let mut gap = f64::INFINITY;
-            let mut others: Option<(Vec3, Vec3)> = None;
-            for (j, (_, o)) in members.iter().enumerate() {
-                if i == j {
-                    continue;
-                }
-                gap = gap.min(box_gap(b, o));
-                others = Some(match others {
-                    Some((lo, hi)) => (lo.inf(&o.0), hi.sup(&o.1)),
-                    None => *o,
-                });
-            }
-            let span = others.map_or(0.0, |(lo, hi)| (hi - lo).amax());
-            if gap.is_finite() && gap > span && span > 0.0 {
-                flagged.push(format!(
-                    "{:?} (line {}, {gap:.0} mm from the nearest other contour)",
-                    c.id, c.first_line
-                ));
-            }
+        let span = others.map_or(0.0, |(lo, hi)| (hi - lo).amax());
+        if gap.is_finite() && gap > span && span > 0.0 {
+            out.push((*c, gap));
         }
     }
-    one_line(
-        flagged,
-        "lies far from the rest (another series or a wrong coordinate?)",
-        "lie far from the rest (another series or a wrong coordinate?)",
-    )
+    out
 }
 
 /// Contours grouped by surface label (None is a group of its own).
-pub(super) fn surface_groups(set: &ContourSet) -> Vec<Vec<&Contour>> {
+pub fn surface_groups(set: &ContourSet) -> Vec<Vec<&Contour>> {
     let mut labels: Vec<Option<&str>> = Vec::new();
     let mut groups: Vec<Vec<&Contour>> = Vec::new();
     for c in &set.contours {
@@ -226,7 +222,7 @@ pub fn reused_id_warnings(set: &ContourSet) -> Vec<String> {
 }
 
 /// One warning line for all flagged contours (a user reads one line, not fifty).
-fn one_line(flagged: Vec<String>, one: &str, many: &str) -> Vec<String> {
+pub(super) fn one_line(flagged: Vec<String>, one: &str, many: &str) -> Vec<String> {
     match flagged.as_slice() {
         [] => Vec::new(),
         [single] => vec![format!("contour {single} {one}")],
@@ -343,23 +339,14 @@ mod tests {
     fn a_contour_far_from_the_rest_is_flagged_and_a_sparse_stack_is_not() {
         // Five rings 10 mm apart (span 50 mm); a copy of the first 200 mm away along x.
         let mut set = stack(1.0);
-        assert!(stray_warnings(&set).is_empty());
+        assert!(strays(&set.contours).is_empty());
         // Three slices 30 mm apart: the end ones are 30 mm from the rest, whose span is 50 mm.
-        let sparse = ContourSet {
-            contours: (0..3)
-                .map(|k| ring(&format!("t{k}"), v3(0.0, 0.0, 30.0 * k as f64), 25.0))
-                .collect(),
-            ..ContourSet::default()
-        };
-        assert!(stray_warnings(&sparse).is_empty());
+        let sparse: Vec<Contour> = (0..3)
+            .map(|k| ring(&format!("t{k}"), v3(0.0, 0.0, 30.0 * k as f64), 25.0))
+            .collect();
+        assert!(strays(&sparse).is_empty());
         set.contours.push(ring("stray", v3(200.0, 0.0, 0.0), 25.0));
-        let w = stray_warnings(&set);
-        assert_eq!(w.len(), 1);
-        assert_eq!(
-            w[0],
-            "contour \"stray\" (line 2, 150 mm from the nearest other contour) lies far from the \
-             rest (another series or a wrong coordinate?)"
-        );
+        assert_eq!(strays(&set.contours), vec![(5, 150.0)]);
     }
 
     #[test]

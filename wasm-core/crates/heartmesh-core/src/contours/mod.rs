@@ -7,7 +7,9 @@ pub mod checks;
 pub mod clean;
 pub mod plane;
 pub mod rings;
+pub mod set_aside;
 pub mod slice_loops;
+pub mod specks;
 
 use crate::geometry::Vec3;
 

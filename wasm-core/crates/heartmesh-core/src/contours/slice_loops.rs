@@ -13,6 +13,7 @@
 use super::axis::{analyse, Layout};
 use super::checks::surface_groups;
 use super::clean::{cleaned_contour, length};
+use super::set_aside::set_aside;
 use super::{Contour, ContourSet, Polyline};
 use crate::geometry::Vec3;
 use crate::spatial::segments::segment_distance_sq;
@@ -34,7 +35,9 @@ pub fn second_loop_warnings(set: &ContourSet) -> Vec<String> {
         if surface.len() < 2 || surface.len() > MAX_CONTOURS {
             continue;
         }
+        // Loops a reconstruction leaves out (specks, strays) are named by their own warning.
         let cleaned: Vec<Contour> = surface.iter().filter_map(|c| cleaned_contour(c)).collect();
+        let (cleaned, _) = set_aside(cleaned);
         let Ok(layout) = analyse(&cleaned) else {
             continue;
         };

@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use crate::contours::{checks, slice_loops, Contour, ContourSet, Polyline};
+use crate::contours::{checks, set_aside, slice_loops, Contour, ContourSet, Polyline};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 
@@ -152,7 +152,8 @@ impl ContourBuilder {
     }
 
     /// Finishes the set; refuses input without any contour point and adds the warnings of
-    /// [`checks`] (units, non-curves, strays, reused names) and of this module.
+    /// [`checks`] (units, non-curves, reused names), [`set_aside`] (strays and specks, left out of
+    /// a reconstruction), [`slice_loops`] (second loops) and of this module.
     pub fn finish(mut self) -> Result<ContourSet> {
         self.flush();
         self.contours.retain(|c| c.point_count() > 0);
@@ -175,7 +176,7 @@ impl ContourBuilder {
         let tangled = order_warnings(&set);
         set.warnings.extend(tangled);
         let found = [
-            checks::stray_warnings(&set),
+            set_aside::set_aside_warnings(&set),
             checks::reused_id_warnings(&set),
             slice_loops::second_loop_warnings(&set),
         ];

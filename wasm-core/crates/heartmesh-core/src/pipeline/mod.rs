@@ -27,6 +27,7 @@ use crate::contours::align::{
 };
 use crate::contours::axis::Layout;
 use crate::contours::clean::resample_spacing;
+use crate::contours::set_aside::SetAside;
 use crate::contours::{Contour, ContourKind, ContourSet};
 use crate::deform::attractors::{conflict_weights, Budget};
 use crate::deform::tps::TpsSolver;
@@ -71,6 +72,18 @@ pub enum Phase {
     Remesh,
     /// Finished (iterations exhausted or converged); further steps do nothing.
     Done,
+}
+
+/// `contours` without those `set_aside` names (by identifier and file line).
+fn without_set_aside(contours: Vec<Contour>, set_aside: &[SetAside]) -> Vec<Contour> {
+    contours
+        .into_iter()
+        .filter(|c| {
+            !set_aside
+                .iter()
+                .any(|s| s.id == c.id && s.line == c.first_line)
+        })
+        .collect()
 }
 
 /// Milliseconds spent per phase in the last step.
@@ -136,6 +149,8 @@ impl Normalisation {
 pub struct Reconstruction {
     params: Params,
     contours: Vec<Contour>,
+    /// The selected surface's contours left out of the run (strays, specks: `set_aside`).
+    set_aside: Vec<SetAside>,
     /// With `align_slices`: what the alignment did, and the selected contours as the file gave
     /// them (cleaned; None if cleaning split them differently from the shifted ones).
     alignment: Option<Alignment>,
@@ -231,9 +246,13 @@ impl Reconstruction {
             });
         }
         prepare::check_count_and_units(&contours)?;
+        let (contours, set_aside) = prepare::set_aside(contours, params.keep_specks);
         let (contours, layout) = prepare::layout(contours, params.drop_second_loops)?;
-        // Loops left out of the run leave the file's curves with another structure.
-        let contours_as_given = contours_as_given.filter(|g| same_structure(g, &contours));
+        // The contours left out go from the file's curves too; loops left out (second loops)
+        // leave them with another structure.
+        let contours_as_given = contours_as_given
+            .map(|g| without_set_aside(g, &set_aside))
+            .filter(|g| same_structure(g, &contours));
 
         let mut candidates_mm: Vec<Vec3> = Vec::new();
         let mut candidate_owner: Vec<u32> = Vec::new();
@@ -274,6 +293,7 @@ impl Reconstruction {
         Ok(Reconstruction {
             params,
             contours,
+            set_aside,
             alignment,
             contours_as_given,
             crossing_residual_mm,
@@ -477,9 +497,16 @@ impl Reconstruction {
         self.end_caps
     }
 
-    /// The selected surface's contours after cleaning, in mm.
+    /// The selected surface's contours after cleaning, in mm (without those left out:
+    /// [`Reconstruction::set_aside`]).
     pub fn contours(&self) -> &[Contour] {
         &self.contours
+    }
+
+    /// The selected surface's contours left out of the run and why (strays and specks,
+    /// `contours::set_aside`; empty with `Params::keep_specks`).
+    pub fn set_aside(&self) -> &[SetAside] {
+        &self.set_aside
     }
 
     /// What the breath-hold alignment did (None unless `Params::align_slices`).

@@ -4,6 +4,7 @@
 use crate::contours::axis::{analyse, Layout};
 use crate::contours::checks::check_units;
 use crate::contours::clean::cleaned_contour;
+use crate::contours::set_aside::SetAside;
 use crate::contours::slice_loops::without_second_loops;
 use crate::contours::{Contour, ContourSet};
 use crate::error::{CoreError, Result};
@@ -59,6 +60,15 @@ pub fn check_count_and_units(contours: &[Contour]) -> Result<()> {
         });
     }
     check_units(contours)
+}
+
+/// `contours` without the strays and specks a reconstruction leaves out (`contours::set_aside`),
+/// unless `keep_specks`, and what was left out.
+pub fn set_aside(contours: Vec<Contour>, keep_specks: bool) -> (Vec<Contour>, Vec<SetAside>) {
+    if keep_specks {
+        return (contours, Vec::new());
+    }
+    crate::contours::set_aside::set_aside(contours)
 }
 
 /// The layout of `contours`; with `drop_second_loops`, the closed loops lying apart from their
