@@ -12,7 +12,8 @@
 //! the slope near the tip (CAP LV epi: +2.4 mm past the truth).
 //!
 //! Which of the two ([`tip_depth`]): the shallower. Where the area is concave in height (an
-//! ellipsoid's shoulder) that is the quadric, exact for an ellipsoid. Where it is convex (a
+//! ellipsoid's shoulder) that is the quadric (through three rings always, fitted to more as a
+//! rule), exact for an ellipsoid. Where it is convex (a
 //! cone's flank) the quadric carries the convexity on to a cusp, deeper than the line; but an apex
 //! is smooth, and a smooth tip is locally a sphere or paraboloid whose area is linear or concave
 //! in height, so a convex flank rounds off before the cone's virtual apex (a cone with a
@@ -20,8 +21,8 @@
 //! answer. The choice is also the safe one: the floor this predicts is one-sided (it pulls only
 //! while the mesh stops short of it), so a depth that is too small costs nothing against the
 //! paper's extrapolation, and one that is too large pulls the apex past the truth. Measured on the
-//! LV truths (biv-me patient 1 LV endo, convex: the quadric up to 6.5 mm past the truth, the line
-//! within 1.6 mm; docs/VALIDATION.md, session 14).
+//! LV truths (biv-me patient 1 LV endo, convex: the three-ring quadric up to 6.5 mm past the
+//! truth, the line within 1.6 mm; docs/VALIDATION.md, session 14).
 
 /// A short-axis section: its height above the most apical ring along the axis towards the base
 /// (mm; 0 for the apical ring itself) and its enclosed area (mm^2).
