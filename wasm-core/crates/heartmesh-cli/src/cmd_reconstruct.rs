@@ -45,9 +45,11 @@ pub const USAGE: &str =
   end_caps says which ends got them and how many; --end-caps off leaves such ends to
   extrapolation (the paper's method);
   --apex-floor (a study option, with end caps on): an apex no long-axis curve reaches gets one
-  lid point at the tip the two most apical slices' taper predicts (area linear in height),
-  pulling only while the mesh stops short of it; none where the slices do not taper (or the tip
-  would lie over two slice gaps below the apical slice); the report's end_caps.apex_floor;
+  lid point at the tip the most apical slices' taper predicts (slice area against height: the
+  shallower of a paraboloid through the two most apical slices and a quadric dome fitted to up
+  to four), pulling only while the mesh stops short of it; none where the slices do not taper
+  (or the two slices' taper would put the tip over two slice gaps below the apical slice); the
+  report's end_caps.apex_floor;
   --drop-second-loops: leave out closed loops that lie apart (median over 3 mm) from the main
   loop of their short-axis slice (another structure the slice cut; the load-time warning names
   them), so the surface follows each slice's main loop only;

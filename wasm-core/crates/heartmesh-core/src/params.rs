@@ -109,9 +109,12 @@ pub struct Params {
     /// acquisitions").
     pub drop_second_loops: bool,
     /// With end caps on, an apex no long-axis curve reaches (short-axis-only files) gets one lid
-    /// point at the tip the two most apical rings' taper predicts, pulling only while the mesh
-    /// stops short of it (`pipeline::apex_floor`). Off by default: a study option until gated
-    /// (docs/VALIDATION.md, "Session 13: an apex floor from the taper of the slices").
+    /// point at the tip the most apical rings' taper predicts (`pipeline::dome`: the shallower of
+    /// a paraboloid through two rings and a quadric dome fitted to up to four), pulling only while
+    /// the mesh stops short of it (`pipeline::apex_floor`). Off by default: with the dome model
+    /// it rarely ends an LV past the truth, but RV crescents still do (docs/VALIDATION.md,
+    /// "Session 13: an apex floor from the taper of the slices" and "Session 14: a dome model for
+    /// the apex floor").
     pub apex_floor: bool,
     /// Keep the contours a reconstruction otherwise leaves out (`contours::set_aside`): strays
     /// further from the rest than the span of all the others, and specks, short-axis rings under

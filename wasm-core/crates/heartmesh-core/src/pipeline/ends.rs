@@ -19,8 +19,9 @@
 //! the lid lies where they stop; where none does (short-axis-only files, an RV without RV views)
 //! the apex gets no lid (its dome runs on below the last slice, and the paper's extrapolation
 //! follows it better than a flat cut) and the base a ceiling at the next slice position. With
-//! `Params::apex_floor` (opt-in, session 13) such an apex gets one floor point instead, at the tip
-//! the slices' taper predicts, pulling only while the mesh stops short of it (`apex_floor`).
+//! `Params::apex_floor` (opt-in, sessions 13-14) such an apex gets one floor point instead, at the
+//! tip the slices' taper predicts (`dome`), pulling only while the mesh stops short of it
+//! (`apex_floor`).
 //!
 //! Why a flat disc rather than the cone spanned by the ring and the lid point: the lid is above
 //! the ring only where long-axis curves run on past the ring along the wall (the LV base, 10-20 mm

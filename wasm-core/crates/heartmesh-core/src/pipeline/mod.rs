@@ -8,6 +8,7 @@
 
 pub mod apex_floor;
 mod diameter;
+pub mod dome;
 mod end_data;
 pub mod ends;
 mod lid_disc;
