@@ -48,14 +48,22 @@ fn unit_question(extent: f64) -> Option<String> {
     } else {
         return None;
     };
-    let digits = match extent {
-        e if e < 1.0 => 4,
-        e if e < 100.0 => 1,
-        _ => 0,
-    };
     Some(format!(
-        "coordinates span {extent:.digits$}; expected mm (a heart spans about 50-150 mm: {question})"
+        "coordinates span {}; expected mm (a heart spans about 50-150 mm: {question})",
+        span_text(extent)
     ))
+}
+
+/// A span as a person reads it: four decimals below 1, one below 100, whole numbers up to 1e5,
+/// and beyond that in scientific notation (a file in nanometres or with values near 1e300 would
+/// otherwise print hundreds of digits into one line of the app's status).
+fn span_text(extent: f64) -> String {
+    match extent {
+        e if e < 1.0 => format!("{e:.4}"),
+        e if e < 100.0 => format!("{e:.1}"),
+        e if e < 1e5 => format!("{e:.0}"),
+        e => format!("{e:.2e}"),
+    }
 }
 
 /// The "which units?" warning, from the bounding box of the points of all contours that are curves
@@ -371,5 +379,19 @@ mod tests {
             w[0].starts_with("contour \"s0\" (line 2, pieces 30.0 mm apart) is named again"),
             "{w:?}"
         );
+    }
+
+    #[test]
+    fn huge_spans_print_in_scientific_notation() {
+        assert_eq!(span_text(0.05), "0.0500");
+        assert_eq!(span_text(12.34), "12.3");
+        assert_eq!(span_text(2500.4), "2500");
+        assert_eq!(span_text(114_356_900.0), "1.14e8");
+        let line = unit_question(3.2e300).unwrap_or_default();
+        assert!(
+            line.starts_with("coordinates span 3.20e300; expected mm"),
+            "{line}"
+        );
+        assert!(line.len() < 120, "{line}");
     }
 }
