@@ -24,6 +24,10 @@ class FakeClient {
   }
   load(fileName: string, bytes: ArrayBuffer): Promise<LoadedFile> {
     if (new TextDecoder().decode(bytes).includes('bad')) return Promise.reject({ code: 'parse', message: 'line 2: bad number', line: 2 });
+    // The core's refusal of a biv-me SliceInfoFile read as contours (io::read_contours_with).
+    if (new TextDecoder().decode(bytes).includes('sliceID')) {
+      return Promise.reject({ code: 'parse', message: 'line 1: this is a biv-me SliceInfoFile (image planes), not contours; read the GPFile_*.txt beside it', line: 1 });
+    }
     // A saved session: the settings the binding reads from it (convert::session_settings).
     const session = fileName.endsWith('.json')
       ? {
@@ -270,6 +274,37 @@ describe('controller', () => {
     await controller.openFiles([file('bad.csv', 'bad'), file('worse.csv', 'bad')]);
     expect(lastStatus()).toBe('error: worse.csv, line 2: bad number');
     expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' None of the 2 files opened: bad.csv, line 2: bad number; worse.csv, line 2: bad number.');
+  });
+
+  it('a SliceInfoFile dropped with its GPFile is set aside with a note, not listed as a file not opened', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    const info = file('SliceInfoFile.txt', 'IMG01.dcm  sliceID: 2  ImagePositionPatient -41.2 20.3 -13.4');
+    await controller.openFiles([info, file('GPFile_000.txt')]);
+    expect(client.runs.map((r) => r.opts.fileName)).toEqual(['GPFile_000.txt']);
+    expect(lastStatus()).toBe('running');
+    expect(parts.banner.calls.showWarning).toBeUndefined();
+    expect(parts.banner.calls.showInfo?.at(-1)).toEqual([
+      'SliceInfoFile.txt set aside: image planes, not contours (the contours come from GPFile_000.txt; only the command line reads the planes, to check that each contour lies in its own).',
+    ]);
+    // With a file that really was not opened, both are said, and only that one is counted.
+    await controller.openFiles([file('GPFile_000.txt'), info, file('bad.csv', 'bad')]);
+    expect(parts.banner.calls.showWarning?.at(-1)?.[0]).toBe(
+      '1 of 2 files not opened: bad.csv, line 2: bad number. SliceInfoFile.txt set aside: image planes, not contours (the contours come from GPFile_000.txt; only the command line reads the planes, to check that each contour lies in its own). Showing GPFile_000.txt.',
+    );
+    // Alone (or with nothing that opens) it is refused as before, with what to open instead.
+    await controller.openFiles([info]);
+    expect(lastStatus()).toMatch(/^error: SliceInfoFile.txt, line 1: this is a biv-me SliceInfoFile .* read the GPFile_\*.txt beside it$/);
+  });
+
+  it('a dropped folder (no type, no extension, unreadable) is named as a folder, with what to open instead', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    const folder = { name: 'bivme-example-patient1', type: '', arrayBuffer: () => Promise.reject(new Error('The requested file could not be read, typically due to permission problems')) } as unknown as File;
+    await controller.openFiles([folder]);
+    expect(lastStatus()).toBe('error: bivme-example-patient1: a folder cannot be opened: open the files inside it (of a biv-me folder, its GPFile_*.txt)');
+    // A file with an extension that fails to read keeps the browser's reason.
+    const moved = { name: 'moved.csv', type: 'text/csv', arrayBuffer: () => Promise.reject(new Error('the file could not be read (moved?)')) } as unknown as File;
+    await controller.openFiles([moved]);
+    expect(lastStatus()).toBe('error: moved.csv: the file could not be read (moved?)');
   });
 
   it('a file refused while a run is in progress leaves that run going; a file that reads replaces it', async () => {

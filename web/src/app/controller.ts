@@ -13,7 +13,7 @@ import { DEFAULT_OPTIONS, withDefaultOptions } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
 import { findSample, fetchSample, type Sample } from '../io/samples';
 import type { HoverReadout } from '../ui/HoverReadout';
-import { asCoreError, callSafely, keptText, schemaOrdered } from './errors';
+import { asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable } from './errors';
 import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { RunDisplay } from './runDisplay';
@@ -121,8 +121,8 @@ export class Controller {
       try {
         bytes = await file.arrayBuffer();
       } catch (e) {
-        // The file went away (moved, no permission) between the drop and the read.
-        refused.push(this.refuse(file.name, e));
+        // The file went away (moved, no permission) between the drop and the read, or is a folder.
+        refused.push(this.refuse(file.name, unreadable(file, e)));
         continue;
       }
       if (await this.loadBytes(file.name, bytes)) first ??= file.name;
@@ -137,9 +137,14 @@ export class Controller {
     // Several files at once: each refusal would replace the one before in the banner (and a file
     // that opens would hide them all), so the banner names every file not opened, once, at the end.
     if (refused.length > 0 && files.length > 1) {
-      const list = refused.map((e) => describeError(e)).join('; ');
-      if (first !== null) this.parts.banner.showWarning(`${refused.length} of ${files.length} files not opened: ${list}. Showing ${first}.`);
-      else this.fail(refused[refused.length - 1], undefined, ` None of the ${files.length} files opened: ${list}.`);
+      // A biv-me folder's SliceInfoFile beside the GPFile that opened is no refusal.
+      const aside = first !== null ? refused.filter(isSliceInfoRefusal) : [];
+      const notOpened = refused.filter((e) => !aside.includes(e));
+      const note = first !== null && aside.length > 0 ? setAsideText(aside.map((e) => e.file ?? 'SliceInfoFile.txt'), first) : '';
+      const list = notOpened.map((e) => describeError(e)).join('; ');
+      if (first === null) this.fail(refused[refused.length - 1], undefined, ` None of the ${files.length} files opened: ${list}.`);
+      else if (notOpened.length === 0) this.parts.banner.showInfo(note);
+      else this.parts.banner.showWarning(`${notOpened.length} of ${files.length - aside.length} files not opened: ${list}.${note ? ` ${note}` : ''} Showing ${first}.`);
     }
   }
 

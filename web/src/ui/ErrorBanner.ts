@@ -31,13 +31,21 @@ export class ErrorBanner {
     this.element.hidden = false;
   }
 
+  /** A note that is neither an error nor a warning (a file set aside on purpose); closes with its ×. */
+  showInfo(text: string): void {
+    this.element.dataset.kind = 'info';
+    this.text.textContent = text;
+    this.element.hidden = false;
+  }
+
   hide(): void {
     this.element.hidden = true;
   }
 
-  /** Hides an error that has been dealt with; a warning (files of a drop not opened) stays until dismissed. */
+  /** Hides an error that has been dealt with; a warning (files of a drop not opened) or a note stays until dismissed. */
   hideError(): void {
-    if (this.element.dataset.kind !== 'warning') this.hide();
+    const kind = this.element.dataset.kind;
+    if (kind !== 'warning' && kind !== 'info') this.hide();
   }
 }
 
