@@ -8,7 +8,7 @@ import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { openApp, readResult, runAndWait, sharedDir, SHOTS } from './lib.mjs';
+import { download, openApp, readResult, runAndWait, sharedDir, SHOTS } from './lib.mjs';
 
 let app;
 let page;
@@ -146,6 +146,22 @@ describe('the app for a newcomer (session 14)', () => {
     assert.ok(shown, 'a read-out near the right edge');
     assert.ok(inside(shown, view), `read-out ${JSON.stringify(shown)} inside the view ${JSON.stringify(view)}`);
     assert.match(await page.textContent('[data-testid=hover-readout]'), /\d+\.\d\d mm .*\) mm$/);
+  });
+
+  it('the app\'s own Parameters JSON or mesh dropped back says what to open instead; the result stays', async () => {
+    await fresh();
+    await runAndWait(page, () => page.click('[data-testid=sample-patient1-ES]'));
+    const shown = await readResult(page);
+    const params = await download(page, 'export-json');
+    await page.setInputFiles('[data-testid=file-input]', { name: params.name, mimeType: 'application/json', buffer: params.bytes });
+    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent?.startsWith('error'), null, { timeout: 10000 });
+    assert.match(await page.textContent('[data-testid=error-text]'),
+      /^patient1-ES-LV_ENDO-params\.json, line \d+: invalid session JSON: missing field `heartmesh_session`\. Only a heartmesh session opens here \(the Session export, …-session\.json\); the Parameters JSON export holds no contours\. Not opened; still showing patient1-ES\.csv\.$/);
+    const mesh = await download(page, 'export-stl');
+    await page.setInputFiles('[data-testid=file-input]', { name: mesh.name, mimeType: 'model/stl', buffer: mesh.bytes });
+    await page.waitForFunction((n) => document.querySelector('[data-testid=status]')?.textContent?.includes(n), mesh.name, { timeout: 10000 });
+    assert.match(await page.textContent('[data-testid=error-text]'), /not contours\. To measure a reconstruction against a mesh, open it in the Lab tab as the truth\. Not opened/);
+    assert.deepEqual(await readResult(page), shown, 'the result on screen stays');
   });
 
   it('no page errors', () => {

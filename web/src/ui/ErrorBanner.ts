@@ -20,7 +20,7 @@ export class ErrorBanner {
     const hint =
       e.code === 'worker_crashed' ? ' The computation engine was restarted; try again.' :
       e.code === 'surface_required' && e.available ? ` Pick one of: ${e.available.join(', ')}.` :
-      taubinHint(e);
+      taubinHint(e) || wrongFileHint(e);
     this.text.textContent = bannerText(describeError(e), `${hint}${context}`);
     this.element.hidden = false;
   }
@@ -57,6 +57,21 @@ export class ErrorBanner {
 export function bannerText(message: string, tail: string): string {
   const sentence = /^\s+[A-Z]/.test(tail) && !/[.!?:]$/.test(message.trimEnd());
   return `${message.trimEnd()}${sentence ? '.' : ''}${tail}`;
+}
+
+/**
+ * Files users open by mistake, with what to open instead: the app's own Parameters JSON export
+ * (settings and numbers, no contours; the core reads it as a session without its key) and a mesh
+ * (the Lab takes one as the truth).
+ */
+export function wrongFileHint(e: CoreErrorData): string {
+  if (/invalid session JSON: missing field `heartmesh_session`/.test(e.message)) {
+    return ' Only a heartmesh session opens here (the Session export, …-session.json); the Parameters JSON export holds no contours.';
+  }
+  if (/this is a mesh file \(OBJ, STL or PLY\), not contours/.test(e.message)) {
+    return ' To measure a reconstruction against a mesh, open it in the Lab tab as the truth.';
+  }
+  return '';
 }
 
 /**
