@@ -1,6 +1,6 @@
 import { beforeEach, describe, expect, it } from 'vitest';
 import { CoreClient } from '../../../web/src/core-client/CoreClient';
-import type { CoreErrorData, Frame, LoadedFile, RunResult } from '../../../web/src/core-client/protocol';
+import { frameOfSteps, stepsOf, type CoreErrorData, type Frame, type LoadedFile, type RunResult, type StepFrame } from '../../../web/src/core-client/protocol';
 import { FakeWorker, ManualScheduler, flush, stepReport } from './fakes';
 import { DEFAULT_END_CAPS } from '../../../web/src/core-client/protocol';
 
@@ -96,6 +96,9 @@ describe('CoreClient', () => {
     expect(seen[0].positions[0]).toBe(3);
     expect(seen[0].indices).toBe(indices); // topology of the skipped frame is not lost
     expect(seen[0].attractors).toBe(attractors);
+    // ... nor are its steps: the receiver records them all, oldest first.
+    expect(stepsOf(seen[0]).map((st) => st.report.iteration)).toEqual([0, 1, 2]);
+    expect(stepsOf(seen[0])[0].indices).toBe(indices);
     expect(worker.of('ack')).toEqual([{ type: 'ack', runId: run.runId, seq: 3 }]);
 
     worker.emit(frameMsg(run.runId, 4));
@@ -117,6 +120,44 @@ describe('CoreClient', () => {
     const r = await run.done;
     expect(r.volumeMl).toBe(80);
     expect(worker.of('ack').map((a) => a.seq)).toEqual([3, 4, 5]);
+  });
+
+  it('hands every step of batched frames over once and in order, the newest as the frame itself', async () => {
+    const sched = new ManualScheduler();
+    const { client, worker } = await readyClient(sched);
+    await loadFile(client, worker);
+    const seen: Frame[] = [];
+    const run = client.run({ fileName: 'a.csv', surface: null, params: {}, lids: 'auto' }, (f) => seen.push(f));
+    const step = (it: number, extra: Partial<StepFrame> = {}): StepFrame => ({ report: stepReport(it), positions: new Float32Array([it, 0, 0]), ...extra });
+    const remesh = new Uint32Array([0, 2, 1]);
+    let next = 0;
+    let seq = 0;
+    /** A frame of `n` steps, batched as the worker does (earlier ones, then the newest). */
+    const emit = (n: number) => {
+      const steps = Array.from({ length: n }, (_, i) => step(next + i, next + i === 7 ? { indices: remesh } : {}));
+      next += n;
+      worker.emit({ type: 'frame', ...frameOfSteps(run.runId, ++seq, steps) });
+    };
+    // 40 steps in 6 frames over 3 display slots: the display is behind (two frames per slot).
+    emit(1);
+    emit(6);
+    sched.tick();
+    emit(9);
+    emit(4);
+    emit(8);
+    sched.tick();
+    emit(12);
+    sched.tick();
+    expect(seen).toHaveLength(3);
+    const steps = seen.flatMap(stepsOf);
+    expect(steps.map((st) => st.report.iteration)).toEqual(Array.from({ length: 40 }, (_, i) => i));
+    expect(steps.map((st) => st.positions[0])).toEqual(Array.from({ length: 40 }, (_, i) => i));
+    // Each call's own fields are its newest step, with the topology a skipped frame brought.
+    expect(seen.map((f) => f.report.iteration)).toEqual([6, 27, 39]);
+    expect(seen[1].indices).toBe(remesh);
+    // Step 7 brought it; the newest of each frame (and merge) after it names it again (the same array).
+    expect(steps.filter((st) => st.indices === remesh).map((st) => st.report.iteration)).toEqual([7, 15, 19, 27]);
+    expect(worker.of('ack').map((a) => a.seq)).toEqual([2, 5, 6]);
   });
 
   it('a new run cancels the old one and its late frames are dropped', async () => {

@@ -2,10 +2,11 @@
  * The main thread's only door to the reconstruction core: an async API over the worker protocol
  * (protocol.ts). The wasm module lives in the worker; the main thread never blocks on geometry.
  *
- * - Frames are throttled to the display: at most one `onFrame` call per animation frame; frames
- *   that arrive in between are merged (newest positions, carried-over topology and attractors)
- *   and the client acknowledges each frame it hands over, which lets the worker send more
- *   (back-pressure: the worker keeps at most two unacknowledged frames in flight).
+ * - Every step of a run reaches `onFrame`, throttled to the display: at most one call per
+ *   animation frame, with the newest step and, in `earlier`, every step since the previous call
+ *   (frames that arrive in between are merged, topology and attractors carried over); the client
+ *   acknowledges each frame it hands over, which lets the worker send more (back-pressure: the
+ *   worker keeps at most two unacknowledged frames in flight and batches the steps meanwhile).
  * - One run at a time: starting a run cancels the previous one; a cancelled run's `done` rejects
  *   with `{ code: 'cancelled' }` and its late frames are dropped by run id.
  * - A worker crash (wasm trap, Rust panic, script error) rejects everything pending with
