@@ -18,11 +18,20 @@ interface FakeRun {
 
 class FakeClient {
   runs: FakeRun[] = [];
+  /** The run in progress is inside a step of seconds (CoreClient.isInLongStep). */
+  longStep = false;
+  loads: string[] = [];
   private next = 1;
+  /** Behind a long step, the client calls whenBehindLongStep (CoreClient.load). */
+  private behind(whenBehindLongStep?: () => void) {
+    if (this.longStep && this.runs.some((r) => !r.cancelled)) whenBehindLongStep?.();
+  }
   schema() {
     return Promise.resolve({ schema: rustSchema(), version: 'core-test' });
   }
-  load(fileName: string, bytes: ArrayBuffer): Promise<LoadedFile> {
+  load(fileName: string, bytes: ArrayBuffer, whenBehindLongStep?: () => void): Promise<LoadedFile> {
+    this.loads.push(fileName);
+    this.behind(whenBehindLongStep);
     if (new TextDecoder().decode(bytes).includes('bad')) return Promise.reject({ code: 'parse', message: 'line 2: bad number', line: 2 });
     // The core's refusal of a biv-me SliceInfoFile read as contours (io::read_contours_with).
     if (new TextDecoder().decode(bytes).includes('sliceID')) {
@@ -120,7 +129,7 @@ afterEach(() => {
   vi.unstubAllGlobals();
 });
 
-const file = (name: string, text = 'contour,x,y,z') => ({ name, arrayBuffer: () => Promise.resolve(new TextEncoder().encode(text).buffer) }) as unknown as File;
+const file = (name: string, text = 'contour,x,y,z', lastModified?: number) => ({ name, size: text.length, lastModified, arrayBuffer: () => Promise.resolve(new TextEncoder().encode(text).buffer) }) as unknown as File;
 const lastStatus = () => parts.status.calls.setStatus?.at(-1)?.[0];
 
 describe('controller', () => {
@@ -327,6 +336,47 @@ describe('controller', () => {
     await controller.openFiles([file('other.csv')]);
     expect(client.runs[1].cancelled).toBe(true);
     expect(client.runs.at(-1)?.opts.fileName).toBe('other.csv');
+  });
+
+  it('a file opened while the run is inside a step of seconds stops that run at once instead of waiting behind it', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('heavy.csv')]);
+    const heavy = client.runs[0];
+    client.longStep = true;
+    let stoppedFirst = false;
+    const load = client.load.bind(client);
+    client.load = (name: string, bytes: ArrayBuffer, behind?: () => void) => {
+      const p = load(name, bytes, behind);
+      // The client called back while the file waited: the run is stopped (its steps stay), still loading.
+      stoppedFirst = heavy.cancelled && lastStatus() === 'loading next.csv';
+      return p;
+    };
+    await controller.openFiles([file('next.csv')]);
+    expect(stoppedFirst).toBe(true);
+    expect(parts.result.calls.clear?.map((c) => c[0])).toContain('stopped before the end: no result (↻ runs again)');
+    expect(client.runs.at(-1)?.opts.fileName).toBe('next.csv');
+    expect(lastStatus()).toBe('running');
+  });
+
+  it('another file of a name already open is kept beside it, told apart by a suffix; the same file again replaces its entry', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    // Patient 1's GPFile_000.txt, then patient 2's (another file of the same name).
+    await controller.openFiles([file('GPFile_000.txt', 'contour,x,y,z\np1', 1000)]);
+    await controller.openFiles([file('GPFile_000.txt', 'contour,x,y,z\npatient2', 2000)]);
+    expect(client.loads).toEqual(['GPFile_000.txt', 'GPFile_000 (2).txt']);
+    expect(parts.files.calls.setFiles?.at(-1)).toEqual([['GPFile_000.txt', 'GPFile_000 (2).txt'], 'GPFile_000 (2).txt']);
+    expect(client.runs.at(-1)?.opts.fileName).toBe('GPFile_000 (2).txt');
+    expect(parts.banner.calls.showInfo?.at(-1)?.[0]).toBe('A file named GPFile_000.txt was already open: this one is listed as GPFile_000 (2).txt in the File picker.');
+    // The first patient is still there to go back to.
+    controller.chooseFile('GPFile_000.txt');
+    expect(client.runs.at(-1)?.opts.fileName).toBe('GPFile_000.txt');
+    // Patient 1's file opened again (same size and time): it replaces its own entry, no third one.
+    await controller.openFiles([file('GPFile_000.txt', 'contour,x,y,z\np1', 1000)]);
+    expect(parts.files.calls.setFiles?.at(-1)?.[0]).toEqual(['GPFile_000 (2).txt', 'GPFile_000.txt']);
+    // Two of one name in a single drop (a search result across patient folders): both are kept.
+    await controller.openFiles([file('GPFile_001.txt', 'contour,x,y,z\na', 5), file('GPFile_001.txt', 'contour,x,y,z\nbb', 6)]);
+    expect(parts.files.calls.setFiles?.at(-1)).toEqual([['GPFile_000 (2).txt', 'GPFile_000.txt', 'GPFile_001.txt', 'GPFile_001 (2).txt'], 'GPFile_001.txt']);
+    expect(parts.banner.calls.showInfo?.at(-1)?.[0]).toBe('A file named GPFile_001.txt was already open: this one is listed as GPFile_001 (2).txt in the File picker.');
   });
 
   it('a file dropped while the core is starting waits for it instead of being lost', async () => {

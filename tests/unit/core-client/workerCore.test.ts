@@ -247,6 +247,8 @@ describe('WorkerCore', () => {
     ticks.shift()!();
     const at = session.iteration;
     core.handle({ type: 'cancel', runId: 5 });
+    // Acknowledged at once (the client replaces a worker that does not answer within its grace period).
+    expect(out.at(-1)).toEqual({ type: 'cancelled', runId: 5 });
     runTicks();
     expect(session.iteration).toBe(at);
     expect(out.some((m) => m.type === 'done')).toBe(false);

@@ -79,6 +79,8 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
     case 'cancel':
     case 'schema':
     case 'ready':
+    case 'cancelled':
+    case 'started':
     case 'error':
     case 'lab-simulate':
     case 'lab-batch':
@@ -99,6 +101,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
     case 'done':
       return msg.result.runId;
     case 'error':
+    case 'cancelled':
       return msg.runId;
     case 'lab-batch-started':
     case 'lab-progress':
@@ -106,6 +109,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
       return msg.runId;
     case 'ready':
     case 'loaded':
+    case 'started':
     case 'schema':
     case 'lab-truth':
     case 'lab-simulated':
@@ -125,6 +129,8 @@ export function isFromWorker(v: unknown): v is FromWorker {
     case 'loaded':
     case 'frame':
     case 'done':
+    case 'cancelled':
+    case 'started':
     case 'error':
     case 'schema':
     case 'lab-truth':

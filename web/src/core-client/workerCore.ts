@@ -12,7 +12,9 @@
  *
  * Errors thrown by the wasm Session are JSON strings (CoreErrorData); anything else thrown (a wasm
  * trap, "unreachable" after a Rust panic) is fatal: the worker reports 'worker_crashed' and
- * refuses further work, and the client replaces it.
+ * refuses further work, and the client replaces it. Every 'cancel' is answered with 'cancelled'
+ * once handled: a step cannot be interrupted, so a worker that does not answer within the client's
+ * grace period is inside a long one, and the client replaces it too (on purpose, not as a crash).
  */
 
 import {
@@ -180,6 +182,8 @@ export class WorkerCore {
         });
         break;
       case 'load':
+        // Said first: a parse of seconds is then not taken for a long step (CoreClient.isInLongStep).
+        this.send({ type: 'started', reqId: msg.reqId });
         this.load(msg.reqId, msg.fileName, msg.bytes);
         break;
       case 'run':
@@ -198,6 +202,8 @@ export class WorkerCore {
       case 'cancel':
         if (this.run?.runId === msg.runId) this.stopRun();
         else this.lab?.cancel(msg.runId);
+        // The client waits for this (a short grace period) before it replaces a worker stuck in a long step.
+        this.send({ type: 'cancelled', runId: msg.runId });
         break;
       case 'lab-truth':
       case 'lab-simulate':

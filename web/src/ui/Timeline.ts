@@ -58,9 +58,17 @@ export class Timeline {
     });
     this.speed = h('select', { 'aria-label': 'Playback speed', 'data-testid': 'tl-speed', title: 'Playback speed' });
     for (const s of SPEEDS) this.speed.append(h('option', { value: String(s) }, s === 'live' ? 'live' : `${s} steps/s`));
+    // A speed picked with the pointer hands the focus back to the page, so that space and the
+    // arrows drive the timeline again instead of the menu; one chosen with the keys (arrows on the
+    // closed menu, or the open list) keeps it there, to go on choosing.
+    let byPointer = false;
+    this.speed.addEventListener('pointerdown', () => (byPointer = true));
+    this.speed.addEventListener('keydown', () => (byPointer = false));
     this.speed.addEventListener('change', () => {
       const v = this.speed.value;
       handlers.setSpeed(v === 'live' ? 'live' : Number(v));
+      if (byPointer) this.speed.blur();
+      byPointer = false;
     });
     this.element = h('div', { class: 'timeline', role: 'group', 'aria-label': 'Timeline' }, first, back, this.play, fwd, latest, this.scrubber, this.label, this.kept, this.speed, this.stop, this.rerun);
     this.update({ length: 0, cursor: -1, playing: true, iteration: null, total: null, done: false });
