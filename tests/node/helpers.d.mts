@@ -12,7 +12,7 @@ export function reconstruct(
   wasm: typeof import('../../web/pkg/heartmesh_wasm.js'),
   path: string,
   options?: { surface?: string | null; params?: Record<string, number>; lids?: 'auto' | 'none' },
-): { session: import('../../web/pkg/heartmesh_wasm.js').Session; reports: { done: boolean }[]; ms: number };
+): { session: import('../../web/pkg/heartmesh_wasm.js').Session; reports: import('../../web/src/core-client/protocol').StepReport[]; ms: number };
 export function readObj(text: string): { positions: Float64Array; indices: Uint32Array };
 export function maxRelativeDifference(a: ArrayLike<number>, b: ArrayLike<number>, floor?: number): number;
 export function readBytes(path: string): Uint8Array;

@@ -1,8 +1,9 @@
 // Differential test of the worker path: WorkerCore (the worker's logic, with back-pressure and a
 // slow consumer) driven by the real wasm must end with exactly what the Session computes directly,
-// and every frame it sends must be renderable (positions match the topology last sent).
+// and every step it computed must reach the receiver, once, in order and renderable (positions
+// match the topology last sent), however slow the receiver acknowledges.
 import { beforeAll, describe, expect, it } from 'vitest';
-import type { Frame, FromWorker, RunResult } from '../../web/src/core-client/protocol';
+import { stepsOf, type Frame, type FromWorker, type RunResult } from '../../web/src/core-client/protocol';
 import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
 import { SURFCO, loadWasm, readBytes, reconstruct } from './helpers.mjs';
 
@@ -69,26 +70,34 @@ describe('worker path', () => {
     expect(result.watertight).toBe(true);
     expect(result.params.iterations).toBe(120);
 
-    // Frames: increasing seq, the first carries the topology, each positions array fits the
-    // latest indices, the last is the final state.
+    // Frames: increasing seq, the first carries the topology; every step the Session made is in
+    // exactly one frame, in order, with the Session's report; each step's positions fit the
+    // latest indices; the last is the final state.
     expect(frames.length).toBeGreaterThan(2);
     expect(frames[0].indices).toBeDefined();
-    let indices: Uint32Array | undefined;
     let prevSeq = 0;
     for (const f of frames) {
       expect(f.seq).toBe(prevSeq + 1);
       prevSeq = f.seq;
-      if (f.indices) indices = f.indices;
-      expect(indices).toBeDefined();
-      const vertexCount = f.positions.length / 3;
-      expect(f.report.vertices).toBe(vertexCount);
-      expect(Math.max(...indices!)).toBeLessThan(vertexCount);
-      expect(indices!.length / 3).toBe(f.report.triangles);
     }
+    const steps = frames.flatMap(stepsOf);
+    expect(steps.map((st) => st.report.iteration)).toEqual(direct.reports.map((r) => r.iteration));
+    expect(steps.map((st) => st.report.max_distance_mm)).toEqual(direct.reports.map((r) => r.max_distance_mm));
+    let indices: Uint32Array | undefined;
+    for (const st of steps) {
+      if (st.indices) indices = st.indices;
+      expect(indices).toBeDefined();
+      const vertexCount = st.positions.length / 3;
+      expect(st.report.vertices).toBe(vertexCount);
+      expect(Math.max(...indices!)).toBeLessThan(vertexCount);
+      expect(indices!.length / 3).toBe(st.report.triangles);
+    }
+    // Positions differ from step to step (each is its own state, not the latest one repeated).
+    expect(Array.from(steps[1].positions)).not.toEqual(Array.from(steps[2].positions));
     const last = frames.at(-1)!;
     expect(last.report.done).toBe(true);
     expect(Array.from(last.positions)).toEqual(Array.from(result.positions));
-    // Back-pressure dropped frames: fewer frames than steps.
-    console.log(`worker path: ${frames.length} frames for ${direct.reports.length} steps`);
+    // Back-pressure batched the steps: fewer frames than steps, none lost.
+    console.log(`worker path: ${frames.length} frames for ${direct.reports.length} steps, all ${steps.length} received`);
   });
 });

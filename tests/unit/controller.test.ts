@@ -18,12 +18,25 @@ interface FakeRun {
 
 class FakeClient {
   runs: FakeRun[] = [];
+  /** The run in progress is inside a step of seconds (CoreClient.isInLongStep). */
+  longStep = false;
+  loads: string[] = [];
   private next = 1;
+  /** Behind a long step, the client calls whenBehindLongStep (CoreClient.load). */
+  private behind(whenBehindLongStep?: () => void) {
+    if (this.longStep && this.runs.some((r) => !r.cancelled)) whenBehindLongStep?.();
+  }
   schema() {
     return Promise.resolve({ schema: rustSchema(), version: 'core-test' });
   }
-  load(fileName: string, bytes: ArrayBuffer): Promise<LoadedFile> {
+  load(fileName: string, bytes: ArrayBuffer, whenBehindLongStep?: () => void): Promise<LoadedFile> {
+    this.loads.push(fileName);
+    this.behind(whenBehindLongStep);
     if (new TextDecoder().decode(bytes).includes('bad')) return Promise.reject({ code: 'parse', message: 'line 2: bad number', line: 2 });
+    // The core's refusal of a biv-me SliceInfoFile read as contours (io::read_contours_with).
+    if (new TextDecoder().decode(bytes).includes('sliceID')) {
+      return Promise.reject({ code: 'parse', message: 'line 1: this is a biv-me SliceInfoFile (image planes), not contours; read the GPFile_*.txt beside it', line: 1 });
+    }
     // A saved session: the settings the binding reads from it (convert::session_settings).
     const session = fileName.endsWith('.json')
       ? {
@@ -116,7 +129,7 @@ afterEach(() => {
   vi.unstubAllGlobals();
 });
 
-const file = (name: string, text = 'contour,x,y,z') => ({ name, arrayBuffer: () => Promise.resolve(new TextEncoder().encode(text).buffer) }) as unknown as File;
+const file = (name: string, text = 'contour,x,y,z', lastModified?: number) => ({ name, size: text.length, lastModified, arrayBuffer: () => Promise.resolve(new TextEncoder().encode(text).buffer) }) as unknown as File;
 const lastStatus = () => parts.status.calls.setStatus?.at(-1)?.[0];
 
 describe('controller', () => {
@@ -272,6 +285,37 @@ describe('controller', () => {
     expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' None of the 2 files opened: bad.csv, line 2: bad number; worse.csv, line 2: bad number.');
   });
 
+  it('a SliceInfoFile dropped with its GPFile is set aside with a note, not listed as a file not opened', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    const info = file('SliceInfoFile.txt', 'IMG01.dcm  sliceID: 2  ImagePositionPatient -41.2 20.3 -13.4');
+    await controller.openFiles([info, file('GPFile_000.txt')]);
+    expect(client.runs.map((r) => r.opts.fileName)).toEqual(['GPFile_000.txt']);
+    expect(lastStatus()).toBe('running');
+    expect(parts.banner.calls.showWarning).toBeUndefined();
+    expect(parts.banner.calls.showInfo?.at(-1)).toEqual([
+      'SliceInfoFile.txt set aside: image planes, not contours (the contours come from GPFile_000.txt; only the command line reads the planes, to check that each contour lies in its own).',
+    ]);
+    // With a file that really was not opened, both are said, and only that one is counted.
+    await controller.openFiles([file('GPFile_000.txt'), info, file('bad.csv', 'bad')]);
+    expect(parts.banner.calls.showWarning?.at(-1)?.[0]).toBe(
+      '1 of 2 files not opened: bad.csv, line 2: bad number. SliceInfoFile.txt set aside: image planes, not contours (the contours come from GPFile_000.txt; only the command line reads the planes, to check that each contour lies in its own). Showing GPFile_000.txt.',
+    );
+    // Alone (or with nothing that opens) it is refused as before, with what to open instead.
+    await controller.openFiles([info]);
+    expect(lastStatus()).toMatch(/^error: SliceInfoFile.txt, line 1: this is a biv-me SliceInfoFile .* read the GPFile_\*.txt beside it$/);
+  });
+
+  it('a dropped folder (no type, no extension, unreadable) is named as a folder, with what to open instead', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    const folder = { name: 'bivme-example-patient1', type: '', arrayBuffer: () => Promise.reject(new Error('The requested file could not be read, typically due to permission problems')) } as unknown as File;
+    await controller.openFiles([folder]);
+    expect(lastStatus()).toBe('error: bivme-example-patient1: a folder cannot be opened: open the files inside it (of a biv-me folder, its GPFile_*.txt)');
+    // A file with an extension that fails to read keeps the browser's reason.
+    const moved = { name: 'moved.csv', type: 'text/csv', arrayBuffer: () => Promise.reject(new Error('the file could not be read (moved?)')) } as unknown as File;
+    await controller.openFiles([moved]);
+    expect(lastStatus()).toBe('error: moved.csv: the file could not be read (moved?)');
+  });
+
   it('a file refused while a run is in progress leaves that run going; a file that reads replaces it', async () => {
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('good.csv')]);
@@ -292,6 +336,47 @@ describe('controller', () => {
     await controller.openFiles([file('other.csv')]);
     expect(client.runs[1].cancelled).toBe(true);
     expect(client.runs.at(-1)?.opts.fileName).toBe('other.csv');
+  });
+
+  it('a file opened while the run is inside a step of seconds stops that run at once instead of waiting behind it', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('heavy.csv')]);
+    const heavy = client.runs[0];
+    client.longStep = true;
+    let stoppedFirst = false;
+    const load = client.load.bind(client);
+    client.load = (name: string, bytes: ArrayBuffer, behind?: () => void) => {
+      const p = load(name, bytes, behind);
+      // The client called back while the file waited: the run is stopped (its steps stay), still loading.
+      stoppedFirst = heavy.cancelled && lastStatus() === 'loading next.csv';
+      return p;
+    };
+    await controller.openFiles([file('next.csv')]);
+    expect(stoppedFirst).toBe(true);
+    expect(parts.result.calls.clear?.map((c) => c[0])).toContain('stopped before the end: no result (↻ runs again)');
+    expect(client.runs.at(-1)?.opts.fileName).toBe('next.csv');
+    expect(lastStatus()).toBe('running');
+  });
+
+  it('another file of a name already open is kept beside it, told apart by a suffix; the same file again replaces its entry', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    // Patient 1's GPFile_000.txt, then patient 2's (another file of the same name).
+    await controller.openFiles([file('GPFile_000.txt', 'contour,x,y,z\np1', 1000)]);
+    await controller.openFiles([file('GPFile_000.txt', 'contour,x,y,z\npatient2', 2000)]);
+    expect(client.loads).toEqual(['GPFile_000.txt', 'GPFile_000 (2).txt']);
+    expect(parts.files.calls.setFiles?.at(-1)).toEqual([['GPFile_000.txt', 'GPFile_000 (2).txt'], 'GPFile_000 (2).txt']);
+    expect(client.runs.at(-1)?.opts.fileName).toBe('GPFile_000 (2).txt');
+    expect(parts.banner.calls.showInfo?.at(-1)?.[0]).toBe('A file named GPFile_000.txt was already open: this one is listed as GPFile_000 (2).txt in the File picker.');
+    // The first patient is still there to go back to.
+    controller.chooseFile('GPFile_000.txt');
+    expect(client.runs.at(-1)?.opts.fileName).toBe('GPFile_000.txt');
+    // Patient 1's file opened again (same size and time): it replaces its own entry, no third one.
+    await controller.openFiles([file('GPFile_000.txt', 'contour,x,y,z\np1', 1000)]);
+    expect(parts.files.calls.setFiles?.at(-1)?.[0]).toEqual(['GPFile_000 (2).txt', 'GPFile_000.txt']);
+    // Two of one name in a single drop (a search result across patient folders): both are kept.
+    await controller.openFiles([file('GPFile_001.txt', 'contour,x,y,z\na', 5), file('GPFile_001.txt', 'contour,x,y,z\nbb', 6)]);
+    expect(parts.files.calls.setFiles?.at(-1)).toEqual([['GPFile_000 (2).txt', 'GPFile_000.txt', 'GPFile_001.txt', 'GPFile_001 (2).txt'], 'GPFile_001.txt']);
+    expect(parts.banner.calls.showInfo?.at(-1)?.[0]).toBe('A file named GPFile_001.txt was already open: this one is listed as GPFile_001 (2).txt in the File picker.');
   });
 
   it('a file dropped while the core is starting waits for it instead of being lost', async () => {

@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { bannerText, taubinHint } from '../../web/src/ui/ErrorBanner';
+import { bannerText, taubinHint, wrongFileHint } from '../../web/src/ui/ErrorBanner';
 
 describe('error banner hints', () => {
   it('explains the Taubin limit of the smoothing factor, and nothing else', () => {
@@ -20,5 +20,17 @@ describe('error banner text', () => {
     // A hint that continues the sentence, or nothing after: unchanged.
     expect(bannerText('parameter smoothing_factor = 0.8 is out of range', ' — with Taubin smoothing ...')).toBe('parameter smoothing_factor = 0.8 is out of range — with Taubin smoothing ...');
     expect(bannerText('a.csv: factorisation failed', '')).toBe('a.csv: factorisation failed');
+  });
+});
+
+describe('error banner: files opened by mistake', () => {
+  it('the Parameters JSON export and a mesh say what to open instead; other errors get nothing', () => {
+    // The core's messages for them (seen in session 14 with the app's own exports dropped back).
+    const params = { code: 'parse', line: 44, message: 'line 44: invalid session JSON: missing field `heartmesh_session`' };
+    expect(wrongFileHint(params)).toBe(' Only a heartmesh session opens here (the Session export, …-session.json); the Parameters JSON export holds no contours.');
+    expect(wrongFileHint({ code: 'parse', message: 'this is a mesh file (OBJ, STL or PLY), not contours' })).toMatch(/open it in the Lab tab as the truth/);
+    expect(wrongFileHint({ code: 'parse', line: 3, message: 'line 3: column "y": "oops" is not a number' })).toBe('');
+    // The hint follows the message as its own sentence.
+    expect(bannerText('a-params.json, line 44: invalid session JSON: missing field `heartmesh_session`', wrongFileHint(params))).toMatch(/`heartmesh_session`\. Only a heartmesh session/);
   });
 });

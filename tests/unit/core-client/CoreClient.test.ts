@@ -1,6 +1,6 @@
-import { beforeEach, describe, expect, it } from 'vitest';
-import { CoreClient } from '../../../web/src/core-client/CoreClient';
-import type { CoreErrorData, Frame, LoadedFile, RunResult } from '../../../web/src/core-client/protocol';
+import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
+import { CANCEL_GRACE_MS, CoreClient } from '../../../web/src/core-client/CoreClient';
+import { frameOfSteps, stepsOf, type CoreErrorData, type Frame, type LoadedFile, type RunResult, type StepFrame } from '../../../web/src/core-client/protocol';
 import { FakeWorker, ManualScheduler, flush, stepReport } from './fakes';
 import { DEFAULT_END_CAPS } from '../../../web/src/core-client/protocol';
 
@@ -96,6 +96,9 @@ describe('CoreClient', () => {
     expect(seen[0].positions[0]).toBe(3);
     expect(seen[0].indices).toBe(indices); // topology of the skipped frame is not lost
     expect(seen[0].attractors).toBe(attractors);
+    // ... nor are its steps: the receiver records them all, oldest first.
+    expect(stepsOf(seen[0]).map((st) => st.report.iteration)).toEqual([0, 1, 2]);
+    expect(stepsOf(seen[0])[0].indices).toBe(indices);
     expect(worker.of('ack')).toEqual([{ type: 'ack', runId: run.runId, seq: 3 }]);
 
     worker.emit(frameMsg(run.runId, 4));
@@ -117,6 +120,44 @@ describe('CoreClient', () => {
     const r = await run.done;
     expect(r.volumeMl).toBe(80);
     expect(worker.of('ack').map((a) => a.seq)).toEqual([3, 4, 5]);
+  });
+
+  it('hands every step of batched frames over once and in order, the newest as the frame itself', async () => {
+    const sched = new ManualScheduler();
+    const { client, worker } = await readyClient(sched);
+    await loadFile(client, worker);
+    const seen: Frame[] = [];
+    const run = client.run({ fileName: 'a.csv', surface: null, params: {}, lids: 'auto' }, (f) => seen.push(f));
+    const step = (it: number, extra: Partial<StepFrame> = {}): StepFrame => ({ report: stepReport(it), positions: new Float32Array([it, 0, 0]), ...extra });
+    const remesh = new Uint32Array([0, 2, 1]);
+    let next = 0;
+    let seq = 0;
+    /** A frame of `n` steps, batched as the worker does (earlier ones, then the newest). */
+    const emit = (n: number) => {
+      const steps = Array.from({ length: n }, (_, i) => step(next + i, next + i === 7 ? { indices: remesh } : {}));
+      next += n;
+      worker.emit({ type: 'frame', ...frameOfSteps(run.runId, ++seq, steps) });
+    };
+    // 40 steps in 6 frames over 3 display slots: the display is behind (two frames per slot).
+    emit(1);
+    emit(6);
+    sched.tick();
+    emit(9);
+    emit(4);
+    emit(8);
+    sched.tick();
+    emit(12);
+    sched.tick();
+    expect(seen).toHaveLength(3);
+    const steps = seen.flatMap(stepsOf);
+    expect(steps.map((st) => st.report.iteration)).toEqual(Array.from({ length: 40 }, (_, i) => i));
+    expect(steps.map((st) => st.positions[0])).toEqual(Array.from({ length: 40 }, (_, i) => i));
+    // Each call's own fields are its newest step, with the topology a skipped frame brought.
+    expect(seen.map((f) => f.report.iteration)).toEqual([6, 27, 39]);
+    expect(seen[1].indices).toBe(remesh);
+    // Step 7 brought it; the newest of each frame (and merge) after it names it again (the same array).
+    expect(steps.filter((st) => st.indices === remesh).map((st) => st.report.iteration)).toEqual([7, 15, 19, 27]);
+    expect(worker.of('ack').map((a) => a.seq)).toEqual([2, 5, 6]);
   });
 
   it('a new run cancels the old one and its late frames are dropped', async () => {
@@ -203,5 +244,141 @@ describe('CoreClient', () => {
     await expect(run.done).rejects.toMatchObject({ code: 'disposed' });
     expect(worker.terminated).toBe(true);
     await expect(client.load('b.csv', new ArrayBuffer(1))).rejects.toMatchObject({ code: 'disposed' });
+  });
+
+  describe('a worker stuck in a long step', () => {
+    afterEach(() => vi.useRealTimers());
+
+    /** A client whose worker is inside a step that never returns: it sees no message any more. */
+    async function stuckClient() {
+      vi.useFakeTimers();
+      const crashes: CoreErrorData[] = [];
+      let restarts = 0;
+      const created = CoreClient.create({ createWorker: () => new FakeWorker(), schedule: new ManualScheduler().schedule, onWorkerCrash: (e) => crashes.push(e), onWorkerRestart: () => restarts++ });
+      const worker = FakeWorker.instances[0];
+      worker.emit({ type: 'ready' });
+      const client = await created;
+      const bytes = await loadFile(client, worker);
+      const a = client.run({ fileName: 'a.csv', surface: null, params: {}, lids: 'auto' }, () => {});
+      a.done.catch(() => undefined); // cancelled in most of these tests
+      worker.emit(frameMsg(a.runId, 1)); // step 0 came back; step 1 never will
+      worker.acksCancels = false;
+      return { client, worker, bytes, a, crashes, restarts: () => restarts };
+    }
+
+    it('is replaced when a cancel goes unacknowledged for the grace period; the next run starts on a new worker, no crash', async () => {
+      const { client, worker, bytes, a, crashes, restarts } = await stuckClient();
+      const b = client.run({ fileName: 'a.csv', surface: null, params: { beta: 0.3 }, lids: 'auto' }, () => {});
+      await expect(a.done).rejects.toMatchObject({ code: 'cancelled' }); // at once, as before
+      expect(worker.of('cancel')).toEqual([{ type: 'cancel', runId: a.runId }]);
+      expect(worker.of('run').at(-1)?.runId).toBe(b.runId); // queued behind the step
+      await vi.advanceTimersByTimeAsync(CANCEL_GRACE_MS - 10);
+      expect(FakeWorker.instances).toHaveLength(1);
+      expect(worker.terminated).toBe(false);
+      await vi.advanceTimersByTimeAsync(20);
+      // Terminated on purpose: a new worker, nothing rejected, nobody told of a crash.
+      expect(worker.terminated).toBe(true);
+      expect(FakeWorker.instances).toHaveLength(2);
+      expect(crashes).toEqual([]);
+      expect(restarts()).toBe(1);
+      const w2 = FakeWorker.instances[1];
+      // The file first (the new worker has none), then the run that was waiting, with its settings.
+      expect(w2.sent.map((m) => m.type)).toEqual(['load', 'run']);
+      expect(new Uint8Array(w2.of('load')[0].bytes)).toEqual(new Uint8Array(bytes));
+      expect(w2.of('run')[0]).toMatchObject({ runId: b.runId, params: { beta: 0.3 } });
+      w2.emit({ type: 'ready' });
+      w2.emit({ type: 'loaded', reqId: w2.of('load')[0].reqId, file: loaded });
+      w2.emit({ type: 'done', result: result(b.runId) });
+      expect((await b.done).runId).toBe(b.runId);
+      // The stuck worker's late output is ignored.
+      worker.emit(frameMsg(a.runId, 2));
+      worker.emit({ type: 'cancelled', runId: a.runId });
+      expect(FakeWorker.instances).toHaveLength(2);
+    });
+
+    it('after Stop, a file opened next is read by the new worker instead of waiting for the step', async () => {
+      const { client, worker, a, crashes } = await stuckClient();
+      a.cancel();
+      await expect(a.done).rejects.toMatchObject({ code: 'cancelled' });
+      const other = new TextEncoder().encode('contour,x,y,z\nb,1,2,3\n').buffer as ArrayBuffer;
+      const p = client.load('b.csv', other);
+      expect(worker.of('load').at(-1)?.fileName).toBe('b.csv');
+      await vi.advanceTimersByTimeAsync(CANCEL_GRACE_MS + 1);
+      const w2 = FakeWorker.instances[1];
+      expect(w2.sent.map((m) => (m.type === 'load' ? m.fileName : m.type))).toEqual(['b.csv']);
+      expect(new Uint8Array(w2.of('load')[0].bytes)).toEqual(new Uint8Array(other));
+      w2.emit({ type: 'ready' });
+      w2.emit({ type: 'loaded', reqId: w2.of('load')[0].reqId, file: { ...loaded, fileName: 'b.csv' } });
+      expect((await p).fileName).toBe('b.csv');
+      expect(crashes).toEqual([]);
+      // Both files still run: a.csv is re-sent to the new worker when asked for.
+      const run = client.run({ fileName: 'a.csv', surface: null, params: {}, lids: 'auto' }, () => {});
+      expect(w2.sent.slice(-2).map((m) => (m.type === 'load' ? m.fileName : m.type))).toEqual(['a.csv', 'run']);
+      expect(w2.of('run')[0].runId).toBe(run.runId);
+    });
+
+    it('a cancel acknowledged in time keeps the worker', async () => {
+      const { client, worker, a } = await stuckClient();
+      worker.acksCancels = true;
+      a.cancel();
+      await vi.advanceTimersByTimeAsync(CANCEL_GRACE_MS * 5);
+      expect(worker.terminated).toBe(false);
+      expect(FakeWorker.instances).toHaveLength(1);
+      void client;
+    });
+
+    it('a file waiting behind a long step calls back (the caller cancels, the new worker reads it); one the worker is reading does not', async () => {
+      const { client, worker, a, crashes } = await stuckClient();
+      const bytes = new TextEncoder().encode('contour,x,y,z\nb,1,2,3\n').buffer as ArrayBuffer;
+      let called = 0;
+      const p = client.load('b.csv', bytes, () => {
+        called++;
+        a.cancel(); // what the app does: Stop
+      });
+      await vi.advanceTimersByTimeAsync(CANCEL_GRACE_MS / 2);
+      expect(called).toBe(0); // the step has not lasted long yet
+      // performance.now is not faked: pretend the silence is long by a frame whose step took seconds.
+      worker.emit(frameMsg(a.runId, 2, { report: stepReport(1, { timings: { attractors_ms: 0, closest_ms: 0, solve_ms: 4000, apply_ms: 0, remesh_ms: 0, total_ms: 4100 } }) }));
+      await vi.advanceTimersByTimeAsync(CANCEL_GRACE_MS);
+      expect(called).toBe(1);
+      await vi.advanceTimersByTimeAsync(CANCEL_GRACE_MS * 2);
+      const w2 = FakeWorker.instances.at(-1)!;
+      expect(w2).not.toBe(worker);
+      expect(w2.of('load').map((m) => m.fileName)).toContain('b.csv');
+      w2.emit({ type: 'ready' });
+      for (const m of w2.of('load')) w2.emit({ type: 'loaded', reqId: m.reqId, file: { ...loaded, fileName: m.fileName } });
+      expect((await p).fileName).toBe('b.csv');
+      expect(called).toBe(1);
+      expect(crashes).toEqual([]);
+    });
+
+    it('a worker that says it is reading a file is not inside a step, and is not replaced meanwhile', async () => {
+      const { client, worker, a } = await stuckClient();
+      const bytes = new TextEncoder().encode('contour,x,y,z\n').buffer as ArrayBuffer;
+      let called = 0;
+      const p = client.load('big.csv', bytes, () => called++);
+      worker.emit({ type: 'started', reqId: worker.of('load').at(-1)!.reqId });
+      expect(client.isInLongStep(performance.now() + 10000)).toBe(false);
+      a.cancel();
+      await vi.advanceTimersByTimeAsync(CANCEL_GRACE_MS * 5); // a parse of seconds
+      expect(called).toBe(0);
+      expect(worker.terminated).toBe(false);
+      worker.emit({ type: 'loaded', reqId: worker.of('load').at(-1)!.reqId, file: { ...loaded, fileName: 'big.csv' } });
+      await p;
+      // Parsed; the worker then went into a step of the cancelled run and never acknowledged: replaced.
+      await vi.advanceTimersByTimeAsync(CANCEL_GRACE_MS + 1);
+      expect(worker.terminated).toBe(true);
+    });
+
+    it('says when the run in progress is inside a long step', async () => {
+      const { client, worker, a } = await stuckClient();
+      const now = performance.now();
+      expect(client.isInLongStep(now)).toBe(false);
+      expect(client.isInLongStep(now + CANCEL_GRACE_MS + 50)).toBe(true); // silent for longer than the grace
+      worker.emit(frameMsg(a.runId, 2, { report: stepReport(1, { timings: { attractors_ms: 0, closest_ms: 0, solve_ms: 4000, apply_ms: 0, remesh_ms: 0, total_ms: 4100 } }) }));
+      expect(client.isInLongStep(performance.now())).toBe(true); // its last step took seconds
+      a.cancel();
+      expect(client.isInLongStep(now + 10000)).toBe(false); // no run
+    });
   });
 });

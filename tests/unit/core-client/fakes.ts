@@ -7,6 +7,8 @@ export class FakeWorker implements WorkerLike {
   sent: ToWorker[] = [];
   transfers: Transferable[][] = [];
   terminated = false;
+  /** Like the real worker, acknowledge each cancel soon; false: a worker inside a step that never returns. */
+  acksCancels = true;
   onmessage: ((ev: { data: unknown }) => void) | null = null;
   onerror: ((ev: { message?: string; preventDefault?: () => void }) => void) | null = null;
   onmessageerror: ((ev: unknown) => void) | null = null;
@@ -17,6 +19,10 @@ export class FakeWorker implements WorkerLike {
   postMessage(message: ToWorker, transfer: Transferable[]): void {
     this.sent.push(message);
     this.transfers.push(transfer);
+    if (message.type === 'cancel' && this.acksCancels) {
+      const { runId } = message;
+      queueMicrotask(() => this.emit({ type: 'cancelled', runId }));
+    }
   }
   terminate(): void {
     this.terminated = true;

@@ -5,12 +5,15 @@ import {
   isFatal,
   isFromWorker,
   isToWorker,
+  frameOfSteps,
   mergeFrames,
   runIdOf,
+  stepsOf,
   toCoreErrorData,
   transferablesOf,
   type Frame,
   type FromWorker,
+  type StepFrame,
   type StepReport,
 } from '../../../web/src/core-client/protocol';
 
@@ -70,6 +73,30 @@ describe('protocol helpers', () => {
     expect(mergeFrames(frame(1, { indices }), frame(2, { indices: newer })).indices).toBe(newer);
     expect(mergeFrames(frame(1), frame(2)).indices).toBeUndefined();
   });
+  it('a batched frame transfers every step\'s buffers and merges keep every step in order', () => {
+    const step = (it: number, extra: Partial<StepFrame> = {}): StepFrame => ({ report: { ...report, iteration: it }, positions: new Float32Array([it, 0, 0]), ...extra });
+    const topo = new Uint32Array([0, 1, 2]);
+    const attr = new Float32Array([7, 7, 7]);
+    const f = frameOfSteps(1, 1, [step(0, { indices: topo, attractors: attr }), step(1), step(2)]);
+    expect(f.report.iteration).toBe(2);
+    expect(f.positions[0]).toBe(2);
+    expect(f.earlier?.map((x) => x.report.iteration)).toEqual([0, 1]);
+    expect(f.indices).toBe(topo); // the newest names the topology it is drawn with
+    expect(f.attractors).toBe(attr);
+    expect(frameOfSteps(1, 2, [step(3)]).earlier).toBeUndefined();
+    expect(() => frameOfSteps(1, 3, [])).toThrow();
+    // 3 positions + indices + attractors, each once although the newest names indices and attractors again.
+    const t = transferablesOf({ type: 'frame', ...f });
+    expect(t).toHaveLength(5);
+    for (const st of stepsOf(f)) expect(t).toContain(st.positions.buffer);
+    const g = frameOfSteps(1, 2, [step(3), step(4)]);
+    const merged = mergeFrames(f, g);
+    expect(stepsOf(merged).map((x) => x.report.iteration)).toEqual([0, 1, 2, 3, 4]);
+    expect(merged.seq).toBe(2);
+    expect(merged.indices).toBe(topo);
+    expect(stepsOf(merged)[0].indices).toBe(topo);
+  });
+
   it('an aligned run\'s contours on its first frame survive a skipped frame and are transferred', () => {
     const runContours = { contours: [], points: new Float32Array([4, 5, 6]) };
     expect(mergeFrames(frame(1, { runContours }), frame(2)).runContours).toBe(runContours);

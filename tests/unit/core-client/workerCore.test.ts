@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import type { FromWorker } from '../../../web/src/core-client/protocol';
+import { stepsOf, type FromWorker } from '../../../web/src/core-client/protocol';
 import { WorkerCore, wasmErrorData, type SessionApi, type WasmApi } from '../../../web/src/core-client/workerCore';
 import { stepReport } from './fakes';
 import { DEFAULT_END_CAPS } from '../../../web/src/core-client/protocol';
@@ -154,22 +154,31 @@ describe('WorkerCore', () => {
     expect(full.frames().some((f) => f.runContours)).toBe(false);
   });
 
-  it('keeps at most two frames unacknowledged and always sends the final one', () => {
+  it('keeps at most two frames unacknowledged, batches the steps meanwhile and always sends the final one', () => {
     const { core, out, runTicks, frames } = setup(20);
     core.handle(runMsg);
     runTicks();
     const f = frames();
-    // Two frames while nobody acks, then the final frame.
+    // Two frames while nobody acks, then the final frame with every step computed meanwhile.
     expect(f.map((x) => x.seq)).toEqual([1, 2, 3]);
     expect(f[0].report.iteration).toBe(0);
     expect(f[0].indices).toBeDefined();
     expect(f[0].attractors).toBeDefined();
+    expect(f[0].earlier).toBeUndefined();
     expect(f[1].indices).toBeUndefined();
     const last = f[2];
     expect(last.report.done).toBe(true);
-    // The remesh at iteration 7 and the re-sampling at 12 were not sent: the final frame carries them.
-    expect(last.indices).toEqual(new Uint32Array([0, 1, 20]));
-    expect(last.attractors).toBeDefined();
+    expect(last.report.iteration).toBe(20);
+    expect(last.earlier?.map((s) => s.report.iteration)).toEqual([2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19]);
+    // The remesh at iteration 7 and the re-sampling at 12 travel with those steps (taken from the
+    // session right after them), and the newest step names them too, so it can be drawn alone.
+    const at = (it: number) => last.earlier!.find((s) => s.report.iteration === it)!;
+    expect(at(7).indices).toEqual(new Uint32Array([0, 1, 7]));
+    expect(at(12).attractors).toEqual(new Float32Array([12, 1, 1]));
+    expect(last.earlier!.filter((s) => s.indices).map((s) => s.report.iteration)).toEqual([7]);
+    expect(last.earlier!.filter((s) => s.attractors).map((s) => s.report.iteration)).toEqual([12]);
+    expect(last.indices).toBe(at(7).indices);
+    expect(last.attractors).toBe(at(12).attractors);
     const done = out.at(-1)!;
     expect(done.type).toBe('done');
     if (done.type === 'done') {
@@ -185,8 +194,9 @@ describe('WorkerCore', () => {
     ticks.shift()!(); // first slice: iterations 0..3, frames 1 and 2 sent
     expect(frames().map((x) => x.report.iteration)).toEqual([0, 1]);
     core.handle({ type: 'ack', runId: 5, seq: 1 });
-    // One slot free: the newest computed state (iteration 3) goes out immediately.
+    // One slot free: the steps computed meanwhile (iterations 2 and 3) go out immediately.
     expect(frames().map((x) => x.report.iteration)).toEqual([0, 1, 3]);
+    expect(frames()[2].earlier?.map((s) => s.report.iteration)).toEqual([2]);
     core.handle({ type: 'ack', runId: 99, seq: 3 }); // another run's ack: ignored
     expect(frames()).toHaveLength(3);
     core.handle({ type: 'ack', runId: 5, seq: 3 });
@@ -194,6 +204,41 @@ describe('WorkerCore', () => {
     expect(frames().map((x) => x.report.iteration)).toEqual([0, 1, 3, 4, 5]);
     runTicks();
     expect(frames().at(-1)!.report.done).toBe(true);
+    // Every step reached the receiver exactly once, in order.
+    expect(frames().flatMap(stepsOf).map((s) => s.report.iteration)).toEqual(Array.from({ length: 101 }, (_, i) => i));
+  });
+
+  it('sends every step once, each with its own positions, whatever the acks (no ack, slow, prompt)', () => {
+    for (const policy of ['never', 'every third', 'always'] as const) {
+      const { core, runTicks, frames, ticks, out } = setup(60);
+      core.handle(runMsg);
+      let acked = 0;
+      for (let i = 0; i < 1000 && ticks.length > 0; i++) {
+        ticks.shift()!();
+        const sent = frames();
+        const ack = (seq: number) => core.handle({ type: 'ack', runId: 5, seq });
+        if (policy === 'always' && sent.length > acked) ack((acked = sent.length));
+        if (policy === 'every third' && i % 3 === 2 && sent.length > acked) ack((acked = sent.length));
+      }
+      runTicks();
+      expect(out.at(-1)?.type).toBe('done');
+      const steps = frames().flatMap(stepsOf);
+      expect(steps.map((s) => s.report.iteration)).toEqual(Array.from({ length: 61 }, (_, i) => i));
+      // Each step's positions are its own state (the fake writes the iteration), in a buffer of its own.
+      expect(steps.map((s) => s.positions[0])).toEqual(steps.map((s) => s.report.iteration));
+      expect(new Set(steps.map((s) => s.positions.buffer)).size).toBe(61);
+      // Two topologies, taken at the first step and at the remesh (7), and two attractor sets (0
+      // and 12); a frame's newest step may name the latest of them again (the same array).
+      const firstWith = (key: 'indices' | 'attractors') => {
+        const seen = new Map<unknown, number>();
+        for (const s of steps) if (s[key] && !seen.has(s[key])) seen.set(s[key], s.report.iteration);
+        return [...seen.values()];
+      };
+      expect(firstWith('indices')).toEqual([0, 7]);
+      expect(firstWith('attractors')).toEqual([0, 12]);
+      if (policy === 'never') expect(frames()).toHaveLength(3);
+      else expect(frames().length).toBeGreaterThan(3);
+    }
   });
 
   it('stops computing when the run is cancelled or replaced', () => {
@@ -202,6 +247,8 @@ describe('WorkerCore', () => {
     ticks.shift()!();
     const at = session.iteration;
     core.handle({ type: 'cancel', runId: 5 });
+    // Acknowledged at once (the client replaces a worker that does not answer within its grace period).
+    expect(out.at(-1)).toEqual({ type: 'cancelled', runId: 5 });
     runTicks();
     expect(session.iteration).toBe(at);
     expect(out.some((m) => m.type === 'done')).toBe(false);

@@ -13,7 +13,8 @@ import { DEFAULT_OPTIONS, withDefaultOptions } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
 import { findSample, fetchSample, type Sample } from '../io/samples';
 import type { HoverReadout } from '../ui/HoverReadout';
-import { asCoreError, callSafely, keptText, schemaOrdered } from './errors';
+import { distinctName, fileIdentity, renamedText } from './fileNames';
+import { asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable } from './errors';
 import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { RunDisplay } from './runDisplay';
@@ -37,6 +38,8 @@ export class Controller {
   private schema: ParamSpec[] = [];
   private coreVersion = '';
   private readonly files = new Map<string, LoadedFile>();
+  /** What each open name stands for (fileNames.ts): a different file of that name gets another. */
+  private readonly identities = new Map<string, string>();
   private params: ParamValues = {};
   private lids: LidsMode = 'auto';
   private options: ReconOptions = { ...DEFAULT_OPTIONS };
@@ -111,23 +114,31 @@ export class Controller {
   async openFiles(files: File[]): Promise<void> {
     if (files.length === 0) return;
     // Say "loading" at once, before the bytes are read (and before the core is up, if it is not).
-    // A run in progress goes on until a file has been read: a refused file leaves the work as it was.
+    // A run in progress goes on until a file has been read: a refused file leaves the work as it was
+    // (unless the file would wait behind a step of seconds: see loadBytes).
     this.dispatch({ type: 'load', fileName: files[0].name });
     if (!(await this.ready)) return;
     let first: string | null = null;
     const refused: CoreErrorData[] = [];
+    const renamed: { given: string; as: string }[] = [];
     for (const file of files) {
       let bytes: ArrayBuffer;
       try {
         bytes = await file.arrayBuffer();
       } catch (e) {
-        // The file went away (moved, no permission) between the drop and the read.
-        refused.push(this.refuse(file.name, e));
+        // The file went away (moved, no permission) between the drop and the read, or is a folder.
+        refused.push(this.refuse(file.name, unreadable(file, e)));
         continue;
       }
-      if (await this.loadBytes(file.name, bytes)) first ??= file.name;
-      else if (this.lastRefusal) refused.push(this.lastRefusal);
+      // Another patient's GPFile_000.txt (or two of them in one drop) is kept beside the first.
+      const identity = fileIdentity(file);
+      const name = distinctName(file.name, identity, this.identities);
+      if (await this.loadBytes(name, bytes, identity)) {
+        first ??= name;
+        if (name !== file.name) renamed.push({ given: file.name, as: name });
+      } else if (this.lastRefusal) refused.push(this.lastRefusal);
     }
+    const renamedNote = renamedText(renamed);
     if (first !== null) {
       this.sampleId = null;
       // A session's own surface first, else the one asked for (the link's, or the one last chosen).
@@ -137,9 +148,17 @@ export class Controller {
     // Several files at once: each refusal would replace the one before in the banner (and a file
     // that opens would hide them all), so the banner names every file not opened, once, at the end.
     if (refused.length > 0 && files.length > 1) {
-      const list = refused.map((e) => describeError(e)).join('; ');
-      if (first !== null) this.parts.banner.showWarning(`${refused.length} of ${files.length} files not opened: ${list}. Showing ${first}.`);
-      else this.fail(refused[refused.length - 1], undefined, ` None of the ${files.length} files opened: ${list}.`);
+      // A biv-me folder's SliceInfoFile beside the GPFile that opened is no refusal.
+      const aside = first !== null ? refused.filter(isSliceInfoRefusal) : [];
+      const notOpened = refused.filter((e) => !aside.includes(e));
+      const note = first !== null && aside.length > 0 ? setAsideText(aside.map((e) => e.file ?? 'SliceInfoFile.txt'), first) : '';
+      const list = notOpened.map((e) => describeError(e)).join('; ');
+      const notes = [note, renamedNote].filter(Boolean).join(' ');
+      if (first === null) this.fail(refused[refused.length - 1], undefined, ` None of the ${files.length} files opened: ${list}.`);
+      else if (notOpened.length === 0) this.parts.banner.showInfo(notes);
+      else this.parts.banner.showWarning(`${notOpened.length} of ${files.length - aside.length} files not opened: ${list}.${notes ? ` ${notes}` : ''} Showing ${first}.`);
+    } else if (renamedNote) {
+      this.parts.banner.showInfo(renamedNote);
     }
   }
 
@@ -154,24 +173,28 @@ export class Controller {
       this.fail(asCoreError(e, `could not load ${sample.file}`, sample.file));
       return;
     }
-    if (await this.loadBytes(sample.file, bytes)) {
+    const name = distinctName(sample.file, `sample:${sample.id}`, this.identities);
+    if (await this.loadBytes(name, bytes, `sample:${sample.id}`)) {
       this.sampleId = sample.id;
-      this.selectFile(sample.file, surface ?? sample.surface);
+      this.selectFile(name, surface ?? sample.surface);
       this.startRun();
     }
   }
 
   /** Parses a file in the worker; returns whether it worked (errors are shown). */
-  private async loadBytes(fileName: string, bytes: ArrayBuffer): Promise<boolean> {
+  private async loadBytes(fileName: string, bytes: ArrayBuffer, identity: string): Promise<boolean> {
     const client = this.client;
     if (!client) return false;
     this.dispatch({ type: 'load', fileName });
     this.lastRefusal = null;
     try {
-      const loaded = await client.load(fileName, bytes);
+      // A file that waits in the worker behind a step of seconds (a heavy input) stops that run,
+      // its steps staying on screen; the client replaces the worker if the step does not end soon.
+      const loaded = await client.load(fileName, bytes, () => this.stopRun());
       this.cancelRun(); // read: it replaces what was on screen
       this.files.delete(fileName); // re-insert at the end: newest last in the picker
       this.files.set(fileName, loaded);
+      this.identities.set(fileName, identity);
       if (loaded.session) this.applySession(loaded.session);
       this.dispatch({ type: 'loaded', fileName });
       this.parts.banner.hide();
@@ -272,7 +295,7 @@ export class Controller {
   async loadGenerated(fileName: string, bytes: ArrayBuffer): Promise<boolean> {
     this.cancelRun();
     if (!(await this.ready)) return false;
-    if (!(await this.loadBytes(fileName, bytes))) return false;
+    if (!(await this.loadBytes(fileName, bytes, `generated:${fileName}`))) return false;
     this.sampleId = null;
     this.selectFile(fileName, null);
     return true;
@@ -391,6 +414,9 @@ export class Controller {
 
   togglePlay(): void {
     this.dispatch({ type: this.runView.togglePlay() ? 'resume' : 'pause' });
+    // Pausing the replay of a finished run changes no state (done stays done): the button must
+    // still say so (it kept showing "Pause" over a paused replay).
+    this.runView.updateTimeline();
   }
 
   step(delta: number): void {

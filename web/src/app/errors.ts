@@ -9,6 +9,32 @@ export function keptText(previous: string | null): string {
   return previous ? ` Not opened; still showing ${previous}.` : ' Not opened.';
 }
 
+/**
+ * A biv-me SliceInfoFile refused as contours (the core's parse message for it). Dropped together
+ * with the GPFile it sits beside, it is where biv-me keeps it, not a mistake: set aside, not refused.
+ */
+export function isSliceInfoRefusal(e: CoreErrorData): boolean {
+  return e.code === 'parse' && /biv-me SliceInfoFile/.test(e.message);
+}
+
+/** The banner's note on SliceInfoFiles dropped with the contour file `shown`. */
+export function setAsideText(names: readonly string[], shown: string): string {
+  const them = names.length === 1 ? names[0] : names.join(', ');
+  return `${them} set aside: image planes, not contours (the contours come from ${shown}; only the command line reads the planes, to check that each contour lies in its own).`;
+}
+
+/**
+ * A dropped file whose bytes could not be read: moved or without permission since the drop, or a
+ * folder (a browser hands a dropped folder over as a file without type that fails to read; a
+ * biv-me patient folder is the usual one).
+ */
+export function unreadable(file: { name: string; type: string }, e: unknown): CoreErrorData {
+  if (file.type === '' && !/\.[A-Za-z0-9]{1,5}$/.test(file.name)) {
+    return { code: 'app', file: file.name, message: 'a folder cannot be opened: open the files inside it (of a biv-me folder, its GPFile_*.txt)' };
+  }
+  return asCoreError(e, 'could not read the file', file.name);
+}
+
 /** Anything thrown or rejected, as the protocol's error data (with the file when known). */
 export function asCoreError(e: unknown, fallback: string, file?: string): CoreErrorData {
   if (e && typeof e === 'object' && 'code' in e && 'message' in e) {

@@ -1,93 +1,164 @@
 /**
- * Bounded history of the frames of one run, for the timeline's scrubber and step back/forward.
- * When full, every second older frame is dropped: the history keeps covering the whole run (first
- * to latest step) at a coarser spacing instead of forgetting its beginning, and memory stays
- * bounded (a frame of ~3k vertices is ~36 KB). Pure and tested.
+ * The recorded steps of one run, for the timeline's scrubber and step back/forward, and the
+ * distances of every step for the live plot. Pure and tested.
+ *
+ * Every step is kept while the history fits its byte budget (positions are a Float32Array per step,
+ * ~12 bytes per vertex; indices and attractors are shared between steps until they change and
+ * counted once). A run too long for the budget is thinned evenly: the history then keeps every
+ * `stride`-th step of the run (2, 4, 8, ...; the first step always, the newest step always) and
+ * `stride` says so. The plot's series is never thinned: it keeps every step's distances.
  */
 import type { StepReport } from '../core-client/protocol';
 
 export interface HistoryEntry {
   report: StepReport;
   positions: Float32Array;
-  /** Triangles valid for `positions` (shared between frames until the topology changes). */
+  /** Triangles valid for `positions` (shared between steps until the topology changes). */
   indices: Uint32Array;
-  /** Attractor points in force at this step (shared between frames until re-sampled). */
+  /** Attractor points in force at this step (shared between steps until re-sampled). */
   attractors: Float32Array | null;
 }
 
+export interface SeriesPoint {
+  iteration: number;
+  max: number;
+  mean: number;
+}
+
+/** The default budget: every step of the longest runs the app allows (2000 iterations of a few thousand vertices) fits. */
+export const HISTORY_BUDGET_BYTES = 300 * 1000 * 1000;
+
+interface Slot {
+  entry: HistoryEntry;
+  /** The step's place in the run (0 for its first step, counting every step pushed). */
+  ordinal: number;
+}
+
 export class FrameHistory {
-  private entries: HistoryEntry[] = [];
+  private slots: Slot[] = [];
+  private points: SeriesPoint[] = [];
   private bytes = 0;
+  private pushed = 0;
+  private keepEvery = 1;
+  /** How many kept steps hold each shared array (indices, attractors), to count its bytes once. */
+  private readonly shared = new Map<ArrayBufferView, number>();
 
   constructor(
-    readonly maxFrames = 400,
-    readonly maxBytes = 96 * 1024 * 1024,
+    readonly maxBytes = HISTORY_BUDGET_BYTES,
+    /** A cap on the kept steps besides the bytes (thinned the same way). */
+    readonly maxFrames = Infinity,
   ) {}
 
   get length(): number {
-    return this.entries.length;
+    return this.slots.length;
+  }
+
+  /** Every `stride`-th step of the run is kept (1: every step). */
+  get stride(): number {
+    return this.keepEvery;
+  }
+
+  /** Steps pushed since the last clear (kept or not). */
+  get stepsSeen(): number {
+    return this.pushed;
+  }
+
+  /** Bytes held: every kept step's positions, each shared array once. */
+  get byteLength(): number {
+    return this.bytes;
   }
 
   at(i: number): HistoryEntry | undefined {
-    return this.entries[i];
+    return this.slots[i]?.entry;
   }
 
   last(): HistoryEntry | undefined {
-    return this.entries[this.entries.length - 1];
+    return this.slots[this.slots.length - 1]?.entry;
   }
 
   clear(): void {
-    this.entries = [];
+    this.slots = [];
+    this.points = [];
     this.bytes = 0;
+    this.pushed = 0;
+    this.keepEvery = 1;
+    this.shared.clear();
   }
 
-  /** Appends a frame; returns how many entries were dropped to stay within bounds. */
+  /** Records the next step of the run; returns how many kept steps were dropped to stay in bounds. */
   push(entry: HistoryEntry): number {
-    this.entries.push(entry);
-    this.bytes += entry.positions.byteLength;
+    const ordinal = this.pushed++;
+    this.points.push({ iteration: entry.report.iteration, max: entry.report.max_distance_mm, mean: entry.report.mean_distance_mm });
     let dropped = 0;
-    while ((this.entries.length > this.maxFrames || this.bytes > this.maxBytes) && this.entries.length > 2) {
+    // The newest step is kept even off the stride; it makes room for the next one.
+    const newest = this.slots[this.slots.length - 1];
+    if (newest && newest.ordinal % this.keepEvery !== 0) {
+      this.slots.pop();
+      this.release(newest.entry);
+      dropped++;
+    }
+    this.slots.push({ entry, ordinal });
+    this.hold(entry);
+    while ((this.bytes > this.maxBytes || this.slots.length > this.maxFrames) && this.slots.length > 2) {
       dropped += this.thin();
     }
     return dropped;
   }
 
-  /** Drops every second entry except the first and the last. */
+  /** Doubles the stride: drops the kept steps off it (never the first nor the newest). */
   private thin(): number {
-    const kept: HistoryEntry[] = [];
-    const n = this.entries.length;
-    let dropped = 0;
+    this.keepEvery *= 2;
+    const n = this.slots.length;
+    const kept: Slot[] = [];
     for (let i = 0; i < n; i++) {
-      if (i === 0 || i === n - 1 || i % 2 === 0) kept.push(this.entries[i]);
-      else {
-        dropped++;
-        this.bytes -= this.entries[i].positions.byteLength;
-      }
+      const slot = this.slots[i];
+      if (i === n - 1 || slot.ordinal % this.keepEvery === 0) kept.push(slot);
+      else this.release(slot.entry);
     }
-    this.entries = kept;
+    const dropped = n - kept.length;
+    this.slots = kept;
     return dropped;
   }
 
-  /** The entry whose iteration is closest to `iteration` (for scrubbing by iteration). */
-  indexOfIteration(iteration: number): number {
-    let best = -1;
-    let bestDist = Infinity;
-    for (let i = 0; i < this.entries.length; i++) {
-      const d = Math.abs(this.entries[i].report.iteration - iteration);
-      if (d < bestDist) {
-        best = i;
-        bestDist = d;
-      }
-    }
-    return best;
+  private hold(e: HistoryEntry): void {
+    this.bytes += e.positions.byteLength;
+    this.share(e.indices, 1);
+    if (e.attractors) this.share(e.attractors, 1);
   }
 
-  /** Distances by iteration, for the live plot. */
-  series(): { iteration: number; max: number; mean: number }[] {
-    return this.entries.map((e) => ({
-      iteration: e.report.iteration,
-      max: e.report.max_distance_mm,
-      mean: e.report.mean_distance_mm,
-    }));
+  private release(e: HistoryEntry): void {
+    this.bytes -= e.positions.byteLength;
+    this.share(e.indices, -1);
+    if (e.attractors) this.share(e.attractors, -1);
+  }
+
+  private share(a: ArrayBufferView, delta: 1 | -1): void {
+    const n = (this.shared.get(a) ?? 0) + delta;
+    if (delta > 0 && n === 1) this.bytes += a.byteLength;
+    if (n === 0) {
+      this.shared.delete(a);
+      this.bytes -= a.byteLength;
+    } else this.shared.set(a, n);
+  }
+
+  /** The kept step whose iteration is closest to `iteration` (for scrubbing by iteration); -1 when empty. */
+  indexOfIteration(iteration: number): number {
+    // Iterations increase along the history: binary search for the first at or past `iteration`.
+    let lo = 0;
+    let hi = this.slots.length;
+    while (lo < hi) {
+      const mid = (lo + hi) >> 1;
+      if (this.slots[mid].entry.report.iteration < iteration) lo = mid + 1;
+      else hi = mid;
+    }
+    if (this.slots.length === 0) return -1;
+    if (lo === this.slots.length) return lo - 1;
+    if (lo > 0 && iteration - this.slots[lo - 1].entry.report.iteration <= this.slots[lo].entry.report.iteration - iteration) return lo - 1;
+    return lo;
+  }
+
+  /** Distances of every step of the run (never thinned), for the live plot. Do not modify. */
+  series(): readonly SeriesPoint[] {
+    return this.points;
   }
 }

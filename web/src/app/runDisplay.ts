@@ -1,14 +1,16 @@
 /**
- * What a run puts on screen, decided once per animation frame: the recorded frames (history), the
- * playback cursor over them, the final result with its distance colours, the contours (plain, by
+ * What a run puts on screen, decided once per animation frame: the recorded steps (history: every
+ * step of the run, each frame's `earlier` ones included), the playback cursor over them (the mesh
+ * drawn is only the one at the cursor: the newest step when live, however many came since the last
+ * display), the final result with its distance colours, the contours (plain, by
  * distance, or the aligned run's own next to the file's as given), the legends, the timeline and
  * the live plot. The controller feeds it frames and results of the active run and asks it to
  * clear; it never talks to the core. Split from controller.ts so run orchestration and display can
  * be read apart.
  */
-import type { Frame, LoadedFile, RunResult, StepReport } from '../core-client/protocol';
+import { stepsOf, type Frame, type LoadedFile, type RunResult, type StepReport } from '../core-client/protocol';
 import { robustMax } from '../viewer/colormap';
-import { FrameHistory } from './history';
+import { FrameHistory, HISTORY_BUDGET_BYTES, type HistoryEntry } from './history';
 import type { Parts } from './parts';
 import * as pb from './playback';
 import { showSceneContours } from './sceneContours';
@@ -21,8 +23,17 @@ export interface DisplayHost {
   iterations(): number;
 }
 
+interface Shown {
+  cursor: number;
+  result: boolean;
+  historyVersion: number;
+  entry: HistoryEntry | undefined;
+}
+
+const NOTHING_SHOWN: Shown = { cursor: -2, result: false, historyVersion: -1, entry: undefined };
+
 export class RunDisplay {
-  private readonly history = new FrameHistory();
+  private readonly history: FrameHistory;
   private playback: pb.Playback = pb.initialPlayback;
   private result: RunResult | null = null;
   private latest: StepReport | null = null;
@@ -30,8 +41,8 @@ export class RunDisplay {
   private attractors: Float32Array | null = null;
   /** The running run's own contours when they are not the file's (breath-hold alignment). */
   private runContours: Frame['runContours'] | null = null;
-  /** What is on screen: the history index shown, and whether the final result is. */
-  private shown = { cursor: -2, result: false, historyVersion: -1 };
+  /** What is on screen: the history index and entry shown, whether the final result is, and the history it saw. */
+  private shown: Shown = NOTHING_SHOWN;
   private historyVersion = 0;
   private contourMode: 'plain' | 'distances' | 'none' = 'none';
   /** The view was widened to the first mesh of this run. */
@@ -44,7 +55,11 @@ export class RunDisplay {
   constructor(
     private readonly parts: Parts,
     private readonly host: DisplayHost,
-  ) {}
+    /** Bytes the recorded steps may hold before they are thinned (history.ts). */
+    historyBudgetBytes = HISTORY_BUDGET_BYTES,
+  ) {
+    this.history = new FrameHistory(historyBudgetBytes);
+  }
 
   /** The finished run's result on screen (null while running or after a clear). */
   get currentResult(): RunResult | null {
@@ -62,20 +77,26 @@ export class RunDisplay {
 
   // ---- feeding ---------------------------------------------------------------------------------
 
-  /** A frame of the active run: recorded (once it has a mesh) and shown at the next display. */
+  /**
+   * A frame of the active run: every step it carries is recorded (once there is a mesh); the
+   * display shows the step at the cursor at the next animation frame (live: only the newest).
+   */
   frame(f: Frame): void {
-    if (f.indices) this.indices = f.indices;
-    if (f.attractors) this.attractors = f.attractors;
     if (f.runContours) {
       this.runContours = f.runContours;
       this.showContours(null); // the shifted contours the mesh now follows, and the file's as given
     }
     this.latest = f.report;
     this.parts.status.setProgress(f.report.total_iterations > 0 ? f.report.iteration / f.report.total_iterations : 0);
-    if (!this.indices || this.indices.length === 0) return;
     const shownIteration = this.history.at(this.playback.cursor)?.report.iteration;
-    const dropped = this.history.push({ report: f.report, positions: f.positions, indices: this.indices, attractors: this.attractors });
-    this.historyVersion++;
+    let dropped = 0;
+    for (const step of stepsOf(f)) {
+      if (step.indices) this.indices = step.indices;
+      if (step.attractors) this.attractors = step.attractors;
+      if (!this.indices || this.indices.length === 0) continue;
+      dropped += this.history.push({ report: step.report, positions: step.positions, indices: this.indices, attractors: this.attractors });
+      this.historyVersion++;
+    }
     if (dropped > 0 && !this.playback.playing && shownIteration !== undefined) {
       this.playback = { ...this.playback, cursor: this.history.indexOfIteration(shownIteration) };
     }
@@ -101,7 +122,7 @@ export class RunDisplay {
     this.runContours = null;
     this.playback = pb.restart(this.playback);
     this.framedRun = false;
-    this.shown = { cursor: -2, result: false, historyVersion: -1 };
+    this.shown = NOTHING_SHOWN;
     this.parts.viewer?.meshLayer.clear();
     this.parts.viewer?.attractorLayer.clear();
     this.parts.viewer?.givenLayer.clear();
@@ -145,14 +166,26 @@ export class RunDisplay {
 
   /** The timeline as the history and cursor stand (after a state change, outside the display). */
   updateTimeline(): void {
+    const report = this.history.at(this.playback.cursor)?.report ?? null;
+    this.timelineAt(this.playback.cursor, report, this.latest?.total_iterations ?? null);
+  }
+
+  private timelineAt(cursor: number, report: StepReport | null, total: number | null): void {
     this.parts.timeline.update({
       length: this.history.length,
-      cursor: this.playback.cursor,
+      cursor,
       playing: this.playback.playing,
-      iteration: this.history.at(this.playback.cursor)?.report.iteration ?? null,
-      total: this.latest?.total_iterations ?? null,
-      done: this.history.at(this.playback.cursor)?.report.done ?? false,
+      iteration: report?.iteration ?? null,
+      total,
+      done: report?.done ?? false,
+      stride: this.history.stride,
     });
+  }
+
+  /** The plot of every step's distances so far, marked at the step on screen. */
+  private plotAt(report: StepReport | null): void {
+    const total = report?.total_iterations ?? this.latest?.total_iterations ?? (this.host.iterations() || 1);
+    this.parts.plot.set(this.history.series(), total, report?.iteration ?? null);
   }
 
   // ---- display (once per animation frame) -----------------------------------------------------
@@ -175,9 +208,17 @@ export class RunDisplay {
     const atEnd = cursor === this.history.length - 1;
     const showResult = this.result !== null && (atEnd || this.history.length === 0);
     const s = this.shown;
-    if (s.cursor !== cursor || s.result !== showResult || (s.historyVersion !== this.historyVersion && showResult !== s.result)) {
-      this.shown = { cursor, result: showResult, historyVersion: this.historyVersion };
+    const entry = this.history.at(cursor);
+    if (s.cursor !== cursor || s.result !== showResult || s.entry !== entry) {
+      this.shown = { cursor, result: showResult, historyVersion: this.historyVersion, entry };
       this.showStep(cursor, showResult);
+    } else if (s.historyVersion !== this.historyVersion) {
+      // New steps while the display stays where it is (paused, or replaying): the scrubber's
+      // range and the plot grow; the mesh on screen does not change.
+      this.shown = { ...s, historyVersion: this.historyVersion };
+      const report = this.history.at(cursor)?.report ?? null;
+      this.timelineAt(cursor, report, report?.total_iterations ?? null);
+      this.plotAt(report);
     }
     this.parts.viewer?.renderIfNeeded();
   }
@@ -208,16 +249,8 @@ export class RunDisplay {
     viewer?.requestRender();
     const report = entry?.report ?? null;
     this.parts.status.setStep(report);
-    const total = report?.total_iterations ?? this.latest?.total_iterations ?? (this.host.iterations() || 1);
-    this.parts.timeline.update({
-      length: this.history.length,
-      cursor,
-      playing: this.playback.playing,
-      iteration: report?.iteration ?? null,
-      total: report?.total_iterations ?? null,
-      done: report?.done ?? false,
-    });
-    this.parts.plot.set(this.history.series(), total, report?.iteration ?? null);
+    this.timelineAt(cursor, report, report?.total_iterations ?? null);
+    this.plotAt(report);
   }
 
   /** Contours of the current file; with a result, its points coloured by distance (and, aligned, the file's as given). */

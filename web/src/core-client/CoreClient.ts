@@ -2,14 +2,22 @@
  * The main thread's only door to the reconstruction core: an async API over the worker protocol
  * (protocol.ts). The wasm module lives in the worker; the main thread never blocks on geometry.
  *
- * - Frames are throttled to the display: at most one `onFrame` call per animation frame; frames
- *   that arrive in between are merged (newest positions, carried-over topology and attractors)
- *   and the client acknowledges each frame it hands over, which lets the worker send more
- *   (back-pressure: the worker keeps at most two unacknowledged frames in flight).
+ * - Every step of a run reaches `onFrame`, throttled to the display: at most one call per
+ *   animation frame, with the newest step and, in `earlier`, every step since the previous call
+ *   (frames that arrive in between are merged, topology and attractors carried over); the client
+ *   acknowledges each frame it hands over, which lets the worker send more (back-pressure: the
+ *   worker keeps at most two unacknowledged frames in flight and batches the steps meanwhile).
  * - One run at a time: starting a run cancels the previous one; a cancelled run's `done` rejects
  *   with `{ code: 'cancelled' }` and its late frames are dropped by run id.
  * - A worker crash (wasm trap, Rust panic, script error) rejects everything pending with
  *   `{ code: 'worker_crashed' }`; the next call starts a fresh worker and re-sends the loaded files.
+ * - A cancel takes effect at once here, but the worker can only see it between two steps, and one
+ *   step of a heavy input (a dense spline solve over 5000 attractors) takes seconds: whatever was
+ *   asked after the cancel (the next run, a new file) would wait for it. When the worker has not
+ *   answered a cancel within CANCEL_GRACE_MS it is replaced through the same teardown as after a
+ *   crash, but on purpose: nothing is rejected and nobody hears of a crash; what the old worker had
+ *   not answered yet (a load, a run that had not started) is posted again to the new one, the files
+ *   it needs re-sent first.
  *
  * The frame throttling lives in runFrames.ts, the validation lab's requests and batches in
  * labRequests.ts, the public API types in coreClientTypes.ts (re-exported here); this module keeps
@@ -19,6 +27,7 @@
 import {
   ErrorCodes,
   assertNever,
+  stepsOf,
   isFatal,
   isFromWorker,
   toCoreErrorData,
@@ -56,6 +65,26 @@ interface PendingRequest {
   reject: (error: CoreErrorData) => void;
 }
 
+/**
+ * How long a cancelled run may keep the worker busy before the worker is replaced. The worker sees
+ * a cancel after the step in progress. On the bundled examples the longest step took 16 ms warm
+ * and 42 ms on a page's first run (Chromium, 2 shared cores; Node: 10 and 43 ms), so 300 ms is
+ * 7x the slowest: no ordinary Stop pays for a new worker, and a slower machine has room. Above it
+ * the wait shows: the user's next action (a run, a file) waits at most this long plus a new
+ * worker's start (~45 ms to 'ready' in Chromium) and the re-sent file's parse.
+ */
+export const CANCEL_GRACE_MS = 300;
+
+/** A message the worker has not answered yet, to post again to a worker that replaces it. */
+interface Unanswered {
+  make: () => ToWorker;
+  type: ToWorker['type'];
+  /** A loaded file the message needs in the worker (re-sent first). */
+  needs?: string;
+  /** The file this message loads. */
+  loads?: string;
+}
+
 function defaultCreateWorker(): WorkerLike {
   // Vite recognises this exact pattern and bundles the worker as a separate module chunk.
   const worker = new Worker(new URL('./reconstruct.worker.ts', import.meta.url), { type: 'module' });
@@ -78,6 +107,8 @@ export class CoreClient {
   private readonly createWorker: () => WorkerLike;
   private readonly schedule: (callback: () => void) => void;
   private readonly onWorkerCrash: ((error: CoreErrorData) => void) | undefined;
+  private readonly onWorkerRestart: (() => void) | undefined;
+  private readonly cancelGraceMs: number;
 
   private worker: WorkerLike | null = null;
   private ready: Promise<void> | null = null;
@@ -93,6 +124,16 @@ export class CoreClient {
   /** Files the current worker has been sent. */
   private readonly workerFiles = new Set<string>();
   private schemaCache: { schema: ParamSpec[]; version: string } | null = null;
+  /** By request/run id: what the current worker was asked and has not answered (or started) yet. */
+  private readonly unanswered = new Map<number, Unanswered>();
+  /** Cancels posted to the current worker and not yet acknowledged, with the grace timer. */
+  private readonly awaitedCancels = new Set<number>();
+  private graceTimer: ReturnType<typeof setTimeout> | null = null;
+  /** Requests the worker said it is handling ('started'): it is busy with them, not inside a step. */
+  private readonly handling = new Set<number>();
+  /** performance.now() of the run's last sign of life from the worker (posted, or a frame), and its last step's cost. */
+  private runActivityMs = 0;
+  private lastStepMs = 0;
   /** The validation lab's requests and batches (labRequests.ts). */
   private readonly lab: LabRequests;
   private disposed = false;
@@ -102,10 +143,13 @@ export class CoreClient {
     this.createWorker = options.createWorker ?? defaultCreateWorker;
     this.schedule = options.schedule ?? defaultSchedule;
     this.onWorkerCrash = options.onWorkerCrash;
+    this.onWorkerRestart = options.onWorkerRestart;
+    this.cancelGraceMs = options.cancelGraceMs ?? CANCEL_GRACE_MS;
     this.runs = new RunFrames(this.schedule, (runId, seq) => this.post({ type: 'ack', runId, seq }));
     this.lab = new LabRequests({
-      request: (make) => this.request(make),
-      post: (msg) => this.post(msg),
+      request: (make, files) => this.request(make, files),
+      postRun: (runId, make, needs) => this.postRun(runId, make, needs),
+      cancel: (runId) => this.postCancel(runId),
       hasWorker: () => this.worker !== null,
       newId: () => this.nextId++,
       disposedError: () => (this.disposed ? this.disposedError() : null),
@@ -138,19 +182,22 @@ export class CoreClient {
     });
   }
 
-  /** Parses a contour file in the worker. Rejects with CoreErrorData (file and line named). */
-  load(fileName: string, bytes: ArrayBuffer): Promise<LoadedFile> {
+  /**
+   * Parses a contour file in the worker. Rejects with CoreErrorData (file and line named).
+   * `whenBehindLongStep`: called (once) if the file waits in the worker behind a step of the run in
+   * progress that has lasted longer than the cancel grace period; the caller may then cancel the
+   * run, after which the file is read at once (by a new worker if the step does not end soon).
+   */
+  load(fileName: string, bytes: ArrayBuffer, whenBehindLongStep?: () => void): Promise<LoadedFile> {
     // One copy stays here for crash recovery; the other is transferred to the worker.
     const kept = bytes.slice(0);
-    const sent = bytes.slice(0);
     this.files.set(fileName, kept);
-    const promise = this.request<LoadedFile>((reqId) => ({
-      type: 'load',
-      reqId,
-      fileName,
-      bytes: sent,
-    }));
+    const promise = this.request<LoadedFile>(
+      (reqId) => ({ type: 'load', reqId, fileName, bytes: kept.slice(0) }),
+      { loads: fileName },
+    );
     this.workerFiles.add(fileName);
+    if (whenBehindLongStep) this.watchBehindLongStep(promise, whenBehindLongStep);
     return promise.catch((e: CoreErrorData) => {
       if (this.files.get(fileName) === kept && e.code !== ErrorCodes.workerCrashed) {
         this.files.delete(fileName);
@@ -191,8 +238,39 @@ export class CoreClient {
       // The crash handler already rejected this run.
     });
     this.resendIfRecreated(opts.fileName, bytes, (e) => this.runs.finish(runId, e));
-    this.post({ type: 'run', runId, ...settingsOf(opts) });
+    const settings = settingsOf(opts);
+    this.postRun(runId, () => ({ type: 'run', runId, ...settings }), opts.fileName);
     return handle;
+  }
+
+  /**
+   * Whether the run in progress keeps the worker inside one step for longer than the cancel grace
+   * period (its last step took that long, or the worker has been silent that long since): anything
+   * asked of the worker now would wait behind the step, so the caller may rather stop the run.
+   */
+  isInLongStep(now: number = performance.now()): boolean {
+    if (this.runs.ids().length === 0 || !this.worker || this.handling.size > 0) return false;
+    return this.lastStepMs > this.cancelGraceMs || now - this.runActivityMs > this.cancelGraceMs;
+  }
+
+  /** Calls `then` once if the run keeps the worker in a long step while `request` waits. */
+  private watchBehindLongStep(request: Promise<unknown>, then: () => void): void {
+    let settled = false;
+    const check = () => {
+      if (settled) return;
+      if (this.isInLongStep()) {
+        settled = true;
+        clearInterval(timer);
+        then();
+      }
+    };
+    const timer = setInterval(check, Math.max(10, this.cancelGraceMs / 4));
+    const stop = () => {
+      settled = true;
+      clearInterval(timer);
+    };
+    request.then(stop, stop);
+    check();
   }
 
   /**
@@ -201,7 +279,7 @@ export class CoreClient {
    */
   private resendIfRecreated(fileName: string, bytes: ArrayBuffer, onError: (e: CoreErrorData) => void): void {
     if (this.workerFiles.has(fileName)) return;
-    this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0) })).catch((e: CoreErrorData) => {
+    this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0) }), { loads: fileName }).catch((e: CoreErrorData) => {
       this.workerFiles.delete(fileName);
       onError(e);
     });
@@ -219,7 +297,8 @@ export class CoreClient {
     }
     // A failed reload also fails the export request that follows it, which the caller hears.
     this.resendIfRecreated(opts.fileName, bytes, () => {});
-    return this.request<Uint8Array>((reqId) => ({ type: 'session-export', reqId, ...settingsOf(opts), appVersion }));
+    const settings = settingsOf(opts);
+    return this.request<Uint8Array>((reqId) => ({ type: 'session-export', reqId, ...settings, appVersion }), { needs: opts.fileName });
   }
 
   // ---- validation lab ------------------------------------------------------------------------
@@ -295,21 +374,117 @@ export class CoreClient {
     this.worker?.postMessage(msg, transferablesOf(msg));
   }
 
-  private request<T>(make: (reqId: number) => ToWorker): Promise<T> {
+  /**
+   * `make` builds the message (again, with fresh copies of its buffers, if it has to go to a
+   * worker that replaces a stuck one); `files` names the file it needs or loads.
+   */
+  private request<T>(make: (reqId: number) => ToWorker, files: { needs?: string; loads?: string } = {}): Promise<T> {
     if (this.disposed) return Promise.reject(this.disposedError());
     const reqId = this.nextId++;
     const promise = new Promise<T>((resolve, reject) => {
       this.requests.set(reqId, { resolve: resolve as (v: unknown) => void, reject });
     });
     void this.ensureWorker().catch(() => undefined);
-    this.post(make(reqId));
+    const msg = make(reqId);
+    this.unanswered.set(reqId, { make: () => make(reqId), type: msg.type, ...files });
+    this.post(msg);
     return promise;
+  }
+
+  /** Posts a run or lab batch, remembered until the worker starts it (see restartStuckWorker). */
+  private postRun(runId: number, make: () => ToWorker, needs: string): void {
+    const msg = make();
+    this.unanswered.set(runId, { make, type: msg.type, needs });
+    if (msg.type === 'run') {
+      this.runActivityMs = performance.now();
+      this.lastStepMs = 0;
+    }
+    this.post(msg);
+  }
+
+  /**
+   * Asks the worker to cancel `runId`; when it has not acknowledged within the grace period (it is
+   * inside a long step), it is replaced. The period starts once the worker is ready: one still
+   * loading its wasm handles the cancel right after.
+   */
+  private postCancel(runId: number): void {
+    if (!this.worker) return;
+    const worker = this.worker;
+    this.unanswered.delete(runId);
+    this.awaitedCancels.add(runId);
+    this.post({ type: 'cancel', runId });
+    if (this.graceTimer !== null) return;
+    void this.ready?.then(() => {
+      if (this.worker !== worker || this.graceTimer !== null || this.awaitedCancels.size === 0) return;
+      const expire = () => {
+        this.graceTimer = null;
+        if (this.worker !== worker || this.awaitedCancels.size === 0) return;
+        // Busy reading a file (it said so), not inside a step: give it another period.
+        if (this.handling.size > 0) this.graceTimer = setTimeout(expire, this.cancelGraceMs);
+        else this.restartStuckWorker();
+      };
+      this.graceTimer = setTimeout(expire, this.cancelGraceMs);
+    }, () => undefined);
+  }
+
+  private onCancelled(runId: number): void {
+    this.awaitedCancels.delete(runId);
+    if (this.awaitedCancels.size === 0) this.clearGraceTimer();
+  }
+
+  private clearGraceTimer(): void {
+    if (this.graceTimer !== null) clearTimeout(this.graceTimer);
+    this.graceTimer = null;
+    this.awaitedCancels.clear();
+  }
+
+  /** Whether `id` is a request, run or lab batch still waiting for its answer. */
+  private isPending(id: number): boolean {
+    return this.requests.has(id) || this.runs.has(id) || this.lab.has(id);
+  }
+
+  /**
+   * The worker did not acknowledge a cancel in time: it is computing one long step of a run nobody
+   * wants any more. It is replaced (the teardown of a crash, without rejecting anything or telling
+   * onWorkerCrash); everything it had not answered yet goes to the new worker in the order it was
+   * asked, each after the file it needs. A run or batch it had already started (one that was not
+   * cancelled) cannot be moved: it fails with `worker_crashed`, as if the worker had died.
+   */
+  private restartStuckWorker(): void {
+    const moved = [...this.unanswered].filter(([id]) => this.isPending(id)).sort((a, b) => a[0] - b[0]);
+    const movedIds = new Set(moved.map(([id]) => id));
+    const started = [...this.runs.ids(), ...this.lab.ids()].filter((id) => !movedIds.has(id));
+    this.unanswered.clear();
+    this.teardownWorker(null);
+    for (const id of started) {
+      this.failPending(id, { code: ErrorCodes.workerCrashed, message: 'the engine was restarted to end a long step of another run' });
+    }
+    this.onWorkerRestart?.();
+    void this.ensureWorker().catch(() => undefined);
+    if (moved.some(([, u]) => u.type.startsWith('lab-') && u.type !== 'lab-truth')) this.lab.restoreInWorker();
+    for (const [id, u] of moved) {
+      const bytes = u.needs !== undefined ? this.files.get(u.needs) : undefined;
+      if (u.needs !== undefined && bytes !== undefined) this.resendIfRecreated(u.needs, bytes, (e) => this.failPending(id, e));
+      if (u.loads !== undefined) this.workerFiles.add(u.loads);
+      this.unanswered.set(id, u);
+      this.post(u.make());
+    }
+    this.runActivityMs = performance.now();
+  }
+
+  /** Rejects a request, run or batch by id. */
+  private failPending(id: number, error: CoreErrorData): void {
+    this.settleRequest(id, false, error);
+    this.runs.finish(id, error);
+    this.lab.finishBatch(id, error);
   }
 
   private settleRequest(reqId: number, ok: boolean, value: unknown): void {
     const req = this.requests.get(reqId);
     if (!req) return;
     this.requests.delete(reqId);
+    this.unanswered.delete(reqId);
+    this.handling.delete(reqId);
     if (ok) req.resolve(value);
     else req.reject(value as CoreErrorData);
   }
@@ -331,7 +506,18 @@ export class CoreClient {
         this.settleRequest(msg.reqId, true, { schema: msg.schema, version: msg.version });
         break;
       case 'frame':
+        if (this.runs.has(msg.runId)) {
+          this.unanswered.delete(msg.runId); // started: it can no longer move to another worker
+          this.runActivityMs = performance.now();
+          this.lastStepMs = Math.max(0, ...stepsOf(msg).map((st) => st.report.timings.total_ms));
+        }
         this.runs.onFrameMessage(msg);
+        break;
+      case 'cancelled':
+        this.onCancelled(msg.runId);
+        break;
+      case 'started':
+        if (this.requests.has(msg.reqId)) this.handling.add(msg.reqId);
         break;
       case 'lab-truth':
         this.settleRequest(msg.reqId, true, msg.truth);
@@ -346,6 +532,7 @@ export class CoreClient {
         this.settleRequest(msg.reqId, true, msg.bytes);
         break;
       case 'lab-batch-started':
+        this.unanswered.delete(msg.runId);
         this.lab.onStarted(msg.runId, msg.info);
         break;
       case 'lab-progress':
@@ -355,6 +542,7 @@ export class CoreClient {
         this.lab.finishBatch(msg.runId, null);
         break;
       case 'done':
+        this.unanswered.delete(msg.result.runId);
         this.runs.onDone(msg.result);
         break;
       case 'error':
@@ -364,6 +552,7 @@ export class CoreClient {
         }
         if (msg.reqId !== undefined) this.settleRequest(msg.reqId, false, msg.error);
         if (msg.runId !== undefined) {
+          this.unanswered.delete(msg.runId);
           this.runs.finish(msg.runId, msg.error);
           this.lab.finishBatch(msg.runId, msg.error);
         }
@@ -379,7 +568,7 @@ export class CoreClient {
 
   private cancelRun(runId: number): void {
     if (!this.runs.has(runId)) return;
-    if (this.worker) this.post({ type: 'cancel', runId });
+    this.postCancel(runId);
     this.runs.finish(runId, { code: ErrorCodes.cancelled, message: 'the run was cancelled' });
   }
 
@@ -392,15 +581,23 @@ export class CoreClient {
     this.onWorkerCrash?.(error);
   }
 
-  private teardownWorker(error: CoreErrorData): void {
+  /**
+   * Terminates the worker. `error`: everything pending is rejected with it (a crash, dispose());
+   * null: a worker replaced on purpose (restartStuckWorker), whose caller moves what is pending.
+   */
+  private teardownWorker(error: CoreErrorData | null): void {
     const worker = this.worker;
     this.worker = null;
     this.ready = null;
     this.readyResolve = null;
     this.readyReject = null;
     this.workerFiles.clear();
+    this.handling.clear();
+    this.clearGraceTimer();
     this.lab.workerLost();
     worker?.terminate();
+    if (!error) return;
+    this.unanswered.clear();
     for (const [reqId] of [...this.requests]) this.settleRequest(reqId, false, error);
     for (const runId of this.runs.ids()) this.runs.finish(runId, { ...error });
     this.lab.failAll(error);

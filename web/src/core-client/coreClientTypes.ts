@@ -23,6 +23,10 @@ export interface CoreClientOptions {
   schedule?: (callback: () => void) => void;
   /** Told about every worker crash (after pending promises were rejected). */
   onWorkerCrash?: (error: CoreErrorData) => void;
+  /** Told when a worker stuck in a long step of a cancelled run was replaced on purpose (no crash). */
+  onWorkerRestart?: () => void;
+  /** How long a cancel may go unacknowledged before the worker is replaced (CANCEL_GRACE_MS). */
+  cancelGraceMs?: number;
 }
 
 export interface RunOptions {

@@ -23,8 +23,12 @@ import type { LabBatchHandle } from './coreClientTypes';
 
 /** What the lab needs from the client that owns the worker. */
 export interface LabHost {
-  request<T>(make: (reqId: number) => ToWorker): Promise<T>;
-  post(msg: ToWorker): void;
+  /** `make` may be called again (a worker replaced while stuck): each call makes fresh buffers. */
+  request<T>(make: (reqId: number) => ToWorker, files?: { needs?: string }): Promise<T>;
+  /** Posts a batch, remembered until the worker starts it (moved to a worker that replaces a stuck one). */
+  postRun(runId: number, make: () => ToWorker, needs: string): void;
+  /** Posts a cancel (the client replaces a worker that does not acknowledge it in time). */
+  cancel(runId: number): void;
   /** A worker exists now (a cancel is only worth posting then). */
   hasWorker(): boolean;
   /** The next request/run id (shared with the client's own). */
@@ -58,9 +62,10 @@ export class LabRequests {
   /** Makes the lab's ground-truth surface (parametric LV or a mesh file) in the worker. */
   truth(source: LabTruthSource): Promise<LabTruth> {
     const kept: LabTruthSource = source.kind === 'file' ? { ...source, bytes: source.bytes.slice(0) } : source;
-    const sent: LabTruthSource = source.kind === 'file' ? { ...source, bytes: source.bytes.slice(0) } : source;
+    // A fresh copy for each worker it goes to (the copy is transferred).
+    const sent = (): LabTruthSource => (kept.kind === 'file' ? { ...kept, bytes: kept.bytes.slice(0) } : kept);
     this.acquisition = null;
-    const p = this.host.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source: sent }));
+    const p = this.host.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source: sent() }));
     this.inWorker = true;
     return p.then((t) => {
       this.truthSource = kept;
@@ -117,7 +122,7 @@ export class LabRequests {
     this.host.resendIfRecreated(job.fileName, bytes, (e) => this.finishBatch(runId, e));
     const options = job.options ? { options: { ...job.options } } : {};
     const copy: LabBatchJob = job.kind === 'sweep' ? { ...job, grid: { ...job.grid }, params: { ...job.params }, ...options } : { ...job, params: { ...job.params }, ...options };
-    this.host.post({ type: 'lab-batch', runId, job: copy });
+    this.host.postRun(runId, () => ({ type: 'lab-batch', runId, job: copy }), job.fileName);
     return handle;
   }
 
@@ -153,6 +158,20 @@ export class LabRequests {
     this.inWorker = false;
   }
 
+  /** Replays the truth and acquisition now (a replaced worker gets lab requests that need them). */
+  restoreInWorker(): void {
+    this.replay();
+  }
+
+  has(runId: number): boolean {
+    return this.batches.has(runId);
+  }
+
+  /** The batches in progress. */
+  ids(): number[] {
+    return [...this.batches.keys()];
+  }
+
   /** Fails every batch in progress (the worker crashed, or the client was disposed). */
   failAll(error: CoreErrorData): void {
     for (const runId of [...this.batches.keys()]) this.finishBatch(runId, { ...error });
@@ -173,7 +192,7 @@ export class LabRequests {
 
   private cancelBatch(runId: number): void {
     if (!this.batches.has(runId)) return;
-    if (this.host.hasWorker()) this.host.post({ type: 'cancel', runId });
+    if (this.host.hasWorker()) this.host.cancel(runId);
     this.finishBatch(runId, { code: ErrorCodes.cancelled, message: 'the batch was cancelled' });
   }
 }

@@ -6,7 +6,7 @@
  */
 
 import type { FromWorker, ToWorker } from './protocolMessages';
-import type { Frame } from './protocolResults';
+import type { Frame, StepFrame } from './protocolResults';
 
 /** Compile-time exhaustiveness check for switches over a union's `type`. */
 export function assertNever(value: never, what = 'message'): never {
@@ -30,6 +30,11 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       add(msg.file.points);
       break;
     case 'frame':
+      for (const s of msg.earlier ?? []) {
+        add(s.positions);
+        add(s.indices);
+        add(s.attractors);
+      }
       add(msg.positions);
       add(msg.indices);
       add(msg.attractors);
@@ -74,6 +79,8 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
     case 'cancel':
     case 'schema':
     case 'ready':
+    case 'cancelled':
+    case 'started':
     case 'error':
     case 'lab-simulate':
     case 'lab-batch':
@@ -94,6 +101,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
     case 'done':
       return msg.result.runId;
     case 'error':
+    case 'cancelled':
       return msg.runId;
     case 'lab-batch-started':
     case 'lab-progress':
@@ -101,6 +109,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
       return msg.runId;
     case 'ready':
     case 'loaded':
+    case 'started':
     case 'schema':
     case 'lab-truth':
     case 'lab-simulated':
@@ -120,6 +129,8 @@ export function isFromWorker(v: unknown): v is FromWorker {
     case 'loaded':
     case 'frame':
     case 'done':
+    case 'cancelled':
+    case 'started':
     case 'error':
     case 'schema':
     case 'lab-truth':
@@ -156,16 +167,50 @@ export function isToWorker(v: unknown): v is ToWorker {
 }
 
 /**
- * Merges a newer frame over an older one that was never handed to the renderer: the newer
- * positions win, but topology (indices), attractors and run contours of the skipped frame are carried over when
- * the newer frame does not have its own, so the receiver never misses a topology change.
+ * Merges a newer frame over an older one that was never handed to the receiver: the newer step
+ * stays the newest, the older frame's steps (its `earlier` and its newest) go before the newer's
+ * `earlier`, so no step is lost; topology (indices), attractors and run contours of the older frame
+ * are carried over when the newer frame does not have its own, so the newest step always comes with
+ * what it needs to be drawn.
  */
 export function mergeFrames(older: Frame, newer: Frame): Frame {
-  const merged: Frame = { ...newer };
+  const merged: Frame = { ...newer, earlier: [...stepsOf(older), ...(newer.earlier ?? [])] };
   if (merged.indices === undefined && older.indices !== undefined) merged.indices = older.indices;
   if (merged.attractors === undefined && older.attractors !== undefined) {
     merged.attractors = older.attractors;
   }
   if (merged.runContours === undefined && older.runContours !== undefined) merged.runContours = older.runContours;
   return merged;
+}
+
+/** Every step a frame carries, oldest first (its `earlier`, then its newest). */
+export function stepsOf(f: Frame): StepFrame[] {
+  const newest: StepFrame = { report: f.report, positions: f.positions };
+  if (f.indices !== undefined) newest.indices = f.indices;
+  if (f.attractors !== undefined) newest.attractors = f.attractors;
+  return f.earlier?.length ? [...f.earlier, newest] : [newest];
+}
+
+/**
+ * The frame that carries `steps` (at least one, oldest first): the last is the newest, and the
+ * indices and attractors of the newest are the last ones among the steps (see `Frame`).
+ */
+export function frameOfSteps(runId: number, seq: number, steps: readonly StepFrame[]): Frame {
+  const newest = steps[steps.length - 1];
+  if (!newest) throw new Error('a frame carries at least one step');
+  const frame: Frame = { runId, seq, report: newest.report, positions: newest.positions };
+  const indices = lastDefined(steps, (s) => s.indices);
+  const attractors = lastDefined(steps, (s) => s.attractors);
+  if (indices !== undefined) frame.indices = indices;
+  if (attractors !== undefined) frame.attractors = attractors;
+  if (steps.length > 1) frame.earlier = steps.slice(0, -1);
+  return frame;
+}
+
+function lastDefined<T, U>(items: readonly T[], get: (item: T) => U | undefined): U | undefined {
+  for (let i = items.length - 1; i >= 0; i--) {
+    const v = get(items[i]);
+    if (v !== undefined) return v;
+  }
+  return undefined;
 }

@@ -96,6 +96,23 @@ export interface DoneMessage {
   type: 'done';
   result: RunResult;
 }
+/**
+ * The worker has handled a 'cancel' (sent whether or not the run was still going). The client
+ * waits a short grace period for it; a worker that does not answer is inside one long step, and
+ * the client replaces it (CoreClient.ts, CANCEL_GRACE_MS).
+ */
+export interface CancelledMessage {
+  type: 'cancelled';
+  runId: number;
+}
+/**
+ * The worker begins reading a file (sent before the parse, which may take seconds): the client
+ * then knows that the worker is busy with its request, not inside a step of a run.
+ */
+export interface StartedMessage {
+  type: 'started';
+  reqId: number;
+}
 export interface ErrorMessage {
   type: 'error';
   reqId?: number;
@@ -159,6 +176,8 @@ export type FromWorker =
   | LoadedMessage
   | FrameMessage
   | DoneMessage
+  | CancelledMessage
+  | StartedMessage
   | ErrorMessage
   | SchemaMessage
   | SessionJsonMessage;

@@ -62,16 +62,44 @@ export interface StepReport {
   done: boolean;
 }
 
+/** One deformation step as the worker computed it: every step of a run reaches the main thread. */
+export interface StepFrame {
+  report: StepReport;
+  /** Vertex positions, xyz, mm: this step's own buffer (transferred, never shared with another step). */
+  positions: Float32Array;
+  /**
+   * Triangle indices valid from this step on; present when the topology changed at this step (and
+   * on a run's first step). Steps without them use the last indices sent.
+   */
+  indices?: Uint32Array;
+  /** Attractor points, xyz, mm, in force from this step on; present when they were re-sampled. */
+  attractors?: Float32Array;
+}
+
+/**
+ * What the worker sends (and the client hands over, at most once per display frame): the newest
+ * step, and in `earlier` every step computed since the previous frame, so the receiver records every
+ * step while the display shows only the newest.
+ */
 export interface Frame {
   runId: number;
   seq: number;
+  /** The newest step's report. */
   report: StepReport;
-  /** Vertex positions, xyz, mm. Always present. */
+  /** The newest step's vertex positions, xyz, mm. Always present. */
   positions: Float32Array;
-  /** Triangle indices; only when the topology changed since the last frame the receiver got. */
+  /**
+   * Triangle indices valid for `positions`; only when the topology changed since the previous frame
+   * (at the newest step or at one of `earlier`: then the same array as that step's).
+   */
   indices?: Uint32Array;
-  /** Attractor points, xyz, mm; only when they were re-sampled since the last frame sent. */
+  /** Attractor points, xyz, mm; only when they were re-sampled since the previous frame (as `indices`). */
   attractors?: Float32Array;
+  /**
+   * The steps computed before the newest since the previous frame, oldest first (missing or empty:
+   * none). With them, every step of a run is in exactly one frame.
+   */
+  earlier?: StepFrame[];
   /**
    * The contours the run follows, on its first frame, when they are not the file's as given (the
    * run aligns breath-holds: these are the shifted ones), so the display shows them while it runs.

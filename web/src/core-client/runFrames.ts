@@ -1,8 +1,9 @@
 /**
  * The main thread's side of a run's frame stream: frames are throttled to the display (at most one
- * `onFrame` call per scheduled slot, frames arriving in between merged by `mergeFrames`), each
- * frame handed over is acknowledged (the worker's back-pressure waits for those acks), and a run's
- * result is held back until its last frame was shown. Kept out of CoreClient so the worker
+ * `onFrame` call per scheduled slot; frames arriving in between are merged by `mergeFrames`, which
+ * keeps every step they carry, so the receiver still gets every step of the run), each frame handed
+ * over is acknowledged (the worker's back-pressure waits for those acks), and a run's result is held
+ * back until its last frame was handed over. Kept out of CoreClient so the worker
  * plumbing and this timing logic can be read (and changed) separately.
  */
 
@@ -56,6 +57,7 @@ export class RunFrames {
     if (msg.indices !== undefined) frame.indices = msg.indices;
     if (msg.attractors !== undefined) frame.attractors = msg.attractors;
     if (msg.runContours !== undefined) frame.runContours = msg.runContours;
+    if (msg.earlier?.length) frame.earlier = msg.earlier;
     run.pending = run.pending ? mergeFrames(run.pending, frame) : frame;
     if (!run.flushScheduled) {
       run.flushScheduled = true;

@@ -3,19 +3,24 @@
  * with the real wasm module (differential test) and the unit tests with a fake one.
  *
  * One run at a time: a run computes in slices of a few milliseconds, yielding to the event loop
- * between slices so that 'ack' and 'cancel' messages are seen. Back-pressure: at most two frames
- * are unacknowledged; while the limit is reached the worker keeps computing and sends only the
- * latest state once an ack arrives (with the indices if the topology changed in between, and the
- * attractors if they were re-sampled). The final frame is always sent, then 'done'.
+ * between slices so that 'ack' and 'cancel' messages are seen. Every step's state (report, its own
+ * positions buffer, the indices when the topology changed, the attractors when re-sampled) is kept
+ * until it is sent: nothing is skipped, so the main thread can record every step. Back-pressure: at
+ * most two frames are unacknowledged; while the limit is reached the worker keeps computing, and
+ * once an ack arrives it sends every step computed meanwhile in one frame (the newest step, the
+ * others in `earlier`, all buffers transferred). The final frame is always sent, then 'done'.
  *
  * Errors thrown by the wasm Session are JSON strings (CoreErrorData); anything else thrown (a wasm
  * trap, "unreachable" after a Rust panic) is fatal: the worker reports 'worker_crashed' and
- * refuses further work, and the client replaces it.
+ * refuses further work, and the client replaces it. Every 'cancel' is answered with 'cancelled'
+ * once handled: a step cannot be interrupted, so a worker that does not answer within the client's
+ * grace period is inside a long one, and the client replaces it too (on purpose, not as a crash).
  */
 
 import {
   ErrorCodes,
   assertNever,
+  frameOfSteps,
   isCoreErrorData,
   paramsJson,
   transferablesOf,
@@ -27,6 +32,7 @@ import {
   type ParamSpec,
   type RunRequest,
   type RunResult,
+  type StepFrame,
   type StepReport,
   type ToWorker,
 } from './protocol';
@@ -97,8 +103,9 @@ interface ActiveRun {
   seq: number;
   /** Sequence numbers sent and not yet acknowledged. */
   unacked: number[];
-  /** A step happened since the last frame was sent. */
-  unsent: boolean;
+  /** The steps computed since the last frame was sent, oldest first. */
+  batch: StepFrame[];
+  /** The next step carries the indices (and attractors) whatever it reports: the run's first. */
   indicesDirty: boolean;
   attractorsDirty: boolean;
   /** The run's contours differ from the file's (breath-hold alignment): send them on the first frame. */
@@ -175,6 +182,8 @@ export class WorkerCore {
         });
         break;
       case 'load':
+        // Said first: a parse of seconds is then not taken for a long step (CoreClient.isInLongStep).
+        this.send({ type: 'started', reqId: msg.reqId });
         this.load(msg.reqId, msg.fileName, msg.bytes);
         break;
       case 'run':
@@ -193,6 +202,8 @@ export class WorkerCore {
       case 'cancel':
         if (this.run?.runId === msg.runId) this.stopRun();
         else this.lab?.cancel(msg.runId);
+        // The client waits for this (a short grace period) before it replaces a worker stuck in a long step.
+        this.send({ type: 'cancelled', runId: msg.runId });
         break;
       case 'lab-truth':
       case 'lab-simulate':
@@ -226,7 +237,7 @@ export class WorkerCore {
       runId: msg.runId,
       seq: 0,
       unacked: [],
-      unsent: false,
+      batch: [],
       indicesDirty: true,
       attractorsDirty: true,
       contoursDirty: msg.options?.align_slices === true,
@@ -258,9 +269,7 @@ export class WorkerCore {
       do {
         const report = JSON.parse(this.session.step()) as StepReport;
         run.report = report;
-        run.unsent = true;
-        if (report.topology_changed) run.indicesDirty = true;
-        if (this.session.attractors_changed()) run.attractorsDirty = true;
+        this.record(run, report);
         if (report.done) {
           this.finish(run);
           return;
@@ -279,30 +288,35 @@ export class WorkerCore {
     const run = this.run;
     if (!run || run.runId !== runId) return;
     run.unacked = run.unacked.filter((s) => s > seq);
-    // Between slices the session is consistent: catch up with the newest state right away.
-    if (run.unsent && run.unacked.length < this.maxInFlight) this.sendFrame(run);
+    // Catch up right away with the steps computed while the frames were in flight.
+    if (run.batch.length > 0 && run.unacked.length < this.maxInFlight) this.sendFrame(run);
   }
 
+  /**
+   * Keeps the state of the step just computed until it is sent: the positions always (each leaves
+   * wasm memory once, into a buffer of its own), the indices when the topology changed and the
+   * attractors when they were re-sampled (the display shares them between steps until then).
+   */
+  private record(run: ActiveRun, report: StepReport): void {
+    const step: StepFrame = { report, positions: this.session.positions() };
+    if (report.topology_changed || run.indicesDirty) step.indices = this.session.indices();
+    if (this.session.attractors_changed() || run.attractorsDirty) step.attractors = this.session.attractors();
+    run.indicesDirty = false;
+    run.attractorsDirty = false;
+    run.batch.push(step);
+  }
+
+  /** Sends every step not yet sent, in one frame. */
   private sendFrame(run: ActiveRun): void {
-    if (!run.report) return;
+    if (run.batch.length === 0) return;
     run.seq += 1;
-    const msg: FromWorker = {
-      type: 'frame',
-      runId: run.runId,
-      seq: run.seq,
-      report: run.report,
-      positions: this.session.positions(),
-    };
-    if (run.indicesDirty) msg.indices = this.session.indices();
-    if (run.attractorsDirty) msg.attractors = this.session.attractors();
+    const msg: FromWorker = { type: 'frame', ...frameOfSteps(run.runId, run.seq, run.batch) };
+    run.batch = [];
     if (run.contoursDirty) {
       const { contours } = JSON.parse(this.session.result_json()) as { contours: ContourInfo[] };
       msg.runContours = { contours, points: this.session.contour_points() };
     }
     run.contoursDirty = false;
-    run.indicesDirty = false;
-    run.attractorsDirty = false;
-    run.unsent = false;
     run.unacked.push(run.seq);
     this.send(msg);
   }

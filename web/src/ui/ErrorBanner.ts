@@ -20,7 +20,7 @@ export class ErrorBanner {
     const hint =
       e.code === 'worker_crashed' ? ' The computation engine was restarted; try again.' :
       e.code === 'surface_required' && e.available ? ` Pick one of: ${e.available.join(', ')}.` :
-      taubinHint(e);
+      taubinHint(e) || wrongFileHint(e);
     this.text.textContent = bannerText(describeError(e), `${hint}${context}`);
     this.element.hidden = false;
   }
@@ -31,13 +31,21 @@ export class ErrorBanner {
     this.element.hidden = false;
   }
 
+  /** A note that is neither an error nor a warning (a file set aside on purpose); closes with its ×. */
+  showInfo(text: string): void {
+    this.element.dataset.kind = 'info';
+    this.text.textContent = text;
+    this.element.hidden = false;
+  }
+
   hide(): void {
     this.element.hidden = true;
   }
 
-  /** Hides an error that has been dealt with; a warning (files of a drop not opened) stays until dismissed. */
+  /** Hides an error that has been dealt with; a warning (files of a drop not opened) or a note stays until dismissed. */
   hideError(): void {
-    if (this.element.dataset.kind !== 'warning') this.hide();
+    const kind = this.element.dataset.kind;
+    if (kind !== 'warning' && kind !== 'info') this.hide();
   }
 }
 
@@ -49,6 +57,21 @@ export class ErrorBanner {
 export function bannerText(message: string, tail: string): string {
   const sentence = /^\s+[A-Z]/.test(tail) && !/[.!?:]$/.test(message.trimEnd());
   return `${message.trimEnd()}${sentence ? '.' : ''}${tail}`;
+}
+
+/**
+ * Files users open by mistake, with what to open instead: the app's own Parameters JSON export
+ * (settings and numbers, no contours; the core reads it as a session without its key) and a mesh
+ * (the Lab takes one as the truth).
+ */
+export function wrongFileHint(e: CoreErrorData): string {
+  if (/invalid session JSON: missing field `heartmesh_session`/.test(e.message)) {
+    return ' Only a heartmesh session opens here (the Session export, …-session.json); the Parameters JSON export holds no contours.';
+  }
+  if (/this is a mesh file \(OBJ, STL or PLY\), not contours/.test(e.message)) {
+    return ' To measure a reconstruction against a mesh, open it in the Lab tab as the truth.';
+  }
+  return '';
 }
 
 /**

@@ -27,8 +27,24 @@ export class HoverReadout {
     }
     children.push(h('span', { class: 'muted' }, pos));
     this.element.replaceChildren(...children);
-    this.element.style.left = `${info.x + 14}px`;
-    this.element.style.top = `${info.y + 14}px`;
     this.element.hidden = false;
+    // Measured once shown: beside the pointer, on the side where the view has room for it.
+    const view = this.element.offsetParent;
+    const at = readoutPlacement(info.x, info.y, this.element.offsetWidth, this.element.offsetHeight, view?.clientWidth ?? Infinity, view?.clientHeight ?? Infinity);
+    this.element.style.left = `${at.left}px`;
+    this.element.style.top = `${at.top}px`;
   }
+}
+
+/** Gap between the pointer and the read-out, px. */
+const GAP_PX = 14;
+
+/**
+ * Where the read-out box (`width` x `height`) goes for a pointer at (`x`, `y`) in a view of
+ * `viewWidth` x `viewHeight` (px): below right of the pointer, flipped to the left (above) where it
+ * would run past the right (bottom) edge of the view, which clips it; never past the top left.
+ */
+export function readoutPlacement(x: number, y: number, width: number, height: number, viewWidth: number, viewHeight: number): { left: number; top: number } {
+  const place = (p: number, size: number, room: number) => (p + GAP_PX + size <= room ? p + GAP_PX : Math.max(0, Math.min(p - GAP_PX - size, room - size)));
+  return { left: place(x, width, viewWidth), top: place(y, height, viewHeight) };
 }

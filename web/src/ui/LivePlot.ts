@@ -16,7 +16,7 @@ const MEAN_COLOR = '#4fc3f7';
 export class LivePlot {
   readonly element: HTMLElement;
   private readonly canvas: HTMLCanvasElement;
-  private points: PlotPoint[] = [];
+  private points: readonly PlotPoint[] = [];
   private total = 1;
   private marker: number | null = null;
   private pending = false;
@@ -34,8 +34,10 @@ export class LivePlot {
     this.element = h('div', { class: 'plot-box' }, this.canvas, legend);
   }
 
-  set(points: PlotPoint[], total: number, marker: number | null): void {
+  /** Every step's distances so far (one point per step; drawn at the next animation frame). */
+  set(points: readonly PlotPoint[], total: number, marker: number | null): void {
     this.points = points;
+    this.canvas.dataset.points = String(points.length);
     this.total = Math.max(1, total);
     this.marker = marker;
     if (!this.pending) {

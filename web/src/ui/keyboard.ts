@@ -1,7 +1,8 @@
 /**
  * Keyboard shortcuts: space play/pause, arrows step, Home/End first/latest, R reset view, Esc stop
  * the computation. Keys
- * typed into form fields stay with them (arrows move a focused slider, space toggles a checkbox).
+ * typed into form fields stay with them (arrows move a focused slider, space toggles a checkbox),
+ * except Esc on a field that has no use for it (a slider, a checkbox).
  */
 export interface KeyHandlers {
   togglePlay(): void;
@@ -18,9 +19,24 @@ function isFormField(t: EventTarget | null): boolean {
   return t instanceof HTMLInputElement || t instanceof HTMLSelectElement || t instanceof HTMLTextAreaElement;
 }
 
+/**
+ * Fields where Esc means something of their own (typing, a menu): on a slider, a checkbox or a
+ * button it means nothing, and a user who just moved a slider (which restarted the run) and
+ * presses Esc wants the run stopped.
+ */
+export function ownsEscape(t: EventTarget | null): boolean {
+  if (!isFormField(t)) return false;
+  return !(t instanceof HTMLInputElement && ['range', 'checkbox', 'radio', 'button', 'submit', 'reset', 'color', 'file'].includes(t.type));
+}
+
 export function installKeyboard(target: Document, h: KeyHandlers): () => void {
   const down = (e: KeyboardEvent) => {
-    if (e.ctrlKey || e.metaKey || e.altKey || isFormField(e.target)) return;
+    if (e.ctrlKey || e.metaKey || e.altKey) return;
+    if (e.key === 'Escape' && !ownsEscape(e.target)) {
+      h.stop();
+      return;
+    }
+    if (isFormField(e.target)) return;
     switch (e.key) {
       case ' ':
         e.preventDefault(); // also stops a focused button from being "clicked" by space
@@ -41,9 +57,6 @@ export function installKeyboard(target: Document, h: KeyHandlers): () => void {
       case 'End':
         e.preventDefault();
         h.latest();
-        return;
-      case 'Escape':
-        h.stop();
         return;
       case 'r':
       case 'R':

@@ -39,6 +39,22 @@ export function timelineText(s: { iteration: number | null; total: number | null
   return iterationText({ iteration: s.iteration, total_iterations: s.total, done: s.done });
 }
 
+/**
+ * What the timeline says when a run was too long to keep every step ("every 2nd step kept"); empty
+ * when every step is kept (`stride` 1).
+ */
+export function keptStepsText(stride: number): string {
+  if (stride <= 1) return '';
+  return `every ${ordinal(stride)} step kept`;
+}
+
+/** 2nd, 3rd, 4th, 21st, 112th. */
+export function ordinal(n: number): string {
+  const tens = n % 100;
+  const suffix = tens >= 11 && tens <= 13 ? 'th' : ({ 1: 'st', 2: 'nd', 3: 'rd' } as Record<number, string>)[n % 10] ?? 'th';
+  return `${n}${suffix}`;
+}
+
 /** The status line's detail for the step on screen. */
 export function stepText(r: StepReport): string {
   return `${iterationText(r)} · ${PHASES[r.phase]} · max ${mm(r.max_distance_mm)} · mean ${mm(r.mean_distance_mm)} · ${r.vertices} vertices`;
