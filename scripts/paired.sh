@@ -10,6 +10,8 @@
 # Short-axis-only arm (session 12: ends no long-axis curve reaches): add --lax 0 to both flag sets,
 # e.g. ARGS_A="--end-caps off --lax 0" ARGS_B="--end-caps auto --lax 0" (every shape, LV or RV,
 # sliced without long-axis views; `experiment population|misalignment --lax K`).
+# Such stacks get the apex floor by default since session 14: the paper's extrapolation there is
+# --no-apex-floor (session 14's study: ARGS_A="--lax 0 --no-apex-floor" ARGS_B="--lax 0").
 set -e
 OUT=${1:-/tmp/paired}
 A=${NAME_A:-a}

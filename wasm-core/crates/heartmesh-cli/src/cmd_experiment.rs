@@ -27,7 +27,7 @@ pub const USAGE: &str =
     [--count N] [--seed N]
     [--lambda LIST] [--smoothing-iterations LIST] [--target-reduction LIST]
     [--attractor-spacing LIST] [--iterations N] [--align-slices [--align-in-plane-only]] [--end-caps auto|off]
-    [--apex-floor] [--smoothing-method NAME] [--tag NAME] [--quiet]
+    [--no-apex-floor] [--smoothing-method NAME] [--tag NAME] [--quiet]
   Slices each TRUTH like a CMR acquisition, reconstructs and measures against the truth (clipped
   at the most basal SAX plane); writes OUT_DIR/KIND.csv (one row per run: settings, distances in
   mm both ways, Hausdorff, volumes in ml, contour-to-mesh, seconds) and OUT_DIR/KIND.svg.
@@ -52,8 +52,8 @@ pub const USAGE: &str =
   --align-in-plane-only: with --align-slices, the session-9 alignment (no slice moves along its
   normal; for comparisons).
   --end-caps auto|off: lid points at the ends no curve closes in every run (as reconstruct).
-  --apex-floor: every run floors a short-axis-only apex at the slices' taper tip (as
-  reconstruct; a study option).
+  --no-apex-floor: no run floors a short-axis-only apex at the slices' taper tip (as
+  reconstruct: the floor is on by default; --apex-floor, the default, is still accepted).
   --smoothing-method NAME: the remesh smoothing of every run (as reconstruct).
   --tag NAME: write KIND-NAME.csv/.svg instead (several variants in one directory).";
 
@@ -95,7 +95,13 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         rest,
         &Spec {
             with_value: &with_value,
-            switches: &["quiet", "align-slices", "align-in-plane-only", "apex-floor"],
+            switches: &[
+                "quiet",
+                "align-slices",
+                "align-in-plane-only",
+                "apex-floor",
+                "no-apex-floor",
+            ],
             aliases: &[("-o", "output"), ("-q", "quiet")],
         },
     )?;
@@ -125,9 +131,11 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             &p,
             p.switch("align-slices"),
         )?,
-        apex_floor: p.switch("apex-floor"),
         ..Params::default()
     };
+    if let Some(on) = crate::cmd_reconstruct::apex_floor_switch(&p)? {
+        params.apex_floor = on;
+    }
     if let Some(m) = p.value("end-caps") {
         params.set_end_caps(m).map_err(CliError::param)?;
     }

@@ -20,7 +20,7 @@ pub const USAGE: &str =
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
     [--smoothing-method laplacian-affine|taubin|laplacian-hc|laplacian-twicing] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
-    [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--apex-floor] [--drop-second-loops] [--keep-specks] [--frame N]
+    [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--no-apex-floor] [--drop-second-loops] [--keep-specks] [--frame N]
     [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
@@ -44,12 +44,15 @@ pub const USAGE: &str =
   spacing beyond the basal slice; they are not data (never in the distances); the report's
   end_caps says which ends got them and how many; --end-caps off leaves such ends to
   extrapolation (the paper's method);
-  --apex-floor (a study option, with end caps on): an apex no long-axis curve reaches gets one
-  lid point at the tip the most apical slices' taper predicts (slice area against height: the
-  shallower of a paraboloid through the two most apical slices and a quadric dome fitted to up
-  to four), pulling only while the mesh stops short of it; none where the slices do not taper
-  (or the two slices' taper would put the tip over two slice gaps below the apical slice); the
-  report's end_caps.apex_floor;
+  with end caps on, an apex no long-axis curve reaches (short-axis-only files) gets by default
+  one lid point at the tip the most apical slices' taper predicts (the apex floor: slice area
+  against height, the shallower of a paraboloid through the two most apical slices and a quadric
+  dome fitted to up to four), pulling only while the mesh stops short of it; none where the
+  slices do not taper (or the two slices' taper would put the tip over two slice gaps below the
+  apical slice); the report's end_caps.apex_floor says where it was placed, parameters.apex_floor
+  whether it was on; --no-apex-floor leaves such an apex to the paper's extrapolation (which
+  stops short of it); --apex-floor, the default, is still accepted (it turns the floor back on
+  over a session saved without it);
   --drop-second-loops: leave out closed loops that lie apart (median over 3 mm) from the main
   loop of their short-axis slice (another structure the slice cut; the load-time warning names
   them), so the surface follows each slice's main loop only;
@@ -84,6 +87,7 @@ const SWITCHES: &[&str] = &[
     "align-in-plane-only",
     "drop-second-loops",
     "apex-floor",
+    "no-apex-floor",
     "keep-specks",
 ];
 
@@ -242,8 +246,8 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     if p.switch("drop-second-loops") {
         params.drop_second_loops = true;
     }
-    if p.switch("apex-floor") {
-        params.apex_floor = true;
+    if let Some(on) = apex_floor_switch(p)? {
+        params.apex_floor = on;
     }
     if p.switch("keep-specks") {
         params.keep_specks = true;
@@ -253,6 +257,21 @@ fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     }
     params.validate().map_err(CliError::param)?;
     Ok(params)
+}
+
+/// `--apex-floor` / `--no-apex-floor`: Some(on) when either is given (None: the base's value, the
+/// default or a session's). The floor is on by default (session 14), so `--apex-floor` only
+/// matters over a session saved without it; both at once is a usage error rather than one
+/// silently winning.
+pub(crate) fn apex_floor_switch(p: &Parsed) -> Result<Option<bool>, CliError> {
+    match (p.switch("apex-floor"), p.switch("no-apex-floor")) {
+        (true, true) => Err(CliError::usage(
+            "give either --apex-floor or --no-apex-floor, not both",
+        )),
+        (true, false) => Ok(Some(true)),
+        (false, true) => Ok(Some(false)),
+        (false, false) => Ok(None),
+    }
 }
 
 /// Whether the alignment moves slices along their normals: unless `--align-in-plane-only`,
@@ -355,6 +374,34 @@ mod tests {
         let e = params_from_default(&parsed(&["--align-in-plane-only"])).unwrap_err();
         assert!(
             matches!(&e, crate::error::CliError::Usage(m) if m.contains("needs --align-slices")),
+            "{e:?}"
+        );
+        // The apex floor is on by default; --no-apex-floor turns it off, --apex-floor is still
+        // accepted (a no-op at the defaults, on over a session without it), both are refused.
+        assert!(params_from_default(&parsed(&[])).unwrap().apex_floor);
+        assert!(
+            params_from_default(&parsed(&["--apex-floor"]))
+                .unwrap()
+                .apex_floor
+        );
+        assert!(
+            !params_from_default(&parsed(&["--no-apex-floor"]))
+                .unwrap()
+                .apex_floor
+        );
+        let off = Params {
+            apex_floor: false,
+            ..Params::default()
+        };
+        assert!(
+            params_from(&parsed(&["--apex-floor"]), off.clone())
+                .unwrap()
+                .apex_floor
+        );
+        assert!(!params_from(&parsed(&[]), off).unwrap().apex_floor);
+        let e = params_from_default(&parsed(&["--apex-floor", "--no-apex-floor"])).unwrap_err();
+        assert!(
+            matches!(&e, crate::error::CliError::Usage(m) if m.contains("not both")),
             "{e:?}"
         );
         for (flag, mode) in [

@@ -16,7 +16,8 @@ pub struct Facts<'a> {
     pub warnings: &'a [String],
 }
 
-/// Every parameter by its schema name, plus the modes.
+/// Every parameter by its schema name, plus the modes, as the mesh file's header writes them; the
+/// report adds `apex_floor` always ([`build`]).
 pub fn parameters(params: &Params) -> Value {
     let mut m = Map::new();
     for s in Params::schema() {
@@ -32,15 +33,22 @@ pub fn parameters(params: &Params) -> Value {
     m.insert("lids".into(), json!(lids));
     m.insert("surface".into(), json!(params.surface));
     m.insert("end_caps".into(), json!(params.end_caps.name()));
-    // Only when on: every default file's header and report keep their bytes.
-    if params.drop_second_loops {
-        m.insert("drop_second_loops".into(), json!(true));
-    }
-    if params.apex_floor {
-        m.insert("apex_floor".into(), json!(true));
-    }
-    if params.keep_specks {
-        m.insert("keep_specks".into(), json!(true));
+    // The switches added since the header's format settled, only where they differ from the
+    // default: every default file's header keeps its bytes (the apex floor, on by default since
+    // session 14, is written as false when off).
+    let default = Params::default();
+    for (name, on, by_default) in [
+        (
+            "drop_second_loops",
+            params.drop_second_loops,
+            default.drop_second_loops,
+        ),
+        ("apex_floor", params.apex_floor, default.apex_floor),
+        ("keep_specks", params.keep_specks, default.keep_specks),
+    ] {
+        if on != by_default {
+            m.insert(name.into(), json!(on));
+        }
     }
     Value::Object(m)
 }
@@ -136,7 +144,7 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
             "remesh": t.remesh_ms,
             "total": t.total_ms,
         },
-        "parameters": parameters(f.params),
+        "parameters": report_parameters(f.params),
         "warnings": f.warnings,
     });
     // Only when some contour was left out (strays, specks): default reports keep their bytes.
@@ -144,6 +152,17 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         m.insert("set_aside".into(), json!(rec.set_aside()));
     }
     rep
+}
+
+/// The report's `parameters`: the header's ([`parameters`]) with `apex_floor` whatever its value.
+/// Its default changed (session 14), so an absent key would mean off in older reports and on in
+/// newer ones; a report says what ran without knowing the version's defaults.
+fn report_parameters(params: &Params) -> Value {
+    let mut p = parameters(params);
+    if let Some(m) = p.as_object_mut() {
+        m.insert("apex_floor".into(), json!(params.apex_floor));
+    }
+    p
 }
 
 /// Per-vertex distance to the nearest contour point (mm): the colour on the mesh.

@@ -52,10 +52,16 @@ struct Outcome {
 }
 
 fn run(lax: bool, mode: EndCapMode) -> Outcome {
+    run_with(lax, mode, Params::default().apex_floor)
+}
+
+/// `run` with the apex floor on or off (`Params::apex_floor`, the default since session 14).
+fn run_with(lax: bool, mode: EndCapMode, apex_floor: bool) -> Outcome {
     let set = io::read_contours("phantom.csv", half_ellipsoid_csv(lax).as_bytes())
         .unwrap_or_else(|e| panic!("read: {e}"));
     let params = Params {
         end_caps: mode,
+        apex_floor,
         ..Params::default()
     };
     let mut rec = Reconstruction::new(&set, params).unwrap_or_else(|e| panic!("new: {e}"));
@@ -125,15 +131,17 @@ fn capped_top_stops_at_the_data() {
 }
 
 /// Short-axis rings only (docs/VALIDATION.md "Session 12: end caps where no long-axis curve
-/// reaches"): no curve reaches either end. The apex gets no lid points and is extrapolated as
-/// the paper does (the true apex lies 12 mm below the lowest ring; measured +8.55 mm); the base a
-/// ceiling one 8 mm slice spacing beyond the top ring (measured +8.27 mm past the data, 89.67 ml,
-/// 9 lid points; off: +11.32 / +8.41 mm, 92.78 ml). The volume lies between the shape's below its top ring
+/// reaches"): no curve reaches either end. Without the apex floor (`apex_floor: false`, the
+/// default before session 14) the apex gets no lid points and is extrapolated as the paper does
+/// (the true apex lies 12 mm below the lowest ring; measured +8.55 mm); the base a ceiling one
+/// 8 mm slice spacing beyond the top ring (measured +8.27 mm past the data, 89.67 ml, 9 lid
+/// points; off: +11.32 / +8.41 mm, 92.78 ml). The volume lies between the shape's below its top ring
 /// (78.54 ml) and that plus the ceiling's slab (pi a^2 x 8 mm: 94.25 ml). (Session 11 capped both
-/// ends at their rings: 76.40 ml, +1.50 / +1.12 mm.)
+/// ends at their rings: 76.40 ml, +1.50 / +1.12 mm.) At the defaults the apex floor adds one
+/// point at the dome's tip, which is exact for an ellipsoid: see `sax_only_floors_the_apex`.
 #[test]
 fn sax_only_caps_the_base_at_the_next_slice() {
-    let on = run(false, EndCapMode::Auto);
+    let on = run_with(false, EndCapMode::Auto, false);
     assert!(on.base_capped && !on.apex_capped && on.points > 0);
     assert!(
         (on.base_mm - 8.0).abs() < 1.0,
@@ -159,4 +167,32 @@ fn sax_only_caps_the_base_at_the_next_slice() {
         off.base_mm,
         on.base_mm
     );
+}
+
+/// The same short-axis-only stack at the defaults (the apex floor on since session 14): the
+/// base gets the same ceiling, the apex one floor point at the dome's tip, and the mesh ends at
+/// the analytic apex, 12 mm below the lowest ring (phantoms: 11.94 mm, 90.42 ml), where the
+/// extrapolation stopped at +8.55. Asserted: within 0.5 mm of 12, one point more than without.
+/// With end caps off there is no floor (it is a lid point).
+#[test]
+fn sax_only_floors_the_apex() {
+    assert!(Params::default().apex_floor);
+    let on = run(false, EndCapMode::Auto);
+    let without = run_with(false, EndCapMode::Auto, false);
+    assert!(on.base_capped && on.apex_capped);
+    assert_eq!(on.points, without.points + 1);
+    assert!(
+        (on.apex_mm - 12.0).abs() < 0.5,
+        "past the apex: {} mm",
+        on.apex_mm
+    );
+    assert!(
+        (on.base_mm - 8.0).abs() < 1.0,
+        "past the top: {} mm",
+        on.base_mm
+    );
+    let slab = ANALYTIC_ML + PI * A * A * 8.0 / 1000.0;
+    assert!(on.ml > ANALYTIC_ML && on.ml < slab, "{} ml", on.ml);
+    let off = run(false, EndCapMode::Off);
+    assert!(!off.apex_capped && off.points == 0);
 }

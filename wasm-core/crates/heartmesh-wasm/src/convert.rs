@@ -41,7 +41,7 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
     };
     if let Some(unknown) = object
         .keys()
-        .find(|k| !is_option(k) && !schema.iter().any(|s| s.name == *k))
+        .find(|k| !is_option(k) && *k != APEX_FLOOR && !schema.iter().any(|s| s.name == *k))
     {
         return Err(CoreError::ParamInvalid {
             name: unknown.clone(),
@@ -59,6 +59,7 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
         }
     }
     apply_options(&mut params, object)?;
+    apply_apex_floor(&mut params, object)?;
     params.set_lids(lids)?;
     params.surface = surface;
     params.validate()?;
@@ -104,6 +105,25 @@ fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()>
         }
     }
     Ok(())
+}
+
+/// `apex_floor` (a bool; absent: the core's default, on since session 14): recognised so that a
+/// caller can turn the floor off, although the app has no switch for it yet and never sends it.
+pub const APEX_FLOOR: &str = "apex_floor";
+
+/// Applies `apex_floor` when present; a wrong type is an error naming it.
+fn apply_apex_floor(params: &mut Params, object: &Map<String, Value>) -> Result<()> {
+    match object.get(APEX_FLOOR) {
+        None => Ok(()),
+        Some(Value::Bool(on)) => {
+            params.apex_floor = *on;
+            Ok(())
+        }
+        Some(other) => Err(CoreError::ParamInvalid {
+            name: APEX_FLOOR.into(),
+            message: format!("{other} is not true or false"),
+        }),
+    }
 }
 
 fn end_cap_names() -> String {
@@ -371,6 +391,26 @@ mod tests {
         assert!(e.to_string().contains("0.6"), "{e}");
         // The same factor is fine with the default method.
         assert!(params_from_json(r#"{"smoothing_factor": 0.8}"#, "auto", None).is_ok());
+    }
+
+    /// A params object without `apex_floor` (the app's, today) gets the core's default, on; a
+    /// caller may turn it off; a non-bool is a typed error naming it.
+    #[test]
+    fn apex_floor_is_the_core_default_unless_given() {
+        assert!(params_from_json("{}", "auto", None).unwrap().apex_floor);
+        assert!(
+            params_from_json(r#"{"apex_floor": true}"#, "auto", None)
+                .unwrap()
+                .apex_floor
+        );
+        assert!(
+            !params_from_json(r#"{"apex_floor": false}"#, "auto", None)
+                .unwrap()
+                .apex_floor
+        );
+        let e = params_from_json(r#"{"apex_floor": 1}"#, "auto", None).unwrap_err();
+        assert_eq!(e.code(), "param_invalid");
+        assert!(e.to_string().contains("apex_floor"), "{e}");
     }
 
     #[test]

@@ -7,12 +7,17 @@
 //!  "landmarks": [{"name": "APEX_POINT", "point": [x, y, z]}],
 //!  "parameters": {"iterations": 250, "lambda": 100000, "lids": "auto", "surface": null,
 //!                 "smoothing_method": "laplacian-affine", "soften_conflicts": true,
-//!                 "align_slices": false, "end_caps": "off"}}
+//!                 "align_slices": false, "end_caps": "auto", "drop_second_loops": false,
+//!                 "apex_floor": true, "keep_specks": false}}
 //! ```
 //!
-//! Sessions written before `smoothing_method`, `soften_conflicts` and `align_slices` existed lack
-//! them and read back with their defaults; one without `end_caps` reads back with `off`, as it
-//! was made (the default became `auto` in session 12).
+//! Sessions written before `smoothing_method`, `soften_conflicts`, `align_slices`,
+//! `drop_second_loops` and `keep_specks` were stored lack them and read back with their defaults;
+//! one without `end_caps` reads back with `off` and one without `apex_floor` with `false`, as
+//! each was made (their defaults changed: end caps became `auto` in session 12, the apex floor
+//! on in session 14, while sessions never stored either before). A session without `keep_specks`
+//! may also predate the specks being left out (session 14), when every contour was kept: the
+//! file cannot tell, and the default (left out) is what the app saved since.
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
@@ -64,7 +69,8 @@ struct SessionLandmark {
 pub struct Session {
     pub contours: ContourSet,
     /// As saved (numbers by schema name, `lids`, `surface`, `smoothing_method`,
-    /// `soften_conflicts`, `align_slices`, `end_caps`); apply with [`Session::params`].
+    /// `soften_conflicts`, `align_slices`, `end_caps`, `drop_second_loops`, `apex_floor`,
+    /// `keep_specks`); apply with [`Session::params`].
     pub parameters: Map<String, Value>,
     pub app_version: Option<String>,
 }
@@ -73,9 +79,12 @@ impl Session {
     /// The saved parameters on top of the defaults, each checked against its range.
     pub fn params(&self) -> Result<Params> {
         // A session without `end_caps` was saved before end caps existed (session 10), when no
-        // end was capped: it reads back as it was made, although the default is now `auto`.
+        // end was capped: it reads back as it was made, although the default is now `auto`. One
+        // without `apex_floor` was saved before sessions stored it, when the floor was off (it
+        // became the default in session 14): off, as it was made.
         let mut p = Params {
             end_caps: EndCapMode::Off,
+            apex_floor: false,
             ..Params::default()
         };
         for (name, value) in &self.parameters {
@@ -87,7 +96,14 @@ impl Session {
                 ("soften_conflicts", Value::Bool(on)) => p.soften_conflicts = *on,
                 ("align_slices", Value::Bool(on)) => p.align_slices = *on,
                 ("end_caps", Value::String(s)) => p.set_end_caps(s)?,
-                ("smoothing_method" | "soften_conflicts" | "align_slices" | "end_caps", other) => {
+                ("drop_second_loops", Value::Bool(on)) => p.drop_second_loops = *on,
+                ("apex_floor", Value::Bool(on)) => p.apex_floor = *on,
+                ("keep_specks", Value::Bool(on)) => p.keep_specks = *on,
+                (
+                    "smoothing_method" | "soften_conflicts" | "align_slices" | "end_caps"
+                    | "drop_second_loops" | "apex_floor" | "keep_specks",
+                    other,
+                ) => {
                     return Err(CoreError::ParamInvalid {
                         name: name.clone(),
                         message: format!("{other} is not a valid value"),
@@ -202,6 +218,13 @@ pub fn params_json(params: &Params) -> Map<String, Value> {
     );
     m.insert("align_slices".into(), Value::from(params.align_slices));
     m.insert("end_caps".into(), Value::from(params.end_caps.name()));
+    // Always written (a session must reproduce the run): an absent `apex_floor` reads back off.
+    m.insert(
+        "drop_second_loops".into(),
+        Value::from(params.drop_second_loops),
+    );
+    m.insert("apex_floor".into(), Value::from(params.apex_floor));
+    m.insert("keep_specks".into(), Value::from(params.keep_specks));
     m.insert(
         "surface".into(),
         params
@@ -315,6 +338,8 @@ mod tests {
         assert!(p.soften_conflicts);
         assert!(!p.align_slices);
         assert_eq!(p.beta, 0.2);
+        // Nor apex_floor: saved when the floor was off (not today's default).
+        assert!(!p.apex_floor);
     }
 
     #[test]
@@ -361,6 +386,56 @@ mod tests {
         assert!(e.to_string().contains("auto, off"), "{e}");
         s.parameters.insert("end_caps".into(), Value::from(true));
         assert_eq!(s.params().unwrap_err().code(), "param_invalid");
+    }
+
+    /// `apex_floor`, `drop_second_loops` and `keep_specks` are stored and come back either way;
+    /// a session without `apex_floor` was saved when the floor was off (before session 14) and
+    /// reads back off, although the default is now on (as `end_caps` reads back `off`); the other
+    /// two, whose defaults never changed, read back with them.
+    #[test]
+    fn round_trip_with_the_switches() {
+        let set = read_csv(&sample("contours/bivme-example-patient1/patient1-ED.csv")).unwrap();
+        for on in [true, false] {
+            let params = Params {
+                drop_second_loops: on,
+                apex_floor: on,
+                keep_specks: on,
+                ..Params::default()
+            };
+            let bytes = write_session(&set, &params, "9.9.9").unwrap();
+            let s = read_session(&bytes).unwrap();
+            for key in ["drop_second_loops", "apex_floor", "keep_specks"] {
+                assert_eq!(s.parameters[key], on, "{key}");
+            }
+            assert_eq!(s.params().unwrap(), params);
+        }
+        let bytes = write_session(&set, &Params::default(), "9.9.9").unwrap();
+        let mut s = read_session(&bytes).unwrap();
+        assert_eq!(s.parameters["apex_floor"], true);
+        assert_eq!(s.params().unwrap(), Params::default());
+        for key in ["drop_second_loops", "apex_floor", "keep_specks"] {
+            s.parameters.remove(key);
+        }
+        let back = s.params().unwrap();
+        assert!(Params::default().apex_floor);
+        assert!(
+            !back.apex_floor,
+            "saved before sessions stored the floor: off"
+        );
+        assert_eq!(
+            back,
+            Params {
+                apex_floor: false,
+                ..Params::default()
+            }
+        );
+        for key in ["drop_second_loops", "apex_floor", "keep_specks"] {
+            s.parameters.insert(key.into(), Value::from("yes"));
+            let e = s.params().unwrap_err();
+            assert_eq!(e.code(), "param_invalid");
+            assert!(e.to_string().contains(key), "{e}");
+            s.parameters.remove(key);
+        }
     }
 
     #[test]

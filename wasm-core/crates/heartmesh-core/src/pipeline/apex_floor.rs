@@ -1,6 +1,6 @@
-//! An apex floor for short-axis-only stacks (opt-in, `Params::apex_floor`; docs/VALIDATION.md,
-//! "Session 13: an apex floor from the taper of the slices" and "Session 14: a dome model for the
-//! apex floor").
+//! An apex floor for short-axis-only stacks (`Params::apex_floor`, on by default since session
+//! 14; docs/VALIDATION.md, "Session 13: an apex floor from the taper of the slices" and "Session
+//! 14: a dome model for the apex floor").
 //!
 //! With no long-axis curve at the apex (`ends::EndLid::OpenApex`) the mesh's apex is the paper's
 //! extrapolation, which session 12 measured short of the truth by 0.3-4.3 mm. The slices say more:

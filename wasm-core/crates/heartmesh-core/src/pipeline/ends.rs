@@ -19,9 +19,9 @@
 //! the lid lies where they stop; where none does (short-axis-only files, an RV without RV views)
 //! the apex gets no lid (its dome runs on below the last slice, and the paper's extrapolation
 //! follows it better than a flat cut) and the base a ceiling at the next slice position. With
-//! `Params::apex_floor` (opt-in, sessions 13-14) such an apex gets one floor point instead, at the
-//! tip the slices' taper predicts (`dome`), pulling only while the mesh stops short of it
-//! (`apex_floor`).
+//! `Params::apex_floor` (sessions 13-14; the default since session 14) such an apex gets one floor
+//! point instead, at the tip the slices' taper predicts (`dome`), pulling only while the mesh
+//! stops short of it (`apex_floor`).
 //!
 //! Why a flat disc rather than the cone spanned by the ring and the lid point: the lid is above
 //! the ring only where long-axis curves run on past the ring along the wall (the LV base, 10-20 mm
@@ -50,7 +50,10 @@ pub struct EndCapsReport {
     pub apex: bool,
     pub points: usize,
     /// Whether the apex got a floor at the slices' taper tip (`apex_floor`; only with
-    /// `Params::apex_floor`, and left out of the JSON when false so default reports are as before).
+    /// `Params::apex_floor`, and only at an apex no long-axis curve reaches). Left out of the JSON
+    /// when false, so a file whose apex a long-axis curve reaches (every real file measured)
+    /// reports exactly as before the floor existed; whether the floor was on is the run's
+    /// parameters' `apex_floor`.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub apex_floor: bool,
 }
