@@ -7,12 +7,12 @@
 //!  "landmarks": [{"name": "APEX_POINT", "point": [x, y, z]}],
 //!  "parameters": {"iterations": 250, "lambda": 100000, "lids": "auto", "surface": null,
 //!                 "smoothing_method": "laplacian-affine", "soften_conflicts": true,
-//!                 "align_slices": false, "end_caps": "off"}}
+//!                 "align_slices": false, "end_caps": "off", "keep_specks": false}}
 //! ```
 //!
-//! Sessions written before `smoothing_method`, `soften_conflicts` and `align_slices` existed lack
-//! them and read back with their defaults; one without `end_caps` reads back with `off`, as it
-//! was made (the default became `auto` in session 12).
+//! Sessions written before `smoothing_method`, `soften_conflicts`, `align_slices` and
+//! `keep_specks` existed lack them and read back with their defaults; one without `end_caps`
+//! reads back with `off`, as it was made (the default became `auto` in session 12).
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
@@ -64,7 +64,8 @@ struct SessionLandmark {
 pub struct Session {
     pub contours: ContourSet,
     /// As saved (numbers by schema name, `lids`, `surface`, `smoothing_method`,
-    /// `soften_conflicts`, `align_slices`, `end_caps`); apply with [`Session::params`].
+    /// `soften_conflicts`, `align_slices`, `end_caps`, `keep_specks`); apply with
+    /// [`Session::params`].
     pub parameters: Map<String, Value>,
     pub app_version: Option<String>,
 }
@@ -87,7 +88,12 @@ impl Session {
                 ("soften_conflicts", Value::Bool(on)) => p.soften_conflicts = *on,
                 ("align_slices", Value::Bool(on)) => p.align_slices = *on,
                 ("end_caps", Value::String(s)) => p.set_end_caps(s)?,
-                ("smoothing_method" | "soften_conflicts" | "align_slices" | "end_caps", other) => {
+                ("keep_specks", Value::Bool(on)) => p.keep_specks = *on,
+                (
+                    "smoothing_method" | "soften_conflicts" | "align_slices" | "end_caps"
+                    | "keep_specks",
+                    other,
+                ) => {
                     return Err(CoreError::ParamInvalid {
                         name: name.clone(),
                         message: format!("{other} is not a valid value"),
@@ -202,6 +208,7 @@ pub fn params_json(params: &Params) -> Map<String, Value> {
     );
     m.insert("align_slices".into(), Value::from(params.align_slices));
     m.insert("end_caps".into(), Value::from(params.end_caps.name()));
+    m.insert("keep_specks".into(), Value::from(params.keep_specks));
     m.insert(
         "surface".into(),
         params
@@ -314,7 +321,28 @@ mod tests {
         assert_eq!(p.smoothing, Params::default().smoothing);
         assert!(p.soften_conflicts);
         assert!(!p.align_slices);
+        assert!(!p.keep_specks);
         assert_eq!(p.beta, 0.2);
+    }
+
+    #[test]
+    fn round_trip_with_keep_specks() {
+        let set = read_csv(&sample("contours/bivme-example-patient1/patient1-ED.csv")).unwrap();
+        for on in [true, false] {
+            let params = Params {
+                keep_specks: on,
+                ..Params::default()
+            };
+            let bytes = write_session(&set, &params, "9.9.9").unwrap();
+            let s = read_session(&bytes).unwrap();
+            assert_eq!(s.parameters["keep_specks"], on);
+            assert_eq!(s.params().unwrap().keep_specks, on);
+        }
+        let mut s = read_session(&write_session(&set, &Params::default(), "9").unwrap()).unwrap();
+        s.parameters
+            .insert("keep_specks".into(), Value::from("yes"));
+        let e = s.params().unwrap_err();
+        assert!(e.to_string().contains("keep_specks"), "{e}");
     }
 
     #[test]
