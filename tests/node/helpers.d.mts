@@ -16,3 +16,7 @@ export function reconstruct(
 export function readObj(text: string): { positions: Float64Array; indices: Uint32Array };
 export function maxRelativeDifference(a: ArrayLike<number>, b: ArrayLike<number>, floor?: number): number;
 export function readBytes(path: string): Uint8Array;
+export function readText(path: string): string;
+export function writeScratch(name: string, text: string): string;
+// eslint-disable-next-line @typescript-eslint/no-explicit-any
+export function cliReport(input: string, args: string[], label: string): Record<string, any>;

@@ -1,7 +1,9 @@
 // Shared helpers of the Node tests of the built wasm (web/pkg, from scripts/build-wasm.sh) and of
 // the wasm benchmark: load the module synchronously, find the shared test data, run a
 // reconstruction to the end through the Session, read OBJ files.
-import { existsSync, readFileSync } from 'node:fs';
+import { execFileSync } from 'node:child_process';
+import { existsSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -92,4 +94,27 @@ export function maxRelativeDifference(a, b, floor = 1) {
     if (!(d <= worst)) worst = Number.isNaN(d) ? Infinity : d;
   }
   return worst;
+}
+
+/** A file's text. */
+export function readText(path) {
+  return readFileSync(path, 'utf8');
+}
+
+let scratch = null;
+
+/** Writes `text` as `name` in a scratch folder of this process and returns its path. */
+export function writeScratch(name, text) {
+  scratch ??= mkdtempSync(join(tmpdir(), 'heartmesh-node-'));
+  const path = join(scratch, name);
+  writeFileSync(path, text);
+  return path;
+}
+
+/** The native CLI's `reconstruct` report (JSON) of `input` with `args` (the mesh goes to the scratch folder). */
+export function cliReport(input, args, label) {
+  if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);
+  const report = writeScratch(`${label}.json`, '');
+  execFileSync(CLI, ['reconstruct', input, '-o', writeScratch(`${label}.obj`, ''), '--report', report, '--quiet', ...args]);
+  return JSON.parse(readFileSync(report, 'utf8'));
 }

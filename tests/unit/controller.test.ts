@@ -82,7 +82,7 @@ function result(runId: number): RunResult {
   return {
     runId, surface: 'LV_ENDO', contours: [], contourPoints: new Float32Array(9), positions: new Float32Array(12),
     indices: new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]), pointDistances: new Float32Array(3), vertexDistances: new Float32Array(4),
-    perContour: [], overall: stats, volumeMl: 0.2, areaMm2: 200, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS }, version: 'core-test',
+    perContour: [], overall: stats, volumeMl: 0.2, areaMm2: 200, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false }, version: 'core-test',
   };
 }
 
@@ -148,18 +148,18 @@ describe('controller', () => {
     url = '/app/?smoothing_method=taubin&soften_conflicts=0';
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('a.csv')]);
-    expect(client.runs[0].opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
-    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
-    expect(controller.runSettings()?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
-    controller.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    expect(client.runs[0].opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
+    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
+    expect(controller.runSettings()?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
+    controller.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
     vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
     expect(client.runs).toHaveLength(2);
-    expect(client.runs[1].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    expect(client.runs[1].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
     expect(url).toBe('/app/?surface=LV_ENDO&soften_conflicts=0');
     controller.resetParams();
     vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
-    expect(client.runs[2].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
-    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    expect(client.runs[2].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
+    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
     expect(url).toBe('/app/?surface=LV_ENDO');
   });
 
@@ -167,11 +167,11 @@ describe('controller', () => {
     expect(controller.sessionFile()).toBeNull();
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('a.csv')]);
-    controller.setParams({ beta: 0.25 }, 'auto', { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    controller.setParams({ beta: 0.25 }, 'auto', { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
     expect(await controller.sessionFile()).toEqual(new Uint8Array([123, 125]));
     expect(client.sessions[0].appVersion).toBe('9.9.9');
     expect(client.sessions[0].opts).toMatchObject({
-      fileName: 'a.csv', surface: 'LV_ENDO', lids: 'auto', options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS },
+      fileName: 'a.csv', surface: 'LV_ENDO', lids: 'auto', options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false },
     });
     expect(client.sessions[0].opts.params).toMatchObject({ beta: 0.25, lambda: 1000 });
   });
@@ -184,7 +184,7 @@ describe('controller', () => {
     expect(opts.params.lambda).toBe(1e5); // the session's value replaces the URL's 1e3
     expect(opts.lids).toBe('none');
     expect(opts.surface).toBe('RV_ENDO');
-    expect(opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    expect(opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
     expect(url).toContain('smoothing_method=taubin');
     expect(url).toContain('soften_conflicts=0');
   });
@@ -411,7 +411,7 @@ describe('controller', () => {
     await c.start(() => Promise.resolve(client as unknown as CoreClient));
     await c.openFiles([file('a.csv')]);
     const run = client.runs[0];
-    expect(run.opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS });
+    expect(run.opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false });
     expect(url).toBe('/app/?surface=LV_ENDO&align_slices=1');
     // While it runs, the first frame brings the shifted contours: they replace the file's on screen.
     const shifted = new Float32Array([1, 0, 0, 11, 0, 0, 1, 10, 0]);
@@ -430,7 +430,7 @@ describe('controller', () => {
     expect(Array.from(given?.[1] as Float32Array)).toEqual([0, 0, 0, 10, 0, 0, 0, 10, 0]); // the file's points as given
     expect(parts.view.calls.setAsGivenAvailable?.at(-1)).toEqual([true]);
     // Turning the option off and rerunning clears them.
-    c.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    c.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
     vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
     expect(url).toBe('/app/?surface=LV_ENDO');
     expect(client.runs[1].opts.options?.align_slices).toBe(false);
@@ -556,3 +556,26 @@ function viewerRecorder() {
     get: (_t, key: string) => (key.endsWith('Layer') ? (layers[key] ??= recorder()) : (own as unknown as Record<string, unknown>)[key]),
   }) as unknown as { calls: Record<string, unknown[][]> } & Record<'givenLayer' | 'contourLayer', { calls: Record<string, unknown[][]> }>;
 }
+
+describe('Keep specks and strays', () => {
+  it('reaches the run, and the warning line says the contours it names as left out are used', async () => {
+    const warnings = { textContent: '', hidden: true };
+    const c = new Controller({ ...parts, viewer: null, warnings } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    const read = client.load.bind(client);
+    const line = 'contour "speck" (line 1793, 2.0 mm around, 1 % of the ring of "s02" one slice away) is a speck, not a section of the cavity; it is left out of the reconstruction';
+    client.load = async (...args: Parameters<FakeClient['load']>) => ({ ...(await read(...args)), warnings: [line] });
+    await c.openFiles([file('speck.csv')]);
+    expect(warnings.textContent).toBe(`⚠ ${line}`);
+    expect(client.runs.at(-1)?.opts.options?.keep_specks).toBe(false);
+    const on: ReconOptions = { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: true };
+    c.setParams({}, 'auto', on);
+    expect(warnings.textContent).toBe(`⚠ ${line} · Keep specks and strays is on: the contours named above as left out are used in the reconstruction`);
+    await vi.advanceTimersByTimeAsync(RESTART_DEBOUNCE_MS + 10);
+    expect(client.runs.at(-1)?.opts.options?.keep_specks).toBe(true);
+    expect(url).toContain('keep_specks=1');
+    c.setParams({}, 'auto', { ...on, keep_specks: false });
+    expect(warnings.textContent).toBe(`⚠ ${line}`);
+    c.dispose();
+  });
+});

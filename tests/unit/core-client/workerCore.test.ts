@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { stepsOf, type FromWorker } from '../../../web/src/core-client/protocol';
+import { stepsOf, transferablesOf, type FromWorker } from '../../../web/src/core-client/protocol';
 import { WorkerCore, wasmErrorData, type SessionApi, type WasmApi } from '../../../web/src/core-client/workerCore';
 import { stepReport } from './fakes';
 import { DEFAULT_END_CAPS } from '../../../web/src/core-client/protocol';
@@ -14,6 +14,8 @@ class FakeSession implements SessionApi {
   convergeAt: number | null = null;
   /** What result_json says about the alignment (the core sends null when the option is off). */
   alignment: unknown = null;
+  /** What result_json says about the contours left out (absent: an older core). */
+  setAside: unknown = undefined;
   constructor(clock: { t: number }, private total = 20, private remeshAt = [7], private resampleAt = [0, 12]) {
     this.clock = clock;
   }
@@ -65,6 +67,9 @@ class FakeSession implements SessionApi {
   vertex_distances(): Float32Array {
     return new Float32Array(1);
   }
+  set_aside_points(): Float32Array {
+    return this.setAside ? new Float32Array([5, 0, 8, 4.4, 0.6, 8, 4.4, -0.6, 8]) : new Float32Array(0);
+  }
   /** Echoes its arguments, so the test sees what the worker passed (options inside the params JSON). */
   session_json(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string, appVersion: string): Uint8Array {
     if (fileName === 'missing.csv') throw JSON.stringify({ code: 'not_loaded', message: 'missing.csv has not been loaded' });
@@ -77,6 +82,9 @@ class FakeSession implements SessionApi {
       options: { smoothing_method: 'laplacian-affine', soften_conflicts: true },
       alignment: this.alignment,
       ...(this.alignment ? { contour_to_mesh_as_given: { mean: 0.6, median: 0.5, max: 2.1 } } : {}),
+      ...(this.setAside !== undefined
+        ? { set_aside: this.setAside, set_aside_contours: [{ id: 'speck', surface: 'LV_ENDO', kind: null, pieces: [{ closed: true, start: 0, count: 3 }] }] }
+        : {}),
     });
   }
 }
@@ -109,14 +117,14 @@ const runMsg = { type: 'run' as const, runId: 5, fileName: 'a.csv', surface: nul
 describe('WorkerCore', () => {
   it('writes a session file with the options inside the params JSON; errors name the file', () => {
     const { core, out } = setup(5);
-    const options = { smoothing_method: 'taubin' as const, soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS };
+    const options = { smoothing_method: 'taubin' as const, soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false };
     core.handle({ type: 'session-export', reqId: 3, fileName: 'a.csv', surface: 'LV_ENDO', params: { beta: 0.2 }, lids: 'none', options, appVersion: '9.9.9' });
     const m = out.at(-1)!;
     expect(m.type).toBe('session-json');
     if (m.type !== 'session-json') return;
     expect(m.reqId).toBe(3);
     expect(JSON.parse(new TextDecoder().decode(m.bytes))).toEqual({
-      fileName: 'a.csv', surface: 'LV_ENDO', params: { beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS }, lids: 'none', appVersion: '9.9.9',
+      fileName: 'a.csv', surface: 'LV_ENDO', params: { beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false }, lids: 'none', appVersion: '9.9.9',
     });
     core.handle({ type: 'session-export', reqId: 4, fileName: 'missing.csv', surface: null, params: {}, lids: 'auto', appVersion: '9.9.9' });
     const e = out.at(-1)!;
@@ -136,10 +144,10 @@ describe('WorkerCore', () => {
     expect(done.result.alignment?.residual_after_mm).toBe(0.7);
     expect(done.result.contour_to_mesh_as_given).toEqual({ mean: 0.6, median: 0.5, max: 2.1 });
     // An older core's options without align_slices read as the default (off).
-    expect(done.result.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS });
+    expect(done.result.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
     // An aligned run sends its (shifted) contours once, on its first frame; others never do.
     const aligned = setup(20);
-    aligned.core.handle({ ...runMsg, options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS } });
+    aligned.core.handle({ ...runMsg, options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false } });
     aligned.runTicks();
     const withContours = aligned.frames().filter((f) => f.runContours);
     expect(withContours.map((f) => f.seq)).toEqual([1]);
@@ -152,6 +160,25 @@ describe('WorkerCore', () => {
     if (all.type !== 'done') throw new Error(all.type);
     expect([all.result.iterations_done, all.result.converged, all.result.alignment, all.result.contour_to_mesh_as_given]).toEqual([20, false, null, null]);
     expect(full.frames().some((f) => f.runContours)).toBe(false);
+  });
+
+  it('passes the contours left out through with their points (transferred); an older core reads as none', () => {
+    const { core, session, out, runTicks } = setup(5);
+    session.setAside = [{ id: 'speck', line: 544, reason: 'speck', perimeter_mm: 2.9, next_id: 's6', next_perimeter_mm: 157 }];
+    core.handle(runMsg);
+    runTicks();
+    const done = out.at(-1)!;
+    if (done.type !== 'done') throw new Error(done.type);
+    expect(done.result.set_aside).toEqual([{ id: 'speck', line: 544, reason: 'speck', perimeter_mm: 2.9, next_id: 's6', next_perimeter_mm: 157 }]);
+    expect(done.result.set_aside_contours?.map((c) => c.id)).toEqual(['speck']);
+    expect(Array.from(done.result.setAsidePoints ?? [])).toEqual([5, 0, 8, 4.4, 0.6, 8, 4.4, -0.6, 8].map(Math.fround));
+    expect(transferablesOf(done)).toContain(done.result.setAsidePoints!.buffer);
+    const older = setup(5);
+    older.core.handle(runMsg);
+    older.runTicks();
+    const d = older.out.at(-1)!;
+    if (d.type !== 'done') throw new Error(d.type);
+    expect([d.result.set_aside, d.result.set_aside_contours]).toEqual([[], []]);
   });
 
   it('keeps at most two frames unacknowledged, batches the steps meanwhile and always sends the final one', () => {

@@ -86,7 +86,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
   slot('slot-bottom').append(parts.timeline.element);
   slot('slot-banner').append(parts.banner.element);
   slot('slot-legend').append(parts.legend.element, parts.meshLegend.element);
-  if (viewer) slot('slot-legend').append(viewer.landmarkLayer.legend);
+  if (viewer) slot('slot-legend').append(viewer.landmarkLayer.legend, viewer.setAsideLayer.legend);
   slot('slot-viewcontrols').append(parts.view.element);
   slot('slot-hover').append(parts.hover.element);
   viewer?.setHoverListener((h) => controller.onHover(h));
@@ -106,5 +106,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
 
   void controller.start(createClient);
   (window as unknown as { heartmesh: Controller }).heartmesh = controller;
+  // For the browser tests: where a point is drawn (Viewer.screenPosition), to hover over it.
+  (window as unknown as { heartmeshViewer: Viewer | null }).heartmeshViewer = viewer;
   return controller;
 }

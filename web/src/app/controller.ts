@@ -17,6 +17,7 @@ import { distinctName, fileIdentity, renamedText } from './fileNames';
 import { asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable } from './errors';
 import type { Parts } from './parts';
 import type { Speed } from './playback';
+import { keptSpecksNote } from '../ui/runText';
 import { RunDisplay } from './runDisplay';
 import { surfacePoints } from './sceneContours';
 import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
@@ -43,6 +44,8 @@ export class Controller {
   private params: ParamValues = {};
   private lids: LidsMode = 'auto';
   private options: ReconOptions = { ...DEFAULT_OPTIONS };
+  /** The current file's load-time warnings (and a note on a surface it lacks), as the warning line shows them. */
+  private fileWarnings: string[] = [];
   private surface: string | null = null;
   private sampleId: string | null = null;
   private view: ViewSettings = { ...DEFAULT_VIEW };
@@ -224,6 +227,7 @@ export class Controller {
     this.lids = session.lids;
     this.options = withDefaultOptions(session.options);
     this.parts.params.setValues(this.params, this.lids, this.options);
+    this.renderWarnings();
     this.updateUrl();
   }
 
@@ -261,9 +265,8 @@ export class Controller {
     const missing = preferredSurface && !s.includes(preferredSurface) && this.surface
       ? [`surface ${preferredSurface} is not in ${fileName}: showing ${this.surface}`]
       : [];
-    const warnings = [...missing, ...file.warnings];
-    this.parts.warnings.textContent = warnings.length ? `⚠ ${warnings.join(' · ')}` : '';
-    this.parts.warnings.hidden = warnings.length === 0;
+    this.fileWarnings = [...missing, ...file.warnings];
+    this.renderWarnings();
     this.clearRunDisplay();
     this.runView.showContours(null);
     this.parts.viewer?.landmarkLayer.set(file.landmarks);
@@ -368,11 +371,24 @@ export class Controller {
     this.dispatch({ type: 'stop' });
   }
 
+  /**
+   * The warning line of the current file; with Keep specks and strays on, the core's lines about
+   * contours left out end with a note that they are used (as the CLI's `--keep-specks` note).
+   */
+  private renderWarnings(): void {
+    const warnings = [...this.fileWarnings];
+    const note = keptSpecksNote(warnings, this.options.keep_specks);
+    if (note) warnings.push(note);
+    this.parts.warnings.textContent = warnings.length ? `⚠ ${warnings.join(' · ')}` : '';
+    this.parts.warnings.hidden = warnings.length === 0;
+  }
+
   /** A parameter changed: debounce, then restart (cancelling the run in progress). */
   setParams(values: ParamValues, lids: LidsMode, options: ReconOptions = this.options): void {
     this.params = { ...this.params, ...values };
     this.lids = lids;
     this.options = { ...options };
+    this.renderWarnings();
     this.updateUrl();
     if (this.restartTimer) clearTimeout(this.restartTimer);
     this.restartTimer = setTimeout(() => this.startRun(), RESTART_DEBOUNCE_MS);

@@ -126,6 +126,7 @@ export class RunDisplay {
     this.parts.viewer?.meshLayer.clear();
     this.parts.viewer?.attractorLayer.clear();
     this.parts.viewer?.givenLayer.clear();
+    this.parts.viewer?.setAsideLayer.clear();
     this.parts.view.setAsGivenAvailable(false);
     this.parts.viewer?.requestRender();
     this.parts.legend.hide();

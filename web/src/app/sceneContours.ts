@@ -2,7 +2,9 @@
  * What the viewer's contour layers show, decided in one place: before a run (or while one runs) the
  * file's contours; after a run its own contours coloured by distance (the shifted ones when the run
  * aligned breath-holds) and then, faint and dashed, the file's contours as given so the user sees
- * what moved (also while an aligned run runs). Also the points the camera frames for a surface.
+ * what moved (also while an aligned run runs); and, grey and dashed, the contours the run left out
+ * (strays, specks), which the run's own contours no longer hold. Also the points the camera frames
+ * for a surface.
  */
 import type { Frame, LoadedFile, RunResult } from '../core-client/protocol';
 import type { Viewer } from '../viewer/Viewer';
@@ -30,6 +32,7 @@ export function showSceneContours(
   viewer: Viewer, file: LoadedFile, surface: string | null, r: RunResult | null, pointMaxMm: number, running: Frame['runContours'] | null = null,
 ): boolean {
   if (!r) {
+    viewer.setAsideLayer.clear(); // before a run the file's contours, the ones left out among them, are all drawn
     if (running) {
       viewer.contourLayer.set(running.contours, running.points, surface, null);
       viewer.givenLayer.set(file.contours, file.points, surface);
@@ -41,6 +44,7 @@ export function showSceneContours(
   }
   // Other surfaces from the file for context, then the run's own contours with distances.
   viewer.contourLayer.set(r.contours, r.contourPoints, r.surface, r.pointDistances, pointMaxMm);
+  viewer.setAsideLayer.set(r.set_aside ?? [], r.set_aside_contours ?? [], r.setAsidePoints ?? new Float32Array(0));
   if (r.alignment) viewer.givenLayer.set(file.contours, file.points, r.surface);
   else viewer.givenLayer.clear();
   return Boolean(r.alignment);

@@ -21,7 +21,7 @@ export interface ViewSettings {
 export interface UrlState {
   params: ParamValues;
   lids: LidsMode;
-  /** Smoothing method, conflict softening, alignment (`smoothing_method=taubin`, `soften_conflicts=0`, `align_slices=1`, `end_caps=auto|off`). */
+  /** Smoothing method, conflict softening, alignment (`smoothing_method=taubin`, `soften_conflicts=0`, `align_slices=1`, `end_caps=auto|off`, `keep_specks=1`). */
   options: ReconOptions;
   surface: string | null;
   /** Bundled sample to load on start (its id), if any. */
@@ -72,6 +72,7 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
     soften_conflicts: parseBool(q.get('soften_conflicts'), DEFAULT_OPTIONS.soften_conflicts),
     align_slices: parseBool(q.get('align_slices'), DEFAULT_OPTIONS.align_slices),
     end_caps: END_CAPS_MODES.find((m) => m === q.get('end_caps')) ?? DEFAULT_OPTIONS.end_caps,
+    keep_specks: parseBool(q.get('keep_specks'), DEFAULT_OPTIONS.keep_specks),
   };
   const opacity = parseNumber(q.get('opacity'));
   const clip = parseNumber(q.get('clip'));
@@ -106,6 +107,7 @@ export function serializeUrlState(state: UrlState, schema: readonly ParamSpec[])
   if (state.options.soften_conflicts !== DEFAULT_OPTIONS.soften_conflicts) q.set('soften_conflicts', state.options.soften_conflicts ? '1' : '0');
   if (state.options.align_slices !== DEFAULT_OPTIONS.align_slices) q.set('align_slices', state.options.align_slices ? '1' : '0');
   if (state.options.end_caps !== DEFAULT_OPTIONS.end_caps) q.set('end_caps', state.options.end_caps);
+  if (state.options.keep_specks !== DEFAULT_OPTIONS.keep_specks) q.set('keep_specks', state.options.keep_specks ? '1' : '0');
   const view = state.view;
   if (view.wireframe !== DEFAULT_VIEW.wireframe) q.set('wireframe', view.wireframe ? '1' : '0');
   if (view.attractors !== DEFAULT_VIEW.attractors) q.set('attractors_shown', view.attractors ? '1' : '0');

@@ -47,6 +47,7 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       add(r.indices);
       add(r.pointDistances);
       add(r.vertexDistances);
+      add(r.setAsidePoints);
       break;
     }
     case 'lab-truth':

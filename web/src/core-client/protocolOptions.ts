@@ -37,6 +37,13 @@ export interface ReconOptions {
    * mesh stops at the data instead of running on 8-14 mm and inflating the volume.
    */
   end_caps: EndCapsMode;
+  /**
+   * Keep specks and strays: the contours the core otherwise leaves out of the reconstruction (a
+   * contour further from the rest of its surface than the span of all the others; a short-axis
+   * ring under a tenth of the ring one slice away, not at the apex). Off by default: they are not
+   * sections of the cavity, and the load-time warning names each one left out.
+   */
+  keep_specks: boolean;
 }
 
 /** `end_caps` values: `auto` closes ends no contour closes, `off` leaves them to extrapolation. */
@@ -55,6 +62,7 @@ export const DEFAULT_OPTIONS: Readonly<ReconOptions> = {
   soften_conflicts: true,
   align_slices: false,
   end_caps: DEFAULT_END_CAPS,
+  keep_specks: false,
 };
 
 /**
@@ -75,6 +83,7 @@ export function paramsJson(params: ParamValues, options?: ReconOptions): string 
     soften_conflicts: o.soften_conflicts,
     align_slices: o.align_slices,
     end_caps: o.end_caps,
+    keep_specks: o.keep_specks,
   });
 }
 

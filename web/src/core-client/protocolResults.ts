@@ -177,6 +177,24 @@ export interface MeshQuality {
   self_intersections: number;
 }
 
+/**
+ * One contour the run left out of the reconstruction (the core's `SetAside`, the entries of the
+ * CLI report's `set_aside`): `line` is the file line of its first point (0: not from a file).
+ */
+export type SetAsideEntry = { id: string; line: number } & (
+  | { reason: 'stray'; /** mm from the nearest other contour of its surface. */ gap_mm: number }
+  | {
+      reason: 'speck';
+      /** Its length around, mm. */
+      perimeter_mm: number;
+      /** The contour one slice away whose ring it is measured against, and that ring's length. */
+      next_id: string;
+      next_perimeter_mm: number;
+    }
+);
+
+export type SetAsideReason = SetAsideEntry['reason'];
+
 export interface RunResult {
   runId: number;
   surface: string | null;
@@ -222,6 +240,15 @@ export interface RunResult {
   end_caps?: EndCaps | null;
   /** Folds and self-intersections of the final mesh (absent from results of older cores). */
   quality?: MeshQuality | null;
+  /**
+   * The contours of the selected surface the run left out (strays, specks; empty with
+   * `options.keep_specks`, absent from results of older cores), in the core's order.
+   */
+  set_aside?: SetAsideEntry[];
+  /** Those contours as the file gives them, one per `set_aside` entry, indexing `setAsidePoints`. */
+  set_aside_contours?: ContourInfo[];
+  /** xyz of the points of `set_aside_contours`, mm. */
+  setAsidePoints?: Float32Array;
   /** Deformation iterations done (the last step's `iteration`), set by the worker. */
   iterations_done?: number;
   /** The run stopped before `params.iterations` because the attractors were reached (stop threshold). */

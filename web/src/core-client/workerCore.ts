@@ -51,6 +51,8 @@ export interface SessionApi {
   contour_points(): Float32Array;
   point_distances(): Float32Array;
   vertex_distances(): Float32Array;
+  /** xyz of the contours the run left out (`result_json().set_aside_contours` index them). */
+  set_aside_points(): Float32Array;
   result_json(): string;
   session_json(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string, appVersion: string): Uint8Array;
 }
@@ -124,6 +126,7 @@ type ResultJson = Omit<
   | 'indices'
   | 'pointDistances'
   | 'vertexDistances'
+  | 'setAsidePoints'
   | 'seconds'
 >;
 
@@ -330,6 +333,8 @@ export class WorkerCore {
       options: withDefaultOptions(small.options),
       alignment: small.alignment ?? null,
       end_caps: small.end_caps ?? null,
+      set_aside: small.set_aside ?? [],
+      set_aside_contours: small.set_aside_contours ?? [],
       contour_to_mesh_as_given: small.contour_to_mesh_as_given ?? null,
       ...convergence(last),
       runId: run.runId,
@@ -339,6 +344,7 @@ export class WorkerCore {
       indices: this.session.indices(),
       pointDistances: this.session.point_distances(),
       vertexDistances: this.session.vertex_distances(),
+      setAsidePoints: this.session.set_aside_points(),
       seconds: (this.options.now() - run.startedMs) / 1000,
     };
     this.stopRun();

@@ -18,7 +18,10 @@ export class HoverReadout {
     const p = info.point;
     const pos = `(${p.x.toFixed(1)}, ${p.y.toFixed(1)}, ${p.z.toFixed(1)}) mm`;
     const children: (Node | string)[] = [];
-    if (info.distanceMm !== null) {
+    if (info.label) {
+      // A contour the run left out: no distance (the mesh does not follow it), its reason and id.
+      children.push(h('span', { class: 'swatch set-aside-swatch' }), ' ', h('strong', {}, info.label), info.id ? ` · ${info.id}` : '', h('br'));
+    } else if (info.distanceMm !== null) {
       const sw = h('span', { class: 'swatch' });
       sw.style.background = cssColorAt(info.distanceMm, 0, scaleMaxMm);
       children.push(sw, h('strong', {}, mm(info.distanceMm, 2)), ` ${info.what === 'mesh' ? 'to nearest contour' : 'to mesh'}`, h('br'));

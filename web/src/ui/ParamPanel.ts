@@ -2,8 +2,8 @@
  * The parameter panel, generated from the core's schema (ParamSpec[] from CoreClient.schema()), so
  * a parameter added in Rust appears here without UI changes. Log-scale parameters (lambda) get a
  * log slider. Below them, the modes that are not numbers: mesh ends (lids), the smoothing method
- * the softening of conflicting attractors, the breath-hold alignment and
- * the closing of open ends. Emits every change; the controller debounces and
+ * the softening of conflicting attractors, the breath-hold alignment,
+ * the closing of open ends and the keeping of specks and strays. Emits every change; the controller debounces and
  * restarts the run.
  */
 import { DEFAULT_OPTIONS, SMOOTHING_METHODS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
@@ -39,6 +39,12 @@ const END_CAPS_HELP =
   'add down-weighted lid points there so the mesh stops at the data instead of running on past it and inflating the volume; ' +
   'turn it off when the anatomy really continues past the last slice, or to compare with the paper\'s method';
 
+const KEEP_SPECKS_HELP =
+  'use every contour, also the ones the reconstruction otherwise leaves out (drawn grey and dashed, named in the warning): ' +
+  'a stray, further from the rest of its surface than the span of all the others (another series, a wrong coordinate), ' +
+  'and a speck, a short-axis ring under a tenth of the ring one slice away, not at the apex (a slice grazing the rim past the base, a stray click); ' +
+  'tick it when such a contour is real anatomy (the paper\'s method keeps every contour)';
+
 /** Text shown instead of 0 for parameters where 0 means "automatic". */
 const ZERO_MEANS: Record<string, string> = { attractors: 'auto', attractor_spacing: 'off' };
 
@@ -59,6 +65,7 @@ export class ParamPanel {
   private readonly soften: HTMLInputElement;
   private readonly align: HTMLInputElement;
   private readonly endCaps: HTMLInputElement;
+  private readonly keepSpecks: HTMLInputElement;
   private options: ReconOptions = { ...DEFAULT_OPTIONS };
 
   constructor(
@@ -117,6 +124,15 @@ export class ParamPanel {
       this.renderOptions();
       this.emit();
     });
+    this.keepSpecks = h('input', {
+      type: 'checkbox', id: 'param-keep-specks', 'data-testid': 'param-keep-specks',
+      'aria-describedby': 'param-keep-specks-help',
+    });
+    this.keepSpecks.addEventListener('change', () => {
+      this.options = { ...this.options, keep_specks: this.keepSpecks.checked };
+      this.renderOptions();
+      this.emit();
+    });
     const reset = h('button', { type: 'button', class: 'small', 'data-testid': 'reset-params', title: 'All parameters back to the defaults of the method' }, 'Reset to defaults');
     reset.addEventListener('click', onReset);
     this.element = h(
@@ -149,6 +165,12 @@ export class ParamPanel {
         { class: 'param-row param-option', title: END_CAPS_HELP },
         h('label', { class: 'param-check', for: 'param-end-caps' }, this.endCaps, 'Close open ends'),
         h('div', { class: 'param-help', id: 'param-end-caps-help' }, END_CAPS_HELP),
+      ),
+      h(
+        'div',
+        { class: 'param-row param-option', title: KEEP_SPECKS_HELP },
+        h('label', { class: 'param-check', for: 'param-keep-specks' }, this.keepSpecks, 'Keep specks and strays'),
+        h('div', { class: 'param-help', id: 'param-keep-specks-help' }, KEEP_SPECKS_HELP),
       ),
       h('div', { class: 'panel-actions' }, reset),
     );
@@ -211,6 +233,8 @@ export class ParamPanel {
     this.align.parentElement?.classList.toggle('changed', this.options.align_slices !== DEFAULT_OPTIONS.align_slices);
     this.endCaps.checked = this.options.end_caps === 'auto';
     this.endCaps.parentElement?.classList.toggle('changed', this.options.end_caps !== DEFAULT_OPTIONS.end_caps);
+    this.keepSpecks.checked = this.options.keep_specks;
+    this.keepSpecks.parentElement?.classList.toggle('changed', this.options.keep_specks !== DEFAULT_OPTIONS.keep_specks);
   }
 
   private format(spec: ParamSpec, v: number): string {

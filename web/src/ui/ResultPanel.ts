@@ -7,16 +7,18 @@
  * plus `data-iterations`, `data-converged` and, when aligned, `data-residual-before-mm`,
  * `data-residual-after-mm`, `data-given-mean-mm`; without it, `data-crossing-residual-mm` and
  * `data-suggest-alignment` (1/0: the images disagree where they cross); with close-open-ends on, `data-end-caps-base`,
- * `data-end-caps-apex` (1/0) and `data-end-caps-points`.
+ * `data-end-caps-apex` (1/0) and `data-end-caps-points`; `data-set-aside` (how many contours the
+ * run left out: strays, specks), with a "Left out" row when there are any.
  */
 import type { Alignment, RunResult } from '../core-client/protocol';
 import { h, mm } from './dom';
-import { alignmentRows, endCapsText, iterationsDoneText, meshCheckText, pastDataText, residualText } from './runText';
+import { alignmentRows, endCapsText, iterationsDoneText, meshCheckText, pastDataText, residualText, leftOutText } from './runText';
 
 const ATTRIBUTES = [
   'data-vertices', 'data-triangles', 'data-mean-mm', 'data-max-mm', 'data-iterations', 'data-converged',
   'data-residual-before-mm', 'data-residual-after-mm', 'data-given-mean-mm', 'data-past-base-mm', 'data-past-apex-mm',
   'data-end-caps-base', 'data-end-caps-apex', 'data-end-caps-points', 'data-crossing-residual-mm', 'data-suggest-alignment',
+  'data-set-aside',
 ];
 
 const SHIFTED_HELP = 'with breath-hold alignment: from the shifted contours, which the mesh follows, to the mesh';
@@ -97,6 +99,11 @@ export class ResultPanel {
         cells[1].append(' ', button);
       }
       rows.push(...cells);
+    }
+    if (r.set_aside) {
+      d.setAside = String(r.set_aside.length);
+      const aside = leftOutText(r.set_aside);
+      if (aside) rows.push(...row('Left out', aside.text, 'result-set-aside', aside.title));
     }
     rows.push(
       ...row('Volume', r.watertight ? `${r.volumeMl.toFixed(1)} ml` : '– (open)'),

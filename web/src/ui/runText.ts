@@ -2,7 +2,7 @@
  * The words the status line and the result panel use for a run's progress and for its breath-hold
  * alignment. Pure (no DOM), so the wording and the numbers are unit-tested.
  */
-import type { Alignment, AlignmentGroup, EndCaps, MeshQuality, PastData, StepReport } from '../core-client/protocol';
+import type { Alignment, AlignmentGroup, EndCaps, MeshQuality, PastData, SetAsideEntry, SetAsideReason, StepReport } from '../core-client/protocol';
 import { mm } from './dom';
 
 /** "+1.4 mm" / "−0.3 mm": a signed length with one decimal ("0.0 mm" when it rounds to zero, not "−0.0"). */
@@ -167,4 +167,52 @@ export function meshCheckText(q: MeshQuality): {
       title: `edges where neighbouring triangles turn more than 90° against each other (a crease)${f > 0 ? ': on an RV usually a sharp corner of the contours' : ''}`,
     },
   };
+}
+
+/** "left out: speck" / "left out: stray": what the viewer's key and the hover read-out call a contour left out. */
+export function leftOutLabel(reason: SetAsideReason): string {
+  return `left out: ${reason}`;
+}
+
+/** One contour left out, in a sentence: `"sax10" (line 1505): a speck, 2.8 mm around, 1 % of the ring of "sax09" one slice away`. */
+export function leftOutDetail(s: SetAsideEntry): string {
+  const at = s.line > 0 ? ` (line ${s.line})` : '';
+  if (s.reason === 'stray') return `"${s.id}"${at}: a stray, ${s.gap_mm.toFixed(0)} mm from the nearest other contour`;
+  const pct = s.next_perimeter_mm > 0 ? (100 * s.perimeter_mm) / s.next_perimeter_mm : 0;
+  return `"${s.id}"${at}: a speck, ${s.perimeter_mm.toFixed(1)} mm around, ${pct.toFixed(pct < 1 ? 1 : 0)} % of the ring of "${s.next_id}" one slice away`;
+}
+
+/** How many names the result panel's row shows before "…" (the tooltip lists them all). */
+const SET_ASIDE_NAMES = 3;
+
+/**
+ * The result panel's "Left out" row: "1 contour (speck) · sax10", "3 contours (2 specks, 1 stray) ·
+ * sax10, sax11, far", with every one, its line and why in the tooltip. Null when nothing was left
+ * out (the row is then not shown).
+ */
+export function leftOutText(list: readonly SetAsideEntry[]): { text: string; title: string } | null {
+  if (list.length === 0) return null;
+  const count = (reason: SetAsideReason) => list.filter((s) => s.reason === reason).length;
+  const kinds = (['speck', 'stray'] as const)
+    .map((reason) => ({ reason, n: count(reason) }))
+    .filter((k) => k.n > 0)
+    .map((k) => (list.length === 1 ? k.reason : `${k.n} ${k.reason}${k.n === 1 ? '' : 's'}`));
+  const names = list.slice(0, SET_ASIDE_NAMES).map((s) => s.id);
+  if (list.length > SET_ASIDE_NAMES) names.push('…');
+  return {
+    text: `${list.length} contour${list.length === 1 ? '' : 's'} (${kinds.join(', ')}) · ${names.join(', ')}`,
+    title:
+      `left out of the reconstruction (drawn grey and dashed): ${list.map(leftOutDetail).join('; ')}. ` +
+      'The option Keep specks and strays (Parameters) uses them.',
+  };
+}
+
+/**
+ * With Keep specks and strays on, the note after the load-time warnings that name contours "left
+ * out of the reconstruction" (the core words them for the default): they are used. Null when off or
+ * when no warning names one.
+ */
+export function keptSpecksNote(warnings: readonly string[], keepSpecks: boolean): string | null {
+  if (!keepSpecks || !warnings.some((w) => /left out of the reconstruction/.test(w))) return null;
+  return 'Keep specks and strays is on: the contours named above as left out are used in the reconstruction';
 }

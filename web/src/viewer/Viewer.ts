@@ -12,15 +12,20 @@ import { ContourLayer, warmupGeometry } from './ContourLayer';
 import { cameraPlacement, dashScale, fitView, type ViewFit } from './fitView';
 import { GivenContourLayer } from './GivenContourLayer';
 import { MeshLayer } from './MeshLayer';
+import { SetAsideLayer } from './SetAsideLayer';
+import { leftOutLabel } from '../ui/runText';
 
 export interface HoverInfo {
   /** Screen position (px, relative to the viewport). */
   x: number;
   y: number;
-  what: 'mesh' | 'contour point';
+  what: 'mesh' | 'contour point' | 'left out';
   point: THREE.Vector3;
-  /** Contour-to-mesh distance in mm when known (after a finished run). */
+  /** Contour-to-mesh distance in mm when known (after a finished run; never for a contour left out). */
   distanceMm: number | null;
+  /** For a contour the run left out: "left out: speck" and its id. */
+  label?: string;
+  id?: string;
 }
 
 /** Whether WebGL runs on a software rasteriser (SwiftShader, llvmpipe), probed on a scratch canvas. */
@@ -46,6 +51,8 @@ export class Viewer {
   readonly contourLayer = new ContourLayer();
   /** The file's contours as given, behind the shifted ones after a run with breath-hold alignment. */
   readonly givenLayer = new GivenContourLayer();
+  /** The contours the run left out (strays, specks), grey and dashed, with their key. */
+  readonly setAsideLayer = new SetAsideLayer();
   readonly attractorLayer = new AttractorLayer();
   readonly landmarkLayer = new LandmarkLayer();
   /** Clipping plane facing the camera; `clip` in [0, 1] moves it through the model (1 = off). */
@@ -81,7 +88,7 @@ export class Viewer {
     container.append(this.renderer.domElement);
 
     this.meshLayer = new MeshLayer([this.clipPlane]);
-    this.scene.add(this.meshLayer.group, this.givenLayer.group, this.contourLayer.group, this.attractorLayer.group, this.landmarkLayer.group);
+    this.scene.add(this.meshLayer.group, this.givenLayer.group, this.setAsideLayer.group, this.contourLayer.group, this.attractorLayer.group, this.landmarkLayer.group);
     this.scene.add(new THREE.HemisphereLight(0xdde6f0, 0x30261f, 1.3));
     const key = new THREE.DirectionalLight(0xffffff, 1.6);
     key.position.set(1, 1.2, 1.5);
@@ -121,7 +128,7 @@ export class Viewer {
     const g = warmupGeometry();
     const group = new THREE.Group();
     for (const m of this.meshLayer.materials) group.add(new THREE.Mesh(g, m));
-    group.add(...this.contourLayer.materialObjects, this.givenLayer.materialObject, this.attractorLayer.materialObject);
+    group.add(...this.contourLayer.materialObjects, this.givenLayer.materialObject, ...this.setAsideLayer.materialObjects, this.attractorLayer.materialObject);
     group.traverse((o) => (o.frustumCulled = false));
     group.position.set(0, 0, 1e6); // behind the default camera (at the origin, looking down -z)
     this.scene.add(group);
@@ -177,6 +184,7 @@ export class Viewer {
     this.renderer.domElement.dataset.viewRadius = String(this.fit.radius);
     this.contourLayer.setDashScale(dashScale(this.fit.radius));
     this.givenLayer.setDashScale(dashScale(this.fit.radius));
+    this.setAsideLayer.setDashScale(dashScale(this.fit.radius));
     this.userMoved = false;
     this.resetView();
   }
@@ -254,6 +262,15 @@ export class Viewer {
     this.raycaster.setFromCamera(ndc, this.camera);
     const fitRadius = this.fit?.radius ?? 50;
     this.raycaster.params.Points = { threshold: fitRadius * 0.012 };
+    const aside = this.setAsideLayer.pickable;
+    if (aside && this.setAsideLayer.group.visible) {
+      const hit = this.raycaster.intersectObject(aside, false)[0];
+      const entry = hit?.index !== undefined ? this.setAsideLayer.entryOfPoint(hit.index) : null;
+      if (hit && entry && this.isVisiblePoint(hit.point)) {
+        this.hoverListener({ x, y, what: 'left out', point: hit.point.clone(), distanceMm: null, label: leftOutLabel(entry.reason), id: entry.id });
+        return;
+      }
+    }
     const points = this.contourLayer.pickable;
     if (points && points.visible) {
       const hit = this.raycaster.intersectObject(points, false)[0];
@@ -273,6 +290,13 @@ export class Viewer {
       }
     }
     this.hoverListener(null);
+  }
+
+  /** Where the point (mm) is drawn, px relative to the viewport (the browser tests point at it). */
+  screenPosition(x: number, y: number, z: number): { x: number; y: number } {
+    const p = new THREE.Vector3(x, y, z).project(this.camera);
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    return { x: ((p.x + 1) / 2) * rect.width, y: ((1 - p.y) / 2) * rect.height };
   }
 
   private isVisiblePoint(p: THREE.Vector3): boolean {
@@ -295,6 +319,7 @@ export class Viewer {
     this.meshLayer.dispose();
     this.contourLayer.dispose();
     this.givenLayer.dispose();
+    this.setAsideLayer.dispose();
     this.attractorLayer.dispose();
     this.landmarkLayer.dispose();
     this.renderer.dispose();

@@ -4,7 +4,8 @@
 //! Bulk data leave as flat f32/u32 vectors (converted once, here, from the core's f64); small
 //! descriptions leave as JSON with the protocol's field names.
 
-use heartmesh_core::contours::{Contour, ContourKind};
+use heartmesh_core::contours::set_aside::SetAside;
+use heartmesh_core::contours::{Contour, ContourKind, ContourSet};
 use heartmesh_core::error::{CoreError, Result};
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::quality::quality;
@@ -15,13 +16,16 @@ use heartmesh_core::Params;
 use serde_json::{json, Map, Value};
 
 /// The non-numeric options the params JSON object may also carry (beside the schema's numbers):
-/// `smoothing_method` (a string, `SmoothingMethod::ALL`), `soften_conflicts` and `align_slices`
-/// (bools), `end_caps` (a string, `EndCapMode::ALL`; absent: the core's default). They travel inside the same object so that the run, the sweep and leave-one-out take
-/// them one way.
+/// `smoothing_method` (a string, `SmoothingMethod::ALL`), `soften_conflicts`, `align_slices` and
+/// `keep_specks` (bools), `end_caps` (a string, `EndCapMode::ALL`; absent: the core's default).
+/// They travel inside the same object so that the run, the sweep and leave-one-out take them one
+/// way.
 pub const SMOOTHING_METHOD: &str = "smoothing_method";
 pub const SOFTEN_CONFLICTS: &str = "soften_conflicts";
 pub const ALIGN_SLICES: &str = "align_slices";
 pub const END_CAPS: &str = "end_caps";
+/// Keep the strays and specks a reconstruction otherwise leaves out (`Params::keep_specks`).
+pub const KEEP_SPECKS: &str = "keep_specks";
 
 /// Builds parameters from a JSON object of schema names to numbers (plus the options above),
 /// applied in schema order (so `attractor_spacing` > 0 wins over `attractors`, whatever the key
@@ -37,7 +41,14 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
     })?;
     let schema = Params::schema();
     let is_option = |k: &str| {
-        k == SMOOTHING_METHOD || k == SOFTEN_CONFLICTS || k == ALIGN_SLICES || k == END_CAPS
+        [
+            SMOOTHING_METHOD,
+            SOFTEN_CONFLICTS,
+            ALIGN_SLICES,
+            END_CAPS,
+            KEEP_SPECKS,
+        ]
+        .contains(&k)
     };
     if let Some(unknown) = object
         .keys()
@@ -66,7 +77,8 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
     Ok(params)
 }
 
-/// Applies `smoothing_method`, `soften_conflicts` and `align_slices` when present, with the
+/// Applies `smoothing_method`, `end_caps`, `soften_conflicts`, `align_slices` and `keep_specks`
+/// when present, with the
 /// core's setters; a wrong type or name is an error naming the option and what it accepts.
 fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()> {
     match object.get(SMOOTHING_METHOD) {
@@ -92,6 +104,7 @@ fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()>
     for (name, field) in [
         (SOFTEN_CONFLICTS, &mut params.soften_conflicts),
         (ALIGN_SLICES, &mut params.align_slices),
+        (KEEP_SPECKS, &mut params.keep_specks),
     ] {
         match object.get(name) {
             None => {}
@@ -136,21 +149,23 @@ fn method_names() -> String {
     names.join(", ")
 }
 
-/// The options of `params` as `{smoothing_method, soften_conflicts, align_slices, end_caps}`
-/// (run results, exports).
+/// The options of `params` as `{smoothing_method, soften_conflicts, align_slices, end_caps,
+/// keep_specks}` (run results, exports).
 pub fn options_to_json(params: &Params) -> Value {
     json!({
         SMOOTHING_METHOD: params.smoothing.name(),
         SOFTEN_CONFLICTS: params.soften_conflicts,
         ALIGN_SLICES: params.align_slices,
         END_CAPS: params.end_caps.name(),
+        KEEP_SPECKS: params.keep_specks,
     })
 }
 
 /// The small part of the protocol's `RunResult` (`Session::result_json`): surface, contours,
 /// perContour, overall, volumeMl, areaMm2, watertight, quality, params, lids, options, alignment (the
 /// core's `Alignment`, null unless `align_slices`; `contours` are then the shifted contours),
-/// crossing_residual_mm, suggest_alignment, version.
+/// crossing_residual_mm, suggest_alignment, set_aside (the contours left out: the CLI report's
+/// `set_aside` entries, `[]` when none), version.
 pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
     let mesh = rec.mesh();
     let q = quality(mesh);
@@ -185,6 +200,9 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         // With alignment on, `overall` is to the shifted contours the mesh follows; this is to the
         // file's contours as drawn (the app shows both).
         "contour_to_mesh_as_given": rec.contour_distances_as_given().map(|d| d.overall),
+        // The strays and specks the run left out (empty with `keep_specks`): `id`, `line`,
+        // `reason` and its figures, as the CLI report's `set_aside` (the core's `SetAside`).
+        "set_aside": rec.set_aside(),
         "version": heartmesh_core::VERSION,
     })
 }
@@ -240,6 +258,20 @@ pub fn contour_infos(contours: &[Contour], kinds: Option<&[ContourKind]>) -> Val
         })
         .collect();
     Value::Array(infos)
+}
+
+/// The contours of the file `set` that `list` names (by identifier and first line, as the core
+/// leaves them out), in `list`'s order: what the app draws as "left out". One per entry; an entry
+/// whose contour is not in `set` (none is) is skipped.
+pub fn set_aside_contours(set: &ContourSet, list: &[SetAside]) -> Vec<Contour> {
+    list.iter()
+        .filter_map(|s| {
+            set.contours
+                .iter()
+                .find(|c| c.id == s.id && c.first_line == s.line)
+                .cloned()
+        })
+        .collect()
 }
 
 /// xyz of all points of all pieces of all contours, in order, as f32.
@@ -335,7 +367,7 @@ mod tests {
         let o = options_to_json(&p);
         assert_eq!(
             o,
-            json!({"smoothing_method": "taubin", "soften_conflicts": false, "align_slices": false, "end_caps": "auto"})
+            json!({"smoothing_method": "taubin", "soften_conflicts": false, "align_slices": false, "end_caps": "auto", "keep_specks": false})
         );
         // Absent: the core's defaults.
         let d = params_from_json("{}", "auto", None).unwrap();
@@ -350,12 +382,16 @@ mod tests {
         assert_eq!(q, d);
         assert_eq!(
             options_to_json(&d),
-            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true, "align_slices": false, "end_caps": "auto"})
+            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true, "align_slices": false, "end_caps": "auto", "keep_specks": false})
         );
         assert!(!d.align_slices);
         let a = params_from_json(r#"{"align_slices": true}"#, "auto", None).unwrap();
         assert!(a.align_slices);
         assert_eq!(options_to_json(&a)["align_slices"], true);
+        assert!(!d.keep_specks);
+        let k = params_from_json(r#"{"keep_specks": true}"#, "auto", None).unwrap();
+        assert!(k.keep_specks);
+        assert_eq!(options_to_json(&k)["keep_specks"], true);
     }
 
     #[test]
@@ -374,10 +410,12 @@ mod tests {
         assert!(e.to_string().contains("soften_conflicts"), "{e}");
         assert!(e.to_string().contains("true or false"), "{e}");
         for bad in [r#""yes""#, "1", "null", "[true]"] {
-            let e = params_from_json(&format!(r#"{{"align_slices": {bad}}}"#), "auto", None)
-                .unwrap_err();
-            assert_eq!(e.code(), "param_invalid");
-            assert!(e.to_string().contains("align_slices"), "{e}");
+            for name in ["align_slices", "keep_specks"] {
+                let e =
+                    params_from_json(&format!(r#"{{"{name}": {bad}}}"#), "auto", None).unwrap_err();
+                assert_eq!(e.code(), "param_invalid");
+                assert!(e.to_string().contains(name), "{e}");
+            }
         }
         // Taubin is unstable above a factor of 0.6: the core's range error, naming the limit.
         let e = params_from_json(

@@ -48,6 +48,8 @@ pub fn version() -> String {
 struct ActiveRun {
     rec: Reconstruction,
     lids: String,
+    /// The file's contours the run leaves out (strays, specks), in `rec.set_aside()` order.
+    set_aside: Vec<heartmesh_core::contours::Contour>,
     /// Attractors at the last step, to tell when they were re-sampled.
     last_attractors: Vec<Vec3>,
     attractors_changed: bool,
@@ -148,7 +150,8 @@ impl Session {
 
     /// Starts a reconstruction of a loaded file, replacing any run in progress. `params_json` is
     /// an object of schema names to numbers (missing ones take their defaults), which may also
-    /// carry `smoothing_method`, `soften_conflicts`, `align_slices` and `end_caps` (see `convert`); `lids` is "auto"
+    /// carry `smoothing_method`, `soften_conflicts`, `align_slices`, `end_caps` and `keep_specks`
+    /// (see `convert`); `lids` is "auto"
     /// or "none"; `surface` picks one surface of a multi-surface file.
     pub fn start(
         &mut self,
@@ -163,9 +166,11 @@ impl Session {
         let set = self.file(file_name)?;
         let mut rec = Reconstruction::new(set, params).map_err(|e| errors::to_js(&e))?;
         rec.set_clock(Box::new(clock::PerformanceClock::new()));
+        let set_aside = convert::set_aside_contours(set, rec.set_aside());
         self.run = Some(ActiveRun {
             rec,
             lids: lids.to_string(),
+            set_aside,
             last_attractors: Vec::new(),
             attractors_changed: false,
         });
@@ -237,12 +242,21 @@ impl Session {
         Ok(convert::to_f32(&self.run_ref()?.rec.vertex_distances()))
     }
 
+    /// xyz (mm) of the file's contours the run leaves out (strays and specks, as the file gives
+    /// them), in the order `result_json`'s `set_aside_contours` pieces index.
+    pub fn set_aside_points(&self) -> Result<Vec<f32>, JsValue> {
+        Ok(convert::flat_points(&self.run_ref()?.set_aside))
+    }
+
     /// JSON of the small part of the protocol's `RunResult` ([`convert::result_value`]; with
     /// `align_slices`, `alignment` holds the shifts and `contours` and `contour_points` are the
-    /// shifted contours).
+    /// shifted contours), plus `set_aside_contours`: the `ContourInfo`s of the contours left out
+    /// (one per `set_aside` entry, in its order), indexing [`Session::set_aside_points`].
     pub fn result_json(&self) -> Result<String, JsValue> {
         let run = self.run_ref()?;
-        Ok(convert::result_value(&run.rec, &run.lids).to_string())
+        let mut value = convert::result_value(&run.rec, &run.lids);
+        value["set_aside_contours"] = convert::contour_infos(&run.set_aside, None);
+        Ok(value.to_string())
     }
 }
 
@@ -340,11 +354,81 @@ mod tests {
 
     /// `result_json` of a finished run (natively: `Session::start` needs the browser's clock).
     fn result_with(options: &str) -> serde_json::Value {
-        let set = io::read_contours("lv.csv", misaligned_csv().as_bytes()).unwrap();
+        result_of(&misaligned_csv(), options).0
+    }
+
+    /// The result of a run of `csv` and the file's contours it left out (what `Session::start`
+    /// keeps for `set_aside_points`).
+    fn result_of(
+        csv: &str,
+        options: &str,
+    ) -> (serde_json::Value, Vec<heartmesh_core::contours::Contour>) {
+        let set = io::read_contours("lv.csv", csv.as_bytes()).unwrap();
         let params = convert::params_from_json(options, "auto", None).unwrap();
         let mut rec = Reconstruction::new(&set, params).unwrap();
         rec.run().unwrap();
-        convert::result_value(&rec, "auto")
+        let aside = convert::set_aside_contours(&set, rec.set_aside());
+        (convert::result_value(&rec, "auto"), aside)
+    }
+
+    /// The ellipsoid with a speck: a 3-point loop 2.9 mm around, in a short-axis plane 8 mm past
+    /// the basal ring (as `public/samples` plus a stray click), and the line of its first point.
+    fn speck_csv() -> (String, usize) {
+        let mut csv = misaligned_csv();
+        let line = csv.lines().count() + 1;
+        for (x, y) in [(5.0, 0.0), (4.4, 0.6), (4.4, -0.6)] {
+            csv.push_str(&format!("speck,{x},{y},8,LV_ENDO\n"));
+        }
+        (csv, line)
+    }
+
+    /// The run's result names the speck it left out as the CLI report does (`id`, `line`,
+    /// `reason`, its figures), the binding hands out its points, and `keep_specks` keeps it.
+    #[test]
+    fn result_json_carries_the_contours_set_aside() {
+        let (csv, line) = speck_csv();
+        let (left_out, aside) = result_of(&csv, r#"{"iterations": 3}"#);
+        let list = left_out["set_aside"].as_array().unwrap();
+        assert_eq!(list.len(), 1, "{list:?}");
+        let s = &list[0];
+        assert_eq!(s["id"], "speck");
+        assert_eq!(s["line"].as_u64(), Some(line as u64));
+        assert_eq!(s["reason"], "speck");
+        let around = s["perimeter_mm"].as_f64().unwrap();
+        assert!((2.8..3.0).contains(&around), "{around}");
+        assert_eq!(s["next_id"], "s6");
+        assert!(s["next_perimeter_mm"].as_f64().unwrap() > 100.0);
+        assert_eq!(left_out["options"]["keep_specks"], false);
+        // Not among the contours the run follows; its own three points, as the file gives them.
+        let ids = |r: &serde_json::Value| -> Vec<String> {
+            r["contours"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|c| c["id"].as_str().unwrap().to_string())
+                .collect()
+        };
+        assert!(!ids(&left_out).contains(&"speck".to_string()));
+        assert_eq!(aside.len(), 1);
+        assert_eq!(aside[0].id, "speck");
+        let info = convert::contour_infos(&aside, None);
+        assert_eq!(info[0]["pieces"][0]["start"], 0);
+        assert_eq!(info[0]["pieces"][0]["count"], 3);
+        let points = convert::flat_points(&aside);
+        assert_eq!(points.len(), 9);
+        assert_eq!(&points[..3], &[5.0, 0.0, 8.0]);
+        // Kept: one contour more, nothing left out.
+        let (kept, none) = result_of(&csv, r#"{"iterations": 3, "keep_specks": true}"#);
+        assert_eq!(kept["set_aside"], serde_json::json!([]));
+        assert!(none.is_empty());
+        assert_eq!(kept["options"]["keep_specks"], true);
+        assert!(ids(&kept).contains(&"speck".to_string()));
+        assert_eq!(ids(&kept).len(), ids(&left_out).len() + 1);
+        // The file without it: nothing to leave out.
+        assert_eq!(
+            result_with(r#"{"iterations": 3}"#)["set_aside"],
+            serde_json::json!([])
+        );
     }
 
     #[test]

@@ -1,5 +1,5 @@
 /** The parameters of a run (and its measured result) as JSON, to reproduce or report it. */
-import { withDefaultOptions, type Alignment, type DistanceSummary, type RunResult, type Stats } from '../../core-client/protocol';
+import { withDefaultOptions, type Alignment, type DistanceSummary, type RunResult, type SetAsideEntry, type Stats } from '../../core-client/protocol';
 import type { ExportInfo } from './header';
 
 export interface RunSummary {
@@ -16,6 +16,8 @@ export interface RunSummary {
   /** Breath-hold alignment (null: off) and the distance to the contours as given when on. */
   alignment?: Alignment | null;
   contourToMeshAsGiven?: DistanceSummary | null;
+  /** The contours the run left out (strays, specks), as the CLI report's `set_aside`. */
+  setAside?: SetAsideEntry[];
 }
 
 /** The summary of a finished run that the JSON export records. */
@@ -32,6 +34,7 @@ export function runSummary(r: RunResult): RunSummary {
     converged: r.converged,
     alignment: r.alignment ?? null,
     contourToMeshAsGiven: r.contour_to_mesh_as_given ?? null,
+    setAside: r.set_aside ?? [],
   };
 }
 
@@ -48,6 +51,7 @@ export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): s
     soften_conflicts: options.soften_conflicts,
     align_slices: options.align_slices,
     end_caps: options.end_caps,
+    keep_specks: options.keep_specks,
     params: info.params,
     ...(summary
       ? {
@@ -59,6 +63,8 @@ export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): s
             contourToMeshMm: summary.overall,
             ...(summary.contourToMeshAsGiven ? { contourToMeshAsGivenMm: summary.contourToMeshAsGiven } : {}),
             ...(summary.alignment !== undefined ? { alignment: summary.alignment } : {}),
+            // Only when something was left out, as the CLI report's `set_aside`.
+            ...(summary.setAside && summary.setAside.length > 0 ? { set_aside: summary.setAside } : {}),
             volumeMl: summary.volumeMl,
             areaMm2: summary.areaMm2,
             watertight: summary.watertight,

@@ -337,9 +337,30 @@ mod tests {
         assert_eq!(p.smoothing, Params::default().smoothing);
         assert!(p.soften_conflicts);
         assert!(!p.align_slices);
+        assert!(!p.keep_specks);
         assert_eq!(p.beta, 0.2);
         // Nor apex_floor: saved when the floor was off (not today's default).
         assert!(!p.apex_floor);
+    }
+
+    #[test]
+    fn round_trip_with_keep_specks() {
+        let set = read_csv(&sample("contours/bivme-example-patient1/patient1-ED.csv")).unwrap();
+        for on in [true, false] {
+            let params = Params {
+                keep_specks: on,
+                ..Params::default()
+            };
+            let bytes = write_session(&set, &params, "9.9.9").unwrap();
+            let s = read_session(&bytes).unwrap();
+            assert_eq!(s.parameters["keep_specks"], on);
+            assert_eq!(s.params().unwrap().keep_specks, on);
+        }
+        let mut s = read_session(&write_session(&set, &Params::default(), "9").unwrap()).unwrap();
+        s.parameters
+            .insert("keep_specks".into(), Value::from("yes"));
+        let e = s.params().unwrap_err();
+        assert!(e.to_string().contains("keep_specks"), "{e}");
     }
 
     #[test]
