@@ -118,3 +118,11 @@ export function cliReport(input, args, label) {
   execFileSync(CLI, ['reconstruct', input, '-o', writeScratch(`${label}.obj`, ''), '--report', report, '--quiet', ...args]);
   return JSON.parse(readFileSync(report, 'utf8'));
 }
+
+/** The native CLI's `simulate` of the truth mesh `truth` with `args`, into the scratch folder as `name`; returns its path. */
+export function cliSimulate(truth, args, name) {
+  if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);
+  const out = writeScratch(name, '');
+  execFileSync(CLI, ['simulate', truth, '-o', out, '--quiet', ...args]);
+  return out;
+}

@@ -52,19 +52,19 @@ describe('smoothing options through the worker', () => {
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     // The RV endocardium, whose septum curves disagree between SAX and LAX: softening acts there.
     const on = (await run(ask, 1, undefined, {}, 'RV_ENDO')).result;
-    const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false }, {}, 'RV_ENDO')).result;
-    expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
-    expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
+    const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }, {}, 'RV_ENDO')).result;
+    expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
     if (!on || !off) throw new Error('runs failed');
     // Same sample, same numbers otherwise: only the softening differs (0.445 vs 0.408 mm natively).
     expect(on.overall.mean - off.overall.mean).toBeGreaterThan(0.01);
     expect(on.overall.mean).toBeLessThan(1);
     expect(off.overall.mean).toBeLessThan(1);
 
-    const taubin = await run(ask, 3, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false }, { smoothing_factor: 0.5 });
+    const taubin = await run(ask, 3, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }, { smoothing_factor: 0.5 });
     expect(taubin.result?.options.smoothing_method).toBe('taubin');
     expect(taubin.result?.overall.mean).toBeLessThan(1.5);
-    const bad = await run(ask, 4, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false }, { smoothing_factor: 0.8 });
+    const bad = await run(ask, 4, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }, { smoothing_factor: 0.8 });
     expect(bad.error?.code).toBe('param_out_of_range');
     expect(bad.error?.message).toMatch(/smoothing_factor = 0\.8 .*allowed 0 to 0\.6/);
   });
@@ -74,7 +74,7 @@ describe('smoothing options through the worker', () => {
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     const base = (await run(ask, 1)).result;
     const opts = (smoothing_method: ReconOptions['smoothing_method']): ReconOptions =>
-      ({ smoothing_method, soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
+      ({ smoothing_method, soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
     const hc = (await run(ask, 2, opts('laplacian-hc'))).result;
     const twicing = (await run(ask, 3, opts('laplacian-twicing'))).result;
     if (!base || !hc || !twicing) throw new Error('runs failed');
@@ -96,7 +96,7 @@ describe('smoothing options through the worker', () => {
     const { ask } = makeCore();
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     const base = { fileName: PATIENT, surface: 'LV_ENDO', params: { smoothing_factor: 0.8 }, lids: 'auto' as const };
-    const taubin: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false };
+    const taubin: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true };
     const loo = await ask({ type: 'lab-batch', runId: 5, job: { kind: 'loo', ...base, options: taubin } }, 'lab-batch-started', 'error');
     expect(loo.type === 'error' && loo.error.code).toBe('param_out_of_range');
     const sweep = await ask(
@@ -117,14 +117,15 @@ describe('smoothing options through the worker', () => {
     const session = (parameters: object) =>
       new TextEncoder().encode(JSON.stringify({ heartmesh_session: 1, app_version: '0.1.0', contours, parameters }));
     const saved = await loaded(ask, 'saved.json', session({ beta: 0.3, lids: 'none', smoothing_method: 'taubin', soften_conflicts: false, surface: 'LV_ENDO' }));
-    // No end_caps key: saved before end caps existed, so read back without them (as it was made).
-    expect(saved.session?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: 'off', keep_specks: false });
+    // No end_caps key: saved before end caps existed, so read back without them (as it was made);
+    // no apex_floor key: saved before sessions stored it, when the floor was off (core io::session).
+    expect(saved.session?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: 'off', keep_specks: false, apex_floor: false });
     expect(saved.session?.lids).toBe('none');
     expect(saved.session?.surface).toBe('LV_ENDO');
     expect(saved.session?.params.beta).toBe(0.3);
     expect(saved.session?.params.lambda).toBe(1e5);
     const old = await loaded(ask, 'old.json', session({ beta: 0.3, lids: 'auto', surface: null }));
-    expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: 'off', keep_specks: false });
+    expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: 'off', keep_specks: false, apex_floor: false });
     const bad = await loaded(ask, 'bad.json', session({ smoothing_method: 'gaussian' }));
     expect(bad.session ?? null).toBeNull();
     expect(bad.warnings.join(' ')).toMatch(/not applied: parameter smoothing_method: unknown method "gaussian" \(allowed: laplacian-affine, taubin, laplacian-hc, laplacian-twicing\)/);
@@ -135,8 +136,8 @@ describe('smoothing options through the worker', () => {
   it('a session written by the worker opens again with the same settings and contours', async () => {
     const { ask } = makeCore();
     const file = await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
-    // Keep specks and strays on too: a session keeps it (core io::session, since session 14).
-    const options: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: true };
+    // Keep specks and strays on and the apex floor off too: a session keeps both (core io::session, since session 14).
+    const options: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: true, apex_floor: false };
     const written = await ask(
       { type: 'session-export', reqId: 2, fileName: PATIENT, surface: 'LV_EPI', params: { beta: 0.2, smoothing_factor: 0.4 }, lids: 'none', options, appVersion: '9.9.9' },
       'session-json',
@@ -145,7 +146,7 @@ describe('smoothing options through the worker', () => {
     if (written.type !== 'session-json') throw new Error(written.error.message);
     const doc = JSON.parse(new TextDecoder().decode(written.bytes));
     expect(doc.app_version).toBe('9.9.9');
-    expect(doc.parameters).toMatchObject({ smoothing_method: 'taubin', soften_conflicts: false, keep_specks: true, lids: 'none', surface: 'LV_EPI', beta: 0.2 });
+    expect(doc.parameters).toMatchObject({ smoothing_method: 'taubin', soften_conflicts: false, keep_specks: true, apex_floor: false, lids: 'none', surface: 'LV_EPI', beta: 0.2 });
     const back = await loaded(ask, 'saved.json', written.bytes);
     expect(back.session).toMatchObject({ lids: 'none', surface: 'LV_EPI', options });
     expect(back.session?.params.smoothing_factor).toBe(0.4);

@@ -42,9 +42,9 @@ describe('align_slices option', () => {
   it('is off by default and travels in the params JSON, the URL and every export', () => {
     expect(DEFAULT_OPTIONS.align_slices).toBe(false);
     const on = { ...DEFAULT_OPTIONS, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false };
-    expect(JSON.parse(paramsJson({ beta: 0.1 }, on))).toEqual({ beta: 0.1, smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false });
+    expect(JSON.parse(paramsJson({ beta: 0.1 }, on))).toEqual({ beta: 0.1, smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
     // Options saved before the option existed read as off.
-    expect(withDefaultOptions({ smoothing_method: 'taubin', soften_conflicts: false })).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
+    expect(withDefaultOptions({ smoothing_method: 'taubin', soften_conflicts: false })).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
     expect(withDefaultOptions(null)).toEqual(DEFAULT_OPTIONS);
 
     const schema = rustSchema();
@@ -57,8 +57,8 @@ describe('align_slices option', () => {
     expect(parseUrlState('?align_slices=maybe', schema).options.align_slices).toBe(false);
 
     const info: ExportInfo = { appVersion: '1.0.0', coreVersion: '0.1.0', fileName: 'p.csv', surface: 'LV_ENDO', lids: 'auto', options: on, params: { iterations: 250 } };
-    expect(headerLines(info)[2]).toBe(`lids: auto iterations=250 smoothing_method=laplacian-affine soften_conflicts=true align_slices=true end_caps=${DEFAULT_END_CAPS} keep_specks=false`);
-    expect(headerLines({ ...info, options: { smoothing_method: 'taubin', soften_conflicts: true } as never })[2]).toMatch(new RegExp(`align_slices=false end_caps=${DEFAULT_END_CAPS} keep_specks=false$`));
+    expect(headerLines(info)[2]).toBe(`lids: auto iterations=250 smoothing_method=laplacian-affine soften_conflicts=true align_slices=true end_caps=${DEFAULT_END_CAPS} keep_specks=false apex_floor=true`);
+    expect(headerLines({ ...info, options: { smoothing_method: 'taubin', soften_conflicts: true } as never })[2]).toMatch(new RegExp(`align_slices=false end_caps=${DEFAULT_END_CAPS} keep_specks=false apex_floor=true$`));
     const doc = JSON.parse(writeParamsJson(info, runSummary(result({ alignment: ALIGNMENT, contour_to_mesh_as_given: { mean: 0.71, median: 0.6, max: 2.5 }, iterations_done: 243, converged: true }))));
     expect(doc.align_slices).toBe(true);
     expect(doc.result.iterations).toBe(243);

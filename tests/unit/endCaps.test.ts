@@ -65,10 +65,10 @@ describe('end_caps option', () => {
       appVersion: '1.0.0', coreVersion: '0.1.0', fileName: 'p.csv', surface: 'RV_ENDO', lids: 'auto',
       options: { ...DEFAULT_OPTIONS, end_caps: 'auto' }, params: { iterations: 250 },
     };
-    expect(headerLines(info)[2]).toMatch(/ align_slices=false end_caps=auto keep_specks=false$/);
+    expect(headerLines(info)[2]).toMatch(/ align_slices=false end_caps=auto keep_specks=false apex_floor=true$/);
     expect(JSON.parse(writeParamsJson(info, null)).end_caps).toBe('auto');
     const old = { ...info, options: { smoothing_method: 'taubin', soften_conflicts: true } as never };
-    expect(headerLines(old)[2]).toMatch(new RegExp(`end_caps=${DEFAULT_END_CAPS} keep_specks=false$`));
+    expect(headerLines(old)[2]).toMatch(new RegExp(`end_caps=${DEFAULT_END_CAPS} keep_specks=false apex_floor=true$`));
     expect(JSON.parse(writeParamsJson(old, null)).end_caps).toBe(DEFAULT_END_CAPS);
   });
 });

@@ -157,7 +157,7 @@ describe('exporters parse back', () => {
   });
 
   it('parameters JSON and headers record the smoothing options (defaults when unknown)', () => {
-    const taubin: ExportInfo = { ...info, options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false } };
+    const taubin: ExportInfo = { ...info, options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true } };
     const doc = JSON.parse(writeParamsJson(taubin, null));
     expect(doc.smoothing_method).toBe('taubin');
     expect(doc.soften_conflicts).toBe(false);
@@ -165,7 +165,7 @@ describe('exporters parse back', () => {
     const old = JSON.parse(writeParamsJson(info, null));
     expect(old.smoothing_method).toBe('laplacian-affine');
     expect(old.soften_conflicts).toBe(true);
-    expect(writeObj(mesh, taubin)).toContain(`# lids: auto iterations=250 lambda=100000 beta=0.1 smoothing_method=taubin soften_conflicts=false align_slices=false end_caps=${DEFAULT_END_CAPS} keep_specks=false\n`);
+    expect(writeObj(mesh, taubin)).toContain(`# lids: auto iterations=250 lambda=100000 beta=0.1 smoothing_method=taubin soften_conflicts=false align_slices=false end_caps=${DEFAULT_END_CAPS} keep_specks=false apex_floor=true\n`);
   });
 
   it('names downloads after the input and surface', () => {

@@ -8,6 +8,8 @@ export class FakeElement {
   readonly dataset: Record<string, string> = {};
   hidden = false;
   title = '';
+  /** The element this one was last appended to (what a panel reaches through `parentElement`). */
+  parentElement: FakeElement | null = null;
   private readonly classes = new Set<string>();
   readonly classList = {
     toggle: (c: string, on?: boolean) => {
@@ -34,10 +36,15 @@ export class FakeElement {
   }
   append(...nodes: (FakeElement | string)[]): void {
     this.children.push(...nodes);
+    this.adopt(nodes);
   }
   replaceChildren(...nodes: (FakeElement | string)[]): void {
     this.children.length = 0;
     this.children.push(...nodes);
+    this.adopt(nodes);
+  }
+  private adopt(nodes: (FakeElement | string)[]): void {
+    for (const n of nodes) if (typeof n !== 'string') n.parentElement = this;
   }
   private readonly listeners = new Map<string, (() => void)[]>();
   addEventListener(type: string, fn: () => void): void {

@@ -16,11 +16,15 @@ describe('reconstruction options', () => {
     expect(defaults).toMatch(/soften_conflicts: true,/);
     const caps = /end_caps: EndCapMode::(\w+),/.exec(defaults)?.[1]?.toLowerCase();
     expect(caps).toBe(DEFAULT_END_CAPS);
-    expect(DEFAULT_OPTIONS).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false });
+    // The switches, each as Params::default() sets it (the apex floor on since session 14).
+    expect(defaults).toMatch(/align_slices: false,/);
+    expect(defaults).toMatch(/keep_specks: false,/);
+    expect(defaults).toMatch(/apex_floor: true,/);
+    expect(DEFAULT_OPTIONS).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
   });
   it('travel inside the params JSON object under the binding names', () => {
-    expect(JSON.parse(paramsJson({ beta: 0.2 }, { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false }))).toEqual({
-      beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false,
+    expect(JSON.parse(paramsJson({ beta: 0.2 }, { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }))).toEqual({
+      beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true,
     });
     expect(JSON.parse(paramsJson({ beta: 0.2 }))).toEqual({ beta: 0.2 });
   });

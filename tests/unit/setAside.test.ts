@@ -74,10 +74,10 @@ describe('keep_specks option', () => {
       appVersion: '1.0.0', coreVersion: '0.1.0', fileName: 'p.csv', surface: 'LV_ENDO', lids: 'auto',
       options: { ...DEFAULT_OPTIONS, keep_specks: true }, params: { iterations: 250 },
     };
-    expect(headerLines(info)[2]).toMatch(/ end_caps=auto keep_specks=true$/);
+    expect(headerLines(info)[2]).toMatch(/ end_caps=auto keep_specks=true apex_floor=true$/);
     expect(JSON.parse(writeParamsJson(info, null)).keep_specks).toBe(true);
     const old = { ...info, options: { smoothing_method: 'taubin', soften_conflicts: true } as never };
-    expect(headerLines(old)[2]).toMatch(/ keep_specks=false$/);
+    expect(headerLines(old)[2]).toMatch(/ keep_specks=false apex_floor=true$/);
     // The result records the contours left out as the CLI report's `set_aside`, only when there are any.
     const left = JSON.parse(writeParamsJson(info, runSummary(result({ set_aside: [SPECK] })))).result;
     expect(left.set_aside).toEqual([SPECK]);

@@ -21,7 +21,7 @@ export interface ViewSettings {
 export interface UrlState {
   params: ParamValues;
   lids: LidsMode;
-  /** Smoothing method, conflict softening, alignment (`smoothing_method=taubin`, `soften_conflicts=0`, `align_slices=1`, `end_caps=auto|off`, `keep_specks=1`). */
+  /** Smoothing method, conflict softening, alignment (`smoothing_method=taubin`, `soften_conflicts=0`, `align_slices=1`, `end_caps=auto|off`, `keep_specks=1`, `apex_floor=0`). */
   options: ReconOptions;
   surface: string | null;
   /** Bundled sample to load on start (its id), if any. */
@@ -73,6 +73,7 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
     align_slices: parseBool(q.get('align_slices'), DEFAULT_OPTIONS.align_slices),
     end_caps: END_CAPS_MODES.find((m) => m === q.get('end_caps')) ?? DEFAULT_OPTIONS.end_caps,
     keep_specks: parseBool(q.get('keep_specks'), DEFAULT_OPTIONS.keep_specks),
+    apex_floor: parseBool(q.get('apex_floor'), DEFAULT_OPTIONS.apex_floor),
   };
   const opacity = parseNumber(q.get('opacity'));
   const clip = parseNumber(q.get('clip'));
@@ -108,6 +109,7 @@ export function serializeUrlState(state: UrlState, schema: readonly ParamSpec[])
   if (state.options.align_slices !== DEFAULT_OPTIONS.align_slices) q.set('align_slices', state.options.align_slices ? '1' : '0');
   if (state.options.end_caps !== DEFAULT_OPTIONS.end_caps) q.set('end_caps', state.options.end_caps);
   if (state.options.keep_specks !== DEFAULT_OPTIONS.keep_specks) q.set('keep_specks', state.options.keep_specks ? '1' : '0');
+  if (state.options.apex_floor !== DEFAULT_OPTIONS.apex_floor) q.set('apex_floor', state.options.apex_floor ? '1' : '0');
   const view = state.view;
   if (view.wireframe !== DEFAULT_VIEW.wireframe) q.set('wireframe', view.wireframe ? '1' : '0');
   if (view.attractors !== DEFAULT_VIEW.attractors) q.set('attractors_shown', view.attractors ? '1' : '0');

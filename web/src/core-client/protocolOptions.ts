@@ -44,6 +44,14 @@ export interface ReconOptions {
    * sections of the cavity, and the load-time warning names each one left out.
    */
   keep_specks: boolean;
+  /**
+   * Apex floor, for short-axis-only stacks: where no long-axis curve reaches the apex, one
+   * one-sided lid point at the tip the apical rings' taper predicts pulls the mesh down while it
+   * stops short of it (the paper's extrapolation stops short of such an apex). On by default, as
+   * the core's (session 14); a file where a long-axis curve reaches the apex is unaffected. A
+   * session saved before sessions stored it reads back with it off, as it was made.
+   */
+  apex_floor: boolean;
 }
 
 /** `end_caps` values: `auto` closes ends no contour closes, `off` leaves them to extrapolation. */
@@ -63,6 +71,7 @@ export const DEFAULT_OPTIONS: Readonly<ReconOptions> = {
   align_slices: false,
   end_caps: DEFAULT_END_CAPS,
   keep_specks: false,
+  apex_floor: true,
 };
 
 /**
@@ -84,6 +93,7 @@ export function paramsJson(params: ParamValues, options?: ReconOptions): string 
     align_slices: o.align_slices,
     end_caps: o.end_caps,
     keep_specks: o.keep_specks,
+    apex_floor: o.apex_floor,
   });
 }
 

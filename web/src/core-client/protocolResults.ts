@@ -167,6 +167,12 @@ export interface EndCaps {
   base: boolean;
   apex: boolean;
   points: number;
+  /**
+   * The apex got a floor (one of `points`) at the tip the apical rings' taper predicts (the apex
+   * floor option, at an apex no long-axis curve reaches); absent when not (the core writes it only
+   * when true).
+   */
+  apex_floor?: boolean;
 }
 
 /** The mesh checks of a finished run (`result_json().quality`). */

@@ -3,8 +3,8 @@
  * a parameter added in Rust appears here without UI changes. Log-scale parameters (lambda) get a
  * log slider. Below them, the modes that are not numbers: mesh ends (lids), the smoothing method
  * the softening of conflicting attractors, the breath-hold alignment,
- * the closing of open ends and the keeping of specks and strays. Emits every change; the controller debounces and
- * restarts the run.
+ * the closing of open ends with its apex floor for short-axis-only stacks, and the keeping of
+ * specks and strays. Emits every change; the controller debounces and restarts the run.
  */
 import { DEFAULT_OPTIONS, SMOOTHING_METHODS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
 import { h } from './dom';
@@ -39,6 +39,12 @@ const END_CAPS_HELP =
   'add down-weighted lid points there so the mesh stops at the data instead of running on past it and inflating the volume; ' +
   'turn it off when the anatomy really continues past the last slice, or to compare with the paper\'s method';
 
+const APEX_FLOOR_HELP =
+  'for short-axis-only stacks (no long-axis curve reaches the apex): one lid point at the tip the most apical rings\' taper predicts ' +
+  'pulls the mesh down while it stops short of it, instead of leaving the apex to the extrapolation, which stops short of it; ' +
+  'the result panel\'s "Closed ends" says "apex floor" when one was placed; a file with a long-axis curve at the apex is unaffected; ' +
+  'on by default, works with Close open ends; turn it off for the paper\'s extrapolation';
+
 const KEEP_SPECKS_HELP =
   'use every contour, also the ones the reconstruction otherwise leaves out (drawn grey and dashed, named in the warning): ' +
   'a stray, further from the rest of its surface than the span of all the others (another series, a wrong coordinate), ' +
@@ -65,6 +71,7 @@ export class ParamPanel {
   private readonly soften: HTMLInputElement;
   private readonly align: HTMLInputElement;
   private readonly endCaps: HTMLInputElement;
+  private readonly apexFloor: HTMLInputElement;
   private readonly keepSpecks: HTMLInputElement;
   private options: ReconOptions = { ...DEFAULT_OPTIONS };
 
@@ -124,6 +131,15 @@ export class ParamPanel {
       this.renderOptions();
       this.emit();
     });
+    this.apexFloor = h('input', {
+      type: 'checkbox', id: 'param-apex-floor', 'data-testid': 'param-apex-floor',
+      'aria-describedby': 'param-apex-floor-help',
+    });
+    this.apexFloor.addEventListener('change', () => {
+      this.options = { ...this.options, apex_floor: this.apexFloor.checked };
+      this.renderOptions();
+      this.emit();
+    });
     this.keepSpecks = h('input', {
       type: 'checkbox', id: 'param-keep-specks', 'data-testid': 'param-keep-specks',
       'aria-describedby': 'param-keep-specks-help',
@@ -165,6 +181,12 @@ export class ParamPanel {
         { class: 'param-row param-option', title: END_CAPS_HELP },
         h('label', { class: 'param-check', for: 'param-end-caps' }, this.endCaps, 'Close open ends'),
         h('div', { class: 'param-help', id: 'param-end-caps-help' }, END_CAPS_HELP),
+      ),
+      h(
+        'div',
+        { class: 'param-row param-option', title: APEX_FLOOR_HELP },
+        h('label', { class: 'param-check', for: 'param-apex-floor' }, this.apexFloor, 'Apex floor (short-axis-only stacks)'),
+        h('div', { class: 'param-help', id: 'param-apex-floor-help' }, APEX_FLOOR_HELP),
       ),
       h(
         'div',
@@ -233,6 +255,11 @@ export class ParamPanel {
     this.align.parentElement?.classList.toggle('changed', this.options.align_slices !== DEFAULT_OPTIONS.align_slices);
     this.endCaps.checked = this.options.end_caps === 'auto';
     this.endCaps.parentElement?.classList.toggle('changed', this.options.end_caps !== DEFAULT_OPTIONS.end_caps);
+    this.apexFloor.checked = this.options.apex_floor;
+    this.apexFloor.parentElement?.classList.toggle('changed', this.options.apex_floor !== DEFAULT_OPTIONS.apex_floor);
+    // The floor is one of the lid points: without Close open ends it has nothing to act through.
+    this.apexFloor.disabled = this.options.end_caps === 'off';
+    this.apexFloor.parentElement?.classList.toggle('disabled', this.apexFloor.disabled);
     this.keepSpecks.checked = this.options.keep_specks;
     this.keepSpecks.parentElement?.classList.toggle('changed', this.options.keep_specks !== DEFAULT_OPTIONS.keep_specks);
   }

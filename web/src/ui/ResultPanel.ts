@@ -7,7 +7,7 @@
  * plus `data-iterations`, `data-converged` and, when aligned, `data-residual-before-mm`,
  * `data-residual-after-mm`, `data-given-mean-mm`; without it, `data-crossing-residual-mm` and
  * `data-suggest-alignment` (1/0: the images disagree where they cross); with close-open-ends on, `data-end-caps-base`,
- * `data-end-caps-apex` (1/0) and `data-end-caps-points`; `data-set-aside` (how many contours the
+ * `data-end-caps-apex`, `data-end-caps-apex-floor` (1/0: the apex got the apex floor) and `data-end-caps-points`; `data-set-aside` (how many contours the
  * run left out: strays, specks), with a "Left out" row when there are any.
  */
 import type { Alignment, RunResult } from '../core-client/protocol';
@@ -17,7 +17,7 @@ import { alignmentRows, endCapsText, iterationsDoneText, meshCheckText, pastData
 const ATTRIBUTES = [
   'data-vertices', 'data-triangles', 'data-mean-mm', 'data-max-mm', 'data-iterations', 'data-converged',
   'data-residual-before-mm', 'data-residual-after-mm', 'data-given-mean-mm', 'data-past-base-mm', 'data-past-apex-mm',
-  'data-end-caps-base', 'data-end-caps-apex', 'data-end-caps-points', 'data-crossing-residual-mm', 'data-suggest-alignment',
+  'data-end-caps-base', 'data-end-caps-apex', 'data-end-caps-apex-floor', 'data-end-caps-points', 'data-crossing-residual-mm', 'data-suggest-alignment',
   'data-set-aside',
 ];
 
@@ -129,6 +129,7 @@ export class ResultPanel {
     if (r.end_caps && caps) {
       d.endCapsBase = r.end_caps.base ? '1' : '0';
       d.endCapsApex = r.end_caps.apex ? '1' : '0';
+      d.endCapsApexFloor = r.end_caps.apex_floor ? '1' : '0';
       d.endCapsPoints = String(r.end_caps.points);
       rows.push(...row('Closed ends', caps.text, 'result-end-caps', caps.title));
     }

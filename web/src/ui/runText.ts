@@ -125,19 +125,32 @@ export function pastDataText(p: PastData): { text: string; extrapolated: boolean
 
 /**
  * The result panel's "Closed ends" figure for the close-open-ends option: which ends the core
- * closed with lid points, short for the narrow value column ("base · 64 pts", "both · 130 pts"), with the long form
- * for the tooltip ("base closed (64 lid points)"). Null when the option was off (nothing to say
- * beyond "Past the data").
+ * closed with lid points, short for the narrow value column ("base · 64 pts", "both · 130 pts",
+ * "base · apex floor · 13 pts" when a short-axis-only apex got the apex floor's one point), with
+ * the long form for the tooltip ("base closed (64 lid points)"). Null when the option was off
+ * (nothing to say beyond "Past the data").
  */
 export function endCapsText(e: EndCaps): { text: string; title: string } | null {
   if (e.mode !== 'auto') return null;
-  const ends = [e.base ? 'base' : '', e.apex ? 'apex' : ''].filter(Boolean);
-  if (ends.length === 0 || e.points <= 0)
+  const floor = e.apex_floor === true;
+  // The floor is one point at the apex, not a lid across it: named apart from the lids.
+  const lids = [e.base ? 'base' : '', e.apex && !floor ? 'apex' : ''].filter(Boolean);
+  if ((lids.length === 0 && !floor) || e.points <= 0)
     return { text: 'none needed', title: 'close open ends: contours already close both ends, no lid points added' };
-  const which = ends.join(' + ');
+  const pts = `${e.points} pt${e.points === 1 ? '' : 's'}`;
+  const lidPoints = `${e.points} lid point${e.points === 1 ? '' : 's'}`;
+  const which = lids.join(' + ');
+  const lidTitle = `no contour closes ${lids.length === 2 ? 'these ends' : 'that end'}, so down-weighted lid points keep the mesh from running on past the data`;
+  if (!floor) {
+    return { text: `${lids.length === 2 ? 'both' : which} · ${pts}`, title: `${which} closed (${lidPoints}): ${lidTitle}` };
+  }
+  const floorTitle =
+    'apex floor: no long-axis curve reaches the apex, so one lid point at the tip the apical rings\' taper predicts pulls the mesh down while it stops short of it (Apex floor in the parameters)';
   return {
-    text: `${ends.length === 2 ? 'both' : which} · ${e.points} pt${e.points === 1 ? '' : 's'}`,
-    title: `${which} closed (${e.points} lid point${e.points === 1 ? '' : 's'}): no contour closes ${ends.length === 2 ? 'these ends' : 'that end'}, so down-weighted lid points keep the mesh from running on past the data`,
+    text: `${[...lids, 'apex floor'].join(' · ')} · ${pts}`,
+    title: lids.length > 0
+      ? `${which} closed and the apex floored (${lidPoints}, one of them the floor): ${lidTitle}; ${floorTitle}`
+      : `the apex floored (${lidPoints}): ${floorTitle}`,
   };
 }
 

@@ -16,16 +16,19 @@ use heartmesh_core::Params;
 use serde_json::{json, Map, Value};
 
 /// The non-numeric options the params JSON object may also carry (beside the schema's numbers):
-/// `smoothing_method` (a string, `SmoothingMethod::ALL`), `soften_conflicts`, `align_slices` and
-/// `keep_specks` (bools), `end_caps` (a string, `EndCapMode::ALL`; absent: the core's default).
-/// They travel inside the same object so that the run, the sweep and leave-one-out take them one
-/// way.
+/// `smoothing_method` (a string, `SmoothingMethod::ALL`), `soften_conflicts`, `align_slices`,
+/// `keep_specks` and `apex_floor` (bools), `end_caps` (a string, `EndCapMode::ALL`); absent: the
+/// core's default. They travel inside the same object so that the run, the sweep and
+/// leave-one-out take them one way.
 pub const SMOOTHING_METHOD: &str = "smoothing_method";
 pub const SOFTEN_CONFLICTS: &str = "soften_conflicts";
 pub const ALIGN_SLICES: &str = "align_slices";
 pub const END_CAPS: &str = "end_caps";
 /// Keep the strays and specks a reconstruction otherwise leaves out (`Params::keep_specks`).
 pub const KEEP_SPECKS: &str = "keep_specks";
+/// The one-sided floor at the tip the apical rings' taper predicts, for an apex no long-axis
+/// curve reaches (`Params::apex_floor`; on by default since session 14).
+pub const APEX_FLOOR: &str = "apex_floor";
 
 /// Builds parameters from a JSON object of schema names to numbers (plus the options above),
 /// applied in schema order (so `attractor_spacing` > 0 wins over `attractors`, whatever the key
@@ -47,12 +50,13 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
             ALIGN_SLICES,
             END_CAPS,
             KEEP_SPECKS,
+            APEX_FLOOR,
         ]
         .contains(&k)
     };
     if let Some(unknown) = object
         .keys()
-        .find(|k| !is_option(k) && *k != APEX_FLOOR && !schema.iter().any(|s| s.name == *k))
+        .find(|k| !is_option(k) && !schema.iter().any(|s| s.name == *k))
     {
         return Err(CoreError::ParamInvalid {
             name: unknown.clone(),
@@ -70,16 +74,15 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
         }
     }
     apply_options(&mut params, object)?;
-    apply_apex_floor(&mut params, object)?;
     params.set_lids(lids)?;
     params.surface = surface;
     params.validate()?;
     Ok(params)
 }
 
-/// Applies `smoothing_method`, `end_caps`, `soften_conflicts`, `align_slices` and `keep_specks`
-/// when present, with the
-/// core's setters; a wrong type or name is an error naming the option and what it accepts.
+/// Applies `smoothing_method`, `end_caps`, `soften_conflicts`, `align_slices`, `keep_specks` and
+/// `apex_floor` when present, with the core's setters; a wrong type or name is an error naming
+/// the option and what it accepts.
 fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()> {
     match object.get(SMOOTHING_METHOD) {
         None => {}
@@ -105,6 +108,7 @@ fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()>
         (SOFTEN_CONFLICTS, &mut params.soften_conflicts),
         (ALIGN_SLICES, &mut params.align_slices),
         (KEEP_SPECKS, &mut params.keep_specks),
+        (APEX_FLOOR, &mut params.apex_floor),
     ] {
         match object.get(name) {
             None => {}
@@ -120,25 +124,6 @@ fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()>
     Ok(())
 }
 
-/// `apex_floor` (a bool; absent: the core's default, on since session 14): recognised so that a
-/// caller can turn the floor off, although the app has no switch for it yet and never sends it.
-pub const APEX_FLOOR: &str = "apex_floor";
-
-/// Applies `apex_floor` when present; a wrong type is an error naming it.
-fn apply_apex_floor(params: &mut Params, object: &Map<String, Value>) -> Result<()> {
-    match object.get(APEX_FLOOR) {
-        None => Ok(()),
-        Some(Value::Bool(on)) => {
-            params.apex_floor = *on;
-            Ok(())
-        }
-        Some(other) => Err(CoreError::ParamInvalid {
-            name: APEX_FLOOR.into(),
-            message: format!("{other} is not true or false"),
-        }),
-    }
-}
-
 fn end_cap_names() -> String {
     let names: Vec<&str> = EndCapMode::ALL.iter().map(|(_, n)| *n).collect();
     names.join(", ")
@@ -150,7 +135,7 @@ fn method_names() -> String {
 }
 
 /// The options of `params` as `{smoothing_method, soften_conflicts, align_slices, end_caps,
-/// keep_specks}` (run results, exports).
+/// keep_specks, apex_floor}` (run results, exports, the settings of a loaded session).
 pub fn options_to_json(params: &Params) -> Value {
     json!({
         SMOOTHING_METHOD: params.smoothing.name(),
@@ -158,6 +143,7 @@ pub fn options_to_json(params: &Params) -> Value {
         ALIGN_SLICES: params.align_slices,
         END_CAPS: params.end_caps.name(),
         KEEP_SPECKS: params.keep_specks,
+        APEX_FLOOR: params.apex_floor,
     })
 }
 
@@ -367,7 +353,7 @@ mod tests {
         let o = options_to_json(&p);
         assert_eq!(
             o,
-            json!({"smoothing_method": "taubin", "soften_conflicts": false, "align_slices": false, "end_caps": "auto", "keep_specks": false})
+            json!({"smoothing_method": "taubin", "soften_conflicts": false, "align_slices": false, "end_caps": "auto", "keep_specks": false, "apex_floor": true})
         );
         // Absent: the core's defaults.
         let d = params_from_json("{}", "auto", None).unwrap();
@@ -382,7 +368,7 @@ mod tests {
         assert_eq!(q, d);
         assert_eq!(
             options_to_json(&d),
-            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true, "align_slices": false, "end_caps": "auto", "keep_specks": false})
+            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true, "align_slices": false, "end_caps": "auto", "keep_specks": false, "apex_floor": true})
         );
         assert!(!d.align_slices);
         let a = params_from_json(r#"{"align_slices": true}"#, "auto", None).unwrap();
@@ -392,6 +378,10 @@ mod tests {
         let k = params_from_json(r#"{"keep_specks": true}"#, "auto", None).unwrap();
         assert!(k.keep_specks);
         assert_eq!(options_to_json(&k)["keep_specks"], true);
+        assert!(d.apex_floor);
+        let f = params_from_json(r#"{"apex_floor": false}"#, "auto", None).unwrap();
+        assert!(!f.apex_floor);
+        assert_eq!(options_to_json(&f)["apex_floor"], false);
     }
 
     #[test]
@@ -410,7 +400,7 @@ mod tests {
         assert!(e.to_string().contains("soften_conflicts"), "{e}");
         assert!(e.to_string().contains("true or false"), "{e}");
         for bad in [r#""yes""#, "1", "null", "[true]"] {
-            for name in ["align_slices", "keep_specks"] {
+            for name in ["align_slices", "keep_specks", "apex_floor"] {
                 let e =
                     params_from_json(&format!(r#"{{"{name}": {bad}}}"#), "auto", None).unwrap_err();
                 assert_eq!(e.code(), "param_invalid");
@@ -431,8 +421,8 @@ mod tests {
         assert!(params_from_json(r#"{"smoothing_factor": 0.8}"#, "auto", None).is_ok());
     }
 
-    /// A params object without `apex_floor` (the app's, today) gets the core's default, on; a
-    /// caller may turn it off; a non-bool is a typed error naming it.
+    /// A params object without `apex_floor` (an app older than its switch) gets the core's
+    /// default, on; a caller may turn it off; a non-bool is a typed error naming it.
     #[test]
     fn apex_floor_is_the_core_default_unless_given() {
         assert!(params_from_json("{}", "auto", None).unwrap().apex_floor);
@@ -475,6 +465,25 @@ mod tests {
         )
         .unwrap();
         assert_eq!(again, p);
+    }
+
+    /// A session's `apex_floor` reaches the app's options, also when it is off (a session saved
+    /// before sessions stored it reads back off, `io::session`), and goes back to the same
+    /// parameters.
+    #[test]
+    fn session_settings_carry_the_apex_floor() {
+        for on in [true, false] {
+            let p = Params {
+                apex_floor: on,
+                ..Params::default()
+            };
+            let v = session_settings(&p);
+            assert_eq!(v["options"]["apex_floor"], on);
+            let mut object = v["params"].as_object().unwrap().clone();
+            object.extend(v["options"].as_object().unwrap().clone());
+            let again = params_from_json(&Value::Object(object).to_string(), "auto", None).unwrap();
+            assert_eq!(again.apex_floor, on);
+        }
     }
 
     #[test]

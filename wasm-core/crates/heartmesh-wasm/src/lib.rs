@@ -150,8 +150,8 @@ impl Session {
 
     /// Starts a reconstruction of a loaded file, replacing any run in progress. `params_json` is
     /// an object of schema names to numbers (missing ones take their defaults), which may also
-    /// carry `smoothing_method`, `soften_conflicts`, `align_slices`, `end_caps` and `keep_specks`
-    /// (see `convert`); `lids` is "auto"
+    /// carry `smoothing_method`, `soften_conflicts`, `align_slices`, `end_caps`, `keep_specks` and
+    /// `apex_floor` (see `convert`); `lids` is "auto"
     /// or "none"; `surface` picks one surface of a multi-surface file.
     pub fn start(
         &mut self,
@@ -309,6 +309,20 @@ mod tests {
         assert_eq!(settings["lids"], "none");
         assert_eq!(settings["params"]["beta"], 0.3);
         assert_eq!(info["contours"].as_array().map(Vec::len), Some(2));
+        // The params object did not name the apex floor: stored on (the default), read back on.
+        assert_eq!(settings["options"]["apex_floor"], true);
+        let off = s
+            .session_json(
+                "rings.csv",
+                None,
+                r#"{"apex_floor": false}"#,
+                "auto",
+                "9.9.9",
+            )
+            .unwrap();
+        let info: serde_json::Value =
+            serde_json::from_str(&s.load("off.json", &off).unwrap()).unwrap();
+        assert_eq!(info["session"]["options"]["apex_floor"], false);
         // A plain contour file carries no settings.
         let plain: serde_json::Value =
             serde_json::from_str(&s.load("rings.csv", RINGS.as_bytes()).unwrap()).unwrap();
@@ -429,6 +443,35 @@ mod tests {
             result_with(r#"{"iterations": 3}"#)["set_aside"],
             serde_json::json!([])
         );
+    }
+
+    /// The misaligned ellipsoid's short-axis slices alone (no long-axis curve reaches the apex):
+    /// at the defaults the result says the apex got a floor (`end_caps.apex_floor`) and that the
+    /// floor was on (`options.apex_floor`); with `"apex_floor": false` neither, and the mesh
+    /// differs.
+    #[test]
+    fn result_json_says_whether_the_apex_got_a_floor() {
+        let sax_only: String = misaligned_csv()
+            .lines()
+            .filter(|l| !l.starts_with('l'))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let (on, _) = result_of(&sax_only, r#"{"iterations": 20}"#);
+        assert_eq!(on["options"]["apex_floor"], true);
+        assert_eq!(on["end_caps"]["apex_floor"], true, "{}", on["end_caps"]);
+        assert_eq!(on["end_caps"]["apex"], true);
+        let (off, _) = result_of(&sax_only, r#"{"iterations": 20, "apex_floor": false}"#);
+        assert_eq!(off["options"]["apex_floor"], false);
+        assert!(
+            off["end_caps"].get("apex_floor").is_none(),
+            "{}",
+            off["end_caps"]
+        );
+        assert_ne!(on["volumeMl"], off["volumeMl"]);
+        // Long-axis curves reach the apex: no floor, whatever the switch.
+        let full = result_with(r#"{"iterations": 3}"#);
+        assert_eq!(full["options"]["apex_floor"], true);
+        assert!(full["end_caps"].get("apex_floor").is_none());
     }
 
     #[test]

@@ -31,11 +31,11 @@ export function paramText(params: ParamValues): string {
     .join(' ');
 }
 
-/** ` smoothing_method=... soften_conflicts=... align_slices=... end_caps=... keep_specks=...` when known. */
+/** ` smoothing_method=... soften_conflicts=... align_slices=... end_caps=... keep_specks=... apex_floor=...` when known. */
 function optionText(options: ReconOptions | undefined): string {
   if (!options) return '';
   const o = withDefaultOptions(options);
-  return ` smoothing_method=${o.smoothing_method} soften_conflicts=${o.soften_conflicts} align_slices=${o.align_slices} end_caps=${o.end_caps} keep_specks=${o.keep_specks}`;
+  return ` smoothing_method=${o.smoothing_method} soften_conflicts=${o.soften_conflicts} align_slices=${o.align_slices} end_caps=${o.end_caps} keep_specks=${o.keep_specks} apex_floor=${o.apex_floor}`;
 }
 
 /** Header lines (without comment markers), each free of newlines. */

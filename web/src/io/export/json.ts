@@ -1,5 +1,5 @@
 /** The parameters of a run (and its measured result) as JSON, to reproduce or report it. */
-import { withDefaultOptions, type Alignment, type DistanceSummary, type RunResult, type SetAsideEntry, type Stats } from '../../core-client/protocol';
+import { withDefaultOptions, type Alignment, type DistanceSummary, type EndCaps, type RunResult, type SetAsideEntry, type Stats } from '../../core-client/protocol';
 import type { ExportInfo } from './header';
 
 export interface RunSummary {
@@ -18,6 +18,8 @@ export interface RunSummary {
   contourToMeshAsGiven?: DistanceSummary | null;
   /** The contours the run left out (strays, specks), as the CLI report's `set_aside`. */
   setAside?: SetAsideEntry[];
+  /** What Close open ends did (which ends got lid points, `apex_floor` when the apex got the floor), as the CLI report's `end_caps`. */
+  endCaps?: EndCaps | null;
 }
 
 /** The summary of a finished run that the JSON export records. */
@@ -35,6 +37,7 @@ export function runSummary(r: RunResult): RunSummary {
     alignment: r.alignment ?? null,
     contourToMeshAsGiven: r.contour_to_mesh_as_given ?? null,
     setAside: r.set_aside ?? [],
+    endCaps: r.end_caps ?? null,
   };
 }
 
@@ -52,6 +55,7 @@ export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): s
     align_slices: options.align_slices,
     end_caps: options.end_caps,
     keep_specks: options.keep_specks,
+    apex_floor: options.apex_floor,
     params: info.params,
     ...(summary
       ? {
@@ -65,6 +69,8 @@ export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): s
             ...(summary.alignment !== undefined ? { alignment: summary.alignment } : {}),
             // Only when something was left out, as the CLI report's `set_aside`.
             ...(summary.setAside && summary.setAside.length > 0 ? { set_aside: summary.setAside } : {}),
+            // As the CLI report's `end_caps` (`apex_floor: true` only where the apex got a floor).
+            ...(summary.endCaps ? { end_caps: summary.endCaps } : {}),
             volumeMl: summary.volumeMl,
             areaMm2: summary.areaMm2,
             watertight: summary.watertight,
