@@ -12,7 +12,7 @@ import { runSummary, writeParamsJson } from '../../web/src/io/export/json';
 import { alignmentRows, iterationText, iterationsDoneText, pastDataText, residualText, stepText } from '../../web/src/ui/runText';
 import { ResultPanel } from '../../web/src/ui/ResultPanel';
 import { givenSegments } from '../../web/src/viewer/GivenContourLayer';
-import { fakeDocument, type FakeElement } from './fakeDom';
+import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
 import { stepReport } from './core-client/fakes';
 import { rustSchema } from './rustSchema';
 import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
@@ -93,13 +93,7 @@ describe('result panel', () => {
   beforeEach(() => vi.stubGlobal('document', fakeDocument));
   afterEach(() => vi.unstubAllGlobals());
 
-  const rows = (el: FakeElement) => {
-    const out: Record<string, string> = {};
-    const list = el.findAll((e) => e.tagName === 'dl')[0];
-    const cells = list.children as FakeElement[];
-    for (let i = 0; i + 1 < cells.length; i += 2) out[cells[i].textContent] = cells[i + 1].textContent;
-    return out;
-  };
+  const rows = dlRows;
 
   it('shows the alignment: residual before -> after, as-given distance, groups largest shift first', () => {
     const panel = new ResultPanel();

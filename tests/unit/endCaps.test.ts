@@ -19,7 +19,7 @@ import { writeParamsJson } from '../../web/src/io/export/json';
 import { endCapsText } from '../../web/src/ui/runText';
 import { ResultPanel } from '../../web/src/ui/ResultPanel';
 import { ParamPanel } from '../../web/src/ui/ParamPanel';
-import { fakeDocument, type FakeElement } from './fakeDom';
+import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
 import { rustSchema } from './rustSchema';
 
 const OTHER = DEFAULT_END_CAPS === 'off' ? 'auto' : 'off';
@@ -77,12 +77,7 @@ describe('end caps in the panels', () => {
   beforeEach(() => vi.stubGlobal('document', fakeDocument));
   afterEach(() => vi.unstubAllGlobals());
 
-  const rows = (el: FakeElement) => {
-    const out: Record<string, string> = {};
-    const cells = el.findAll((e) => e.tagName === 'dl')[0].children as FakeElement[];
-    for (let i = 0; i + 1 < cells.length; i += 2) out[cells[i].textContent] = cells[i + 1].textContent;
-    return out;
-  };
+  const rows = dlRows;
 
   it('the checkbox "Close open ends" shows the option and emits it', () => {
     const emitted: ReconOptions[] = [];

@@ -81,3 +81,11 @@ function camel(s: string): string {
 
 /** Installs the fake `document` (call vi.unstubAllGlobals() after). */
 export const fakeDocument = { createElement: (tag: string) => new FakeElement(tag) };
+
+/** The label -> value rows of the first `<dl>` under `el` (the result panel's layout). */
+export function dlRows(el: FakeElement): Record<string, string> {
+  const out: Record<string, string> = {};
+  const cells = el.findAll((e) => e.tagName === 'dl')[0].children as FakeElement[];
+  for (let i = 0; i + 1 < cells.length; i += 2) out[cells[i].textContent] = cells[i + 1].textContent;
+  return out;
+}

@@ -24,7 +24,7 @@ import { HoverReadout } from '../../web/src/ui/HoverReadout';
 import { SetAsideLayer, pairSetAside } from '../../web/src/viewer/SetAsideLayer';
 import { showSceneContours } from '../../web/src/app/sceneContours';
 import type { Viewer } from '../../web/src/viewer/Viewer';
-import { fakeDocument, type FakeElement } from './fakeDom';
+import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
 import { rustSchema } from './rustSchema';
 import paramsRs from '../../wasm-core/crates/heartmesh-core/src/params.rs?raw';
 
@@ -109,12 +109,7 @@ describe('contours left out in the panels and the viewer', () => {
   beforeEach(() => vi.stubGlobal('document', fakeDocument));
   afterEach(() => vi.unstubAllGlobals());
 
-  const rows = (el: FakeElement) => {
-    const out: Record<string, string> = {};
-    const cells = el.findAll((e) => e.tagName === 'dl')[0].children as FakeElement[];
-    for (let i = 0; i + 1 < cells.length; i += 2) out[cells[i].textContent] = cells[i + 1].textContent;
-    return out;
-  };
+  const rows = dlRows;
 
   it('the checkbox "Keep specks and strays" sits after "Close open ends", shows the option and emits it', () => {
     const emitted: ReconOptions[] = [];

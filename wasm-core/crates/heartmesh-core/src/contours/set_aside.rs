@@ -221,34 +221,7 @@ pub fn unannounced(list: &[SetAside], said: &[String]) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contours::Polyline;
-    use crate::geometry::v3;
-
-    fn ring(id: &str, r: f64, z: f64, cx: f64, n: usize, line: usize) -> Contour {
-        let points = (0..n)
-            .map(|i| {
-                let t = std::f64::consts::TAU * i as f64 / n as f64;
-                v3(cx + r * t.cos(), r * t.sin(), z)
-            })
-            .collect();
-        Contour {
-            id: id.into(),
-            surface: Some("LV_EPI".into()),
-            pieces: vec![Polyline {
-                points,
-                closed: true,
-            }],
-            first_line: line,
-        }
-    }
-
-    fn dome() -> Vec<Contour> {
-        [6.0, 12.0, 20.0, 26.0, 30.0]
-            .iter()
-            .enumerate()
-            .map(|(k, &r)| ring(&format!("s{k}"), r, 10.0 * k as f64, 0.0, 60, 2 + 60 * k))
-            .collect()
-    }
+    use crate::contours::specks::fixtures::{dome, ring};
 
     #[test]
     fn a_speck_and_a_stray_are_left_out_and_named_once_each() {

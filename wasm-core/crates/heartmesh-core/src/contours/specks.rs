@@ -133,13 +133,14 @@ fn at_apex(rings: &[SliceRing], k: usize) -> bool {
     slope == 0.0 || (slope > 0.0) == below
 }
 
+/// Rings for the tests of this module and of `set_aside`: a circle of `n` points and a dome of
+/// five of them, each contour's first line where a CSV of 60-point rings would put it.
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::contours::axis::analyse;
+pub(crate) mod fixtures {
+    use crate::contours::{Contour, Polyline};
     use crate::geometry::v3;
 
-    fn ring(id: &str, r: f64, z: f64, cx: f64, n: usize) -> Contour {
+    pub fn ring(id: &str, r: f64, z: f64, cx: f64, n: usize, line: usize) -> Contour {
         let points = (0..n)
             .map(|i| {
                 let t = std::f64::consts::TAU * i as f64 / n as f64;
@@ -153,17 +154,28 @@ mod tests {
                 points,
                 closed: true,
             }],
-            first_line: 2,
+            first_line: line,
         }
     }
 
     /// A dome: rings every 10 mm from a 12 mm apical ring to a 60 mm basal one (radii).
-    fn dome() -> Vec<Contour> {
+    pub fn dome() -> Vec<Contour> {
         [6.0, 12.0, 20.0, 26.0, 30.0]
             .iter()
             .enumerate()
-            .map(|(k, &r)| ring(&format!("s{k}"), r, 10.0 * k as f64, 0.0, 60))
+            .map(|(k, &r)| ring(&format!("s{k}"), r, 10.0 * k as f64, 0.0, 60, 2 + 60 * k))
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fixtures::{dome, ring as ring_at};
+    use super::*;
+    use crate::contours::axis::analyse;
+
+    fn ring(id: &str, r: f64, z: f64, cx: f64, n: usize) -> Contour {
+        ring_at(id, r, z, cx, n, 2)
     }
 
     fn found(contours: &[Contour]) -> Vec<(usize, f64)> {
