@@ -3,9 +3,9 @@
 // the distance to the contours as given, the run's contour points are the file's moved by their
 // group's shift, the worker marks early convergence, and a session keeps the option.
 import { beforeAll, describe, expect, it } from 'vitest';
-import { DEFAULT_OPTIONS, type FromWorker, type LoadedFile, type RunResult, type ToWorker } from '../../web/src/core-client/protocol';
-import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
+import { DEFAULT_OPTIONS, type FromWorker, type LoadedFile, type RunResult } from '../../web/src/core-client/protocol';
 import { PATIENT1_ED, SURFCO, loadWasm, readBytes } from './helpers.mjs';
+import { askingCore } from './askCore';
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
 let wasm: Wasm;
@@ -18,21 +18,7 @@ beforeAll(async () => {
 const frames: Extract<FromWorker, { type: 'frame' }>[] = [];
 
 function makeCore() {
-  let listener: ((m: FromWorker) => void) | null = null;
-  const core = new WorkerCore(wasmApiOf(wasm), (m) => listener?.(m), { yieldToEventLoop: (cb) => setTimeout(cb, 0), now: () => performance.now() });
-  function ask<T extends FromWorker['type']>(msg: ToWorker, ...types: T[]): Promise<Extract<FromWorker, { type: T }>> {
-    return new Promise((resolve) => {
-      listener = (m) => {
-        if (m.type === 'frame') {
-          frames.push(m);
-          core.handle({ type: 'ack', runId: m.runId, seq: m.seq });
-        }
-        if ((types as string[]).includes(m.type)) resolve(m as Extract<FromWorker, { type: T }>);
-      };
-      core.handle(msg);
-    });
-  }
-  return ask;
+  return askingCore(wasm, (m) => frames.push(m)).ask;
 }
 
 const NAME = 'patient1-ED.csv';

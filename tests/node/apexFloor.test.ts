@@ -6,10 +6,10 @@
 // floor; with `apex_floor: false` they are `--no-apex-floor`'s. A session keeps the switch, and
 // one saved before sessions stored it reads back with it off (core io::session).
 import { beforeAll, describe, expect, it } from 'vitest';
-import { DEFAULT_OPTIONS, type FromWorker, type LoadedFile, type RunResult, type ToWorker } from '../../web/src/core-client/protocol';
-import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
+import { DEFAULT_OPTIONS, type LoadedFile, type RunResult } from '../../web/src/core-client/protocol';
 import { cliReport, cliSimulate, dataDir, loadWasm, readText, writeScratch } from './helpers.mjs';
 import { SAX_ONLY_NAME, saxOnlyEllipsoid } from '../e2e/saxOnly.mjs';
+import { askingCore } from './askCore';
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
 let wasm: Wasm;
@@ -26,17 +26,7 @@ beforeAll(async () => {
 });
 
 function makeCore() {
-  let listener: ((m: FromWorker) => void) | null = null;
-  const core = new WorkerCore(wasmApiOf(wasm), (m) => listener?.(m), { yieldToEventLoop: (cb) => setTimeout(cb, 0), now: () => performance.now() });
-  return function ask<T extends FromWorker['type']>(msg: ToWorker, ...types: T[]): Promise<Extract<FromWorker, { type: T }>> {
-    return new Promise((resolve) => {
-      listener = (m) => {
-        if (m.type === 'frame') core.handle({ type: 'ack', runId: m.runId, seq: m.seq });
-        if ((types as string[]).includes(m.type)) resolve(m as Extract<FromWorker, { type: T }>);
-      };
-      core.handle(msg);
-    });
-  };
+  return askingCore(wasm).ask;
 }
 type Ask = ReturnType<typeof makeCore>;
 

@@ -3,9 +3,9 @@
 // long-axis curve, so its base is open) and the mesh then stops nearer the data; a session keeps
 // the option. The figures are the core's; only their direction and consistency are asserted here.
 import { beforeAll, describe, expect, it } from 'vitest';
-import { DEFAULT_OPTIONS, type EndCapsMode, type FromWorker, type LoadedFile, type RunResult, type ToWorker } from '../../web/src/core-client/protocol';
-import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
+import { DEFAULT_OPTIONS, type EndCapsMode, type LoadedFile, type RunResult } from '../../web/src/core-client/protocol';
 import { PATIENT2_ES, loadWasm, readBytes } from './helpers.mjs';
+import { askingCore } from './askCore';
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
 let wasm: Wasm;
@@ -15,17 +15,7 @@ beforeAll(async () => {
 });
 
 function makeCore() {
-  let listener: ((m: FromWorker) => void) | null = null;
-  const core = new WorkerCore(wasmApiOf(wasm), (m) => listener?.(m), { yieldToEventLoop: (cb) => setTimeout(cb, 0), now: () => performance.now() });
-  return function ask<T extends FromWorker['type']>(msg: ToWorker, ...types: T[]): Promise<Extract<FromWorker, { type: T }>> {
-    return new Promise((resolve) => {
-      listener = (m) => {
-        if (m.type === 'frame') core.handle({ type: 'ack', runId: m.runId, seq: m.seq });
-        if ((types as string[]).includes(m.type)) resolve(m as Extract<FromWorker, { type: T }>);
-      };
-      core.handle(msg);
-    });
-  };
+  return askingCore(wasm).ask;
 }
 
 const NAME = 'patient2-ES.csv';

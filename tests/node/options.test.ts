@@ -3,10 +3,10 @@
 // result reports them, a bad combination comes back as the core's error, and a saved session
 // brings them back on load (older sessions: the defaults).
 import { beforeAll, describe, expect, it } from 'vitest';
-import type { FromWorker, LoadedFile, ReconOptions, RunResult, ToWorker } from '../../web/src/core-client/protocol';
-import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
+import type { LoadedFile, ReconOptions, RunResult } from '../../web/src/core-client/protocol';
 import { PATIENT1_ED, loadWasm, readBytes } from './helpers.mjs';
 import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
+import { askingCore } from './askCore';
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
 let wasm: Wasm;
@@ -17,20 +17,7 @@ beforeAll(async () => {
 
 /** A worker core whose answers are awaited one request at a time. */
 function makeCore() {
-  let listener: ((m: FromWorker) => void) | null = null;
-  const api = wasmApiOf(wasm);
-  const core = new WorkerCore(api, (m) => listener?.(m), { yieldToEventLoop: (cb) => setTimeout(cb, 0), now: () => performance.now() });
-  /** Sends `msg` and resolves with the first answer of one of `types` (frames are acknowledged). */
-  function ask<T extends FromWorker['type']>(msg: ToWorker, ...types: T[]): Promise<Extract<FromWorker, { type: T }>> {
-    return new Promise((resolve) => {
-      listener = (m) => {
-        if (m.type === 'frame') core.handle({ type: 'ack', runId: m.runId, seq: m.seq });
-        if ((types as string[]).includes(m.type)) resolve(m as Extract<FromWorker, { type: T }>);
-      };
-      core.handle(msg);
-    });
-  }
-  return { core, ask };
+  return askingCore(wasm);
 }
 
 const PATIENT = 'patient1-ED.csv';

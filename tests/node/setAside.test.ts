@@ -5,10 +5,10 @@
 // CLI's (to 1e-9), its points come back as the file gives them, and `keep_specks` keeps it as
 // `--keep-specks` does.
 import { beforeAll, describe, expect, it } from 'vitest';
-import { DEFAULT_OPTIONS, type FromWorker, type LoadedFile, type RunResult, type ToWorker } from '../../web/src/core-client/protocol';
-import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
+import { DEFAULT_OPTIONS, type LoadedFile, type RunResult } from '../../web/src/core-client/protocol';
 import { ROOT, cliReport, loadWasm, readText, writeScratch } from './helpers.mjs';
 import { withSpeck } from '../e2e/speck.mjs';
+import { askingCore } from './askCore';
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
 let wasm: Wasm;
@@ -23,18 +23,7 @@ beforeAll(async () => {
 });
 
 function makeCore() {
-  let listener: ((m: FromWorker) => void) | null = null;
-  const core = new WorkerCore(wasmApiOf(wasm), (m) => listener?.(m), { yieldToEventLoop: (cb) => setTimeout(cb, 0), now: () => performance.now() });
-  function ask<T extends FromWorker['type']>(msg: ToWorker, ...types: T[]): Promise<Extract<FromWorker, { type: T }>> {
-    return new Promise((resolve) => {
-      listener = (m) => {
-        if (m.type === 'frame') core.handle({ type: 'ack', runId: m.runId, seq: m.seq });
-        if ((types as string[]).includes(m.type)) resolve(m as Extract<FromWorker, { type: T }>);
-      };
-      core.handle(msg);
-    });
-  }
-  return ask;
+  return askingCore(wasm).ask;
 }
 
 /** The native CLI's report on the same file, LV endocardium (its `warnings` are the lines stderr prefixes). */

@@ -16,6 +16,7 @@ import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
 import { stepReport } from './core-client/fakes';
 import { rustSchema } from './rustSchema';
 import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
+import { runResult } from './runResult';
 
 const ALIGNMENT: Alignment = {
   rounds: 17,
@@ -28,15 +29,8 @@ const ALIGNMENT: Alignment = {
   ],
 };
 
-function result(extra: Partial<RunResult> = {}): RunResult {
-  const stats = { mean: 0.321, median: 0.25, p95: 0.8, max: 1.234, min: 0, count: 42 };
-  return {
-    runId: 1, surface: 'LV_ENDO', contours: [], contourPoints: new Float32Array(9), positions: new Float32Array(12),
-    indices: new Uint32Array(12), pointDistances: new Float32Array(3), vertexDistances: new Float32Array(4), perContour: [], overall: stats,
-    volumeMl: 120.4, areaMm2: 9000, watertight: true, seconds: 0.5, params: { iterations: 250 }, lids: 'auto',
-    options: { ...DEFAULT_OPTIONS }, version: 'core-test', ...extra,
-  };
-}
+const result = (extra: Partial<RunResult> = {}): RunResult =>
+  runResult({ overall: { mean: 0.321, median: 0.25, p95: 0.8, max: 1.234, min: 0, count: 42 }, ...extra });
 
 describe('align_slices option', () => {
   it('is off by default and travels in the params JSON, the URL and every export', () => {

@@ -22,16 +22,9 @@ import { ParamPanel } from '../../web/src/ui/ParamPanel';
 import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
 import { rustSchema } from './rustSchema';
 import paramsRs from '../../wasm-core/crates/heartmesh-core/src/params.rs?raw';
+import { runResult } from './runResult';
 
-function result(extra: Partial<RunResult> = {}): RunResult {
-  const stats = { mean: 0.3, median: 0.25, p95: 0.8, max: 1.2, min: 0, count: 42 };
-  return {
-    runId: 1, surface: 'LV_ENDO', contours: [], contourPoints: new Float32Array(9), positions: new Float32Array(12),
-    indices: new Uint32Array(12), pointDistances: new Float32Array(3), vertexDistances: new Float32Array(4), perContour: [], overall: stats,
-    volumeMl: 73.5, areaMm2: 9000, watertight: true, seconds: 0.5, params: { iterations: 250 }, lids: 'auto',
-    options: { ...DEFAULT_OPTIONS }, version: 'core-test', ...extra,
-  };
-}
+const result = (extra: Partial<RunResult> = {}): RunResult => runResult({ volumeMl: 73.5, ...extra });
 
 /** What the core reports for a short-axis-only stack at the defaults: a base lid and the apex floor's one point. */
 const FLOORED: EndCaps = { mode: 'auto', base: true, apex: true, points: 13, apex_floor: true };

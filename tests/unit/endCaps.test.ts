@@ -11,7 +11,6 @@ import {
   type LidsMode,
   type ParamValues,
   type ReconOptions,
-  type RunResult,
 } from '../../web/src/core-client/protocol';
 import { parseUrlState, serializeUrlState } from '../../web/src/app/urlState';
 import { headerLines, type ExportInfo } from '../../web/src/io/export/header';
@@ -21,18 +20,11 @@ import { ResultPanel } from '../../web/src/ui/ResultPanel';
 import { ParamPanel } from '../../web/src/ui/ParamPanel';
 import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
 import { rustSchema } from './rustSchema';
+import { runResult } from './runResult';
 
 const OTHER = DEFAULT_END_CAPS === 'off' ? 'auto' : 'off';
 
-function result(extra: Partial<RunResult> = {}): RunResult {
-  const stats = { mean: 0.3, median: 0.25, p95: 0.8, max: 1.2, min: 0, count: 42 };
-  return {
-    runId: 1, surface: 'LV_ENDO', contours: [], contourPoints: new Float32Array(9), positions: new Float32Array(12),
-    indices: new Uint32Array(12), pointDistances: new Float32Array(3), vertexDistances: new Float32Array(4), perContour: [], overall: stats,
-    volumeMl: 120.4, areaMm2: 9000, watertight: true, seconds: 0.5, params: { iterations: 250 }, lids: 'auto',
-    options: { ...DEFAULT_OPTIONS }, version: 'core-test', ...extra,
-  };
-}
+const result = runResult;
 
 describe('end_caps option', () => {
   it('has one app default that the options, the params JSON and old sessions follow', () => {

@@ -11,7 +11,6 @@ import {
   type LidsMode,
   type ParamValues,
   type ReconOptions,
-  type RunResult,
   type SetAsideEntry,
 } from '../../web/src/core-client/protocol';
 import { parseUrlState, serializeUrlState } from '../../web/src/app/urlState';
@@ -27,6 +26,7 @@ import type { Viewer } from '../../web/src/viewer/Viewer';
 import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
 import { rustSchema } from './rustSchema';
 import paramsRs from '../../wasm-core/crates/heartmesh-core/src/params.rs?raw';
+import { runResult } from './runResult';
 
 const SPECK: SetAsideEntry = { id: 'sax10', line: 1505, reason: 'speck', perimeter_mm: 2.84, next_id: 'sax09', next_perimeter_mm: 210 };
 const STRAY: SetAsideEntry = { id: 'far', line: 2251, reason: 'stray', gap_mm: 176.4 };
@@ -38,15 +38,7 @@ const CONTOURS: ContourInfo[] = [
 ];
 const POINTS = new Float32Array([5, 0, 8, 4.4, 0.6, 8, 4.4, -0.6, 8, 200, 0, 0, 210, 0, 0]);
 
-function result(extra: Partial<RunResult> = {}): RunResult {
-  const stats = { mean: 0.3, median: 0.25, p95: 0.8, max: 1.2, min: 0, count: 42 };
-  return {
-    runId: 1, surface: 'LV_ENDO', contours: [], contourPoints: new Float32Array(9), positions: new Float32Array(12),
-    indices: new Uint32Array(12), pointDistances: new Float32Array(3), vertexDistances: new Float32Array(4), perContour: [], overall: stats,
-    volumeMl: 120.4, areaMm2: 9000, watertight: true, seconds: 0.5, params: { iterations: 250 }, lids: 'auto',
-    options: { ...DEFAULT_OPTIONS }, version: 'core-test', ...extra,
-  };
-}
+const result = runResult;
 
 describe('keep_specks option', () => {
   it('is off by default, as in the core, and travels in the params JSON; old sessions read as off', () => {
