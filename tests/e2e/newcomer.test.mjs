@@ -162,7 +162,11 @@ describe('the app for a newcomer (session 14)', () => {
       /^patient1-ES-LV_ENDO-params\.json, line \d+: invalid session JSON: missing field `heartmesh_session`\. Only a heartmesh session opens here \(the Session export, …-session\.json\); the Parameters JSON export holds no contours\. Not opened; still showing patient1-ES\.csv\.$/);
     const mesh = await download(page, 'export-stl');
     await page.setInputFiles('[data-testid=file-input]', { name: mesh.name, mimeType: 'model/stl', buffer: mesh.bytes });
-    await page.waitForFunction((n) => document.querySelector('[data-testid=status]')?.textContent?.includes(n), mesh.name, { timeout: 10000 });
+    // The status reads "loading NAME" first: wait for the error naming the mesh, not just its name.
+    await page.waitForFunction((n) => {
+      const t = document.querySelector('[data-testid=status]')?.textContent ?? '';
+      return t.startsWith('error') && t.includes(n);
+    }, mesh.name, { timeout: 10000 });
     assert.match(await page.textContent('[data-testid=error-text]'), /not contours\. To measure a reconstruction against a mesh, open it in the Lab tab as the truth\. Not opened/);
     assert.deepEqual(await readResult(page), shown, 'the result on screen stays');
   });
