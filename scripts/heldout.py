@@ -474,6 +474,23 @@ def families():
     for where in ("click-past-base", "graze-past-base", "click-mid"):
         F["speck-" + where] = speck(where)
 
+    def far_pair(a, r):
+        """Two adjacent short-axis rings copied 150-300 mm away in a random direction, same label
+        (session 15): curves of another series pasted into the file side by side, which hid each
+        other from session 14's one-at-a-time stray rule. Left out, the mesh is the one without
+        them; kept, the tube threads them with the real rings."""
+        def add_pair(bl, r):
+            sax = [b for b in bl if b[0].startswith("sax")]
+            if len(sax) < 3:
+                return bl
+            k = r.randrange(0, len(sax) - 1)
+            d = unit((r.gauss(0, 1), r.gauss(0, 1), r.gauss(0, 1)))
+            shift = H.scale(d, r.uniform(150.0, 300.0))
+            return bl + [(f"far{j}", sax[k + j][1], [H.add(p, shift) for p in sax[k + j][2]])
+                         for j in range(2)]
+        a.post.append(add_pair)
+    F["far-pair"] = far_pair
+
     for off in (3, 6):
         def lax_off(a, r, off=off):
             a.lax_off = [off * r.choice((-1, 1)) for _ in a.lax_deg]

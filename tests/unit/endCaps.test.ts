@@ -15,7 +15,7 @@ import {
 import { parseUrlState, serializeUrlState } from '../../web/src/app/urlState';
 import { headerLines, type ExportInfo } from '../../web/src/io/export/header';
 import { writeParamsJson } from '../../web/src/io/export/json';
-import { endCapsText } from '../../web/src/ui/runText';
+import { endCapsText, pastDataText } from '../../web/src/ui/runText';
 import { ResultPanel } from '../../web/src/ui/ResultPanel';
 import { ParamPanel } from '../../web/src/ui/ParamPanel';
 import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
@@ -124,6 +124,27 @@ describe('end caps in the panels', () => {
     expect(el.byTestId('result-past-data')?.title).toMatch(/extrapolated; the option Close open ends \(Parameters\) stops the mesh at the data there$/);
     panel.show(result({ pastData: open, options: { ...DEFAULT_OPTIONS, end_caps: 'auto' }, end_caps: { mode: 'auto', base: false, apex: false, points: 0 } }));
     expect(el.byTestId('result-past-data')?.title).toMatch(/extrapolated$/);
+  });
+
+  it('an apex the apex floor placed is not flagged as extrapolated; the tooltip says it is the floor\'s model', () => {
+    const panel = new ResultPanel();
+    const el = panel.element as unknown as FakeElement;
+    const saxOnly = { base_mm: 2.1, apex_mm: 8.4 };
+    const floored = { mode: 'auto' as const, base: true, apex: true, apex_floor: true, points: 13 };
+    panel.show(result({ pastData: saxOnly, end_caps: floored }));
+    expect(rows(el)['Past the data']).toBe('+2.1 / +8.4 mm');
+    expect(el.byTestId('result-past-data')?.getAttribute('class')).toBeNull();
+    expect(el.byTestId('result-past-data')?.title).toMatch(/the apex floor placed the tip where the apical rings' taper predicts \(a model, not data; Apex floor in the parameters\)$/);
+    // The same overrun without the floor (ticked off): amber, no floor note.
+    panel.show(result({ pastData: saxOnly, end_caps: { mode: 'auto', base: true, apex: false, apex_floor: false, points: 64 } }));
+    expect(el.byTestId('result-past-data')?.getAttribute('class')).toBe('warn');
+    expect(el.byTestId('result-past-data')?.title).not.toMatch(/apex floor/);
+    // A base that runs on is still flagged with the floor at the apex.
+    panel.show(result({ pastData: { base_mm: 9.0, apex_mm: 8.4 }, end_caps: floored }));
+    expect(el.byTestId('result-past-data')?.getAttribute('class')).toBe('warn');
+    expect(el.byTestId('result-past-data')?.title).toMatch(/extrapolated; the apex lies past/);
+    // A floored apex within 5 mm of the last ring needs no note.
+    expect(pastDataText({ base_mm: 1, apex_mm: 3 }, true)).toEqual({ text: '+1.0 / +3.0 mm', extrapolated: false, modelled: false });
   });
 
   it('endCapsText: one point is singular; apex alone', () => {

@@ -89,8 +89,8 @@ describe('the words for contours left out', () => {
     const many = leftOutText([STRAY, SPECK, { ...SPECK, id: 'sax11', line: 1600 }, { ...SPECK, id: 'sax12', line: 1700 }])!;
     expect(many.text).toBe('4 contours (3 specks, 1 stray) · far, sax10, sax11, …');
     expect(many.title).toContain('"sax12" (line 1700)');
-    expect(leftOutDetail(STRAY)).toBe('"far" (line 2251): a stray, 176 mm from the nearest other contour');
-    expect(leftOutDetail({ ...STRAY, line: 0 })).toBe('"far": a stray, 176 mm from the nearest other contour');
+    expect(leftOutDetail(STRAY)).toBe('"far" (line 2251): a stray, 176 mm from the nearest contour kept');
+    expect(leftOutDetail({ ...STRAY, line: 0 })).toBe('"far": a stray, 176 mm from the nearest contour kept');
     expect(leftOutDetail({ ...SPECK, perimeter_mm: 21, next_perimeter_mm: 210 })).toContain('10 % of the ring');
     expect(leftOutLabel('speck')).toBe('left out: speck');
     expect(leftOutLabel('stray')).toBe('left out: stray');

@@ -188,7 +188,7 @@ export interface MeshQuality {
  * CLI report's `set_aside`): `line` is the file line of its first point (0: not from a file).
  */
 export type SetAsideEntry = { id: string; line: number } & (
-  | { reason: 'stray'; /** mm from the nearest other contour of its surface. */ gap_mm: number }
+  | { reason: 'stray'; /** mm from the nearest contour of its surface kept (box to box). */ gap_mm: number }
   | {
       reason: 'speck';
       /** Its length around, mm. */

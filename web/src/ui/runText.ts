@@ -113,13 +113,18 @@ const PAST_DATA_NOTE_MM = 5;
 
 /**
  * The result panel's "past the data" figure, base / apex: "+14.3 / +0.1 mm" (short: the panel's
- * value column is narrow), and whether either
- * end runs on far enough past the contours that its part of the volume is extrapolated.
+ * value column is narrow), and whether either end runs on far enough past the contours that its
+ * part of the volume is extrapolated. An apex the apex floor placed (`apexFloored`) is reported as
+ * `modelled` instead: on a short-axis-only stack the tip always lies past the last ring, and the
+ * floor put it where the apical rings' taper says, so flagging it amber would warn about the
+ * option doing its job; the tooltip still says the tip is a model, not data.
  */
-export function pastDataText(p: PastData): { text: string; extrapolated: boolean } {
+export function pastDataText(p: PastData, apexFloored = false): { text: string; extrapolated: boolean; modelled: boolean } {
+  const apexFar = p.apex_mm > PAST_DATA_NOTE_MM;
   return {
     text: `${signedMm(p.base_mm).replace(' mm', '')} / ${signedMm(p.apex_mm)}`,
-    extrapolated: Math.max(p.base_mm, p.apex_mm) > PAST_DATA_NOTE_MM,
+    extrapolated: p.base_mm > PAST_DATA_NOTE_MM || (apexFar && !apexFloored),
+    modelled: apexFar && apexFloored,
   };
 }
 
@@ -190,7 +195,7 @@ export function leftOutLabel(reason: SetAsideReason): string {
 /** One contour left out, in a sentence: `"sax10" (line 1505): a speck, 2.8 mm around, 1 % of the ring of "sax09" one slice away`. */
 export function leftOutDetail(s: SetAsideEntry): string {
   const at = s.line > 0 ? ` (line ${s.line})` : '';
-  if (s.reason === 'stray') return `"${s.id}"${at}: a stray, ${s.gap_mm.toFixed(0)} mm from the nearest other contour`;
+  if (s.reason === 'stray') return `"${s.id}"${at}: a stray, ${s.gap_mm.toFixed(0)} mm from the nearest contour kept`;
   const pct = s.next_perimeter_mm > 0 ? (100 * s.perimeter_mm) / s.next_perimeter_mm : 0;
   return `"${s.id}"${at}: a speck, ${s.perimeter_mm.toFixed(1)} mm around, ${pct.toFixed(pct < 1 ? 1 : 0)} % of the ring of "${s.next_id}" one slice away`;
 }

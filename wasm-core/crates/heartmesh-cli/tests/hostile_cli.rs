@@ -402,7 +402,7 @@ fn a_stray_ring_is_left_out_and_kept_it_makes_the_mesh_pass_through_itself() {
     assert_eq!(code, 0, "{err}");
     let rep = rep.unwrap();
     let warning = format!(
-        "contour \"stray\" (line {stray_line}, 176 mm from the nearest other contour) lies far \
+        "contour \"stray\" (line {stray_line}, 176 mm from the nearest contour kept) lies far \
          from the rest (another series or a wrong coordinate?); it is left out of the \
          reconstruction"
     );
@@ -429,6 +429,35 @@ fn a_stray_ring_is_left_out_and_kept_it_makes_the_mesh_pass_through_itself() {
         )),
         "{err}"
     );
+    // Two strays side by side (the first ring's copy and one 10 mm above it, session 15): each is
+    // near the other, and both are still left out, with the gap to the contours kept.
+    let mut pair = stray.clone();
+    for l in stray.lines() {
+        let cols: Vec<&str> = l.split(',').collect();
+        let z: f64 = cols[3].parse().unwrap();
+        pair.push_str(&format!("stray2,{},{},{}\n", cols[1], cols[2], z + 10.0));
+    }
+    let f2 = dir.join("strays.csv");
+    std::fs::write(&f2, format!("{text}{pair}")).unwrap();
+    let (code, err, rep) = reconstruct(&dir, &f2, &[]);
+    assert_eq!(code, 0, "{err}");
+    let rep = rep.unwrap();
+    let stray2_line = stray_line + stray.lines().count();
+    assert!(
+        err.contains(&format!(
+            "2 contours (\"stray\" (line {stray_line}, 176 mm from the nearest contour kept); \
+             \"stray2\" (line {stray2_line}, 176 mm from the nearest contour kept)) lie far from \
+             the rest (another series or wrong coordinates?); they are left out of the \
+             reconstruction"
+        )),
+        "{err}"
+    );
+    let ids: Vec<&str> = (0..2)
+        .filter_map(|k| rep["set_aside"][k]["id"].as_str())
+        .collect();
+    assert_eq!(ids, ["stray", "stray2"]);
+    assert_eq!(rep["quality"]["self_intersections"], 0);
+    assert_eq!(mesh_lines(), without);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -3,9 +3,10 @@
 //! (`contours::specks`), one row per slice and surface, with what `contours::set_aside` leaves out.
 //! `cargo run --release --example specks -- FILE...`
 use heartmesh_core::contours::axis::analyse;
-use heartmesh_core::contours::checks::{strays, surface_groups};
+use heartmesh_core::contours::checks::surface_groups;
 use heartmesh_core::contours::clean::cleaned_contour;
 use heartmesh_core::contours::specks::{slice_rings, specks};
+use heartmesh_core::contours::strays::strays;
 use heartmesh_core::contours::Contour;
 use heartmesh_core::io;
 

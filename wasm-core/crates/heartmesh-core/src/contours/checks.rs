@@ -1,6 +1,5 @@
-//! Load-time checks of a contour set: units, contours that are not curves, contours far from all
-//! the others (left out of a reconstruction: `contours::set_aside`), and identifiers reused for
-//! curves in different planes.
+//! Load-time checks of a contour set: units, contours that are not curves, and identifiers reused
+//! for curves in different planes (contours far from the rest: `contours::strays`).
 //!
 //! Each check turns a suspicious but usable input into one warning line for the user (the run goes
 //! ahead); only coordinates whose span cannot be a heart in millimetres stop the reconstruction
@@ -22,10 +21,6 @@ const WARN_MAX_EXTENT_MM: f64 = 2000.0;
 /// (a heart in metres spans about 0.1), above it the 1 mm resampling explodes (micrometres).
 const MIN_EXTENT_MM: f64 = 3.0;
 const MAX_EXTENT_MM: f64 = 10_000.0;
-
-/// Above this many contours the pairwise checks are skipped (they are quadratic, and a file that
-/// large is either generated or hostile; its other checks still run).
-const MAX_PAIRWISE_CONTOURS: usize = 2000;
 
 /// Pieces of one contour whose planes are further apart than this (mm, plus three times the first
 /// piece's residual) are not one curve: the slice tolerance of the SAX grouping is 1.5 mm.
@@ -124,56 +119,6 @@ pub fn few_point_warnings(set: &ContourSet) -> Vec<String> {
         "is not a curve; its points are used as single data points",
         "are not curves; their points are used as single data points",
     )
-}
-
-/// Axis-aligned box of a contour's points.
-fn bounds(c: &Contour) -> Option<(Vec3, Vec3)> {
-    let mut pts = c.points();
-    let first = *pts.next()?;
-    Some(pts.fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p))))
-}
-
-/// Distance between two boxes (0 when they overlap); a lower bound of the points' distance.
-fn box_gap(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> f64 {
-    let d = (b.0 - a.1).sup(&(a.0 - b.1)).sup(&Vec3::zeros());
-    d.norm()
-}
-
-/// Contours further from every other contour of their surface than the span of all those others:
-/// a curve of another series, a typo in a coordinate or a wrong plane position. The surface would
-/// be pulled towards it (one such contour 200 mm away costs ~10 ml and 9 mm of contour distance,
-/// and the tube threaded through it makes the mesh pass through itself: docs/VALIDATION.md,
-/// session 13), so a reconstruction leaves it out (`contours::set_aside`). `contours` are one
-/// surface's; returns each stray's index and its distance (mm) from the nearest other contour.
-pub fn strays(contours: &[Contour]) -> Vec<(usize, f64)> {
-    let members: Vec<(usize, (Vec3, Vec3))> = contours
-        .iter()
-        .enumerate()
-        .filter_map(|(i, c)| bounds(c).map(|b| (i, b)))
-        .collect();
-    if members.len() < 3 || members.len() > MAX_PAIRWISE_CONTOURS {
-        return Vec::new();
-    }
-    let mut out = Vec::new();
-    for (i, (c, b)) in members.iter().enumerate() {
-        let mut gap = f64::INFINITY;
-        let mut others: Option<(Vec3, Vec3)> = None;
-        for (j, (_, o)) in members.iter().enumerate() {
-            if i == j {
-                continue;
-            }
-            gap = gap.min(box_gap(b, o));
-            others = Some(match others {
-                Some((lo, hi)) => (lo.inf(&o.0), hi.sup(&o.1)),
-                None => *o,
-            });
-        }
-        let span = others.map_or(0.0, |(lo, hi)| (hi - lo).amax());
-        if gap.is_finite() && gap > span && span > 0.0 {
-            out.push((*c, gap));
-        }
-    }
-    out
 }
 
 /// Contours grouped by surface label (None is a group of its own).
@@ -341,20 +286,6 @@ mod tests {
         let w = few_point_warnings(&set);
         assert_eq!(w.len(), 1);
         assert!(w[0].starts_with("2 contours") && w[0].contains("30 copies of one point"));
-    }
-
-    #[test]
-    fn a_contour_far_from_the_rest_is_flagged_and_a_sparse_stack_is_not() {
-        // Five rings 10 mm apart (span 50 mm); a copy of the first 200 mm away along x.
-        let mut set = stack(1.0);
-        assert!(strays(&set.contours).is_empty());
-        // Three slices 30 mm apart: the end ones are 30 mm from the rest, whose span is 50 mm.
-        let sparse: Vec<Contour> = (0..3)
-            .map(|k| ring(&format!("t{k}"), v3(0.0, 0.0, 30.0 * k as f64), 25.0))
-            .collect();
-        assert!(strays(&sparse).is_empty());
-        set.contours.push(ring("stray", v3(200.0, 0.0, 0.0), 25.0));
-        assert_eq!(strays(&set.contours), vec![(5, 150.0)]);
     }
 
     #[test]

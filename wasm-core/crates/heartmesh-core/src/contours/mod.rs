@@ -10,6 +10,7 @@ pub mod rings;
 pub mod set_aside;
 pub mod slice_loops;
 pub mod specks;
+pub mod strays;
 
 use crate::geometry::Vec3;
 

@@ -4,9 +4,10 @@
 //! twice: its slice's ring seeds the initial tube and its points attract the surface. Two kinds
 //! of contour cannot be a section of that cavity, and following them spoils the mesh where the
 //! data are good:
-//! - a stray ([`super::checks::strays`]): a contour further from every other one than the span of
-//!   all the others (another series, a typo in a coordinate), which the tube threads with the
-//!   real rings, so that the mesh passes through itself (`sim-stray-200mm` in scripts/hostile.py);
+//! - a stray ([`super::strays`]): a contour, or a small group of them, further from the rest than
+//!   the span of the rest (another series, a typo in a coordinate), which the tube threads with
+//!   the real rings, so that the mesh passes through itself (`sim-stray-200mm` in
+//!   scripts/hostile.py);
 //! - a speck ([`super::specks`]): a short-axis slice whose ring is under a tenth of the ring one
 //!   slice away, anywhere but at the apex (a slice past the base grazing the rim, a stray click),
 //!   where the tube narrows to a point (Hausdorff 1.7 -> 14.5 mm in the held-out study).
@@ -17,9 +18,10 @@
 //! rule fires on any real file or on the planner's acquisitions, whose meshes are unchanged.
 
 use super::axis::analyse;
-use super::checks::{one_line, strays, surface_groups};
+use super::checks::{one_line, surface_groups};
 use super::clean::{cleaned_contour, length};
 use super::specks::{specks, SPECK_RATIO};
+use super::strays::strays;
 use super::{Contour, ContourSet};
 use serde::Serialize;
 
@@ -31,7 +33,8 @@ const MAX_CONTOURS: usize = 2000;
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "reason", rename_all = "snake_case")]
 pub enum Why {
-    /// Further than the span of all the other contours of its surface from the nearest of them.
+    /// In a group (often of one) further than the span of the rest of its surface from the
+    /// nearest contour kept: `gap_mm`, bounding box to bounding box.
     Stray { gap_mm: f64 },
     /// Its slice's ring (`perimeter_mm` around) is under `specks::SPECK_RATIO` of the ring of
     /// contour `next_id` one slice away (`next_perimeter_mm`).
@@ -173,7 +176,7 @@ pub fn warnings(list: &[SetAside]) -> Vec<String> {
     for s in list {
         match &s.why {
             Why::Stray { gap_mm } => stray.push(format!(
-                "{}, {gap_mm:.0} mm from the nearest other contour)",
+                "{}, {gap_mm:.0} mm from the nearest contour kept)",
                 s.name()
             )),
             Why::Speck {
@@ -240,7 +243,7 @@ mod tests {
         assert_eq!(
             w,
             [
-                "contour \"far\" (line 305, 243 mm from the nearest other contour) lies far from \
+                "contour \"far\" (line 305, 243 mm from the nearest contour kept) lies far from \
                  the rest (another series or a wrong coordinate?); it is left out of the \
                  reconstruction",
                 "contour \"past\" (line 302, 2.6 mm around, 1 % of the ring of \"s4\" one slice \
