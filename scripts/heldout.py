@@ -491,6 +491,30 @@ def families():
         a.post.append(add_pair)
     F["far-pair"] = far_pair
 
+    def click_lax(a, r):
+        """A click in a long-axis view (session 15): a 3-point loop 0.5-1.5 mm in radius in the
+        plane of one long-axis curve, at the middle of the cavity (the short-axis points' centroid
+        projected into that plane), same label. Kept, it pulls a spike of the wall into the
+        cavity; left out (`lax_speck`), the mesh is the one without it."""
+        def add_click(bl, r):
+            lax = [b for b in bl if b[0].startswith("lax")]
+            sax = [p for b in bl if b[0].startswith("sax") for p in b[2]]
+            if not lax or not sax:
+                return bl
+            _, surf, pts = r.choice(lax)
+            n = H.normal_of(pts)
+            c = H.centroid(sax)
+            c = H.sub(c, H.scale(n, H.dot(H.sub(c, pts[0]), n)))
+            u = perpendicular(n, r)
+            v = H.cross(n, u)
+            rad, phase = r.uniform(0.5, 1.5), r.uniform(0.0, 2 * math.pi)
+            ring = [H.add(c, H.add(H.scale(u, rad * math.cos(phase + 2 * math.pi * i / 3)),
+                                   H.scale(v, rad * math.sin(phase + 2 * math.pi * i / 3))))
+                    for i in range(3)]
+            return bl + [("click", surf, ring)]
+        a.post.append(add_click)
+    F["click-lax"] = click_lax
+
     for off in (3, 6):
         def lax_off(a, r, off=off):
             a.lax_off = [off * r.choice((-1, 1)) for _ in a.lax_deg]

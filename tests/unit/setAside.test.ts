@@ -94,6 +94,12 @@ describe('the words for contours left out', () => {
     expect(leftOutDetail({ ...SPECK, perimeter_mm: 21, next_perimeter_mm: 210 })).toContain('10 % of the ring');
     expect(leftOutLabel('speck')).toBe('left out: speck');
     expect(leftOutLabel('stray')).toBe('left out: stray');
+    // A long-axis speck (session 15) counts as a speck, with its own detail.
+    const click: SetAsideEntry = { id: 'speck', line: 3016, reason: 'lax_speck', length_mm: 5.196, extent_mm: 99.2 };
+    expect(leftOutLabel('lax_speck')).toBe('left out: speck');
+    expect(leftOutDetail(click)).toBe('"speck" (line 3016): a speck in a long-axis plane, 5.2 mm long where the data span 99 mm along the axis');
+    expect(leftOutText([click])!.text).toBe('1 contour (speck) · speck');
+    expect(leftOutText([STRAY, SPECK, click])!.text).toBe('3 contours (2 specks, 1 stray) · far, sax10, speck');
   });
 });
 

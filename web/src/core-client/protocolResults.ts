@@ -197,6 +197,12 @@ export type SetAsideEntry = { id: string; line: number } & (
       next_id: string;
       next_perimeter_mm: number;
     }
+  | {
+      /** A curve in a long-axis plane far shorter than the data's extent along the axis (session 15). */
+      reason: 'lax_speck';
+      length_mm: number;
+      extent_mm: number;
+    }
 );
 
 export type SetAsideReason = SetAsideEntry['reason'];

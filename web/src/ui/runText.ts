@@ -189,13 +189,21 @@ export function meshCheckText(q: MeshQuality): {
 
 /** "left out: speck" / "left out: stray": what the viewer's key and the hover read-out call a contour left out. */
 export function leftOutLabel(reason: SetAsideReason): string {
-  return `left out: ${reason}`;
+  return `left out: ${leftOutKind(reason)}`;
+}
+
+/** A long-axis speck is a speck to the user; where it lies is in the detail. */
+function leftOutKind(reason: SetAsideReason): 'speck' | 'stray' {
+  return reason === 'stray' ? 'stray' : 'speck';
 }
 
 /** One contour left out, in a sentence: `"sax10" (line 1505): a speck, 2.8 mm around, 1 % of the ring of "sax09" one slice away`. */
 export function leftOutDetail(s: SetAsideEntry): string {
   const at = s.line > 0 ? ` (line ${s.line})` : '';
   if (s.reason === 'stray') return `"${s.id}"${at}: a stray, ${s.gap_mm.toFixed(0)} mm from the nearest contour kept`;
+  if (s.reason === 'lax_speck') {
+    return `"${s.id}"${at}: a speck in a long-axis plane, ${s.length_mm.toFixed(1)} mm long where the data span ${s.extent_mm.toFixed(0)} mm along the axis`;
+  }
   const pct = s.next_perimeter_mm > 0 ? (100 * s.perimeter_mm) / s.next_perimeter_mm : 0;
   return `"${s.id}"${at}: a speck, ${s.perimeter_mm.toFixed(1)} mm around, ${pct.toFixed(pct < 1 ? 1 : 0)} % of the ring of "${s.next_id}" one slice away`;
 }
@@ -210,7 +218,7 @@ const SET_ASIDE_NAMES = 3;
  */
 export function leftOutText(list: readonly SetAsideEntry[]): { text: string; title: string } | null {
   if (list.length === 0) return null;
-  const count = (reason: SetAsideReason) => list.filter((s) => s.reason === reason).length;
+  const count = (kind: 'speck' | 'stray') => list.filter((s) => leftOutKind(s.reason) === kind).length;
   const kinds = (['speck', 'stray'] as const)
     .map((reason) => ({ reason, n: count(reason) }))
     .filter((k) => k.n > 0)

@@ -56,10 +56,12 @@ pub const USAGE: &str =
   --drop-second-loops: leave out closed loops that lie apart (median over 3 mm) from the main
   loop of their short-axis slice (another structure the slice cut; the load-time warning names
   them), so the surface follows each slice's main loop only;
-  by default a contour further from the rest of its surface than the span of all the others
-  (a stray), and a short-axis slice whose ring is under a tenth of the ring one slice away
-  anywhere but at the apex (a speck), are left out of the reconstruction, each named in a
-  warning and in the report's set_aside; --keep-specks keeps them (the paper's method);
+  by default a contour or a small group of them far from the rest of its surface (a stray:
+  further than half the rest's span and three times its slice spacing), a short-axis slice
+  whose ring is under a tenth of the ring one slice away anywhere but at the apex (a speck), and
+  a long-axis curve under a tenth of the data's extent along the axis (a click in a long-axis
+  view) are left out of the reconstruction, each named in a warning and in the report's
+  set_aside; --keep-specks keeps them (the paper's method);
   --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time

@@ -482,3 +482,100 @@ fn xyz_without_blank_lines_says_why_it_is_one_contour() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A stray click in a long-axis view (session 15): a 3-point loop 1 mm in radius in the plane of
+/// SurFCo's long-axis contour c7, at the middle of the cavity. Kept (`--keep-specks`), it pulls a
+/// spike of the wall 27 mm into the cavity; by default it is left out and named (`lax_speck`),
+/// and the mesh is the file's without it.
+#[test]
+fn a_click_in_a_long_axis_view_is_left_out() {
+    let dir = scratch("lax-speck");
+    let text = surfco();
+    let points = |id: &str| -> Vec<[f64; 3]> {
+        text.lines()
+            .filter(|l| l.starts_with(&format!("{id},")))
+            .map(|l| {
+                let v: Vec<f64> = l.split(',').skip(1).map(|x| x.parse().unwrap()).collect();
+                [v[0], v[1], v[2]]
+            })
+            .collect()
+    };
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let unit = |a: [f64; 3]| {
+        let n = dot(a, a).sqrt();
+        [a[0] / n, a[1] / n, a[2] / n]
+    };
+    let lax = points("c7");
+    let (a, b, c) = (lax[0], lax[lax.len() / 3], lax[2 * lax.len() / 3]);
+    let (u, n) = (unit(sub(b, a)), unit(cross(sub(b, a), sub(c, a))));
+    let v = cross(n, u);
+    let sax: Vec<[f64; 3]> = (1..=6).flat_map(|k| points(&format!("c{k}"))).collect();
+    let mean = |k: usize| sax.iter().map(|p| p[k]).sum::<f64>() / sax.len() as f64;
+    let centre = [mean(0), mean(1), mean(2)];
+    let off = dot(sub(centre, a), n);
+    let on_plane = [
+        centre[0] - off * n[0],
+        centre[1] - off * n[1],
+        centre[2] - off * n[2],
+    ];
+    let mut click = String::new();
+    for k in 0..3 {
+        let t = std::f64::consts::TAU * k as f64 / 3.0;
+        let p: Vec<String> = (0..3)
+            .map(|i| format!("{:.5}", on_plane[i] + t.cos() * u[i] + t.sin() * v[i]))
+            .collect();
+        click.push_str(&format!("click,{}\n", p.join(",")));
+    }
+    let line = text.lines().count() + 1;
+    let f = dir.join("click.csv");
+    std::fs::write(&f, format!("{text}{click}")).unwrap();
+    let plain = dir.join("plain.csv");
+    std::fs::write(&plain, &text).unwrap();
+    let mesh = || -> Vec<String> {
+        std::fs::read_to_string(dir.join("out.obj"))
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(str::to_string)
+            .collect()
+    };
+    let (code, err, _) = reconstruct(&dir, &plain, &[]);
+    assert_eq!(code, 0, "{err}");
+    let without = mesh();
+    std::fs::copy(dir.join("out.obj"), dir.join("plain.obj")).unwrap();
+    let (code, err, rep) = reconstruct(&dir, &f, &[]);
+    assert_eq!(code, 0, "{err}");
+    let rep = rep.unwrap();
+    assert!(
+        err.contains(&format!(
+            "contour \"click\" (line {line}, 5.2 mm long in a long-axis plane, where the data span"
+        )) && err.contains("is a speck, not a section of the cavity; it is left out"),
+        "{err}"
+    );
+    assert_eq!(rep["set_aside"][0]["reason"], "lax_speck");
+    assert!((rep["set_aside"][0]["length_mm"].as_f64().unwrap() - 3f64.sqrt() * 3.0).abs() < 1e-3);
+    assert_eq!(mesh(), without);
+    // Kept, the spike: the mesh reaches the click, 20+ mm inside the wall.
+    let (code, err, rep) = reconstruct(&dir, &f, &["--keep-specks"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(rep.unwrap()["set_aside"].is_null());
+    let (code, out, err) = run(bin().args([
+        "compare",
+        s(&dir.join("plain.obj")),
+        s(&dir.join("out.obj")),
+        "--json",
+    ]));
+    assert_eq!(code, 0, "{err}{out}");
+    let cmp: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let spike = cmp["hausdorff"].as_f64().unwrap();
+    assert!(spike > 15.0, "kept, the wall reaches {spike} mm in");
+    let _ = std::fs::remove_dir_all(&dir);
+}

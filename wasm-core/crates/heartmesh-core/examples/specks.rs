@@ -1,13 +1,15 @@
 //! Developer tool (session 14, docs/VALIDATION.md "Session 14: specks and stray contours"): the
 //! ring of every short-axis slice against the longer ring of its adjacent slices
-//! (`contours::specks`), one row per slice and surface, with what `contours::set_aside` leaves out.
+//! (`contours::specks`), one row per slice and surface, with what `contours::set_aside` leaves out;
+//! and every long-axis curve's length (`contours::lax_specks`).
 //! `cargo run --release --example specks -- FILE...`
 use heartmesh_core::contours::axis::analyse;
 use heartmesh_core::contours::checks::surface_groups;
-use heartmesh_core::contours::clean::cleaned_contour;
+use heartmesh_core::contours::clean::{cleaned_contour, contour_length};
+use heartmesh_core::contours::lax_specks::{extent, lax_specks};
 use heartmesh_core::contours::specks::{slice_rings, specks};
 use heartmesh_core::contours::strays::strays;
-use heartmesh_core::contours::Contour;
+use heartmesh_core::contours::{Contour, ContourKind};
 use heartmesh_core::io;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -34,6 +36,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let Ok(layout) = analyse(&cleaned) else {
                 continue;
             };
+            // Every long-axis curve's length over the data's extent along the axis.
+            let lax = lax_specks(&cleaned, &layout);
+            let extent = extent(&cleaned, &layout);
+            for (i, c) in cleaned.iter().enumerate() {
+                if layout.kinds.get(i) != Some(&ContourKind::Lax) {
+                    continue;
+                }
+                let len = contour_length(c);
+                let speck = lax.iter().any(|s| s.index == i);
+                println!(
+                    "{path}	{label}	LAX {:?}		{}	{len:.2}	{}	{speck}",
+                    c.id,
+                    c.point_count(),
+                    extent.map_or("-".into(), |e| format!("{:.3}", len / e))
+                );
+            }
             let found = specks(&cleaned, &layout);
             let rings = slice_rings(&cleaned, &layout);
             for (k, r) in rings.iter().enumerate() {

@@ -126,8 +126,9 @@ pub struct Params {
     /// 14: a dome model for the apex floor", the lead's decision at its end).
     pub apex_floor: bool,
     /// Keep the contours a reconstruction otherwise leaves out (`contours::set_aside`): strays
-    /// further from the rest than the span of all the others, and specks, short-axis rings under
-    /// a tenth of the ring one slice away anywhere but at the apex. Off by default: they are not
+    /// (alone or in small groups) far from the rest, specks, short-axis rings under a tenth of the
+    /// ring one slice away anywhere but at the apex, and long-axis curves under a tenth of the
+    /// data's extent along the axis. Off by default: they are not
     /// sections of the one cavity and the mesh follows the cavity the other contours describe
     /// (held-out speck: Hausdorff 14.5 -> 1.7 mm; stray ring 200 mm away: the mesh no longer
     /// passes through itself), and the load-time warning names each one left out

@@ -113,6 +113,11 @@ pub fn length(points: &[Vec3], closed: bool) -> f64 {
     }
 }
 
+/// Length of all of a contour's pieces (closed ones with their closing segment), mm.
+pub fn contour_length(c: &Contour) -> f64 {
+    c.pieces.iter().map(|p| length(&p.points, p.closed)).sum()
+}
+
 /// Resamples a polyline to `count` points equally spaced by arc length. Closed curves are sampled
 /// over their full loop starting at the first point; open curves keep both end points.
 pub fn resample_count(points: &[Vec3], closed: bool, count: usize) -> Vec<Vec3> {

@@ -5,6 +5,7 @@ pub mod align;
 pub mod axis;
 pub mod checks;
 pub mod clean;
+pub mod lax_specks;
 pub mod plane;
 pub mod rings;
 pub mod set_aside;

@@ -1,25 +1,29 @@
 //! The contours a reconstruction leaves out, and the one warning line per kind that names them.
 //!
 //! The method reconstructs one cavity per surface, and every contour of the surface shapes it
-//! twice: its slice's ring seeds the initial tube and its points attract the surface. Two kinds
+//! twice: its slice's ring seeds the initial tube and its points attract the surface. Three kinds
 //! of contour cannot be a section of that cavity, and following them spoils the mesh where the
 //! data are good:
 //! - a stray ([`super::strays`]): a contour, or a small group of them, further from the rest than
-//!   the span of the rest (another series, a typo in a coordinate), which the tube threads with
+//!   half the span of the rest (another series, a typo in a coordinate), which the tube threads with
 //!   the real rings, so that the mesh passes through itself (`sim-stray-200mm` in
 //!   scripts/hostile.py);
 //! - a speck ([`super::specks`]): a short-axis slice whose ring is under a tenth of the ring one
 //!   slice away, anywhere but at the apex (a slice past the base grazing the rim, a stray click),
-//!   where the tube narrows to a point (Hausdorff 1.7 -> 14.5 mm in the held-out study).
+//!   where the tube narrows to a point (Hausdorff 1.7 -> 14.5 mm in the held-out study);
+//! - a long-axis speck ([`super::lax_specks`]): a curve in a long-axis plane under a tenth of the
+//!   data's extent along the axis (a click in a 2- or 4-chamber view), which pulls a spike of the
+//!   wall towards itself (27 mm on SurFCo, session 15).
 //!
-//! Both are left out by default (`Params::keep_specks` keeps them: the paper's method, where
+//! All are left out by default (`Params::keep_specks` keeps them: the paper's method, where
 //! every contour is data) and the load-time warning says so, naming each with its file line, so
-//! nothing is lost silently (docs/VALIDATION.md, "Session 14: specks and stray contours"). Neither
-//! rule fires on any real file or on the planner's acquisitions, whose meshes are unchanged.
+//! nothing is lost silently (docs/VALIDATION.md, "Session 14: specks and stray contours" and
+//! session 15). No rule fires on any real file or on the planner's acquisitions, whose meshes are unchanged.
 
 use super::axis::analyse;
 use super::checks::{one_line, surface_groups};
-use super::clean::{cleaned_contour, length};
+use super::clean::{cleaned_contour, contour_length};
+use super::lax_specks::lax_specks;
 use super::specks::{specks, SPECK_RATIO};
 use super::strays::strays;
 use super::{Contour, ContourSet};
@@ -43,6 +47,9 @@ pub enum Why {
         next_id: String,
         next_perimeter_mm: f64,
     },
+    /// A long-axis curve `length_mm` long, under `specks::SPECK_RATIO` of its surface's
+    /// `extent_mm` along the axis ([`super::lax_specks`]).
+    LaxSpeck { length_mm: f64, extent_mm: f64 },
 }
 
 /// One contour left out of a reconstruction.
@@ -83,6 +90,9 @@ pub fn set_aside(contours: Vec<Contour>) -> (Vec<Contour>, Vec<SetAside>) {
         }
     }
     let mut specks_out: Vec<SetAside> = Vec::new();
+    let (k, lax_out) = without_lax_specks(kept);
+    kept = k;
+    specks_out.extend(lax_out);
     // Each round lays out what is left; a slice can hide a speck behind another (the tube takes
     // a slice's longest closed loop, however short, before its open curves).
     while let Some((k, left_out)) = one_round(&kept) {
@@ -125,7 +135,7 @@ fn one_round(contours: &[Contour]) -> Option<(Vec<Contour>, Vec<SetAside>)> {
             .filter(|&j| {
                 contours
                     .get(j)
-                    .is_some_and(|c| own_length(c) < SPECK_RATIO * s.next.perimeter_mm)
+                    .is_some_and(|c| contour_length(c) < SPECK_RATIO * s.next.perimeter_mm)
             })
             .collect();
         for j in if short.is_empty() { slice } else { short } {
@@ -134,7 +144,7 @@ fn one_round(contours: &[Contour]) -> Option<(Vec<Contour>, Vec<SetAside>)> {
             };
             *flag = true;
             let why = Why::Speck {
-                perimeter_mm: own_length(c),
+                perimeter_mm: contour_length(c),
                 next_id: next_id.clone(),
                 next_perimeter_mm: s.next.perimeter_mm,
             };
@@ -150,9 +160,30 @@ fn one_round(contours: &[Contour]) -> Option<(Vec<Contour>, Vec<SetAside>)> {
     Some((kept, out))
 }
 
-/// Length of all of a contour's pieces (a closed one with its closing segment), mm.
-fn own_length(c: &Contour) -> f64 {
-    c.pieces.iter().map(|p| length(&p.points, p.closed)).sum()
+/// `contours` without their long-axis specks, and those left out.
+fn without_lax_specks(contours: Vec<Contour>) -> (Vec<Contour>, Vec<SetAside>) {
+    let Ok(layout) = analyse(&contours) else {
+        return (contours, Vec::new());
+    };
+    let found = lax_specks(&contours, &layout);
+    if found.is_empty() {
+        return (contours, Vec::new());
+    }
+    let mut out = Vec::new();
+    let mut kept = Vec::with_capacity(contours.len());
+    for (i, c) in contours.into_iter().enumerate() {
+        match found.iter().find(|s| s.index == i) {
+            Some(s) => out.push(SetAside::of(
+                &c,
+                Why::LaxSpeck {
+                    length_mm: s.length_mm,
+                    extent_mm: s.extent_mm,
+                },
+            )),
+            None => kept.push(c),
+        }
+    }
+    (kept, out)
 }
 
 /// What a reconstruction of each surface of `set` would leave out (at the defaults).
@@ -192,6 +223,14 @@ pub fn warnings(list: &[SetAside]) -> Vec<String> {
                     s.name()
                 ));
             }
+            Why::LaxSpeck {
+                length_mm,
+                extent_mm,
+            } => speck.push(format!(
+                "{}, {length_mm:.1} mm long in a long-axis plane, where the data span {extent_mm:.0} \
+                 mm along the axis)",
+                s.name()
+            )),
         }
     }
     let mut out = one_line(

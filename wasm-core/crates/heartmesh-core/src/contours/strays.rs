@@ -163,7 +163,10 @@ pub fn strays(contours: &[Contour]) -> Vec<(usize, f64)> {
             .map(|(_, e)| e.2)
             .collect();
         inside.sort_by(f64::total_cmp);
-        let spacing = inside.get(inside.len().saturating_sub(1) / 2).copied().unwrap_or(0.0);
+        let spacing = inside
+            .get(inside.len().saturating_sub(1) / 2)
+            .copied()
+            .unwrap_or(0.0);
         let apart = weight > SPAN_SHARE * large_span && weight > GAP_FACTOR * spacing;
         if 2 * small.len() > large.len() || large_span <= 0.0 || !apart {
             break;
