@@ -7,7 +7,7 @@ import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { download as downloadFrom, openApp, readResult, runAndWait, sharedDir, SHOTS } from './lib.mjs';
+import { download as downloadFrom, openApp, readResult, runAndWait, sharedDir, waitForError, SHOTS } from './lib.mjs';
 
 let app;
 let page;
@@ -161,7 +161,8 @@ describe('breath-hold alignment in the browser', () => {
     await page.screenshot({ path: join(SHOTS, 'refused-metres.png') });
     // A file that cannot be read at all: not opened, the view keeps the refused-but-loaded file.
     await page.setInputFiles('[data-testid=file-input]', { name: 'broken.csv', mimeType: 'text/csv', buffer: Buffer.from('contour,x,y,z\nc1,1,2,3\nc1,1,oops,3\n') });
-    await page.waitForFunction(() => /broken\.csv/.test(document.querySelector('[data-testid=status]')?.textContent ?? ''), null, { timeout: 10000 });
+    // The status reads "loading broken.csv" first, with the metres refusal still in the banner: wait for its own error.
+    await waitForError(page, 'broken.csv');
     assert.match(await page.textContent('[data-testid=error-text]'), /Not opened; still showing surfco-metres\.csv\./);
     assert.equal(Number(await page.getAttribute('[data-testid=viewport-canvas]', 'data-view-radius')), radius);
   });

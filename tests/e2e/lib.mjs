@@ -118,32 +118,102 @@ export function requireDist() {
   if (wasm.length === 0) throw new Error('dist/ has no .wasm file: build the WebAssembly core first (npm run build)');
 }
 
-/** Runs `action` (a click, a file upload, ...) and waits until the new run it started is done. */
-export async function runAndWait(page, action, timeout = 90000) {
-  const runId = async () => Number((await page.getAttribute('[data-testid=status]', 'data-run-id')) ?? 0);
-  const before = await runId();
-  await action();
+// ---- waiting for the app ------------------------------------------------------------------------
+// The status line (`[data-testid=status]`) passes through intermediate words ("loading NAME",
+// "ready", "running") and keeps the previous one (an earlier error, the last run's "done") until
+// an action takes effect; its data-run-id is absent whenever no run is on screen. Every wait below
+// is for a condition the previous and the intermediate states cannot satisfy.
+
+/** The status line's words and run id (0 when it shows none). */
+export async function statusNow(page) {
+  return page.$eval('[data-testid=status]', (s) => ({ text: s.textContent ?? '', runId: Number(s.getAttribute('data-run-id') ?? 0) }));
+}
+
+/** The run id the status line shows (0 when it shows none). */
+export async function statusRunId(page) {
+  return (await statusNow(page)).runId;
+}
+
+/**
+ * Waits until the status shows a run newer than `before` (a run id read before the action that
+ * starts it). An error on the status line fails at once, but only one shown after the status left
+ * `previousText` (its words before the action: an error left from an earlier step is not this
+ * action's), and never with `refusalsInPassing` (a drop whose first files are refused, shown in
+ * passing, before the one that opens runs).
+ */
+export async function waitForNewRun(page, before, { timeout = 90000, previousText = null, refusalsInPassing = false } = {}) {
   const deadline = Date.now() + timeout;
-  while ((await runId()) <= before) {
-    const text = (await page.textContent('[data-testid=status]')) ?? '';
-    if (text.startsWith('error')) throw new Error(`status: ${text}`);
-    if (Date.now() > deadline) throw new Error(`no new run started; status: ${text}`);
+  let moved = previousText === null;
+  for (;;) {
+    const { text, runId } = await statusNow(page);
+    if (runId > before) return runId;
+    if (text !== previousText) moved = true;
+    if (moved && !refusalsInPassing && text.startsWith('error')) throw new Error(`status: ${text}`);
+    if (Date.now() > deadline) throw new Error(`no new run started (run id still <= ${before}); status: ${text}`);
     await page.waitForTimeout(20);
   }
+}
+
+/**
+ * Runs `action` (a click, a file upload, a parameter change, ...) and waits until the new run it
+ * started is done (waitForDone). `refusalsInPassing`: see waitForNewRun.
+ */
+export async function runAndWait(page, action, timeout = 90000, { refusalsInPassing = false } = {}) {
+  const { text, runId: before } = await statusNow(page);
+  await action();
+  const deadline = Date.now() + timeout;
+  await waitForNewRun(page, before, { timeout, previousText: text, refusalsInPassing });
   await waitForDone(page, Math.max(1000, deadline - Date.now()));
 }
 
-/** Waits until `[data-testid=status]` says done (or fails with the status text on error/timeout). */
+/**
+ * Waits until `[data-testid=status]` says done (or fails with the status text on error/timeout)
+ * for the settings now in the parameter panel: a run made before a later change whose debounced
+ * restart has not started yet is not the one waited for. Then waits for the display to draw the
+ * result (it follows at the next animation frame: the 3D view, legends, timeline label).
+ */
 export async function waitForDone(page, timeout = 90000) {
-  const status = page.locator('[data-testid=status]');
   const deadline = Date.now() + timeout;
   for (;;) {
-    const text = (await status.textContent()) ?? '';
-    if (text.trim() === 'done') return;
+    const { text, current } = await page.evaluate(() => {
+      const status = document.querySelector('[data-testid=status]')?.textContent ?? '';
+      const app = window.heartmesh;
+      const r = app?.currentResult();
+      const now = app?.runSettings();
+      const same = (a, b) => Object.keys(b).every((k) => JSON.stringify(a?.[k]) === JSON.stringify(b[k]));
+      const current = !!r && !!now && r.lids === now.lids && r.surface === now.surface && same(r.params, now.params) && same(r.options, now.options);
+      return { text: status, current };
+    });
+    if (text.trim() === 'done' && current) break;
     if (text.startsWith('error')) throw new Error(`status: ${text}`);
-    if (Date.now() > deadline) throw new Error(`timed out waiting for done; status: ${text}`);
+    if (Date.now() > deadline) throw new Error(`timed out waiting for done${text.trim() === 'done' ? ' with the result of the settings in the panel' : ''}; status: ${text}`);
     await page.waitForTimeout(50);
   }
+  await nextFrames(page);
+}
+
+/**
+ * Waits until the status line shows an error naming `name` (a file's refusal: not its
+ * "loading NAME", nor an error left from an earlier step about another file); resolves to the text.
+ */
+export async function waitForError(page, name, timeout = 30000) {
+  const handle = await page.waitForFunction((n) => {
+    const t = document.querySelector('[data-testid=status]')?.textContent ?? '';
+    return t.startsWith('error') && t.includes(n) ? t : null;
+  }, name, { timeout });
+  return handle.jsonValue();
+}
+
+/**
+ * Resolves once the page has drawn `n` more animation frames: what the display loop shows (the
+ * mesh, legends, the timeline label) follows a state change at the next frame.
+ */
+export async function nextFrames(page, n = 2) {
+  await page.evaluate((k) => new Promise((resolve) => {
+    let left = k;
+    const tick = () => (--left <= 0 ? resolve(undefined) : requestAnimationFrame(tick));
+    requestAnimationFrame(tick);
+  }), n);
 }
 
 /** The numbers of `[data-testid=result]`. */

@@ -8,7 +8,7 @@ import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { download, openApp, readResult, runAndWait, sharedDir, SHOTS } from './lib.mjs';
+import { download, gotoEmpty, nextFrames, openApp, readResult, runAndWait, sharedDir, statusRunId, waitForError, waitForNewRun, SHOTS } from './lib.mjs';
 
 let app;
 let page;
@@ -39,24 +39,14 @@ function inside(inner, outer) {
 
 async function fresh(query = '', viewport = { width: 1280, height: 720 }) {
   await page.setViewportSize(viewport);
-  await page.goto(`${app.server.url}${query}`);
-  await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'no file loaded', null, { timeout: 30000 });
-}
-
-/** Waits until the status says done for a run newer than `before`. */
-async function doneAfter(before) {
-  await page.waitForFunction((b) => {
-    const s = document.querySelector('[data-testid=status]');
-    return s?.textContent === 'done' && Number(s.getAttribute('data-run-id')) > b;
-  }, before, { timeout: 60000 });
+  await gotoEmpty(page, `${app.server.url}${query}`);
 }
 
 describe('the app for a newcomer (session 14)', () => {
   it('a biv-me GPFile dropped with its SliceInfoFile runs; the SliceInfoFile is set aside with a note, not refused', async () => {
     await fresh();
-    const before = Number((await page.getAttribute('[data-testid=status]', 'data-run-id')) ?? 0);
-    await page.setInputFiles('[data-testid=file-input]', [contours('bivme-example-patient1', 'SliceInfoFile.txt'), contours('bivme-example-patient1', 'GPFile_000.txt')]);
-    await doneAfter(before);
+    // The SliceInfoFile, read first, is refused in passing before the GPFile opens and runs.
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', [contours('bivme-example-patient1', 'SliceInfoFile.txt'), contours('bivme-example-patient1', 'GPFile_000.txt')]), 90000, { refusalsInPassing: true });
     const r = await readResult(page);
     assert.ok(r.vertices > 500 && r.meanMm > 0 && r.meanMm < 1, `result ${JSON.stringify(r)}`);
     assert.equal(await page.isVisible('[data-testid=error-banner]'), true);
@@ -65,7 +55,7 @@ describe('the app for a newcomer (session 14)', () => {
       'SliceInfoFile.txt set aside: image planes, not contours (the contours come from GPFile_000.txt; only the command line reads the planes, to check that each contour lies in its own).');
     // Alone, it is still refused, with what to open instead.
     await page.setInputFiles('[data-testid=file-input]', contours('bivme-example-patient1', 'SliceInfoFile.txt'));
-    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent?.startsWith('error'), null, { timeout: 10000 });
+    await waitForError(page, 'SliceInfoFile.txt');
     assert.match(await status(), /^error: SliceInfoFile\.txt, line 1: this is a biv-me SliceInfoFile .*read the GPFile_\*\.txt beside it$/);
   });
 
@@ -94,9 +84,7 @@ describe('the app for a newcomer (session 14)', () => {
 
   it('1024 x 700: the file and surface pickers clear the privacy badge; the Lab\'s legends clear the view controls', async () => {
     await fresh('', { width: 1024, height: 700 });
-    const before = Number((await page.getAttribute('[data-testid=status]', 'data-run-id')) ?? 0);
-    await page.setInputFiles('[data-testid=file-input]', [contours('bivme-test-patient2', 'patient2-ED.csv'), contours('bivme-test-patient2', 'patient2-ES.csv')]);
-    await doneAfter(before);
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', [contours('bivme-test-patient2', 'patient2-ED.csv'), contours('bivme-test-patient2', 'patient2-ES.csv')]));
     assert.equal(await page.isVisible('[data-testid=file-picker]'), true);
     assert.equal(await page.isVisible('[data-testid=surface-picker]'), true);
     const badge = await box('[data-testid=privacy]');
@@ -124,9 +112,10 @@ describe('the app for a newcomer (session 14)', () => {
     await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'running', null, { timeout: 30000 });
     const lambda = page.locator('#slot-left input[type=range]').nth(1);
     await lambda.focus();
+    // The run id before the key: read after it, the debounced restart may already have begun.
+    const first = await statusRunId(page);
     await page.keyboard.press('ArrowLeft'); // restarts the run after the debounce
-    const moved = Number(await page.getAttribute('[data-testid=status]', 'data-run-id'));
-    await page.waitForFunction((id) => Number(document.querySelector('[data-testid=status]')?.getAttribute('data-run-id')) > id, moved, { timeout: 10000 });
+    await waitForNewRun(page, first, { timeout: 30000 });
     assert.equal(await lambda.evaluate((el) => el === document.activeElement), true, 'the slider still has the focus');
     await page.keyboard.press('Escape');
     await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'stopped', null, { timeout: 10000 });
@@ -139,7 +128,7 @@ describe('the app for a newcomer (session 14)', () => {
     const view = await box('#slot-viewport');
     await page.mouse.move(view.x + view.width / 2, view.y + view.height / 2);
     for (let i = 0; i < 6; i++) await page.mouse.wheel(0, -300); // zoomed in: the mesh fills the view
-    await page.waitForTimeout(300);
+    await nextFrames(page); // drawn zoomed in: the hover's ray follows the camera of the last frame
     let shown = null;
     for (let y = view.y + 0.3 * view.height; y < view.y + 0.8 * view.height && !shown; y += 20) {
       await page.mouse.move(view.x + view.width - 40, y, { steps: 2 });
@@ -157,16 +146,13 @@ describe('the app for a newcomer (session 14)', () => {
     const shown = await readResult(page);
     const params = await download(page, 'export-json');
     await page.setInputFiles('[data-testid=file-input]', { name: params.name, mimeType: 'application/json', buffer: params.bytes });
-    await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent?.startsWith('error'), null, { timeout: 10000 });
+    await waitForError(page, params.name);
     assert.match(await page.textContent('[data-testid=error-text]'),
       /^patient1-ES-LV_ENDO-params\.json, line \d+: invalid session JSON: missing field `heartmesh_session`\. Only a heartmesh session opens here \(the Session export, …-session\.json\); the Parameters JSON export holds no contours\. Not opened; still showing patient1-ES\.csv\.$/);
     const mesh = await download(page, 'export-stl');
     await page.setInputFiles('[data-testid=file-input]', { name: mesh.name, mimeType: 'model/stl', buffer: mesh.bytes });
-    // The status reads "loading NAME" first: wait for the error naming the mesh, not just its name.
-    await page.waitForFunction((n) => {
-      const t = document.querySelector('[data-testid=status]')?.textContent ?? '';
-      return t.startsWith('error') && t.includes(n);
-    }, mesh.name, { timeout: 10000 });
+    // The status reads "loading NAME" first, and the JSON's error before that: wait for the mesh's own.
+    await waitForError(page, mesh.name);
     assert.match(await page.textContent('[data-testid=error-text]'), /not contours\. To measure a reconstruction against a mesh, open it in the Lab tab as the truth\. Not opened/);
     assert.deepEqual(await readResult(page), shown, 'the result on screen stays');
   });

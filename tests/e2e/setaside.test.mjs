@@ -64,7 +64,7 @@ describe('contours left out in the browser', () => {
     });
     const canvas = await page.locator('[data-testid=viewport-canvas]').boundingBox();
     await page.mouse.move(canvas.x + at.x, canvas.y + at.y);
-    await page.waitForSelector('[data-testid=hover-readout]:not([hidden])', { timeout: 5000 });
+    await page.waitForSelector('[data-testid=hover-readout]:not([hidden])', { timeout: 10000 });
     const hover = (await page.textContent('[data-testid=hover-readout]')) ?? '';
     assert.ok(hover.startsWith(` left out: speck · ${speck.id}`) || hover.startsWith(`left out: speck · ${speck.id}`), hover);
     assert.doesNotMatch(hover, /to mesh/);

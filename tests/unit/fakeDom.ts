@@ -6,6 +6,8 @@ export class FakeElement {
   readonly children: (FakeElement | string)[] = [];
   readonly attributes = new Map<string, string>();
   readonly dataset: Record<string, string> = {};
+  /** Inline styles (the legends' colour bar and tick positions). */
+  readonly style: Record<string, string> = {};
   hidden = false;
   title = '';
   /** The element this one was last appended to (what a panel reaches through `parentElement`). */
@@ -80,7 +82,11 @@ function camel(s: string): string {
 }
 
 /** Installs the fake `document` (call vi.unstubAllGlobals() after). */
-export const fakeDocument = { createElement: (tag: string) => new FakeElement(tag) };
+export const fakeDocument = {
+  createElement: (tag: string) => new FakeElement(tag),
+  /** SVG elements (the Lab's charts) are plain fake elements too. */
+  createElementNS: (_ns: string, tag: string) => new FakeElement(tag),
+};
 
 /** The label -> value rows of the first `<dl>` under `el` (the result panel's layout). */
 export function dlRows(el: FakeElement): Record<string, string> {

@@ -437,6 +437,8 @@ export class LabPanel {
       this.looInfo.textContent = `${p.completed} / ${p.total} contours`;
       if (p.item) this.loo.add(p.item as LooItem);
     });
+    // Cancel is enabled from now on: it must reach this batch before the worker says it started.
+    this.looRun = { handle, contours: [], points: new Float32Array() };
     try {
       const info = await handle.started;
       const contours = info.contours ?? [];

@@ -1,0 +1,93 @@
+// The Lab panel's leave-one-out buttons with a fake core client and the fake DOM: Cancel, enabled
+// by the click that starts the batch, must cancel it even before the worker said it started (the
+// e2e test clicks it at once; on a loaded machine the worker's "started" can come later).
+import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
+import type { Controller } from '../../../web/src/app/controller';
+import type { LabBatchHandle } from '../../../web/src/core-client/CoreClient';
+import type { CoreErrorData, LabBatchInfo } from '../../../web/src/core-client/protocol';
+import { LabPanel } from '../../../web/src/lab/LabPanel';
+import { FakeElement, fakeDocument } from '../fakeDom';
+
+/** A batch the test starts and settles by hand; cancel() settles it as CoreClient's does. */
+function fakeBatch(runId: number) {
+  let started!: { resolve: (i: LabBatchInfo) => void; reject: (e: CoreErrorData) => void };
+  let done!: { resolve: () => void; reject: (e: CoreErrorData) => void };
+  const startedP = new Promise<LabBatchInfo>((resolve, reject) => (started = { resolve, reject }));
+  const doneP = new Promise<void>((resolve, reject) => (done = { resolve, reject }));
+  startedP.catch(() => undefined);
+  doneP.catch(() => undefined);
+  const cancel = vi.fn(() => {
+    const e = { code: 'cancelled', message: 'the batch was cancelled' };
+    started.reject(e);
+    done.reject(e);
+  });
+  const handle: LabBatchHandle = { runId, started: startedP, done: doneP, cancel };
+  return { handle, started, done, cancel };
+}
+
+function makePanel() {
+  const batches: ReturnType<typeof fakeBatch>[] = [];
+  const client = {
+    labBatch: () => {
+      const b = fakeBatch(batches.length + 1);
+      batches.push(b);
+      return b.handle;
+    },
+  };
+  const controller = {
+    coreClient: client,
+    onResult: () => undefined,
+    runSettings: () => ({ fileName: 'lab.csv', surface: null, params: {}, lids: 'auto', options: {} }),
+    currentResult: () => null,
+    debug: { historyLength: 0 },
+  } as unknown as Controller;
+  const panel = new LabPanel({ controller, viewer: null, legendSlot: new FakeElement('div') as unknown as HTMLElement });
+  const el = panel.element as unknown as FakeElement;
+  const byId = (id: string) => {
+    const e = el.byTestId(id);
+    if (!e) throw new Error(`no ${id}`);
+    return e as FakeElement & { disabled?: boolean };
+  };
+  return { batches, byId };
+}
+
+const settle = () => new Promise((r) => setTimeout(r, 0));
+
+describe('the Lab panel leave-one-out', () => {
+  beforeEach(() => vi.stubGlobal('document', fakeDocument));
+  afterEach(() => vi.unstubAllGlobals());
+
+  it('Cancel stops a batch the worker has not started yet', async () => {
+    const { batches, byId } = makePanel();
+    byId('lab-loo-run').fire('click');
+    expect(batches).toHaveLength(1);
+    expect(byId('lab-loo-cancel').disabled).toBe(false);
+    expect(byId('lab-loo-run').disabled).toBe(true);
+    // No "started" from the worker yet: the click must still reach the batch.
+    byId('lab-loo-cancel').fire('click');
+    expect(batches[0].cancel).toHaveBeenCalledTimes(1);
+    await settle();
+    expect(byId('lab-loo-info').textContent).toBe('cancelled');
+    expect(byId('lab-loo-run').disabled).toBe(false);
+    expect(byId('lab-loo-cancel').disabled).toBe(true);
+  });
+
+  it('Cancel after the start stops the batch too, and a batch that finishes is done', async () => {
+    const { batches, byId } = makePanel();
+    byId('lab-loo-run').fire('click');
+    batches[0].started.resolve({ total: 2, contours: [], points: new Float32Array() } as unknown as LabBatchInfo);
+    await settle();
+    byId('lab-loo-cancel').fire('click');
+    expect(batches[0].cancel).toHaveBeenCalledTimes(1);
+    await settle();
+    expect(byId('lab-loo-info').textContent).toBe('cancelled');
+
+    byId('lab-loo-run').fire('click');
+    batches[1].started.resolve({ total: 0, contours: [], points: new Float32Array() } as unknown as LabBatchInfo);
+    batches[1].done.resolve();
+    await settle();
+    expect(byId('lab-loo-info').dataset.done).toBe('1');
+    expect(byId('lab-loo-cancel').disabled).toBe(true);
+    expect(batches[1].cancel).not.toHaveBeenCalled();
+  });
+});
