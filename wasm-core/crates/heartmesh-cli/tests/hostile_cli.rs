@@ -45,6 +45,16 @@ fn reconstruct(
     (code, err, rep)
 }
 
+/// The vertex and face lines of `dir/out.obj` (its header comments name the input file).
+fn mesh_body(dir: &Path) -> Vec<String> {
+    std::fs::read_to_string(dir.join("out.obj"))
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(str::to_string)
+        .collect()
+}
+
 /// Exit 2, one line, `heartmesh: FILE[:LINE]: ...`.
 fn assert_one_line_error(code: i32, err: &str, file: &Path, what: &str) {
     assert_eq!(code, 2, "{what}: {err}");
@@ -383,14 +393,7 @@ fn a_stray_ring_is_left_out_and_kept_it_makes_the_mesh_pass_through_itself() {
     let stray_line = text.lines().count() + 1;
     let f = dir.join("stray.csv");
     std::fs::write(&f, format!("{text}{stray}")).unwrap();
-    let mesh_lines = || -> Vec<String> {
-        std::fs::read_to_string(dir.join("out.obj"))
-            .unwrap()
-            .lines()
-            .filter(|l| !l.starts_with('#'))
-            .map(str::to_string)
-            .collect()
-    };
+    let mesh_lines = || mesh_body(&dir);
     // Without the stray ring: no crossing, no such warning.
     let (code, err, rep) = reconstruct(&dir, &sim, &[]);
     assert_eq!(code, 0, "{err}");
@@ -539,14 +542,7 @@ fn a_click_in_a_long_axis_view_is_left_out() {
     std::fs::write(&f, format!("{text}{click}")).unwrap();
     let plain = dir.join("plain.csv");
     std::fs::write(&plain, &text).unwrap();
-    let mesh = || -> Vec<String> {
-        std::fs::read_to_string(dir.join("out.obj"))
-            .unwrap()
-            .lines()
-            .filter(|l| !l.starts_with('#'))
-            .map(str::to_string)
-            .collect()
-    };
+    let mesh = || mesh_body(&dir);
     let (code, err, _) = reconstruct(&dir, &plain, &[]);
     assert_eq!(code, 0, "{err}");
     let without = mesh();

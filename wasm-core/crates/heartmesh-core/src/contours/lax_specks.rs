@@ -62,8 +62,7 @@ pub fn extent(contours: &[Contour], layout: &Layout) -> Option<f64> {
 mod tests {
     use super::*;
     use crate::contours::axis::analyse;
-    use crate::contours::specks::fixtures::{dome, ring};
-    use crate::contours::Polyline;
+    use crate::contours::specks::fixtures::{contour, dome, ring};
     use crate::geometry::{v3, Vec3};
 
     /// A long-axis curve in the plane y = `y`: a U from the top of the dome (z 40) down to z
@@ -75,15 +74,7 @@ mod tests {
                 v3(-w * t.cos(), y, 40.0 - (40.0 - bottom) * t.sin())
             })
             .collect();
-        Contour {
-            id: id.into(),
-            surface: Some("LV_EPI".into()),
-            pieces: vec![Polyline {
-                points,
-                closed: false,
-            }],
-            first_line: 400,
-        }
+        contour(id, points, false, 400)
     }
 
     #[test]

@@ -138,7 +138,7 @@ fn at_apex(rings: &[SliceRing], k: usize) -> bool {
 #[cfg(test)]
 pub(crate) mod fixtures {
     use crate::contours::{Contour, Polyline};
-    use crate::geometry::v3;
+    use crate::geometry::{v3, Vec3};
 
     pub fn ring(id: &str, r: f64, z: f64, cx: f64, n: usize, line: usize) -> Contour {
         let points = (0..n)
@@ -147,13 +147,15 @@ pub(crate) mod fixtures {
                 v3(cx + r * t.cos(), r * t.sin(), z)
             })
             .collect();
+        contour(id, points, true, line)
+    }
+
+    /// An LV_EPI contour of one piece.
+    pub fn contour(id: &str, points: Vec<Vec3>, closed: bool, line: usize) -> Contour {
         Contour {
             id: id.into(),
             surface: Some("LV_EPI".into()),
-            pieces: vec![Polyline {
-                points,
-                closed: true,
-            }],
+            pieces: vec![Polyline { points, closed }],
             first_line: line,
         }
     }

@@ -83,30 +83,15 @@ fn spanning_tree(boxes: &[Bounds]) -> Vec<(usize, usize, f64)> {
     edges
 }
 
-/// The vertices reached from `from` over the `edges` marked live, the edge `cut` excepted.
-fn side_of(
-    n: usize,
-    edges: &[(usize, usize, f64)],
-    live: &[bool],
-    cut: usize,
-    from: usize,
-) -> Vec<bool> {
-    let mut seen = vec![false; n];
+/// The vertices reached from `from` over the tree's live edges, the edge `cut` excepted
+/// (`adjacent[v]`: each neighbour of `v` in the tree and the index of the edge to it).
+fn side_of(adjacent: &[Vec<(usize, usize)>], live: &[bool], cut: usize, from: usize) -> Vec<bool> {
+    let mut seen = vec![false; adjacent.len()];
     seen[from] = true;
     let mut stack = vec![from];
     while let Some(v) = stack.pop() {
-        for (k, &(a, b, _)) in edges.iter().enumerate() {
-            if k == cut || !live[k] {
-                continue;
-            }
-            let other = if a == v {
-                b
-            } else if b == v {
-                a
-            } else {
-                continue;
-            };
-            if !seen[other] {
+        for &(other, k) in &adjacent[v] {
+            if k != cut && live[k] && !seen[other] {
                 seen[other] = true;
                 stack.push(other);
             }
@@ -134,6 +119,11 @@ pub fn strays(contours: &[Contour]) -> Vec<(usize, f64)> {
     }
     let boxes: Vec<Bounds> = members.iter().map(|(_, b)| *b).collect();
     let edges = spanning_tree(&boxes);
+    let mut adjacent: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
+    for (k, &(x, y, _)) in edges.iter().enumerate() {
+        adjacent[x].push((y, k));
+        adjacent[y].push((x, k));
+    }
     let mut live = vec![true; edges.len()];
     let mut kept = vec![true; n];
     let mut gap_of: Vec<Option<f64>> = vec![None; n];
@@ -146,7 +136,7 @@ pub fn strays(contours: &[Contour]) -> Vec<(usize, f64)> {
         let Some((cut, &(a, _, weight))) = heaviest else {
             break;
         };
-        let side_a = side_of(n, &edges, &live, cut, a);
+        let side_a = side_of(&adjacent, &live, cut, a);
         let rest: Vec<usize> = (0..n).filter(|&v| kept[v]).collect();
         let (on_a, off_a): (Vec<usize>, Vec<usize>) = rest.iter().partition(|&&v| side_a[v]);
         let (small, large) = if on_a.len() <= off_a.len() {
