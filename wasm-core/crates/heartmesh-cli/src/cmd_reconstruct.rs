@@ -152,6 +152,12 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let fail = |e: CoreError| classify(input, e).with_hint(&set.warnings);
     let started = Instant::now();
     let mut rec = Reconstruction::new(&set, params.clone()).map_err(fail)?;
+    // Step 0 builds the initial tube; the growth note, from its size, comes before the wait it
+    // explains.
+    rec.step().map_err(fail)?;
+    if let (false, Some(note)) = (quiet, rec.growth_note()) {
+        eprintln!("heartmesh: note: {input}: {note}");
+    }
     rec.run().map_err(fail)?;
     let seconds = started.elapsed().as_secs_f64();
 

@@ -178,3 +178,37 @@ fn low_target_reduction_is_capped() {
     );
     check_closed_manifold_outward(&mesh).unwrap();
 }
+
+/// The growth note (session 15): from the initial tube's size, a long run at the paper's remesh
+/// settings is predicted to reach the remesh cap, and the defaults are not.
+#[test]
+fn a_long_run_is_told_it_will_reach_the_cap() {
+    let set = load_contours("surfco-example.csv");
+    let note_after_step_0 = |params: Params| {
+        let mut rec = Reconstruction::new(&set, params).unwrap();
+        assert_eq!(rec.growth_note(), None, "before the tube exists");
+        rec.step().unwrap();
+        let triangles = rec.mesh().triangles.len();
+        (rec.growth_note(), triangles)
+    };
+    let (note, triangles) = note_after_step_0(Params::default());
+    assert_eq!(note, None);
+    let long = Params {
+        iterations: 1500,
+        ..Params::default()
+    };
+    let (note, _) = note_after_step_0(long);
+    let note = note.unwrap();
+    // 1.12x per remesh from the tube's triangles to 200 000, every 20 iterations.
+    let k = (200_000.0 / triangles as f64).ln() / 1.12f64.ln();
+    let expected = 20 * k.ceil() as usize;
+    println!("{triangles} triangles after step 0: {note}");
+    assert!(
+        note.contains(&format!("by about iteration {expected} of 1500")),
+        "{note}"
+    );
+    assert!(
+        note.starts_with("each remesh keeps 1.12x the triangles"),
+        "{note}"
+    );
+}

@@ -11,6 +11,7 @@ mod diameter;
 pub mod dome;
 mod end_data;
 pub mod ends;
+pub mod growth;
 mod lid_disc;
 pub mod lid_pull;
 mod phases;
@@ -585,6 +586,12 @@ impl Reconstruction {
 
     pub fn is_done(&self) -> bool {
         self.done
+    }
+
+    /// The note for a run whose mesh would reach the remesh cap ([`growth::cap_note`]), or None;
+    /// known once step 0 has built the initial tube (None before).
+    pub fn growth_note(&self) -> Option<String> {
+        growth::cap_note(&self.params, self.mesh_unit.triangles.len())
     }
 
     pub fn iteration(&self) -> usize {
