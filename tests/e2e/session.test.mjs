@@ -48,6 +48,11 @@ describe('a session with the app', () => {
     await page.setInputFiles('[data-testid=file-input]', contours('bivme-example-patient1', 'patient1-ED.csv'));
     await untilIteration(20);
     assert.equal(await page.isDisabled('[data-testid=tl-stop]'), false);
+    // The core predicts from the initial tube that 2000 iterations reach the remesh cap, and the
+    // warning line says so with the first frame (session 15).
+    const growth = (await page.textContent('#slot-warnings')) ?? '';
+    assert.match(growth, /each remesh keeps 1\.12x the triangles \(x4 subdivision, 28 % kept\), so the mesh reaches the 200000-triangle cap by about iteration \d+ of 2000/);
+    assert.equal(await page.isVisible('#slot-warnings'), true);
     const id = await runId();
     await page.evaluate(() => (document.activeElement instanceof HTMLElement ? document.activeElement.blur() : undefined));
     await page.keyboard.press('Escape');
@@ -71,10 +76,11 @@ describe('a session with the app', () => {
     await untilIteration(5);
     await page.click('[data-testid=tl-stop]');
     await page.waitForFunction(() => document.querySelector('[data-testid=status]')?.textContent === 'stopped', null, { timeout: 10000 });
-    // ... and the worker still works: the defaults run to the end.
+    // ... and the worker still works: the defaults run to the end, without the growth note.
     await runAndWait(page, () => page.click('[data-testid=reset-params]'));
     const r = await readResult(page);
     assert.ok(r.meanMm > 0 && r.meanMm < 1, `mean ${r.meanMm} mm`);
+    assert.doesNotMatch((await page.textContent('#slot-warnings')) ?? '', /remesh/);
   });
 
   it('a file refused while a run goes on: error, then done when that run finishes; the banner keeps the refusal', async () => {

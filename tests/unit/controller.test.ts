@@ -421,6 +421,27 @@ describe('controller', () => {
     c2.dispose();
   });
 
+  it('shows the core\'s growth note on the warning line while the run goes on, and drops it with the next run', async () => {
+    const warnings = { textContent: '', hidden: true };
+    const c = new Controller({ ...parts, warnings } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c.openFiles([file('a.csv')]);
+    const run = client.runs[0];
+    const note = 'each remesh keeps 1.12x the triangles (x4 subdivision, 28 % kept), so the mesh reaches the 200000-triangle cap by about iteration 980 of 1500';
+    run.onFrame({ runId: run.runId, seq: 0, report: report(0), positions: new Float32Array(12), indices: new Uint32Array(12), growthNote: note });
+    expect(warnings.hidden).toBe(false);
+    expect(warnings.textContent).toBe(`⚠ ${note}`);
+    // A later frame without it keeps it; a new run clears it.
+    run.onFrame({ runId: run.runId, seq: 1, report: report(1), positions: new Float32Array(12) });
+    expect(warnings.textContent).toBe(`⚠ ${note}`);
+    c.setParams({ iterations: 250 }, 'auto');
+    await vi.runAllTimersAsync();
+    expect(client.runs.length).toBe(2);
+    expect(warnings.textContent).toBe('');
+    expect(warnings.hidden).toBe(true);
+    c.dispose();
+  });
+
   it('sends align_slices from the URL; an aligned result shows the contours as given', async () => {
     const viewer = viewerRecorder();
     const c = new Controller({ ...parts, viewer, warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');

@@ -97,6 +97,11 @@ describe('protocol helpers', () => {
     expect(stepsOf(merged)[0].indices).toBe(topo);
   });
 
+  it('the growth note on a first frame survives a skipped frame', () => {
+    expect(mergeFrames(frame(1, { growthNote: 'cap by about iteration 980' }), frame(2)).growthNote).toBe('cap by about iteration 980');
+    expect(mergeFrames(frame(1), frame(2)).growthNote).toBeUndefined();
+  });
+
   it('an aligned run\'s contours on its first frame survive a skipped frame and are transferred', () => {
     const runContours = { contours: [], points: new Float32Array([4, 5, 6]) };
     expect(mergeFrames(frame(1, { runContours }), frame(2)).runContours).toBe(runContours);

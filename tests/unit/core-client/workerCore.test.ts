@@ -16,6 +16,8 @@ class FakeSession implements SessionApi {
   alignment: unknown = null;
   /** What result_json says about the contours left out (absent: an older core). */
   setAside: unknown = undefined;
+  /** The core's growth note once the tube exists (undefined: the run stays below the cap). */
+  growthNote: string | undefined = undefined;
   constructor(clock: { t: number }, private total = 20, private remeshAt = [7], private resampleAt = [0, 12]) {
     this.clock = clock;
   }
@@ -45,6 +47,9 @@ class FakeSession implements SessionApi {
         phase: i >= end ? 'done' : i === 0 ? 'initial_tube' : 'deform',
       }),
     );
+  }
+  growth_note(): string | undefined {
+    return this.iteration >= 0 ? this.growthNote : undefined;
   }
   attractors_changed(): boolean {
     return this.resampleAt.includes(this.iteration);
@@ -213,6 +218,20 @@ describe('WorkerCore', () => {
       expect(done.result.volumeMl).toBe(50);
       expect(done.result.seconds).toBeCloseTo(0.021, 6); // 21 steps at 1 ms
     }
+  });
+
+  it('the first frame carries the core\'s growth note, and no later frame does; none without one', () => {
+    const { core, session, runTicks, frames } = setup(20);
+    session.growthNote = 'each remesh keeps 1.12x the triangles';
+    core.handle(runMsg);
+    runTicks();
+    const f = frames();
+    expect(f[0].growthNote).toBe('each remesh keeps 1.12x the triangles');
+    expect(f.slice(1).map((x) => x.growthNote)).toEqual(f.slice(1).map(() => undefined));
+    const quiet = setup(20);
+    quiet.core.handle(runMsg);
+    quiet.runTicks();
+    expect(quiet.frames().every((x) => x.growthNote === undefined)).toBe(true);
   });
 
   it('an ack releases the newest state at once', () => {

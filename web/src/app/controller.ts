@@ -46,6 +46,8 @@ export class Controller {
   private options: ReconOptions = { ...DEFAULT_OPTIONS };
   /** The current file's load-time warnings (and a note on a surface it lacks), as the warning line shows them. */
   private fileWarnings: string[] = [];
+  /** The current run's note from the core (its mesh will reach the remesh cap), shown with the warnings. */
+  private runNote: string | null = null;
   private surface: string | null = null;
   private sampleId: string | null = null;
   private view: ViewSettings = { ...DEFAULT_VIEW };
@@ -337,6 +339,10 @@ export class Controller {
     if (!client || !settings || this.state.kind === 'loading') return;
     this.cancelRun();
     this.clearRunDisplay();
+    if (this.runNote) {
+      this.runNote = null;
+      this.renderWarnings();
+    }
     this.parts.result.clear('running…');
     const handle = client.run(settings, (f) => this.onFrame(f));
     this.active = { runId: handle.runId, cancel: () => handle.cancel() };
@@ -379,6 +385,7 @@ export class Controller {
     const warnings = [...this.fileWarnings];
     const note = keptSpecksNote(warnings, this.options.keep_specks);
     if (note) warnings.push(note);
+    if (this.runNote) warnings.push(this.runNote);
     this.parts.warnings.textContent = warnings.length ? `⚠ ${warnings.join(' · ')}` : '';
     this.parts.warnings.hidden = warnings.length === 0;
   }
@@ -404,6 +411,10 @@ export class Controller {
 
   private onFrame(f: Frame): void {
     if (!this.active || f.runId !== this.active.runId) return;
+    if (f.growthNote) {
+      this.runNote = f.growthNote;
+      this.renderWarnings();
+    }
     this.runView.frame(f);
   }
 

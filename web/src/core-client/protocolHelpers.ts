@@ -170,8 +170,8 @@ export function isToWorker(v: unknown): v is ToWorker {
 /**
  * Merges a newer frame over an older one that was never handed to the receiver: the newer step
  * stays the newest, the older frame's steps (its `earlier` and its newest) go before the newer's
- * `earlier`, so no step is lost; topology (indices), attractors and run contours of the older frame
- * are carried over when the newer frame does not have its own, so the newest step always comes with
+ * `earlier`, so no step is lost; topology (indices), attractors, run contours and the growth note of
+ * the older frame are carried over when the newer frame does not have its own, so the newest step always comes with
  * what it needs to be drawn.
  */
 export function mergeFrames(older: Frame, newer: Frame): Frame {
@@ -181,6 +181,7 @@ export function mergeFrames(older: Frame, newer: Frame): Frame {
     merged.attractors = older.attractors;
   }
   if (merged.runContours === undefined && older.runContours !== undefined) merged.runContours = older.runContours;
+  if (merged.growthNote === undefined && older.growthNote !== undefined) merged.growthNote = older.growthNote;
   return merged;
 }
 

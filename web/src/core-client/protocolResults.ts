@@ -105,6 +105,11 @@ export interface Frame {
    * run aligns breath-holds: these are the shifted ones), so the display shows them while it runs.
    */
   runContours?: { contours: ContourInfo[]; points: Float32Array };
+  /**
+   * On the run's first frame, when its mesh will reach the core's remesh cap: the core's note
+   * (`Reconstruction::growth_note`), so the app says why the later steps slow down before they do.
+   */
+  growthNote?: string;
 }
 
 export interface Stats {

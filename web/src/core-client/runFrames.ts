@@ -57,6 +57,7 @@ export class RunFrames {
     if (msg.indices !== undefined) frame.indices = msg.indices;
     if (msg.attractors !== undefined) frame.attractors = msg.attractors;
     if (msg.runContours !== undefined) frame.runContours = msg.runContours;
+    if (msg.growthNote !== undefined) frame.growthNote = msg.growthNote;
     if (msg.earlier?.length) frame.earlier = msg.earlier;
     run.pending = run.pending ? mergeFrames(run.pending, frame) : frame;
     if (!run.flushScheduled) {

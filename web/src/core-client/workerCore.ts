@@ -44,6 +44,8 @@ export interface SessionApi {
   file_points(fileName: string): Float32Array;
   start(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string): void;
   step(): string;
+  /** The core's note for a run that will reach the remesh cap (after the first step). */
+  growth_note(): string | undefined;
   attractors_changed(): boolean;
   positions(): Float32Array;
   indices(): Uint32Array;
@@ -112,6 +114,8 @@ interface ActiveRun {
   attractorsDirty: boolean;
   /** The run's contours differ from the file's (breath-hold alignment): send them on the first frame. */
   contoursDirty: boolean;
+  /** The first frame is still to go (it carries the growth note). */
+  firstFrame: boolean;
   report: StepReport | null;
   startedMs: number;
   finished: boolean;
@@ -244,6 +248,7 @@ export class WorkerCore {
       indicesDirty: true,
       attractorsDirty: true,
       contoursDirty: msg.options?.align_slices === true,
+      firstFrame: true,
       report: null,
       startedMs: this.options.now(),
       finished: false,
@@ -320,6 +325,11 @@ export class WorkerCore {
       msg.runContours = { contours, points: this.session.contour_points() };
     }
     run.contoursDirty = false;
+    if (run.firstFrame) {
+      const note = this.session.growth_note();
+      if (note) msg.growthNote = note;
+    }
+    run.firstFrame = false;
     run.unacked.push(run.seq);
     this.send(msg);
   }

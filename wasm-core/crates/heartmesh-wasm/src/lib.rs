@@ -187,6 +187,12 @@ impl Session {
         serde_json::to_string(&report).map_err(|e| errors::usage("internal", e.to_string()))
     }
 
+    /// The core's note for a run whose mesh will reach the remesh cap (`Reconstruction::growth_note`),
+    /// known after the first step; None otherwise or before.
+    pub fn growth_note(&self) -> Option<String> {
+        self.run.as_ref().and_then(|r| r.rec.growth_note())
+    }
+
     pub fn is_done(&self) -> bool {
         self.run.as_ref().is_some_and(|r| r.rec.is_done())
     }
