@@ -5,24 +5,16 @@
 // runs again without it (the row no longer says it, the volume changes, the link says
 // apex_floor=0), the exports and a session record it, and the session opens again with it
 // unticked. The panel's option rows do not overlap at 1280x720 and 1024x700.
-import { after, before, describe, it } from 'node:test';
+import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { download as downloadFrom, gotoEmpty, openApp, runAndWait, SHOTS } from './lib.mjs';
+import { download as downloadFrom, gotoEmpty, runAndWait, SHOTS } from './lib.mjs';
+import { appForFile } from './perFile.mjs';
 import { SAX_ONLY_NAME, saxOnlyEllipsoid } from './saxOnly.mjs';
 
-let app;
 let server;
 let page;
-
-before(async () => {
-  app = await openApp({ goto: false });
-  ({ server, page } = app);
-});
-
-after(async () => {
-  await app?.close();
-});
+appForFile({ goto: false }, (app) => ({ server, page } = app));
 
 const { csv } = saxOnlyEllipsoid();
 const drop = () => page.setInputFiles('[data-testid=file-input]', { name: SAX_ONLY_NAME, mimeType: 'text/csv', buffer: Buffer.from(csv) });

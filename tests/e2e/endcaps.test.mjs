@@ -3,23 +3,15 @@
 // the mesh runs on past the top slice; ticking the option closes that end with lid points, the
 // result panel says so, the mesh stops near the data, and the URL, the exports and a session carry
 // the option. Two runs of one surface keep it to a few seconds of compute.
-import { after, before, describe, it } from 'node:test';
+import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { download as downloadFrom, gotoEmpty, openApp, readResult, runAndWait, sharedDir, SHOTS } from './lib.mjs';
+import { download as downloadFrom, gotoEmpty, readResult, runAndWait, sharedDir, SHOTS } from './lib.mjs';
+import { appForFile } from './perFile.mjs';
 
-let app;
 let server;
 let page;
-
-before(async () => {
-  app = await openApp({ goto: false });
-  ({ server, page } = app);
-});
-
-after(async () => {
-  await app?.close();
-});
+appForFile({ goto: false }, (app) => ({ server, page } = app));
 
 const download = (testid) => downloadFrom(page, testid);
 

@@ -4,24 +4,17 @@
 // laptop window the top bar's pickers clear the privacy badge and, with the Lab open, the colour
 // legends clear the view controls; Esc stops a run from the slider just moved; the hover read-out
 // stays inside the 3D view at its right edge. Screenshots go to the screenshot folder (SHOTS).
-import { after, before, describe, it } from 'node:test';
+import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { download, gotoEmpty, nextFrames, openApp, readResult, runAndWait, sharedDir, statusRunId, waitForError, waitForNewRun, SHOTS } from './lib.mjs';
+import { download, gotoEmpty, nextFrames, readResult, runAndWait, sharedDir, statusRunId, waitForError, waitForNewRun, SHOTS } from './lib.mjs';
+import { appForFile } from './perFile.mjs';
 
 let app;
 let page;
 const pageErrors = [];
-
-before(async () => {
-  app = await openApp({ onPageError: (m) => pageErrors.push(m) });
-  ({ page } = app);
-});
-
-after(async () => {
-  await app?.close();
-});
+appForFile({ onPageError: (m) => pageErrors.push(m) }, (a) => ({ page } = app = a));
 
 const contours = (...p) => join(sharedDir(), 'data', 'contours', ...p);
 const status = () => page.textContent('[data-testid=status]');

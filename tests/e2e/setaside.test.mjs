@@ -5,25 +5,17 @@
 // grey and dashed with a key and a hover read-out, and ticking "Keep specks and strays" runs again
 // with it used (one contour more, the row gone, the warning line says it is used), in the URL, the
 // exports and a session.
-import { after, before, describe, it } from 'node:test';
+import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { download as downloadFrom, gotoEmpty, openApp, ROOT, runAndWait, SHOTS } from './lib.mjs';
+import { download as downloadFrom, gotoEmpty, ROOT, runAndWait, SHOTS } from './lib.mjs';
+import { appForFile } from './perFile.mjs';
 import { withSpeck } from './speck.mjs';
 
-let app;
 let server;
 let page;
-
-before(async () => {
-  app = await openApp({ goto: false });
-  ({ server, page } = app);
-});
-
-after(async () => {
-  await app?.close();
-});
+appForFile({ goto: false }, (app) => ({ server, page } = app));
 
 const speck = withSpeck(readFileSync(join(ROOT, 'public', 'samples', 'patient1-ED.csv'), 'utf8'));
 const NAME = 'patient1-ED-speck.csv';

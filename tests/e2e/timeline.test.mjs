@@ -2,23 +2,15 @@
 // (issue 3): a bundled example at the defaults computes 250 iterations in well under a second, and
 // yet the timeline holds every one of them (0..250: the scrubber and the step buttons reach each)
 // and the live plot has one point per step; the SurFCo example still reaches done promptly.
-import { after, before, describe, it } from 'node:test';
+import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { openApp, runAndWait, sharedDir, SHOTS } from './lib.mjs';
+import { runAndWait, sharedDir, SHOTS } from './lib.mjs';
+import { appForFile } from './perFile.mjs';
 
-let app;
 let page;
 const pageErrors = [];
-
-before(async () => {
-  app = await openApp({ onPageError: (m) => pageErrors.push(m) });
-  ({ page } = app);
-});
-
-after(async () => {
-  await app?.close();
-});
+appForFile({ onPageError: (m) => pageErrors.push(m) }, (app) => ({ page } = app));
 
 /** The timeline's state as the page shows it. */
 const timeline = () =>
