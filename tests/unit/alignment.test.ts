@@ -1,7 +1,7 @@
 // Breath-hold alignment in the app (session 9): the option's plumbing (params JSON, URL, exports),
 // the result panel's numbers, the status line's "converged" wording, and the scene helpers. The
 // real core's alignment is exercised end to end in tests/e2e/align.test.mjs.
-import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
+import { describe, expect, it } from 'vitest';
 import { DEFAULT_OPTIONS, paramsJson, withDefaultOptions, type Alignment, type RunResult } from '../../web/src/core-client/protocol';
 import { convergence } from '../../web/src/core-client/workerCore';
 import { parseUrlState, serializeUrlState } from '../../web/src/app/urlState';
@@ -12,7 +12,8 @@ import { runSummary, writeParamsJson } from '../../web/src/io/export/json';
 import { alignmentRows, iterationText, iterationsDoneText, pastDataText, residualText, stepText } from '../../web/src/ui/runText';
 import { ResultPanel } from '../../web/src/ui/ResultPanel';
 import { givenSegments } from '../../web/src/viewer/GivenContourLayer';
-import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
+import { type FakeElement, dlRows } from './fakeDom';
+import { useFakeDocument } from './panelHarness';
 import { stepReport } from './core-client/fakes';
 import { rustSchema } from './rustSchema';
 import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
@@ -84,8 +85,7 @@ describe('converged runs', () => {
 });
 
 describe('result panel', () => {
-  beforeEach(() => vi.stubGlobal('document', fakeDocument));
-  afterEach(() => vi.unstubAllGlobals());
+  useFakeDocument();
 
   const rows = dlRows;
 

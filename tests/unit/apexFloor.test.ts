@@ -2,15 +2,12 @@
 // `apex_floor` option's plumbing (the default pinned to the Rust one, params JSON, URL, exports,
 // the panel's checkbox beside "Close open ends") and the result panel's "Closed ends" row saying
 // when the apex got the floor. The real core's floor is exercised in tests/node/apexFloor.test.ts.
-import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
+import { describe, expect, it } from 'vitest';
 import {
   DEFAULT_OPTIONS,
   paramsJson,
   withDefaultOptions,
   type EndCaps,
-  type LidsMode,
-  type ParamValues,
-  type ReconOptions,
   type RunResult,
 } from '../../web/src/core-client/protocol';
 import { parseUrlState, serializeUrlState } from '../../web/src/app/urlState';
@@ -18,8 +15,8 @@ import { headerLines, type ExportInfo } from '../../web/src/io/export/header';
 import { runSummary, writeParamsJson } from '../../web/src/io/export/json';
 import { endCapsText } from '../../web/src/ui/runText';
 import { ResultPanel } from '../../web/src/ui/ResultPanel';
-import { ParamPanel } from '../../web/src/ui/ParamPanel';
-import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
+import { type FakeElement, dlRows } from './fakeDom';
+import { useFakeDocument, optionsPanel } from './panelHarness';
 import { rustSchema } from './rustSchema';
 import paramsRs from '../../wasm-core/crates/heartmesh-core/src/params.rs?raw';
 import { runResult } from './runResult';
@@ -95,15 +92,12 @@ describe('the words for the apex floor', () => {
 });
 
 describe('the apex floor in the panels', () => {
-  beforeEach(() => vi.stubGlobal('document', fakeDocument));
-  afterEach(() => vi.unstubAllGlobals());
+  useFakeDocument();
 
   const rows = dlRows;
 
   it('the checkbox sits between "Close open ends" and "Keep specks and strays", ticked by default, and emits the option', () => {
-    const emitted: ReconOptions[] = [];
-    const panel = new ParamPanel((_v: ParamValues, _l: LidsMode, o: ReconOptions) => emitted.push(o), () => undefined);
-    const root = panel.element as unknown as FakeElement;
+    const { emitted, panel, root } = optionsPanel();
     const box = root.byTestId('param-apex-floor') as FakeElement & { checked: boolean; disabled: boolean };
     const label = box.parentElement as unknown as FakeElement;
     const text = root.textContent;

@@ -1,24 +1,21 @@
 // "Close open ends" in the app (session 10): the `end_caps` option's plumbing (one app default,
 // params JSON, URL, exports, sessions, the panel's checkbox) and the result panel's "Closed ends"
 // row from `result_json().end_caps`. The real core's caps are exercised in tests/node.
-import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
+import { describe, expect, it } from 'vitest';
 import {
   DEFAULT_END_CAPS,
   DEFAULT_OPTIONS,
   paramsJson,
   withDefaultOptions,
   type EndCaps,
-  type LidsMode,
-  type ParamValues,
-  type ReconOptions,
 } from '../../web/src/core-client/protocol';
 import { parseUrlState, serializeUrlState } from '../../web/src/app/urlState';
 import { headerLines, type ExportInfo } from '../../web/src/io/export/header';
 import { writeParamsJson } from '../../web/src/io/export/json';
 import { endCapsText, pastDataText } from '../../web/src/ui/runText';
 import { ResultPanel } from '../../web/src/ui/ResultPanel';
-import { ParamPanel } from '../../web/src/ui/ParamPanel';
-import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
+import { type FakeElement, dlRows } from './fakeDom';
+import { useFakeDocument, optionsPanel } from './panelHarness';
 import { rustSchema } from './rustSchema';
 import { runResult } from './runResult';
 
@@ -66,15 +63,12 @@ describe('end_caps option', () => {
 });
 
 describe('end caps in the panels', () => {
-  beforeEach(() => vi.stubGlobal('document', fakeDocument));
-  afterEach(() => vi.unstubAllGlobals());
+  useFakeDocument();
 
   const rows = dlRows;
 
   it('the checkbox "Close open ends" shows the option and emits it', () => {
-    const emitted: ReconOptions[] = [];
-    const panel = new ParamPanel((_v: ParamValues, _l: LidsMode, o: ReconOptions) => emitted.push(o), () => undefined);
-    const root = panel.element as unknown as FakeElement;
+    const { emitted, panel, root } = optionsPanel();
     const box = root.byTestId('param-end-caps') as FakeElement & { checked: boolean };
     expect(root.textContent).toContain('Close open ends');
     expect(box.getAttribute('aria-describedby')).toBe('param-end-caps-help');

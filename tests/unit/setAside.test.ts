@@ -2,15 +2,12 @@
 // option's plumbing (params JSON, URL, exports, the panel's checkbox), the result panel's "Left
 // out" row, its wording, the viewer layer that draws them grey and dashed with its key, and the
 // scene's choice of when to draw them. The real core's set_aside is exercised in tests/node.
-import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
+import { describe, expect, it } from 'vitest';
 import {
   DEFAULT_OPTIONS,
   paramsJson,
   withDefaultOptions,
   type ContourInfo,
-  type LidsMode,
-  type ParamValues,
-  type ReconOptions,
   type SetAsideEntry,
 } from '../../web/src/core-client/protocol';
 import { parseUrlState, serializeUrlState } from '../../web/src/app/urlState';
@@ -18,12 +15,12 @@ import { headerLines, type ExportInfo } from '../../web/src/io/export/header';
 import { runSummary, writeParamsJson } from '../../web/src/io/export/json';
 import { keptSpecksNote, leftOutDetail, leftOutLabel, leftOutText } from '../../web/src/ui/runText';
 import { ResultPanel } from '../../web/src/ui/ResultPanel';
-import { ParamPanel } from '../../web/src/ui/ParamPanel';
 import { HoverReadout } from '../../web/src/ui/HoverReadout';
 import { SetAsideLayer, pairSetAside } from '../../web/src/viewer/SetAsideLayer';
 import { showSceneContours } from '../../web/src/app/sceneContours';
 import type { Viewer } from '../../web/src/viewer/Viewer';
-import { fakeDocument, type FakeElement, dlRows } from './fakeDom';
+import { type FakeElement, dlRows } from './fakeDom';
+import { useFakeDocument, optionsPanel } from './panelHarness';
 import { rustSchema } from './rustSchema';
 import paramsRs from '../../wasm-core/crates/heartmesh-core/src/params.rs?raw';
 import { runResult } from './runResult';
@@ -104,15 +101,12 @@ describe('the words for contours left out', () => {
 });
 
 describe('contours left out in the panels and the viewer', () => {
-  beforeEach(() => vi.stubGlobal('document', fakeDocument));
-  afterEach(() => vi.unstubAllGlobals());
+  useFakeDocument();
 
   const rows = dlRows;
 
   it('the checkbox "Keep specks and strays" sits after "Close open ends", shows the option and emits it', () => {
-    const emitted: ReconOptions[] = [];
-    const panel = new ParamPanel((_v: ParamValues, _l: LidsMode, o: ReconOptions) => emitted.push(o), () => undefined);
-    const root = panel.element as unknown as FakeElement;
+    const { emitted, panel, root } = optionsPanel();
     const box = root.byTestId('param-keep-specks') as FakeElement & { checked: boolean };
     const text = root.textContent;
     expect(text.indexOf('Keep specks and strays')).toBeGreaterThan(text.indexOf('Close open ends'));
