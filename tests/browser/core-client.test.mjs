@@ -42,8 +42,8 @@ describe('CoreClient in chromium', () => {
     assert.equal(s.finalFrameDone, true, 'the last frame handed over is the final one');
     assert.equal(s.positionsMatchResult, true, 'final frame positions equal the result');
     assert.ok(s.frames >= 5, `only ${s.frames} frames shown`);
-    // The product target is 2 s on an idle machine (issue 3); a shared test machine gets 3x.
-    assert.ok(s.msToDone < 6000, `took ${s.msToDone} ms`);
+    // Time is measured by `npm run bench:core-browser` (medians, issue 3's 2 s target), not
+    // asserted here: a shared test machine's load would make a bound flaky or meaningless.
     assert.deepEqual(foreign, [], 'no request may leave the origin');
   });
 

@@ -76,9 +76,13 @@ describe('the apex floor in the browser', () => {
     assert.doesNotMatch(page.url(), /apex_floor/, 'the default is not written into the link');
     // The floored apex is not flagged amber as extrapolated; past 5 mm the tooltip says the floor placed it.
     const pastTitle = (await page.getAttribute('[data-testid=result-past-data]', 'title')) ?? '';
-    // Amber only for the base (its lid's rounding past the top ring), never for the floored apex.
-    assert.equal(await page.getAttribute('[data-testid=result-past-data]', 'class'), Number(on.pastBaseMm) > 5 ? 'warn' : null,
-      `amber for the base only (base ${on.pastBaseMm} mm, apex ${on.pastApexMm} mm)`);
+    // Neither end is amber: the base is under the ceiling of a base no long-axis curve reaches
+    // (one slice spacing past the top ring, by design) and the apex is floored; the tooltip says both.
+    assert.equal(on.endCapsBaseCeiling, '1');
+    assert.equal(await page.getAttribute('[data-testid=result-past-data]', 'class'), null,
+      `not amber (base ${on.pastBaseMm} mm, apex ${on.pastApexMm} mm)`);
+    if (Number(on.pastBaseMm) > 5) assert.match(pastTitle, /a ceiling one slice spacing beyond that ring/);
+    else assert.doesNotMatch(pastTitle, /ceiling/);
     if (Number(on.pastApexMm) > 5) assert.match(pastTitle, /the apex floor placed the tip/);
     else assert.doesNotMatch(pastTitle, /apex floor/);
     await page.mouse.move(0, 0);

@@ -75,6 +75,8 @@ describe('the apex floor through the worker, against the CLI', () => {
       expect(on.options.apex_floor).toBe(true);
       expect(on.end_caps?.apex_floor).toBe(true);
       expect(on.end_caps?.apex).toBe(true);
+      // Both stacks are short-axis only: the base lid is the ceiling, named as the CLI names it.
+      expect(on.end_caps?.base_ceiling).toBe(true);
       expectSame(on, nativeOn);
 
       const off = await run(ask, 2, name, surface, false);

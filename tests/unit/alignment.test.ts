@@ -164,7 +164,7 @@ describe('result panel', () => {
     // Ends within 5 mm of the data (the lid rounds a little past closing curves): no warning sign.
     panel.show(result({ pastData: { base_mm: 2.26, apex_mm: 0.24 } }));
     expect(el.byTestId('result-past-data')?.getAttribute('class')).toBeNull();
-    expect(pastDataText({ base_mm: 1.2, apex_mm: -0.44 })).toEqual({ text: '+1.2 / −0.4 mm', extrapolated: false, modelled: false });
+    expect(pastDataText({ base_mm: 1.2, apex_mm: -0.44 })).toEqual({ text: '+1.2 / −0.4 mm', extrapolated: false, modelled: false, ceiling: false });
     expect(pastDataText({ base_mm: 2.3, apex_mm: 5.01 }).extrapolated).toBe(true);
     expect(pastDataText({ base_mm: 4.9, apex_mm: 0 }).extrapolated).toBe(false);
     // Within 0.05 mm of the data is no overrun either way: no sign (was "−0.0 / +1.7 mm" on patient 2 ES).

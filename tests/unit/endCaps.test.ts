@@ -138,7 +138,31 @@ describe('end caps in the panels', () => {
     expect(el.byTestId('result-past-data')?.getAttribute('class')).toBe('warn');
     expect(el.byTestId('result-past-data')?.title).toMatch(/extrapolated; the apex lies past/);
     // A floored apex within 5 mm of the last ring needs no note.
-    expect(pastDataText({ base_mm: 1, apex_mm: 3 }, true)).toEqual({ text: '+1.0 / +3.0 mm', extrapolated: false, modelled: false });
+    expect(pastDataText({ base_mm: 1, apex_mm: 3 }, true)).toEqual({ text: '+1.0 / +3.0 mm', extrapolated: false, modelled: false, ceiling: false });
+  });
+
+  it('a base under the ceiling of a short-axis-only stack is not flagged; both tooltips say it is a bound', () => {
+    const panel = new ResultPanel();
+    const el = panel.element as unknown as FakeElement;
+    // What the core reports for a short-axis-only stack: the base 8.3 mm past the top ring (the
+    // ceiling one 10 mm slice spacing out), the apex floored.
+    const saxOnly = { base_mm: 8.3, apex_mm: 6.1 };
+    const caps = { mode: 'auto' as const, base: true, apex: true, apex_floor: true, base_ceiling: true, points: 13 };
+    panel.show(result({ pastData: saxOnly, end_caps: caps }));
+    expect(rows(el)['Past the data']).toBe('+8.3 / +6.1 mm');
+    expect(el.byTestId('result-past-data')?.getAttribute('class')).toBeNull();
+    const title = el.byTestId('result-past-data')?.title ?? '';
+    expect(title).toMatch(/^base \/ apex: how far the mesh reaches past/);
+    expect(title).toMatch(/the base lies past the top short-axis ring because no long-axis curve reaches it: a ceiling one slice spacing beyond that ring, where the next slice would have been drawn, bounds it \(a bound, not data; Close open ends in the parameters\); the apex lies past/);
+    expect(el.byTestId('result-end-caps')?.title).toMatch(/its lid is a ceiling one slice spacing beyond the top short-axis ring/);
+    // The same overrun where long-axis curves reach the base (no ceiling): amber, no ceiling note.
+    panel.show(result({ pastData: saxOnly, end_caps: { ...caps, base_ceiling: false } }));
+    expect(el.byTestId('result-past-data')?.getAttribute('class')).toBe('warn');
+    expect(el.byTestId('result-past-data')?.title).not.toMatch(/ceiling/);
+    expect(el.byTestId('result-end-caps')?.title).not.toMatch(/ceiling/);
+    // A ceiling within 5 mm of the data needs no note; an apex that runs on is still flagged.
+    expect(pastDataText({ base_mm: 4, apex_mm: 1 }, false, true)).toEqual({ text: '+4.0 / +1.0 mm', extrapolated: false, modelled: false, ceiling: false });
+    expect(pastDataText({ base_mm: 9, apex_mm: 7 }, false, true)).toEqual({ text: '+9.0 / +7.0 mm', extrapolated: true, modelled: false, ceiling: true });
   });
 
   it('endCapsText: one point is singular; apex alone', () => {

@@ -178,6 +178,12 @@ export interface EndCaps {
    * when true).
    */
   apex_floor?: boolean;
+  /**
+   * The base lid is the ceiling of a base no long-axis curve reaches (one slice spacing beyond the
+   * top short-axis ring, by design: the stack was planned to cover the cavity); absent when not
+   * (the core writes it only when true).
+   */
+  base_ceiling?: boolean;
 }
 
 /** The mesh checks of a finished run (`result_json().quality`). */

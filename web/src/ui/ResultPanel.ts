@@ -26,6 +26,7 @@ const GIVEN_HELP = 'distance from the contours as given in the file (before the 
 const PAST_HELP = 'base / apex: how far the mesh reaches past the highest (base) and lowest (apex) contour point along the long axis';
 const PAST_EXTRAPOLATED_HELP = `${PAST_HELP}: more than 5 mm, so no curve closes that end and the surface there (and its share of the volume) is extrapolated`;
 const PAST_FLOOR_NOTE = '; the apex lies past the last short-axis ring because no long-axis curve reaches it: the apex floor placed the tip where the apical rings\' taper predicts (a model, not data; Apex floor in the parameters)';
+const PAST_CEILING_NOTE = '; the base lies past the top short-axis ring because no long-axis curve reaches it: a ceiling one slice spacing beyond that ring, where the next slice would have been drawn, bounds it (a bound, not data; Close open ends in the parameters)';
 const PAST_CAPS_HINT = '; the option Close open ends (Parameters) stops the mesh at the data there';
 const CROSSING_HELP = 'mean in-plane distance between each image\'s curves and where the other images\' curves cross its plane, as the file places them';
 const CROSSING_SUGGEST_HINT = ': the images disagree, as breath-hold offsets make them; the option Align breath-holds (Parameters) shifts them into agreement first';
@@ -119,12 +120,12 @@ export class ResultPanel {
       );
     }
     if (r.pastData) {
-      const past = pastDataText(r.pastData, r.end_caps?.apex_floor === true);
+      const past = pastDataText(r.pastData, r.end_caps?.apex_floor === true, r.end_caps?.base_ceiling === true);
       d.pastBaseMm = String(r.pastData.base_mm);
       d.pastApexMm = String(r.pastData.apex_mm);
       const capsOff = r.end_caps ? r.end_caps.mode === 'off' : r.options.end_caps === 'off';
       const help = (past.extrapolated ? `${PAST_EXTRAPOLATED_HELP}${capsOff ? PAST_CAPS_HINT : ''}` : PAST_HELP) +
-        (past.modelled ? PAST_FLOOR_NOTE : '');
+        (past.ceiling ? PAST_CEILING_NOTE : '') + (past.modelled ? PAST_FLOOR_NOTE : '');
       rows.push(...row('Past the data', past.text, 'result-past-data', help, past.extrapolated));
     }
     const caps = r.end_caps ? endCapsText(r.end_caps) : null;
@@ -132,6 +133,7 @@ export class ResultPanel {
       d.endCapsBase = r.end_caps.base ? '1' : '0';
       d.endCapsApex = r.end_caps.apex ? '1' : '0';
       d.endCapsApexFloor = r.end_caps.apex_floor ? '1' : '0';
+      d.endCapsBaseCeiling = r.end_caps.base_ceiling ? '1' : '0';
       d.endCapsPoints = String(r.end_caps.points);
       rows.push(...row('Closed ends', caps.text, 'result-end-caps', caps.title));
     }

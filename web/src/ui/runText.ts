@@ -114,17 +114,26 @@ const PAST_DATA_NOTE_MM = 5;
 /**
  * The result panel's "past the data" figure, base / apex: "+14.3 / +0.1 mm" (short: the panel's
  * value column is narrow), and whether either end runs on far enough past the contours that its
- * part of the volume is extrapolated. An apex the apex floor placed (`apexFloored`) is reported as
- * `modelled` instead: on a short-axis-only stack the tip always lies past the last ring, and the
- * floor put it where the apical rings' taper says, so flagging it amber would warn about the
- * option doing its job; the tooltip still says the tip is a model, not data.
+ * part of the volume is extrapolated. Two overruns are by design and reported apart instead, so
+ * that amber keeps meaning "nothing bounded this end": an apex the apex floor placed
+ * (`apexFloored`, `modelled`: on a short-axis-only stack the tip always lies past the last ring,
+ * and the floor put it where the apical rings' taper says) and a base under the ceiling of a base
+ * no long-axis curve reaches (`baseCeiling`, `ceiling`: one slice spacing beyond the top ring,
+ * where the next slice would have been drawn). The tooltips still say that those parts are a
+ * model or a bound, not data.
  */
-export function pastDataText(p: PastData, apexFloored = false): { text: string; extrapolated: boolean; modelled: boolean } {
+export function pastDataText(
+  p: PastData,
+  apexFloored = false,
+  baseCeiling = false,
+): { text: string; extrapolated: boolean; modelled: boolean; ceiling: boolean } {
   const apexFar = p.apex_mm > PAST_DATA_NOTE_MM;
+  const baseFar = p.base_mm > PAST_DATA_NOTE_MM;
   return {
     text: `${signedMm(p.base_mm).replace(' mm', '')} / ${signedMm(p.apex_mm)}`,
-    extrapolated: p.base_mm > PAST_DATA_NOTE_MM || (apexFar && !apexFloored),
+    extrapolated: (baseFar && !baseCeiling) || (apexFar && !apexFloored),
     modelled: apexFar && apexFloored,
+    ceiling: baseFar && baseCeiling,
   };
 }
 
@@ -145,7 +154,10 @@ export function endCapsText(e: EndCaps): { text: string; title: string } | null 
   const pts = `${e.points} pt${e.points === 1 ? '' : 's'}`;
   const lidPoints = `${e.points} lid point${e.points === 1 ? '' : 's'}`;
   const which = lids.join(' + ');
-  const lidTitle = `no contour closes ${lids.length === 2 ? 'these ends' : 'that end'}, so down-weighted lid points keep the mesh from running on past the data`;
+  const ceiling = e.base && e.base_ceiling === true
+    ? '; no long-axis curve reaches the base, so its lid is a ceiling one slice spacing beyond the top short-axis ring (where the next slice would have been drawn)'
+    : '';
+  const lidTitle = `no contour closes ${lids.length === 2 ? 'these ends' : 'that end'}, so down-weighted lid points keep the mesh from running on past the data${ceiling}`;
   if (!floor) {
     return { text: `${lids.length === 2 ? 'both' : which} · ${pts}`, title: `${which} closed (${lidPoints}): ${lidTitle}` };
   }

@@ -82,6 +82,8 @@ fn apex_floor_changes_nothing_where_a_long_axis_curve_reaches_the_apex() {
     }
     assert_eq!(rep["parameters"]["apex_floor"], true);
     assert_eq!(rep_plain["parameters"]["apex_floor"], false);
+    // Long-axis curves reach the base: its lid lies where they stop, not at a ceiling.
+    assert!(rep["end_caps"].get("base_ceiling").is_none());
     // The header names it only where it differs from the default (default headers keep their
     // bytes), as it names the other switches.
     assert!(!floored.header.contains("apex_floor"), "{}", floored.header);
@@ -104,6 +106,11 @@ fn apex_floor_on_a_short_axis_only_file() {
     assert!(rep["end_caps"].get("apex_floor").is_none());
     assert_eq!(rep_floored["end_caps"]["apex"], true);
     assert_eq!(rep_floored["end_caps"]["apex_floor"], true);
+    // No long-axis curve reaches the base: it gets the ceiling one slice spacing out, and the
+    // report says so (the app does not flag that overrun as extrapolated).
+    assert_eq!(rep["end_caps"]["base"], true);
+    assert_eq!(rep["end_caps"]["base_ceiling"], true);
+    assert_eq!(rep_floored["end_caps"]["base_ceiling"], true);
     // One floor point more than the base's lid.
     assert_eq!(
         rep_floored["end_caps"]["points"].as_u64(),

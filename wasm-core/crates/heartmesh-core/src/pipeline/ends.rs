@@ -56,6 +56,12 @@ pub struct EndCapsReport {
     /// parameters' `apex_floor`.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub apex_floor: bool,
+    /// Whether the base lid is the ceiling of a base no long-axis curve reaches
+    /// ([`EndLid::OpenBase`]: one slice spacing beyond the basal ring, by design), so the mesh's
+    /// part past the top ring is a bound, not data; the app says so instead of flagging the
+    /// overrun. Left out of the JSON when false, like `apex_floor`.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub base_ceiling: bool,
 }
 
 impl EndCapsReport {
@@ -66,6 +72,7 @@ impl EndCapsReport {
             apex: false,
             points: 0,
             apex_floor: false,
+            base_ceiling: false,
         }
     }
 }
@@ -301,6 +308,7 @@ pub fn end_cap_points(
         let most = (MAX_POINTS_PER_REAL * real_attractors as f64).max(1.0);
         let pitch = spacing.max((area / most).sqrt());
         let tolerance = ONE_SIDED_TOLERANCE_PER_SPACING * pitch;
+        let mut ceiling = false;
         let lid = match end_lid(rings, contours, kinds, axis, outward, tolerance) {
             Some(EndLid::OpenApex) if apex_floor => {
                 if let Some((q, side)) = floor_point(rings, axis, tolerance, END_CAP_WEIGHT) {
@@ -314,7 +322,10 @@ pub fn end_cap_points(
             None | Some(EndLid::OpenApex) => continue,
             Some(EndLid::Reached) => lid,
             // The tube's lid of an end no curve reaches lies at the ring's centroid.
-            Some(EndLid::OpenBase(out)) => c + axis * (outward * out),
+            Some(EndLid::OpenBase(out)) => {
+                ceiling = true;
+                c + axis * (outward * out)
+            }
         };
         let mut disc = disc_points(ring, &lid, axis, pitch, RIM_INSET_PER_SPACING * pitch);
         let plane = tip_plane(ring, contours, kinds, axis, outward);
@@ -339,6 +350,7 @@ pub fn end_cap_points(
         }
         if outward > 0.0 {
             report.base = true;
+            report.base_ceiling = ceiling;
         } else {
             report.apex = true;
         }
@@ -433,6 +445,8 @@ mod tests {
         };
         let (pts, sides, report) = caps(EndCapMode::Auto, 400);
         assert!(report.base && !report.apex);
+        // Long-axis curves reach this base: a lid where they stop, not a ceiling.
+        assert!(!report.base_ceiling);
         assert_eq!(report.points, pts.len());
         // Pitch 2, inset 2 spacings (4 mm): the grid points (2i, 2j) within radius 6 of the centre
         // (i^2 + j^2 <= 9: 29), less the 4 on the grid axes at radius 6, which point at vertices of
@@ -484,6 +498,8 @@ mod tests {
             400,
         );
         assert!(report.base && !report.apex);
+        // A ceiling, which the report names (the app does not flag its overrun).
+        assert!(report.base_ceiling);
         // The same 25-point disc as a base the curves reach (`caps_only_where_no_curve_closes`),
         // 20 mm higher; flat, facing up the axis, pulling 0.1 x pitch 2 past its plane.
         assert_eq!((pts.len(), sides.len(), report.points), (25, 25, 25));
@@ -536,7 +552,7 @@ mod tests {
             2.0,
             400,
         );
-        assert!(report.apex && report.base);
+        assert!(report.apex && report.base && report.base_ceiling);
         let apex: Vec<&Vec3> = pts.iter().filter(|p| p.z < 10.0).collect();
         assert_eq!(apex.len(), 25);
         assert!(apex.iter().all(|p| (p.z + 3.0).abs() < 1e-12));
