@@ -457,6 +457,55 @@ mod tests {
         assert_eq!(l.slices[0].contours, vec![0, 1]);
     }
 
+    /// A straight septum piece stored to 3 decimals in a tilted short-axis plane (as biv-me's test
+    /// patient 1 has one): its fitted normal is the rounding's, so it used to count as long-axis;
+    /// straight, it runs across the axis and lies in its slice's plane, so it joins that slice.
+    #[test]
+    fn a_rounded_straight_piece_joins_its_slice() {
+        // A free-wall arc in the plane z = 10 and a straight 7-point septum across it, both tilted
+        // about the y axis with the rest of the stack and rounded to 3 decimals.
+        let tilt = |p: Vec3| {
+            let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+            let q = v3(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);
+            v3(
+                (q.x * 1e3).round() / 1e3,
+                (q.y * 1e3).round() / 1e3,
+                (q.z * 1e3).round() / 1e3,
+            )
+        };
+        let tilted = |mut c: Contour| {
+            for p in &mut c.pieces[0].points {
+                *p = tilt(*p);
+            }
+            c
+        };
+        let mut fw = ring("fw", 10.0, 15.0);
+        fw.pieces[0].points.truncate(21);
+        fw.pieces[0].closed = false;
+        let septum = Contour {
+            id: "sp".into(),
+            surface: None,
+            pieces: vec![Polyline {
+                points: (0..7)
+                    .map(|i| v3(-15.0 + 5.0 * i as f64, 0.0, 10.0))
+                    .collect(),
+                closed: false,
+            }],
+            first_line: 0,
+        };
+        let cs = vec![
+            tilted(fw),
+            tilted(septum),
+            tilted(ring("s2", 20.0, 18.0)),
+            tilted(ring("s0", 0.0, 10.0)),
+        ];
+        let l = analyse(&cs).unwrap();
+        assert!(l.planes[1].is_none(), "{:?}", l.planes[1]);
+        assert_eq!(l.kinds[1], ContourKind::Sax);
+        assert_eq!(l.slices.len(), 3);
+        assert_eq!(l.slices[1].contours, vec![0, 1]);
+    }
+
     #[test]
     fn one_plane_only_is_an_error() {
         let cs = vec![ring("a", 0.0, 20.0), ring("b", 0.0, 10.0)];
