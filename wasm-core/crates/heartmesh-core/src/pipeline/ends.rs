@@ -35,6 +35,7 @@ use super::end_data::EndRing;
 pub use super::end_data::{closed_by_data, reached_by_lax};
 pub use super::lid_disc::disc_points;
 use super::lid_pull::{lid_normal, LidSide, ONE_SIDED_TOLERANCE_PER_SPACING};
+use super::lid_tips::{valve_plane, Tip, RIDGE_PER_RADIUS_SQ};
 use super::tube::Lids;
 use crate::contours::{Contour, ContourKind};
 use crate::geometry::{centroid, Vec3};
@@ -98,8 +99,11 @@ const MAX_POINTS_PER_REAL: f64 = 0.25;
 
 /// The plane of the tips of the long-axis curves that stop at an end (the valve plane, often tilted
 /// against the short-axis planes): heights along the axis as a linear function of the in-plane
-/// position, fitted through the curves' endpoints at or beyond the end ring. A flat lid at the
-/// highest tip would lie above the lower tips and pull the wall there past its data.
+/// position. Their least-squares plane, unless some tips lie alone far under the others (an empty
+/// band of depth wider than [`SHORT_TIP_PER_SLICE_GAP`] slice spacings under the lowest plane
+/// over them: curves that stopped short); then that lowest plane over every tip, so that the lid
+/// pulls the wall down nowhere a curve runs on ([`super::lid_tips`], session 16: the least-squares
+/// plane tilted towards a curve cut short and dipped up to 17.5 mm under the truth's rim).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TipPlane {
     /// A point of the plane (its height at the ring's centroid).
@@ -128,14 +132,16 @@ impl TipPlane {
 const MAX_TIP_GRADIENT: f64 = 1.0;
 
 /// The [`TipPlane`] of the open long-axis curves' endpoints at or beyond `ring` (None without
-/// any). Least squares of height on in-plane position, with a small ridge on the gradient so that
-/// the tips of one curve (a line) give no tilt across it.
+/// any); `short` (mm) is the widest empty band of depths under the ceiling over them that still
+/// reads as one rim. Heights are measured outwards (down the axis at the apex), so "over" means
+/// past the data at either end.
 pub fn tip_plane(
     ring: &[Vec3],
     contours: &[Contour],
     kinds: &[ContourKind],
     axis: &Vec3,
     outward: f64,
+    short: f64,
 ) -> Option<TipPlane> {
     let EndRing {
         centre: c,
@@ -143,20 +149,6 @@ pub fn tip_plane(
         height: h0,
         tolerance,
     } = EndRing::of(ring, axis)?;
-    let tips: Vec<Vec3> = contours
-        .iter()
-        .zip(kinds)
-        .filter(|(_, k)| **k == ContourKind::Lax)
-        .flat_map(|(c, _)| &c.pieces)
-        .filter(|piece| !piece.closed)
-        .flat_map(|piece| [piece.points.first(), piece.points.last()])
-        .flatten()
-        .filter(|p| outward * (p.dot(axis) - h0) >= -tolerance)
-        .copied()
-        .collect();
-    if tips.is_empty() {
-        return None;
-    }
     // Any in-plane basis: the fitted gradient, a vector, does not depend on it.
     let u = axis.cross(&Vec3::new(1.0, 0.0, 0.0));
     let u = if u.norm() > 0.5 {
@@ -165,37 +157,46 @@ pub fn tip_plane(
         axis.cross(&Vec3::new(0.0, 1.0, 0.0)).normalize()
     };
     let v = axis.cross(&u);
-    let mut m = nalgebra::Matrix3::<f64>::zeros();
-    let mut rhs = Vec3::zeros();
-    for t in &tips {
-        let d = t - c;
-        let row = Vec3::new(1.0, d.dot(&u), d.dot(&v));
-        m += row * row.transpose();
-        rhs += row * t.dot(axis);
-    }
-    let ridge = TIP_RIDGE * radius * radius * tips.len() as f64;
-    m[(1, 1)] += ridge;
-    m[(2, 2)] += ridge;
-    let sol = m.lu().solve(&rhs)?;
-    if !sol.iter().all(|x| x.is_finite()) {
-        return None;
-    }
-    let mut gradient = u * sol.y + v * sol.z;
-    let g = gradient.norm();
-    if g > MAX_TIP_GRADIENT {
-        gradient *= MAX_TIP_GRADIENT / g;
-    }
+    let tips: Vec<Tip> = contours
+        .iter()
+        .zip(kinds)
+        .filter(|(_, k)| **k == ContourKind::Lax)
+        .flat_map(|(c, _)| &c.pieces)
+        .filter(|piece| !piece.closed)
+        .flat_map(|piece| [piece.points.first(), piece.points.last()])
+        .flatten()
+        .filter(|p| outward * (p.dot(axis) - h0) >= -tolerance)
+        .map(|p| {
+            let d = p - c;
+            Tip {
+                x: d.dot(&u),
+                y: d.dot(&v),
+                h: outward * p.dot(axis),
+            }
+        })
+        .collect();
+    let plane = valve_plane(
+        &tips,
+        short,
+        RIDGE_PER_RADIUS_SQ * radius * radius,
+        MAX_TIP_GRADIENT,
+    )?;
     Some(TipPlane {
-        origin: c + axis * (sol.x - h0),
-        gradient,
+        origin: c + axis * (outward * plane.a - h0),
+        gradient: (u * plane.gx + v * plane.gy) * outward,
         floor: h0,
         outward,
     })
 }
 
-/// Ridge on the tip plane's gradient (per tip, relative to the ring's radius squared): negligible
-/// against tips spread across the end, enough to make one curve's two tips a well-posed fit.
-const TIP_RIDGE: f64 = 1e-3;
+/// Long-axis tips whose depths under the ceiling over them ([`super::lid_tips::valve_plane`])
+/// leave an empty band wider than this many slice spacings end curves that stopped short: the
+/// stack resolves the cavity along the axis to a slice spacing, the same scale as the ceiling of
+/// a base no curve reaches ([`OPEN_BASE_PER_SLICE_GAP`]). Measured (docs/VALIDATION.md, "Session
+/// 16"): complete curves on the simulated shapes leave no such band (the spasm shapes' irregular
+/// rims spread their tips 0-15 mm under the ceiling with 10 mm slices), so their lids are as
+/// before.
+pub const SHORT_TIP_PER_SLICE_GAP: f64 = 1.0;
 
 /// Where the lid of an end no curve closes goes, from what the long-axis data say about it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -241,14 +242,7 @@ pub fn end_lid(
     outward: f64,
     tolerance: f64,
 ) -> Option<EndLid> {
-    let (ring, next) = if outward > 0.0 {
-        (
-            rings.last()?,
-            rings.len().checked_sub(2).and_then(|k| rings.get(k)),
-        )
-    } else {
-        (rings.first()?, rings.get(1))
-    };
+    let (ring, next) = end_rings(rings, outward)?;
     if closed_by_data(ring, contours, kinds, axis, outward) {
         return None;
     }
@@ -258,14 +252,30 @@ pub fn end_lid(
     if outward < 0.0 {
         return Some(EndLid::OpenApex);
     }
-    let height = |r: &[Vec3]| EndRing::of(r, axis).map(|e| e.height);
-    let gap = match (height(ring), next.and_then(|r| height(r))) {
-        (Some(a), Some(b)) if (a - b).is_finite() => (a - b).abs(),
-        _ => 0.0,
-    };
+    let gap = slice_gap(ring, next, axis);
     Some(EndLid::OpenBase(
         (OPEN_BASE_PER_SLICE_GAP * gap).max(2.0 * tolerance),
     ))
+}
+
+/// The end `ring` and the ring one slice in from it (`outward` as in [`end_lid`]).
+fn end_rings(rings: &[Vec<Vec3>], outward: f64) -> Option<(&[Vec3], Option<&[Vec3]>)> {
+    if outward > 0.0 {
+        let k = rings.len().checked_sub(1)?;
+        Some((&rings[k], k.checked_sub(1).map(|j| rings[j].as_slice())))
+    } else {
+        Some((rings.first()?, rings.get(1).map(|r| r.as_slice())))
+    }
+}
+
+/// The slice spacing at an end: the distance along the axis between the end ring's centroid and
+/// the next ring's (0 with a single ring).
+fn slice_gap(ring: &[Vec3], next: Option<&[Vec3]>, axis: &Vec3) -> f64 {
+    let height = |r: &[Vec3]| EndRing::of(r, axis).map(|e| e.height);
+    match (height(ring), next.and_then(height)) {
+        (Some(a), Some(b)) if (a - b).is_finite() => (a - b).abs(),
+        _ => 0.0,
+    }
 }
 
 /// The lid points of every end that no curve closes (mm), and what was done. `rings` are the
@@ -328,7 +338,12 @@ pub fn end_cap_points(
             }
         };
         let mut disc = disc_points(ring, &lid, axis, pitch, RIM_INSET_PER_SPACING * pitch);
-        let plane = tip_plane(ring, contours, kinds, axis, outward);
+        // Without a second ring there is no spacing to read a gap against: least squares.
+        let short = match end_rings(rings, outward).map(|(r, next)| slice_gap(r, next, axis)) {
+            Some(gap) if gap > 0.0 => SHORT_TIP_PER_SLICE_GAP * gap,
+            _ => f64::INFINITY,
+        };
+        let plane = tip_plane(ring, contours, kinds, axis, outward, short);
         for p in &mut disc {
             let mut normal = axis * outward;
             if let Some(plane) = &plane {
@@ -389,7 +404,8 @@ mod tests {
 
     /// Two curves stopping at the base ring (z = 20): one with ends at 22 (x = 8) and 18 (x = -8),
     /// one with both ends at 20 (y = +-8). The end at 18 lies inside the ring's plane, so three
-    /// tips: a plane rising along x through 22 at x = 8 and 20 at y = +-8.
+    /// tips, all within the 5 mm allowed under their ceiling: their least-squares plane, rising
+    /// along x through 22 at x = 8 and 20 at y = +-8.
     #[test]
     fn tip_plane_follows_a_tilted_valve_plane() {
         let ring = circle(10.0, 20.0, 40);
@@ -406,7 +422,7 @@ mod tests {
             ]),
         ];
         let kinds = [ContourKind::Lax; 2];
-        let plane = tip_plane(&ring, &curves, &kinds, &Z, 1.0).unwrap();
+        let plane = tip_plane(&ring, &curves, &kinds, &Z, 1.0, 5.0).unwrap();
         // Normal equations [3 8; 8 64 + r] (a, g) = (62, 176), ridge r = 1e-3 x 10^2 x 3 tips:
         // g = 32 / 128.9 (0.25 without the ridge), a = 2578.6 / 128.9.
         assert!(
@@ -415,10 +431,47 @@ mod tests {
         );
         let centre = plane.height_at(&v3(0.0, 0.0, 0.0), &Z);
         assert!((centre - 2578.6 / 128.9).abs() < 1e-9, "{centre}");
+        // Allowing no tip under the ceiling (all three are on it): the ceiling through them,
+        // 0.25 per mm, 20 at the centre.
+        let top = tip_plane(&ring, &curves, &kinds, &Z, 1.0, -1.0).unwrap();
+        assert!(
+            (top.gradient - v3(0.25, 0.0, 0.0)).norm() < 1e-12,
+            "{top:?}"
+        );
         // Far out along -x the plane would fall inside the ring's plane: floored at 20.
         assert_eq!(plane.height_at(&v3(-30.0, 0.0, 0.0), &Z), 20.0);
         // No open long-axis curve reaching the end: no plane.
-        assert!(tip_plane(&circle(10.0, 40.0, 40), &curves, &kinds, &Z, 1.0).is_none());
+        assert!(tip_plane(&circle(10.0, 40.0, 40), &curves, &kinds, &Z, 1.0, 5.0).is_none());
+    }
+
+    /// Three views at 0, 90 and 45 degrees whose six tips lie 20 mm over a base ring at z = 0,
+    /// one of them cut 12 mm short at its x = -10 end: the lid stays flat at 20. Least squares (what
+    /// a 15 mm band allows: the short tip's 12 mm is then one rim) put it at 18 in the middle and
+    /// 13.5 over the short tip, 6.5 under where the wall goes on.
+    #[test]
+    fn a_curve_drawn_short_does_not_tilt_the_lid() {
+        let ring = circle(12.0, 0.0, 40);
+        let view = |deg: f64, low: f64| {
+            let (s, c) = deg.to_radians().sin_cos();
+            lax(vec![
+                v3(10.0 * c, 10.0 * s, 20.0),
+                v3(0.0, 0.0, -30.0),
+                v3(-10.0 * c, -10.0 * s, 20.0 - low),
+            ])
+        };
+        let curves = [view(0.0, 12.0), view(90.0, 0.0), view(45.0, 0.0)];
+        let kinds = [ContourKind::Lax; 3];
+        let plane = tip_plane(&ring, &curves, &kinds, &Z, 1.0, 5.0).unwrap();
+        assert_eq!(plane.gradient, Vec3::zeros());
+        assert_eq!(plane.height_at(&v3(-10.0, 0.0, 0.0), &Z), 20.0);
+        let fit = tip_plane(&ring, &curves, &kinds, &Z, 1.0, 15.0).unwrap();
+        assert!((fit.height_at(&v3(0.0, 0.0, 0.0), &Z) - 18.0).abs() < 1e-9);
+        // Slope: [300.864 100; 100 300.864] g = (120, 0) (sums of x^2, xy, y^2 plus the ridge
+        // 1e-3 x 144 x 6; x dh, y dh): g = (0.4484, -0.1490), 13.52 over the short tip.
+        let det = 300.864f64.powi(2) - 100.0f64.powi(2);
+        let g = v3(120.0 * 300.864 / det, -120.0 * 100.0 / det, 0.0);
+        assert!((fit.gradient - g).norm() < 1e-9, "{fit:?}");
+        assert!((fit.height_at(&v3(-10.0, 0.0, 0.0), &Z) - (18.0 - 10.0 * g.x)).abs() < 1e-9);
     }
 
     #[test]

@@ -14,6 +14,7 @@ pub mod ends;
 pub mod growth;
 mod lid_disc;
 pub mod lid_pull;
+pub mod lid_tips;
 mod phases;
 #[cfg(test)]
 mod precision;
