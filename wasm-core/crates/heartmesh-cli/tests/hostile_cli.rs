@@ -113,8 +113,13 @@ fn malformed_rows_name_the_file_and_the_line() {
         ("empty", Vec::new(), "empty file"),
         ("header", b"contour,x,y,z\r\n".to_vec(), "no data rows"),
         (
-            "utf16",
-            vec![0xFF, 0xFE, b'c', 0, b',', 0],
+            "utf16-damaged",
+            vec![0xFF, 0xFE, b'c', 0, b'\n', 0, 0x00, 0xD8, b',', 0],
+            "2: UTF-16 text with an unpaired surrogate 0xD800",
+        ),
+        (
+            "binary",
+            vec![b'c', b',', 0x01, 0xFF, 0xFE, b'\n'],
             "not a UTF-8 text file",
         ),
         (

@@ -24,7 +24,7 @@ struct Columns {
 /// Reads canonical CSV contours.
 pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
     let text = decode(bytes)?;
-    let mut rows = lines(text);
+    let mut rows = lines(&text);
     let mut header = None;
     for (line, row) in rows.by_ref() {
         let t = row.trim_start();

@@ -28,7 +28,7 @@ fn line_of(doc: &Document, node: Node) -> usize {
 
 fn parse(bytes: &[u8]) -> Result<Parsed> {
     let text = super::text::decode(bytes)?;
-    let doc = Document::parse(text).map_err(|e| {
+    let doc = Document::parse(&text).map_err(|e| {
         let p = e.pos();
         CoreError::parse(p.row as usize, format!("not valid XML: {e}"))
     })?;
