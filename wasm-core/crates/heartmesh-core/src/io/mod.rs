@@ -7,7 +7,9 @@
 mod buffers;
 mod builder;
 pub mod csv;
+mod csv_columns;
 mod dicom_read;
+mod frames;
 pub mod gpfile;
 pub mod mat;
 pub mod obj;
@@ -208,7 +210,7 @@ pub fn read_contours_with(
             0,
             "this is a mesh file (OBJ, STL or PLY), not contours",
         )),
-        ContourFormat::Csv => csv::read_csv(bytes),
+        ContourFormat::Csv => csv::read_csv_frame(bytes, options.frame),
         ContourFormat::GpFile => {
             let mut set = gpfile::read_gpfile(&text::decode(bytes)?, options.frame)?;
             if let Some(info) = options.slice_info {
