@@ -210,7 +210,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         if let Some(w) = report::self_intersection_warning(&rep) {
             eprintln!("heartmesh: warning: {output}: {w}");
         }
-        println!("{}", report::summary(output, &rep));
+        outln!("{}", report::summary(output, &rep));
     }
     Ok(())
 }
