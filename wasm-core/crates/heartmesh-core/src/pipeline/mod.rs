@@ -7,6 +7,7 @@
 //! heart; everything handed out is converted back to millimetres.
 
 pub mod apex_floor;
+pub mod budget;
 mod diameter;
 pub mod dome;
 mod end_data;
@@ -279,9 +280,11 @@ impl Reconstruction {
         let norm = Normalisation { centre, scale };
         let candidates: Vec<Vec3> = candidates_mm.iter().map(|p| norm.to_unit(p)).collect();
         let attractor_budget = match params.attractors {
-            AttractorMode::Auto => {
-                Budget::Count((25 * contours.len()).clamp(150, MAX_AUTO_ATTRACTORS))
-            }
+            AttractorMode::Auto => Budget::Count(budget::auto_attractors(
+                &contours,
+                &layout,
+                MAX_AUTO_ATTRACTORS,
+            )),
             AttractorMode::Count(n) => Budget::Count(n.max(MIN_ATTRACTORS)),
             AttractorMode::SpacingMm(mm) => Budget::Spacing(mm / scale),
         };
