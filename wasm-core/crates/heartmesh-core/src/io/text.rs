@@ -166,13 +166,8 @@ fn windows_1252(bytes: &[u8]) -> String {
 /// 1-based line number of byte offset `at`, counting line ends as [`lines`] does.
 pub fn line_of(bytes: &[u8], at: usize) -> usize {
     let end = at.min(bytes.len());
-    let head = &bytes[..end];
-    let lone_cr = head
-        .iter()
-        .enumerate()
-        .filter(|&(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'))
-        .count();
-    1 + head.iter().filter(|&&b| b == b'\n').count() + lone_cr
+    let eol = if bytes.contains(&b'\n') { b'\n' } else { b'\r' };
+    1 + bytes[..end].iter().filter(|&&b| b == eol).count()
 }
 
 /// 1-based line number of byte offset `at` of decoded text.
@@ -180,31 +175,14 @@ fn line_of_text(text: &str, at: usize) -> usize {
     line_of(text.as_bytes(), at)
 }
 
-/// Lines with their 1-based numbers: a line ends at `\r\n`, `\n` or a lone `\r` (classic Mac
-/// OS, and some exporters that still write it), so that mixed line ends count as a person sees
-/// them in an editor.
+/// Lines with their 1-based numbers, line-end characters removed. A text with line feeds splits
+/// at them (LF, CRLF, and the CR CR LF of a file converted twice); a text without any is a
+/// classic-Mac one (Excel for Mac's "CSV (Macintosh)" still writes it) and splits at its CRs.
 pub fn lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
-    let mut rest = Some(text);
-    std::iter::from_fn(move || {
-        let t = rest?;
-        match t.find(['\n', '\r']) {
-            Some(i) => {
-                let next = if t[i..].starts_with("\r\n") {
-                    i + 2
-                } else {
-                    i + 1
-                };
-                rest = Some(&t[next..]);
-                Some(&t[..i])
-            }
-            None => {
-                rest = None;
-                Some(t)
-            }
-        }
-    })
-    .enumerate()
-    .map(|(i, l)| (i + 1, l))
+    let eol = if text.contains('\n') { '\n' } else { '\r' };
+    text.split(eol)
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
 }
 
 /// Lines that carry data: not blank and not `#` comments.
@@ -310,13 +288,15 @@ mod tests {
     }
 
     #[test]
-    fn cr_only_and_mixed_line_ends_count_like_an_editor() {
-        let ls: Vec<_> = lines("a\rb\r\nc\nd\r\re").collect();
-        assert_eq!(
-            ls,
-            [(1, "a"), (2, "b"), (3, "c"), (4, "d"), (5, ""), (6, "e")]
-        );
-        assert_eq!(line_of(b"a\rb\r\nc\nd", 8), 4);
+    fn cr_only_files_split_at_cr_and_others_at_lf() {
+        let ls: Vec<_> = lines("a\rb\rc").collect();
+        assert_eq!(ls, [(1, "a"), (2, "b"), (3, "c")]);
+        // With line feeds, a CR is only ever part of a line end (CRLF, or CR CR LF from a file
+        // converted twice), never a line break of its own.
+        let ls: Vec<_> = lines("a\r\nb\nc\r\r\nd,\re").collect();
+        assert_eq!(ls, [(1, "a"), (2, "b"), (3, "c"), (4, "d,\re")]);
+        assert_eq!(line_of(b"a\rb\rc", 4), 3);
+        assert_eq!(line_of(b"a\r\nb\r\nc", 6), 3);
         assert_eq!(lines("").count(), 1);
     }
 
