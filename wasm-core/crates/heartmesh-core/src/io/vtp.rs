@@ -288,6 +288,9 @@ pub fn read_vtp_mesh(bytes: &[u8]) -> Result<MeshData> {
 /// one, else `line1`, `line2`, ...).
 pub fn read_vtp_contours(bytes: &[u8]) -> Result<ContourSet> {
     let p = parse(bytes)?;
+    if p.lines.is_empty() && !p.polys.is_empty() {
+        return super::vtk::contours_from_polygons(&p.points, &p.polys, p.lines_at);
+    }
     contours_from_lines(&p.points, &p.lines, p.lines_at, &p.labels)
 }
 
