@@ -193,7 +193,9 @@ pub fn data_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
     })
 }
 
-/// Parses one coordinate, refusing NaN and infinities (Rust's parser accepts them).
+/// Parses one coordinate, refusing NaN and infinities (Rust's parser accepts them). The minus
+/// sign U+2212 (what a number copied from a formatted document or a typeset table carries) reads
+/// as `-`.
 ///
 /// `what` names the column or field in the message.
 pub fn parse_coord(field: &str, line: usize, what: &str) -> Result<f64> {
@@ -206,6 +208,13 @@ pub fn parse_coord(field: &str, line: usize, what: &str) -> Result<f64> {
     if f.is_empty() {
         return Err(CoreError::parse(line, format!("{what} is empty")));
     }
+    let minus;
+    let f = if f.contains('\u{2212}') {
+        minus = f.replace('\u{2212}', "-");
+        minus.as_str()
+    } else {
+        f
+    };
     match f.parse::<f64>() {
         Ok(v) if v.is_finite() => Ok(v),
         Ok(_) => Err(CoreError::parse(
@@ -316,5 +325,10 @@ mod tests {
             .to_string()
             .contains("finite"));
         assert_eq!(parse_coord(" 1.5e1 ", 1, "x").unwrap(), 15.0);
+        assert_eq!(parse_coord("\u{2212}3.5", 1, "x").unwrap(), -3.5);
+        assert_eq!(parse_coord("2e\u{2212}1", 1, "x").unwrap(), 0.2);
+        for ok in ["+3", ".5", "5.", "1.5E+01", "\u{a0}7\u{a0}"] {
+            assert!(parse_coord(ok, 1, "x").is_ok(), "{ok}");
+        }
     }
 }
