@@ -489,6 +489,23 @@ def other_tools(out_dir, p1, surfco, rng, seed):
     cases.append(Case("numbers-plus-dot-exp", rows(lines[0], lambda l: ",".join(
         [l.split(",")[0]] + ["%+.6e" % float(v) for v in l.split(",")[1:]])), expect="ok"))
     cases.append(Case("thousands-separator", surfco.replace(b"35.00000", b'"1,035.0"', 1)))
+    cases.append(Case("unicode-minus", surfco.replace(b",-", ",\u2212".encode()), expect="ok"))
+    # Closed contours as VTK POLYGONS (how DICOM-RT converters store CLOSED_PLANAR), no LINES;
+    # and a triangle mesh given as contours.
+    rings = [pts for cid, _, pts in read_csv_bytes(surfco) if len(pts) > 50 and
+             norm(sub(pts[0], pts[-1])) < 2.0]
+    flat = [p for r in rings for p in r]
+    head = "# vtk DataFile Version 3.0\nrings\nASCII\nDATASET POLYDATA\nPOINTS %d float\n" % len(flat)
+    body = "\n".join("%.5f %.5f %.5f" % p for p in flat)
+    cells, k = [], 0
+    for r in rings:
+        cells.append(" ".join(str(i) for i in [len(r)] + list(range(k, k + len(r)))))
+        k += len(r)
+    poly = head + body + "\nPOLYGONS %d %d\n" % (len(rings), k + len(rings)) + "\n".join(cells) + "\n"
+    cases.append(Case("vtk-polygons-sax-only", poly.encode(), ext="vtk", expect="ok", c2m=3.0))
+    tri = head.replace("POINTS %d" % len(flat), "POINTS 4") + "0 0 0\n1 0 0\n1 1 0\n0 1 0\n" + \
+        "POLYGONS 2 8\n3 0 1 2\n3 0 2 3\n"
+    cases.append(Case("vtk-triangles-as-contours", tri.encode(), ext="vtk"))
     # Several frames in one CSV: frame 0 is the file, frame 1 the file 10 % larger.
     grow = "\n".join(",".join([l.split(",")[0]] + ["%.5f" % (1.1 * float(v)) for v in
                                                     l.split(",")[1:]]) + ",1"

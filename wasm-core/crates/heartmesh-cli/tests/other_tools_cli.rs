@@ -75,6 +75,11 @@ fn encodings_line_ends_and_layouts_of_other_tools_give_the_canonical_mesh() {
         ("UTF-16 LE without BOM", bare16),
         ("Windows-1252 id", ansi),
         ("classic Mac CR", surfco().replace('\n', "\r").into_bytes()),
+        ("CR CR LF", surfco().replace('\n', "\r\r\n").into_bytes()),
+        (
+            "Unicode minus sign",
+            surfco().replace(",-", ",\u{2212}").into_bytes(),
+        ),
         (
             "units in the header",
             surfco()
