@@ -21,6 +21,7 @@ mod precision;
 mod prepare;
 #[cfg(test)]
 mod reuse;
+pub mod solve_cost;
 pub mod tube;
 
 use crate::clock::{Clock, DefaultClock};
@@ -591,10 +592,18 @@ impl Reconstruction {
         self.done
     }
 
-    /// The note for a run whose mesh would reach the remesh cap ([`growth::cap_note`]), or None;
-    /// known once step 0 has built the initial tube (None before).
+    /// The note before a long run, or None: its mesh would reach the remesh cap
+    /// ([`growth::cap_note`]), or its attractors make the spline's solve long
+    /// ([`solve_cost::long_solve_note`]); both in one line when both hold. Known once step 0 has
+    /// built the initial tube and sampled the attractors (None before).
     pub fn growth_note(&self) -> Option<String> {
-        growth::cap_note(&self.params, self.mesh_unit.triangles.len())
+        let mesh = growth::cap_note(&self.params, self.mesh_unit.triangles.len());
+        let attractors = self.real_attractors.min(self.attractors.len());
+        let solve = solve_cost::long_solve_note(attractors);
+        match (mesh, solve) {
+            (Some(a), Some(b)) => Some(format!("{a}; and {b}")),
+            (a, b) => a.or(b),
+        }
     }
 
     pub fn iteration(&self) -> usize {
