@@ -137,10 +137,25 @@ fn check_width(fields: &[&str], cols: &Columns, sep: char, line: usize) -> Resul
     }
     let surplus = fields.get(cols.width..).unwrap_or(&[]);
     if surplus.iter().any(|f| !unquote(f).is_empty()) {
-        let hint = if sep == ',' {
+        // Decimal commas split every number in two whole ones: "-32,83557" -> "-32", "83557".
+        let id = match cols.id {
+            IdSource::Contour(i) | IdSource::Slice(i) => Some(i),
+            IdSource::BlankLines => None,
+        };
+        let whole = |f: &str| {
+            let f = unquote(f);
+            let digits = f.strip_prefix(['-', '+']).unwrap_or(f);
+            !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
+        };
+        let split_numbers = fields
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| Some(*k) != id && cols.surface != Some(*k))
+            .all(|(_, f)| unquote(f).is_empty() || whole(f));
+        let hint = if sep == ',' && split_numbers {
             "; decimal commas with \",\" between the fields? Then separate the fields with \";\""
         } else {
-            ""
+            "; name every column in the header, or remove the values past it"
         };
         return Err(CoreError::parse(
             line,
@@ -355,6 +370,17 @@ mod tests {
         let set = read("contour\tx\ty\tz\nb\t1\t2\t3\n").unwrap();
         assert_eq!(set.contours[0].id, "b");
         assert_eq!(set.contours[0].surface, None);
+    }
+
+    #[test]
+    fn values_past_the_header_are_refused_with_the_likely_cause() {
+        let e = read("contour,x,y,z\na,-32,8,27,4,35,0\n").unwrap_err();
+        assert_eq!(e.line(), Some(2));
+        assert!(e.to_string().ends_with("row has 7 fields but the header names 4 columns; decimal commas with \",\" between the fields? Then separate the fields with \";\""), "{e}");
+        let e = read("contour,x,y,z\na,1.5,2,3,LV_ENDO\n").unwrap_err();
+        assert!(e.to_string().ends_with("row has 5 fields but the header names 4 columns; name every column in the header, or remove the values past it"), "{e}");
+        // Empty fields past the header (a separator closing every row) are fine.
+        assert_eq!(read("contour,x,y,z\na,1,2,3,,\n").unwrap().point_count(), 1);
     }
 
     #[test]
