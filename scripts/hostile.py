@@ -223,7 +223,7 @@ def malformed(p1, surfco, rng):
     cases.append(Case("bom", b"\xef\xbb\xbf" + surfco, expect="ok"))
     cases.append(Case("crlf", surfco.replace(b"\n", b"\r\n"), expect="ok"))
     cases.append(Case("cr-only", surfco.replace(b"\n", b"\r"), expect="any"))
-    cases.append(Case("utf16", b"\xff\xfe" + surfco.decode().encode("utf-16-le")))
+    cases.append(Case("utf16", b"\xff\xfe" + surfco.decode().encode("utf-16-le"), expect="ok"))
     cases.append(Case("binary-garbage", bytes(rng.randrange(256) for _ in range(4096))))
     cases.append(Case("long-line", surfco + b"c9," + b"1" * 5_000_000 + b",2,3\n", expect="error"))
     cases.append(Case("long-comment", b"#" + b"x" * 5_000_000 + b"\n" + surfco, expect="ok"))
@@ -446,6 +446,159 @@ def awkward(out_dir, p1, surfco, rng, seed):
     return cases
 
 
+def other_tools(out_dir, p1, surfco, rng, seed):
+    """Session 16: files as other tools write them (encodings, line ends, header spellings,
+    index, slice and frame columns, GPFile variants) and awkward geometry the first round did not
+    try (dense stacks, 3 and 30 slices, a mouse heart, pieces, open arcs, RV septum only)."""
+    text = surfco.decode()
+    lines = text.splitlines()
+    cases = []
+
+    def rows(head, f):
+        return (head + "\n" + "\n".join(f(l) for l in lines[1:] if l) + "\n").encode()
+
+    tabbed = text.replace(",", "\t").replace("\n", "\r\n")
+    cases.append(Case("utf16le-bom-tabs", b"\xff\xfe" + tabbed.encode("utf-16-le"), expect="ok"))
+    cases.append(Case("utf16be-bom", b"\xfe\xff" + tabbed.encode("utf-16-be"), expect="ok"))
+    cases.append(Case("utf16le-no-bom", tabbed.encode("utf-16-le"), expect="ok"))
+    cases.append(Case("utf16-unpaired-surrogate",
+                      b"\xff\xfe" + "contour,x\n".encode("utf-16-le") + b"\x00\xd8"))
+    cases.append(Case("windows-1252-id", rows(lines[0], lambda l: "r\u00e9gion " + l)
+                      .decode().encode("cp1252"), expect="ok"))
+    cases.append(Case("cr-only-strict", surfco.replace(b"\n", b"\r"), expect="ok"))
+    cases.append(Case("mixed-crlf-lf", b"".join(
+        l + (b"\r\n" if i % 2 else b"\n") for i, l in enumerate(surfco.split(b"\n"))), expect="ok"))
+    cases.append(Case("trailing-separator", rows("contour,x,y,z,", lambda l: l + ","), expect="ok"))
+    cases.append(Case("quoted-fields", rows('"contour","x","y","z"', lambda l: ",".join(
+        '"%s"' % f for f in l.split(","))), expect="ok"))
+    cases.append(Case("decimal-comma-comma-sep", rows(lines[0], lambda l: l.replace(".", ","))))
+    for name, head in [("units-paren", "contour,x (mm),y (mm),z (mm)"),
+                       ("units-bracket", "Contour,X[mm],Y[mm],Z[mm]"),
+                       ("units-suffix", "CONTOUR,X_mm,Y_mm,Z_mm"),
+                       ("paraview-points", "contour,Points:0,Points:1,Points:2"),
+                       ("slice-column", "slice,x,y,z"),
+                       ("reordered-upper", None)]:
+        if head is None:
+            data = rows("Z,Y,X,Contour", lambda l: ",".join(l.split(",")[::-1]))
+        else:
+            data = (head + "\n" + "\n".join(lines[1:]) + "\n").encode()
+        cases.append(Case(name, data, expect="ok"))
+    cases.append(Case("units-pixels", ("contour,x [px],y [px],z [px]\n" + "\n".join(lines[1:]))
+                      .encode()))
+    cases.append(Case("pandas-index", rows("," + lines[0], lambda l: "0," + l), expect="ok"))
+    cases.append(Case("numbers-plus-dot-exp", rows(lines[0], lambda l: ",".join(
+        [l.split(",")[0]] + ["%+.6e" % float(v) for v in l.split(",")[1:]])), expect="ok"))
+    cases.append(Case("thousands-separator", surfco.replace(b"35.00000", b'"1,035.0"', 1)))
+    cases.append(Case("unicode-minus", surfco.replace(b",-", ",\u2212".encode()), expect="ok"))
+    # Closed contours as VTK POLYGONS (how DICOM-RT converters store CLOSED_PLANAR), no LINES;
+    # and a triangle mesh given as contours.
+    rings = [pts for cid, _, pts in read_csv_bytes(surfco) if len(pts) > 50 and
+             norm(sub(pts[0], pts[-1])) < 2.0]
+    flat = [p for r in rings for p in r]
+    head = "# vtk DataFile Version 3.0\nrings\nASCII\nDATASET POLYDATA\nPOINTS %d float\n" % len(flat)
+    body = "\n".join("%.5f %.5f %.5f" % p for p in flat)
+    cells, k = [], 0
+    for r in rings:
+        cells.append(" ".join(str(i) for i in [len(r)] + list(range(k, k + len(r)))))
+        k += len(r)
+    poly = head + body + "\nPOLYGONS %d %d\n" % (len(rings), k + len(rings)) + "\n".join(cells) + "\n"
+    cases.append(Case("vtk-polygons-sax-only", poly.encode(), ext="vtk", expect="ok", c2m=3.0))
+    tri = head.replace("POINTS %d" % len(flat), "POINTS 4") + "0 0 0\n1 0 0\n1 1 0\n0 1 0\n" + \
+        "POLYGONS 2 8\n3 0 1 2\n3 0 2 3\n"
+    cases.append(Case("vtk-triangles-as-contours", tri.encode(), ext="vtk"))
+    # Several frames in one CSV: frame 0 is the file, frame 1 the file 10 % larger.
+    grow = "\n".join(",".join([l.split(",")[0]] + ["%.5f" % (1.1 * float(v)) for v in
+                                                    l.split(",")[1:]]) + ",1"
+                     for l in lines[1:] if l)
+    two = ("contour,x,y,z,frame\n" + "\n".join(l + ",0" for l in lines[1:] if l) + "\n" +
+           grow + "\n").encode()
+    cases.append(Case("frame-column-two-frames", two, expect="ok", c2m=0.2))
+    cases.append(Case("frame-column-frame-1", two, expect="ok", args=["--frame", "1"], c2m=0.2))
+    cases.append(Case("frame-column-absent-frame", two, args=["--frame", "7"]))
+    # Slices numbered per surface: ids 1..n again for every surface.
+    numbered, seen = [], {}
+    for cid, surf, pts in p1:
+        seen[surf] = seen.get(surf, 0) + 1
+        numbered.append((str(seen[surf]), surf, pts))
+    cases.append(Case("ids-per-surface", write_csv(numbered), args=["--surface", "LV_EPI"],
+                      expect="ok", c2m=2.5))
+
+    # GPFile variants (named GPFile_000.txt by run_cases: "gpfile" prefix).
+    p1dir = os.path.join(CONTOURS, "bivme-example-patient1")
+    with open(os.path.join(p1dir, "GPFile_000.txt"), "rb") as f:
+        gp = f.read()
+    with open(os.path.join(p1dir, "SliceInfoFile.txt"), "rb") as f:
+        si = f.read()
+    with open(os.path.join(CONTOURS, "bivme-test-patient2", "SliceInfoFile.txt"), "rb") as f:
+        si2 = f.read()
+    lv = ["--surface", "LV_ENDO"]
+    gpl = gp.decode().splitlines()
+    again = "\n".join(gpl + ["\t".join(["%.5f" % (float(r.split("\t")[0]) + 3)] +
+                                        r.split("\t")[1:6] + ["5"]) for r in gpl[1:]]) + "\n"
+    for name, data, extra in [
+        ("gpfile-commas", gp.replace(b"\t", b","), si),
+        ("gpfile-spaces", gp.replace(b"\t", b" "), si),
+        ("gpfile-cr-only", gp.replace(b"\n", b"\r"), si),
+        ("gpfile-utf16", b"\xff\xfe" + gp.decode().encode("utf-16-le"), si),
+        ("gpfile-two-frames", again.encode(), si),
+        ("gpfile-other-sliceinfo", gp, si2),
+        ("gpfile-sliceinfo-utf16", gp, b"\xff\xfe" + si.decode().encode("utf-16-le")),
+    ]:
+        cases.append(Case(name, data, ext="txt", args=lv, expect="ok",
+                          extra={"SliceInfoFile.txt": extra}))
+
+    # Geometry (simulated from the biv-me LV, or the real patient).
+    truth = os.path.join(MESHES, "bivme-patient1-ED-LV_ENDO-closed.obj")
+    cap = os.path.join(MESHES, "cap-atlas-mean-ED-LV_ENDO-open.obj")
+
+    def sim(name, args, c2m=2.5, expect="ok", transform=None, mesh=truth):
+        path = simulate(out_dir, name, mesh, args, seed)
+        blocks = read_csv(path)
+        if transform:
+            blocks = transform(blocks)
+        cases.append(Case("sim-" + name, write_csv(blocks, fmt="{:.6f}"), expect=expect, c2m=c2m))
+        return blocks
+
+    sim("cap-dense-1mm", ["--sax-spacing", "1"], mesh=cap)
+    sim("cap-dense-2mm", ["--sax-spacing", "2"], mesh=cap)
+    sim("three-slices", ["--sax", "3"])
+    sim("three-slices-no-lax", ["--sax", "3", "--lax", "0"])
+    sim("thirty-slices", ["--sax", "30"])
+    sim("mouse-tenth", [], c2m=0.25,
+        transform=lambda b: [(c, s, [scale(p, 0.1) for p in pts]) for c, s, pts in b])
+
+    def arcs(share):
+        return lambda b: [(c, s, pts[:int(len(pts) * share)] if is_sax(c) else pts)
+                          for c, s, pts in b]
+
+    sim("open-arcs-60pct", [], transform=arcs(0.6))
+    sim("open-arcs-30pct", [], transform=arcs(0.3))
+
+    def pieces(k):
+        def t(blocks):
+            out = []
+            for c, s, pts in blocks:
+                if not is_sax(c):
+                    out.append((c, s, pts))
+                    continue
+                step = len(pts) // k
+                for j in range(k):  # same id, a gap of 6 spacings (a jump) between pieces
+                    out.append((c, s, pts[j * step:(j + 1) * step - 6]))
+            return out
+        return t
+
+    sim("slices-in-four-pieces", [], transform=pieces(4))
+    cases.append(Case("rv-septum-only", write_csv([b for b in p1 if "SEPTUM" in b[0]]),
+                      expect="any", c2m=3.0))
+    many = [(f"c{k}", None, [(20 * math.cos(k + 2.1 * i), 20 * math.sin(k + 2.1 * i), k * 1e-2)
+                             for i in range(3)]) for k in range(10_000)]
+    cases.append(Case("10k-tiny-contours", write_csv(many, fmt="{:.4f}")))
+    ring = [(30 * math.cos(i * 1e-3), 30 * math.sin(i * 1e-3), (i // 6283) * 1.0)
+            for i in range(2_000_001)]
+    cases.append(Case("2000001-points", write_csv([("c1", None, ring)], fmt="{:.3f}")))
+    return cases
+
+
 # ---------------------------------------------------------------------------------------------
 # Running and judging
 
@@ -533,7 +686,7 @@ def main():
     with open(os.path.join(CONTOURS, "surfco-example.csv"), "rb") as f:
         surfco = f.read()
     cases = malformed(p1, surfco, rng) + other_readers(out_dir, rng) + \
-        awkward(out_dir, p1, surfco, rng, seed)
+        awkward(out_dir, p1, surfco, rng, seed) + other_tools(out_dir, p1, surfco, rng, seed)
     for c in cases:
         c.args = merge_args(c.args, extra)
     bad = run_cases(cases, out_dir, timeout, only)

@@ -71,7 +71,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         if let Some(note) = &alignment.note {
             line.push_str(&format!(" ({note})"));
         }
-        println!("{line}");
+        outln!("{line}");
     }
     Ok(())
 }

@@ -53,9 +53,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     if p.switch("json") {
         let text =
             serde_json::to_string_pretty(&report).map_err(|e| CliError::Failed(e.to_string()))?;
-        println!("{text}");
+        outln!("{text}");
     } else {
-        print!("{}", human(&report));
+        out!("{}", human(&report));
     }
     Ok(())
 }

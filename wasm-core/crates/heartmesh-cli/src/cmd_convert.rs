@@ -82,7 +82,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
     files::write(output, &out)?;
     if !p.switch("quiet") {
-        println!(
+        outln!(
             "{output}: {} contours, {} points, {} landmarks",
             set.contours.len(),
             set.point_count(),
@@ -107,7 +107,7 @@ fn write_mesh(
         .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
     files::write(output, &out)?;
     if !quiet {
-        println!(
+        outln!(
             "{output}: {} vertices, {} triangles",
             data.mesh.positions.len(),
             data.mesh.triangles.len()

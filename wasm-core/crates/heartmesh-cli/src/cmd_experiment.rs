@@ -225,7 +225,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let names: Vec<String> = exp.subjects().iter().map(|s| s.name.clone()).collect();
     files::write(&svg_name, plot(&design, &rows, &names, &params).as_bytes())?;
     if !quiet {
-        println!(
+        outln!(
             "{csv_name}, {svg_name}: {} runs ({failed} failed) in {:.1} s",
             rows.len(),
             started.elapsed().as_secs_f64()

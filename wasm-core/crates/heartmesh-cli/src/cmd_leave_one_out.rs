@@ -38,7 +38,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     if p.switch("json") {
         let text =
             serde_json::to_string_pretty(&result).map_err(|e| CliError::Failed(e.to_string()))?;
-        println!("{text}");
+        outln!("{text}");
         return Ok(());
     }
     for c in &result.contours {
@@ -47,16 +47,20 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             ContourKind::Lax => "LAX",
         };
         match (&c.stats, &c.error) {
-            (Some(s), _) => println!(
+            (Some(s), _) => outln!(
                 "{:<24} {kind}  mean {:.3}  median {:.3}  p95 {:.3}  max {:.3} mm",
-                c.id, s.mean, s.median, s.p95, s.max
+                c.id,
+                s.mean,
+                s.median,
+                s.p95,
+                s.max
             ),
-            (None, Some(e)) => println!("{:<24} {kind}  not rebuilt: {e}", c.id),
+            (None, Some(e)) => outln!("{:<24} {kind}  not rebuilt: {e}", c.id),
             (None, None) => {}
         }
     }
     if let Some(w) = &result.worst {
-        println!(
+        outln!(
             "worst: {w}; mean of per-contour means {:.3} mm",
             result.mean_of_means
         );

@@ -64,9 +64,10 @@ pub const USAGE: &str =
   set_aside; --keep-specks keeps them (the paper's method);
   --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
-  CONTOURS: csv, biv-me GPFile (SliceInfoFile.txt beside it is used; --frame picks a time
-  frame), xyz text, vtk/vtp lines, SurFCo .mat, heartmesh session .json (its parameters are
-  the starting point; flags override them).";
+  CONTOURS: csv (UTF-8, UTF-16 or Windows-1252; units in the header applied), biv-me GPFile
+  (SliceInfoFile.txt beside it is used), xyz text, vtk/vtp lines, SurFCo .mat, heartmesh
+  session .json (its parameters are the starting point; flags override them); --frame N reads
+  time frame N of a GPFile or of a CSV with a frame column (default: each contour's first).";
 
 /// Options that take a value, besides the numeric parameters.
 const VALUE_FLAGS: &[&str] = &[
@@ -210,7 +211,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         if let Some(w) = report::self_intersection_warning(&rep) {
             eprintln!("heartmesh: warning: {output}: {w}");
         }
-        println!("{}", report::summary(output, &rep));
+        outln!("{}", report::summary(output, &rep));
     }
     Ok(())
 }

@@ -71,7 +71,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         }
         let o = acq.clip.origin;
         let n = acq.clip.normal;
-        println!(
+        outln!(
             "{output}: {} SAX + {} LAX contours, {} points from {}; most basal SAX plane through \
              ({:.2}, {:.2}, {:.2}) normal ({:.4}, {:.4}, {:.4})",
             acq.sax_planes.len(),

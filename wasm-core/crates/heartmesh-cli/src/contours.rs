@@ -30,7 +30,7 @@ pub fn load(path: &str, frame: Option<u32>) -> Result<Loaded, CliError> {
     }
     let slice_info = if format == ContourFormat::GpFile {
         let sibling = Path::new(path).with_file_name("SliceInfoFile.txt");
-        std::fs::read_to_string(sibling).ok()
+        std::fs::read(sibling).ok()
     } else {
         None
     };

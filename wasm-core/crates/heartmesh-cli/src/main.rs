@@ -4,6 +4,8 @@
 //! Exit status: 0 success, 2 bad input or usage (one line on stderr: `heartmesh: FILE:LINE:
 //! problem`), 1 the reconstruction or writing failed.
 
+#[macro_use]
+mod stdout;
 mod args;
 mod cmd_align;
 mod cmd_compare;
@@ -44,21 +46,21 @@ fn run(argv: &[String]) -> Result<(), CliError> {
     };
     let wants_help = rest.iter().any(|a| a == "--help" || a == "-h");
     match cmd.as_str() {
-        "--help" | "-h" | "help" => println!("{}", usage()),
-        "--version" | "-V" | "version" => println!("heartmesh {}", heartmesh_core::VERSION),
-        "reconstruct" if wants_help => println!("usage: {}", cmd_reconstruct::USAGE),
-        "convert" if wants_help => println!("usage: {}", cmd_convert::USAGE),
+        "--help" | "-h" | "help" => outln!("{}", usage()),
+        "--version" | "-V" | "version" => outln!("heartmesh {}", heartmesh_core::VERSION),
+        "reconstruct" if wants_help => outln!("usage: {}", cmd_reconstruct::USAGE),
+        "convert" if wants_help => outln!("usage: {}", cmd_convert::USAGE),
         "reconstruct" => cmd_reconstruct::run(rest)?,
         "convert" => cmd_convert::run(rest)?,
-        "simulate" if wants_help => println!("usage: {}", cmd_simulate::USAGE),
-        "compare" if wants_help => println!("usage: {}", cmd_compare::USAGE),
-        "leave-one-out" if wants_help => println!("usage: {}", cmd_leave_one_out::USAGE),
+        "simulate" if wants_help => outln!("usage: {}", cmd_simulate::USAGE),
+        "compare" if wants_help => outln!("usage: {}", cmd_compare::USAGE),
+        "leave-one-out" if wants_help => outln!("usage: {}", cmd_leave_one_out::USAGE),
         "simulate" => cmd_simulate::run(rest)?,
         "compare" => cmd_compare::run(rest)?,
         "leave-one-out" => cmd_leave_one_out::run(rest)?,
-        "experiment" if wants_help => println!("usage: {}", cmd_experiment::USAGE),
+        "experiment" if wants_help => outln!("usage: {}", cmd_experiment::USAGE),
         "experiment" => cmd_experiment::run(rest)?,
-        "align" if wants_help => println!("usage: {}", cmd_align::USAGE),
+        "align" if wants_help => outln!("usage: {}", cmd_align::USAGE),
         "align" => cmd_align::run(rest)?,
         other => return Err(CliError::usage(format!("unknown command {other:?}"))),
     }

@@ -113,8 +113,13 @@ fn malformed_rows_name_the_file_and_the_line() {
         ("empty", Vec::new(), "empty file"),
         ("header", b"contour,x,y,z\r\n".to_vec(), "no data rows"),
         (
-            "utf16",
-            vec![0xFF, 0xFE, b'c', 0, b',', 0],
+            "utf16-damaged",
+            vec![0xFF, 0xFE, b'c', 0, b'\n', 0, 0x00, 0xD8, b',', 0],
+            "2: UTF-16 text with an unpaired surrogate 0xD800",
+        ),
+        (
+            "binary",
+            vec![b'c', b',', 0x01, 0xFF, 0xFE, b'\n'],
             "not a UTF-8 text file",
         ),
         (
@@ -573,5 +578,42 @@ fn a_click_in_a_long_axis_view_is_left_out() {
     let cmp: serde_json::Value = serde_json::from_str(&out).unwrap();
     let spike = cmp["hausdorff"].as_f64().unwrap();
     assert!(spike > 15.0, "kept, the wall reaches {spike} mm in");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A stack resliced every millimetre (session 16): at the defaults its attractor count stays in
+/// the hundreds (`pipeline::budget`) and nothing is announced; asked for 2000 attractors, the
+/// run says before the wait that the solve grows with their cube.
+#[test]
+fn a_long_spline_solve_is_announced_before_the_run() {
+    let dir = scratch("long-solve");
+    let csv = dir.join("dense.csv");
+    let truth = data("meshes/cap-atlas-mean-ED-LV_ENDO-open.obj");
+    let (code, _, err) = run(bin()
+        .args(["simulate", s(&truth), "-o", s(&csv), "--sax-spacing", "1"])
+        .arg("--quiet"));
+    assert_eq!(code, 0, "{err}");
+    let (code, err, rep) = reconstruct(&dir, &csv, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("attractors:"), "{err}");
+    let seconds = rep
+        .as_ref()
+        .and_then(|r| r["seconds"].as_f64())
+        .unwrap_or(f64::NAN);
+    assert!(
+        seconds < 8.0,
+        "{seconds} s at the defaults (12.6 s before the dense-stack rule)"
+    );
+    let (code, err, _) = reconstruct(&dir, &csv, &["--attractors", "2000", "--iterations", "1"]);
+    assert_eq!(code, 0, "{err}");
+    let note = format!(
+        "heartmesh: note: {}: 2000 attractors: the spline's solve grows with the cube of their \
+         number",
+        s(&csv)
+    );
+    assert!(
+        err.lines().next().is_some_and(|l| l.starts_with(&note)),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

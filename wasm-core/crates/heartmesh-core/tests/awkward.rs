@@ -255,6 +255,35 @@ fn spacing_tilt_gaps_and_self_crossing_contours_reconstruct() {
     }
 }
 
+/// A stack resliced every millimetre (a 3D segmentation's export, session 16): the paper's count
+/// would put 25 attractors on each of ~80 rings (2000+, a cubic solve: 12 s natively on the CAP
+/// mean, a minute in the browser); the dense-stack rule (`pipeline::budget`) counts the rings at
+/// half the in-plane attractor spacing, and the contours are followed as closely.
+#[test]
+fn a_stack_every_millimetre_counts_its_slices_at_the_attractor_spacing() {
+    let dense = reread(&acquisition(AcquisitionSpec {
+        sax: SaxStack::SpacingMm(1.0),
+        ..spec()
+    }));
+    let mut rec = heartmesh_core::pipeline::Reconstruction::new(&dense, Params::default())
+        .unwrap_or_else(|e| panic!("new: {e}"));
+    rec.step().unwrap_or_else(|e| panic!("step: {e}")); // the tube and the first attractors
+    let n = rec.attractors().len();
+    let paper = 25 * dense.contours.len();
+    assert!(
+        dense.contours.len() > 70,
+        "{} contours",
+        dense.contours.len()
+    );
+    assert!(
+        (500..1000).contains(&n),
+        "{n} attractors (the paper's count: {paper})"
+    );
+    let (m, vol, _) = run(&dense);
+    assert!(m < 0.12, "c2m mean {m} mm"); // 0.039 mm (98 contours, 3.3 s natively)
+    assert!((140.0..210.0).contains(&vol), "volume {vol} ml");
+}
+
 #[test]
 fn units_far_from_millimetres_warn_or_are_refused_with_the_reason() {
     let base = acquisition(spec());

@@ -187,7 +187,8 @@ impl Session {
         serde_json::to_string(&report).map_err(|e| errors::usage("internal", e.to_string()))
     }
 
-    /// The core's note for a run whose mesh will reach the remesh cap (`Reconstruction::growth_note`),
+    /// The core's note before a long run (`Reconstruction::growth_note`: a mesh that will reach the
+    /// remesh cap, or attractors that make the spline's solve long),
     /// known after the first step; None otherwise or before.
     pub fn growth_note(&self) -> Option<String> {
         self.run.as_ref().and_then(|r| r.rec.growth_note())

@@ -18,7 +18,8 @@ pub const MAX_POINTS: usize = 2_000_000;
 #[derive(Debug, Default)]
 pub struct ContourBuilder {
     contours: Vec<Contour>,
-    index: HashMap<String, usize>,
+    /// (identifier, surface) -> index into `contours`.
+    index: HashMap<(String, Option<String>), usize>,
     /// Contour receiving the current run.
     current: Option<usize>,
     run: Vec<Vec3>,
@@ -33,13 +34,20 @@ impl ContourBuilder {
     }
 
     /// Appends point `p` of contour `id` read at 1-based `line`.
+    ///
+    /// A contour is its identifier within its surface: files that number the slices of each
+    /// surface from 1 (`1,LV_ENDO` ... `1,LV_EPI`) hold different contours under one name, which
+    /// [`ContourBuilder::finish`] then qualifies with the surface.
     pub fn push(&mut self, id: &str, surface: Option<&str>, p: Vec3, line: usize) -> Result<()> {
-        let same = self
-            .current
-            .is_some_and(|c| self.contours.get(c).is_some_and(|c| c.id == id));
+        let same = self.current.is_some_and(|c| {
+            self.contours
+                .get(c)
+                .is_some_and(|c| c.id == id && c.surface.as_deref() == surface)
+        });
         if !same {
             self.flush();
-            let idx = match self.index.get(id) {
+            let key = (id.to_string(), surface.map(str::to_string));
+            let idx = match self.index.get(&key) {
                 Some(&i) => i,
                 None => {
                     self.contours.push(Contour {
@@ -48,25 +56,11 @@ impl ContourBuilder {
                         pieces: Vec::new(),
                         first_line: line,
                     });
-                    self.index.insert(id.to_string(), self.contours.len() - 1);
+                    self.index.insert(key, self.contours.len() - 1);
                     self.contours.len() - 1
                 }
             };
             self.current = Some(idx);
-        }
-        if let Some(c) = self.current.and_then(|i| self.contours.get(i)) {
-            if c.surface.as_deref() != surface {
-                return Err(CoreError::parse(
-                    line,
-                    format!(
-                        "contour {:?} has surface {} here but {} on line {}",
-                        id,
-                        surface.unwrap_or("(none)"),
-                        c.surface.as_deref().unwrap_or("(none)"),
-                        c.first_line
-                    ),
-                ));
-            }
         }
         self.count(line)?;
         self.run.push(p);
@@ -160,6 +154,7 @@ impl ContourBuilder {
         if self.contours.is_empty() {
             return Err(CoreError::parse(0, "no contour points found"));
         }
+        qualify_shared_ids(&mut self.contours);
         let mut set = ContourSet {
             contours: self.contours,
             landmarks: self.landmarks,
@@ -182,6 +177,34 @@ impl ContourBuilder {
         ];
         set.warnings.extend(found.into_iter().flatten());
         Ok(set)
+    }
+}
+
+/// Names an identifier that several surfaces use (`3` of LV_ENDO and `3` of LV_EPI) after its
+/// surface in every contour that has it (`3 LV_ENDO`, `3 LV_EPI`), so that each contour keeps a
+/// name of its own in warnings, reports and saved files.
+fn qualify_shared_ids(contours: &mut [Contour]) {
+    let mut surfaces: HashMap<&str, Option<&str>> = HashMap::new();
+    let mut shared: Vec<String> = Vec::new();
+    for c in contours.iter() {
+        match surfaces.get(c.id.as_str()) {
+            Some(s) if *s != c.surface.as_deref() => shared.push(c.id.clone()),
+            Some(_) => {}
+            None => {
+                surfaces.insert(&c.id, c.surface.as_deref());
+            }
+        }
+    }
+    if shared.is_empty() {
+        return;
+    }
+    let shared: std::collections::HashSet<String> = shared.into_iter().collect();
+    for c in contours.iter_mut().filter(|c| shared.contains(&c.id)) {
+        c.id = format!(
+            "{} {}",
+            c.id,
+            c.surface.as_deref().unwrap_or("(no surface)")
+        );
     }
 }
 
@@ -432,13 +455,34 @@ mod tests {
     }
 
     #[test]
-    fn surface_conflict_and_units() {
+    fn one_name_in_two_surfaces_is_two_contours_and_units() {
+        // Slices numbered per surface: "1" of LV_ENDO and "1" of LV_EPI are two contours, each
+        // named after its surface; "2" (one surface only) keeps its name.
         let mut b = ContourBuilder::new();
-        b.push("a", Some("LV_ENDO"), v3(0.0, 0.0, 0.0), 2).unwrap();
-        let e = b
-            .push("a", Some("LV_EPI"), v3(0.0, 0.0, 0.0), 3)
-            .unwrap_err();
-        assert_eq!(e.line(), Some(3));
+        for (k, (id, s)) in [
+            ("1", "LV_ENDO"),
+            ("2", "LV_ENDO"),
+            ("1", "LV_EPI"),
+            ("1", "LV_ENDO"),
+        ]
+        .iter()
+        .enumerate()
+        {
+            for i in 0..3 {
+                let p = v3(10.0 * i as f64, 5.0 * k as f64, 7.0 * (i * i) as f64);
+                b.push(id, Some(s), p, 3 * k + i + 2).unwrap();
+            }
+        }
+        let set = b.finish().unwrap();
+        let names: Vec<(&str, usize, usize)> = set
+            .contours
+            .iter()
+            .map(|c| (c.id.as_str(), c.pieces.len(), c.first_line))
+            .collect();
+        assert_eq!(
+            names,
+            [("1 LV_ENDO", 2, 2), ("2", 1, 5), ("1 LV_EPI", 1, 8)]
+        );
         let mut b = ContourBuilder::new();
         b.push("a", None, v3(0.0, 0.0, 0.0), 2).unwrap();
         b.push("a", None, v3(0.05, 0.02, 0.0), 3).unwrap();

@@ -1,30 +1,28 @@
-//! The canonical contour CSV of ../shared/data/README.md: a header naming `contour,x,y,z` and
-//! optionally `surface` (any order, extra columns ignored), one row per point, `#` comments, comma,
-//! semicolon or tab separated, optional UTF-8 BOM and CRLF line ends. A header with `x,y,z` but no
-//! `contour` column is read like XYZ text: blank lines separate the contours `c1`, `c2`, ...
+//! The canonical CSV of ../shared/data/README.md: a header naming `contour,x,y,z` and
+//! optionally `surface` (any order, other names and units as `csv_columns` reads them, extra
+//! columns ignored), one row per point, `#` comments, comma, semicolon or tab separated, any
+//! encoding and line ends `text` decodes. A header with `x,y,z` but no `contour` column is read
+//! like XYZ text: blank lines separate the contours `c1`, `c2`, ... A `slice` column names the
+//! contours by slice; a time-frame column keeps one frame (`frames`).
 
 use super::builder::ContourBuilder;
+use super::csv_columns::{parse_header, Columns, IdSource};
+use super::frames::FrameFilter;
 use super::text::{decode, lines, parse_coord};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
 use crate::geometry::v3;
 
-/// Column positions found in the header.
-struct Columns {
-    /// None: an `x,y,z` file without identifiers, where blank lines separate the contours.
-    contour: Option<usize>,
-    x: usize,
-    y: usize,
-    z: usize,
-    surface: Option<usize>,
-    /// Number of columns the header declares.
-    width: usize,
+/// Reads canonical CSV contours (each contour's first time frame, see [`read_csv_frame`]).
+pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
+    read_csv_frame(bytes, None)
 }
 
-/// Reads canonical CSV contours.
-pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
+/// Reads canonical CSV contours; `frame` keeps only the rows of that time frame when the file
+/// has a frame column (None: each contour's first frame).
+pub fn read_csv_frame(bytes: &[u8], frame: Option<u32>) -> Result<ContourSet> {
     let text = decode(bytes)?;
-    let mut rows = lines(text);
+    let mut rows = lines(&text);
     let mut header = None;
     for (line, row) in rows.by_ref() {
         let t = row.trim_start();
@@ -36,12 +34,18 @@ pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
     let (header_line, header) =
         header.ok_or_else(|| CoreError::parse(0, "empty file (only comments)"))?;
     let sep = detect_separator(header);
-    let cols = parse_header(header, sep, header_line)?;
-    let mut b = ContourBuilder::new();
     let mut fields: Vec<&str> = Vec::new();
+    split_fields(header, sep, &mut fields);
+    let cols = parse_header(&fields, header_line)?;
+    let mut b = ContourBuilder::new();
+    if let Some(note) = &cols.unit_note {
+        b.warn(note.clone());
+    }
+    let mut frames = FrameFilter::new(frame);
     // Numbering of contours in files without a contour column.
     let mut unnamed = 1;
     let mut in_unnamed = false;
+    let mut id = String::new();
     for (line, row) in rows {
         let t = row.trim_start();
         if t.is_empty() {
@@ -56,43 +60,55 @@ pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
             continue;
         }
         split_fields(row, sep, &mut fields);
-        let needed = cols
-            .x
-            .max(cols.y)
-            .max(cols.z)
-            .max(cols.contour.unwrap_or(0));
-        if fields.len() <= needed {
-            return Err(CoreError::parse(
-                line,
-                format!(
-                    "row has {} fields but the header has {} columns ({})",
-                    fields.len(),
-                    cols.width,
-                    missing_name(&cols, fields.len())
-                ),
-            ));
-        }
-        let generated;
-        let id = match cols.contour {
-            Some(i) => unquote(fields[i]),
-            None => {
-                in_unnamed = true;
-                generated = format!("c{unnamed}");
-                &generated
+        check_width(&fields, &cols, sep, line)?;
+        id.clear();
+        match cols.id {
+            IdSource::Contour(i) => id.push_str(unquote(fields[i])),
+            IdSource::Slice(i) => {
+                let slice = unquote(fields[i]);
+                if !slice.is_empty() {
+                    id.push_str("slice ");
+                    id.push_str(slice);
+                }
             }
-        };
-        if id.is_empty() {
-            return Err(CoreError::parse(line, "column \"contour\" is empty"));
+            IdSource::BlankLines => {
+                in_unnamed = true;
+                id.push_str(&format!("c{unnamed}"));
+            }
         }
-        let x = parse_number(fields[cols.x], sep, line, "x")?;
-        let y = parse_number(fields[cols.y], sep, line, "y")?;
-        let z = parse_number(fields[cols.z], sep, line, "z")?;
+        if id.is_empty() {
+            let name = match cols.id {
+                IdSource::Slice(_) => "slice",
+                _ => "contour",
+            };
+            return Err(CoreError::parse(line, format!("column {name:?} is empty")));
+        }
+        if let Some(i) = cols.frame {
+            if !frames.keep(&id, fields.get(i).map_or("", |f| unquote(f))) {
+                continue;
+            }
+        }
+        let [sx, sy, sz] = cols.mm_per_unit;
+        let x = sx * parse_number(fields[cols.x], sep, line, "x")?;
+        let y = sy * parse_number(fields[cols.y], sep, line, "y")?;
+        let z = sz * parse_number(fields[cols.z], sep, line, "z")?;
         let surface = cols
             .surface
             .and_then(|i| fields.get(i))
             .map(|s| unquote(s))
             .filter(|s| !s.is_empty());
-        b.push(id, surface, v3(x, y, z), line)?;
+        b.push(&id, surface, v3(x, y, z), line)?;
+    }
+    if let Some(e) = frames.nothing_in_wanted() {
+        return Err(e);
+    }
+    if let Some(w) = frames.warning("contour") {
+        b.warn(w);
+    }
+    if let (Some(want), None) = (frame, cols.frame) {
+        b.warn(format!(
+            "the file has no time-frame column, so frame {want} was not applied: all its rows read"
+        ));
     }
     if b.total() == 0 {
         return Err(CoreError::parse(
@@ -101,6 +117,56 @@ pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
         ));
     }
     b.finish()
+}
+
+/// Refuses a row shorter than the columns it needs, or carrying values beyond the header's
+/// columns: those are not data the header names, and with a comma separator they are usually
+/// decimal commas (`-32,8` read as two fields), which would otherwise shift every coordinate.
+/// Empty fields past the header (a separator at the end of every row) are fine.
+fn check_width(fields: &[&str], cols: &Columns, sep: char, line: usize) -> Result<()> {
+    if fields.len() <= cols.last_needed() {
+        return Err(CoreError::parse(
+            line,
+            format!(
+                "row has {} fields but the header has {} columns ({})",
+                fields.len(),
+                cols.width,
+                missing_name(cols, fields.len())
+            ),
+        ));
+    }
+    let surplus = fields.get(cols.width..).unwrap_or(&[]);
+    if surplus.iter().any(|f| !unquote(f).is_empty()) {
+        // Decimal commas split every number in two whole ones: "-32,83557" -> "-32", "83557".
+        let id = match cols.id {
+            IdSource::Contour(i) | IdSource::Slice(i) => Some(i),
+            IdSource::BlankLines => None,
+        };
+        let whole = |f: &str| {
+            let f = unquote(f);
+            let digits = f.strip_prefix(['-', '+']).unwrap_or(f);
+            !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
+        };
+        let split_numbers = fields
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| Some(*k) != id && cols.surface != Some(*k))
+            .all(|(_, f)| unquote(f).is_empty() || whole(f));
+        let hint = if sep == ',' && split_numbers {
+            "; decimal commas with \",\" between the fields? Then separate the fields with \";\""
+        } else {
+            "; name every column in the header, or remove the values past it"
+        };
+        return Err(CoreError::parse(
+            line,
+            format!(
+                "row has {} fields but the header names {} columns{hint}",
+                fields.len(),
+                cols.width
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The two comments heartmesh writes itself: `# piece ...` starts a new piece of the next contour
@@ -131,50 +197,14 @@ fn detect_separator(header: &str) -> char {
     }
 }
 
-fn parse_header(header: &str, sep: char, line: usize) -> Result<Columns> {
-    let mut fields = Vec::new();
-    split_fields(header, sep, &mut fields);
-    let names: Vec<String> = fields
-        .iter()
-        .map(|f| unquote(f).to_ascii_lowercase())
-        .collect();
-    if !names.is_empty() && names.iter().all(|n| n.parse::<f64>().is_ok()) {
-        return Err(CoreError::parse(
-            line,
-            "header missing: the first line must name the columns, e.g. contour,x,y,z,surface",
-        ));
-    }
-    let find = |wanted: &[&str]| names.iter().position(|n| wanted.contains(&n.as_str()));
-    let need = |wanted: &[&str]| {
-        find(wanted).ok_or_else(|| {
-            CoreError::parse(
-                line,
-                format!(
-                    "missing column {:?} in the header (found: {})",
-                    wanted[0],
-                    super::text::shorten(&names.join(", "), 80)
-                ),
-            )
-        })
-    };
-    Ok(Columns {
-        contour: find(&["contour", "contour_id", "id"]),
-        x: need(&["x"])?,
-        y: need(&["y"])?,
-        z: need(&["z"])?,
-        surface: find(&["surface"]),
-        width: names.len(),
-    })
-}
-
 /// Name of the first required column a short row lacks, for the message.
 fn missing_name(cols: &Columns, have: usize) -> String {
-    let mut named = [
-        (cols.contour.unwrap_or(usize::MAX), "contour"),
-        (cols.x, "x"),
-        (cols.y, "y"),
-        (cols.z, "z"),
-    ];
+    let id = match cols.id {
+        IdSource::Contour(i) => (i, "contour"),
+        IdSource::Slice(i) => (i, "slice"),
+        IdSource::BlankLines => (usize::MAX, "contour"),
+    };
+    let mut named = [id, (cols.x, "x"), (cols.y, "y"), (cols.z, "z")];
     named.sort();
     named
         .iter()
@@ -340,6 +370,17 @@ mod tests {
         let set = read("contour\tx\ty\tz\nb\t1\t2\t3\n").unwrap();
         assert_eq!(set.contours[0].id, "b");
         assert_eq!(set.contours[0].surface, None);
+    }
+
+    #[test]
+    fn values_past_the_header_are_refused_with_the_likely_cause() {
+        let e = read("contour,x,y,z\na,-32,8,27,4,35,0\n").unwrap_err();
+        assert_eq!(e.line(), Some(2));
+        assert!(e.to_string().ends_with("row has 7 fields but the header names 4 columns; decimal commas with \",\" between the fields? Then separate the fields with \";\""), "{e}");
+        let e = read("contour,x,y,z\na,1.5,2,3,LV_ENDO\n").unwrap_err();
+        assert!(e.to_string().ends_with("row has 5 fields but the header names 4 columns; name every column in the header, or remove the values past it"), "{e}");
+        // Empty fields past the header (a separator closing every row) are fine.
+        assert_eq!(read("contour,x,y,z\na,1,2,3,,\n").unwrap().point_count(), 1);
     }
 
     #[test]

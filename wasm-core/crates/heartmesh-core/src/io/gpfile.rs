@@ -7,6 +7,7 @@
 //! contour per (slice, type), named `s<slice>_<type>` like the canonical CSV files.
 
 use super::builder::ContourBuilder;
+use super::frames::FrameFilter;
 use super::text::{lines, parse_coord, quote};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
@@ -68,17 +69,47 @@ pub fn looks_like_gpfile(text: &str) -> bool {
         && (f[3].starts_with("SAX_") || f[3].starts_with("LAX_") || LANDMARKS.contains(&f[3]))
 }
 
-/// Tab-separated (header names contain spaces), else whitespace-separated.
+/// Tab-separated (header names contain spaces), else comma-separated (a GPFile saved from a
+/// spreadsheet or pandas), else whitespace-separated.
 fn split(line: &str) -> Vec<&str> {
     if line.contains('\t') {
         line.split('\t').map(str::trim).collect()
+    } else if line.contains(',') {
+        line.split(',').map(str::trim).collect()
     } else {
         line.split_whitespace().collect()
     }
 }
 
+/// Header names as the columns they name: the two-word names (`contour type`, `time frame`,
+/// `slice id`) become one again where spaces separate the fields.
+fn header_names(fields: &[&str]) -> Vec<String> {
+    const TWO_WORDS: &[(&str, &str)] = &[
+        ("contour", "type"),
+        ("time", "frame"),
+        ("slice", "id"),
+        ("frame", "id"),
+    ];
+    let lower: Vec<String> = fields.iter().map(|f| f.to_ascii_lowercase()).collect();
+    let mut out = Vec::with_capacity(lower.len());
+    let mut i = 0;
+    while i < lower.len() {
+        match lower.get(i + 1) {
+            Some(next) if TWO_WORDS.contains(&(lower[i].as_str(), next.as_str())) => {
+                out.push(format!("{} {next}", lower[i]));
+                i += 2;
+            }
+            _ => {
+                out.push(lower[i].clone());
+                i += 1;
+            }
+        }
+    }
+    out
+}
+
 fn header_columns(fields: &[&str], line: usize) -> Result<Columns> {
-    let names: Vec<String> = fields.iter().map(|f| f.to_ascii_lowercase()).collect();
+    let names = header_names(fields);
     let find = |w: &[&str]| names.iter().position(|n| w.contains(&n.as_str()));
     let need = |w: &[&str]| {
         find(w).ok_or_else(|| {
@@ -97,8 +128,10 @@ fn header_columns(fields: &[&str], line: usize) -> Result<Columns> {
         y: need(&["y"])?,
         z: need(&["z"])?,
         kind: need(&["contour type", "contour_type", "type"])?,
-        slice: find(&["frameid", "sliceid", "slice", "slice id", "slice_id"]),
-        frame: find(&["time frame", "time_frame", "frame"]),
+        slice: find(&[
+            "frameid", "frame id", "sliceid", "slice", "slice id", "slice_id",
+        ]),
+        frame: find(&["time frame", "time_frame", "timeframe", "frame"]),
     })
 }
 
@@ -125,9 +158,7 @@ pub fn read_gpfile(text: &str, frame: Option<u32>) -> Result<ContourSet> {
     };
     let needed = cols.x.max(cols.y).max(cols.z).max(cols.kind) + 1;
     let mut b = ContourBuilder::new();
-    // First frame seen per slice (None frame selector).
-    let mut slice_frame: Vec<(String, f64)> = Vec::new();
-    let mut frames_seen: Vec<f64> = Vec::new();
+    let mut frames = FrameFilter::new(frame);
     let mut unknown: Vec<(String, usize)> = Vec::new();
     let mut kept = 0usize;
     for (line, row) in rows {
@@ -156,21 +187,8 @@ pub fn read_gpfile(text: &str, frame: Option<u32>) -> Result<ContourSet> {
             }
         };
         if let Some(fr) = cols.frame.and_then(|i| f.get(i)) {
-            let fr = parse_coord(fr, line, "column \"time frame\"")?;
-            if !frames_seen.contains(&fr) {
-                frames_seen.push(fr);
-            }
-            let keep = match frame {
-                Some(want) => fr == want as f64,
-                None => match slice_frame.iter().find(|(s, _)| *s == slice_id) {
-                    Some((_, first)) => *first == fr,
-                    None => {
-                        slice_frame.push((slice_id.clone(), fr));
-                        true
-                    }
-                },
-            };
-            if !keep {
+            parse_coord(fr, line, "column \"time frame\"")?;
+            if !frames.keep(&slice_id, fr) {
                 continue;
             }
         }
@@ -195,16 +213,12 @@ pub fn read_gpfile(text: &str, frame: Option<u32>) -> Result<ContourSet> {
         }
     }
     if kept == 0 {
-        if let Some(want) = frame {
-            let list: Vec<String> = frames_seen.iter().map(|f| f.to_string()).collect();
-            return Err(CoreError::parse(
-                0,
-                format!(
-                    "no contour points in frame {want} (frames in the file: {})",
-                    list.join(", ")
-                ),
-            ));
+        if let Some(e) = frames.nothing_in_wanted() {
+            return Err(e);
         }
+    }
+    if let Some(w) = frames.warning("slice") {
+        b.warn(w);
     }
     for (k, n) in unknown {
         b.warn(format!("{n} points of unknown contour type {k} skipped"));
@@ -289,9 +303,13 @@ pub fn read_slice_info(text: &str) -> Result<Vec<SliceInfo>> {
 const OFF_PLANE_WARN_MM: f64 = 2.0;
 
 /// Checks each contour against its image plane and adds a warning for those lying off it (a
-/// sign of a mismatched SliceInfoFile or of through-plane motion correction).
+/// sign of a mismatched SliceInfoFile or of through-plane motion correction) and one for slices
+/// the file does not list. One line each, however many contours: a SliceInfoFile from another
+/// acquisition puts every contour off its plane, and forty warnings bury the one that says why.
 pub fn check_slices(set: &mut ContourSet, slices: &[SliceInfo]) {
-    let mut warnings = Vec::new();
+    let mut missing: Vec<u32> = Vec::new();
+    let mut missing_contours = 0usize;
+    let mut off: Vec<(&str, u32, f64)> = Vec::new();
     for c in &set.contours {
         let Some(id) =
             c.id.strip_prefix('s')
@@ -301,10 +319,10 @@ pub fn check_slices(set: &mut ContourSet, slices: &[SliceInfo]) {
             continue;
         };
         let Some(s) = slices.iter().find(|s| s.slice_id == id) else {
-            warnings.push(format!(
-                "contour {}: slice {id} is not in the slice info file",
-                c.id
-            ));
+            missing_contours += 1;
+            if !missing.contains(&id) {
+                missing.push(id);
+            }
             continue;
         };
         let n = s.normal();
@@ -313,11 +331,38 @@ pub fn check_slices(set: &mut ContourSet, slices: &[SliceInfo]) {
             .map(|p| (p - s.position).dot(&n).abs())
             .fold(0.0, f64::max);
         if worst > OFF_PLANE_WARN_MM {
+            off.push((&c.id, id, worst));
+        }
+    }
+    let mut warnings = Vec::new();
+    match off.as_slice() {
+        [] => {}
+        [(c, id, worst)] => warnings.push(format!(
+            "contour {c}: points lie up to {worst:.1} mm from the image plane of slice {id}"
+        )),
+        many => {
+            let worst = many.iter().map(|o| o.2).fold(0.0, f64::max);
+            let named: Vec<&str> = many.iter().take(3).map(|o| o.0).collect();
+            let more = if many.len() > 3 { ", ..." } else { "" };
             warnings.push(format!(
-                "contour {}: points lie up to {worst:.1} mm from the image plane of slice {id}",
-                c.id
+                "{} contours lie off the image planes of their slices, up to {worst:.1} mm \
+                 ({}{more}); is the slice info file from another acquisition?",
+                many.len(),
+                named.join(", ")
             ));
         }
+    }
+    if !missing.is_empty() {
+        let ids: Vec<String> = missing.iter().map(u32::to_string).collect();
+        let (slice, are) = if ids.len() == 1 {
+            ("slice", "is")
+        } else {
+            ("slices", "are")
+        };
+        warnings.push(format!(
+            "{slice} {} ({missing_contours} contours) {are} not in the slice info file",
+            ids.join(", ")
+        ));
     }
     set.warnings.extend(warnings);
 }
@@ -421,6 +466,70 @@ mod tests {
             let off: Vec<_> = set.warnings[before..].to_vec();
             assert!(off.is_empty(), "{dir}: {off:?}");
         }
+    }
+
+    #[test]
+    fn another_acquisitions_slice_info_is_one_warning_per_kind() {
+        let info =
+            read_slice_info(&text("contours/bivme-test-patient2/SliceInfoFile.txt")).unwrap();
+        let gp = text("contours/bivme-example-patient1/GPFile_000.txt");
+        let mut set = read_gpfile(&gp, None).unwrap();
+        let before = set.warnings.len();
+        check_slices(&mut set, &info);
+        let added = &set.warnings[before..];
+        assert_eq!(added.len(), 2, "{added:?}");
+        assert!(
+            added[0].starts_with("37 contours lie off the image planes of their slices, up to 91.4 mm (s02_SAX_RV_FREEWALL, s02_SAX_RV_EPICARDIAL, s02_SAX_RV_SEPTUM, ...); is the slice info file from another acquisition?"),
+            "{added:?}"
+        );
+        assert_eq!(
+            added[1],
+            "slice 11 (3 contours) is not in the slice info file"
+        );
+    }
+
+    #[test]
+    fn comma_space_and_cr_separated_files_and_several_frames() {
+        let gp = text("contours/bivme-example-patient1/GPFile_000.txt");
+        let want = read_gpfile(&gp, None).unwrap();
+        let spaced = gp.replace('\t', " ");
+        for (name, variant) in [
+            ("commas", gp.replace('\t', ",")),
+            ("spaces", spaced.clone()),
+            ("spaces, CR", spaced.replace('\n', "\r")),
+        ] {
+            let got = read_gpfile(&variant, None).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert!(got.contours == want.contours, "{name}");
+        }
+        // Every row again in frame 5, 3 mm to the side: frame 0 (slice 8: frame 1) is read.
+        let mut two = String::from(gp.lines().next().unwrap_or(""));
+        for row in gp.lines().skip(1) {
+            let f: Vec<&str> = row.split('\t').collect();
+            let x: f64 = f[0].parse().unwrap();
+            two.push_str(&format!("\n{row}\n{}\t{}\t5", x + 3.0, f[1..6].join("\t")));
+        }
+        let got = read_gpfile(&two, None).unwrap();
+        for (a, b) in got.contours.iter().zip(&want.contours) {
+            assert_eq!(a.id, b.id);
+            assert_eq!(a.pieces.len(), b.pieces.len(), "{}", a.id);
+            for (p, q) in a.pieces.iter().zip(&b.pieces) {
+                assert_eq!(p.points.len(), q.points.len(), "{}", a.id);
+                assert_eq!(p.closed, q.closed, "{}", a.id);
+                assert!(p.points == q.points, "{}", a.id);
+            }
+        }
+        assert_eq!(got.contours.len(), want.contours.len());
+        let w = got
+            .warnings
+            .iter()
+            .find(|w| w.contains("time frames"))
+            .unwrap();
+        assert!(
+            w.starts_with("the file holds 3 time frames (0, 5, 1): each slice's first frame read, 1814 points of other frames left out"),
+            "{w}"
+        );
+        let five = read_gpfile(&two, Some(5)).unwrap();
+        assert_eq!(five.point_count(), want.point_count());
     }
 
     #[test]

@@ -7,7 +7,9 @@
 mod buffers;
 mod builder;
 pub mod csv;
+mod csv_columns;
 mod dicom_read;
+mod frames;
 pub mod gpfile;
 pub mod mat;
 pub mod obj;
@@ -82,8 +84,9 @@ impl ContourFormat {
 pub struct ContourOptions<'a> {
     /// Time frame to read from a GPFile (default: each slice's first frame).
     pub frame: Option<u32>,
-    /// Text of the `SliceInfoFile.txt` that accompanies a GPFile (adds off-plane warnings).
-    pub slice_info: Option<&'a str>,
+    /// Bytes of the `SliceInfoFile.txt` that accompanies a GPFile (adds off-plane warnings);
+    /// decoded as the contour files are (UTF-16, Windows-1252, any line ends).
+    pub slice_info: Option<&'a [u8]>,
 }
 
 /// Mesh file formats the core writes (and reads back).
@@ -152,15 +155,12 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     if session::looks_like_session(head) || (starts(b"{") && ext == "json") {
         return ContourFormat::Session;
     }
-    // Text formats: judge by the first lines (cut at a character boundary).
-    let text = match std::str::from_utf8(head) {
-        Ok(t) => t,
-        Err(e) => std::str::from_utf8(&head[..e.valid_up_to()]).unwrap_or(""),
-    };
-    if gpfile::looks_like_gpfile(text) {
+    // Text formats: judge by the first lines, decoded as the readers will (UTF-16 too).
+    let text = text::head(bytes, 4096);
+    if gpfile::looks_like_gpfile(&text) {
         return ContourFormat::GpFile;
     }
-    if xyz::looks_like_xyz(text) {
+    if xyz::looks_like_xyz(&text) {
         return ContourFormat::Xyz;
     }
     match ext.as_str() {
@@ -186,9 +186,8 @@ fn looks_like_mesh(file_name: &str, bytes: &[u8]) -> bool {
 }
 
 fn looks_like_slice_info(bytes: &[u8]) -> bool {
-    let head = &bytes[..bytes.len().min(1024)];
-    let has = |w: &[u8]| head.windows(w.len()).any(|x| x == w);
-    has(b"ImagePositionPatient") && has(b"ImageOrientationPatient")
+    let head = text::head(bytes, 1024);
+    head.contains("ImagePositionPatient") && head.contains("ImageOrientationPatient")
 }
 
 /// Reads contours from any supported format (detected from content and extension).
@@ -211,11 +210,13 @@ pub fn read_contours_with(
             0,
             "this is a mesh file (OBJ, STL or PLY), not contours",
         )),
-        ContourFormat::Csv => csv::read_csv(bytes),
+        ContourFormat::Csv => csv::read_csv_frame(bytes, options.frame),
         ContourFormat::GpFile => {
-            let mut set = gpfile::read_gpfile(text::decode(bytes)?, options.frame)?;
+            let mut set = gpfile::read_gpfile(&text::decode(bytes)?, options.frame)?;
             if let Some(info) = options.slice_info {
-                let slices = gpfile::read_slice_info(info).map_err(|e| match e {
+                let slices = text::decode(info)
+                    .and_then(|t| gpfile::read_slice_info(&t))
+                    .map_err(|e| match e {
                     CoreError::Parse { line, message } => {
                         CoreError::parse(0, format!("slice info file, line {line}: {message}"))
                     }

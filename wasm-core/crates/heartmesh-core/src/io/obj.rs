@@ -12,7 +12,7 @@ pub fn read_obj(bytes: &[u8]) -> Result<MeshData> {
     let text = decode(bytes)?;
     let mut mesh = TriMesh::default();
     let mut corners: Vec<u32> = Vec::new();
-    for (line, row) in data_lines(text) {
+    for (line, row) in data_lines(&text) {
         let mut it = row.split_whitespace();
         match it.next() {
             Some("v") => {

@@ -136,7 +136,7 @@ pub fn looks_like_session(bytes: &[u8]) -> bool {
 
 pub fn read_session(bytes: &[u8]) -> Result<Session> {
     let text = super::text::decode(bytes)?;
-    let file: SessionFile = serde_json::from_str(text).map_err(|e| {
+    let file: SessionFile = serde_json::from_str(&text).map_err(|e| {
         let msg = e.to_string();
         // serde_json appends " at line L column C"; the line is reported separately.
         let msg = match msg.rfind(" at line ") {

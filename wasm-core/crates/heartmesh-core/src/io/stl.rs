@@ -125,7 +125,7 @@ fn read_ascii(bytes: &[u8]) -> Result<MeshData> {
     let text = decode(bytes)?;
     let mut w = Welder::default();
     let mut corners: Vec<u32> = Vec::with_capacity(3);
-    for (line, row) in lines(text) {
+    for (line, row) in lines(&text) {
         let mut it = row.split_whitespace();
         match it.next() {
             Some("vertex") => {

@@ -28,7 +28,7 @@ fn line_of(doc: &Document, node: Node) -> usize {
 
 fn parse(bytes: &[u8]) -> Result<Parsed> {
     let text = super::text::decode(bytes)?;
-    let doc = Document::parse(text).map_err(|e| {
+    let doc = Document::parse(&text).map_err(|e| {
         let p = e.pos();
         CoreError::parse(p.row as usize, format!("not valid XML: {e}"))
     })?;
@@ -288,6 +288,9 @@ pub fn read_vtp_mesh(bytes: &[u8]) -> Result<MeshData> {
 /// one, else `line1`, `line2`, ...).
 pub fn read_vtp_contours(bytes: &[u8]) -> Result<ContourSet> {
     let p = parse(bytes)?;
+    if p.lines.is_empty() && !p.polys.is_empty() {
+        return super::vtk::contours_from_polygons(&p.points, &p.polys, p.lines_at);
+    }
     contours_from_lines(&p.points, &p.lines, p.lines_at, &p.labels)
 }
 

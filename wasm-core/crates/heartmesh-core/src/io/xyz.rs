@@ -29,7 +29,7 @@ pub fn read_xyz(bytes: &[u8]) -> Result<ContourSet> {
     let mut b = ContourBuilder::new();
     let mut k = 1;
     let mut in_contour = false;
-    for (line, row) in lines(text) {
+    for (line, row) in lines(&text) {
         let t = row.trim_start();
         if t.starts_with('#') {
             continue;

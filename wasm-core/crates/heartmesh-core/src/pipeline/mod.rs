@@ -7,6 +7,7 @@
 //! heart; everything handed out is converted back to millimetres.
 
 pub mod apex_floor;
+pub mod budget;
 mod diameter;
 pub mod dome;
 mod end_data;
@@ -21,6 +22,7 @@ mod precision;
 mod prepare;
 #[cfg(test)]
 mod reuse;
+pub mod solve_cost;
 pub mod tube;
 
 use crate::clock::{Clock, DefaultClock};
@@ -280,9 +282,11 @@ impl Reconstruction {
         let norm = Normalisation { centre, scale };
         let candidates: Vec<Vec3> = candidates_mm.iter().map(|p| norm.to_unit(p)).collect();
         let attractor_budget = match params.attractors {
-            AttractorMode::Auto => {
-                Budget::Count((25 * contours.len()).clamp(150, MAX_AUTO_ATTRACTORS))
-            }
+            AttractorMode::Auto => Budget::Count(budget::auto_attractors(
+                &contours,
+                &layout,
+                MAX_AUTO_ATTRACTORS,
+            )),
             AttractorMode::Count(n) => Budget::Count(n.max(MIN_ATTRACTORS)),
             AttractorMode::SpacingMm(mm) => Budget::Spacing(mm / scale),
         };
@@ -589,10 +593,18 @@ impl Reconstruction {
         self.done
     }
 
-    /// The note for a run whose mesh would reach the remesh cap ([`growth::cap_note`]), or None;
-    /// known once step 0 has built the initial tube (None before).
+    /// The note before a long run, or None: its mesh would reach the remesh cap
+    /// ([`growth::cap_note`]), or its attractors make the spline's solve long
+    /// ([`solve_cost::long_solve_note`]); both in one line when both hold. Known once step 0 has
+    /// built the initial tube and sampled the attractors (None before).
     pub fn growth_note(&self) -> Option<String> {
-        growth::cap_note(&self.params, self.mesh_unit.triangles.len())
+        let mesh = growth::cap_note(&self.params, self.mesh_unit.triangles.len());
+        let attractors = self.real_attractors.min(self.attractors.len());
+        let solve = solve_cost::long_solve_note(attractors);
+        match (mesh, solve) {
+            (Some(a), Some(b)) => Some(format!("{a}; and {b}")),
+            (a, b) => a.or(b),
+        }
     }
 
     pub fn iteration(&self) -> usize {

@@ -541,10 +541,47 @@ fn check_indices(n: usize, cells: &[Vec<u32>]) -> Result<()> {
 }
 
 /// Reads the line cells of a POLYDATA file as contours `line1`, `line2`, ... (one per cell).
+/// Without line cells, the polygons are read as closed contours (`contours_from_polygons`).
 pub fn read_vtk_contours(bytes: &[u8]) -> Result<ContourSet> {
     let pd = read_polydata(bytes)?;
+    if pd.lines.is_empty() && !pd.polys.is_empty() {
+        return contours_from_polygons(&pd.points, &pd.polys, pd.lines_at);
+    }
     let labels = LineLabels::from_cell_strings(&pd.cell_strings, pd.verts, pd.lines.len());
     contours_from_lines(&pd.points, &pd.lines, pd.lines_at, &labels)
+}
+
+/// Polygons of fewer points than this (median) are a surface's faces, not delineated curves.
+const MIN_CONTOUR_POLYGON: usize = 6;
+
+/// One closed contour per polygon, `polygon1`, `polygon2`, ...: DICOM-RT converters (a
+/// CLOSED_PLANAR contour is a polygon) and some VTK pipelines store closed curves this way.
+/// Polygons of a few points each are a surface mesh's faces: refused with what the file is.
+pub(crate) fn contours_from_polygons(
+    points: &[Vec3],
+    polys: &[Vec<u32>],
+    line: usize,
+) -> Result<ContourSet> {
+    check_indices(points.len(), polys)?;
+    let mut sizes: Vec<usize> = polys.iter().map(Vec::len).collect();
+    sizes.sort_unstable();
+    let median = sizes.get(sizes.len() / 2).copied().unwrap_or(0);
+    if median < MIN_CONTOUR_POLYGON {
+        return Err(CoreError::parse(
+            0,
+            format!(
+                "no LINES (polylines) found: the file holds a surface of {} polygons (a mesh), \
+                 not contours",
+                polys.len()
+            ),
+        ));
+    }
+    let mut b = ContourBuilder::new();
+    for (k, cell) in polys.iter().enumerate() {
+        let ring: Vec<Vec3> = cell.iter().map(|&i| points[i as usize]).collect();
+        b.push_piece(&format!("polygon{}", k + 1), None, ring, Some(true), line)?;
+    }
+    b.finish()
 }
 
 /// One contour per line cell, `line1`, `line2`, ... unless the file names them; cells with the

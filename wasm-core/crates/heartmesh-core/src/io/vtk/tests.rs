@@ -12,6 +12,56 @@ fn lines_become_contours() {
 }
 
 #[test]
+fn polygons_are_closed_contours_and_triangles_a_mesh() {
+    // Two 8-point rings as POLYGONS (DICOM-RT's closed planar contours), no LINES.
+    let mut s = String::from(
+        "# vtk DataFile Version 3.0\nrings\nASCII\nDATASET POLYDATA\nPOINTS 16 float\n",
+    );
+    for z in [0.0, 10.0] {
+        for i in 0..8 {
+            let t = i as f64 * std::f64::consts::TAU / 8.0;
+            s.push_str(&format!("{} {} {z}\n", 20.0 * t.cos(), 20.0 * t.sin()));
+        }
+    }
+    s.push_str("POLYGONS 2 18\n8 0 1 2 3 4 5 6 7\n8 8 9 10 11 12 13 14 15\n");
+    let set = read_vtk_contours(s.as_bytes()).unwrap();
+    let rings: Vec<(&str, usize, bool)> = set
+        .contours
+        .iter()
+        .map(|c| (c.id.as_str(), c.point_count(), c.pieces[0].closed))
+        .collect();
+    assert_eq!(rings, [("polygon1", 8, true), ("polygon2", 8, true)]);
+    // The same in VTP: one ring as Polys.
+    let pts: Vec<String> = (0..8)
+        .map(|i| {
+            let t = i as f64 * std::f64::consts::TAU / 8.0;
+            format!("{} {} 0", 20.0 * t.cos(), 20.0 * t.sin())
+        })
+        .collect();
+    let vtp = format!(
+        "<VTKFile type=\"PolyData\" version=\"0.1\"><PolyData><Piece NumberOfPoints=\"8\" \
+         NumberOfPolys=\"1\"><Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" \
+         format=\"ascii\">{}</DataArray></Points><Polys><DataArray type=\"Int32\" \
+         Name=\"connectivity\" format=\"ascii\">0 1 2 3 4 5 6 7</DataArray><DataArray \
+         type=\"Int32\" Name=\"offsets\" format=\"ascii\">8</DataArray></Polys></Piece>\
+         </PolyData></VTKFile>",
+        pts.join(" ")
+    );
+    let ring = crate::io::read_contours("r.vtp", vtp.as_bytes()).unwrap();
+    assert_eq!(
+        (ring.point_count(), ring.contours[0].pieces[0].closed),
+        (8, true)
+    );
+    let tri = "# vtk DataFile Version 3.0\nm\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n\
+               0 0 0 1 0 0 1 1 0 0 1 0\nPOLYGONS 2 8\n3 0 1 2\n3 0 2 3\n";
+    let e = read_vtk_contours(tri.as_bytes()).unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "no LINES (polylines) found: the file holds a surface of 2 polygons (a mesh), not contours"
+    );
+}
+
+#[test]
 fn version_51_layout() {
     let s = "# vtk DataFile Version 5.1\nx\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n\
              0 0 0 1 0 0 1 1 0 0 1 0\nPOLYGONS 2 4\nOFFSETS vtktypeint64\n0 4\n\
