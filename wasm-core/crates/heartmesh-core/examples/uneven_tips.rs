@@ -38,6 +38,10 @@ use heartmesh_core::sim::{simulate, AcquisitionSpec};
 use heartmesh_core::spatial::Bvh;
 use heartmesh_core::{io, Params, Reconstruction};
 
+#[path = "shared/probe_mesh.rs"]
+mod probe_mesh;
+use probe_mesh::signed;
+
 type Res<T> = Result<T, Box<dyn std::error::Error>>;
 
 const MESHES: &str = "/work/shared/data/meshes";
@@ -54,22 +58,6 @@ fn truth(arg: &str) -> Res<TriMesh> {
     let bytes = std::fs::read(&path)?;
     let m = io::read_mesh(&path, &bytes)?.mesh;
     Ok(orient_consistently(&weld(&m, 1e-6).0).0)
-}
-
-/// Signed distance of `p` to `mesh` (+ outside), by the closest triangle's normal.
-fn signed(bvh: &Bvh, mesh: &TriMesh, p: &Vec3) -> f64 {
-    let Some(h) = bvh.closest_point(mesh, *p) else {
-        return f64::NAN;
-    };
-    let t = mesh.triangles[h.triangle as usize];
-    let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
-    let n = (b - a).cross(&(c - a));
-    let d = h.distance_sq.sqrt();
-    if (p - h.point).dot(&n) >= 0.0 {
-        d
-    } else {
-        -d
-    }
 }
 
 /// A tip of an open LAX curve at the base: contour index, which end, the point.
@@ -315,25 +303,7 @@ fn real(path: &str, surface: Option<String>) -> Res<()> {
 
 /// Nearest hit of the ray from `o` along `u` with `mesh` (distance along u), brute force.
 fn ray_first(mesh: &TriMesh, o: &Vec3, u: &Vec3) -> Option<f64> {
-    let mut best: Option<f64> = None;
-    for t in &mesh.triangles {
-        let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
-        let (e1, e2) = (b - a, c - a);
-        let p = u.cross(&e2);
-        let det = e1.dot(&p);
-        if det.abs() < 1e-12 {
-            continue;
-        }
-        let s = o - a;
-        let bu = s.dot(&p) / det;
-        let q = s.cross(&e1);
-        let bv = u.dot(&q) / det;
-        let d = e2.dot(&q) / det;
-        if bu >= 0.0 && bv >= 0.0 && bu + bv <= 1.0 && d > 0.0 {
-            best = Some(best.map_or(d, |x: f64| x.min(d)));
-        }
-    }
-    best
+    probe_mesh::hits(mesh, o, u).reduce(f64::min)
 }
 
 /// How a case changes the planner's acquisition.
