@@ -9,7 +9,7 @@ use serde_json::{json, Value};
 /// What the app says instead of the command line's advice.
 pub const APP_FRAME_ADVICE: &str = "choose another with the Frame picker";
 
-/// `{frames, count, read, chosen, leftOut, sequence}`, or null for a file without a frame column.
+/// `{frames, count, read, firsts, chosen, leftOut, sequence}`, or null for a file without a frame column.
 pub fn time_frames_json(frames: Option<&TimeFrames>) -> Value {
     match frames {
         None => Value::Null,
@@ -17,6 +17,7 @@ pub fn time_frames_json(frames: Option<&TimeFrames>) -> Value {
             "frames": t.frames,
             "count": t.count,
             "read": t.read,
+            "firsts": t.firsts,
             "chosen": t.chosen,
             "leftOut": t.left_out,
             "sequence": t.sequence,

@@ -386,6 +386,7 @@ mod tests {
         let nine = load(&mut s, Some(9));
         assert_eq!(nine["timeFrames"]["read"], serde_json::json!(["9"]));
         assert_eq!(nine["timeFrames"]["chosen"], true);
+        assert_eq!(nine["timeFrames"]["firsts"], serde_json::json!(["0"]));
         assert_eq!(nine["warnings"], serde_json::json!([]));
         assert_eq!(
             s.file_points("two.csv").unwrap()[0],

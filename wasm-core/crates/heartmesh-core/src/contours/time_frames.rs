@@ -15,9 +15,11 @@ pub struct TimeFrames {
     pub frames: Vec<String>,
     /// Distinct frames in the file (more than `frames.len()` past the limit).
     pub count: usize,
-    /// The frames read: the one asked for; else each contour's (slice's) first frame, distinct,
-    /// in file order (one entry when every contour starts in the same frame).
+    /// The frames read: the one asked for; else `firsts`.
     pub read: Vec<String>,
+    /// Each contour's (slice's) first frame, distinct, in file order: what is read when no frame
+    /// is asked for (one entry when every contour starts in the same frame).
+    pub firsts: Vec<String>,
     /// Whether `read` is a frame asked for rather than the file's first.
     pub chosen: bool,
     /// Points of other frames left out.
@@ -59,6 +61,7 @@ impl TimeFrames {
             frames: vec![frame.to_string()],
             count: 1,
             read: vec![frame.to_string()],
+            firsts: vec![frame.to_string()],
             chosen: true,
             left_out: 0,
             sequence: false,

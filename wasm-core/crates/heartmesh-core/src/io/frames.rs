@@ -107,6 +107,7 @@ impl FrameFilter {
             frames: self.order.clone(),
             count: self.seen.len(),
             read,
+            firsts: self.firsts.clone(),
             chosen: self.wanted.is_some(),
             left_out: self.skipped,
             sequence: self.sequence,
@@ -216,6 +217,11 @@ mod tests {
             (&["9".to_string()][..], true, 3)
         );
         assert!(t.sequence);
+        assert_eq!(
+            t.firsts,
+            ["0", "1"],
+            "what the file's own reading takes, whatever was asked"
+        );
         // Each key in a frame of its own: several frames, no sequence, nothing left out.
         let mut h = FrameFilter::new(None);
         h.keep("a", "0");
