@@ -50,11 +50,25 @@ class FakeClient {
             : { smoothing_method: 'taubin', soften_conflicts: false }) as unknown as ReconOptions,
         }
       : null;
-    return Promise.resolve({
-      fileName, surfaces: ['RV_ENDO', 'LV_ENDO'], landmarks: [], warnings: [], session,
+    return Promise.resolve(this.loaded(fileName, session, null));
+  }
+  /** A `cine*` file holds frames 0 and 9 (the binding's `timeFrames`); others have no frame column. */
+  private loaded(fileName: string, session: LoadedFile['session'], frame: number | null): LoadedFile {
+    const timeFrames = fileName.startsWith('cine')
+      ? { frames: ['0', '9'], count: 2, read: [String(frame ?? 0)], firsts: ['0'], chosen: frame !== null, leftOut: 6, sequence: true }
+      : null;
+    return {
+      fileName, surfaces: ['RV_ENDO', 'LV_ENDO'], landmarks: [], warnings: frame === null && timeFrames ? ['the file holds 2 time frames'] : [], session, timeFrames,
       contours: [{ id: 'c1', surface: 'LV_ENDO', kind: null, pieces: [{ closed: true, start: 0, count: 3 }] }],
-      points: new Float32Array([0, 0, 0, 10, 0, 0, 0, 10, 0]),
-    });
+      points: new Float32Array([0, 0, 0, 10, 0, 0, 0, 10, frame ?? 0]),
+    };
+  }
+  frameLoads: [string, number | null][] = [];
+  /** Frame 7 cannot be read (a bad number in its rows). */
+  loadFrame(fileName: string, frame: number | null): Promise<LoadedFile> {
+    this.frameLoads.push([fileName, frame]);
+    if (frame === 7) return Promise.reject({ code: 'parse', message: 'line 40: bad number', line: 40, file: fileName });
+    return Promise.resolve(this.loaded(fileName, null, frame));
   }
   run(opts: FakeRun['opts'], onFrame: (f: Frame) => void) {
     const runId = this.next++;
@@ -583,6 +597,97 @@ describe('controller', () => {
     expect(w2.textContent).toBe('⚠ surface LA_ENDO is not in biv.csv: showing LV_ENDO');
     expect(url).toBe('/app/?surface=LV_ENDO');
     c2.dispose();
+  });
+});
+
+describe('Frame picker', () => {
+  const picker = () => parts.files.calls.setFrames?.at(-1)?.[0] as { value: string; options: { value: string }[] } | null;
+
+  it('a file holding a sequence shows the picker; a frame picked reads the file again and runs, and goes in the link and the exports', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('cine.txt')]);
+    expect(picker()?.options.map((o) => o.value)).toEqual(['0', '9']);
+    expect(picker()?.value).toBe('0');
+    expect(client.runs).toHaveLength(1);
+    expect(controller.exportInfo()?.frame).toBe('0');
+    controller.chooseFrame('9');
+    // Cancelled at once, as for a surface picked; the file is read again, then runs.
+    expect(client.runs[0].cancelled).toBe(true);
+    expect(lastStatus()).toBe('loading cine.txt');
+    await vi.advanceTimersByTimeAsync(0);
+    expect(client.frameLoads).toEqual([['cine.txt', 9]]);
+    expect(client.runs).toHaveLength(2);
+    expect(lastStatus()).toBe('running');
+    expect(picker()?.value).toBe('9');
+    expect(controller.currentFileData()?.points[8]).toBe(9);
+    expect(controller.exportInfo()?.frame).toBe('9');
+    expect(url).toBe('/app/?surface=LV_ENDO&frame=9&lambda=1e3&lids=none');
+    // A file of one frame: no picker, nothing named; the choice stays for the next sequence.
+    await controller.openFiles([file('a.csv')]);
+    expect(picker()).toBeNull();
+    expect(controller.exportInfo()?.frame).toBeNull();
+    expect(client.frameLoads).toHaveLength(1);
+    await controller.openFiles([file('cine-2.txt')]);
+    await vi.advanceTimersByTimeAsync(0);
+    expect(client.frameLoads.at(-1)).toEqual(['cine-2.txt', 9]);
+    expect(client.runs.at(-1)?.opts.fileName).toBe('cine-2.txt');
+    expect(client.runs.filter((r) => r.opts.fileName === 'cine-2.txt')).toHaveLength(1);
+    expect(picker()?.value).toBe('9');
+    // Back to the file's own reading.
+    controller.chooseFrame('');
+    await vi.advanceTimersByTimeAsync(0);
+    expect(client.frameLoads.at(-1)).toEqual(['cine-2.txt', null]);
+    expect(url).toBe('/app/?surface=LV_ENDO&lambda=1e3&lids=none');
+  });
+
+  it('the answer of a frame overtaken by another is not shown; a frame that cannot be read leaves the file as it was', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('cine.txt')]);
+    controller.chooseFrame('9');
+    controller.chooseFrame('0');
+    await vi.advanceTimersByTimeAsync(0);
+    expect(client.runs).toHaveLength(2);
+    expect(picker()?.value).toBe('0');
+    controller.chooseFrame('7');
+    await vi.advanceTimersByTimeAsync(0);
+    expect(parts.banner.calls.showError?.at(-1)?.[0]).toMatchObject({ message: 'line 40: bad number', file: 'cine.txt' });
+    expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' Still showing cine.txt as read before.');
+    expect(picker()?.value).toBe('0');
+    expect(controller.runSettings()?.fileName).toBe('cine.txt');
+    expect(controller.debug.state).toMatchObject({ kind: 'error', fileName: 'cine.txt' });
+    expect(controller.debug.state).not.toHaveProperty('during');
+  });
+
+  it('another frame keeps the camera (the same heart: the phases compare on screen); another file is framed', async () => {
+    const viewer = viewerRecorder();
+    const c = new Controller({ ...parts, viewer, warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c.openFiles([file('cine.txt')]);
+    expect(viewer.calls.frame).toHaveLength(1);
+    c.chooseFrame('9');
+    await vi.advanceTimersByTimeAsync(0);
+    expect(client.runs.at(-1)?.opts.fileName).toBe('cine.txt');
+    expect(viewer.calls.frame).toHaveLength(1);
+    await c.openFiles([file('a.csv')]);
+    expect(viewer.calls.frame).toHaveLength(2);
+    c.dispose();
+  });
+
+  it("the link's frame is read of a sequence that has it; one that lacks it says so", async () => {
+    url = '/app/?frame=9';
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('cine.txt')]);
+    await vi.advanceTimersByTimeAsync(0);
+    expect(client.frameLoads).toEqual([['cine.txt', 9]]);
+    expect(client.runs).toHaveLength(1);
+    url = '/app/?frame=5';
+    const warnings = { textContent: '', hidden: true };
+    const c = new Controller({ ...parts, viewer: null, warnings } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c.openFiles([file('cine.txt')]);
+    expect(warnings.textContent).toBe('⚠ frame 5 is not in cine.txt: showing frame 0 · the file holds 2 time frames');
+    expect(client.frameLoads).toHaveLength(1);
+    c.dispose();
   });
 });
 

@@ -172,4 +172,18 @@ describe('exporters parse back', () => {
     expect(exportBaseName(info)).toBe('patient1-ED-LV_ENDO');
     expect(exportBaseName({ ...info, fileName: 'my file.csv', surface: null })).toBe('my_file');
   });
+
+  it('records the time frame of a file that holds several beside the file and surface, and only then', () => {
+    const nine = { ...info, fileName: 'cine.txt', frame: '9' };
+    expect(exportBaseName(nine)).toBe('cine-LV_ENDO-frame9');
+    expect(writeObj(mesh, nine)).toContain('# input: cine.txt surface: LV_ENDO frame: 9\n');
+    expect(new TextDecoder().decode(writePly(mesh, nine))).toContain('comment input: cine.txt surface: LV_ENDO frame: 9\n');
+    expect(JSON.parse(writeParamsJson(nine, null))).toMatchObject({ input: 'cine.txt', surface: 'LV_ENDO', frame: '9' });
+    // One frame: no frame anywhere (as before frames were recorded).
+    for (const one of [info, { ...info, frame: null }]) {
+      expect(JSON.parse(writeParamsJson(one, null))).not.toHaveProperty('frame');
+      expect(writeObj(mesh, one)).not.toContain('frame');
+      expect(exportBaseName(one)).toBe('patient1-ED-LV_ENDO');
+    }
+  });
 });

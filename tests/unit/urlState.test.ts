@@ -46,6 +46,17 @@ describe('URL state', () => {
     expect(q).not.toContain('smoothing_factor');
     expect(parseUrlState(q, schema)).toEqual(s);
   });
+  it('round-trips the time frame asked for, and drops one the core cannot take', () => {
+    const s = parseUrlState('', schema);
+    expect(s.frame).toBeNull();
+    s.frame = 9;
+    s.surface = 'LV_ENDO';
+    const q = serializeUrlState(s, schema);
+    expect(q).toBe('?surface=LV_ENDO&frame=9');
+    expect(parseUrlState(q, schema)).toEqual(s);
+    expect(parseUrlState('?frame=0', schema).frame).toBe(0);
+    for (const bad of ['ED', '-1', '1.5', '', '99999999999']) expect(parseUrlState(`?frame=${bad}`, schema).frame, bad).toBeNull();
+  });
   it('round-trips the smoothing method and conflict softening, written only when not the default', () => {
     const s = parseUrlState('', schema);
     expect(s.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });

@@ -21,7 +21,10 @@ class FakeSession implements SessionApi {
   constructor(clock: { t: number }, private total = 20, private remeshAt = [7], private resampleAt = [0, 12]) {
     this.clock = clock;
   }
-  load(fileName: string, bytes: Uint8Array): string {
+  /** The frame argument of each load. */
+  frames: (number | undefined)[] = [];
+  load(fileName: string, bytes: Uint8Array, frame?: number): string {
+    this.frames.push(frame);
     if (bytes.length === 0) throw JSON.stringify({ code: 'parse', message: 'line 1: empty file', line: 1 });
     return JSON.stringify({ fileName, surfaces: [], contours: [], landmarks: [], warnings: [] });
   }
@@ -304,6 +307,16 @@ describe('WorkerCore', () => {
     runTicks();
     const doneIds = out.filter((m) => m.type === 'done').map((m) => (m.type === 'done' ? m.result.runId : 0));
     expect(doneIds).toEqual([7]);
+  });
+
+  it('passes the time frame of a load to the core; a frame it cannot take (a foreign message) reads as none', () => {
+    const { core, session, out } = setup(5);
+    const bytes = () => new TextEncoder().encode('contour,x,y,z\n').buffer as ArrayBuffer;
+    core.handle({ type: 'load', reqId: 1, fileName: 'a.csv', bytes: bytes() });
+    core.handle({ type: 'load', reqId: 2, fileName: 'a.csv', bytes: bytes(), frame: 9 });
+    for (const frame of [-1, 1.5, 2 ** 32, '3'] as unknown as number[]) core.handle({ type: 'load', reqId: 3, fileName: 'a.csv', bytes: bytes(), frame });
+    expect(session.frames).toEqual([undefined, 9, undefined, undefined, undefined, undefined]);
+    expect(out.filter((m) => m.type === 'loaded')).toHaveLength(6);
   });
 
   it('reports core errors as data and stays usable', () => {

@@ -20,6 +20,7 @@ import type { Speed } from './playback';
 import { keptSpecksNote } from '../ui/runText';
 import { RunDisplay } from './runDisplay';
 import { surfacePoints } from './sceneContours';
+import { frameNumber, framePicker, frameToRead, missingFrameNote, namedFrame } from './timeFrames';
 import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 
@@ -49,6 +50,13 @@ export class Controller {
   /** The current run's note from the core (its mesh will reach the remesh cap), shown with the warnings. */
   private runNote: string | null = null;
   private surface: string | null = null;
+  /**
+   * The time frame asked for (the Frame picker's, or the link's): read of every file holding a
+   * sequence that has it, as the surface is picked of every file; null: each file's own first.
+   */
+  private frame: number | null = null;
+  /** Bumped by each frame reload: the answer of one overtaken by another is not shown. */
+  private frameToken = 0;
   private sampleId: string | null = null;
   private view: ViewSettings = { ...DEFAULT_VIEW };
   private active: ActiveRun | null = null;
@@ -103,6 +111,7 @@ export class Controller {
     // The link's surface is the one wanted for any file opened later (dropped, picked, a sample),
     // not only for the sample the link names: selectFile falls back, with a notice, when absent.
     this.surface = url.surface;
+    this.frame = url.frame;
     this.view = url.view;
     this.parts.params.setSchema(this.schema);
     this.parts.params.setValues(this.params, this.lids, this.options);
@@ -148,7 +157,7 @@ export class Controller {
       this.sampleId = null;
       // A session's own surface first, else the one asked for (the link's, or the one last chosen).
       this.selectFile(first, this.files.get(first)?.session?.surface ?? this.surface);
-      this.startRun();
+      this.runOrReadFrame(first);
     }
     // Several files at once: each refusal would replace the one before in the banner (and a file
     // that opens would hide them all), so the banner names every file not opened, once, at the end.
@@ -182,7 +191,7 @@ export class Controller {
     if (await this.loadBytes(name, bytes, `sample:${sample.id}`)) {
       this.sampleId = sample.id;
       this.selectFile(name, surface ?? sample.surface);
-      this.startRun();
+      this.runOrReadFrame(name);
     }
   }
 
@@ -237,7 +246,7 @@ export class Controller {
     if (!this.files.has(fileName)) return;
     this.sampleId = null;
     this.selectFile(fileName, this.surface);
-    this.startRun();
+    this.runOrReadFrame(fileName);
   }
 
   chooseSurface(surface: string): void {
@@ -250,8 +259,64 @@ export class Controller {
     this.startRun();
   }
 
-  /** Makes `fileName` current (state -> ready) and shows its contours. */
-  private selectFile(fileName: string, preferredSurface: string | null): void {
+  /**
+   * A frame picked (a `FrameOption.value`): the file is read again as that frame and runs, the
+   * run in progress cancelled at once, as for a surface picked. The choice holds for files opened
+   * later, as the surface does, and goes in the link.
+   */
+  chooseFrame(value: string): void {
+    const file = this.currentFile();
+    if (!file || !framePicker(file)) return;
+    this.frame = frameNumber(value);
+    this.updateUrl();
+    void this.readFrame(file.fileName, this.frame);
+  }
+
+  /** Runs the file just made current, or first reads it as the frame asked for (then runs). */
+  private runOrReadFrame(fileName: string): void {
+    const frame = frameToRead(this.files.get(fileName) ?? null, this.frame);
+    if (frame === null) this.startRun();
+    else void this.readFrame(fileName, frame);
+  }
+
+  /**
+   * Reads a loaded file again as time frame `frame` (null: each contour's first) and runs it. The
+   * status says "loading" meanwhile; a frame the core cannot read leaves the file as it was, named
+   * in the banner. An answer overtaken by a later frame, file or sample is kept (it is what the
+   * worker holds now) but not shown.
+   */
+  private async readFrame(fileName: string, frame: number | null): Promise<void> {
+    const client = this.client;
+    if (!client) return;
+    const token = ++this.frameToken;
+    if (this.restartTimer) clearTimeout(this.restartTimer);
+    this.restartTimer = null;
+    // Ended at once, as for a surface picked (the file would otherwise wait behind its steps); its
+    // steps stay on screen until the frame is read, and stay there if it cannot be.
+    if (this.active) {
+      this.cancelRun();
+      this.dispatch({ type: 'stop' });
+    }
+    this.dispatch({ type: 'load', fileName });
+    const current = () => token === this.frameToken && this.state.kind === 'loading' && this.state.fileName === fileName;
+    try {
+      const loaded = await client.loadFrame(fileName, frame);
+      if (this.files.has(fileName)) this.files.set(fileName, loaded);
+      if (!current()) return;
+      this.dispatch({ type: 'loaded', fileName });
+      // The same heart in the same coordinates: the camera stays, so the phases compare on screen.
+      this.selectFile(fileName, this.surface, false);
+      this.startRun();
+    } catch (e) {
+      if (!current()) return;
+      const error = asCoreError(e, `frame ${frame ?? 'first of each'} could not be read`, fileName);
+      this.fail(error, undefined, ` Still showing ${fileName} as read before.`);
+      this.parts.files.setFrames(framePicker(this.files.get(fileName) ?? null));
+    }
+  }
+
+  /** Makes `fileName` current (state -> ready) and shows its contours (`reframe`: the camera fits them). */
+  private selectFile(fileName: string, preferredSurface: string | null, reframe = true): void {
     const file = this.files.get(fileName);
     if (!file) return;
     if (loadedFile(this.state) !== fileName || this.state.kind === 'loading') {
@@ -263,16 +328,19 @@ export class Controller {
       preferredSurface && s.includes(preferredSurface) ? preferredSurface : s.includes('LV_ENDO') ? 'LV_ENDO' : (s[0] ?? null);
     this.parts.files.setFiles([...this.files.keys()], fileName);
     this.parts.files.setSurfaces(s, this.surface);
+    this.parts.files.setFrames(framePicker(file));
     // Asked for a surface the file lacks (a link's ?surface=RV_ENDO, an LV-only file): say which one runs instead.
     const missing = preferredSurface && !s.includes(preferredSurface) && this.surface
       ? [`surface ${preferredSurface} is not in ${fileName}: showing ${this.surface}`]
       : [];
+    const noFrame = missingFrameNote(file, this.frame);
+    if (noFrame) missing.push(noFrame);
     this.fileWarnings = [...missing, ...file.warnings];
     this.renderWarnings();
     this.clearRunDisplay();
     this.runView.showContours(null);
     this.parts.viewer?.landmarkLayer.set(file.landmarks);
-    this.frameSurface(file);
+    if (reframe) this.frameSurface(file);
     this.updateUrl();
   }
 
@@ -511,6 +579,7 @@ export class Controller {
       coreVersion: r?.version ?? this.coreVersion,
       fileName: file.fileName,
       surface: r ? r.surface : this.surface,
+      frame: namedFrame(file),
       lids: r ? r.lids : this.lids,
       options: r?.options ?? this.options,
       params: schemaOrdered(r ? r.params : this.params, this.schema),
@@ -589,7 +658,7 @@ export class Controller {
   private updateUrl(): void {
     if (this.schema.length === 0) return;
     const query = serializeUrlState(
-      { params: this.params, lids: this.lids, options: this.options, surface: this.surface, sample: this.sampleId, view: this.view },
+      { params: this.params, lids: this.lids, options: this.options, surface: this.surface, frame: this.frame, sample: this.sampleId, view: this.view },
       this.schema,
     );
     const url = `${location.pathname}${query}${location.hash}`;

@@ -121,6 +121,10 @@ export class CoreClient {
   private readonly runs: RunFrames;
   /** Bytes of every successfully loaded file, kept to re-send them to a recreated worker. */
   private readonly files = new Map<string, ArrayBuffer>();
+  /** The time frame each file is read with (absent: each contour's first), for those re-sends. */
+  private readonly frames = new Map<string, number>();
+  /** Per file, the id of its latest frame reload: an earlier one that fails must not undo it. */
+  private readonly frameLoads = new Map<string, number>();
   /** Files the current worker has been sent. */
   private readonly workerFiles = new Set<string>();
   private schemaCache: { schema: ParamSpec[]; version: string } | null = null;
@@ -192,6 +196,9 @@ export class CoreClient {
     // One copy stays here for crash recovery; the other is transferred to the worker.
     const kept = bytes.slice(0);
     this.files.set(fileName, kept);
+    // A file (re)opened is read as it comes: each contour's first frame.
+    this.frames.delete(fileName);
+    this.frameLoads.delete(fileName);
     const promise = this.request<LoadedFile>(
       (reqId) => ({ type: 'load', reqId, fileName, bytes: kept.slice(0) }),
       { loads: fileName },
@@ -203,6 +210,34 @@ export class CoreClient {
         this.files.delete(fileName);
       }
       this.workerFiles.delete(fileName);
+      throw e;
+    });
+  }
+
+  /**
+   * Reads a loaded file again, as time frame `frame` (null: each contour's first, as when it was
+   * opened), from the bytes kept here; the worker's file (and what a new worker is re-sent) is
+   * then that frame. Rejects with CoreErrorData; the file then stays as it was read before.
+   */
+  loadFrame(fileName: string, frame: number | null): Promise<LoadedFile> {
+    const bytes = this.files.get(fileName);
+    if (bytes === undefined) {
+      return Promise.reject({ code: ErrorCodes.notLoaded, message: `${fileName} has not been loaded`, file: fileName });
+    }
+    const previous = this.frames.get(fileName);
+    const setFrame = (f: number | null | undefined) => (f === null || f === undefined ? this.frames.delete(fileName) : this.frames.set(fileName, f));
+    const withFrame = frame === null ? {} : { frame };
+    const promise = this.request<LoadedFile>(
+      (reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0), ...withFrame }),
+      { loads: fileName },
+    );
+    const id = this.nextId++;
+    this.frameLoads.set(fileName, id);
+    setFrame(frame);
+    this.workerFiles.add(fileName);
+    return promise.catch((e: CoreErrorData) => {
+      // The worker keeps its earlier reading of a file it could not read this way.
+      if (this.frameLoads.get(fileName) === id) setFrame(previous);
       throw e;
     });
   }
@@ -279,7 +314,9 @@ export class CoreClient {
    */
   private resendIfRecreated(fileName: string, bytes: ArrayBuffer, onError: (e: CoreErrorData) => void): void {
     if (this.workerFiles.has(fileName)) return;
-    this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0) }), { loads: fileName }).catch((e: CoreErrorData) => {
+    const frame = this.frames.get(fileName);
+    const withFrame = frame === undefined ? {} : { frame };
+    this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0), ...withFrame }), { loads: fileName }).catch((e: CoreErrorData) => {
       this.workerFiles.delete(fileName);
       onError(e);
     });
@@ -331,6 +368,7 @@ export class CoreClient {
     this.readyReject?.(error);
     this.teardownWorker(error);
     this.files.clear();
+    this.frames.clear();
   }
 
   // -------------------------------------------------------------------------------------------

@@ -16,6 +16,8 @@ export interface LoadRequest {
   reqId: number;
   fileName: string;
   bytes: ArrayBuffer;
+  /** The time frame to read of a file that holds several (absent: each contour's first). */
+  frame?: number;
 }
 export interface RunRequest {
   type: 'run';

@@ -34,6 +34,29 @@ export interface LoadedFile {
   warnings: string[];
   /** Settings of a saved session file (null or absent for other formats). */
   session?: SessionSettings | null;
+  /** The file's time frames and those read (null or absent: the file has no time-frame column). */
+  timeFrames?: TimeFrames | null;
+}
+
+/**
+ * The time frames of a file with a time-frame column (a GPFile's `time frame`, a CSV's `frame`),
+ * as the core's `contours::TimeFrames`: what the Frame picker offers and what was read.
+ */
+export interface TimeFrames {
+  /** Every frame in file order, as numbers compare (`1.0` reads `1`); at most 1000. */
+  frames: string[];
+  /** Distinct frames in the file (more than `frames.length` past the limit). */
+  count: number;
+  /** The frame asked for; else `firsts`. */
+  read: string[];
+  /** Each contour's (slice's) first frame, distinct, in file order: the reading when none is asked for. */
+  firsts: string[];
+  /** Whether `read` is a frame asked for (the load's `frame`) rather than the file's first. */
+  chosen: boolean;
+  /** Points of other frames left out. */
+  leftOut: number;
+  /** Some contour has points in several frames: another frame is another phase of the heart. */
+  sequence: boolean;
 }
 
 export type Phase = 'initial_tube' | 'deform' | 'remesh' | 'done';

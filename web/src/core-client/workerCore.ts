@@ -40,7 +40,8 @@ import { LabWorker, type LabApi } from './labWorker';
 
 /** The part of the wasm `Session` (wasm-core/crates/heartmesh-wasm) the worker uses. */
 export interface SessionApi {
-  load(fileName: string, bytes: Uint8Array): string;
+  /** `frame`: the time frame to read (undefined: each contour's first). */
+  load(fileName: string, bytes: Uint8Array, frame?: number): string;
   file_points(fileName: string): Float32Array;
   start(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string): void;
   step(): string;
@@ -191,7 +192,7 @@ export class WorkerCore {
       case 'load':
         // Said first: a parse of seconds is then not taken for a long step (CoreClient.isInLongStep).
         this.send({ type: 'started', reqId: msg.reqId });
-        this.load(msg.reqId, msg.fileName, msg.bytes);
+        this.load(msg.reqId, msg.fileName, msg.bytes, msg.frame);
         break;
       case 'run':
         this.startRun(msg);
@@ -227,8 +228,10 @@ export class WorkerCore {
     }
   }
 
-  private load(reqId: number, fileName: string, bytes: ArrayBuffer): void {
-    const info = JSON.parse(this.session.load(fileName, new Uint8Array(bytes))) as Omit<
+  private load(reqId: number, fileName: string, bytes: ArrayBuffer, frame: number | undefined): void {
+    // A frame the core cannot take (a foreign message) reads as none: wasm-bindgen would wrap it.
+    const wanted = typeof frame === 'number' && Number.isInteger(frame) && frame >= 0 && frame <= 0xffffffff ? frame : undefined;
+    const info = JSON.parse(this.session.load(fileName, new Uint8Array(bytes), wanted)) as Omit<
       LoadedFile,
       'points'
     >;

@@ -1,8 +1,10 @@
 /**
  * Getting data in: the Open button (a real `<input type="file">` accepting the canonical CSV and
- * the other contour formats), "Try an example" buttons, the picker of loaded files and the surface
- * picker for files holding several surfaces.
+ * the other contour formats), "Try an example" buttons, the picker of loaded files, the surface
+ * picker for files holding several surfaces and the frame picker for files holding a sequence of
+ * time frames (app/timeFrames.ts decides its options).
  */
+import type { FramePicker } from '../app/timeFrames';
 import { h } from '../ui/dom';
 import { SAMPLES, type Sample } from './samples';
 
@@ -14,6 +16,8 @@ export interface FileBarHandlers {
   trySample(sample: Sample): void;
   chooseFile(fileName: string): void;
   chooseSurface(surface: string): void;
+  /** A `FrameOption.value` of the frame picker. */
+  chooseFrame(frame: string): void;
 }
 
 export class FileBar {
@@ -21,8 +25,10 @@ export class FileBar {
   readonly input: HTMLInputElement;
   private readonly files: HTMLSelectElement;
   private readonly surfaces: HTMLSelectElement;
+  private readonly frames: HTMLSelectElement;
   private readonly filesWrap: HTMLElement;
   private readonly surfacesWrap: HTMLElement;
+  private readonly framesWrap: HTMLElement;
   private readonly sampleButtons: HTMLButtonElement[] = [];
 
   constructor(handlers: FileBarHandlers) {
@@ -50,11 +56,15 @@ export class FileBar {
     this.files.addEventListener('change', () => handlers.chooseFile(this.files.value));
     this.surfaces = h('select', { 'aria-label': 'Surface', 'data-testid': 'surface-picker' });
     this.surfaces.addEventListener('change', () => handlers.chooseSurface(this.surfaces.value));
+    this.frames = h('select', { 'aria-label': 'Time frame', 'data-testid': 'frame-picker' });
+    this.frames.addEventListener('change', () => handlers.chooseFrame(this.frames.value));
     this.files.title = 'Loaded file';
     this.surfaces.title = 'Surface to reconstruct';
+    this.frames.title = 'Time frame to reconstruct (the file holds several)';
     this.filesWrap = h('span', { class: 'picker', hidden: true }, this.files);
     this.surfacesWrap = h('span', { class: 'picker', hidden: true }, this.surfaces);
-    this.element = h('div', { class: 'filebar' }, this.input, open, samples, this.filesWrap, this.surfacesWrap);
+    this.framesWrap = h('span', { class: 'picker', hidden: true }, this.frames);
+    this.element = h('div', { class: 'filebar' }, this.input, open, samples, this.filesWrap, this.surfacesWrap, this.framesWrap);
   }
 
   setFiles(names: string[], current: string | null): void {
@@ -67,6 +77,16 @@ export class FileBar {
     this.surfaces.replaceChildren(...surfaceOrder(surfaces).map((s) => h('option', { value: s }, surfaceLabel(s))));
     if (current) this.surfaces.value = current;
     this.surfacesWrap.hidden = surfaces.length < 2;
+  }
+
+  /** The frames of the current file (null: it holds one phase, no picker). */
+  setFrames(picker: FramePicker | null): void {
+    const options = picker?.options ?? [];
+    this.frames.replaceChildren(
+      ...options.map((o) => h('option', { value: o.value, disabled: o.disabled, ...(o.title ? { title: o.title } : {}) }, o.label)),
+    );
+    if (picker) this.frames.value = picker.value;
+    this.framesWrap.hidden = picker === null;
   }
 }
 

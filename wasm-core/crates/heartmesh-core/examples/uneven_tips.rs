@@ -159,8 +159,7 @@ fn real(path: &str, surface: Option<String>) -> Res<()> {
     let kinds = rec.kinds().to_vec();
     let mut used = ContourSet {
         contours: rec.contours().to_vec(),
-        landmarks: Vec::new(),
-        warnings: Vec::new(),
+        ..ContourSet::default()
     };
     let lax_ids: Vec<String> = used
         .contours

@@ -10,6 +10,7 @@
 mod clock;
 mod convert;
 mod errors;
+mod frames;
 mod lab;
 mod panic;
 
@@ -81,8 +82,20 @@ impl Session {
     /// Parses a contour file and keeps it under `file_name` (replacing an earlier one). Returns
     /// the JSON of the protocol's `LoadedFile` without `points` (see [`Session::file_points`]);
     /// for a saved session, `session` holds its settings (`convert::session_settings`).
-    pub fn load(&mut self, file_name: &str, bytes: &[u8]) -> Result<String, JsValue> {
-        let set = io::read_contours(file_name, bytes).map_err(|e| errors::to_js(&e))?;
+    /// `frame` reads that time frame of a file holding several (GPFile, CSV with a frame column;
+    /// absent: each contour's first); `timeFrames` lists the file's frames and those read.
+    pub fn load(
+        &mut self,
+        file_name: &str,
+        bytes: &[u8],
+        frame: Option<u32>,
+    ) -> Result<String, JsValue> {
+        let options = io::ContourOptions {
+            frame,
+            ..io::ContourOptions::default()
+        };
+        let set =
+            io::read_contours_with(file_name, bytes, &options).map_err(|e| errors::to_js(&e))?;
         let landmarks: Vec<_> = set
             .landmarks
             .iter()
@@ -95,7 +108,11 @@ impl Session {
                 item["kind"] = json!(kind);
             }
         }
-        let mut warnings = set.warnings.clone();
+        let mut warnings: Vec<String> = set
+            .warnings
+            .iter()
+            .map(|w| frames::in_app_words(w))
+            .collect();
         // A saved session also carries the settings it was made with: the app applies them.
         let settings = if io::session::looks_like_session(bytes) {
             match io::session::read_session(bytes).and_then(|s| s.params()) {
@@ -115,6 +132,7 @@ impl Session {
             "landmarks": landmarks,
             "warnings": warnings,
             "session": settings,
+            "timeFrames": frames::time_frames_json(set.time_frames.as_ref()),
         });
         self.files.insert(file_name.to_string(), set);
         Ok(info.to_string())
@@ -298,7 +316,7 @@ mod tests {
     #[test]
     fn a_written_session_loads_back_with_its_settings() {
         let mut s = Session::new();
-        s.load("rings.csv", RINGS.as_bytes()).unwrap();
+        s.load("rings.csv", RINGS.as_bytes(), None).unwrap();
         let bytes = s
             .session_json(
                 "rings.csv",
@@ -309,7 +327,7 @@ mod tests {
             )
             .unwrap();
         let info: serde_json::Value =
-            serde_json::from_str(&s.load("rings.json", &bytes).unwrap()).unwrap();
+            serde_json::from_str(&s.load("rings.json", &bytes, None).unwrap()).unwrap();
         let settings = &info["session"];
         assert_eq!(settings["options"]["smoothing_method"], "taubin");
         assert_eq!(settings["options"]["soften_conflicts"], false);
@@ -328,12 +346,68 @@ mod tests {
             )
             .unwrap();
         let info: serde_json::Value =
-            serde_json::from_str(&s.load("off.json", &off).unwrap()).unwrap();
+            serde_json::from_str(&s.load("off.json", &off, None).unwrap()).unwrap();
         assert_eq!(info["session"]["options"]["apex_floor"], false);
         // A plain contour file carries no settings.
         let plain: serde_json::Value =
-            serde_json::from_str(&s.load("rings.csv", RINGS.as_bytes()).unwrap()).unwrap();
+            serde_json::from_str(&s.load("rings.csv", RINGS.as_bytes(), None).unwrap()).unwrap();
         assert!(plain["session"].is_null());
+    }
+
+    /// A file of two time frames: the load result lists them and which was read, in the app's
+    /// words (the picker, not `--frame`); a frame asked for is read alone, without the warning;
+    /// a session of it records the frame and loads back knowing it (no picker: one frame).
+    #[test]
+    fn a_two_frame_file_loads_either_frame_and_says_which() {
+        let mut two = String::from("contour,x,y,z,frame\n");
+        for (frame, r) in [(0, 20.0), (9, 15.0)] {
+            for (id, z) in [("a", 0.0), ("b", 10.0)] {
+                for (x, y) in [(r, 0.0), (0.0, r), (-r, 0.0), (0.0, -r)] {
+                    two.push_str(&format!("{id},{x},{y},{z},{frame}\n"));
+                }
+            }
+        }
+        let mut s = Session::new();
+        let load = |s: &mut Session, frame: Option<u32>| -> serde_json::Value {
+            serde_json::from_str(&s.load("two.csv", two.as_bytes(), frame).unwrap()).unwrap()
+        };
+        let first = load(&mut s, None);
+        let t = &first["timeFrames"];
+        assert_eq!(t["frames"], serde_json::json!(["0", "9"]));
+        assert_eq!(t["read"], serde_json::json!(["0"]));
+        assert_eq!(
+            (t["chosen"].as_bool(), t["sequence"].as_bool()),
+            (Some(false), Some(true))
+        );
+        assert_eq!(t["leftOut"], 8);
+        let w = first["warnings"][0].as_str().unwrap();
+        assert!(w.ends_with("frame 0 read, 8 points of other frames left out; choose another with the Frame picker"), "{w}");
+        assert_eq!(s.file_points("two.csv").unwrap()[0], 20.0);
+        let nine = load(&mut s, Some(9));
+        assert_eq!(nine["timeFrames"]["read"], serde_json::json!(["9"]));
+        assert_eq!(nine["timeFrames"]["chosen"], true);
+        assert_eq!(nine["timeFrames"]["firsts"], serde_json::json!(["0"]));
+        assert_eq!(nine["warnings"], serde_json::json!([]));
+        assert_eq!(
+            s.file_points("two.csv").unwrap()[0],
+            15.0,
+            "the file is now frame 9"
+        );
+        let bytes = s
+            .session_json("two.csv", None, "{}", "auto", "9.9.9")
+            .unwrap();
+        assert!(String::from_utf8_lossy(&bytes).contains(r#""frame":"9""#));
+        let saved: serde_json::Value =
+            serde_json::from_str(&s.load("two.json", &bytes, None).unwrap()).unwrap();
+        let t = &saved["timeFrames"];
+        assert_eq!(
+            (t["read"].clone(), t["sequence"].as_bool()),
+            (serde_json::json!(["9"]), Some(false))
+        );
+        // No frame column: null, as a file of one frame shows no picker.
+        let plain: serde_json::Value =
+            serde_json::from_str(&s.load("rings.csv", RINGS.as_bytes(), None).unwrap()).unwrap();
+        assert!(plain["timeFrames"].is_null());
     }
 
     /// An ellipsoidal cavity: SAX rings every 8 mm (the third shifted 3 mm along x) and two

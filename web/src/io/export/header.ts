@@ -9,6 +9,8 @@ export interface ExportInfo {
   coreVersion: string;
   fileName: string;
   surface: string | null;
+  /** The time frame read of a file that holds several (null or absent: the file holds one). */
+  frame?: string | null;
   lids: LidsMode;
   /** Smoothing method, conflict softening, alignment (missing in callers that predate them: defaults). */
   options?: ReconOptions;
@@ -43,13 +45,16 @@ export function headerLines(info: ExportInfo): string[] {
   const clean = (s: string) => s.replace(/[\r\n]+/g, ' ');
   return [
     `heartmesh ${clean(info.appVersion)} (core ${clean(info.coreVersion)}), units: mm`,
-    `input: ${clean(info.fileName)}${info.surface ? ` surface: ${clean(info.surface)}` : ''}`,
+    `input: ${clean(info.fileName)}${info.surface ? ` surface: ${clean(info.surface)}` : ''}${info.frame != null ? ` frame: ${clean(info.frame)}` : ''}`,
     `lids: ${info.lids} ${paramText(info.params)}${optionText(info.options)}`,
   ];
 }
 
-/** Base name for downloads: input name without extension, plus surface. */
+/** Base name for downloads: input name without extension, plus surface and time frame. */
 export function exportBaseName(info: ExportInfo): string {
-  const base = info.fileName.replace(/\.[^.]*$/, '').replace(/[^A-Za-z0-9._-]+/g, '_') || 'heartmesh';
-  return info.surface ? `${base}-${info.surface.replace(/[^A-Za-z0-9._-]+/g, '_')}` : base;
+  const safe = (s: string) => s.replace(/[^A-Za-z0-9._-]+/g, '_');
+  const base = safe(info.fileName.replace(/\.[^.]*$/, '')) || 'heartmesh';
+  const surface = info.surface ? `-${safe(info.surface)}` : '';
+  const frame = info.frame != null ? `-frame${safe(info.frame)}` : '';
+  return `${base}${surface}${frame}`;
 }

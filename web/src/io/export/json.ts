@@ -49,6 +49,8 @@ export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): s
     units: 'mm',
     input: info.fileName,
     surface: info.surface,
+    // Only for a file that holds several time frames (as the header line).
+    ...(info.frame != null ? { frame: info.frame } : {}),
     lids: info.lids,
     smoothing_method: options.smoothing_method,
     soften_conflicts: options.soften_conflicts,

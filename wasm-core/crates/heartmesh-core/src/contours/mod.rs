@@ -12,8 +12,10 @@ pub mod set_aside;
 pub mod slice_loops;
 pub mod specks;
 pub mod strays;
+pub mod time_frames;
 
 use crate::geometry::Vec3;
+pub use time_frames::TimeFrames;
 
 /// One piece of a contour: an ordered polyline, closed (a ring) or open (e.g. a U-shaped long-axis
 /// curve open at the valves).
@@ -54,6 +56,8 @@ pub struct ContourSet {
     pub landmarks: Vec<(String, Vec3)>,
     /// Warnings found while reading (units, non-planarity, ...), shown to the user.
     pub warnings: Vec<String>,
+    /// The file's time frames and which were read (None: the file has no time-frame column).
+    pub time_frames: Option<TimeFrames>,
 }
 
 impl ContourSet {

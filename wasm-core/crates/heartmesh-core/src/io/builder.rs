@@ -159,6 +159,7 @@ impl ContourBuilder {
             contours: self.contours,
             landmarks: self.landmarks,
             warnings: self.warnings,
+            time_frames: None,
         };
         // Contours that are not curves first: on failure the first warning is the hint.
         let lone = checks::few_point_warnings(&set);

@@ -116,7 +116,9 @@ pub fn read_csv_frame(bytes: &[u8], frame: Option<u32>) -> Result<ContourSet> {
             "no data rows after the header",
         ));
     }
-    b.finish()
+    let mut set = b.finish()?;
+    set.time_frames = frames.time_frames();
+    Ok(set)
 }
 
 /// Refuses a row shorter than the columns it needs, or carrying values beyond the header's
@@ -350,6 +352,32 @@ mod tests {
         assert_eq!(c.surface.as_deref(), Some("LV_ENDO"));
         assert_eq!(c.first_line, 3);
         assert_eq!(c.pieces[0].points[1], v3(4.0, 2.0, 1.0));
+    }
+
+    /// A frame column: the set lists the frames and which was read; a file without one has no
+    /// frames to list (no picker), and its set is as before.
+    #[test]
+    fn frame_columns_list_their_frames() {
+        let two = "contour,x,y,z,frame\na,0,0,0,0\na,1,0,0,0\na,0,0,5,5\na,1,0,5,5\n";
+        let set = read(two).unwrap();
+        let t = set.time_frames.unwrap();
+        assert_eq!(
+            (t.frames.as_slice(), t.read.as_slice()),
+            (
+                &["0".to_string(), "5".to_string()][..],
+                &["0".to_string()][..]
+            )
+        );
+        assert!(t.sequence && !t.chosen && t.left_out == 2);
+        let five = read_csv_frame(two.as_bytes(), Some(5)).unwrap();
+        assert_eq!(five.contours[0].pieces[0].points[0], v3(0.0, 0.0, 5.0));
+        assert_eq!(five.time_frames.unwrap().read, ["5"]);
+        assert_eq!(
+            read("contour,x,y,z\na,0,0,0\na,1,0,0\n")
+                .unwrap()
+                .time_frames,
+            None
+        );
     }
 
     #[test]

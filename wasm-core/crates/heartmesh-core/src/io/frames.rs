@@ -8,7 +8,13 @@
 
 use std::collections::{HashMap, HashSet};
 
+use crate::contours::time_frames::{TimeFrames, LISTED};
 use crate::error::CoreError;
+
+/// How the warning tells a command-line user to read another frame; the app's binding puts its
+/// own wording (the Frame picker) in its place.
+pub const COMMAND_LINE_FRAME_ADVICE: &str =
+    "save one frame per file, or choose one with the command line's --frame N";
 
 /// Rows kept and left out by frame, keyed by contour or slice.
 #[derive(Debug, Default)]
@@ -16,13 +22,16 @@ pub struct FrameFilter {
     wanted: Option<String>,
     /// The first frame seen for each key (hashed: a file may hold 10^5 contours).
     first: HashMap<String, String>,
-    /// The first two distinct first frames (one means every key starts in the same frame).
+    /// The distinct first frames of the keys, in file order (one: every key starts in the same
+    /// frame), at most [`LISTED`].
     firsts: Vec<String>,
-    /// Every frame seen, and the first few in file order for messages.
+    /// Every frame seen, and the first [`LISTED`] in file order.
     seen: HashSet<String>,
-    shown: Vec<String>,
+    order: Vec<String>,
     skipped: usize,
     kept: usize,
+    /// Some key has rows in more than one frame.
+    sequence: bool,
 }
 
 /// Frames named in a message.
@@ -48,22 +57,28 @@ impl FrameFilter {
     /// True when a row of `key` in frame `value` is read.
     pub fn keep(&mut self, key: &str, value: &str) -> bool {
         let frame = normalised(value);
-        if self.shown.len() < SHOWN && !self.seen.contains(&frame) {
-            self.shown.push(frame.clone());
+        if !self.seen.contains(&frame) {
+            if self.order.len() < LISTED {
+                self.order.push(frame.clone());
+            }
+            self.seen.insert(frame.clone());
         }
-        self.seen.insert(frame.clone());
+        let first = match self.first.get(key) {
+            Some(first) => {
+                self.sequence |= *first != frame;
+                first
+            }
+            None => {
+                if self.firsts.len() < LISTED && !self.firsts.contains(&frame) {
+                    self.firsts.push(frame.clone());
+                }
+                self.first.insert(key.to_string(), frame.clone());
+                &frame
+            }
+        };
         let keep = match &self.wanted {
             Some(want) => *want == frame,
-            None => match self.first.get(key) {
-                Some(first) => *first == frame,
-                None => {
-                    if self.firsts.len() < 2 && !self.firsts.contains(&frame) {
-                        self.firsts.push(frame.clone());
-                    }
-                    self.first.insert(key.to_string(), frame);
-                    true
-                }
-            },
+            None => *first == frame,
         };
         if keep {
             self.kept += 1;
@@ -75,7 +90,28 @@ impl FrameFilter {
 
     fn frame_list(&self) -> String {
         let more = if self.seen.len() > SHOWN { ", ..." } else { "" };
-        format!("{}{more}", self.shown.join(", "))
+        let shown = &self.order[..self.order.len().min(SHOWN)];
+        format!("{}{more}", shown.join(", "))
+    }
+
+    /// The file's frames and what was read of them; None when no row carried a frame.
+    pub fn time_frames(&self) -> Option<TimeFrames> {
+        if self.seen.is_empty() {
+            return None;
+        }
+        let read = match &self.wanted {
+            Some(want) => vec![want.clone()],
+            None => self.firsts.clone(),
+        };
+        Some(TimeFrames {
+            frames: self.order.clone(),
+            count: self.seen.len(),
+            read,
+            firsts: self.firsts.clone(),
+            chosen: self.wanted.is_some(),
+            left_out: self.skipped,
+            sequence: self.sequence,
+        })
     }
 
     /// The error when a chosen frame matched no row (None otherwise).
@@ -105,7 +141,7 @@ impl FrameFilter {
         };
         Some(format!(
             "the file holds {} time frames ({}): {read}, {} points of other frames left out; \
-             save one frame per file, or choose one with the command line's --frame N",
+             {COMMAND_LINE_FRAME_ADVICE}",
             self.seen.len(),
             self.frame_list(),
             self.skipped
@@ -155,6 +191,58 @@ mod tests {
             e.as_deref(),
             Some("no contour points in frame 7 (frames in the file: 0, ED)")
         );
+    }
+
+    /// What a caller offering the choice learns: every frame in file order, the frames read,
+    /// how many points were left out and whether some key spans frames (a sequence).
+    #[test]
+    fn time_frames_list_the_file_and_what_was_read() {
+        let rows = [("a", "0"), ("b", "1.0"), ("a", "9"), ("b", "9"), ("a", "0")];
+        let mut f = FrameFilter::new(None);
+        for (k, v) in rows {
+            f.keep(k, v);
+        }
+        let t = f.time_frames().unwrap();
+        assert_eq!(t.frames, ["0", "1", "9"]);
+        assert_eq!(t.count, 3);
+        assert_eq!(t.read, ["0", "1"], "each key's first, in file order");
+        assert_eq!((t.chosen, t.left_out, t.sequence), (false, 2, true));
+        let mut g = FrameFilter::new(Some(9));
+        for (k, v) in rows {
+            g.keep(k, v);
+        }
+        let t = g.time_frames().unwrap();
+        assert_eq!(
+            (t.read.as_slice(), t.chosen, t.left_out),
+            (&["9".to_string()][..], true, 3)
+        );
+        assert!(t.sequence);
+        assert_eq!(
+            t.firsts,
+            ["0", "1"],
+            "what the file's own reading takes, whatever was asked"
+        );
+        // Each key in a frame of its own: several frames, no sequence, nothing left out.
+        let mut h = FrameFilter::new(None);
+        h.keep("a", "0");
+        h.keep("b", "1");
+        let t = h.time_frames().unwrap();
+        assert_eq!((t.count, t.sequence, t.left_out), (2, false, 0));
+        assert_eq!(
+            FrameFilter::new(None).time_frames(),
+            None,
+            "no row carried a frame"
+        );
+    }
+
+    #[test]
+    fn a_frame_column_of_point_indices_lists_a_bounded_number() {
+        let mut f = FrameFilter::new(None);
+        for i in 0..(LISTED + 5) {
+            f.keep("a", &i.to_string());
+        }
+        let t = f.time_frames().unwrap();
+        assert_eq!((t.frames.len(), t.count), (LISTED, LISTED + 5));
     }
 
     #[test]

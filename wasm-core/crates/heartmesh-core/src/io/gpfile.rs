@@ -223,7 +223,9 @@ pub fn read_gpfile(text: &str, frame: Option<u32>) -> Result<ContourSet> {
     for (k, n) in unknown {
         b.warn(format!("{n} points of unknown contour type {k} skipped"));
     }
-    b.finish()
+    let mut set = b.finish()?;
+    set.time_frames = frames.time_frames();
+    Ok(set)
 }
 
 /// One slice of `SliceInfoFile.txt`: its image plane in patient coordinates (mm).
@@ -530,6 +532,65 @@ mod tests {
         );
         let five = read_gpfile(&two, Some(5)).unwrap();
         assert_eq!(five.point_count(), want.point_count());
+    }
+
+    /// Patient 1's ED (frame 0) and ES (frame 9) files in one, slice 8's "1.0" rewritten to the
+    /// frame of its file (as the app's end-to-end test builds it): the set lists both frames and
+    /// which was read, and frame 9 reads exactly GPFile_009.txt.
+    #[test]
+    fn a_two_frame_file_says_its_frames_and_each_reads_its_own_file() {
+        let dir = "contours/bivme-example-patient1/";
+        let ed = text(&format!("{dir}GPFile_000.txt"));
+        let es = text(&format!("{dir}GPFile_009.txt"));
+        let rows = |t: &str, frame: &str| -> String {
+            t.lines()
+                .skip(1)
+                .map(|row| {
+                    let mut f: Vec<&str> = row.split('\t').collect();
+                    f[6] = frame;
+                    format!("{}\n", f.join("\t"))
+                })
+                .collect()
+        };
+        let header = ed.lines().next().unwrap_or("");
+        let two = format!("{header}\n{}{}", rows(&ed, "0"), rows(&es, "9"));
+        let first = read_gpfile(&two, None).unwrap();
+        let t = first.time_frames.clone().unwrap();
+        assert_eq!(t.frames, ["0", "9"]);
+        assert_eq!(
+            (t.read.as_slice(), t.chosen, t.sequence),
+            (&["0".to_string()][..], false, true)
+        );
+        assert_eq!(t.left_out, 1225, "every row of the ES file");
+        assert!(first
+            .warnings
+            .iter()
+            .any(|w| w.contains("holds 2 time frames (0, 9): frame 0 read")));
+        // The same curves point for point (their lines in the file differ).
+        let curves = |set: &ContourSet| -> Vec<_> {
+            set.contours
+                .iter()
+                .map(|c| (c.id.clone(), c.surface.clone(), c.pieces.clone()))
+                .collect()
+        };
+        let nine = read_gpfile(&two, Some(9)).unwrap();
+        let alone = read_gpfile(&es, None).unwrap();
+        assert!(curves(&nine) == curves(&alone) && nine.landmarks == alone.landmarks);
+        let t = nine.time_frames.unwrap();
+        assert_eq!(
+            (t.read.as_slice(), t.chosen),
+            (&["9".to_string()][..], true)
+        );
+        assert_eq!(t.named(), Some("9"));
+        assert!(curves(&read_gpfile(&two, Some(0)).unwrap()) == curves(&first));
+        assert!(curves(&first) == curves(&read_gpfile(&ed, None).unwrap()));
+        // The ED file alone: slice 8 carries its own frame 1, which is no sequence (no picker).
+        let t = read_gpfile(&ed, None).unwrap().time_frames.unwrap();
+        assert_eq!(
+            (t.frames.as_slice(), t.sequence, t.left_out),
+            (&["0".to_string(), "1".to_string()][..], false, 0)
+        );
+        assert_eq!(t.named(), None);
     }
 
     #[test]

@@ -26,6 +26,7 @@ pub mod xyz;
 
 pub use buffers::mesh_from_buffers;
 pub use builder::{polyline_from_run, MAX_POINTS};
+pub use frames::COMMAND_LINE_FRAME_ADVICE;
 
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
@@ -82,7 +83,8 @@ impl ContourFormat {
 /// Extra inputs some formats use.
 #[derive(Debug, Clone, Default)]
 pub struct ContourOptions<'a> {
-    /// Time frame to read from a GPFile (default: each slice's first frame).
+    /// Time frame to read from a GPFile or a CSV with a frame column (default: each slice's or
+    /// contour's first frame); the set's `time_frames` lists the others.
     pub frame: Option<u32>,
     /// Bytes of the `SliceInfoFile.txt` that accompanies a GPFile (adds off-plane warnings);
     /// decoded as the contour files are (UTF-16, Windows-1252, any line ends).

@@ -8,8 +8,12 @@
 //!  "parameters": {"iterations": 250, "lambda": 100000, "lids": "auto", "surface": null,
 //!                 "smoothing_method": "laplacian-affine", "soften_conflicts": true,
 //!                 "align_slices": false, "end_caps": "auto", "drop_second_loops": false,
-//!                 "apex_floor": true, "keep_specks": false}}
+//!                 "apex_floor": true, "keep_specks": false},
+//!  "frame": "9"}
 //! ```
+//!
+//! `frame` (written only for a file that holds several time frames, or one chosen) names the time
+//! frame the contours were read from: a session holds one frame, and reads back knowing which.
 //!
 //! Sessions written before `smoothing_method`, `soften_conflicts`, `align_slices`,
 //! `drop_second_loops` and `keep_specks` were stored lack them and read back with their defaults;
@@ -23,7 +27,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use super::builder::ContourBuilder;
-use crate::contours::ContourSet;
+use crate::contours::{ContourSet, TimeFrames};
 use crate::error::{CoreError, Result};
 use crate::geometry::v3;
 use crate::params::{EndCapMode, LidMode, Params};
@@ -41,6 +45,8 @@ struct SessionFile {
     landmarks: Vec<SessionLandmark>,
     #[serde(default)]
     parameters: Map<String, Value>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    frame: Option<String>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]
@@ -188,6 +194,7 @@ pub fn read_session(bytes: &[u8]) -> Result<Session> {
             }
         }
     }
+    set.time_frames = file.frame.as_deref().map(TimeFrames::saved);
     Ok(Session {
         contours: set,
         parameters: file.parameters,
@@ -276,6 +283,11 @@ pub fn write_session(set: &ContourSet, params: &Params, app_version: &str) -> Re
             })
             .collect(),
         parameters: params_json(params),
+        frame: set
+            .time_frames
+            .as_ref()
+            .and_then(|t| t.named())
+            .map(str::to_string),
     };
     let mut out = serde_json::to_vec(&file).map_err(|e| CoreError::Io(e.to_string()))?;
     out.push(b'\n');
@@ -341,6 +353,24 @@ mod tests {
         assert_eq!(p.beta, 0.2);
         // Nor apex_floor: saved when the floor was off (not today's default).
         assert!(!p.apex_floor);
+    }
+
+    /// A session of one frame of a sequence says which frame it was and reads back knowing it
+    /// (named in exports); a file of one frame writes no `frame`, as sessions did before.
+    #[test]
+    fn round_trip_with_the_frame() {
+        let two = b"contour,x,y,z,frame\na,0,0,0,0\na,9,0,0,0\na,9,9,0,0\na,0,0,5,9\na,9,0,5,9\na,9,9,5,9\n";
+        let nine = crate::io::csv::read_csv_frame(two, Some(9)).unwrap();
+        let bytes = write_session(&nine, &Params::default(), "t").unwrap();
+        assert!(String::from_utf8_lossy(&bytes).contains(r#""frame":"9""#));
+        let back = read_session(&bytes).unwrap().contours;
+        assert_eq!(back.time_frames.as_ref().and_then(|t| t.named()), Some("9"));
+        let again = write_session(&back, &Params::default(), "t").unwrap();
+        assert_eq!(again, bytes, "a reopened session saves the same frame");
+        let one = read_csv(b"contour,x,y,z,frame\na,0,0,0,3\na,9,0,0,3\na,9,9,0,3\n").unwrap();
+        let bytes = write_session(&one, &Params::default(), "t").unwrap();
+        assert!(!String::from_utf8_lossy(&bytes).contains("frame"));
+        assert_eq!(read_session(&bytes).unwrap().contours.time_frames, None);
     }
 
     #[test]

@@ -1,0 +1,4 @@
+// Types of twoFrames.mjs for the TypeScript tests.
+export const TWO_FRAMES_NAME: string;
+export const FRAMES: string[];
+export function twoFrameGpFile(ed: string, es: string): string;

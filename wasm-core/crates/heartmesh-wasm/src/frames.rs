@@ -1,0 +1,68 @@
+//! A loaded file's time frames as the app's Frame picker reads them (`LoadedFile.timeFrames`),
+//! and the reader's frame warning in the app's words: the app user chooses a frame with the
+//! picker, not with the command line's `--frame N` the core's warning names.
+
+use heartmesh_core::contours::TimeFrames;
+use heartmesh_core::io::COMMAND_LINE_FRAME_ADVICE;
+use serde_json::{json, Value};
+
+/// What the app says instead of the command line's advice.
+pub const APP_FRAME_ADVICE: &str = "choose another with the Frame picker";
+
+/// `{frames, count, read, firsts, chosen, leftOut, sequence}`, or null for a file without a frame column.
+pub fn time_frames_json(frames: Option<&TimeFrames>) -> Value {
+    match frames {
+        None => Value::Null,
+        Some(t) => json!({
+            "frames": t.frames,
+            "count": t.count,
+            "read": t.read,
+            "firsts": t.firsts,
+            "chosen": t.chosen,
+            "leftOut": t.left_out,
+            "sequence": t.sequence,
+        }),
+    }
+}
+
+/// A reader's warning with the frame advice in the app's words (other warnings unchanged).
+pub fn in_app_words(warning: &str) -> String {
+    match warning.strip_suffix(COMMAND_LINE_FRAME_ADVICE) {
+        Some(head) => format!("{head}{APP_FRAME_ADVICE}"),
+        None => warning.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_command_line_advice_becomes_the_pickers() {
+        let core = format!(
+            "the file holds 2 time frames (0, 9): frame 0 read, 12 points of other frames left out; {COMMAND_LINE_FRAME_ADVICE}"
+        );
+        let app = in_app_words(&core);
+        assert!(
+            !app.contains("--frame") && !app.contains("command line"),
+            "{app}"
+        );
+        assert!(
+            app.ends_with("left out; choose another with the Frame picker"),
+            "{app}"
+        );
+        assert_eq!(
+            in_app_words("3 points of unknown contour type X skipped"),
+            "3 points of unknown contour type X skipped"
+        );
+    }
+
+    #[test]
+    fn no_frame_column_is_null() {
+        assert_eq!(time_frames_json(None), Value::Null);
+        let j = time_frames_json(Some(&TimeFrames::saved("9")));
+        assert_eq!(j["read"], json!(["9"]));
+        assert_eq!(j["chosen"], true);
+        assert_eq!(j["leftOut"], 0);
+    }
+}
