@@ -33,3 +33,16 @@ as_root() {
 }
 
 section() { printf '\n== %s\n' "$*"; }
+
+# Runs a test command with a wall-clock bound: a hung browser or server then fails this step with a
+# clear line instead of holding CI until its 90-minute limit (where nothing at all is reported).
+bounded() {
+  local seconds=$1
+  shift
+  local status=0
+  timeout --kill-after=30 "$seconds" "$@" || status=$?
+  if [ "$status" = 124 ] || [ "$status" = 137 ]; then
+    echo "TIMED OUT after ${seconds}s: $*" >&2
+  fi
+  return "$status"
+}

@@ -32,11 +32,11 @@ vitest run
 
 section "node tests of the wasm build"
 node_tests=(tests/node/*.test.mjs)
-node --test "${node_tests[@]}"
+bounded 1200 node --test --test-timeout=600000 "${node_tests[@]}"
 vitest run -c tests/node/vitest.config.ts
 
 section "core client in chromium (worker + wasm)"
-node --test tests/browser/*.test.mjs
+bounded 900 node --test --test-timeout=600000 tests/browser/*.test.mjs
 
 section "site build"
 vite build --logLevel warn
@@ -49,7 +49,7 @@ if node -e 'process.exit(require("./package.json").scripts?.["test:e2e"] ? 0 : 1
 elif [ ${#e2e_tests[@]} -gt 0 ]; then
   if [ -x "${CHROMIUM_PATH:-/usr/bin/chromium}" ]; then
     section "browser end-to-end tests"
-    node --test --test-concurrency=1 "${e2e_tests[@]}"
+    bounded 2400 node --test --test-concurrency=1 --test-timeout=600000 "${e2e_tests[@]}"
   else
     echo "browser end-to-end tests need chromium (scripts/setup.sh installs it with apt)" >&2
     exit 1

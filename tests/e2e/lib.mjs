@@ -23,29 +23,61 @@ export const FLAGS = [
   '--enable-unsafe-swiftshader', '--use-angle=swiftshader',
 ];
 
-/** Starts `vite preview` on dist/ at a free-ish port; resolves to { url, stop }. */
-export async function startPreview(port = 4173 + Math.floor(Math.random() * 800)) {
+/**
+ * Starts `vite preview` on dist/ at a free-ish port; resolves to { url, stop }. A loaded CI machine
+ * can take long to bring vite up, or hand it a port another process just took, so each try gets a
+ * minute and a fresh port; a server that failed to answer is killed before the next try, because a
+ * live child keeps the test file's process (and with it the whole CI run) from ever exiting.
+ */
+export async function startPreview(tries = 3) {
+  let lastError;
+  for (let t = 0; t < tries; t++) {
+    try {
+      return await startPreviewOnce(4173 + Math.floor(Math.random() * 800));
+    } catch (e) {
+      lastError = e;
+      console.log(`# vite preview try ${t + 1}/${tries} failed: ${e.message}`);
+    }
+  }
+  throw lastError;
+}
+
+async function startPreviewOnce(port) {
   const vite = join(ROOT, 'node_modules', '.bin', 'vite');
   const child = spawn(vite, ['preview', '--port', String(port), '--strictPort', '--host', '127.0.0.1'], {
     cwd: ROOT, stdio: ['ignore', 'pipe', 'pipe'], detached: false,
   });
+  live.add(child);
+  child.on('exit', () => live.delete(child));
   let output = '';
   child.stdout.on('data', (d) => (output += d));
   child.stderr.on('data', (d) => (output += d));
   const url = `http://127.0.0.1:${port}/`;
-  const deadline = Date.now() + 20000;
+  const deadline = Date.now() + 60000;
+  let last = 'no answer';
   for (;;) {
     try {
-      const r = await fetch(url);
+      // Bounded: one request that never answers must not outlive the deadline.
+      const r = await fetch(url, { signal: AbortSignal.timeout(5000) });
       if (r.ok) break;
-    } catch {
-      /* not up yet */
+      last = `HTTP ${r.status}`;
+    } catch (e) {
+      last = e.cause?.code ?? e.name ?? String(e);
     }
-    if (child.exitCode !== null || Date.now() > deadline) throw new Error(`vite preview did not start:\n${output}`);
+    if (child.exitCode !== null || Date.now() > deadline) {
+      child.kill('SIGKILL');
+      throw new Error(`vite preview on port ${port} did not answer (last: ${last}):\n${output}`);
+    }
     await new Promise((r) => setTimeout(r, 150));
   }
   return { url, stop: () => child.kill('SIGTERM') };
 }
+
+/** Every preview server still running: killed when the test file's process exits for any reason. */
+const live = new Set();
+process.on('exit', () => {
+  for (const child of live) child.kill('SIGKILL');
+});
 
 /** Launches chromium with a fresh profile; resolves to { browser, close }. */
 export async function launch() {
@@ -273,22 +305,30 @@ export async function openApp({ goto = true, viewport, onPageError, watch = fals
   requireDist();
   mkdirSync(SHOTS, { recursive: true });
   const server = await startPreview();
-  const browser = await launch();
-  const requests = watch ? watchRequests(browser.context) : null;
-  const page = await browser.context.newPage();
-  if (viewport) await page.setViewportSize(viewport);
-  page.on('pageerror', (e) => {
-    onPageError?.(e.message);
-    console.log('pageerror:', e.message);
-  });
-  if (goto) await gotoEmpty(page, server.url);
-  return {
-    server, browser, page, requests,
-    close: async () => {
-      await browser.close();
+  let browser;
+  const close = async () => {
+    try {
+      await browser?.close();
+    } finally {
       server.stop();
-    },
+    }
   };
+  // Anything that fails from here on must not leave the server or the browser holding the process.
+  try {
+    browser = await launch();
+    const requests = watch ? watchRequests(browser.context) : null;
+    const page = await browser.context.newPage();
+    if (viewport) await page.setViewportSize(viewport);
+    page.on('pageerror', (e) => {
+      onPageError?.(e.message);
+      console.log('pageerror:', e.message);
+    });
+    if (goto) await gotoEmpty(page, server.url);
+    return { server, browser, page, requests, close };
+  } catch (e) {
+    await close().catch(() => {});
+    throw e;
+  }
 }
 
 /** Clicks an export button and resolves to the download's suggested name and bytes. */
