@@ -175,6 +175,7 @@ impl ContourBuilder {
             set_aside::set_aside_warnings(&set),
             checks::reused_id_warnings(&set),
             slice_loops::second_loop_warnings(&set),
+            slice_loops::repeated_loop_warnings(&set),
         ];
         set.warnings.extend(found.into_iter().flatten());
         Ok(set)

@@ -89,19 +89,8 @@ pub fn parse_header(fields: &[&str], line: usize) -> Result<Columns> {
             "header missing: the first line must name the columns, e.g. contour,x,y,z,surface",
         ));
     }
-    let find = |wanted: &[&str]| names.iter().position(|n| wanted.contains(&n.as_str()));
-    let need = |wanted: &[&str]| {
-        find(wanted).ok_or_else(|| {
-            CoreError::parse(
-                line,
-                format!(
-                    "missing column {:?} in the header (found: {})",
-                    wanted[0],
-                    super::text::shorten(&names.join(", "), 80)
-                ),
-            )
-        })
-    };
+    let find = |wanted: &[&str]| super::text::find_column(&names, wanted);
+    let need = |wanted: &[&str]| super::text::need_column(&names, wanted, line);
     let (x, y, z) = (need(X)?, need(Y)?, need(Z)?);
     let mut mm_per_unit = [1.0; 3];
     let mut converted = Vec::new();

@@ -110,19 +110,8 @@ fn header_names(fields: &[&str]) -> Vec<String> {
 
 fn header_columns(fields: &[&str], line: usize) -> Result<Columns> {
     let names = header_names(fields);
-    let find = |w: &[&str]| names.iter().position(|n| w.contains(&n.as_str()));
-    let need = |w: &[&str]| {
-        find(w).ok_or_else(|| {
-            CoreError::parse(
-                line,
-                format!(
-                    "missing column {:?} in the header (found: {})",
-                    w[0],
-                    super::text::shorten(&names.join(", "), 80)
-                ),
-            )
-        })
-    };
+    let find = |w: &[&str]| super::text::find_column(&names, w);
+    let need = |w: &[&str]| super::text::need_column(&names, w, line);
     Ok(Columns {
         x: need(&["x"])?,
         y: need(&["y"])?,

@@ -248,6 +248,26 @@ pub fn shorten(s: &str, max: usize) -> String {
     out
 }
 
+/// The header's column named by one of `wanted` (lowercased names), first match in the header.
+pub fn find_column(names: &[String], wanted: &[&str]) -> Option<usize> {
+    names.iter().position(|n| wanted.contains(&n.as_str()))
+}
+
+/// [`find_column`], or the parse error at `line` naming the column (`wanted[0]`) and what the
+/// header has instead: the CSV and GPFile readers say it the same way.
+pub fn need_column(names: &[String], wanted: &[&str], line: usize) -> Result<usize> {
+    find_column(names, wanted).ok_or_else(|| {
+        CoreError::parse(
+            line,
+            format!(
+                "missing column {:?} in the header (found: {})",
+                wanted[0],
+                shorten(&names.join(", "), 80)
+            ),
+        )
+    })
+}
+
 /// Quotes a field for a message, shortened so that garbage cannot flood the terminal.
 pub fn quote(field: &str) -> String {
     const MAX: usize = 40;
