@@ -28,19 +28,25 @@ const SECOND_LOOP_MM: f64 = 3.0;
 /// number of contours; such files are generated or hostile).
 const MAX_CONTOURS: usize = 2000;
 
+/// The cleaned contours of each surface a load-time check looks at, with their layout: loops a
+/// reconstruction leaves out (specks, strays) are named by their own warning, so set aside here.
+fn surface_layouts(set: &ContourSet) -> Vec<(Vec<Contour>, Layout)> {
+    surface_groups(set)
+        .into_iter()
+        .filter(|surface| (2..=MAX_CONTOURS).contains(&surface.len()))
+        .filter_map(|surface| {
+            let cleaned: Vec<Contour> = surface.iter().filter_map(|c| cleaned_contour(c)).collect();
+            let (cleaned, _) = set_aside(cleaned);
+            let layout = analyse(&cleaned).ok()?;
+            Some((cleaned, layout))
+        })
+        .collect()
+}
+
 /// One warning line naming the closed loops that lie apart from the main loop of their slice.
 pub fn second_loop_warnings(set: &ContourSet) -> Vec<String> {
     let mut flagged: Vec<String> = Vec::new();
-    for surface in surface_groups(set) {
-        if surface.len() < 2 || surface.len() > MAX_CONTOURS {
-            continue;
-        }
-        // Loops a reconstruction leaves out (specks, strays) are named by their own warning.
-        let cleaned: Vec<Contour> = surface.iter().filter_map(|c| cleaned_contour(c)).collect();
-        let (cleaned, _) = set_aside(cleaned);
-        let Ok(layout) = analyse(&cleaned) else {
-            continue;
-        };
+    for (cleaned, layout) in surface_layouts(set) {
         for apart in second_loops(&cleaned, &layout) {
             let (Some(c), Some(main)) = (cleaned.get(apart.contour), cleaned.get(apart.main))
             else {
@@ -88,6 +94,30 @@ pub struct ApartLoop {
 /// The closed loops of `contours` (one surface, cleaned, `layout` from [`analyse`]) that lie
 /// more than [`SECOND_LOOP_MM`] from the longest closed loop of their slice.
 pub fn second_loops(contours: &[Contour], layout: &Layout) -> Vec<ApartLoop> {
+    other_loops(contours, layout)
+        .into_iter()
+        .filter(|l| l.gap_mm > SECOND_LOOP_MM)
+        .collect()
+}
+
+/// The closed loops of other contours that trace the main loop of their slice again, within
+/// [`SECOND_LOOP_MM`] at the median but not point for point (exact copies have their own
+/// warning): two images of one slice position, both delineated (biv-me's test patient 1, slices
+/// 18 and 19), or a ring drawn twice. The tube follows one, the spline is pulled by both and
+/// settles between them, so the user should know the slice counts twice.
+pub fn repeated_loops(contours: &[Contour], layout: &Layout) -> Vec<ApartLoop> {
+    other_loops(contours, layout)
+        .into_iter()
+        .filter(|l| l.gap_mm <= SECOND_LOOP_MM && l.contour != l.main)
+        .filter(|l| match (contours.get(l.contour), contours.get(l.main)) {
+            (Some(c), Some(m)) => !c.points().eq(m.points()),
+            _ => false,
+        })
+        .collect()
+}
+
+/// Every closed loop of each slice but the slice's longest, with its median distance from it.
+fn other_loops(contours: &[Contour], layout: &Layout) -> Vec<ApartLoop> {
     let mut out = Vec::new();
     for slice in &layout.slices {
         let loops: Vec<(usize, usize, &Polyline)> = slice
@@ -104,21 +134,60 @@ pub fn second_loops(contours: &[Contour], layout: &Layout) -> Vec<ApartLoop> {
             continue;
         };
         for &(j, k, p) in &loops {
-            if (j, k) == (main_j, main_k) {
-                continue;
-            }
-            let gap_mm = median_distance(&p.points, &main.points);
-            if gap_mm > SECOND_LOOP_MM {
+            if (j, k) != (main_j, main_k) {
                 out.push(ApartLoop {
                     contour: j,
                     piece: k,
                     main: main_j,
-                    gap_mm,
+                    gap_mm: median_distance(&p.points, &main.points),
                 });
             }
         }
     }
     out
+}
+
+/// One warning line naming the contours that repeat another's loop in its slice
+/// ([`repeated_loops`]).
+pub fn repeated_loop_warnings(set: &ContourSet) -> Vec<String> {
+    let mut pairs: Vec<(String, f64)> = Vec::new();
+    for (cleaned, layout) in surface_layouts(set) {
+        for again in repeated_loops(&cleaned, &layout) {
+            let (Some(c), Some(main)) = (cleaned.get(again.contour), cleaned.get(again.main))
+            else {
+                continue;
+            };
+            let pair = format!(
+                "{:?} (line {}) and {:?} (line {})",
+                main.id, main.first_line, c.id, c.first_line
+            );
+            pairs.push((pair, again.gap_mm));
+        }
+    }
+    const ADVICE: &str = "two images of one slice position, or a ring drawn twice? Both are \
+                          used and the surface settles between them; remove one if that is not \
+                          meant";
+    match pairs.as_slice() {
+        [] => Vec::new(),
+        [(pair, gap)] => vec![format!(
+            "contours {pair} trace one wall in one short-axis slice ({gap:.1} mm apart at the \
+             median): {ADVICE}"
+        )],
+        more => {
+            let shown: Vec<String> = more
+                .iter()
+                .take(3)
+                .map(|(pair, gap)| format!("{pair}, {gap:.1} mm"))
+                .collect();
+            let rest = if more.len() > 3 { "; ..." } else { "" };
+            vec![format!(
+                "{} pairs of contours trace one wall in one short-axis slice each ({}{rest}): \
+                 {ADVICE}",
+                more.len(),
+                shown.join("; ")
+            )]
+        }
+    }
 }
 
 /// `contours` without the loops [`second_loops`] finds (contours left without a piece are
@@ -227,6 +296,34 @@ mod tests {
         assert_eq!(ids, ["s0", "s1", "s2", "s3", "s4"]);
         assert_eq!(kept[2].pieces.len(), 1);
         assert_eq!(kept[2].pieces[0], contours[2].pieces[0]);
+    }
+
+    /// Two images of one slice position, both delineated: named once, with the gap; an exact
+    /// copy is left to the duplicate warning, a ring in another slice is not a repeat.
+    #[test]
+    fn a_ring_traced_twice_in_one_slice_is_named() {
+        let mut contours = stack();
+        contours.push(ring("s3again", 0.8, 20.5, 30.4, 340));
+        contours.push(ring("s2copy", 0.0, 20.0, 20.0, 300));
+        let set = ContourSet {
+            contours,
+            ..Default::default()
+        };
+        let w = repeated_loop_warnings(&set);
+        assert_eq!(w.len(), 1, "{w:?}");
+        // The longer ring is the slice's main loop and is named first.
+        assert!(
+            w[0].starts_with(
+                "contours \"s3again\" (line 340) and \"s3\" (line 122) trace one wall in one \
+                 short-axis slice (0.6 mm apart at the median): two images"
+            ),
+            "{w:?}"
+        );
+        assert!(repeated_loop_warnings(&ContourSet {
+            contours: stack(),
+            ..Default::default()
+        })
+        .is_empty());
     }
 
     #[test]
