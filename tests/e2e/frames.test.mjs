@@ -5,13 +5,17 @@
 // count change and equal those of GPFile_009.txt dropped on its own, which (one phase) shows no
 // picker. The frame goes in the link, the exports and the session. The top bar's pickers clear the
 // privacy badge and each other at 1280x720 and 1024x700 (frame-picker.png in the screenshot folder).
+// Phases written as text (patient 1's ED and ES CSVs in one file with a `phase` column, built here
+// by twoFrames.mjs): both are offered and enabled; ES picked gives patient1-ES.csv's mesh on its
+// own (vertices, triangles, mean distance, volume), goes in the link (frame=ES), the exports and a
+// session, and the session opened again is that mesh.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { download, gotoEmpty, runAndWait, sharedDir, SHOTS } from './lib.mjs';
+import { download, gotoEmpty, readResult, runAndWait, sharedDir, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
-import { TWO_FRAMES_NAME, twoFrameGpFile } from './twoFrames.mjs';
+import { PHASES_NAME, phasesCsv, TWO_FRAMES_NAME, twoFrameGpFile } from './twoFrames.mjs';
 import { saxOnlyEllipsoid } from './saxOnly.mjs';
 
 let server;
@@ -21,6 +25,7 @@ appForFile({ goto: false, onPageError: (m) => pageErrors.push(m) }, (app) => ({ 
 
 const patient1 = (name) => join(sharedDir(), 'data', 'contours', 'bivme-example-patient1', name);
 const two = twoFrameGpFile(readFileSync(patient1('GPFile_000.txt'), 'utf8'), readFileSync(patient1('GPFile_009.txt'), 'utf8'));
+const phases = phasesCsv(readFileSync(patient1('patient1-ED.csv'), 'utf8'), readFileSync(patient1('patient1-ES.csv'), 'utf8'));
 const PICKER = '[data-testid=frame-picker]';
 const mesh = () => page.evaluate(() => {
   const r = window.heartmesh.currentResult();
@@ -134,6 +139,47 @@ describe('the Frame picker', () => {
     const one = await mesh();
     assert.ok(one.volumeMl < 0.7 * zero.volumeMl, `frame 1 is the smaller cavity (${one.volumeMl.toFixed(1)} vs ${zero.volumeMl.toFixed(1)} ml)`);
     assert.match(page.url(), /[?&]frame=1(&|$)/);
+    assert.deepEqual(pageErrors, []);
+  });
+
+  it('phases written as text (ED, ES): both can be chosen, and ES is patient1-ES.csv alone, in the link, the exports and a session', async () => {
+    await page.setViewportSize({ width: 1280, height: 720 });
+    await gotoEmpty(page, server.url);
+    // The ES phase on its own: no frame column, no picker.
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', patient1('patient1-ES.csv')));
+    assert.equal(await page.isVisible(PICKER), false);
+    assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'LV_ENDO');
+    const esAlone = { ...(await readResult(page)), ...(await mesh()) };
+
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', { name: PHASES_NAME, mimeType: 'text/csv', buffer: Buffer.from(phases) }));
+    assert.equal(await page.isVisible(PICKER), true);
+    assert.deepEqual(await page.$$eval(`${PICKER} option`, (os) => os.map((o) => [o.value, o.textContent, o.disabled])), [['ED', 'frame ED', false], ['ES', 'frame ES', false]]);
+    assert.equal(await page.inputValue(PICKER), 'ED');
+    assert.match((await page.textContent('#slot-warnings')) ?? '', /the file holds 2 time frames \(ED, ES\): frame ED read, 1204 points of other frames left out; choose another with the Frame picker/);
+    const ed = { ...(await readResult(page)), ...(await mesh()) };
+
+    await runAndWait(page, () => page.selectOption(PICKER, 'ES'));
+    assert.equal(await page.inputValue(PICKER), 'ES');
+    const es = { ...(await readResult(page)), ...(await mesh()) };
+    assert.notEqual(es.vertices, ed.vertices, 'another phase');
+    for (const key of ['vertices', 'triangles', 'meanMm', 'volumeMl']) assert.equal(es[key], esAlone[key], `frame ES is patient1-ES.csv: ${key}`);
+    assert.equal(await page.isVisible('#slot-warnings'), false, 'a frame chosen leaves nothing to warn of');
+    assert.match(page.url(), /[?&]frame=ES(&|$)/);
+    console.log(`# ${PHASES_NAME} LV endo: ED ${ed.vertices} vertices, ${ed.triangles} triangles, mean ${ed.meanMm.toFixed(3)} mm, ${ed.volumeMl.toFixed(2)} ml; ES ${es.vertices}, ${es.triangles}, ${es.meanMm.toFixed(3)} mm, ${es.volumeMl.toFixed(2)} ml (patient1-ES.csv: ${esAlone.vertices}, ${esAlone.triangles}, ${esAlone.meanMm.toFixed(3)} mm, ${esAlone.volumeMl.toFixed(2)} ml)`);
+
+    const json = await download(page, 'export-json');
+    assert.match(json.name, /^patient1-ED-ES-LV_ENDO-frameES/);
+    assert.equal(JSON.parse(json.bytes.toString('utf8')).frame, 'ES');
+    assert.match((await download(page, 'export-obj')).bytes.toString('utf8'), new RegExp(`# input: ${PHASES_NAME} surface: LV_ENDO frame: ES\n`));
+    const session = await download(page, 'export-session');
+    assert.equal(JSON.parse(session.bytes.toString('utf8')).frame, 'ES');
+
+    // The session opened again: one phase (no picker), the ES mesh, named ES in the exports.
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', { name: 'es-session.json', mimeType: 'application/json', buffer: session.bytes }));
+    assert.equal(await page.isVisible(PICKER), false);
+    const back = { ...(await readResult(page)), ...(await mesh()) };
+    for (const key of ['vertices', 'triangles', 'meanMm', 'volumeMl']) assert.equal(back[key], esAlone[key], `the session: ${key}`);
+    assert.equal(JSON.parse((await download(page, 'export-json')).bytes.toString('utf8')).frame, 'ES');
     assert.deepEqual(pageErrors, []);
   });
 });

@@ -52,22 +52,28 @@ class FakeClient {
       : null;
     return Promise.resolve(this.loaded(fileName, session, null));
   }
-  /** A `cine*` file holds frames 0 and 9 (the binding's `timeFrames`); others have no frame column. */
-  private loaded(fileName: string, session: LoadedFile['session'], frame: number | null): LoadedFile {
-    const timeFrames = fileName.startsWith('cine')
-      ? { frames: ['0', '9'], count: 2, read: [String(frame ?? 0)], firsts: ['0'], chosen: frame !== null, leftOut: 6, sequence: true }
+  /**
+   * A `cine*` file holds frames 0 and 9, a `phase*` file frames ED and ES (the binding's
+   * `timeFrames`: the frame read named as the file writes it, whatever the case asked for); others
+   * have no frame column. The last point's z is the frame's index in the file.
+   */
+  private loaded(fileName: string, session: LoadedFile['session'], frame: string | null): LoadedFile {
+    const frames = fileName.startsWith('cine') ? ['0', '9'] : fileName.startsWith('phase') ? ['ED', 'ES'] : null;
+    const index = frame === null ? 0 : (frames?.findIndex((f) => f.toLowerCase() === frame.toLowerCase()) ?? 0);
+    const timeFrames = frames
+      ? { frames, count: 2, read: [frames[index]], firsts: [frames[0]], chosen: frame !== null, leftOut: 6, sequence: true }
       : null;
     return {
       fileName, surfaces: ['RV_ENDO', 'LV_ENDO'], landmarks: [], warnings: frame === null && timeFrames ? ['the file holds 2 time frames'] : [], session, timeFrames,
       contours: [{ id: 'c1', surface: 'LV_ENDO', kind: null, pieces: [{ closed: true, start: 0, count: 3 }] }],
-      points: new Float32Array([0, 0, 0, 10, 0, 0, 0, 10, frame ?? 0]),
+      points: new Float32Array([0, 0, 0, 10, 0, 0, 0, 10, frame === null ? 0 : fileName.startsWith('cine') ? Number(frame) : index]),
     };
   }
-  frameLoads: [string, number | null][] = [];
+  frameLoads: [string, string | null][] = [];
   /** Frame 7 cannot be read (a bad number in its rows). */
-  loadFrame(fileName: string, frame: number | null): Promise<LoadedFile> {
+  loadFrame(fileName: string, frame: string | null): Promise<LoadedFile> {
     this.frameLoads.push([fileName, frame]);
-    if (frame === 7) return Promise.reject({ code: 'parse', message: 'line 40: bad number', line: 40, file: fileName });
+    if (frame === '7') return Promise.reject({ code: 'parse', message: 'line 40: bad number', line: 40, file: fileName });
     return Promise.resolve(this.loaded(fileName, null, frame));
   }
   run(opts: FakeRun['opts'], onFrame: (f: Frame) => void) {
@@ -615,7 +621,7 @@ describe('Frame picker', () => {
     expect(client.runs[0].cancelled).toBe(true);
     expect(lastStatus()).toBe('loading cine.txt');
     await vi.advanceTimersByTimeAsync(0);
-    expect(client.frameLoads).toEqual([['cine.txt', 9]]);
+    expect(client.frameLoads).toEqual([['cine.txt', '9']]);
     expect(client.runs).toHaveLength(2);
     expect(lastStatus()).toBe('running');
     expect(picker()?.value).toBe('9');
@@ -629,7 +635,7 @@ describe('Frame picker', () => {
     expect(client.frameLoads).toHaveLength(1);
     await controller.openFiles([file('cine-2.txt')]);
     await vi.advanceTimersByTimeAsync(0);
-    expect(client.frameLoads.at(-1)).toEqual(['cine-2.txt', 9]);
+    expect(client.frameLoads.at(-1)).toEqual(['cine-2.txt', '9']);
     expect(client.runs.at(-1)?.opts.fileName).toBe('cine-2.txt');
     expect(client.runs.filter((r) => r.opts.fileName === 'cine-2.txt')).toHaveLength(1);
     expect(picker()?.value).toBe('9');
@@ -678,7 +684,7 @@ describe('Frame picker', () => {
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('cine.txt')]);
     await vi.advanceTimersByTimeAsync(0);
-    expect(client.frameLoads).toEqual([['cine.txt', 9]]);
+    expect(client.frameLoads).toEqual([['cine.txt', '9']]);
     expect(client.runs).toHaveLength(1);
     url = '/app/?frame=5';
     const warnings = { textContent: '', hidden: true };
@@ -687,6 +693,35 @@ describe('Frame picker', () => {
     await c.openFiles([file('cine.txt')]);
     expect(warnings.textContent).toBe('⚠ frame 5 is not in cine.txt: showing frame 0 · the file holds 2 time frames');
     expect(client.frameLoads).toHaveLength(1);
+    c.dispose();
+  });
+
+  it('frames written as text are chosen like numbers: in the picker, the link, the exports; the link\'s in any case', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('phase.csv')]);
+    expect(picker()?.options).toEqual([
+      { value: 'ED', label: 'frame ED', disabled: false },
+      { value: 'ES', label: 'frame ES', disabled: false },
+    ]);
+    expect(picker()?.value).toBe('ED');
+    controller.chooseFrame('ES');
+    await vi.advanceTimersByTimeAsync(0);
+    expect(client.frameLoads).toEqual([['phase.csv', 'ES']]);
+    expect(client.runs.at(-1)?.opts.fileName).toBe('phase.csv');
+    expect(picker()?.value).toBe('ES');
+    expect(controller.currentFileData()?.points[8]).toBe(1);
+    expect(controller.exportInfo()?.frame).toBe('ES');
+    expect(url).toBe('/app/?surface=LV_ENDO&frame=ES&lambda=1e3&lids=none');
+    // A link's frame=es reads the file's ES (named as the file writes it), not a missing frame.
+    url = '/app/?frame=es';
+    const warnings = { textContent: '', hidden: true };
+    const c = new Controller({ ...parts, viewer: null, warnings } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c.openFiles([file('phase-2.csv')]);
+    await vi.advanceTimersByTimeAsync(0);
+    expect(client.frameLoads.at(-1)).toEqual(['phase-2.csv', 'ES']);
+    expect(c.exportInfo()?.frame).toBe('ES');
+    expect(warnings.textContent).toBe('');
     c.dispose();
   });
 });

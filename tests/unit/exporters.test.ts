@@ -179,6 +179,12 @@ describe('exporters parse back', () => {
     expect(writeObj(mesh, nine)).toContain('# input: cine.txt surface: LV_ENDO frame: 9\n');
     expect(new TextDecoder().decode(writePly(mesh, nine))).toContain('comment input: cine.txt surface: LV_ENDO frame: 9\n');
     expect(JSON.parse(writeParamsJson(nine, null))).toMatchObject({ input: 'cine.txt', surface: 'LV_ENDO', frame: '9' });
+    // A frame written as text, as the file writes it (a file name keeps only safe characters).
+    const es = { ...info, fileName: 'phases.csv', frame: 'ES' };
+    expect(exportBaseName(es)).toBe('phases-LV_ENDO-frameES');
+    expect(writeObj(mesh, es)).toContain('# input: phases.csv surface: LV_ENDO frame: ES\n');
+    expect(JSON.parse(writeParamsJson(es, null))).toMatchObject({ frame: 'ES' });
+    expect(exportBaseName({ ...es, frame: 'end systole/2' })).toBe('phases-LV_ENDO-frameend_systole_2');
     // One frame: no frame anywhere (as before frames were recorded).
     for (const one of [info, { ...info, frame: null }]) {
       expect(JSON.parse(writeParamsJson(one, null))).not.toHaveProperty('frame');

@@ -2,7 +2,7 @@
 // named beside the file (exports), the frame to read when a file becomes current.
 import { describe, expect, it } from 'vitest';
 import type { LoadedFile, TimeFrames } from '../../web/src/core-client/protocol';
-import { FIRST_OF_EACH, frameNumber, framePicker, frameToRead, missingFrameNote, namedFrame } from '../../web/src/app/timeFrames';
+import { FIRST_OF_EACH, frameChoice, framePicker, frameToRead, missingFrameNote, namedFrame, sameFrame } from '../../web/src/app/timeFrames';
 
 const file = (t: Partial<TimeFrames> | null, fileName = 'cine.txt'): LoadedFile => ({
   fileName, surfaces: ['LV_ENDO'], contours: [], points: new Float32Array(0), landmarks: [], warnings: [],
@@ -36,16 +36,26 @@ describe('Frame picker', () => {
     expect(nine?.value).toBe('9');
   });
 
-  it('shows frames the core cannot be asked for, disabled, and says how many are not listed', () => {
-    const p = framePicker(file({ frames: ['ED', 'ES', '2'], count: 1005 }));
-    expect(p?.options.map((o) => o.disabled)).toEqual([true, true, false, true]);
-    expect(p?.options.at(-1)?.label).toBe('… 1002 more');
+  it('offers every frame listed, text and numbers alike, and says how many are not listed', () => {
+    const p = framePicker(file({ frames: ['ED', 'ES', '2', '-1', '1.5'], count: 1005, read: ['ED'], firsts: ['ED'] }));
+    expect(p?.options.map((o) => [o.value, o.label, o.disabled])).toEqual([
+      ['ED', 'frame ED', false], ['ES', 'frame ES', false], ['2', 'frame 2', false], ['-1', 'frame -1', false], ['1.5', 'frame 1.5', false],
+      ['…', '… 1000 more', true],
+    ]);
+    expect(p?.value).toBe('ED');
+    expect(framePicker(file({ frames: ['ED', 'ES'], read: ['ES'], firsts: ['ED'], chosen: true }))?.value).toBe('ES');
   });
 
-  it('reads picker values as frame numbers', () => {
-    expect(frameNumber('9')).toBe(9);
-    expect(frameNumber(FIRST_OF_EACH)).toBeNull();
-    for (const v of ['ED', '-1', '1.5', '…']) expect(frameNumber(v)).toBeNull();
+  it('reads picker values and links as frame labels, trimmed', () => {
+    expect(frameChoice('9')).toBe('9');
+    expect(frameChoice(' ES ')).toBe('ES');
+    for (const v of ['1.5', '-1', 'Diastole']) expect(frameChoice(v)).toBe(v);
+    for (const none of [FIRST_OF_EACH, ' ', null, 'x'.repeat(201)]) expect(frameChoice(none)).toBeNull();
+  });
+
+  it('compares frames as the core does: numbers as numbers, text trimmed and in any case', () => {
+    for (const [a, b] of [['9', '9.0'], ['1', '1e0'], ['1', '+1'], ['0.5', '.5'], ['ES', 'es'], ['ES', ' Es '], ['inf', 'INF']]) expect(sameFrame(a, b), `${a} ${b}`).toBe(true);
+    for (const [a, b] of [['9', '90'], ['ES', 'ED'], ['16', '0x10'], ['0', ''], ['1e999', 'inf'], ['E S', 'ES']]) expect(sameFrame(a, b), `${a} ${b}`).toBe(false);
   });
 });
 
@@ -60,14 +70,26 @@ describe('the frame beside the file', () => {
   });
 
   it('a frame asked for is read of a sequence that has it and does not hold it already', () => {
-    expect(frameToRead(file({}), 9)).toBe(9);
-    expect(frameToRead(file({}), 0)).toBe(0); // the file's own first is not asked for: read frame 0 alone
-    expect(frameToRead(file({ read: ['9'], chosen: true }), 9)).toBeNull();
-    expect(frameToRead(file({}), 5)).toBeNull();
+    expect(frameToRead(file({}), '9')).toBe('9');
+    expect(frameToRead(file({}), '0')).toBe('0'); // the file's own first is not asked for: read frame 0 alone
+    expect(frameToRead(file({ read: ['9'], chosen: true }), '9')).toBeNull();
+    expect(frameToRead(file({ read: ['9'], chosen: true }), '9.0')).toBeNull();
+    expect(frameToRead(file({}), '9.0')).toBe('9'); // asked as listed
+    expect(frameToRead(file({}), '5')).toBeNull();
     expect(frameToRead(file({}), null)).toBeNull();
-    expect(frameToRead(file({ sequence: false }), 9)).toBeNull();
-    expect(missingFrameNote(file({}), 5)).toBe('frame 5 is not in cine.txt: showing frame 0');
-    expect(missingFrameNote(file({}), 9)).toBeNull();
-    expect(missingFrameNote(file(null), 5)).toBeNull();
+    expect(frameToRead(file({ sequence: false }), '9')).toBeNull();
+    expect(missingFrameNote(file({}), '5')).toBe('frame 5 is not in cine.txt: showing frame 0');
+    expect(missingFrameNote(file({}), '9')).toBeNull();
+    expect(missingFrameNote(file(null), '5')).toBeNull();
+  });
+
+  it('text frames: a link in another case finds the file\'s own label; one the file lacks says so', () => {
+    const phases = file({ frames: ['ED', 'ES'], read: ['ED'], firsts: ['ED'] });
+    expect(frameToRead(phases, 'es')).toBe('ES');
+    expect(frameToRead(file({ frames: ['ED', 'ES'], read: ['ES'], firsts: ['ED'], chosen: true }), 'es')).toBeNull();
+    expect(missingFrameNote(phases, 'es')).toBeNull();
+    expect(missingFrameNote(phases, 'systole')).toBe('frame systole is not in cine.txt: showing frame ED');
+    expect(missingFrameNote(phases, '9')).toBe('frame 9 is not in cine.txt: showing frame ED');
+    expect(namedFrame(file({ frames: ['ED', 'ES'], read: ['ES'], firsts: ['ED'], chosen: true }))).toBe('ES');
   });
 });

@@ -46,16 +46,21 @@ describe('URL state', () => {
     expect(q).not.toContain('smoothing_factor');
     expect(parseUrlState(q, schema)).toEqual(s);
   });
-  it('round-trips the time frame asked for, and drops one the core cannot take', () => {
+  it('round-trips the time frame asked for by its label, numbers and text alike, and drops a blank or overlong one', () => {
     const s = parseUrlState('', schema);
     expect(s.frame).toBeNull();
-    s.frame = 9;
+    s.frame = '9';
     s.surface = 'LV_ENDO';
     const q = serializeUrlState(s, schema);
     expect(q).toBe('?surface=LV_ENDO&frame=9');
     expect(parseUrlState(q, schema)).toEqual(s);
-    expect(parseUrlState('?frame=0', schema).frame).toBe(0);
-    for (const bad of ['ED', '-1', '1.5', '', '99999999999']) expect(parseUrlState(`?frame=${bad}`, schema).frame, bad).toBeNull();
+    for (const label of ['ES', 'end systole', '1.5', '-1', 'Ph&se=2']) {
+      const t = { ...s, frame: label };
+      expect(parseUrlState(serializeUrlState(t, schema), schema).frame, label).toBe(label);
+    }
+    expect(serializeUrlState({ ...s, frame: 'end systole' }, schema)).toBe('?surface=LV_ENDO&frame=end+systole');
+    expect(parseUrlState('?frame=%20ES%20', schema).frame).toBe('ES');
+    for (const bad of ['', '%20', 'x'.repeat(201)]) expect(parseUrlState(`?frame=${bad}`, schema).frame, bad).toBeNull();
   });
   it('round-trips the smoothing method and conflict softening, written only when not the default', () => {
     const s = parseUrlState('', schema);

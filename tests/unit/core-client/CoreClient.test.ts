@@ -224,26 +224,26 @@ describe('CoreClient', () => {
   it('reads a file again as a time frame, and a new worker is sent that frame; a frame that fails leaves the one before', async () => {
     const { client, worker } = await readyClient(new ManualScheduler());
     const bytes = await loadFile(client, worker);
-    const nine = client.loadFrame('a.csv', 9);
+    const nine = client.loadFrame('a.csv', '9');
     const req = worker.of('load').at(-1)!;
-    expect(req.frame).toBe(9);
+    expect(req.frame).toBe('9');
     expect(new Uint8Array(req.bytes)).toEqual(new Uint8Array(bytes));
     worker.emit({ type: 'loaded', reqId: req.reqId, file: loaded });
     await nine;
-    // Frame 3 cannot be read: the worker keeps frame 9, and so does what a new worker is sent.
-    const three = client.loadFrame('a.csv', 3);
+    // Frame ES cannot be read: the worker keeps frame 9, and so does what a new worker is sent.
+    const three = client.loadFrame('a.csv', 'ES');
     worker.emit({ type: 'error', reqId: worker.of('load').at(-1)!.reqId, error: { code: 'parse', message: 'line 9: bad number', line: 9 } });
     await expect(three).rejects.toMatchObject({ code: 'parse' });
     worker.crash();
     client.run({ fileName: 'a.csv', surface: null, params: {}, lids: 'auto' }, () => {}).done.catch(() => undefined);
     const w2 = FakeWorker.instances[1];
-    expect(w2.of('load')[0].frame).toBe(9);
+    expect(w2.of('load')[0].frame).toBe('9');
     // The file opened again is read as it comes (no frame), as is the first-of-each choice.
     await loadFile(client, w2);
     expect(w2.of('load').at(-1)!.frame).toBeUndefined();
     void client.loadFrame('a.csv', null);
     expect('frame' in w2.of('load').at(-1)!).toBe(false);
-    await expect(client.loadFrame('b.csv', 1)).rejects.toMatchObject({ code: 'not_loaded' });
+    await expect(client.loadFrame('b.csv', '1')).rejects.toMatchObject({ code: 'not_loaded' });
   });
 
   it('treats a worker_crashed error message as fatal', async () => {

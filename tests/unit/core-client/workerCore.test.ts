@@ -22,8 +22,8 @@ class FakeSession implements SessionApi {
     this.clock = clock;
   }
   /** The frame argument of each load. */
-  frames: (number | undefined)[] = [];
-  load(fileName: string, bytes: Uint8Array, frame?: number): string {
+  frames: (string | undefined)[] = [];
+  load(fileName: string, bytes: Uint8Array, frame?: string): string {
     this.frames.push(frame);
     if (bytes.length === 0) throw JSON.stringify({ code: 'parse', message: 'line 1: empty file', line: 1 });
     return JSON.stringify({ fileName, surfaces: [], contours: [], landmarks: [], warnings: [] });
@@ -309,14 +309,15 @@ describe('WorkerCore', () => {
     expect(doneIds).toEqual([7]);
   });
 
-  it('passes the time frame of a load to the core; a frame it cannot take (a foreign message) reads as none', () => {
+  it('passes the time frame of a load to the core by its label; a frame that is no text (a foreign message) reads as none', () => {
     const { core, session, out } = setup(5);
     const bytes = () => new TextEncoder().encode('contour,x,y,z\n').buffer as ArrayBuffer;
     core.handle({ type: 'load', reqId: 1, fileName: 'a.csv', bytes: bytes() });
-    core.handle({ type: 'load', reqId: 2, fileName: 'a.csv', bytes: bytes(), frame: 9 });
-    for (const frame of [-1, 1.5, 2 ** 32, '3'] as unknown as number[]) core.handle({ type: 'load', reqId: 3, fileName: 'a.csv', bytes: bytes(), frame });
-    expect(session.frames).toEqual([undefined, 9, undefined, undefined, undefined, undefined]);
-    expect(out.filter((m) => m.type === 'loaded')).toHaveLength(6);
+    core.handle({ type: 'load', reqId: 2, fileName: 'a.csv', bytes: bytes(), frame: '9' });
+    core.handle({ type: 'load', reqId: 3, fileName: 'a.csv', bytes: bytes(), frame: 'ES' });
+    for (const frame of [9, -1, null, { label: 'ES' }] as unknown as string[]) core.handle({ type: 'load', reqId: 4, fileName: 'a.csv', bytes: bytes(), frame });
+    expect(session.frames).toEqual([undefined, '9', 'ES', undefined, undefined, undefined, undefined]);
+    expect(out.filter((m) => m.type === 'loaded')).toHaveLength(7);
   });
 
   it('reports core errors as data and stays usable', () => {

@@ -7,6 +7,6 @@ use libfuzzer_sys::fuzz_target;
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
     let _ = io::gpfile::read_gpfile(&text, None);
-    let _ = io::gpfile::read_gpfile(&text, Some(1));
+    let _ = io::gpfile::read_gpfile(&text, Some(&1.into()));
     let _ = io::gpfile::read_slice_info(&text);
 });

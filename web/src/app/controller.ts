@@ -20,7 +20,7 @@ import type { Speed } from './playback';
 import { keptSpecksNote } from '../ui/runText';
 import { RunDisplay } from './runDisplay';
 import { surfacePoints } from './sceneContours';
-import { frameNumber, framePicker, frameToRead, missingFrameNote, namedFrame } from './timeFrames';
+import { frameChoice, framePicker, frameToRead, missingFrameNote, namedFrame } from './timeFrames';
 import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 
@@ -51,10 +51,11 @@ export class Controller {
   private runNote: string | null = null;
   private surface: string | null = null;
   /**
-   * The time frame asked for (the Frame picker's, or the link's): read of every file holding a
-   * sequence that has it, as the surface is picked of every file; null: each file's own first.
+   * The time frame asked for by its label (the Frame picker's, or the link's: `9`, `ES`): read of
+   * every file holding a sequence that has it, as the surface is picked of every file; null: each
+   * file's own first.
    */
-  private frame: number | null = null;
+  private frame: string | null = null;
   /** Bumped by each frame reload: the answer of one overtaken by another is not shown. */
   private frameToken = 0;
   private sampleId: string | null = null;
@@ -267,7 +268,7 @@ export class Controller {
   chooseFrame(value: string): void {
     const file = this.currentFile();
     if (!file || !framePicker(file)) return;
-    this.frame = frameNumber(value);
+    this.frame = frameChoice(value);
     this.updateUrl();
     void this.readFrame(file.fileName, this.frame);
   }
@@ -285,7 +286,7 @@ export class Controller {
    * in the banner. An answer overtaken by a later frame, file or sample is kept (it is what the
    * worker holds now) but not shown.
    */
-  private async readFrame(fileName: string, frame: number | null): Promise<void> {
+  private async readFrame(fileName: string, frame: string | null): Promise<void> {
     const client = this.client;
     if (!client) return;
     const token = ++this.frameToken;

@@ -5,6 +5,10 @@
  * The picker is for a sequence: a file where some contour has points in several frames (a cine
  * exported whole). A file whose slices each carry their own frame number (biv-me's example labels
  * one slice `1.0` in a frame-0 file) holds one phase of the heart and gets no picker.
+ *
+ * Every frame the file lists can be chosen, numbers (`9`) and text (`ED`, `ES`) alike: the core
+ * reads a frame by its label (`io::FrameChoice`), comparing numbers as numbers and text trimmed
+ * and in any case; `sameFrame` compares the same way, so a link's `frame=es` finds `ES`.
  */
 import type { LoadedFile, TimeFrames } from '../core-client/protocol';
 
@@ -12,7 +16,7 @@ export interface FrameOption {
   /** The frame as the file writes it (`FIRST_OF_EACH` for the file's own reading). */
   value: string;
   label: string;
-  /** Frames the core cannot be asked for (text such as `ED`, negative or fractional numbers). */
+  /** Entries that are no frame to read (the count of frames not listed). */
   disabled: boolean;
   title?: string;
 }
@@ -30,9 +34,31 @@ function framesOf(file: LoadedFile | null): TimeFrames | null {
   return file?.timeFrames ?? null;
 }
 
-/** The frame number the core reads a picker value as (null: each contour's first). */
-export function frameNumber(value: string): number | null {
-  return /^\d+$/.test(value) && Number(value) <= 0xffffffff ? Number(value) : null;
+/** Labels longer than this are no frame (a hand-edited link); the core lists frames as written. */
+export const MAX_FRAME_LABEL = 200;
+
+/**
+ * The frame a picker value or a link's `frame=` asks the core for: the label trimmed (null: each
+ * contour's first, for `FIRST_OF_EACH`, blank or overlong text).
+ */
+export function frameChoice(value: string | null): string | null {
+  const v = value?.trim() ?? '';
+  return v === '' || v.length > MAX_FRAME_LABEL ? null : v;
+}
+
+/** A number as Rust's `f64` parse takes it (no hex, no blank, no `Infinity`). */
+const NUMBER = /^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/;
+
+/** What frame labels compare by, as the core's `frame_key`: finite numbers by value, text trimmed in lower case. */
+function frameKey(label: string): string {
+  const v = label.trim();
+  const n = NUMBER.test(v) ? Number(v) : NaN;
+  return Number.isFinite(n) ? `number ${n}` : `text ${v.toLowerCase()}`;
+}
+
+/** Whether two labels name the same frame (`9` and `9.0`, `ES` and `es`). */
+export function sameFrame(a: string, b: string): boolean {
+  return frameKey(a) === frameKey(b);
 }
 
 function list(frames: readonly string[]): string {
@@ -43,11 +69,7 @@ function list(frames: readonly string[]): string {
 export function framePicker(file: LoadedFile | null): FramePicker | null {
   const t = framesOf(file);
   if (!t || !t.sequence || t.frames.length < 2) return null;
-  const options: FrameOption[] = t.frames.map((f) =>
-    frameNumber(f) === null
-      ? { value: f, label: `frame ${f}`, disabled: true, title: 'only frames numbered 0, 1, 2, … can be chosen' }
-      : { value: f, label: `frame ${f}`, disabled: false },
-  );
+  const options: FrameOption[] = t.frames.map((f) => ({ value: f, label: `frame ${f}`, disabled: false }));
   // Contours that start in different frames: the file's own reading is no one frame, and only
   // this option brings it back once a frame was chosen.
   const mixed = t.firsts.length > 1;
@@ -62,7 +84,9 @@ export function framePicker(file: LoadedFile | null): FramePicker | null {
   if (t.count > t.frames.length) {
     options.push({ value: '…', label: `… ${t.count - t.frames.length} more`, disabled: true, title: 'frames past the first 1000 are not listed' });
   }
-  const value = t.chosen || !mixed ? (t.read[0] ?? FIRST_OF_EACH) : FIRST_OF_EACH;
+  // The option of the frame read (the core names it as the file writes it, as listed).
+  const read = t.chosen || !mixed ? t.read[0] : undefined;
+  const value = read === undefined ? FIRST_OF_EACH : (t.frames.find((f) => sameFrame(f, read)) ?? read);
   return { options, value };
 }
 
@@ -81,19 +105,19 @@ export function namedFrame(file: LoadedFile | null): string | null {
  * picker, or by the link): null when the file is no sequence, lacks that frame, or holds it as
  * asked for already.
  */
-export function frameToRead(file: LoadedFile | null, wanted: number | null): number | null {
+export function frameToRead(file: LoadedFile | null, wanted: string | null): string | null {
   const t = framesOf(file);
   if (wanted === null || !t || !t.sequence) return null;
-  const w = String(wanted);
-  if (!t.frames.includes(w)) return null;
-  return t.chosen && t.read.length === 1 && t.read[0] === w ? null : wanted;
+  const listed = t.frames.find((f) => sameFrame(f, wanted));
+  if (listed === undefined) return null;
+  return t.chosen && t.read.length === 1 && sameFrame(t.read[0], wanted) ? null : listed;
 }
 
 /** The note for a sequence that lacks the frame asked for (null otherwise). */
-export function missingFrameNote(file: LoadedFile | null, wanted: number | null): string | null {
+export function missingFrameNote(file: LoadedFile | null, wanted: string | null): string | null {
   const t = framesOf(file);
   const picker = framePicker(file);
-  if (!file || !t || !picker || wanted === null || t.frames.includes(String(wanted)) || t.count > t.frames.length) return null;
+  if (!file || !t || !picker || wanted === null || t.frames.some((f) => sameFrame(f, wanted)) || t.count > t.frames.length) return null;
   const shown = picker.options.find((o) => o.value === picker.value)?.label ?? "each contour's first frame";
   return `frame ${wanted} is not in ${file.fileName}: showing ${shown}`;
 }

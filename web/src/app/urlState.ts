@@ -5,6 +5,7 @@
  * Pure: works on query strings, not on `location`.
  */
 import { DEFAULT_OPTIONS, END_CAPS_MODES, SMOOTHING_METHODS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
+import { frameChoice } from './timeFrames';
 
 export interface ViewSettings {
   wireframe: boolean;
@@ -24,8 +25,8 @@ export interface UrlState {
   /** Smoothing method, conflict softening, alignment (`smoothing_method=taubin`, `soften_conflicts=0`, `align_slices=1`, `end_caps=auto|off`, `keep_specks=1`, `apex_floor=0`). */
   options: ReconOptions;
   surface: string | null;
-  /** Time frame asked for, read of every file holding a sequence that has it (`frame=9`). */
-  frame: number | null;
+  /** Time frame asked for by its label, read of every file holding a sequence that has it (`frame=9`, `frame=ES`). */
+  frame: string | null;
   /** Bundled sample to load on start (its id), if any. */
   sample: string | null;
   view: ViewSettings;
@@ -59,12 +60,6 @@ function parseBool(text: string | null, fallback: boolean): boolean {
   return fallback;
 }
 
-/** A frame number as the core takes it (whole, 0 to 2^32 - 1); anything else is no frame. */
-function parseFrame(text: string | null): number | null {
-  if (text === null || !/^\d+$/.test(text.trim())) return null;
-  const v = Number(text.trim());
-  return v <= 0xffffffff ? v : null;
-}
 
 /** Reads the state from a query string (with or without the leading `?`). */
 export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlState {
@@ -91,7 +86,7 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
     lids,
     options,
     surface: q.get('surface') || null,
-    frame: parseFrame(q.get('frame')),
+    frame: frameChoice(q.get('frame')),
     sample: q.get('sample') || null,
     view: {
       wireframe: parseBool(q.get('wireframe'), DEFAULT_VIEW.wireframe),
@@ -109,7 +104,7 @@ export function serializeUrlState(state: UrlState, schema: readonly ParamSpec[])
   const q = new URLSearchParams();
   if (state.sample) q.set('sample', state.sample);
   if (state.surface) q.set('surface', state.surface);
-  if (state.frame !== null) q.set('frame', String(state.frame));
+  if (state.frame !== null) q.set('frame', state.frame);
   for (const spec of schema) {
     const v = state.params[spec.name];
     if (v !== undefined && Number.isFinite(v) && v !== spec.default) q.set(spec.name, formatParam(v));

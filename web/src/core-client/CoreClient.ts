@@ -121,8 +121,8 @@ export class CoreClient {
   private readonly runs: RunFrames;
   /** Bytes of every successfully loaded file, kept to re-send them to a recreated worker. */
   private readonly files = new Map<string, ArrayBuffer>();
-  /** The time frame each file is read with (absent: each contour's first), for those re-sends. */
-  private readonly frames = new Map<string, number>();
+  /** The time frame each file is read with, by label (absent: each contour's first), for those re-sends. */
+  private readonly frames = new Map<string, string>();
   /** Per file, the id of its latest frame reload: an earlier one that fails must not undo it. */
   private readonly frameLoads = new Map<string, number>();
   /** Files the current worker has been sent. */
@@ -219,13 +219,13 @@ export class CoreClient {
    * opened), from the bytes kept here; the worker's file (and what a new worker is re-sent) is
    * then that frame. Rejects with CoreErrorData; the file then stays as it was read before.
    */
-  loadFrame(fileName: string, frame: number | null): Promise<LoadedFile> {
+  loadFrame(fileName: string, frame: string | null): Promise<LoadedFile> {
     const bytes = this.files.get(fileName);
     if (bytes === undefined) {
       return Promise.reject({ code: ErrorCodes.notLoaded, message: `${fileName} has not been loaded`, file: fileName });
     }
     const previous = this.frames.get(fileName);
-    const setFrame = (f: number | null | undefined) => (f === null || f === undefined ? this.frames.delete(fileName) : this.frames.set(fileName, f));
+    const setFrame = (f: string | null | undefined) => (f === null || f === undefined ? this.frames.delete(fileName) : this.frames.set(fileName, f));
     const withFrame = frame === null ? {} : { frame };
     const promise = this.request<LoadedFile>(
       (reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0), ...withFrame }),

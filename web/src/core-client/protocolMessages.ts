@@ -16,8 +16,8 @@ export interface LoadRequest {
   reqId: number;
   fileName: string;
   bytes: ArrayBuffer;
-  /** The time frame to read of a file that holds several (absent: each contour's first). */
-  frame?: number;
+  /** The time frame to read of a file that holds several, by its label (`9`, `ES`; absent: each contour's first). */
+  frame?: string;
 }
 export interface RunRequest {
   type: 'run';

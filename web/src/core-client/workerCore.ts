@@ -40,8 +40,8 @@ import { LabWorker, type LabApi } from './labWorker';
 
 /** The part of the wasm `Session` (wasm-core/crates/heartmesh-wasm) the worker uses. */
 export interface SessionApi {
-  /** `frame`: the time frame to read (undefined: each contour's first). */
-  load(fileName: string, bytes: Uint8Array, frame?: number): string;
+  /** `frame`: the time frame to read, by its label (undefined: each contour's first). */
+  load(fileName: string, bytes: Uint8Array, frame?: string): string;
   file_points(fileName: string): Float32Array;
   start(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string): void;
   step(): string;
@@ -228,9 +228,10 @@ export class WorkerCore {
     }
   }
 
-  private load(reqId: number, fileName: string, bytes: ArrayBuffer, frame: number | undefined): void {
-    // A frame the core cannot take (a foreign message) reads as none: wasm-bindgen would wrap it.
-    const wanted = typeof frame === 'number' && Number.isInteger(frame) && frame >= 0 && frame <= 0xffffffff ? frame : undefined;
+  private load(reqId: number, fileName: string, bytes: ArrayBuffer, frame: string | undefined): void {
+    // Only text is a frame label (a foreign message's number or object reads as none: wasm-bindgen
+    // would throw on it); the core reads a blank label as none too.
+    const wanted = typeof frame === 'string' ? frame : undefined;
     const info = JSON.parse(this.session.load(fileName, new Uint8Array(bytes), wanted)) as Omit<
       LoadedFile,
       'points'

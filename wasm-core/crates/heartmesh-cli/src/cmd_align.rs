@@ -11,7 +11,7 @@ use crate::error::CliError;
 use crate::files;
 
 pub const USAGE: &str =
-    "heartmesh align CONTOURS -o ALIGNED.csv [--report REPORT.json] [--frame N] [--quiet]
+    "heartmesh align CONTOURS -o ALIGNED.csv [--report REPORT.json] [--frame N|LABEL] [--quiet]
   Shifts every short-axis slice and long-axis view (all surfaces of an image together) in its
   own plane until the curves meet where the planes cross (breath-hold misalignment), and writes
   the shifted contours as canonical CSV (same columns). REPORT.json: the shifts per slice/view

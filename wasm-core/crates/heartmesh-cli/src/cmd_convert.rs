@@ -8,7 +8,7 @@ use crate::contours;
 use crate::error::CliError;
 use crate::files;
 
-pub const USAGE: &str = "heartmesh convert IN OUT [--frame N] [--ascii] [--quiet]
+pub const USAGE: &str = "heartmesh convert IN OUT [--frame N|LABEL] [--ascii] [--quiet]
     contours (csv, GPFile txt, xyz txt, vtk/vtp lines, SurFCo .mat, session json, DICOM RTSTRUCT)
       -> OUT.csv (canonical CSV), OUT.json (heartmesh session), OUT.vtk|.vtp (polylines),
          OUT.dcm (DICOM RT structure set, one ROI per surface)

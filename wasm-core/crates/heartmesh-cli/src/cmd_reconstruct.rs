@@ -20,7 +20,7 @@ pub const USAGE: &str =
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
     [--smoothing-method laplacian-affine|taubin|laplacian-hc|laplacian-twicing] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
-    [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--no-apex-floor] [--drop-second-loops] [--keep-specks] [--frame N]
+    [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--no-apex-floor] [--drop-second-loops] [--keep-specks] [--frame N|LABEL]
     [--contour-distances POINTS.csv] [--ascii] [--quiet]
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
@@ -66,8 +66,10 @@ pub const USAGE: &str =
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   CONTOURS: csv (UTF-8, UTF-16 or Windows-1252; units in the header applied), biv-me GPFile
   (SliceInfoFile.txt beside it is used), xyz text, vtk/vtp lines, SurFCo .mat, heartmesh
-  session .json (its parameters are the starting point; flags override them); --frame N reads
-  time frame N of a GPFile or of a CSV with a frame column (default: each contour's first).";
+  session .json (its parameters are the starting point; flags override them); --frame reads one
+  time frame of a GPFile or of a CSV with a frame or phase column, named as the file writes it:
+  a number (--frame 9; 9.0 is the same frame) or a label (--frame ES; text in any case); default:
+  each contour's first; the report's frame says which was read.";
 
 /// Options that take a value, besides the numeric parameters.
 const VALUE_FLAGS: &[&str] = &[
@@ -172,6 +174,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         params: &params,
         seconds,
         warnings: &warnings,
+        time_frames: set.time_frames.as_ref(),
     };
     let rep = report::build(&rec, &facts);
     let comment = report::header_comment(&facts);

@@ -1,9 +1,10 @@
 //! Loading contours for the commands: format detection, the GPFile companions
-//! (`SliceInfoFile.txt` next to it, `--frame`), and a session's saved parameters.
+//! (`SliceInfoFile.txt` next to it), the time frame (`--frame`, a number or a label), and a
+//! session's saved parameters.
 
 use std::path::Path;
 
-use heartmesh_core::io::{self, session, ContourFormat, ContourOptions};
+use heartmesh_core::io::{self, session, ContourFormat, ContourOptions, FrameChoice};
 use heartmesh_core::{ContourSet, Params};
 
 use crate::error::CliError;
@@ -16,7 +17,7 @@ pub struct Loaded {
     pub session_params: Option<Params>,
 }
 
-pub fn load(path: &str, frame: Option<u32>) -> Result<Loaded, CliError> {
+pub fn load(path: &str, frame: Option<FrameChoice>) -> Result<Loaded, CliError> {
     let bytes = files::read(path)?;
     let format = io::detect_contour_format(path, &bytes);
     if format == ContourFormat::Session {
@@ -47,13 +48,36 @@ pub fn load(path: &str, frame: Option<u32>) -> Result<Loaded, CliError> {
     })
 }
 
-/// `--frame N`.
-pub fn frame_flag(value: Option<&str>) -> Result<Option<u32>, CliError> {
+/// `--frame N` or `--frame LABEL`: the frame as the file writes it (`9`, `9.0`, `ES`; text in any
+/// case), compared as the core's readers compare frames (`io::FrameChoice`). Blank is refused
+/// here rather than read as no choice: the user asked for a frame.
+pub fn frame_flag(value: Option<&str>) -> Result<Option<FrameChoice>, CliError> {
     value
         .map(|v| {
-            v.trim()
-                .parse::<u32>()
-                .map_err(|_| CliError::usage(format!("--frame: {v:?} is not a frame number")))
+            FrameChoice::new(v).ok_or_else(|| {
+                CliError::usage(format!(
+                    "--frame: {v:?} names no frame (give a frame number or label as the file \
+                     writes it, e.g. --frame 9 or --frame ES)"
+                ))
+            })
         })
         .transpose()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_flag_takes_numbers_and_labels() {
+        assert_eq!(frame_flag(None).unwrap(), None);
+        let nine = frame_flag(Some("9")).unwrap().unwrap();
+        assert!(nine.matches("9.0") && !nine.matches("90"));
+        let es = frame_flag(Some(" ES")).unwrap().unwrap();
+        assert_eq!(es.label(), "ES");
+        assert!(es.matches("es"));
+        let e = frame_flag(Some(" ")).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.message().contains("names no frame"), "{}", e.message());
+    }
 }

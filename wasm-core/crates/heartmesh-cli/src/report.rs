@@ -1,5 +1,6 @@
 //! The JSON report of `heartmesh reconstruct` (scripts rely on its keys) and the one-line summary.
 
+use heartmesh_core::contours::TimeFrames;
 use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::mesh::topology::validity;
 use heartmesh_core::pipeline::Reconstruction;
@@ -14,6 +15,8 @@ pub struct Facts<'a> {
     pub params: &'a Params,
     pub seconds: f64,
     pub warnings: &'a [String],
+    /// The input's time frames and which were read (None: no time-frame column).
+    pub time_frames: Option<&'a TimeFrames>,
 }
 
 /// Every parameter by its schema name, plus the modes, as the mesh file's header writes them; the
@@ -87,6 +90,7 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         "input_format": f.input_format,
         "output": f.output,
         "surface": surface,
+        "frame": frame_read(f.time_frames),
         "iterations": rec.iteration(),
         "seconds": f.seconds,
         "vertices": mesh.positions.len(),
@@ -152,6 +156,20 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         m.insert("set_aside".into(), json!(rec.set_aside()));
     }
     rep
+}
+
+/// The report's `frame`: which time frame the contours were read from, as the file writes it
+/// (`"ES"`, `"9"`: the one asked for with `--frame`, or the one every contour starts in); the
+/// list of frames (`["0", "1"]`) when the contours start in different frames and none was asked
+/// for (each contour's first was read: biv-me's example has one slice labelled `1.0` in a frame-0
+/// file); null when the file has no time-frame column. Scripts comparing phases read it to know
+/// which phase a mesh is.
+pub fn frame_read(time_frames: Option<&TimeFrames>) -> Value {
+    match time_frames.map(|t| t.read.as_slice()) {
+        None | Some([]) => Value::Null,
+        Some([one]) => json!(one),
+        Some(several) => json!(several),
+    }
 }
 
 /// The report's `parameters`: the header's ([`parameters`]) with `apex_floor` whatever its value.
@@ -248,4 +266,26 @@ pub fn summary(output: &str, rep: &Value) -> String {
     }
     s.push_str(&format!(" ({:.2} s)", num("seconds")));
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_frame_read_is_a_label_a_list_or_null() {
+        let mut t = TimeFrames {
+            frames: vec!["ED".into(), "ES".into()],
+            count: 2,
+            read: vec!["ES".into()],
+            firsts: vec!["ED".into()],
+            chosen: true,
+            left_out: 1204,
+            sequence: true,
+        };
+        assert_eq!(frame_read(Some(&t)), json!("ES"));
+        t.read = vec!["0".into(), "1".into()];
+        assert_eq!(frame_read(Some(&t)), json!(["0", "1"]));
+        assert_eq!(frame_read(None), Value::Null);
+    }
 }

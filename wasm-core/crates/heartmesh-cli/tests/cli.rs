@@ -216,6 +216,7 @@ fn reconstruct_surfco_at_defaults() {
     let iterations = num(&r, &["iterations"]);
     assert!((200.0..=250.0).contains(&iterations), "{iterations}");
     assert_eq!(r["version"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(r["frame"], serde_json::Value::Null, "no time-frame column");
     assert_eq!(r["parameters"]["lambda"], 1e5);
     let mean = num(&r, &["contour_to_mesh", "mean"]);
     let max = num(&r, &["contour_to_mesh", "max"]);

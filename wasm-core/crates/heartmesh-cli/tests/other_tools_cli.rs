@@ -210,7 +210,7 @@ fn a_csv_with_several_time_frames_reads_one_and_says_so() {
     let warn = format!(
         "heartmesh: warning: {}: the file holds 2 time frames (0, 1): frame 0 read, {} points of \
          other frames left out; save one frame per file, or choose one with the command line's \
-         --frame N",
+         --frame (e.g. --frame 1)",
         s(&f),
         data_rows.len()
     );

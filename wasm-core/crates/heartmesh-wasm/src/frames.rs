@@ -1,6 +1,6 @@
 //! A loaded file's time frames as the app's Frame picker reads them (`LoadedFile.timeFrames`),
 //! and the reader's frame warning in the app's words: the app user chooses a frame with the
-//! picker, not with the command line's `--frame N` the core's warning names.
+//! picker, not with the command line's `--frame` the core's warning names.
 
 use heartmesh_core::contours::TimeFrames;
 use heartmesh_core::io::COMMAND_LINE_FRAME_ADVICE;
@@ -25,10 +25,11 @@ pub fn time_frames_json(frames: Option<&TimeFrames>) -> Value {
     }
 }
 
-/// A reader's warning with the frame advice in the app's words (other warnings unchanged).
+/// A reader's warning with the frame advice in the app's words (other warnings unchanged): the
+/// advice and its example (`--frame ES`) end the warning, and give way to the picker's.
 pub fn in_app_words(warning: &str) -> String {
-    match warning.strip_suffix(COMMAND_LINE_FRAME_ADVICE) {
-        Some(head) => format!("{head}{APP_FRAME_ADVICE}"),
+    match warning.rfind(COMMAND_LINE_FRAME_ADVICE) {
+        Some(at) => format!("{}{APP_FRAME_ADVICE}", &warning[..at]),
         None => warning.to_string(),
     }
 }
@@ -40,7 +41,7 @@ mod tests {
     #[test]
     fn the_command_line_advice_becomes_the_pickers() {
         let core = format!(
-            "the file holds 2 time frames (0, 9): frame 0 read, 12 points of other frames left out; {COMMAND_LINE_FRAME_ADVICE}"
+            "the file holds 2 time frames (ED, ES): frame ED read, 12 points of other frames left out; {COMMAND_LINE_FRAME_ADVICE} (e.g. --frame ES)"
         );
         let app = in_app_words(&core);
         assert!(

@@ -82,16 +82,17 @@ impl Session {
     /// Parses a contour file and keeps it under `file_name` (replacing an earlier one). Returns
     /// the JSON of the protocol's `LoadedFile` without `points` (see [`Session::file_points`]);
     /// for a saved session, `session` holds its settings (`convert::session_settings`).
-    /// `frame` reads that time frame of a file holding several (GPFile, CSV with a frame column;
-    /// absent: each contour's first); `timeFrames` lists the file's frames and those read.
+    /// `frame` reads that time frame of a file holding several (GPFile, CSV with a frame column),
+    /// by its label as `timeFrames.frames` lists it or as the file writes it (`9`, `ES`; absent
+    /// or blank: each contour's first); `timeFrames` lists the file's frames and those read.
     pub fn load(
         &mut self,
         file_name: &str,
         bytes: &[u8],
-        frame: Option<u32>,
+        frame: Option<String>,
     ) -> Result<String, JsValue> {
         let options = io::ContourOptions {
-            frame,
+            frame: frame.as_deref().and_then(io::FrameChoice::new),
             ..io::ContourOptions::default()
         };
         let set =
@@ -369,6 +370,7 @@ mod tests {
         }
         let mut s = Session::new();
         let load = |s: &mut Session, frame: Option<u32>| -> serde_json::Value {
+            let frame = frame.map(|f| f.to_string());
             serde_json::from_str(&s.load("two.csv", two.as_bytes(), frame).unwrap()).unwrap()
         };
         let first = load(&mut s, None);
@@ -408,6 +410,64 @@ mod tests {
         let plain: serde_json::Value =
             serde_json::from_str(&s.load("rings.csv", RINGS.as_bytes(), None).unwrap()).unwrap();
         assert!(plain["timeFrames"].is_null());
+    }
+
+    /// Phases written as text (`ED`, `ES` in a `phase` column): the load lists them, and either
+    /// is read by its label (as listed, or in another case), named as the file writes it; a
+    /// session of `ES` saves it so and loads back knowing it.
+    #[test]
+    fn a_text_phase_is_read_by_its_label() {
+        let mut two = String::from("contour,x,y,z,phase\n");
+        for (phase, r) in [("ED", 20.0), ("ES", 15.0)] {
+            for (id, z) in [("a", 0.0), ("b", 10.0)] {
+                for (x, y) in [(r, 0.0), (0.0, r), (-r, 0.0), (0.0, -r)] {
+                    two.push_str(&format!("{id},{x},{y},{z},{phase}\n"));
+                }
+            }
+        }
+        let mut s = Session::new();
+        let load = |s: &mut Session, frame: Option<&str>| -> serde_json::Value {
+            let frame = frame.map(str::to_string);
+            serde_json::from_str(&s.load("ph.csv", two.as_bytes(), frame).unwrap()).unwrap()
+        };
+        let first = load(&mut s, None);
+        assert_eq!(
+            first["timeFrames"]["frames"],
+            serde_json::json!(["ED", "ES"])
+        );
+        assert_eq!(first["timeFrames"]["read"], serde_json::json!(["ED"]));
+        let w = first["warnings"][0].as_str().unwrap();
+        assert!(
+            w.ends_with("frame ED read, 8 points of other frames left out; choose another with the Frame picker"),
+            "{w}"
+        );
+        for asked in ["ES", "es"] {
+            let es = load(&mut s, Some(asked));
+            assert_eq!(
+                es["timeFrames"]["read"],
+                serde_json::json!(["ES"]),
+                "{asked}"
+            );
+            assert_eq!(es["timeFrames"]["chosen"], true);
+            assert_eq!(es["warnings"], serde_json::json!([]));
+            assert_eq!(
+                s.file_points("ph.csv").unwrap()[0],
+                15.0,
+                "{asked}: ES read"
+            );
+        }
+        let bytes = s
+            .session_json("ph.csv", None, "{}", "auto", "9.9.9")
+            .unwrap();
+        assert!(String::from_utf8_lossy(&bytes).contains(r#""frame":"ES""#));
+        let saved: serde_json::Value =
+            serde_json::from_str(&s.load("es.json", &bytes, None).unwrap()).unwrap();
+        assert_eq!(saved["timeFrames"]["read"], serde_json::json!(["ES"]));
+        // A blank frame is none: the file's own reading.
+        assert_eq!(
+            load(&mut s, Some(" "))["timeFrames"]["read"],
+            serde_json::json!(["ED"])
+        );
     }
 
     /// An ellipsoidal cavity: SAX rings every 8 mm (the third shifted 3 mm along x) and two

@@ -1,8 +1,8 @@
 //! The time frames of a file that holds a cine sequence, and which of them a reading took.
 //!
-//! A reader keeps one frame (`io::ContourOptions::frame`, or each contour's first); this record
-//! lets a caller that offers the choice (the app's Frame picker) list the others and name the one
-//! on screen, in exports and in a saved session.
+//! A reader keeps one frame (`io::ContourOptions::frame`, chosen by its label, or each contour's
+//! first); this record lets a caller that offers the choice (the app's Frame picker) list the
+//! others and name the one on screen, in exports, in a saved session and in the CLI's report.
 
 /// Frames listed at most (a "frame" column that is really a point index would list every row).
 pub const LISTED: usize = 1000;
@@ -11,11 +11,12 @@ pub const LISTED: usize = 1000;
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct TimeFrames {
     /// The file's frames in order of first appearance, as numbers compare (`1.0` reads as `1`),
-    /// at most [`LISTED`].
+    /// text trimmed and as first written (`ES` and `es` are one frame, `io::FrameChoice`), at
+    /// most [`LISTED`]. Each is a label a reader can be asked for.
     pub frames: Vec<String>,
     /// Distinct frames in the file (more than `frames.len()` past the limit).
     pub count: usize,
-    /// The frames read: the one asked for; else `firsts`.
+    /// The frames read: the one asked for (as the file writes it); else `firsts`.
     pub read: Vec<String>,
     /// Each contour's (slice's) first frame, distinct, in file order: what is read when no frame
     /// is asked for (one entry when every contour starts in the same frame).
@@ -37,12 +38,6 @@ impl TimeFrames {
             [one] => Some(one),
             _ => None,
         }
-    }
-
-    /// A frame as the number `--frame N` and the app's picker choose it by (None for text such
-    /// as `ED`, a negative or a fractional frame).
-    pub fn number(frame: &str) -> Option<u32> {
-        frame.parse::<u32>().ok()
     }
 
     /// The frame worth naming beside the file (exports, sessions): the single frame read of a
@@ -91,13 +86,5 @@ mod tests {
         t.sequence = true;
         assert_eq!(t.named(), Some("0"));
         assert_eq!(TimeFrames::saved("9").named(), Some("9"));
-    }
-
-    #[test]
-    fn numbers_are_whole_and_not_negative() {
-        assert_eq!(TimeFrames::number("9"), Some(9));
-        for text in ["ED", "-1", "1.5", ""] {
-            assert_eq!(TimeFrames::number(text), None, "{text}");
-        }
     }
 }

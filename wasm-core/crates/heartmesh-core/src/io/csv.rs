@@ -7,6 +7,7 @@
 
 use super::builder::ContourBuilder;
 use super::csv_columns::{parse_header, Columns, IdSource};
+use super::frame_choice::FrameChoice;
 use super::frames::FrameFilter;
 use super::text::{decode, lines, parse_coord};
 use crate::contours::ContourSet;
@@ -18,9 +19,9 @@ pub fn read_csv(bytes: &[u8]) -> Result<ContourSet> {
     read_csv_frame(bytes, None)
 }
 
-/// Reads canonical CSV contours; `frame` keeps only the rows of that time frame when the file
-/// has a frame column (None: each contour's first frame).
-pub fn read_csv_frame(bytes: &[u8], frame: Option<u32>) -> Result<ContourSet> {
+/// Reads canonical CSV contours; `frame` keeps only the rows of that time frame (by its label:
+/// `9`, `ES`) when the file has a frame column (None: each contour's first frame).
+pub fn read_csv_frame(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSet> {
     let text = decode(bytes)?;
     let mut rows = lines(&text);
     let mut header = None;
@@ -369,7 +370,7 @@ mod tests {
             )
         );
         assert!(t.sequence && !t.chosen && t.left_out == 2);
-        let five = read_csv_frame(two.as_bytes(), Some(5)).unwrap();
+        let five = read_csv_frame(two.as_bytes(), Some(&5.into())).unwrap();
         assert_eq!(five.contours[0].pieces[0].points[0], v3(0.0, 0.0, 5.0));
         assert_eq!(five.time_frames.unwrap().read, ["5"]);
         assert_eq!(
@@ -377,6 +378,62 @@ mod tests {
                 .unwrap()
                 .time_frames,
             None
+        );
+    }
+
+    /// Patient 1's ED and ES CSVs in one file with a `phase` column of text labels: ED is read
+    /// by default, and ES (asked for in any case) reads exactly the ES file's contours.
+    #[test]
+    fn a_phase_column_of_text_reads_either_phase() {
+        let dir = "contours/bivme-example-patient1/";
+        let text =
+            |name: &str| String::from_utf8(super::super::sample(&format!("{dir}{name}"))).unwrap();
+        let (ed, es) = (text("patient1-ED.csv"), text("patient1-ES.csv"));
+        let mut both = String::from("contour,x,y,z,surface,phase\n");
+        for (rows, label) in [(&ed, "ED"), (&es, "ES")] {
+            for row in rows.lines().skip(1).filter(|r| !r.is_empty()) {
+                both.push_str(&format!("{row},{label}\n"));
+            }
+        }
+        let first = read(&both).unwrap();
+        let t = first.time_frames.clone().unwrap();
+        assert_eq!(t.frames, ["ED", "ES"]);
+        assert_eq!(
+            (t.read.as_slice(), t.sequence),
+            (&["ED".to_string()][..], true)
+        );
+        assert_eq!(t.left_out, es.lines().count() - 1);
+        let curves = |s: &ContourSet| -> Vec<(String, usize)> {
+            s.contours
+                .iter()
+                .map(|c| (c.id.clone(), c.point_count()))
+                .collect()
+        };
+        assert_eq!(curves(&first), curves(&read(&ed).unwrap()));
+        // The same curves, point for point (their lines in the file differ).
+        let unlined = |s: ContourSet| -> Vec<crate::contours::Contour> {
+            s.contours
+                .into_iter()
+                .map(|c| crate::contours::Contour { first_line: 0, ..c })
+                .collect()
+        };
+        let alone = unlined(read(&es).unwrap());
+        assert_eq!(alone.len(), 35);
+        for asked in ["ES", "es", " Es "] {
+            let want = FrameChoice::new(asked);
+            let got = read_csv_frame(both.as_bytes(), want.as_ref()).unwrap();
+            assert!(!got.warnings.iter().any(|w| w.contains("time frames")));
+            let t = got.time_frames.clone().unwrap();
+            assert_eq!(
+                (t.read.as_slice(), t.chosen),
+                (&["ES".to_string()][..], true)
+            );
+            assert!(unlined(got) == alone, "{asked:?}");
+        }
+        let e = read_csv_frame(both.as_bytes(), FrameChoice::new("9").as_ref()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "no contour points in frame 9 (frames in the file: ED, ES)"
         );
     }
 

@@ -1,32 +1,38 @@
 //! One time frame out of a file that holds several (a cine sequence exported whole: a `frame`
-//! column in a CSV, the `time frame` column of a GPFile).
+//! or `phase` column in a CSV, the `time frame` column of a GPFile).
 //!
 //! Without a choice, each contour (or slice) keeps the first frame it has in the file: files
 //! normally hold one frame, but one slice may carry another frame number (the biv-me example
 //! does), and mixing every frame's curves into one surface is never what the user meant. When
-//! that leaves rows out, the warning says how many, from which frames, and how to choose.
+//! that leaves rows out, the warning says how many, from which frames, and how to choose. A frame
+//! is chosen by its label ([`FrameChoice`]: `9`, `ES`), compared as [`frame_key`] says.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
+use super::frame_choice::{frame_key, frame_label, FrameChoice};
 use crate::contours::time_frames::{TimeFrames, LISTED};
 use crate::error::CoreError;
 
-/// How the warning tells a command-line user to read another frame; the app's binding puts its
-/// own wording (the Frame picker) in its place.
+/// How the warning tells a command-line user to read another frame (followed by an example, a
+/// frame of the file: `--frame ES`); the app's binding puts its own wording (the Frame picker) in
+/// its place.
 pub const COMMAND_LINE_FRAME_ADVICE: &str =
-    "save one frame per file, or choose one with the command line's --frame N";
+    "save one frame per file, or choose one with the command line's --frame";
 
 /// Rows kept and left out by frame, keyed by contour or slice.
 #[derive(Debug, Default)]
 pub struct FrameFilter {
-    wanted: Option<String>,
-    /// The first frame seen for each key (hashed: a file may hold 10^5 contours).
+    wanted: Option<FrameChoice>,
+    /// The label of the frame asked for as the file writes it, once a row matched it.
+    matched: Option<String>,
+    /// The key of the first frame seen for each contour or slice (hashed: a file may hold 10^5
+    /// contours).
     first: HashMap<String, String>,
-    /// The distinct first frames of the keys, in file order (one: every key starts in the same
-    /// frame), at most [`LISTED`].
+    /// The distinct first frames of the keys (labels), in file order (one: every key starts in
+    /// the same frame), at most [`LISTED`].
     firsts: Vec<String>,
-    /// Every frame seen, and the first [`LISTED`] in file order.
-    seen: HashSet<String>,
+    /// Every frame seen: its label by its key; and the first [`LISTED`] labels in file order.
+    seen: HashMap<String, String>,
     order: Vec<String>,
     skipped: usize,
     kept: usize,
@@ -37,31 +43,23 @@ pub struct FrameFilter {
 /// Frames named in a message.
 const SHOWN: usize = 8;
 
-/// Frame values compared as numbers where they are numbers (`1`, `1.0`), else as text (`ED`).
-fn normalised(value: &str) -> String {
-    let v = value.trim();
-    match v.parse::<f64>() {
-        Ok(f) if f.is_finite() => format!("{f}"),
-        _ => v.to_string(),
-    }
-}
-
 impl FrameFilter {
-    pub fn new(wanted: Option<u32>) -> Self {
+    pub fn new(wanted: Option<&FrameChoice>) -> Self {
         FrameFilter {
-            wanted: wanted.map(|w| w.to_string()),
+            wanted: wanted.cloned(),
             ..Self::default()
         }
     }
 
     /// True when a row of `key` in frame `value` is read.
     pub fn keep(&mut self, key: &str, value: &str) -> bool {
-        let frame = normalised(value);
-        if !self.seen.contains(&frame) {
+        let frame = frame_key(value);
+        if !self.seen.contains_key(&frame) {
+            let label = frame_label(value);
             if self.order.len() < LISTED {
-                self.order.push(frame.clone());
+                self.order.push(label.clone());
             }
-            self.seen.insert(frame.clone());
+            self.seen.insert(frame.clone(), label);
         }
         let first = match self.first.get(key) {
             Some(first) => {
@@ -69,19 +67,23 @@ impl FrameFilter {
                 first
             }
             None => {
-                if self.firsts.len() < LISTED && !self.firsts.contains(&frame) {
-                    self.firsts.push(frame.clone());
+                let label = &self.seen[&frame];
+                if self.firsts.len() < LISTED && !self.firsts.contains(label) {
+                    self.firsts.push(label.clone());
                 }
                 self.first.insert(key.to_string(), frame.clone());
                 &frame
             }
         };
         let keep = match &self.wanted {
-            Some(want) => *want == frame,
+            Some(want) => want.key() == frame,
             None => *first == frame,
         };
         if keep {
             self.kept += 1;
+            if self.wanted.is_some() && self.matched.is_none() {
+                self.matched = Some(self.seen[&frame].clone());
+            }
         } else {
             self.skipped += 1;
         }
@@ -99,9 +101,10 @@ impl FrameFilter {
         if self.seen.is_empty() {
             return None;
         }
-        let read = match &self.wanted {
-            Some(want) => vec![want.clone()],
-            None => self.firsts.clone(),
+        let read = match (&self.wanted, &self.matched) {
+            (Some(_), Some(label)) => vec![label.clone()],
+            (Some(want), None) => vec![want.label().to_string()],
+            (None, _) => self.firsts.clone(),
         };
         Some(TimeFrames {
             frames: self.order.clone(),
@@ -139,9 +142,18 @@ impl FrameFilter {
         } else {
             format!("each {each}'s first frame read")
         };
+        // The example names a frame that was left out (rows were, so one is listed unless past
+        // the listing's limit), so that a file of `ED` and `ES` shows `--frame ES` is possible.
+        let example = self
+            .order
+            .iter()
+            .find(|f| !self.firsts.contains(f))
+            .or(self.order.first())
+            .map(String::as_str)
+            .unwrap_or("N");
         Some(format!(
             "the file holds {} time frames ({}): {read}, {} points of other frames left out; \
-             {COMMAND_LINE_FRAME_ADVICE}",
+             {COMMAND_LINE_FRAME_ADVICE} (e.g. --frame {example})",
             self.seen.len(),
             self.frame_list(),
             self.skipped
@@ -171,7 +183,7 @@ mod tests {
             Some(
                 "the file holds 3 time frames (0, 1, 5): each slice's first frame read, 2 points \
                  of other frames left out; save one frame per file, or choose one with the \
-                 command line's --frame N"
+                 command line's --frame (e.g. --frame 5)"
             )
         );
         assert!(f.nothing_in_wanted().is_none());
@@ -179,11 +191,11 @@ mod tests {
 
     #[test]
     fn a_chosen_frame_reads_only_it_and_says_when_it_is_absent() {
-        let mut f = FrameFilter::new(Some(1));
+        let mut f = FrameFilter::new(Some(&1.into()));
         assert!(!f.keep("a", "0"));
         assert!(f.keep("a", "1.0"));
         assert_eq!(f.warning("contour"), None, "the user chose");
-        let mut g = FrameFilter::new(Some(7));
+        let mut g = FrameFilter::new(Some(&7.into()));
         g.keep("a", "0");
         g.keep("a", "ED");
         let e = g.nothing_in_wanted().map(|e| e.to_string());
@@ -207,7 +219,7 @@ mod tests {
         assert_eq!(t.count, 3);
         assert_eq!(t.read, ["0", "1"], "each key's first, in file order");
         assert_eq!((t.chosen, t.left_out, t.sequence), (false, 2, true));
-        let mut g = FrameFilter::new(Some(9));
+        let mut g = FrameFilter::new(Some(&9.into()));
         for (k, v) in rows {
             g.keep(k, v);
         }
@@ -232,6 +244,84 @@ mod tests {
             FrameFilter::new(None).time_frames(),
             None,
             "no row carried a frame"
+        );
+    }
+
+    /// Phases written as text (a `phase` column of `ED` and `ES`): either is chosen by its label,
+    /// in any case and with spaces around it; the frame read is named as the file writes it.
+    #[test]
+    fn text_frames_are_chosen_by_label_in_any_case() {
+        let rows = [
+            ("a", "ED"),
+            ("b", " ED"),
+            ("a", "ES "),
+            ("b", "es"),
+            ("a", "ED"),
+        ];
+        let run = |want: Option<&str>| {
+            let choice = want.and_then(FrameChoice::new);
+            let mut f = FrameFilter::new(choice.as_ref());
+            let kept: Vec<bool> = rows.iter().map(|(k, v)| f.keep(k, v)).collect();
+            (kept, f)
+        };
+        let (kept, f) = run(None);
+        assert_eq!(kept, [true, true, false, false, true]);
+        let t = f.time_frames().unwrap();
+        assert_eq!(
+            t.frames,
+            ["ED", "ES"],
+            "`ES ` and `es` are one frame, as first written"
+        );
+        assert_eq!(
+            (t.read.as_slice(), t.left_out),
+            (&["ED".to_string()][..], 2)
+        );
+        assert_eq!(
+            f.warning("contour").as_deref(),
+            Some(
+                "the file holds 2 time frames (ED, ES): frame ED read, 2 points of other frames \
+                 left out; save one frame per file, or choose one with the command line's \
+                 --frame (e.g. --frame ES)"
+            )
+        );
+        for asked in ["ES", "es", " Es\t"] {
+            let (kept, f) = run(Some(asked));
+            assert_eq!(kept, [false, false, true, true, false], "{asked:?}");
+            let t = f.time_frames().unwrap();
+            assert_eq!(t.read, ["ES"], "{asked:?}: named as the file writes it");
+            assert_eq!((t.chosen, t.left_out), (true, 3));
+            assert_eq!(f.warning("contour"), None);
+            assert!(f.nothing_in_wanted().is_none());
+        }
+        let (kept, f) = run(Some("ed"));
+        assert_eq!(kept, [true, true, false, false, true]);
+        assert_eq!(f.time_frames().unwrap().read, ["ED"]);
+        let (_, f) = run(Some("systole"));
+        assert_eq!(
+            f.nothing_in_wanted().map(|e| e.to_string()).as_deref(),
+            Some("no contour points in frame systole (frames in the file: ED, ES)")
+        );
+        assert_eq!(f.time_frames().unwrap().read, ["systole"]);
+    }
+
+    /// Numbers as numbers whatever their form, in a file that mixes numbers and text.
+    #[test]
+    fn number_forms_choose_the_same_frame() {
+        let rows = [("a", "0"), ("a", "1.0"), ("a", "ED"), ("a", "1")];
+        for asked in ["1", "1.0", " 1 ", "1e0", "01"] {
+            let want = FrameChoice::new(asked);
+            let mut f = FrameFilter::new(want.as_ref());
+            let kept: Vec<bool> = rows.iter().map(|(k, v)| f.keep(k, v)).collect();
+            assert_eq!(kept, [false, true, false, true], "{asked:?}");
+            assert_eq!(f.time_frames().unwrap().read, ["1"], "{asked:?}");
+        }
+        let mut f = FrameFilter::new(FrameChoice::new("1.5").as_ref());
+        rows.iter().for_each(|(k, v)| {
+            f.keep(k, v);
+        });
+        assert_eq!(
+            f.nothing_in_wanted().map(|e| e.to_string()).as_deref(),
+            Some("no contour points in frame 1.5 (frames in the file: 0, 1, ED)")
         );
     }
 

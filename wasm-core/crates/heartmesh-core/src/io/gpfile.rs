@@ -7,6 +7,7 @@
 //! contour per (slice, type), named `s<slice>_<type>` like the canonical CSV files.
 
 use super::builder::ContourBuilder;
+use super::frame_choice::FrameChoice;
 use super::frames::FrameFilter;
 use super::text::{lines, parse_coord, quote};
 use crate::contours::ContourSet;
@@ -124,10 +125,11 @@ fn header_columns(fields: &[&str], line: usize) -> Result<Columns> {
     })
 }
 
-/// Reads a guide-point file. `frame`: keep only rows of that time frame; None keeps, for each
+/// Reads a guide-point file. `frame`: keep only rows of that time frame (a GPFile's frames are
+/// numbers: `9`, `9.0`); None keeps, for each
 /// slice, the first frame that slice has in the file (files normally hold one frame, but a slice
 /// may carry another frame number, as in the biv-me example).
-pub fn read_gpfile(text: &str, frame: Option<u32>) -> Result<ContourSet> {
+pub fn read_gpfile(text: &str, frame: Option<&FrameChoice>) -> Result<ContourSet> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut rows = lines(text)
         .filter(|(_, l)| {
@@ -422,8 +424,8 @@ mod tests {
         // only its rows, and the two selections partition the contour points.
         let es = text("contours/bivme-example-patient1/GPFile_009.txt");
         let all = read_gpfile(&es, None).unwrap();
-        let f9 = read_gpfile(&es, Some(9)).unwrap();
-        let f1 = read_gpfile(&es, Some(1)).unwrap();
+        let f9 = read_gpfile(&es, Some(&9.into())).unwrap();
+        let f1 = read_gpfile(&es, Some(&1.into())).unwrap();
         assert_eq!(f9.contours.len(), 30);
         assert_eq!(f9.contours.len() + f1.contours.len(), all.contours.len());
         assert!(f1.contours.iter().all(|c| c.id.starts_with("s08_")));
@@ -441,7 +443,7 @@ mod tests {
             assert_same_as_canonical(&g, &c);
             assert_eq!(g.surfaces(), vec!["LV_ENDO", "LV_EPI", "RV_ENDO"]);
         }
-        let e = read_gpfile(&text(&format!("{dir}GPFile_012.txt")), Some(3)).unwrap_err();
+        let e = read_gpfile(&text(&format!("{dir}GPFile_012.txt")), Some(&3.into())).unwrap_err();
         assert!(e.to_string().contains("frames in the file: 12"), "{e}");
     }
 
@@ -519,7 +521,7 @@ mod tests {
             w.starts_with("the file holds 3 time frames (0, 5, 1): each slice's first frame read, 1814 points of other frames left out"),
             "{w}"
         );
-        let five = read_gpfile(&two, Some(5)).unwrap();
+        let five = read_gpfile(&two, Some(&5.into())).unwrap();
         assert_eq!(five.point_count(), want.point_count());
     }
 
@@ -562,7 +564,7 @@ mod tests {
                 .map(|c| (c.id.clone(), c.surface.clone(), c.pieces.clone()))
                 .collect()
         };
-        let nine = read_gpfile(&two, Some(9)).unwrap();
+        let nine = read_gpfile(&two, Some(&9.into())).unwrap();
         let alone = read_gpfile(&es, None).unwrap();
         assert!(curves(&nine) == curves(&alone) && nine.landmarks == alone.landmarks);
         let t = nine.time_frames.unwrap();
@@ -571,7 +573,7 @@ mod tests {
             (&["9".to_string()][..], true)
         );
         assert_eq!(t.named(), Some("9"));
-        assert!(curves(&read_gpfile(&two, Some(0)).unwrap()) == curves(&first));
+        assert!(curves(&read_gpfile(&two, Some(&0.into())).unwrap()) == curves(&first));
         assert!(curves(&first) == curves(&read_gpfile(&ed, None).unwrap()));
         // The ED file alone: slice 8 carries its own frame 1, which is no sequence (no picker).
         let t = read_gpfile(&ed, None).unwrap().time_frames.unwrap();

@@ -9,6 +9,7 @@ mod builder;
 pub mod csv;
 mod csv_columns;
 mod dicom_read;
+mod frame_choice;
 mod frames;
 pub mod gpfile;
 pub mod mat;
@@ -26,6 +27,7 @@ pub mod xyz;
 
 pub use buffers::mesh_from_buffers;
 pub use builder::{polyline_from_run, MAX_POINTS};
+pub use frame_choice::FrameChoice;
 pub use frames::COMMAND_LINE_FRAME_ADVICE;
 
 use crate::contours::ContourSet;
@@ -83,9 +85,9 @@ impl ContourFormat {
 /// Extra inputs some formats use.
 #[derive(Debug, Clone, Default)]
 pub struct ContourOptions<'a> {
-    /// Time frame to read from a GPFile or a CSV with a frame column (default: each slice's or
-    /// contour's first frame); the set's `time_frames` lists the others.
-    pub frame: Option<u32>,
+    /// Time frame to read from a GPFile or a CSV with a frame column, by its label (`9`, `ES`;
+    /// default: each slice's or contour's first frame); the set's `time_frames` lists the others.
+    pub frame: Option<FrameChoice>,
     /// Bytes of the `SliceInfoFile.txt` that accompanies a GPFile (adds off-plane warnings);
     /// decoded as the contour files are (UTF-16, Windows-1252, any line ends).
     pub slice_info: Option<&'a [u8]>,
@@ -212,9 +214,9 @@ pub fn read_contours_with(
             0,
             "this is a mesh file (OBJ, STL or PLY), not contours",
         )),
-        ContourFormat::Csv => csv::read_csv_frame(bytes, options.frame),
+        ContourFormat::Csv => csv::read_csv_frame(bytes, options.frame.as_ref()),
         ContourFormat::GpFile => {
-            let mut set = gpfile::read_gpfile(&text::decode(bytes)?, options.frame)?;
+            let mut set = gpfile::read_gpfile(&text::decode(bytes)?, options.frame.as_ref())?;
             if let Some(info) = options.slice_info {
                 let slices = text::decode(info)
                     .and_then(|t| gpfile::read_slice_info(&t))

@@ -360,7 +360,7 @@ mod tests {
     #[test]
     fn round_trip_with_the_frame() {
         let two = b"contour,x,y,z,frame\na,0,0,0,0\na,9,0,0,0\na,9,9,0,0\na,0,0,5,9\na,9,0,5,9\na,9,9,5,9\n";
-        let nine = crate::io::csv::read_csv_frame(two, Some(9)).unwrap();
+        let nine = crate::io::csv::read_csv_frame(two, Some(&9.into())).unwrap();
         let bytes = write_session(&nine, &Params::default(), "t").unwrap();
         assert!(String::from_utf8_lossy(&bytes).contains(r#""frame":"9""#));
         let back = read_session(&bytes).unwrap().contours;
@@ -371,6 +371,27 @@ mod tests {
         let bytes = write_session(&one, &Params::default(), "t").unwrap();
         assert!(!String::from_utf8_lossy(&bytes).contains("frame"));
         assert_eq!(read_session(&bytes).unwrap().contours.time_frames, None);
+    }
+
+    /// A frame written as text (`ES`, chosen as `es`) is saved as the file writes it and reads
+    /// back named so.
+    #[test]
+    fn round_trip_with_a_text_frame() {
+        let two = b"contour,x,y,z,phase\na,0,0,0,ED\na,9,0,0,ED\na,9,9,0,ED\na,0,0,5,ES\na,9,0,5,ES\na,9,9,5,ES\n";
+        let es = crate::io::FrameChoice::new("es");
+        let set = crate::io::csv::read_csv_frame(two, es.as_ref()).unwrap();
+        let bytes = write_session(&set, &Params::default(), "t").unwrap();
+        assert!(String::from_utf8_lossy(&bytes).contains(r#""frame":"ES""#));
+        let back = read_session(&bytes).unwrap().contours;
+        assert_eq!(
+            back.time_frames.as_ref().and_then(|t| t.named()),
+            Some("ES")
+        );
+        assert_eq!(back.contours[0].pieces[0].points[0].z, 5.0);
+        assert_eq!(
+            write_session(&back, &Params::default(), "t").unwrap(),
+            bytes
+        );
     }
 
     #[test]

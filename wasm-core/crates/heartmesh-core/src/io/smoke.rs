@@ -165,7 +165,7 @@ fn contour_readers_survive_mutations() {
     ];
     run("gpfile", &gp, |b| {
         let _ = gpfile::read_gpfile(&String::from_utf8_lossy(b), None);
-        let _ = gpfile::read_gpfile(&String::from_utf8_lossy(b), Some(0));
+        let _ = gpfile::read_gpfile(&String::from_utf8_lossy(b), Some(&0.into()));
     });
     let info = vec![head("contours/bivme-example-patient1/SliceInfoFile.txt", 4)];
     run("sliceinfo", &info, |b| {
