@@ -47,7 +47,16 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
     files::write(output, &csv)?;
     if let Some(path) = p.value("report") {
-        let text = serde_json::to_string_pretty(&alignment)
+        // The frame read, as in reconstruct's report: an alignment of one phase names it.
+        let mut value = serde_json::to_value(&alignment)
+            .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
+        if let Some(m) = value.as_object_mut() {
+            m.insert(
+                "frame".into(),
+                crate::report::frame_read(loaded.set.time_frames.as_ref()),
+            );
+        }
+        let text = serde_json::to_string_pretty(&value)
             .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
         files::write(path, format!("{text}\n").as_bytes())?;
     }

@@ -196,7 +196,16 @@ pub fn header_comment(f: &Facts) -> String {
     } else {
         ""
     };
-    format!("reconstructed from {}; parameters {p}{aligned}", f.input)
+    // A mesh of one phase of a cine file is only comparable with its frame known (ED vs ES).
+    let frame = f
+        .time_frames
+        .and_then(|t| t.named())
+        .map(|n| format!(" (frame {n})"))
+        .unwrap_or_default();
+    format!(
+        "reconstructed from {}{frame}; parameters {p}{aligned}",
+        f.input
+    )
 }
 
 /// When the report says the alignment is worth a try (`Reconstruction::alignment_suggested`): a

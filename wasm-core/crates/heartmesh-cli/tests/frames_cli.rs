@@ -62,6 +62,20 @@ fn reconstruct(dir: &Path, file: &Path, extra: &[&str]) -> (i32, String, Vec<Str
     (code, err, body, rep)
 }
 
+/// The mesh file's "reconstructed from" comment line (its second line).
+fn header(dir: &Path) -> String {
+    std::fs::read_to_string(dir.join("out.obj"))
+        .unwrap_or_default()
+        .lines()
+        .nth(1)
+        .unwrap_or_default()
+        .to_string()
+}
+
+fn file_name(p: &Path) -> &str {
+    p.file_name().and_then(|n| n.to_str()).unwrap_or_default()
+}
+
 #[test]
 fn frame_es_by_label_is_the_es_file_and_the_report_says_so() {
     let dir = scratch("frames-es");
@@ -69,6 +83,7 @@ fn frame_es_by_label_is_the_es_file_and_the_report_says_so() {
     let (code, err, es, es_rep) = reconstruct(&dir, &patient1("patient1-ES.csv"), &[]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(es_rep["frame"], Value::Null, "no frame column");
+    assert!(!header(&dir).contains("(frame"), "{}", header(&dir));
     let (code, err, ed, ed_rep) = reconstruct(&dir, &patient1("patient1-ED.csv"), &[]);
     assert_eq!(code, 0, "{err}");
 
@@ -77,6 +92,7 @@ fn frame_es_by_label_is_the_es_file_and_the_report_says_so() {
     assert_eq!(code, 0, "{err}");
     assert!(first == ed, "the file's own reading is the ED file");
     assert_eq!(rep["frame"], "ED");
+    assert!(header(&dir).contains(" (frame ED); "), "{}", header(&dir));
     assert_eq!(rep["vertices"], ed_rep["vertices"]);
     let warning = format!(
         "heartmesh: warning: {}: the file holds 2 time frames (ED, ES): frame ED read, 1204 \
@@ -95,6 +111,14 @@ fn frame_es_by_label_is_the_es_file_and_the_report_says_so() {
         );
         assert!(got == es, "{asked:?}: frame ES is patient1-ES.csv");
         assert_eq!(rep["frame"], "ES", "{asked:?}: as the file writes it");
+        assert!(
+            header(&dir).starts_with(&format!(
+                "# reconstructed from {} (frame ES); ",
+                file_name(&both)
+            )),
+            "{asked:?}: the mesh file names its frame: {}",
+            header(&dir)
+        );
         for key in ["vertices", "triangles", "volume_ml"] {
             assert_eq!(rep[key], es_rep[key], "{asked:?}: {key}");
         }
@@ -162,6 +186,10 @@ fn convert_and_align_read_a_labelled_frame() {
     let alone = align(&patient1("patient1-ES.csv"), "alone.csv", &[]);
     let chosen = align(&both, "chosen.csv", &["--frame", "ES"]);
     assert_eq!(chosen["residual_after_mm"], alone["residual_after_mm"]);
+    assert_eq!(
+        (&chosen["frame"], &alone["frame"]),
+        (&Value::from("ES"), &Value::Null)
+    );
     assert_eq!(
         std::fs::read_to_string(dir.join("chosen.csv")).unwrap(),
         std::fs::read_to_string(dir.join("alone.csv")).unwrap()
