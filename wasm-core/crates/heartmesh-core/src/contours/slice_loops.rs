@@ -13,6 +13,7 @@
 use super::axis::{analyse, Layout};
 use super::checks::surface_groups;
 use super::clean::{cleaned_contour, length};
+use super::plane::fit_plane;
 use super::set_aside::set_aside;
 use super::{Contour, ContourSet, Polyline};
 use crate::geometry::Vec3;
@@ -106,6 +107,15 @@ pub fn second_loops(contours: &[Contour], layout: &Layout) -> Vec<ApartLoop> {
 /// 18 and 19), or a ring drawn twice. The tube follows one, the spline is pulled by both and
 /// settles between them, so the user should know the slice counts twice.
 pub fn repeated_loops(contours: &[Contour], layout: &Layout) -> Vec<ApartLoop> {
+    let piece = |j: usize, k: usize| contours.get(j).and_then(|c| c.pieces.get(k));
+    let main_piece = |l: &ApartLoop| {
+        contours
+            .get(l.main)?
+            .pieces
+            .iter()
+            .filter(|p| p.closed && p.points.len() >= 3)
+            .max_by(|a, b| length(&a.points, true).total_cmp(&length(&b.points, true)))
+    };
     other_loops(contours, layout)
         .into_iter()
         .filter(|l| l.gap_mm <= SECOND_LOOP_MM && l.contour != l.main)
@@ -113,7 +123,27 @@ pub fn repeated_loops(contours: &[Contour], layout: &Layout) -> Vec<ApartLoop> {
             (Some(c), Some(m)) => !c.points().eq(m.points()),
             _ => false,
         })
+        .filter(|l| match (piece(l.contour, l.piece), main_piece(l)) {
+            (Some(p), Some(main)) => in_one_plane(&p.points, &main.points),
+            _ => false,
+        })
         .collect()
+}
+
+/// Planes closer than this (mm, plus three times the main loop's own residual) are one image
+/// plane. Two images of one slice position share their plane exactly (a breath-hold moves the
+/// heart, not the plane), so their curves lie in it up to rounding; neighbouring slices of the
+/// densest stacks are 1 mm apart and fall in one slice of the layout (its tolerance is 1.5 mm),
+/// so the gap along the normal, not the layout, tells a repeat from a neighbour.
+const SAME_PLANE_MM: f64 = 0.25;
+
+/// Whether `points` lie in the plane of `ring` (their centroid's distance from it).
+fn in_one_plane(points: &[Vec3], ring: &[Vec3]) -> bool {
+    let (Some(plane), false) = (fit_plane(ring.iter()), points.is_empty()) else {
+        return false;
+    };
+    let centroid = points.iter().fold(Vec3::zeros(), |a, p| a + p) / points.len() as f64;
+    (centroid - plane.centroid).dot(&plane.normal).abs() <= SAME_PLANE_MM + 3.0 * plane.rms_residual
 }
 
 /// Every closed loop of each slice but the slice's longest, with its median distance from it.
@@ -303,7 +333,9 @@ mod tests {
     #[test]
     fn a_ring_traced_twice_in_one_slice_is_named() {
         let mut contours = stack();
-        contours.push(ring("s3again", 0.8, 20.5, 30.4, 340));
+        contours.push(ring("s3again", 0.8, 20.5, 30.0, 340));
+        // A neighbouring slice 1 mm away (a dense stack) shares the layout's slice, not the plane.
+        contours.push(ring("s1next", 0.3, 20.2, 11.0, 380));
         contours.push(ring("s2copy", 0.0, 20.0, 20.0, 300));
         let set = ContourSet {
             contours,
@@ -315,7 +347,7 @@ mod tests {
         assert!(
             w[0].starts_with(
                 "contours \"s3again\" (line 340) and \"s3\" (line 122) trace one wall in one \
-                 short-axis slice (0.6 mm apart at the median): two images"
+                 short-axis slice (0.4 mm apart at the median): two images"
             ),
             "{w:?}"
         );
