@@ -6,7 +6,7 @@
 //! start in different frames, null without a frame column.
 
 mod common;
-use common::{bin, data, run, scratch};
+use common::{bin, data, mesh_lines, run, scratch};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -49,12 +49,7 @@ fn reconstruct(dir: &Path, file: &Path, extra: &[&str]) -> (i32, String, Vec<Str
         ])
         .args(["--surface", "LV_ENDO"])
         .args(extra));
-    let body = std::fs::read_to_string(&out)
-        .unwrap_or_default()
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .map(str::to_string)
-        .collect();
+    let body = mesh_lines(&out);
     let rep = std::fs::read(&report)
         .ok()
         .and_then(|b| serde_json::from_slice(&b).ok())

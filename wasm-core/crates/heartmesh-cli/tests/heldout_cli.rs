@@ -5,7 +5,7 @@
 //! `--drop-second-loops` leaves such loops out.
 
 mod common;
-use common::{bin, ellipsoid_lv_csv, run, scratch};
+use common::{bin, ellipsoid_lv_csv, mesh_lines, run, scratch};
 use std::f64::consts::TAU;
 use std::fmt::Write;
 
@@ -61,14 +61,6 @@ fn a_second_loop_in_the_basal_slice_is_named_with_its_distance() {
 }
 
 /// Vertex and face lines of an OBJ (the header names the file and the flags).
-fn mesh_lines(path: &std::path::Path) -> Vec<String> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .map(str::to_string)
-        .collect()
-}
 
 #[test]
 fn drop_second_loops_gives_the_mesh_of_the_file_without_the_loop() {

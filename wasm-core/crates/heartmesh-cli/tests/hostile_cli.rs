@@ -47,12 +47,7 @@ fn reconstruct(
 
 /// The vertex and face lines of `dir/out.obj` (its header comments name the input file).
 fn mesh_body(dir: &Path) -> Vec<String> {
-    std::fs::read_to_string(dir.join("out.obj"))
-        .unwrap()
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .map(str::to_string)
-        .collect()
+    common::mesh_lines(&dir.join("out.obj"))
 }
 
 /// Exit 2, one line, `heartmesh: FILE[:LINE]: ...`.

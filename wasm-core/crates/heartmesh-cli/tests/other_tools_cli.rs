@@ -6,7 +6,7 @@
 //! line that says what to do.
 
 mod common;
-use common::{bin, data, run, scratch};
+use common::{bin, data, mesh_lines, run, scratch};
 use std::io::Read;
 use std::path::Path;
 use std::process::Stdio;
@@ -22,12 +22,7 @@ fn reconstruct(dir: &Path, file: &Path, extra: &[&str]) -> (i32, String, Vec<Str
     let (code, _, err) = run(bin()
         .args(["reconstruct", s(file), "-o", s(&out), "--quiet"])
         .args(extra));
-    let body = std::fs::read_to_string(&out)
-        .unwrap_or_default()
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .map(str::to_string)
-        .collect();
+    let body = mesh_lines(&out);
     (code, err, body)
 }
 

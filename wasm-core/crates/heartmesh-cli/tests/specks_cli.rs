@@ -50,12 +50,7 @@ fn reconstruct(dir: &Path, name: &str, csv: &str, extra: &[&str]) -> Run {
         .arg(&report)
         .args(extra));
     assert_eq!(code, 0, "{stderr}");
-    let text = std::fs::read_to_string(&out).unwrap();
-    let mesh: Vec<String> = text
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .map(str::to_string)
-        .collect();
+    let mesh = common::mesh_lines(&out);
     let vertices = mesh
         .iter()
         .filter_map(|l| l.strip_prefix("v "))

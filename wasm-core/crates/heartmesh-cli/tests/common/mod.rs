@@ -80,3 +80,15 @@ pub fn ellipsoid_lv_csv(lax: bool) -> String {
     }
     out
 }
+
+/// A mesh file's vertex and face lines, without its `#` header comments (which name the input
+/// and parameters, so two runs on different files of one set of contours differ there only); an
+/// empty list when the file is missing (a refused run).
+pub fn mesh_lines(path: &Path) -> Vec<String> {
+    std::fs::read_to_string(path)
+        .unwrap_or_default()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(str::to_string)
+        .collect()
+}
