@@ -19,11 +19,16 @@
 //! Session 17 ("the apex floor on RV crescents") adds, per stack, intrinsic measures of the
 //! apical ring (its thickness t = area / half-perimeter, its length L = half-perimeter, its
 //! solidity = area / convex-hull area, the share of its length that curves inward) and candidate
-//! depths: the same dome model (`dome::tip_depth`, 4 rings) on t^2 and on L^2 instead of the area
-//! (both equal to the area up to a constant on circles, so an LV's round rings give its dome back,
-//! while a crescent's thickness can vanish where its area has not), each taken with the floor as
-//! the shallower of the two (guards unchanged: NaN where the floor places nothing). Statistics are
-//! printed for all stacks, and for the LV and the RV truths (an RV is a truth given as `X@LV`).
+//! depths, each the shallower of session 14's floor ("floor s14": the 4-ring dome on the areas
+//! under the floor's guards; NaN where it places nothing) and another model: the same dome
+//! (`dome::tip_depth`, 4 rings) on t^2, on L^2 and on L sqrt(A) instead of the area (all equal to
+//! the area up to a constant on round rings, so an LV's rings give its dome back), the apical
+//! ring's thickness as a cap ("floor^t1"), and the mean of the floor's and the L^2 dome's depths.
+//! Since session 17 "floor" (what `apex_floor::taper` places) is "floor^L.sqrtA"
+//! (`pipeline::crescent`). Statistics are printed for all stacks, and for the LV and the RV truths
+//! (an RV is a truth given as `X@LV`, or a population base planned on an LV).
+//! With APEX_DOME_RINGS set, each stack's row is followed by its five most apical rings' height,
+//! area, length, thickness and solidity.
 //! `cargo run --release --example apex_dome -- [--misaligned N | --population SEED:COUNT]
 //! [TRUTH.obj | parametric-lv | RV.obj@LV.obj | FREEWALL.obj+SEPTUM.obj@LV.obj]...`
 use heartmesh_core::contours::axis::analyse;
@@ -354,12 +359,15 @@ fn main() -> Res<()> {
         "min(3,4)",
         "floor",
         "power law",
+        "floor s14",
         "dome t^2",
         "dome L^2",
         "floor^t",
         "floor^L",
         "floor^t^L",
         "floor^t1",
+        "floor^L.sqrtA",
+        "floor^mean(L)",
     ];
     let mut errs: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
     let mut is_rv: Vec<bool> = Vec::new();
@@ -392,7 +400,10 @@ fn main() -> Res<()> {
         let length = dome_on(&s, &shapes, 4, |sh| sh.half_perimeter.powi(2));
         // The shallower of the floor and another model; the floor alone where that model has no
         // tip (its quantity does not taper).
-        let shallower = |other: Option<f64>| floor.map(|f| other.map_or(f, |o| f.min(o)));
+        // Session 14's floor: the same guards (a floor exactly where `taper` places one), the
+        // dome on the areas of the 4 most apical rings.
+        let floor_s14 = floor.and(model_depth(&s, 4).or_else(|| model_depth(&s, s.len())));
+        let shallower = |other: Option<f64>| floor_s14.map(|f| other.map_or(f, |o| f.min(o)));
         let row = [
             past(s.get(1).and_then(|b| paraboloid_depth(&s[0], b))),
             past(model_depth(&s, 3)),
@@ -405,12 +416,17 @@ fn main() -> Res<()> {
             ),
             past(floor),
             past(power_law_depth(&s)),
+            past(floor_s14),
             past(thick),
             past(length),
             past(shallower(thick)),
             past(shallower(length)),
             past(shallower(thick).map(|f| length.map_or(f, |l| f.min(l)))),
             past(shallower(shapes.first().map(Shape::thickness))),
+            past(shallower(dome_on(&s, &shapes, 4, |sh| {
+                sh.half_perimeter * sh.area.sqrt()
+            }))),
+            past(shallower(floor_s14.zip(length).map(|(f, l)| 0.5 * (f + l)))),
         ];
         let t1 = shapes.first().map_or(f64::NAN, Shape::thickness);
         let cells: Vec<String> = row.iter().map(|e| format!("{e:+.2}")).collect();
@@ -422,11 +438,23 @@ fn main() -> Res<()> {
             st.label,
             cells.join(" "),
             truth_depth / t1,
-            floor.map_or(f64::NAN, |f| f / t1),
+            floor_s14.map_or(f64::NAN, |f| f / t1),
             shapes.first().map_or(f64::NAN, |sh| sh.solidity),
             concave(0),
             concave(1),
         );
+        if std::env::var_os("APEX_DOME_RINGS").is_some() {
+            for (k, (sec, sh)) in s.iter().zip(&shapes).enumerate() {
+                println!(
+                    "  ring {k}: height {:.2} area {:.1} length {:.2} thickness {:.2} solidity {:.3}",
+                    sec.height,
+                    sh.area,
+                    sh.half_perimeter,
+                    sh.thickness(),
+                    sh.solidity
+                );
+            }
+        }
         for (list, e) in errs.iter_mut().zip(row) {
             list.push(e);
         }
