@@ -373,7 +373,7 @@ fn main() -> Res<()> {
     let mut is_rv: Vec<bool> = Vec::new();
     println!(
         "truth rv spacing|shift seed below_ring {} t1 truth/t1 floor/t1 solidity1 concave1 concave2",
-        names.join(" ").replace(' ', "_").replace("_d", " d")
+        names.map(|n| n.replace(' ', "_")).join(" ")
     );
     for st in stacks(&args, &draws, population)? {
         let acq = simulate(&st.mesh, &st.spec)?;
