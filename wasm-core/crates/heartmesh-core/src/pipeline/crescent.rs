@@ -8,11 +8,12 @@
 //! larger for anything else). An LV's apical rings keep their shape as they taper, and the floor
 //! is unchanged there. An RV's do not: its apical ring is a compact blob and the ring above it a
 //! crescent wrapped around the septum, whose length falls much faster towards the apex than its
-//! width (the simulated RVs: L^2 / A about 4 at the apical ring, 6 at the next). Read as the
+//! width (the spasm RV's population members: L^2 / A about 4 at the apical ring, 6 at the next;
+//! the length grows 1.2-1.7 times from one to the other, the width 1.1-1.3 times). Read as the
 //! square of a radius, the area then tapers too slowly and the dome's tip lies too deep (session
 //! 14: 10 of 50 short-axis-only RV meshes more than 2 mm past the truth, up to +5.7 mm), while the
-//! length alone tapers too fast and the tip falls short (median -1.5 to -2.3 mm over three
-//! populations of RVs).
+//! length alone tapers too fast and the tip falls short (offline, median -1.3 to -2.2 mm over the
+//! reference RVs and three populations).
 //!
 //! So the floor also fits the dome to L sqrt(A), the unweighted middle of the two readings (its
 //! growth from ring to ring is the geometric mean of the area's and of L^2's), and takes the
