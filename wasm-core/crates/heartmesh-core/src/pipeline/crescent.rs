@@ -148,10 +148,10 @@ mod tests {
 
     /// A crescent that shortens towards the apex at a constant width (rectangles 8 mm wide, 20
     /// then 40 mm long, 10 mm apart): the area doubles (the paraboloid's tip 10 x 160 / 160 = 10
-    /// mm down), L sqrt(A) grows from 28 sqrt(160) to 48 sqrt(320) (its tip 10 / (48 sqrt 2 / 28 -
-    /// 1) = 7.02 mm down), and the floor takes the shallower. A ring that grows MORE elongated
-    /// towards the apex (40 x 4 under 40 x 8: the same areas, L sqrt(A) from 44 sqrt(160) to 48
-    /// sqrt(320), 18.4 mm down) keeps the area's tip.
+    /// mm down), L sqrt(A) grows from 28 sqrt(160) to 48 sqrt(320) (its tip at
+    /// 10 / (48 sqrt(2) / 28 - 1) = 7.02 mm down), and the floor takes the shallower. A ring that
+    /// grows MORE elongated towards the apex (40 x 4 under 40 x 8: the same areas, L sqrt(A) from
+    /// 44 sqrt(160) to 48 sqrt(320), 18.4 mm down) keeps the area's tip.
     #[test]
     fn a_shortening_crescent_takes_the_shallower_tip() {
         let rings = vec![
