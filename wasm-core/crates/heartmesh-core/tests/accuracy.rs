@@ -45,17 +45,18 @@ const RV_HULL_RATIO: f64 = 0.5;
 /// sections through each worst point): every maximum is a sharp or unobserved feature of the truth
 /// where no contour point lies within 3-7 mm (biv-me LV: the crease where the model's valve cap
 /// meets the wall under the top slice; biv-me RV: a roof between two slices; spasm LV epi: a kink
-/// between the two apical slices; spasm RV: since the apex floor became the default in session
-/// 14, its apex, which no curve reaches: the floor's dome model of the apical rings puts the tip
-/// 3.6 mm past the crescent's, mesh->truth 4.49 -> 5.167 mm, inside the old limit of 5.17 by 3 um,
-/// re-set in session 16 to measured + 15% like the others; over 50 simulated RVs the floor halves
-/// the median apex error, docs/VALIDATION.md "Session 14: a dome model for the apex floor"). Remove
-/// a row as soon as the case meets the target.
+/// between the two apical slices; spasm RV: from session 14 to 16 its apex, which no curve
+/// reaches, where the floor's dome of the apical rings' areas put the tip 3.6 mm past the
+/// crescent's (5.167 mm, held to 5.94); since session 17 the floor takes the shallower tip of the
+/// rings' length where they grow rounder towards the apex, the apex is no longer the worst point
+/// and the maximum, 4.317 mm, is truth->mesh at 0.58 of the height (held to measured + 15%);
+/// docs/VALIDATION.md "Session 17: the apex floor on RV crescents"). Remove a row as soon as the
+/// case meets the target.
 const KNOWN_GAPS: &[(&str, &str, f64)] = &[
     ("bivme LV_ENDO", "max", 2.65),
     ("spasm LV epi", "max", 1.87),
     ("bivme RV_ENDO", "max", 4.73),
-    ("spasm RV endo (free wall + septum)", "max", 5.94),
+    ("spasm RV endo (free wall + septum)", "max", 4.97),
 ];
 
 /// The limit a case is held to: the acceptance target, or its known-gap limit (printed loudly).

@@ -1,17 +1,19 @@
 //! An apex floor for short-axis-only stacks (`Params::apex_floor`, on by default since session
 //! 14; docs/VALIDATION.md, "Session 13: an apex floor from the taper of the slices" and "Session
-//! 14: a dome model for the apex floor").
+//! 14: a dome model for the apex floor"; session 17: "the apex floor on RV crescents").
 //!
 //! With no long-axis curve at the apex (`ends::EndLid::OpenApex`) the mesh's apex is the paper's
 //! extrapolation, which session 12 measured short of the truth by 0.3-4.3 mm. The slices say more:
 //! the area of the most apical rings against height predicts where the area reaches zero (`dome`:
 //! the shallower of the paraboloid through two rings, session 13, and the quadric fitted to up to
 //! [`DOME_RINGS`], session 14, which follows an ellipsoidal dome where the paraboloid overshoots
-//! it). So one lid point goes there, one-sided the other way round from the base's
+//! it; and, where the rings grow rounder towards the apex as an RV crescent's do, the shallower
+//! tip of the same dome on their length, `crescent`, session 17). So one lid point goes there, one-sided the other way round from the base's
 //! ceiling: it pulls only while the mesh stops SHORT of the tip's plane (`lid_pull` with the
 //! normal pointing back up the axis), never pushes a mesh that already reaches past it.
 
-use super::dome::{paraboloid_depth, tip_depth, DomeFit, Section};
+use super::crescent::{shallower_tip, TaperMeasure};
+use super::dome::{paraboloid_depth, DomeFit, Section};
 use super::end_data::EndRing;
 use super::lid_pull::LidSide;
 use crate::contours::rings::signed_area;
@@ -83,7 +85,9 @@ fn ring_area(ring: &[Vec3], centre: &Vec3, axis: &Vec3) -> f64 {
 
 /// The apex predicted from the taper of the most apical `rings` (apex first) along `axis`
 /// (pointing from apex to base): the dome fitted to up to [`DOME_RINGS`] of them (`dome`: the
-/// shallower of the paraboloid through two rings and the quadric of area on height), at the
+/// shallower of the paraboloid through two rings and the quadric of area on height; `crescent`:
+/// the shallower of that and the same dome on the rings' length times the square root of their
+/// area, which differs only where the rings change shape towards the apex), at the
 /// apical ring's centroid moved along the axis (its in-plane position: an extrapolated centroid
 /// line would carry a misaligned slice's shift twice as far). None when the rings do not taper
 /// towards the apex (A2 <= A1), the gap is zero, the tip lies more than
@@ -93,16 +97,17 @@ pub fn taper_tip(rings: &[Vec<Vec3>], axis: &Vec3) -> Option<Vec3> {
     taper(rings, axis).map(|t| t.tip)
 }
 
-/// A predicted apex: where, the unit vector up the axis from it (towards the second ring), and
-/// which dome family gave it.
+/// A predicted apex: where, the unit vector up the axis from it (towards the second ring), which
+/// dome family gave it and on which measure of the rings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Taper {
     pub tip: Vec3,
     pub up: Vec3,
     pub fit: DomeFit,
+    pub measure: TaperMeasure,
 }
 
-/// [`taper_tip`] with its direction and dome family.
+/// [`taper_tip`] with its direction, dome family and measure.
 pub fn taper(rings: &[Vec<Vec3>], axis: &Vec3) -> Option<Taper> {
     let sections = apical_sections(rings, axis, DOME_RINGS)?;
     let (first, second) = (rings.first()?, rings.get(1)?);
@@ -139,13 +144,14 @@ pub fn taper(rings: &[Vec<Vec3>], axis: &Vec3) -> Option<Taper> {
     if !line.is_finite() || line > MAX_DEPTH_PER_SLICE_GAP * gap {
         return None;
     }
-    let (depth, fit) = tip_depth(&sections)?;
+    let (depth, fit, measure) = shallower_tip(&sections, rings, axis)?;
     // Below the apical ring: against the direction from it towards the second ring.
     let up = if e2.height >= e1.height { *axis } else { -axis };
     Some(Taper {
         tip: e1.centre - up * depth,
         up,
         fit,
+        measure,
     })
 }
 
@@ -239,7 +245,7 @@ mod tests {
             })
             .collect();
         let t = taper(&rings, &Z).unwrap();
-        assert_eq!(t.fit, DomeFit::Quadric);
+        assert_eq!((t.fit, t.measure), (DomeFit::Quadric, TaperMeasure::Area));
         assert!((t.tip - v3(0.0, 0.0, -60.0)).norm() < 1e-6, "{:?}", t.tip);
         assert_eq!(t.up, Z);
         let s = apical_sections(&rings, &Z, 2).unwrap();

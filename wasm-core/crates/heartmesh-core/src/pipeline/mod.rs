@@ -8,6 +8,7 @@
 
 pub mod apex_floor;
 pub mod budget;
+pub mod crescent;
 mod diameter;
 pub mod dome;
 mod end_data;
