@@ -17,6 +17,9 @@ import os
 import statistics
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from paired import quant as quantile  # noqa: E402  (one interpolated quantile for both summaries)
+
 REF_RV_SUBJECTS = (6, 7)
 
 
@@ -36,14 +39,6 @@ def rows(out, arm):
                 ref and int(r["trial"]) // seeds in REF_RV_SUBJECTS
             )
             yield rv, float(r["past_apex_mm"]) - float(r["truth_past_apex_mm"]), r
-
-
-def quantile(v, f):
-    v = sorted(v)
-    i = f * (len(v) - 1)
-    lo = int(i)
-    hi = min(lo + 1, len(v) - 1)
-    return v[lo] + (v[hi] - v[lo]) * (i - lo)
 
 
 def summary(es):
