@@ -37,6 +37,7 @@ pub use super::lid_disc::disc_points;
 use super::lid_pull::{lid_normal, LidSide, ONE_SIDED_TOLERANCE_PER_SPACING};
 use super::lid_tips::{valve_plane, Tip, RIDGE_PER_RADIUS_SQ};
 use super::tube::Lids;
+use crate::contours::plane::fit_plane;
 use crate::contours::{Contour, ContourKind};
 use crate::geometry::{centroid, Vec3};
 use crate::params::EndCapMode;
@@ -110,21 +111,48 @@ pub struct TipPlane {
     pub origin: Vec3,
     /// Height change per mm across the axis (perpendicular to it).
     pub gradient: Vec3,
-    /// Heights never fall back inside the ring's own plane (the end stays beyond the ring).
-    floor: f64,
+    /// The floor: heights never fall back inside this plane, the end ring's own plane moved out
+    /// by a margin ([`tip_plane`]), so the lid stays beyond the ring.
+    floor_origin: Vec3,
+    /// The floor plane's unit normal, pointing out of the cavity's end.
+    floor_normal: Vec3,
     outward: f64,
 }
 
 impl TipPlane {
     pub fn height_at(&self, p: &Vec3, axis: &Vec3) -> f64 {
+        self.lid_at(p, axis).0
+    }
+
+    /// The lid's height along the axis over `p`'s position across it, and the lid's outward
+    /// normal there: the tips' plane, or the floor where that plane falls inside it.
+    pub fn lid_at(&self, p: &Vec3, axis: &Vec3) -> (f64, Vec3) {
+        let h = self.tips_height(p, axis);
+        // Where the line along the axis through p meets the floor plane (the normal is within
+        // 60 degrees of the axis: `tip_plane`).
+        let floor = p.dot(axis)
+            + (self.floor_origin - p).dot(&self.floor_normal) / axis.dot(&self.floor_normal);
+        if self.outward * (h - floor) < 0.0 {
+            (floor, self.floor_normal)
+        } else {
+            (h, lid_normal(axis, &self.gradient, self.outward))
+        }
+    }
+
+    /// The tips' plane's height along the axis over `p`'s position across it (no floor).
+    fn tips_height(&self, p: &Vec3, axis: &Vec3) -> f64 {
         let d = p - self.origin;
         let across = d - axis * d.dot(axis);
-        let h = self.origin.dot(axis) + self.gradient.dot(&across);
-        if self.outward * (h - self.floor) < 0.0 {
-            self.floor
-        } else {
-            h
-        }
+        self.origin.dot(axis) + self.gradient.dot(&across)
+    }
+
+    /// How far (mm along the axis) the tips' plane falls inside the floor at its deepest over
+    /// `points` (0 when it stays beyond it).
+    fn depth_inside(&self, points: &[Vec3], axis: &Vec3) -> f64 {
+        points
+            .iter()
+            .map(|p| self.outward * (self.lid_at(p, axis).0 - self.tips_height(p, axis)))
+            .fold(0.0, f64::max)
     }
 }
 
@@ -134,7 +162,11 @@ const MAX_TIP_GRADIENT: f64 = 1.0;
 /// The [`TipPlane`] of the open long-axis curves' endpoints at or beyond `ring` (None without
 /// any); `short` (mm) is the widest empty band of depths under the ceiling over them that still
 /// reads as one rim. Heights are measured outwards (down the axis at the apex), so "over" means
-/// past the data at either end.
+/// past the data at either end. Its floor is the ring's own plane (tilted with the slice) moved
+/// `margin` mm out: a closed short-axis ring is a section through the cavity, so the whole disc
+/// it bounds is inside, and a lid that the tips' plane would put at or inside it there (tips
+/// lower than the ring: curves drawn short of the slice) would hold the mesh across that disc.
+#[allow(clippy::too_many_arguments)]
 pub fn tip_plane(
     ring: &[Vec3],
     contours: &[Contour],
@@ -142,6 +174,7 @@ pub fn tip_plane(
     axis: &Vec3,
     outward: f64,
     short: f64,
+    margin: f64,
 ) -> Option<TipPlane> {
     let EndRing {
         centre: c,
@@ -181,12 +214,26 @@ pub fn tip_plane(
         RIDGE_PER_RADIUS_SQ * radius * radius,
         MAX_TIP_GRADIENT,
     )?;
-    Some(TipPlane {
+    let out = axis * outward;
+    // The ring's fitted plane; a ring more than 60 degrees off the axis (no short-axis slice)
+    // or too degenerate to fit gets the plane across the axis at its centroid.
+    let floor_normal = fit_plane(ring.iter())
+        .map(|f| f.normal * f.normal.dot(&out).signum())
+        .filter(|n| n.dot(&out) >= 0.5)
+        .unwrap_or(out);
+    let mut tip_plane = TipPlane {
         origin: c + axis * (outward * plane.a - h0),
         gradient: (u * plane.gx + v * plane.gy) * outward,
-        floor: h0,
+        floor_origin: c,
+        floor_normal,
         outward,
-    })
+    };
+    // Tips at the ring (curves that end at the slice: the cavity ends there) keep the lid in the
+    // ring's plane; only a tips' plane that cuts into the disc moves the floor out.
+    if tip_plane.depth_inside(ring, axis) > margin {
+        tip_plane.floor_origin = c + floor_normal * margin;
+    }
+    Some(tip_plane)
 }
 
 /// Long-axis tips whose depths under the ceiling over them ([`super::lid_tips::valve_plane`])
@@ -343,15 +390,14 @@ pub fn end_cap_points(
             Some(gap) if gap > 0.0 => SHORT_TIP_PER_SLICE_GAP * gap,
             _ => f64::INFINITY,
         };
-        let plane = tip_plane(ring, contours, kinds, axis, outward, short);
+        // Two tolerances out, as an open base's lid: the mesh a lid holds (within one tolerance
+        // of it) then stays outside the ring's plane.
+        let plane = tip_plane(ring, contours, kinds, axis, outward, short, 2.0 * tolerance);
         for p in &mut disc {
             let mut normal = axis * outward;
             if let Some(plane) = &plane {
-                let h = plane.height_at(p, axis);
-                // A point held at the ring's plane (the floor) lies on a flat lid there.
-                if h != plane.floor {
-                    normal = lid_normal(axis, &plane.gradient, outward);
-                }
+                let (h, n) = plane.lid_at(p, axis);
+                normal = n;
                 *p += axis * (h - p.dot(axis));
             }
             sides.push(LidSide {
@@ -422,7 +468,7 @@ mod tests {
             ]),
         ];
         let kinds = [ContourKind::Lax; 2];
-        let plane = tip_plane(&ring, &curves, &kinds, &Z, 1.0, 5.0).unwrap();
+        let plane = tip_plane(&ring, &curves, &kinds, &Z, 1.0, 5.0, 0.0).unwrap();
         // Normal equations [3 8; 8 64 + r] (a, g) = (62, 176), ridge r = 1e-3 x 10^2 x 3 tips:
         // g = 32 / 128.9 (0.25 without the ridge), a = 2578.6 / 128.9.
         assert!(
@@ -433,7 +479,7 @@ mod tests {
         assert!((centre - 2578.6 / 128.9).abs() < 1e-9, "{centre}");
         // Allowing no tip under the ceiling (all three are on it): the ceiling through them,
         // 0.25 per mm, 20 at the centre.
-        let top = tip_plane(&ring, &curves, &kinds, &Z, 1.0, -1.0).unwrap();
+        let top = tip_plane(&ring, &curves, &kinds, &Z, 1.0, -1.0, 0.0).unwrap();
         assert!(
             (top.gradient - v3(0.25, 0.0, 0.0)).norm() < 1e-12,
             "{top:?}"
@@ -441,7 +487,7 @@ mod tests {
         // Far out along -x the plane would fall inside the ring's plane: floored at 20.
         assert_eq!(plane.height_at(&v3(-30.0, 0.0, 0.0), &Z), 20.0);
         // No open long-axis curve reaching the end: no plane.
-        assert!(tip_plane(&circle(10.0, 40.0, 40), &curves, &kinds, &Z, 1.0, 5.0).is_none());
+        assert!(tip_plane(&circle(10.0, 40.0, 40), &curves, &kinds, &Z, 1.0, 5.0, 0.0).is_none());
     }
 
     /// Three views at 0, 90 and 45 degrees whose six tips lie 20 mm over a base ring at z = 0,
@@ -461,10 +507,10 @@ mod tests {
         };
         let curves = [view(0.0, 12.0), view(90.0, 0.0), view(45.0, 0.0)];
         let kinds = [ContourKind::Lax; 3];
-        let plane = tip_plane(&ring, &curves, &kinds, &Z, 1.0, 5.0).unwrap();
+        let plane = tip_plane(&ring, &curves, &kinds, &Z, 1.0, 5.0, 0.0).unwrap();
         assert_eq!(plane.gradient, Vec3::zeros());
         assert_eq!(plane.height_at(&v3(-10.0, 0.0, 0.0), &Z), 20.0);
-        let fit = tip_plane(&ring, &curves, &kinds, &Z, 1.0, 15.0).unwrap();
+        let fit = tip_plane(&ring, &curves, &kinds, &Z, 1.0, 15.0, 0.0).unwrap();
         assert!((fit.height_at(&v3(0.0, 0.0, 0.0), &Z) - 18.0).abs() < 1e-9);
         // Slope: [300.864 100; 100 300.864] g = (120, 0) (sums of x^2, xy, y^2 plus the ridge
         // 1e-3 x 144 x 6; x dh, y dh): g = (0.4484, -0.1490), 13.52 over the short tip.
@@ -472,6 +518,37 @@ mod tests {
         let g = v3(120.0 * 300.864 / det, -120.0 * 100.0 / det, 0.0);
         assert!((fit.gradient - g).norm() < 1e-9, "{fit:?}");
         assert!((fit.height_at(&v3(-10.0, 0.0, 0.0), &Z) - (18.0 - 10.0 * g.x)).abs() < 1e-9);
+    }
+
+    /// Tips rising along x from 20.5 (x = -8) to 28 (x = 8) over a ring of radius 10 at z = 20:
+    /// their plane falls 0.44 mm inside the ring's plane at x = -10 (curves drawn short of the
+    /// slice on that side), so the lid there is floored `margin` out of the ring's plane, and
+    /// follows that plane when the slice is tilted; with tips at the ring itself it stays in it.
+    #[test]
+    fn a_tips_plane_cutting_into_the_ring_is_floored_outside_it() {
+        let view = |a: Vec3, b: Vec3| lax(vec![a, v3(0.0, 0.0, -30.0), b]);
+        let curves = [
+            view(v3(8.0, 0.0, 28.0), v3(-8.0, 0.0, 20.5)),
+            view(v3(0.0, 8.0, 24.25), v3(0.0, -8.0, 24.25)),
+        ];
+        let kinds = [ContourKind::Lax; 2];
+        let flat = circle(10.0, 20.0, 40);
+        let plane = tip_plane(&flat, &curves, &kinds, &Z, 1.0, 50.0, 0.4).unwrap();
+        assert!((plane.height_at(&v3(0.0, 0.0, 0.0), &Z) - 24.25).abs() < 1e-9);
+        assert!((plane.height_at(&v3(-10.0, 0.0, 0.0), &Z) - 20.4).abs() < 1e-9);
+        let (_, n) = plane.lid_at(&v3(-10.0, 0.0, 0.0), &Z);
+        assert!((n - Z).norm() < 1e-12, "{n:?}");
+        // The slice tilted 5 degrees about y (higher at -x): the floor is its plane, 0.4 out.
+        let t = 5f64.to_radians().tan();
+        let tilted: Vec<Vec3> = flat.iter().map(|p| v3(p.x, p.y, 20.0 - t * p.x)).collect();
+        let plane = tip_plane(&tilted, &curves, &kinds, &Z, 1.0, 50.0, 0.4).unwrap();
+        let floor = 20.0 + 0.4 / 5f64.to_radians().cos() + 10.0 * t;
+        let h = plane.height_at(&v3(-10.0, 0.0, 0.0), &Z);
+        assert!((h - floor).abs() < 1e-9, "{h} vs {floor}");
+        // Tips at the ring (the cavity ends at the slice): the lid is the ring's plane.
+        let level = [view(v3(8.0, 0.0, 20.0), v3(-8.0, 0.0, 20.0))];
+        let plane = tip_plane(&flat, &level, &kinds[..1], &Z, 1.0, 50.0, 0.4).unwrap();
+        assert!((plane.height_at(&v3(-10.0, 0.0, 0.0), &Z) - 20.0).abs() < 1e-9);
     }
 
     #[test]
