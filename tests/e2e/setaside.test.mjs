@@ -98,4 +98,18 @@ describe('contours left out in the browser', () => {
     assert.equal((await dataset()).setAside, '1');
     assert.equal(await keyCount(), '1');
   });
+
+  it("another surface's run does not repeat the LV speck's warning (session 18)", async () => {
+    await gotoEmpty(page, server.url);
+    await runAndWait(page, drop, 120000);
+    const speckLine = `contour "${speck.id}" (line ${speck.line}`;
+    assert.ok(((await page.textContent('#slot-warnings')) ?? '').includes(speckLine));
+    await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'RV_ENDO'), 120000);
+    assert.equal((await dataset()).setAside, '0', 'nothing of the RV left out');
+    assert.equal(await page.isVisible('#slot-warnings'), false, (await page.textContent('#slot-warnings')) ?? '');
+    await page.screenshot({ path: join(SHOTS, 'surface-warnings-rv.png') });
+    await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_ENDO'), 120000);
+    assert.ok(((await page.textContent('#slot-warnings')) ?? '').includes(speckLine), 'back on the LV: named again');
+    assert.equal((await dataset()).setAside, '1');
+  });
 });

@@ -18,6 +18,7 @@ import { asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, s
 import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { keptSpecksNote } from '../ui/runText';
+import { warningsFor } from './fileWarnings';
 import { RunDisplay } from './runDisplay';
 import { surfacePoints } from './sceneContours';
 import { frameChoice, framePicker, frameToRead, missingFrameNote, namedFrame } from './timeFrames';
@@ -254,6 +255,9 @@ export class Controller {
     const file = this.currentFile();
     if (!file || !file.surfaces.includes(surface)) return;
     this.surface = surface;
+    const noFrame = missingFrameNote(file, this.frame);
+    this.fileWarnings = [...(noFrame ? [noFrame] : []), ...warningsFor(file, surface)];
+    this.renderWarnings();
     this.runView.showContours(null);
     this.frameSurface(file);
     this.updateUrl();
@@ -336,7 +340,7 @@ export class Controller {
       : [];
     const noFrame = missingFrameNote(file, this.frame);
     if (noFrame) missing.push(noFrame);
-    this.fileWarnings = [...missing, ...file.warnings];
+    this.fileWarnings = [...missing, ...warningsFor(file, this.surface)];
     this.renderWarnings();
     this.clearRunDisplay();
     this.runView.showContours(null);

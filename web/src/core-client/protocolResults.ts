@@ -32,6 +32,11 @@ export interface LoadedFile {
   points: Float32Array;
   landmarks: Landmark[];
   warnings: string[];
+  /**
+   * Those of `warnings` about the contours of one surface only (absent: none is): a run of another
+   * surface of the file leaves them out, as the CLI does.
+   */
+  surfaceWarnings?: { surface: string; text: string }[];
   /** Settings of a saved session file (null or absent for other formats). */
   session?: SessionSettings | null;
   /** The file's time frames and those read (null or absent: the file has no time-frame column). */

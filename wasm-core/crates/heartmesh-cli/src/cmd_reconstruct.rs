@@ -152,7 +152,10 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
     // Warnings are printed after success; on failure the first one joins the single error line
     // (the contract: one line on stderr), since it may well be the cause.
-    let fail = |e: CoreError| classify(input, e).with_hint(&set.warnings);
+    // Only the warnings about this surface's contours (and the file's): a biventricular file's
+    // LV warnings have nothing to say about its RV.
+    let file_warnings = set.warnings_for(params.surface.as_deref());
+    let fail = |e: CoreError| classify(input, e).with_hint(&file_warnings);
     let started = Instant::now();
     let mut rec = Reconstruction::new(&set, params.clone()).map_err(fail)?;
     // Step 0 builds the initial tube; the growth note, from its size, comes before the wait it
@@ -165,8 +168,8 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let seconds = started.elapsed().as_secs_f64();
 
     // The load-time warnings name what the run leaves out; any it left out unnamed joins them.
-    let mut warnings = set.warnings.clone();
-    warnings.extend(set_aside::unannounced(rec.set_aside(), &set.warnings));
+    let mut warnings = file_warnings.clone();
+    warnings.extend(set_aside::unannounced(rec.set_aside(), &file_warnings));
     let facts = report::Facts {
         input: file_name(input),
         input_format,

@@ -165,3 +165,33 @@ fn a_small_ring_grazing_the_apex_is_kept() {
     assert_ne!(with.mesh, without.mesh, "the apical ring is data");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A file of two surfaces with a speck in one: the run of the other says nothing of it (its
+/// warnings are about the surface it reconstructs and the file as a whole).
+#[test]
+fn a_speck_of_one_surface_is_not_reported_on_the_other_surfaces_run() {
+    let dir = scratch("speck-other-surface");
+    let lv = lv_with(&speck("speck", 24.0, 0.0, 5.0, 0.5));
+    // The same cavity as the RV, 120 mm along x (its rows after the LV's, under other names).
+    let rv: String = ellipsoid_lv_csv(true)
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            let x: f64 = f[1].parse().unwrap();
+            format!("rv_{},{},{},{},RV_ENDO\n", f[0], x + 120.0, f[2], f[3])
+        })
+        .collect();
+    let both = lv + &rv;
+    let on_rv = reconstruct(&dir, "both", &both, &["--surface", "RV_ENDO"]);
+    assert!(!on_rv.stderr.contains("speck"), "{}", on_rv.stderr);
+    assert_eq!(on_rv.report["warnings"], serde_json::json!([]));
+    let on_lv = reconstruct(&dir, "both", &both, &["--surface", "LV_ENDO"]);
+    assert!(
+        on_lv.stderr.contains("contour \"speck\" (line 544,"),
+        "{}",
+        on_lv.stderr
+    );
+    assert_eq!(on_lv.report["warnings"].as_array().map(Vec::len), Some(1));
+    let _ = std::fs::remove_dir_all(&dir);
+}

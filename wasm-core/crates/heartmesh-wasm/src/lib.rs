@@ -114,6 +114,12 @@ impl Session {
             .iter()
             .map(|w| frames::in_app_words(w))
             .collect();
+        // Those about one surface's contours only, so the app shows each surface its own.
+        let surface_warnings: Vec<_> = set
+            .surface_warnings
+            .iter()
+            .map(|(surface, w)| json!({ "surface": surface, "text": frames::in_app_words(w) }))
+            .collect();
         // A saved session also carries the settings it was made with: the app applies them.
         let settings = if io::session::looks_like_session(bytes) {
             match io::session::read_session(bytes).and_then(|s| s.params()) {
@@ -132,6 +138,7 @@ impl Session {
             "contours": contours,
             "landmarks": landmarks,
             "warnings": warnings,
+            "surfaceWarnings": surface_warnings,
             "session": settings,
             "timeFrames": frames::time_frames_json(set.time_frames.as_ref()),
         });
@@ -313,6 +320,32 @@ mod tests {
     const RINGS: &str = "contour,x,y,z\n\
         a,20,0,0\na,0,20,0\na,-20,0,0\na,0,-20,0\n\
         b,20,0,10\nb,0,20,10\nb,-20,0,10\nb,0,-20,10\n";
+
+    /// Warnings about one surface's contours only come with that surface, so the app can leave
+    /// them out of another surface's run; the file's own warnings stay in `warnings` alone.
+    #[test]
+    fn load_names_the_surface_of_a_surface_warning() {
+        let mut csv = String::from("contour,x,y,z,surface\n");
+        for (surface, r) in [("LV_ENDO", 20.0), ("RV_ENDO", 30.0)] {
+            for (k, z) in [0.0, 10.0, 20.0].iter().enumerate() {
+                for i in 0..24 {
+                    let t = std::f64::consts::TAU * i as f64 / 24.0;
+                    let (x, y) = (r * t.cos() + 100.0 * f64::from(r > 25.0), r * t.sin());
+                    csv.push_str(&format!("{surface}{k},{x},{y},{z},{surface}\n"));
+                }
+            }
+        }
+        csv.push_str("dot,1,2,5,LV_ENDO\n");
+        let mut s = Session::new();
+        let info: serde_json::Value =
+            serde_json::from_str(&s.load("biv.csv", csv.as_bytes(), None).unwrap()).unwrap();
+        let scoped = info["surfaceWarnings"].as_array().unwrap();
+        assert_eq!(scoped.len(), 1, "{info}");
+        assert_eq!(scoped[0]["surface"], "LV_ENDO");
+        let text = scoped[0]["text"].as_str().unwrap();
+        assert!(text.contains("\"dot\""), "{text}");
+        assert_eq!(info["warnings"], serde_json::json!([text]));
+    }
 
     #[test]
     fn a_written_session_loads_back_with_its_settings() {

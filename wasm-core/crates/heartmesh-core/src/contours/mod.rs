@@ -56,6 +56,9 @@ pub struct ContourSet {
     pub landmarks: Vec<(String, Vec3)>,
     /// Warnings found while reading (units, non-planarity, ...), shown to the user.
     pub warnings: Vec<String>,
+    /// Those of `warnings` that are about the contours of one surface only, with its label, so
+    /// that a run on another surface of the file does not repeat them ([`Self::warnings_for`]).
+    pub surface_warnings: Vec<(String, String)>,
     /// The file's time frames and which were read (None: the file has no time-frame column).
     pub time_frames: Option<TimeFrames>,
 }
@@ -72,6 +75,29 @@ impl ContourSet {
             }
         }
         out
+    }
+
+    /// The warnings that concern a reconstruction of `surface` (None: the whole file): all but
+    /// those about the contours of other surfaces only. A user who reconstructs the RV of a
+    /// biventricular file should not read about two images of an LV slice as if they were the
+    /// RV's.
+    pub fn warnings_for(&self, surface: Option<&str>) -> Vec<String> {
+        let Some(surface) = surface else {
+            return self.warnings.clone();
+        };
+        self.warnings
+            .iter()
+            .filter(|w| {
+                let mut owners = self
+                    .surface_warnings
+                    .iter()
+                    .filter(|(_, t)| t == *w)
+                    .map(|(s, _)| s)
+                    .peekable();
+                owners.peek().is_none() || owners.any(|s| s.eq_ignore_ascii_case(surface))
+            })
+            .cloned()
+            .collect()
     }
 
     pub fn point_count(&self) -> usize {

@@ -159,26 +159,70 @@ impl ContourBuilder {
             contours: self.contours,
             landmarks: self.landmarks,
             warnings: self.warnings,
-            time_frames: None,
+            ..ContourSet::default()
         };
+        let parts = surface_parts(&set);
         // Contours that are not curves first: on failure the first warning is the hint.
-        let lone = checks::few_point_warnings(&set);
-        set.warnings.extend(lone);
+        scoped(&mut set, &parts, checks::few_point_warnings);
         if let Some(w) = checks::unit_warning(&set) {
             set.warnings.push(w);
         }
+        // Across surfaces: a ring copied into another surface is a mistake about both.
         let dups = duplicate_warnings(&set);
         set.warnings.extend(dups);
-        let tangled = order_warnings(&set);
-        set.warnings.extend(tangled);
-        let found = [
-            set_aside::set_aside_warnings(&set),
-            checks::reused_id_warnings(&set),
-            slice_loops::second_loop_warnings(&set),
-            slice_loops::repeated_loop_warnings(&set),
+        let checks: [fn(&ContourSet) -> Vec<String>; 5] = [
+            order_warnings,
+            set_aside::set_aside_warnings,
+            checks::reused_id_warnings,
+            slice_loops::second_loop_warnings,
+            slice_loops::repeated_loop_warnings,
         ];
-        set.warnings.extend(found.into_iter().flatten());
+        for check in checks {
+            scoped(&mut set, &parts, check);
+        }
         Ok(set)
+    }
+}
+
+/// The file's contours by surface label, when it holds more than one labelled surface (empty
+/// otherwise): the checks that are about one surface's contours run on each part alone, so that
+/// every warning line concerns one surface.
+fn surface_parts(set: &ContourSet) -> Vec<(Option<String>, ContourSet)> {
+    if set.surfaces().len() < 2 {
+        return Vec::new();
+    }
+    checks::surface_groups(set)
+        .into_iter()
+        .map(|group| {
+            let label = group.first().and_then(|c| c.surface.clone());
+            let part = ContourSet {
+                contours: group.into_iter().cloned().collect(),
+                ..ContourSet::default()
+            };
+            (label, part)
+        })
+        .collect()
+}
+
+/// Adds the warnings of `check`: over the whole set, or part by part (see [`surface_parts`]),
+/// each line recorded as about its part's surface.
+fn scoped(
+    set: &mut ContourSet,
+    parts: &[(Option<String>, ContourSet)],
+    check: fn(&ContourSet) -> Vec<String>,
+) {
+    if parts.is_empty() {
+        let found = check(set);
+        set.warnings.extend(found);
+        return;
+    }
+    for (label, part) in parts {
+        for w in check(part) {
+            if let Some(label) = label {
+                set.surface_warnings.push((label.clone(), w.clone()));
+            }
+            set.warnings.push(w);
+        }
     }
 }
 
@@ -381,6 +425,48 @@ mod tests {
         assert_eq!(all.len(), 1, "{all:?}");
         let expected = "2 contours (\"c0\" (line 2), \"c10\" (line 62)): their paths are";
         assert!(all[0].starts_with(expected), "{}", all[0]);
+    }
+
+    #[test]
+    fn a_warning_about_one_surface_is_left_out_of_the_others_runs() {
+        // Two shuffled rings, one of LV_ENDO and one of RV_ENDO, and a 1-point RV contour.
+        let ordered = ring(60, 15.0, false);
+        let shuffled: Vec<Vec3> = (0..60).map(|i| ordered[(i * 37) % 60]).collect();
+        let mut text = String::from("contour,surface,x,y,z\n");
+        for (id, surface, z) in [("lv", "LV_ENDO", 0.0), ("rv", "RV_ENDO", 10.0)] {
+            for p in &shuffled {
+                text += &format!("{id},{surface},{},{},{z}\n", p.x, p.y);
+            }
+        }
+        text += "dot,RV_ENDO,1,2,20\n";
+        let set = crate::io::read_contours("biv.csv", text.as_bytes()).unwrap();
+        // One line per surface and kind: RV not-a-curve, LV path, RV path.
+        assert_eq!(set.warnings.len(), 3, "{:?}", set.warnings);
+        let lv = set.warnings_for(Some("LV_ENDO"));
+        assert_eq!(lv.len(), 1, "{lv:?}");
+        assert!(lv[0].starts_with("contour \"lv\" (line 2)"), "{lv:?}");
+        let rv = set.warnings_for(Some("rv_endo"));
+        assert_eq!(rv.len(), 2, "{rv:?}");
+        assert!(rv
+            .iter()
+            .all(|w| w.contains("\"dot\"") || w.contains("\"rv\"")));
+        assert_eq!(set.warnings_for(None), set.warnings);
+        // A warning about contours of two surfaces (a ring copied into another) stays with each.
+        let copied = format!(
+            "{text}{}",
+            text.lines()
+                .skip(1)
+                .take(60)
+                .map(|l| { format!("{}\n", l.replace("lv,LV_ENDO", "copy,LV_EPI")) })
+                .collect::<String>()
+        );
+        let set = crate::io::read_contours("biv.csv", copied.as_bytes()).unwrap();
+        let rv = set.warnings_for(Some("RV_ENDO"));
+        assert_eq!(rv.len(), 3, "{rv:?}");
+        assert!(
+            rv.iter().any(|w| w.contains("repeats the points")),
+            "{rv:?}"
+        );
     }
 
     fn ring(n: usize, r: f64, repeat_first: bool) -> Vec<Vec3> {
