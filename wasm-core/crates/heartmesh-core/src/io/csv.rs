@@ -106,6 +106,9 @@ pub fn read_csv_frame(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<Conto
     if let Some(w) = frames.warning("contour") {
         b.warn(w);
     }
+    if let Some(w) = frames.unframed_warning() {
+        b.warn(w);
+    }
     if let (Some(want), None) = (frame, cols.frame) {
         b.warn(format!(
             "the file has no time-frame column, so frame {want} was not applied: all its rows read"
@@ -353,6 +356,27 @@ mod tests {
         assert_eq!(c.surface.as_deref(), Some("LV_ENDO"));
         assert_eq!(c.first_line, 3);
         assert_eq!(c.pieces[0].points[1], v3(4.0, 2.0, 1.0));
+    }
+
+    /// A contour with blank frame cells (drawn once for the sequence) is read with every frame,
+    /// the frames listed are the others (none called ""), and a note says so; `-0` is frame 0.
+    #[test]
+    fn blank_frame_cells_are_in_every_frame() {
+        let csv = "contour,x,y,z,frame\na,0,0,0,-0\na,1,0,0,0\na,0,0,5,5\na,1,0,5,5\n\
+                   lid,0,0,9,\nlid,1,0,9,\n";
+        for frame in [None, Some(FrameChoice::from(5))] {
+            let set = read_csv_frame(csv.as_bytes(), frame.as_ref()).unwrap();
+            let ids: Vec<&str> = set.contours.iter().map(|c| c.id.as_str()).collect();
+            assert_eq!(ids, ["a", "lid"]);
+            assert_eq!(set.time_frames.unwrap().frames, ["0", "5"]);
+            assert!(
+                set.warnings
+                    .iter()
+                    .any(|w| w.starts_with("2 points have no time frame")),
+                "{:?}",
+                set.warnings
+            );
+        }
     }
 
     /// A frame column: the set lists the frames and which was read; a file without one has no

@@ -79,7 +79,8 @@ impl fmt::Display for FrameChoice {
 pub(crate) fn frame_label(value: &str) -> String {
     let v = value.trim();
     match v.parse::<f64>() {
-        Ok(f) if f.is_finite() => format!("{f}"),
+        // + 0.0: -0 is frame 0.
+        Ok(f) if f.is_finite() => format!("{}", f + 0.0),
         _ => v.to_string(),
     }
 }
@@ -88,7 +89,7 @@ pub(crate) fn frame_label(value: &str) -> String {
 pub(crate) fn frame_key(value: &str) -> String {
     let v = value.trim();
     match v.parse::<f64>() {
-        Ok(f) if f.is_finite() => format!("{f}"),
+        Ok(f) if f.is_finite() => format!("{}", f + 0.0),
         _ => v.to_lowercase(),
     }
 }
@@ -103,6 +104,10 @@ mod tests {
         for same in ["1", "1.0", " 1 ", "01", "1e0", "+1"] {
             assert!(one.matches(same), "{same:?}");
         }
+        assert!(
+            FrameChoice::from(0).matches("-0") && FrameChoice::new("-0.0").unwrap().matches("0")
+        );
+        assert_eq!(frame_label("-0"), "0");
         for other in ["10", "1.5", "-1", "", "one"] {
             assert!(!one.matches(other), "{other:?}");
         }

@@ -36,6 +36,9 @@ pub struct FrameFilter {
     order: Vec<String>,
     skipped: usize,
     kept: usize,
+    /// Rows whose frame cell is blank: in no frame, so read whichever frame is (a structure drawn
+    /// once for the whole sequence); never listed as a frame of their own.
+    unframed: usize,
     /// Some key has rows in more than one frame.
     sequence: bool,
 }
@@ -53,6 +56,10 @@ impl FrameFilter {
 
     /// True when a row of `key` in frame `value` is read.
     pub fn keep(&mut self, key: &str, value: &str) -> bool {
+        if value.trim().is_empty() {
+            self.unframed += 1;
+            return true;
+        }
         let frame = frame_key(value);
         if !self.seen.contains_key(&frame) {
             let label = frame_label(value);
@@ -131,6 +138,18 @@ impl FrameFilter {
         })
     }
 
+    /// The note when some rows carry a frame and others none (None otherwise): those are read with
+    /// every frame, which the user should know when the blanks were a mistake.
+    pub fn unframed_warning(&self) -> Option<String> {
+        (self.unframed > 0 && !self.seen.is_empty()).then(|| {
+            let (n, have) = match self.unframed {
+                1 => ("1 point".to_string(), "has"),
+                n => (format!("{n} points"), "have"),
+            };
+            format!("{n} {have} no time frame (a blank frame cell): read with every frame")
+        })
+    }
+
     /// The warning when rows of other frames were left out without a choice; `each` names what
     /// kept its first frame ("contour", "slice").
     pub fn warning(&self, each: &str) -> Option<String> {
@@ -187,6 +206,34 @@ mod tests {
             )
         );
         assert!(f.nothing_in_wanted().is_none());
+    }
+
+    /// A blank frame cell is no frame: always read, never listed, counted in a note; a file whose
+    /// cells are all blank has no frames at all.
+    #[test]
+    fn blank_frame_cells_are_read_with_every_frame() {
+        for wanted in [None, Some(FrameChoice::from(5))] {
+            let mut f = FrameFilter::new(wanted.as_ref());
+            let kept: Vec<bool> = [("a", "0"), ("a", ""), ("b", " "), ("a", "5")]
+                .iter()
+                .map(|(k, v)| f.keep(k, v))
+                .collect();
+            assert_eq!(kept, [wanted.is_none(), true, true, wanted.is_some()]);
+            let t = f.time_frames().unwrap();
+            assert_eq!(t.frames, ["0", "5"], "no frame \"\"");
+            assert_eq!(
+                f.unframed_warning().as_deref(),
+                Some("2 points have no time frame (a blank frame cell): read with every frame")
+            );
+        }
+        let mut blank = FrameFilter::new(None);
+        assert!(blank.keep("a", "") && blank.keep("b", ""));
+        assert!(blank.time_frames().is_none() && blank.unframed_warning().is_none());
+        // Only blanks besides the frame asked for: that frame has no points.
+        let mut g = FrameFilter::new(Some(&7.into()));
+        g.keep("a", "0");
+        g.keep("a", "");
+        assert!(g.nothing_in_wanted().is_some());
     }
 
     #[test]

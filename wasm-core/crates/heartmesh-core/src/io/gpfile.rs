@@ -211,6 +211,9 @@ pub fn read_gpfile(text: &str, frame: Option<&FrameChoice>) -> Result<ContourSet
     if let Some(w) = frames.warning("slice") {
         b.warn(w);
     }
+    if let Some(w) = frames.unframed_warning() {
+        b.warn(w);
+    }
     for (k, n) in unknown {
         b.warn(format!("{n} points of unknown contour type {k} skipped"));
     }
