@@ -174,6 +174,41 @@ pub fn reused_id_warnings(set: &ContourSet) -> Vec<String> {
     )
 }
 
+/// A curve drawn on one image lies in that image's plane (to the exporter's rounding); one whose
+/// points stray further than this (mm) from their best-fit plane is not one slice's curve: half
+/// the thinnest slice spacing of a cardiac MR stack (5 mm), so points of two slices under one name
+/// always exceed it.
+const NON_PLANAR_MM: f64 = 2.5;
+
+/// Contour pieces whose points do not lie in one plane (points of several slices read as one
+/// curve: columns shifted, an export that lost its slice breaks). The tube and the short-/long-axis
+/// split take every contour for a planar section, so such a contour can pull the surface through
+/// itself or stop the run; the warning names it before that happens.
+pub fn non_planar_warnings(set: &ContourSet) -> Vec<String> {
+    let mut flagged: Vec<String> = Vec::new();
+    for c in &set.contours {
+        let worst = c
+            .pieces
+            .iter()
+            .filter_map(|p| fit_plane(p.points.iter()))
+            .map(|f| f.max_residual)
+            .fold(0.0, f64::max);
+        if worst > NON_PLANAR_MM {
+            flagged.push(format!(
+                "{:?} (line {}, points up to {worst:.1} mm from its plane)",
+                c.id, c.first_line
+            ));
+        }
+    }
+    one_line(
+        flagged,
+        "does not lie in one plane; points of several slices under one name? A contour is a \
+         section in one image plane",
+        "do not lie in one plane; points of several slices under one name? A contour is a \
+         section in one image plane",
+    )
+}
+
 /// One warning line for all flagged contours (a user reads one line, not fifty).
 pub(super) fn one_line(flagged: Vec<String>, one: &str, many: &str) -> Vec<String> {
     match flagged.as_slice() {

@@ -74,9 +74,21 @@ pub fn tube_rings(
     axis: &Vec3,
     k: usize,
 ) -> Vec<Vec<Vec3>> {
+    tube_rings_of(contours, slices, axis, k).0
+}
+
+/// [`tube_rings`] and, per ring, the index of its slice in `slices` (slices whose pieces join to
+/// fewer than 3 points give no ring), so that a fault of the tube can name its contours.
+pub fn tube_rings_of(
+    contours: &[Contour],
+    slices: &[Vec<usize>],
+    axis: &Vec3,
+    k: usize,
+) -> (Vec<Vec<Vec3>>, Vec<usize>) {
     let mut rings: Vec<Vec<Vec3>> = Vec::with_capacity(slices.len());
+    let mut of: Vec<usize> = Vec::with_capacity(slices.len());
     let mut prev_start: Option<Vec3> = None;
-    for slice in slices {
+    for (index, slice) in slices.iter().enumerate() {
         let pieces: Vec<&Polyline> = slice
             .iter()
             .flat_map(|&j| contours[j].pieces.iter())
@@ -97,8 +109,9 @@ pub fn tube_rings(
         let ring = resample_count(&rotated, true, k);
         prev_start = ring.first().copied();
         rings.push(ring);
+        of.push(index);
     }
-    rings
+    (rings, of)
 }
 
 /// Position on a closed loop nearest to `q`: (segment index, parameter in [0, 1]).

@@ -6,7 +6,7 @@ use super::{
     capped_reduction, ends, Phase, PhaseTimings, Reconstruction, StepReport, CANDIDATE_SPACING_MM,
     MIN_ATTRACTORS,
 };
-use crate::contours::rings::tube_rings;
+use crate::contours::rings::tube_rings_of;
 use crate::deform::attractors::farthest_point_sampling;
 use crate::deform::attractors::Budget;
 use crate::error::{CoreError, Result};
@@ -25,7 +25,7 @@ impl Reconstruction {
             .iter()
             .map(|s| s.contours.clone())
             .collect();
-        let rings = tube_rings(
+        let (rings, ring_slice) = tube_rings_of(
             &self.contours,
             &slices,
             &self.layout.axis,
@@ -44,6 +44,23 @@ impl Reconstruction {
         let mut mesh = tube::ruled_tube(&rings, &lids);
         for p in &mut mesh.positions {
             *p = self.norm.to_unit(p);
+        }
+        if let Some((a, b)) = tube::zero_area_between(&mesh, rings.len(), self.params.ring_points) {
+            let name = |r: usize| match ring_slice.get(r).and_then(|&s| slices.get(s)) {
+                Some(contours) => contours
+                    .iter()
+                    .filter_map(|&j| self.contours.get(j))
+                    .map(|c| format!("{:?} (line {})", c.id, c.first_line))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                None => "the lid".to_string(),
+            };
+            return Err(CoreError::Degenerate(format!(
+                "the short-axis rings of {} and {} touch, so no tube passes between them; is \
+                 each of these contours one slice's curve?",
+                name(a),
+                name(b.max(a + 1))
+            )));
         }
         let closed = lids.apex.is_some() && lids.base.is_some();
         if closed && mesh.signed_volume() < 0.0 {

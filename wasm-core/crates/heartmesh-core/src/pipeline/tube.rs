@@ -161,6 +161,31 @@ pub fn ruled_tube(rings: &[Vec<Vec3>], lids: &Lids) -> TriMesh {
     TriMesh::new(positions, triangles)
 }
 
+/// Where the ruled tube of [`ruled_tube`] (`k` points per ring, `rings` rings, then the lids)
+/// has a triangle of zero area: the two rings it joins (a lid counts as ring `rings`), or None
+/// when every triangle has an area. Such a triangle (two rings that share a point, a ring folded
+/// on itself) leaves no tube to deform: remeshing refuses it. Real slices never touch; contours
+/// that do are points of several slices under one name.
+pub fn zero_area_between(mesh: &TriMesh, rings: usize, k: usize) -> Option<(usize, usize)> {
+    let ring_of = |v: u32| (v as usize / k.max(1)).min(rings);
+    (0..mesh.triangles.len()).find_map(|t| {
+        let [a, b, c] = mesh.corners(t);
+        let n = (b - a).cross(&(c - a)).norm();
+        let scale = (b - a)
+            .norm_squared()
+            .max((c - a).norm_squared())
+            .max((c - b).norm_squared());
+        // The remesh's own test of a degenerate triangle (`mesh::topology`).
+        (n.is_nan() || n <= 1e-12 * scale).then(|| {
+            let r = mesh.triangles[t].map(ring_of);
+            (
+                r.iter().copied().min().unwrap_or(0),
+                r.iter().copied().max().unwrap_or(0),
+            )
+        })
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -205,6 +230,32 @@ mod tests {
             &z,
         );
         assert_eq!(rings.len(), 1);
+    }
+
+    /// Two rings that share a point (points of two slices under one name) leave triangles of no
+    /// area between them, found with the rings they join; apart, none.
+    #[test]
+    fn rings_that_touch_are_found() {
+        let circle = |z: f64| -> Vec<Vec3> {
+            (0..8)
+                .map(|i| {
+                    let a = i as f64 / 8.0 * std::f64::consts::TAU;
+                    v3(10.0 * a.cos(), 10.0 * a.sin(), z)
+                })
+                .collect()
+        };
+        let lids = Lids {
+            apex: Some(v3(0.0, 0.0, -5.0)),
+            base: Some(v3(0.0, 0.0, 25.0)),
+        };
+        let apart = vec![circle(0.0), circle(10.0), circle(20.0)];
+        assert_eq!(zero_area_between(&ruled_tube(&apart, &lids), 3, 8), None);
+        let mut touching = apart.clone();
+        touching[2][3] = touching[1][3];
+        assert_eq!(
+            zero_area_between(&ruled_tube(&touching, &lids), 3, 8),
+            Some((1, 2))
+        );
     }
 
     #[test]
