@@ -112,7 +112,7 @@ pub fn few_point_warnings(set: &ContourSet) -> Vec<String> {
         } else {
             continue;
         };
-        flagged.push(format!("{:?} (line {}, {what})", c.id, c.first_line));
+        flagged.push(named(c, &what));
     }
     one_line(
         flagged,
@@ -159,10 +159,7 @@ pub fn reused_id_warnings(set: &ContourSet) -> Vec<String> {
             })
             .fold(0.0, f64::max);
         if worst > tol {
-            flagged.push(format!(
-                "{:?} (line {}, pieces {worst:.1} mm apart)",
-                c.id, c.first_line
-            ));
+            flagged.push(named(c, &format!("pieces {worst:.1} mm apart")));
         }
     }
     one_line(
@@ -194,9 +191,9 @@ pub fn non_planar_warnings(set: &ContourSet) -> Vec<String> {
             .map(|f| f.max_residual)
             .fold(0.0, f64::max);
         if worst > NON_PLANAR_MM {
-            flagged.push(format!(
-                "{:?} (line {}, points up to {worst:.1} mm from its plane)",
-                c.id, c.first_line
+            flagged.push(named(
+                c,
+                &format!("points up to {worst:.1} mm from its plane"),
             ));
         }
     }
@@ -207,6 +204,12 @@ pub fn non_planar_warnings(set: &ContourSet) -> Vec<String> {
         "do not lie in one plane; points of several slices under one name? A contour is a \
          section in one image plane",
     )
+}
+
+/// A contour as the warnings name it: its identifier, its first line in the file and what is
+/// wrong with it (`"sax3" (line 62, only 1 point)`).
+fn named(c: &Contour, detail: &str) -> String {
+    format!("{:?} (line {}, {detail})", c.id, c.first_line)
 }
 
 /// One warning line for all flagged contours (a user reads one line, not fifty).
