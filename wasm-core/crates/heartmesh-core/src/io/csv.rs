@@ -103,10 +103,7 @@ pub fn read_csv_frame(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<Conto
     if let Some(e) = frames.nothing_in_wanted() {
         return Err(e);
     }
-    if let Some(w) = frames.warning("contour") {
-        b.warn(w);
-    }
-    if let Some(w) = frames.unframed_warning() {
+    for w in frames.warnings("contour") {
         b.warn(w);
     }
     if let (Some(want), None) = (frame, cols.frame) {

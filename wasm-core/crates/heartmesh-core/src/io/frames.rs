@@ -138,6 +138,14 @@ impl FrameFilter {
         })
     }
 
+    /// Every warning of the reading: rows of other frames left out ([`Self::warning`]) and rows
+    /// of no frame ([`Self::unframed_warning`]); `each` as for the first.
+    pub fn warnings(&self, each: &str) -> impl Iterator<Item = String> {
+        self.warning(each)
+            .into_iter()
+            .chain(self.unframed_warning())
+    }
+
     /// The note when some rows carry a frame and others none (None otherwise): those are read with
     /// every frame, which the user should know when the blanks were a mistake.
     pub fn unframed_warning(&self) -> Option<String> {

@@ -208,10 +208,7 @@ pub fn read_gpfile(text: &str, frame: Option<&FrameChoice>) -> Result<ContourSet
             return Err(e);
         }
     }
-    if let Some(w) = frames.warning("slice") {
-        b.warn(w);
-    }
-    if let Some(w) = frames.unframed_warning() {
+    for w in frames.warnings("slice") {
         b.warn(w);
     }
     for (k, n) in unknown {
