@@ -64,8 +64,9 @@ pub const USAGE: &str =
   set_aside; --keep-specks keeps them (the paper's method);
   --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
-  CONTOURS: csv (UTF-8, UTF-16 or Windows-1252; units in the header applied), biv-me GPFile
-  (SliceInfoFile.txt beside it is used), xyz text, vtk/vtp lines, SurFCo .mat, heartmesh
+  CONTOURS: csv (UTF-8, UTF-16 or Windows-1252; units in the header applied; without a header
+  the rows read name,x,y,z[,surface] or x,y,z), biv-me GPFile (SliceInfoFile.txt beside it is
+  used), xyz text, vtk/vtp lines, SurFCo .mat, heartmesh
   session .json (its parameters are the starting point; flags override them); --frame reads one
   time frame of a GPFile or of a CSV with a frame or phase column, named as the file writes it:
   a number (--frame 9; 9.0 is the same frame) or a label (--frame ES; text in any case); default:

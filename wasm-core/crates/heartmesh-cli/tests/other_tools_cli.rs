@@ -1,9 +1,9 @@
 //! Files as other tools write them (session 16, the second hostile round; scripts/hostile.py
 //! `other_tools` generates the same cases): Excel's UTF-16 "Unicode text" and Windows-1252 CSV,
 //! classic-Mac line ends, headers with units, pandas' index column, a slice column, a time-frame
-//! column, GPFiles saved with commas or spaces, a SliceInfoFile of another acquisition, and
-//! stdout closed by `| head`. Each either gives the canonical file's mesh byte for byte, or one
-//! line that says what to do.
+//! column, no header line (session 19), GPFiles saved with commas or spaces, a SliceInfoFile of
+//! another acquisition, and stdout closed by `| head`. Each either gives the canonical file's mesh
+//! byte for byte, or one line that says what to do.
 
 mod common;
 use common::{bin, data, mesh_lines, run, scratch};
@@ -94,6 +94,21 @@ fn encodings_line_ends_and_layouts_of_other_tools_give_the_canonical_mesh() {
         (
             "separator at the end of every row",
             rows("contour,x,y,z,", |l| format!("{l},")).into_bytes(),
+        ),
+        (
+            "no header line (session 19)",
+            surfco()
+                .split_once('\n')
+                .map(|(_, body)| body.to_string())
+                .unwrap()
+                .into_bytes(),
+        ),
+        (
+            "no header line, semicolons and decimal commas",
+            rows("", |l| l.replace(',', ";").replace('.', ","))
+                .trim_start()
+                .to_string()
+                .into_bytes(),
         ),
         (
             "every field quoted",

@@ -3,7 +3,9 @@
 //! columns ignored), one row per point, `#` comments, comma, semicolon or tab separated, any
 //! encoding and line ends `text` decodes. A header with `x,y,z` but no `contour` column is read
 //! like XYZ text: blank lines separate the contours `c1`, `c2`, ... A `slice` column names the
-//! contours by slice; a time-frame column keeps one frame (`frames`).
+//! contours by slice; a time-frame column keeps one frame (`frames`). A file without a header
+//! whose rows read `name,x,y,z[,surface]` (or `x,y,z`, blank lines between the contours) is read
+//! with those columns and a warning: scripts often write no header, and the layout is unambiguous.
 
 use super::builder::ContourBuilder;
 use super::csv_columns::{parse_header, Columns, IdSource};
@@ -37,17 +39,35 @@ pub fn read_csv_frame(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<Conto
     let sep = detect_separator(header);
     let mut fields: Vec<&str> = Vec::new();
     split_fields(header, sep, &mut fields);
-    let cols = parse_header(&fields, header_line)?;
+    let headerless = headerless_columns(&fields, sep, header_line);
+    let cols = match &headerless {
+        Some(cols) => cols.clone(),
+        None => parse_header(&fields, header_line)?,
+    };
     let mut b = ContourBuilder::new();
     if let Some(note) = &cols.unit_note {
         b.warn(note.clone());
     }
+    if headerless.is_some() {
+        let names = ["contour", "x", "y", "z", "surface"];
+        let (names, how) = match cols.id {
+            IdSource::BlankLines => (&names[1..4], ", blank lines between the contours"),
+            _ => (&names[..cols.width], ""),
+        };
+        b.warn(format!(
+            "no header line: columns read as {} (mm){how}; name them in a first line \
+             (contour,x,y,z,surface) to say otherwise",
+            names.join(", ")
+        ));
+    }
+    // Without a header the first line is a data row.
+    let first = headerless.is_some().then_some((header_line, header));
     let mut frames = FrameFilter::new(frame);
     // Numbering of contours in files without a contour column.
     let mut unnamed = 1;
     let mut in_unnamed = false;
     let mut id = String::new();
-    for (line, row) in rows {
+    for (line, row) in first.into_iter().chain(rows) {
         let t = row.trim_start();
         if t.is_empty() {
             if in_unnamed {
@@ -198,6 +218,36 @@ fn detect_separator(header: &str) -> char {
     } else {
         ','
     }
+}
+
+/// The columns of a file whose first line is already data, when its layout leaves no doubt:
+/// `name,x,y,z` or `name,x,y,z,surface` (a name that is no number, then three numbers, then a name),
+/// or `x,y,z` (three numbers). Anything else (four numbers: a slice index or a frame?) needs a
+/// header, and [`parse_header`] says so.
+fn headerless_columns(fields: &[&str], sep: char, line: usize) -> Option<Columns> {
+    let number = |f: &str| parse_number(f, sep, line, "x").is_ok();
+    let name = |f: &str| !unquote(f).is_empty() && !number(f);
+    let (id, x) = match fields.len() {
+        3 if fields.iter().all(|f| number(f)) => (IdSource::BlankLines, 0),
+        4 | 5 if name(fields[0]) && fields[1..4].iter().all(|f| number(f)) => {
+            if fields.len() == 5 && !name(fields[4]) {
+                return None;
+            }
+            (IdSource::Contour(0), 1)
+        }
+        _ => return None,
+    };
+    Some(Columns {
+        id,
+        x,
+        y: x + 1,
+        z: x + 2,
+        surface: (fields.len() == 5).then_some(4),
+        frame: None,
+        width: fields.len(),
+        mm_per_unit: [1.0; 3],
+        unit_note: None,
+    })
 }
 
 /// Name of the first required column a short row lacks, for the message.
@@ -487,6 +537,41 @@ mod tests {
         assert!(e.to_string().ends_with("row has 5 fields but the header names 4 columns; name every column in the header, or remove the values past it"), "{e}");
         // Empty fields past the header (a separator closing every row) are fine.
         assert_eq!(read("contour,x,y,z\na,1,2,3,,\n").unwrap().point_count(), 1);
+    }
+
+    #[test]
+    fn a_file_without_header_is_read_when_its_layout_is_unambiguous() {
+        // name,x,y,z: the first line is data (line 1), and a warning says how it was read.
+        let set = read("a,1,2,3\na,4,5,6\nb,7,8,9.5\n").unwrap();
+        assert_eq!(set.contours.len(), 2);
+        assert_eq!(set.contours[0].first_line, 1);
+        assert_eq!(set.contours[0].point_count(), 2);
+        assert_eq!(set.contours[1].points().next().unwrap().z, 9.5);
+        assert!(
+            set.warnings
+                .iter()
+                .any(|w| w.starts_with("no header line: columns read as contour, x, y, z (mm)")),
+            "{:?}",
+            set.warnings
+        );
+        // name,x,y,z,surface, semicolons and decimal commas (a European spreadsheet).
+        let set = read("a;1,5;2;3;LV_ENDO\nb;4;5;6,25;RV_ENDO\n").unwrap();
+        assert_eq!(set.contours[0].surface.as_deref(), Some("LV_ENDO"));
+        assert_eq!(set.contours[0].points().next().unwrap().x, 1.5);
+        assert_eq!(set.contours[1].points().next().unwrap().z, 6.25);
+        // x,y,z: blank lines separate the contours.
+        let set = read("1,2,3\n4,5,6\n\n7,8,9\n").unwrap();
+        assert_eq!(set.contours.len(), 2);
+        // A bad row is still named by its line.
+        let e = read("a,1,2,3\na,1,x,3\n").unwrap_err();
+        assert_eq!(e.line(), Some(2));
+        // Four numbers (a slice index? a frame?) or a name too few still need a header.
+        assert!(read("1,2,3,4\n")
+            .unwrap_err()
+            .to_string()
+            .contains("header missing"));
+        assert!(read("a,1,2\n").is_err());
+        assert!(read("a,1,2,3,4\n").is_err());
     }
 
     #[test]
