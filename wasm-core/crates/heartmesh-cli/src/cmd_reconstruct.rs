@@ -1,6 +1,7 @@
 //! `heartmesh reconstruct CONTOURS -o MESH`: the whole method of Villard, Grau & Zacur
 //! (J. Imaging 2018) from a contour file to a mesh file and an optional JSON report.
 
+use std::cell::RefCell;
 use std::time::Instant;
 
 use heartmesh_core::contours::set_aside;
@@ -11,12 +12,13 @@ use heartmesh_core::{ContourSet, CoreError, LidMode, Params};
 use crate::args::{parse, Parsed, Spec};
 use crate::cmd_convert::file_name;
 use crate::contours;
+use crate::each_surface;
 use crate::error::CliError;
 use crate::files;
 use crate::report;
 
 pub const USAGE: &str =
-    "heartmesh reconstruct CONTOURS -o MESH.obj [--report REPORT.json] [--surface LV_ENDO]
+    "heartmesh reconstruct CONTOURS -o MESH.obj [--report REPORT.json] [--surface LV_ENDO|all]
     [--iterations 250] [--lambda 1e5] [--beta 0.1] [--attractors N | --attractor-spacing MM]
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
     [--smoothing-method laplacian-affine|taubin|laplacian-hc|laplacian-twicing] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
@@ -64,6 +66,9 @@ pub const USAGE: &str =
   set_aside; --keep-specks keeps them (the paper's method);
   --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
+  --surface all: each surface of the file in turn (its order), each to the output names with
+  -SURFACE before the extension (-o m.obj --report r.json: m-LV_ENDO.obj, r-LV_ENDO.json, ...);
+  a surface that fails is named and the others still run (exit status of the last failure).
   CONTOURS: csv (UTF-8, UTF-16 or Windows-1252; units in the header applied; without a header
   the rows read name,x,y,z[,surface] or x,y,z), biv-me GPFile (SliceInfoFile.txt beside it is
   used), xyz text, vtk/vtp lines, SurFCo .mat, heartmesh
@@ -151,76 +156,151 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             )
         })?;
     }
-    // Warnings are printed after success; on failure the first one joins the single error line
-    // (the contract: one line on stderr), since it may well be the cause.
-    // Only the warnings about this surface's contours (and the file's): a biventricular file's
-    // LV warnings have nothing to say about its RV.
-    let file_warnings = set.warnings_for(params.surface.as_deref());
-    let fail = |e: CoreError| classify(input, e).with_hint(&file_warnings);
-    let started = Instant::now();
-    let mut rec = Reconstruction::new(&set, params.clone()).map_err(fail)?;
-    // Step 0 builds the initial tube; the growth note, from its size, comes before the wait it
-    // explains.
-    rec.step().map_err(fail)?;
-    if let (false, Some(note)) = (quiet, rec.growth_note()) {
-        eprintln!("heartmesh: note: {input}: {note}");
-    }
-    rec.run().map_err(fail)?;
-    let seconds = started.elapsed().as_secs_f64();
-
-    // The load-time warnings name what the run leaves out; any it left out unnamed joins them.
-    let mut warnings = file_warnings.clone();
-    warnings.extend(set_aside::unannounced(rec.set_aside(), &file_warnings));
-    let facts = report::Facts {
-        input: file_name(input),
-        input_format,
-        output: file_name(output),
-        params: &params,
-        seconds,
-        warnings: &warnings,
-        time_frames: set.time_frames.as_ref(),
+    let outputs = Outputs {
+        mesh: output.to_string(),
+        format,
+        report: p.value("report").map(str::to_string),
+        distances: p.value("contour-distances").map(str::to_string),
     };
-    let rep = report::build(&rec, &facts);
-    let comment = report::header_comment(&facts);
-    let distances = report::vertex_distances(&rec);
-    let point_data = Some(("distance", distances.as_slice()));
-    let mesh_bytes = io::write_mesh(rec.mesh(), format, point_data, &comment)
-        .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
-    files::write(output, &mesh_bytes)?;
-    if let Some(path) = p.value("contour-distances") {
-        let cleaned = ContourSet {
-            contours: rec.contours().to_vec(),
-            ..ContourSet::default()
+    let run = Run {
+        input,
+        input_format,
+        set: &set,
+        quiet,
+        said: RefCell::new(Vec::new()),
+    };
+    match each_surface::requested(params.surface.as_deref(), &set) {
+        None => run.surface(params, &outputs),
+        Some(surfaces) => each_surface::run(&surfaces, |surface| {
+            let mut params = params.clone();
+            params.surface = surface.map(str::to_string);
+            let outputs = match surface {
+                Some(s) => outputs.for_surface(s),
+                None => outputs.clone(),
+            };
+            run.surface(params, &outputs)
+        }),
+    }
+}
+
+/// Where one reconstruction's files go.
+#[derive(Clone)]
+struct Outputs {
+    mesh: String,
+    format: MeshFormat,
+    report: Option<String>,
+    distances: Option<String>,
+}
+
+impl Outputs {
+    /// The same files with the surface's name before each extension (`mesh-LV_ENDO.obj`).
+    fn for_surface(&self, surface: &str) -> Outputs {
+        let name = |path: &str| each_surface::path_for(path, surface);
+        Outputs {
+            mesh: name(&self.mesh),
+            format: self.format,
+            report: self.report.as_deref().map(name),
+            distances: self.distances.as_deref().map(name),
+        }
+    }
+}
+
+/// What every surface's run of one file shares.
+struct Run<'a> {
+    input: &'a str,
+    input_format: &'a str,
+    set: &'a ContourSet,
+    quiet: bool,
+    /// The stderr lines already printed: a note or warning about the whole file (the images'
+    /// crossing gap, a unit conversion) is said once, not once per surface of `--surface all`.
+    said: RefCell<Vec<String>>,
+}
+
+impl Run<'_> {
+    /// Prints a note or warning line on stderr unless this run printed it already.
+    fn say(&self, line: String) {
+        let mut said = self.said.borrow_mut();
+        if !said.contains(&line) {
+            eprintln!("{line}");
+            said.push(line);
+        }
+    }
+
+    /// Reconstructs `params.surface` of the file and writes `out`'s files.
+    fn surface(&self, params: Params, out: &Outputs) -> Result<(), CliError> {
+        let (input, set, quiet) = (self.input, self.set, self.quiet);
+        let output = out.mesh.as_str();
+        // Warnings are printed after success; on failure the first one joins the single error line
+        // (the contract: one line on stderr), since it may well be the cause.
+        // Only the warnings about this surface's contours (and the file's): a biventricular file's
+        // LV warnings have nothing to say about its RV.
+        let file_warnings = set.warnings_for(params.surface.as_deref());
+        let fail = |e: CoreError| classify(input, e).with_hint(&file_warnings);
+        let started = Instant::now();
+        let mut rec = Reconstruction::new(set, params.clone()).map_err(fail)?;
+        // Step 0 builds the initial tube; the growth note, from its size, comes before the wait it
+        // explains.
+        rec.step().map_err(fail)?;
+        if let (false, Some(note)) = (quiet, rec.growth_note()) {
+            self.say(format!("heartmesh: note: {input}: {note}"));
+        }
+        rec.run().map_err(fail)?;
+        let seconds = started.elapsed().as_secs_f64();
+
+        // The load-time warnings name what the run leaves out; any it left out unnamed joins them.
+        let mut warnings = file_warnings.clone();
+        warnings.extend(set_aside::unannounced(rec.set_aside(), &file_warnings));
+        let facts = report::Facts {
+            input: file_name(input),
+            input_format: self.input_format,
+            output: file_name(output),
+            params: &params,
+            seconds,
+            warnings: &warnings,
+            time_frames: set.time_frames.as_ref(),
         };
-        let d = rec.contour_distances();
-        let csv = io::csv::write_csv(&cleaned, Some(&d.per_point))
-            .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
-        files::write(path, &csv)?;
+        let rep = report::build(&rec, &facts);
+        let comment = report::header_comment(&facts);
+        let distances = report::vertex_distances(&rec);
+        let point_data = Some(("distance", distances.as_slice()));
+        let mesh_bytes = io::write_mesh(rec.mesh(), out.format, point_data, &comment)
+            .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
+        files::write(output, &mesh_bytes)?;
+        if let Some(path) = out.distances.as_deref() {
+            let cleaned = ContourSet {
+                contours: rec.contours().to_vec(),
+                ..ContourSet::default()
+            };
+            let d = rec.contour_distances();
+            let csv = io::csv::write_csv(&cleaned, Some(&d.per_point))
+                .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
+            files::write(path, &csv)?;
+        }
+        if let Some(path) = out.report.as_deref() {
+            let text = serde_json::to_string_pretty(&rep)
+                .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
+            files::write(path, format!("{text}\n").as_bytes())?;
+        }
+        if !quiet {
+            for w in &warnings {
+                self.say(format!("heartmesh: warning: {input}: {w}"));
+            }
+            if params.keep_specks && !set_aside::found_in(set).is_empty() {
+                self.say(format!(
+                    "heartmesh: note: {input}: --keep-specks: the contours named above as left out \
+                     are kept in the reconstruction"
+                ));
+            }
+            if let Some(note) = report::alignment_note(&rep) {
+                self.say(format!("heartmesh: note: {input}: {note}"));
+            }
+            if let Some(w) = report::self_intersection_warning(&rep) {
+                self.say(format!("heartmesh: warning: {output}: {w}"));
+            }
+            outln!("{}", report::summary(output, &rep));
+        }
+        Ok(())
     }
-    if let Some(path) = p.value("report") {
-        let text = serde_json::to_string_pretty(&rep)
-            .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
-        files::write(path, format!("{text}\n").as_bytes())?;
-    }
-    if !quiet {
-        for w in &warnings {
-            eprintln!("heartmesh: warning: {input}: {w}");
-        }
-        if params.keep_specks && !set_aside::found_in(&set).is_empty() {
-            eprintln!(
-                "heartmesh: note: {input}: --keep-specks: the contours named above as left out \
-                 are kept in the reconstruction"
-            );
-        }
-        if let Some(note) = report::alignment_note(&rep) {
-            eprintln!("heartmesh: note: {input}: {note}");
-        }
-        if let Some(w) = report::self_intersection_warning(&rep) {
-            eprintln!("heartmesh: warning: {output}: {w}");
-        }
-        outln!("{}", report::summary(output, &rep));
-    }
-    Ok(())
 }
 
 /// Parameters from the flags on top of `base` (the defaults, or a session's parameters); every

@@ -20,6 +20,8 @@ pub enum CliError {
     /// Another error with a reading warning that may explain it (e.g. coordinates in metres),
     /// kept on the same single line.
     Hinted(Box<CliError>, String),
+    /// One surface's failure in a `--surface all` run, named (`surface RV_EPI: FILE: problem`).
+    Surface(Box<CliError>, String),
 }
 
 impl CliError {
@@ -52,7 +54,7 @@ impl CliError {
     pub fn exit_code(&self) -> i32 {
         match self {
             CliError::Failed(_) => 1,
-            CliError::Hinted(inner, _) => inner.exit_code(),
+            CliError::Hinted(inner, _) | CliError::Surface(inner, _) => inner.exit_code(),
             _ => 2,
         }
     }
@@ -66,10 +68,13 @@ impl CliError {
             CliError::Read { file, message } => format!("{file}: {message}"),
             CliError::Failed(m) => m.clone(),
             CliError::Hinted(inner, hint) => format!("{} (warning: {hint})", inner.message()),
+            CliError::Surface(inner, surface) => format!("surface {surface}: {}", inner.message()),
             CliError::Input { file, error } => {
                 let problem = match error {
                     CoreError::Parse { message, .. } => message.clone(),
-                    CoreError::SurfaceRequired { .. } => format!("{error} (use --surface)"),
+                    CoreError::SurfaceRequired { .. } => {
+                        format!("{error} (use --surface, or --surface all for each in turn)")
+                    }
                     other => other.to_string(),
                 };
                 match (file, error.line()) {

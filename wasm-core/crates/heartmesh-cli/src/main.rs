@@ -16,6 +16,7 @@ mod cmd_leave_one_out;
 mod cmd_reconstruct;
 mod cmd_simulate;
 mod contours;
+mod each_surface;
 mod error;
 mod files;
 mod report;

@@ -302,7 +302,7 @@ fn reconstruct_gpfile_surface_to_ply() {
     let (code, _, err) = run(bin().args(["reconstruct", s(&input), "-o", s(&ply)]));
     assert_eq!(code, 2);
     assert!(
-        err.contains("choose one of: RV_ENDO, RV_EPI, LV_EPI, LV_ENDO (use --surface)"),
+        err.contains("choose one of: RV_ENDO, RV_EPI, LV_EPI, LV_ENDO (use --surface, or --surface all for each in turn)"),
         "{err}"
     );
     let report = dir.join("r.json");
