@@ -6,6 +6,7 @@ import type { CoreClient } from '../../web/src/core-client/CoreClient';
 import type { Frame, LidsMode, LoadedFile, ParamValues, ReconOptions, RunResult, StepReport } from '../../web/src/core-client/protocol';
 import { rustSchema } from './rustSchema';
 import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
+import { DEFAULT_VIEW } from '../../web/src/app/urlState';
 
 interface FakeRun {
   runId: number;
@@ -496,6 +497,33 @@ describe('controller', () => {
     expect(viewer.givenLayer.calls.clear?.length).toBeGreaterThan(0);
     // ... and the file's own contours are back on screen for the unaligned run.
     expect(Array.from(viewer.contourLayer.calls.set?.at(-1)?.[1] as Float32Array)).toEqual([0, 0, 0, 10, 0, 0, 0, 10, 0]);
+    c.dispose();
+  });
+
+  it('keeps each finished surface of the file for the other-surfaces view, hides the current one, forgets them with another file', async () => {
+    const viewer = viewerRecorder();
+    const layer = () => (viewer as unknown as Record<string, { calls: Record<string, unknown[][]> }>).otherSurfacesLayer.calls;
+    const c = new Controller({ ...parts, viewer, warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c.openFiles([file('biv.csv')]);
+    client.runs[0].resolve(result(client.runs[0].runId)); // LV_ENDO
+    await vi.runAllTimersAsync();
+    expect(layer().set?.at(-1)?.[0]).toBe('LV_ENDO');
+    expect(layer().show?.at(-1)).toEqual([false, 'LV_ENDO']);
+    c.chooseSurface('RV_ENDO');
+    expect(layer().show?.at(-1)).toEqual([false, 'RV_ENDO']);
+    c.setView({ ...DEFAULT_VIEW, others: true });
+    expect(layer().show?.at(-1)).toEqual([true, 'RV_ENDO']);
+    expect(url).toContain('others_shown=1');
+    const run = client.runs.at(-1)!;
+    run.resolve({ ...result(run.runId), surface: 'RV_ENDO' });
+    await vi.runAllTimersAsync();
+    expect(layer().set?.at(-1)?.[0]).toBe('RV_ENDO');
+    const clears = layer().clear?.length ?? 0;
+    c.chooseSurface('LV_ENDO'); // same file: nothing forgotten
+    expect(layer().clear?.length ?? 0).toBe(clears);
+    await c.openFiles([file('other.csv')]);
+    expect(layer().clear?.length ?? 0).toBe(clears + 1);
     c.dispose();
   });
 

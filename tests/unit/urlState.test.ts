@@ -38,11 +38,12 @@ describe('URL state', () => {
     s.lids = 'none';
     s.surface = 'LV_EPI';
     s.sample = 'patient1-ED';
-    s.view = { wireframe: true, attractors: false, landmarks: false, asGiven: false, opacity: 0.5, clip: 0.4 };
+    s.view = { wireframe: true, attractors: false, landmarks: false, asGiven: false, others: true, opacity: 0.5, clip: 0.4 };
     const q = serializeUrlState(s, schema);
     expect(q).toContain('lambda=1e3');
     expect(q).toContain('landmarks_shown=0');
     expect(q).toContain('as_given_shown=0');
+    expect(q).toContain('others_shown=1');
     expect(q).not.toContain('smoothing_factor');
     expect(parseUrlState(q, schema)).toEqual(s);
   });

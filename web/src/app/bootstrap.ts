@@ -87,7 +87,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
   slot('slot-bottom').append(parts.timeline.element);
   slot('slot-banner').append(parts.banner.element);
   slot('slot-legend').append(parts.legend.element, parts.meshLegend.element);
-  if (viewer) slot('slot-legend').append(viewer.landmarkLayer.legend, viewer.setAsideLayer.legend);
+  if (viewer) slot('slot-legend').append(viewer.landmarkLayer.legend, viewer.setAsideLayer.legend, viewer.otherSurfacesLayer.legend);
   slot('slot-viewcontrols').append(parts.view.element);
   slot('slot-hover').append(parts.hover.element);
   viewer?.setHoverListener((h) => controller.onHover(h));

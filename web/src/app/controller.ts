@@ -61,6 +61,8 @@ export class Controller {
   private frameToken = 0;
   private sampleId: string | null = null;
   private view: ViewSettings = { ...DEFAULT_VIEW };
+  /** File and time frame whose surfaces the viewer's other-surfaces layer holds (null: none yet). */
+  private othersKey: string | null = null;
   private active: ActiveRun | null = null;
   /** The run on screen: recorded frames, playback, result, contours (runDisplay.ts). */
   private readonly runView: RunDisplay;
@@ -209,6 +211,8 @@ export class Controller {
       const loaded = await client.load(fileName, bytes, () => this.stopRun());
       this.cancelRun(); // read: it replaces what was on screen
       this.files.delete(fileName); // re-insert at the end: newest last in the picker
+      // Read again (dropped anew, another frame): the meshes kept of its other surfaces may be of other contours.
+      if (this.othersKey?.startsWith(`${fileName}\n`)) this.othersKey = null;
       this.files.set(fileName, loaded);
       this.identities.set(fileName, identity);
       if (loaded.session) this.applySession(loaded.session);
@@ -255,6 +259,7 @@ export class Controller {
     const file = this.currentFile();
     if (!file || !file.surfaces.includes(surface)) return;
     this.surface = surface;
+    this.syncOthers();
     const noFrame = missingFrameNote(file, this.frame);
     this.fileWarnings = [...(noFrame ? [noFrame] : []), ...warningsFor(file, surface)];
     this.renderWarnings();
@@ -345,6 +350,7 @@ export class Controller {
     this.clearRunDisplay();
     this.runView.showContours(null);
     this.parts.viewer?.landmarkLayer.set(file.landmarks);
+    this.syncOthers();
     if (reframe) this.frameSurface(file);
     this.updateUrl();
   }
@@ -501,9 +507,37 @@ export class Controller {
     // nor the files of a drop that were not opened: hideError keeps a warning).
     if (this.state.kind !== 'error') this.parts.banner.hideError();
     this.parts.exports.setAvailable(true, true);
+    this.keepSurface(r);
     this.dispatch({ type: 'finished', runId: r.runId });
     this.emitResult(r);
   }
+
+  /** A finished run's mesh joins the file's other surfaces (shown faint while another is current). */
+  private keepSurface(r: RunResult): void {
+    const layer = this.parts.viewer?.otherSurfacesLayer;
+    this.syncOthers();
+    if (!layer || r.surface === null) return;
+    layer.set(r.surface, r.positions, r.indices);
+    this.syncOthers();
+  }
+
+  /**
+   * Keeps the other-surfaces layer to the file and frame on screen (another one: forget the meshes
+   * kept) and shows what it holds but the current surface, whose own run is on screen.
+   */
+  private syncOthers(): void {
+    const layer = this.parts.viewer?.otherSurfacesLayer;
+    if (!layer) return;
+    const file = this.currentFile();
+    const key = file ? `${file.fileName}\n${this.frame ?? ''}` : null;
+    if (key !== this.othersKey) {
+      layer.clear();
+      this.othersKey = key;
+    }
+    this.parts.view.setOthersAvailable(layer.show(this.view.others, this.surface));
+    this.parts.viewer?.requestRender();
+  }
+
 
   private clearRunDisplay(): void {
     this.runView.clear();
@@ -562,6 +596,7 @@ export class Controller {
     viewer.attractorLayer.setVisible(this.view.attractors);
     viewer.landmarkLayer.setVisible(this.view.landmarks);
     viewer.givenLayer.setVisible(this.view.asGiven);
+    this.syncOthers();
     viewer.setClip(this.view.clip);
     viewer.requestRender();
   }

@@ -14,6 +14,8 @@ export interface ViewSettings {
   landmarks: boolean;
   /** The file's contours as given, faint and dashed, after a run with breath-hold alignment. */
   asGiven: boolean;
+  /** The file's other surfaces as their last runs left them, faint around the current one. */
+  others: boolean;
   opacity: number;
   /** Clipping plane position in [0, 1] of the model's extent along the view axis; 1 = off. */
   clip: number;
@@ -32,7 +34,7 @@ export interface UrlState {
   view: ViewSettings;
 }
 
-export const DEFAULT_VIEW: ViewSettings = { wireframe: false, attractors: true, landmarks: true, asGiven: true, opacity: 1, clip: 1 };
+export const DEFAULT_VIEW: ViewSettings = { wireframe: false, attractors: true, landmarks: true, asGiven: true, others: false, opacity: 1, clip: 1 };
 
 export function defaultParams(schema: readonly ParamSpec[]): ParamValues {
   const out: ParamValues = {};
@@ -93,6 +95,7 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
       attractors: parseBool(q.get('attractors_shown'), DEFAULT_VIEW.attractors),
       landmarks: parseBool(q.get('landmarks_shown'), DEFAULT_VIEW.landmarks),
       asGiven: parseBool(q.get('as_given_shown'), DEFAULT_VIEW.asGiven),
+      others: parseBool(q.get('others_shown'), DEFAULT_VIEW.others),
       opacity: opacity === null ? DEFAULT_VIEW.opacity : Math.min(1, Math.max(0.05, opacity)),
       clip: clip === null ? DEFAULT_VIEW.clip : Math.min(1, Math.max(0, clip)),
     },
@@ -121,6 +124,7 @@ export function serializeUrlState(state: UrlState, schema: readonly ParamSpec[])
   if (view.attractors !== DEFAULT_VIEW.attractors) q.set('attractors_shown', view.attractors ? '1' : '0');
   if (view.landmarks !== DEFAULT_VIEW.landmarks) q.set('landmarks_shown', view.landmarks ? '1' : '0');
   if (view.asGiven !== DEFAULT_VIEW.asGiven) q.set('as_given_shown', view.asGiven ? '1' : '0');
+  if (view.others !== DEFAULT_VIEW.others) q.set('others_shown', view.others ? '1' : '0');
   if (view.opacity !== DEFAULT_VIEW.opacity) q.set('opacity', formatParam(view.opacity));
   if (view.clip !== DEFAULT_VIEW.clip) q.set('clip', formatParam(view.clip));
   const text = q.toString();

@@ -1,6 +1,7 @@
 /**
  * View toggles over the viewport: wireframe, attractors, landmarks, the contours as given (only
- * meaningful after a run with breath-hold alignment: disabled otherwise), opacity, clipping plane,
+ * meaningful after a run with breath-hold alignment: disabled otherwise), the file's other
+ * surfaces (disabled until another surface of the file has been run), opacity, clipping plane,
  * reset view.
  */
 import type { ViewSettings } from '../app/urlState';
@@ -8,6 +9,7 @@ import { h } from './dom';
 
 const AS_GIVEN_ON = 'The file\'s contours before the breath-hold shifts, faint and dashed: the mesh follows the shifted ones';
 const AS_GIVEN_OFF = 'Contours as given: shown after a run with "Align breath-holds" on';
+const OTHERS_OFF = 'Other surfaces of the file (LV, RV, epicardium), faint around this one: each appears once its own run has finished (pick it in the Surface menu)';
 
 export class ViewControls {
   readonly element: HTMLElement;
@@ -16,6 +18,9 @@ export class ViewControls {
   private readonly landmarks: HTMLInputElement;
   private readonly asGiven: HTMLInputElement;
   private readonly asGivenLabel: HTMLElement;
+  private readonly others: HTMLInputElement;
+  private readonly othersLabel: HTMLElement;
+  private readonly othersCount: HTMLElement;
   private readonly opacity: HTMLInputElement;
   private readonly clip: HTMLInputElement;
   private readonly opacityOut: HTMLOutputElement;
@@ -26,6 +31,7 @@ export class ViewControls {
     this.attractors = h('input', { type: 'checkbox', id: 'view-attr', 'data-testid': 'view-attractors' });
     this.landmarks = h('input', { type: 'checkbox', id: 'view-landmarks', 'data-testid': 'view-landmarks' });
     this.asGiven = h('input', { type: 'checkbox', id: 'view-as-given', 'data-testid': 'view-as-given', disabled: true });
+    this.others = h('input', { type: 'checkbox', id: 'view-others', 'data-testid': 'view-others', disabled: true });
     this.opacity = h('input', { type: 'range', id: 'view-opacity', min: 5, max: 100, step: 1, 'data-testid': 'view-opacity' });
     this.clip = h('input', { type: 'range', id: 'view-clip', min: 0, max: 100, step: 1, 'data-testid': 'view-clip' });
     this.opacityOut = h('output', { for: 'view-opacity' });
@@ -37,12 +43,14 @@ export class ViewControls {
       this.show(v);
       onChange(v);
     };
-    for (const el of [this.wire, this.attractors, this.landmarks, this.asGiven]) el.addEventListener('change', emit);
+    for (const el of [this.wire, this.attractors, this.landmarks, this.asGiven, this.others]) el.addEventListener('change', emit);
     this.asGivenLabel = h(
       'label',
       { class: 'check', title: AS_GIVEN_OFF },
       this.asGiven, h('span', { class: 'swatch given' }), 'Contours as given',
     );
+    this.othersCount = h('span', { class: 'muted', 'data-testid': 'view-others-count' });
+    this.othersLabel = h('label', { class: 'check disabled', title: OTHERS_OFF }, this.others, 'Other surfaces', this.othersCount);
     for (const el of [this.opacity, this.clip]) el.addEventListener('input', emit);
     this.element = h(
       'div',
@@ -51,6 +59,7 @@ export class ViewControls {
       h('label', { class: 'check' }, this.attractors, h('span', { class: 'swatch attr' }), 'Attractors'),
       h('label', { class: 'check', title: 'Valves, apex and other landmark points of the file' }, this.landmarks, h('span', { class: 'swatch lmk' }), 'Landmarks'),
       this.asGivenLabel,
+      this.othersLabel,
       h('label', { class: 'range', for: 'view-opacity' }, 'Opacity', this.opacity, this.opacityOut),
       h('label', { class: 'range', for: 'view-clip', title: 'Cut away the near part of the mesh to look inside' }, 'Clip', this.clip, this.clipOut),
       reset,
@@ -63,6 +72,7 @@ export class ViewControls {
       attractors: this.attractors.checked,
       landmarks: this.landmarks.checked,
       asGiven: this.asGiven.checked,
+      others: this.others.checked,
       opacity: Number(this.opacity.value) / 100,
       clip: Number(this.clip.value) / 100,
     };
@@ -75,11 +85,21 @@ export class ViewControls {
     this.asGivenLabel.title = on ? AS_GIVEN_ON : AS_GIVEN_OFF;
   }
 
+  /** The file's other surfaces that have a finished run to show (the toggle does something only then). */
+  setOthersAvailable(surfaces: readonly string[]): void {
+    const on = surfaces.length > 0;
+    this.others.disabled = !on;
+    this.othersLabel.classList.toggle('disabled', !on);
+    this.othersLabel.title = on ? `Faint around this surface: ${surfaces.join(', ')} as their last runs left them` : OTHERS_OFF;
+    this.othersCount.textContent = on ? ` (${surfaces.length})` : '';
+  }
+
   show(v: ViewSettings): void {
     this.wire.checked = v.wireframe;
     this.attractors.checked = v.attractors;
     this.landmarks.checked = v.landmarks;
     this.asGiven.checked = v.asGiven;
+    this.others.checked = v.others;
     this.opacity.value = String(Math.round(v.opacity * 100));
     this.clip.value = String(Math.round(v.clip * 100));
     this.opacityOut.textContent = `${Math.round(v.opacity * 100)} %`;

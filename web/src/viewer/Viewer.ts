@@ -12,6 +12,7 @@ import { ContourLayer, warmupGeometry } from './ContourLayer';
 import { cameraPlacement, dashScale, fitView, type ViewFit } from './fitView';
 import { GivenContourLayer } from './GivenContourLayer';
 import { MeshLayer } from './MeshLayer';
+import { OtherSurfacesLayer } from './OtherSurfacesLayer';
 import { SetAsideLayer } from './SetAsideLayer';
 import { leftOutLabel } from '../ui/runText';
 
@@ -54,6 +55,8 @@ export class Viewer {
   /** The contours the run left out (strays, specks), grey and dashed, with their key. */
   readonly setAsideLayer = new SetAsideLayer();
   readonly attractorLayer = new AttractorLayer();
+  /** The file's other surfaces as their last runs left them, faint (a toggle of the view controls). */
+  readonly otherSurfacesLayer: OtherSurfacesLayer;
   readonly landmarkLayer = new LandmarkLayer();
   /** Clipping plane facing the camera; `clip` in [0, 1] moves it through the model (1 = off). */
   private readonly clipPlane = new THREE.Plane(new THREE.Vector3(0, 0, -1), 1e6);
@@ -88,7 +91,8 @@ export class Viewer {
     container.append(this.renderer.domElement);
 
     this.meshLayer = new MeshLayer([this.clipPlane]);
-    this.scene.add(this.meshLayer.group, this.givenLayer.group, this.setAsideLayer.group, this.contourLayer.group, this.attractorLayer.group, this.landmarkLayer.group);
+    this.otherSurfacesLayer = new OtherSurfacesLayer([this.clipPlane]);
+    this.scene.add(this.meshLayer.group, this.otherSurfacesLayer.group, this.givenLayer.group, this.setAsideLayer.group, this.contourLayer.group, this.attractorLayer.group, this.landmarkLayer.group);
     this.scene.add(new THREE.HemisphereLight(0xdde6f0, 0x30261f, 1.3));
     const key = new THREE.DirectionalLight(0xffffff, 1.6);
     key.position.set(1, 1.2, 1.5);
@@ -320,6 +324,7 @@ export class Viewer {
     this.contourLayer.dispose();
     this.givenLayer.dispose();
     this.setAsideLayer.dispose();
+    this.otherSurfacesLayer.dispose();
     this.attractorLayer.dispose();
     this.landmarkLayer.dispose();
     this.renderer.dispose();

@@ -1,0 +1,79 @@
+// Browser end-to-end tests (dist/, Debian's chromium) of the other-surfaces view (session 19): a
+// biventricular file's surfaces are run one at a time; each finished run is kept, and the view
+// toggle "Other surfaces" draws the kept ones faint around the current one, with a key; another
+// file forgets them. Asserted on the toggle, the key and the pixels of the 3D view.
+import { describe, it } from 'node:test';
+import assert from 'node:assert/strict';
+import { join } from 'node:path';
+import { gotoEmpty, readResult, runAndWait, SHOTS } from './lib.mjs';
+import { appForFile } from './perFile.mjs';
+
+let app;
+let page;
+appForFile({}, (a) => ({ page } = app = a));
+
+const legend = () => page.getAttribute('[data-testid=other-surfaces-legend]', 'data-surfaces');
+const count = () => page.textContent('[data-testid=view-others-count]');
+
+describe('other surfaces of the file', () => {
+  it('are kept run by run and drawn faint around the current surface, with their key', async () => {
+    await page.setViewportSize({ width: 1280, height: 720 });
+    await gotoEmpty(page, app.server.url);
+    await runAndWait(page, () => page.getByRole('button', { name: 'Patient 1 · ED' }).first().click());
+    assert.equal(await page.isDisabled('[data-testid=view-others]'), true, 'nothing else run yet');
+    await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'RV_ENDO'));
+    const rv = await readResult(page);
+    assert.ok(rv.vertices > 500 && rv.meanMm < 1, JSON.stringify(rv));
+    assert.equal(await page.isDisabled('[data-testid=view-others]'), false);
+    assert.equal(await count(), ' (1)');
+    assert.equal(await page.isVisible('[data-testid=other-surfaces-legend]'), false, 'off by default');
+
+    const canvas = page.locator('[data-testid=viewport-canvas]');
+    const before = await canvas.screenshot();
+    await page.check('[data-testid=view-others]');
+    assert.equal(await legend(), 'LV_ENDO');
+    assert.equal(await page.isVisible('[data-testid=other-surfaces-legend]'), true);
+    assert.match(page.url(), /others_shown=1/);
+    const after = await canvas.screenshot();
+    const changed = await changedPixels(before, after);
+    assert.ok(changed > 2000, `the LV drawn beside the RV changed ${changed} pixels`);
+
+    // A third surface: both earlier ones around it; the current one is never its own ghost.
+    await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_EPI'));
+    assert.equal(await count(), ' (2)');
+    assert.equal(await legend(), 'LV_ENDO,RV_ENDO');
+    await page.screenshot({ path: join(SHOTS, 'other-surfaces.png') });
+    await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_ENDO'));
+    assert.equal(await legend(), 'RV_ENDO,LV_EPI');
+
+    // Unticked: nothing drawn, the key hidden.
+    await page.uncheck('[data-testid=view-others]');
+    assert.equal(await page.isVisible('[data-testid=other-surfaces-legend]'), false);
+    assert.equal(await legend(), '');
+
+    // Another file: the meshes kept were of patient 1.
+    await page.check('[data-testid=view-others]');
+    await runAndWait(page, () => page.getByRole('button', { name: 'Patient 2 · ED' }).first().click());
+    assert.equal(await page.isDisabled('[data-testid=view-others]'), true);
+    assert.equal(await legend(), '');
+  });
+});
+
+/** Pixels (of the same-size PNG screenshots) whose colour differs by more than a few levels. */
+async function changedPixels(a, b) {
+  return page.evaluate(async ([pa, pb]) => {
+    const load = async (bytes) => {
+      const bmp = await createImageBitmap(new Blob([new Uint8Array(bytes)], { type: 'image/png' }));
+      const c = new OffscreenCanvas(bmp.width, bmp.height);
+      const g = c.getContext('2d');
+      g.drawImage(bmp, 0, 0);
+      return g.getImageData(0, 0, bmp.width, bmp.height).data;
+    };
+    const [x, y] = [await load(pa), await load(pb)];
+    let n = 0;
+    for (let i = 0; i < x.length; i += 4) {
+      if (Math.abs(x[i] - y[i]) + Math.abs(x[i + 1] - y[i + 1]) + Math.abs(x[i + 2] - y[i + 2]) > 12) n++;
+    }
+    return n;
+  }, [[...a], [...b]]);
+}
