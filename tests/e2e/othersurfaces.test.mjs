@@ -1,11 +1,12 @@
 // Browser end-to-end tests (dist/, Debian's chromium) of the other-surfaces view (session 19): a
 // biventricular file's surfaces are run one at a time; each finished run is kept, and the view
 // toggle "Other surfaces" draws the kept ones faint around the current one, with a key; another
-// file forgets them. Asserted on the toggle, the key and the pixels of the 3D view.
+// file forgets them; "All surfaces OBJ" exports them with the current one. Asserted on the toggle,
+// the key, the pixels of the 3D view and the exported file's objects.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { gotoEmpty, readResult, runAndWait, SHOTS } from './lib.mjs';
+import { download, gotoEmpty, readResult, runAndWait, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 
 let app;
@@ -21,6 +22,7 @@ describe('other surfaces of the file', () => {
     await gotoEmpty(page, app.server.url);
     await runAndWait(page, () => page.getByRole('button', { name: 'Patient 1 · ED' }).first().click());
     assert.equal(await page.isDisabled('[data-testid=view-others]'), true, 'nothing else run yet');
+    assert.equal(await page.isDisabled('[data-testid=export-all-obj]'), true);
     await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'RV_ENDO'));
     const rv = await readResult(page);
     assert.ok(rv.vertices > 500 && rv.meanMm < 1, JSON.stringify(rv));
@@ -46,6 +48,28 @@ describe('other surfaces of the file', () => {
     await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_ENDO'));
     assert.equal(await legend(), 'RV_ENDO,LV_EPI');
 
+    // All surfaces in one OBJ: one named object each, each a closed mesh of its own vertices.
+    const lv = await readResult(page);
+    const { name, bytes } = await download(page, 'export-all-obj');
+    assert.equal(name, 'patient1-ED-surfaces.obj');
+    const objects = [];
+    for (const line of bytes.toString('utf8').split('\n')) {
+      const p = line.trim().split(/\s+/);
+      if (p[0] === 'o') objects.push({ name: p[1], v: 0, f: [] });
+      if (p[0] === 'v') objects.at(-1).v++;
+      if (p[0] === 'f') objects.at(-1).f.push(p.slice(1).map(Number));
+    }
+    assert.deepEqual(objects.map((o) => o.name), ['LV_ENDO', 'RV_ENDO', 'LV_EPI']);
+    assert.equal(objects[0].v, lv.vertices);
+    assert.equal(objects[0].f.length, lv.triangles);
+    let first = 1;
+    for (const o of objects) {
+      assert.ok(o.v > 500, `${o.name}: ${o.v} vertices`);
+      assert.equal(o.f.length, 2 * o.v - 4, `${o.name}: a closed genus-0 mesh has 2V - 4 triangles`);
+      for (const t of o.f) assert.ok(t.every((i) => i >= first && i < first + o.v), `${o.name}: face ${t} outside its vertices`);
+      first += o.v;
+    }
+
     // Unticked: nothing drawn, the key hidden.
     await page.uncheck('[data-testid=view-others]');
     assert.equal(await page.isVisible('[data-testid=other-surfaces-legend]'), false);
@@ -55,6 +79,7 @@ describe('other surfaces of the file', () => {
     await page.check('[data-testid=view-others]');
     await runAndWait(page, () => page.getByRole('button', { name: 'Patient 2 · ED' }).first().click());
     assert.equal(await page.isDisabled('[data-testid=view-others]'), true);
+    assert.equal(await page.isDisabled('[data-testid=export-all-obj]'), true);
     assert.equal(await legend(), '');
   });
 });

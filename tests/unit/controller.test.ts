@@ -512,6 +512,10 @@ describe('controller', () => {
     expect(layer().show?.at(-1)).toEqual([false, 'LV_ENDO']);
     c.chooseSurface('RV_ENDO');
     expect(layer().show?.at(-1)).toEqual([false, 'RV_ENDO']);
+    // The LV's mesh is offered to the view toggle and the all-surfaces export.
+    expect(parts.view.calls.setOthersAvailable?.at(-1)).toEqual([['LV_ENDO']]);
+    expect(parts.exports.calls.setOthers?.at(-1)).toEqual([['LV_ENDO']]);
+    expect(c.otherSurfaceMeshes().map((m) => [m.surface, m.indices.length])).toEqual([['LV_ENDO', 12]]);
     c.setView({ ...DEFAULT_VIEW, others: true });
     expect(layer().show?.at(-1)).toEqual([true, 'RV_ENDO']);
     expect(url).toContain('others_shown=1');
@@ -524,6 +528,8 @@ describe('controller', () => {
     expect(layer().clear?.length ?? 0).toBe(clears);
     await c.openFiles([file('other.csv')]);
     expect(layer().clear?.length ?? 0).toBe(clears + 1);
+    expect(c.otherSurfaceMeshes()).toEqual([]);
+    expect(parts.exports.calls.setOthers?.at(-1)).toEqual([[]]);
     c.dispose();
   });
 

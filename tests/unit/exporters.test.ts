@@ -1,7 +1,7 @@
 // Each exporter's output is parsed back by an independent minimal reader and compared with the input.
 import { describe, expect, it } from 'vitest';
 import { writeStl } from '../../web/src/io/export/stl';
-import { writeObj } from '../../web/src/io/export/obj';
+import { writeObj, writeObjSurfaces } from '../../web/src/io/export/obj';
 import { writePly } from '../../web/src/io/export/ply';
 import { writeVtk } from '../../web/src/io/export/vtk';
 import { writeDistancesCsv } from '../../web/src/io/export/csv';
@@ -62,6 +62,28 @@ describe('exporters parse back', () => {
     }
     expect(v).toEqual(Array.from(mesh.positions));
     expect(f).toEqual(Array.from(mesh.indices));
+  });
+
+  it('OBJ of several surfaces: one named object each, face indices counting on across objects', () => {
+    const shifted = { positions: mesh.positions.map((x, i) => (i % 3 === 0 ? x + 100 : x)), indices: mesh.indices };
+    const text = writeObjSurfaces([{ name: 'LV_EPI', mesh }, { name: 'RV ENDO', mesh: shifted }], info, ['objects: LV_EPI (this run), RV ENDO (its last run)']);
+    expect(text).toContain('# objects: LV_EPI (this run), RV ENDO (its last run)\n');
+    expect(text).toContain('# lids: auto iterations=250');
+    const objects: { name: string; v: number[]; f: number[] }[] = [];
+    const all: number[] = [];
+    for (const line of text.split('\n')) {
+      const parts = line.trim().split(/\s+/);
+      if (parts[0] === 'o') objects.push({ name: parts[1], v: [], f: [] });
+      if (parts[0] === 'v') { objects.at(-1)!.v.push(...parts.slice(1).map(Number)); all.push(...parts.slice(1).map(Number)); }
+      if (parts[0] === 'f') objects.at(-1)!.f.push(...parts.slice(1).map((x) => Number(x) - 1));
+    }
+    expect(objects.map((o) => o.name)).toEqual(['LV_EPI', 'RV_ENDO']);
+    const n = mesh.positions.length / 3;
+    expect(objects[0].f).toEqual(Array.from(mesh.indices));
+    expect(objects[1].f).toEqual(Array.from(mesh.indices, (i) => i + n));
+    // Each object's faces index its own vertices: the second is the first moved 100 mm in x.
+    for (const i of objects[1].f) expect(all[3 * i]).toBeCloseTo(mesh.positions[3 * (i - n)] + 100, 4);
+    expect(signedVolume(all.slice(3 * n), Array.from(mesh.indices))).toBeCloseTo(1000 / 6, 3);
   });
 
   it('PLY binary: header with comments and distance property; body decodes', () => {

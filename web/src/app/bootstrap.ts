@@ -73,6 +73,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
       result: () => c().currentResult(),
       screenshot: () => c().screenshot(),
       session: () => c().sessionFile(),
+      others: () => c().otherSurfaceMeshes(),
       failed: (e) => c().showExportError(e),
     }),
     view: new ViewControls((v) => c().setView(v), () => c().resetView()),

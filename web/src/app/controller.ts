@@ -24,6 +24,7 @@ import { surfacePoints } from './sceneContours';
 import { frameChoice, framePicker, frameToRead, missingFrameNote, namedFrame } from './timeFrames';
 import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
+import { KeptSurfaces, type KeptMesh } from './keptSurfaces';
 
 export type { Parts } from './parts';
 
@@ -61,8 +62,8 @@ export class Controller {
   private frameToken = 0;
   private sampleId: string | null = null;
   private view: ViewSettings = { ...DEFAULT_VIEW };
-  /** File and time frame whose surfaces the viewer's other-surfaces layer holds (null: none yet). */
-  private othersKey: string | null = null;
+  /** The file's finished surfaces (last run of each): the other-surfaces view and the all-surfaces export. */
+  private readonly kept = new KeptSurfaces();
   private active: ActiveRun | null = null;
   /** The run on screen: recorded frames, playback, result, contours (runDisplay.ts). */
   private readonly runView: RunDisplay;
@@ -212,7 +213,7 @@ export class Controller {
       this.cancelRun(); // read: it replaces what was on screen
       this.files.delete(fileName); // re-insert at the end: newest last in the picker
       // Read again (dropped anew, another frame): the meshes kept of its other surfaces may be of other contours.
-      if (this.othersKey?.startsWith(`${fileName}\n`)) this.othersKey = null;
+      if (this.kept.boundTo(`${fileName}\n`)) this.kept.forget();
       this.files.set(fileName, loaded);
       this.identities.set(fileName, identity);
       if (loaded.session) this.applySession(loaded.session);
@@ -514,28 +515,31 @@ export class Controller {
 
   /** A finished run's mesh joins the file's other surfaces (shown faint while another is current). */
   private keepSurface(r: RunResult): void {
-    const layer = this.parts.viewer?.otherSurfacesLayer;
     this.syncOthers();
-    if (!layer || r.surface === null) return;
-    layer.set(r.surface, r.positions, r.indices);
+    if (r.surface === null) return;
+    this.kept.keep(r.surface, r.positions, r.indices);
+    this.parts.viewer?.otherSurfacesLayer.set(r.surface, r.positions, r.indices);
     this.syncOthers();
   }
 
   /**
-   * Keeps the other-surfaces layer to the file and frame on screen (another one: forget the meshes
-   * kept) and shows what it holds but the current surface, whose own run is on screen.
+   * Keeps the kept surfaces to the file and frame on screen (another one: forget them) and shows
+   * them but the current surface, whose own run is on screen; the export offers them all.
    */
   private syncOthers(): void {
-    const layer = this.parts.viewer?.otherSurfacesLayer;
-    if (!layer) return;
     const file = this.currentFile();
-    const key = file ? `${file.fileName}\n${this.frame ?? ''}` : null;
-    if (key !== this.othersKey) {
-      layer.clear();
-      this.othersKey = key;
-    }
-    this.parts.view.setOthersAvailable(layer.show(this.view.others, this.surface));
+    const layer = this.parts.viewer?.otherSurfacesLayer;
+    if (this.kept.bind(file ? `${file.fileName}\n${this.frame ?? ''}` : null)) layer?.clear();
+    const others = this.kept.others(this.surface).map((m) => m.surface);
+    layer?.show(this.view.others, this.surface);
+    this.parts.view.setOthersAvailable(others);
+    this.parts.exports.setOthers(others);
     this.parts.viewer?.requestRender();
+  }
+
+  /** The finished meshes of the file's surfaces but the current one (for the all-surfaces export). */
+  otherSurfaceMeshes(): KeptMesh[] {
+    return this.kept.others(this.surface);
   }
 
 

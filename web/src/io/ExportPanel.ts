@@ -1,7 +1,8 @@
 /**
  * Export buttons: mesh as STL (binary), OBJ, PLY, VTK; contour distances CSV; parameters JSON;
  * the session (contours + settings, the core's format, opens again with the same settings); PNG
- * screenshot. Every file records the parameters and the app version (see export/header.ts).
+ * screenshot; and, once several surfaces of the file have been run, all of them in one OBJ. Every
+ * file records the parameters and the app version (see export/header.ts).
  */
 import type { RunResult } from '../core-client/protocol';
 import { h } from '../ui/dom';
@@ -9,10 +10,12 @@ import { download } from './download';
 import { writeDistancesCsv } from './export/csv';
 import { exportBaseName, type ExportInfo } from './export/header';
 import { runSummary, writeParamsJson } from './export/json';
-import { writeObj } from './export/obj';
+import { writeObj, writeObjSurfaces } from './export/obj';
 import { writePly } from './export/ply';
 import { writeStl } from './export/stl';
 import { writeVtk } from './export/vtk';
+
+const ALL_OFF = 'All surfaces of the file in one OBJ: each surface appears once its own run has finished (pick it in the Surface menu)';
 
 export interface ExportSource {
   info(): ExportInfo | null;
@@ -20,6 +23,8 @@ export interface ExportSource {
   screenshot(): Promise<Blob>;
   /** The current file and settings as a heartmesh session file (null without a file). */
   session(): Promise<Uint8Array> | null;
+  /** The finished meshes of the file's other surfaces (their last runs), for the all-surfaces OBJ. */
+  others(): { surface: string; positions: Float32Array; indices: Uint32Array }[];
   /** Reports a failed export. */
   failed(e: unknown): void;
 }
@@ -30,6 +35,9 @@ export class ExportPanel {
   private readonly png: HTMLButtonElement;
   private readonly json: HTMLButtonElement;
   private readonly session: HTMLButtonElement;
+  private readonly all: HTMLButtonElement;
+  private hasResult = false;
+  private otherCount = 0;
 
   constructor(private readonly source: ExportSource) {
     const button = (label: string, testid: string, title: string, fn: () => void | Promise<void>) => {
@@ -49,11 +57,14 @@ export class ExportPanel {
     this.json = button('Parameters JSON', 'export-json', 'Parameters (and result numbers) as JSON', () => this.exportJson());
     this.session = button('Session', 'export-session', 'Contours and settings as a heartmesh session (.json): open it again to get the same settings back', () => this.exportSession());
     this.png = button('PNG', 'export-png', 'Screenshot of the 3D view', () => this.exportPng());
-    this.element = h('section', { class: 'panel exports', 'aria-label': 'Export' }, h('h2', {}, 'Export'), h('div', { class: 'button-grid' }, ...this.meshButtons, this.json, this.session, this.png));
+    this.all = button('All surfaces OBJ', 'export-all-obj', ALL_OFF, () => this.exportAll());
+    this.element = h('section', { class: 'panel exports', 'aria-label': 'Export' }, h('h2', {}, 'Export'), h('div', { class: 'button-grid' }, ...this.meshButtons, this.json, this.session, this.png, this.all));
     this.setAvailable(false, false);
   }
 
   setAvailable(hasResult: boolean, hasFile: boolean): void {
+    this.hasResult = hasResult;
+    this.all.disabled = !hasResult || this.otherCount === 0;
     for (const b of this.meshButtons) b.disabled = !hasResult;
     this.json.disabled = !hasFile;
     this.session.disabled = !hasFile;
@@ -76,6 +87,28 @@ export class ExportPanel {
       case 'vtk':
         return download(writeVtk(mesh, info), `${base}.vtk`, 'application/octet-stream');
     }
+  }
+
+  /** The file's other surfaces with a finished run (`surfaces`): the all-surfaces OBJ holds them too. */
+  setOthers(surfaces: readonly string[]): void {
+    this.otherCount = surfaces.length;
+    this.all.disabled = !this.hasResult || surfaces.length === 0;
+    this.all.title = surfaces.length ? `This surface and ${surfaces.join(', ')} (their last runs) in one OBJ, one named object each` : ALL_OFF;
+  }
+
+  /** The current mesh and the other surfaces' last ones in one OBJ, one named object each. */
+  private exportAll(): void {
+    const info = this.source.info();
+    const r = this.source.result();
+    if (!info || !r) return;
+    const others = this.source.others();
+    const current = info.surface ?? 'surface';
+    const parts = [
+      { name: current, mesh: { positions: r.positions, indices: r.indices } },
+      ...others.map((m) => ({ name: m.surface, mesh: m })),
+    ];
+    const notes = [`objects: ${current} (this run, with the parameters above)${others.map((m) => `, ${m.surface} (its last run)`).join('')}`];
+    download(writeObjSurfaces(parts, info, notes), `${exportBaseName({ ...info, surface: null })}-surfaces.obj`, 'model/obj');
   }
 
   private exportCsv(): void {

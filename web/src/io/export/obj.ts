@@ -2,6 +2,26 @@
 import { f32 } from './float32';
 import { headerLines, type ExportInfo, type MeshData } from './header';
 
+/**
+ * Several surfaces in one OBJ, each its own object (`o LV_ENDO`) with its vertices and faces (face
+ * indices count on across objects, as OBJ's are file-wide): what modelling tools import as one
+ * heart with named parts. `notes` go in the header (which run each surface comes from).
+ */
+export function writeObjSurfaces(parts: readonly { name: string; mesh: MeshData }[], info: ExportInfo, notes: readonly string[] = []): string {
+  const lines = [...headerLines(info), ...notes].map((l) => `# ${l}`);
+  let base = 1;
+  for (const { name, mesh } of parts) {
+    lines.push(`o ${name.replace(/\s+/g, '_')}`);
+    const p = mesh.positions;
+    for (let i = 0; i < p.length; i += 3) lines.push(`v ${f32(p[i])} ${f32(p[i + 1])} ${f32(p[i + 2])}`);
+    const f = mesh.indices;
+    for (let i = 0; i < f.length; i += 3) lines.push(`f ${f[i] + base} ${f[i + 1] + base} ${f[i + 2] + base}`);
+    base += p.length / 3;
+  }
+  lines.push('');
+  return lines.join('\n');
+}
+
 export function writeObj(mesh: MeshData, info: ExportInfo): string {
   const lines = headerLines(info).map((l) => `# ${l}`);
   const p = mesh.positions;

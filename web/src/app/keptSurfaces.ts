@@ -1,0 +1,46 @@
+/**
+ * The finished mesh of each surface of one file (its last run), for the other-surfaces view and
+ * the all-surfaces export: a biventricular file is reconstructed one surface at a time, and a
+ * modeller wants the LV, the RV and the epicardium together. Bound to one file and time frame: a
+ * mesh of another frame, or of a file read again, would be of other contours.
+ */
+export interface KeptMesh {
+  surface: string;
+  /** xyz per vertex, mm (a copy: the run's arrays may be handed on). */
+  positions: Float32Array;
+  indices: Uint32Array;
+}
+
+export class KeptSurfaces {
+  private key: string | null = null;
+  private readonly meshes = new Map<string, KeptMesh>();
+
+  /** Binds to `key` (file and frame); another key forgets every mesh. Returns whether it did. */
+  bind(key: string | null): boolean {
+    if (key === this.key) return false;
+    this.key = key;
+    this.meshes.clear();
+    return true;
+  }
+
+  /** Forgets every mesh and the binding (the file was read again). */
+  forget(): void {
+    this.key = null;
+    this.meshes.clear();
+  }
+
+  /** Keeps `surface`'s mesh, replacing its earlier one (kept in the order first seen). */
+  keep(surface: string, positions: Float32Array, indices: Uint32Array): void {
+    this.meshes.set(surface, { surface, positions: positions.slice(), indices: indices.slice() });
+  }
+
+  /** The kept meshes but `current`'s, in the order first kept. */
+  others(current: string | null): KeptMesh[] {
+    return [...this.meshes.values()].filter((m) => m.surface !== current);
+  }
+
+  /** Whether the binding is to a key starting with `prefix` (the file name part). */
+  boundTo(prefix: string): boolean {
+    return this.key?.startsWith(prefix) ?? false;
+  }
+}
