@@ -12,11 +12,7 @@ export function writeObjSurfaces(parts: readonly { name: string; mesh: MeshData 
   let base = 1;
   for (const { name, mesh } of parts) {
     lines.push(`o ${name.replace(/\s+/g, '_')}`);
-    const p = mesh.positions;
-    for (let i = 0; i < p.length; i += 3) lines.push(`v ${f32(p[i])} ${f32(p[i + 1])} ${f32(p[i + 2])}`);
-    const f = mesh.indices;
-    for (let i = 0; i < f.length; i += 3) lines.push(`f ${f[i] + base} ${f[i + 1] + base} ${f[i + 2] + base}`);
-    base += p.length / 3;
+    base = pushMesh(lines, mesh, base);
   }
   lines.push('');
   return lines.join('\n');
@@ -24,10 +20,16 @@ export function writeObjSurfaces(parts: readonly { name: string; mesh: MeshData 
 
 export function writeObj(mesh: MeshData, info: ExportInfo): string {
   const lines = headerLines(info).map((l) => `# ${l}`);
+  pushMesh(lines, mesh, 1);
+  lines.push('');
+  return lines.join('\n');
+}
+
+/** Appends `v` and `f` lines, faces numbered from `base` (1-based); returns the next base. */
+function pushMesh(lines: string[], mesh: MeshData, base: number): number {
   const p = mesh.positions;
   for (let i = 0; i < p.length; i += 3) lines.push(`v ${f32(p[i])} ${f32(p[i + 1])} ${f32(p[i + 2])}`);
   const f = mesh.indices;
-  for (let i = 0; i < f.length; i += 3) lines.push(`f ${f[i] + 1} ${f[i + 1] + 1} ${f[i + 2] + 1}`);
-  lines.push('');
-  return lines.join('\n');
+  for (let i = 0; i < f.length; i += 3) lines.push(`f ${f[i] + base} ${f[i + 1] + base} ${f[i + 2] + base}`);
+  return base + p.length / 3;
 }
