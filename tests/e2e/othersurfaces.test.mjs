@@ -6,7 +6,7 @@
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { download, gotoEmpty, readResult, runAndWait, SHOTS } from './lib.mjs';
+import { download, gotoEmpty, readResult, runAndWait, waitForDone, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 
 let app;
@@ -81,6 +81,23 @@ describe('other surfaces of the file', () => {
     assert.equal(await page.isDisabled('[data-testid=view-others]'), true);
     assert.equal(await page.isDisabled('[data-testid=export-all-obj]'), true);
     assert.equal(await legend(), '');
+  });
+
+  it('"All" runs every surface of the file in turn, ending on the one picked, and shows them together', async () => {
+    await gotoEmpty(page, app.server.url);
+    await runAndWait(page, () => page.getByRole('button', { name: 'Patient 1 · ES' }).first().click());
+    assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'LV_ENDO');
+    assert.equal(await page.isChecked('[data-testid=view-others]'), false);
+    await page.click('[data-testid=run-all-surfaces]');
+    // Three other surfaces, then the LV endocardium again: done when all three are kept.
+    await page.waitForFunction(() => document.querySelector('[data-testid=view-others-count]')?.textContent === ' (3)', null, { timeout: 120000 });
+    await waitForDone(page, 120000);
+    assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'LV_ENDO');
+    assert.equal(await page.isChecked('[data-testid=view-others]'), true, 'switched on to show them');
+    assert.equal(await legend(), 'LV_EPI,RV_ENDO,RV_EPI');
+    const lv = await readResult(page);
+    assert.ok(lv.vertices > 500 && lv.meanMm < 1, JSON.stringify(lv));
+    await page.screenshot({ path: join(SHOTS, 'all-surfaces.png') });
   });
 });
 

@@ -533,6 +533,37 @@ describe('controller', () => {
     c.dispose();
   });
 
+  it('"All" runs every surface in turn, the current one last, with Other surfaces on; picking a surface drops the rest', async () => {
+    const c = new Controller({ ...parts, viewer: viewerRecorder(), warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c.openFiles([file('biv.csv')]);
+    expect(client.runs.length).toBe(1);
+    expect(client.runs[0].opts.surface).toBe('LV_ENDO');
+    c.runAllSurfaces(); // cancels the LV run in progress: RV first, then LV again
+    expect(url).toContain('others_shown=1');
+    expect(parts.view.calls.show?.at(-1)?.[0]).toMatchObject({ others: true });
+    expect(client.runs.map((r) => r.opts.surface)).toEqual(['LV_ENDO', 'RV_ENDO']);
+    expect(parts.files.calls.setSurfaces?.at(-1)?.[1]).toBe('RV_ENDO');
+    let run = client.runs.at(-1)!;
+    run.resolve({ ...result(run.runId), surface: 'RV_ENDO' });
+    await vi.runAllTimersAsync();
+    expect(client.runs.map((r) => r.opts.surface)).toEqual(['LV_ENDO', 'RV_ENDO', 'LV_ENDO']);
+    run = client.runs.at(-1)!;
+    run.resolve(result(run.runId));
+    await vi.runAllTimersAsync();
+    expect(client.runs.length).toBe(3); // done: nothing more queued
+    expect(c.otherSurfaceMeshes().map((m) => m.surface)).toEqual(['RV_ENDO']);
+    // Queued again, then a surface picked by hand: what was left is dropped.
+    c.runAllSurfaces();
+    expect(client.runs.at(-1)?.opts.surface).toBe('RV_ENDO');
+    c.chooseSurface('LV_ENDO');
+    run = client.runs.at(-1)!;
+    run.resolve(result(run.runId));
+    await vi.runAllTimersAsync();
+    expect(client.runs.map((r) => r.opts.surface).slice(3)).toEqual(['RV_ENDO', 'LV_ENDO']);
+    c.dispose();
+  });
+
   it('a file refused at load keeps the previous scene and its framing, and says so', async () => {
     const viewer = viewerRecorder();
     const c = new Controller({ ...parts, viewer, warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');

@@ -66,6 +66,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
       trySample: (s) => void c().trySample(s),
       chooseFile: (n) => c().chooseFile(n),
       chooseSurface: (s) => c().chooseSurface(s),
+      runAllSurfaces: () => c().runAllSurfaces(),
       chooseFrame: (f) => c().chooseFrame(f),
     }),
     exports: new ExportPanel({

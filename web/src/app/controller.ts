@@ -25,6 +25,7 @@ import { frameChoice, framePicker, frameToRead, missingFrameNote, namedFrame } f
 import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 import { KeptSurfaces, type KeptMesh } from './keptSurfaces';
+import { surfaceOrder } from '../io/FileBar';
 
 export type { Parts } from './parts';
 
@@ -64,6 +65,8 @@ export class Controller {
   private view: ViewSettings = { ...DEFAULT_VIEW };
   /** The file's finished surfaces (last run of each): the other-surfaces view and the all-surfaces export. */
   private readonly kept = new KeptSurfaces();
+  /** Surfaces still to run after the current one for "All" (empty: none queued). */
+  private allQueue: string[] = [];
   private active: ActiveRun | null = null;
   /** The run on screen: recorded frames, playback, result, contours (runDisplay.ts). */
   private readonly runView: RunDisplay;
@@ -256,10 +259,40 @@ export class Controller {
     this.runOrReadFrame(fileName);
   }
 
+  /** A surface picked by the user: it runs, and any "All" still queued is dropped. */
   chooseSurface(surface: string): void {
+    this.allQueue = [];
+    this.pickSurface(surface);
+  }
+
+  /**
+   * "All": every surface of the file in turn, the current one last, so the run ends where the user
+   * was with the others kept around it (the view's Other surfaces, switched on). Picking a surface,
+   * another file or frame, a parameter, Stop or a failed run drops what is still queued.
+   */
+  runAllSurfaces(): void {
+    const file = this.currentFile();
+    if (!file || file.surfaces.length < 2) return;
+    const order = surfaceOrder(file.surfaces);
+    const current = this.surface ?? order[0];
+    this.allQueue = [...order.filter((s) => s !== current), current];
+    if (!this.view.others) {
+      this.parts.view.show({ ...this.view, others: true });
+      this.setView({ ...this.view, others: true });
+    }
+    this.nextOfAll();
+  }
+
+  private nextOfAll(): void {
+    const next = this.allQueue.shift();
+    if (next !== undefined) this.pickSurface(next);
+  }
+
+  private pickSurface(surface: string): void {
     const file = this.currentFile();
     if (!file || !file.surfaces.includes(surface)) return;
     this.surface = surface;
+    this.parts.files.setSurfaces(file.surfaces, surface);
     this.syncOthers();
     const noFrame = missingFrameNote(file, this.frame);
     this.fileWarnings = [...(noFrame ? [noFrame] : []), ...warningsFor(file, surface)];
@@ -278,6 +311,7 @@ export class Controller {
   chooseFrame(value: string): void {
     const file = this.currentFile();
     if (!file || !framePicker(file)) return;
+    this.allQueue = [];
     this.frame = frameChoice(value);
     this.updateUrl();
     void this.readFrame(file.fileName, this.frame);
@@ -330,6 +364,7 @@ export class Controller {
   private selectFile(fileName: string, preferredSurface: string | null, reframe = true): void {
     const file = this.files.get(fileName);
     if (!file) return;
+    this.allQueue = [];
     if (loadedFile(this.state) !== fileName || this.state.kind === 'loading') {
       this.dispatch({ type: 'load', fileName });
       this.dispatch({ type: 'loaded', fileName });
@@ -362,6 +397,25 @@ export class Controller {
    */
   private frameSurface(file: LoadedFile): void {
     this.parts.viewer?.frame(surfacePoints(file, this.surface));
+    this.frameOthers();
+  }
+
+  /**
+   * With Other surfaces on, widens the framing to hold them too (the RV beside an LV would be cut
+   * off at the LV's scale), keeping the orientation of the current surface's contours; a camera the
+   * user moved stays where it is.
+   */
+  private frameOthers(): void {
+    const viewer = this.parts.viewer;
+    const others = this.view.others ? this.kept.others(this.surface) : [];
+    if (!viewer || others.length === 0) return;
+    const all = new Float32Array(others.reduce((n, m) => n + m.positions.length, 0));
+    let at = 0;
+    for (const m of others) {
+      all.set(m.positions, at);
+      at += m.positions.length;
+    }
+    viewer.extendFrame(all, true);
   }
 
   private currentFile(): LoadedFile | null {
@@ -452,6 +506,7 @@ export class Controller {
     if (this.restartTimer) clearTimeout(this.restartTimer);
     this.restartTimer = null;
     if (!this.active || !canStop(this.state)) return;
+    this.allQueue = [];
     this.cancelRun();
     this.parts.result.clear('stopped before the end: no result (↻ runs again)');
     this.dispatch({ type: 'stop' });
@@ -472,6 +527,7 @@ export class Controller {
 
   /** A parameter changed: debounce, then restart (cancelling the run in progress). */
   setParams(values: ParamValues, lids: LidsMode, options: ReconOptions = this.options): void {
+    this.allQueue = [];
     this.params = { ...this.params, ...values };
     this.lids = lids;
     this.options = { ...options };
@@ -511,6 +567,7 @@ export class Controller {
     this.keepSurface(r);
     this.dispatch({ type: 'finished', runId: r.runId });
     this.emitResult(r);
+    if (this.allQueue.length) this.nextOfAll();
   }
 
   /** A finished run's mesh joins the file's other surfaces (shown faint while another is current). */
@@ -583,8 +640,10 @@ export class Controller {
   // ---- view -----------------------------------------------------------------------------------
 
   setView(v: ViewSettings): void {
+    const othersOn = v.others && !this.view.others;
     this.view = v;
     this.applyView();
+    if (othersOn) this.frameOthers();
     this.updateUrl();
   }
 
@@ -669,6 +728,7 @@ export class Controller {
    * banner agree) and the refusal stays as a note.
    */
   private runFailed(error: CoreErrorData, runId: number): void {
+    this.allQueue = [];
     const s = this.state;
     if (s.kind === 'loading') {
       this.pendingRunFailure = error;

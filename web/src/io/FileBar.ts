@@ -16,6 +16,8 @@ export interface FileBarHandlers {
   trySample(sample: Sample): void;
   chooseFile(fileName: string): void;
   chooseSurface(surface: string): void;
+  /** Reconstructs every surface of the file in turn (the "All" button beside the surface picker). */
+  runAllSurfaces(): void;
   /** A `FrameOption.value` of the frame picker. */
   chooseFrame(frame: string): void;
 }
@@ -62,7 +64,12 @@ export class FileBar {
     this.surfaces.title = 'Surface to reconstruct';
     this.frames.title = 'Time frame to reconstruct (the file holds several)';
     this.filesWrap = h('span', { class: 'picker', hidden: true }, this.files);
-    this.surfacesWrap = h('span', { class: 'picker', hidden: true }, this.surfaces);
+    const all = h('button', {
+      type: 'button', class: 'small', 'data-testid': 'run-all-surfaces',
+      title: 'Reconstruct every surface of the file in turn, ending on this one; each is kept, and the view\'s Other surfaces shows them together',
+    }, 'All');
+    all.addEventListener('click', () => handlers.runAllSurfaces());
+    this.surfacesWrap = h('span', { class: 'picker', hidden: true }, this.surfaces, all);
     this.framesWrap = h('span', { class: 'picker', hidden: true }, this.frames);
     this.element = h('div', { class: 'filebar' }, this.input, open, samples, this.filesWrap, this.surfacesWrap, this.framesWrap);
   }

@@ -195,13 +195,15 @@ export class Viewer {
 
   /**
    * Widens the framing to also hold `extra` points (the first mesh of a run, whose lids reach past
-   * the contours), unless the user has moved the camera since.
+   * the contours; the file's other surfaces), unless the user has moved the camera since. `keep`:
+   * the points join the framed ones, so a later widening (the next run's first mesh) keeps them.
    */
-  extendFrame(extra: Float32Array): void {
+  extendFrame(extra: Float32Array, keep = false): void {
     if (this.userMoved) return;
     const all = new Float32Array(this.framePoints.length + extra.length);
     all.set(Array.from(this.framePoints), 0);
     all.set(extra, this.framePoints.length);
+    if (keep) this.framePoints = all;
     const axis = this.fit?.axis;
     const side = this.fit?.side;
     this.fit = fitView(all);
