@@ -599,7 +599,6 @@ export class Controller {
     return this.kept.others(this.surface);
   }
 
-
   private clearRunDisplay(): void {
     this.runView.clear();
     this.emitResult(null);
