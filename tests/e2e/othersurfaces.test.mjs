@@ -40,6 +40,32 @@ describe('other surfaces of the file', () => {
     const changed = await changedPixels(before, after);
     assert.ok(changed > 2000, `the LV drawn beside the RV changed ${changed} pixels`);
 
+    // The hover read-out names the faint surface under the pointer: tried at the LV's vertices
+    // farthest from the RV's centre (not behind the RV, whose own read-out comes first).
+    const targets = await page.evaluate(() => {
+      const lv = window.heartmesh.otherSurfaceMeshes()[0].positions;
+      const rv = window.heartmesh.currentResult().positions;
+      const c = [0, 1, 2].map((k) => { let t = 0; for (let i = k; i < rv.length; i += 3) t += rv[i]; return t / (rv.length / 3); });
+      const order = [];
+      for (let i = 0; i < lv.length; i += 3) order.push([Math.hypot(lv[i] - c[0], lv[i + 1] - c[1], lv[i + 2] - c[2]), i]);
+      order.sort((a, b) => b[0] - a[0]);
+      return order.slice(0, 40).map(([, i]) => window.heartmeshViewer.screenPosition(lv[i], lv[i + 1], lv[i + 2]));
+    });
+    const box = await canvas.boundingBox();
+    let named = null;
+    for (const at of targets) {
+      if (at.x < 5 || at.y < 5 || at.x > box.width - 5 || at.y > box.height - 5) continue;
+      await page.mouse.move(box.x + at.x, box.y + at.y);
+      await page.waitForTimeout(30);
+      if (await page.isVisible('[data-testid=hover-readout]')) {
+        const text = (await page.textContent('[data-testid=hover-readout]')) ?? '';
+        if (text.includes('(other surface)')) { named = text; break; }
+      }
+    }
+    assert.match(named ?? 'none of 40 tried', /^\s*LV_ENDO \(other surface\)\(/);
+    await page.screenshot({ path: join(SHOTS, 'other-surface-hover.png') });
+    await page.mouse.move(0, 0);
+
     // A third surface: both earlier ones around it; the current one is never its own ghost.
     await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_EPI'));
     assert.equal(await count(), ' (2)');

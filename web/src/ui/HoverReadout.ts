@@ -18,7 +18,12 @@ export class HoverReadout {
     const p = info.point;
     const pos = `(${p.x.toFixed(1)}, ${p.y.toFixed(1)}, ${p.z.toFixed(1)}) mm`;
     const children: (Node | string)[] = [];
-    if (info.label) {
+    if (info.what === 'other surface') {
+      // Another surface of the file, drawn faint: which one (its last run; no distances of its own here).
+      const sw = h('span', { class: 'swatch' });
+      sw.style.background = info.tint ?? '';
+      children.push(sw, ' ', h('strong', {}, info.label ?? ''), ' (other surface)', h('br'));
+    } else if (info.label) {
       // A contour the run left out: no distance (the mesh does not follow it), its reason and id.
       children.push(h('span', { class: 'swatch set-aside-swatch' }), ' ', h('strong', {}, info.label), info.id ? ` · ${info.id}` : '', h('br'));
     } else if (info.distanceMm !== null) {

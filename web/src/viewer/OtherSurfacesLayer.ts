@@ -86,6 +86,21 @@ export class OtherSurfacesLayer {
     return this.surfaces.filter((s) => s !== current);
   }
 
+  /**
+   * The shown surface under `raycaster`'s ray, nearest first, at a point `visible` accepts (not
+   * clipped away): the hover read-out names it. Null when none is.
+   */
+  pick(raycaster: THREE.Raycaster, visible: (p: THREE.Vector3) => boolean): { surface: string; tint: string; point: THREE.Vector3 } | null {
+    if (!this.group.visible) return null;
+    let best: { surface: string; tint: string; point: THREE.Vector3; distance: number } | null = null;
+    for (const [surface, k] of this.kept) {
+      if (!k.mesh.visible) continue;
+      const hit = raycaster.intersectObject(k.mesh, false).find((h) => visible(h.point));
+      if (hit && (!best || hit.distance < best.distance)) best = { surface, tint: k.tint, point: hit.point.clone(), distance: hit.distance };
+    }
+    return best && { surface: best.surface, tint: best.tint, point: best.point };
+  }
+
   /** Forgets every surface (another file or time frame). */
   clear(): void {
     for (const s of this.surfaces) this.remove(s);

@@ -20,12 +20,14 @@ export interface HoverInfo {
   /** Screen position (px, relative to the viewport). */
   x: number;
   y: number;
-  what: 'mesh' | 'contour point' | 'left out';
+  what: 'mesh' | 'contour point' | 'left out' | 'other surface';
   point: THREE.Vector3;
   /** Contour-to-mesh distance in mm when known (after a finished run; never for a contour left out). */
   distanceMm: number | null;
-  /** For a contour the run left out: "left out: speck" and its id. */
+  /** For a contour the run left out: "left out: speck" and its id; for another surface, its label. */
   label?: string;
+  /** For another surface of the file: its tint in the view. */
+  tint?: string;
   id?: string;
 }
 
@@ -294,6 +296,11 @@ export class Viewer {
         this.hoverListener({ x, y, what: 'mesh', point: hit.point.clone(), distanceMm: d });
         return;
       }
+    }
+    const other = this.otherSurfacesLayer.pick(this.raycaster, (p) => this.isVisiblePoint(p));
+    if (other) {
+      this.hoverListener({ x, y, what: 'other surface', point: other.point, distanceMm: null, label: other.surface, tint: other.tint });
+      return;
     }
     this.hoverListener(null);
   }
