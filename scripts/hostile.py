@@ -486,6 +486,10 @@ def other_tools(out_dir, p1, surfco, rng, seed):
     cases.append(Case("units-pixels", ("contour,x [px],y [px],z [px]\n" + "\n".join(lines[1:]))
                       .encode()))
     cases.append(Case("pandas-index", rows("," + lines[0], lambda l: "0," + l), expect="ok"))
+    # Session 19: no header line (name,x,y,z read with a warning); four numbers still need one.
+    cases.append(Case("no-header", ("\n".join(lines[1:]) + "\n").encode(), expect="ok"))
+    cases.append(Case("no-header-four-numbers", ("\n".join(
+        "%d,%s" % (i, ",".join(l.split(",")[1:])) for i, l in enumerate(lines[1:]) if l) + "\n").encode()))
     cases.append(Case("numbers-plus-dot-exp", rows(lines[0], lambda l: ",".join(
         [l.split(",")[0]] + ["%+.6e" % float(v) for v in l.split(",")[1:]])), expect="ok"))
     cases.append(Case("thousands-separator", surfco.replace(b"35.00000", b'"1,035.0"', 1)))
