@@ -8,6 +8,7 @@ differ: stacks tilted off the axis, other spacings and counts, a slice missing, 
 the apex or past the base, a second loop beside the basal ring, a speck (a 3-point loop past the
 base or between slices, session 14), LAX planes off the apex, one or
 two LAX views, LAX from another breath-hold, LAX drawn only in part, point spacing 0.2-6 mm,
+curves traced from a pixel mask (1.4 and 2 mm pixels, as segmentation networks give them),
 winding, order, duplicates, far coordinates and hand-drawing noise. Each case runs through the
 release CLI at defaults (`reconstruct --report`, then `compare` against the truth clipped at the
 acquisition's own basal SAX plane and at the planner's), and the table gives mean (both ways,
@@ -288,6 +289,7 @@ class Acq:
         self.all_loops = False  # every closed loop of a SAX section (else the longest)
         self.spacing = 1.0
         self.noise = 0.0
+        self.pixel = 0.0  # > 0: curves traced from a mask on an image grid of this spacing (mm)
         self.post = []  # functions on the block list
 
 
@@ -335,6 +337,8 @@ def build(mesh, acq, rng, surface):
         if len(pts) < 3:
             continue
         blocks.append([f"lax{j + 1:02}", surface, pts, closed, n])
+    if acq.pixel > 0:
+        blocks = [b for b in (pixelated(b, acq.pixel, rng) for b in blocks) if b]
     for b in blocks:
         b[2] = resample(b[2], acq.spacing, b[3]) if acq.spacing > 0 else b[2]
         if acq.noise > 0:
@@ -346,6 +350,83 @@ def build(mesh, acq, rng, surface):
     for f in acq.post:
         out = f(out, rng)
     return out, warnings
+
+
+def pixelated(block, size, rng):
+    """The curve as a segmentation network's mask gives it: the region it bounds (an open
+    long-axis curve closed by its chord, the valve plane) filled on an image grid of `size` mm
+    at a random in-plane angle and offset, and its outline traced between inside and outside
+    pixel centres (marching squares on a binary mask: a staircase, no inward bias), ordered; an
+    open curve loses the chord's part again. None when the region covers no pixel centre."""
+    cid, surface, pts, closed, n = block
+    u = perpendicular(n, rng)
+    v = H.cross(n, u)
+    o = H.add(pts[0], H.add(H.scale(u, rng.uniform(0, size)), H.scale(v, rng.uniform(0, size))))
+    h = H.dot(H.sub(pts[0], o), n)
+    xy = [(H.dot(H.sub(p, o), u) / size, H.dot(H.sub(p, o), v) / size) for p in pts]
+    poly = xy + ([] if closed else [xy[0]])
+    inside = set()
+    for j in range(math.floor(min(q[1] for q in poly)), math.ceil(max(q[1] for q in poly)) + 1):
+        xs = []
+        for (x0, y0), (x1, y1) in zip(poly, poly[1:] + poly[:1]):
+            if (y0 > j) != (y1 > j):
+                xs.append(x0 + (j - y0) * (x1 - x0) / (y1 - y0))
+        xs.sort()
+        for a, b in zip(xs[::2], xs[1::2]):
+            inside.update((i, j) for i in range(math.ceil(a), math.floor(b) + 1))
+    # directed pixel edges with the region on their left, chained corner to corner
+    nxt = {}
+    for i, j in inside:
+        for (di, dj), a, b in (((0, -1), (i - .5, j - .5), (i + .5, j - .5)),
+                               ((1, 0), (i + .5, j - .5), (i + .5, j + .5)),
+                               ((0, 1), (i + .5, j + .5), (i - .5, j + .5)),
+                               ((-1, 0), (i - .5, j + .5), (i - .5, j - .5))):
+            if (i + di, j + dj) not in inside:
+                nxt.setdefault(a, []).append(b)
+    loops = []
+    while nxt:
+        start = min(nxt)
+        loop, c = [], start
+        while c in nxt:
+            d = nxt[c].pop()
+            if not nxt[c]:
+                del nxt[c]
+            loop.append(((c[0] + d[0]) / 2, (c[1] + d[1]) / 2))
+            c = d
+        loops.append(loop)
+    if not loops:
+        return None
+
+    def area(lp):
+        return abs(sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(lp, lp[1:] + lp[:1])))
+    out = max(loops, key=area)
+    if not closed:
+        a, b = xy[-1], xy[0]
+        ab = (b[0] - a[0], b[1] - a[1])
+        ll = ab[0] ** 2 + ab[1] ** 2 or 1.0
+
+        def near_chord(q):
+            t = max(0.0, min(1.0, ((q[0] - a[0]) * ab[0] + (q[1] - a[1]) * ab[1]) / ll))
+            return math.hypot(q[0] - a[0] - t * ab[0], q[1] - a[1] - t * ab[1]) < 1.0
+        keep = [not near_chord(q) for q in out]
+        if all(keep) or not any(keep):
+            return None
+        k = keep.index(False)
+        out, keep = out[k:] + out[:k], keep[k:] + keep[:k]  # start inside the chord's run
+        runs, cur = [], []
+        for q, kq in zip(out, keep):
+            if kq:
+                cur.append(q)
+            elif cur:
+                runs.append(cur)
+                cur = []
+        runs.append(cur)
+        out = max(runs, key=len)
+    if len(out) < 3:
+        return None
+    to3 = [H.add(o, H.add(H.scale(n, h), H.add(H.scale(u, x * size), H.scale(v, y * size))))
+           for x, y in out]
+    return [cid, surface, to3, closed, n]
 
 
 def trim(pts, a, b):
@@ -564,6 +645,12 @@ def families():
             a.post.append(lambda bl, r: [(c, s, [H.add(p, v) for p in pts]) for c, s, pts in bl])
             a.offset = v
         F[f"offset{far:.0e}"] = offset
+
+    for px in (1.4, 2.0):
+        def pixels(a, r, px=px):
+            a.pixel = px
+            a.spacing = 0.0  # one point per pixel edge, as traced
+        F[f"pixels{px:g}"] = pixels
 
     for sd in (0.3, 0.6, 1.0):
         F[f"noise{sd:g}"] = lambda a, r, sd=sd: setattr(a, "noise", sd)

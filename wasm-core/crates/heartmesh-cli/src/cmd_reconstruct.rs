@@ -64,7 +64,8 @@ pub const USAGE: &str =
   a long-axis curve under a tenth of the data's extent along the axis (a click in a long-axis
   view) are left out of the reconstruction, each named in a warning and in the report's
   set_aside; --keep-specks keeps them (the paper's method);
-  --lids apex puts the apex lid at the file's APEX_POINT landmark (biv-me GPFiles);
+  --lids apex puts the apex lid at the file's apex landmark (biv-me GPFiles: APEX_POINT, or
+  APEX_ENDO_POINT / APEX_EPI_POINT for the endo- / epicardial surfaces);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
   --surface all: each surface of the file in turn (its order), each to the output names with
   -SURFACE before the extension (-o m.obj --report r.json: m-LV_ENDO.obj, r-LV_ENDO.json, ...);
@@ -147,15 +148,6 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let params = params_from(&p, loaded.session_params.unwrap_or_default())?;
     let input_format = loaded.format.name();
     let set = loaded.set;
-    let mut params = params;
-    if p.value("lids") == Some("apex") {
-        params.lids = apex_lid(&set).ok_or_else(|| {
-            CliError::input(
-                input,
-                CoreError::parse(0, "--lids apex needs an APEX_POINT landmark in the file"),
-            )
-        })?;
-    }
     let outputs = Outputs {
         mesh: output.to_string(),
         format,
@@ -167,6 +159,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         input_format,
         set: &set,
         quiet,
+        apex_lids: p.value("lids") == Some("apex"),
         said: RefCell::new(Vec::new()),
     };
     match each_surface::requested(params.surface.as_deref(), &set) {
@@ -211,6 +204,8 @@ struct Run<'a> {
     input_format: &'a str,
     set: &'a ContourSet,
     quiet: bool,
+    /// `--lids apex`: each surface's apex lid at the file's apex landmark for that surface.
+    apex_lids: bool,
     /// The stderr lines already printed: a note or warning about the whole file (the images'
     /// crossing gap, a unit conversion) is said once, not once per surface of `--surface all`.
     said: RefCell<Vec<String>>,
@@ -227,8 +222,20 @@ impl Run<'_> {
     }
 
     /// Reconstructs `params.surface` of the file and writes `out`'s files.
-    fn surface(&self, params: Params, out: &Outputs) -> Result<(), CliError> {
+    fn surface(&self, mut params: Params, out: &Outputs) -> Result<(), CliError> {
         let (input, set, quiet) = (self.input, self.set, self.quiet);
+        if self.apex_lids {
+            let surface = params
+                .surface
+                .clone()
+                .or_else(|| set.surfaces().first().cloned());
+            params.lids = apex_lid(set, surface.as_deref()).ok_or_else(|| {
+                CliError::input(
+                    input,
+                    CoreError::parse(0, "--lids apex needs an APEX_POINT landmark in the file"),
+                )
+            })?;
+        }
         let output = out.mesh.as_str();
         // Warnings are printed after success; on failure the first one joins the single error line
         // (the contract: one line on stderr), since it may well be the cause.
@@ -383,13 +390,18 @@ pub(crate) fn through_plane_switch(p: &Parsed, aligning: bool) -> Result<bool, C
     Ok(!in_plane)
 }
 
-/// The apex lid at the file's APEX_POINT landmark (biv-me guide points carry one); the base lid
-/// stays automatic.
-fn apex_lid(set: &ContourSet) -> Option<LidMode> {
-    let apex = set
-        .landmarks
+/// The apex lid at the file's apex landmark (biv-me guide points carry one); the base lid stays
+/// automatic. Newer biv-me files mark the endocardial and epicardial apex apart
+/// (`APEX_ENDO_POINT`, `APEX_EPI_POINT`, several millimetres apart across the wall): each
+/// surface takes its own, then the plain `APEX_POINT`, then either.
+fn apex_lid(set: &ContourSet, surface: Option<&str>) -> Option<LidMode> {
+    let own = match surface {
+        Some(s) if s.ends_with("_EPI") || s == "EPI" => "APEX_EPI_POINT",
+        _ => "APEX_ENDO_POINT",
+    };
+    let apex = [own, "APEX_POINT", "APEX_ENDO_POINT", "APEX_EPI_POINT"]
         .iter()
-        .find(|(name, _)| name == "APEX_POINT")
+        .find_map(|want| set.landmarks.iter().find(|(name, _)| name == want))
         .map(|(_, p)| *p)?;
     Some(LidMode::Explicit {
         apex: Some(apex),
@@ -431,6 +443,29 @@ mod tests {
 
     fn params_from_default(p: &Parsed) -> Result<Params, CliError> {
         params_from(p, Params::default())
+    }
+
+    /// Each surface's own apex landmark first, then the plain one, then either.
+    #[test]
+    fn apex_lid_takes_the_surfaces_own_apex_landmark() {
+        use heartmesh_core::geometry::v3;
+        let at = |set: &ContourSet, s: Option<&str>| match apex_lid(set, s) {
+            Some(LidMode::Explicit { apex: Some(p), .. }) => Some(p.x),
+            _ => None,
+        };
+        let mut set = ContourSet::default();
+        assert_eq!(at(&set, Some("LV_ENDO")), None);
+        set.landmarks
+            .push(("APEX_EPI_POINT".into(), v3(3.0, 0.0, 0.0)));
+        assert_eq!(at(&set, Some("LV_ENDO")), Some(3.0));
+        set.landmarks.push(("APEX_POINT".into(), v3(1.0, 0.0, 0.0)));
+        assert_eq!(at(&set, Some("LV_ENDO")), Some(1.0));
+        assert_eq!(at(&set, Some("LV_EPI")), Some(3.0));
+        set.landmarks
+            .push(("APEX_ENDO_POINT".into(), v3(2.0, 0.0, 0.0)));
+        assert_eq!(at(&set, Some("RV_ENDO")), Some(2.0));
+        assert_eq!(at(&set, None), Some(2.0));
+        assert_eq!(at(&set, Some("RV_EPI")), Some(3.0));
     }
 
     #[test]

@@ -24,6 +24,34 @@ const LANDMARKS: &[&str] = &[
     "RV_INSERT",
 ];
 
+/// Single points rather than curves: the classic landmarks, and what newer biv-me versions add
+/// (synthetic valve rings `*_PHANTOM`, `APEX_ENDO_POINT`/`APEX_EPI_POINT`, long-axis extents
+/// `LAX_*_EXTENT`). Kept as named points so they are shown, never fitted.
+fn is_landmark(kind: &str) -> bool {
+    LANDMARKS.contains(&kind)
+        || kind.ends_with("_PHANTOM")
+        || kind.ends_with("_EXTENT")
+        || (kind.starts_with("APEX_") && kind.ends_with("_POINT"))
+}
+
+/// Curve types biv-me writes that are none of the four ventricular surfaces, and what they are:
+/// skipped with a warning that says so, rather than "unknown". Points marked removed in biv-me's
+/// editor (`REMOVED`, `EXCLUDED`) were dropped on purpose and are skipped without one.
+fn not_a_surface(kind: &str) -> Option<&'static str> {
+    let base = kind
+        .strip_prefix("SAX_")
+        .or_else(|| kind.strip_prefix("LAX_"))
+        .unwrap_or(kind);
+    Some(match base {
+        "LA" => "left atrium",
+        "RA" => "right atrium",
+        "RV_OUTLET" => "RV outflow tract",
+        "REMOVED" | "EXCLUDED" => "",
+        _ if base.starts_with("OUTLET_") => "RV outflow tract",
+        _ => return None,
+    })
+}
+
 /// Surface of a contour type (without its SAX_/LAX_ prefix).
 pub fn surface_of(kind: &str) -> Option<&'static str> {
     Some(match kind {
@@ -67,7 +95,10 @@ pub fn looks_like_gpfile(text: &str) -> bool {
     }
     f.len() >= 4
         && f[..3].iter().all(|v| v.parse::<f64>().is_ok())
-        && (f[3].starts_with("SAX_") || f[3].starts_with("LAX_") || LANDMARKS.contains(&f[3]))
+        && (f[3].starts_with("SAX_")
+            || f[3].starts_with("LAX_")
+            || is_landmark(f[3])
+            || not_a_surface(f[3]).is_some())
 }
 
 /// Tab-separated (header names contain spaces), else comma-separated (a GPFile saved from a
@@ -184,7 +215,7 @@ pub fn read_gpfile(text: &str, frame: Option<&FrameChoice>) -> Result<ContourSet
             }
         }
         let p = v3(x, y, z);
-        if LANDMARKS.contains(&kind) {
+        if is_landmark(kind) {
             b.landmark(kind, p, line)?;
             continue;
         }
@@ -212,7 +243,14 @@ pub fn read_gpfile(text: &str, frame: Option<&FrameChoice>) -> Result<ContourSet
         b.warn(w);
     }
     for (k, n) in unknown {
-        b.warn(format!("{n} points of unknown contour type {k} skipped"));
+        let n = format!("{n} point{}", if n == 1 { "" } else { "s" });
+        match not_a_surface(&k) {
+            Some("") => {}
+            Some(what) => b.warn(format!(
+                "{n} of contour type {k} ({what}) skipped: not a ventricular surface"
+            )),
+            None => b.warn(format!("{n} of unknown contour type {k} skipped")),
+        }
     }
     let mut set = b.finish()?;
     set.time_frames = frames.time_frames();
@@ -600,5 +638,52 @@ mod tests {
         );
         assert!(looks_like_gpfile(s));
         assert!(!looks_like_gpfile("contour,x,y,z\n"));
+    }
+
+    /// Types of newer biv-me versions: points kept as landmarks, atria and the outflow tract
+    /// named in the warning, removed points dropped quietly; the curves still read.
+    #[test]
+    fn newer_bivme_types() {
+        let rows = [
+            "1 2 3 SAX_LV_ENDOCARDIAL 1 1.0 0",
+            "4 5 6 SAX_LV_ENDOCARDIAL 1 1.0 0",
+            "7 8 9 MITRAL_PHANTOM 5 1.0 0",
+            "7 8 9 MITRAL_PHANTOM 5 1.0 0",
+            "1 1 1 APEX_ENDO_POINT 5 1.0 0",
+            "2 2 2 LAX_LV_EXTENT 5 1.0 0",
+            "3 3 3 LAX_LA 5 1.0 0",
+            "3 3 4 LAX_LA 5 1.0 0",
+            "5 5 5 SAX_RV_OUTLET 2 1.0 0",
+            "6 6 6 REMOVED 2 1.0 0",
+            "6 6 7 EXCLUDED 2 1.0 0",
+        ];
+        let set = read_gpfile(&rows.join("\n"), None).unwrap();
+        let names: Vec<&str> = set.landmarks.iter().map(|l| l.0.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "MITRAL_PHANTOM",
+                "MITRAL_PHANTOM",
+                "APEX_ENDO_POINT",
+                "LAX_LV_EXTENT"
+            ]
+        );
+        assert_eq!(set.contours.len(), 1);
+        assert_eq!(set.contours[0].point_count(), 2);
+        let w = set.warnings.join(" | ");
+        assert!(
+            w.contains("2 points of contour type LAX_LA (left atrium) skipped"),
+            "{w}"
+        );
+        assert!(
+            w.contains("1 point of contour type SAX_RV_OUTLET (RV outflow tract)"),
+            "{w}"
+        );
+        assert!(
+            !w.contains("REMOVED") && !w.contains("EXCLUDED") && !w.contains("unknown"),
+            "{w}"
+        );
+        assert!(looks_like_gpfile("7 8 9 MITRAL_PHANTOM 5 1.0 0\n"));
+        assert!(looks_like_gpfile("6 6 6 REMOVED 2 1.0 0\n"));
     }
 }
