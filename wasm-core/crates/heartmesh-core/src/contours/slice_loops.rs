@@ -124,10 +124,20 @@ pub fn repeated_loops(contours: &[Contour], layout: &Layout) -> Vec<ApartLoop> {
             _ => false,
         })
         .filter(|l| match (piece(l.contour, l.piece), main_piece(l)) {
-            (Some(p), Some(main)) => in_one_plane(&p.points, &main.points),
+            (Some(p), Some(main)) => {
+                in_one_plane(&p.points, &main.points) && traces_most_of(&p.points, &main.points)
+            }
             _ => false,
         })
         .collect()
+}
+
+/// Whether a loop is long enough to be the ring again: a second image of the slice or a ring
+/// drawn twice runs all the way round (its length within the few tens of percent a breath-hold
+/// changes), whereas a short closed piece beside the ring (a few points of a septum piece where
+/// a thin basal crescent narrows) is part of it, not a repeat.
+fn traces_most_of(points: &[Vec3], ring: &[Vec3]) -> bool {
+    length(points, true) >= 0.5 * length(ring, true)
 }
 
 /// Planes closer than this (mm, plus three times the main loop's own residual) are one image
@@ -356,6 +366,19 @@ mod tests {
             ..Default::default()
         })
         .is_empty());
+    }
+
+    /// A short closed piece lying on the ring (the few septum points of a thin basal RV
+    /// crescent, biv-me's automated contours) is part of it, not a second image of the slice.
+    #[test]
+    fn a_short_loop_on_the_ring_is_no_repeat() {
+        let mut contours = stack();
+        contours.push(ring("s3piece", 19.0, 1.5, 30.0, 340));
+        let set = ContourSet {
+            contours,
+            ..Default::default()
+        };
+        assert!(repeated_loop_warnings(&set).is_empty());
     }
 
     #[test]

@@ -385,8 +385,11 @@ pub fn polyline_from_run(mut points: Vec<Vec3>) -> Polyline {
             points,
         };
     }
+    // Three or four points in a line (a septum piece of a thin basal crescent) have their ends
+    // within two spacings too; a ring's path runs well beyond the gap that closes it.
+    let path: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
     Polyline {
-        closed: ends <= 2.0 * median,
+        closed: ends <= 2.0 * median && path > 1.5 * ends,
         points,
     }
 }
@@ -494,6 +497,11 @@ mod tests {
         // A U: three quarters of the ring, ends ~28 mm apart with 3 mm spacing.
         let u: Vec<Vec3> = ring(40, 20.0, false).into_iter().take(30).collect();
         assert!(!polyline_from_run(u).closed);
+        // Three points in a line: the ends are two spacings apart, yet it is no ring.
+        let line = vec![v3(0.0, 0.0, 0.0), v3(1.8, 0.0, 0.0), v3(3.7, 0.1, 0.0)];
+        assert!(!polyline_from_run(line).closed);
+        let triangle = vec![v3(0.0, 0.0, 0.0), v3(2.0, 0.0, 0.0), v3(1.0, 1.7, 0.0)];
+        assert!(polyline_from_run(triangle).closed);
     }
 
     #[test]
