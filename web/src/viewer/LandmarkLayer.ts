@@ -11,6 +11,9 @@ import { h } from '../ui/dom';
 /** Known biv-me names first (stable colours), anything else from the rest of the palette. */
 const NAMED: Record<string, string> = {
   APEX_POINT: '#ff5252',
+  // Newer biv-me files mark the apex on each wall instead.
+  APEX_ENDO_POINT: '#ff5252',
+  APEX_EPI_POINT: '#ff9e80',
   MITRAL_VALVE: '#69f0ae',
   AORTA_VALVE: '#ffd740',
   TRICUSPID_VALVE: '#40c4ff',
