@@ -7,7 +7,8 @@ This script slices the truth meshes itself (standard library only) the way real 
 differ: stacks tilted off the axis, other spacings and counts, a slice missing, stacks short of
 the apex or past the base, a second loop beside the basal ring, a speck (a 3-point loop past the
 base or between slices, session 14), LAX planes off the apex, one or
-two LAX views, LAX from another breath-hold, LAX drawn only in part, point spacing 0.2-6 mm,
+two LAX views, LAX from another breath-hold, LAX drawn only in part or closed across the valve
+(as a traced mask gives the cavity), point spacing 0.2-6 mm,
 curves traced from a pixel mask (1.4 and 2 mm pixels, as segmentation networks give them),
 winding, order, duplicates, far coordinates and hand-drawing noise. Each case runs through the
 release CLI at defaults (`reconstruct --report`, then `compare` against the truth clipped at the
@@ -286,6 +287,7 @@ class Acq:
         self.lax_shift = [None, None, None]  # breath-hold displacement of the heart per LAX
         self.lax_trim = None  # (lo, hi) mm of arc removed from each end of the LAX curves
         self.lax_half = False  # only one side of the U
+        self.lax_closed = False  # the U closed by its chord (the valve line), as masks trace it
         self.all_loops = False  # every closed loop of a SAX section (else the longest)
         self.spacing = 1.0
         self.noise = 0.0
@@ -336,6 +338,11 @@ def build(mesh, acq, rng, surface):
             pts = trim(pts, rng.uniform(*acq.lax_trim), rng.uniform(*acq.lax_trim))
         if len(pts) < 3:
             continue
+        if acq.lax_closed and not closed:
+            a, b = pts[-1], pts[0]
+            k = max(1, int(H.norm(H.sub(b, a)) / 0.5))
+            pts = pts + [H.add(a, H.scale(H.sub(b, a), i / k)) for i in range(1, k)]
+            closed = True
         blocks.append([f"lax{j + 1:02}", surface, pts, closed, n])
     if acq.pixel > 0:
         blocks = [b for b in (pixelated(b, acq.pixel, rng) for b in blocks) if b]
@@ -611,6 +618,7 @@ def families():
 
     F["lax-partial"] = lambda a, r: setattr(a, "lax_trim", (10.0, 30.0))
     F["lax-one-side"] = lambda a, r: setattr(a, "lax_half", True)
+    F["lax-closed-valve"] = lambda a, r: setattr(a, "lax_closed", True)
 
     for sp in (0.2, 3.0, 6.0):
         F[f"points{sp:g}mm"] = lambda a, r, sp=sp: setattr(a, "spacing", sp)
