@@ -96,6 +96,16 @@ describe('other surfaces of the file', () => {
       first += o.v;
     }
 
+    // The same settings throughout: no ghost marked. Re-run the current surface with other
+    // settings: both ghosts are now marked as run with other parameters.
+    const marked = () => page.getAttribute('[data-testid=other-surfaces-legend]', 'data-other-settings');
+    assert.equal(await marked(), '');
+    await runAndWait(page, () => page.uncheck('[data-testid=param-soften-conflicts]'));
+    assert.equal(await marked(), 'RV_ENDO,LV_EPI');
+    assert.match(await page.textContent('[data-testid=other-surfaces-legend]'), /RV_ENDO· other parameters/);
+    await runAndWait(page, () => page.check('[data-testid=param-soften-conflicts]'));
+    assert.equal(await marked(), '');
+
     // Unticked: nothing drawn, the key hidden.
     await page.uncheck('[data-testid=view-others]');
     assert.equal(await page.isVisible('[data-testid=other-surfaces-legend]'), false);

@@ -24,7 +24,7 @@ import { surfacePoints } from './sceneContours';
 import { frameChoice, framePicker, frameToRead, missingFrameNote, namedFrame } from './timeFrames';
 import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
-import { KeptSurfaces, type KeptMesh } from './keptSurfaces';
+import { KeptSurfaces, runSignature, type KeptMesh } from './keptSurfaces';
 import { surfaceOrder } from '../io/FileBar';
 
 export type { Parts } from './parts';
@@ -575,7 +575,7 @@ export class Controller {
     this.syncOthers();
     if (r.surface === null) return;
     this.kept.keep(r.surface, r.positions, r.indices);
-    this.parts.viewer?.otherSurfacesLayer.set(r.surface, r.positions, r.indices);
+    this.parts.viewer?.otherSurfacesLayer.set(r.surface, r.positions, r.indices, runSignature(r));
     this.syncOthers();
   }
 

@@ -11,6 +11,14 @@ export interface KeptMesh {
   indices: Uint32Array;
 }
 
+/**
+ * What a run was run with, as one string: two runs compare like for like when theirs are equal.
+ * The surface itself is not part of it.
+ */
+export function runSignature(r: { params: unknown; lids: unknown; options: unknown }): string {
+  return JSON.stringify([r.params, r.lids, r.options]);
+}
+
 export class KeptSurfaces {
   private key: string | null = null;
   private readonly meshes = new Map<string, KeptMesh>();

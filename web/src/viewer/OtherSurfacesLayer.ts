@@ -22,14 +22,28 @@ export function tintOf(surface: string, index: number): string {
   return TINTS[surface.toUpperCase()] ?? SPARE[index % SPARE.length];
 }
 
+/**
+ * Of the `shown` surfaces, those whose kept run had other settings than the current surface's
+ * kept run (none when the current surface has no run kept: nothing to compare with).
+ */
+export function otherSettings(settings: ReadonlyMap<string, string>, shown: readonly string[], current: string | null): string[] {
+  const mine = current === null ? undefined : settings.get(current);
+  return mine === undefined ? [] : shown.filter((s) => settings.get(s) !== mine);
+}
+
 interface Kept {
   mesh: THREE.Mesh;
   tint: string;
+  /** The run's settings (see `runSignature`): the key says when they differ from the current. */
+  settings: string;
 }
 
 export class OtherSurfacesLayer {
   readonly group = new THREE.Group();
-  /** The key (one row per surface shown); hidden when none is. `data-surfaces`: their labels. */
+  /**
+   * The key (one row per surface shown); hidden when none is. `data-surfaces`: their labels;
+   * `data-other-settings`: those whose last run had other settings than the current surface's.
+   */
   readonly legend: HTMLElement;
   private readonly kept = new Map<string, Kept>();
   private current: string | null = null;
@@ -41,8 +55,11 @@ export class OtherSurfacesLayer {
     this.legend.dataset.surfaces = '';
   }
 
-  /** Keeps `surface`'s mesh (xyz mm, triangle indices), replacing the one kept before. */
-  set(surface: string, positions: Float32Array, indices: Uint32Array): void {
+  /**
+   * Keeps `surface`'s mesh (xyz mm, triangle indices), replacing the one kept before; `settings`
+   * identifies the parameters it was run with.
+   */
+  set(surface: string, positions: Float32Array, indices: Uint32Array, settings = ''): void {
     this.remove(surface);
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(positions.slice(), 3));
@@ -61,7 +78,7 @@ export class OtherSurfacesLayer {
     const mesh = new THREE.Mesh(geometry, material);
     mesh.name = `other-surface:${surface}`;
     this.group.add(mesh);
-    this.kept.set(surface, { mesh, tint });
+    this.kept.set(surface, { mesh, tint, settings });
     this.refresh();
   }
 
@@ -124,13 +141,24 @@ export class OtherSurfacesLayer {
     const shown = new Set(this.shown);
     for (const [s, k] of this.kept) k.mesh.visible = shown.has(s);
     this.group.visible = shown.size > 0;
+    // A ghost run with other parameters than the surface on screen is not a like-for-like
+    // comparison (a smoother epicardium around a sharper endocardium): the key says so.
+    const settings = new Map([...this.kept].map(([s, k]) => [s, k.settings]));
+    const differs = otherSettings(settings, [...shown], this.current);
     this.legend.replaceChildren(
       h('div', { class: 'legend-title' }, 'other surfaces (last runs)'),
       ...[...shown].map((s) =>
-        h('div', { class: 'other-surface-row' }, h('span', { class: 'swatch', style: `background:${this.kept.get(s)?.tint}` }), s),
+        h(
+          'div',
+          { class: 'other-surface-row' },
+          h('span', { class: 'swatch', style: `background:${this.kept.get(s)?.tint}` }),
+          s,
+          differs.includes(s) ? h('span', { class: 'other-settings', title: 'last run with other parameters than the surface on screen' }, '· other parameters') : null,
+        ),
       ),
     );
     this.legend.hidden = shown.size === 0;
     this.legend.dataset.surfaces = [...shown].join(',');
+    this.legend.dataset.otherSettings = differs.join(',');
   }
 }
