@@ -319,6 +319,23 @@ def other_readers(out_dir, rng):
     for c in cases[-7:]:
         c.extra = {"SliceInfoFile.txt": c.data}
         c.data = gp
+    # A newer biv-me's types (session 20): valve phantoms, apex points per wall, extents, atria,
+    # the outflow tract and removed points, no header, a phantom point first: read, reconstructed.
+    rows = gp.decode().splitlines()[1:]
+    newer = []
+    for row in rows:
+        f = row.split("\t")
+        if len(f) > 3 and f[3] == "MITRAL_VALVE":
+            newer.append("\t".join(f[:3] + ["MITRAL_PHANTOM"] + f[4:]))
+        if len(f) > 3 and f[3] == "APEX_POINT":
+            row = "\t".join(f[:3] + ["APEX_ENDO_POINT"] + f[4:])
+            newer.append("\t".join(f[:3] + ["APEX_EPI_POINT"] + f[4:]))
+        if len(f) > 3 and f[3] == "LAX_LV_EPICARDIAL" and rng.random() < 0.3:
+            newer.append("\t".join(f[:3] + [rng.choice(["LAX_LA", "LAX_RA", "REMOVED"])] + f[4:]))
+        newer.append(row)
+    newer.sort(key=lambda r: "PHANTOM" not in r)  # a phantom point is the file's first row
+    cases.append(Case("gpfile-newer-bivme-types", ("\n".join(newer) + "\n").encode(), "txt",
+                      args=["--surface", "LV_ENDO", "--lids", "apex"], expect="ok", c2m=1.0))
     cases += corruptions("mat", mat, "mat", rng, 5)
     src = os.path.join(CONTOURS, "surfco-example.csv")
     for ext in ("vtk", "vtp", "json", "dcm"):
