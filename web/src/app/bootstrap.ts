@@ -97,7 +97,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
   const lab = new LabPanel({ controller, viewer, legendSlot: slot('slot-legend') });
   lab.mount(slot('slot-left'), parts.params.element);
 
-  installDropZone(document.body, slot('drop-overlay'), (files) => lab.claimDrop(files) || void controller.openFiles(files));
+  installDropZone(document.body, slot('drop-overlay'), (files, skipped) => lab.claimDrop(files) || void controller.openFiles(files, skipped));
   installKeyboard(document, {
     togglePlay: () => controller.togglePlay(),
     step: (d) => controller.step(d),

@@ -13,7 +13,7 @@ import { DEFAULT_OPTIONS, withDefaultOptions } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
 import { findSample, fetchSample, type Sample } from '../io/samples';
 import type { HoverReadout } from '../ui/HoverReadout';
-import { distinctName, fileIdentity, renamedText } from './fileNames';
+import { distinctName, fileIdentity, renamedText, skippedText } from './fileNames';
 import { asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable } from './errors';
 import type { Parts } from './parts';
 import type { Speed } from './playback';
@@ -133,7 +133,11 @@ export class Controller {
 
   // ---- loading --------------------------------------------------------------------------------
 
-  async openFiles(files: File[]): Promise<void> {
+  /**
+   * Opens dropped or chosen files; `skipped`: files of dropped folders not handed over (not of a
+   * kind the app reads, or past the folder limit), said in the banner so nothing goes unmentioned.
+   */
+  async openFiles(files: File[], skipped = 0): Promise<void> {
     if (files.length === 0) return;
     // Say "loading" at once, before the bytes are read (and before the core is up, if it is not).
     // A run in progress goes on until a file has been read: a refused file leaves the work as it was
@@ -160,7 +164,7 @@ export class Controller {
         if (name !== file.name) renamed.push({ given: file.name, as: name });
       } else if (this.lastRefusal) refused.push(this.lastRefusal);
     }
-    const renamedNote = renamedText(renamed);
+    const renamedNote = [renamedText(renamed), skippedText(skipped)].filter(Boolean).join(' ');
     if (first !== null) {
       this.sampleId = null;
       // A session's own surface first, else the one asked for (the link's, or the one last chosen).

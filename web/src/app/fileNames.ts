@@ -6,6 +6,7 @@
  * opened again (same name, size and modification time: the browser gives no path) replaces its
  * own entry, as a bundled example clicked again does.
  */
+import { FOLDER_FILE_LIMIT } from '../io/folderDrop';
 
 /** What tells two files of one name apart: a File's size and modification time, or a tag. */
 export function fileIdentity(f: { size: number; lastModified: number }): string {
@@ -34,4 +35,12 @@ export function renamedText(renamed: readonly { given: string; as: string }[]): 
   return renamed.length === 1
     ? `A file named ${renamed[0].given} was already open: this one is listed as ${renamed[0].as} in the File picker.`
     : `Files with names already open are listed under new names in the File picker: ${list}.`;
+}
+
+/** The banner's note on files of dropped folders that were not read (see `io/folderDrop.ts`). */
+export function skippedText(skipped: number): string {
+  if (skipped <= 0) return '';
+  return skipped === 1
+    ? `1 other file in the dropped folder was not read (not a contour file, or past the first ${FOLDER_FILE_LIMIT} files).`
+    : `${skipped} other files in the dropped folder were not read (not contour files, or past the first ${FOLDER_FILE_LIMIT} files).`;
 }

@@ -1,8 +1,10 @@
+import { filesOfEntries, folderEntries } from './folderDrop';
+
 /**
  * Drag and drop anywhere on the page. A full-window overlay appears while files are dragged over;
- * the dropped files are handed over in one batch.
+ * the dropped files (and those of dropped folders) are handed over in one batch.
  */
-export function installDropZone(target: HTMLElement, overlay: HTMLElement, onFiles: (files: File[]) => void): () => void {
+export function installDropZone(target: HTMLElement, overlay: HTMLElement, onFiles: (files: File[], skipped: number) => void): () => void {
   let depth = 0;
   const hasFiles = (e: DragEvent) => !!e.dataTransfer && Array.from(e.dataTransfer.types).includes('Files');
   const enter = (e: DragEvent) => {
@@ -26,8 +28,16 @@ export function installDropZone(target: HTMLElement, overlay: HTMLElement, onFil
     e.preventDefault();
     depth = 0;
     overlay.hidden = true;
+    // A folder (a biv-me patient's) is walked for its files; plain files are handed over as they are.
+    const entries = folderEntries(e.dataTransfer);
+    if (entries) {
+      void filesOfEntries(entries).then(({ files, skipped }) => {
+        if (files.length) onFiles(files, skipped);
+      });
+      return;
+    }
     const files = Array.from(e.dataTransfer?.files ?? []);
-    if (files.length) onFiles(files);
+    if (files.length) onFiles(files, 0);
   };
   target.addEventListener('dragenter', enter);
   target.addEventListener('dragover', over);

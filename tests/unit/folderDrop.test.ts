@@ -1,0 +1,59 @@
+import { describe, expect, it } from 'vitest';
+import { filesOfEntries, readableInFolder, type EntryLike } from '../../web/src/io/folderDrop';
+import { skippedText } from '../../web/src/app/fileNames';
+
+/** A file entry as the File and Directory Entries API gives it. */
+const file = (name: string): EntryLike => ({
+  isFile: true,
+  isDirectory: false,
+  name,
+  file: (ok) => ok(new File(['x'], name)),
+});
+
+/** A folder whose reader hands its entries over in batches of two, then an empty batch. */
+const folder = (name: string, children: EntryLike[]): EntryLike => ({
+  isFile: false,
+  isDirectory: true,
+  name,
+  createReader: () => {
+    let at = 0;
+    return {
+      readEntries: (ok) => {
+        const batch = children.slice(at, at + 2);
+        at += batch.length;
+        ok(batch);
+      },
+    };
+  },
+});
+
+describe('folders dropped on the page', () => {
+  it('open a biv-me patient folder: its contour files in name order, images and hidden files left', async () => {
+    const patient = folder('patient1', [
+      file('GPFile_010.txt'),
+      file('SliceInfoFile.txt'),
+      file('GPFile_002.txt'),
+      file('.DS_Store'),
+      file('IM_0001'),
+      file('GPFile_000.txt'),
+      folder('images', [file('cine.png')]),
+    ]);
+    const { files, skipped } = await filesOfEntries([patient]);
+    expect(files.map((f) => f.name)).toEqual(['GPFile_000.txt', 'GPFile_002.txt', 'GPFile_010.txt', 'SliceInfoFile.txt']);
+    expect(skipped).toBe(3); // .DS_Store, IM_0001, images/cine.png
+  });
+
+  it('keep files dropped beside a folder as they are, and stop a folder at the limit', async () => {
+    const many = folder('study', Array.from({ length: 7 }, (_, i) => file(`c${i}.csv`)));
+    const { files, skipped } = await filesOfEntries([file('notes.pdf'), many], 5);
+    expect(files.map((f) => f.name)).toEqual(['notes.pdf', 'c0.csv', 'c1.csv', 'c2.csv', 'c3.csv', 'c4.csv']);
+    expect(skipped).toBe(2);
+    expect(skippedText(skipped)).toMatch(/^2 other files in the dropped folder were not read/);
+    expect(skippedText(0)).toBe('');
+  });
+
+  it('read the kinds the Open dialog offers', () => {
+    for (const ok of ['a.csv', 'GPFile_000.TXT', 'x.vtp', 'rt.dcm', 'ex.mat', 's.json', 'p.xyz', 't.tsv']) expect(readableInFolder(ok)).toBe(true);
+    for (const no of ['IM_0001', 'a.png', '.hidden.csv', 'model.obj', 'seg.nii.gz']) expect(readableInFolder(no)).toBe(false);
+  });
+});
