@@ -70,6 +70,8 @@ pub const USAGE: &str =
   --surface all: each surface of the file in turn (its order), each to the output names with
   -SURFACE before the extension (-o m.obj --report r.json: m-LV_ENDO.obj, r-LV_ENDO.json, ...);
   a surface that fails is named and the others still run (exit status of the last failure).
+  --surface BIV_EPI: the biventricular epicardium of a file with LV_EPI and RV_EPI curves (both
+  read together, plane by plane; LV points inside the RV's region left out); not part of all.
   CONTOURS: csv (UTF-8, UTF-16 or Windows-1252; units in the header applied; without a header
   the rows read name,x,y,z[,surface] or x,y,z), biv-me GPFile (SliceInfoFile.txt beside it is
   used), xyz text, vtk/vtp lines, SurFCo .mat, heartmesh

@@ -5,8 +5,9 @@
 mod common;
 
 use common::*;
-use heartmesh_core::contours::ContourKind;
+use heartmesh_core::contours::{biv_epi, ContourKind};
 use heartmesh_core::mesh::quality::quality;
+use heartmesh_core::metrics::compare::{clip_plane_from_contours, compare};
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::Params;
 
@@ -26,6 +27,10 @@ const FOLD_EXCEPTIONS: &[(&str, usize)] = &[("patient1-ES.csv RV_EPI", 4)];
 fn file_case(sub: &str) -> Vec<String> {
     let set = load_contours(sub);
     let mut surfaces: Vec<Option<String>> = set.surfaces().into_iter().map(Some).collect();
+    // The biventricular epicardium, where the file has both epicardia, is held to the same bar.
+    if biv_epi::available(&set) {
+        surfaces.push(Some(biv_epi::BIV_EPI.to_string()));
+    }
     if surfaces.is_empty() {
         surfaces.push(None);
     }
@@ -123,6 +128,43 @@ fn file_case(sub: &str) -> Vec<String> {
         }
     }
     failures
+}
+
+/// Patient 1's biventricular epicardium against biv-me's own model fitted to the same contours
+/// (`bivme-patient1-ED-EPI-closed.obj`: a fit, not an independent truth, so the bounds are loose:
+/// the two methods smooth differently between the slices), both clipped at the basal slice.
+#[test]
+fn bivme_patient1_biventricular_epicardium_agrees_with_bivme_fit() {
+    let set = load_contours("bivme-example-patient1/patient1-ED.csv");
+    let params = Params {
+        surface: Some(biv_epi::BIV_EPI.into()),
+        ..Params::default()
+    };
+    let (mesh, _) = reconstruct(&set, params.clone());
+    let clip = clip_plane_from_contours(&set, params).unwrap();
+    let fit = load_truth("bivme-patient1-ED-EPI-closed.obj");
+    let r = compare(&fit, &mesh, Some(&clip)).unwrap();
+    let mean = (r.mesh_to_truth.mean + r.truth_to_mesh.mean) / 2.0;
+    let volume = r.volume_mesh_ml / r.volume_truth_ml - 1.0;
+    eprintln!(
+        "BIV_EPI p1 ED vs biv-me fit: mean {mean:.3} mm, Hausdorff {:.2} mm, volume {:.1} vs {:.1} ml",
+        r.hausdorff, r.volume_mesh_ml, r.volume_truth_ml
+    );
+    // Measured (session 20): mean 0.93, Hausdorff 6.6, volume -0.5 %.
+    assert!(mean < 1.2, "mean {mean}");
+    assert!(r.hausdorff < 8.0, "Hausdorff {}", r.hausdorff);
+    assert!(volume.abs() < 0.03, "volume {volume}");
+    // It holds both ventricles: more than the LV and RV epicardia's parts alone.
+    for part in ["LV_EPI", "RV_EPI"] {
+        let (m, _) = reconstruct(
+            &set,
+            Params {
+                surface: Some(part.into()),
+                ..Params::default()
+            },
+        );
+        assert!(mesh.volume_ml() > m.volume_ml() * 1.2, "{part}");
+    }
 }
 
 fn assert_none(failures: Vec<String>) {

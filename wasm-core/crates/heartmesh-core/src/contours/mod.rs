@@ -3,6 +3,7 @@
 
 pub mod align;
 pub mod axis;
+pub mod biv_epi;
 pub mod checks;
 pub mod clean;
 pub mod lax_specks;

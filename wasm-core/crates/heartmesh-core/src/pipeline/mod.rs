@@ -32,6 +32,7 @@ use crate::contours::align::{
     SUGGEST_ALIGNMENT_ABOVE_MM,
 };
 use crate::contours::axis::Layout;
+use crate::contours::biv_epi;
 use crate::contours::clean::resample_spacing;
 use crate::contours::set_aside::SetAside;
 use crate::contours::{Contour, ContourKind, ContourSet};
@@ -233,12 +234,17 @@ impl Reconstruction {
         let crossing_residual_mm = crossing_residual(set);
         let alignment_anchored = anchored_beyond_rv(set);
         let source = aligned.as_ref().unwrap_or(set);
+        // A biventricular epicardium asked for is made of the file's LV and RV epicardia.
+        let derived = biv_epi::with_derived(source, params.surface.as_deref());
+        let source = derived.as_ref().unwrap_or(source);
+        let derived_given = biv_epi::with_derived(set, params.surface.as_deref());
+        let given_set = derived_given.as_ref().unwrap_or(set);
         let selected = prepare::select_surface(source, params.surface.as_deref())?;
         let contours = prepare::clean_contours(&selected);
         let contours_as_given = match aligned {
             Some(_) => {
                 let given = prepare::clean_contours(&prepare::select_surface(
-                    set,
+                    given_set,
                     params.surface.as_deref(),
                 )?);
                 same_structure(&given, &contours).then_some(given)

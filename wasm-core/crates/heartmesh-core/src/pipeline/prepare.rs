@@ -29,7 +29,7 @@ pub fn select_surface<'a>(
                 .collect();
             if chosen.is_empty() {
                 return Err(CoreError::UnknownSurface {
-                    requested: name.to_string(),
+                    requested: crate::contours::biv_epi::requested_name(name),
                     available,
                 });
             }
