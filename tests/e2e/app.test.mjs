@@ -244,7 +244,8 @@ describe('heartmesh in the browser', () => {
     assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'RV_ENDO');
     // The picker lists LV before RV whatever the file's order (this file has RV first).
     const surfaces = await page.$$eval('[data-testid=surface-picker] option', (os) => os.map((o) => o.value));
-    assert.deepEqual(surfaces, ['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']);
+    // ... then the biventricular epicardium the core makes of the two epicardia.
+    assert.deepEqual(surfaces, ['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI', 'BIV_EPI']);
     assert.equal(await page.isVisible('#slot-warnings'), false);
     assert.match(page.url(), /surface=RV_ENDO/);
     await page.goto(`${server.url}?surface=LA_ENDO&iterations=40`);
@@ -262,7 +263,7 @@ describe('heartmesh in the browser', () => {
     assert.ok(r.meanMm > 0 && r.meanMm <= 1, `mean ${r.meanMm} mm`);
     // ROI names are the surfaces; the default pick is LV_ENDO.
     const surfaces = await page.$$eval('[data-testid=surface-picker] option', (os) => os.map((o) => o.value));
-    assert.deepEqual([...surfaces].sort(), ['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']);
+    assert.deepEqual([...surfaces].sort(), ['BIV_EPI', 'LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']);
     // POINT ROIs: 23 landmarks drawn (6 mitral, 2 tricuspid, 2 aortic, 2 pulmonary, 1 apex, 10 RV inserts).
     const legend = page.locator('[data-testid=landmark-legend]');
     assert.equal(await legend.getAttribute('data-count'), '23');

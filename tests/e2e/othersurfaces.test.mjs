@@ -134,6 +134,28 @@ describe('other surfaces of the file', () => {
     const lv = await readResult(page);
     assert.ok(lv.vertices > 500 && lv.meanMm < 1, JSON.stringify(lv));
     await page.screenshot({ path: join(SHOTS, 'all-surfaces.png') });
+
+    // The biventricular epicardium (not part of All): one closed surface around both ventricles,
+    // drawn with the LV and RV epicardial curves it is made of, holding more than either.
+    const volumes = await page.evaluate(() => Object.fromEntries(window.heartmesh.otherSurfaceMeshes().map((m) => {
+      let v = 0;
+      const p = m.positions;
+      for (let t = 0; t < m.indices.length; t += 3) {
+        const [a, b, c] = [m.indices[t] * 3, m.indices[t + 1] * 3, m.indices[t + 2] * 3];
+        v += p[a] * (p[b + 1] * p[c + 2] - p[b + 2] * p[c + 1]) - p[a + 1] * (p[b] * p[c + 2] - p[b + 2] * p[c]) + p[a + 2] * (p[b] * p[c + 1] - p[b + 1] * p[c]);
+      }
+      return [m.surface, Math.abs(v) / 6000];
+    })));
+    assert.deepEqual(Object.keys(volumes).sort(), ['LV_EPI', 'RV_ENDO', 'RV_EPI']);
+    await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'BIV_EPI'));
+    const biv = await page.evaluate(() => {
+      const r = window.heartmesh.currentResult();
+      return { surface: r.surface, watertight: r.watertight, volumeMl: r.volumeMl, meanMm: r.overall.mean };
+    });
+    assert.ok(biv.surface === 'BIV_EPI' && biv.watertight && biv.meanMm < 1, JSON.stringify(biv));
+    assert.ok(biv.volumeMl > 1.2 * volumes.LV_EPI && biv.volumeMl > 1.2 * volumes.RV_EPI, `${biv.volumeMl} ml vs ${JSON.stringify(volumes)}`);
+    assert.equal(await legend(), 'LV_EPI,RV_ENDO,RV_EPI,LV_ENDO');
+    await page.screenshot({ path: join(SHOTS, 'biventricular-epicardium.png') });
   });
 });
 

@@ -65,7 +65,7 @@ class FakeClient {
       ? { frames, count: 2, read: [frames[index]], firsts: [frames[0]], chosen: frame !== null, leftOut: 6, sequence: true }
       : null;
     return {
-      fileName, surfaces: ['RV_ENDO', 'LV_ENDO'], landmarks: [], warnings: frame === null && timeFrames ? ['the file holds 2 time frames'] : [], session, timeFrames,
+      fileName, surfaces: fileName.startsWith('heart') ? ['RV_EPI', 'LV_EPI', 'BIV_EPI'] : ['RV_ENDO', 'LV_ENDO'], landmarks: [], warnings: frame === null && timeFrames ? ['the file holds 2 time frames'] : [], session, timeFrames,
       contours: [{ id: 'c1', surface: 'LV_ENDO', kind: null, pieces: [{ closed: true, start: 0, count: 3 }] }],
       points: new Float32Array([0, 0, 0, 10, 0, 0, 0, 10, frame === null ? 0 : fileName.startsWith('cine') ? Number(frame) : index]),
     };
@@ -561,6 +561,33 @@ describe('controller', () => {
     run.resolve(result(run.runId));
     await vi.runAllTimersAsync();
     expect(client.runs.map((r) => r.opts.surface).slice(3)).toEqual(['RV_ENDO', 'LV_ENDO']);
+    c.dispose();
+  });
+
+  it('"All" leaves out the biventricular epicardium, which wraps the others, unless it is the one on screen', async () => {
+    const c = new Controller({ ...parts, viewer: viewerRecorder(), warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    await c.openFiles([file('heart.csv')]);
+    const finish = async () => {
+      const run = client.runs.at(-1)!;
+      run.resolve({ ...result(run.runId), surface: run.opts.surface });
+      await vi.runAllTimersAsync();
+    };
+    await finish();
+    const first = client.runs.length;
+    const current = client.runs.at(-1)!.opts.surface;
+    expect(current).not.toBe('BIV_EPI');
+    c.runAllSurfaces();
+    await finish();
+    await finish();
+    const other = current === 'LV_EPI' ? 'RV_EPI' : 'LV_EPI';
+    expect(client.runs.slice(first).map((r) => r.opts.surface)).toEqual([other, current]);
+    c.chooseSurface('BIV_EPI');
+    await finish();
+    const before = client.runs.length;
+    c.runAllSurfaces();
+    for (let k = 0; k < 3; k++) await finish();
+    expect(client.runs.slice(before).map((r) => r.opts.surface)).toEqual(['LV_EPI', 'RV_EPI', 'BIV_EPI']);
     c.dispose();
   });
 

@@ -8,6 +8,9 @@ describe('surface picker order', () => {
     expect(surfaceOrder(['RV_ENDO', 'RV_EPI', 'LV_EPI', 'LV_ENDO'])).toEqual(['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']);
     expect(surfaceOrder(['LA_ENDO', 'RV_ENDO', 'AORTA', 'LV_ENDO'])).toEqual(['LV_ENDO', 'RV_ENDO', 'LA_ENDO', 'AORTA']);
     expect(surfaceOrder([])).toEqual([]);
+    // The biventricular epicardium the core offers comes after the four.
+    expect(surfaceOrder(['BIV_EPI', 'RV_EPI', 'LV_EPI', 'LA_ENDO'])).toEqual(['LV_EPI', 'RV_EPI', 'BIV_EPI', 'LA_ENDO']);
+    expect(surfaceLabel('BIV_EPI')).toBe('BiV epicardium');
     expect(surfaceLabel('RV_EPI')).toBe('RV epicardium');
     expect(surfaceLabel('LA_ENDO')).toBe('LA_ENDO');
   });

@@ -26,6 +26,7 @@ import { canStop, currentRunId, describeError, initialState, isComputing, loaded
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 import { KeptSurfaces, runSignature, type KeptMesh } from './keptSurfaces';
 import { surfaceOrder } from '../io/FileBar';
+import { BIV_EPI } from '../core-client/derivedSurfaces';
 
 export type { Parts } from './parts';
 
@@ -272,12 +273,14 @@ export class Controller {
   /**
    * "All": every surface of the file in turn, the current one last, so the run ends where the user
    * was with the others kept around it (the view's Other surfaces, switched on). Picking a surface,
-   * another file or frame, a parameter, Stop or a failed run drops what is still queued.
+   * another file or frame, a parameter, Stop or a failed run drops what is still queued. The
+   * biventricular epicardium is left out (unless it is the current one): it wraps the other
+   * surfaces it is made of, and drawn faint around them it would veil them.
    */
   runAllSurfaces(): void {
     const file = this.currentFile();
     if (!file || file.surfaces.length < 2) return;
-    const order = surfaceOrder(file.surfaces);
+    const order = surfaceOrder(file.surfaces).filter((s) => s !== BIV_EPI || s === this.surface);
     const current = this.surface ?? order[0];
     this.allQueue = [...order.filter((s) => s !== current), current];
     if (!this.view.others) {

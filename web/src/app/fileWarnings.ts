@@ -5,6 +5,7 @@
  * of another surface leaves them out, as the CLI's `--surface` run does (`ContourSet::warnings_for`).
  */
 import type { LoadedFile } from '../core-client/protocol';
+import { partOf } from '../core-client/derivedSurfaces';
 
 export function warningsFor(file: Pick<LoadedFile, 'warnings' | 'surfaceWarnings'>, surface: string | null): string[] {
   const scoped = file.surfaceWarnings ?? [];
@@ -12,6 +13,6 @@ export function warningsFor(file: Pick<LoadedFile, 'warnings' | 'surfaceWarnings
   const wanted = surface.toLowerCase();
   return file.warnings.filter((w) => {
     const owners = scoped.filter((s) => s.text === w);
-    return owners.length === 0 || owners.some((s) => s.surface.toLowerCase() === wanted);
+    return owners.length === 0 || owners.some((s) => partOf(s.surface, wanted));
   });
 }

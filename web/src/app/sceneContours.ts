@@ -8,12 +8,13 @@
  */
 import type { Frame, LoadedFile, RunResult } from '../core-client/protocol';
 import type { Viewer } from '../viewer/Viewer';
+import { partOf } from '../core-client/derivedSurfaces';
 
 /** xyz of the contour points of `surface` (all when null; the whole file when none match). */
 export function surfacePoints(file: LoadedFile, surface: string | null): ArrayLike<number> {
   const xyz: number[] = [];
   for (const c of file.contours) {
-    if (surface !== null && c.surface !== surface && c.surface !== null) continue;
+    if (!partOf(c.surface, surface)) continue;
     for (const p of c.pieces) {
       for (let k = 0; k < p.count; k++) {
         const i = (p.start + k) * 3;

@@ -102,10 +102,12 @@ const SURFACE_LABELS: Record<string, string> = {
   LV_EPI: 'LV epicardium',
   RV_ENDO: 'RV endocardium',
   RV_EPI: 'RV epicardium',
+  BIV_EPI: 'BiV epicardium',
 };
 
 /**
- * The picker's order: LV endo, LV epi, RV endo, RV epi, then any other surface in the file's order
+ * The picker's order: LV endo, LV epi, RV endo, RV epi, the biventricular epicardium the core
+ * makes of the two epicardia, then any other surface in the file's order
  * (files list them in whatever order their curves come, e.g. RV first).
  */
 export function surfaceOrder(surfaces: readonly string[]): string[] {

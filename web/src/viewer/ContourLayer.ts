@@ -8,6 +8,7 @@ import * as THREE from 'three';
 import type { ContourInfo } from '../core-client/protocol';
 import { colorizeU8 } from './colormap';
 import { discTexture } from './discTexture';
+import { partOf } from '../core-client/derivedSurfaces';
 
 export const SAX_COLOR = new THREE.Color('#4fc3f7');
 export const LAX_COLOR = new THREE.Color('#ffb74d');
@@ -58,7 +59,7 @@ export class ContourLayer {
    */
   set(contours: readonly ContourInfo[], points: Float32Array, surface: string | null, distances: Float32Array | null, maxMm = 1): void {
     this.clear();
-    const isSelected = (c: ContourInfo) => surface === null || c.surface === surface || c.surface === null;
+    const isSelected = (c: ContourInfo) => partOf(c.surface, surface);
     const selected = contours.filter(isSelected);
     const others = contours.filter((c) => !isSelected(c));
     const colorBytes = distances ? colorizeU8(distances, 0, maxMm) : null;

@@ -6,12 +6,13 @@
 import * as THREE from 'three';
 import type { ContourInfo } from '../core-client/protocol';
 import { warmupGeometry } from './ContourLayer';
+import { partOf } from '../core-client/derivedSurfaces';
 
 /** Segment end points (xyz pairs) of the pieces of `contours` whose surface is `surface` (all when null). */
 export function givenSegments(contours: readonly ContourInfo[], points: ArrayLike<number>, surface: string | null): Float32Array {
   const out: number[] = [];
   for (const c of contours) {
-    if (surface !== null && c.surface !== surface && c.surface !== null) continue;
+    if (!partOf(c.surface, surface)) continue;
     for (const piece of c.pieces) {
       const n = piece.count;
       const segments = piece.closed ? n : n - 1;

@@ -134,7 +134,7 @@ impl Session {
         };
         let info = json!({
             "fileName": file_name,
-            "surfaces": set.surfaces(),
+            "surfaces": surfaces_offered(&set),
             "contours": contours,
             "landmarks": landmarks,
             "warnings": warnings,
@@ -311,6 +311,16 @@ impl Session {
             .as_mut()
             .ok_or_else(|| errors::usage("no_run", "no reconstruction has been started"))
     }
+}
+
+/// The surfaces the app's picker offers: the file's own, then the biventricular epicardium the
+/// core makes of its LV and RV epicardia when it has both.
+fn surfaces_offered(set: &heartmesh_core::ContourSet) -> Vec<String> {
+    let mut out = set.surfaces();
+    if heartmesh_core::contours::biv_epi::available(set) {
+        out.push(heartmesh_core::contours::biv_epi::BIV_EPI.to_string());
+    }
+    out
 }
 
 #[cfg(test)]
