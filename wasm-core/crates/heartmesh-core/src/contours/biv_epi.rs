@@ -31,6 +31,14 @@ fn is(c: &Contour, label: &str) -> bool {
         .is_some_and(|s| s.eq_ignore_ascii_case(label))
 }
 
+/// Whether curves labelled `label` go into a reconstruction of `surface`: its own, and for
+/// [`BIV_EPI`] the LV and RV epicardial ones (their load-time warnings concern it too).
+pub fn part_of(label: &str, surface: &str) -> bool {
+    label.eq_ignore_ascii_case(surface)
+        || (surface.eq_ignore_ascii_case(BIV_EPI)
+            && (label.eq_ignore_ascii_case(LV_EPI) || label.eq_ignore_ascii_case(RV_EPI)))
+}
+
 /// Whether `set` can give a biventricular epicardium: it has both epicardial surfaces and no
 /// surface of that name of its own.
 pub fn available(set: &ContourSet) -> bool {
@@ -296,6 +304,28 @@ mod tests {
         // The RV curves are untouched.
         let rv0 = biv.iter().find(|c| c.id == "rv0").unwrap();
         assert_eq!(rv0.point_count(), 41);
+    }
+
+    #[test]
+    fn warnings_of_both_epicardia_concern_it() {
+        let mut set = heart(false);
+        set.warnings = vec![
+            "lv speck".into(),
+            "rv stray".into(),
+            "endo".into(),
+            "file".into(),
+        ];
+        set.surface_warnings = vec![
+            (LV_EPI.into(), "lv speck".into()),
+            (RV_EPI.into(), "rv stray".into()),
+            ("LV_ENDO".into(), "endo".into()),
+        ];
+        assert_eq!(
+            set.warnings_for(Some("biv_epi")),
+            ["lv speck", "rv stray", "file"]
+        );
+        assert_eq!(set.warnings_for(Some(LV_EPI)), ["lv speck", "file"]);
+        assert!(part_of("RV_EPI", "BIV_EPI") && !part_of("RV_ENDO", "BIV_EPI"));
     }
 
     #[test]

@@ -95,7 +95,7 @@ impl ContourSet {
                     .filter(|(_, t)| t == *w)
                     .map(|(s, _)| s)
                     .peekable();
-                owners.peek().is_none() || owners.any(|s| s.eq_ignore_ascii_case(surface))
+                owners.peek().is_none() || owners.any(|s| biv_epi::part_of(s, surface))
             })
             .cloned()
             .collect()
