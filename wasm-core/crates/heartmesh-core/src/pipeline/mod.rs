@@ -237,14 +237,13 @@ impl Reconstruction {
         // A biventricular epicardium asked for is made of the file's LV and RV epicardia.
         let derived = biv_epi::with_derived(source, params.surface.as_deref());
         let source = derived.as_ref().unwrap_or(source);
-        let derived_given = biv_epi::with_derived(set, params.surface.as_deref());
-        let given_set = derived_given.as_ref().unwrap_or(set);
         let selected = prepare::select_surface(source, params.surface.as_deref())?;
         let contours = prepare::clean_contours(&selected);
         let contours_as_given = match aligned {
             Some(_) => {
+                let derived_given = biv_epi::with_derived(set, params.surface.as_deref());
                 let given = prepare::clean_contours(&prepare::select_surface(
-                    given_set,
+                    derived_given.as_ref().unwrap_or(set),
                     params.surface.as_deref(),
                 )?);
                 same_structure(&given, &contours).then_some(given)
