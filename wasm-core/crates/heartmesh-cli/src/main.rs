@@ -14,6 +14,7 @@ mod cmd_experiment;
 mod cmd_experiment_plot;
 mod cmd_leave_one_out;
 mod cmd_reconstruct;
+mod cmd_segment;
 mod cmd_simulate;
 mod contours;
 mod each_surface;
@@ -28,12 +29,13 @@ use error::CliError;
 fn usage() -> String {
     format!(
         "heartmesh {} - surface meshes from cardiac MRI contours (Villard, Grau & Zacur 2018)\n\n\
-         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
+         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
          exit status: 0 ok, 2 bad input or usage, 1 reconstruction failed",
         heartmesh_core::VERSION,
         cmd_reconstruct::USAGE,
         cmd_convert::USAGE,
         cmd_simulate::USAGE,
+        cmd_segment::USAGE,
         cmd_compare::USAGE,
         cmd_leave_one_out::USAGE,
         cmd_experiment::USAGE,
@@ -57,6 +59,8 @@ fn run(argv: &[String]) -> Result<(), CliError> {
         "compare" if wants_help => outln!("usage: {}", cmd_compare::USAGE),
         "leave-one-out" if wants_help => outln!("usage: {}", cmd_leave_one_out::USAGE),
         "simulate" => cmd_simulate::run(rest)?,
+        "segment" if wants_help => outln!("usage: {}", cmd_segment::USAGE),
+        "segment" => cmd_segment::run(rest)?,
         "compare" => cmd_compare::run(rest)?,
         "leave-one-out" => cmd_leave_one_out::run(rest)?,
         "experiment" if wants_help => outln!("usage: {}", cmd_experiment::USAGE),

@@ -13,6 +13,7 @@ mod frame_choice;
 mod frames;
 pub mod gpfile;
 pub mod mat;
+pub mod nifti;
 pub mod obj;
 pub mod ply;
 pub mod rtstruct;
@@ -65,6 +66,8 @@ pub enum ContourFormat {
     Session,
     /// DICOM RT Structure Set (ROI names as surfaces).
     Rtstruct,
+    /// NIfTI-1 label map (segmentation), outlined slice by slice.
+    Nifti,
 }
 
 impl ContourFormat {
@@ -78,6 +81,7 @@ impl ContourFormat {
             ContourFormat::Mat => "MATLAB MAT-file",
             ContourFormat::Session => "heartmesh session",
             ContourFormat::Rtstruct => "DICOM RTSTRUCT",
+            ContourFormat::Nifti => "NIfTI label map",
         }
     }
 }
@@ -144,6 +148,9 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     let head = &bytes[..bytes.len().min(4096)];
     let head = head.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(head);
     let starts = |magic: &[u8]| head.trim_ascii_start().starts_with(magic);
+    if nifti::is_nifti(bytes) {
+        return ContourFormat::Nifti;
+    }
     if mat::is_mat(bytes) {
         return ContourFormat::Mat;
     }
@@ -174,6 +181,7 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
         "json" => ContourFormat::Session,
         "xyz" => ContourFormat::Xyz,
         "dcm" | "dicom" => ContourFormat::Rtstruct,
+        "nii" | "gz" => ContourFormat::Nifti,
         // CSV also reports the clearest errors for unknown text (header missing, ...).
         _ => ContourFormat::Csv,
     }
@@ -236,6 +244,7 @@ pub fn read_contours_with(
         ContourFormat::Mat => mat::read_mat(bytes),
         ContourFormat::Session => session::read_session(bytes).map(|s| s.contours),
         ContourFormat::Rtstruct => rtstruct::read_rtstruct(bytes),
+        ContourFormat::Nifti => nifti::read_nifti(bytes, options.frame.as_ref()),
     }
 }
 

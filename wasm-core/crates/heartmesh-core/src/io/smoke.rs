@@ -212,10 +212,33 @@ fn contour_readers_survive_mutations() {
     run("rtstruct", &rt, |b| {
         let _ = rtstruct::read_rtstruct(b);
     });
+    // NIfTI label maps: a small segmented stack, plain (mutations reach every header field) and
+    // gzip-compressed (the inflater's error paths and the size bound).
+    let labels: Vec<u16> = (0..6 * 5 * 3).map(|n| [0, 1, 2, 3][n % 7 % 4]).collect();
+    let volume = nifti::LabelVolume {
+        dims: [6, 5, 3],
+        frames: 1,
+        origin: Vec3::new(1.0, 2.0, 3.0),
+        axes: [
+            Vec3::new(1.25, 0.0, 0.0),
+            Vec3::new(0.0, 1.25, 0.0),
+            Vec3::new(0.0, 0.0, 10.0),
+        ],
+        placement: "sform",
+        labels,
+    };
+    let nii = vec![
+        nifti::write_nifti(&volume, false),
+        nifti::write_nifti(&volume, true),
+    ];
+    run("nifti", &nii, |b| {
+        let _ = nifti::read_nifti(b, None);
+    });
     // And the detecting entry point over all of them.
     let mut all: Vec<Vec<u8>> = csv.into_iter().chain(gp).chain(xyz).chain(vtk).collect();
     all.extend(session);
     all.extend(rt);
+    all.extend(nii);
     run("detect", &all, |b| {
         let _ = read_contours("x.txt", b);
     });

@@ -12,6 +12,7 @@ pub mod planes;
 pub mod population;
 pub mod prng;
 pub mod repair;
+pub mod segmentation;
 pub mod shapes;
 pub mod slice;
 

@@ -1,0 +1,124 @@
+//! Segmentations on the command line (session 21): `heartmesh segment` paints reference surfaces
+//! as a NIfTI label map, `heartmesh reconstruct SEG.nii.gz` makes a mesh of each structure and
+//! `convert` turns the label map into contours; a damaged or non-label NIfTI is refused in one
+//! line naming the file.
+
+mod common;
+use common::{bin, data, run, scratch};
+
+fn mesh(name: &str) -> String {
+    data(&format!("meshes/{name}"))
+        .to_str()
+        .unwrap()
+        .to_string()
+}
+
+#[test]
+fn a_painted_segmentation_reconstructs_every_structure() {
+    let dir = scratch("label-maps");
+    let seg = dir.join("spasm.nii.gz");
+    let seg = seg.to_str().unwrap();
+    let (code, out, err) = run(bin().args([
+        "segment",
+        "--lv-endo",
+        &mesh("cardiomesh-spasm-LV_endo.obj"),
+        "--lv-epi",
+        &mesh("cardiomesh-spasm-LV_epi.obj"),
+        "--rv-free-wall",
+        &mesh("cardiomesh-spasm-RV_endo.obj"),
+        "-o",
+        seg,
+    ]));
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("1.25 x 1.25 mm pixels, 10.0 mm slices"),
+        "{out}"
+    );
+    let out_mesh = dir.join("m.obj");
+    let report = dir.join("r.json");
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        seg,
+        "--surface",
+        "all",
+        "-o",
+        out_mesh.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]));
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("3 LV cavity (LV_ENDO)") && err.contains("1 RV cavity"),
+        "{err}"
+    );
+    let mut volumes = Vec::new();
+    for surface in ["LV_ENDO", "LV_EPI", "RV_ENDO"] {
+        let r: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(dir.join(format!("r-{surface}.json"))).unwrap())
+                .unwrap();
+        assert_eq!(r["watertight"], true, "{surface}: {r}");
+        assert_eq!(r["quality"]["self_intersections"], 0, "{surface}");
+        let c2m = r["contour_to_mesh"]["mean"].as_f64().unwrap();
+        assert!(c2m < 1.0, "{surface}: contour-to-mesh mean {c2m}");
+        assert!(r["per_contour"].as_array().unwrap().len() >= 4, "{surface}");
+        volumes.push(r["volume_ml"].as_f64().unwrap());
+    }
+    // The epicardium holds cavity and wall: the wall of an adult LV is as large as its cavity.
+    assert!(volumes[1] > 1.8 * volumes[0], "{volumes:?}");
+    assert!(volumes[2] > 20.0, "{volumes:?}");
+    // The same contours as CSV, in mm.
+    let csv = dir.join("c.csv");
+    let (code, _, err) = run(bin().args(["convert", seg, csv.to_str().unwrap()]));
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        text.contains("LV_EPI") && text.contains("slice "),
+        "{}",
+        &text[..200]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn damaged_and_foreign_nifti_files_are_refused_in_one_line() {
+    let dir = scratch("label-maps-bad");
+    let seg = dir.join("lv.nii.gz");
+    let (code, _, err) = run(bin().args([
+        "segment",
+        "--lv-endo",
+        &mesh("cardiomesh-spasm-LV_endo.obj"),
+        "-o",
+        seg.to_str().unwrap(),
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let bytes = std::fs::read(&seg).unwrap();
+    let cut = dir.join("cut.nii.gz");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    // A raw NIfTI whose voxels are MRI intensities (float), not labels.
+    let mut image = vec![0u8; 352];
+    image[0..4].copy_from_slice(&348i32.to_le_bytes());
+    for (n, d) in [3i16, 2, 2, 2, 1, 1, 1, 1].iter().enumerate() {
+        image[40 + 2 * n..42 + 2 * n].copy_from_slice(&d.to_le_bytes());
+    }
+    image[70..72].copy_from_slice(&16i16.to_le_bytes());
+    image[72..74].copy_from_slice(&32i16.to_le_bytes());
+    for n in 1..4 {
+        image[76 + 4 * n..80 + 4 * n].copy_from_slice(&1.5f32.to_le_bytes());
+    }
+    image[108..112].copy_from_slice(&352f32.to_le_bytes());
+    image[344..348].copy_from_slice(b"n+1\0");
+    for v in 0..8 {
+        image.extend_from_slice(&(v as f32 * 37.3).to_le_bytes());
+    }
+    let mri = dir.join("cine.nii");
+    std::fs::write(&mri, &image).unwrap();
+    for (file, says) in [(&cut, "gzip"), (&mri, "not a label map")] {
+        let path = file.to_str().unwrap();
+        let (code, _, err) = run(bin().args(["reconstruct", path, "-o", "x.obj"]));
+        assert_eq!(code, 2, "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(path) && err.contains(says), "{err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

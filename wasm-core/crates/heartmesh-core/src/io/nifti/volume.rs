@@ -1,0 +1,527 @@
+//! A NIfTI-1 label map in memory: the header checked against the bytes that follow it, the voxel
+//! grid's placement in millimetres, and the labels of one time frame.
+//!
+//! The header is parsed by the `nifti` crate. The voxels and the affine are read here, because
+//! that crate's volume reader allocates the size the header declares before reading (a 400-byte
+//! file could ask for gigabytes) and its qform affine panics on negative spacings; every size
+//! below is checked against the bytes actually present first.
+
+use std::io::Read;
+
+use nalgebra::{Matrix3, Vector3};
+use nifti::{NiftiHeader, NiftiType};
+
+use crate::error::{CoreError, Result};
+use crate::geometry::Vec3;
+
+/// Largest decompressed file accepted (bytes): a whole cine label map of 256 x 256 x 20 slices x
+/// 50 frames in 16 bits is 130 MB; beyond this a file is not a cardiac segmentation.
+pub const MAX_NIFTI_BYTES: usize = 256 << 20;
+
+/// Most distinct labels a label map may hold; more is an image (MRI intensities), not a
+/// segmentation.
+pub const MAX_LABELS: usize = 64;
+
+const HEADER_BYTES: usize = 348;
+
+pub(super) fn err(message: impl Into<String>) -> CoreError {
+    CoreError::parse(0, message)
+}
+
+/// Whether `bytes` is gzip data (a `.nii.gz`).
+pub fn is_gzip(bytes: &[u8]) -> bool {
+    bytes.starts_with(&[0x1f, 0x8b])
+}
+
+/// The file's bytes, inflated when it is gzip, refused past [`MAX_NIFTI_BYTES`] (a small
+/// compressed file can inflate to gigabytes).
+pub fn inflate(bytes: &[u8]) -> Result<std::borrow::Cow<'_, [u8]>> {
+    if !is_gzip(bytes) {
+        return Ok(std::borrow::Cow::Borrowed(bytes));
+    }
+    let mut out = Vec::new();
+    flate2::read::MultiGzDecoder::new(bytes)
+        .take(MAX_NIFTI_BYTES as u64 + 1)
+        .read_to_end(&mut out)
+        .map_err(|e| err(format!("the gzip data is damaged ({e})")))?;
+    if out.len() > MAX_NIFTI_BYTES {
+        return Err(err(format!(
+            "the volume is larger than {} MB once decompressed: the limit for a label map",
+            MAX_NIFTI_BYTES >> 20
+        )));
+    }
+    Ok(std::borrow::Cow::Owned(out))
+}
+
+/// The first bytes of a gzip stream, inflated (for format detection without inflating it all).
+pub fn inflate_head(bytes: &[u8], n: usize) -> Vec<u8> {
+    let mut out = Vec::new();
+    let _ = flate2::read::MultiGzDecoder::new(bytes)
+        .take(n as u64)
+        .read_to_end(&mut out);
+    out
+}
+
+/// What the 4 bytes at 344 of a NIfTI-1 header, or at 4 of a NIfTI-2 header, say.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Magic {
+    /// `n+1`: header and voxels in one file (.nii).
+    Single,
+    /// `ni1`: a header whose voxels are in a separate .img file.
+    Pair,
+    /// `n+2` / `ni2`: NIfTI-2.
+    Nifti2,
+}
+
+/// The NIfTI magic of `bytes` (already inflated), if any.
+pub fn magic(bytes: &[u8]) -> Option<Magic> {
+    if bytes.len() >= 8 && (&bytes[4..7] == b"n+2" || &bytes[4..7] == b"ni2") {
+        return Some(Magic::Nifti2);
+    }
+    match bytes.get(344..347)? {
+        b"n+1" => Some(Magic::Single),
+        b"ni1" => Some(Magic::Pair),
+        _ => None,
+    }
+}
+
+/// A label map: the grid, its placement and the labels of every time frame.
+#[derive(Debug, Clone)]
+pub struct LabelVolume {
+    /// Voxels along i, j, k.
+    pub dims: [usize; 3],
+    /// Time frames (the 4th dimension; 1 for a 3D file).
+    pub frames: usize,
+    /// World position (mm) of voxel (0, 0, 0)'s centre.
+    pub origin: Vec3,
+    /// World step (mm) of one voxel along i, j and k: the affine's columns.
+    pub axes: [Vec3; 3],
+    /// Which placement the header gave: "sform", "qform" or "pixdim" (none: voxel grid scaled).
+    pub placement: &'static str,
+    /// One label per voxel, i fastest, then j, k and the frame.
+    pub labels: Vec<u16>,
+}
+
+impl LabelVolume {
+    /// Voxels in one frame.
+    pub fn frame_len(&self) -> usize {
+        self.dims[0] * self.dims[1] * self.dims[2]
+    }
+
+    /// The labels of frame `t`.
+    pub fn frame(&self, t: usize) -> &[u16] {
+        let n = self.frame_len();
+        &self.labels[t * n..(t + 1) * n]
+    }
+
+    /// World position (mm) of a point in voxel-index coordinates (centres at whole numbers).
+    pub fn world(&self, ijk: [f64; 3]) -> Vec3 {
+        self.origin + self.axes[0] * ijk[0] + self.axes[1] * ijk[1] + self.axes[2] * ijk[2]
+    }
+
+    /// Voxel spacing (mm) along i, j and k.
+    pub fn spacing(&self) -> [f64; 3] {
+        [
+            self.axes[0].norm(),
+            self.axes[1].norm(),
+            self.axes[2].norm(),
+        ]
+    }
+}
+
+/// Reads a label map from the (inflated) bytes of a single-file NIfTI-1.
+pub fn read_label_volume(bytes: &[u8]) -> Result<LabelVolume> {
+    match magic(bytes) {
+        Some(Magic::Single) => {}
+        Some(Magic::Pair) => {
+            return Err(err(
+                "this is the header of a NIfTI .hdr/.img pair: its voxels are in the .img file; \
+                 save the label map as one .nii or .nii.gz",
+            ))
+        }
+        Some(Magic::Nifti2) => {
+            return Err(err(
+                "NIfTI-2 files are not read; save the label map as NIfTI-1 (.nii or .nii.gz)",
+            ))
+        }
+        None => return Err(err("not a NIfTI-1 file (no n+1 magic at byte 344)")),
+    }
+    let header = NiftiHeader::from_reader(bytes)
+        .map_err(|e| err(format!("the NIfTI header cannot be read ({e})")))?;
+    let dims = header
+        .dim()
+        .map_err(|e| err(format!("the NIfTI header's dimensions are invalid ({e})")))?;
+    if dims.len() < 2 {
+        return Err(err(
+            "the NIfTI volume has one dimension: a label map needs slices",
+        ));
+    }
+    if let Some(d) = dims.iter().skip(4).position(|&d| d > 1) {
+        return Err(err(format!(
+            "the NIfTI volume has {} values per voxel in dimension {}: a label map holds one",
+            dims[4 + d],
+            5 + d
+        )));
+    }
+    let size = |a: usize| dims.get(a).map_or(1, |&d| usize::from(d));
+    let grid = [size(0), size(1), size(2)];
+    let frames = size(3);
+    let kind = header.data_type().map_err(|_| {
+        err(format!(
+            "NIfTI data type {} is not a known type",
+            header.datatype
+        ))
+    })?;
+    let width = value_width(kind)?;
+    let count = grid[0] * grid[1] * grid[2] * frames;
+    let start = header.vox_offset;
+    if !start.is_finite() || start < HEADER_BYTES as f32 || start as f64 > bytes.len() as f64 {
+        return Err(err(format!(
+            "the NIfTI header puts the voxels at byte {start}, outside the file ({} bytes)",
+            bytes.len()
+        )));
+    }
+    let start = start as usize;
+    let needed = count.saturating_mul(width);
+    if needed > bytes.len() - start {
+        return Err(err(format!(
+            "the file is truncated: the header declares {} voxels of {} bytes ({} bytes) but {} \
+             follow the header",
+            dims_text(dims),
+            width,
+            needed,
+            bytes.len() - start
+        )));
+    }
+    let (origin, axes, placement) = placement(&header)?;
+    let scale = scaling(&header);
+    let labels = read_labels(
+        &bytes[start..start + needed],
+        kind,
+        header.endianness,
+        scale,
+    )?;
+    Ok(LabelVolume {
+        dims: grid,
+        frames,
+        origin,
+        axes,
+        placement,
+        labels,
+    })
+}
+
+fn dims_text(dims: &[u16]) -> String {
+    dims.iter()
+        .map(|d| d.to_string())
+        .collect::<Vec<_>>()
+        .join(" x ")
+}
+
+fn value_width(kind: NiftiType) -> Result<usize> {
+    Ok(match kind {
+        NiftiType::Uint8 | NiftiType::Int8 => 1,
+        NiftiType::Int16 | NiftiType::Uint16 => 2,
+        NiftiType::Int32 | NiftiType::Uint32 | NiftiType::Float32 => 4,
+        NiftiType::Int64 | NiftiType::Uint64 | NiftiType::Float64 => 8,
+        other => {
+            return Err(err(format!(
+                "NIfTI data type {other:?} is not a label type (integers or real numbers)"
+            )))
+        }
+    })
+}
+
+/// `scl_slope`/`scl_inter` when they apply (a slope of 0 or not finite means none, per NIfTI-1).
+fn scaling(h: &NiftiHeader) -> Option<(f64, f64)> {
+    let slope = f64::from(h.scl_slope);
+    let inter = f64::from(h.scl_inter);
+    (slope != 0.0 && slope.is_finite() && inter.is_finite() && (slope, inter) != (1.0, 0.0))
+        .then_some((slope, inter))
+}
+
+/// Millimetres per unit of the header's space unit (meters, mm, microns; unknown read as mm).
+fn unit_mm(h: &NiftiHeader) -> f64 {
+    match h.xyzt_units & 7 {
+        1 => 1000.0,
+        3 => 0.001,
+        _ => 1.0,
+    }
+}
+
+/// Origin and per-voxel axes in mm, from the sform, else the qform, else the spacings alone.
+fn placement(h: &NiftiHeader) -> Result<(Vec3, [Vec3; 3], &'static str)> {
+    let mm = unit_mm(h);
+    let (origin, m, how) = if h.sform_code > 0 {
+        let r = [h.srow_x, h.srow_y, h.srow_z].map(|r| r.map(f64::from));
+        let m = Matrix3::new(
+            r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2],
+        );
+        (Vec3::new(r[0][3], r[1][3], r[2][3]), m, "sform")
+    } else if h.qform_code > 0 {
+        let (b, c, d) = (
+            f64::from(h.quatern_b),
+            f64::from(h.quatern_c),
+            f64::from(h.quatern_d),
+        );
+        let a = (1.0 - (b * b + c * c + d * d)).max(0.0).sqrt();
+        let rot = Matrix3::new(
+            a * a + b * b - c * c - d * d,
+            2.0 * (b * c - a * d),
+            2.0 * (b * d + a * c),
+            2.0 * (b * c + a * d),
+            a * a + c * c - b * b - d * d,
+            2.0 * (c * d - a * b),
+            2.0 * (b * d - a * c),
+            2.0 * (c * d + a * b),
+            a * a + d * d - c * c - b * b,
+        );
+        let qfac = if h.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
+        let s = |i: usize| f64::from(h.pixdim[i]).abs();
+        let m = rot * Matrix3::from_diagonal(&Vector3::new(s(1), s(2), qfac * s(3)));
+        let o = Vec3::new(
+            f64::from(h.quatern_x),
+            f64::from(h.quatern_y),
+            f64::from(h.quatern_z),
+        );
+        (o, m, "qform")
+    } else {
+        let s = |i: usize| f64::from(h.pixdim[i]).abs();
+        let m = Matrix3::from_diagonal(&Vector3::new(s(1), s(2), s(3)));
+        (Vec3::zeros(), m, "pixdim")
+    };
+    let m = m * mm;
+    let origin = origin * mm;
+    let axes = [0, 1, 2].map(|c| Vec3::new(m[(0, c)], m[(1, c)], m[(2, c)]));
+    let finite = origin.iter().chain(m.iter()).all(|v| v.is_finite());
+    let volume = m.determinant().abs();
+    let longest = axes.iter().map(|a| a.norm()).fold(0.0, f64::max);
+    let flat = volume.is_nan() || volume <= 1e-9 * longest.powi(3);
+    if !finite || flat || longest > 1e3 {
+        return Err(err(format!(
+            "the NIfTI header's voxel placement ({how}) is degenerate: voxel steps {:?} mm",
+            axes.map(|a| [a.x, a.y, a.z])
+        )));
+    }
+    Ok((origin, axes, how))
+}
+
+fn read_labels(
+    data: &[u8],
+    kind: NiftiType,
+    order: nifti::Endianness,
+    scale: Option<(f64, f64)>,
+) -> Result<Vec<u16>> {
+    let width = value_width(kind)?;
+    let big = order == nifti::Endianness::Big;
+    let mut out = Vec::with_capacity(data.len() / width);
+    let mut distinct: Vec<u16> = Vec::new();
+    for (n, raw) in data.chunks_exact(width).enumerate() {
+        let mut b = [0u8; 8];
+        b[..width].copy_from_slice(raw);
+        if big {
+            b[..width].reverse();
+        }
+        let v = match kind {
+            NiftiType::Uint8 => f64::from(b[0]),
+            NiftiType::Int8 => f64::from(b[0] as i8),
+            NiftiType::Int16 => f64::from(i16::from_le_bytes([b[0], b[1]])),
+            NiftiType::Uint16 => f64::from(u16::from_le_bytes([b[0], b[1]])),
+            NiftiType::Int32 => f64::from(i32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+            NiftiType::Uint32 => f64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+            NiftiType::Float32 => f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+            NiftiType::Int64 => i64::from_le_bytes(b) as f64,
+            NiftiType::Uint64 => u64::from_le_bytes(b) as f64,
+            _ => f64::from_le_bytes(b),
+        };
+        let v = scale.map_or(v, |(s, i)| v * s + i);
+        let label = v.round();
+        if !(label.is_finite() && (label - v).abs() <= 1e-3 && (0.0..=65535.0).contains(&label)) {
+            return Err(not_labels(format!(
+                "voxel {n} holds {v}, not a whole-number label"
+            )));
+        }
+        let label = label as u16;
+        if label != 0 && !distinct.contains(&label) {
+            distinct.push(label);
+            if distinct.len() > MAX_LABELS {
+                return Err(not_labels(format!(
+                    "it holds more than {MAX_LABELS} values"
+                )));
+            }
+        }
+        out.push(label);
+    }
+    Ok(out)
+}
+
+fn not_labels(why: String) -> CoreError {
+    err(format!(
+        "this NIfTI is an image, not a label map (segmentation): {why}; open the segmentation \
+         (background 0, one whole number per structure)"
+    ))
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// A NIfTI-1 file (uint8 labels) with the given sform rows, written field by field after the
+    /// NIfTI-1 specification (nifti1.h) so that the reader is checked against the layout rather
+    /// than against itself.
+    pub(crate) fn nifti_bytes(
+        dims: &[u16],
+        sform: Option<[[f32; 4]; 3]>,
+        voxels: &[u8],
+    ) -> Vec<u8> {
+        let mut h = vec![0u8; 352];
+        h[0..4].copy_from_slice(&348i32.to_le_bytes());
+        let mut dim = [1u16; 8];
+        dim[0] = dims.len() as u16;
+        dim[1..=dims.len()].copy_from_slice(dims);
+        for (n, d) in dim.iter().enumerate() {
+            h[40 + 2 * n..42 + 2 * n].copy_from_slice(&d.to_le_bytes());
+        }
+        h[70..72].copy_from_slice(&2i16.to_le_bytes()); // uint8
+        h[72..74].copy_from_slice(&8i16.to_le_bytes());
+        let pixdim = [1.0f32, 1.5, 1.5, 10.0, 1.0, 0.0, 0.0, 0.0];
+        for (n, p) in pixdim.iter().enumerate() {
+            h[76 + 4 * n..80 + 4 * n].copy_from_slice(&p.to_le_bytes());
+        }
+        h[108..112].copy_from_slice(&352f32.to_le_bytes());
+        h[123] = 2; // mm
+        if let Some(rows) = sform {
+            h[254..256].copy_from_slice(&1i16.to_le_bytes());
+            for (r, row) in rows.iter().enumerate() {
+                for (c, v) in row.iter().enumerate() {
+                    let at = 280 + 16 * r + 4 * c;
+                    h[at..at + 4].copy_from_slice(&v.to_le_bytes());
+                }
+            }
+        }
+        h[344..348].copy_from_slice(b"n+1\0");
+        h.extend_from_slice(voxels);
+        h
+    }
+
+    #[test]
+    fn sform_places_voxels_in_mm() {
+        let rows = [
+            [0.0, 2.0, 0.0, 5.0],
+            [1.5, 0.0, 0.0, -3.0],
+            [0.0, 0.0, 8.0, 1.0],
+        ];
+        let bytes = nifti_bytes(&[2, 3, 2], Some(rows), &[1; 12]);
+        let v = read_label_volume(&bytes).unwrap();
+        assert_eq!(v.dims, [2, 3, 2]);
+        assert_eq!(v.placement, "sform");
+        let p = v.world([1.0, 2.0, 1.0]);
+        assert!((p - Vec3::new(9.0, -1.5, 9.0)).norm() < 1e-9, "{p:?}");
+        assert_eq!(v.spacing(), [1.5, 2.0, 8.0]);
+    }
+
+    #[test]
+    fn without_sform_or_qform_the_spacings_scale_the_grid() {
+        let bytes = nifti_bytes(&[2, 2, 2], None, &[0, 1, 2, 3, 0, 1, 2, 3]);
+        let v = read_label_volume(&bytes).unwrap();
+        assert_eq!(v.placement, "pixdim");
+        assert!((v.world([1.0, 1.0, 1.0]) - Vec3::new(1.5, 1.5, 10.0)).norm() < 1e-9);
+        assert_eq!(v.labels, vec![0, 1, 2, 3, 0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn qform_rotation_and_metres() {
+        let mut bytes = nifti_bytes(&[2, 2, 2], None, &[0; 8]);
+        bytes[252..254].copy_from_slice(&1i16.to_le_bytes());
+        // 90 degrees about z: quaternion (cos 45, 0, 0, sin 45).
+        let s = std::f32::consts::FRAC_1_SQRT_2;
+        for (n, v) in [0.0f32, 0.0, s, 0.01, 0.02, 0.03].iter().enumerate() {
+            bytes[256 + 4 * n..260 + 4 * n].copy_from_slice(&v.to_le_bytes());
+        }
+        bytes[123] = 1; // metres: pixdim 1.5 m would be absurd, so scale pixdim down
+        for (n, p) in [1.0f32, 0.0015, 0.0015, 0.01].iter().enumerate() {
+            bytes[76 + 4 * n..80 + 4 * n].copy_from_slice(&p.to_le_bytes());
+        }
+        let v = read_label_volume(&bytes).unwrap();
+        assert_eq!(v.placement, "qform");
+        let p = v.world([1.0, 0.0, 1.0]);
+        // i steps along +y (rotated), k along z; origin (10, 20, 30) mm.
+        assert!((p - Vec3::new(10.0, 21.5, 40.0)).norm() < 1e-3, "{p:?}");
+    }
+
+    #[test]
+    fn hostile_headers_are_refused_with_reasons() {
+        let good = nifti_bytes(&[4, 4, 2], None, &[0; 32]);
+        let truncated = &good[..good.len() - 5];
+        let e = read_label_volume(truncated).unwrap_err().to_string();
+        assert!(e.contains("truncated"), "{e}");
+        let mut huge = good.clone();
+        huge[42..44].copy_from_slice(&65535u16.to_le_bytes());
+        huge[44..46].copy_from_slice(&65535u16.to_le_bytes());
+        assert!(read_label_volume(&huge)
+            .unwrap_err()
+            .to_string()
+            .contains("truncated"));
+        let mut pair = good.clone();
+        pair[344..348].copy_from_slice(b"ni1\0");
+        assert!(read_label_volume(&pair)
+            .unwrap_err()
+            .to_string()
+            .contains(".img"));
+        let mut image = nifti_bytes(&[2, 2, 2], None, &[0; 32]);
+        image[70..72].copy_from_slice(&16i16.to_le_bytes()); // float32: 8 values of 4 bytes
+        image[72..74].copy_from_slice(&32i16.to_le_bytes());
+        image[352..356].copy_from_slice(&0.37f32.to_le_bytes());
+        let e = read_label_volume(&image).unwrap_err().to_string();
+        assert!(e.contains("not a label map"), "{e}");
+        let mut offset = good.clone();
+        offset[108..112].copy_from_slice(&1e9f32.to_le_bytes());
+        assert!(read_label_volume(&offset)
+            .unwrap_err()
+            .to_string()
+            .contains("byte"));
+        let mut flat = nifti_bytes(&[4, 4, 2], Some([[1.0, 0.0, 0.0, 0.0]; 3]), &[0; 32]);
+        assert!(read_label_volume(&flat)
+            .unwrap_err()
+            .to_string()
+            .contains("degenerate"));
+        flat[280..284].copy_from_slice(&f32::NAN.to_le_bytes());
+        assert!(read_label_volume(&flat).is_err());
+        let mut five = good.clone();
+        five[40..42].copy_from_slice(&5u16.to_le_bytes());
+        five[50..52].copy_from_slice(&3u16.to_le_bytes());
+        assert!(read_label_volume(&five)
+            .unwrap_err()
+            .to_string()
+            .contains("per voxel"));
+        let mut bad_type = good;
+        bad_type[70..72].copy_from_slice(&128i16.to_le_bytes());
+        assert!(read_label_volume(&bad_type).is_err());
+        // Every prefix of a valid file fails cleanly.
+        let file = nifti_bytes(&[3, 3, 2], None, &[1; 18]);
+        for n in 0..file.len() {
+            assert!(read_label_volume(&file[..n]).is_err());
+        }
+    }
+
+    #[test]
+    fn gzip_is_inflated_and_bounded() {
+        use std::io::Write;
+        let raw = nifti_bytes(&[2, 2, 2], None, &[1; 8]);
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+        gz.write_all(&raw).unwrap();
+        let gz = gz.finish().unwrap();
+        assert!(is_gzip(&gz));
+        assert_eq!(&*inflate(&gz).unwrap(), &raw[..]);
+        assert_eq!(magic(&inflate_head(&gz, 348)), Some(Magic::Single));
+        let mut bomb = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+        let zeros = vec![0u8; 1 << 20];
+        for _ in 0..(MAX_NIFTI_BYTES >> 20) + 1 {
+            bomb.write_all(&zeros).unwrap();
+        }
+        let bomb = bomb.finish().unwrap();
+        assert!(bomb.len() < 1 << 20);
+        assert!(inflate(&bomb).unwrap_err().to_string().contains("limit"));
+        assert!(inflate(&gz[..gz.len() / 2]).is_err());
+    }
+}
