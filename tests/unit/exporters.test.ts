@@ -193,6 +193,10 @@ describe('exporters parse back', () => {
   it('names downloads after the input and surface', () => {
     expect(exportBaseName(info)).toBe('patient1-ED-LV_ENDO');
     expect(exportBaseName({ ...info, fileName: 'my file.csv', surface: null })).toBe('my_file');
+    // A compressed label map's name loses its whole extension, not only the .gz.
+    expect(exportBaseName({ ...info, fileName: 'cardiomesh-spasm-seg.nii.gz', surface: 'LV_EPI' })).toBe('cardiomesh-spasm-seg-LV_EPI');
+    expect(exportBaseName({ ...info, fileName: 'seg (2).nii.gz', surface: null })).toBe('seg_2_');
+    expect(exportBaseName({ ...info, fileName: 'sub-01_seg.nii', surface: 'RV_ENDO', frame: '12' })).toBe('sub-01_seg-RV_ENDO-frame12');
   });
 
   it('records the time frame of a file that holds several beside the file and surface, and only then', () => {

@@ -52,8 +52,31 @@ describe('folders dropped on the page', () => {
     expect(skippedText(0)).toBe('');
   });
 
-  it('read the kinds the Open dialog offers', () => {
-    for (const ok of ['a.csv', 'GPFile_000.TXT', 'x.vtp', 'rt.dcm', 'ex.mat', 's.json', 'p.xyz', 't.tsv']) expect(readableInFolder(ok)).toBe(true);
-    for (const no of ['IM_0001', 'a.png', '.hidden.csv', 'model.obj', 'seg.nii.gz']) expect(readableInFolder(no)).toBe(false);
+  it('read the kinds the Open dialog offers, label maps (NIfTI) included', () => {
+    for (const ok of ['a.csv', 'GPFile_000.TXT', 'x.vtp', 'rt.dcm', 'ex.mat', 's.json', 'p.xyz', 't.tsv', 'seg.nii.gz', 'x.nii', 'patient001_frame01_gt.NII.GZ']) {
+      expect(readableInFolder(ok)).toBe(true);
+    }
+    // A bare .gz inside a folder is an archive or a compressed image more often than a label map.
+    for (const no of ['IM_0001', 'a.png', '.hidden.csv', 'model.obj', 'images.tar.gz', 'scan.gz', '.seg.nii.gz', 'seg.nii.gz.part']) {
+      expect(readableInFolder(no)).toBe(false);
+    }
+  });
+
+  it('open the label maps of an ACDC subject folder beside its images and its Info.cfg', async () => {
+    const subject = folder('patient001', [
+      file('Info.cfg'),
+      file('patient001_4d.nii.gz'),
+      file('patient001_frame12_gt.nii.gz'),
+      file('patient001_frame01_gt.nii.gz'),
+      file('patient001_frame01.nii.gz'),
+      file('MANDATORY_CITATION.md'),
+      file('backup.tar.gz'),
+    ]);
+    const { files, skipped } = await filesOfEntries([subject]);
+    // The images are read too: the core refuses them by name ("an image, not a label map").
+    expect(files.map((f) => f.name)).toEqual([
+      'patient001_4d.nii.gz', 'patient001_frame01_gt.nii.gz', 'patient001_frame01.nii.gz', 'patient001_frame12_gt.nii.gz',
+    ]);
+    expect(skipped).toBe(3); // Info.cfg, MANDATORY_CITATION.md, backup.tar.gz
   });
 });

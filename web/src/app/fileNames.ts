@@ -6,6 +6,7 @@
  * opened again (same name, size and modification time: the browser gives no path) replaces its
  * own entry, as a bundled example clicked again does.
  */
+import { splitExtension } from '../io/fileExtension';
 import { FOLDER_FILE_LIMIT } from '../io/folderDrop';
 
 /** What tells two files of one name apart: a File's size and modification time, or a tag. */
@@ -20,8 +21,7 @@ export function fileIdentity(f: { size: number; lastModified: number }): string 
 export function distinctName(name: string, identity: string, open: ReadonlyMap<string, string>): string {
   const free = (n: string) => !open.has(n) || open.get(n) === identity;
   if (free(name)) return name;
-  const dot = name.lastIndexOf('.');
-  const [stem, ext] = dot > 0 ? [name.slice(0, dot), name.slice(dot)] : [name, ''];
+  const [stem, ext] = splitExtension(name);
   for (let k = 2; ; k++) {
     const candidate = `${stem} (${k})${ext}`;
     if (free(candidate)) return candidate;

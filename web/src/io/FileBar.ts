@@ -1,6 +1,6 @@
 /**
- * Getting data in: the Open button (a real `<input type="file">` accepting the canonical CSV and
- * the other contour formats), "Try an example" buttons, the picker of loaded files, the surface
+ * Getting data in: the Open button (a real `<input type="file">` accepting the canonical CSV, the
+ * other contour formats and NIfTI label maps), "Try an example" buttons, the picker of loaded files, the surface
  * picker for files holding several surfaces and the frame picker for files holding a sequence of
  * time frames (app/timeFrames.ts decides its options).
  */
@@ -8,8 +8,12 @@ import type { FramePicker } from '../app/timeFrames';
 import { h } from '../ui/dom';
 import { SAMPLES, type Sample } from './samples';
 
-/** The contour formats the core reads (canonical CSV first; see README "Files"). */
-export const ACCEPT = '.csv,.txt,.tsv,.dat,.xyz,.vtk,.vtp,.mat,.json,.dcm,text/csv,text/plain,application/dicom';
+/**
+ * The contour formats the core reads (canonical CSV first; see README "Files"), and NIfTI label
+ * maps (segmentations, `.nii` or `.nii.gz`). A bare `.gz` too: not every file dialog filters on a
+ * two-part extension, and the core names what it cannot read in a compressed file the user chose.
+ */
+export const ACCEPT = '.csv,.txt,.tsv,.dat,.xyz,.vtk,.vtp,.mat,.json,.dcm,.nii,.nii.gz,.gz,text/csv,text/plain,application/dicom';
 
 export interface FileBarHandlers {
   openFiles(files: File[]): void;
@@ -40,7 +44,7 @@ export class FileBar {
       this.input.value = '';
       if (files.length) handlers.openFiles(files);
     });
-    const open = h('label', { for: 'file-input', class: 'button primary', role: 'button', tabindex: 0, title: 'Open contour files (or drop them anywhere)' }, 'Open…');
+    const open = h('label', { for: 'file-input', class: 'button primary', role: 'button', tabindex: 0, title: 'Open contour files or segmentations (or drop them anywhere)' }, 'Open…');
     open.addEventListener('keydown', (e) => {
       if (e.key === 'Enter' || e.key === ' ') {
         e.preventDefault();

@@ -1,6 +1,7 @@
 /**
  * Folders dropped on the page: a biv-me patient is a folder (`GPFile_000.txt` ... one per time
- * frame, and its `SliceInfoFile.txt`), and dragging the folder is what a user tries first. The
+ * frame, and its `SliceInfoFile.txt`), and dragging the folder is what a user tries first (an ACDC
+ * or M&Ms subject folder too: its `.nii.gz` label maps open, its images are refused by name). The
  * browser hands a dropped folder over as an entry of the File and Directory Entries API
  * (`DataTransferItem.webkitGetAsEntry`); its files are read here and opened like a multi-file drop.
  */
@@ -23,7 +24,12 @@ export const FOLDER_FILE_LIMIT = 200;
 /** Folders inside folders are followed this deep (a patient folder inside a study folder). */
 const MAX_DEPTH = 3;
 
-const EXTENSIONS = ACCEPT.split(',').filter((a) => a.startsWith('.'));
+/**
+ * The Open dialog's extensions, but a bare `.gz`: in a folder, a compressed file other than a
+ * `.nii.gz` (an archive, a compressed image series) is clutter, left out and counted rather than
+ * read and refused.
+ */
+const EXTENSIONS = ACCEPT.split(',').filter((a) => a.startsWith('.') && a !== '.gz');
 
 /** Whether a file found inside a folder is one the app may read (by its extension; not hidden). */
 export function readableInFolder(name: string): boolean {

@@ -3,6 +3,7 @@
  * lids mode, the options (smoothing, softening, breath-hold alignment) and every parameter value. One place, so that all formats say the same thing.
  */
 import { withDefaultOptions, type LidsMode, type ParamValues, type ReconOptions } from '../../core-client/protocol';
+import { splitExtension } from '../fileExtension';
 
 export interface ExportInfo {
   appVersion: string;
@@ -50,10 +51,10 @@ export function headerLines(info: ExportInfo): string[] {
   ];
 }
 
-/** Base name for downloads: input name without extension, plus surface and time frame. */
+/** Base name for downloads: input name without extension (`seg.nii.gz`: `seg`), plus surface and time frame. */
 export function exportBaseName(info: ExportInfo): string {
   const safe = (s: string) => s.replace(/[^A-Za-z0-9._-]+/g, '_');
-  const base = safe(info.fileName.replace(/\.[^.]*$/, '')) || 'heartmesh';
+  const base = safe(splitExtension(info.fileName)[0]) || 'heartmesh';
   const surface = info.surface ? `-${safe(info.surface)}` : '';
   const frame = info.frame != null ? `-frame${safe(info.frame)}` : '';
   return `${base}${surface}${frame}`;
