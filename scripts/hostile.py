@@ -337,6 +337,7 @@ def other_readers(out_dir, rng):
     cases.append(Case("gpfile-newer-bivme-types", ("\n".join(newer) + "\n").encode(), "txt",
                       args=["--surface", "LV_ENDO", "--lids", "apex"], expect="ok", c2m=1.0))
     cases += corruptions("mat", mat, "mat", rng, 5)
+    cases += label_maps(rng)
     src = os.path.join(CONTOURS, "surfco-example.csv")
     for ext in ("vtk", "vtp", "json", "dcm"):
         path = os.path.join(out_dir, "surfco." + ext)
@@ -347,6 +348,47 @@ def other_readers(out_dir, rng):
                 continue
         with open(path, "rb") as f:
             cases += corruptions(ext, f.read(), ext, rng, 5)
+    return cases
+
+
+def label_maps(rng):
+    """NIfTI label maps (session 21): the bundled segmentation gzip-compressed and plain, cut and
+    corrupted, and headers that lie (sizes, offsets, types, magic, placement)."""
+    import gzip
+    import struct
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    with open(os.path.join(root, "public", "samples", "cardiomesh-spasm-seg.nii.gz"), "rb") as f:
+        gz = f.read()
+    raw = gzip.decompress(gz)
+    lv = ["--surface", "LV_ENDO"]
+    cases = corruptions("nifti-gz", gz, "nii.gz", rng, 4, args=lv)
+    cases += corruptions("nifti", raw, "nii", rng, 4, args=lv)
+
+    def patched(name, edits, expect="error", args=lv):
+        b = bytearray(raw)
+        for at, fmt, value in edits:
+            struct.pack_into(fmt, b, at, *value)
+        cases.append(Case("nifti-" + name, bytes(b), "nii", args=args, expect=expect))
+
+    patched("dims-huge", [(42, "<3h", (32767, 32767, 32767))])
+    patched("dims-zero", [(42, "<h", (0,))])
+    patched("rank-9", [(40, "<h", (9,))])
+    patched("offset-past-end", [(108, "<f", (1e9,))])
+    patched("offset-nan", [(108, "<f", (float("nan"),))])
+    patched("type-complex", [(70, "<hh", (32, 64))])
+    patched("type-float-image", [(70, "<hh", (16, 32))])
+    patched("nifti2-magic", [(4, "<4s", (b"n+2\0",))])
+    patched("hdr-pair", [(344, "<4s", (b"ni1\0",))])
+    patched("sform-flat", [(280, "<12f", (1.0,) * 12)])
+    patched("sform-nan", [(280, "<f", (float("nan"),))])
+    patched("scale-half", [(112, "<ff", (0.5, 0.0))])
+    patched("scale-int", [(112, "<ff", (2.0, 0.0))], expect="ok")
+    patched("metres", [(123, "<B", (1,))])  # an sform in mm read as metres: refused
+    patched("no-sform-no-qform", [(252, "<hh", (0, 0))], expect="ok")
+    patched("frame-missing", [], args=lv + ["--frame", "3"])
+    patched("all-background", [], expect="error")
+    cases[-1].data = raw[:352] + bytes(len(raw) - 352)
+    cases.append(Case("nifti-header-only", raw[:348], "nii", args=lv))
     return cases
 
 

@@ -1,6 +1,6 @@
 // The surface picker lists the heart's surfaces in one fixed order whatever order the file has them in.
 import { describe, expect, it } from 'vitest';
-import { surfaceLabel, surfaceOrder } from '../../web/src/io/FileBar';
+import { ACCEPT, surfaceLabel, surfaceOrder } from '../../web/src/io/FileBar';
 
 describe('surface picker order', () => {
   it('LV endo, LV epi, RV endo, RV epi, then other surfaces in the file order', () => {
@@ -13,5 +13,13 @@ describe('surface picker order', () => {
     expect(surfaceLabel('BIV_EPI')).toBe('BiV epicardium');
     expect(surfaceLabel('RV_EPI')).toBe('RV epicardium');
     expect(surfaceLabel('LA_ENDO')).toBe('LA_ENDO');
+  });
+});
+
+describe('the Open dialog', () => {
+  it('offers NIfTI label maps, compressed or not, beside the contour formats', () => {
+    const kinds = ACCEPT.split(',');
+    for (const k of ['.csv', '.txt', '.mat', '.dcm', '.nii', '.nii.gz', '.gz']) expect(kinds).toContain(k);
+    expect(kinds.every((k) => k.startsWith('.') || /^[a-z]+\/[a-z-]+$/.test(k))).toBe(true);
   });
 });

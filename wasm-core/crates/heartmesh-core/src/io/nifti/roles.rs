@@ -88,13 +88,17 @@ pub fn find_roles(labels: &[u16], dims: [usize; 3], slice_axis: usize) -> Roles 
     let t = Touching::of(labels, dims, slice_axis);
     let mut present: Vec<u16> = t.voxels.keys().copied().collect();
     present.sort_unstable();
-    let mut best: Option<(f64, u16, u16)> = None;
+    // Of the enclosed pairs, the one sharing the most outline: a stray voxel of another label
+    // inside the RV is wholly enclosed too, but along a few faces where the LV's ring runs along
+    // hundreds.
+    let mut best: Option<(usize, u16, u16)> = None;
     for &cavity in &present {
         let outline = t.outline(cavity);
         for &wall in present.iter().filter(|&&w| w != cavity) {
-            let share = t.shared(cavity, wall) as f64 / outline.max(1) as f64;
-            if share >= ENCLOSED && best.is_none_or(|(s, _, _)| share > s) {
-                best = Some((share, cavity, wall));
+            let shared = t.shared(cavity, wall);
+            let share = shared as f64 / outline.max(1) as f64;
+            if share >= ENCLOSED && best.is_none_or(|(s, _, _)| shared > s) {
+                best = Some((shared, cavity, wall));
             }
         }
     }
@@ -156,6 +160,21 @@ pub(crate) mod tests {
             );
             assert!(roles.others.is_empty());
         }
+    }
+
+    #[test]
+    fn a_stray_voxel_enclosed_by_the_rv_is_not_the_lv() {
+        let mut slice = heart_slice(40, 3, 2, 1);
+        let rv = slice.iter().position(|&l| l == 1).unwrap();
+        // Deep inside the RV: a voxel whose four neighbours are all RV.
+        let n = 40;
+        let inner = (rv..slice.len() - n)
+            .find(|&i| [i - 1, i + 1, i - n, i + n].iter().all(|&j| slice[j] == 1))
+            .unwrap();
+        slice[inner] = 177;
+        let roles = find_roles(&slice, [40, 40, 1], 2);
+        assert_eq!((roles.lv, roles.myo, roles.rv), (Some(3), Some(2), Some(1)));
+        assert_eq!(roles.others, vec![177]);
     }
 
     #[test]

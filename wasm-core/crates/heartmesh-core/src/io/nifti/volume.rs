@@ -148,9 +148,13 @@ pub fn read_label_volume(bytes: &[u8]) -> Result<LabelVolume> {
     }
     let header = NiftiHeader::from_reader(bytes)
         .map_err(|e| err(format!("the NIfTI header cannot be read ({e})")))?;
-    let dims = header
-        .dim()
-        .map_err(|e| err(format!("the NIfTI header's dimensions are invalid ({e})")))?;
+    let dims = header.dim().map_err(|_| {
+        err(format!(
+            "the NIfTI header's dimensions are invalid: dim = {:?} (dim[0], the count, must be \
+             1 to 7 and each size at least 1)",
+            header.dim
+        ))
+    })?;
     if dims.len() < 2 {
         return Err(err(
             "the NIfTI volume has one dimension: a label map needs slices",
@@ -185,8 +189,8 @@ pub fn read_label_volume(bytes: &[u8]) -> Result<LabelVolume> {
     let needed = count.saturating_mul(width);
     if needed > bytes.len() - start {
         return Err(err(format!(
-            "the file is truncated: the header declares {} voxels of {} bytes ({} bytes) but {} \
-             follow the header",
+            "the file is truncated: the header declares {} voxels of {} byte(s) ({} bytes) but \
+             {} follow the header",
             dims_text(dims),
             width,
             needed,
@@ -296,8 +300,15 @@ fn placement(h: &NiftiHeader) -> Result<(Vec3, [Vec3; 3], &'static str)> {
     let finite = origin.iter().chain(m.iter()).all(|v| v.is_finite());
     let volume = m.determinant().abs();
     let longest = axes.iter().map(|a| a.norm()).fold(0.0, f64::max);
+    if finite && longest > 1e3 {
+        return Err(err(format!(
+            "the NIfTI header puts voxels {longest:.0} mm apart ({how}, space unit {}): not an \
+             image of a heart; check its units (xyzt_units)",
+            ["unknown", "metres", "mm", "microns"][usize::from(h.xyzt_units & 3)]
+        )));
+    }
     let flat = volume.is_nan() || volume <= 1e-9 * longest.powi(3);
-    if !finite || flat || longest > 1e3 {
+    if !finite || flat {
         return Err(err(format!(
             "the NIfTI header's voxel placement ({how}) is degenerate: voxel steps {:?} mm",
             axes.map(|a| [a.x, a.y, a.z])
