@@ -34,35 +34,43 @@ struct Touching {
 }
 
 impl Touching {
+    /// Stray voxels (no in-plane neighbour of their own label: segmentation noise) are left out,
+    /// as voxels and as neighbours: a speckled cavity still reads as ringed by its wall.
     fn of(labels: &[u16], dims: [usize; 3], slice_axis: usize) -> Touching {
-        let mut voxels: HashMap<u16, usize> = HashMap::new();
-        let mut faces: HashMap<(u16, u16), usize> = HashMap::new();
         let stride = [1, dims[0], dims[0] * dims[1]];
-        for (n, &a) in labels.iter().enumerate() {
-            if a == 0 {
-                continue;
-            }
-            *voxels.entry(a).or_default() += 1;
+        let in_plane: Vec<usize> = (0..3).filter(|&x| x != slice_axis).collect();
+        // In-plane neighbours of voxel n (None outside the grid).
+        let around = |n: usize| {
             let at = [
                 n % dims[0],
                 (n / dims[0]) % dims[1],
                 n / (dims[0] * dims[1]),
             ];
-            for axis in (0..3).filter(|&x| x != slice_axis) {
-                for forward in [false, true] {
-                    let inside = if forward {
-                        at[axis] + 1 < dims[axis]
-                    } else {
-                        at[axis] > 0
-                    };
-                    let b = match (inside, forward) {
-                        (false, _) => 0,
-                        (true, true) => labels[n + stride[axis]],
-                        (true, false) => labels[n - stride[axis]],
-                    };
-                    if b != a {
-                        *faces.entry((a, b)).or_default() += 1;
-                    }
+            in_plane.iter().flat_map(move |&axis| {
+                [
+                    (at[axis] > 0).then(|| n - stride[axis]),
+                    (at[axis] + 1 < dims[axis]).then(|| n + stride[axis]),
+                ]
+            })
+        };
+        let stray = |n: usize| {
+            labels[n] != 0 && !around(n).any(|m| m.is_some_and(|m| labels[m] == labels[n]))
+        };
+        let mut voxels: HashMap<u16, usize> = HashMap::new();
+        let mut faces: HashMap<(u16, u16), usize> = HashMap::new();
+        for (n, &a) in labels.iter().enumerate() {
+            if a == 0 || stray(n) {
+                continue;
+            }
+            *voxels.entry(a).or_default() += 1;
+            for m in around(n) {
+                let b = match m {
+                    None => 0,
+                    Some(m) if stray(m) => continue,
+                    Some(m) => labels[m],
+                };
+                if b != a {
+                    *faces.entry((a, b)).or_default() += 1;
                 }
             }
         }
@@ -174,20 +182,42 @@ pub(crate) mod tests {
         slice[inner] = 177;
         let roles = find_roles(&slice, [40, 40, 1], 2);
         assert_eq!((roles.lv, roles.myo, roles.rv), (Some(3), Some(2), Some(1)));
-        assert_eq!(roles.others, vec![177]);
+        // A label made only of stray voxels is noise, not a structure.
+        assert!(roles.others.is_empty());
+    }
+
+    #[test]
+    fn speckled_labels_keep_their_roles() {
+        // 3 % of the voxels set to a random label, as a poor segmentation leaves them.
+        let mut slice = heart_slice(60, 1, 2, 3);
+        let mut state = 12345u64;
+        for l in slice.iter_mut() {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            if (state >> 33) % 100 < 3 {
+                *l = ((state >> 40) % 4) as u16;
+            }
+        }
+        let roles = find_roles(&slice, [60, 60, 1], 2);
+        assert_eq!((roles.lv, roles.myo, roles.rv), (Some(1), Some(2), Some(3)));
     }
 
     #[test]
     fn without_a_ring_no_roles_are_guessed() {
         // Two cavities side by side and a third label alone: nothing encloses anything.
         let mut slice = heart_slice(40, 1, 1, 2);
-        slice[0] = 7;
+        for at in [0, 1, 40, 41] {
+            slice[at] = 7;
+        }
         let roles = find_roles(&slice, [40, 40, 1], 2);
         assert_eq!((roles.lv, roles.myo, roles.rv), (None, None, None));
         assert_eq!(roles.others, vec![1, 2, 7]);
         // Cavity and ring only: no RV; an extra label away from the ring stays "other".
         let mut slice = heart_slice(40, 3, 2, 0);
-        slice[0] = 9;
+        for at in [0, 1, 40, 41] {
+            slice[at] = 9;
+        }
         let roles = find_roles(&slice, [40, 40, 1], 2);
         assert_eq!((roles.lv, roles.myo, roles.rv), (Some(3), Some(2), None));
         assert_eq!(roles.others, vec![9]);
