@@ -53,7 +53,14 @@ export class FileBar {
     });
     const samples = h('div', { class: 'samples' }, h('span', { class: 'muted samples-label' }, 'Try an example:'));
     for (const s of SAMPLES) {
-      const b = h('button', { type: 'button', class: 'small', title: s.description, 'data-testid': `sample-${s.id}`, 'data-sample': s.id }, s.label);
+      // Both wordings, the CSS showing one: the short one when pickers crowd the top bar (the
+      // accessible name stays the full label).
+      const b = h(
+        'button',
+        { type: 'button', class: 'small', title: s.description, 'aria-label': s.label, 'data-testid': `sample-${s.id}`, 'data-sample': s.id },
+        h('span', { class: 'sample-long' }, s.label),
+        h('span', { class: 'sample-short' }, s.short),
+      );
       b.addEventListener('click', () => handlers.trySample(s));
       this.sampleButtons.push(b);
       samples.append(b);
