@@ -12,6 +12,7 @@ mod dicom_read;
 mod frame_choice;
 mod frames;
 pub mod gpfile;
+pub mod gzip;
 pub mod mat;
 pub mod nifti;
 pub mod obj;
@@ -213,6 +214,18 @@ pub fn read_contours_with(
     bytes: &[u8],
     options: &ContourOptions,
 ) -> Result<ContourSet> {
+    if gzip::is_gzip(bytes) && !nifti::is_nifti(bytes) {
+        // A compressed contour file (`contours.csv.gz`): read what it holds, once.
+        let inner = gzip::inflate(bytes)?;
+        if gzip::is_gzip(&inner) {
+            return Err(CoreError::parse(
+                0,
+                "gzip inside gzip: decompress the file first",
+            ));
+        }
+        let name = file_name.strip_suffix(".gz").unwrap_or(file_name);
+        return read_contours_with(name, &inner, options);
+    }
     match detect_contour_format(file_name, bytes) {
         ContourFormat::Csv if looks_like_slice_info(bytes) => Err(CoreError::parse(
             1,
@@ -407,6 +420,21 @@ pub(crate) fn sample(rel: &str) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn compressed_contour_files_are_read_as_what_they_hold() {
+        use std::io::Write;
+        let csv = sample("contours/surfco-example.csv");
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+        gz.write_all(&csv).unwrap();
+        let gz = gz.finish().unwrap();
+        let plain = read_contours("surfco.csv", &csv).unwrap();
+        assert_eq!(read_contours("surfco.csv.gz", &gz).unwrap(), plain);
+        let mut twice = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+        twice.write_all(&gz).unwrap();
+        let e = read_contours("x.gz.gz", &twice.finish().unwrap()).unwrap_err();
+        assert!(e.to_string().contains("gzip inside gzip"), "{e}");
+    }
 
     #[test]
     fn extensions() {

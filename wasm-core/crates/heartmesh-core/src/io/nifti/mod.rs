@@ -18,16 +18,17 @@ mod trace;
 mod volume;
 mod write;
 
-pub use volume::{is_gzip, LabelVolume, MAX_LABELS, MAX_NIFTI_BYTES};
+pub use volume::{LabelVolume, MAX_LABELS};
 pub use write::write_nifti;
 
 use crate::contours::{ContourSet, TimeFrames};
 use crate::error::Result;
 use crate::io::builder::ContourBuilder;
+use crate::io::gzip::{inflate, inflate_head, is_gzip};
 use crate::io::FrameChoice;
 use roles::{find_roles, Roles};
 use trace::{plan, trace, SlicePlan};
-use volume::{err, inflate, inflate_head, magic, read_label_volume, Magic};
+use volume::{err, magic, read_label_volume, Magic};
 
 /// Whether `bytes` is a NIfTI file (plain or gzip), of any version (the reader names what it
 /// cannot read rather than the file falling through to the CSV reader).

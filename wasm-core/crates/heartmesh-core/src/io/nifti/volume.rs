@@ -6,17 +6,11 @@
 //! file could ask for gigabytes) and its qform affine panics on negative spacings; every size
 //! below is checked against the bytes actually present first.
 
-use std::io::Read;
-
 use nalgebra::{Matrix3, Vector3};
 use nifti::{NiftiHeader, NiftiType};
 
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
-
-/// Largest decompressed file accepted (bytes): a whole cine label map of 256 x 256 x 20 slices x
-/// 50 frames in 16 bits is 130 MB; beyond this a file is not a cardiac segmentation.
-pub const MAX_NIFTI_BYTES: usize = 256 << 20;
 
 /// Most distinct labels a label map may hold; more is an image (MRI intensities), not a
 /// segmentation.
@@ -26,40 +20,6 @@ const HEADER_BYTES: usize = 348;
 
 pub(super) fn err(message: impl Into<String>) -> CoreError {
     CoreError::parse(0, message)
-}
-
-/// Whether `bytes` is gzip data (a `.nii.gz`).
-pub fn is_gzip(bytes: &[u8]) -> bool {
-    bytes.starts_with(&[0x1f, 0x8b])
-}
-
-/// The file's bytes, inflated when it is gzip, refused past [`MAX_NIFTI_BYTES`] (a small
-/// compressed file can inflate to gigabytes).
-pub fn inflate(bytes: &[u8]) -> Result<std::borrow::Cow<'_, [u8]>> {
-    if !is_gzip(bytes) {
-        return Ok(std::borrow::Cow::Borrowed(bytes));
-    }
-    let mut out = Vec::new();
-    flate2::read::MultiGzDecoder::new(bytes)
-        .take(MAX_NIFTI_BYTES as u64 + 1)
-        .read_to_end(&mut out)
-        .map_err(|e| err(format!("the gzip data is damaged ({e})")))?;
-    if out.len() > MAX_NIFTI_BYTES {
-        return Err(err(format!(
-            "the volume is larger than {} MB once decompressed: the limit for a label map",
-            MAX_NIFTI_BYTES >> 20
-        )));
-    }
-    Ok(std::borrow::Cow::Owned(out))
-}
-
-/// The first bytes of a gzip stream, inflated (for format detection without inflating it all).
-pub fn inflate_head(bytes: &[u8], n: usize) -> Vec<u8> {
-    let mut out = Vec::new();
-    let _ = flate2::read::MultiGzDecoder::new(bytes)
-        .take(n as u64)
-        .read_to_end(&mut out);
-    out
 }
 
 /// What the 4 bytes at 344 of a NIfTI-1 header, or at 4 of a NIfTI-2 header, say.
@@ -513,26 +473,5 @@ pub(crate) mod tests {
         for n in 0..file.len() {
             assert!(read_label_volume(&file[..n]).is_err());
         }
-    }
-
-    #[test]
-    fn gzip_is_inflated_and_bounded() {
-        use std::io::Write;
-        let raw = nifti_bytes(&[2, 2, 2], None, &[1; 8]);
-        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
-        gz.write_all(&raw).unwrap();
-        let gz = gz.finish().unwrap();
-        assert!(is_gzip(&gz));
-        assert_eq!(&*inflate(&gz).unwrap(), &raw[..]);
-        assert_eq!(magic(&inflate_head(&gz, 348)), Some(Magic::Single));
-        let mut bomb = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
-        let zeros = vec![0u8; 1 << 20];
-        for _ in 0..(MAX_NIFTI_BYTES >> 20) + 1 {
-            bomb.write_all(&zeros).unwrap();
-        }
-        let bomb = bomb.finish().unwrap();
-        assert!(bomb.len() < 1 << 20);
-        assert!(inflate(&bomb).unwrap_err().to_string().contains("limit"));
-        assert!(inflate(&gz[..gz.len() / 2]).is_err());
     }
 }

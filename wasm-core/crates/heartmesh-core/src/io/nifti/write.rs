@@ -86,8 +86,7 @@ mod tests {
                 labels: (0..24).map(|n| (n % 3) as u16 * top / 2).collect(),
             };
             let bytes = write_nifti(&v, gzip);
-            let back =
-                read_label_volume(&crate::io::nifti::volume::inflate(&bytes).unwrap()).unwrap();
+            let back = read_label_volume(&crate::io::gzip::inflate(&bytes).unwrap()).unwrap();
             assert_eq!((back.dims, back.frames), (v.dims, v.frames));
             assert_eq!(back.labels, v.labels);
             let p = back.world([2.0, 1.0, 1.0]);
