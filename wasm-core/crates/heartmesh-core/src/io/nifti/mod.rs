@@ -156,10 +156,13 @@ fn describe(volume: &LabelVolume, roles: &Roles, plan: &SlicePlan) -> String {
         parts.push(format!("{rv} RV cavity (RV_ENDO)"));
     }
     if !roles.others.is_empty() {
-        parts.push(format!(
-            "{} as LABEL_<n>",
-            list(&roles.others.iter().map(|&l| l as usize).collect::<Vec<_>>())
-        ));
+        let names: Vec<String> = roles.others.iter().map(|l| format!("LABEL_{l}")).collect();
+        let why = if roles.lv.is_none() {
+            " (no label is ringed by another as an LV cavity by its myocardium)"
+        } else {
+            ""
+        };
+        parts.push(format!("{}{why}", names.join(", ")));
     }
     let s = volume.spacing();
     let axis = ["i", "j", "k"][plan.axis];
