@@ -377,7 +377,7 @@ def label_maps(rng):
     patched("offset-nan", [(108, "<f", (float("nan"),))])
     patched("type-complex", [(70, "<hh", (32, 64))])
     patched("type-float-image", [(70, "<hh", (16, 32))])
-    patched("nifti2-magic", [(4, "<4s", (b"n+2\0",))])
+    patched("nifti2-magic", [(0, "<i", (540,)), (4, "<4s", (b"n+2\0",))])
     patched("hdr-pair", [(344, "<4s", (b"ni1\0",))])
     patched("sform-flat", [(280, "<12f", (1.0,) * 12)])
     patched("sform-nan", [(280, "<f", (float("nan"),))])

@@ -9,5 +9,6 @@ export function inflatedSample(): Uint8Array;
 export function labelCounts(voxels: Uint8Array): number[];
 export function cineCounts(): { diastole: number[]; systole: number[] };
 export function cineLabelMap(): Uint8Array;
+export function gzipped(bytes: Uint8Array): Uint8Array;
 export function damagedSample(): Uint8Array;
 export function imageLikeSample(): Uint8Array;

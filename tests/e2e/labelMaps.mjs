@@ -6,12 +6,13 @@
 //   smaller all round in every slice (the ring of cavity pixels next to another label becomes
 //   myocardium: a heart in systole, its epicardium unchanged);
 // - a damaged download: the example's first half;
-// - an image: the example with every voxel's value spread over 0-199 (MRI intensities).
+// - an image: the example with every voxel's value spread over 0-199 (MRI intensities);
+// and any file gzip-compressed (a `contours.csv.gz`).
 // Used by tests/e2e/labelmap.test.mjs and tests/node/labelMap.test.ts.
 import { readFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { gunzipSync } from 'node:zlib';
+import { gunzipSync, gzipSync } from 'node:zlib';
 
 export const SAMPLE_NAME = 'cardiomesh-spasm-seg.nii.gz';
 export const SAMPLE_PATH = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'public', 'samples', SAMPLE_NAME);
@@ -85,6 +86,11 @@ export function cineLabelMap() {
   out.set(voxels, header.length + VOXELS);
   out.set(systole(voxels), header.length + 2 * VOXELS);
   return out;
+}
+
+/** `bytes` gzip-compressed (a `contours.csv.gz`). */
+export function gzipped(bytes) {
+  return new Uint8Array(gzipSync(bytes));
 }
 
 /** The example's first half (a download cut short). */

@@ -24,6 +24,8 @@ describe('distinctName', () => {
     expect(distinctName('seg.nii.gz', 'file:3:3', maps)).toBe('seg (2).nii.gz');
     expect(distinctName('Seg.NII.GZ', 'file:3:3', maps)).toBe('Seg (2).NII.GZ');
     expect(distinctName('seg.nii.gz', 'file:1:1', maps)).toBe('seg.nii.gz');
+    // A compressed CSV likewise: the core reads `contours (2).csv` inside.
+    expect(distinctName('contours.csv.gz', 'file:3:3', new Map([['contours.csv.gz', 'file:1:1']]))).toBe('contours (2).csv.gz');
   });
   it('says which file got which name', () => {
     expect(renamedText([])).toBe('');
@@ -34,11 +36,13 @@ describe('distinctName', () => {
 });
 
 describe('splitExtension', () => {
-  it('keeps .nii.gz whole and splits other names at their last dot', () => {
+  it('keeps a compressed file\'s extension whole (.nii.gz, .csv.gz) and splits other names at their last dot', () => {
     expect(splitExtension('seg.nii.gz')).toEqual(['seg', '.nii.gz']);
     expect(splitExtension('a.b.NII.GZ')).toEqual(['a.b', '.NII.GZ']);
     expect(splitExtension('x.nii')).toEqual(['x', '.nii']);
-    expect(splitExtension('images.tar.gz')).toEqual(['images.tar', '.gz']);
+    expect(splitExtension('contours.csv.gz')).toEqual(['contours', '.csv.gz']);
+    expect(splitExtension('images.tar.gz')).toEqual(['images', '.tar.gz']);
+    expect(splitExtension('notes.backup.gz')).toEqual(['notes.backup', '.gz']);
     expect(splitExtension('GPFile_000.txt')).toEqual(['GPFile_000', '.txt']);
     expect(splitExtension('notes')).toEqual(['notes', '']);
     expect(splitExtension('.nii.gz')).toEqual(['.nii', '.gz']);

@@ -56,8 +56,10 @@ describe('folders dropped on the page', () => {
     for (const ok of ['a.csv', 'GPFile_000.TXT', 'x.vtp', 'rt.dcm', 'ex.mat', 's.json', 'p.xyz', 't.tsv', 'seg.nii.gz', 'x.nii', 'patient001_frame01_gt.NII.GZ']) {
       expect(readableInFolder(ok)).toBe(true);
     }
-    // A bare .gz inside a folder is an archive or a compressed image more often than a label map.
-    for (const no of ['IM_0001', 'a.png', '.hidden.csv', 'model.obj', 'images.tar.gz', 'scan.gz', '.seg.nii.gz', 'seg.nii.gz.part']) {
+    // Compressed contour files (the core reads what they hold).
+    for (const ok of ['contours.csv.gz', 'GPFile_000.txt.gz', 'rt.DCM.GZ']) expect(readableInFolder(ok)).toBe(true);
+    // Any other .gz inside a folder is an archive or a compressed image, not contours.
+    for (const no of ['IM_0001', 'a.png', '.hidden.csv', 'model.obj', 'images.tar.gz', 'scan.gz', 'model.obj.gz', '.seg.nii.gz', 'seg.nii.gz.part', 'a.gz.gz']) {
       expect(readableInFolder(no)).toBe(false);
     }
   });

@@ -25,9 +25,9 @@ export const FOLDER_FILE_LIMIT = 200;
 const MAX_DEPTH = 3;
 
 /**
- * The Open dialog's extensions, but a bare `.gz`: in a folder, a compressed file other than a
- * `.nii.gz` (an archive, a compressed image series) is clutter, left out and counted rather than
- * read and refused.
+ * The Open dialog's extensions, but a bare `.gz`: in a folder, a compressed file is read only as
+ * one of the kinds the core reads compressed (`seg.nii.gz`, `contours.csv.gz`); any other (an
+ * archive, a compressed image series) is clutter, left out and counted rather than read and refused.
  */
 const EXTENSIONS = ACCEPT.split(',').filter((a) => a.startsWith('.') && a !== '.gz');
 
@@ -35,7 +35,8 @@ const EXTENSIONS = ACCEPT.split(',').filter((a) => a.startsWith('.') && a !== '.
 export function readableInFolder(name: string): boolean {
   if (name.startsWith('.')) return false;
   const lower = name.toLowerCase();
-  return EXTENSIONS.some((ext) => lower.endsWith(ext));
+  const held = lower.endsWith('.gz') ? lower.slice(0, -'.gz'.length) : lower;
+  return EXTENSIONS.some((ext) => lower.endsWith(ext) || held.endsWith(ext));
 }
 
 /**

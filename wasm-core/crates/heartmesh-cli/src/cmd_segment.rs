@@ -5,6 +5,7 @@
 
 use heartmesh_core::io::nifti;
 use heartmesh_core::sim::cavity::rv_cavity;
+use heartmesh_core::sim::experiment_design::RV_JOIN_GAP_MM;
 use heartmesh_core::sim::planes::anatomical_axis;
 use heartmesh_core::sim::segmentation::{segment, SegmentationSpec, Structure};
 
@@ -22,7 +23,8 @@ pub const USAGE: &str = "heartmesh segment --lv-endo LV_ENDO.obj [--lv-epi LV_EP
   the cavity), 1 RV cavity (ACDC / M&Ms numbering), 0 background. Pixels 1.25 mm and slices 10 mm
   apart by default, world coordinates in mm as the surfaces give them (the sform). Sections whose
   pieces end within --join-gap (3 mm) are joined. --rv-free-wall takes an RV given as its free wall
-  only (open, as CardioMesh models are) and closes it against --lv-epi's septum.";
+  only (open, as CardioMesh models are) and closes it against --lv-epi's septum (pieces joined
+  across 6 mm unless --join-gap says otherwise).";
 
 /// How far from the free wall the septum is looked for when closing an RV cavity (mm), as the
 /// accuracy tests build the spasm subject's.
@@ -70,7 +72,8 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     if let Some(v) = p.number("slice-spacing")? {
         spec.slice_mm = v;
     }
-    let join_gap_mm = p.number("join-gap")?.unwrap_or(3.0);
+    let join_gap = p.number("join-gap")?;
+    let join_gap_mm = join_gap.unwrap_or(3.0);
     let endo = read_surface(endo_path)?;
     let epi = p.value("lv-epi").map(read_surface).transpose()?;
     let rv = match (p.value("rv"), p.value("rv-free-wall"), &epi) {
@@ -94,10 +97,18 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let axis = anatomical_axis(&endo, join_gap_mm).map_err(|e| CliError::input(endo_path, e))?;
     let mut structures = vec![Structure::new(3, &endo)];
     structures.extend(epi.as_ref().map(|m| Structure::new(2, m)));
-    structures.extend(rv.as_ref().map(|m| Structure::new(1, m)));
     for s in &mut structures {
         s.join_gap_mm = join_gap_mm;
     }
+    // A cavity closed from a free wall and the septum meets it across wider gaps.
+    let composite = p.value("rv-free-wall").is_some();
+    structures.extend(rv.as_ref().map(|m| Structure {
+        join_gap_mm: match (join_gap, composite) {
+            (None, true) => RV_JOIN_GAP_MM,
+            _ => join_gap_mm,
+        },
+        ..Structure::new(1, m)
+    }));
     let volume = segment(&structures, &axis, &spec).map_err(CliError::param)?;
     files::write(output, &nifti::write_nifti(&volume, gzip))?;
     if !p.switch("quiet") {

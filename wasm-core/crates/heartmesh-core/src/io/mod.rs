@@ -223,7 +223,12 @@ pub fn read_contours_with(
                 "gzip inside gzip: decompress the file first",
             ));
         }
-        let name = file_name.strip_suffix(".gz").unwrap_or(file_name);
+        let name = match file_name.len().checked_sub(3) {
+            Some(cut) if file_name.get(cut..).is_some_and(|e| e.eq_ignore_ascii_case(".gz")) => {
+                &file_name[..cut]
+            }
+            _ => file_name,
+        };
         return read_contours_with(name, &inner, options);
     }
     match detect_contour_format(file_name, bytes) {
@@ -430,6 +435,7 @@ mod tests {
         let gz = gz.finish().unwrap();
         let plain = read_contours("surfco.csv", &csv).unwrap();
         assert_eq!(read_contours("surfco.csv.gz", &gz).unwrap(), plain);
+        assert_eq!(read_contours("SURFCO.CSV.GZ", &gz).unwrap(), plain);
         let mut twice = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
         twice.write_all(&gz).unwrap();
         let e = read_contours("x.gz.gz", &twice.finish().unwrap()).unwrap_err();

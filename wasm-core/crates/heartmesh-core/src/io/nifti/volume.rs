@@ -34,9 +34,16 @@ pub enum Magic {
 }
 
 /// The NIfTI magic of `bytes` (already inflated), if any.
+/// Both must match: the header's declared size (348 for NIfTI-1, 540 for NIfTI-2, in either byte
+/// order) and the magic, so that no text file is taken for one by chance.
 pub fn magic(bytes: &[u8]) -> Option<Magic> {
-    if bytes.len() >= 8 && (&bytes[4..7] == b"n+2" || &bytes[4..7] == b"ni2") {
+    let size = bytes.get(..4)?;
+    let declares = |n: i32| size == n.to_le_bytes() || size == n.to_be_bytes();
+    if declares(540) && matches!(bytes.get(4..7), Some(b"n+2" | b"ni2")) {
         return Some(Magic::Nifti2);
+    }
+    if !declares(348) {
+        return None;
     }
     match bytes.get(344..347)? {
         b"n+1" => Some(Magic::Single),
@@ -433,6 +440,13 @@ pub(crate) mod tests {
             .unwrap_err()
             .to_string()
             .contains("truncated"));
+        let mut two = good.clone();
+        two[0..4].copy_from_slice(&540i32.to_be_bytes());
+        two[4..8].copy_from_slice(b"n+2\0");
+        assert!(read_label_volume(&two).unwrap_err().to_string().contains("NIfTI-2"));
+        let mut text = b"contour,x,y,z\n".repeat(40);
+        text[344..348].copy_from_slice(b"n+1\0");
+        assert_eq!(magic(&text), None, "the magic alone is not enough");
         let mut pair = good.clone();
         pair[344..348].copy_from_slice(b"ni1\0");
         assert!(read_label_volume(&pair)
