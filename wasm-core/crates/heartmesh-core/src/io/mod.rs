@@ -223,12 +223,7 @@ pub fn read_contours_with(
                 "gzip inside gzip: decompress the file first",
             ));
         }
-        let name = match file_name.len().checked_sub(3) {
-            Some(cut) if file_name.get(cut..).is_some_and(|e| e.eq_ignore_ascii_case(".gz")) => {
-                &file_name[..cut]
-            }
-            _ => file_name,
-        };
+        let name = strip_gz(file_name);
         return read_contours_with(name, &inner, options);
     }
     match detect_contour_format(file_name, bytes) {
@@ -263,6 +258,15 @@ pub fn read_contours_with(
         ContourFormat::Session => session::read_session(bytes).map(|s| s.contours),
         ContourFormat::Rtstruct => rtstruct::read_rtstruct(bytes),
         ContourFormat::Nifti => nifti::read_nifti(bytes, options.frame.as_ref()),
+    }
+}
+
+/// `name` without a final `.gz` (in any case).
+fn strip_gz(name: &str) -> &str {
+    let cut = name.len().saturating_sub(3);
+    match name.get(cut..) {
+        Some(ext) if ext.eq_ignore_ascii_case(".gz") => &name[..cut],
+        _ => name,
     }
 }
 

@@ -443,7 +443,10 @@ pub(crate) mod tests {
         let mut two = good.clone();
         two[0..4].copy_from_slice(&540i32.to_be_bytes());
         two[4..8].copy_from_slice(b"n+2\0");
-        assert!(read_label_volume(&two).unwrap_err().to_string().contains("NIfTI-2"));
+        assert!(read_label_volume(&two)
+            .unwrap_err()
+            .to_string()
+            .contains("NIfTI-2"));
         let mut text = b"contour,x,y,z\n".repeat(40);
         text[344..348].copy_from_slice(b"n+1\0");
         assert_eq!(magic(&text), None, "the magic alone is not enough");
