@@ -6,7 +6,7 @@
 //! header's sform (else its qform, else the spacings alone): NIfTI's world coordinates, RAS+ (+x
 //! towards the patient's right, +y anterior, +z superior; DICOM and biv-me files are LPS+, their x
 //! and y negated). Coordinates are kept as the file gives them, so a mesh made from a label map
-//! overlays it in any NIfTI viewer.
+//! lies on it in the same world (a viewer that reads mesh files as LPS shows it mirrored).
 //!
 //! Surfaces: the LV cavity's outline is `LV_ENDO`, the outline of cavity and myocardium together
 //! `LV_EPI`, the RV cavity's `RV_ENDO` (roles found from how the labels touch, [`roles`]); any
