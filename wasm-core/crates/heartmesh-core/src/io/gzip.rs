@@ -6,9 +6,13 @@ use std::io::Read;
 
 use crate::error::{CoreError, Result};
 
-/// Largest inflated size accepted (bytes): a whole cine label map of 256 x 256 x 20 slices x 50
-/// frames in 16 bits is 130 MB; nothing a contour reader takes comes near it.
-pub const MAX_INFLATED_BYTES: usize = 256 << 20;
+/// Largest inflated size accepted (bytes): a cine label map of 256 x 256 x 20 slices x 50 frames
+/// is 66 MB in 8 bits (UK Biobank's and M&Ms' are 25-50 MB); nothing a contour reader takes comes
+/// near it, and a browser worker must hold it whole.
+pub const MAX_INFLATED_BYTES: usize = 128 << 20;
+
+/// Deflate's largest compression ratio (a run of one byte: 258 bytes per 2-bit code, ~1032:1).
+const DEFLATE_MAX_RATIO: usize = 1032;
 
 /// Whether `bytes` is gzip data.
 pub fn is_gzip(bytes: &[u8]) -> bool {
@@ -21,7 +25,18 @@ pub fn inflate(bytes: &[u8]) -> Result<Cow<'_, [u8]>> {
     if !is_gzip(bytes) {
         return Ok(Cow::Borrowed(bytes));
     }
-    let mut out = Vec::new();
+    // The trailer's size (modulo 4 GiB, of the last member) saves the doublings of a growing
+    // buffer, which would briefly need twice the memory. It is only a hint, and believed no
+    // further than deflate can compress (at most ~1032:1), so a lying trailer cannot reserve more.
+    let hint = bytes
+        .len()
+        .checked_sub(4)
+        .and_then(|at| bytes.get(at..))
+        .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
+    let mut out = Vec::with_capacity(
+        hint.min(bytes.len().saturating_mul(DEFLATE_MAX_RATIO))
+            .min(MAX_INFLATED_BYTES + 1),
+    );
     flate2::read::MultiGzDecoder::new(bytes)
         .take(MAX_INFLATED_BYTES as u64 + 1)
         .read_to_end(&mut out)

@@ -215,18 +215,16 @@ fn contour_readers_survive_mutations() {
     // NIfTI label maps: a small segmented stack, plain (mutations reach every header field) and
     // gzip-compressed (the inflater's error paths and the size bound).
     let labels: Vec<u16> = (0..6 * 5 * 3).map(|n| [0, 1, 2, 3][n % 7 % 4]).collect();
-    let volume = nifti::LabelVolume {
-        dims: [6, 5, 3],
-        frames: 1,
-        origin: Vec3::new(1.0, 2.0, 3.0),
-        axes: [
+    let volume = nifti::LabelVolume::new(
+        [6, 5, 3],
+        Vec3::new(1.0, 2.0, 3.0),
+        [
             Vec3::new(1.25, 0.0, 0.0),
             Vec3::new(0.0, 1.25, 0.0),
             Vec3::new(0.0, 0.0, 10.0),
         ],
-        placement: "sform",
         labels,
-    };
+    );
     let nii = vec![
         nifti::write_nifti(&volume, false),
         nifti::write_nifti(&volume, true),

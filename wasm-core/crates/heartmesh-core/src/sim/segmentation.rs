@@ -138,14 +138,7 @@ pub fn segment(
             fill(layer, dims[0], dims[1], &loops, s.label);
         }
     }
-    Ok(LabelVolume {
-        dims,
-        frames: 1,
-        origin,
-        axes,
-        placement: "sform",
-        labels,
-    })
+    Ok(LabelVolume::new(dims, origin, axes, labels))
 }
 
 /// Sets to `label` the still-unlabelled pixels whose centre (x, y) lies inside `loops` (even-odd

@@ -28,7 +28,7 @@ use crate::io::gzip::{inflate, inflate_head, is_gzip};
 use crate::io::FrameChoice;
 use roles::{find_roles, Roles};
 use trace::{plan, trace, SlicePlan};
-use volume::{err, magic, read_label_volume, Magic};
+use volume::{err, magic, read_label_frame, Magic};
 
 /// Whether `bytes` is a NIfTI file (plain or gzip), of any version (the reader names what it
 /// cannot read rather than the file falling through to the CSV reader).
@@ -43,31 +43,19 @@ pub fn is_nifti(bytes: &[u8]) -> bool {
 /// second loop in a slice is a contour of its own, which the core's checks then judge).
 pub fn read_nifti(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSet> {
     let data = inflate(bytes)?;
-    let volume = read_label_volume(&data)?;
-    let labelled: Vec<usize> = (0..volume.frames)
-        .filter(|&t| volume.frame(t).iter().any(|&l| l != 0))
-        .collect();
-    let Some(&first) = labelled.first() else {
+    let volume = read_label_frame(&data, frame)?;
+    let labelled = &volume.labelled;
+    if labelled.is_empty() {
         return Err(err("the label map is empty: every voxel is 0 (background)"));
-    };
-    let t = match frame {
-        None => first,
-        Some(want) => (0..volume.frames)
-            .find(|t| want.matches(&t.to_string()))
-            .ok_or_else(|| {
-                err(format!(
-                    "no frame {} in the label map (frames with labels: {})",
-                    want.label(),
-                    list(&labelled)
-                ))
-            })?,
-    };
+    }
+    let t = volume.frame;
+    let first = labelled[0];
     let plan = plan(&volume);
-    let roles = find_roles(volume.frame(t), volume.dims, plan.axis);
+    let roles = find_roles(&volume.labels, volume.dims, plan.axis);
     let mut b = ContourBuilder::new();
     let mut specks = 0;
     for (surface, labels) in surfaces(&roles) {
-        let (loops, left) = trace(&volume, t, &labels, &plan);
+        let (loops, left) = trace(&volume, &labels, &plan);
         specks += left;
         let mut seen_slice = None;
         let mut nth = 0;
@@ -100,7 +88,7 @@ pub fn read_nifti(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSe
         b.warn(format!(
             "the label map holds {} labelled time frames ({}): frame {t} read; {} (e.g. --frame {})",
             labelled.len(),
-            list(&labelled),
+            list(labelled),
             crate::io::COMMAND_LINE_FRAME_ADVICE,
             labelled.get(1).copied().unwrap_or(t)
         ));

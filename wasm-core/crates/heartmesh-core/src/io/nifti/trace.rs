@@ -57,14 +57,9 @@ pub struct Loop {
     pub points: Vec<Vec3>,
 }
 
-/// The outlines of the voxels of `frame` whose label is in `labels`, slice by slice (largest
+/// The outlines of the voxels whose label is in `labels`, slice by slice (largest
 /// loop of a slice first), and the number of loops under [`MIN_LOOP_PIXELS`] left out.
-pub fn trace(
-    volume: &LabelVolume,
-    frame: usize,
-    labels: &[u16],
-    plan: &SlicePlan,
-) -> (Vec<Loop>, usize) {
+pub fn trace(volume: &LabelVolume, labels: &[u16], plan: &SlicePlan) -> (Vec<Loop>, usize) {
     let d = volume.dims;
     let (u, v) = match plan.axis {
         0 => (1, 2),
@@ -72,7 +67,7 @@ pub fn trace(
         _ => (0, 1),
     };
     let stride = [1, d[0], d[0] * d[1]];
-    let values = volume.frame(frame);
+    let values = &volume.labels;
     let mut loops = Vec::new();
     let mut specks = 0;
     let mut mask = vec![0.0; d[u] * d[v]];
@@ -144,18 +139,16 @@ mod tests {
     use crate::io::nifti::roles::tests::heart_slice;
 
     fn volume(labels: Vec<u16>, dims: [usize; 3], steps: [f64; 3]) -> LabelVolume {
-        LabelVolume {
+        LabelVolume::new(
             dims,
-            frames: 1,
-            origin: Vec3::new(10.0, 20.0, 30.0),
-            axes: [
+            Vec3::new(10.0, 20.0, 30.0),
+            [
                 Vec3::new(steps[0], 0.0, 0.0),
                 Vec3::new(0.0, steps[1], 0.0),
                 Vec3::new(0.0, 0.0, steps[2]),
             ],
-            placement: "sform",
             labels,
-        }
+        )
     }
 
     #[test]
@@ -170,7 +163,7 @@ mod tests {
         let v = volume(labels, [n, n, 2], [1.5, 1.5, 8.0]);
         let plan = plan(&v);
         assert_eq!((plan.axis, plan.step), (2, 1));
-        let (loops, specks) = trace(&v, 0, &[4], &plan);
+        let (loops, specks) = trace(&v, &[4], &plan);
         assert_eq!((loops.len(), specks), (1, 0));
         let l = &loops[0];
         assert_eq!((l.slice, l.pixels), (1, 12.0 - 0.5));
@@ -189,11 +182,11 @@ mod tests {
         slice[5 + n * 5] = 3; // a lone voxel of the cavity's label
         let v = volume(slice, [n, n, 1], [1.25, 1.25, 10.0]);
         let plan = plan(&v);
-        let (cavity, specks) = trace(&v, 0, &[3], &plan);
+        let (cavity, specks) = trace(&v, &[3], &plan);
         assert_eq!((cavity.len(), specks), (1, 1));
         // The myocardium alone is a ring with a hole; its outline is the outer one only.
-        let (ring, _) = trace(&v, 0, &[2], &plan);
-        let (epi, _) = trace(&v, 0, &[2, 3], &plan);
+        let (ring, _) = trace(&v, &[2], &plan);
+        let (epi, _) = trace(&v, &[2, 3], &plan);
         assert_eq!(ring.len(), 1);
         assert!((ring[0].pixels - epi[0].pixels).abs() < 1e-9);
         assert!(epi[0].pixels > 2.0 * cavity[0].pixels);

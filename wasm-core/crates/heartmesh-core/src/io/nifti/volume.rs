@@ -11,6 +11,7 @@ use nifti::{NiftiHeader, NiftiType};
 
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
+use crate::io::FrameChoice;
 
 /// Most distinct labels a label map may hold; more is an image (MRI intensities), not a
 /// segmentation.
@@ -52,33 +53,46 @@ pub fn magic(bytes: &[u8]) -> Option<Magic> {
     }
 }
 
-/// A label map: the grid, its placement and the labels of every time frame.
+/// A label map: the grid, its placement and the labels of one time frame (a cine's other frames
+/// are only listed: holding every frame would multiply the memory a browser worker needs).
 #[derive(Debug, Clone)]
 pub struct LabelVolume {
     /// Voxels along i, j, k.
     pub dims: [usize; 3],
-    /// Time frames (the 4th dimension; 1 for a 3D file).
-    pub frames: usize,
     /// World position (mm) of voxel (0, 0, 0)'s centre.
     pub origin: Vec3,
     /// World step (mm) of one voxel along i, j and k: the affine's columns.
     pub axes: [Vec3; 3],
     /// Which placement the header gave: "sform", "qform" or "pixdim" (none: voxel grid scaled).
     pub placement: &'static str,
-    /// One label per voxel, i fastest, then j, k and the frame.
+    /// One label per voxel of frame `frame`, i fastest, then j and k.
     pub labels: Vec<u16>,
+    /// Time frames in the file (the 4th dimension; 1 for a 3D file).
+    pub frames: usize,
+    /// The frames holding any label, ascending.
+    pub labelled: Vec<usize>,
+    /// The frame `labels` holds.
+    pub frame: usize,
 }
 
 impl LabelVolume {
-    /// Voxels in one frame.
-    pub fn frame_len(&self) -> usize {
-        self.dims[0] * self.dims[1] * self.dims[2]
-    }
-
-    /// The labels of frame `t`.
-    pub fn frame(&self, t: usize) -> &[u16] {
-        let n = self.frame_len();
-        &self.labels[t * n..(t + 1) * n]
+    /// A single-frame label map placed by an sform (what the validation lab paints).
+    pub fn new(dims: [usize; 3], origin: Vec3, axes: [Vec3; 3], labels: Vec<u16>) -> Self {
+        let labelled = if labels.iter().any(|&l| l != 0) {
+            vec![0]
+        } else {
+            Vec::new()
+        };
+        LabelVolume {
+            dims,
+            origin,
+            axes,
+            placement: "sform",
+            labels,
+            frames: 1,
+            labelled,
+            frame: 0,
+        }
     }
 
     /// World position (mm) of a point in voxel-index coordinates (centres at whole numbers).
@@ -96,8 +110,16 @@ impl LabelVolume {
     }
 }
 
-/// Reads a label map from the (inflated) bytes of a single-file NIfTI-1.
+/// Reads a label map from the (inflated) bytes of a single-file NIfTI-1: its first frame holding
+/// labels.
+#[cfg(test)]
 pub fn read_label_volume(bytes: &[u8]) -> Result<LabelVolume> {
+    read_label_frame(bytes, None)
+}
+
+/// Reads frame `want` of a label map (by its number from 0; None: the first holding labels, or
+/// frame 0 of an empty map) from the (inflated) bytes of a single-file NIfTI-1.
+pub fn read_label_frame(bytes: &[u8], want: Option<&FrameChoice>) -> Result<LabelVolume> {
     match magic(bytes) {
         Some(Magic::Single) => {}
         Some(Magic::Pair) => {
@@ -166,19 +188,43 @@ pub fn read_label_volume(bytes: &[u8]) -> Result<LabelVolume> {
     }
     let (origin, axes, placement) = placement(&header)?;
     let scale = scaling(&header);
-    let labels = read_labels(
-        &bytes[start..start + needed],
-        kind,
-        header.endianness,
-        scale,
-    )?;
+    let frame_bytes = needed / frames;
+    let mut labelled = Vec::new();
+    let mut kept: Option<(usize, Vec<u16>)> = None;
+    for (t, data) in bytes[start..start + needed]
+        .chunks_exact(frame_bytes)
+        .enumerate()
+    {
+        let labels = read_labels(data, kind, header.endianness, scale)?;
+        let any = labels.iter().any(|&l| l != 0);
+        if any {
+            labelled.push(t);
+        }
+        let chosen = match want {
+            Some(w) => w.matches(&t.to_string()),
+            None => any && labelled.len() == 1,
+        };
+        if chosen || (kept.is_none() && t + 1 == frames && want.is_none()) {
+            kept = Some((t, labels));
+        }
+    }
+    let Some((frame, labels)) = kept else {
+        let shown: Vec<String> = labelled.iter().take(8).map(usize::to_string).collect();
+        return Err(err(format!(
+            "no frame {} in the label map (frames with labels: {})",
+            want.map_or("", |w| w.label()),
+            shown.join(", ")
+        )));
+    };
     Ok(LabelVolume {
         dims: grid,
-        frames,
         origin,
         axes,
         placement,
         labels,
+        frames,
+        labelled,
+        frame,
     })
 }
 

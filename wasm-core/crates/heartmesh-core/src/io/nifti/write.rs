@@ -5,7 +5,8 @@ use std::io::Write;
 
 use super::volume::LabelVolume;
 
-/// The label map as a single-file NIfTI-1 (`.nii`; gzip-compressed for `.nii.gz` when `gzip`):
+/// The label map (its one frame) as a single-file NIfTI-1 (`.nii`; gzip-compressed for `.nii.gz`
+/// when `gzip`):
 /// uint8 labels when they fit, else uint16; millimetres; the placement as an sform (code 1,
 /// scanner) and the spacings in `pixdim`.
 pub fn write_nifti(volume: &LabelVolume, gzip: bool) -> Vec<u8> {
@@ -13,18 +14,11 @@ pub fn write_nifti(volume: &LabelVolume, gzip: bool) -> Vec<u8> {
     let mut h = vec![0u8; 352];
     let mut put = |at: usize, bytes: &[u8]| h[at..at + bytes.len()].copy_from_slice(bytes);
     put(0, &348i32.to_le_bytes());
-    let dims = [
-        volume.dims[0],
-        volume.dims[1],
-        volume.dims[2],
-        volume.frames,
-    ];
-    let rank = if volume.frames > 1 { 4 } else { 3 };
-    put(40, &(rank as i16).to_le_bytes());
-    for (n, d) in dims.iter().enumerate() {
+    put(40, &3i16.to_le_bytes());
+    for (n, d) in volume.dims.iter().enumerate() {
         put(42 + 2 * n, &(*d as i16).to_le_bytes());
     }
-    for n in rank..7 {
+    for n in 3..7 {
         put(42 + 2 * n, &1i16.to_le_bytes());
     }
     let (datatype, bitpix) = if wide { (512i16, 16i16) } else { (2, 8) };
@@ -73,21 +67,19 @@ mod tests {
     #[test]
     fn written_label_maps_read_back() {
         for (top, gzip) in [(7u16, false), (600, true)] {
-            let v = LabelVolume {
-                dims: [3, 2, 2],
-                frames: 2,
-                origin: Vec3::new(-5.0, 7.5, 100.0),
-                axes: [
+            let v = LabelVolume::new(
+                [3, 2, 4],
+                Vec3::new(-5.0, 7.5, 100.0),
+                [
                     Vec3::new(0.0, 1.25, 0.0),
                     Vec3::new(-1.25, 0.0, 0.0),
                     Vec3::new(0.0, 0.0, 8.0),
                 ],
-                placement: "sform",
-                labels: (0..24).map(|n| (n % 3) as u16 * top / 2).collect(),
-            };
+                (0..24).map(|n| (n % 3) as u16 * top / 2).collect(),
+            );
             let bytes = write_nifti(&v, gzip);
             let back = read_label_volume(&crate::io::gzip::inflate(&bytes).unwrap()).unwrap();
-            assert_eq!((back.dims, back.frames), (v.dims, v.frames));
+            assert_eq!((back.dims, back.frames), (v.dims, 1));
             assert_eq!(back.labels, v.labels);
             let p = back.world([2.0, 1.0, 1.0]);
             assert!((p - v.world([2.0, 1.0, 1.0])).norm() < 1e-4, "{p:?}");
