@@ -50,6 +50,12 @@ pub fn read_nifti(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSe
     }
     let t = volume.frame;
     let first = labelled[0];
+    if !labelled.contains(&t) {
+        return Err(err(format!(
+            "frame {t} of the label map holds no labels (frames with labels: {})",
+            list(labelled)
+        )));
+    }
     let plan = plan(&volume);
     let roles = find_roles(&volume.labels, volume.dims, plan.axis);
     let mut b = ContourBuilder::new();
@@ -238,6 +244,18 @@ mod tests {
         assert_eq!(two.time_frames.unwrap().read, ["2"]);
         let e = read_nifti(&bytes, FrameChoice::new("7").as_ref()).unwrap_err();
         assert!(e.to_string().contains("no frame 7"), "{e}");
+        // A cine whose frame 0 a network left empty.
+        let mut gap = bytes.clone();
+        let frame = 40 * 40 * 4;
+        gap[352..352 + frame].fill(0);
+        let set = read_nifti(&gap, None).unwrap();
+        assert_eq!(set.time_frames.unwrap().frames, ["1", "2"]);
+        let e = read_nifti(&gap, FrameChoice::new("0").as_ref()).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("frame 0 of the label map holds no labels (frames with labels: 1, 2)"),
+            "{e}"
+        );
     }
 
     #[test]
