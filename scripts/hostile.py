@@ -338,6 +338,7 @@ def other_readers(out_dir, rng):
                       args=["--surface", "LV_ENDO", "--lids", "apex"], expect="ok", c2m=1.0))
     cases += corruptions("mat", mat, "mat", rng, 5)
     cases += label_maps(rng)
+    cases += label_map_views(out_dir, rng)
     src = os.path.join(CONTOURS, "surfco-example.csv")
     for ext in ("vtk", "vtp", "json", "dcm"):
         path = os.path.join(out_dir, "surfco." + ext)
@@ -389,6 +390,62 @@ def label_maps(rng):
     patched("all-background", [], expect="error")
     cases[-1].data = raw[:352] + bytes(len(raw) - 352)
     cases.append(Case("nifti-header-only", raw[:348], "nii", args=lv))
+    return cases
+
+
+def label_map_views(out_dir, rng):
+    """A segmented study with long-axis views (session 22): the spasm stack with three views
+    (`segment --lax 3`); views cut, corrupted, from another patient, lying in their headers, a
+    second stack. Views are passed as further inputs (`@extra:NAME`, written beside the stack)."""
+    import gzip
+    import struct
+    seg = os.path.join(out_dir, "views", "seg.nii.gz")
+    if not os.path.exists(seg):
+        os.makedirs(os.path.dirname(seg), exist_ok=True)
+        r = run([BIN, "segment", "--lv-endo", os.path.join(MESHES, "cardiomesh-spasm-LV_endo.obj"),
+                 "--lv-epi", os.path.join(MESHES, "cardiomesh-spasm-LV_epi.obj"),
+                 "--rv-free-wall", os.path.join(MESHES, "cardiomesh-spasm-RV_endo.obj"),
+                 "-o", seg, "--lax", "3", "--quiet"])
+        if r.returncode != 0:
+            raise RuntimeError("segment failed: " + r.stderr.decode(errors="replace"))
+    def read(name):
+        with open(os.path.join(os.path.dirname(seg), name), "rb") as f:
+            return f.read()
+    stack = read("seg.nii.gz")
+    views = {f"seg_lax{n}.nii.gz": read(f"seg_lax{n}.nii.gz") for n in (1, 2, 3)}
+    lv = ["--surface", "LV_EPI"]
+    every = [f"@extra:{n}" for n in views]
+    cases = [Case("views-intact", stack, "nii.gz", args=lv + every, expect="ok", c2m=1.0,
+                  extra=views)]
+    one = gzip.decompress(views["seg_lax2.nii.gz"])
+
+    def with_view(name, data, expect="any", more=()):
+        extra = dict(views)
+        extra["bad_lax.nii"] = data
+        cases.append(Case("views-" + name, stack, "nii.gz", extra=extra, expect=expect,
+                          args=lv + every[:2] + ["@extra:bad_lax.nii"] + list(more)))
+
+    for k in range(4):
+        cut = rng.randrange(len(one))
+        with_view(f"trunc{k}@{cut}", one[:cut])
+    for k in range(4):
+        b = bytearray(one)
+        for _ in range(rng.randrange(1, 8)):
+            b[rng.randrange(len(b))] = rng.randrange(256)
+        with_view(f"corrupt{k}", bytes(b))
+
+    def patched(edits):
+        b = bytearray(one)
+        for at, fmt, value in edits:
+            struct.pack_into(fmt, b, at, *value)
+        return bytes(b)
+
+    # Another patient's view (its sform 400 mm away): read, said unused, the stack alone meshed.
+    with_view("elsewhere", patched([(292, "<f", (400.0,))]), expect="ok")
+    with_view("dims-huge", patched([(42, "<3h", (32767, 32767, 1))]), expect="error")
+    with_view("rank-4-frames", patched([(40, "<h", (4,)), (48, "<h", (30,))]), expect="error")
+    with_view("second-stack", gzip.decompress(stack), expect="error")
+    with_view("frame-of-stack-missing", one, expect="ok", more=["--frame", "0"])
     return cases
 
 
@@ -674,7 +731,9 @@ def judge(case, path, timeout, out_dir):
             os.remove(f)
     t0 = time.time()
     try:
-        r = run([BIN, "reconstruct", path, "-o", mesh, "--report", report, "--quiet"] + case.args,
+        # Further inputs written beside the case's file (long-axis views): `@extra:NAME`.
+        args = [os.path.join(out_dir, a[7:]) if a.startswith("@extra:") else a for a in case.args]
+        r = run([BIN, "reconstruct", path, "-o", mesh, "--report", report, "--quiet"] + args,
                 timeout=timeout)
     except subprocess.TimeoutExpired:
         return ["HANG"], f"> {timeout} s", time.time() - t0
@@ -688,7 +747,8 @@ def judge(case, path, timeout, out_dir):
         problems.append("EXIT")
     if r.returncode == 2:
         lines = [ln for ln in err.splitlines() if not ln.startswith("heartmesh: warning")]
-        if len(lines) != 1 or os.path.basename(path) not in lines[0] and "--" not in lines[0]:
+        named = [os.path.basename(path)] + list(case.extra)
+        if len(lines) != 1 or not any(n in lines[0] for n in named) and "--" not in lines[0]:
             problems.append("VAGUE")
         detail = lines[-1][:200] if lines else "(no message)"
         if case.expect == "ok":

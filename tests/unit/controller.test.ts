@@ -30,8 +30,32 @@ class FakeClient {
   schema() {
     return Promise.resolve({ schema: rustSchema(), version: 'core-test' });
   }
-  load(fileName: string, bytes: ArrayBuffer, whenBehindLongStep?: () => void): Promise<LoadedFile> {
+  /** Each load's long-axis views (by name), and the views added to a loaded stack. */
+  studyLoads: [string, string[]][] = [];
+  viewAdds: [string, string[]][] = [];
+  private readonly views = new Map<string, string[]>();
+  /** A label map's grid: the fake NIfTI bytes (gzip magic, then STACK or VIEW) say which. */
+  labelMapGrid(bytes: ArrayBuffer): Promise<{ dims: [number, number, number]; frames: number } | null> {
+    const text = new TextDecoder().decode(bytes.slice(2));
+    return Promise.resolve(text.startsWith('STACK') ? { dims: [100, 108, 10], frames: 1 } : text.startsWith('VIEW') ? { dims: [102, 88, 1], frames: 1 } : null);
+  }
+  viewsOf(fileName: string): string[] {
+    return this.views.get(fileName) ?? [];
+  }
+  /** A view named cut* is damaged. */
+  addViews(fileName: string, views: { name: string }[]): Promise<LoadedFile> {
+    this.viewAdds.push([fileName, views.map((v) => v.name)]);
+    const cut = views.find((v) => v.name.startsWith('cut'));
+    if (cut) return Promise.reject({ code: 'parse', message: `${cut.name}: the gzip data is damaged`, file: fileName });
+    this.views.set(fileName, [...this.viewsOf(fileName).filter((n) => !views.some((v) => v.name === n)), ...views.map((v) => v.name)]);
+    return Promise.resolve(this.loaded(fileName, null, null));
+  }
+  load(fileName: string, bytes: ArrayBuffer, whenBehindLongStep?: () => void, views: { name: string }[] = []): Promise<LoadedFile> {
     this.loads.push(fileName);
+    this.studyLoads.push([fileName, views.map((v) => v.name)]);
+    this.views.set(fileName, views.map((v) => v.name));
+    const cut = views.find((v) => v.name.startsWith('cut'));
+    if (cut) return Promise.reject({ code: 'parse', message: `${cut.name}: the gzip data is damaged`, file: fileName });
     this.behind(whenBehindLongStep);
     if (new TextDecoder().decode(bytes).includes('bad')) return Promise.reject({ code: 'parse', message: 'line 2: bad number', line: 2 });
     // The core's refusal of a biv-me SliceInfoFile read as contours (io::read_contours_with).
@@ -143,7 +167,7 @@ beforeEach(() => {
   client = new FakeClient();
   parts = {
     legend: recorder(), meshLegend: recorder(), params: recorder(), timeline: recorder(), status: recorder(), plot: recorder(), result: recorder(),
-    banner: recorder(), files: recorder(), exports: recorder(), view: recorder(), hover: recorder(),
+    banner: recorder(), files: recorder(), exports: recorder(), view: recorder(), hover: recorder(), notes: recorder(),
   };
   controller = new Controller({ ...parts, viewer: null, warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');
 });
@@ -154,10 +178,81 @@ afterEach(() => {
   vi.unstubAllGlobals();
 });
 
-const file = (name: string, text = 'contour,x,y,z', lastModified?: number) => ({ name, size: text.length, lastModified, arrayBuffer: () => Promise.resolve(new TextEncoder().encode(text).buffer) }) as unknown as File;
+/** A File's parts the controller uses: its bytes, and a slice of them (the first bytes, to tell a label map). */
+const readable = (bytes: Uint8Array) => ({
+  arrayBuffer: () => Promise.resolve(bytes.slice().buffer),
+  slice: (from: number, to: number) => ({ arrayBuffer: () => Promise.resolve(bytes.slice(from, to).buffer) }),
+});
+/** A File that cannot be read (moved since the drop, a folder): its slices neither. */
+const unreadableFile = (props: Record<string, string>, message: string) => {
+  const arrayBuffer = () => Promise.reject(new Error(message));
+  return { ...props, arrayBuffer, slice: () => ({ arrayBuffer }) } as unknown as File;
+};
+const file = (name: string, text = 'contour,x,y,z', lastModified?: number) => ({ name, size: text.length, lastModified, ...readable(new TextEncoder().encode(text)) }) as unknown as File;
+/** A fake NIfTI label map (gzip's magic, then what the fake client's labelMapGrid reads): a stack or a single-slice view. */
+const nifti = (name: string, kind: 'STACK' | 'VIEW') => {
+  const bytes = new Uint8Array([0x1f, 0x8b, ...new TextEncoder().encode(kind)]);
+  return { name, size: bytes.length, lastModified: 1, ...readable(bytes) } as unknown as File;
+};
 const lastStatus = () => parts.status.calls.setStatus?.at(-1)?.[0];
 
 describe('controller', () => {
+  it('label maps opened together: each long-axis view read with the stack of the closest name, none listed on its own', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([
+      nifti('001_LA_ES_gt.nii.gz', 'VIEW'), nifti('001_SA_ED_gt.nii.gz', 'STACK'), nifti('001_LA_ED_gt.nii.gz', 'VIEW'),
+      file('notes.csv'), nifti('001_SA_ES_gt.nii.gz', 'STACK'),
+    ]);
+    expect(client.studyLoads).toEqual([
+      ['001_SA_ED_gt.nii.gz', ['001_LA_ED_gt.nii.gz']], ['notes.csv', []], ['001_SA_ES_gt.nii.gz', ['001_LA_ES_gt.nii.gz']],
+    ]);
+    expect(parts.files.calls.setFiles?.at(-1)).toEqual([['001_SA_ED_gt.nii.gz', 'notes.csv', '001_SA_ES_gt.nii.gz'], '001_SA_ED_gt.nii.gz']);
+    expect(client.runs.map((r) => r.opts.fileName)).toEqual(['001_SA_ED_gt.nii.gz']);
+    expect(parts.banner.calls.showWarning).toBeUndefined();
+    expect(parts.banner.calls.showInfo).toBeUndefined();
+  });
+
+  it('views opened alone go onto the NIfTI stack on screen (an info banner says so); onto another file they open alone', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([nifti('seg_sa.nii.gz', 'STACK')]);
+    await controller.openFiles([nifti('seg4_la_4ch.nii.gz', 'VIEW')]);
+    expect(client.viewAdds).toEqual([['seg_sa.nii.gz', ['seg4_la_4ch.nii.gz']]]);
+    expect(parts.banner.calls.showInfo?.at(-1)).toEqual(['seg4_la_4ch.nii.gz added to seg_sa.nii.gz as a long-axis view.']);
+    expect(parts.files.calls.setFiles?.at(-1)).toEqual([['seg_sa.nii.gz'], 'seg_sa.nii.gz']);
+    expect(client.runs.map((r) => r.opts.fileName)).toEqual(['seg_sa.nii.gz', 'seg_sa.nii.gz']);
+    expect(client.runs[0].cancelled).toBe(true);
+    await controller.openFiles([nifti('seg4_la_2ch.nii.gz', 'VIEW'), nifti('seg4_la_3ch.nii.gz', 'VIEW')]);
+    expect(client.viewAdds.at(-1)).toEqual(['seg_sa.nii.gz', ['seg4_la_2ch.nii.gz', 'seg4_la_3ch.nii.gz']]);
+    expect(parts.banner.calls.showInfo?.at(-1)).toEqual(['seg4_la_2ch.nii.gz, seg4_la_3ch.nii.gz added to seg_sa.nii.gz as long-axis views.']);
+    // Opened again alone, the stack is read without views (they are forgotten with its reading).
+    await controller.openFiles([nifti('seg_sa.nii.gz', 'STACK')]);
+    expect(client.studyLoads.at(-1)).toEqual(['seg_sa.nii.gz', []]);
+    // On a contour file: the view is opened as a file of its own (the core then says it needs its stack).
+    await controller.openFiles([file('a.csv')]);
+    await controller.openFiles([nifti('seg4_la_4ch.nii.gz', 'VIEW')]);
+    expect(client.studyLoads.at(-1)).toEqual(['seg4_la_4ch.nii.gz', []]);
+    expect(client.viewAdds).toHaveLength(2);
+  });
+
+  it('a damaged view: onto the stack on screen, refused with the stack kept and the view named; with its stack, neither opens', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([nifti('seg_sa.nii.gz', 'STACK')]);
+    client.runs[0].resolve(result(client.runs[0].runId));
+    await vi.runAllTimersAsync();
+    await controller.openFiles([nifti('cut_la.nii.gz', 'VIEW')]);
+    expect(parts.banner.calls.showError?.at(-1)).toEqual([
+      { code: 'parse', message: 'the gzip data is damaged', file: 'cut_la.nii.gz' }, ' Not added to seg_sa.nii.gz; still showing it as read before.',
+    ]);
+    expect(controller.currentResult()?.runId).toBe(client.runs[0].runId);
+    expect(client.runs).toHaveLength(1);
+    // Opened with a stack: the stack is refused with it, the banner names the view.
+    await controller.openFiles([nifti('b_sa.nii.gz', 'STACK'), nifti('cut_lb.nii.gz', 'VIEW')]);
+    expect(parts.banner.calls.showError?.at(-1)).toEqual([
+      { code: 'parse', message: 'the gzip data is damaged', file: 'cut_lb.nii.gz' }, ' None of the 2 files opened: cut_lb.nii.gz: the gzip data is damaged (its stack b_sa.nii.gz is not opened either).',
+    ]);
+    expect(parts.files.calls.setFiles?.at(-1)?.[0]).toEqual(['seg_sa.nii.gz']);
+  });
+
   it('reads parameters from the URL and runs a dropped file with the preferred surface', async () => {
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('a.csv')]);
@@ -305,7 +400,7 @@ describe('controller', () => {
 
   it('several files dropped at once: every file not opened is named, and stays named after the run', async () => {
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
-    const gone = { name: 'moved.csv', arrayBuffer: () => Promise.reject(new Error('the file could not be read (moved?)')) } as unknown as File;
+    const gone = unreadableFile({ name: 'moved.csv' }, 'the file could not be read (moved?)');
     await controller.openFiles([file('bad.csv', 'bad'), file('good.csv'), gone, file('worse.csv', 'bad')]);
     expect(client.runs).toHaveLength(1);
     expect(client.runs[0].opts.fileName).toBe('good.csv');
@@ -345,11 +440,11 @@ describe('controller', () => {
 
   it('a dropped folder (no type, no extension, unreadable) is named as a folder, with what to open instead', async () => {
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
-    const folder = { name: 'bivme-example-patient1', type: '', arrayBuffer: () => Promise.reject(new Error('The requested file could not be read, typically due to permission problems')) } as unknown as File;
+    const folder = unreadableFile({ name: 'bivme-example-patient1', type: '' }, 'The requested file could not be read, typically due to permission problems');
     await controller.openFiles([folder]);
     expect(lastStatus()).toBe('error: bivme-example-patient1: a folder cannot be opened: open the files inside it (of a biv-me folder, its GPFile_*.txt)');
     // A file with an extension that fails to read keeps the browser's reason.
-    const moved = { name: 'moved.csv', type: 'text/csv', arrayBuffer: () => Promise.reject(new Error('the file could not be read (moved?)')) } as unknown as File;
+    const moved = unreadableFile({ name: 'moved.csv', type: 'text/csv' }, 'the file could not be read (moved?)');
     await controller.openFiles([moved]);
     expect(lastStatus()).toBe('error: moved.csv: the file could not be read (moved?)');
   });

@@ -246,6 +246,71 @@ describe('CoreClient', () => {
     await expect(client.loadFrame('b.csv', '1')).rejects.toMatchObject({ code: 'not_loaded' });
   });
 
+  it('a stack loaded with long-axis views: every reload (another frame, a new worker) carries them; views added merge by name; one that fails leaves those before', async () => {
+    const { client, worker } = await readyClient(new ManualScheduler());
+    const enc = (t: string) => new TextEncoder().encode(t).buffer as ArrayBuffer;
+    const text = (b: ArrayBuffer) => new TextDecoder().decode(b);
+    const viewsOf = (m: { views?: { name: string; bytes: ArrayBuffer }[] }) => (m.views ?? []).map((v) => `${v.name}=${text(v.bytes)}`);
+    const la = enc('2ch');
+    const p = client.load('sa.nii.gz', enc('stack'), undefined, [{ name: 'la_2ch.nii.gz', bytes: la }, { name: 'la_4ch.nii.gz', bytes: enc('4ch') }]);
+    const req = worker.of('load').at(-1)!;
+    expect(viewsOf(req)).toEqual(['la_2ch.nii.gz=2ch', 'la_4ch.nii.gz=4ch']);
+    // Copies, transferred with the stack's.
+    expect(req.views?.[0].bytes).not.toBe(la);
+    expect(worker.transfers.at(-1)).toEqual([req.bytes, ...(req.views ?? []).map((v) => v.bytes)]);
+    worker.emit({ type: 'loaded', reqId: req.reqId, file: { ...loaded, fileName: 'sa.nii.gz' } });
+    await p;
+    expect(client.viewsOf('sa.nii.gz')).toEqual(['la_2ch.nii.gz', 'la_4ch.nii.gz']);
+
+    // The Frame picker's reload: the same views.
+    void client.loadFrame('sa.nii.gz', '1');
+    expect(viewsOf(worker.of('load').at(-1)!)).toEqual(['la_2ch.nii.gz=2ch', 'la_4ch.nii.gz=4ch']);
+    worker.emit({ type: 'loaded', reqId: worker.of('load').at(-1)!.reqId, file: loaded });
+
+    // Views added: a new 4ch replaces the older, a 3ch joins (in name order); read as frame 1 still.
+    const added = client.addViews('sa.nii.gz', [{ name: 'la_4ch.nii.gz', bytes: enc('4ch new') }, { name: 'la_3ch.nii.gz', bytes: enc('3ch') }]);
+    const addReq = worker.of('load').at(-1)!;
+    expect(text(addReq.bytes)).toBe('stack');
+    expect(addReq.frame).toBe('1');
+    expect(viewsOf(addReq)).toEqual(['la_2ch.nii.gz=2ch', 'la_3ch.nii.gz=3ch', 'la_4ch.nii.gz=4ch new']);
+    worker.emit({ type: 'loaded', reqId: addReq.reqId, file: loaded });
+    await added;
+    expect(client.viewsOf('sa.nii.gz')).toEqual(['la_2ch.nii.gz', 'la_3ch.nii.gz', 'la_4ch.nii.gz']);
+
+    // A damaged view: refused, the views before kept.
+    const bad = client.addViews('sa.nii.gz', [{ name: 'cut.nii.gz', bytes: enc('x') }]);
+    worker.emit({ type: 'error', reqId: worker.of('load').at(-1)!.reqId, error: { code: 'parse', message: 'cut.nii.gz: the gzip data is damaged', file: 'sa.nii.gz' } });
+    await expect(bad).rejects.toMatchObject({ message: 'cut.nii.gz: the gzip data is damaged' });
+    expect(client.viewsOf('sa.nii.gz')).toEqual(['la_2ch.nii.gz', 'la_3ch.nii.gz', 'la_4ch.nii.gz']);
+
+    // A new worker is sent the stack with its views, as frame 1.
+    worker.crash();
+    client.run({ fileName: 'sa.nii.gz', surface: null, params: {}, lids: 'auto' }, () => {}).done.catch(() => undefined);
+    const w2 = FakeWorker.instances[1];
+    expect(w2.of('load')[0].frame).toBe('1');
+    expect(viewsOf(w2.of('load')[0])).toEqual(['la_2ch.nii.gz=2ch', 'la_3ch.nii.gz=3ch', 'la_4ch.nii.gz=4ch new']);
+
+    // Opened again alone: its views are forgotten.
+    w2.emit({ type: 'ready' });
+    const again = client.load('sa.nii.gz', enc('stack'));
+    expect('views' in w2.of('load').at(-1)!).toBe(false);
+    w2.emit({ type: 'loaded', reqId: w2.of('load').at(-1)!.reqId, file: loaded });
+    await again;
+    expect(client.viewsOf('sa.nii.gz')).toEqual([]);
+    await expect(client.addViews('b.nii', [])).rejects.toMatchObject({ code: 'not_loaded' });
+  });
+
+  it('asks the worker for a label map\'s grid', async () => {
+    const { client, worker } = await readyClient(new ManualScheduler());
+    const bytes = new Uint8Array([0x1f, 0x8b, 1]).buffer;
+    const p = client.labelMapGrid(bytes);
+    const req = worker.of('grid')[0];
+    expect(req.bytes).not.toBe(bytes);
+    expect(new Uint8Array(req.bytes)).toEqual(new Uint8Array([0x1f, 0x8b, 1]));
+    worker.emit({ type: 'grid', reqId: req.reqId, grid: { dims: [102, 88, 1], frames: 1 } });
+    expect(await p).toEqual({ dims: [102, 88, 1], frames: 1 });
+  });
+
   it('treats a worker_crashed error message as fatal', async () => {
     const { client, worker } = await readyClient(new ManualScheduler());
     await loadFile(client, worker);

@@ -14,6 +14,7 @@ import { FileBar } from '../io/FileBar';
 import { installKeyboard } from '../ui/keyboard';
 import { ErrorBanner } from '../ui/ErrorBanner';
 import { HoverReadout } from '../ui/HoverReadout';
+import { NotesLine } from '../ui/NotesLine';
 import { LivePlot } from '../ui/LivePlot';
 import { ParamPanel } from '../ui/ParamPanel';
 import { ResultPanel } from '../ui/ResultPanel';
@@ -80,6 +81,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
     view: new ViewControls((v) => c().setView(v), () => c().resetView()),
     hover: new HoverReadout(),
     warnings: slot('slot-warnings'),
+    notes: new NotesLine(),
   };
   controller = new Controller(parts, appVersion);
 
@@ -88,6 +90,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
   slot('slot-right').append(parts.status.element, parts.plot.element, parts.result.element, parts.exports.element);
   slot('slot-bottom').append(parts.timeline.element);
   slot('slot-banner').append(parts.banner.element);
+  slot('slot-notes').append(parts.notes.element);
   slot('slot-legend').append(parts.legend.element, parts.meshLegend.element);
   if (viewer) slot('slot-legend').append(viewer.landmarkLayer.legend, viewer.setAsideLayer.legend, viewer.otherSurfacesLayer.legend);
   slot('slot-viewcontrols').append(parts.view.element);

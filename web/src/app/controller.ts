@@ -7,14 +7,15 @@
  */
 import type { CoreClient } from '../core-client/CoreClient';
 import type {
-  CoreErrorData, Frame, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings,
+  CoreErrorData, Frame, LabelMapGrid, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, ViewFile,
 } from '../core-client/protocol';
 import { DEFAULT_OPTIONS, withDefaultOptions } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
 import { findSample, fetchSample, type Sample } from '../io/samples';
 import type { HoverReadout } from '../ui/HoverReadout';
 import { distinctName, fileIdentity, renamedText, skippedText } from './fileNames';
-import { asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable } from './errors';
+import { asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
+import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
 import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { keptSpecksNote } from '../ui/runText';
@@ -30,12 +31,35 @@ import { BIV_EPI } from '../core-client/derivedSurfaces';
 
 export type { Parts } from './parts';
 
+/**
+ * Whether bytes (the first 4 are enough) may be a NIfTI-1 label map: gzip's magic, or the header
+ * size 348 in either byte order. Anything else is no label map and costs the core no question.
+ */
+function mayBeLabelMap(bytes: ArrayBuffer): boolean {
+  if (bytes.byteLength < 4) return false;
+  const head = new DataView(bytes, 0, 4);
+  return (head.getUint8(0) === 0x1f && head.getUint8(1) === 0x8b) || head.getInt32(0, true) === 348 || head.getInt32(0, false) === 348;
+}
+
+/** Said of a stack refused because of a long-axis view read with it. */
+const stackNotOpened = (stack: string) => `Its stack ${stack} is not opened either`;
+
+
 /** Delay between the last parameter change and the restart of the run. */
 export const RESTART_DEBOUNCE_MS = 300;
 
 interface ActiveRun {
   runId: number;
   cancel(): void;
+}
+
+/** A file of those opened together: its grid if a NIfTI label map, its bytes if kept meanwhile. */
+interface Opened {
+  file: File;
+  grid: LabelMapGrid | null;
+  bytes: ArrayBuffer | null;
+  /** Why its bytes could not be read (absent: they were). */
+  unreadable?: unknown;
 }
 
 export class Controller {
@@ -46,6 +70,8 @@ export class Controller {
   private readonly files = new Map<string, LoadedFile>();
   /** What each open name stands for (fileNames.ts): a different file of that name gets another. */
   private readonly identities = new Map<string, string>();
+  /** The open files that are NIfTI short-axis stacks: long-axis views opened alone are added to one on screen. */
+  private readonly stacks = new Set<string>();
   private params: ParamValues = {};
   private lids: LidsMode = 'auto';
   private options: ReconOptions = { ...DEFAULT_OPTIONS };
@@ -137,6 +163,9 @@ export class Controller {
   /**
    * Opens dropped or chosen files; `skipped`: files of dropped folders not handed over (not of a
    * kind the app reads, or past the folder limit), said in the banner so nothing goes unmentioned.
+   * NIfTI label maps of a single slice among them are long-axis views: each is read with the
+   * short-axis stack of the same files whose name it resembles most (io/studyGroups.ts), not on
+   * its own; with no stack among the files, they are added to the stack on screen, if it is one.
    */
   async openFiles(files: File[], skipped = 0): Promise<void> {
     if (files.length === 0) return;
@@ -145,27 +174,56 @@ export class Controller {
     // (unless the file would wait behind a step of seconds: see loadBytes).
     this.dispatch({ type: 'load', fileName: files[0].name });
     if (!(await this.ready)) return;
+    const onScreen = this.currentFile()?.fileName ?? null;
     let first: string | null = null;
     const refused: CoreErrorData[] = [];
+    /** How many of the files each refusal stands for (a stack refused with its views: all of them). */
+    const refusedFiles = new Map<CoreErrorData, number>();
+    /** The stacks refused because of a view read with them (the refusal names the view). */
+    const refusedStacks = new Map<CoreErrorData, string>();
     const renamed: { given: string; as: string }[] = [];
-    for (const file of files) {
-      let bytes: ArrayBuffer;
-      try {
-        bytes = await file.arrayBuffer();
-      } catch (e) {
+    const opened = await this.readFiles(files);
+    const stacks = opened.filter((o) => isStack(o.grid));
+    const views = opened.filter((o) => isSingleSlice(o.grid));
+    const home = assignViews(stacks.map((o) => o.file.name), views.map((o) => o.file.name));
+    const viewsOf = (stack: Opened): ViewFile[] =>
+      byName(views.filter((_, v) => home[v] === stacks.indexOf(stack)).map((v) => ({ name: v.file.name, bytes: v.bytes as ArrayBuffer })));
+    // Views with no stack among the files: onto the stack on screen, else each opened alone (the core says it needs its stack).
+    const target = stacks.length === 0 && views.length > 0 && onScreen !== null && this.stacks.has(onScreen) ? onScreen : null;
+    for (const o of opened) {
+      if ('unreadable' in o) {
         // The file went away (moved, no permission) between the drop and the read, or is a folder.
-        refused.push(this.refuse(file.name, unreadable(file, e)));
+        refused.push(this.refuse(o.file.name, unreadable(o.file, o.unreadable)));
         continue;
       }
+      if (isSingleSlice(o.grid) && (stacks.length > 0 || target !== null)) continue; // read with its stack
+      const bytes = o.bytes ?? (await this.bytesOf(o.file, refused));
+      if (bytes === null) continue;
       // Another patient's GPFile_000.txt (or two of them in one drop) is kept beside the first.
-      const identity = fileIdentity(file);
-      const name = distinctName(file.name, identity, this.identities);
-      if (await this.loadBytes(name, bytes, identity)) {
+      const identity = fileIdentity(o.file);
+      const name = distinctName(o.file.name, identity, this.identities);
+      const withViews = isStack(o.grid) ? viewsOf(o) : [];
+      if (await this.loadBytes(name, bytes, identity, withViews, o.grid)) {
         first ??= name;
-        if (name !== file.name) renamed.push({ given: file.name, as: name });
-      } else if (this.lastRefusal) refused.push(this.lastRefusal);
+        if (name !== o.file.name) renamed.push({ given: o.file.name, as: name });
+      } else if (this.lastRefusal) {
+        refused.push(this.lastRefusal);
+        refusedFiles.set(this.lastRefusal, 1 + withViews.length);
+        if (withViews.some((v) => v.name === this.lastRefusal?.file)) refusedStacks.set(this.lastRefusal, name);
+      }
     }
-    const renamedNote = [renamedText(renamed), skippedText(skipped)].filter(Boolean).join(' ');
+    let added = '';
+    if (target !== null) {
+      const loose = views.map((v) => ({ name: v.file.name, bytes: v.bytes as ArrayBuffer }));
+      if (await this.addViews(target, loose)) {
+        first ??= target;
+        added = addedViewsText(loose.map((v) => v.name), target);
+      } else if (this.lastRefusal) {
+        refused.push(this.lastRefusal);
+        refusedFiles.set(this.lastRefusal, loose.length);
+      }
+    }
+    const renamedNote = [renamedText(renamed), skippedText(skipped), added].filter(Boolean).join(' ');
     if (first !== null) {
       this.sampleId = null;
       // A session's own surface first, else the one asked for (the link's, or the one last chosen).
@@ -178,14 +236,62 @@ export class Controller {
       // A biv-me folder's SliceInfoFile beside the GPFile that opened is no refusal.
       const aside = first !== null ? refused.filter(isSliceInfoRefusal) : [];
       const notOpened = refused.filter((e) => !aside.includes(e));
+      const count = notOpened.reduce((n, e) => n + (refusedFiles.get(e) ?? 1), 0);
       const note = first !== null && aside.length > 0 ? setAsideText(aside.map((e) => e.file ?? 'SliceInfoFile.txt'), first) : '';
-      const list = notOpened.map((e) => describeError(e)).join('; ');
+      const list = notOpened.map((e) => describeError(e) + (refusedStacks.has(e) ? ` (its stack ${refusedStacks.get(e)} is not opened either)` : '')).join('; ');
       const notes = [note, renamedNote].filter(Boolean).join(' ');
       if (first === null) this.fail(refused[refused.length - 1], undefined, ` None of the ${files.length} files opened: ${list}.`);
       else if (notOpened.length === 0) this.parts.banner.showInfo(notes);
-      else this.parts.banner.showWarning(`${notOpened.length} of ${files.length - aside.length} files not opened: ${list}.${notes ? ` ${notes}` : ''} Showing ${first}.`);
+      else this.parts.banner.showWarning(`${count} of ${files.length - aside.length} files not opened: ${list}.${notes ? ` ${notes}` : ''} Showing ${first}.`);
     } else if (renamedNote) {
       this.parts.banner.showInfo(renamedNote);
+    }
+  }
+
+  /**
+   * Each file with, for a NIfTI label map, its grid (a stack, or a single slice: a long-axis view)
+   * and its bytes, in the order given. Other files are told apart by their first bytes and read
+   * when they are loaded (a folder's 200 contour files are not all held at once); a lone file is
+   * read here. `unreadable`: why a file could not be read.
+   */
+  private async readFiles(files: readonly File[]): Promise<Opened[]> {
+    const out: Opened[] = [];
+    for (const file of files) {
+      try {
+        if (files.length > 1 && !mayBeLabelMap(await file.slice(0, 4).arrayBuffer())) {
+          out.push({ file, grid: null, bytes: null });
+          continue;
+        }
+        const bytes = await file.arrayBuffer();
+        out.push({ file, grid: await this.gridOf(bytes), bytes });
+      } catch (e) {
+        out.push({ file, grid: null, bytes: null, unreadable: e });
+      }
+    }
+    return out;
+  }
+
+  /** A file's bytes read when it is loaded (null: refused, it could no longer be read). */
+  private async bytesOf(file: File, refused: CoreErrorData[]): Promise<ArrayBuffer | null> {
+    try {
+      return await file.arrayBuffer();
+    } catch (e) {
+      refused.push(this.refuse(file.name, unreadable(file, e)));
+      return null;
+    }
+  }
+
+  /**
+   * The grid of a NIfTI-1 label map (plain or gzip), read from its header by the core; null for
+   * any other file (told apart by its first bytes, without asking the core) or if the core fails.
+   */
+  private async gridOf(bytes: ArrayBuffer): Promise<LabelMapGrid | null> {
+    const client = this.client;
+    if (!client || !mayBeLabelMap(bytes)) return null;
+    try {
+      return await client.labelMapGrid(bytes);
+    } catch {
+      return null;
     }
   }
 
@@ -201,15 +307,19 @@ export class Controller {
       return;
     }
     const name = distinctName(sample.file, `sample:${sample.id}`, this.identities);
-    if (await this.loadBytes(name, bytes, `sample:${sample.id}`)) {
+    const grid = await this.gridOf(bytes);
+    if (await this.loadBytes(name, bytes, `sample:${sample.id}`, [], grid)) {
       this.sampleId = sample.id;
       this.selectFile(name, surface ?? sample.surface);
       this.runOrReadFrame(name);
     }
   }
 
-  /** Parses a file in the worker; returns whether it worked (errors are shown). */
-  private async loadBytes(fileName: string, bytes: ArrayBuffer, identity: string): Promise<boolean> {
+  /**
+   * Parses a file in the worker (a NIfTI stack with the long-axis `views` opened with it; `grid`:
+   * its label-map grid, null if it is none); returns whether it worked (errors are shown).
+   */
+  private async loadBytes(fileName: string, bytes: ArrayBuffer, identity: string, views: ViewFile[] = [], grid: LabelMapGrid | null = null): Promise<boolean> {
     const client = this.client;
     if (!client) return false;
     this.dispatch({ type: 'load', fileName });
@@ -217,33 +327,71 @@ export class Controller {
     try {
       // A file that waits in the worker behind a step of seconds (a heavy input) stops that run,
       // its steps staying on screen; the client replaces the worker if the step does not end soon.
-      const loaded = await client.load(fileName, bytes, () => this.stopRun());
+      // Read anew, a stack has the views opened with it (those of an earlier reading are forgotten).
+      const loaded = await client.load(fileName, bytes, () => this.stopRun(), views);
       this.cancelRun(); // read: it replaces what was on screen
       this.files.delete(fileName); // re-insert at the end: newest last in the picker
       // Read again (dropped anew, another frame): the meshes kept of its other surfaces may be of other contours.
       if (this.kept.boundTo(`${fileName}\n`)) this.kept.forget();
       this.files.set(fileName, loaded);
       this.identities.set(fileName, identity);
+      if (isStack(grid)) this.stacks.add(fileName);
+      else this.stacks.delete(fileName);
       if (loaded.session) this.applySession(loaded.session);
       this.dispatch({ type: 'loaded', fileName });
       this.parts.banner.hide();
       this.pendingRunFailure = null; // that run was replaced by this file's
       return true;
     } catch (e) {
-      this.refuse(fileName, e);
+      const names = views.map((v) => v.name);
+      const error = viewRefusal(asCoreError(e, 'could not read the file', fileName), names);
+      // A view the core could not read: the stack read with it is not opened either.
+      this.refuse(fileName, error, names.includes(error.file ?? '') ? ` ${stackNotOpened(fileName)}.` : '');
       return false;
     }
   }
 
-  /** A file not opened: the previous one (if any) stays current, with its scene and framing. */
-  private refuse(fileName: string, e: unknown): CoreErrorData {
+  /**
+   * Reads the NIfTI stack `stack` (loaded) again with long-axis views added to its own (a view of
+   * the same name replaces the older one), as the frame it is read as; returns whether it worked.
+   * A view the core cannot read leaves the stack as it was, named in the banner.
+   */
+  private async addViews(stack: string, views: ViewFile[]): Promise<boolean> {
+    const client = this.client;
+    if (!client) return false;
+    this.dispatch({ type: 'load', fileName: stack });
+    this.lastRefusal = null;
+    try {
+      const loaded = await client.addViews(stack, views, () => this.stopRun());
+      this.cancelRun(); // read: it replaces what was on screen
+      // Other contours: the meshes kept of its surfaces are of the stack without these views.
+      if (this.kept.boundTo(`${stack}\n`)) this.kept.forget();
+      this.files.set(stack, loaded);
+      this.dispatch({ type: 'loaded', fileName: stack });
+      this.parts.banner.hide();
+      this.pendingRunFailure = null;
+      return true;
+    } catch (e) {
+      const names = views.map((v) => v.name);
+      const error = viewRefusal(asCoreError(e, 'could not read the long-axis view', stack), names);
+      const which = names.length === 1 ? 'Not added' : `None of the ${names.length} views added`;
+      this.refuse(stack, error, '', ` ${which} to ${stack}; still showing it as read before.`);
+      return false;
+    }
+  }
+
+  /**
+   * A file not opened: the previous one (if any) stays current, with its scene and framing.
+   * `more`: said after what was kept; `kept`: instead of "Not opened; still showing ...".
+   */
+  private refuse(fileName: string, e: unknown, more = '', kept?: string): CoreErrorData {
     const previous = this.currentFile()?.fileName ?? null;
     const failed = this.pendingRunFailure;
     this.pendingRunFailure = null;
     const also = failed ? ` Meanwhile the run of ${previous ?? 'the previous file'} failed: ${describeError({ ...failed, file: undefined })}` : '';
     const error = asCoreError(e, 'could not read the file', fileName);
     this.lastRefusal = error;
-    this.fail(error, undefined, keptText(previous) + also);
+    this.fail(error, undefined, (kept ?? keptText(previous)) + more + also);
     return error;
   }
 
@@ -530,6 +678,8 @@ export class Controller {
     if (this.runNote) warnings.push(this.runNote);
     this.parts.warnings.textContent = warnings.length ? `⚠ ${warnings.join(' · ')}` : '';
     this.parts.warnings.hidden = warnings.length === 0;
+    // The reader's account of the file (a label map's labels, its long-axis views): information.
+    this.parts.notes.show(this.currentFile()?.notes ?? []);
   }
 
   /** A parameter changed: debounce, then restart (cancelling the run in progress). */

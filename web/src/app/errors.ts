@@ -35,6 +35,15 @@ export function unreadable(file: { name: string; type: string }, e: unknown): Co
   return asCoreError(e, 'could not read the file', file.name);
 }
 
+/**
+ * A stack refused because of one of the long-axis views read with it: the core starts its message
+ * with that view's file name; the error is then the view's (its name where the file goes).
+ */
+export function viewRefusal(e: CoreErrorData, views: readonly string[]): CoreErrorData {
+  const view = views.find((v) => e.message.startsWith(`${v}: `));
+  return view ? { ...e, file: view, message: e.message.slice(view.length + 2) } : e;
+}
+
 /** Anything thrown or rejected, as the protocol's error data (with the file when known). */
 export function asCoreError(e: unknown, fallback: string, file?: string): CoreErrorData {
   if (e && typeof e === 'object' && 'code' in e && 'message' in e) {

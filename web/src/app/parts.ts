@@ -7,6 +7,7 @@ import type { ExportPanel } from '../io/ExportPanel';
 import type { FileBar } from '../io/FileBar';
 import type { ErrorBanner } from '../ui/ErrorBanner';
 import type { HoverReadout } from '../ui/HoverReadout';
+import type { NotesLine } from '../ui/NotesLine';
 import type { LivePlot } from '../ui/LivePlot';
 import type { ParamPanel } from '../ui/ParamPanel';
 import type { ResultPanel } from '../ui/ResultPanel';
@@ -33,4 +34,6 @@ export interface Parts {
   view: ViewControls;
   hover: HoverReadout;
   warnings: HTMLElement;
+  /** The reader's notes on the current file (how a label map was read): information, below the warnings. */
+  notes: NotesLine;
 }

@@ -42,10 +42,12 @@ import {
   type LabProgress,
   type LabTruth,
   type LabTruthSource,
+  type LabelMapGrid,
   type LoadedFile,
   type ParamSpec,
   type RunResult,
   type ToWorker,
+  type ViewFile,
 } from './protocol';
 import {
   settingsOf,
@@ -57,6 +59,7 @@ import {
 } from './coreClientTypes';
 import { LabRequests } from './labRequests';
 import { RunFrames } from './runFrames';
+import { mergeViews } from '../io/studyGroups';
 
 export type { CoreClientOptions, LabBatchHandle, RunHandle, RunOptions, WorkerLike } from './coreClientTypes';
 
@@ -121,6 +124,8 @@ export class CoreClient {
   private readonly runs: RunFrames;
   /** Bytes of every successfully loaded file, kept to re-send them to a recreated worker. */
   private readonly files = new Map<string, ArrayBuffer>();
+  /** The long-axis views each NIfTI stack is read with (its study), kept for frame reloads and re-sends. */
+  private readonly views = new Map<string, ViewFile[]>();
   /** The time frame each file is read with, by label (absent: each contour's first), for those re-sends. */
   private readonly frames = new Map<string, string>();
   /** Per file, the id of its latest frame reload: an earlier one that fails must not undo it. */
@@ -192,15 +197,17 @@ export class CoreClient {
    * progress that has lasted longer than the cancel grace period; the caller may then cancel the
    * run, after which the file is read at once (by a new worker if the step does not end soon).
    */
-  load(fileName: string, bytes: ArrayBuffer, whenBehindLongStep?: () => void): Promise<LoadedFile> {
+  load(fileName: string, bytes: ArrayBuffer, whenBehindLongStep?: () => void, views: readonly ViewFile[] = []): Promise<LoadedFile> {
     // One copy stays here for crash recovery; the other is transferred to the worker.
     const kept = bytes.slice(0);
     this.files.set(fileName, kept);
-    // A file (re)opened is read as it comes: each contour's first frame.
+    // A file (re)opened is read as it comes (each contour's first frame), with the views it came with.
+    const keptViews = views.map((v) => ({ name: v.name, bytes: v.bytes.slice(0) }));
+    this.setViews(fileName, keptViews);
     this.frames.delete(fileName);
     this.frameLoads.delete(fileName);
     const promise = this.request<LoadedFile>(
-      (reqId) => ({ type: 'load', reqId, fileName, bytes: kept.slice(0) }),
+      (reqId) => ({ type: 'load', reqId, fileName, bytes: kept.slice(0), ...withViews(keptViews) }),
       { loads: fileName },
     );
     this.workerFiles.add(fileName);
@@ -208,6 +215,7 @@ export class CoreClient {
     return promise.catch((e: CoreErrorData) => {
       if (this.files.get(fileName) === kept && e.code !== ErrorCodes.workerCrashed) {
         this.files.delete(fileName);
+        this.views.delete(fileName);
       }
       this.workerFiles.delete(fileName);
       throw e;
@@ -227,8 +235,9 @@ export class CoreClient {
     const previous = this.frames.get(fileName);
     const setFrame = (f: string | null | undefined) => (f === null || f === undefined ? this.frames.delete(fileName) : this.frames.set(fileName, f));
     const withFrame = frame === null ? {} : { frame };
+    const views = this.views.get(fileName) ?? [];
     const promise = this.request<LoadedFile>(
-      (reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0), ...withFrame }),
+      (reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0), ...withFrame, ...withViews(views) }),
       { loads: fileName },
     );
     const id = this.nextId++;
@@ -240,6 +249,53 @@ export class CoreClient {
       if (this.frameLoads.get(fileName) === id) setFrame(previous);
       throw e;
     });
+  }
+
+  /**
+   * Reads a loaded NIfTI stack again with long-axis views added to those it has (a view of the
+   * same name replaces the older), as the time frame it is read as now. Rejects with CoreErrorData
+   * (a view the core cannot read is named in the message); the file then stays as it was read.
+   * `whenBehindLongStep`: as for `load`.
+   */
+  addViews(fileName: string, added: readonly ViewFile[], whenBehindLongStep?: () => void): Promise<LoadedFile> {
+    const bytes = this.files.get(fileName);
+    if (bytes === undefined) {
+      return Promise.reject({ code: ErrorCodes.notLoaded, message: `${fileName} has not been loaded`, file: fileName });
+    }
+    const previous = this.views.get(fileName) ?? [];
+    const views = mergeViews(previous, added.map((v) => ({ name: v.name, bytes: v.bytes.slice(0) })));
+    const frame = this.frames.get(fileName);
+    const withFrame = frame === undefined ? {} : { frame };
+    const promise = this.request<LoadedFile>(
+      (reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0), ...withFrame, ...withViews(views) }),
+      { loads: fileName },
+    );
+    this.setViews(fileName, views);
+    this.workerFiles.add(fileName);
+    if (whenBehindLongStep) this.watchBehindLongStep(promise, whenBehindLongStep);
+    return promise.catch((e: CoreErrorData) => {
+      // The worker keeps its earlier reading of the stack.
+      if (this.views.get(fileName) === views) this.setViews(fileName, previous);
+      throw e;
+    });
+  }
+
+  /** The names of the long-axis views a loaded file is read with (none: empty). */
+  viewsOf(fileName: string): string[] {
+    return (this.views.get(fileName) ?? []).map((v) => v.name);
+  }
+
+  /**
+   * The voxel grid of a NIfTI label map from its header, read by the core (null: not a NIfTI-1
+   * file). A single slice (a dimension of 1) is a long-axis view, to be read with its stack.
+   */
+  labelMapGrid(bytes: ArrayBuffer): Promise<LabelMapGrid | null> {
+    return this.request<LabelMapGrid | null>((reqId) => ({ type: 'grid', reqId, bytes: bytes.slice(0) }));
+  }
+
+  private setViews(fileName: string, views: ViewFile[]): void {
+    if (views.length > 0) this.views.set(fileName, views);
+    else this.views.delete(fileName);
   }
 
   /** Starts a reconstruction of a loaded file; cancels the run in progress, if any. */
@@ -316,7 +372,8 @@ export class CoreClient {
     if (this.workerFiles.has(fileName)) return;
     const frame = this.frames.get(fileName);
     const withFrame = frame === undefined ? {} : { frame };
-    this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0), ...withFrame }), { loads: fileName }).catch((e: CoreErrorData) => {
+    const views = this.views.get(fileName) ?? [];
+    this.request<LoadedFile>((reqId) => ({ type: 'load', reqId, fileName, bytes: bytes.slice(0), ...withFrame, ...withViews(views) }), { loads: fileName }).catch((e: CoreErrorData) => {
       this.workerFiles.delete(fileName);
       onError(e);
     });
@@ -368,6 +425,7 @@ export class CoreClient {
     this.readyReject?.(error);
     this.teardownWorker(error);
     this.files.clear();
+    this.views.clear();
     this.frames.clear();
   }
 
@@ -540,6 +598,9 @@ export class CoreClient {
       case 'loaded':
         this.settleRequest(msg.reqId, true, msg.file);
         break;
+      case 'grid':
+        this.settleRequest(msg.reqId, true, msg.grid);
+        break;
       case 'schema':
         this.settleRequest(msg.reqId, true, { schema: msg.schema, version: msg.version });
         break;
@@ -640,4 +701,9 @@ export class CoreClient {
     for (const runId of this.runs.ids()) this.runs.finish(runId, { ...error });
     this.lab.failAll(error);
   }
+}
+
+/** A load message's views (fresh copies of their bytes, to transfer); none: no field. */
+function withViews(views: readonly ViewFile[]): { views?: ViewFile[] } {
+  return views.length > 0 ? { views: views.map((v) => ({ name: v.name, bytes: v.bytes.slice(0) })) } : {};
 }

@@ -25,6 +25,10 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
   switch (msg.type) {
     case 'load':
       add(msg.bytes);
+      for (const v of msg.views ?? []) add(v.bytes);
+      break;
+    case 'grid':
+      if ('bytes' in msg) add(msg.bytes);
       break;
     case 'loaded':
       add(msg.file.points);
@@ -110,6 +114,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
       return msg.runId;
     case 'ready':
     case 'loaded':
+    case 'grid':
     case 'started':
     case 'schema':
     case 'lab-truth':
@@ -128,6 +133,7 @@ export function isFromWorker(v: unknown): v is FromWorker {
   switch ((v as { type?: unknown }).type) {
     case 'ready':
     case 'loaded':
+    case 'grid':
     case 'frame':
     case 'done':
     case 'cancelled':
@@ -152,6 +158,7 @@ export function isToWorker(v: unknown): v is ToWorker {
   if (typeof v !== 'object' || v === null) return false;
   switch ((v as { type?: unknown }).type) {
     case 'load':
+    case 'grid':
     case 'run':
     case 'ack':
     case 'cancel':

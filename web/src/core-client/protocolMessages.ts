@@ -9,7 +9,7 @@ import type {
   AcquisitionSpec, LabAcquisition, LabBatchInfo, LabBatchJob, LabComparison, LabProgress, LabTruth, LabTruthSource,
 } from './protocolLab';
 import type { LidsMode, ParamSpec, ParamValues, ReconOptions } from './protocolOptions';
-import type { Frame, LoadedFile, RunResult } from './protocolResults';
+import type { Frame, LabelMapGrid, LoadedFile, RunResult, ViewFile } from './protocolResults';
 
 export interface LoadRequest {
   type: 'load';
@@ -18,6 +18,17 @@ export interface LoadRequest {
   bytes: ArrayBuffer;
   /** The time frame to read of a file that holds several, by its label (`9`, `ES`; absent: each contour's first). */
   frame?: string;
+  /**
+   * Long-axis views read with this short-axis label map (the core's `load_study`; absent or empty:
+   * the file alone). A view the core cannot read refuses the load, its file named in the message.
+   */
+  views?: ViewFile[];
+}
+/** The voxel grid of a NIfTI label map, from its header (answered with 'grid'; null: not one). */
+export interface GridRequest {
+  type: 'grid';
+  reqId: number;
+  bytes: ArrayBuffer;
 }
 export interface RunRequest {
   type: 'run';
@@ -81,7 +92,7 @@ export interface LabBatchRequest {
 
 export type LabRequest = LabTruthRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
 
-export type ToWorker = LoadRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | LabRequest;
+export type ToWorker = LoadRequest | GridRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | LabRequest;
 
 export interface ReadyMessage {
   type: 'ready';
@@ -90,6 +101,11 @@ export interface LoadedMessage {
   type: 'loaded';
   reqId: number;
   file: LoadedFile;
+}
+export interface GridMessage {
+  type: 'grid';
+  reqId: number;
+  grid: LabelMapGrid | null;
 }
 export interface FrameMessage extends Frame {
   type: 'frame';
@@ -176,6 +192,7 @@ export type FromWorker =
   | LabMessage
   | ReadyMessage
   | LoadedMessage
+  | GridMessage
   | FrameMessage
   | DoneMessage
   | CancelledMessage

@@ -24,6 +24,22 @@ export interface Landmark {
   z: number;
 }
 
+/**
+ * A NIfTI-1 label map's voxel grid, read from its header alone (the core's `label_map_grid`): a
+ * single slice (a dimension of 1) is a long-axis view, read with the short-axis stack it belongs to.
+ */
+export interface LabelMapGrid {
+  dims: [number, number, number];
+  /** Time frames (1: a 3D file). */
+  frames: number;
+}
+
+/** A long-axis view (a single-slice label map) read with a short-axis stack: its file name and bytes. */
+export interface ViewFile {
+  name: string;
+  bytes: ArrayBuffer;
+}
+
 export interface LoadedFile {
   fileName: string;
   surfaces: string[];
@@ -32,6 +48,11 @@ export interface LoadedFile {
   points: Float32Array;
   landmarks: Landmark[];
   warnings: string[];
+  /**
+   * The reader's account of what it read (a label map's "label map read as ...", "long-axis view
+   * X read as ..."): information, shown apart from the warnings (absent: none).
+   */
+  notes?: string[];
   /**
    * Those of `warnings` about the contours of one surface only (absent: none is): a run of another
    * surface of the file leaves them out, as the CLI does.

@@ -28,7 +28,9 @@ import {
   type ContourInfo,
   type CoreErrorData,
   type FromWorker,
+  type LabelMapGrid,
   type LoadedFile,
+  type LoadRequest,
   type ParamSpec,
   type RunRequest,
   type RunResult,
@@ -42,6 +44,8 @@ import { LabWorker, type LabApi } from './labWorker';
 export interface SessionApi {
   /** `frame`: the time frame to read, by its label (undefined: each contour's first). */
   load(fileName: string, bytes: Uint8Array, frame?: string): string;
+  /** `load` of a NIfTI short-axis stack with its long-axis views (single-slice label maps; `views` a JS Array of Uint8Arrays). */
+  load_study?(fileName: string, bytes: Uint8Array, viewNames: string[], views: Uint8Array[], frame?: string): string;
   file_points(fileName: string): Float32Array;
   start(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string): void;
   step(): string;
@@ -64,6 +68,8 @@ export interface WasmApi {
   createSession(): SessionApi;
   schemaJson(): string;
   version(): string;
+  /** `{"dims":[i,j,k],"frames":t}` of a NIfTI-1 label map from its header; undefined: not one (absent: no such core). */
+  labelMapGrid?(bytes: Uint8Array): string | undefined;
   /** The message of the Rust panic that caused a trap, if any. */
   takePanicMessage(): string | undefined;
   /** The validation lab's state (absent: lab requests fail with 'lab_unavailable'). */
@@ -76,6 +82,7 @@ export interface WasmModule {
   Lab: new () => unknown;
   schema_json(): string;
   version(): string;
+  label_map_grid(bytes: Uint8Array): string | undefined;
   take_panic_message(): string | undefined;
 }
 
@@ -88,6 +95,7 @@ export function wasmApiOf(m: WasmModule): WasmApi {
     createSession: () => new m.Session(),
     schemaJson: () => m.schema_json(),
     version: () => m.version(),
+    labelMapGrid: (bytes) => m.label_map_grid(bytes),
     takePanicMessage: () => m.take_panic_message() ?? undefined,
     createLab: () => new m.Lab() as LabApi,
   };
@@ -192,7 +200,10 @@ export class WorkerCore {
       case 'load':
         // Said first: a parse of seconds is then not taken for a long step (CoreClient.isInLongStep).
         this.send({ type: 'started', reqId: msg.reqId });
-        this.load(msg.reqId, msg.fileName, msg.bytes, msg.frame);
+        this.load(msg.reqId, msg.fileName, msg.bytes, msg.frame, msg.views);
+        break;
+      case 'grid':
+        this.send({ type: 'grid', reqId: msg.reqId, grid: this.grid(msg.bytes) });
         break;
       case 'run':
         this.startRun(msg);
@@ -228,11 +239,15 @@ export class WorkerCore {
     }
   }
 
-  private load(reqId: number, fileName: string, bytes: ArrayBuffer, frame: string | undefined): void {
+  private load(reqId: number, fileName: string, bytes: ArrayBuffer, frame: string | undefined, views: LoadRequest['views']): void {
     // Only text is a frame label (a foreign message's number or object reads as none: wasm-bindgen
     // would throw on it); the core reads a blank label as none too.
     const wanted = typeof frame === 'string' ? frame : undefined;
-    const info = JSON.parse(this.session.load(fileName, new Uint8Array(bytes), wanted)) as Omit<
+    const study = Array.isArray(views) && views.length > 0 && this.session.load_study;
+    const json = study
+      ? study.call(this.session, fileName, new Uint8Array(bytes), views.map((v) => String(v.name)), views.map((v) => new Uint8Array(v.bytes)), wanted)
+      : this.session.load(fileName, new Uint8Array(bytes), wanted);
+    const info = JSON.parse(json) as Omit<
       LoadedFile,
       'points'
     >;
@@ -240,6 +255,14 @@ export class WorkerCore {
     // A session saved before an option existed loads with that option at its default.
     if (file.session) file.session = { ...file.session, options: withDefaultOptions(file.session.options) };
     this.send({ type: 'loaded', reqId, file });
+  }
+
+  /** The label map's grid from its header (null: not a NIfTI-1 file, or a core without the call). */
+  private grid(bytes: ArrayBuffer): LabelMapGrid | null {
+    const json = this.wasm.labelMapGrid?.(new Uint8Array(bytes));
+    if (typeof json !== 'string') return null;
+    const g = JSON.parse(json) as LabelMapGrid;
+    return Array.isArray(g.dims) && g.dims.length === 3 && typeof g.frames === 'number' ? g : null;
   }
 
   private startRun(msg: RunRequest): void {
@@ -415,6 +438,7 @@ export function wasmErrorData(e: unknown): CoreErrorData | null {
 function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
   switch (msg.type) {
     case 'load':
+    case 'grid':
     case 'schema':
     case 'lab-truth':
     case 'lab-simulate':

@@ -11,7 +11,7 @@ use crate::error::CliError;
 use crate::files;
 
 pub const USAGE: &str =
-    "heartmesh align CONTOURS -o ALIGNED.csv [--report REPORT.json] [--frame N|LABEL] [--quiet]
+    "heartmesh align CONTOURS [VIEWS...] -o ALIGNED.csv [--report REPORT.json] [--frame N|LABEL] [--quiet]
   Shifts every short-axis slice and long-axis view (all surfaces of an image together) in its
   own plane until the curves meet where the planes cross (breath-hold misalignment), and writes
   the shifted contours as canonical CSV (same columns). REPORT.json: the shifts per slice/view
@@ -26,12 +26,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             aliases: &[("-o", "output"), ("-q", "quiet")],
         },
     )?;
-    let [input] = p.positional.as_slice() else {
-        return Err(CliError::usage(format!(
-            "align needs exactly one contour file, got {}",
-            p.positional.len()
-        )));
-    };
+    if p.positional.is_empty() {
+        return Err(CliError::usage("align needs a contour file"));
+    }
     let output = p
         .value("output")
         .ok_or_else(|| CliError::usage("align needs -o ALIGNED.csv"))?;
@@ -41,7 +38,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         )));
     }
     let frame = contours::frame_flag(p.value("frame"))?;
-    let loaded = contours::load(input, frame)?;
+    let (input, loaded) = contours::load_all(&p.positional, frame)?;
     let (aligned, alignment) = align_slices(&loaded.set);
     let csv = io::csv::write_csv(&aligned, None)
         .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
@@ -62,7 +59,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
     if !p.switch("quiet") {
         for w in &loaded.set.warnings {
-            eprintln!("heartmesh: warning: {input}: {w}");
+            eprintln!("{}", contours::warning_line(input, w));
         }
         let moved = alignment
             .groups

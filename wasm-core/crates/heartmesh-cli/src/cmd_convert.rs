@@ -8,8 +8,9 @@ use crate::contours;
 use crate::error::CliError;
 use crate::files;
 
-pub const USAGE: &str = "heartmesh convert IN OUT [--frame N|LABEL] [--ascii] [--quiet]
-    contours (csv, GPFile txt, xyz txt, vtk/vtp lines, SurFCo .mat, session json, DICOM RTSTRUCT)
+pub const USAGE: &str = "heartmesh convert IN [VIEWS...] OUT [--frame N|LABEL] [--ascii] [--quiet]
+    contours (csv, GPFile txt, xyz txt, vtk/vtp lines, SurFCo .mat, session json, DICOM RTSTRUCT,
+      NIfTI label maps: a short-axis stack, with its long-axis views if any)
       -> OUT.csv (canonical CSV), OUT.json (heartmesh session), OUT.vtk|.vtp (polylines),
          OUT.dcm (DICOM RT structure set, one ROI per surface)
     meshes (obj, stl, ply, vtk, vtp) -> OUT.obj|.stl|.ply|.vtk|.vtp  (--ascii: ASCII STL)";
@@ -23,12 +24,15 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             aliases: &[("-q", "quiet")],
         },
     )?;
-    let [input, output] = p.positional.as_slice() else {
-        return Err(CliError::usage(format!(
-            "convert needs IN and OUT, got {} file names",
-            p.positional.len()
-        )));
+    let [inputs @ .., output] = p.positional.as_slice() else {
+        return Err(CliError::usage(
+            "convert needs IN and OUT, got no file names",
+        ));
     };
+    if inputs.is_empty() {
+        return Err(CliError::usage("convert needs IN and OUT, got 1 file name"));
+    }
+    let input = &inputs[0];
     let out_ext = io::extension(output);
     let comment = format!("converted from {}", file_name(input));
     let format = MeshFormat::from_path(output);
@@ -63,11 +67,11 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         )));
     }
     let frame = contours::frame_flag(p.value("frame"))?;
-    let loaded = contours::load(input, frame)?;
+    let (input, loaded) = contours::load_all(inputs, frame)?;
     let set = loaded.set;
     if !p.switch("quiet") {
         for w in &set.warnings {
-            eprintln!("heartmesh: warning: {input}: {w}");
+            eprintln!("{}", contours::warning_line(input, w));
         }
     }
     let out = match out_ext.as_str() {

@@ -24,6 +24,9 @@ pub const USAGE: &str =
     [--smoothing-method laplacian-affine|taubin|laplacian-hc|laplacian-twicing] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
     [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--no-apex-floor] [--drop-second-loops] [--keep-specks] [--frame N|LABEL]
     [--contour-distances POINTS.csv] [--ascii] [--quiet]
+  CONTOURS may be a NIfTI short-axis label map followed by its long-axis views (single-slice
+  label maps, any order of the files: reconstruct SEG.nii.gz LA_2CH.nii.gz LA_4CH.nii.gz -o ...),
+  their labels matched to the stack's by position;
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data;
   --smoothing-method taubin: lambda/mu smoothing (lambda = smoothing factor, at most 0.6)
@@ -125,12 +128,12 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             aliases: &[("-o", "output"), ("-q", "quiet")],
         },
     )?;
-    let [input] = p.positional.as_slice() else {
-        return Err(CliError::usage(format!(
-            "reconstruct needs exactly one contour file, got {}",
-            p.positional.len()
-        )));
-    };
+    if p.positional.is_empty() {
+        return Err(CliError::usage(
+            "reconstruct needs a contour file (or a segmented study: a short-axis label map and \
+             its long-axis views)",
+        ));
+    }
     let output = p
         .value("output")
         .ok_or_else(|| CliError::usage("reconstruct needs -o MESH (e.g. -o mesh.obj)"))?;
@@ -146,7 +149,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let frame = contours::frame_flag(p.value("frame"))?;
     // Check the flags before reading (a usage error should not wait for a big file).
     params_from(&p, Params::default())?;
-    let loaded = contours::load(input, frame)?;
+    let (input, loaded) = contours::load_all(&p.positional, frame)?;
     let params = params_from(&p, loaded.session_params.unwrap_or_default())?;
     let input_format = loaded.format.name();
     let set = loaded.set;
@@ -292,7 +295,7 @@ impl Run<'_> {
         }
         if !quiet {
             for w in &warnings {
-                self.say(format!("heartmesh: warning: {input}: {w}"));
+                self.say(contours::warning_line(input, w));
             }
             if params.keep_specks && !set_aside::found_in(set).is_empty() {
                 self.say(format!(

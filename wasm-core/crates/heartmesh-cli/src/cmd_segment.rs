@@ -7,7 +7,8 @@ use heartmesh_core::io::nifti;
 use heartmesh_core::sim::cavity::rv_cavity;
 use heartmesh_core::sim::experiment_design::RV_JOIN_GAP_MM;
 use heartmesh_core::sim::planes::anatomical_axis;
-use heartmesh_core::sim::segmentation::{segment, SegmentationSpec, Structure};
+use heartmesh_core::sim::planes::{simulate, AcquisitionSpec, PAPER_LAX_ANGLES_DEG};
+use heartmesh_core::sim::segmentation::{segment, segment_view, SegmentationSpec, Structure};
 
 use crate::args::{parse, Spec};
 use crate::cmd_convert::file_name;
@@ -17,14 +18,20 @@ use crate::files;
 
 pub const USAGE: &str = "heartmesh segment --lv-endo LV_ENDO.obj [--lv-epi LV_EPI.obj]
     [--rv RV.obj | --rv-free-wall RV_FREE_WALL.obj] -o SEG.nii.gz [--pixel MM] [--slice-spacing MM]
-    [--join-gap MM] [--quiet]
+    [--join-gap MM] [--lax N] [--quiet]
   Writes a NIfTI-1 label map (.nii, or gzip-compressed .nii.gz) of the surfaces on a short-axis
   stack planned on the LV endocardium's long axis: 3 LV cavity, 2 myocardium (inside LV_EPI, outside
   the cavity), 1 RV cavity (ACDC / M&Ms numbering), 0 background. Pixels 1.25 mm and slices 10 mm
   apart by default, world coordinates in mm as the surfaces give them (the sform). Sections whose
   pieces end within --join-gap (3 mm) are joined. --rv-free-wall takes an RV given as its free wall
   only (open, as CardioMesh models are) and closes it against --lv-epi's septum (pieces joined
-  across 6 mm unless --join-gap says otherwise).";
+  across 6 mm unless --join-gap says otherwise). --lax N (1-3) also writes N long-axis views
+  through the apex, each a single-slice label map (same numbering, 1.25 mm pixels, 8 mm thick)
+  beside SEG: SEG_lax1.nii.gz ... (read them with the stack: heartmesh reconstruct SEG.nii.gz
+  SEG_lax1.nii.gz ...).";
+
+/// Thickness of a written long-axis view (mm): a typical cine long-axis slice.
+const VIEW_THICKNESS_MM: f64 = 8.0;
 
 /// How far from the free wall the septum is looked for when closing an RV cavity (mm), as the
 /// accuracy tests build the spasm subject's.
@@ -43,6 +50,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
                 "pixel",
                 "slice-spacing",
                 "join-gap",
+                "lax",
             ],
             switches: &["quiet"],
             aliases: &[("-o", "output"), ("-q", "quiet")],
@@ -110,7 +118,45 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         ..Structure::new(1, m)
     }));
     let volume = segment(&structures, &axis, &spec).map_err(CliError::param)?;
+    let lax = p.whole("lax")?.unwrap_or(0) as usize;
+    if lax > PAPER_LAX_ANGLES_DEG.len() {
+        return Err(CliError::usage(format!(
+            "--lax {lax}: at most {} long-axis views",
+            PAPER_LAX_ANGLES_DEG.len()
+        )));
+    }
+    let mut views = Vec::new();
+    if lax > 0 {
+        let planes = simulate(
+            &endo,
+            &AcquisitionSpec {
+                axis: Some(axis),
+                lax_count: lax,
+                ..AcquisitionSpec::default()
+            },
+        )
+        .map_err(|e| CliError::input(endo_path, e))?
+        .lax_planes;
+        let view_spec = SegmentationSpec {
+            slice_mm: VIEW_THICKNESS_MM,
+            ..spec
+        };
+        for (n, plane) in planes.iter().enumerate() {
+            let view = segment_view(
+                &structures,
+                plane.origin,
+                plane.normal,
+                axis.direction,
+                &view_spec,
+            )
+            .map_err(CliError::param)?;
+            views.push((view_path(output, n + 1), view));
+        }
+    }
     files::write(output, &nifti::write_nifti(&volume, gzip))?;
+    for (path, view) in &views {
+        files::write(path, &nifti::write_nifti(view, gzip))?;
+    }
     if !p.switch("quiet") {
         let count = |l: u16| volume.labels.iter().filter(|&&x| x == l).count();
         outln!(
@@ -128,5 +174,22 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             count(1)
         );
     }
+    for (path, view) in &views {
+        if !p.switch("quiet") {
+            outln!(
+                "{path}: long-axis view, {} x {} pixels",
+                view.dims[0],
+                view.dims[1]
+            );
+        }
+    }
     Ok(())
+}
+
+/// `SEG.nii.gz` -> `SEG_lax1.nii.gz` (`.nii` likewise).
+fn view_path(output: &str, n: usize) -> String {
+    let lower = output.to_ascii_lowercase();
+    let cut = if lower.ends_with(".nii.gz") { 7 } else { 4 };
+    let (stem, ext) = output.split_at(output.len() - cut);
+    format!("{stem}_lax{n}{ext}")
 }

@@ -38,6 +38,7 @@ pub fn load(path: &str, frame: Option<FrameChoice>) -> Result<Loaded, CliError> 
     let options = ContourOptions {
         frame,
         slice_info: slice_info.as_deref(),
+        ..ContourOptions::default()
     };
     let set =
         io::read_contours_with(path, &bytes, &options).map_err(|e| CliError::input(path, e))?;
@@ -46,6 +47,52 @@ pub fn load(path: &str, frame: Option<FrameChoice>) -> Result<Loaded, CliError> 
         format,
         session_params: None,
     })
+}
+
+/// Contours of one file, or of a segmented study given as several: a NIfTI short-axis label map
+/// and its long-axis views (single-slice label maps), in any order. Returns the path of the file
+/// the contours are named after (the stack's), for messages and the report.
+pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, Loaded), CliError> {
+    let [first, rest @ ..] = paths else {
+        return Err(CliError::usage("no contour file given"));
+    };
+    if rest.is_empty() {
+        return load(first, frame).map(|l| (first.as_str(), l));
+    }
+    let contents = paths
+        .iter()
+        .map(|p| files::read(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    let named: Vec<(&str, &[u8])> = paths
+        .iter()
+        .map(String::as_str)
+        .zip(contents.iter().map(Vec::as_slice))
+        .collect();
+    let options = ContourOptions {
+        frame,
+        ..ContourOptions::default()
+    };
+    // Each error names the file it is about itself.
+    let (stack, set) = io::read_study(&named, &options).map_err(CliError::param)?;
+    Ok((
+        paths[stack].as_str(),
+        Loaded {
+            set,
+            format: ContourFormat::Nifti,
+            session_params: None,
+        },
+    ))
+}
+
+/// A reader's warning as the commands print it: the label-map reader's account of what it read
+/// is a note, the rest warnings.
+pub fn warning_line(input: &str, w: &str) -> String {
+    let kind = if io::nifti::is_reading_note(w) {
+        "note"
+    } else {
+        "warning"
+    };
+    format!("heartmesh: {kind}: {input}: {w}")
 }
 
 /// `--frame N` or `--frame LABEL`: the frame as the file writes it (`9`, `9.0`, `ES`; text in any

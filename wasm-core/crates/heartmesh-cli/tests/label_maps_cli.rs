@@ -122,3 +122,99 @@ fn damaged_and_foreign_nifti_files_are_refused_in_one_line() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A segmented study with long-axis views (session 22): `segment --lax 3` writes three
+/// single-slice views beside the stack; `reconstruct` reads the four files together in any order
+/// (a view first), each view adding one long-axis curve to the LV surfaces; the reading is
+/// printed as notes; two stacks, views alone, a damaged view and a contour file among label maps
+/// are refused in one line naming the file.
+#[test]
+fn a_stack_with_long_axis_views() {
+    let dir = scratch("label-map-views");
+    let seg = dir.join("seg.nii.gz");
+    let seg = seg.to_str().unwrap();
+    let (code, out, err) = run(bin().args([
+        "segment",
+        "--lv-endo",
+        &mesh("cardiomesh-spasm-LV_endo.obj"),
+        "--lv-epi",
+        &mesh("cardiomesh-spasm-LV_epi.obj"),
+        "--rv-free-wall",
+        &mesh("cardiomesh-spasm-RV_endo.obj"),
+        "-o",
+        seg,
+        "--lax",
+        "3",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.matches("long-axis view").count(), 3, "{out}");
+    let view = |n: u32| {
+        dir.join(format!("seg_lax{n}.nii.gz"))
+            .to_str()
+            .unwrap()
+            .to_string()
+    };
+    let report = dir.join("r.json");
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        &view(2),
+        seg,
+        &view(1),
+        &view(3),
+        "--surface",
+        "LV_EPI",
+        "-o",
+        dir.join("epi.obj").to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]));
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        err.matches("seg.nii.gz: long-axis view seg_lax").count(),
+        3,
+        "{err}"
+    );
+    assert_eq!(err.matches("heartmesh: note: ").count(), 4, "{err}");
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(r["watertight"], true, "{r}");
+    let lax: Vec<&serde_json::Value> = r["per_contour"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| c["kind"] == "LAX")
+        .collect();
+    assert_eq!(lax.len(), 3, "{r}");
+    for c in &lax {
+        assert!(c["id"].as_str().unwrap().starts_with("seg_lax"), "{c}");
+        assert!(c["mean"].as_f64().unwrap() < 1.0, "{c}");
+    }
+    assert!(r["contour_to_mesh"]["mean"].as_f64().unwrap() < 1.0, "{r}");
+
+    let out_mesh = dir.join("x.obj");
+    let out_mesh = out_mesh.to_str().unwrap();
+    let bad = dir.join("bad_lax.nii.gz");
+    std::fs::write(&bad, &std::fs::read(view(1)).unwrap()[..60]).unwrap();
+    let csv = dir.join("c.csv");
+    std::fs::write(&csv, "contour,x,y,z\n1,0,0,0\n").unwrap();
+    for (files, says) in [
+        (vec![seg.to_string(), seg.to_string()], "are both stacks"),
+        (vec![view(1), view(2)], "every file is a single slice"),
+        (
+            vec![seg.to_string(), bad.to_str().unwrap().to_string()],
+            "bad_lax.nii.gz",
+        ),
+        (
+            vec![seg.to_string(), csv.to_str().unwrap().to_string()],
+            "c.csv is not a NIfTI-1 label map",
+        ),
+    ] {
+        let mut args = vec!["reconstruct".to_string()];
+        args.extend(files);
+        args.extend(["-o".to_string(), out_mesh.to_string()]);
+        let (code, _, err) = run(bin().args(&args));
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(says), "{err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

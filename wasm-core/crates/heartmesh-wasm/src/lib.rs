@@ -45,6 +45,15 @@ pub fn version() -> String {
     heartmesh_core::VERSION.to_string()
 }
 
+/// `{"dims": [i, j, k], "frames": t}` of a NIfTI-1 label map (plain or gzip) from its header
+/// alone, or undefined when the bytes are not one: the app tells a short-axis stack from the
+/// single-slice long-axis views opened with it (a dimension of 1) before loading them together.
+#[wasm_bindgen]
+pub fn label_map_grid(bytes: &[u8]) -> Option<String> {
+    io::nifti::label_map_grid(bytes)
+        .map(|(dims, frames)| json!({ "dims": dims, "frames": frames }).to_string())
+}
+
 /// A reconstruction in progress, with what it needs to report.
 struct ActiveRun {
     rec: Reconstruction,
@@ -91,8 +100,53 @@ impl Session {
         bytes: &[u8],
         frame: Option<String>,
     ) -> Result<String, JsValue> {
+        self.load_with_views(file_name, bytes, &[], frame)
+    }
+
+    /// [`Session::load`] of a NIfTI short-axis label map with its long-axis views: single-slice
+    /// label maps named `view_names`, their bytes the `Uint8Array`s of `views` in the same order
+    /// (the core matches their labels to the stack's by position and adds one curve per surface
+    /// each shows; `warnings` says what each view was read as). Loading the stack again, for
+    /// another frame, needs its views again.
+    pub fn load_study(
+        &mut self,
+        file_name: &str,
+        bytes: &[u8],
+        view_names: Vec<String>,
+        views: js_sys::Array,
+        frame: Option<String>,
+    ) -> Result<String, JsValue> {
+        if view_names.len() != views.length() as usize {
+            return Err(errors::to_js(&heartmesh_core::CoreError::ParamInvalid {
+                name: "views".into(),
+                message: "one name per view".into(),
+            }));
+        }
+        let contents: Vec<Vec<u8>> = views
+            .iter()
+            .map(|v| js_sys::Uint8Array::new(&v).to_vec())
+            .collect();
+        let pairs: Vec<(&str, &[u8])> = view_names
+            .iter()
+            .map(String::as_str)
+            .zip(contents.iter().map(Vec::as_slice))
+            .collect();
+        self.load_with_views(file_name, bytes, &pairs, frame)
+    }
+}
+
+impl Session {
+    /// The work of [`Session::load`] and [`Session::load_study`] (native, so tests reach it).
+    pub fn load_with_views(
+        &mut self,
+        file_name: &str,
+        bytes: &[u8],
+        views: &[(&str, &[u8])],
+        frame: Option<String>,
+    ) -> Result<String, JsValue> {
         let options = io::ContourOptions {
             frame: frame.as_deref().and_then(io::FrameChoice::new),
+            views,
             ..io::ContourOptions::default()
         };
         let set =
@@ -109,11 +163,13 @@ impl Session {
                 item["kind"] = json!(kind);
             }
         }
-        let mut warnings: Vec<String> = set
+        // The label-map reader's account of what it read is information, shown apart.
+        let (notes, warnings): (Vec<String>, Vec<String>) = set
             .warnings
             .iter()
             .map(|w| frames::in_app_words(w))
-            .collect();
+            .partition(|w| io::nifti::is_reading_note(w));
+        let mut warnings = warnings;
         // Those about one surface's contours only, so the app shows each surface its own.
         let surface_warnings: Vec<_> = set
             .surface_warnings
@@ -138,6 +194,7 @@ impl Session {
             "contours": contours,
             "landmarks": landmarks,
             "warnings": warnings,
+            "notes": notes,
             "surfaceWarnings": surface_warnings,
             "session": settings,
             "timeFrames": frames::time_frames_json(set.time_frames.as_ref()),
@@ -145,7 +202,10 @@ impl Session {
         self.files.insert(file_name.to_string(), set);
         Ok(info.to_string())
     }
+}
 
+#[wasm_bindgen]
+impl Session {
     /// xyz (mm) of all points of a loaded file, in the order `load`'s pieces index.
     pub fn file_points(&self, file_name: &str) -> Result<Vec<f32>, JsValue> {
         let set = self.file(file_name)?;

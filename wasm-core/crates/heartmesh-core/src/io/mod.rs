@@ -96,6 +96,9 @@ pub struct ContourOptions<'a> {
     /// Bytes of the `SliceInfoFile.txt` that accompanies a GPFile (adds off-plane warnings);
     /// decoded as the contour files are (UTF-16, Windows-1252, any line ends).
     pub slice_info: Option<&'a [u8]>,
+    /// Long-axis label maps (`(file name, bytes)`) read with a NIfTI short-axis stack
+    /// ([`nifti::read_nifti_study`]); refused beside any other format.
+    pub views: &'a [(&'a str, &'a [u8])],
 }
 
 /// Mesh file formats the core writes (and reads back).
@@ -226,7 +229,15 @@ pub fn read_contours_with(
         let name = strip_gz(file_name);
         return read_contours_with(name, &inner, options);
     }
-    match detect_contour_format(file_name, bytes) {
+    let format = detect_contour_format(file_name, bytes);
+    if format != ContourFormat::Nifti && !options.views.is_empty() {
+        return Err(CoreError::parse(
+            0,
+            "long-axis label maps are read with a NIfTI short-axis label map, not with contours \
+             of another format",
+        ));
+    }
+    match format {
         ContourFormat::Csv if looks_like_slice_info(bytes) => Err(CoreError::parse(
             1,
             "this is a biv-me SliceInfoFile (image planes), not contours; read the GPFile_*.txt beside it",
@@ -257,8 +268,74 @@ pub fn read_contours_with(
         ContourFormat::Mat => mat::read_mat(bytes),
         ContourFormat::Session => session::read_session(bytes).map(|s| s.contours),
         ContourFormat::Rtstruct => rtstruct::read_rtstruct(bytes),
-        ContourFormat::Nifti => nifti::read_nifti(bytes, options.frame.as_ref()),
+        ContourFormat::Nifti => {
+            nifti::read_nifti_study(bytes, options.views, options.frame.as_ref())
+        }
     }
+}
+
+/// Several files read as one study: a NIfTI short-axis label map and its long-axis views
+/// (single-slice label maps), in any order. Returns which file is the stack, and the contours of
+/// all. One file is read as [`read_contours_with`] reads it.
+pub fn read_study(
+    files: &[(&str, &[u8])],
+    options: &ContourOptions,
+) -> Result<(usize, ContourSet)> {
+    let refuse = |m: String| CoreError::parse(0, m);
+    match files {
+        [] => return Err(refuse("no file given".into())),
+        [(name, bytes)] => return read_contours_with(name, bytes, options).map(|s| (0, s)),
+        _ => {}
+    }
+    let mut stacks = Vec::new();
+    for (n, (name, bytes)) in files.iter().enumerate() {
+        let grid = nifti::label_map_grid(bytes).ok_or_else(|| {
+            refuse(format!(
+                "{name} is not a NIfTI-1 label map: several files are read together only as one \
+                 segmented study (a short-axis label map and its long-axis views)"
+            ))
+        })?;
+        if grid.0.iter().all(|&d| d > 1) {
+            stacks.push(n);
+        }
+    }
+    let stack = match stacks[..] {
+        [one] => one,
+        [] => {
+            return Err(refuse(
+                "every file is a single slice: a segmented study needs its short-axis stack".into(),
+            ))
+        }
+        [a, b, ..] => {
+            return Err(refuse(format!(
+                "{} and {} are both stacks: open one short-axis stack at a time, with its \
+                 long-axis views",
+                files[a].0, files[b].0
+            )))
+        }
+    };
+    let views: Vec<(&str, &[u8])> = files
+        .iter()
+        .enumerate()
+        .filter(|(n, _)| *n != stack)
+        .map(|(_, f)| *f)
+        .collect();
+    let options = ContourOptions {
+        views: &views,
+        ..options.clone()
+    };
+    let (name, bytes) = files[stack];
+    // Errors about a view name it; those about the stack get its name too.
+    read_contours_with(name, bytes, &options)
+        .map(|s| (stack, s))
+        .map_err(|e| match e {
+            CoreError::Parse { line, message }
+                if !files.iter().any(|(f, _)| message.starts_with(f)) =>
+            {
+                CoreError::parse(line, format!("{name}: {message}"))
+            }
+            other => other,
+        })
 }
 
 /// `name` without a final `.gz` (in any case).

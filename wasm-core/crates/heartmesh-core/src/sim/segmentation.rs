@@ -119,26 +119,115 @@ pub fn segment(
             continue;
         };
         let layer = &mut labels[k * dims[0] * dims[1]..(k + 1) * dims[0] * dims[1]];
-        for s in structures {
-            // Section loops in pixel units of this slice.
-            let loops: Vec<Vec<[f64; 2]>> =
-                join_chains(slice_mesh(s.mesh, &plane), s.join_gap_mm, &plane)
-                    .into_iter()
-                    .filter(|l| l.closed)
-                    .map(|l| {
-                        l.points
-                            .iter()
-                            .map(|p| {
-                                let q = p - origin;
-                                [q.dot(&e1) / spec.pixel_mm, q.dot(&e2) / spec.pixel_mm]
-                            })
-                            .collect()
-                    })
-                    .collect();
-            fill(layer, dims[0], dims[1], &loops, s.label);
-        }
+        paint(
+            layer,
+            [dims[0], dims[1]],
+            &plane,
+            origin,
+            [axes[0], axes[1]],
+            structures,
+            false,
+        );
     }
     Ok(LabelVolume::new(dims, origin, axes, labels))
+}
+
+/// A long-axis view of the structures as a single-slice label map: the plane through `centre`
+/// across `normal`, its rows along `up` (projected into the plane; the long axis, as a scanner
+/// lays out a 2- or 4-chamber image), covering the structures' sections plus the margin, one
+/// slice `spec.slice_mm` thick. Sections open at a valve are closed across it.
+pub fn segment_view(
+    structures: &[Structure],
+    centre: Vec3,
+    normal: Vec3,
+    up: Vec3,
+    spec: &SegmentationSpec,
+) -> Result<LabelVolume> {
+    let bad = |m: &str| CoreError::ParamInvalid {
+        name: "segmentation".into(),
+        message: m.into(),
+    };
+    if !(spec.pixel_mm > 0.0 && spec.slice_mm > 0.0 && spec.margin_mm >= 0.0) {
+        return Err(bad("pixel, slice spacing and margin must be positive"));
+    }
+    let plane = Plane::new(centre, normal).ok_or_else(|| bad("the view's normal is zero"))?;
+    let n = plane.normal;
+    let v = up - n * up.dot(&n);
+    if v.norm().is_nan() || v.norm() <= 1e-9 {
+        return Err(bad("the view's rows cannot run along its normal"));
+    }
+    let e2 = v.normalize();
+    let e1 = e2.cross(&n);
+    let sections: Vec<Vec3> = structures
+        .iter()
+        .flat_map(|s| join_chains(slice_mesh(s.mesh, &plane), s.join_gap_mm, &plane))
+        .flat_map(|l| l.points)
+        .collect();
+    if sections.is_empty() {
+        return Err(bad("the view's plane misses every structure"));
+    }
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in &sections {
+        let q = p - centre;
+        for (c, x) in [q.dot(&e1), q.dot(&e2)].into_iter().enumerate() {
+            lo[c] = lo[c].min(x);
+            hi[c] = hi[c].max(x);
+        }
+    }
+    let count =
+        |c: usize| ((hi[c] - lo[c] + 2.0 * spec.margin_mm) / spec.pixel_mm).floor() as usize + 1;
+    let dims = [count(0), count(1), 1];
+    if dims[0] * dims[1] > MAX_VOXELS {
+        return Err(bad("more than 64 M pixels: use larger pixels"));
+    }
+    let origin = centre + e1 * (lo[0] - spec.margin_mm) + e2 * (lo[1] - spec.margin_mm);
+    let axes = [e1 * spec.pixel_mm, e2 * spec.pixel_mm, n * spec.slice_mm];
+    let mut labels = vec![0u16; dims[0] * dims[1]];
+    paint(
+        &mut labels,
+        [dims[0], dims[1]],
+        &plane,
+        origin,
+        [axes[0], axes[1]],
+        structures,
+        true,
+    );
+    Ok(LabelVolume::new(dims, origin, axes, labels))
+}
+
+/// Labels the pixels of one image (`size` pixels along the in-plane steps `steps`, pixel (0, 0)
+/// centred on `origin`) inside each structure's closed sections by `plane`, in order. With
+/// `close_open`, open sections count too, closed by their chord: a long-axis plane cuts a
+/// cavity open at its valves as a U, which a segmentation closes across the valve plane.
+fn paint(
+    layer: &mut [u16],
+    size: [usize; 2],
+    plane: &Plane,
+    origin: Vec3,
+    steps: [Vec3; 2],
+    structures: &[Structure],
+    close_open: bool,
+) {
+    let unit = steps.map(|s| s / s.norm_squared());
+    for s in structures {
+        // Section loops in pixel units of this image.
+        let loops: Vec<Vec<[f64; 2]>> =
+            join_chains(slice_mesh(s.mesh, plane), s.join_gap_mm, plane)
+                .into_iter()
+                .filter(|l| l.closed || close_open)
+                .map(|l| {
+                    l.points
+                        .iter()
+                        .map(|p| {
+                            let q = p - origin;
+                            [q.dot(&unit[0]), q.dot(&unit[1])]
+                        })
+                        .collect()
+                })
+                .collect();
+        fill(layer, size[0], size[1], &loops, s.label);
+    }
 }
 
 /// Sets to `label` the still-unlabelled pixels whose centre (x, y) lies inside `loops` (even-odd

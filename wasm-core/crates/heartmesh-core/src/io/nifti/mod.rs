@@ -15,6 +15,7 @@
 
 mod roles;
 mod trace;
+mod views;
 mod volume;
 mod write;
 
@@ -39,9 +40,41 @@ pub fn is_nifti(bytes: &[u8]) -> bool {
     magic(bytes).is_some_and(|m| m != Magic::Pair || bytes.len() == 348)
 }
 
+/// Whether a reader warning is the label-map reader's account of what it read ("label map read
+/// as ...", "long-axis view ... read as ..."): information, which the app shows apart from the
+/// warnings.
+pub fn is_reading_note(warning: &str) -> bool {
+    warning.starts_with(NOTE_STACK)
+        || (warning.starts_with(NOTE_VIEW) && warning.contains(" read as "))
+}
+
+const NOTE_STACK: &str = "label map read as ";
+const NOTE_VIEW: &str = "long-axis view ";
+
+/// Voxels along i, j, k and time frames of a NIfTI-1 label map (plain or gzip), from its header
+/// alone; None when it is not one.
+pub fn label_map_grid(bytes: &[u8]) -> Option<([usize; 3], usize)> {
+    if is_gzip(bytes) {
+        volume::grid(&inflate_head(bytes, 348))
+    } else {
+        volume::grid(bytes)
+    }
+}
+
 /// Reads the contours of a NIfTI label map: one surface per structure, one curve per slice (a
 /// second loop in a slice is a contour of its own, which the core's checks then judge).
 pub fn read_nifti(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSet> {
+    read_nifti_study(bytes, &[], frame)
+}
+
+/// [`read_nifti`] of a short-axis stack with its long-axis views (`(file name, bytes)`, each a
+/// single-slice label map in the same world): each view adds one curve per surface whose
+/// structures it shows ([`views`]), so the apex and base are drawn rather than extrapolated.
+pub fn read_nifti_study(
+    bytes: &[u8],
+    views: &[(&str, &[u8])],
+    frame: Option<&FrameChoice>,
+) -> Result<ContourSet> {
     let data = inflate(bytes)?;
     let volume = read_label_frame(&data, frame)?;
     let labelled = &volume.labelled;
@@ -58,28 +91,36 @@ pub fn read_nifti(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSe
     }
     let plan = plan(&volume);
     let roles = find_roles(&volume.labels, volume.dims, plan.axis);
+    let surfaces = surfaces(&roles);
     let mut b = ContourBuilder::new();
     let mut specks = 0;
-    for (surface, labels) in surfaces(&roles) {
-        let (loops, left) = trace(&volume, &labels, &plan);
+    for (surface, labels) in &surfaces {
+        let (loops, left) = trace(&volume, labels, &plan);
         specks += left;
-        let mut seen_slice = None;
-        let mut nth = 0;
-        for l in loops {
-            nth = if seen_slice == Some(l.slice) {
-                nth + 1
-            } else {
-                1
-            };
-            seen_slice = Some(l.slice);
-            let id = match nth {
-                1 => format!("slice {}", l.slice),
-                n => format!("slice {} ({n})", l.slice),
-            };
-            b.push_piece(&id, Some(&surface), l.points, Some(true), 0)?;
-        }
+        push_loops(&mut b, surface, loops, |l| format!("slice {}", l.slice))?;
     }
     b.warn(describe(&volume, &roles, &plan));
+    let mut view_notes = Vec::new();
+    // In name order (file names, not folders): the same files give the same contours, and so
+    // the same mesh, however they were listed.
+    let base = |name: &str| name.rsplit(['/', '\\']).next().unwrap_or(name).to_string();
+    let mut order: Vec<usize> = (0..views.len()).collect();
+    order.sort_by_key(|&n| (base(views[n].0), n));
+    for (n, (name, view_bytes)) in order.into_iter().map(|n| (n, views[n])) {
+        let id = view_id(name, n, views);
+        let (note, left) = add_view(&mut b, &volume, &roles, &surfaces, name, &id, view_bytes)?;
+        specks += left;
+        view_notes.push(note);
+    }
+    for note in view_notes {
+        b.warn(note);
+    }
+    if views.is_empty() && volume.dims[plan.axis] == 1 {
+        b.warn(
+            "the label map is a single slice (a long-axis view?): a surface needs a short-axis \
+             stack; open the view together with its stack",
+        );
+    }
     if specks > 0 {
         let (n, what) = match specks {
             1 => ("1 speck".to_string(), "a stray voxel or two"),
@@ -115,6 +156,161 @@ pub fn read_nifti(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSe
         });
     }
     Ok(set)
+}
+
+/// Adds the loops of one surface, named `name(loop)`, a second loop of the same slice or view
+/// with " (2)" and so on.
+fn push_loops(
+    b: &mut ContourBuilder,
+    surface: &str,
+    loops: Vec<trace::Loop>,
+    name: impl Fn(&trace::Loop) -> String,
+) -> Result<()> {
+    let mut seen_slice = None;
+    let mut nth = 0;
+    for l in loops {
+        nth = if seen_slice == Some(l.slice) {
+            nth + 1
+        } else {
+            1
+        };
+        seen_slice = Some(l.slice);
+        let id = match nth {
+            1 => name(&l),
+            n => format!("{} ({n})", name(&l)),
+        };
+        b.push_piece(&id, Some(surface), l.points, Some(true), 0)?;
+    }
+    Ok(())
+}
+
+/// A view's contour name: its file name without `.nii`/`.nii.gz` (and folders), numbered when
+/// two views share one.
+fn view_id(name: &str, n: usize, views: &[(&str, &[u8])]) -> String {
+    let stem = |name: &str| {
+        let base = name.rsplit(['/', '\\']).next().unwrap_or(name);
+        let lower = base.to_ascii_lowercase();
+        let cut = [".nii.gz", ".nii", ".gz"]
+            .into_iter()
+            .find(|e| lower.ends_with(e))
+            .map_or(0, str::len);
+        let s = &base[..base.len() - cut];
+        if s.is_empty() {
+            "view".to_string()
+        } else {
+            s.to_string()
+        }
+    };
+    let own = stem(name);
+    let same = views.iter().filter(|(v, _)| stem(v) == own).count();
+    if same > 1 {
+        format!("{own} #{}", n + 1)
+    } else {
+        own
+    }
+}
+
+/// Traces one long-axis view into the surfaces of the stack whose structures it shows: a
+/// surface gets the view's curve only when every stack label of it has a match (an LV_EPI curve
+/// needs the cavity and the myocardium). Returns the note that says what matched, and specks.
+fn add_view(
+    b: &mut ContourBuilder,
+    stack: &LabelVolume,
+    roles: &Roles,
+    surfaces: &[(String, Vec<u16>)],
+    name: &str,
+    id: &str,
+    bytes: &[u8],
+) -> Result<(String, usize)> {
+    let shown = name.rsplit(['/', '\\']).next().unwrap_or(name);
+    let named = |e: crate::error::CoreError| match e {
+        crate::error::CoreError::Parse { line, message } => {
+            crate::error::CoreError::parse(line, format!("{name}: {message}"))
+        }
+        other => other,
+    };
+    let data = inflate(bytes).map_err(named)?;
+    let grid = volume::grid(&data);
+    // The stack's frame of a cine view; a view of one frame goes with any frame of the stack.
+    let want = match grid {
+        Some((_, frames)) if frames > 1 => FrameChoice::new(&stack.frame.to_string()),
+        _ => None,
+    };
+    let view = read_label_frame(&data, want.as_ref()).map_err(named)?;
+    let axis = views::single_slice_axis(&view, name)?;
+    if !view.labelled.contains(&view.frame) {
+        return Ok((
+            format!(
+                "long-axis view {shown}: frame {} holds no labels; not used",
+                view.frame
+            ),
+            0,
+        ));
+    }
+    let matches = views::match_labels(stack, &view);
+    let plan = SlicePlan {
+        axis,
+        step: 1,
+        spacing_mm: view.spacing()[axis],
+    };
+    let mut specks = 0;
+    let mut used = 0;
+    for (surface, stack_labels) in surfaces {
+        let mine: Vec<u16> = stack_labels
+            .iter()
+            .filter_map(|s| {
+                matches
+                    .iter()
+                    .find(|m| m.stack_label == Some(*s))
+                    .map(|m| m.view_label)
+            })
+            .collect();
+        if mine.len() < stack_labels.len() {
+            continue;
+        }
+        let (loops, left) = trace(&view, &mine, &plan);
+        specks += left;
+        used += usize::from(!loops.is_empty());
+        push_loops(b, surface, loops, |_| id.to_string())?;
+    }
+    let role = |s: u16| match (roles.lv, roles.myo, roles.rv) {
+        (Some(l), _, _) if l == s => "LV cavity".to_string(),
+        (_, Some(m), _) if m == s => "myocardium".to_string(),
+        (_, _, Some(r)) if r == s => "RV cavity".to_string(),
+        _ => format!("LABEL_{s}"),
+    };
+    let found: Vec<String> = matches
+        .iter()
+        .filter_map(|m| {
+            m.stack_label
+                .map(|s| format!("{} {} ({:.0} %)", m.view_label, role(s), 100.0 * m.share))
+        })
+        .collect();
+    let unmatched: Vec<String> = matches
+        .iter()
+        .filter(|m| m.stack_label.is_none())
+        .map(|m| m.view_label.to_string())
+        .collect();
+    let mut note = if found.is_empty() {
+        format!(
+            "long-axis view {shown}: none of its labels lies on the stack's structures (is it of \
+             this patient and time frame?); not used"
+        )
+    } else {
+        format!(
+            "{NOTE_VIEW}{shown} read as {} by where its pixels lie in the stack; {used} curve{} added",
+            found.join(", "),
+            if used == 1 { "" } else { "s" }
+        )
+    };
+    if !found.is_empty() && !unmatched.is_empty() {
+        note += &format!(
+            "; label{} {} on none of the stack's structures (atria, vessels), left out",
+            if unmatched.len() == 1 { "" } else { "s" },
+            unmatched.join(", ")
+        );
+    }
+    Ok((note, specks))
 }
 
 /// Surfaces to trace and the labels inside each.
@@ -165,7 +361,7 @@ fn describe(volume: &LabelVolume, roles: &Roles, plan: &SlicePlan) -> String {
         n => format!(", every {n}th slice"),
     };
     format!(
-        "label map read as {}; traced across the {axis} axis{every}, {:.1} mm apart, \
+        "{NOTE_STACK}{}; traced across the {axis} axis{every}, {:.1} mm apart, \
          {:.2} x {:.2} mm pixels; coordinates from the header's {}",
         parts.join(", "),
         plan.spacing_mm,
@@ -254,6 +450,190 @@ mod tests {
         assert!(
             e.to_string()
                 .contains("frame 0 of the label map holds no labels (frames with labels: 1, 2)"),
+            "{e}"
+        );
+    }
+
+    /// A vertical long-axis view (x-z plane) through the middle of [`stack`]: UK Biobank
+    /// numbering (1 LV, 2 myocardium, 3 RV) against the stack's ACDC, an atrium (4) above it,
+    /// 1.5 x 1 mm pixels, 8 mm thick; frames holding labels as `labelled` says.
+    fn view(frames: u16, labelled: &[u16], lift_mm: f32) -> Vec<u8> {
+        let slice = heart_slice(40, 3, 2, 1);
+        let (nx, nz) = (40usize, 70usize);
+        let mut one = vec![0u8; nx * nz];
+        for z in 0..nz {
+            let height = z as f64 - 5.0;
+            for x in 0..nx {
+                let own = if (-5.0..55.0).contains(&height) {
+                    slice[x + 40 * 20]
+                } else {
+                    0
+                };
+                one[x + nx * z] = match own {
+                    3 => 1,
+                    2 => 2,
+                    1 => 3,
+                    _ if height > 55.0 && (10..30).contains(&x) => 4,
+                    _ => 0,
+                };
+            }
+        }
+        let voxels: Vec<u8> = (0..frames)
+            .flat_map(|t| {
+                let keep = labelled.contains(&t);
+                one.iter().map(move |&l| if keep { l } else { 0 })
+            })
+            .collect();
+        let rows = [
+            [1.5, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 8.0, 30.0],
+            [0.0, 1.0, 0.0, -5.0 + lift_mm],
+        ];
+        let dims: Vec<u16> = if frames > 1 {
+            vec![nx as u16, nz as u16, 1, frames]
+        } else {
+            vec![nx as u16, nz as u16, 1]
+        };
+        nifti_bytes(&dims, Some(rows), &voxels)
+    }
+
+    fn curves(set: &ContourSet, surface: &str, prefix: &str) -> usize {
+        set.contours
+            .iter()
+            .filter(|c| c.surface.as_deref() == Some(surface) && c.id.starts_with(prefix))
+            .count()
+    }
+
+    #[test]
+    fn a_stack_with_a_long_axis_view() {
+        let stack = stack(6, 1);
+        let v = view(1, &[0], 0.0);
+        let set = read_nifti_study(&stack, &[("dir/la_4ch.nii", &v)], None).unwrap();
+        for surface in ["LV_ENDO", "LV_EPI", "RV_ENDO"] {
+            assert_eq!(curves(&set, surface, "slice"), 6, "{surface}");
+            assert_eq!(curves(&set, surface, "la_4ch"), 1, "{surface}");
+        }
+        // The LV cavity's curve runs from the apex slice's level to the top slice's, in the view's
+        // plane (y = 30 mm).
+        let c = set
+            .contours
+            .iter()
+            .find(|c| c.surface.as_deref() == Some("LV_ENDO") && c.id.starts_with("la_4ch"))
+            .unwrap();
+        let zs: Vec<f64> = c.points().map(|p| p.z).collect();
+        let (lo, hi) = (
+            zs.iter().cloned().fold(f64::MAX, f64::min),
+            zs.iter().cloned().fold(f64::MIN, f64::max),
+        );
+        assert!(
+            (lo + 5.0).abs() < 1.0 && (hi - 55.0).abs() < 1.0,
+            "{lo} {hi}"
+        );
+        assert!(c.points().all(|p| (p.y - 30.0).abs() < 1e-6));
+        let note = set
+            .warnings
+            .iter()
+            .find(|w| w.starts_with("long-axis view la_4ch.nii read as"))
+            .unwrap();
+        assert!(
+            note.contains("1 LV cavity (100 %)")
+                && note.contains("3 RV cavity")
+                && note.contains("label 4 on none"),
+            "{note}"
+        );
+        assert!(is_reading_note(note) && is_reading_note(&set.warnings[0]));
+        assert!(!set.warnings.iter().any(|w| w.contains("single slice")));
+        // Listed in any order, views are read in name order: the same contours.
+        let ids = |views: &[(&str, &[u8])]| -> Vec<String> {
+            let set = read_nifti_study(&stack, views, None).unwrap();
+            set.contours.iter().map(|c| c.id.clone()).collect()
+        };
+        let other = view(1, &[0], 2.0);
+        assert_eq!(
+            ids(&[("dir/la_b.nii", &v), ("la_a.nii", &other)]),
+            ids(&[("la_a.nii", &other), ("la_b.nii", &v)])
+        );
+        // Alone, a view is one slice: said so.
+        let alone = read_nifti(&v, None).unwrap();
+        assert!(alone.warnings.iter().any(|w| w.contains("a single slice")));
+        // From another patient or acquisition: nothing lies on the stack; said, not used.
+        let far = view(1, &[0], 400.0);
+        let set = read_nifti_study(&stack, &[("far.nii", &far)], None).unwrap();
+        assert_eq!(curves(&set, "LV_ENDO", "far"), 0);
+        assert!(set
+            .warnings
+            .iter()
+            .any(|w| w.contains("far.nii: none of its labels") && !is_reading_note(w)));
+        // A second stack as a view, and a damaged view, are refused naming the file.
+        let e = read_nifti_study(&stack, &[("sa2.nii", &stack)], None).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("sa2.nii: 40 x 40 x 6 voxels is a stack"),
+            "{e}"
+        );
+        let e = read_nifti_study(&stack, &[("cut.nii", &v[..400])], None).unwrap_err();
+        assert!(
+            e.to_string().contains("cut.nii: the file is truncated"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn cine_views_follow_the_stacks_frame() {
+        let stack = stack(6, 3);
+        // The view's frame 1 was left unlabelled.
+        let v = view(3, &[0, 2], 0.0);
+        let views: [(&str, &[u8]); 1] = [("la.nii", &v)];
+        let at = |f: &str| read_nifti_study(&stack, &views, FrameChoice::new(f).as_ref()).unwrap();
+        assert_eq!(curves(&at("2"), "LV_ENDO", "la"), 1);
+        let one = at("1");
+        assert_eq!(curves(&one, "LV_ENDO", "la"), 0);
+        assert!(
+            one.warnings
+                .iter()
+                .any(|w| w == "long-axis view la.nii: frame 1 holds no labels; not used"),
+            "{:?}",
+            one.warnings
+        );
+        // A view of one frame goes with every frame of the stack.
+        let still = view(1, &[0], 0.0);
+        let set = read_nifti_study(
+            &stack,
+            &[("la.nii", &still)],
+            FrameChoice::new("1").as_ref(),
+        )
+        .unwrap();
+        assert_eq!(curves(&set, "LV_EPI", "la"), 1);
+    }
+
+    #[test]
+    fn studies_of_several_files() {
+        use crate::io::{read_study, ContourOptions};
+        let stack = stack(6, 1);
+        let v = view(1, &[0], 0.0);
+        let o = ContourOptions::default();
+        let (at, set) = read_study(&[("la.nii", &v), ("sa.nii", &stack)], &o).unwrap();
+        assert_eq!((at, curves(&set, "LV_ENDO", "la")), (1, 1));
+        let text = |files: &[(&str, &[u8])]| read_study(files, &o).unwrap_err().to_string();
+        assert!(text(&[("sa.nii", &stack), ("b.nii", &stack)])
+            .contains("sa.nii and b.nii are both stacks"));
+        assert!(text(&[("la.nii", &v), ("lb.nii", &v)]).contains("every file is a single slice"));
+        assert!(text(&[("sa.nii", &stack), ("c.csv", b"contour,x,y,z\n")])
+            .contains("c.csv is not a NIfTI-1 label map"));
+        // A stack's own damage is named too.
+        let e = text(&[("sa.nii", &stack[..1000]), ("la.nii", &v)]);
+        assert!(e.contains("sa.nii: the file is truncated"), "{e}");
+        // Views beside another format, through the options.
+        let views: [(&str, &[u8]); 1] = [("la.nii", &v)];
+        let with = ContourOptions {
+            views: &views,
+            ..ContourOptions::default()
+        };
+        let e =
+            crate::io::read_contours_with("c.csv", b"contour,x,y,z\n1,0,0,0\n", &with).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("long-axis label maps are read with a NIfTI"),
             "{e}"
         );
     }

@@ -117,6 +117,19 @@ pub fn read_label_volume(bytes: &[u8]) -> Result<LabelVolume> {
     read_label_frame(bytes, None)
 }
 
+/// Voxels along i, j, k and the number of time frames a NIfTI-1 header declares (None: not a
+/// readable NIfTI-1 header), without reading the voxels: enough to tell a short-axis stack from a
+/// single long-axis slice among files opened together.
+pub fn grid(header_bytes: &[u8]) -> Option<([usize; 3], usize)> {
+    if magic(header_bytes) != Some(Magic::Single) {
+        return None;
+    }
+    let header = NiftiHeader::from_reader(header_bytes).ok()?;
+    let dims = header.dim().ok()?;
+    let size = |a: usize| dims.get(a).map_or(1, |&d| usize::from(d));
+    Some(([size(0), size(1), size(2)], size(3)))
+}
+
 /// Reads frame `want` of a label map (by its number from 0; None: the first holding labels, or
 /// frame 0 of an empty map) from the (inflated) bytes of a single-file NIfTI-1.
 pub fn read_label_frame(bytes: &[u8], want: Option<&FrameChoice>) -> Result<LabelVolume> {
