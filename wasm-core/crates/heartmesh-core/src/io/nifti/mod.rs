@@ -108,9 +108,9 @@ pub fn read_nifti_study(
     order.sort_by_key(|&n| (base(views[n].0), n));
     for (n, (name, view_bytes)) in order.into_iter().map(|n| (n, views[n])) {
         let id = view_id(name, n, views);
-        let (note, left) = add_view(&mut b, &volume, &roles, &surfaces, name, &id, view_bytes)?;
+        let (notes, left) = add_view(&mut b, &volume, &roles, &surfaces, name, &id, view_bytes)?;
         specks += left;
-        view_notes.push(note);
+        view_notes.extend(notes);
     }
     for note in view_notes {
         b.warn(note);
@@ -212,7 +212,8 @@ fn view_id(name: &str, n: usize, views: &[(&str, &[u8])]) -> String {
 
 /// Traces one long-axis view into the surfaces of the stack whose structures it shows: a
 /// surface gets the view's curve only when every stack label of it has a match (an LV_EPI curve
-/// needs the cavity and the myocardium). Returns the note that says what matched, and specks.
+/// needs the cavity and the myocardium). Returns the note that says what matched (and a warning
+/// when a still view is read with one frame of a cine stack), and specks.
 fn add_view(
     b: &mut ContourBuilder,
     stack: &LabelVolume,
@@ -221,7 +222,7 @@ fn add_view(
     name: &str,
     id: &str,
     bytes: &[u8],
-) -> Result<(String, usize)> {
+) -> Result<(Vec<String>, usize)> {
     let shown = name.rsplit(['/', '\\']).next().unwrap_or(name);
     let named = |e: crate::error::CoreError| match e {
         crate::error::CoreError::Parse { line, message } => {
@@ -240,10 +241,10 @@ fn add_view(
     let axis = views::single_slice_axis(&view, name)?;
     if !view.labelled.contains(&view.frame) {
         return Ok((
-            format!(
+            vec![format!(
                 "long-axis view {shown}: frame {} holds no labels; not used",
                 view.frame
-            ),
+            )],
             0,
         ));
     }
@@ -310,7 +311,15 @@ fn add_view(
             unmatched.join(", ")
         );
     }
-    Ok((note, specks))
+    let mut said = vec![note];
+    if used > 0 && view.frames == 1 && stack.labelled.len() > 1 {
+        said.push(format!(
+            "{shown} holds one time frame, read with frame {} of the cine stack: make sure it \
+             shows the same phase",
+            stack.frame
+        ));
+    }
+    Ok((said, specks))
 }
 
 /// Surfaces to trace and the labels inside each.
@@ -337,10 +346,15 @@ fn surfaces(roles: &Roles) -> Vec<(String, Vec<u16>)> {
 /// The reading, in one line: which label became which surface, how the slices were taken.
 fn describe(volume: &LabelVolume, roles: &Roles, plan: &SlicePlan) -> String {
     let mut parts = Vec::new();
-    if let (Some(lv), Some(myo)) = (roles.lv, roles.myo) {
-        parts.push(format!(
+    match (roles.lv, roles.myo) {
+        (Some(lv), Some(myo)) if roles.biventricular => parts.push(format!(
+            "{lv} LV cavity (LV_ENDO), {myo} myocardium of both ventricles (LV_EPI around \
+             cavities and myocardium: the biventricular epicardium)"
+        )),
+        (Some(lv), Some(myo)) => parts.push(format!(
             "{lv} LV cavity (LV_ENDO), {myo} myocardium (LV_EPI around both)"
-        ));
+        )),
+        _ => {}
     }
     if let Some(rv) = roles.rv {
         parts.push(format!("{rv} RV cavity (RV_ENDO)"));
@@ -604,6 +618,18 @@ mod tests {
         )
         .unwrap();
         assert_eq!(curves(&set, "LV_EPI", "la"), 1);
+        assert!(
+            set.warnings.iter().any(|w| w
+                == "la.nii holds one time frame, read with frame 1 of the cine stack: make sure \
+                    it shows the same phase"),
+            "{:?}",
+            set.warnings
+        );
+        // With a cine view, no such warning.
+        assert!(!at("2")
+            .warnings
+            .iter()
+            .any(|w| w.contains("one time frame")));
     }
 
     #[test]

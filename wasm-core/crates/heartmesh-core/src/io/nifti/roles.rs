@@ -16,12 +16,19 @@ use std::collections::HashMap;
 /// RV's along the septum, shares well under half its outline.
 const ENCLOSED: f64 = 0.6;
 
+/// A cavity ringed by the same wall as the best-ringed one, sharing at least 1/RIVAL of its
+/// outline with it, is a rival cavity (the other ventricle) rather than a stray clump.
+const RIVAL: usize = 4;
+
 /// The roles found, by label value.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Roles {
     pub lv: Option<u16>,
     pub myo: Option<u16>,
     pub rv: Option<u16>,
+    /// The myocardium rings the RV cavity too (its free wall labelled with the septum): the
+    /// outline of cavity and myocardium is then the biventricular epicardium.
+    pub biventricular: bool,
     /// Labels present but none of the above, ascending.
     pub others: Vec<u16>,
 }
@@ -99,19 +106,45 @@ pub fn find_roles(labels: &[u16], dims: [usize; 3], slice_axis: usize) -> Roles 
     // Of the enclosed pairs, the one sharing the most outline: a stray voxel of another label
     // inside the RV is wholly enclosed too, but along a few faces where the LV's ring runs along
     // hundreds.
-    let mut best: Option<(usize, u16, u16)> = None;
+    let mut enclosed: Vec<(usize, u16, u16)> = Vec::new();
     for &cavity in &present {
         let outline = t.outline(cavity);
         for &wall in present.iter().filter(|&&w| w != cavity) {
             let shared = t.shared(cavity, wall);
-            let share = shared as f64 / outline.max(1) as f64;
-            if share >= ENCLOSED && best.is_none_or(|(s, _, _)| shared > s) {
-                best = Some((shared, cavity, wall));
+            if shared as f64 >= ENCLOSED * outline.max(1) as f64 {
+                enclosed.push((shared, cavity, wall));
             }
+        }
+    }
+    let mut biventricular = false;
+    let mut best = enclosed
+        .iter()
+        .copied()
+        .max_by_key(|&(s, c, _)| (s, std::cmp::Reverse(c)));
+    // A wall that rings two cavities of comparable outline is a biventricular myocardium (the RV
+    // free wall labelled with the septum, as segmentations painted from biventricular models
+    // are): both cavities are enclosed, and the RV, wrapped around the septum, has the longer
+    // outline. The LV cavity is the convex one; the RV's sections are crescents.
+    if let Some((most, _, wall)) = best {
+        let rivals: Vec<(usize, u16, u16)> = enclosed
+            .iter()
+            .copied()
+            .filter(|&(s, _, w)| w == wall && s * RIVAL >= most)
+            .collect();
+        if rivals.len() > 1 {
+            biventricular = true;
+            best = rivals.into_iter().max_by(|a, b| {
+                let (ca, cb) = (
+                    convexity(labels, dims, slice_axis, a.1),
+                    convexity(labels, dims, slice_axis, b.1),
+                );
+                ca.total_cmp(&cb).then(b.1.cmp(&a.1))
+            });
         }
     }
     let mut roles = Roles::default();
     if let Some((_, lv, myo)) = best {
+        roles.biventricular = biventricular;
         roles.lv = Some(lv);
         roles.myo = Some(myo);
         roles.rv = present
@@ -125,6 +158,77 @@ pub fn find_roles(labels: &[u16], dims: [usize; 3], slice_axis: usize) -> Roles 
         .filter(|l| ![roles.lv, roles.myo, roles.rv].contains(&Some(*l)))
         .collect();
     roles
+}
+
+/// How convex a label's sections are: its pixels over the area of their convex hulls, summed over
+/// the slices across `slice_axis` holding at least 10 of them (1 for discs and ellipses, about
+/// 0.5-0.8 for a crescent). The hull is of pixel centres, grown by half its perimeter plus one
+/// (Pick's theorem), so that a convex digital shape scores 1 whatever its size.
+fn convexity(labels: &[u16], dims: [usize; 3], slice_axis: usize, label: u16) -> f64 {
+    let (u, v) = match slice_axis {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    };
+    let stride = [1, dims[0], dims[0] * dims[1]];
+    let (mut pixels, mut hull) = (0.0, 0.0);
+    let mut points: Vec<(i64, i64)> = Vec::new();
+    for s in 0..dims[slice_axis] {
+        points.clear();
+        for y in 0..dims[v] {
+            for x in 0..dims[u] {
+                if labels[s * stride[slice_axis] + x * stride[u] + y * stride[v]] == label {
+                    points.push((x as i64, y as i64));
+                }
+            }
+        }
+        if points.len() < 10 {
+            continue;
+        }
+        let ring = convex_hull(&mut points);
+        let n = ring.len();
+        let (mut twice_area, mut perimeter) = (0i64, 0.0);
+        for k in 0..n {
+            let (a, b) = (ring[k], ring[(k + 1) % n]);
+            twice_area += a.0 * b.1 - b.0 * a.1;
+            perimeter += ((b.0 - a.0) as f64).hypot((b.1 - a.1) as f64);
+        }
+        pixels += points.len() as f64;
+        hull += twice_area.abs() as f64 / 2.0 + perimeter / 2.0 + 1.0;
+    }
+    if hull > 0.0 {
+        pixels / hull
+    } else {
+        0.0
+    }
+}
+
+/// Convex hull (counter-clockwise, no collinear points) of integer points (Andrew's monotone
+/// chain); sorts `points`.
+fn convex_hull(points: &mut [(i64, i64)]) -> Vec<(i64, i64)> {
+    points.sort_unstable();
+    let cross = |o: (i64, i64), a: (i64, i64), b: (i64, i64)| {
+        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+    };
+    let mut hull: Vec<(i64, i64)> = Vec::with_capacity(points.len() + 1);
+    for pass in 0..2 {
+        let start = hull.len();
+        let ordered: Box<dyn Iterator<Item = &(i64, i64)>> = if pass == 0 {
+            Box::new(points.iter())
+        } else {
+            Box::new(points.iter().rev())
+        };
+        for &p in ordered {
+            while hull.len() >= start + 2
+                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0
+            {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
 }
 
 #[cfg(test)]
@@ -167,6 +271,46 @@ pub(crate) mod tests {
                 "labels {lv}/{myo}/{rv}"
             );
             assert!(roles.others.is_empty());
+        }
+    }
+
+    #[test]
+    fn a_biventricular_myocardium_rings_both_cavities() {
+        // The RV free wall labelled as myocardium too (a segmentation painted from a
+        // biventricular model): both cavities are wholly ringed by label 2, the RV crescent with
+        // the longer outline. The LV is the convex one, whatever the numbers.
+        for (lv, rv) in [(3, 1), (1, 3)] {
+            let n = 60;
+            let mut slice = heart_slice(n, lv, 2, rv);
+            let c = n as f64 / 2.0;
+            let at = |x: usize, y: usize| (x as f64 + 0.5 - c, y as f64 + 0.5 - c);
+            let grown: Vec<u16> = (0..n * n)
+                .map(|i| {
+                    let (dx, dy) = at(i % n, i / n);
+                    let outer = (dx + 0.75 * c).hypot(dy) < 0.6 * c + 2.5;
+                    if slice[i] == 0 && outer {
+                        2
+                    } else {
+                        slice[i]
+                    }
+                })
+                .collect();
+            slice = grown;
+            let stack: Vec<u16> = [slice.clone(), slice.clone(), slice].concat();
+            let t = Touching::of(&stack, [n, n, 3], 2);
+            assert!(t.shared(rv, 2) > t.shared(lv, 2), "the RV's ring is longer");
+            assert!(t.shared(rv, 2) as f64 >= ENCLOSED * t.outline(rv) as f64);
+            let roles = find_roles(&stack, [n, n, 3], 2);
+            assert_eq!(
+                (roles.lv, roles.myo, roles.rv),
+                (Some(lv), Some(2), Some(rv))
+            );
+            // This RV is a disc bitten by the LV's ring: a shallow crescent, yet clearly apart.
+            let (l, r) = (
+                convexity(&stack, [n, n, 3], 2, lv),
+                convexity(&stack, [n, n, 3], 2, rv),
+            );
+            assert!(l > 0.95 && r < l - 0.05, "LV {l} RV {r}");
         }
     }
 
