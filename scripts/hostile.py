@@ -339,6 +339,7 @@ def other_readers(out_dir, rng):
     cases += corruptions("mat", mat, "mat", rng, 5)
     cases += label_maps(rng)
     cases += label_map_views(out_dir, rng)
+    cases += nrrd_maps(out_dir, rng)
     src = os.path.join(CONTOURS, "surfco-example.csv")
     for ext in ("vtk", "vtp", "json", "dcm"):
         path = os.path.join(out_dir, "surfco." + ext)
@@ -446,6 +447,52 @@ def label_map_views(out_dir, rng):
     with_view("rank-4-frames", patched([(40, "<h", (4,)), (48, "<h", (30,))]), expect="error")
     with_view("second-stack", gzip.decompress(stack), expect="error")
     with_view("frame-of-stack-missing", one, expect="ok", more=["--frame", "0"])
+    return cases
+
+
+def nrrd_maps(out_dir, rng):
+    """3D Slicer segmentations (`.seg.nrrd`, session 22): the spasm map as `segment` writes it,
+    gzip-encoded and raw, cut and corrupted, and headers that lie or name what is not read."""
+    import gzip
+    seg = os.path.join(out_dir, "nrrd", "seg.seg.nrrd")
+    if not os.path.exists(seg):
+        os.makedirs(os.path.dirname(seg), exist_ok=True)
+        r = run([BIN, "segment", "--lv-endo", os.path.join(MESHES, "cardiomesh-spasm-LV_endo.obj"),
+                 "--lv-epi", os.path.join(MESHES, "cardiomesh-spasm-LV_epi.obj"), "-o", seg,
+                 "--quiet"])
+        if r.returncode != 0:
+            raise RuntimeError("segment failed: " + r.stderr.decode(errors="replace"))
+    with open(seg, "rb") as f:
+        gz = f.read()
+    cut = gz.index(b"\n\n") + 2
+    head, body = gz[:cut].decode(), gz[cut:]
+    raw = (head.replace("encoding: gzip", "encoding: raw")).encode() + gzip.decompress(body)
+    lv = ["--surface", "LV_EPI"]
+    cases = corruptions("nrrd-gzip", gz, "nrrd", rng, 4, args=lv)
+    cases += corruptions("nrrd-raw", raw, "nrrd", rng, 4, args=lv)
+
+    def edited(name, old, new, data=None, expect="error"):
+        h = head.replace(old, new)
+        cases.append(Case("nrrd-" + name, h.encode() + (body if data is None else data), "nrrd",
+                          args=lv, expect=expect))
+
+    edited("sizes-huge", "sizes: ", "sizes: 99999 99999 ")
+    edited("sizes-zero", "sizes: ", "sizes: 0 ")
+    edited("dimension-7", "dimension: 3", "dimension: 7")
+    edited("type-block", "type: uint8", "type: block")
+    edited("type-float", "type: uint8", "type: float")
+    edited("encoding-bzip2", "encoding: gzip", "encoding: bzip2")
+    edited("encoding-hex", "encoding: gzip", "encoding: hex")
+    edited("detached", "encoding: gzip", "encoding: gzip\ndata file: seg.raw.gz", data=b"")
+    edited("directions-flat", "space directions: (", "space directions: (0,0,0) (")
+    edited("directions-nan", "space directions: (", "space directions: (nan,")
+    edited("origin-garbage", "space origin: (", "space origin: (x")
+    edited("byte-skip-past", "encoding: gzip", "encoding: gzip\nbyte skip: 99999999")
+    edited("byte-skip-minus-one", "encoding: gzip", "encoding: gzip\nbyte skip: -1", expect="ok")
+    edited("no-space", "space: left-posterior-superior\n", "", expect="ok")
+    edited("not-gzip", "encoding: gzip", "encoding: gzip", data=gzip.decompress(body))
+    cases.append(Case("nrrd-header-only", head.encode(), "nrrd", args=lv))
+    cases.append(Case("nrrd-no-blank-line", head.rstrip("\n").encode(), "nrrd", args=lv))
     return cases
 
 

@@ -20,4 +20,5 @@ export function readText(path: string): string;
 export function writeScratch(name: string, text: string): string;
 // eslint-disable-next-line @typescript-eslint/no-explicit-any
 export function cliReport(input: string, args: string[], label: string): Record<string, any>;
+export function cliSegment(args: string[], name: string): string;
 export function cliSimulate(truth: string, args: string[], name: string): string;

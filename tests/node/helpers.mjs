@@ -119,6 +119,14 @@ export function cliReport(input, args, label) {
   return JSON.parse(readFileSync(report, 'utf8'));
 }
 
+/** The native CLI's `segment` (`args`: its surfaces and options) into the scratch folder as `name`; returns its path. */
+export function cliSegment(args, name) {
+  if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);
+  const out = writeScratch(name, '');
+  execFileSync(CLI, ['segment', ...args, '-o', out, '--quiet']);
+  return out;
+}
+
 /** The native CLI's `simulate` of the truth mesh `truth` with `args`, into the scratch folder as `name`; returns its path. */
 export function cliSimulate(truth, args, name) {
   if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);

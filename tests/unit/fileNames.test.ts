@@ -38,6 +38,8 @@ describe('distinctName', () => {
 describe('splitExtension', () => {
   it('keeps a compressed file\'s extension whole (.nii.gz, .csv.gz) and splits other names at their last dot', () => {
     expect(splitExtension('seg.nii.gz')).toEqual(['seg', '.nii.gz']);
+    expect(splitExtension('Segmentation.seg.nrrd')).toEqual(['Segmentation', '.seg.nrrd']);
+    expect(splitExtension('label.nrrd')).toEqual(['label', '.nrrd']);
     expect(splitExtension('a.b.NII.GZ')).toEqual(['a.b', '.NII.GZ']);
     expect(splitExtension('x.nii')).toEqual(['x', '.nii']);
     expect(splitExtension('contours.csv.gz')).toEqual(['contours', '.csv.gz']);

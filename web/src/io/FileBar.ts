@@ -10,11 +10,11 @@ import { SAMPLES, type Sample } from './samples';
 
 /**
  * The contour formats the core reads (canonical CSV first; see README "Files"), and NIfTI label
- * maps (segmentations, `.nii` or `.nii.gz`). A bare `.gz` too: the core reads any of these
+ * maps (segmentations, `.nii` or `.nii.gz`; 3D Slicer's `.nrrd` / `.seg.nrrd`). A bare `.gz` too: the core reads any of these
  * formats gzip-compressed (`contours.csv.gz`), not every file dialog filters on a two-part
  * extension, and the core names what it cannot read in a compressed file the user chose.
  */
-export const ACCEPT = '.csv,.txt,.tsv,.dat,.xyz,.vtk,.vtp,.mat,.json,.dcm,.nii,.nii.gz,.gz,text/csv,text/plain,application/dicom';
+export const ACCEPT = '.csv,.txt,.tsv,.dat,.xyz,.vtk,.vtp,.mat,.json,.dcm,.nii,.nii.gz,.nrrd,.gz,text/csv,text/plain,application/dicom';
 
 export interface FileBarHandlers {
   openFiles(files: File[]): void;

@@ -6,8 +6,11 @@
  * for a file of extension `nii (2)`).
  */
 
-/** `.gz` after an extension of 1-4 letters or digits: one extension (`.nii.gz`, `.csv.gz`, `.tar.gz`). */
-const COMPRESSED = /\.[a-z0-9]{1,4}\.gz$/i;
+/**
+ * `.gz` after an extension of 1-4 letters or digits: one extension (`.nii.gz`, `.csv.gz`,
+ * `.tar.gz`); and 3D Slicer's `.seg.nrrd` (a segmentation), whose stem is the name before it.
+ */
+const COMPRESSED = /(\.[a-z0-9]{1,4}\.gz|\.seg\.nrrd)$/i;
 
 /** `[stem, extension]`: the extension with its dot (`''` when none; a leading dot is no extension). */
 export function splitExtension(name: string): [string, string] {

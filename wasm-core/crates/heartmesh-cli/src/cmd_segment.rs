@@ -19,7 +19,8 @@ use crate::files;
 pub const USAGE: &str = "heartmesh segment --lv-endo LV_ENDO.obj [--lv-epi LV_EPI.obj]
     [--rv RV.obj | --rv-free-wall RV_FREE_WALL.obj] -o SEG.nii.gz [--pixel MM] [--slice-spacing MM]
     [--join-gap MM] [--lax N] [--quiet]
-  Writes a NIfTI-1 label map (.nii, or gzip-compressed .nii.gz) of the surfaces on a short-axis
+  Writes a NIfTI-1 label map (.nii, or gzip-compressed .nii.gz; or NRRD, .nrrd / .seg.nrrd as
+  3D Slicer saves segmentations, gzip-encoded, space LPS, segments named) of the surfaces on a short-axis
   stack planned on the LV endocardium's long axis: 3 LV cavity, 2 myocardium (inside LV_EPI, outside
   the cavity), 1 RV cavity (ACDC / M&Ms numbering), 0 background. Pixels 1.25 mm and slices 10 mm
   apart by default, world coordinates in mm as the surfaces give them (the sform). Sections whose
@@ -64,10 +65,13 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let output = p
         .value("output")
         .ok_or_else(|| CliError::usage("segment needs -o SEG.nii.gz"))?;
-    let gzip = output.to_ascii_lowercase().ends_with(".gz");
-    if !gzip && !output.to_ascii_lowercase().ends_with(".nii") {
+    let lower = output.to_ascii_lowercase();
+    let nrrd = lower.ends_with(".nrrd");
+    let gzip = lower.ends_with(".gz");
+    if !gzip && !nrrd && !lower.ends_with(".nii") {
         return Err(CliError::usage(format!(
-            "segment writes NIfTI: {output:?} should end in .nii or .nii.gz"
+            "segment writes NIfTI or NRRD: {output:?} should end in .nii, .nii.gz, .nrrd or \
+             .seg.nrrd"
         )));
     }
     let endo_path = p
@@ -119,6 +123,11 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }));
     let volume = segment(&structures, &axis, &spec).map_err(CliError::param)?;
     let lax = p.whole("lax")?.unwrap_or(0) as usize;
+    if nrrd && lax > 0 {
+        return Err(CliError::usage(
+            "--lax writes NIfTI views, read with a NIfTI stack: use -o SEG.nii.gz",
+        ));
+    }
     if lax > PAPER_LAX_ANGLES_DEG.len() {
         return Err(CliError::usage(format!(
             "--lax {lax}: at most {} long-axis views",
@@ -153,7 +162,18 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             views.push((view_path(output, n + 1), view));
         }
     }
-    files::write(output, &nifti::write_nifti(&volume, gzip))?;
+    let bytes = if nrrd {
+        // 3D Slicer's segment names; its world is LPS, which the coordinates are taken to be.
+        let names: Vec<(u16, String)> = [(3, "LV"), (2, "Myocardium"), (1, "RV")]
+            .into_iter()
+            .filter(|(l, _)| volume.labels.contains(l))
+            .map(|(l, n)| (l, n.to_string()))
+            .collect();
+        nifti::write_nrrd(&volume, true, "left-posterior-superior", &names)
+    } else {
+        nifti::write_nifti(&volume, gzip)
+    };
+    files::write(output, &bytes)?;
     for (path, view) in &views {
         files::write(path, &nifti::write_nifti(view, gzip))?;
     }

@@ -218,3 +218,77 @@ fn a_stack_with_long_axis_views() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// 3D Slicer's segmentation format (session 22): `segment -o X.seg.nrrd` writes a gzip-encoded
+/// NRRD in LPS with named segments; `reconstruct` reads it as the NIfTI of the same map (same
+/// volume to 0.1 ml), its note naming the space and segments; a detached-data header is refused in
+/// one line; `--lax` with a NRRD output is a usage error.
+#[test]
+fn a_slicer_segmentation() {
+    let dir = scratch("label-map-nrrd");
+    let args = |out: &str| {
+        vec![
+            "segment".to_string(),
+            "--lv-endo".into(),
+            mesh("cardiomesh-spasm-LV_endo.obj"),
+            "--lv-epi".into(),
+            mesh("cardiomesh-spasm-LV_epi.obj"),
+            "-o".into(),
+            dir.join(out).to_str().unwrap().to_string(),
+        ]
+    };
+    for out in ["s.seg.nrrd", "s.nii.gz"] {
+        let (code, _, err) = run(bin().args(args(out)));
+        assert_eq!(code, 0, "{err}");
+    }
+    let mut volumes = Vec::new();
+    for input in ["s.seg.nrrd", "s.nii.gz"] {
+        let report = dir.join(format!("{input}.json"));
+        let (code, _, err) = run(bin().args([
+            "reconstruct",
+            dir.join(input).to_str().unwrap(),
+            "--surface",
+            "LV_EPI",
+            "-o",
+            dir.join(format!("{input}.obj")).to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+        ]));
+        assert_eq!(code, 0, "{err}");
+        if input.ends_with("nrrd") {
+            assert!(
+                err.contains("(LPS, as 3D Slicer saves); segments 3 LV, 2 Myocardium"),
+                "{err}"
+            );
+        }
+        let r: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+        assert_eq!(r["watertight"], true);
+        volumes.push(r["volume_ml"].as_f64().unwrap());
+    }
+    assert!((volumes[0] - volumes[1]).abs() < 0.1, "{volumes:?}");
+    let detached = dir.join("d.nrrd");
+    std::fs::write(
+        &detached,
+        "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\ndata file: d.raw\n\n",
+    )
+    .unwrap();
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        detached.to_str().unwrap(),
+        "-o",
+        dir.join("d.obj").to_str().unwrap(),
+    ]));
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("d.nrrd") && err.contains("in another file (d.raw)"),
+        "{err}"
+    );
+    let mut lax = args("v.nrrd");
+    lax.extend(["--lax".to_string(), "2".to_string()]);
+    let (code, _, err) = run(bin().args(lax));
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("use -o SEG.nii.gz"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

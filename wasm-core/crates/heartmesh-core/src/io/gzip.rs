@@ -63,6 +63,15 @@ pub fn inflate_head(bytes: &[u8], n: usize) -> Vec<u8> {
     out
 }
 
+/// `data` gzip-compressed (what the label-map writers save as `.gz` / `encoding: gzip`).
+pub fn deflate(data: &[u8]) -> Vec<u8> {
+    use std::io::Write;
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    // Writing into a Vec cannot fail.
+    let _ = gz.write_all(data);
+    gz.finish().unwrap_or_default()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -69,6 +69,8 @@ pub enum ContourFormat {
     Rtstruct,
     /// NIfTI-1 label map (segmentation), outlined slice by slice.
     Nifti,
+    /// NRRD label map (3D Slicer `.nrrd` / `.seg.nrrd` segmentation), read as a NIfTI is.
+    Nrrd,
 }
 
 impl ContourFormat {
@@ -83,6 +85,7 @@ impl ContourFormat {
             ContourFormat::Session => "heartmesh session",
             ContourFormat::Rtstruct => "DICOM RTSTRUCT",
             ContourFormat::Nifti => "NIfTI label map",
+            ContourFormat::Nrrd => "NRRD label map",
         }
     }
 }
@@ -155,6 +158,9 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     if nifti::is_nifti(bytes) {
         return ContourFormat::Nifti;
     }
+    if nifti::is_nrrd(bytes) {
+        return ContourFormat::Nrrd;
+    }
     if mat::is_mat(bytes) {
         return ContourFormat::Mat;
     }
@@ -186,6 +192,7 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
         "xyz" => ContourFormat::Xyz,
         "dcm" | "dicom" => ContourFormat::Rtstruct,
         "nii" | "gz" => ContourFormat::Nifti,
+        "nrrd" | "nhdr" => ContourFormat::Nrrd,
         // CSV also reports the clearest errors for unknown text (header missing, ...).
         _ => ContourFormat::Csv,
     }
@@ -271,6 +278,7 @@ pub fn read_contours_with(
         ContourFormat::Nifti => {
             nifti::read_nifti_study(bytes, options.views, options.frame.as_ref())
         }
+        ContourFormat::Nrrd => nifti::read_nrrd(bytes, options.frame.as_ref()),
     }
 }
 

@@ -13,12 +13,14 @@
 //! other label `LABEL_<n>`. A 4D file is a cine sequence: each time frame holding labels is a
 //! frame of the file, read one at a time as the other readers do.
 
+mod nrrd;
 mod roles;
 mod trace;
 mod views;
 mod volume;
 mod write;
 
+pub use nrrd::{is_nrrd, write_nrrd};
 pub use volume::{LabelVolume, MAX_LABELS};
 pub use write::write_nifti;
 
@@ -77,6 +79,24 @@ pub fn read_nifti_study(
 ) -> Result<ContourSet> {
     let data = inflate(bytes)?;
     let volume = read_label_frame(&data, frame)?;
+    read_volume_study(volume, &[], views, frame)
+}
+
+/// Reads the contours of a NRRD label map (3D Slicer's `.nrrd` / `.seg.nrrd`, [`nrrd`]), as
+/// [`read_nifti`] reads a NIfTI; a `.seg.nrrd`'s segment names are listed in its note.
+pub fn read_nrrd(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSet> {
+    let (volume, names) = nrrd::read_nrrd_volume(bytes, frame)?;
+    read_volume_study(volume, &names, &[], frame)
+}
+
+/// The contours of a label map's volume (frame already chosen) with its long-axis views; `names`:
+/// segment names by label, when the file gives them.
+fn read_volume_study(
+    volume: LabelVolume,
+    names: &[(u16, String)],
+    views: &[(&str, &[u8])],
+    frame: Option<&FrameChoice>,
+) -> Result<ContourSet> {
     let labelled = &volume.labelled;
     if labelled.is_empty() {
         return Err(err("the label map is empty: every voxel is 0 (background)"));
@@ -99,7 +119,16 @@ pub fn read_nifti_study(
         specks += left;
         push_loops(&mut b, surface, loops, |l| format!("slice {}", l.slice))?;
     }
-    b.warn(describe(&volume, &roles, &plan));
+    let mut reading = describe(&volume, &roles, &plan);
+    if !names.is_empty() {
+        let listed: Vec<String> = names
+            .iter()
+            .filter(|(l, _)| volume.labels.contains(l))
+            .map(|(l, n)| format!("{l} {n}"))
+            .collect();
+        reading += &format!("; segments {}", listed.join(", "));
+    }
+    b.warn(reading);
     let mut view_notes = Vec::new();
     // In name order (file names, not folders): the same files give the same contours, and so
     // the same mesh, however they were listed.

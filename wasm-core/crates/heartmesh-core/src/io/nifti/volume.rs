@@ -201,14 +201,42 @@ pub fn read_label_frame(bytes: &[u8], want: Option<&FrameChoice>) -> Result<Labe
     }
     let (origin, axes, placement) = placement(&header)?;
     let scale = scaling(&header);
-    let frame_bytes = needed / frames;
+    let (frame, labels, labelled) = pick_frame(
+        &bytes[start..start + needed],
+        frames,
+        |data| read_labels(data, kind, header.endianness, scale),
+        want,
+    )?;
+    Ok(LabelVolume {
+        dims: grid,
+        origin,
+        axes,
+        placement,
+        labels,
+        frames,
+        labelled,
+        frame,
+    })
+}
+
+/// The frame `want` (None: the first holding labels, else the last) of `frames` equal frames of
+/// voxel bytes, decoded by `decode`; also the frames holding labels. Frames other than the one
+/// kept are decoded only to see whether they hold labels, then dropped.
+pub(super) fn pick_frame(
+    data: &[u8],
+    frames: usize,
+    decode: impl Fn(&[u8]) -> Result<Vec<u16>>,
+    want: Option<&FrameChoice>,
+) -> Result<(usize, Vec<u16>, Vec<usize>)> {
+    let frame_bytes = data.len() / frames.max(1);
     let mut labelled = Vec::new();
     let mut kept: Option<(usize, Vec<u16>)> = None;
-    for (t, data) in bytes[start..start + needed]
-        .chunks_exact(frame_bytes)
+    for (t, chunk) in data
+        .chunks_exact(frame_bytes.max(1))
+        .take(frames)
         .enumerate()
     {
-        let labels = read_labels(data, kind, header.endianness, scale)?;
+        let labels = decode(chunk)?;
         let any = labels.iter().any(|&l| l != 0);
         if any {
             labelled.push(t);
@@ -229,16 +257,7 @@ pub fn read_label_frame(bytes: &[u8], want: Option<&FrameChoice>) -> Result<Labe
             shown.join(", ")
         )));
     };
-    Ok(LabelVolume {
-        dims: grid,
-        origin,
-        axes,
-        placement,
-        labels,
-        frames,
-        labelled,
-        frame,
-    })
+    Ok((frame, labels, labelled))
 }
 
 fn dims_text(dims: &[u16]) -> String {
@@ -248,7 +267,7 @@ fn dims_text(dims: &[u16]) -> String {
         .join(" x ")
 }
 
-fn value_width(kind: NiftiType) -> Result<usize> {
+pub(super) fn value_width(kind: NiftiType) -> Result<usize> {
     Ok(match kind {
         NiftiType::Uint8 | NiftiType::Int8 => 1,
         NiftiType::Int16 | NiftiType::Uint16 => 2,
@@ -343,7 +362,7 @@ fn placement(h: &NiftiHeader) -> Result<(Vec3, [Vec3; 3], &'static str)> {
     Ok((origin, axes, how))
 }
 
-fn read_labels(
+pub(super) fn read_labels(
     data: &[u8],
     kind: NiftiType,
     order: nifti::Endianness,

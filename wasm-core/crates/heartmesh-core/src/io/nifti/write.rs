@@ -1,8 +1,6 @@
 //! Writing a label map as NIfTI-1: what the validation lab's simulated segmentations are saved as
 //! (`heartmesh segment`), for the reader, other tools and the app to open.
 
-use std::io::Write;
-
 use super::volume::LabelVolume;
 
 /// The label map (its one frame) as a single-file NIfTI-1 (`.nii`; gzip-compressed for `.nii.gz`
@@ -52,10 +50,7 @@ pub fn write_nifti(volume: &LabelVolume, gzip: bool) -> Vec<u8> {
     if !gzip {
         return h;
     }
-    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
-    // Writing into a Vec cannot fail.
-    let _ = gz.write_all(&h);
-    gz.finish().unwrap_or_default()
+    crate::io::gzip::deflate(&h)
 }
 
 #[cfg(test)]
