@@ -7,13 +7,16 @@
 // others around it, is the user guide's picture (label-map.png in the screenshot folder). A
 // damaged download and an image are refused in one line, the reconstruction on screen kept. A 4D
 // cine (built from the example, labelMaps.mjs) gets the Frame picker, its systolic frame a smaller
-// LV cavity. Offline, the example comes from the service worker's precache. No file is written
-// under tests/e2e: the variants go in as buffers.
+// LV cavity. Offline, the example comes from the service worker's precache. The same map as 3D
+// Slicer saves it (`.seg.nrrd`, written by the CLI to a scratch folder) gives the same LV_EPI,
+// its segments named on the notes line. No file is written under tests/e2e: the variants go in
+// as buffers.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
 import { download, gotoEmpty, runAndWait, waitForError, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
+import { makeSlicerSegmentation } from './laxViews.mjs';
 import {
   CINE_NAME, cineCounts, cineLabelMap, damagedSample, imageLikeSample, SAMPLE_NAME, SAMPLE_PATH, SAMPLE_READING, sampleBytes,
 } from './labelMaps.mjs';
@@ -171,5 +174,21 @@ describe('NIfTI label maps', () => {
       await page.context().setOffline(false);
     }
     assert.deepEqual(pageErrors, []);
+  });
+
+  it('the same segmentation as 3D Slicer saves it (.seg.nrrd): the same surfaces and LV_EPI, the segments named, exported as seg-LV_EPI.stl', async () => {
+    const { path } = makeSlicerSegmentation();
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', path), 120000);
+    assert.equal(await page.inputValue('[data-testid=file-picker]'), 'seg.seg.nrrd');
+    assert.deepEqual(await surfaces(), ['LV_ENDO', 'LV_EPI', 'RV_ENDO']);
+    const notes = await page.$$eval('[data-testid=notes-list] .note', (ps) => ps.map((p) => p.textContent));
+    assert.match(notes[0] ?? '', /space directions \(LPS, as 3D Slicer saves\); segments 3 LV, 2 Myocardium, 1 RV$/);
+    const r = await current();
+    console.log(`# .seg.nrrd LV_EPI: ${r.volumeMl.toFixed(2)} ml (the NIfTI example ${runs.LV_EPI.volumeMl.toFixed(2)} ml), mean ${r.meanMm.toFixed(3)} mm`);
+    assert.equal(r.surface, 'LV_EPI');
+    assert.equal(r.watertight, true);
+    assert.ok(Math.abs(r.volumeMl - runs.LV_EPI.volumeMl) < 0.2, `${r.volumeMl} vs ${runs.LV_EPI.volumeMl}`);
+    assert.ok(Math.abs(r.meanMm - runs.LV_EPI.meanMm) < 0.01, `${r.meanMm} vs ${runs.LV_EPI.meanMm}`);
+    assert.equal((await download(page, 'export-stl')).name, 'seg-LV_EPI.stl');
   });
 });

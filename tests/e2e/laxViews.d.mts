@@ -6,3 +6,4 @@ export function makeStudy(): { dir: string; paths: Record<string, string>; bytes
 export function systole(voxels: Uint8Array, dims: number[]): Uint8Array;
 export function cineOf(bytes: Uint8Array): Uint8Array;
 export function cineName(name: string): string;
+export function makeSlicerSegmentation(): { path: string; bytes: Uint8Array };

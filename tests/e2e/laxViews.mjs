@@ -46,6 +46,22 @@ export function makeStudy() {
   return { dir, paths, bytes };
 }
 
+/**
+ * The study's stack as 3D Slicer saves a segmentation (`heartmesh segment -o seg.seg.nrrd`: gzip,
+ * LPS, segments named), written to a scratch folder; returns its path and bytes.
+ */
+export function makeSlicerSegmentation() {
+  if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release -p heartmesh-cli`);
+  const dir = mkdtempSync(join(tmpdir(), 'heartmesh-nrrd-'));
+  const m = meshes();
+  const path = join(dir, 'seg.seg.nrrd');
+  execFileSync(CLI, [
+    'segment', '--lv-endo', join(m, 'cardiomesh-spasm-LV_endo.obj'), '--lv-epi', join(m, 'cardiomesh-spasm-LV_epi.obj'),
+    '--rv-free-wall', join(m, 'cardiomesh-spasm-RV_endo.obj'), '-o', path, '--quiet',
+  ]);
+  return { path, bytes: new Uint8Array(readFileSync(path)) };
+}
+
 /** Header (with its extension bytes), dims and uint8 voxels of a NIfTI-1 file (gzip or not). */
 function parts(bytes) {
   const nii = bytes[0] === 0x1f && bytes[1] === 0x8b ? new Uint8Array(gunzipSync(bytes)) : bytes;
