@@ -7,6 +7,7 @@
 // are refused with one clear line each. A compressed CSV reads as the CSV. Label maps:
 // tests/e2e/labelMaps.mjs.
 import { beforeAll, describe, expect, it } from 'vitest';
+import { curveArea } from './curveArea';
 import { DEFAULT_OPTIONS, type LoadedFile, type RunResult } from '../../web/src/core-client/protocol';
 import { framePicker } from '../../web/src/app/timeFrames';
 import { loadWasm, readBytes, ROOT } from './helpers.mjs';
@@ -46,22 +47,7 @@ async function run(ask: Ask, runId: number, fileName: string, surface: string): 
 
 /** Enclosed area (mm2) of the file's closed curves of `surface`, summed (Newell's vector area). */
 function area(file: LoadedFile, surface: string): number {
-  let total = 0;
-  for (const c of file.contours.filter((x) => x.surface === surface)) {
-    for (const piece of c.pieces) {
-      const n = [0, 0, 0];
-      for (let a = 0; a < piece.count; a++) {
-        const p = 3 * (piece.start + a);
-        const q = 3 * (piece.start + ((a + 1) % piece.count));
-        const [x1, y1, z1, x2, y2, z2] = [file.points[p], file.points[p + 1], file.points[p + 2], file.points[q], file.points[q + 1], file.points[q + 2]];
-        n[0] += y1 * z2 - z1 * y2;
-        n[1] += z1 * x2 - x1 * z2;
-        n[2] += x1 * y2 - y1 * x2;
-      }
-      total += Math.hypot(n[0], n[1], n[2]) / 2;
-    }
-  }
-  return total;
+  return curveArea(file, (c) => c.surface === surface);
 }
 
 /** Voxels of 1.25 x 1.25 x 10 mm, in ml. */

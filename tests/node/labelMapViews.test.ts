@@ -7,6 +7,7 @@
 // does; a damaged view refuses the load, named first in the message. A 4D cine with 4D views
 // keeps its views when another frame is read, the systolic one a smaller LV cavity.
 import { beforeAll, describe, expect, it } from 'vitest';
+import { curveArea } from './curveArea';
 import { DEFAULT_OPTIONS, type LoadedFile, type RunResult, type ViewFile } from '../../web/src/core-client/protocol';
 import { framePicker } from '../../web/src/app/timeFrames';
 import { cliReport, loadWasm } from './helpers.mjs';
@@ -48,22 +49,7 @@ function curves(file: LoadedFile, kind: 'SAX' | 'LAX'): Record<string, number> {
 
 /** Enclosed area (mm2) of the file's curves of `surface` named after `view`. */
 function viewArea(file: LoadedFile, surface: string, view: string): number {
-  let total = 0;
-  for (const c of file.contours.filter((x) => x.surface === surface && x.id.startsWith(view))) {
-    for (const piece of c.pieces) {
-      const n = [0, 0, 0];
-      for (let a = 0; a < piece.count; a++) {
-        const p = 3 * (piece.start + a);
-        const q = 3 * (piece.start + ((a + 1) % piece.count));
-        const [x1, y1, z1, x2, y2, z2] = [file.points[p], file.points[p + 1], file.points[p + 2], file.points[q], file.points[q + 1], file.points[q + 2]];
-        n[0] += y1 * z2 - z1 * y2;
-        n[1] += z1 * x2 - x1 * z2;
-        n[2] += x1 * y2 - y1 * x2;
-      }
-      total += Math.hypot(n[0], n[1], n[2]) / 2;
-    }
-  }
-  return total;
+  return curveArea(file, (c) => c.surface === surface && c.id.startsWith(view));
 }
 
 /**
