@@ -83,22 +83,18 @@ pub const USAGE: &str =
   a number (--frame 9; 9.0 is the same frame) or a label (--frame ES; text in any case); default:
   each contour's first; the report's frame says which was read.";
 
-/// Options that take a value, besides the numeric parameters.
-const VALUE_FLAGS: &[&str] = &[
-    "output",
-    "report",
-    "surface",
-    "lids",
-    "smoothing-method",
-    "end-caps",
-    "frame",
-    "contour-distances",
-];
+/// Options of this command only that take a value.
+const VALUE_FLAGS: &[&str] = &["output", "report", "frame", "contour-distances"];
 
-/// Options without a value.
-const SWITCHES: &[&str] = &[
-    "ascii",
-    "quiet",
+/// Options without a value of this command only.
+const SWITCHES: &[&str] = &["ascii", "quiet"];
+
+/// Options with a value that set reconstruction parameters ([`params_from`]), besides the numeric
+/// ones; shared with the commands that reconstruct (`volumes`).
+pub(crate) const PARAM_VALUE_FLAGS: &[&str] = &["surface", "lids", "smoothing-method", "end-caps"];
+
+/// Switches that set reconstruction parameters ([`params_from`]).
+pub(crate) const PARAM_SWITCHES: &[&str] = &[
     "no-soften-conflicts",
     "align-slices",
     "align-in-plane-only",
@@ -108,8 +104,23 @@ const SWITCHES: &[&str] = &[
     "keep-specks",
 ];
 
+/// Every option with a value and every switch of a command that reconstructs: its own
+/// (`own_values`, `own_switches`) and the parameters'.
+pub(crate) fn option_names<'a>(
+    own_values: &[&'a str],
+    own_switches: &[&'a str],
+    numeric: &'a [String],
+) -> (Vec<&'a str>, Vec<&'a str>) {
+    let mut values: Vec<&str> = own_values.to_vec();
+    values.extend(PARAM_VALUE_FLAGS);
+    values.extend(numeric.iter().map(String::as_str));
+    let mut switches: Vec<&str> = own_switches.to_vec();
+    switches.extend(PARAM_SWITCHES);
+    (values, switches)
+}
+
 /// Flag names (dashes) of the numeric parameters, from the core's schema.
-fn numeric_flags() -> Vec<String> {
+pub(crate) fn numeric_flags() -> Vec<String> {
     Params::schema()
         .iter()
         .map(|s| s.name.replace('_', "-"))
@@ -118,13 +129,12 @@ fn numeric_flags() -> Vec<String> {
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
     let numeric = numeric_flags();
-    let mut with_value: Vec<&str> = VALUE_FLAGS.to_vec();
-    with_value.extend(numeric.iter().map(String::as_str));
+    let (with_value, switches) = option_names(VALUE_FLAGS, SWITCHES, &numeric);
     let p = parse(
         args,
         &Spec {
             with_value: &with_value,
-            switches: SWITCHES,
+            switches: &switches,
             aliases: &[("-o", "output"), ("-q", "quiet")],
         },
     )?;
@@ -317,7 +327,7 @@ impl Run<'_> {
 
 /// Parameters from the flags on top of `base` (the defaults, or a session's parameters); every
 /// numeric flag maps onto `Params::set` (dashes to underscores), which checks the range.
-fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
+pub(crate) fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> {
     if p.value("attractors").is_some() && p.value("attractor-spacing").is_some() {
         return Err(CliError::usage(
             "give either --attractors or --attractor-spacing, not both",
@@ -399,7 +409,7 @@ pub(crate) fn through_plane_switch(p: &Parsed, aligning: bool) -> Result<bool, C
 /// automatic. Newer biv-me files mark the endocardial and epicardial apex apart
 /// (`APEX_ENDO_POINT`, `APEX_EPI_POINT`, several millimetres apart across the wall): each
 /// surface takes its own, then the plain `APEX_POINT`, then either.
-fn apex_lid(set: &ContourSet, surface: Option<&str>) -> Option<LidMode> {
+pub(crate) fn apex_lid(set: &ContourSet, surface: Option<&str>) -> Option<LidMode> {
     let own = match surface {
         Some(s) if s.ends_with("_EPI") || s == "EPI" => "APEX_EPI_POINT",
         _ => "APEX_ENDO_POINT",
@@ -415,7 +425,7 @@ fn apex_lid(set: &ContourSet, surface: Option<&str>) -> Option<LidMode> {
 }
 
 /// Input problems exit with 2 and name the file; numerical failures are the tool's (exit 1).
-fn classify(input: &str, e: CoreError) -> CliError {
+pub(crate) fn classify(input: &str, e: CoreError) -> CliError {
     match e {
         CoreError::Numerical(_) | CoreError::InvalidMesh(_) | CoreError::Io(_) => {
             CliError::Failed(format!("{input}: reconstruction failed: {e}"))
@@ -432,14 +442,13 @@ mod tests {
 
     fn parsed(a: &[&str]) -> Parsed {
         let numeric = numeric_flags();
-        let mut with_value: Vec<&str> = VALUE_FLAGS.to_vec();
-        with_value.extend(numeric.iter().map(String::as_str));
+        let (with_value, switches) = option_names(VALUE_FLAGS, SWITCHES, &numeric);
         let v: Vec<String> = a.iter().map(|s| s.to_string()).collect();
         parse(
             &v,
             &Spec {
                 with_value: &with_value,
-                switches: SWITCHES,
+                switches: &switches,
                 aliases: &[],
             },
         )

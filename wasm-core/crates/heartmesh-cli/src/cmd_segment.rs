@@ -107,11 +107,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         (None, None, _) => None,
     };
     let axis = anatomical_axis(&endo, join_gap_mm).map_err(|e| CliError::input(endo_path, e))?;
+    // Cavities first (the first structure painted keeps a pixel): inside a biventricular
+    // epicardium the RV cavity would otherwise be painted as myocardium.
     let mut structures = vec![Structure::new(3, &endo)];
-    structures.extend(epi.as_ref().map(|m| Structure::new(2, m)));
-    for s in &mut structures {
-        s.join_gap_mm = join_gap_mm;
-    }
     // A cavity closed from a free wall and the septum meets it across wider gaps.
     let composite = p.value("rv-free-wall").is_some();
     structures.extend(rv.as_ref().map(|m| Structure {
@@ -121,6 +119,11 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         },
         ..Structure::new(1, m)
     }));
+    structures.extend(epi.as_ref().map(|m| Structure {
+        join_gap_mm,
+        ..Structure::new(2, m)
+    }));
+    structures[0].join_gap_mm = join_gap_mm;
     let volume = segment(&structures, &axis, &spec).map_err(CliError::param)?;
     let lax = p.whole("lax")?.unwrap_or(0) as usize;
     if nrrd && lax > 0 {

@@ -16,6 +16,7 @@ mod cmd_leave_one_out;
 mod cmd_reconstruct;
 mod cmd_segment;
 mod cmd_simulate;
+mod cmd_volumes;
 mod contours;
 mod each_surface;
 mod error;
@@ -29,10 +30,11 @@ use error::CliError;
 fn usage() -> String {
     format!(
         "heartmesh {} - surface meshes from cardiac MRI contours (Villard, Grau & Zacur 2018)\n\n\
-         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
+         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
          exit status: 0 ok, 2 bad input or usage, 1 reconstruction failed",
         heartmesh_core::VERSION,
         cmd_reconstruct::USAGE,
+        cmd_volumes::USAGE,
         cmd_convert::USAGE,
         cmd_simulate::USAGE,
         cmd_segment::USAGE,
@@ -67,6 +69,8 @@ fn run(argv: &[String]) -> Result<(), CliError> {
         "experiment" => cmd_experiment::run(rest)?,
         "align" if wants_help => outln!("usage: {}", cmd_align::USAGE),
         "align" => cmd_align::run(rest)?,
+        "volumes" if wants_help => outln!("usage: {}", cmd_volumes::USAGE),
+        "volumes" => cmd_volumes::run(rest)?,
         other => return Err(CliError::usage(format!("unknown command {other:?}"))),
     }
     Ok(())

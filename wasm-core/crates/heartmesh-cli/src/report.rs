@@ -175,7 +175,7 @@ pub fn frame_read(time_frames: Option<&TimeFrames>) -> Value {
 /// The report's `parameters`: the header's ([`parameters`]) with `apex_floor` whatever its value.
 /// Its default changed (session 14), so an absent key would mean off in older reports and on in
 /// newer ones; a report says what ran without knowing the version's defaults.
-fn report_parameters(params: &Params) -> Value {
+pub fn report_parameters(params: &Params) -> Value {
     let mut p = parameters(params);
     if let Some(m) = p.as_object_mut() {
         m.insert("apex_floor".into(), json!(params.apex_floor));

@@ -3,6 +3,7 @@
 
 pub mod compare;
 pub mod extent;
+pub mod function;
 
 use crate::contours::{Contour, ContourKind};
 use crate::geometry::Vec3;

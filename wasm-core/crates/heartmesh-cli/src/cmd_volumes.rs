@@ -1,0 +1,636 @@
+//! `heartmesh volumes PHASES...`: cardiac function from one heart's contours over its phases.
+//! Each surface is reconstructed in each phase at the same parameters, and the closed meshes'
+//! volumes give each cavity's end-diastolic and end-systolic volume, stroke volume and ejection
+//! fraction, and the LV myocardial mass (core `metrics::function`). Phases are one file each (ED
+//! and ES GPFiles, ACDC's frame label maps) or the time frames of one file holding a sequence.
+
+use std::cell::RefCell;
+use std::time::Instant;
+
+use heartmesh_core::io::{self, FrameChoice, MeshFormat};
+use heartmesh_core::mesh::topology::validity;
+use heartmesh_core::mesh::TriMesh;
+use heartmesh_core::metrics::function::{self, Function, Measured};
+use heartmesh_core::pipeline::Reconstruction;
+use heartmesh_core::{ContourSet, CoreError, Params};
+use serde_json::{json, Value};
+
+use crate::args::{parse, Spec};
+use crate::cmd_convert::file_name;
+use crate::cmd_reconstruct::{apex_lid, classify, numeric_flags, option_names, params_from};
+use crate::contours;
+use crate::each_surface;
+use crate::error::CliError;
+use crate::files;
+
+pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_EPI,...]
+    [--frames all|F,F,...] [--csv VOLUMES.csv] [--json VOLUMES.json] [--meshes DIR]
+    [reconstruct's parameter options: --iterations ... --end-caps ... --align-slices ...] [--quiet]
+  Cardiac function: every surface reconstructed in every phase at the same parameters; prints
+  the volumes (ml, of the closed meshes: the lids at the base included), each cavity's
+  end-diastolic and end-systolic volume (its largest and smallest), stroke volume and ejection
+  fraction, and the LV myocardial mass, 1.05 g/ml x (LV_EPI - LV_ENDO), at LV end-diastole and
+  end-systole (none where LV_EPI encloses the RV cavity: a biventricular epicardium).
+  PHASES: one contour file per phase (GPFile_000.txt GPFile_009.txt, patient1-ED.csv
+  patient1-ES.csv, ACDC's frame01 and frame12 label maps), named by file; or one file holding a
+  sequence (a cine GPFile, a CSV with a frame or phase column, a 4D label map), each time frame
+  a phase named as the file writes it; --frames F,F,... takes only those frames.
+  --surface: the surfaces to reconstruct (default all of the files'); epicardia and unknown
+  labels (LABEL_n) get volumes but no ejection fraction.
+  --csv: one row per phase and surface (volume_ml empty where the mesh is open or the run
+  failed); --json: the volumes, each cavity's function and the mass per phase;
+  --meshes DIR: each mesh as DIR/PHASE-SURFACE.obj.
+  A run that fails is named (phase and surface) and the others go on (exit status of the last
+  failure).";
+
+/// Options of this command only that take a value.
+const VALUE_FLAGS: &[&str] = &["frames", "csv", "json", "meshes"];
+
+/// Switches of this command only.
+const SWITCHES: &[&str] = &["quiet"];
+
+/// The column name of a file whose contours carry no surface label.
+const UNLABELLED: &str = "surface";
+
+/// One phase of the heart: a file, or one time frame of a file holding a sequence.
+struct Phase {
+    name: String,
+    input: String,
+    set: ContourSet,
+    session_params: Option<Params>,
+}
+
+/// One surface reconstructed (or not) in one phase.
+#[derive(Default)]
+struct Cell {
+    /// The closed mesh's volume; None when it is open, the run failed or the phase lacks it.
+    volume_ml: Option<f64>,
+    watertight: bool,
+    c2m_mean_mm: Option<f64>,
+    seconds: f64,
+    mesh: Option<TriMesh>,
+    /// Why there is no volume, in a word for the table (`open`, `failed`, `absent`).
+    missing: Option<&'static str>,
+}
+
+pub fn run(args: &[String]) -> Result<(), CliError> {
+    let numeric = numeric_flags();
+    let (with_value, switches) = option_names(VALUE_FLAGS, SWITCHES, &numeric);
+    let p = parse(
+        args,
+        &Spec {
+            with_value: &with_value,
+            switches: &switches,
+            aliases: &[("-q", "quiet")],
+        },
+    )?;
+    if p.positional.is_empty() {
+        return Err(CliError::usage(
+            "volumes needs contour files, one per phase (e.g. the ED and ES files), or one file \
+             holding a sequence of time frames",
+        ));
+    }
+    // A usage error should not wait for the files.
+    params_from(&p, Params::default())?;
+    let frames = frames_flag(p.value("frames"))?;
+    let phases = load_phases(&p.positional, frames.as_deref())?;
+    let base = phases
+        .first()
+        .and_then(|ph| ph.session_params.clone())
+        .unwrap_or_default();
+    let params = params_from(&p, base)?;
+    let surfaces = surfaces_wanted(p.value("surface"), &phases)?;
+    let meshes = p.value("meshes");
+    if let Some(dir) = meshes {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CliError::Failed(format!("{dir}: cannot create the directory: {e}")))?;
+    }
+    let quiet = p.switch("quiet");
+    let apex_lids = p.value("lids") == Some("apex");
+    let said = RefCell::new(Vec::<String>::new());
+    let say = |line: String| {
+        let mut said = said.borrow_mut();
+        if !said.contains(&line) {
+            eprintln!("{line}");
+            said.push(line);
+        }
+    };
+
+    let table = Table::new(&phases, &surfaces);
+    if !quiet {
+        outln!(
+            "heartmesh: volumes of {} phase(s) x {} surface(s), ml",
+            phases.len(),
+            surfaces.len()
+        );
+        outln!("{}", table.header());
+    }
+    let mut failed: Option<CliError> = None;
+    let mut cells: Vec<Vec<Cell>> = Vec::with_capacity(phases.len());
+    for phase in &phases {
+        let mut row = Vec::with_capacity(surfaces.len());
+        for surface in &surfaces {
+            let s = surface.as_deref();
+            let cell = match reconstruct(phase, s, &params, apex_lids) {
+                Ok(cell) => cell,
+                Err(e) => {
+                    let e = CliError::Surface(
+                        Box::new(e),
+                        format!("{}, phase {}", s.unwrap_or(UNLABELLED), phase.name),
+                    );
+                    if let Some(earlier) = failed.replace(e) {
+                        eprintln!("heartmesh: {}", earlier.message());
+                    }
+                    Cell {
+                        missing: Some("failed"),
+                        ..Cell::default()
+                    }
+                }
+            };
+            if let (Some(dir), Some(mesh)) = (meshes, &cell.mesh) {
+                write_mesh(dir, phase, s, mesh)?;
+            }
+            row.push(cell);
+        }
+        if !quiet {
+            for surface in &surfaces {
+                for w in phase.set.warnings_for(surface.as_deref()) {
+                    say(contours::warning_line(&phase.input, &w));
+                }
+            }
+            outln!("{}", table.row(phase, &row));
+        }
+        cells.push(row);
+    }
+
+    let summary = summarise(&phases, &surfaces, &cells);
+    if !quiet {
+        for line in summary_lines(&summary) {
+            outln!("{line}");
+        }
+    }
+    if let Some(path) = p.value("csv") {
+        files::write(path, csv(&phases, &surfaces, &cells).as_bytes())?;
+    }
+    if let Some(path) = p.value("json") {
+        let doc = json_report(&phases, &surfaces, &cells, &summary, &params);
+        let text = serde_json::to_string_pretty(&doc)
+            .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
+        files::write(path, format!("{text}\n").as_bytes())?;
+    }
+    failed.map_or(Ok(()), Err)
+}
+
+/// `--frames all|F,F,...`: None for every frame, else the frames asked for.
+fn frames_flag(value: Option<&str>) -> Result<Option<Vec<FrameChoice>>, CliError> {
+    let Some(v) = value.filter(|v| !v.trim().eq_ignore_ascii_case("all")) else {
+        return Ok(None);
+    };
+    v.split(',')
+        .map(|f| {
+            FrameChoice::new(f).ok_or_else(|| {
+                CliError::usage(format!(
+                    "--frames: {v:?} holds an empty frame (give frame numbers or labels as the \
+                     file writes them, comma-separated: --frames 0,9 or --frames ED,ES)"
+                ))
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+}
+
+/// The phases: each file one, or each (asked-for) time frame of a single file holding a sequence.
+fn load_phases(paths: &[String], frames: Option<&[FrameChoice]>) -> Result<Vec<Phase>, CliError> {
+    let phase = |path: &str, name: String, frame: Option<FrameChoice>| {
+        contours::load(path, frame).map(|l| Phase {
+            name,
+            input: path.to_string(),
+            set: l.set,
+            session_params: l.session_params,
+        })
+    };
+    if let [only] = paths {
+        let first = phase(only, stem(file_name(only)).to_string(), None)?;
+        let listed = first
+            .set
+            .time_frames
+            .as_ref()
+            .filter(|t| t.sequence && t.frames.len() > 1)
+            .map(|t| t.frames.clone());
+        let Some(listed) = listed else {
+            if frames.is_some() {
+                return Err(CliError::usage(format!(
+                    "--frames: {only} holds one phase (no contour has points in several time \
+                     frames); give one file per phase instead"
+                )));
+            }
+            return Ok(vec![first]);
+        };
+        let chosen: Vec<String> = match frames {
+            None => listed.clone(),
+            Some(wanted) => wanted
+                .iter()
+                .map(|w| {
+                    listed
+                        .iter()
+                        .find(|f| w.matches(f))
+                        .cloned()
+                        .ok_or_else(|| no_such_frame(only, w, &listed))
+                })
+                .collect::<Result<_, _>>()?,
+        };
+        return chosen
+            .into_iter()
+            .map(|f| phase(only, f.clone(), FrameChoice::new(&f)))
+            .collect();
+    }
+    if frames.is_some() {
+        return Err(CliError::usage(
+            "--frames picks time frames of one file holding a sequence; with one file per phase, \
+             give the files of the phases wanted",
+        ));
+    }
+    // A phase is named by its file without the extension; files of the same name in different
+    // folders are told apart by their paths.
+    let names: Vec<&str> = paths.iter().map(|p| stem(file_name(p))).collect();
+    paths
+        .iter()
+        .zip(&names)
+        .map(|(path, name)| {
+            let unique = names.iter().filter(|n| *n == name).count() == 1;
+            let name = if unique { name } else { path.as_str() };
+            phase(path, name.to_string(), None)
+        })
+        .collect()
+}
+
+/// A file name without its extension (and a `.gz` before it): `GPFile_000.txt` -> `GPFile_000`,
+/// `patient001_frame01_gt.nii.gz` -> `patient001_frame01_gt`.
+fn stem(name: &str) -> &str {
+    let base = name
+        .strip_suffix(".gz")
+        .or_else(|| name.strip_suffix(".GZ"))
+        .unwrap_or(name);
+    let base = base.strip_suffix(".seg.nrrd").unwrap_or(base);
+    match base.rfind('.') {
+        Some(dot) if dot > 0 => &base[..dot],
+        _ => base,
+    }
+}
+
+fn no_such_frame(input: &str, wanted: &FrameChoice, listed: &[String]) -> CliError {
+    const SHOWN: usize = 12;
+    let mut some: Vec<&str> = listed.iter().take(SHOWN).map(String::as_str).collect();
+    if listed.len() > SHOWN {
+        some.push("...");
+    }
+    CliError::usage(format!(
+        "--frames: {input} has no time frame {:?} (its frames: {})",
+        wanted.label(),
+        some.join(", ")
+    ))
+}
+
+/// The surfaces to reconstruct, in the files' order: every one (default, `all`), or those named
+/// with `--surface A,B`, each of which some phase must hold (BIV_EPI is built from LV_EPI and
+/// RV_EPI). `[None]` for files without surface labels.
+fn surfaces_wanted(value: Option<&str>, phases: &[Phase]) -> Result<Vec<Option<String>>, CliError> {
+    let mut known: Vec<String> = Vec::new();
+    for ph in phases {
+        for s in ph.set.surfaces() {
+            if !known.contains(&s) {
+                known.push(s);
+            }
+        }
+    }
+    let wanted = value.filter(|v| !v.trim().eq_ignore_ascii_case(each_surface::ALL));
+    let Some(wanted) = wanted else {
+        return Ok(if known.is_empty() {
+            vec![None]
+        } else {
+            known.into_iter().map(Some).collect()
+        });
+    };
+    wanted
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|s| {
+            if known.iter().any(|k| k == s) || s == heartmesh_core::contours::biv_epi::BIV_EPI {
+                Ok(Some(s.to_string()))
+            } else {
+                Err(CliError::usage(format!(
+                    "--surface: no phase holds surface {s:?} (available: {})",
+                    if known.is_empty() {
+                        "none: the files carry no surface labels".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                )))
+            }
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .and_then(|v| {
+            if v.is_empty() {
+                Err(CliError::usage("--surface: no surface named"))
+            } else {
+                Ok(v)
+            }
+        })
+}
+
+/// Reconstructs `surface` of `phase`; a phase without that surface is a cell marked absent.
+fn reconstruct(
+    phase: &Phase,
+    surface: Option<&str>,
+    params: &Params,
+    apex_lids: bool,
+) -> Result<Cell, CliError> {
+    let holds = match surface {
+        None => true,
+        Some(s) if s == heartmesh_core::contours::biv_epi::BIV_EPI => true,
+        Some(s) => phase.set.surfaces().iter().any(|k| k == s),
+    };
+    if !holds {
+        return Ok(Cell {
+            missing: Some("absent"),
+            ..Cell::default()
+        });
+    }
+    let mut params = params.clone();
+    params.surface = surface.map(str::to_string);
+    if apex_lids {
+        params.lids = apex_lid(&phase.set, surface).ok_or_else(|| {
+            CliError::input(
+                &phase.input,
+                CoreError::parse(0, "--lids apex needs an APEX_POINT landmark in the file"),
+            )
+        })?;
+    }
+    let warnings = phase.set.warnings_for(surface);
+    let fail = |e: CoreError| classify(&phase.input, e).with_hint(&warnings);
+    let started = Instant::now();
+    let mut rec = Reconstruction::new(&phase.set, params).map_err(fail)?;
+    rec.run().map_err(fail)?;
+    let mesh = rec.mesh().clone();
+    let v = validity(&mesh);
+    let watertight = v.closed && v.manifold && v.oriented;
+    Ok(Cell {
+        volume_ml: watertight.then(|| mesh.volume_ml()),
+        watertight,
+        c2m_mean_mm: Some(rec.contour_distances().overall.mean),
+        seconds: started.elapsed().as_secs_f64(),
+        missing: (!watertight).then_some("open"),
+        mesh: Some(mesh),
+    })
+}
+
+fn write_mesh(
+    dir: &str,
+    phase: &Phase,
+    surface: Option<&str>,
+    mesh: &TriMesh,
+) -> Result<(), CliError> {
+    let safe = |s: &str| -> String {
+        s.chars()
+            .map(|c| {
+                if c.is_alphanumeric() || "-_.".contains(c) {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect()
+    };
+    let path = format!(
+        "{}/{}-{}.obj",
+        dir.trim_end_matches(['/', '\\']),
+        safe(&phase.name),
+        safe(surface.unwrap_or(UNLABELLED))
+    );
+    let comment = format!(
+        "heartmesh {} volumes: {} of phase {} ({})",
+        heartmesh_core::VERSION,
+        surface.unwrap_or(UNLABELLED),
+        phase.name,
+        file_name(&phase.input)
+    );
+    let bytes = io::write_mesh(mesh, MeshFormat::Obj, None, &comment)
+        .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
+    files::write(&path, &bytes)
+}
+
+/// The stdout table: a row per phase, a column per surface.
+struct Table {
+    phase_width: usize,
+    widths: Vec<usize>,
+    names: Vec<String>,
+}
+
+impl Table {
+    fn new(phases: &[Phase], surfaces: &[Option<String>]) -> Table {
+        let names: Vec<String> = surfaces
+            .iter()
+            .map(|s| s.clone().unwrap_or_else(|| UNLABELLED.to_string()))
+            .collect();
+        Table {
+            phase_width: phases
+                .iter()
+                .map(|p| p.name.chars().count())
+                .max()
+                .unwrap_or(0)
+                .max(5),
+            widths: names.iter().map(|n| n.chars().count().max(8)).collect(),
+            names,
+        }
+    }
+
+    fn header(&self) -> String {
+        let mut line = format!("{:<w$}", "phase", w = self.phase_width);
+        for (n, w) in self.names.iter().zip(&self.widths) {
+            line.push_str(&format!("  {n:>w$}"));
+        }
+        line
+    }
+
+    fn row(&self, phase: &Phase, cells: &[Cell]) -> String {
+        let mut line = format!("{:<w$}", phase.name, w = self.phase_width);
+        for (c, w) in cells.iter().zip(&self.widths) {
+            let text = match c.volume_ml {
+                Some(v) => format!("{v:.1}"),
+                None => c.missing.unwrap_or("-").to_string(),
+            };
+            line.push_str(&format!("  {text:>w$}"));
+        }
+        line
+    }
+}
+
+/// Function and mass of the cells (core `metrics::function::summarise`).
+fn summarise(phases: &[Phase], surfaces: &[Option<String>], cells: &[Vec<Cell>]) -> Function {
+    let names: Vec<String> = phases.iter().map(|p| p.name.clone()).collect();
+    let labels: Vec<String> = surfaces.iter().map(|s| label(s).to_string()).collect();
+    let measured: Vec<Vec<Measured>> = cells
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|c| Measured {
+                    volume_ml: c.volume_ml,
+                    mesh: c.mesh.as_ref(),
+                })
+                .collect()
+        })
+        .collect();
+    function::summarise(&names, &labels, &measured)
+}
+
+fn label(surface: &Option<String>) -> &str {
+    surface.as_deref().unwrap_or(UNLABELLED)
+}
+
+/// The summary as printed after the table.
+fn summary_lines(f: &Function) -> Vec<String> {
+    let mut out = Vec::new();
+    for v in &f.ventricles {
+        out.push(format!(
+            "{}: EDV {:.1} ml ({}), ESV {:.1} ml ({}), SV {:.1} ml, EF {:.1} %",
+            v.surface, v.edv_ml, v.ed_phase, v.esv_ml, v.es_phase, v.sv_ml, v.ef_percent
+        ));
+    }
+    for s in &f.single {
+        out.push(match s.volume_ml {
+            Some(v) => format!(
+                "{}: {v:.1} ml in the one phase with a closed mesh: no ejection fraction (give \
+                 the end-diastolic and end-systolic phases)",
+                s.surface
+            ),
+            None => format!("{}: no phase gave a closed mesh, so no volume", s.surface),
+        });
+    }
+    if let Some(mass) = &f.lv_mass {
+        let lv = f.ventricles.iter().find(|v| v.surface == "LV_ENDO");
+        let at: Vec<(&str, &str)> = match lv {
+            Some(v) => vec![
+                ("at ED ", v.ed_phase.as_str()),
+                ("at ES ", v.es_phase.as_str()),
+            ],
+            None => mass
+                .per_phase
+                .iter()
+                .map(|p| ("", p.phase.as_str()))
+                .collect(),
+        };
+        let parts: Vec<String> = at
+            .iter()
+            .filter_map(|(when, phase)| {
+                let m = mass.per_phase.iter().find(|m| m.phase == *phase)?;
+                Some(match (m.grams, m.why_none) {
+                    (Some(g), _) => format!("{g:.1} g {when}({phase})"),
+                    (None, why) => format!("none {when}({phase}: {})", why.unwrap_or("")),
+                })
+            })
+            .collect();
+        out.push(format!(
+            "LV mass, {} g/ml x (LV_EPI - LV_ENDO): {}",
+            mass.density_g_per_ml,
+            parts.join(", ")
+        ));
+    }
+    out
+}
+
+fn csv(phases: &[Phase], surfaces: &[Option<String>], cells: &[Vec<Cell>]) -> String {
+    let mut out =
+        String::from("phase,surface,volume_ml,watertight,contour_to_mesh_mean_mm,seconds\n");
+    let quote = |s: &str| {
+        if s.contains([',', '"', '\n']) {
+            format!("\"{}\"", s.replace('"', "\"\""))
+        } else {
+            s.to_string()
+        }
+    };
+    for (ph, row) in phases.iter().zip(cells) {
+        for (s, c) in surfaces.iter().zip(row) {
+            let opt = |v: Option<f64>, digits: usize| {
+                v.map(|x| format!("{x:.digits$}")).unwrap_or_default()
+            };
+            out.push_str(&format!(
+                "{},{},{},{},{},{:.3}\n",
+                quote(&ph.name),
+                quote(s.as_deref().unwrap_or(UNLABELLED)),
+                opt(c.volume_ml, 3),
+                c.watertight,
+                opt(c.c2m_mean_mm, 4),
+                c.seconds
+            ));
+        }
+    }
+    out
+}
+
+fn json_report(
+    phases: &[Phase],
+    surfaces: &[Option<String>],
+    cells: &[Vec<Cell>],
+    summary: &Function,
+    params: &Params,
+) -> Value {
+    let names: Vec<&str> = surfaces.iter().map(label).collect();
+    let volumes: Vec<Value> = phases
+        .iter()
+        .zip(cells)
+        .flat_map(|(ph, row)| {
+            names.iter().zip(row).map(move |(s, c)| {
+                json!({
+                    "phase": ph.name,
+                    "input": file_name(&ph.input),
+                    "surface": s,
+                    "volume_ml": c.volume_ml,
+                    "watertight": c.watertight,
+                    "contour_to_mesh_mean": c.c2m_mean_mm,
+                    "seconds": c.seconds,
+                    "missing": c.missing,
+                })
+            })
+        })
+        .collect();
+    let phase_names: Vec<&str> = phases.iter().map(|p| p.name.as_str()).collect();
+    json!({
+        "version": heartmesh_core::VERSION,
+        "phases": phase_names,
+        "surfaces": names,
+        "parameters": crate::report::report_parameters(params),
+        "volumes": volumes,
+        "function": summary.ventricles,
+        "lv_mass": summary.lv_mass,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn phases_are_named_by_their_files_without_extensions() {
+        assert_eq!(stem("GPFile_000.txt"), "GPFile_000");
+        assert_eq!(
+            stem("patient001_frame01_gt.nii.gz"),
+            "patient001_frame01_gt"
+        );
+        assert_eq!(stem("case.seg.nrrd"), "case");
+        assert_eq!(stem("ES"), "ES");
+        assert_eq!(stem(".hidden"), ".hidden");
+    }
+
+    #[test]
+    fn frames_flag_reads_lists_and_all() {
+        assert!(frames_flag(None).unwrap().is_none());
+        assert!(frames_flag(Some("ALL")).unwrap().is_none());
+        let f = frames_flag(Some("0, ES")).unwrap().unwrap();
+        assert_eq!(f.len(), 2);
+        assert!(f[0].matches("0.0") && f[1].matches("es"));
+        let e = frames_flag(Some("0,,9")).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.message().contains("empty frame"), "{}", e.message());
+    }
+}
