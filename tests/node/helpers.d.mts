@@ -20,5 +20,7 @@ export function readText(path: string): string;
 export function writeScratch(name: string, text: string): string;
 // eslint-disable-next-line @typescript-eslint/no-explicit-any
 export function cliReport(input: string, args: string[], label: string): Record<string, any>;
+// eslint-disable-next-line @typescript-eslint/no-explicit-any
+export function cliVolumes(inputs: string[], args: string[], label: string): Record<string, any>;
 export function cliSegment(args: string[], name: string): string;
 export function cliSimulate(truth: string, args: string[], name: string): string;

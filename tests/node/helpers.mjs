@@ -119,6 +119,14 @@ export function cliReport(input, args, label) {
   return JSON.parse(readFileSync(report, 'utf8'));
 }
 
+/** The native CLI's `volumes --json` document of the phases `inputs` (files, or one sequence) with `args`. */
+export function cliVolumes(inputs, args, label) {
+  if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);
+  const json = writeScratch(`${label}.json`, '');
+  execFileSync(CLI, ['volumes', ...inputs, '--json', json, '--quiet', ...args]);
+  return JSON.parse(readFileSync(json, 'utf8'));
+}
+
 /** The native CLI's `segment` (`args`: its surfaces and options) into the scratch folder as `name`; returns its path. */
 export function cliSegment(args, name) {
   if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);

@@ -80,6 +80,33 @@ describe('CoreClient lab calls', () => {
     await expect(second.done).rejects.toMatchObject({ code: 'cancelled' });
   });
 
+  it('measures phases: files as loaded, frames from the bytes kept here (transferred copies); the summary reaches the caller', async () => {
+    await loadFile('a.csv');
+    await loadFile('b.csv');
+    const files = client.measurePhases({ kind: 'phases', phases: [{ name: 'a', file: 'a.csv' }, { name: 'b', file: 'b.csv' }], params: {}, lids: 'auto' }, () => undefined);
+    const posted = worker().of('lab-batch').at(-1)!;
+    expect(posted.runId).toBe(files.runId);
+    expect(posted.job).toEqual({ kind: 'phases', phases: [{ name: 'a', file: 'a.csv' }, { name: 'b', file: 'b.csv' }], params: {}, lids: 'auto' });
+    expect(transferablesOf(posted)).toEqual([]);
+
+    const seen: LabProgress[] = [];
+    const frames = client.measurePhases({ kind: 'phases', phases: [{ name: 'ED', file: 'a.csv', frame: 'ED' }, { name: 'ES', file: 'a.csv', frame: 'ES' }], params: {}, lids: 'auto' }, (p) => seen.push(p));
+    await expect(files.done).rejects.toMatchObject({ code: 'cancelled' });
+    const msg = worker().of('lab-batch').at(-1)!;
+    const job = msg.job as { sequence?: { bytes: ArrayBuffer; views: unknown[] } };
+    expect(job.sequence?.bytes.byteLength).toBe(4);
+    expect(job.sequence?.views).toEqual([]);
+    expect(transferablesOf(msg)).toEqual([job.sequence?.bytes]);
+    const summary = { ventricles: [], single: [], lv_mass: null };
+    worker().emit({ type: 'lab-progress', runId: frames.runId, progress: { completed: 2, total: 2, summary } });
+    worker().emit({ type: 'lab-batch-done', runId: frames.runId });
+    await frames.done;
+    expect(seen).toEqual([{ completed: 2, total: 2, summary }]);
+
+    const missing = client.measurePhases({ kind: 'phases', phases: [{ name: 'x', file: 'x.csv' }, { name: 'a', file: 'a.csv' }], params: {}, lids: 'auto' }, () => undefined);
+    await expect(missing.done).rejects.toMatchObject({ code: 'not_loaded', file: 'x.csv' });
+  });
+
   it('rejects a batch on a file that was never loaded, and a batch error', async () => {
     const h = client.labBatch({ kind: 'loo', fileName: 'nope.csv', surface: null, params: {}, lids: 'auto' }, () => undefined);
     await expect(h.done).rejects.toMatchObject({ code: 'not_loaded' });

@@ -13,6 +13,7 @@ import { ExportPanel } from '../io/ExportPanel';
 import { FileBar } from '../io/FileBar';
 import { installKeyboard } from '../ui/keyboard';
 import { ErrorBanner } from '../ui/ErrorBanner';
+import { FunctionPanel } from '../ui/FunctionPanel';
 import { HoverReadout } from '../ui/HoverReadout';
 import { NotesLine } from '../ui/NotesLine';
 import { LivePlot } from '../ui/LivePlot';
@@ -87,7 +88,13 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
 
   slot('slot-filebar').append(parts.files.element);
   slot('slot-left').append(parts.params.element);
-  slot('slot-right').append(parts.status.element, parts.plot.element, parts.result.element, parts.exports.element);
+  // The phases of one heart measured together (EDV/ESV/EF, LV mass), beside the run on screen.
+  const fn = new FunctionPanel({
+    context: () => controller.functionContext(),
+    onContextChange: (l) => controller.onContextChange(l),
+    client: () => controller.coreClient,
+  });
+  slot('slot-right').append(parts.status.element, parts.plot.element, parts.result.element, parts.exports.element, fn.element);
   slot('slot-bottom').append(parts.timeline.element);
   slot('slot-banner').append(parts.banner.element);
   slot('slot-notes').append(parts.notes.element);

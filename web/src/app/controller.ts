@@ -28,6 +28,8 @@ import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type Vie
 import { KeptSurfaces, runSignature, type KeptMesh } from './keptSurfaces';
 import { surfaceOrder } from '../io/FileBar';
 import { BIV_EPI } from '../core-client/derivedSurfaces';
+import { phasesOf } from './phases';
+import type { FunctionContext } from '../ui/FunctionPanel';
 
 export type { Parts } from './parts';
 
@@ -107,6 +109,9 @@ export class Controller {
   private markReady: (ok: boolean) => void = () => undefined;
   private coreUp = false;
   private readonly resultListeners: ((r: RunResult | null) => void)[] = [];
+  private readonly contextListeners: (() => void)[] = [];
+  /** Per open file, how many times it was read anew (dropped again, views added): the Function table's contours. */
+  private readonly readings = new Map<string, number>();
 
   constructor(
     private readonly parts: Parts,
@@ -334,6 +339,7 @@ export class Controller {
       // Read again (dropped anew, another frame): the meshes kept of its other surfaces may be of other contours.
       if (this.kept.boundTo(`${fileName}\n`)) this.kept.forget();
       this.files.set(fileName, loaded);
+      this.readings.set(fileName, (this.readings.get(fileName) ?? 0) + 1);
       this.identities.set(fileName, identity);
       if (isStack(grid)) this.stacks.add(fileName);
       else this.stacks.delete(fileName);
@@ -367,6 +373,7 @@ export class Controller {
       // Other contours: the meshes kept of its surfaces are of the stack without these views.
       if (this.kept.boundTo(`${stack}\n`)) this.kept.forget();
       this.files.set(stack, loaded);
+      this.readings.set(stack, (this.readings.get(stack) ?? 0) + 1);
       this.dispatch({ type: 'loaded', fileName: stack });
       this.parts.banner.hide();
       this.pendingRunFailure = null;
@@ -606,6 +613,30 @@ export class Controller {
       lids: this.lids,
       options: { ...this.options },
     };
+  }
+
+  /**
+   * The phases of one heart now open and the settings a Function measurement would use (null
+   * with fewer than two phases); its keys change whenever the contours or the settings do.
+   */
+  functionContext(): FunctionContext | null {
+    const plan = phasesOf(this.currentFile(), [...this.files.values()]);
+    if (!plan) return null;
+    // A phase that is a file is the worker's reading of it (its frame, its views, dropped anew).
+    const readings = plan.kind === 'files' ? plan.phases.map((p) => [this.readings.get(p.file) ?? 0, this.files.get(p.file)?.timeFrames?.read ?? null]) : [this.readings.get(plan.phases[0].file) ?? 0];
+    return {
+      plan,
+      params: { ...this.params },
+      lids: this.lids,
+      options: { ...this.options },
+      phasesKey: JSON.stringify([plan.phases, readings]),
+      settingsKey: JSON.stringify([schemaOrdered(this.params, this.schema), this.lids, Object.entries(this.options).sort(([a], [b]) => a.localeCompare(b))]),
+    };
+  }
+
+  /** Called whenever `functionContext` may have changed (files, frames, parameters). */
+  onContextChange(listener: () => void): void {
+    this.contextListeners.push(listener);
   }
 
   /** Called with each finished run's result, and with null whenever the shown result is cleared. */
@@ -915,7 +946,9 @@ export class Controller {
     this.parts.exports.setAvailable(this.runView.currentResult !== null, this.currentFile() !== null);
   }
 
+  /** The link holds the settings and the file's frame: whatever changes it may change the Function context too. */
   private updateUrl(): void {
+    for (const l of this.contextListeners) callSafely(l, 'context listener failed');
     if (this.schema.length === 0) return;
     const query = serializeUrlState(
       { params: this.params, lids: this.lids, options: this.options, surface: this.surface, frame: this.frame, sample: this.sampleId, view: this.view },

@@ -43,6 +43,7 @@ import {
   type LabTruth,
   type LabTruthSource,
   type LabelMapGrid,
+  type PhasesJob,
   type LoadedFile,
   type ParamSpec,
   type RunResult,
@@ -163,6 +164,7 @@ export class CoreClient {
       newId: () => this.nextId++,
       disposedError: () => (this.disposed ? this.disposedError() : null),
       fileBytes: (fileName) => this.files.get(fileName),
+      fileViews: (fileName) => this.views.get(fileName) ?? [],
       ensureWorker: () => void this.ensureWorker().catch(() => undefined),
       resendIfRecreated: (fileName, bytes, onError) => this.resendIfRecreated(fileName, bytes, onError),
     });
@@ -415,6 +417,16 @@ export class CoreClient {
   /** Starts a leave-one-out or a parameter sweep on a loaded file; replaces a batch in progress. */
   labBatch(job: LabBatchJob, onProgress: (p: LabProgress) => void): LabBatchHandle {
     return this.lab.batch(job, onProgress);
+  }
+
+  /**
+   * Reconstructs every surface of every phase of one heart at these settings, for its function
+   * (EDV/ESV/SV/EF, LV mass): one cell per progress item, the summary with the last progress.
+   * It runs beside the reconstruction on screen; it replaces a lab batch in progress (and a lab
+   * batch started later replaces it).
+   */
+  measurePhases(job: PhasesJob, onProgress: (p: LabProgress) => void): LabBatchHandle {
+    return this.lab.phases(job, onProgress);
   }
 
   /** Terminates the worker and rejects everything pending with `{ code: 'disposed' }`. */

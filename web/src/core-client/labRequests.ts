@@ -1,6 +1,7 @@
 /**
  * The validation lab's side of the core client: truth, simulated acquisition, comparison, and the
- * leave-one-out / sweep batches with their progress. It remembers the truth and acquisition it
+ * batches with their progress (leave-one-out, sweep, and the phases of a heart's function, which
+ * the app's Function panel asks for: one batch at a time, so each replaces the other). It remembers the truth and acquisition it
  * made so a worker recreated after a crash gets them again before the next lab call (the lab
  * should not have to know the worker died). Split from CoreClient.ts because the main app never
  * uses it; CoreClient keeps the worker and forwards the lab's calls and messages here.
@@ -17,7 +18,10 @@ import {
   type LabProgress,
   type LabTruth,
   type LabTruthSource,
+  type PhasesJob,
   type ToWorker,
+  type ViewFile,
+  type WorkerBatchJob,
 } from './protocol';
 import type { LabBatchHandle } from './coreClientTypes';
 
@@ -37,6 +41,8 @@ export interface LabHost {
   disposedError(): CoreErrorData | null;
   /** Bytes of a loaded file, kept for crash recovery. */
   fileBytes(fileName: string): ArrayBuffer | undefined;
+  /** The long-axis views a loaded file is read with (none: empty). */
+  fileViews(fileName: string): readonly ViewFile[];
   /** Spawns a worker if there is none (its failure is heard elsewhere). */
   ensureWorker(): void;
   /** Re-sends a file to a recreated worker before the next request; `onError` hears a failed reload. */
@@ -91,6 +97,32 @@ export class LabRequests {
 
   /** Starts a leave-one-out or a parameter sweep on a loaded file; replaces a batch in progress. */
   batch(job: LabBatchJob, onProgress: (p: LabProgress) => void): LabBatchHandle {
+    const options = job.options ? { options: { ...job.options } } : {};
+    const copy: LabBatchJob = job.kind === 'sweep' ? { ...job, grid: { ...job.grid }, params: { ...job.params }, ...options } : { ...job, params: { ...job.params }, ...options };
+    return this.start([job.fileName], () => copy, onProgress);
+  }
+
+  /**
+   * Starts the phases of a heart's function (every surface of every phase) on loaded files;
+   * replaces a batch in progress. Phases that are time frames are read in the worker from the
+   * bytes (and views) kept here, so the frame the worker holds for the view stays as it is.
+   */
+  phases(job: PhasesJob, onProgress: (p: LabProgress) => void): LabBatchHandle {
+    const files = [...new Set(job.phases.map((p) => p.file))];
+    const framed = job.phases.find((p) => p.frame !== undefined)?.file;
+    const copy: PhasesJob = { ...job, phases: job.phases.map((p) => ({ ...p })), params: { ...job.params }, ...(job.options ? { options: { ...job.options } } : {}) };
+    // Fresh copies for each message (they are transferred).
+    const make = (): WorkerBatchJob => {
+      const bytes = framed === undefined ? undefined : this.host.fileBytes(framed);
+      if (bytes === undefined) return copy;
+      const views = this.host.fileViews(framed as string).map((v) => ({ name: v.name, bytes: v.bytes.slice(0) }));
+      return { ...copy, sequence: { bytes: bytes.slice(0), views } };
+    };
+    return this.start(files, make, onProgress);
+  }
+
+  /** Posts a batch that needs `files` loaded in the worker (re-sent to a recreated one first). */
+  private start(files: readonly string[], make: () => WorkerBatchJob, onProgress: (p: LabProgress) => void): LabBatchHandle {
     const runId = this.host.newId();
     let started!: BatchState['started'];
     const startedP = new Promise<LabBatchInfo>((resolve, reject) => (started = { resolve, reject }));
@@ -108,9 +140,9 @@ export class LabRequests {
       reject({ ...disposed });
       return handle;
     }
-    const bytes = this.host.fileBytes(job.fileName);
-    if (bytes === undefined) {
-      const e = { code: ErrorCodes.notLoaded, message: `${job.fileName} has not been loaded`, file: job.fileName };
+    const missing = files.find((f) => this.host.fileBytes(f) === undefined);
+    if (missing !== undefined || files.length === 0) {
+      const e = { code: ErrorCodes.notLoaded, message: `${missing ?? 'no file'} has not been loaded`, file: missing };
       started.reject(e);
       reject(e);
       return handle;
@@ -119,10 +151,8 @@ export class LabRequests {
     this.batches.set(runId, { onProgress, started, resolve, reject });
     this.host.ensureWorker();
     this.replay();
-    this.host.resendIfRecreated(job.fileName, bytes, (e) => this.finishBatch(runId, e));
-    const options = job.options ? { options: { ...job.options } } : {};
-    const copy: LabBatchJob = job.kind === 'sweep' ? { ...job, grid: { ...job.grid }, params: { ...job.params }, ...options } : { ...job, params: { ...job.params }, ...options };
-    this.host.postRun(runId, () => ({ type: 'lab-batch', runId, job: copy }), job.fileName);
+    for (const f of files) this.host.resendIfRecreated(f, this.host.fileBytes(f) as ArrayBuffer, (e) => this.finishBatch(runId, e));
+    this.host.postRun(runId, () => ({ type: 'lab-batch', runId, job: make() }), files[0]);
     return handle;
   }
 

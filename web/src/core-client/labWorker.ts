@@ -1,7 +1,8 @@
 /**
  * The worker side of the validation lab (issue 5): owns the wasm `Lab` (truth surface, simulated
  * acquisition, comparison, batches) next to WorkerCore's `Session`, and serves the lab messages
- * of the protocol. A batch (leave-one-out, parameter sweep: many full reconstructions) advances one
+ * of the protocol. A batch (leave-one-out, parameter sweep, the phases of a heart's function: many
+ * full reconstructions) advances one
  * pipeline step at a time in slices of a few milliseconds, yielding between slices so that a
  * 'cancel' is seen within one step; progress goes out with every finished item and otherwise at
  * most every `progressMs`. It runs beside a reconstruction run (the slices interleave).
@@ -18,6 +19,7 @@ import {
   type LabRequest,
   type CompareReport,
   type LabTruth,
+  type PhasesBatchJob,
 } from './protocol';
 
 /** The part of the wasm `Lab` (heartmesh-wasm/src/lab.rs) the worker uses. */
@@ -38,6 +40,16 @@ export interface LabApi {
     paramsJson: string,
     lids: string,
     sweepJson: string,
+  ): string;
+  /** `views`: a JS Array of Uint8Arrays, named by `viewNames` (the sequence file's long-axis views). */
+  start_phases(
+    session: unknown,
+    phasesJson: string,
+    paramsJson: string,
+    lids: string,
+    sequence: Uint8Array,
+    viewNames: string[],
+    views: Uint8Array[],
   ): string;
   batch_step(): string;
   stop_batch(): void;
@@ -132,16 +144,24 @@ export class LabWorker {
     const infoJson =
       j.kind === 'loo'
         ? this.lab.start_leave_one_out(this.session, j.fileName, j.surface, params, j.lids)
-        : this.lab.start_sweep(this.session, j.fileName, j.surface, params, j.lids, JSON.stringify({ grid: j.grid, with_truth: j.withTruth }));
-    const info = JSON.parse(infoJson) as { total: number; contours?: ContourInfo[] };
+        : j.kind === 'sweep'
+          ? this.lab.start_sweep(this.session, j.fileName, j.surface, params, j.lids, JSON.stringify({ grid: j.grid, with_truth: j.withTruth }))
+          : this.startPhases(j, params);
+    const info = JSON.parse(infoJson) as { total: number; contours?: ContourInfo[]; phases?: string[]; surfaces?: string[] };
     const batch: ActiveBatch = { runId: msg.runId, finished: false, lastProgressMs: this.options.now() };
     this.batch = batch;
     this.send({
       type: 'lab-batch-started',
       runId: msg.runId,
-      info: j.kind === 'loo' ? { ...info, points: this.lab.batch_points() } : { total: info.total },
+      info: j.kind === 'loo' ? { ...info, points: this.lab.batch_points() } : j.kind === 'phases' ? info : { total: info.total },
     });
     this.options.yieldToEventLoop(() => this.compute(batch));
+  }
+
+  private startPhases(j: PhasesBatchJob, params: string): string {
+    const views = j.sequence?.views ?? [];
+    const bytes = j.sequence ? new Uint8Array(j.sequence.bytes) : new Uint8Array(0);
+    return this.lab.start_phases(this.session, JSON.stringify(j.phases), params, j.lids, bytes, views.map((v) => String(v.name)), views.map((v) => new Uint8Array(v.bytes)));
   }
 
   private compute(batch: ActiveBatch): void {
@@ -153,6 +173,7 @@ export class LabWorker {
         const now = this.options.now();
         const progress: LabProgress = { completed: p.completed, total: p.total };
         if (p.item) progress.item = p.item;
+        if (p.summary) progress.summary = p.summary;
         if (p.item || p.done || now - batch.lastProgressMs >= (this.options.progressMs ?? 100)) {
           batch.lastProgressMs = now;
           this.send({ type: 'lab-progress', runId: batch.runId, progress });

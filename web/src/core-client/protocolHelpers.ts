@@ -75,6 +75,12 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
     case 'lab-batch-started':
       add(msg.info.points);
       break;
+    case 'lab-batch':
+      if (msg.job.kind === 'phases' && msg.job.sequence) {
+        add(msg.job.sequence.bytes);
+        for (const v of msg.job.sequence.views) add(v.bytes);
+      }
+      break;
     case 'session-json':
       add(msg.bytes);
       break;
@@ -88,7 +94,6 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
     case 'started':
     case 'error':
     case 'lab-simulate':
-    case 'lab-batch':
     case 'lab-progress':
     case 'lab-batch-done':
       break;

@@ -5,7 +5,7 @@
  * Field names of reports follow the Rust structs.
  */
 
-import type { ContourInfo, ContourKindName, Stats } from './protocolResults';
+import type { ContourInfo, ContourKindName, Stats, ViewFile } from './protocolResults';
 import type { LidsMode, ParamValues, ReconOptions } from './protocolOptions';
 
 /** The built-in parametric LV (truncated prolate spheroid), mm and degrees; missing = defaults. */
@@ -105,11 +105,42 @@ export type LabBatchJob =
   | ({ kind: 'loo' } & LabBatchBase)
   | ({ kind: 'sweep'; grid: SweepGrid; withTruth: boolean } & LabBatchBase);
 
+/**
+ * One phase of a heart for its function: a loaded file as the worker holds it, or (with `frame`)
+ * that time frame of a loaded file holding a sequence, read without changing the frame on screen.
+ */
+export interface PhaseSpec {
+  /** As the table, the CSV and the summary name it (the CLI's: file name without extension, or the frame label). */
+  name: string;
+  file: string;
+  frame?: string;
+}
+
+/** Every surface of every phase at these settings (the CLI's `heartmesh volumes`). */
+export interface PhasesJob {
+  kind: 'phases';
+  phases: PhaseSpec[];
+  params: ParamValues;
+  lids: LidsMode;
+  options?: ReconOptions;
+}
+
+/** The phases job as posted: the bytes (and long-axis views) of the file whose frames it reads. */
+export interface PhasesBatchJob extends PhasesJob {
+  sequence?: { bytes: ArrayBuffer; views: ViewFile[] };
+}
+
+/** What a 'lab-batch' message carries. */
+export type WorkerBatchJob = LabBatchJob | PhasesBatchJob;
+
 export interface LabBatchInfo {
   total: number;
   /** Leave-one-out: the cleaned contours in item order, and their points (xyz mm). */
   contours?: ContourInfo[];
   points?: Float32Array;
+  /** Phases: the table's rows and columns (items go phase by phase, surfaces in this order). */
+  phases?: string[];
+  surfaces?: string[];
 }
 
 /** One left-out contour: its points' distance to the mesh rebuilt without it. */
@@ -138,8 +169,59 @@ export interface SweepItem {
   hausdorff?: number;
 }
 
+/** Why a phases cell has no volume: the phase lacks the surface, its run failed, its mesh is open. */
+export type MissingVolume = 'absent' | 'failed' | 'open';
+
+/** One surface of one phase (a row of the CLI's `volumes --csv`). */
+export interface PhaseItem {
+  index: number;
+  phase: string;
+  surface: string;
+  volume_ml: number | null;
+  watertight: boolean;
+  contour_to_mesh_mean: number | null;
+  seconds: number;
+  missing: MissingVolume | null;
+  error: string | null;
+}
+
+/** Mirror of the Rust `metrics::function::Ventricle`. */
+export interface VentricleFunction {
+  surface: string;
+  ed_phase: string;
+  es_phase: string;
+  edv_ml: number;
+  esv_ml: number;
+  sv_ml: number;
+  ef_percent: number;
+  phases_used: number;
+}
+
+/** Mirror of `metrics::function::SingleVolume`: a cavity with fewer than two volumes. */
+export interface SingleVolume {
+  surface: string;
+  volume_ml: number | null;
+}
+
+/** Mirror of `metrics::function::LvMass`. */
+export interface LvMass {
+  density_g_per_ml: number;
+  per_phase: { phase: string; grams: number | null; why_none?: string }[];
+  ed_g: number | null;
+  es_g: number | null;
+}
+
+/** Mirror of `metrics::function::Function`. */
+export interface FunctionSummary {
+  ventricles: VentricleFunction[];
+  single: SingleVolume[];
+  lv_mass: LvMass | null;
+}
+
 export interface LabProgress {
   completed: number;
   total: number;
-  item?: LooItem | SweepItem;
+  item?: LooItem | SweepItem | PhaseItem;
+  /** The phases batch's function, with its last progress. */
+  summary?: FunctionSummary;
 }

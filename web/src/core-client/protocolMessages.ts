@@ -6,7 +6,7 @@
 
 import type { CoreErrorData } from './protocolErrors';
 import type {
-  AcquisitionSpec, LabAcquisition, LabBatchInfo, LabBatchJob, LabComparison, LabProgress, LabTruth, LabTruthSource,
+  AcquisitionSpec, LabAcquisition, LabBatchInfo, LabComparison, LabProgress, LabTruth, LabTruthSource, WorkerBatchJob,
 } from './protocolLab';
 import type { LidsMode, ParamSpec, ParamValues, ReconOptions } from './protocolOptions';
 import type { Frame, LabelMapGrid, LoadedFile, RunResult, ViewFile } from './protocolResults';
@@ -87,7 +87,7 @@ export interface LabCompareRequest {
 export interface LabBatchRequest {
   type: 'lab-batch';
   runId: number;
-  job: LabBatchJob;
+  job: WorkerBatchJob;
 }
 
 export type LabRequest = LabTruthRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;

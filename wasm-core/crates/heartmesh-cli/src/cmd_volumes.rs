@@ -8,9 +8,8 @@ use std::cell::RefCell;
 use std::time::Instant;
 
 use heartmesh_core::io::{self, FrameChoice, MeshFormat};
-use heartmesh_core::mesh::topology::validity;
 use heartmesh_core::mesh::TriMesh;
-use heartmesh_core::metrics::function::{self, Function, Measured};
+use heartmesh_core::metrics::function::{self, Function, Measured, Outcome, UNLABELLED};
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{ContourSet, CoreError, Params};
 use serde_json::{json, Value};
@@ -49,9 +48,6 @@ const VALUE_FLAGS: &[&str] = &["frames", "csv", "json", "meshes"];
 /// Switches of this command only.
 const SWITCHES: &[&str] = &["quiet"];
 
-/// The column name of a file whose contours carry no surface label.
-const UNLABELLED: &str = "surface";
-
 /// One phase of the heart: a file, or one time frame of a file holding a sequence.
 struct Phase {
     name: String,
@@ -60,17 +56,19 @@ struct Phase {
     session_params: Option<Params>,
 }
 
-/// One surface reconstructed (or not) in one phase.
-#[derive(Default)]
+/// One surface reconstructed (or not) in one phase, and how long it took.
 struct Cell {
-    /// The closed mesh's volume; None when it is open, the run failed or the phase lacks it.
-    volume_ml: Option<f64>,
-    watertight: bool,
-    c2m_mean_mm: Option<f64>,
+    out: Outcome,
     seconds: f64,
-    mesh: Option<TriMesh>,
-    /// Why there is no volume, in a word for the table (`open`, `failed`, `absent`).
-    missing: Option<&'static str>,
+}
+
+impl Cell {
+    fn none(missing: &'static str) -> Cell {
+        Cell {
+            out: Outcome::none(missing),
+            seconds: 0.0,
+        }
+    }
 }
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
@@ -141,13 +139,10 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
                     if let Some(earlier) = failed.replace(e) {
                         eprintln!("heartmesh: {}", earlier.message());
                     }
-                    Cell {
-                        missing: Some("failed"),
-                        ..Cell::default()
-                    }
+                    Cell::none("failed")
                 }
             };
-            if let (Some(dir), Some(mesh)) = (meshes, &cell.mesh) {
+            if let (Some(dir), Some(mesh)) = (meshes, &cell.out.mesh) {
                 write_mesh(dir, phase, s, mesh)?;
             }
             row.push(cell);
@@ -295,21 +290,11 @@ fn no_such_frame(input: &str, wanted: &FrameChoice, listed: &[String]) -> CliErr
 /// with `--surface A,B`, each of which some phase must hold (BIV_EPI is built from LV_EPI and
 /// RV_EPI). `[None]` for files without surface labels.
 fn surfaces_wanted(value: Option<&str>, phases: &[Phase]) -> Result<Vec<Option<String>>, CliError> {
-    let mut known: Vec<String> = Vec::new();
-    for ph in phases {
-        for s in ph.set.surfaces() {
-            if !known.contains(&s) {
-                known.push(s);
-            }
-        }
-    }
+    let all = function::surfaces_of(phases.iter().map(|ph| &ph.set));
+    let known: Vec<String> = all.iter().flatten().cloned().collect();
     let wanted = value.filter(|v| !v.trim().eq_ignore_ascii_case(each_surface::ALL));
     let Some(wanted) = wanted else {
-        return Ok(if known.is_empty() {
-            vec![None]
-        } else {
-            known.into_iter().map(Some).collect()
-        });
+        return Ok(all);
     };
     wanted
         .split(',')
@@ -352,10 +337,7 @@ fn reconstruct(
         Some(s) => phase.set.surfaces().iter().any(|k| k == s),
     };
     if !holds {
-        return Ok(Cell {
-            missing: Some("absent"),
-            ..Cell::default()
-        });
+        return Ok(Cell::none("absent"));
     }
     let mut params = params.clone();
     params.surface = surface.map(str::to_string);
@@ -372,16 +354,9 @@ fn reconstruct(
     let started = Instant::now();
     let mut rec = Reconstruction::new(&phase.set, params).map_err(fail)?;
     rec.run().map_err(fail)?;
-    let mesh = rec.mesh().clone();
-    let v = validity(&mesh);
-    let watertight = v.closed && v.manifold && v.oriented;
     Ok(Cell {
-        volume_ml: watertight.then(|| mesh.volume_ml()),
-        watertight,
-        c2m_mean_mm: Some(rec.contour_distances().overall.mean),
+        out: Outcome::of(&rec),
         seconds: started.elapsed().as_secs_f64(),
-        missing: (!watertight).then_some("open"),
-        mesh: Some(mesh),
     })
 }
 
@@ -456,9 +431,9 @@ impl Table {
     fn row(&self, phase: &Phase, cells: &[Cell]) -> String {
         let mut line = format!("{:<w$}", phase.name, w = self.phase_width);
         for (c, w) in cells.iter().zip(&self.widths) {
-            let text = match c.volume_ml {
+            let text = match c.out.volume_ml {
                 Some(v) => format!("{v:.1}"),
-                None => c.missing.unwrap_or("-").to_string(),
+                None => c.out.missing.unwrap_or("-").to_string(),
             };
             line.push_str(&format!("  {text:>w$}"));
         }
@@ -472,14 +447,7 @@ fn summarise(phases: &[Phase], surfaces: &[Option<String>], cells: &[Vec<Cell>])
     let labels: Vec<String> = surfaces.iter().map(|s| label(s).to_string()).collect();
     let measured: Vec<Vec<Measured>> = cells
         .iter()
-        .map(|row| {
-            row.iter()
-                .map(|c| Measured {
-                    volume_ml: c.volume_ml,
-                    mesh: c.mesh.as_ref(),
-                })
-                .collect()
-        })
+        .map(|row| row.iter().map(|c| c.out.measured()).collect())
         .collect();
     function::summarise(&names, &labels, &measured)
 }
@@ -558,9 +526,9 @@ fn csv(phases: &[Phase], surfaces: &[Option<String>], cells: &[Vec<Cell>]) -> St
                 "{},{},{},{},{},{:.3}\n",
                 quote(&ph.name),
                 quote(s.as_deref().unwrap_or(UNLABELLED)),
-                opt(c.volume_ml, 3),
-                c.watertight,
-                opt(c.c2m_mean_mm, 4),
+                opt(c.out.volume_ml, 3),
+                c.out.watertight,
+                opt(c.out.contour_to_mesh_mean, 4),
                 c.seconds
             ));
         }
@@ -585,11 +553,11 @@ fn json_report(
                     "phase": ph.name,
                     "input": file_name(&ph.input),
                     "surface": s,
-                    "volume_ml": c.volume_ml,
-                    "watertight": c.watertight,
-                    "contour_to_mesh_mean": c.c2m_mean_mm,
+                    "volume_ml": c.out.volume_ml,
+                    "watertight": c.out.watertight,
+                    "contour_to_mesh_mean": c.out.contour_to_mesh_mean,
                     "seconds": c.seconds,
-                    "missing": c.missing,
+                    "missing": c.out.missing,
                 })
             })
         })

@@ -6,6 +6,7 @@
 //! calls and converts at the boundary (same rules as [`crate::Session`]).
 
 mod batch;
+mod phases;
 mod spec;
 
 use heartmesh_core::contours::ContourSet;
@@ -218,7 +219,38 @@ impl Lab {
         Ok(info.to_string())
     }
 
-    /// Advances the batch by one pipeline step: `{completed, total, done, item?}`.
+    /// Starts the phases batch of one heart's function: every surface of every phase at these
+    /// parameters. `phases_json` = `[{name, file, frame?}]`: a phase is a loaded file as the
+    /// session holds it, or (with `frame`) that time frame of the file whose bytes (and long-axis
+    /// views, names and `Uint8Array`s) are given here, read without replacing the session's file,
+    /// whose frame the page shows. Returns `{total, phases, surfaces}`; the items are the cells,
+    /// phase by phase, and the last `batch_step` carries the `summary`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn start_phases(
+        &mut self,
+        session: &Session,
+        phases_json: &str,
+        params_json: &str,
+        lids: &str,
+        sequence: &[u8],
+        view_names: Vec<String>,
+        views: js_sys::Array,
+    ) -> Result<String, JsValue> {
+        let contents: Vec<Vec<u8>> = views
+            .iter()
+            .map(|v| js_sys::Uint8Array::new(&v).to_vec())
+            .collect();
+        let pairs: Vec<(&str, &[u8])> = view_names
+            .iter()
+            .map(String::as_str)
+            .zip(contents.iter().map(Vec::as_slice))
+            .collect();
+        self.start_phases_with(session, phases_json, params_json, lids, sequence, &pairs)
+            .map_err(|e| errors::to_js(&e))
+    }
+
+    /// Advances the batch by one pipeline step: `{completed, total, done, item?}` (and, for the
+    /// phases batch once done, `summary`).
     pub fn batch_step(&mut self) -> Result<String, JsValue> {
         let batch = self
             .batch
@@ -229,6 +261,9 @@ impl Lab {
         let mut out = json!({ "completed": p.completed, "total": p.total, "done": done });
         if let Some(item) = p.item {
             out["item"] = item;
+        }
+        if let Some(summary) = batch.summary() {
+            out["summary"] = summary;
         }
         if done {
             self.batch = None;
@@ -248,6 +283,43 @@ impl Lab {
 }
 
 impl Lab {
+    /// [`Lab::start_phases`] with the views as slices (native, so tests reach it).
+    pub fn start_phases_with(
+        &mut self,
+        session: &Session,
+        phases_json: &str,
+        params_json: &str,
+        lids: &str,
+        sequence: &[u8],
+        views: &[(&str, &[u8])],
+    ) -> heartmesh_core::error::Result<String> {
+        self.batch = None;
+        self.batch_points.clear();
+        let params = convert::params_from_json(params_json, lids, None)?;
+        let inputs = phase_requests(phases_json)?
+            .into_iter()
+            .map(|r| {
+                let contours = match &r.frame {
+                    Some(frame) => crate::read_contours(&r.file, sequence, views, Some(frame))
+                        .map_err(|e| e.to_string()),
+                    None => session
+                        .loaded(&r.file)
+                        .cloned()
+                        .ok_or_else(|| format!("{} has not been loaded", r.file)),
+                };
+                phases::PhaseInput {
+                    name: r.name,
+                    contours,
+                }
+            })
+            .collect();
+        let batch = Batch::phases(inputs, &params, batch_clock())?;
+        let mut info = batch.layout().unwrap_or_else(|| json!({}));
+        info["total"] = json!(batch.total());
+        self.batch = Some(batch);
+        Ok(info.to_string())
+    }
+
     fn truth(&self) -> Result<&Truth, JsValue> {
         self.truth
             .as_ref()
@@ -274,6 +346,52 @@ impl Lab {
 /// the `mesh_from_buffers` fuzz target covers).
 fn mesh_from_buffers(positions: &[f32], indices: &[u32]) -> heartmesh_core::error::Result<TriMesh> {
     heartmesh_core::io::mesh_from_buffers(positions, indices)
+}
+
+/// The phases batch's cells are timed like a run: by `performance.now()` in the browser
+/// (`Instant` traps there), natively by `Instant`.
+fn batch_clock() -> Box<dyn heartmesh_core::clock::Clock> {
+    #[cfg(target_arch = "wasm32")]
+    {
+        Box::new(crate::clock::PerformanceClock::new())
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        Box::new(heartmesh_core::clock::DefaultClock::default())
+    }
+}
+
+/// One entry of [`Lab::start_phases`]'s list.
+struct PhaseRequest {
+    name: String,
+    file: String,
+    frame: Option<String>,
+}
+
+/// `[{name, file, frame?}]` of [`Lab::start_phases`].
+fn phase_requests(text: &str) -> heartmesh_core::error::Result<Vec<PhaseRequest>> {
+    let bad = |message: String| CoreError::ParamInvalid {
+        name: "phases".into(),
+        message,
+    };
+    let value: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| bad(format!("not JSON: {e}")))?;
+    let list = value
+        .as_array()
+        .ok_or_else(|| bad("not a list of phases".into()))?;
+    list.iter()
+        .map(|p| {
+            let text = |key: &str| p.get(key).and_then(serde_json::Value::as_str);
+            match (text("name"), text("file")) {
+                (Some(name), Some(file)) => Ok(PhaseRequest {
+                    name: name.to_string(),
+                    file: file.to_string(),
+                    frame: text("frame").map(str::to_string),
+                }),
+                _ => Err(bad(format!("{p} lacks a name or a file"))),
+            }
+        })
+        .collect()
 }
 
 /// `{grid, with_truth}` of [`Lab::start_sweep`].
@@ -363,6 +481,159 @@ mod tests {
         let above = t.positions.iter().filter(|p| p.z > 79.0).count();
         assert!(above > 0 && d.iter().filter(|x| x.is_nan()).count() >= above);
         assert!(d.iter().filter(|x| x.is_finite()).all(|x| *x < 1e-4));
+    }
+
+    /// `shared/data/<rel>`: the nearest ancestor of this crate holding it (as the CLI's tests).
+    fn data(rel: &str) -> std::path::PathBuf {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .ancestors()
+            .map(|a| a.join("shared/data"))
+            .find(|d| d.join("README.md").is_file())
+            .expect("shared/data not found above CARGO_MANIFEST_DIR")
+            .join(rel)
+    }
+
+    fn patient1(phase: &str) -> Vec<u8> {
+        std::fs::read(data(&format!(
+            "contours/bivme-example-patient1/patient1-{phase}.csv"
+        )))
+        .unwrap()
+    }
+
+    /// Runs the batch to its end: the items and the final summary.
+    fn drain(lab: &mut Lab) -> (Vec<serde_json::Value>, serde_json::Value) {
+        let mut items = Vec::new();
+        for _ in 0..1_000_000 {
+            let p: serde_json::Value = serde_json::from_str(&lab.batch_step().unwrap()).unwrap();
+            if let Some(item) = p.get("item") {
+                items.push(item.clone());
+            }
+            if p["done"] == true {
+                return (items, p["summary"].clone());
+            }
+        }
+        panic!("the batch does not finish");
+    }
+
+    /// The volume of `surface` reconstructed directly by the core, as `heartmesh volumes` does.
+    fn direct_volume(set: &ContourSet, surface: &str) -> f64 {
+        let params = heartmesh_core::Params {
+            surface: Some(surface.to_string()),
+            ..heartmesh_core::Params::default()
+        };
+        let mut rec = heartmesh_core::pipeline::Reconstruction::new(set, params).unwrap();
+        rec.run().unwrap();
+        assert!(topology::validity(rec.mesh()).is_closed_manifold());
+        rec.mesh().volume_ml()
+    }
+
+    /// Patient 1's ED and ES files: every surface of both phases, each volume the core's own, the
+    /// summary ED/ES by volume; the same phases as the frames of one file holding both give the
+    /// same volumes, read without touching the session's file; a phase that cannot be read is
+    /// failed cells, the others measured.
+    #[test]
+    fn phases_batch_measures_every_surface_of_every_phase() {
+        let (ed, es) = (patient1("ED"), patient1("ES"));
+        let mut session = Session::new();
+        session.load("patient1-ED.csv", &ed, None).unwrap();
+        session.load("patient1-ES.csv", &es, None).unwrap();
+        let mut lab = Lab::new();
+        let phases = r#"[{"name": "patient1-ED", "file": "patient1-ED.csv"},
+                         {"name": "patient1-ES", "file": "patient1-ES.csv"}]"#;
+        let info: serde_json::Value = serde_json::from_str(
+            &lab.start_phases_with(&session, phases, "{}", "auto", &[], &[])
+                .unwrap(),
+        )
+        .unwrap();
+        // In the files' order, as the CLI's table.
+        let surfaces = ["RV_ENDO", "RV_EPI", "LV_EPI", "LV_ENDO"];
+        assert_eq!(info["surfaces"], json!(surfaces), "{info}");
+        assert_eq!(info["phases"], json!(["patient1-ED", "patient1-ES"]));
+        assert_eq!(info["total"], 8);
+        let (items, summary) = drain(&mut lab);
+        assert_eq!(items.len(), 8);
+        let mut volumes = Vec::new();
+        for (i, it) in items.iter().enumerate() {
+            let (bytes, phase) = if i < 4 { (&ed, "ED") } else { (&es, "ES") };
+            let set = heartmesh_core::io::read_contours("p.csv", bytes).unwrap();
+            let want = direct_volume(&set, surfaces[i % 4]);
+            let got = it["volume_ml"].as_f64().unwrap();
+            println!("{phase} {}: {got:.3} ml", surfaces[i % 4]);
+            assert_eq!(got, want, "{it}");
+            assert_eq!(it["surface"], surfaces[i % 4]);
+            assert_eq!(it["watertight"], true);
+            assert!(it["missing"].is_null() && it["error"].is_null(), "{it}");
+            let mean = it["contour_to_mesh_mean"].as_f64().unwrap();
+            assert!(mean > 0.0 && mean < 2.0, "{it}");
+            volumes.push(got);
+        }
+        let lv = &summary["ventricles"][1];
+        assert_eq!(lv["surface"], "LV_ENDO");
+        assert_eq!(
+            (lv["ed_phase"].as_str(), lv["es_phase"].as_str()),
+            (Some("patient1-ED"), Some("patient1-ES"))
+        );
+        let ef = 100.0 * (volumes[3] - volumes[7]) / volumes[3];
+        assert!((lv["ef_percent"].as_f64().unwrap() - ef).abs() < 1e-12);
+        // The CLI's figures for these files (README: 62.1 %, 134.0 g at ED).
+        assert!((ef - 62.1).abs() < 0.05, "{ef}");
+        let mass = &summary["lv_mass"];
+        let ed_g = mass["ed_g"].as_f64().unwrap();
+        assert!((ed_g - 1.05 * (volumes[2] - volumes[3])).abs() < 1e-9);
+        assert!((ed_g - 134.0).abs() < 0.05, "{ed_g}");
+
+        // One file holding both phases (a `phase` column), its frames read from the bytes given,
+        // plus a phase whose frame the file lacks.
+        let mut cine = String::from("contour,x,y,z,surface,phase\n");
+        for (bytes, phase) in [(&ed, "ED"), (&es, "ES")] {
+            let text = String::from_utf8_lossy(bytes).to_string();
+            for line in text
+                .lines()
+                .skip(1)
+                .filter(|l| !l.is_empty() && !l.starts_with('#'))
+            {
+                cine.push_str(&format!("{line},{phase}\n"));
+            }
+        }
+        session.load("cine.csv", cine.as_bytes(), None).unwrap();
+        let frames = r#"[{"name": "ED", "file": "cine.csv", "frame": "ED"},
+                         {"name": "ES", "file": "cine.csv", "frame": "es"},
+                         {"name": "XX", "file": "cine.csv", "frame": "XX"},
+                         {"name": "gone", "file": "gone.csv"}]"#;
+        lab.start_phases_with(&session, frames, "{}", "auto", cine.as_bytes(), &[])
+            .unwrap();
+        let (items, summary) = drain(&mut lab);
+        assert_eq!(items.len(), 16);
+        for (i, it) in items[..8].iter().enumerate() {
+            assert_eq!(it["volume_ml"].as_f64(), Some(volumes[i]), "{it}");
+        }
+        for it in &items[8..] {
+            assert_eq!(it["missing"], "failed", "{it}");
+            assert!(it["volume_ml"].is_null());
+        }
+        let xx = items[8]["error"].as_str().unwrap();
+        assert!(xx.contains("XX"), "{xx}");
+        assert!(items[12]["error"]
+            .as_str()
+            .unwrap()
+            .contains("gone.csv has not been loaded"));
+        assert_eq!(summary["ventricles"][0]["ed_phase"], "ED");
+        assert_eq!(summary["ventricles"][0]["es_phase"], "ES");
+        // The session's file is as it was loaded: frame ED, each contour's first.
+        let first = heartmesh_core::io::read_contours("cine.csv", cine.as_bytes()).unwrap();
+        assert_eq!(session.loaded("cine.csv"), Some(&first));
+
+        // Fewer than two phases, or a list that is no list: refused before any work.
+        let one = r#"[{"name": "ED", "file": "patient1-ED.csv"}]"#;
+        assert!(lab
+            .start_phases_with(&session, one, "{}", "auto", &[], &[])
+            .is_err());
+        assert!(lab
+            .start_phases_with(&session, "{}", "{}", "auto", &[], &[])
+            .is_err());
+        assert!(lab
+            .start_phases_with(&session, r#"[{"name": 1}, {}]"#, "{}", "auto", &[], &[])
+            .is_err());
     }
 
     #[test]

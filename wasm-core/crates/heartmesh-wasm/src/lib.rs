@@ -144,13 +144,8 @@ impl Session {
         views: &[(&str, &[u8])],
         frame: Option<String>,
     ) -> Result<String, JsValue> {
-        let options = io::ContourOptions {
-            frame: frame.as_deref().and_then(io::FrameChoice::new),
-            views,
-            ..io::ContourOptions::default()
-        };
-        let set =
-            io::read_contours_with(file_name, bytes, &options).map_err(|e| errors::to_js(&e))?;
+        let set = read_contours(file_name, bytes, views, frame.as_deref())
+            .map_err(|e| errors::to_js(&e))?;
         let landmarks: Vec<_> = set
             .landmarks
             .iter()
@@ -202,6 +197,23 @@ impl Session {
         self.files.insert(file_name.to_string(), set);
         Ok(info.to_string())
     }
+}
+
+/// A contour file's contours as [`Session::load`] reads them (with its long-axis views, as time
+/// frame `frame`), without keeping them: the phases batch reads the frames of a sequence the
+/// session does not hold, and must not replace the frame the page shows.
+pub(crate) fn read_contours(
+    file_name: &str,
+    bytes: &[u8],
+    views: &[(&str, &[u8])],
+    frame: Option<&str>,
+) -> heartmesh_core::error::Result<ContourSet> {
+    let options = io::ContourOptions {
+        frame: frame.and_then(io::FrameChoice::new),
+        views,
+        ..io::ContourOptions::default()
+    };
+    io::read_contours_with(file_name, bytes, &options)
 }
 
 #[wasm_bindgen]
@@ -354,6 +366,11 @@ impl Session {
 }
 
 impl Session {
+    /// A loaded file's contours (None: not loaded), for callers that must not build a JS error.
+    fn loaded(&self, file_name: &str) -> Option<&ContourSet> {
+        self.files.get(file_name)
+    }
+
     fn file(&self, file_name: &str) -> Result<&ContourSet, JsValue> {
         self.files
             .get(file_name)

@@ -9,8 +9,11 @@
 //! Volumes are those of the closed reconstructed meshes (lid at the base), so they include what
 //! the lids close, as model-based volumes do; an open mesh has no volume and is left out.
 
+use crate::contours::ContourSet;
 use crate::geometry::Vec3;
+use crate::mesh::topology::validity;
 use crate::mesh::TriMesh;
+use crate::pipeline::Reconstruction;
 use serde::Serialize;
 
 /// Density of myocardium, g/ml (the value every CMR mass measurement uses).
@@ -86,6 +89,72 @@ pub fn ventricle(surface: &str, volumes: &[PhaseVolume]) -> Option<Ventricle> {
 pub fn mass_g(endo_ml: Option<f64>, epi_ml: Option<f64>) -> Option<f64> {
     let wall = epi_ml? - endo_ml?;
     (wall.is_finite() && wall > 0.0).then_some(MYOCARDIAL_DENSITY_G_PER_ML * wall)
+}
+
+/// The column name of a file whose contours carry no surface label.
+pub const UNLABELLED: &str = "surface";
+
+/// Every surface of the phases' contour sets, in order of first appearance; `[None]` when none
+/// carries a label (a single-surface file).
+pub fn surfaces_of<'a>(sets: impl IntoIterator<Item = &'a ContourSet>) -> Vec<Option<String>> {
+    let mut known: Vec<String> = Vec::new();
+    for set in sets {
+        for s in set.surfaces() {
+            if !known.contains(&s) {
+                known.push(s);
+            }
+        }
+    }
+    if known.is_empty() {
+        vec![None]
+    } else {
+        known.into_iter().map(Some).collect()
+    }
+}
+
+/// What one phase's surface came to in the function table.
+#[derive(Debug, Clone, Default)]
+pub struct Outcome {
+    /// The closed mesh's volume; None when the mesh is open, the run failed or the phase lacks
+    /// the surface.
+    pub volume_ml: Option<f64>,
+    pub watertight: bool,
+    pub contour_to_mesh_mean: Option<f64>,
+    pub mesh: Option<TriMesh>,
+    /// Why there is no volume, in a word for the table: `open`, `failed` or `absent`.
+    pub missing: Option<&'static str>,
+}
+
+impl Outcome {
+    /// A finished reconstruction: its mesh, and a volume only if the mesh is closed (an open
+    /// mesh's divergence sum is no volume).
+    pub fn of(rec: &Reconstruction) -> Outcome {
+        let mesh = rec.mesh().clone();
+        let v = validity(&mesh);
+        let watertight = v.closed && v.manifold && v.oriented;
+        Outcome {
+            volume_ml: watertight.then(|| mesh.volume_ml()),
+            watertight,
+            contour_to_mesh_mean: Some(rec.contour_distances().overall.mean),
+            missing: (!watertight).then_some("open"),
+            mesh: Some(mesh),
+        }
+    }
+
+    /// No mesh, for the reason `missing` (`failed`, `absent`).
+    pub fn none(missing: &'static str) -> Outcome {
+        Outcome {
+            missing: Some(missing),
+            ..Outcome::default()
+        }
+    }
+
+    pub fn measured(&self) -> Measured<'_> {
+        Measured {
+            volume_ml: self.volume_ml,
+            mesh: self.mesh.as_ref(),
+        }
+    }
 }
 
 /// One surface's outcome in one phase, as [`summarise`] reads it.

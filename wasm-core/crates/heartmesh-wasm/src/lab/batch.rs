@@ -1,8 +1,9 @@
 //! Many reconstructions in a row, advanced one pipeline step per call so the worker can report
 //! progress and honour a cancel between steps: leave-one-out (Villard, Grau & Zacur, J. Imaging
 //! 2018, section 3.3, Figures 10-11: rebuild without contour j, measure contour j against the new
-//! mesh) and a parameter sweep (the same contours rebuilt over a small grid of parameters, each
-//! result measured against its contours and, when a truth is known, against the truth).
+//! mesh), a parameter sweep (the same contours rebuilt over a small grid of parameters, each
+//! result measured against its contours and, when a truth is known, against the truth), and the
+//! phases of one heart (every surface in every phase, for its function: `phases.rs`).
 //!
 //! The per-job measures are the core's (`metrics::points_to_mesh`, `metrics::compare`); this file
 //! only schedules the jobs and describes each finished one as JSON.
@@ -14,6 +15,8 @@ use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::sim::leave_one_out;
 use heartmesh_core::{Params, TriMesh};
 use serde_json::{json, Value};
+
+use super::phases::{self, PhaseInput, Phases};
 
 /// Largest sweep grid accepted (each point is a full reconstruction).
 pub const MAX_SWEEP_JOBS: usize = 256;
@@ -36,6 +39,8 @@ enum Kind {
         values: Vec<[f64; 4]>,
         truth: Option<(TriMesh, Option<ClipPlane>)>,
     },
+    /// Every surface of every phase (the cells' results stay until the summary).
+    Phases(Phases),
 }
 
 struct Job {
@@ -143,6 +148,40 @@ impl Batch {
         })
     }
 
+    /// Every surface of each phase at `params` (surfaces in order of first appearance).
+    pub fn phases(
+        inputs: Vec<PhaseInput>,
+        params: &Params,
+        clock: Box<dyn heartmesh_core::clock::Clock>,
+    ) -> Result<Batch> {
+        let (plan, jobs) = phases::plan(inputs, params, clock)?;
+        Ok(Batch {
+            kind: Kind::Phases(plan),
+            jobs: jobs
+                .into_iter()
+                .map(|(contours, params)| Job { contours, params })
+                .collect(),
+            next: 0,
+            current: None,
+        })
+    }
+
+    /// What the page lays its table out by before any result (phases batch only).
+    pub fn layout(&self) -> Option<Value> {
+        match &self.kind {
+            Kind::Phases(p) => Some(p.layout()),
+            _ => None,
+        }
+    }
+
+    /// The phases' function (`metrics::function::summarise`), once every cell is settled.
+    pub fn summary(&self) -> Option<Value> {
+        match &self.kind {
+            Kind::Phases(p) if self.is_done() => Some(p.summary()),
+            _ => None,
+        }
+    }
+
     pub fn total(&self) -> usize {
         self.jobs.len()
     }
@@ -156,25 +195,33 @@ impl Batch {
     pub fn step(&mut self) -> Progress {
         let mut item = None;
         if let Some(rec) = self.current.as_mut() {
-            match rec.step() {
-                Ok(report) if report.done => {
-                    let index = self.next - 1;
-                    item = Some(self.describe(index, Ok(())));
-                    self.current = None;
-                }
-                Ok(_) => {}
-                Err(e) => {
-                    let index = self.next - 1;
-                    item = Some(self.describe(index, Err(e)));
-                    self.current = None;
-                }
+            let outcome = match rec.step() {
+                Ok(report) if report.done => Some(Ok(())),
+                Ok(_) => None,
+                Err(e) => Some(Err(e)),
+            };
+            if let Some(outcome) = outcome {
+                let rec = self.current.take();
+                item = Some(self.describe(self.next - 1, rec.as_ref(), outcome));
             }
-        } else if let Some(job) = self.jobs.get(self.next) {
+        } else if self.next < self.jobs.len() {
             let index = self.next;
             self.next += 1;
-            match Reconstruction::new(&job.contours, job.params.clone()) {
-                Ok(rec) => self.current = Some(rec),
-                Err(e) => item = Some(self.describe(index, Err(e))),
+            let blocked = match &mut self.kind {
+                Kind::Phases(p) => {
+                    p.job_started();
+                    p.settle_blocked(index)
+                }
+                _ => None,
+            };
+            if blocked.is_some() {
+                item = blocked;
+            } else {
+                let job = &self.jobs[index];
+                match Reconstruction::new(&job.contours, job.params.clone()) {
+                    Ok(rec) => self.current = Some(rec),
+                    Err(e) => item = Some(self.describe(index, None, Err(e))),
+                }
             }
         }
         let completed = self.next - usize::from(self.current.is_some());
@@ -185,9 +232,17 @@ impl Batch {
         }
     }
 
-    /// The JSON item of job `index`, measured on the finished reconstruction (`self.current`).
-    fn describe(&self, index: usize, outcome: Result<()>) -> Value {
-        let rec = self.current.as_ref().filter(|_| outcome.is_ok());
+    /// The JSON item of job `index`, measured on its finished reconstruction `rec`.
+    fn describe(
+        &mut self,
+        index: usize,
+        rec: Option<&Reconstruction>,
+        outcome: Result<()>,
+    ) -> Value {
+        let rec = rec.filter(|_| outcome.is_ok());
+        if let Kind::Phases(p) = &mut self.kind {
+            return p.finish(index, rec, outcome);
+        }
         let error = outcome.err().map(|e| e.to_string());
         match &self.kind {
             Kind::LeaveOneOut { left_out } => {
@@ -234,6 +289,8 @@ impl Batch {
                 }
                 out
             }
+            // Described by `Phases::finish` above.
+            Kind::Phases(_) => Value::Null,
         }
     }
 }
