@@ -104,23 +104,32 @@ pub(crate) const PARAM_SWITCHES: &[&str] = &[
     "keep-specks",
 ];
 
-/// Every option with a value and every switch of a command that reconstructs: its own
-/// (`own_values`, `own_switches`) and the parameters'.
-pub(crate) fn option_names<'a>(
-    own_values: &[&'a str],
-    own_switches: &[&'a str],
-    numeric: &'a [String],
-) -> (Vec<&'a str>, Vec<&'a str>) {
-    let mut values: Vec<&str> = own_values.to_vec();
-    values.extend(PARAM_VALUE_FLAGS);
-    values.extend(numeric.iter().map(String::as_str));
+/// Parses the command line of a command that reconstructs: its own options with a value
+/// (`own_values`) and switches, and the parameters' ([`params_from`] reads them).
+pub(crate) fn parse_with_params(
+    args: &[String],
+    own_values: &[&str],
+    own_switches: &[&str],
+    aliases: &[(&str, &str)],
+) -> Result<Parsed, CliError> {
+    let numeric = numeric_flags();
+    let mut with_value: Vec<&str> = own_values.to_vec();
+    with_value.extend(PARAM_VALUE_FLAGS);
+    with_value.extend(numeric.iter().map(String::as_str));
     let mut switches: Vec<&str> = own_switches.to_vec();
     switches.extend(PARAM_SWITCHES);
-    (values, switches)
+    parse(
+        args,
+        &Spec {
+            with_value: &with_value,
+            switches: &switches,
+            aliases,
+        },
+    )
 }
 
 /// Flag names (dashes) of the numeric parameters, from the core's schema.
-pub(crate) fn numeric_flags() -> Vec<String> {
+fn numeric_flags() -> Vec<String> {
     Params::schema()
         .iter()
         .map(|s| s.name.replace('_', "-"))
@@ -128,15 +137,11 @@ pub(crate) fn numeric_flags() -> Vec<String> {
 }
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
-    let numeric = numeric_flags();
-    let (with_value, switches) = option_names(VALUE_FLAGS, SWITCHES, &numeric);
-    let p = parse(
+    let p = parse_with_params(
         args,
-        &Spec {
-            with_value: &with_value,
-            switches: &switches,
-            aliases: &[("-o", "output"), ("-q", "quiet")],
-        },
+        VALUE_FLAGS,
+        SWITCHES,
+        &[("-o", "output"), ("-q", "quiet")],
     )?;
     if p.positional.is_empty() {
         return Err(CliError::usage(
@@ -438,21 +443,10 @@ pub(crate) fn classify(input: &str, e: CoreError) -> CliError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::args::parse;
 
     fn parsed(a: &[&str]) -> Parsed {
-        let numeric = numeric_flags();
-        let (with_value, switches) = option_names(VALUE_FLAGS, SWITCHES, &numeric);
         let v: Vec<String> = a.iter().map(|s| s.to_string()).collect();
-        parse(
-            &v,
-            &Spec {
-                with_value: &with_value,
-                switches: &switches,
-                aliases: &[],
-            },
-        )
-        .unwrap()
+        parse_with_params(&v, VALUE_FLAGS, SWITCHES, &[]).unwrap()
     }
 
     fn params_from_default(p: &Parsed) -> Result<Params, CliError> {

@@ -14,9 +14,8 @@ use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{ContourSet, CoreError, Params};
 use serde_json::{json, Value};
 
-use crate::args::{parse, Spec};
 use crate::cmd_convert::file_name;
-use crate::cmd_reconstruct::{apex_lid, classify, numeric_flags, option_names, params_from};
+use crate::cmd_reconstruct::{apex_lid, classify, params_from, parse_with_params};
 use crate::contours;
 use crate::each_surface;
 use crate::error::CliError;
@@ -72,16 +71,7 @@ impl Cell {
 }
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
-    let numeric = numeric_flags();
-    let (with_value, switches) = option_names(VALUE_FLAGS, SWITCHES, &numeric);
-    let p = parse(
-        args,
-        &Spec {
-            with_value: &with_value,
-            switches: &switches,
-            aliases: &[("-q", "quiet")],
-        },
-    )?;
+    let p = parse_with_params(args, VALUE_FLAGS, SWITCHES, &[("-q", "quiet")])?;
     if p.positional.is_empty() {
         return Err(CliError::usage(
             "volumes needs contour files, one per phase (e.g. the ED and ES files), or one file \

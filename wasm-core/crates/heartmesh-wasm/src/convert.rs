@@ -282,6 +282,32 @@ pub fn to_f32(values: &[f64]) -> Vec<f32> {
     values.iter().map(|&v| v as f32).collect()
 }
 
+/// The long-axis views a page sends with a label map: names and `Uint8Array`s in the same order.
+/// Owned, since the JS arrays cannot be borrowed; [`view_pairs`] lends them to the core.
+pub fn views_from_js(
+    names: Vec<String>,
+    views: &js_sys::Array,
+) -> std::result::Result<Vec<(String, Vec<u8>)>, wasm_bindgen::JsValue> {
+    if names.len() != views.length() as usize {
+        return Err(crate::errors::to_js(&CoreError::ParamInvalid {
+            name: "views".into(),
+            message: "one name per view".into(),
+        }));
+    }
+    Ok(names
+        .into_iter()
+        .zip(views.iter().map(|v| js_sys::Uint8Array::new(&v).to_vec()))
+        .collect())
+}
+
+/// `(name, bytes)` views as the core's readers take them.
+pub fn view_pairs(views: &[(String, Vec<u8>)]) -> Vec<(&str, &[u8])> {
+    views
+        .iter()
+        .map(|(n, b)| (n.as_str(), b.as_slice()))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

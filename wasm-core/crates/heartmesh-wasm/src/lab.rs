@@ -236,15 +236,8 @@ impl Lab {
         view_names: Vec<String>,
         views: js_sys::Array,
     ) -> Result<String, JsValue> {
-        let contents: Vec<Vec<u8>> = views
-            .iter()
-            .map(|v| js_sys::Uint8Array::new(&v).to_vec())
-            .collect();
-        let pairs: Vec<(&str, &[u8])> = view_names
-            .iter()
-            .map(String::as_str)
-            .zip(contents.iter().map(Vec::as_slice))
-            .collect();
+        let views = convert::views_from_js(view_names, &views)?;
+        let pairs = convert::view_pairs(&views);
         self.start_phases_with(session, phases_json, params_json, lids, sequence, &pairs)
             .map_err(|e| errors::to_js(&e))
     }

@@ -116,21 +116,8 @@ impl Session {
         views: js_sys::Array,
         frame: Option<String>,
     ) -> Result<String, JsValue> {
-        if view_names.len() != views.length() as usize {
-            return Err(errors::to_js(&heartmesh_core::CoreError::ParamInvalid {
-                name: "views".into(),
-                message: "one name per view".into(),
-            }));
-        }
-        let contents: Vec<Vec<u8>> = views
-            .iter()
-            .map(|v| js_sys::Uint8Array::new(&v).to_vec())
-            .collect();
-        let pairs: Vec<(&str, &[u8])> = view_names
-            .iter()
-            .map(String::as_str)
-            .zip(contents.iter().map(Vec::as_slice))
-            .collect();
+        let views = convert::views_from_js(view_names, &views)?;
+        let pairs = convert::view_pairs(&views);
         self.load_with_views(file_name, bytes, &pairs, frame)
     }
 }
