@@ -289,24 +289,39 @@ impl Lab {
         self.batch = None;
         self.batch_points.clear();
         let params = convert::params_from_json(params_json, lids, None)?;
-        let inputs = phase_requests(phases_json)?
+        let requests = phase_requests(phases_json)?;
+        // The frames are read one by one as the batch reaches them (`phases::Source::Frame`).
+        let sequence = requests
+            .iter()
+            .find(|r| r.frame.is_some())
+            .map(|r| phases::Sequence {
+                file: r.file.clone(),
+                bytes: sequence.to_vec(),
+                views: views
+                    .iter()
+                    .map(|(n, b)| (n.to_string(), b.to_vec()))
+                    .collect(),
+                surfaces: session
+                    .loaded(&r.file)
+                    .map(ContourSet::surfaces)
+                    .unwrap_or_default(),
+            });
+        let inputs = requests
             .into_iter()
-            .map(|r| {
-                let contours = match &r.frame {
-                    Some(frame) => crate::read_contours(&r.file, sequence, views, Some(frame))
-                        .map_err(|e| e.to_string()),
-                    None => session
-                        .loaded(&r.file)
-                        .cloned()
-                        .ok_or_else(|| format!("{} has not been loaded", r.file)),
-                };
-                phases::PhaseInput {
-                    name: r.name,
-                    contours,
-                }
+            .map(|r| phases::PhaseInput {
+                name: r.name,
+                source: match r.frame {
+                    Some(frame) => phases::Source::Frame(frame),
+                    None => phases::Source::Read(
+                        session
+                            .loaded(&r.file)
+                            .cloned()
+                            .ok_or_else(|| format!("{} has not been loaded", r.file)),
+                    ),
+                },
             })
             .collect();
-        let batch = Batch::phases(inputs, &params, batch_clock())?;
+        let batch = Batch::phases(inputs, &params, sequence, batch_clock())?;
         let mut info = batch.layout().unwrap_or_else(|| json!({}));
         info["total"] = json!(batch.total());
         self.batch = Some(batch);

@@ -16,7 +16,7 @@ use heartmesh_core::sim::leave_one_out;
 use heartmesh_core::{Params, TriMesh};
 use serde_json::{json, Value};
 
-use super::phases::{self, PhaseInput, Phases};
+use super::phases::{self, PhaseInput, Phases, Sequence};
 
 /// Largest sweep grid accepted (each point is a full reconstruction).
 pub const MAX_SWEEP_JOBS: usize = 256;
@@ -152,14 +152,19 @@ impl Batch {
     pub fn phases(
         inputs: Vec<PhaseInput>,
         params: &Params,
+        sequence: Option<Sequence>,
         clock: Box<dyn heartmesh_core::clock::Clock>,
     ) -> Result<Batch> {
-        let (plan, jobs) = phases::plan(inputs, params, clock)?;
+        let (plan, jobs) = phases::plan(inputs, params, sequence, clock)?;
         Ok(Batch {
             kind: Kind::Phases(plan),
+            // Each cell's contours are its phase's, read when it starts (`Phases::contours_for`).
             jobs: jobs
                 .into_iter()
-                .map(|(contours, params)| Job { contours, params })
+                .map(|params| Job {
+                    contours: ContourSet::default(),
+                    params,
+                })
                 .collect(),
             next: 0,
             current: None,
@@ -207,20 +212,23 @@ impl Batch {
         } else if self.next < self.jobs.len() {
             let index = self.next;
             self.next += 1;
-            let blocked = match &mut self.kind {
+            let contours = match &mut self.kind {
                 Kind::Phases(p) => {
+                    let set = p.contours_for(index).map(Some);
                     p.job_started();
-                    p.settle_blocked(index)
+                    set
                 }
-                _ => None,
+                _ => Ok(None),
             };
-            if blocked.is_some() {
-                item = blocked;
-            } else {
-                let job = &self.jobs[index];
-                match Reconstruction::new(&job.contours, job.params.clone()) {
-                    Ok(rec) => self.current = Some(rec),
-                    Err(e) => item = Some(self.describe(index, None, Err(e))),
+            match contours {
+                Err(settled) => item = Some(settled),
+                Ok(phase_set) => {
+                    let job = &self.jobs[index];
+                    let set = phase_set.as_ref().unwrap_or(&job.contours);
+                    match Reconstruction::new(set, job.params.clone()) {
+                        Ok(rec) => self.current = Some(rec),
+                        Err(e) => item = Some(self.describe(index, None, Err(e))),
+                    }
                 }
             }
         }

@@ -10,15 +10,35 @@
 use heartmesh_core::clock::Clock;
 use heartmesh_core::contours::ContourSet;
 use heartmesh_core::error::{CoreError, Result};
-use heartmesh_core::metrics::function::{summarise, surfaces_of, Measured, Outcome, UNLABELLED};
+use heartmesh_core::metrics::function::{summarise, Measured, Outcome, UNLABELLED};
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::Params;
 use serde_json::{json, Value};
 
-/// One phase as the page names it, with its contours or why they could not be read.
+/// Where a phase's contours come from.
+pub enum Source {
+    /// Read already (a file the session holds), or why not.
+    Read(std::result::Result<ContourSet, String>),
+    /// A time frame of the [`Sequence`], read when its first cell runs: reading every frame of a
+    /// long cine up front would hold the worker for seconds before the first progress, with no
+    /// way to stop it.
+    Frame(String),
+}
+
+/// One phase as the page names it.
 pub struct PhaseInput {
     pub name: String,
-    pub contours: std::result::Result<ContourSet, String>,
+    pub source: Source,
+}
+
+/// The file whose time frames are phases: its bytes and long-axis views, kept to read the frames
+/// one by one, and the surfaces of the frame the session holds (the table's columns before any
+/// other frame is read).
+pub struct Sequence {
+    pub file: String,
+    pub bytes: Vec<u8>,
+    pub views: Vec<(String, Vec<u8>)>,
+    pub surfaces: Vec<String>,
 }
 
 /// What one (phase, surface) cell came to.
@@ -33,19 +53,22 @@ struct Cell {
 pub struct Phases {
     names: Vec<String>,
     surfaces: Vec<Option<String>>,
-    /// Why a cell will not run (`absent`, or the phase's read error), by job index.
-    blocked: Vec<Option<(&'static str, Option<String>)>>,
+    /// Per phase: its contours, or the frame still to read.
+    sources: Vec<Source>,
+    sequence: Option<Sequence>,
     cells: Vec<Cell>,
     clock: Box<dyn Clock>,
     started_ms: f64,
 }
 
-/// The phases' jobs (contours and parameters, one per cell) and their bookkeeping.
+/// The phases' bookkeeping and one set of parameters per cell (phase by phase, surfaces in
+/// order); the cells' contours come from [`Phases::contours_for`] when each runs.
 pub fn plan(
     inputs: Vec<PhaseInput>,
     params: &Params,
+    sequence: Option<Sequence>,
     clock: Box<dyn Clock>,
-) -> Result<(Phases, Vec<(ContourSet, Params)>)> {
+) -> Result<(Phases, Vec<Params>)> {
     if inputs.len() < 2 {
         return Err(CoreError::ParamInvalid {
             name: "phases".into(),
@@ -55,30 +78,61 @@ pub fn plan(
             ),
         });
     }
-    let surfaces = surfaces_of(inputs.iter().filter_map(|i| i.contours.as_ref().ok()));
-    let mut blocked = Vec::new();
-    let mut jobs = Vec::new();
-    for input in &inputs {
-        for surface in &surfaces {
-            let (set, why) = match &input.contours {
-                Err(e) => (ContourSet::default(), Some(("failed", Some(e.clone())))),
-                Ok(set) if holds(set, surface.as_deref()) => (set.clone(), None),
-                Ok(_) => (ContourSet::default(), Some(("absent", None))),
-            };
-            let mut p = params.clone();
-            p.surface = surface.clone();
-            jobs.push((set, p));
-            blocked.push(why);
-        }
+    let (names, mut sources): (Vec<String>, Vec<Source>) =
+        inputs.into_iter().map(|i| (i.name, i.source)).unzip();
+    if sources.iter().any(|s| matches!(s, Source::Frame(_))) && sequence.is_none() {
+        return Err(CoreError::ParamInvalid {
+            name: "phases".into(),
+            message: "a phase names a time frame, but no file holding a sequence was given".into(),
+        });
     }
-    let phases = Phases {
-        names: inputs.into_iter().map(|i| i.name).collect(),
-        cells: (0..jobs.len()).map(|_| Cell::default()).collect(),
-        surfaces,
-        blocked,
+    let known: Vec<String> = sequence.iter().flat_map(|q| q.surfaces.clone()).collect();
+    let mut phases = Phases {
+        names,
+        surfaces: Vec::new(),
+        sources: Vec::new(),
+        sequence,
+        cells: Vec::new(),
         clock,
         started_ms: 0.0,
     };
+    // A sequence the session does not hold: its first frame names the columns (one read).
+    if known.is_empty() {
+        if let Some(i) = sources.iter().position(|s| matches!(s, Source::Frame(_))) {
+            sources[i] = phases.read(&sources[i]);
+        }
+    }
+    // Columns in order of first appearance over the phases, as the CLI's (a frame not read yet
+    // counts with the surfaces of the frame the session holds).
+    let mut labels: Vec<String> = Vec::new();
+    for source in &sources {
+        let of_phase = match source {
+            Source::Read(Ok(set)) => set.surfaces(),
+            Source::Frame(_) => known.clone(),
+            Source::Read(Err(_)) => Vec::new(),
+        };
+        for l in of_phase {
+            if !labels.contains(&l) {
+                labels.push(l);
+            }
+        }
+    }
+    let surfaces: Vec<Option<String>> = if labels.is_empty() {
+        vec![None]
+    } else {
+        labels.into_iter().map(Some).collect()
+    };
+    let jobs: Vec<Params> = (0..sources.len())
+        .flat_map(|_| {
+            surfaces.iter().map(|surface| Params {
+                surface: surface.clone(),
+                ..params.clone()
+            })
+        })
+        .collect();
+    phases.cells = (0..jobs.len()).map(|_| Cell::default()).collect();
+    phases.surfaces = surfaces;
+    phases.sources = sources;
     Ok((phases, jobs))
 }
 
@@ -97,15 +151,44 @@ impl Phases {
         json!({ "phases": self.names, "surfaces": surfaces })
     }
 
-    /// A cell that will not run, settled at once (its item); None for one to reconstruct.
-    pub fn settle_blocked(&mut self, index: usize) -> Option<Value> {
-        let (missing, error) = self.blocked.get(index).cloned().flatten()?;
-        self.cells[index] = Cell {
-            out: Outcome::none(missing),
-            seconds: 0.0,
-            error,
+    /// The contours of cell `index`, reading its phase's frame if this is the phase's first
+    /// cell; or, for a cell that will not run, its item (the surface absent from the phase, or
+    /// the phase unreadable), the cell settled at once.
+    pub fn contours_for(&mut self, index: usize) -> std::result::Result<ContourSet, Value> {
+        let n = self.surfaces.len().max(1);
+        let phase = index / n;
+        if let Some(source @ Source::Frame(_)) = self.sources.get(phase) {
+            let read = self.read(source);
+            self.sources[phase] = read;
+        }
+        let surface = self.surfaces.get(index % n).cloned().flatten();
+        let why = match self.sources.get(phase) {
+            Some(Source::Read(Ok(set))) if holds(set, surface.as_deref()) => return Ok(set.clone()),
+            Some(Source::Read(Ok(_))) => ("absent", None),
+            Some(Source::Read(Err(e))) => ("failed", Some(e.clone())),
+            _ => ("failed", Some("no contours".to_string())),
         };
-        Some(self.item(index))
+        self.cells[index] = Cell {
+            out: Outcome::none(why.0),
+            seconds: 0.0,
+            error: why.1,
+        };
+        Err(self.item(index))
+    }
+
+    /// A frame of the sequence read (or why not); any other source as it is.
+    fn read(&self, source: &Source) -> Source {
+        match (source, &self.sequence) {
+            (Source::Frame(frame), Some(q)) => {
+                let views = crate::convert::view_pairs(&q.views);
+                Source::Read(
+                    crate::read_contours(&q.file, &q.bytes, &views, Some(frame))
+                        .map_err(|e| e.to_string()),
+                )
+            }
+            (Source::Frame(_), None) => Source::Read(Err("no sequence file".to_string())),
+            (Source::Read(r), _) => Source::Read(r.clone()),
+        }
     }
 
     pub fn job_started(&mut self) {
@@ -165,5 +248,97 @@ impl Phases {
             .map(|row| row.iter().map(|c| c.out.measured()).collect())
             .collect();
         serde_json::to_value(summarise(&self.names, &labels, &measured)).unwrap_or(Value::Null)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use heartmesh_core::clock::DefaultClock;
+
+    /// A two-frame CSV sequence: the same ring stack twice, the second 0.8 times the size.
+    fn cine() -> Vec<u8> {
+        let mut out = String::from("contour,x,y,z,surface,phase\n");
+        for (phase, scale) in [("ED", 1.0), ("ES", 0.8)] {
+            for k in 0..6 {
+                let z = -40.0 + 8.0 * k as f64;
+                let r = scale * 20.0 * (1.0 - (z / 50.0) * (z / 50.0)).sqrt();
+                for i in 0..40 {
+                    let t = std::f64::consts::TAU * i as f64 / 40.0;
+                    out.push_str(&format!(
+                        "s{k},{},{},{z},LV_ENDO,{phase}\n",
+                        r * t.cos(),
+                        r * t.sin()
+                    ));
+                }
+            }
+        }
+        out.into_bytes()
+    }
+
+    fn sequence(bytes: Vec<u8>) -> Sequence {
+        Sequence {
+            file: "cine.csv".into(),
+            bytes,
+            views: Vec::new(),
+            surfaces: vec!["LV_ENDO".into()],
+        }
+    }
+
+    fn frames(names: &[&str]) -> Vec<PhaseInput> {
+        names
+            .iter()
+            .map(|f| PhaseInput {
+                name: f.to_string(),
+                source: Source::Frame(f.to_string()),
+            })
+            .collect()
+    }
+
+    /// Frames are read when their first cell runs, not when the batch is planned: planning a
+    /// long cine must not hold the worker.
+    #[test]
+    fn frames_are_read_as_the_batch_reaches_them() {
+        let clock = Box::new(DefaultClock::default());
+        let (mut p, jobs) = plan(
+            frames(&["ED", "ES"]),
+            &Params::default(),
+            Some(sequence(cine())),
+            clock,
+        )
+        .unwrap();
+        assert_eq!(jobs.len(), 2);
+        assert!(p.sources.iter().all(|s| matches!(s, Source::Frame(_))));
+        let ed = p.contours_for(0).unwrap();
+        assert_eq!(ed.contours.len(), 6);
+        assert!(matches!(p.sources[0], Source::Read(Ok(_))));
+        assert!(matches!(p.sources[1], Source::Frame(_)));
+        let es = p.contours_for(1).unwrap();
+        let radius = |set: &ContourSet| {
+            set.contours[3]
+                .points()
+                .next()
+                .map_or(0.0, |p| p.xy().norm())
+        };
+        assert!((radius(&es) / radius(&ed) - 0.8).abs() < 1e-6);
+    }
+
+    /// An unreadable sequence fails its cells, each with the reason; the plan itself stands.
+    #[test]
+    fn an_unreadable_frame_fails_its_cells() {
+        let clock = Box::new(DefaultClock::default());
+        let (mut p, _) = plan(
+            frames(&["ED", "ES"]),
+            &Params::default(),
+            Some(sequence(b"contour,x,y,z\nbroken".to_vec())),
+            clock,
+        )
+        .unwrap();
+        let item = p.contours_for(0).unwrap_err();
+        assert_eq!(item["missing"], "failed");
+        assert!(item["error"].as_str().unwrap().contains("line 2"), "{item}");
+        // Frames without a file to read them from are refused at once.
+        let clock = Box::new(DefaultClock::default());
+        assert!(plan(frames(&["ED", "ES"]), &Params::default(), None, clock).is_err());
     }
 }
