@@ -4,6 +4,7 @@
 //! known truth.
 
 use heartmesh_core::io::nifti;
+use heartmesh_core::metrics::function;
 use heartmesh_core::sim::cavity::rv_cavity;
 use heartmesh_core::sim::experiment_design::RV_JOIN_GAP_MM;
 use heartmesh_core::sim::planes::anatomical_axis;
@@ -107,23 +108,35 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         (None, None, _) => None,
     };
     let axis = anatomical_axis(&endo, join_gap_mm).map_err(|e| CliError::input(endo_path, e))?;
-    // Cavities first (the first structure painted keeps a pixel): inside a biventricular
-    // epicardium the RV cavity would otherwise be painted as myocardium.
+    // The first structure painted keeps a pixel. The LV cavity goes first, its wall (inside
+    // LV_EPI) next, so the RV's outline, closed along the LV epicardium, keeps off the wall; but
+    // a biventricular epicardium holds the RV cavity, which would then all be painted as wall:
+    // there the RV goes before it.
+    let rv_in_epi = match (&epi, &rv) {
+        (Some(e), Some(r)) => function::share_inside(e, r) > 0.5,
+        _ => false,
+    };
     let mut structures = vec![Structure::new(3, &endo)];
+    let wall = epi.as_ref().map(|m| Structure::new(2, m));
     // A cavity closed from a free wall and the septum meets it across wider gaps.
     let composite = p.value("rv-free-wall").is_some();
-    structures.extend(rv.as_ref().map(|m| Structure {
+    let cavity = rv.as_ref().map(|m| Structure {
         join_gap_mm: match (join_gap, composite) {
             (None, true) => RV_JOIN_GAP_MM,
             _ => join_gap_mm,
         },
         ..Structure::new(1, m)
-    }));
-    structures.extend(epi.as_ref().map(|m| Structure {
-        join_gap_mm,
-        ..Structure::new(2, m)
-    }));
-    structures[0].join_gap_mm = join_gap_mm;
+    });
+    if rv_in_epi {
+        structures.extend(cavity);
+        structures.extend(wall);
+    } else {
+        structures.extend(wall);
+        structures.extend(cavity);
+    }
+    for s in structures.iter_mut().filter(|s| s.label != 1) {
+        s.join_gap_mm = join_gap_mm;
+    }
     let volume = segment(&structures, &axis, &spec).map_err(CliError::param)?;
     let lax = p.whole("lax")?.unwrap_or(0) as usize;
     if nrrd && lax > 0 {

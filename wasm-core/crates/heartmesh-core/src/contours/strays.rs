@@ -13,8 +13,10 @@
 //! the two sides. The smaller side is stray when it is at most half the larger's size and that
 //! gap exceeds both half the larger side's span and three times the median gap inside the larger
 //! side (the data's own spacing). The size condition keeps two comparable halves (which side is
-//! the heart?) both in. Bounding boxes make gaps a lower bound of the point gaps, so a contour is
-//! only ever left out for being further away than this says.
+//! the heart?) both in. The tree is built on bounding-box gaps (cheap, a lower bound of the point
+//! gaps); where a cut's box gap falls short of the span share, the gap between the two sides'
+//! nearest points decides (session 23: an RV crescent's box is mostly empty, and two rings 89 mm
+//! from its curves were 46 mm from its box, under half its 110 mm length, and were kept).
 
 use super::Contour;
 use crate::geometry::Vec3;
@@ -53,6 +55,49 @@ fn span<'a>(boxes: impl Iterator<Item = &'a Bounds>) -> f64 {
         .copied()
         .reduce(|(lo, hi), (l, h)| (lo.inf(&l), hi.sup(&h)))
         .map_or(0.0, |(lo, hi)| (hi - lo).amax())
+}
+
+/// Point pairs [`point_gap`] measures at most; past it the box gap stands (a file of thousands of
+/// dense curves is generated or hostile, and must not take minutes to read).
+const POINT_PAIRS_BUDGET: usize = 20_000_000;
+
+/// Smallest distance between a point of group `a`'s contours and one of group `b`'s (indices
+/// into `members`): the true gap, which the boxes' gap only bounds from below; None when the two
+/// groups hold more than [`POINT_PAIRS_BUDGET`] pairs of points. Pairs of contours are taken
+/// nearest box first, and a pair whose boxes are further apart than the best found so far is not
+/// looked into.
+fn point_gap(
+    contours: &[Contour],
+    members: &[(usize, Bounds)],
+    a: &[usize],
+    b: &[usize],
+) -> Option<f64> {
+    let count = |g: &[usize]| -> usize {
+        g.iter()
+            .map(|&i| contours[members[i].0].point_count())
+            .sum()
+    };
+    if count(a).saturating_mul(count(b)) > POINT_PAIRS_BUDGET {
+        return None;
+    }
+    let mut pairs: Vec<(f64, usize, usize)> = a
+        .iter()
+        .flat_map(|&i| b.iter().map(move |&j| (i, j)))
+        .map(|(i, j)| (box_gap(&members[i].1, &members[j].1), i, j))
+        .collect();
+    pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let mut best_sq = f64::INFINITY;
+    for (lower, i, j) in pairs {
+        if lower * lower >= best_sq {
+            break;
+        }
+        for p in contours[members[i].0].points() {
+            for q in contours[members[j].0].points() {
+                best_sq = best_sq.min((p - q).norm_squared());
+            }
+        }
+    }
+    Some(best_sq.sqrt())
 }
 
 /// Prim's minimum spanning tree over `boxes` (complete graph, box gaps) as edges `(a, b, gap)`.
@@ -101,7 +146,7 @@ fn side_of(adjacent: &[Vec<(usize, usize)>], live: &[bool], cut: usize, from: us
 }
 
 /// Contours of one surface that are strays by the group rule above: each one's index and the gap
-/// (mm, box to box) between its group and the contours kept.
+/// (mm, between the nearest points) from its group to the contours kept.
 ///
 /// The groups are peeled off from the widest gap inwards: cutting the heaviest live edge of the
 /// tree splits what is left in two, the smaller side goes if it is a stray group, and the larger
@@ -157,13 +202,24 @@ pub fn strays(contours: &[Contour]) -> Vec<(usize, f64)> {
             .get(inside.len().saturating_sub(1) / 2)
             .copied()
             .unwrap_or(0.0);
-        let apart = weight > SPAN_SHARE * large_span && weight > GAP_FACTOR * spacing;
-        if 2 * small.len() > large.len() || large_span <= 0.0 || !apart {
+        if 2 * small.len() > large.len() || large_span <= 0.0 {
+            break;
+        }
+        // The boxes' gap is a lower bound: where it falls short, the points' own gap decides (an
+        // RV crescent's box is mostly empty, so two rings 90 mm from its curves are 46 mm from
+        // its box).
+        let gap = if weight > SPAN_SHARE * large_span {
+            weight
+        } else {
+            point_gap(contours, &members, &small, &large).unwrap_or(weight)
+        };
+        let apart = gap > SPAN_SHARE * large_span && gap > GAP_FACTOR * spacing;
+        if !apart {
             break;
         }
         for &v in &small {
             kept[v] = false;
-            gap_of[v] = Some(weight);
+            gap_of[v] = Some(gap);
         }
         // The tree's edges that touch the group go with it, and so does the cut.
         for (k, &(x, y, _)) in edges.iter().enumerate() {
@@ -193,6 +249,49 @@ mod tests {
             p.y += centre.y;
         }
         c
+    }
+
+    /// Crescents 10 mm apart (an RV's sections: arcs of radius 40 mm over +-60 degrees, closed
+    /// across their chord), 11 of them: 100 mm long, each box 20 x 69 mm and mostly empty.
+    fn crescents() -> Vec<Contour> {
+        (0..11)
+            .map(|k| {
+                let z = 10.0 * k as f64;
+                let points = (0..=24)
+                    .map(|i| {
+                        let t = (-60.0 + 5.0 * i as f64).to_radians();
+                        v3(40.0 * t.cos(), 40.0 * t.sin(), z)
+                    })
+                    .collect();
+                fixtures::contour(&format!("c{k}"), points, true, 2)
+            })
+            .collect()
+    }
+
+    /// Two rings in the crescents' concavity, 40 mm from the nearest crescent's box but 52 mm
+    /// from its points (over half the 100 mm length): strays by their points, not by the boxes.
+    #[test]
+    fn the_nearest_points_decide_where_the_boxes_are_closer() {
+        let mut contours = crescents();
+        contours.push(ring("far0", v3(-25.0, 0.0, 40.0), 5.0));
+        contours.push(ring("far1", v3(-25.0, 0.0, 50.0), 5.0));
+        let found = strays(&contours);
+        let ids: Vec<&str> = found
+            .iter()
+            .map(|(i, _)| contours[*i].id.as_str())
+            .collect();
+        assert_eq!(ids, ["far0", "far1"]);
+        // The gap reported is the points': from the rings (radius 5 about (-25, 0)) to the arc's
+        // tips at (20, +-34.6).
+        let want = (45.0f64.powi(2) + (40.0 * 60f64.to_radians().sin()).powi(2)).sqrt() - 5.0;
+        for (_, gap) in &found {
+            assert!((gap - want).abs() < 0.5, "{gap} against {want}");
+        }
+        // Nearer in, their points within half the length: kept.
+        let mut near = crescents();
+        near.push(ring("n0", v3(-5.0, 0.0, 40.0), 5.0));
+        near.push(ring("n1", v3(-5.0, 0.0, 50.0), 5.0));
+        assert!(strays(&near).is_empty());
     }
 
     /// Five rings 10 mm apart, radius 25 (span 50 mm).
