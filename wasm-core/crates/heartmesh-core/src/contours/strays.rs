@@ -20,6 +20,7 @@
 
 use super::Contour;
 use crate::geometry::Vec3;
+use crate::spatial::SegmentTree;
 
 /// Above this many contours the check is skipped (it is quadratic, and a file that large is either
 /// generated or hostile; `pipeline::prepare` refuses it anyway).
@@ -57,47 +58,29 @@ fn span<'a>(boxes: impl Iterator<Item = &'a Bounds>) -> f64 {
         .map_or(0.0, |(lo, hi)| (hi - lo).amax())
 }
 
-/// Point pairs [`point_gap`] measures at most; past it the box gap stands (a file of thousands of
-/// dense curves is generated or hostile, and must not take minutes to read).
-const POINT_PAIRS_BUDGET: usize = 20_000_000;
-
 /// Smallest distance between a point of group `a`'s contours and one of group `b`'s (indices
-/// into `members`): the true gap, which the boxes' gap only bounds from below; None when the two
-/// groups hold more than [`POINT_PAIRS_BUDGET`] pairs of points. Pairs of contours are taken
-/// nearest box first, and a pair whose boxes are further apart than the best found so far is not
-/// looked into.
-fn point_gap(
-    contours: &[Contour],
-    members: &[(usize, Bounds)],
-    a: &[usize],
-    b: &[usize],
-) -> Option<f64> {
-    let count = |g: &[usize]| -> usize {
+/// into `members`): the true gap, which the boxes' gap only bounds from below. `b`'s points go
+/// into a box tree (as zero-length segments), so a dense file costs a tree walk per point of `a`
+/// rather than every pair.
+fn point_gap(contours: &[Contour], members: &[(usize, Bounds)], a: &[usize], b: &[usize]) -> f64 {
+    let points = |g: &[usize]| -> Vec<Vec3> {
         g.iter()
-            .map(|&i| contours[members[i].0].point_count())
-            .sum()
+            .flat_map(|&i| contours[members[i].0].points().copied())
+            .collect()
     };
-    if count(a).saturating_mul(count(b)) > POINT_PAIRS_BUDGET {
-        return None;
-    }
-    let mut pairs: Vec<(f64, usize, usize)> = a
+    let (small, large) = {
+        let (pa, pb) = (points(a), points(b));
+        if pa.len() <= pb.len() {
+            (pa, pb)
+        } else {
+            (pb, pa)
+        }
+    };
+    let tree = SegmentTree::new(large.into_iter().map(|p| (p, p)).collect());
+    small
         .iter()
-        .flat_map(|&i| b.iter().map(move |&j| (i, j)))
-        .map(|(i, j)| (box_gap(&members[i].1, &members[j].1), i, j))
-        .collect();
-    pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
-    let mut best_sq = f64::INFINITY;
-    for (lower, i, j) in pairs {
-        if lower * lower >= best_sq {
-            break;
-        }
-        for p in contours[members[i].0].points() {
-            for q in contours[members[j].0].points() {
-                best_sq = best_sq.min((p - q).norm_squared());
-            }
-        }
-    }
-    Some(best_sq.sqrt())
+        .map(|p| tree.distance(p))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Prim's minimum spanning tree over `boxes` (complete graph, box gaps) as edges `(a, b, gap)`.
@@ -178,7 +161,7 @@ pub fn strays(contours: &[Contour]) -> Vec<(usize, f64)> {
             .enumerate()
             .filter(|(k, _)| live[*k])
             .max_by(|x, y| x.1 .2.total_cmp(&y.1 .2));
-        let Some((cut, &(a, _, weight))) = heaviest else {
+        let Some((cut, &(a, b, weight))) = heaviest else {
             break;
         };
         let side_a = side_of(&adjacent, &live, cut, a);
@@ -208,10 +191,15 @@ pub fn strays(contours: &[Contour]) -> Vec<(usize, f64)> {
         // The boxes' gap is a lower bound: where it falls short, the points' own gap decides (an
         // RV crescent's box is mostly empty, so two rings 90 mm from its curves are 46 mm from
         // its box).
+        let needed = (SPAN_SHARE * large_span).max(GAP_FACTOR * spacing);
         let gap = if weight > SPAN_SHARE * large_span {
             weight
+        } else if point_gap(contours, &members, &[a], &[b]) <= needed {
+            // The two contours the cut parts are this close: so are the sides (an upper bound,
+            // and the usual case, curves crossing or a slice apart: no tree to build).
+            break;
         } else {
-            point_gap(contours, &members, &small, &large).unwrap_or(weight)
+            point_gap(contours, &members, &small, &large)
         };
         let apart = gap > SPAN_SHARE * large_span && gap > GAP_FACTOR * spacing;
         if !apart {
