@@ -4,11 +4,31 @@ import { bannerText, taubinHint, wrongFileHint } from '../../web/src/ui/ErrorBan
 describe('error banner hints', () => {
   it('explains the Taubin limit of the smoothing factor, and nothing else', () => {
     const taubin = { code: 'param_out_of_range', message: 'parameter smoothing_factor = 0.8 is out of range (allowed 0 to 0.6)' };
-    expect(taubinHint(taubin)).toMatch(/smoothing method \(Taubin or twicing\) the factor must be at most 0\.6: lower it, or choose Laplacian \+ affine correction/);
+    expect(taubinHint(taubin)).toBe(' — with Taubin (λ/μ) smoothing the factor must be at most 0.6: lower it, or choose Laplacian + affine correction.');
+    // Twicing's limit is 0.5: the hint names the method chosen, not both.
+    expect(taubinHint({ code: 'param_out_of_range', message: 'parameter smoothing_factor = 0.55 is out of range (allowed 0 to 0.5)' }))
+      .toBe(' — with twicing smoothing the factor must be at most 0.5: lower it, or choose Laplacian + affine correction.');
     // The slider's own range (0 to 1) is not the Taubin limit; other parameters and codes get no hint.
     expect(taubinHint({ code: 'param_out_of_range', message: 'parameter smoothing_factor = 2 is out of range (allowed 0 to 1)' })).toBe('');
     expect(taubinHint({ code: 'param_out_of_range', message: 'parameter beta = 2 is out of range (allowed 0.01 to 1)' })).toBe('');
     expect(taubinHint({ code: 'param_invalid', message: taubin.message })).toBe('');
+  });
+});
+
+describe('a picture opened by mistake', () => {
+  it('says it is a picture and what to open instead', () => {
+    const hint = wrongFileHint({ code: 'parse', message: 'image.png, line 1: binary data at byte 0: not a UTF-8 text file' });
+    expect(hint).toBe(' This is a picture (PNG), not contours: open the contours drawn on the images (CSV, biv-me GPFile, SurFCo .mat, DICOM RT structure set) or their segmentation (a NIfTI label map).');
+    expect(wrongFileHint({ code: 'parse', message: 'slice 3.JPG, line 1: binary data at byte 0: not a UTF-8 text file' })).toContain('a picture (JPEG)');
+    expect(wrongFileHint({ code: 'parse', message: 'scan.tif, line 1: binary data at byte 2: not a UTF-8 text file' })).toContain('a picture (TIFF)');
+    // The worker's errors name the file apart from the message.
+    expect(wrongFileHint({ code: 'parse', file: 'shot.png', line: 1, message: 'binary data at byte 0: not a UTF-8 text file' })).toContain('a picture (PNG)');
+    // The core names the pictures it knows by their signature: only what to open is added.
+    expect(wrongFileHint({ code: 'parse', message: 'shot.dat, line 1: binary data at byte 0: this is a JPEG picture, not contours' })).toBe(
+      ' Instead, open the contours drawn on the images (CSV, biv-me GPFile, SurFCo .mat, DICOM RT structure set) or their segmentation (a NIfTI label map).');
+    // Other binary files, and a PNG refused for another reason, get no such hint.
+    expect(wrongFileHint({ code: 'parse', message: 'junk.bin, line 1: binary data at byte 1: not a UTF-8 text file' })).toBe('');
+    expect(wrongFileHint({ code: 'parse', message: 'a.png: empty file' })).toBe('');
   });
 });
 

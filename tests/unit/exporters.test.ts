@@ -7,7 +7,7 @@ import { writeVtk } from '../../web/src/io/export/vtk';
 import { writeDistancesCsv } from '../../web/src/io/export/csv';
 import { writeParamsJson } from '../../web/src/io/export/json';
 import { f32 } from '../../web/src/io/export/float32';
-import { exportBaseName, type ExportInfo, type MeshData } from '../../web/src/io/export/header';
+import { exportBaseName, stlHeader, type ExportInfo, type MeshData } from '../../web/src/io/export/header';
 import type { ContourInfo } from '../../web/src/core-client/protocol';
 import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
 
@@ -40,7 +40,8 @@ describe('exporters parse back', () => {
     const buf = writeStl(mesh, info);
     expect(buf.byteLength).toBe(84 + 50 * 4);
     const header = new TextDecoder().decode(new Uint8Array(buf, 0, 80));
-    expect(header.startsWith('heartmesh 0.1.0')).toBe(true);
+    // The surface whole (it was cut to "LV_END"), the units, then whole parameters only.
+    expect(header.trimEnd()).toBe('heartmesh 0.1.0 mm LV_ENDO patient1-ED.csv lids=auto iterations=250');
     const dv = new DataView(buf);
     expect(dv.getUint32(80, true)).toBe(4);
     // Triangle 0 = (0,2,1) lies in z=0 and faces -z.
@@ -48,6 +49,17 @@ describe('exporters parse back', () => {
     const positions: number[] = [];
     for (let t = 0; t < 4; t++) for (let k = 0; k < 9; k++) positions.push(dv.getFloat32(84 + t * 50 + 12 + k * 4, true));
     expect(signedVolume(positions, [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11])).toBeCloseTo(1000 / 6, 4);
+  });
+
+  it('STL header: 80 ASCII bytes with the surface and frame whole, a long name shortened, no parameter cut', () => {
+    const long = stlHeader({ ...info, fileName: 'a-very-long-export-name-from-the-scanner-workstation-2024-05-01.csv', frame: 'ES' });
+    expect(long.length).toBeLessThanOrEqual(80);
+    expect(long.startsWith('heartmesh 0.1.0 mm LV_ENDO frame ES a-very-long')).toBe(true);
+    expect(long.endsWith('~')).toBe(true);
+    const full = stlHeader({ ...info, params: { iterations: 250, lambda: 100000, beta: 0.1, attractors: 0, smoothing_iterations: 200 } });
+    expect(full.length).toBeLessThanOrEqual(80);
+    for (const item of full.split(' ').slice(5)) expect(item).toMatch(/^[a-z_]+=[\w.-]+$/);
+    expect(stlHeader({ ...info, fileName: 'é.csv' })).toMatch(/^[\x20-\x7e]+$/);
   });
 
   it('OBJ: comments record parameters; v/f lines give the same mesh', () => {

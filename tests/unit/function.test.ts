@@ -48,6 +48,16 @@ describe('the phases measured', () => {
     expect(plan?.source).toBe('the 5 open files');
   });
 
+  it('leave out the Lab\'s simulated acquisitions: a phantom is no phase of the patient\'s heart', () => {
+    const open = [file('patient1-ED.csv'), file('patient1-ES.csv'), file('lab-parametric-LV-8sax-2lax.csv')];
+    const simulated = (name: string) => name.startsWith('lab-');
+    const plan = phasesOf(open[2], open, simulated);
+    expect(plan?.phases.map((p) => p.name)).toEqual(['patient1-ED', 'patient1-ES']);
+    expect(plan?.source).toBe('the 2 open files');
+    // One patient file beside a simulation: no function to measure.
+    expect(phasesOf(open[0], [open[0], open[2]], simulated)).toBeNull();
+  });
+
   it('are none with one phase: one file of one frame, or nothing open', () => {
     expect(phasesOf(file('a.csv'), [file('a.csv')])).toBeNull();
     expect(phasesOf(null, [])).toBeNull();

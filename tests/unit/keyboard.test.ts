@@ -2,7 +2,7 @@
 // targets against: Esc stops the run from a focused slider or checkbox (the focus a slider keeps
 // after it restarted the run), but stays with a text field; other keys stay with every form field.
 import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
-import { installKeyboard, ownsEscape } from '../../web/src/ui/keyboard';
+import { installKeyboard, ownsEscape, spaceActivates } from '../../web/src/ui/keyboard';
 
 class FakeHTMLElement { isContentEditable = false; }
 class FakeInput extends FakeHTMLElement { constructor(public type: string) { super(); } }
@@ -62,5 +62,42 @@ describe('keyboard shortcuts', () => {
     editable.isContentEditable = true;
     expect(ownsEscape(target(editable))).toBe(true);
     expect(ownsEscape(null)).toBe(false);
+  });
+
+  it('Space presses a button the keyboard focused (Tab), and stays play/pause on one the mouse clicked', () => {
+    const listeners: Record<string, (e?: unknown) => void> = {};
+    const doc = { addEventListener: (t: string, f: (e?: unknown) => void) => (listeners[t] = f), removeEventListener: () => undefined };
+    const calls: string[] = [];
+    const record = (name: string) => () => calls.push(name);
+    installKeyboard(doc as unknown as Document, {
+      togglePlay: record('togglePlay'), step: record('step'), first: record('first'), latest: record('latest'), resetView: record('resetView'), stop: record('stop'),
+    });
+    class FakeButton extends FakeHTMLElement {
+      tagName = 'BUTTON';
+      constructor(private readonly role: string | null = null) { super(); }
+      getAttribute(name: string) { return name === 'role' ? this.role : null; }
+    }
+    class FakeLabel extends FakeButton { tagName = 'LABEL'; }
+    let prevented = 0;
+    const space = (target: unknown) => {
+      for (const type of ['keydown', 'keyup']) listeners[type]({ key: ' ', target, shiftKey: false, ctrlKey: false, metaKey: false, altKey: false, repeat: false, preventDefault: () => prevented++ });
+    };
+    // Tab to "Patient 1 · ES", to the Open… label, to the Lab tab: Space presses each.
+    listeners.focusin();
+    space(new FakeButton());
+    space(new FakeLabel('button'));
+    space(new FakeLabel('tab'));
+    expect(calls).toEqual([]);
+    expect(prevented).toBe(0);
+    space(new FakeLabel(null)); // a plain label is no button
+    expect(calls).toEqual(['togglePlay']);
+    // Clicked with the mouse, then Space: play/pause, the button not pressed again.
+    listeners.pointerdown();
+    listeners.focusin();
+    space(new FakeButton());
+    expect(calls).toEqual(['togglePlay', 'togglePlay']);
+    expect(prevented).toBe(4);
+    expect(spaceActivates(new FakeButton() as unknown as EventTarget, false)).toBe(true);
+    expect(spaceActivates(new FakeButton() as unknown as EventTarget, true)).toBe(false);
   });
 });

@@ -407,6 +407,21 @@ describe('CoreClient', () => {
       expect(w2.of('run')[0].runId).toBe(run.runId);
     });
 
+    it('a phases batch waiting behind the step goes to the new worker after every phase\'s file', async () => {
+      const { client, worker, a, crashes } = await stuckClient();
+      await loadFile(client, worker, 'b.csv');
+      a.cancel();
+      const batch = client.measurePhases({ kind: 'phases', phases: [{ name: 'ED', file: 'a.csv' }, { name: 'ES', file: 'b.csv' }], params: {}, lids: 'auto' }, () => undefined);
+      batch.done.catch(() => undefined);
+      expect(worker.of('lab-batch')).toHaveLength(1); // queued behind the step
+      await vi.advanceTimersByTimeAsync(CANCEL_GRACE_MS + 1);
+      expect(worker.terminated).toBe(true);
+      const w2 = FakeWorker.instances.at(-1)!;
+      // Both phases' files first (the new worker has none), then the batch: none fails as "not loaded".
+      expect(w2.sent.map((m) => (m.type === 'load' ? m.fileName : m.type)).filter((t) => t !== 'lab-restore')).toEqual(['a.csv', 'b.csv', 'lab-batch']);
+      expect(crashes).toEqual([]);
+    });
+
     it('a cancel acknowledged in time keeps the worker', async () => {
       const { client, worker, a } = await stuckClient();
       worker.acksCancels = true;

@@ -620,7 +620,7 @@ export class Controller {
    * with fewer than two phases); its keys change whenever the contours or the settings do.
    */
   functionContext(): FunctionContext | null {
-    const plan = phasesOf(this.currentFile(), [...this.files.values()]);
+    const plan = phasesOf(this.currentFile(), [...this.files.values()], (name) => this.identities.get(name)?.startsWith('generated:') ?? false);
     if (!plan) return null;
     // A phase that is a file is the worker's reading of it (its frame, its views, dropped anew).
     const readings = plan.kind === 'files' ? plan.phases.map((p) => [this.readings.get(p.file) ?? 0, this.files.get(p.file)?.timeFrames?.read ?? null]) : [this.readings.get(plan.phases[0].file) ?? 0];

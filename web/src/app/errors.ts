@@ -19,7 +19,10 @@ export function isSliceInfoRefusal(e: CoreErrorData): boolean {
 
 /** The banner's note on SliceInfoFiles dropped with the contour file `shown`. */
 export function setAsideText(names: readonly string[], shown: string): string {
-  const them = names.length === 1 ? names[0] : names.join(', ');
+  // Two patient folders dropped together hold one SliceInfoFile.txt each: counted, not listed twice.
+  const counts = new Map<string, number>();
+  for (const n of names) counts.set(n, (counts.get(n) ?? 0) + 1);
+  const them = [...counts].map(([n, k]) => (k > 1 ? `${k} files named ${n}` : n)).join(', ');
   return `${them} set aside: image planes, not contours (the contours come from ${shown}; only the command line reads the planes, to check that each contour lies in its own).`;
 }
 

@@ -18,8 +18,13 @@ export interface PhasePlan {
   source: string;
 }
 
-/** The phases to measure, or null with fewer than two (no function to measure). */
-export function phasesOf(current: LoadedFile | null, open: readonly LoadedFile[]): PhasePlan | null {
+/**
+ * The phases to measure, or null with fewer than two (no function to measure). `simulated` marks
+ * the Lab's simulated acquisitions (`lab-parametric-LV-8sax-2lax.csv`): a phantom, not a phase of
+ * the heart whose files are open, so never one of the phases.
+ */
+export function phasesOf(current: LoadedFile | null, allOpen: readonly LoadedFile[], simulated: (fileName: string) => boolean = () => false): PhasePlan | null {
+  const open = allOpen.filter((f) => !simulated(f.fileName));
   const picker = framePicker(current);
   if (current && picker) {
     const frames = current.timeFrames?.frames ?? [];

@@ -83,8 +83,8 @@ export const CANCEL_GRACE_MS = 300;
 interface Unanswered {
   make: () => ToWorker;
   type: ToWorker['type'];
-  /** A loaded file the message needs in the worker (re-sent first). */
-  needs?: string;
+  /** The loaded files the message needs in the worker (re-sent first): a phases batch needs every phase's. */
+  needs?: readonly string[];
   /** The file this message loads. */
   loads?: string;
 }
@@ -332,7 +332,7 @@ export class CoreClient {
     });
     this.resendIfRecreated(opts.fileName, bytes, (e) => this.runs.finish(runId, e));
     const settings = settingsOf(opts);
-    this.postRun(runId, () => ({ type: 'run', runId, ...settings }), opts.fileName);
+    this.postRun(runId, () => ({ type: 'run', runId, ...settings }), [opts.fileName]);
     return handle;
   }
 
@@ -494,13 +494,15 @@ export class CoreClient {
     });
     void this.ensureWorker().catch(() => undefined);
     const msg = make(reqId);
-    this.unanswered.set(reqId, { make: () => make(reqId), type: msg.type, ...files });
+    const needs = files.needs === undefined ? {} : { needs: [files.needs] };
+    const loads = files.loads === undefined ? {} : { loads: files.loads };
+    this.unanswered.set(reqId, { make: () => make(reqId), type: msg.type, ...needs, ...loads });
     this.post(msg);
     return promise;
   }
 
   /** Posts a run or lab batch, remembered until the worker starts it (see restartStuckWorker). */
-  private postRun(runId: number, make: () => ToWorker, needs: string): void {
+  private postRun(runId: number, make: () => ToWorker, needs: readonly string[]): void {
     const msg = make();
     this.unanswered.set(runId, { make, type: msg.type, needs });
     if (msg.type === 'run') {
@@ -571,8 +573,10 @@ export class CoreClient {
     void this.ensureWorker().catch(() => undefined);
     if (moved.some(([, u]) => u.type.startsWith('lab-') && u.type !== 'lab-truth')) this.lab.restoreInWorker();
     for (const [id, u] of moved) {
-      const bytes = u.needs !== undefined ? this.files.get(u.needs) : undefined;
-      if (u.needs !== undefined && bytes !== undefined) this.resendIfRecreated(u.needs, bytes, (e) => this.failPending(id, e));
+      for (const file of u.needs ?? []) {
+        const bytes = this.files.get(file);
+        if (bytes !== undefined) this.resendIfRecreated(file, bytes, (e) => this.failPending(id, e));
+      }
       if (u.loads !== undefined) this.workerFiles.add(u.loads);
       this.unanswered.set(id, u);
       this.post(u.make());

@@ -30,7 +30,7 @@ export interface LabHost {
   /** `make` may be called again (a worker replaced while stuck): each call makes fresh buffers. */
   request<T>(make: (reqId: number) => ToWorker, files?: { needs?: string }): Promise<T>;
   /** Posts a batch, remembered until the worker starts it (moved to a worker that replaces a stuck one). */
-  postRun(runId: number, make: () => ToWorker, needs: string): void;
+  postRun(runId: number, make: () => ToWorker, needs: readonly string[]): void;
   /** Posts a cancel (the client replaces a worker that does not acknowledge it in time). */
   cancel(runId: number): void;
   /** A worker exists now (a cancel is only worth posting then). */
@@ -152,7 +152,7 @@ export class LabRequests {
     this.host.ensureWorker();
     this.replay();
     for (const f of files) this.host.resendIfRecreated(f, this.host.fileBytes(f) as ArrayBuffer, (e) => this.finishBatch(runId, e));
-    this.host.postRun(runId, () => ({ type: 'lab-batch', runId, job: make() }), files[0]);
+    this.host.postRun(runId, () => ({ type: 'lab-batch', runId, job: make() }), files);
     return handle;
   }
 

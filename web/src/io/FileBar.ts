@@ -39,7 +39,8 @@ export class FileBar {
   private readonly sampleButtons: HTMLButtonElement[] = [];
 
   constructor(handlers: FileBarHandlers) {
-    this.input = h('input', { type: 'file', accept: ACCEPT, multiple: true, id: 'file-input', 'data-testid': 'file-input', class: 'visually-hidden' });
+    // Out of the tab order: the Open… label is its keyboard control (a focused hidden input shows no focus).
+    this.input = h('input', { type: 'file', accept: ACCEPT, multiple: true, id: 'file-input', 'data-testid': 'file-input', class: 'visually-hidden', tabindex: -1 });
     this.input.addEventListener('change', () => {
       const files = Array.from(this.input.files ?? []);
       this.input.value = '';
@@ -47,6 +48,8 @@ export class FileBar {
     });
     const open = h('label', { for: 'file-input', class: 'button primary', role: 'button', tabindex: 0, title: 'Open contour files or segmentations (or drop them anywhere)' }, 'Open…');
     open.addEventListener('keydown', (e) => {
+      // A Space the shortcuts took as play/pause (the label clicked with the mouse) is not a press.
+      if (e.key === ' ' && e.defaultPrevented) return;
       if (e.key === 'Enter' || e.key === ' ') {
         e.preventDefault();
         this.input.click();

@@ -68,6 +68,15 @@ export function wrongFileHint(e: CoreErrorData): string {
   if (/invalid session JSON: missing field `heartmesh_session`/.test(e.message)) {
     return ' Only a heartmesh session opens here (the Session export, …-session.json); the Parameters JSON export holds no contours.';
   }
+  // A picture (a screenshot of the images, an exported slice): the core names the kinds it knows
+  // by their signature; the others read as binary data, and the file name tells.
+  const whatInstead = 'open the contours drawn on the images (CSV, biv-me GPFile, SurFCo .mat, DICOM RT structure set) or their segmentation (a NIfTI label map).';
+  if (/this is an? \w+ picture, not contours/.test(e.message)) return ` Instead, ${whatInstead}`;
+  const picture = /\.(png|jpe?g|gif|bmp|tiff?|webp)$/i.exec(e.file ?? e.message.split(/[,:]/)[0]);
+  if (picture && /binary data at byte \d+/.test(e.message)) {
+    const kind = picture[1].toUpperCase().replace(/^JPG$/, 'JPEG').replace(/^TIF$/, 'TIFF');
+    return ` This is a picture (${kind}), not contours: ${whatInstead}`;
+  }
   if (/this is a mesh file \(OBJ, STL or PLY\), not contours/.test(e.message)) {
     return ' To measure a reconstruction against a mesh, open it in the Lab tab as the truth.';
   }
@@ -82,5 +91,7 @@ export function taubinHint(e: CoreErrorData): string {
   if (e.code !== 'param_out_of_range') return '';
   const m = /parameter smoothing_factor = \S+ is out of range \(allowed \S+ to (\S+)\)/.exec(e.message);
   if (!m || !(Number(m[1]) < 1)) return '';
-  return ` — with the chosen smoothing method (Taubin or twicing) the factor must be at most ${m[1]}: lower it, or choose Laplacian + affine correction.`;
+  // The core's limits: 0.6 for Taubin, 0.5 for twicing (the only methods with one).
+  const method = m[1] === '0.6' ? 'Taubin (λ/μ) smoothing' : m[1] === '0.5' ? 'twicing smoothing' : 'the chosen smoothing method';
+  return ` — with ${method} the factor must be at most ${m[1]}: lower it, or choose Laplacian + affine correction.`;
 }

@@ -11,6 +11,9 @@ const AS_GIVEN_ON = 'The file\'s contours before the breath-hold shifts, faint a
 const AS_GIVEN_OFF = 'Contours as given: shown after a run with "Align breath-holds" on';
 const OTHERS_OFF = 'Other surfaces of the file (LV, RV, epicardium), faint around this one: each appears once its own run has finished (pick it in the Surface menu)';
 
+/** The one-column layout of styles.css (a phone, a tablet held upright). */
+const NARROW = '(max-width: 859px)';
+
 export class ViewControls {
   readonly element: HTMLElement;
   private readonly wire: HTMLInputElement;
@@ -52,18 +55,31 @@ export class ViewControls {
     this.othersCount = h('span', { class: 'muted', 'data-testid': 'view-others-count' });
     this.othersLabel = h('label', { class: 'check disabled', title: OTHERS_OFF }, this.others, 'Other surfaces', this.othersCount);
     for (const el of [this.opacity, this.clip]) el.addEventListener('input', emit);
-    this.element = h(
-      'div',
-      { class: 'view-controls', role: 'group', 'aria-label': 'View' },
-      h('label', { class: 'check' }, this.wire, 'Wireframe'),
-      h('label', { class: 'check' }, this.attractors, h('span', { class: 'swatch attr' }), 'Attractors'),
-      h('label', { class: 'check', title: 'Valves, apex and other landmark points of the file' }, this.landmarks, h('span', { class: 'swatch lmk' }), 'Landmarks'),
-      this.asGivenLabel,
-      this.othersLabel,
-      h('label', { class: 'range', for: 'view-opacity' }, 'Opacity', this.opacity, this.opacityOut),
-      h('label', { class: 'range', for: 'view-clip', title: 'Cut away the near part of the mesh to look inside' }, 'Clip', this.clip, this.clipOut),
-      reset,
+    // A <details>: open on a wide screen (its summary hidden), folded to a "View" button on a
+    // phone, where the open panel would cover a third of the heart in the view.
+    const details = h(
+      'details',
+      { class: 'view-controls', role: 'group', 'aria-label': 'View', open: true },
+      h('summary', { class: 'view-summary', title: 'View settings: wireframe, attractors, landmarks, opacity, clipping' }, 'View'),
+      h(
+        'div',
+        { class: 'view-controls-body' },
+        h('label', { class: 'check' }, this.wire, 'Wireframe'),
+        h('label', { class: 'check' }, this.attractors, h('span', { class: 'swatch attr' }), 'Attractors'),
+        h('label', { class: 'check', title: 'Valves, apex and other landmark points of the file' }, this.landmarks, h('span', { class: 'swatch lmk' }), 'Landmarks'),
+        this.asGivenLabel,
+        this.othersLabel,
+        h('label', { class: 'range', for: 'view-opacity' }, 'Opacity', this.opacity, this.opacityOut),
+        h('label', { class: 'range', for: 'view-clip', title: 'Cut away the near part of the mesh to look inside' }, 'Clip', this.clip, this.clipOut),
+        reset,
+      ),
     );
+    this.element = details;
+    const narrow = typeof matchMedia === 'function' ? matchMedia(NARROW) : null;
+    if (narrow) {
+      details.open = !narrow.matches;
+      narrow.addEventListener?.('change', (e) => (details.open = !e.matches));
+    }
   }
 
   private read(): ViewSettings {

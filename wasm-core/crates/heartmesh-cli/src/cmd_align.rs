@@ -38,6 +38,14 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         )));
     }
     let frame = contours::frame_flag(p.value("frame"))?;
+    files::check_output(output)?;
+    let mut outputs = vec![("-o", output)];
+    if let Some(report) = p.value("report") {
+        files::check_output(report)?;
+        outputs.push(("--report", report));
+    }
+    let inputs: Vec<&str> = p.positional.iter().map(String::as_str).collect();
+    files::check_distinct(&inputs, &outputs)?;
     let (input, loaded) = contours::load_all(&p.positional, frame)?;
     let (aligned, alignment) = align_slices(&loaded.set);
     let csv = io::csv::write_csv(&aligned, None)

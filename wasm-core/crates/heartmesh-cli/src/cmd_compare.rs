@@ -27,9 +27,10 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         },
     )?;
     let [truth_path, mesh_path] = p.positional.as_slice() else {
+        let n = p.positional.len();
         return Err(CliError::usage(format!(
-            "compare needs TRUTH and MESH, got {} file names",
-            p.positional.len()
+            "compare needs TRUTH and MESH, got {n} file name{}",
+            if n == 1 { "" } else { "s" }
         )));
     };
     let truth = read_surface(truth_path)?;

@@ -30,9 +30,14 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         ));
     };
     if inputs.is_empty() {
-        return Err(CliError::usage("convert needs IN and OUT, got 1 file name"));
+        return Err(CliError::usage(format!(
+            "convert needs IN and OUT, got 1 file name ({output})"
+        )));
     }
     let input = &inputs[0];
+    files::check_output(output)?;
+    let paths: Vec<&str> = inputs.iter().map(String::as_str).collect();
+    files::check_distinct(&paths, &[("OUT", output)])?;
     let out_ext = io::extension(output);
     let comment = format!("converted from {}", file_name(input));
     let format = MeshFormat::from_path(output);

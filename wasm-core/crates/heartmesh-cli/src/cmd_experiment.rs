@@ -74,7 +74,7 @@ const SWEEP_PARAMS: [&str; 4] = [
 pub fn run(args: &[String]) -> Result<(), CliError> {
     let Some((kind, rest)) = args.split_first() else {
         return Err(CliError::usage(
-            "experiment needs a kind: sax-count, lax-count, misalignment or sweep",
+            "experiment needs a kind: sax-count, lax-count, misalignment, sweep or population",
         ));
     };
     let own: &[&str] = match kind.as_str() {
@@ -184,8 +184,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         }
     }
     let mut exp = Experiment::new(&design, subjects, &params).map_err(CliError::param)?;
-    std::fs::create_dir_all(out_dir)
-        .map_err(|e| CliError::Failed(format!("{out_dir}: cannot create directory: {e}")))?;
+    files::create_dir(out_dir)?;
 
     let total = exp.trials().len();
     let quiet = p.switch("quiet");

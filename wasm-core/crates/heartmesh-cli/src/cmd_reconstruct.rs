@@ -44,9 +44,10 @@ pub const USAGE: &str =
   shifts in the image planes (the alignment before through-plane offsets);
   --end-caps auto (the default): at each end of the cavity no long-axis curve closes (usually
   the base), synthetic lid points in the lid's plane pull the mesh with a weight below 1, so it
-  stops at the data instead of running on past it: where long-axis curves reach the end, at their tips; where
-  none does (short-axis only), none at the apex (extrapolated) and at the base a ceiling one slice
-  spacing beyond the basal slice; they are not data (never in the distances); the report's
+  stops at the data instead of running on past it: where long-axis curves reach the end, at their
+  tips; where none does (short-axis only), at the apex the apex floor below (none with
+  --no-apex-floor: extrapolated) and at the base a ceiling one slice spacing beyond the basal
+  slice; they are not data (never in the distances); the report's
   end_caps says which ends got them and how many; --end-caps off leaves such ends to
   extrapolation (the paper's method);
   with end caps on, an apex no long-axis curve reaches (short-axis-only files) gets by default
@@ -162,8 +163,14 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
     let quiet = p.switch("quiet");
     let frame = contours::frame_flag(p.value("frame"))?;
-    // Check the flags before reading (a usage error should not wait for a big file).
+    // Check the flags before reading (a usage error should not wait for a big file), and that
+    // the outputs can be written (a mistyped directory should not cost a whole run).
     params_from(&p, Params::default())?;
+    for option in ["output", "report", "contour-distances"] {
+        if let Some(path) = p.value(option) {
+            files::check_output(path)?;
+        }
+    }
     let (input, loaded) = contours::load_all(&p.positional, frame)?;
     let params = params_from(&p, loaded.session_params.unwrap_or_default())?;
     let input_format = loaded.format.name();
@@ -182,7 +189,21 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         apex_lids: p.value("lids") == Some("apex"),
         said: RefCell::new(Vec::new()),
     };
-    match each_surface::requested(params.surface.as_deref(), &set) {
+    let requested = each_surface::requested(params.surface.as_deref(), &set);
+    let inputs: Vec<&str> = p.positional.iter().map(String::as_str).collect();
+    let every: Vec<Outputs> = match &requested {
+        Some(surfaces) => surfaces
+            .iter()
+            .map(|s| match s {
+                Some(s) => outputs.for_surface(s),
+                None => outputs.clone(),
+            })
+            .collect(),
+        None => vec![outputs.clone()],
+    };
+    let named: Vec<(&str, &str)> = every.iter().flat_map(Outputs::named).collect();
+    files::check_distinct(&inputs, &named)?;
+    match requested {
         None => run.surface(params, &outputs),
         Some(surfaces) => each_surface::run(&surfaces, |surface| {
             let mut params = params.clone();
@@ -206,6 +227,18 @@ struct Outputs {
 }
 
 impl Outputs {
+    /// The files written, each with the option that names it (for messages).
+    fn named(&self) -> Vec<(&'static str, &str)> {
+        let mut v = vec![("-o", self.mesh.as_str())];
+        v.extend(self.report.as_deref().map(|r| ("--report", r)));
+        v.extend(
+            self.distances
+                .as_deref()
+                .map(|d| ("--contour-distances", d)),
+        );
+        v
+    }
+
     /// The same files with the surface's name before each extension (`mesh-LV_ENDO.obj`).
     fn for_surface(&self, surface: &str) -> Outputs {
         let name = |path: &str| each_surface::path_for(path, surface);

@@ -78,6 +78,22 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let endo_path = p
         .value("lv-endo")
         .ok_or_else(|| CliError::usage("segment needs --lv-endo (it plans the stack)"))?;
+    files::check_output(output)?;
+    let inputs: Vec<&str> = ["lv-endo", "lv-epi", "rv", "rv-free-wall"]
+        .iter()
+        .filter_map(|o| p.value(o))
+        .collect();
+    let lax_views = if nrrd {
+        0
+    } else {
+        p.whole("lax")?.unwrap_or(0).min(3)
+    };
+    let views_named: Vec<String> = (1..=lax_views as usize)
+        .map(|n| view_path(output, n))
+        .collect();
+    let mut outputs = vec![("-o", output)];
+    outputs.extend(views_named.iter().map(|v| ("--lax", v.as_str())));
+    files::check_distinct(&inputs, &outputs)?;
     let mut spec = SegmentationSpec::default();
     if let Some(v) = p.number("pixel")? {
         spec.pixel_mm = v;

@@ -49,6 +49,16 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let output = p
         .value("output")
         .ok_or_else(|| CliError::usage("simulate needs -o CONTOURS.csv"))?;
+    if io::extension(output) != "csv" {
+        return Err(CliError::usage(format!(
+            "simulate writes canonical CSV: {output} should end in .csv"
+        )));
+    }
+    files::check_output(output)?;
+    let inputs: Vec<&str> = std::iter::once(input.as_str())
+        .chain(p.value("axis-from"))
+        .collect();
+    files::check_distinct(&inputs, &[("-o", output)])?;
     let mut spec = spec_from(&p)?;
     let truth = read_surface(input)?;
     if let Some(lv) = p.value("axis-from") {

@@ -80,6 +80,18 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
     // A usage error should not wait for the files.
     params_from(&p, Params::default())?;
+    // The outputs before any work: a mistyped directory should not cost every phase's runs.
+    for option in ["csv", "json"] {
+        if let Some(path) = p.value(option) {
+            files::check_output(path)?;
+        }
+    }
+    let inputs: Vec<&str> = p.positional.iter().map(String::as_str).collect();
+    let outputs: Vec<(&str, &str)> = [("--csv", "csv"), ("--json", "json")]
+        .into_iter()
+        .filter_map(|(flag, name)| p.value(name).map(|v| (flag, v)))
+        .collect();
+    files::check_distinct(&inputs, &outputs)?;
     let frames = frames_flag(p.value("frames"))?;
     let phases = load_phases(&p.positional, frames.as_deref())?;
     let base = phases
@@ -90,8 +102,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let surfaces = surfaces_wanted(p.value("surface"), &phases)?;
     let meshes = p.value("meshes");
     if let Some(dir) = meshes {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| CliError::Failed(format!("{dir}: cannot create the directory: {e}")))?;
+        files::create_dir(dir)?;
     }
     let quiet = p.switch("quiet");
     let apex_lids = p.value("lids") == Some("apex");

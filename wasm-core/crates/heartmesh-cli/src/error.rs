@@ -15,6 +15,9 @@ pub enum CliError {
     },
     /// A file could not be read (exit 2).
     Read { file: String, message: String },
+    /// An output could not be written, found before any work (exit 2): a missing directory, a
+    /// directory given as a file, no permission, or an output that would overwrite an input.
+    Unwritable { file: String, message: String },
     /// Reconstruction or writing failed (exit 1).
     Failed(String),
     /// Another error with a reading warning that may explain it (e.g. coordinates in metres),
@@ -65,7 +68,9 @@ impl CliError {
         let one_line = |s: String| s.replace(['\n', '\r'], " ");
         one_line(match self {
             CliError::Usage(m) => format!("{m} (see heartmesh --help)"),
-            CliError::Read { file, message } => format!("{file}: {message}"),
+            CliError::Read { file, message } | CliError::Unwritable { file, message } => {
+                format!("{file}: {message}")
+            }
             CliError::Failed(m) => m.clone(),
             CliError::Hinted(inner, hint) => format!("{} (warning: {hint})", inner.message()),
             CliError::Surface(inner, surface) => format!("surface {surface}: {}", inner.message()),
@@ -74,6 +79,30 @@ impl CliError {
                     CoreError::Parse { message, .. } => message.clone(),
                     CoreError::SurfaceRequired { .. } => {
                         format!("{error} (use --surface, or --surface all for each in turn)")
+                    }
+                    // A file without a surface column is one surface: the core's "available: "
+                    // would end in nothing.
+                    CoreError::UnknownSurface {
+                        requested,
+                        available,
+                    } if available.is_empty() => format!(
+                        "surface {requested:?} not found: the file names no surfaces (no surface \
+                         column: it is one surface; leave out --surface)"
+                    ),
+                    // Given on the command line: named as the option the user typed.
+                    CoreError::ParamOutOfRange {
+                        name,
+                        value,
+                        min,
+                        max,
+                    } if file.is_none() && option_of(name).is_some() => format!(
+                        "{} {value} is out of range (allowed {min} to {max})",
+                        option_of(name).unwrap_or_default()
+                    ),
+                    CoreError::ParamInvalid { name, message }
+                        if file.is_none() && option_of(name).is_some() =>
+                    {
+                        format!("{}: {message}", option_of(name).unwrap_or_default())
                     }
                     other => other.to_string(),
                 };
@@ -85,4 +114,16 @@ impl CliError {
             }
         })
     }
+}
+
+/// The command-line option that sets the core parameter `name` (`ring_points` ->
+/// `--ring-points`), for the parameters `reconstruct` takes as options; None for the others
+/// (a study's `sax`, the app-only `stop_threshold`), which keep the core's wording.
+fn option_of(name: &str) -> Option<String> {
+    let flag = name.replace('_', "-");
+    let known = heartmesh_core::params::Params::schema()
+        .iter()
+        .any(|s| s.name == name)
+        || crate::cmd_reconstruct::PARAM_VALUE_FLAGS.contains(&flag.as_str());
+    known.then(|| format!("--{flag}"))
 }

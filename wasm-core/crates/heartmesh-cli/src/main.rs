@@ -2,7 +2,8 @@
 //! (Villard, Grau & Zacur, J. Imaging 2018) and convert contour and mesh files.
 //!
 //! Exit status: 0 success, 2 bad input or usage (one line on stderr: `heartmesh: FILE:LINE:
-//! problem`), 1 the reconstruction or writing failed.
+//! problem`; outputs that cannot be written, or would overwrite an input, are refused so before
+//! any work), 1 the reconstruction or writing failed.
 
 #[macro_use]
 mod stdout;
@@ -30,8 +31,9 @@ use error::CliError;
 fn usage() -> String {
     format!(
         "heartmesh {} - surface meshes from cardiac MRI contours (Villard, Grau & Zacur 2018)\n\n\
-         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help\n\n\
-         exit status: 0 ok, 2 bad input or usage, 1 reconstruction failed",
+         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help | help COMMAND\n\n\
+         exit status: 0 ok, 2 bad input or usage (an output that cannot be written or would\n\
+         overwrite an input is found before any work), 1 reconstruction or writing failed",
         heartmesh_core::VERSION,
         cmd_reconstruct::USAGE,
         cmd_volumes::USAGE,
@@ -45,32 +47,58 @@ fn usage() -> String {
     )
 }
 
+/// The usage of one command (`heartmesh help COMMAND`, `heartmesh COMMAND --help`).
+fn command_usage(cmd: &str) -> Option<&'static str> {
+    Some(match cmd {
+        "reconstruct" => cmd_reconstruct::USAGE,
+        "volumes" => cmd_volumes::USAGE,
+        "convert" => cmd_convert::USAGE,
+        "simulate" => cmd_simulate::USAGE,
+        "segment" => cmd_segment::USAGE,
+        "compare" => cmd_compare::USAGE,
+        "leave-one-out" => cmd_leave_one_out::USAGE,
+        "experiment" => cmd_experiment::USAGE,
+        "align" => cmd_align::USAGE,
+        _ => return None,
+    })
+}
+
 fn run(argv: &[String]) -> Result<(), CliError> {
     let Some((cmd, rest)) = argv.split_first() else {
         return Err(CliError::usage("no command given"));
     };
     let wants_help = rest.iter().any(|a| a == "--help" || a == "-h");
     match cmd.as_str() {
+        // `heartmesh help reconstruct`, as git and cargo take it.
+        "help" if !rest.is_empty() => {
+            let [topic] = rest else {
+                return Err(CliError::usage("help takes one command name"));
+            };
+            let text = command_usage(topic)
+                .ok_or_else(|| CliError::usage(format!("unknown command {topic:?}")))?;
+            outln!("usage: {text}");
+        }
         "--help" | "-h" | "help" => outln!("{}", usage()),
         "--version" | "-V" | "version" => outln!("heartmesh {}", heartmesh_core::VERSION),
-        "reconstruct" if wants_help => outln!("usage: {}", cmd_reconstruct::USAGE),
-        "convert" if wants_help => outln!("usage: {}", cmd_convert::USAGE),
+        other if wants_help && command_usage(other).is_some() => {
+            outln!("usage: {}", command_usage(other).unwrap_or_default())
+        }
         "reconstruct" => cmd_reconstruct::run(rest)?,
         "convert" => cmd_convert::run(rest)?,
-        "simulate" if wants_help => outln!("usage: {}", cmd_simulate::USAGE),
-        "compare" if wants_help => outln!("usage: {}", cmd_compare::USAGE),
-        "leave-one-out" if wants_help => outln!("usage: {}", cmd_leave_one_out::USAGE),
         "simulate" => cmd_simulate::run(rest)?,
-        "segment" if wants_help => outln!("usage: {}", cmd_segment::USAGE),
         "segment" => cmd_segment::run(rest)?,
         "compare" => cmd_compare::run(rest)?,
         "leave-one-out" => cmd_leave_one_out::run(rest)?,
-        "experiment" if wants_help => outln!("usage: {}", cmd_experiment::USAGE),
         "experiment" => cmd_experiment::run(rest)?,
-        "align" if wants_help => outln!("usage: {}", cmd_align::USAGE),
         "align" => cmd_align::run(rest)?,
-        "volumes" if wants_help => outln!("usage: {}", cmd_volumes::USAGE),
         "volumes" => cmd_volumes::run(rest)?,
+        // `heartmesh --iterations 5 reconstruct ...`: an option where the command goes.
+        other if other.starts_with('-') => {
+            return Err(CliError::usage(format!(
+                "{other} before the command: the command comes first, its options after it \
+                 (heartmesh reconstruct CONTOURS -o MESH.obj {other} ...)"
+            )))
+        }
         other => return Err(CliError::usage(format!("unknown command {other:?}"))),
     }
     Ok(())

@@ -305,3 +305,54 @@ fn stdout_closed_early_is_not_a_panic() {
     assert_eq!(status.code(), Some(0), "{err}");
     assert!(err.is_empty(), "{err}");
 }
+
+/// A biv-me GPFile to VTP / VTK polylines (the files ParaView opens) and back keeps its 23
+/// landmarks (apex, valves, RV inserts as named one-point vertex cells), which were dropped.
+#[test]
+fn gpfile_landmarks_survive_vtp_and_vtk() {
+    let dir = scratch("gpfile-landmarks");
+    let gp = data("contours/bivme-example-patient1/GPFile_000.txt");
+    let counts = "40 contours, 1791 points, 23 landmarks";
+    for ext in ["vtp", "vtk"] {
+        let lines = dir.join(format!("x.{ext}"));
+        let (code, out, err) = run(bin().args(["convert", s(&gp), s(&lines)]));
+        assert_eq!(code, 0, "{ext}: {err}");
+        assert_eq!(out, format!("{}: {counts}\n", s(&lines)), "{ext}");
+        let csv = dir.join(format!("y-{ext}.csv"));
+        let (code, out, err) = run(bin().args(["convert", s(&lines), s(&csv)]));
+        assert_eq!(code, 0, "{ext}: {err}");
+        assert_eq!(out, format!("{}: {counts}\n", s(&csv)), "{ext}");
+        let text = std::fs::read_to_string(&csv).unwrap();
+        let apex = text
+            .lines()
+            .filter(|l| l.starts_with("# landmark APEX_POINT "));
+        assert_eq!(apex.count(), 1, "{ext}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A VTP saved by VTK / ParaView with their default settings (appended raw data, zlib): made
+/// from patient1-ED.csv by `convert`, read and written back by vtkXMLPolyDataWriter 9.7 (see
+/// heartmesh-core/tests/data/vtk9/README.md). It converts to the CSV's contours again, joined by
+/// their binary `contour_id` strings (refused as "compressed VTP is not supported" before).
+#[test]
+fn a_vtp_saved_by_vtk_with_default_settings_converts() {
+    let dir = scratch("vtk-default-vtp");
+    let vtp = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../heartmesh-core/tests/data/vtk9/patient1-ED-vtk-default.vtp");
+    let counts = |input: &Path, name: &str| {
+        let out = dir.join(name);
+        let (code, text, err) = run(bin().args(["convert", s(input), s(&out)]));
+        assert_eq!(code, 0, "{}: {err}", s(input));
+        text.strip_prefix(&format!("{}: ", s(&out)))
+            .unwrap_or_else(|| panic!("{text}"))
+            .to_string()
+    };
+    let csv = counts(
+        &data("contours/bivme-example-patient1/patient1-ED.csv"),
+        "a.csv",
+    );
+    assert_eq!(csv, "40 contours, 1791 points, 0 landmarks\n");
+    assert_eq!(counts(&vtp, "b.csv"), csv);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -221,6 +221,49 @@ fn low_target_reduction_is_capped() {
     check_closed_manifold_outward(&mesh).unwrap();
 }
 
+/// The other way: a large target reduction shrinks the mesh at every remesh (0.95 keeps 0.2x).
+/// Unchecked, patient 1 ED's LV ended as a 4-triangle tetrahedron 7.2 mm from its contours that
+/// read "closed"; the remesh holds it at the initial tube's triangles, which follow the contours,
+/// and the note says so.
+#[test]
+fn high_target_reduction_keeps_the_tubes_triangles() {
+    let set = load_contours("bivme-example-patient1/patient1-ED.csv");
+    let at = |target_reduction: f64| {
+        let params = Params {
+            surface: Some("LV_ENDO".into()),
+            target_reduction,
+            ..Params::default()
+        };
+        let mut rec = Reconstruction::new(&set, params).unwrap();
+        rec.step().unwrap();
+        let tube = rec.mesh().triangles.len();
+        let note = rec.growth_note();
+        rec.run().unwrap();
+        let mean = rec.contour_distances().overall.mean;
+        (
+            tube,
+            rec.mesh().triangles.len(),
+            note,
+            mean,
+            rec.mesh().clone(),
+        )
+    };
+    for r in [0.8, 0.95] {
+        let (tube, end, note, mean, mesh) = at(r);
+        println!("target reduction {r}: {tube} -> {end} triangles, mean {mean:.3} mm");
+        // Decimation stops within a few collapses of its target.
+        assert!(end + 8 >= tube && end <= tube + 8, "{r}: {tube} -> {end}");
+        assert!(mean < 1.0, "{r}: contour-to-mesh mean {mean} mm");
+        check_closed_manifold_outward(&mesh).unwrap();
+        let note = note.unwrap_or_default();
+        assert!(note.contains("held at the initial tube's"), "{r}: {note}");
+    }
+    // The defaults grow the mesh and say nothing.
+    let (tube, end, note, _, _) = at(0.72);
+    assert!(end > 2 * tube, "{tube} -> {end}");
+    assert_eq!(note, None);
+}
+
 /// The growth note (session 15): from the initial tube's size, a long run at the paper's remesh
 /// settings is predicted to reach the remesh cap, and the defaults are not.
 #[test]

@@ -51,6 +51,30 @@ export function headerLines(info: ExportInfo): string[] {
   ];
 }
 
+/**
+ * The binary STL's 80-byte header, ASCII: the app version, the units, the surface and the time
+ * frame always (a surface cut to "LV_END" told nothing), then the input's name and as many whole
+ * `name=value` parameters as fit, never one cut short. STL has no other place for metadata; the
+ * other formats and the Parameters JSON carry everything.
+ */
+export function stlHeader(info: ExportInfo): string {
+  const clean = (s: string) => s.replace(/[^\x20-\x7e]/g, '?');
+  let text = `heartmesh ${clean(info.appVersion)} mm`;
+  if (info.surface) text += ` ${clean(info.surface)}`;
+  if (info.frame != null) text += ` frame ${clean(info.frame)}`;
+  const room = 80 - text.length - 1;
+  const name = clean(info.fileName).replace(/ /g, '_');
+  if (room > 0) text += ` ${name.length <= room ? name : `${name.slice(0, Math.max(0, room - 1))}~`}`;
+  const o = info.options ? withDefaultOptions(info.options) : null;
+  const items = [`lids=${info.lids}`, ...Object.keys(info.params).map((k) => `${k}=${info.params[k]}`)];
+  if (o) items.push(`smoothing_method=${o.smoothing_method}`, `end_caps=${o.end_caps}`, `align_slices=${o.align_slices}`);
+  for (const item of items) {
+    if (text.length + 1 + item.length > 80) break;
+    text += ` ${item}`;
+  }
+  return text.slice(0, 80);
+}
+
 /** Base name for downloads: input name without extension (`seg.nii.gz`: `seg`), plus surface and time frame. */
 export function exportBaseName(info: ExportInfo): string {
   const safe = (s: string) => s.replace(/[^A-Za-z0-9._-]+/g, '_');

@@ -1,14 +1,15 @@
 /**
- * Binary STL writer. The 80-byte header holds the app version and as many parameters as fit
+ * Binary STL writer. The 80-byte header holds the app version, units, surface, frame, input name
+ * and as many parameters as fit (`stlHeader`)
  * (STL has no other place for metadata); facet normals are computed from the CCW winding.
  */
-import { headerLines, type ExportInfo, type MeshData } from './header';
+import { stlHeader, type ExportInfo, type MeshData } from './header';
 
 export function writeStl(mesh: MeshData, info: ExportInfo): ArrayBuffer {
   const triangles = mesh.indices.length / 3;
   const buffer = new ArrayBuffer(84 + 50 * triangles);
   const view = new DataView(buffer);
-  const header = headerLines(info).join(' | ');
+  const header = stlHeader(info);
   for (let i = 0; i < 80; i++) {
     const c = i < header.length ? header.charCodeAt(i) : 32;
     view.setUint8(i, c < 128 ? c : 63); // ASCII only; '?' for anything else

@@ -209,7 +209,7 @@ pub fn non_planar_warnings(set: &ContourSet) -> Vec<String> {
 /// A contour as the warnings name it: its identifier, its first line in the file and what is
 /// wrong with it (`"sax3" (line 62, only 1 point)`).
 fn named(c: &Contour, detail: &str) -> String {
-    format!("{:?} (line {}, {detail})", c.id, c.first_line)
+    c.cite(detail)
 }
 
 /// One warning line for all flagged contours (a user reads one line, not fifty).

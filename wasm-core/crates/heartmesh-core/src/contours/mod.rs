@@ -38,7 +38,23 @@ pub struct Contour {
     pub first_line: usize,
 }
 
+/// How messages name a contour: `"sax3" (line 62, DETAIL)`. Label maps, MATLAB and DICOM files
+/// have no lines (`line` 0): then `"sax3" (DETAIL)`, or `"sax3"` alone, rather than "line 0".
+pub fn cite(id: &str, line: usize, detail: &str) -> String {
+    match (line, detail.is_empty()) {
+        (0, true) => format!("{id:?}"),
+        (0, false) => format!("{id:?} ({detail})"),
+        (_, true) => format!("{id:?} (line {line})"),
+        (_, false) => format!("{id:?} (line {line}, {detail})"),
+    }
+}
+
 impl Contour {
+    /// This contour as messages name it ([`cite`]).
+    pub fn cite(&self, detail: &str) -> String {
+        cite(&self.id, self.first_line, detail)
+    }
+
     /// All points of all pieces.
     pub fn points(&self) -> impl Iterator<Item = &Vec3> + Clone {
         self.pieces.iter().flat_map(|p| p.points.iter())

@@ -71,9 +71,15 @@ impl SetAside {
         }
     }
 
-    /// How the warning names it: `"id" (line N`, the part every line about it starts with.
-    fn name(&self) -> String {
-        format!("{:?} (line {}", self.id, self.line)
+    /// How the warning names it, with why (`"id" (line N, DETAIL)`, see [`super::cite`]).
+    fn name(&self, detail: &str) -> String {
+        super::cite(&self.id, self.line, detail)
+    }
+
+    /// The start of [`Self::name`] whatever the detail: how a warning already said is found.
+    fn key(&self) -> String {
+        let named = self.name("~");
+        named.trim_end_matches("~)").to_string()
     }
 }
 
@@ -206,10 +212,9 @@ pub fn warnings(list: &[SetAside]) -> Vec<String> {
     let mut speck: Vec<String> = Vec::new();
     for s in list {
         match &s.why {
-            Why::Stray { gap_mm } => stray.push(format!(
-                "{}, {gap_mm:.0} mm from the nearest contour kept)",
-                s.name()
-            )),
+            Why::Stray { gap_mm } => {
+                stray.push(s.name(&format!("{gap_mm:.0} mm from the nearest contour kept")))
+            }
             Why::Speck {
                 perimeter_mm,
                 next_id,
@@ -217,20 +222,18 @@ pub fn warnings(list: &[SetAside]) -> Vec<String> {
             } => {
                 let pct = 100.0 * perimeter_mm / next_perimeter_mm;
                 let digits = usize::from(pct < 1.0);
-                speck.push(format!(
-                    "{}, {perimeter_mm:.1} mm around, {pct:.digits$} % of the ring of {next_id:?} \
-                     one slice away)",
-                    s.name()
-                ));
+                speck.push(s.name(&format!(
+                    "{perimeter_mm:.1} mm around, {pct:.digits$} % of the ring of {next_id:?} \
+                     one slice away"
+                )));
             }
             Why::LaxSpeck {
                 length_mm,
                 extent_mm,
-            } => speck.push(format!(
-                "{}, {length_mm:.1} mm long in a long-axis plane, where the data span {extent_mm:.0} \
-                 mm along the axis)",
-                s.name()
-            )),
+            } => speck.push(s.name(&format!(
+                "{length_mm:.1} mm long in a long-axis plane, where the data span {extent_mm:.0} \
+                 mm along the axis"
+            ))),
         }
     }
     let mut out = one_line(
@@ -254,7 +257,7 @@ pub fn warnings(list: &[SetAside]) -> Vec<String> {
 pub fn unannounced(list: &[SetAside], said: &[String]) -> Vec<String> {
     let missing: Vec<SetAside> = list
         .iter()
-        .filter(|s| !said.iter().any(|w| w.contains(&s.name())))
+        .filter(|s| !said.iter().any(|w| w.contains(&s.key())))
         .cloned()
         .collect();
     warnings(&missing)
@@ -298,6 +301,25 @@ mod tests {
         assert_eq!(set_aside_warnings(&set), w);
         assert!(unannounced(&out, &w).is_empty());
         assert_eq!(unannounced(&out, &w[..1]), w[1..]);
+    }
+
+    #[test]
+    fn contours_of_files_without_lines_are_named_without_a_line() {
+        // Label maps, MATLAB and DICOM files give every contour line 0: no "(line 0".
+        let mut c = dome();
+        c.push(ring("far", 30.0, 0.0, 300.0, 60, 0));
+        let (_, out) = set_aside(c);
+        let w = warnings(&out);
+        assert_eq!(
+            w,
+            [
+                "contour \"far\" (243 mm from the nearest contour kept) lies far from the rest \
+              (another series or a wrong coordinate?); it is left out of the reconstruction"
+            ]
+        );
+        assert!(unannounced(&out, &w).is_empty());
+        assert_eq!(super::super::cite("s1", 0, ""), "\"s1\"");
+        assert_eq!(super::super::cite("s1", 7, ""), "\"s1\" (line 7)");
     }
 
     #[test]

@@ -53,10 +53,7 @@ pub fn second_loop_warnings(set: &ContourSet) -> Vec<String> {
             else {
                 continue;
             };
-            flagged.push(format!(
-                "{:?} (line {}, {:.0} mm from {:?})",
-                c.id, c.first_line, apart.gap_mm, main.id
-            ));
+            flagged.push(c.cite(&format!("{:.0} mm from {:?}", apart.gap_mm, main.id)));
         }
     }
     match flagged.as_slice() {
@@ -197,10 +194,7 @@ pub fn repeated_loop_warnings(set: &ContourSet) -> Vec<String> {
             else {
                 continue;
             };
-            let pair = format!(
-                "{:?} (line {}) and {:?} (line {})",
-                main.id, main.first_line, c.id, c.first_line
-            );
+            let pair = format!("{} and {}", main.cite(""), c.cite(""));
             pairs.push((pair, again.gap_mm));
         }
     }

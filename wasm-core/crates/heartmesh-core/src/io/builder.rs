@@ -290,7 +290,7 @@ fn order_warnings(set: &ContourSet) -> Vec<String> {
             })
             .fold(0.0, f64::max);
         if worst > MAX_PATH_TO_WIDTH {
-            flagged.push((format!("{:?} (line {})", c.id, c.first_line), worst));
+            flagged.push((c.cite(""), worst));
         }
     }
     let question = "out of order, or very noisy?";
@@ -342,8 +342,9 @@ fn duplicate_warnings(set: &ContourSet) -> Vec<String> {
             .find(|a| a.point_count() == b.point_count() && a.points().eq(b.points()));
         match first {
             Some(a) => out.push(format!(
-                "contour {:?} (line {}) repeats the points of contour {:?} (line {})",
-                b.id, b.first_line, a.id, a.first_line
+                "contour {} repeats the points of contour {}",
+                b.cite(""),
+                a.cite("")
             )),
             None => bucket.push(j),
         }

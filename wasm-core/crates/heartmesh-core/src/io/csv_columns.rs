@@ -50,14 +50,20 @@ impl Columns {
 const X: &[&str] = &["x", "points:0", "points_0", "point_x", "pos_x"];
 const Y: &[&str] = &["y", "points:1", "points_1", "point_y", "pos_y"];
 const Z: &[&str] = &["z", "points:2", "points_2", "point_z", "pos_z"];
+/// Names that say the column names the contour (in this order of preference).
 const CONTOUR: &[&str] = &[
     "contour",
     "contour_id",
     "contour id",
     "contourid",
-    "id",
+    "contour_name",
+    "contour name",
     "curve",
+    "name",
 ];
+/// A bare `id` names the contour only when nothing else does: exports from databases and
+/// dataframes write `id` for the point's own index (`id,contour,x,y,z`, `id,slice,x,y,z`).
+const ID: &[&str] = &["id"];
 const SLICE: &[&str] = &[
     "slice",
     "slice_id",
@@ -119,10 +125,11 @@ pub fn parse_header(fields: &[&str], line: usize) -> Result<Columns> {
             None => {}
         }
     }
-    let id = match (find(CONTOUR), find(SLICE)) {
-        (Some(i), _) => IdSource::Contour(i),
-        (None, Some(i)) => IdSource::Slice(i),
-        (None, None) => IdSource::BlankLines,
+    let id = match (find(CONTOUR), find(SLICE), find(ID)) {
+        (Some(i), _, _) => IdSource::Contour(i),
+        (None, Some(i), _) => IdSource::Slice(i),
+        (None, None, Some(i)) => IdSource::Contour(i),
+        (None, None, None) => IdSource::BlankLines,
     };
     Ok(Columns {
         id,
@@ -248,5 +255,19 @@ mod tests {
             IdSource::Contour(1),
             "a contour column wins over a slice column"
         );
+    }
+
+    #[test]
+    fn a_point_index_named_id_gives_way_to_the_contour_or_slice_column() {
+        for (h, id) in [
+            ("id,contour,x,y,z", IdSource::Contour(1)),
+            ("contour,id,x,y,z", IdSource::Contour(0)),
+            ("id,slice,x,y,z", IdSource::Slice(1)),
+            ("id,x,y,z", IdSource::Contour(0)),
+            ("name,x,y,z,surface", IdSource::Contour(0)),
+            ("ID,Contour Name,X,Y,Z", IdSource::Contour(1)),
+        ] {
+            assert_eq!(header(h).unwrap().id, id, "{h}");
+        }
     }
 }

@@ -12,7 +12,7 @@ use crate::error::{CoreError, Result};
 pub const MAX_INFLATED_BYTES: usize = 128 << 20;
 
 /// Deflate's largest compression ratio (a run of one byte: 258 bytes per 2-bit code, ~1032:1).
-const DEFLATE_MAX_RATIO: usize = 1032;
+pub(crate) const DEFLATE_MAX_RATIO: usize = 1032;
 
 /// Whether `bytes` is gzip data.
 pub fn is_gzip(bytes: &[u8]) -> bool {

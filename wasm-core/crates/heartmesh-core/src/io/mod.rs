@@ -406,11 +406,18 @@ pub fn write_mesh(
 /// Contours as polylines (one line cell per piece; rings repeat their first point so that they
 /// read back closed) for VTK-based viewers: legacy VTK (`vtp == false`) or VTP. Each cell carries
 /// its contour's identifier and surface as cell data, so that our readers give back the same
-/// contours (pieces joined again by identifier).
+/// contours (pieces joined again by identifier). Landmarks are one-point vertex cells, their
+/// points after the contours' and their cells first (VTK's cell data order is verts, lines),
+/// labelled with their name and the surface [`vtk::LANDMARK_SURFACE`]: without them a converted
+/// file would lose the apex and valves (`--lids apex`, the app's markers).
 pub fn write_contour_lines(set: &ContourSet, vtp: bool, header_comment: &str) -> Vec<u8> {
-    let mut points = Vec::with_capacity(set.point_count());
+    let mut points = Vec::with_capacity(set.point_count() + set.landmarks.len());
     let mut cells: Vec<Vec<u32>> = Vec::new();
-    let mut labels: Vec<(&str, &str)> = Vec::new();
+    let mut labels: Vec<(&str, &str)> = set
+        .landmarks
+        .iter()
+        .map(|(name, _)| (name.as_str(), vtk::LANDMARK_SURFACE))
+        .collect();
     for (c, piece) in set
         .contours
         .iter()
@@ -425,10 +432,13 @@ pub fn write_contour_lines(set: &ContourSet, vtp: bool, header_comment: &str) ->
         }
         cells.push(cell);
     }
+    let first = points.len() as u32;
+    let verts: Vec<u32> = (first..first + set.landmarks.len() as u32).collect();
+    points.extend(set.landmarks.iter().map(|(_, p)| *p));
     if vtp {
-        vtp::write_lines(&points, &cells, &labels, header_comment)
+        vtp::write_lines(&points, &verts, &cells, &labels, header_comment)
     } else {
-        vtk::write_lines(&points, &cells, &labels, header_comment)
+        vtk::write_lines(&points, &verts, &cells, &labels, header_comment)
     }
 }
 

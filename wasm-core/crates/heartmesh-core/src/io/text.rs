@@ -16,6 +16,18 @@ use crate::error::{CoreError, Result};
 /// in. Binary input (NUL or control bytes) is refused with the 1-based line where it starts, so
 /// that a user who dropped the wrong file learns what happened instead of seeing a number error.
 pub fn decode(bytes: &[u8]) -> Result<Cow<'_, str>> {
+    if let Some(kind) = recognised_binary(bytes) {
+        // A signature alone is not enough ("BM" starts text too): the head must be binary.
+        let head = &bytes[..bytes.len().min(1024)];
+        let binary = head.contains(&0)
+            || matches!(std::str::from_utf8(head), Err(e) if e.error_len().is_some());
+        if binary {
+            return Err(CoreError::parse(
+                1,
+                format!("binary data at byte 0: this is {kind}, not contours"),
+            ));
+        }
+    }
     if let Some(text) = utf16(bytes)? {
         return checked(Cow::Owned(text));
     }
@@ -35,6 +47,33 @@ pub fn decode(bytes: &[u8]) -> Result<Cow<'_, str>> {
         }
     };
     checked(text)
+}
+
+/// What a binary file opened by mistake is, from its signature: a screenshot or exported slice
+/// of the images, a PDF report, a zipped folder. "Not a UTF-8 text file" alone leaves the user
+/// guessing; the kind says what happened.
+fn recognised_binary(bytes: &[u8]) -> Option<&'static str> {
+    const SIGNATURES: &[(&[u8], &str)] = &[
+        (b"\x89PNG\r\n\x1a\n", "a PNG picture"),
+        (b"\xFF\xD8\xFF", "a JPEG picture"),
+        (b"GIF87a", "a GIF picture"),
+        (b"GIF89a", "a GIF picture"),
+        (b"II*\0", "a TIFF picture"),
+        (b"MM\0*", "a TIFF picture"),
+        (b"BM", "a BMP picture"),
+        (b"%PDF-", "a PDF document"),
+        (
+            b"PK\x03\x04",
+            "a ZIP archive (unpack it and open the files in it)",
+        ),
+    ];
+    if bytes.len() >= 12 && bytes.starts_with(b"RIFF") && &bytes[8..12] == b"WEBP" {
+        return Some("a WebP picture");
+    }
+    SIGNATURES
+        .iter()
+        .find(|(magic, _)| bytes.starts_with(magic))
+        .map(|(_, kind)| *kind)
 }
 
 /// The first `max` bytes of `bytes` as text, for format detection: decoded as [`decode`] would,
@@ -248,9 +287,12 @@ pub fn shorten(s: &str, max: usize) -> String {
     out
 }
 
-/// The header's column named by one of `wanted` (lowercased names), first match in the header.
+/// The header's column named by one of `wanted` (lowercased names, in order of preference).
 pub fn find_column(names: &[String], wanted: &[&str]) -> Option<usize> {
-    names.iter().position(|n| wanted.contains(&n.as_str()))
+    // `wanted` is in order of preference: `x` before `points:0`, whatever the file's order.
+    wanted
+        .iter()
+        .find_map(|w| names.iter().position(|n| n == w))
 }
 
 /// [`find_column`], or the parse error at `line` naming the column (`wanted[0]`) and what the
@@ -281,6 +323,32 @@ pub fn quote(field: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pictures_and_archives_opened_by_mistake_are_named() {
+        let png = b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR";
+        let e = decode(png).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "line 1: binary data at byte 0: this is a PNG picture, not contours"
+        );
+        let jpeg = decode(b"\xFF\xD8\xFF\xE0\0\x10JFIF").unwrap_err();
+        assert!(jpeg
+            .to_string()
+            .ends_with("this is a JPEG picture, not contours"));
+        let zip = decode(b"PK\x03\x04\x14\0\0\0\x08\0").unwrap_err();
+        assert!(
+            zip.to_string().contains("a ZIP archive (unpack it"),
+            "{zip}"
+        );
+        // Text that starts like a signature is text; other binary data keeps the plain message.
+        assert!(decode(b"BMI,x,y,z\n").is_ok());
+        let other = decode(b"ab\xFF\xFE\0\x01").unwrap_err();
+        assert!(
+            other.to_string().ends_with("not a UTF-8 text file"),
+            "{other}"
+        );
+    }
 
     #[test]
     fn bom_and_crlf() {

@@ -59,6 +59,22 @@ pub fn cap_note(params: &Params, triangles: usize) -> Option<String> {
     ))
 }
 
+/// The one-line note for a run whose remeshes would shrink the mesh (a target reduction above
+/// 0.75) and so hold it at `floor` triangles, the initial tube's; None when the mesh does not
+/// shrink or the run has no remesh after the first.
+pub fn floor_note(params: &Params, floor: usize) -> Option<String> {
+    let kept = 4.0 * (1.0 - params.target_reduction);
+    let remeshes = params.remesh_every.max(1) < params.iterations;
+    (kept < 1.0 && remeshes && floor > 0).then(|| {
+        format!(
+            "each remesh keeps {kept:.2}x the triangles (x4 subdivision, {:.0} % kept), so the \
+             mesh is held at the initial tube's {floor} triangles instead of shrinking at every \
+             remesh; a target reduction of 0.75 or less lets it refine",
+            100.0 * (1.0 - params.target_reduction)
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

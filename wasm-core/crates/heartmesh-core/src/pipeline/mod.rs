@@ -191,6 +191,8 @@ pub struct Reconstruction {
     weights: Vec<f64>,
     /// The last fit used `weights` (some attractors conflicted).
     weighted: bool,
+    /// Fewest triangles a remesh may leave: the initial tube's ([`capped_reduction`]).
+    min_triangles: usize,
     /// Working mesh in normalised units, and its copy in mm handed to callers.
     mesh_unit: TriMesh,
     mesh_mm: TriMesh,
@@ -325,6 +327,7 @@ impl Reconstruction {
             attractor_owner: Vec::new(),
             weights: Vec::new(),
             weighted: false,
+            min_triangles: 0,
             mesh_unit: TriMesh::default(),
             mesh_mm: TriMesh::default(),
             bvh: None,
@@ -599,12 +602,14 @@ impl Reconstruction {
         self.done
     }
 
-    /// The note before a long run, or None: its mesh would reach the remesh cap
-    /// ([`growth::cap_note`]), or its attractors make the spline's solve long
-    /// ([`solve_cost::long_solve_note`]); both in one line when both hold. Known once step 0 has
-    /// built the initial tube and sampled the attractors (None before).
+    /// The note before a long or coarse run, or None: its mesh would reach the remesh cap
+    /// ([`growth::cap_note`]) or is held at the tube's triangles ([`growth::floor_note`]), or its
+    /// attractors make the spline's solve long ([`solve_cost::long_solve_note`]); in one line
+    /// when both hold. Known once step 0 has built the initial tube and sampled the attractors
+    /// (None before).
     pub fn growth_note(&self) -> Option<String> {
-        let mesh = growth::cap_note(&self.params, self.mesh_unit.triangles.len());
+        let mesh = growth::cap_note(&self.params, self.mesh_unit.triangles.len())
+            .or_else(|| growth::floor_note(&self.params, self.min_triangles));
         let attractors = self.real_attractors.min(self.attractors.len());
         let solve = solve_cost::long_solve_note(attractors);
         match (mesh, solve) {
@@ -656,11 +661,15 @@ fn same_structure(a: &[Contour], b: &[Contour]) -> bool {
 pub const MAX_REMESH_TRIANGLES: usize = 200_000;
 
 /// The reduction a remesh applies: the user's, or more when the subdivided mesh would otherwise
-/// end above [`MAX_REMESH_TRIANGLES`].
-fn capped_reduction(target_reduction: f64, triangles: usize) -> f64 {
+/// end above [`MAX_REMESH_TRIANGLES`], or less when it would end below `floor` triangles (the
+/// initial tube's count). A target reduction above 0.75 shrinks the mesh at every remesh (0.95
+/// keeps 0.2x): unchecked, ten remeshes leave a tetrahedron far from every contour that still
+/// reads "closed"; at the floor the mesh keeps the tube's resolution, which follows the contours.
+fn capped_reduction(target_reduction: f64, triangles: usize, floor: usize) -> f64 {
     let subdivided = (4 * triangles).max(1) as f64;
     let needed = 1.0 - MAX_REMESH_TRIANGLES as f64 / subdivided;
-    target_reduction.max(needed)
+    let allowed = (1.0 - floor as f64 / subdivided).max(0.0);
+    target_reduction.max(needed).min(allowed)
 }
 
 /// Share of a remesh's displacement (the smoothing pulls the surface off the data) still left when

@@ -50,7 +50,7 @@ impl Reconstruction {
                 Some(contours) => contours
                     .iter()
                     .filter_map(|&j| self.contours.get(j))
-                    .map(|c| format!("{:?} (line {})", c.id, c.first_line))
+                    .map(|c| c.cite(""))
                     .collect::<Vec<_>>()
                     .join(", "),
                 None => "the lid".to_string(),
@@ -67,6 +67,7 @@ impl Reconstruction {
             mesh.flip_orientation();
         }
         let t = self.clock.now_ms();
+        self.min_triangles = mesh.triangles.len();
         self.mesh_unit = self.remeshed(&mesh)?;
         timings.remesh_ms = self.clock.now_ms() - t;
         self.bvh = Some(Bvh::build(&self.mesh_unit));
@@ -241,7 +242,7 @@ impl Reconstruction {
             p.smoothing,
             p.smoothing_iterations,
             p.smoothing_factor,
-            capped_reduction(p.target_reduction, mesh.triangles.len()),
+            capped_reduction(p.target_reduction, mesh.triangles.len(), self.min_triangles),
         )
     }
 

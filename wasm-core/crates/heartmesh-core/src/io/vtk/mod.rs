@@ -28,8 +28,9 @@ pub struct PolyData {
     pub point_scalars: Option<(String, Vec<f64>)>,
     /// 1-based line where each line cell's data starts (ASCII), for messages.
     pub lines_at: usize,
-    /// Number of VERTICES cells (they come first in the cell data order).
-    pub verts: usize,
+    /// VERTICES cells (they come first in the cell data order); named one-point cells are our
+    /// landmarks (see [`LANDMARK_SURFACE`]).
+    pub verts: Vec<Vec<u32>>,
     /// String arrays of CELL_DATA fields (name, one value per cell).
     pub cell_strings: Vec<(String, Vec<String>)>,
 }
@@ -37,6 +38,13 @@ pub struct PolyData {
 /// Per-line labels kept through the polyline formats: the contour identifier and the surface.
 pub const CONTOUR_ID_ARRAY: &str = "contour_id";
 pub const SURFACE_ARRAY: &str = "surface";
+/// The `surface` value of a landmark's cell. A landmark (valve, apex, RV insert) is written as VTK
+/// itself represents a lone point: a vertex cell (VERTICES / `<Verts>`) of one point, appended
+/// after the contour points, with its name in [`CONTOUR_ID_ARRAY`]. This marker (and not only a
+/// name) is what makes our readers take a vertex cell back as a landmark, so that the vertex cells
+/// of other tools' files, labelled or not, are still ignored as before; in ParaView it shows the
+/// landmarks as a category of their own when coloring by `surface`.
+pub const LANDMARK_SURFACE: &str = "landmark";
 
 /// The contour identifier and surface of every line cell, when the file carries them.
 #[derive(Debug, Default, Clone, PartialEq)]
@@ -247,7 +255,7 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
                         pd.lines = cells;
                     }
                     "POLYGONS" => pd.polys.extend(cells),
-                    "VERTICES" => pd.verts += cells.len(),
+                    "VERTICES" => pd.verts.extend(cells),
                     "TRIANGLE_STRIPS" => {
                         for s in cells {
                             for k in 2..s.len() {
@@ -547,8 +555,33 @@ pub fn read_vtk_contours(bytes: &[u8]) -> Result<ContourSet> {
     if pd.lines.is_empty() && !pd.polys.is_empty() {
         return contours_from_polygons(&pd.points, &pd.polys, pd.lines_at);
     }
-    let labels = LineLabels::from_cell_strings(&pd.cell_strings, pd.verts, pd.lines.len());
-    contours_from_lines(&pd.points, &pd.lines, pd.lines_at, &labels)
+    let labels = LineLabels::from_cell_strings(&pd.cell_strings, pd.verts.len(), pd.lines.len());
+    let vert_labels = LineLabels::from_cell_strings(&pd.cell_strings, 0, pd.verts.len());
+    let landmarks = vertex_landmarks(&pd.points, &pd.verts, &vert_labels);
+    contours_from_lines(&pd.points, &pd.lines, pd.lines_at, &labels, &landmarks)
+}
+
+/// The landmarks among vertex cells: one-point cells named in [`CONTOUR_ID_ARRAY`] whose surface
+/// is [`LANDMARK_SURFACE`] (as [`crate::io::write_contour_lines`] writes them). Other vertex cells
+/// (point clouds, glyph seeds of other tools) are left out, as they always were.
+pub(crate) fn vertex_landmarks(
+    points: &[Vec3],
+    verts: &[Vec<u32>],
+    labels: &LineLabels,
+) -> Vec<(String, Vec3)> {
+    let (Some(ids), Some(surfaces)) = (&labels.ids, &labels.surfaces) else {
+        return Vec::new();
+    };
+    verts
+        .iter()
+        .zip(ids.iter().zip(surfaces))
+        .filter_map(|(cell, (id, surface))| match cell.as_slice() {
+            [i] if !id.is_empty() && surface == LANDMARK_SURFACE => {
+                Some((id.clone(), *points.get(*i as usize)?))
+            }
+            _ => None,
+        })
+        .collect()
 }
 
 /// Polygons of fewer points than this (median) are a surface's faces, not delineated curves.
@@ -585,12 +618,14 @@ pub(crate) fn contours_from_polygons(
 }
 
 /// One contour per line cell, `line1`, `line2`, ... unless the file names them; cells with the
-/// same identifier are the pieces of one contour.
+/// same identifier are the pieces of one contour. `landmarks` (see [`vertex_landmarks`]) go
+/// through the builder like those of the other readers.
 pub(crate) fn contours_from_lines(
     points: &[Vec3],
     lines: &[Vec<u32>],
     line: usize,
     labels: &LineLabels,
+    landmarks: &[(String, Vec3)],
 ) -> Result<ContourSet> {
     if lines.is_empty() {
         return Err(CoreError::parse(0, "no LINES (polylines) found"));
@@ -611,6 +646,9 @@ pub(crate) fn contours_from_lines(
             b.push(&id, surface.map(String::as_str), points[i as usize], line)?;
         }
         b.break_run();
+    }
+    for (name, p) in landmarks {
+        b.landmark(name, *p, line)?;
     }
     b.finish()
 }

@@ -106,3 +106,83 @@ fn bad_index_has_line() {
     let e = read_vtk_contours(s.as_bytes()).unwrap_err();
     assert_eq!(e.line(), Some(10), "{e}");
 }
+
+/// Two LV_ENDO rings and an open RV curve in two pieces, with three landmarks, as heartmesh's CSV.
+fn csv_with_landmarks() -> String {
+    let mut s = String::from("contour,surface,x,y,z\n");
+    for (id, surface, z, n) in [("s1", "LV_ENDO", 0.0, 12), ("s2", "LV_ENDO", 10.0, 10)] {
+        for i in 0..n {
+            let t = i as f64 * std::f64::consts::TAU / n as f64;
+            s.push_str(&format!(
+                "{id},{surface},{},{},{z}\n",
+                20.0 * t.cos(),
+                20.0 * t.sin()
+            ));
+        }
+    }
+    s.push_str("rv,RV_FW,30,0,0\nrv,RV_FW,35,5,0\nrv,RV_FW,36,12,0\n# piece\n");
+    s.push_str("rv,RV_FW,34,20,0\nrv,RV_FW,30,25,0\n");
+    s.push_str("# landmark APEX_POINT 1.5 -2.25 -40.125\n");
+    s.push_str("# landmark MITRAL_VALVE 0.1 0.2 12.000000001\n");
+    s.push_str("# landmark RV_INSERT 25 -3 5\n");
+    s
+}
+
+/// Landmarks survive CSV -> VTK legacy -> read: one-point VERTICES cells written before the
+/// lines, labelled in the same `contour_id` / `surface` arrays, and the contours are unchanged.
+#[test]
+fn landmarks_round_trip_as_vertex_cells() {
+    let mut set = crate::io::read_contours("l.csv", csv_with_landmarks().as_bytes()).unwrap();
+    assert_eq!(set.landmarks.len(), 3);
+    // A name that only the cell arrays can carry (CSV comments split at spaces).
+    set.landmarks
+        .push(("odd name % µ".into(), v3(-1e-3, 2.0, 3e4)));
+    let bytes = crate::io::write_contour_lines(&set, false, "landmarks");
+    let text = String::from_utf8(bytes.clone()).unwrap();
+    let points = set.point_count() + 4;
+    assert!(
+        text.contains(&format!("POINTS {points} double\n")),
+        "{text}"
+    );
+    let verts = format!("VERTICES 4 8\n1 {}\n", points - 4);
+    let (v, l) = (text.find(&verts).unwrap(), text.find("\nLINES 4 ").unwrap());
+    assert!(v < l, "verts come first, as in VTK's cell order");
+    assert!(text.contains("CELL_DATA 8\n"), "{text}");
+    assert!(
+        text.contains("contour_id 1 8 string\nAPEX_POINT\n"),
+        "{text}"
+    );
+    let back = read_vtk_contours(&bytes).unwrap();
+    assert_eq!(back.landmarks, set.landmarks);
+    assert_eq!(back.contours.len(), set.contours.len());
+    for (b, c) in back.contours.iter().zip(&set.contours) {
+        assert_eq!(
+            (&b.id, &b.surface, &b.pieces),
+            (&c.id, &c.surface, &c.pieces)
+        );
+    }
+    // Without landmarks the file is as before: no VERTICES.
+    set.landmarks.clear();
+    let plain = crate::io::write_contour_lines(&set, false, "");
+    let plain = String::from_utf8(plain).unwrap();
+    assert!(!plain.contains("VERTICES") && plain.contains("CELL_DATA 4\n"));
+}
+
+/// Vertex cells of other tools stay out of the contours and landmarks, as they always were: not
+/// labelled, labelled without the landmark marker, or of several points.
+#[test]
+fn other_vertex_cells_are_not_landmarks() {
+    let with_verts = LINES.replace("LINES", "VERTICES 2 5\n1 0\n2 3 4\nLINES");
+    let set = read_vtk_contours(with_verts.as_bytes()).unwrap();
+    assert_eq!((set.contours.len(), set.landmarks.len()), (2, 0));
+    assert_eq!(set.contours[0].id, "line1");
+    let labelled = format!(
+        "{with_verts}CELL_DATA 4\nFIELD FieldData 2\ncontour_id 1 4 string\nAPEX\nPTS\na\nb\n\
+         surface 1 4 string\nLV_ENDO\nlandmark\nLV_ENDO\nLV_EPI\n"
+    );
+    let set = read_vtk_contours(labelled.as_bytes()).unwrap();
+    assert_eq!(set.landmarks.len(), 0);
+    let ids: Vec<&str> = set.contours.iter().map(|c| c.id.as_str()).collect();
+    assert_eq!(ids, ["a", "b"]);
+    assert_eq!(set.contours[1].surface.as_deref(), Some("LV_EPI"));
+}

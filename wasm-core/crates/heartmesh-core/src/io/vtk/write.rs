@@ -33,10 +33,13 @@ fn title(header_comment: &str) -> String {
         .collect()
 }
 
-/// Polylines (contours) as VTK legacy 3.0 ASCII POLYDATA LINES; `labels` (one (id, surface)
-/// per cell, or empty) go into a CELL_DATA field of two string arrays.
+/// Polylines (contours) as VTK legacy 3.0 ASCII POLYDATA LINES, after `verts` (landmarks: the
+/// point of each one-point VERTICES cell, written first as VTK orders cell data: verts, lines);
+/// `labels` (one (id, surface) per cell, verts then lines, or empty) go into a CELL_DATA field of
+/// two string arrays.
 pub(crate) fn write_lines(
     points: &[Vec3],
+    verts: &[u32],
     cells: &[Vec<u32>],
     labels: &[(&str, &str)],
     header_comment: &str,
@@ -49,6 +52,12 @@ pub(crate) fn write_lines(
     for p in points {
         out.push_str(&format!("{}\n", fmt_point(p, " ")));
     }
+    if !verts.is_empty() {
+        out.push_str(&format!("VERTICES {} {}\n", verts.len(), 2 * verts.len()));
+        for i in verts {
+            out.push_str(&format!("1 {i}\n"));
+        }
+    }
     let size: usize = cells.iter().map(|c| c.len() + 1).sum();
     out.push_str(&format!("LINES {} {size}\n", cells.len()));
     for c in cells {
@@ -58,17 +67,16 @@ pub(crate) fn write_lines(
         }
         out.push('\n');
     }
-    if !labels.is_empty() && labels.len() == cells.len() {
+    let n = verts.len() + cells.len();
+    if !labels.is_empty() && labels.len() == n {
         out.push_str(&format!(
-            "CELL_DATA {}\nFIELD FieldData 2\n{CONTOUR_ID_ARRAY} 1 {} string\n",
-            cells.len(),
-            cells.len()
+            "CELL_DATA {n}\nFIELD FieldData 2\n{CONTOUR_ID_ARRAY} 1 {n} string\n"
         ));
         for (id, _) in labels {
             out.push_str(&percent_encode(id));
             out.push('\n');
         }
-        out.push_str(&format!("{SURFACE_ARRAY} 1 {} string\n", cells.len()));
+        out.push_str(&format!("{SURFACE_ARRAY} 1 {n} string\n"));
         for (_, surface) in labels {
             out.push_str(&percent_encode(surface));
             out.push('\n');
