@@ -163,3 +163,64 @@ fn damaged_appended_data_gives_errors() {
         }
     }
 }
+
+/// Corners as a sorted list of coordinate triples: the same surface whatever the numbering.
+fn corner_set(mesh: &heartmesh_core::mesh::TriMesh) -> Vec<[[u64; 3]; 3]> {
+    let mut out: Vec<[[u64; 3]; 3]> = (0..mesh.triangles.len())
+        .map(|t| {
+            let c = mesh
+                .corners(t)
+                .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]);
+            // Rotate so the smallest corner leads, keeping the winding.
+            let k = (0..3).min_by_key(|&k| c[k]).unwrap();
+            [c[k], c[(k + 1) % 3], c[(k + 2) % 3]]
+        })
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+#[test]
+fn a_file_in_several_pieces_reads_whole() {
+    // vtkXMLPolyDataWriter with SetNumberOfPieces: each <Piece> numbers its own points from 0,
+    // and a surface cut into pieces repeats the corners along the cut.
+    let one = read_mesh("t.vtp", &fixture("tetra-ascii.vtp")).unwrap();
+    let two = read_mesh("t.vtp", &fixture("tetra-two-pieces-default.vtp")).unwrap();
+    assert_eq!(two.mesh.positions.len(), 4, "shared corners merged");
+    assert_eq!(corner_set(&two.mesh), corner_set(&one.mesh));
+    assert!((two.mesh.volume_ml() - one.mesh.volume_ml()).abs() < 1e-12);
+    let value = |m: &heartmesh_core::io::MeshData, p: heartmesh_core::geometry::Vec3| {
+        let i = m.mesh.positions.iter().position(|q| *q == p).unwrap();
+        m.point_data.as_ref().unwrap().1[i]
+    };
+    for &p in &one.mesh.positions {
+        assert_eq!(value(&two, p), value(&one, p), "distance at {p:?}");
+    }
+
+    let ascii = read_contours("c.vtp", &fixture("contours-ascii.vtp")).unwrap();
+    let pieces = read_contours("c.vtp", &fixture("contours-two-pieces-default.vtp")).unwrap();
+    let names = |s: &heartmesh_core::contours::ContourSet| -> Vec<(String, Option<String>, usize)> {
+        s.contours
+            .iter()
+            .map(|c| (c.id.clone(), c.surface.clone(), c.pieces[0].points.len()))
+            .collect()
+    };
+    assert_eq!(names(&pieces), names(&ascii));
+
+    // A real file: biv-me patient 1 ED (40 contours, 1791 points) written by VTK in 3 pieces
+    // (vtkExtractPolyDataPiece stores the points as Float32).
+    let whole = read_contours("p.vtp", &fixture("patient1-ED-vtk-default.vtp")).unwrap();
+    let three = read_contours("p.vtp", &fixture("patient1-ED-three-pieces.vtp")).unwrap();
+    assert_eq!(names(&three), names(&whole));
+    assert_eq!(whole.contours.len(), 40);
+    let mut worst = 0.0f64;
+    for (a, b) in three.contours.iter().zip(&whole.contours) {
+        for (pa, pb) in a.pieces.iter().zip(&b.pieces) {
+            assert_eq!(pa.points.len(), pb.points.len(), "{}", a.id);
+            for (p, q) in pa.points.iter().zip(&pb.points) {
+                worst = worst.max((p - q).norm());
+            }
+        }
+    }
+    assert!(worst < 1e-4, "points moved {worst} mm");
+}

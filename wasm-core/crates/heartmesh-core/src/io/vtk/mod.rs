@@ -69,6 +69,23 @@ impl LineLabels {
             surfaces: pick(SURFACE_ARRAY),
         }
     }
+
+    /// The labels of `n` lines followed by those of `m` more (the next piece of a file). A
+    /// piece without an array gets empty labels, which read as unnamed (`lineK`) or unassigned.
+    pub fn concat(self, n: usize, next: LineLabels, m: usize) -> Self {
+        let join = |a: Option<Vec<String>>, b: Option<Vec<String>>| match (a, b) {
+            (None, None) => None,
+            (a, b) => {
+                let mut a = a.unwrap_or_else(|| vec![String::new(); n]);
+                a.extend(b.unwrap_or_else(|| vec![String::new(); m]));
+                Some(a)
+            }
+        };
+        LineLabels {
+            ids: join(self.ids, next.ids),
+            surfaces: join(self.surfaces, next.surfaces),
+        }
+    }
 }
 
 struct Cursor<'a> {

@@ -3,7 +3,8 @@
 //!
 //! Read as VTK and ParaView write it in every mode: ascii, inline base64 (`format="binary"`) and
 //! appended data (`format="appended"`, raw bytes, VTK's default, or base64), each uncompressed
-//! or zlib-compressed, with UInt32 or UInt64 headers ([`data_array`], [`appended`]). The writer
+//! or zlib-compressed, with UInt32 or UInt64 headers ([`data_array`], [`appended`]), in one
+//! `<Piece>` or several (their points merged where a cut repeats them). The writer
 //! uses ascii arrays, which ParaView, VTK and 3D Slicer read.
 
 mod appended;
@@ -11,6 +12,7 @@ mod base64;
 mod data_array;
 
 use std::cell::Cell;
+use std::collections::HashMap;
 
 use roxmltree::{Document, Node};
 
@@ -28,6 +30,7 @@ use data_array::{Layout, Stream};
 /// Most values one data array may hold (ascii or binary): points of the largest mesh accepted.
 const MAX_ARRAY_VALUES: usize = 4 * MAX_MESH_ELEMENTS;
 
+#[derive(Default)]
 struct Parsed {
     points: Vec<Vec3>,
     polys: Vec<Vec<u32>>,
@@ -92,147 +95,236 @@ fn parse(bytes: &[u8]) -> Result<Parsed> {
             Some(Appended { data, base64 })
         }
     };
-    let piece = root
-        .descendants()
-        .find(|n| n.has_tag_name("Piece"))
-        .ok_or_else(|| CoreError::parse(line_of(&doc, root), "no <Piece> element"))?;
-    let count = |name: &str| -> Result<usize> {
-        let v = piece.attribute(name).unwrap_or("0");
-        v.trim()
-            .parse::<usize>()
-            .ok()
-            .filter(|&n| n <= MAX_MESH_ELEMENTS)
-            .ok_or_else(|| {
-                CoreError::parse(
-                    line_of(&doc, piece),
-                    format!("{name}={v:?} is not a valid count"),
-                )
-            })
-    };
-    let npoints = count("NumberOfPoints")?;
-    let section = |tag: &str| piece.children().find(|n| n.has_tag_name(tag));
     let ctx = Ctx {
         doc: &doc,
         layout,
         appended,
         budget: Cell::new(super::gzip::MAX_INFLATED_BYTES),
     };
-
-    let pts_node = section("Points")
-        .and_then(|p| p.children().find(|n| n.has_tag_name("DataArray")))
-        .ok_or_else(|| CoreError::parse(line_of(&doc, piece), "no <Points> data array"))?;
-    let flat = ctx.array(pts_node)?;
-    if flat.len() != 3 * npoints {
-        return Err(CoreError::parse(
-            line_of(&doc, pts_node),
-            format!("Points has {} values; expected 3 x {npoints}", flat.len()),
-        ));
+    // A writer asked for several pieces (vtkXMLPolyDataWriter's NumberOfPieces) puts each in its
+    // own <Piece> with its own point numbering: all of them are the file's data.
+    let mut pieces = root
+        .descendants()
+        .filter(|n| n.has_tag_name("Piece"))
+        .peekable();
+    if pieces.peek().is_none() {
+        return Err(CoreError::parse(line_of(&doc, root), "no <Piece> element"));
     }
-    let points: Vec<Vec3> = flat.chunks_exact(3).map(|c| v3(c[0], c[1], c[2])).collect();
-    if !flat.iter().all(|v| v.is_finite()) {
-        return Err(CoreError::parse(
-            line_of(&doc, pts_node),
-            "non-finite point coordinate",
-        ));
+    let mut all = Parsed::default();
+    let mut seen = HashMap::new();
+    for piece in pieces {
+        let part = ctx.piece(piece)?;
+        all.append(part, line_of(&doc, piece), &mut seen)?;
     }
+    Ok(all)
+}
 
-    let cells = |tag: &str| -> Result<(Vec<Vec<u32>>, usize)> {
-        let Some(sec) = section(tag) else {
-            return Ok((Vec::new(), 0));
+impl Parsed {
+    /// Adds a later piece. Its point numbers start again at 0, and the points it shares with
+    /// earlier pieces (a surface cut into pieces repeats the corners along each cut) are
+    /// written again: those bit-identical to an earlier piece's are merged, so a closed surface
+    /// stays closed.
+    fn append(
+        &mut self,
+        part: Parsed,
+        line: usize,
+        seen: &mut HashMap<[u64; 3], u32>,
+    ) -> Result<()> {
+        let first = self.points.is_empty();
+        let (had_lines, new_lines) = (self.lines.len(), part.lines.len());
+        self.labels = if first {
+            part.labels
+        } else {
+            std::mem::take(&mut self.labels).concat(had_lines, part.labels, new_lines)
         };
-        let named = |n: &str| {
-            sec.children()
-                .find(|c| c.has_tag_name("DataArray") && c.attribute("Name") == Some(n))
+        let mut data = match (self.point_data.take(), part.point_data) {
+            (_, Some(d)) if first => Some((d.0, Vec::with_capacity(d.1.len()), d.1)),
+            (Some((name, v)), Some((other, w))) if name == other => Some((name, v, w)),
+            _ => None,
         };
-        let (Some(conn), Some(offs)) = (named("connectivity"), named("offsets")) else {
+        let mut index = Vec::with_capacity(part.points.len());
+        // Only earlier pieces' points are merged: a piece's own points stay as it numbers them.
+        let mut added = Vec::new();
+        for (k, p) in part.points.into_iter().enumerate() {
+            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+            let i = match seen.get(&key) {
+                Some(&i) => i,
+                None => {
+                    if self.points.len() >= MAX_MESH_ELEMENTS {
+                        return Err(CoreError::parse(
+                            line,
+                            "too many points in the pieces together",
+                        ));
+                    }
+                    let i = self.points.len() as u32;
+                    self.points.push(p);
+                    added.push((key, i));
+                    if let Some((_, v, w)) = data.as_mut() {
+                        v.push(w[k]);
+                    }
+                    i
+                }
+            };
+            index.push(i);
+        }
+        for (key, i) in added {
+            seen.entry(key).or_insert(i);
+        }
+        self.point_data = data.map(|(name, v, _)| (name, v));
+        let renumber = |cells: Vec<Vec<u32>>| {
+            cells.into_iter().map(|c| {
+                c.into_iter()
+                    .map(|i| index[i as usize])
+                    .collect::<Vec<u32>>()
+            })
+        };
+        self.polys.extend(renumber(part.polys));
+        self.lines.extend(renumber(part.lines));
+        self.landmarks.extend(part.landmarks);
+        if self.lines_at == 0 {
+            self.lines_at = part.lines_at;
+        }
+        Ok(())
+    }
+}
+
+impl Ctx<'_, '_> {
+    /// One `<Piece>`: its points, cells, first point-data array, labels and landmarks.
+    fn piece(&self, piece: Node) -> Result<Parsed> {
+        let doc = self.doc;
+        let ctx = self;
+        let count = |name: &str| -> Result<usize> {
+            let v = piece.attribute(name).unwrap_or("0");
+            v.trim()
+                .parse::<usize>()
+                .ok()
+                .filter(|&n| n <= MAX_MESH_ELEMENTS)
+                .ok_or_else(|| {
+                    CoreError::parse(
+                        line_of(doc, piece),
+                        format!("{name}={v:?} is not a valid count"),
+                    )
+                })
+        };
+        let npoints = count("NumberOfPoints")?;
+        let section = |tag: &str| piece.children().find(|n| n.has_tag_name(tag));
+
+        let pts_node = section("Points")
+            .and_then(|p| p.children().find(|n| n.has_tag_name("DataArray")))
+            .ok_or_else(|| CoreError::parse(line_of(doc, piece), "no <Points> data array"))?;
+        let flat = ctx.array(pts_node)?;
+        if flat.len() != 3 * npoints {
             return Err(CoreError::parse(
-                line_of(&doc, sec),
-                format!("<{tag}> needs connectivity and offsets arrays"),
+                line_of(doc, pts_node),
+                format!("Points has {} values; expected 3 x {npoints}", flat.len()),
             ));
-        };
-        let conn_v = ctx.array(conn)?;
-        let offs_v = ctx.array(offs)?;
-        let mut out = Vec::with_capacity(offs_v.len());
-        let mut start = 0.0;
-        for &end in &offs_v {
-            if !(end >= start && end <= conn_v.len() as f64) {
+        }
+        let points: Vec<Vec3> = flat.chunks_exact(3).map(|c| v3(c[0], c[1], c[2])).collect();
+        if !flat.iter().all(|v| v.is_finite()) {
+            return Err(CoreError::parse(
+                line_of(doc, pts_node),
+                "non-finite point coordinate",
+            ));
+        }
+
+        let cells = |tag: &str| -> Result<(Vec<Vec<u32>>, usize)> {
+            let Some(sec) = section(tag) else {
+                return Ok((Vec::new(), 0));
+            };
+            let named = |n: &str| {
+                sec.children()
+                    .find(|c| c.has_tag_name("DataArray") && c.attribute("Name") == Some(n))
+            };
+            let (Some(conn), Some(offs)) = (named("connectivity"), named("offsets")) else {
                 return Err(CoreError::parse(
-                    line_of(&doc, offs),
-                    format!("bad offset {end}"),
+                    line_of(doc, sec),
+                    format!("<{tag}> needs connectivity and offsets arrays"),
                 ));
-            }
-            let mut cell = Vec::new();
-            for &i in &conn_v[start as usize..end as usize] {
-                if !(i >= 0.0 && (i as usize) < npoints && i.fract() == 0.0) {
+            };
+            let conn_v = ctx.array(conn)?;
+            let offs_v = ctx.array(offs)?;
+            let mut out = Vec::with_capacity(offs_v.len());
+            let mut start = 0.0;
+            for &end in &offs_v {
+                if !(end >= start && end <= conn_v.len() as f64) {
                     return Err(CoreError::parse(
-                        line_of(&doc, conn),
-                        format!("point index {i} is outside 0..{npoints}"),
+                        line_of(doc, offs),
+                        format!("bad offset {end}"),
                     ));
                 }
-                cell.push(i as u32);
+                let mut cell = Vec::new();
+                for &i in &conn_v[start as usize..end as usize] {
+                    if !(i >= 0.0 && (i as usize) < npoints && i.fract() == 0.0) {
+                        return Err(CoreError::parse(
+                            line_of(doc, conn),
+                            format!("point index {i} is outside 0..{npoints}"),
+                        ));
+                    }
+                    cell.push(i as u32);
+                }
+                out.push(cell);
+                start = end;
             }
-            out.push(cell);
-            start = end;
-        }
-        Ok((out, line_of(&doc, conn)))
-    };
-    let (polys, _) = cells("Polys")?;
-    let (lines, lines_at) = cells("Lines")?;
-    // Vertex cells matter only as our landmarks: a <Verts> section this reader cannot follow is
-    // dropped, as every <Verts> was before landmarks were written there, never the geometry.
-    let verts = cells("Verts").map(|(v, _)| v).unwrap_or_default();
+            Ok((out, line_of(doc, conn)))
+        };
+        let (polys, _) = cells("Polys")?;
+        let (lines, lines_at) = cells("Lines")?;
+        // Vertex cells matter only as our landmarks: a <Verts> section this reader cannot follow is
+        // dropped, as every <Verts> was before landmarks were written there, never the geometry.
+        let verts = cells("Verts").map(|(v, _)| v).unwrap_or_default();
 
-    let mut point_data = None;
-    if let Some(pd) = section("PointData") {
-        let wanted = pd.attribute("Scalars");
-        let arr = pd
-            .children()
-            .filter(|n| n.has_tag_name("DataArray"))
-            .find(|n| wanted.is_none() || n.attribute("Name") == wanted);
-        if let Some(arr) = arr {
-            let comps: usize = arr
-                .attribute("NumberOfComponents")
-                .and_then(|c| c.parse().ok())
-                .unwrap_or(1);
-            let v = ctx.array(arr)?;
-            if comps == 1 && v.len() == npoints {
-                let name = arr.attribute("Name").unwrap_or("scalars").to_string();
-                point_data = Some((name, v));
+        let mut point_data = None;
+        if let Some(pd) = section("PointData") {
+            let wanted = pd.attribute("Scalars");
+            let arr = pd
+                .children()
+                .filter(|n| n.has_tag_name("DataArray"))
+                .find(|n| wanted.is_none() || n.attribute("Name") == wanted);
+            if let Some(arr) = arr {
+                let comps: usize = arr
+                    .attribute("NumberOfComponents")
+                    .and_then(|c| c.parse().ok())
+                    .unwrap_or(1);
+                let v = ctx.array(arr)?;
+                if comps == 1 && v.len() == npoints {
+                    let name = arr.attribute("Name").unwrap_or("scalars").to_string();
+                    point_data = Some((name, v));
+                }
             }
         }
-    }
-    // Cell data runs over verts, lines, strips, polys in that order.
-    let nverts = count("NumberOfVerts")?;
-    let strings: Vec<(String, Vec<String>)> = section("CellData")
-        .map(|cd| {
-            cd.children()
-                // VTK 9 (ParaView's "Save Data") writes string arrays as `<Array>`.
-                .filter(|n| n.has_tag_name("DataArray") || n.has_tag_name("Array"))
-                .filter(|n| n.attribute("type") == Some("String"))
-                .filter_map(|n| {
-                    let name = n.attribute("Name")?.to_string();
-                    ctx.strings(n).transpose().map(|v| v.map(|v| (name, v)))
-                })
-                .collect::<Result<_>>()
+        // Cell data runs over verts, lines, strips, polys in that order.
+        let nverts = count("NumberOfVerts")?;
+        let strings: Vec<(String, Vec<String>)> = section("CellData")
+            .map(|cd| {
+                cd.children()
+                    // VTK 9 (ParaView's "Save Data") writes string arrays as `<Array>`.
+                    .filter(|n| n.has_tag_name("DataArray") || n.has_tag_name("Array"))
+                    .filter(|n| n.attribute("type") == Some("String"))
+                    .filter_map(|n| {
+                        let name = n.attribute("Name")?.to_string();
+                        ctx.strings(n).transpose().map(|v| v.map(|v| (name, v)))
+                    })
+                    .collect::<Result<_>>()
+            })
+            .transpose()?
+            .unwrap_or_default();
+        let labels = LineLabels::from_cell_strings(&strings, nverts, lines.len());
+        let landmarks = if verts.len() == nverts {
+            let vert_labels = LineLabels::from_cell_strings(&strings, 0, nverts);
+            vertex_landmarks(&points, &verts, &vert_labels)
+        } else {
+            Vec::new()
+        };
+        Ok(Parsed {
+            points,
+            polys,
+            lines,
+            lines_at,
+            point_data,
+            labels,
+            landmarks,
         })
-        .transpose()?
-        .unwrap_or_default();
-    let labels = LineLabels::from_cell_strings(&strings, nverts, lines.len());
-    let landmarks = if verts.len() == nverts {
-        let vert_labels = LineLabels::from_cell_strings(&strings, 0, nverts);
-        vertex_landmarks(&points, &verts, &vert_labels)
-    } else {
-        Vec::new()
-    };
-    Ok(Parsed {
-        points,
-        polys,
-        lines,
-        lines_at,
-        point_data,
-        labels,
-        landmarks,
-    })
+    }
 }
 
 /// The appended data block (see [`appended`]): the bytes after its `_` marker.
