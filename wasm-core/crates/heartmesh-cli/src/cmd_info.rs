@@ -1,0 +1,309 @@
+//! `heartmesh info CONTOURS`: what a contour file holds and what a reconstruction would make of
+//! it, without running one. Before a batch of reconstructions a user wants to know which surfaces
+//! a file has, how its slices are spaced, which curves would be left out and whether its images
+//! need aligning; the core's set-up (`Reconstruction::new`: classification, long axis, set-aside
+//! contours, end caps, the images' crossing gap) answers all of it in milliseconds per surface.
+
+use std::collections::BTreeMap;
+
+use heartmesh_core::contours::{set_aside, ContourKind};
+use heartmesh_core::{ContourSet, Params, Reconstruction};
+use serde_json::{json, Value};
+
+use crate::args::{parse, Spec};
+use crate::cmd_convert::file_name;
+use crate::contours;
+use crate::error::CliError;
+use crate::report;
+
+pub const USAGE: &str = "heartmesh info CONTOURS [VIEWS...] [--frame N|LABEL] [--json]
+  What the file holds and what reconstruct would make of it, without running it: format, time
+  frames, points, landmarks, coordinate range (mm, the file's own frame), and per surface the
+  short- and long-axis contours, the slices' spacing, the long axis, the contours a run leaves
+  out and why, the ends that get lid points, and how far the images disagree where their planes
+  cross (with the advice to --align-slices when they do). A surface that cannot be
+  reconstructed says why (exit status 0: the file was read). --json prints the same as JSON.";
+
+pub fn run(args: &[String]) -> Result<(), CliError> {
+    let p = parse(
+        args,
+        &Spec {
+            with_value: &["frame"],
+            switches: &["json"],
+            aliases: &[],
+        },
+    )?;
+    if p.positional.is_empty() {
+        return Err(CliError::usage("info needs a contour file"));
+    }
+    let frame = contours::frame_flag(p.value("frame"))?;
+    let (input, loaded) = contours::load_all(&p.positional, frame)?;
+    let base = loaded.session_params.unwrap_or_default();
+    let info = describe(file_name(input), loaded.format.name(), &loaded.set, &base);
+    if p.switch("json") {
+        let text =
+            serde_json::to_string_pretty(&info).map_err(|e| CliError::Failed(e.to_string()))?;
+        outln!("{text}");
+    } else {
+        outln!("{}", text(&info));
+    }
+    Ok(())
+}
+
+/// The file's facts and one entry per surface (JSON; [`text`] words it).
+fn describe(input: &str, format: &str, set: &ContourSet, base: &Params) -> Value {
+    let mut landmarks: BTreeMap<&str, usize> = BTreeMap::new();
+    for (name, _) in &set.landmarks {
+        *landmarks.entry(name.as_str()).or_default() += 1;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in set.contours.iter().flat_map(|c| c.points()) {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let labels: Vec<Option<String>> = match set.surfaces() {
+        l if l.is_empty() => vec![None],
+        l => l.into_iter().map(Some).collect(),
+    };
+    let surfaces: Vec<Value> = labels
+        .iter()
+        .map(|s| surface(set, base, s.as_deref()))
+        .collect();
+    let frames = set.time_frames.as_ref().map(
+        |t| json!({ "count": t.count, "listed": t.frames, "read": report::frame_read(Some(t)) }),
+    );
+    json!({
+        "input": input,
+        "format": format,
+        "contours": set.contours.len(),
+        "points": set.point_count(),
+        "landmarks": landmarks,
+        "bounds_mm": (lo[0] <= hi[0]).then(|| json!({ "min": lo, "max": hi })),
+        "time_frames": frames,
+        // The file's own warnings; those about one surface's contours go with that surface.
+        "warnings": set
+            .warnings
+            .iter()
+            .filter(|w| !set.surface_warnings.iter().any(|(_, t)| t == *w))
+            .collect::<Vec<_>>(),
+        "surfaces": surfaces,
+    })
+}
+
+/// One surface as `reconstruct --surface` would set it up.
+fn surface(set: &ContourSet, base: &Params, label: Option<&str>) -> Value {
+    let own: Vec<&String> = set
+        .surface_warnings
+        .iter()
+        .filter(|(s, _)| Some(s.as_str()) == label)
+        .map(|(_, w)| w)
+        .collect();
+    let params = Params {
+        surface: label.map(str::to_string),
+        ..base.clone()
+    };
+    // Step 0 builds the initial tube and decides the end caps; nothing is deformed yet.
+    let rec = Reconstruction::new(set, params).and_then(|mut rec| rec.step().map(|_| rec));
+    let rec = match rec {
+        Ok(rec) => rec,
+        Err(e) => {
+            let given = set
+                .contours
+                .iter()
+                .filter(|c| c.surface.as_deref() == label)
+                .count();
+            return json!({ "surface": label, "contours": given, "warnings": own, "error": e.to_string() });
+        }
+    };
+    // As reconstruct says them: the load-time warnings, then any left-out contour they did not name.
+    let said: Vec<String> = own.iter().map(|w| w.to_string()).collect();
+    let mut warnings = said.clone();
+    warnings.extend(set_aside::unannounced(rec.set_aside(), &said));
+    let kinds = rec.kinds();
+    let count = |k: ContourKind| kinds.iter().filter(|&&x| x == k).count();
+    let used = rec.contours();
+    let open = used
+        .iter()
+        .filter(|c| c.pieces.iter().any(|p| !p.closed))
+        .count();
+    let heights = rec.slice_heights();
+    let mut gaps: Vec<f64> = heights.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
+    gaps.sort_by(f64::total_cmp);
+    let spacing = (!gaps.is_empty()).then(
+        || json!({ "min": gaps[0], "median": gaps[gaps.len() / 2], "max": gaps[gaps.len() - 1] }),
+    );
+    let a = rec.long_axis();
+    json!({
+        "surface": label,
+        "contours": used.len(),
+        "sax": count(ContourKind::Sax),
+        "lax": count(ContourKind::Lax),
+        "open_curves": open,
+        "points": used.iter().map(|c| c.point_count()).sum::<usize>(),
+        "slices": heights.len(),
+        "slice_spacing_mm": spacing,
+        "stack_height_mm": heights.last().zip(heights.first()).map(|(t, b)| (t - b).abs()),
+        "long_axis": [a.x, a.y, a.z],
+        "set_aside": rec.set_aside(),
+        "end_caps": rec.end_caps(),
+        "crossing_residual_mm": rec.crossing_residual_mm(),
+        "alignment_suggested": rec.alignment_suggested(),
+        "warnings": warnings,
+    })
+}
+
+/// The lines `info` prints.
+fn text(info: &Value) -> String {
+    let n = |v: &Value, k: &str| v.get(k).and_then(Value::as_u64).unwrap_or(0);
+    let mut out = format!(
+        "{}: {}, {} contours, {} points",
+        info["input"].as_str().unwrap_or(""),
+        info["format"].as_str().unwrap_or(""),
+        n(info, "contours"),
+        n(info, "points")
+    );
+    // A frame column whose slices merely carry their own numbers (each slice's first frame read)
+    // is no sequence: not worth a line.
+    let sequence = |t: &&Value| {
+        t["sequence"] == true || t["chosen"] == true || (n(t, "count") > 1 && t["read"].is_string())
+    };
+    if let Some(t) = info.get("time_frames").filter(sequence) {
+        let words = |v: &Value| match v {
+            Value::String(s) => s.clone(),
+            Value::Array(a) => a
+                .iter()
+                .filter_map(Value::as_str)
+                .collect::<Vec<_>>()
+                .join(", "),
+            _ => String::new(),
+        };
+        out += &format!(
+            "\n  time frames: {} ({}); read: {} (--frame picks one)",
+            n(t, "count"),
+            words(&t["listed"]),
+            words(&t["read"])
+        );
+    }
+    if let (Some(lo), Some(hi)) = (
+        info.pointer("/bounds_mm/min").and_then(Value::as_array),
+        info.pointer("/bounds_mm/max").and_then(Value::as_array),
+    ) {
+        let axes: Vec<String> = ["x", "y", "z"]
+            .iter()
+            .zip(lo.iter().zip(hi))
+            .map(|(a, (l, h))| {
+                let (l, h) = (l.as_f64().unwrap_or(0.0), h.as_f64().unwrap_or(0.0));
+                format!("{a} {l:.1} to {h:.1}")
+            })
+            .collect();
+        out += &format!("\n  coordinates (mm): {}", axes.join(", "));
+    }
+    if let Some(marks) = info["landmarks"].as_object().filter(|m| !m.is_empty()) {
+        let list: Vec<String> = marks.iter().map(|(k, v)| format!("{k} {v}")).collect();
+        out += &format!("\n  landmarks: {}", list.join(", "));
+    }
+    for w in info["warnings"].as_array().into_iter().flatten() {
+        out += &format!("\n  warning: {}", w.as_str().unwrap_or(""));
+    }
+    // The images' crossing gap is the file's (every surface's curves are aligned together): said
+    // once when every surface gives the same.
+    let surfaces: Vec<&Value> = info["surfaces"].as_array().into_iter().flatten().collect();
+    let gaps: Vec<Option<String>> = surfaces.iter().map(|s| crossing_text(s)).collect();
+    let known: Vec<&String> = gaps.iter().flatten().collect();
+    let shared = known.len() > 1 && known.windows(2).all(|w| w[0] == w[1]);
+    if let (true, Some(line)) = (shared, known.first()) {
+        out += &format!("\n  {line}");
+    }
+    for (s, gap) in surfaces.iter().zip(gaps) {
+        out += &format!("\n{}", surface_text(s, if shared { None } else { gap }));
+    }
+    out
+}
+
+/// How far apart the images are where their planes cross, with the advice to align them.
+fn crossing_text(s: &Value) -> Option<String> {
+    let r = s["crossing_residual_mm"].as_f64()?;
+    Some(if s["alignment_suggested"].as_bool() == Some(true) {
+        format!(
+            "the images disagree by {r:.2} mm (mean) where their planes cross, as breath-hold \
+             offsets do: --align-slices shifts them into agreement first"
+        )
+    } else {
+        format!("where their planes cross the images are {r:.2} mm apart (mean)")
+    })
+}
+
+fn surface_text(s: &Value, crossing: Option<String>) -> String {
+    let n = |k: &str| s.get(k).and_then(Value::as_u64).unwrap_or(0);
+    let name = s["surface"].as_str().unwrap_or("(unlabelled)");
+    if let Some(e) = s["error"].as_str() {
+        return format!(
+            "{name}: {}; cannot be reconstructed: {e}",
+            plural(n("contours"), "contour")
+        );
+    }
+    let mut out = format!(
+        "{name}: {} ({} short-axis, {} long-axis{}), {} points",
+        plural(n("contours"), "contour"),
+        n("sax"),
+        n("lax"),
+        match n("open_curves") {
+            0 => String::new(),
+            k => format!("; {k} open"),
+        },
+        n("points")
+    );
+    let num = |p: &str| s.pointer(p).and_then(Value::as_f64).unwrap_or(0.0);
+    if s["slice_spacing_mm"].is_object() {
+        out += &format!(
+            "\n  {} slices {:.1} mm apart (median; {:.1} to {:.1}), {:.1} mm from apex to base",
+            n("slices"),
+            num("/slice_spacing_mm/median"),
+            num("/slice_spacing_mm/min"),
+            num("/slice_spacing_mm/max"),
+            num("/stack_height_mm")
+        );
+    }
+    out += &format!(
+        "\n  long axis (apex to base): ({:.3}, {:.3}, {:.3})",
+        num("/long_axis/0"),
+        num("/long_axis/1"),
+        num("/long_axis/2")
+    );
+    let caps = &s["end_caps"];
+    let on = |k: &str| caps[k].as_bool() == Some(true);
+    let mut ends: Vec<&str> = Vec::new();
+    if on("base") {
+        ends.push(if on("base_ceiling") {
+            "base, a ceiling one slice spacing past the basal slice"
+        } else {
+            "base"
+        });
+    }
+    if on("apex") {
+        ends.push(if on("apex_floor") {
+            "apex, one point at the tip the apical slices' taper predicts (the apex floor)"
+        } else {
+            "apex"
+        });
+    }
+    if !ends.is_empty() {
+        out += &format!(
+            "\n  lid points where no long-axis curve closes the cavity (--end-caps off: none): {}",
+            ends.join("; ")
+        );
+    }
+    if let Some(line) = crossing {
+        out += &format!("\n  {line}");
+    }
+    for w in s["warnings"].as_array().into_iter().flatten() {
+        out += &format!("\n  warning: {}", w.as_str().unwrap_or(""));
+    }
+    out
+}
+
+fn plural(n: u64, word: &str) -> String {
+    format!("{n} {word}{}", if n == 1 { "" } else { "s" })
+}

@@ -1,0 +1,201 @@
+//! `heartmesh info`: what a file holds and what reconstruct would make of it. Its per-surface
+//! figures must be the ones a reconstruction then reports (same contours, ends, crossing gap and
+//! contours left out), or a user planning a batch from it is misled.
+
+mod common;
+use common::{bin, data, run, scratch};
+use serde_json::Value;
+
+fn info_json(args: &[&str]) -> Value {
+    let (code, out, err) = run(bin().arg("info").args(args).arg("--json"));
+    assert_eq!(code, 0, "{args:?}: {err}");
+    serde_json::from_str(&out).unwrap_or_else(|e| panic!("{e}: {out}"))
+}
+
+fn surface<'a>(info: &'a Value, name: &str) -> &'a Value {
+    info["surfaces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["surface"] == name)
+        .unwrap_or_else(|| panic!("no {name} in {info}"))
+}
+
+#[test]
+fn a_biventricular_file_is_described_as_reconstruct_then_reports_it() {
+    let file = data("contours/bivme-example-patient1/patient1-ED.csv");
+    let path = file.to_str().unwrap();
+    let info = info_json(&[path]);
+    assert_eq!(
+        (info["contours"].as_u64(), info["points"].as_u64()),
+        (Some(40), Some(1791))
+    );
+    assert_eq!(info["format"], "CSV");
+    let names: Vec<&str> = info["surfaces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["surface"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["RV_ENDO", "RV_EPI", "LV_EPI", "LV_ENDO"]);
+    let lv = surface(&info, "LV_ENDO");
+    assert_eq!(
+        (
+            lv["contours"].as_u64(),
+            lv["sax"].as_u64(),
+            lv["lax"].as_u64(),
+            lv["slices"].as_u64()
+        ),
+        (Some(8), Some(5), Some(3), Some(5))
+    );
+    // SliceInfoFile.txt: the short-axis slices are 17.7 mm apart.
+    let spacing = lv["slice_spacing_mm"]["median"].as_f64().unwrap();
+    assert!((spacing - 17.7).abs() < 0.1, "{spacing}");
+    assert!((lv["stack_height_mm"].as_f64().unwrap() - 4.0 * spacing).abs() < 0.5);
+
+    let dir = scratch("same-as-run");
+    for name in ["LV_ENDO", "RV_ENDO"] {
+        let report = dir.join(format!("{name}.json"));
+        let (code, _, err) = run(bin().args([
+            "reconstruct",
+            path,
+            "--surface",
+            name,
+            "-o",
+            dir.join(format!("{name}.obj")).to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+            "--quiet",
+        ]));
+        assert_eq!(code, 0, "{err}");
+        let rep: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+        let s = surface(&info, name);
+        assert_eq!(s["end_caps"], rep["end_caps"], "{name}");
+        assert_eq!(
+            s["alignment_suggested"], rep["alignment_suggested"],
+            "{name}"
+        );
+        let (a, b) = (
+            s["crossing_residual_mm"].as_f64().unwrap(),
+            rep["crossing_residual_mm"].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() < 1e-9 && a > 1.0, "{name}: {a} vs {b}");
+        assert_eq!(
+            s["contours"].as_u64().unwrap() as usize,
+            rep["per_contour"].as_array().unwrap().len(),
+            "{name}"
+        );
+        let sax = rep["per_contour"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|c| c["kind"] == "SAX")
+            .count();
+        assert_eq!(s["sax"].as_u64().unwrap() as usize, sax, "{name}");
+    }
+
+    let (code, text, _) = run(bin().args(["info", path]));
+    assert_eq!(code, 0);
+    assert!(
+        text.starts_with("patient1-ED.csv: CSV, 40 contours, 1791 points\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("LV_ENDO: 8 contours (5 short-axis, 3 long-axis; 3 open), 441 points"),
+        "{text}"
+    );
+    // The crossing gap is the file's: said once, with the advice.
+    assert_eq!(text.matches("--align-slices").count(), 1, "{text}");
+}
+
+#[test]
+fn contours_a_run_would_leave_out_and_surfaces_it_cannot_build_are_named() {
+    let file = data("contours/bivme-example-patient1/patient1-ED.csv");
+    let csv = std::fs::read_to_string(&file).unwrap();
+    let mut out = csv.clone();
+    // A copy of a basal ring 300 mm away (another series), and a surface of one curve.
+    let ring: Vec<&str> = csv
+        .lines()
+        .filter(|l| l.starts_with("s03_SAX_LV_ENDOCARDIAL,"))
+        .collect();
+    assert!(ring.len() > 20);
+    for l in &ring {
+        let c: Vec<&str> = l.split(',').collect();
+        let x: f64 = c[1].parse().unwrap();
+        out += &format!("far_ring,{},{},{},LV_ENDO\n", x + 300.0, c[2], c[3]);
+    }
+    for l in &ring {
+        let c: Vec<&str> = l.split(',').collect();
+        out += &format!("atrium,{},{},{},RA\n", c[1], c[2], c[3]);
+    }
+    let dir = scratch("left-out");
+    let path = dir.join("extra.csv");
+    std::fs::write(&path, out).unwrap();
+    let info = info_json(&[path.to_str().unwrap()]);
+    let lv = surface(&info, "LV_ENDO");
+    assert_eq!(lv["contours"].as_u64(), Some(8), "the far ring is not used");
+    let aside = lv["set_aside"].as_array().unwrap();
+    assert_eq!(aside.len(), 1, "{aside:?}");
+    assert_eq!(
+        (aside[0]["id"].as_str(), aside[0]["reason"].as_str()),
+        (Some("far_ring"), Some("stray"))
+    );
+    assert!(aside[0]["gap_mm"].as_f64().unwrap() > 200.0);
+    let ra = surface(&info, "RA");
+    assert!(
+        ra["error"].as_str().unwrap().contains("too few contours"),
+        "{ra}"
+    );
+    assert_eq!(ra["contours"].as_u64(), Some(1));
+
+    let (code, text, err) = run(bin().args(["info", path.to_str().unwrap()]));
+    assert_eq!(code, 0, "the file was read: {err}");
+    assert!(text.contains("\"far_ring\""), "{text}");
+    assert!(
+        text.contains("RA: 1 contour; cannot be reconstructed: too few contours"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_short_axis_stack_gets_its_apex_floor_and_bad_input_exits_2() {
+    let dir = scratch("sax-only");
+    let truth = data("meshes/bivme-patient1-ED-LV_ENDO-closed.obj");
+    let csv = dir.join("sax.csv");
+    let (code, _, err) = run(bin().args([
+        "simulate",
+        truth.to_str().unwrap(),
+        "-o",
+        csv.to_str().unwrap(),
+        "--lax",
+        "0",
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let info = info_json(&[csv.to_str().unwrap()]);
+    let s = &info["surfaces"][0];
+    assert_eq!(
+        (s["lax"].as_u64(), s["slices"].as_u64()),
+        (Some(0), Some(10))
+    );
+    assert!((s["slice_spacing_mm"]["median"].as_f64().unwrap() - 10.0).abs() < 1e-6);
+    assert_eq!(
+        (
+            s["end_caps"]["apex"].as_bool(),
+            s["end_caps"]["apex_floor"].as_bool()
+        ),
+        (Some(true), Some(true))
+    );
+    for args in [
+        vec![],
+        vec!["/no/such/file.csv"],
+        vec![csv.to_str().unwrap(), "--frame"],
+    ] {
+        let (code, out, err) = run(bin().arg("info").args(&args));
+        assert_eq!(code, 2, "{args:?}");
+        assert!(
+            out.is_empty() && err.lines().count() == 1,
+            "{args:?}: {err}"
+        );
+    }
+}
