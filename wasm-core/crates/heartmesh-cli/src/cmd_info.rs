@@ -71,9 +71,15 @@ fn describe(input: &str, format: &str, set: &ContourSet, base: &Params) -> Value
         .iter()
         .map(|s| surface(set, base, s.as_deref()))
         .collect();
-    let frames = set.time_frames.as_ref().map(
-        |t| json!({ "count": t.count, "listed": t.frames, "read": report::frame_read(Some(t)) }),
-    );
+    let frames = set.time_frames.as_ref().map(|t| {
+        json!({
+            "count": t.count,
+            "listed": t.frames,
+            "read": report::frame_read(Some(t)),
+            "sequence": t.sequence,
+            "chosen": t.chosen,
+        })
+    });
     json!({
         "input": input,
         "format": format,

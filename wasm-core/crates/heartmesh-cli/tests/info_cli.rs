@@ -199,3 +199,39 @@ fn a_short_axis_stack_gets_its_apex_floor_and_bad_input_exits_2() {
         );
     }
 }
+
+#[test]
+fn a_file_of_two_phases_names_its_frames_and_reads_the_one_asked_for() {
+    let dir = scratch("frames");
+    let mut csv = String::from("contour,x,y,z,surface,phase\n");
+    for phase in ["ED", "ES"] {
+        let file = data(&format!(
+            "contours/bivme-example-patient1/patient1-{phase}.csv"
+        ));
+        for line in std::fs::read_to_string(file).unwrap().lines().skip(1) {
+            if !line.starts_with('#') && !line.is_empty() {
+                csv += &format!("{line},{phase}\n");
+            }
+        }
+    }
+    let path = dir.join("cine.csv");
+    std::fs::write(&path, csv).unwrap();
+    let p = path.to_str().unwrap();
+    let ed = info_json(&[p]);
+    assert_eq!(ed["time_frames"]["listed"], serde_json::json!(["ED", "ES"]));
+    assert_eq!(
+        (
+            ed["time_frames"]["read"].as_str(),
+            ed["time_frames"]["sequence"].as_bool()
+        ),
+        (Some("ED"), Some(true))
+    );
+    assert_eq!(ed["contours"].as_u64(), Some(40));
+    let es = info_json(&[p, "--frame", "ES"]);
+    assert_eq!(
+        (es["contours"].as_u64(), es["points"].as_u64()),
+        (Some(35), Some(1204))
+    );
+    let (_, text, _) = run(bin().args(["info", p, "--frame", "es"]));
+    assert!(text.contains("time frames: 2 (ED, ES); read: ES"), "{text}");
+}
