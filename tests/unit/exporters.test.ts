@@ -147,6 +147,21 @@ describe('exporters parse back', () => {
     expect(Number(lines[field + 4])).toBe(100000);
   });
 
+  it('VTK legacy: the parameters are the dataset\'s field data (before POINTS), not point arrays', () => {
+    // In a legacy file a FIELD block after POINT_DATA belongs to the point data: VTK 9.7 read the
+    // parameters there as 1-value point arrays beside the 4-value distance_mm (a broken dataset).
+    const lines = writeVtk(mesh, info).split('\n');
+    const dataset = lines.indexOf('DATASET POLYDATA');
+    const field = lines.indexOf('FIELD heartmesh_params 3');
+    const points = lines.indexOf('POINTS 4 float');
+    const pointData = lines.indexOf('POINT_DATA 4');
+    expect([field, points]).toEqual([dataset + 1, dataset + 8]);
+    expect(lines.slice(field + 1, points)).toEqual(['iterations 1 1 double', '250', 'lambda 1 1 double', '100000', 'beta 1 1 double', '0.1']);
+    // After POINT_DATA: one scalar array of 4 values, then the end of the file.
+    expect(lines.slice(pointData + 1)).toEqual(['SCALARS distance_mm float 1', 'LOOKUP_TABLE default', '0.1', '0.2', '0.3', '0.45', '']);
+    expect(lines.filter((l) => l.startsWith('FIELD'))).toHaveLength(1);
+  });
+
   it('text exports write float32 coordinates as the shortest decimal that reads back the same', () => {
     // The file's -32.83557, as the worker hands it over (a Float32Array), is -32.8355712890625 as a double.
     const x = new Float32Array([-32.83557, 35, 0.1, -1e-7, 123456.789, 3.4e38]);

@@ -28,7 +28,7 @@ pub const USAGE: &str =
   label maps, any order of the files: reconstruct SEG.nii.gz LA_2CH.nii.gz LA_4CH.nii.gz -o ...),
   their labels matched to the stack's by position;
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
-  VTP carry each vertex's distance to the nearest contour point (mm) as point data;
+  VTP carry each vertex's distance to the nearest contour point (mm) as point data `distance`;
   --smoothing-method taubin: lambda/mu smoothing (lambda = smoothing factor, at most 0.6)
   instead of Laplacian + affine shrink correction; laplacian-hc: Laplacian sweeps with a local
   shrink correction after each (HC, Vollmer et al. 1999); laplacian-twicing: each vertex pushed

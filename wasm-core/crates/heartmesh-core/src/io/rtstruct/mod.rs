@@ -23,6 +23,8 @@ use dicom_core::{DataElement, PrimitiveValue, VR};
 use dicom_dictionary_std::{tags, uids};
 use dicom_object::{FileMetaTableBuilder, InMemDicomObject};
 
+mod iod;
+
 use super::builder::ContourBuilder;
 use super::dicom_read::{self, DataSet};
 use crate::contours::ContourSet;
@@ -324,17 +326,37 @@ pub fn write_rtstruct(set: &ContourSet, label: &str) -> Result<Vec<u8>> {
     if rois.is_empty() {
         return Err(CoreError::Io("no contours to write".into()));
     }
+    let frame = uid(&seed, 4);
     let structure_set_rois: Vec<InMemDicomObject> = rois
         .iter()
         .enumerate()
         .map(|(i, (name, _))| {
             InMemDicomObject::from_element_iter([
                 DataElement::new(tags::ROI_NUMBER, VR::IS, (i + 1).to_string()),
+                DataElement::new(
+                    tags::REFERENCED_FRAME_OF_REFERENCE_UID,
+                    VR::UI,
+                    frame.as_str(),
+                ),
                 DataElement::new(tags::ROI_NAME, VR::LO, name.as_str()),
                 DataElement::new(tags::ROI_GENERATION_ALGORITHM, VR::CS, "MANUAL"),
             ])
         })
         .collect();
+    // Landmark ROIs hold POINT contours only: a surface's name never becomes a marker.
+    let markers: Vec<bool> = rois
+        .iter()
+        .map(|(name, _)| {
+            !set.contours
+                .iter()
+                .any(|c| c.surface.as_deref().unwrap_or("CONTOURS") == name)
+        })
+        .collect();
+    let charset = iod::character_set(
+        rois.iter()
+            .map(|(name, _)| name.as_str())
+            .chain([short(label).as_str()]),
+    );
     let roi_contours: Vec<InMemDicomObject> = rois
         .into_iter()
         .enumerate()
@@ -350,7 +372,7 @@ pub fn write_rtstruct(set: &ContourSet, label: &str) -> Result<Vec<u8>> {
         })
         .collect();
     let instance = uid(&seed, 1);
-    let obj = InMemDicomObject::from_element_iter([
+    let mut obj = InMemDicomObject::from_element_iter([
         DataElement::new(tags::SOP_CLASS_UID, VR::UI, uids::RT_STRUCTURE_SET_STORAGE),
         DataElement::new(tags::SOP_INSTANCE_UID, VR::UI, instance.as_str()),
         DataElement::new(tags::MODALITY, VR::CS, "RTSTRUCT"),
@@ -370,7 +392,10 @@ pub fn write_rtstruct(set: &ContourSet, label: &str) -> Result<Vec<u8>> {
             VR::SQ,
             DataSetSequence::from(roi_contours),
         ),
+        iod::frames_of_reference(&frame),
+        iod::observations(&markers),
     ]);
+    obj.extend(iod::empty_type2().into_iter().chain(charset));
     let file = obj
         .with_meta(
             FileMetaTableBuilder::new()

@@ -315,3 +315,74 @@ fn decimal_strings_fit_sixteen_characters() {
         assert!((back - v).abs() <= 1e-9 * v.abs().max(1.0), "{v} -> {s}");
     }
 }
+
+/// The modules PS3.3 A.19.3 makes mandatory are there (pydicom reads a file without them, an IOD
+/// validator and importers that follow the frame of reference do not): Type 2 attributes present
+/// (empty), one frame of reference named by every ROI, one observation per ROI (MARKER for the
+/// landmark ROIs), and UTF-8 declared once a name leaves ASCII.
+#[test]
+fn written_structure_set_has_the_iods_required_attributes() {
+    let bytes = write_rtstruct(&patient1(), "patient1 ED").unwrap();
+    const FRAMES: dicom_read::Tag = (0x3006, 0x0010);
+    const OBSERVATIONS: dicom_read::Tag = (0x3006, 0x0080);
+    let obj = dicom_read::read_file(&bytes, &[FRAMES, OBSERVATIONS]).unwrap();
+    let type2 = [
+        (0x0008, 0x0020), // StudyDate
+        (0x0008, 0x0030), // StudyTime
+        (0x0008, 0x0050), // AccessionNumber
+        (0x0008, 0x0090), // ReferringPhysicianName
+        (0x0008, 0x1070), // OperatorsName
+        (0x0010, 0x0030), // PatientBirthDate
+        (0x0010, 0x0040), // PatientSex
+        (0x0020, 0x0010), // StudyID
+        (0x0020, 0x0011), // SeriesNumber
+        (0x3006, 0x0008), // StructureSetDate
+        (0x3006, 0x0009), // StructureSetTime
+    ];
+    let missing: Vec<_> = type2.iter().filter(|t| obj.get(**t).is_none()).collect();
+    assert!(missing.is_empty(), "missing {missing:04X?}");
+    let frames = obj.items(FRAMES);
+    assert_eq!(frames.len(), 1);
+    let frame = frames[0].text((0x0020, 0x0052)).unwrap();
+    assert!(frame.starts_with("2.25.") && frame.len() <= 64, "{frame}");
+    let rois = obj.items(tag::STRUCTURE_SET_ROI_SEQUENCE);
+    assert_eq!(rois.len(), 10); // 4 surfaces + 6 landmark names
+    for roi in rois {
+        assert_eq!(roi.text((0x3006, 0x0024)).as_deref(), Some(frame.as_str()));
+    }
+    let observations: Vec<(i64, i64, Option<String>)> = obj
+        .items(OBSERVATIONS)
+        .iter()
+        .map(|o| {
+            let n = |t| o.text(t).unwrap().parse::<i64>().unwrap();
+            (
+                n((0x3006, 0x0082)),
+                n((0x3006, 0x0084)),
+                o.text((0x3006, 0x00A4)),
+            )
+        })
+        .collect();
+    assert_eq!(observations.len(), 10);
+    for (i, (number, roi, kind)) in observations.iter().enumerate() {
+        assert_eq!((*number, *roi), (i as i64 + 1, i as i64 + 1));
+        let marker = i >= 4;
+        assert_eq!(kind.as_deref(), marker.then_some("MARKER"), "ROI {roi}");
+    }
+    assert!(
+        obj.get((0x0008, 0x0005)).is_none(),
+        "ASCII names need no character set"
+    );
+    // A name outside ASCII (Latin-1 and beyond): declared UTF-8, read back the same.
+    let mut set = patient1();
+    set.contours
+        .retain(|c| c.surface.as_deref() == Some("LV_ENDO"));
+    for c in &mut set.contours {
+        c.surface = Some("左心室 VENTRÍCULO".into());
+    }
+    let bytes = write_rtstruct(&set, "patient1 ED").unwrap();
+    let obj = dicom_read::read_file(&bytes, &[]).unwrap();
+    assert_eq!(obj.text((0x0008, 0x0005)).as_deref(), Some("ISO_IR 192"));
+    let back = read_contours("x.dcm", &bytes).unwrap();
+    assert_eq!(back.surfaces(), vec!["左心室 VENTRÍCULO"]);
+    assert_eq!(back.point_count(), set.point_count());
+}

@@ -318,7 +318,7 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
                 }
                 break;
             }
-            "FIELD" => break,
+            "FIELD" => skip_dataset_field(&mut c, binary)?,
             "METADATA" => skip_metadata(&mut c),
             other => {
                 return Err(c.err(format!("unexpected keyword {}", quote(other))));
@@ -329,6 +329,50 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
         return Err(CoreError::parse(0, "no POINTS found"));
     }
     Ok(pd)
+}
+
+/// Skips the dataset's own FIELD block (after `FIELD`), where VTK's writer puts field data:
+/// right after `DATASET POLYDATA`, before POINTS (VTK's file-format guide; heartmesh's app writes
+/// its parameters there). Nothing in it is geometry, so it is read past, not stopped at: stopping
+/// there lost every POINTS and cell after it ("no POINTS found").
+fn skip_dataset_field(c: &mut Cursor, binary: bool) -> Result<()> {
+    c.need_word("field name")?;
+    let arrays = c.count("field array count")?;
+    for _ in 0..arrays {
+        let name = c.need_word("array name")?;
+        if name == "NULL_ARRAY" {
+            continue;
+        }
+        let comps = c.count("component count")?;
+        let tuples = c.count("tuple count")?;
+        let ty = c.need_word("array type")?.to_ascii_lowercase();
+        let total = comps.saturating_mul(tuples);
+        c.end_line();
+        if ty == "string" || ty == "utf8_string" {
+            if binary {
+                return Err(c.err("string arrays in a binary FIELD block are not supported"));
+            }
+            for _ in 0..total {
+                if c.pos >= c.bytes.len() {
+                    return Err(c.err("file ends early in a string array"));
+                }
+                c.rest_of_line();
+            }
+        } else {
+            c.binary = binary;
+            for _ in 0..total {
+                c.number(&ty)?;
+            }
+            c.binary = false;
+        }
+        let save = c.pos;
+        if c.word().map(str::to_ascii_uppercase).as_deref() == Some("METADATA") {
+            skip_metadata(c);
+        } else {
+            c.pos = save;
+        }
+    }
+    Ok(())
 }
 
 /// The string arrays of the FIELD blocks that follow `CELL_DATA n` (ASCII files); numeric

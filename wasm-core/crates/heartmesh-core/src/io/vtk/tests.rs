@@ -186,3 +186,50 @@ fn other_vertex_cells_are_not_landmarks() {
     assert_eq!(ids, ["a", "b"]);
     assert_eq!(set.contours[1].surface.as_deref(), Some("LV_EPI"));
 }
+
+/// Dataset field data sits after `DATASET POLYDATA`, before POINTS (where VTK's writer and the
+/// app's VTK export put it); it is read past, not taken as the end of the file.
+#[test]
+fn dataset_field_data_before_points_is_skipped() {
+    // The app's layout: parameters as FIELD data, then the tetrahedron and its distance scalars.
+    let app = "# vtk DataFile Version 3.0\nheartmesh 0.1.0\nASCII\nDATASET POLYDATA\n\
+               FIELD heartmesh_params 3\niterations 1 1 double\n250\nlambda 1 1 double\n100000\n\
+               label 1 2 string\nLV ENDO\nmm\nPOINTS 4 float\n0 0 0\n10 0 0\n0 10 0\n0 0 10\n\
+               POLYGONS 4 16\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n\
+               POINT_DATA 4\nSCALARS distance_mm float 1\nLOOKUP_TABLE default\n0.1\n0.2\n0.3\n0.45\n";
+    let m = read_vtk_mesh(app.as_bytes()).unwrap();
+    assert_eq!((m.mesh.positions.len(), m.mesh.triangles.len()), (4, 4));
+    assert_eq!(m.mesh.positions[3], v3(0.0, 0.0, 10.0));
+    assert!((m.mesh.signed_volume() - 1000.0 / 6.0).abs() < 1e-9);
+    let (name, d) = m.point_data.unwrap();
+    assert_eq!(
+        (name.as_str(), d),
+        ("distance_mm", vec![0.1, 0.2, 0.3, 0.45])
+    );
+    // The same for contour lines, and in a binary file (big-endian doubles, then a newline).
+    let lines = LINES.replace(
+        "POINTS",
+        "FIELD FieldData 1\nTimeValue 1 1 double\n0.5\nPOINTS",
+    );
+    assert_eq!(
+        read_vtk_contours(lines.as_bytes()).unwrap().point_count(),
+        5
+    );
+    let mut b = b"# vtk DataFile Version 3.0\nb\nBINARY\nDATASET POLYDATA\nFIELD FieldData 1\n\
+                  TimeValue 1 2 double\n"
+        .to_vec();
+    for t in [0.5f64, 10.0] {
+        b.extend_from_slice(&t.to_be_bytes());
+    }
+    b.extend_from_slice(b"\nPOINTS 3 float\n");
+    for x in [0f32, 0., 0., 10., 0., 0., 10., 10., 0.] {
+        b.extend_from_slice(&x.to_be_bytes());
+    }
+    b.extend_from_slice(b"\nLINES 1 4\n");
+    for i in [3i32, 0, 1, 2] {
+        b.extend_from_slice(&i.to_be_bytes());
+    }
+    b.push(b'\n');
+    let set = read_vtk_contours(&b).unwrap();
+    assert_eq!(set.contours[0].pieces[0].points[2], v3(10.0, 10.0, 0.0));
+}
