@@ -90,6 +90,9 @@ describe('exporters parse back', () => {
       if (parts[0] === 'f') objects.at(-1)!.f.push(...parts.slice(1).map((x) => Number(x) - 1));
     }
     expect(objects.map((o) => o.name)).toEqual(['LV_EPI', 'RV_ENDO']);
+    // The same names as groups, right after each object line (VTK's reader splits by group).
+    expect(text.match(/^g .*$/gm)).toEqual(['g LV_EPI', 'g RV_ENDO']);
+    expect(text).toContain('o LV_EPI\ng LV_EPI\nv ');
     const n = mesh.positions.length / 3;
     expect(objects[0].f).toEqual(Array.from(mesh.indices));
     expect(objects[1].f).toEqual(Array.from(mesh.indices, (i) => i + n));

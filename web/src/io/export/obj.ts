@@ -5,13 +5,16 @@ import { headerLines, type ExportInfo, type MeshData } from './header';
 /**
  * Several surfaces in one OBJ, each its own object (`o LV_ENDO`) with its vertices and faces (face
  * indices count on across objects, as OBJ's are file-wide): what modelling tools import as one
- * heart with named parts. `notes` go in the header (which run each surface comes from).
+ * heart with named parts. Each is also a group of the same name (`g LV_ENDO`): Blender and
+ * three.js split by object, VTK's reader only by group (its `GroupIds`). `notes` go in the header
+ * (which run each surface comes from).
  */
 export function writeObjSurfaces(parts: readonly { name: string; mesh: MeshData }[], info: ExportInfo, notes: readonly string[] = []): string {
   const lines = [...headerLines(info), ...notes].map((l) => `# ${l}`);
   let base = 1;
   for (const { name, mesh } of parts) {
-    lines.push(`o ${name.replace(/\s+/g, '_')}`);
+    const label = name.replace(/\s+/g, '_');
+    lines.push(`o ${label}`, `g ${label}`);
     base = pushMesh(lines, mesh, base);
   }
   lines.push('');
