@@ -7,6 +7,8 @@
 use std::collections::BTreeMap;
 
 use heartmesh_core::contours::{set_aside, ContourKind};
+use heartmesh_core::geometry::Vec3;
+use heartmesh_core::io;
 use heartmesh_core::{ContourSet, Params, Reconstruction};
 use serde_json::{json, Value};
 
@@ -14,15 +16,19 @@ use crate::args::{parse, Spec};
 use crate::cmd_convert::file_name;
 use crate::contours;
 use crate::error::CliError;
-use crate::report;
+use crate::{files, report};
 
 pub const USAGE: &str = "heartmesh info CONTOURS [VIEWS...] [--frame N|LABEL] [--json]
+       heartmesh info MESH.obj|.stl|.ply|.vtk|.vtp [--json]
   What the file holds and what reconstruct would make of it, without running it: format, time
   frames, points, landmarks, coordinate range (mm, the file's own frame), and per surface the
   short- and long-axis contours, the slices' spacing, the long axis, the contours a run leaves
   out and why, the ends that get lid points, and how far the images disagree where their planes
   cross (with the advice to --align-slices when they do). A surface that cannot be
-  reconstructed says why (exit status 0: the file was read). --json prints the same as JSON.";
+  reconstructed says why (exit status 0: the file was read). A mesh file: vertices, triangles,
+  closed / manifold / oriented, volume (closed meshes) and area, range, edge lengths, triangle
+  quality, folded edges, self-intersections and its point data, under the keys of reconstruct's
+  report. --json prints the same as JSON.";
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
     let p = parse(
@@ -36,18 +42,120 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     if p.positional.is_empty() {
         return Err(CliError::usage("info needs a contour file"));
     }
+    if let [one] = p.positional.as_slice() {
+        if let Some(mesh) = mesh_file(one)? {
+            return print(&mesh, p.switch("json"), mesh_text);
+        }
+    }
     let frame = contours::frame_flag(p.value("frame"))?;
     let (input, loaded) = contours::load_all(&p.positional, frame)?;
     let base = loaded.session_params.unwrap_or_default();
     let info = describe(file_name(input), loaded.format.name(), &loaded.set, &base);
-    if p.switch("json") {
+    print(&info, p.switch("json"), text)
+}
+
+fn print(info: &Value, json: bool, words: fn(&Value) -> String) -> Result<(), CliError> {
+    if json {
         let text =
-            serde_json::to_string_pretty(&info).map_err(|e| CliError::Failed(e.to_string()))?;
+            serde_json::to_string_pretty(info).map_err(|e| CliError::Failed(e.to_string()))?;
         outln!("{text}");
     } else {
-        outln!("{}", text(&info));
+        outln!("{}", words(info));
     }
     Ok(())
+}
+
+/// A surface file's facts (`mesh_facts`, as a reconstruction's report gives them, plus its range
+/// and point data), or None when `path` holds contours: .vtk and .vtp hold either.
+fn mesh_file(path: &str) -> Result<Option<Value>, CliError> {
+    let ext = io::extension(path);
+    if !matches!(ext.as_str(), "obj" | "stl" | "ply" | "vtk" | "vtp") {
+        return Ok(None);
+    }
+    let bytes = files::read(path)?;
+    let data = match io::read_mesh(path, &bytes) {
+        Ok(data) => data,
+        Err(_) if matches!(ext.as_str(), "vtk" | "vtp") => return Ok(None),
+        Err(e) => return Err(CliError::input(path, e)),
+    };
+    let mut facts = report::mesh_facts(&data.mesh);
+    facts.insert("input".into(), json!(file_name(path)));
+    facts.insert("format".into(), json!(ext.to_ascii_uppercase()));
+    facts.insert("bounds_mm".into(), bounds(data.mesh.positions.iter()));
+    let point_data = data.point_data.as_ref().map(|(name, v)| {
+        let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        json!({ "name": name, "min": lo, "max": hi })
+    });
+    facts.insert("point_data".into(), json!(point_data));
+    Ok(Some(Value::Object(facts)))
+}
+
+/// The lines `info MESH` prints.
+fn mesh_text(m: &Value) -> String {
+    let n = |k: &str| m.get(k).and_then(Value::as_u64).unwrap_or(0);
+    let f = |p: &str| m.pointer(p).and_then(Value::as_f64).unwrap_or(0.0);
+    let yes = |k: &str| m[k].as_bool() == Some(true);
+    let mut out = format!(
+        "{}: {} mesh, {} vertices, {} triangles",
+        m["input"].as_str().unwrap_or(""),
+        m["format"].as_str().unwrap_or(""),
+        n("vertices"),
+        n("triangles")
+    );
+    out += &if yes("watertight") {
+        format!(
+            "\n  closed, manifold, consistently oriented{} (Euler characteristic {})",
+            if f("/volume_ml") > 0.0 {
+                ", outward"
+            } else {
+                ", inward (negative volume)"
+            },
+            m["euler_characteristic"]
+        )
+    } else {
+        format!(
+            "\n  not closed: {} boundary edges; manifold {}, oriented {}",
+            n("boundary_edges"),
+            yes("manifold"),
+            yes("oriented")
+        )
+    };
+    let volume = f("/volume_ml");
+    out += &if !yes("watertight") {
+        format!(
+            "\n  area {:.0} mm2 (open: no enclosed volume)",
+            f("/area_mm2")
+        )
+    } else if volume.abs() < 1.0 {
+        format!(
+            "\n  volume {:.1} mm3, area {:.1} mm2",
+            volume * 1000.0,
+            f("/area_mm2")
+        )
+    } else {
+        format!("\n  volume {volume:.2} ml, area {:.0} mm2", f("/area_mm2"))
+    };
+    out += &range_text(m);
+    out +=
+        &format!(
+        "\n  edges {:.2} mm mean, {:.2} max; triangle quality {:.2} min, {:.2} median; {} folded \
+         edges; {} pairs of triangles crossing",
+        f("/quality/mean_edge_mm"),
+        f("/quality/max_edge_mm"),
+        f("/quality/min_triangle_quality"),
+        f("/quality/median_triangle_quality"),
+        m.pointer("/quality/folded_edges").and_then(Value::as_u64).unwrap_or(0),
+        m.pointer("/quality/self_intersections").and_then(Value::as_u64).unwrap_or(0)
+    );
+    if let Some(name) = m.pointer("/point_data/name").and_then(Value::as_str) {
+        out += &format!(
+            "\n  point data {name}: {:.3} to {:.3}",
+            f("/point_data/min"),
+            f("/point_data/max")
+        );
+    }
+    out
 }
 
 /// The file's facts and one entry per surface (JSON; [`text`] words it).
@@ -55,13 +163,6 @@ fn describe(input: &str, format: &str, set: &ContourSet, base: &Params) -> Value
     let mut landmarks: BTreeMap<&str, usize> = BTreeMap::new();
     for (name, _) in &set.landmarks {
         *landmarks.entry(name.as_str()).or_default() += 1;
-    }
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in set.contours.iter().flat_map(|c| c.points()) {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
     }
     let labels: Vec<Option<String>> = match set.surfaces() {
         l if l.is_empty() => vec![None],
@@ -86,7 +187,7 @@ fn describe(input: &str, format: &str, set: &ContourSet, base: &Params) -> Value
         "contours": set.contours.len(),
         "points": set.point_count(),
         "landmarks": landmarks,
-        "bounds_mm": (lo[0] <= hi[0]).then(|| json!({ "min": lo, "max": hi })),
+        "bounds_mm": bounds(set.contours.iter().flat_map(|c| c.points())),
         "time_frames": frames,
         // The file's own warnings; those about one surface's contours go with that surface.
         "warnings": set
@@ -192,20 +293,7 @@ fn text(info: &Value) -> String {
             words(&t["read"])
         );
     }
-    if let (Some(lo), Some(hi)) = (
-        info.pointer("/bounds_mm/min").and_then(Value::as_array),
-        info.pointer("/bounds_mm/max").and_then(Value::as_array),
-    ) {
-        let axes: Vec<String> = ["x", "y", "z"]
-            .iter()
-            .zip(lo.iter().zip(hi))
-            .map(|(a, (l, h))| {
-                let (l, h) = (l.as_f64().unwrap_or(0.0), h.as_f64().unwrap_or(0.0));
-                format!("{a} {l:.1} to {h:.1}")
-            })
-            .collect();
-        out += &format!("\n  coordinates (mm): {}", axes.join(", "));
-    }
+    out += &range_text(info);
     if let Some(marks) = info["landmarks"].as_object().filter(|m| !m.is_empty()) {
         let list: Vec<String> = marks.iter().map(|(k, v)| format!("{k} {v}")).collect();
         out += &format!("\n  landmarks: {}", list.join(", "));
@@ -312,4 +400,39 @@ fn surface_text(s: &Value, crossing: Option<String>) -> String {
 
 fn plural(n: u64, word: &str) -> String {
     format!("{n} {word}{}", if n == 1 { "" } else { "s" })
+}
+
+/// The smallest box around `points` (mm, the file's own frame), or null for none.
+fn bounds<'a>(points: impl Iterator<Item = &'a Vec3>) -> Value {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    if lo[0] <= hi[0] {
+        json!({ "min": lo, "max": hi })
+    } else {
+        Value::Null
+    }
+}
+
+/// The `coordinates (mm)` line of a `bounds_mm`, or nothing.
+fn range_text(info: &Value) -> String {
+    let (Some(lo), Some(hi)) = (
+        info.pointer("/bounds_mm/min").and_then(Value::as_array),
+        info.pointer("/bounds_mm/max").and_then(Value::as_array),
+    ) else {
+        return String::new();
+    };
+    let axes: Vec<String> = ["x", "y", "z"]
+        .iter()
+        .zip(lo.iter().zip(hi))
+        .map(|(a, (l, h))| {
+            let (l, h) = (l.as_f64().unwrap_or(0.0), h.as_f64().unwrap_or(0.0));
+            format!("{a} {l:.1} to {h:.1}")
+        })
+        .collect();
+    format!("\n  coordinates (mm): {}", axes.join(", "))
 }

@@ -3,6 +3,7 @@
 use heartmesh_core::contours::TimeFrames;
 use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::mesh::topology::validity;
+use heartmesh_core::mesh::TriMesh;
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{LidMode, Params};
 use serde_json::{json, Map, Value};
@@ -56,10 +57,41 @@ pub fn parameters(params: &Params) -> Value {
     Value::Object(m)
 }
 
-pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
-    let mesh = rec.mesh();
+/// A mesh's own facts (no contours needed): counts, size, topology and triangle quality, under the
+/// report's keys; `heartmesh info MESH` prints the same.
+pub fn mesh_facts(mesh: &TriMesh) -> Map<String, Value> {
     let v = validity(mesh);
     let q = quality(mesh);
+    let facts = json!({
+        "vertices": mesh.positions.len(),
+        "triangles": mesh.triangles.len(),
+        "volume_ml": mesh.volume_ml(),
+        "area_mm2": mesh.area(),
+        "watertight": v.closed && v.manifold && v.oriented,
+        "manifold": v.manifold,
+        "oriented": v.oriented,
+        "boundary_edges": v.boundary_edges,
+        "euler_characteristic": v.euler_characteristic,
+        // Geometry, not topology: creases where neighbouring triangles turn more than 90 degrees
+        // against each other (where contours that disagree pulled the surface two ways).
+        "quality": {
+            "folded_edges": q.folded_edges,
+            "self_intersections": q.self_intersections,
+            "max_dihedral_deg": q.max_dihedral_deg,
+            "min_triangle_quality": q.min_triangle_quality,
+            "median_triangle_quality": q.median_triangle_quality,
+            "max_edge_mm": q.max_edge_mm,
+            "mean_edge_mm": q.mean_edge_mm,
+        },
+    });
+    match facts {
+        Value::Object(m) => m,
+        _ => Map::new(),
+    }
+}
+
+pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
+    let mesh = rec.mesh();
     let d = rec.contour_distances();
     let per_contour: Vec<Value> = d
         .per_contour
@@ -96,30 +128,10 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         // here, as the app's result panel says "converged", so a short count is not a mystery.
         "converged": rec.iteration() < rec.total_iterations(),
         "seconds": f.seconds,
-        "vertices": mesh.positions.len(),
-        "triangles": mesh.triangles.len(),
-        "volume_ml": mesh.volume_ml(),
         // Where no curve closes an end, the mesh runs on past the data there (extrapolated).
         "past_data": rec.past_data(),
         // Which ends no curve closes got synthetic lid points (not data: in no distance).
         "end_caps": rec.end_caps(),
-        "area_mm2": mesh.area(),
-        "watertight": v.closed && v.manifold && v.oriented,
-        "manifold": v.manifold,
-        "oriented": v.oriented,
-        "boundary_edges": v.boundary_edges,
-        "euler_characteristic": v.euler_characteristic,
-        // Geometry, not topology: creases where neighbouring triangles turn more than 90 degrees
-        // against each other (where contours that disagree pulled the surface two ways).
-        "quality": {
-            "folded_edges": q.folded_edges,
-            "self_intersections": q.self_intersections,
-            "max_dihedral_deg": q.max_dihedral_deg,
-            "min_triangle_quality": q.min_triangle_quality,
-            "median_triangle_quality": q.median_triangle_quality,
-            "max_edge_mm": q.max_edge_mm,
-            "mean_edge_mm": q.mean_edge_mm,
-        },
         "contours": rec.contours().len(),
         "contour_to_mesh": {
             "mean": o.mean,
@@ -154,6 +166,9 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         "parameters": report_parameters(f.params),
         "warnings": f.warnings,
     });
+    if let Some(m) = rep.as_object_mut() {
+        m.extend(mesh_facts(mesh));
+    }
     // Only when some contour was left out (strays, specks): default reports keep their bytes.
     if let (false, Some(m)) = (rec.set_aside().is_empty(), rep.as_object_mut()) {
         m.insert("set_aside".into(), json!(rec.set_aside()));

@@ -235,3 +235,73 @@ fn a_file_of_two_phases_names_its_frames_and_reads_the_one_asked_for() {
     let (_, text, _) = run(bin().args(["info", p, "--frame", "es"]));
     assert!(text.contains("time frames: 2 (ED, ES); read: ES"), "{text}");
 }
+
+#[test]
+fn a_mesh_file_gets_the_facts_a_report_gives_for_it() {
+    let dir = scratch("mesh");
+    let surfco = data("contours/surfco-example.csv");
+    let (mesh, report) = (dir.join("m.vtp"), dir.join("m.json"));
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        surfco.to_str().unwrap(),
+        "-o",
+        mesh.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let rep: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let info = info_json(&[mesh.to_str().unwrap()]);
+    for key in [
+        "vertices",
+        "triangles",
+        "watertight",
+        "manifold",
+        "oriented",
+        "boundary_edges",
+        "euler_characteristic",
+    ] {
+        assert_eq!(info[key], rep[key], "{key}");
+    }
+    // VTP keeps f64 coordinates: the volume and area are the report's.
+    for key in ["volume_ml", "area_mm2"] {
+        let (a, b) = (info[key].as_f64().unwrap(), rep[key].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-9 * b, "{key}: {a} vs {b}");
+    }
+    assert_eq!(
+        info["quality"]["folded_edges"],
+        rep["quality"]["folded_edges"]
+    );
+    assert_eq!(info["point_data"]["name"], "distance");
+    assert!(
+        info["point_data"]["max"].as_f64().unwrap() > info["point_data"]["min"].as_f64().unwrap()
+    );
+
+    // An open surface: no enclosed volume claimed.
+    let open = data("meshes/cap-atlas-mean-ED-LV_ENDO-open.obj");
+    let (code, text, _) = run(bin().args(["info", open.to_str().unwrap()]));
+    assert_eq!(code, 0);
+    assert!(
+        text.contains("not closed: ") && text.contains("(open: no enclosed volume)"),
+        "{text}"
+    );
+    let o = info_json(&[open.to_str().unwrap()]);
+    assert_eq!(o["watertight"], false);
+    assert!(o["boundary_edges"].as_u64().unwrap() > 0);
+
+    // A .vtp of contour lines is still contours.
+    let lines = dir.join("c.vtp");
+    let (code, _, err) = run(bin().args([
+        "convert",
+        surfco.to_str().unwrap(),
+        lines.to_str().unwrap(),
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let c = info_json(&[lines.to_str().unwrap()]);
+    assert_eq!(
+        (c["contours"].as_u64(), c["points"].as_u64()),
+        (Some(8), Some(3008))
+    );
+}
