@@ -331,6 +331,47 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
     Ok(pd)
 }
 
+/// One array's header line in a FIELD block (`NAME COMPONENTS TUPLES TYPE`); None for VTK's
+/// `NULL_ARRAY` placeholder, which has no header and no values.
+struct FieldArray {
+    name: String,
+    components: usize,
+    tuples: usize,
+    ty: String,
+}
+
+impl FieldArray {
+    fn read(c: &mut Cursor) -> Result<Option<FieldArray>> {
+        let name = c.need_word("array name")?;
+        if name == "NULL_ARRAY" {
+            return Ok(None);
+        }
+        let components = c.count("component count")?;
+        let tuples = c.count("tuple count")?;
+        let ty = c.need_word("array type")?.to_ascii_lowercase();
+        Ok(Some(FieldArray {
+            name,
+            components,
+            tuples,
+            ty,
+        }))
+    }
+
+    fn values(&self) -> usize {
+        self.components.saturating_mul(self.tuples)
+    }
+}
+
+/// Skips the `METADATA` block VTK 9 may write after an array's values.
+fn skip_array_metadata(c: &mut Cursor) {
+    let save = c.pos;
+    if c.word().map(str::to_ascii_uppercase).as_deref() == Some("METADATA") {
+        skip_metadata(c);
+    } else {
+        c.pos = save;
+    }
+}
+
 /// Skips the dataset's own FIELD block (after `FIELD`), where VTK's writer puts field data:
 /// right after `DATASET POLYDATA`, before POINTS (VTK's file-format guide; heartmesh's app writes
 /// its parameters there). Nothing in it is geometry, so it is read past, not stopped at: stopping
@@ -339,14 +380,10 @@ fn skip_dataset_field(c: &mut Cursor, binary: bool) -> Result<()> {
     c.need_word("field name")?;
     let arrays = c.count("field array count")?;
     for _ in 0..arrays {
-        let name = c.need_word("array name")?;
-        if name == "NULL_ARRAY" {
+        let Some(a) = FieldArray::read(c)? else {
             continue;
-        }
-        let comps = c.count("component count")?;
-        let tuples = c.count("tuple count")?;
-        let ty = c.need_word("array type")?.to_ascii_lowercase();
-        let total = comps.saturating_mul(tuples);
+        };
+        let (ty, total) = (a.ty.as_str(), a.values());
         c.end_line();
         if ty == "string" || ty == "utf8_string" {
             if binary {
@@ -361,16 +398,11 @@ fn skip_dataset_field(c: &mut Cursor, binary: bool) -> Result<()> {
         } else {
             c.binary = binary;
             for _ in 0..total {
-                c.number(&ty)?;
+                c.number(ty)?;
             }
             c.binary = false;
         }
-        let save = c.pos;
-        if c.word().map(str::to_ascii_uppercase).as_deref() == Some("METADATA") {
-            skip_metadata(c);
-        } else {
-            c.pos = save;
-        }
+        skip_array_metadata(c);
     }
     Ok(())
 }
@@ -388,15 +420,11 @@ fn read_cell_fields(c: &mut Cursor, ncells: usize) -> Result<Vec<(String, Vec<St
         c.need_word("field name")?;
         let arrays = c.count("field array count")?;
         for _ in 0..arrays {
-            let name = c.need_word("array name")?;
-            if name == "NULL_ARRAY" {
+            let Some(a) = FieldArray::read(c)? else {
                 continue;
-            }
-            let comps = c.count("component count")?;
-            let tuples = c.count("tuple count")?;
-            let ty = c.need_word("array type")?.to_ascii_lowercase();
-            let total = comps.saturating_mul(tuples);
-            if ty == "string" {
+            };
+            let total = a.values();
+            if a.ty == "string" {
                 c.end_line();
                 let mut v = Vec::with_capacity(total.min(c.bytes.len()));
                 for _ in 0..total {
@@ -405,20 +433,15 @@ fn read_cell_fields(c: &mut Cursor, ncells: usize) -> Result<Vec<(String, Vec<St
                     }
                     v.push(percent_decode(c.rest_of_line()));
                 }
-                if comps == 1 && tuples == ncells {
-                    out.push((name, v));
+                if a.components == 1 && a.tuples == ncells {
+                    out.push((a.name, v));
                 }
             } else {
                 for _ in 0..total {
-                    c.number(&ty)?;
+                    c.number(&a.ty)?;
                 }
             }
-            let save = c.pos;
-            if c.word().map(str::to_ascii_uppercase).as_deref() == Some("METADATA") {
-                skip_metadata(c);
-            } else {
-                c.pos = save;
-            }
+            skip_array_metadata(c);
         }
     }
 }

@@ -70,10 +70,10 @@ fn version_51_layout() {
     assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
 }
 
-#[test]
-fn binary_lines() {
-    let mut b =
-        b"# vtk DataFile Version 3.0\nb\nBINARY\nDATASET POLYDATA\nPOINTS 3 float\n".to_vec();
+/// `head` (a binary legacy file up to its POINTS) followed by three points and one line through
+/// them, big-endian as VTK writes binary files.
+fn with_binary_line(mut b: Vec<u8>) -> Vec<u8> {
+    b.extend_from_slice(b"POINTS 3 float\n");
     for x in [0f32, 0., 0., 10., 0., 0., 10., 10., 0.] {
         b.extend_from_slice(&x.to_be_bytes());
     }
@@ -82,6 +82,12 @@ fn binary_lines() {
         b.extend_from_slice(&i.to_be_bytes());
     }
     b.push(b'\n');
+    b
+}
+
+#[test]
+fn binary_lines() {
+    let b = with_binary_line(b"# vtk DataFile Version 3.0\nb\nBINARY\nDATASET POLYDATA\n".to_vec());
     let set = read_vtk_contours(&b).unwrap();
     assert_eq!(set.point_count(), 3);
     assert_eq!(set.contours[0].pieces[0].points[2], v3(10.0, 10.0, 0.0));
@@ -221,15 +227,8 @@ fn dataset_field_data_before_points_is_skipped() {
     for t in [0.5f64, 10.0] {
         b.extend_from_slice(&t.to_be_bytes());
     }
-    b.extend_from_slice(b"\nPOINTS 3 float\n");
-    for x in [0f32, 0., 0., 10., 0., 0., 10., 10., 0.] {
-        b.extend_from_slice(&x.to_be_bytes());
-    }
-    b.extend_from_slice(b"\nLINES 1 4\n");
-    for i in [3i32, 0, 1, 2] {
-        b.extend_from_slice(&i.to_be_bytes());
-    }
     b.push(b'\n');
+    let b = with_binary_line(b);
     let set = read_vtk_contours(&b).unwrap();
     assert_eq!(set.contours[0].pieces[0].points[2], v3(10.0, 10.0, 0.0));
 }
