@@ -19,7 +19,7 @@ use crate::error::CliError;
 use crate::{files, report};
 
 pub const USAGE: &str = "heartmesh info CONTOURS [VIEWS...] [--frame N|LABEL] [--json]
-       heartmesh info MESH.obj|.stl|.ply|.vtk|.vtp [--json]
+    or: heartmesh info MESH.obj|.stl|.ply|.vtk|.vtp [--json]
   What the file holds and what reconstruct would make of it, without running it: format, time
   frames, points, landmarks, coordinate range (mm, the file's own frame), and per surface the
   short- and long-axis contours, the slices' spacing, the long axis, the contours a run leaves
