@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 
 use heartmesh_core::contours::{set_aside, ContourKind};
 use heartmesh_core::geometry::Vec3;
-use heartmesh_core::io;
+use heartmesh_core::io::{self, ContourFormat, FrameChoice};
 use heartmesh_core::{ContourSet, Params, Reconstruction};
 use serde_json::{json, Value};
 
@@ -20,6 +20,7 @@ use crate::{files, report};
 
 pub const USAGE: &str = "heartmesh info CONTOURS [VIEWS...] [--frame N|LABEL] [--json]
     or: heartmesh info MESH.obj|.stl|.ply|.vtk|.vtp [--json]
+    or: heartmesh info FILE FILE... [--json]  (each in turn; --json: an array)
   What the file holds and what reconstruct would make of it, without running it: format, time
   frames, points, landmarks, coordinate range (mm, the file's own frame), and per surface the
   short- and long-axis contours, the slices' spacing, the long axis, the contours a run leaves
@@ -42,19 +43,65 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     if p.positional.is_empty() {
         return Err(CliError::usage("info needs a contour file"));
     }
-    if let [one] = p.positional.as_slice() {
-        if let Some(mesh) = mesh_file(one)? {
-            return print(&mesh, p.switch("json"), mesh_text);
+    let frame = contours::frame_flag(p.value("frame"))?;
+    let json = p.switch("json");
+    let files = p.positional.as_slice();
+    if files.len() == 1 || is_study(&files[0]) {
+        let (info, words) = describe_files(files, frame)?;
+        return print(&info, json, words);
+    }
+    // Several files that are no segmented study (`heartmesh info exports/*`): each in turn, a
+    // file that cannot be read named on stderr without stopping the others; the last such error
+    // is the command's (status 2), as `reconstruct --surface all` does with its surfaces.
+    let mut infos = Vec::new();
+    let mut failed: Option<CliError> = None;
+    for file in files {
+        match describe_files(std::slice::from_ref(file), frame.clone()) {
+            Ok((info, words)) if !json => outln!("{}\n", words(&info)),
+            Ok((info, _)) => infos.push(info),
+            Err(e) => {
+                if let Some(earlier) = failed.replace(e) {
+                    eprintln!("heartmesh: {}", earlier.message());
+                }
+            }
         }
     }
-    let frame = contours::frame_flag(p.value("frame"))?;
-    let (input, loaded) = contours::load_all(&p.positional, frame)?;
-    let base = loaded.session_params.unwrap_or_default();
-    let info = describe(file_name(input), loaded.format.name(), &loaded.set, &base);
-    print(&info, p.switch("json"), text)
+    if json {
+        print(&Value::Array(infos), true, text)?;
+    }
+    failed.map_or(Ok(()), Err)
 }
 
-fn print(info: &Value, json: bool, words: fn(&Value) -> String) -> Result<(), CliError> {
+type Words = fn(&Value) -> String;
+
+/// One file's facts (a mesh's, or a contour file's; several files: one segmented study) and how
+/// to word them.
+fn describe_files(
+    files: &[String],
+    frame: Option<FrameChoice>,
+) -> Result<(Value, Words), CliError> {
+    if let [one] = files {
+        if let Some(mesh) = mesh_file(one)? {
+            return Ok((mesh, mesh_text));
+        }
+    }
+    let (input, loaded) = contours::load_all(files, frame)?;
+    let base = loaded.session_params.unwrap_or_default();
+    let info = describe(file_name(input), loaded.format.name(), &loaded.set, &base);
+    Ok((info, text))
+}
+
+/// Whether `path` is a label map, whose companions on the command line are its long-axis views.
+fn is_study(path: &str) -> bool {
+    files::read(path).is_ok_and(|bytes| {
+        matches!(
+            io::detect_contour_format(path, &bytes),
+            ContourFormat::Nifti | ContourFormat::Nrrd
+        )
+    })
+}
+
+fn print(info: &Value, json: bool, words: Words) -> Result<(), CliError> {
     if json {
         let text =
             serde_json::to_string_pretty(info).map_err(|e| CliError::Failed(e.to_string()))?;

@@ -305,3 +305,40 @@ fn a_mesh_file_gets_the_facts_a_report_gives_for_it() {
         (Some(8), Some(3008))
     );
 }
+
+#[test]
+fn several_files_are_described_in_turn_and_one_unreadable_file_does_not_stop_the_others() {
+    let surfco = data("contours/surfco-example.csv");
+    let p2 = data("contours/bivme-test-patient2/patient2-ES.csv");
+    let info_file = data("contours/bivme-example-patient1/SliceInfoFile.txt");
+    let (code, out, err) = run(bin().args([
+        "info",
+        surfco.to_str().unwrap(),
+        info_file.to_str().unwrap(),
+        p2.to_str().unwrap(),
+        "--json",
+    ]));
+    assert_eq!(code, 2, "the SliceInfoFile is not contours");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("SliceInfoFile") && err.contains("not contours"),
+        "{err}"
+    );
+    let all: Value = serde_json::from_str(&out).unwrap();
+    let names: Vec<&str> = all
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|i| i["input"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["surfco-example.csv", "patient2-ES.csv"]);
+    assert_eq!(all[0]["points"].as_u64(), Some(3008));
+    // Each entry is the one file's own description.
+    assert_eq!(all[1], info_json(&[p2.to_str().unwrap()]));
+    let (code, text, _) = run(bin().args(["info", surfco.to_str().unwrap(), p2.to_str().unwrap()]));
+    assert_eq!(code, 0);
+    assert!(
+        text.contains("surfco-example.csv: CSV") && text.contains("\n\npatient2-ES.csv: CSV"),
+        "{text}"
+    );
+}
