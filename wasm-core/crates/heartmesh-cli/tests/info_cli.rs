@@ -12,6 +12,20 @@ fn info_json(args: &[&str]) -> Value {
     serde_json::from_str(&out).unwrap_or_else(|e| panic!("{e}: {out}"))
 }
 
+/// Runs `reconstruct ARGS -o MESH --report MESH.json` and returns the report.
+fn reconstruct_report(args: &[&str], mesh: &std::path::Path) -> Value {
+    let report = mesh.with_extension("json");
+    let (code, _, err) = run(bin().arg("reconstruct").args(args).args([
+        "-o",
+        mesh.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{args:?}: {err}");
+    serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap()
+}
+
 fn surface<'a>(info: &'a Value, name: &str) -> &'a Value {
     info["surfaces"]
         .as_array()
@@ -55,20 +69,8 @@ fn a_biventricular_file_is_described_as_reconstruct_then_reports_it() {
 
     let dir = scratch("same-as-run");
     for name in ["LV_ENDO", "RV_ENDO"] {
-        let report = dir.join(format!("{name}.json"));
-        let (code, _, err) = run(bin().args([
-            "reconstruct",
-            path,
-            "--surface",
-            name,
-            "-o",
-            dir.join(format!("{name}.obj")).to_str().unwrap(),
-            "--report",
-            report.to_str().unwrap(),
-            "--quiet",
-        ]));
-        assert_eq!(code, 0, "{err}");
-        let rep: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+        let mesh = dir.join(format!("{name}.obj"));
+        let rep = reconstruct_report(&[path, "--surface", name], &mesh);
         let s = surface(&info, name);
         assert_eq!(s["end_caps"], rep["end_caps"], "{name}");
         assert_eq!(
@@ -240,18 +242,8 @@ fn a_file_of_two_phases_names_its_frames_and_reads_the_one_asked_for() {
 fn a_mesh_file_gets_the_facts_a_report_gives_for_it() {
     let dir = scratch("mesh");
     let surfco = data("contours/surfco-example.csv");
-    let (mesh, report) = (dir.join("m.vtp"), dir.join("m.json"));
-    let (code, _, err) = run(bin().args([
-        "reconstruct",
-        surfco.to_str().unwrap(),
-        "-o",
-        mesh.to_str().unwrap(),
-        "--report",
-        report.to_str().unwrap(),
-        "--quiet",
-    ]));
-    assert_eq!(code, 0, "{err}");
-    let rep: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let mesh = dir.join("m.vtp");
+    let rep = reconstruct_report(&[surfco.to_str().unwrap()], &mesh);
     let info = info_json(&[mesh.to_str().unwrap()]);
     for key in [
         "vertices",

@@ -332,36 +332,28 @@ fn the_report_says_when_the_stop_rule_ended_the_run() {
     let dir = scratch("converged");
     let surfco = data("contours/surfco-example.csv");
     let report = dir.join("r.json");
-    let read = || -> serde_json::Value {
+    let mesh = dir.join("m.obj");
+    let reconstruct = |more: &[&str]| -> serde_json::Value {
+        let (code, _, err) = run(bin()
+            .args([
+                "reconstruct",
+                s(&surfco),
+                "-o",
+                s(&mesh),
+                "--report",
+                s(&report),
+            ])
+            .args(more));
+        assert_eq!(code, 0, "{more:?}: {err}");
         serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap()
     };
-    let (code, _, err) = run(bin().args([
-        "reconstruct",
-        s(&surfco),
-        "-o",
-        s(&dir.join("m.obj")),
-        "--report",
-        s(&report),
-    ]));
-    assert_eq!(code, 0, "{err}");
-    let r = read();
+    let r = reconstruct(&[]);
     // SurFCo meets the stop threshold at iteration 240 of 250.
     assert_eq!(r["converged"], true, "{r}");
     let it = r["iterations"].as_u64().unwrap();
     assert!((200..250).contains(&it), "{it}");
     assert_eq!(r["parameters"]["iterations"], 250.0);
-    let (code, _, err) = run(bin().args([
-        "reconstruct",
-        s(&surfco),
-        "-o",
-        s(&dir.join("m.obj")),
-        "--report",
-        s(&report),
-        "--iterations",
-        "30",
-    ]));
-    assert_eq!(code, 0, "{err}");
-    let r = read();
+    let r = reconstruct(&["--iterations", "30"]);
     assert_eq!(
         (r["iterations"].as_u64(), &r["converged"]),
         (Some(30), &serde_json::json!(false))
