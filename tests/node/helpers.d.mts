@@ -22,5 +22,7 @@ export function writeScratch(name: string, text: string): string;
 export function cliReport(input: string, args: string[], label: string): Record<string, any>;
 // eslint-disable-next-line @typescript-eslint/no-explicit-any
 export function cliVolumes(inputs: string[], args: string[], label: string): Record<string, any>;
+// eslint-disable-next-line @typescript-eslint/no-explicit-any
+export function cliMyocardium(input: string, args: string[], label: string): { report: Record<string, any>; obj: string };
 export function cliSegment(args: string[], name: string): string;
 export function cliSimulate(truth: string, args: string[], name: string): string;

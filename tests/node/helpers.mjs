@@ -127,6 +127,15 @@ export function cliVolumes(inputs, args, label) {
   return JSON.parse(readFileSync(json, 'utf8'));
 }
 
+/** The native CLI's `myocardium` of `input` with `args`: its report (JSON) and the wall as OBJ text. */
+export function cliMyocardium(input, args, label) {
+  if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);
+  const obj = writeScratch(`${label}.obj`, '');
+  const report = writeScratch(`${label}.json`, '');
+  execFileSync(CLI, ['myocardium', input, '-o', obj, '--report', report, '--quiet', ...args]);
+  return { report: JSON.parse(readFileSync(report, 'utf8')), obj: readFileSync(obj, 'utf8') };
+}
+
 /** The native CLI's `segment` (`args`: its surfaces and options) into the scratch folder as `name`; returns its path. */
 export function cliSegment(args, name) {
   if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);

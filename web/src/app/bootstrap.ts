@@ -77,6 +77,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
       screenshot: () => c().screenshot(),
       session: () => c().sessionFile(),
       others: () => c().otherSurfaceMeshes(),
+      wallFile: (format) => c().wallFile(format),
       failed: (e) => c().showExportError(e),
     }),
     view: new ViewControls((v) => c().setView(v), () => c().resetView()),

@@ -7,7 +7,7 @@
  */
 import type { CoreClient } from '../core-client/CoreClient';
 import type {
-  CoreErrorData, Frame, LabelMapGrid, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, ViewFile,
+  CoreErrorData, Frame, LabelMapGrid, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, ViewFile, WallFormat, WallSummary,
 } from '../core-client/protocol';
 import { DEFAULT_OPTIONS, withDefaultOptions } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
@@ -25,7 +25,8 @@ import { surfacePoints } from './sceneContours';
 import { frameChoice, framePicker, frameToRead, missingFrameNote, namedFrame } from './timeFrames';
 import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
-import { KeptSurfaces, runSignature, type KeptMesh } from './keptSurfaces';
+import { KeptSurfaces, runSignature, settingsKey, type KeptMesh } from './keptSurfaces';
+import { WALL_MIN_THICKNESS_MM, wallHeaderLines, wallReadiness, type WallReadiness } from '../io/export/wall';
 import { surfaceOrder } from '../io/FileBar';
 import { BIV_EPI } from '../core-client/derivedSurfaces';
 import { phasesOf } from './phases';
@@ -53,6 +54,8 @@ export const RESTART_DEBOUNCE_MS = 300;
 interface ActiveRun {
   runId: number;
   cancel(): void;
+  /** What it was run with (`settingsKey`): its mesh is kept with it. */
+  settings: string;
 }
 
 /** A file of those opened together: its grid if a NIfTI label map, its bytes if kept meanwhile. */
@@ -665,7 +668,7 @@ export class Controller {
     }
     this.parts.result.clear('running…');
     const handle = client.run(settings, (f) => this.onFrame(f));
-    this.active = { runId: handle.runId, cancel: () => handle.cancel() };
+    this.active = { runId: handle.runId, cancel: () => handle.cancel(), settings: settingsKey(settings.params, settings.lids, settings.options) };
     this.dispatch({ type: 'run', runId: handle.runId });
     handle.done.then(
       (r) => this.onDone(r),
@@ -721,6 +724,7 @@ export class Controller {
     this.options = { ...options };
     this.renderWarnings();
     this.updateUrl();
+    this.syncWall();
     if (this.restartTimer) clearTimeout(this.restartTimer);
     this.restartTimer = setTimeout(() => this.startRun(), RESTART_DEBOUNCE_MS);
   }
@@ -744,6 +748,7 @@ export class Controller {
 
   private onDone(r: RunResult): void {
     if (!this.active || r.runId !== this.active.runId) return;
+    const settings = this.active.settings;
     this.active = null;
     this.runView.finished(r);
     this.parts.status.setProgress(1);
@@ -752,17 +757,20 @@ export class Controller {
     // nor the files of a drop that were not opened: hideError keeps a warning).
     if (this.state.kind !== 'error') this.parts.banner.hideError();
     this.parts.exports.setAvailable(true, true);
-    this.keepSurface(r);
+    this.keepSurface(r, settings);
     this.dispatch({ type: 'finished', runId: r.runId });
     this.emitResult(r);
     if (this.allQueue.length) this.nextOfAll();
   }
 
-  /** A finished run's mesh joins the file's other surfaces (shown faint while another is current). */
-  private keepSurface(r: RunResult): void {
+  /**
+   * A finished run's mesh joins the file's other surfaces (shown faint while another is current),
+   * with the settings it was run with (`settings`) and its vertices in full precision (the LV wall).
+   */
+  private keepSurface(r: RunResult, settings: string): void {
     this.syncOthers();
     if (r.surface === null) return;
-    this.kept.keep(r.surface, r.positions, r.indices);
+    this.kept.keep(r.surface, r.positions, r.indices, settings, r.positionsF64);
     this.parts.viewer?.otherSurfacesLayer.set(r.surface, r.positions, r.indices, runSignature(r));
     this.syncOthers();
   }
@@ -779,7 +787,47 @@ export class Controller {
     layer?.show(this.view.others, this.surface);
     this.parts.view.setOthersAvailable(others);
     this.parts.exports.setOthers(others);
+    this.syncWall();
     this.parts.viewer?.requestRender();
+  }
+
+  /** What the settings in the panel are now, as kept meshes record theirs. */
+  private currentSettingsKey(): string {
+    return settingsKey(this.params, this.lids, this.options);
+  }
+
+  /**
+   * Whether the LV wall can be built now: the current file's LV_ENDO and LV_EPI both have a kept
+   * mesh run with the settings in the panel (export/wall.ts).
+   */
+  wallReadiness(): WallReadiness {
+    const file = this.currentFile();
+    return wallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), this.currentSettingsKey());
+  }
+
+  /** Tells the export panel whether the LV wall can be built now (the file, its runs or the settings changed). */
+  private syncWall(): void {
+    this.parts.exports.setWall(this.wallReadiness());
+  }
+
+  /**
+   * The LV wall of the current file built in the worker from its kept LV_ENDO and LV_EPI meshes
+   * (full precision where the core gave it), written as `format`; null when it cannot be built now.
+   */
+  wallFile(format: WallFormat): Promise<{ summary: WallSummary; bytes: Uint8Array }> | null {
+    const w = this.wallReadiness();
+    const settings = this.runSettings();
+    const info = this.exportInfo();
+    if (!w.ready || !settings || !info || !this.client) return null;
+    const mesh = (m: KeptMesh) => ({ surface: m.surface, positions: m.positions64 ?? Float64Array.from(m.positions), indices: m.indices });
+    const now = { ...info, params: schemaOrdered(this.params, this.schema), lids: this.lids, options: this.options };
+    return this.client.wallFile(settings, {
+      endo: mesh(w.endo as KeptMesh),
+      epi: mesh(w.epi as KeptMesh),
+      minThicknessMm: WALL_MIN_THICKNESS_MM,
+      format,
+      header: wallHeaderLines(now, w.endo.surface, w.epi.surface, WALL_MIN_THICKNESS_MM),
+    });
   }
 
   /** The finished meshes of the file's surfaces but the current one (for the all-surfaces export). */
@@ -944,6 +992,7 @@ export class Controller {
     document.body.dataset.hasFile = this.currentFile() ? '1' : '0';
     this.runView.updateTimeline();
     this.parts.exports.setAvailable(this.runView.currentResult !== null, this.currentFile() !== null);
+    this.syncWall();
   }
 
   /** The link holds the settings and the file's frame: whatever changes it may change the Function context too. */

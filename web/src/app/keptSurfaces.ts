@@ -9,6 +9,10 @@ export interface KeptMesh {
   /** xyz per vertex, mm (a copy: the run's arrays may be handed on). */
   positions: Float32Array;
   indices: Uint32Array;
+  /** The same vertices in full precision, when the core gave them (the LV wall is built of these). */
+  positions64?: Float64Array;
+  /** What the run was run with (`settingsKey`; '' when not known): compared with the settings now. */
+  settings: string;
 }
 
 /**
@@ -17,6 +21,16 @@ export interface KeptMesh {
  */
 export function runSignature(r: { params: unknown; lids: unknown; options: unknown }): string {
   return JSON.stringify([r.params, r.lids, r.options]);
+}
+
+/**
+ * The settings of a run (or of the next one), as one string that does not depend on the order the
+ * parameters were set in: equal keys, the same reconstruction of the same contours. The surface is
+ * not part of it.
+ */
+export function settingsKey(params: Record<string, number>, lids: string, options: object): string {
+  const byName = <T>(entries: [string, T][]) => entries.sort(([a], [b]) => (a < b ? -1 : a > b ? 1 : 0));
+  return JSON.stringify([byName(Object.entries(params)), lids, byName(Object.entries(options))]);
 }
 
 export class KeptSurfaces {
@@ -37,9 +51,19 @@ export class KeptSurfaces {
     this.meshes.clear();
   }
 
-  /** Keeps `surface`'s mesh, replacing its earlier one (kept in the order first seen). */
-  keep(surface: string, positions: Float32Array, indices: Uint32Array): void {
-    this.meshes.set(surface, { surface, positions: positions.slice(), indices: indices.slice() });
+  /**
+   * Keeps `surface`'s mesh, replacing its earlier one (kept in the order first seen); `settings`:
+   * its run's `settingsKey`; `positions64`: its vertices in full precision, when known.
+   */
+  keep(surface: string, positions: Float32Array, indices: Uint32Array, settings = '', positions64?: Float64Array): void {
+    const mesh: KeptMesh = { surface, positions: positions.slice(), indices: indices.slice(), settings };
+    if (positions64 && positions64.length === positions.length) mesh.positions64 = positions64.slice();
+    this.meshes.set(surface, mesh);
+  }
+
+  /** The kept mesh of `surface` (the current one included), if any. */
+  get(surface: string): KeptMesh | undefined {
+    return this.meshes.get(surface);
   }
 
   /** The kept meshes but `current`'s, in the order first kept. */

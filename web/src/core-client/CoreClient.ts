@@ -49,6 +49,8 @@ import {
   type RunResult,
   type ToWorker,
   type ViewFile,
+  type WallSummary,
+  type WallSurfaceMesh,
 } from './protocol';
 import {
   settingsOf,
@@ -56,13 +58,14 @@ import {
   type LabBatchHandle,
   type RunHandle,
   type RunOptions,
+  type WallOptions,
   type WorkerLike,
 } from './coreClientTypes';
 import { LabRequests } from './labRequests';
 import { RunFrames } from './runFrames';
 import { mergeViews } from '../io/studyGroups';
 
-export type { CoreClientOptions, LabBatchHandle, RunHandle, RunOptions, WorkerLike } from './coreClientTypes';
+export type { CoreClientOptions, LabBatchHandle, RunHandle, RunOptions, WallOptions, WorkerLike } from './coreClientTypes';
 
 interface PendingRequest {
   resolve: (value: unknown) => void;
@@ -397,6 +400,34 @@ export class CoreClient {
     return this.request<Uint8Array>((reqId) => ({ type: 'session-export', reqId, ...settings, appVersion }), { needs: opts.fileName });
   }
 
+  /**
+   * The LV myocardium wall of a loaded file, built in the worker from its finished endo- and
+   * epicardial meshes (both run with the settings `opts`), as a file in `wall.format` with its
+   * figures. Rejects with CoreErrorData: a wall the core cannot build says why (the worker goes on).
+   */
+  wallFile(opts: RunOptions, wall: WallOptions): Promise<{ summary: WallSummary; bytes: Uint8Array }> {
+    const bytes = this.files.get(opts.fileName);
+    if (bytes === undefined) {
+      return Promise.reject({ code: ErrorCodes.notLoaded, message: `${opts.fileName} has not been loaded`, file: opts.fileName });
+    }
+    this.resendIfRecreated(opts.fileName, bytes, () => {});
+    const { surface: _surface, ...settings } = settingsOf(opts);
+    const copy = (m: WallSurfaceMesh): WallSurfaceMesh => ({ surface: m.surface, positions: m.positions.slice(), indices: m.indices.slice() });
+    return this.request<{ summary: WallSummary; bytes: Uint8Array }>(
+      (reqId) => ({
+        type: 'wall-export',
+        reqId,
+        ...settings,
+        endo: copy(wall.endo),
+        epi: copy(wall.epi),
+        minThicknessMm: wall.minThicknessMm,
+        format: wall.format,
+        header: [...wall.header],
+      }),
+      { needs: opts.fileName },
+    );
+  }
+
   // ---- validation lab ------------------------------------------------------------------------
 
   /** Makes the lab's ground-truth surface (parametric LV or a mesh file) in the worker. */
@@ -645,6 +676,9 @@ export class CoreClient {
         break;
       case 'session-json':
         this.settleRequest(msg.reqId, true, msg.bytes);
+        break;
+      case 'wall-file':
+        this.settleRequest(msg.reqId, true, { summary: msg.summary, bytes: msg.bytes });
         break;
       case 'lab-batch-started':
         this.unanswered.delete(msg.runId);

@@ -4,7 +4,7 @@
  * CoreClient.ts re-exports them.
  */
 
-import type { CoreErrorData, LabBatchInfo, LidsMode, ParamValues, ReconOptions, RunResult, ToWorker } from './protocol';
+import type { CoreErrorData, LabBatchInfo, LidsMode, ParamValues, ReconOptions, RunResult, ToWorker, WallFormat, WallSurfaceMesh } from './protocol';
 
 /** The part of `Worker` the client uses (a fake implements it in unit tests). */
 export interface WorkerLike {
@@ -36,6 +36,17 @@ export interface RunOptions {
   lids: LidsMode;
   /** Missing: the core's defaults. */
   options?: ReconOptions;
+}
+
+/** What the LV wall is built of and written as (`CoreClient.wallFile`). */
+export interface WallOptions {
+  endo: WallSurfaceMesh;
+  epi: WallSurfaceMesh;
+  /** mm; null: the surfaces as reconstructed. */
+  minThicknessMm: number | null;
+  format: WallFormat;
+  /** Header lines after the command line's comment. */
+  header: readonly string[];
 }
 
 export interface RunHandle {

@@ -48,6 +48,7 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       const r = msg.result;
       add(r.contourPoints);
       add(r.positions);
+      add(r.positionsF64);
       add(r.indices);
       add(r.pointDistances);
       add(r.vertexDistances);
@@ -82,7 +83,14 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       }
       break;
     case 'session-json':
+    case 'wall-file':
       add(msg.bytes);
+      break;
+    case 'wall-export':
+      add(msg.endo.positions);
+      add(msg.endo.indices);
+      add(msg.epi.positions);
+      add(msg.epi.indices);
       break;
     case 'session-export':
     case 'run':
@@ -126,6 +134,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
     case 'lab-simulated':
     case 'lab-compared':
     case 'session-json':
+    case 'wall-file':
       return undefined;
     default:
       return assertNever(msg);
@@ -152,6 +161,7 @@ export function isFromWorker(v: unknown): v is FromWorker {
     case 'lab-progress':
     case 'lab-batch-done':
     case 'session-json':
+    case 'wall-file':
       return true;
     default:
       return false;
@@ -173,6 +183,7 @@ export function isToWorker(v: unknown): v is ToWorker {
     case 'lab-compare':
     case 'lab-batch':
     case 'session-export':
+    case 'wall-export':
       return true;
     default:
       return false;

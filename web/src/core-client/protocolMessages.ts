@@ -9,7 +9,7 @@ import type {
   AcquisitionSpec, LabAcquisition, LabBatchInfo, LabComparison, LabProgress, LabTruth, LabTruthSource, WorkerBatchJob,
 } from './protocolLab';
 import type { LidsMode, ParamSpec, ParamValues, ReconOptions } from './protocolOptions';
-import type { Frame, LabelMapGrid, LoadedFile, RunResult, ViewFile } from './protocolResults';
+import type { Frame, LabelMapGrid, LoadedFile, RunResult, ViewFile, WallFormat, WallSummary, WallSurfaceMesh } from './protocolResults';
 
 export interface LoadRequest {
   type: 'load';
@@ -65,6 +65,26 @@ export interface SessionExportRequest {
   options?: ReconOptions;
   appVersion: string;
 }
+/**
+ * The LV myocardium wall of a loaded file (the command line's `heartmesh myocardium`), built in the
+ * worker from the finished LV_ENDO and LV_EPI meshes the app holds, both run with these settings
+ * (the base plane comes from the file's contours at them); answered with 'wall-file'.
+ */
+export interface WallExportRequest {
+  type: 'wall-export';
+  reqId: number;
+  fileName: string;
+  params: ParamValues;
+  lids: LidsMode;
+  options?: ReconOptions;
+  endo: WallSurfaceMesh;
+  epi: WallSurfaceMesh;
+  /** Endocardial vertices closer to the epicardium than this (mm) are moved under it first; null: off. */
+  minThicknessMm: number | null;
+  format: WallFormat;
+  /** Lines the file's header carries after the command line's comment (app version, settings). */
+  header: string[];
+}
 
 export interface LabTruthRequest {
   type: 'lab-truth';
@@ -92,7 +112,7 @@ export interface LabBatchRequest {
 
 export type LabRequest = LabTruthRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
 
-export type ToWorker = LoadRequest | GridRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | LabRequest;
+export type ToWorker = LoadRequest | GridRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | WallExportRequest | LabRequest;
 
 export interface ReadyMessage {
   type: 'ready';
@@ -141,6 +161,13 @@ export interface SessionJsonMessage {
   type: 'session-json';
   reqId: number;
   /** UTF-8 JSON. */
+  bytes: Uint8Array;
+}
+/** The LV wall built: its figures and the file in the format asked for. */
+export interface WallFileMessage {
+  type: 'wall-file';
+  reqId: number;
+  summary: WallSummary;
   bytes: Uint8Array;
 }
 export interface SchemaMessage {
@@ -199,4 +226,5 @@ export type FromWorker =
   | StartedMessage
   | ErrorMessage
   | SchemaMessage
-  | SessionJsonMessage;
+  | SessionJsonMessage
+  | WallFileMessage;

@@ -273,6 +273,12 @@ export interface RunResult {
   contours: ContourInfo[];
   contourPoints: Float32Array;
   positions: Float32Array;
+  /**
+   * The same vertices in full precision (the core's f64), for what the worker builds from a
+   * finished mesh again (the LV wall), so that it equals the command line's; absent from older
+   * cores and test doubles (`positions` then stands in).
+   */
+  positionsF64?: Float64Array;
   indices: Uint32Array;
   /** Per contour point, mm, same order as contourPoints. */
   pointDistances: Float32Array;
@@ -325,4 +331,55 @@ export interface RunResult {
   iterations_done?: number;
   /** The run stopped before `params.iterations` because the attractors were reached (stop threshold). */
   converged?: boolean;
+}
+
+/** The mesh formats the LV wall is exported in (the core writes them: `io::write_mesh_with`). */
+export type WallFormat = 'stl' | 'obj' | 'ply' | 'vtk';
+export const WALL_FORMATS: readonly WallFormat[] = ['stl', 'obj', 'ply', 'vtk'];
+
+/**
+ * The LV myocardium wall the worker built (the binding's `Session.wall`: the command line's
+ * `heartmesh myocardium` report figures, under its names). Volumes below the base plane.
+ */
+export interface WallSummary {
+  surfaces: { endo: string; epi: string };
+  format: string;
+  vertices: number;
+  triangles: number;
+  /** Enclosed volume of the wall, ml. */
+  wall_volume_ml: number;
+  /** `density_g_per_ml` (1.05) x the wall volume, g. */
+  myocardial_mass_g: number;
+  density_g_per_ml: number;
+  /** The endocardium closed by the base plane, ml. */
+  cavity_volume_ml: number;
+  /** Wall thickness over the vertices, mm (all 0 with `count` 0: none measured). */
+  thickness_mm: { mean: number; median: number; p95: number; min: number; max: number; count: number };
+  /** The three regions (id 1 epicardium, 2 endocardium, 3 base) and their triangles. */
+  regions: { id: number; name: string; triangles: number }[];
+  /** Pairs of triangles passing through each other (the endocardium through the epicardium). */
+  endo_epi_crossings: number;
+  /** Folds of the surfaces, the rim left out. */
+  folded_edges: number;
+  /** Endocardial vertices moved under the epicardium before the wall was built (vertices 0: none). */
+  endocardium_moved: WallMoved;
+  /** Epicardial vertices then moved out over the endocardium, where it still poked in between. */
+  epicardium_moved: WallMoved;
+  /** The base plane: a point on it and its normal (towards the base), mm. */
+  base_plane: { origin: [number, number, number]; normal: [number, number, number] };
+}
+
+/** Vertices moved to keep the wall at least `min_thickness_mm` thick (null: not asked for), the longest move in mm. */
+export interface WallMoved {
+  min_thickness_mm: number | null;
+  vertices: number;
+  max_mm: number;
+}
+
+/** One surface's finished mesh sent for the wall (copies: they are transferred). */
+export interface WallSurfaceMesh {
+  surface: string;
+  /** xyz per vertex, mm (full precision where the app has it). */
+  positions: Float64Array;
+  indices: Uint32Array;
 }

@@ -37,6 +37,8 @@ import {
   type StepFrame,
   type StepReport,
   type ToWorker,
+  type WallExportRequest,
+  type WallSummary,
 } from './protocol';
 import { LabWorker, type LabApi } from './labWorker';
 
@@ -53,6 +55,8 @@ export interface SessionApi {
   growth_note(): string | undefined;
   attractors_changed(): boolean;
   positions(): Float32Array;
+  /** The same vertices in full precision (absent: a test double; the result then has no `positionsF64`). */
+  positions_f64?(): Float64Array;
   indices(): Uint32Array;
   attractors(): Float32Array;
   contour_points(): Float32Array;
@@ -62,6 +66,25 @@ export interface SessionApi {
   set_aside_points(): Float32Array;
   result_json(): string;
   session_json(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string, appVersion: string): Uint8Array;
+  /**
+   * The LV myocardium wall of a loaded file from two finished meshes (the binding's `wall.rs`):
+   * `summary` is JSON (`WallSummary`), `bytes` the file in `format`; `minThicknessMm` undefined: off.
+   * Absent from test doubles and older cores ('wall-export' then fails with `wall_unavailable`).
+   */
+  wall?(
+    fileName: string,
+    paramsJson: string,
+    lids: string,
+    endoSurface: string,
+    endoPositions: Float64Array,
+    endoIndices: Uint32Array,
+    epiSurface: string,
+    epiPositions: Float64Array,
+    epiIndices: Uint32Array,
+    minThicknessMm: number | undefined,
+    format: string,
+    header: string,
+  ): { summary: string; bytes: Uint8Array };
 }
 
 export interface WasmApi {
@@ -136,6 +159,7 @@ type ResultJson = Omit<
   | 'runId'
   | 'contourPoints'
   | 'positions'
+  | 'positionsF64'
   | 'indices'
   | 'pointDistances'
   | 'vertexDistances'
@@ -182,7 +206,7 @@ export class WorkerCore {
     try {
       this.dispatch(msg);
     } catch (e) {
-      const file = msg.type === 'load' || msg.type === 'session-export' ? msg.fileName : msg.type === 'lab-truth' && msg.source.kind === 'file' ? msg.source.fileName : undefined;
+      const file = msg.type === 'load' || msg.type === 'session-export' || msg.type === 'wall-export' ? msg.fileName : msg.type === 'lab-truth' && msg.source.kind === 'file' ? msg.source.fileName : undefined;
       this.fail(e, idsOf(msg), file);
     }
   }
@@ -214,6 +238,9 @@ export class WorkerCore {
           reqId: msg.reqId,
           bytes: this.session.session_json(msg.fileName, msg.surface, paramsJson(msg.params, msg.options), msg.lids, msg.appVersion),
         });
+        break;
+      case 'wall-export':
+        this.wall(msg);
         break;
       case 'ack':
         this.ack(msg.runId, msg.seq);
@@ -255,6 +282,37 @@ export class WorkerCore {
     // A session saved before an option existed loads with that option at its default.
     if (file.session) file.session = { ...file.session, options: withDefaultOptions(file.session.options) };
     this.send({ type: 'loaded', reqId, file });
+  }
+
+  /**
+   * Builds the LV wall between a loaded file's two finished meshes (beside a run in progress, which
+   * it leaves alone) and sends its figures and file. A wall the core cannot build (the base plane
+   * cuts the epicardium twice, a mesh that is no closed surface) is the core's typed error: the
+   * request fails, the worker goes on.
+   */
+  private wall(msg: WallExportRequest): void {
+    const build = this.session.wall;
+    if (!build) {
+      this.send({ type: 'error', reqId: msg.reqId, error: { code: 'wall_unavailable', message: 'this core cannot build the LV wall', file: msg.fileName } });
+      return;
+    }
+    const out = build.call(
+      this.session,
+      msg.fileName,
+      paramsJson(msg.params, msg.options),
+      msg.lids,
+      msg.endo.surface,
+      msg.endo.positions,
+      msg.endo.indices,
+      msg.epi.surface,
+      msg.epi.positions,
+      msg.epi.indices,
+      msg.minThicknessMm ?? undefined,
+      msg.format,
+      msg.header.join('\n'),
+    );
+    const summary = JSON.parse(out.summary) as WallSummary;
+    this.send({ type: 'wall-file', reqId: msg.reqId, summary, bytes: out.bytes });
   }
 
   /** The label map's grid from its header (null: not a NIfTI-1 file, or a core without the call). */
@@ -378,6 +436,7 @@ export class WorkerCore {
       contours: small.contours as ContourInfo[],
       contourPoints: this.session.contour_points(),
       positions: this.session.positions(),
+      ...fullPrecision(this.session),
       indices: this.session.indices(),
       pointDistances: this.session.point_distances(),
       vertexDistances: this.session.vertex_distances(),
@@ -444,6 +503,7 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
     case 'lab-simulate':
     case 'lab-compare':
     case 'session-export':
+    case 'wall-export':
       return { reqId: msg.reqId };
     case 'run':
     case 'ack':
@@ -453,6 +513,12 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
     default:
       return assertNever(msg);
   }
+}
+
+/** The finished mesh's vertices in full precision, where the core gives them. */
+function fullPrecision(session: SessionApi): { positionsF64?: Float64Array } {
+  const p = session.positions_f64?.();
+  return p instanceof Float64Array ? { positionsF64: p } : {};
 }
 
 function safe<T>(f: () => T): T | undefined {

@@ -15,6 +15,7 @@ mod cmd_experiment;
 mod cmd_experiment_plot;
 mod cmd_info;
 mod cmd_leave_one_out;
+mod cmd_myocardium;
 mod cmd_reconstruct;
 mod cmd_segment;
 mod cmd_simulate;
@@ -32,13 +33,14 @@ use error::CliError;
 fn usage() -> String {
     format!(
         "heartmesh {} - surface meshes from cardiac MRI contours (Villard, Grau & Zacur 2018)\n\n\
-         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help | help COMMAND\n\n\
+         usage:\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  {}\n\n  heartmesh --version | --help | help COMMAND\n\n\
          exit status: 0 ok, 2 bad input or usage (an output that cannot be written or would\n\
          overwrite an input is found before any work), 1 reconstruction or writing failed",
         heartmesh_core::VERSION,
         cmd_reconstruct::USAGE,
         cmd_info::USAGE,
         cmd_volumes::USAGE,
+        cmd_myocardium::USAGE,
         cmd_convert::USAGE,
         cmd_simulate::USAGE,
         cmd_segment::USAGE,
@@ -55,6 +57,7 @@ fn command_usage(cmd: &str) -> Option<&'static str> {
         "reconstruct" => cmd_reconstruct::USAGE,
         "info" => cmd_info::USAGE,
         "volumes" => cmd_volumes::USAGE,
+        "myocardium" => cmd_myocardium::USAGE,
         "convert" => cmd_convert::USAGE,
         "simulate" => cmd_simulate::USAGE,
         "segment" => cmd_segment::USAGE,
@@ -95,6 +98,7 @@ fn run(argv: &[String]) -> Result<(), CliError> {
         "experiment" => cmd_experiment::run(rest)?,
         "align" => cmd_align::run(rest)?,
         "volumes" => cmd_volumes::run(rest)?,
+        "myocardium" => cmd_myocardium::run(rest)?,
         "info" => cmd_info::run(rest)?,
         // `heartmesh --iterations 5 reconstruct ...`: an option where the command goes.
         other if other.starts_with('-') => {

@@ -224,3 +224,26 @@ fn a_file_in_several_pieces_reads_whole() {
     }
     assert!(worst < 1e-4, "points moved {worst} mm");
 }
+
+/// VTK's legacy writer puts CELL_DATA (here region scalars and a string field, as a myocardium
+/// wall has them) before POINT_DATA: the point data after them is read, in ASCII and binary.
+#[test]
+fn legacy_files_with_cell_data_first_keep_their_point_data() {
+    for name in [
+        "tetra-cell-data-legacy-ascii.vtk",
+        "tetra-cell-data-legacy-binary.vtk",
+    ] {
+        let m = read_mesh(name, &fixture(name)).unwrap();
+        assert_eq!(m.mesh.triangles.len(), 4, "{name}");
+        let (array, values) = m
+            .point_data
+            .unwrap_or_else(|| panic!("{name}: no point data"));
+        assert_eq!(array, "distance", "{name}");
+        assert_eq!(values.len(), 4, "{name}");
+        let want = [0.0, -1.25, 1.0 / 3.0, 1e-9];
+        for (v, w) in values.iter().zip(want) {
+            // The ASCII file prints 11 significant digits.
+            assert!((v - w).abs() <= 1e-11, "{name}: {values:?}");
+        }
+    }
+}

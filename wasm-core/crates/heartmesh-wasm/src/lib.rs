@@ -13,6 +13,7 @@ mod errors;
 mod frames;
 mod lab;
 mod panic;
+mod wall;
 
 use std::collections::BTreeMap;
 

@@ -384,22 +384,94 @@ pub fn read_mesh(file_name: &str, bytes: &[u8]) -> Result<MeshData> {
     }
 }
 
+/// Named triangle groups of a mesh: `ids[t]` is triangle t's region, an index into `names`
+/// (written as the integer `ids[t] + 1`, so 0 never names a region in files).
+///
+/// Simulation tools take boundary conditions from such labels (which triangles are the
+/// endocardium, the epicardium, the base) and viewers colour by them. How each format carries
+/// them is told at [`write_mesh_with`].
+#[derive(Debug, Clone, Copy)]
+pub struct Regions<'a> {
+    /// Name of the cell-data array in PLY/VTK/VTP (e.g. "region").
+    pub array: &'a str,
+    /// One region per triangle, in the mesh's triangle order.
+    pub ids: &'a [u32],
+    /// One name per region, e.g. ["epicardium", "endocardium", "base"].
+    pub names: &'a [&'a str],
+}
+
+impl Regions<'_> {
+    /// The number written for triangle `t`: its id + 1. [`check_regions`] has made every id
+    /// smaller than the number of names, itself below `i32::MAX`, so the sum fits an `i32` (the
+    /// `int` of PLY and VTK); a triangle beyond `ids` (never, once checked) gets 0, "no region".
+    pub(crate) fn value(&self, t: usize) -> i32 {
+        self.ids
+            .get(t)
+            .and_then(|&id| i32::try_from(id).ok())
+            .map_or(0, |id| id.saturating_add(1))
+    }
+
+    /// The name of triangle `t`'s region ("" beyond the checked range, which never happens).
+    pub(crate) fn name_of(&self, t: usize) -> &str {
+        self.ids
+            .get(t)
+            .and_then(|&id| self.names.get(id as usize))
+            .copied()
+            .unwrap_or("")
+    }
+
+    /// The name of the per-triangle string array that spells each triangle's region out
+    /// (`region_name` for the array `region`), for VTK-based viewers.
+    pub(crate) fn names_array(&self) -> String {
+        format!("{}_name", self.array)
+    }
+}
+
 /// Serialises a mesh; `point_data` is one scalar per vertex (written where the format allows:
-/// PLY, VTK, VTP); `header_comment` goes into the file's header or comment lines.
+/// PLY, VTK, VTP); `header_comment` goes into the file's header or comment lines. The same as
+/// [`write_mesh_with`] without regions, byte for byte.
 pub fn write_mesh(
     mesh: &TriMesh,
     format: MeshFormat,
     point_data: Option<(&str, &[f64])>,
     header_comment: &str,
 ) -> Result<Vec<u8>> {
+    write_mesh_with(mesh, format, point_data, None, header_comment)
+}
+
+/// [`write_mesh`] with a region label per triangle, written as `id + 1` (see [`Regions`]):
+///
+/// - OBJ: a `g NAME` line before each run of consecutive triangles of one region (the triangle
+///   order is kept, so a region may come back in several runs).
+/// - PLY: a face property `int ARRAY` after `vertex_indices`, and one `comment ARRAY K NAME` line
+///   per region in the header.
+/// - VTK legacy: after the POINT_DATA block, `CELL_DATA` with `SCALARS ARRAY int 1` and a FIELD
+///   string array `ARRAY_name` holding each triangle's region name.
+/// - VTP: `<CellData Scalars="ARRAY">` (after `<PointData>`, as the VTK XML schema orders them)
+///   with an Int32 array and the String array `ARRAY_name`.
+/// - STL: the regions are dropped; the format has no place for them.
+///
+/// Errors ([`CoreError::Io`]) when `ids` is not one per triangle, an id names no region, or the
+/// array or a region name is empty or holds whitespace or control characters (they would break
+/// OBJ `g` lines and PLY/VTK tokens).
+pub fn write_mesh_with(
+    mesh: &TriMesh,
+    format: MeshFormat,
+    point_data: Option<(&str, &[f64])>,
+    regions: Option<&Regions>,
+    header_comment: &str,
+) -> Result<Vec<u8>> {
     check_mesh(mesh, point_data)?;
+    if let Some(r) = regions {
+        check_regions(mesh, r)?;
+    }
     Ok(match format {
-        MeshFormat::Obj => obj::write_obj(mesh, header_comment),
+        MeshFormat::Obj => obj::write_obj_with(mesh, regions, header_comment),
         MeshFormat::StlBinary => stl::write_stl_binary(mesh, header_comment),
         MeshFormat::StlAscii => stl::write_stl_ascii(mesh, header_comment),
-        MeshFormat::Ply => ply::write_ply(mesh, point_data, header_comment),
-        MeshFormat::Vtk => vtk::write_vtk(mesh, point_data, header_comment),
-        MeshFormat::Vtp => vtp::write_vtp(mesh, point_data, header_comment),
+        MeshFormat::Ply => ply::write_ply_with(mesh, point_data, regions, header_comment),
+        MeshFormat::Vtk => vtk::write_vtk_with(mesh, point_data, regions, header_comment),
+        MeshFormat::Vtp => vtp::write_vtp_with(mesh, point_data, regions, header_comment),
     })
 }
 
@@ -461,6 +533,55 @@ fn check_mesh(mesh: &TriMesh, point_data: Option<(&str, &[f64])>) -> Result<()> 
                 values.len()
             )));
         }
+    }
+    Ok(())
+}
+
+/// Refuses regions that would make a broken or misleading file: not one id per triangle, an id
+/// with no name, or a name that would split into several tokens (OBJ `g` lines, PLY comments
+/// and VTK keywords are whitespace-separated).
+fn check_regions(mesh: &TriMesh, regions: &Regions) -> Result<()> {
+    let (ids, names) = (regions.ids, regions.names);
+    if ids.len() != mesh.triangles.len() {
+        return Err(CoreError::Io(format!(
+            "regions {:?}: {} ids for {} triangles",
+            regions.array,
+            ids.len(),
+            mesh.triangles.len()
+        )));
+    }
+    if names.is_empty() || names.len() >= i32::MAX as usize {
+        return Err(CoreError::Io(format!(
+            "regions {:?}: {} names; between 1 and {} needed",
+            regions.array,
+            names.len(),
+            i32::MAX - 1
+        )));
+    }
+    if let Some((t, id)) = ids
+        .iter()
+        .enumerate()
+        .find(|(_, &id)| id as usize >= names.len())
+    {
+        return Err(CoreError::Io(format!(
+            "regions {:?}: triangle {t} has region {id}, but only {} names are given",
+            regions.array,
+            names.len()
+        )));
+    }
+    check_token("region array name", regions.array)?;
+    for name in names {
+        check_token("region name", name)?;
+    }
+    Ok(())
+}
+
+/// A name written as one token: not empty, no whitespace or control characters.
+fn check_token(what: &str, name: &str) -> Result<()> {
+    if name.is_empty() || name.chars().any(|c| c.is_whitespace() || c.is_control()) {
+        return Err(CoreError::Io(format!(
+            "{what} {name:?} must be non-empty, without whitespace or control characters"
+        )));
     }
     Ok(())
 }

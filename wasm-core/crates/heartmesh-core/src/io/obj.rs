@@ -2,7 +2,7 @@
 //! polygons fan-triangulated; everything else ignored) and writing.
 
 use super::text::{data_lines, decode, parse_coord, quote};
-use super::{fmt_point, header_lines, MeshData, MAX_MESH_ELEMENTS};
+use super::{fmt_point, header_lines, MeshData, Regions, MAX_MESH_ELEMENTS};
 use crate::error::{CoreError, Result};
 use crate::geometry::v3;
 use crate::mesh::TriMesh;
@@ -91,6 +91,18 @@ fn resolve_index(tok: &str, count: usize, line: usize) -> Result<u32> {
 
 /// Writes OBJ text: a `# heartmesh <version>` line, the comment, then `v` and `f` lines.
 pub fn write_obj(mesh: &TriMesh, header_comment: &str) -> Vec<u8> {
+    write_obj_with(mesh, None, header_comment)
+}
+
+/// [`write_obj`] with a `g NAME` line before each run of triangles of one region (checked by
+/// [`super::write_mesh_with`]): groups are how OBJ names parts of a mesh, and every OBJ reader
+/// (ours included) takes the faces whatever groups they are in. The triangles keep their order,
+/// so the vertex and face numbering is the same as without regions.
+pub(crate) fn write_obj_with(
+    mesh: &TriMesh,
+    regions: Option<&Regions>,
+    header_comment: &str,
+) -> Vec<u8> {
     let mut out = String::with_capacity(40 * mesh.positions.len() + 24 * mesh.triangles.len());
     for l in header_lines(header_comment) {
         out.push_str("# ");
@@ -105,10 +117,19 @@ pub fn write_obj(mesh: &TriMesh, header_comment: &str) -> Vec<u8> {
     for p in &mesh.positions {
         out.push_str(&format!("v {}\n", fmt_point(p, " ")));
     }
-    for t in &mesh.triangles {
+    for (k, t) in mesh.triangles.iter().enumerate() {
+        if let Some(name) = regions.and_then(|r| group_starts(r, k)) {
+            out.push_str(&format!("g {name}\n"));
+        }
         out.push_str(&format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
     }
     out.into_bytes()
+}
+
+/// The region name when triangle `t` starts a new run (the first triangle, or a region change).
+fn group_starts<'a>(regions: &'a Regions, t: usize) -> Option<&'a str> {
+    let changed = t == 0 || regions.ids.get(t) != regions.ids.get(t - 1);
+    changed.then(|| regions.name_of(t))
 }
 
 #[cfg(test)]

@@ -1,9 +1,10 @@
 //! PLY meshes (Turk 1994 "The PLY polygon file format"): ASCII and binary readers for any scalar
 //! and list property types, and a binary little-endian writer with an optional per-vertex float
-//! property (e.g. `distance`) that three.js' PLYLoader and ParaView show as a scalar.
+//! property (e.g. `distance`) that three.js' PLYLoader and ParaView show as a scalar, and an
+//! optional per-face `int` region label (the reader skips face properties it does not use).
 
 use super::text::{quote, word_end};
-use super::{header_lines, MeshData, MAX_MESH_ELEMENTS};
+use super::{header_lines, MeshData, Regions, MAX_MESH_ELEMENTS};
 use crate::error::{CoreError, Result};
 use crate::geometry::v3;
 use crate::mesh::TriMesh;
@@ -358,25 +359,23 @@ pub fn write_ply(
     point_data: Option<(&str, &[f64])>,
     header_comment: &str,
 ) -> Vec<u8> {
-    let mut h = String::from("ply\nformat binary_little_endian 1.0\n");
-    for l in header_lines(header_comment) {
-        let l: String = l.chars().filter(|c| !c.is_control()).collect();
-        h.push_str(&format!("comment {l}\n"));
-    }
-    h.push_str(&format!(
-        "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
-        mesh.positions.len()
-    ));
-    if let Some((name, _)) = point_data {
-        h.push_str(&format!("property float {}\n", property_name(name)));
-    }
-    h.push_str(&format!(
-        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
-        mesh.triangles.len()
-    ));
+    write_ply_with(mesh, point_data, None, header_comment)
+}
+
+/// [`write_ply`] with the regions (checked by [`super::write_mesh_with`]) as a face property
+/// `int ARRAY` after `vertex_indices`, holding `id + 1`: PLY readers (ours, trimesh, Open3D's
+/// tensor API, ParaView) keep face properties they do not know as per-face attributes. PLY has
+/// no string attributes, so the names go into `comment ARRAY K NAME` header lines.
+pub(crate) fn write_ply_with(
+    mesh: &TriMesh,
+    point_data: Option<(&str, &[f64])>,
+    regions: Option<&Regions>,
+    header_comment: &str,
+) -> Vec<u8> {
+    let mut out = ply_header(mesh, point_data, regions, header_comment).into_bytes();
     let per_vertex = 12 + if point_data.is_some() { 4 } else { 0 };
-    let mut out = h.into_bytes();
-    out.reserve(per_vertex * mesh.positions.len() + 13 * mesh.triangles.len());
+    let per_face = 13 + if regions.is_some() { 4 } else { 0 };
+    out.reserve(per_vertex * mesh.positions.len() + per_face * mesh.triangles.len());
     for (i, p) in mesh.positions.iter().enumerate() {
         for c in p.iter() {
             out.extend_from_slice(&(*c as f32).to_le_bytes());
@@ -386,13 +385,52 @@ pub fn write_ply(
             out.extend_from_slice(&(v as f32).to_le_bytes());
         }
     }
-    for t in &mesh.triangles {
+    for (k, t) in mesh.triangles.iter().enumerate() {
         out.push(3);
         for &i in t {
             out.extend_from_slice(&(i as i32).to_le_bytes());
         }
+        if let Some(r) = regions {
+            out.extend_from_slice(&r.value(k).to_le_bytes());
+        }
     }
     out
+}
+
+/// The header text of [`write_ply_with`], up to and including `end_header`.
+fn ply_header(
+    mesh: &TriMesh,
+    point_data: Option<(&str, &[f64])>,
+    regions: Option<&Regions>,
+    header_comment: &str,
+) -> String {
+    let mut h = String::from("ply\nformat binary_little_endian 1.0\n");
+    for l in header_lines(header_comment) {
+        let l: String = l.chars().filter(|c| !c.is_control()).collect();
+        h.push_str(&format!("comment {l}\n"));
+    }
+    let region_property = regions.map(|r| property_name(r.array));
+    if let (Some(r), Some(prop)) = (regions, &region_property) {
+        for (k, name) in r.names.iter().enumerate() {
+            h.push_str(&format!("comment {prop} {} {name}\n", k + 1));
+        }
+    }
+    h.push_str(&format!(
+        "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
+        mesh.positions.len()
+    ));
+    if let Some((name, _)) = point_data {
+        h.push_str(&format!("property float {}\n", property_name(name)));
+    }
+    h.push_str(&format!(
+        "element face {}\nproperty list uchar int vertex_indices\n",
+        mesh.triangles.len()
+    ));
+    if let Some(prop) = region_property {
+        h.push_str(&format!("property int {prop}\n"));
+    }
+    h.push_str("end_header\n");
+    h
 }
 
 /// A PLY property name: letters, digits and `_` only.

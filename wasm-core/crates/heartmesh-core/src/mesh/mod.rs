@@ -1,9 +1,12 @@
 //! Indexed triangle meshes: the one mesh type of the core, plus measures and validity checks.
 
+pub mod clip;
+pub mod inset;
 pub mod intersect;
 pub mod quality;
 pub mod shapes;
 pub mod topology;
+pub mod wall;
 
 use crate::geometry::Vec3;
 

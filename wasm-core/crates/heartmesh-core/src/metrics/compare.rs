@@ -80,7 +80,12 @@ pub fn compare(truth: &TriMesh, mesh: &TriMesh, clip: Option<&ClipPlane>) -> Res
 /// paper clips there): the normal is the long axis, pointing to the base. `params` selects the
 /// surface of multi-surface files.
 pub fn clip_plane_from_contours(set: &ContourSet, params: Params) -> Result<ClipPlane> {
-    let rec = Reconstruction::new(set, params)?;
+    basal_plane(&Reconstruction::new(set, params)?)
+}
+
+/// The most basal short-axis plane of a reconstruction: the normal is its long axis, pointing to
+/// the base.
+pub fn basal_plane(rec: &Reconstruction) -> Result<ClipPlane> {
     let axis = rec.long_axis();
     let top = rec
         .slice_heights()
@@ -88,6 +93,44 @@ pub fn clip_plane_from_contours(set: &ContourSet, params: Params) -> Result<Clip
         .fold(f64::NEG_INFINITY, f64::max);
     Plane::new(axis * top, axis)
         .ok_or_else(|| CoreError::Degenerate("no short-axis slice to clip at".into()))
+}
+
+/// The base of the wall between two surfaces of one heart (endo- and epicardium): the lower of
+/// their most basal short-axis planes, along the first's long axis, so that both surfaces stand
+/// on their own slices everywhere below it.
+pub fn common_basal_plane(first: &Reconstruction, second: &Reconstruction) -> Result<Plane> {
+    let a = basal_plane(first)?;
+    let b = basal_plane(second)?;
+    let (ha, hb) = (a.normal.dot(&a.origin), a.normal.dot(&b.origin));
+    Ok(if hb < ha {
+        Plane {
+            origin: a.normal * hb,
+            normal: a.normal,
+        }
+    } else {
+        a
+    })
+}
+
+/// [`common_basal_plane`] of two surfaces of a contour file (e.g. LV_ENDO and LV_EPI), from the
+/// contours alone: the slices and the long axis are fixed when a reconstruction is set up, so
+/// callers holding only the finished meshes (the app) get the plane the command line uses.
+pub fn common_basal_plane_of(
+    set: &ContourSet,
+    params: &Params,
+    first: &str,
+    second: &str,
+) -> Result<Plane> {
+    let setup = |surface: &str| {
+        Reconstruction::new(
+            set,
+            Params {
+                surface: Some(surface.to_string()),
+                ..params.clone()
+            },
+        )
+    };
+    common_basal_plane(&setup(first)?, &setup(second)?)
 }
 
 /// Distance statistics from the surface of `from` to the surface of `to`.

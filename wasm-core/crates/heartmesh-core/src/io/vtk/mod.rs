@@ -14,6 +14,7 @@ use crate::mesh::TriMesh;
 
 pub(crate) use write::write_lines;
 pub use write::write_vtk;
+pub(crate) use write::write_vtk_with;
 
 #[cfg(test)]
 mod tests;
@@ -154,6 +155,40 @@ impl Cursor<'_> {
                 break;
             }
         }
+    }
+
+    /// One string of a binary string array, as `vtkDataWriter` writes it: a big-endian length
+    /// whose two top bits say its size (`11`: 1 byte, `10`: 2, `01`: 4, `00`: 8 bytes, the rest
+    /// of it the length), then the bytes.
+    fn binary_string(&mut self) -> Result<String> {
+        let first = *self
+            .bytes
+            .get(self.pos)
+            .ok_or_else(|| self.err("file ends early in a string array"))?;
+        let size = match first >> 6 {
+            3 => 1,
+            2 => 2,
+            1 => 4,
+            _ => 8,
+        };
+        let head = self
+            .bytes
+            .get(self.pos..self.pos + size)
+            .ok_or_else(|| self.err("file ends early in a string array"))?;
+        let mask = if size == 8 {
+            u64::MAX
+        } else {
+            (1u64 << (8 * size - 2)) - 1
+        };
+        let len = head.iter().fold(0u64, |acc, &b| (acc << 8) | u64::from(b)) & mask;
+        let start = self.pos + size;
+        let end = usize::try_from(len)
+            .ok()
+            .and_then(|l| start.checked_add(l))
+            .filter(|&e| e <= self.bytes.len())
+            .ok_or_else(|| self.err("a string runs past the end of the file"))?;
+        self.pos = end;
+        Ok(String::from_utf8_lossy(&self.bytes[start..end]).into_owned())
     }
 
     /// The rest of the current line (without its `\r\n`), moving past it.
@@ -299,21 +334,35 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
             }
             "CELL_DATA" => {
                 // Labels are extras: a cell data layout this reader does not follow drops them,
-                // never the geometry.
+                // never the geometry. VTK's own writer puts CELL_DATA (scalars such as region
+                // labels, fields) before POINT_DATA, so every cell array is passed over to reach
+                // the point data after it.
                 let n = c.count("cell data count")?;
-                if !binary {
+                loop {
                     let save = c.pos;
-                    match read_cell_fields(&mut c, n) {
-                        Ok(arrays) => pd.cell_strings = arrays,
-                        Err(_) => c.pos = save,
-                    }
-                }
-                if c.word().map(str::to_ascii_uppercase).as_deref() == Some("POINT_DATA") {
-                    let n = c.count("point data count")?;
-                    if let Some(s) = read_point_scalars(&mut c, binary, n)? {
-                        if s.1.len() == pd.points.len() {
-                            pd.point_scalars = Some(s);
+                    let word = c.word().map(str::to_ascii_uppercase);
+                    c.pos = save;
+                    match word.as_deref() {
+                        Some("FIELD") => match read_cell_fields(&mut c, n, binary) {
+                            Ok(arrays) => pd.cell_strings.extend(arrays),
+                            Err(_) => break,
+                        },
+                        Some("SCALARS") => {
+                            if read_point_scalars(&mut c, binary, n).is_err() {
+                                break;
+                            }
                         }
+                        Some("POINT_DATA") => {
+                            c.word();
+                            let n = c.count("point data count")?;
+                            if let Some(s) = read_point_scalars(&mut c, binary, n)? {
+                                if s.1.len() == pd.points.len() {
+                                    pd.point_scalars = Some(s);
+                                }
+                            }
+                            break;
+                        }
+                        _ => break,
                     }
                 }
                 break;
@@ -387,7 +436,11 @@ fn skip_dataset_field(c: &mut Cursor, binary: bool) -> Result<()> {
         c.end_line();
         if ty == "string" || ty == "utf8_string" {
             if binary {
-                return Err(c.err("string arrays in a binary FIELD block are not supported"));
+                for _ in 0..total {
+                    c.binary_string()?;
+                }
+                skip_array_metadata(c);
+                continue;
             }
             for _ in 0..total {
                 if c.pos >= c.bytes.len() {
@@ -409,7 +462,11 @@ fn skip_dataset_field(c: &mut Cursor, binary: bool) -> Result<()> {
 
 /// The string arrays of the FIELD blocks that follow `CELL_DATA n` (ASCII files); numeric
 /// arrays are skipped. Strings are one per line, percent-encoded as VTK's own writer does.
-fn read_cell_fields(c: &mut Cursor, ncells: usize) -> Result<Vec<(String, Vec<String>)>> {
+fn read_cell_fields(
+    c: &mut Cursor,
+    ncells: usize,
+    binary: bool,
+) -> Result<Vec<(String, Vec<String>)>> {
     let mut out = Vec::new();
     loop {
         let save = c.pos;
@@ -424,22 +481,29 @@ fn read_cell_fields(c: &mut Cursor, ncells: usize) -> Result<Vec<(String, Vec<St
                 continue;
             };
             let total = a.values();
-            if a.ty == "string" {
+            if a.ty == "string" || a.ty == "utf8_string" {
                 c.end_line();
                 let mut v = Vec::with_capacity(total.min(c.bytes.len()));
                 for _ in 0..total {
                     if c.pos >= c.bytes.len() {
                         return Err(c.err("file ends early in a string array"));
                     }
-                    v.push(percent_decode(c.rest_of_line()));
+                    v.push(if binary {
+                        c.binary_string()?
+                    } else {
+                        percent_decode(c.rest_of_line())
+                    });
                 }
                 if a.components == 1 && a.tuples == ncells {
                     out.push((a.name, v));
                 }
             } else {
+                c.end_line();
+                c.binary = binary;
                 for _ in 0..total {
                     c.number(&a.ty)?;
                 }
+                c.binary = false;
             }
             skip_array_metadata(c);
         }
@@ -548,7 +612,8 @@ fn read_cells(c: &mut Cursor, binary: bool, npoints: usize) -> Result<Vec<Vec<u3
     Ok(cells)
 }
 
-/// The first `SCALARS name type [components]` array of POINT_DATA (first component).
+/// The first `SCALARS name type [components]` array of POINT_DATA (first component); also
+/// passes over a cell data SCALARS array (`n` cells).
 fn read_point_scalars(
     c: &mut Cursor,
     binary: bool,

@@ -1,9 +1,9 @@
-//! The VTK legacy writer: version 3.0 ASCII POLYDATA, triangles with point scalars (meshes) or
-//! lines with string cell labels (contours).
+//! The VTK legacy writer: version 3.0 ASCII POLYDATA, triangles with point scalars and optional
+//! region cell labels (meshes) or lines with string cell labels (contours).
 
 use super::{CONTOUR_ID_ARRAY, SURFACE_ARRAY};
 use crate::geometry::Vec3;
-use crate::io::{fmt_num, fmt_point, header_lines};
+use crate::io::{fmt_num, fmt_point, header_lines, Regions};
 use crate::mesh::TriMesh;
 
 /// VTK's string encoding in legacy files: `%XX` for '%', spaces, control and non-ASCII bytes.
@@ -91,6 +91,21 @@ pub fn write_vtk(
     point_data: Option<(&str, &[f64])>,
     header_comment: &str,
 ) -> Vec<u8> {
+    write_vtk_with(mesh, point_data, None, header_comment)
+}
+
+/// [`write_vtk`] with the regions (checked by [`crate::io::write_mesh_with`]) as CELL_DATA after
+/// the POINT_DATA block: `SCALARS ARRAY int 1` with `id + 1` per triangle, the cell scalars that
+/// ParaView colours and thresholds by, and a FIELD string array `ARRAY_name` with each
+/// triangle's region name, so the numbers explain themselves. The legacy format lets the two
+/// blocks come in either order (VTK reads both); this one keeps every byte before CELL_DATA as
+/// without regions, and our reader, which stops after POINT_DATA, reads the mesh as before.
+pub(crate) fn write_vtk_with(
+    mesh: &TriMesh,
+    point_data: Option<(&str, &[f64])>,
+    regions: Option<&Regions>,
+    header_comment: &str,
+) -> Vec<u8> {
     let title = title(header_comment);
     let mut out = format!(
         "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
@@ -108,18 +123,44 @@ pub fn write_vtk(
         out.push_str(&format!("3 {} {} {}\n", t[0], t[1], t[2]));
     }
     if let Some((name, values)) = point_data {
-        let name: String = name
-            .chars()
-            .map(|c| if c.is_ascii_graphic() { c } else { '_' })
-            .collect();
         out.push_str(&format!(
-            "POINT_DATA {}\nSCALARS {name} double 1\nLOOKUP_TABLE default\n",
-            values.len()
+            "POINT_DATA {}\nSCALARS {} double 1\nLOOKUP_TABLE default\n",
+            values.len(),
+            array_name(name)
         ));
         for v in values {
             out.push_str(&fmt_num(*v));
             out.push('\n');
         }
     }
+    if let Some(r) = regions {
+        push_region_cells(&mut out, r, mesh.triangles.len());
+    }
     out.into_bytes()
+}
+
+/// An array name as one legacy-file token: printable ASCII, anything else as `_`.
+fn array_name(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_ascii_graphic() { c } else { '_' })
+        .collect()
+}
+
+/// The CELL_DATA block of [`write_vtk_with`] for `n` triangles.
+fn push_region_cells(out: &mut String, regions: &Regions, n: usize) {
+    out.push_str(&format!(
+        "CELL_DATA {n}\nSCALARS {} int 1\nLOOKUP_TABLE default\n",
+        array_name(regions.array)
+    ));
+    for t in 0..n {
+        out.push_str(&format!("{}\n", regions.value(t)));
+    }
+    out.push_str(&format!(
+        "FIELD FieldData 1\n{} 1 {n} string\n",
+        array_name(&regions.names_array())
+    ));
+    for t in 0..n {
+        out.push_str(&percent_encode(regions.name_of(t)));
+        out.push('\n');
+    }
 }

@@ -1,5 +1,6 @@
 //! VTK XML PolyData (.vtp, "VTK File Formats", XML section): points, polygons, lines, the first
-//! point-data array and the cell-data string arrays that name our contours.
+//! point-data array and the cell-data string arrays that name our contours. Meshes may be written
+//! with region labels as cell data, which the reader passes over.
 //!
 //! Read as VTK and ParaView write it in every mode: ascii, inline base64 (`format="binary"`) and
 //! appended data (`format="appended"`, raw bytes, VTK's default, or base64), each uncompressed
@@ -20,7 +21,7 @@ use super::vtk::{
     contours_from_lines, mesh_from_cells, vertex_landmarks, LineLabels, CONTOUR_ID_ARRAY,
     SURFACE_ARRAY,
 };
-use super::{fmt_num, fmt_point, header_lines, MeshData, MAX_MESH_ELEMENTS};
+use super::{fmt_num, fmt_point, header_lines, MeshData, Regions, MAX_MESH_ELEMENTS};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
 use crate::geometry::{v3, Vec3};
@@ -513,6 +514,20 @@ pub fn write_vtp(
     point_data: Option<(&str, &[f64])>,
     header_comment: &str,
 ) -> Vec<u8> {
+    write_vtp_with(mesh, point_data, None, header_comment)
+}
+
+/// [`write_vtp`] with the regions (checked by [`super::write_mesh_with`]) as
+/// `<CellData Scalars="ARRAY">`: an Int32 array of `id + 1` per triangle (the active cell
+/// scalars ParaView colours and thresholds by) and the String array `ARRAY_name` with each
+/// triangle's region name, both ascii like the file's other arrays. The VTK XML schema orders a
+/// piece's sections PointData, CellData, Points, then the cells.
+pub(crate) fn write_vtp_with(
+    mesh: &TriMesh,
+    point_data: Option<(&str, &[f64])>,
+    regions: Option<&Regions>,
+    header_comment: &str,
+) -> Vec<u8> {
     let mut out = prologue(
         header_comment,
         mesh.positions.len(),
@@ -531,6 +546,9 @@ pub fn write_vtp(
         }
         out.push_str("</DataArray>\n</PointData>\n");
     }
+    if let Some(r) = regions {
+        push_region_cells(&mut out, r, mesh.triangles.len());
+    }
     out.push_str(
         "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
     );
@@ -547,6 +565,21 @@ pub fn write_vtp(
     }
     out.push_str("</DataArray>\n</Polys>\n</Piece>\n</PolyData>\n</VTKFile>\n");
     out.into_bytes()
+}
+
+/// The `<CellData>` section of [`write_vtp_with`] for `n` triangles.
+fn push_region_cells(out: &mut String, regions: &Regions, n: usize) {
+    let name = xml_escape(regions.array);
+    out.push_str(&format!(
+        "<CellData Scalars=\"{name}\">\n<DataArray type=\"Int32\" Name=\"{name}\" format=\"ascii\">\n"
+    ));
+    for t in 0..n {
+        out.push_str(&format!("{}\n", regions.value(t)));
+    }
+    out.push_str("</DataArray>\n");
+    let names: Vec<&str> = (0..n).map(|t| regions.name_of(t)).collect();
+    push_string_array(out, &xml_escape(&regions.names_array()), &names);
+    out.push_str("</CellData>\n");
 }
 
 /// Polylines as VTK XML PolyData, after `verts` (landmarks: the point of each one-point cell of

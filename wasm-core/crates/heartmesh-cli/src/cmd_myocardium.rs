@@ -1,0 +1,329 @@
+//! `heartmesh myocardium CONTOURS -o WALL`: the LV myocardium as one closed solid, for volume
+//! meshing, simulation and 3D printing. The two surfaces are reconstructed as `reconstruct` would
+//! (same parameters, same warnings), then cut at the base and joined (core `mesh::wall`).
+
+use std::time::Instant;
+
+use heartmesh_core::io::MeshFormat;
+use heartmesh_core::mesh::wall::{self, Wall};
+use heartmesh_core::metrics::compare::common_basal_plane;
+use heartmesh_core::pipeline::Reconstruction;
+use heartmesh_core::{ContourSet, CoreError, Params};
+use serde_json::{json, Value};
+
+use crate::cmd_convert::file_name;
+use crate::cmd_reconstruct::{apex_lid, classify, params_from, parse_with_params};
+use crate::contours;
+use crate::error::CliError;
+use crate::files;
+use crate::report;
+
+pub const USAGE: &str =
+    "heartmesh myocardium CONTOURS [VIEWS...] -o WALL.vtk [--report REPORT.json]
+    [--endo LV_ENDO] [--epi LV_EPI] [--min-thickness 1|off] [--frame N|LABEL]
+    [reconstruct's parameter options: --iterations ... --end-caps ... --align-slices ...]
+    [--ascii] [--quiet]
+  The LV myocardium as one closed solid (volume meshing with gmsh or TetGen, simulation, 3D
+  printing): the endocardium and the epicardium reconstructed at the same parameters, both cut
+  at the base, the plane across the long axis at the most basal short-axis slice both were
+  drawn on, and joined there by a flat ring. The solid faces outwards (the endocardium into
+  the cavity). Its triangles are labelled by region, 1 epicardium, 2 endocardium, 3 base:
+  cell data `region` in PLY, VTK and VTP, groups of those names in OBJ, none in STL; every
+  vertex carries the wall thickness (mm, to the other surface) as point data `thickness`.
+  Prints the wall volume, the myocardial mass below the base (1.05 g/ml) and the cavity volume
+  below the base; REPORT.json adds the base plane, the thickness, the regions and each
+  surface's reconstruct report (under surfaces). Where the endocardium passes through the
+  epicardium, or comes closer to it than --min-thickness MM (default 1; a wall thinner than the
+  reconstructions' error: a thinned apex, images drawn on different breath-holds), those
+  endocardial vertices are first moved that far under it, then any epicardial vertex still
+  that close out over it, so the solid stays valid; a note says how many moved and how far
+  (the report's endocardium_moved, epicardium_moved); --min-thickness off leaves the surfaces
+  as reconstructed (a warning then counts any crossings). The report's
+  quality.folded_edges leaves out the rim, where the base meets the walls at a right angle.
+  --endo/--epi: other surface names of the file (default LV_ENDO and LV_EPI).";
+
+/// Options of this command only that take a value.
+const VALUE_FLAGS: &[&str] = &["output", "report", "endo", "epi", "frame", "min-thickness"];
+
+/// The default of --min-thickness (mm): a wall this thin is under any reconstruction's error,
+/// and far under the thinnest real myocardium (2-3 mm at a thinned apex).
+const MIN_THICKNESS_MM: f64 = 1.0;
+
+/// --min-thickness: a depth in mm (0 to 10), or off.
+fn min_thickness(value: Option<&str>) -> Result<Option<f64>, CliError> {
+    match value {
+        None => Ok(Some(MIN_THICKNESS_MM)),
+        Some(v) if v.eq_ignore_ascii_case("off") => Ok(None),
+        Some(v) => match v.parse::<f64>() {
+            Ok(mm) if mm.is_finite() && (0.0..=10.0).contains(&mm) => Ok(Some(mm)),
+            _ => Err(CliError::usage(format!(
+                "--min-thickness {v}: give a thickness in mm from 0 to 10, or off"
+            ))),
+        },
+    }
+}
+
+/// Switches of this command only.
+const SWITCHES: &[&str] = &["quiet", "ascii"];
+
+/// One surface's finished run.
+struct Surface {
+    name: String,
+    rec: Reconstruction,
+    seconds: f64,
+    warnings: Vec<String>,
+}
+
+pub fn run(args: &[String]) -> Result<(), CliError> {
+    let p = parse_with_params(
+        args,
+        VALUE_FLAGS,
+        SWITCHES,
+        &[("-o", "output"), ("-q", "quiet")],
+    )?;
+    if p.positional.is_empty() {
+        return Err(CliError::usage(
+            "myocardium needs a contour file with LV endo- and epicardial contours",
+        ));
+    }
+    if p.value("surface").is_some() {
+        return Err(CliError::usage(
+            "myocardium takes --endo and --epi (the two surfaces of the wall), not --surface",
+        ));
+    }
+    let output = p
+        .value("output")
+        .ok_or_else(|| CliError::usage("myocardium needs -o WALL (e.g. -o wall.vtk)"))?;
+    let mut format = MeshFormat::from_path(output).ok_or_else(|| {
+        CliError::usage(format!(
+            "cannot tell the mesh format of {output} (use .obj .stl .ply .vtk or .vtp)"
+        ))
+    })?;
+    if p.switch("ascii") && format == MeshFormat::StlBinary {
+        format = MeshFormat::StlAscii;
+    }
+    let quiet = p.switch("quiet");
+    let min_thickness = min_thickness(p.value("min-thickness"))?;
+    let frame = contours::frame_flag(p.value("frame"))?;
+    params_from(&p, Params::default())?;
+    let report_path = p.value("report");
+    let mut named = vec![("-o", output)];
+    for path in [Some(output), report_path].into_iter().flatten() {
+        files::check_output(path)?;
+    }
+    named.extend(report_path.map(|r| ("--report", r)));
+    let inputs: Vec<&str> = p.positional.iter().map(String::as_str).collect();
+    files::check_distinct(&inputs, &named)?;
+
+    let (input, loaded) = contours::load_all(&p.positional, frame)?;
+    let params = params_from(&p, loaded.session_params.unwrap_or_default())?;
+    let set = loaded.set;
+    let endo_name = p.value("endo").unwrap_or("LV_ENDO");
+    let epi_name = p.value("epi").unwrap_or("LV_EPI");
+    if endo_name.eq_ignore_ascii_case(epi_name) {
+        return Err(CliError::usage(format!(
+            "--endo and --epi name the same surface ({endo_name})"
+        )));
+    }
+    let available = set.surfaces();
+    for wanted in [endo_name, epi_name] {
+        if !available.iter().any(|s| s.eq_ignore_ascii_case(wanted)) {
+            let listed = if available.is_empty() {
+                "its contours name no surface".to_string()
+            } else {
+                format!("its surfaces: {}", available.join(", "))
+            };
+            return Err(CliError::input(
+                input,
+                CoreError::parse(
+                    0,
+                    format!(
+                        "a myocardium needs {endo_name} and {epi_name} contours; the file has no \
+                         {wanted} ({listed})"
+                    ),
+                ),
+            ));
+        }
+    }
+
+    let started = Instant::now();
+    let endo = reconstruct(input, &set, &params, endo_name, p.value("lids"))?;
+    let epi = reconstruct(input, &set, &params, epi_name, p.value("lids"))?;
+    let base = common_basal_plane(&endo.rec, &epi.rec)
+        .map_err(|e| CliError::Failed(format!("{input}: no base plane: {e}")))?;
+    let wall = wall::build_wall(endo.rec.mesh(), epi.rec.mesh(), &base, min_thickness)
+        .map_err(|e| CliError::Failed(format!("{input}: the myocardium wall: {e}")))?;
+    let seconds = started.elapsed().as_secs_f64();
+
+    let comment = format!(
+        "LV myocardium wall of {} ({endo_name} + {epi_name}); units mm, the contour file's \
+         coordinates; region 1 epicardium, 2 endocardium, 3 base",
+        file_name(input)
+    );
+    let bytes = wall
+        .write(format, &comment)
+        .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
+    files::write(output, &bytes)?;
+    let rep = build_report(
+        &Context {
+            input,
+            input_format: loaded.format.name(),
+            output,
+            params: &params,
+            min_thickness,
+            seconds,
+        },
+        &wall,
+        &[&endo, &epi],
+    );
+    if let Some(path) = report_path {
+        let text = serde_json::to_string_pretty(&rep)
+            .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
+        files::write(path, format!("{text}\n").as_bytes())?;
+    }
+    if !quiet {
+        let mut said: Vec<String> = Vec::new();
+        for s in [&endo, &epi] {
+            for w in &s.warnings {
+                let line = contours::warning_line(input, w);
+                if !said.contains(&line) {
+                    eprintln!("{line}");
+                    said.push(line);
+                }
+            }
+        }
+        for (moved, what, how) in [
+            (wall.pushed, "endocardial", "under the epicardium"),
+            (wall.epi_pushed, "epicardial", "out over the endocardium"),
+        ] {
+            if moved.vertices == 0 {
+                continue;
+            }
+            let n = moved.vertices;
+            let (noun, verb) = if n == 1 {
+                ("vertex", "was")
+            } else {
+                ("vertices", "were")
+            };
+            eprintln!(
+                "heartmesh: note: {output}: {n} {what} {noun} {verb} moved up to {:.2} mm {how} \
+                 to keep the wall at least {} mm thick (--min-thickness off leaves the surfaces \
+                 as reconstructed)",
+                moved.max_mm,
+                min_thickness.unwrap_or(0.0)
+            );
+        }
+        if wall.self_intersections > 0 {
+            eprintln!(
+                "heartmesh: warning: {output}: the endocardium passes through the epicardium \
+                 ({} crossing triangle pairs): the wall is thinner there than the \
+                 reconstructions' error; volume meshers will refuse it",
+                wall.self_intersections
+            );
+        }
+        outln!("{}", summary(output, &wall));
+    }
+    Ok(())
+}
+
+/// Reconstructs one surface of the file, as `reconstruct --surface NAME` would.
+fn reconstruct(
+    input: &str,
+    set: &ContourSet,
+    params: &Params,
+    name: &str,
+    lids: Option<&str>,
+) -> Result<Surface, CliError> {
+    let mut params = params.clone();
+    params.surface = Some(name.to_string());
+    if lids == Some("apex") {
+        params.lids = apex_lid(set, Some(name)).ok_or_else(|| {
+            CliError::input(
+                input,
+                CoreError::parse(0, "--lids apex needs an APEX_POINT landmark in the file"),
+            )
+        })?;
+    }
+    let warnings = set.warnings_for(Some(name));
+    let fail = |e: CoreError| classify(input, e).with_hint(&warnings);
+    let started = Instant::now();
+    let mut rec = Reconstruction::new(set, params).map_err(fail)?;
+    rec.run().map_err(fail)?;
+    Ok(Surface {
+        name: name.to_string(),
+        rec,
+        seconds: started.elapsed().as_secs_f64(),
+        warnings,
+    })
+}
+
+/// What the report says besides the wall and the surfaces.
+struct Context<'a> {
+    input: &'a str,
+    input_format: &'a str,
+    output: &'a str,
+    params: &'a Params,
+    min_thickness: Option<f64>,
+    seconds: f64,
+}
+
+fn build_report(c: &Context, wall: &Wall, surfaces: &[&Surface]) -> Value {
+    let Context {
+        input,
+        input_format,
+        output,
+        params,
+        ..
+    } = *c;
+    let mut rep = report::mesh_facts(&wall.mesh);
+    if let Some(q) = rep.get_mut("quality").and_then(Value::as_object_mut) {
+        q.insert("folded_edges".into(), json!(wall.folded_edges_off_rim()));
+    }
+    let mut per_surface = serde_json::Map::new();
+    for s in surfaces {
+        let facts = report::Facts {
+            input: file_name(input),
+            input_format,
+            output: file_name(output),
+            params: &{
+                let mut p = params.clone();
+                p.surface = Some(s.name.clone());
+                p
+            },
+            seconds: s.seconds,
+            warnings: &s.warnings,
+            time_frames: None,
+        };
+        per_surface.insert(s.name.clone(), report::build(&s.rec, &facts));
+    }
+    for (key, value) in [
+        ("version", json!(heartmesh_core::VERSION)),
+        ("input", json!(file_name(input))),
+        ("input_format", json!(input_format)),
+        ("output", json!(file_name(output))),
+        ("seconds", json!(c.seconds)),
+        ("parameters", report::parameters(params)),
+        ("surfaces", Value::Object(per_surface)),
+    ] {
+        rep.insert(key.to_string(), value);
+    }
+    if let Ok(Value::Object(summary)) = serde_json::to_value(wall.summary(c.min_thickness)) {
+        rep.extend(summary);
+    }
+    Value::Object(rep)
+}
+
+/// The line printed after a successful run.
+fn summary(output: &str, wall: &Wall) -> String {
+    let s = wall.summary(None);
+    format!(
+        "{output}: LV myocardium wall, {} vertices, {} triangles, closed; wall {:.1} ml \
+         (mass {:.1} g below the base), cavity {:.1} ml below the base, thickness mean {:.1} mm",
+        wall.mesh.positions.len(),
+        wall.mesh.triangles.len(),
+        s.wall_volume_ml,
+        s.myocardial_mass_g,
+        s.cavity_volume_ml,
+        s.thickness_mm.mean
+    )
+}

@@ -1,0 +1,45 @@
+//! The myocardium wall (`mesh::wall::build_wall`, `heartmesh myocardium`): the cut, the base ring
+//! and the minimum-thickness check between two finished reconstructions, without the
+//! reconstructions themselves (each costs a `pipeline` benchmark). Biv-me patient 1 at
+//! end-diastole, LV_ENDO and LV_EPI at the defaults; data from ../shared/data beside the
+//! repository (not shipped).
+//!
+//! `cargo bench --bench wall`
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use heartmesh_core::mesh::wall::build_wall;
+use heartmesh_core::metrics::compare::common_basal_plane;
+use heartmesh_core::{io, Params, Reconstruction};
+use std::path::PathBuf;
+
+fn bench(c: &mut Criterion) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../../shared/data/contours/bivme-example-patient1/patient1-ED.csv");
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let set = io::read_contours("patient1-ED.csv", &bytes).expect("contours");
+    let run = |surface: &str| {
+        let params = Params {
+            surface: Some(surface.to_string()),
+            ..Params::default()
+        };
+        let mut r = Reconstruction::new(&set, params).expect("valid input");
+        r.run().expect("reconstruction");
+        r
+    };
+    let (endo, epi) = (run("LV_ENDO"), run("LV_EPI"));
+    let base = common_basal_plane(&endo, &epi).expect("base plane");
+    let mut g = c.benchmark_group("myocardium_wall");
+    g.sample_size(20);
+    for (name, depth) in [
+        ("patient1-ED", Some(1.0)),
+        ("patient1-ED-no-min-thickness", None),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter(|| build_wall(endo.mesh(), epi.mesh(), &base, depth).expect("wall"))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
