@@ -112,12 +112,43 @@ fn write_mesh(
         .point_data
         .as_ref()
         .map(|(n, v)| (n.as_str(), v.as_slice()));
-    let out = io::write_mesh(&data.mesh, format, pd, comment)
-        .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
+    // Region labels (a wall's epicardium / endocardium / base) go wherever the format has room.
+    let labels = data.regions.as_ref().map(|r| (r, r.for_writing()));
+    let names: Vec<&str> = labels
+        .as_ref()
+        .map(|(_, (_, n))| n.iter().map(String::as_str).collect())
+        .unwrap_or_default();
+    let regions = labels.as_ref().map(|(r, (ids, _))| io::Regions {
+        array: &r.array,
+        ids,
+        names: &names,
+    });
+    let stl = matches!(format, MeshFormat::StlBinary | MeshFormat::StlAscii);
+    let out = io::write_mesh_with(
+        &data.mesh,
+        format,
+        pd,
+        regions.as_ref().filter(|_| !stl),
+        comment,
+    )
+    .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
     files::write(output, &out)?;
+    if stl && !names.is_empty() && !quiet {
+        eprintln!(
+            "heartmesh: warning: {output}: STL has no place for region labels; the input's {} \
+             regions ({}) are left out (PLY, VTK, VTP and OBJ keep them)",
+            names.len(),
+            names.join(", ")
+        );
+    }
     if !quiet {
+        let regions = match names.len() {
+            0 => String::new(),
+            _ if stl => String::new(),
+            n => format!(", {n} regions ({})", names.join(", ")),
+        };
         outln!(
-            "{output}: {} vertices, {} triangles",
+            "{output}: {} vertices, {} triangles{regions}",
             data.mesh.positions.len(),
             data.mesh.triangles.len()
         );

@@ -9,6 +9,7 @@ use std::collections::BTreeMap;
 use heartmesh_core::contours::{set_aside, ContourKind};
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::io::{self, ContourFormat, FrameChoice};
+use heartmesh_core::mesh::quality::folded_edges_within;
 use heartmesh_core::{ContourSet, Params, Reconstruction};
 use serde_json::{json, Value};
 
@@ -28,8 +29,9 @@ pub const USAGE: &str = "heartmesh info CONTOURS [VIEWS...] [--frame N|LABEL] [-
   cross (with the advice to --align-slices when they do). A surface that cannot be
   reconstructed says why (exit status 0: the file was read). A mesh file: vertices, triangles,
   closed / manifold / oriented, volume (closed meshes) and area, range, edge lengths, triangle
-  quality, folded edges, self-intersections and its point data, under the keys of reconstruct's
-  report. --json prints the same as JSON.";
+  quality, folded edges, self-intersections, its point data and its triangles' region labels
+  (name, triangles, area each: `myocardium` writes epicardium / endocardium / base), under the
+  keys of reconstruct's report. --json prints the same as JSON.";
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
     let p = parse(
@@ -135,7 +137,30 @@ fn mesh_file(path: &str) -> Result<Option<Value>, CliError> {
         json!({ "name": name, "min": lo, "max": hi })
     });
     facts.insert("point_data".into(), json!(point_data));
+    facts.insert("regions".into(), regions_json(&data));
     Ok(Some(Value::Object(facts)))
+}
+
+/// The triangle labels the file carried (a wall's epicardium / endocardium / base): each
+/// region's label, name, triangles and area, and the folded edges within regions, since where
+/// two regions meet (the wall's rim) the crease is by design; null without labels.
+fn regions_json(data: &io::MeshData) -> Value {
+    let Some(r) = &data.regions else {
+        return Value::Null;
+    };
+    let list: Vec<Value> = r
+        .facts(&data.mesh)
+        .into_iter()
+        .map(|f| {
+            json!({ "label": f.label, "name": f.name, "triangles": f.triangles,
+                    "area_mm2": f.area_mm2 })
+        })
+        .collect();
+    json!({
+        "array": r.array,
+        "list": list,
+        "folded_edges_within": folded_edges_within(&data.mesh, &r.labels),
+    })
 }
 
 /// The lines `info MESH` prints.
@@ -200,6 +225,27 @@ fn mesh_text(m: &Value) -> String {
             "\n  point data {name}: {:.3} to {:.3}",
             f("/point_data/min"),
             f("/point_data/max")
+        );
+    }
+    if let Some(list) = m.pointer("/regions/list").and_then(Value::as_array) {
+        out += &format!(
+            "\n  regions ({}): {}; {} folded edges within them",
+            m.pointer("/regions/array")
+                .and_then(Value::as_str)
+                .unwrap_or(""),
+            list.iter()
+                .map(|r| format!(
+                    "{} {} ({}, {:.0} mm2)",
+                    r["label"],
+                    r["name"].as_str().unwrap_or(""),
+                    plural(r["triangles"].as_u64().unwrap_or(0), "triangle"),
+                    r["area_mm2"].as_f64().unwrap_or(0.0)
+                ))
+                .collect::<Vec<_>>()
+                .join(", "),
+            m.pointer("/regions/folded_edges_within")
+                .and_then(Value::as_u64)
+                .unwrap_or(0)
         );
     }
     out

@@ -4,9 +4,10 @@
 
 use std::time::Instant;
 
+use heartmesh_core::contours::biv_epi::{self, BIV_EPI};
 use heartmesh_core::io::MeshFormat;
 use heartmesh_core::mesh::wall::{self, Wall};
-use heartmesh_core::metrics::compare::common_basal_plane;
+use heartmesh_core::metrics::compare::common_basal_plane_all;
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{ContourSet, CoreError, Params};
 use serde_json::{json, Value};
@@ -20,7 +21,8 @@ use crate::report;
 
 pub const USAGE: &str =
     "heartmesh myocardium CONTOURS [VIEWS...] -o WALL.vtk [--report REPORT.json]
-    [--endo LV_ENDO] [--epi LV_EPI] [--min-thickness 1|off] [--frame N|LABEL]
+    [--endo LV_ENDO] [--epi LV_EPI] [--biventricular [--rv-endo RV_ENDO]]
+    [--min-thickness 1|off] [--frame N|LABEL]
     [reconstruct's parameter options: --iterations ... --end-caps ... --align-slices ...]
     [--ascii] [--quiet]
   The LV myocardium as one closed solid (volume meshing with gmsh or TetGen, simulation, 3D
@@ -40,10 +42,23 @@ pub const USAGE: &str =
   (the report's endocardium_moved, epicardium_moved); --min-thickness off leaves the surfaces
   as reconstructed (a warning then counts any crossings). The report's
   quality.folded_edges leaves out the rim, where the base meets the walls at a right angle.
-  --endo/--epi: other surface names of the file (default LV_ENDO and LV_EPI).";
+  --endo/--epi: other surface names of the file (default LV_ENDO and LV_EPI).
+  --biventricular: both ventricles' myocardium as one solid, the biventricular epicardium
+  (--epi, default BIV_EPI: the file's LV_EPI and RV_EPI curves joined, see reconstruct) minus
+  the LV cavity (--endo) and the RV cavity (--rv-endo, default RV_ENDO), cut at the most basal
+  short-axis slice all three were drawn on; regions 1 epicardium, 2 lv_endocardium,
+  3 rv_endocardium, 4 base; the cavities are also kept --min-thickness apart (the septum).";
 
 /// Options of this command only that take a value.
-const VALUE_FLAGS: &[&str] = &["output", "report", "endo", "epi", "frame", "min-thickness"];
+const VALUE_FLAGS: &[&str] = &[
+    "output",
+    "report",
+    "endo",
+    "epi",
+    "rv-endo",
+    "frame",
+    "min-thickness",
+];
 
 /// The default of --min-thickness (mm): a wall this thin is under any reconstruction's error,
 /// and far under the thinnest real myocardium (2-3 mm at a thinned apex).
@@ -64,7 +79,7 @@ fn min_thickness(value: Option<&str>) -> Result<Option<f64>, CliError> {
 }
 
 /// Switches of this command only.
-const SWITCHES: &[&str] = &["quiet", "ascii"];
+const SWITCHES: &[&str] = &["quiet", "ascii", "biventricular"];
 
 /// One surface's finished run.
 struct Surface {
@@ -118,15 +133,41 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let (input, loaded) = contours::load_all(&p.positional, frame)?;
     let params = params_from(&p, loaded.session_params.unwrap_or_default())?;
     let set = loaded.set;
-    let endo_name = p.value("endo").unwrap_or("LV_ENDO");
-    let epi_name = p.value("epi").unwrap_or("LV_EPI");
-    if endo_name.eq_ignore_ascii_case(epi_name) {
-        return Err(CliError::usage(format!(
-            "--endo and --epi name the same surface ({endo_name})"
-        )));
+    let biventricular = p.switch("biventricular");
+    if !biventricular && p.value("rv-endo").is_some() {
+        return Err(CliError::usage(
+            "--rv-endo names the RV cavity of a --biventricular wall; add --biventricular",
+        ));
     }
-    let available = set.surfaces();
-    for wanted in [endo_name, epi_name] {
+    let endo_name = p.value("endo").unwrap_or("LV_ENDO");
+    let epi_name = p
+        .value("epi")
+        .unwrap_or(if biventricular { BIV_EPI } else { "LV_EPI" });
+    let mut names = vec![("--endo", endo_name), ("--epi", epi_name)];
+    if biventricular {
+        names.push(("--rv-endo", p.value("rv-endo").unwrap_or("RV_ENDO")));
+    }
+    for (i, (flag, name)) in names.iter().enumerate() {
+        if let Some((other, _)) = names[..i]
+            .iter()
+            .find(|(_, n)| n.eq_ignore_ascii_case(name))
+        {
+            return Err(CliError::usage(format!(
+                "{other} and {flag} name the same surface ({name})"
+            )));
+        }
+    }
+    let mut available = set.surfaces();
+    if biv_epi::available(&set) {
+        available.push(BIV_EPI.to_string());
+    }
+    let what = if biventricular {
+        "a biventricular myocardium needs"
+    } else {
+        "a myocardium needs"
+    };
+    let needed: Vec<&str> = names.iter().map(|(_, n)| *n).collect();
+    for &wanted in &needed {
         if !available.iter().any(|s| s.eq_ignore_ascii_case(wanted)) {
             let listed = if available.is_empty() {
                 "its contours name no surface".to_string()
@@ -138,8 +179,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
                 CoreError::parse(
                     0,
                     format!(
-                        "a myocardium needs {endo_name} and {epi_name} contours; the file has no \
-                         {wanted} ({listed})"
+                        "{what} {} contours; the file has no {} ({listed})",
+                        and_list(&needed),
+                        biv_epi::requested_name(wanted)
                     ),
                 ),
             ));
@@ -147,18 +189,34 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
 
     let started = Instant::now();
-    let endo = reconstruct(input, &set, &params, endo_name, p.value("lids"))?;
-    let epi = reconstruct(input, &set, &params, epi_name, p.value("lids"))?;
-    let base = common_basal_plane(&endo.rec, &epi.rec)
+    let surfaces = needed
+        .iter()
+        .map(|name| reconstruct(input, &set, &params, name, p.value("lids")))
+        .collect::<Result<Vec<_>, _>>()?;
+    let recs: Vec<&Reconstruction> = surfaces.iter().map(|s| &s.rec).collect();
+    let base = common_basal_plane_all(&recs)
         .map_err(|e| CliError::Failed(format!("{input}: no base plane: {e}")))?;
-    let wall = wall::build_wall(endo.rec.mesh(), epi.rec.mesh(), &base, min_thickness)
-        .map_err(|e| CliError::Failed(format!("{input}: the myocardium wall: {e}")))?;
+    let mesh = |k: usize| surfaces[k].rec.mesh();
+    let wall = if biventricular {
+        wall::build_biventricular(mesh(0), mesh(2), mesh(1), &base, min_thickness)
+    } else {
+        wall::build_wall(mesh(0), mesh(1), &base, min_thickness)
+    }
+    .map_err(|e| CliError::Failed(format!("{input}: the myocardium wall: {e}")))?;
     let seconds = started.elapsed().as_secs_f64();
 
+    let labels: Vec<String> = wall
+        .region_names
+        .iter()
+        .enumerate()
+        .map(|(k, n)| format!("{} {n}", k + 1))
+        .collect();
     let comment = format!(
-        "LV myocardium wall of {} ({endo_name} + {epi_name}); units mm, the contour file's \
-         coordinates; region 1 epicardium, 2 endocardium, 3 base",
-        file_name(input)
+        "{} of {} ({}); units mm, the contour file's coordinates; region {}",
+        kind(&wall),
+        file_name(input),
+        needed.join(" + "),
+        labels.join(", ")
     );
     let bytes = wall
         .write(format, &comment)
@@ -174,7 +232,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             seconds,
         },
         &wall,
-        &[&endo, &epi],
+        &surfaces,
     );
     if let Some(path) = report_path {
         let text = serde_json::to_string_pretty(&rep)
@@ -183,7 +241,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
     if !quiet {
         let mut said: Vec<String> = Vec::new();
-        for s in [&endo, &epi] {
+        for s in &surfaces {
             for w in &s.warnings {
                 let line = contours::warning_line(input, w);
                 if !said.contains(&line) {
@@ -193,7 +251,15 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             }
         }
         for (moved, what, how) in [
-            (wall.pushed, "endocardial", "under the epicardium"),
+            (
+                wall.pushed,
+                "endocardial",
+                if biventricular {
+                    "under the epicardium and apart from the other cavity"
+                } else {
+                    "under the epicardium"
+                },
+            ),
             (wall.epi_pushed, "epicardial", "out over the endocardium"),
         ] {
             if moved.vertices == 0 {
@@ -213,12 +279,17 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
                 min_thickness.unwrap_or(0.0)
             );
         }
-        if wall.self_intersections > 0 {
+        for c in &wall.crossings {
+            let [a, b] = c.regions.map(|r| r.replace('_', " "));
+            let what = if a == b {
+                format!("the {a} passes through itself")
+            } else {
+                format!("the {b} passes through the {a}")
+            };
             eprintln!(
-                "heartmesh: warning: {output}: the endocardium passes through the epicardium \
-                 ({} crossing triangle pairs): the wall is thinner there than the \
-                 reconstructions' error; volume meshers will refuse it",
-                wall.self_intersections
+                "heartmesh: warning: {output}: {what} ({} crossing triangle pairs): the wall is \
+                 thinner there than the reconstructions' error; volume meshers will refuse it",
+                c.pairs
             );
         }
         outln!("{}", summary(output, &wall));
@@ -267,7 +338,7 @@ struct Context<'a> {
     seconds: f64,
 }
 
-fn build_report(c: &Context, wall: &Wall, surfaces: &[&Surface]) -> Value {
+fn build_report(c: &Context, wall: &Wall, surfaces: &[Surface]) -> Value {
     let Context {
         input,
         input_format,
@@ -316,14 +387,38 @@ fn build_report(c: &Context, wall: &Wall, surfaces: &[&Surface]) -> Value {
 /// The line printed after a successful run.
 fn summary(output: &str, wall: &Wall) -> String {
     let s = wall.summary(None);
+    let cavities = match s.cavities.as_slice() {
+        [lv, rv] => format!(
+            "cavities LV {:.1} ml, RV {:.1} ml below the base",
+            lv.volume_ml, rv.volume_ml
+        ),
+        _ => format!("cavity {:.1} ml below the base", s.cavity_volume_ml),
+    };
     format!(
-        "{output}: LV myocardium wall, {} vertices, {} triangles, closed; wall {:.1} ml \
-         (mass {:.1} g below the base), cavity {:.1} ml below the base, thickness mean {:.1} mm",
+        "{output}: {}, {} vertices, {} triangles, closed; wall {:.1} ml (mass {:.1} g below the \
+         base), {cavities}, thickness mean {:.1} mm",
+        kind(wall),
         wall.mesh.positions.len(),
         wall.mesh.triangles.len(),
         s.wall_volume_ml,
         s.myocardial_mass_g,
-        s.cavity_volume_ml,
         s.thickness_mm.mean
     )
+}
+
+/// "A and B", "A, B and C".
+fn and_list(names: &[&str]) -> String {
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => names.join(""),
+    }
+}
+
+/// What the solid is, in words.
+fn kind(wall: &Wall) -> &'static str {
+    if wall.cavities_ml.len() == 2 {
+        "biventricular myocardium"
+    } else {
+        "LV myocardium wall"
+    }
 }

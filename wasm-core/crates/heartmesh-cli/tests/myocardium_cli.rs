@@ -106,6 +106,93 @@ fn patient1_gives_a_closed_labelled_wall() {
     let info: Value = serde_json::from_str(&info).unwrap();
     assert_eq!(info["watertight"], true);
     assert!((info["volume_ml"].as_f64().unwrap() - vol).abs() < 1e-3);
+    // ... and its labels: the same regions, triangles and (within regions) folded edges as the
+    // report, the regions' areas adding up to the mesh's.
+    let back = info["regions"]["list"].as_array().unwrap();
+    let read: Vec<(i64, &str, u64)> = back
+        .iter()
+        .map(|r| {
+            let f = (
+                r["label"].as_i64(),
+                r["name"].as_str(),
+                r["triangles"].as_u64(),
+            );
+            (f.0.unwrap(), f.1.unwrap(), f.2.unwrap())
+        })
+        .collect();
+    assert_eq!(
+        read,
+        [
+            (1, "epicardium", counts[0]),
+            (2, "endocardium", counts[1]),
+            (3, "base", counts[2])
+        ]
+    );
+    let area: f64 = back.iter().map(|r| r["area_mm2"].as_f64().unwrap()).sum();
+    assert!(
+        (area - info["area_mm2"].as_f64().unwrap()).abs() < 1e-6,
+        "{area}"
+    );
+    assert_eq!(
+        info["regions"]["folded_edges_within"],
+        rep["quality"]["folded_edges"]
+    );
+}
+
+/// `convert` keeps the labels in every format that has a place for them and says that STL has
+/// none; `info` words them.
+#[test]
+fn convert_keeps_the_regions_and_info_lists_them() {
+    let dir = scratch("myocardium-convert");
+    let vtk = dir.join("wall.vtk");
+    let (rep, _) = wall(&patient1(), &vtk, &["--quiet"]);
+    let counts: Vec<u64> = rep["regions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["triangles"].as_u64().unwrap())
+        .collect();
+    let mut from = vtk;
+    for ext in ["ply", "obj", "vtp", "vtk"] {
+        let out = dir.join(format!("converted-{ext}.{ext}"));
+        let (code, said, err) =
+            run(bin().args(["convert", from.to_str().unwrap(), out.to_str().unwrap()]));
+        assert_eq!(code, 0, "{ext}: {err}");
+        assert!(
+            said.contains(", 3 regions (epicardium, endocardium, base)"),
+            "{ext}: {said}"
+        );
+        let (code, text, err) = run(bin().args(["info", out.to_str().unwrap()]));
+        assert_eq!(code, 0, "{ext}: {err}");
+        let line = text
+            .lines()
+            .find(|l| l.contains("regions ("))
+            .unwrap_or_else(|| panic!("{text}"));
+        for (k, name) in ["epicardium", "endocardium", "base"].iter().enumerate() {
+            let want = format!("{} {name} ({} triangles, ", k + 1, counts[k]);
+            assert!(line.contains(&want), "{ext}: {line} lacks {want}");
+        }
+        assert!(
+            line.ends_with(&format!(
+                "; {} folded edges within them",
+                rep["quality"]["folded_edges"]
+            )),
+            "{line}"
+        );
+        from = out;
+    }
+    let stl = dir.join("wall.stl");
+    let (code, said, err) =
+        run(bin().args(["convert", from.to_str().unwrap(), stl.to_str().unwrap()]));
+    assert_eq!(code, 0, "{err}");
+    assert!(!said.contains("regions"), "{said}");
+    assert!(
+        err.contains("STL has no place for region labels; the input's 3 regions (epicardium, endocardium, base) are left out"),
+        "{err}"
+    );
+    let (_, info, _) = run(bin().args(["info", stl.to_str().unwrap(), "--json"]));
+    let info: Value = serde_json::from_str(&info).unwrap();
+    assert_eq!(info["regions"], Value::Null);
 }
 
 #[test]
@@ -209,6 +296,40 @@ fn wrong_files_and_options_are_refused_with_one_line() {
             "no XX",
         ),
         (vec![patient1()], "needs -o"),
+        (
+            vec![
+                data("contours/bivme-test-patient2/patient2-ED.csv")
+                    .to_str()
+                    .unwrap()
+                    .into(),
+                "-o".into(),
+                out.into(),
+                "--biventricular".into(),
+            ],
+            "a biventricular myocardium needs LV_ENDO, BIV_EPI and RV_ENDO contours; the file \
+             has no BIV_EPI (the biventricular epicardium, made of LV_EPI and RV_EPI curves)",
+        ),
+        (
+            vec![
+                patient1(),
+                "-o".into(),
+                out.into(),
+                "--rv-endo".into(),
+                "RV_ENDO".into(),
+            ],
+            "add --biventricular",
+        ),
+        (
+            vec![
+                patient1(),
+                "-o".into(),
+                out.into(),
+                "--biventricular".into(),
+                "--rv-endo".into(),
+                "lv_endo".into(),
+            ],
+            "--endo and --rv-endo name the same surface (lv_endo)",
+        ),
     ];
     for (args, says) in cases {
         let (code, _, err) = run(bin().arg("myocardium").args(&args));
@@ -232,4 +353,76 @@ fn wrong_files_and_options_are_refused_with_one_line() {
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(err.contains("swapped"), "{err}");
     assert!(!std::path::Path::new(out).exists());
+}
+
+/// `--biventricular`: patient 1's whole myocardium (the biventricular epicardium less both
+/// cavities) as one closed solid with four regions, read back by `info`.
+#[test]
+fn biventricular_wall_has_four_regions_and_two_cavities() {
+    let dir = scratch("myocardium-biv");
+    let out = dir.join("biv.vtk");
+    let (rep, err) = wall(&patient1(), &out, &["--biventricular"]);
+    assert_eq!(rep["watertight"], true);
+    assert_eq!(rep["endo_epi_crossings"], 0, "{err}");
+    assert_eq!(rep["crossings"].as_array().unwrap().len(), 0);
+    let names: Vec<&str> = rep["regions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        ["epicardium", "lv_endocardium", "rv_endocardium", "base"]
+    );
+    let cavities = rep["cavities"].as_array().unwrap();
+    let ml = |k: usize| cavities[k]["volume_ml"].as_f64().unwrap();
+    assert_eq!(cavities[1]["region"], "rv_endocardium");
+    // Both cavities below the base: an adult's are 50-250 ml at end-diastole, each less than
+    // its closed surface (which runs on to the lid).
+    for (k, s) in [(0, "LV_ENDO"), (1, "RV_ENDO")] {
+        let closed = rep["surfaces"][s]["volume_ml"].as_f64().unwrap();
+        assert!(ml(k) > 50.0 && ml(k) < closed, "{s}: {} vs {closed}", ml(k));
+    }
+    assert!(rep["surfaces"]["BIV_EPI"]["watertight"] == true);
+    assert_eq!(rep["cavity_volume_ml"].as_f64().unwrap(), ml(0));
+    // More myocardium than the LV wall alone (the RV free wall), within adult bounds.
+    let (lv_rep, _) = wall(&patient1(), &dir.join("lv.vtk"), &["--quiet"]);
+    let (biv, lv) = (
+        rep["wall_volume_ml"].as_f64().unwrap(),
+        lv_rep["wall_volume_ml"].as_f64().unwrap(),
+    );
+    assert!(biv > 1.1 * lv && biv < 2.0 * lv, "{biv} vs {lv}");
+    // The summary line and the file's own labels.
+    let (code, said, err) = run(bin().args([
+        "myocardium",
+        &patient1(),
+        "-o",
+        out.to_str().unwrap(),
+        "--biventricular",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    assert!(said.contains("biventricular myocardium"), "{said}");
+    assert!(
+        said.contains(&format!("cavities LV {:.1} ml, RV {:.1} ml", ml(0), ml(1))),
+        "{said}"
+    );
+    let (_, info, _) = run(bin().args(["info", out.to_str().unwrap(), "--json"]));
+    let info: Value = serde_json::from_str(&info).unwrap();
+    let back: Vec<&str> = info["regions"]["list"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(back, names);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.lines()
+            .nth(1)
+            .unwrap()
+            .contains("biventricular myocardium of patient1-ED.csv (LV_ENDO + BIV_EPI + RV_ENDO)"),
+        "{}",
+        text.lines().nth(1).unwrap()
+    );
 }

@@ -1,14 +1,15 @@
 //! The myocardium wall (`mesh::wall::build_wall`, `heartmesh myocardium`): the cut, the base ring
 //! and the minimum-thickness check between two finished reconstructions, without the
 //! reconstructions themselves (each costs a `pipeline` benchmark). Biv-me patient 1 at
-//! end-diastole, LV_ENDO and LV_EPI at the defaults; data from ../shared/data beside the
-//! repository (not shipped).
+//! end-diastole, LV_ENDO and LV_EPI at the defaults, and the biventricular solid
+//! (`build_biventricular`: BIV_EPI less LV_ENDO and RV_ENDO); data from ../shared/data beside
+//! the repository (not shipped).
 //!
 //! `cargo bench --bench wall`
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use heartmesh_core::mesh::wall::build_wall;
-use heartmesh_core::metrics::compare::common_basal_plane;
+use heartmesh_core::mesh::wall::{build_biventricular, build_wall};
+use heartmesh_core::metrics::compare::{common_basal_plane, common_basal_plane_all};
 use heartmesh_core::{io, Params, Reconstruction};
 use std::path::PathBuf;
 
@@ -38,6 +39,14 @@ fn bench(c: &mut Criterion) {
             b.iter(|| build_wall(endo.mesh(), epi.mesh(), &base, depth).expect("wall"))
         });
     }
+    let (rv, biv) = (run("RV_ENDO"), run("BIV_EPI"));
+    let biv_base = common_basal_plane_all(&[&endo, &biv, &rv]).expect("base plane");
+    g.bench_function("patient1-ED-biventricular", |b| {
+        b.iter(|| {
+            build_biventricular(endo.mesh(), rv.mesh(), biv.mesh(), &biv_base, Some(1.0))
+                .expect("biventricular wall")
+        })
+    });
     g.finish();
 }
 

@@ -34,10 +34,24 @@ fn text(format: MeshFormat, point_data: bool) -> String {
     String::from_utf8(write(format, point_data)).unwrap()
 }
 
-/// Our reader gives back the mesh as written: 4 vertices, the same 4 triangles in order, and
-/// the point data when there was some.
+/// Our reader gives back the mesh as written: 4 vertices, the same 4 triangles in order, the
+/// point data when there was some, and the regions: labels 1 1 2 3 named a, b, c (OBJ keeps
+/// them as groups, numbered in order of appearance, which is the same here).
 fn assert_reads_back(name: &str, bytes: &[u8], point_data: bool) {
     let back = read_mesh(name, bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let r = back
+        .regions
+        .as_ref()
+        .unwrap_or_else(|| panic!("{name}: no regions read back"));
+    let array = if name.ends_with(".obj") {
+        "group"
+    } else {
+        "region"
+    };
+    assert_eq!(r.array, array, "{name}");
+    assert_eq!(r.labels, [1, 1, 2, 3], "{name}");
+    let names: Vec<(i32, &str)> = r.names.iter().map(|(l, n)| (*l, n.as_str())).collect();
+    assert_eq!(names, [(1, "a"), (2, "b"), (3, "c")], "{name}");
     let m = unit_tetrahedron();
     assert_eq!(back.mesh.positions.len(), 4, "{name}");
     assert_eq!(back.mesh.triangles, m.triangles, "{name}");
@@ -122,7 +136,8 @@ fn ply_has_an_int_face_property_and_the_names_in_comments() {
 
 #[test]
 fn ply_reader_skips_face_properties_in_ascii_too() {
-    let s = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+    let s = "ply\nformat ascii 1.0\ncomment region 1 a\ncomment region 2 b\n\
+             comment region 3 c\nelement vertex 4\nproperty float x\nproperty float y\n\
              property float z\nelement face 4\nproperty list uchar int vertex_indices\n\
              property int region\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n\
              3 0 2 1 1\n3 0 1 3 1\n3 0 3 2 2\n3 1 2 3 3\n";

@@ -235,6 +235,18 @@ fn legacy_files_with_cell_data_first_keep_their_point_data() {
     ] {
         let m = read_mesh(name, &fixture(name)).unwrap();
         assert_eq!(m.mesh.triangles.len(), 4, "{name}");
+        // The region labels and their names, as VTK wrote them (`region` 1 1 2 3 and the
+        // string array `region_name`).
+        let r = m
+            .regions
+            .as_ref()
+            .unwrap_or_else(|| panic!("{name}: no regions"));
+        assert_eq!(
+            (r.array.as_str(), r.labels.as_slice()),
+            ("region", &[1, 1, 2, 3][..])
+        );
+        let names: Vec<&str> = r.names.values().map(String::as_str).collect();
+        assert_eq!(names, ["epicardium", "endocardium", "base"], "{name}");
         let (array, values) = m
             .point_data
             .unwrap_or_else(|| panic!("{name}: no point data"));

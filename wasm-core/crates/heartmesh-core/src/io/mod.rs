@@ -17,6 +17,7 @@ pub mod mat;
 pub mod nifti;
 pub mod obj;
 pub mod ply;
+mod read_regions;
 pub mod rtstruct;
 pub mod session;
 #[cfg(test)]
@@ -31,6 +32,7 @@ pub use buffers::mesh_from_buffers;
 pub use builder::{polyline_from_run, MAX_POINTS};
 pub use frame_choice::FrameChoice;
 pub use frames::COMMAND_LINE_FRAME_ADVICE;
+pub use read_regions::{MeshRegions, RegionFacts};
 
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
@@ -46,6 +48,8 @@ pub struct MeshData {
     pub mesh: TriMesh,
     /// (name, one value per vertex), e.g. ("distance", ...).
     pub point_data: Option<(String, Vec<f64>)>,
+    /// A label per triangle when the file carried one (see [`MeshRegions`]; never from STL).
+    pub regions: Option<MeshRegions>,
 }
 
 /// Contour file formats the core reads.

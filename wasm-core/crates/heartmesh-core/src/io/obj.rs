@@ -2,7 +2,7 @@
 //! polygons fan-triangulated; everything else ignored) and writing.
 
 use super::text::{data_lines, decode, parse_coord, quote};
-use super::{fmt_point, header_lines, MeshData, Regions, MAX_MESH_ELEMENTS};
+use super::{fmt_point, header_lines, MeshData, MeshRegions, Regions, MAX_MESH_ELEMENTS};
 use crate::error::{CoreError, Result};
 use crate::geometry::v3;
 use crate::mesh::TriMesh;
@@ -12,6 +12,7 @@ pub fn read_obj(bytes: &[u8]) -> Result<MeshData> {
     let text = decode(bytes)?;
     let mut mesh = TriMesh::default();
     let mut corners: Vec<u32> = Vec::new();
+    let mut groups = Groups::default();
     for (line, row) in data_lines(&text) {
         let mut it = row.split_whitespace();
         match it.next() {
@@ -45,8 +46,11 @@ pub fn read_obj(bytes: &[u8]) -> Result<MeshData> {
                     }
                     mesh.triangles
                         .push([corners[0], corners[k], corners[k + 1]]);
+                    let g = groups.face();
+                    groups.labels.push(g);
                 }
             }
+            Some("g") => groups.enter(it.collect::<Vec<_>>().join(" ")),
             _ => {}
         }
     }
@@ -59,7 +63,52 @@ pub fn read_obj(bytes: &[u8]) -> Result<MeshData> {
     Ok(MeshData {
         mesh,
         point_data: None,
+        regions: groups.finish(),
     })
+}
+
+/// The `g` groups faces fall in, numbered 1, 2, ... in order of first appearance (what our
+/// writer's region numbers are); faces before any `g` line are in OBJ's `default` group.
+#[derive(Default)]
+struct Groups {
+    names: Vec<String>,
+    /// The group of the next face (0: none entered yet).
+    current: i32,
+    labels: Vec<i32>,
+    /// Whether any `g` line was seen: a file without one has no regions.
+    named: bool,
+}
+
+impl Groups {
+    fn enter(&mut self, name: String) {
+        self.named = true;
+        self.current = self.number(if name.is_empty() { "default" } else { &name });
+    }
+
+    fn number(&mut self, name: &str) -> i32 {
+        match self.names.iter().position(|n| n == name) {
+            Some(k) => k as i32 + 1,
+            None => {
+                self.names.push(name.to_string());
+                self.names.len() as i32
+            }
+        }
+    }
+
+    fn face(&mut self) -> i32 {
+        if self.current == 0 {
+            self.current = self.number("default");
+        }
+        self.current
+    }
+
+    fn finish(self) -> Option<MeshRegions> {
+        self.named.then(|| MeshRegions {
+            array: "group".into(),
+            labels: self.labels,
+            names: (1..).zip(self.names).collect(),
+        })
+    }
 }
 
 fn too_many(line: usize) -> CoreError {

@@ -4,7 +4,7 @@
 //! optional per-face `int` region label (the reader skips face properties it does not use).
 
 use super::text::{quote, word_end};
-use super::{header_lines, MeshData, Regions, MAX_MESH_ELEMENTS};
+use super::{header_lines, read_regions, MeshData, MeshRegions, Regions, MAX_MESH_ELEMENTS};
 use crate::error::{CoreError, Result};
 use crate::geometry::v3;
 use crate::mesh::TriMesh;
@@ -138,9 +138,20 @@ impl Body<'_> {
     }
 }
 
-/// Parses the header; returns the elements, the encoding, the byte offset of the body and the
-/// number of header lines.
-fn header(bytes: &[u8]) -> Result<(Vec<Element>, Encoding, usize, usize)> {
+/// A parsed PLY header.
+struct Header {
+    elements: Vec<Element>,
+    enc: Encoding,
+    /// Byte offset of the body.
+    body_start: usize,
+    /// Number of header lines (the body's first line is the next).
+    lines: usize,
+    /// The text of each `comment` line.
+    comments: Vec<String>,
+}
+
+/// Parses the header.
+fn header(bytes: &[u8]) -> Result<Header> {
     if !bytes.starts_with(b"ply") {
         return Err(CoreError::parse(1, "not a PLY file (no \"ply\" magic)"));
     }
@@ -158,6 +169,7 @@ fn header(bytes: &[u8]) -> Result<(Vec<Element>, Encoding, usize, usize)> {
     let mut elements: Vec<Element> = Vec::new();
     let mut enc = None;
     let mut nlines = 1;
+    let mut comments = Vec::new();
     for (i, raw) in text.split('\n').enumerate() {
         let line = i + 1;
         nlines = line + 1;
@@ -176,6 +188,7 @@ fn header(bytes: &[u8]) -> Result<(Vec<Element>, Encoding, usize, usize)> {
                     }
                 })
             }
+            Some("comment") => comments.push(it.collect::<Vec<_>>().join(" ")),
             Some("element") => {
                 let name = it.next().unwrap_or("").to_string();
                 let count: usize = it
@@ -226,19 +239,32 @@ fn header(bytes: &[u8]) -> Result<(Vec<Element>, Encoding, usize, usize)> {
         }
     }
     let enc = enc.ok_or_else(|| CoreError::parse(0, "PLY header has no format line"))?;
-    Ok((elements, enc, body_start, nlines))
+    Ok(Header {
+        elements,
+        enc,
+        body_start,
+        lines: nlines,
+        comments,
+    })
 }
 
 /// Reads a PLY mesh: `vertex` x/y/z (plus the first other scalar property as point data) and the
 /// first list property of `face` (fan-triangulated).
 pub fn read_ply(bytes: &[u8]) -> Result<MeshData> {
-    let (elements, enc, start, nlines) = header(bytes)?;
+    let Header {
+        elements,
+        enc,
+        body_start,
+        lines,
+        comments,
+    } = header(bytes)?;
     let mut body = Body {
         bytes,
-        pos: start,
+        pos: body_start,
         enc,
-        line: nlines,
+        line: lines,
     };
+    let mut face_labels = FaceLabels::default();
     let mut mesh = TriMesh::default();
     let mut data: Option<(String, Vec<f64>)> = None;
     let mut values: Vec<f64> = Vec::new();
@@ -271,6 +297,11 @@ pub fn read_ply(bytes: &[u8]) -> Result<MeshData> {
             .props
             .iter()
             .position(|p| matches!(p, Property::List(..)));
+        let label = if is_face {
+            face_labels.property(&el.props)
+        } else {
+            None
+        };
         for _ in 0..el.count {
             values.clear();
             for (k, p) in el.props.iter().enumerate() {
@@ -288,9 +319,13 @@ pub fn read_ply(bytes: &[u8]) -> Result<MeshData> {
                         values.push(f64::NAN);
                         if is_face && Some(k) == face_list {
                             push_polygon(&mut mesh, &list, &body)?;
+                            face_labels.corners.push(list.len());
                         }
                     }
                 }
+            }
+            if let Some(i) = label {
+                face_labels.values.push(values[i]);
             }
             if is_vertex {
                 let c = xyz.map(|i| values[i.unwrap_or(0)]);
@@ -321,10 +356,63 @@ pub fn read_ply(bytes: &[u8]) -> Result<MeshData> {
             format!("face {t:?} refers to a vertex beyond the {n} vertices"),
         ));
     }
+    let regions = face_labels.finish(&comments, mesh.triangles.len());
     Ok(MeshData {
         mesh,
         point_data: data,
+        regions,
     })
+}
+
+/// The first scalar property of the face element, read as a label per face (our writer's
+/// `int region`; other tools' `int label` or `uchar material`), with names from the header's
+/// `comment ARRAY K NAME` lines.
+#[derive(Default)]
+struct FaceLabels {
+    name: String,
+    values: Vec<f64>,
+    /// Corners of each face, to give its label to each of its fan triangles.
+    corners: Vec<usize>,
+}
+
+impl FaceLabels {
+    /// Index of the label among the face's properties, when it has a scalar one.
+    fn property(&mut self, props: &[Property]) -> Option<usize> {
+        let (i, name) = props.iter().enumerate().find_map(|(i, p)| match p {
+            Property::Scalar(_, n) => Some((i, n)),
+            Property::List(..) => None,
+        })?;
+        self.name = name.clone();
+        Some(i)
+    }
+
+    /// None when the face has no such property or a value is not a whole number.
+    fn finish(self, comments: &[String], triangles: usize) -> Option<MeshRegions> {
+        if self.name.is_empty() {
+            return None;
+        }
+        let labels: Vec<i32> = self
+            .values
+            .iter()
+            .map(|&v| read_regions::as_label(v))
+            .collect::<Option<_>>()?;
+        let names = comments
+            .iter()
+            .filter_map(|c| {
+                let mut it = c.splitn(3, ' ');
+                (it.next()? == self.name).then_some(())?;
+                let label = it.next()?.parse().ok()?;
+                Some((label, it.next()?.trim().to_string()))
+            })
+            .collect();
+        MeshRegions::from_polygons(
+            self.name,
+            &labels,
+            self.corners.into_iter(),
+            names,
+            triangles,
+        )
+    }
 }
 
 fn push_polygon(mesh: &mut TriMesh, list: &[f64], body: &Body) -> Result<()> {

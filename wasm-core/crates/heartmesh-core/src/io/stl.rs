@@ -78,6 +78,7 @@ impl Welder {
         Ok(MeshData {
             mesh: self.mesh,
             point_data: None,
+            regions: None,
         })
     }
 }

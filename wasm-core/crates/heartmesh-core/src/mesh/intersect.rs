@@ -22,10 +22,22 @@ fn orient(a: &Vec3, b: &Vec3, c: &Vec3, d: &Vec3) -> f64 {
     (b - a).cross(&(c - a)).dot(&(d - a))
 }
 
+/// Distances from a triangle's plane (mm, relative to the coordinates' size) below which a point
+/// counts as in the plane. Flat parts of a mesh (a wall's base ring) are coplanar only up to
+/// rounding: without this, rounding noise in the orientations of two neighbouring flat
+/// triangles read as a crossing.
+const IN_PLANE_REL: f64 = 1e-9;
+
 /// Whether the open segment p-q passes through the interior of triangle (a, b, c).
 fn segment_crosses(p: &Vec3, q: &Vec3, [a, b, c]: &[Vec3; 3]) -> bool {
     let (dp, dq) = (orient(a, b, c, p), orient(a, b, c, q));
     if dp == 0.0 || dq == 0.0 || (dp > 0.0) == (dq > 0.0) {
+        return false;
+    }
+    let area2 = (b - a).cross(&(c - a)).norm();
+    let size = [p, q, a, b, c].iter().map(|x| x.amax()).fold(1.0, f64::max);
+    let tol = IN_PLANE_REL * size * area2;
+    if dp.abs() <= tol || dq.abs() <= tol {
         return false;
     }
     let s = [orient(p, q, a, b), orient(p, q, b, c), orient(p, q, c, a)];
@@ -60,6 +72,12 @@ fn triangles_cross(mesh: &TriMesh, ti: &[u32; 3], tj: &[u32; 3], i: usize, j: us
 /// Number of pairs of triangles of `mesh` that pass through each other (0 for a surface that does
 /// not intersect itself). Triangles with an out-of-range index or a non-finite corner are skipped.
 pub fn self_intersections(mesh: &TriMesh) -> usize {
+    crossing_pairs(mesh).len()
+}
+
+/// The pairs of triangles (indices, the smaller first) that pass through each other: which parts
+/// of a labelled solid cross which ([`self_intersections`] counts them).
+pub fn crossing_pairs(mesh: &TriMesh) -> Vec<(usize, usize)> {
     let n_pos = mesh.positions.len();
     let mut boxes: Vec<(usize, Vec3, Vec3)> = Vec::with_capacity(mesh.triangles.len());
     for (t, tri) in mesh.triangles.iter().enumerate() {
@@ -75,7 +93,7 @@ pub fn self_intersections(mesh: &TriMesh) -> usize {
         boxes.push((t, lo, hi));
     }
     let Some(first) = boxes.first() else {
-        return 0;
+        return Vec::new();
     };
     let (lo, hi) = boxes
         .iter()
@@ -85,7 +103,7 @@ pub fn self_intersections(mesh: &TriMesh) -> usize {
         .max_by(|&a, &b| extent[a].total_cmp(&extent[b]))
         .unwrap_or(0);
     boxes.sort_by(|a, b| a.1[axis].total_cmp(&b.1[axis]).then(a.0.cmp(&b.0)));
-    let mut count = 0;
+    let mut pairs = Vec::new();
     for (k, (i, lo_i, hi_i)) in boxes.iter().enumerate() {
         for (j, lo_j, hi_j) in &boxes[k + 1..] {
             if lo_j[axis] > hi_i[axis] {
@@ -93,11 +111,11 @@ pub fn self_intersections(mesh: &TriMesh) -> usize {
             }
             let overlap = (0..3).all(|d| lo_j[d] <= hi_i[d] && lo_i[d] <= hi_j[d]);
             if overlap && triangles_cross(mesh, &mesh.triangles[*i], &mesh.triangles[*j], *i, *j) {
-                count += 1;
+                pairs.push((*i.min(j), *i.max(j)));
             }
         }
     }
-    count
+    pairs
 }
 
 #[cfg(test)]

@@ -40,11 +40,15 @@ impl TriMesh {
     /// Total surface area in mm^2.
     pub fn area(&self) -> f64 {
         (0..self.triangles.len())
-            .map(|t| {
-                let [a, b, c] = self.corners(t);
-                0.5 * (b - a).cross(&(c - a)).norm()
-            })
+            .map(|t| self.triangle_area(t))
             .sum()
+    }
+
+    /// Area of triangle `t` in mm^2.
+    #[inline]
+    pub fn triangle_area(&self, t: usize) -> f64 {
+        let [a, b, c] = self.corners(t);
+        0.5 * (b - a).cross(&(c - a)).norm()
     }
 
     /// Signed enclosed volume in mm^3 (divergence theorem); meaningful for closed meshes, positive

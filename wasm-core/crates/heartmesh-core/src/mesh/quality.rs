@@ -65,6 +65,23 @@ pub fn dihedral_deg(map: &EdgeMap, normals: &[Option<Vec3>], e: usize) -> Option
     }
 }
 
+/// Folded edges (as in [`MeshQuality::folded_edges`]) between triangles of one region, `labels`
+/// holding one per triangle: where regions meet (a wall's rim, where the base turns into the
+/// walls at about a right angle) the crease is by design, not a fold.
+pub fn folded_edges_within<L: PartialEq>(mesh: &TriMesh, labels: &[L]) -> usize {
+    let map = EdgeMap::new(mesh);
+    let normals = face_normals(mesh);
+    (0..map.edges.len())
+        .filter(|&e| {
+            let same_region = match map.half_edges_of(e) {
+                &[h, g] => labels.get(h as usize / 3) == labels.get(g as usize / 3),
+                _ => false,
+            };
+            same_region && dihedral_deg(&map, &normals, e).is_some_and(|a| a > FOLD_DEG)
+        })
+        .count()
+}
+
 /// Measures `mesh`; an empty mesh gives zeros.
 pub fn quality(mesh: &TriMesh) -> MeshQuality {
     let n_pos = mesh.positions.len();

@@ -14,9 +14,9 @@
 
 use super::clip::{clip_below, mean_edge_length, Clipped};
 use super::inset::{push, Keep, Pushed};
-use super::intersect::self_intersections;
-use super::quality::{dihedral_deg, face_normals, FOLD_DEG};
-use super::topology::{validity, EdgeMap};
+use super::intersect::crossing_pairs;
+use super::quality::folded_edges_within;
+use super::topology::validity;
 use super::TriMesh;
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
@@ -28,13 +28,16 @@ use crate::spatial::Bvh;
 use serde::Serialize;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-/// The regions of a wall's triangles, in the order of their ids.
+/// The regions of an LV wall's triangles, in the order of their ids.
 pub const REGION_NAMES: [&str; 3] = ["epicardium", "endocardium", "base"];
+/// The regions of a biventricular wall's triangles ([`build_biventricular`]): the outer surface,
+/// the two cavities' surfaces, the base, as biventricular simulation meshes label them.
+pub const BIV_REGION_NAMES: [&str; 4] = ["epicardium", "lv_endocardium", "rv_endocardium", "base"];
 /// Region id of epicardial triangles.
 pub const EPICARDIUM: u32 = 0;
-/// Region id of endocardial triangles.
+/// Region id of endocardial triangles (of the LV wall; in a biventricular wall the LV's).
 pub const ENDOCARDIUM: u32 = 1;
-/// Region id of the base ring's triangles.
+/// Region id of the base ring's triangles in an LV wall (the last region in any wall).
 pub const BASE: u32 = 2;
 
 /// Vertices this close to the base plane, as a share of the mean edge length, are moved onto it
@@ -46,8 +49,10 @@ const SNAP_SHARE: f64 = 0.2;
 pub struct Wall {
     /// Closed, manifold, outward-facing (the endocardium faces into the cavity).
     pub mesh: TriMesh,
-    /// Region id of every triangle ([`REGION_NAMES`]).
+    /// Region id of every triangle, an index into `region_names`.
     pub regions: Vec<u32>,
+    /// [`REGION_NAMES`] or [`BIV_REGION_NAMES`]: the epicardium, each cavity, the base.
+    pub region_names: &'static [&'static str],
     /// Wall thickness at every vertex (mm): the distance from an epicardial vertex to the
     /// endocardium and from an endocardial one to the epicardium (base-ring vertices are on
     /// one of the two).
@@ -56,18 +61,23 @@ pub struct Wall {
     pub base: Plane,
     /// Enclosed volume of the wall (ml).
     pub volume_ml: f64,
-    /// Volume of the cavity below the base (ml): the endocardium closed by the base plane.
+    /// Volume of the (first, the LV) cavity below the base (ml): its endocardium closed by the
+    /// base plane.
     pub cavity_ml: f64,
+    /// Every cavity's volume below the base (ml), in region order.
+    pub cavities_ml: Vec<f64>,
     /// Pairs of triangles that pass through each other: nonzero where the endocardium crosses
     /// the epicardium (a wall thinner than the reconstructions' error).
     pub self_intersections: usize,
+    /// Those pairs by the regions they join (each pair of regions once, in region order).
+    pub crossings: Vec<Crossing>,
     /// Endocardial vertices moved under the epicardium before the wall was built.
     pub pushed: Pushed,
     /// Epicardial vertices moved out over the endocardium (where it still poked in between
     /// the endocardium's moved vertices).
     pub epi_pushed: Pushed,
-    /// Triangles per region, in [`REGION_NAMES`] order.
-    pub triangles_per_region: [usize; 3],
+    /// Triangles per region, in `region_names` order.
+    pub triangles_per_region: Vec<usize>,
 }
 
 /// Builds the wall between the closed `endo` and `epi` meshes below `base` (its normal points to
@@ -82,37 +92,100 @@ pub fn build_wall(
     base: &Plane,
     min_thickness_mm: Option<f64>,
 ) -> Result<Wall> {
-    let mut endo_cut = cut(endo, base, "endocardium")?;
+    let cavities = [Cavity {
+        mesh: endo,
+        name: "endocardium",
+    }];
+    build_solid(epi, &cavities, &REGION_NAMES, base, min_thickness_mm)
+}
+
+/// The biventricular myocardium: the closed biventricular epicardium (`BIV_EPI`) minus the LV
+/// and RV cavities, below `base`, as one solid ([`BIV_REGION_NAMES`]). Everything
+/// [`build_wall`] does, and with `min_thickness_mm` the two cavities are also kept that far
+/// apart (the septum).
+pub fn build_biventricular(
+    lv_endo: &TriMesh,
+    rv_endo: &TriMesh,
+    biv_epi: &TriMesh,
+    base: &Plane,
+    min_thickness_mm: Option<f64>,
+) -> Result<Wall> {
+    let cavities = [
+        Cavity {
+            mesh: lv_endo,
+            name: "LV endocardium",
+        },
+        Cavity {
+            mesh: rv_endo,
+            name: "RV endocardium",
+        },
+    ];
+    build_solid(
+        biv_epi,
+        &cavities,
+        &BIV_REGION_NAMES,
+        base,
+        min_thickness_mm,
+    )
+}
+
+/// One cavity of a wall: its closed surface and its name in messages.
+struct Cavity<'a> {
+    mesh: &'a TriMesh,
+    name: &'a str,
+}
+
+/// The solid between `epi` and the `cavities` inside it, below `base`; `names` holds the
+/// epicardium's region, one per cavity, then the base's.
+fn build_solid(
+    epi: &TriMesh,
+    cavities: &[Cavity],
+    names: &'static [&'static str],
+    base: &Plane,
+    min_thickness_mm: Option<f64>,
+) -> Result<Wall> {
     let mut epi_cut = cut(epi, base, "epicardium")?;
+    let mut cuts = cavities
+        .iter()
+        .map(|c| cut(c.mesh, base, c.name))
+        .collect::<Result<Vec<_>>>()?;
     // Checked before any vertex moves: pushing a whole surface through the other would hide it.
-    if closed_by_plane_ml(&endo_cut.mesh, base) >= closed_by_plane_ml(&epi_cut.mesh, base) {
-        return Err(CoreError::Degenerate(
-            "below the base the endocardium encloses at least as much as the epicardium: are the \
-             two surfaces' names swapped?"
-                .into(),
-        ));
+    let epi_ml = closed_by_plane_ml(&epi_cut.mesh, base);
+    for (c, cavity) in cuts.iter().zip(cavities) {
+        if closed_by_plane_ml(&c.mesh, base) >= epi_ml {
+            return Err(CoreError::Degenerate(format!(
+                "below the base the {} encloses at least as much as the epicardium: are the \
+                 surfaces' names swapped?",
+                cavity.name
+            )));
+        }
     }
     let (pushed, epi_pushed) = match min_thickness_mm {
-        Some(depth) => separate(&mut endo_cut, &mut epi_cut, base, depth),
+        Some(depth) => separate(&mut cuts, &mut epi_cut, base, depth),
         None => (Pushed::default(), Pushed::default()),
     };
-    let (outer, inner) = (&epi_cut.loops[0], &endo_cut.loops[0]);
 
-    let nv_epi = epi_cut.mesh.positions.len() as u32;
     let mut positions = epi_cut.mesh.positions.clone();
-    positions.extend_from_slice(&endo_cut.mesh.positions);
     let mut triangles: Vec<[u32; 3]> = epi_cut.mesh.triangles.clone();
     let mut regions = vec![EPICARDIUM; triangles.len()];
-    for t in &endo_cut.mesh.triangles {
-        // Reversed: the endocardium faces into the cavity, out of the wall.
-        triangles.push([t[0] + nv_epi, t[2] + nv_epi, t[1] + nv_epi]);
-        regions.push(ENDOCARDIUM);
+    // Where each surface's vertices start in the solid: epicardium, then each cavity.
+    let mut starts = vec![0usize];
+    let mut loops = vec![epi_cut.loops[0].clone()];
+    for (k, c) in cuts.iter().enumerate() {
+        let first = positions.len() as u32;
+        starts.push(positions.len());
+        positions.extend_from_slice(&c.mesh.positions);
+        for t in &c.mesh.triangles {
+            // Reversed: an endocardium faces into its cavity, out of the wall.
+            triangles.push([t[0] + first, t[2] + first, t[1] + first]);
+            regions.push(k as u32 + 1);
+        }
+        loops.push(c.loops[0].iter().map(|&v| v + first).collect());
     }
-    let ring_outer: Vec<u32> = outer.clone();
-    let ring_inner: Vec<u32> = inner.iter().map(|&v| v + nv_epi).collect();
-    for t in ring(&positions, &ring_outer, &ring_inner, base)? {
+    let base_region = cuts.len() as u32 + 1;
+    for t in ring(&positions, &loops, cavities, base)? {
         triangles.push(t);
-        regions.push(BASE);
+        regions.push(base_region);
     }
     let mesh = TriMesh::new(positions, triangles);
     let v = validity(&mesh);
@@ -129,16 +202,39 @@ pub fn build_wall(
              inside the epicardium?"
         )));
     }
-    let thickness = thickness(&mesh, nv_epi as usize, &endo_cut.mesh, &epi_cut.mesh);
-    let mut triangles_per_region = [0usize; 3];
+    let surfaces: Vec<&TriMesh> = std::iter::once(&epi_cut.mesh)
+        .chain(cuts.iter().map(|c| &c.mesh))
+        .collect();
+    let thickness = thickness(&mesh, &starts, &surfaces);
+    let mut triangles_per_region = vec![0usize; names.len()];
     for &r in &regions {
         triangles_per_region[r as usize] += 1;
     }
+    let cavities_ml: Vec<f64> = cuts
+        .iter()
+        .map(|c| closed_by_plane_ml(&c.mesh, base))
+        .collect();
+    let pairs = crossing_pairs(&mesh);
+    let mut by_regions: std::collections::BTreeMap<(u32, u32), usize> = Default::default();
+    for (a, b) in &pairs {
+        let (ra, rb) = (regions[*a], regions[*b]);
+        *by_regions.entry((ra.min(rb), ra.max(rb))).or_default() += 1;
+    }
+    let crossings = by_regions
+        .into_iter()
+        .map(|((a, b), pairs)| Crossing {
+            regions: [names[a as usize], names[b as usize]],
+            pairs,
+        })
+        .collect();
     Ok(Wall {
-        self_intersections: self_intersections(&mesh),
-        cavity_ml: closed_by_plane_ml(&endo_cut.mesh, base),
+        self_intersections: pairs.len(),
+        crossings,
+        cavity_ml: cavities_ml[0],
+        cavities_ml,
         mesh,
         regions,
+        region_names: names,
         thickness,
         base: *base,
         volume_ml,
@@ -159,7 +255,14 @@ pub struct WallSummary {
     /// Over the vertices (mm).
     pub thickness_mm: Stats,
     pub regions: Vec<RegionCount>,
+    /// Each cavity below the base (one for an LV wall; the LV's and the RV's for a
+    /// biventricular one).
+    pub cavities: Vec<CavityVolume>,
+    /// Pairs of triangles passing through each other, all regions together (the name of the
+    /// LV wall's only case).
     pub endo_epi_crossings: usize,
+    /// The same by pair of regions.
+    pub crossings: Vec<Crossing>,
     pub endocardium_moved: Moved,
     pub epicardium_moved: Moved,
 }
@@ -179,6 +282,20 @@ pub struct RegionCount {
     pub triangles: usize,
 }
 
+/// Triangles of two regions (or of one, folded through itself) that pass through each other.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Crossing {
+    pub regions: [&'static str; 2],
+    pub pairs: usize,
+}
+
+/// A cavity's volume below the base, by its region's name.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CavityVolume {
+    pub region: &'static str,
+    pub volume_ml: f64,
+}
+
 /// Vertices moved to keep the minimum thickness (none asked for: `min_thickness_mm` null).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Moved {
@@ -194,7 +311,7 @@ impl Wall {
         let regions = Regions {
             array: "region",
             ids: &self.regions,
-            names: &REGION_NAMES,
+            names: self.region_names,
         };
         write_mesh_with(
             &self.mesh,
@@ -229,16 +346,26 @@ impl Wall {
                 normal: v(self.base.normal),
             },
             thickness_mm: stats(&finite),
-            regions: REGION_NAMES
+            regions: self
+                .region_names
                 .iter()
+                .zip(&self.triangles_per_region)
                 .enumerate()
-                .map(|(i, &name)| RegionCount {
+                .map(|(i, (&name, &triangles))| RegionCount {
                     id: i + 1,
                     name,
-                    triangles: self.triangles_per_region[i],
+                    triangles,
                 })
                 .collect(),
+            cavities: self
+                .region_names
+                .iter()
+                .skip(1)
+                .zip(&self.cavities_ml)
+                .map(|(&region, &volume_ml)| CavityVolume { region, volume_ml })
+                .collect(),
             endo_epi_crossings: self.self_intersections,
+            crossings: self.crossings.clone(),
             endocardium_moved: moved(self.pushed),
             epicardium_moved: moved(self.epi_pushed),
         }
@@ -248,29 +375,24 @@ impl Wall {
     /// a right angle (folds of a surface); the rim, where the base meets the walls at about a
     /// right angle by design, is left out.
     pub fn folded_edges_off_rim(&self) -> usize {
-        let map = EdgeMap::new(&self.mesh);
-        let normals = face_normals(&self.mesh);
-        (0..map.edges.len())
-            .filter(|&e| {
-                let same_region = match map.half_edges_of(e) {
-                    &[h, g] => self.regions[h as usize / 3] == self.regions[g as usize / 3],
-                    _ => false,
-                };
-                same_region && dihedral_deg(&map, &normals, e).is_some_and(|a| a > FOLD_DEG)
-            })
-            .count()
+        folded_edges_within(&self.mesh, &self.regions)
     }
 }
 
 /// Rounds of [`separate`]: a wall needing more is not a wall the contours describe.
 const SEPARATION_ROUNDS: usize = 3;
 
-/// Moves the endocardium under the epicardium by `depth` mm ([`push`]), then the epicardium out
-/// over the endocardium where the latter's triangles still span across it (a coarse endocardial
-/// triangle over a finer epicardial bump), until neither moves or after
-/// [`SEPARATION_ROUNDS`]. Outline vertices stay in the base plane. Returns the endocardium's
-/// and the epicardium's moves.
-fn separate(endo: &mut Clipped, epi: &mut Clipped, base: &Plane, depth: f64) -> (Pushed, Pushed) {
+/// Moves each endocardium under the epicardium by `depth` mm ([`push`]) and out of the other
+/// cavities by as much (the septum between two), then the epicardium out over the endocardia
+/// where their triangles still span across it (a coarse endocardial triangle over a finer
+/// epicardial bump), until nothing moves or after [`SEPARATION_ROUNDS`]. Outline vertices stay
+/// in the base plane. Returns the endocardia's moves (together) and the epicardium's.
+fn separate(
+    cavities: &mut [Clipped],
+    epi: &mut Clipped,
+    base: &Plane,
+    depth: f64,
+) -> (Pushed, Pushed) {
     let mask = |c: &Clipped| {
         let mut m = vec![false; c.mesh.positions.len()];
         for &v in &c.loops[0] {
@@ -278,33 +400,112 @@ fn separate(endo: &mut Clipped, epi: &mut Clipped, base: &Plane, depth: f64) -> 
         }
         m
     };
-    let (endo_mask, epi_mask) = (mask(endo), mask(epi));
-    let (endo_before, epi_before) = (endo.mesh.positions.clone(), epi.mesh.positions.clone());
+    let masks: Vec<Vec<bool>> = cavities.iter().map(mask).collect();
+    let epi_mask = mask(epi);
+    let before: Vec<Vec<Vec3>> = cavities.iter().map(|c| c.mesh.positions.clone()).collect();
+    let epi_before = epi.mesh.positions.clone();
     for _ in 0..SEPARATION_ROUNDS {
-        let a = push(
-            &mut endo.mesh,
-            &epi.mesh,
-            &capped(epi, base),
-            depth,
-            Keep::Inside,
-            Some((base, &endo_mask)),
-        );
-        let b = push(
-            &mut epi.mesh,
-            &endo.mesh,
-            &capped(endo, base),
-            depth,
-            Keep::Outside,
-            Some((base, &epi_mask)),
-        );
-        if a.vertices + b.vertices == 0 {
+        let mut moved = 0;
+        for k in 0..cavities.len() {
+            let epi_closed = capped(epi, base);
+            let p = &mut cavities[k].mesh;
+            moved += push(
+                p,
+                &epi.mesh,
+                &epi_closed,
+                depth,
+                Keep::Inside,
+                Some((base, &masks[k])),
+            )
+            .vertices;
+            for j in (0..cavities.len()).filter(|&j| j != k) {
+                let other = cavities[j].mesh.clone();
+                let other_closed = capped(&cavities[j], base);
+                let p = &mut cavities[k].mesh;
+                moved += push(
+                    p,
+                    &other,
+                    &other_closed,
+                    depth,
+                    Keep::Outside,
+                    Some((base, &masks[k])),
+                )
+                .vertices;
+            }
+        }
+        for c in cavities.iter() {
+            moved += push(
+                &mut epi.mesh,
+                &c.mesh,
+                &capped(c, base),
+                depth,
+                Keep::Outside,
+                Some((base, &epi_mask)),
+            )
+            .vertices;
+        }
+        if moved == 0 {
             break;
         }
     }
-    (
-        net_moves(&endo_before, &endo.mesh.positions),
-        net_moves(&epi_before, &epi.mesh.positions),
-    )
+    for (c, m) in cavities.iter_mut().zip(&masks) {
+        untangle(&mut c.mesh, m);
+    }
+    let cavity_moves = before
+        .iter()
+        .zip(cavities.iter())
+        .map(|(b, c)| net_moves(b, &c.mesh.positions))
+        .fold(Pushed::default(), |acc, p| Pushed {
+            vertices: acc.vertices + p.vertices,
+            max_mm: acc.max_mm.max(p.max_mm),
+        });
+    (cavity_moves, net_moves(&epi_before, &epi.mesh.positions))
+}
+
+/// Passes of [`untangle`]: each relaxes the crossing triangles' corners and their neighbours.
+const UNTANGLE_PASSES: usize = 10;
+
+/// Relaxes a surface where pushes folded it through itself: a cavity narrower than twice the
+/// minimum thickness (an RV near its apex at end-systole) has both its sides pushed inwards,
+/// past each other. The corners of the crossing triangles and their neighbours move to the mean
+/// of their neighbours until nothing crosses (at most [`UNTANGLE_PASSES`] times); `fixed`
+/// vertices (the outline in the base plane) stay.
+fn untangle(mesh: &mut TriMesh, fixed: &[bool]) {
+    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); mesh.positions.len()];
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k] as usize, t[(k + 1) % 3]);
+            if !neighbours[a].contains(&b) {
+                neighbours[a].push(b);
+                neighbours[b as usize].push(t[k]);
+            }
+        }
+    }
+    for _ in 0..UNTANGLE_PASSES {
+        let pairs = crossing_pairs(mesh);
+        if pairs.is_empty() {
+            return;
+        }
+        let mut chosen = vec![false; mesh.positions.len()];
+        for (a, b) in pairs {
+            for v in mesh.triangles[a].iter().chain(&mesh.triangles[b]) {
+                chosen[*v as usize] = true;
+                for &w in &neighbours[*v as usize] {
+                    chosen[w as usize] = true;
+                }
+            }
+        }
+        let before = mesh.positions.clone();
+        for (v, _) in chosen.iter().enumerate().filter(|(_, &c)| c) {
+            if fixed.get(v).copied().unwrap_or(true) || neighbours[v].is_empty() {
+                continue;
+            }
+            let sum = neighbours[v]
+                .iter()
+                .fold(Vec3::zeros(), |acc, &w| acc + before[w as usize]);
+            mesh.positions[v] = sum / neighbours[v].len() as f64;
+        }
+    }
 }
 
 /// How many vertices ended up elsewhere, and the farthest (a vertex moved in several rounds
@@ -402,30 +603,52 @@ fn inside(poly: &[Point2<f64>], p: Point2<f64>) -> bool {
     odd
 }
 
-/// Triangles of the flat ring between the `outer` and `inner` outlines (vertex indices into
-/// `positions`, all in the plane), facing along the plane's normal.
-fn ring(positions: &[Vec3], outer: &[u32], inner: &[u32], base: &Plane) -> Result<Vec<[u32; 3]>> {
+/// Triangles of the flat ring between the outer outline `loops[0]` and the inner ones (one per
+/// cavity, named by `cavities`), vertex indices into `positions`, all in the plane, facing
+/// along the plane's normal.
+fn ring(
+    positions: &[Vec3],
+    loops: &[Vec<u32>],
+    cavities: &[Cavity],
+    base: &Plane,
+) -> Result<Vec<[u32; 3]>> {
     let (u, v) = plane_basis(&base.normal);
-    let flat = |i: u32| {
-        let d = positions[i as usize] - base.origin;
+    let flat = |i: &u32| {
+        let d = positions[*i as usize] - base.origin;
         Point2::new(d.dot(&u), d.dot(&v))
     };
-    let outer_2d: Vec<Point2<f64>> = outer.iter().map(|&i| flat(i)).collect();
-    let inner_2d: Vec<Point2<f64>> = inner.iter().map(|&i| flat(i)).collect();
-    if inner_2d.iter().any(|p| !inside(&outer_2d, *p)) {
-        return Err(CoreError::Degenerate(
-            "the endocardium's outline at the base is not inside the epicardium's (the two \
-             surfaces cross there)"
-                .into(),
-        ));
+    let flat_loops: Vec<Vec<Point2<f64>>> =
+        loops.iter().map(|l| l.iter().map(flat).collect()).collect();
+    for (k, cavity) in cavities.iter().enumerate() {
+        let inner = &flat_loops[k + 1];
+        if inner.iter().any(|p| !inside(&flat_loops[0], *p)) {
+            return Err(CoreError::Degenerate(format!(
+                "the {}'s outline at the base is not inside the epicardium's (the two surfaces \
+                 cross there)",
+                cavity.name
+            )));
+        }
+        // A cavity inside another would turn the ring's parity inside out.
+        for (j, other) in cavities.iter().enumerate().filter(|&(j, _)| j != k) {
+            if inner.iter().any(|p| inside(&flat_loops[j + 1], *p)) {
+                return Err(CoreError::Degenerate(format!(
+                    "the {}'s outline at the base overlaps the {}'s (the two cavities cross \
+                     there)",
+                    cavity.name, other.name
+                )));
+            }
+        }
     }
-    let ids: Vec<u32> = outer.iter().chain(inner).copied().collect();
-    let points: Vec<Point2<f64>> = outer_2d.iter().chain(&inner_2d).copied().collect();
+    let ids: Vec<u32> = loops.iter().flatten().copied().collect();
+    let points: Vec<Point2<f64>> = flat_loops.iter().flatten().copied().collect();
     let mut edges = Vec::with_capacity(points.len());
-    for (start, len) in [(0, outer.len()), (outer.len(), inner.len())] {
+    let mut start = 0;
+    for l in loops {
+        let len = l.len();
         for k in 0..len {
             edges.push([start + k, start + (k + 1) % len]);
         }
+        start += len;
     }
     let mut conflicts = 0usize;
     let cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
@@ -436,14 +659,12 @@ fn ring(positions: &[Vec3], outer: &[u32], inner: &[u32], base: &Plane) -> Resul
     .map_err(|e| CoreError::Degenerate(format!("the base ring cannot be triangulated: {e:?}")))?;
     if conflicts > 0 || cdt.num_vertices() != points.len() {
         return Err(CoreError::Degenerate(
-            "the outlines of the endocardium and the epicardium at the base touch or cross \
-             themselves or each other"
-                .into(),
+            "the surfaces' outlines at the base touch or cross themselves or each other".into(),
         ));
     }
-    // Faces between the two outlines are an odd number of constraint edges in from the outside
-    // (the hole inside the endocardium, an even number: any walk from the outer face crosses
-    // the two nested loops with that parity). Counted by walking across edges, which needs no
+    // Faces between the outer outline and the inner ones are an odd number of constraint edges
+    // in from the outside (the holes inside the endocardia, an even number: any walk from the
+    // outer face crosses the nested loops with that parity). Counted by walking across edges, which needs no
     // point-in-polygon test on slivers along nearly straight outlines.
     let mut depth: Vec<Option<u32>> = vec![None; cdt.num_all_faces()];
     let outer_face = cdt.outer_face();
@@ -479,20 +700,24 @@ fn ring(positions: &[Vec3], outer: &[u32], inner: &[u32], base: &Plane) -> Resul
     Ok(out)
 }
 
-/// Distance from each vertex to the other surface: vertices before `nv_epi` are epicardial.
-fn thickness(wall: &TriMesh, nv_epi: usize, endo: &TriMesh, epi: &TriMesh) -> Vec<f64> {
-    let (endo_bvh, epi_bvh) = (Bvh::build(endo), Bvh::build(epi));
+/// Distance from each vertex to the nearest other surface (an epicardial vertex to the
+/// endocardia, an endocardial one to the epicardium or the other cavity, across a septum);
+/// surface `k`'s vertices start at `starts[k]`.
+fn thickness(wall: &TriMesh, starts: &[usize], surfaces: &[&TriMesh]) -> Vec<f64> {
+    let bvhs: Vec<Bvh> = surfaces.iter().map(|m| Bvh::build(m)).collect();
     wall.positions
         .iter()
         .enumerate()
         .map(|(i, p)| {
-            let (bvh, other) = if i < nv_epi {
-                (&endo_bvh, endo)
-            } else {
-                (&epi_bvh, epi)
-            };
-            bvh.closest_point(other, *p)
-                .map_or(f64::NAN, |h| h.distance_sq.sqrt())
+            let own = starts.iter().rposition(|&s| s <= i).unwrap_or(0);
+            surfaces
+                .iter()
+                .zip(&bvhs)
+                .enumerate()
+                .filter(|&(k, _)| k != own)
+                .filter_map(|(_, (m, bvh))| bvh.closest_point(m, *p))
+                .map(|h| h.distance_sq.sqrt())
+                .fold(f64::NAN, f64::min)
         })
         .collect()
 }
@@ -644,5 +869,111 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Two spherical cavities side by side in a big sphere, cut 8 mm above their equator: the
+    /// solid's volume is the big cap less the two small ones, the septum between the cavities
+    /// is the 3 mm gap, and the base ring has two holes.
+    #[test]
+    fn two_cavities_in_one_epicardium_make_a_biventricular_solid() {
+        let epi = uv_sphere(v3(0.0, 0.0, 0.0), 40.0, 160, 80);
+        let lv = uv_sphere(v3(-12.0, 0.0, 0.0), 15.0, 96, 48);
+        let rv = uv_sphere(v3(18.0, 0.0, 0.0), 12.0, 96, 48);
+        // Above the spheres' equator, where the septum is thinnest: 8 mm of it below the base.
+        let z = 8.0;
+        let wall = build_biventricular(&lv, &rv, &epi, &base_at(z), Some(1.0)).unwrap();
+        // A sphere's volume below z: the cap of height r + z.
+        let cap = |r: f64| {
+            let h = r + z;
+            PI * h * h * (3.0 * r - h) / 3.0 / 1000.0
+        };
+        let expected = cap(40.0) - cap(15.0) - cap(12.0);
+        assert!(
+            (wall.volume_ml - expected).abs() / expected < 0.01,
+            "{} vs {expected}",
+            wall.volume_ml
+        );
+        for (got, r) in wall.cavities_ml.iter().zip([15.0, 12.0]) {
+            assert!((got - cap(r)).abs() / cap(r) < 0.01, "{got} vs {}", cap(r));
+        }
+        assert_eq!(wall.region_names, &BIV_REGION_NAMES);
+        let v = validity(&wall.mesh);
+        assert!(v.is_closed_manifold(), "{}", v.describe());
+        assert_eq!((wall.self_intersections, wall.pushed.vertices), (0, 0));
+        assert_eq!(wall.triangles_per_region.len(), 4);
+        assert!(wall.triangles_per_region.iter().all(|&n| n > 100));
+        // Every vertex's thickness is the distance to the nearest other sphere: across the
+        // 3 mm septum, the cavities' free walls, the epicardium to the nearer cavity.
+        let (c_lv, c_rv) = (v3(-12.0, 0.0, 0.0), v3(18.0, 0.0, 0.0));
+        let mut septal = 0;
+        // Well below the base, where no nearest point was cut away with the part above it.
+        for (p, t) in wall.mesh.positions.iter().zip(&wall.thickness) {
+            if p.z > z - 8.0 {
+                continue;
+            }
+            let to_lv = ((p - c_lv).norm() - 15.0).abs();
+            let to_rv = ((p - c_rv).norm() - 12.0).abs();
+            let to_epi = 40.0 - p.norm();
+            let want = if to_epi < 0.01 {
+                to_lv.min(to_rv)
+            } else if to_lv < 0.01 {
+                to_rv.min(to_epi)
+            } else {
+                to_lv.min(to_epi)
+            };
+            assert!((t - want).abs() < 0.05, "{t} vs {want} at {p:?}");
+            septal += usize::from((want - 3.0).abs() < 0.3);
+        }
+        assert!(septal > 10, "{septal}");
+        let s = wall.summary(Some(1.0));
+        let regions: Vec<&str> = s.regions.iter().map(|r| r.name).collect();
+        assert_eq!(regions, BIV_REGION_NAMES);
+        assert_eq!(s.cavities.len(), 2);
+        assert_eq!(s.cavities[1].region, "rv_endocardium");
+        // Base triangles: the big disc less the two small ones.
+        let base_area: f64 = (0..wall.mesh.triangles.len())
+            .filter(|&t| wall.regions[t] == 3)
+            .map(|t| wall.mesh.triangle_area(t))
+            .sum();
+        let disc = |r: f64| PI * (r * r - z * z);
+        let ring = disc(40.0) - disc(15.0) - disc(12.0);
+        assert!(
+            (base_area - ring).abs() / ring < 0.01,
+            "{base_area} vs {ring}"
+        );
+    }
+
+    /// Cavities that overlap at the base cannot make a solid; ones that overlap only below it
+    /// are pushed apart by the minimum thickness (the septum kept).
+    #[test]
+    fn overlapping_cavities_are_refused_or_pushed_apart() {
+        let epi = uv_sphere(v3(0.0, 0.0, 0.0), 40.0, 128, 64);
+        let lv = uv_sphere(v3(-10.0, 0.0, 0.0), 15.0, 64, 32);
+        let rv = uv_sphere(v3(12.0, 0.0, 0.0), 12.0, 64, 32);
+        let e = build_biventricular(&lv, &rv, &epi, &base_at(-1.3), None).unwrap_err();
+        assert!(
+            e.to_string().contains("overlaps") || e.to_string().contains("cross"),
+            "{e}"
+        );
+        // Centres 26 mm apart, radii 15 + 12: 1 mm into each other at their equator (z = -2),
+        // 1.9 mm apart where the base cuts them (z = 4).
+        let lv = uv_sphere(v3(-12.0, 0.0, -2.0), 15.0, 96, 48);
+        let rv = uv_sphere(v3(14.0, 0.0, -2.0), 12.0, 96, 48);
+        let base = base_at(4.0);
+        let crossing = build_biventricular(&lv, &rv, &epi, &base, None).unwrap();
+        assert!(crossing.self_intersections > 0);
+        assert_eq!(
+            crossing
+                .crossings
+                .iter()
+                .map(|c| c.regions)
+                .collect::<Vec<_>>(),
+            [["lv_endocardium", "rv_endocardium"]]
+        );
+        let wall = build_biventricular(&lv, &rv, &epi, &base, Some(1.0)).unwrap();
+        assert!(wall.pushed.vertices > 10, "{:?}", wall.pushed);
+        assert_eq!(wall.self_intersections, 0, "{:?}", wall.crossings);
+        let v = validity(&wall.mesh);
+        assert!(v.is_closed_manifold(), "{}", v.describe());
     }
 }

@@ -99,17 +99,36 @@ pub fn basal_plane(rec: &Reconstruction) -> Result<ClipPlane> {
 /// their most basal short-axis planes, along the first's long axis, so that both surfaces stand
 /// on their own slices everywhere below it.
 pub fn common_basal_plane(first: &Reconstruction, second: &Reconstruction) -> Result<Plane> {
-    let a = basal_plane(first)?;
-    let b = basal_plane(second)?;
+    Ok(common_basal_plane_with(
+        basal_plane(first)?,
+        basal_plane(second)?,
+    ))
+}
+
+/// The lower of two basal planes along the first's normal.
+fn common_basal_plane_with(a: Plane, b: Plane) -> Plane {
     let (ha, hb) = (a.normal.dot(&a.origin), a.normal.dot(&b.origin));
-    Ok(if hb < ha {
+    if hb < ha {
         Plane {
             origin: a.normal * hb,
             normal: a.normal,
         }
     } else {
         a
-    })
+    }
+}
+
+/// [`common_basal_plane`] of any number of surfaces (a biventricular wall's three): the lowest
+/// of their most basal short-axis planes, along the first's long axis.
+pub fn common_basal_plane_all(surfaces: &[&Reconstruction]) -> Result<Plane> {
+    let (first, rest) = surfaces
+        .split_first()
+        .ok_or_else(|| CoreError::Degenerate("no surface to find a base plane of".into()))?;
+    let mut plane = basal_plane(first)?;
+    for s in rest {
+        plane = common_basal_plane_with(plane, basal_plane(s)?);
+    }
+    Ok(plane)
 }
 
 /// [`common_basal_plane`] of two surfaces of a contour file (e.g. LV_ENDO and LV_EPI), from the

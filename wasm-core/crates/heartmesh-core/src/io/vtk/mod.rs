@@ -6,7 +6,7 @@
 
 use super::builder::ContourBuilder;
 use super::text::{quote, word_end};
-use super::{MeshData, MAX_MESH_ELEMENTS};
+use super::{read_regions, MeshData, MeshRegions, MAX_MESH_ELEMENTS};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
 use crate::geometry::{v3, Vec3};
@@ -34,6 +34,49 @@ pub struct PolyData {
     pub verts: Vec<Vec<u32>>,
     /// String arrays of CELL_DATA fields (name, one value per cell).
     pub cell_strings: Vec<(String, Vec<String>)>,
+    /// The first SCALARS array of CELL_DATA (name, first component per cell).
+    pub cell_scalars: Option<(String, Vec<f64>)>,
+    /// VERTICES, LINES, POLYGONS and TRIANGLE_STRIPS cells: cell data runs over them in this
+    /// order, whatever order the file lists the sections in.
+    pub cell_counts: [usize; 4],
+    /// The cell of each of `polys`: whether it came from a strip, and its index in its section.
+    pub poly_cells: Vec<(bool, usize)>,
+}
+
+impl PolyData {
+    /// The cell-data label of each polygon as triangle regions, when CELL_DATA has a whole-number
+    /// SCALARS array (names from the string array `NAME_name`, as our writer puts them).
+    pub fn regions(&self, triangles: usize) -> Option<MeshRegions> {
+        let (name, values) = self.cell_scalars.as_ref()?;
+        let [verts, lines, polys, _] = self.cell_counts;
+        let cell = |&(strip, k): &(bool, usize)| verts + lines + if strip { polys + k } else { k };
+        let labels: Vec<i32> = self
+            .poly_cells
+            .iter()
+            .map(|c| values.get(cell(c)).and_then(|&v| read_regions::as_label(v)))
+            .collect::<Option<_>>()?;
+        let names_array = format!("{name}_name");
+        let names = self
+            .cell_strings
+            .iter()
+            .find(|(a, _)| *a == names_array)
+            .map(|(_, cells)| {
+                let per_poly: Vec<String> = self
+                    .poly_cells
+                    .iter()
+                    .map(|c| cells.get(cell(c)).cloned().unwrap_or_default())
+                    .collect();
+                read_regions::names_from_cells(&labels, &per_poly)
+            })
+            .unwrap_or_default();
+        MeshRegions::from_polygons(
+            name.clone(),
+            &labels,
+            self.polys.iter().map(Vec::len),
+            names,
+            triangles,
+        )
+    }
 }
 
 /// Per-line labels kept through the polyline formats: the contour identifier and the surface.
@@ -304,12 +347,24 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
                 match w.as_str() {
                     "LINES" => {
                         pd.lines_at = at + 1;
+                        pd.cell_counts[1] = cells.len();
                         pd.lines = cells;
                     }
-                    "POLYGONS" => pd.polys.extend(cells),
-                    "VERTICES" => pd.verts.extend(cells),
+                    "POLYGONS" => {
+                        let first = pd.cell_counts[2];
+                        pd.cell_counts[2] += cells.len();
+                        pd.poly_cells
+                            .extend((first..first + cells.len()).map(|k| (false, k)));
+                        pd.polys.extend(cells);
+                    }
+                    "VERTICES" => {
+                        pd.cell_counts[0] += cells.len();
+                        pd.verts.extend(cells);
+                    }
                     "TRIANGLE_STRIPS" => {
-                        for s in cells {
+                        let first = pd.cell_counts[3];
+                        pd.cell_counts[3] += cells.len();
+                        for (j, s) in cells.into_iter().enumerate() {
                             for k in 2..s.len() {
                                 let t = if k % 2 == 0 {
                                     vec![s[k - 2], s[k - 1], s[k]]
@@ -317,6 +372,7 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
                                     vec![s[k - 1], s[k - 2], s[k]]
                                 };
                                 pd.polys.push(t);
+                                pd.poly_cells.push((true, first + j));
                             }
                         }
                     }
@@ -324,47 +380,21 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
                 }
             }
             "POINT_DATA" => {
-                let n = c.count("point data count")?;
-                if let Some(s) = read_point_scalars(&mut c, binary, n)? {
-                    if s.1.len() == pd.points.len() {
-                        pd.point_scalars = Some(s);
+                read_point_data(&mut c, &mut pd, binary)?;
+                // Our writer (and others) put CELL_DATA after the point data, whose further
+                // arrays this reader does not follow: the labels are found by their keyword.
+                if let Some(at) = find_keyword(c.bytes, c.pos, b"CELL_DATA") {
+                    c.pos = at;
+                    c.word();
+                    // Found by search, not reached by parsing: a problem there drops the labels.
+                    if read_cell_data(&mut c, &mut pd, binary).is_err() {
+                        pd.cell_scalars = None;
                     }
                 }
                 break;
             }
             "CELL_DATA" => {
-                // Labels are extras: a cell data layout this reader does not follow drops them,
-                // never the geometry. VTK's own writer puts CELL_DATA (scalars such as region
-                // labels, fields) before POINT_DATA, so every cell array is passed over to reach
-                // the point data after it.
-                let n = c.count("cell data count")?;
-                loop {
-                    let save = c.pos;
-                    let word = c.word().map(str::to_ascii_uppercase);
-                    c.pos = save;
-                    match word.as_deref() {
-                        Some("FIELD") => match read_cell_fields(&mut c, n, binary) {
-                            Ok(arrays) => pd.cell_strings.extend(arrays),
-                            Err(_) => break,
-                        },
-                        Some("SCALARS") => {
-                            if read_point_scalars(&mut c, binary, n).is_err() {
-                                break;
-                            }
-                        }
-                        Some("POINT_DATA") => {
-                            c.word();
-                            let n = c.count("point data count")?;
-                            if let Some(s) = read_point_scalars(&mut c, binary, n)? {
-                                if s.1.len() == pd.points.len() {
-                                    pd.point_scalars = Some(s);
-                                }
-                            }
-                            break;
-                        }
-                        _ => break,
-                    }
-                }
+                read_cell_data(&mut c, &mut pd, binary)?;
                 break;
             }
             "FIELD" => skip_dataset_field(&mut c, binary)?,
@@ -378,6 +408,71 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
         return Err(CoreError::parse(0, "no POINTS found"));
     }
     Ok(pd)
+}
+
+/// The first SCALARS array after `POINT_DATA` (the keyword read), kept when it has one value
+/// per point.
+fn read_point_data(c: &mut Cursor, pd: &mut PolyData, binary: bool) -> Result<()> {
+    let n = c.count("point data count")?;
+    if let Some(s) = read_point_scalars(c, binary, n)? {
+        if s.1.len() == pd.points.len() {
+            pd.point_scalars = Some(s);
+        }
+    }
+    Ok(())
+}
+
+/// The arrays after `CELL_DATA n` (the keyword read): the first SCALARS (labels) and the string
+/// arrays of FIELD blocks, then the POINT_DATA that VTK's own writer puts after them.
+///
+/// Labels are extras: a cell data layout this reader does not follow drops them, never the
+/// geometry or the point data.
+fn read_cell_data(c: &mut Cursor, pd: &mut PolyData, binary: bool) -> Result<()> {
+    let n = c.count("cell data count")?;
+    loop {
+        let save = c.pos;
+        let word = c.word().map(str::to_ascii_uppercase);
+        c.pos = save;
+        match word.as_deref() {
+            Some("FIELD") => match read_cell_fields(c, n, binary) {
+                Ok(arrays) => pd.cell_strings.extend(arrays),
+                Err(_) => break,
+            },
+            Some("SCALARS") => match read_point_scalars(c, binary, n) {
+                Ok(s) => {
+                    if pd.cell_scalars.is_none() {
+                        pd.cell_scalars = s;
+                    }
+                }
+                Err(_) => break,
+            },
+            Some("POINT_DATA") => {
+                c.word();
+                return read_point_data(c, pd, binary);
+            }
+            _ => break,
+        }
+    }
+    // Point data after cell arrays this reader passed over only in part.
+    if pd.point_scalars.is_none() {
+        if let Some(at) = find_keyword(c.bytes, c.pos, b"POINT_DATA") {
+            c.pos = at;
+            c.word();
+            // Found by search, not reached by parsing: a problem there drops the point data.
+            if read_point_data(c, pd, binary).is_err() {
+                pd.point_scalars = None;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Byte offset of `keyword` at the start of a line at or after `from`.
+fn find_keyword(bytes: &[u8], from: usize, keyword: &[u8]) -> Option<usize> {
+    let rest = bytes.get(from..)?;
+    rest.windows(keyword.len() + 1)
+        .position(|w| w[0] == b'\n' && &w[1..] == keyword)
+        .map(|p| from + p + 1)
 }
 
 /// One array's header line in a FIELD block (`NAME COMPONENTS TUPLES TYPE`); None for VTK's
@@ -657,8 +752,11 @@ fn read_point_scalars(
 
 /// Reads the polygons of a POLYDATA file as a triangle mesh (fan-triangulated).
 pub fn read_vtk_mesh(bytes: &[u8]) -> Result<MeshData> {
-    let pd = read_polydata(bytes)?;
-    mesh_from_cells(pd.points, &pd.polys, pd.point_scalars)
+    let mut pd = read_polydata(bytes)?;
+    let points = std::mem::take(&mut pd.points);
+    let mut data = mesh_from_cells(points, &pd.polys, pd.point_scalars.take())?;
+    data.regions = pd.regions(data.mesh.triangles.len());
+    Ok(data)
 }
 
 pub(crate) fn mesh_from_cells(
@@ -683,6 +781,7 @@ pub(crate) fn mesh_from_cells(
     Ok(MeshData {
         mesh: TriMesh::new(points, triangles),
         point_data,
+        regions: None,
     })
 }
 

@@ -13,7 +13,7 @@ mod base64;
 mod data_array;
 
 use std::cell::Cell;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 use roxmltree::{Document, Node};
 
@@ -21,7 +21,10 @@ use super::vtk::{
     contours_from_lines, mesh_from_cells, vertex_landmarks, LineLabels, CONTOUR_ID_ARRAY,
     SURFACE_ARRAY,
 };
-use super::{fmt_num, fmt_point, header_lines, MeshData, Regions, MAX_MESH_ELEMENTS};
+use super::{
+    fmt_num, fmt_point, header_lines, read_regions, MeshData, MeshRegions, Regions,
+    MAX_MESH_ELEMENTS,
+};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
 use crate::geometry::{v3, Vec3};
@@ -41,6 +44,16 @@ struct Parsed {
     labels: LineLabels,
     /// Landmarks: the named one-point vertex cells (see [`vertex_landmarks`]).
     landmarks: Vec<(String, Vec3)>,
+    /// A whole-number cell array's value for each of `polys`, with its name and label names.
+    poly_labels: Option<PolyLabels>,
+}
+
+/// Labels of polygons from a `<CellData>` integer array (see [`MeshRegions`]).
+#[derive(Debug)]
+struct PolyLabels {
+    array: String,
+    labels: Vec<i32>,
+    names: BTreeMap<i32, String>,
 }
 
 fn line_of(doc: &Document, node: Node) -> usize {
@@ -179,6 +192,17 @@ impl Parsed {
                     .collect::<Vec<u32>>()
             })
         };
+        self.poly_labels = match (self.poly_labels.take(), part.poly_labels) {
+            (_, p) if first => p,
+            (Some(mut a), Some(b)) if a.array == b.array => {
+                a.labels.extend(b.labels);
+                for (l, n) in b.names {
+                    a.names.entry(l).or_insert(n);
+                }
+                Some(a)
+            }
+            _ => None,
+        };
         self.polys.extend(renumber(part.polys));
         self.lines.extend(renumber(part.lines));
         self.landmarks.extend(part.landmarks);
@@ -309,6 +333,12 @@ impl Ctx<'_, '_> {
             })
             .transpose()?
             .unwrap_or_default();
+        let first_poly = nverts + lines.len() + count("NumberOfStrips")?;
+        let poly_labels = section("CellData").and_then(|cd| {
+            poly_labels(ctx, cd, &strings, first_poly, polys.len())
+                .ok()
+                .flatten()
+        });
         let labels = LineLabels::from_cell_strings(&strings, nverts, lines.len());
         let landmarks = if verts.len() == nverts {
             let vert_labels = LineLabels::from_cell_strings(&strings, 0, nverts);
@@ -324,8 +354,52 @@ impl Ctx<'_, '_> {
             point_data,
             labels,
             landmarks,
+            poly_labels,
         })
     }
+}
+
+/// The polygons' labels: the `Scalars` array of `<CellData>` (else its first numeric one) when
+/// it holds one whole number per cell; cell data runs over verts, lines, strips, polys, so the
+/// polygons' values start at `first`. Labels are extras: any doubt gives None, never an error.
+fn poly_labels(
+    ctx: &Ctx,
+    cell_data: Node,
+    strings: &[(String, Vec<String>)],
+    first: usize,
+    polys: usize,
+) -> Result<Option<PolyLabels>> {
+    let wanted = cell_data.attribute("Scalars");
+    let Some(arr) = cell_data
+        .children()
+        .filter(|n| n.has_tag_name("DataArray") && n.attribute("type") != Some("String"))
+        .find(|n| wanted.is_none() || n.attribute("Name") == wanted)
+    else {
+        return Ok(None);
+    };
+    let comps = arr.attribute("NumberOfComponents").unwrap_or("1");
+    let Some(array) = arr.attribute("Name").filter(|_| comps == "1") else {
+        return Ok(None);
+    };
+    let values = ctx.array(arr)?;
+    let Some(labels): Option<Vec<i32>> = values
+        .get(first..first + polys)
+        .and_then(|v| v.iter().map(|&x| read_regions::as_label(x)).collect())
+    else {
+        return Ok(None);
+    };
+    let names_array = format!("{array}_name");
+    let names = strings
+        .iter()
+        .find(|(a, _)| *a == names_array)
+        .and_then(|(_, v)| v.get(first..first + polys))
+        .map(|v| read_regions::names_from_cells(&labels, v))
+        .unwrap_or_default();
+    Ok(Some(PolyLabels {
+        array: array.to_string(),
+        labels,
+        names,
+    }))
 }
 
 /// The appended data block (see [`appended`]): the bytes after its `_` marker.
@@ -447,7 +521,17 @@ impl Ctx<'_, '_> {
 /// Reads the polygons of a VTP file as a triangle mesh.
 pub fn read_vtp_mesh(bytes: &[u8]) -> Result<MeshData> {
     let p = parse(bytes)?;
-    mesh_from_cells(p.points, &p.polys, p.point_data)
+    let mut data = mesh_from_cells(p.points, &p.polys, p.point_data)?;
+    data.regions = p.poly_labels.and_then(|l| {
+        MeshRegions::from_polygons(
+            l.array,
+            &l.labels,
+            p.polys.iter().map(Vec::len),
+            l.names,
+            data.mesh.triangles.len(),
+        )
+    });
+    Ok(data)
 }
 
 /// Reads the polylines of a VTP file as contours (named by a `contour_id` cell array when there is
