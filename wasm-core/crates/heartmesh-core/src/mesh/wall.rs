@@ -71,7 +71,9 @@ pub struct Wall {
     pub self_intersections: usize,
     /// Those pairs by the regions they join (each pair of regions once, in region order).
     pub crossings: Vec<Crossing>,
-    /// Endocardial vertices moved under the epicardium before the wall was built.
+    /// Endocardial vertices moved before the wall was built (all cavities together, by where
+    /// they ended): under the epicardium, out of the other cavity, and relaxed where those moves
+    /// folded a cavity through itself.
     pub pushed: Pushed,
     /// Epicardial vertices moved out over the endocardium (where it still poked in between
     /// the endocardium's moved vertices).
