@@ -5,7 +5,6 @@
 use std::time::Instant;
 
 use heartmesh_core::contours::biv_epi::{self, BIV_EPI};
-use heartmesh_core::io::MeshFormat;
 use heartmesh_core::mesh::wall::{self, Wall};
 use heartmesh_core::metrics::compare::common_basal_plane_all;
 use heartmesh_core::pipeline::Reconstruction;
@@ -13,7 +12,7 @@ use heartmesh_core::{ContourSet, CoreError, Params};
 use serde_json::{json, Value};
 
 use crate::cmd_convert::file_name;
-use crate::cmd_reconstruct::{apex_lid, classify, params_from, parse_with_params};
+use crate::cmd_reconstruct::{apex_lid, classify, mesh_output, params_from, parse_with_params};
 use crate::contours;
 use crate::error::CliError;
 use crate::files;
@@ -106,17 +105,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             "myocardium takes --endo and --epi (the two surfaces of the wall), not --surface",
         ));
     }
-    let output = p
-        .value("output")
-        .ok_or_else(|| CliError::usage("myocardium needs -o WALL (e.g. -o wall.vtk)"))?;
-    let mut format = MeshFormat::from_path(output).ok_or_else(|| {
-        CliError::usage(format!(
-            "cannot tell the mesh format of {output} (use .obj .stl .ply .vtk or .vtp)"
-        ))
-    })?;
-    if p.switch("ascii") && format == MeshFormat::StlBinary {
-        format = MeshFormat::StlAscii;
-    }
+    let (output, format) = mesh_output(&p, "myocardium needs -o WALL (e.g. -o wall.vtk)")?;
     let quiet = p.switch("quiet");
     let min_thickness = min_thickness(p.value("min-thickness"))?;
     let frame = contours::frame_flag(p.value("frame"))?;

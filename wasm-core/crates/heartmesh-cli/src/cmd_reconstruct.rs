@@ -107,6 +107,28 @@ pub(crate) const PARAM_SWITCHES: &[&str] = &[
 
 /// Parses the command line of a command that reconstructs: its own options with a value
 /// (`own_values`) and switches, and the parameters' ([`params_from`] reads them).
+/// The `-o` mesh file and its format (from the extension; `--ascii` turns STL into ASCII STL);
+/// `missing` is the usage error when there is no `-o`.
+pub(crate) fn mesh_output<'a>(
+    p: &'a Parsed,
+    missing: &str,
+) -> Result<(&'a str, MeshFormat), CliError> {
+    let output = p.value("output").ok_or_else(|| CliError::usage(missing))?;
+    let format = MeshFormat::from_path(output).ok_or_else(|| {
+        CliError::usage(format!(
+            "cannot tell the mesh format of {output} (use .obj .stl .ply .vtk or .vtp)"
+        ))
+    })?;
+    Ok((
+        output,
+        if p.switch("ascii") && format == MeshFormat::StlBinary {
+            MeshFormat::StlAscii
+        } else {
+            format
+        },
+    ))
+}
+
 pub(crate) fn parse_with_params(
     args: &[String],
     own_values: &[&str],
@@ -150,17 +172,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
              its long-axis views)",
         ));
     }
-    let output = p
-        .value("output")
-        .ok_or_else(|| CliError::usage("reconstruct needs -o MESH (e.g. -o mesh.obj)"))?;
-    let mut format = MeshFormat::from_path(output).ok_or_else(|| {
-        CliError::usage(format!(
-            "cannot tell the mesh format of {output} (use .obj .stl .ply .vtk or .vtp)"
-        ))
-    })?;
-    if p.switch("ascii") && format == MeshFormat::StlBinary {
-        format = MeshFormat::StlAscii;
-    }
+    let (output, format) = mesh_output(&p, "reconstruct needs -o MESH (e.g. -o mesh.obj)")?;
     let quiet = p.switch("quiet");
     let frame = contours::frame_flag(p.value("frame"))?;
     // Check the flags before reading (a usage error should not wait for a big file), and that
