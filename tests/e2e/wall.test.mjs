@@ -13,6 +13,7 @@ import assert from 'node:assert/strict';
 import { join } from 'node:path';
 import { download, gotoEmpty, runAndWait, waitForDone, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
+import { parseObj, volumeMl, vtkBlock } from './meshFiles.mjs';
 
 let app;
 let page;
@@ -25,42 +26,8 @@ const CLI = { wallMl: 99.54830215721525, cavityMl: 135.0049193600555, massG: 104
 const wallButton = (fmt) => `[data-testid=export-wall-${fmt}]`;
 const figures = '[data-testid=wall-figures]';
 
-/** Vertices and faces of an OBJ, with the group each face is in. */
-function parseObj(text) {
-  const v = [];
-  const faces = [];
-  const groups = [];
-  let group = null;
-  for (const line of text.split('\n')) {
-    const p = line.trim().split(/\s+/);
-    if (p[0] === 'v') v.push(p.slice(1, 4).map(Number));
-    else if (p[0] === 'g') groups.push((group = p[1]));
-    else if (p[0] === 'f') faces.push({ ids: p.slice(1, 4).map((x) => Number(x) - 1), group });
-  }
-  return { v, faces, groups };
-}
 
-/** Enclosed volume of a closed outward mesh, ml. */
-function volumeMl(v, faces) {
-  let sum = 0;
-  for (const { ids: [a, b, c] } of faces) {
-    const [p, q, r] = [v[a], v[b], v[c]];
-    sum += p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) + p[2] * (q[0] * r[1] - q[1] * r[0]);
-  }
-  return sum / 6000;
-}
 
-/** The numbers after `header` (a line starting so) up to the next line starting with a letter. */
-function vtkBlock(lines, header, n) {
-  const at = lines.findIndex((l) => l.startsWith(header));
-  assert.ok(at >= 0, `${header} missing`);
-  const out = [];
-  for (let i = at + 1; i < lines.length && out.length < n; i++) {
-    if (/^[A-Za-z]/.test(lines[i])) continue; // SCALARS / LOOKUP_TABLE lines
-    out.push(...lines[i].trim().split(/\s+/).filter(Boolean).map(Number));
-  }
-  return out.slice(0, n);
-}
 
 describe('the LV wall export', () => {
   it('greyed until both LV surfaces ran with these settings; OBJ and VTK of the solid; its figures; a failure survived', async () => {

@@ -200,6 +200,7 @@ describe('the export panel\'s LV wall', () => {
         asked.push(f);
         return wallFile(f);
       },
+      bivWallFile: () => null,
       failed: (e) => failed.push(e),
     });
     const root = p.element as unknown as FakeElement;

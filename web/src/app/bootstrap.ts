@@ -78,6 +78,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
       session: () => c().sessionFile(),
       others: () => c().otherSurfaceMeshes(),
       wallFile: (format) => c().wallFile(format),
+      bivWallFile: (format) => c().bivWallFile(format),
       failed: (e) => c().showExportError(e),
     }),
     view: new ViewControls((v) => c().setView(v), () => c().resetView()),

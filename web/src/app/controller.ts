@@ -27,6 +27,7 @@ import { canStop, currentRunId, describeError, initialState, isComputing, loaded
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 import { KeptSurfaces, runSignature, settingsKey, type KeptMesh } from './keptSurfaces';
 import { WALL_MIN_THICKNESS_MM, wallHeaderLines, wallReadiness, type WallReadiness } from '../io/export/wall';
+import { bivWallHeaderLines, bivWallReadiness, type BivWallReadiness } from '../io/export/bivWall';
 import { surfaceOrder } from '../io/FileBar';
 import { BIV_EPI } from '../core-client/derivedSurfaces';
 import { phasesOf } from './phases';
@@ -805,9 +806,20 @@ export class Controller {
     return wallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), this.currentSettingsKey());
   }
 
-  /** Tells the export panel whether the LV wall can be built now (the file, its runs or the settings changed). */
+  /**
+   * Whether the biventricular wall can be built now: the current file's LV_ENDO, RV_ENDO and
+   * BIV_EPI (the core's join of its LV_EPI and RV_EPI curves) all have a kept mesh run with the
+   * settings in the panel (export/bivWall.ts).
+   */
+  bivWallReadiness(): BivWallReadiness {
+    const file = this.currentFile();
+    return bivWallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), this.currentSettingsKey());
+  }
+
+  /** Tells the export panel whether the LV and biventricular walls can be built now (the file, its runs or the settings changed). */
   private syncWall(): void {
     this.parts.exports.setWall(this.wallReadiness());
+    this.parts.exports.setBivWall(this.bivWallReadiness());
   }
 
   /**
@@ -827,6 +839,28 @@ export class Controller {
       minThicknessMm: WALL_MIN_THICKNESS_MM,
       format,
       header: wallHeaderLines(now, w.endo.surface, w.epi.surface, WALL_MIN_THICKNESS_MM),
+    });
+  }
+
+  /**
+   * The biventricular wall of the current file built in the worker from its kept LV_ENDO, RV_ENDO
+   * and BIV_EPI meshes (full precision where the core gave it), written as `format`; null when it
+   * cannot be built now.
+   */
+  bivWallFile(format: WallFormat): Promise<{ summary: WallSummary; bytes: Uint8Array }> | null {
+    const w = this.bivWallReadiness();
+    const settings = this.runSettings();
+    const info = this.exportInfo();
+    if (!w.ready || !settings || !info || !this.client) return null;
+    const mesh = (m: KeptMesh) => ({ surface: m.surface, positions: m.positions64 ?? Float64Array.from(m.positions), indices: m.indices });
+    const now = { ...info, params: schemaOrdered(this.params, this.schema), lids: this.lids, options: this.options };
+    return this.client.bivWallFile(settings, {
+      lvEndo: mesh(w.lvEndo as KeptMesh),
+      rvEndo: mesh(w.rvEndo as KeptMesh),
+      bivEpi: mesh(w.bivEpi as KeptMesh),
+      minThicknessMm: WALL_MIN_THICKNESS_MM,
+      format,
+      header: bivWallHeaderLines(now, w.lvEndo.surface, w.bivEpi.surface, w.rvEndo.surface, WALL_MIN_THICKNESS_MM),
     });
   }
 

@@ -54,6 +54,7 @@ import {
 } from './protocol';
 import {
   settingsOf,
+  type BivWallOptions,
   type CoreClientOptions,
   type LabBatchHandle,
   type RunHandle,
@@ -65,7 +66,7 @@ import { LabRequests } from './labRequests';
 import { RunFrames } from './runFrames';
 import { mergeViews } from '../io/studyGroups';
 
-export type { CoreClientOptions, LabBatchHandle, RunHandle, RunOptions, WallOptions, WorkerLike } from './coreClientTypes';
+export type { BivWallOptions, CoreClientOptions, LabBatchHandle, RunHandle, RunOptions, WallOptions, WorkerLike } from './coreClientTypes';
 
 interface PendingRequest {
   resolve: (value: unknown) => void;
@@ -108,6 +109,11 @@ function defaultSchedule(callback: () => void): void {
   if (typeof requestAnimationFrame === 'function') requestAnimationFrame(once);
   // Animation frames pause in hidden tabs; the timer keeps runs finishing there.
   setTimeout(once, 100);
+}
+
+/** A mesh for a wall request, its arrays copied: the worker takes them, the app keeps its own. */
+function copyMesh(m: WallSurfaceMesh): WallSurfaceMesh {
+  return { surface: m.surface, positions: m.positions.slice(), indices: m.indices.slice() };
 }
 
 export class CoreClient {
@@ -406,26 +412,52 @@ export class CoreClient {
    * figures. Rejects with CoreErrorData: a wall the core cannot build says why (the worker goes on).
    */
   wallFile(opts: RunOptions, wall: WallOptions): Promise<{ summary: WallSummary; bytes: Uint8Array }> {
+    return this.wallRequest(opts, (settings, reqId) => ({
+      type: 'wall-export',
+      reqId,
+      ...settings,
+      endo: copyMesh(wall.endo),
+      epi: copyMesh(wall.epi),
+      minThicknessMm: wall.minThicknessMm,
+      format: wall.format,
+      header: [...wall.header],
+    }));
+  }
+
+  /**
+   * The biventricular myocardium of a loaded file, built in the worker from its finished LV_ENDO,
+   * RV_ENDO and BIV_EPI meshes (all run with the settings `opts`), as a file in `wall.format` with
+   * its figures. Rejects with CoreErrorData ("the biventricular wall: ..."; the worker goes on).
+   */
+  bivWallFile(opts: RunOptions, wall: BivWallOptions): Promise<{ summary: WallSummary; bytes: Uint8Array }> {
+    return this.wallRequest(opts, (settings, reqId) => ({
+      type: 'biv-wall-export',
+      reqId,
+      ...settings,
+      lvEndo: copyMesh(wall.lvEndo),
+      rvEndo: copyMesh(wall.rvEndo),
+      bivEpi: copyMesh(wall.bivEpi),
+      minThicknessMm: wall.minThicknessMm,
+      format: wall.format,
+      header: [...wall.header],
+    }));
+  }
+
+  /**
+   * A wall request for a loaded file (the file sent again if the worker was recreated), with the
+   * run settings of `opts` but no surface: the wall names its own surfaces.
+   */
+  private wallRequest(
+    opts: RunOptions,
+    message: (settings: Omit<ReturnType<typeof settingsOf>, 'surface'>, reqId: number) => ToWorker,
+  ): Promise<{ summary: WallSummary; bytes: Uint8Array }> {
     const bytes = this.files.get(opts.fileName);
     if (bytes === undefined) {
       return Promise.reject({ code: ErrorCodes.notLoaded, message: `${opts.fileName} has not been loaded`, file: opts.fileName });
     }
     this.resendIfRecreated(opts.fileName, bytes, () => {});
     const { surface: _surface, ...settings } = settingsOf(opts);
-    const copy = (m: WallSurfaceMesh): WallSurfaceMesh => ({ surface: m.surface, positions: m.positions.slice(), indices: m.indices.slice() });
-    return this.request<{ summary: WallSummary; bytes: Uint8Array }>(
-      (reqId) => ({
-        type: 'wall-export',
-        reqId,
-        ...settings,
-        endo: copy(wall.endo),
-        epi: copy(wall.epi),
-        minThicknessMm: wall.minThicknessMm,
-        format: wall.format,
-        header: [...wall.header],
-      }),
-      { needs: opts.fileName },
-    );
+    return this.request<{ summary: WallSummary; bytes: Uint8Array }>((reqId) => message(settings, reqId), { needs: opts.fileName });
   }
 
   // ---- validation lab ------------------------------------------------------------------------

@@ -49,6 +49,19 @@ export interface WallOptions {
   header: readonly string[];
 }
 
+/** What the biventricular wall is built of and written as (`CoreClient.bivWallFile`). */
+export interface BivWallOptions {
+  lvEndo: WallSurfaceMesh;
+  rvEndo: WallSurfaceMesh;
+  /** The biventricular epicardium (BIV_EPI). */
+  bivEpi: WallSurfaceMesh;
+  /** mm; null: the surfaces as reconstructed. */
+  minThicknessMm: number | null;
+  format: WallFormat;
+  /** Header lines after the command line's comment. */
+  header: readonly string[];
+}
+
 export interface RunHandle {
   runId: number;
   done: Promise<RunResult>;

@@ -92,6 +92,12 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       add(msg.epi.positions);
       add(msg.epi.indices);
       break;
+    case 'biv-wall-export':
+      for (const m of [msg.lvEndo, msg.rvEndo, msg.bivEpi]) {
+        add(m.positions);
+        add(m.indices);
+      }
+      break;
     case 'session-export':
     case 'run':
     case 'ack':
@@ -184,6 +190,7 @@ export function isToWorker(v: unknown): v is ToWorker {
     case 'lab-batch':
     case 'session-export':
     case 'wall-export':
+    case 'biv-wall-export':
       return true;
     default:
       return false;

@@ -86,6 +86,29 @@ export interface WallExportRequest {
   header: string[];
 }
 
+/**
+ * The biventricular myocardium of a loaded file (`heartmesh myocardium --biventricular`), built in
+ * the worker from the finished LV_ENDO, RV_ENDO and BIV_EPI meshes the app holds, all run with
+ * these settings (the base plane comes from the file's contours at them); answered with 'wall-file'.
+ */
+export interface BivWallExportRequest {
+  type: 'biv-wall-export';
+  reqId: number;
+  fileName: string;
+  params: ParamValues;
+  lids: LidsMode;
+  options?: ReconOptions;
+  lvEndo: WallSurfaceMesh;
+  rvEndo: WallSurfaceMesh;
+  /** The biventricular epicardium (the file's LV_EPI and RV_EPI curves joined). */
+  bivEpi: WallSurfaceMesh;
+  /** Endocardial vertices closer to the epicardium (or the other cavity) than this (mm) are moved first; null: off. */
+  minThicknessMm: number | null;
+  format: WallFormat;
+  /** Lines the file's header carries after the command line's comment (app version, settings). */
+  header: string[];
+}
+
 export interface LabTruthRequest {
   type: 'lab-truth';
   reqId: number;
@@ -112,7 +135,7 @@ export interface LabBatchRequest {
 
 export type LabRequest = LabTruthRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
 
-export type ToWorker = LoadRequest | GridRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | WallExportRequest | LabRequest;
+export type ToWorker = LoadRequest | GridRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | WallExportRequest | BivWallExportRequest | LabRequest;
 
 export interface ReadyMessage {
   type: 'ready';
@@ -163,7 +186,7 @@ export interface SessionJsonMessage {
   /** UTF-8 JSON. */
   bytes: Uint8Array;
 }
-/** The LV wall built: its figures and the file in the format asked for. */
+/** A wall built (the LV one or the biventricular one): its figures and the file in the format asked for. */
 export interface WallFileMessage {
   type: 'wall-file';
   reqId: number;

@@ -338,11 +338,13 @@ export type WallFormat = 'stl' | 'obj' | 'ply' | 'vtk';
 export const WALL_FORMATS: readonly WallFormat[] = ['stl', 'obj', 'ply', 'vtk'];
 
 /**
- * The LV myocardium wall the worker built (the binding's `Session.wall`: the command line's
- * `heartmesh myocardium` report figures, under its names). Volumes below the base plane.
+ * The myocardium wall the worker built (the binding's `Session.wall`, or `biventricular_wall`:
+ * the command line's `heartmesh myocardium [--biventricular]` report figures, under its names).
+ * Volumes below the base plane.
  */
 export interface WallSummary {
-  surfaces: { endo: string; epi: string };
+  /** The surfaces it is made of: the (LV) endocardium, the epicardium (BIV_EPI for a biventricular wall) and the RV endocardium of a biventricular one. */
+  surfaces: { endo: string; epi: string; rv_endo?: string };
   format: string;
   vertices: number;
   triangles: number;
@@ -351,16 +353,32 @@ export interface WallSummary {
   /** `density_g_per_ml` (1.05) x the wall volume, g. */
   myocardial_mass_g: number;
   density_g_per_ml: number;
-  /** The endocardium closed by the base plane, ml. */
+  /** The (LV) endocardium closed by the base plane, ml. */
   cavity_volume_ml: number;
+  /**
+   * Each cavity below the base by its region (one for an LV wall; `lv_endocardium` and
+   * `rv_endocardium` for a biventricular one). Absent from older cores.
+   */
+  cavities?: { region: string; volume_ml: number }[];
   /** Wall thickness over the vertices, mm (all 0 with `count` 0: none measured). */
   thickness_mm: { mean: number; median: number; p95: number; min: number; max: number; count: number };
-  /** The three regions (id 1 epicardium, 2 endocardium, 3 base) and their triangles. */
+  /**
+   * The regions and their triangles: id 1 epicardium, 2 endocardium, 3 base; in a biventricular
+   * wall 1 epicardium, 2 lv_endocardium, 3 rv_endocardium, 4 base.
+   */
   regions: { id: number; name: string; triangles: number }[];
-  /** Pairs of triangles passing through each other (the endocardium through the epicardium). */
+  /** Pairs of triangles passing through each other, all regions together (an endocardium through the epicardium or the other cavity). */
   endo_epi_crossings: number;
+  /** The same by pair of regions (a region named twice: folded through itself). Absent from older cores. */
+  crossings?: { regions: [string, string]; pairs: number }[];
   /** Folds of the surfaces, the rim left out. */
   folded_edges: number;
+  /**
+   * What the build left out or changed beyond the vertex moves, one sentence each (the base moved
+   * towards the apex where the surfaces could not be joined at the plane given; a fold of a surface
+   * dipping below the base on its own, left out). Absent from older cores.
+   */
+  notes?: string[];
   /** Endocardial vertices moved under the epicardium before the wall was built (vertices 0: none). */
   endocardium_moved: WallMoved;
   /** Epicardial vertices then moved out over the endocardium, where it still poked in between. */

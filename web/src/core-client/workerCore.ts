@@ -37,6 +37,7 @@ import {
   type StepFrame,
   type StepReport,
   type ToWorker,
+  type BivWallExportRequest,
   type WallExportRequest,
   type WallSummary,
 } from './protocol';
@@ -81,6 +82,29 @@ export interface SessionApi {
     epiSurface: string,
     epiPositions: Float64Array,
     epiIndices: Uint32Array,
+    minThicknessMm: number | undefined,
+    format: string,
+    header: string,
+  ): { summary: string; bytes: Uint8Array };
+  /**
+   * The biventricular myocardium of a loaded file from three finished meshes (the binding's
+   * `wall.rs`, `Session.biventricular_wall`): the LV and RV cavities and the biventricular
+   * epicardium; as `wall` otherwise. Absent from older cores ('biv-wall-export' then fails with
+   * `wall_unavailable`).
+   */
+  biventricular_wall?(
+    fileName: string,
+    paramsJson: string,
+    lids: string,
+    lvEndoSurface: string,
+    lvEndoPositions: Float64Array,
+    lvEndoIndices: Uint32Array,
+    rvEndoSurface: string,
+    rvEndoPositions: Float64Array,
+    rvEndoIndices: Uint32Array,
+    bivEpiSurface: string,
+    bivEpiPositions: Float64Array,
+    bivEpiIndices: Uint32Array,
     minThicknessMm: number | undefined,
     format: string,
     header: string,
@@ -206,7 +230,7 @@ export class WorkerCore {
     try {
       this.dispatch(msg);
     } catch (e) {
-      const file = msg.type === 'load' || msg.type === 'session-export' || msg.type === 'wall-export' ? msg.fileName : msg.type === 'lab-truth' && msg.source.kind === 'file' ? msg.source.fileName : undefined;
+      const file = msg.type === 'load' || msg.type === 'session-export' || msg.type === 'wall-export' || msg.type === 'biv-wall-export' ? msg.fileName : msg.type === 'lab-truth' && msg.source.kind === 'file' ? msg.source.fileName : undefined;
       this.fail(e, idsOf(msg), file);
     }
   }
@@ -241,6 +265,9 @@ export class WorkerCore {
         break;
       case 'wall-export':
         this.wall(msg);
+        break;
+      case 'biv-wall-export':
+        this.bivWall(msg);
         break;
       case 'ack':
         this.ack(msg.runId, msg.seq);
@@ -307,6 +334,39 @@ export class WorkerCore {
       msg.epi.surface,
       msg.epi.positions,
       msg.epi.indices,
+      msg.minThicknessMm ?? undefined,
+      msg.format,
+      msg.header.join('\n'),
+    );
+    const summary = JSON.parse(out.summary) as WallSummary;
+    this.send({ type: 'wall-file', reqId: msg.reqId, summary, bytes: out.bytes });
+  }
+
+  /**
+   * Builds the biventricular wall (BIV_EPI less the LV and RV cavities) of a loaded file's three
+   * finished meshes, as `wall` builds the LV one: a wall the core cannot build is its typed error
+   * ("the biventricular wall: ..."), the request fails and the worker goes on.
+   */
+  private bivWall(msg: BivWallExportRequest): void {
+    const build = this.session.biventricular_wall;
+    if (!build) {
+      this.send({ type: 'error', reqId: msg.reqId, error: { code: 'wall_unavailable', message: 'this core cannot build the biventricular wall', file: msg.fileName } });
+      return;
+    }
+    const out = build.call(
+      this.session,
+      msg.fileName,
+      paramsJson(msg.params, msg.options),
+      msg.lids,
+      msg.lvEndo.surface,
+      msg.lvEndo.positions,
+      msg.lvEndo.indices,
+      msg.rvEndo.surface,
+      msg.rvEndo.positions,
+      msg.rvEndo.indices,
+      msg.bivEpi.surface,
+      msg.bivEpi.positions,
+      msg.bivEpi.indices,
       msg.minThicknessMm ?? undefined,
       msg.format,
       msg.header.join('\n'),
@@ -504,6 +564,7 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
     case 'lab-compare':
     case 'session-export':
     case 'wall-export':
+    case 'biv-wall-export':
       return { reqId: msg.reqId };
     case 'run':
     case 'ack':

@@ -1,12 +1,14 @@
 /**
  * Export buttons: mesh as STL (binary), OBJ, PLY, VTK; contour distances CSV; parameters JSON;
  * the session (contours + settings, the core's format, opens again with the same settings); PNG
- * screenshot; once several surfaces of the file have been run, all of them in one OBJ; and, once
+ * screenshot; once several surfaces of the file have been run, all of them in one OBJ; once
  * LV_ENDO and LV_EPI have both been run with the settings in the panel, the LV wall (one closed
- * solid, built in the worker: export/wall.ts) in STL, OBJ, PLY or VTK, with its figures. Every
- * file records the parameters and the app version (see export/header.ts).
+ * solid, built in the worker: export/wall.ts) in STL, OBJ, PLY or VTK, with its figures; and
+ * below it, once LV_ENDO, RV_ENDO and BIV_EPI have been, the biventricular wall
+ * (export/bivWall.ts) the same way (each a WallRow). Every file records the parameters and the
+ * app version (see export/header.ts).
  */
-import { WALL_FORMATS, toCoreErrorData, type RunResult, type WallFormat, type WallSummary } from '../core-client/protocol';
+import type { RunResult, WallFormat, WallSummary } from '../core-client/protocol';
 import { h } from '../ui/dom';
 import { download } from './download';
 import { writeDistancesCsv } from './export/csv';
@@ -16,7 +18,9 @@ import { writeObj, writeObjSurfaces } from './export/obj';
 import { writePly } from './export/ply';
 import { writeStl } from './export/stl';
 import { writeVtk } from './export/vtk';
-import { wallErrorText, wallFigures, wallFiguresTitle, wallFileName, wallFormatTitle, type WallReadiness } from './export/wall';
+import { bivWallErrorText, bivWallFigures, bivWallFiguresTitle, bivWallFileName, bivWallFormatTitle, bivWallReadiness, type BivWallReadiness } from './export/bivWall';
+import { wallErrorText, wallFigures, wallFiguresTitle, wallFileName, wallFormatTitle, wallReadiness, type WallReadiness } from './export/wall';
+import { WallRow, type WallRowSpec } from './WallRow';
 
 const ALL_OFF = 'All surfaces of the file in one OBJ: each surface appears once its own run has finished (pick it in the Surface menu)';
 
@@ -33,11 +37,63 @@ export interface ExportSource {
    * built now). Rejects with the core's error.
    */
   wallFile(format: WallFormat): Promise<{ summary: WallSummary; bytes: Uint8Array }> | null;
+  /** The biventricular wall, as `wallFile` (null: it cannot be built now). */
+  bivWallFile(format: WallFormat): Promise<{ summary: WallSummary; bytes: Uint8Array }> | null;
   /** Reports a failed export. */
   failed(e: unknown): void;
 }
 
-const WALL_MIME: Record<WallFormat, string> = { stl: 'model/stl', obj: 'model/obj', ply: 'application/octet-stream', vtk: 'application/octet-stream' };
+/** The LV wall's row: LV_ENDO + LV_EPI (its test ids `wall-export`, `export-wall-<fmt>`, `wall-figures`). */
+const LV_WALL: WallRowSpec = {
+  id: 'wall',
+  label: 'LV wall',
+  what: 'LV_ENDO + LV_EPI as one closed solid',
+  initialTitle: wallReadiness(null, () => undefined, '').title,
+  busy: 'building the LV wall…',
+  formatTitle: wallFormatTitle,
+  fileName: wallFileName,
+  errorText: wallErrorText,
+  view: (s) => ({
+    ...wallFigures(s),
+    title: wallFiguresTitle(s),
+    warn: s.endo_epi_crossings > 0,
+    data: {
+      wallMl: String(s.wall_volume_ml),
+      massG: String(s.myocardial_mass_g),
+      cavityMl: String(s.cavity_volume_ml),
+      thicknessMm: String(s.thickness_mm?.mean ?? ''),
+      moved: String(s.endocardium_moved.vertices),
+      triangles: String(s.triangles),
+    },
+  }),
+};
+
+/** The biventricular wall's row: BIV_EPI less LV_ENDO and RV_ENDO (`biv-wall-export`, `export-biv-wall-<fmt>`, `biv-wall-figures`). */
+const BIV_WALL: WallRowSpec = {
+  id: 'biv-wall',
+  label: 'Biventricular wall',
+  what: 'BIV_EPI less LV_ENDO and RV_ENDO',
+  initialTitle: bivWallReadiness(null, () => undefined, '').title,
+  busy: 'building the biventricular wall…',
+  formatTitle: bivWallFormatTitle,
+  fileName: bivWallFileName,
+  errorText: bivWallErrorText,
+  view: (s) => ({
+    ...bivWallFigures(s),
+    title: bivWallFiguresTitle(s),
+    warn: s.endo_epi_crossings > 0,
+    data: {
+      wallMl: String(s.wall_volume_ml),
+      massG: String(s.myocardial_mass_g),
+      lvCavityMl: String(s.cavities?.find((c) => c.region === 'lv_endocardium')?.volume_ml ?? s.cavity_volume_ml),
+      rvCavityMl: String(s.cavities?.find((c) => c.region === 'rv_endocardium')?.volume_ml ?? ''),
+      thicknessMm: String(s.thickness_mm?.mean ?? ''),
+      moved: String(s.endocardium_moved.vertices),
+      crossings: String(s.endo_epi_crossings),
+      triangles: String(s.triangles),
+    },
+  }),
+};
 
 export class ExportPanel {
   readonly element: HTMLElement;
@@ -48,14 +104,8 @@ export class ExportPanel {
   private readonly all: HTMLButtonElement;
   private hasResult = false;
   private otherCount = 0;
-  private readonly wallGroup: HTMLElement;
-  private readonly wallButtons = new Map<WallFormat, HTMLButtonElement>();
-  /** The wall's figures once built (or why it was not), while its meshes stay the ones used. */
-  private readonly wallFigures: HTMLElement;
-  private wall: WallReadiness = { ready: false, title: '', key: '' };
-  private wallBusy = false;
-  /** The readiness key of the wall the figures line describes (null: it describes none). */
-  private figuresKey: string | null = null;
+  private readonly lvWall: WallRow;
+  private readonly bivWall: WallRow;
 
   constructor(private readonly source: ExportSource) {
     const button = (label: string, testid: string, title: string, fn: () => void | Promise<void>) => {
@@ -76,23 +126,18 @@ export class ExportPanel {
     this.session = button('Session', 'export-session', 'Contours and settings as a heartmesh session (.json): open it again to get the same settings back', () => this.exportSession());
     this.png = button('PNG', 'export-png', 'Screenshot of the 3D view', () => this.exportPng());
     this.all = button('All surfaces OBJ', 'export-all-obj', ALL_OFF, () => this.exportAll());
-    for (const fmt of WALL_FORMATS) {
-      const b = button(fmt.toUpperCase(), `export-wall-${fmt}`, '', () => this.exportWall(fmt));
-      // Told apart from the mesh's own STL ... buttons by screen readers (and tests by role).
-      b.setAttribute('aria-label', `LV wall ${fmt.toUpperCase()}`);
-      this.wallButtons.set(fmt, b);
-    }
-    this.wallFigures = h('p', { class: 'wall-figures', 'data-testid': 'wall-figures', role: 'status', hidden: true });
-    this.wallGroup = h(
-      'div',
-      { class: 'wall-export', 'data-testid': 'wall-export', role: 'group', 'aria-label': 'LV wall' },
-      h('div', { class: 'wall-head' }, h('span', { class: 'wall-label' }, 'LV wall'), h('span', { class: 'wall-what' }, 'LV_ENDO + LV_EPI as one closed solid')),
-      h('div', { class: 'button-grid' }, ...this.wallButtons.values()),
-      this.wallFigures,
+    const failed = (e: unknown) => source.failed(e);
+    this.lvWall = new WallRow(LV_WALL, { info: () => source.info(), build: (f) => source.wallFile(f), failed });
+    this.bivWall = new WallRow(BIV_WALL, { info: () => source.info(), build: (f) => source.bivWallFile(f), failed });
+    this.element = h(
+      'section',
+      { class: 'panel exports', 'aria-label': 'Export' },
+      h('h2', {}, 'Export'),
+      h('div', { class: 'button-grid' }, ...this.meshButtons, this.json, this.session, this.png, this.all),
+      this.lvWall.element,
+      this.bivWall.element,
     );
-    this.element = h('section', { class: 'panel exports', 'aria-label': 'Export' }, h('h2', {}, 'Export'), h('div', { class: 'button-grid' }, ...this.meshButtons, this.json, this.session, this.png, this.all), this.wallGroup);
     this.setAvailable(false, false);
-    this.setWall({ ready: false, title: 'The LV wall: open a file with LV_ENDO and LV_EPI contours', key: '' });
   }
 
   /**
@@ -100,82 +145,12 @@ export class ExportPanel {
    * titles follow; figures of a wall of other meshes (or settings) are taken away.
    */
   setWall(wall: WallReadiness): void {
-    this.wall = wall;
-    if (this.figuresKey !== null && (!wall.ready || wall.key !== this.figuresKey)) this.showFigures(null);
-    this.renderWall();
+    this.lvWall.set(wall);
   }
 
-  private renderWall(): void {
-    const w = this.wall;
-    this.wallGroup.title = w.title;
-    this.wallGroup.dataset.ready = w.ready ? '1' : '0';
-    for (const [fmt, b] of this.wallButtons) {
-      b.disabled = !w.ready || this.wallBusy;
-      b.title = w.ready ? wallFormatTitle(fmt) : w.title;
-    }
-  }
-
-  /** Fills the figures line: a built wall's figures, a message (`state` busy or error), or nothing. */
-  private showFigures(content: { summary: WallSummary } | { state: 'busy' | 'error'; text: string } | null, key: string | null = null): void {
-    const el = this.wallFigures;
-    this.figuresKey = content === null ? null : key;
-    for (const k of ['wallMl', 'massG', 'cavityMl', 'thicknessMm', 'moved', 'triangles']) delete el.dataset[k];
-    el.classList.toggle('warn', false);
-    if (content === null) {
-      el.hidden = true;
-      el.textContent = '';
-      el.title = '';
-      delete el.dataset.state;
-      return;
-    }
-    el.hidden = false;
-    if ('state' in content) {
-      el.dataset.state = content.state;
-      el.textContent = content.text;
-      el.title = '';
-      el.classList.toggle('warn', content.state === 'error');
-      return;
-    }
-    const s = content.summary;
-    el.dataset.state = 'done';
-    el.dataset.wallMl = String(s.wall_volume_ml);
-    el.dataset.massG = String(s.myocardial_mass_g);
-    el.dataset.cavityMl = String(s.cavity_volume_ml);
-    el.dataset.thicknessMm = String(s.thickness_mm?.mean ?? '');
-    el.dataset.moved = String(s.endocardium_moved.vertices);
-    el.dataset.triangles = String(s.triangles);
-    // Each figure kept whole on a narrow column; the notes wrap as text.
-    const { figures, notes } = wallFigures(s);
-    const nodes: (HTMLElement | string)[] = [];
-    figures.forEach((f, i) => nodes.push(...(i > 0 ? [' · '] : []), h('span', { class: 'wall-figure' }, f)));
-    for (const n of notes) nodes.push(`. ${n}`);
-    el.replaceChildren(...nodes);
-    el.title = wallFiguresTitle(s);
-    el.classList.toggle('warn', s.endo_epi_crossings > 0);
-  }
-
-  /** Builds the LV wall in the worker as `fmt` and saves it; its figures (or why not) below the buttons. */
-  private async exportWall(fmt: WallFormat): Promise<void> {
-    const info = this.source.info();
-    const wall = this.wall;
-    if (!info || !wall.ready || this.wallBusy) return;
-    const pending = this.source.wallFile(fmt);
-    if (!pending) return;
-    this.wallBusy = true;
-    this.renderWall();
-    this.showFigures({ state: 'busy', text: 'building the LV wall…' }, wall.key);
-    try {
-      const { summary, bytes } = await pending;
-      download(bytes.slice(), wallFileName(info, fmt), WALL_MIME[fmt]);
-      // Settings changed meanwhile: the file is of the meshes asked for, the figures no longer current.
-      this.showFigures(this.wall.key === wall.key ? { summary } : null, wall.key);
-    } catch (e) {
-      this.showFigures({ state: 'error', text: wallErrorText(toCoreErrorData(e).message) }, wall.key);
-      this.source.failed(e);
-    } finally {
-      this.wallBusy = false;
-      this.renderWall();
-    }
+  /** Whether the biventricular wall can be built now (export/bivWall.ts `bivWallReadiness`), as `setWall`. */
+  setBivWall(wall: BivWallReadiness): void {
+    this.bivWall.set(wall);
   }
 
   setAvailable(hasResult: boolean, hasFile: boolean): void {

@@ -268,6 +268,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
                 min_thickness.unwrap_or(0.0)
             );
         }
+        for note in &wall.notes {
+            eprintln!("heartmesh: note: {output}: {note}");
+        }
         for c in &wall.crossings {
             let [a, b] = c.regions.map(|r| r.replace('_', " "));
             let what = if a == b {

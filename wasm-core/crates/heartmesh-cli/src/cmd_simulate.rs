@@ -1,10 +1,13 @@
 //! `heartmesh simulate TRUTH -o CONTOURS.csv`: slice a reference surface like a CMR acquisition
-//! (SAX stack, radial LAX, breath-hold misalignment, noise) to get contours with a known truth.
+//! (SAX stack, radial LAX, breath-hold misalignment, noise) to get contours with a known truth;
+//! `LABEL=TRUTH ...`: several surfaces of one heart on one acquisition (a multi-surface file).
 
 use heartmesh_core::io;
 use heartmesh_core::sim::planes::anatomical_axis;
+use heartmesh_core::sim::planes::simulate_surfaces;
 use heartmesh_core::sim::repair::{orient_consistently, weld};
 use heartmesh_core::sim::{simulate, AcquisitionSpec, Misalignment, SaxStack};
+use heartmesh_core::TriMesh;
 
 use crate::args::{parse, Parsed, Spec};
 use crate::cmd_convert::file_name;
@@ -14,12 +17,85 @@ use crate::files;
 pub const USAGE: &str = "heartmesh simulate TRUTH.obj -o CONTOURS.csv [--sax N | --sax-spacing MM]
     [--lax K] [--misalign MM,DEG] [--noise MM] [--seed S] [--surface LABEL] [--axis-from LV.obj]
     [--quiet]
+  heartmesh simulate LV_ENDO=lv.obj LV_EPI=epi.obj [RV_ENDO=rv.obj ...] -o CONTOURS.csv [...]
   TRUTH: obj, stl, ply, vtk or vtp surface in mm. SAX planes every 10 mm by default, from 3 mm
   below the valve rim (or where the section stops being one loop) towards the apex; LAX planes
   contain the long axis at 0, 90, 45, 135, 22.5, 157.5, 112.5, 67.5 degrees (default 3);
   --misalign shifts each plane up to MM and tilts it up to DEG (breath-hold model, seeded);
   --noise adds in-plane Gaussian noise (sd in mm); --axis-from plans the planes on another
-  surface's long axis (e.g. the LV of the same subject for an RV).";
+  surface's long axis (e.g. the LV of the same subject for an RV).
+  LABEL=TRUTH (several surfaces of one heart): one acquisition, planned on the first surface
+  (or --axis-from), its stack from the lowest apex to the base they share; every image cuts
+  every surface with the same breath-hold motion, as one scanner image shows them all; each
+  contour gets its surface's label (the surface column) and its image's id (sax03_LV_ENDO);
+  the file then feeds `reconstruct --surface all` or `myocardium`.";
+
+/// A label for the `surface` column: what the readers accept as one (no separators or quotes).
+fn is_label(s: &str) -> bool {
+    !s.is_empty()
+        && s.len() <= 64
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+}
+
+/// The reference surfaces named on the command line: one plain path, or `LABEL=PATH` each (a path
+/// that exists is a path even if it holds `=`).
+fn truths(positional: &[String]) -> Result<Vec<(Option<String>, String)>, CliError> {
+    let named = |arg: &String| -> Option<(String, String)> {
+        if std::path::Path::new(arg).exists() {
+            return None;
+        }
+        let (label, path) = arg.split_once('=')?;
+        Some((label.to_string(), path.to_string()))
+    };
+    match positional {
+        [] => Err(CliError::usage(
+            "simulate needs a reference surface (TRUTH.obj, or LABEL=TRUTH for each of several)",
+        )),
+        [one] => Ok(vec![match named(one) {
+            Some((label, path)) => (Some(label), path),
+            None => (None, one.clone()),
+        }]),
+        many => many
+            .iter()
+            .map(|arg| {
+                named(arg).map(|(l, p)| (Some(l), p)).ok_or_else(|| {
+                    CliError::usage(format!(
+                        "simulate: {arg} has no label: with several surfaces give each as \
+                         LABEL=FILE (e.g. LV_ENDO=lv.obj LV_EPI=epi.obj)"
+                    ))
+                })
+            })
+            .collect(),
+    }
+    .and_then(|list| {
+        for (k, (label, path)) in list.iter().enumerate() {
+            if let Some(label) = label {
+                if !is_label(label) {
+                    return Err(CliError::usage(format!(
+                        "simulate: {label:?} is no surface label (letters, digits, _ and -, \
+                         e.g. LV_ENDO=lv.obj)"
+                    )));
+                }
+                if list[..k]
+                    .iter()
+                    .any(|(l, _)| l.as_deref().is_some_and(|l| l.eq_ignore_ascii_case(label)))
+                {
+                    return Err(CliError::usage(format!(
+                        "simulate: the label {label} is given twice; give each surface its own"
+                    )));
+                }
+            }
+            if path.is_empty() {
+                return Err(CliError::usage(format!(
+                    "simulate: {} has no file after =",
+                    label.as_deref().unwrap_or_default()
+                )));
+            }
+        }
+        Ok(list)
+    })
+}
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
     let p = parse(
@@ -40,12 +116,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             aliases: &[("-o", "output"), ("-q", "quiet")],
         },
     )?;
-    let [input] = p.positional.as_slice() else {
-        return Err(CliError::usage(format!(
-            "simulate needs exactly one reference surface, got {}",
-            p.positional.len()
-        )));
-    };
+    let truths = truths(&p.positional)?;
     let output = p
         .value("output")
         .ok_or_else(|| CliError::usage("simulate needs -o CONTOURS.csv"))?;
@@ -55,12 +126,23 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         )));
     }
     files::check_output(output)?;
-    let inputs: Vec<&str> = std::iter::once(input.as_str())
+    let inputs: Vec<&str> = truths
+        .iter()
+        .map(|(_, path)| path.as_str())
         .chain(p.value("axis-from"))
         .collect();
     files::check_distinct(&inputs, &[("-o", output)])?;
     let mut spec = spec_from(&p)?;
-    let truth = read_surface(input)?;
+    let labelled = truths.iter().any(|(label, _)| label.is_some());
+    if labelled && spec.surface.is_some() {
+        return Err(CliError::usage(
+            "simulate: give the surface labels as LABEL=FILE or with --surface, not both",
+        ));
+    }
+    let meshes = truths
+        .iter()
+        .map(|(_, path)| read_surface(path))
+        .collect::<Result<Vec<TriMesh>, CliError>>()?;
     if let Some(lv) = p.value("axis-from") {
         let lv_mesh = read_surface(lv)?;
         // Planned like a scanner: through the LV apex and mitral centre, as `simulate` does.
@@ -68,26 +150,52 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             anatomical_axis(&lv_mesh, spec.join_gap_mm).map_err(|e| CliError::input(lv, e))?;
         spec.axis = Some(axis);
     }
-    let acq = simulate(&truth, &spec).map_err(|e| match e {
+    // Which file a failure is about: the one surface's, or all of them (the core names the
+    // label of the surface it could not slice).
+    let about = truths
+        .iter()
+        .map(|(_, path)| path.as_str())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let acq = if labelled {
+        let surfaces: Vec<(&str, &TriMesh)> = truths
+            .iter()
+            .zip(&meshes)
+            .map(|((label, _), mesh)| (label.as_deref().unwrap_or_default(), mesh))
+            .collect();
+        simulate_surfaces(&surfaces, &spec)
+    } else {
+        simulate(&meshes[0], &spec)
+    }
+    .map_err(|e| match e {
         heartmesh_core::CoreError::ParamOutOfRange { .. } => CliError::param(e),
-        other => CliError::input(input, other),
+        other => CliError::input(&about, other),
     })?;
     let csv = io::csv::write_csv(&acq.contours, None)
         .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
     files::write(output, &csv)?;
     if !p.switch("quiet") {
         for w in &acq.contours.warnings {
-            eprintln!("heartmesh: warning: {input}: {w}");
+            eprintln!("heartmesh: warning: {about}: {w}");
         }
         let o = acq.clip.origin;
         let n = acq.clip.normal;
+        let sources = truths
+            .iter()
+            .map(|(label, path)| match label {
+                Some(label) => format!("{label} {}", file_name(path)),
+                None => file_name(path).to_string(),
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
         outln!(
-            "{output}: {} SAX + {} LAX contours, {} points from {}; most basal SAX plane through \
-             ({:.2}, {:.2}, {:.2}) normal ({:.4}, {:.4}, {:.4})",
+            "{output}: {} SAX + {} LAX images, {} contours, {} points from {}; most basal SAX \
+             plane through ({:.2}, {:.2}, {:.2}) normal ({:.4}, {:.4}, {:.4})",
             acq.sax_planes.len(),
-            acq.contours.contours.len() - acq.sax_planes.len(),
+            acq.lax_planes.len(),
+            acq.contours.contours.len(),
             acq.contours.point_count(),
-            file_name(input),
+            sources,
             o.x,
             o.y,
             o.z,

@@ -1,19 +1,23 @@
-//! The LV myocardium as one closed solid in the app: the command line's `heartmesh myocardium`
-//! (heartmesh-cli `cmd_myocardium.rs`) made of the two finished meshes the app holds (its last
-//! LV_ENDO and LV_EPI runs, at the current parameters) instead of two fresh reconstructions.
+//! The myocardium as one closed solid in the app: the command line's `heartmesh myocardium`
+//! (heartmesh-cli `cmd_myocardium.rs`) made of the finished meshes the app holds (their last runs,
+//! at the current parameters) instead of fresh reconstructions. The LV wall ([`Session::wall`]) is
+//! LV_ENDO and LV_EPI; the biventricular one ([`Session::biventricular_wall`], the command line's
+//! `--biventricular`) is BIV_EPI less the LV_ENDO and RV_ENDO cavities.
 //!
 //! The base plane comes from the file's contours at the same parameters
-//! (`common_basal_plane_of`, the plane the command line uses), the solid from the core's
-//! `mesh::wall::build_wall`, the file from `Wall::write` with the same regions, point data
-//! and header comment as the command line's: given the same meshes, the same bytes (an app header,
-//! when given, follows the command line's comment). Everything is checked before the core sees it,
-//! so a bad call is an error thrown as JSON (`errors.rs`), never a panic.
+//! (`common_basal_plane_of` / `common_basal_plane_all`, the planes the command line uses), the
+//! solid from the core's `mesh::wall::build_wall` / `build_biventricular`, the file from
+//! `Wall::write` with the same regions, point data and header comment as the command line's:
+//! given the same meshes, the same bytes (an app header, when given, follows the command line's
+//! comment). Everything is checked before the core sees it, so a bad call is an error thrown as
+//! JSON (`errors.rs`), never a panic: the worker goes on.
 
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::io::MeshFormat;
-use heartmesh_core::mesh::wall::{self, Wall};
-use heartmesh_core::metrics::compare::common_basal_plane_of;
+use heartmesh_core::mesh::wall::{self, Wall, BIV_REGION_NAMES, REGION_NAMES};
+use heartmesh_core::metrics::compare::{common_basal_plane_all, common_basal_plane_of, ClipPlane};
 use heartmesh_core::metrics::function::MYOCARDIAL_DENSITY_G_PER_ML;
+use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{ContourSet, CoreError, Params, TriMesh};
 use serde_json::{json, Value};
 use wasm_bindgen::prelude::*;
@@ -92,22 +96,100 @@ impl Session {
             format,
             header,
         )
-        .map_err(|e| wall_error(&e))?;
-        let out = js_sys::Object::new();
-        js_sys::Reflect::set(&out, &"summary".into(), &built.summary.to_string().into())?;
-        let bytes = js_sys::Uint8Array::from(built.bytes.as_slice());
-        js_sys::Reflect::set(&out, &"bytes".into(), &bytes)?;
-        Ok(out)
+        .map_err(|e| wall_error(&e, LV_WALL))?;
+        export_object(&built)
+    }
+
+    /// The biventricular myocardium of a loaded file, as `heartmesh myocardium --biventricular`
+    /// builds it, from the three finished meshes of its LV cavity (`lv_endo_surface`, e.g.
+    /// "LV_ENDO"), its RV cavity (`rv_endo_surface`, "RV_ENDO") and the biventricular epicardium
+    /// (`biv_epi_surface`, "BIV_EPI": the file's LV_EPI and RV_EPI curves joined), all run with
+    /// `params_json` and `lids`: the epicardium less both cavities, cut at the most basal
+    /// short-axis slice all three were drawn on. `min_thickness_mm`, `format` and `header` as
+    /// [`Session::wall`] takes them (the cavities are also kept that far apart: the septum).
+    /// Returns `{summary, bytes}`: the summary adds `cavities` (the LV's and the RV's volume
+    /// below the base) and `crossings` by pair of regions; regions 1 epicardium,
+    /// 2 lv_endocardium, 3 rv_endocardium, 4 base. Errors start "the biventricular wall: ".
+    #[allow(clippy::too_many_arguments)]
+    #[wasm_bindgen(unchecked_return_type = "{ summary: string; bytes: Uint8Array }")]
+    pub fn biventricular_wall(
+        &self,
+        file_name: &str,
+        params_json: &str,
+        lids: &str,
+        lv_endo_surface: &str,
+        lv_endo_positions: &[f64],
+        lv_endo_indices: &[u32],
+        rv_endo_surface: &str,
+        rv_endo_positions: &[f64],
+        rv_endo_indices: &[u32],
+        biv_epi_surface: &str,
+        biv_epi_positions: &[f64],
+        biv_epi_indices: &[u32],
+        min_thickness_mm: Option<f64>,
+        format: &str,
+        header: &str,
+    ) -> Result<js_sys::Object, JsValue> {
+        let fail = |e: &CoreError| wall_error(e, BIV_WALL);
+        let set = self.file(file_name)?;
+        let params = convert::params_from_json(params_json, lids, None).map_err(|e| fail(&e))?;
+        let meshes = Biventricular {
+            lv_endo: SurfaceMesh {
+                name: lv_endo_surface,
+                positions: lv_endo_positions,
+                indices: lv_endo_indices,
+            },
+            rv_endo: SurfaceMesh {
+                name: rv_endo_surface,
+                positions: rv_endo_positions,
+                indices: rv_endo_indices,
+            },
+            biv_epi: SurfaceMesh {
+                name: biv_epi_surface,
+                positions: biv_epi_positions,
+                indices: biv_epi_indices,
+            },
+        };
+        let format = mesh_format(format).map_err(|e| fail(&e))?;
+        let built = build_biventricular(
+            set,
+            file_name,
+            &params,
+            meshes,
+            min_thickness_mm,
+            format,
+            header,
+        )
+        .map_err(|e| fail(&e))?;
+        export_object(&built)
     }
 }
 
-/// A failure to build the wall as the app shows it: the core's code, its message after "the LV
-/// wall: " (the command line's "the myocardium wall: ").
-fn wall_error(e: &CoreError) -> JsValue {
+/// `{summary, bytes}` as the worker reads it: the summary as JSON text, the file's bytes.
+fn export_object(built: &WallExport) -> Result<js_sys::Object, JsValue> {
+    let out = js_sys::Object::new();
+    js_sys::Reflect::set(&out, &"summary".into(), &built.summary.to_string().into())?;
+    let bytes = js_sys::Uint8Array::from(built.bytes.as_slice());
+    js_sys::Reflect::set(&out, &"bytes".into(), &bytes)?;
+    Ok(out)
+}
+
+/// How the LV wall's failures begin (the command line's "the myocardium wall: ").
+pub const LV_WALL: &str = "the LV wall";
+/// How the biventricular wall's failures begin.
+pub const BIV_WALL: &str = "the biventricular wall";
+
+/// A failure to build a wall as the app shows it: the core's code, its message after `what`
+/// ("the LV wall: ...", "the biventricular wall: ...").
+pub fn wall_error_json(e: &CoreError, what: &str) -> Value {
     let mut v = errors::error_json(e);
     let message = v["message"].as_str().unwrap_or_default().to_string();
-    v["message"] = json!(format!("the LV wall: {message}"));
-    JsValue::from_str(&v.to_string())
+    v["message"] = json!(format!("{what}: {message}"));
+    v
+}
+
+fn wall_error(e: &CoreError, what: &str) -> JsValue {
+    JsValue::from_str(&wall_error_json(e, what).to_string())
 }
 
 /// The format of a mesh extension (`stl` is binary STL).
@@ -118,6 +200,14 @@ pub fn mesh_format(extension: &str) -> heartmesh_core::error::Result<MeshFormat>
             message: format!("{extension:?} is no mesh format (use obj, stl, ply, vtk or vtp)"),
         }
     })
+}
+
+/// The three meshes of a biventricular wall.
+#[derive(Debug, Clone, Copy)]
+pub struct Biventricular<'a> {
+    pub lv_endo: SurfaceMesh<'a>,
+    pub rv_endo: SurfaceMesh<'a>,
+    pub biv_epi: SurfaceMesh<'a>,
 }
 
 /// The work of [`Session::wall`] (native, so tests reach it).
@@ -132,43 +222,155 @@ pub fn build(
     format: MeshFormat,
     header: &str,
 ) -> heartmesh_core::error::Result<WallExport> {
-    if let Some(mm) = min_thickness_mm {
-        if !(mm.is_finite() && (0.0..=MAX_MIN_THICKNESS_MM).contains(&mm)) {
-            return Err(CoreError::ParamInvalid {
-                name: "min_thickness_mm".into(),
-                message: format!(
-                    "{mm}: give a thickness in mm from 0 to {MAX_MIN_THICKNESS_MM}, or none"
-                ),
-            });
-        }
-    }
-    if endo.name.eq_ignore_ascii_case(epi.name) {
-        return Err(CoreError::ParamInvalid {
-            name: "surfaces".into(),
-            message: format!(
-                "the endocardium and the epicardium are the same surface ({})",
-                endo.name
-            ),
-        });
-    }
+    check_min_thickness(min_thickness_mm)?;
+    check_distinct(&[("endocardium", endo), ("epicardium", epi)])?;
     let endo_mesh = mesh_of(endo)?;
     let epi_mesh = mesh_of(epi)?;
     let base = common_basal_plane_of(set, params, endo.name, epi.name)?;
     let wall = wall::build_wall(&endo_mesh, &epi_mesh, &base, min_thickness_mm)?;
     let comment = header_comment(file_name, endo.name, epi.name, header);
     let bytes = wall.write(format, &comment)?;
+    let surfaces = json!({ "endo": endo.name, "epi": epi.name });
     Ok(WallExport {
-        summary: summary(&wall, endo.name, epi.name, min_thickness_mm, format)?,
+        summary: summary(&wall, surfaces, min_thickness_mm, format, LV_WALL)?,
         bytes,
     })
 }
 
+/// The work of [`Session::biventricular_wall`] (native, so tests reach it): as
+/// `heartmesh myocardium --biventricular`, the base plane the lowest of the three surfaces' most
+/// basal short-axis planes along the LV cavity's long axis (the command line's order: LV_ENDO,
+/// BIV_EPI, RV_ENDO).
+pub fn build_biventricular(
+    set: &ContourSet,
+    file_name: &str,
+    params: &Params,
+    meshes: Biventricular,
+    min_thickness_mm: Option<f64>,
+    format: MeshFormat,
+    header: &str,
+) -> heartmesh_core::error::Result<WallExport> {
+    let Biventricular {
+        lv_endo,
+        rv_endo,
+        biv_epi,
+    } = meshes;
+    check_min_thickness(min_thickness_mm)?;
+    check_distinct(&[
+        ("LV endocardium", lv_endo),
+        ("RV endocardium", rv_endo),
+        ("biventricular epicardium", biv_epi),
+    ])?;
+    let lv_mesh = mesh_of(lv_endo)?;
+    let rv_mesh = mesh_of(rv_endo)?;
+    let epi_mesh = mesh_of(biv_epi)?;
+    let order = [lv_endo.name, biv_epi.name, rv_endo.name];
+    let base = basal_plane_of_all(set, params, &order)?;
+    let wall = wall::build_biventricular(&lv_mesh, &rv_mesh, &epi_mesh, &base, min_thickness_mm)?;
+    let comment = comment_of(
+        "biventricular myocardium",
+        file_name,
+        &order,
+        &BIV_REGION_NAMES,
+        header,
+    );
+    let bytes = wall.write(format, &comment)?;
+    let surfaces = json!({ "endo": lv_endo.name, "epi": biv_epi.name, "rv_endo": rv_endo.name });
+    Ok(WallExport {
+        summary: summary(&wall, surfaces, min_thickness_mm, format, BIV_WALL)?,
+        bytes,
+    })
+}
+
+/// A minimum thickness from 0 to [`MAX_MIN_THICKNESS_MM`] mm, or none.
+fn check_min_thickness(min_thickness_mm: Option<f64>) -> heartmesh_core::error::Result<()> {
+    match min_thickness_mm {
+        Some(mm) if !(mm.is_finite() && (0.0..=MAX_MIN_THICKNESS_MM).contains(&mm)) => {
+            Err(CoreError::ParamInvalid {
+                name: "min_thickness_mm".into(),
+                message: format!(
+                    "{mm}: give a thickness in mm from 0 to {MAX_MIN_THICKNESS_MM}, or none"
+                ),
+            })
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Refuses two roles of a wall given the same surface (names compared whatever their case, as
+/// the file's are).
+fn check_distinct(roles: &[(&str, SurfaceMesh)]) -> heartmesh_core::error::Result<()> {
+    for (i, (role, s)) in roles.iter().enumerate() {
+        if let Some((other, _)) = roles[..i]
+            .iter()
+            .find(|(_, o)| o.name.eq_ignore_ascii_case(s.name))
+        {
+            return Err(CoreError::ParamInvalid {
+                name: "surfaces".into(),
+                message: format!(
+                    "the {other} and the {role} are the same surface ({})",
+                    s.name
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// [`common_basal_plane_all`] of surfaces of a contour file, from the contours alone (each
+/// surface set up, not run: the slices and the long axis are fixed then), as
+/// `common_basal_plane_of` does for two.
+fn basal_plane_of_all(
+    set: &ContourSet,
+    params: &Params,
+    surfaces: &[&str],
+) -> heartmesh_core::error::Result<ClipPlane> {
+    let setups = surfaces
+        .iter()
+        .map(|s| {
+            Reconstruction::new(
+                set,
+                Params {
+                    surface: Some(s.to_string()),
+                    ..params.clone()
+                },
+            )
+        })
+        .collect::<heartmesh_core::error::Result<Vec<_>>>()?;
+    let refs: Vec<&Reconstruction> = setups.iter().collect();
+    common_basal_plane_all(&refs)
+}
+
 /// The command line's header comment (`cmd_myocardium.rs`), then the app's `extra` lines.
 pub fn header_comment(file_name: &str, endo: &str, epi: &str, extra: &str) -> String {
+    comment_of(
+        "LV myocardium wall",
+        file_name,
+        &[endo, epi],
+        &REGION_NAMES,
+        extra,
+    )
+}
+
+/// "`kind` of `file` (A + B ...); units mm, the contour file's coordinates; region 1 ..." as
+/// `heartmesh myocardium` writes it (the surfaces in its order), then the app's `extra` lines.
+fn comment_of(
+    kind: &str,
+    file_name: &str,
+    surfaces: &[&str],
+    regions: &[&str],
+    extra: &str,
+) -> String {
     let name = file_name.rsplit(['/', '\\']).next().unwrap_or(file_name);
+    let labels: Vec<String> = regions
+        .iter()
+        .enumerate()
+        .map(|(k, n)| format!("{} {n}", k + 1))
+        .collect();
     let mut comment = format!(
-        "LV myocardium wall of {name} ({endo} + {epi}); units mm, the contour file's \
-         coordinates; region 1 epicardium, 2 endocardium, 3 base"
+        "{kind} of {name} ({}); units mm, the contour file's coordinates; region {}",
+        surfaces.join(" + "),
+        labels.join(", ")
     );
     for line in extra.lines().map(str::trim).filter(|l| !l.is_empty()) {
         comment.push('\n');
@@ -219,24 +421,22 @@ pub fn mesh_of(s: SurfaceMesh) -> heartmesh_core::error::Result<TriMesh> {
 }
 
 /// What the app shows and tests read: the core's `Wall::summary` (the command line report's
-/// figures, under its names), with the solid's size, the rim-less folds, the density and what was
-/// asked for.
+/// figures, under its names), with the surfaces it is made of, the solid's size, the rim-less
+/// folds, the density and what was asked for. `what` names the wall in errors.
 fn summary(
     wall: &Wall,
-    endo: &str,
-    epi: &str,
+    surfaces: Value,
     min_thickness_mm: Option<f64>,
     format: MeshFormat,
+    what: &str,
 ) -> heartmesh_core::error::Result<Value> {
     let mut value = serde_json::to_value(wall.summary(min_thickness_mm))
-        .map_err(|e| CoreError::Io(format!("the LV wall's summary: {e}")))?;
+        .map_err(|e| CoreError::Io(format!("{what}'s summary: {e}")))?;
     let Value::Object(map) = &mut value else {
-        return Err(CoreError::Io(
-            "the LV wall's summary is not an object".into(),
-        ));
+        return Err(CoreError::Io(format!("{what}'s summary is not an object")));
     };
     for (key, v) in [
-        ("surfaces", json!({ "endo": endo, "epi": epi })),
+        ("surfaces", surfaces),
         ("format", json!(format.extension())),
         ("vertices", json!(wall.mesh.positions.len())),
         ("triangles", json!(wall.mesh.triangles.len())),
@@ -540,6 +740,270 @@ mod tests {
         assert_eq!(e.code(), "unknown_surface");
         assert_eq!(mesh_format(".vtp").unwrap(), MeshFormat::Vtp);
         assert_eq!(mesh_format("gltf").unwrap_err().code(), "param_invalid");
+    }
+
+    /// `shared/data/<rel>`: the nearest ancestor of this crate holding it (as the CLI's tests).
+    fn data(rel: &str) -> std::path::PathBuf {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .ancestors()
+            .map(|a| a.join("shared/data"))
+            .find(|d| d.join("README.md").is_file())
+            .expect("shared/data not found above CARGO_MANIFEST_DIR")
+            .join(rel)
+    }
+
+    /// The biv-me example patient 1 at end-diastole (the app's "Patient 1 · ED") with its
+    /// LV_ENDO, RV_ENDO and BIV_EPI run at the app's default settings, as the app keeps them.
+    fn patient1_biv() -> (ContourSet, Params, Run, Run, Run) {
+        let path = data("contours/bivme-example-patient1/patient1-ED.csv");
+        let set = io::read_contours("patient1-ED.csv", &std::fs::read(path).unwrap()).unwrap();
+        let params = convert::params_from_json("{}", "auto", None).unwrap();
+        let lv = run(&set, &params, "LV_ENDO");
+        let rv = run(&set, &params, "RV_ENDO");
+        let epi = run(&set, &params, "BIV_EPI");
+        (set, params, lv, rv, epi)
+    }
+
+    fn biv<'a>(lv: &'a Run, rv: &'a Run, epi: &'a Run) -> Biventricular<'a> {
+        Biventricular {
+            lv_endo: surface("LV_ENDO", lv),
+            rv_endo: surface("RV_ENDO", rv),
+            biv_epi: surface("BIV_EPI", epi),
+        }
+    }
+
+    /// `heartmesh myocardium patient1-ED.csv --biventricular --report`: 2140 vertices, 4276
+    /// triangles, wall 132.473 ml (mass 139.096 g), LV cavity 135.005 ml, RV cavity 127.018 ml,
+    /// regions 1253 / 1495 / 1302 / 226, 18 endocardial and 1 epicardial vertex moved.
+    const CLI_BIV: (usize, usize, f64, f64, f64, f64) = (
+        2140,
+        4276,
+        132.47267309576594,
+        139.09630675055425,
+        135.0049193600555,
+        127.01773160942558,
+    );
+
+    /// The biventricular wall of a real file is the command line's: the same size, volumes,
+    /// regions and header comment; a closed solid (every edge in two faces) whose enclosed
+    /// volume read back is the summary's; the OBJ has the four region groups; the VTK one region
+    /// per triangle in 1..4, as many of each as the summary counts.
+    #[test]
+    fn patient1_biventricular_wall_is_the_command_lines() {
+        let (set, params, lv, rv, epi) = patient1_biv();
+        let make = |format, header| {
+            build_biventricular(
+                &set,
+                "patient1-ED.csv",
+                &params,
+                biv(&lv, &rv, &epi),
+                Some(1.0),
+                format,
+                header,
+            )
+            .unwrap()
+        };
+        let obj = make(MeshFormat::Obj, "heartmesh 9.9.9 (app)");
+        let s = &obj.summary;
+        let (vertices, triangles, wall_ml, mass_g, lv_ml, rv_ml) = CLI_BIV;
+        assert_eq!(s["vertices"], vertices);
+        assert_eq!(s["triangles"], triangles);
+        let close = |key: &Value, want: f64| {
+            let got = key.as_f64().unwrap();
+            assert!((got / want - 1.0).abs() < 1e-9, "{got} vs the CLI's {want}");
+        };
+        close(&s["wall_volume_ml"], wall_ml);
+        close(&s["myocardial_mass_g"], mass_g);
+        close(&s["cavity_volume_ml"], lv_ml);
+        assert_eq!(s["cavities"][0]["region"], "lv_endocardium");
+        close(&s["cavities"][0]["volume_ml"], lv_ml);
+        assert_eq!(s["cavities"][1]["region"], "rv_endocardium");
+        close(&s["cavities"][1]["volume_ml"], rv_ml);
+        assert_eq!(s["endo_epi_crossings"], 0);
+        assert_eq!(s["crossings"], json!([]));
+        assert_eq!(s["endocardium_moved"]["vertices"], 18);
+        assert_eq!(s["epicardium_moved"]["vertices"], 1);
+        assert_eq!(
+            s["surfaces"],
+            json!({ "endo": "LV_ENDO", "epi": "BIV_EPI", "rv_endo": "RV_ENDO" })
+        );
+        let regions: Vec<(u64, &str, u64)> = s["regions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| {
+                (
+                    r["id"].as_u64().unwrap(),
+                    r["name"].as_str().unwrap(),
+                    r["triangles"].as_u64().unwrap(),
+                )
+            })
+            .collect();
+        assert_eq!(
+            regions,
+            [
+                (1, "epicardium", 1253),
+                (2, "lv_endocardium", 1495),
+                (3, "rv_endocardium", 1302),
+                (4, "base", 226)
+            ]
+        );
+
+        let text = String::from_utf8(obj.bytes.clone()).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines[1],
+            "# biventricular myocardium of patient1-ED.csv (LV_ENDO + BIV_EPI + RV_ENDO); units \
+             mm, the contour file's coordinates; region 1 epicardium, 2 lv_endocardium, \
+             3 rv_endocardium, 4 base"
+        );
+        assert_eq!(lines[2], "# heartmesh 9.9.9 (app)");
+        let groups: Vec<&str> = lines
+            .iter()
+            .filter(|l| l.starts_with("g "))
+            .copied()
+            .collect();
+        assert_eq!(
+            groups,
+            [
+                "g epicardium",
+                "g lv_endocardium",
+                "g rv_endocardium",
+                "g base"
+            ]
+        );
+        let mut edges = std::collections::HashMap::new();
+        for l in lines.iter().filter(|l| l.starts_with("f ")) {
+            let ids: Vec<u32> = l[2..].split(' ').map(|x| x.parse().unwrap()).collect();
+            for k in 0..3 {
+                let (a, b) = (ids[k], ids[(k + 1) % 3]);
+                *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        assert_eq!(edges.values().filter(|&&n| n != 2).count(), 0, "closed");
+        let back = io::read_mesh("biv.obj", &obj.bytes).unwrap();
+        close(&json!(back.mesh.volume_ml()), wall_ml);
+
+        // Byte for byte the command line's file: what `cmd_myocardium.rs` does with its own
+        // finished reconstructions (LV_ENDO, BIV_EPI, RV_ENDO), written with its comment.
+        let recs: Vec<Reconstruction> = ["LV_ENDO", "BIV_EPI", "RV_ENDO"]
+            .iter()
+            .map(|name| {
+                let mut p = params.clone();
+                p.surface = Some(name.to_string());
+                let mut rec = Reconstruction::new(&set, p).unwrap();
+                rec.run().unwrap();
+                rec
+            })
+            .collect();
+        let refs: Vec<&Reconstruction> = recs.iter().collect();
+        let base = common_basal_plane_all(&refs).unwrap();
+        let cli = wall::build_biventricular(
+            recs[0].mesh(),
+            recs[2].mesh(),
+            recs[1].mesh(),
+            &base,
+            Some(1.0),
+        )
+        .unwrap();
+        let comment = "biventricular myocardium of patient1-ED.csv (LV_ENDO + BIV_EPI + RV_ENDO); \
+                       units mm, the contour file's coordinates; region 1 epicardium, \
+                       2 lv_endocardium, 3 rv_endocardium, 4 base";
+        let cli_obj = cli.write(MeshFormat::Obj, comment).unwrap();
+        assert!(make(MeshFormat::Obj, "").bytes == cli_obj, "the CLI's OBJ");
+
+        let vtk = String::from_utf8(make(MeshFormat::Vtk, "").bytes).unwrap();
+        let vtk_lines: Vec<&str> = vtk.lines().collect();
+        let at = vtk_lines
+            .iter()
+            .position(|l| *l == "SCALARS region int 1")
+            .unwrap();
+        let ids: Vec<u32> = vtk_lines[at + 1..]
+            .iter()
+            .skip_while(|l| l.starts_with("LOOKUP_TABLE"))
+            .take_while(|l| !l.starts_with(|c: char| c.is_ascii_alphabetic()))
+            .flat_map(|l| l.split_whitespace().map(|x| x.parse::<u32>().unwrap()))
+            .collect();
+        assert_eq!(ids.len(), triangles);
+        let per: Vec<usize> = (1..=4)
+            .map(|r| ids.iter().filter(|&&x| x == r).count())
+            .collect();
+        assert_eq!(per, [1253, 1495, 1302, 226]);
+    }
+
+    /// Bad biventricular calls are errors naming what is wrong, never panics; the binding's
+    /// message starts "the biventricular wall: ".
+    #[test]
+    fn bad_biventricular_inputs_are_errors_not_panics() {
+        let (set, params, lv, rv, epi) = patient1_biv();
+        let try_with = |m: Biventricular, min: Option<f64>| {
+            build_biventricular(&set, "p.csv", &params, m, min, MeshFormat::Obj, "").unwrap_err()
+        };
+        let e = try_with(
+            Biventricular {
+                rv_endo: surface("lv_endo", &rv),
+                ..biv(&lv, &rv, &epi)
+            },
+            None,
+        );
+        assert_eq!(e.code(), "param_invalid");
+        assert!(
+            e.to_string().contains(
+                "the LV endocardium and the RV endocardium are the same surface (lv_endo)"
+            ),
+            "{e}"
+        );
+        let cut = Run {
+            positions: rv.positions.clone(),
+            indices: rv.indices[..rv.indices.len() - 2].to_vec(),
+        };
+        let e = try_with(
+            Biventricular {
+                rv_endo: surface("RV_ENDO", &cut),
+                ..biv(&lv, &rv, &epi)
+            },
+            None,
+        );
+        assert_eq!(e.code(), "invalid_mesh");
+        assert!(e.to_string().contains("the RV_ENDO mesh"), "{e}");
+        assert_eq!(
+            try_with(biv(&lv, &rv, &epi), Some(-1.0)).code(),
+            "param_invalid"
+        );
+        // The epicardium 300 mm up: the base plane does not cut it.
+        let lifted = Run {
+            positions: epi
+                .positions
+                .iter()
+                .enumerate()
+                .map(|(i, &x)| if i % 3 == 2 { x + 300.0 } else { x })
+                .collect(),
+            indices: epi.indices.clone(),
+        };
+        let e = try_with(
+            Biventricular {
+                biv_epi: surface("BIV_EPI", &lifted),
+                ..biv(&lv, &rv, &epi)
+            },
+            None,
+        );
+        assert_eq!(e.code(), "degenerate");
+        let v = wall_error_json(&e, BIV_WALL);
+        assert_eq!(v["code"], "degenerate");
+        let message = v["message"].as_str().unwrap();
+        assert!(
+            message.starts_with("the biventricular wall: degenerate input: the base plane does not cut the epicardium"),
+            "{message}"
+        );
+        // A file without the surface named: the core's error from its contours.
+        let e = try_with(
+            Biventricular {
+                biv_epi: surface("LV_EPI_X", &epi),
+                ..biv(&lv, &rv, &epi)
+            },
+            None,
+        );
+        assert_eq!(e.code(), "unknown_surface");
     }
 
     /// The app's header lines follow the command line's comment; blank ones are dropped and a

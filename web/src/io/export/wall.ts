@@ -120,6 +120,7 @@ export function wallFigures(s: WallSummary): { figures: string[]; notes: string[
   if (endo.vertices > 0) moves.push(`${vertices(endo.vertices)} of the endocardium moved up to ${endo.max_mm.toFixed(2)} mm under the epicardium`);
   if (epi && epi.vertices > 0) moves.push(`${vertices(epi.vertices)} of the epicardium up to ${epi.max_mm.toFixed(2)} mm out over the endocardium`);
   if (moves.length > 0) notes.push(`${moves.join(', ')}, to keep the wall at least ${endo.min_thickness_mm ?? 0} mm thick`);
+  for (const note of s.notes ?? []) notes.push(note.charAt(0).toUpperCase() + note.slice(1));
   if (s.endo_epi_crossings > 0) {
     notes.push(`⚠ the endocardium passes through the epicardium (${s.endo_epi_crossings} crossing triangle pairs): volume meshers will refuse it`);
   }

@@ -176,6 +176,59 @@ fn outline(mesh: &TriMesh, in_plane: &[bool]) -> Result<Vec<Vec<u32>>> {
     Ok(loops)
 }
 
+/// The cut with only the connected piece of the mesh that ends at outline `keep`, or None when
+/// another outline ends on that piece too (a piece with a hole across the plane, which no
+/// choice of piece turns into one outline). A plane near the top of a surface can catch a fold
+/// of it that dips below the plane on its own; that fold is no part of the surface's body below
+/// the plane, and the caller decides (by its size) whether to leave it out.
+pub fn keep_piece_of(cut: &Clipped, keep: usize) -> Option<Clipped> {
+    let mesh = &cut.mesh;
+    let nv = mesh.positions.len();
+    // Union-find over the vertices of each triangle.
+    let mut parent: Vec<usize> = (0..nv).collect();
+    fn root(parent: &mut [usize], mut v: usize) -> usize {
+        while parent[v] != v {
+            parent[v] = parent[parent[v]];
+            v = parent[v];
+        }
+        v
+    }
+    for t in &mesh.triangles {
+        let a = root(&mut parent, t[0] as usize);
+        for &w in &t[1..] {
+            let b = root(&mut parent, w as usize);
+            parent[b] = a;
+        }
+    }
+    let piece = root(&mut parent, *cut.loops.get(keep)?.first()? as usize);
+    for (k, l) in cut.loops.iter().enumerate() {
+        if k != keep && l.iter().any(|&v| root(&mut parent, v as usize) == piece) {
+            return None;
+        }
+    }
+    let mut remap = vec![u32::MAX; nv];
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for t in &mesh.triangles {
+        if root(&mut parent, t[0] as usize) != piece {
+            continue;
+        }
+        triangles.push(t.map(|v| {
+            let slot = &mut remap[v as usize];
+            if *slot == u32::MAX {
+                *slot = positions.len() as u32;
+                positions.push(mesh.positions[v as usize]);
+            }
+            *slot
+        }));
+    }
+    let ring = cut.loops[keep].iter().map(|&v| remap[v as usize]).collect();
+    Some(Clipped {
+        mesh: TriMesh::new(positions, triangles),
+        loops: vec![ring],
+    })
+}
+
 /// Mean edge length of a mesh (mm); 0 for a mesh without triangles.
 pub fn mean_edge_length(mesh: &TriMesh) -> f64 {
     let mut sum = 0.0;

@@ -3,6 +3,7 @@
 pub mod clip;
 pub mod inset;
 pub mod intersect;
+pub mod outline;
 pub mod quality;
 pub mod shapes;
 pub mod topology;

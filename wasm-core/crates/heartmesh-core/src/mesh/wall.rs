@@ -12,9 +12,10 @@
 //! outlines in the base plane, using only their vertices, so the three parts share their edges
 //! and the solid is closed by construction.
 
-use super::clip::{clip_below, mean_edge_length, Clipped};
+use super::clip::{clip_below, keep_piece_of, mean_edge_length, Clipped};
 use super::inset::{push, Keep, Pushed};
 use super::intersect::crossing_pairs;
+use super::outline::{inside, plane_basis, separate_outlines};
 use super::quality::folded_edges_within;
 use super::topology::validity;
 use super::TriMesh;
@@ -25,8 +26,9 @@ use crate::metrics::function::MYOCARDIAL_DENSITY_G_PER_ML;
 use crate::metrics::{stats, Stats};
 use crate::sim::slice::Plane;
 use crate::spatial::Bvh;
+use nalgebra::Point2;
 use serde::Serialize;
-use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+use spade::{ConstrainedDelaunayTriangulation, Triangulation};
 
 /// The regions of an LV wall's triangles, in the order of their ids.
 pub const REGION_NAMES: [&str; 3] = ["epicardium", "endocardium", "base"];
@@ -80,6 +82,9 @@ pub struct Wall {
     pub epi_pushed: Pushed,
     /// Triangles per region, in `region_names` order.
     pub triangles_per_region: Vec<usize>,
+    /// What the build left out or changed beyond the moves above, one sentence each (a fold of
+    /// a surface dipping below the base on its own).
+    pub notes: Vec<String>,
 }
 
 /// Builds the wall between the closed `endo` and `epi` meshes below `base` (its normal points to
@@ -131,6 +136,12 @@ pub fn build_biventricular(
     )
 }
 
+/// Steps (mm) in which the base moves towards the apex when the surfaces cannot be joined at the
+/// plane given, and how far it may go: less than half the usual 8-10 mm slice spacing, so the
+/// base stays nearer the most basal slice than the next one.
+const BASE_STEP_MM: f64 = 1.0;
+const BASE_MAX_SHIFT_MM: f64 = 4.0;
+
 /// One cavity of a wall: its closed surface and its name in messages.
 struct Cavity<'a> {
     mesh: &'a TriMesh,
@@ -138,7 +149,11 @@ struct Cavity<'a> {
 }
 
 /// The solid between `epi` and the `cavities` inside it, below `base`; `names` holds the
-/// epicardium's region, one per cavity, then the base's.
+/// epicardium's region, one per cavity, then the base's. Where the surfaces cannot be joined
+/// at `base` (at the most basal slice, misaligned images can leave a fold of one surface dipping
+/// through the plane, or an outline across another), the base moves towards the apex in
+/// [`BASE_STEP_MM`] steps, at most [`BASE_MAX_SHIFT_MM`]; the wall's `base` is the plane used
+/// and a note says why it moved. The first error is returned when no plane works.
 fn build_solid(
     epi: &TriMesh,
     cavities: &[Cavity],
@@ -146,10 +161,47 @@ fn build_solid(
     base: &Plane,
     min_thickness_mm: Option<f64>,
 ) -> Result<Wall> {
-    let mut epi_cut = cut(epi, base, "epicardium")?;
+    let first = match build_solid_at(epi, cavities, names, base, min_thickness_mm) {
+        Ok(wall) => return Ok(wall),
+        Err(e) => e,
+    };
+    let steps = (BASE_MAX_SHIFT_MM / BASE_STEP_MM).round() as usize;
+    for k in 1..=steps {
+        let shift = k as f64 * BASE_STEP_MM;
+        let lower = Plane {
+            origin: base.origin - base.normal * shift,
+            normal: base.normal,
+        };
+        if let Ok(mut wall) = build_solid_at(epi, cavities, names, &lower, min_thickness_mm) {
+            let why = match &first {
+                CoreError::Degenerate(m) | CoreError::InvalidMesh(m) => m.clone(),
+                other => other.to_string(),
+            };
+            wall.notes.insert(
+                0,
+                format!(
+                    "the base was moved {shift:.0} mm towards the apex: at the plane given, {why}"
+                ),
+            );
+            return Ok(wall);
+        }
+    }
+    Err(first)
+}
+
+/// [`build_solid`] at exactly `base`.
+fn build_solid_at(
+    epi: &TriMesh,
+    cavities: &[Cavity],
+    names: &'static [&'static str],
+    base: &Plane,
+    min_thickness_mm: Option<f64>,
+) -> Result<Wall> {
+    let mut notes = Vec::new();
+    let mut epi_cut = cut(epi, base, "epicardium", &mut notes)?;
     let mut cuts = cavities
         .iter()
-        .map(|c| cut(c.mesh, base, c.name))
+        .map(|c| cut(c.mesh, base, c.name, &mut notes))
         .collect::<Result<Vec<_>>>()?;
     // Checked before any vertex moves: pushing a whole surface through the other would hide it.
     let epi_ml = closed_by_plane_ml(&epi_cut.mesh, base);
@@ -243,6 +295,7 @@ fn build_solid(
         pushed,
         epi_pushed,
         triangles_per_region,
+        notes,
     })
 }
 
@@ -267,6 +320,8 @@ pub struct WallSummary {
     pub crossings: Vec<Crossing>,
     pub endocardium_moved: Moved,
     pub epicardium_moved: Moved,
+    /// [`Wall::notes`].
+    pub notes: Vec<String>,
 }
 
 /// The base plane in the file's coordinates (mm); the normal points to the base.
@@ -370,6 +425,7 @@ impl Wall {
             crossings: self.crossings.clone(),
             endocardium_moved: moved(self.pushed),
             epicardium_moved: moved(self.epi_pushed),
+            notes: self.notes.clone(),
         }
     }
 
@@ -382,7 +438,7 @@ impl Wall {
 }
 
 /// Rounds of [`separate`]: a wall needing more is not a wall the contours describe.
-const SEPARATION_ROUNDS: usize = 3;
+const SEPARATION_ROUNDS: usize = 6;
 
 /// Moves each endocardium under the epicardium by `depth` mm ([`push`]) and out of the other
 /// cavities by as much (the septum between two), then the epicardium out over the endocardia
@@ -446,6 +502,9 @@ fn separate(
             )
             .vertices;
         }
+        // Last in the round: the pushes above may have moved outline vertices (projected into
+        // the plane) too little or too far, and the ring needs the outlines clear of each other.
+        moved += separate_outlines(cavities, epi, base, depth).vertices;
         if moved == 0 {
             break;
         }
@@ -524,12 +583,23 @@ fn net_moves(before: &[Vec3], after: &[Vec3]) -> Pushed {
         })
 }
 
-/// One surface cut at the base: exactly one outline, or an error that says what the plane met.
-fn cut(mesh: &TriMesh, base: &Plane, name: &str) -> Result<Clipped> {
+/// Outlines of separate pieces may be left out of a surface's cut while together they enclose
+/// at most this share of the area its main outline does: folds of a surface's top that dip
+/// below the base on their own (a misaligned basal slice), not a second lobe of the cavity.
+const STRAY_PIECE_SHARE: f64 = 0.05;
+
+/// One surface cut at the base: one outline (with any small separate pieces below the plane
+/// left out, said in `notes`), or an error that says what the plane met.
+fn cut(mesh: &TriMesh, base: &Plane, name: &str, notes: &mut Vec<String>) -> Result<Clipped> {
     let snap = SNAP_SHARE * mean_edge_length(mesh);
-    let clipped = clip_below(mesh, base, snap)
-        .map_err(|e| CoreError::InvalidMesh(format!("{name} at the base plane: {e}")))?;
-    let mut clipped = clipped;
+    let at = |e: CoreError| CoreError::InvalidMesh(format!("{name} at the base plane: {e}"));
+    // Snapping a vertex onto the plane where the surface only comes near it can pinch two
+    // outlines together at that vertex; the exact cut has no such vertex.
+    let mut clipped = match clip_below(mesh, base, snap) {
+        Ok(c) => c,
+        Err(_) if snap > 0.0 => clip_below(mesh, base, 0.0).map_err(at)?,
+        Err(e) => return Err(at(e)),
+    };
     // Open reference surfaces (atlas models open at the base) may face either way: what is kept
     // below the plane, closed by it, must enclose a positive volume.
     if closed_by_plane_ml(&clipped.mesh, base) < 0.0 {
@@ -543,10 +613,46 @@ fn cut(mesh: &TriMesh, base: &Plane, name: &str) -> Result<Clipped> {
         0 => Err(CoreError::Degenerate(format!(
             "the base plane does not cut the {name} (the surface lies wholly on one side of it)"
         ))),
-        n => Err(CoreError::Degenerate(format!(
-            "the base plane cuts the {name} in {n} outlines, not one"
-        ))),
+        n => {
+            let areas: Vec<f64> = clipped
+                .loops
+                .iter()
+                .map(|l| outline_area(&clipped.mesh, l, base))
+                .collect();
+            let main = (0..n)
+                .max_by(|&a, &b| areas[a].total_cmp(&areas[b]))
+                .unwrap_or(0);
+            let stray: f64 = areas.iter().sum::<f64>() - areas[main];
+            let kept = (stray <= STRAY_PIECE_SHARE * areas[main])
+                .then(|| keep_piece_of(&clipped, main))
+                .flatten();
+            match kept {
+                Some(piece) => {
+                    notes.push(format!(
+                        "the base plane also cut {} separate fold{} of the {name} dipping below \
+                         it ({stray:.1} mm2 at the base, {:.1}% of its outline's area): left out",
+                        n - 1,
+                        if n > 2 { "s" } else { "" },
+                        100.0 * stray / areas[main]
+                    ));
+                    Ok(piece)
+                }
+                None => Err(CoreError::Degenerate(format!(
+                    "the base plane cuts the {name} in {n} outlines, not one"
+                ))),
+            }
+        }
     }
+}
+
+/// Area (mm2) an outline of vertices in the plane encloses, whichever way it runs.
+fn outline_area(mesh: &TriMesh, ring: &[u32], base: &Plane) -> f64 {
+    let n = ring.len();
+    let twice: Vec3 = (0..n).fold(Vec3::zeros(), |acc, k| {
+        let (a, b) = (ring[k] as usize, ring[(k + 1) % n] as usize);
+        acc + (mesh.positions[a] - base.origin).cross(&(mesh.positions[b] - base.origin))
+    });
+    0.5 * twice.dot(&base.normal).abs()
 }
 
 /// The cut surface closed by a fan across its outline (facing along the plane's normal): a
@@ -577,32 +683,6 @@ fn capped(cut: &Clipped, base: &Plane) -> TriMesh {
     }
     mesh.triangles.extend(fan);
     mesh
-}
-
-/// An orthonormal basis (u, v) of the plane with u x v = normal.
-fn plane_basis(n: &Vec3) -> (Vec3, Vec3) {
-    let helper = if n.x.abs() < 0.9 {
-        Vec3::new(1.0, 0.0, 0.0)
-    } else {
-        Vec3::new(0.0, 1.0, 0.0)
-    };
-    let u = n.cross(&helper).normalize();
-    let v = n.cross(&u);
-    (u, v)
-}
-
-/// Even-odd point-in-polygon test in the plane's coordinates.
-fn inside(poly: &[Point2<f64>], p: Point2<f64>) -> bool {
-    let mut odd = false;
-    let mut j = poly.len() - 1;
-    for i in 0..poly.len() {
-        let (a, b) = (poly[i], poly[j]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
-            odd = !odd;
-        }
-        j = i;
-    }
-    odd
 }
 
 /// Triangles of the flat ring between the outer outline `loops[0]` and the inner ones (one per
@@ -642,7 +722,11 @@ fn ring(
         }
     }
     let ids: Vec<u32> = loops.iter().flatten().copied().collect();
-    let points: Vec<Point2<f64>> = flat_loops.iter().flatten().copied().collect();
+    let points: Vec<spade::Point2<f64>> = flat_loops
+        .iter()
+        .flatten()
+        .map(|p| spade::Point2::new(p.x, p.y))
+        .collect();
     let mut edges = Vec::with_capacity(points.len());
     let mut start = 0;
     for l in loops {
@@ -653,7 +737,7 @@ fn ring(
         start += len;
     }
     let mut conflicts = 0usize;
-    let cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
+    let cdt = ConstrainedDelaunayTriangulation::<spade::Point2<f64>>::try_bulk_load_cdt(
         points.clone(),
         edges,
         |_| conflicts += 1,

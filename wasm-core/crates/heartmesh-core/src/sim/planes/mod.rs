@@ -109,36 +109,120 @@ pub struct Acquisition {
 
 /// Slices `truth` as a CMR acquisition described by `spec`.
 pub fn simulate(truth: &TriMesh, spec: &AcquisitionSpec) -> Result<Acquisition> {
-    validate(spec)?;
-    let (_, second) = LongAxis::from_mesh(truth)?;
-    let axis = match spec.axis {
-        Some(a) => a,
-        None => anatomical_axis(truth, spec.join_gap_mm)?,
+    acquire(
+        &[Sliced {
+            label: spec.surface.clone(),
+            mesh: truth,
+        }],
+        spec,
+    )
+}
+
+/// Slices several surfaces of one heart (`(label, mesh)`, e.g. LV_ENDO, LV_EPI, RV_ENDO) on ONE
+/// acquisition: the planes are planned on the first surface (or `spec.axis`), the stack runs from
+/// the lowest apex up to the base the surfaces share, and each image's breath-hold motion moves
+/// every surface drawn on it alike — as one scanner image shows them all. Slicing each surface on
+/// its own would give each its own motions, which no real file has. A surface gets a short-axis
+/// contour where [`simulate`] would give it one, never below its own apex. `spec.surface` is not
+/// used: each contour carries its surface's label, its id the image's (`sax03_LV_ENDO`).
+pub fn simulate_surfaces(
+    surfaces: &[(&str, &TriMesh)],
+    spec: &AcquisitionSpec,
+) -> Result<Acquisition> {
+    let sliced: Vec<Sliced> = surfaces
+        .iter()
+        .map(|&(label, mesh)| Sliced {
+            label: Some(label.to_string()),
+            mesh,
+        })
+        .collect();
+    if sliced.is_empty() {
+        return Err(CoreError::Degenerate("no surface to slice".into()));
+    }
+    acquire(&sliced, spec)
+}
+
+/// One surface of an acquisition.
+struct Sliced<'a> {
+    label: Option<String>,
+    mesh: &'a TriMesh,
+}
+
+/// Where one surface has short-axis sections along the axis.
+struct Span {
+    /// The lowest height a slice is drawn at regardless of the section's shape.
+    bottom: f64,
+    /// The apex end of the stack for this surface: below `bottom` only where the section is one
+    /// closed loop.
+    apex_bottom: f64,
+    /// The lowest and highest heights of one closed loop.
+    loop_lo: f64,
+    top: f64,
+}
+
+fn span_of(s: &Sliced, axis: &LongAxis, spec: &AcquisitionSpec, several: bool) -> Result<Span> {
+    let whose = |what: &str| match (&s.label, several) {
+        (Some(label), true) => format!("{label}: {what}"),
+        _ => what.to_string(),
     };
     let (lo, _hi, _rim) = axis
-        .extent(truth)
-        .ok_or_else(|| CoreError::Degenerate("reference shape has no finite vertex".into()))?;
-    let (span_lo, span_hi) = single_loop_span(truth, &axis, spec.join_gap_mm).ok_or_else(|| {
-        CoreError::Degenerate("no plane across the axis cuts the shape in one closed loop".into())
+        .extent(s.mesh)
+        .ok_or_else(|| CoreError::Degenerate(whose("reference shape has no finite vertex")))?;
+    let (span_lo, span_hi) = single_loop_span(s.mesh, axis, spec.join_gap_mm).ok_or_else(|| {
+        CoreError::Degenerate(whose(
+            "no plane across the axis cuts the shape in one closed loop",
+        ))
     })?;
-    let bottom = (lo + spec.apex_margin_mm).max(span_lo);
+    Ok(Span {
+        bottom: (lo + spec.apex_margin_mm).max(span_lo),
+        // A scanner's stack runs on to the apex: below the single-loop span (composite truths such
+        // as an RV cavity can have a stray open section low down) a slice is still drawn wherever
+        // its section is one closed loop.
+        apex_bottom: lo + spec.apex_margin_mm,
+        loop_lo: span_lo,
+        top: span_hi,
+    })
+}
+
+/// Slices every surface of `surfaces` on one set of planes (see [`simulate_surfaces`]); with one
+/// surface, exactly [`simulate`]'s acquisition (ids without the surface).
+fn acquire(surfaces: &[Sliced], spec: &AcquisitionSpec) -> Result<Acquisition> {
+    validate(spec)?;
+    let planned = surfaces[0].mesh;
+    let several = surfaces.len() > 1;
+    let (_, second) = LongAxis::from_mesh(planned)?;
+    let axis = match spec.axis {
+        Some(a) => a,
+        None => anatomical_axis(planned, spec.join_gap_mm)?,
+    };
+    let spans = surfaces
+        .iter()
+        .map(|s| span_of(s, &axis, spec, several))
+        .collect::<Result<Vec<Span>>>()?;
+    let lowest = |f: fn(&Span) -> f64| spans.iter().map(f).fold(f64::INFINITY, f64::min);
+    let bottom = lowest(|s| s.bottom);
+    let apex_bottom = lowest(|s| s.apex_bottom);
+    let span_hi = lowest(|s| s.top);
+    let span_lo = lowest(|s| s.loop_lo);
     let top = span_hi - spec.base_margin_mm;
-    // A scanner's stack runs on to the apex: below the single-loop span (composite truths such as
-    // an RV cavity can have a stray open section low down) a slice is still drawn wherever its
-    // section is one closed loop.
-    let apex_bottom = lo + spec.apex_margin_mm;
     if top <= bottom {
         return Err(CoreError::Degenerate(format!(
             "the shape has closed sections over only {:.1} mm of its axis: no room for a SAX stack",
             span_hi - span_lo
         )));
     }
+    // Whether surface `k` is drawn on the short-axis slice at height `h`.
+    let drawn_at = |k: usize, h: f64| {
+        h >= spans[k].bottom - 1e-9
+            || (h >= spans[k].apex_bottom - 1e-9
+                && single_loop_at(surfaces[k].mesh, &axis, h, spec.join_gap_mm))
+    };
     let heights: Vec<f64> = match spec.sax {
         SaxStack::SpacingMm(s) => {
             let mut hs = Vec::new();
             let mut h = top;
             while h >= apex_bottom - 1e-9 {
-                if h >= bottom - 1e-9 || single_loop_at(truth, &axis, h, spec.join_gap_mm) {
+                if (0..surfaces.len()).any(|k| drawn_at(k, h)) {
                     hs.push(h);
                 }
                 h -= s;
@@ -186,15 +270,16 @@ pub fn simulate(truth: &TriMesh, spec: &AcquisitionSpec) -> Result<Acquisition> 
     let mut set = ContourSet::default();
     let named = sax_planes
         .iter()
+        .zip(&heights)
         .enumerate()
-        .map(|(k, p)| (format!("sax{:02}", k + 1), p))
+        .map(|(k, (p, &h))| (format!("sax{:02}", k + 1), p, Some(h)))
         .chain(
             lax_planes
                 .iter()
                 .enumerate()
-                .map(|(k, p)| (format!("lax{:02}", k + 1), p)),
+                .map(|(k, p)| (format!("lax{:02}", k + 1), p, None)),
         );
-    for (id, nominal) in named {
+    for (image, nominal, height) in named {
         let motion = spec
             .misalignment
             .map(|m| draw_motion(&mut motion_rng, nominal, m));
@@ -202,42 +287,54 @@ pub fn simulate(truth: &TriMesh, spec: &AcquisitionSpec) -> Result<Acquisition> 
             Some(m) => m.apply_to_plane(nominal),
             None => *nominal,
         };
-        let mut pieces = join_chains(slice_mesh(truth, &imaged), spec.join_gap_mm, &imaged);
-        if pieces.is_empty() {
-            set.warnings
-                .push(format!("{id}: the plane misses the shape; no contour"));
-            continue;
-        }
-        // Keep the longest piece: one delineated curve per image, as an analyst would draw it.
-        pieces.sort_by(|a, b| polyline_length(b).total_cmp(&polyline_length(a)));
-        if pieces.len() > 1 {
-            set.warnings.push(format!(
-                "{id}: {} extra section pieces dropped",
-                pieces.len() - 1
-            ));
-        }
-        let mut piece = pieces.swap_remove(0);
-        if spec.resample_mm > 0.0 {
-            piece = resample(&piece, spec.resample_mm);
-        }
-        if let Some(m) = &motion {
-            for p in &mut piece.points {
-                *p = m.inverse_apply(p);
+        for (k, surface) in surfaces.iter().enumerate() {
+            // Evenly counted stacks span the surfaces together: below a surface's own apex there
+            // is nothing of it to draw.
+            if several && height.is_some_and(|h| !drawn_at(k, h)) {
+                continue;
             }
-        }
-        if spec.noise_mm > 0.0 {
-            let u = any_perpendicular(&nominal.normal);
-            let v = nominal.normal.cross(&u);
-            for p in &mut piece.points {
-                *p += (u * noise_rng.gaussian() + v * noise_rng.gaussian()) * spec.noise_mm;
+            let id = match (&surface.label, several) {
+                (Some(label), true) => format!("{image}_{label}"),
+                _ => image.clone(),
+            };
+            let mut pieces =
+                join_chains(slice_mesh(surface.mesh, &imaged), spec.join_gap_mm, &imaged);
+            if pieces.is_empty() {
+                set.warnings
+                    .push(format!("{id}: the plane misses the shape; no contour"));
+                continue;
             }
+            // Keep the longest piece: one delineated curve per image, as an analyst would draw it.
+            pieces.sort_by(|a, b| polyline_length(b).total_cmp(&polyline_length(a)));
+            if pieces.len() > 1 {
+                set.warnings.push(format!(
+                    "{id}: {} extra section pieces dropped",
+                    pieces.len() - 1
+                ));
+            }
+            let mut piece = pieces.swap_remove(0);
+            if spec.resample_mm > 0.0 {
+                piece = resample(&piece, spec.resample_mm);
+            }
+            if let Some(m) = &motion {
+                for p in &mut piece.points {
+                    *p = m.inverse_apply(p);
+                }
+            }
+            if spec.noise_mm > 0.0 {
+                let u = any_perpendicular(&nominal.normal);
+                let v = nominal.normal.cross(&u);
+                for p in &mut piece.points {
+                    *p += (u * noise_rng.gaussian() + v * noise_rng.gaussian()) * spec.noise_mm;
+                }
+            }
+            set.contours.push(Contour {
+                id,
+                surface: surface.label.clone(),
+                pieces: vec![piece],
+                first_line: 0,
+            });
         }
-        set.contours.push(Contour {
-            id,
-            surface: spec.surface.clone(),
-            pieces: vec![piece],
-            first_line: 0,
-        });
     }
     let clip = *sax_planes
         .last()

@@ -232,3 +232,71 @@ fn centroid<'a>(pts: impl Iterator<Item = &'a Vec3>) -> Vec3 {
     let (s, n) = pts.fold((Vec3::zeros(), 0usize), |(s, n), p| (s + p, n + 1));
     s / n as f64
 }
+
+/// One acquisition of several surfaces: every image moves all of them alike (two copies of one
+/// shape get the very same curves), each gets its label and the image's id, a surface shorter
+/// than the other gets no slice below its own apex, and one surface alone is `simulate`'s
+/// acquisition.
+#[test]
+fn surfaces_sliced_together_share_each_image_motion() {
+    let truth = lv();
+    let spec = AcquisitionSpec {
+        misalignment: Some(Misalignment {
+            shift_mm: 2.0,
+            tilt_deg: 2.0,
+        }),
+        seed: 11,
+        ..AcquisitionSpec::default()
+    };
+    let both = simulate_surfaces(&[("A", &truth), ("B", &truth)], &spec).unwrap();
+    let alone = simulate(&truth, &spec).unwrap();
+    assert_eq!(
+        both.contours.contours.len(),
+        2 * alone.contours.contours.len()
+    );
+    for (pair, single) in both
+        .contours
+        .contours
+        .chunks(2)
+        .zip(&alone.contours.contours)
+    {
+        assert_eq!(pair[0].id, format!("{}_A", single.id));
+        assert_eq!(pair[1].id, format!("{}_B", single.id));
+        assert_eq!(pair[0].surface.as_deref(), Some("A"));
+        assert_eq!(pair[0].pieces, pair[1].pieces);
+        assert_eq!(pair[0].pieces, single.pieces);
+    }
+    let one = simulate_surfaces(&[("A", &truth)], &spec).unwrap();
+    assert_eq!(one.sax_planes, alone.sax_planes);
+
+    // A shorter inner surface (the endocardium's apex above the epicardium's): the stack runs to
+    // the lower apex, the inner one only where it has sections.
+    // The shape shrunk by a quarter about its base centre (apex at z = 0, base at z = 80).
+    let base_centre = Vec3::new(0.0, 0.0, 80.0);
+    let inner = TriMesh::new(
+        truth
+            .positions
+            .iter()
+            .map(|p| base_centre + (p - base_centre) * 0.75)
+            .collect(),
+        truth.triangles.clone(),
+    );
+    let joint = simulate_surfaces(
+        &[("OUTER", &truth), ("INNER", &inner)],
+        &AcquisitionSpec::default(),
+    )
+    .unwrap();
+    let count = |label: &str, kind: &str| {
+        joint
+            .contours
+            .contours
+            .iter()
+            .filter(|c| c.surface.as_deref() == Some(label) && c.id.starts_with(kind))
+            .count()
+    };
+    assert_eq!(count("OUTER", "sax"), joint.sax_planes.len());
+    assert!(count("INNER", "sax") < count("OUTER", "sax"));
+    assert!(count("INNER", "sax") >= 4);
+    assert_eq!(count("INNER", "lax"), 3);
+    assert!(simulate_surfaces(&[], &AcquisitionSpec::default()).is_err());
+}
