@@ -13,7 +13,7 @@ import assert from 'node:assert/strict';
 import { join } from 'node:path';
 import { download, gotoEmpty, runAndWait, waitForDone, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
-import { parseObj, volumeMl, vtkBlock } from './meshFiles.mjs';
+import { openEdges, parseObj, volumeMl, vtkBlock } from './meshFiles.mjs';
 
 let app;
 let page;
@@ -57,16 +57,8 @@ describe('the LV wall export', () => {
     assert.deepEqual(groups, ['epicardium', 'endocardium', 'base']);
     assert.equal(v.length, CLI.vertices);
     assert.equal(faces.length, CLI.triangles);
-    const edges = new Map();
-    for (const { ids } of faces) {
-      for (let k = 0; k < 3; k++) {
-        const [a, b] = [ids[k], ids[(k + 1) % 3]];
-        const key = a < b ? `${a},${b}` : `${b},${a}`;
-        edges.set(key, (edges.get(key) ?? 0) + 1);
-      }
-    }
-    const notTwo = [...edges.values()].filter((n) => n !== 2).length;
-    assert.equal(notTwo, 0, `${notTwo} of ${edges.size} edges not in exactly two faces`);
+    const { open, edges } = openEdges(faces);
+    assert.equal(open, 0, `${open} of ${edges} edges not in exactly two faces`);
     for (const g of ['epicardium', 'endocardium', 'base']) assert.ok(faces.filter((f) => f.group === g).length > 100, g);
 
     await page.waitForSelector(`${figures}[data-state=done]`);

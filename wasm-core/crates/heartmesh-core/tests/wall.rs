@@ -40,10 +40,15 @@ fn acquire(endo: &TriMesh, epi: &TriMesh, spec: &AcquisitionSpec) -> ContourSet 
 /// Every plane shifted up to 2 mm and tilted up to 2 degrees (issue 2's misaligned case),
 /// one breath-hold per image for all the surfaces on it.
 fn misaligned(seed: u64) -> AcquisitionSpec {
+    misaligned_by(seed, 2.0)
+}
+
+/// Every plane shifted up to `mm` and tilted up to as many degrees.
+fn misaligned_by(seed: u64, mm: f64) -> AcquisitionSpec {
     AcquisitionSpec {
         misalignment: Some(Misalignment {
-            shift_mm: 2.0,
-            tilt_deg: 2.0,
+            shift_mm: mm,
+            tilt_deg: mm,
         }),
         seed,
         ..AcquisitionSpec::default()
@@ -283,13 +288,16 @@ fn misaligned_biventricular_walls_are_solids() {
     let lv = load_truth("bivme-patient1-ED-LV_ENDO-closed.obj");
     let rv = load_truth("bivme-patient1-ED-RV_ENDO-closed.obj");
     let epi = load_truth("bivme-patient1-ED-EPI-closed.obj");
-    for seed in 1..=3u64 {
-        let set = biv_acquisition(&lv, &rv, &epi, &misaligned(seed));
+    // Seeds 1-3 at the issue's 2 mm / 2 degrees; seed 10 at 3 mm / 3 degrees left 43 crossing
+    // pairs just under the top slice (the LV cavity far out through the epicardium there) until
+    // the base could move down a millimetre.
+    for (seed, mm) in [(1u64, 2.0), (2, 2.0), (3, 2.0), (10, 3.0)] {
+        let set = biv_acquisition(&lv, &rv, &epi, &misaligned_by(seed, mm));
         for align in [false, true] {
             let [lv_rec, rv_rec, epi_rec] =
                 ["LV_ENDO", "RV_ENDO", "BIV_EPI"].map(|s| reconstruct_with(&set, s, align));
             let top = common_basal_plane_all(&[&lv_rec, &epi_rec, &rv_rec]).unwrap();
-            let name = format!("biv-me seed {seed} align {align}");
+            let name = format!("biv-me seed {seed} at {mm} mm, align {align}");
             let build = |base: &Plane| {
                 build_biventricular(
                     lv_rec.mesh(),
@@ -302,6 +310,7 @@ fn misaligned_biventricular_walls_are_solids() {
             };
             // At the base a user gets: one solid.
             let wall = build(&top);
+            eprintln!("{name}: notes {:?}", wall.notes);
             let v = validity(&wall.mesh);
             assert!(v.is_closed_manifold(), "{name}: {}", v.describe());
             assert_eq!(wall.self_intersections, 0, "{name}: {:?}", wall.crossings);

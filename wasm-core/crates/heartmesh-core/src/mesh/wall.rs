@@ -150,10 +150,13 @@ struct Cavity<'a> {
 
 /// The solid between `epi` and the `cavities` inside it, below `base`; `names` holds the
 /// epicardium's region, one per cavity, then the base's. Where the surfaces cannot be joined
-/// at `base` (at the most basal slice, misaligned images can leave a fold of one surface dipping
-/// through the plane, or an outline across another), the base moves towards the apex in
-/// [`BASE_STEP_MM`] steps, at most [`BASE_MAX_SHIFT_MM`]; the wall's `base` is the plane used
-/// and a note says why it moved. The first error is returned when no plane works.
+/// at `base`, or only with triangles passing through each other (at the most basal slice,
+/// misaligned images can leave a fold of one surface dipping through the plane, an outline
+/// across another, a cavity far out through the epicardium just under the plane), the base
+/// moves towards the apex in [`BASE_STEP_MM`] steps, at most [`BASE_MAX_SHIFT_MM`], to the
+/// first plane that gives a solid without crossings; the wall's `base` is the plane used and a
+/// note says why it moved (crossings only count with a minimum thickness: without it the
+/// surfaces are wanted as they are). When none does, the wall at `base` or its error.
 fn build_solid(
     epi: &TriMesh,
     cavities: &[Cavity],
@@ -161,9 +164,16 @@ fn build_solid(
     base: &Plane,
     min_thickness_mm: Option<f64>,
 ) -> Result<Wall> {
-    let first = match build_solid_at(epi, cavities, names, base, min_thickness_mm) {
-        Ok(wall) => return Ok(wall),
-        Err(e) => e,
+    let first = build_solid_at(epi, cavities, names, base, min_thickness_mm);
+    let why = match &first {
+        // Without the thickness rule the surfaces are wanted as reconstructed, crossings and all.
+        Ok(wall) if wall.self_intersections == 0 || min_thickness_mm.is_none() => return first,
+        Ok(wall) => format!(
+            "the wall had {} pairs of triangles passing through each other",
+            wall.self_intersections
+        ),
+        Err(CoreError::Degenerate(m) | CoreError::InvalidMesh(m)) => m.clone(),
+        Err(other) => other.to_string(),
     };
     let steps = (BASE_MAX_SHIFT_MM / BASE_STEP_MM).round() as usize;
     for k in 1..=steps {
@@ -172,21 +182,21 @@ fn build_solid(
             origin: base.origin - base.normal * shift,
             normal: base.normal,
         };
-        if let Ok(mut wall) = build_solid_at(epi, cavities, names, &lower, min_thickness_mm) {
-            let why = match &first {
-                CoreError::Degenerate(m) | CoreError::InvalidMesh(m) => m.clone(),
-                other => other.to_string(),
-            };
-            wall.notes.insert(
-                0,
-                format!(
-                    "the base was moved {shift:.0} mm towards the apex: at the plane given, {why}"
-                ),
-            );
-            return Ok(wall);
+        match build_solid_at(epi, cavities, names, &lower, min_thickness_mm) {
+            Ok(mut wall) if wall.self_intersections == 0 => {
+                wall.notes.insert(
+                    0,
+                    format!(
+                        "the base was moved {shift:.0} mm towards the apex: at the plane given, \
+                         {why}"
+                    ),
+                );
+                return Ok(wall);
+            }
+            _ => continue,
         }
     }
-    Err(first)
+    first
 }
 
 /// [`build_solid`] at exactly `base`.
@@ -1061,5 +1071,71 @@ mod tests {
         assert_eq!(wall.self_intersections, 0, "{:?}", wall.crossings);
         let v = validity(&wall.mesh);
         assert!(v.is_closed_manifold(), "{}", v.describe());
+    }
+
+    /// Two closed meshes as one (a cavity with a separate blob: a fold of the surface that dips
+    /// below the base on its own).
+    fn with_blob(main: &TriMesh, blob: &TriMesh) -> TriMesh {
+        let n = main.positions.len() as u32;
+        let mut positions = main.positions.clone();
+        positions.extend_from_slice(&blob.positions);
+        let mut triangles = main.triangles.clone();
+        triangles.extend(blob.triangles.iter().map(|t| t.map(|v| v + n)));
+        TriMesh::new(positions, triangles)
+    }
+
+    /// A small blob of the endocardium dipping 0.5 mm below the base on its own (its section
+    /// 2 % of the cavity's) is left out, and the note says so; the wall is the one without it.
+    #[test]
+    fn a_small_separate_fold_below_the_base_is_left_out() {
+        let z = -1.3;
+        let epi = uv_sphere(v3(0.0, 0.0, 0.0), 40.0, 128, 64);
+        let cavity = uv_sphere(v3(-12.0, 0.0, 0.0), 12.0, 96, 48);
+        let endo = with_blob(&cavity, &uv_sphere(v3(14.0, 0.0, z + 2.5), 3.0, 48, 24));
+        let wall = build_wall(&endo, &epi, &base_at(z), Some(1.0)).unwrap();
+        let plain = build_wall(&cavity, &epi, &base_at(z), Some(1.0)).unwrap();
+        assert_eq!(wall.notes.len(), 1, "{:?}", wall.notes);
+        assert!(
+            wall.notes[0].contains("1 separate fold of the endocardium"),
+            "{}",
+            wall.notes[0]
+        );
+        assert!((wall.volume_ml - plain.volume_ml).abs() < 1e-9);
+        assert_eq!(wall.base.origin.z, z);
+        let v = validity(&wall.mesh);
+        assert!(v.is_closed_manifold(), "{}", v.describe());
+    }
+
+    /// A larger blob dipping 0.5 mm below the base (its section 7 % of the cavity's, too much to
+    /// drop): the base moves 1 mm towards the apex, where only the cavity is cut, and the note
+    /// says why.
+    #[test]
+    fn the_base_moves_towards_the_apex_when_the_plane_cannot_join_the_surfaces() {
+        let z = -1.3;
+        let epi = uv_sphere(v3(0.0, 0.0, 0.0), 40.0, 128, 64);
+        let cavity = uv_sphere(v3(-12.0, 0.0, 0.0), 12.0, 96, 48);
+        let endo = with_blob(&cavity, &uv_sphere(v3(12.0, 0.0, z + 9.5), 10.0, 96, 48));
+        let wall = build_wall(&endo, &epi, &base_at(z), Some(1.0)).unwrap();
+        assert!(
+            (wall.base.origin.z - (z - 1.0)).abs() < 1e-12,
+            "{:?}",
+            wall.base
+        );
+        assert_eq!(wall.notes.len(), 1, "{:?}", wall.notes);
+        assert!(
+            wall.notes[0].starts_with(
+                "the base was moved 1 mm towards the apex: at the plane given, the base plane \
+                 cuts the endocardium in 2 outlines"
+            ),
+            "{}",
+            wall.notes[0]
+        );
+        let plain = build_wall(&cavity, &epi, &base_at(z - 1.0), Some(1.0)).unwrap();
+        assert!((wall.volume_ml - plain.volume_ml).abs() < 1e-9);
+        assert_eq!(wall.summary(Some(1.0)).notes, wall.notes);
+        // Without a way out within 4 mm, the first error.
+        let deep = with_blob(&cavity, &uv_sphere(v3(12.0, 0.0, z), 10.0, 96, 48));
+        let e = build_wall(&deep, &epi, &base_at(z), Some(1.0)).unwrap_err();
+        assert!(e.to_string().contains("2 outlines"), "{e}");
     }
 }
