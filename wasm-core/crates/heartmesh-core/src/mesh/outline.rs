@@ -22,6 +22,10 @@ use nalgebra::{Point2, Vector2};
 /// between the LV's and RV's outlines inside the epicardium's).
 const ROUNDS: usize = 8;
 
+/// Shortfalls below this (mm) are rounding: a vertex already moved to exactly `depth` must not
+/// count as moving again (the wall's separation rounds stop when nothing moves).
+const TOLERANCE_MM: f64 = 1e-6;
+
 /// An orthonormal basis (u, v) of the plane with u x v = normal.
 pub(super) fn plane_basis(n: &Vec3) -> (Vec3, Vec3) {
     let helper = if n.x.abs() < 0.9 {
@@ -78,7 +82,7 @@ fn clear_of(
 ) -> Option<Point2<f64>> {
     let (seg, q, dist) = nearest_on(poly, p)?;
     let is_inside = inside(poly, p);
-    if is_inside == want_inside && dist >= depth {
+    if is_inside == want_inside && dist >= depth - TOLERANCE_MM {
         return None;
     }
     let away = if dist > 1e-12 {
@@ -168,7 +172,7 @@ pub(super) fn separate_outlines(
                     continue;
                 };
                 let reaches_in = inside(poly, o);
-                if !reaches_in && dist >= depth {
+                if !reaches_in && dist >= depth - TOLERANCE_MM {
                     continue;
                 }
                 let away = if dist > 1e-12 {
