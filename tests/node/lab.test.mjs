@@ -4,7 +4,9 @@
 // batches report one item per contour / grid point.
 import assert from 'node:assert/strict';
 import { before, describe, it } from 'node:test';
-import { loadWasm, thrownError } from './helpers.mjs';
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { dataDir, loadWasm, thrownError } from './helpers.mjs';
 
 let wasm;
 before(async () => {
@@ -40,8 +42,8 @@ describe('wasm Lab', () => {
     const lab = new wasm.Lab();
     const truth = JSON.parse(lab.make_parametric('{}'));
     assert.equal(truth.closed, true);
-    assert.equal(lab.truth_positions().length, truth.vertices * 3);
-    assert.equal(lab.truth_indices().length, truth.triangles * 3);
+    assert.equal(lab.truth_positions(0).length, truth.vertices * 3);
+    assert.equal(lab.truth_indices(0).length, truth.triangles * 3);
     // 80 x 25 mm spheroid cut at a 20 mm base: volume between the inscribed cone and the cylinder.
     assert.ok(truth.volumeMl > 60 && truth.volumeMl < 157, `volume ${truth.volumeMl} ml`);
     const acq = JSON.parse(lab.simulate(JSON.stringify({ sax_count: 8, lax_count: 2 })));
@@ -53,7 +55,7 @@ describe('wasm Lab', () => {
 
     const session = loadSimulated(lab, 'lv.csv');
     runToEnd(session, 'lv.csv');
-    const report = JSON.parse(lab.compare(session.positions(), session.indices()));
+    const report = JSON.parse(lab.compare(null, session.positions(), session.indices()));
     console.log(
       `# parametric LV 8 SAX + 2 LAX: mesh->truth mean ${report.mesh_to_truth.mean.toFixed(3)} p95 ${report.mesh_to_truth.p95.toFixed(3)} max ${report.mesh_to_truth.max.toFixed(3)}; truth->mesh mean ${report.truth_to_mesh.mean.toFixed(3)}; Hausdorff ${report.hausdorff.toFixed(3)} mm; volume ${report.volume_truth_ml.toFixed(2)} / ${report.volume_mesh_ml.toFixed(2)} ml`,
     );
@@ -65,7 +67,7 @@ describe('wasm Lab', () => {
     const d = lab.truth_distances();
     assert.equal(d.length, truth.vertices);
     // Measured below the most basal SAX plane, NaN (not measured) above it.
-    const pos = lab.truth_positions();
+    const pos = lab.truth_positions(0);
     const zClip = acq.clip.origin[2] * Math.sign(acq.clip.normal[2]);
     let measured = 0;
     for (let i = 0; i < d.length; i++) {
@@ -84,7 +86,7 @@ describe('wasm Lab', () => {
     const lab = new wasm.Lab();
     lab.make_parametric(JSON.stringify({ length_mm: 70, radius_mm: 22, base_radius_mm: 18, bulge_mm: 4 }));
     lab.simulate(JSON.stringify({ sax_spacing_mm: 10, lax_count: 1 }));
-    const r = JSON.parse(lab.compare(lab.truth_positions(), lab.truth_indices()));
+    const r = JSON.parse(lab.compare(null, lab.truth_positions(0), lab.truth_indices(0)));
     assert.ok(r.hausdorff < 1e-4, `hausdorff ${r.hausdorff}`);
     assert.ok(Math.abs(r.volume_truth_ml - r.volume_mesh_ml) < 1e-3);
   });
@@ -100,12 +102,32 @@ describe('wasm Lab', () => {
     assert.equal(thrownError(() => lab.make_parametric(JSON.stringify({ base_radius_mm: 30 }))).code, 'degenerate');
     lab.make_parametric('{}');
     assert.equal(thrownError(() => lab.simulate(JSON.stringify({ lax_count: 9 }))).code, 'param_out_of_range');
-    assert.equal(thrownError(() => lab.compare(new Float32Array(9), new Uint32Array([0, 1, 5]))).code, 'invalid_mesh');
+    assert.equal(thrownError(() => lab.compare(null, new Float32Array(9), new Uint32Array([0, 1, 5]))).code, 'invalid_mesh');
     // An OBJ truth read through the core's mesh readers.
     const obj = ['v 0 0 0', 'v 10 0 0', 'v 0 10 0', 'v 0 0 10', 'f 1 3 2', 'f 1 2 4', 'f 2 3 4', 'f 3 1 4'].join('\n');
     const t = JSON.parse(lab.load_truth('tet.obj', new TextEncoder().encode(obj)));
     assert.equal(t.vertices, 4);
     assert.ok(Math.abs(t.volumeMl - 1000 / 6 / 1000) < 1e-9, `tetrahedron volume ${t.volumeMl}`);
+  });
+
+  it('several truths: labels checked across the boundary, one acquisition, the truth of the surface compared', () => {
+    const lab = new wasm.Lab();
+    const mesh = (name) => readFileSync(join(dataDir(), 'meshes', name));
+    lab.load_truth('lv.obj', mesh('bivme-patient1-ED-LV_ENDO-closed.obj'));
+    lab.set_truth_label(0, 'LV_ENDO');
+    const rv = JSON.parse(lab.add_truth('rv.obj', 'RV_ENDO', mesh('bivme-patient1-ED-RV_ENDO-closed.obj')));
+    assert.equal(rv.index, 1);
+    assert.equal(thrownError(() => lab.add_truth('x.obj', 'lv_endo', mesh('bivme-patient1-ED-LV_ENDO-closed.obj'))).code, 'label_taken');
+    assert.equal(thrownError(() => lab.set_truth_label(1, 'RV ENDO')).code, 'label_invalid');
+    const acq = JSON.parse(lab.simulate(JSON.stringify({ sax_count: 8, lax_count: 2 })));
+    assert.deepEqual(acq.surfaces.map((s) => s.label), ['LV_ENDO', 'RV_ENDO']);
+    assert.match(new TextDecoder().decode(lab.simulated_csv()).split('\n').find((l) => !l.startsWith('#')), /surface/);
+    const r = JSON.parse(lab.compare('RV_ENDO', lab.truth_positions(1), lab.truth_indices(1)));
+    assert.equal(r.truth_label, 'RV_ENDO');
+    assert.ok(r.mesh_to_truth.mean < 1e-4);
+    assert.equal(lab.truth_distances().length, rv.vertices);
+    assert.equal(thrownError(() => lab.compare('LV_EPI', lab.truth_positions(1), lab.truth_indices(1))).code, 'no_truth_for_surface');
+    assert.equal(JSON.parse(lab.remove_truth(0)).length, 1);
   });
 
   it('leave-one-out reports one item per contour; a sweep one per grid point', () => {

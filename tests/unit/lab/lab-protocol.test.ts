@@ -15,17 +15,17 @@ describe('lab messages', () => {
     expect(transferablesOf({ type: 'lab-truth', reqId: 1, source: { kind: 'parametric', lv: {} } })).toEqual([]);
     const csv = new ArrayBuffer(4);
     const clip = { origin: [0, 0, 0] as [number, number, number], normal: [0, 0, 1] as [number, number, number] };
-    expect(transferablesOf({ type: 'lab-simulated', reqId: 2, acquisition: { sax: 1, lax: 0, points: 3, clip, csv } })).toEqual([csv]);
+    expect(transferablesOf({ type: 'lab-simulated', reqId: 2, acquisition: { sax: 1, lax: 0, points: 3, surfaces: [], clip, csv } })).toEqual([csv]);
     const d = new Float32Array(4);
     const stats = { mean: 0, median: 0, p95: 0, max: 0, max_at: [0, 0, 0] as [number, number, number], min: 0, count: 1 };
     const report = { mesh_to_truth: stats, truth_to_mesh: stats, hausdorff: 0, volume_truth_ml: 1, volume_mesh_ml: 1, clipped: true };
-    expect(transferablesOf({ type: 'lab-compared', reqId: 3, comparison: { report, truthDistances: d } })).toEqual([d.buffer]);
+    expect(transferablesOf({ type: 'lab-compared', reqId: 3, comparison: { report, truthIndex: 0, truthLabel: null, truthName: 't.obj', truthDistances: d } })).toEqual([d.buffer]);
     expect(transferablesOf({ type: 'lab-progress', runId: 4, progress: { completed: 1, total: 2 } })).toEqual([]);
   });
 
   it('are recognised on both sides and batch messages carry their run id', () => {
-    for (const type of ['lab-truth', 'lab-simulate', 'lab-compare', 'lab-batch']) expect(isToWorker({ type })).toBe(true);
-    for (const type of ['lab-truth', 'lab-simulated', 'lab-compared', 'lab-batch-started', 'lab-progress', 'lab-batch-done']) {
+    for (const type of ['lab-truth', 'lab-truth-edit', 'lab-simulate', 'lab-compare', 'lab-batch']) expect(isToWorker({ type })).toBe(true);
+    for (const type of ['lab-truth', 'lab-truths', 'lab-simulated', 'lab-compared', 'lab-batch-started', 'lab-progress', 'lab-batch-done']) {
       expect(isFromWorker({ type })).toBe(true);
     }
     expect(isToWorker({ type: 'lab-bogus' })).toBe(false);
@@ -120,12 +120,12 @@ describe('CoreClient lab calls', () => {
   it('sends copies to compare, and replays the truth and acquisition to a recreated worker', async () => {
     const t = client.labTruth({ kind: 'parametric', lv: { length_mm: 70 } });
     const tr = worker().of('lab-truth').at(-1)!;
-    worker().emit({ type: 'lab-truth', reqId: tr.reqId, truth: { name: 'parametric LV', vertices: 3, triangles: 1, volumeMl: 0, closed: false, positions: new Float32Array(9), indices: new Uint32Array(3) } });
+    worker().emit({ type: 'lab-truth', reqId: tr.reqId, truth: { name: 'parametric LV', label: null, index: 0, vertices: 3, triangles: 1, volumeMl: 0, closed: false, positions: new Float32Array(9), indices: new Uint32Array(3) } });
     expect((await t).name).toBe('parametric LV');
     const s = client.labSimulate({ sax_count: 8, lax_count: 2 });
     const sr = worker().of('lab-simulate').at(-1)!;
     const clip = { origin: [0, 0, 0] as [number, number, number], normal: [0, 0, 1] as [number, number, number] };
-    worker().emit({ type: 'lab-simulated', reqId: sr.reqId, acquisition: { sax: 8, lax: 2, points: 10, clip, csv: new ArrayBuffer(2) } });
+    worker().emit({ type: 'lab-simulated', reqId: sr.reqId, acquisition: { sax: 8, lax: 2, points: 10, surfaces: [], clip, csv: new ArrayBuffer(2) } });
     expect((await s).sax).toBe(8);
 
     const positions = new Float32Array([1, 2, 3]);
@@ -143,5 +143,41 @@ describe('CoreClient lab calls', () => {
     expect(fresh.sent.map((m) => m.type)).toEqual(['lab-truth', 'lab-simulate', 'lab-compare']);
     expect(fresh.of('lab-truth')[0].source).toEqual({ kind: 'parametric', lv: { length_mm: 70 } });
     expect(fresh.of('lab-simulate')[0].acquisition).toEqual({ sax_count: 8, lax_count: 2 });
+  });
+  it('replays several truths in order, with their labels as edited, and sends the surface to compare', async () => {
+    const truth = (name: string, index: number, label: string | null) => ({ name, label, index, vertices: 3, triangles: 1, volumeMl: 0, closed: false, positions: new Float32Array(9), indices: new Uint32Array(3) });
+    const answer = (name: string, index: number, label: string | null) => {
+      const r = worker().of('lab-truth').at(-1)!;
+      worker().emit({ type: 'lab-truth', reqId: r.reqId, truth: truth(name, index, label) });
+    };
+    const file = (fileName: string) => ({ kind: 'file' as const, fileName, bytes: new ArrayBuffer(4) });
+    const a = client.labTruth(file('lv.obj'), { label: 'LV_ENDO' });
+    answer('lv.obj', 0, 'LV_ENDO');
+    await a;
+    const b = client.labTruth(file('rv.obj'), { add: true, label: 'RV_ENDO' });
+    expect(worker().of('lab-truth').at(-1)).toMatchObject({ add: true, label: 'RV_ENDO' });
+    answer('rv.obj', 1, 'RV_ENDO');
+    await b;
+    const c = client.labTruth(file('epi.obj'), { add: true });
+    answer('epi.obj', 2, null);
+    await c;
+    const e = client.labEditTruth({ index: 2, label: 'BIV_EPI' });
+    const er = worker().of('lab-truth-edit').at(-1)!;
+    expect(er.edit).toEqual({ index: 2, label: 'BIV_EPI' });
+    worker().emit({ type: 'lab-truths', reqId: er.reqId, truths: [] });
+    await e;
+    const r = client.labEditTruth({ index: 0, remove: true });
+    worker().emit({ type: 'lab-truths', reqId: worker().of('lab-truth-edit').at(-1)!.reqId, truths: [] });
+    await r;
+    void client.labCompare(new Float32Array(9), new Uint32Array(3), 'RV_ENDO').catch(() => undefined);
+    expect(worker().of('lab-compare').at(-1)!.surface).toBe('RV_ENDO');
+
+    worker().crash();
+    void client.labCompare(new Float32Array(9), new Uint32Array(3), 'RV_ENDO').catch(() => undefined);
+    const fresh = worker();
+    expect(fresh.sent.map((m) => m.type)).toEqual(['lab-truth', 'lab-truth', 'lab-compare']);
+    const [first, second] = fresh.of('lab-truth');
+    expect([first.source.kind === 'file' && first.source.fileName, first.add, first.label]).toEqual(['rv.obj', undefined, 'RV_ENDO']);
+    expect([second.source.kind === 'file' && second.source.fileName, second.add, second.label]).toEqual(['epi.obj', true, 'BIV_EPI']);
   });
 });

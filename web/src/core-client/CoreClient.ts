@@ -41,7 +41,9 @@ import {
   type LabComparison,
   type LabProgress,
   type LabTruth,
+  type LabTruthEdit,
   type LabTruthSource,
+  type LabTruthSummary,
   type LabelMapGrid,
   type PhasesJob,
   type LoadedFile,
@@ -462,9 +464,17 @@ export class CoreClient {
 
   // ---- validation lab ------------------------------------------------------------------------
 
-  /** Makes the lab's ground-truth surface (parametric LV or a mesh file) in the worker. */
-  labTruth(source: LabTruthSource): Promise<LabTruth> {
-    return this.lab.truth(source);
+  /**
+   * Makes the lab's ground-truth surface (parametric LV or a mesh file) in the worker, replacing
+   * the truths held, or (`add`) a mesh beside them; `label`: its surface label.
+   */
+  labTruth(source: LabTruthSource, opts: { add?: boolean; label?: string | null } = {}): Promise<LabTruth> {
+    return this.lab.truth(source, opts);
+  }
+
+  /** Relabels or removes one of the lab's truths; resolves to the truths left, in order. */
+  labEditTruth(edit: LabTruthEdit): Promise<LabTruthSummary[]> {
+    return this.lab.edit(edit);
   }
 
   /** Slices the truth like a CMR acquisition; resolves to the contours as CSV bytes. */
@@ -472,9 +482,12 @@ export class CoreClient {
     return this.lab.simulate(acquisition);
   }
 
-  /** Compares a mesh with the truth (clipped at the last acquisition's most basal SAX plane). */
-  labCompare(positions: Float32Array, indices: Uint32Array): Promise<LabComparison> {
-    return this.lab.compare(positions, indices);
+  /**
+   * Compares a mesh of `surface` with the truth of that label (one truth: that one), clipped at
+   * the last acquisition's most basal SAX plane.
+   */
+  labCompare(positions: Float32Array, indices: Uint32Array, surface: string | null = null): Promise<LabComparison> {
+    return this.lab.compare(positions, indices, surface);
   }
 
   /** Starts a leave-one-out or a parameter sweep on a loaded file; replaces a batch in progress. */
@@ -699,6 +712,9 @@ export class CoreClient {
         break;
       case 'lab-truth':
         this.settleRequest(msg.reqId, true, msg.truth);
+        break;
+      case 'lab-truths':
+        this.settleRequest(msg.reqId, true, msg.truths);
         break;
       case 'lab-simulated':
         this.settleRequest(msg.reqId, true, msg.acquisition);

@@ -17,7 +17,9 @@ import {
   type LabComparison,
   type LabProgress,
   type LabTruth,
+  type LabTruthEdit,
   type LabTruthSource,
+  type LabTruthSummary,
   type PhasesJob,
   type ToWorker,
   type ViewFile,
@@ -58,24 +60,44 @@ interface BatchState {
 
 export class LabRequests {
   private readonly batches = new Map<number, BatchState>();
-  /** The lab's truth and acquisition, replayed to a recreated worker before the next lab call. */
-  private truthSource: LabTruthSource | null = null;
+  /** The lab's truths (in order) and acquisition, replayed to a recreated worker before the next lab call. */
+  private truthSources: { source: LabTruthSource; label: string | null }[] = [];
   private acquisition: AcquisitionSpec | null = null;
   private inWorker = false;
 
   constructor(private readonly host: LabHost) {}
 
-  /** Makes the lab's ground-truth surface (parametric LV or a mesh file) in the worker. */
-  truth(source: LabTruthSource): Promise<LabTruth> {
+  /**
+   * Makes the lab's ground-truth surface (parametric LV or a mesh file) in the worker: the only
+   * one, or (`add`) one more beside those held; `label` is its surface label.
+   */
+  truth(source: LabTruthSource, opts: { add?: boolean; label?: string | null } = {}): Promise<LabTruth> {
     const kept: LabTruthSource = source.kind === 'file' ? { ...source, bytes: source.bytes.slice(0) } : source;
     // A fresh copy for each worker it goes to (the copy is transferred).
     const sent = (): LabTruthSource => (kept.kind === 'file' ? { ...kept, bytes: kept.bytes.slice(0) } : kept);
+    const add = opts.add === true;
+    const label = opts.label ?? null;
+    // Added beside truths a recreated worker must get back first.
+    if (add) this.replay();
     this.acquisition = null;
-    const p = this.host.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source: sent() }));
+    const p = this.host.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source: sent(), ...(add ? { add } : {}), ...(label !== null ? { label } : {}) }));
     this.inWorker = true;
     return p.then((t) => {
-      this.truthSource = kept;
+      const entry = { source: kept, label: t.label ?? null };
+      if (add) this.truthSources.push(entry);
+      else this.truthSources = [entry];
       return t;
+    });
+  }
+
+  /** Relabels or removes one truth; resolves to the truths left, in order. */
+  edit(edit: LabTruthEdit): Promise<LabTruthSummary[]> {
+    this.replay();
+    return this.host.request<LabTruthSummary[]>((reqId) => ({ type: 'lab-truth-edit', reqId, edit: { ...edit } })).then((list) => {
+      this.acquisition = null;
+      if ('remove' in edit) this.truthSources.splice(edit.index, 1);
+      else if (this.truthSources[edit.index]) this.truthSources[edit.index].label = edit.label;
+      return list;
     });
   }
 
@@ -88,11 +110,14 @@ export class LabRequests {
     });
   }
 
-  /** Compares a mesh with the truth (clipped at the last acquisition's most basal SAX plane). */
-  compare(positions: Float32Array, indices: Uint32Array): Promise<LabComparison> {
+  /**
+   * Compares a mesh of `surface` with the truth of that label (one truth: that one), clipped at
+   * the last acquisition's most basal SAX plane.
+   */
+  compare(positions: Float32Array, indices: Uint32Array, surface: string | null = null): Promise<LabComparison> {
     this.replay();
     // Copies: the caller keeps displaying its arrays, these are transferred.
-    return this.host.request<LabComparison>((reqId) => ({ type: 'lab-compare', reqId, positions: positions.slice(), indices: indices.slice() }));
+    return this.host.request<LabComparison>((reqId) => ({ type: 'lab-compare', reqId, positions: positions.slice(), indices: indices.slice(), surface }));
   }
 
   /** Starts a leave-one-out or a parameter sweep on a loaded file; replaces a batch in progress. */
@@ -209,12 +234,14 @@ export class LabRequests {
 
   // -------------------------------------------------------------------------------------------
 
-  /** Re-sends the truth (and acquisition) to a worker that does not have them (after a crash). */
+  /** Re-sends the truths (and acquisition) to a worker that does not have them (after a crash). */
   private replay(): void {
-    if (this.inWorker || !this.truthSource) return;
-    const src = this.truthSource;
-    const source: LabTruthSource = src.kind === 'file' ? { ...src, bytes: src.bytes.slice(0) } : src;
-    this.host.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source })).catch(() => undefined);
+    if (this.inWorker || this.truthSources.length === 0) return;
+    this.truthSources.forEach(({ source: src, label }, i) => {
+      const source: LabTruthSource = src.kind === 'file' ? { ...src, bytes: src.bytes.slice(0) } : src;
+      const extra = { ...(i > 0 ? { add: true } : {}), ...(label !== null ? { label } : {}) };
+      this.host.request<LabTruth>((reqId) => ({ type: 'lab-truth', reqId, source, ...extra })).catch(() => undefined);
+    });
     const acq = this.acquisition;
     if (acq) this.host.request<LabAcquisition>((reqId) => ({ type: 'lab-simulate', reqId, acquisition: { ...acq } })).catch(() => undefined);
     this.inWorker = true;

@@ -18,7 +18,9 @@ import {
   type LabProgress,
   type LabRequest,
   type CompareReport,
+  type LabAcquisition,
   type LabTruth,
+  type LabTruthSummary,
   type PhasesBatchJob,
 } from './protocol';
 
@@ -26,11 +28,14 @@ import {
 export interface LabApi {
   make_parametric(lvJson: string): string;
   load_truth(fileName: string, bytes: Uint8Array): string;
-  truth_positions(): Float32Array;
-  truth_indices(): Uint32Array;
+  add_truth(fileName: string, label: string | null | undefined, bytes: Uint8Array): string;
+  set_truth_label(index: number, label: string | null | undefined): string;
+  remove_truth(index: number): string;
+  truth_positions(index: number): Float32Array;
+  truth_indices(index: number): Uint32Array;
   simulate(acquisitionJson: string): string;
   simulated_csv(): Uint8Array;
-  compare(positions: Float32Array, indices: Uint32Array): string;
+  compare(surface: string | null | undefined, positions: Float32Array, indices: Uint32Array): string;
   truth_distances(): Float32Array;
   start_leave_one_out(session: unknown, fileName: string, surface: string | null | undefined, paramsJson: string, lids: string): string;
   start_sweep(
@@ -88,30 +93,42 @@ export class LabWorker {
     switch (msg.type) {
       case 'lab-truth': {
         const src = msg.source;
-        const infoJson =
-          src.kind === 'parametric'
-            ? this.lab.make_parametric(JSON.stringify(src.lv))
-            : this.lab.load_truth(src.fileName, new Uint8Array(src.bytes));
+        const label = msg.label ?? null;
+        let infoJson: string;
+        if (src.kind === 'parametric') infoJson = this.lab.make_parametric(JSON.stringify(src.lv));
+        else if (msg.add) infoJson = this.lab.add_truth(src.fileName, label, new Uint8Array(src.bytes));
+        else {
+          infoJson = this.lab.load_truth(src.fileName, new Uint8Array(src.bytes));
+          // A lone truth's label only names it (its acquisition has no surface column).
+          if (label !== null) this.lab.set_truth_label(0, label);
+        }
         const info = JSON.parse(infoJson) as Omit<LabTruth, 'positions' | 'indices'>;
-        const truth: LabTruth = { ...info, positions: this.lab.truth_positions(), indices: this.lab.truth_indices() };
+        const index = info.index ?? 0;
+        const truth: LabTruth = { ...info, index, label: info.label ?? (src.kind === 'file' && !msg.add ? label : null), positions: this.lab.truth_positions(index), indices: this.lab.truth_indices(index) };
         this.send({ type: 'lab-truth', reqId: msg.reqId, truth });
         break;
       }
+      case 'lab-truth-edit': {
+        const e = msg.edit;
+        const list = 'remove' in e ? this.lab.remove_truth(e.index) : this.lab.set_truth_label(e.index, e.label);
+        this.send({ type: 'lab-truths', reqId: msg.reqId, truths: JSON.parse(list) as LabTruthSummary[] });
+        break;
+      }
       case 'lab-simulate': {
-        const info = JSON.parse(this.lab.simulate(JSON.stringify(msg.acquisition))) as {
-          sax: number;
-          lax: number;
-          points: number;
-          clip: { origin: [number, number, number]; normal: [number, number, number] };
-        };
+        const info = JSON.parse(this.lab.simulate(JSON.stringify(msg.acquisition))) as Omit<LabAcquisition, 'csv'>;
         const csv = this.lab.simulated_csv();
         const bytes = csv.buffer.byteLength === csv.byteLength ? (csv.buffer as ArrayBuffer) : csv.slice().buffer;
         this.send({ type: 'lab-simulated', reqId: msg.reqId, acquisition: { ...info, csv: bytes } });
         break;
       }
       case 'lab-compare': {
-        const report = JSON.parse(this.lab.compare(msg.positions, msg.indices)) as CompareReport;
-        this.send({ type: 'lab-compared', reqId: msg.reqId, comparison: { report, truthDistances: this.lab.truth_distances() } });
+        const { truth_index, truth_label, truth_name, ...report } = JSON.parse(this.lab.compare(msg.surface ?? null, msg.positions, msg.indices)) as CompareReport & {
+          truth_index?: number;
+          truth_label?: string | null;
+          truth_name?: string;
+        };
+        const comparison = { report, truthIndex: truth_index ?? 0, truthLabel: truth_label ?? null, truthName: truth_name ?? '', truthDistances: this.lab.truth_distances() };
+        this.send({ type: 'lab-compared', reqId: msg.reqId, comparison });
         break;
       }
       case 'lab-batch':

@@ -108,6 +108,8 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
     case 'started':
     case 'error':
     case 'lab-simulate':
+    case 'lab-truth-edit':
+    case 'lab-truths':
     case 'lab-progress':
     case 'lab-batch-done':
       break;
@@ -137,6 +139,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
     case 'started':
     case 'schema':
     case 'lab-truth':
+    case 'lab-truths':
     case 'lab-simulated':
     case 'lab-compared':
     case 'session-json':
@@ -161,6 +164,7 @@ export function isFromWorker(v: unknown): v is FromWorker {
     case 'error':
     case 'schema':
     case 'lab-truth':
+    case 'lab-truths':
     case 'lab-simulated':
     case 'lab-compared':
     case 'lab-batch-started':
@@ -185,6 +189,7 @@ export function isToWorker(v: unknown): v is ToWorker {
     case 'cancel':
     case 'schema':
     case 'lab-truth':
+    case 'lab-truth-edit':
     case 'lab-simulate':
     case 'lab-compare':
     case 'lab-batch':

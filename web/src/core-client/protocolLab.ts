@@ -38,6 +38,10 @@ export interface AcquisitionSpec {
 
 export interface LabTruth {
   name: string;
+  /** Its surface label (LV_ENDO, …; null: none given, fine for a lone truth). */
+  label: string | null;
+  /** Its place among the Lab's truths (the first plans the acquisition). */
+  index: number;
   vertices: number;
   triangles: number;
   volumeMl: number;
@@ -46,11 +50,33 @@ export interface LabTruth {
   indices: Uint32Array;
 }
 
+/** One surface of a simulated acquisition (label null: a lone truth, no surface column). */
+export interface LabSurfaceCounts {
+  label: string | null;
+  sax: number;
+  lax: number;
+  points: number;
+  /** This surface's most basal SAX plane, where its truth is clipped (a surface drawn only below
+   * the others' base ends lower than the stack); null for a surface with no truth. */
+  clip: { origin: [number, number, number]; normal: [number, number, number] } | null;
+}
+
+/** A change to the Lab's truths: relabel truth `index` (null: no label) or remove it. */
+export type LabTruthEdit = { index: number; label: string | null } | { index: number; remove: true };
+
+/** The Lab's truths after an edit, in order. */
+export interface LabTruthSummary {
+  name: string;
+  label: string | null;
+}
+
 export interface LabAcquisition {
   sax: number;
   lax: number;
   points: number;
-  /** The most basal SAX plane (both surfaces are clipped there before measuring). */
+  /** Per surface (several truths: one row each, in the truths' order). */
+  surfaces: LabSurfaceCounts[];
+  /** The stack's most basal SAX plane (each truth is clipped at its own, `surfaces[k].clip`). */
   clip: { origin: [number, number, number]; normal: [number, number, number] };
   /** The contours as canonical CSV, loaded like a dropped file. */
   csv: ArrayBuffer;
@@ -79,6 +105,10 @@ export interface CompareReport {
 
 export interface LabComparison {
   report: CompareReport;
+  /** The truth measured against (the one of the reconstructed surface's label). */
+  truthIndex: number;
+  truthLabel: string | null;
+  truthName: string;
   /** Per truth vertex, distance to the mesh, mm. */
   truthDistances: Float32Array;
 }

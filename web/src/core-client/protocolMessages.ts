@@ -6,7 +6,7 @@
 
 import type { CoreErrorData } from './protocolErrors';
 import type {
-  AcquisitionSpec, LabAcquisition, LabBatchInfo, LabComparison, LabProgress, LabTruth, LabTruthSource, WorkerBatchJob,
+  AcquisitionSpec, LabAcquisition, LabBatchInfo, LabComparison, LabProgress, LabTruth, LabTruthEdit, LabTruthSource, LabTruthSummary, WorkerBatchJob,
 } from './protocolLab';
 import type { LidsMode, ParamSpec, ParamValues, ReconOptions } from './protocolOptions';
 import type { Frame, LabelMapGrid, LoadedFile, RunResult, ViewFile, WallFormat, WallSummary, WallSurfaceMesh } from './protocolResults';
@@ -113,6 +113,16 @@ export interface LabTruthRequest {
   type: 'lab-truth';
   reqId: number;
   source: LabTruthSource;
+  /** Beside the truths held (a file only); absent: replaces them all. */
+  add?: boolean;
+  /** Its surface label (absent or null: none). */
+  label?: string | null;
+}
+/** Relabels or removes one truth (answered with 'lab-truths'). */
+export interface LabTruthEditRequest {
+  type: 'lab-truth-edit';
+  reqId: number;
+  edit: LabTruthEdit;
 }
 export interface LabSimulateRequest {
   type: 'lab-simulate';
@@ -125,6 +135,8 @@ export interface LabCompareRequest {
   reqId: number;
   positions: Float32Array;
   indices: Uint32Array;
+  /** The reconstructed surface: measured against the truth of that label (one truth: that one). */
+  surface?: string | null;
 }
 /** Starts a batch under `runId` (cancelled with a 'cancel' of the same id). */
 export interface LabBatchRequest {
@@ -133,7 +145,7 @@ export interface LabBatchRequest {
   job: WorkerBatchJob;
 }
 
-export type LabRequest = LabTruthRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
+export type LabRequest = LabTruthRequest | LabTruthEditRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
 
 export type ToWorker = LoadRequest | GridRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | WallExportRequest | BivWallExportRequest | LabRequest;
 
@@ -205,6 +217,11 @@ export interface LabTruthMessage {
   reqId: number;
   truth: LabTruth;
 }
+export interface LabTruthsMessage {
+  type: 'lab-truths';
+  reqId: number;
+  truths: LabTruthSummary[];
+}
 export interface LabSimulatedMessage {
   type: 'lab-simulated';
   reqId: number;
@@ -232,6 +249,7 @@ export interface LabBatchDoneMessage {
 
 export type LabMessage =
   | LabTruthMessage
+  | LabTruthsMessage
   | LabSimulatedMessage
   | LabComparedMessage
   | LabBatchStartedMessage

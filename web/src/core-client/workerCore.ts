@@ -279,6 +279,7 @@ export class WorkerCore {
         this.send({ type: 'cancelled', runId: msg.runId });
         break;
       case 'lab-truth':
+      case 'lab-truth-edit':
       case 'lab-simulate':
       case 'lab-compare':
       case 'lab-batch':
@@ -560,6 +561,7 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
     case 'grid':
     case 'schema':
     case 'lab-truth':
+    case 'lab-truth-edit':
     case 'lab-simulate':
     case 'lab-compare':
     case 'session-export':

@@ -1,8 +1,10 @@
 /**
  * The Lab panel (issue 5): the validation protocol of Villard, Grau & Zacur (J. Imaging 2018,
- * section 3) in the browser. Pick a ground truth (the parametric LV, a bundled reference shape or a
- * dropped mesh), slice it like a CMR acquisition, reconstruct with the app's normal animated run,
- * then compare with the truth; leave-one-out and a parameter sweep run as batches in the worker.
+ * section 3) in the browser. Pick a ground truth (the parametric LV, a bundled reference shape or
+ * dropped meshes: several are several labelled surfaces of one heart, sliced on one acquisition
+ * like the CLI's `heartmesh simulate LV_ENDO=lv.obj RV_ENDO=rv.obj`), slice it like a CMR
+ * acquisition, reconstruct with the app's normal animated run, then compare each surface with the
+ * truth of the same label; leave-one-out and a parameter sweep run as batches in the worker.
  *
  * Everything heavy happens in the worker through CoreClient's lab calls; this class holds the
  * page-side state, builds the DOM, and listens to the controller's results. Errors (a bad mesh,
@@ -12,7 +14,7 @@ import './lab.css';
 import type { Controller } from '../app/controller';
 import type { CoreClient, LabBatchHandle } from '../core-client/CoreClient';
 import type {
-  AcquisitionSpec, ContourInfo, CoreErrorData, LabTruthSource, LooItem, ParametricLvSpec, RunResult, SweepGrid, SweepItem,
+  AcquisitionSpec, ContourInfo, CoreErrorData, LabAcquisition, LabTruth, LabTruthSource, LooItem, ParametricLvSpec, RunResult, SweepGrid, SweepItem,
 } from '../core-client/protocol';
 import { download } from '../io/download';
 import { h } from '../ui/dom';
@@ -24,7 +26,9 @@ import { LooChart } from './LooChart';
 import { MetricsTable } from './MetricsTable';
 import { SweepPlot } from './SweepPlot';
 import { parseValueList, sweepCsv } from './sweepCsv';
+import { labelProblem, labelsForNew, simulateProblem, truthForSurface } from './truthLabels';
 import { TruthLayer } from './TruthLayer';
+import { TruthList } from './TruthList';
 
 /** Reference shapes shipped in public/lab/ (licences in public/lab/NOTICE.md). */
 export const REFERENCE_SHAPES = [
@@ -48,6 +52,9 @@ export class LabPanel {
   private readonly message = h('p', { class: 'lab-message', 'data-testid': 'lab-message', role: 'status' });
   private readonly truthInfo = h('p', { class: 'muted', 'data-testid': 'lab-truth-info' }, 'no truth yet');
   private readonly acqInfo = h('p', { class: 'muted', 'data-testid': 'lab-acq-info' }, 'not simulated yet');
+  private readonly acqSurfaces = h('ul', { class: 'lab-acq-surfaces', 'data-testid': 'lab-acq-surfaces' });
+  private readonly compareInfo = h('p', { class: 'muted', 'data-testid': 'lab-compare-info' });
+  private readonly truthList: TruthList;
   private readonly metrics = new MetricsTable();
   private readonly loo: LooChart;
   private readonly looProgress = h('progress', { max: 1, value: 0, 'data-testid': 'lab-loo-progress' });
@@ -63,7 +70,12 @@ export class LabPanel {
   private readonly grid;
   private readonly mapToggle: HTMLInputElement;
   private readonly buttons: Record<string, HTMLButtonElement> = {};
-  private truthName: string | null = null;
+  /** The truths, in order (the worker's Lab holds the same; the first plans the acquisition). */
+  private truths: LabTruth[] = [];
+  /** The truths are dropped or opened meshes (more are added beside them), not a preset. */
+  private fromFiles = false;
+  /** The truth the last comparison measured (its distance map is drawn). */
+  private comparedIndex = 0;
   private truthTimer: ReturnType<typeof setTimeout> | null = null;
   /** The generated contour file, and whether the truth it was cut from is still the current one. */
   private labFile: string | null = null;
@@ -87,7 +99,7 @@ export class LabPanel {
       { id: 'lab-source', 'data-testid': 'lab-source' },
       h('option', { value: 'parametric' }, 'parametric LV'),
       ...REFERENCE_SHAPES.map((r) => h('option', { value: r.id }, r.label)),
-      h('option', { value: 'file' }, 'a mesh file (OBJ, STL, PLY, VTK)…'),
+      h('option', { value: 'file' }, 'mesh files (OBJ, STL, PLY, VTK)…'),
     );
     const change = () => this.scheduleTruth();
     this.lv = {
@@ -98,12 +110,13 @@ export class LabPanel {
       height: slider('lv-bulge-height', 'Bulge height (apex 0, base 1)', { min: 0.1, max: 0.9, step: 0.05, value: 0.5 }, change),
     };
     this.lvBox = h('div', {}, ...Object.values(this.lv).map((f) => f.element));
-    const fileInput = h('input', { type: 'file', accept: '.obj,.stl,.ply,.vtk,.vtp', 'data-testid': 'lab-truth-file', class: 'visually-hidden', id: 'lab-truth-file' });
+    const fileInput = h('input', { type: 'file', accept: '.obj,.stl,.ply,.vtk,.vtp', multiple: true, 'data-testid': 'lab-truth-file', class: 'visually-hidden', id: 'lab-truth-file' });
     fileInput.addEventListener('change', () => {
-      const f = fileInput.files?.[0];
-      if (f) void this.truthFromFile(f);
+      const files = [...(fileInput.files ?? [])];
+      if (files.length) void this.truthsFromFiles(files);
       fileInput.value = '';
     });
+    this.truthList = new TruthList({ label: (i, text) => void this.relabel(i, text), remove: (i) => void this.removeTruth(i) });
     const openMesh = h('label', { for: 'lab-truth-file', class: 'button small', 'data-testid': 'lab-truth-open' }, 'Open mesh…');
     this.source.addEventListener('change', () => {
       this.lvBox.hidden = this.source.value !== 'parametric';
@@ -157,7 +170,7 @@ export class LabPanel {
       'div',
       { class: 'lab', 'data-testid': 'lab-panel' },
       this.message,
-      section('1 · Truth', 'lab-truth', h('div', { class: 'lab-row' }, this.source, openMesh, fileInput), this.lvBox, this.truthInfo),
+      section('1 · Truth', 'lab-truth', h('div', { class: 'lab-row' }, this.source, openMesh, fileInput), this.lvBox, this.truthList.element, this.truthInfo),
       section(
         '2 · Acquisition',
         'lab-acquisition',
@@ -169,10 +182,12 @@ export class LabPanel {
         h('div', { class: 'lab-row' }, this.acq.seed.element),
         h('div', { class: 'lab-row' }, b.simulate, b.reconstruct),
         this.acqInfo,
+        this.acqSurfaces,
       ),
       section(
         '3 · Against the truth',
         'lab-compare',
+        this.compareInfo,
         this.metrics.element,
         h('label', { class: 'check', for: 'lab-map' }, this.mapToggle, ' distance map on the truth (hides the mesh)'),
       ),
@@ -220,7 +235,7 @@ export class LabPanel {
       document.body.classList.toggle('lab-open', lab);
       // A first truth to look at, unless contours are already on screen (their coordinates have
       // nothing to do with the truth's: it would only hide them).
-      if (lab && this.truthName === null && this.deps.controller.runSettings() === null) void this.makeTruth();
+      if (lab && this.truths.length === 0 && this.deps.controller.runSettings() === null) void this.makeTruth();
     };
     paramsTab.addEventListener('click', () => show(false));
     labTab.addEventListener('click', () => show(true));
@@ -230,10 +245,13 @@ export class LabPanel {
     return !this.element.hidden;
   }
 
-  /** Dropped files: with the Lab open, one mesh becomes the truth (true = taken). */
+  /**
+   * Dropped files: with the Lab open, meshes become truths (true = taken): they replace a preset
+   * truth (parametric LV, reference shape) and join earlier dropped ones.
+   */
   claimDrop(files: File[]): boolean {
-    if (!this.isOpen || files.length !== 1 || !MESH_EXT.test(files[0].name)) return false;
-    void this.truthFromFile(files[0]);
+    if (!this.isOpen || files.length === 0 || !files.every((f) => MESH_EXT.test(f.name))) return false;
+    void this.truthsFromFiles(files);
     return true;
   }
 
@@ -279,10 +297,41 @@ export class LabPanel {
     }
   }
 
-  private async truthFromFile(file: File): Promise<void> {
+  /**
+   * Mesh files as truths, each labelled from its name where it holds a known surface name: the
+   * first replaces a preset truth, the others (and all, when the truths are already files) are
+   * added. A file that fails, or whose label another truth has, is said in one message; the
+   * truths already held stay.
+   */
+  async truthsFromFiles(files: File[]): Promise<void> {
+    const client = this.client();
+    if (!client) return;
+    const before = this.source.value;
     this.source.value = 'file';
     this.lvBox.hidden = true;
-    await this.setTruth({ kind: 'file', fileName: file.name, bytes: await file.arrayBuffer() });
+    let replace = !(this.fromFiles && this.truths.length > 0);
+    let changed = false;
+    const labels = labelsForNew(files.map((f) => f.name), replace ? [] : this.truths.map((t) => t.label));
+    const problems: string[] = [];
+    this.say(`reading ${files.length === 1 ? files[0].name : `${files.length} meshes`}…`);
+    for (const [i, f] of files.entries()) {
+      const { label, clash } = labels[i];
+      try {
+        const t = await client.labTruth({ kind: 'file', fileName: f.name, bytes: await f.arrayBuffer() }, { add: !replace, label });
+        this.truths = replace ? [t] : [...this.truths, t];
+        replace = false;
+        changed = true;
+        this.fromFiles = true;
+        if (clash) problems.push(`${f.name}: the label ${clash} is already another truth's; give it its own below`);
+      } catch (e) {
+        problems.push(errorText(e, f.name));
+      }
+    }
+    // Nothing read: the truths (and their acquisition) are as they were.
+    if (!changed) this.source.value = before;
+    this.lvBox.hidden = this.source.value !== 'parametric';
+    if (changed) this.truthsChanged();
+    this.say(problems.join('; '), problems.length > 0);
   }
 
   private async setTruth(source: LabTruthSource): Promise<boolean> {
@@ -292,23 +341,96 @@ export class LabPanel {
     this.say(`making the truth (${name})…`);
     try {
       const t = await client.labTruth(source);
-      this.truthName = name;
-      this.labFile = null;
-      this.truthDistances = null;
-      this.truthLayer.setSurface(t.positions, t.indices);
-      this.truthLayer.setHighlight(null);
-      this.legend.hide();
-      this.metrics.clear('simulate an acquisition, then reconstruct');
-      this.truthInfo.textContent = `${name}: ${t.vertices} vertices, ${t.triangles} triangles, ${t.volumeMl.toFixed(1)} ml${t.closed ? '' : ' (open)'}`;
-      this.truthInfo.dataset.vertices = String(t.vertices);
-      this.deps.viewer?.frame(t.positions);
-      this.deps.viewer?.requestRender();
+      this.truths = [t];
+      this.fromFiles = false;
+      this.truthsChanged();
       this.say('');
       return true;
     } catch (e) {
       this.sayError(e, name);
       return false;
     }
+  }
+
+  /** Labels truth `index` (empty: no label) unless the label is invalid or another truth's. */
+  private async relabel(index: number, text: string): Promise<void> {
+    const t = this.truths[index];
+    const client = this.client();
+    if (!t || !client) return;
+    const label = text.trim() === '' ? null : text.trim();
+    const problem = label === null ? null : labelProblem(label, index, this.truths.map((x) => x.label));
+    if (problem) {
+      this.say(`${t.name}: ${problem}`, true);
+      this.renderTruths();
+      return;
+    }
+    try {
+      await client.labEditTruth({ index, label });
+      this.truths = this.truths.map((x, k) => (k === index ? { ...x, label } : x));
+      this.truthsChanged(false);
+      this.say('');
+    } catch (e) {
+      this.sayError(e, t.name);
+      this.renderTruths();
+    }
+  }
+
+  private async removeTruth(index: number): Promise<void> {
+    const t = this.truths[index];
+    const client = this.client();
+    if (!t || !client) return;
+    try {
+      await client.labEditTruth({ index, remove: true });
+      this.truths = this.truths.filter((_, k) => k !== index);
+      if (this.truths.length === 0) {
+        this.fromFiles = false;
+        this.source.value = 'parametric';
+        this.lvBox.hidden = false;
+      }
+      this.truthsChanged();
+      this.say('');
+    } catch (e) {
+      this.sayError(e, t.name);
+    }
+  }
+
+  /** The truths changed: draw them, forget the acquisition and measures of the old ones. */
+  private truthsChanged(frame = true): void {
+    this.labFile = null;
+    this.truthDistances = null;
+    this.comparedIndex = 0;
+    this.truthLayer.setSurfaces(this.truths);
+    this.truthLayer.setHighlight(null);
+    this.legend.hide();
+    this.metrics.clear('simulate an acquisition, then reconstruct');
+    this.compareInfo.textContent = '';
+    this.acqSurfaces.replaceChildren();
+    this.renderTruths();
+    if (frame && this.truths.length) this.deps.viewer?.frame(concat(this.truths.map((t) => t.positions)));
+    this.deps.viewer?.requestRender();
+  }
+
+  private renderTruths(): void {
+    const ts = this.truths;
+    this.truthList.render(ts, this.fromFiles);
+    const vertices = ts.reduce((n, t) => n + t.vertices, 0);
+    if (ts.length === 0) {
+      this.truthInfo.textContent = 'no truth yet: pick one above or drop meshes';
+      delete this.truthInfo.dataset.vertices;
+    } else if (ts.length === 1) {
+      const t = ts[0];
+      this.truthInfo.textContent = `${t.name}: ${t.vertices} vertices, ${t.triangles} triangles, ${t.volumeMl.toFixed(1)} ml${t.closed ? '' : ' (open)'}`;
+      this.truthInfo.dataset.vertices = String(vertices);
+    } else {
+      this.truthInfo.textContent = `${ts.length} surfaces of one heart (${ts.map((t) => t.label ?? '?').join(', ')}), sliced on one acquisition planned on the first`;
+      this.truthInfo.dataset.vertices = String(vertices);
+    }
+    this.truthInfo.dataset.count = String(ts.length);
+  }
+
+  /** How the truths are named in file names and the sweep's comment. */
+  private truthTitle(): string {
+    return this.truths.length > 1 ? this.truths.map((t) => t.label ?? t.name).join('-') : (this.truths[0]?.name ?? 'truth');
   }
 
   // ---- acquisition and reconstruction -----------------------------------------------------------
@@ -331,12 +453,17 @@ export class LabPanel {
   async simulate(): Promise<boolean> {
     const client = this.client();
     if (!client) return false;
-    if (this.truthName === null && !(await this.makeTruth())) return false;
+    if (this.truths.length === 0 && !(await this.makeTruth())) return false;
+    const problem = simulateProblem(this.truths);
+    if (problem) {
+      this.say(problem, true);
+      return false;
+    }
     const spec = this.acquisitionSpec();
     this.say('simulating the acquisition…');
     try {
       const acq = await client.labSimulate(spec);
-      const base = (this.truthName ?? 'truth').replace(/\.[^.]+$/, '').replace(/[^\w-]+/g, '-');
+      const base = this.truthTitle().replace(/\.[^.]+$/, '').replace(/[^\w-]+/g, '-');
       const fileName = `lab-${base}-${acq.sax}sax-${acq.lax}lax.csv`;
       this.labFile = fileName;
       if (!(await this.deps.controller.loadGenerated(fileName, acq.csv))) {
@@ -346,11 +473,13 @@ export class LabPanel {
       }
       this.truthLayer.setVisible(true);
       this.truthLayer.setDistances(null, 1);
-      this.acqInfo.textContent = `${acq.sax} SAX + ${acq.lax} LAX contours, ${acq.points} points${imperfections(spec)} → ${fileName}`;
-      this.say('');
+      const several = this.truths.length > 1;
+      this.acqInfo.textContent = `${acq.sax} SAX + ${acq.lax} LAX ${several ? `images, ${acq.surfaces.length} surfaces` : 'contours'}, ${acq.points} points${imperfections(spec)} → ${fileName}`;
+      this.acqSurfaces.replaceChildren(...(several ? surfaceRows(acq) : []));
+      this.say(several ? 'reconstruct each surface (or All); each is compared with its own truth' : '');
       return true;
     } catch (e) {
-      this.sayError(e, this.truthName ?? undefined);
+      this.sayError(e, this.truths.length === 1 ? this.truths[0].name : undefined);
       return false;
     }
   }
@@ -371,6 +500,7 @@ export class LabPanel {
       this.truthLayer.setVisible(false);
       this.legend.hide();
       if (r === null) this.metrics.clear('the current contours were not simulated from this truth');
+      this.compareInfo.textContent = '';
       return;
     }
     this.truthLayer.setVisible(true);
@@ -382,11 +512,27 @@ export class LabPanel {
     }
     const client = this.client();
     if (!client) return;
+    const several = this.truths.length > 1;
+    const k = truthForSurface(r.surface, this.truths.map((t) => t.label));
+    this.compareInfo.dataset.surface = r.surface ?? '';
+    if (k === null) {
+      // Never against another surface's truth: say there is none.
+      this.truthDistances = null;
+      this.showTruthMap();
+      const labels = this.truths.map((t) => t.label ?? '?').join(', ');
+      this.metrics.clear(`no truth for ${r.surface ?? 'this surface'}: the Lab's truths are ${labels}; nothing to compare`);
+      this.compareInfo.textContent = '';
+      this.compareInfo.dataset.truth = '';
+      return;
+    }
     this.metrics.clear('measuring against the truth…');
-    client.labCompare(r.positions, r.indices).then(
+    client.labCompare(r.positions, r.indices, several ? r.surface : null).then(
       (c) => {
         if (seq !== this.compareSeq) return;
         this.metrics.show(c.report);
+        this.comparedIndex = c.truthIndex;
+        this.compareInfo.textContent = several ? `${r.surface} against the ${c.truthLabel} truth (${c.truthName})` : '';
+        this.compareInfo.dataset.truth = c.truthLabel ?? c.truthName;
         this.truthDistances = c.truthDistances;
         this.truthMaxMm = Math.max(0.5, robustMax(c.truthDistances));
         this.showTruthMap();
@@ -400,7 +546,7 @@ export class LabPanel {
   private showTruthMap(): void {
     const viewer = this.deps.viewer;
     const on = this.mapToggle.checked && this.truthDistances !== null;
-    this.truthLayer.setDistances(on ? this.truthDistances : null, this.truthMaxMm);
+    this.truthLayer.setDistances(on ? this.truthDistances : null, this.truthMaxMm, this.comparedIndex);
     if (viewer) viewer.meshLayer.group.visible = !on && viewer.meshLayer.group.children.length > 0 && this.hasMesh();
     if (on) this.legend.show(this.truthMaxMm);
     else this.legend.hide();
@@ -509,7 +655,9 @@ export class LabPanel {
       return;
     }
     this.sweepRun?.cancel();
-    const withTruth = this.labFile !== null && settings.fileName === this.labFile;
+    // Against the truth of the surface swept (never another's), when the file was cut from them.
+    const truthIndex = truthForSurface(settings.surface, this.truths.map((t) => t.label));
+    const withTruth = this.labFile !== null && settings.fileName === this.labFile && truthIndex !== null;
     const b = this.buttons;
     b.sweepRun.disabled = true;
     b.sweepCancel.disabled = false;
@@ -517,7 +665,7 @@ export class LabPanel {
     this.sweepRows = [];
     this.sweepPlot.render([]);
     this.sweepComment = [
-      `heartmesh parameter sweep of ${settings.fileName}${settings.surface ? ` (${settings.surface})` : ''}${withTruth ? ` against ${this.truthName}` : ''}`,
+      `heartmesh parameter sweep of ${settings.fileName}${settings.surface ? ` (${settings.surface})` : ''}${withTruth && truthIndex !== null ? ` against ${this.truths[truthIndex].name}` : ''}`,
       `base parameters ${JSON.stringify(settings.params)} lids ${settings.lids} smoothing_method ${settings.options.smoothing_method} soften_conflicts ${settings.options.soften_conflicts} align_slices ${settings.options.align_slices} end_caps ${settings.options.end_caps} keep_specks ${settings.options.keep_specks} apex_floor ${settings.options.apex_floor}`,
       'distances in mm (contour_*: contour points to mesh; truth_mean: mesh to truth, clipped), volume in ml',
     ];
@@ -566,9 +714,7 @@ export class LabPanel {
   }
 
   private sayError(e: unknown, file?: string): void {
-    const d = (e && typeof e === 'object' && 'message' in e ? e : { message: String(e) }) as CoreErrorData;
-    const where = d.file ?? file;
-    this.say(`${where ? `${where}: ` : ''}${d.line ? `line ${d.line}: ` : ''}${d.message}`, true);
+    this.say(errorText(e, file), true);
   }
 
   dispose(): void {
@@ -586,4 +732,29 @@ function imperfections(spec: AcquisitionSpec): string {
   if (spec.tilt_deg) parts.push(`tilt ≤ ${spec.tilt_deg}°`);
   if (spec.noise_mm) parts.push(`noise sd ${spec.noise_mm} mm`);
   return parts.length ? ` (${parts.join(', ')}, seed ${spec.seed ?? 0})` : '';
+}
+
+/** One line of an error: the file it is about, its line, the message. */
+function errorText(e: unknown, file?: string): string {
+  const d = (e && typeof e === 'object' && 'message' in e ? e : { message: String(e) }) as CoreErrorData;
+  const where = d.file ?? file;
+  return `${where ? `${where}: ` : ''}${d.line ? `line ${d.line}: ` : ''}${d.message}`;
+}
+
+/** The acquisition's rows per surface (several truths). */
+function surfaceRows(acq: LabAcquisition): HTMLElement[] {
+  return acq.surfaces.map((s) =>
+    h('li', { 'data-testid': 'lab-acq-surface', 'data-label': s.label ?? '', 'data-sax': s.sax, 'data-lax': s.lax, 'data-points': s.points }, `${s.label ?? 'surface'}: ${s.sax} SAX + ${s.lax} LAX, ${s.points} points`),
+  );
+}
+
+/** The truths' vertices end to end (to frame them all). */
+function concat(parts: readonly Float32Array[]): Float32Array {
+  const out = new Float32Array(parts.reduce((n, p) => n + p.length, 0));
+  let at = 0;
+  for (const p of parts) {
+    out.set(p, at);
+    at += p.length;
+  }
+  return out;
 }

@@ -203,6 +203,19 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             n.y,
             n.z
         );
+        // A surface drawn only lower down is unobserved above its own top slice: compare it with
+        // its truth clipped there, not at the stack's top.
+        for ((label, _), own) in truths.iter().zip(&acq.surface_clips) {
+            if let (Some(label), true) = (label, *own != acq.clip) {
+                let o = own.origin;
+                outln!(
+                    "{label}: closed sections end below the base; its most basal SAX plane                      through ({:.2}, {:.2}, {:.2})",
+                    o.x,
+                    o.y,
+                    o.z
+                );
+            }
+        }
     }
     Ok(())
 }

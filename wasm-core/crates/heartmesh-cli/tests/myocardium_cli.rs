@@ -533,3 +533,48 @@ fn simulate_refuses_unlabelled_or_clashing_surfaces() {
         assert!(!std::path::Path::new(out).exists());
     }
 }
+
+/// A surface whose sections close only far below the others' base (the spasm model's RV
+/// endocardium is its free wall alone: no short-axis plane cuts it in one closed loop) does not
+/// shorten the stack: the LV keeps every basal slice it gets alone, and the user is told the RV
+/// has long-axis curves only.
+#[test]
+fn simulate_keeps_the_stack_of_the_planned_surface() {
+    let d = scratch("sim-short-surface");
+    let lv = data("meshes/cardiomesh-spasm-LV_endo.obj");
+    let lv = lv.to_str().unwrap();
+    let rv = data("meshes/cardiomesh-spasm-RV_endo.obj");
+    let rv = rv.to_str().unwrap();
+    let sax_ids = |path: &std::path::Path, suffix: &str| {
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut ids: Vec<String> = text
+            .lines()
+            .skip(1)
+            .filter_map(|l| l.split(',').next())
+            .filter(|id| id.starts_with("sax") && id.ends_with(suffix))
+            .map(str::to_string)
+            .collect();
+        ids.dedup();
+        ids.len()
+    };
+    let alone = d.join("lv.csv");
+    let (code, _, err) = run(bin().args(["simulate", lv, "-o", alone.to_str().unwrap()]));
+    assert_eq!(code, 0, "{err}");
+    let both = d.join("both.csv");
+    let (code, _, err) = run(bin().args([
+        "simulate",
+        &format!("LV_ENDO={lv}"),
+        &format!("RV_ENDO={rv}"),
+        "-o",
+        both.to_str().unwrap(),
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let lv_slices = sax_ids(&alone, "");
+    assert!(lv_slices >= 5, "{lv_slices}");
+    assert_eq!(sax_ids(&both, "_LV_ENDO"), lv_slices);
+    assert_eq!(sax_ids(&both, "_RV_ENDO"), 0);
+    assert!(
+        err.contains("RV_ENDO: no short-axis slice cuts it in one closed loop"),
+        "{err}"
+    );
+}

@@ -10,10 +10,10 @@ use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::mesh::TriMesh;
 use heartmesh_core::metrics::compare::compare;
-use heartmesh_core::sim::planes::{draw_motion, Motion};
+use heartmesh_core::sim::planes::draw_motion;
+use heartmesh_core::sim::planes::simulate_surfaces;
 use heartmesh_core::sim::prng::SplitMix64;
-use heartmesh_core::sim::slice::{join_chains, polyline_length, resample};
-use heartmesh_core::sim::{simulate, slice_mesh, AcquisitionSpec, Misalignment, Plane};
+use heartmesh_core::sim::{simulate, AcquisitionSpec, Misalignment, Plane};
 use heartmesh_core::Params;
 use nalgebra::Matrix3;
 
@@ -260,61 +260,12 @@ fn aligned_acquisitions_stay_put() {
     }
 }
 
-/// The section of `truth` an analyst draws on the image of `nominal` taken with `motion`: the
-/// longest piece, resampled at 1 mm, in the image's (nominal) frame.
-fn section(truth: &TriMesh, nominal: &Plane, motion: &Motion) -> Option<Vec<Vec3>> {
-    let imaged = motion.apply_to_plane(nominal);
-    let mut pieces = join_chains(slice_mesh(truth, &imaged), 3.0, &imaged);
-    pieces.sort_by(|a, b| polyline_length(b).total_cmp(&polyline_length(a)));
-    let piece = resample(pieces.first()?, 1.0);
-    Some(
-        piece
-            .points
-            .iter()
-            .map(|p| motion.inverse_apply(p))
-            .collect(),
-    )
-}
-
-/// A biventricular acquisition: the LV's planes (as `simulate` plans them on the LV) cut the LV
-/// and the RV with the SAME breath-hold motion per image, as one scanner image shows both.
-fn biventricular(
-    lv: &TriMesh,
-    rv: &TriMesh,
-    seed: u64,
-    shift_mm: f64,
-    tilt_deg: f64,
-) -> (ContourSet, Plane) {
-    let nominal = simulate(lv, &AcquisitionSpec::default()).unwrap_or_else(|e| panic!("{e}"));
-    let planes = nominal
-        .sax_planes
-        .iter()
-        .map(|p| ("sax", *p))
-        .chain(nominal.lax_planes.iter().map(|p| ("lax", *p)));
-    let mut rng = SplitMix64::new(seed);
-    let mut set = ContourSet::default();
-    for (k, (kind, plane)) in planes.enumerate() {
-        let motion = draw_motion(&mut rng, &plane, Misalignment { shift_mm, tilt_deg });
-        for (name, truth) in [("LV_ENDO", lv), ("RV_ENDO", rv)] {
-            if let Some(points) = section(truth, &plane, &motion) {
-                if points.len() < 5 {
-                    continue;
-                }
-                let closed = kind == "sax";
-                set.contours.push(Contour {
-                    id: format!("{kind}{k:02}_{name}"),
-                    surface: Some(name.into()),
-                    pieces: vec![heartmesh_core::Polyline { points, closed }],
-                    first_line: 0,
-                });
-            }
-        }
-    }
-    (set, nominal.clip)
-}
-
-/// LV and RV sliced by the same misaligned images: the shifts are estimated from both together,
-/// and each surface's mesh moves closer to its truth.
+/// LV and RV sliced by the same misaligned images (`simulate_surfaces`: one acquisition planned
+/// on the LV, each image's motion shared by both): the shifts are estimated from both together,
+/// and each surface's mesh moves closer to its truth, clipped at that surface's own most basal
+/// slice. The spasm RV cavity has closed sections only well below the LV's base: it is drawn
+/// there, and the LV keeps its basal slices (until session 29 the stack stopped at the RV's top,
+/// 2 SAX slices for the LV, too few for alignment: it made seeds 1 and 6 worse).
 #[test]
 fn misaligned_biventricular() {
     let subjects = [
@@ -331,11 +282,23 @@ fn misaligned_biventricular() {
     ];
     for (name, lv, rv) in &subjects {
         for seed in 1..=3u64 {
-            let (set, clip) = biventricular(lv, rv, seed, 2.0, 2.0);
-            let (_, al) = align_slices(&set);
-            for (surf, truth) in [("LV_ENDO", lv), ("RV_ENDO", rv)] {
-                let (m0, _) = reconstruct(&set, surface(surf, false));
-                let (m1, _) = reconstruct(&set, surface(surf, true));
+            let acq = simulate_surfaces(
+                &[("LV_ENDO", lv), ("RV_ENDO", rv)],
+                &misaligned_spec(seed, 3),
+            )
+            .unwrap_or_else(|e| panic!("{name} {seed}: {e}"));
+            let set = &acq.contours;
+            let sax_lv = set
+                .contours
+                .iter()
+                .filter(|c| c.id.starts_with("sax") && c.id.ends_with("LV_ENDO"))
+                .count();
+            assert!(sax_lv >= 6, "{name} seed {seed}: {sax_lv} LV slices");
+            let (_, al) = align_slices(set);
+            for (k, (surf, truth)) in [("LV_ENDO", lv), ("RV_ENDO", rv)].into_iter().enumerate() {
+                let clip = acq.surface_clips[k];
+                let (m0, _) = reconstruct(set, surface(surf, false));
+                let (m1, _) = reconstruct(set, surface(surf, true));
                 let (a0, h0) = versus_truth(truth, &m0, &clip);
                 let (a1, h1) = versus_truth(truth, &m1, &clip);
                 // The prototype's way: the surface's own contours aligned alone.
@@ -356,7 +319,7 @@ fn misaligned_biventricular() {
                 check_closed_manifold_outward(&m1)
                     .unwrap_or_else(|e| panic!("{name} {seed} {surf}: {e}"));
                 assert!(a1 < a0, "{name} seed {seed} {surf}: {a0} -> {a1}");
-                // Measured: LV 0.226-0.468, RV 0.354-0.615 mm after.
+                // Measured (session 29): LV 0.196-0.458, RV 0.333-0.646 mm after.
                 let bound = if surf == "LV_ENDO" { 0.55 } else { 0.7 };
                 assert!(a1 < bound, "{name} seed {seed} {surf}: {a1}");
             }

@@ -1,6 +1,7 @@
 //! The validation lab's binding (issue 5): a ground-truth surface (the parametric LV or a dropped
-//! mesh), a simulated CMR acquisition of it, the comparison of a reconstruction with the truth
-//! clipped at the most basal SAX plane, and stepped batches (leave-one-out, parameter sweep). It
+//! mesh) or several labelled surfaces of one heart (`lab/truths.rs`), a simulated CMR acquisition
+//! of them, the comparison of a reconstruction with the truth of its surface clipped at the most
+//! basal SAX plane, and stepped batches (leave-one-out, parameter sweep). It
 //! follows the validation protocol of Villard, Grau & Zacur (J. Imaging 2018, section 3); every
 //! algorithm is heartmesh-core's `sim` and `metrics` modules, this file only holds state between
 //! calls and converts at the boundary (same rules as [`crate::Session`]).
@@ -8,12 +9,14 @@
 mod batch;
 mod phases;
 mod spec;
+mod truths;
 
 use heartmesh_core::contours::ContourSet;
 use heartmesh_core::error::CoreError;
 use heartmesh_core::io;
 use heartmesh_core::mesh::topology;
 use heartmesh_core::metrics::compare::{compare, vertex_distances, ClipPlane};
+use heartmesh_core::sim::planes::simulate_surfaces;
 use heartmesh_core::sim::repair::{orient_consistently, weld};
 use heartmesh_core::sim::simulate;
 use heartmesh_core::TriMesh;
@@ -22,6 +25,8 @@ use wasm_bindgen::prelude::*;
 
 use crate::{convert, errors, Session};
 use batch::Batch;
+use truths::{usage, Truths};
+pub use truths::{LabError, Truth};
 
 /// Triangulation of the parametric LV: points per ring and rings from apex to base (~0.5 mm
 /// edges near the apex, ~1.7 mm at the equator: finer than any reconstruction we compare).
@@ -31,16 +36,15 @@ const LV_ALONG: usize = 64;
 /// Distance under which dropped-mesh vertices are merged (STL stores every triangle's corners).
 const WELD_MM: f64 = 1e-6;
 
-struct Truth {
-    mesh: TriMesh,
-}
-
-/// The Lab's state: at most one truth, its last acquisition, and one batch.
+/// The Lab's state: its truths (one, or several surfaces of one heart), their last acquisition,
+/// the last comparison, and one batch.
 #[wasm_bindgen]
 pub struct Lab {
-    truth: Option<Truth>,
-    /// The most basal SAX plane of the last simulated acquisition of this truth.
-    clip: Option<ClipPlane>,
+    truths: Truths,
+    /// Per truth (in order), the most basal SAX plane of the last acquisition that carries a
+    /// contour of it: where that truth is clipped (a surface drawn only below the others' base,
+    /// `sim::planes::simulate_surfaces`, is unobserved above its own top slice). Empty: none.
+    clips: Vec<ClipPlane>,
     simulated: Option<ContourSet>,
     last_distances: Vec<f64>,
     batch: Option<Batch>,
@@ -53,13 +57,21 @@ impl Default for Lab {
     }
 }
 
+/// A Lab error as the worker expects it (core errors keep their code and line).
+fn js(e: LabError) -> JsValue {
+    match e {
+        LabError::Core(e) => errors::to_js(&e),
+        LabError::Usage { code, message } => errors::usage(code, message),
+    }
+}
+
 #[wasm_bindgen]
 impl Lab {
     #[wasm_bindgen(constructor)]
     pub fn new() -> Lab {
         Lab {
-            truth: None,
-            clip: None,
+            truths: Truths::default(),
+            clips: Vec::new(),
             simulated: None,
             last_distances: Vec::new(),
             batch: None,
@@ -67,99 +79,85 @@ impl Lab {
         }
     }
 
-    /// Makes the built-in parametric LV the truth (see `lab/spec.rs` for the JSON); returns the
-    /// truth's description `{name, vertices, triangles, volumeMl, closed}`.
+    /// Makes the built-in parametric LV the only truth (see `lab/spec.rs` for the JSON); returns
+    /// the truth's description `{name, label, index, vertices, triangles, volumeMl, closed}`.
     pub fn make_parametric(&mut self, lv_json: &str) -> Result<String, JsValue> {
-        let lv = spec::parametric_lv(lv_json).map_err(|e| errors::to_js(&e))?;
-        let mesh = lv
-            .mesh(LV_AROUND, LV_ALONG)
-            .map_err(|e| errors::to_js(&e))?;
-        Ok(self.set_truth("parametric LV".into(), mesh))
+        self.make_parametric_with(lv_json).map_err(js)
     }
 
-    /// Reads a dropped mesh (OBJ, STL, PLY, VTK, VTP) as the truth: welded (STL stores corners per
-    /// triangle) and consistently oriented (mixed orientations spoil volumes), as the CLI does.
+    /// Reads a dropped mesh (OBJ, STL, PLY, VTK, VTP) as the only truth: welded (STL stores
+    /// corners per triangle) and consistently oriented (mixed orientations spoil volumes), as the
+    /// CLI does.
     pub fn load_truth(&mut self, file_name: &str, bytes: &[u8]) -> Result<String, JsValue> {
-        let data = io::read_mesh(file_name, bytes).map_err(|e| errors::to_js(&e))?;
-        let (welded, _) = weld(&data.mesh, WELD_MM);
-        let (mesh, _) = orient_consistently(&welded);
-        let area = mesh.area();
-        if mesh.triangles.len() < 4 || !(area.is_finite() && area > 0.0) {
-            return Err(errors::to_js(&CoreError::Degenerate(format!(
-                "{file_name} is not a usable surface: {} triangles, area {area:.3} mm²",
-                mesh.triangles.len()
-            ))));
-        }
-        let mut mesh = mesh;
-        if mesh.signed_volume() < 0.0 {
-            // Inward-facing closed surfaces would measure negative volumes.
-            mesh.flip_orientation();
-        }
-        Ok(self.set_truth(file_name.to_string(), mesh))
+        self.load_truth_with(file_name, None, bytes).map_err(js)
     }
 
-    /// Truth vertices, xyz, mm.
-    pub fn truth_positions(&self) -> Result<Vec<f32>, JsValue> {
-        Ok(self.truth()?.mesh.positions_f32())
+    /// Reads a mesh as one more truth, labelled `label` (LV_ENDO, ...; None: to be given before
+    /// simulating several); a clashing or invalid label is refused and the truths stay as they
+    /// were. Returns its description (with its `index`).
+    pub fn add_truth(
+        &mut self,
+        file_name: &str,
+        label: Option<String>,
+        bytes: &[u8],
+    ) -> Result<String, JsValue> {
+        self.add_truth_with(file_name, label, bytes).map_err(js)
     }
 
-    /// Truth triangles, outward.
-    pub fn truth_indices(&self) -> Result<Vec<u32>, JsValue> {
-        Ok(self.truth()?.mesh.indices_u32())
+    /// Labels truth `index` (None: no label); returns `[{name, label}]` of all truths.
+    pub fn set_truth_label(
+        &mut self,
+        index: usize,
+        label: Option<String>,
+    ) -> Result<String, JsValue> {
+        self.set_truth_label_with(index, label).map_err(js)
     }
 
-    /// Slices the truth like a CMR acquisition (see `lab/spec.rs` for the JSON); keeps the
-    /// contours and the most basal SAX plane. Returns `{sax, lax, points, clip: {origin, normal}}`;
-    /// the contours themselves come from [`Lab::simulated_csv`].
+    /// Removes truth `index`; returns `[{name, label}]` of the truths left.
+    pub fn remove_truth(&mut self, index: usize) -> Result<String, JsValue> {
+        self.remove_truth_with(index).map_err(js)
+    }
+
+    /// Vertices of truth `index`, xyz, mm.
+    pub fn truth_positions(&self, index: usize) -> Result<Vec<f32>, JsValue> {
+        Ok(self.truths.get(index).map_err(js)?.mesh.positions_f32())
+    }
+
+    /// Triangles of truth `index`, outward.
+    pub fn truth_indices(&self, index: usize) -> Result<Vec<u32>, JsValue> {
+        Ok(self.truths.get(index).map_err(js)?.mesh.indices_u32())
+    }
+
+    /// Slices the truths like a CMR acquisition (see `lab/spec.rs` for the JSON): one truth as
+    /// `sim::simulate` does, several on one acquisition with `sim::planes::simulate_surfaces`.
+    /// Keeps the contours and the most basal SAX plane. Returns `{sax, lax, points, surfaces:
+    /// [{label, sax, lax, points}], clip: {origin, normal}}`; the contours themselves come from
+    /// [`Lab::simulated_csv`].
     pub fn simulate(&mut self, acquisition_json: &str) -> Result<String, JsValue> {
-        let spec = spec::acquisition(acquisition_json).map_err(|e| errors::to_js(&e))?;
-        let acq = simulate(&self.truth()?.mesh, &spec).map_err(|e| errors::to_js(&e))?;
-        let sax = acq.sax_planes.len();
-        let info = json!({
-            "sax": sax,
-            "lax": acq.contours.contours.len().saturating_sub(sax),
-            "points": acq.contours.point_count(),
-            "clip": {
-                "origin": [acq.clip.origin.x, acq.clip.origin.y, acq.clip.origin.z],
-                "normal": [acq.clip.normal.x, acq.clip.normal.y, acq.clip.normal.z],
-            },
-        });
-        self.clip = Some(acq.clip);
-        self.simulated = Some(acq.contours);
-        Ok(info.to_string())
+        self.simulate_with(acquisition_json).map_err(js)
     }
 
     /// The last simulated contours as canonical CSV (loaded like any dropped contour file).
     pub fn simulated_csv(&self) -> Result<Vec<u8>, JsValue> {
-        let set = self
-            .simulated
-            .as_ref()
-            .ok_or_else(|| errors::usage("no_acquisition", "no acquisition has been simulated"))?;
-        io::csv::write_csv(set, None).map_err(|e| errors::to_js(&e))
+        self.simulated_csv_with().map_err(js)
     }
 
-    /// Compares a reconstruction (xyz mm, triangles) with the truth, both clipped at the most
-    /// basal SAX plane of the last acquisition; returns the JSON of the core's `CompareReport`.
-    /// Keeps the distance of every truth vertex to the mesh for [`Lab::truth_distances`].
-    pub fn compare(&mut self, positions: &[f32], indices: &[u32]) -> Result<String, JsValue> {
-        let mesh = mesh_from_buffers(positions, indices).map_err(|e| errors::to_js(&e))?;
-        let truth = self.truth()?;
-        let report =
-            compare(&truth.mesh, &mesh, self.clip.as_ref()).map_err(|e| errors::to_js(&e))?;
-        let mut distances = vertex_distances(&truth.mesh, &mesh);
-        if let Some(clip) = &self.clip {
-            // Above the most basal SAX plane nothing was measured: NaN (drawn neutral).
-            for (d, p) in distances.iter_mut().zip(&truth.mesh.positions) {
-                if clip.signed_distance(p) > 0.0 {
-                    *d = f64::NAN;
-                }
-            }
-        }
-        self.last_distances = distances;
-        serde_json::to_string(&report).map_err(|e| errors::usage("internal", e.to_string()))
+    /// Compares a reconstruction of `surface` (xyz mm, triangles) with the truth of that surface
+    /// (the only one when there is one), both clipped at the most basal SAX plane of the last
+    /// acquisition; returns the JSON of the core's `CompareReport` plus `truth_index`,
+    /// `truth_label` and `truth_name`. Keeps the distance of every vertex of that truth to the
+    /// mesh for [`Lab::truth_distances`].
+    pub fn compare(
+        &mut self,
+        surface: Option<String>,
+        positions: &[f32],
+        indices: &[u32],
+    ) -> Result<String, JsValue> {
+        self.compare_with(surface.as_deref(), positions, indices)
+            .map_err(js)
     }
 
-    /// Per truth vertex, distance (mm) to the mesh of the last [`Lab::compare`].
+    /// Per vertex of the truth of the last [`Lab::compare`], distance (mm) to the mesh.
     pub fn truth_distances(&self) -> Vec<f32> {
         convert::to_f32(&self.last_distances)
     }
@@ -208,9 +206,10 @@ impl Lab {
             convert::params_from_json(params_json, lids, surface).map_err(|e| errors::to_js(&e))?;
         let (grid, with_truth) = sweep_request(sweep_json).map_err(|e| errors::to_js(&e))?;
         let set = session.file(file_name)?;
-        let truth = match (&self.truth, with_truth) {
-            (Some(t), true) => Some((t.mesh.clone(), self.clip)),
-            _ => None,
+        let truth = if with_truth {
+            self.sweep_truth(surface_of(&params))?
+        } else {
+            None
         };
         let batch = Batch::sweep(set, &params, &grid, truth).map_err(|e| errors::to_js(&e))?;
         let info = json!({ "total": batch.total() });
@@ -328,26 +327,251 @@ impl Lab {
         Ok(info.to_string())
     }
 
-    fn truth(&self) -> Result<&Truth, JsValue> {
-        self.truth
-            .as_ref()
-            .ok_or_else(|| errors::usage("no_truth", "no truth surface: make or load one first"))
+    /// [`Lab::make_parametric`], natively.
+    pub fn make_parametric_with(&mut self, lv_json: &str) -> Result<String, LabError> {
+        let lv = spec::parametric_lv(lv_json)?;
+        let mesh = lv.mesh(LV_AROUND, LV_ALONG)?;
+        self.truths.replace(Truth {
+            name: "parametric LV".into(),
+            label: None,
+            mesh,
+        })?;
+        Ok(self.changed(0))
     }
 
-    fn set_truth(&mut self, name: String, mesh: TriMesh) -> String {
+    /// [`Lab::load_truth`], natively, with an optional label.
+    pub fn load_truth_with(
+        &mut self,
+        file_name: &str,
+        label: Option<String>,
+        bytes: &[u8],
+    ) -> Result<String, LabError> {
+        let mesh = read_truth(file_name, bytes)?;
+        self.truths.replace(Truth {
+            name: file_name.to_string(),
+            label,
+            mesh,
+        })?;
+        Ok(self.changed(0))
+    }
+
+    /// [`Lab::add_truth`], natively.
+    pub fn add_truth_with(
+        &mut self,
+        file_name: &str,
+        label: Option<String>,
+        bytes: &[u8],
+    ) -> Result<String, LabError> {
+        let mesh = read_truth(file_name, bytes)?;
+        let index = self.truths.add(Truth {
+            name: file_name.to_string(),
+            label,
+            mesh,
+        })?;
+        Ok(self.changed(index))
+    }
+
+    /// [`Lab::set_truth_label`], natively.
+    pub fn set_truth_label_with(
+        &mut self,
+        index: usize,
+        label: Option<String>,
+    ) -> Result<String, LabError> {
+        self.truths.relabel(index, label)?;
+        self.forget_acquisition();
+        Ok(self.truths.summary().to_string())
+    }
+
+    /// [`Lab::remove_truth`], natively.
+    pub fn remove_truth_with(&mut self, index: usize) -> Result<String, LabError> {
+        self.truths.remove(index)?;
+        self.forget_acquisition();
+        Ok(self.truths.summary().to_string())
+    }
+
+    /// [`Lab::simulate`], natively.
+    pub fn simulate_with(&mut self, acquisition_json: &str) -> Result<String, LabError> {
+        let spec = spec::acquisition(acquisition_json)?;
+        let acq = if self.truths.len() == 1 {
+            // One truth: the acquisition as it always was (no surface column), label or not.
+            simulate(&self.truths.get(0)?.mesh, &spec)?
+        } else {
+            let surfaces = self.truths.labelled()?;
+            if surfaces.is_empty() {
+                return Err(usage(
+                    "no_truth",
+                    "no truth surface: make or load one first",
+                ));
+            }
+            simulate_surfaces(&surfaces, &spec)?
+        };
+        let sax = acq.sax_planes.len();
         let info = json!({
-            "name": name,
-            "vertices": mesh.positions.len(),
-            "triangles": mesh.triangles.len(),
-            "volumeMl": mesh.volume_ml(),
-            "closed": topology::validity(&mesh).is_closed_manifold(),
+            "sax": sax,
+            // One truth: contours past the SAX ones, as always; several: the LAX images.
+            "lax": if self.truths.len() == 1 {
+                acq.contours.contours.len().saturating_sub(sax)
+            } else {
+                acq.lax_planes.len()
+            },
+            "points": acq.contours.point_count(),
+            "surfaces": per_surface(&acq.contours, &self.truths.labels(), &acq.surface_clips),
+            "clip": {
+                "origin": [acq.clip.origin.x, acq.clip.origin.y, acq.clip.origin.z],
+                "normal": [acq.clip.normal.x, acq.clip.normal.y, acq.clip.normal.z],
+            },
         });
-        self.truth = Some(Truth { mesh });
-        self.clip = None;
+        self.clips = acq.surface_clips;
+        self.simulated = Some(acq.contours);
+        Ok(info.to_string())
+    }
+
+    /// [`Lab::simulated_csv`], natively.
+    pub fn simulated_csv_with(&self) -> Result<Vec<u8>, LabError> {
+        let set = self
+            .simulated
+            .as_ref()
+            .ok_or_else(|| usage("no_acquisition", "no acquisition has been simulated"))?;
+        Ok(io::csv::write_csv(set, None)?)
+    }
+
+    /// [`Lab::compare`], natively.
+    pub fn compare_with(
+        &mut self,
+        surface: Option<&str>,
+        positions: &[f32],
+        indices: &[u32],
+    ) -> Result<String, LabError> {
+        let mesh = mesh_from_buffers(positions, indices)?;
+        let index = self.truths.for_surface(surface)?;
+        let truth = self.truths.get(index)?;
+        let clip = self.clips.get(index);
+        let report = compare(&truth.mesh, &mesh, clip)?;
+        let mut distances = vertex_distances(&truth.mesh, &mesh);
+        if let Some(clip) = clip {
+            // Above the most basal SAX plane nothing was measured: NaN (drawn neutral).
+            for (d, p) in distances.iter_mut().zip(&truth.mesh.positions) {
+                if clip.signed_distance(p) > 0.0 {
+                    *d = f64::NAN;
+                }
+            }
+        }
+        let mut out =
+            serde_json::to_value(&report).map_err(|e| usage("internal", e.to_string()))?;
+        out["truth_index"] = json!(index);
+        out["truth_label"] = json!(truth.label);
+        out["truth_name"] = json!(truth.name);
+        self.last_distances = distances;
+        Ok(out.to_string())
+    }
+
+    /// The truth a sweep of `surface` is measured against (none held: no truth to measure).
+    fn sweep_truth(
+        &self,
+        surface: Option<&str>,
+    ) -> Result<Option<(TriMesh, Option<ClipPlane>)>, JsValue> {
+        if self.truths.len() == 0 {
+            return Ok(None);
+        }
+        let index = self.truths.for_surface(surface).map_err(js)?;
+        let truth = self.truths.get(index).map_err(js)?;
+        Ok(Some((truth.mesh.clone(), self.clips.get(index).copied())))
+    }
+
+    /// Describes truth `index` after a change of the truths, forgetting the acquisition (it was
+    /// of other truths).
+    fn changed(&mut self, index: usize) -> String {
+        self.forget_acquisition();
+        match self.truths.get(index) {
+            Ok(t) => json!({
+                "name": t.name,
+                "label": t.label,
+                "index": index,
+                "vertices": t.mesh.positions.len(),
+                "triangles": t.mesh.triangles.len(),
+                "volumeMl": t.mesh.volume_ml(),
+                "closed": topology::validity(&t.mesh).is_closed_manifold(),
+            })
+            .to_string(),
+            Err(_) => "{}".into(),
+        }
+    }
+
+    fn forget_acquisition(&mut self) {
+        self.clips.clear();
         self.simulated = None;
         self.last_distances.clear();
-        info.to_string()
     }
+}
+
+/// The surface a batch's parameters select.
+fn surface_of(params: &heartmesh_core::Params) -> Option<&str> {
+    params.surface.as_deref()
+}
+
+/// A dropped mesh as a truth: welded and consistently oriented, outward; refuses what is no
+/// usable surface.
+fn read_truth(file_name: &str, bytes: &[u8]) -> heartmesh_core::error::Result<TriMesh> {
+    let data = io::read_mesh(file_name, bytes)?;
+    let (welded, _) = weld(&data.mesh, WELD_MM);
+    let (mut mesh, _) = orient_consistently(&welded);
+    let area = mesh.area();
+    if mesh.triangles.len() < 4 || !(area.is_finite() && area > 0.0) {
+        return Err(CoreError::Degenerate(format!(
+            "{file_name} is not a usable surface: {} triangles, area {area:.3} mm²",
+            mesh.triangles.len()
+        )));
+    }
+    if mesh.signed_volume() < 0.0 {
+        // Inward-facing closed surfaces would measure negative volumes.
+        mesh.flip_orientation();
+    }
+    Ok(mesh)
+}
+
+/// SAX and LAX contours and points of each surface of an acquisition (the simulator's ids
+/// start with `sax` or `lax`), in the truths' order (`labels`; a lone truth's contours have no
+/// surface).
+fn per_surface(
+    set: &ContourSet,
+    labels: &[Option<String>],
+    clips: &[ClipPlane],
+) -> serde_json::Value {
+    let mut rows: Vec<(Option<String>, usize, usize, usize)> = if labels.len() > 1 {
+        labels.iter().map(|l| (l.clone(), 0, 0, 0)).collect()
+    } else {
+        Vec::new()
+    };
+    for c in &set.contours {
+        let k = match rows.iter().position(|r| r.0 == c.surface) {
+            Some(k) => k,
+            None => {
+                rows.push((c.surface.clone(), 0, 0, 0));
+                rows.len() - 1
+            }
+        };
+        if c.id.starts_with("lax") {
+            rows[k].2 += 1;
+        } else {
+            rows[k].1 += 1;
+        }
+        rows[k].3 += c.point_count();
+    }
+    serde_json::Value::Array(
+        rows.into_iter()
+            .enumerate()
+            .map(|(k, (label, sax, lax, points))| {
+                // The plane this surface's truth is clipped at (its own most basal slice).
+                let clip = clips.get(k).map(|c| {
+                    json!({
+                        "origin": [c.origin.x, c.origin.y, c.origin.z],
+                        "normal": [c.normal.x, c.normal.y, c.normal.z],
+                    })
+                });
+                json!({ "label": label, "sax": sax, "lax": lax, "points": points, "clip": clip })
+            })
+            .collect(),
+    )
 }
 
 /// A mesh from flat buffers, refusing what would mislead the measures (the core's checks, which
@@ -456,6 +680,9 @@ fn sweep_grid(
 }
 
 #[cfg(test)]
+mod multi_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
 
@@ -472,10 +699,12 @@ mod tests {
         assert_eq!(sim["lax"], 2);
         assert!(!lab.simulated_csv().unwrap().is_empty());
         // The truth against itself: zero distance, equal clipped volumes.
-        let t = lab.truth.as_ref().unwrap().mesh.clone();
-        let report: serde_json::Value =
-            serde_json::from_str(&lab.compare(&t.positions_f32(), &t.indices_u32()).unwrap())
-                .unwrap();
+        let t = lab.truths.get(0).unwrap().mesh.clone();
+        let report: serde_json::Value = serde_json::from_str(
+            &lab.compare(None, &t.positions_f32(), &t.indices_u32())
+                .unwrap(),
+        )
+        .unwrap();
         assert!(report["hausdorff"].as_f64().unwrap() < 1e-4);
         assert_eq!(report["clipped"], true);
         let (vt, vm) = (

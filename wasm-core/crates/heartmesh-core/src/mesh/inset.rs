@@ -22,6 +22,11 @@ pub struct Pushed {
     pub max_mm: f64,
 }
 
+/// Shortfalls up to this are rounding, not a wall too thin: a vertex an earlier push left at
+/// the depth measures its depth again to within ~1e-15 mm, and moving it by that would keep
+/// [`push`]'s callers going round after the surfaces are already apart.
+const MOVE_TOLERANCE_MM: f64 = 1e-9;
+
 /// Which side of the other surface the moved vertices must end up on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Keep {
@@ -79,7 +84,7 @@ pub fn push(
         // offset across the normal: points beyond the same feature of `other` (an edge, the rim
         // of a cut) land apart instead of on one point.
         let short = wrong + depth_mm;
-        if short <= 0.0 {
+        if short <= MOVE_TOLERANCE_MM {
             continue;
         }
         let mut target = *p - n * (sign * short);
@@ -104,4 +109,42 @@ fn outward_normal(mesh: &TriMesh, t: usize) -> Option<Vec3> {
     let n = (b - a).cross(&(c - a));
     let len = n.norm();
     (len > 0.0 && len.is_finite()).then(|| n / len)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::shapes::octahedron;
+
+    /// Points around the middle of a flat face, 1 mm outside to 0.5 mm inside, come back `depth`
+    /// inside; pushing again moves nothing (a vertex left at the depth measures it again only to
+    /// rounding, ~1e-15 mm), which is what lets the wall's separation rounds stop.
+    #[test]
+    fn a_second_push_moves_nothing() {
+        let outer = octahedron(30.0, Vec3::zeros());
+        // The face through (30,0,0), (0,30,0), (0,0,30): centre (10,10,10), normal (1,1,1)/sqrt 3.
+        let n = Vec3::new(1.0, 1.0, 1.0).normalize();
+        let (u, v) = (
+            Vec3::new(1.0, -1.0, 0.0).normalize(),
+            Vec3::new(1.0, 1.0, -2.0).normalize(),
+        );
+        let mut positions = Vec::new();
+        for i in 0..15 {
+            for j in 0..15 {
+                let off = 1.0 - 1.5 * ((i * 15 + j) % 7) as f64 / 6.0;
+                let q = Vec3::new(10.0, 10.0, 10.0)
+                    + u * (0.37 * i as f64 - 2.6)
+                    + v * (0.41 * j as f64 - 2.9)
+                    + n * off;
+                positions.push(q);
+            }
+        }
+        let mut inner = TriMesh::new(positions, Vec::new());
+        let depth = 1.0;
+        let first = push(&mut inner, &outer, &outer, depth, Keep::Inside, None);
+        assert_eq!(first.vertices, inner.positions.len());
+        assert!((first.max_mm - 2.0).abs() < 1e-9, "{}", first.max_mm);
+        let again = push(&mut inner, &outer, &outer, depth, Keep::Inside, None);
+        assert_eq!(again, Pushed::default());
+    }
 }

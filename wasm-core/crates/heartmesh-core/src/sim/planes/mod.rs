@@ -105,6 +105,10 @@ pub struct Acquisition {
     pub lax_planes: Vec<Plane>,
     /// The most basal SAX plane: the paper clips both meshes there before measuring.
     pub clip: Plane,
+    /// Per surface (in the order given), the most basal SAX plane it has a contour on: where to
+    /// clip that surface's truth (a surface drawn only lower down, see [`simulate_surfaces`], is
+    /// unobserved above it). `clip` where a surface has no short-axis contour.
+    pub surface_clips: Vec<Plane>,
 }
 
 /// Slices `truth` as a CMR acquisition described by `spec`.
@@ -202,7 +206,21 @@ fn acquire(surfaces: &[Sliced], spec: &AcquisitionSpec) -> Result<Acquisition> {
     let lowest = |f: fn(&Span) -> f64| spans.iter().map(f).fold(f64::INFINITY, f64::min);
     let bottom = lowest(|s| s.bottom);
     let apex_bottom = lowest(|s| s.apex_bottom);
-    let span_hi = lowest(|s| s.top);
+    // The stack's top is the base the surfaces share, but a surface whose closed sections stop
+    // more than one slice below the planned surface's (a composite RV cavity that opens into its
+    // outflow tract) does not share it: it is drawn only where its sections are closed, and the
+    // others keep their basal slices (a scanner's stack covers the heart it was planned on).
+    let planned_top = spans[0].top;
+    let reach = match spec.sax {
+        SaxStack::SpacingMm(s) => s,
+        SaxStack::Count(_) => f64::INFINITY,
+    };
+    let shares_base = |s: &Span| s.top >= planned_top - reach;
+    let span_hi = spans
+        .iter()
+        .filter(|s| shares_base(s))
+        .map(|s| s.top)
+        .fold(f64::INFINITY, f64::min);
     let span_lo = lowest(|s| s.loop_lo);
     let top = span_hi - spec.base_margin_mm;
     if top <= bottom {
@@ -213,7 +231,8 @@ fn acquire(surfaces: &[Sliced], spec: &AcquisitionSpec) -> Result<Acquisition> {
     }
     // Whether surface `k` is drawn on the short-axis slice at height `h`.
     let drawn_at = |k: usize, h: f64| {
-        h >= spans[k].bottom - 1e-9
+        let own_top = spans[k].top - spec.base_margin_mm;
+        (h >= spans[k].bottom - 1e-9 && (shares_base(&spans[k]) || h <= own_top + 1e-9))
             || (h >= spans[k].apex_bottom - 1e-9
                 && single_loop_at(surfaces[k].mesh, &axis, h, spec.join_gap_mm))
     };
@@ -268,18 +287,20 @@ fn acquire(surfaces: &[Sliced], spec: &AcquisitionSpec) -> Result<Acquisition> {
     let mut motion_rng = SplitMix64::new(spec.seed);
     let mut noise_rng = SplitMix64::new(spec.seed ^ 0x5DEE_CE66_D1CE_4E5B);
     let mut set = ContourSet::default();
+    let mut basal: Vec<Option<usize>> = vec![None; surfaces.len()];
     let named = sax_planes
         .iter()
         .zip(&heights)
         .enumerate()
-        .map(|(k, (p, &h))| (format!("sax{:02}", k + 1), p, Some(h)))
+        .map(|(k, (p, &h))| (format!("sax{:02}", k + 1), p, Some((k, h))))
         .chain(
             lax_planes
                 .iter()
                 .enumerate()
                 .map(|(k, p)| (format!("lax{:02}", k + 1), p, None)),
         );
-    for (image, nominal, height) in named {
+    for (image, nominal, slice) in named {
+        let height = slice.map(|(_, h)| h);
         let motion = spec
             .misalignment
             .map(|m| draw_motion(&mut motion_rng, nominal, m));
@@ -334,17 +355,32 @@ fn acquire(surfaces: &[Sliced], spec: &AcquisitionSpec) -> Result<Acquisition> {
                 pieces: vec![piece],
                 first_line: 0,
             });
+            if let Some((index, _)) = slice {
+                basal[k] = Some(index);
+            }
         }
     }
     let clip = *sax_planes
         .last()
         .ok_or_else(|| CoreError::Degenerate("no SAX plane fits the shape".into()))?;
+    for (surface, b) in surfaces.iter().zip(&basal) {
+        if let (Some(label), true, None) = (&surface.label, several, b) {
+            set.warnings.push(format!(
+                "{label}: no short-axis slice cuts it in one closed loop; long-axis curves only"
+            ));
+        }
+    }
+    let surface_clips = basal
+        .iter()
+        .map(|b| b.and_then(|i| sax_planes.get(i).copied()).unwrap_or(clip))
+        .collect();
     Ok(Acquisition {
         contours: set,
         axis,
         sax_planes,
         lax_planes,
         clip,
+        surface_clips,
     })
 }
 

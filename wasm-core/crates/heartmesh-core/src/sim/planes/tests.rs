@@ -300,3 +300,56 @@ fn surfaces_sliced_together_share_each_image_motion() {
     assert_eq!(count("INNER", "lax"), 3);
     assert!(simulate_surfaces(&[], &AcquisitionSpec::default()).is_err());
 }
+
+/// A surface whose closed sections stop well below the planned surface's base (more than one
+/// slice spacing: a composite RV cavity opening into its outflow tract) is drawn only up to its
+/// own top and does not take the planned surface's basal slices away; one within a slice of it
+/// shares the base (the stack stops under both, as walls need). Each surface's clip is its own
+/// most basal slice.
+#[test]
+fn a_surface_ending_far_below_the_base_keeps_the_others_slices() {
+    let truth = lv();
+    let about_apex = |scale: f64| {
+        TriMesh::new(
+            truth.positions.iter().map(|p| p * scale).collect(),
+            truth.triangles.clone(),
+        )
+    };
+    let spec = AcquisitionSpec::default();
+    let alone = simulate(&truth, &spec).unwrap();
+    let top = |a: &Acquisition| a.clip.origin.z;
+    let sax = |a: &Acquisition, label: &str| {
+        a.contours
+            .contours
+            .iter()
+            .filter(|c| c.surface.as_deref() == Some(label) && c.id.starts_with("sax"))
+            .count()
+    };
+
+    // 0.6 x the shape: its closed sections end ~30 mm under the planned base.
+    let short = about_apex(0.6);
+    let joint = simulate_surfaces(&[("LV", &truth), ("SHORT", &short)], &spec).unwrap();
+    assert_eq!(joint.sax_planes, alone.sax_planes);
+    assert_eq!(sax(&joint, "LV"), alone.sax_planes.len());
+    // The base is at z = 80 (apex at 0).
+    let short_top = 0.6 * 80.0;
+    let own = joint.surface_clips[1].origin.z;
+    assert!(
+        own < short_top && own > short_top - 10.0 - spec.base_margin_mm,
+        "{own}"
+    );
+    assert!(sax(&joint, "SHORT") >= 3 && sax(&joint, "SHORT") < sax(&joint, "LV"));
+    assert_eq!(joint.surface_clips[0], joint.clip);
+
+    // 0.93 x the shape: ~6 mm under the planned base, within a slice: it sets the stack's top.
+    let near = about_apex(0.93);
+    let shared = simulate_surfaces(&[("LV", &truth), ("NEAR", &near)], &spec).unwrap();
+    assert!(
+        top(&shared) < top(&alone) - 3.0,
+        "{} vs {}",
+        top(&shared),
+        top(&alone)
+    );
+    assert_eq!(sax(&shared, "LV"), sax(&shared, "NEAR"));
+    assert_eq!(shared.surface_clips, vec![shared.clip, shared.clip]);
+}
