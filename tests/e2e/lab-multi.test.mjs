@@ -9,7 +9,7 @@ import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { openApp, runAndWait, sharedDir, SHOTS } from './lib.mjs';
+import { openApp, runAndWait, sharedDir, SHOTS, setField } from './lib.mjs';
 
 const MESHES = ['bivme-patient1-ED-LV_ENDO-closed.obj', 'bivme-patient1-ED-RV_ENDO-closed.obj'];
 
@@ -26,14 +26,8 @@ after(async () => {
   await app?.close();
 });
 
-/** Sets a form field and fires the events the panel listens to. */
-async function setValue(testid, value) {
-  await page.locator(`[data-testid=${testid}]`).evaluate((el, v) => {
-    el.value = String(v);
-    el.dispatchEvent(new Event('input', { bubbles: true }));
-    el.dispatchEvent(new Event('change', { bubbles: true }));
-  }, value);
-}
+/** Sets a Lab form field (see `setField`). */
+const setValue = (testid, value) => setField(page, testid, value);
 
 /** The metrics of the comparison of `surface` once they are in (after a run of it). */
 async function metricsOf(surface) {

@@ -9,7 +9,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { openApp, runAndWait, SHOTS } from './lib.mjs';
+import { openApp, runAndWait, SHOTS, setField } from './lib.mjs';
 
 // Two screenshots go to the screenshot folder (kept in the repository by `npm run screenshots`,
 // referenced by docs/USER-GUIDE.md); the others go to the temporary folder.
@@ -28,14 +28,8 @@ after(async () => {
   await app?.close();
 });
 
-/** Sets a form field and fires the events the panel listens to. */
-async function setValue(testid, value) {
-  await page.locator(`[data-testid=${testid}]`).evaluate((el, v) => {
-    el.value = String(v);
-    el.dispatchEvent(new Event('input', { bubbles: true }));
-    el.dispatchEvent(new Event('change', { bubbles: true }));
-  }, value);
-}
+/** Sets a Lab form field (see `setField`). */
+const setValue = (testid, value) => setField(page, testid, value);
 
 async function simulate(sax, lax) {
   await setValue('lab-sax', sax);

@@ -336,3 +336,12 @@ export async function download(page, testid) {
   const [dl] = await Promise.all([page.waitForEvent('download'), page.click(`[data-testid=${testid}]`)]);
   return { name: dl.suggestedFilename(), bytes: readFileSync(await dl.path()) };
 }
+
+/** Sets the form field `testid` and fires the input and change events panels listen to. */
+export async function setField(page, testid, value) {
+  await page.locator(`[data-testid=${testid}]`).evaluate((el, v) => {
+    el.value = String(v);
+    el.dispatchEvent(new Event('input', { bubbles: true }));
+    el.dispatchEvent(new Event('change', { bubbles: true }));
+  }, value);
+}

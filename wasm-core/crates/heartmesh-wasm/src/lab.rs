@@ -720,15 +720,7 @@ mod tests {
         assert!(d.iter().filter(|x| x.is_finite()).all(|x| *x < 1e-4));
     }
 
-    /// `shared/data/<rel>`: the nearest ancestor of this crate holding it (as the CLI's tests).
-    fn data(rel: &str) -> std::path::PathBuf {
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .ancestors()
-            .map(|a| a.join("shared/data"))
-            .find(|d| d.join("README.md").is_file())
-            .expect("shared/data not found above CARGO_MANIFEST_DIR")
-            .join(rel)
-    }
+    use crate::test_data::data;
 
     fn patient1(phase: &str) -> Vec<u8> {
         std::fs::read(data(&format!(

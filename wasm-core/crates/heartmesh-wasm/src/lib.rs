@@ -13,6 +13,8 @@ mod errors;
 mod frames;
 mod lab;
 mod panic;
+#[cfg(test)]
+mod test_data;
 mod wall;
 
 use std::collections::BTreeMap;

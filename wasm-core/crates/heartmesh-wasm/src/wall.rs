@@ -742,15 +742,7 @@ mod tests {
         assert_eq!(mesh_format("gltf").unwrap_err().code(), "param_invalid");
     }
 
-    /// `shared/data/<rel>`: the nearest ancestor of this crate holding it (as the CLI's tests).
-    fn data(rel: &str) -> std::path::PathBuf {
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .ancestors()
-            .map(|a| a.join("shared/data"))
-            .find(|d| d.join("README.md").is_file())
-            .expect("shared/data not found above CARGO_MANIFEST_DIR")
-            .join(rel)
-    }
+    use crate::test_data::data;
 
     /// The biv-me example patient 1 at end-diastole (the app's "Patient 1 · ED") with its
     /// LV_ENDO, RV_ENDO and BIV_EPI run at the app's default settings, as the app keeps them.

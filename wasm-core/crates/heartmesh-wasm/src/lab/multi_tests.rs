@@ -5,15 +5,7 @@
 use super::*;
 use heartmesh_core::sim::AcquisitionSpec;
 
-/// `shared/data/<rel>`: the nearest ancestor of this crate holding it (as the CLI's tests).
-fn data(rel: &str) -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data"))
-        .find(|d| d.join("README.md").is_file())
-        .expect("shared/data not found above CARGO_MANIFEST_DIR")
-        .join(rel)
-}
+use crate::test_data::data;
 
 const LV: &str = "bivme-patient1-ED-LV_ENDO-closed.obj";
 const RV: &str = "bivme-patient1-ED-RV_ENDO-closed.obj";
