@@ -39,7 +39,7 @@ export class MetricsTable {
         h('dt', {}, 'volume truth / mesh'),
         h('dd', { 'data-testid': 'lab-volumes' }, `${f(r.volume_truth_ml, 1)} / ${f(r.volume_mesh_ml, 1)} ml (${volDiff >= 0 ? '+' : ''}${f(volDiff, 1)} %)`),
       ),
-      h('p', { class: 'muted' }, r.clipped ? 'both clipped at the most basal SAX plane' : 'not clipped (no acquisition of this truth)'),
+      h('p', { class: 'muted' }, r.clipped ? 'both clipped at the most basal SAX plane with a contour of this surface' : 'not clipped (no acquisition of this truth)'),
     );
     // The symmetric mean the e2e test and the screenshot caption read.
     this.element.dataset.mean = String((r.mesh_to_truth.mean + r.truth_to_mesh.mean) / 2);

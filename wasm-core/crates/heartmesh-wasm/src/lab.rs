@@ -143,8 +143,8 @@ impl Lab {
     }
 
     /// Compares a reconstruction of `surface` (xyz mm, triangles) with the truth of that surface
-    /// (the only one when there is one), both clipped at the most basal SAX plane of the last
-    /// acquisition; returns the JSON of the core's `CompareReport` plus `truth_index`,
+    /// (the only one when there is one), both clipped at the most basal SAX plane carrying a
+    /// contour of that surface in the last acquisition; returns the JSON of the core's `CompareReport` plus `truth_index`,
     /// `truth_label` and `truth_name`. Keeps the distance of every vertex of that truth to the
     /// mesh for [`Lab::truth_distances`].
     pub fn compare(
