@@ -213,7 +213,10 @@ fn acquire(surfaces: &[Sliced], spec: &AcquisitionSpec) -> Result<Acquisition> {
     let planned_top = spans[0].top;
     let reach = match spec.sax {
         SaxStack::SpacingMm(s) => s,
-        SaxStack::Count(_) => f64::INFINITY,
+        // The spacing the count would have on the planned surface alone.
+        SaxStack::Count(n) => {
+            (planned_top - spec.base_margin_mm - spans[0].bottom) / (n.max(2) - 1) as f64
+        }
     };
     let shares_base = |s: &Span| s.top >= planned_top - reach;
     let span_hi = spans

@@ -340,6 +340,16 @@ fn a_surface_ending_far_below_the_base_keeps_the_others_slices() {
     );
     assert!(sax(&joint, "SHORT") >= 3 && sax(&joint, "SHORT") < sax(&joint, "LV"));
     assert_eq!(joint.surface_clips[0], joint.clip);
+    // A counted stack likewise: all its slices on the planned surface, up to its base.
+    let counted = AcquisitionSpec {
+        sax: SaxStack::Count(8),
+        ..AcquisitionSpec::default()
+    };
+    let alone8 = simulate(&truth, &counted).unwrap();
+    let joint8 = simulate_surfaces(&[("LV", &truth), ("SHORT", &short)], &counted).unwrap();
+    assert_eq!(joint8.clip, alone8.clip);
+    assert_eq!(sax(&joint8, "LV"), 8);
+    assert!(joint8.surface_clips[1].origin.z < short_top);
 
     // 0.93 x the shape: ~6 mm under the planned base, within a slice: it sets the stack's top.
     let near = about_apex(0.93);
