@@ -139,6 +139,22 @@ describe('the Lab with two truths', () => {
     assert.match((await page.textContent('[data-testid=lab-message]')) ?? '', /RV_ENDO-closed\.obj: the label lv_endo is already truth 1's/);
     const after = await page.locator('[data-testid=lab-truth-label]').evaluateAll((els) => els.map((e) => e.value));
     assert.deepEqual(after, ['LV_ENDO', 'RV_ENDO']);
+
+    // A dropped file that is no mesh (a face naming a missing vertex): said in a message naming
+    // it, the two truths kept, the page alive.
+    await page.evaluate(() => {
+      const dt = new DataTransfer();
+      dt.items.add(new File(['v 0 0 0\nv 1 0 0\nf 1 2 9\n'], 'broken-LV_EPI.obj', { type: 'model/obj' }));
+      document.body.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+    });
+    await page.waitForFunction(() => /broken-LV_EPI\.obj/.test(document.querySelector('[data-testid=lab-message]')?.textContent ?? ''), null, { timeout: 15000 });
+    const said = (await page.textContent('[data-testid=lab-message]')) ?? '';
+    console.log(`# lab broken truth: ${said}`);
+    // The file and its line said once each.
+    assert.match(said, /^broken-LV_EPI\.obj, line 3: face refers to vertex 9/);
+    assert.equal(await page.getAttribute('[data-testid=lab-truth-info]', 'data-count'), '2');
+    const kept = await page.locator('[data-testid=lab-truth-label]').evaluateAll((els) => els.map((e) => e.value));
+    assert.deepEqual(kept, ['LV_ENDO', 'RV_ENDO']);
     assert.deepEqual(pageErrors, []);
   });
 });

@@ -12,6 +12,7 @@
  */
 import './lab.css';
 import type { Controller } from '../app/controller';
+import { describeError } from '../app/state';
 import type { CoreClient, LabBatchHandle } from '../core-client/CoreClient';
 import type {
   AcquisitionSpec, ContourInfo, CoreErrorData, LabAcquisition, LabTruth, LabTruthSource, LooItem, ParametricLvSpec, RunResult, SweepGrid, SweepItem,
@@ -737,8 +738,7 @@ function imperfections(spec: AcquisitionSpec): string {
 /** One line of an error: the file it is about, its line, the message. */
 function errorText(e: unknown, file?: string): string {
   const d = (e && typeof e === 'object' && 'message' in e ? e : { message: String(e) }) as CoreErrorData;
-  const where = d.file ?? file;
-  return `${where ? `${where}: ` : ''}${d.line ? `line ${d.line}: ` : ''}${d.message}`;
+  return describeError({ ...d, file: d.file ?? file });
 }
 
 /** The acquisition's rows per surface (several truths). */
