@@ -164,7 +164,24 @@ struct Span {
     top: f64,
 }
 
-fn span_of(s: &Sliced, axis: &LongAxis, spec: &AcquisitionSpec, several: bool) -> Result<Span> {
+/// A surface no short-axis plane cuts in one closed loop (an open patch such as an RV free wall
+/// without its septum) beside the planned one: long-axis curves only.
+const NO_SPAN: Span = Span {
+    bottom: f64::INFINITY,
+    apex_bottom: f64::INFINITY,
+    loop_lo: f64::INFINITY,
+    top: f64::NEG_INFINITY,
+};
+
+/// Where `s` has short-axis sections; `planned`: the surface the stack is planned on, which must
+/// have some (any other without them gets [`NO_SPAN`]).
+fn span_of(
+    s: &Sliced,
+    axis: &LongAxis,
+    spec: &AcquisitionSpec,
+    several: bool,
+    planned: bool,
+) -> Result<Span> {
     let whose = |what: &str| match (&s.label, several) {
         (Some(label), true) => format!("{label}: {what}"),
         _ => what.to_string(),
@@ -172,11 +189,14 @@ fn span_of(s: &Sliced, axis: &LongAxis, spec: &AcquisitionSpec, several: bool) -
     let (lo, _hi, _rim) = axis
         .extent(s.mesh)
         .ok_or_else(|| CoreError::Degenerate(whose("reference shape has no finite vertex")))?;
-    let (span_lo, span_hi) = single_loop_span(s.mesh, axis, spec.join_gap_mm).ok_or_else(|| {
-        CoreError::Degenerate(whose(
+    let Some((span_lo, span_hi)) = single_loop_span(s.mesh, axis, spec.join_gap_mm) else {
+        if !planned {
+            return Ok(NO_SPAN);
+        }
+        return Err(CoreError::Degenerate(whose(
             "no plane across the axis cuts the shape in one closed loop",
-        ))
-    })?;
+        )));
+    };
     Ok(Span {
         bottom: (lo + spec.apex_margin_mm).max(span_lo),
         // A scanner's stack runs on to the apex: below the single-loop span (composite truths such
@@ -201,7 +221,10 @@ fn acquire(surfaces: &[Sliced], spec: &AcquisitionSpec) -> Result<Acquisition> {
     };
     let spans = surfaces
         .iter()
-        .map(|s| span_of(s, &axis, spec, several))
+        .enumerate()
+        // Only the planned surface must have short-axis sections; another without any is still
+        // drawn on the long-axis images (and said in the warnings below).
+        .map(|(k, s)| span_of(s, &axis, spec, several, k == 0))
         .collect::<Result<Vec<Span>>>()?;
     let lowest = |f: fn(&Span) -> f64| spans.iter().map(f).fold(f64::INFINITY, f64::min);
     let bottom = lowest(|s| s.bottom);
@@ -217,7 +240,9 @@ fn acquire(surfaces: &[Sliced], spec: &AcquisitionSpec) -> Result<Acquisition> {
         SaxStack::Count(n) => {
             (planned_top - spec.base_margin_mm - spans[0].bottom) / (n.max(2) - 1) as f64
         }
-    };
+    }
+    // Never negative: the planned surface always shares its own base.
+    .max(0.0);
     let shares_base = |s: &Span| s.top >= planned_top - reach;
     let span_hi = spans
         .iter()

@@ -363,3 +363,41 @@ fn a_surface_ending_far_below_the_base_keeps_the_others_slices() {
     assert_eq!(sax(&shared, "LV"), sax(&shared, "NEAR"));
     assert_eq!(shared.surface_clips, vec![shared.clip, shared.clip]);
 }
+
+/// A surface no short-axis plane cuts in one closed loop (an open patch standing along the axis)
+/// beside the planned one: drawn on the long-axis images only, with a warning, instead of
+/// refusing the whole acquisition; as the planned surface it is still refused.
+#[test]
+fn a_surface_without_closed_sections_gets_long_axis_curves_only() {
+    let truth = lv();
+    // A flat 10 x 60 mm strip in the plane y = 0 inside the cavity, along the axis.
+    let strip = TriMesh::new(
+        vec![
+            Vec3::new(-5.0, 0.0, 10.0),
+            Vec3::new(5.0, 0.0, 10.0),
+            Vec3::new(5.0, 0.0, 70.0),
+            Vec3::new(-5.0, 0.0, 70.0),
+        ],
+        vec![[0, 1, 2], [0, 2, 3]],
+    );
+    let spec = AcquisitionSpec::default();
+    let alone = simulate(&truth, &spec).unwrap();
+    let joint = simulate_surfaces(&[("LV", &truth), ("PATCH", &strip)], &spec).unwrap();
+    assert_eq!(joint.sax_planes, alone.sax_planes);
+    let of = |label: &str, kind: &str| {
+        joint
+            .contours
+            .contours
+            .iter()
+            .filter(|c| c.surface.as_deref() == Some(label) && c.id.starts_with(kind))
+            .count()
+    };
+    assert_eq!(of("PATCH", "sax"), 0);
+    assert!(of("PATCH", "lax") >= 1);
+    assert!(joint
+        .contours
+        .warnings
+        .iter()
+        .any(|w| w.starts_with("PATCH: no short-axis slice")));
+    assert!(simulate_surfaces(&[("PATCH", &strip), ("LV", &truth)], &spec).is_err());
+}
