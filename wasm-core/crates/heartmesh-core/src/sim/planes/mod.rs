@@ -127,8 +127,11 @@ pub fn simulate(truth: &TriMesh, spec: &AcquisitionSpec) -> Result<Acquisition> 
 /// the lowest apex up to the base the surfaces share, and each image's breath-hold motion moves
 /// every surface drawn on it alike — as one scanner image shows them all. Slicing each surface on
 /// its own would give each its own motions, which no real file has. A surface gets a short-axis
-/// contour where [`simulate`] would give it one, never below its own apex. `spec.surface` is not
-/// used: each contour carries its surface's label, its id the image's (`sax03_LV_ENDO`).
+/// contour where [`simulate`] would give it one, never below its own apex; one whose closed
+/// sections end more than a slice spacing under the first surface's base is drawn only up to
+/// its own top (its clip: [`Acquisition::surface_clips`]), and one with none at all only on the
+/// long-axis images (with a warning). `spec.surface` is not used: each contour carries its
+/// surface's label, its id the image's (`sax03_LV_ENDO`).
 pub fn simulate_surfaces(
     surfaces: &[(&str, &TriMesh)],
     spec: &AcquisitionSpec,
