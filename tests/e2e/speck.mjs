@@ -40,11 +40,12 @@ function ringLength(points) {
 }
 
 /**
- * `csv` (a heartmesh contour CSV with `contour,x,y,z,surface` rows) with a speck added to the
- * short-axis stack of `surface` (contours whose id holds `idPart`): returns the new text, the
- * speck's id, its file line (1-based, of its first point) and its length around (mm).
+ * The short-axis stack of `surface` in `csv` (contours whose id holds `idPart`): the stack's unit
+ * normal, its basal ring (centre, length around, height along the normal, id, points), the ring one
+ * slice below it, and two unit vectors spanning the slices' plane. Shared by the fixtures built on a
+ * bundled sample (this file's speck, secondLoop.mjs).
  */
-export function withSpeck(csv, { surface = 'LV_ENDO', idPart = 'SAX_LV_ENDOCARDIAL', id = 'speck_past_base', aroundMm = 2 } = {}) {
+export function basalStack(csv, surface, idPart) {
   const rings = new Map();
   for (const line of csv.split('\n').slice(1)) {
     const f = line.split(',');
@@ -52,27 +53,43 @@ export function withSpeck(csv, { surface = 'LV_ENDO', idPart = 'SAX_LV_ENDOCARDI
     if (!rings.has(f[0])) rings.set(f[0], []);
     rings.get(f[0]).push([Number(f[1]), Number(f[2]), Number(f[3])]);
   }
-  const list = [...rings.values()].filter((r) => r.length >= 3);
+  const list = [...rings.entries()].filter(([, r]) => r.length >= 3);
   if (list.length < 3) throw new Error(`no short-axis stack of ${surface} in the file`);
-  const normal = polygonNormal(list[0]);
+  const normal = polygonNormal(list[0][1]);
   // Rings along the stack's normal; the base is the end with the longer ring.
-  const stack = list.map((r) => ({ centre: mean(r), length: ringLength(r) })).map((r) => ({ ...r, h: dot(r.centre, normal) }));
+  const stack = list
+    .map(([id, points]) => ({ id, points, centre: mean(points), length: ringLength(points) }))
+    .map((r) => ({ ...r, h: dot(r.centre, normal) }));
   stack.sort((a, b) => a.h - b.h);
   const baseAtTop = stack.at(-1).length > stack[0].length;
   const base = baseAtTop ? stack.at(-1) : stack[0];
   const next = baseAtTop ? stack.at(-2) : stack[1];
+  const u = unit(cross(normal, Math.abs(normal[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0]));
+  return { normal, base, next, u, w: cross(normal, u) };
+}
+
+/** `rows` (CSV lines) appended to `csv`, with the 1-based line of the first one. */
+export function appendRows(csv, rows) {
+  const body = csv.endsWith('\n') ? csv : `${csv}\n`;
+  const line = body.split('\n').length; // the first appended row's 1-based line
+  return { csv: `${body}${rows.join('\n')}\n`, line };
+}
+
+/**
+ * `csv` (a heartmesh contour CSV with `contour,x,y,z,surface` rows) with a speck added to the
+ * short-axis stack of `surface` (contours whose id holds `idPart`): returns the new text, the
+ * speck's id, its file line (1-based, of its first point) and its length around (mm).
+ */
+export function withSpeck(csv, { surface = 'LV_ENDO', idPart = 'SAX_LV_ENDOCARDIAL', id = 'speck_past_base', aroundMm = 2 } = {}) {
+  const { normal, base, next, u, w } = basalStack(csv, surface, idPart);
   const step = base.h - next.h; // one slice spacing, signed away from the apex
   const centre = base.centre.map((v, k) => v + normal[k] * step);
   // An equilateral triangle `aroundMm` around, in the slice's plane.
-  const u = unit(cross(normal, Math.abs(normal[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0]));
-  const w = cross(normal, u);
   const r = aroundMm / (3 * Math.sqrt(3));
   const rows = [0, 1, 2].map((i) => {
     const t = (2 * Math.PI * i) / 3;
     const p = centre.map((c, k) => c + r * (Math.cos(t) * u[k] + Math.sin(t) * w[k]));
     return `${id},${p.map((v) => v.toFixed(4)).join(',')},${surface}`;
   });
-  const body = csv.endsWith('\n') ? csv : `${csv}\n`;
-  const line = body.split('\n').length; // the first appended row's 1-based line
-  return { csv: `${body}${rows.join('\n')}\n`, id, line, aroundMm };
+  return { ...appendRows(csv, rows), id, aroundMm };
 }

@@ -39,19 +39,19 @@ describe('smoothing options through the worker', () => {
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     // The RV endocardium, whose septum curves disagree between SAX and LAX: softening acts there.
     const on = (await run(ask, 1, undefined, {}, 'RV_ENDO')).result;
-    const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }, {}, 'RV_ENDO')).result;
-    expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
-    expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    const off = (await run(ask, 2, { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false }, {}, 'RV_ENDO')).result;
+    expect(on?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
+    expect(off?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     if (!on || !off) throw new Error('runs failed');
     // Same sample, same numbers otherwise: only the softening differs (0.445 vs 0.408 mm natively).
     expect(on.overall.mean - off.overall.mean).toBeGreaterThan(0.01);
     expect(on.overall.mean).toBeLessThan(1);
     expect(off.overall.mean).toBeLessThan(1);
 
-    const taubin = await run(ask, 3, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }, { smoothing_factor: 0.5 });
+    const taubin = await run(ask, 3, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false }, { smoothing_factor: 0.5 });
     expect(taubin.result?.options.smoothing_method).toBe('taubin');
     expect(taubin.result?.overall.mean).toBeLessThan(1.5);
-    const bad = await run(ask, 4, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }, { smoothing_factor: 0.8 });
+    const bad = await run(ask, 4, { smoothing_method: 'taubin', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false }, { smoothing_factor: 0.8 });
     expect(bad.error?.code).toBe('param_out_of_range');
     expect(bad.error?.message).toMatch(/smoothing_factor = 0\.8 .*allowed 0 to 0\.6/);
   });
@@ -61,7 +61,7 @@ describe('smoothing options through the worker', () => {
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     const base = (await run(ask, 1)).result;
     const opts = (smoothing_method: ReconOptions['smoothing_method']): ReconOptions =>
-      ({ smoothing_method, soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+      ({ smoothing_method, soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     const hc = (await run(ask, 2, opts('laplacian-hc'))).result;
     const twicing = (await run(ask, 3, opts('laplacian-twicing'))).result;
     if (!base || !hc || !twicing) throw new Error('runs failed');
@@ -83,7 +83,7 @@ describe('smoothing options through the worker', () => {
     const { ask } = makeCore();
     await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     const base = { fileName: PATIENT, surface: 'LV_ENDO', params: { smoothing_factor: 0.8 }, lids: 'auto' as const };
-    const taubin: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true };
+    const taubin: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false };
     const loo = await ask({ type: 'lab-batch', runId: 5, job: { kind: 'loo', ...base, options: taubin } }, 'lab-batch-started', 'error');
     expect(loo.type === 'error' && loo.error.code).toBe('param_out_of_range');
     const sweep = await ask(
@@ -106,13 +106,13 @@ describe('smoothing options through the worker', () => {
     const saved = await loaded(ask, 'saved.json', session({ beta: 0.3, lids: 'none', smoothing_method: 'taubin', soften_conflicts: false, surface: 'LV_ENDO' }));
     // No end_caps key: saved before end caps existed, so read back without them (as it was made);
     // no apex_floor key: saved before sessions stored it, when the floor was off (core io::session).
-    expect(saved.session?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: 'off', keep_specks: false, apex_floor: false });
+    expect(saved.session?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: 'off', keep_specks: false, apex_floor: false, drop_second_loops: false });
     expect(saved.session?.lids).toBe('none');
     expect(saved.session?.surface).toBe('LV_ENDO');
     expect(saved.session?.params.beta).toBe(0.3);
     expect(saved.session?.params.lambda).toBe(1e5);
     const old = await loaded(ask, 'old.json', session({ beta: 0.3, lids: 'auto', surface: null }));
-    expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: 'off', keep_specks: false, apex_floor: false });
+    expect(old.session?.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: 'off', keep_specks: false, apex_floor: false, drop_second_loops: false });
     const bad = await loaded(ask, 'bad.json', session({ smoothing_method: 'gaussian' }));
     expect(bad.session ?? null).toBeNull();
     expect(bad.warnings.join(' ')).toMatch(/not applied: parameter smoothing_method: unknown method "gaussian" \(allowed: laplacian-affine, taubin, laplacian-hc, laplacian-twicing\)/);
@@ -124,7 +124,7 @@ describe('smoothing options through the worker', () => {
     const { ask } = makeCore();
     const file = await loaded(ask, PATIENT, readBytes(PATIENT1_ED()));
     // Keep specks and strays on and the apex floor off too: a session keeps both (core io::session, since session 14).
-    const options: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: true, apex_floor: false };
+    const options: ReconOptions = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: true, apex_floor: false, drop_second_loops: false };
     const written = await ask(
       { type: 'session-export', reqId: 2, fileName: PATIENT, surface: 'LV_EPI', params: { beta: 0.2, smoothing_factor: 0.4 }, lids: 'none', options, appVersion: '9.9.9' },
       'session-json',

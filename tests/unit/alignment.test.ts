@@ -37,9 +37,9 @@ describe('align_slices option', () => {
   it('is off by default and travels in the params JSON, the URL and every export', () => {
     expect(DEFAULT_OPTIONS.align_slices).toBe(false);
     const on = { ...DEFAULT_OPTIONS, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false };
-    expect(JSON.parse(paramsJson({ beta: 0.1 }, on))).toEqual({ beta: 0.1, smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    expect(JSON.parse(paramsJson({ beta: 0.1 }, on))).toEqual({ beta: 0.1, smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     // Options saved before the option existed read as off.
-    expect(withDefaultOptions({ smoothing_method: 'taubin', soften_conflicts: false })).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    expect(withDefaultOptions({ smoothing_method: 'taubin', soften_conflicts: false })).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     expect(withDefaultOptions(null)).toEqual(DEFAULT_OPTIONS);
 
     const schema = rustSchema();

@@ -223,6 +223,8 @@ describe('the export panel\'s biventricular wall', () => {
         return bivWallFile(f);
       },
       failed: (e) => failed.push(e),
+      showWall: () => undefined,
+      hideWall: () => undefined,
     });
     const root = p.element as unknown as FakeElement;
     const buttons = (['stl', 'obj', 'ply', 'vtk'] as const).map((f) => root.byTestId(`export-biv-wall-${f}`)! as FakeElement & { disabled: boolean });

@@ -131,7 +131,7 @@ function result(runId: number): RunResult {
   return {
     runId, surface: 'LV_ENDO', contours: [], contourPoints: new Float32Array(9), positions: new Float32Array(12),
     indices: new Uint32Array([0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]), pointDistances: new Float32Array(3), vertexDistances: new Float32Array(4),
-    perContour: [], overall: stats, volumeMl: 0.2, areaMm2: 200, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }, version: 'core-test',
+    perContour: [], overall: stats, volumeMl: 0.2, areaMm2: 200, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false }, version: 'core-test',
   };
 }
 
@@ -268,18 +268,18 @@ describe('controller', () => {
     url = '/app/?smoothing_method=taubin&soften_conflicts=0';
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('a.csv')]);
-    expect(client.runs[0].opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
-    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
-    expect(controller.runSettings()?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
-    controller.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    expect(client.runs[0].opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
+    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
+    expect(controller.runSettings()?.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
+    controller.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
     expect(client.runs).toHaveLength(2);
-    expect(client.runs[1].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    expect(client.runs[1].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     expect(url).toBe('/app/?surface=LV_ENDO&soften_conflicts=0');
     controller.resetParams();
     vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
-    expect(client.runs[2].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
-    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    expect(client.runs[2].opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
+    expect(parts.params.calls.setValues?.at(-1)?.[2]).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     expect(url).toBe('/app/?surface=LV_ENDO');
   });
 
@@ -287,11 +287,11 @@ describe('controller', () => {
     expect(controller.sessionFile()).toBeNull();
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
     await controller.openFiles([file('a.csv')]);
-    controller.setParams({ beta: 0.25 }, 'auto', { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    controller.setParams({ beta: 0.25 }, 'auto', { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     expect(await controller.sessionFile()).toEqual(new Uint8Array([123, 125]));
     expect(client.sessions[0].appVersion).toBe('9.9.9');
     expect(client.sessions[0].opts).toMatchObject({
-      fileName: 'a.csv', surface: 'LV_ENDO', lids: 'auto', options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true },
+      fileName: 'a.csv', surface: 'LV_ENDO', lids: 'auto', options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false },
     });
     expect(client.sessions[0].opts.params).toMatchObject({ beta: 0.25, lambda: 1000 });
   });
@@ -304,7 +304,7 @@ describe('controller', () => {
     expect(opts.params.lambda).toBe(1e5); // the session's value replaces the URL's 1e3
     expect(opts.lids).toBe('none');
     expect(opts.surface).toBe('RV_ENDO');
-    expect(opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    expect(opts.options).toEqual({ smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     expect(url).toContain('smoothing_method=taubin');
     expect(url).toContain('soften_conflicts=0');
     expect(url).not.toContain('apex_floor');
@@ -565,7 +565,7 @@ describe('controller', () => {
     await c.start(() => Promise.resolve(client as unknown as CoreClient));
     await c.openFiles([file('a.csv')]);
     const run = client.runs[0];
-    expect(run.opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    expect(run.opts.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     expect(url).toBe('/app/?surface=LV_ENDO&align_slices=1');
     // While it runs, the first frame brings the shifted contours: they replace the file's on screen.
     const shifted = new Float32Array([1, 0, 0, 11, 0, 0, 1, 10, 0]);
@@ -584,7 +584,7 @@ describe('controller', () => {
     expect(Array.from(given?.[1] as Float32Array)).toEqual([0, 0, 0, 10, 0, 0, 0, 10, 0]); // the file's points as given
     expect(parts.view.calls.setAsGivenAvailable?.at(-1)).toEqual([true]);
     // Turning the option off and rerunning clears them.
-    c.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    c.setParams({}, 'auto', { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     vi.advanceTimersByTime(RESTART_DEBOUNCE_MS + 10);
     expect(url).toBe('/app/?surface=LV_ENDO');
     expect(client.runs[1].opts.options?.align_slices).toBe(false);
@@ -933,7 +933,7 @@ describe('Keep specks and strays', () => {
     await c.openFiles([file('speck.csv')]);
     expect(warnings.textContent).toBe(`⚠ ${line}`);
     expect(client.runs.at(-1)?.opts.options?.keep_specks).toBe(false);
-    const on: ReconOptions = { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: true, apex_floor: true };
+    const on: ReconOptions = { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: true, apex_floor: true, drop_second_loops: false };
     c.setParams({}, 'auto', on);
     expect(warnings.textContent).toBe(`⚠ ${line} · Keep specks and strays is on: the contours named above as left out are used in the reconstruction`);
     await vi.advanceTimersByTimeAsync(RESTART_DEBOUNCE_MS + 10);

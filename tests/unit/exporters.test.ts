@@ -209,7 +209,7 @@ describe('exporters parse back', () => {
   });
 
   it('parameters JSON and headers record the smoothing options (defaults when unknown)', () => {
-    const taubin: ExportInfo = { ...info, options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true } };
+    const taubin: ExportInfo = { ...info, options: { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false } };
     const doc = JSON.parse(writeParamsJson(taubin, null));
     expect(doc.smoothing_method).toBe('taubin');
     expect(doc.soften_conflicts).toBe(false);

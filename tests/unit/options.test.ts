@@ -20,11 +20,13 @@ describe('reconstruction options', () => {
     expect(defaults).toMatch(/align_slices: false,/);
     expect(defaults).toMatch(/keep_specks: false,/);
     expect(defaults).toMatch(/apex_floor: true,/);
-    expect(DEFAULT_OPTIONS).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    expect(defaults).toMatch(/drop_second_loops: false,/);
+    expect(DEFAULT_OPTIONS).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
   });
   it('travel inside the params JSON object under the binding names', () => {
-    expect(JSON.parse(paramsJson({ beta: 0.2 }, { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }))).toEqual({
+    expect(JSON.parse(paramsJson({ beta: 0.2 }, { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false }))).toEqual({
       beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true,
+      drop_second_loops: false,
     });
     expect(JSON.parse(paramsJson({ beta: 0.2 }))).toEqual({ beta: 0.2 });
   });

@@ -65,19 +65,19 @@ describe('URL state', () => {
   });
   it('round-trips the smoothing method and conflict softening, written only when not the default', () => {
     const s = parseUrlState('', schema);
-    expect(s.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
-    s.options = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true };
+    expect(s.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
+    s.options = { smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false };
     const q = serializeUrlState(s, schema);
     expect(q).toBe('?smoothing_method=taubin&soften_conflicts=0');
     expect(parseUrlState(q, schema)).toEqual(s);
-    s.options = { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true };
+    s.options = { smoothing_method: 'laplacian-affine', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false };
     expect(serializeUrlState(s, schema)).toBe('?soften_conflicts=0');
     expect(parseUrlState('?soften_conflicts=false', schema).options.soften_conflicts).toBe(false);
     expect(parseUrlState('?soften_conflicts=1', schema).options.soften_conflicts).toBe(true);
   });
   it('an unknown smoothing method or a garbled switch falls back to the defaults', () => {
     const s = parseUrlState('?smoothing_method=gaussian&soften_conflicts=maybe', schema);
-    expect(s.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    expect(s.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     expect(serializeUrlState(s, schema)).toBe('');
   });
   it('clamps out-of-range values, rounds integers and drops garbage', () => {

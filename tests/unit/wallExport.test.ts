@@ -202,6 +202,8 @@ describe('the export panel\'s LV wall', () => {
       },
       bivWallFile: () => null,
       failed: (e) => failed.push(e),
+      showWall: () => undefined,
+      hideWall: () => undefined,
     });
     const root = p.element as unknown as FakeElement;
     const buttons = (['stl', 'obj', 'ply', 'vtk'] as const).map((f) => root.byTestId(`export-wall-${f}`)! as FakeElement & { disabled: boolean });

@@ -153,7 +153,7 @@ export class FakeCoreClient {
           resolve({
             runId, surface: opts.surface, contours: contoursOut, contourPoints: cp, positions, indices: mesh.indices, pointDistances: pd,
             vertexDistances: vd, perContour: contoursOut.map((x) => ({ id: x.id, kind: x.kind ?? 'SAX', stats })), overall: stats,
-            volumeMl: 95.2, areaMm2: 11800, watertight: opts.lids === 'auto', seconds: 1.23, params: opts.params, lids: opts.lids, options: opts.options ?? { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: 'off', keep_specks: false, apex_floor: true }, version: 'fake-core',
+            volumeMl: 95.2, areaMm2: 11800, watertight: opts.lids === 'auto', seconds: 1.23, params: opts.params, lids: opts.lids, options: opts.options ?? { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: 'off', keep_specks: false, apex_floor: true, drop_second_loops: false }, version: 'fake-core',
             pastData: caps ? { base_mm: 1.8, apex_mm: 0.3 } : { base_mm: 12.4, apex_mm: 0.3 },
             end_caps: { mode: caps ? 'auto' : 'off', base: caps, apex: false, points: caps ? 64 : 0 },
             iterations_done: total, converged: false,

@@ -13,7 +13,7 @@ function result(runId: number): RunResult {
     runId, surface: null, contours: [], contourPoints: new Float32Array(3), positions: new Float32Array(9),
     indices: new Uint32Array([0, 1, 2]), pointDistances: new Float32Array(1), vertexDistances: new Float32Array(3),
     perContour: [], overall: { mean: 0.5, median: 0.4, p95: 1, max: 1.2, min: 0, count: 1 }, volumeMl: 80,
-    areaMm2: 9000, watertight: true, seconds: 0.8, params: { beta: 0.1 }, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }, version: '0.1.0',
+    areaMm2: 9000, watertight: true, seconds: 0.8, params: { beta: 0.1 }, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false }, version: '0.1.0',
   };
 }
 

@@ -52,7 +52,7 @@ describe('protocol helpers', () => {
         runId: 1, surface: null, contours: [], contourPoints: shared, positions: shared.subarray(0, 3),
         indices: new Uint32Array(0), pointDistances: new Float32Array(2), vertexDistances: new Float32Array(1),
         perContour: [], overall: { mean: 0, median: 0, p95: 0, max: 0, min: 0, count: 0 }, volumeMl: 1,
-        areaMm2: 1, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }, version: '0.1.0',
+        areaMm2: 1, watertight: true, seconds: 0.5, params: {}, lids: 'auto', options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false }, version: '0.1.0',
       },
     };
     // The empty index buffer is not listed (nothing to transfer), the shared one only once.

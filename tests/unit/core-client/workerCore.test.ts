@@ -125,14 +125,14 @@ const runMsg = { type: 'run' as const, runId: 5, fileName: 'a.csv', surface: nul
 describe('WorkerCore', () => {
   it('writes a session file with the options inside the params JSON; errors name the file', () => {
     const { core, out } = setup(5);
-    const options = { smoothing_method: 'taubin' as const, soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true };
+    const options = { smoothing_method: 'taubin' as const, soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false };
     core.handle({ type: 'session-export', reqId: 3, fileName: 'a.csv', surface: 'LV_ENDO', params: { beta: 0.2 }, lids: 'none', options, appVersion: '9.9.9' });
     const m = out.at(-1)!;
     expect(m.type).toBe('session-json');
     if (m.type !== 'session-json') return;
     expect(m.reqId).toBe(3);
     expect(JSON.parse(new TextDecoder().decode(m.bytes))).toEqual({
-      fileName: 'a.csv', surface: 'LV_ENDO', params: { beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true }, lids: 'none', appVersion: '9.9.9',
+      fileName: 'a.csv', surface: 'LV_ENDO', params: { beta: 0.2, smoothing_method: 'taubin', soften_conflicts: false, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false }, lids: 'none', appVersion: '9.9.9',
     });
     core.handle({ type: 'session-export', reqId: 4, fileName: 'missing.csv', surface: null, params: {}, lids: 'auto', appVersion: '9.9.9' });
     const e = out.at(-1)!;
@@ -152,10 +152,10 @@ describe('WorkerCore', () => {
     expect(done.result.alignment?.residual_after_mm).toBe(0.7);
     expect(done.result.contour_to_mesh_as_given).toEqual({ mean: 0.6, median: 0.5, max: 2.1 });
     // An older core's options without align_slices read as the default (off).
-    expect(done.result.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true });
+    expect(done.result.options).toEqual({ smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: false, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false });
     // An aligned run sends its (shifted) contours once, on its first frame; others never do.
     const aligned = setup(20);
-    aligned.core.handle({ ...runMsg, options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true } });
+    aligned.core.handle({ ...runMsg, options: { smoothing_method: 'laplacian-affine', soften_conflicts: true, align_slices: true, end_caps: DEFAULT_END_CAPS, keep_specks: false, apex_floor: true, drop_second_loops: false } });
     aligned.runTicks();
     const withContours = aligned.frames().filter((f) => f.runContours);
     expect(withContours.map((f) => f.seq)).toEqual([1]);

@@ -80,8 +80,10 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
       wallFile: (format) => c().wallFile(format),
       bivWallFile: (format) => c().bivWallFile(format),
       failed: (e) => c().showExportError(e),
+      showWall: (id, wall) => c().showWall(id, wall),
+      hideWall: () => c().hideWall(),
     }),
-    view: new ViewControls((v) => c().setView(v), () => c().resetView()),
+    view: new ViewControls((v) => c().setView(v), () => c().resetView(), (colouring) => c().setWallColouring(colouring)),
     hover: new HoverReadout(),
     warnings: slot('slot-warnings'),
     notes: new NotesLine(),
@@ -101,7 +103,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
   slot('slot-banner').append(parts.banner.element);
   slot('slot-notes').append(parts.notes.element);
   slot('slot-legend').append(parts.legend.element, parts.meshLegend.element);
-  if (viewer) slot('slot-legend').append(viewer.landmarkLayer.legend, viewer.setAsideLayer.legend, viewer.otherSurfacesLayer.legend);
+  if (viewer) slot('slot-legend').append(viewer.landmarkLayer.legend, viewer.setAsideLayer.legend, viewer.otherSurfacesLayer.legend, viewer.wallLayer.thicknessLegend.element, viewer.wallLayer.regionKey);
   slot('slot-viewcontrols').append(parts.view.element);
   slot('slot-hover').append(parts.hover.element);
   viewer?.setHoverListener((h) => controller.onHover(h));

@@ -18,7 +18,7 @@ import { asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, s
 import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
 import type { Parts } from './parts';
 import type { Speed } from './playback';
-import { keptSpecksNote } from '../ui/runText';
+import { keptSpecksNote, secondLoopsNote } from '../ui/runText';
 import { warningsFor } from './fileWarnings';
 import { RunDisplay } from './runDisplay';
 import { surfacePoints } from './sceneContours';
@@ -31,6 +31,9 @@ import { bivWallHeaderLines, bivWallReadiness, type BivWallReadiness } from '../
 import { surfaceOrder } from '../io/FileBar';
 import { BIV_EPI } from '../core-client/derivedSurfaces';
 import { phasesOf } from './phases';
+import { wallSolidFromPly } from '../io/wallSolid';
+import type { BuiltWall } from '../io/WallRow';
+import type { WallColouring } from '../viewer/wallColours';
 import type { FunctionContext } from '../ui/FunctionPanel';
 
 export type { Parts } from './parts';
@@ -116,6 +119,8 @@ export class Controller {
   private readonly contextListeners: (() => void)[] = [];
   /** Per open file, how many times it was read anew (dropped again, views added): the Function table's contours. */
   private readonly readings = new Map<string, number>();
+  /** What colours a wall shown in the view (the view panel's Wall colour): kept from one wall to the next. */
+  private wallColouring: WallColouring = 'thickness';
 
   constructor(
     private readonly parts: Parts,
@@ -704,12 +709,14 @@ export class Controller {
 
   /**
    * The warning line of the current file; with Keep specks and strays on, the core's lines about
-   * contours left out end with a note that they are used (as the CLI's `--keep-specks` note).
+   * contours left out end with a note that they are used (as the CLI's `--keep-specks` note); a
+   * line about second loops, with a note on the option that leaves them out.
    */
   private renderWarnings(): void {
     const warnings = [...this.fileWarnings];
-    const note = keptSpecksNote(warnings, this.options.keep_specks);
-    if (note) warnings.push(note);
+    for (const note of [keptSpecksNote(warnings, this.options.keep_specks), secondLoopsNote(warnings, this.options.drop_second_loops)]) {
+      if (note) warnings.push(note);
+    }
     if (this.runNote) warnings.push(this.runNote);
     this.parts.warnings.textContent = warnings.length ? `⚠ ${warnings.join(' · ')}` : '';
     this.parts.warnings.hidden = warnings.length === 0;
@@ -870,8 +877,34 @@ export class Controller {
   }
 
   private clearRunDisplay(): void {
+    // A new run, another file or surface: a wall shown from the Export panel makes way for it.
+    this.parts.exports.hideWall();
     this.runView.clear();
     this.emitResult(null);
+  }
+
+  /**
+   * Shows a wall the Export panel built as PLY (`id`: its row) in the 3D view in place of the
+   * surface, coloured as the view panel says; throws when its bytes cannot be read or there is no
+   * 3D view (the row then says so, and the surface stays).
+   */
+  showWall(id: string, wall: BuiltWall): void {
+    const viewer = this.parts.viewer;
+    if (!viewer) throw new Error('there is no 3D view (WebGL is disabled in this browser)');
+    viewer.showWall(wallSolidFromPly(wall.bytes), this.wallColouring, id);
+    this.parts.view.setWallShown(true, this.wallColouring);
+  }
+
+  /** Takes the wall out of the 3D view: the reconstruction is drawn again. */
+  hideWall(): void {
+    this.parts.viewer?.hideWall();
+    this.parts.view.setWallShown(false, this.wallColouring);
+  }
+
+  /** The view panel's Wall colour: by thickness or by region (the wall shown, and the next one). */
+  setWallColouring(colouring: WallColouring): void {
+    this.wallColouring = colouring;
+    this.parts.viewer?.setWallColouring(colouring);
   }
 
   // ---- timeline -------------------------------------------------------------------------------
@@ -925,6 +958,8 @@ export class Controller {
     if (!viewer) return;
     viewer.meshLayer.setWireframe(this.view.wireframe);
     viewer.meshLayer.setOpacity(this.view.opacity);
+    viewer.wallLayer.setWireframe(this.view.wireframe);
+    viewer.wallLayer.setOpacity(this.view.opacity);
     viewer.attractorLayer.setVisible(this.view.attractors);
     viewer.landmarkLayer.setVisible(this.view.landmarks);
     viewer.givenLayer.setVisible(this.view.asGiven);

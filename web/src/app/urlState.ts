@@ -24,7 +24,7 @@ export interface ViewSettings {
 export interface UrlState {
   params: ParamValues;
   lids: LidsMode;
-  /** Smoothing method, conflict softening, alignment (`smoothing_method=taubin`, `soften_conflicts=0`, `align_slices=1`, `end_caps=auto|off`, `keep_specks=1`, `apex_floor=0`). */
+  /** Smoothing method, conflict softening, alignment (`smoothing_method=taubin`, `soften_conflicts=0`, `align_slices=1`, `end_caps=auto|off`, `keep_specks=1`, `apex_floor=0`, `drop_second_loops=1`). */
   options: ReconOptions;
   surface: string | null;
   /** Time frame asked for by its label, read of every file holding a sequence that has it (`frame=9`, `frame=ES`). */
@@ -80,6 +80,7 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
     end_caps: END_CAPS_MODES.find((m) => m === q.get('end_caps')) ?? DEFAULT_OPTIONS.end_caps,
     keep_specks: parseBool(q.get('keep_specks'), DEFAULT_OPTIONS.keep_specks),
     apex_floor: parseBool(q.get('apex_floor'), DEFAULT_OPTIONS.apex_floor),
+    drop_second_loops: parseBool(q.get('drop_second_loops'), DEFAULT_OPTIONS.drop_second_loops),
   };
   const opacity = parseNumber(q.get('opacity'));
   const clip = parseNumber(q.get('clip'));
@@ -119,6 +120,7 @@ export function serializeUrlState(state: UrlState, schema: readonly ParamSpec[])
   if (state.options.end_caps !== DEFAULT_OPTIONS.end_caps) q.set('end_caps', state.options.end_caps);
   if (state.options.keep_specks !== DEFAULT_OPTIONS.keep_specks) q.set('keep_specks', state.options.keep_specks ? '1' : '0');
   if (state.options.apex_floor !== DEFAULT_OPTIONS.apex_floor) q.set('apex_floor', state.options.apex_floor ? '1' : '0');
+  if (state.options.drop_second_loops !== DEFAULT_OPTIONS.drop_second_loops) q.set('drop_second_loops', state.options.drop_second_loops ? '1' : '0');
   const view = state.view;
   if (view.wireframe !== DEFAULT_VIEW.wireframe) q.set('wireframe', view.wireframe ? '1' : '0');
   if (view.attractors !== DEFAULT_VIEW.attractors) q.set('attractors_shown', view.attractors ? '1' : '0');

@@ -52,6 +52,14 @@ export interface ReconOptions {
    * session saved before sessions stored it reads back with it off, as it was made.
    */
   apex_floor: boolean;
+  /**
+   * Leave out second loops: a closed loop lying apart (over 3 mm at the median) from the main loop
+   * of its short-axis slice (an outflow tract, another structure under the same label) is left out,
+   * so the surface follows each slice's main loop. Off by default, as the core's: whether that loop
+   * is part of the cavity is the user's call, and the load-time warning names each one. Without
+   * it the surface is pulled out towards such a loop in a spike.
+   */
+  drop_second_loops: boolean;
 }
 
 /** `end_caps` values: `auto` closes ends no contour closes, `off` leaves them to extrapolation. */
@@ -72,6 +80,7 @@ export const DEFAULT_OPTIONS: Readonly<ReconOptions> = {
   end_caps: DEFAULT_END_CAPS,
   keep_specks: false,
   apex_floor: true,
+  drop_second_loops: false,
 };
 
 /**
@@ -94,6 +103,7 @@ export function paramsJson(params: ParamValues, options?: ReconOptions): string 
     end_caps: o.end_caps,
     keep_specks: o.keep_specks,
     apex_floor: o.apex_floor,
+    drop_second_loops: o.drop_second_loops,
   });
 }
 

@@ -5,8 +5,9 @@
  * LV_ENDO and LV_EPI have both been run with the settings in the panel, the LV wall (one closed
  * solid, built in the worker: export/wall.ts) in STL, OBJ, PLY or VTK, with its figures; and
  * below it, once LV_ENDO, RV_ENDO and BIV_EPI have been, the biventricular wall
- * (export/bivWall.ts) the same way (each a WallRow). Every file records the parameters and the
- * app version (see export/header.ts).
+ * (export/bivWall.ts) the same way (each a WallRow, with a View toggle that shows the solid in
+ * the 3D view in place of the surface: one wall at a time). Every file records the parameters and
+ * the app version (see export/header.ts).
  */
 import type { RunResult, WallFormat, WallSummary } from '../core-client/protocol';
 import { h } from '../ui/dom';
@@ -20,7 +21,7 @@ import { writeStl } from './export/stl';
 import { writeVtk } from './export/vtk';
 import { bivWallErrorText, bivWallFigures, bivWallFiguresTitle, bivWallFileName, bivWallFormatTitle, bivWallReadiness, type BivWallReadiness } from './export/bivWall';
 import { wallErrorText, wallFigures, wallFiguresTitle, wallFileName, wallFormatTitle, wallReadiness, type WallReadiness } from './export/wall';
-import { WallRow, type WallRowSpec } from './WallRow';
+import { WallRow, type BuiltWall, type WallRowSpec } from './WallRow';
 
 const ALL_OFF = 'All surfaces of the file in one OBJ: each surface appears once its own run has finished (pick it in the Surface menu)';
 
@@ -41,6 +42,13 @@ export interface ExportSource {
   bivWallFile(format: WallFormat): Promise<{ summary: WallSummary; bytes: Uint8Array }> | null;
   /** Reports a failed export. */
   failed(e: unknown): void;
+  /**
+   * Shows a wall built as PLY in the 3D view in place of the surface (`id`: its row's, `wall` or
+   * `biv-wall`), replacing any wall shown; throws when it cannot be shown.
+   */
+  showWall(id: string, wall: BuiltWall): void;
+  /** Takes the wall out of the 3D view: the surface comes back. */
+  hideWall(): void;
 }
 
 /** The LV wall's row: LV_ENDO + LV_EPI (its test ids `wall-export`, `export-wall-<fmt>`, `wall-figures`). */
@@ -62,6 +70,8 @@ const LV_WALL: WallRowSpec = {
       massG: String(s.myocardial_mass_g),
       cavityMl: String(s.cavity_volume_ml),
       thicknessMm: String(s.thickness_mm?.mean ?? ''),
+      thicknessP95Mm: String(s.thickness_mm?.p95 ?? ''),
+      thicknessMaxMm: String(s.thickness_mm?.max ?? ''),
       moved: String(s.endocardium_moved.vertices),
       triangles: String(s.triangles),
     },
@@ -88,6 +98,8 @@ const BIV_WALL: WallRowSpec = {
       lvCavityMl: String(s.cavities?.find((c) => c.region === 'lv_endocardium')?.volume_ml ?? s.cavity_volume_ml),
       rvCavityMl: String(s.cavities?.find((c) => c.region === 'rv_endocardium')?.volume_ml ?? ''),
       thicknessMm: String(s.thickness_mm?.mean ?? ''),
+      thicknessP95Mm: String(s.thickness_mm?.p95 ?? ''),
+      thicknessMaxMm: String(s.thickness_mm?.max ?? ''),
       moved: String(s.endocardium_moved.vertices),
       crossings: String(s.endo_epi_crossings),
       triangles: String(s.triangles),
@@ -127,8 +139,16 @@ export class ExportPanel {
     this.png = button('PNG', 'export-png', 'Screenshot of the 3D view', () => this.exportPng());
     this.all = button('All surfaces OBJ', 'export-all-obj', ALL_OFF, () => this.exportAll());
     const failed = (e: unknown) => source.failed(e);
-    this.lvWall = new WallRow(LV_WALL, { info: () => source.info(), build: (f) => source.wallFile(f), failed });
-    this.bivWall = new WallRow(BIV_WALL, { info: () => source.info(), build: (f) => source.bivWallFile(f), failed });
+    const view = (id: string) => ({
+      // One wall in the view at a time: the other row's View is released as this one's shows.
+      show: (w: BuiltWall) => {
+        for (const row of this.walls) if (row.id !== id) row.release();
+        source.showWall(id, w);
+      },
+      hide: () => source.hideWall(),
+    });
+    this.lvWall = new WallRow(LV_WALL, { info: () => source.info(), build: (f) => source.wallFile(f), failed, ...view(LV_WALL.id) });
+    this.bivWall = new WallRow(BIV_WALL, { info: () => source.info(), build: (f) => source.bivWallFile(f), failed, ...view(BIV_WALL.id) });
     this.element = h(
       'section',
       { class: 'panel exports', 'aria-label': 'Export' },
@@ -151,6 +171,20 @@ export class ExportPanel {
   /** Whether the biventricular wall can be built now (export/bivWall.ts `bivWallReadiness`), as `setWall`. */
   setBivWall(wall: BivWallReadiness): void {
     this.bivWall.set(wall);
+  }
+
+  private get walls(): WallRow[] {
+    return [this.lvWall, this.bivWall];
+  }
+
+  /** Takes a wall shown from its View out of the 3D view (a new run, another file or surface): the surface comes back. */
+  hideWall(): void {
+    for (const row of this.walls) row.stopViewing();
+  }
+
+  /** The row whose wall is in the 3D view (or being built to be), if any: `wall` or `biv-wall`. */
+  get viewing(): string | null {
+    return this.walls.find((r) => r.isViewing)?.id ?? null;
   }
 
   setAvailable(hasResult: boolean, hasFile: boolean): void {

@@ -1,8 +1,12 @@
 /**
- * One wall's row of the export panel (the LV wall, the biventricular wall): a label, its STL, OBJ,
- * PLY and VTK buttons (enabled while the wall can be built, titled with why not otherwise), and a
- * line of figures once built, or why it was not. The wall is built in the worker on a click and
- * saved; figures of a wall whose meshes or settings have since changed are taken away. What the
+ * One wall's row of the export panel (the LV wall, the biventricular wall): a label, its View
+ * toggle and its STL, OBJ, PLY and VTK buttons (enabled while the wall can be built, titled with
+ * why not otherwise), and a line of figures once built, or why it was not. The wall is built in
+ * the worker on a click and saved; figures of a wall whose meshes or settings have since changed
+ * are taken away. View builds the same wall as PLY (the format that carries the thickness and the
+ * regions) and has it shown in the 3D view in place of the surface, until clicked again or until
+ * the wall goes stale (`set`) or the panel takes it away (`stopViewing`: a new run, another file);
+ * a PLY build of the current meshes is kept and shown again without asking the worker. What the
  * row says comes from its `WallRowSpec` (export/wall.ts, export/bivWall.ts): the row only wires it.
  */
 import { WALL_FORMATS, toCoreErrorData, type WallFormat, type WallSummary } from '../core-client/protocol';
@@ -44,19 +48,34 @@ export interface WallRowSpec {
   view(s: WallSummary): WallFiguresView;
 }
 
+/** A wall built in the worker: its figures and its file. */
+export interface BuiltWall {
+  summary: WallSummary;
+  bytes: Uint8Array;
+}
+
 export interface WallRowSource {
   info(): ExportInfo | null;
   /** The wall built in the worker and written as `format` (null: it cannot be built now); rejects with the core's error. */
-  build(format: WallFormat): Promise<{ summary: WallSummary; bytes: Uint8Array }> | null;
+  build(format: WallFormat): Promise<BuiltWall> | null;
   /** Reports a failed build (the banner). */
   failed(e: unknown): void;
+  /** Shows the wall (built as PLY) in the 3D view in place of the surface; throws if it cannot. */
+  show(wall: BuiltWall): void;
+  /** Takes the wall this row shows out of the 3D view: the surface comes back. */
+  hide(): void;
 }
+
+/** The format View builds: the one that carries both the thickness per vertex and the region per triangle. */
+export const VIEW_FORMAT: WallFormat = 'ply';
 
 const MIME: Record<WallFormat, string> = { stl: 'model/stl', obj: 'model/obj', ply: 'application/octet-stream', vtk: 'application/octet-stream' };
 
 export class WallRow {
   readonly element: HTMLElement;
   private readonly buttons = new Map<WallFormat, HTMLButtonElement>();
+  /** View: the wall in the 3D view (pressed) or not. */
+  private readonly viewButton: HTMLButtonElement;
   /** The wall's figures once built (or why it was not), while its meshes stay the ones used. */
   private readonly figures: HTMLElement;
   private readiness: WallRowReadiness;
@@ -65,6 +84,16 @@ export class WallRow {
   private figuresKey: string | null = null;
   /** The data attributes the figures line carries now (removed with it). */
   private dataKeys: string[] = [];
+  /** The wall is in the 3D view, or being built to be (the View button pressed). */
+  private viewing = false;
+  /** The readiness key of the wall viewed. */
+  private viewKey = '';
+  /** This row's wall is the one in the 3D view (handed to `source.show`, not yet taken away). */
+  private onScreen = false;
+  /** Bumped whenever viewing stops: a build still on its way is then not shown. */
+  private viewToken = 0;
+  /** The last PLY build and what it was built of (`heldKey`): shown again without asking the worker. */
+  private held: { key: string; wall: BuiltWall } | null = null;
 
   constructor(
     private readonly spec: WallRowSpec,
@@ -77,11 +106,14 @@ export class WallRow {
       b.setAttribute('aria-label', `${spec.label} ${fmt.toUpperCase()}`);
       this.buttons.set(fmt, b);
     }
+    this.viewButton = h('button', { type: 'button', class: 'small wall-view', 'data-testid': `view-${spec.id}`, 'aria-pressed': 'false', title: '' }, 'View');
+    this.viewButton.addEventListener('click', () => void this.toggleView());
+    this.viewButton.setAttribute('aria-label', `View the ${spec.label}`);
     this.figures = h('p', { class: 'wall-figures', 'data-testid': `${spec.id}-figures`, role: 'status', hidden: true });
     this.element = h(
       'div',
       { class: 'wall-export', 'data-testid': `${spec.id}-export`, role: 'group', 'aria-label': spec.label },
-      h('div', { class: 'wall-head' }, h('span', { class: 'wall-label' }, spec.label), h('span', { class: 'wall-what' }, spec.what)),
+      h('div', { class: 'wall-head' }, h('span', { class: 'wall-label' }, spec.label), h('span', { class: 'wall-what' }, spec.what), this.viewButton),
       h('div', { class: 'button-grid' }, ...this.buttons.values()),
       this.figures,
     );
@@ -89,10 +121,26 @@ export class WallRow {
     this.render();
   }
 
-  /** Whether the wall can be built now: the buttons and their titles follow; figures of a wall of other meshes (or settings) are taken away. */
+  /** The spec's id (`wall`, `biv-wall`). */
+  get id(): string {
+    return this.spec.id;
+  }
+
+  /** Whether the wall is in the 3D view (or being built to be). */
+  get isViewing(): boolean {
+    return this.viewing;
+  }
+
+  /**
+   * Whether the wall can be built now: the buttons and their titles follow; figures of a wall of
+   * other meshes (or settings) are taken away, and so is the wall from the view.
+   */
   set(readiness: WallRowReadiness): void {
     this.readiness = readiness;
-    if (this.figuresKey !== null && (!readiness.ready || readiness.key !== this.figuresKey)) this.show(null);
+    const current = readiness.ready ? readiness.key : null;
+    if (this.figuresKey !== null && this.figuresKey !== current) this.show(null);
+    if (this.viewing && this.viewKey !== current) this.stopViewing();
+    if (this.held && this.held.key !== this.heldKey()) this.held = null;
     this.render();
   }
 
@@ -104,6 +152,91 @@ export class WallRow {
       b.disabled = !w.ready || this.busy;
       b.title = w.ready ? this.spec.formatTitle(fmt) : w.title;
     }
+    const v = this.viewButton;
+    v.disabled = !w.ready || this.busy;
+    v.setAttribute('aria-pressed', this.viewing ? 'true' : 'false');
+    v.title = !w.ready
+      ? w.title
+      : this.viewing
+        ? `Back to the reconstructed surface (the ${this.spec.label} is shown in the 3D view)`
+        : `Show the ${this.spec.label} in the 3D view in place of the surface, coloured by wall thickness or by region (Wall colour in the view panel); Clip cuts it open`;
+  }
+
+  /** What a PLY build is of: the meshes and settings (the readiness key), the file and its frame. */
+  private heldKey(): string | null {
+    const info = this.source.info();
+    return this.readiness.ready && info ? JSON.stringify([this.readiness.key, info.fileName, info.frame]) : null;
+  }
+
+  /** Takes the wall out of the view (the surface comes back) if this row shows it. */
+  stopViewing(): void {
+    if (!this.viewing) return;
+    const shown = this.onScreen;
+    this.release();
+    // Still being built: the view shows nothing of this row's (perhaps the other wall) to take away.
+    if (shown) this.source.hide();
+  }
+
+  /** Another wall took the view (which it fills itself): this row's View is no longer pressed. */
+  release(): void {
+    if (!this.viewing) return;
+    this.viewing = false;
+    this.onScreen = false;
+    this.viewToken++;
+    this.render();
+  }
+
+  /** View: shows the wall (built as PLY, or the build held), or takes it away again. */
+  private async toggleView(): Promise<void> {
+    if (this.viewing) {
+      this.stopViewing();
+      return;
+    }
+    const wall = this.readiness;
+    const key = this.heldKey();
+    if (!wall.ready || this.busy || key === null) return;
+    const token = ++this.viewToken;
+    if (this.held?.key === key) {
+      this.viewing = true;
+      this.viewKey = wall.key;
+      this.display(this.held.wall, wall.key);
+      return;
+    }
+    const pending = this.source.build(VIEW_FORMAT);
+    if (!pending) return;
+    this.viewing = true;
+    this.viewKey = wall.key;
+    this.busy = true;
+    this.render();
+    this.show({ state: 'busy', text: this.spec.busy }, wall.key);
+    try {
+      const built = await pending;
+      if (this.heldKey() === key) this.held = { key, wall: built };
+      const stale = this.readiness.key !== wall.key;
+      if (token === this.viewToken && !stale) this.display(built, wall.key);
+      else this.show(stale ? null : { summary: built.summary }, wall.key);
+    } catch (e) {
+      if (token === this.viewToken) this.viewing = false;
+      this.show({ state: 'error', text: this.spec.errorText(toCoreErrorData(e).message) }, wall.key);
+      this.source.failed(e);
+    } finally {
+      this.busy = false;
+      this.render();
+    }
+  }
+
+  /** Hands a built wall to the view and fills the figures line; one the view cannot show is an error there. */
+  private display(built: BuiltWall, key: string): void {
+    try {
+      this.source.show(built);
+      this.onScreen = true;
+      this.show({ summary: built.summary }, key);
+    } catch (e) {
+      this.viewing = false;
+      this.show({ state: 'error', text: this.spec.errorText(toCoreErrorData(e).message) }, key);
+      this.source.failed(e);
+    }
+    this.render();
   }
 
   /** Fills the figures line: a built wall's figures, a message (`state` busy or error), or nothing. */
@@ -153,6 +286,8 @@ export class WallRow {
     this.show({ state: 'busy', text: this.spec.busy }, wall.key);
     try {
       const { summary, bytes } = await pending;
+      const key = this.heldKey();
+      if (fmt === VIEW_FORMAT && key !== null && this.readiness.key === wall.key) this.held = { key, wall: { summary, bytes } };
       download(bytes.slice(), this.spec.fileName(info, fmt), MIME[fmt]);
       // Settings changed meanwhile: the file is of the meshes asked for, the figures no longer current.
       this.show(this.readiness.key === wall.key ? { summary } : null, wall.key);

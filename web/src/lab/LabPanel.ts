@@ -667,7 +667,7 @@ export class LabPanel {
     this.sweepPlot.render([]);
     this.sweepComment = [
       `heartmesh parameter sweep of ${settings.fileName}${settings.surface ? ` (${settings.surface})` : ''}${withTruth && truthIndex !== null ? ` against ${this.truths[truthIndex].name}` : ''}`,
-      `base parameters ${JSON.stringify(settings.params)} lids ${settings.lids} smoothing_method ${settings.options.smoothing_method} soften_conflicts ${settings.options.soften_conflicts} align_slices ${settings.options.align_slices} end_caps ${settings.options.end_caps} keep_specks ${settings.options.keep_specks} apex_floor ${settings.options.apex_floor}`,
+      `base parameters ${JSON.stringify(settings.params)} lids ${settings.lids} smoothing_method ${settings.options.smoothing_method} soften_conflicts ${settings.options.soften_conflicts} align_slices ${settings.options.align_slices} end_caps ${settings.options.end_caps} keep_specks ${settings.options.keep_specks} apex_floor ${settings.options.apex_floor}${settings.options.drop_second_loops ? ' drop_second_loops true' : ''}`,
       'distances in mm (contour_*: contour points to mesh; truth_mean: mesh to truth, clipped), volume in ml',
     ];
     const handle = client.labBatch({ kind: 'sweep', ...settings, grid, withTruth }, (p) => {

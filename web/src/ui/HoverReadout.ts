@@ -1,4 +1,7 @@
-/** The read-out under the pointer: distance to the mesh in mm (after a run) and position in mm. */
+/**
+ * The read-out under the pointer: distance to the mesh in mm (after a run) and position in mm; on
+ * the myocardium wall (shown from the Export panel), its thickness in mm and its region.
+ */
 import type { HoverInfo } from '../viewer/Viewer';
 import { cssColorAt } from '../viewer/colormap';
 import { h, mm } from './dom';
@@ -18,7 +21,13 @@ export class HoverReadout {
     const p = info.point;
     const pos = `(${p.x.toFixed(1)}, ${p.y.toFixed(1)}, ${p.z.toFixed(1)}) mm`;
     const children: (Node | string)[] = [];
-    if (info.what === 'other surface') {
+    if (info.what === 'wall') {
+      // The wall: its thickness there and its region, the swatch its colour in the view.
+      const sw = h('span', { class: 'swatch' });
+      sw.style.background = info.tint ?? '';
+      const thick = info.thicknessMm;
+      children.push(sw, ...(thick === null || thick === undefined ? [] : [h('strong', {}, mm(thick, 1)), ' wall thickness · ']), info.label ?? 'wall', h('br'));
+    } else if (info.what === 'other surface') {
       // Another surface of the file, drawn faint: which one (its last run; no distances of its own here).
       const sw = h('span', { class: 'swatch' });
       sw.style.background = info.tint ?? '';

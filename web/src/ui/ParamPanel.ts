@@ -3,8 +3,8 @@
  * a parameter added in Rust appears here without UI changes. Log-scale parameters (lambda) get a
  * log slider. Below them, the modes that are not numbers: mesh ends (lids), the smoothing method
  * the softening of conflicting attractors, the breath-hold alignment,
- * the closing of open ends with its apex floor for short-axis-only stacks, and the keeping of
- * specks and strays. Emits every change; the controller debounces and restarts the run.
+ * the closing of open ends with its apex floor for short-axis-only stacks, the keeping of
+ * specks and strays, and the leaving out of second loops. Emits every change; the controller debounces and restarts the run.
  */
 import { DEFAULT_OPTIONS, SMOOTHING_METHODS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
 import { h } from './dom';
@@ -51,6 +51,21 @@ const KEEP_SPECKS_HELP =
   'and a speck, a short-axis ring under a tenth of the ring one slice away, not at the apex (a slice grazing the rim past the base, a stray click); ' +
   'tick it when such a contour is real anatomy (the paper\'s method keeps every contour)';
 
+const DROP_SECOND_LOOPS_HELP =
+  'leave out a closed loop lying apart (over 3 mm) from the main loop of its short-axis slice (an outflow tract, another structure drawn under the same label), ' +
+  'named in the warning, so the surface follows each slice\'s main loop instead of being pulled out towards it in a spike; ' +
+  'off by default (the paper\'s method uses every contour): tick it when the other loop is not part of this cavity';
+
+/** The options that are one checkbox each: the key in ReconOptions, the test id stem, the label and the help. */
+type CheckKey = 'soften_conflicts' | 'align_slices' | 'apex_floor' | 'keep_specks' | 'drop_second_loops';
+const CHECKS: readonly { key: CheckKey; id: string; label: string; help: string }[] = [
+  { key: 'soften_conflicts', id: 'soften-conflicts', label: 'Soften conflicting SAX/LAX attractors', help: SOFTEN_HELP },
+  { key: 'align_slices', id: 'align-slices', label: 'Align breath-holds', help: ALIGN_HELP },
+  { key: 'apex_floor', id: 'apex-floor', label: 'Apex floor (short-axis-only stacks)', help: APEX_FLOOR_HELP },
+  { key: 'keep_specks', id: 'keep-specks', label: 'Keep specks and strays', help: KEEP_SPECKS_HELP },
+  { key: 'drop_second_loops', id: 'drop-second-loops', label: 'Leave out second loops', help: DROP_SECOND_LOOPS_HELP },
+];
+
 /** Text shown instead of 0 for parameters where 0 means "automatic". */
 const ZERO_MEANS: Record<string, string> = { attractors: 'auto', attractor_spacing: 'off' };
 
@@ -68,11 +83,9 @@ export class ParamPanel {
   private values: ParamValues = {};
   private lidsMode: LidsMode = 'auto';
   private readonly smoothing: HTMLSelectElement;
-  private readonly soften: HTMLInputElement;
-  private readonly align: HTMLInputElement;
   private readonly endCaps: HTMLInputElement;
-  private readonly apexFloor: HTMLInputElement;
-  private readonly keepSpecks: HTMLInputElement;
+  /** The one-checkbox options, by their key in ReconOptions. */
+  private readonly checks = new Map<CheckKey, HTMLInputElement>();
   private options: ReconOptions = { ...DEFAULT_OPTIONS };
 
   constructor(
@@ -104,48 +117,23 @@ export class ParamPanel {
       this.renderOptions();
       this.emit();
     });
-    this.soften = h('input', {
-      type: 'checkbox', id: 'param-soften-conflicts', 'data-testid': 'param-soften-conflicts',
-      'aria-describedby': 'param-soften-conflicts-help',
-    });
-    this.soften.addEventListener('change', () => {
-      this.options = { ...this.options, soften_conflicts: this.soften.checked };
-      this.renderOptions();
-      this.emit();
-    });
-    this.align = h('input', {
-      type: 'checkbox', id: 'param-align-slices', 'data-testid': 'param-align-slices',
-      'aria-describedby': 'param-align-slices-help',
-    });
-    this.align.addEventListener('change', () => {
-      this.options = { ...this.options, align_slices: this.align.checked };
-      this.renderOptions();
-      this.emit();
-    });
+    for (const c of CHECKS) {
+      const box = h('input', {
+        type: 'checkbox', id: `param-${c.id}`, 'data-testid': `param-${c.id}`, 'aria-describedby': `param-${c.id}-help`,
+      });
+      box.addEventListener('change', () => {
+        this.options = { ...this.options, [c.key]: box.checked };
+        this.renderOptions();
+        this.emit();
+      });
+      this.checks.set(c.key, box);
+    }
     this.endCaps = h('input', {
       type: 'checkbox', id: 'param-end-caps', 'data-testid': 'param-end-caps',
       'aria-describedby': 'param-end-caps-help',
     });
     this.endCaps.addEventListener('change', () => {
       this.options = { ...this.options, end_caps: this.endCaps.checked ? 'auto' : 'off' };
-      this.renderOptions();
-      this.emit();
-    });
-    this.apexFloor = h('input', {
-      type: 'checkbox', id: 'param-apex-floor', 'data-testid': 'param-apex-floor',
-      'aria-describedby': 'param-apex-floor-help',
-    });
-    this.apexFloor.addEventListener('change', () => {
-      this.options = { ...this.options, apex_floor: this.apexFloor.checked };
-      this.renderOptions();
-      this.emit();
-    });
-    this.keepSpecks = h('input', {
-      type: 'checkbox', id: 'param-keep-specks', 'data-testid': 'param-keep-specks',
-      'aria-describedby': 'param-keep-specks-help',
-    });
-    this.keepSpecks.addEventListener('change', () => {
-      this.options = { ...this.options, keep_specks: this.keepSpecks.checked };
       this.renderOptions();
       this.emit();
     });
@@ -164,36 +152,17 @@ export class ParamPanel {
         this.smoothing,
         h('div', { class: 'param-help', id: 'param-smoothing-method-help' }, SMOOTHING_HELP),
       ),
-      h(
-        'div',
-        { class: 'param-row param-option', title: SOFTEN_HELP },
-        h('label', { class: 'param-check', for: 'param-soften-conflicts' }, this.soften, 'Soften conflicting SAX/LAX attractors'),
-        h('div', { class: 'param-help', id: 'param-soften-conflicts-help' }, SOFTEN_HELP),
-      ),
-      h(
-        'div',
-        { class: 'param-row param-option', title: ALIGN_HELP },
-        h('label', { class: 'param-check', for: 'param-align-slices' }, this.align, 'Align breath-holds'),
-        h('div', { class: 'param-help', id: 'param-align-slices-help' }, ALIGN_HELP),
-      ),
+      this.checkRow('soften_conflicts'),
+      this.checkRow('align_slices'),
       h(
         'div',
         { class: 'param-row param-option', title: END_CAPS_HELP },
         h('label', { class: 'param-check', for: 'param-end-caps' }, this.endCaps, 'Close open ends'),
         h('div', { class: 'param-help', id: 'param-end-caps-help' }, END_CAPS_HELP),
       ),
-      h(
-        'div',
-        { class: 'param-row param-option', title: APEX_FLOOR_HELP },
-        h('label', { class: 'param-check', for: 'param-apex-floor' }, this.apexFloor, 'Apex floor (short-axis-only stacks)'),
-        h('div', { class: 'param-help', id: 'param-apex-floor-help' }, APEX_FLOOR_HELP),
-      ),
-      h(
-        'div',
-        { class: 'param-row param-option', title: KEEP_SPECKS_HELP },
-        h('label', { class: 'param-check', for: 'param-keep-specks' }, this.keepSpecks, 'Keep specks and strays'),
-        h('div', { class: 'param-help', id: 'param-keep-specks-help' }, KEEP_SPECKS_HELP),
-      ),
+      this.checkRow('apex_floor'),
+      this.checkRow('keep_specks'),
+      this.checkRow('drop_second_loops'),
       h('div', { class: 'panel-actions' }, reset),
     );
   }
@@ -248,20 +217,32 @@ export class ParamPanel {
   /** The options' controls, marked like a changed slider when not at the core's default. */
   private renderOptions(): void {
     this.smoothing.value = this.options.smoothing_method;
-    this.soften.checked = this.options.soften_conflicts;
     this.smoothing.classList.toggle('changed', this.options.smoothing_method !== DEFAULT_OPTIONS.smoothing_method);
-    this.soften.parentElement?.classList.toggle('changed', this.options.soften_conflicts !== DEFAULT_OPTIONS.soften_conflicts);
-    this.align.checked = this.options.align_slices;
-    this.align.parentElement?.classList.toggle('changed', this.options.align_slices !== DEFAULT_OPTIONS.align_slices);
+    for (const [key, box] of this.checks) {
+      box.checked = this.options[key];
+      box.parentElement?.classList.toggle('changed', this.options[key] !== DEFAULT_OPTIONS[key]);
+    }
     this.endCaps.checked = this.options.end_caps === 'auto';
     this.endCaps.parentElement?.classList.toggle('changed', this.options.end_caps !== DEFAULT_OPTIONS.end_caps);
-    this.apexFloor.checked = this.options.apex_floor;
-    this.apexFloor.parentElement?.classList.toggle('changed', this.options.apex_floor !== DEFAULT_OPTIONS.apex_floor);
     // The floor is one of the lid points: without Close open ends it has nothing to act through.
-    this.apexFloor.disabled = this.options.end_caps === 'off';
-    this.apexFloor.parentElement?.classList.toggle('disabled', this.apexFloor.disabled);
-    this.keepSpecks.checked = this.options.keep_specks;
-    this.keepSpecks.parentElement?.classList.toggle('changed', this.options.keep_specks !== DEFAULT_OPTIONS.keep_specks);
+    const apexFloor = this.checks.get('apex_floor');
+    if (apexFloor) {
+      apexFloor.disabled = this.options.end_caps === 'off';
+      apexFloor.parentElement?.classList.toggle('disabled', apexFloor.disabled);
+    }
+  }
+
+  /** The row of a one-checkbox option: the box in its label, the help line under it. */
+  private checkRow(key: CheckKey): HTMLElement {
+    const c = CHECKS.find((x) => x.key === key);
+    const box = this.checks.get(key);
+    if (!c || !box) throw new Error(`no checkbox option ${key}`);
+    return h(
+      'div',
+      { class: 'param-row param-option', title: c.help },
+      h('label', { class: 'param-check', for: `param-${c.id}` }, box, c.label),
+      h('div', { class: 'param-help', id: `param-${c.id}-help` }, c.help),
+    );
   }
 
   private format(spec: ParamSpec, v: number): string {

@@ -2,9 +2,11 @@
  * View toggles over the viewport: wireframe, attractors, landmarks, the contours as given (only
  * meaningful after a run with breath-hold alignment: disabled otherwise), the file's other
  * surfaces (disabled until another surface of the file has been run), opacity, clipping plane,
- * reset view.
+ * reset view; while a myocardium wall is shown (the Export panel's View), what colours it:
+ * thickness or region.
  */
 import type { ViewSettings } from '../app/urlState';
+import type { WallColouring } from '../viewer/wallColours';
 import { h } from './dom';
 
 const AS_GIVEN_ON = 'The file\'s contours before the breath-hold shifts, faint and dashed: the mesh follows the shifted ones';
@@ -28,8 +30,11 @@ export class ViewControls {
   private readonly clip: HTMLInputElement;
   private readonly opacityOut: HTMLOutputElement;
   private readonly clipOut: HTMLOutputElement;
+  /** Wall colour (thickness | region), shown only while a wall is. */
+  private readonly wallColour: HTMLSelectElement;
+  private readonly wallColourRow: HTMLElement;
 
-  constructor(onChange: (v: ViewSettings) => void, onResetView: () => void) {
+  constructor(onChange: (v: ViewSettings) => void, onResetView: () => void, onWallColour: (c: WallColouring) => void = () => undefined) {
     this.wire = h('input', { type: 'checkbox', id: 'view-wire', 'data-testid': 'view-wireframe' });
     this.attractors = h('input', { type: 'checkbox', id: 'view-attr', 'data-testid': 'view-attractors' });
     this.landmarks = h('input', { type: 'checkbox', id: 'view-landmarks', 'data-testid': 'view-landmarks' });
@@ -39,6 +44,19 @@ export class ViewControls {
     this.clip = h('input', { type: 'range', id: 'view-clip', min: 0, max: 100, step: 1, 'data-testid': 'view-clip' });
     this.opacityOut = h('output', { for: 'view-opacity' });
     this.clipOut = h('output', { for: 'view-clip' });
+    this.wallColour = h(
+      'select',
+      { id: 'view-wall-colour', 'data-testid': 'wall-colour' },
+      h('option', { value: 'thickness' }, 'by thickness'),
+      h('option', { value: 'region' }, 'by region'),
+    );
+    this.wallColour.addEventListener('change', () => onWallColour(this.wallColour.value === 'region' ? 'region' : 'thickness'));
+    this.wallColourRow = h(
+      'label',
+      { class: 'select-row', for: 'view-wall-colour', hidden: true, title: 'Colour the wall by its thickness (mm) or by region (epicardium, endocardia, base)' },
+      'Wall',
+      this.wallColour,
+    );
     const reset = h('button', { type: 'button', class: 'small', 'data-testid': 'reset-view', title: 'Reset view (R)' }, 'Reset view');
     reset.addEventListener('click', onResetView);
     const emit = () => {
@@ -71,6 +89,7 @@ export class ViewControls {
         this.othersLabel,
         h('label', { class: 'range', for: 'view-opacity' }, 'Opacity', this.opacity, this.opacityOut),
         h('label', { class: 'range', for: 'view-clip', title: 'Cut away the near part of the mesh to look inside' }, 'Clip', this.clip, this.clipOut),
+        this.wallColourRow,
         reset,
       ),
     );
@@ -108,6 +127,12 @@ export class ViewControls {
     this.othersLabel.classList.toggle('disabled', !on);
     this.othersLabel.title = on ? `Faint around this surface: ${surfaces.join(', ')} as their last runs left them` : OTHERS_OFF;
     this.othersCount.textContent = on ? ` (${surfaces.length})` : '';
+  }
+
+  /** Whether a wall is shown (the Wall colour menu is there only then), and its colouring. */
+  setWallShown(on: boolean, colouring: WallColouring): void {
+    this.wallColourRow.hidden = !on;
+    this.wallColour.value = colouring;
   }
 
   show(v: ViewSettings): void {

@@ -254,3 +254,15 @@ export function keptSpecksNote(warnings: readonly string[], keepSpecks: boolean)
   if (!keepSpecks || !warnings.some((w) => /left out of the reconstruction/.test(w))) return null;
   return 'Keep specks and strays is on: the contours named above as left out are used in the reconstruction';
 }
+
+/**
+ * After a load-time warning naming second closed loops in short-axis slices (the core words it for
+ * its default, where they are used and pull the surface out): with Leave out second loops on, that
+ * they are left out; off, where the option is. Null when no warning names one.
+ */
+export function secondLoopsNote(warnings: readonly string[], dropSecondLoops: boolean): string | null {
+  if (!warnings.some((w) => /second closed loops? in (a )?short-axis slices?/.test(w))) return null;
+  return dropSecondLoops
+    ? 'Leave out second loops is on: the loops named above are left out of the reconstruction'
+    : 'the option Leave out second loops (Parameters) follows each slice\'s main loop only';
+}

@@ -125,6 +125,13 @@ export class MeshLayer {
     }
   }
 
+  /** Vertices and triangles of the mesh shown (0 and 0 when none is). */
+  get counts(): { vertices: number; triangles: number } {
+    const g = this.geometry;
+    if (!g || !this.group.visible) return { vertices: 0, triangles: 0 };
+    return { vertices: g.getAttribute('position').count, triangles: (g.getIndex()?.count ?? 0) / 3 };
+  }
+
   /** The three.js object to raycast against for the hover read-out. */
   get pickable(): THREE.Mesh {
     return this.mesh;

@@ -1,7 +1,8 @@
 /**
  * The 3D view: a three.js WebGLRenderer, orbit/zoom/pan (OrbitControls), the layers (mesh,
- * contours, attractors), a clipping plane facing the viewer to look inside, a hover read-out of
- * the distance under the pointer (raycast), reset view and PNG screenshots. Renders on demand
+ * contours, attractors; or, in their place, the myocardium wall the Export panel built), a
+ * clipping plane facing the viewer to look inside, a hover read-out of the distance (or the wall
+ * thickness) under the pointer (raycast), reset view and PNG screenshots. Renders on demand
  * (`requestRender`) so an idle page costs nothing. Owns GPU resources: call `dispose()`.
  */
 import * as THREE from 'three';
@@ -14,20 +15,28 @@ import { GivenContourLayer } from './GivenContourLayer';
 import { MeshLayer } from './MeshLayer';
 import { OtherSurfacesLayer } from './OtherSurfacesLayer';
 import { SetAsideLayer } from './SetAsideLayer';
+import { WallLayer } from './WallLayer';
+import type { WallColouring } from './wallColours';
+import type { WallSolid } from '../io/wallSolid';
 import { leftOutLabel } from '../ui/runText';
 
 export interface HoverInfo {
   /** Screen position (px, relative to the viewport). */
   x: number;
   y: number;
-  what: 'mesh' | 'contour point' | 'left out' | 'other surface';
+  what: 'mesh' | 'contour point' | 'left out' | 'other surface' | 'wall';
   point: THREE.Vector3;
   /** Contour-to-mesh distance in mm when known (after a finished run; never for a contour left out). */
   distanceMm: number | null;
-  /** For a contour the run left out: "left out: speck" and its id; for another surface, its label. */
+  /**
+   * For a contour the run left out: "left out: speck" and its id; for another surface, its label;
+   * for the wall, its region ("epicardium", or "cut face" inside the solid).
+   */
   label?: string;
-  /** For another surface of the file: its tint in the view. */
+  /** For another surface of the file, or the wall: its colour in the view. */
   tint?: string;
+  /** For the wall: its thickness there, mm (null on a cut face). */
+  thicknessMm?: number | null;
   id?: string;
 }
 
@@ -60,6 +69,15 @@ export class Viewer {
   /** The file's other surfaces as their last runs left them, faint (a toggle of the view controls). */
   readonly otherSurfacesLayer: OtherSurfacesLayer;
   readonly landmarkLayer = new LandmarkLayer();
+  /** The myocardium wall the Export panel built, shown in place of the surface layers (`showWall`). */
+  readonly wallLayer: WallLayer;
+  /**
+   * The reconstruction's layers (mesh, contours, attractors, other surfaces): hidden as one while
+   * a wall is shown, whatever each layer's own visibility (a run's display keeps setting those).
+   */
+  private readonly surfaceLayers = new THREE.Group();
+  /** Which wall is shown (the Export panel row's id: `wall`, `biv-wall`), for the canvas's `data-wall`. */
+  private wallId = '';
   /** Clipping plane facing the camera; `clip` in [0, 1] moves it through the model (1 = off). */
   private readonly clipPlane = new THREE.Plane(new THREE.Vector3(0, 0, -1), 1e6);
   private clip = 1;
@@ -94,7 +112,9 @@ export class Viewer {
 
     this.meshLayer = new MeshLayer([this.clipPlane]);
     this.otherSurfacesLayer = new OtherSurfacesLayer([this.clipPlane]);
-    this.scene.add(this.meshLayer.group, this.otherSurfacesLayer.group, this.givenLayer.group, this.setAsideLayer.group, this.contourLayer.group, this.attractorLayer.group, this.landmarkLayer.group);
+    this.wallLayer = new WallLayer([this.clipPlane]);
+    this.surfaceLayers.add(this.meshLayer.group, this.otherSurfacesLayer.group, this.givenLayer.group, this.setAsideLayer.group, this.contourLayer.group, this.attractorLayer.group);
+    this.scene.add(this.surfaceLayers, this.wallLayer.group, this.landmarkLayer.group);
     this.scene.add(new THREE.HemisphereLight(0xdde6f0, 0x30261f, 1.3));
     const key = new THREE.DirectionalLight(0xffffff, 1.6);
     key.position.set(1, 1.2, 1.5);
@@ -133,7 +153,7 @@ export class Viewer {
   private warmUp(): void {
     const g = warmupGeometry();
     const group = new THREE.Group();
-    for (const m of this.meshLayer.materials) group.add(new THREE.Mesh(g, m));
+    for (const m of [...this.meshLayer.materials, ...this.wallLayer.materials]) group.add(new THREE.Mesh(g, m));
     group.add(...this.contourLayer.materialObjects, this.givenLayer.materialObject, ...this.setAsideLayer.materialObjects, this.attractorLayer.materialObject);
     group.traverse((o) => (o.frustumCulled = false));
     group.position.set(0, 0, 1e6); // behind the default camera (at the origin, looking down -z)
@@ -156,6 +176,51 @@ export class Viewer {
     if (!this.dirty) return;
     this.dirty = false;
     this.renderer.render(this.scene, this.camera);
+    this.describeShown();
+  }
+
+  /**
+   * What was drawn, on the canvas's data attributes, for the browser tests (as `data-view-radius`):
+   * `data-shown` (surface or wall), the vertices and triangles of the mesh or wall drawn, and for
+   * a wall which one (`data-wall`), its colouring and how many colours it is drawn in.
+   */
+  private describeShown(): void {
+    const d = this.renderer.domElement.dataset;
+    const wall = this.wallLayer.counts;
+    const mesh = this.meshLayer.counts;
+    const shown = wall ?? mesh;
+    d.shown = wall ? 'wall' : 'surface';
+    d.wall = wall ? this.wallId : '';
+    d.vertices = String(shown.vertices);
+    d.triangles = String(shown.triangles);
+    d.wallColouring = wall?.mode ?? '';
+    d.wallColours = wall ? String(wall.colours) : '';
+  }
+
+  /**
+   * Shows the wall `solid` (`id`: which one) coloured by `colouring` in place of the
+   * reconstruction's layers (they come back with `hideWall`), widening the framing to hold it
+   * unless the user moved the camera.
+   */
+  showWall(solid: WallSolid, colouring: WallColouring, id: string): void {
+    this.wallId = id;
+    this.wallLayer.show(solid, colouring);
+    this.surfaceLayers.visible = false;
+    this.extendFrame(solid.positions);
+    this.requestRender();
+  }
+
+  /** The wall's colouring (thickness or region), if one is shown. */
+  setWallColouring(colouring: WallColouring): void {
+    this.wallLayer.setMode(colouring);
+    this.requestRender();
+  }
+
+  /** Takes the wall away: the reconstruction's layers are drawn again. */
+  hideWall(): void {
+    this.wallLayer.clear();
+    this.surfaceLayers.visible = true;
+    this.requestRender();
   }
 
   /**
@@ -270,6 +335,12 @@ export class Viewer {
     this.raycaster.setFromCamera(ndc, this.camera);
     const fitRadius = this.fit?.radius ?? 50;
     this.raycaster.params.Points = { threshold: fitRadius * 0.012 };
+    if (this.wallLayer.shown) {
+      // The wall alone is drawn: nothing else is under the pointer.
+      const wall = this.wallLayer.pick(this.raycaster, (p) => this.isVisiblePoint(p));
+      this.hoverListener(wall && { x, y, what: 'wall', point: wall.point, distanceMm: null, label: wall.region, tint: wall.tint, thicknessMm: wall.thicknessMm });
+      return;
+    }
     const aside = this.setAsideLayer.pickable;
     if (aside && this.setAsideLayer.group.visible) {
       const hit = this.raycaster.intersectObject(aside, false)[0];
@@ -334,6 +405,7 @@ export class Viewer {
     this.givenLayer.dispose();
     this.setAsideLayer.dispose();
     this.otherSurfacesLayer.dispose();
+    this.wallLayer.dispose();
     this.attractorLayer.dispose();
     this.landmarkLayer.dispose();
     this.renderer.dispose();

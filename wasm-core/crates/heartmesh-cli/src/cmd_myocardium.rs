@@ -12,7 +12,7 @@ use heartmesh_core::{ContourSet, CoreError, Params};
 use serde_json::{json, Value};
 
 use crate::cmd_convert::file_name;
-use crate::cmd_reconstruct::{apex_lid, classify, mesh_output, params_from, parse_with_params};
+use crate::cmd_reconstruct::{apex_lid, classify, mesh_output, params_from, parse_with_inputs};
 use crate::contours;
 use crate::error::CliError;
 use crate::files;
@@ -89,17 +89,13 @@ struct Surface {
 }
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
-    let p = parse_with_params(
+    let p = parse_with_inputs(
         args,
         VALUE_FLAGS,
         SWITCHES,
         &[("-o", "output"), ("-q", "quiet")],
+        "myocardium needs a contour file with LV endo- and epicardial contours",
     )?;
-    if p.positional.is_empty() {
-        return Err(CliError::usage(
-            "myocardium needs a contour file with LV endo- and epicardial contours",
-        ));
-    }
     if p.value("surface").is_some() {
         return Err(CliError::usage(
             "myocardium takes --endo and --epi (the two surfaces of the wall), not --surface",

@@ -4,7 +4,7 @@
 use std::cell::RefCell;
 use std::time::Instant;
 
-use heartmesh_core::contours::set_aside;
+use heartmesh_core::contours::{set_aside, slice_loops};
 use heartmesh_core::io::{self, MeshFormat};
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{ContourSet, CoreError, LidMode, Params};
@@ -151,6 +151,23 @@ pub(crate) fn parse_with_params(
     )
 }
 
+/// [`parse_with_params`] for a command that reads contour files: a call naming none is a usage
+/// error (`missing` says what the command needs) before any flag is looked at, alike in every
+/// command that runs reconstructions.
+pub(crate) fn parse_with_inputs(
+    args: &[String],
+    own_values: &[&str],
+    own_switches: &[&str],
+    aliases: &[(&str, &str)],
+    missing: &str,
+) -> Result<Parsed, CliError> {
+    let p = parse_with_params(args, own_values, own_switches, aliases)?;
+    if p.positional.is_empty() {
+        return Err(CliError::usage(missing));
+    }
+    Ok(p)
+}
+
 /// Flag names (dashes) of the numeric parameters, from the core's schema.
 fn numeric_flags() -> Vec<String> {
     Params::schema()
@@ -160,18 +177,14 @@ fn numeric_flags() -> Vec<String> {
 }
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
-    let p = parse_with_params(
+    let p = parse_with_inputs(
         args,
         VALUE_FLAGS,
         SWITCHES,
         &[("-o", "output"), ("-q", "quiet")],
+        "reconstruct needs a contour file (or a segmented study: a short-axis label map and its \
+         long-axis views)",
     )?;
-    if p.positional.is_empty() {
-        return Err(CliError::usage(
-            "reconstruct needs a contour file (or a segmented study: a short-axis label map and \
-             its long-axis views)",
-        ));
-    }
     let (output, format) = mesh_output(&p, "reconstruct needs -o MESH (e.g. -o mesh.obj)")?;
     let quiet = p.switch("quiet");
     let frame = contours::frame_flag(p.value("frame"))?;
@@ -361,6 +374,21 @@ impl Run<'_> {
                 self.say(format!(
                     "heartmesh: note: {input}: --keep-specks: the contours named above as left out \
                      are kept in the reconstruction"
+                ));
+            }
+            if warnings
+                .iter()
+                .any(|w| slice_loops::is_second_loop_warning(w))
+            {
+                self.say(format!(
+                    "heartmesh: note: {input}: {}",
+                    if params.drop_second_loops {
+                        "--drop-second-loops: the loops named above are left out of the \
+                         reconstruction"
+                    } else {
+                        "--drop-second-loops leaves such loops out, so the surface follows each \
+                         slice's main loop"
+                    }
                 ));
             }
             if let Some(note) = report::alignment_note(&rep) {

@@ -15,7 +15,7 @@ use heartmesh_core::{ContourSet, CoreError, Params};
 use serde_json::{json, Value};
 
 use crate::cmd_convert::file_name;
-use crate::cmd_reconstruct::{apex_lid, classify, params_from, parse_with_params};
+use crate::cmd_reconstruct::{apex_lid, classify, params_from, parse_with_inputs};
 use crate::contours;
 use crate::each_surface;
 use crate::error::CliError;
@@ -71,13 +71,14 @@ impl Cell {
 }
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
-    let p = parse_with_params(args, VALUE_FLAGS, SWITCHES, &[("-q", "quiet")])?;
-    if p.positional.is_empty() {
-        return Err(CliError::usage(
-            "volumes needs contour files, one per phase (e.g. the ED and ES files), or one file \
-             holding a sequence of time frames",
-        ));
-    }
+    let p = parse_with_inputs(
+        args,
+        VALUE_FLAGS,
+        SWITCHES,
+        &[("-q", "quiet")],
+        "volumes needs contour files, one per phase (e.g. the ED and ES files), or one file \
+         holding a sequence of time frames",
+    )?;
     // A usage error should not wait for the files.
     params_from(&p, Params::default())?;
     // The outputs before any work: a mistyped directory should not cost every phase's runs.

@@ -346,12 +346,16 @@ fn usage_errors_exit_2_with_one_line() {
     let out = d.to_str().unwrap();
     let missing = d.join("missing.obj");
     let missing = missing.to_str().unwrap();
+    // A kind of experiment on the built-in LV into `out`, with `flags`: most cases differ only
+    // there.
+    let on = |kind: &'static str, flags: &[&'static str]| {
+        let mut args = vec!["experiment", kind, "parametric-lv", "-o", out];
+        args.extend_from_slice(flags);
+        args
+    };
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["experiment"], "needs a kind"),
-        (
-            vec!["experiment", "nonsense", "parametric-lv", "-o", out],
-            "unknown experiment",
-        ),
+        (on("nonsense", &[]), "unknown experiment"),
         (
             vec!["experiment", "sax-count", "parametric-lv"],
             "-o OUT_DIR",
@@ -361,139 +365,28 @@ fn usage_errors_exit_2_with_one_line() {
             "at least one TRUTH",
         ),
         (
-            vec![
-                "experiment",
-                "population",
-                "parametric-lv",
-                "-o",
-                out,
-                "--count",
-                "0",
-            ],
+            on("population", &["--count", "0"]),
             "--count must be at least 1",
         ),
+        (on("sax-count", &["--from", "9", "--to", "3"]), "no count"),
+        (on("sax-count", &["--from", "1"]), "sax"),
         (
-            vec![
-                "experiment",
-                "sax-count",
-                "parametric-lv",
-                "-o",
-                out,
-                "--from",
-                "9",
-                "--to",
-                "3",
-            ],
-            "no count",
-        ),
-        (
-            vec![
-                "experiment",
-                "sax-count",
-                "parametric-lv",
-                "-o",
-                out,
-                "--from",
-                "1",
-            ],
-            "sax",
-        ),
-        (
-            vec![
-                "experiment",
-                "sax-count",
-                "parametric-lv",
-                "-o",
-                out,
-                "--levels",
-                "1",
-            ],
+            on("sax-count", &["--levels", "1"]),
             "unknown option --levels",
         ),
         (
-            vec![
-                "experiment",
-                "misalignment",
-                "parametric-lv",
-                "-o",
-                out,
-                "--lax",
-                "9",
-            ],
+            on("misalignment", &["--lax", "9"]),
             "--lax 9: at most 8 long-axis views",
         ),
+        (on("lax-count", &["--lax", "0"]), "unknown option --lax"),
         (
-            vec![
-                "experiment",
-                "lax-count",
-                "parametric-lv",
-                "-o",
-                out,
-                "--lax",
-                "0",
-            ],
-            "unknown option --lax",
-        ),
-        (
-            vec![
-                "experiment",
-                "misalignment",
-                "parametric-lv",
-                "-o",
-                out,
-                "--apex-floor",
-                "--no-apex-floor",
-            ],
+            on("misalignment", &["--apex-floor", "--no-apex-floor"]),
             "not both",
         ),
-        (
-            vec![
-                "experiment",
-                "sweep",
-                "parametric-lv",
-                "-o",
-                out,
-                "--lambda",
-                "abc",
-            ],
-            "not a list of numbers",
-        ),
-        (
-            vec![
-                "experiment",
-                "sweep",
-                "parametric-lv",
-                "-o",
-                out,
-                "--lambda",
-                "-5",
-            ],
-            "lambda",
-        ),
-        (
-            vec![
-                "experiment",
-                "misalignment",
-                "parametric-lv",
-                "-o",
-                out,
-                "--levels",
-                "1:2:3",
-            ],
-            "SHIFT:TILT",
-        ),
-        (
-            vec![
-                "experiment",
-                "lax-count",
-                "parametric-lv",
-                "-o",
-                out,
-                "--to",
-                "9",
-            ],
-            "lax",
-        ),
+        (on("sweep", &["--lambda", "abc"]), "not a list of numbers"),
+        (on("sweep", &["--lambda", "-5"]), "lambda"),
+        (on("misalignment", &["--levels", "1:2:3"]), "SHIFT:TILT"),
+        (on("lax-count", &["--to", "9"]), "lax"),
         (
             vec!["experiment", "lax-count", missing, "-o", out],
             "missing.obj",

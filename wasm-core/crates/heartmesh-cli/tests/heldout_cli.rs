@@ -56,11 +56,25 @@ fn a_second_loop_in_the_basal_slice_is_named_with_its_distance() {
                 "{found:?}"
             );
             assert_eq!(err.matches("second closed loop").count(), 1, "{err}");
+            // A note says which option leaves it out; with the option, that it is left out.
+            assert!(
+                err.contains(": --drop-second-loops leaves such loops out, so the surface follows each slice's main loop"),
+                "{err}"
+            );
+            let (code, _, dropped) = run(bin()
+                .args(["reconstruct", file.to_str().unwrap(), "-o"])
+                .arg(dir.join("out.obj"))
+                .arg("--drop-second-loops"));
+            assert_eq!(code, 0, "{dropped}");
+            assert!(
+                dropped.contains(": --drop-second-loops: the loops named above are left out of the reconstruction"),
+                "{dropped}"
+            );
+        } else {
+            assert!(!err.contains("--drop-second-loops"), "{err}");
         }
     }
 }
-
-/// Vertex and face lines of an OBJ (the header names the file and the flags).
 
 #[test]
 fn drop_second_loops_gives_the_mesh_of_the_file_without_the_loop() {

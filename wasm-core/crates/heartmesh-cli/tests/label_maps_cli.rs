@@ -13,22 +13,30 @@ fn mesh(name: &str) -> String {
         .to_string()
 }
 
+/// `heartmesh segment` of the SPASM LV (cavity and epicardium) and its RV free wall to `seg`,
+/// with `extra` arguments: the painted study of three structures the tests read back.
+fn segment_spasm(seg: &str, extra: &[&str]) -> (i32, String, String) {
+    run(bin()
+        .args([
+            "segment",
+            "--lv-endo",
+            &mesh("cardiomesh-spasm-LV_endo.obj"),
+            "--lv-epi",
+            &mesh("cardiomesh-spasm-LV_epi.obj"),
+            "--rv-free-wall",
+            &mesh("cardiomesh-spasm-RV_endo.obj"),
+            "-o",
+            seg,
+        ])
+        .args(extra))
+}
+
 #[test]
 fn a_painted_segmentation_reconstructs_every_structure() {
     let dir = scratch("label-maps");
     let seg = dir.join("spasm.nii.gz");
     let seg = seg.to_str().unwrap();
-    let (code, out, err) = run(bin().args([
-        "segment",
-        "--lv-endo",
-        &mesh("cardiomesh-spasm-LV_endo.obj"),
-        "--lv-epi",
-        &mesh("cardiomesh-spasm-LV_epi.obj"),
-        "--rv-free-wall",
-        &mesh("cardiomesh-spasm-RV_endo.obj"),
-        "-o",
-        seg,
-    ]));
+    let (code, out, err) = segment_spasm(seg, &[]);
     assert_eq!(code, 0, "{err}");
     assert!(
         out.contains("1.25 x 1.25 mm pixels, 10.0 mm slices"),
@@ -133,19 +141,7 @@ fn a_stack_with_long_axis_views() {
     let dir = scratch("label-map-views");
     let seg = dir.join("seg.nii.gz");
     let seg = seg.to_str().unwrap();
-    let (code, out, err) = run(bin().args([
-        "segment",
-        "--lv-endo",
-        &mesh("cardiomesh-spasm-LV_endo.obj"),
-        "--lv-epi",
-        &mesh("cardiomesh-spasm-LV_epi.obj"),
-        "--rv-free-wall",
-        &mesh("cardiomesh-spasm-RV_endo.obj"),
-        "-o",
-        seg,
-        "--lax",
-        "3",
-    ]));
+    let (code, out, err) = segment_spasm(seg, &["--lax", "3"]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(out.matches("long-axis view").count(), 3, "{out}");
     let view = |n: u32| {

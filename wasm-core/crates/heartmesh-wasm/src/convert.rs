@@ -17,7 +17,8 @@ use serde_json::{json, Map, Value};
 
 /// The non-numeric options the params JSON object may also carry (beside the schema's numbers):
 /// `smoothing_method` (a string, `SmoothingMethod::ALL`), `soften_conflicts`, `align_slices`,
-/// `keep_specks` and `apex_floor` (bools), `end_caps` (a string, `EndCapMode::ALL`); absent: the
+/// `keep_specks`, `apex_floor` and `drop_second_loops` (bools), `end_caps` (a string,
+/// `EndCapMode::ALL`); absent: the
 /// core's default. They travel inside the same object so that the run, the sweep and
 /// leave-one-out take them one way.
 pub const SMOOTHING_METHOD: &str = "smoothing_method";
@@ -29,6 +30,9 @@ pub const KEEP_SPECKS: &str = "keep_specks";
 /// The one-sided floor at the tip the apical rings' taper predicts, for an apex no long-axis
 /// curve reaches (`Params::apex_floor`; on by default since session 14).
 pub const APEX_FLOOR: &str = "apex_floor";
+/// Leave out the closed loops lying apart from their short-axis slice's main loop, which the
+/// load-time warning names (`Params::drop_second_loops`; off by default: the user's call).
+pub const DROP_SECOND_LOOPS: &str = "drop_second_loops";
 
 /// Builds parameters from a JSON object of schema names to numbers (plus the options above),
 /// applied in schema order (so `attractor_spacing` > 0 wins over `attractors`, whatever the key
@@ -51,6 +55,7 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
             END_CAPS,
             KEEP_SPECKS,
             APEX_FLOOR,
+            DROP_SECOND_LOOPS,
         ]
         .contains(&k)
     };
@@ -80,9 +85,9 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
     Ok(params)
 }
 
-/// Applies `smoothing_method`, `end_caps`, `soften_conflicts`, `align_slices`, `keep_specks` and
-/// `apex_floor` when present, with the core's setters; a wrong type or name is an error naming
-/// the option and what it accepts.
+/// Applies `smoothing_method`, `end_caps`, `soften_conflicts`, `align_slices`, `keep_specks`,
+/// `apex_floor` and `drop_second_loops` when present, with the core's setters; a wrong type or
+/// name is an error naming the option and what it accepts.
 fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()> {
     match object.get(SMOOTHING_METHOD) {
         None => {}
@@ -109,6 +114,7 @@ fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()>
         (ALIGN_SLICES, &mut params.align_slices),
         (KEEP_SPECKS, &mut params.keep_specks),
         (APEX_FLOOR, &mut params.apex_floor),
+        (DROP_SECOND_LOOPS, &mut params.drop_second_loops),
     ] {
         match object.get(name) {
             None => {}
@@ -135,7 +141,8 @@ fn method_names() -> String {
 }
 
 /// The options of `params` as `{smoothing_method, soften_conflicts, align_slices, end_caps,
-/// keep_specks, apex_floor}` (run results, exports, the settings of a loaded session).
+/// keep_specks, apex_floor, drop_second_loops}` (run results, exports, the settings of a loaded
+/// session).
 pub fn options_to_json(params: &Params) -> Value {
     json!({
         SMOOTHING_METHOD: params.smoothing.name(),
@@ -144,6 +151,7 @@ pub fn options_to_json(params: &Params) -> Value {
         END_CAPS: params.end_caps.name(),
         KEEP_SPECKS: params.keep_specks,
         APEX_FLOOR: params.apex_floor,
+        DROP_SECOND_LOOPS: params.drop_second_loops,
     })
 }
 
@@ -379,7 +387,7 @@ mod tests {
         let o = options_to_json(&p);
         assert_eq!(
             o,
-            json!({"smoothing_method": "taubin", "soften_conflicts": false, "align_slices": false, "end_caps": "auto", "keep_specks": false, "apex_floor": true})
+            json!({"smoothing_method": "taubin", "soften_conflicts": false, "align_slices": false, "end_caps": "auto", "keep_specks": false, "apex_floor": true, "drop_second_loops": false})
         );
         // Absent: the core's defaults.
         let d = params_from_json("{}", "auto", None).unwrap();
@@ -394,7 +402,7 @@ mod tests {
         assert_eq!(q, d);
         assert_eq!(
             options_to_json(&d),
-            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true, "align_slices": false, "end_caps": "auto", "keep_specks": false, "apex_floor": true})
+            json!({"smoothing_method": "laplacian-affine", "soften_conflicts": true, "align_slices": false, "end_caps": "auto", "keep_specks": false, "apex_floor": true, "drop_second_loops": false})
         );
         assert!(!d.align_slices);
         let a = params_from_json(r#"{"align_slices": true}"#, "auto", None).unwrap();
@@ -408,6 +416,10 @@ mod tests {
         let f = params_from_json(r#"{"apex_floor": false}"#, "auto", None).unwrap();
         assert!(!f.apex_floor);
         assert_eq!(options_to_json(&f)["apex_floor"], false);
+        assert!(!d.drop_second_loops);
+        let l = params_from_json(r#"{"drop_second_loops": true}"#, "auto", None).unwrap();
+        assert!(l.drop_second_loops);
+        assert_eq!(options_to_json(&l)["drop_second_loops"], true);
     }
 
     #[test]

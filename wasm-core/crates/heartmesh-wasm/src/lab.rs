@@ -173,9 +173,9 @@ impl Lab {
         params_json: &str,
         lids: &str,
     ) -> Result<String, JsValue> {
-        self.batch = None;
-        let params =
-            convert::params_from_json(params_json, lids, surface).map_err(|e| errors::to_js(&e))?;
+        let params = self
+            .new_batch_params(params_json, lids, surface)
+            .map_err(|e| errors::to_js(&e))?;
         let set = session.file(file_name)?;
         let (batch, cleaned, kinds) =
             Batch::leave_one_out(set, &params).map_err(|e| errors::to_js(&e))?;
@@ -201,9 +201,9 @@ impl Lab {
         lids: &str,
         sweep_json: &str,
     ) -> Result<String, JsValue> {
-        self.batch = None;
-        let params =
-            convert::params_from_json(params_json, lids, surface).map_err(|e| errors::to_js(&e))?;
+        let params = self
+            .new_batch_params(params_json, lids, surface)
+            .map_err(|e| errors::to_js(&e))?;
         let (grid, with_truth) = sweep_request(sweep_json).map_err(|e| errors::to_js(&e))?;
         let set = session.file(file_name)?;
         let truth = if with_truth {
@@ -285,9 +285,8 @@ impl Lab {
         sequence: &[u8],
         views: &[(&str, &[u8])],
     ) -> heartmesh_core::error::Result<String> {
-        self.batch = None;
         self.batch_points.clear();
-        let params = convert::params_from_json(params_json, lids, None)?;
+        let params = self.new_batch_params(params_json, lids, None)?;
         let requests = phase_requests(phases_json)?;
         // The frames are read one by one as the batch reaches them (`phases::Source::Frame`).
         let sequence = requests
@@ -327,6 +326,18 @@ impl Lab {
         Ok(info.to_string())
     }
 
+    /// The parameters of a new batch, the one in progress dropped first: a start that fails
+    /// leaves no batch, never the previous one to go on stepping.
+    fn new_batch_params(
+        &mut self,
+        params_json: &str,
+        lids: &str,
+        surface: Option<String>,
+    ) -> heartmesh_core::error::Result<heartmesh_core::Params> {
+        self.batch = None;
+        convert::params_from_json(params_json, lids, surface)
+    }
+
     /// [`Lab::make_parametric`], natively.
     pub fn make_parametric_with(&mut self, lv_json: &str) -> Result<String, LabError> {
         let lv = spec::parametric_lv(lv_json)?;
@@ -346,12 +357,8 @@ impl Lab {
         label: Option<String>,
         bytes: &[u8],
     ) -> Result<String, LabError> {
-        let mesh = read_truth(file_name, bytes)?;
-        self.truths.replace(Truth {
-            name: file_name.to_string(),
-            label,
-            mesh,
-        })?;
+        self.truths
+            .replace(dropped_truth(file_name, label, bytes)?)?;
         Ok(self.changed(0))
     }
 
@@ -362,12 +369,7 @@ impl Lab {
         label: Option<String>,
         bytes: &[u8],
     ) -> Result<String, LabError> {
-        let mesh = read_truth(file_name, bytes)?;
-        let index = self.truths.add(Truth {
-            name: file_name.to_string(),
-            label,
-            mesh,
-        })?;
+        let index = self.truths.add(dropped_truth(file_name, label, bytes)?)?;
         Ok(self.changed(index))
     }
 
@@ -507,6 +509,20 @@ impl Lab {
 /// The surface a batch's parameters select.
 fn surface_of(params: &heartmesh_core::Params) -> Option<&str> {
     params.surface.as_deref()
+}
+
+/// A dropped mesh file as a truth named by the file: loading the only truth and adding one more
+/// read a file alike.
+fn dropped_truth(
+    file_name: &str,
+    label: Option<String>,
+    bytes: &[u8],
+) -> heartmesh_core::error::Result<Truth> {
+    Ok(Truth {
+        name: file_name.to_string(),
+        label,
+        mesh: read_truth(file_name, bytes)?,
+    })
 }
 
 /// A dropped mesh as a truth: welded and consistently oriented, outward; refuses what is no

@@ -583,38 +583,11 @@ mod tests {
     /// An ellipsoidal cavity: SAX rings every 8 mm (the third shifted 3 mm along x) and two
     /// long-axis views, as CSV.
     fn misaligned_csv() -> String {
-        let mut csv = String::from("contour,x,y,z,surface\n");
-        let (a, c) = (25.0f64, 60.0f64);
-        for (k, z) in [-48.0f64, -40.0, -32.0, -24.0, -16.0, -8.0, 0.0]
-            .iter()
-            .enumerate()
-        {
-            let r = a * (1.0 - (z / c) * (z / c)).sqrt();
-            let dx = if k == 2 { 3.0 } else { 0.0 };
-            for i in 0..60 {
-                let t = i as f64 / 60.0 * std::f64::consts::TAU;
-                csv.push_str(&format!(
-                    "s{k},{},{},{z},LV_ENDO\n",
-                    r * t.cos() + dx,
-                    r * t.sin()
-                ));
-            }
-        }
-        for (k, phi) in [0.3f64, 1.9].iter().enumerate() {
-            for i in 0..=80 {
-                let t = std::f64::consts::PI * (0.5 + i as f64 / 80.0);
-                let (u, z) = (a * t.sin(), c * t.cos());
-                if z > 4.0 {
-                    continue;
-                }
-                csv.push_str(&format!(
-                    "l{k},{},{},{z},LV_ENDO\n",
-                    u * phi.cos(),
-                    u * phi.sin()
-                ));
-            }
-        }
-        csv
+        let shift = |k: usize| if k == 2 { 3.0 } else { 0.0 };
+        format!(
+            "contour,x,y,z,surface\n{}",
+            crate::test_data::cavity_rows("LV_ENDO", "", 25.0, 60.0, shift)
+        )
     }
 
     /// `result_json` of a finished run (natively: `Session::start` needs the browser's clock).

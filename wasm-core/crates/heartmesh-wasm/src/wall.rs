@@ -454,40 +454,9 @@ mod tests {
     use heartmesh_core::io;
     use heartmesh_core::pipeline::Reconstruction;
 
-    /// Rings of an ellipsoidal cavity of semi-axes `a` (around) and `c` (along z), centred at
-    /// z = 0, cut every 8 mm from -48 to 0, as contour CSV rows of `surface`; two long-axis curves
-    /// close the apex.
+    /// Rings of an ellipsoidal cavity (`test_data::cavity_rows`), ids prefixed by the surface.
     fn cavity_rows(surface: &str, a: f64, c: f64) -> String {
-        let mut csv = String::new();
-        for (k, z) in [-48.0f64, -40.0, -32.0, -24.0, -16.0, -8.0, 0.0]
-            .iter()
-            .enumerate()
-        {
-            let r = a * (1.0 - (z / c) * (z / c)).sqrt();
-            for i in 0..60 {
-                let t = i as f64 / 60.0 * std::f64::consts::TAU;
-                csv.push_str(&format!(
-                    "{surface}_s{k},{},{},{z},{surface}\n",
-                    r * t.cos(),
-                    r * t.sin()
-                ));
-            }
-        }
-        for (k, phi) in [0.3f64, 1.9].iter().enumerate() {
-            for i in 0..=80 {
-                let t = std::f64::consts::PI * (0.5 + i as f64 / 80.0);
-                let (u, z) = (a * t.sin(), c * t.cos());
-                if z > 4.0 {
-                    continue;
-                }
-                csv.push_str(&format!(
-                    "{surface}_l{k},{},{},{z},{surface}\n",
-                    u * phi.cos(),
-                    u * phi.sin()
-                ));
-            }
-        }
-        csv
+        crate::test_data::cavity_rows(surface, &format!("{surface}_"), a, c, |_| 0.0)
     }
 
     /// An LV of two nested ellipsoids: the cavity (25 x 60 mm) and the epicardium 8 mm out.
@@ -517,6 +486,27 @@ mod tests {
                 .flat_map(|v| [v.x, v.y, v.z])
                 .collect(),
             indices: mesh.indices_u32(),
+        }
+    }
+
+    /// `r` without its last `n` indices: no longer whole triangles.
+    fn cut(r: &Run, n: usize) -> Run {
+        Run {
+            positions: r.positions.clone(),
+            indices: r.indices[..r.indices.len() - n].to_vec(),
+        }
+    }
+
+    /// `r` moved `mm` along z: far enough, out of reach of the base plane.
+    fn lifted(r: &Run, mm: f64) -> Run {
+        Run {
+            positions: r
+                .positions
+                .iter()
+                .enumerate()
+                .map(|(i, &x)| if i % 3 == 2 { x + mm } else { x })
+                .collect(),
+            indices: r.indices.clone(),
         }
     }
 
@@ -683,10 +673,7 @@ mod tests {
         let try_with = |e: SurfaceMesh, p: SurfaceMesh, min: Option<f64>| {
             build(&set, "lv.csv", &params, e, p, min, MeshFormat::Obj, "").unwrap_err()
         };
-        let cut = Run {
-            positions: epi.positions.clone(),
-            indices: epi.indices[..epi.indices.len() - 1].to_vec(),
-        };
+        let cut = cut(&epi, 1);
         let e = try_with(surface("LV_ENDO", &endo), surface("LV_EPI", &cut), None);
         assert_eq!(e.code(), "invalid_mesh");
         assert!(e.to_string().contains("the LV_EPI mesh"), "{e}");
@@ -721,15 +708,7 @@ mod tests {
         let e = try_with(surface("LV_ENDO", &endo), surface("LV_ENDO", &endo), None);
         assert!(e.to_string().contains("same surface"), "{e}");
         // The epicardium 200 mm up: the base plane does not cut it.
-        let lifted = Run {
-            positions: epi
-                .positions
-                .iter()
-                .enumerate()
-                .map(|(i, &x)| if i % 3 == 2 { x + 200.0 } else { x })
-                .collect(),
-            indices: epi.indices.clone(),
-        };
+        let lifted = lifted(&epi, 200.0);
         let e = try_with(surface("LV_ENDO", &endo), surface("LV_EPI", &lifted), None);
         assert_eq!(e.code(), "degenerate");
         assert!(e.to_string().contains("does not cut the epicardium"), "{e}");
@@ -931,13 +910,10 @@ mod tests {
         let try_with = |m: Biventricular, min: Option<f64>| {
             build_biventricular(&set, "p.csv", &params, m, min, MeshFormat::Obj, "").unwrap_err()
         };
-        let e = try_with(
-            Biventricular {
-                rv_endo: surface("lv_endo", &rv),
-                ..biv(&lv, &rv, &epi)
-            },
-            None,
-        );
+        let all = biv(&lv, &rv, &epi);
+        let with_rv_endo = |rv_endo| Biventricular { rv_endo, ..all };
+        let with_biv_epi = |biv_epi| Biventricular { biv_epi, ..all };
+        let e = try_with(with_rv_endo(surface("lv_endo", &rv)), None);
         assert_eq!(e.code(), "param_invalid");
         assert!(
             e.to_string().contains(
@@ -945,40 +921,14 @@ mod tests {
             ),
             "{e}"
         );
-        let cut = Run {
-            positions: rv.positions.clone(),
-            indices: rv.indices[..rv.indices.len() - 2].to_vec(),
-        };
-        let e = try_with(
-            Biventricular {
-                rv_endo: surface("RV_ENDO", &cut),
-                ..biv(&lv, &rv, &epi)
-            },
-            None,
-        );
+        let cut = cut(&rv, 2);
+        let e = try_with(with_rv_endo(surface("RV_ENDO", &cut)), None);
         assert_eq!(e.code(), "invalid_mesh");
         assert!(e.to_string().contains("the RV_ENDO mesh"), "{e}");
-        assert_eq!(
-            try_with(biv(&lv, &rv, &epi), Some(-1.0)).code(),
-            "param_invalid"
-        );
+        assert_eq!(try_with(all, Some(-1.0)).code(), "param_invalid");
         // The epicardium 300 mm up: the base plane does not cut it.
-        let lifted = Run {
-            positions: epi
-                .positions
-                .iter()
-                .enumerate()
-                .map(|(i, &x)| if i % 3 == 2 { x + 300.0 } else { x })
-                .collect(),
-            indices: epi.indices.clone(),
-        };
-        let e = try_with(
-            Biventricular {
-                biv_epi: surface("BIV_EPI", &lifted),
-                ..biv(&lv, &rv, &epi)
-            },
-            None,
-        );
+        let lifted = lifted(&epi, 300.0);
+        let e = try_with(with_biv_epi(surface("BIV_EPI", &lifted)), None);
         assert_eq!(e.code(), "degenerate");
         let v = wall_error_json(&e, BIV_WALL);
         assert_eq!(v["code"], "degenerate");
@@ -988,13 +938,7 @@ mod tests {
             "{message}"
         );
         // A file without the surface named: the core's error from its contours.
-        let e = try_with(
-            Biventricular {
-                biv_epi: surface("LV_EPI_X", &epi),
-                ..biv(&lv, &rv, &epi)
-            },
-            None,
-        );
+        let e = try_with(with_biv_epi(surface("LV_EPI_X", &epi)), None);
         assert_eq!(e.code(), "unknown_surface");
     }
 

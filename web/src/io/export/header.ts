@@ -34,11 +34,14 @@ export function paramText(params: ParamValues): string {
     .join(' ');
 }
 
-/** ` smoothing_method=... soften_conflicts=... align_slices=... end_caps=... keep_specks=... apex_floor=...` when known. */
+/**
+ * ` smoothing_method=... soften_conflicts=... align_slices=... end_caps=... keep_specks=... apex_floor=...` when known,
+ * then ` drop_second_loops=true` when on (as the CLI writes it: only when on).
+ */
 function optionText(options: ReconOptions | undefined): string {
   if (!options) return '';
   const o = withDefaultOptions(options);
-  return ` smoothing_method=${o.smoothing_method} soften_conflicts=${o.soften_conflicts} align_slices=${o.align_slices} end_caps=${o.end_caps} keep_specks=${o.keep_specks} apex_floor=${o.apex_floor}`;
+  return ` smoothing_method=${o.smoothing_method} soften_conflicts=${o.soften_conflicts} align_slices=${o.align_slices} end_caps=${o.end_caps} keep_specks=${o.keep_specks} apex_floor=${o.apex_floor}${o.drop_second_loops ? ' drop_second_loops=true' : ''}`;
 }
 
 /** Header lines (without comment markers), each free of newlines. */

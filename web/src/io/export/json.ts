@@ -58,6 +58,7 @@ export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): s
     end_caps: options.end_caps,
     keep_specks: options.keep_specks,
     apex_floor: options.apex_floor,
+    drop_second_loops: options.drop_second_loops,
     params: info.params,
     ...(summary
       ? {

@@ -77,6 +77,13 @@ pub fn second_loop_warnings(set: &ContourSet) -> Vec<String> {
     }
 }
 
+/// Whether `warning` is the line [`second_loop_warnings`] writes: front ends add a note on the
+/// option that leaves such loops out (`Params::drop_second_loops`), in their own words.
+pub fn is_second_loop_warning(warning: &str) -> bool {
+    warning.contains("is a second closed loop in a short-axis slice")
+        || warning.contains("are second closed loops in short-axis slices")
+}
+
 /// A closed loop lying apart from the main loop of its slice.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ApartLoop {
@@ -307,6 +314,7 @@ mod tests {
             ..Default::default()
         };
         let w = second_loop_warnings(&set);
+        assert!(w.iter().all(|line| is_second_loop_warning(line)), "{w:?}");
         assert_eq!(w.len(), 1);
         assert!(
             w[0].starts_with("contour \"s4b\" (line 202, 13 mm from \"s4\") is a second"),

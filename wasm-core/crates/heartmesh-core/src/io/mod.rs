@@ -610,6 +610,23 @@ pub(crate) fn fmt_point(p: &Vec3, sep: &str) -> String {
     format!("{}{sep}{}{sep}{}", fmt_num(p.x), fmt_num(p.y), fmt_num(p.z))
 }
 
+/// Points one per line, their coordinates separated by spaces: the ascii point block of both
+/// VTK writers (legacy `POINTS`, XML `<Points>`), contours and meshes alike, so every VTK file
+/// spells a point as the others do.
+pub(crate) fn push_point_lines(out: &mut String, points: &[Vec3]) {
+    for p in points {
+        out.push_str(&format!("{}\n", fmt_point(p, " ")));
+    }
+}
+
+/// Numbers one per line: the ascii point data of both VTK writers (as [`push_point_lines`]).
+pub(crate) fn push_number_lines(out: &mut String, values: &[f64]) {
+    for v in values {
+        out.push_str(&fmt_num(*v));
+        out.push('\n');
+    }
+}
+
 /// Shortest text that reads back to the same f64 (`{}` never uses exponents, which would make
 /// tiny or huge values very long, so those use `{:e}`).
 pub(crate) fn fmt_num(v: f64) -> String {
@@ -621,8 +638,6 @@ pub(crate) fn fmt_num(v: f64) -> String {
     }
 }
 
-/// Test data lives in `shared/data` next to the checkout (../../../../shared/data from a crate in
-/// the main checkout, one level more from a worktree under wt/): the nearest ancestor that has it.
 /// Shortest text that reads back to the same f32 (STL and PLY-style single precision).
 pub(crate) fn fmt_f32(v: f64) -> String {
     let f = v as f32;

@@ -103,7 +103,13 @@ pub fn build_wall(
         mesh: endo,
         name: "endocardium",
     }];
-    build_solid(epi, &cavities, &REGION_NAMES, base, min_thickness_mm)
+    let parts = Parts {
+        epi,
+        cavities: &cavities,
+        names: &REGION_NAMES,
+        min_thickness_mm,
+    };
+    build_solid(&parts, base)
 }
 
 /// The biventricular myocardium: the closed biventricular epicardium (`BIV_EPI`) minus the LV
@@ -127,13 +133,13 @@ pub fn build_biventricular(
             name: "RV endocardium",
         },
     ];
-    build_solid(
-        biv_epi,
-        &cavities,
-        &BIV_REGION_NAMES,
-        base,
+    let parts = Parts {
+        epi: biv_epi,
+        cavities: &cavities,
+        names: &BIV_REGION_NAMES,
         min_thickness_mm,
-    )
+    };
+    build_solid(&parts, base)
 }
 
 /// Steps (mm) in which the base moves towards the apex when the surfaces cannot be joined at the
@@ -148,26 +154,34 @@ struct Cavity<'a> {
     name: &'a str,
 }
 
-/// The solid between `epi` and the `cavities` inside it, below `base`; `names` holds the
-/// epicardium's region, one per cavity, then the base's. Where the surfaces cannot be joined
-/// at `base`, or only with triangles passing through each other (at the most basal slice,
-/// misaligned images can leave a fold of one surface dipping through the plane, an outline
-/// across another, a cavity far out through the epicardium just under the plane), the base
-/// moves towards the apex in [`BASE_STEP_MM`] steps, at most [`BASE_MAX_SHIFT_MM`], to the
-/// first plane that gives a solid without crossings; the wall's `base` is the plane used and a
-/// note says why it moved (crossings only count with a minimum thickness: without it the
-/// surfaces are wanted as they are). When none does, the wall at `base` or its error.
-fn build_solid(
-    epi: &TriMesh,
-    cavities: &[Cavity],
+/// What a wall is made of, whatever plane cuts it: [`build_solid`] tries it at several planes,
+/// so the parts travel together instead of as the same five arguments at every try.
+#[derive(Clone, Copy)]
+struct Parts<'a> {
+    epi: &'a TriMesh,
+    /// The cavities inside `epi`.
+    cavities: &'a [Cavity<'a>],
+    /// The epicardium's region, one per cavity, then the base's.
     names: &'static [&'static str],
-    base: &Plane,
     min_thickness_mm: Option<f64>,
-) -> Result<Wall> {
-    let first = build_solid_at(epi, cavities, names, base, min_thickness_mm);
+}
+
+/// The solid between the epicardium and the cavities inside it, below `base`. Where the
+/// surfaces cannot be joined at `base`, or only with triangles passing through each other (at
+/// the most basal slice, misaligned images can leave a fold of one surface dipping through the
+/// plane, an outline across another, a cavity far out through the epicardium just under the
+/// plane), the base moves towards the apex in [`BASE_STEP_MM`] steps, at most
+/// [`BASE_MAX_SHIFT_MM`], to the first plane that gives a solid without crossings; the wall's
+/// `base` is the plane used and a note says why it moved (crossings only count with a minimum
+/// thickness: without it the surfaces are wanted as they are). When none does, the wall at
+/// `base` or its error.
+fn build_solid(parts: &Parts, base: &Plane) -> Result<Wall> {
+    let first = build_solid_at(parts, base);
     let why = match &first {
         // Without the thickness rule the surfaces are wanted as reconstructed, crossings and all.
-        Ok(wall) if wall.self_intersections == 0 || min_thickness_mm.is_none() => return first,
+        Ok(wall) if wall.self_intersections == 0 || parts.min_thickness_mm.is_none() => {
+            return first
+        }
         Ok(wall) => format!(
             "the wall had {} pairs of triangles passing through each other",
             wall.self_intersections
@@ -182,7 +196,7 @@ fn build_solid(
             origin: base.origin - base.normal * shift,
             normal: base.normal,
         };
-        match build_solid_at(epi, cavities, names, &lower, min_thickness_mm) {
+        match build_solid_at(parts, &lower) {
             Ok(mut wall) if wall.self_intersections == 0 => {
                 wall.notes.insert(
                     0,
@@ -200,13 +214,13 @@ fn build_solid(
 }
 
 /// [`build_solid`] at exactly `base`.
-fn build_solid_at(
-    epi: &TriMesh,
-    cavities: &[Cavity],
-    names: &'static [&'static str],
-    base: &Plane,
-    min_thickness_mm: Option<f64>,
-) -> Result<Wall> {
+fn build_solid_at(parts: &Parts, base: &Plane) -> Result<Wall> {
+    let Parts {
+        epi,
+        cavities,
+        names,
+        min_thickness_mm,
+    } = *parts;
     let mut notes = Vec::new();
     let mut epi_cut = cut(epi, base, "epicardium", &mut notes)?;
     let mut cuts = cavities

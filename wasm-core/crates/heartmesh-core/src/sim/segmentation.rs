@@ -55,6 +55,25 @@ impl Default for SegmentationSpec {
     }
 }
 
+impl SegmentationSpec {
+    /// Refuses spacings no grid can have, before a stack or a view is sized by them.
+    fn check(&self) -> Result<()> {
+        if !(self.pixel_mm > 0.0 && self.slice_mm > 0.0 && self.margin_mm >= 0.0) {
+            return Err(invalid("pixel, slice spacing and margin must be positive"));
+        }
+        Ok(())
+    }
+}
+
+/// A segmentation refused: its settings, or geometry no label map can be made of. One
+/// constructor for stacks and views, so every refusal carries the same parameter name.
+fn invalid(message: &str) -> CoreError {
+    CoreError::ParamInvalid {
+        name: "segmentation".into(),
+        message: message.into(),
+    }
+}
+
 /// Largest label map made (voxels), far above any cardiac stack.
 const MAX_VOXELS: usize = 64 << 20;
 
@@ -67,13 +86,7 @@ pub fn segment(
     axis: &LongAxis,
     spec: &SegmentationSpec,
 ) -> Result<LabelVolume> {
-    let bad = |m: &str| CoreError::ParamInvalid {
-        name: "segmentation".into(),
-        message: m.into(),
-    };
-    if !(spec.pixel_mm > 0.0 && spec.slice_mm > 0.0 && spec.margin_mm >= 0.0) {
-        return Err(bad("pixel, slice spacing and margin must be positive"));
-    }
+    spec.check()?;
     let d = axis.direction;
     let helper = [Vec3::x(), Vec3::y(), Vec3::z()]
         .into_iter()
@@ -94,7 +107,7 @@ pub fn segment(
         }
     }
     if !lo.iter().chain(hi.iter()).all(|v| v.is_finite()) {
-        return Err(bad("no finite vertex to segment"));
+        return Err(invalid("no finite vertex to segment"));
     }
     let start = [
         lo[0] - spec.margin_mm,
@@ -108,7 +121,9 @@ pub fn segment(
         count((hi[2] - start[2]).max(0.0), spec.slice_mm),
     ];
     if dims.iter().product::<usize>() > MAX_VOXELS {
-        return Err(bad("more than 64 M voxels: use larger pixels or slices"));
+        return Err(invalid(
+            "more than 64 M voxels: use larger pixels or slices",
+        ));
     }
     let origin = axis.centre + e1 * start[0] + e2 * start[1] + d * start[2];
     let axes = [e1 * spec.pixel_mm, e2 * spec.pixel_mm, d * spec.slice_mm];
@@ -143,18 +158,12 @@ pub fn segment_view(
     up: Vec3,
     spec: &SegmentationSpec,
 ) -> Result<LabelVolume> {
-    let bad = |m: &str| CoreError::ParamInvalid {
-        name: "segmentation".into(),
-        message: m.into(),
-    };
-    if !(spec.pixel_mm > 0.0 && spec.slice_mm > 0.0 && spec.margin_mm >= 0.0) {
-        return Err(bad("pixel, slice spacing and margin must be positive"));
-    }
-    let plane = Plane::new(centre, normal).ok_or_else(|| bad("the view's normal is zero"))?;
+    spec.check()?;
+    let plane = Plane::new(centre, normal).ok_or_else(|| invalid("the view's normal is zero"))?;
     let n = plane.normal;
     let v = up - n * up.dot(&n);
     if v.norm().is_nan() || v.norm() <= 1e-9 {
-        return Err(bad("the view's rows cannot run along its normal"));
+        return Err(invalid("the view's rows cannot run along its normal"));
     }
     let e2 = v.normalize();
     let e1 = e2.cross(&n);
@@ -164,7 +173,7 @@ pub fn segment_view(
         .flat_map(|l| l.points)
         .collect();
     if sections.is_empty() {
-        return Err(bad("the view's plane misses every structure"));
+        return Err(invalid("the view's plane misses every structure"));
     }
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
@@ -179,7 +188,7 @@ pub fn segment_view(
         |c: usize| ((hi[c] - lo[c] + 2.0 * spec.margin_mm) / spec.pixel_mm).floor() as usize + 1;
     let dims = [count(0), count(1), 1];
     if dims[0] * dims[1] > MAX_VOXELS {
-        return Err(bad("more than 64 M pixels: use larger pixels"));
+        return Err(invalid("more than 64 M pixels: use larger pixels"));
     }
     let origin = centre + e1 * (lo[0] - spec.margin_mm) + e2 * (lo[1] - spec.margin_mm);
     let axes = [e1 * spec.pixel_mm, e2 * spec.pixel_mm, n * spec.slice_mm];

@@ -10,7 +10,7 @@
 
 use nifti::{Endianness, NiftiType};
 
-use super::volume::{err, pick_frame, read_labels, value_width, LabelVolume};
+use super::volume::{err, only_frame, pick_frame, read_labels, value_width, LabelVolume};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::io::gzip;
@@ -102,37 +102,20 @@ pub fn read_nrrd_volume(
     };
     let decode = |chunk: &[u8]| read_labels(chunk, kind, order, None).map_err(retitle);
     let segments = h.segments();
-    let (frame, labels, labelled, names) = if layers > 1 {
+    let (picked, names) = if layers > 1 {
         let (labels, names) = flatten_layers(raw, layers, &decode, &segments)?;
-        let labelled = if labels.iter().any(|&l| l != 0) {
-            vec![0]
-        } else {
-            Vec::new()
-        };
-        (0, labels, labelled, names)
+        (only_frame(labels), names)
     } else {
-        let (frame, labels, labelled) = pick_frame(raw, frames, decode, want)?;
+        let picked = pick_frame(raw, frames, decode, want)?;
         let names = segments
             .iter()
             .filter(|s| s.layer == 0)
             .map(|s| (s.value, s.name.clone()))
             .collect();
-        (frame, labels, labelled, names)
+        (picked, names)
     };
-    let (origin, axes, placement) = h.placement(&spatial)?;
-    Ok((
-        LabelVolume {
-            dims: grid,
-            origin,
-            axes,
-            placement,
-            labels,
-            frames,
-            labelled,
-            frame,
-        },
-        names,
-    ))
+    let placed = h.placement(&spatial)?;
+    Ok((LabelVolume::of_frame(grid, placed, frames, picked), names))
 }
 
 /// Where the header's text ends and the data begin (the first empty line).

@@ -78,20 +78,30 @@ pub struct LabelVolume {
 impl LabelVolume {
     /// A single-frame label map placed by an sform (what the validation lab paints).
     pub fn new(dims: [usize; 3], origin: Vec3, axes: [Vec3; 3], labels: Vec<u16>) -> Self {
-        let labelled = if labels.iter().any(|&l| l != 0) {
-            vec![0]
-        } else {
-            Vec::new()
-        };
+        Self::of_frame(dims, (origin, axes, "sform"), 1, only_frame(labels))
+    }
+
+    /// The label map of `grid` voxels placed as `placement` says (origin, axes, and which
+    /// header fields gave them), of `frames` time frames, keeping `picked` (its index, labels
+    /// and the frames holding labels, as [`pick_frame`] gives them). Every maker of a label map
+    /// builds it here, so the readers and the lab fill each field alike.
+    pub(super) fn of_frame(
+        grid: [usize; 3],
+        placement: (Vec3, [Vec3; 3], &'static str),
+        frames: usize,
+        picked: (usize, Vec<u16>, Vec<usize>),
+    ) -> Self {
+        let (origin, axes, placement) = placement;
+        let (frame, labels, labelled) = picked;
         LabelVolume {
-            dims,
+            dims: grid,
             origin,
             axes,
-            placement: "sform",
+            placement,
             labels,
-            frames: 1,
+            frames,
             labelled,
-            frame: 0,
+            frame,
         }
     }
 
@@ -199,24 +209,27 @@ pub fn read_label_frame(bytes: &[u8], want: Option<&FrameChoice>) -> Result<Labe
             bytes.len() - start
         )));
     }
-    let (origin, axes, placement) = placement(&header)?;
+    let placed = placement(&header)?;
     let scale = scaling(&header);
-    let (frame, labels, labelled) = pick_frame(
+    let picked = pick_frame(
         &bytes[start..start + needed],
         frames,
         |data| read_labels(data, kind, header.endianness, scale),
         want,
     )?;
-    Ok(LabelVolume {
-        dims: grid,
-        origin,
-        axes,
-        placement,
-        labels,
-        frames,
-        labelled,
-        frame,
-    })
+    Ok(LabelVolume::of_frame(grid, placed, frames, picked))
+}
+
+/// The only frame of a map holding one, as [`pick_frame`] would give it (frame 0, its labels,
+/// and frame 0 as labelled unless every voxel is background), so a map made in one piece (the
+/// lab's, a NRRD's segment layers) reads as a one-frame file does.
+pub(super) fn only_frame(labels: Vec<u16>) -> (usize, Vec<u16>, Vec<usize>) {
+    let labelled = if labels.iter().any(|&l| l != 0) {
+        vec![0]
+    } else {
+        Vec::new()
+    };
+    (0, labels, labelled)
 }
 
 /// The frame `want` (None: the first holding labels, else the last) of `frames` equal frames of

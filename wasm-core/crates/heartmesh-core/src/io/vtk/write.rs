@@ -3,7 +3,7 @@
 
 use super::{CONTOUR_ID_ARRAY, SURFACE_ARRAY};
 use crate::geometry::Vec3;
-use crate::io::{fmt_num, fmt_point, header_lines, Regions};
+use crate::io::{header_lines, push_number_lines, push_point_lines, Regions};
 use crate::mesh::TriMesh;
 
 /// VTK's string encoding in legacy files: `%XX` for '%', spaces, control and non-ASCII bytes.
@@ -49,9 +49,7 @@ pub(crate) fn write_lines(
         title(header_comment),
         points.len()
     );
-    for p in points {
-        out.push_str(&format!("{}\n", fmt_point(p, " ")));
-    }
+    push_point_lines(&mut out, points);
     if !verts.is_empty() {
         out.push_str(&format!("VERTICES {} {}\n", verts.len(), 2 * verts.len()));
         for i in verts {
@@ -111,9 +109,7 @@ pub(crate) fn write_vtk_with(
         "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
         mesh.positions.len()
     );
-    for p in &mesh.positions {
-        out.push_str(&format!("{}\n", fmt_point(p, " ")));
-    }
+    push_point_lines(&mut out, &mesh.positions);
     out.push_str(&format!(
         "POLYGONS {} {}\n",
         mesh.triangles.len(),
@@ -128,10 +124,7 @@ pub(crate) fn write_vtk_with(
             values.len(),
             array_name(name)
         ));
-        for v in values {
-            out.push_str(&fmt_num(*v));
-            out.push('\n');
-        }
+        push_number_lines(&mut out, values);
     }
     if let Some(r) = regions {
         push_region_cells(&mut out, r, mesh.triangles.len());

@@ -22,8 +22,8 @@ use super::vtk::{
     SURFACE_ARRAY,
 };
 use super::{
-    fmt_num, fmt_point, header_lines, read_regions, MeshData, MeshRegions, Regions,
-    MAX_MESH_ELEMENTS,
+    header_lines, push_number_lines, push_point_lines, read_regions, MeshData, MeshRegions,
+    Regions, MAX_MESH_ELEMENTS,
 };
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
@@ -624,10 +624,7 @@ pub(crate) fn write_vtp_with(
         out.push_str(&format!(
             "<PointData Scalars=\"{name}\">\n<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">\n"
         ));
-        for v in values {
-            out.push_str(&fmt_num(*v));
-            out.push('\n');
-        }
+        push_number_lines(&mut out, values);
         out.push_str("</DataArray>\n</PointData>\n");
     }
     if let Some(r) = regions {
@@ -636,9 +633,7 @@ pub(crate) fn write_vtp_with(
     out.push_str(
         "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
     );
-    for p in &mesh.positions {
-        out.push_str(&format!("{}\n", fmt_point(p, " ")));
-    }
+    push_point_lines(&mut out, &mesh.positions);
     out.push_str("</DataArray>\n</Points>\n<Polys>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
     for t in &mesh.triangles {
         out.push_str(&format!("{} {} {}\n", t[0], t[1], t[2]));
@@ -681,9 +676,7 @@ pub(crate) fn write_lines(
     out.push_str(
         "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
     );
-    for p in points {
-        out.push_str(&format!("{}\n", fmt_point(p, " ")));
-    }
+    push_point_lines(&mut out, points);
     out.push_str("</DataArray>\n</Points>\n");
     if !verts.is_empty() {
         let ids: Vec<String> = verts.iter().map(u32::to_string).collect();

@@ -40,7 +40,7 @@ impl Stencil {
             )));
         }
         let Umbrella { offsets, targets } = given.unwrap_or_else(|| umbrella(mesh));
-        // The sweeps read without bounds checks (see `Sweep::run_q`): every index must be a
+        // The sweeps read without bounds checks (see `Sweep::rows`): every index must be a
         // vertex.
         if offsets.len() != n + 1 || targets.iter().any(|&w| w as usize >= n) {
             return Err(CoreError::InvalidMesh(
@@ -86,6 +86,47 @@ impl Stencil {
             })
             .collect()
     }
+
+    /// The new row of every vertex in `range`: for a six-target vertex `six(v, sum)`, for any
+    /// other keep x_v + weight sum by its row of `rows`, each handed to `store(v, row)`; `sum`
+    /// adds the targets' rows read by `at` in stencil order. The sweep and the Clenshaw step
+    /// differ only in `six` and `store`, so both walk the stencil here and sum in the one order
+    /// that gives the bits of a plain loop.
+    #[inline(always)]
+    fn walk<Q: Quad>(
+        &self,
+        rows: &[Row],
+        range: std::ops::Range<u32>,
+        at: &impl Fn(u32) -> Q,
+        six: impl Fn(u32, Q) -> Q,
+        mut store: impl FnMut(u32, Q),
+    ) {
+        let (lo, hi) = (range.start, range.end);
+        let six_from = self.six.partition_point(|e| e.0 < lo);
+        let six_to = self.six.partition_point(|e| e.0 < hi);
+        for &(v, nb) in &self.six[six_from..six_to] {
+            let mut acc = Q::zero();
+            for w in nb {
+                acc = acc.add(at(w));
+            }
+            store(v, six(v, acc));
+        }
+        let g_from = self.general.partition_point(|&v| v < lo);
+        let g_to = self.general.partition_point(|&v| v < hi);
+        for &v in &self.general[g_from..g_to] {
+            let row = &rows[v as usize];
+            let mut acc = Q::zero();
+            for &w in &self.targets[row.start as usize..row.end as usize] {
+                acc = acc.add(at(w));
+            }
+            store(
+                v,
+                at(v)
+                    .mul(Q::splat(row.keep))
+                    .add(acc.mul(Q::splat(row.weight))),
+            );
+        }
+    }
 }
 
 /// One smoothing sweep's inputs: the previous positions and the stencil.
@@ -103,36 +144,19 @@ impl RowKernel for Sweep<'_> {
     fn rows<Q: Quad>(&self, start: usize, out: &mut [[f64; 4]]) {
         let (lo, hi) = (start as u32, (start + out.len()) as u32);
         let cur = self.current;
-        let st = self.stencil;
         // SAFETY (the unchecked reads and writes below): `Stencil::new` checked that every
-        // vertex and neighbour index is below `current.len()`, and the partition points keep `v`
-        // in `lo..hi`, so `v - lo < out.len()`. Unchecked, a six-neighbour row is ~23
-        // instructions instead of ~31: the sweep is the remesh's largest cost.
+        // vertex and neighbour index is below `current.len()`, and `Stencil::walk` keeps `v` in
+        // `lo..hi`, so `v - lo < out.len()`. Unchecked, a six-neighbour row is ~23 instructions
+        // instead of ~31: the sweep is the remesh's largest cost.
         let at = |w: u32| Q::load(unsafe { cur.get_unchecked(w as usize) });
-        let six_from = st.six.partition_point(|e| e.0 < lo);
-        let six_to = st.six.partition_point(|e| e.0 < hi);
         let (keep6, weight6) = (Q::splat(1.0 - self.factor), Q::splat(self.factor / 6.0));
-        for &(v, nb) in &st.six[six_from..six_to] {
-            let mut acc = Q::zero();
-            for w in nb {
-                acc = acc.add(at(w));
-            }
-            let row = at(v).mul(keep6).add(acc.mul(weight6));
-            *unsafe { out.get_unchecked_mut((v - lo) as usize) } = row.lanes();
-        }
-        let g_from = st.general.partition_point(|&v| v < lo);
-        let g_to = st.general.partition_point(|&v| v < hi);
-        for &v in &st.general[g_from..g_to] {
-            let row = &self.rows[v as usize];
-            let mut acc = Q::zero();
-            for &w in &st.targets[row.start as usize..row.end as usize] {
-                acc = acc.add(at(w));
-            }
-            let row = at(v)
-                .mul(Q::splat(row.keep))
-                .add(acc.mul(Q::splat(row.weight)));
-            *unsafe { out.get_unchecked_mut((v - lo) as usize) } = row.lanes();
-        }
+        self.stencil.walk(
+            self.rows,
+            lo..hi,
+            &at,
+            |v, sum| at(v).mul(keep6).add(sum.mul(weight6)),
+            |v, row| *unsafe { out.get_unchecked_mut((v - lo) as usize) } = row.lanes(),
+        );
     }
 }
 
@@ -166,7 +190,7 @@ impl Clenshaw<'_> {
     fn rows_q<Q: Quad, const LAST: bool>(&self, start: usize, out: &mut [[f64; 4]]) {
         let (lo, hi) = (start as u32, (start + out.len()) as u32);
         let (x, above, st) = (self.x, self.above, self.stencil);
-        // SAFETY (the unchecked reads and writes below): as in `Sweep::run_q`; `x` and `above`
+        // SAFETY (the unchecked reads and writes below): as in `Sweep::rows`; `x` and `above`
         // have one row per vertex (`apply_series` allocates them so).
         let at = |w: u32| Q::load(unsafe { above.get_unchecked(w as usize) });
         let own = |v: u32| Q::load(unsafe { x.get_unchecked(v as usize) });
@@ -182,29 +206,14 @@ impl Clenshaw<'_> {
                 b.lanes()
             };
         };
-        let six_from = st.six.partition_point(|e| e.0 < lo);
-        let six_to = st.six.partition_point(|e| e.0 < hi);
         let weight6 = Q::splat(2.0 * (1.0 / 6.0));
-        for &(v, nb) in &st.six[six_from..six_to] {
-            let mut acc = Q::zero();
-            for w in nb {
-                acc = acc.add(at(w));
-            }
-            finish(v, acc.mul(weight6), out);
-        }
-        let g_from = st.general.partition_point(|&v| v < lo);
-        let g_to = st.general.partition_point(|&v| v < hi);
-        for &v in &st.general[g_from..g_to] {
-            let row = &self.rows[v as usize];
-            let mut acc = Q::zero();
-            for &w in &st.targets[row.start as usize..row.end as usize] {
-                acc = acc.add(at(w));
-            }
-            let w2 = at(v)
-                .mul(Q::splat(row.keep))
-                .add(acc.mul(Q::splat(row.weight)));
-            finish(v, w2, out);
-        }
+        st.walk(
+            self.rows,
+            lo..hi,
+            &at,
+            |_, sum| sum.mul(weight6),
+            |v, w2| finish(v, w2, out),
+        );
     }
 }
 

@@ -137,14 +137,7 @@ fn anatomical_axis_passes_through_the_apex() {
 #[test]
 fn misalignment_is_bounded_and_seeded() {
     let truth = lv();
-    let spec = AcquisitionSpec {
-        misalignment: Some(Misalignment {
-            shift_mm: 2.0,
-            tilt_deg: 2.0,
-        }),
-        seed: 7,
-        ..AcquisitionSpec::default()
-    };
+    let spec = misaligned(7);
     let a = simulate(&truth, &spec).unwrap();
     let b = simulate(&truth, &spec).unwrap();
     assert_eq!(a.contours, b.contours);
@@ -228,6 +221,28 @@ fn csv_round_trip() {
     }
 }
 
+/// The default acquisition with breath-hold motion of up to 2 mm and 2 degrees, drawn by `seed`.
+fn misaligned(seed: u64) -> AcquisitionSpec {
+    AcquisitionSpec {
+        misalignment: Some(Misalignment {
+            shift_mm: 2.0,
+            tilt_deg: 2.0,
+        }),
+        seed,
+        ..AcquisitionSpec::default()
+    }
+}
+
+/// Contours of surface `label` whose image id starts with `kind` ("sax", "lax"): how the tests
+/// of several surfaces count what each got.
+fn contours_of(acq: &Acquisition, label: &str, kind: &str) -> usize {
+    acq.contours
+        .contours
+        .iter()
+        .filter(|c| c.surface.as_deref() == Some(label) && c.id.starts_with(kind))
+        .count()
+}
+
 fn centroid<'a>(pts: impl Iterator<Item = &'a Vec3>) -> Vec3 {
     let (s, n) = pts.fold((Vec3::zeros(), 0usize), |(s, n), p| (s + p, n + 1));
     s / n as f64
@@ -240,14 +255,7 @@ fn centroid<'a>(pts: impl Iterator<Item = &'a Vec3>) -> Vec3 {
 #[test]
 fn surfaces_sliced_together_share_each_image_motion() {
     let truth = lv();
-    let spec = AcquisitionSpec {
-        misalignment: Some(Misalignment {
-            shift_mm: 2.0,
-            tilt_deg: 2.0,
-        }),
-        seed: 11,
-        ..AcquisitionSpec::default()
-    };
+    let spec = misaligned(11);
     let both = simulate_surfaces(&[("A", &truth), ("B", &truth)], &spec).unwrap();
     let alone = simulate(&truth, &spec).unwrap();
     assert_eq!(
@@ -286,14 +294,7 @@ fn surfaces_sliced_together_share_each_image_motion() {
         &AcquisitionSpec::default(),
     )
     .unwrap();
-    let count = |label: &str, kind: &str| {
-        joint
-            .contours
-            .contours
-            .iter()
-            .filter(|c| c.surface.as_deref() == Some(label) && c.id.starts_with(kind))
-            .count()
-    };
+    let count = |label: &str, kind: &str| contours_of(&joint, label, kind);
     assert_eq!(count("OUTER", "sax"), joint.sax_planes.len());
     assert!(count("INNER", "sax") < count("OUTER", "sax"));
     assert!(count("INNER", "sax") >= 4);
@@ -318,13 +319,7 @@ fn a_surface_ending_far_below_the_base_keeps_the_others_slices() {
     let spec = AcquisitionSpec::default();
     let alone = simulate(&truth, &spec).unwrap();
     let top = |a: &Acquisition| a.clip.origin.z;
-    let sax = |a: &Acquisition, label: &str| {
-        a.contours
-            .contours
-            .iter()
-            .filter(|c| c.surface.as_deref() == Some(label) && c.id.starts_with("sax"))
-            .count()
-    };
+    let sax = |a: &Acquisition, label: &str| contours_of(a, label, "sax");
 
     // 0.6 x the shape: its closed sections end ~30 mm under the planned base.
     let short = about_apex(0.6);
@@ -384,14 +379,7 @@ fn a_surface_without_closed_sections_gets_long_axis_curves_only() {
     let alone = simulate(&truth, &spec).unwrap();
     let joint = simulate_surfaces(&[("LV", &truth), ("PATCH", &strip)], &spec).unwrap();
     assert_eq!(joint.sax_planes, alone.sax_planes);
-    let of = |label: &str, kind: &str| {
-        joint
-            .contours
-            .contours
-            .iter()
-            .filter(|c| c.surface.as_deref() == Some(label) && c.id.starts_with(kind))
-            .count()
-    };
+    let of = |label: &str, kind: &str| contours_of(&joint, label, kind);
     assert_eq!(of("PATCH", "sax"), 0);
     assert!(of("PATCH", "lax") >= 1);
     assert!(joint
