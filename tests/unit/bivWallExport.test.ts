@@ -15,6 +15,7 @@ import {
 import { WALL_MIN_THICKNESS_MM, wallReadiness, type WallMesh } from '../../web/src/io/export/wall';
 import type { ExportInfo } from '../../web/src/io/export/header';
 import { fakeDocument, type FakeElement } from './fakeDom';
+import { exportSource } from './panelHarness';
 
 const saved: { data: unknown; name: string; type: string }[] = [];
 vi.mock('../../web/src/io/download', () => ({
@@ -211,21 +212,15 @@ describe('the export panel\'s biventricular wall', () => {
   function panel(bivWallFile: Build) {
     const failed: unknown[] = [];
     const asked: WallFormat[] = [];
-    const p = new ExportPanel({
-      info: () => info,
-      result: () => null,
-      screenshot: () => Promise.reject(new Error('no view')),
-      session: () => null,
-      others: () => [],
-      wallFile: () => null,
-      bivWallFile: (f) => {
-        asked.push(f);
-        return bivWallFile(f);
-      },
-      failed: (e) => failed.push(e),
-      showWall: () => undefined,
-      hideWall: () => undefined,
-    });
+    const p = new ExportPanel(
+      exportSource(info, {
+        bivWallFile: (f) => {
+          asked.push(f);
+          return bivWallFile(f);
+        },
+        failed: (e) => failed.push(e),
+      }),
+    );
     const root = p.element as unknown as FakeElement;
     const buttons = (['stl', 'obj', 'ply', 'vtk'] as const).map((f) => root.byTestId(`export-biv-wall-${f}`)! as FakeElement & { disabled: boolean });
     const lvButtons = (['stl', 'obj', 'ply', 'vtk'] as const).map((f) => root.byTestId(`export-wall-${f}`)! as FakeElement & { disabled: boolean });

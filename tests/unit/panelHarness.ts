@@ -1,7 +1,10 @@
-// The parameter panel on the fake DOM, as the option tests (end caps, apex floor, specks) drive it.
+// The parameter panel on the fake DOM, as the option tests (end caps, apex floor, specks) drive it,
+// and the export panel's source as the wall rows' tests give it.
 import { afterEach, beforeEach, vi } from 'vitest';
 import type { LidsMode, ParamValues, ReconOptions } from '../../web/src/core-client/protocol';
 import { ParamPanel } from '../../web/src/ui/ParamPanel';
+import type { ExportSource } from '../../web/src/io/ExportPanel';
+import type { ExportInfo } from '../../web/src/io/export/header';
 import { fakeDocument, type FakeElement } from './fakeDom';
 
 /** Stubs `document` with the fake DOM for each test of the calling describe block. */
@@ -15,4 +18,24 @@ export function optionsPanel(): { emitted: ReconOptions[]; panel: ParamPanel; ro
   const emitted: ReconOptions[] = [];
   const panel = new ParamPanel((_v: ParamValues, _l: LidsMode, o: ReconOptions) => emitted.push(o), () => undefined);
   return { emitted, panel, root: panel.element as unknown as FakeElement };
+}
+
+/**
+ * An export panel source with `info` and nothing else (no result, view, session or other surfaces;
+ * neither wall buildable, nothing shown), each part `over` gives replacing its default.
+ */
+export function exportSource(info: ExportInfo, over: Partial<ExportSource>): ExportSource {
+  return {
+    info: () => info,
+    result: () => null,
+    screenshot: () => Promise.reject(new Error('no view')),
+    session: () => null,
+    others: () => [],
+    wallFile: () => null,
+    bivWallFile: () => null,
+    failed: () => undefined,
+    showWall: () => undefined,
+    hideWall: () => undefined,
+    ...over,
+  };
 }

@@ -11,6 +11,7 @@ import {
 } from '../../web/src/io/export/wall';
 import type { ExportInfo } from '../../web/src/io/export/header';
 import { fakeDocument, type FakeElement } from './fakeDom';
+import { exportSource } from './panelHarness';
 
 const saved: { data: unknown; name: string; type: string }[] = [];
 vi.mock('../../web/src/io/download', () => ({
@@ -190,21 +191,15 @@ describe('the export panel\'s LV wall', () => {
   function panel(wallFile: (f: WallFormat) => Promise<{ summary: WallSummary; bytes: Uint8Array }> | null) {
     const failed: unknown[] = [];
     const asked: WallFormat[] = [];
-    const p = new ExportPanel({
-      info: () => info,
-      result: () => null,
-      screenshot: () => Promise.reject(new Error('no view')),
-      session: () => null,
-      others: () => [],
-      wallFile: (f) => {
-        asked.push(f);
-        return wallFile(f);
-      },
-      bivWallFile: () => null,
-      failed: (e) => failed.push(e),
-      showWall: () => undefined,
-      hideWall: () => undefined,
-    });
+    const p = new ExportPanel(
+      exportSource(info, {
+        wallFile: (f) => {
+          asked.push(f);
+          return wallFile(f);
+        },
+        failed: (e) => failed.push(e),
+      }),
+    );
     const root = p.element as unknown as FakeElement;
     const buttons = (['stl', 'obj', 'ply', 'vtk'] as const).map((f) => root.byTestId(`export-wall-${f}`)! as FakeElement & { disabled: boolean });
     return { p, root, buttons, failed, asked, figures: root.byTestId('wall-figures')! };

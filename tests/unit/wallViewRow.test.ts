@@ -12,6 +12,7 @@ import { bivWallReadiness } from '../../web/src/io/export/bivWall';
 import type { ExportInfo } from '../../web/src/io/export/header';
 import type { BuiltWall } from '../../web/src/io/WallRow';
 import { fakeDocument, type FakeElement } from './fakeDom';
+import { exportSource } from './panelHarness';
 
 const saved: string[] = [];
 vi.mock('../../web/src/io/download', () => ({ download: (_data: unknown, name: string) => saved.push(name) }));
@@ -51,21 +52,18 @@ function panel(opts: { lv?: Build; biv?: Build; show?: (id: string, w: BuiltWall
   const built = (tag: string, triangles: number) => () => Promise.resolve({ summary: summary(triangles), bytes: new TextEncoder().encode(`${tag}#${asked.length}`) });
   const lv = opts.lv ?? built('lv', 3110);
   const biv = opts.biv ?? built('biv', 4276);
-  const p = new ExportPanel({
-    info: () => info,
-    result: () => null,
-    screenshot: () => Promise.reject(new Error('no view')),
-    session: () => null,
-    others: () => [],
-    wallFile: (f) => (asked.push(`lv:${f}`), lv(f)),
-    bivWallFile: (f) => (asked.push(`biv:${f}`), biv(f)),
-    failed: (e) => failed.push(e),
-    showWall: (id, w) => {
-      opts.show?.(id, w);
-      shown.push([id, w]);
-    },
-    hideWall: () => void hides++,
-  });
+  const p = new ExportPanel(
+    exportSource(info, {
+      wallFile: (f) => (asked.push(`lv:${f}`), lv(f)),
+      bivWallFile: (f) => (asked.push(`biv:${f}`), biv(f)),
+      failed: (e) => failed.push(e),
+      showWall: (id, w) => {
+        opts.show?.(id, w);
+        shown.push([id, w]);
+      },
+      hideWall: () => void hides++,
+    }),
+  );
   const root = p.element as unknown as FakeElement;
   const get = (testid: string) => root.byTestId(testid) as Button;
   return {

@@ -89,16 +89,24 @@ export function niceTicks(min: number, max: number, maxTicks = 6): number[] {
 }
 
 /**
+ * The 98th percentile of the finite values (null when there are none): the top of a colour scale
+ * that one outlier should not stretch, so that the rest of the map keeps its contrast.
+ */
+export function percentile98(values: ArrayLike<number>): number | null {
+  const finite: number[] = [];
+  for (let i = 0; i < values.length; i++) if (Number.isFinite(values[i])) finite.push(values[i]);
+  if (finite.length === 0) return null;
+  finite.sort((a, b) => a - b);
+  return finite[Math.min(finite.length - 1, Math.floor(0.98 * (finite.length - 1)))];
+}
+
+/**
  * Upper end of the colour scale: a robust maximum (the 98th percentile, rounded up to a nice
  * number) so that one outlier contour point does not wash out the whole map.
  */
 export function robustMax(values: ArrayLike<number>): number {
-  const finite: number[] = [];
-  for (let i = 0; i < values.length; i++) if (Number.isFinite(values[i])) finite.push(values[i]);
-  if (finite.length === 0) return 1;
-  finite.sort((a, b) => a - b);
-  const p = finite[Math.min(finite.length - 1, Math.floor(0.98 * (finite.length - 1)))];
-  if (p <= 0) return 1;
+  const p = percentile98(values);
+  if (p === null || p <= 0) return 1;
   const mag = Math.pow(10, Math.floor(Math.log10(p)));
   const nice = [1, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10].map((m) => m * mag).find((s) => s >= p - 1e-12);
   return nice ?? 10 * mag;

@@ -8,7 +8,7 @@
  *
  * Pure module: no three.js, no DOM (unit-tested in node).
  */
-import { colorizeU8 } from './colormap';
+import { colorizeU8, percentile98 } from './colormap';
 import type { WallRegion } from '../io/wallSolid';
 
 export type WallColouring = 'thickness' | 'region';
@@ -86,12 +86,8 @@ export function thicknessCornerColours(indices: ArrayLike<number>, thickness: Ar
  * the bottom of the map); at least 1. Values above share the top colour.
  */
 export function thicknessScaleMax(thickness: ArrayLike<number>): number {
-  const finite: number[] = [];
-  for (let i = 0; i < thickness.length; i++) if (Number.isFinite(thickness[i])) finite.push(thickness[i]);
-  if (finite.length === 0) return 1;
-  finite.sort((a, b) => a - b);
-  const p98 = finite[Math.min(finite.length - 1, Math.floor(0.98 * (finite.length - 1)))];
-  return Math.max(1, Math.ceil(p98 - 1e-9));
+  const p98 = percentile98(thickness);
+  return p98 === null ? 1 : Math.max(1, Math.ceil(p98 - 1e-9));
 }
 
 /** How many different colours an rgb byte array holds (the tests count the regions drawn). */
