@@ -107,6 +107,26 @@ fn long_comment_keeps_ascii_keyword_early() {
 }
 
 #[test]
+fn a_long_title_ends_after_a_whole_clause() {
+    let comment =
+        "biventricular myocardium of patient1-ED.csv (LV_ENDO + BIV_EPI + RV_ENDO); units \
+                   mm, the contour file's coordinates; region 1 epicardium, 2 lv_endocardium, 3 \
+                   rv_endocardium, 4 base";
+    let t = super::write::title(comment);
+    assert!(t.len() <= 160, "{t}");
+    assert!(
+        t.ends_with("units mm, the contour file's coordinates ..."),
+        "{t}"
+    );
+    // One that fits is kept whole; one clause longer than the limit after its last word
+    // (or at the limit).
+    assert!(super::write::title("LV wall; 3 regions").ends_with("LV wall; 3 regions"));
+    assert_eq!(super::write::title(&"x".repeat(1000)).len(), 160);
+    let words = super::write::title(&"word ".repeat(100));
+    assert!(words.ends_with("word ...") && words.len() <= 160, "{words}");
+}
+
+#[test]
 fn bad_index_has_line() {
     let s = LINES.replace("2 3 4", "2 3 9");
     let e = read_vtk_contours(s.as_bytes()).unwrap_err();

@@ -22,15 +22,32 @@ fn percent_encode(s: &str) -> String {
 const TITLE_MAX: usize = 160;
 
 /// The title line: version and comment, short (see [`write_vtk`]).
-fn title(header_comment: &str) -> String {
+pub(super) fn title(header_comment: &str) -> String {
     // Readers such as three.js' VTKLoader look for "ASCII" within the first 250 bytes, so the
     // title (limited to 256 characters by the format) is kept well below that.
-    header_lines(header_comment)
+    let full: String = header_lines(header_comment)
         .join(" | ")
         .chars()
         .filter(|c| c.is_ascii() && !c.is_ascii_control())
-        .take(TITLE_MAX)
-        .collect()
+        .collect();
+    if full.len() <= TITLE_MAX {
+        return full;
+    }
+    // Cut after the last whole clause that fits (else the last word), marked, rather than
+    // mid-word: a wall's title ended "region 1 epicardium, 2 lv" (the full list is in the cell
+    // data anyway). A cut that would keep under half the room falls back to the next finer one.
+    const MORE: &str = " ...";
+    let head = &full[..TITLE_MAX - MORE.len()];
+    let cut = [["; ", " | "].as_slice(), &[", "], &[" "]]
+        .iter()
+        .find_map(|seps| {
+            seps.iter()
+                .filter_map(|sep| head.rfind(sep))
+                .max()
+                .filter(|&at| at >= head.len() / 2)
+        })
+        .unwrap_or(head.len());
+    format!("{}{MORE}", &head[..cut])
 }
 
 /// Polylines (contours) as VTK legacy 3.0 ASCII POLYDATA LINES, after `verts` (landmarks: the
