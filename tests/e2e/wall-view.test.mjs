@@ -7,7 +7,8 @@
 // (the figures line's, filled as after an export), or by region in exactly 3 colours (4 for the
 // biventricular wall); the hover read-out gives the thickness and the region; the clipping plane
 // cuts the wall open and the cut faces show (pixels of the section colour: none unclipped); the
-// opacity reaches it. Pressed again, the surface's triangle count is back; pressed again, the same
+// opacity reaches it. Pressed again, the surface's triangle count is back, framed as before the
+// wall widened the view; pressed again, the same
 // build is shown without asking the worker. The biventricular wall's View takes over from the
 // LV wall's (one at a time); a parameter changed hides it. A wall that cannot be built says why on
 // the figures line and in the banner, the surface stays and the next View works. Screenshots
@@ -111,6 +112,9 @@ describe('viewing the myocardium wall', () => {
     assert.equal(surface.shown, 'surface');
     assert.equal(surface.triangles, result.triangles, 'the surface drawn is the run\'s');
     assert.equal(await page.isVisible('[data-testid=wall-colour]'), false, 'no wall: no wall colour menu');
+    // Where the camera stands and looks, to see the surface framed again as it was once the wall goes.
+    const camera = () => page.evaluate(() => [...window.heartmeshViewer.camera.position.toArray(), ...window.heartmeshViewer.controls.target.toArray()]);
+    const cameraBefore = await camera();
 
     // View: the LV wall in place of the surface, coloured by thickness; the figures as after an export.
     await countBuilds();
@@ -191,6 +195,8 @@ describe('viewing the myocardium wall', () => {
     await page.click('[data-testid=view-wall]');
     const back = await waitShown('surface');
     assert.equal(back.triangles, surface.triangles);
+    const cameraBack = await camera();
+    assert.ok(cameraBack.every((v, i) => Math.abs(v - cameraBefore[i]) < 1e-6), `framed as before the wall: ${cameraBack} vs ${cameraBefore}`);
     assert.equal(await pressed('wall'), 'false');
     assert.equal(await page.isVisible('[data-testid=wall-colour]'), false);
     assert.equal(await page.isVisible('[data-testid=legend-mesh]'), true);

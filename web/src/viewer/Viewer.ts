@@ -82,6 +82,12 @@ export class Viewer {
   private readonly clipPlane = new THREE.Plane(new THREE.Vector3(0, 0, -1), 1e6);
   private clip = 1;
   private fit: ViewFit | null = null;
+  /**
+   * The framing before a wall widened it (`showWall`; `wallFramed` while one is shown), restored
+   * when the wall goes unless the user moved the camera, so the surface comes back as it was framed.
+   */
+  private fitBeforeWall: ViewFit | null = null;
+  private wallFramed = false;
   private dirty = true;
   /** WebGL runs on the CPU: render animations at reduced resolution (see setAnimating). */
   private readonly software: boolean;
@@ -206,6 +212,11 @@ export class Viewer {
     this.wallId = id;
     this.wallLayer.show(solid, colouring);
     this.surfaceLayers.visible = false;
+    // One wall replacing another keeps the framing from before the first.
+    if (!this.wallFramed) {
+      this.fitBeforeWall = this.fit;
+      this.wallFramed = true;
+    }
     this.extendFrame(solid.positions);
     this.requestRender();
   }
@@ -220,6 +231,14 @@ export class Viewer {
   hideWall(): void {
     this.wallLayer.clear();
     this.surfaceLayers.visible = true;
+    if (this.wallFramed) {
+      this.wallFramed = false;
+      if (this.fitBeforeWall && !this.userMoved) {
+        this.fit = this.fitBeforeWall;
+        this.resetView();
+      }
+      this.fitBeforeWall = null;
+    }
     this.requestRender();
   }
 
@@ -257,6 +276,9 @@ export class Viewer {
     this.givenLayer.setDashScale(dashScale(this.fit.radius));
     this.setAsideLayer.setDashScale(dashScale(this.fit.radius));
     this.userMoved = false;
+    // A new framing supersedes the one a shown wall would give back.
+    this.wallFramed = false;
+    this.fitBeforeWall = null;
     this.resetView();
   }
 
