@@ -10,7 +10,7 @@ import { DEFAULT_VIEW } from '../../web/src/app/urlState';
 
 interface FakeRun {
   runId: number;
-  opts: { fileName: string; surface: string | null; params: ParamValues; lids: LidsMode; options?: ReconOptions };
+  opts: { fileName: string; surface: string | null; params: ParamValues; lids: LidsMode; options?: ReconOptions; leaveOut?: readonly string[] };
   onFrame: (f: Frame) => void;
   resolve: (r: RunResult) => void;
   reject: (e: unknown) => void;
@@ -73,6 +73,8 @@ class FakeClient {
           options: (fileName.includes('floor-off')
             ? { smoothing_method: 'taubin', soften_conflicts: false, apex_floor: false }
             : { smoothing_method: 'taubin', soften_conflicts: false }) as unknown as ReconOptions,
+          // A session saved with a contour left out of its surface (the binding's `leave_out`).
+          ...(fileName.includes('left-out') ? { leave_out: ['c1'] } : {}),
         }
       : null;
     return Promise.resolve(this.loaded(fileName, session, null));
@@ -941,6 +943,169 @@ describe('Keep specks and strays', () => {
     expect(url).toContain('keep_specks=1');
     c.setParams({}, 'auto', { ...on, keep_specks: false });
     expect(warnings.textContent).toBe(`⚠ ${line}`);
+    c.dispose();
+  });
+});
+
+describe('contours left out by hand (the Contours panel)', () => {
+  const start = async () => {
+    const c = new Controller({ ...parts, viewer: null, warnings: { textContent: '', hidden: true } } as unknown as Parts, '9.9.9');
+    await c.start(() => Promise.resolve(client as unknown as CoreClient));
+    return c;
+  };
+  /** Lets the debounced restart go (as after a parameter change). */
+  const settle = () => vi.advanceTimersByTimeAsync(RESTART_DEBOUNCE_MS + 10);
+  const finish = async (extra: Partial<RunResult> = {}) => {
+    const run = client.runs.at(-1)!;
+    run.resolve({ ...result(run.runId), surface: run.opts.surface, ...(run.opts.leaveOut ? { leave_out: [...run.opts.leaveOut] } : { leave_out: [] }), ...extra });
+    await vi.runAllTimersAsync();
+  };
+
+  it('unticking one starts a new run without it, as a parameter change does; ticking it back runs with it again', async () => {
+    const c = await start();
+    await c.openFiles([file('a.csv')]);
+    expect(client.runs[0].opts).not.toHaveProperty('leaveOut');
+    const heard: string[][] = [];
+    c.onLeaveOutChange(() => heard.push(c.leaveOutNow()));
+    c.setLeftOut('c1', true);
+    expect(heard).toEqual([['c1']]);
+    expect(client.runs).toHaveLength(1); // debounced
+    await settle();
+    expect(client.runs).toHaveLength(2);
+    expect(client.runs[0].cancelled).toBe(true);
+    expect(client.runs[1].opts.leaveOut).toEqual(['c1']);
+    expect(client.runs[1].opts.surface).toBe('LV_ENDO');
+    expect(url).not.toContain('c1');
+    expect(url).not.toContain('leave');
+    // Left out already: nothing to run.
+    c.setLeftOut('c1', true);
+    await settle();
+    expect(client.runs).toHaveLength(2);
+    await finish();
+    expect(c.exportInfo()?.leaveOut).toEqual(['c1']);
+    c.setLeftOut('c1', false);
+    await settle();
+    expect(client.runs).toHaveLength(3);
+    expect(client.runs[2].opts).not.toHaveProperty('leaveOut');
+    expect(c.leaveOutNow()).toEqual([]);
+    c.dispose();
+  });
+
+  it('"Use all" puts every one back in one run', async () => {
+    const c = await start();
+    await c.openFiles([file('a.csv')]);
+    c.setLeftOut('c1', true);
+    c.setLeftOut('c2', true);
+    await settle();
+    expect(client.runs.map((r) => r.opts.leaveOut)).toEqual([undefined, ['c1', 'c2']]);
+    c.useAllContours();
+    await settle();
+    expect(client.runs).toHaveLength(3);
+    expect(client.runs[2].opts).not.toHaveProperty('leaveOut');
+    c.useAllContours(); // nothing left out: no run
+    await settle();
+    expect(client.runs).toHaveLength(3);
+    c.dispose();
+  });
+
+  it('each surface keeps its own list; "All" runs each with its own', async () => {
+    const c = await start();
+    await c.openFiles([file('biv.csv')]);
+    c.setLeftOut('c1', true);
+    await settle();
+    c.chooseSurface('RV_ENDO');
+    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'RV_ENDO' });
+    expect(client.runs.at(-1)?.opts).not.toHaveProperty('leaveOut');
+    c.setLeftOut('r1', true);
+    await settle();
+    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'RV_ENDO', leaveOut: ['r1'] });
+    expect(c.contourContext()?.leaveOut).toEqual(['r1']);
+    c.chooseSurface('LV_ENDO');
+    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'LV_ENDO', leaveOut: ['c1'] });
+    expect(c.contourContext()).toEqual({ key: JSON.stringify({ file: 'biv.csv', frame: null, surface: 'LV_ENDO' }), leaveOut: ['c1'], fileContours: [{ id: 'c1', kind: null }] });
+    const before = client.runs.length;
+    c.runAllSurfaces();
+    await finish();
+    await finish();
+    expect(client.runs.slice(before).map((r) => [r.opts.surface, r.opts.leaveOut])).toEqual([['RV_ENDO', ['r1']], ['LV_ENDO', ['c1']]]);
+    // The all-surfaces OBJ names what the other surface's last run left out.
+    expect(c.otherSurfaceMeshes().map((m) => [m.surface, m.leaveOut])).toEqual([['RV_ENDO', ['r1']]]);
+    c.dispose();
+  });
+
+  it('reading a file again forgets its lists; another file, and another frame, keep their own', async () => {
+    const c = await start();
+    await c.openFiles([file('a.csv')]);
+    c.setLeftOut('c1', true);
+    await c.openFiles([file('b.csv')]);
+    c.setLeftOut('x', true);
+    c.chooseFile('a.csv');
+    expect(c.leaveOutNow()).toEqual(['c1']);
+    expect(client.runs.at(-1)?.opts).toMatchObject({ fileName: 'a.csv', leaveOut: ['c1'] });
+    await c.openFiles([file('a.csv')]); // the same name read anew
+    expect(c.leaveOutNow()).toEqual([]);
+    expect(client.runs.at(-1)?.opts).toMatchObject({ fileName: 'a.csv' });
+    expect(client.runs.at(-1)?.opts).not.toHaveProperty('leaveOut');
+    c.chooseFile('b.csv');
+    expect(c.leaveOutNow()).toEqual(['x']);
+    // A sequence: each frame's drawing is its own, so each frame has its own list.
+    await c.openFiles([file('cine.csv')]);
+    c.setLeftOut('c1', true);
+    await settle();
+    expect(client.runs.at(-1)?.opts.leaveOut).toEqual(['c1']);
+    c.chooseFrame('9');
+    await vi.runAllTimersAsync();
+    expect(client.runs.at(-1)?.opts).not.toHaveProperty('leaveOut');
+    c.chooseFrame('0');
+    await vi.runAllTimersAsync();
+    expect(client.runs.at(-1)?.opts.leaveOut).toEqual(['c1']);
+    c.dispose();
+  });
+
+  it('a saved session carries the list; one opened brings it back for its file and surface', async () => {
+    const c = await start();
+    await c.openFiles([file('a.csv')]);
+    c.setLeftOut('c1', true);
+    await c.sessionFile();
+    expect(client.sessions.at(-1)?.opts).toMatchObject({ fileName: 'a.csv', surface: 'LV_ENDO', leaveOut: ['c1'] });
+    await c.openFiles([file('left-out.json')]);
+    const run = client.runs.at(-1)!;
+    expect(run.opts).toMatchObject({ fileName: 'left-out.json', surface: 'RV_ENDO', leaveOut: ['c1'] });
+    expect(c.leaveOutNow()).toEqual(['c1']);
+    // Its own list only: a.csv's is still a.csv's, a session without one brings none.
+    await c.openFiles([file('saved.json')]);
+    expect(client.runs.at(-1)?.opts).not.toHaveProperty('leaveOut');
+    c.chooseFile('a.csv'); // on RV_ENDO, the sessions' surface: none left out there
+    expect(client.runs.at(-1)?.opts).toMatchObject({ fileName: 'a.csv', surface: 'RV_ENDO' });
+    expect(client.runs.at(-1)?.opts).not.toHaveProperty('leaveOut');
+    c.chooseSurface('LV_ENDO');
+    expect(client.runs.at(-1)?.opts.leaveOut).toEqual(['c1']);
+    c.dispose();
+  });
+
+  it('an id the core does not know fails the run in the banner, like any run error', async () => {
+    const c = await start();
+    await c.openFiles([file('a.csv')]);
+    c.setLeftOut('nope', true);
+    await settle();
+    const error = { code: 'unknown_contour', message: 'leave_out: no contour "nope" in a.csv' };
+    client.runs.at(-1)!.reject(error);
+    await vi.runAllTimersAsync();
+    expect(parts.banner.calls.showError?.at(-1)?.[0]).toMatchObject(error);
+    expect(lastStatus()).toMatch(/^error: a\.csv: leave_out: no contour "nope"/);
+    c.dispose();
+  });
+
+  it('the Function panel is told the phases batch uses every contour', async () => {
+    const c = await start();
+    await c.openFiles([file('a.csv')]);
+    await c.openFiles([file('b.csv')]);
+    expect(c.functionContext()?.leftOutNote).toBeNull();
+    c.setLeftOut('x', true);
+    expect(c.functionContext()?.leftOutNote).toBe('Measure all phases uses every contour: the contour you left out in the Contours panel is used here (b.csv LV_ENDO: x)');
+    // The measurement itself is not stale for it: it never used the list.
+    c.setLeftOut('x', false);
+    expect(c.functionContext()?.leftOutNote).toBeNull();
     c.dispose();
   });
 });

@@ -12,6 +12,7 @@ import { LabPanel } from '../lab/LabPanel';
 import { ExportPanel } from '../io/ExportPanel';
 import { FileBar } from '../io/FileBar';
 import { installKeyboard } from '../ui/keyboard';
+import { ContourTable } from '../ui/ContourTable';
 import { ErrorBanner } from '../ui/ErrorBanner';
 import { FunctionPanel } from '../ui/FunctionPanel';
 import { HoverReadout } from '../ui/HoverReadout';
@@ -98,7 +99,16 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
     onContextChange: (l) => controller.onContextChange(l),
     client: () => controller.coreClient,
   });
-  slot('slot-right').append(parts.status.element, parts.plot.element, parts.result.element, parts.exports.element, fn.element);
+  // Each contour's distance to the mesh, to leave one out by hand; its rows and the 3D view highlight each other.
+  const contours = new ContourTable({
+    context: () => controller.contourContext(),
+    setLeftOut: (id, out) => controller.setLeftOut(id, out),
+    useAll: () => controller.useAllContours(),
+    highlight: (id) => viewer?.highlightContour(id),
+  });
+  controller.onResult((r) => (r ? contours.show(r) : contours.resultCleared()));
+  controller.onLeaveOutChange(() => contours.leaveOutChanged());
+  slot('slot-right').append(parts.status.element, parts.plot.element, parts.result.element, contours.element, parts.exports.element, fn.element);
   slot('slot-bottom').append(parts.timeline.element);
   slot('slot-banner').append(parts.banner.element);
   slot('slot-notes').append(parts.notes.element);
@@ -106,7 +116,10 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
   if (viewer) slot('slot-legend').append(viewer.landmarkLayer.legend, viewer.setAsideLayer.legend, viewer.otherSurfacesLayer.legend, viewer.wallLayer.thicknessLegend.element, viewer.wallLayer.regionKey);
   slot('slot-viewcontrols').append(parts.view.element);
   slot('slot-hover').append(parts.hover.element);
-  viewer?.setHoverListener((h) => controller.onHover(h));
+  viewer?.setHoverListener((h) => {
+    controller.onHover(h);
+    contours.hoverFromView(h && (h.what === 'contour point' || h.what === 'left out') ? (h.id ?? null) : null);
+  });
 
   const lab = new LabPanel({ controller, viewer, legendSlot: slot('slot-legend') });
   lab.mount(slot('slot-left'), parts.params.element);

@@ -7,7 +7,7 @@
  */
 import type { CoreClient } from '../core-client/CoreClient';
 import type {
-  CoreErrorData, Frame, LabelMapGrid, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, ViewFile, WallFormat, WallSummary,
+  ContourKindName, CoreErrorData, Frame, LabelMapGrid, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, ViewFile, WallFormat, WallSummary,
 } from '../core-client/protocol';
 import { DEFAULT_OPTIONS, withDefaultOptions } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
@@ -26,15 +26,17 @@ import { frameChoice, framePicker, frameToRead, missingFrameNote, namedFrame } f
 import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 import { KeptSurfaces, runSignature, settingsKey, type KeptMesh } from './keptSurfaces';
+import { LeaveOutLists, leaveOutKeyPart, type LeaveOutKey } from './leaveOut';
 import { WALL_MIN_THICKNESS_MM, wallHeaderLines, wallReadiness, type WallReadiness } from '../io/export/wall';
 import { bivWallHeaderLines, bivWallReadiness, type BivWallReadiness } from '../io/export/bivWall';
 import { surfaceOrder } from '../io/FileBar';
-import { BIV_EPI } from '../core-client/derivedSurfaces';
+import { BIV_EPI, partOf } from '../core-client/derivedSurfaces';
 import { phasesOf } from './phases';
 import { wallSolidFromPly } from '../io/wallSolid';
 import type { BuiltWall } from '../io/WallRow';
 import type { WallColouring } from '../viewer/wallColours';
 import type { FunctionContext } from '../ui/FunctionPanel';
+import { leftOutNote } from '../ui/functionText';
 
 export type { Parts } from './parts';
 
@@ -121,6 +123,9 @@ export class Controller {
   private readonly readings = new Map<string, number>();
   /** What colours a wall shown in the view (the view panel's Wall colour): kept from one wall to the next. */
   private wallColouring: WallColouring = 'thickness';
+  /** The contours the user left out, per file, frame and surface (the Contours panel; never in the URL). */
+  private readonly leftOut = new LeaveOutLists();
+  private readonly leaveOutListeners: (() => void)[] = [];
 
   constructor(
     private readonly parts: Parts,
@@ -352,7 +357,10 @@ export class Controller {
       this.identities.set(fileName, identity);
       if (isStack(grid)) this.stacks.add(fileName);
       else this.stacks.delete(fileName);
-      if (loaded.session) this.applySession(loaded.session);
+      // Read anew: its ids may name other contours now; a session brings the list it was saved with.
+      this.leftOut.clearFile(fileName);
+      if (loaded.session) this.applySession(loaded.session, loaded);
+      this.emitLeaveOut();
       this.dispatch({ type: 'loaded', fileName });
       this.parts.banner.hide();
       this.pendingRunFailure = null; // that run was replaced by this file's
@@ -411,8 +419,13 @@ export class Controller {
     return error;
   }
 
-  /** A saved session brings the settings it was made with: they replace the current ones. */
-  private applySession(session: SessionSettings): void {
+  /**
+   * A saved session brings the settings it was made with: they replace the current ones; the
+   * contours it had left out are left out of its surface again (of `file`, as read).
+   */
+  private applySession(session: SessionSettings, file: LoadedFile): void {
+    const ids = session.leave_out ?? [];
+    if (ids.length > 0) this.leftOut.set({ file: file.fileName, frame: namedFrame(file), surface: file.surfaces.length ? session.surface : null }, ids);
     this.params = { ...defaultParams(this.schema), ...session.params };
     this.lids = session.lids;
     this.options = withDefaultOptions(session.options);
@@ -639,6 +652,8 @@ export class Controller {
       lids: this.lids,
       options: { ...this.options },
       phasesKey: JSON.stringify([plan.phases, readings]),
+      // The batch takes one set of settings for every phase: contours left out on screen are used there.
+      leftOutNote: leftOutNote([...new Set(plan.phases.map((p) => p.file))].flatMap((f) => this.leftOut.listsOf(f).map((l) => ({ ...l.key, ids: l.ids })))),
       settingsKey: JSON.stringify([schemaOrdered(this.params, this.schema), this.lids, Object.entries(this.options).sort(([a], [b]) => a.localeCompare(b))]),
     };
   }
@@ -657,6 +672,79 @@ export class Controller {
     for (const l of this.resultListeners) callSafely(() => l(r), 'result listener failed');
   }
 
+  // ---- contours left out by the user (the Contours panel) -------------------------------------
+
+  /** The time frame the current file is read as, as the leave-out lists are keyed (null: its only one). */
+  private leaveOutFrame(): string | null {
+    return namedFrame(this.currentFile());
+  }
+
+  /** The key of `surface`'s list in the current file and frame (null: no file). */
+  private leaveOutKey(surface: string | null): LeaveOutKey | null {
+    const file = this.currentFile();
+    return file ? { file: file.fileName, frame: namedFrame(file), surface: file.surfaces.length ? surface : null } : null;
+  }
+
+  /** The ids left out of `surface` of the current file and frame ([] without a file). */
+  private leaveOutOf(surface: string | null): string[] {
+    const key = this.leaveOutKey(surface);
+    return key ? this.leftOut.get(key) : [];
+  }
+
+  /** The ids the user left out of the current surface: what the next run leaves out. */
+  leaveOutNow(): string[] {
+    return this.leaveOutOf(this.surface);
+  }
+
+  /**
+   * What the Contours panel is about: the current file, frame and surface as one key, the ids left
+   * out of it and its contours in file order (id and the core's SAX/LAX split at load; null
+   * without a file).
+   */
+  contourContext(): { key: string; leaveOut: string[]; fileContours: { id: string; kind: ContourKindName | null }[] } | null {
+    const file = this.currentFile();
+    const key = this.leaveOutKey(this.surface);
+    if (!file || !key) return null;
+    const fileContours = file.contours.filter((c) => partOf(c.surface, key.surface)).map((c) => ({ id: c.id, kind: c.kind }));
+    return { key: JSON.stringify(key), leaveOut: this.leftOut.get(key), fileContours };
+  }
+
+  /**
+   * Leaves contour `id` of the current surface out (`out`) or puts it back, then runs again as a
+   * parameter change does (debounced, the run in progress cancelled; an "All" still queued dropped).
+   */
+  setLeftOut(id: string, out: boolean): void {
+    const key = this.leaveOutKey(this.surface);
+    if (!key || !this.leftOut.toggle(key, id, out)) return;
+    this.leaveOutChanged();
+  }
+
+  /** Puts every contour left out of the current surface back, in one run. */
+  useAllContours(): void {
+    const key = this.leaveOutKey(this.surface);
+    if (!key || this.leftOut.get(key).length === 0) return;
+    this.leftOut.set(key, []);
+    this.leaveOutChanged();
+  }
+
+  private leaveOutChanged(): void {
+    this.allQueue = [];
+    this.emitLeaveOut();
+    this.syncWall();
+    for (const l of this.contextListeners) callSafely(l, 'context listener failed');
+    if (this.restartTimer) clearTimeout(this.restartTimer);
+    this.restartTimer = setTimeout(() => this.startRun(), RESTART_DEBOUNCE_MS);
+  }
+
+  /** Called whenever a leave-out list may have changed (a box ticked, Use all, a file or session read). */
+  onLeaveOutChange(listener: () => void): void {
+    this.leaveOutListeners.push(listener);
+  }
+
+  private emitLeaveOut(): void {
+    for (const l of this.leaveOutListeners) callSafely(l, 'leave-out listener failed');
+  }
+
   // ---- runs -----------------------------------------------------------------------------------
 
   /** (Re)starts the reconstruction of the current file with the current parameters. */
@@ -673,8 +761,9 @@ export class Controller {
       this.renderWarnings();
     }
     this.parts.result.clear('running…');
-    const handle = client.run(settings, (f) => this.onFrame(f));
-    this.active = { runId: handle.runId, cancel: () => handle.cancel(), settings: settingsKey(settings.params, settings.lids, settings.options) };
+    const leaveOut = this.leaveOutOf(settings.surface);
+    const handle = client.run(leaveOut.length > 0 ? { ...settings, leaveOut } : settings, (f) => this.onFrame(f));
+    this.active = { runId: handle.runId, cancel: () => handle.cancel(), settings: this.settingsKeyOf(settings.surface, settings) };
     this.dispatch({ type: 'run', runId: handle.runId });
     handle.done.then(
       (r) => this.onDone(r),
@@ -778,7 +867,7 @@ export class Controller {
   private keepSurface(r: RunResult, settings: string): void {
     this.syncOthers();
     if (r.surface === null) return;
-    this.kept.keep(r.surface, r.positions, r.indices, settings, r.positionsF64);
+    this.kept.keep(r.surface, r.positions, r.indices, settings, r.positionsF64, r.leave_out ?? []);
     this.parts.viewer?.otherSurfacesLayer.set(r.surface, r.positions, r.indices, runSignature(r));
     this.syncOthers();
   }
@@ -799,9 +888,13 @@ export class Controller {
     this.parts.viewer?.requestRender();
   }
 
-  /** What the settings in the panel are now, as kept meshes record theirs. */
-  private currentSettingsKey(): string {
-    return settingsKey(this.params, this.lids, this.options);
+  /**
+   * What a run of `surface` would be run with now (the settings in the panel, or `s`, and the
+   * contours left out of that surface), as kept meshes record theirs.
+   */
+  private settingsKeyOf(surface: string | null, s?: { params: ParamValues; lids: LidsMode; options: ReconOptions }): string {
+    const { params, lids, options } = s ?? { params: this.params, lids: this.lids, options: this.options };
+    return settingsKey(params, lids, options) + leaveOutKeyPart(this.leaveOutOf(surface));
   }
 
   /**
@@ -810,7 +903,7 @@ export class Controller {
    */
   wallReadiness(): WallReadiness {
     const file = this.currentFile();
-    return wallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), this.currentSettingsKey());
+    return wallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), (s) => this.settingsKeyOf(s));
   }
 
   /**
@@ -820,7 +913,7 @@ export class Controller {
    */
   bivWallReadiness(): BivWallReadiness {
     const file = this.currentFile();
-    return bivWallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), this.currentSettingsKey());
+    return bivWallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), (s) => this.settingsKeyOf(s));
   }
 
   /** Tells the export panel whether the LV and biventricular walls can be built now (the file, its runs or the settings changed). */
@@ -839,8 +932,11 @@ export class Controller {
     const info = this.exportInfo();
     if (!w.ready || !settings || !info || !this.client) return null;
     const mesh = (m: KeptMesh) => ({ surface: m.surface, positions: m.positions64 ?? Float64Array.from(m.positions), indices: m.indices });
-    const now = { ...info, params: schemaOrdered(this.params, this.schema), lids: this.lids, options: this.options };
-    return this.client.wallFile(settings, {
+    // Each mesh was run with its own surface's list (readiness checks it); the core takes each
+    // surface's ids from the union, so the base plane is cut of the contours the meshes follow.
+    const leaveOut = this.leftOut.union(settings.fileName, this.leaveOutFrame(), [w.endo.surface, w.epi.surface]);
+    const now = { ...info, params: schemaOrdered(this.params, this.schema), lids: this.lids, options: this.options, leaveOut };
+    return this.client.wallFile({ ...settings, leaveOut }, {
       endo: mesh(w.endo as KeptMesh),
       epi: mesh(w.epi as KeptMesh),
       minThicknessMm: WALL_MIN_THICKNESS_MM,
@@ -860,8 +956,9 @@ export class Controller {
     const info = this.exportInfo();
     if (!w.ready || !settings || !info || !this.client) return null;
     const mesh = (m: KeptMesh) => ({ surface: m.surface, positions: m.positions64 ?? Float64Array.from(m.positions), indices: m.indices });
-    const now = { ...info, params: schemaOrdered(this.params, this.schema), lids: this.lids, options: this.options };
-    return this.client.bivWallFile(settings, {
+    const leaveOut = this.leftOut.union(settings.fileName, this.leaveOutFrame(), [w.lvEndo.surface, w.rvEndo.surface, w.bivEpi.surface]);
+    const now = { ...info, params: schemaOrdered(this.params, this.schema), lids: this.lids, options: this.options, leaveOut };
+    return this.client.bivWallFile({ ...settings, leaveOut }, {
       lvEndo: mesh(w.lvEndo as KeptMesh),
       rvEndo: mesh(w.rvEndo as KeptMesh),
       bivEpi: mesh(w.bivEpi as KeptMesh),
@@ -990,6 +1087,8 @@ export class Controller {
       lids: r ? r.lids : this.lids,
       options: r?.options ?? this.options,
       params: schemaOrdered(r ? r.params : this.params, this.schema),
+      // What the run on screen left out at the user's request (before its result: what the next run will).
+      leaveOut: r?.leave_out ?? this.leaveOutOf(r ? r.surface : this.surface),
     };
   }
 
@@ -999,7 +1098,9 @@ export class Controller {
    */
   sessionFile(): Promise<Uint8Array> | null {
     const settings = this.runSettings();
-    return settings && this.client ? this.client.sessionFile(settings, this.appVersion) : null;
+    if (!settings || !this.client) return null;
+    const leaveOut = this.leaveOutOf(settings.surface);
+    return this.client.sessionFile(leaveOut.length > 0 ? { ...settings, leaveOut } : settings, this.appVersion);
   }
 
   /** An export that failed (a bad setting, say): the banner says why; the state does not change. */

@@ -13,6 +13,8 @@ export interface KeptMesh {
   positions64?: Float64Array;
   /** What the run was run with (`settingsKey`; '' when not known): compared with the settings now. */
   settings: string;
+  /** The contour ids its run left out at the user's request (absent: none), for the all-surfaces export's notes. */
+  leaveOut?: string[];
 }
 
 /**
@@ -53,11 +55,13 @@ export class KeptSurfaces {
 
   /**
    * Keeps `surface`'s mesh, replacing its earlier one (kept in the order first seen); `settings`:
-   * its run's `settingsKey`; `positions64`: its vertices in full precision, when known.
+   * its run's `settingsKey`; `positions64`: its vertices in full precision, when known; `leaveOut`:
+   * the ids its run left out at the user's request.
    */
-  keep(surface: string, positions: Float32Array, indices: Uint32Array, settings = '', positions64?: Float64Array): void {
+  keep(surface: string, positions: Float32Array, indices: Uint32Array, settings = '', positions64?: Float64Array, leaveOut: readonly string[] = []): void {
     const mesh: KeptMesh = { surface, positions: positions.slice(), indices: indices.slice(), settings };
     if (positions64 && positions64.length === positions.length) mesh.positions64 = positions64.slice();
+    if (leaveOut.length > 0) mesh.leaveOut = [...leaveOut];
     this.meshes.set(surface, mesh);
   }
 

@@ -3,6 +3,11 @@
  * schema defaults are written (short links that survive default changes); anything malformed or
  * out of range in a hand-edited link is dropped or clamped rather than breaking the page.
  * Pure: works on query strings, not on `location`.
+ *
+ * The contours a user left out by hand (the Contours panel, app/leaveOut.ts) are deliberately not
+ * in the link: it carries settings meant for any file, and contour ids belong to one file (the
+ * same link opened on another file would name contours it lacks, which the core refuses). The
+ * exports and a saved session record them instead.
  */
 import { DEFAULT_OPTIONS, END_CAPS_MODES, SMOOTHING_METHODS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
 import { frameChoice } from './timeFrames';

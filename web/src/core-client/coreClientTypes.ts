@@ -36,6 +36,8 @@ export interface RunOptions {
   lids: LidsMode;
   /** Missing: the core's defaults. */
   options?: ReconOptions;
+  /** Contour ids left out by the user (RunRequest.leaveOut); missing or empty: none. */
+  leaveOut?: readonly string[];
 }
 
 /** What the LV wall is built of and written as (`CoreClient.wallFile`). */
@@ -86,5 +88,7 @@ export function settingsOf(opts: RunOptions) {
     params: { ...opts.params },
     lids: opts.lids,
     ...(opts.options ? { options: { ...opts.options } } : {}),
+    // Only when there are any: a request without them is the one it always was.
+    ...(opts.leaveOut && opts.leaveOut.length > 0 ? { leaveOut: [...opts.leaveOut] } : {}),
   };
 }

@@ -39,6 +39,12 @@ export interface RunRequest {
   lids: LidsMode;
   /** Missing: the core's defaults. */
   options?: ReconOptions;
+  /**
+   * Contour ids the user left out of this (file, surface) (the Contours panel); missing or empty:
+   * none. Sent in the params JSON as `leave_out` (protocolOptions `paramsJson`); a separate field,
+   * not an option, because the ids belong to one file while the options hold for any.
+   */
+  leaveOut?: string[];
 }
 /** Acknowledges every frame of `runId` up to and including `seq` (cumulative). */
 export interface AckRequest {
@@ -63,6 +69,8 @@ export interface SessionExportRequest {
   params: ParamValues;
   lids: LidsMode;
   options?: ReconOptions;
+  /** The contours left out by the user, as `RunRequest.leaveOut`: the session records them. */
+  leaveOut?: string[];
   appVersion: string;
 }
 /**
@@ -77,6 +85,8 @@ export interface WallExportRequest {
   params: ParamValues;
   lids: LidsMode;
   options?: ReconOptions;
+  /** The ids left out of the runs of both surfaces (the core takes each surface's own): the base plane's contours. */
+  leaveOut?: string[];
   endo: WallSurfaceMesh;
   epi: WallSurfaceMesh;
   /** Endocardial vertices closer to the epicardium than this (mm) are moved under it first; null: off. */
@@ -98,6 +108,8 @@ export interface BivWallExportRequest {
   params: ParamValues;
   lids: LidsMode;
   options?: ReconOptions;
+  /** The ids left out of the runs of the three surfaces (the core takes each surface's own): the base plane's contours. */
+  leaveOut?: string[];
   lvEndo: WallSurfaceMesh;
   rvEndo: WallSurfaceMesh;
   /** The biventricular epicardium (the file's LV_EPI and RV_EPI curves joined). */

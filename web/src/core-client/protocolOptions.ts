@@ -91,9 +91,14 @@ export function withDefaultOptions(options: Partial<ReconOptions> | null | undef
   return { ...DEFAULT_OPTIONS, ...(options ?? {}) };
 }
 
-/** The params JSON object the binding reads: schema numbers plus the options. */
-export function paramsJson(params: ParamValues, options?: ReconOptions): string {
-  if (!options) return JSON.stringify(params);
+/**
+ * The params JSON object the binding reads: schema numbers plus the options, plus `leave_out` (the
+ * contour ids the user left out) only when there are any, so a run without any reads as it always
+ * did (and a core that predates the field is not asked about it).
+ */
+export function paramsJson(params: ParamValues, options?: ReconOptions, leaveOut?: readonly string[]): string {
+  const leave = leaveOut && leaveOut.length > 0 ? { leave_out: [...leaveOut] } : {};
+  if (!options) return JSON.stringify({ ...params, ...leave });
   const o = withDefaultOptions(options);
   return JSON.stringify({
     ...params,
@@ -104,6 +109,7 @@ export function paramsJson(params: ParamValues, options?: ReconOptions): string 
     keep_specks: o.keep_specks,
     apex_floor: o.apex_floor,
     drop_second_loops: o.drop_second_loops,
+    ...leave,
   });
 }
 
@@ -113,6 +119,11 @@ export interface SessionSettings {
   lids: LidsMode;
   options: ReconOptions;
   surface: string | null;
+  /**
+   * The contour ids the user had left out of `surface` when the session was saved (the core's
+   * `leave_out`; absent from sessions and cores that predate it, read as none).
+   */
+  leave_out?: string[];
 }
 
 /** One numeric parameter as described by the Rust `Params::schema()`. */

@@ -263,6 +263,10 @@ export type SetAsideEntry = { id: string; line: number } & (
       length_mm: number;
       extent_mm: number;
     }
+  | {
+      /** Left out because the user asked (the run's `leave_out`: unticked in the Contours panel). */
+      reason: 'by_user';
+    }
 );
 
 export type SetAsideReason = SetAsideEntry['reason'];
@@ -319,10 +323,16 @@ export interface RunResult {
   /** Folds and self-intersections of the final mesh (absent from results of older cores). */
   quality?: MeshQuality | null;
   /**
-   * The contours of the selected surface the run left out (strays, specks; empty with
-   * `options.keep_specks`, absent from results of older cores), in the core's order.
+   * The contours of the selected surface the run left out (strays, specks, those the user left out:
+   * `by_user`; strays and specks none with `options.keep_specks`; absent from results of older
+   * cores), in the core's order.
    */
   set_aside?: SetAsideEntry[];
+  /**
+   * The contour ids the run left out because it was asked to (`RunRequest.leaveOut`), also in
+   * `set_aside` with reason `by_user`; [] when none (absent from older cores and test doubles).
+   */
+  leave_out?: string[];
   /** Those contours as the file gives them, one per `set_aside` entry, indexing `setAsidePoints`. */
   set_aside_contours?: ContourInfo[];
   /** xyz of the points of `set_aside_contours`, mm. */

@@ -260,7 +260,7 @@ export class WorkerCore {
         this.send({
           type: 'session-json',
           reqId: msg.reqId,
-          bytes: this.session.session_json(msg.fileName, msg.surface, paramsJson(msg.params, msg.options), msg.lids, msg.appVersion),
+          bytes: this.session.session_json(msg.fileName, msg.surface, paramsJson(msg.params, msg.options, msg.leaveOut), msg.lids, msg.appVersion),
         });
         break;
       case 'wall-export':
@@ -307,8 +307,9 @@ export class WorkerCore {
       'points'
     >;
     const file: LoadedFile = { ...info, points: this.session.file_points(fileName) };
-    // A session saved before an option existed loads with that option at its default.
-    if (file.session) file.session = { ...file.session, options: withDefaultOptions(file.session.options) };
+    // A session saved before an option existed loads with that option at its default (and one
+    // saved before the leave-out list, with none).
+    if (file.session) file.session = { ...file.session, options: withDefaultOptions(file.session.options), leave_out: stringsOf(file.session.leave_out) };
     this.send({ type: 'loaded', reqId, file });
   }
 
@@ -327,7 +328,7 @@ export class WorkerCore {
     const out = build.call(
       this.session,
       msg.fileName,
-      paramsJson(msg.params, msg.options),
+      paramsJson(msg.params, msg.options, msg.leaveOut),
       msg.lids,
       msg.endo.surface,
       msg.endo.positions,
@@ -357,7 +358,7 @@ export class WorkerCore {
     const out = build.call(
       this.session,
       msg.fileName,
-      paramsJson(msg.params, msg.options),
+      paramsJson(msg.params, msg.options, msg.leaveOut),
       msg.lids,
       msg.lvEndo.surface,
       msg.lvEndo.positions,
@@ -401,7 +402,7 @@ export class WorkerCore {
     };
     this.run = run;
     try {
-      this.session.start(msg.fileName, msg.surface, paramsJson(msg.params, msg.options), msg.lids);
+      this.session.start(msg.fileName, msg.surface, paramsJson(msg.params, msg.options, msg.leaveOut), msg.lids);
     } catch (e) {
       this.stopRun();
       this.fail(e, { runId: msg.runId }, msg.fileName);
@@ -490,6 +491,7 @@ export class WorkerCore {
       alignment: small.alignment ?? null,
       end_caps: small.end_caps ?? null,
       set_aside: small.set_aside ?? [],
+      leave_out: stringsOf(small.leave_out),
       set_aside_contours: small.set_aside_contours ?? [],
       contour_to_mesh_as_given: small.contour_to_mesh_as_given ?? null,
       ...convergence(last),
@@ -582,6 +584,11 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
 function fullPrecision(session: SessionApi): { positionsF64?: Float64Array } {
   const p = session.positions_f64?.();
   return p instanceof Float64Array ? { positionsF64: p } : {};
+}
+
+/** A list of ids from the core's JSON: [] when absent (an older core) or not a list of strings. */
+function stringsOf(v: unknown): string[] {
+  return Array.isArray(v) ? v.filter((x): x is string => typeof x === 'string') : [];
 }
 
 function safe<T>(f: () => T): T | undefined {

@@ -32,7 +32,7 @@ export interface ExportSource {
   /** The current file and settings as a heartmesh session file (null without a file). */
   session(): Promise<Uint8Array> | null;
   /** The finished meshes of the file's other surfaces (their last runs), for the all-surfaces OBJ. */
-  others(): { surface: string; positions: Float32Array; indices: Uint32Array }[];
+  others(): { surface: string; positions: Float32Array; indices: Uint32Array; leaveOut?: readonly string[] }[];
   /**
    * The LV wall built in the worker and written as `format`, with its figures (null: it cannot be
    * built now). Rejects with the core's error.
@@ -232,7 +232,9 @@ export class ExportPanel {
       { name: current, mesh: { positions: r.positions, indices: r.indices } },
       ...others.map((m) => ({ name: m.surface, mesh: m })),
     ];
-    const notes = [`objects: ${current} (this run, with the parameters above)${others.map((m) => `, ${m.surface} (its last run)`).join('')}`];
+    // Each surface's own contours left out (the header's leave_out is this run's).
+    const leftOut = (m: { leaveOut?: readonly string[] }) => (m.leaveOut?.length ? `, leave_out=${m.leaveOut.join(',')}` : '');
+    const notes = [`objects: ${current} (this run, with the parameters above)${others.map((m) => `, ${m.surface} (its last run${leftOut(m)})`).join('')}`];
     download(writeObjSurfaces(parts, info, notes), `${exportBaseName({ ...info, surface: null })}-surfaces.obj`, 'model/obj');
   }
 

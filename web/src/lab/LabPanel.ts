@@ -569,6 +569,7 @@ export class LabPanel {
       return;
     }
     this.looRun?.handle.cancel();
+    const leftOut = this.leftOutNote();
     const b = this.buttons;
     b.looRun.disabled = true;
     b.looCancel.disabled = false;
@@ -596,7 +597,7 @@ export class LabPanel {
       await handle.done;
       const worst = this.loo.worst();
       if (worst >= 0) this.selectContour(worst);
-      this.looInfo.textContent = `done: ${info.total} contours; worst ${worst >= 0 ? (contours[worst]?.id ?? `#${worst + 1}`) : '–'}`;
+      this.looInfo.textContent = `done: ${info.total} contours; worst ${worst >= 0 ? (contours[worst]?.id ?? `#${worst + 1}`) : '–'}${leftOut}`;
       this.looInfo.dataset.done = '1';
     } catch (e) {
       const err = e as CoreErrorData;
@@ -656,6 +657,7 @@ export class LabPanel {
       return;
     }
     this.sweepRun?.cancel();
+    const leftOut = this.leftOutNote();
     // Against the truth of the surface swept (never another's), when the file was cut from them.
     const truthIndex = truthForSurface(settings.surface, this.truths.map((t) => t.label));
     const withTruth = this.labFile !== null && settings.fileName === this.labFile && truthIndex !== null;
@@ -686,7 +688,7 @@ export class LabPanel {
       this.sweepInfo.textContent = `0 / ${info.total} runs`;
       await handle.done;
       const best = [...this.sweepRows].sort((x, y) => (x.truth_mean ?? x.contour_mean ?? Infinity) - (y.truth_mean ?? y.contour_mean ?? Infinity))[0];
-      this.sweepInfo.textContent = `done: ${this.sweepRows.length} runs${best ? `; best λ ${best.lambda}, smoothing ${best.smoothing_iterations}, reduction ${best.target_reduction}, spacing ${best.attractor_spacing}` : ''}`;
+      this.sweepInfo.textContent = `done: ${this.sweepRows.length} runs${best ? `; best λ ${best.lambda}, smoothing ${best.smoothing_iterations}, reduction ${best.target_reduction}, spacing ${best.attractor_spacing}` : ''}${leftOut}`;
       this.sweepInfo.dataset.done = '1';
     } catch (e) {
       const err = e as CoreErrorData;
@@ -707,6 +709,16 @@ export class LabPanel {
   }
 
   // ---- messages -------------------------------------------------------------------------------
+
+  /**
+   * Said after a leave-one-out or a sweep started while contours of the surface were left out in
+   * the Contours panel: the lab's batches rebuild every contour of the file (leave-one-out takes
+   * each out in turn, so a list of its own would clash with it), unlike the run on screen.
+   */
+  private leftOutNote(): string {
+    const n = this.deps.controller.leaveOutNow?.().length ?? 0;
+    return n > 0 ? `; every contour used, also the ${n === 1 ? 'one' : n} you left out in the Contours panel` : '';
+  }
 
   private say(text: string, error = false): void {
     this.message.textContent = text;

@@ -29,6 +29,11 @@ export interface FunctionContext {
   phasesKey: string;
   /** Equal while the parameters, mesh ends and options are the same. */
   settingsKey: string;
+  /**
+   * Said when contours of these phases were left out in the Contours panel (functionText
+   * `leftOutNote`): the measurement uses them all. Absent or null: none were.
+   */
+  leftOutNote?: string | null;
 }
 
 export interface FunctionHost {
@@ -70,6 +75,7 @@ export class FunctionPanel {
   private readonly bar: HTMLElement;
   private readonly progress: HTMLElement;
   private readonly stale: HTMLElement;
+  private readonly leftOut: HTMLElement;
   private readonly table: HTMLTableElement;
   private readonly summary: HTMLElement;
   private readonly error: HTMLElement;
@@ -89,6 +95,7 @@ export class FunctionPanel {
     this.progress = h('div', { class: 'progress', hidden: true }, this.bar);
     this.source = h('p', { class: 'function-source muted' });
     this.stale = h('p', { class: 'function-stale', 'data-testid': 'function-stale', hidden: true });
+    this.leftOut = h('p', { class: 'function-left-out', 'data-testid': 'function-left-out', hidden: true });
     this.table = h('table', { class: 'function-table', 'data-testid': 'function-table', hidden: true });
     this.summary = h('ul', { class: 'function-summary', 'data-testid': 'function-summary' });
     this.error = h('p', { class: 'function-error', 'data-testid': 'function-error', hidden: true });
@@ -98,6 +105,7 @@ export class FunctionPanel {
       h('h2', {}, 'Function'),
       this.source,
       h('div', { class: 'function-actions' }, this.measure, this.stop, this.csv, this.progressText),
+      this.leftOut,
       this.progress,
       this.stale,
       this.table,
@@ -198,6 +206,9 @@ export class FunctionPanel {
     this.stale.hidden = staleWhy === null;
     this.stale.textContent = staleWhy ? `${staleWhy} — measure again` : '';
     this.element.classList.toggle('is-stale', staleWhy !== null);
+    const note = context?.leftOutNote ?? null;
+    this.leftOut.hidden = note === null;
+    this.leftOut.textContent = note ?? '';
     this.error.hidden = !m?.error;
     this.error.textContent = m?.error ? `Not measured: ${m.error}` : '';
     this.renderTable(m);

@@ -1,6 +1,7 @@
 /**
- * The read-out under the pointer: distance to the mesh in mm (after a run) and position in mm; on
- * the myocardium wall (shown from the Export panel), its thickness in mm and its region.
+ * The read-out under the pointer: distance to the mesh in mm (after a run; on a contour point, with
+ * the contour's id) and position in mm; on the myocardium wall (shown from the Export panel), its
+ * thickness in mm and its region.
  */
 import type { HoverInfo } from '../viewer/Viewer';
 import { cssColorAt } from '../viewer/colormap';
@@ -38,7 +39,9 @@ export class HoverReadout {
     } else if (info.distanceMm !== null) {
       const sw = h('span', { class: 'swatch' });
       sw.style.background = cssColorAt(info.distanceMm, 0, scaleMaxMm);
-      children.push(sw, h('strong', {}, mm(info.distanceMm, 2)), ` ${info.what === 'mesh' ? 'to nearest contour' : 'to mesh'}`, h('br'));
+      // A contour point names its contour ("0.84 mm to mesh · s05_SAX_LV_ENDOCARDIAL"): its row in the Contours panel.
+      const contour = info.what === 'contour point' && info.id ? ` · ${info.id}` : '';
+      children.push(sw, h('strong', {}, mm(info.distanceMm, 2)), ` ${info.what === 'mesh' ? 'to nearest contour' : 'to mesh'}${contour}`, h('br'));
     } else {
       children.push(h('strong', {}, info.what), h('br'));
     }

@@ -64,3 +64,25 @@ export function volumesCsv(items: readonly PhaseItem[]): string {
     .map((c) => [quote(c.phase), quote(c.surface), fixed(c.volume_ml, 3), String(c.watertight), fixed(c.contour_to_mesh_mean, 4), c.seconds.toFixed(3)].join(','));
   return ['phase,surface,volume_ml,watertight,contour_to_mesh_mean_mm,seconds', ...rows].join('\n') + '\n';
 }
+
+/** Contours the user left out of one (file, frame, surface), as the Function panel names them. */
+export interface LeftOutList {
+  file: string;
+  frame: string | null;
+  surface: string | null;
+  ids: readonly string[];
+}
+
+/**
+ * What the Function panel says when contours were left out in the Contours panel of the phases it
+ * measures: the phases batch reconstructs every contour of every phase (one set of settings for
+ * all, no per-file list), so those contours are used there, and the user must be told rather than
+ * shown volumes that silently differ from the runs on screen. Null when none were left out.
+ */
+export function leftOutNote(lists: readonly LeftOutList[]): string | null {
+  const used = lists.filter((l) => l.ids.length > 0);
+  if (used.length === 0) return null;
+  const n = used.reduce((k, l) => k + l.ids.length, 0);
+  const where = used.map((l) => `${[l.file, l.frame !== null ? `frame ${l.frame}` : '', l.surface ?? ''].filter(Boolean).join(' ')}: ${l.ids.join(', ')}`).join('; ');
+  return `Measure all phases uses every contour: the ${n === 1 ? 'contour' : `${n} contours`} you left out in the Contours panel ${n === 1 ? 'is' : 'are'} used here (${where})`;
+}

@@ -199,19 +199,26 @@ export function meshCheckText(q: MeshQuality): {
   };
 }
 
-/** "left out: speck" / "left out: stray": what the viewer's key and the hover read-out call a contour left out. */
+/** What a contour the user left out (unticked in the Contours panel) is called everywhere. */
+export const LEFT_OUT_BY_USER = 'left out by you';
+
+/**
+ * "left out: speck" / "left out: stray" / "left out by you": what the viewer's key, the hover
+ * read-out and the Contours panel call a contour left out.
+ */
 export function leftOutLabel(reason: SetAsideReason): string {
-  return `left out: ${leftOutKind(reason)}`;
+  return reason === 'by_user' ? LEFT_OUT_BY_USER : `left out: ${leftOutKind(reason)}`;
 }
 
 /** A long-axis speck is a speck to the user; where it lies is in the detail. */
-function leftOutKind(reason: SetAsideReason): 'speck' | 'stray' {
-  return reason === 'stray' ? 'stray' : 'speck';
+function leftOutKind(reason: SetAsideReason): 'speck' | 'stray' | 'by you' {
+  return reason === 'by_user' ? 'by you' : reason === 'stray' ? 'stray' : 'speck';
 }
 
 /** One contour left out, in a sentence: `"sax10" (line 1505): a speck, 2.8 mm around, 1 % of the ring of "sax09" one slice away`. */
 export function leftOutDetail(s: SetAsideEntry): string {
   const at = s.line > 0 ? ` (line ${s.line})` : '';
+  if (s.reason === 'by_user') return `"${s.id}"${at}: ${LEFT_OUT_BY_USER} (tick it in the Contours panel to use it again)`;
   if (s.reason === 'stray') return `"${s.id}"${at}: a stray, ${s.gap_mm.toFixed(0)} mm from the nearest contour kept`;
   if (s.reason === 'lax_speck') {
     return `"${s.id}"${at}: a speck in a long-axis plane, ${s.length_mm.toFixed(1)} mm long where the data span ${s.extent_mm.toFixed(0)} mm along the axis`;
@@ -225,23 +232,27 @@ const SET_ASIDE_NAMES = 3;
 
 /**
  * The result panel's "Left out" row: "1 contour (speck) · sax10", "3 contours (2 specks, 1 stray) ·
- * sax10, sax11, far", with every one, its line and why in the tooltip. Null when nothing was left
- * out (the row is then not shown).
+ * sax10, sax11, far", "2 contours (1 by you, 1 speck) · s07_LAX, sax10", with every one, its line
+ * and why in the tooltip, and what puts each kind back. Null when nothing was left out (the row is
+ * then not shown).
  */
 export function leftOutText(list: readonly SetAsideEntry[]): { text: string; title: string } | null {
   if (list.length === 0) return null;
-  const count = (kind: 'speck' | 'stray') => list.filter((s) => leftOutKind(s.reason) === kind).length;
-  const kinds = (['speck', 'stray'] as const)
+  const count = (kind: 'speck' | 'stray' | 'by you') => list.filter((s) => leftOutKind(s.reason) === kind).length;
+  const kinds = (['by you', 'speck', 'stray'] as const)
     .map((reason) => ({ reason, n: count(reason) }))
     .filter((k) => k.n > 0)
-    .map((k) => (list.length === 1 ? k.reason : `${k.n} ${k.reason}${k.n === 1 ? '' : 's'}`));
+    .map((k) => (list.length === 1 ? k.reason : k.reason === 'by you' ? `${k.n} by you` : `${k.n} ${k.reason}${k.n === 1 ? '' : 's'}`));
   const names = list.slice(0, SET_ASIDE_NAMES).map((s) => s.id);
   if (list.length > SET_ASIDE_NAMES) names.push('…');
+  const byUser = count('by you');
+  const back = [
+    ...(byUser > 0 ? ['Tick those left out by you in the Contours panel to use them again.'] : []),
+    ...(byUser < list.length ? ['The option Keep specks and strays (Parameters) uses the specks and strays.'] : []),
+  ];
   return {
     text: `${list.length} contour${list.length === 1 ? '' : 's'} (${kinds.join(', ')}) · ${names.join(', ')}`,
-    title:
-      `left out of the reconstruction (drawn grey and dashed): ${list.map(leftOutDetail).join('; ')}. ` +
-      'The option Keep specks and strays (Parameters) uses them.',
+    title: `left out of the reconstruction (drawn grey and dashed): ${list.map(leftOutDetail).join('; ')}. ${back.join(' ')}`,
   };
 }
 

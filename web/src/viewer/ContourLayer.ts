@@ -46,6 +46,11 @@ export class ContourLayer {
   private objects: THREE.Object3D[] = [];
   private pointsObject: THREE.Points | null = null;
   private distances: Float32Array | null = null;
+  /** The highlighted (current surface's) contours and their points, to name a picked point and to find a contour by id. */
+  private selected: readonly ContourInfo[] = [];
+  private points: Float32Array = new Float32Array(0);
+  /** Bumped whenever what is drawn changes: an overlay made of these contours knows when to follow. */
+  version = 0;
   private readonly materials = {
     sax: new THREE.LineBasicMaterial({ vertexColors: true }),
     lax: new THREE.LineDashedMaterial({ vertexColors: true, dashSize: 3, gapSize: 2 }),
@@ -62,6 +67,8 @@ export class ContourLayer {
     const isSelected = (c: ContourInfo) => partOf(c.surface, surface);
     const selected = contours.filter(isSelected);
     const others = contours.filter((c) => !isSelected(c));
+    this.selected = selected;
+    this.points = points;
     const colorBytes = distances ? colorizeU8(distances, 0, maxMm) : null;
     const tmp = new THREE.Color();
     const colorOf = (kind: 'SAX' | 'LAX') => (i: number) =>
@@ -132,7 +139,21 @@ export class ContourLayer {
     return this.distances && index < this.distances.length ? this.distances[index] : null;
   }
 
+  /** The id of the (current surface's) contour point `index` belongs to (null: none). */
+  contourOfPoint(index: number): string | null {
+    return this.selected.find((c) => c.pieces.some((p) => index >= p.start && index < p.start + p.count))?.id ?? null;
+  }
+
+  /** The current surface's contour `id` as drawn: its pieces and the points they index (null: not drawn). */
+  contourById(id: string): { contour: ContourInfo; points: Float32Array } | null {
+    const contour = this.selected.find((c) => c.id === id);
+    return contour ? { contour, points: this.points } : null;
+  }
+
   clear(): void {
+    this.version++;
+    this.selected = [];
+    this.points = new Float32Array(0);
     for (const o of this.objects) {
       (o as THREE.LineSegments).geometry.dispose();
       this.group.remove(o);

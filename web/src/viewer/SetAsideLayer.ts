@@ -16,9 +16,10 @@ import { givenSegments } from './GivenContourLayer';
 
 export const SET_ASIDE_COLOR = '#9aa4b2';
 
-/** One drawn contour left out: its entry and the range of its points in the layer's point order. */
+/** One drawn contour left out: its entry, its geometry and the range of its points in the layer's point order. */
 interface Drawn {
   entry: SetAsideEntry;
+  contour: ContourInfo;
   start: number;
   count: number;
 }
@@ -53,6 +54,9 @@ export class SetAsideLayer {
   private pointsObject: THREE.Points | null = null;
   private rings: THREE.Points | null = null;
   private drawn: Drawn[] = [];
+  private points: Float32Array = new Float32Array(0);
+  /** Bumped whenever what is drawn changes (see ContourLayer.version). */
+  version = 0;
   private readonly lineMaterial = new THREE.LineDashedMaterial({
     color: SET_ASIDE_COLOR, transparent: true, opacity: 0.75, dashSize: 1, gapSize: 0.7, depthWrite: false,
   });
@@ -109,7 +113,8 @@ export class SetAsideLayer {
     this.rings = new THREE.Points(ringGeometry, this.ringMaterial);
     this.rings.renderOrder = 4;
     this.group.add(this.rings);
-    this.drawn = pairs.map(({ entry, start, count }) => ({ entry, start, count }));
+    this.drawn = pairs.map(({ entry, contour, start, count }) => ({ entry, contour, start, count }));
+    this.points = points;
     this.legend.replaceChildren(
       h('div', { class: 'legend-title' }, 'not used by the mesh'),
       ...this.drawn.map(({ entry }) =>
@@ -134,6 +139,12 @@ export class SetAsideLayer {
     return this.pointsObject;
   }
 
+  /** The contour left out `id` as drawn: its pieces and the points they index (null: not drawn). */
+  contourById(id: string): { contour: ContourInfo; points: Float32Array } | null {
+    const d = this.drawn.find((x) => x.entry.id === id);
+    return d ? { contour: d.contour, points: this.points } : null;
+  }
+
   /** Dash lengths in proportion to the framed scene (see ContourLayer.setDashScale). */
   setDashScale(scale: number): void {
     const s = Number.isFinite(scale) && scale > 0 ? scale : 1;
@@ -155,6 +166,8 @@ export class SetAsideLayer {
   }
 
   clear(): void {
+    this.version++;
+    this.points = new Float32Array(0);
     for (const o of [this.lines, this.pointsObject, this.rings]) {
       if (!o) continue;
       o.geometry.dispose();

@@ -10,6 +10,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { LandmarkLayer } from './LandmarkLayer';
 import { AttractorLayer } from './AttractorLayer';
 import { ContourLayer, warmupGeometry } from './ContourLayer';
+import { ContourHighlight } from './ContourHighlight';
 import { cameraPlacement, dashScale, fitView, type ViewFit } from './fitView';
 import { GivenContourLayer } from './GivenContourLayer';
 import { MeshLayer } from './MeshLayer';
@@ -37,6 +38,7 @@ export interface HoverInfo {
   tint?: string;
   /** For the wall: its thickness there, mm (null on a cut face). */
   thicknessMm?: number | null;
+  /** The contour under the pointer (a contour point, or a contour left out): its id. */
   id?: string;
 }
 
@@ -66,6 +68,11 @@ export class Viewer {
   /** The contours the run left out (strays, specks), grey and dashed, with their key. */
   readonly setAsideLayer = new SetAsideLayer();
   readonly attractorLayer = new AttractorLayer();
+  /** One contour picked out (the Contours panel's row under the pointer): `highlightContour`. */
+  readonly contourHighlight = new ContourHighlight();
+  /** The contour asked to be highlighted, and the contour layers' versions its drawing was made of. */
+  private highlightWanted: string | null = null;
+  private highlightBuiltOf = '';
   /** The file's other surfaces as their last runs left them, faint (a toggle of the view controls). */
   readonly otherSurfacesLayer: OtherSurfacesLayer;
   readonly landmarkLayer = new LandmarkLayer();
@@ -119,7 +126,7 @@ export class Viewer {
     this.meshLayer = new MeshLayer([this.clipPlane]);
     this.otherSurfacesLayer = new OtherSurfacesLayer([this.clipPlane]);
     this.wallLayer = new WallLayer([this.clipPlane]);
-    this.surfaceLayers.add(this.meshLayer.group, this.otherSurfacesLayer.group, this.givenLayer.group, this.setAsideLayer.group, this.contourLayer.group, this.attractorLayer.group);
+    this.surfaceLayers.add(this.meshLayer.group, this.otherSurfacesLayer.group, this.givenLayer.group, this.setAsideLayer.group, this.contourLayer.group, this.attractorLayer.group, this.contourHighlight.group);
     this.scene.add(this.surfaceLayers, this.wallLayer.group, this.landmarkLayer.group);
     this.scene.add(new THREE.HemisphereLight(0xdde6f0, 0x30261f, 1.3));
     const key = new THREE.DirectionalLight(0xffffff, 1.6);
@@ -160,7 +167,7 @@ export class Viewer {
     const g = warmupGeometry();
     const group = new THREE.Group();
     for (const m of [...this.meshLayer.materials, ...this.wallLayer.materials]) group.add(new THREE.Mesh(g, m));
-    group.add(...this.contourLayer.materialObjects, this.givenLayer.materialObject, ...this.setAsideLayer.materialObjects, this.attractorLayer.materialObject);
+    group.add(...this.contourLayer.materialObjects, this.givenLayer.materialObject, ...this.setAsideLayer.materialObjects, this.attractorLayer.materialObject, ...this.contourHighlight.materialObjects);
     group.traverse((o) => (o.frustumCulled = false));
     group.position.set(0, 0, 1e6); // behind the default camera (at the origin, looking down -z)
     this.scene.add(group);
@@ -177,8 +184,32 @@ export class Viewer {
     this.dirty = true;
   }
 
+  /**
+   * Highlights contour `id` of the surface on screen (or of those its run left out), drawn over
+   * everything; null: none. The highlight follows the contour layers (a new run's contours) until
+   * another id is asked for. The canvas's `data-highlight` says which contour is drawn ('' none:
+   * also when `id` is drawn by no layer), for the browser tests.
+   */
+  highlightContour(id: string | null): void {
+    this.highlightWanted = id;
+    this.highlightBuiltOf = '';
+    this.updateHighlight();
+  }
+
+  /** Rebuilds the highlight when the contours it is made of were drawn anew. */
+  private updateHighlight(): void {
+    const of = `${this.highlightWanted}\n${this.contourLayer.version}\n${this.setAsideLayer.version}`;
+    if (of === this.highlightBuiltOf) return;
+    this.highlightBuiltOf = of;
+    const id = this.highlightWanted;
+    this.contourHighlight.show(id, id === null ? null : (this.contourLayer.contourById(id) ?? this.setAsideLayer.contourById(id)));
+    this.renderer.domElement.dataset.highlight = this.contourHighlight.id ?? '';
+    this.requestRender();
+  }
+
   /** Renders if something changed since the last call (called once per animation frame). */
   renderIfNeeded(): void {
+    this.updateHighlight();
     if (!this.dirty) return;
     this.dirty = false;
     this.renderer.render(this.scene, this.camera);
@@ -376,7 +407,8 @@ export class Viewer {
     if (points && points.visible) {
       const hit = this.raycaster.intersectObject(points, false)[0];
       if (hit && hit.index !== undefined && this.isVisiblePoint(hit.point)) {
-        this.hoverListener({ x, y, what: 'contour point', point: hit.point.clone(), distanceMm: this.contourLayer.distanceOfPoint(hit.index) });
+        const id = this.contourLayer.contourOfPoint(hit.index);
+        this.hoverListener({ x, y, what: 'contour point', point: hit.point.clone(), distanceMm: this.contourLayer.distanceOfPoint(hit.index), ...(id !== null ? { id } : {}) });
         return;
       }
     }
@@ -429,6 +461,7 @@ export class Viewer {
     this.otherSurfacesLayer.dispose();
     this.wallLayer.dispose();
     this.attractorLayer.dispose();
+    this.contourHighlight.dispose();
     this.landmarkLayer.dispose();
     this.renderer.dispose();
     this.renderer.domElement.remove();

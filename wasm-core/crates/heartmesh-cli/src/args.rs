@@ -21,6 +21,14 @@ impl Parsed {
             .map(|(_, v)| v.as_str())
     }
 
+    /// Every value of option `name`, in command-line order (for [`REPEATABLE`] options).
+    pub fn values_of<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a str> + 'a {
+        self.values
+            .iter()
+            .filter(move |(n, _)| n == name)
+            .map(|(_, v)| v.as_str())
+    }
+
     pub fn switch(&self, name: &str) -> bool {
         self.switches.iter().any(|s| s == name)
     }
@@ -49,6 +57,10 @@ impl Parsed {
             .transpose()
     }
 }
+
+/// Options with a value that may be given more than once, each value kept in order (a list, as
+/// `--leave-out A --leave-out B`); any other given twice is a usage error.
+const REPEATABLE: &[&str] = &["leave-out"];
 
 /// Options of a command: names that take a value and switches; `aliases` maps short forms
 /// (e.g. `-o`) to canonical names.
@@ -88,7 +100,7 @@ pub fn parse(args: &[String], spec: &Spec) -> Result<Parsed, CliError> {
             }
             out.switches.push(name);
         } else if spec.with_value.contains(&name.as_str()) {
-            if out.value(&name).is_some() {
+            if out.value(&name).is_some() && !REPEATABLE.contains(&name.as_str()) {
                 return Err(CliError::usage(format!("--{name} given twice")));
             }
             let v = match inline {

@@ -24,7 +24,8 @@ pub const USAGE: &str = "heartmesh info CONTOURS [VIEWS...] [--frame N|LABEL] [-
     or: heartmesh info FILE FILE... [--json]  (each in turn; --json: an array)
   What the file holds and what reconstruct would make of it, without running it: format, time
   frames, points, landmarks, coordinate range (mm, the file's own frame), and per surface the
-  short- and long-axis contours, the slices' spacing, the long axis, the contours a run leaves
+  short- and long-axis contours (their ids, as reconstruct's --leave-out takes them), the
+  slices' spacing, the long axis, the contours a run leaves
   out and why, the ends that get lid points, and how far the images disagree where their planes
   cross (with the advice to --align-slices when they do). A surface that cannot be
   reconstructed says why (exit status 0: the file was read). A mesh file: vertices, triangles,
@@ -335,9 +336,18 @@ fn surface(set: &ContourSet, base: &Params, label: Option<&str>) -> Value {
         || json!({ "min": gaps[0], "median": gaps[gaps.len() / 2], "max": gaps[gaps.len() - 1] }),
     );
     let a = rec.long_axis();
+    // The ids, as `--leave-out` takes them (a file's names are often all a user has to go by).
+    let ids = |k: ContourKind| -> Vec<&str> {
+        used.iter()
+            .zip(kinds)
+            .filter(|(_, &x)| x == k)
+            .map(|(c, _)| c.id.as_str())
+            .collect()
+    };
     json!({
         "surface": label,
         "contours": used.len(),
+        "ids": { "sax": ids(ContourKind::Sax), "lax": ids(ContourKind::Lax) },
         "sax": count(ContourKind::Sax),
         "lax": count(ContourKind::Lax),
         "open_curves": open,
@@ -442,6 +452,20 @@ fn surface_text(s: &Value, crossing: Option<String>) -> String {
         },
         n("points")
     );
+    let names = |k: &str| -> Vec<&str> {
+        s["ids"][k]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(Value::as_str)
+            .collect()
+    };
+    for (kind, k) in [("short-axis", "sax"), ("long-axis", "lax")] {
+        let list = names(k);
+        if !list.is_empty() {
+            out += &format!("\n  {kind}: {}", list.join(", "));
+        }
+    }
     let num = |p: &str| s.pointer(p).and_then(Value::as_f64).unwrap_or(0.0);
     if s["slice_spacing_mm"].is_object() {
         out += &format!(

@@ -23,7 +23,7 @@ pub const USAGE: &str =
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
     [--smoothing-method laplacian-affine|taubin|laplacian-hc|laplacian-twicing] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
     [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--no-apex-floor] [--drop-second-loops] [--keep-specks] [--frame N|LABEL]
-    [--contour-distances POINTS.csv] [--ascii] [--quiet]
+    [--leave-out ID[,ID...]] [--contour-distances POINTS.csv] [--ascii] [--quiet]
   CONTOURS may be a NIfTI short-axis label map followed by its long-axis views (single-slice
   label maps, any order of the files: reconstruct SEG.nii.gz LA_2CH.nii.gz LA_4CH.nii.gz -o ...),
   their labels matched to the stack's by position;
@@ -68,6 +68,10 @@ pub const USAGE: &str =
   a long-axis curve under a tenth of the data's extent along the axis (a click in a long-axis
   view) are left out of the reconstruction, each named in a warning and in the report's
   set_aside; --keep-specks keeps them (the paper's method);
+  --leave-out ID[,ID...] (repeatable): leave out the contours of those ids (a slice drawn badly,
+  a view from another phase; ids as `heartmesh info` or the report's per_contour name them),
+  before the rules above; the report's set_aside lists them (reason by_user) and a note names
+  them; an id no contour of the file has is an error; one of another surface is ignored there;
   --lids apex puts the apex lid at the file's apex landmark (biv-me GPFiles: APEX_POINT, or
   APEX_ENDO_POINT / APEX_EPI_POINT for the endo- / epicardial surfaces);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
@@ -92,7 +96,13 @@ const SWITCHES: &[&str] = &["ascii", "quiet"];
 
 /// Options with a value that set reconstruction parameters ([`params_from`]), besides the numeric
 /// ones; shared with the commands that reconstruct (`volumes`).
-pub(crate) const PARAM_VALUE_FLAGS: &[&str] = &["surface", "lids", "smoothing-method", "end-caps"];
+pub(crate) const PARAM_VALUE_FLAGS: &[&str] = &[
+    "surface",
+    "lids",
+    "smoothing-method",
+    "end-caps",
+    "leave-out",
+];
 
 /// Switches that set reconstruction parameters ([`params_from`]).
 pub(crate) const PARAM_SWITCHES: &[&str] = &[
@@ -376,6 +386,9 @@ impl Run<'_> {
                      are kept in the reconstruction"
                 ));
             }
+            if let Some(note) = asked_note(rec.set_aside()) {
+                self.say(format!("heartmesh: note: {input}: {note}"));
+            }
             if warnings
                 .iter()
                 .any(|w| slice_loops::is_second_loop_warning(w))
@@ -451,8 +464,28 @@ pub(crate) fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> 
     if let Some(m) = p.value("end-caps") {
         params.set_end_caps(m).map_err(CliError::param)?;
     }
+    // Added to a session's list: the flags say what else to leave out.
+    for id in p.values_of("leave-out").flat_map(|v| v.split(',')) {
+        let id = id.trim().to_string();
+        if !params.leave_out.contains(&id) {
+            params.leave_out.push(id);
+        }
+    }
     params.validate().map_err(CliError::param)?;
     Ok(params)
+}
+
+/// The note naming the contours `--leave-out` left out of this surface (None: none of them is
+/// this surface's), so that a run says what it did not use as the warnings do for the rules'.
+pub(crate) fn asked_note(list: &[set_aside::SetAside]) -> Option<String> {
+    let named = set_aside::asked(list);
+    let verb = if named.len() == 1 { "is" } else { "are" };
+    (!named.is_empty()).then(|| {
+        format!(
+            "--leave-out: {} {verb} left out of the reconstruction",
+            named.join(", ")
+        )
+    })
 }
 
 /// `--apex-floor` / `--no-apex-floor`: Some(on) when either is given (None: the base's value, the

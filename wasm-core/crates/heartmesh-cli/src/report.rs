@@ -54,6 +54,9 @@ pub fn parameters(params: &Params) -> Value {
             m.insert(name.into(), json!(on));
         }
     }
+    if !params.leave_out.is_empty() {
+        m.insert("leave_out".into(), json!(params.leave_out));
+    }
     Value::Object(m)
 }
 

@@ -42,6 +42,11 @@ pub enum CoreError {
         requested: String,
         available: Vec<String>,
     },
+    /// A contour asked to be left out (`Params::leave_out`) that the file does not have: a typo
+    /// would otherwise leave the contour in without a word. `available` is what the message
+    /// lists: the ids of the surface being reconstructed (or the file's).
+    #[error("no contour {id:?} to leave out; the contours are {}", list_ids(.available))]
+    UnknownContour { id: String, available: Vec<String> },
     /// Input geometry from which no surface can be built (all points coplanar, zero extent, ...).
     #[error("degenerate input: {0}")]
     Degenerate(String),
@@ -68,6 +73,7 @@ impl CoreError {
             CoreError::NoSaxGroup(_) => "no_sax_group",
             CoreError::SurfaceRequired { .. } => "surface_required",
             CoreError::UnknownSurface { .. } => "unknown_surface",
+            CoreError::UnknownContour { .. } => "unknown_contour",
             CoreError::Degenerate(_) => "degenerate",
             CoreError::Numerical(_) => "numerical",
             CoreError::InvalidMesh(_) => "invalid_mesh",
@@ -102,3 +108,14 @@ fn parse_text(line: usize, message: &str) -> String {
 
 /// Result alias of the core.
 pub type Result<T> = std::result::Result<T, CoreError>;
+
+/// Up to eight ids quoted, then how many more: a file may have a hundred contours, the message is
+/// one line.
+fn list_ids(ids: &[String]) -> String {
+    const SHOWN: usize = 8;
+    let quoted: Vec<String> = ids.iter().take(SHOWN).map(|id| format!("{id:?}")).collect();
+    match ids.len().saturating_sub(SHOWN) {
+        0 => quoted.join(", "),
+        more => format!("{} and {more} more", quoted.join(", ")),
+    }
+}

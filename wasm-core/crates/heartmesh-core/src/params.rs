@@ -135,6 +135,12 @@ pub struct Params {
     /// (docs/VALIDATION.md, "Session 14: specks and stray contours"). On, every contour is data
     /// (the paper's method).
     pub keep_specks: bool,
+    /// Contours the user leaves out by id (CLI `--leave-out`, the app's Contours table): a slice
+    /// drawn badly, or a view from another phase, is the user's call, not the rules' above. Applied
+    /// to the surface being reconstructed before those rules; an id no contour of the file has is
+    /// an error (a typo must not go unnoticed), one of another surface only is ignored there, so
+    /// one list serves every surface of a file (`--surface all`, `volumes`, `myocardium`).
+    pub leave_out: Vec<String>,
 }
 
 impl Default for Params {
@@ -161,6 +167,7 @@ impl Default for Params {
             drop_second_loops: false,
             apex_floor: true,
             keep_specks: false,
+            leave_out: Vec::new(),
         }
     }
 }
@@ -344,6 +351,12 @@ impl Params {
                 value: self.smoothing_factor,
                 min: 0.0,
                 max: max_factor,
+            });
+        }
+        if self.leave_out.iter().any(|id| id.trim().is_empty()) {
+            return Err(CoreError::ParamInvalid {
+                name: "leave_out".into(),
+                message: "an empty contour id".into(),
             });
         }
         if let LidMode::Explicit { apex, base } = self.lids {

@@ -33,6 +33,9 @@ pub const APEX_FLOOR: &str = "apex_floor";
 /// Leave out the closed loops lying apart from their short-axis slice's main loop, which the
 /// load-time warning names (`Params::drop_second_loops`; off by default: the user's call).
 pub const DROP_SECOND_LOOPS: &str = "drop_second_loops";
+/// The ids of the contours the user leaves out (`Params::leave_out`; an array of strings, the
+/// app's Contours table): the run's, a session's, the walls' and the phases' alike.
+pub const LEAVE_OUT: &str = "leave_out";
 
 /// Builds parameters from a JSON object of schema names to numbers (plus the options above),
 /// applied in schema order (so `attractor_spacing` > 0 wins over `attractors`, whatever the key
@@ -56,6 +59,7 @@ pub fn params_from_json(params_json: &str, lids: &str, surface: Option<String>) 
             KEEP_SPECKS,
             APEX_FLOOR,
             DROP_SECOND_LOOPS,
+            LEAVE_OUT,
         ]
         .contains(&k)
     };
@@ -109,6 +113,10 @@ fn apply_options(params: &mut Params, object: &Map<String, Value>) -> Result<()>
             })
         }
     }
+    match object.get(LEAVE_OUT) {
+        None => {}
+        Some(v) => params.leave_out = heartmesh_core::io::session::contour_ids(v)?,
+    }
     for (name, field) in [
         (SOFTEN_CONFLICTS, &mut params.soften_conflicts),
         (ALIGN_SLICES, &mut params.align_slices),
@@ -159,7 +167,7 @@ pub fn options_to_json(params: &Params) -> Value {
 /// perContour, overall, volumeMl, areaMm2, watertight, quality, params, lids, options, alignment (the
 /// core's `Alignment`, null unless `align_slices`; `contours` are then the shifted contours),
 /// crossing_residual_mm, suggest_alignment, set_aside (the contours left out: the CLI report's
-/// `set_aside` entries, `[]` when none), version.
+/// `set_aside` entries, `[]` when none), leave_out (the ids asked), version.
 pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
     let mesh = rec.mesh();
     let q = quality(mesh);
@@ -197,6 +205,9 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         // The strays and specks the run left out (empty with `keep_specks`): `id`, `line`,
         // `reason` and its figures, as the CLI report's `set_aside` (the core's `SetAside`).
         "set_aside": rec.set_aside(),
+        // The ids the run was asked to leave out (those of this surface are in `set_aside` as
+        // `by_user`).
+        LEAVE_OUT: rec.params().leave_out,
         "version": heartmesh_core::VERSION,
     })
 }
@@ -213,7 +224,7 @@ pub fn params_to_json(params: &Params) -> Value {
 }
 
 /// The settings of a saved session in the protocol's terms (`SessionSettings`): `{params,
-/// lids, options, surface}`.
+/// lids, options, surface, leave_out}`.
 pub fn session_settings(params: &Params) -> Value {
     let lids = match params.lids {
         LidMode::None => "none",
@@ -224,6 +235,7 @@ pub fn session_settings(params: &Params) -> Value {
         "lids": lids,
         "options": options_to_json(params),
         "surface": params.surface,
+        LEAVE_OUT: params.leave_out,
     })
 }
 
@@ -521,6 +533,25 @@ mod tests {
             object.extend(v["options"].as_object().unwrap().clone());
             let again = params_from_json(&Value::Object(object).to_string(), "auto", None).unwrap();
             assert_eq!(again.apex_floor, on);
+        }
+    }
+
+    /// `leave_out` rides in the params object, comes back in a session's settings and refuses
+    /// anything but a list of ids.
+    #[test]
+    fn leave_out_rides_in_the_params_object() {
+        let p = params_from_json(r#"{"leave_out": ["s1", "lax0"]}"#, "auto", None).unwrap();
+        assert_eq!(p.leave_out, ["s1", "lax0"]);
+        assert_eq!(session_settings(&p)[LEAVE_OUT], json!(["s1", "lax0"]));
+        assert_eq!(session_settings(&Params::default())[LEAVE_OUT], json!([]));
+        for bad in [
+            r#"{"leave_out": "s1"}"#,
+            r#"{"leave_out": [1]}"#,
+            r#"{"leave_out": [""]}"#,
+        ] {
+            let e = params_from_json(bad, "auto", None).unwrap_err();
+            assert_eq!(e.code(), "param_invalid", "{bad}");
+            assert!(e.to_string().contains("leave_out"), "{e}");
         }
     }
 

@@ -669,6 +669,37 @@ mod tests {
         );
     }
 
+    /// A contour named in `leave_out` is left out like the rules' (`set_aside` with reason
+    /// `by_user`, its points handed out), the result echoes the list, and an id the file lacks
+    /// is an error naming the option's id.
+    #[test]
+    fn result_json_carries_the_contours_left_out_by_the_user() {
+        let csv = misaligned_csv();
+        let (all, none) = result_of(&csv, r#"{"iterations": 3}"#);
+        assert!(none.is_empty());
+        assert_eq!(all["leave_out"], serde_json::json!([]));
+        let (asked, aside) = result_of(&csv, r#"{"iterations": 3, "leave_out": ["s2"]}"#);
+        let line = 2 + csv
+            .lines()
+            .skip(1)
+            .position(|l| l.starts_with("s2,"))
+            .unwrap();
+        assert_eq!(
+            asked["set_aside"],
+            serde_json::json!([{ "id": "s2", "line": line, "reason": "by_user" }])
+        );
+        assert_eq!(asked["leave_out"], serde_json::json!(["s2"]));
+        assert_eq!(aside.len(), 1);
+        assert_eq!(aside[0].id, "s2");
+        let count = |r: &serde_json::Value| r["perContour"].as_array().unwrap().len();
+        assert_eq!(count(&asked) + 1, count(&all));
+        let set = io::read_contours("lv.csv", csv.as_bytes()).unwrap();
+        let params = convert::params_from_json(r#"{"leave_out": ["s22"]}"#, "auto", None).unwrap();
+        let e = Reconstruction::new(&set, params).err().unwrap();
+        assert_eq!(e.code(), "unknown_contour");
+        assert!(e.to_string().contains("\"s22\""), "{e}");
+    }
+
     /// The misaligned ellipsoid's short-axis slices alone (no long-axis curve reaches the apex):
     /// at the defaults the result says the apex got a floor (`end_caps.apex_floor`) and that the
     /// floor was on (`options.apex_floor`); with `"apex_floor": false` neither, and the mesh

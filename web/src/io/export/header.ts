@@ -16,6 +16,11 @@ export interface ExportInfo {
   /** Smoothing method, conflict softening, alignment (missing in callers that predate them: defaults). */
   options?: ReconOptions;
   params: ParamValues;
+  /**
+   * The contour ids the user left out of the run (the Contours panel); absent or empty: none. Not
+   * an option: the ids belong to this file.
+   */
+  leaveOut?: readonly string[];
 }
 
 export interface MeshData {
@@ -44,13 +49,18 @@ function optionText(options: ReconOptions | undefined): string {
   return ` smoothing_method=${o.smoothing_method} soften_conflicts=${o.soften_conflicts} align_slices=${o.align_slices} end_caps=${o.end_caps} keep_specks=${o.keep_specks} apex_floor=${o.apex_floor}${o.drop_second_loops ? ' drop_second_loops=true' : ''}`;
 }
 
+/** ` leave_out=ID,ID` when the user left contours out (as drop_second_loops: only when there is something to say). */
+function leaveOutText(ids: readonly string[] | undefined): string {
+  return ids && ids.length > 0 ? ` leave_out=${ids.join(',')}` : '';
+}
+
 /** Header lines (without comment markers), each free of newlines. */
 export function headerLines(info: ExportInfo): string[] {
   const clean = (s: string) => s.replace(/[\r\n]+/g, ' ');
   return [
     `heartmesh ${clean(info.appVersion)} (core ${clean(info.coreVersion)}), units: mm`,
     `input: ${clean(info.fileName)}${info.surface ? ` surface: ${clean(info.surface)}` : ''}${info.frame != null ? ` frame: ${clean(info.frame)}` : ''}`,
-    `lids: ${info.lids} ${paramText(info.params)}${optionText(info.options)}`,
+    `lids: ${info.lids} ${paramText(info.params)}${optionText(info.options)}${clean(leaveOutText(info.leaveOut))}`,
   ];
 }
 
@@ -69,7 +79,10 @@ export function stlHeader(info: ExportInfo): string {
   const name = clean(info.fileName).replace(/ /g, '_');
   if (room > 0) text += ` ${name.length <= room ? name : `${name.slice(0, Math.max(0, room - 1))}~`}`;
   const o = info.options ? withDefaultOptions(info.options) : null;
-  const items = [`lids=${info.lids}`, ...Object.keys(info.params).map((k) => `${k}=${info.params[k]}`)];
+  // Contours left out change the mesh more than any one parameter: right after the mesh ends, when the whole list fits.
+  const leaveOut = clean(leaveOutText(info.leaveOut).trim());
+  const fits = leaveOut !== '' && text.length + `lids=${info.lids}`.length + leaveOut.length + 2 <= 80;
+  const items = [`lids=${info.lids}`, ...(fits ? [leaveOut] : []), ...Object.keys(info.params).map((k) => `${k}=${info.params[k]}`)];
   if (o) items.push(`smoothing_method=${o.smoothing_method}`, `end_caps=${o.end_caps}`, `align_slices=${o.align_slices}`);
   for (const item of items) {
     if (text.length + 1 + item.length > 80) break;

@@ -59,6 +59,8 @@ export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): s
     keep_specks: options.keep_specks,
     apex_floor: options.apex_floor,
     drop_second_loops: options.drop_second_loops,
+    // Always written (unlike the header lines): [] says plainly that every contour was used.
+    leave_out: [...(info.leaveOut ?? [])],
     params: info.params,
     ...(summary
       ? {

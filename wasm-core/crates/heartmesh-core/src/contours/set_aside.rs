@@ -50,6 +50,8 @@ pub enum Why {
     /// A long-axis curve `length_mm` long, under `specks::SPECK_RATIO` of its surface's
     /// `extent_mm` along the axis ([`super::lax_specks`]).
     LaxSpeck { length_mm: f64, extent_mm: f64 },
+    /// Named by the user (`Params::leave_out`): no rule's figures, the user's reason.
+    ByUser,
 }
 
 /// One contour left out of a reconstruction.
@@ -63,7 +65,7 @@ pub struct SetAside {
 }
 
 impl SetAside {
-    fn of(c: &Contour, why: Why) -> Self {
+    pub(crate) fn of(c: &Contour, why: Why) -> Self {
         SetAside {
             id: c.id.clone(),
             line: c.first_line,
@@ -234,6 +236,8 @@ pub fn warnings(list: &[SetAside]) -> Vec<String> {
                 "{length_mm:.1} mm long in a long-axis plane, where the data span {extent_mm:.0} \
                  mm along the axis"
             ))),
+            // Asked for, so no warning: the caller says it as a note ([`asked`]).
+            Why::ByUser => {}
         }
     }
     let mut out = one_line(
@@ -249,6 +253,15 @@ pub fn warnings(list: &[SetAside]) -> Vec<String> {
         "are specks, not sections of the cavity; they are left out of the reconstruction",
     ));
     out
+}
+
+/// The contours of `list` left out because the user named them, as messages cite them
+/// (`"id" (line N)`), in the run's order.
+pub fn asked(list: &[SetAside]) -> Vec<String> {
+    list.iter()
+        .filter(|s| s.why == Why::ByUser)
+        .map(|s| s.name(""))
+        .collect()
 }
 
 /// Warning lines for the contours of `list` that none of `said` names (a run can leave out a

@@ -8,9 +8,11 @@
 //!  "parameters": {"iterations": 250, "lambda": 100000, "lids": "auto", "surface": null,
 //!                 "smoothing_method": "laplacian-affine", "soften_conflicts": true,
 //!                 "align_slices": false, "end_caps": "auto", "drop_second_loops": false,
-//!                 "apex_floor": true, "keep_specks": false},
+//!                 "apex_floor": true, "keep_specks": false, "leave_out": ["s09_LAX"]},
 //!  "frame": "9"}
 //! ```
+//!
+//! `leave_out` (written only when the user left contours out) lists their ids.
 //!
 //! `frame` (written only for a file that holds several time frames, or one chosen) names the time
 //! frame the contours were read from: a session holds one frame, and reads back knowing which.
@@ -76,7 +78,7 @@ pub struct Session {
     pub contours: ContourSet,
     /// As saved (numbers by schema name, `lids`, `surface`, `smoothing_method`,
     /// `soften_conflicts`, `align_slices`, `end_caps`, `drop_second_loops`, `apex_floor`,
-    /// `keep_specks`); apply with [`Session::params`].
+    /// `keep_specks`, `leave_out`); apply with [`Session::params`].
     pub parameters: Map<String, Value>,
     pub app_version: Option<String>,
 }
@@ -105,6 +107,7 @@ impl Session {
                 ("drop_second_loops", Value::Bool(on)) => p.drop_second_loops = *on,
                 ("apex_floor", Value::Bool(on)) => p.apex_floor = *on,
                 ("keep_specks", Value::Bool(on)) => p.keep_specks = *on,
+                ("leave_out", v) => p.leave_out = contour_ids(v)?,
                 (
                     "smoothing_method" | "soften_conflicts" | "align_slices" | "end_caps"
                     | "drop_second_loops" | "apex_floor" | "keep_specks",
@@ -202,6 +205,21 @@ pub fn read_session(bytes: &[u8]) -> Result<Session> {
     })
 }
 
+/// `leave_out` as sessions and the app's params JSON carry it: an array of contour ids (strings);
+/// anything else is an error naming it.
+pub fn contour_ids(value: &Value) -> Result<Vec<String>> {
+    let invalid = || CoreError::ParamInvalid {
+        name: "leave_out".into(),
+        message: format!("{value} is not a list of contour ids"),
+    };
+    value
+        .as_array()
+        .ok_or_else(invalid)?
+        .iter()
+        .map(|v| v.as_str().map(str::to_string).ok_or_else(invalid))
+        .collect()
+}
+
 /// The parameters as a session stores them.
 pub fn params_json(params: &Params) -> Map<String, Value> {
     let mut m = Map::new();
@@ -232,6 +250,10 @@ pub fn params_json(params: &Params) -> Map<String, Value> {
     );
     m.insert("apex_floor".into(), Value::from(params.apex_floor));
     m.insert("keep_specks".into(), Value::from(params.keep_specks));
+    // Only when some are left out: sessions saved before it existed read back the same.
+    if !params.leave_out.is_empty() {
+        m.insert("leave_out".into(), Value::from(params.leave_out.clone()));
+    }
     m.insert(
         "surface".into(),
         params
@@ -412,6 +434,31 @@ mod tests {
             .insert("keep_specks".into(), Value::from("yes"));
         let e = s.params().unwrap_err();
         assert!(e.to_string().contains("keep_specks"), "{e}");
+    }
+
+    #[test]
+    fn round_trip_with_contours_left_out() {
+        let set = read_csv(&sample("contours/bivme-example-patient1/patient1-ED.csv")).unwrap();
+        let ids = vec![
+            "s09_LAX_LV_ENDOCARDIAL".to_string(),
+            "s02_SAX_RV_SEPTUM".into(),
+        ];
+        let params = Params {
+            leave_out: ids.clone(),
+            ..Params::default()
+        };
+        let s = read_session(&write_session(&set, &params, "9").unwrap()).unwrap();
+        assert_eq!(s.params().unwrap().leave_out, ids);
+        // None left out: not written, so older sessions' bytes are what they were.
+        let plain = read_session(&write_session(&set, &Params::default(), "9").unwrap()).unwrap();
+        assert!(!plain.parameters.contains_key("leave_out"));
+        assert!(plain.params().unwrap().leave_out.is_empty());
+        for bad in [Value::from("s09"), Value::from(vec![Value::from(3)])] {
+            let mut s = plain.clone();
+            s.parameters.insert("leave_out".into(), bad);
+            let e = s.params().unwrap_err();
+            assert!(e.to_string().contains("leave_out"), "{e}");
+        }
     }
 
     #[test]

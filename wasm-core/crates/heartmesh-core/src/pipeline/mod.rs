@@ -156,7 +156,8 @@ impl Normalisation {
 pub struct Reconstruction {
     params: Params,
     contours: Vec<Contour>,
-    /// The selected surface's contours left out of the run (strays, specks: `set_aside`).
+    /// The selected surface's contours left out of the run: the user's (`Params::leave_out`),
+    /// then the rules' (strays, specks: `set_aside`).
     set_aside: Vec<SetAside>,
     /// With `align_slices`: what the alignment did, and the selected contours as the file gave
     /// them (cleaned; None if cleaning split them differently from the shifted ones).
@@ -252,6 +253,8 @@ impl Reconstruction {
             }
             None => None,
         };
+        // The user's choice comes before the rules: what they leave out is not data for any rule.
+        let (contours, mut set_aside) = prepare::leave_out(contours, &params.leave_out, set)?;
         if contours.len() < 2 {
             return Err(CoreError::TooFewContours {
                 found: contours.len(),
@@ -259,7 +262,8 @@ impl Reconstruction {
             });
         }
         prepare::check_count_and_units(&contours)?;
-        let (contours, set_aside) = prepare::set_aside(contours, params.keep_specks);
+        let (contours, by_rule) = prepare::set_aside(contours, params.keep_specks);
+        set_aside.extend(by_rule);
         let (contours, layout) = prepare::layout(contours, params.drop_second_loops)?;
         // The contours left out go from the file's curves too; loops left out (second loops)
         // leave them with another structure.
@@ -519,8 +523,9 @@ impl Reconstruction {
         &self.contours
     }
 
-    /// The selected surface's contours left out of the run and why (strays and specks,
-    /// `contours::set_aside`; empty with `Params::keep_specks`).
+    /// The selected surface's contours left out of the run and why: those the user named
+    /// (`Params::leave_out`), then strays and specks (`contours::set_aside`; none with
+    /// `Params::keep_specks`).
     pub fn set_aside(&self) -> &[SetAside] {
         &self.set_aside
     }

@@ -4,7 +4,7 @@
 use crate::contours::axis::{analyse, Layout};
 use crate::contours::checks::check_units;
 use crate::contours::clean::cleaned_contour;
-use crate::contours::set_aside::SetAside;
+use crate::contours::set_aside::{SetAside, Why};
 use crate::contours::slice_loops::without_second_loops;
 use crate::contours::{Contour, ContourSet};
 use crate::error::{CoreError, Result};
@@ -62,6 +62,39 @@ pub fn check_count_and_units(contours: &[Contour]) -> Result<()> {
     check_units(contours)
 }
 
+/// `contours` (one surface) without those whose id `ids` names, and those, as left out by the
+/// user, in `contours`' order. Every id must name a contour of `file` (else
+/// [`CoreError::UnknownContour`] listing this surface's ids); one of another surface is no
+/// error and leaves nothing out here.
+pub fn leave_out(
+    contours: Vec<Contour>,
+    ids: &[String],
+    file: &ContourSet,
+) -> Result<(Vec<Contour>, Vec<SetAside>)> {
+    if ids.is_empty() {
+        return Ok((contours, Vec::new()));
+    }
+    if let Some(unknown) = ids
+        .iter()
+        .find(|id| !file.contours.iter().any(|c| &c.id == *id))
+    {
+        let mut available: Vec<String> = Vec::new();
+        for c in &contours {
+            if !available.contains(&c.id) {
+                available.push(c.id.clone());
+            }
+        }
+        return Err(CoreError::UnknownContour {
+            id: unknown.clone(),
+            available,
+        });
+    }
+    let (out, kept): (Vec<Contour>, Vec<Contour>) =
+        contours.into_iter().partition(|c| ids.contains(&c.id));
+    let asked = out.iter().map(|c| SetAside::of(c, Why::ByUser)).collect();
+    Ok((kept, asked))
+}
+
 /// `contours` without the strays and specks a reconstruction leaves out (`contours::set_aside`),
 /// unless `keep_specks`, and what was left out.
 pub fn set_aside(contours: Vec<Contour>, keep_specks: bool) -> (Vec<Contour>, Vec<SetAside>) {
@@ -84,4 +117,56 @@ pub fn layout(contours: Vec<Contour>, drop_second_loops: bool) -> Result<(Vec<Co
     }
     let layout = analyse(&kept)?;
     Ok((kept, layout))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contours::Polyline;
+    use crate::geometry::v3;
+
+    fn contour(id: &str, surface: &str, line: usize) -> Contour {
+        Contour {
+            id: id.into(),
+            surface: Some(surface.into()),
+            pieces: vec![Polyline {
+                points: vec![v3(0.0, 0.0, 0.0), v3(1.0, 0.0, 0.0), v3(0.0, 1.0, 0.0)],
+                closed: true,
+            }],
+            first_line: line,
+        }
+    }
+
+    /// Ids of this surface are left out in its order, one of another surface leaves nothing out
+    /// here, one of no surface is an error listing this surface's ids (at most eight, then a
+    /// count).
+    #[test]
+    fn leave_out_takes_this_surfaces_ids_and_refuses_unknown_ones() {
+        let lv: Vec<Contour> = (0..10)
+            .map(|k| contour(&format!("s{k}"), "LV", 2 + k))
+            .collect();
+        let file = ContourSet {
+            contours: lv
+                .iter()
+                .cloned()
+                .chain([contour("rv1", "RV", 40)])
+                .collect(),
+            ..ContourSet::default()
+        };
+        let ids = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let (kept, out) = leave_out(lv.clone(), &ids(&["s7", "rv1", "s2"]), &file).unwrap();
+        assert_eq!(kept.len(), 8);
+        let named: Vec<(&str, usize)> = out.iter().map(|s| (s.id.as_str(), s.line)).collect();
+        assert_eq!(named, [("s2", 4), ("s7", 9)]);
+        assert!(out.iter().all(|s| s.why == Why::ByUser));
+        let (kept, out) = leave_out(lv.clone(), &ids(&["rv1"]), &file).unwrap();
+        assert_eq!((kept.len(), out.len()), (10, 0));
+        let e = leave_out(lv, &ids(&["s2", "S3"]), &file).unwrap_err();
+        assert_eq!(e.code(), "unknown_contour");
+        assert_eq!(
+            e.to_string(),
+            "no contour \"S3\" to leave out; the contours are \"s0\", \"s1\", \"s2\", \"s3\", \
+             \"s4\", \"s5\", \"s6\", \"s7\" and 2 more"
+        );
+    }
 }

@@ -1,0 +1,197 @@
+// Browser end-to-end test (dist/, Debian's chromium) of the Contours panel: the bundled Patient 1 ·
+// ED (LV_ENDO) lists its 8 contours (5 SAX, 3 LAX) with each one's distance to the mesh, the
+// largest of them the result panel's max; a row hovered highlights its contour in the 3D view and a
+// contour point hovered names its contour and lights its row; unticking a long-axis contour runs
+// again without it (the core's `leave_out`: "left out by you" in the table, the result panel's Left
+// out row, the key and the read-out; another volume), the exports and a saved session record it,
+// the session opened again leaves it out again, and ticking it back (or Use all) gives the first
+// mesh again to the last digit.
+import { describe, it } from 'node:test';
+import assert from 'node:assert/strict';
+import { join } from 'node:path';
+import { download as downloadFrom, gotoEmpty, nextFrames, readResult, runAndWait, SHOTS } from './lib.mjs';
+import { appForFile } from './perFile.mjs';
+
+let server;
+let page;
+appForFile({ goto: false }, (app) => ({ server, page } = app));
+
+const ROW = '[data-testid=contour-row]';
+const row = (id) => `${ROW}[data-id="${id}"]`;
+
+/** The table as the page shows it: each row's data and cells, and the panel's attributes. */
+const readTable = () =>
+  page.evaluate((sel) => {
+    const details = document.querySelector('[data-testid=contour-table]');
+    const rows = [...document.querySelectorAll(sel)].map((tr) => ({
+      id: tr.dataset.id,
+      kind: tr.dataset.kind,
+      state: tr.dataset.state,
+      count: Number(tr.dataset.count),
+      meanMm: tr.dataset.meanMm === undefined ? null : Number(tr.dataset.meanMm),
+      maxMm: tr.dataset.maxMm === undefined ? null : Number(tr.dataset.maxMm),
+      cells: [...tr.querySelectorAll('td')].map((td) => td.textContent),
+      checked: tr.querySelector('[data-testid=contour-use]').checked,
+      disabled: tr.querySelector('[data-testid=contour-use]').disabled,
+      highlighted: tr.classList.contains('highlighted'),
+    }));
+    return { rows, count: details.dataset.count, stale: details.dataset.stale, heading: details.querySelector('h2').textContent, useAllHidden: document.querySelector('[data-testid=contour-use-all]').hidden };
+  }, ROW);
+
+/** The run on screen: its volume in full precision and what it left out at the user's request. */
+const mesh = () => page.evaluate(() => {
+  const r = window.heartmesh.currentResult();
+  return { volumeMl: r.volumeMl, leaveOut: r.leave_out, setAside: r.set_aside.map((s) => [s.id, s.reason]), contours: r.contours.map((c) => c.id) };
+});
+
+/** The contour highlighted in the 3D view: the canvas's attribute and the layer's own word. */
+const highlighted = () => page.evaluate(() => ({
+  attr: document.querySelector('[data-testid=viewport-canvas]').dataset.highlight,
+  layer: window.heartmeshViewer.contourHighlight.id,
+}));
+
+/** Moves the pointer onto the 3D view at the screen position of `xyz` (mm). */
+async function pointAt(xyz) {
+  const at = await page.evaluate((p) => window.heartmeshViewer.screenPosition(p[0], p[1], p[2]), xyz);
+  const canvas = await page.locator('[data-testid=viewport-canvas]').boundingBox();
+  await page.mouse.move(canvas.x + at.x, canvas.y + at.y);
+}
+
+describe('the Contours panel', () => {
+  it('lists each contour\'s distance to the mesh, highlights it both ways, and leaves one out by hand', async () => {
+    await gotoEmpty(page, server.url);
+    assert.equal(await page.textContent('[data-testid=contour-note]'), 'no result yet');
+    await runAndWait(page, () => page.click('[data-testid=sample-patient1-ED]'), 120000);
+    assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'LV_ENDO');
+
+    // Eight rows, 5 SAX and 3 LAX, all used; the largest max is the result panel's max.
+    const first = await readTable();
+    const result = await readResult(page);
+    assert.equal(first.count, '8');
+    assert.equal(first.heading.replace(/^\W+/, ''), 'Contours (8)');
+    assert.equal(first.rows.length, 8);
+    assert.deepEqual(first.rows.map((r) => r.kind).sort(), ['LAX', 'LAX', 'LAX', 'SAX', 'SAX', 'SAX', 'SAX', 'SAX']);
+    assert.ok(first.rows.every((r) => r.state === 'used' && r.checked && !r.disabled), JSON.stringify(first.rows));
+    const maxOfRows = Math.max(...first.rows.map((r) => r.maxMm));
+    assert.ok(Math.abs(maxOfRows - result.maxMm) < 0.001, `rows' max ${maxOfRows} vs result ${result.maxMm}`);
+    const points = await page.evaluate(() => window.heartmesh.currentResult().overall.count);
+    assert.equal(first.rows.reduce((n, r) => n + r.count, 0), points, 'every contour point is in one row');
+    for (const r of first.rows) {
+      assert.equal(r.cells[4], r.meanMm.toFixed(2));
+      assert.equal(r.cells[5], r.maxMm.toFixed(2));
+    }
+    const worst = first.rows.find((r) => r.maxMm === maxOfRows);
+    console.log(`# contours: ${first.rows.map((r) => `${r.id} ${r.kind} ${r.count} pts mean ${r.meanMm.toFixed(2)} max ${r.maxMm.toFixed(2)}`).join('; ')}; worst ${worst.id}, result max ${result.maxMm.toFixed(3)} mm`);
+    const before = await mesh();
+    assert.deepEqual(before.leaveOut, []);
+
+    // A row hovered: its contour highlighted in the 3D view; the pointer gone, no highlight.
+    const lax = first.rows.filter((r) => r.kind === 'LAX');
+    const target = lax[lax.length - 1].id;
+    await page.hover(row(target));
+    await nextFrames(page);
+    assert.deepEqual(await highlighted(), { attr: target, layer: target });
+    assert.equal((await readTable()).rows.find((r) => r.id === target).highlighted, true);
+    await page.mouse.move(0, 0);
+    await nextFrames(page);
+    assert.deepEqual(await highlighted(), { attr: '', layer: null });
+
+    // A contour point hovered in the view: the read-out names its contour, whose row lights up.
+    const sax = first.rows.find((r) => r.kind === 'SAX' && r.id !== worst.id) ?? first.rows[0];
+    const point = await page.evaluate((id) => {
+      const r = window.heartmesh.currentResult();
+      const c = r.contours.find((k) => k.id === id);
+      const i = c.pieces[0].start + Math.floor(c.pieces[0].count / 3);
+      return { xyz: [...r.contourPoints.slice(i * 3, i * 3 + 3)], mm: r.pointDistances[i] };
+    }, sax.id);
+    await pointAt(point.xyz);
+    await page.waitForSelector('[data-testid=hover-readout]:not([hidden])', { timeout: 10000 });
+    const readout = (await page.textContent('[data-testid=hover-readout]')) ?? '';
+    const named = /(\d+\.\d\d) mm to mesh · (\S+?)\(/.exec(readout);
+    assert.ok(named, readout);
+    assert.ok(first.rows.some((r) => r.id === named[2]), `the read-out names a contour of the table: ${readout}`);
+    assert.equal((await readTable()).rows.find((r) => r.id === named[2]).highlighted, true);
+    console.log(`# hovered a point of ${sax.id} (${point.mm.toFixed(2)} mm): read-out "${readout.trim()}"`);
+    await page.mouse.move(0, 0);
+
+    // Unticked: a new run without it, "left out by you" in the table, the Left out row, the key.
+    await runAndWait(page, () => page.uncheck(`${row(target)} [data-testid=contour-use]`), 120000);
+    const left = await readTable();
+    const without = await mesh();
+    assert.deepEqual(without.leaveOut, [target]);
+    assert.deepEqual(without.setAside, [[target, 'by_user']]);
+    assert.ok(!without.contours.includes(target));
+    assert.equal(left.count, '8', 'the contour left out keeps its row');
+    const leftRow = left.rows.find((r) => r.id === target);
+    assert.deepEqual([leftRow.state, leftRow.kind, leftRow.checked, leftRow.disabled, leftRow.cells[4]], ['by_user', 'LAX', false, false, 'left out by you']);
+    assert.deepEqual(left.rows.map((r) => r.id), first.rows.map((r) => r.id), 'the rows keep their order');
+    assert.equal(left.useAllHidden, false);
+    assert.equal(await page.textContent('[data-testid=result-set-aside]'), `1 contour (by you) · ${target}`);
+    assert.equal(await page.textContent('[data-testid=result-set-aside] >> xpath=preceding-sibling::dt[1]'), 'Left out');
+    assert.equal(await page.textContent('[data-testid=set-aside-row]'), `left out by you · ${target}`);
+    assert.ok(Math.abs(without.volumeMl - before.volumeMl) > 0.01, `another mesh: ${without.volumeMl} vs ${before.volumeMl} ml`);
+    console.log(`# ${target} left out: ${before.volumeMl.toFixed(3)} ml -> ${without.volumeMl.toFixed(3)} ml`);
+
+    // Hovered in the view, the contour left out says so.
+    const aside = await page.evaluate(() => [...window.heartmesh.currentResult().setAsidePoints.slice(0, 3)]);
+    await pointAt(aside);
+    await page.waitForFunction(() => /left out by you/.test(document.querySelector('[data-testid=hover-readout]')?.textContent ?? ''), null, { timeout: 10000 });
+    assert.match((await page.textContent('[data-testid=hover-readout]')) ?? '', new RegExp(`^\\s*left out by you · ${target}\\(`));
+    await page.mouse.move(0, 0);
+
+    // The table fits its column, at the usual window and at the narrow one (250 px column: no points column there).
+    for (const [width, height] of [[1024, 700], [1280, 720]]) {
+      await page.setViewportSize({ width, height });
+      await nextFrames(page);
+      const fit = await page.evaluate(() => {
+        const side = document.querySelector('#slot-right');
+        const panel = document.querySelector('section.contours').getBoundingClientRect();
+        const cells = [...document.querySelectorAll('section.contours th, section.contours td')].filter((c) => c.offsetParent !== null).map((c) => c.getBoundingClientRect());
+        return { sideways: side.scrollWidth > side.clientWidth, inside: cells.every((c) => c.left >= panel.left - 0.5 && c.right <= panel.right + 0.5), pts: getComputedStyle(document.querySelector('th.c-pts')).display };
+      });
+      assert.deepEqual(fit, { sideways: false, inside: true, pts: width < 1100 ? 'none' : 'table-cell' }, `${width}x${height}`);
+    }
+
+    // The panel, the contour left out greyed and a row highlighted (screenshot for the docs).
+    await page.hover(row(worst.id));
+    await nextFrames(page);
+    assert.equal((await highlighted()).attr, worst.id);
+    await page.locator('section.contours').screenshot({ path: join(SHOTS, 'contour-table.png') });
+    await page.screenshot({ path: join(SHOTS, 'contour-table-view.png') });
+    await page.mouse.move(0, 0);
+
+    // The exports and a session record it.
+    const json = JSON.parse((await downloadFrom(page, 'export-json')).bytes.toString('utf8'));
+    assert.deepEqual(json.leave_out, [target]);
+    assert.match((await downloadFrom(page, 'export-obj')).bytes.toString('utf8'), new RegExp(`^# lids: auto .* leave_out=${target}$`, 'm'));
+    const session = await downloadFrom(page, 'export-session');
+    const saved = JSON.parse(session.bytes.toString('utf8'));
+    assert.deepEqual(saved.parameters.leave_out, [target]);
+    assert.doesNotMatch(page.url(), /leave_out|LAX/);
+
+    // Ticked back: the first mesh again, to the last digit.
+    await runAndWait(page, () => page.check(`${row(target)} [data-testid=contour-use]`), 120000);
+    const back = await mesh();
+    assert.deepEqual(back.leaveOut, []);
+    assert.ok(Math.abs(back.volumeMl - before.volumeMl) < 1e-9, `${back.volumeMl} vs ${before.volumeMl} ml`);
+    assert.equal((await readTable()).useAllHidden, true);
+    assert.equal(await page.isVisible('[data-testid=result-set-aside]'), false);
+
+    // The session opened again: the contour is left out again, the same mesh as before.
+    await gotoEmpty(page, server.url);
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', { name: session.name, mimeType: 'application/json', buffer: session.bytes }), 120000);
+    const reopened = await readTable();
+    assert.deepEqual(reopened.rows.filter((r) => !r.checked).map((r) => [r.id, r.state]), [[target, 'by_user']]);
+    assert.ok(Math.abs((await mesh()).volumeMl - without.volumeMl) < 1e-9);
+
+    // Use all: every contour again, in one run.
+    await runAndWait(page, () => page.click('[data-testid=contour-use-all]'), 120000);
+    assert.ok(Math.abs((await mesh()).volumeMl - before.volumeMl) < 1e-9);
+    assert.ok((await readTable()).rows.every((r) => r.checked && r.state === 'used'));
+    assert.equal(await page.getAttribute('[data-testid=contour-table]', 'open'), '', 'the button in the heading does not fold the panel');
+    // The heading folds it.
+    await page.click('[data-testid=contour-table] summary h2');
+    assert.equal(await page.getAttribute('[data-testid=contour-table]', 'open'), null);
+    assert.equal(await page.isVisible(ROW), false);
+  });
+});

@@ -1,0 +1,199 @@
+// The Contours panel (web/src/ui/ContourTable.ts, rows from contourRows.ts) on the fake DOM: one
+// row per contour of a run with its figures to two decimals, those the core left out greyed with
+// their reason and no usable box, those the user left out unticked; the boxes, "Use all" and the
+// hover reach the host; a new run of the same surface marks the rows stale, anything else clears.
+import { describe, expect, it } from 'vitest';
+import type { ContourInfo, RunResult, SetAsideEntry } from '../../web/src/core-client/protocol';
+import { ContourTable, type ContourTableHost } from '../../web/src/ui/ContourTable';
+import { contourRows, contourScaleMax } from '../../web/src/ui/contourRows';
+import { cssColorAt, robustMax } from '../../web/src/viewer/colormap';
+import type { FakeElement } from './fakeDom';
+import { useFakeDocument } from './panelHarness';
+import { runResult } from './runResult';
+
+const stats = (mean: number, max: number, count: number) => ({ mean, median: mean, p95: max, max, min: 0, count });
+const SPECK: SetAsideEntry = { id: 'sax10', line: 1505, reason: 'speck', perimeter_mm: 2.84, next_id: 's06_SAX', next_perimeter_mm: 210 };
+const MINE: SetAsideEntry = { id: 's08_LAX', line: 700, reason: 'by_user' };
+const ASIDE: ContourInfo[] = [
+  { id: 'sax10', surface: 'LV_ENDO', kind: 'SAX', pieces: [{ closed: true, start: 0, count: 3 }] },
+  // The run's geometry of a contour left out may not say its kind: the file's split at load does.
+  { id: 's08_LAX', surface: 'LV_ENDO', kind: null, pieces: [{ closed: false, start: 3, count: 40 }] },
+];
+
+/** A run of three contours used (a long id among them), a speck the core left out and one the user did. */
+function run(extra: Partial<RunResult> = {}): RunResult {
+  return runResult({
+    perContour: [
+      { id: 's02_SAX_LV_ENDOCARDIAL', kind: 'SAX', stats: stats(0.4149, 1.2351, 52) },
+      { id: 's06_SAX', kind: 'SAX', stats: stats(0.2, 0.8399, 48) },
+      { id: 's07_LAX', kind: 'LAX', stats: stats(0.55, 2.004, 61) },
+    ],
+    pointDistances: new Float32Array([0.1, 0.5, 0.9, 1.1, 1.9, 2.0]),
+    set_aside: [SPECK, MINE],
+    set_aside_contours: ASIDE,
+    leave_out: ['s08_LAX'],
+    ...extra,
+  });
+}
+
+/** Whether `e` has class `c` (set by its attribute at creation, or toggled since). */
+const hasClass = (e: FakeElement, c: string) => (e.attributes.get('class') ?? '').split(' ').includes(c) || e.classList.contains(c);
+
+/** The file order of the surface's contours: the user's one between the used ones, the speck at the end. */
+const FILE_ORDER = ['s02_SAX_LV_ENDOCARDIAL', 's06_SAX', 's07_LAX', 's08_LAX', 'sax10'];
+/** The file's contours in that order, with the core's split at load (the run gives none for those left out). */
+const FILE = FILE_ORDER.map((id) => ({ id, kind: id.includes('LAX') ? ('LAX' as const) : ('SAX' as const) }));
+
+function table(initial: string[] = ['s08_LAX']) {
+  const calls: { leftOut: [string, boolean][]; useAll: number; highlight: (string | null)[] } = { leftOut: [], useAll: 0, highlight: [] };
+  const state = { key: 'p1|LV_ENDO', leaveOut: [...initial] };
+  const host: ContourTableHost = {
+    context: () => ({ key: state.key, leaveOut: state.leaveOut, fileContours: FILE }),
+    setLeftOut: (id, out) => calls.leftOut.push([id, out]),
+    useAll: () => calls.useAll++,
+    highlight: (id) => calls.highlight.push(id),
+  };
+  const t = new ContourTable(host);
+  const el = t.element as unknown as FakeElement;
+  const details = el.byTestId('contour-table')!;
+  const rows = () => el.findAll((e) => e.dataset.testid === 'contour-row');
+  const row = (id: string) => rows().find((r) => r.dataset.id === id)!;
+  const box = (id: string) => row(id).byTestId('contour-use') as FakeElement & { checked: boolean; disabled: boolean };
+  const cells = (id: string) => row(id).findAll((e) => e.tagName === 'td').map((c) => c.textContent);
+  return { t, el, details, rows, row, box, cells, calls, state };
+}
+
+describe('the rows of the Contours panel', () => {
+  it('one per contour, used ones with their figures, in the file\'s order', () => {
+    const rows = contourRows(run(), FILE);
+    expect(rows.map((r) => [r.id, r.kind, r.state, r.count, r.meanMm, r.maxMm])).toEqual([
+      ['s02_SAX_LV_ENDOCARDIAL', 'SAX', 'used', 52, 0.4149, 1.2351],
+      ['s06_SAX', 'SAX', 'used', 48, 0.2, 0.8399],
+      ['s07_LAX', 'LAX', 'used', 61, 0.55, 2.004],
+      ['s08_LAX', 'LAX', 'by_user', 40, null, null],
+      ['sax10', 'SAX', 'speck', 3, null, null],
+    ]);
+    expect(rows[3].reason).toBe('left out by you');
+    expect(rows[4].reason).toBe('left out: speck');
+    expect(rows[4].detail).toContain('"sax10" (line 1505): a speck');
+    // Without the file's order: the core's order, those left out after the used ones (kind unknown).
+    expect(contourRows(run()).map((r) => [r.id, r.kind])).toEqual([['s02_SAX_LV_ENDOCARDIAL', 'SAX'], ['s06_SAX', 'SAX'], ['s07_LAX', 'LAX'], ['sax10', 'SAX'], ['s08_LAX', null]]);
+    // The swatches' scale is the contour legend's.
+    expect(contourScaleMax(run())).toBe(robustMax(new Float32Array([0.1, 0.5, 0.9, 1.1, 1.9, 2.0])));
+    expect(contourScaleMax(run())).toBe(2);
+  });
+});
+
+describe('the Contours panel', () => {
+  useFakeDocument();
+
+  it('shows each contour\'s kind, points and mean / max to two decimals; those left out greyed with why', () => {
+    const { t, details, rows, row, box, cells } = table();
+    expect(details.dataset.count).toBe('0');
+    expect(details.textContent).toContain('no result yet');
+    t.show(run());
+    expect(details.getAttribute('open')).toBe('');
+    expect(details.dataset.count).toBe('5');
+    expect(details.findAll((e) => e.tagName === 'h2')[0].textContent).toBe('Contours (5)');
+    expect(rows().map((r) => r.dataset.id)).toEqual(FILE_ORDER);
+    expect(cells('s02_SAX_LV_ENDOCARDIAL')).toEqual(['', 's02_SAX_LV_ENDOCARDIAL', 'SAX', '52', '0.41', '1.24']);
+    expect(cells('s06_SAX')).toEqual(['', 's06_SAX', 'SAX', '48', '0.20', '0.84']);
+    expect(cells('s07_LAX')).toEqual(['', 's07_LAX', 'LAX', '61', '0.55', '2.00']);
+    expect(row('s07_LAX').dataset.maxMm).toBe('2.004');
+    // The long id is cut by the column (CSS): the whole id in the cell's tooltip.
+    expect(row('s02_SAX_LV_ENDOCARDIAL').findAll((e) => e.tagName === 'td')[1].title).toBe('s02_SAX_LV_ENDOCARDIAL');
+    // The max cell's swatch: its colour on the contour legend (scale 0 to 2 mm).
+    const swatch = row('s06_SAX').findAll((e) => e.attributes.get('class') === 'swatch')[0];
+    expect(swatch.style.background).toBe(cssColorAt(0.8399, 0, 2));
+    expect(swatch.style.background).not.toBe(cssColorAt(2.004, 0, 2));
+    // Used: ticked, usable.
+    expect([box('s06_SAX').checked, box('s06_SAX').disabled]).toEqual([true, false]);
+    // The user's: unticked, usable, greyed, "left out by you".
+    expect(row('s08_LAX').dataset.state).toBe('by_user');
+    expect([box('s08_LAX').checked, box('s08_LAX').disabled]).toEqual([false, false]);
+    expect(hasClass(row('s08_LAX'), 'user-left-out')).toBe(true);
+    expect(hasClass(row('s06_SAX'), 'user-left-out')).toBe(false);
+    expect(cells('s08_LAX')).toEqual(['', 's08_LAX', 'LAX', '40', 'left out by you']);
+    // The core's: greyed, the reason in its words, the box disabled and saying what uses it.
+    expect(row('sax10').dataset.state).toBe('speck');
+    expect(hasClass(row('sax10'), 'core-left-out')).toBe(true);
+    expect(cells('sax10')).toEqual(['', 'sax10', 'SAX', '3', 'left out: speck']);
+    expect([box('sax10').checked, box('sax10').disabled]).toEqual([false, true]);
+    expect(box('sax10').getAttribute('title')).toMatch(/Keep specks and strays/);
+    expect(row('sax10').findAll((e) => e.tagName === 'td')[1].title).toMatch(/^"sax10" \(line 1505\): a speck/);
+  });
+
+  it('unticking or ticking a box asks the app; "Use all" shows while any is left out', () => {
+    const { t, el, box, calls, state } = table([]);
+    t.show(run({ set_aside: [SPECK], leave_out: [] }));
+    const useAll = el.byTestId('contour-use-all')!;
+    expect(useAll.hidden).toBe(true);
+    const b = box('s07_LAX');
+    b.checked = false;
+    b.fire('change');
+    expect(calls.leftOut).toEqual([['s07_LAX', true]]);
+    // The app's list now has it: the box follows at once, before the run.
+    state.leaveOut = ['s07_LAX'];
+    t.leaveOutChanged();
+    expect(box('s07_LAX').checked).toBe(false);
+    expect(useAll.hidden).toBe(false);
+    useAll.fire('click');
+    expect(calls.useAll).toBe(1);
+    const again = box('s07_LAX');
+    again.checked = true;
+    again.fire('change');
+    expect(calls.leftOut.at(-1)).toEqual(['s07_LAX', false]);
+  });
+
+  it('a new run of the same surface keeps the rows, stale; another surface or file clears them', () => {
+    const { t, details, rows, state } = table();
+    t.show(run());
+    t.resultCleared();
+    expect([details.dataset.stale, details.dataset.count, rows().length]).toEqual(['1', '5', 5]);
+    expect(details.textContent).toContain('the figures are of the last finished run');
+    t.show(run());
+    expect(details.dataset.stale).toBe('0');
+    state.key = 'p1|RV_ENDO';
+    t.resultCleared();
+    expect([details.dataset.stale, details.dataset.count, rows().length]).toEqual(['0', '0', 0]);
+    expect(details.textContent).toContain('no result yet');
+  });
+
+  it('a row hovered highlights its contour, a click keeps it; the view\'s pointer highlights the row', () => {
+    const { t, el, details, row, calls, state } = table();
+    t.show(run());
+    row('s06_SAX').fire('mouseenter');
+    expect(calls.highlight.at(-1)).toBe('s06_SAX');
+    expect(details.dataset.highlight).toBe('s06_SAX');
+    expect(row('s06_SAX').classList.contains('highlighted')).toBe(true);
+    el.fire('mouseleave');
+    expect(calls.highlight.at(-1)).toBeNull();
+    expect(row('s06_SAX').classList.contains('highlighted')).toBe(false);
+    // A click on an id keeps it after the pointer leaves, until another click.
+    row('s07_LAX').findAll((e) => e.attributes.get('class') === 'contour-id')[0].fire('click');
+    row('s06_SAX').fire('mouseenter');
+    el.fire('mouseleave');
+    expect(calls.highlight.at(-1)).toBe('s07_LAX');
+    expect(row('s07_LAX').classList.contains('pinned')).toBe(true);
+    row('s07_LAX').findAll((e) => e.attributes.get('class') === 'contour-id')[0].fire('click');
+    el.fire('mouseleave');
+    expect(calls.highlight.at(-1)).toBeNull();
+    // The 3D view's pointer on a contour point: its row lights up, and goes dark off it.
+    t.hoverFromView('s02_SAX_LV_ENDOCARDIAL');
+    expect(row('s02_SAX_LV_ENDOCARDIAL').classList.contains('highlighted')).toBe(true);
+    t.hoverFromView(null);
+    expect(row('s02_SAX_LV_ENDOCARDIAL').classList.contains('highlighted')).toBe(false);
+    // A click kept through a new run of the surface; another surface lets it go, in the view too.
+    row('s06_SAX').findAll((e) => e.attributes.get('class') === 'contour-id')[0].fire('click');
+    const calls0 = calls.highlight.length;
+    t.resultCleared();
+    t.show(run());
+    expect(calls.highlight.length).toBe(calls0);
+    expect(details.dataset.highlight).toBe('s06_SAX');
+    expect(row('s06_SAX').classList.contains('pinned')).toBe(true);
+    state.key = 'p1|RV_ENDO';
+    t.resultCleared();
+    expect(calls.highlight.at(-1)).toBeNull();
+    expect(details.dataset.highlight).toBe('');
+  });
+});

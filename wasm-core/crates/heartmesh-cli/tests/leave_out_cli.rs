@@ -1,0 +1,315 @@
+//! `--leave-out ID[,ID...]` through the binary (session 31): the user leaves a contour out by id
+//! (a slice drawn badly, a view of another phase). The mesh must be the one of the file without
+//! that contour, the report and a note must say what was left out, a typo must fail with the ids
+//! there are, and ids of other surfaces must leave those surfaces as they were.
+
+mod common;
+use common::{bin, data, mesh_lines, run, scratch};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+const LAX: &str = "s09_LAX_LV_ENDOCARDIAL";
+
+fn patient1() -> PathBuf {
+    data("contours/bivme-example-patient1/patient1-ED.csv")
+}
+
+struct Run {
+    code: i32,
+    stderr: String,
+    mesh: Vec<String>,
+    report: Value,
+}
+
+fn reconstruct(dir: &Path, name: &str, input: &Path, extra: &[&str]) -> Run {
+    let out = dir.join(format!("{name}.obj"));
+    let report = dir.join(format!("{name}.json"));
+    let (code, _, stderr) = run(bin()
+        .arg("reconstruct")
+        .arg(input)
+        .arg("-o")
+        .arg(&out)
+        .arg("--report")
+        .arg(&report)
+        .args(extra));
+    let report = std::fs::read_to_string(&report)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .unwrap_or(Value::Null);
+    Run {
+        code,
+        stderr,
+        mesh: mesh_lines(&out),
+        report,
+    }
+}
+
+/// patient1-ED.csv without the rows of contour `id`.
+fn without(dir: &Path, id: &str) -> PathBuf {
+    let text = std::fs::read_to_string(patient1()).unwrap();
+    let kept: Vec<&str> = text
+        .lines()
+        .filter(|l| l.split(',').next() != Some(id))
+        .collect();
+    assert!(kept.len() < text.lines().count(), "{id} is in the file");
+    let path = dir.join(format!("without-{id}.csv"));
+    std::fs::write(&path, kept.join("\n") + "\n").unwrap();
+    path
+}
+
+/// The 1-based line of the first row of contour `id` in patient1-ED.csv.
+fn first_line(id: &str) -> usize {
+    let text = std::fs::read_to_string(patient1()).unwrap();
+    1 + text
+        .lines()
+        .position(|l| l.split(',').next() == Some(id))
+        .unwrap()
+}
+
+#[test]
+fn a_contour_left_out_gives_the_mesh_of_the_file_without_it() {
+    let dir = scratch("leave-out-same-mesh");
+    let lv = ["--surface", "LV_ENDO"];
+    let asked = reconstruct(
+        &dir,
+        "asked",
+        &patient1(),
+        &[&lv[..], &["--leave-out", LAX]].concat(),
+    );
+    assert_eq!(asked.code, 0, "{}", asked.stderr);
+    let cut = reconstruct(&dir, "cut", &without(&dir, LAX), &lv);
+    assert_eq!(cut.code, 0, "{}", cut.stderr);
+    let all = reconstruct(&dir, "all", &patient1(), &lv);
+    assert_eq!(asked.mesh, cut.mesh);
+    assert_ne!(asked.mesh, all.mesh, "the long-axis curve shapes the mesh");
+    let vol = |r: &Run| r.report["volume_ml"].as_f64().unwrap();
+    assert!((vol(&asked) - vol(&cut)).abs() < 1e-9);
+    assert!(
+        (vol(&asked) - vol(&all)).abs() > 0.1,
+        "{} vs {}",
+        vol(&asked),
+        vol(&all)
+    );
+
+    // The report: set_aside names it with its line and the reason, the parameters list it, and
+    // the distances are to the contours used (7 of 8).
+    let line = first_line(LAX);
+    assert_eq!(
+        asked.report["set_aside"],
+        serde_json::json!([{ "id": LAX, "line": line, "reason": "by_user" }])
+    );
+    assert_eq!(
+        asked.report["parameters"]["leave_out"],
+        serde_json::json!([LAX])
+    );
+    let per = asked.report["per_contour"].as_array().unwrap();
+    assert_eq!(per.len(), 7);
+    assert!(per.iter().all(|c| c["id"] != LAX));
+    assert_eq!(all.report["per_contour"].as_array().unwrap().len(), 8);
+    assert!(all.report.get("set_aside").is_none());
+    assert!(all.report["parameters"].get("leave_out").is_none());
+    // A note names it, once.
+    let note = format!("--leave-out: \"{LAX}\" (line {line}) is left out of the reconstruction");
+    assert_eq!(asked.stderr.matches(&note).count(), 1, "{}", asked.stderr);
+    assert!(!all.stderr.contains("--leave-out"), "{}", all.stderr);
+}
+
+#[test]
+fn ids_may_be_repeated_or_joined_by_commas() {
+    let dir = scratch("leave-out-forms");
+    let two = ["s02_SAX_LV_ENDOCARDIAL", LAX];
+    let joined = reconstruct(
+        &dir,
+        "joined",
+        &patient1(),
+        &["--surface", "LV_ENDO", "--leave-out", &two.join(",")],
+    );
+    let repeated = reconstruct(
+        &dir,
+        "repeated",
+        &patient1(),
+        &[
+            "--surface",
+            "LV_ENDO",
+            "--leave-out",
+            two[0],
+            "--leave-out",
+            two[1],
+        ],
+    );
+    assert_eq!(joined.code, 0, "{}", joined.stderr);
+    assert_eq!(joined.mesh, repeated.mesh);
+    let ids: Vec<&str> = joined.report["set_aside"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["id"].as_str().unwrap())
+        .collect();
+    assert_eq!(ids, two);
+    assert_eq!(joined.report["per_contour"].as_array().unwrap().len(), 6);
+    assert!(
+        joined.stderr.contains("are left out of the reconstruction"),
+        "{}",
+        joined.stderr
+    );
+}
+
+#[test]
+fn an_unknown_id_fails_with_the_surfaces_ids() {
+    let dir = scratch("leave-out-unknown");
+    let r = reconstruct(
+        &dir,
+        "typo",
+        &patient1(),
+        &["--surface", "LV_ENDO", "--leave-out", "s09_LAX_LV_ENDO"],
+    );
+    assert_eq!(r.code, 2);
+    assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
+    assert!(r.stderr.contains("patient1-ED.csv"), "{}", r.stderr);
+    assert!(
+        r.stderr
+            .contains("no contour \"s09_LAX_LV_ENDO\" to leave out"),
+        "{}",
+        r.stderr
+    );
+    assert!(r.stderr.contains(&format!("\"{LAX}\"")), "{}", r.stderr);
+    assert!(r.mesh.is_empty(), "nothing written");
+    // An empty id is a usage error naming the option.
+    let (code, _, err) = run(bin()
+        .arg("reconstruct")
+        .arg(patient1())
+        .args(["--surface", "LV_ENDO", "-o"])
+        .arg(dir.join("e.obj"))
+        .args(["--leave-out", "a,,b"]));
+    assert_eq!(code, 2);
+    assert!(err.contains("--leave-out: an empty contour id"), "{err}");
+}
+
+#[test]
+fn leaving_out_all_but_one_contour_is_too_few() {
+    let dir = scratch("leave-out-too-few");
+    let ids: Vec<String> = ["s02", "s03", "s04", "s05", "s06"]
+        .iter()
+        .map(|s| format!("{s}_SAX_LV_ENDOCARDIAL"))
+        .chain(["s08_LAX_LV_ENDOCARDIAL".to_string(), LAX.to_string()])
+        .collect();
+    let r = reconstruct(
+        &dir,
+        "one",
+        &patient1(),
+        &["--surface", "LV_ENDO", "--leave-out", &ids.join(",")],
+    );
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(
+        r.stderr.contains("too few contours: 1 usable"),
+        "{}",
+        r.stderr
+    );
+}
+
+#[test]
+fn an_id_of_another_surface_leaves_this_one_as_it_was() {
+    let dir = scratch("leave-out-other-surface");
+    let plain = dir.join("plain");
+    let asked = dir.join("asked");
+    std::fs::create_dir_all(&plain).unwrap();
+    std::fs::create_dir_all(&asked).unwrap();
+    let a = reconstruct(&plain, "m", &patient1(), &["--surface", "all", "--quiet"]);
+    let b = reconstruct(
+        &asked,
+        "m",
+        &patient1(),
+        &["--surface", "all", "--leave-out", LAX, "--quiet"],
+    );
+    assert_eq!((a.code, b.code), (0, 0), "{} {}", a.stderr, b.stderr);
+    for surface in ["RV_ENDO", "LV_EPI", "RV_EPI"] {
+        let name = format!("m-{surface}.obj");
+        assert_eq!(
+            mesh_lines(&plain.join(&name)),
+            mesh_lines(&asked.join(&name)),
+            "{surface} does not hold {LAX}"
+        );
+    }
+    assert_ne!(
+        mesh_lines(&plain.join("m-LV_ENDO.obj")),
+        mesh_lines(&asked.join("m-LV_ENDO.obj"))
+    );
+}
+
+#[test]
+fn volumes_take_the_same_list() {
+    let dir = scratch("leave-out-volumes");
+    let json = dir.join("v.json");
+    let (code, _, err) = run(bin()
+        .arg("volumes")
+        .arg(patient1())
+        .args([
+            "--surface",
+            "LV_ENDO",
+            "--leave-out",
+            LAX,
+            "--quiet",
+            "--json",
+        ])
+        .arg(&json));
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&json).unwrap();
+    let r = reconstruct(
+        &dir,
+        "r",
+        &patient1(),
+        &["--surface", "LV_ENDO", "--leave-out", LAX, "--quiet"],
+    );
+    let want = r.report["volume_ml"].as_f64().unwrap();
+    let shown = format!("{want:.1}");
+    // The volumes JSON holds the phase's LV_ENDO volume, equal to the reconstruction's.
+    let v: Value = serde_json::from_str(&text).unwrap();
+    let found = find_number(&v, want);
+    assert!(found, "{want} ({shown}) not in {text}");
+}
+
+/// Whether `v` holds a number within 1e-9 of `want` anywhere.
+fn find_number(v: &Value, want: f64) -> bool {
+    match v {
+        Value::Number(n) => n.as_f64().is_some_and(|x| (x - want).abs() < 1e-9),
+        Value::Array(a) => a.iter().any(|x| find_number(x, want)),
+        Value::Object(o) => o.values().any(|x| find_number(x, want)),
+        _ => false,
+    }
+}
+
+/// `info` lists each surface's ids by kind, the names `--leave-out` takes.
+#[test]
+fn info_lists_the_ids_leave_out_takes() {
+    let (code, out, err) = run(bin().arg("info").arg(patient1()));
+    assert_eq!(code, 0, "{err}");
+    let lv = out
+        .split("\nLV_ENDO:")
+        .nth(1)
+        .and_then(|s| s.split("\nLV_EPI:").next())
+        .unwrap_or_else(|| panic!("{out}"));
+    let sax: Vec<String> = (2..=6)
+        .map(|k| format!("s{k:02}_SAX_LV_ENDOCARDIAL"))
+        .collect();
+    assert!(
+        lv.contains(&format!("\n  short-axis: {}\n", sax.join(", "))),
+        "{lv}"
+    );
+    assert!(
+        lv.contains(&format!(
+            "\n  long-axis: {LAX}, s08_LAX_LV_ENDOCARDIAL, s07_LAX_LV_ENDOCARDIAL\n"
+        )),
+        "{lv}"
+    );
+    let (code, out, _) = run(bin().arg("info").arg(patient1()).arg("--json"));
+    assert_eq!(code, 0);
+    let v: Value = serde_json::from_str(&out).unwrap();
+    let lv = v["surfaces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["surface"] == "LV_ENDO")
+        .unwrap();
+    assert_eq!(lv["ids"]["sax"], serde_json::json!(sax));
+    assert_eq!(lv["ids"]["lax"].as_array().unwrap().len(), 3);
+}
