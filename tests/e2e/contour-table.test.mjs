@@ -194,4 +194,35 @@ describe('the Contours panel', () => {
     assert.equal(await page.getAttribute('[data-testid=contour-table]', 'open'), null);
     assert.equal(await page.isVisible(ROW), false);
   });
+
+  it('Measure all phases leaves out of each phase what was left out of its file', async () => {
+    const FN = '[data-testid=function]';
+    await gotoEmpty(page, server.url);
+    await runAndWait(page, () => page.getByRole('button', { name: 'Patient 1 · ED' }).first().click(), 120000);
+    const edFile = await page.inputValue('[data-testid=file-picker]');
+    await runAndWait(page, () => page.getByRole('button', { name: 'Patient 1 · ES' }).first().click(), 120000);
+    await runAndWait(page, () => page.selectOption('[data-testid=file-picker]', edFile), 120000);
+    const target = 's07_LAX_LV_ENDOCARDIAL';
+    await runAndWait(page, () => page.uncheck(`${row(target)} [data-testid=contour-use]`), 120000);
+    const onScreen = (await mesh()).volumeMl;
+    assert.match((await page.textContent('[data-testid=function-left-out]')) ?? '', new RegExp(`^Left out here too, as in the Contours panel: one contour \\(${edFile} LV_ENDO: ${target}\\)$`));
+    await page.click('[data-testid=function-measure]');
+    await page.waitForFunction((sel) => document.querySelector(sel)?.getAttribute('data-state') === 'done', FN, { timeout: 240000, polling: 100 });
+    const cells = await page.$$eval('[data-testid=function-table] td', (tds) => tds.map((t) => [t.getAttribute('data-phase'), t.getAttribute('data-surface'), Number(t.getAttribute('data-volume-ml'))]));
+    const cell = (phase, surface) => cells.find(([p, s]) => p === phase && s === surface)?.[2];
+    const ed = edFile.replace(/\.[^.]+$/, '');
+    const es = cells.map(([p]) => p).find((p) => p !== ed);
+    console.log(`# ${ed} LV_ENDO ${cell(ed, 'LV_ENDO')} ml (on screen ${onScreen}), ${es} LV_ENDO ${cell(es, 'LV_ENDO')} ml`);
+    // ED's LV_ENDO is the run on screen; its other surfaces and ES are the full measurement's
+    // (tests/e2e/function.test.mjs: 180.583, 65.86 ml).
+    assert.ok(Math.abs(cell(ed, 'LV_ENDO') - onScreen) < 1e-6, `${cell(ed, 'LV_ENDO')} vs ${onScreen}`);
+    assert.ok(Math.abs(cell(ed, 'LV_ENDO') - 173.724) > 1, 'not the measurement of every contour');
+    assert.ok(Math.abs(cell(ed, 'RV_ENDO') - 180.583) < 0.01);
+    assert.ok(Math.abs(cell(es, 'LV_ENDO') - 65.86) < 0.01);
+    assert.equal(await page.getAttribute(FN, 'data-stale'), '0');
+    // Put back: the table's settings are no longer those on screen.
+    await runAndWait(page, () => page.check(`${row(target)} [data-testid=contour-use]`), 120000);
+    assert.equal(await page.getAttribute(FN, 'data-stale'), '1');
+    assert.equal(await page.isVisible('[data-testid=function-left-out]'), false);
+  });
 });

@@ -1096,16 +1096,23 @@ describe('contours left out by hand (the Contours panel)', () => {
     c.dispose();
   });
 
-  it('the Function panel is told the phases batch uses every contour', async () => {
+  it('the phases batch leaves out of each phase what was left out of its file, and says so', async () => {
     const c = await start();
     await c.openFiles([file('a.csv')]);
     await c.openFiles([file('b.csv')]);
-    expect(c.functionContext()?.leftOutNote).toBeNull();
+    const before = c.functionContext();
+    expect(before?.leftOutNote).toBeNull();
+    expect(before?.plan.phases.map((p) => p.leave_out)).toEqual([undefined, undefined]);
     c.setLeftOut('x', true);
-    expect(c.functionContext()?.leftOutNote).toBe('Measure all phases uses every contour: the contour you left out in the Contours panel is used here (b.csv LV_ENDO: x)');
-    // The measurement itself is not stale for it: it never used the list.
+    const after = c.functionContext();
+    expect(after?.leftOutNote).toBe('Left out here too, as in the Contours panel: one contour (b.csv LV_ENDO: x)');
+    // Only b.csv's phase carries it; the measurement taken before is stale (other settings).
+    expect(after?.plan.phases.map((p) => [p.file, p.leave_out])).toEqual([['a.csv', undefined], ['b.csv', ['x']]]);
+    expect(after?.settingsKey).not.toBe(before?.settingsKey);
+    expect(after?.phasesKey).toBe(before?.phasesKey);
     c.setLeftOut('x', false);
     expect(c.functionContext()?.leftOutNote).toBeNull();
+    expect(c.functionContext()?.settingsKey).toBe(before?.settingsKey);
     c.dispose();
   });
 });

@@ -201,14 +201,14 @@ describe('the words for contours left out by the user', () => {
     expect(both.title).toContain('Contours panel');
   });
 
-  it('the Function panel says the phases batch uses them', () => {
+  it('the Function panel says the phases batch leaves them out too', () => {
     expect(leftOutNote([])).toBeNull();
     expect(leftOutNote([{ file: 'a.csv', frame: null, surface: 'LV_ENDO', ids: [] }])).toBeNull();
     expect(leftOutNote([{ file: 'patient1-ED.csv', frame: null, surface: 'LV_ENDO', ids: ['s07'] }])).toBe(
-      'Measure all phases uses every contour: the contour you left out in the Contours panel is used here (patient1-ED.csv LV_ENDO: s07)',
+      'Left out here too, as in the Contours panel: one contour (patient1-ED.csv LV_ENDO: s07)',
     );
     expect(leftOutNote([{ file: 'cine.csv', frame: 'ES', surface: 'LV_ENDO', ids: ['s7', 's8'] }, { file: 'cine.csv', frame: 'ED', surface: 'RV_ENDO', ids: ['r1'] }])).toBe(
-      'Measure all phases uses every contour: the 3 contours you left out in the Contours panel are used here (cine.csv frame ES LV_ENDO: s7, s8; cine.csv frame ED RV_ENDO: r1)',
+      'Left out here too, as in the Contours panel: 3 contours (cine.csv frame ES LV_ENDO: s7, s8; cine.csv frame ED RV_ENDO: r1)',
     );
   });
 });

@@ -7,7 +7,7 @@
  */
 import type { CoreClient } from '../core-client/CoreClient';
 import type {
-  ContourKindName, CoreErrorData, Frame, LabelMapGrid, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, ViewFile, WallFormat, WallSummary,
+  ContourKindName, CoreErrorData, PhaseSpec, Frame, LabelMapGrid, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, ViewFile, WallFormat, WallSummary,
 } from '../core-client/protocol';
 import { DEFAULT_OPTIONS, withDefaultOptions } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
@@ -22,7 +22,7 @@ import { keptSpecksNote, secondLoopsNote } from '../ui/runText';
 import { warningsFor } from './fileWarnings';
 import { RunDisplay } from './runDisplay';
 import { surfacePoints } from './sceneContours';
-import { frameChoice, framePicker, frameToRead, missingFrameNote, namedFrame } from './timeFrames';
+import { frameChoice, framePicker, frameToRead, missingFrameNote, namedFrame, sameFrame } from './timeFrames';
 import { canStop, currentRunId, describeError, initialState, isComputing, loadedFile, statusWord, transition, type AppEvent, type AppState } from './state';
 import { defaultParams, parseUrlState, serializeUrlState, DEFAULT_VIEW, type ViewSettings } from './urlState';
 import { KeptSurfaces, runSignature, settingsKey, type KeptMesh } from './keptSurfaces';
@@ -646,15 +646,28 @@ export class Controller {
     if (!plan) return null;
     // A phase that is a file is the worker's reading of it (its frame, its views, dropped anew).
     const readings = plan.kind === 'files' ? plan.phases.map((p) => [this.readings.get(p.file) ?? 0, this.files.get(p.file)?.timeFrames?.read ?? null]) : [this.readings.get(plan.phases[0].file) ?? 0];
+    // Each phase leaves out what the Contours panel left out of its file and frame (any surface:
+    // the core applies an id to the surface that has it), so its volumes are the runs' on screen.
+    const lists = [...new Set(plan.phases.map((p) => p.file))].flatMap((f) => this.leftOut.listsOf(f));
+    const frameOf = (p: PhaseSpec) => (p.frame !== undefined ? p.frame : namedFrame(this.files.get(p.file) ?? null));
+    const ofPhase = (p: PhaseSpec) => {
+      const frame = frameOf(p);
+      const mine = lists.filter((l) => l.key.file === p.file && (l.key.frame === null || frame === null ? l.key.frame === frame : sameFrame(l.key.frame, frame)));
+      return { lists: mine, ids: [...new Set(mine.flatMap((l) => l.ids))] };
+    };
+    const phases = plan.phases.map((p) => {
+      const { ids } = ofPhase(p);
+      return ids.length > 0 ? { ...p, leave_out: ids } : p;
+    });
+    const applied = plan.phases.flatMap((p) => ofPhase(p).lists.map((l) => ({ ...l.key, ids: l.ids })));
     return {
-      plan,
+      plan: { ...plan, phases },
       params: { ...this.params },
       lids: this.lids,
       options: { ...this.options },
       phasesKey: JSON.stringify([plan.phases, readings]),
-      // The batch takes one set of settings for every phase: contours left out on screen are used there.
-      leftOutNote: leftOutNote([...new Set(plan.phases.map((p) => p.file))].flatMap((f) => this.leftOut.listsOf(f).map((l) => ({ ...l.key, ids: l.ids })))),
-      settingsKey: JSON.stringify([schemaOrdered(this.params, this.schema), this.lids, Object.entries(this.options).sort(([a], [b]) => a.localeCompare(b))]),
+      leftOutNote: leftOutNote(applied),
+      settingsKey: JSON.stringify([schemaOrdered(this.params, this.schema), this.lids, Object.entries(this.options).sort(([a], [b]) => a.localeCompare(b)), phases.map((p) => p.leave_out ?? [])]),
     };
   }
 

@@ -144,6 +144,8 @@ export interface PhaseSpec {
   name: string;
   file: string;
   frame?: string;
+  /** Contours the user left out of this phase (the Contours panel's lists of its file and frame); absent: none. */
+  leave_out?: string[];
 }
 
 /** Every surface of every phase at these settings (the CLI's `heartmesh volumes`). */

@@ -27,11 +27,12 @@ export interface FunctionContext {
   options: ReconOptions;
   /** Equal while the phases are the same contours (the same files, read the same way). */
   phasesKey: string;
-  /** Equal while the parameters, mesh ends and options are the same. */
+  /** Equal while the parameters, mesh ends, options and the phases' leave-out lists are the same. */
   settingsKey: string;
   /**
    * Said when contours of these phases were left out in the Contours panel (functionText
-   * `leftOutNote`): the measurement uses them all. Absent or null: none were.
+   * `leftOutNote`): the measurement leaves them out too (each phase's `leave_out`). Absent or
+   * null: none were.
    */
   leftOutNote?: string | null;
 }

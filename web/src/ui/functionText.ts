@@ -75,14 +75,14 @@ export interface LeftOutList {
 
 /**
  * What the Function panel says when contours were left out in the Contours panel of the phases it
- * measures: the phases batch reconstructs every contour of every phase (one set of settings for
- * all, no per-file list), so those contours are used there, and the user must be told rather than
- * shown volumes that silently differ from the runs on screen. Null when none were left out.
+ * measures: they are left out of those phases here too (each phase gets its file and frame's
+ * lists), and the table's volumes are said to follow the panel, since they differ from a
+ * measurement of every contour. Null when none were left out.
  */
 export function leftOutNote(lists: readonly LeftOutList[]): string | null {
   const used = lists.filter((l) => l.ids.length > 0);
   if (used.length === 0) return null;
   const n = used.reduce((k, l) => k + l.ids.length, 0);
   const where = used.map((l) => `${[l.file, l.frame !== null ? `frame ${l.frame}` : '', l.surface ?? ''].filter(Boolean).join(' ')}: ${l.ids.join(', ')}`).join('; ');
-  return `Measure all phases uses every contour: the ${n === 1 ? 'contour' : `${n} contours`} you left out in the Contours panel ${n === 1 ? 'is' : 'are'} used here (${where})`;
+  return `Left out here too, as in the Contours panel: ${n === 1 ? 'one contour' : `${n} contours`} (${where})`;
 }

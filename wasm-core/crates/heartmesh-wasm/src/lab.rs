@@ -308,6 +308,7 @@ impl Lab {
             .into_iter()
             .map(|r| phases::PhaseInput {
                 name: r.name,
+                leave_out: r.leave_out,
                 source: match r.frame {
                     Some(frame) => phases::Source::Frame(frame),
                     None => phases::Source::Read(
@@ -614,9 +615,11 @@ struct PhaseRequest {
     name: String,
     file: String,
     frame: Option<String>,
+    leave_out: Vec<String>,
 }
 
-/// `[{name, file, frame?}]` of [`Lab::start_phases`].
+/// `[{name, file, frame?, leave_out?}]` of [`Lab::start_phases`]: `leave_out` lists the contours
+/// the user left out of that phase (the Contours panel's lists of its file and frame).
 fn phase_requests(text: &str) -> heartmesh_core::error::Result<Vec<PhaseRequest>> {
     let bad = |message: String| CoreError::ParamInvalid {
         name: "phases".into(),
@@ -635,6 +638,10 @@ fn phase_requests(text: &str) -> heartmesh_core::error::Result<Vec<PhaseRequest>
                     name: name.to_string(),
                     file: file.to_string(),
                     frame: text("frame").map(str::to_string),
+                    leave_out: match p.get(crate::convert::LEAVE_OUT) {
+                        None => Vec::new(),
+                        Some(v) => heartmesh_core::io::session::contour_ids(v)?,
+                    },
                 }),
                 _ => Err(bad(format!("{p} lacks a name or a file"))),
             }
@@ -770,6 +777,71 @@ mod tests {
         rec.run().unwrap();
         assert!(topology::validity(rec.mesh()).is_closed_manifold());
         rec.mesh().volume_ml()
+    }
+
+    /// A phase's `leave_out` reaches its cells only: ED's LV_ENDO is the run without the contour
+    /// (the Contours panel's run on screen), ED's other surfaces and every ES cell as before; an id
+    /// the phase's file lacks fails that phase's cells, the others measured.
+    #[test]
+    fn phases_batch_leaves_out_each_phases_contours() {
+        let (ed, es) = (patient1("ED"), patient1("ES"));
+        let mut session = Session::new();
+        session.load("patient1-ED.csv", &ed, None).unwrap();
+        session.load("patient1-ES.csv", &es, None).unwrap();
+        let mut lab = Lab::new();
+        let lax = "s07_LAX_LV_ENDOCARDIAL";
+        let phases = format!(
+            r#"[{{"name": "ED", "file": "patient1-ED.csv", "leave_out": ["{lax}"]}},
+                {{"name": "ES", "file": "patient1-ES.csv"}}]"#
+        );
+        lab.start_phases_with(&session, &phases, "{}", "auto", &[], &[])
+            .unwrap();
+        let (items, _) = drain(&mut lab);
+        let volume = |i: usize| items[i]["volume_ml"].as_f64().unwrap();
+        let surfaces = ["RV_ENDO", "RV_EPI", "LV_EPI", "LV_ENDO"];
+        let set = |b: &[u8]| heartmesh_core::io::read_contours("p.csv", b).unwrap();
+        let (ed_set, es_set) = (set(&ed), set(&es));
+        let mut rec = heartmesh_core::pipeline::Reconstruction::new(
+            &ed_set,
+            heartmesh_core::Params {
+                surface: Some("LV_ENDO".into()),
+                leave_out: vec![lax.into()],
+                ..heartmesh_core::Params::default()
+            },
+        )
+        .unwrap();
+        rec.run().unwrap();
+        assert_eq!(volume(3), rec.mesh().volume_ml());
+        assert!((volume(3) - direct_volume(&ed_set, "LV_ENDO")).abs() > 1.0);
+        for i in [0, 1, 2] {
+            assert_eq!(
+                volume(i),
+                direct_volume(&ed_set, surfaces[i]),
+                "{}",
+                items[i]
+            );
+        }
+        assert_eq!(volume(7), direct_volume(&es_set, "LV_ENDO"));
+        let bad = r#"[{"name": "ED", "file": "patient1-ED.csv", "leave_out": ["nope"]},
+                      {"name": "ES", "file": "patient1-ES.csv"}]"#;
+        lab.start_phases_with(&session, bad, "{}", "auto", &[], &[])
+            .unwrap();
+        let (items, _) = drain(&mut lab);
+        assert!(items[..4].iter().all(|it| it["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("no contour \"nope\""))));
+        assert!(items[4..].iter().all(|it| it["volume_ml"].is_number()));
+        let e = lab
+            .start_phases_with(
+                &session,
+                r#"[{"name": "a", "file": "patient1-ED.csv", "leave_out": "x"}, {"name": "b", "file": "patient1-ES.csv"}]"#,
+                "{}",
+                "auto",
+                &[],
+                &[],
+            )
+            .unwrap_err();
+        assert!(e.to_string().contains("leave_out"), "{e}");
     }
 
     /// Patient 1's ED and ES files: every surface of both phases, each volume the core's own, the

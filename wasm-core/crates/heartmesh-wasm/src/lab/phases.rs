@@ -29,6 +29,9 @@ pub enum Source {
 pub struct PhaseInput {
     pub name: String,
     pub source: Source,
+    /// Contours the user left out of this phase (`Params::leave_out`; empty: the batch's list):
+    /// its volumes must be those of the runs on screen.
+    pub leave_out: Vec<String>,
 }
 
 /// The file whose time frames are phases: its bytes and long-axis views, kept to read the frames
@@ -78,8 +81,14 @@ pub fn plan(
             ),
         });
     }
-    let (names, mut sources): (Vec<String>, Vec<Source>) =
-        inputs.into_iter().map(|i| (i.name, i.source)).unzip();
+    let mut leave_out: Vec<Vec<String>> = Vec::with_capacity(inputs.len());
+    let (names, mut sources): (Vec<String>, Vec<Source>) = inputs
+        .into_iter()
+        .map(|i| {
+            leave_out.push(i.leave_out);
+            (i.name, i.source)
+        })
+        .unzip();
     if sources.iter().any(|s| matches!(s, Source::Frame(_))) && sequence.is_none() {
         return Err(CoreError::ParamInvalid {
             name: "phases".into(),
@@ -122,10 +131,16 @@ pub fn plan(
     } else {
         labels.into_iter().map(Some).collect()
     };
-    let jobs: Vec<Params> = (0..sources.len())
-        .flat_map(|_| {
+    let jobs: Vec<Params> = leave_out
+        .iter()
+        .flat_map(|ids| {
             surfaces.iter().map(|surface| Params {
                 surface: surface.clone(),
+                leave_out: if ids.is_empty() {
+                    params.leave_out.clone()
+                } else {
+                    ids.clone()
+                },
                 ..params.clone()
             })
         })
@@ -291,6 +306,7 @@ mod tests {
             .map(|f| PhaseInput {
                 name: f.to_string(),
                 source: Source::Frame(f.to_string()),
+                leave_out: Vec::new(),
             })
             .collect()
     }
