@@ -25,10 +25,12 @@ function fakeBatch(runId: number) {
   return { handle, started, done, cancel };
 }
 
-function makePanel() {
+function makePanel(leaveOut: string[] = []) {
   const batches: ReturnType<typeof fakeBatch>[] = [];
+  const jobs: unknown[] = [];
   const client = {
-    labBatch: () => {
+    labBatch: (job: unknown) => {
+      jobs.push(job);
       const b = fakeBatch(batches.length + 1);
       batches.push(b);
       return b.handle;
@@ -39,6 +41,7 @@ function makePanel() {
     onResult: () => undefined,
     runSettings: () => ({ fileName: 'lab.csv', surface: null, params: {}, lids: 'auto', options: {} }),
     currentResult: () => null,
+    leaveOutNow: () => leaveOut,
     debug: { historyLength: 0 },
   } as unknown as Controller;
   const panel = new LabPanel({ controller, viewer: null, legendSlot: new FakeElement('div') as unknown as HTMLElement });
@@ -48,7 +51,7 @@ function makePanel() {
     if (!e) throw new Error(`no ${id}`);
     return e as FakeElement & { disabled?: boolean };
   };
-  return { batches, byId };
+  return { batches, byId, jobs };
 }
 
 const settle = () => new Promise((r) => setTimeout(r, 0));
@@ -89,5 +92,18 @@ describe('the Lab panel leave-one-out', () => {
     expect(byId('lab-loo-info').dataset.done).toBe('1');
     expect(byId('lab-loo-cancel').disabled).toBe(true);
     expect(batches[1].cancel).not.toHaveBeenCalled();
+  });
+
+  it('leaves out of every rebuild what the Contours panel left out, and says so when done', async () => {
+    const { batches, byId, jobs } = makePanel(['s07', 's08']);
+    byId('lab-loo-run').fire('click');
+    expect(jobs[0]).toMatchObject({ kind: 'loo', fileName: 'lab.csv', leaveOut: ['s07', 's08'] });
+    batches[0].started.resolve({ total: 0, contours: [], points: new Float32Array() } as unknown as LabBatchInfo);
+    batches[0].done.resolve();
+    await settle();
+    expect(byId('lab-loo-info').textContent).toBe('done: 0 contours; worst –; without the 2 contours you left out in the Contours panel');
+    const none = makePanel();
+    none.byId('lab-loo-run').fire('click');
+    expect(none.jobs[0]).toMatchObject({ kind: 'loo', leaveOut: [] });
   });
 });

@@ -157,7 +157,7 @@ export class LabWorker {
   private startBatch(msg: LabBatchRequest): void {
     this.stop();
     const j = msg.job;
-    const params = paramsJson(j.params, j.options);
+    const params = paramsJson(j.params, j.options, j.kind === 'phases' ? undefined : j.leaveOut);
     const infoJson =
       j.kind === 'loo'
         ? this.lab.start_leave_one_out(this.session, j.fileName, j.surface, params, j.lids)

@@ -121,6 +121,8 @@ export interface LabBatchBase {
   lids: LidsMode;
   /** Missing: the core's defaults. */
   options?: ReconOptions;
+  /** Contours the user left out (the Contours panel): out of every rebuild, never held out in turn. */
+  leaveOut?: string[];
 }
 
 /** Values per swept parameter (empty or missing: the base value). */

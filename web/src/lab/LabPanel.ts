@@ -579,7 +579,7 @@ export class LabPanel {
     delete this.looInfo.dataset.selected;
     this.truthLayer.setHighlight(null);
     this.deps.viewer?.requestRender();
-    const handle = client.labBatch({ kind: 'loo', ...settings }, (p) => {
+    const handle = client.labBatch({ kind: 'loo', ...settings, leaveOut: this.leaveOutNow() }, (p) => {
       this.looProgress.max = Math.max(1, p.total);
       this.looProgress.value = p.completed;
       this.looInfo.textContent = `${p.completed} / ${p.total} contours`;
@@ -669,10 +669,10 @@ export class LabPanel {
     this.sweepPlot.render([]);
     this.sweepComment = [
       `heartmesh parameter sweep of ${settings.fileName}${settings.surface ? ` (${settings.surface})` : ''}${withTruth && truthIndex !== null ? ` against ${this.truths[truthIndex].name}` : ''}`,
-      `base parameters ${JSON.stringify(settings.params)} lids ${settings.lids} smoothing_method ${settings.options.smoothing_method} soften_conflicts ${settings.options.soften_conflicts} align_slices ${settings.options.align_slices} end_caps ${settings.options.end_caps} keep_specks ${settings.options.keep_specks} apex_floor ${settings.options.apex_floor}${settings.options.drop_second_loops ? ' drop_second_loops true' : ''}`,
+      `base parameters ${JSON.stringify(settings.params)} lids ${settings.lids} smoothing_method ${settings.options.smoothing_method} soften_conflicts ${settings.options.soften_conflicts} align_slices ${settings.options.align_slices} end_caps ${settings.options.end_caps} keep_specks ${settings.options.keep_specks} apex_floor ${settings.options.apex_floor}${settings.options.drop_second_loops ? ' drop_second_loops true' : ''}${this.leaveOutNow().length > 0 ? ` leave_out ${this.leaveOutNow().join(',')}` : ''}`,
       'distances in mm (contour_*: contour points to mesh; truth_mean: mesh to truth, clipped), volume in ml',
     ];
-    const handle = client.labBatch({ kind: 'sweep', ...settings, grid, withTruth }, (p) => {
+    const handle = client.labBatch({ kind: 'sweep', ...settings, grid, withTruth, leaveOut: this.leaveOutNow() }, (p) => {
       this.sweepProgress.max = Math.max(1, p.total);
       this.sweepProgress.value = p.completed;
       this.sweepInfo.textContent = `${p.completed} / ${p.total} runs`;
@@ -710,14 +710,18 @@ export class LabPanel {
 
   // ---- messages -------------------------------------------------------------------------------
 
+  /** The contours left out of the surface in the Contours panel: out of the lab's rebuilds too, as of the run on screen. */
+  private leaveOutNow(): string[] {
+    return this.deps.controller.leaveOutNow?.() ?? [];
+  }
+
   /**
-   * Said after a leave-one-out or a sweep started while contours of the surface were left out in
-   * the Contours panel: the lab's batches rebuild every contour of the file (leave-one-out takes
-   * each out in turn, so a list of its own would clash with it), unlike the run on screen.
+   * Said after a leave-one-out or a sweep that left contours out as the Contours panel does (none
+   * of them is held out in turn): its figures are of the contours the surface was run with.
    */
   private leftOutNote(): string {
-    const n = this.deps.controller.leaveOutNow?.().length ?? 0;
-    return n > 0 ? `; every contour used, also the ${n === 1 ? 'one' : n} you left out in the Contours panel` : '';
+    const n = this.leaveOutNow().length;
+    return n > 0 ? `; without the ${n === 1 ? 'contour' : `${n} contours`} you left out in the Contours panel` : '';
   }
 
   private say(text: string, error = false): void {

@@ -9,16 +9,18 @@ use crate::args::{parse, Spec};
 use crate::contours;
 use crate::error::CliError;
 
-pub const USAGE: &str = "heartmesh leave-one-out CONTOURS.csv [--surface LABEL] [--json]
+pub const USAGE: &str =
+    "heartmesh leave-one-out CONTOURS.csv [--surface LABEL] [--leave-out ID[,ID...]] [--json]
   For each contour: reconstruct at the defaults without it, then measure its points' distance to
-  that mesh (mm: mean, median, p95, max). --json prints {contours: [{id, kind, stats, error}],
+  that mesh (mm: mean, median, p95, max). --leave-out: contours out of every rebuild (as
+  reconstruct's), not held out in turn. --json prints {contours: [{id, kind, stats, error}],
   worst, mean_of_means}.";
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
     let p = parse(
         args,
         &Spec {
-            with_value: &["surface"],
+            with_value: &["surface", "leave-out"],
             switches: &["json"],
             aliases: &[],
         },
@@ -30,10 +32,12 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         )));
     };
     let loaded = contours::load(input, None)?;
-    let params = Params {
+    let mut params = Params {
         surface: p.value("surface").map(str::to_string),
         ..loaded.session_params.unwrap_or_default()
     };
+    crate::cmd_reconstruct::add_leave_out(&p, &mut params);
+    params.validate().map_err(CliError::param)?;
     let result = leave_one_out(&loaded.set, &params).map_err(|e| CliError::input(input, e))?;
     if p.switch("json") {
         let text =

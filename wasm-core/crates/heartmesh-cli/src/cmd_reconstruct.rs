@@ -464,15 +464,20 @@ pub(crate) fn params_from(p: &Parsed, base: Params) -> Result<Params, CliError> 
     if let Some(m) = p.value("end-caps") {
         params.set_end_caps(m).map_err(CliError::param)?;
     }
-    // Added to a session's list: the flags say what else to leave out.
+    add_leave_out(p, &mut params);
+    params.validate().map_err(CliError::param)?;
+    Ok(params)
+}
+
+/// `--leave-out ID[,ID...]` (repeatable) added to `params.leave_out` (a session's list): the
+/// flags say what else to leave out. Empty ids stay, for `Params::validate` to refuse by name.
+pub(crate) fn add_leave_out(p: &Parsed, params: &mut Params) {
     for id in p.values_of("leave-out").flat_map(|v| v.split(',')) {
         let id = id.trim().to_string();
         if !params.leave_out.contains(&id) {
             params.leave_out.push(id);
         }
     }
-    params.validate().map_err(CliError::param)?;
-    Ok(params)
 }
 
 /// The note naming the contours `--leave-out` left out of this surface (None: none of them is

@@ -313,3 +313,34 @@ fn info_lists_the_ids_leave_out_takes() {
     assert_eq!(lv["ids"]["sax"], serde_json::json!(sax));
     assert_eq!(lv["ids"]["lax"].as_array().unwrap().len(), 3);
 }
+
+/// `leave-one-out --leave-out X`: X is out of every rebuild and not held out in turn; every other
+/// contour is rebuilt without error (the rebuilds must not name X again: their contours lack it).
+#[test]
+fn leave_one_out_keeps_the_contours_left_out_out() {
+    let (code, out, err) = run(bin().arg("leave-one-out").arg(patient1()).args([
+        "--surface",
+        "LV_ENDO",
+        "--json",
+        "--leave-out",
+        LAX,
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    let rows = v["contours"].as_array().unwrap();
+    assert_eq!(rows.len(), 7);
+    assert!(
+        rows.iter().all(|c| c["id"] != LAX && c["error"].is_null()),
+        "{v}"
+    );
+    let (code, out, _) =
+        run(bin()
+            .arg("leave-one-out")
+            .arg(patient1())
+            .args(["--surface", "LV_ENDO", "--json"]));
+    assert_eq!(code, 0);
+    let all: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(all["contours"].as_array().unwrap().len(), 8);
+    // Without LAX the others are predicted from less: their held-out means are not all the same.
+    assert_ne!(v["mean_of_means"], all["mean_of_means"]);
+}

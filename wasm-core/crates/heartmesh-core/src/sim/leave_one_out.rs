@@ -48,6 +48,10 @@ pub struct Plan {
     pub cleaned: Vec<Contour>,
     pub kinds: Vec<ContourKind>,
     pub jobs: Vec<HeldOut>,
+    /// What every rebuild takes: the caller's parameters without their `leave_out` list, whose
+    /// contours `cleaned` (and so every job's rest) no longer holds; named again, they would be
+    /// ids no contour has.
+    pub params: Params,
 }
 
 /// Validates the full input (which also selects the surface and cleans the contours) and plans
@@ -78,6 +82,10 @@ pub fn plan(set: &ContourSet, params: &Params) -> Result<Plan> {
         cleaned,
         kinds,
         jobs,
+        params: Params {
+            leave_out: Vec::new(),
+            ..params.clone()
+        },
     })
 }
 
@@ -87,13 +95,14 @@ pub fn measure(held: &Contour, mesh: &TriMesh) -> Stats {
     stats(&points_to_mesh(&pts, mesh))
 }
 
-/// Runs the analysis; `params` are used for every rebuild (and select the surface). Fails only if
-/// the full set itself cannot be reconstructed.
+/// Runs the analysis; `params` are used for every rebuild (and select the surface; the contours
+/// their `leave_out` names are out of every rebuild and not held out in turn). Fails only if the
+/// full set itself cannot be reconstructed.
 pub fn leave_one_out(set: &ContourSet, params: &Params) -> Result<LeaveOneOut> {
     let plan = plan(set, params)?;
     let mut out = Vec::with_capacity(plan.jobs.len());
     for job in plan.jobs {
-        let rebuilt = Reconstruction::new(&job.rest, params.clone()).and_then(|mut rec| {
+        let rebuilt = Reconstruction::new(&job.rest, plan.params.clone()).and_then(|mut rec| {
             rec.run()?;
             Ok(rec)
         });

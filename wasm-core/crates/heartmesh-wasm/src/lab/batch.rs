@@ -78,7 +78,7 @@ impl Batch {
         for held in plan.jobs {
             jobs.push(Job {
                 contours: held.rest,
-                params: params.clone(),
+                params: plan.params.clone(),
             });
             left_out.push((held.contour, held.kind));
         }
@@ -355,6 +355,36 @@ mod tests {
             // the long-axis curves alone (3.3 mm measured).
             let limit = if j == 0 { 5.0 } else { 1.0 };
             assert!(mean.is_finite() && mean < limit, "contour {j}: {it}");
+        }
+    }
+
+    /// A contour the user left out is out of every rebuild and not held out in turn: six jobs,
+    /// none failing (the rebuilds' sets lack it, so they must not name it again).
+    #[test]
+    fn leave_one_out_keeps_the_users_contours_out() {
+        let set = lv_contours();
+        let lax = set
+            .contours
+            .iter()
+            .rev()
+            .map(|c| c.id.clone())
+            .next()
+            .unwrap();
+        let params = Params {
+            leave_out: vec![lax.clone()],
+            ..fast()
+        };
+        let (mut b, cleaned, _) = Batch::leave_one_out(&set, &params).unwrap();
+        assert_eq!(cleaned.len(), 6);
+        assert!(cleaned.iter().all(|c| c.id != lax));
+        let items = drain(&mut b);
+        assert_eq!(items.len(), 6);
+        for it in &items {
+            assert!(it["error"].is_null(), "{it}");
+            assert!(
+                it["stats"]["mean"].as_f64().is_some_and(f64::is_finite),
+                "{it}"
+            );
         }
     }
 
