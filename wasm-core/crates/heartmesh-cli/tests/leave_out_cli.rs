@@ -114,6 +114,38 @@ fn a_contour_left_out_gives_the_mesh_of_the_file_without_it() {
     assert!(!all.stderr.contains("--leave-out"), "{}", all.stderr);
 }
 
+/// With the breath-hold alignment too: the contour left out shifts nothing (the alignment is of
+/// the file without it), so the run is the one of the file without it, shifts and all.
+#[test]
+fn a_contour_left_out_does_not_move_the_alignment() {
+    let dir = scratch("leave-out-aligned");
+    let lv = ["--surface", "LV_ENDO", "--align-slices"];
+    let asked = reconstruct(
+        &dir,
+        "asked",
+        &patient1(),
+        &[&lv[..], &["--leave-out", LAX]].concat(),
+    );
+    assert_eq!(asked.code, 0, "{}", asked.stderr);
+    let cut = reconstruct(&dir, "cut", &without(&dir, LAX), &lv);
+    assert_eq!(cut.code, 0, "{}", cut.stderr);
+    let all = reconstruct(&dir, "all", &patient1(), &lv);
+    assert_eq!(asked.mesh, cut.mesh);
+    assert_ne!(asked.mesh, all.mesh);
+    for key in [
+        "alignment",
+        "crossing_residual_mm",
+        "contour_to_mesh_as_given",
+    ] {
+        assert_eq!(asked.report[key], cut.report[key], "{key}");
+    }
+    assert_ne!(
+        asked.report["alignment"], all.report["alignment"],
+        "the curve moved the shifts"
+    );
+    assert_eq!(asked.report["set_aside"][0]["reason"], "by_user");
+}
+
 #[test]
 fn ids_may_be_repeated_or_joined_by_commas() {
     let dir = scratch("leave-out-forms");

@@ -223,6 +223,12 @@ impl Reconstruction {
     /// builds the initial tube).
     pub fn new(set: &ContourSet, params: Params) -> Result<Self> {
         params.validate()?;
+        // The contours the user leaves out (checked against the file, named as it gives them)
+        // are out of everything from here on, the alignment included: a slice drawn badly must
+        // not shift the others. The run is then the file's without them.
+        let asked = prepare::asked(set, &params)?;
+        let without = prepare::without_ids(set, &params.leave_out);
+        let set = without.as_ref().unwrap_or(set);
         // The whole file is aligned before a surface is chosen: one breath-hold moves every
         // surface of an image, and the LV's rings fix the shifts better than an RV alone.
         let (aligned, alignment) = if params.align_slices {
@@ -254,7 +260,7 @@ impl Reconstruction {
             None => None,
         };
         // The user's choice comes before the rules: what they leave out is not data for any rule.
-        let (contours, mut set_aside) = prepare::leave_out(contours, &params.leave_out, set)?;
+        let mut set_aside = asked;
         if contours.len() < 2 {
             return Err(CoreError::TooFewContours {
                 found: contours.len(),

@@ -6,8 +6,9 @@ use crate::contours::checks::check_units;
 use crate::contours::clean::cleaned_contour;
 use crate::contours::set_aside::{SetAside, Why};
 use crate::contours::slice_loops::without_second_loops;
-use crate::contours::{Contour, ContourSet};
+use crate::contours::{biv_epi, Contour, ContourSet};
 use crate::error::{CoreError, Result};
+use crate::params::Params;
 
 /// Picks the contours of the requested surface: the only surface by default, an error listing the
 /// surfaces when there are several and none was chosen.
@@ -93,6 +94,30 @@ pub fn leave_out(
         contours.into_iter().partition(|c| ids.contains(&c.id));
     let asked = out.iter().map(|c| SetAside::of(c, Why::ByUser)).collect();
     Ok((kept, asked))
+}
+
+/// The contours of the surface `params` selects that its `leave_out` names, as left out by the
+/// user (cleaned, as the file gives them: the run's `set_aside` entries); checks every id as
+/// [`leave_out`] does. Empty without a list.
+pub fn asked(file: &ContourSet, params: &Params) -> Result<Vec<SetAside>> {
+    if params.leave_out.is_empty() {
+        return Ok(Vec::new());
+    }
+    let derived = biv_epi::with_derived(file, params.surface.as_deref());
+    let source = derived.as_ref().unwrap_or(file);
+    let cleaned = clean_contours(&select_surface(source, params.surface.as_deref())?);
+    Ok(leave_out(cleaned, &params.leave_out, file)?.1)
+}
+
+/// `file` without every contour whose id `ids` names, whatever its surface (None: no ids, the
+/// file as it is): what the run, its alignment and its measures see.
+pub fn without_ids(file: &ContourSet, ids: &[String]) -> Option<ContourSet> {
+    if ids.is_empty() {
+        return None;
+    }
+    let mut out = file.clone();
+    out.contours.retain(|c| !ids.contains(&c.id));
+    Some(out)
 }
 
 /// `contours` without the strays and specks a reconstruction leaves out (`contours::set_aside`),
