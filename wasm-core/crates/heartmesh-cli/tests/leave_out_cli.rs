@@ -57,6 +57,24 @@ fn without(dir: &Path, id: &str) -> PathBuf {
     path
 }
 
+/// Patient 1 with `args`: with `--leave-out LAX`, the file without LAX's rows, and the whole
+/// file, each run to completion (asked, cut, all).
+fn three_runs(name: &str, args: &[&str]) -> [Run; 3] {
+    let dir = scratch(name);
+    let asked = reconstruct(
+        &dir,
+        "asked",
+        &patient1(),
+        &[args, &["--leave-out", LAX]].concat(),
+    );
+    let cut = reconstruct(&dir, "cut", &without(&dir, LAX), args);
+    let all = reconstruct(&dir, "all", &patient1(), args);
+    for r in [&asked, &cut, &all] {
+        assert_eq!(r.code, 0, "{}", r.stderr);
+    }
+    [asked, cut, all]
+}
+
 /// The 1-based line of the first row of contour `id` in patient1-ED.csv.
 fn first_line(id: &str) -> usize {
     let text = std::fs::read_to_string(patient1()).unwrap();
@@ -68,18 +86,7 @@ fn first_line(id: &str) -> usize {
 
 #[test]
 fn a_contour_left_out_gives_the_mesh_of_the_file_without_it() {
-    let dir = scratch("leave-out-same-mesh");
-    let lv = ["--surface", "LV_ENDO"];
-    let asked = reconstruct(
-        &dir,
-        "asked",
-        &patient1(),
-        &[&lv[..], &["--leave-out", LAX]].concat(),
-    );
-    assert_eq!(asked.code, 0, "{}", asked.stderr);
-    let cut = reconstruct(&dir, "cut", &without(&dir, LAX), &lv);
-    assert_eq!(cut.code, 0, "{}", cut.stderr);
-    let all = reconstruct(&dir, "all", &patient1(), &lv);
+    let [asked, cut, all] = three_runs("leave-out-same-mesh", &["--surface", "LV_ENDO"]);
     assert_eq!(asked.mesh, cut.mesh);
     assert_ne!(asked.mesh, all.mesh, "the long-axis curve shapes the mesh");
     let vol = |r: &Run| r.report["volume_ml"].as_f64().unwrap();
@@ -118,18 +125,10 @@ fn a_contour_left_out_gives_the_mesh_of_the_file_without_it() {
 /// the file without it), so the run is the one of the file without it, shifts and all.
 #[test]
 fn a_contour_left_out_does_not_move_the_alignment() {
-    let dir = scratch("leave-out-aligned");
-    let lv = ["--surface", "LV_ENDO", "--align-slices"];
-    let asked = reconstruct(
-        &dir,
-        "asked",
-        &patient1(),
-        &[&lv[..], &["--leave-out", LAX]].concat(),
+    let [asked, cut, all] = three_runs(
+        "leave-out-aligned",
+        &["--surface", "LV_ENDO", "--align-slices"],
     );
-    assert_eq!(asked.code, 0, "{}", asked.stderr);
-    let cut = reconstruct(&dir, "cut", &without(&dir, LAX), &lv);
-    assert_eq!(cut.code, 0, "{}", cut.stderr);
-    let all = reconstruct(&dir, "all", &patient1(), &lv);
     assert_eq!(asked.mesh, cut.mesh);
     assert_ne!(asked.mesh, all.mesh);
     for key in [
