@@ -3,11 +3,14 @@
 // largest of them the result panel's max; a row hovered highlights its contour in the 3D view and a
 // contour point hovered names its contour and lights its row; unticking a long-axis contour runs
 // again without it (the core's `leave_out`: "left out by you" in the table, the result panel's Left
-// out row, the key and the read-out; another volume), the exports and a saved session record it,
-// the session opened again leaves it out again, and ticking it back (or Use all) gives the first
-// mesh again to the last digit.
+// out row, the key and the read-out; another volume), its row then shows how far the mesh built
+// without it passes (s07_LAX: mean 1.83, max 7.66 mm, the Lab's leave-one-out figures for it), a
+// click on the max header sorts the rows by it both ways and back to the file's order, the
+// exports and a saved session record it, the session opened again leaves it out again, and
+// ticking it back (or Use all) gives the first mesh again to the last digit.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
+import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { download as downloadFrom, gotoEmpty, nextFrames, readResult, runAndWait, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
@@ -41,8 +44,34 @@ const readTable = () =>
 /** The run on screen: its volume in full precision and what it left out at the user's request. */
 const mesh = () => page.evaluate(() => {
   const r = window.heartmesh.currentResult();
-  return { volumeMl: r.volumeMl, leaveOut: r.leave_out, setAside: r.set_aside.map((s) => [s.id, s.reason]), contours: r.contours.map((c) => c.id) };
+  return {
+    volumeMl: r.volumeMl,
+    leaveOut: r.leave_out,
+    setAside: r.set_aside.map((s) => [s.id, s.reason]),
+    asideFigures: r.set_aside.map((s) => ({ mean: s.mean, max: s.max })),
+    contours: r.contours.map((c) => c.id),
+  };
 });
+
+/** The Contours panel's sorted header: its label and aria-sort (null: the file's order). */
+const sortedHeader = () => page.evaluate(() => {
+  const th = document.querySelector('section.contours th[aria-sort]');
+  return th ? [th.querySelector('button').firstChild.textContent, th.getAttribute('aria-sort')] : null;
+});
+
+/** The Lab's leave-one-out of the surface on screen, each contour's mean (full precision) and max (its bar's title, 2 decimals), by id. */
+async function labLeaveOneOut() {
+  await page.click('[data-testid=tab-lab]');
+  await page.click('[data-testid=lab-loo-run]');
+  await page.waitForSelector('[data-testid=lab-loo-info][data-done="1"]', { timeout: 600000 });
+  const bars = await page.locator('[data-testid=loo-bar]').evaluateAll((els) => els.map((e) => [e.querySelector('title').textContent, Number(e.getAttribute('data-mean'))]));
+  await page.click('[data-testid=tab-params]');
+  return new Map(bars.map(([title, mean]) => {
+    const m = /^(\S+) \((?:SAX|LAX)\): mean [\d.]+ mm, max ([\d.]+) mm$/.exec(title);
+    assert.ok(m, title);
+    return [m[1], { mean, max: Number(m[2]) }];
+  }));
+}
 
 /** The contour highlighted in the 3D view: the canvas's attribute and the layer's own word. */
 const highlighted = () => page.evaluate(() => ({
@@ -123,7 +152,14 @@ describe('the Contours panel', () => {
     assert.ok(!without.contours.includes(target));
     assert.equal(left.count, '8', 'the contour left out keeps its row');
     const leftRow = left.rows.find((r) => r.id === target);
-    assert.deepEqual([leftRow.state, leftRow.kind, leftRow.checked, leftRow.disabled, leftRow.cells[4]], ['by_user', 'LAX', false, false, 'left out by you']);
+    assert.deepEqual([leftRow.state, leftRow.kind, leftRow.checked, leftRow.disabled, leftRow.cells[1]], ['by_user', 'LAX', false, false, `${target}left out by you`]);
+    // Its row: how far the mesh built without it passes (held out), the core's figures, to two decimals.
+    assert.equal(target, 's07_LAX_LV_ENDOCARDIAL');
+    assert.deepEqual(without.asideFigures, [{ mean: leftRow.meanMm, max: leftRow.maxMm }]);
+    assert.ok(leftRow.meanMm > 1.7 && leftRow.meanMm < 2.0, `held-out mean ${leftRow.meanMm}`);
+    assert.ok(leftRow.maxMm > 7.5 && leftRow.maxMm < 7.8, `held-out max ${leftRow.maxMm}`);
+    assert.deepEqual(leftRow.cells.slice(4), [leftRow.meanMm.toFixed(2), leftRow.maxMm.toFixed(2)]);
+    console.log(`# ${target} held out: mean ${leftRow.meanMm.toFixed(3)} mm, max ${leftRow.maxMm.toFixed(3)} mm`);
     assert.deepEqual(left.rows.map((r) => r.id), first.rows.map((r) => r.id), 'the rows keep their order');
     assert.equal(left.useAllHidden, false);
     assert.equal(await page.textContent('[data-testid=result-set-aside]'), `1 contour (by you) · ${target}`);
@@ -139,8 +175,28 @@ describe('the Contours panel', () => {
     assert.match((await page.textContent('[data-testid=hover-readout]')) ?? '', new RegExp(`^\\s*left out by you · ${target}\\(`));
     await page.mouse.move(0, 0);
 
-    // The table fits its column, at the usual window and at the narrow one (250 px column: no points column there).
-    for (const [width, height] of [[1024, 700], [1280, 720]]) {
+    // A click on the max header: the rows by their max, largest first (the one left out among them),
+    // again smallest first (rows without a figure last either way), a third time the file's order.
+    const ids = (rows) => rows.map((r) => r.id);
+    const maxOrder = [...left.rows].sort((a, b) => b.maxMm - a.maxMm).map((r) => r.id);
+    const sortMax = () => page.click('section.contours th.c-max button');
+    await sortMax();
+    assert.deepEqual(ids((await readTable()).rows), maxOrder);
+    assert.deepEqual(await sortedHeader(), ['max', 'descending']);
+    await sortMax();
+    assert.deepEqual(ids((await readTable()).rows), [...maxOrder].reverse());
+    assert.deepEqual(await sortedHeader(), ['max', 'ascending']);
+    await sortMax();
+    assert.deepEqual(ids((await readTable()).rows), first.rows.map((r) => r.id));
+    assert.equal(await sortedHeader(), null);
+    console.log(`# by max: ${maxOrder.join(', ')}`);
+    // Sorted again for the screenshot; the boxes still follow their rows.
+    await sortMax();
+    const sorted = await readTable();
+    assert.deepEqual(sorted.rows.map((r) => [r.id, r.checked]), maxOrder.map((id) => [id, id !== target]));
+
+    // The table fits its column on a phone, at the narrow window (250 px column: no points column there) and at the usual one.
+    for (const [width, height] of [[390, 844], [1024, 700], [1280, 720]]) {
       await page.setViewportSize({ width, height });
       await nextFrames(page);
       const fit = await page.evaluate(() => {
@@ -149,10 +205,11 @@ describe('the Contours panel', () => {
         const cells = [...document.querySelectorAll('section.contours th, section.contours td')].filter((c) => c.offsetParent !== null).map((c) => c.getBoundingClientRect());
         return { sideways: side.scrollWidth > side.clientWidth, inside: cells.every((c) => c.left >= panel.left - 0.5 && c.right <= panel.right + 0.5), pts: getComputedStyle(document.querySelector('th.c-pts')).display };
       });
-      assert.deepEqual(fit, { sideways: false, inside: true, pts: width < 1100 ? 'none' : 'table-cell' }, `${width}x${height}`);
+      assert.deepEqual(fit, { sideways: false, inside: true, pts: width < 1100 && width >= 860 ? 'none' : 'table-cell' }, `${width}x${height}`);
+      if (width < 860) await page.locator('section.contours').screenshot({ path: join(tmpdir(), 'heartmesh-contour-table-phone.png') });
     }
 
-    // The panel, the contour left out greyed and a row highlighted (screenshot for the docs).
+    // The panel, sorted by max, the contour left out greyed with its figures and a row highlighted (screenshot for the docs).
     await page.hover(row(worst.id));
     await nextFrames(page);
     assert.equal((await highlighted()).attr, worst.id);
@@ -163,6 +220,7 @@ describe('the Contours panel', () => {
     // The exports and a session record it.
     const json = JSON.parse((await downloadFrom(page, 'export-json')).bytes.toString('utf8'));
     assert.deepEqual(json.leave_out, [target]);
+    assert.deepEqual(json.result.set_aside.map((s) => [s.id, s.reason, s.mean, s.max]), [[target, 'by_user', leftRow.meanMm, leftRow.maxMm]]);
     assert.match((await downloadFrom(page, 'export-obj')).bytes.toString('utf8'), new RegExp(`^# lids: auto .* leave_out=${target}$`, 'm'));
     const session = await downloadFrom(page, 'export-session');
     const saved = JSON.parse(session.bytes.toString('utf8'));
@@ -176,6 +234,13 @@ describe('the Contours panel', () => {
     assert.ok(Math.abs(back.volumeMl - before.volumeMl) < 1e-9, `${back.volumeMl} vs ${before.volumeMl} ml`);
     assert.equal((await readTable()).useAllHidden, true);
     assert.equal(await page.isVisible('[data-testid=result-set-aside]'), false);
+
+    // The Lab's leave-one-out of every contour (separate runs of its own worker): the figures of
+    // the contour held out there are those its row showed.
+    const loo = (await labLeaveOneOut()).get(target);
+    console.log(`# Lab leave-one-out ${target}: mean ${loo.mean.toFixed(3)} mm, max ${loo.max.toFixed(2)} mm`);
+    assert.ok(Math.abs(loo.mean - leftRow.meanMm) < 0.01, `Lab ${loo.mean} vs row ${leftRow.meanMm}`);
+    assert.ok(Math.abs(loo.max - leftRow.maxMm) < 0.01, `Lab ${loo.max} vs row ${leftRow.maxMm}`);
 
     // The session opened again: the contour is left out again, the same mesh as before.
     await gotoEmpty(page, server.url);

@@ -1,19 +1,24 @@
 // The Contours panel (web/src/ui/ContourTable.ts, rows from contourRows.ts) on the fake DOM: one
 // row per contour of a run with its figures to two decimals, those the core left out greyed with
-// their reason and no usable box, those the user left out unticked; the boxes, "Use all" and the
-// hover reach the host; a new run of the same surface marks the rows stale, anything else clears.
+// their reason and no usable box, those the user left out unticked, both with how far the mesh
+// built without them passes (held out, no swatch); the boxes, "Use all" and the hover reach the
+// host; a click on a header sorts by its column (again: reversed, a third time: the file's order,
+// rows without a figure last); a new run of the same surface marks the rows stale and keeps the
+// sort, anything else clears both.
 import { describe, expect, it } from 'vitest';
 import type { ContourInfo, RunResult, SetAsideEntry } from '../../web/src/core-client/protocol';
-import { ContourTable, type ContourTableHost } from '../../web/src/ui/ContourTable';
-import { contourRows, contourScaleMax } from '../../web/src/ui/contourRows';
+import { ContourTable, HELD_OUT_TITLE, type ContourTableHost } from '../../web/src/ui/ContourTable';
+import { contourRows, contourScaleMax, nextSort, sortRows, type ContourRow, type SortColumn } from '../../web/src/ui/contourRows';
 import { cssColorAt, robustMax } from '../../web/src/viewer/colormap';
 import type { FakeElement } from './fakeDom';
 import { useFakeDocument } from './panelHarness';
 import { runResult } from './runResult';
 
 const stats = (mean: number, max: number, count: number) => ({ mean, median: mean, p95: max, max, min: 0, count });
-const SPECK: SetAsideEntry = { id: 'sax10', line: 1505, reason: 'speck', perimeter_mm: 2.84, next_id: 's06_SAX', next_perimeter_mm: 210 };
-const MINE: SetAsideEntry = { id: 's08_LAX', line: 700, reason: 'by_user' };
+// The core's figures null (not finite, as JSON gives them): no figure.
+const SPECK: SetAsideEntry = { id: 'sax10', line: 1505, reason: 'speck', perimeter_mm: 2.84, next_id: 's06_SAX', next_perimeter_mm: 210, mean: null, median: null, max: null };
+// Held out: the mesh built without it (Patient 1 ED's s07_LAX by the core: 1.831, 1.143, 7.665 mm).
+const MINE: SetAsideEntry = { id: 's08_LAX', line: 700, reason: 'by_user', mean: 1.8312, median: 1.143, max: 7.6649 };
 const ASIDE: ContourInfo[] = [
   { id: 'sax10', surface: 'LV_ENDO', kind: 'SAX', pieces: [{ closed: true, start: 0, count: 3 }] },
   // The run's geometry of a contour left out may not say its kind: the file's split at load does.
@@ -59,8 +64,13 @@ function table(initial: string[] = ['s08_LAX']) {
   const rows = () => el.findAll((e) => e.dataset.testid === 'contour-row');
   const row = (id: string) => rows().find((r) => r.dataset.id === id)!;
   const box = (id: string) => row(id).byTestId('contour-use') as FakeElement & { checked: boolean; disabled: boolean };
-  const cells = (id: string) => row(id).findAll((e) => e.tagName === 'td').map((c) => c.textContent);
-  return { t, el, details, rows, row, box, cells, calls, state };
+  /** Each cell's text, its parts (the id and the reason under it) joined by " · ". */
+  const cells = (id: string) => row(id).findAll((e) => e.tagName === 'td').map((c) => c.children.map((k) => (typeof k === 'string' ? k : k.textContent)).filter((k) => k !== '').join(' · '));
+  const ids = () => rows().map((r) => r.dataset.id);
+  const header = (label: string) => el.findAll((e) => e.tagName === 'th').find((th) => th.textContent.startsWith(label))!;
+  /** Clicks the sort button of the header `label`. */
+  const sortBy = (label: string) => header(label).findAll((e) => e.tagName === 'button')[0].fire('click');
+  return { t, el, details, rows, row, box, cells, ids, header, sortBy, calls, state };
 }
 
 describe('the rows of the Contours panel', () => {
@@ -70,10 +80,14 @@ describe('the rows of the Contours panel', () => {
       ['s02_SAX_LV_ENDOCARDIAL', 'SAX', 'used', 52, 0.4149, 1.2351],
       ['s06_SAX', 'SAX', 'used', 48, 0.2, 0.8399],
       ['s07_LAX', 'LAX', 'used', 61, 0.55, 2.004],
-      ['s08_LAX', 'LAX', 'by_user', 40, null, null],
+      ['s08_LAX', 'LAX', 'by_user', 40, 1.8312, 7.6649],
       ['sax10', 'SAX', 'speck', 3, null, null],
     ]);
     expect(rows[3].reason).toBe('left out by you');
+    expect(rows[3].detail).toBe('"s08_LAX" (line 700): left out by you, the mesh 1.83 mm from it on average, 7.66 mm at most (tick it in the Contours panel to use it again)');
+    // Figures absent (a result of an older core) or not finite are none.
+    const old = contourRows(run({ set_aside: [{ id: 'sax10', line: 1505, reason: 'stray', gap_mm: 180 }, { ...MINE, mean: Number.POSITIVE_INFINITY }] }), FILE);
+    expect(old.filter((r) => r.state !== 'used').map((r) => [r.id, r.meanMm, r.maxMm])).toEqual([['s08_LAX', null, 7.6649], ['sax10', null, null]]);
     expect(rows[4].reason).toBe('left out: speck');
     expect(rows[4].detail).toContain('"sax10" (line 1505): a speck');
     // Without the file's order: the core's order, those left out after the used ones (kind unknown).
@@ -81,6 +95,44 @@ describe('the rows of the Contours panel', () => {
     // The swatches' scale is the contour legend's.
     expect(contourScaleMax(run())).toBe(robustMax(new Float32Array([0.1, 0.5, 0.9, 1.1, 1.9, 2.0])));
     expect(contourScaleMax(run())).toBe(2);
+  });
+});
+
+describe('the sort of the Contours panel\'s rows', () => {
+  /** A row with only what the sorts read. */
+  const r = (id: string, kind: 'SAX' | 'LAX' | null, count: number, meanMm: number | null, maxMm: number | null): ContourRow => ({ id, kind, state: 'used', count, meanMm, maxMm, reason: null, detail: null });
+  // Not in any column's order: ids with numbers of one and two digits, a kind unknown, figures missing.
+  const ROWS = [r('s10', 'SAX', 30, 0.5, 3), r('s9', 'LAX', 50, null, null), r('s2', null, 10, 2.25, 9), r('a1', 'SAX', 40, 0.1, 1), r('s3', 'LAX', 20, 1, null)];
+  const order = (column: SortColumn, descending: boolean) => sortRows(ROWS, { column, descending }).map((x) => x.id);
+
+  it('orders by each column both ways, rows without a value last either way', () => {
+    expect(order('mean', true)).toEqual(['s2', 's3', 's10', 'a1', 's9']);
+    expect(order('mean', false)).toEqual(['a1', 's10', 's3', 's2', 's9']);
+    expect(order('max', true)).toEqual(['s2', 's10', 'a1', 's9', 's3']);
+    expect(order('max', false)).toEqual(['a1', 's10', 's2', 's9', 's3']);
+    expect(order('count', true)).toEqual(['s9', 'a1', 's10', 's3', 's2']);
+    expect(order('count', false)).toEqual(['s2', 's3', 's10', 'a1', 's9']);
+    // Ids compare their numbers as numbers: s2, s3, s9, s10.
+    expect(order('id', false)).toEqual(['a1', 's2', 's3', 's9', 's10']);
+    expect(order('id', true)).toEqual(['s10', 's9', 's3', 's2', 'a1']);
+    // Ties keep the file's order; a kind unknown last.
+    expect(order('kind', false)).toEqual(['s9', 's3', 's10', 'a1', 's2']);
+    expect(order('kind', true)).toEqual(['s10', 'a1', 's9', 's3', 's2']);
+    expect(sortRows(ROWS, null).map((x) => x.id)).toEqual(['s10', 's9', 's2', 'a1', 's3']);
+    expect(ROWS.map((x) => x.id)).toEqual(['s10', 's9', 's2', 'a1', 's3']);
+  });
+
+  it('a click sorts (figures largest first, text A to Z), a second reverses, a third goes back to the file\'s order', () => {
+    for (const [column, first] of [['mean', true], ['max', true], ['count', true], ['id', false], ['kind', false]] as const) {
+      const one = nextSort(null, column);
+      expect(one).toEqual({ column, descending: first });
+      const two = nextSort(one, column);
+      expect(two).toEqual({ column, descending: !first });
+      expect(nextSort(two, column)).toBeNull();
+    }
+    // Another column starts at its own first order.
+    expect(nextSort({ column: 'mean', descending: false }, 'max')).toEqual({ column: 'max', descending: true });
+    expect(nextSort({ column: 'max', descending: true }, 'id')).toEqual({ column: 'id', descending: false });
   });
 });
 
@@ -113,11 +165,25 @@ describe('the Contours panel', () => {
     expect([box('s08_LAX').checked, box('s08_LAX').disabled]).toEqual([false, false]);
     expect(hasClass(row('s08_LAX'), 'user-left-out')).toBe(true);
     expect(hasClass(row('s06_SAX'), 'user-left-out')).toBe(false);
-    expect(cells('s08_LAX')).toEqual(['', 's08_LAX', 'LAX', '40', 'left out by you']);
+    // Its held-out figures, in italics, saying what they are; no swatch (the scale is the contours used').
+    expect(cells('s08_LAX')).toEqual(['', 's08_LAX · left out by you', 'LAX', '40', '1.83', '7.66']);
+    expect([row('s08_LAX').dataset.meanMm, row('s08_LAX').dataset.maxMm]).toEqual(['1.8312', '7.6649']);
+    const held = row('s08_LAX').findAll((e) => e.tagName === 'td').slice(4);
+    expect(held.map((c) => [hasClass(c, 'held-out'), c.title])).toEqual([
+      [true, `mean ${HELD_OUT_TITLE}`],
+      [true, `largest ${HELD_OUT_TITLE}`],
+    ]);
+    expect(HELD_OUT_TITLE).toContain('distance from this contour to the mesh built without it');
+    expect(row('s08_LAX').findAll((e) => hasClass(e, 'swatch'))).toEqual([]);
+    expect(row('s07_LAX').findAll((e) => e.tagName === 'td').some((c) => hasClass(c, 'held-out'))).toBe(false);
+    // Its tooltip says why and how far, in full.
+    expect(row('s08_LAX').findAll((e) => e.tagName === 'td')[1].title).toMatch(/^"s08_LAX" \(line 700\): left out by you, the mesh 1\.83 mm from it on average, 7\.66 mm at most/);
     // The core's: greyed, the reason in its words, the box disabled and saying what uses it.
     expect(row('sax10').dataset.state).toBe('speck');
     expect(hasClass(row('sax10'), 'core-left-out')).toBe(true);
-    expect(cells('sax10')).toEqual(['', 'sax10', 'SAX', '3', 'left out: speck']);
+    // Without figures: dashes, no data attributes.
+    expect(cells('sax10')).toEqual(['', 'sax10 · left out: speck', 'SAX', '3', '–', '–']);
+    expect([row('sax10').dataset.meanMm, row('sax10').dataset.maxMm]).toEqual([undefined, undefined]);
     expect([box('sax10').checked, box('sax10').disabled]).toEqual([false, true]);
     expect(box('sax10').getAttribute('title')).toMatch(/Keep specks and strays/);
     expect(row('sax10').findAll((e) => e.tagName === 'td')[1].title).toMatch(/^"sax10" \(line 1505\): a speck/);
@@ -195,5 +261,99 @@ describe('the Contours panel', () => {
     t.resultCleared();
     expect(calls.highlight.at(-1)).toBeNull();
     expect(details.dataset.highlight).toBe('');
+  });
+
+  it('a header clicked sorts the rows by its column, with its arrow and aria-sort; a third click gives the file\'s order', () => {
+    const { t, ids, header, sortBy } = table();
+    t.show(run());
+    const sorted = () => ['contour', 'kind', 'pts', 'mean', 'max'].map((l) => [header(l).getAttribute('aria-sort'), header(l).textContent.slice(l.length)]).filter(([a]) => a !== null);
+    expect(sorted()).toEqual([]);
+    expect(header('max').title).toMatch(/Click to sort, largest first; again: smallest first; a third time: the file's order$/);
+    expect(header('contour').title).toMatch(/Click to sort, A to Z; again: Z to A; a third time: the file's order$/);
+    // mean: s08_LAX 1.83 (held out), s07_LAX 0.55, s02 0.41, s06 0.20; the speck has no figure: last.
+    sortBy('mean');
+    expect(ids()).toEqual(['s08_LAX', 's07_LAX', 's02_SAX_LV_ENDOCARDIAL', 's06_SAX', 'sax10']);
+    expect(sorted()).toEqual([['descending', '▾']]);
+    sortBy('mean');
+    expect(ids()).toEqual(['s06_SAX', 's02_SAX_LV_ENDOCARDIAL', 's07_LAX', 's08_LAX', 'sax10']);
+    expect(sorted()).toEqual([['ascending', '▴']]);
+    sortBy('mean');
+    expect(ids()).toEqual(FILE_ORDER);
+    expect(sorted()).toEqual([]);
+    // max: 7.66, 2.00, 1.24, 0.84, none.
+    sortBy('max');
+    expect(ids()).toEqual(['s08_LAX', 's07_LAX', 's02_SAX_LV_ENDOCARDIAL', 's06_SAX', 'sax10']);
+    sortBy('max');
+    expect(ids()).toEqual(['s06_SAX', 's02_SAX_LV_ENDOCARDIAL', 's07_LAX', 's08_LAX', 'sax10']);
+    // Another column: its own first order, the arrow moves.
+    sortBy('pts');
+    expect(ids()).toEqual(['s07_LAX', 's02_SAX_LV_ENDOCARDIAL', 's06_SAX', 's08_LAX', 'sax10']);
+    expect(sorted()).toEqual([['descending', '▾']]);
+    expect(header('pts').getAttribute('aria-sort')).toBe('descending');
+    sortBy('pts');
+    expect(ids()).toEqual(['sax10', 's08_LAX', 's06_SAX', 's02_SAX_LV_ENDOCARDIAL', 's07_LAX']);
+    sortBy('kind');
+    expect(ids()).toEqual(['s07_LAX', 's08_LAX', 's02_SAX_LV_ENDOCARDIAL', 's06_SAX', 'sax10']);
+    sortBy('kind');
+    expect(ids()).toEqual(['s02_SAX_LV_ENDOCARDIAL', 's06_SAX', 'sax10', 's07_LAX', 's08_LAX']);
+    sortBy('contour');
+    expect(ids()).toEqual(FILE_ORDER);
+    expect(header('contour').getAttribute('aria-sort')).toBe('ascending');
+    sortBy('contour');
+    expect(ids()).toEqual([...FILE_ORDER].reverse());
+    sortBy('contour');
+    expect(ids()).toEqual(FILE_ORDER);
+    expect(sorted()).toEqual([]);
+  });
+
+  it('the sort stays through a new run of the same surface and goes with another; the boxes, the hover and the stale mark work sorted', () => {
+    const { t, el, details, row, box, ids, header, sortBy, calls, state } = table();
+    const BY_MAX = ['s08_LAX', 's07_LAX', 's02_SAX_LV_ENDOCARDIAL', 's06_SAX', 'sax10'];
+    t.show(run());
+    sortBy('max');
+    row('s06_SAX').findAll((e) => e.attributes.get('class') === 'contour-id')[0].fire('click');
+    // A run starts: stale, still sorted; a click on a header sorts the stale rows, still stale.
+    t.resultCleared();
+    expect([details.dataset.stale, ids()]).toEqual(['1', BY_MAX]);
+    sortBy('max');
+    expect([details.dataset.stale, ids()]).toEqual(['1', [...BY_MAX.slice(0, 4)].reverse().concat('sax10')]);
+    sortBy('max');
+    sortBy('max');
+    expect(ids()).toEqual(BY_MAX);
+    // The new run: its figures, in the same sort (s02's max now the largest of those used).
+    t.show(run({ perContour: [
+      { id: 's02_SAX_LV_ENDOCARDIAL', kind: 'SAX', stats: stats(0.4149, 3.5, 52) },
+      { id: 's06_SAX', kind: 'SAX', stats: stats(0.2, 0.8399, 48) },
+      { id: 's07_LAX', kind: 'LAX', stats: stats(0.55, 2.004, 61) },
+    ] }));
+    expect(details.dataset.stale).toBe('0');
+    expect(ids()).toEqual(['s08_LAX', 's02_SAX_LV_ENDOCARDIAL', 's07_LAX', 's06_SAX', 'sax10']);
+    expect(header('max').getAttribute('aria-sort')).toBe('descending');
+    // Sorted, the click kept its row, the hover and the boxes reach the right contour.
+    expect(row('s06_SAX').classList.contains('pinned')).toBe(true);
+    row('s07_LAX').fire('mouseenter');
+    expect([calls.highlight.at(-1), details.dataset.highlight, row('s07_LAX').classList.contains('highlighted')]).toEqual(['s07_LAX', 's07_LAX', true]);
+    el.fire('mouseleave');
+    t.hoverFromView('s02_SAX_LV_ENDOCARDIAL');
+    expect(row('s02_SAX_LV_ENDOCARDIAL').classList.contains('highlighted')).toBe(true);
+    const b = box('s07_LAX');
+    b.checked = false;
+    b.fire('change');
+    expect(calls.leftOut.at(-1)).toEqual(['s07_LAX', true]);
+    state.leaveOut = ['s08_LAX', 's07_LAX'];
+    t.leaveOutChanged();
+    expect([box('s07_LAX').checked, box('s08_LAX').checked, box('s06_SAX').checked]).toEqual([false, false, true]);
+    expect(ids()[0]).toBe('s08_LAX');
+    // Another surface: rows and sort go; its first rows in the file's order.
+    state.key = 'p1|RV_ENDO';
+    t.resultCleared();
+    t.show(run());
+    expect(ids()).toEqual(FILE_ORDER);
+    expect(header('max').getAttribute('aria-sort')).toBeNull();
+    // A run of another surface shown without a clear in between lets the sort go too.
+    sortBy('mean');
+    state.key = 'p1|LV_EPI';
+    t.show(run());
+    expect(ids()).toEqual(FILE_ORDER);
   });
 });

@@ -191,6 +191,13 @@ describe('the words for contours left out by the user', () => {
   it('"left out by you", in the key, the read-out and the result panel\'s row', () => {
     expect(leftOutLabel('by_user')).toBe('left out by you');
     expect(leftOutDetail(LAX)).toBe('"s07_LAX_LV_ENDOCARDIAL" (line 812): left out by you (tick it in the Contours panel to use it again)');
+    // With how far the mesh built without it passes (the core's held-out figures, Patient 1 ED): the CLI's words.
+    expect(leftOutDetail({ ...LAX, mean: 1.8312, median: 1.143, max: 7.6649 })).toBe(
+      '"s07_LAX_LV_ENDOCARDIAL" (line 812): left out by you, the mesh 1.83 mm from it on average, 7.66 mm at most (tick it in the Contours panel to use it again)',
+    );
+    // A figure the JSON gave as null (not finite) is no figure: the words without them.
+    expect(leftOutDetail({ ...LAX, mean: null, median: null, max: null })).toBe(leftOutDetail(LAX));
+    expect(leftOutDetail({ ...LAX, mean: 1.8312, median: 1.143, max: null })).toBe(leftOutDetail(LAX));
     const one = leftOutText([LAX])!;
     expect(one.text).toBe('1 contour (by you) · s07_LAX_LV_ENDOCARDIAL');
     expect(one.title).toContain('Tick those left out by you in the Contours panel');

@@ -89,6 +89,13 @@ describe('the words for contours left out', () => {
     expect(leftOutDetail(STRAY)).toBe('"far" (line 2251): a stray, 176 mm from the nearest contour kept');
     expect(leftOutDetail({ ...STRAY, line: 0 })).toBe('"far": a stray, 176 mm from the nearest contour kept');
     expect(leftOutDetail({ ...SPECK, perimeter_mm: 21, next_perimeter_mm: 210 })).toContain('10 % of the ring');
+    // With how far the mesh built without it passes, after the reason (and within the Left out row's list).
+    const measured = { ...STRAY, mean: 180.123, median: 179.5, max: 190.004 };
+    expect(leftOutDetail(measured)).toBe('"far" (line 2251): a stray, 176 mm from the nearest contour kept, the mesh 180.12 mm from it on average, 190.00 mm at most');
+    expect(leftOutDetail({ ...SPECK, mean: 3.456, median: 3, max: 4.5 })).toBe(
+      '"sax10" (line 1505): a speck, 2.8 mm around, 1 % of the ring of "sax09" one slice away, the mesh 3.46 mm from it on average, 4.50 mm at most',
+    );
+    expect(leftOutText([measured, SPECK])!.title).toContain(`${leftOutDetail(measured)}; ${leftOutDetail(SPECK)}.`);
     expect(leftOutLabel('speck')).toBe('left out: speck');
     expect(leftOutLabel('stray')).toBe('left out: stray');
     // A long-axis speck (session 15) counts as a speck, with its own detail.

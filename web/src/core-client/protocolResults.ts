@@ -244,10 +244,21 @@ export interface MeshQuality {
 }
 
 /**
- * One contour the run left out of the reconstruction (the core's `SetAside`, the entries of the
- * CLI report's `set_aside`): `line` is the file line of its first point (0: not from a file).
+ * One contour the run left out of the reconstruction (the core's `SetAsideDistance`, the entries
+ * of the CLI report's `set_aside`): `line` is the file line of its first point (0: not from a file).
  */
-export type SetAsideEntry = { id: string; line: number } & (
+export type SetAsideEntry = {
+  id: string;
+  line: number;
+  /**
+   * Distances of its points to the mesh built without it, mm: for a contour the user left out,
+   * its held-out (leave-one-out) figures, which say whether it disagreed with the others. Null
+   * when not finite (JSON has no infinity); absent from older cores and saved results.
+   */
+  mean?: number | null;
+  median?: number | null;
+  max?: number | null;
+} & (
   | { reason: 'stray'; /** mm from the nearest contour of its surface kept (box to box). */ gap_mm: number }
   | {
       reason: 'speck';

@@ -4,20 +4,26 @@
  * its points to the mesh (mm, the max with a swatch in the contour legend's colours), so a user
  * sees which contour the mesh misses. Unticking a row leaves that contour out and runs again, as
  * a parameter change does; contours the core left out (strays, specks) are listed greyed with the
- * reason, their box disabled (Keep specks and strays uses them). Hovering a row highlights its
- * contour in the 3D view; the view's hover highlights the row back; a click on an id keeps the
- * highlight until the next click.
+ * reason, their box disabled (Keep specks and strays uses them). A row left out shows, in italics
+ * and without a swatch (the colour scale is that of the contours used), how far the mesh built
+ * without it passes: for one the user left out, its held-out figure, whether the others agree
+ * with it.
+ * Hovering a row highlights its contour in the 3D view; the view's hover highlights the row back;
+ * a click on an id keeps the highlight until the next click. A click on a column's header sorts
+ * the rows by it (nextSort: again reverses, a third time the file's order).
  *
  * The rows come from the last finished run; a new run of the same file, frame and surface marks
- * them stale (they stay usable: leaving out a second contour need not wait for the first run),
- * anything else clears them. `[data-testid=contour-table]` (the `<details>`) carries `data-count`
- * (rows), `data-stale` (1/0) and `data-highlight` (the id highlighted, '' for none); each
- * `[data-testid=contour-row]` `data-id`, `data-kind`, `data-state` (used, by_user, stray, speck,
- * lax_speck), `data-count`, and for a used contour `data-mean-mm` and `data-max-mm`.
+ * them stale (they stay usable: leaving out a second contour need not wait for the first run) and
+ * keeps their sort, anything else clears them and the sort. `[data-testid=contour-table]` (the
+ * `<details>`) carries `data-count` (rows), `data-stale` (1/0) and `data-highlight` (the id
+ * highlighted, '' for none); each `[data-testid=contour-row]` `data-id`, `data-kind`, `data-state`
+ * (used, by_user, stray, speck, lax_speck), `data-count`, and `data-mean-mm` and `data-max-mm`
+ * when it has figures (a contour used, or one left out by a core that measures it); the sorted
+ * header `aria-sort`.
  */
 import type { RunResult } from '../core-client/protocol';
 import { cssColorAt } from '../viewer/colormap';
-import { contourRows, contourScaleMax, mm2, useTitle, type ContourRow, type FileContour } from './contourRows';
+import { contourRows, contourScaleMax, mm2, nextSort, sortRows, sortsDescendingFirst, useTitle, type ContourRow, type FileContour, type RowSort, type SortColumn } from './contourRows';
 import { h } from './dom';
 
 /** What the panel asks of the app (the controller) and of the 3D view. */
@@ -44,6 +50,42 @@ interface Shown {
 
 const USE_ALL_TITLE = 'Use every contour you left out again (one run)';
 
+/** The sortable columns: the class that sizes each (table-layout: fixed), its heading and what it holds. */
+const COLUMNS: readonly { column: SortColumn; cls: string; label: string; what: string }[] = [
+  { column: 'id', cls: 'c-id', label: 'contour', what: 'contour id' },
+  { column: 'kind', cls: 'c-kind', label: 'kind', what: 'short axis (SAX) or long axis (LAX), as the run split them' },
+  { column: 'count', cls: 'num c-pts', label: 'pts', what: 'contour points' },
+  { column: 'mean', cls: 'num c-mean', label: 'mean', what: 'mean distance of its points to the mesh, mm' },
+  { column: 'max', cls: 'num c-max', label: 'max', what: 'largest distance of its points to the mesh, mm (the swatch: its colour on the contour legend)' },
+];
+
+/** A header's tooltip: what the column holds and what clicks on it do (nextSort). */
+function headerTitle(what: string, column: SortColumn): string {
+  const [first, second] = sortsDescendingFirst(column) ? ['largest first', 'smallest first'] : ['A to Z', 'Z to A'];
+  return `${what}. Click to sort, ${first}; again: ${second}; a third time: the file's order`;
+}
+
+/** What the figures of a row left out are: the mesh was built without that contour. */
+export const HELD_OUT_TITLE = 'distance from this contour to the mesh built without it, mm (a held-out contour: how far the others predict it)';
+
+/**
+ * A row's mean and max cells. A contour used has its max's swatch on the contour legend's scale
+ * (0 to `scaleMax`); one left out is not drawn in those colours (a stray far off would only clamp
+ * at the top), so its held-out figures go without, in italics, saying what they are.
+ */
+function figureCells(row: ContourRow, scaleMax: number): HTMLElement[] {
+  if (row.state !== 'used') {
+    const title = (which: string, v: number | null) => (v === null ? null : `${which} ${HELD_OUT_TITLE}`);
+    return [
+      h('td', { class: 'num held-out', title: title('mean', row.meanMm) }, mm2(row.meanMm)),
+      h('td', { class: 'num contour-max held-out', title: title('largest', row.maxMm) }, mm2(row.maxMm)),
+    ];
+  }
+  const swatch = h('span', { class: 'swatch' });
+  swatch.style.background = cssColorAt(row.maxMm ?? 0, 0, scaleMax);
+  return [h('td', { class: 'num' }, mm2(row.meanMm)), h('td', { class: 'num contour-max' }, swatch, mm2(row.maxMm))];
+}
+
 export class ContourTable {
   readonly element: HTMLElement;
   private readonly details: HTMLDetailsElement;
@@ -61,6 +103,9 @@ export class ContourTable {
   /** The id highlighted from the panel (hovered, or kept by a click). */
   private highlighted: string | null = null;
   private rowElements = new Map<string, HTMLElement[]>();
+  /** The column the rows are sorted by (null: the file's order). */
+  private sort: RowSort | null = null;
+  private readonly headers = new Map<SortColumn, { th: HTMLElement; arrow: HTMLElement }>();
 
   constructor(private readonly host: ContourTableHost) {
     this.heading = h('span', { class: 'contours-heading' }, 'Contours');
@@ -79,11 +124,7 @@ export class ContourTable {
           'tr',
           {},
           h('th', { scope: 'col', class: 'c-use', title: 'used by the reconstruction (untick to leave a contour out)' }, h('span', { class: 'visually-hidden' }, 'use')),
-          h('th', { scope: 'col', class: 'c-id' }, 'contour'),
-          h('th', { scope: 'col', class: 'c-kind', title: 'short axis (SAX) or long axis (LAX), as the run split them' }, 'kind'),
-          h('th', { scope: 'col', class: 'num c-pts', title: 'contour points' }, 'pts'),
-          h('th', { scope: 'col', class: 'num c-mean', title: 'mean distance of its points to the mesh, mm' }, 'mean'),
-          h('th', { scope: 'col', class: 'num c-max', title: 'largest distance of its points to the mesh, mm (the swatch: its colour on the contour legend)' }, 'max'),
+          ...COLUMNS.map((c) => this.headerCell(c)),
         ),
       ),
       this.body,
@@ -105,7 +146,7 @@ export class ContourTable {
   /** A run finished: its contours, with the list the next run would use. */
   show(r: RunResult): void {
     const context = this.host.context();
-    if (this.shown?.key !== context?.key) this.forgetHighlight();
+    if (this.shown?.key !== context?.key) this.forgetKey();
     // (A highlight kept on the same surface follows the new run's contours by itself: Viewer.highlightContour.)
     this.shown = { key: context?.key ?? '', rows: contourRows(r, context?.fileContours ?? []), scaleMax: contourScaleMax(r) };
     this.stale = false;
@@ -121,7 +162,7 @@ export class ContourTable {
     if (!this.shown || this.shown.key !== context?.key) {
       this.shown = null;
       this.fromView = null;
-      this.forgetHighlight();
+      this.forgetKey();
     }
     this.stale = this.shown !== null;
     this.render();
@@ -154,8 +195,31 @@ export class ContourTable {
     this.note.textContent = !s ? 'no result yet' : 'the figures are of the last finished run';
     this.table.hidden = !s;
     this.rowElements = new Map();
-    this.body.replaceChildren(...(s ? s.rows.map((row) => this.rowElement(row, !leaveOut.has(row.id), s.scaleMax)) : []));
+    this.body.replaceChildren(...(s ? sortRows(s.rows, this.sort).map((row) => this.rowElement(row, !leaveOut.has(row.id), s.scaleMax)) : []));
+    this.markHeaders();
     this.markRows();
+  }
+
+  /** A column's header: a button that sorts by it, and the arrow of the sort. */
+  private headerCell(c: (typeof COLUMNS)[number]): HTMLElement {
+    const arrow = h('span', { class: 'sort-arrow', 'aria-hidden': 'true' });
+    const button = h('button', { type: 'button', class: 'sort-button' }, c.label, arrow);
+    button.addEventListener('click', () => {
+      this.sort = nextSort(this.sort, c.column);
+      this.render();
+    });
+    const th = h('th', { scope: 'col', class: c.cls, title: headerTitle(c.what, c.column) }, button);
+    this.headers.set(c.column, { th, arrow });
+    return th;
+  }
+
+  private markHeaders(): void {
+    for (const [column, { th, arrow }] of this.headers) {
+      const sorted = this.sort?.column === column ? this.sort : null;
+      if (sorted) th.setAttribute('aria-sort', sorted.descending ? 'descending' : 'ascending');
+      else th.removeAttribute('aria-sort');
+      arrow.textContent = sorted ? (sorted.descending ? '▾' : '▴') : '';
+    }
   }
 
   private rowElement(row: ContourRow, on: boolean, scaleMax: number): HTMLElement {
@@ -164,18 +228,14 @@ export class ContourTable {
     box.checked = userRow && on;
     box.disabled = !userRow;
     box.addEventListener('change', () => this.host.setLeftOut(row.id, !box.checked));
-    // The id is cut with an ellipsis in the narrow column: the whole id (and why it is left out) in its tooltip.
-    const id = h('td', { class: 'contour-id', title: row.detail ?? row.id }, row.id);
+    // The id is cut with an ellipsis in the narrow column: the whole id (why it is left out, how far the mesh passes) in its tooltip.
+    const id = h(
+      'td',
+      { class: 'contour-id', title: row.detail ?? row.id },
+      h('span', { class: 'contour-name' }, row.id),
+      row.reason === null ? null : h('span', { class: 'contour-reason' }, row.reason),
+    );
     id.addEventListener('click', () => this.pin(row.id));
-    const figures: HTMLElement[] = [];
-    if (row.maxMm !== null) {
-      const swatch = h('span', { class: 'swatch' });
-      swatch.style.background = cssColorAt(row.maxMm, 0, scaleMax);
-      figures.push(h('td', { class: 'num' }, mm2(row.meanMm)), h('td', { class: 'num contour-max' }, swatch, mm2(row.maxMm)));
-    } else {
-      // A contour left out has no distances: its reason takes both figure cells.
-      figures.push(h('td', { class: 'contour-reason', colspan: 2, title: useTitle(row.state, on) }, row.reason ?? '–'));
-    }
     const tr = h(
       'tr',
       {
@@ -192,7 +252,7 @@ export class ContourTable {
       id,
       h('td', { class: `contour-kind ${(row.kind ?? '').toLowerCase()}` }, row.kind ?? '–'),
       h('td', { class: 'num c-pts' }, String(row.count)),
-      ...figures,
+      ...figureCells(row, scaleMax),
     );
     tr.addEventListener('mouseenter', () => this.hover(row.id));
     this.rowElements.set(row.id, [...(this.rowElements.get(row.id) ?? []), tr]);
@@ -217,8 +277,12 @@ export class ContourTable {
     this.setHighlight(this.pinned ?? id);
   }
 
-  /** Another file, frame or surface: nothing of the last one stays highlighted, in the panel or the view. */
-  private forgetHighlight(): void {
+  /**
+   * Another file, frame or surface: nothing of the last one stays highlighted, in the panel or the
+   * view, and its sort goes (a sort is chosen for one list of contours).
+   */
+  private forgetKey(): void {
+    this.sort = null;
     if (this.highlighted === null && this.pinned === null) return;
     this.pinned = null;
     this.highlighted = null;

@@ -1,13 +1,14 @@
 /**
  * The rows of the Contours panel from a finished run: one per contour the run used (its
  * `perContour` stats, in the core's order) and one per contour it left out (`set_aside`: the core's
- * strays and specks, and those the user left out), each where the file has it among the others so
- * that a row unticked stays in its place after the run. Pure (no DOM), so the figures and the words
- * are unit-tested.
+ * strays and specks, and those the user left out, with how far the mesh built without them
+ * passes), each where the file has it among the others so that a row unticked stays in its place
+ * after the run; and their order when the user sorts a column. Pure (no DOM), so the figures, the
+ * words and the orders are unit-tested.
  */
 import type { ContourInfo, ContourKindName, RunResult, SetAsideReason } from '../core-client/protocol';
 import { robustMax } from '../viewer/colormap';
-import { LEFT_OUT_BY_USER, leftOutDetail, leftOutLabel } from './runText';
+import { isFigure, LEFT_OUT_BY_USER, leftOutDetail, leftOutLabel } from './runText';
 
 /** `used`: in the reconstruction; otherwise why it is not (the core's reasons, `by_user` the user's). */
 export type ContourRowState = 'used' | SetAsideReason;
@@ -18,7 +19,10 @@ export interface ContourRow {
   state: ContourRowState;
   /** Contour points (of a contour left out: its points as the file gives them). */
   count: number;
-  /** Contour-to-mesh distance of its points, mm (null: left out, the mesh does not follow it). */
+  /**
+   * Contour-to-mesh distance of its points, mm; of a contour left out, to the mesh built without it
+   * (a held-out figure). Null: no figure (a result of an older core, or not finite).
+   */
   meanMm: number | null;
   maxMm: number | null;
   /** "left out: speck", "left out by you" (null: used). */
@@ -62,7 +66,8 @@ export function contourRows(r: RunResult, file: readonly FileContour[] = []): Co
     if (i >= 0) taken.add(i);
     const contour = i >= 0 ? asideContours[i] : undefined;
     const kind = contour?.kind ?? file.find((c) => c.id === e.id)?.kind ?? null;
-    return { id: e.id, kind, state: e.reason, count: pointCount(contour), meanMm: null, maxMm: null, reason: leftOutLabel(e.reason), detail: leftOutDetail(e) };
+    const figure = (v: number | null | undefined) => (isFigure(v) ? v : null);
+    return { id: e.id, kind, state: e.reason, count: pointCount(contour), meanMm: figure(e.mean), maxMm: figure(e.max), reason: leftOutLabel(e.reason), detail: leftOutDetail(e) };
   });
   const rows = [...used, ...aside];
   const at = new Map<string, number>();
@@ -79,6 +84,56 @@ export function contourRows(r: RunResult, file: readonly FileContour[] = []): Co
 /** The top of the contour colour scale for `r`: the contour legend's (runDisplay.finished), so a row's swatch matches the points. */
 export function contourScaleMax(r: RunResult): number {
   return robustMax(r.pointDistances);
+}
+
+/** The columns the user can sort the rows by. */
+export type SortColumn = 'id' | 'kind' | 'count' | 'mean' | 'max';
+
+/** A column sorted, and which way (no sort: the file's order). */
+export interface RowSort {
+  column: SortColumn;
+  descending: boolean;
+}
+
+/** Columns of figures sort largest first (the contour the mesh misses on top), text A to Z. */
+export function sortsDescendingFirst(column: SortColumn): boolean {
+  return column === 'count' || column === 'mean' || column === 'max';
+}
+
+/**
+ * The sort after a click on `column`'s header: a first click sorts it (figures largest first, text
+ * A to Z), a second reverses, a third goes back to the file's order (null). The header's title
+ * says so (ContourTable).
+ */
+export function nextSort(current: RowSort | null, column: SortColumn): RowSort | null {
+  const first = sortsDescendingFirst(column);
+  if (current?.column !== column) return { column, descending: first };
+  return current.descending === first ? { column, descending: !first } : null;
+}
+
+/** A row's value in `column` (null: none, sorted last either way). */
+function sortValue(row: ContourRow, column: SortColumn): number | string | null {
+  if (column === 'id') return row.id;
+  if (column === 'kind') return row.kind;
+  if (column === 'count') return row.count;
+  return column === 'mean' ? row.meanMm : row.maxMm;
+}
+
+/**
+ * `rows` in the order of `sort` (null: as given, the file's order). Rows without a value go last
+ * in both directions, ties keep their order; ids compare their digits as numbers (s2 before s10).
+ */
+export function sortRows(rows: readonly ContourRow[], sort: RowSort | null): ContourRow[] {
+  if (!sort) return [...rows];
+  const sign = sort.descending ? -1 : 1;
+  return rows
+    .map((row) => ({ row, v: sortValue(row, sort.column) }))
+    .sort((a, b) => {
+      if (a.v === null || b.v === null) return a.v === b.v ? 0 : a.v === null ? 1 : -1;
+      const d = typeof a.v === 'number' && typeof b.v === 'number' ? a.v - b.v : String(a.v).localeCompare(String(b.v), 'en', { numeric: true });
+      return sign * d;
+    })
+    .map((x) => x.row);
 }
 
 /** "0.84" (two decimals, mm implied by the column), "–" when there is no figure. */

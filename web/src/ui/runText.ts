@@ -215,16 +215,40 @@ function leftOutKind(reason: SetAsideReason): 'speck' | 'stray' | 'by you' {
   return reason === 'by_user' ? 'by you' : reason === 'stray' ? 'stray' : 'speck';
 }
 
-/** One contour left out, in a sentence: `"sax10" (line 1505): a speck, 2.8 mm around, 1 % of the ring of "sax09" one slice away`. */
+/**
+ * One contour left out, in a sentence: `"sax10" (line 1505): a speck, 2.8 mm around, 1 % of the
+ * ring of "sax09" one slice away`, with how far the mesh built without it passes when the run
+ * says (`…, the mesh 1.83 mm from it on average, 7.66 mm at most`).
+ */
 export function leftOutDetail(s: SetAsideEntry): string {
   const at = s.line > 0 ? ` (line ${s.line})` : '';
-  if (s.reason === 'by_user') return `"${s.id}"${at}: ${LEFT_OUT_BY_USER} (tick it in the Contours panel to use it again)`;
-  if (s.reason === 'stray') return `"${s.id}"${at}: a stray, ${s.gap_mm.toFixed(0)} mm from the nearest contour kept`;
-  if (s.reason === 'lax_speck') {
-    return `"${s.id}"${at}: a speck in a long-axis plane, ${s.length_mm.toFixed(1)} mm long where the data span ${s.extent_mm.toFixed(0)} mm along the axis`;
-  }
+  const far = meshDistanceText(s);
+  const figures = far ? `, ${far}` : '';
+  if (s.reason === 'by_user') return `"${s.id}"${at}: ${LEFT_OUT_BY_USER}${figures} (tick it in the Contours panel to use it again)`;
+  return `"${s.id}"${at}: ${leftOutWhy(s)}${figures}`;
+}
+
+/**
+ * "the mesh 1.83 mm from it on average, 7.66 mm at most" (the CLI's words for its `--leave-out`
+ * note), null without both figures (older results, or not finite).
+ */
+export function meshDistanceText(s: Pick<SetAsideEntry, 'mean' | 'max'>): string | null {
+  const { mean, max } = s;
+  if (!isFigure(mean) || !isFigure(max)) return null;
+  return `the mesh ${mean.toFixed(2)} mm from it on average, ${max.toFixed(2)} mm at most`;
+}
+
+/** A distance the run gave: a finite number (null or absent: none). */
+export function isFigure(v: number | null | undefined): v is number {
+  return typeof v === 'number' && Number.isFinite(v);
+}
+
+/** Why the core's rules left a contour out, with its figures. */
+function leftOutWhy(s: Exclude<SetAsideEntry, { reason: 'by_user' }>): string {
+  if (s.reason === 'stray') return `a stray, ${s.gap_mm.toFixed(0)} mm from the nearest contour kept`;
+  if (s.reason === 'lax_speck') return `a speck in a long-axis plane, ${s.length_mm.toFixed(1)} mm long where the data span ${s.extent_mm.toFixed(0)} mm along the axis`;
   const pct = s.next_perimeter_mm > 0 ? (100 * s.perimeter_mm) / s.next_perimeter_mm : 0;
-  return `"${s.id}"${at}: a speck, ${s.perimeter_mm.toFixed(1)} mm around, ${pct.toFixed(pct < 1 ? 1 : 0)} % of the ring of "${s.next_id}" one slice away`;
+  return `a speck, ${s.perimeter_mm.toFixed(1)} mm around, ${pct.toFixed(pct < 1 ? 1 : 0)} % of the ring of "${s.next_id}" one slice away`;
 }
 
 /** How many names the result panel's row shows before "…" (the tooltip lists them all). */

@@ -4,9 +4,9 @@
 use std::cell::RefCell;
 use std::time::Instant;
 
-use heartmesh_core::contours::{set_aside, slice_loops};
+use heartmesh_core::contours::{cite, set_aside, slice_loops};
 use heartmesh_core::io::{self, MeshFormat};
-use heartmesh_core::pipeline::Reconstruction;
+use heartmesh_core::pipeline::{Reconstruction, SetAsideDistance};
 use heartmesh_core::{ContourSet, CoreError, LidMode, Params};
 
 use crate::args::{parse, Parsed, Spec};
@@ -386,7 +386,7 @@ impl Run<'_> {
                      are kept in the reconstruction"
                 ));
             }
-            if let Some(note) = asked_note(rec.set_aside()) {
+            if let Some(note) = asked_note(&rec.set_aside_distances()) {
                 self.say(format!("heartmesh: note: {input}: {note}"));
             }
             if warnings
@@ -480,10 +480,25 @@ pub(crate) fn add_leave_out(p: &Parsed, params: &mut Params) {
     }
 }
 
-/// The note naming the contours `--leave-out` left out of this surface (None: none of them is
-/// this surface's), so that a run says what it did not use as the warnings do for the rules'.
-pub(crate) fn asked_note(list: &[set_aside::SetAside]) -> Option<String> {
-    let named = set_aside::asked(list);
+/// The note naming the contours `--leave-out` left out of this surface, each with how far the
+/// finished mesh passes from it (None: none of them is this surface's), so that a run says what
+/// it did not use as the warnings do for the rules', and whether that contour disagreed with the
+/// rest (its distance is then a held-out slice's).
+pub(crate) fn asked_note(list: &[SetAsideDistance]) -> Option<String> {
+    let named: Vec<String> = list
+        .iter()
+        .filter(|d| d.contour.why == set_aside::Why::ByUser)
+        .map(|d| {
+            cite(
+                &d.contour.id,
+                d.contour.line,
+                &format!(
+                    "the mesh {:.2} mm from it on average, {:.2} mm at most",
+                    d.mean, d.max
+                ),
+            )
+        })
+        .collect();
     let verb = if named.len() == 1 { "is" } else { "are" };
     (!named.is_empty()).then(|| {
         format!(

@@ -4,7 +4,7 @@
 //! Bulk data leave as flat f32/u32 vectors (converted once, here, from the core's f64); small
 //! descriptions leave as JSON with the protocol's field names.
 
-use heartmesh_core::contours::set_aside::SetAside;
+use heartmesh_core::contours::set_aside::{self, SetAside};
 use heartmesh_core::contours::{Contour, ContourKind, ContourSet};
 use heartmesh_core::error::{CoreError, Result};
 use heartmesh_core::geometry::Vec3;
@@ -202,9 +202,10 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         // With alignment on, `overall` is to the shifted contours the mesh follows; this is to the
         // file's contours as drawn (the app shows both).
         "contour_to_mesh_as_given": rec.contour_distances_as_given().map(|d| d.overall),
-        // The strays and specks the run left out (empty with `keep_specks`): `id`, `line`,
-        // `reason` and its figures, as the CLI report's `set_aside` (the core's `SetAside`).
-        "set_aside": rec.set_aside(),
+        // The contours the run left out (the user's, then strays and specks): `id`, `line`,
+        // `reason` and its figures, and `mean`, `median`, `max`: how far the mesh passes from it
+        // (mm), as the CLI report's `set_aside` (the core's `SetAsideDistance`).
+        "set_aside": rec.set_aside_distances(),
         // The ids the run was asked to leave out (those of this surface are in `set_aside` as
         // `by_user`).
         LEAVE_OUT: rec.params().leave_out,
@@ -270,14 +271,7 @@ pub fn contour_infos(contours: &[Contour], kinds: Option<&[ContourKind]>) -> Val
 /// leaves them out), in `list`'s order: what the app draws as "left out". One per entry; an entry
 /// whose contour is not in `set` (none is) is skipped.
 pub fn set_aside_contours(set: &ContourSet, list: &[SetAside]) -> Vec<Contour> {
-    list.iter()
-        .filter_map(|s| {
-            set.contours
-                .iter()
-                .find(|c| c.id == s.id && c.first_line == s.line)
-                .cloned()
-        })
-        .collect()
+    set_aside::named(&set.contours, list)
 }
 
 /// xyz of all points of all pieces of all contours, in order, as f32.

@@ -16,7 +16,7 @@ export interface RunSummary {
   /** Breath-hold alignment (null: off) and the distance to the contours as given when on. */
   alignment?: Alignment | null;
   contourToMeshAsGiven?: DistanceSummary | null;
-  /** The contours the run left out (strays, specks), as the CLI report's `set_aside`. */
+  /** The contours the run left out (the user's, strays, specks) with how far the mesh passes from each, as the CLI report's `set_aside`. */
   setAside?: SetAsideEntry[];
   /** What Close open ends did (which ends got lid points, `apex_floor` when the apex got the floor), as the CLI report's `end_caps`. */
   endCaps?: EndCaps | null;

@@ -255,12 +255,19 @@ pub fn warnings(list: &[SetAside]) -> Vec<String> {
     out
 }
 
-/// The contours of `list` left out because the user named them, as messages cite them
-/// (`"id" (line N)`), in the run's order.
-pub fn asked(list: &[SetAside]) -> Vec<String> {
+/// The contours of `contours` that `list` names (by identifier and first line, as the core
+/// leaves them out), in `list`'s order, one per entry (an entry naming none is skipped); two
+/// entries alike (line 0: not from a file) take two contours alike in turn.
+pub fn named(contours: &[Contour], list: &[SetAside]) -> Vec<Contour> {
+    let mut taken = vec![false; contours.len()];
     list.iter()
-        .filter(|s| s.why == Why::ByUser)
-        .map(|s| s.name(""))
+        .filter_map(|s| {
+            let i = (0..contours.len()).find(|&i| {
+                !taken[i] && contours[i].id == s.id && contours[i].first_line == s.line
+            })?;
+            taken[i] = true;
+            Some(contours[i].clone())
+        })
         .collect()
 }
 
@@ -280,6 +287,24 @@ pub fn unannounced(list: &[SetAside], said: &[String]) -> Vec<String> {
 mod tests {
     use super::*;
     use crate::contours::specks::fixtures::{dome, ring};
+
+    /// Each entry takes its own contour, in the list's order, even two alike (id and line 0),
+    /// and an entry naming none is skipped: the distances measured on them pair with the list.
+    #[test]
+    fn named_takes_one_contour_per_entry_in_order() {
+        let a0 = ring("a", 10.0, 0.0, 0.0, 8, 0);
+        let a1 = ring("a", 20.0, 10.0, 0.0, 8, 0);
+        let b = ring("b", 30.0, 20.0, 0.0, 8, 40);
+        let pool = vec![a0.clone(), b.clone(), a1.clone()];
+        let entry = |c: &Contour| SetAside::of(c, Why::ByUser);
+        let list = [
+            entry(&b),
+            entry(&a0),
+            entry(&a1),
+            entry(&ring("z", 1.0, 0.0, 0.0, 3, 9)),
+        ];
+        assert_eq!(named(&pool, &list), vec![b, a0, a1]);
+    }
 
     #[test]
     fn a_speck_and_a_stray_are_left_out_and_named_once_each() {

@@ -76,6 +76,28 @@ pub fn points_to_mesh(points: &[Vec3], mesh: &TriMesh) -> Vec<f64> {
         .collect()
 }
 
+/// Per contour, the summary of its points' distances to the mesh (in `contours`' order; one BVH
+/// for all).
+pub fn per_contour_stats(contours: &[Contour], mesh: &TriMesh) -> Vec<Stats> {
+    let points: Vec<Vec3> = contours.iter().flat_map(|c| c.points().copied()).collect();
+    let per_point = points_to_mesh(&points, mesh);
+    split_stats(contours, &per_point)
+}
+
+/// `per_point` (one distance per point of `contours`, in order) summarised per contour.
+fn split_stats(contours: &[Contour], per_point: &[f64]) -> Vec<Stats> {
+    let mut offset = 0;
+    contours
+        .iter()
+        .map(|c| {
+            let n = c.point_count();
+            let s = stats(&per_point[offset..offset + n]);
+            offset += n;
+            s
+        })
+        .collect()
+}
+
 /// Distances of every contour point to the mesh, summarised per contour and overall.
 pub fn contour_to_mesh(
     contours: &[Contour],
@@ -84,17 +106,16 @@ pub fn contour_to_mesh(
 ) -> ContourDistances {
     let points: Vec<Vec3> = contours.iter().flat_map(|c| c.points().copied()).collect();
     let per_point = points_to_mesh(&points, mesh);
-    let mut per_contour = Vec::with_capacity(contours.len());
-    let mut offset = 0;
-    for (i, c) in contours.iter().enumerate() {
-        let n = c.point_count();
-        per_contour.push(ContourStats {
+    let per_contour = contours
+        .iter()
+        .zip(split_stats(contours, &per_point))
+        .enumerate()
+        .map(|(i, (c, stats))| ContourStats {
             id: c.id.clone(),
             kind: kinds.get(i).copied().unwrap_or(ContourKind::Lax),
-            stats: stats(&per_point[offset..offset + n]),
-        });
-        offset += n;
-    }
+            stats,
+        })
+        .collect();
     let overall = stats(&per_point);
     ContourDistances {
         per_point,

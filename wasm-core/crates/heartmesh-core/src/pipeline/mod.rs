@@ -34,14 +34,14 @@ use crate::contours::align::{
 use crate::contours::axis::Layout;
 use crate::contours::biv_epi;
 use crate::contours::clean::resample_spacing;
-use crate::contours::set_aside::SetAside;
+use crate::contours::set_aside::{self, SetAside};
 use crate::contours::{Contour, ContourKind, ContourSet};
 use crate::deform::attractors::{conflict_weights, Budget};
 use crate::deform::tps::TpsSolver;
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
-use crate::metrics::{contour_to_mesh, vertex_to_contours, ContourDistances};
+use crate::metrics::{contour_to_mesh, per_contour_stats, vertex_to_contours, ContourDistances};
 use crate::parallel;
 use crate::params::{AttractorMode, Params};
 use crate::spatial::{Bvh, ClosestHit};
@@ -91,6 +91,17 @@ fn without_set_aside(contours: Vec<Contour>, set_aside: &[SetAside]) -> Vec<Cont
                 .any(|s| s.id == c.id && s.line == c.first_line)
         })
         .collect()
+}
+
+/// A contour left out of the run ([`SetAside`]: its id, line and why) and the distances (mm) of
+/// its points to the finished mesh: mean, median and max, as the report's `per_contour` has them.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SetAsideDistance {
+    #[serde(flatten)]
+    pub contour: SetAside,
+    pub mean: f64,
+    pub median: f64,
+    pub max: f64,
 }
 
 /// Milliseconds spent per phase in the last step.
@@ -159,6 +170,9 @@ pub struct Reconstruction {
     /// The selected surface's contours left out of the run: the user's (`Params::leave_out`),
     /// then the rules' (strays, specks: `set_aside`).
     set_aside: Vec<SetAside>,
+    /// The contours `set_aside` names (cleaned, in mm), one per entry in its order: the mesh is
+    /// measured against them once built ([`Reconstruction::set_aside_distances`]).
+    set_aside_contours: Vec<Contour>,
     /// With `align_slices`: what the alignment did, and the selected contours as the file gave
     /// them (cleaned; None if cleaning split them differently from the shifted ones).
     alignment: Option<Alignment>,
@@ -226,7 +240,7 @@ impl Reconstruction {
         // The contours the user leaves out (checked against the file, named as it gives them)
         // are out of everything from here on, the alignment included: a slice drawn badly must
         // not shift the others. The run is then the file's without them.
-        let asked = prepare::asked(set, &params)?;
+        let (asked, asked_contours) = prepare::asked(set, &params)?;
         let without = prepare::without_ids(set, &params.leave_out);
         let set = without.as_ref().unwrap_or(set);
         // The whole file is aligned before a surface is chosen: one breath-hold moves every
@@ -261,6 +275,7 @@ impl Reconstruction {
         };
         // The user's choice comes before the rules: what they leave out is not data for any rule.
         let mut set_aside = asked;
+        let mut set_aside_contours = asked_contours;
         if contours.len() < 2 {
             return Err(CoreError::TooFewContours {
                 found: contours.len(),
@@ -268,7 +283,11 @@ impl Reconstruction {
             });
         }
         prepare::check_count_and_units(&contours)?;
+        let before_rules = (!params.keep_specks).then(|| contours.clone());
         let (contours, by_rule) = prepare::set_aside(contours, params.keep_specks);
+        if let Some(pool) = before_rules {
+            set_aside_contours.extend(set_aside::named(&pool, &by_rule));
+        }
         set_aside.extend(by_rule);
         let (contours, layout) = prepare::layout(contours, params.drop_second_loops)?;
         // The contours left out go from the file's curves too; loops left out (second loops)
@@ -319,6 +338,7 @@ impl Reconstruction {
             params,
             contours,
             set_aside,
+            set_aside_contours,
             alignment,
             contours_as_given,
             crossing_residual_mm,
@@ -534,6 +554,28 @@ impl Reconstruction {
     /// `Params::keep_specks`).
     pub fn set_aside(&self) -> &[SetAside] {
         &self.set_aside
+    }
+
+    /// [`Reconstruction::set_aside`] with, for each contour left out, how far the mesh passes from
+    /// it: the distances (mm) of its points to the mesh built without it, as `per_contour` gives
+    /// them for the contours used. A contour left out by hand is then a held-out slice (the
+    /// leave-one-out figure of that contour), so the user sees whether it disagreed with the rest;
+    /// a stray's distance says how far off it lay. Infinite before the first step (no mesh).
+    pub fn set_aside_distances(&self) -> Vec<SetAsideDistance> {
+        if self.set_aside.is_empty() {
+            return Vec::new();
+        }
+        let stats = per_contour_stats(&self.set_aside_contours, &self.mesh_mm);
+        self.set_aside
+            .iter()
+            .zip(stats)
+            .map(|(entry, s)| SetAsideDistance {
+                contour: entry.clone(),
+                mean: s.mean,
+                median: s.median,
+                max: s.max,
+            })
+            .collect()
     }
 
     /// What the breath-hold alignment did (None unless `Params::align_slices`).

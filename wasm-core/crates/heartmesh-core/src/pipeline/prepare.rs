@@ -97,16 +97,20 @@ pub fn leave_out(
 }
 
 /// The contours of the surface `params` selects that its `leave_out` names, as left out by the
-/// user (cleaned, as the file gives them: the run's `set_aside` entries); checks every id as
+/// user (the run's `set_aside` entries), with those contours (cleaned, as the file gives them,
+/// one per entry: how far the mesh passes from them is measured on these); checks every id as
 /// [`leave_out`] does. Empty without a list.
-pub fn asked(file: &ContourSet, params: &Params) -> Result<Vec<SetAside>> {
+pub fn asked(file: &ContourSet, params: &Params) -> Result<(Vec<SetAside>, Vec<Contour>)> {
     if params.leave_out.is_empty() {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), Vec::new()));
     }
     let derived = biv_epi::with_derived(file, params.surface.as_deref());
     let source = derived.as_ref().unwrap_or(file);
     let cleaned = clean_contours(&select_surface(source, params.surface.as_deref())?);
-    Ok(leave_out(cleaned, &params.leave_out, file)?.1)
+    let pool = cleaned.clone();
+    let entries = leave_out(cleaned, &params.leave_out, file)?.1;
+    let contours = crate::contours::set_aside::named(&pool, &entries);
+    Ok((entries, contours))
 }
 
 /// `file` without every contour whose id `ids` names, whatever its surface (None: no ids, the
