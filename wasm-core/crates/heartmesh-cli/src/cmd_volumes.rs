@@ -11,7 +11,7 @@ use heartmesh_core::io::{self, FrameChoice, MeshFormat};
 use heartmesh_core::mesh::TriMesh;
 use heartmesh_core::metrics::function::{self, Function, Measured, Outcome, UNLABELLED};
 use heartmesh_core::pipeline::Reconstruction;
-use heartmesh_core::{ContourSet, CoreError, Params};
+use heartmesh_core::{Contour, ContourSet, CoreError, Params};
 use serde_json::{json, Value};
 
 use crate::cmd_convert::file_name;
@@ -101,6 +101,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         .unwrap_or_default();
     let params = params_from(&p, base)?;
     let surfaces = surfaces_wanted(p.value("surface"), &phases)?;
+    check_leave_out(&params.leave_out, &phases, &surfaces)?;
     let meshes = p.value("meshes");
     if let Some(dir) = meshes {
         files::create_dir(dir)?;
@@ -343,6 +344,7 @@ fn reconstruct(
     }
     let mut params = params.clone();
     params.surface = surface.map(str::to_string);
+    params.leave_out = leave_out_of(&params.leave_out, &phase.set);
     if apex_lids {
         params.lids = apex_lid(&phase.set, surface).ok_or_else(|| {
             CliError::input(
@@ -360,6 +362,57 @@ fn reconstruct(
         out: Outcome::of(&rec),
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// Every id `--leave-out` names must be a contour of some phase (a typo would otherwise leave the
+/// contour in without a word); one that only some phases have is left out of those (a slice
+/// drawn badly at end-systole only, a view acquired at one phase). Status 2, with the ids the
+/// phases have (those of the `surfaces` measured, when they have any), before any run.
+fn check_leave_out(
+    ids: &[String],
+    phases: &[Phase],
+    surfaces: &[Option<String>],
+) -> Result<(), CliError> {
+    let Some(unknown) = ids
+        .iter()
+        .find(|id| !phases.iter().any(|ph| has_contour(&ph.set, id)))
+    else {
+        return Ok(());
+    };
+    let all = phases.iter().flat_map(|ph| &ph.set.contours);
+    let measured = |c: &&Contour| surfaces.iter().any(|s| s.is_none() || *s == c.surface);
+    let mut listed: Vec<&Contour> = all.clone().filter(measured).collect();
+    if listed.is_empty() {
+        listed = all.collect();
+    }
+    let mut available: Vec<String> = Vec::new();
+    for c in listed {
+        if !available.contains(&c.id) {
+            available.push(c.id.clone());
+        }
+    }
+    let error = CoreError::UnknownContour {
+        id: unknown.clone(),
+        available,
+    };
+    // One file names its file; the ids of several phases are no one file's.
+    Err(match phases {
+        [one] => CliError::input(&one.input, error),
+        _ => CliError::param(error),
+    })
+}
+
+fn has_contour(set: &ContourSet, id: &str) -> bool {
+    set.contours.iter().any(|c| c.id == id)
+}
+
+/// The ids of `ids` this phase's file has: each phase leaves out its own (the others are
+/// another phase's contours, checked by [`check_leave_out`]).
+fn leave_out_of(ids: &[String], set: &ContourSet) -> Vec<String> {
+    ids.iter()
+        .filter(|id| has_contour(set, id))
+        .cloned()
+        .collect()
 }
 
 fn write_mesh(

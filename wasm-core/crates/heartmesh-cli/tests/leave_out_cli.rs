@@ -46,13 +46,18 @@ fn reconstruct(dir: &Path, name: &str, input: &Path, extra: &[&str]) -> Run {
 
 /// patient1-ED.csv without the rows of contour `id`.
 fn without(dir: &Path, id: &str) -> PathBuf {
-    let text = std::fs::read_to_string(patient1()).unwrap();
+    cut(&patient1(), dir, id, &format!("without-{id}.csv"))
+}
+
+/// The contour file `src` without the rows of contour `id`, as `dir/name`.
+fn cut(src: &Path, dir: &Path, id: &str, name: &str) -> PathBuf {
+    let text = std::fs::read_to_string(src).unwrap();
     let kept: Vec<&str> = text
         .lines()
         .filter(|l| l.split(',').next() != Some(id))
         .collect();
     assert!(kept.len() < text.lines().count(), "{id} is in the file");
-    let path = dir.join(format!("without-{id}.csv"));
+    let path = dir.join(name);
     std::fs::write(&path, kept.join("\n") + "\n").unwrap();
     path
 }
@@ -310,6 +315,58 @@ fn volumes_take_the_same_list() {
     let v: Value = serde_json::from_str(&text).unwrap();
     let found = find_number(&v, want);
     assert!(found, "{want} ({shown}) not in {text}");
+}
+
+/// One list for every phase: an id only some phases have is left out of those and the others run
+/// as they are (a view drawn at end-diastole only); an id no phase has fails before any run,
+/// with the ids there are.
+#[test]
+fn volumes_leave_each_phase_its_own_ids() {
+    let dir = scratch("leave-out-volumes-phases");
+    let es = data("contours/bivme-example-patient1/patient1-ES.csv");
+    let es_cut = cut(&es, &dir, LAX, "patient1-ES.csv");
+    let json = dir.join("v.json");
+    let volumes = |ids: &str| {
+        run(bin()
+            .arg("volumes")
+            .arg(patient1())
+            .arg(&es_cut)
+            .args(["--surface", "LV_ENDO", "--leave-out", ids, "--quiet"])
+            .arg("--json")
+            .arg(&json))
+    };
+    let (code, _, err) = volumes(LAX);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let cell = |phase: &str| {
+        v["volumes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["phase"] == phase)
+            .and_then(|c| c["volume_ml"].as_f64())
+            .unwrap()
+    };
+    let ed = reconstruct(
+        &dir,
+        "ed",
+        &patient1(),
+        &["--surface", "LV_ENDO", "--leave-out", LAX, "--quiet"],
+    );
+    let es = reconstruct(&dir, "es", &es_cut, &["--surface", "LV_ENDO", "--quiet"]);
+    let volume = |r: &Run| r.report["volume_ml"].as_f64().unwrap();
+    assert!((cell("patient1-ED") - volume(&ed)).abs() < 1e-9, "{v}");
+    assert!((cell("patient1-ES") - volume(&es)).abs() < 1e-9, "{v}");
+    // An id of no phase: status 2, one line naming it and the ids there are, before any run.
+    let (code, out, err) = volumes(&format!("{LAX},s99_typo"));
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("no contour \"s99_typo\" to leave out"),
+        "{err}"
+    );
+    assert!(err.contains("s02_SAX_LV_ENDOCARDIAL"), "{err}");
+    assert!(out.is_empty(), "{out}");
 }
 
 /// Whether `v` holds a number within 1e-9 of `want` anywhere.
