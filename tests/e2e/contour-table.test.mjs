@@ -6,7 +6,7 @@
 // out row, the key and the read-out; another volume), its row then shows how far the mesh built
 // without it passes (s07_LAX: mean 1.83, max 7.66 mm, the Lab's leave-one-out figures for it), a
 // click on the max header sorts the rows by it both ways and back to the file's order, the
-// exports and a saved session record it, the session opened again leaves it out again, and
+// panel's CSV holds the table's figures in its order, the exports and a saved session record it, the session opened again leaves it out again, and
 // ticking it back (or Use all) gives the first mesh again to the last digit.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
@@ -52,6 +52,17 @@ const mesh = () => page.evaluate(() => {
     contours: r.contours.map((c) => c.id),
   };
 });
+
+/** The panel's CSV (its button): the file's name, its `#` lines and its rows as objects by column. */
+async function contourCsv() {
+  const { name, bytes } = await downloadFrom(page, 'contour-csv');
+  const lines = bytes.toString('utf8').trimEnd().split('\n');
+  const comments = lines.filter((l) => l.startsWith('#'));
+  const [columns, ...data] = lines.filter((l) => !l.startsWith('#'));
+  // Patient 1's ids hold no comma: no quoted fields to read.
+  const rows = data.map((l) => Object.fromEntries(l.split(',').map((v, i) => [columns.split(',')[i], v])));
+  return { name, comments, columns, rows };
+}
 
 /** The Contours panel's sorted header: its label and aria-sort (null: the file's order). */
 const sortedHeader = () => page.evaluate(() => {
@@ -168,6 +179,34 @@ describe('the Contours panel', () => {
     assert.ok(Math.abs(without.volumeMl - before.volumeMl) > 0.01, `another mesh: ${without.volumeMl} vs ${before.volumeMl} ml`);
     console.log(`# ${target} left out: ${before.volumeMl.toFixed(3)} ml -> ${without.volumeMl.toFixed(3)} ml`);
 
+    // The CSV button: the table as the panel shows it (the file's order here), under the exports' header.
+    assert.equal(await page.isEnabled('[data-testid=contour-table] summary [data-testid=contour-csv]'), true);
+    const csv = await contourCsv();
+    assert.equal(csv.name, 'patient1-ED-LV_ENDO-contours.csv');
+    assert.equal(csv.columns, 'contour,kind,state,line,points,mean_mm,median_mm,max_mm');
+    assert.match(csv.comments.join('\n'), new RegExp(`^# lids: auto .* leave_out=${target}$`, 'm'));
+    assert.equal(csv.rows.length, 8);
+    assert.deepEqual(csv.rows.map((r) => r.contour), left.rows.map((r) => r.id));
+    const medians = await page.evaluate(() => {
+      const r = window.heartmesh.currentResult();
+      return Object.fromEntries([...r.perContour.map((c) => [c.id, c.stats.median]), ...r.set_aside.map((s) => [s.id, s.median])]);
+    });
+    const near = (csvValue, mm, what) => assert.ok(Math.abs(Number(csvValue) - mm) < 1e-4, `${what}: CSV ${csvValue} vs ${mm}`);
+    for (const r of csv.rows) {
+      const shown = left.rows.find((x) => x.id === r.contour);
+      assert.deepEqual([r.kind, r.state, Number(r.points)], [shown.kind, shown.state, shown.count], r.contour);
+      assert.match(r.mean_mm, /^\d+\.\d{4}$/);
+      near(r.mean_mm, shown.meanMm, `${r.contour} mean`);
+      near(r.max_mm, shown.maxMm, `${r.contour} max`);
+      near(r.median_mm, medians[r.contour], `${r.contour} median`);
+      assert.ok(Number(r.median_mm) <= Number(r.max_mm), r.contour);
+    }
+    const heldOut = csv.rows.find((r) => r.contour === target);
+    assert.equal(heldOut.state, 'by_user');
+    assert.ok(Number(heldOut.line) > 1, `the file line of ${target}: ${heldOut.line}`);
+    assert.ok(csv.rows.every((r) => r.contour === target || (r.state === 'used' && r.line === '')), 'used rows have no line');
+    console.log(`# contours CSV: ${target} line ${heldOut.line}, mean ${heldOut.mean_mm} median ${heldOut.median_mm} max ${heldOut.max_mm} mm`);
+
     // Hovered in the view, the contour left out says so.
     const aside = await page.evaluate(() => [...window.heartmesh.currentResult().setAsidePoints.slice(0, 3)]);
     await pointAt(aside);
@@ -194,6 +233,8 @@ describe('the Contours panel', () => {
     await sortMax();
     const sorted = await readTable();
     assert.deepEqual(sorted.rows.map((r) => [r.id, r.checked]), maxOrder.map((id) => [id, id !== target]));
+    // Sorted, the CSV follows the panel's order.
+    assert.deepEqual((await contourCsv()).rows.map((r) => r.contour), maxOrder);
 
     // The table fits its column on a phone, at the narrow window (250 px column: no points column there) and at the usual one.
     for (const [width, height] of [[390, 844], [1024, 700], [1280, 720]]) {
@@ -203,9 +244,13 @@ describe('the Contours panel', () => {
         const side = document.querySelector('#slot-right');
         const panel = document.querySelector('section.contours').getBoundingClientRect();
         const cells = [...document.querySelectorAll('section.contours th, section.contours td')].filter((c) => c.offsetParent !== null).map((c) => c.getBoundingClientRect());
-        return { sideways: side.scrollWidth > side.clientWidth, inside: cells.every((c) => c.left >= panel.left - 0.5 && c.right <= panel.right + 0.5), pts: getComputedStyle(document.querySelector('th.c-pts')).display };
+        // The heading's buttons (Use all shows: a contour is left out) on its line, inside the panel.
+        const h2 = document.querySelector('section.contours h2').getBoundingClientRect();
+        const buttons = [...document.querySelectorAll('section.contours summary button')].map((b) => b.getBoundingClientRect());
+        const heading = buttons.length === 2 && buttons.every((b) => b.top < h2.bottom && b.bottom > h2.top && b.left >= h2.right && b.right <= panel.right + 0.5);
+        return { sideways: side.scrollWidth > side.clientWidth, inside: cells.every((c) => c.left >= panel.left - 0.5 && c.right <= panel.right + 0.5), heading, pts: getComputedStyle(document.querySelector('th.c-pts')).display };
       });
-      assert.deepEqual(fit, { sideways: false, inside: true, pts: width < 1100 && width >= 860 ? 'none' : 'table-cell' }, `${width}x${height}`);
+      assert.deepEqual(fit, { sideways: false, inside: true, heading: true, pts: width < 1100 && width >= 860 ? 'none' : 'table-cell' }, `${width}x${height}`);
       if (width < 860) await page.locator('section.contours').screenshot({ path: join(tmpdir(), 'heartmesh-contour-table-phone.png') });
     }
 

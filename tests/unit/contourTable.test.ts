@@ -4,9 +4,11 @@
 // built without them passes (held out, no swatch); the boxes, "Use all" and the hover reach the
 // host; a click on a header sorts by its column (again: reversed, a third time: the file's order,
 // rows without a figure last); a new run of the same surface marks the rows stale and keeps the
-// sort, anything else clears both.
-import { describe, expect, it } from 'vitest';
+// sort, anything else clears both; the CSV button saves the rows as shown, under the header of the
+// run they are of.
+import { describe, expect, it, vi } from 'vitest';
 import type { ContourInfo, RunResult, SetAsideEntry } from '../../web/src/core-client/protocol';
+import type { ExportInfo } from '../../web/src/io/export/header';
 import { ContourTable, HELD_OUT_TITLE, type ContourTableHost } from '../../web/src/ui/ContourTable';
 import { contourRows, contourScaleMax, nextSort, sortRows, type ContourRow, type SortColumn } from '../../web/src/ui/contourRows';
 import { cssColorAt, robustMax } from '../../web/src/viewer/colormap';
@@ -14,7 +16,11 @@ import type { FakeElement } from './fakeDom';
 import { useFakeDocument } from './panelHarness';
 import { runResult } from './runResult';
 
-const stats = (mean: number, max: number, count: number) => ({ mean, median: mean, p95: max, max, min: 0, count });
+/** What the CSV button hands the browser: the file's text, name and type. */
+const saved = vi.hoisted(() => [] as { data: unknown; name: string; type: string }[]);
+vi.mock('../../web/src/io/download', () => ({ download: (data: unknown, name: string, type: string) => saved.push({ data, name, type }) }));
+
+const stats = (mean: number, max: number, count: number, median = mean) => ({ mean, median, p95: max, max, min: 0, count });
 // The core's figures null (not finite, as JSON gives them): no figure.
 const SPECK: SetAsideEntry = { id: 'sax10', line: 1505, reason: 'speck', perimeter_mm: 2.84, next_id: 's06_SAX', next_perimeter_mm: 210, mean: null, median: null, max: null };
 // Held out: the mesh built without it (Patient 1 ED's s07_LAX by the core: 1.831, 1.143, 7.665 mm).
@@ -29,7 +35,7 @@ const ASIDE: ContourInfo[] = [
 function run(extra: Partial<RunResult> = {}): RunResult {
   return runResult({
     perContour: [
-      { id: 's02_SAX_LV_ENDOCARDIAL', kind: 'SAX', stats: stats(0.4149, 1.2351, 52) },
+      { id: 's02_SAX_LV_ENDOCARDIAL', kind: 'SAX', stats: stats(0.4149, 1.2351, 52, 0.3812) },
       { id: 's06_SAX', kind: 'SAX', stats: stats(0.2, 0.8399, 48) },
       { id: 's07_LAX', kind: 'LAX', stats: stats(0.55, 2.004, 61) },
     ],
@@ -49,14 +55,20 @@ const FILE_ORDER = ['s02_SAX_LV_ENDOCARDIAL', 's06_SAX', 's07_LAX', 's08_LAX', '
 /** The file's contours in that order, with the core's split at load (the run gives none for those left out). */
 const FILE = FILE_ORDER.map((id) => ({ id, kind: id.includes('LAX') ? ('LAX' as const) : ('SAX' as const) }));
 
+/** The header of the run on screen (the host's `exportInfo`). */
+const INFO: ExportInfo = {
+  appVersion: '0.1.0', coreVersion: '0.1.0', fileName: 'patient1-ED.csv', surface: 'LV_ENDO', lids: 'auto', params: { iterations: 250 }, leaveOut: ['s08_LAX'],
+};
+
 function table(initial: string[] = ['s08_LAX']) {
   const calls: { leftOut: [string, boolean][]; useAll: number; highlight: (string | null)[] } = { leftOut: [], useAll: 0, highlight: [] };
-  const state = { key: 'p1|LV_ENDO', leaveOut: [...initial] };
+  const state: { key: string; leaveOut: string[]; info: ExportInfo | null } = { key: 'p1|LV_ENDO', leaveOut: [...initial], info: INFO };
   const host: ContourTableHost = {
     context: () => ({ key: state.key, leaveOut: state.leaveOut, fileContours: FILE }),
     setLeftOut: (id, out) => calls.leftOut.push([id, out]),
     useAll: () => calls.useAll++,
     highlight: (id) => calls.highlight.push(id),
+    exportInfo: () => state.info,
   };
   const t = new ContourTable(host);
   const el = t.element as unknown as FakeElement;
@@ -76,18 +88,19 @@ function table(initial: string[] = ['s08_LAX']) {
 describe('the rows of the Contours panel', () => {
   it('one per contour, used ones with their figures, in the file\'s order', () => {
     const rows = contourRows(run(), FILE);
-    expect(rows.map((r) => [r.id, r.kind, r.state, r.count, r.meanMm, r.maxMm])).toEqual([
-      ['s02_SAX_LV_ENDOCARDIAL', 'SAX', 'used', 52, 0.4149, 1.2351],
-      ['s06_SAX', 'SAX', 'used', 48, 0.2, 0.8399],
-      ['s07_LAX', 'LAX', 'used', 61, 0.55, 2.004],
-      ['s08_LAX', 'LAX', 'by_user', 40, 1.8312, 7.6649],
-      ['sax10', 'SAX', 'speck', 3, null, null],
+    expect(rows.map((r) => [r.id, r.kind, r.state, r.line, r.count, r.meanMm, r.medianMm, r.maxMm])).toEqual([
+      ['s02_SAX_LV_ENDOCARDIAL', 'SAX', 'used', null, 52, 0.4149, 0.3812, 1.2351],
+      ['s06_SAX', 'SAX', 'used', null, 48, 0.2, 0.2, 0.8399],
+      ['s07_LAX', 'LAX', 'used', null, 61, 0.55, 0.55, 2.004],
+      ['s08_LAX', 'LAX', 'by_user', 700, 40, 1.8312, 1.143, 7.6649],
+      ['sax10', 'SAX', 'speck', 1505, 3, null, null, null],
     ]);
     expect(rows[3].reason).toBe('left out by you');
     expect(rows[3].detail).toBe('"s08_LAX" (line 700): left out by you, the mesh 1.83 mm from it on average, 7.66 mm at most (tick it in the Contours panel to use it again)');
     // Figures absent (a result of an older core) or not finite are none.
-    const old = contourRows(run({ set_aside: [{ id: 'sax10', line: 1505, reason: 'stray', gap_mm: 180 }, { ...MINE, mean: Number.POSITIVE_INFINITY }] }), FILE);
-    expect(old.filter((r) => r.state !== 'used').map((r) => [r.id, r.meanMm, r.maxMm])).toEqual([['s08_LAX', null, 7.6649], ['sax10', null, null]]);
+    // A line 0: not from a file, no line.
+    const old = contourRows(run({ set_aside: [{ id: 'sax10', line: 1505, reason: 'stray', gap_mm: 180 }, { ...MINE, line: 0, mean: Number.POSITIVE_INFINITY }] }), FILE);
+    expect(old.filter((r) => r.state !== 'used').map((r) => [r.id, r.line, r.meanMm, r.medianMm, r.maxMm])).toEqual([['s08_LAX', null, null, 1.143, 7.6649], ['sax10', 1505, null, null, null]]);
     expect(rows[4].reason).toBe('left out: speck');
     expect(rows[4].detail).toContain('"sax10" (line 1505): a speck');
     // Without the file's order: the core's order, those left out after the used ones (kind unknown).
@@ -100,7 +113,7 @@ describe('the rows of the Contours panel', () => {
 
 describe('the sort of the Contours panel\'s rows', () => {
   /** A row with only what the sorts read. */
-  const r = (id: string, kind: 'SAX' | 'LAX' | null, count: number, meanMm: number | null, maxMm: number | null): ContourRow => ({ id, kind, state: 'used', count, meanMm, maxMm, reason: null, detail: null });
+  const r = (id: string, kind: 'SAX' | 'LAX' | null, count: number, meanMm: number | null, maxMm: number | null): ContourRow => ({ id, kind, state: 'used', count, meanMm, medianMm: meanMm, maxMm, line: null, reason: null, detail: null });
   // Not in any column's order: ids with numbers of one and two digits, a kind unknown, figures missing.
   const ROWS = [r('s10', 'SAX', 30, 0.5, 3), r('s9', 'LAX', 50, null, null), r('s2', null, 10, 2.25, 9), r('a1', 'SAX', 40, 0.1, 1), r('s3', 'LAX', 20, 1, null)];
   const order = (column: SortColumn, descending: boolean) => sortRows(ROWS, { column, descending }).map((x) => x.id);
@@ -355,5 +368,50 @@ describe('the Contours panel', () => {
     state.key = 'p1|LV_EPI';
     t.show(run());
     expect(ids()).toEqual(FILE_ORDER);
+  });
+
+  it('the CSV button: enabled while there are rows; saves them in the order shown, under the header of the run they are of', () => {
+    const { t, el, details, sortBy, state } = table();
+    const csv = el.byTestId('contour-csv') as FakeElement & { disabled: boolean };
+    expect([csv.textContent, csv.title]).toEqual(['CSV', 'The table as CSV: one row per contour, distances in mm']);
+    // Beside the heading: in the summary, after "Use all".
+    expect(details.findAll((e) => e.tagName === 'summary')[0].findAll((e) => e.tagName === 'button').map((b) => b.dataset.testid)).toEqual(['contour-use-all', 'contour-csv']);
+    expect(csv.disabled).toBe(true);
+    t.show(run());
+    expect(csv.disabled).toBe(false);
+    sortBy('max');
+    // A new run starts (other parameters, another list): the rows stay, stale, and so does the header of their run.
+    state.info = { ...INFO, params: { iterations: 300 }, leaveOut: ['s08_LAX', 's07_LAX'] };
+    t.resultCleared();
+    expect(csv.disabled).toBe(false);
+    saved.length = 0;
+    csv.fire('click');
+    expect(saved.map((f) => [f.name, f.type])).toEqual([['patient1-ED-LV_ENDO-contours.csv', 'text/csv']]);
+    expect(String(saved[0].data).split('\n')).toEqual([
+      '# heartmesh 0.1.0 (core 0.1.0), units: mm',
+      '# input: patient1-ED.csv surface: LV_ENDO',
+      '# lids: auto iterations=250 leave_out=s08_LAX',
+      'contour,kind,state,line,points,mean_mm,median_mm,max_mm',
+      's08_LAX,LAX,by_user,700,40,1.8312,1.1430,7.6649',
+      's07_LAX,LAX,used,,61,0.5500,0.5500,2.0040',
+      's02_SAX_LV_ENDOCARDIAL,SAX,used,,52,0.4149,0.3812,1.2351',
+      's06_SAX,SAX,used,,48,0.2000,0.2000,0.8399',
+      'sax10,SAX,speck,1505,3,,,',
+      '',
+    ]);
+    // No rows (a run without contours), no header known, or another surface's clear: nothing to save.
+    t.show(run({ perContour: [], set_aside: [], set_aside_contours: [] }));
+    expect([details.dataset.count, csv.disabled]).toEqual(['0', true]);
+    state.info = null;
+    t.show(run());
+    expect(csv.disabled).toBe(true);
+    csv.fire('click');
+    expect(saved.length).toBe(1);
+    state.info = INFO;
+    t.show(run());
+    expect(csv.disabled).toBe(false);
+    state.key = 'p1|RV_ENDO';
+    t.resultCleared();
+    expect(csv.disabled).toBe(true);
   });
 });

@@ -105,6 +105,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
     setLeftOut: (id, out) => controller.setLeftOut(id, out),
     useAll: () => controller.useAllContours(),
     highlight: (id) => viewer?.highlightContour(id),
+    exportInfo: () => controller.exportInfo(),
   });
   controller.onResult((r) => (r ? contours.show(r) : contours.resultCleared()));
   controller.onLeaveOutChange(() => contours.leaveOutChanged());

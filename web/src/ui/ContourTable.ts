@@ -10,7 +10,8 @@
  * with it.
  * Hovering a row highlights its contour in the 3D view; the view's hover highlights the row back;
  * a click on an id keeps the highlight until the next click. A click on a column's header sorts
- * the rows by it (nextSort: again reverses, a third time the file's order).
+ * the rows by it (nextSort: again reverses, a third time the file's order). The CSV button beside
+ * the heading saves the table as the panel shows it, in its sort (export/contourCsv.ts).
  *
  * The rows come from the last finished run; a new run of the same file, frame and surface marks
  * them stale (they stay usable: leaving out a second contour need not wait for the first run) and
@@ -22,6 +23,9 @@
  * header `aria-sort`.
  */
 import type { RunResult } from '../core-client/protocol';
+import { download } from '../io/download';
+import { contourCsvFileName, writeContourCsv } from '../io/export/contourCsv';
+import type { ExportInfo } from '../io/export/header';
 import { cssColorAt } from '../viewer/colormap';
 import { contourRows, contourScaleMax, mm2, nextSort, sortRows, sortsDescendingFirst, useTitle, type ContourRow, type FileContour, type RowSort, type SortColumn } from './contourRows';
 import { h } from './dom';
@@ -40,15 +44,23 @@ export interface ContourTableHost {
   useAll(): void;
   /** Highlights contour `id` in the 3D view (null: none). */
   highlight(id: string | null): void;
+  /** What the exports' headers say of the run on screen (null without a file). */
+  exportInfo(): ExportInfo | null;
 }
 
 interface Shown {
   key: string;
   rows: ContourRow[];
   scaleMax: number;
+  /**
+   * The header of the run the rows are of, taken as it finished: rows kept stale while the next
+   * run goes on are not that run's (its parameters and leave_out may differ).
+   */
+  info: ExportInfo | null;
 }
 
 const USE_ALL_TITLE = 'Use every contour you left out again (one run)';
+const CSV_TITLE = 'The table as CSV: one row per contour, distances in mm';
 
 /** The sortable columns: the class that sizes each (table-layout: fixed), its heading and what it holds. */
 const COLUMNS: readonly { column: SortColumn; cls: string; label: string; what: string }[] = [
@@ -92,6 +104,7 @@ export class ContourTable {
   private readonly heading: HTMLElement;
   private readonly note: HTMLElement;
   private readonly useAllButton: HTMLButtonElement;
+  private readonly csvButton: HTMLButtonElement;
   private readonly body: HTMLElement;
   private readonly table: HTMLTableElement;
   private shown: Shown | null = null;
@@ -111,6 +124,8 @@ export class ContourTable {
     this.heading = h('span', { class: 'contours-heading' }, 'Contours');
     this.useAllButton = h('button', { type: 'button', class: 'small', 'data-testid': 'contour-use-all', title: USE_ALL_TITLE, hidden: true }, 'Use all');
     this.useAllButton.addEventListener('click', () => this.host.useAll());
+    this.csvButton = h('button', { type: 'button', class: 'small', 'data-testid': 'contour-csv', title: CSV_TITLE }, 'CSV');
+    this.csvButton.addEventListener('click', () => this.exportCsv());
     this.note = h('p', { class: 'muted contours-note', 'data-testid': 'contour-note' }, 'no result yet');
     this.body = h('tbody', {});
     this.table = h(
@@ -132,7 +147,7 @@ export class ContourTable {
     this.details = h(
       'details',
       { class: 'contours-details', open: true, 'data-testid': 'contour-table' },
-      h('summary', { class: 'contours-summary' }, h('h2', {}, this.heading), this.useAllButton),
+      h('summary', { class: 'contours-summary' }, h('h2', {}, this.heading), h('span', { class: 'contours-actions' }, this.useAllButton, this.csvButton)),
       this.note,
       this.table,
     );
@@ -141,6 +156,7 @@ export class ContourTable {
     this.details.dataset.count = '0';
     this.details.dataset.stale = '0';
     this.details.dataset.highlight = '';
+    this.csvButton.disabled = true;
   }
 
   /** A run finished: its contours, with the list the next run would use. */
@@ -148,7 +164,7 @@ export class ContourTable {
     const context = this.host.context();
     if (this.shown?.key !== context?.key) this.forgetKey();
     // (A highlight kept on the same surface follows the new run's contours by itself: Viewer.highlightContour.)
-    this.shown = { key: context?.key ?? '', rows: contourRows(r, context?.fileContours ?? []), scaleMax: contourScaleMax(r) };
+    this.shown = { key: context?.key ?? '', rows: contourRows(r, context?.fileContours ?? []), scaleMax: contourScaleMax(r), info: this.host.exportInfo() };
     this.stale = false;
     this.render();
   }
@@ -190,14 +206,26 @@ export class ContourTable {
     this.heading.textContent = s ? `Contours (${s.rows.length})` : 'Contours';
     this.element.classList.toggle('is-stale', this.stale);
     this.useAllButton.hidden = leaveOut.size === 0;
+    this.csvButton.disabled = !s?.info || s.rows.length === 0;
     this.note.hidden = s !== null && !this.stale;
     // Stale: a run started since (it may go on, or have been stopped or failed): say whose figures these are.
     this.note.textContent = !s ? 'no result yet' : 'the figures are of the last finished run';
     this.table.hidden = !s;
     this.rowElements = new Map();
-    this.body.replaceChildren(...(s ? sortRows(s.rows, this.sort).map((row) => this.rowElement(row, !leaveOut.has(row.id), s.scaleMax)) : []));
+    this.body.replaceChildren(...(s ? this.sortedRows().map((row) => this.rowElement(row, !leaveOut.has(row.id), s.scaleMax)) : []));
     this.markHeaders();
     this.markRows();
+  }
+
+  /** The rows in the order shown: the CSV follows the sort the user chose, as the table reads. */
+  private sortedRows(): ContourRow[] {
+    return this.shown ? sortRows(this.shown.rows, this.sort) : [];
+  }
+
+  private exportCsv(): void {
+    const info = this.shown?.info;
+    if (!info) return;
+    download(writeContourCsv(this.sortedRows(), info), contourCsvFileName(info), 'text/csv');
   }
 
   /** A column's header: a button that sorts by it, and the arrow of the sort. */

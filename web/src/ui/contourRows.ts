@@ -24,7 +24,11 @@ export interface ContourRow {
    * (a held-out figure). Null: no figure (a result of an older core, or not finite).
    */
   meanMm: number | null;
+  /** The median of the same distances (the Contours CSV: a mean pulled up by a few points far off shows against it). */
+  medianMm: number | null;
   maxMm: number | null;
+  /** The file line of a contour left out, as the core gives it (null: used, or not from a file). */
+  line: number | null;
   /** "left out: speck", "left out by you" (null: used). */
   reason: string | null;
   /** Tooltip of a row left out: its line and why (leftOutDetail). */
@@ -54,7 +58,9 @@ export function contourRows(r: RunResult, file: readonly FileContour[] = []): Co
     state: 'used',
     count: c.stats.count,
     meanMm: c.stats.mean,
+    medianMm: c.stats.median,
     maxMm: c.stats.max,
+    line: null,
     reason: null,
     detail: null,
   }));
@@ -67,7 +73,18 @@ export function contourRows(r: RunResult, file: readonly FileContour[] = []): Co
     const contour = i >= 0 ? asideContours[i] : undefined;
     const kind = contour?.kind ?? file.find((c) => c.id === e.id)?.kind ?? null;
     const figure = (v: number | null | undefined) => (isFigure(v) ? v : null);
-    return { id: e.id, kind, state: e.reason, count: pointCount(contour), meanMm: figure(e.mean), maxMm: figure(e.max), reason: leftOutLabel(e.reason), detail: leftOutDetail(e) };
+    return {
+      id: e.id,
+      kind,
+      state: e.reason,
+      count: pointCount(contour),
+      meanMm: figure(e.mean),
+      medianMm: figure(e.median),
+      maxMm: figure(e.max),
+      line: e.line > 0 ? e.line : null,
+      reason: leftOutLabel(e.reason),
+      detail: leftOutDetail(e),
+    };
   });
   const rows = [...used, ...aside];
   const at = new Map<string, number>();

@@ -3,12 +3,9 @@
  * distance_mm columns, with `#` comment metadata, so the file can be loaded back into heartmesh.
  */
 import type { ContourInfo } from '../../core-client/protocol';
+import { csvField } from './csvField';
 import { f32 } from './float32';
 import { headerLines, type ExportInfo } from './header';
-
-function csvField(s: string): string {
-  return /[",\n\r]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s;
-}
 
 export function writeDistancesCsv(
   contours: readonly ContourInfo[],
