@@ -12,7 +12,9 @@ use heartmesh_core::{ContourSet, CoreError, Params};
 use serde_json::{json, Value};
 
 use crate::cmd_convert::file_name;
-use crate::cmd_reconstruct::{apex_lid, classify, mesh_output, params_from, parse_with_inputs};
+use crate::cmd_reconstruct::{
+    apex_lid, asked_note, classify, mesh_output, params_from, parse_with_inputs,
+};
 use crate::contours;
 use crate::error::CliError;
 use crate::files;
@@ -233,6 +235,10 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
                     eprintln!("{line}");
                     said.push(line);
                 }
+            }
+            // Each surface's contours left out by hand, with how far its mesh passes from them.
+            if let Some(note) = asked_note(&s.rec.set_aside_distances()) {
+                eprintln!("heartmesh: note: {input}: {}: {note}", s.name);
             }
         }
         for (moved, what, how) in [

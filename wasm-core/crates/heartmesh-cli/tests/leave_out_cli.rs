@@ -369,6 +369,42 @@ fn volumes_leave_each_phase_its_own_ids() {
     assert!(out.is_empty(), "{out}");
 }
 
+/// `myocardium` takes the list as reconstruct does: its LV_ENDO is reconstruct's with the contour
+/// left out (same volume, same distances from it), LV_EPI (which has no such id) is untouched, and
+/// a note names it under its surface.
+#[test]
+fn myocardium_takes_the_same_list() {
+    let dir = scratch("leave-out-myocardium");
+    let report = dir.join("wall.json");
+    let (code, _, err) = run(bin()
+        .arg("myocardium")
+        .arg(patient1())
+        .arg("-o")
+        .arg(dir.join("wall.vtk"))
+        .arg("--report")
+        .arg(&report)
+        .args(["--leave-out", LAX]));
+    assert_eq!(code, 0, "{err}");
+    let wall: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let endo = &wall["surfaces"]["LV_ENDO"];
+    let r = reconstruct(
+        &dir,
+        "r",
+        &patient1(),
+        &["--surface", "LV_ENDO", "--leave-out", LAX, "--quiet"],
+    );
+    assert_eq!(endo["set_aside"], r.report["set_aside"]);
+    let volume = |v: &Value| v["volume_ml"].as_f64().unwrap();
+    assert!((volume(endo) - volume(&r.report)).abs() < 1e-9);
+    assert!(wall["surfaces"]["LV_EPI"].get("set_aside").is_none());
+    let note = format!(
+        "LV_ENDO: --leave-out: \"{LAX}\" (line {}, the mesh {:.2} mm from it on average",
+        first_line(LAX),
+        r.report["set_aside"][0]["mean"].as_f64().unwrap()
+    );
+    assert_eq!(err.matches(&note).count(), 1, "{err}");
+}
+
 /// Whether `v` holds a number within 1e-9 of `want` anywhere.
 fn find_number(v: &Value, want: f64) -> bool {
     match v {
