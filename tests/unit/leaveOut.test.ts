@@ -1,4 +1,4 @@
-// Contours left out by hand (the Contours panel): the lists per file, frame and surface, how they
+// Contours left out by hand (the Contours panel): the lists per file and frame, how they
 // travel (the params JSON's `leave_out`, the client's requests, the worker's calls to the core),
 // what the exports and the words say of them, the walls' readiness, the Function panel's note, and
 // the viewer's parts (a contour named under the pointer, a left-out one keyed "left out by you",
@@ -29,35 +29,43 @@ const LAX: SetAsideEntry = { id: 's07_LAX_LV_ENDOCARDIAL', line: 812, reason: 'b
 const SPECK: SetAsideEntry = { id: 'sax10', line: 1505, reason: 'speck', perimeter_mm: 2.84, next_id: 'sax09', next_perimeter_mm: 210 };
 
 describe('the leave-out lists', () => {
-  const ed = { file: 'p1.csv', frame: null, surface: 'LV_ENDO' };
+  const ed = { file: 'p1.csv', frame: null };
 
-  it('are kept per file, frame and surface, in the order left out, each id once', () => {
+  it('are kept per file and frame, whatever the surface, in the order left out, each id once', () => {
     const lists = new LeaveOutLists();
     expect(lists.get(ed)).toEqual([]);
     expect(lists.toggle(ed, 'b', true)).toBe(true);
     expect(lists.toggle(ed, 'a', true)).toBe(true);
     expect(lists.toggle(ed, 'a', true)).toBe(false); // already out: no change, no run
     expect(lists.get(ed)).toEqual(['b', 'a']);
-    // Another surface, another frame of the same file: lists of their own.
-    lists.toggle({ ...ed, surface: 'RV_ENDO' }, 'r1', true);
+    // An RV contour joins the same list; another frame of the same file has a list of its own.
+    lists.toggle(ed, 'r1', true);
     lists.toggle({ ...ed, frame: 'ES' }, 'b', true);
-    expect(lists.get({ ...ed, surface: 'RV_ENDO' })).toEqual(['r1']);
+    expect(lists.get(ed)).toEqual(['b', 'a', 'r1']);
     expect(lists.get({ ...ed, frame: 'ES' })).toEqual(['b']);
-    expect(lists.get(ed)).toEqual(['b', 'a']);
-    expect(lists.union('p1.csv', null, ['LV_ENDO', 'RV_ENDO', 'LV_EPI'])).toEqual(['b', 'a', 'r1']);
     expect(lists.toggle(ed, 'b', false)).toBe(true);
-    expect(lists.get(ed)).toEqual(['a']);
+    expect(lists.get(ed)).toEqual(['a', 'r1']);
     // A copy: the caller cannot change a list behind the lists' back.
     lists.get(ed).push('x');
-    expect(lists.get(ed)).toEqual(['a']);
-    lists.set({ file: 'p2.csv', frame: null, surface: 'LV_ENDO' }, ['q', 'q']);
-    expect(lists.get({ file: 'p2.csv', frame: null, surface: 'LV_ENDO' })).toEqual(['q']);
-    expect(lists.listsOf('p1.csv').map((l) => [l.key.surface, l.key.frame, l.ids])).toEqual([['LV_ENDO', null, ['a']], ['RV_ENDO', null, ['r1']], ['LV_ENDO', 'ES', ['b']]]);
+    expect(lists.get(ed)).toEqual(['a', 'r1']);
+    lists.set({ file: 'p2.csv', frame: null }, ['q', 'q']);
+    expect(lists.get({ file: 'p2.csv', frame: null })).toEqual(['q']);
+    expect(lists.listsOf('p1.csv').map((l) => [l.key.frame, l.ids])).toEqual([[null, ['a', 'r1']], ['ES', ['b']]]);
     // The file read anew: its lists go, another file's stay.
     lists.clearFile('p1.csv');
     expect(lists.listsOf('p1.csv')).toEqual([]);
-    expect(lists.get({ ...ed, surface: 'RV_ENDO' })).toEqual([]);
-    expect(lists.get({ file: 'p2.csv', frame: null, surface: 'LV_ENDO' })).toEqual(['q']);
+    expect(lists.get(ed)).toEqual([]);
+    expect(lists.get({ file: 'p2.csv', frame: null })).toEqual(['q']);
+  });
+
+  it('put back one surface\'s ids and keep the rest (Use all)', () => {
+    const lists = new LeaveOutLists();
+    lists.set(ed, ['s07', 'r1', 's03']);
+    expect(lists.putBack(ed, ['s07', 's03', 's05'])).toBe(true);
+    expect(lists.get(ed)).toEqual(['r1']);
+    expect(lists.putBack(ed, ['s07'])).toBe(false); // none of them out: no change, no run
+    expect(lists.putBack(ed, ['r1'])).toBe(true);
+    expect(lists.listsOf('p1.csv')).toEqual([]);
   });
 
   it('add to a run\'s settings key only when not empty, whatever the order', () => {
@@ -208,39 +216,41 @@ describe('the words for contours left out by the user', () => {
     expect(both.title).toContain('Contours panel');
   });
 
-  it('the Function panel says the phases batch leaves them out too', () => {
+  it('the Function panel says the phases batch leaves them out too, one list per file and frame', () => {
     expect(leftOutNote([])).toBeNull();
-    expect(leftOutNote([{ file: 'a.csv', frame: null, surface: 'LV_ENDO', ids: [] }])).toBeNull();
-    expect(leftOutNote([{ file: 'patient1-ED.csv', frame: null, surface: 'LV_ENDO', ids: ['s07'] }])).toBe(
-      'Left out here too, as in the Contours panel: one contour (patient1-ED.csv LV_ENDO: s07)',
-    );
-    expect(leftOutNote([{ file: 'cine.csv', frame: 'ES', surface: 'LV_ENDO', ids: ['s7', 's8'] }, { file: 'cine.csv', frame: 'ED', surface: 'RV_ENDO', ids: ['r1'] }])).toBe(
-      'Left out here too, as in the Contours panel: 3 contours (cine.csv frame ES LV_ENDO: s7, s8; cine.csv frame ED RV_ENDO: r1)',
+    expect(leftOutNote([{ file: 'a.csv', frame: null, ids: [] }])).toBeNull();
+    expect(leftOutNote([{ file: 'patient1-ED.csv', frame: null, ids: ['s07'] }])).toBe('Left out, as in the Contours panel: one contour (patient1-ED.csv: s07)');
+    expect(leftOutNote([{ file: 'cine.csv', frame: 'ES', ids: ['s7', 'r1'] }, { file: 'cine.csv', frame: 'ED', ids: [] }, { file: 'cine.csv', frame: '9', ids: ['s8'] }])).toBe(
+      'Left out, as in the Contours panel: 3 contours (cine.csv frame ES: s7, r1; cine.csv frame 9: s8)',
     );
   });
 });
 
-describe('the walls and the lists', () => {
+describe('the walls and the list', () => {
   const mesh = (surface: string, settings: string) => ({ surface, positions: new Float32Array(9), indices: new Uint32Array(3), settings });
+  const key = (ids: string[]) => `base${leaveOutKeyPart(ids)}`;
 
-  it('a mesh run before its surface\'s list changed is not used; each surface is held to its own list', () => {
+  it('a mesh run before the file\'s list changed is not used, whichever surface the id is of', () => {
     const surfaces = ['LV_ENDO', 'LV_EPI'];
-    const want = (lists: Record<string, string[]>) => (s: string) => `base${leaveOutKeyPart(lists[s] ?? [])}`;
-    const kept = { LV_ENDO: mesh('LV_ENDO', `base${leaveOutKeyPart(['s07'])}`), LV_EPI: mesh('LV_EPI', 'base') } as Record<string, ReturnType<typeof mesh>>;
-    const ready = wallReadiness(surfaces, (s) => kept[s], want({ LV_ENDO: ['s07'] }));
+    const kept = { LV_ENDO: mesh('LV_ENDO', key(['s07'])), LV_EPI: mesh('LV_EPI', key(['s07'])) } as Record<string, ReturnType<typeof mesh>>;
+    const ready = wallReadiness(surfaces, (s) => kept[s], key(['s07']));
     expect(ready.ready).toBe(true);
-    const stale = wallReadiness(surfaces, (s) => kept[s], want({ LV_ENDO: ['s07', 's03'] }));
+    // An LV_ENDO id left out since: LV_EPI's run is stale too (its alignment and crossing gap saw the contour).
+    const stale = wallReadiness(surfaces, (s) => kept[s], key(['s07', 's03']));
     expect(stale).toMatchObject({ ready: false, key: '' });
-    expect(stale.title).toMatch(/: LV_ENDO was last run with other parameters; run it again/);
-    const other = wallReadiness(surfaces, (s) => kept[s], want({ LV_ENDO: ['s07'], LV_EPI: ['e1'] }));
-    expect(other.title).toMatch(/: LV_EPI was last run with other parameters/);
-    // The key changes with the lists (a wall built of other meshes is not shown as this one).
-    const kept2: Record<string, ReturnType<typeof mesh>> = { ...kept, LV_ENDO: mesh('LV_ENDO', `base${leaveOutKeyPart(['s03'])}`) };
-    const again = wallReadiness(surfaces, (s) => kept2[s], want({ LV_ENDO: ['s03'] }));
+    expect(stale.title).toMatch(/: LV_ENDO and LV_EPI were last run with other parameters; run them again/);
+    // An RV id: neither LV mesh was run without it.
+    expect(wallReadiness(surfaces, (s) => kept[s], key(['s07', 'r1'])).title).toMatch(/: LV_ENDO and LV_EPI were last run with other parameters/);
+    // One run again with the new list: the other is still stale.
+    const half: Record<string, ReturnType<typeof mesh>> = { ...kept, LV_ENDO: mesh('LV_ENDO', key(['s07', 'r1'])) };
+    expect(wallReadiness(surfaces, (s) => half[s], key(['r1', 's07'])).title).toMatch(/: LV_EPI was last run with other parameters; run it again/);
+    // The key changes with the list (a wall built of other meshes is not shown as this one).
+    const kept2: Record<string, ReturnType<typeof mesh>> = { LV_ENDO: mesh('LV_ENDO', key(['s03'])), LV_EPI: mesh('LV_EPI', key(['s03'])) };
+    const again = wallReadiness(surfaces, (s) => kept2[s], key(['s03']));
     expect(again.ready && ready.ready && again.key !== ready.key).toBe(true);
-    const biv = bivWallReadiness(['LV_ENDO', 'RV_ENDO', 'BIV_EPI'], (s) => mesh(s, s === 'RV_ENDO' ? `base${leaveOutKeyPart(['r1'])}` : 'base'), want({ RV_ENDO: ['r1'] }));
-    expect(biv.ready).toBe(true);
-    expect(bivWallReadiness(['LV_ENDO', 'RV_ENDO', 'BIV_EPI'], (s) => mesh(s, 'base'), want({ RV_ENDO: ['r1'] })).title).toMatch(/RV_ENDO was last run with other parameters/);
+    const biv = ['LV_ENDO', 'RV_ENDO', 'BIV_EPI'];
+    expect(bivWallReadiness(biv, (s) => mesh(s, key(['s07'])), key(['s07'])).ready).toBe(true);
+    expect(bivWallReadiness(biv, (s) => mesh(s, s === 'RV_ENDO' ? key(['s07']) : key([])), key(['s07'])).title).toMatch(/: LV_ENDO and BIV_EPI were last run with other parameters/);
   });
 });
 

@@ -50,6 +50,11 @@ function mayBeLabelMap(bytes: ArrayBuffer): boolean {
   return (head.getUint8(0) === 0x1f && head.getUint8(1) === 0x8b) || head.getInt32(0, true) === 348 || head.getInt32(0, false) === 348;
 }
 
+/** Whether two readings are of the same frame (null: a file's only reading, or each contour's first). */
+function sameReading(a: string | null, b: string | null): boolean {
+  return a === null || b === null ? a === b : sameFrame(a, b);
+}
+
 /** Said of a stack refused because of a long-axis view read with it. */
 const stackNotOpened = (stack: string) => `Its stack ${stack} is not opened either`;
 
@@ -123,7 +128,7 @@ export class Controller {
   private readonly readings = new Map<string, number>();
   /** What colours a wall shown in the view (the view panel's Wall colour): kept from one wall to the next. */
   private wallColouring: WallColouring = 'thickness';
-  /** The contours the user left out, per file, frame and surface (the Contours panel; never in the URL). */
+  /** The contours the user left out, one list per file and frame, every surface's (the Contours panel; never in the URL). */
   private readonly leftOut = new LeaveOutLists();
   private readonly leaveOutListeners: (() => void)[] = [];
 
@@ -421,11 +426,10 @@ export class Controller {
 
   /**
    * A saved session brings the settings it was made with: they replace the current ones; the
-   * contours it had left out are left out of its surface again (of `file`, as read).
+   * contours it had left out (of any surface) are the list of `file` as read.
    */
   private applySession(session: SessionSettings, file: LoadedFile): void {
-    const ids = session.leave_out ?? [];
-    if (ids.length > 0) this.leftOut.set({ file: file.fileName, frame: namedFrame(file), surface: file.surfaces.length ? session.surface : null }, ids);
+    this.leftOut.set({ file: file.fileName, frame: namedFrame(file) }, session.leave_out ?? []);
     this.params = { ...defaultParams(this.schema), ...session.params };
     this.lids = session.lids;
     this.options = withDefaultOptions(session.options);
@@ -646,20 +650,10 @@ export class Controller {
     if (!plan) return null;
     // A phase that is a file is the worker's reading of it (its frame, its views, dropped anew).
     const readings = plan.kind === 'files' ? plan.phases.map((p) => [this.readings.get(p.file) ?? 0, this.files.get(p.file)?.timeFrames?.read ?? null]) : [this.readings.get(plan.phases[0].file) ?? 0];
-    // Each phase leaves out what the Contours panel left out of its file and frame (any surface:
-    // the core applies an id to the surface that has it), so its volumes are the runs' on screen.
-    const lists = [...new Set(plan.phases.map((p) => p.file))].flatMap((f) => this.leftOut.listsOf(f));
-    const frameOf = (p: PhaseSpec) => (p.frame !== undefined ? p.frame : namedFrame(this.files.get(p.file) ?? null));
-    const ofPhase = (p: PhaseSpec) => {
-      const frame = frameOf(p);
-      const mine = lists.filter((l) => l.key.file === p.file && (l.key.frame === null || frame === null ? l.key.frame === frame : sameFrame(l.key.frame, frame)));
-      return { lists: mine, ids: [...new Set(mine.flatMap((l) => l.ids))] };
-    };
-    const phases = plan.phases.map((p) => {
-      const { ids } = ofPhase(p);
-      return ids.length > 0 ? { ...p, leave_out: ids } : p;
-    });
-    const applied = plan.phases.flatMap((p) => ofPhase(p).lists.map((l) => ({ ...l.key, ids: l.ids })));
+    // Each phase leaves out what the Contours panel left out of its file and frame, so its volumes
+    // are the runs' on screen.
+    const applied = plan.phases.map((p) => this.leftOutOfPhase(p));
+    const phases = plan.phases.map((p, i) => (applied[i].ids.length > 0 ? { ...p, leave_out: applied[i].ids } : p));
     return {
       plan: { ...plan, phases },
       params: { ...this.params },
@@ -669,6 +663,22 @@ export class Controller {
       leftOutNote: leftOutNote(applied),
       settingsKey: JSON.stringify([schemaOrdered(this.params, this.schema), this.lids, Object.entries(this.options).sort(([a], [b]) => a.localeCompare(b)), phases.map((p) => p.leave_out ?? [])]),
     };
+  }
+
+  /**
+   * The list of phase `p`'s file and frame, as far as its contours are known: an id its contours
+   * lack would fail every cell of the phase (the core's `unknown_contour`), while the CLI's
+   * `volumes` leaves each phase the ids it has. The app knows the contours of each file's reading
+   * on screen; a list of another frame of a sequence was made while that frame was read, of its
+   * contours.
+   */
+  private leftOutOfPhase(p: PhaseSpec): { file: string; frame: string | null; ids: string[] } {
+    const file = this.files.get(p.file) ?? null;
+    const reading = namedFrame(file);
+    const frame = p.frame !== undefined ? p.frame : reading;
+    const ids = this.leftOut.listsOf(p.file).filter((l) => sameReading(l.key.frame, frame)).flatMap((l) => l.ids);
+    const known = file && sameReading(reading, frame) ? new Set(file.contours.map((c) => c.id)) : null;
+    return { file: p.file, frame, ids: [...new Set(ids)].filter((id) => known === null || known.has(id)) };
   }
 
   /** Called whenever `functionContext` may have changed (files, frames, parameters). */
@@ -687,57 +697,65 @@ export class Controller {
 
   // ---- contours left out by the user (the Contours panel) -------------------------------------
 
-  /** The time frame the current file is read as, as the leave-out lists are keyed (null: its only one). */
-  private leaveOutFrame(): string | null {
-    return namedFrame(this.currentFile());
-  }
-
-  /** The key of `surface`'s list in the current file and frame (null: no file). */
-  private leaveOutKey(surface: string | null): LeaveOutKey | null {
+  /** The key of the current file and frame's list (null: no file). */
+  private leaveOutKey(): LeaveOutKey | null {
     const file = this.currentFile();
-    return file ? { file: file.fileName, frame: namedFrame(file), surface: file.surfaces.length ? surface : null } : null;
+    return file ? { file: file.fileName, frame: namedFrame(file) } : null;
   }
 
-  /** The ids left out of `surface` of the current file and frame ([] without a file). */
-  private leaveOutOf(surface: string | null): string[] {
-    const key = this.leaveOutKey(surface);
+  /**
+   * The ids the user left out of the current file and frame, whatever their surface: what the
+   * next run of any of its surfaces leaves out, as the CLI's `--leave-out` ([] without a file).
+   */
+  leaveOutNow(): string[] {
+    const key = this.leaveOutKey();
     return key ? this.leftOut.get(key) : [];
   }
 
-  /** The ids the user left out of the current surface: what the next run leaves out. */
-  leaveOutNow(): string[] {
-    return this.leaveOutOf(this.surface);
+  /** The current surface's contours (the Contours panel's rows) in file order: id and the core's SAX/LAX split at load. */
+  private surfaceContours(file: LoadedFile): { id: string; kind: ContourKindName | null }[] {
+    const surface = file.surfaces.length ? this.surface : null;
+    return file.contours.filter((c) => partOf(c.surface, surface)).map((c) => ({ id: c.id, kind: c.kind }));
   }
 
   /**
-   * What the Contours panel is about: the current file, frame and surface as one key, the ids left
-   * out of it and its contours in file order (id and the core's SAX/LAX split at load; null
-   * without a file).
+   * What the Contours panel is about: the current file, frame and surface as one key (its rows
+   * are of one surface), the ids of its contours left out and its contours (null without a file).
    */
   contourContext(): { key: string; leaveOut: string[]; fileContours: { id: string; kind: ContourKindName | null }[] } | null {
     const file = this.currentFile();
-    const key = this.leaveOutKey(this.surface);
+    const key = this.leaveOutKey();
     if (!file || !key) return null;
-    const fileContours = file.contours.filter((c) => partOf(c.surface, key.surface)).map((c) => ({ id: c.id, kind: c.kind }));
-    return { key: JSON.stringify(key), leaveOut: this.leftOut.get(key), fileContours };
+    const fileContours = this.surfaceContours(file);
+    const mine = new Set(fileContours.map((c) => c.id));
+    const surface = file.surfaces.length ? this.surface : null;
+    return { key: JSON.stringify({ ...key, surface }), leaveOut: this.leftOut.get(key).filter((id) => mine.has(id)), fileContours };
   }
 
   /**
-   * Leaves contour `id` of the current surface out (`out`) or puts it back, then runs again as a
-   * parameter change does (debounced, the run in progress cancelled; an "All" still queued dropped).
+   * Leaves contour `id` out of the current file and frame (`out`) or puts it back, then runs again
+   * as a parameter change does (debounced, the run in progress cancelled; an "All" still queued
+   * dropped). Every surface's next run leaves it out.
    */
   setLeftOut(id: string, out: boolean): void {
-    const key = this.leaveOutKey(this.surface);
+    const key = this.leaveOutKey();
     if (!key || !this.leftOut.toggle(key, id, out)) return;
     this.leaveOutChanged();
   }
 
-  /** Puts every contour left out of the current surface back, in one run. */
+  /**
+   * Puts back, in one run, every contour left out but those of the file's other surfaces: the
+   * Contours panel's rows are the current surface's, and an id no contour of this reading has
+   * (a session's) is no other surface's choice to keep.
+   */
   useAllContours(): void {
-    const key = this.leaveOutKey(this.surface);
-    if (!key || this.leftOut.get(key).length === 0) return;
-    this.leftOut.set(key, []);
-    this.leaveOutChanged();
+    const file = this.currentFile();
+    const key = this.leaveOutKey();
+    if (!file || !key) return;
+    const mine = new Set(this.surfaceContours(file).map((c) => c.id));
+    const others = new Set(file.contours.map((c) => c.id).filter((id) => !mine.has(id)));
+    const back = this.leftOut.get(key).filter((id) => !others.has(id));
+    if (this.leftOut.putBack(key, back)) this.leaveOutChanged();
   }
 
   private leaveOutChanged(): void {
@@ -774,9 +792,9 @@ export class Controller {
       this.renderWarnings();
     }
     this.parts.result.clear('running…');
-    const leaveOut = this.leaveOutOf(settings.surface);
+    const leaveOut = this.leaveOutNow();
     const handle = client.run(leaveOut.length > 0 ? { ...settings, leaveOut } : settings, (f) => this.onFrame(f));
-    this.active = { runId: handle.runId, cancel: () => handle.cancel(), settings: this.settingsKeyOf(settings.surface, settings) };
+    this.active = { runId: handle.runId, cancel: () => handle.cancel(), settings: this.settingsKeyOf(settings) };
     this.dispatch({ type: 'run', runId: handle.runId });
     handle.done.then(
       (r) => this.onDone(r),
@@ -902,12 +920,13 @@ export class Controller {
   }
 
   /**
-   * What a run of `surface` would be run with now (the settings in the panel, or `s`, and the
-   * contours left out of that surface), as kept meshes record theirs.
+   * What a run of any surface would be run with now (the settings in the panel, or `s`, and the
+   * file and frame's whole leave-out list), as kept meshes record theirs: a changed list leaves
+   * every surface's kept run stale, as a changed parameter does.
    */
-  private settingsKeyOf(surface: string | null, s?: { params: ParamValues; lids: LidsMode; options: ReconOptions }): string {
+  private settingsKeyOf(s?: { params: ParamValues; lids: LidsMode; options: ReconOptions }): string {
     const { params, lids, options } = s ?? { params: this.params, lids: this.lids, options: this.options };
-    return settingsKey(params, lids, options) + leaveOutKeyPart(this.leaveOutOf(surface));
+    return settingsKey(params, lids, options) + leaveOutKeyPart(this.leaveOutNow());
   }
 
   /**
@@ -916,7 +935,7 @@ export class Controller {
    */
   wallReadiness(): WallReadiness {
     const file = this.currentFile();
-    return wallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), (s) => this.settingsKeyOf(s));
+    return wallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), this.settingsKeyOf());
   }
 
   /**
@@ -926,7 +945,7 @@ export class Controller {
    */
   bivWallReadiness(): BivWallReadiness {
     const file = this.currentFile();
-    return bivWallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), (s) => this.settingsKeyOf(s));
+    return bivWallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), this.settingsKeyOf());
   }
 
   /** Tells the export panel whether the LV and biventricular walls can be built now (the file, its runs or the settings changed). */
@@ -945,9 +964,9 @@ export class Controller {
     const info = this.exportInfo();
     if (!w.ready || !settings || !info || !this.client) return null;
     const mesh = (m: KeptMesh) => ({ surface: m.surface, positions: m.positions64 ?? Float64Array.from(m.positions), indices: m.indices });
-    // Each mesh was run with its own surface's list (readiness checks it); the core takes each
-    // surface's ids from the union, so the base plane is cut of the contours the meshes follow.
-    const leaveOut = this.leftOut.union(settings.fileName, this.leaveOutFrame(), [w.endo.surface, w.epi.surface]);
+    // Both meshes were run with the file and frame's list (readiness checks it): the base plane
+    // is cut of the contours they follow.
+    const leaveOut = this.leaveOutNow();
     const now = { ...info, params: schemaOrdered(this.params, this.schema), lids: this.lids, options: this.options, leaveOut };
     return this.client.wallFile({ ...settings, leaveOut }, {
       endo: mesh(w.endo as KeptMesh),
@@ -969,7 +988,7 @@ export class Controller {
     const info = this.exportInfo();
     if (!w.ready || !settings || !info || !this.client) return null;
     const mesh = (m: KeptMesh) => ({ surface: m.surface, positions: m.positions64 ?? Float64Array.from(m.positions), indices: m.indices });
-    const leaveOut = this.leftOut.union(settings.fileName, this.leaveOutFrame(), [w.lvEndo.surface, w.rvEndo.surface, w.bivEpi.surface]);
+    const leaveOut = this.leaveOutNow();
     const now = { ...info, params: schemaOrdered(this.params, this.schema), lids: this.lids, options: this.options, leaveOut };
     return this.client.bivWallFile({ ...settings, leaveOut }, {
       lvEndo: mesh(w.lvEndo as KeptMesh),
@@ -1101,18 +1120,19 @@ export class Controller {
       options: r?.options ?? this.options,
       params: schemaOrdered(r ? r.params : this.params, this.schema),
       // What the run on screen left out at the user's request (before its result: what the next run will).
-      leaveOut: r?.leave_out ?? this.leaveOutOf(r ? r.surface : this.surface),
+      leaveOut: r?.leave_out ?? this.leaveOutNow(),
     };
   }
 
   /**
    * The current file as a heartmesh session (its contours with the settings now in the panel:
-   * parameters, mesh ends, options, surface), to open again later; null without a file.
+   * parameters, mesh ends, options, surface, and every surface's contours left out), to open
+   * again later; null without a file.
    */
   sessionFile(): Promise<Uint8Array> | null {
     const settings = this.runSettings();
     if (!settings || !this.client) return null;
-    const leaveOut = this.leaveOutOf(settings.surface);
+    const leaveOut = this.leaveOutNow();
     return this.client.sessionFile(leaveOut.length > 0 ? { ...settings, leaveOut } : settings, this.appVersion);
   }
 

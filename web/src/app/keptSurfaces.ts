@@ -19,10 +19,11 @@ export interface KeptMesh {
 
 /**
  * What a run was run with, as one string: two runs compare like for like when theirs are equal.
- * The surface itself is not part of it.
+ * The surface itself is not part of it; the contours left out are (in any order): the file's one
+ * list is every surface's, so a run before a change to it is not like for like.
  */
-export function runSignature(r: { params: unknown; lids: unknown; options: unknown }): string {
-  return JSON.stringify([r.params, r.lids, r.options]);
+export function runSignature(r: { params: unknown; lids: unknown; options: unknown; leave_out?: readonly string[] }): string {
+  return JSON.stringify([r.params, r.lids, r.options, [...(r.leave_out ?? [])].sort()]);
 }
 
 /**

@@ -146,7 +146,7 @@ export interface PhaseSpec {
   name: string;
   file: string;
   frame?: string;
-  /** Contours the user left out of this phase (the Contours panel's lists of its file and frame); absent: none. */
+  /** Contours the user left out of this phase (the Contours panel's list of its file and frame, the ids it has); absent: none. */
   leave_out?: string[];
 }
 

@@ -40,8 +40,8 @@ export interface RunRequest {
   /** Missing: the core's defaults. */
   options?: ReconOptions;
   /**
-   * Contour ids the user left out of this (file, surface) (the Contours panel); missing or empty:
-   * none. Sent in the params JSON as `leave_out` (protocolOptions `paramsJson`); a separate field,
+   * Contour ids the user left out of this file and frame, any surface's (the Contours panel);
+   * missing or empty: none. Sent in the params JSON as `leave_out` (protocolOptions `paramsJson`); a separate field,
    * not an option, because the ids belong to one file while the options hold for any.
    */
   leaveOut?: string[];
@@ -85,7 +85,7 @@ export interface WallExportRequest {
   params: ParamValues;
   lids: LidsMode;
   options?: ReconOptions;
-  /** The ids left out of the runs of both surfaces (the core takes each surface's own): the base plane's contours. */
+  /** The file and frame's leave-out list, which both meshes were run with: the base plane's contours. */
   leaveOut?: string[];
   endo: WallSurfaceMesh;
   epi: WallSurfaceMesh;
@@ -108,7 +108,7 @@ export interface BivWallExportRequest {
   params: ParamValues;
   lids: LidsMode;
   options?: ReconOptions;
-  /** The ids left out of the runs of the three surfaces (the core takes each surface's own): the base plane's contours. */
+  /** The file and frame's leave-out list, which the three meshes were run with: the base plane's contours. */
   leaveOut?: string[];
   lvEndo: WallSurfaceMesh;
   rvEndo: WallSurfaceMesh;

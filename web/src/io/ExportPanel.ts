@@ -232,7 +232,7 @@ export class ExportPanel {
       { name: current, mesh: { positions: r.positions, indices: r.indices } },
       ...others.map((m) => ({ name: m.surface, mesh: m })),
     ];
-    // Each surface's own contours left out (the header's leave_out is this run's).
+    // What each surface's last run left out (the header's leave_out is this run's; an older run may predate a change to the list).
     const leftOut = (m: { leaveOut?: readonly string[] }) => (m.leaveOut?.length ? `, leave_out=${m.leaveOut.join(',')}` : '');
     const notes = [`objects: ${current} (this run, with the parameters above)${others.map((m) => `, ${m.surface} (its last run${leftOut(m)})`).join('')}`];
     download(writeObjSurfaces(parts, info, notes), `${exportBaseName({ ...info, surface: null })}-surfaces.obj`, 'model/obj');

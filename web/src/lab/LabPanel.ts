@@ -710,7 +710,7 @@ export class LabPanel {
 
   // ---- messages -------------------------------------------------------------------------------
 
-  /** The contours left out of the surface in the Contours panel: out of the lab's rebuilds too, as of the run on screen. */
+  /** The contours left out of the file and frame in the Contours panel: out of the lab's rebuilds too, as of the run on screen. */
   private leaveOutNow(): string[] {
     return this.deps.controller.leaveOutNow?.() ?? [];
   }

@@ -2,8 +2,8 @@
  * The Contours panel (right column, between the result and the exports): one row per contour of
  * the run's surface, with a "use" box, its id, SAX/LAX, its points and the mean and max distance of
  * its points to the mesh (mm, the max with a swatch in the contour legend's colours), so a user
- * sees which contour the mesh misses. Unticking a row leaves that contour out and runs again, as
- * a parameter change does; contours the core left out (strays, specks) are listed greyed with the
+ * sees which contour the mesh misses. Unticking a row leaves that contour out of the file (every
+ * surface's runs, as the CLI's `--leave-out`) and runs again, as a parameter change does; contours the core left out (strays, specks) are listed greyed with the
  * reason, their box disabled (Keep specks and strays uses them). A row left out shows, in italics
  * and without a swatch (the colour scale is that of the contours used), how far the mesh built
  * without it passes: for one the user left out, its held-out figure, whether the others agree
@@ -34,13 +34,13 @@ import { h } from './dom';
 export interface ContourTableHost {
   /**
    * The run on screen's file, frame and surface as one key (rows of another key are cleared, not
-   * kept stale), the ids the user left out of it, and its contours in file order (id, kind); null
-   * without a file.
+   * kept stale), the ids of its contours the user left out, and its contours in file order (id,
+   * kind); null without a file.
    */
   context(): { key: string; leaveOut: readonly string[]; fileContours: readonly FileContour[] } | null;
-  /** Leaves `id` out of the current surface (`out`) or puts it back, and runs again. */
+  /** Leaves `id` out of the file and frame (`out`: every surface's runs) or puts it back, and runs again. */
   setLeftOut(id: string, out: boolean): void;
-  /** Puts every contour the user left out back, in one run. */
+  /** Puts back, in one run, the contours of this surface the user left out (other surfaces' stay out). */
   useAll(): void;
   /** Highlights contour `id` in the 3D view (null: none). */
   highlight(id: string | null): void;
@@ -59,7 +59,7 @@ interface Shown {
   info: ExportInfo | null;
 }
 
-const USE_ALL_TITLE = 'Use every contour you left out again (one run)';
+const USE_ALL_TITLE = "Use every contour of this surface you left out again (one run); those you left out of the file's other surfaces stay out";
 const CSV_TITLE = 'The table as CSV: one row per contour, distances in mm';
 
 /** The sortable columns: the class that sizes each (table-layout: fixed), its heading and what it holds. */

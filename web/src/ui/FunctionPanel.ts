@@ -31,8 +31,8 @@ export interface FunctionContext {
   settingsKey: string;
   /**
    * Said when contours of these phases were left out in the Contours panel (functionText
-   * `leftOutNote`): the measurement leaves them out too (each phase's `leave_out`). Absent or
-   * null: none were.
+   * `leftOutNote`): the measurement leaves them out too (each phase's `leave_out`: its file and
+   * frame's list, every surface's). Absent or null: none were.
    */
   leftOutNote?: string | null;
 }

@@ -65,24 +65,23 @@ export function volumesCsv(items: readonly PhaseItem[]): string {
   return ['phase,surface,volume_ml,watertight,contour_to_mesh_mean_mm,seconds', ...rows].join('\n') + '\n';
 }
 
-/** Contours the user left out of one (file, frame, surface), as the Function panel names them. */
+/** Contours the user left out of one file and frame (any surface), as the Function panel names them. */
 export interface LeftOutList {
   file: string;
   frame: string | null;
-  surface: string | null;
   ids: readonly string[];
 }
 
 /**
  * What the Function panel says when contours were left out in the Contours panel of the phases it
- * measures: they are left out of those phases here too (each phase gets its file and frame's
- * lists), and the table's volumes are said to follow the panel, since they differ from a
- * measurement of every contour. Null when none were left out.
+ * measures: each phase leaves out its file and frame's list, as every run of it does, so the
+ * table's volumes are said to follow the panel (they differ from a measurement of every contour).
+ * Null when none were left out.
  */
 export function leftOutNote(lists: readonly LeftOutList[]): string | null {
   const used = lists.filter((l) => l.ids.length > 0);
   if (used.length === 0) return null;
   const n = used.reduce((k, l) => k + l.ids.length, 0);
-  const where = used.map((l) => `${[l.file, l.frame !== null ? `frame ${l.frame}` : '', l.surface ?? ''].filter(Boolean).join(' ')}: ${l.ids.join(', ')}`).join('; ');
-  return `Left out here too, as in the Contours panel: ${n === 1 ? 'one contour' : `${n} contours`} (${where})`;
+  const where = used.map((l) => `${l.file}${l.frame !== null ? ` frame ${l.frame}` : ''}: ${l.ids.join(', ')}`).join('; ');
+  return `Left out, as in the Contours panel: ${n === 1 ? 'one contour' : `${n} contours`} (${where})`;
 }

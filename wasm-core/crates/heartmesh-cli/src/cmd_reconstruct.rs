@@ -70,8 +70,10 @@ pub const USAGE: &str =
   set_aside; --keep-specks keeps them (the paper's method);
   --leave-out ID[,ID...] (repeatable): leave out the contours of those ids (a slice drawn badly,
   a view from another phase; ids as `heartmesh info` or the report's per_contour name them),
-  before the rules above; the report's set_aside lists them (reason by_user) and a note names
-  them; an id no contour of the file has is an error; one of another surface is ignored there;
+  before the rules above; the report's set_aside lists them (reason by_user) with how far the
+  mesh passes from each (mean, median, max in mm: leave-one-out's figures for it) and a note
+  names them with those; an id no contour of the file has is an error; one of another surface
+  is ignored there (volumes: an id only some phases have is left out of those);
   --lids apex puts the apex lid at the file's apex landmark (biv-me GPFiles: APEX_POINT, or
   APEX_ENDO_POINT / APEX_EPI_POINT for the endo- / epicardial surfaces);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).

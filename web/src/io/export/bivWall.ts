@@ -10,7 +10,7 @@
 import type { WallFormat, WallSummary } from '../../core-client/protocol';
 import { BIV_EPI } from '../../core-client/derivedSurfaces';
 import { exportBaseName, headerLines, type ExportInfo } from './header';
-import { settingsFor, type WallMesh, type WantedSettings } from './wall';
+import type { WallMesh } from './wall';
 
 /** The surfaces the biventricular wall is made of (matched to the file's names whatever their case). */
 export const BIV_LV_ENDO = 'LV_ENDO';
@@ -42,11 +42,11 @@ function andList(names: readonly string[]): string {
 /**
  * Whether the biventricular wall can be built now: the file (`surfaces`: its surfaces, BIV_EPI
  * among them when the core can join it; null: no file) has LV_ENDO, RV_ENDO and BIV_EPI, and the
- * kept mesh of each (`kept`) was run with the settings in the panel (`settings`, with each
- * surface's contours left out). The title says what is missing; `key` changes whenever the
- * meshes the wall would be built of do.
+ * kept mesh of each (`kept`) was run with the settings in the panel (`settings`: the controller's
+ * key, the file and frame's contours left out by the user among them). The title says what is
+ * missing; `key` changes whenever the meshes the wall would be built of do.
  */
-export function bivWallReadiness(surfaces: readonly string[] | null, kept: (surface: string) => WallMesh | undefined, settings: WantedSettings): BivWallReadiness {
+export function bivWallReadiness(surfaces: readonly string[] | null, kept: (surface: string) => WallMesh | undefined, settings: string): BivWallReadiness {
   if (surfaces === null) return { ready: false, title: `${WHAT}: open a file with LV_ENDO, RV_ENDO, LV_EPI and RV_EPI contours`, key: '' };
   const find = (wanted: string) => surfaces.find((s) => s.toUpperCase() === wanted);
   const wanted = [BIV_LV_ENDO, BIV_RV_ENDO, BIV_EPI];
@@ -69,8 +69,7 @@ export function bivWallReadiness(surfaces: readonly string[] | null, kept: (surf
     return { ready: false, title: `${WHAT}: ${run} ${how(missing)}`, key: '' };
   }
   const [lvEndo, rvEndo, bivEpi] = meshes as [WallMesh, WallMesh, WallMesh];
-  const want = settingsFor(settings);
-  const stale = [lvEndo, rvEndo, bivEpi].filter((m) => m.settings !== want(m.surface)).map((m) => m.surface);
+  const stale = [lvEndo, rvEndo, bivEpi].filter((m) => m.settings !== settings).map((m) => m.surface);
   if (stale.length > 0) {
     const were = stale.length === 1 ? `${stale[0]} was` : `${andList(stale)} were`;
     return { ready: false, title: `${WHAT}: ${were} last run with other parameters; run ${stale.length === 1 ? 'it' : 'them'} again with these ${how(stale)}`, key: '' };
@@ -82,7 +81,7 @@ export function bivWallReadiness(surfaces: readonly string[] | null, kept: (surf
     rvEndo,
     bivEpi,
     title: `${WHAT} (their last runs, with these parameters); regions epicardium, lv_endocardium, rv_endocardium, base; wall thickness per vertex (mm)`,
-    key: JSON.stringify([...[lvEndo, rvEndo, bivEpi].map((m) => want(m.surface)), ...size(lvEndo), ...size(rvEndo), ...size(bivEpi)]),
+    key: JSON.stringify([settings, ...size(lvEndo), ...size(rvEndo), ...size(bivEpi)]),
   };
 }
 

@@ -37,23 +37,12 @@ const WHAT = 'The LV wall: the LV_ENDO and LV_EPI meshes cut at the base and joi
 const RUN_THEM = '(Surface menu, or All)';
 
 /**
- * The settings a surface's kept mesh must have been run with: one key for all, or each surface's
- * own (the panel's settings and that surface's contours left out by the user: app/leaveOut.ts).
- */
-export type WantedSettings = string | ((surface: string) => string);
-
-/** `settings` as a function of the surface. */
-export function settingsFor(settings: WantedSettings): (surface: string) => string {
-  return typeof settings === 'string' ? () => settings : settings;
-}
-
-/**
  * Whether the wall can be built now: the file (`surfaces`: its surfaces; null: no file) has both,
- * and the kept mesh of each (`kept`) was run with the settings in the panel (`settings`, with
- * that surface's contours left out). The title says what is missing; `key` changes whenever the
- * meshes the wall would be built of do.
+ * and the kept mesh of each (`kept`) was run with the settings in the panel (`settings`: the
+ * controller's key, the file and frame's contours left out by the user among them). The title
+ * says what is missing; `key` changes whenever the meshes the wall would be built of do.
  */
-export function wallReadiness(surfaces: readonly string[] | null, kept: (surface: string) => WallMesh | undefined, settings: WantedSettings): WallReadiness {
+export function wallReadiness(surfaces: readonly string[] | null, kept: (surface: string) => WallMesh | undefined, settings: string): WallReadiness {
   if (surfaces === null) return { ready: false, title: `${WHAT}: open a file with LV_ENDO and LV_EPI contours`, key: '' };
   const find = (wanted: string) => surfaces.find((s) => s.toUpperCase() === wanted);
   const names = [find(WALL_ENDO), find(WALL_EPI)];
@@ -67,8 +56,7 @@ export function wallReadiness(surfaces: readonly string[] | null, kept: (surface
   if (missing.length === 2) return { ready: false, title: `${WHAT}: run ${endoName} and ${epiName} first ${RUN_THEM}`, key: '' };
   if (missing.length === 1) return { ready: false, title: `${WHAT}: run ${missing[0]} too ${RUN_THEM}`, key: '' };
   const [endo, epi] = meshes as [WallMesh, WallMesh];
-  const want = settingsFor(settings);
-  const stale = [endo, epi].filter((m) => m.settings !== want(m.surface)).map((m) => m.surface);
+  const stale = [endo, epi].filter((m) => m.settings !== settings).map((m) => m.surface);
   if (stale.length > 0) {
     const were = stale.length === 1 ? `${stale[0]} was` : `${stale.join(' and ')} were`;
     return { ready: false, title: `${WHAT}: ${were} last run with other parameters; run ${stale.length === 1 ? 'it' : 'them'} again with these ${RUN_THEM}`, key: '' };
@@ -78,7 +66,7 @@ export function wallReadiness(surfaces: readonly string[] | null, kept: (surface
     endo,
     epi,
     title: `${WHAT} (their last runs, with these parameters); regions epicardium, endocardium, base; wall thickness per vertex (mm)`,
-    key: JSON.stringify([want(endo.surface), want(epi.surface), endo.surface, endo.positions.length, endo.indices.length, epi.surface, epi.positions.length, epi.indices.length]),
+    key: JSON.stringify([settings, endo.surface, endo.positions.length, endo.indices.length, epi.surface, epi.positions.length, epi.indices.length]),
   };
 }
 
