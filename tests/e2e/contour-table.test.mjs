@@ -7,7 +7,10 @@
 // without it passes (s07_LAX: mean 1.83, max 7.66 mm, the Lab's leave-one-out figures for it), a
 // click on the max header sorts the rows by it both ways and back to the file's order, the
 // panel's CSV holds the table's figures in its order, the exports and a saved session record it, the session opened again leaves it out again, and
-// ticking it back (or Use all) gives the first mesh again to the last digit.
+// ticking it back (or Use all) gives the first mesh again to the last digit. One list serves
+// every surface of the file, as the CLI's --leave-out: with Align breath-holds on, the LV_ENDO
+// contour left out is out of the RV_ENDO run's alignment too (its volume the CLI's, computed by
+// tests/node/leaveOutFile.test.ts), and without alignment the RV mesh is the one of every contour.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { tmpdir } from 'node:os';
@@ -315,7 +318,7 @@ describe('the Contours panel', () => {
     const target = 's07_LAX_LV_ENDOCARDIAL';
     await runAndWait(page, () => page.uncheck(`${row(target)} [data-testid=contour-use]`), 120000);
     const onScreen = (await mesh()).volumeMl;
-    assert.match((await page.textContent('[data-testid=function-left-out]')) ?? '', new RegExp(`^Left out here too, as in the Contours panel: one contour \\(${edFile} LV_ENDO: ${target}\\)$`));
+    assert.match((await page.textContent('[data-testid=function-left-out]')) ?? '', new RegExp(`^Left out, as in the Contours panel: one contour \\(${edFile}: ${target}\\)$`));
     await page.click('[data-testid=function-measure]');
     await page.waitForFunction((sel) => document.querySelector(sel)?.getAttribute('data-state') === 'done', FN, { timeout: 240000, polling: 100 });
     const cells = await page.$$eval('[data-testid=function-table] td', (tds) => tds.map((t) => [t.getAttribute('data-phase'), t.getAttribute('data-surface'), Number(t.getAttribute('data-volume-ml'))]));
@@ -334,5 +337,60 @@ describe('the Contours panel', () => {
     await runAndWait(page, () => page.check(`${row(target)} [data-testid=contour-use]`), 120000);
     assert.equal(await page.getAttribute(FN, 'data-stale'), '1');
     assert.equal(await page.isVisible('[data-testid=function-left-out]'), false);
+  });
+
+  it('one list per file: an LV_ENDO contour left out is out of the RV_ENDO run and its alignment (the CLI\'s volume)', async () => {
+    // `heartmesh reconstruct patient1-ED.csv --surface RV_ENDO --align-slices [--leave-out ID]`
+    // (native, checked against the wasm to 1e-9 by tests/node/leaveOutFile.test.ts); without
+    // alignment the RV volume is 180.58335233874627 ml with or without the LV contour.
+    const CLI_RV_ALIGNED_LV_OUT = 184.55066356419542;
+    const CLI_RV_ALIGNED = 186.71618445830683;
+    const CLI_RV = 180.58335233874627;
+    const target = 's07_LAX_LV_ENDOCARDIAL';
+    const SURFACE = '[data-testid=surface-picker]';
+    const marked = () => page.getAttribute('[data-testid=other-surfaces-legend]', 'data-other-settings');
+    await gotoEmpty(page, server.url);
+    await runAndWait(page, () => page.click('[data-testid=sample-patient1-ED]'), 120000);
+    await runAndWait(page, () => page.check('[data-testid=param-align-slices]'), 120000);
+    await runAndWait(page, () => page.selectOption(SURFACE, 'RV_ENDO'), 120000);
+    const every = await mesh();
+    assert.deepEqual(every.leaveOut, []);
+    assert.ok(Math.abs(every.volumeMl - CLI_RV_ALIGNED) < 1e-6, `RV aligned, every contour: ${every.volumeMl} vs CLI ${CLI_RV_ALIGNED}`);
+
+    // Left out in the LV_ENDO panel: the kept RV run (the Other surfaces key) was run with it in, as with another parameter.
+    await runAndWait(page, () => page.selectOption(SURFACE, 'LV_ENDO'), 120000);
+    await page.check('[data-testid=view-others]');
+    assert.equal(await marked(), '');
+    await runAndWait(page, () => page.uncheck(`${row(target)} [data-testid=contour-use]`), 120000);
+    assert.deepEqual((await mesh()).leaveOut, [target]);
+    assert.equal(await marked(), 'RV_ENDO');
+
+    // RV_ENDO run: its leave_out holds the LV id; nothing of its own is unticked, so no Use all.
+    await runAndWait(page, () => page.selectOption(SURFACE, 'RV_ENDO'), 120000);
+    const rv = await mesh();
+    const table = await readTable();
+    console.log(`# RV_ENDO aligned: ${every.volumeMl} ml, ${rv.volumeMl} ml with ${target} left out (CLI ${CLI_RV_ALIGNED_LV_OUT})`);
+    assert.deepEqual(rv.leaveOut, [target]);
+    assert.deepEqual(rv.setAside.filter(([, reason]) => reason === 'by_user'), []);
+    assert.ok(Math.abs(rv.volumeMl - CLI_RV_ALIGNED_LV_OUT) < 1e-6, `${rv.volumeMl} vs CLI ${CLI_RV_ALIGNED_LV_OUT}`);
+    assert.ok(Math.abs(rv.volumeMl - every.volumeMl) > 2, 'out of the alignment: another RV mesh');
+    assert.equal(table.count, '16');
+    assert.ok(table.rows.every((r) => r.checked), 'the RV panel lists its own contours, all used');
+    assert.equal(table.useAllHidden, true);
+    assert.equal(await marked(), '', 'the LV_ENDO ghost was run with the same list');
+    // The exports and a session saved from RV_ENDO record it.
+    const json = JSON.parse((await downloadFrom(page, 'export-json')).bytes.toString('utf8'));
+    assert.deepEqual([json.surface, json.leave_out], ['RV_ENDO', [target]]);
+    assert.match((await downloadFrom(page, 'export-obj')).bytes.toString('utf8'), new RegExp(`^# lids: auto .* leave_out=${target}$`, 'm'));
+    const saved = JSON.parse((await downloadFrom(page, 'export-session')).bytes.toString('utf8'));
+    assert.deepEqual(saved.parameters.leave_out, [target]);
+
+    // Without alignment the LV contour changes nothing of the RV: the mesh of every contour.
+    await runAndWait(page, () => page.uncheck('[data-testid=param-align-slices]'), 120000);
+    const plain = await mesh();
+    assert.deepEqual(plain.leaveOut, [target]);
+    assert.ok(Math.abs(plain.volumeMl - CLI_RV) < 1e-6, `${plain.volumeMl} vs CLI ${CLI_RV}`);
+    console.log(`# RV_ENDO unaligned with ${target} left out: ${plain.volumeMl} ml (CLI, every contour: ${CLI_RV})`);
+    await page.uncheck('[data-testid=view-others]');
   });
 });

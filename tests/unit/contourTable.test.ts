@@ -216,6 +216,8 @@ describe('the Contours panel', () => {
     t.leaveOutChanged();
     expect(box('s07_LAX').checked).toBe(false);
     expect(useAll.hidden).toBe(false);
+    // It puts back this surface's contours only: the file's one list keeps the others'.
+    expect(useAll.getAttribute('title')).toBe("Use every contour of this surface you left out again (one run); those you left out of the file's other surfaces stay out");
     useAll.fire('click');
     expect(calls.useAll).toBe(1);
     const again = box('s07_LAX');

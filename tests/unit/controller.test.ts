@@ -73,8 +73,8 @@ class FakeClient {
           options: (fileName.includes('floor-off')
             ? { smoothing_method: 'taubin', soften_conflicts: false, apex_floor: false }
             : { smoothing_method: 'taubin', soften_conflicts: false }) as unknown as ReconOptions,
-          // A session saved with a contour left out of its surface (the binding's `leave_out`).
-          ...(fileName.includes('left-out') ? { leave_out: ['c1'] } : {}),
+          // A session saved with an LV_ENDO and an RV_ENDO contour left out (the binding's `leave_out`).
+          ...(fileName.includes('left-out') ? { leave_out: ['c1', 'r1'] } : {}),
         }
       : null;
     return Promise.resolve(this.loaded(fileName, session, null));
@@ -82,7 +82,8 @@ class FakeClient {
   /**
    * A `cine*` file holds frames 0 and 9, a `phase*` file frames ED and ES (the binding's
    * `timeFrames`: the frame read named as the file writes it, whatever the case asked for); others
-   * have no frame column. The last point's z is the frame's index in the file.
+   * have no frame column. The last point's z is the frame's index in the file. A `wall*` file has
+   * LV_EPI too; every file has an LV_ENDO contour c1, an RV_ENDO contour r1 and an LV_EPI one e1.
    */
   private loaded(fileName: string, session: LoadedFile['session'], frame: string | null): LoadedFile {
     const frames = fileName.startsWith('cine') ? ['0', '9'] : fileName.startsWith('phase') ? ['ED', 'ES'] : null;
@@ -91,8 +92,12 @@ class FakeClient {
       ? { frames, count: 2, read: [frames[index]], firsts: [frames[0]], chosen: frame !== null, leftOut: 6, sequence: true }
       : null;
     return {
-      fileName, surfaces: fileName.startsWith('heart') ? ['RV_EPI', 'LV_EPI', 'BIV_EPI'] : ['RV_ENDO', 'LV_ENDO'], landmarks: [], warnings: frame === null && timeFrames ? ['the file holds 2 time frames'] : [], session, timeFrames,
-      contours: [{ id: 'c1', surface: 'LV_ENDO', kind: null, pieces: [{ closed: true, start: 0, count: 3 }] }],
+      fileName, surfaces: fileName.startsWith('heart') ? ['RV_EPI', 'LV_EPI', 'BIV_EPI'] : fileName.startsWith('wall') ? ['LV_ENDO', 'LV_EPI', 'RV_ENDO'] : ['RV_ENDO', 'LV_ENDO'], landmarks: [], warnings: frame === null && timeFrames ? ['the file holds 2 time frames'] : [], session, timeFrames,
+      contours: [
+        { id: 'c1', surface: 'LV_ENDO', kind: null, pieces: [{ closed: true, start: 0, count: 3 }] },
+        { id: 'r1', surface: 'RV_ENDO', kind: null, pieces: [{ closed: true, start: 0, count: 3 }] },
+        { id: 'e1', surface: 'LV_EPI', kind: null, pieces: [{ closed: true, start: 0, count: 3 }] },
+      ],
       points: new Float32Array([0, 0, 0, 10, 0, 0, 0, 10, frame === null ? 0 : fileName.startsWith('cine') ? Number(frame) : index]),
     };
   }
@@ -111,6 +116,11 @@ class FakeClient {
     const run: FakeRun = { runId, opts, onFrame, resolve, reject, cancelled: false };
     this.runs.push(run);
     return { runId, done, cancel: () => { run.cancelled = true; reject({ code: 'cancelled', message: 'cancelled' }); } };
+  }
+  walls: FakeRun['opts'][] = [];
+  wallFile(opts: FakeRun['opts']) {
+    this.walls.push(opts);
+    return Promise.resolve({ summary: {}, bytes: new Uint8Array(0) });
   }
   sessions: { opts: FakeRun['opts']; appVersion: string }[] = [];
   sessionFile(opts: FakeRun['opts'], appVersion: string) {
@@ -991,11 +1001,11 @@ describe('contours left out by hand (the Contours panel)', () => {
     c.dispose();
   });
 
-  it('"Use all" puts every one back in one run', async () => {
+  it('"Use all" puts back this surface\'s contours (and ids no contour has) in one run; another surface\'s stay out', async () => {
     const c = await start();
     await c.openFiles([file('a.csv')]);
     c.setLeftOut('c1', true);
-    c.setLeftOut('c2', true);
+    c.setLeftOut('c2', true); // no contour of the file: no surface's choice to keep
     await settle();
     expect(client.runs.map((r) => r.opts.leaveOut)).toEqual([undefined, ['c1', 'c2']]);
     c.useAllContours();
@@ -1005,31 +1015,81 @@ describe('contours left out by hand (the Contours panel)', () => {
     c.useAllContours(); // nothing left out: no run
     await settle();
     expect(client.runs).toHaveLength(3);
+    // An RV_ENDO contour left out in the RV panel stays out when Use all is pressed on LV_ENDO.
+    c.setLeftOut('c1', true);
+    c.chooseSurface('RV_ENDO');
+    c.setLeftOut('r1', true);
+    c.chooseSurface('LV_ENDO');
+    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'LV_ENDO', leaveOut: ['c1', 'r1'] });
+    const runs = client.runs.length;
+    c.useAllContours();
+    await settle();
+    expect(client.runs).toHaveLength(runs + 1);
+    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'LV_ENDO', leaveOut: ['r1'] });
+    expect(c.contourContext()?.leaveOut).toEqual([]); // none of the LV panel's rows: its Use all hides
+    c.useAllContours(); // only another surface's left out: no run
+    await settle();
+    expect(client.runs).toHaveLength(runs + 1);
     c.dispose();
   });
 
-  it('each surface keeps its own list; "All" runs each with its own', async () => {
+  it('one list per file and frame: every surface\'s run leaves out every id, "All" too; the panel shows its own surface\'s', async () => {
     const c = await start();
     await c.openFiles([file('biv.csv')]);
     c.setLeftOut('c1', true);
     await settle();
+    // An LV_ENDO contour left out, then RV_ENDO run: its run leaves the LV id out (the core takes
+    // it out of the file: out of RV_ENDO's alignment and crossing gap, as the CLI's --leave-out).
     c.chooseSurface('RV_ENDO');
-    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'RV_ENDO' });
-    expect(client.runs.at(-1)?.opts).not.toHaveProperty('leaveOut');
+    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'RV_ENDO', leaveOut: ['c1'] });
+    expect(c.contourContext()).toEqual({ key: JSON.stringify({ file: 'biv.csv', frame: null, surface: 'RV_ENDO' }), leaveOut: [], fileContours: [{ id: 'r1', kind: null }] });
     c.setLeftOut('r1', true);
     await settle();
-    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'RV_ENDO', leaveOut: ['r1'] });
+    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'RV_ENDO', leaveOut: ['c1', 'r1'] });
     expect(c.contourContext()?.leaveOut).toEqual(['r1']);
     c.chooseSurface('LV_ENDO');
-    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'LV_ENDO', leaveOut: ['c1'] });
+    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'LV_ENDO', leaveOut: ['c1', 'r1'] });
     expect(c.contourContext()).toEqual({ key: JSON.stringify({ file: 'biv.csv', frame: null, surface: 'LV_ENDO' }), leaveOut: ['c1'], fileContours: [{ id: 'c1', kind: null }] });
+    expect(c.leaveOutNow()).toEqual(['c1', 'r1']);
     const before = client.runs.length;
     c.runAllSurfaces();
     await finish();
     await finish();
-    expect(client.runs.slice(before).map((r) => [r.opts.surface, r.opts.leaveOut])).toEqual([['RV_ENDO', ['r1']], ['LV_ENDO', ['c1']]]);
-    // The all-surfaces OBJ names what the other surface's last run left out.
-    expect(c.otherSurfaceMeshes().map((m) => [m.surface, m.leaveOut])).toEqual([['RV_ENDO', ['r1']]]);
+    expect(client.runs.slice(before).map((r) => [r.opts.surface, r.opts.leaveOut])).toEqual([['RV_ENDO', ['c1', 'r1']], ['LV_ENDO', ['c1', 'r1']]]);
+    // The all-surfaces OBJ names what the other surface's last run left out; the header, this run's.
+    expect(c.otherSurfaceMeshes().map((m) => [m.surface, m.leaveOut])).toEqual([['RV_ENDO', ['c1', 'r1']]]);
+    expect(c.exportInfo()?.leaveOut).toEqual(['c1', 'r1']);
+    c.dispose();
+  });
+
+  it('a changed list leaves every surface\'s kept run stale for the wall, as a changed parameter does; the wall gets the whole list', async () => {
+    const c = await start();
+    await c.openFiles([file('wall.csv')]);
+    await finish();
+    c.chooseSurface('LV_EPI');
+    await finish();
+    expect(c.wallReadiness().ready).toBe(true);
+    // An RV_ENDO contour left out: neither LV mesh was run without it.
+    c.chooseSurface('RV_ENDO');
+    c.setLeftOut('r1', true);
+    expect(c.wallReadiness()).toMatchObject({ ready: false, title: expect.stringMatching(/: LV_ENDO and LV_EPI were last run with other parameters; run them again/) });
+    expect(parts.exports.calls.setWall?.at(-1)?.[0]).toMatchObject({ ready: false });
+    await settle();
+    await finish();
+    c.chooseSurface('LV_ENDO');
+    await finish();
+    expect(c.wallReadiness().title).toMatch(/: LV_EPI was last run with other parameters; run it again/);
+    c.chooseSurface('LV_EPI');
+    await finish();
+    expect(c.wallReadiness().ready).toBe(true);
+    expect(parts.exports.calls.setWall?.at(-1)?.[0]).toMatchObject({ ready: true });
+    await c.wallFile('obj');
+    expect(client.walls.map((w) => w.leaveOut)).toEqual([['r1']]);
+    // Put back: stale again, whichever surface is on screen.
+    c.chooseSurface('RV_ENDO');
+    await finish();
+    c.useAllContours();
+    expect(c.wallReadiness().title).toMatch(/: LV_ENDO and LV_EPI were last run with other parameters/);
     c.dispose();
   });
 
@@ -1062,24 +1122,28 @@ describe('contours left out by hand (the Contours panel)', () => {
     c.dispose();
   });
 
-  it('a saved session carries the list; one opened brings it back for its file and surface', async () => {
+  it('a saved session carries every surface\'s ids; one opened brings them back as its file\'s list', async () => {
     const c = await start();
     await c.openFiles([file('a.csv')]);
     c.setLeftOut('c1', true);
+    c.chooseSurface('RV_ENDO');
+    c.setLeftOut('r1', true);
     await c.sessionFile();
-    expect(client.sessions.at(-1)?.opts).toMatchObject({ fileName: 'a.csv', surface: 'LV_ENDO', leaveOut: ['c1'] });
+    expect(client.sessions.at(-1)?.opts).toMatchObject({ fileName: 'a.csv', surface: 'RV_ENDO', leaveOut: ['c1', 'r1'] });
+    // Saved on RV_ENDO with c1 (LV_ENDO) and r1 out: the RV run leaves both out, each panel shows its own.
     await c.openFiles([file('left-out.json')]);
     const run = client.runs.at(-1)!;
-    expect(run.opts).toMatchObject({ fileName: 'left-out.json', surface: 'RV_ENDO', leaveOut: ['c1'] });
-    expect(c.leaveOutNow()).toEqual(['c1']);
+    expect(run.opts).toMatchObject({ fileName: 'left-out.json', surface: 'RV_ENDO', leaveOut: ['c1', 'r1'] });
+    expect(c.leaveOutNow()).toEqual(['c1', 'r1']);
+    expect(c.contourContext()?.leaveOut).toEqual(['r1']);
+    c.chooseSurface('LV_ENDO');
+    expect(client.runs.at(-1)?.opts).toMatchObject({ surface: 'LV_ENDO', leaveOut: ['c1', 'r1'] });
+    expect(c.contourContext()?.leaveOut).toEqual(['c1']);
     // Its own list only: a.csv's is still a.csv's, a session without one brings none.
     await c.openFiles([file('saved.json')]);
     expect(client.runs.at(-1)?.opts).not.toHaveProperty('leaveOut');
-    c.chooseFile('a.csv'); // on RV_ENDO, the sessions' surface: none left out there
-    expect(client.runs.at(-1)?.opts).toMatchObject({ fileName: 'a.csv', surface: 'RV_ENDO' });
-    expect(client.runs.at(-1)?.opts).not.toHaveProperty('leaveOut');
-    c.chooseSurface('LV_ENDO');
-    expect(client.runs.at(-1)?.opts.leaveOut).toEqual(['c1']);
+    c.chooseFile('a.csv');
+    expect(client.runs.at(-1)?.opts).toMatchObject({ fileName: 'a.csv', surface: 'RV_ENDO', leaveOut: ['c1', 'r1'] });
     c.dispose();
   });
 
@@ -1096,23 +1160,43 @@ describe('contours left out by hand (the Contours panel)', () => {
     c.dispose();
   });
 
-  it('the phases batch leaves out of each phase what was left out of its file, and says so', async () => {
+  it('the phases batch leaves out of each phase its file\'s list, the ids its contours have, and says so', async () => {
     const c = await start();
     await c.openFiles([file('a.csv')]);
     await c.openFiles([file('b.csv')]);
     const before = c.functionContext();
     expect(before?.leftOutNote).toBeNull();
     expect(before?.plan.phases.map((p) => p.leave_out)).toEqual([undefined, undefined]);
-    c.setLeftOut('x', true);
+    c.setLeftOut('c1', true);
+    c.setLeftOut('nope', true); // no contour of b.csv: it would fail the phase's every cell
+    c.chooseSurface('RV_ENDO');
+    c.setLeftOut('r1', true);
     const after = c.functionContext();
-    expect(after?.leftOutNote).toBe('Left out here too, as in the Contours panel: one contour (b.csv LV_ENDO: x)');
-    // Only b.csv's phase carries it; the measurement taken before is stale (other settings).
-    expect(after?.plan.phases.map((p) => [p.file, p.leave_out])).toEqual([['a.csv', undefined], ['b.csv', ['x']]]);
+    expect(after?.leftOutNote).toBe('Left out, as in the Contours panel: 2 contours (b.csv: c1, r1)');
+    // Only b.csv's phase carries them; the measurement taken before is stale (other settings).
+    expect(after?.plan.phases.map((p) => [p.file, p.leave_out])).toEqual([['a.csv', undefined], ['b.csv', ['c1', 'r1']]]);
     expect(after?.settingsKey).not.toBe(before?.settingsKey);
     expect(after?.phasesKey).toBe(before?.phasesKey);
-    c.setLeftOut('x', false);
+    c.useAllContours(); // RV_ENDO's r1 back ('nope' with it); LV_ENDO's c1 stays out
+    expect(c.functionContext()?.plan.phases.map((p) => p.leave_out)).toEqual([undefined, ['c1']]);
+    c.setLeftOut('c1', false);
     expect(c.functionContext()?.leftOutNote).toBeNull();
     expect(c.functionContext()?.settingsKey).toBe(before?.settingsKey);
+    c.dispose();
+  });
+
+  it('the frames of a sequence: each phase its own frame\'s list', async () => {
+    const c = await start();
+    await c.openFiles([file('cine.csv')]);
+    await vi.runAllTimersAsync();
+    c.setLeftOut('c1', true);
+    c.chooseFrame('9');
+    await vi.runAllTimersAsync();
+    c.chooseSurface('RV_ENDO');
+    c.setLeftOut('r1', true);
+    const ctx = c.functionContext();
+    expect(ctx?.plan.phases.map((p) => [p.frame, p.leave_out])).toEqual([['0', ['c1']], ['9', ['r1']]]);
+    expect(ctx?.leftOutNote).toBe('Left out, as in the Contours panel: 2 contours (cine.csv frame 0: c1; cine.csv frame 9: r1)');
     c.dispose();
   });
 });

@@ -184,6 +184,21 @@ describe('the panel', () => {
     expect(p.root.byTestId('function-stale')!.textContent).toBe('the open phases changed — measure again');
   });
 
+  it('says what the Contours panel left out and sends each phase its list, another surface\'s ids with it', () => {
+    const p = setup();
+    p.setContext(context());
+    const note = p.root.byTestId('function-left-out')!;
+    expect(note.hidden).toBe(true);
+    const phases = [{ ...plan.phases[0], leave_out: ['s07_LAX_LV_ENDOCARDIAL', 's02_SAX_RV_ENDOCARDIAL'] }, plan.phases[1]];
+    const leftOutNote = 'Left out, as in the Contours panel: 2 contours (patient1-ED.csv: s07_LAX_LV_ENDOCARDIAL, s02_SAX_RV_ENDOCARDIAL)';
+    p.setContext({ ...context('s2'), plan: { ...plan, phases }, leftOutNote });
+    expect([note.hidden, note.textContent]).toEqual([false, leftOutNote]);
+    p.root.byTestId('function-measure')!.fire('click');
+    expect(p.jobs[0].phases.map((ph) => [ph.name, ph.leave_out])).toEqual([['patient1-ED', ['s07_LAX_LV_ENDOCARDIAL', 's02_SAX_RV_ENDOCARDIAL']], ['patient1-ES', undefined]]);
+    p.setContext(context());
+    expect(note.hidden).toBe(true);
+  });
+
   it('Stop keeps the cells measured so far; an error says why and the panel measures again', async () => {
     const p = setup();
     p.setContext(context());

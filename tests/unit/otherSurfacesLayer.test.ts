@@ -28,4 +28,16 @@ describe('other surfaces key', () => {
     expect(runSignature(a)).not.toBe(runSignature({ ...a, options: { end_caps: 'off' } }));
     expect(runSignature(a)).not.toBe(runSignature({ ...a, params: { lambda: 2 } }));
   });
+
+  it('a run before a contour was left out (of any surface) is marked, as one with other parameters', () => {
+    const a = { params: { lambda: 1 }, lids: 'auto', options: { end_caps: 'auto' } };
+    expect(runSignature(a)).toBe(runSignature({ ...a, leave_out: [] }));
+    expect(runSignature({ ...a, leave_out: ['s07', 'r1'] })).toBe(runSignature({ ...a, leave_out: ['r1', 's07'] }));
+    const kept = new Map([
+      ['LV_ENDO', runSignature({ ...a, leave_out: ['s07'] })],
+      ['RV_ENDO', runSignature(a)],
+      ['LV_EPI', runSignature({ ...a, leave_out: ['s07'] })],
+    ]);
+    expect(otherSettings(kept, ['RV_ENDO', 'LV_EPI'], 'LV_ENDO')).toEqual(['RV_ENDO']);
+  });
 });

@@ -106,4 +106,16 @@ describe('the Lab panel leave-one-out', () => {
     none.byId('lab-loo-run').fire('click');
     expect(none.jobs[0]).toMatchObject({ kind: 'loo', leaveOut: [] });
   });
+
+  it('the sweep takes the file\'s whole list, another surface\'s ids with it (the controller\'s leaveOutNow)', async () => {
+    const { batches, byId, jobs } = makePanel(['s07_LAX_LV_ENDOCARDIAL', 'r1_RV_ENDO']);
+    // The fake DOM keeps a `value` attribute apart from the property: the grid's values by hand.
+    for (const [id, v] of [['lambda', '1e5'], ['smoothing', '50'], ['reduction', '0.6'], ['spacing', '0']]) (byId(`lab-grid-${id}`) as unknown as { value: string }).value = v;
+    byId('lab-sweep-run').fire('click');
+    expect(jobs[0]).toMatchObject({ kind: 'sweep', leaveOut: ['s07_LAX_LV_ENDOCARDIAL', 'r1_RV_ENDO'] });
+    batches[0].started.resolve({ total: 0 } as unknown as LabBatchInfo);
+    batches[0].done.resolve();
+    await settle();
+    expect(byId('lab-sweep-info').textContent).toBe('done: 0 runs; without the 2 contours you left out in the Contours panel');
+  });
 });

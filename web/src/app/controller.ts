@@ -634,7 +634,7 @@ export class Controller {
     if (!file) return null;
     return {
       fileName: file.fileName,
-      surface: file.surfaces.length ? this.surface : null,
+      surface: this.surfaceOf(file),
       params: { ...this.params },
       lids: this.lids,
       options: { ...this.options },
@@ -712,9 +712,14 @@ export class Controller {
     return key ? this.leftOut.get(key) : [];
   }
 
+  /** The surface a run of `file` would be of (null: the file's one unnamed surface). */
+  private surfaceOf(file: LoadedFile): string | null {
+    return file.surfaces.length ? this.surface : null;
+  }
+
   /** The current surface's contours (the Contours panel's rows) in file order: id and the core's SAX/LAX split at load. */
   private surfaceContours(file: LoadedFile): { id: string; kind: ContourKindName | null }[] {
-    const surface = file.surfaces.length ? this.surface : null;
+    const surface = this.surfaceOf(file);
     return file.contours.filter((c) => partOf(c.surface, surface)).map((c) => ({ id: c.id, kind: c.kind }));
   }
 
@@ -728,8 +733,7 @@ export class Controller {
     if (!file || !key) return null;
     const fileContours = this.surfaceContours(file);
     const mine = new Set(fileContours.map((c) => c.id));
-    const surface = file.surfaces.length ? this.surface : null;
-    return { key: JSON.stringify({ ...key, surface }), leaveOut: this.leftOut.get(key).filter((id) => mine.has(id)), fileContours };
+    return { key: JSON.stringify({ ...key, surface: this.surfaceOf(file) }), leaveOut: this.leftOut.get(key).filter((id) => mine.has(id)), fileContours };
   }
 
   /**
