@@ -14,7 +14,7 @@ use heartmesh_core::sim::planes::draw_motion;
 use heartmesh_core::sim::planes::simulate_surfaces;
 use heartmesh_core::sim::prng::SplitMix64;
 use heartmesh_core::sim::{simulate, AcquisitionSpec, Misalignment, Plane};
-use heartmesh_core::Params;
+use heartmesh_core::{Params, Reconstruction};
 use nalgebra::Matrix3;
 
 fn aligned() -> Params {
@@ -401,4 +401,62 @@ fn real_cases() {
 
 fn norm(v: &[f64; 3]) -> f64 {
     v.iter().map(|c| c * c).sum::<f64>().sqrt()
+}
+
+/// A contour left out of an aligned run is measured where its image moved, not where the file
+/// drew it: patient 1's short-axis slice s04 (every surface's curve in it) moved 4 mm in its
+/// plane as a breath-hold would, LV_EPI aligned with its LV epicardial ring left out. The
+/// alignment finds the slice's shift from its other curves (the LV endocardial ring anchors it)
+/// and the ring left out moves with them, so its distance to the mesh is about the one of the file
+/// as drawn (a held-out figure), where measured at its drawn place it would be off by most of
+/// the 4 mm.
+#[test]
+fn a_contour_left_out_of_an_aligned_run_moves_with_its_image() {
+    const VIEW: &str = "s04_";
+    const LEFT: &str = "s04_SAX_LV_EPICARDIAL";
+    let file = load_contours("bivme-example-patient1/patient1-ED.csv");
+    let in_view = |c: &Contour| c.id.starts_with(VIEW);
+    let view_points: Vec<Vec3> = file
+        .contours
+        .iter()
+        .filter(|c| in_view(c))
+        .flat_map(|c| c.points().copied())
+        .collect();
+    let plane = heartmesh_core::contours::plane::fit_plane(view_points.iter()).unwrap();
+    // 4 mm along a direction in the view's plane.
+    let along = plane.normal.cross(&Vec3::new(0.3, 0.5, 0.8)).normalize() * 4.0;
+    let mut moved = file.clone();
+    for c in moved.contours.iter_mut().filter(|c| in_view(c)) {
+        for p in c.pieces.iter_mut().flat_map(|p| p.points.iter_mut()) {
+            *p += along;
+        }
+    }
+    let held_out = |set: &ContourSet| {
+        let mut rec = Reconstruction::new(
+            set,
+            Params {
+                leave_out: vec![LEFT.into()],
+                ..surface("LV_EPI", true)
+            },
+        )
+        .unwrap();
+        rec.run().unwrap();
+        let drawn = set.contours.iter().find(|c| c.id == LEFT).unwrap();
+        let at_drawn = heartmesh_core::sim::leave_one_out::measure(drawn, rec.mesh()).mean;
+        (rec.set_aside_stats()[0].mean, at_drawn)
+    };
+    let (as_drawn, _) = held_out(&file);
+    let (moved_with_view, at_moved_place) = held_out(&moved);
+    println!(
+        "{LEFT} held out, aligned: file as drawn {as_drawn:.3} mm; view moved 4 mm: {moved_with_view:.3} mm \
+         (at its drawn place {at_moved_place:.3} mm)"
+    );
+    assert!(
+        (moved_with_view - as_drawn).abs() < 0.5,
+        "{moved_with_view} vs {as_drawn}"
+    );
+    assert!(
+        at_moved_place > moved_with_view + 1.5,
+        "{at_moved_place} vs {moved_with_view}"
+    );
 }

@@ -28,8 +28,8 @@ pub mod tube;
 
 use crate::clock::{Clock, DefaultClock};
 use crate::contours::align::{
-    align_slices_with, anchored_beyond_rv, crossing_residual, Alignment, Options as AlignOptions,
-    SUGGEST_ALIGNMENT_ABOVE_MM,
+    align_slices_with, anchored_beyond_rv, crossing_residual, left_out_shifts, Alignment,
+    Options as AlignOptions, SUGGEST_ALIGNMENT_ABOVE_MM,
 };
 use crate::contours::axis::Layout;
 use crate::contours::biv_epi;
@@ -41,7 +41,9 @@ use crate::deform::tps::TpsSolver;
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
-use crate::metrics::{contour_to_mesh, per_contour_stats, vertex_to_contours, ContourDistances};
+use crate::metrics::{
+    contour_to_mesh, per_contour_stats, vertex_to_contours, ContourDistances, Stats,
+};
 use crate::parallel;
 use crate::params::{AttractorMode, Params};
 use crate::spatial::{Bvh, ClosestHit};
@@ -79,6 +81,21 @@ pub enum Phase {
     Remesh,
     /// Finished (iterations exhausted or converged); further steps do nothing.
     Done,
+}
+
+/// Moves each of `contours` (left out of an aligned run of `file`) as the alignment moved the
+/// image it lies in ([`left_out_shifts`]).
+fn shift_with_images(contours: &mut [Contour], file: &ContourSet, alignment: &Alignment) {
+    let named: Vec<(&str, usize)> = contours
+        .iter()
+        .map(|c| (c.id.as_str(), c.first_line))
+        .collect();
+    let shifts = left_out_shifts(file, &named, alignment);
+    for (c, t) in contours.iter_mut().zip(shifts) {
+        for p in c.pieces.iter_mut().flat_map(|p| p.points.iter_mut()) {
+            *p += t;
+        }
+    }
 }
 
 /// `contours` without those `set_aside` names (by identifier and file line).
@@ -240,7 +257,8 @@ impl Reconstruction {
         // The contours the user leaves out (checked against the file, named as it gives them)
         // are out of everything from here on, the alignment included: a slice drawn badly must
         // not shift the others. The run is then the file's without them.
-        let (asked, asked_contours) = prepare::asked(set, &params)?;
+        let (asked, mut asked_contours) = prepare::asked(set, &params)?;
+        let file = set;
         let without = prepare::without_ids(set, &params.leave_out);
         let set = without.as_ref().unwrap_or(set);
         // The whole file is aligned before a surface is chosen: one breath-hold moves every
@@ -250,6 +268,11 @@ impl Reconstruction {
                 through_plane: params.align_through_plane,
             };
             let (s, a) = align_slices_with(set, options);
+            // The contours left out move with their images, so that the distance from the mesh
+            // to each is measured in the run's frame.
+            if !asked_contours.is_empty() {
+                shift_with_images(&mut asked_contours, file, &a);
+            }
             (Some(s), Some(a))
         } else {
             (None, None)
@@ -562,13 +585,9 @@ impl Reconstruction {
     /// leave-one-out figure of that contour), so the user sees whether it disagreed with the rest;
     /// a stray's distance says how far off it lay. Infinite before the first step (no mesh).
     pub fn set_aside_distances(&self) -> Vec<SetAsideDistance> {
-        if self.set_aside.is_empty() {
-            return Vec::new();
-        }
-        let stats = per_contour_stats(&self.set_aside_contours, &self.mesh_mm);
         self.set_aside
             .iter()
-            .zip(stats)
+            .zip(self.set_aside_stats())
             .map(|(entry, s)| SetAsideDistance {
                 contour: entry.clone(),
                 mean: s.mean,
@@ -576,6 +595,16 @@ impl Reconstruction {
                 max: s.max,
             })
             .collect()
+    }
+
+    /// The summary (mean, median, p95, max, ...) of those distances, one per
+    /// [`Reconstruction::set_aside`] entry (none when nothing was left out: no BVH built). With
+    /// the alignment on, a contour left out by hand is measured where its image moved.
+    pub fn set_aside_stats(&self) -> Vec<Stats> {
+        if self.set_aside.is_empty() {
+            return Vec::new();
+        }
+        per_contour_stats(&self.set_aside_contours, &self.mesh_mm)
     }
 
     /// What the breath-hold alignment did (None unless `Params::align_slices`).

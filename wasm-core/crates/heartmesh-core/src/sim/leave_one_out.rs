@@ -3,6 +3,7 @@
 //! lie from the new mesh. Where no truth exists, this shows how well the method predicts a slice
 //! it has not seen, and which contour disagrees most with the others.
 
+use crate::contours::set_aside::Why;
 use crate::contours::{Contour, ContourKind, ContourSet};
 use crate::error::Result;
 use crate::mesh::TriMesh;
@@ -32,26 +33,32 @@ pub struct LeaveOneOut {
     pub mean_of_means: f64,
 }
 
-/// One rebuild of the analysis: the contour held out, its kind, and the contours without it.
+/// One rebuild of the analysis: the contour held out, its kind, and what the rebuild runs on:
+/// the whole file with the parameters naming that contour in `leave_out`.
 #[derive(Debug, Clone)]
 pub struct HeldOut {
     pub contour: Contour,
     pub kind: ContourKind,
     pub rest: ContourSet,
+    pub params: Params,
 }
 
 /// The analysis planned but not run: the cleaned contours of the selected surface, their kinds,
 /// and one [`HeldOut`] job per contour (in that order). Shared by the one-shot [`leave_one_out`]
 /// and the app's stepped batch, so both leave out exactly the same contours. Fails only if the
 /// full set itself is not a valid input.
+///
+/// Each rebuild is `reconstruct --leave-out ID` of that contour (the caller's `leave_out` list
+/// kept: those are out of every rebuild), so the figure is the one the run's `set_aside` gives
+/// ([`held_out_stats`]) and a contour left out by hand reads the same in both. With the
+/// breath-hold alignment on, every rebuild aligns the file without the held-out contour and
+/// measures it where its image moved: the rebuild is never aligned twice (the full run's
+/// shifted contours aligned again), and the held-out curve does not steer the shifts that
+/// place the mesh it is measured against.
 pub struct Plan {
     pub cleaned: Vec<Contour>,
     pub kinds: Vec<ContourKind>,
     pub jobs: Vec<HeldOut>,
-    /// What every rebuild takes: the caller's parameters without their `leave_out` list, whose
-    /// contours `cleaned` (and so every job's rest) no longer holds; named again, they would be
-    /// ids no contour has.
-    pub params: Params,
 }
 
 /// Validates the full input (which also selects the surface and cleans the contours) and plans
@@ -64,29 +71,36 @@ pub fn plan(set: &ContourSet, params: &Params) -> Result<Plan> {
     let jobs = cleaned
         .iter()
         .enumerate()
-        .map(|(j, left)| HeldOut {
-            contour: left.clone(),
-            kind: kinds.get(j).copied().unwrap_or(ContourKind::Sax),
-            rest: ContourSet {
-                contours: cleaned
-                    .iter()
-                    .enumerate()
-                    .filter(|(k, _)| *k != j)
-                    .map(|(_, c)| c.clone())
-                    .collect(),
-                ..ContourSet::default()
-            },
+        .map(|(j, held)| {
+            let mut params = params.clone();
+            if !params.leave_out.contains(&held.id) {
+                params.leave_out.push(held.id.clone());
+            }
+            HeldOut {
+                contour: held.clone(),
+                kind: kinds.get(j).copied().unwrap_or(ContourKind::Sax),
+                rest: set.clone(),
+                params,
+            }
         })
         .collect();
     Ok(Plan {
         cleaned,
         kinds,
         jobs,
-        params: Params {
-            leave_out: Vec::new(),
-            ..params.clone()
-        },
     })
+}
+
+/// Distances (mm) of the held-out contour's points to the mesh rebuilt without it: the rebuild's
+/// `set_aside` figure for it (where the alignment moved it, when on); measured on the mesh
+/// directly if the rebuild did not list it (no rebuild of a plan fails to).
+pub fn held_out_stats(held: &Contour, rebuilt: &Reconstruction) -> Stats {
+    rebuilt
+        .set_aside()
+        .iter()
+        .position(|s| s.id == held.id && s.line == held.first_line && s.why == Why::ByUser)
+        .and_then(|k| rebuilt.set_aside_stats().get(k).copied())
+        .unwrap_or_else(|| measure(held, rebuilt.mesh()))
 }
 
 /// Distances (mm) of the held-out contour's points to the mesh rebuilt without it.
@@ -102,12 +116,12 @@ pub fn leave_one_out(set: &ContourSet, params: &Params) -> Result<LeaveOneOut> {
     let plan = plan(set, params)?;
     let mut out = Vec::with_capacity(plan.jobs.len());
     for job in plan.jobs {
-        let rebuilt = Reconstruction::new(&job.rest, plan.params.clone()).and_then(|mut rec| {
+        let rebuilt = Reconstruction::new(&job.rest, job.params).and_then(|mut rec| {
             rec.run()?;
             Ok(rec)
         });
         let (stats, error) = match rebuilt {
-            Ok(rec) => (Some(measure(&job.contour, rec.mesh())), None),
+            Ok(rec) => (Some(held_out_stats(&job.contour, &rec)), None),
             Err(e) => (None, Some(e.to_string())),
         };
         out.push(LeftOut {

@@ -78,7 +78,7 @@ impl Batch {
         for held in plan.jobs {
             jobs.push(Job {
                 contours: held.rest,
-                params: plan.params.clone(),
+                params: held.params,
             });
             left_out.push((held.contour, held.kind));
         }
@@ -260,7 +260,7 @@ impl Batch {
                 };
                 let stats = rec
                     .zip(contour)
-                    .map(|(r, c)| leave_one_out::measure(c, r.mesh()));
+                    .map(|(r, c)| leave_one_out::held_out_stats(c, r));
                 json!({
                     "index": index,
                     "id": contour.map(|c| c.id.clone()),

@@ -19,6 +19,7 @@ mod tests;
 mod through;
 
 use super::{ContourKind, ContourSet};
+use crate::geometry::Vec3;
 pub use information::Information;
 use serde::Serialize;
 
@@ -154,6 +155,54 @@ pub fn anchored_beyond_rv(set: &ContourSet) -> bool {
             .as_deref()
             .is_none_or(|s| !s.trim().to_ascii_uppercase().starts_with("RV"))
     })
+}
+
+/// How the alignment of a file without some contours moves each of those contours: with the
+/// image (short-axis slice or long-axis view) it lies in, by the shift its other curves got, as
+/// one breath-hold moves the whole image. `file` is the whole file, `alignment` the alignment of
+/// the file without `left_out` (each named by id and first line); a contour alone in its image,
+/// or one the file's grouping cannot place, does not move (zero). What a contour left out of an
+/// aligned run is measured at: where the run's frame puts it, not where the file drew it.
+pub fn left_out_shifts(
+    file: &ContourSet,
+    left_out: &[(&str, usize)],
+    alignment: &Alignment,
+) -> Vec<Vec3> {
+    let zero = Vec3::zeros();
+    let Ok(grouping) = groups::group(file) else {
+        return vec![zero; left_out.len()];
+    };
+    let named = |i: usize, (id, line): (&str, usize)| {
+        file.contours
+            .get(i)
+            .is_some_and(|c| c.id == id && c.first_line == line)
+    };
+    left_out
+        .iter()
+        .map(|&who| {
+            // The image the contour lies in, and the ids of its other curves.
+            let Some(image) = grouping
+                .groups
+                .iter()
+                .find(|g| g.members.iter().any(|&i| named(i, who)))
+            else {
+                return zero;
+            };
+            let others: Vec<&str> = image
+                .members
+                .iter()
+                .filter(|&&i| !left_out.iter().any(|&l| named(i, l)))
+                .filter_map(|&i| file.contours.get(i).map(|c| c.id.as_str()))
+                .collect();
+            alignment
+                .groups
+                .iter()
+                .find(|g| g.contour_ids.iter().any(|id| others.contains(&id.as_str())))
+                .map_or(zero, |g| {
+                    Vec3::new(g.shift_mm[0], g.shift_mm[1], g.shift_mm[2])
+                })
+        })
+        .collect()
 }
 
 /// [`align_slices`] with `options`.
