@@ -3,27 +3,29 @@
 
 use heartmesh_core::contours::ContourKind;
 use heartmesh_core::sim::leave_one_out::leave_one_out;
-use heartmesh_core::Params;
+use heartmesh_core::{CoreError, Params};
 
-use crate::args::{parse, Spec};
+use crate::cmd_reconstruct::{apex_lid, params_from, parse_with_inputs};
 use crate::contours;
 use crate::error::CliError;
 
 pub const USAGE: &str =
     "heartmesh leave-one-out CONTOURS.csv [--surface LABEL] [--leave-out ID[,ID...]] [--json]
-  For each contour: reconstruct at the defaults without it, then measure its points' distance to
-  that mesh (mm: mean, median, p95, max). --leave-out: contours out of every rebuild (as
-  reconstruct's), not held out in turn. --json prints {contours: [{id, kind, stats, error}],
-  worst, mean_of_means}.";
+    [reconstruct's parameter options: --iterations ... --end-caps ... --align-slices ...]
+  For each contour: reconstruct without it (at the defaults, a session's parameters or those the
+  options give), then measure its points' distance to that mesh (mm: mean, median, p95, max):
+  the figure `reconstruct --leave-out ID` reports for it; with --align-slices each rebuild aligns
+  the file without it and measures it where its slice or view moved. --leave-out: contours out of
+  every rebuild (as reconstruct's), not held out in turn. --json prints {contours: [{id, kind,
+  stats, error}], worst, mean_of_means}.";
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
-    let p = parse(
+    let p = parse_with_inputs(
         args,
-        &Spec {
-            with_value: &["surface", "leave-out"],
-            switches: &["json"],
-            aliases: &[],
-        },
+        &[],
+        &["json"],
+        &[],
+        "leave-one-out needs one contour file",
     )?;
     let [input] = p.positional.as_slice() else {
         return Err(CliError::usage(format!(
@@ -31,13 +33,18 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             p.positional.len()
         )));
     };
+    // A usage error should not wait for the file.
+    params_from(&p, Params::default())?;
     let loaded = contours::load(input, None)?;
-    let mut params = Params {
-        surface: p.value("surface").map(str::to_string),
-        ..loaded.session_params.unwrap_or_default()
-    };
-    crate::cmd_reconstruct::add_leave_out(&p, &mut params);
-    params.validate().map_err(CliError::param)?;
+    let mut params = params_from(&p, loaded.session_params.unwrap_or_default())?;
+    if p.value("lids") == Some("apex") {
+        params.lids = apex_lid(&loaded.set, params.surface.as_deref()).ok_or_else(|| {
+            CliError::input(
+                input,
+                CoreError::parse(0, "--lids apex needs an APEX_POINT landmark in the file"),
+            )
+        })?;
+    }
     let result = leave_one_out(&loaded.set, &params).map_err(|e| CliError::input(input, e))?;
     if p.switch("json") {
         let text =

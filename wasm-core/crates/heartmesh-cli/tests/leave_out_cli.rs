@@ -405,6 +405,57 @@ fn myocardium_takes_the_same_list() {
     assert_eq!(err.matches(&note).count(), 1, "{err}");
 }
 
+/// `leave-one-out` takes reconstruct's parameter options, and with `--align-slices` its figure
+/// for a contour is still `reconstruct --align-slices --leave-out` of it (each rebuild aligns the
+/// file without the contour and measures it where its slice moved), where it differs from the
+/// unaligned figure.
+#[test]
+fn leave_one_out_takes_the_parameters_and_the_alignment() {
+    const RING: &str = "s04_SAX_LV_EPICARDIAL";
+    let dir = scratch("leave-out-loo-aligned");
+    let loo = |extra: &[&str]| -> Value {
+        let (code, out, err) = run(bin()
+            .arg("leave-one-out")
+            .arg(patient1())
+            .args(["--surface", "LV_EPI", "--json"])
+            .args(extra));
+        assert_eq!(code, 0, "{err}");
+        let v: Value = serde_json::from_str(&out).unwrap();
+        v["contours"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["id"] == RING)
+            .unwrap()["stats"]
+            .clone()
+    };
+    let aligned = loo(&["--align-slices"]);
+    let plain = loo(&[]);
+    let asked = reconstruct(
+        &dir,
+        "asked",
+        &patient1(),
+        &["--surface", "LV_EPI", "--align-slices", "--leave-out", RING],
+    );
+    assert_eq!(asked.code, 0, "{}", asked.stderr);
+    for key in ["mean", "median", "max"] {
+        let a = asked.report["set_aside"][0][key].as_f64().unwrap();
+        let b = aligned[key].as_f64().unwrap();
+        assert!(
+            (a - b).abs() <= 1e-9 * b.abs().max(1.0),
+            "{key}: {a} vs {b}"
+        );
+    }
+    assert_ne!(aligned["mean"], plain["mean"]);
+    // A parameter out of range is refused as reconstruct refuses it.
+    let (code, _, err) = run(bin()
+        .arg("leave-one-out")
+        .arg(patient1())
+        .args(["--iterations", "0"]));
+    assert_eq!(code, 2);
+    assert!(err.contains("--iterations 0 is out of range"), "{err}");
+}
+
 /// Whether `v` holds a number within 1e-9 of `want` anywhere.
 fn find_number(v: &Value, want: f64) -> bool {
     match v {
