@@ -4,8 +4,7 @@
 //! Bulk data leave as flat f32/u32 vectors (converted once, here, from the core's f64); small
 //! descriptions leave as JSON with the protocol's field names.
 
-use heartmesh_core::contours::set_aside::{self, SetAside};
-use heartmesh_core::contours::{Contour, ContourKind, ContourSet};
+use heartmesh_core::contours::{Contour, ContourKind};
 use heartmesh_core::error::{CoreError, Result};
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::quality::quality;
@@ -265,13 +264,6 @@ pub fn contour_infos(contours: &[Contour], kinds: Option<&[ContourKind]>) -> Val
         })
         .collect();
     Value::Array(infos)
-}
-
-/// The contours of the file `set` that `list` names (by identifier and first line, as the core
-/// leaves them out), in `list`'s order: what the app draws as "left out". One per entry; an entry
-/// whose contour is not in `set` (none is) is skipped.
-pub fn set_aside_contours(set: &ContourSet, list: &[SetAside]) -> Vec<Contour> {
-    set_aside::named(&set.contours, list)
 }
 
 /// xyz of all points of all pieces of all contours, in order, as f32.

@@ -61,8 +61,6 @@ pub fn label_map_grid(bytes: &[u8]) -> Option<String> {
 struct ActiveRun {
     rec: Reconstruction,
     lids: String,
-    /// The file's contours the run leaves out (strays, specks), in `rec.set_aside()` order.
-    set_aside: Vec<heartmesh_core::contours::Contour>,
     /// Attractors at the last step, to tell when they were re-sampled.
     last_attractors: Vec<Vec3>,
     attractors_changed: bool,
@@ -254,11 +252,9 @@ impl Session {
         let set = self.file(file_name)?;
         let mut rec = Reconstruction::new(set, params).map_err(|e| errors::to_js(&e))?;
         rec.set_clock(Box::new(clock::PerformanceClock::new()));
-        let set_aside = convert::set_aside_contours(set, rec.set_aside());
         self.run = Some(ActiveRun {
             rec,
             lids: lids.to_string(),
-            set_aside,
             last_attractors: Vec::new(),
             attractors_changed: false,
         });
@@ -337,10 +333,13 @@ impl Session {
         Ok(convert::to_f32(&self.run_ref()?.rec.vertex_distances()))
     }
 
-    /// xyz (mm) of the file's contours the run leaves out (strays and specks, as the file gives
-    /// them), in the order `result_json`'s `set_aside_contours` pieces index.
+    /// xyz (mm) of the contours the run leaves out (the user's, strays and specks: the core's
+    /// `set_aside_contours`, as the file gives them, moved with their image when aligned), in the
+    /// order `result_json`'s `set_aside_contours` pieces index.
     pub fn set_aside_points(&self) -> Result<Vec<f32>, JsValue> {
-        Ok(convert::flat_points(&self.run_ref()?.set_aside))
+        Ok(convert::flat_points(
+            self.run_ref()?.rec.set_aside_contours(),
+        ))
     }
 
     /// JSON of the small part of the protocol's `RunResult` ([`convert::result_value`]; with
@@ -350,7 +349,7 @@ impl Session {
     pub fn result_json(&self) -> Result<String, JsValue> {
         let run = self.run_ref()?;
         let mut value = convert::result_value(&run.rec, &run.lids);
-        value["set_aside_contours"] = convert::contour_infos(&run.set_aside, None);
+        value["set_aside_contours"] = convert::contour_infos(run.rec.set_aside_contours(), None);
         Ok(value.to_string())
     }
 }
@@ -605,7 +604,7 @@ mod tests {
         let params = convert::params_from_json(options, "auto", None).unwrap();
         let mut rec = Reconstruction::new(&set, params).unwrap();
         rec.run().unwrap();
-        let aside = convert::set_aside_contours(&set, rec.set_aside());
+        let aside = rec.set_aside_contours().to_vec();
         (convert::result_value(&rec, "auto"), aside)
     }
 

@@ -597,6 +597,14 @@ impl Reconstruction {
             .collect()
     }
 
+    /// The contours [`Reconstruction::set_aside`] names, one per entry in its order, as the run
+    /// measures them: cleaned (points as the file gives them, less repeats and non-finite ones),
+    /// and with the breath-hold alignment where their slice or view moved. Where the app draws
+    /// them, so a contour left out is seen where its distance to the mesh was taken.
+    pub fn set_aside_contours(&self) -> &[Contour] {
+        &self.set_aside_contours
+    }
+
     /// The summary (mean, median, p95, max, ...) of those distances, one per
     /// [`Reconstruction::set_aside`] entry (none when nothing was left out: no BVH built). With
     /// the alignment on, a contour left out by hand is measured where its image moved.
