@@ -4,13 +4,17 @@
 // LV EF 62.1 %, RV EF 60.3 %, LV mass 134.0 g at ED and 131.6 g at ES) and a CSV of the eight cells
 // in the CLI's columns. A parameter changed marks the table stale (and changed back, current
 // again); a broken file opened beside them is a failed row while the others are measured again.
-// One file holding both phases (a `phase` column) measures its frames, to the same figures.
-// Screenshots: function.png (1280 x 720) and function-narrow.png (a 390 px phone) in SHOTS.
+// One file holding both phases (a `phase` column) measures its frames, to the same figures. Two
+// phases draw no volume curve; a file of four frames (cycleFrames.mjs) draws one line per cavity,
+// its dots the table's volumes, a gap where the RV has none, ED and ES ringed where the summary
+// says. Screenshots: function.png (1280 x 720), function-curve.png (the curve) and
+// function-narrow.png (a 390 px phone) in SHOTS.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { download, gotoEmpty, runAndWait, sharedDir, SHOTS, statusNow } from './lib.mjs';
+import { download, gotoEmpty, ROOT, runAndWait, sharedDir, SHOTS, statusNow } from './lib.mjs';
+import { CYCLE_FRAMES, CYCLE_NAME, cycleCsv } from './cycleFrames.mjs';
 import { appForFile } from './perFile.mjs';
 import { PHASES_NAME, phasesCsv } from './twoFrames.mjs';
 
@@ -20,6 +24,7 @@ const pageErrors = [];
 appForFile({ goto: false, onPageError: (m) => pageErrors.push(m) }, (app) => ({ server, page } = app));
 
 const FN = '[data-testid=function]';
+const CURVE = '[data-testid=function-curve]';
 /** Volumes of patient 1 (ml), the CLI's and the core's (heartmesh-wasm's phases test). */
 const VOLUMES = {
   'patient1-ED': { RV_ENDO: 180.583, RV_EPI: 286.039, LV_EPI: 301.336, LV_ENDO: 173.724 },
@@ -64,6 +69,7 @@ describe('Function: volumes over the phases', () => {
     near(await num(ventricle('LV_ENDO'), 'data-edv-ml'), 173.7, 0.1, 'LV EDV');
     const lvText = (await ventricle('LV_ENDO').textContent()) ?? '';
     assert.match(lvText, /^LV_ENDO: EDV 173\.7 ml · ESV 65\.9 ml · SV 107\.9 ml · EF 62\.1 %ED: patient1-ED · ES: patient1-ES$/);
+    assert.equal(await page.locator(CURVE).count(), 0, 'two phases: no volume curve');
     const mass = page.locator('[data-testid=function-mass]');
     near(await num(mass, 'data-ed-g'), 134.0, 0.2, 'LV mass at ED');
     near(await num(mass, 'data-es-g'), 131.6, 0.2, 'LV mass at ES');
@@ -141,11 +147,84 @@ describe('Function: volumes over the phases', () => {
     near(await num(ventricle('RV_ENDO'), 'data-ef'), 60.3, 0.1, 'RV EF of the frames');
     assert.equal(await page.textContent('[data-testid=function-mass]'), 'LV mass 134.0 g at ED · 131.6 g at ES');
     assert.deepEqual(await page.$$eval('[data-testid=function-table] tbody th', (ths) => ths.map((t) => t.textContent)), ['ED', 'ES']);
+    assert.equal(await page.locator(CURVE).count(), 0, 'two frames: no volume curve');
     const csvOut = await download(page, 'function-csv');
     assert.equal(csvOut.name, `${PHASES_NAME.replace(/\.csv$/, '')}-volumes.csv`);
     // The frame on screen is still ED: picking ES reads it and the table stays current.
     await runAndWait(page, () => page.selectOption('[data-testid=frame-picker]', 'ES'), 120000);
     assert.equal(await page.getAttribute(FN, 'data-stale'), '0');
+    assert.deepEqual(pageErrors, []);
+  });
+
+  it('four frames: a volume curve of each cavity, its dots the table\'s volumes, a gap for a frame without the RV, ED and ES ringed', async () => {
+    const sample = (name) => readFileSync(join(ROOT, 'public', 'samples', name), 'utf8');
+    const csv = cycleCsv(sample('patient1-ED.csv'), sample('patient1-ES.csv'));
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', { name: CYCLE_NAME, mimeType: 'text/csv', buffer: Buffer.from(csv) }));
+    // Frame ES, picked in the last file, is none of this one's: show its ES, frame 3.
+    await runAndWait(page, () => page.selectOption('[data-testid=frame-picker]', '3'), 120000);
+    assert.equal(await page.textContent(`${FN} .function-source`), `4 phases: the 4 frames of ${CYCLE_NAME}`);
+    await page.click('[data-testid=function-measure]');
+    await waitMeasured();
+
+    // The table's volumes of the cavities: frame 0 is ED, frame 3 ES, frames 1-2 between them.
+    const table = await page.$$eval('[data-testid=function-table] td', (tds) => tds.map((t) => [t.getAttribute('data-surface'), t.getAttribute('data-phase'), t.getAttribute('data-volume-ml'), t.textContent]));
+    const volume = (surface, phase) => table.find(([s, p]) => s === surface && p === phase);
+    near(Number(volume('LV_ENDO', '0')[2]), VOLUMES['patient1-ED'].LV_ENDO, 0.01, 'LV frame 0');
+    near(Number(volume('RV_ENDO', '3')[2]), VOLUMES['patient1-ES'].RV_ENDO, 0.01, 'RV frame 3');
+    assert.deepEqual(volume('RV_ENDO', '1').slice(2), [null, '–'], 'frame 1 has no RV');
+
+    // One dot per phase with a volume per cavity, each the table's cell; no epicardium drawn.
+    const dots = await page.$$eval(`${CURVE} circle[data-ml]`, (cs) => cs.map((c) => [c.getAttribute('data-surface'), c.getAttribute('data-phase'), Number(c.getAttribute('data-ml')), c.querySelector('title')?.textContent]));
+    assert.deepEqual(dots.map(([s, p]) => `${s} ${p}`), ['LV_ENDO 0', 'LV_ENDO 1', 'LV_ENDO 2', 'LV_ENDO 3', 'RV_ENDO 0', 'RV_ENDO 2', 'RV_ENDO 3']);
+    for (const [surface, phase, ml, title] of dots) {
+      const [, , cell, text] = volume(surface, phase);
+      near(ml, Number(cell), 0.05, `dot ${surface} ${phase}`);
+      assert.equal(title, `${phase} · ${surface} ${text} ml`);
+    }
+    // A line through the LV's four frames; the RV's breaks at frame 1 (frame 0 a dot alone).
+    const lines = await page.$$eval(`${CURVE} polyline`, (ps) => ps.map((p) => [p.getAttribute('data-surface'), p.getAttribute('points').trim().split(/\s+/).length]));
+    assert.deepEqual(lines, [['LV_ENDO', 4], ['RV_ENDO', 2]]);
+    // The y axis covers the largest volume; the phase labels do not overlap.
+    const ticks = await page.$$eval(`${CURVE} text:not(.phase-label):not(.mark-label):not(.unit)`, (ts) => ts.map((t) => Number(t.textContent)));
+    assert.deepEqual(ticks, [0, 50, 100, 150, 200]);
+    const labels = await page.$$eval(`${CURVE} text.phase-label`, (ts) => ts.map((t) => { const b = t.getBBox(); return [t.textContent, b.x, b.x + b.width]; }));
+    assert.deepEqual(labels.map(([t]) => t), CYCLE_FRAMES);
+    for (let j = 1; j < labels.length; j++) assert.ok(labels[j - 1][2] < labels[j][1], `labels ${JSON.stringify(labels)}`);
+
+    // ED and ES ringed on the phases the summary names, on the dots.
+    const named = await page.$$eval('[data-testid=function-ventricle]', (ls) => ls.map((l) => [l.getAttribute('data-surface'), l.querySelector('.function-phases')?.textContent]));
+    assert.deepEqual(named, [['LV_ENDO', 'ED: 0 · ES: 3'], ['RV_ENDO', 'ED: 0 · ES: 3']]);
+    const rings = await page.$$eval('[data-testid=function-curve-marker]', (rs) => rs.map((r) => [r.getAttribute('data-surface'), r.getAttribute('data-kind'), r.getAttribute('data-phase'), r.getAttribute('cx'), r.getAttribute('cy')]));
+    const expected = named.flatMap(([surface, text]) => {
+      const [, ed, es] = /^ED: (.*) · ES: (.*)$/.exec(text);
+      return [[surface, 'ED', ed], [surface, 'ES', es]];
+    });
+    assert.deepEqual(rings.map((r) => r.slice(0, 3)), expected);
+    for (const [surface, , phase, cx, cy] of rings) {
+      const at = await page.$eval(`${CURVE} circle[data-ml][data-surface=${surface}][data-phase="${phase}"]`, (c) => [c.getAttribute('cx'), c.getAttribute('cy')]);
+      assert.deepEqual([cx, cy], at, `${surface} ring at ${phase}`);
+    }
+    assert.deepEqual(await page.$$eval(`${CURVE} text.mark-label`, (ts) => ts.map((t) => t.textContent)), ['ED', 'ES']);
+
+    // Across the column, above the table.
+    const box = await page.locator(CURVE).boundingBox();
+    const panel = await page.locator(FN).boundingBox();
+    const tableBox = await page.locator('[data-testid=function-table]').boundingBox();
+    assert.ok(box.width >= panel.width - 2 && box.height > 100 && box.height < 160, `curve ${JSON.stringify(box)} in ${JSON.stringify(panel)}`);
+    assert.ok(box.y + box.height <= tableBox.y, 'above the table');
+    // The column scrolled to the section's top (scrolling it into view would move the page too).
+    await page.locator(FN).evaluate((e) => {
+      const column = e.closest('.sidebar');
+      column.scrollTop += e.getBoundingClientRect().top - column.getBoundingClientRect().top - 10;
+    });
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SHOTS, 'function-curve.png') });
+
+    // A changed parameter greys the curve with the table.
+    await runAndWait(page, () => page.check('[data-testid=param-keep-specks]'), 120000);
+    assert.equal(await page.$eval('.function-curve-box', (e) => getComputedStyle(e).opacity), '0.5');
+    await runAndWait(page, () => page.uncheck('[data-testid=param-keep-specks]'), 120000);
+    assert.equal(await page.$eval('.function-curve-box', (e) => getComputedStyle(e).opacity), '1');
     assert.deepEqual(pageErrors, []);
   });
 
@@ -157,6 +236,8 @@ describe('Function: volumes over the phases', () => {
     const table = await page.locator('[data-testid=function-table]').boundingBox();
     const panel = await page.locator(FN).boundingBox();
     assert.ok(table && panel && table.x >= panel.x - 1 && table.x + table.width <= panel.x + panel.width + 1, `table ${JSON.stringify(table)} in ${JSON.stringify(panel)}`);
+    const curve = await page.locator(CURVE).boundingBox();
+    assert.ok(curve && curve.x >= panel.x - 1 && curve.x + curve.width <= panel.x + panel.width + 1, `curve ${JSON.stringify(curve)} in ${JSON.stringify(panel)}`);
     await page.screenshot({ path: join(SHOTS, 'function-narrow.png') });
     assert.deepEqual(pageErrors, []);
   });

@@ -2,7 +2,7 @@
 // the fake DOM (web/src/ui/FunctionPanel.ts): which phases are measured and how they are named
 // (as the CLI's `heartmesh volumes`), the words of a cell, a cavity and the LV mass, the CSV in
 // the CLI's columns, and a measurement's life: progress, the summary, stale on a change, Stop,
-// an error that leaves the panel usable.
+// an error that leaves the panel usable; over three phases or more, the volume curve.
 import { describe, expect, it } from 'vitest';
 import type { FunctionSummary, LabBatchInfo, LabProgress, LoadedFile, PhaseItem, PhasesJob, TimeFrames } from '../../web/src/core-client/protocol';
 import type { LabBatchHandle } from '../../web/src/core-client/coreClientTypes';
@@ -174,6 +174,7 @@ describe('the panel', () => {
     expect(lines[0].dataset.ef).toBe('62.089');
     expect(p.root.byTestId('function-mass')!.textContent).toBe('LV mass 134.0 g at ED · 131.6 g at ES');
     expect(p.root.byTestId('function-mass')!.dataset.edG).toBe('134');
+    expect(p.root.byTestId('function-curve'), 'two phases: no curve').toBeUndefined();
 
     // Another setting: stale, and current again when it comes back; other phases: stale too.
     p.setContext(context('s2'));
@@ -197,6 +198,36 @@ describe('the panel', () => {
     expect(p.jobs[0].phases.map((ph) => [ph.name, ph.leave_out])).toEqual([['patient1-ED', ['s07_LAX_LV_ENDOCARDIAL', 's02_SAX_RV_ENDOCARDIAL']], ['patient1-ES', undefined]]);
     p.setContext(context());
     expect(note.hidden).toBe(true);
+  });
+
+  it('draws each cavity\'s volume over three phases or more, a failed phase a gap in its line, greyed when stale', async () => {
+    const p = setup();
+    const cine = file('cine.csv', { frames: ['0', '1', '2'], count: 3 });
+    const frames = { ...context(), plan: phasesOf(cine, [cine])! };
+    p.setContext(frames);
+    p.root.byTestId('function-measure')!.fire('click');
+    p.settle().started({ total: 6, phases: ['0', '1', '2'], surfaces: ['LV_EPI', 'LV_ENDO'] });
+    await p.tick();
+    const volumes = [[301.3, 173.7], [250.1, null], [191.2, 65.9]];
+    volumes.forEach(([epi, endo], i) => {
+      p.progress({ completed: 2 * i + 1, total: 6, item: item(2 * i, String(i), 'LV_EPI', epi) });
+      p.progress({ completed: 2 * i + 2, total: 6, item: item(2 * i + 1, String(i), 'LV_ENDO', endo), summary: i === 2 ? { ...SUMMARY, ventricles: [{ ...SUMMARY.ventricles[1], ed_phase: '0', es_phase: '2' }] } : undefined });
+      if (i < 2) expect(p.root.byTestId('function-curve'), 'no curve before the summary names the cavities').toBeUndefined();
+    });
+    p.settle().done();
+    await p.tick();
+    const svg = p.root.byTestId('function-curve')!;
+    expect(svg.parentElement!.hidden).toBe(false);
+    // The cavity only (no LV_EPI line), its dots where it has a volume: phase 1 failed, so no line joins 0 and 2.
+    const dots = svg.findAll((e) => e.tagName === 'circle' && e.dataset.ml !== undefined).map((c) => `${c.dataset.surface} ${c.dataset.phase} ${c.dataset.ml}`);
+    expect(dots).toEqual(['LV_ENDO 0 173.7', 'LV_ENDO 2 65.9']);
+    expect(svg.findAll((e) => e.tagName === 'polyline')).toHaveLength(0);
+    expect(svg.findAll((e) => e.tagName === 'title').map((t) => t.textContent)).toContain('2 · LV_ENDO 65.9 ml');
+    expect(svg.findAll((e) => e.dataset.testid === 'function-curve-marker').map((r) => `${r.dataset.kind} ${r.dataset.phase}`)).toEqual(['ED 0', 'ES 2']);
+    p.setContext({ ...frames, settingsKey: 's2' });
+    // Greyed with the table (styles.css: .function.is-stale), not taken away.
+    expect(p.root.classList.contains('is-stale')).toBe(true);
+    expect(p.root.byTestId('function-curve')!.parentElement!.hidden).toBe(false);
   });
 
   it('Stop keeps the cells measured so far; an error says why and the panel measures again', async () => {

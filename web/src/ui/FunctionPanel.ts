@@ -3,8 +3,9 @@
  * the frames of one sequence: app/phases.ts), "Measure all phases" reconstructs every surface of
  * every phase at the current settings in the worker, beside the reconstruction on screen, and
  * shows the volumes (ml) in a phases x surfaces table, each cavity's EDV/ESV/SV/EF, the LV mass and
- * a CSV of the cells (the CLI's `heartmesh volumes`). A table measured with other settings or other
- * files than those now open is marked stale rather than shown as if it were current.
+ * a CSV of the cells (the CLI's `heartmesh volumes`); with three phases or more, a curve of each
+ * cavity's volume over them (VolumeChart) above the table. A table measured with other settings or
+ * other files than those now open is marked stale rather than shown as if it were current.
  *
  * `[data-testid=function]` carries `data-state` (idle, measuring, done, stopped, error) and
  * `data-stale` (1 when the settings or files changed since); each cavity's line carries
@@ -18,6 +19,8 @@ import { splitExtension } from '../io/fileExtension';
 import type { PhasePlan } from '../app/phases';
 import { h } from './dom';
 import { cellText, edEsText, massText, singleTexts, ventricleText, volumesCsv } from './functionText';
+import { volumeChart } from './VolumeChart';
+import { cavities, cavitySeries, curveLayout } from './volumeCurve';
 
 /** What a measurement depends on, as the controller sees it now. */
 export interface FunctionContext {
@@ -77,6 +80,7 @@ export class FunctionPanel {
   private readonly progress: HTMLElement;
   private readonly stale: HTMLElement;
   private readonly leftOut: HTMLElement;
+  private readonly curve: HTMLElement;
   private readonly table: HTMLTableElement;
   private readonly summary: HTMLElement;
   private readonly error: HTMLElement;
@@ -97,6 +101,7 @@ export class FunctionPanel {
     this.source = h('p', { class: 'function-source muted' });
     this.stale = h('p', { class: 'function-stale', 'data-testid': 'function-stale', hidden: true });
     this.leftOut = h('p', { class: 'function-left-out', 'data-testid': 'function-left-out', hidden: true });
+    this.curve = h('div', { class: 'function-curve-box', hidden: true });
     this.table = h('table', { class: 'function-table', 'data-testid': 'function-table', hidden: true });
     this.summary = h('ul', { class: 'function-summary', 'data-testid': 'function-summary' });
     this.error = h('p', { class: 'function-error', 'data-testid': 'function-error', hidden: true });
@@ -109,6 +114,7 @@ export class FunctionPanel {
       this.leftOut,
       this.progress,
       this.stale,
+      this.curve,
       this.table,
       this.summary,
       this.error,
@@ -213,6 +219,7 @@ export class FunctionPanel {
     this.error.hidden = !m?.error;
     this.error.textContent = m?.error ? `Not measured: ${m.error}` : '';
     this.renderTable(m);
+    this.renderCurve(m);
     this.renderSummary(m);
   }
 
@@ -232,7 +239,7 @@ export class FunctionPanel {
         {},
         h('th', { scope: 'row', title: phase }, phase),
         ...shown.map((s) => {
-          const item = m.items[i * m.surfaces.length + m.surfaces.indexOf(s)];
+          const item = cellOf(m, i, s);
           const { text, title } = cellText(item);
           const kind = item ? (item.volume_ml !== null ? 'volume' : (item.missing ?? 'failed')) : 'pending';
           return h('td', { class: `num ${kind}`, title, 'data-surface': s, 'data-phase': phase, 'data-volume-ml': item?.volume_ml ?? undefined }, text);
@@ -240,6 +247,14 @@ export class FunctionPanel {
       ),
     );
     this.table.replaceChildren(h('caption', { class: 'visually-hidden' }, 'Volumes (ml) by phase and surface'), h('thead', {}, h('tr', {}, h('th', { scope: 'col', class: 'corner' }, 'ml'), ...shown.map(head))), h('tbody', {}, ...rows));
+  }
+
+  /** Each cavity's volume over the phases, once the summary says which surfaces are cavities. */
+  private renderCurve(m: Measurement | null): void {
+    const s = m?.summary;
+    const layout = m && s ? curveLayout(m.phases, cavitySeries(s, surfaceOrder(cavities(s)), m.phases.length, (i, surface) => cellOf(m, i, surface)?.volume_ml ?? null)) : null;
+    this.curve.hidden = layout === null;
+    this.curve.replaceChildren(...(layout ? volumeChart(layout) : []));
   }
 
   private renderSummary(m: Measurement | null): void {
@@ -269,4 +284,10 @@ export class FunctionPanel {
     }
     this.summary.replaceChildren(...lines);
   }
+}
+
+/** The cell of phase `i` and `surface` (the batch measures each phase's surfaces in turn). */
+function cellOf(m: Measurement, i: number, surface: string): PhaseItem | undefined {
+  const k = m.surfaces.indexOf(surface);
+  return k < 0 ? undefined : m.items[i * m.surfaces.length + k];
 }
