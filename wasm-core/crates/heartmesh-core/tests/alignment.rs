@@ -441,6 +441,11 @@ fn a_contour_left_out_of_an_aligned_run_moves_with_its_image() {
         )
         .unwrap();
         rec.run().unwrap();
+        // The per-point distances (the app's hover) are those the figure summarises.
+        let points = rec.set_aside_point_distances();
+        assert_eq!(points.len(), rec.set_aside_contours()[0].point_count());
+        let mean = points.iter().sum::<f64>() / points.len() as f64;
+        assert!((mean - rec.set_aside_stats()[0].mean).abs() < 1e-12);
         let drawn = set.contours.iter().find(|c| c.id == LEFT).unwrap();
         let at_drawn = heartmesh_core::sim::leave_one_out::measure(drawn, rec.mesh()).mean;
         (rec.set_aside_stats()[0].mean, at_drawn)

@@ -342,6 +342,14 @@ impl Session {
         ))
     }
 
+    /// Distance (mm) of each of those points to the mesh (the core's, taken where they are
+    /// drawn), in `set_aside_points` order: the hover's read-out on a contour left out.
+    pub fn set_aside_point_distances(&self) -> Result<Vec<f32>, JsValue> {
+        Ok(convert::to_f32(
+            &self.run_ref()?.rec.set_aside_point_distances(),
+        ))
+    }
+
     /// JSON of the small part of the protocol's `RunResult` ([`convert::result_value`]; with
     /// `align_slices`, `alignment` holds the shifts and `contours` and `contour_points` are the
     /// shifted contours), plus `set_aside_contours`: the `ContourInfo`s of the contours left out

@@ -76,12 +76,16 @@ pub fn points_to_mesh(points: &[Vec3], mesh: &TriMesh) -> Vec<f64> {
         .collect()
 }
 
-/// Per contour, the summary of its points' distances to the mesh (in `contours`' order; one BVH
-/// for all).
-pub fn per_contour_stats(contours: &[Contour], mesh: &TriMesh) -> Vec<Stats> {
+/// The distance of every point of `contours` to the mesh: contour order, then piece order, then
+/// point order (one BVH for all).
+pub fn contour_points_to_mesh(contours: &[Contour], mesh: &TriMesh) -> Vec<f64> {
     let points: Vec<Vec3> = contours.iter().flat_map(|c| c.points().copied()).collect();
-    let per_point = points_to_mesh(&points, mesh);
-    split_stats(contours, &per_point)
+    points_to_mesh(&points, mesh)
+}
+
+/// Per contour, the summary of its points' distances to the mesh (in `contours`' order).
+pub fn per_contour_stats(contours: &[Contour], mesh: &TriMesh) -> Vec<Stats> {
+    split_stats(contours, &contour_points_to_mesh(contours, mesh))
 }
 
 /// `per_point` (one distance per point of `contours`, in order) summarised per contour.
@@ -104,8 +108,7 @@ pub fn contour_to_mesh(
     kinds: &[ContourKind],
     mesh: &TriMesh,
 ) -> ContourDistances {
-    let points: Vec<Vec3> = contours.iter().flat_map(|c| c.points().copied()).collect();
-    let per_point = points_to_mesh(&points, mesh);
+    let per_point = contour_points_to_mesh(contours, mesh);
     let per_contour = contours
         .iter()
         .zip(split_stats(contours, &per_point))

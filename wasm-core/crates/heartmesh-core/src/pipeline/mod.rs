@@ -42,7 +42,8 @@ use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
 use crate::metrics::{
-    contour_to_mesh, per_contour_stats, vertex_to_contours, ContourDistances, Stats,
+    contour_points_to_mesh, contour_to_mesh, per_contour_stats, vertex_to_contours,
+    ContourDistances, Stats,
 };
 use crate::parallel;
 use crate::params::{AttractorMode, Params};
@@ -603,6 +604,12 @@ impl Reconstruction {
     /// them, so a contour left out is seen where its distance to the mesh was taken.
     pub fn set_aside_contours(&self) -> &[Contour] {
         &self.set_aside_contours
+    }
+
+    /// The distance (mm) of every point of [`Reconstruction::set_aside_contours`] to the mesh, in
+    /// their order: what the app's hover reads on a contour left out.
+    pub fn set_aside_point_distances(&self) -> Vec<f64> {
+        contour_points_to_mesh(&self.set_aside_contours, &self.mesh_mm)
     }
 
     /// The summary (mean, median, p95, max, ...) of those distances, one per
