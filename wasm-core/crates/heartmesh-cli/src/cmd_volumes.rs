@@ -22,7 +22,8 @@ use crate::error::CliError;
 use crate::files;
 
 pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_EPI,...]
-    [--frames all|F,F,...] [--csv VOLUMES.csv] [--json VOLUMES.json] [--meshes DIR]
+    [--frames all|F,F,...] [--csv VOLUMES.csv] [--json VOLUMES.json] [--plot CURVE.svg]
+    [--meshes DIR]
     [reconstruct's parameter options: --iterations ... --end-caps ... --align-slices ...] [--quiet]
   Cardiac function: every surface reconstructed in every phase at the same parameters; prints
   the volumes (ml, of the closed meshes: the lids at the base included), each cavity's
@@ -36,13 +37,14 @@ pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_E
   --surface: the surfaces to reconstruct (default all of the files'); epicardia and unknown
   labels (LABEL_n) get volumes but no ejection fraction.
   --csv: one row per phase and surface (volume_ml empty where the mesh is open or the run
-  failed); --json: the volumes, each cavity's function and the mass per phase;
+  failed); --json: the volumes, each cavity's function and the mass per phase; --plot: each
+  cavity's volume over the phases as an SVG chart (a gap where a phase has no volume);
   --meshes DIR: each mesh as DIR/PHASE-SURFACE.obj.
   A run that fails is named (phase and surface) and the others go on (exit status of the last
   failure).";
 
 /// Options of this command only that take a value.
-const VALUE_FLAGS: &[&str] = &["frames", "csv", "json", "meshes"];
+const VALUE_FLAGS: &[&str] = &["frames", "csv", "json", "plot", "meshes"];
 
 /// Switches of this command only.
 const SWITCHES: &[&str] = &["quiet"];
@@ -82,13 +84,13 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     // A usage error should not wait for the files.
     params_from(&p, Params::default())?;
     // The outputs before any work: a mistyped directory should not cost every phase's runs.
-    for option in ["csv", "json"] {
+    for option in ["csv", "json", "plot"] {
         if let Some(path) = p.value(option) {
             files::check_output(path)?;
         }
     }
     let inputs: Vec<&str> = p.positional.iter().map(String::as_str).collect();
-    let outputs: Vec<(&str, &str)> = [("--csv", "csv"), ("--json", "json")]
+    let outputs: Vec<(&str, &str)> = [("--csv", "csv"), ("--json", "json"), ("--plot", "plot")]
         .into_iter()
         .filter_map(|(flag, name)| p.value(name).map(|v| (flag, v)))
         .collect();
@@ -169,6 +171,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
     if let Some(path) = p.value("csv") {
         files::write(path, csv(&phases, &surfaces, &cells).as_bytes())?;
+    }
+    if let Some(path) = p.value("plot") {
+        files::write(path, plot(&phases, &surfaces, &cells, &summary).as_bytes())?;
     }
     if let Some(path) = p.value("json") {
         let doc = json_report(&phases, &surfaces, &cells, &summary, &params);
@@ -505,6 +510,22 @@ fn summarise(phases: &[Phase], surfaces: &[Option<String>], cells: &[Vec<Cell>])
         .map(|row| row.iter().map(|c| c.out.measured()).collect())
         .collect();
     function::summarise(&names, &labels, &measured)
+}
+
+/// The volume curve (`--plot`, [`crate::volume_plot`]).
+fn plot(
+    phases: &[Phase],
+    surfaces: &[Option<String>],
+    cells: &[Vec<Cell>],
+    f: &Function,
+) -> String {
+    let names: Vec<String> = phases.iter().map(|p| p.name.clone()).collect();
+    let labels: Vec<String> = surfaces.iter().map(|s| label(s).to_string()).collect();
+    let volumes: Vec<Vec<Option<f64>>> = cells
+        .iter()
+        .map(|row| row.iter().map(|c| c.out.volume_ml).collect())
+        .collect();
+    crate::volume_plot::curve(&names, &labels, &volumes, f)
 }
 
 fn label(surface: &Option<String>) -> &str {

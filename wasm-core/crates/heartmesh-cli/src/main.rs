@@ -27,6 +27,7 @@ mod files;
 mod report;
 mod svg;
 mod svg_plot;
+mod volume_plot;
 
 use error::CliError;
 

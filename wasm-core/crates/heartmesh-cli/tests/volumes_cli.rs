@@ -181,8 +181,16 @@ fn real_patients_keep_their_myocardial_mass_over_the_cycle() {
     ] {
         let ed = data(&format!("contours/{folder}/{p}-ED.csv"));
         let es = data(&format!("contours/{folder}/{p}-ES.csv"));
+        let plot = dir.join("curve.svg");
         let (doc, out) = volumes(
-            &[s(&es), s(&ed), "--surface", "LV_ENDO,LV_EPI,RV_ENDO"],
+            &[
+                s(&es),
+                s(&ed),
+                "--surface",
+                "LV_ENDO,LV_EPI,RV_ENDO",
+                "--plot",
+                s(&plot),
+            ],
             &dir.join("v.json"),
         );
         print!("{out}");
@@ -225,8 +233,54 @@ fn real_patients_keep_their_myocardial_mass_over_the_cycle() {
         let wall = vol(&ed, "LV_EPI") - vol(&ed, "LV_ENDO");
         assert!((ed_g - 1.05 * wall).abs() < 1e-9, "{ed_g} {wall}");
         assert!(out.contains("LV mass, 1.05 g/ml"), "{out}");
+        check_plot(&std::fs::read_to_string(&plot).unwrap(), &doc);
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `--plot`: the cavities' curves only (no epicardium), one dot per phase and cavity, each at its
+/// volume on the chart's y scale, and each ventricle's EF as the JSON gives it.
+fn check_plot(svg: &str, doc: &Value) {
+    assert!(svg.starts_with("<?xml") && svg.trim_end().ends_with("</svg>"));
+    let dots: Vec<f64> = svg
+        .lines()
+        .filter(|l| l.starts_with("<circle"))
+        .map(|l| attr(l, "cy"))
+        .collect();
+    assert_eq!(dots.len(), 4, "2 phases x LV_ENDO, RV_ENDO");
+    for f in doc["function"].as_array().unwrap() {
+        let text = format!(
+            "{} EF {:.1} %",
+            f["surface"].as_str().unwrap(),
+            num(&f["ef_percent"])
+        );
+        assert!(svg.contains(&text), "{text}");
+    }
+    assert!(!svg.contains(">LV_EPI<"), "an epicardium is no cavity");
+    // Higher volumes are higher up: the dots' order by height is the volumes' order.
+    let mut ml: Vec<f64> = doc["volumes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|v| v["surface"] != "LV_EPI")
+        .map(|v| num(&v["volume_ml"]))
+        .collect();
+    ml.sort_by(f64::total_cmp);
+    let mut by_height = dots.clone();
+    by_height.sort_by(|a, b| b.total_cmp(a));
+    // Linear scale: equal volume steps are equal pixel steps.
+    let px_per_ml = (by_height[0] - by_height[3]) / (ml[3] - ml[0]);
+    for k in 1..3 {
+        let want = by_height[0] - (ml[k] - ml[0]) * px_per_ml;
+        assert!((by_height[k] - want).abs() < 0.15, "{by_height:?} {ml:?}");
+    }
+}
+
+/// The number in attribute `name="..."` of an SVG element line.
+fn attr(line: &str, name: &str) -> f64 {
+    let start = line.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+    let end = start + line[start..].find('"').unwrap();
+    line[start..end].parse().unwrap()
 }
 
 /// The same two phases in one file with a phase column: every frame a phase, named as written,
