@@ -3,8 +3,9 @@
 // largest of them the result panel's max; a row hovered highlights its contour in the 3D view and a
 // contour point hovered names its contour and lights its row; unticking a long-axis contour runs
 // again without it (the core's `leave_out`: "left out by you" in the table, the result panel's Left
-// out row, the key and the read-out; another volume), its row then shows how far the mesh built
-// without it passes (s07_LAX: mean 1.83, max 7.66 mm, the Lab's leave-one-out figures for it), a
+// out row, the key and the read-out, which gives how far the mesh built without it passes the
+// point under the pointer; another volume), its row then shows how far that mesh passes the
+// whole contour (s07_LAX: mean 1.83, max 7.66 mm, the Lab's leave-one-out figures for it), a
 // click on the max header sorts the rows by it both ways and back to the file's order, the
 // panel's CSV holds the table's figures in its order, the exports and a saved session record it, the session opened again leaves it out again, and
 // ticking it back (or Use all) gives the first mesh again to the last digit. One list serves
@@ -210,11 +211,23 @@ describe('the Contours panel', () => {
     assert.ok(csv.rows.every((r) => r.contour === target || (r.state === 'used' && r.line === '')), 'used rows have no line');
     console.log(`# contours CSV: ${target} line ${heldOut.line}, mean ${heldOut.mean_mm} median ${heldOut.median_mm} max ${heldOut.max_mm} mm`);
 
-    // Hovered in the view, the contour left out says so.
-    const aside = await page.evaluate(() => [...window.heartmesh.currentResult().setAsidePoints.slice(0, 3)]);
-    await pointAt(aside);
+    // Hovered in the view, the contour left out says so, with how far the mesh built without it
+    // passes that point: one of its points' figures, within its row's max.
+    const aside = await page.evaluate(() => {
+      const r = window.heartmesh.currentResult();
+      return { xyz: [...r.setAsidePoints.slice(0, 3)], mm: [...r.setAsidePointDistances] };
+    });
+    assert.equal(aside.mm.length, leftRow.count, 'one distance per point of the contour left out');
+    await pointAt(aside.xyz);
     await page.waitForFunction(() => /left out by you/.test(document.querySelector('[data-testid=hover-readout]')?.textContent ?? ''), null, { timeout: 10000 });
-    assert.match((await page.textContent('[data-testid=hover-readout]')) ?? '', new RegExp(`^\\s*left out by you · ${target}\\(`));
+    const asideReadout = (await page.textContent('[data-testid=hover-readout]')) ?? '';
+    const heldOutAt = new RegExp(`^\\s*(\\d+\\.\\d\\d) mm to mesh \\(built without it\\) · left out by you · ${target}\\(`).exec(asideReadout);
+    assert.ok(heldOutAt, asideReadout);
+    const asideMm = Number(heldOutAt[1]);
+    assert.ok(asideMm >= 0 && asideMm <= leftRow.maxMm + 0.01, `${asideMm} mm within 0..${leftRow.maxMm} mm`);
+    assert.ok(aside.mm.some((d) => d.toFixed(2) === heldOutAt[1]), `${heldOutAt[1]} mm is one of ${target}'s points' figures`);
+    console.log(`# hovered a point of ${target} left out: read-out "${asideReadout.trim()}" (point 0: ${aside.mm[0].toFixed(3)} mm)`);
+    await page.screenshot({ path: join(tmpdir(), 'heartmesh-left-out-readout.png') });
     await page.mouse.move(0, 0);
 
     // A click on the max header: the rows by their max, largest first (the one left out among them),

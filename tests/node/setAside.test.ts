@@ -2,8 +2,8 @@
 // real wasm, against the native CLI on the same file: the bundled patient 1 ED with a 2 mm,
 // 3-point loop one slice past the base (tests/e2e/speck.mjs). The result names it as the CLI
 // report's `set_aside` does, the load-time warning is the CLI's, the mesh and the figures are the
-// CLI's (to 1e-9), its points come back as the file gives them, and `keep_specks` keeps it as
-// `--keep-specks` does.
+// CLI's (to 1e-9), its points come back as the file gives them with their distances to the mesh
+// (the entry's mean to 1e-5, f32), and `keep_specks` keeps it as `--keep-specks` does.
 import { beforeAll, describe, expect, it } from 'vitest';
 import { DEFAULT_OPTIONS, type LoadedFile, type RunResult } from '../../web/src/core-client/protocol';
 import { ROOT, cliReport, loadWasm, readText, writeScratch } from './helpers.mjs';
@@ -76,6 +76,15 @@ describe('contours left out, through the worker, against the CLI', () => {
     expect(left.set_aside_contours?.map((c) => [c.id, c.pieces.length, c.pieces[0].count])).toEqual([[speck.id, 1, 3]]);
     const rows = speck.csv.trim().split('\n').slice(-3).map((r) => r.split(',').slice(1, 4).map(Number));
     expect(Array.from(left.setAsidePoints ?? [])).toEqual(rows.flat().map(Math.fround));
+    // Each of its points' distance to the mesh built without it (the hover read-out's): one per
+    // point, and on average the entry's mean (f32 from f64).
+    const far = Array.from(left.setAsidePointDistances ?? []);
+    expect(far.length).toBe((left.setAsidePoints?.length ?? 0) / 3);
+    expect(far.length).toBe(3);
+    const mean = far.reduce((a, b) => a + b, 0) / far.length;
+    expect(Math.abs(mean - (left.set_aside?.[0]?.mean ?? NaN))).toBeLessThanOrEqual(1e-5);
+    expect(Math.max(...far)).toBeCloseTo(left.set_aside?.[0]?.max ?? NaN, 5);
+    console.log(`set aside: ${speck.id} points ${far.map((d) => d.toFixed(4)).join(', ')} mm from the mesh (entry mean ${left.set_aside?.[0]?.mean?.toFixed(4)}, max ${left.set_aside?.[0]?.max?.toFixed(4)})`);
 
     const kept = await run(2, true);
     const nativeKept = cli(['--keep-specks'], 'kept');

@@ -279,7 +279,7 @@ describe('the viewer and the read-out name contours', () => {
     layer.dispose();
   });
 
-  it('the read-out says "0.84 mm to mesh · ID" on a contour point and "left out by you · ID" on one left out', () => {
+  it('the read-out says "0.84 mm to mesh · ID" on a contour point and "1.92 mm to mesh (built without it) · left out by you · ID" on one left out', () => {
     const readout = new HoverReadout();
     const el = readout.element as unknown as FakeElement;
     const at = { x: 10, y: 10, point: { x: 1, y: 2, z: 3 } } as unknown as HoverInfo;
@@ -288,7 +288,14 @@ describe('the viewer and the read-out name contours', () => {
     readout.show({ ...at, what: 'mesh', distanceMm: 1.5 }, 2);
     expect(el.textContent).toMatch(/^1\.50 mm to nearest contour\(/);
     readout.show({ ...at, what: 'left out', distanceMm: null, label: leftOutLabel('by_user'), id: LAX.id }, 2);
-    expect(el.textContent).toMatch(/^ left out by you · s07_LAX_LV_ENDOCARDIAL\(/);
+    expect(el.textContent).toBe(' left out by you · s07_LAX_LV_ENDOCARDIAL(1.0, 2.0, 3.0) mm');
+    // With its distance to the mesh built without it: the figure first, as on a contour used, and
+    // grey, not coloured on the used contours' scale (1.92 is within the 2 mm scale).
+    readout.show({ ...at, what: 'left out', distanceMm: 1.9237, label: leftOutLabel('by_user'), id: LAX.id }, 2);
+    expect(el.textContent).toBe(' 1.92 mm to mesh (built without it) · left out by you · s07_LAX_LV_ENDOCARDIAL(1.0, 2.0, 3.0) mm');
+    expect(el.findAll((e) => e.tagName === 'strong').map((e) => e.textContent)).toEqual(['1.92 mm']);
+    const swatches = el.findAll((e) => e.tagName === 'span' && e.getAttribute('class')?.includes('swatch') === true);
+    expect(swatches.map((e) => [e.getAttribute('class'), e.style.background ?? ''])).toEqual([['swatch set-aside-swatch', '']]);
   });
 
   it('the key of contours not used names those left out by the user; the highlight draws one contour', () => {

@@ -177,6 +177,8 @@ describe('contours left out in the panels and the viewer', () => {
     expect(layer.entryOfPoint(2)?.id).toBe('sax10');
     expect(layer.entryOfPoint(3)?.id).toBe('far');
     expect(layer.entryOfPoint(5)).toBeNull();
+    // Without the run's distances, a picked point has none.
+    expect(layer.distanceOfPoint(0)).toBeNull();
     layer.setVisible(false);
     expect(key.hidden).toBe(true);
     layer.setVisible(true);
@@ -186,9 +188,29 @@ describe('contours left out in the panels and the viewer', () => {
     layer.dispose();
   });
 
+  it('keeps each point\'s distance to the mesh built without it for the read-out, not for colour', () => {
+    const layer = new SetAsideLayer();
+    layer.set([SPECK, STRAY], CONTOURS, POINTS, new Float32Array([8.1, 8.2, 8.3, 176.4, 186.4]));
+    expect([0, 2, 3, 4].map((i) => layer.distanceOfPoint(i))).toEqual([8.1, 8.3, 176.4, 186.4].map(Math.fround));
+    expect(layer.distanceOfPoint(5)).toBeNull();
+    // Still grey: no per-point colours on the lines, the discs or the rings.
+    const geometries = layer.group.children as unknown as { geometry: { getAttribute(n: string): unknown } }[];
+    expect(geometries.map((o) => o.geometry.getAttribute('color'))).toEqual([undefined, undefined, undefined]);
+    // A list of another length than the points' is no one's.
+    layer.set([SPECK, STRAY], CONTOURS, POINTS, new Float32Array([8.1, 8.2, 8.3]));
+    expect(layer.distanceOfPoint(0)).toBeNull();
+    layer.set([SPECK, STRAY], CONTOURS, POINTS, new Float32Array([8.1, 8.2, 8.3, 176.4, 186.4]));
+    layer.clear();
+    expect(layer.distanceOfPoint(0)).toBeNull();
+    layer.dispose();
+  });
+
   it('the scene draws them after a run only (before one they are among the file\'s contours)', () => {
     const calls: string[] = [];
-    const layer = { set: (l: SetAsideEntry[]) => calls.push(`aside ${l.map((s) => s.id).join(',')}`), clear: () => calls.push('aside clear') };
+    const layer = {
+      set: (l: SetAsideEntry[], _c: ContourInfo[], _p: Float32Array, d?: Float32Array) => calls.push(`aside ${l.map((s) => s.id).join(',')}${d ? ` ${Array.from(d).join(',')}` : ''}`),
+      clear: () => calls.push('aside clear'),
+    };
     const viewer = {
       contourLayer: { set: () => calls.push('contours') },
       givenLayer: { set: () => calls.push('given'), clear: () => undefined },
@@ -201,11 +223,15 @@ describe('contours left out in the panels and the viewer', () => {
     showSceneContours(viewer, file, 'LV_ENDO', result({ set_aside: [SPECK], set_aside_contours: CONTOURS.slice(0, 1), setAsidePoints: POINTS.slice(0, 9) }), 1);
     expect(calls).toEqual(['contours', 'aside sax10']);
     calls.length = 0;
+    // With their distances (to the mesh built without them), which the layer keeps for the read-out.
+    showSceneContours(viewer, file, 'LV_ENDO', result({ set_aside: [SPECK], set_aside_contours: CONTOURS.slice(0, 1), setAsidePoints: POINTS.slice(0, 9), setAsidePointDistances: new Float32Array([8, 8.5, 9]) }), 1);
+    expect(calls).toEqual(['contours', 'aside sax10 8,8.5,9']);
+    calls.length = 0;
     showSceneContours(viewer, file, 'LV_ENDO', result(), 1);
     expect(calls).toEqual(['contours', 'aside ']);
   });
 
-  it('the hover read-out names a contour left out, with no distance', () => {
+  it('the hover read-out names a contour left out, with how far the mesh built without it passes when the run says', () => {
     const readout = new HoverReadout();
     const el = readout.element as unknown as FakeElement & { style: Record<string, string> };
     el.style = {}; // the fake DOM has no style; the placement is tested in hoverReadout.test.ts
@@ -213,6 +239,8 @@ describe('contours left out in the panels and the viewer', () => {
     expect(el.hidden).toBe(false);
     expect(el.textContent).toContain('left out: speck · sax10');
     expect(el.textContent).not.toContain('to mesh');
+    readout.show({ x: 10, y: 10, what: 'left out', point: { x: 5, y: 0, z: 8 } as never, distanceMm: 8.3149, label: 'left out: speck', id: 'sax10' }, 2);
+    expect(el.textContent).toBe(' 8.31 mm to mesh (built without it) · left out: speck · sax10(5.0, 0.0, 8.0) mm');
   });
 });
 

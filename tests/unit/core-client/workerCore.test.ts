@@ -78,6 +78,8 @@ class FakeSession implements SessionApi {
   set_aside_points(): Float32Array {
     return this.setAside ? new Float32Array([5, 0, 8, 4.4, 0.6, 8, 4.4, -0.6, 8]) : new Float32Array(0);
   }
+  /** Each of those points' distance to the mesh (undefined: a core from before the read-out gave it). */
+  set_aside_point_distances?: () => Float32Array = () => (this.setAside ? new Float32Array([8.1, 8.25, 8.4]) : new Float32Array(0));
   /** Echoes its arguments, so the test sees what the worker passed (options inside the params JSON). */
   session_json(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string, appVersion: string): Uint8Array {
     if (fileName === 'missing.csv') throw JSON.stringify({ code: 'not_loaded', message: 'missing.csv has not been loaded' });
@@ -170,7 +172,7 @@ describe('WorkerCore', () => {
     expect(full.frames().some((f) => f.runContours)).toBe(false);
   });
 
-  it('passes the contours left out through with their points (transferred); an older core reads as none', () => {
+  it('passes the contours left out through with their points and distances (transferred); an older core reads as none', () => {
     const { core, session, out, runTicks } = setup(5);
     session.setAside = [{ id: 'speck', line: 544, reason: 'speck', perimeter_mm: 2.9, next_id: 's6', next_perimeter_mm: 157 }];
     core.handle(runMsg);
@@ -181,6 +183,20 @@ describe('WorkerCore', () => {
     expect(done.result.set_aside_contours?.map((c) => c.id)).toEqual(['speck']);
     expect(Array.from(done.result.setAsidePoints ?? [])).toEqual([5, 0, 8, 4.4, 0.6, 8, 4.4, -0.6, 8].map(Math.fround));
     expect(transferablesOf(done)).toContain(done.result.setAsidePoints!.buffer);
+    // Their distances to the mesh built without them, one per point, transferred too.
+    expect(Array.from(done.result.setAsidePointDistances ?? [])).toEqual([8.1, 8.25, 8.4].map(Math.fround));
+    expect(transferablesOf(done)).toContain(done.result.setAsidePointDistances!.buffer);
+    expect(transferablesOf(done).length).toBe(new Set(transferablesOf(done)).size);
+    // A core without them: the points still come, the result has no distances (the read-out names the contour only).
+    const earlier = setup(5);
+    earlier.session.setAside = session.setAside;
+    earlier.session.set_aside_point_distances = undefined;
+    earlier.core.handle(runMsg);
+    earlier.runTicks();
+    const e = earlier.out.at(-1)!;
+    if (e.type !== 'done') throw new Error(e.type);
+    expect(e.result.setAsidePoints?.length).toBe(9);
+    expect('setAsidePointDistances' in e.result).toBe(false);
     const older = setup(5);
     older.core.handle(runMsg);
     older.runTicks();

@@ -45,7 +45,7 @@ export function showSceneContours(
   }
   // Other surfaces from the file for context, then the run's own contours with distances.
   viewer.contourLayer.set(r.contours, r.contourPoints, r.surface, r.pointDistances, pointMaxMm);
-  viewer.setAsideLayer.set(r.set_aside ?? [], r.set_aside_contours ?? [], r.setAsidePoints ?? new Float32Array(0));
+  viewer.setAsideLayer.set(r.set_aside ?? [], r.set_aside_contours ?? [], r.setAsidePoints ?? new Float32Array(0), r.setAsidePointDistances);
   if (r.alignment) viewer.givenLayer.set(file.contours, file.points, r.surface);
   else viewer.givenLayer.clear();
   return Boolean(r.alignment);

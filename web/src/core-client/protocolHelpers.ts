@@ -53,6 +53,7 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       add(r.pointDistances);
       add(r.vertexDistances);
       add(r.setAsidePoints);
+      add(r.setAsidePointDistances);
       break;
     }
     case 'lab-truth':

@@ -348,6 +348,12 @@ export interface RunResult {
   set_aside_contours?: ContourInfo[];
   /** xyz of the points of `set_aside_contours`, mm. */
   setAsidePoints?: Float32Array;
+  /**
+   * Distance of each point of `setAsidePoints` to this run's mesh (built without them), mm, in
+   * their order: what the hover read-out gives on a contour left out (absent from older cores,
+   * saved states and test doubles: the read-out then names it only).
+   */
+  setAsidePointDistances?: Float32Array;
   /** Deformation iterations done (the last step's `iteration`), set by the worker. */
   iterations_done?: number;
   /** The run stopped before `params.iterations` because the attractors were reached (stop threshold). */

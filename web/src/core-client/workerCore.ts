@@ -65,6 +65,8 @@ export interface SessionApi {
   vertex_distances(): Float32Array;
   /** xyz of the contours the run left out (`result_json().set_aside_contours` index them). */
   set_aside_points(): Float32Array;
+  /** Distance of each of those points to the finished mesh, mm (absent: a test double or an older core). */
+  set_aside_point_distances?(): Float32Array;
   result_json(): string;
   session_json(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string, appVersion: string): Uint8Array;
   /**
@@ -188,6 +190,7 @@ type ResultJson = Omit<
   | 'pointDistances'
   | 'vertexDistances'
   | 'setAsidePoints'
+  | 'setAsidePointDistances'
   | 'seconds'
 >;
 
@@ -504,6 +507,7 @@ export class WorkerCore {
       pointDistances: this.session.point_distances(),
       vertexDistances: this.session.vertex_distances(),
       setAsidePoints: this.session.set_aside_points(),
+      ...setAsideDistances(this.session),
       seconds: (this.options.now() - run.startedMs) / 1000,
     };
     this.stopRun();
@@ -584,6 +588,12 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
 function fullPrecision(session: SessionApi): { positionsF64?: Float64Array } {
   const p = session.positions_f64?.();
   return p instanceof Float64Array ? { positionsF64: p } : {};
+}
+
+/** How far the finished mesh passes each point left out, where the core says (an older one does not). */
+function setAsideDistances(session: SessionApi): { setAsidePointDistances?: Float32Array } {
+  const d = session.set_aside_point_distances?.();
+  return d instanceof Float32Array ? { setAsidePointDistances: d } : {};
 }
 
 /** A list of ids from the core's JSON: [] when absent (an older core) or not a list of strings. */

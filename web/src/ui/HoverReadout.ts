@@ -1,11 +1,13 @@
 /**
  * The read-out under the pointer: distance to the mesh in mm (after a run; on a contour point, with
- * the contour's id) and position in mm; on the myocardium wall (shown from the Export panel), its
- * thickness in mm and its region.
+ * the contour's id; on a contour left out, to the mesh built without it, with why and its id) and
+ * position in mm; on the myocardium wall (shown from the Export panel), its thickness in mm and its
+ * region.
  */
 import type { HoverInfo } from '../viewer/Viewer';
 import { cssColorAt } from '../viewer/colormap';
 import { h, mm } from './dom';
+import { LEFT_OUT_TO_MESH } from './runText';
 
 export class HoverReadout {
   readonly element: HTMLElement;
@@ -33,9 +35,14 @@ export class HoverReadout {
       const sw = h('span', { class: 'swatch' });
       sw.style.background = info.tint ?? '';
       children.push(sw, ' ', h('strong', {}, info.label ?? ''), ' (other surface)', h('br'));
-    } else if (info.label) {
-      // A contour the run left out: no distance (the mesh does not follow it), its reason and id.
-      children.push(h('span', { class: 'swatch set-aside-swatch' }), ' ', h('strong', {}, info.label), info.id ? ` · ${info.id}` : '', h('br'));
+    } else if (info.what === 'left out') {
+      // A contour the run left out: grey as drawn (the colour scale is the used contours'), how far
+      // the mesh built without it passes where the run says, then why and which.
+      const why = info.label ?? 'left out';
+      const which = info.id ? ` · ${info.id}` : '';
+      const d = info.distanceMm;
+      const text = d === null ? [h('strong', {}, why), which] : [h('strong', {}, mm(d, 2)), ` ${LEFT_OUT_TO_MESH} · ${why}${which}`];
+      children.push(h('span', { class: 'swatch set-aside-swatch' }), ' ', ...text, h('br'));
     } else if (info.distanceMm !== null) {
       const sw = h('span', { class: 'swatch' });
       sw.style.background = cssColorAt(info.distanceMm, 0, scaleMaxMm);

@@ -203,6 +203,13 @@ export function meshCheckText(q: MeshQuality): {
 export const LEFT_OUT_BY_USER = 'left out by you';
 
 /**
+ * What the hover read-out's distance on a point of a contour left out is to: not the mesh's fit to
+ * it (the read-out on a contour used) but how far the others predict it, the figure its row in the
+ * Contours panel gives in italics ("1.92 mm to mesh (built without it) · left out by you · ID").
+ */
+export const LEFT_OUT_TO_MESH = 'to mesh (built without it)';
+
+/**
  * "left out: speck" / "left out: stray" / "left out by you": what the viewer's key, the hover
  * read-out and the Contours panel call a contour left out.
  */

@@ -2,9 +2,10 @@
  * The contours a run left out of the reconstruction (the core's strays and specks), drawn after the
  * run in a "not used" style: grey, dashed and faded lines with grey discs at their points, and a
  * grey ring around each (a speck is a 3-point loop of a few millimetres, too small to find as a line
- * alone), never coloured by distance. A key beside the distance legends names each one ("left out: speck · sax10"), and the
- * hover read-out names the one under the pointer. Distinct from GivenContourLayer (white dashes:
- * the file's contours before the breath-hold shifts), which is about the alignment.
+ * alone), never coloured by distance. A key beside the distance legends names each one ("left out:
+ * speck · sax10"), and the hover read-out names the one under the pointer, with how far the mesh
+ * built without it passes. Distinct from GivenContourLayer (white dashes: the file's contours
+ * before the breath-hold shifts), which is about the alignment.
  */
 import * as THREE from 'three';
 import type { ContourInfo, SetAsideEntry } from '../core-client/protocol';
@@ -55,6 +56,7 @@ export class SetAsideLayer {
   private rings: THREE.Points | null = null;
   private drawn: Drawn[] = [];
   private points: Float32Array = new Float32Array(0);
+  private distances: Float32Array | null = null;
   /** Bumped whenever what is drawn changes (see ContourLayer.version). */
   version = 0;
   private readonly lineMaterial = new THREE.LineDashedMaterial({
@@ -78,8 +80,13 @@ export class SetAsideLayer {
     return this.drawn.length;
   }
 
-  /** Shows the contours `list` names (`contours`, indexing `points`, xyz mm); an empty list clears. */
-  set(list: readonly SetAsideEntry[], contours: readonly ContourInfo[], points: Float32Array): void {
+  /**
+   * Shows the contours `list` names (`contours`, indexing `points`, xyz mm); an empty list clears.
+   * `distances` (mm, one per point: to the mesh built without them) are for the hover read-out
+   * only: the lines stay grey, as the colour scale is that of the contours used. A list of another
+   * length is dropped, so that no point reads another's figure.
+   */
+  set(list: readonly SetAsideEntry[], contours: readonly ContourInfo[], points: Float32Array, distances: Float32Array | null = null): void {
     this.clear();
     const pairs = pairSetAside(list, contours);
     if (pairs.length === 0) return;
@@ -115,6 +122,7 @@ export class SetAsideLayer {
     this.group.add(this.rings);
     this.drawn = pairs.map(({ entry, contour, start, count }) => ({ entry, contour, start, count }));
     this.points = points;
+    this.distances = distances && distances.length * 3 === points.length ? distances : null;
     this.legend.replaceChildren(
       h('div', { class: 'legend-title' }, 'not used by the mesh'),
       ...this.drawn.map(({ entry }) =>
@@ -133,6 +141,11 @@ export class SetAsideLayer {
   /** The contour left out that point `index` (of the picked points) belongs to. */
   entryOfPoint(index: number): SetAsideEntry | null {
     return this.drawn.find((d) => index >= d.start && index < d.start + d.count)?.entry ?? null;
+  }
+
+  /** Distance (mm) from point `index` to the mesh built without it (null: the run did not say). */
+  distanceOfPoint(index: number): number | null {
+    return this.distances?.[index] ?? null;
   }
 
   get pickable(): THREE.Points | null {
@@ -168,6 +181,7 @@ export class SetAsideLayer {
   clear(): void {
     this.version++;
     this.points = new Float32Array(0);
+    this.distances = null;
     for (const o of [this.lines, this.pointsObject, this.rings]) {
       if (!o) continue;
       o.geometry.dispose();

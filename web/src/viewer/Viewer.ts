@@ -27,7 +27,10 @@ export interface HoverInfo {
   y: number;
   what: 'mesh' | 'contour point' | 'left out' | 'other surface' | 'wall';
   point: THREE.Vector3;
-  /** Contour-to-mesh distance in mm when known (after a finished run; never for a contour left out). */
+  /**
+   * Contour-to-mesh distance in mm when known (after a finished run); for a contour left out, to
+   * the mesh built without it.
+   */
   distanceMm: number | null;
   /**
    * For a contour the run left out: "left out: speck" and its id; for another surface, its label;
@@ -397,9 +400,11 @@ export class Viewer {
     const aside = this.setAsideLayer.pickable;
     if (aside && this.setAsideLayer.group.visible) {
       const hit = this.raycaster.intersectObject(aside, false)[0];
-      const entry = hit?.index !== undefined ? this.setAsideLayer.entryOfPoint(hit.index) : null;
-      if (hit && entry && this.isVisiblePoint(hit.point)) {
-        this.hoverListener({ x, y, what: 'left out', point: hit.point.clone(), distanceMm: null, label: leftOutLabel(entry.reason), id: entry.id });
+      const index = hit?.index;
+      const entry = index !== undefined ? this.setAsideLayer.entryOfPoint(index) : null;
+      if (hit && index !== undefined && entry && this.isVisiblePoint(hit.point)) {
+        const distanceMm = this.setAsideLayer.distanceOfPoint(index);
+        this.hoverListener({ x, y, what: 'left out', point: hit.point.clone(), distanceMm, label: leftOutLabel(entry.reason), id: entry.id });
         return;
       }
     }
