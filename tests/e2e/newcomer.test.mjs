@@ -90,6 +90,9 @@ describe('the app for a newcomer (session 14)', () => {
     await page.waitForFunction(() => (document.querySelector('[data-testid=lab-acq-info]')?.textContent ?? '').includes('SAX'), null, { timeout: 30000 });
     await runAndWait(page, () => page.click('[data-testid=lab-reconstruct]'));
     await page.waitForSelector('[data-testid=legend-truth]:not([hidden])', { timeout: 30000 });
+    // The Lab's acquisition is a file of one surface: its picker alone beside the four examples
+    // ran under the badge's text before session 32.
+    assert.equal(overlapping(await box('[data-testid=file-picker]'), await box('[data-testid=privacy]')), false, 'the Lab file\'s picker runs under the privacy badge');
     const controls = await box('.view-controls');
     for (const legend of ['[data-testid=legend-contours]', '[data-testid=legend-truth]']) {
       assert.equal(overlapping(await box(legend), controls), false, `${legend} under the view controls`);
