@@ -229,6 +229,30 @@ describe('the Contours panel', () => {
     console.log(`# hovered a point of ${target} left out: read-out "${asideReadout.trim()}" (point 0: ${aside.mm[0].toFixed(3)} mm)`);
     await page.screenshot({ path: join(tmpdir(), 'heartmesh-left-out-readout.png') });
     await page.mouse.move(0, 0);
+    // In a narrow window the view is narrower than the read-out's one line: it wraps inside the
+    // view rather than running off its right edge.
+    await page.setViewportSize({ width: 900, height: 700 });
+    // The view re-renders at its new size before its points are where `pointAt` projects them.
+    await page.waitForFunction(() => document.querySelector('[data-testid=viewport-canvas]').clientWidth < 500, null, { timeout: 10000 });
+    await page.evaluate(() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done))));
+    // The point of the contour lowest in the view (the apex end): clear of the view's panels.
+    const lowest = await page.evaluate((flat) => {
+      let best = null;
+      for (let i = 0; i < flat.length; i += 3) {
+        const at = window.heartmeshViewer.screenPosition(flat[i], flat[i + 1], flat[i + 2]);
+        if (!best || at.y > best.y) best = { y: at.y, xyz: [flat[i], flat[i + 1], flat[i + 2]] };
+      }
+      return best.xyz;
+    }, [...(await page.evaluate(() => window.heartmesh.currentResult().setAsidePoints))]);
+    await pointAt(lowest);
+    await page.waitForSelector('[data-testid=hover-readout]:not([hidden])', { timeout: 10000 });
+    assert.match((await page.textContent('[data-testid=hover-readout]')) ?? '', /left out by you/);
+    const phoneView = await page.locator('#slot-viewport').boundingBox();
+    const phoneReadout = await page.locator('[data-testid=hover-readout]').boundingBox();
+    assert.ok(phoneReadout.x >= phoneView.x - 0.5 && phoneReadout.x + phoneReadout.width <= phoneView.x + phoneView.width + 0.5, `read-out ${JSON.stringify(phoneReadout)} inside the view ${JSON.stringify(phoneView)}`);
+    await page.screenshot({ path: join(tmpdir(), 'heartmesh-left-out-readout-narrow.png') });
+    await page.mouse.move(0, 0);
+    await page.setViewportSize({ width: 1280, height: 720 });
 
     // A click on the max header: the rows by their max, largest first (the one left out among them),
     // again smallest first (rows without a figure last either way), a third time the file's order.

@@ -55,7 +55,11 @@ export class HoverReadout {
     children.push(h('span', { class: 'muted' }, pos));
     this.element.replaceChildren(...children);
     this.element.hidden = false;
-    // Measured once shown: beside the pointer, on the side where the view has room for it.
+    // Measured once shown, from the view's left edge (where it may be as wide as the view: the
+    // text wraps only in a view narrower than one line), then put beside the pointer on the side
+    // where the view has room for it.
+    this.element.style.left = '0px';
+    this.element.style.top = '0px';
     const view = this.element.offsetParent;
     const at = readoutPlacement(info.x, info.y, this.element.offsetWidth, this.element.offsetHeight, view?.clientWidth ?? Infinity, view?.clientHeight ?? Infinity);
     this.element.style.left = `${at.left}px`;
