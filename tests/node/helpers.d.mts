@@ -23,6 +23,6 @@ export function cliReport(input: string, args: string[], label: string): Record<
 // eslint-disable-next-line @typescript-eslint/no-explicit-any
 export function cliVolumes(inputs: string[], args: string[], label: string): Record<string, any>;
 // eslint-disable-next-line @typescript-eslint/no-explicit-any
-export function cliMyocardium(input: string, args: string[], label: string): { report: Record<string, any>; obj: string };
+export function cliMyocardium(input: string, args: string[], label: string, options?: { bullseye?: boolean }): { report: Record<string, any>; obj: string; bullseye?: string };
 export function cliSegment(args: string[], name: string): string;
 export function cliSimulate(truth: string, args: string[], name: string): string;

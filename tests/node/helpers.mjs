@@ -127,13 +127,18 @@ export function cliVolumes(inputs, args, label) {
   return JSON.parse(readFileSync(json, 'utf8'));
 }
 
-/** The native CLI's `myocardium` of `input` with `args`: its report (JSON) and the wall as OBJ text. */
-export function cliMyocardium(input, args, label) {
+/**
+ * The native CLI's `myocardium` of `input` with `args`: its report (JSON) and the wall as OBJ text;
+ * with `bullseye`, also the AHA bullseye it writes with `--bullseye` (SVG text).
+ */
+export function cliMyocardium(input, args, label, { bullseye = false } = {}) {
   if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);
   const obj = writeScratch(`${label}.obj`, '');
   const report = writeScratch(`${label}.json`, '');
-  execFileSync(CLI, ['myocardium', input, '-o', obj, '--report', report, '--quiet', ...args]);
-  return { report: JSON.parse(readFileSync(report, 'utf8')), obj: readFileSync(obj, 'utf8') };
+  const svg = bullseye ? writeScratch(`${label}-segments.svg`, '') : null;
+  execFileSync(CLI, ['myocardium', input, '-o', obj, '--report', report, '--quiet', ...(svg ? ['--bullseye', svg] : []), ...args]);
+  const out = { report: JSON.parse(readFileSync(report, 'utf8')), obj: readFileSync(obj, 'utf8') };
+  return svg ? { ...out, bullseye: readFileSync(svg, 'utf8') } : out;
 }
 
 /** The native CLI's `segment` (`args`: its surfaces and options) into the scratch folder as `name`; returns its path. */

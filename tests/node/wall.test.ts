@@ -6,23 +6,27 @@
 // epicardium is moved alike. Through the worker's logic (the app's path: runs to 'done',
 // their full-precision meshes, a 'wall-export' request) the VTK holds one region per triangle and
 // the thickness per vertex; from the display's f32 meshes the figures still agree to 1e-6. A wall
-// the core cannot build is a typed error that leaves the session usable.
+// the core cannot build is a typed error that leaves the session usable. The AHA segments are the
+// CLI report's (each segment's mean, min, max and area to 1e-9, the septum placed from the same
+// source), the bullseye SVG the file `--bullseye` writes but for its title line, and patient 1's
+// basal anteroseptal wall is thicker than its basal anterolateral wall, as the CLI has it; a file
+// without RV contours gets no segments and the CLI report's note instead.
 import { beforeAll, describe, expect, it } from 'vitest';
 import type { FromWorker, RunResult, WallSummary } from '../../web/src/core-client/protocol';
 import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
-import { PATIENT1_ED, PATIENT2_ES, cliMyocardium, loadWasm, readBytes, thrownError } from './helpers.mjs';
+import { PATIENT1_ED, PATIENT2_ES, cliMyocardium, loadWasm, readBytes, readText, thrownError, writeScratch } from './helpers.mjs';
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
 type Session = InstanceType<Wasm['Session']>;
 let wasm: Wasm;
 
 // eslint-disable-next-line @typescript-eslint/no-explicit-any
-let cli: { report: Record<string, any>; obj: string };
+let cli: { report: Record<string, any>; obj: string; bullseye?: string };
 const PATIENT2_ED = () => PATIENT2_ES().replace('patient2-ES.csv', 'patient2-ED.csv');
 
 beforeAll(async () => {
   wasm = await loadWasm();
-  cli = cliMyocardium(PATIENT1_ED(), [], 'p1-wall');
+  cli = cliMyocardium(PATIENT1_ED(), [], 'p1-wall', { bullseye: true });
 });
 
 function relative(a: number, b: number): number {
@@ -120,6 +124,76 @@ describe('the LV wall in wasm, against heartmesh myocardium', () => {
     expect([s.vertices, s.triangles]).toEqual([theirs.vertices, theirs.triangles]);
     expect(relative(s.wall_volume_ml, theirs.wall_volume_ml)).toBeLessThanOrEqual(1e-9);
     expect(relative(s.cavity_volume_ml, theirs.cavity_volume_ml)).toBeLessThanOrEqual(1e-9);
+  });
+
+  it('patient 1 ED: the AHA segments are the CLI report\'s (1e-9), the bullseye its --bullseye file but for the title line', () => {
+    const { summary: s } = wallOf(session, endo, epi, 'ply');
+    const theirs = cli.report.segments;
+    const mine = s.segments;
+    if (!mine) throw new Error(`no segments: ${s.segments_note}`);
+    expect(s.segments_note).toBeUndefined();
+    expect(mine.septum_from).toBe(theirs.septum_from);
+    expect(mine.septum_from).toMatch(/^the RV contours' centre \(\d+\)$/);
+    expect(mine.segments.map((g) => [g.id, g.name])).toEqual(theirs.segments.map((g: { id: number; name: string }) => [g.id, g.name]));
+    expect(mine.segments).toHaveLength(17);
+    for (const [k, g] of mine.segments.entries()) {
+      const t = theirs.segments[k];
+      for (const f of ['mean_mm', 'min_mm', 'max_mm', 'area_mm2'] as const) {
+        expect(g[f], `segment ${g.id} ${f}`).not.toBeNull();
+        expect(relative(g[f]!, t[f]), `segment ${g.id} ${f}: ${g[f]} vs ${t[f]}`).toBeLessThanOrEqual(1e-9);
+      }
+    }
+    // The frame they were placed in (the base's depth, 0, compared absolutely).
+    const ours = [...mine.septum_direction, ...mine.anterior_direction, ...mine.axis, ...mine.level_depths_mm];
+    const cliFrame = [...theirs.septum_direction, ...theirs.anterior_direction, ...theirs.axis, ...theirs.level_depths_mm];
+    expect(ours).toHaveLength(cliFrame.length);
+    ours.forEach((x, i) => expect(Math.abs(x - cliFrame[i]) / Math.max(Math.abs(cliFrame[i]), 1), `frame ${i}`).toBeLessThanOrEqual(1e-9));
+
+    // The drawing: the CLI's file line for line, but for the subtitle naming the input (the CLI
+    // gives its path's base name, the app the file's name: here both patient1-ED.csv).
+    const svg = s.bullseye_svg!;
+    const file = cli.bullseye!;
+    const isTitle = (l: string) => l.includes('(LV_ENDO + LV_EPI)</text>');
+    const [a, b] = [svg.split('\n'), file.split('\n')];
+    expect(a.filter(isTitle)).toEqual(['<text x="230" y="40" text-anchor="middle" font-size="12" fill="#444">patient1-ED.csv (LV_ENDO + LV_EPI)</text>']);
+    expect(b.filter(isTitle)).toHaveLength(1);
+    expect(b.filter(isTitle)[0]).toMatch(/>patient1-ED\.csv \(LV_ENDO \+ LV_EPI\)<\/text>$/);
+    expect(a.findIndex(isTitle)).toBe(b.findIndex(isTitle));
+    expect(a.filter((l) => !isTitle(l))).toEqual(b.filter((l) => !isTitle(l)));
+    expect(a.length).toBeGreaterThan(40);
+    expect(svg).toMatch(/^<svg xmlns="http:\/\/www\.w3\.org\/2000\/svg" width="460" height="530" viewBox="0 0 460 530"/);
+    expect(svg.match(/<path /g)).toHaveLength(17);
+  });
+
+  it('patient 1 ED: the basal anteroseptal wall (segment 2) is thicker than the basal anterolateral (6), as the CLI has it', () => {
+    const mean = (segs: { id: number; mean_mm: number | null }[], id: number) => segs.find((g) => g.id === id)!.mean_mm!;
+    const theirs = cli.report.segments.segments;
+    // The command line's figures first: the ordering asserted is the data's.
+    expect(mean(theirs, 2)).toBeGreaterThan(mean(theirs, 6));
+    const mine = wallOf(session, endo, epi, 'stl').summary.segments!.segments;
+    expect(mean(mine, 2)).toBeGreaterThan(mean(mine, 6));
+    // The septum is the thickest of the basal ring here (12.3 mm against 6.0 to 8.8 mm).
+    expect(Math.max(...mine.slice(0, 6).map((g) => g.mean_mm!))).toBe(mean(mine, 2));
+  });
+
+  it('a file without RV contours: no segments, and the CLI report\'s reason', () => {
+    const lines = readText(PATIENT1_ED()).split('\n');
+    const lvOnly = [lines[0], ...lines.slice(1).filter((l) => /,LV_(ENDO|EPI)\s*$/.test(l))];
+    expect(lvOnly.length).toBeGreaterThan(800);
+    const path = writeScratch('patient1-ED-lv-only.csv', `${lvOnly.join('\n')}\n`);
+    const theirs = cliMyocardium(path, [], 'p1-lv-only').report;
+    expect(theirs.segments).toBeNull();
+    expect(theirs.segments_note).toMatch(/no RV_INSERT landmarks and no RV contours/);
+    const s3 = new wasm.Session();
+    s3.load('patient1-ED-lv-only.csv', readBytes(path));
+    const e3 = run(s3, 'LV_ENDO', 'patient1-ED-lv-only.csv');
+    const p3 = run(s3, 'LV_EPI', 'patient1-ED-lv-only.csv');
+    const { summary: s } = wallOf(s3, e3, p3, 'obj', false, 'patient1-ED-lv-only.csv');
+    expect(s.segments).toBeNull();
+    expect(s.segments_note).toBe(theirs.segments_note);
+    expect(s.bullseye_svg).toBeUndefined();
+    // The wall itself is built all the same.
+    expect(relative(s.wall_volume_ml, theirs.wall_volume_ml)).toBeLessThanOrEqual(1e-9);
   });
 
   it('from the display\'s f32 meshes the figures agree to 1e-6', () => {

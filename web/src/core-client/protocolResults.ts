@@ -412,6 +412,47 @@ export interface WallSummary {
   epicardium_moved: WallMoved;
   /** The base plane: a point on it and its normal (towards the base), mm. */
   base_plane: { origin: [number, number, number]; normal: [number, number, number] };
+  /**
+   * The wall thickness by the 17 AHA segments (the CLI report's `segments`), or null when the file
+   * cannot say where the septum is (`segments_note` says why). An LV wall's only: absent from a
+   * biventricular wall's summary and from older cores.
+   */
+  segments?: WallSegments | null;
+  /** Why `segments` is null ("the file has no RV_INSERT landmarks and no RV contours ..."). */
+  segments_note?: string;
+  /**
+   * The AHA bullseye of `segments`, coloured by mean thickness with the values: a standalone SVG
+   * document drawn by the core (`heartmesh myocardium --bullseye`'s, titled with the input's name).
+   */
+  bullseye_svg?: string;
+}
+
+/** The AHA 17-segment model placed on an LV wall (directions unit vectors in the file's coordinates). */
+export interface WallSegments {
+  /** What placed the septum: "RV_INSERT landmarks (6)", "the RV contours' centre (934)". */
+  septum_from: string;
+  septum_direction: [number, number, number];
+  anterior_direction: [number, number, number];
+  /** The long axis, from the apex towards the base. */
+  axis: [number, number, number];
+  /**
+   * Depths below the base plane of the level borders, mm: the base, basal|mid, mid|apical,
+   * apical|apex (the endocardium's lowest point) and the epicardium's lowest point.
+   */
+  level_depths_mm: number[];
+  segments: WallSegment[];
+}
+
+/** One AHA segment's wall thickness, area-weighted over its epicardium and endocardium (null: no wall surface in it). */
+export interface WallSegment {
+  /** 1..17 */
+  id: number;
+  /** "basal anterior", ..., "apex". */
+  name: string;
+  mean_mm: number | null;
+  min_mm: number | null;
+  max_mm: number | null;
+  area_mm2: number;
 }
 
 /** Vertices moved to keep the wall at least `min_thickness_mm` thick (null: not asked for), the longest move in mm. */

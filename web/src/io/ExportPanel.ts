@@ -3,7 +3,8 @@
  * the session (contours + settings, the core's format, opens again with the same settings); PNG
  * screenshot; once several surfaces of the file have been run, all of them in one OBJ; once
  * LV_ENDO and LV_EPI have both been run with the settings in the panel, the LV wall (one closed
- * solid, built in the worker: export/wall.ts) in STL, OBJ, PLY or VTK, with its figures; and
+ * solid, built in the worker: export/wall.ts) in STL, OBJ, PLY or VTK, with its figures and its
+ * thickness by AHA segment (the bullseye, Bullseye.ts); and
  * below it, once LV_ENDO, RV_ENDO and BIV_EPI have been, the biventricular wall
  * (export/bivWall.ts) the same way (each a WallRow, with a View toggle that shows the solid in
  * the 3D view in place of the surface: one wall at a time). Every file records the parameters and
@@ -22,6 +23,7 @@ import { writeVtk } from './export/vtk';
 import { bivWallErrorText, bivWallFigures, bivWallFiguresTitle, bivWallFileName, bivWallFormatTitle, bivWallReadiness, type BivWallReadiness } from './export/bivWall';
 import { wallErrorText, wallFigures, wallFiguresTitle, wallFileName, wallFormatTitle, wallReadiness, type WallReadiness } from './export/wall';
 import { WallRow, type BuiltWall, type WallRowSpec } from './WallRow';
+import { BullseyeView } from './Bullseye';
 
 const ALL_OFF = 'All surfaces of the file in one OBJ: each surface appears once its own run has finished (pick it in the Surface menu)';
 
@@ -76,6 +78,8 @@ const LV_WALL: WallRowSpec = {
       triangles: String(s.triangles),
     },
   }),
+  // The thickness by AHA segment, drawn as the bullseye (the biventricular wall has no segments).
+  details: (info) => new BullseyeView(info),
 };
 
 /** The biventricular wall's row: BIV_EPI less LV_ENDO and RV_ENDO (`biv-wall-export`, `export-biv-wall-<fmt>`, `biv-wall-figures`). */

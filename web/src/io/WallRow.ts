@@ -31,6 +31,15 @@ export interface WallFiguresView {
   data: Record<string, string>;
 }
 
+/** What a wall row shows under its figures line of a built wall (the LV wall's bullseye), and takes away with it. */
+export interface WallDetails {
+  readonly element: HTMLElement;
+  /** A built wall's details (its figures line shows its figures). */
+  show(summary: WallSummary): void;
+  /** Nothing: the figures line is empty, busy or an error. */
+  clear(): void;
+}
+
 export interface WallRowSpec {
   /** The test-id stem: `<id>-export` (the row), `export-<id>-<fmt>` (its buttons), `<id>-figures`. */
   id: string;
@@ -46,6 +55,11 @@ export interface WallRowSpec {
   fileName(info: ExportInfo, format: WallFormat): string;
   errorText(message: string): string;
   view(s: WallSummary): WallFiguresView;
+  /**
+   * What the row shows under its figures line of a built wall (the LV wall's AHA bullseye), shown
+   * and taken away with the figures (`info`: the run the wall is built of). None when absent.
+   */
+  details?(info: () => ExportInfo | null): WallDetails;
 }
 
 /** A wall built in the worker: its figures and its file. */
@@ -78,6 +92,8 @@ export class WallRow {
   private readonly viewButton: HTMLButtonElement;
   /** The wall's figures once built (or why it was not), while its meshes stay the ones used. */
   private readonly figures: HTMLElement;
+  /** The spec's details under the figures (the bullseye), which follow them. */
+  private readonly details: WallDetails | null;
   private readiness: WallRowReadiness;
   private busy = false;
   /** The readiness key of the wall the figures line describes (null: it describes none). */
@@ -110,12 +126,14 @@ export class WallRow {
     this.viewButton.addEventListener('click', () => void this.toggleView());
     this.viewButton.setAttribute('aria-label', `View the ${spec.label}`);
     this.figures = h('p', { class: 'wall-figures', 'data-testid': `${spec.id}-figures`, role: 'status', hidden: true });
+    this.details = spec.details?.(() => source.info()) ?? null;
     this.element = h(
       'div',
       { class: 'wall-export', 'data-testid': `${spec.id}-export`, role: 'group', 'aria-label': spec.label },
       h('div', { class: 'wall-head' }, h('span', { class: 'wall-label' }, spec.label), h('span', { class: 'wall-what' }, spec.what), this.viewButton),
       h('div', { class: 'button-grid' }, ...this.buttons.values()),
       this.figures,
+      this.details?.element,
     );
     this.readiness = { ready: false, title: spec.initialTitle, key: '' };
     this.render();
@@ -246,6 +264,9 @@ export class WallRow {
     for (const k of this.dataKeys) delete el.dataset[k];
     this.dataKeys = [];
     el.classList.toggle('warn', false);
+    // The details are of the wall the figures give, and go with them (busy, an error, stale).
+    if (content === null || 'state' in content) this.details?.clear();
+    else this.details?.show(content.summary);
     if (content === null) {
       el.hidden = true;
       el.textContent = '';

@@ -7,6 +7,8 @@ use std::time::Instant;
 use heartmesh_core::contours::biv_epi::{self, BIV_EPI};
 use heartmesh_core::mesh::wall::{self, Wall};
 use heartmesh_core::metrics::compare::common_basal_plane_all;
+use heartmesh_core::metrics::segments::{self as aha, Segments};
+use heartmesh_core::metrics::{bullseye, septum};
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{ContourSet, CoreError, Params};
 use serde_json::{json, Value};
@@ -23,7 +25,7 @@ use crate::report;
 pub const USAGE: &str =
     "heartmesh myocardium CONTOURS [VIEWS...] -o WALL.vtk [--report REPORT.json]
     [--endo LV_ENDO] [--epi LV_EPI] [--biventricular [--rv-endo RV_ENDO]]
-    [--min-thickness 1|off] [--frame N|LABEL]
+    [--min-thickness 1|off] [--frame N|LABEL] [--bullseye SEGMENTS.svg]
     [reconstruct's parameter options: --iterations ... --end-caps ... --align-slices ...]
     [--ascii] [--quiet]
   The LV myocardium as one closed solid (volume meshing with gmsh or TetGen, simulation, 3D
@@ -48,7 +50,13 @@ pub const USAGE: &str =
   (--epi, default BIV_EPI: the file's LV_EPI and RV_EPI curves joined, see reconstruct) minus
   the LV cavity (--endo) and the RV cavity (--rv-endo, default RV_ENDO), cut at the most basal
   short-axis slice all three were drawn on; regions 1 epicardium, 2 lv_endocardium,
-  3 rv_endocardium, 4 base; the cavities are also kept --min-thickness apart (the septum).";
+  3 rv_endocardium, 4 base; the cavities are also kept --min-thickness apart (the septum).
+  AHA segments (LV wall): REPORT.json's segments give the wall thickness (area-weighted mean,
+  min, max, mm) in each of the 17 segments of the AHA model, placed round the long axis from the
+  septum's direction (the file's RV_INSERT landmarks, else its RV contours' centre; the file's
+  coordinates must be a right-handed patient frame, DICOM LPS or RAS); the levels are thirds of
+  the cavity below the base, segment 17 the wall beyond the cavity's lowest point.
+  --bullseye: those segments drawn as the AHA bullseye (SVG), anterior up, septum left.";
 
 /// Options of this command only that take a value.
 const VALUE_FLAGS: &[&str] = &[
@@ -59,6 +67,7 @@ const VALUE_FLAGS: &[&str] = &[
     "rv-endo",
     "frame",
     "min-thickness",
+    "bullseye",
 ];
 
 /// The default of --min-thickness (mm): a wall this thin is under any reconstruction's error,
@@ -109,11 +118,16 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let frame = contours::frame_flag(p.value("frame"))?;
     params_from(&p, Params::default())?;
     let report_path = p.value("report");
+    let bullseye_path = p.value("bullseye");
     let mut named = vec![("-o", output)];
-    for path in [Some(output), report_path].into_iter().flatten() {
+    for path in [Some(output), report_path, bullseye_path]
+        .into_iter()
+        .flatten()
+    {
         files::check_output(path)?;
     }
     named.extend(report_path.map(|r| ("--report", r)));
+    named.extend(bullseye_path.map(|r| ("--bullseye", r)));
     let inputs: Vec<&str> = p.positional.iter().map(String::as_str).collect();
     files::check_distinct(&inputs, &named)?;
 
@@ -121,6 +135,21 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let params = params_from(&p, loaded.session_params.unwrap_or_default())?;
     let set = loaded.set;
     let biventricular = p.switch("biventricular");
+    if biventricular && bullseye_path.is_some() {
+        return Err(CliError::usage(
+            "--bullseye draws the LV wall's 17 segments; leave out --biventricular",
+        ));
+    }
+    if bullseye_path.is_some() && !septum::said(&set) {
+        return Err(CliError::input(
+            input,
+            CoreError::parse(
+                0,
+                "--bullseye needs the septum's direction: the file has no RV_INSERT landmarks \
+                 and no RV contours",
+            ),
+        ));
+    }
     if !biventricular && p.value("rv-endo").is_some() {
         return Err(CliError::usage(
             "--rv-endo names the RV cavity of a --biventricular wall; add --biventricular",
@@ -190,6 +219,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         wall::build_wall(mesh(0), mesh(1), &base, min_thickness)
     }
     .map_err(|e| CliError::Failed(format!("{input}: the myocardium wall: {e}")))?;
+    let regional = (!biventricular).then(|| aha::of_file(&set, &wall));
     let seconds = started.elapsed().as_secs_f64();
 
     let labels: Vec<String> = wall
@@ -220,7 +250,20 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         },
         &wall,
         &surfaces,
+        regional.as_ref(),
     );
+    if let Some(path) = bullseye_path {
+        match &regional {
+            Some(Ok(segments)) => {
+                let title = format!("{} ({})", file_name(input), needed.join(" + "));
+                files::write(path, bullseye::svg(segments, &title).as_bytes())?;
+            }
+            Some(Err(why)) => {
+                return Err(CliError::Failed(format!("{path}: no segments: {why}")));
+            }
+            None => {}
+        }
+    }
     if let Some(path) = report_path {
         let text = serde_json::to_string_pretty(&rep)
             .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
@@ -332,7 +375,12 @@ struct Context<'a> {
     seconds: f64,
 }
 
-fn build_report(c: &Context, wall: &Wall, surfaces: &[Surface]) -> Value {
+fn build_report(
+    c: &Context,
+    wall: &Wall,
+    surfaces: &[Surface],
+    regional: Option<&Result<Segments, String>>,
+) -> Value {
     let Context {
         input,
         input_format,
@@ -374,6 +422,16 @@ fn build_report(c: &Context, wall: &Wall, surfaces: &[Surface]) -> Value {
     }
     if let Ok(Value::Object(summary)) = serde_json::to_value(wall.summary(c.min_thickness)) {
         rep.extend(summary);
+    }
+    match regional {
+        Some(Ok(segments)) => {
+            rep.insert("segments".into(), json!(segments));
+        }
+        Some(Err(why)) => {
+            rep.insert("segments".into(), Value::Null);
+            rep.insert("segments_note".into(), json!(why));
+        }
+        None => {}
     }
     Value::Object(rep)
 }

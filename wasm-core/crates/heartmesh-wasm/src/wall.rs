@@ -17,6 +17,7 @@ use heartmesh_core::io::MeshFormat;
 use heartmesh_core::mesh::wall::{self, Wall, BIV_REGION_NAMES, REGION_NAMES};
 use heartmesh_core::metrics::compare::{common_basal_plane_all, common_basal_plane_of, ClipPlane};
 use heartmesh_core::metrics::function::MYOCARDIAL_DENSITY_G_PER_ML;
+use heartmesh_core::metrics::{bullseye, segments};
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{ContourSet, CoreError, Params, TriMesh};
 use serde_json::{json, Value};
@@ -54,7 +55,8 @@ impl Session {
     /// `stl`, `ply`, `vtk`, `vtp`); `header`: lines the app adds after the command line's comment.
     /// Returns `{summary, bytes}`: the summary JSON (the report's figures: `wall_volume_ml`,
     /// `myocardial_mass_g`, `cavity_volume_ml`, `thickness_mm`, `regions`, `endocardium_moved`,
-    /// ...) and the file.
+    /// ..., the AHA `segments` with their bullseye as SVG text, `bullseye_svg`, or
+    /// `segments: null` and `segments_note` saying why) and the file.
     #[allow(clippy::too_many_arguments)]
     #[wasm_bindgen(unchecked_return_type = "{ summary: string; bytes: Uint8Array }")]
     pub fn wall(
@@ -231,10 +233,22 @@ pub fn build(
     let comment = header_comment(file_name, endo.name, epi.name, header);
     let bytes = wall.write(format, &comment)?;
     let surfaces = json!({ "endo": endo.name, "epi": epi.name });
-    Ok(WallExport {
-        summary: summary(&wall, surfaces, min_thickness_mm, format, LV_WALL)?,
-        bytes,
-    })
+    let mut summary = summary(&wall, surfaces, min_thickness_mm, format, LV_WALL)?;
+    if let Value::Object(map) = &mut summary {
+        // The AHA segments and their bullseye, as `heartmesh myocardium` gives them.
+        match segments::of_file(set, &wall) {
+            Ok(s) => {
+                let title = format!("{file_name} ({} + {})", endo.name, epi.name);
+                map.insert("bullseye_svg".into(), json!(bullseye::svg(&s, &title)));
+                map.insert("segments".into(), json!(s));
+            }
+            Err(why) => {
+                map.insert("segments".into(), Value::Null);
+                map.insert("segments_note".into(), json!(why));
+            }
+        }
+    }
+    Ok(WallExport { summary, bytes })
 }
 
 /// The work of [`Session::biventricular_wall`] (native, so tests reach it): as

@@ -12,8 +12,11 @@ import { exportBaseName, headerLines, type ExportInfo } from './header';
 /** The columns, named as the CLI report's figures are (mm in the name: the file has no other place for units). */
 export const CONTOUR_CSV_COLUMNS = 'contour,kind,state,line,points,mean_mm,median_mm,max_mm';
 
-/** A distance to 4 decimals (as the Distances CSV); empty when there is no figure (a spreadsheet reads that as missing, not 0). */
-function mm4(v: number | null): string {
+/**
+ * A distance to 4 decimals (as the Distances CSV); empty when there is no figure (a spreadsheet
+ * reads that as missing, not 0). Shared with the other tables' CSVs (the AHA segments').
+ */
+export function mm4(v: number | null): string {
   return v !== null && Number.isFinite(v) ? v.toFixed(4) : '';
 }
 

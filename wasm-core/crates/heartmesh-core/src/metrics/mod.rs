@@ -1,9 +1,12 @@
 //! Distances and measures: summary statistics, contour-to-mesh distances (the colour map on the
 //! contours), the distance field on the mesh, and (compare.rs) mesh-to-mesh comparison.
 
+pub mod bullseye;
 pub mod compare;
 pub mod extent;
 pub mod function;
+pub mod segments;
+pub mod septum;
 
 use crate::contours::{Contour, ContourKind};
 use crate::geometry::Vec3;

@@ -1,0 +1,177 @@
+use super::*;
+use crate::contours::{Contour, ContourSet, Polyline};
+use crate::geometry::v3;
+use crate::mesh::wall::build_wall;
+use crate::metrics::septum::orientation;
+use crate::sim::shapes::uv_sphere;
+use crate::sim::slice::Plane;
+
+/// A hemispherical shell whose epicardium sits 3 mm towards +x: 13 mm thick on the +x side,
+/// 7 mm on the -x side, 10 mm a quarter turn round.
+fn shifted_shell() -> Wall {
+    let endo = uv_sphere(v3(0.0, 0.0, 0.0), 20.0, 96, 48);
+    let epi = uv_sphere(v3(3.0, 0.0, 0.0), 30.0, 128, 64);
+    let base = Plane::new(v3(0.0, 0.0, -1.3), v3(0.0, 0.0, 1.0)).unwrap();
+    build_wall(&endo, &epi, &base, None).unwrap()
+}
+
+fn towards(x: f64, y: f64) -> Orientation {
+    Orientation {
+        septum: v3(x, y, 0.0),
+        source: "test",
+        points: 1,
+    }
+}
+
+fn mean_of(s: &Segments, id: usize) -> f64 {
+    s.segments[id - 1].mean_mm.unwrap()
+}
+
+#[test]
+fn levels_and_angles_pick_the_standard_segments() {
+    // Cavity 30 mm deep: thirds at 10 and 20 mm.
+    let at = |depth, angle| segment_of(depth, 30.0, angle) + 1;
+    // Basal: anterior centred a quarter turn from the septum, the septum at the 2|3 border.
+    assert_eq!(at(5.0, 90.0), 1);
+    assert_eq!(at(5.0, 30.0), 2);
+    assert_eq!(at(5.0, -30.0), 3);
+    assert_eq!(at(5.0, -90.0), 4);
+    assert_eq!(at(5.0, -150.0), 5);
+    assert_eq!(at(5.0, 150.0), 6);
+    assert_eq!(at(5.0, -179.0), 5);
+    assert_eq!(at(5.0, 179.0), 6);
+    assert_eq!(at(15.0, 30.0), 8);
+    assert_eq!(at(15.0, 150.0), 12);
+    // Apical: four quarters, the septal one centred on the septum.
+    assert_eq!(at(25.0, 0.0), 14);
+    assert_eq!(at(25.0, 90.0), 13);
+    assert_eq!(at(25.0, -90.0), 15);
+    assert_eq!(at(25.0, 180.0), 16);
+    assert_eq!(at(25.0, -179.0), 16);
+    assert_eq!(at(31.0, 45.0), 17);
+}
+
+#[test]
+fn the_thick_side_is_where_the_septum_is_said_to_be() {
+    let wall = shifted_shell();
+    let s = segments(&wall, &towards(1.0, 0.0)).unwrap();
+    // Anterior: the axis (+z, apex to base) crossed with the septum (+x).
+    let a = s.anterior_direction;
+    assert!((a[1] - 1.0).abs() < 1e-12 && a[0].abs() < 1e-12, "{a:?}");
+    assert!(
+        (s.level_depths_mm[3] - 18.7).abs() < 0.1,
+        "{:?}",
+        s.level_depths_mm
+    );
+    for seg in &s.segments {
+        assert!(seg.area_mm2 > 0.0, "{} has no wall", seg.name);
+    }
+    // Basal ring (0-6 mm below the base, nearly upright): 10 + 3 cos(angle) averaged over each
+    // 60-degree segment: 12.48 on the septal pair, 7.52 on the lateral pair, 10 front and back.
+    let want = [
+        (2, 12.48),
+        (3, 12.48),
+        (5, 7.52),
+        (6, 7.52),
+        (1, 10.0),
+        (4, 10.0),
+    ];
+    for (id, mm) in want {
+        let got = mean_of(&s, id);
+        assert!((got - mm).abs() < 0.5, "segment {id}: {got} vs {mm}");
+    }
+    // Mid and apical: the same order, the difference shrinking towards the apex.
+    assert!(mean_of(&s, 8) > mean_of(&s, 12) + 3.0);
+    assert!(mean_of(&s, 14) > mean_of(&s, 16) + 1.5);
+    assert!((mean_of(&s, 13) - mean_of(&s, 15)).abs() < 0.2);
+    // The same wall with the septum said to be on the other side: the figures trade places.
+    let flipped = segments(&wall, &towards(-1.0, 0.0)).unwrap();
+    for (a, b) in [
+        (2, 5),
+        (3, 6),
+        (1, 4),
+        (8, 11),
+        (14, 16),
+        (13, 15),
+        (17, 17),
+    ] {
+        let (x, y) = (mean_of(&s, a), mean_of(&flipped, b));
+        assert!((x - y).abs() < 0.05, "{a} {x} vs {b} {y}");
+    }
+    // Every segment's min and max bracket its mean.
+    for seg in &s.segments {
+        let (lo, m, hi) = (
+            seg.min_mm.unwrap(),
+            seg.mean_mm.unwrap(),
+            seg.max_mm.unwrap(),
+        );
+        assert!(lo <= m && m <= hi, "{}", seg.name);
+    }
+}
+
+#[test]
+fn a_septum_along_the_axis_or_a_biventricular_wall_is_refused() {
+    let wall = shifted_shell();
+    let along = Orientation {
+        septum: v3(0.0, 0.0, 1.0),
+        source: "test",
+        points: 1,
+    };
+    assert!(segments(&wall, &along).is_err());
+    let mut biv = wall.clone();
+    biv.region_names = &crate::mesh::wall::BIV_REGION_NAMES;
+    assert!(segments(&biv, &towards(1.0, 0.0)).is_err());
+}
+
+fn ring(id: &str, surface: &str, centre: Vec3, radius: f64) -> Contour {
+    let points = (0..24)
+        .map(|k| {
+            let a = k as f64 * std::f64::consts::TAU / 24.0;
+            centre + v3(radius * a.cos(), radius * a.sin(), 0.0)
+        })
+        .collect();
+    Contour {
+        id: id.into(),
+        surface: Some(surface.into()),
+        pieces: vec![Polyline {
+            points,
+            closed: true,
+        }],
+        first_line: 0,
+    }
+}
+
+#[test]
+fn the_septum_comes_from_the_insertion_points_else_the_rv() {
+    let wall = shifted_shell();
+    // An RV beside the LV towards -y.
+    let mut set = ContourSet::default();
+    for (k, z) in [-5.0, -10.0].into_iter().enumerate() {
+        set.contours
+            .push(ring(&format!("rv{k}"), "RV_ENDO", v3(0.0, -40.0, z), 15.0));
+    }
+    let o = orientation(&set, &wall).unwrap();
+    assert!(
+        (o.septum - v3(0.0, -1.0, 0.0)).norm() < 1e-6,
+        "{:?}",
+        o.septum
+    );
+    assert_eq!(o.source, "the RV contours' centre");
+    // Insertion points at -45 and -120 degrees round +z, two slices (one slice missing its
+    // inferior point): the bisector of the two groups is -82.5 degrees, not the plain mean.
+    let dir = |deg: f64| v3(deg.to_radians().cos(), deg.to_radians().sin(), 0.0);
+    for (deg, z) in [(-45.0, -5.0), (-45.0, -10.0), (-120.0, -5.0)] {
+        set.landmarks
+            .push(("RV_INSERT".into(), dir(deg) * 22.0 + v3(0.0, 0.0, z)));
+    }
+    let o = orientation(&set, &wall).unwrap();
+    assert_eq!(o.source, "RV_INSERT landmarks");
+    assert_eq!(o.points, 3);
+    assert!((o.septum - dir(-82.5)).norm() < 1e-6, "{:?}", o.septum);
+    // An LV-only file says nothing of the septum.
+    set.contours.clear();
+    set.landmarks.clear();
+    set.contours
+        .push(ring("lv", "LV_ENDO", v3(0.0, 0.0, -5.0), 18.0));
+    assert!(orientation(&set, &wall).is_none());
+}
