@@ -10,6 +10,9 @@ use std::time::Instant;
 use heartmesh_core::io::{self, FrameChoice, MeshFormat};
 use heartmesh_core::mesh::TriMesh;
 use heartmesh_core::metrics::function::{self, Function, Measured, Outcome, UNLABELLED};
+use heartmesh_core::metrics::segments::SegmentThickening;
+use heartmesh_core::metrics::thickening::{self as wall_thickening, PhaseLv, Thickening};
+use heartmesh_core::metrics::{bullseye, septum};
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{Contour, ContourSet, CoreError, Params};
 use serde_json::{json, Value};
@@ -23,7 +26,7 @@ use crate::files;
 
 pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_EPI,...]
     [--frames all|F,F,...] [--csv VOLUMES.csv] [--json VOLUMES.json] [--plot CURVE.svg]
-    [--meshes DIR]
+    [--meshes DIR] [--thickening-plot BULLSEYE.svg]
     [reconstruct's parameter options: --iterations ... --end-caps ... --align-slices ...] [--quiet]
   Cardiac function: every surface reconstructed in every phase at the same parameters; prints
   the volumes (ml, of the closed meshes: the lids at the base included), each cavity's
@@ -40,11 +43,16 @@ pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_E
   failed); --json: the volumes, each cavity's function and the mass per phase; --plot: each
   cavity's volume over the phases as an SVG chart (a gap where a phase has no volume);
   --meshes DIR: each mesh as DIR/PHASE-SURFACE.obj.
+  With LV_ENDO and LV_EPI: the LV wall's systolic thickening in each of the 17 AHA segments,
+  100 x (ES - ED) / ED of the segment's mean thickness, the walls built as myocardium builds
+  them at the LV's end-diastole and end-systole, their segments placed in each phase from the
+  file's RV_INSERT landmarks or RV contours (the JSON's wall_thickening; a line says the mean
+  and the range); --thickening-plot: those segments drawn as the AHA bullseye (SVG).
   A run that fails is named (phase and surface) and the others go on (exit status of the last
   failure).";
 
 /// Options of this command only that take a value.
-const VALUE_FLAGS: &[&str] = &["frames", "csv", "json", "plot", "meshes"];
+const VALUE_FLAGS: &[&str] = &["frames", "csv", "json", "plot", "meshes", "thickening-plot"];
 
 /// Switches of this command only.
 const SWITCHES: &[&str] = &["quiet"];
@@ -84,16 +92,21 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     // A usage error should not wait for the files.
     params_from(&p, Params::default())?;
     // The outputs before any work: a mistyped directory should not cost every phase's runs.
-    for option in ["csv", "json", "plot"] {
+    for option in ["csv", "json", "plot", "thickening-plot"] {
         if let Some(path) = p.value(option) {
             files::check_output(path)?;
         }
     }
     let inputs: Vec<&str> = p.positional.iter().map(String::as_str).collect();
-    let outputs: Vec<(&str, &str)> = [("--csv", "csv"), ("--json", "json"), ("--plot", "plot")]
-        .into_iter()
-        .filter_map(|(flag, name)| p.value(name).map(|v| (flag, v)))
-        .collect();
+    let outputs: Vec<(&str, &str)> = [
+        ("--csv", "csv"),
+        ("--json", "json"),
+        ("--plot", "plot"),
+        ("--thickening-plot", "thickening-plot"),
+    ]
+    .into_iter()
+    .filter_map(|(flag, name)| p.value(name).map(|v| (flag, v)))
+    .collect();
     files::check_distinct(&inputs, &outputs)?;
     let frames = frames_flag(p.value("frames"))?;
     let phases = load_phases(&p.positional, frames.as_deref())?;
@@ -104,6 +117,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let params = params_from(&p, base)?;
     let surfaces = surfaces_wanted(p.value("surface"), &phases)?;
     check_leave_out(&params.leave_out, &phases, &surfaces)?;
+    if p.value("thickening-plot").is_some() {
+        check_thickening(&phases, &surfaces)?;
+    }
     let meshes = p.value("meshes");
     if let Some(dir) = meshes {
         files::create_dir(dir)?;
@@ -164,9 +180,26 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
 
     let summary = summarise(&phases, &surfaces, &cells);
+    let thickening = thickening(&phases, &surfaces, &cells, &summary, &params);
     if !quiet {
         for line in summary_lines(&summary) {
             outln!("{line}");
+        }
+        match &thickening {
+            Some(Ok(t)) => outln!("{}", thickening_line(t)),
+            Some(Err(why)) => eprintln!("heartmesh: note: no LV wall thickening: {why}"),
+            None => {}
+        }
+    }
+    if let Some(path) = p.value("thickening-plot") {
+        match &thickening {
+            Some(Ok(t)) => files::write(path, bullseye::thickening_svg(t).as_bytes())?,
+            Some(Err(why)) => {
+                return Err(CliError::Failed(format!(
+                    "{path}: no LV wall thickening: {why}"
+                )))
+            }
+            None => {}
         }
     }
     if let Some(path) = p.value("csv") {
@@ -176,7 +209,17 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         files::write(path, plot(&phases, &surfaces, &cells, &summary).as_bytes())?;
     }
     if let Some(path) = p.value("json") {
-        let doc = json_report(&phases, &surfaces, &cells, &summary, &params);
+        let mut doc = json_report(&phases, &surfaces, &cells, &summary, &params);
+        if let (Some(t), Value::Object(map)) = (&thickening, &mut doc) {
+            let (value, note) = match t {
+                Ok(t) => (json!(t), Value::Null),
+                Err(why) => (Value::Null, json!(why)),
+            };
+            map.insert("wall_thickening".into(), value);
+            if !note.is_null() {
+                map.insert("wall_thickening_note".into(), note);
+            }
+        }
         let text = serde_json::to_string_pretty(&doc)
             .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
         files::write(path, format!("{text}\n").as_bytes())?;
@@ -367,6 +410,83 @@ fn reconstruct(
         out: Outcome::of(&rec),
         seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// `--thickening-plot` needs LV_ENDO and LV_EPI in two phases or more and the septum's direction
+/// in each (RV insertion landmarks or RV contours): said before any run (status 2).
+fn check_thickening(phases: &[Phase], surfaces: &[Option<String>]) -> Result<(), CliError> {
+    let measured = |s: &str| surfaces.iter().any(|k| k.as_deref() == Some(s));
+    let why = if phases.len() < 2 {
+        Some("two phases or more (ED and ES)".to_string())
+    } else if !(measured("LV_ENDO") && measured("LV_EPI")) {
+        Some("LV_ENDO and LV_EPI among the surfaces measured".to_string())
+    } else {
+        phases.iter().find(|ph| !septum::said(&ph.set)).map(|ph| {
+            format!(
+                "the septum's direction in every phase: {} has no RV_INSERT landmarks and \
+                     no RV contours",
+                ph.name
+            )
+        })
+    };
+    why.map_or(Ok(()), |why| {
+        Err(CliError::usage(format!("--thickening-plot needs {why}")))
+    })
+}
+
+/// The LV wall's thickening between its end-diastole and end-systole ([`wall_thickening`]).
+fn thickening(
+    phases: &[Phase],
+    surfaces: &[Option<String>],
+    cells: &[Vec<Cell>],
+    f: &Function,
+    params: &Params,
+) -> Option<Result<Thickening, String>> {
+    let column = |name: &str| surfaces.iter().position(|s| s.as_deref() == Some(name));
+    let (endo, epi) = (column("LV_ENDO")?, column("LV_EPI")?);
+    let lvs: Vec<PhaseLv> = phases
+        .iter()
+        .zip(cells)
+        .map(|(ph, row)| PhaseLv {
+            name: &ph.name,
+            set: &ph.set,
+            params: Params {
+                leave_out: leave_out_of(&params.leave_out, &ph.set),
+                ..params.clone()
+            },
+            endo: row[endo].out.mesh.as_ref(),
+            epi: row[epi].out.mesh.as_ref(),
+        })
+        .collect();
+    wall_thickening::of_study(&lvs, f)
+}
+
+/// The line printed under the function: the mean and the range over the segments.
+fn thickening_line(t: &Thickening) -> String {
+    let known: Vec<&SegmentThickening> = t
+        .segments
+        .iter()
+        .filter(|s| s.thickening_percent.is_some())
+        .collect();
+    let pct = |s: &&SegmentThickening| s.thickening_percent.unwrap_or(f64::NAN);
+    let least = known.iter().min_by(|a, b| pct(a).total_cmp(&pct(b)));
+    let most = known.iter().max_by(|a, b| pct(a).total_cmp(&pct(b)));
+    let range = match (least, most) {
+        (Some(a), Some(b)) => format!(
+            ", from {:.0} % ({} {}) to {:.0} % ({} {})",
+            pct(a),
+            a.id,
+            a.name,
+            pct(b),
+            b.id,
+            b.name
+        ),
+        _ => String::new(),
+    };
+    format!(
+        "LV wall thickening by AHA segment, {} to {}: mean {:.0} %{range}",
+        t.ed_phase, t.es_phase, t.mean_percent
+    )
 }
 
 /// Every id `--leave-out` names must be a contour of some phase (a typo would otherwise leave the

@@ -176,3 +176,154 @@ fn a_file_without_the_rv_has_no_segments_and_no_bullseye() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("leave out --biventricular"), "{err}");
 }
+
+/// `volumes` of patient 1's ED and ES GPFiles: each segment's thickening is built from the walls
+/// `myocardium` gives of the two phases (the same thicknesses to 1e-9), every segment of this
+/// heart (EF 62 %) thickens, and `--thickening-plot` draws them.
+#[test]
+fn volumes_give_each_segments_systolic_thickening() {
+    let dir = scratch("segments-thickening");
+    let folder = "contours/bivme-example-patient1";
+    let [ed, es] = ["GPFile_000.txt", "GPFile_009.txt"].map(|f| data(&format!("{folder}/{f}")));
+    let [json, svg] = ["json", "svg"].map(|e| dir.join(format!("v.{e}")));
+    let (code, out, err) = run(bin().args([
+        "volumes",
+        ed.to_str().unwrap(),
+        es.to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+        "--thickening-plot",
+        svg.to_str().unwrap(),
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let doc: Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let t = &doc["wall_thickening"];
+    assert_eq!(t["ed_phase"], "GPFile_000");
+    assert_eq!(t["es_phase"], "GPFile_009");
+    let (ed_walls, _) = with_bullseye(&ed, &dir, "ed");
+    let (es_walls, _) = with_bullseye(&es, &dir, "es");
+    let [ed_mm, es_mm] = [&ed_walls, &es_walls].map(|r| means(&r["segments"]));
+    let plot = std::fs::read_to_string(&svg).unwrap();
+    assert_eq!(plot.matches("<path ").count(), 17);
+    for (k, seg) in t["segments"].as_array().unwrap().iter().enumerate() {
+        let (a, b) = (
+            seg["ed_mm"].as_f64().unwrap(),
+            seg["es_mm"].as_f64().unwrap(),
+        );
+        assert!(
+            (a - ed_mm[k]).abs() < 1e-9 * a,
+            "segment {}: {a} vs {}",
+            k + 1,
+            ed_mm[k]
+        );
+        assert!(
+            (b - es_mm[k]).abs() < 1e-9 * b,
+            "segment {}: {b} vs {}",
+            k + 1,
+            es_mm[k]
+        );
+        let pct = seg["thickening_percent"].as_f64().unwrap();
+        assert!(
+            (pct - 100.0 * (b - a) / a).abs() < 1e-9,
+            "segment {}",
+            k + 1
+        );
+        assert!((5.0..150.0).contains(&pct), "segment {}: {pct} %", k + 1);
+        let name = seg["name"].as_str().unwrap();
+        assert!(plot.contains(&format!("<title>{} {name}: {pct:.0} %</title>", k + 1)));
+    }
+    let mean = t["mean_percent"].as_f64().unwrap();
+    assert!((20.0..120.0).contains(&mean), "{mean}");
+    assert!(out.contains(&format!("mean {mean:.0} %")), "{out}");
+}
+
+#[test]
+fn a_thickening_plot_needs_two_phases_a_wall_and_a_septum() {
+    let dir = scratch("segments-thickening-refusals");
+    let svg = dir.join("t.svg");
+    let svg = svg.to_str().unwrap();
+    let p1 = |f: &str| {
+        data(&format!("contours/bivme-example-patient1/{f}"))
+            .to_str()
+            .unwrap()
+            .to_string()
+    };
+    let surfco = data("contours/surfco-example.csv");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (vec![p1("GPFile_000.txt")], "two phases or more"),
+        (
+            vec![
+                surfco.to_str().unwrap().into(),
+                surfco.to_str().unwrap().into(),
+            ],
+            "LV_ENDO and LV_EPI",
+        ),
+        (
+            vec![
+                p1("GPFile_000.txt"),
+                p1("GPFile_009.txt"),
+                "--surface".into(),
+                "LV_ENDO,RV_ENDO".into(),
+            ],
+            "LV_ENDO and LV_EPI",
+        ),
+    ];
+    for (args, said) in cases {
+        let (code, _, err) = run(bin()
+            .arg("volumes")
+            .args(&args)
+            .args(["--thickening-plot", svg]));
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(said), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(!Path::new(svg).exists());
+    }
+    // Without the plot, an LV-only study measures its volumes and says why there is no
+    // thickening in the JSON.
+    let full = std::fs::read_to_string(p1("patient1-ED.csv")).unwrap();
+    let full_es = std::fs::read_to_string(p1("patient1-ES.csv")).unwrap();
+    let lv_only = |text: &str| -> String {
+        text.lines()
+            .filter(|l| !l.ends_with(",RV_ENDO") && !l.ends_with(",RV_EPI"))
+            .map(|l| format!("{l}\n"))
+            .collect()
+    };
+    let (a, b) = (dir.join("ed.csv"), dir.join("es.csv"));
+    std::fs::write(&a, lv_only(&full)).unwrap();
+    std::fs::write(&b, lv_only(&full_es)).unwrap();
+    let json = dir.join("v.json");
+    let (code, _, err) = run(bin().args([
+        "volumes",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let doc: Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(doc["wall_thickening"], Value::Null);
+    let note = doc["wall_thickening_note"].as_str().unwrap();
+    assert!(
+        note.contains("no RV_INSERT landmarks and no RV contours"),
+        "{note}"
+    );
+    assert!(err.contains("no LV wall thickening"), "{err}");
+    // One phase twice: its end-diastole is its end-systole, and nothing thickens.
+    let (c, d) = (dir.join("one.csv"), dir.join("again.csv"));
+    std::fs::write(&c, &full).unwrap();
+    std::fs::write(&d, &full).unwrap();
+    let (code, _, err) = run(bin().args([
+        "volumes",
+        c.to_str().unwrap(),
+        d.to_str().unwrap(),
+        "--surface",
+        "LV_ENDO,LV_EPI",
+        "--json",
+        json.to_str().unwrap(),
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let doc: Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(doc["wall_thickening"], Value::Null);
+    let note = doc["wall_thickening_note"].as_str().unwrap();
+    assert!(note.contains("the same phase"), "{note}");
+}

@@ -8,6 +8,7 @@
 //! to each wall's own range would not. Viridis, as the app's distance and thickness colours.
 
 use super::segments::Segments;
+use super::thickening::Thickening;
 use std::fmt::Write;
 
 /// Viridis at 0, 0.1, ..., 1 (the app's `web/src/viewer/colormap.ts` anchors).
@@ -99,14 +100,71 @@ fn place(k: usize) -> (usize, f64, f64) {
     }
 }
 
-/// The bullseye of `segments` as an SVG document; `title` heads it (a file name, a phase).
+/// What one bullseye shows: a value per segment on a scale from 0.
+struct Drawing<'a> {
+    heading: &'a str,
+    title: &'a str,
+    /// Segments 1-17 in order: name and value (None: nothing measured there).
+    values: Vec<(&'a str, Option<f64>)>,
+    unit: &'a str,
+    /// The scale's top; values above it (and below 0) take the end colours.
+    top: f64,
+    /// One line or more under the scale.
+    footer: String,
+}
+
+/// The bullseye of `segments` (wall thickness, mm) as an SVG document; `title` heads it (a file
+/// name, a phase).
 pub fn svg(segments: &Segments, title: &str) -> String {
-    let thickest = segments
+    let values: Vec<(&str, Option<f64>)> = segments
         .segments
         .iter()
-        .filter_map(|s| s.mean_mm)
-        .fold(0.0f64, f64::max);
-    let top = SCALE_TOP_MM.max((thickest / 5.0).ceil() * 5.0);
+        .map(|s| (s.name, s.mean_mm))
+        .collect();
+    let thickest = values.iter().filter_map(|v| v.1).fold(0.0f64, f64::max);
+    draw(&Drawing {
+        heading: "Wall thickness by AHA segment (mm)",
+        title,
+        values,
+        unit: "mm",
+        top: SCALE_TOP_MM.max((thickest / 5.0).ceil() * 5.0),
+        footer: format!(
+            "septum from {}; levels: thirds of the cavity below the base",
+            segments.septum_from
+        ),
+    })
+}
+
+/// Thinnest scale top of a thickening bullseye (%): a normal segment thickens by 40-100 %.
+const THICKENING_TOP_PERCENT: f64 = 100.0;
+
+/// The bullseye of a study's systolic thickening by segment (%, [`super::thickening`]), headed
+/// by its two phases, the septum's sources under it.
+pub fn thickening_svg(t: &Thickening) -> String {
+    let values: Vec<(&str, Option<f64>)> = t
+        .segments
+        .iter()
+        .map(|c| (c.name, c.thickening_percent))
+        .collect();
+    let most = values.iter().filter_map(|v| v.1).fold(0.0f64, f64::max);
+    let [ed, es] = &t.septum_from;
+    let from = if ed == es {
+        format!("septum from {ed}")
+    } else {
+        format!("septum from {ed} at ED, {es} at ES")
+    };
+    draw(&Drawing {
+        heading: "Systolic wall thickening by AHA segment (%)",
+        title: &format!("ED {} to ES {}", t.ed_phase, t.es_phase),
+        values,
+        unit: "%",
+        top: THICKENING_TOP_PERCENT.max((most / 50.0).ceil() * 50.0),
+        footer: format!("100 x (ES - ED) / ED of each segment's mean wall thickness\n{from}"),
+    })
+}
+
+fn draw(d: &Drawing) -> String {
+    let top = d.top;
     let mut out = String::new();
     let _ = write!(
         out,
@@ -114,20 +172,22 @@ pub fn svg(segments: &Segments, title: &str) -> String {
          viewBox=\"0 0 {WIDTH} {HEIGHT}\" font-family=\"sans-serif\">\n\
          <rect width=\"{WIDTH}\" height=\"{HEIGHT}\" fill=\"#ffffff\"/>\n\
          <text x=\"{CX}\" y=\"22\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">\
-         Wall thickness by AHA segment (mm)</text>\n\
+         {}</text>\n\
          <text x=\"{CX}\" y=\"40\" text-anchor=\"middle\" font-size=\"12\" \
          fill=\"#444\">{}</text>\n",
-        escape(title)
+        escape(d.heading),
+        escape(d.title)
     );
-    for (k, s) in segments.segments.iter().enumerate() {
+    for (k, &(name, value)) in d.values.iter().enumerate().take(17) {
         let (ring, from, to) = place(k);
-        let (fill, ink, label) = match s.mean_mm {
-            Some(mm) => {
-                let t = mm / top;
+        let (fill, ink, label) = match value {
+            Some(v) => {
+                let t = v / top;
+                let decimals = if d.unit == "%" { 0 } else { 1 };
                 (
                     viridis(t),
                     if t < 0.55 { "#ffffff" } else { "#000000" },
-                    format!("{mm:.1}"),
+                    format!("{v:.decimals$}"),
                 )
             }
             None => ("#d0d0d0".to_string(), "#000000", "–".to_string()),
@@ -135,10 +195,10 @@ pub fn svg(segments: &Segments, title: &str) -> String {
         let _ = writeln!(
             out,
             "<path d=\"{}\" fill=\"{fill}\" stroke=\"#ffffff\" stroke-width=\"2\">\
-             <title>{} {}: {label} mm</title></path>",
+             <title>{} {name}: {label} {}</title></path>",
             sector(ring, from, to),
-            s.id,
-            s.name
+            k + 1,
+            d.unit
         );
         let mid = (RADII[ring] + RADII[ring + 1]) / 2.0;
         let (x, y) = if ring == 0 {
@@ -154,7 +214,7 @@ pub fn svg(segments: &Segments, title: &str) -> String {
              fill=\"{ink}\">{}</text>",
             y + 2.0,
             y + 13.0,
-            s.id
+            k + 1
         );
     }
     for (text, deg, anchor) in [
@@ -176,19 +236,37 @@ pub fn svg(segments: &Segments, title: &str) -> String {
             y + dy
         );
     }
-    scale_bar(&mut out, top);
-    let _ = writeln!(
-        out,
-        "<text x=\"{CX}\" y=\"{}\" text-anchor=\"middle\" font-size=\"10\" fill=\"#666\">\
-         septum from {}; levels: thirds of the cavity below the base</text>\n</svg>",
-        HEIGHT - 8.0,
-        escape(&segments.septum_from)
-    );
+    scale_bar(&mut out, top, d.unit);
+    // The footer's lines upwards from the bottom edge.
+    let lines: Vec<&str> = d.footer.lines().collect();
+    for (k, line) in lines.iter().enumerate() {
+        let from_bottom = (lines.len() - 1 - k) as f64;
+        let _ = writeln!(
+            out,
+            "<text x=\"{CX}\" y=\"{}\" text-anchor=\"middle\" font-size=\"10\" \
+             fill=\"#666\">{}</text>",
+            HEIGHT - 8.0 - 13.0 * from_bottom,
+            escape(line)
+        );
+    }
+    out.push_str("</svg>\n");
     out
 }
 
-/// The colour scale under the bullseye, 0 to `top` mm.
-fn scale_bar(out: &mut String, top: f64) {
+/// A tick spacing for a scale from 0 to `top`: 1, 2 or 5 times a power of ten, at least a sixth
+/// of it (3 to 6 intervals).
+fn tick_step(top: f64) -> f64 {
+    let rough = top / 6.0;
+    let power = 10f64.powf(rough.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * power)
+        .find(|&s| s >= rough)
+        .unwrap_or(10.0 * power)
+}
+
+/// The colour scale under the bullseye, 0 to `top` (in `unit`).
+fn scale_bar(out: &mut String, top: f64, unit: &str) {
     let (x0, y0, w, h) = (80.0, 468.0, 300.0, 12.0);
     let _ = writeln!(
         out,
@@ -203,7 +281,7 @@ fn scale_bar(out: &mut String, top: f64) {
         "</linearGradient></defs><rect x=\"{x0}\" y=\"{y0}\" width=\"{w}\" height=\"{h}\" \
          fill=\"url(#viridis)\"/>"
     );
-    let step = if top > 20.0 { 10.0 } else { 5.0 };
+    let step = tick_step(top);
     let mut v = 0.0;
     while v <= top + 1e-9 {
         let x = x0 + w * v / top;
@@ -219,7 +297,7 @@ fn scale_bar(out: &mut String, top: f64) {
     }
     let _ = writeln!(
         out,
-        "<text x=\"{}\" y=\"{}\" font-size=\"10\">mm</text>",
+        "<text x=\"{}\" y=\"{}\" font-size=\"10\">{unit}</text>",
         x0 + w + 8.0,
         y0 + h - 1.0
     );
@@ -243,6 +321,15 @@ mod tests {
         assert_eq!(viridis(1.0), "#fde725");
         assert_eq!(viridis(0.5), "#21918c");
         assert_eq!(viridis(-3.0), "#440154");
+    }
+
+    #[test]
+    fn ticks_are_round_numbers() {
+        assert_eq!(tick_step(15.0), 5.0);
+        assert_eq!(tick_step(20.0), 5.0);
+        assert_eq!(tick_step(30.0), 5.0);
+        assert_eq!(tick_step(100.0), 20.0);
+        assert_eq!(tick_step(150.0), 50.0);
     }
 
     #[test]

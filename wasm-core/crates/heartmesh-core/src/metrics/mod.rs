@@ -7,6 +7,7 @@ pub mod extent;
 pub mod function;
 pub mod segments;
 pub mod septum;
+pub mod thickening;
 
 use crate::contours::{Contour, ContourKind};
 use crate::geometry::Vec3;

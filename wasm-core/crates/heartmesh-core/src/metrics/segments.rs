@@ -192,6 +192,39 @@ pub fn of_file(set: &ContourSet, wall: &Wall) -> std::result::Result<Segments, S
     })
 }
 
+/// One segment's systolic wall thickening: how much thicker the wall is at end-systole than at
+/// end-diastole, the regional contraction a bullseye of thickening shows (a dyskinetic segment
+/// thins: negative).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SegmentThickening {
+    pub id: usize,
+    pub name: &'static str,
+    pub ed_mm: Option<f64>,
+    pub es_mm: Option<f64>,
+    /// 100 x (ES - ED) / ED; null where either phase has no wall in the segment.
+    pub thickening_percent: Option<f64>,
+}
+
+/// Each segment's thickening from end-diastole (`ed`) to end-systole (`es`). The two walls'
+/// segments are placed each in its own phase (its base, cavity and septum), as the anatomy
+/// moves between them.
+pub fn thickening(ed: &Segments, es: &Segments) -> Vec<SegmentThickening> {
+    ed.segments
+        .iter()
+        .zip(&es.segments)
+        .map(|(d, s)| SegmentThickening {
+            id: d.id,
+            name: d.name,
+            ed_mm: d.mean_mm,
+            es_mm: s.mean_mm,
+            thickening_percent: match (d.mean_mm, s.mean_mm) {
+                (Some(a), Some(b)) if a > 0.0 => Some(100.0 * (b - a) / a),
+                _ => None,
+            },
+        })
+        .collect()
+}
+
 /// The cavity a wall's segments are measured around.
 pub struct Cavity {
     /// Each vertex's share of the epicardium's and the endocardium's area.

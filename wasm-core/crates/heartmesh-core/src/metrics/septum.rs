@@ -39,15 +39,19 @@ pub fn said(set: &ContourSet) -> bool {
 pub fn orientation(set: &ContourSet, wall: &Wall) -> Option<Orientation> {
     let cavity = Cavity::of(wall)?;
     let n = wall.base.normal.try_normalize(1e-12)?;
+    // A point a reader let through unfinished (NaN, infinite) says nothing of a direction.
     let across = |p: &Vec3| {
         let v = p - cavity.centre;
-        (v - n * v.dot(&n)).try_normalize(1e-9)
+        (v - n * v.dot(&n))
+            .try_normalize(1e-9)
+            .filter(|d| d.iter().all(|x| x.is_finite()))
     };
     let rv: Vec<Vec3> = set
         .contours
         .iter()
         .filter(|c| c.surface.as_deref().is_some_and(is_rv))
         .flat_map(|c| c.points().copied())
+        .filter(|p| p.iter().all(|x| x.is_finite()))
         .collect();
     let rv_direction = (!rv.is_empty())
         .then(|| across(&(rv.iter().sum::<Vec3>() / rv.len() as f64)))

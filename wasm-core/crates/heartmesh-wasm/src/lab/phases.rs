@@ -10,7 +10,9 @@
 use heartmesh_core::clock::Clock;
 use heartmesh_core::contours::ContourSet;
 use heartmesh_core::error::{CoreError, Result};
-use heartmesh_core::metrics::function::{summarise, Measured, Outcome, UNLABELLED};
+use heartmesh_core::metrics::bullseye;
+use heartmesh_core::metrics::function::{summarise, Function, Measured, Outcome, UNLABELLED};
+use heartmesh_core::metrics::thickening::{self, PhaseLv, Thickening};
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::Params;
 use serde_json::{json, Value};
@@ -60,6 +62,8 @@ pub struct Phases {
     sources: Vec<Source>,
     sequence: Option<Sequence>,
     cells: Vec<Cell>,
+    /// Each cell's parameters (the walls of the thickening are built at them).
+    params: Vec<Params>,
     clock: Box<dyn Clock>,
     started_ms: f64,
 }
@@ -102,6 +106,7 @@ pub fn plan(
         sources: Vec::new(),
         sequence,
         cells: Vec::new(),
+        params: Vec::new(),
         clock,
         started_ms: 0.0,
     };
@@ -146,6 +151,7 @@ pub fn plan(
         })
         .collect();
     phases.cells = (0..jobs.len()).map(|_| Cell::default()).collect();
+    phases.params = jobs.clone();
     phases.surfaces = surfaces;
     phases.sources = sources;
     Ok((phases, jobs))
@@ -262,7 +268,56 @@ impl Phases {
             .chunks(n)
             .map(|row| row.iter().map(|c| c.out.measured()).collect())
             .collect();
-        serde_json::to_value(summarise(&self.names, &labels, &measured)).unwrap_or(Value::Null)
+        let function = summarise(&self.names, &labels, &measured);
+        let mut value = serde_json::to_value(&function).unwrap_or(Value::Null);
+        if let (Some(t), Value::Object(map)) = (self.thickening(&function), &mut value) {
+            // The LV wall's thickening by AHA segment, as `heartmesh volumes` gives it.
+            match t {
+                Ok(t) => {
+                    let svg = bullseye::thickening_svg(&t);
+                    map.insert("wall_thickening".into(), json!(t));
+                    map.insert("thickening_svg".into(), json!(svg));
+                }
+                Err(why) => {
+                    map.insert("wall_thickening".into(), Value::Null);
+                    map.insert("wall_thickening_note".into(), json!(why));
+                }
+            }
+        }
+        value
+    }
+
+    /// [`thickening::of_study`] of the finished cells; None without an LV epicardium.
+    fn thickening(&self, f: &Function) -> Option<std::result::Result<Thickening, String>> {
+        let n = self.surfaces.len().max(1);
+        let column = |name: &str| {
+            self.surfaces
+                .iter()
+                .position(|s| s.as_deref() == Some(name))
+        };
+        let (endo, epi) = (column("LV_ENDO")?, column("LV_EPI")?);
+        let lvs: Vec<PhaseLv> = self
+            .names
+            .iter()
+            .enumerate()
+            .filter_map(|(k, name)| match self.sources.get(k) {
+                Some(Source::Read(Ok(set))) => Some(PhaseLv {
+                    name,
+                    set,
+                    params: self.params.get(k * n + endo).cloned().unwrap_or_default(),
+                    endo: self
+                        .cells
+                        .get(k * n + endo)
+                        .and_then(|c| c.out.mesh.as_ref()),
+                    epi: self
+                        .cells
+                        .get(k * n + epi)
+                        .and_then(|c| c.out.mesh.as_ref()),
+                }),
+                _ => None,
+            })
+            .collect();
+        thickening::of_study(&lvs, f)
     }
 }
 

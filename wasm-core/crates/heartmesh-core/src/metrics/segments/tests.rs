@@ -175,3 +175,51 @@ fn the_septum_comes_from_the_insertion_points_else_the_rv() {
         .push(ring("lv", "LV_ENDO", v3(0.0, 0.0, -5.0), 18.0));
     assert!(orientation(&set, &wall).is_none());
 }
+
+#[test]
+fn points_that_are_not_finite_are_passed_over() {
+    let wall = shifted_shell();
+    let mut set = ContourSet::default();
+    let mut rv = ring("rv", "RV_ENDO", v3(0.0, -40.0, -5.0), 15.0);
+    rv.pieces[0].points.push(v3(f64::NAN, 0.0, 0.0));
+    rv.pieces[0].points.push(v3(f64::INFINITY, 0.0, -5.0));
+    set.contours.push(rv);
+    set.landmarks
+        .push(("RV_INSERT".into(), v3(f64::NAN, 1.0, -5.0)));
+    set.landmarks
+        .push(("RV_INSERT".into(), v3(1.0, f64::NEG_INFINITY, -5.0)));
+    // The two insertion points are no points: the RV's 24 finite ones place the septum.
+    let o = orientation(&set, &wall).unwrap();
+    assert_eq!(o.source, "the RV contours' centre");
+    assert_eq!(o.points, 24);
+    assert!(
+        (o.septum - v3(0.0, -1.0, 0.0)).norm() < 1e-6,
+        "{:?}",
+        o.septum
+    );
+    let s = segments(&wall, &o).unwrap();
+    assert!(s
+        .segments
+        .iter()
+        .all(|g| g.mean_mm.is_some_and(f64::is_finite)));
+}
+
+#[test]
+fn thickening_is_the_change_over_the_end_diastolic_thickness() {
+    let wall = shifted_shell();
+    let ed = segments(&wall, &towards(1.0, 0.0)).unwrap();
+    let mut es = ed.clone();
+    es.segments[0].mean_mm = es.segments[0].mean_mm.map(|t| 1.5 * t);
+    es.segments[1].mean_mm = es.segments[1].mean_mm.map(|t| 0.9 * t);
+    es.segments[2].mean_mm = None;
+    let t = thickening(&ed, &es);
+    assert_eq!(t.len(), 17);
+    assert!((t[0].thickening_percent.unwrap() - 50.0).abs() < 1e-9);
+    assert!(
+        (t[1].thickening_percent.unwrap() + 10.0).abs() < 1e-9,
+        "a segment that thins"
+    );
+    assert_eq!(t[2].thickening_percent, None);
+    assert_eq!(t[3].thickening_percent, Some(0.0));
+    assert_eq!((t[16].id, t[16].name), (17, "apex"));
+}
