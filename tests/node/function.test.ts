@@ -4,8 +4,11 @@
 // phases as the two frames of one file holding both (a `phase` column, built here as the CLI's
 // own test builds it), through the worker's logic, give the same volumes without changing the
 // frame the worker holds for the view; and a broken phase is failed cells beside measured ones.
+// With LV_ENDO and LV_EPI, the batch's summary carries the LV wall's thickening by AHA segment:
+// equal to `volumes --json`'s `wall_thickening` (1e-9 relative) and its bullseye to the CLI's
+// `--thickening-plot` drawing.
 import { beforeAll, describe, expect, it } from 'vitest';
-import type { FromWorker, FunctionSummary, LabProgress, PhaseItem } from '../../web/src/core-client/protocol';
+import type { FromWorker, FunctionSummary, LabProgress, PhaseItem, WallThickening } from '../../web/src/core-client/protocol';
 import { WorkerCore, wasmApiOf } from '../../web/src/core-client/workerCore';
 import { PATIENT1_ED, cliVolumes, loadWasm, readBytes, readText, writeScratch } from './helpers.mjs';
 
@@ -81,6 +84,64 @@ describe('the phases of a heart, against heartmesh volumes', () => {
     expect(relative(mass?.es_g as number, cli.lv_mass.es_g)).toBeLessThan(1e-9);
     expect(mass?.ed_g).toBeCloseTo(134.0, 1);
     expect(mass?.es_g).toBeCloseTo(131.6, 1);
+  });
+
+  it('patient 1 ED + ES: the LV wall thickening by AHA segment and its bullseye equal to the CLI\'s', () => {
+    const plot = writeScratch('p1-thickening.svg', '');
+    const cli = cliVolumes([ED(), ES()], ['--thickening-plot', plot], 'p1-thickening');
+    const cliSvg = readText(plot);
+    const session = new wasm.Session();
+    session.load('patient1-ED.csv', readBytes(ED()));
+    session.load('patient1-ES.csv', readBytes(ES()));
+    const lab = new wasm.Lab();
+    // The app names a phase that is a file by the file's name without its extension (app/phases.ts),
+    // the CLI by the file's stem: the same names here, so the phases are compared as they are. (A
+    // sequence's frames are named by their labels on both sides; only a phase named otherwise, as
+    // two files of one stem are in the app, would make the names, and the SVG's lines that carry
+    // them, not comparable.)
+    const phases = [
+      { name: 'patient1-ED', file: 'patient1-ED.csv' },
+      { name: 'patient1-ES', file: 'patient1-ES.csv' },
+    ];
+    lab.start_phases(session, JSON.stringify(phases), '{}', 'auto', new Uint8Array(0), [], []);
+    const { summary } = drain(lab);
+    const want = cli.wall_thickening as WallThickening;
+    const got = summary.wall_thickening as WallThickening;
+    expect(want, 'the CLI measured a thickening').toBeTruthy();
+    expect(got, summary.wall_thickening_note).toBeTruthy();
+    expect(summary.wall_thickening_note).toBeUndefined();
+    expect(cli.phases).toEqual(phases.map((p) => p.name));
+    expect([got.ed_phase, got.es_phase]).toEqual([want.ed_phase, want.es_phase]);
+    expect([got.ed_phase, got.es_phase]).toEqual(['patient1-ED', 'patient1-ES']);
+    expect(got.septum_from).toEqual(want.septum_from);
+    expect(relative(got.mean_percent as number, want.mean_percent as number)).toBeLessThan(1e-9);
+    expect(got.segments.map((g) => [g.id, g.name])).toEqual(want.segments.map((g) => [g.id, g.name]));
+    expect(got.segments.map((g) => g.id)).toEqual(Array.from({ length: 17 }, (_, i) => i + 1));
+    got.segments.forEach((g, i) => {
+      for (const k of ['ed_mm', 'es_mm', 'thickening_percent'] as const) {
+        const [a, b] = [g[k], want.segments[i][k]];
+        if (b === null) expect(a, `segment ${g.id} ${k}`).toBeNull();
+        else expect(relative(a as number, b), `segment ${g.id} ${k}: ${a} vs ${b}`).toBeLessThan(1e-9);
+      }
+    });
+    // What the CLI prints of it ("mean 60 %, from 20 % (9 mid inferoseptal) to 92 % (6 basal anterolateral)"):
+    // every segment of this healthy LV thickens.
+    expect(got.mean_percent).toBeCloseTo(60.2, 1);
+    expect(got.segments[0].thickening_percent).toBeCloseTo(66.7, 1);
+    expect(got.segments.every((g) => g.thickening_percent !== null && g.thickening_percent > 15 && g.thickening_percent < 95)).toBe(true);
+
+    // The bullseye: the CLI's drawing line by line, but for the lines naming the phases (equal too
+    // here, compared with the names put aside).
+    const svg = summary.thickening_svg as string;
+    expect(svg.startsWith('<svg xmlns="http://www.w3.org/2000/svg" width="460" height="530"')).toBe(true);
+    const names = (t: WallThickening) => [t.ed_phase, t.es_phase];
+    const naming = (line: string, t: WallThickening) => names(t).some((n) => line.includes(n));
+    const [appLines, cliLines] = [svg.split('\n'), cliSvg.split('\n')];
+    expect(appLines.filter((l) => !naming(l, got))).toEqual(cliLines.filter((l) => !naming(l, want)));
+    const apart = (lines: string[], t: WallThickening) => lines.filter((l) => naming(l, t)).map((l) => names(t).reduce((x, n, k) => x.split(n).join(`<phase ${k}>`), l));
+    expect(apart(appLines, got)).toEqual(apart(cliLines, want));
+    expect(apart(appLines, got)).toEqual(['<text x="230" y="40" text-anchor="middle" font-size="12" fill="#444">ED <phase 0> to ES <phase 1></text>']);
+    expect(appLines.filter((l) => l.startsWith('<path ')).length).toBe(17);
   });
 
   it('one file holding ED and ES, through the worker: the same volumes, the worker keeps its frame, a broken phase fails alone', async () => {

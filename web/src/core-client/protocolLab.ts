@@ -245,11 +245,45 @@ export interface LvMass {
   es_g: number | null;
 }
 
-/** Mirror of `metrics::function::Function`. */
+/** Mirror of `metrics::segments::SegmentThickening`: one AHA segment's wall at ED and ES. */
+export interface SegmentThickening {
+  /** 1..17, the AHA order. */
+  id: number;
+  name: string;
+  /** The segment's mean wall thickness at end-diastole and end-systole (mm); null: no wall there. */
+  ed_mm: number | null;
+  es_mm: number | null;
+  /** 100 x (ES - ED) / ED; null where either phase has no wall in the segment. */
+  thickening_percent: number | null;
+}
+
+/** Mirror of `metrics::thickening::Thickening` (`heartmesh volumes --json`'s `wall_thickening`). */
+export interface WallThickening {
+  /** The LV's end-diastole and end-systole (the phases of its largest and smallest volume). */
+  ed_phase: string;
+  es_phase: string;
+  /** Where each phase's septum direction came from (ED, ES), the core's count of points after it. */
+  septum_from: [string, string];
+  /** The segments' mean weighted by their ED wall area (%); null (NaN in the core) when none has a value. */
+  mean_percent: number | null;
+  segments: SegmentThickening[];
+}
+
+/**
+ * Mirror of `metrics::function::Function`, as the phases batch sends it with its last progress.
+ * With LV_ENDO and LV_EPI measured, the LV wall's systolic thickening by AHA segment too
+ * (`wall_thickening` and the core's bullseye of it, `thickening_svg`), or null and the core's
+ * reason (`wall_thickening_note`: no RV to place the septum by, a biventricular epicardium);
+ * without LV_EPI the keys are absent.
+ */
 export interface FunctionSummary {
   ventricles: VentricleFunction[];
   single: SingleVolume[];
   lv_mass: LvMass | null;
+  wall_thickening?: WallThickening | null;
+  /** The bullseye of `wall_thickening` (SVG text, 460 x 530): `volumes --thickening-plot`'s drawing. */
+  thickening_svg?: string;
+  wall_thickening_note?: string;
 }
 
 export interface LabProgress {

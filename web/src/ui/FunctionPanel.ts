@@ -4,8 +4,10 @@
  * every phase at the current settings in the worker, beside the reconstruction on screen, and
  * shows the volumes (ml) in a phases x surfaces table, each cavity's EDV/ESV/SV/EF, the LV mass and
  * a CSV of the cells (the CLI's `heartmesh volumes`); with three phases or more, a curve of each
- * cavity's volume over them (VolumeChart) above the table. A table measured with other settings or
- * other files than those now open is marked stale rather than shown as if it were current.
+ * cavity's volume over them (VolumeChart) above the table; with LV_ENDO and LV_EPI, the LV wall's
+ * systolic thickening by AHA segment under it all (ThickeningView). A table measured with other
+ * settings or other files than those now open is marked stale rather than shown as if it were
+ * current, the curve and the thickening with it.
  *
  * `[data-testid=function]` carries `data-state` (idle, measuring, done, stopped, error) and
  * `data-stale` (1 when the settings or files changed since); each cavity's line carries
@@ -15,11 +17,13 @@ import type { LabBatchHandle } from '../core-client/coreClientTypes';
 import type { CoreErrorData, FunctionSummary, LabProgress, LidsMode, ParamValues, PhaseItem, PhasesJob, ReconOptions } from '../core-client/protocol';
 import { download } from '../io/download';
 import { surfaceOrder } from '../io/FileBar';
-import { splitExtension } from '../io/fileExtension';
+import { phasesBaseName, type ThickeningProvenance } from '../io/export/thickening';
 import type { PhasePlan } from '../app/phases';
+import { version as APP_VERSION } from '../../../package.json';
 import { h } from './dom';
 import { cellText, edEsText, massText, singleTexts, ventricleText, volumesCsv } from './functionText';
 import { volumeChart } from './VolumeChart';
+import { ThickeningView } from './ThickeningView';
 import { cavities, cavitySeries, curveLayout } from './volumeCurve';
 
 /** What a measurement depends on, as the controller sees it now. */
@@ -45,8 +49,11 @@ export interface FunctionHost {
   context(): FunctionContext | null;
   /** Called whenever what `context` returns may have changed. */
   onContextChange(listener: () => void): void;
-  /** The core client once it is up. */
-  client(): { measurePhases(job: PhasesJob, onProgress: (p: LabProgress) => void): LabBatchHandle } | null;
+  /**
+   * The core client once it is up; its `schema` (CoreClient's, cached) gives the core's version
+   * for the Thickening CSV's header.
+   */
+  client(): { measurePhases(job: PhasesJob, onProgress: (p: LabProgress) => void): LabBatchHandle; schema?(): Promise<{ version: string }> } | null;
 }
 
 type State = 'measuring' | 'done' | 'stopped' | 'error';
@@ -56,6 +63,11 @@ interface Measurement {
   plan: PhasePlan;
   phasesKey: string;
   settingsKey: string;
+  /** The settings measured with (the Thickening CSV's header). */
+  params: ParamValues;
+  lids: LidsMode;
+  options: ReconOptions;
+  coreVersion: string | null;
   phases: string[];
   /** The batch's order (the CLI's: first appearance in the files). */
   surfaces: string[];
@@ -83,6 +95,7 @@ export class FunctionPanel {
   private readonly curve: HTMLElement;
   private readonly table: HTMLTableElement;
   private readonly summary: HTMLElement;
+  private readonly thickening: ThickeningView;
   private readonly error: HTMLElement;
   private m: Measurement | null = null;
 
@@ -104,6 +117,7 @@ export class FunctionPanel {
     this.curve = h('div', { class: 'function-curve-box', hidden: true });
     this.table = h('table', { class: 'function-table', 'data-testid': 'function-table', hidden: true });
     this.summary = h('ul', { class: 'function-summary', 'data-testid': 'function-summary' });
+    this.thickening = new ThickeningView(() => this.provenance());
     this.error = h('p', { class: 'function-error', 'data-testid': 'function-error', hidden: true });
     this.element = h(
       'section',
@@ -117,6 +131,7 @@ export class FunctionPanel {
       this.curve,
       this.table,
       this.summary,
+      this.thickening.element,
       this.error,
     );
     host.onContextChange(() => this.render());
@@ -137,6 +152,10 @@ export class FunctionPanel {
       plan,
       phasesKey: context.phasesKey,
       settingsKey: context.settingsKey,
+      params: context.params,
+      lids: context.lids,
+      options: context.options,
+      coreVersion: null,
       phases: plan.phases.map((p) => p.name),
       surfaces: [],
       items: [],
@@ -147,6 +166,10 @@ export class FunctionPanel {
       error: null,
     };
     this.m = m;
+    client.schema?.().then(
+      (s) => (m.coreVersion = s.version),
+      () => undefined,
+    );
     handle.started.then(
       (info) => {
         m.surfaces = info.surfaces ?? [];
@@ -187,9 +210,13 @@ export class FunctionPanel {
   private downloadCsv(): void {
     const m = this.m;
     if (!m) return;
-    const first = m.plan.phases[0];
-    const base = m.plan.kind === 'frames' && first ? splitExtension(first.file)[0] : 'phases';
-    download(volumesCsv(m.items.filter(Boolean)), `${base.replace(/[^A-Za-z0-9._-]+/g, '_')}-volumes.csv`, 'text/csv');
+    download(volumesCsv(m.items.filter(Boolean)), `${phasesBaseName(m.plan)}-volumes.csv`, 'text/csv');
+  }
+
+  /** What the measurement shown was made of and with, for the thickening's files. */
+  private provenance(): ThickeningProvenance | null {
+    const m = this.m;
+    return m ? { plan: m.plan, params: m.params, lids: m.lids, options: m.options, appVersion: APP_VERSION, coreVersion: m.coreVersion } : null;
   }
 
   private render(): void {
@@ -221,6 +248,8 @@ export class FunctionPanel {
     this.renderTable(m);
     this.renderCurve(m);
     this.renderSummary(m);
+    // Of the same summary as the lines above: replaced and greyed (styles.css, bullseye.css) with them.
+    this.thickening.show(m?.summary ?? null);
   }
 
   private renderTable(m: Measurement | null): void {

@@ -316,6 +316,13 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         for note in &wall.notes {
             eprintln!("heartmesh: note: {output}: {note}");
         }
+        if matches!(&regional, Some(Err(why)) if why == aha::ENCLOSES_RV) {
+            eprintln!(
+                "heartmesh: warning: {output}: {epi_name} encloses the RV cavity (a \
+                 biventricular epicardium): this wall holds the RV cavity as muscle; \
+                 --biventricular cuts both cavities out of it"
+            );
+        }
         for c in &wall.crossings {
             let [a, b] = c.regions.map(|r| r.replace('_', " "));
             let what = if a == b {

@@ -327,3 +327,38 @@ fn a_thickening_plot_needs_two_phases_a_wall_and_a_septum() {
     let note = doc["wall_thickening_note"].as_str().unwrap();
     assert!(note.contains("the same phase"), "{note}");
 }
+
+/// A file whose "LV epicardium" rings both cavities (biv-me's biventricular epicardium simulated
+/// under the LV_EPI label, as label maps painted from biventricular models have it): the LV wall
+/// would count the RV cavity as septum, so it has no segments, and a warning says why.
+#[test]
+fn an_epicardium_around_the_rv_gives_no_segments() {
+    let dir = scratch("segments-biv-epi");
+    let mesh = |n: &str| data(&format!("meshes/{n}")).to_str().unwrap().to_string();
+    let csv = dir.join("biv-as-lv.csv");
+    let (code, _, err) = run(bin().args([
+        "simulate",
+        &format!("LV_ENDO={}", mesh("bivme-patient1-ED-LV_ENDO-closed.obj")),
+        &format!("LV_EPI={}", mesh("bivme-patient1-ED-EPI-closed.obj")),
+        &format!("RV_ENDO={}", mesh("bivme-patient1-ED-RV_ENDO-closed.obj")),
+        "-o",
+        csv.to_str().unwrap(),
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let [out, report] = ["vtk", "json"].map(|e| dir.join(format!("w.{e}")));
+    let (code, _, err) = run(bin().args([
+        "myocardium",
+        csv.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let rep: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(rep["segments"], Value::Null);
+    let note = rep["segments_note"].as_str().unwrap();
+    assert!(note.contains("encloses the RV cavity"), "{note}");
+    assert!(err.contains("LV_EPI encloses the RV cavity"), "{err}");
+}

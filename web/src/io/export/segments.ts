@@ -54,7 +54,24 @@ export function writeSegmentsCsv(summary: WallSummary, info: ExportInfo): string
   const rows = s.segments.map((g) =>
     [g.id, csvField(g.name), mm4(g.mean_mm), mm4(g.min_mm), mm4(g.max_mm), Number.isFinite(g.area_mm2) ? g.area_mm2.toFixed(2) : ''].join(','),
   );
-  return [...header.map((l) => `# ${l.replace(/[\r\n]+/g, ' ')}`), SEGMENTS_CSV_COLUMNS, ...rows, ''].join('\n');
+  return commentedCsv(header, SEGMENTS_CSV_COLUMNS, rows);
+}
+
+/**
+ * A CSV of segments: `header`'s lines as `#` comments (each kept to one line), the column names,
+ * the rows, a final newline. Shared with the Function panel's Thickening CSV (thickening.ts), so
+ * the two segment tables read alike.
+ */
+export function commentedCsv(header: readonly string[], columns: string, rows: readonly string[]): string {
+  return [...header.map((l) => `# ${l.replace(/[\r\n]+/g, ' ')}`), columns, ...rows, ''].join('\n');
+}
+
+/**
+ * The core's septum source with its count of points spelled out: "the RV contours' centre (934)"
+ * is "the RV contours' centre (934 points)".
+ */
+export function septumSourceText(from: string): string {
+  return from.replace(/\((\d+)\)$/, (_, n: string) => `(${n} ${n === '1' ? 'point' : 'points'})`);
 }
 
 /**
@@ -62,7 +79,7 @@ export function writeSegmentsCsv(summary: WallSummary, info: ExportInfo): string
  * what it shows), the core's count of points spelled out: "the RV contours' centre (934 points)".
  */
 export function segmentsCaption(s: WallSegments): string {
-  return `Septum placed from ${s.septum_from.replace(/\((\d+)\)$/, (_, n: string) => `(${n} ${n === '1' ? 'point' : 'points'})`)}`;
+  return `Septum placed from ${septumSourceText(s.septum_from)}`;
 }
 
 /** The caption's tooltip: the orientation and the levels, as the SVG's footer gives them. */

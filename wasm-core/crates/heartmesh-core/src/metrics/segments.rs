@@ -179,10 +179,17 @@ pub fn segments(wall: &Wall, orientation: &Orientation) -> Result<Segments> {
     })
 }
 
+/// Why a wall around the RV cavity has no segments ([`super::septum::encloses_rv`]).
+pub const ENCLOSES_RV: &str = "the epicardium encloses the RV cavity (a biventricular \
+     epicardium): the LV wall would count the RV cavity as septum";
+
 /// The segments of `wall`, placed by what `set` (the file its surfaces came from) says of the
 /// septum ([`super::septum::orientation`]); else a sentence saying why there are none, for a
 /// report's `segments_note` and the app.
 pub fn of_file(set: &ContourSet, wall: &Wall) -> std::result::Result<Segments, String> {
+    if super::septum::encloses_rv(set, wall) {
+        return Err(ENCLOSES_RV.to_string());
+    }
     let orientation = super::septum::orientation(set, wall).ok_or_else(|| {
         "the file has no RV_INSERT landmarks and no RV contours to place the septum by".to_string()
     })?;

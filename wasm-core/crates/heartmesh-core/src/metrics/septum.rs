@@ -9,6 +9,7 @@
 //! on the biv-me patients the two agree within 11 degrees). Without either, nothing does: an
 //! LV-only file cannot say which side is septal.
 
+use super::function::winding_number;
 use super::segments::{Cavity, Orientation};
 use crate::contours::ContourSet;
 use crate::geometry::Vec3;
@@ -23,6 +24,39 @@ fn is_insertion(name: &str) -> bool {
 /// A surface name read as the RV's (RV_ENDO, RV_EPI, RV_FREEWALL, ...).
 fn is_rv(surface: &str) -> bool {
     surface.to_ascii_uppercase().starts_with("RV")
+}
+
+/// RV points (of surfaces other than an epicardium) below the base that [`encloses_rv`] tests, at
+/// most.
+const RV_SAMPLES: usize = 300;
+
+/// Whether the wall holds the RV cavity: most of the file's RV cavity points below the base lie
+/// inside the solid. Its "LV epicardium" is then a biventricular one (label maps painted from
+/// biventricular models ring both cavities with one myocardium label), so the wall counts the RV
+/// cavity as septum: 30 mm and more where 10 would be. Such a wall has no segments.
+pub fn encloses_rv(set: &ContourSet, wall: &Wall) -> bool {
+    let n = wall.base.normal.normalize();
+    let below: Vec<Vec3> = set
+        .contours
+        .iter()
+        .filter(|c| {
+            c.surface
+                .as_deref()
+                .is_some_and(|s| is_rv(s) && !s.to_ascii_uppercase().contains("EPI"))
+        })
+        .flat_map(|c| c.points().copied())
+        .filter(|p| p.iter().all(|x| x.is_finite()) && (wall.base.origin - p).dot(&n) > 0.0)
+        .collect();
+    if below.is_empty() {
+        return false;
+    }
+    let step = below.len().div_ceil(RV_SAMPLES);
+    let sampled: Vec<&Vec3> = below.iter().step_by(step).collect();
+    let inside = sampled
+        .iter()
+        .filter(|p| winding_number(&wall.mesh, p) > 0.5)
+        .count();
+    2 * inside > sampled.len()
 }
 
 /// Whether `set` says where the septum is (RV insertion landmarks or RV contours), before any
