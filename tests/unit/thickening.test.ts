@@ -7,7 +7,8 @@
 // two buttons saving the core's SVG text as it is and the CSV, the note alone when the core
 // measured none, nothing without LV_EPI; greyed with the table when stale and gone when the table's
 // measurement is replaced. The SVG's import (DOMParser, a real DOM) is the e2e test's
-// (function-thickening.test.mjs): here it is a stand-in that records what it was given.
+// (function-thickening.test.mjs): here it is a stand-in that records what it was given
+// (bullseyeFixtures.ts, shared with wallSegments.test.ts).
 import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
 import type { FunctionSummary, LabBatchInfo, LabProgress, LoadedFile, PhasesJob, WallThickening } from '../../web/src/core-client/protocol';
 import { DEFAULT_OPTIONS } from '../../web/src/core-client/protocol';
@@ -18,32 +19,16 @@ import {
   THICKENING_CSV_COLUMNS, noThickeningText, phasesBaseName, septumText, thickeningCaption, thickeningCsvFileName, thickeningHeaderLines, thickeningSvgFileName,
   thickeningTitle, writeThickeningCsv, type ThickeningProvenance,
 } from '../../web/src/io/export/thickening';
+import { AHA_NAMES, BULLSEYE_SVG, svgStandIn } from './bullseyeFixtures';
 import { FakeElement, fakeDocument } from './fakeDom';
 
 const saved: { data: unknown; name: string; type: string }[] = [];
 vi.mock('../../web/src/io/download', () => ({
   download: (data: unknown, name: string, type: string) => saved.push({ data, name, type }),
 }));
-/** What the stand-in importer was given; `refuse`: it returns null (not an SVG). */
-const imported: { text: string; prefix: string }[] = [];
-let refuse = false;
-vi.mock('../../web/src/io/svgImport', () => ({
-  importSvg: (text: string, prefix: string) => {
-    imported.push({ text, prefix });
-    if (refuse) return null;
-    const svg = new FakeElement('svg');
-    svg.setAttribute('data-from', text);
-    return svg;
-  },
-}));
+vi.mock('../../web/src/io/svgImport', () => import('./bullseyeFixtures').then((f) => ({ importSvg: f.svgStandIn.importSvg })));
 const { FunctionPanel } = await import('../../web/src/ui/FunctionPanel');
 type FunctionContext = import('../../web/src/ui/FunctionPanel').FunctionContext;
-
-const NAMES = [
-  'basal anterior', 'basal anteroseptal', 'basal inferoseptal', 'basal inferior', 'basal inferolateral', 'basal anterolateral',
-  'mid anterior', 'mid anteroseptal', 'mid inferoseptal', 'mid inferior', 'mid inferolateral', 'mid anterolateral',
-  'apical anterior', 'apical septal', 'apical inferior', 'apical lateral', 'apex',
-];
 
 /** Patient 1 ED -> ES as the core measures it (segments 1 and 2 its figures, the others made up). */
 const THICKENING: WallThickening = {
@@ -51,12 +36,11 @@ const THICKENING: WallThickening = {
   es_phase: 'patient1-ES',
   septum_from: ["the RV contours' centre (934)", "the RV contours' centre (622)"],
   mean_percent: 60.199734308283624,
-  segments: NAMES.map((name, i) => ({ id: i + 1, name, ed_mm: 6 + i / 10, es_mm: 9 + i / 10, thickening_percent: 50 + i })),
+  segments: AHA_NAMES.map((name, i) => ({ id: i + 1, name, ed_mm: 6 + i / 10, es_mm: 9 + i / 10, thickening_percent: 50 + i })),
 };
 THICKENING.segments[0] = { id: 1, name: 'basal anterior', ed_mm: 7.024500510186829, es_mm: 11.710879449943077, thickening_percent: 66.71476403140876 };
 THICKENING.segments[1] = { id: 2, name: 'basal anteroseptal', ed_mm: 12.3213017485221, es_mm: 15.403272069307482, thickening_percent: 25.013349917796265 };
 
-const SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="460" height="530" viewBox="0 0 460 530"><rect width="460" height="530" fill="#ffffff"/></svg>\n';
 const NOTE = 'LV_EPI encloses the RV cavity: a biventricular epicardium';
 
 const file = (fileName: string, frames: string[] | null = null): LoadedFile => ({
@@ -96,7 +80,7 @@ describe('the Thickening CSV', () => {
     expect(rows[0]).toBe('1,basal anterior,7.0245,11.7109,66.71');
     expect(rows[1]).toBe('2,basal anteroseptal,12.3213,15.4033,25.01');
     expect(rows[16]).toBe('17,apex,7.6000,10.6000,66.00');
-    expect(rows.slice(0, 17).map((r) => Number(r.split(',')[0]))).toEqual(NAMES.map((_, i) => i + 1));
+    expect(rows.slice(0, 17).map((r) => Number(r.split(',')[0]))).toEqual(AHA_NAMES.map((_, i) => i + 1));
   });
 
   it('leaves a segment without wall empty (missing, not 0), quotes a name with a comma, keeps a header line one line', () => {
@@ -152,8 +136,7 @@ describe('the thickening in the Function panel', () => {
   beforeEach(() => {
     vi.stubGlobal('document', fakeDocument);
     saved.length = 0;
-    imported.length = 0;
-    refuse = false;
+    svgStandIn.reset();
   });
   afterEach(() => vi.unstubAllGlobals());
 
@@ -213,20 +196,20 @@ describe('the thickening in the Function panel', () => {
     p.setContext(context());
     const box = p.root.byTestId('function-thickening')!;
     expect(box.hidden).toBe(true);
-    await p.measure({ ...SUMMARY, wall_thickening: THICKENING, thickening_svg: SVG });
+    await p.measure({ ...SUMMARY, wall_thickening: THICKENING, thickening_svg: BULLSEYE_SVG });
     expect([box.hidden, box.dataset.state]).toEqual([false, 'bullseye']);
     // Under the table and the summary's lines.
     const order = (p.root.children as FakeElement[]).map((c) => c.dataset.testid);
     expect(order.indexOf('function-thickening')).toBeGreaterThan(order.indexOf('function-summary'));
     expect(order.indexOf('function-thickening')).toBeGreaterThan(order.indexOf('function-table'));
-    expect(imported).toEqual([{ text: SVG, prefix: 'function-thickening' }]);
-    expect(p.root.byTestId('function-thickening-svg')!.children.map((c) => (c as FakeElement).getAttribute('data-from'))).toEqual([SVG]);
+    expect(svgStandIn.imported).toEqual([{ text: BULLSEYE_SVG, prefix: 'function-thickening' }]);
+    expect(p.root.byTestId('function-thickening-svg')!.children.map((c) => (c as FakeElement).getAttribute('data-from'))).toEqual([BULLSEYE_SVG]);
     expect(p.root.byTestId('function-thickening-caption')!.textContent).toBe('LV wall thickening patient1-ED → patient1-ES: mean 60 %');
     expect(p.root.byTestId('function-thickening-bullseye')!.title).toBe(thickeningTitle(THICKENING));
     expect(p.root.byTestId('function-thickening-note')!.hidden).toBe(true);
 
     p.root.byTestId('function-thickening-save-svg')!.fire('click');
-    expect(saved[0]).toEqual({ data: SVG, name: 'phases-LV_wall-thickening.svg', type: 'image/svg+xml' });
+    expect(saved[0]).toEqual({ data: BULLSEYE_SVG, name: 'phases-LV_wall-thickening.svg', type: 'image/svg+xml' });
     p.root.byTestId('function-thickening-save-csv')!.fire('click');
     const csv = saved[1];
     expect([csv.name, csv.type]).toEqual(['phases-LV_wall-thickening.csv', 'text/csv']);
@@ -240,14 +223,14 @@ describe('the thickening in the Function panel', () => {
   it('goes stale with the table (greyed, kept, not imported again), and goes when the table\'s measurement is replaced', async () => {
     const p = setup();
     p.setContext(context());
-    await p.measure({ ...SUMMARY, wall_thickening: THICKENING, thickening_svg: SVG });
+    await p.measure({ ...SUMMARY, wall_thickening: THICKENING, thickening_svg: BULLSEYE_SVG });
     const box = p.root.byTestId('function-thickening')!;
     p.setContext(context('s2'));
     expect([p.root.dataset.stale, p.root.classList.contains('is-stale')]).toEqual(['1', true]);
     expect([box.hidden, box.dataset.state]).toEqual([false, 'bullseye']);
     p.setContext(context('s1'));
     expect(p.root.dataset.stale).toBe('0');
-    expect(imported, 'the same summary is not imported again on each render').toHaveLength(1);
+    expect(svgStandIn.imported, 'the same summary is not imported again on each render').toHaveLength(1);
 
     // Measure again: gone with the table's cells until the new summary comes.
     p.root.byTestId('function-measure')!.fire('click');
@@ -266,12 +249,12 @@ describe('the thickening in the Function panel', () => {
     expect([note.hidden, note.textContent]).toEqual([false, `No wall thickening: ${NOTE}`]);
     expect(p.root.byTestId('function-thickening-bullseye')!.hidden).toBe(true);
     expect(p.root.byTestId('function-thickening-save-svg')!.parentElement!.hidden).toBe(true);
-    expect(imported).toHaveLength(0);
+    expect(svgStandIn.imported).toHaveLength(0);
 
     await p.measure(SUMMARY);
     expect([box.hidden, box.dataset.state]).toEqual([true, undefined]);
 
-    refuse = true;
+    svgStandIn.refuse = true;
     await p.measure({ ...SUMMARY, wall_thickening: THICKENING, thickening_svg: 'not svg' });
     expect(box.dataset.state).toBe('bullseye');
     expect(p.root.byTestId('function-thickening-svg')!.hidden).toBe(true);

@@ -5,7 +5,8 @@
 // two buttons, which save the core's SVG text as it is and the CSV; the note alone when the core
 // placed no segments; taken away exactly when the figures are (a rebuild under way, a parameter
 // changed, a failed build); never under the biventricular wall. The SVG's import into the page
-// (DOMParser, real DOM) is the e2e test's: here it is a stand-in that records what it was given.
+// (DOMParser, real DOM) is the e2e test's: here it is a stand-in that records what it was given
+// (bullseyeFixtures.ts, shared with thickening.test.ts).
 import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
 import type { WallFormat, WallSegments, WallSummary } from '../../web/src/core-client/protocol';
 import { DEFAULT_OPTIONS } from '../../web/src/core-client/protocol';
@@ -16,6 +17,7 @@ import {
   SEGMENTS_CSV_COLUMNS, bullseyeFileName, noSegmentsText, segmentsCaption, segmentsCsvFileName, segmentsHeaderLine, writeSegmentsCsv,
 } from '../../web/src/io/export/segments';
 import type { ExportInfo } from '../../web/src/io/export/header';
+import { AHA_NAMES, BULLSEYE_SVG, svgStandIn } from './bullseyeFixtures';
 import { FakeElement, fakeDocument } from './fakeDom';
 import { exportSource } from './panelHarness';
 
@@ -23,25 +25,8 @@ const saved: { data: unknown; name: string; type: string }[] = [];
 vi.mock('../../web/src/io/download', () => ({
   download: (data: unknown, name: string, type: string) => saved.push({ data, name, type }),
 }));
-/** What the stand-in importer was given; `null` next: it refuses the text (not an SVG). */
-const imported: { text: string; prefix: string }[] = [];
-let refuse = false;
-vi.mock('../../web/src/io/svgImport', () => ({
-  importSvg: (text: string, prefix: string) => {
-    imported.push({ text, prefix });
-    if (refuse) return null;
-    const svg = new FakeElement('svg');
-    svg.setAttribute('data-from', text);
-    return svg;
-  },
-}));
+vi.mock('../../web/src/io/svgImport', () => import('./bullseyeFixtures').then((f) => ({ importSvg: f.svgStandIn.importSvg })));
 const { ExportPanel } = await import('../../web/src/io/ExportPanel');
-
-const NAMES = [
-  'basal anterior', 'basal anteroseptal', 'basal inferoseptal', 'basal inferior', 'basal inferolateral', 'basal anterolateral',
-  'mid anterior', 'mid anteroseptal', 'mid inferoseptal', 'mid inferior', 'mid inferolateral', 'mid anterolateral',
-  'apical anterior', 'apical septal', 'apical inferior', 'apical lateral', 'apex',
-];
 
 /** Patient 1 ED's placement (the CLI's report), its figures made up but for segments 2 and 6. */
 const segments: WallSegments = {
@@ -50,12 +35,11 @@ const segments: WallSegments = {
   anterior_direction: [0.22, -0.6, 0.77],
   axis: [-0.48, 0.62, 0.62],
   level_depths_mm: [0, 25.868268292658385, 51.73653658531677, 77.60480487797516, 81.75009375581506],
-  segments: NAMES.map((name, i) => ({ id: i + 1, name, mean_mm: 6 + i / 10, min_mm: 4 + i / 10, max_mm: 9 + i / 10, area_mm2: 1500 + i })),
+  segments: AHA_NAMES.map((name, i) => ({ id: i + 1, name, mean_mm: 6 + i / 10, min_mm: 4 + i / 10, max_mm: 9 + i / 10, area_mm2: 1500 + i })),
 };
 segments.segments[1] = { id: 2, name: 'basal anteroseptal', mean_mm: 12.3213017485221, min_mm: 7.785080985713122, max_mm: 15.590515923974527, area_mm2: 1936.8696364159487 };
 segments.segments[5] = { id: 6, name: 'basal anterolateral', mean_mm: 6.0004305280187715, min_mm: 4.75290240694907, max_mm: 7.770895966420188, area_mm2: 2030.7932034436194 };
 
-const SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="460" height="530" viewBox="0 0 460 530"><rect width="460" height="530" fill="#ffffff"/></svg>\n';
 
 const base: WallSummary = {
   surfaces: { endo: 'LV_ENDO', epi: 'LV_EPI' }, format: 'ply', vertices: 1557, triangles: 3110,
@@ -66,7 +50,7 @@ const base: WallSummary = {
   endocardium_moved: { min_thickness_mm: 1, vertices: 0, max_mm: 0 }, epicardium_moved: { min_thickness_mm: 1, vertices: 0, max_mm: 0 },
   base_plane: { origin: [0, 0, 0], normal: [0, 0, 1] },
 };
-const withSegments: WallSummary = { ...base, segments, bullseye_svg: SVG };
+const withSegments: WallSummary = { ...base, segments, bullseye_svg: BULLSEYE_SVG };
 const NOTE = 'the file has no RV_INSERT landmarks and no RV contours to place the septum by';
 const withoutSegments: WallSummary = { ...base, segments: null, segments_note: NOTE };
 
@@ -91,7 +75,7 @@ describe('the Segments CSV', () => {
     expect(rows[1]).toBe('2,basal anteroseptal,12.3213,7.7851,15.5905,1936.87');
     expect(rows[5]).toBe('6,basal anterolateral,6.0004,4.7529,7.7709,2030.79');
     expect(rows[16]).toBe('17,apex,7.6000,5.6000,10.6000,1516.00');
-    expect(rows.slice(0, 17).map((r) => Number(r.split(',')[0]))).toEqual(NAMES.map((_, i) => i + 1));
+    expect(rows.slice(0, 17).map((r) => Number(r.split(',')[0]))).toEqual(AHA_NAMES.map((_, i) => i + 1));
   });
 
   it('leaves a segment without wall empty (missing, not 0), quotes a name with a comma, and is null without segments', () => {
@@ -122,8 +106,7 @@ describe('the bullseye under the LV wall\'s figures', () => {
   beforeEach(() => {
     vi.stubGlobal('document', fakeDocument);
     saved.length = 0;
-    imported.length = 0;
-    refuse = false;
+    svgStandIn.reset();
   });
   afterEach(() => vi.unstubAllGlobals());
 
@@ -169,9 +152,9 @@ describe('the bullseye under the LV wall\'s figures', () => {
     expect(t.figures.dataset.state).toBe('done');
     expect(t.segments.hidden).toBe(false);
     expect(t.segments.dataset.state).toBe('segments');
-    expect(imported).toEqual([{ text: SVG, prefix: 'wall-bullseye' }]);
+    expect(svgStandIn.imported).toEqual([{ text: BULLSEYE_SVG, prefix: 'wall-bullseye' }]);
     expect(t.drawing.children).toHaveLength(1);
-    expect((t.drawing.children[0] as FakeElement).dataset.from).toBe(SVG);
+    expect((t.drawing.children[0] as FakeElement).dataset.from).toBe(BULLSEYE_SVG);
     expect(t.drawing.hidden).toBe(false);
     expect(t.figure.hidden).toBe(false);
     expect(t.caption.textContent).toBe(segmentsCaption(segments));
@@ -188,7 +171,7 @@ describe('the bullseye under the LV wall\'s figures', () => {
       ['patient1-ED-LV_wall-segments.svg', 'image/svg+xml'],
       ['patient1-ED-LV_wall-segments.csv', 'text/csv'],
     ]);
-    expect(saved[0].data).toBe(SVG);
+    expect(saved[0].data).toBe(BULLSEYE_SVG);
     expect(saved[1].data).toBe(writeSegmentsCsv(withSegments, info));
   });
 
@@ -251,7 +234,7 @@ describe('the bullseye under the LV wall\'s figures', () => {
     expect(t.note.textContent).toBe(`No AHA segments: ${NOTE}`);
     expect(t.figure.hidden).toBe(true);
     expect(buttonsShown(t.svgButton)).toBe(false);
-    expect(imported).toEqual([]);
+    expect(svgStandIn.imported).toEqual([]);
     // A summary of an older core, without the field: nothing at all.
     const old = panel(() => Promise.resolve({ summary: base, bytes: new Uint8Array(3) }));
     old.p.setWall(ready());
@@ -262,7 +245,7 @@ describe('the bullseye under the LV wall\'s figures', () => {
   });
 
   it('a bullseye that cannot be imported leaves the caption saying so and the files still saved', async () => {
-    refuse = true;
+    svgStandIn.refuse = true;
     const t = panel(() => Promise.resolve({ summary: withSegments, bytes: new Uint8Array(3) }));
     t.p.setWall(ready());
     t.click('export-wall-obj');
@@ -271,7 +254,7 @@ describe('the bullseye under the LV wall\'s figures', () => {
     expect(t.caption.textContent).toMatch(/\(the bullseye could not be drawn here; Bullseye SVG saves it\)$/);
     saved.length = 0;
     t.click('export-wall-bullseye');
-    expect(saved.map((s) => s.data)).toEqual([SVG]);
+    expect(saved.map((s) => s.data)).toEqual([BULLSEYE_SVG]);
   });
 
   it('is the LV wall\'s only: the biventricular wall has none', async () => {

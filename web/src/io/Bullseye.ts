@@ -7,47 +7,32 @@
  * other meshes or settings than the figures above it.
  */
 import type { WallSummary } from '../core-client/protocol';
-import { h } from '../ui/dom';
+import { BullseyeFigure } from './BullseyeFigure';
 import { download } from './download';
 import type { ExportInfo } from './export/header';
 import { bullseyeFileName, noSegmentsText, segmentsCaption, segmentsCsvFileName, segmentsTitle, writeSegmentsCsv } from './export/segments';
-import { importSvg } from './svgImport';
 import type { WallDetails } from './WallRow';
-import './bullseye.css';
-
-/** The prefix of the bullseye's ids on the page (its colour scale's gradient). */
-const ID_PREFIX = 'wall-bullseye';
 
 export class BullseyeView implements WallDetails {
   readonly element: HTMLElement;
-  /** The bullseye and its caption. */
-  private readonly figure: HTMLElement;
-  private readonly drawing: HTMLElement;
-  private readonly caption: HTMLElement;
-  private readonly buttons: HTMLElement;
-  /** Why there are no segments. */
-  private readonly note: HTMLElement;
+  /** The bullseye, its caption and buttons, or why there are no segments. */
+  private readonly figure: BullseyeFigure;
   /** The wall whose segments are shown (null: none). */
   private summary: WallSummary | null = null;
 
   /** `info`: the run the wall was built of (the files' names and the CSV's header). */
   constructor(private readonly info: () => ExportInfo | null) {
-    const button = (label: string, testid: string, title: string, fn: () => void) => {
-      const b = h('button', { type: 'button', class: 'small', 'data-testid': testid, title }, label);
-      b.addEventListener('click', fn);
-      return b;
-    };
-    this.drawing = h('div', { class: 'bullseye-drawing', 'data-testid': 'wall-bullseye-svg' });
-    this.caption = h('figcaption', { class: 'bullseye-caption', 'data-testid': 'wall-bullseye-caption' });
-    this.figure = h('figure', { class: 'bullseye', 'data-testid': 'wall-bullseye' }, this.drawing, this.caption);
-    this.buttons = h(
-      'div',
-      { class: 'bullseye-buttons' },
-      button('Bullseye SVG', 'export-wall-bullseye', 'The bullseye as drawn here (SVG, the command line\'s --bullseye drawing)', () => this.saveSvg()),
-      button('Segments CSV', 'export-wall-segments', 'One row per AHA segment: mean, min and max wall thickness (mm) and wall area (mm²), under the wall\'s settings', () => this.saveCsv()),
-    );
-    this.note = h('p', { class: 'wall-segments-note', 'data-testid': 'wall-segments-note' });
-    this.element = h('div', { class: 'wall-segments', 'data-testid': 'wall-segments', hidden: true }, this.figure, this.buttons, this.note);
+    this.figure = new BullseyeFigure({
+      idPrefix: 'wall-bullseye',
+      classes: { wrapper: 'wall-segments', note: 'wall-segments-note' },
+      testids: { wrapper: 'wall-segments', figure: 'wall-bullseye', drawing: 'wall-bullseye-svg', caption: 'wall-bullseye-caption', note: 'wall-segments-note' },
+      drawnState: 'segments',
+      buttons: [
+        { label: 'Bullseye SVG', testid: 'export-wall-bullseye', title: 'The bullseye as drawn here (SVG, the command line\'s --bullseye drawing)', onClick: () => this.saveSvg() },
+        { label: 'Segments CSV', testid: 'export-wall-segments', title: 'One row per AHA segment: mean, min and max wall thickness (mm) and wall area (mm²), under the wall\'s settings', onClick: () => this.saveCsv() },
+      ],
+    });
+    this.element = this.figure.element;
   }
 
   show(summary: WallSummary): void {
@@ -56,42 +41,16 @@ export class BullseyeView implements WallDetails {
       // A summary without the field at all (an older core) has nothing to say either way.
       if (summary.segments === undefined) return this.clear();
       this.summary = null;
-      this.showOnly('note', noSegmentsText(summary.segments_note));
+      this.figure.showNote(noSegmentsText(summary.segments_note));
       return;
     }
-    const svg = summary.bullseye_svg ? importSvg(summary.bullseye_svg, ID_PREFIX) : null;
     this.summary = summary;
-    this.element.hidden = false;
-    this.element.dataset.state = 'segments';
-    this.drawing.replaceChildren(...(svg ? [svg] : []));
-    this.drawing.hidden = svg === null;
-    this.caption.textContent = svg ? segmentsCaption(segments) : `${segmentsCaption(segments)} (the bullseye could not be drawn here; Bullseye SVG saves it)`;
-    this.figure.title = segmentsTitle(segments);
-    this.figure.hidden = false;
-    this.buttons.hidden = false;
-    this.note.hidden = true;
-    this.note.textContent = '';
+    this.figure.showDrawing(summary.bullseye_svg, segmentsCaption(segments), segmentsTitle(segments));
   }
 
   clear(): void {
     this.summary = null;
-    this.element.hidden = true;
-    delete this.element.dataset.state;
-    this.drawing.replaceChildren();
-    this.caption.textContent = '';
-    this.note.textContent = '';
-  }
-
-  /** Shows the note alone (`state` note). */
-  private showOnly(state: 'note', text: string): void {
-    this.element.hidden = false;
-    this.element.dataset.state = state;
-    this.drawing.replaceChildren();
-    this.caption.textContent = '';
-    this.figure.hidden = true;
-    this.buttons.hidden = true;
-    this.note.hidden = false;
-    this.note.textContent = text;
+    this.figure.clear();
   }
 
   /** The core's SVG text as it is (what the command line's --bullseye writes but for the title line). */

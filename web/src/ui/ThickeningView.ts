@@ -7,48 +7,38 @@
  * so it is of the same measurement as the table: it goes when the table's measurement is replaced
  * and is greyed with the table when that is stale (bullseye.css).
  */
-import type { FunctionSummary, WallThickening } from '../core-client/protocol';
+import type { FunctionSummary } from '../core-client/protocol';
+import { BullseyeFigure } from '../io/BullseyeFigure';
 import { download } from '../io/download';
 import {
   noThickeningText, thickeningCaption, thickeningCsvFileName, thickeningHeaderLines, thickeningSvgFileName, thickeningTitle, writeThickeningCsv,
   type ThickeningProvenance,
 } from '../io/export/thickening';
-import { importSvg } from '../io/svgImport';
-import { h } from './dom';
-import '../io/bullseye.css';
-
-/** The prefix of the bullseye's ids on the page: apart from the wall bullseye's `wall-bullseye`. */
-const ID_PREFIX = 'function-thickening';
 
 export class ThickeningView {
   readonly element: HTMLElement;
-  private readonly figure: HTMLElement;
-  private readonly drawing: HTMLElement;
-  private readonly caption: HTMLElement;
-  private readonly buttons: HTMLElement;
-  /** Why there is no thickening. */
-  private readonly note: HTMLElement;
+  /** The bullseye, its caption and buttons, or why there is no thickening. */
+  private readonly figure: BullseyeFigure;
   /** The summary shown (null: none): the same one again is not imported again. */
   private summary: FunctionSummary | null = null;
 
   /** `provenance`: what the shown summary's measurement was made of (the files' names, the CSV's header). */
   constructor(private readonly provenance: () => ThickeningProvenance | null) {
-    const button = (label: string, testid: string, title: string, fn: () => void) => {
-      const b = h('button', { type: 'button', class: 'small', 'data-testid': testid, title }, label);
-      b.addEventListener('click', fn);
-      return b;
-    };
-    this.drawing = h('div', { class: 'bullseye-drawing', 'data-testid': 'function-thickening-svg' });
-    this.caption = h('figcaption', { class: 'bullseye-caption', 'data-testid': 'function-thickening-caption' });
-    this.figure = h('figure', { class: 'bullseye', 'data-testid': 'function-thickening-bullseye' }, this.drawing, this.caption);
-    this.buttons = h(
-      'div',
-      { class: 'bullseye-buttons' },
-      button('Thickening SVG', 'function-thickening-save-svg', 'The thickening bullseye as drawn here (SVG, the command line\'s volumes --thickening-plot drawing)', () => this.saveSvg()),
-      button('Thickening CSV', 'function-thickening-save-csv', 'One row per AHA segment: the mean wall thickness at ED and at ES (mm) and the thickening (%), under the measurement\'s settings', () => this.saveCsv()),
-    );
-    this.note = h('p', { class: 'function-thickening-note', 'data-testid': 'function-thickening-note' });
-    this.element = h('div', { class: 'function-thickening', 'data-testid': 'function-thickening', hidden: true }, this.figure, this.buttons, this.note);
+    this.figure = new BullseyeFigure({
+      // Apart from the wall bullseye's `wall-bullseye`.
+      idPrefix: 'function-thickening',
+      classes: { wrapper: 'function-thickening', note: 'function-thickening-note' },
+      testids: {
+        wrapper: 'function-thickening', figure: 'function-thickening-bullseye', drawing: 'function-thickening-svg', caption: 'function-thickening-caption',
+        note: 'function-thickening-note',
+      },
+      drawnState: 'bullseye',
+      buttons: [
+        { label: 'Thickening SVG', testid: 'function-thickening-save-svg', title: 'The thickening bullseye as drawn here (SVG, the command line\'s volumes --thickening-plot drawing)', onClick: () => this.saveSvg() },
+        { label: 'Thickening CSV', testid: 'function-thickening-save-csv', title: 'One row per AHA segment: the mean wall thickness at ED and at ES (mm) and the thickening (%), under the measurement\'s settings', onClick: () => this.saveCsv() },
+      ],
+    });
+    this.element = this.figure.element;
   }
 
   /** Shows `summary`'s thickening, or its note; clears for a summary without one (or none). */
@@ -58,43 +48,13 @@ export class ThickeningView {
     if (!summary || summary.wall_thickening === undefined) return this.clear();
     this.summary = summary;
     const t = summary.wall_thickening;
-    if (t === null) return this.showNote(noThickeningText(summary.wall_thickening_note));
-    this.showBullseye(t, summary.thickening_svg);
+    if (t === null) return this.figure.showNote(noThickeningText(summary.wall_thickening_note));
+    this.figure.showDrawing(summary.thickening_svg, thickeningCaption(t), thickeningTitle(t));
   }
 
   clear(): void {
     this.summary = null;
-    this.element.hidden = true;
-    delete this.element.dataset.state;
-    this.drawing.replaceChildren();
-    this.caption.textContent = '';
-    this.note.textContent = '';
-  }
-
-  private showBullseye(t: WallThickening, svgText: string | undefined): void {
-    const svg = svgText ? importSvg(svgText, ID_PREFIX) : null;
-    this.element.hidden = false;
-    this.element.dataset.state = 'bullseye';
-    this.drawing.replaceChildren(...(svg ? [svg] : []));
-    this.drawing.hidden = svg === null;
-    const caption = thickeningCaption(t);
-    this.caption.textContent = svg ? caption : `${caption} (the bullseye could not be drawn here; Thickening SVG saves it)`;
-    this.figure.title = thickeningTitle(t);
-    this.figure.hidden = false;
-    this.buttons.hidden = false;
-    this.note.hidden = true;
-    this.note.textContent = '';
-  }
-
-  private showNote(text: string): void {
-    this.element.hidden = false;
-    this.element.dataset.state = 'note';
-    this.drawing.replaceChildren();
-    this.caption.textContent = '';
-    this.figure.hidden = true;
-    this.buttons.hidden = true;
-    this.note.hidden = false;
-    this.note.textContent = text;
+    this.figure.clear();
   }
 
   /** The core's SVG text as it is (what `volumes --thickening-plot` writes). */

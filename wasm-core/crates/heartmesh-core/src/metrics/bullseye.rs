@@ -9,6 +9,7 @@
 
 use super::segments::Segments;
 use super::thickening::Thickening;
+use crate::io::xml_escape;
 use std::fmt::Write;
 
 /// Viridis at 0, 0.1, ..., 1 (the app's `web/src/viewer/colormap.ts` anchors).
@@ -175,8 +176,8 @@ fn draw(d: &Drawing) -> String {
          {}</text>\n\
          <text x=\"{CX}\" y=\"40\" text-anchor=\"middle\" font-size=\"12\" \
          fill=\"#444\">{}</text>\n",
-        escape(d.heading),
-        escape(d.title)
+        xml_escape(d.heading),
+        xml_escape(d.title)
     );
     for (k, &(name, value)) in d.values.iter().enumerate().take(17) {
         let (ring, from, to) = place(k);
@@ -246,7 +247,7 @@ fn draw(d: &Drawing) -> String {
             "<text x=\"{CX}\" y=\"{}\" text-anchor=\"middle\" font-size=\"10\" \
              fill=\"#666\">{}</text>",
             HEIGHT - 8.0 - 13.0 * from_bottom,
-            escape(line)
+            xml_escape(line)
         );
     }
     out.push_str("</svg>\n");
@@ -301,14 +302,6 @@ fn scale_bar(out: &mut String, top: f64, unit: &str) {
         x0 + w + 8.0,
         y0 + h - 1.0
     );
-}
-
-/// Text safe inside an SVG element.
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 #[cfg(test)]

@@ -12,6 +12,7 @@ mod appended;
 mod base64;
 mod data_array;
 
+use crate::io::xml_escape;
 use std::cell::Cell;
 use std::collections::{BTreeMap, HashMap};
 
@@ -712,13 +713,6 @@ pub(crate) fn write_lines(
     }
     out.push_str("</Piece>\n</PolyData>\n</VTKFile>\n");
     out.into_bytes()
-}
-
-fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 #[cfg(test)]
