@@ -5,9 +5,10 @@
 //! standard's own reference: the septum runs between the anterior and the inferior ones, so its
 //! middle is the bisector of the two groups' mean directions. Grouping them by side of the RV's
 //! centre (or of their own mean) keeps a slice with one insertion point from tipping the
-//! bisector. Without them the RV contours' centre gives the direction (the septum faces the RV;
-//! on the biv-me patients the two agree within 11 degrees). Without either, nothing does: an
-//! LV-only file cannot say which side is septal.
+//! bisector; points on one side only (one insertion line marked) defer to the RV's centre.
+//! Without them the RV contours' centre gives the direction (the septum faces the RV; on the
+//! biv-me patients the two agree within 11 degrees). Without either, nothing does: an LV-only
+//! file cannot say which side is septal.
 
 use super::function::winding_number;
 use super::segments::{Cavity, Orientation};
@@ -113,9 +114,12 @@ pub fn orientation(set: &ContourSet, wall: &Wall) -> Option<Orientation> {
 }
 
 /// The middle of the septum from insertion directions: the two sides of `reference` (the RV's
-/// direction, else the points' own mean) averaged apart, then halved.
+/// direction, else the points' own mean) averaged apart, then halved. None when every point
+/// lies on one side of the RV's direction (one insertion line marked: its mean would be 60
+/// degrees off the septum's middle, where the RV's centre is not).
 fn bisector(directions: &[Vec3], reference: Option<Vec3>, n: &Vec3) -> Option<Vec3> {
     let mean = directions.iter().sum::<Vec3>();
+    let rv_given = reference.is_some();
     let reference = reference.or_else(|| mean.try_normalize(1e-9))?;
     let side = n.cross(&reference);
     let (mut a, mut b) = (Vec3::zeros(), Vec3::zeros());
@@ -128,6 +132,7 @@ fn bisector(directions: &[Vec3], reference: Option<Vec3>, n: &Vec3) -> Option<Ve
     }
     match (a.try_normalize(1e-9), b.try_normalize(1e-9)) {
         (Some(a), Some(b)) => (a + b).try_normalize(1e-9),
+        _ if rv_given => None,
         _ => mean.try_normalize(1e-9),
     }
 }

@@ -168,6 +168,17 @@ fn the_septum_comes_from_the_insertion_points_else_the_rv() {
     assert_eq!(o.source, "RV_INSERT landmarks");
     assert_eq!(o.points, 3);
     assert!((o.septum - dir(-82.5)).norm() < 1e-6, "{:?}", o.septum);
+    // Insertion points on one side of the RV only (one insertion line marked): the RV's centre
+    // places the septum, not their mean 45 degrees off it.
+    set.landmarks.retain(|(_, p)| p.x > 0.0);
+    assert_eq!(set.landmarks.len(), 2);
+    let o = orientation(&set, &wall).unwrap();
+    assert_eq!(o.source, "the RV contours' centre");
+    assert!(
+        (o.septum - v3(0.0, -1.0, 0.0)).norm() < 1e-6,
+        "{:?}",
+        o.septum
+    );
     // An LV-only file says nothing of the septum.
     set.contours.clear();
     set.landmarks.clear();
