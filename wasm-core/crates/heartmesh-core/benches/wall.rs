@@ -5,11 +5,16 @@
 //! (`build_biventricular`: BIV_EPI less LV_ENDO and RV_ENDO); data from ../shared/data beside
 //! the repository (not shipped).
 //!
+//! Also the wall's AHA segments (`metrics::segments::of_file`: the check that the epicardium
+//! does not ring the RV, the septum from the RV landmarks or contours, the 17 segments), which
+//! `myocardium` and the app add to every LV wall.
+//!
 //! `cargo bench --bench wall`
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use heartmesh_core::mesh::wall::{build_biventricular, build_wall};
 use heartmesh_core::metrics::compare::{common_basal_plane, common_basal_plane_all};
+use heartmesh_core::metrics::segments;
 use heartmesh_core::{io, Params, Reconstruction};
 use std::path::PathBuf;
 
@@ -39,6 +44,10 @@ fn bench(c: &mut Criterion) {
             b.iter(|| build_wall(endo.mesh(), epi.mesh(), &base, depth).expect("wall"))
         });
     }
+    let wall = build_wall(endo.mesh(), epi.mesh(), &base, Some(1.0)).expect("wall");
+    g.bench_function("patient1-ED-segments", |b| {
+        b.iter(|| segments::of_file(&set, &wall).expect("segments"))
+    });
     let (rv, biv) = (run("RV_ENDO"), run("BIV_EPI"));
     let biv_base = common_basal_plane_all(&[&endo, &biv, &rv]).expect("base plane");
     g.bench_function("patient1-ED-biventricular", |b| {

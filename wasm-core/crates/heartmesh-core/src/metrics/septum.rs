@@ -28,8 +28,10 @@ fn is_rv(surface: &str) -> bool {
 }
 
 /// RV points (of surfaces other than an epicardium) below the base that [`encloses_rv`] tests, at
-/// most.
-const RV_SAMPLES: usize = 300;
+/// most: each costs a winding number over every triangle of the wall, and the answer is a
+/// majority far from even (nearly all inside a wall around the RV, nearly none otherwise), so 64
+/// evenly taken decide it (300 took 7.7 ms on patient 1's wall, as long as building it).
+const RV_SAMPLES: usize = 64;
 
 /// Whether the wall holds the RV cavity: most of the file's RV cavity points below the base lie
 /// inside the solid. Its "LV epicardium" is then a biventricular one (label maps painted from
