@@ -191,17 +191,6 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             None => {}
         }
     }
-    if let Some(path) = p.value("thickening-plot") {
-        match &thickening {
-            Some(Ok(t)) => files::write(path, bullseye::thickening_svg(t).as_bytes())?,
-            Some(Err(why)) => {
-                return Err(CliError::Failed(format!(
-                    "{path}: no LV wall thickening: {why}"
-                )))
-            }
-            None => {}
-        }
-    }
     if let Some(path) = p.value("csv") {
         files::write(path, csv(&phases, &surfaces, &cells).as_bytes())?;
     }
@@ -223,6 +212,18 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         let text = serde_json::to_string_pretty(&doc)
             .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
         files::write(path, format!("{text}\n").as_bytes())?;
+    }
+    // Last, so that a study without a thickening still gets its table, CSV and JSON.
+    if let Some(path) = p.value("thickening-plot") {
+        match &thickening {
+            Some(Ok(t)) => files::write(path, bullseye::thickening_svg(t).as_bytes())?,
+            Some(Err(why)) => {
+                return Err(CliError::Failed(format!(
+                    "{path}: no LV wall thickening: {why}"
+                )))
+            }
+            None => {}
+        }
     }
     failed.map_or(Ok(()), Err)
 }
