@@ -9,6 +9,9 @@ use heartmesh_core::io::{self, MeshFormat};
 use heartmesh_core::pipeline::{Reconstruction, SetAsideDistance};
 use heartmesh_core::{ContourSet, CoreError, LidMode, Params};
 
+use heartmesh_core::metrics::anatomical::{Anatomical, Layout};
+
+use crate::anatomical_out;
 use crate::args::{parse, Parsed, Spec};
 use crate::cmd_convert::file_name;
 use crate::contours;
@@ -23,7 +26,8 @@ pub const USAGE: &str =
     [--remesh-every 20] [--smoothing-iterations 200] [--smoothing-factor 0.1]
     [--smoothing-method laplacian-affine|taubin|laplacian-hc|laplacian-twicing] [--target-reduction 0.72] [--lids auto|none|apex] [--resample-attractors-every 25]
     [--ring-points 50] [--no-soften-conflicts] [--align-slices [--align-in-plane-only]] [--end-caps auto|off] [--no-apex-floor] [--drop-second-loops] [--keep-specks] [--frame N|LABEL]
-    [--leave-out ID[,ID...]] [--contour-distances POINTS.csv] [--ascii] [--quiet]
+    [--leave-out ID[,ID...]] [--contour-distances POINTS.csv]
+    [--anatomical-mesh GRID.vtk [--anatomical-layout 24x48]] [--ascii] [--quiet]
   CONTOURS may be a NIfTI short-axis label map followed by its long-axis views (single-slice
   label maps, any order of the files: reconstruct SEG.nii.gz LA_2CH.nii.gz LA_4CH.nii.gz -o ...),
   their labels matched to the stack's by position;
@@ -77,6 +81,18 @@ pub const USAGE: &str =
   --lids apex puts the apex lid at the file's apex landmark (biv-me GPFiles: APEX_POINT, or
   APEX_ENDO_POINT / APEX_EPI_POINT for the endo- / epicardial surfaces);
   --contour-distances writes the cleaned contours with each point's distance to the mesh (mm).
+  --anatomical-mesh writes the finished LV surface (LV_ENDO, LV_EPI) resampled onto a fixed
+  grid, the same vertices in the same order and the same triangles for every heart and phase
+  (point correspondence for shape analysis): vertex 0 the apex (the lowest point along the long
+  axis), then RINGS rings of POINTS vertices from the apex to the base plane (the most basal
+  short-axis slice; ring heights 1 - cos(pi/2 s) of the length, denser at the apex), vertex j
+  of each ring where the ray from the section's centre at 360*j/POINTS degrees from the
+  septum's middle (towards anterior) leaves the surface, last the base lid's centre (triangles
+  labelled wall and base); every vertex lies on the surface; the septum comes from the file's
+  RV_INSERT landmarks or RV contours (a file with neither is refused before the run, as is an
+  RV surface); --anatomical-layout RINGSxPOINTS (2-200 x 8-720, default 24x48); the report's
+  anatomical_mesh gives its figures (volume, distance to the surface); with --surface all each
+  LV surface gets its own (GRID-LV_ENDO.vtk, ...).
   --surface all: each surface of the file in turn (its order), each to the output names with
   -SURFACE before the extension (-o m.obj --report r.json: m-LV_ENDO.obj, r-LV_ENDO.json, ...);
   a surface that fails is named and the others still run (exit status of the last failure).
@@ -91,7 +107,14 @@ pub const USAGE: &str =
   each contour's first; the report's frame says which was read.";
 
 /// Options of this command only that take a value.
-const VALUE_FLAGS: &[&str] = &["output", "report", "frame", "contour-distances"];
+const VALUE_FLAGS: &[&str] = &[
+    "output",
+    "report",
+    "frame",
+    "contour-distances",
+    "anatomical-mesh",
+    "anatomical-layout",
+];
 
 /// Options without a value of this command only.
 const SWITCHES: &[&str] = &["ascii", "quiet"];
@@ -203,7 +226,8 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     // Check the flags before reading (a usage error should not wait for a big file), and that
     // the outputs can be written (a mistyped directory should not cost a whole run).
     params_from(&p, Params::default())?;
-    for option in ["output", "report", "contour-distances"] {
+    let layout = anatomical_out::layout_from(&p)?;
+    for option in ["output", "report", "contour-distances", "anatomical-mesh"] {
         if let Some(path) = p.value(option) {
             files::check_output(path)?;
         }
@@ -217,6 +241,18 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         format,
         report: p.value("report").map(str::to_string),
         distances: p.value("contour-distances").map(str::to_string),
+        anatomical: p.value("anatomical-mesh").map(str::to_string),
+    };
+    let requested = each_surface::requested(params.surface.as_deref(), &set);
+    // The surfaces that get an anatomical layout, checked before any run.
+    let anatomical = match layout {
+        Some(layout) => {
+            let surfaces = requested
+                .clone()
+                .unwrap_or_else(|| vec![params.surface.clone()]);
+            Some((layout, anatomical_out::check(input, &set, &surfaces)?))
+        }
+        None => None,
     };
     let run = Run {
         input,
@@ -225,8 +261,8 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         quiet,
         apex_lids: p.value("lids") == Some("apex"),
         said: RefCell::new(Vec::new()),
+        anatomical,
     };
-    let requested = each_surface::requested(params.surface.as_deref(), &set);
     let inputs: Vec<&str> = p.positional.iter().map(String::as_str).collect();
     let every: Vec<Outputs> = match &requested {
         Some(surfaces) => surfaces
@@ -261,6 +297,8 @@ struct Outputs {
     format: MeshFormat,
     report: Option<String>,
     distances: Option<String>,
+    /// `--anatomical-mesh`.
+    anatomical: Option<String>,
 }
 
 impl Outputs {
@@ -273,6 +311,7 @@ impl Outputs {
                 .as_deref()
                 .map(|d| ("--contour-distances", d)),
         );
+        v.extend(self.anatomical.as_deref().map(|a| ("--anatomical-mesh", a)));
         v
     }
 
@@ -284,6 +323,7 @@ impl Outputs {
             format: self.format,
             report: self.report.as_deref().map(name),
             distances: self.distances.as_deref().map(name),
+            anatomical: self.anatomical.as_deref().map(name),
         }
     }
 }
@@ -299,6 +339,8 @@ struct Run<'a> {
     /// The stderr lines already printed: a note or warning about the whole file (the images'
     /// crossing gap, a unit conversion) is said once, not once per surface of `--surface all`.
     said: RefCell<Vec<String>>,
+    /// `--anatomical-mesh`: the layout and the surfaces that can have it (checked before).
+    anatomical: Option<(Layout, Vec<Option<String>>)>,
 }
 
 impl Run<'_> {
@@ -356,7 +398,8 @@ impl Run<'_> {
             warnings: &warnings,
             time_frames: set.time_frames.as_ref(),
         };
-        let rep = report::build(&rec, &facts);
+        let mut rep = report::build(&rec, &facts);
+        let anatomical = self.anatomical_of(&rec, &params, out, &mut rep);
         let comment = report::header_comment(&facts);
         let distances = report::vertex_distances(&rec);
         let point_data = Some(("distance", distances.as_slice()));
@@ -377,6 +420,18 @@ impl Run<'_> {
             let text = serde_json::to_string_pretty(&rep)
                 .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
             files::write(path, format!("{text}\n").as_bytes())?;
+        }
+        // Written last: a layout that could not be built fails after the mesh and the report.
+        if let (Some(path), Some(built)) = (out.anatomical.as_deref(), &anatomical) {
+            let surface = rep["surface"].as_str().unwrap_or("the surface");
+            match built {
+                Ok(a) => anatomical_out::write(path, a, input, surface)?,
+                Err(why) => {
+                    return Err(CliError::Failed(format!(
+                        "{path}: no anatomical layout: {why}"
+                    )))
+                }
+            }
         }
         if !quiet {
             for w in &warnings {
@@ -413,8 +468,36 @@ impl Run<'_> {
                 self.say(format!("heartmesh: warning: {output}: {w}"));
             }
             outln!("{}", report::summary(output, &rep));
+            if let (Some(path), Some(Ok(a))) = (out.anatomical.as_deref(), &anatomical) {
+                outln!("{}", anatomical_out::summary_line(path, a));
+            }
         }
         Ok(())
+    }
+}
+
+impl Run<'_> {
+    /// The anatomical layout of a finished run when one was asked for and its surface can have
+    /// one (added to `rep` either way); None when none is to be written for this surface.
+    fn anatomical_of(
+        &self,
+        rec: &Reconstruction,
+        params: &Params,
+        out: &Outputs,
+        rep: &mut serde_json::Value,
+    ) -> Option<Result<Anatomical, String>> {
+        let (layout, fit) = self.anatomical.as_ref()?;
+        let path = out.anatomical.as_deref()?;
+        if !fit.contains(&params.surface) {
+            if !self.quiet {
+                let surface = params.surface.as_deref().unwrap_or("this surface");
+                self.say(anatomical_out::skipped_note(self.input, surface));
+            }
+            return None;
+        }
+        let built = anatomical_out::build(rec, self.set, params.surface.as_deref(), *layout);
+        anatomical_out::add_to_report(rep, path, &built);
+        Some(built)
     }
 }
 

@@ -7,6 +7,7 @@
 
 #[macro_use]
 mod stdout;
+mod anatomical_out;
 mod args;
 mod cmd_align;
 mod cmd_compare;

@@ -7,13 +7,15 @@
 //!
 //! Also the wall's AHA segments (`metrics::segments::of_file`: the check that the epicardium
 //! does not ring the RV, the septum from the RV landmarks or contours, the 17 segments), which
-//! `myocardium` and the app add to every LV wall.
+//! `myocardium` and the app add to every LV wall; and the LV endocardium's anatomical layout
+//! (`metrics::anatomical::of_file`, `reconstruct --anatomical-mesh`) at 24x48 and 48x96.
 //!
 //! `cargo bench --bench wall`
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use heartmesh_core::mesh::wall::{build_biventricular, build_wall};
-use heartmesh_core::metrics::compare::{common_basal_plane, common_basal_plane_all};
+use heartmesh_core::metrics::anatomical::{self, Layout};
+use heartmesh_core::metrics::compare::{basal_plane, common_basal_plane, common_basal_plane_all};
 use heartmesh_core::metrics::segments;
 use heartmesh_core::{io, Params, Reconstruction};
 use std::path::PathBuf;
@@ -48,6 +50,21 @@ fn bench(c: &mut Criterion) {
     g.bench_function("patient1-ED-segments", |b| {
         b.iter(|| segments::of_file(&set, &wall).expect("segments"))
     });
+    let endo_base = basal_plane(&endo).expect("base plane");
+    for (name, layout) in [
+        ("patient1-ED-anatomical-24x48", Layout::DEFAULT),
+        (
+            "patient1-ED-anatomical-48x96",
+            Layout::new(48, 96).expect("layout"),
+        ),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                anatomical::of_file(&set, Some("LV_ENDO"), endo.mesh(), &endo_base, layout)
+                    .expect("anatomical layout")
+            })
+        });
+    }
     let (rv, biv) = (run("RV_ENDO"), run("BIV_EPI"));
     let biv_base = common_basal_plane_all(&[&endo, &biv, &rv]).expect("base plane");
     g.bench_function("patient1-ED-biventricular", |b| {

@@ -7,6 +7,7 @@
 //! errors are thrown as JSON strings `{code, message, line?, available?}`. The reconstruction
 //! itself (Villard, Grau & Zacur, J. Imaging 2018) lives entirely in heartmesh-core.
 
+mod anatomical;
 mod clock;
 mod convert;
 mod errors;

@@ -1,6 +1,7 @@
 //! Distances and measures: summary statistics, contour-to-mesh distances (the colour map on the
 //! contours), the distance field on the mesh, and (compare.rs) mesh-to-mesh comparison.
 
+pub mod anatomical;
 pub mod bullseye;
 pub mod compare;
 pub mod extent;

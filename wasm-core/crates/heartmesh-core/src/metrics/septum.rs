@@ -75,10 +75,17 @@ pub fn said(set: &ContourSet) -> bool {
 /// The septum's direction for `wall`, from `set`'s RV insertion landmarks, else its RV contours.
 pub fn orientation(set: &ContourSet, wall: &Wall) -> Option<Orientation> {
     let cavity = Cavity::of(wall)?;
-    let n = wall.base.normal.try_normalize(1e-12)?;
+    orientation_around(set, &cavity.centre, &wall.base.normal)
+}
+
+/// The septum's direction across `axis` seen from `centre` (a point on the LV's long axis: a
+/// cavity's centre), from `set`'s RV insertion landmarks, else its RV contours. One surface
+/// without a wall needs it too (the anatomical layout, [`super::anatomical`]).
+pub fn orientation_around(set: &ContourSet, centre: &Vec3, axis: &Vec3) -> Option<Orientation> {
+    let n = axis.try_normalize(1e-12)?;
     // A point a reader let through unfinished (NaN, infinite) says nothing of a direction.
     let across = |p: &Vec3| {
-        let v = p - cavity.centre;
+        let v = p - centre;
         (v - n * v.dot(&n))
             .try_normalize(1e-9)
             .filter(|d| d.iter().all(|x| x.is_finite()))

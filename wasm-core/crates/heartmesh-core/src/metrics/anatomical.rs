@@ -1,0 +1,492 @@
+//! The anatomical layout: one LV surface resampled onto a fixed grid of vertices placed by the
+//! heart's own landmarks, so that every heart (every patient, every phase) gives a mesh with the
+//! same vertices in the same order and the same triangles. Shape analysis needs exactly that
+//! (point correspondence: a mean shape, principal modes, per-vertex motion from ED to ES), and
+//! the reconstruction cannot give it: its remeshing leaves every heart its own triangles.
+//!
+//! The grid is the one cardiologists already read the LV by (the AHA segments, [`super::segments`]):
+//! around the long axis from the septum, in levels from the apex to the base.
+//! - Angles: vertex j of every ring lies at 360 j / points degrees from the septum's middle,
+//!   positive towards the anterior wall (the direction [`super::segments`] calls anterior), so
+//!   j = 0 is mid-septal on every ring of every heart.
+//! - The apical cap (the apical third of the length above the surface's lowest point, a third of
+//!   the rings): rays from the centre of the section the cap stands on, in the meridian plane at
+//!   each angle, tilted from straight down (vertex 0, the apex) to level (the cap's top ring)
+//!   in equal steps. Rays, not sections, because a section near a flat apex says little about
+//!   where its bottom is: on a nearly flat apex the lowest vertex wanders across it with the
+//!   slightest change of the surface.
+//! - The wall above it: the other rings at equal height steps up to the base plane (the most
+//!   basal short-axis slice), each vertex where a level ray from its section's centre leaves it.
+//! - The last vertex is the base plane's centre, joined to the top ring by a flat lid (region
+//!   `base`; the rest is `wall`), so the mesh is closed and has a volume; shape-analysis tools
+//!   that want the open surface drop the `base` triangles.
+//!
+//! A ray leaving a dented section more than once takes its outermost crossing, the same choice on
+//! every heart.
+//!
+//! Every grid vertex lies on the reconstructed surface (on a section of it: a ring's plane or a
+//! meridian plane),
+//! so the layout moves no point of it; its triangles chord the surface between them, by what
+//! `to_surface` reports. The septum comes from the file (RV insertion landmarks or RV contours,
+//! [`super::septum`]): an LV-only file cannot say where it is, and a layout started anywhere
+//! else would not correspond between hearts. The RV's crescent sections have no centre a ray
+//! could leave from once, so the layout is the LV's alone.
+
+use super::compare::{compare, ClipPlane};
+use super::segments::Orientation;
+use super::septum;
+use crate::contours::{ContourSet, Polyline};
+use crate::error::{CoreError, Result};
+use crate::geometry::Vec3;
+use crate::mesh::TriMesh;
+use crate::sim::slice::{polyline_length, signed_area, slice_mesh, Plane};
+use serde::Serialize;
+
+/// Region names of the layout's triangles, as the mesh writers label them (`region` 1 and 2).
+pub const REGION_NAMES: [&str; 2] = ["wall", "base"];
+/// Index of the `wall` region in [`REGION_NAMES`].
+pub const WALL: u32 = 0;
+/// Index of the `base` region in [`REGION_NAMES`].
+pub const BASE: u32 = 1;
+
+/// How many rings and how many vertices per ring.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Layout {
+    pub rings: usize,
+    pub points: usize,
+}
+
+impl Layout {
+    /// 24 x 48: rings 2-6 mm apart along a meridian and vertices 2-4 mm apart around an adult
+    /// LV, about the reconstruction's own spacing (1154 vertices).
+    pub const DEFAULT: Layout = Layout {
+        rings: 24,
+        points: 48,
+    };
+    /// Allowed rings (inclusive).
+    pub const RINGS: (usize, usize) = (2, 200);
+    /// Allowed vertices per ring (inclusive).
+    pub const POINTS: (usize, usize) = (8, 720);
+
+    /// A layout checked against [`Layout::RINGS`] and [`Layout::POINTS`].
+    pub fn new(rings: usize, points: usize) -> std::result::Result<Layout, String> {
+        let within = |v: usize, (lo, hi): (usize, usize)| (lo..=hi).contains(&v);
+        if !within(rings, Self::RINGS) || !within(points, Self::POINTS) {
+            return Err(format!(
+                "the anatomical layout must have {}-{} rings of {}-{} points (got {rings}x{points})",
+                Self::RINGS.0,
+                Self::RINGS.1,
+                Self::POINTS.0,
+                Self::POINTS.1
+            ));
+        }
+        Ok(Layout { rings, points })
+    }
+
+    /// `RINGSxPOINTS`, e.g. `24x48` (the command line's `--anatomical-layout`).
+    pub fn parse(text: &str) -> std::result::Result<Layout, String> {
+        let bad = || format!("expected RINGSxPOINTS such as 24x48, got {text:?}");
+        let (r, p) = text.trim().split_once(['x', 'X']).ok_or_else(bad)?;
+        let rings = r.trim().parse::<usize>().map_err(|_| bad())?;
+        let points = p.trim().parse::<usize>().map_err(|_| bad())?;
+        Layout::new(rings, points)
+    }
+
+    /// Vertex count: the apex, the rings, the base centre.
+    pub fn vertices(&self) -> usize {
+        self.rings * self.points + 2
+    }
+
+    /// Index of ring `ring` (1-based, apex to base), vertex `j` (0 = mid-septal).
+    pub fn index(&self, ring: usize, j: usize) -> usize {
+        1 + (ring - 1) * self.points + j % self.points
+    }
+}
+
+impl Default for Layout {
+    fn default() -> Self {
+        Layout::DEFAULT
+    }
+}
+
+/// What a report says of a layout built.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    pub rings: usize,
+    pub points: usize,
+    pub vertices: usize,
+    pub triangles: usize,
+    /// Where the septum's direction came from, e.g. "RV_INSERT landmarks (10)".
+    pub septum_from: String,
+    /// Unit vectors (file coordinates): ring vertex 0's direction, a quarter turn on (vertex
+    /// points/4), and the long axis from the apex to the base.
+    pub septum_direction: [f64; 3],
+    pub anterior_direction: [f64; 3],
+    pub axis: [f64; 3],
+    /// Vertex 0 (mm).
+    pub apex: [f64; 3],
+    /// From the apex to the base plane along the axis (mm).
+    pub length_mm: f64,
+    /// The closed layout's volume and the surface's below the base plane (ml): they differ by
+    /// what the chords cut off.
+    pub volume_ml: f64,
+    pub surface_volume_ml: f64,
+    /// Distances between the layout's wall and the surface below the base plane (mm,
+    /// area-weighted mean both ways, and the largest either way).
+    pub to_surface_mean_mm: f64,
+    pub to_surface_max_mm: f64,
+}
+
+/// The apical cap's share of the length (from the lowest point), its rings' share of the rings:
+/// the apical third, as the AHA segments' apical level.
+const CAP_HEIGHT: f64 = 1.0 / 3.0;
+
+/// How many of `rings` make the apical cap: a third, at least one, and one ring at least left
+/// for the wall above it.
+fn cap_rings(rings: usize) -> usize {
+    ((rings as f64 / 3.0).round() as usize).clamp(1, rings - 1)
+}
+
+/// A built layout: the mesh, one region per triangle ([`REGION_NAMES`]) and its summary.
+#[derive(Debug, Clone)]
+pub struct Anatomical {
+    pub mesh: TriMesh,
+    pub regions: Vec<u32>,
+    pub summary: Summary,
+}
+
+/// Why a surface of `set` can have no layout (checked before any run): an RV or biventricular
+/// surface, or a file that does not say where the septum is.
+pub fn refusal(set: &ContourSet, surface: Option<&str>) -> Option<String> {
+    let named = surface.map(str::to_ascii_uppercase).or_else(|| {
+        let all = set.surfaces();
+        (all.len() == 1).then(|| all[0].to_ascii_uppercase())
+    });
+    if let Some(s) = named.filter(|s| s.starts_with("RV") || s.starts_with("BIV")) {
+        return Some(format!(
+            "the anatomical layout is the LV's (LV_ENDO, LV_EPI); {s} has no centre for its rays"
+        ));
+    }
+    (!septum::said(set)).then(|| {
+        "the anatomical layout starts at the septum, and the file has no RV_INSERT landmarks \
+         and no RV contours to place it by"
+            .to_string()
+    })
+}
+
+/// The layout of `surface` (a closed LV surface reconstructed from `set`), up to `base` (its
+/// most basal short-axis plane, normal pointing from the apex to the base), placed by what `set`
+/// says of the septum; else a sentence saying why there is none.
+pub fn of_file(
+    set: &ContourSet,
+    surface_name: Option<&str>,
+    surface: &TriMesh,
+    base: &ClipPlane,
+    layout: Layout,
+) -> std::result::Result<Anatomical, String> {
+    if let Some(why) = refusal(set, surface_name) {
+        return Err(why);
+    }
+    let centre = centre_below(surface, base)
+        .ok_or_else(|| "the surface has no part below its base plane".to_string())?;
+    let orientation = septum::orientation_around(set, &centre, &base.normal).ok_or_else(|| {
+        "the file's RV landmarks and contours give no direction across the long axis".to_string()
+    })?;
+    build(surface, base, &orientation, layout).map_err(|e| match e {
+        CoreError::Degenerate(why) => why,
+        e => e.to_string(),
+    })
+}
+
+/// The layout's file header: what every vertex is, for whoever opens the file without this
+/// documentation (the command line's and the app's files say the same).
+pub fn header_comment(summary: &Summary, surface: &str, file_name: &str) -> String {
+    let name = file_name.rsplit(['/', '\\']).next().unwrap_or(file_name);
+    let (r, k) = (summary.rings, summary.points);
+    format!(
+        "anatomical layout {r}x{k} of {surface} reconstructed from {name}; units mm, the contour \
+         file's coordinates; vertex 0 the apex, then {r} rings of {k} from the apex to the base \
+         plane, vertex j of a ring at 360*j/{k} degrees from the septum towards anterior, last \
+         the base lid's centre; region 1 wall, 2 base"
+    )
+}
+
+/// The area-weighted centre of the triangles of `mesh` below `base`.
+fn centre_below(mesh: &TriMesh, base: &Plane) -> Option<Vec3> {
+    let (mut sum, mut area) = (Vec3::zeros(), 0.0);
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+        let centroid = (a + b + c) / 3.0;
+        if base.signed_distance(&centroid) < 0.0 {
+            let w = (b - a).cross(&(c - a)).norm();
+            sum += centroid * w;
+            area += w;
+        }
+    }
+    (area > 0.0).then(|| sum / area)
+}
+
+/// The layout of `surface` below `base`, vertex 0 of every ring towards `orientation.septum`.
+pub fn build(
+    surface: &TriMesh,
+    base: &ClipPlane,
+    orientation: &Orientation,
+    layout: Layout,
+) -> Result<Anatomical> {
+    let degenerate = |why: String| CoreError::Degenerate(why);
+    let n = base
+        .normal
+        .try_normalize(1e-12)
+        .ok_or_else(|| degenerate("the base plane has no normal".into()))?;
+    let septum = (orientation.septum - n * orientation.septum.dot(&n))
+        .try_normalize(1e-9)
+        .ok_or_else(|| degenerate("the septum's direction lies along the long axis".into()))?;
+    let anterior = n.cross(&septum);
+    let around = |j: usize| {
+        let angle = std::f64::consts::TAU * j as f64 / layout.points as f64;
+        septum * angle.cos() + anterior * angle.sin()
+    };
+    // The lowest point's depth only: where on a flat apex it lies is left to the rays.
+    let length = surface
+        .positions
+        .iter()
+        .filter(|p| p.iter().all(|x| x.is_finite()))
+        .map(|p| -base.signed_distance(p))
+        .fold(f64::NEG_INFINITY, f64::max);
+    if length.is_nan() || length <= 0.0 {
+        return Err(degenerate(
+            "the surface has no part below its base plane".into(),
+        ));
+    }
+    let ring_section = |below_base: f64| -> Result<(Polyline, Vec3)> {
+        let plane = Plane::new(base.origin - n * below_base, n)
+            .ok_or_else(|| degenerate("a ring's plane is not finite".into()))?;
+        let loop_ = section(surface, &plane).ok_or_else(|| {
+            degenerate(format!(
+                "the surface has no closed section {below_base:.1} mm below its base plane"
+            ))
+        })?;
+        let centre = polygon_centre(&loop_.points, &n);
+        Ok((loop_, centre))
+    };
+    let not_star = |what: &str| {
+        degenerate(format!(
+            "a ray from {what} leaves no edge of the surface's section (not star-shaped around it)"
+        ))
+    };
+    let cap_rings = cap_rings(layout.rings);
+    // The cap's rays start at the centre of the section the cap stands on.
+    let (_, cap_centre) = ring_section(length * (1.0 - CAP_HEIGHT))?;
+    let mut positions = vec![Vec3::zeros(); layout.vertices()];
+    let mut apex = None;
+    for j in 0..layout.points {
+        let out = around(j);
+        // The meridian plane through the cap's centre at angle j: the ventricle's long-axis
+        // profile there.
+        let plane = Plane::new(cap_centre, n.cross(&out))
+            .ok_or_else(|| degenerate("a meridian plane is not finite".into()))?;
+        // An open surface (reconstructed without lids, or a truth mesh open at its base) gives
+        // an open profile: its piece through the apex serves as well.
+        let profile = profile(surface, &plane)
+            .ok_or_else(|| degenerate("the surface has no long-axis section".into()))?;
+        let hit = |polar: f64| {
+            let d = out * polar.sin() - n * polar.cos();
+            farthest_hit(&profile, &cap_centre, &d, &plane.normal)
+                .ok_or_else(|| not_star("the apical cap's centre"))
+        };
+        if j == 0 {
+            apex = Some(hit(0.0)?);
+        }
+        for ring in 1..=cap_rings {
+            let polar = std::f64::consts::FRAC_PI_2 * ring as f64 / cap_rings as f64;
+            positions[layout.index(ring, j)] = hit(polar)?;
+        }
+    }
+    let apex = apex.ok_or_else(|| degenerate("the layout has no points per ring".into()))?;
+    positions[0] = apex;
+    let mut top = cap_centre;
+    let wall_rings = layout.rings - cap_rings;
+    for k in 1..=wall_rings {
+        let below_base = length * (1.0 - CAP_HEIGHT) * (1.0 - k as f64 / wall_rings as f64);
+        let (loop_, centre) = ring_section(below_base)?;
+        for j in 0..layout.points {
+            positions[layout.index(cap_rings + k, j)] =
+                farthest_hit(&loop_, &centre, &around(j), &n)
+                    .ok_or_else(|| not_star("a section's centre"))?;
+        }
+        top = centre;
+    }
+    // Ring `rings` lies in the base plane itself: its centre closes the lid.
+    let last = positions.len() - 1;
+    positions[last] = top;
+    let (triangles, regions) = grid_triangles(layout);
+    let mut mesh = TriMesh {
+        positions,
+        triangles,
+    };
+    if mesh.signed_volume() < 0.0 {
+        // Never for a section oriented as slice_mesh orients it; kept outward regardless.
+        for t in &mut mesh.triangles {
+            t.swap(1, 2);
+        }
+    }
+    let summary = summarise(surface, base, &mesh, &regions, layout, orientation, apex, n)?;
+    Ok(Anatomical {
+        mesh,
+        regions,
+        summary,
+    })
+}
+
+/// The closed loop of `surface` in `plane` with the largest area (the ventricle's own section,
+/// not a speck the plane grazes).
+fn section(surface: &TriMesh, plane: &Plane) -> Option<Polyline> {
+    slice_mesh(surface, plane)
+        .into_iter()
+        .filter(|p| p.closed && p.points.len() >= 3)
+        .max_by(|a, b| {
+            signed_area(&a.points, &plane.normal)
+                .abs()
+                .total_cmp(&signed_area(&b.points, &plane.normal).abs())
+        })
+}
+
+/// The long-axis profile of `surface` in a meridian `plane`: its largest closed loop, else
+/// (an open surface) its longest open piece.
+fn profile(surface: &TriMesh, plane: &Plane) -> Option<Polyline> {
+    let pieces = slice_mesh(surface, plane);
+    let closed = pieces
+        .iter()
+        .filter(|p| p.closed && p.points.len() >= 3)
+        .max_by(|a, b| {
+            signed_area(&a.points, &plane.normal)
+                .abs()
+                .total_cmp(&signed_area(&b.points, &plane.normal).abs())
+        });
+    closed.cloned().or_else(|| {
+        pieces
+            .into_iter()
+            .filter(|p| p.points.len() >= 2)
+            .max_by(|a, b| polyline_length(a).total_cmp(&polyline_length(b)))
+    })
+}
+
+/// The area centroid of a planar polygon (normal `n`); its vertex mean when its area vanishes.
+fn polygon_centre(points: &[Vec3], n: &Vec3) -> Vec3 {
+    let origin = points[0];
+    let (mut sum, mut area) = (Vec3::zeros(), 0.0);
+    for w in points[1..].windows(2) {
+        let a = (w[0] - origin).cross(&(w[1] - origin)).dot(n);
+        sum += (origin + w[0] + w[1]) * (a / 3.0);
+        area += a;
+    }
+    if area.abs() > 1e-12 {
+        sum / area
+    } else {
+        points.iter().sum::<Vec3>() / points.len() as f64
+    }
+}
+
+/// Where the ray from `centre` along `direction` (both in the section's plane, normal `n`)
+/// crosses the section last: the outermost crossing, the same choice on every heart even where
+/// a section dents inwards. A point of the section's own edge, so on the surface.
+fn farthest_hit(section: &Polyline, centre: &Vec3, direction: &Vec3, n: &Vec3) -> Option<Vec3> {
+    // 2D cross product in the plane: (a x b) . n.
+    let cross = |a: &Vec3, b: &Vec3| a.cross(b).dot(n);
+    let points = &section.points;
+    let edges = if section.closed {
+        points.len()
+    } else {
+        points.len().saturating_sub(1)
+    };
+    let mut best: Option<(f64, Vec3)> = None;
+    for k in 0..edges {
+        let a = points[k];
+        let b = points[(k + 1) % points.len()];
+        let edge = b - a;
+        let denom = cross(direction, &edge);
+        if denom.abs() < 1e-15 {
+            continue;
+        }
+        let to_a = a - centre;
+        let t = cross(&to_a, &edge) / denom;
+        let s = cross(&to_a, direction) / denom;
+        if t > 0.0 && (0.0..=1.0).contains(&s) && best.is_none_or(|(bt, _)| t > bt) {
+            best = Some((t, a + edge * s));
+        }
+    }
+    best.map(|(_, p)| p)
+}
+
+/// The grid's triangles (outward for rings counter-clockwise about the axis seen from the base)
+/// and their regions: the apex fan, two per grid quad, the base lid fan.
+fn grid_triangles(layout: Layout) -> (Vec<[u32; 3]>, Vec<u32>) {
+    let k = layout.points;
+    let v = |ring: usize, j: usize| layout.index(ring, j) as u32;
+    let mut triangles = Vec::with_capacity(2 * layout.rings * k);
+    let mut regions = Vec::with_capacity(2 * layout.rings * k);
+    for j in 0..k {
+        triangles.push([0, v(1, j + 1), v(1, j)]);
+        regions.push(WALL);
+    }
+    for ring in 1..layout.rings {
+        for j in 0..k {
+            triangles.push([v(ring, j), v(ring, j + 1), v(ring + 1, j)]);
+            triangles.push([v(ring, j + 1), v(ring + 1, j + 1), v(ring + 1, j)]);
+            regions.extend([WALL, WALL]);
+        }
+    }
+    let lid = (layout.vertices() - 1) as u32;
+    for j in 0..k {
+        triangles.push([lid, v(layout.rings, j), v(layout.rings, j + 1)]);
+        regions.push(BASE);
+    }
+    (triangles, regions)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn summarise(
+    surface: &TriMesh,
+    base: &ClipPlane,
+    mesh: &TriMesh,
+    regions: &[u32],
+    layout: Layout,
+    orientation: &Orientation,
+    apex: Vec3,
+    n: Vec3,
+) -> Result<Summary> {
+    // Without the lid's centre (the last vertex): a point of no wall triangle would count as
+    // a wall point a radius from the surface.
+    let wall = TriMesh {
+        positions: mesh.positions[..mesh.positions.len() - 1].to_vec(),
+        triangles: mesh
+            .triangles
+            .iter()
+            .zip(regions)
+            .filter(|(_, &r)| r == WALL)
+            .map(|(t, _)| *t)
+            .collect(),
+    };
+    let c = compare(surface, &wall, Some(base))?;
+    let v = |x: Vec3| [x.x, x.y, x.z];
+    let septum = (orientation.septum - n * orientation.septum.dot(&n)).normalize();
+    Ok(Summary {
+        rings: layout.rings,
+        points: layout.points,
+        vertices: mesh.positions.len(),
+        triangles: mesh.triangles.len(),
+        septum_from: format!("{} ({})", orientation.source, orientation.points),
+        septum_direction: v(septum),
+        anterior_direction: v(n.cross(&septum)),
+        axis: v(n),
+        apex: v(apex),
+        length_mm: -base.signed_distance(&apex),
+        volume_ml: mesh.volume_ml(),
+        surface_volume_ml: c.volume_truth_ml,
+        to_surface_mean_mm: 0.5 * (c.mesh_to_truth.mean + c.truth_to_mesh.mean),
+        to_surface_max_mm: c.hausdorff,
+    })
+}
+
+#[cfg(test)]
+mod tests;
