@@ -141,6 +141,20 @@ export function cliMyocardium(input, args, label, { bullseye = false } = {}) {
   return svg ? { ...out, bullseye: readFileSync(svg, 'utf8') } : out;
 }
 
+/**
+ * The native CLI's `reconstruct` of `input` with `--anatomical-mesh` (`args`: its surface and
+ * options): its report (JSON), the reconstructed mesh as OBJ text and the anatomical mesh's file
+ * (bytes) in the format of `ext`.
+ */
+export function cliAnatomical(input, args, label, ext = 'vtk') {
+  if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);
+  const obj = writeScratch(`${label}.obj`, '');
+  const report = writeScratch(`${label}.json`, '');
+  const grid = writeScratch(`${label}-grid.${ext}`, '');
+  execFileSync(CLI, ['reconstruct', input, '-o', obj, '--report', report, '--anatomical-mesh', grid, '--quiet', ...args]);
+  return { report: JSON.parse(readFileSync(report, 'utf8')), obj: readFileSync(obj, 'utf8'), grid: new Uint8Array(readFileSync(grid)) };
+}
+
 /** The native CLI's `segment` (`args`: its surfaces and options) into the scratch folder as `name`; returns its path. */
 export function cliSegment(args, name) {
   if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);

@@ -22,7 +22,7 @@ export function optionsPanel(): { emitted: ReconOptions[]; panel: ParamPanel; ro
 
 /**
  * An export panel source with `info` and nothing else (no result, view, session or other surfaces;
- * neither wall buildable, nothing shown), each part `over` gives replacing its default.
+ * neither wall nor anatomical mesh buildable, nothing shown), each part `over` gives replacing its default.
  */
 export function exportSource(info: ExportInfo, over: Partial<ExportSource>): ExportSource {
   return {
@@ -36,6 +36,9 @@ export function exportSource(info: ExportInfo, over: Partial<ExportSource>): Exp
     failed: () => undefined,
     showWall: () => undefined,
     hideWall: () => undefined,
+    anatomicalFile: () => null,
+    showAnatomical: () => undefined,
+    hideAnatomical: () => undefined,
     ...over,
   };
 }

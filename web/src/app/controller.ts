@@ -7,7 +7,7 @@
  */
 import type { CoreClient } from '../core-client/CoreClient';
 import type {
-  ContourKindName, CoreErrorData, PhaseSpec, Frame, LabelMapGrid, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, ViewFile, WallFormat, WallSummary,
+  AnatomicalFormat, ContourKindName, CoreErrorData, PhaseSpec, Frame, LabelMapGrid, LidsMode, LoadedFile, ParamSpec, ParamValues, ReconOptions, RunResult, SessionSettings, ViewFile, WallFormat, WallSummary, AnatomicalSummary,
 } from '../core-client/protocol';
 import { DEFAULT_OPTIONS, withDefaultOptions } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
@@ -34,6 +34,8 @@ import { BIV_EPI, partOf } from '../core-client/derivedSurfaces';
 import { phasesOf } from './phases';
 import { wallSolidFromPly } from '../io/wallSolid';
 import type { BuiltWall } from '../io/WallRow';
+import type { BuiltAnatomical } from '../io/AnatomicalRow';
+import { anatomicalHeaderLines, type AnatomicalLayout } from '../io/export/anatomical';
 import type { WallColouring } from '../viewer/wallColours';
 import type { FunctionContext } from '../ui/FunctionPanel';
 import { leftOutNote } from '../ui/functionText';
@@ -952,10 +954,58 @@ export class Controller {
     return bivWallReadiness(file ? file.surfaces : null, (s) => this.kept.get(s), this.settingsKeyOf());
   }
 
-  /** Tells the export panel whether the LV and biventricular walls can be built now (the file, its runs or the settings changed). */
+  /**
+   * Tells the export panel whether the LV and biventricular walls can be built now (the file, its
+   * runs or the settings changed), and which finished run the anatomical mesh is of.
+   */
   private syncWall(): void {
     this.parts.exports.setWall(this.wallReadiness());
     this.parts.exports.setBivWall(this.bivWallReadiness());
+    this.parts.exports.setAnatomical(this.anatomicalKey());
+  }
+
+  /** The finished run on screen, as the anatomical mesh's row tells runs apart (null: none). */
+  private anatomicalKey(): string | null {
+    const file = this.currentFile();
+    const r = this.runView.currentResult;
+    return file && r ? JSON.stringify([file.fileName, namedFrame(file), r.runId, r.surface]) : null;
+  }
+
+  /**
+   * The finished run on screen resampled onto the anatomical `layout` in the worker, from its
+   * mesh in full precision (where the core gave it) and the settings it was run with (its base
+   * plane is cut of the contours it followed), written as `format`, with the app's header lines
+   * when `header`; null without a finished run. The core refuses a surface or file that can have
+   * none, saying why.
+   */
+  anatomicalFile(layout: AnatomicalLayout, format: AnatomicalFormat, header: boolean): Promise<{ summary: AnatomicalSummary; bytes: Uint8Array }> | null {
+    const r = this.runView.currentResult;
+    const info = this.exportInfo();
+    if (!r || !info || !this.client) return null;
+    const leaveOut = r.leave_out ?? [];
+    return this.client.anatomicalFile(
+      { fileName: info.fileName, surface: r.surface, params: r.params, lids: r.lids, options: r.options, leaveOut },
+      {
+        mesh: { surface: r.surface ?? '', positions: r.positionsF64 ?? Float64Array.from(r.positions), indices: r.indices },
+        rings: layout.rings,
+        points: layout.points,
+        format,
+        header: header ? anatomicalHeaderLines(info) : [],
+      },
+    );
+  }
+
+  /** Draws an anatomical mesh the Export panel built as PLY over the surface; throws when it cannot be read or there is no 3D view. */
+  showAnatomical(built: BuiltAnatomical): void {
+    const viewer = this.parts.viewer;
+    if (!viewer) throw new Error('there is no 3D view (WebGL is disabled in this browser)');
+    const grid = wallSolidFromPly(built.bytes);
+    viewer.showGrid(grid.positions, grid.indices);
+  }
+
+  /** Takes the anatomical mesh out of the 3D view. */
+  hideAnatomical(): void {
+    this.parts.viewer?.hideGrid();
   }
 
   /**

@@ -51,11 +51,13 @@ import {
   type RunResult,
   type ToWorker,
   type ViewFile,
+  type AnatomicalSummary,
   type WallSummary,
   type WallSurfaceMesh,
 } from './protocol';
 import {
   settingsOf,
+  type AnatomicalOptions,
   type BivWallOptions,
   type CoreClientOptions,
   type LabBatchHandle,
@@ -68,7 +70,7 @@ import { LabRequests } from './labRequests';
 import { RunFrames } from './runFrames';
 import { mergeViews } from '../io/studyGroups';
 
-export type { BivWallOptions, CoreClientOptions, LabBatchHandle, RunHandle, RunOptions, WallOptions, WorkerLike } from './coreClientTypes';
+export type { AnatomicalOptions, BivWallOptions, CoreClientOptions, LabBatchHandle, RunHandle, RunOptions, WallOptions, WorkerLike } from './coreClientTypes';
 
 interface PendingRequest {
   resolve: (value: unknown) => void;
@@ -446,20 +448,39 @@ export class CoreClient {
   }
 
   /**
-   * A wall request for a loaded file (the file sent again if the worker was recreated), with the
-   * run settings of `opts` but no surface: the wall names its own surfaces.
+   * The anatomical mesh of a loaded file's finished LV surface (`a.mesh`, run with the settings
+   * `opts`): `a.rings` x `a.points` from the apex to the base, as a file in `a.format` with its
+   * figures. Rejects with CoreErrorData: a surface or file that can have none says why ("the
+   * anatomical mesh: ..."; the worker goes on).
    */
-  private wallRequest(
+  anatomicalFile(opts: RunOptions, a: AnatomicalOptions): Promise<{ summary: AnatomicalSummary; bytes: Uint8Array }> {
+    return this.wallRequest<AnatomicalSummary>(opts, (settings, reqId) => ({
+      type: 'anatomical-export',
+      reqId,
+      ...settings,
+      mesh: copyMesh(a.mesh),
+      rings: a.rings,
+      points: a.points,
+      format: a.format,
+      header: [...a.header],
+    }));
+  }
+
+  /**
+   * A wall (or anatomical mesh) request for a loaded file (the file sent again if the worker was
+   * recreated), with the run settings of `opts` but no surface: the request names its meshes' own.
+   */
+  private wallRequest<S = WallSummary>(
     opts: RunOptions,
     message: (settings: Omit<ReturnType<typeof settingsOf>, 'surface'>, reqId: number) => ToWorker,
-  ): Promise<{ summary: WallSummary; bytes: Uint8Array }> {
+  ): Promise<{ summary: S; bytes: Uint8Array }> {
     const bytes = this.files.get(opts.fileName);
     if (bytes === undefined) {
       return Promise.reject({ code: ErrorCodes.notLoaded, message: `${opts.fileName} has not been loaded`, file: opts.fileName });
     }
     this.resendIfRecreated(opts.fileName, bytes, () => {});
     const { surface: _surface, ...settings } = settingsOf(opts);
-    return this.request<{ summary: WallSummary; bytes: Uint8Array }>((reqId) => message(settings, reqId), { needs: opts.fileName });
+    return this.request<{ summary: S; bytes: Uint8Array }>((reqId) => message(settings, reqId), { needs: opts.fileName });
   }
 
   // ---- validation lab ------------------------------------------------------------------------
@@ -726,6 +747,7 @@ export class CoreClient {
         this.settleRequest(msg.reqId, true, msg.bytes);
         break;
       case 'wall-file':
+      case 'anatomical-file':
         this.settleRequest(msg.reqId, true, { summary: msg.summary, bytes: msg.bytes });
         break;
       case 'lab-batch-started':

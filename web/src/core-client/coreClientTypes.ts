@@ -4,7 +4,7 @@
  * CoreClient.ts re-exports them.
  */
 
-import type { CoreErrorData, LabBatchInfo, LidsMode, ParamValues, ReconOptions, RunResult, ToWorker, WallFormat, WallSurfaceMesh } from './protocol';
+import type { AnatomicalFormat, CoreErrorData, LabBatchInfo, LidsMode, ParamValues, ReconOptions, RunResult, ToWorker, WallFormat, WallSurfaceMesh } from './protocol';
 
 /** The part of `Worker` the client uses (a fake implements it in unit tests). */
 export interface WorkerLike {
@@ -60,6 +60,18 @@ export interface BivWallOptions {
   /** mm; null: the surfaces as reconstructed. */
   minThicknessMm: number | null;
   format: WallFormat;
+  /** Header lines after the command line's comment. */
+  header: readonly string[];
+}
+
+/** What the anatomical mesh is built of and written as (`CoreClient.anatomicalFile`). */
+export interface AnatomicalOptions {
+  /** The finished LV surface (LV_ENDO or LV_EPI) and its mesh. */
+  mesh: WallSurfaceMesh;
+  /** Rings from the apex to the base, vertices per ring. */
+  rings: number;
+  points: number;
+  format: AnatomicalFormat;
   /** Header lines after the command line's comment. */
   header: readonly string[];
 }

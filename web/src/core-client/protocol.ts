@@ -12,6 +12,7 @@
 export * from './protocolOptions';
 export * from './protocolErrors';
 export * from './protocolResults';
+export * from './protocolAnatomical';
 export * from './protocolLab';
 export * from './protocolMessages';
 export * from './protocolHelpers';

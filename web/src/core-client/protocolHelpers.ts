@@ -85,7 +85,12 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       break;
     case 'session-json':
     case 'wall-file':
+    case 'anatomical-file':
       add(msg.bytes);
+      break;
+    case 'anatomical-export':
+      add(msg.mesh.positions);
+      add(msg.mesh.indices);
       break;
     case 'wall-export':
       add(msg.endo.positions);
@@ -145,6 +150,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
     case 'lab-compared':
     case 'session-json':
     case 'wall-file':
+    case 'anatomical-file':
       return undefined;
     default:
       return assertNever(msg);
@@ -173,6 +179,7 @@ export function isFromWorker(v: unknown): v is FromWorker {
     case 'lab-batch-done':
     case 'session-json':
     case 'wall-file':
+    case 'anatomical-file':
       return true;
     default:
       return false;
@@ -197,6 +204,7 @@ export function isToWorker(v: unknown): v is ToWorker {
     case 'session-export':
     case 'wall-export':
     case 'biv-wall-export':
+    case 'anatomical-export':
       return true;
     default:
       return false;

@@ -10,6 +10,7 @@ import type {
 } from './protocolLab';
 import type { LidsMode, ParamSpec, ParamValues, ReconOptions } from './protocolOptions';
 import type { Frame, LabelMapGrid, LoadedFile, RunResult, ViewFile, WallFormat, WallSummary, WallSurfaceMesh } from './protocolResults';
+import type { AnatomicalFormat, AnatomicalSummary } from './protocolAnatomical';
 
 export interface LoadRequest {
   type: 'load';
@@ -121,6 +122,30 @@ export interface BivWallExportRequest {
   header: string[];
 }
 
+/**
+ * The anatomical mesh of a finished LV surface (the command line's `reconstruct --anatomical-mesh`):
+ * `mesh` is that surface's finished mesh as the app holds it, run with these settings (the base
+ * plane comes from the file's contours at them); answered with 'anatomical-file'.
+ */
+export interface AnatomicalExportRequest {
+  type: 'anatomical-export';
+  reqId: number;
+  fileName: string;
+  params: ParamValues;
+  lids: LidsMode;
+  options?: ReconOptions;
+  /** The contours the mesh's run left out at the user's request: the base plane's contours. */
+  leaveOut?: string[];
+  /** The surface (LV_ENDO, LV_EPI) and its finished mesh. */
+  mesh: WallSurfaceMesh;
+  /** The layout: rings from the apex to the base, vertices per ring (the core checks the ranges too). */
+  rings: number;
+  points: number;
+  format: AnatomicalFormat;
+  /** Lines the file's header carries after the command line's comment (app version, settings). */
+  header: string[];
+}
+
 export interface LabTruthRequest {
   type: 'lab-truth';
   reqId: number;
@@ -159,7 +184,7 @@ export interface LabBatchRequest {
 
 export type LabRequest = LabTruthRequest | LabTruthEditRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
 
-export type ToWorker = LoadRequest | GridRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | WallExportRequest | BivWallExportRequest | LabRequest;
+export type ToWorker = LoadRequest | GridRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | WallExportRequest | BivWallExportRequest | AnatomicalExportRequest | LabRequest;
 
 export interface ReadyMessage {
   type: 'ready';
@@ -215,6 +240,13 @@ export interface WallFileMessage {
   type: 'wall-file';
   reqId: number;
   summary: WallSummary;
+  bytes: Uint8Array;
+}
+/** An anatomical mesh built: its figures and the file in the format asked for. */
+export interface AnatomicalFileMessage {
+  type: 'anatomical-file';
+  reqId: number;
+  summary: AnatomicalSummary;
   bytes: Uint8Array;
 }
 export interface SchemaMessage {
@@ -280,4 +312,5 @@ export type FromWorker =
   | ErrorMessage
   | SchemaMessage
   | SessionJsonMessage
-  | WallFileMessage;
+  | WallFileMessage
+  | AnatomicalFileMessage;

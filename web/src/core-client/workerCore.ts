@@ -37,6 +37,8 @@ import {
   type StepFrame,
   type StepReport,
   type ToWorker,
+  type AnatomicalExportRequest,
+  type AnatomicalSummary,
   type BivWallExportRequest,
   type WallExportRequest,
   type WallSummary,
@@ -108,6 +110,25 @@ export interface SessionApi {
     bivEpiPositions: Float64Array,
     bivEpiIndices: Uint32Array,
     minThicknessMm: number | undefined,
+    format: string,
+    header: string,
+  ): { summary: string; bytes: Uint8Array };
+  /**
+   * The anatomical mesh of a finished LV surface (the binding's `anatomical.rs`): `rings` x
+   * `points` from the apex to the base, `summary` JSON (`AnatomicalSummary`), `bytes` the file in
+   * `format`. Throws the core's reason for a surface or file that can have none ("the anatomical
+   * mesh: ..."). Absent from test doubles and older cores ('anatomical-export' then fails with
+   * `anatomical_unavailable`).
+   */
+  anatomical_mesh?(
+    fileName: string,
+    paramsJson: string,
+    lids: string,
+    surface: string,
+    positions: Float64Array,
+    indices: Uint32Array,
+    rings: number,
+    points: number,
     format: string,
     header: string,
   ): { summary: string; bytes: Uint8Array };
@@ -233,7 +254,7 @@ export class WorkerCore {
     try {
       this.dispatch(msg);
     } catch (e) {
-      const file = msg.type === 'load' || msg.type === 'session-export' || msg.type === 'wall-export' || msg.type === 'biv-wall-export' ? msg.fileName : msg.type === 'lab-truth' && msg.source.kind === 'file' ? msg.source.fileName : undefined;
+      const file = msg.type === 'load' || msg.type === 'session-export' || msg.type === 'wall-export' || msg.type === 'biv-wall-export' || msg.type === 'anatomical-export' ? msg.fileName : msg.type === 'lab-truth' && msg.source.kind === 'file' ? msg.source.fileName : undefined;
       this.fail(e, idsOf(msg), file);
     }
   }
@@ -271,6 +292,9 @@ export class WorkerCore {
         break;
       case 'biv-wall-export':
         this.bivWall(msg);
+        break;
+      case 'anatomical-export':
+        this.anatomical(msg);
         break;
       case 'ack':
         this.ack(msg.runId, msg.seq);
@@ -378,6 +402,41 @@ export class WorkerCore {
     );
     const summary = JSON.parse(out.summary) as WallSummary;
     this.send({ type: 'wall-file', reqId: msg.reqId, summary, bytes: out.bytes });
+  }
+
+  /**
+   * Resamples a loaded file's finished LV mesh onto the anatomical layout (beside a run in
+   * progress, which it leaves alone) and sends its figures and file. A surface or file that can
+   * have none (an RV surface, no RV landmarks or contours to place the septum by) is the core's
+   * typed error, its message saying why: the request fails, the worker goes on.
+   */
+  private anatomical(msg: AnatomicalExportRequest): void {
+    const build = this.session.anatomical_mesh;
+    if (!build) {
+      this.send({ type: 'error', reqId: msg.reqId, error: { code: 'anatomical_unavailable', message: 'this core cannot build the anatomical mesh', file: msg.fileName } });
+      return;
+    }
+    // What wasm-bindgen would throw on (not the core's typed error) would take the worker down with it.
+    const bad = malformedAnatomical(msg);
+    if (bad) {
+      this.send({ type: 'error', reqId: msg.reqId, error: { code: ErrorCodes.protocol, message: `the anatomical mesh: ${bad}`, file: msg.fileName } });
+      return;
+    }
+    const out = build.call(
+      this.session,
+      msg.fileName,
+      paramsJson(msg.params, msg.options, msg.leaveOut),
+      msg.lids,
+      msg.mesh.surface,
+      msg.mesh.positions,
+      msg.mesh.indices,
+      msg.rings,
+      msg.points,
+      msg.format,
+      msg.header.join('\n'),
+    );
+    const summary = JSON.parse(out.summary) as AnatomicalSummary;
+    this.send({ type: 'anatomical-file', reqId: msg.reqId, summary, bytes: out.bytes });
   }
 
   /** The label map's grid from its header (null: not a NIfTI-1 file, or a core without the call). */
@@ -573,6 +632,7 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
     case 'session-export':
     case 'wall-export':
     case 'biv-wall-export':
+    case 'anatomical-export':
       return { reqId: msg.reqId };
     case 'run':
     case 'ack':
@@ -582,6 +642,21 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
     default:
       return assertNever(msg);
   }
+}
+
+/**
+ * What is wrong with an 'anatomical-export' request in the shapes the binding takes (null: nothing):
+ * a foreign or buggy message is refused as data instead of reaching wasm-bindgen's conversions.
+ * The layout's ranges are the core's to check: it says them in its message.
+ */
+export function malformedAnatomical(msg: AnatomicalExportRequest): string | null {
+  const m = msg.mesh as Partial<AnatomicalExportRequest['mesh']> | undefined;
+  if (!m || typeof m.surface !== 'string') return 'the request names no surface';
+  if (!(m.positions instanceof Float64Array) || !(m.indices instanceof Uint32Array)) return 'the mesh must be a Float64Array of positions and a Uint32Array of indices';
+  const count = (v: unknown) => typeof v === 'number' && Number.isInteger(v) && v >= 0 && v <= 0xffff_ffff;
+  if (!count(msg.rings) || !count(msg.points)) return `the layout must be two whole numbers (got ${String(msg.rings)}x${String(msg.points)})`;
+  if (typeof msg.format !== 'string' || !Array.isArray(msg.header)) return 'the request has no format or no header';
+  return null;
 }
 
 /** The finished mesh's vertices in full precision, where the core gives them. */

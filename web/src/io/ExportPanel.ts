@@ -7,10 +7,11 @@
  * thickness by AHA segment (the bullseye, Bullseye.ts); and
  * below it, once LV_ENDO, RV_ENDO and BIV_EPI have been, the biventricular wall
  * (export/bivWall.ts) the same way (each a WallRow, with a View toggle that shows the solid in
- * the 3D view in place of the surface: one wall at a time). Every file records the parameters and
- * the app version (see export/header.ts).
+ * the 3D view in place of the surface: one wall at a time). Above the walls, the anatomical mesh
+ * of the finished surface on screen (AnatomicalRow.ts: the same vertices for every heart). Every
+ * file records the parameters and the app version (see export/header.ts).
  */
-import type { RunResult, WallFormat, WallSummary } from '../core-client/protocol';
+import type { AnatomicalFormat, RunResult, WallFormat, WallSummary } from '../core-client/protocol';
 import { h } from '../ui/dom';
 import { download } from './download';
 import { writeDistancesCsv } from './export/csv';
@@ -24,6 +25,8 @@ import { bivWallErrorText, bivWallFigures, bivWallFiguresTitle, bivWallFileName,
 import { wallErrorText, wallFigures, wallFiguresTitle, wallFileName, wallFormatTitle, wallReadiness, type WallReadiness } from './export/wall';
 import { WallRow, type BuiltWall, type WallRowSpec } from './WallRow';
 import { BullseyeView } from './Bullseye';
+import { AnatomicalRow, type BuiltAnatomical } from './AnatomicalRow';
+import type { AnatomicalLayout } from './export/anatomical';
 
 const ALL_OFF = 'All surfaces of the file in one OBJ: each surface appears once its own run has finished (pick it in the Surface menu)';
 
@@ -51,6 +54,16 @@ export interface ExportSource {
   showWall(id: string, wall: BuiltWall): void;
   /** Takes the wall out of the 3D view: the surface comes back. */
   hideWall(): void;
+  /**
+   * The finished surface on screen resampled onto the anatomical `layout`, written as `format`
+   * (`header`: with the app's header lines); null without a finished run. Rejects with the core's
+   * error (its refusal says why the surface or file can have none).
+   */
+  anatomicalFile(layout: AnatomicalLayout, format: AnatomicalFormat, header: boolean): Promise<BuiltAnatomical> | null;
+  /** Draws an anatomical mesh built as PLY over the surface in the 3D view; throws when it cannot. */
+  showAnatomical(built: BuiltAnatomical): void;
+  /** Takes the anatomical mesh out of the 3D view. */
+  hideAnatomical(): void;
 }
 
 /** The LV wall's row: LV_ENDO + LV_EPI (its test ids `wall-export`, `export-wall-<fmt>`, `wall-figures`). */
@@ -122,6 +135,7 @@ export class ExportPanel {
   private otherCount = 0;
   private readonly lvWall: WallRow;
   private readonly bivWall: WallRow;
+  private readonly anatomical: AnatomicalRow;
 
   constructor(private readonly source: ExportSource) {
     const button = (label: string, testid: string, title: string, fn: () => void | Promise<void>) => {
@@ -153,11 +167,19 @@ export class ExportPanel {
     });
     this.lvWall = new WallRow(LV_WALL, { info: () => source.info(), build: (f) => source.wallFile(f), failed, ...view(LV_WALL.id) });
     this.bivWall = new WallRow(BIV_WALL, { info: () => source.info(), build: (f) => source.bivWallFile(f), failed, ...view(BIV_WALL.id) });
+    this.anatomical = new AnatomicalRow({
+      info: () => source.info(),
+      build: (layout, format, header) => source.anatomicalFile(layout, format, header),
+      failed,
+      show: (built) => source.showAnatomical(built),
+      hide: () => source.hideAnatomical(),
+    });
     this.element = h(
       'section',
       { class: 'panel exports', 'aria-label': 'Export' },
       h('h2', {}, 'Export'),
       h('div', { class: 'button-grid' }, ...this.meshButtons, this.json, this.session, this.png, this.all),
+      this.anatomical.element,
       this.lvWall.element,
       this.bivWall.element,
     );
@@ -177,13 +199,25 @@ export class ExportPanel {
     this.bivWall.set(wall);
   }
 
+  /**
+   * The finished run on screen, for the anatomical mesh (`key` names it: file, frame, run; null:
+   * none): a new one takes the row's figures and grid away and has the core asked about it.
+   */
+  setAnatomical(key: string | null): void {
+    this.anatomical.setRun(key);
+  }
+
   private get walls(): WallRow[] {
     return [this.lvWall, this.bivWall];
   }
 
-  /** Takes a wall shown from its View out of the 3D view (a new run, another file or surface): the surface comes back. */
+  /**
+   * Takes a wall shown from its View out of the 3D view (a new run, another file or surface): the
+   * surface comes back; the anatomical mesh drawn over the old one goes too.
+   */
   hideWall(): void {
     for (const row of this.walls) row.stopViewing();
+    this.anatomical.stopViewing();
   }
 
   /** The row whose wall is in the 3D view (or being built to be), if any: `wall` or `biv-wall`. */

@@ -17,6 +17,7 @@ import { MeshLayer } from './MeshLayer';
 import { OtherSurfacesLayer } from './OtherSurfacesLayer';
 import { SetAsideLayer } from './SetAsideLayer';
 import { WallLayer } from './WallLayer';
+import { AnatomicalGridLayer } from './AnatomicalGridLayer';
 import type { WallColouring } from './wallColours';
 import type { WallSolid } from '../io/wallSolid';
 import { leftOutLabel } from '../ui/runText';
@@ -81,6 +82,8 @@ export class Viewer {
   readonly landmarkLayer = new LandmarkLayer();
   /** The myocardium wall the Export panel built, shown in place of the surface layers (`showWall`). */
   readonly wallLayer: WallLayer;
+  /** The anatomical mesh the Export panel built, drawn as lines over the surface (`showGrid`). */
+  readonly gridLayer: AnatomicalGridLayer;
   /**
    * The reconstruction's layers (mesh, contours, attractors, other surfaces): hidden as one while
    * a wall is shown, whatever each layer's own visibility (a run's display keeps setting those).
@@ -129,7 +132,8 @@ export class Viewer {
     this.meshLayer = new MeshLayer([this.clipPlane]);
     this.otherSurfacesLayer = new OtherSurfacesLayer([this.clipPlane]);
     this.wallLayer = new WallLayer([this.clipPlane]);
-    this.surfaceLayers.add(this.meshLayer.group, this.otherSurfacesLayer.group, this.givenLayer.group, this.setAsideLayer.group, this.contourLayer.group, this.attractorLayer.group, this.contourHighlight.group);
+    this.gridLayer = new AnatomicalGridLayer([this.clipPlane]);
+    this.surfaceLayers.add(this.meshLayer.group, this.gridLayer.group, this.otherSurfacesLayer.group, this.givenLayer.group, this.setAsideLayer.group, this.contourLayer.group, this.attractorLayer.group, this.contourHighlight.group);
     this.scene.add(this.surfaceLayers, this.wallLayer.group, this.landmarkLayer.group);
     this.scene.add(new THREE.HemisphereLight(0xdde6f0, 0x30261f, 1.3));
     const key = new THREE.DirectionalLight(0xffffff, 1.6);
@@ -235,6 +239,7 @@ export class Viewer {
     d.triangles = String(shown.triangles);
     d.wallColouring = wall?.mode ?? '';
     d.wallColours = wall ? String(wall.colours) : '';
+    d.grid = String(this.gridLayer.vertices);
   }
 
   /**
@@ -252,6 +257,22 @@ export class Viewer {
       this.wallFramed = true;
     }
     this.extendFrame(solid.positions);
+    this.requestRender();
+  }
+
+  /**
+   * Draws the anatomical mesh (`positions`, `indices`) as lines over the surface, until `hideGrid`
+   * (it goes with the surface while a wall is shown). Its vertices lie on the surface: no reframing.
+   */
+  showGrid(positions: Float32Array, indices: Uint32Array): void {
+    this.gridLayer.show(positions, indices);
+    this.describeShown();
+    this.requestRender();
+  }
+
+  hideGrid(): void {
+    this.gridLayer.clear();
+    this.describeShown();
     this.requestRender();
   }
 
@@ -465,6 +486,7 @@ export class Viewer {
     this.setAsideLayer.dispose();
     this.otherSurfacesLayer.dispose();
     this.wallLayer.dispose();
+    this.gridLayer.dispose();
     this.attractorLayer.dispose();
     this.contourHighlight.dispose();
     this.landmarkLayer.dispose();

@@ -63,9 +63,14 @@ impl Session {
 }
 
 /// A failure as the app shows it: the core's code, the message after "the anatomical mesh: ".
+/// A refusal (the layout's own sentence, carried as `Degenerate`) reads as the command line
+/// words it, without "degenerate input: ".
 pub fn error_json(e: &CoreError) -> Value {
     let mut v = errors::error_json(e);
-    let message = v["message"].as_str().unwrap_or_default().to_string();
+    let message = match e {
+        CoreError::Degenerate(why) => why.clone(),
+        _ => v["message"].as_str().unwrap_or_default().to_string(),
+    };
     v["message"] = json!(format!("{WHAT}: {message}"));
     v
 }

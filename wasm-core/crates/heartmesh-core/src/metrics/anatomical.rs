@@ -39,7 +39,7 @@ use crate::contours::{ContourSet, Polyline};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
-use crate::sim::slice::{polyline_length, signed_area, slice_mesh, Plane};
+use crate::sim::slice::{signed_area, slice_mesh, Plane};
 use serde::Serialize;
 
 /// Region names of the layout's triangles, as the mesh writers label them (`region` 1 and 2).
@@ -287,15 +287,22 @@ pub fn build(
             .ok_or_else(|| degenerate("a meridian plane is not finite".into()))?;
         // An open surface (reconstructed without lids, or a truth mesh open at its base) gives
         // an open profile: its piece through the apex serves as well.
-        let profile = profile(surface, &plane)
-            .ok_or_else(|| degenerate("the surface has no long-axis section".into()))?;
+        let profile = profile(surface, &plane);
         let hit = |polar: f64| {
             let d = out * polar.sin() - n * polar.cos();
-            farthest_hit(&profile, &cap_centre, &d, &plane.normal)
+            farthest_hit_of(&profile, &cap_centre, &d, &plane.normal)
                 .ok_or_else(|| not_star("the apical cap's centre"))
         };
         if j == 0 {
-            apex = Some(hit(0.0)?);
+            // Straight down from inside the cavity and nothing there: no apex to start from.
+            let down = farthest_hit_of(&profile, &cap_centre, &-n, &plane.normal);
+            apex = Some(down.ok_or_else(|| {
+                degenerate(
+                    "the surface is open below its apical third (no apex: a surface \
+                     reconstructed with --lids none may stop short of it)"
+                        .into(),
+                )
+            })?);
         }
         for ring in 1..=cap_rings {
             let polar = std::f64::consts::FRAC_PI_2 * ring as f64 / cap_rings as f64;
@@ -351,24 +358,26 @@ fn section(surface: &TriMesh, plane: &Plane) -> Option<Polyline> {
         })
 }
 
-/// The long-axis profile of `surface` in a meridian `plane`: its largest closed loop, else
-/// (an open surface) its longest open piece.
-fn profile(surface: &TriMesh, plane: &Plane) -> Option<Polyline> {
-    let pieces = slice_mesh(surface, plane);
-    let closed = pieces
+/// The long-axis profile of `surface` in a meridian `plane`: every piece of the section (one
+/// loop for a closed ventricle; an open surface, reconstructed without lids or a truth open at
+/// its base, gives open pieces, one on each side of the axis where it is open at both ends).
+fn profile(surface: &TriMesh, plane: &Plane) -> Vec<Polyline> {
+    slice_mesh(surface, plane)
+        .into_iter()
+        .filter(|p| p.points.len() >= 2)
+        .collect()
+}
+
+/// [`farthest_hit`] over several pieces of one section: the outermost crossing of any.
+fn farthest_hit_of(pieces: &[Polyline], centre: &Vec3, direction: &Vec3, n: &Vec3) -> Option<Vec3> {
+    pieces
         .iter()
-        .filter(|p| p.closed && p.points.len() >= 3)
+        .filter_map(|p| farthest_hit(p, centre, direction, n))
         .max_by(|a, b| {
-            signed_area(&a.points, &plane.normal)
-                .abs()
-                .total_cmp(&signed_area(&b.points, &plane.normal).abs())
-        });
-    closed.cloned().or_else(|| {
-        pieces
-            .into_iter()
-            .filter(|p| p.points.len() >= 2)
-            .max_by(|a, b| polyline_length(a).total_cmp(&polyline_length(b)))
-    })
+            (a - centre)
+                .dot(direction)
+                .total_cmp(&(b - centre).dot(direction))
+        })
 }
 
 /// The area centroid of a planar polygon (normal `n`); its vertex mean when its area vanishes.
