@@ -20,12 +20,14 @@ use crate::cmd_reconstruct::{
 use crate::contours;
 use crate::error::CliError;
 use crate::files;
+use crate::hex_out;
 use crate::report;
 
 pub const USAGE: &str =
     "heartmesh myocardium CONTOURS [VIEWS...] -o WALL.vtk [--report REPORT.json]
     [--endo LV_ENDO] [--epi LV_EPI] [--biventricular [--rv-endo RV_ENDO]]
     [--min-thickness 1|off] [--frame N|LABEL] [--bullseye SEGMENTS.svg]
+    [--hex-mesh HEX.vtk [--hex-layout 24x48] [--layers 3]]
     [reconstruct's parameter options: --iterations ... --end-caps ... --align-slices ...]
     [--ascii] [--quiet]
   The LV myocardium as one closed solid (volume meshing with gmsh or TetGen, simulation, 3D
@@ -56,6 +58,16 @@ pub const USAGE: &str =
   septum's direction (the file's RV_INSERT landmarks, else its RV contours' centre; the file's
   coordinates must be a right-handed patient frame, DICOM LPS or RAS); the levels are thirds of
   the cavity below the base, segment 17 the wall beyond the cavity's lowest point.
+  --hex-mesh: the LV wall also as a volume mesh for finite-element simulation, layers of
+  hexahedra (wedges round the apex) between the anatomical layouts of the two surfaces (see
+  reconstruct --anatomical-mesh), both laid out on the wall's base plane from one septum: a VTK
+  unstructured grid with point data transmural (0 endocardium - 1 epicardium), longitudinal
+  (0 apex - 1 base), circumferential_deg (from the septum towards anterior) and cell data
+  aha_segment (1-17); --hex-layout RINGSxPOINTS (default 24x48), --layers 1-20 (default 3);
+  the cells are built from the surfaces as reconstructed (before --min-thickness), and a
+  warning counts any inverted cell; the report's hex_mesh gives the counts, volume and the
+  smallest scaled Jacobian. Refused before any run with --biventricular or for a file without
+  RV landmarks or contours.
   --bullseye: those segments drawn as the AHA bullseye (SVG), anterior up, septum left.";
 
 /// Options of this command only that take a value.
@@ -68,6 +80,9 @@ const VALUE_FLAGS: &[&str] = &[
     "frame",
     "min-thickness",
     "bullseye",
+    "hex-mesh",
+    "hex-layout",
+    "layers",
 ];
 
 /// The default of --min-thickness (mm): a wall this thin is under any reconstruction's error,
@@ -119,8 +134,10 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     params_from(&p, Params::default())?;
     let report_path = p.value("report");
     let bullseye_path = p.value("bullseye");
+    let hex = hex_out::request_from(&p, p.switch("biventricular"))?;
+    let hex_path = hex.as_ref().map(|h| h.path.as_str());
     let mut named = vec![("-o", output)];
-    for path in [Some(output), report_path, bullseye_path]
+    for path in [Some(output), report_path, bullseye_path, hex_path]
         .into_iter()
         .flatten()
     {
@@ -128,6 +145,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
     named.extend(report_path.map(|r| ("--report", r)));
     named.extend(bullseye_path.map(|r| ("--bullseye", r)));
+    named.extend(hex_path.map(|r| ("--hex-mesh", r)));
     let inputs: Vec<&str> = p.positional.iter().map(String::as_str).collect();
     files::check_distinct(&inputs, &named)?;
 
@@ -149,6 +167,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
                  and no RV contours",
             ),
         ));
+    }
+    if hex.is_some() {
+        hex_out::check(input, &set)?;
     }
     if !biventricular && p.value("rv-endo").is_some() {
         return Err(CliError::usage(
@@ -220,6 +241,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
     .map_err(|e| CliError::Failed(format!("{input}: the myocardium wall: {e}")))?;
     let regional = (!biventricular).then(|| aha::of_file(&set, &wall));
+    let hexes = hex
+        .as_ref()
+        .map(|r| hex_out::build(&set, &surfaces[0].rec, &surfaces[1].rec, &base, r));
     let seconds = started.elapsed().as_secs_f64();
 
     let labels: Vec<String> = wall
@@ -239,7 +263,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         .write(format, &comment)
         .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
     files::write(output, &bytes)?;
-    let rep = build_report(
+    let mut rep = build_report(
         &Context {
             input,
             input_format: loaded.format.name(),
@@ -252,6 +276,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         &surfaces,
         regional.as_ref(),
     );
+    if let (Some(r), Some(built)) = (&hex, &hexes) {
+        hex_out::add_to_report(&mut rep, &r.path, built);
+    }
     if let Some(path) = bullseye_path {
         match &regional {
             Some(Ok(segments)) => {
@@ -268,6 +295,21 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         let text = serde_json::to_string_pretty(&rep)
             .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
         files::write(path, format!("{text}\n").as_bytes())?;
+    }
+    // Written after the wall and the report: cells that cannot be laid out fail last.
+    if let (Some(r), Some(built)) = (&hex, &hexes) {
+        match built {
+            Ok(h) => {
+                let comment = hex_out::comment(h, input, endo_name, epi_name);
+                files::write(&r.path, &h.to_vtk(&comment))?;
+            }
+            Err(why) => {
+                return Err(CliError::Failed(format!(
+                    "{}: no hexahedral mesh: {why}",
+                    r.path
+                )))
+            }
+        }
     }
     if !quiet {
         let mut said: Vec<String> = Vec::new();
@@ -337,6 +379,12 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             );
         }
         outln!("{}", summary(output, &wall));
+        if let (Some(r), Some(Ok(h))) = (&hex, &hexes) {
+            if let Some(w) = hex_out::inverted_warning(&r.path, h) {
+                eprintln!("{w}");
+            }
+            outln!("{}", hex_out::summary_line(&r.path, h));
+        }
     }
     Ok(())
 }

@@ -25,6 +25,7 @@ mod contours;
 mod each_surface;
 mod error;
 mod files;
+mod hex_out;
 mod report;
 mod svg;
 mod svg_plot;

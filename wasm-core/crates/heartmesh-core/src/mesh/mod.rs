@@ -1,6 +1,7 @@
 //! Indexed triangle meshes: the one mesh type of the core, plus measures and validity checks.
 
 pub mod clip;
+pub mod hex_wall;
 pub mod inset;
 pub mod intersect;
 pub mod outline;

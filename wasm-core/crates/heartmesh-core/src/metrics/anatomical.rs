@@ -187,14 +187,31 @@ pub fn of_file(
     if let Some(why) = refusal(set, surface_name) {
         return Err(why);
     }
+    let orientation = orientation_of(set, surface, base)?;
+    build(surface, base, &orientation, layout).map_err(|e| reason(&e))
+}
+
+/// A build's failure as the sentence a report's note gives (a layout's own refusals carry no
+/// "degenerate input: ").
+pub fn reason(e: &CoreError) -> String {
+    match e {
+        CoreError::Degenerate(why) => why.clone(),
+        e => e.to_string(),
+    }
+}
+
+/// The septum's direction for layouts of `surface` (a closed LV surface of `set`) up to `base`,
+/// seen from the surface's centre below the base: one orientation for the layouts of two
+/// surfaces that must correspond (a wall's endo- and epicardium, [`crate::mesh::hex_wall`]).
+pub fn orientation_of(
+    set: &ContourSet,
+    surface: &TriMesh,
+    base: &ClipPlane,
+) -> std::result::Result<Orientation, String> {
     let centre = centre_below(surface, base)
         .ok_or_else(|| "the surface has no part below its base plane".to_string())?;
-    let orientation = septum::orientation_around(set, &centre, &base.normal).ok_or_else(|| {
+    septum::orientation_around(set, &centre, &base.normal).ok_or_else(|| {
         "the file's RV landmarks and contours give no direction across the long axis".to_string()
-    })?;
-    build(surface, base, &orientation, layout).map_err(|e| match e {
-        CoreError::Degenerate(why) => why,
-        e => e.to_string(),
     })
 }
 

@@ -13,8 +13,8 @@ use crate::geometry::{v3, Vec3};
 use crate::mesh::TriMesh;
 
 pub(crate) use write::write_lines;
-pub use write::write_vtk;
 pub(crate) use write::write_vtk_with;
+pub use write::{write_unstructured, write_vtk};
 
 #[cfg(test)]
 mod tests;

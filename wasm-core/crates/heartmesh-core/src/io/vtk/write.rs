@@ -174,3 +174,59 @@ fn push_region_cells(out: &mut String, regions: &Regions, n: usize) {
         out.push('\n');
     }
 }
+
+/// A volume mesh as VTK legacy 3.0 ASCII UNSTRUCTURED_GRID: `cells` as (VTK cell type, point
+/// indices), then per-point double arrays and per-cell int arrays, each a SCALARS block (the
+/// hexahedral myocardium, `mesh::hex_wall`, for ParaView, meshio and the simulation codes that
+/// read VTK).
+pub fn write_unstructured(
+    points: &[Vec3],
+    cells: &[(u8, &[u32])],
+    point_data: &[(&str, &[f64])],
+    cell_data: &[(&str, &[u32])],
+    header_comment: &str,
+) -> Vec<u8> {
+    let title = title(header_comment);
+    let mut out = format!(
+        "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS {} double\n",
+        points.len()
+    );
+    push_point_lines(&mut out, points);
+    let size: usize = cells.iter().map(|(_, p)| p.len() + 1).sum();
+    out.push_str(&format!("CELLS {} {size}\n", cells.len()));
+    for (_, ids) in cells {
+        out.push_str(&ids.len().to_string());
+        for i in *ids {
+            out.push(' ');
+            out.push_str(&i.to_string());
+        }
+        out.push('\n');
+    }
+    out.push_str(&format!("CELL_TYPES {}\n", cells.len()));
+    for (ty, _) in cells {
+        out.push_str(&format!("{ty}\n"));
+    }
+    if !point_data.is_empty() {
+        out.push_str(&format!("POINT_DATA {}\n", points.len()));
+        for (name, values) in point_data {
+            out.push_str(&format!(
+                "SCALARS {} double 1\nLOOKUP_TABLE default\n",
+                array_name(name)
+            ));
+            push_number_lines(&mut out, values);
+        }
+    }
+    if !cell_data.is_empty() {
+        out.push_str(&format!("CELL_DATA {}\n", cells.len()));
+        for (name, values) in cell_data {
+            out.push_str(&format!(
+                "SCALARS {} int 1\nLOOKUP_TABLE default\n",
+                array_name(name)
+            ));
+            for v in *values {
+                out.push_str(&format!("{v}\n"));
+            }
+        }
+    }
+    out.into_bytes()
+}

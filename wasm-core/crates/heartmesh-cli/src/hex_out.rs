@@ -1,0 +1,174 @@
+//! `myocardium --hex-mesh HEX.vtk [--hex-layout 24x48] [--layers 3]`: the LV wall as layers of
+//! hexahedra between the anatomical layouts of its two surfaces (core `mesh::hex_wall`), written
+//! beside the wall solid, its figures in the report.
+//!
+//! Checked before any run: the option's values, that the wall is the LV's (a biventricular wall
+//! has no single layout), and that the file says where the septum is.
+
+use heartmesh_core::mesh::hex_wall::{self, HexWall, DEFAULT_LAYERS, LAYERS};
+use heartmesh_core::metrics::anatomical::{self, Layout};
+use heartmesh_core::metrics::septum;
+use heartmesh_core::pipeline::Reconstruction;
+use heartmesh_core::sim::slice::Plane;
+use heartmesh_core::{ContourSet, CoreError};
+use serde_json::{json, Value};
+
+use crate::args::Parsed;
+use crate::cmd_convert::file_name;
+use crate::error::CliError;
+
+/// What `--hex-mesh` asked for.
+pub struct Request {
+    pub path: String,
+    pub layout: Layout,
+    pub layers: usize,
+}
+
+/// The request, or None without `--hex-mesh`; `--hex-layout` or `--layers` alone are usage
+/// errors (they would silently do nothing).
+pub fn request_from(p: &Parsed, biventricular: bool) -> Result<Option<Request>, CliError> {
+    let Some(path) = p.value("hex-mesh") else {
+        if p.value("hex-layout").is_some() || p.value("layers").is_some() {
+            return Err(CliError::usage(
+                "--hex-layout and --layers shape the cells of --hex-mesh; add --hex-mesh FILE.vtk",
+            ));
+        }
+        return Ok(None);
+    };
+    if biventricular {
+        return Err(CliError::usage(
+            "--hex-mesh lays out the LV wall's cells; leave out --biventricular",
+        ));
+    }
+    if !path.to_ascii_lowercase().ends_with(".vtk") {
+        return Err(CliError::usage(format!(
+            "--hex-mesh {path}: the hexahedral mesh is written as a VTK unstructured grid (.vtk)"
+        )));
+    }
+    let layout = p
+        .value("hex-layout")
+        .map_or(Ok(Layout::DEFAULT), Layout::parse)
+        .map_err(|e| CliError::usage(format!("--hex-layout: {e}")))?;
+    let layers = match p.value("layers") {
+        None => DEFAULT_LAYERS,
+        Some(v) => v
+            .parse::<usize>()
+            .ok()
+            .filter(|n| (LAYERS.0..=LAYERS.1).contains(n))
+            .ok_or_else(|| {
+                CliError::usage(format!(
+                    "--layers {v}: give {}-{} cells through the wall",
+                    LAYERS.0, LAYERS.1
+                ))
+            })?,
+    };
+    Ok(Some(Request {
+        path: path.to_string(),
+        layout,
+        layers,
+    }))
+}
+
+/// Before any run: a file that does not say where the septum is has no layout (status 2).
+pub fn check(input: &str, set: &ContourSet) -> Result<(), CliError> {
+    if septum::said(set) {
+        return Ok(());
+    }
+    Err(CliError::input(
+        input,
+        CoreError::parse(
+            0,
+            "--hex-mesh lays its cells out from the septum: the file has no RV_INSERT landmarks \
+             and no RV contours",
+        ),
+    ))
+}
+
+/// The mesh between the finished endo- and epicardium, both laid out on the wall's `base` from
+/// one septum (seen from the endocardium's centre), or why there is none.
+pub fn build(
+    set: &ContourSet,
+    endo: &Reconstruction,
+    epi: &Reconstruction,
+    base: &Plane,
+    r: &Request,
+) -> Result<HexWall, String> {
+    let orientation = anatomical::orientation_of(set, endo.mesh(), base)?;
+    let lay = |rec: &Reconstruction, what: &str| {
+        anatomical::build(rec.mesh(), base, &orientation, r.layout)
+            .map_err(|e| format!("the {what}: {}", anatomical::reason(&e)))
+    };
+    let inner = lay(endo, "endocardium")?;
+    let outer = lay(epi, "epicardium")?;
+    hex_wall::build(&inner, &outer, r.layout, base, r.layers).map_err(|e| anatomical::reason(&e))
+}
+
+/// The report's `hex_mesh` (the file and the figures) or null and `hex_mesh_note`.
+pub fn add_to_report(rep: &mut Value, path: &str, built: &Result<HexWall, String>) {
+    let Some(m) = rep.as_object_mut() else {
+        return;
+    };
+    match built {
+        Ok(h) => {
+            let mut v = json!(h.summary);
+            if let Some(o) = v.as_object_mut() {
+                o.insert("file".into(), json!(file_name(path)));
+            }
+            m.insert("hex_mesh".into(), v);
+        }
+        Err(why) => {
+            m.insert("hex_mesh".into(), Value::Null);
+            m.insert("hex_mesh_note".into(), json!(why));
+        }
+    }
+}
+
+/// The file's header: what the cells and arrays are.
+pub fn comment(h: &HexWall, input: &str, endo: &str, epi: &str) -> String {
+    let s = &h.summary;
+    format!(
+        "LV myocardium hexahedra {}x{}x{} of {} ({endo} + {epi}); units mm, the contour file's \
+         coordinates; points transmural 0-1, longitudinal 0-1, circumferential_deg from the \
+         septum; cells aha_segment 1-17",
+        s.rings,
+        s.points_per_ring,
+        s.layers,
+        file_name(input)
+    )
+}
+
+/// The stdout line after the wall's.
+pub fn summary_line(path: &str, h: &HexWall) -> String {
+    let s = &h.summary;
+    format!(
+        "{}: {} hexahedra + {} wedges in {} layers, {} points, {:.1} ml, smallest scaled Jacobian \
+         {:.2}{}",
+        file_name(path),
+        s.hexahedra,
+        s.wedges,
+        s.layers,
+        s.points,
+        s.volume_ml,
+        s.min_scaled_jacobian,
+        if s.inverted_cells > 0 {
+            format!(", {} inverted cells", s.inverted_cells)
+        } else {
+            String::new()
+        }
+    )
+}
+
+/// A warning when cells are inverted (the two surfaces cross, or touch, somewhere): a solver
+/// would refuse the mesh.
+pub fn inverted_warning(path: &str, h: &HexWall) -> Option<String> {
+    let n = h.summary.inverted_cells;
+    (n > 0).then(|| {
+        format!(
+            "heartmesh: warning: {}: {n} of {} cells are inverted or flat: the endo- and \
+             epicardium cross or touch there (a thin apex, images from different breath-holds; \
+             try --align-slices)",
+            file_name(path),
+            h.cells.len()
+        )
+    })
+}

@@ -1,0 +1,201 @@
+//! `myocardium --hex-mesh`: the LV wall as layers of hexahedra for simulation, on the real
+//! biv-me patient 1: the file's structure read back (points, cells, types, arrays), its volume
+//! against the wall solid's, no inverted cell, every AHA segment; the layout and layer options;
+//! and the refusals, before any run.
+
+mod common;
+use common::{bin, data, run, scratch};
+use serde_json::Value;
+use std::path::Path;
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// The legacy file's blocks: (points, cells as point lists, cell types, named arrays).
+struct Grid {
+    points: usize,
+    cells: Vec<Vec<usize>>,
+    types: Vec<u8>,
+    arrays: Vec<(String, Vec<f64>)>,
+}
+
+fn read_grid(path: &Path) -> Grid {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let mut grid = Grid {
+        points: 0,
+        cells: Vec::new(),
+        types: Vec::new(),
+        arrays: Vec::new(),
+    };
+    assert_eq!(lines.next(), Some("# vtk DataFile Version 3.0"));
+    let count_of = |line: &str, key: &str| -> Option<usize> {
+        line.strip_prefix(key)?
+            .split_whitespace()
+            .next()?
+            .parse()
+            .ok()
+    };
+    let mut block = 0;
+    while let Some(line) = lines.next() {
+        if let Some(n) = count_of(line, "POINTS ") {
+            grid.points = n;
+            lines.by_ref().take(n).for_each(drop);
+        } else if let Some(n) = count_of(line, "CELLS ") {
+            for _ in 0..n {
+                let ids: Vec<usize> = lines
+                    .next()
+                    .unwrap()
+                    .split_whitespace()
+                    .map(|v| v.parse().unwrap())
+                    .collect();
+                assert_eq!(ids[0], ids.len() - 1);
+                grid.cells.push(ids[1..].to_vec());
+            }
+        } else if let Some(n) = count_of(line, "CELL_TYPES ") {
+            grid.types = lines.by_ref().take(n).map(|v| v.parse().unwrap()).collect();
+        } else if let Some(n) = count_of(line, "POINT_DATA ") {
+            block = n;
+        } else if let Some(n) = count_of(line, "CELL_DATA ") {
+            block = n;
+        } else if let Some(rest) = line.strip_prefix("SCALARS ") {
+            let name = rest.split_whitespace().next().unwrap().to_string();
+            assert_eq!(lines.next(), Some("LOOKUP_TABLE default"));
+            let values = lines
+                .by_ref()
+                .take(block)
+                .map(|v| v.parse().unwrap())
+                .collect();
+            grid.arrays.push((name, values));
+        }
+    }
+    grid
+}
+
+fn array<'a>(g: &'a Grid, name: &str) -> &'a [f64] {
+    &g.arrays.iter().find(|(n, _)| n == name).unwrap().1
+}
+
+fn myocardium(dir: &Path, extra: &[&str]) -> (Value, Grid, String) {
+    let input = data("contours/bivme-example-patient1/GPFile_000.txt");
+    let [wall, report, hex] = ["wall.vtk", "wall.json", "hex.vtk"].map(|f| dir.join(f));
+    let mut args = vec![
+        "myocardium",
+        s(&input),
+        "-o",
+        s(&wall),
+        "--report",
+        s(&report),
+        "--hex-mesh",
+        s(&hex),
+    ];
+    args.extend_from_slice(extra);
+    let (code, out, err) = run(bin().args(&args));
+    assert_eq!(code, 0, "{err}");
+    let rep: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    (rep, read_grid(&hex), out)
+}
+
+#[test]
+fn patient1s_wall_as_hexahedra() {
+    let dir = scratch("hex-patient1");
+    let (rep, g, out) = myocardium(&dir, &[]);
+    let h = &rep["hex_mesh"];
+    // 24 rings x 48 points + the apex, 4 layers of points; 48 wedges and 23 x 48 hexahedra a layer.
+    assert_eq!(g.points, 4 * (24 * 48 + 1));
+    assert_eq!(g.cells.len(), 3 * 48 * 24);
+    assert_eq!(g.types.iter().filter(|&&t| t == 13).count(), 3 * 48);
+    assert_eq!(g.types.iter().filter(|&&t| t == 12).count(), 3 * 23 * 48);
+    for (c, t) in g.cells.iter().zip(&g.types) {
+        assert_eq!(c.len(), if *t == 12 { 8 } else { 6 });
+        assert!(c.iter().all(|&i| i < g.points));
+    }
+    assert_eq!(h["hexahedra"], 3 * 23 * 48);
+    assert_eq!(h["inverted_cells"], 0, "{h}");
+    assert!(h["min_scaled_jacobian"].as_f64().unwrap() > 0.0, "{h}");
+    // The cells fill the wall: their volume within 1 % of the solid's (cut at the same base).
+    let (v, wall) = (
+        h["volume_ml"].as_f64().unwrap(),
+        rep["wall_volume_ml"].as_f64().unwrap(),
+    );
+    assert!((v - wall).abs() < 0.01 * wall, "{v} vs {wall} ml");
+    // Coordinates: transmural 0 then 1 on the outer layer, longitudinal 0 at the apex and 1 on
+    // the base ring, circumferential from 0 to 352.5 degrees.
+    let t = array(&g, "transmural");
+    assert_eq!((t[0], t[g.points - 1]), (0.0, 1.0));
+    let l = array(&g, "longitudinal");
+    assert_eq!((l[0], l[24 * 48]), (0.0, 1.0));
+    let c = array(&g, "circumferential_deg");
+    assert_eq!(c.iter().cloned().fold(0.0, f64::max), 352.5);
+    let segments = array(&g, "aha_segment");
+    assert_eq!(segments.len(), g.cells.len());
+    for k in 1..=17 {
+        assert!(segments.contains(&(k as f64)), "segment {k}");
+    }
+    assert!(
+        out.contains("hex.vtk: 3312 hexahedra + 144 wedges in 3 layers"),
+        "{out}"
+    );
+}
+
+#[test]
+fn the_layout_and_the_layers_shape_the_cells() {
+    let dir = scratch("hex-layers");
+    let (rep, g, _) = myocardium(&dir, &["--hex-layout", "8x16", "--layers", "1", "--quiet"]);
+    assert_eq!(g.points, 2 * (8 * 16 + 1));
+    assert_eq!(g.cells.len(), 8 * 16);
+    assert_eq!(rep["hex_mesh"]["layers"], 1);
+    // Coarser cells chord the surfaces more: still within 5 % of the wall.
+    let (v, wall) = (
+        rep["hex_mesh"]["volume_ml"].as_f64().unwrap(),
+        rep["wall_volume_ml"].as_f64().unwrap(),
+    );
+    assert!((v - wall).abs() < 0.05 * wall, "{v} vs {wall} ml");
+}
+
+#[test]
+fn what_has_no_cells_is_refused_before_the_run() {
+    let dir = scratch("hex-refused");
+    let [wall, hex] = ["w.vtk", "h.vtk"].map(|f| dir.join(f));
+    let refused = |input: &Path, extra: &[&str], says: &str| {
+        let mut args = vec!["myocardium", s(input), "-o", s(&wall)];
+        args.extend_from_slice(extra);
+        let (code, _, err) = run(bin().args(&args));
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(says), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(
+            !wall.exists() && !hex.exists(),
+            "nothing written before a refusal"
+        );
+    };
+    let p1 = data("contours/bivme-example-patient1/patient1-ED.csv");
+    refused(
+        &p1,
+        &["--hex-mesh", s(&hex), "--biventricular"],
+        "leave out --biventricular",
+    );
+    refused(&p1, &["--layers", "3"], "add --hex-mesh");
+    refused(
+        &p1,
+        &["--hex-mesh", s(&hex), "--layers", "0"],
+        "1-20 cells through the wall",
+    );
+    refused(
+        &p1,
+        &["--hex-mesh", s(&hex), "--hex-layout", "2x4"],
+        "8-720 points",
+    );
+    refused(&p1, &["--hex-mesh", s(&dir.join("h.vtu"))], "(.vtk)");
+    // A file with LV contours only says nothing of where the septum is.
+    let lv_only = dir.join("lv-only.csv");
+    let text = std::fs::read_to_string(&p1).unwrap();
+    let kept: Vec<&str> = text.lines().filter(|l| !l.contains("RV_")).collect();
+    std::fs::write(&lv_only, kept.join("\n") + "\n").unwrap();
+    refused(
+        &lv_only,
+        &["--hex-mesh", s(&hex)],
+        "no RV_INSERT landmarks and no RV contours",
+    );
+}

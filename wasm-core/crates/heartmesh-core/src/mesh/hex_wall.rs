@@ -1,0 +1,320 @@
+//! A hexahedral volume mesh of the LV myocardium, for finite-element simulation: the layers of
+//! cells between the anatomical layouts ([`crate::metrics::anatomical`]) of the endocardium and
+//! the epicardium, laid out on one base plane from one septum, so that vertex k of one surface
+//! faces vertex k of the other.
+//!
+//! Cardiac mechanics and electrophysiology codes (FEniCS, Chaste, CHeart, openCARP with a
+//! hexahedral front end) start from such a mesh far more often than from a surface: its cells
+//! follow the wall, and the three coordinates of the layout come with it, which is what
+//! rule-based fibre directions are computed from (transmural depth above all). Each layer is
+//! the straight interpolation between the two layouts, so the mesh has exactly the wall's
+//! outer and inner surfaces at its first and last layer, and every cell spans the same
+//! fraction of the wall.
+//!
+//! Cells: between consecutive rings, hexahedra (VTK_HEXAHEDRON, 8 points); around the apex,
+//! where every ring-1 quad meets vertex 0, wedges (VTK_WEDGE, 6 points). Both are ordered as
+//! VTK's parametric cells are (the first face's normal, by the right-hand rule, points into the
+//! cell towards the opposite face), from endocardium to epicardium, so a valid cell has a
+//! positive Jacobian at every corner. The base (the layouts' lids) is left open: the wall stops
+//! at the base plane.
+//!
+//! Per point: `transmural` (0 on the endocardium, 1 on the epicardium), `longitudinal` (0 at
+//! the apex, 1 at the base: the ring's index over the rings), `circumferential_deg` (the
+//! layout's angle from the septum's middle towards anterior; 0 at the apex). Per cell: its AHA
+//! segment (1-17, [`crate::metrics::segments::segment_of`] at the cell's centre, the cavity's
+//! depth the endocardial layout's length).
+
+use crate::error::{CoreError, Result};
+use crate::geometry::Vec3;
+use crate::metrics::anatomical::{Anatomical, Layout};
+use crate::metrics::segments::segment_of;
+use crate::sim::slice::Plane;
+use serde::Serialize;
+
+/// Allowed transmural layers (inclusive).
+pub const LAYERS: (usize, usize) = (1, 20);
+/// The default: three layers, the fewest that give a sub-endocardial, a mid-wall and a
+/// sub-epicardial cell through the wall.
+pub const DEFAULT_LAYERS: usize = 3;
+
+/// One cell: VTK's linear hexahedron or wedge, point indices in VTK's order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cell {
+    Hexahedron([u32; 8]),
+    Wedge([u32; 6]),
+}
+
+impl Cell {
+    /// VTK's cell type number (12 hexahedron, 13 wedge).
+    pub fn vtk_type(&self) -> u8 {
+        match self {
+            Cell::Hexahedron(_) => 12,
+            Cell::Wedge(_) => 13,
+        }
+    }
+
+    pub fn points(&self) -> &[u32] {
+        match self {
+            Cell::Hexahedron(p) => p,
+            Cell::Wedge(p) => p,
+        }
+    }
+}
+
+/// What a report says of the mesh.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    pub rings: usize,
+    pub points_per_ring: usize,
+    pub layers: usize,
+    pub points: usize,
+    pub hexahedra: usize,
+    pub wedges: usize,
+    /// The cells' total volume (ml), and the volume between the two layouts' surfaces (the
+    /// epicardial layout's less the endocardial one's): they differ by how the cells' and the
+    /// surfaces' quads are split into triangles.
+    pub volume_ml: f64,
+    pub layouts_volume_ml: f64,
+    /// The smallest scaled Jacobian over every corner of every cell (1 for a cube's corner,
+    /// 0 for a flat one, negative for an inverted one) and the cells with a corner at or below 0.
+    pub min_scaled_jacobian: f64,
+    pub inverted_cells: usize,
+}
+
+/// A built mesh.
+#[derive(Debug, Clone)]
+pub struct HexWall {
+    pub points: Vec<Vec3>,
+    pub cells: Vec<Cell>,
+    pub transmural: Vec<f64>,
+    pub longitudinal: Vec<f64>,
+    pub circumferential_deg: Vec<f64>,
+    /// One AHA segment (1-17) per cell.
+    pub aha_segment: Vec<u32>,
+    pub summary: Summary,
+}
+
+/// Corner edges of a hexahedron in VTK's order: at corner k, the three neighbours whose edges
+/// form a right-handed frame in a valid cell.
+const HEX_CORNERS: [[usize; 4]; 8] = [
+    [0, 1, 3, 4],
+    [1, 2, 0, 5],
+    [2, 3, 1, 6],
+    [3, 0, 2, 7],
+    [4, 7, 5, 0],
+    [5, 4, 6, 1],
+    [6, 5, 7, 2],
+    [7, 6, 4, 3],
+];
+
+/// The same for a wedge.
+const WEDGE_CORNERS: [[usize; 4]; 6] = [
+    [0, 1, 2, 3],
+    [1, 2, 0, 4],
+    [2, 0, 1, 5],
+    [3, 5, 4, 0],
+    [4, 3, 5, 1],
+    [5, 4, 3, 2],
+];
+
+/// Tetrahedra that fill a hexahedron (around its diagonal 0-6) and a wedge, positively
+/// oriented in a valid cell: the cells' volumes.
+const HEX_TETS: [[usize; 4]; 6] = [
+    [0, 1, 2, 6],
+    [0, 2, 3, 6],
+    [0, 3, 7, 6],
+    [0, 7, 4, 6],
+    [0, 4, 5, 6],
+    [0, 5, 1, 6],
+];
+const WEDGE_TETS: [[usize; 4]; 3] = [[0, 1, 2, 3], [1, 2, 3, 4], [2, 3, 4, 5]];
+
+/// The mesh between `endo` and `epi`, two layouts of one `layout` built on `base` from one
+/// septum, `layers` cells through the wall.
+pub fn build(
+    endo: &Anatomical,
+    epi: &Anatomical,
+    layout: Layout,
+    base: &Plane,
+    layers: usize,
+) -> Result<HexWall> {
+    if !(LAYERS.0..=LAYERS.1).contains(&layers) {
+        return Err(CoreError::ParamInvalid {
+            name: "layers".into(),
+            message: format!(
+                "{}-{} layers through the wall (got {layers})",
+                LAYERS.0, LAYERS.1
+            ),
+        });
+    }
+    let per_layer = layout.vertices() - 1; // the lid's centre is not part of the wall
+    for (grid, what) in [(endo, "endocardial"), (epi, "epicardial")] {
+        if grid.mesh.positions.len() != layout.vertices() {
+            return Err(CoreError::InvalidMesh(format!(
+                "the {what} layout has {} vertices, not the {}x{} layout's {}",
+                grid.mesh.positions.len(),
+                layout.rings,
+                layout.points,
+                layout.vertices()
+            )));
+        }
+    }
+    let mut points = Vec::with_capacity(per_layer * (layers + 1));
+    let mut transmural = Vec::with_capacity(points.capacity());
+    let mut longitudinal = Vec::with_capacity(points.capacity());
+    let mut circumferential_deg = Vec::with_capacity(points.capacity());
+    for l in 0..=layers {
+        let t = l as f64 / layers as f64;
+        for v in 0..per_layer {
+            let (a, b) = (endo.mesh.positions[v], epi.mesh.positions[v]);
+            points.push(a + (b - a) * t);
+            transmural.push(t);
+            let (ring, j) = if v == 0 {
+                (0, 0)
+            } else {
+                ((v - 1) / layout.points + 1, (v - 1) % layout.points)
+            };
+            longitudinal.push(ring as f64 / layout.rings as f64);
+            circumferential_deg.push(360.0 * j as f64 / layout.points as f64);
+        }
+    }
+    let at = |l: usize, v: usize| (l * per_layer + v) as u32;
+    let grid = |ring: usize, j: usize| layout.index(ring, j);
+    let mut cells = Vec::with_capacity(layers * layout.points * layout.rings);
+    for l in 0..layers {
+        for j in 0..layout.points {
+            // The ring-1 triangle seen from inside the cavity: reversed, its normal points out
+            // through the wall (the apex's epicardial side), towards layer l + 1.
+            let tri = [0, grid(1, j + 1), grid(1, j)];
+            cells.push(Cell::Wedge([
+                at(l, tri[0]),
+                at(l, tri[1]),
+                at(l, tri[2]),
+                at(l + 1, tri[0]),
+                at(l + 1, tri[1]),
+                at(l + 1, tri[2]),
+            ]));
+        }
+        for ring in 1..layout.rings {
+            for j in 0..layout.points {
+                // Round the axis (towards anterior) then up: the outward normal.
+                let quad = [
+                    grid(ring, j),
+                    grid(ring, j + 1),
+                    grid(ring + 1, j + 1),
+                    grid(ring + 1, j),
+                ];
+                cells.push(Cell::Hexahedron([
+                    at(l, quad[0]),
+                    at(l, quad[1]),
+                    at(l, quad[2]),
+                    at(l, quad[3]),
+                    at(l + 1, quad[0]),
+                    at(l + 1, quad[1]),
+                    at(l + 1, quad[2]),
+                    at(l + 1, quad[3]),
+                ]));
+            }
+        }
+    }
+    let cavity_depth = endo.summary.length_mm;
+    let aha_segment = cells
+        .iter()
+        .map(|c| {
+            let ids = c.points();
+            let centre = ids.iter().map(|&i| points[i as usize]).sum::<Vec3>() / ids.len() as f64;
+            let depth = -base.signed_distance(&centre);
+            let angle = cell_angle(c, &circumferential_deg, layout);
+            segment_of(depth, cavity_depth, angle) as u32 + 1
+        })
+        .collect();
+    let (mut volume, mut worst, mut inverted) = (0.0, f64::INFINITY, 0);
+    for c in &cells {
+        let p = |k: usize| points[c.points()[k] as usize];
+        let (corners, tets): (&[[usize; 4]], &[[usize; 4]]) = match c {
+            Cell::Hexahedron(_) => (&HEX_CORNERS, &HEX_TETS),
+            Cell::Wedge(_) => (&WEDGE_CORNERS, &WEDGE_TETS),
+        };
+        let mut cell_worst = f64::INFINITY;
+        for &[o, a, b, z] in corners {
+            let (ea, eb, ez) = (p(a) - p(o), p(b) - p(o), p(z) - p(o));
+            let scale = ea.norm() * eb.norm() * ez.norm();
+            let scaled = if scale > 0.0 {
+                ea.cross(&eb).dot(&ez) / scale
+            } else {
+                0.0
+            };
+            cell_worst = cell_worst.min(scaled);
+        }
+        worst = f64::min(worst, cell_worst);
+        if cell_worst <= 0.0 {
+            inverted += 1;
+        }
+        volume += tets
+            .iter()
+            .map(|&[a, b, c2, d]| (p(b) - p(a)).cross(&(p(c2) - p(a))).dot(&(p(d) - p(a))) / 6.0)
+            .sum::<f64>();
+    }
+    let wedges = cells.iter().filter(|c| matches!(c, Cell::Wedge(_))).count();
+    let summary = Summary {
+        rings: layout.rings,
+        points_per_ring: layout.points,
+        layers,
+        points: points.len(),
+        hexahedra: cells.len() - wedges,
+        wedges,
+        volume_ml: volume / 1000.0,
+        layouts_volume_ml: epi.summary.volume_ml - endo.summary.volume_ml,
+        min_scaled_jacobian: worst,
+        inverted_cells: inverted,
+    };
+    Ok(HexWall {
+        points,
+        cells,
+        transmural,
+        longitudinal,
+        circumferential_deg,
+        aha_segment,
+        summary,
+    })
+}
+
+impl HexWall {
+    /// The mesh as a VTK legacy unstructured grid (ParaView, meshio, and through meshio most
+    /// simulation codes): point data `transmural`, `longitudinal`, `circumferential_deg`, cell
+    /// data `aha_segment`.
+    pub fn to_vtk(&self, header_comment: &str) -> Vec<u8> {
+        let cells: Vec<(u8, &[u32])> = self
+            .cells
+            .iter()
+            .map(|c| (c.vtk_type(), c.points()))
+            .collect();
+        crate::io::vtk::write_unstructured(
+            &self.points,
+            &cells,
+            &[
+                ("transmural", &self.transmural),
+                ("longitudinal", &self.longitudinal),
+                ("circumferential_deg", &self.circumferential_deg),
+            ],
+            &[("aha_segment", &self.aha_segment)],
+            header_comment,
+        )
+    }
+}
+
+/// The angle of a cell's middle from the septum (degrees, -180 to 180 as
+/// [`segment_of`] takes it): half a step on from its first vertex round the ring.
+fn cell_angle(cell: &Cell, circumferential_deg: &[f64], layout: Layout) -> f64 {
+    // Corner 0 of a hexahedron and corner 2 of a wedge are vertex j of their ring (corner 0 of
+    // a wedge is the apex).
+    let first = circumferential_deg[cell.points()[match cell {
+        Cell::Hexahedron(_) => 0,
+        Cell::Wedge(_) => 2,
+    }] as usize];
+    let middle = first + 180.0 / layout.points as f64;
+    (middle + 180.0).rem_euclid(360.0) - 180.0
+}
+
+#[cfg(test)]
+mod tests;
