@@ -5,6 +5,7 @@
 use std::time::Instant;
 
 use heartmesh_core::contours::biv_epi::{self, BIV_EPI};
+use heartmesh_core::mesh::hex_wall;
 use heartmesh_core::mesh::wall::{self, Wall};
 use heartmesh_core::metrics::compare::common_basal_plane_all;
 use heartmesh_core::metrics::segments::{self as aha, Segments};
@@ -300,7 +301,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     if let (Some(r), Some(built)) = (&hex, &hexes) {
         match built {
             Ok(h) => {
-                let comment = hex_out::comment(h, input, endo_name, epi_name);
+                let comment = hex_wall::comment(h, input, endo_name, epi_name);
                 files::write(&r.path, &h.to_vtk(&comment))?;
             }
             Err(why) => {

@@ -123,20 +123,6 @@ pub fn add_to_report(rep: &mut Value, path: &str, built: &Result<HexWall, String
     }
 }
 
-/// The file's header: what the cells and arrays are.
-pub fn comment(h: &HexWall, input: &str, endo: &str, epi: &str) -> String {
-    let s = &h.summary;
-    format!(
-        "LV myocardium hexahedra {}x{}x{} of {} ({endo} + {epi}); units mm, the contour file's \
-         coordinates; points transmural 0-1, longitudinal 0-1, circumferential_deg from the \
-         septum; cells aha_segment 1-17",
-        s.rings,
-        s.points_per_ring,
-        s.layers,
-        file_name(input)
-    )
-}
-
 /// The stdout line after the wall's.
 pub fn summary_line(path: &str, h: &HexWall) -> String {
     let s = &h.summary;

@@ -12,6 +12,7 @@ mod clock;
 mod convert;
 mod errors;
 mod frames;
+mod hex;
 mod lab;
 mod panic;
 #[cfg(test)]

@@ -279,6 +279,19 @@ pub fn build(
     })
 }
 
+/// The file's header: what the cells and arrays are (the command line's and the app's files
+/// say the same).
+pub fn comment(h: &HexWall, file_name: &str, endo: &str, epi: &str) -> String {
+    let name = file_name.rsplit(['/', '\\']).next().unwrap_or(file_name);
+    let s = &h.summary;
+    format!(
+        "LV myocardium hexahedra {}x{}x{} of {name} ({endo} + {epi}); units mm, the contour \
+         file's coordinates; points transmural 0-1, longitudinal 0-1, circumferential_deg from \
+         the septum; cells aha_segment 1-17",
+        s.rings, s.points_per_ring, s.layers
+    )
+}
+
 impl HexWall {
     /// The mesh as a VTK legacy unstructured grid (ParaView, meshio, and through meshio most
     /// simulation codes): point data `transmural`, `longitudinal`, `circumferential_deg`, cell
