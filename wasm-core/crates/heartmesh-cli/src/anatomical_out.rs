@@ -81,22 +81,8 @@ pub fn build(
 /// The report's `anatomical_mesh` (the file and the layout's figures) or, when it could not be
 /// built, null and `anatomical_mesh_note`.
 pub fn add_to_report(rep: &mut Value, path: &str, built: &Result<Anatomical, String>) {
-    let Some(m) = rep.as_object_mut() else {
-        return;
-    };
-    match built {
-        Ok(a) => {
-            let mut v = json!(a.summary);
-            if let Some(o) = v.as_object_mut() {
-                o.insert("file".into(), json!(file_name(path)));
-            }
-            m.insert("anatomical_mesh".into(), v);
-        }
-        Err(why) => {
-            m.insert("anatomical_mesh".into(), Value::Null);
-            m.insert("anatomical_mesh_note".into(), json!(why));
-        }
-    }
+    let summary = built.as_ref().map(|x| json!(x.summary));
+    crate::report::add_built(rep, "anatomical_mesh", path, summary);
 }
 
 /// The layout's file: regions `wall` and `base`, the layout spelled out in the header.

@@ -105,22 +105,8 @@ pub fn build(
 
 /// The report's `hex_mesh` (the file and the figures) or null and `hex_mesh_note`.
 pub fn add_to_report(rep: &mut Value, path: &str, built: &Result<HexWall, String>) {
-    let Some(m) = rep.as_object_mut() else {
-        return;
-    };
-    match built {
-        Ok(h) => {
-            let mut v = json!(h.summary);
-            if let Some(o) = v.as_object_mut() {
-                o.insert("file".into(), json!(file_name(path)));
-            }
-            m.insert("hex_mesh".into(), v);
-        }
-        Err(why) => {
-            m.insert("hex_mesh".into(), Value::Null);
-            m.insert("hex_mesh_note".into(), json!(why));
-        }
-    }
+    let summary = built.as_ref().map(|x| json!(x.summary));
+    crate::report::add_built(rep, "hex_mesh", path, summary);
 }
 
 /// The stdout line after the wall's.

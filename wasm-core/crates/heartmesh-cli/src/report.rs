@@ -205,6 +205,26 @@ pub fn report_parameters(params: &Params) -> Value {
     p
 }
 
+/// A derived file's entry under `key` (its figures and `file`: `anatomical_mesh`, `hex_mesh`),
+/// or, when it could not be built, null and `KEY_note` saying why.
+pub fn add_built(rep: &mut Value, key: &str, path: &str, built: Result<Value, &String>) {
+    let Some(m) = rep.as_object_mut() else {
+        return;
+    };
+    match built {
+        Ok(mut v) => {
+            if let Some(o) = v.as_object_mut() {
+                o.insert("file".into(), json!(crate::cmd_convert::file_name(path)));
+            }
+            m.insert(key.into(), v);
+        }
+        Err(why) => {
+            m.insert(key.into(), Value::Null);
+            m.insert(format!("{key}_note"), json!(why));
+        }
+    }
+}
+
 /// Per-vertex distance to the nearest contour point (mm): the colour on the mesh.
 pub fn vertex_distances(rec: &Reconstruction) -> Vec<f64> {
     rec.vertex_distances()

@@ -8,11 +8,13 @@
 //! Also the wall's AHA segments (`metrics::segments::of_file`: the check that the epicardium
 //! does not ring the RV, the septum from the RV landmarks or contours, the 17 segments), which
 //! `myocardium` and the app add to every LV wall; and the LV endocardium's anatomical layout
-//! (`metrics::anatomical::of_file`, `reconstruct --anatomical-mesh`) at 24x48 and 48x96.
+//! (`metrics::anatomical::of_file`, `reconstruct --anatomical-mesh`) at 24x48 and 48x96, and
+//! the wall as hexahedra between the two surfaces' layouts (`myocardium --hex-mesh`, 24x48x3).
 //!
 //! `cargo bench --bench wall`
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use heartmesh_core::mesh::hex_wall;
 use heartmesh_core::mesh::wall::{build_biventricular, build_wall};
 use heartmesh_core::metrics::anatomical::{self, Layout};
 use heartmesh_core::metrics::compare::{basal_plane, common_basal_plane, common_basal_plane_all};
@@ -65,6 +67,15 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+    let orientation = anatomical::orientation_of(&set, endo.mesh(), &base).expect("septum");
+    g.bench_function("patient1-ED-hex-24x48x3", |b| {
+        b.iter(|| {
+            let lay = |r: &Reconstruction| {
+                anatomical::build(r.mesh(), &base, &orientation, Layout::DEFAULT).expect("layout")
+            };
+            hex_wall::build(&lay(&endo), &lay(&epi), Layout::DEFAULT, &base, 3).expect("cells")
+        })
+    });
     let (rv, biv) = (run("RV_ENDO"), run("BIV_EPI"));
     let biv_base = common_basal_plane_all(&[&endo, &biv, &rv]).expect("base plane");
     g.bench_function("patient1-ED-biventricular", |b| {

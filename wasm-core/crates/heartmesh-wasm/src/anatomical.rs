@@ -11,7 +11,7 @@ use heartmesh_core::{ContourSet, CoreError, Params};
 use serde_json::{json, Value};
 use wasm_bindgen::prelude::*;
 
-use crate::wall::{mesh_format, mesh_of, SurfaceMesh, WallExport};
+use crate::wall::{append_lines, export_object, mesh_format, mesh_of, SurfaceMesh, WallExport};
 use crate::{convert, errors, Session};
 
 /// How the layout's failures begin in the app.
@@ -54,11 +54,7 @@ impl Session {
         };
         let built = build(set, file_name, &params, mesh, rings, points, format, header)
             .map_err(|e| JsValue::from_str(&error_json(&e).to_string()))?;
-        let out = js_sys::Object::new();
-        js_sys::Reflect::set(&out, &"summary".into(), &built.summary.to_string().into())?;
-        let bytes = js_sys::Uint8Array::from(built.bytes.as_slice());
-        js_sys::Reflect::set(&out, &"bytes".into(), &bytes)?;
-        Ok(out)
+        export_object(&built)
     }
 }
 
@@ -67,11 +63,7 @@ impl Session {
 /// words it, without "degenerate input: ".
 pub fn error_json(e: &CoreError) -> Value {
     let mut v = errors::error_json(e);
-    let message = match e {
-        CoreError::Degenerate(why) => why.clone(),
-        _ => v["message"].as_str().unwrap_or_default().to_string(),
-    };
-    v["message"] = json!(format!("{WHAT}: {message}"));
+    v["message"] = json!(format!("{WHAT}: {}", anatomical::reason(e)));
     v
 }
 
@@ -101,10 +93,7 @@ pub fn build(
     let built = anatomical::of_file(set, Some(surface.name), &mesh, &base, layout)
         .map_err(CoreError::Degenerate)?;
     let mut comment = anatomical::header_comment(&built.summary, surface.name, file_name);
-    for line in header.lines().map(str::trim).filter(|l| !l.is_empty()) {
-        comment.push('\n');
-        comment.push_str(line);
-    }
+    append_lines(&mut comment, header);
     let regions = Regions {
         array: "region",
         ids: &built.regions,

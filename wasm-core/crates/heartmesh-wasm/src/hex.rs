@@ -11,7 +11,7 @@ use heartmesh_core::{ContourSet, CoreError, Params};
 use serde_json::{json, Value};
 use wasm_bindgen::prelude::*;
 
-use crate::wall::{mesh_of, SurfaceMesh, WallExport};
+use crate::wall::{append_lines, export_object, mesh_of, SurfaceMesh, WallExport};
 use crate::{convert, errors, Session};
 
 /// How the hexahedral mesh's failures begin in the app.
@@ -63,11 +63,7 @@ impl Session {
             set, file_name, &params, endo, epi, rings, points, layers, header,
         )
         .map_err(|e| JsValue::from_str(&error_json(&e).to_string()))?;
-        let out = js_sys::Object::new();
-        js_sys::Reflect::set(&out, &"summary".into(), &built.summary.to_string().into())?;
-        let bytes = js_sys::Uint8Array::from(built.bytes.as_slice());
-        js_sys::Reflect::set(&out, &"bytes".into(), &bytes)?;
-        Ok(out)
+        export_object(&built)
     }
 }
 
@@ -111,10 +107,7 @@ pub fn build(
     let outer = anatomical::build(&epi_mesh, &base, &orientation, layout)?;
     let hex = hex_wall::build(&inner, &outer, layout, &base, layers)?;
     let mut comment = hex_wall::comment(&hex, file_name, endo.name, epi.name);
-    for line in header.lines().map(str::trim).filter(|l| !l.is_empty()) {
-        comment.push('\n');
-        comment.push_str(line);
-    }
+    append_lines(&mut comment, header);
     Ok(WallExport {
         summary: json!(hex.summary),
         bytes: hex.to_vtk(&comment),

@@ -168,7 +168,7 @@ impl Session {
 }
 
 /// `{summary, bytes}` as the worker reads it: the summary as JSON text, the file's bytes.
-fn export_object(built: &WallExport) -> Result<js_sys::Object, JsValue> {
+pub fn export_object(built: &WallExport) -> Result<js_sys::Object, JsValue> {
     let out = js_sys::Object::new();
     js_sys::Reflect::set(&out, &"summary".into(), &built.summary.to_string().into())?;
     let bytes = js_sys::Uint8Array::from(built.bytes.as_slice());
@@ -386,11 +386,16 @@ fn comment_of(
         surfaces.join(" + "),
         labels.join(", ")
     );
+    append_lines(&mut comment, extra);
+    comment
+}
+
+/// The app's `extra` header lines after the command line's comment (blank ones dropped).
+pub fn append_lines(comment: &mut String, extra: &str) {
     for line in extra.lines().map(str::trim).filter(|l| !l.is_empty()) {
         comment.push('\n');
         comment.push_str(line);
     }
-    comment
 }
 
 /// A surface's mesh from the app's flat arrays, refused (naming the surface) unless every
