@@ -26,5 +26,7 @@ export function cliVolumes(inputs: string[], args: string[], label: string): Rec
 export function cliMyocardium(input: string, args: string[], label: string, options?: { bullseye?: boolean }): { report: Record<string, any>; obj: string; bullseye?: string };
 // eslint-disable-next-line @typescript-eslint/no-explicit-any
 export function cliAnatomical(input: string, args: string[], label: string, ext?: string): { report: Record<string, any>; obj: string; grid: Uint8Array };
+// eslint-disable-next-line @typescript-eslint/no-explicit-any
+export function cliHexWall(input: string, args: string[], label: string): { report: Record<string, any>; vtk: Uint8Array };
 export function cliSegment(args: string[], name: string): string;
 export function cliSimulate(truth: string, args: string[], name: string): string;

@@ -142,6 +142,18 @@ export function cliMyocardium(input, args, label, { bullseye = false } = {}) {
 }
 
 /**
+ * The native CLI's `myocardium` of `input` with `--hex-mesh` (`args`: `--hex-layout`, `--layers`
+ * and other options): its report (JSON) and the hexahedral mesh's VTK file (bytes).
+ */
+export function cliHexWall(input, args, label) {
+  if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);
+  const report = writeScratch(`${label}.json`, '');
+  const hex = writeScratch(`${label}-hex.vtk`, '');
+  execFileSync(CLI, ['myocardium', input, '-o', writeScratch(`${label}.obj`, ''), '--report', report, '--hex-mesh', hex, '--quiet', ...args]);
+  return { report: JSON.parse(readFileSync(report, 'utf8')), vtk: new Uint8Array(readFileSync(hex)) };
+}
+
+/**
  * The native CLI's `reconstruct` of `input` with `--anatomical-mesh` (`args`: its surface and
  * options): its report (JSON), the reconstructed mesh as OBJ text and the anatomical mesh's file
  * (bytes) in the format of `ext`.

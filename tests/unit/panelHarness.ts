@@ -22,7 +22,7 @@ export function optionsPanel(): { emitted: ReconOptions[]; panel: ParamPanel; ro
 
 /**
  * An export panel source with `info` and nothing else (no result, view, session or other surfaces;
- * neither wall nor anatomical mesh buildable, nothing shown), each part `over` gives replacing its default.
+ * neither wall, hexahedra nor anatomical mesh buildable, nothing shown), each part `over` gives replacing its default.
  */
 export function exportSource(info: ExportInfo, over: Partial<ExportSource>): ExportSource {
   return {
@@ -39,6 +39,7 @@ export function exportSource(info: ExportInfo, over: Partial<ExportSource>): Exp
     anatomicalFile: () => null,
     showAnatomical: () => undefined,
     hideAnatomical: () => undefined,
+    hexFile: () => null,
     ...over,
   };
 }

@@ -86,6 +86,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
       anatomicalFile: (layout, format, header) => c().anatomicalFile(layout, format, header),
       showAnatomical: (built) => c().showAnatomical(built),
       hideAnatomical: () => c().hideAnatomical(),
+      hexFile: (layout, header) => c().hexFile(layout, header),
     }),
     view: new ViewControls((v) => c().setView(v), () => c().resetView(), (colouring) => c().setWallColouring(colouring)),
     hover: new HoverReadout(),

@@ -36,6 +36,8 @@ import { wallSolidFromPly } from '../io/wallSolid';
 import type { BuiltWall } from '../io/WallRow';
 import type { BuiltAnatomical } from '../io/AnatomicalRow';
 import { anatomicalHeaderLines, type AnatomicalLayout } from '../io/export/anatomical';
+import { hexHeaderLines, type HexLayout } from '../io/export/hexWall';
+import type { BuiltHex } from '../io/HexRow';
 import type { WallColouring } from '../viewer/wallColours';
 import type { FunctionContext } from '../ui/FunctionPanel';
 import { leftOutNote } from '../ui/functionText';
@@ -1028,6 +1030,32 @@ export class Controller {
       minThicknessMm: WALL_MIN_THICKNESS_MM,
       format,
       header: wallHeaderLines(now, w.endo.surface, w.epi.surface, WALL_MIN_THICKNESS_MM),
+    });
+  }
+
+  /**
+   * The LV wall of the current file as layers of hexahedra of `layout`, built in the worker from
+   * the kept LV_ENDO and LV_EPI meshes the LV wall is made of (full precision where the core gave
+   * them), with the app's header lines when `header`; null when the LV wall cannot be built now.
+   * The core refuses a file that does not say where the septum is, saying why.
+   */
+  hexFile(layout: HexLayout, header: boolean): Promise<BuiltHex> | null {
+    const w = this.wallReadiness();
+    const settings = this.runSettings();
+    const info = this.exportInfo();
+    if (!w.ready || !settings || !info || !this.client) return null;
+    const mesh = (m: KeptMesh) => ({ surface: m.surface, positions: m.positions64 ?? Float64Array.from(m.positions), indices: m.indices });
+    // Both meshes were run with the file and frame's list (readiness checks it): the base plane
+    // is cut of the contours they follow.
+    const leaveOut = this.leaveOutNow();
+    const now = { ...info, params: schemaOrdered(this.params, this.schema), lids: this.lids, options: this.options, leaveOut };
+    return this.client.hexFile({ ...settings, leaveOut }, {
+      endo: mesh(w.endo as KeptMesh),
+      epi: mesh(w.epi as KeptMesh),
+      rings: layout.rings,
+      points: layout.points,
+      layers: layout.layers,
+      header: header ? hexHeaderLines(now, w.endo.surface, w.epi.surface) : [],
     });
   }
 

@@ -52,6 +52,7 @@ import {
   type ToWorker,
   type ViewFile,
   type AnatomicalSummary,
+  type HexSummary,
   type WallSummary,
   type WallSurfaceMesh,
 } from './protocol';
@@ -60,6 +61,7 @@ import {
   type AnatomicalOptions,
   type BivWallOptions,
   type CoreClientOptions,
+  type HexOptions,
   type LabBatchHandle,
   type RunHandle,
   type RunOptions,
@@ -70,7 +72,7 @@ import { LabRequests } from './labRequests';
 import { RunFrames } from './runFrames';
 import { mergeViews } from '../io/studyGroups';
 
-export type { AnatomicalOptions, BivWallOptions, CoreClientOptions, LabBatchHandle, RunHandle, RunOptions, WallOptions, WorkerLike } from './coreClientTypes';
+export type { AnatomicalOptions, BivWallOptions, CoreClientOptions, HexOptions, LabBatchHandle, RunHandle, RunOptions, WallOptions, WorkerLike } from './coreClientTypes';
 
 interface PendingRequest {
   resolve: (value: unknown) => void;
@@ -467,6 +469,27 @@ export class CoreClient {
   }
 
   /**
+   * The LV wall of a loaded file as layers of hexahedra (`myocardium --hex-mesh`), built in the
+   * worker between the anatomical layouts of its finished LV_ENDO and LV_EPI meshes (both run with
+   * the settings `opts`): a VTK unstructured grid with its figures. Rejects with CoreErrorData: a
+   * file that does not say where the septum is, or a value out of range, says why ("the hexahedral
+   * wall: ..."; the worker goes on).
+   */
+  hexFile(opts: RunOptions, hex: HexOptions): Promise<{ summary: HexSummary; bytes: Uint8Array }> {
+    return this.wallRequest<HexSummary>(opts, (settings, reqId) => ({
+      type: 'hex-export',
+      reqId,
+      ...settings,
+      endo: copyMesh(hex.endo),
+      epi: copyMesh(hex.epi),
+      rings: hex.rings,
+      points: hex.points,
+      layers: hex.layers,
+      header: [...hex.header],
+    }));
+  }
+
+  /**
    * A wall (or anatomical mesh) request for a loaded file (the file sent again if the worker was
    * recreated), with the run settings of `opts` but no surface: the request names its meshes' own.
    */
@@ -748,6 +771,7 @@ export class CoreClient {
         break;
       case 'wall-file':
       case 'anatomical-file':
+      case 'hex-file':
         this.settleRequest(msg.reqId, true, { summary: msg.summary, bytes: msg.bytes });
         break;
       case 'lab-batch-started':

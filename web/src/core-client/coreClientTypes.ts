@@ -76,6 +76,19 @@ export interface AnatomicalOptions {
   header: readonly string[];
 }
 
+/** What the hexahedral LV wall is built of (`CoreClient.hexFile`): the LV wall's two meshes, the layout, the layers. */
+export interface HexOptions {
+  endo: WallSurfaceMesh;
+  epi: WallSurfaceMesh;
+  /** Each surface's layout: rings from the apex to the base, points per ring. */
+  rings: number;
+  points: number;
+  /** Cells through the wall. */
+  layers: number;
+  /** Header lines after the command line's comment. */
+  header: readonly string[];
+}
+
 export interface RunHandle {
   runId: number;
   done: Promise<RunResult>;

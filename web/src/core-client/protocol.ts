@@ -13,6 +13,7 @@ export * from './protocolOptions';
 export * from './protocolErrors';
 export * from './protocolResults';
 export * from './protocolAnatomical';
+export * from './protocolHex';
 export * from './protocolLab';
 export * from './protocolMessages';
 export * from './protocolHelpers';

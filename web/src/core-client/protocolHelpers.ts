@@ -86,6 +86,7 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
     case 'session-json':
     case 'wall-file':
     case 'anatomical-file':
+    case 'hex-file':
       add(msg.bytes);
       break;
     case 'anatomical-export':
@@ -93,6 +94,7 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       add(msg.mesh.indices);
       break;
     case 'wall-export':
+    case 'hex-export':
       add(msg.endo.positions);
       add(msg.endo.indices);
       add(msg.epi.positions);
@@ -151,6 +153,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
     case 'session-json':
     case 'wall-file':
     case 'anatomical-file':
+    case 'hex-file':
       return undefined;
     default:
       return assertNever(msg);
@@ -180,6 +183,7 @@ export function isFromWorker(v: unknown): v is FromWorker {
     case 'session-json':
     case 'wall-file':
     case 'anatomical-file':
+    case 'hex-file':
       return true;
     default:
       return false;
@@ -205,6 +209,7 @@ export function isToWorker(v: unknown): v is ToWorker {
     case 'wall-export':
     case 'biv-wall-export':
     case 'anatomical-export':
+    case 'hex-export':
       return true;
     default:
       return false;

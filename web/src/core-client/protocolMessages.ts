@@ -11,6 +11,7 @@ import type {
 import type { LidsMode, ParamSpec, ParamValues, ReconOptions } from './protocolOptions';
 import type { Frame, LabelMapGrid, LoadedFile, RunResult, ViewFile, WallFormat, WallSummary, WallSurfaceMesh } from './protocolResults';
 import type { AnatomicalFormat, AnatomicalSummary } from './protocolAnatomical';
+import type { HexSummary } from './protocolHex';
 
 export interface LoadRequest {
   type: 'load';
@@ -146,6 +147,30 @@ export interface AnatomicalExportRequest {
   header: string[];
 }
 
+/**
+ * The LV wall as layers of hexahedra (the command line's `myocardium --hex-mesh`), built in the
+ * worker from the finished LV_ENDO and LV_EPI meshes the app holds, both run with these settings
+ * (the base plane comes from the file's contours at them); answered with 'hex-file'.
+ */
+export interface HexExportRequest {
+  type: 'hex-export';
+  reqId: number;
+  fileName: string;
+  params: ParamValues;
+  lids: LidsMode;
+  options?: ReconOptions;
+  /** The file and frame's leave-out list, which both meshes were run with: the base plane's contours. */
+  leaveOut?: string[];
+  endo: WallSurfaceMesh;
+  epi: WallSurfaceMesh;
+  /** Each surface's layout (rings from the apex to the base, points per ring) and the cells through the wall (the core checks the ranges too). */
+  rings: number;
+  points: number;
+  layers: number;
+  /** Lines the file's header carries after the command line's comment (app version, settings). */
+  header: string[];
+}
+
 export interface LabTruthRequest {
   type: 'lab-truth';
   reqId: number;
@@ -184,7 +209,7 @@ export interface LabBatchRequest {
 
 export type LabRequest = LabTruthRequest | LabTruthEditRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
 
-export type ToWorker = LoadRequest | GridRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | WallExportRequest | BivWallExportRequest | AnatomicalExportRequest | LabRequest;
+export type ToWorker = LoadRequest | GridRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | WallExportRequest | BivWallExportRequest | AnatomicalExportRequest | HexExportRequest | LabRequest;
 
 export interface ReadyMessage {
   type: 'ready';
@@ -247,6 +272,13 @@ export interface AnatomicalFileMessage {
   type: 'anatomical-file';
   reqId: number;
   summary: AnatomicalSummary;
+  bytes: Uint8Array;
+}
+/** The hexahedral wall built: its figures and the VTK unstructured grid. */
+export interface HexFileMessage {
+  type: 'hex-file';
+  reqId: number;
+  summary: HexSummary;
   bytes: Uint8Array;
 }
 export interface SchemaMessage {
@@ -313,4 +345,5 @@ export type FromWorker =
   | SchemaMessage
   | SessionJsonMessage
   | WallFileMessage
-  | AnatomicalFileMessage;
+  | AnatomicalFileMessage
+  | HexFileMessage;

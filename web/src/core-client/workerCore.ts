@@ -40,6 +40,8 @@ import {
   type AnatomicalExportRequest,
   type AnatomicalSummary,
   type BivWallExportRequest,
+  type HexExportRequest,
+  type HexSummary,
   type WallExportRequest,
   type WallSummary,
 } from './protocol';
@@ -130,6 +132,28 @@ export interface SessionApi {
     rings: number,
     points: number,
     format: string,
+    header: string,
+  ): { summary: string; bytes: Uint8Array };
+  /**
+   * The LV wall as layers of hexahedra (the binding's `hex.rs`, `myocardium --hex-mesh`) between
+   * the anatomical layouts of two finished meshes: `rings` x `points` per layout, `layers` cells
+   * through the wall; `summary` JSON (`HexSummary`), `bytes` the VTK unstructured grid. Throws the
+   * core's reason ("the hexahedral wall: ...": no RV to place the septum by, a value out of range).
+   * Absent from test doubles and older cores ('hex-export' then fails with `hex_unavailable`).
+   */
+  hex_wall?(
+    fileName: string,
+    paramsJson: string,
+    lids: string,
+    endoSurface: string,
+    endoPositions: Float64Array,
+    endoIndices: Uint32Array,
+    epiSurface: string,
+    epiPositions: Float64Array,
+    epiIndices: Uint32Array,
+    rings: number,
+    points: number,
+    layers: number,
     header: string,
   ): { summary: string; bytes: Uint8Array };
 }
@@ -254,7 +278,7 @@ export class WorkerCore {
     try {
       this.dispatch(msg);
     } catch (e) {
-      const file = msg.type === 'load' || msg.type === 'session-export' || msg.type === 'wall-export' || msg.type === 'biv-wall-export' || msg.type === 'anatomical-export' ? msg.fileName : msg.type === 'lab-truth' && msg.source.kind === 'file' ? msg.source.fileName : undefined;
+      const file = msg.type === 'load' || msg.type === 'session-export' || msg.type === 'wall-export' || msg.type === 'biv-wall-export' || msg.type === 'anatomical-export' || msg.type === 'hex-export' ? msg.fileName : msg.type === 'lab-truth' && msg.source.kind === 'file' ? msg.source.fileName : undefined;
       this.fail(e, idsOf(msg), file);
     }
   }
@@ -295,6 +319,9 @@ export class WorkerCore {
         break;
       case 'anatomical-export':
         this.anatomical(msg);
+        break;
+      case 'hex-export':
+        this.hex(msg);
         break;
       case 'ack':
         this.ack(msg.runId, msg.seq);
@@ -437,6 +464,44 @@ export class WorkerCore {
     );
     const summary = JSON.parse(out.summary) as AnatomicalSummary;
     this.send({ type: 'anatomical-file', reqId: msg.reqId, summary, bytes: out.bytes });
+  }
+
+  /**
+   * Builds the LV wall's hexahedra between a loaded file's two finished LV meshes (beside a run in
+   * progress, which it leaves alone) and sends its figures and VTK file. A file that does not say
+   * where the septum is, or a value out of range, is the core's typed error with its reason: the
+   * request fails, the worker goes on.
+   */
+  private hex(msg: HexExportRequest): void {
+    const build = this.session.hex_wall;
+    if (!build) {
+      this.send({ type: 'error', reqId: msg.reqId, error: { code: 'hex_unavailable', message: 'this core cannot build the hexahedral wall', file: msg.fileName } });
+      return;
+    }
+    // What wasm-bindgen would throw on (not the core's typed error) would take the worker down with it.
+    const bad = malformedHex(msg);
+    if (bad) {
+      this.send({ type: 'error', reqId: msg.reqId, error: { code: ErrorCodes.protocol, message: `the hexahedral wall: ${bad}`, file: msg.fileName } });
+      return;
+    }
+    const out = build.call(
+      this.session,
+      msg.fileName,
+      paramsJson(msg.params, msg.options, msg.leaveOut),
+      msg.lids,
+      msg.endo.surface,
+      msg.endo.positions,
+      msg.endo.indices,
+      msg.epi.surface,
+      msg.epi.positions,
+      msg.epi.indices,
+      msg.rings,
+      msg.points,
+      msg.layers,
+      msg.header.join('\n'),
+    );
+    const summary = JSON.parse(out.summary) as HexSummary;
+    this.send({ type: 'hex-file', reqId: msg.reqId, summary, bytes: out.bytes });
   }
 
   /** The label map's grid from its header (null: not a NIfTI-1 file, or a core without the call). */
@@ -633,6 +698,7 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
     case 'wall-export':
     case 'biv-wall-export':
     case 'anatomical-export':
+    case 'hex-export':
       return { reqId: msg.reqId };
     case 'run':
     case 'ack':
@@ -656,6 +722,25 @@ export function malformedAnatomical(msg: AnatomicalExportRequest): string | null
   const count = (v: unknown) => typeof v === 'number' && Number.isInteger(v) && v >= 0 && v <= 0xffff_ffff;
   if (!count(msg.rings) || !count(msg.points)) return `the layout must be two whole numbers (got ${String(msg.rings)}x${String(msg.points)})`;
   if (typeof msg.format !== 'string' || !Array.isArray(msg.header)) return 'the request has no format or no header';
+  return null;
+}
+
+/**
+ * What is wrong with a 'hex-export' request in the shapes the binding takes (null: nothing), as
+ * `malformedAnatomical`: refused as data before wasm-bindgen's conversions. The ranges (rings,
+ * points, layers) are the core's to check: it says them in its message.
+ */
+export function malformedHex(msg: HexExportRequest): string | null {
+  for (const [what, m] of [['endocardium', msg.endo], ['epicardium', msg.epi]] as const) {
+    const mesh = m as Partial<HexExportRequest['endo']> | undefined;
+    if (!mesh || typeof mesh.surface !== 'string') return `the request names no ${what} surface`;
+    if (!(mesh.positions instanceof Float64Array) || !(mesh.indices instanceof Uint32Array)) return `the ${what} mesh must be a Float64Array of positions and a Uint32Array of indices`;
+  }
+  const count = (v: unknown) => typeof v === 'number' && Number.isInteger(v) && v >= 0 && v <= 0xffff_ffff;
+  if (!count(msg.rings) || !count(msg.points) || !count(msg.layers)) {
+    return `the layout and layers must be whole numbers (got ${String(msg.rings)}x${String(msg.points)}x${String(msg.layers)})`;
+  }
+  if (!Array.isArray(msg.header)) return 'the request has no header';
   return null;
 }
 

@@ -4,8 +4,9 @@
  * screenshot; once several surfaces of the file have been run, all of them in one OBJ; once
  * LV_ENDO and LV_EPI have both been run with the settings in the panel, the LV wall (one closed
  * solid, built in the worker: export/wall.ts) in STL, OBJ, PLY or VTK, with its figures and its
- * thickness by AHA segment (the bullseye, Bullseye.ts); and
- * below it, once LV_ENDO, RV_ENDO and BIV_EPI have been, the biventricular wall
+ * thickness by AHA segment (the bullseye, Bullseye.ts), and directly under it the same wall as
+ * layers of hexahedra for finite-element simulation (HexRow.ts, export/hexWall.ts); and
+ * below them, once LV_ENDO, RV_ENDO and BIV_EPI have been, the biventricular wall
  * (export/bivWall.ts) the same way (each a WallRow, with a View toggle that shows the solid in
  * the 3D view in place of the surface: one wall at a time). Above the walls, the anatomical mesh
  * of the finished surface on screen (AnatomicalRow.ts: the same vertices for every heart). Every
@@ -27,6 +28,8 @@ import { WallRow, type BuiltWall, type WallRowSpec } from './WallRow';
 import { BullseyeView } from './Bullseye';
 import { AnatomicalRow, type BuiltAnatomical } from './AnatomicalRow';
 import type { AnatomicalLayout } from './export/anatomical';
+import { HexRow, type BuiltHex } from './HexRow';
+import type { HexLayout } from './export/hexWall';
 
 const ALL_OFF = 'All surfaces of the file in one OBJ: each surface appears once its own run has finished (pick it in the Surface menu)';
 
@@ -64,6 +67,12 @@ export interface ExportSource {
   showAnatomical(built: BuiltAnatomical): void;
   /** Takes the anatomical mesh out of the 3D view. */
   hideAnatomical(): void;
+  /**
+   * The LV wall's meshes as layers of hexahedra of `layout` (`header`: with the app's header
+   * lines); null when the LV wall cannot be built now. Rejects with the core's error (its refusal
+   * says why the file can have none).
+   */
+  hexFile(layout: HexLayout, header: boolean): Promise<BuiltHex> | null;
 }
 
 /** The LV wall's row: LV_ENDO + LV_EPI (its test ids `wall-export`, `export-wall-<fmt>`, `wall-figures`). */
@@ -136,6 +145,7 @@ export class ExportPanel {
   private readonly lvWall: WallRow;
   private readonly bivWall: WallRow;
   private readonly anatomical: AnatomicalRow;
+  private readonly hex: HexRow;
 
   constructor(private readonly source: ExportSource) {
     const button = (label: string, testid: string, title: string, fn: () => void | Promise<void>) => {
@@ -174,6 +184,7 @@ export class ExportPanel {
       show: (built) => source.showAnatomical(built),
       hide: () => source.hideAnatomical(),
     });
+    this.hex = new HexRow({ info: () => source.info(), build: (layout, header) => source.hexFile(layout, header), failed });
     this.element = h(
       'section',
       { class: 'panel exports', 'aria-label': 'Export' },
@@ -181,6 +192,7 @@ export class ExportPanel {
       h('div', { class: 'button-grid' }, ...this.meshButtons, this.json, this.session, this.png, this.all),
       this.anatomical.element,
       this.lvWall.element,
+      this.hex.element,
       this.bivWall.element,
     );
     this.setAvailable(false, false);
@@ -188,10 +200,12 @@ export class ExportPanel {
 
   /**
    * Whether the LV wall can be built now (export/wall.ts `wallReadiness`): its buttons and their
-   * titles follow; figures of a wall of other meshes (or settings) are taken away.
+   * titles follow; figures of a wall of other meshes (or settings) are taken away. The hexahedra
+   * are built of the same meshes, and follow too.
    */
   setWall(wall: WallReadiness): void {
     this.lvWall.set(wall);
+    this.hex.set(wall);
   }
 
   /** Whether the biventricular wall can be built now (export/bivWall.ts `bivWallReadiness`), as `setWall`. */

@@ -33,7 +33,9 @@ export type WallReadiness =
   | { ready: true; endo: WallMesh; epi: WallMesh; title: string; key: string }
   | { ready: false; title: string; key: string };
 
-const WHAT = 'The LV wall: the LV_ENDO and LV_EPI meshes cut at the base and joined into one closed solid';
+/** How the wall's titles begin (the hexahedra's row says what it is instead, export/hexWall.ts). */
+export const WALL_WHAT = 'The LV wall: the LV_ENDO and LV_EPI meshes cut at the base and joined into one closed solid';
+const WHAT = WALL_WHAT;
 const RUN_THEM = '(Surface menu, or All)';
 
 /**
@@ -86,7 +88,12 @@ export function wallFormatTitle(format: WallFormat): string {
 
 /** `patient1-ED-LV_wall.obj` (the time frame after it, as the surface exports have it). */
 export function wallFileName(info: ExportInfo, format: WallFormat): string {
-  return `${exportBaseName({ ...info, surface: 'LV_wall' })}.${format}`;
+  return `${wallBaseName(info)}.${format}`;
+}
+
+/** `patient1-ED-LV_wall` (`-frame9` after it): the LV wall's files' names before what follows (a format, the hexahedra's layout). */
+export function wallBaseName(info: ExportInfo): string {
+  return exportBaseName({ ...info, surface: 'LV_wall' });
 }
 
 /** The app's lines in the wall file's header, after the command line's comment. */
