@@ -251,6 +251,11 @@ pub fn build(
     layout: Layout,
 ) -> Result<Anatomical> {
     let degenerate = |why: String| CoreError::Degenerate(why);
+    // The fields are public: a layout made without `Layout::new` is checked here.
+    Layout::new(layout.rings, layout.points).map_err(|message| CoreError::ParamInvalid {
+        name: "layout".into(),
+        message,
+    })?;
     let n = base
         .normal
         .try_normalize(1e-12)

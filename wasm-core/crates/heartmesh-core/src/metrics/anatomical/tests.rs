@@ -210,6 +210,17 @@ fn what_cannot_be_laid_out_says_why() {
     )
     .unwrap_err();
     assert!(e.to_string().contains("along the long axis"), "{e}");
+    // A layout made without its checks.
+    for (rings, points) in [(1, 48), (0, 48), (24, 0), (24, 7)] {
+        let e = build(
+            &surface,
+            &base(),
+            &septum_towards(v3(1.0, 0.0, 0.0)),
+            Layout { rings, points },
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("2-200 rings of 8-720 points"), "{e}");
+    }
     // A base plane below the whole surface.
     let low = Plane::new(v3(0.0, 0.0, -50.0), v3(0.0, 0.0, 1.0)).unwrap();
     let e = build(
