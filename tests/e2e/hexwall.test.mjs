@@ -47,7 +47,7 @@ describe('the LV wall as hexahedra', () => {
     assert.equal(await page.isDisabled(save), true);
     assert.match(await page.getAttribute(save, 'title'), /^The LV wall as layers of hexahedra .*: run LV_EPI too \(Surface menu, or All\)$/);
     assert.equal(await page.textContent(save), 'Hexahedra VTK');
-    assert.equal(await page.textContent('[data-testid=hex-hint]'), 'layers of hexahedra for finite-element simulation (transmural, longitudinal, circumferential coordinates; AHA segment per cell)');
+    assert.equal(await page.textContent('[data-testid=hex-hint]'), 'layers of hexahedra for finite-element simulation (transmural, longitudinal, circumferential coordinates; rule-based fibres, +60° to −60°; AHA segment per cell)');
     // Directly under the LV wall's row.
     assert.equal(await page.$eval(row, (el) => el.previousElementSibling?.getAttribute('data-testid')), 'wall-export');
 
@@ -87,6 +87,13 @@ describe('the LV wall as hexahedra', () => {
     const transmural = vtkBlock(lines, 'SCALARS transmural', points);
     assert.ok(transmural.every((t) => t >= 0 && t <= 1), 'transmural 0-1');
     assert.deepEqual([...new Set(transmural)].sort(), [0, 0.5, 1], 'two layers: the endocardium, the middle, the epicardium');
+    // Rule-based fibres and the sheet: unit vectors, one per point.
+    for (const name of ['fibre', 'sheet']) {
+      const at = lines.indexOf(`VECTORS ${name} double`);
+      assert.ok(at > 0, `VECTORS ${name}`);
+      const vectors = lines.slice(at + 1, at + 1 + points).map((l) => l.split(' ').map(Number));
+      assert.ok(vectors.every((v) => v.length === 3 && Math.abs(Math.hypot(...v) - 1) < 1e-9), `${name}: unit vectors`);
+    }
     const segments = vtkBlock(lines, 'SCALARS aha_segment', cells);
     assert.deepEqual([...new Set(segments)].sort((a, b) => a - b), Array.from({ length: 17 }, (_, i) => i + 1), 'every AHA segment');
 

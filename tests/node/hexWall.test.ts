@@ -2,9 +2,10 @@
 // --hex-mesh`: biv-me patient 1 ED's LV_ENDO and LV_EPI reconstructed in wasm (the CLI's meshes:
 // the same runs, as wall.test.ts has them) and fed to the binding's `Session.hex_wall` give the
 // report's `hex_mesh` (every count equal, the volumes and the smallest scaled Jacobian to 1e-9)
-// and, with no app header, the CLI's VTK unstructured grid: every line the same (the cells, their
-// types, the transmural / longitudinal / circumferential_deg point data, the AHA segment per
-// cell) but the points' coordinates, which agree to 1e-9 (a few differ in the last digit: the
+// and, with no app header, the CLI's VTK unstructured grid: every line of text the same and every
+// number (the points, the cells and their types, the transmural / longitudinal /
+// circumferential_deg point data, the fibre and sheet vectors, the AHA segment per cell) to 1e-9
+// (a few coordinates differ in the last digit: the
 // binding takes the base plane from the file's contours, the command line from its
 // reconstructions), at the default 24x48x3 and at --hex-layout 10x16 --layers 2. Through the
 // worker's logic (the app's path: runs to 'done', their full-precision meshes, a 'hex-export'
@@ -48,15 +49,24 @@ function hexOf(session: Session, endo: Mesh, epi: Mesh, rings = 24, points = 48,
   return { summary: JSON.parse(out.summary) as HexSummary, bytes: out.bytes };
 }
 
-/** A legacy VTK file's lines but its POINTS block's coordinates, and those coordinates. */
+/**
+ * A legacy VTK file's lines with every line of numbers (coordinates, fibre and sheet vectors,
+ * point data, cells) replaced by how many numbers it holds, and those numbers in order: the
+ * text must match exactly, the numbers to 1e-9 (integers such as cell indices then exactly).
+ */
 function vtkParts(text: string): { lines: string[]; points: number[] } {
-  const all = text.split('\n');
-  const at = all.findIndex((l) => l.startsWith('POINTS '));
-  const n = Number(all[at].split(' ')[1]);
+  const lines: string[] = [];
   const points: number[] = [];
-  let end = at + 1;
-  while (points.length < 3 * n) points.push(...all[end++].trim().split(/\s+/).map(Number));
-  return { lines: [...all.slice(0, at + 1), ...all.slice(end)], points };
+  for (const line of text.split('\n')) {
+    const cells = line.trim().split(/\s+/);
+    if (line.trim() !== '' && cells.every((c) => c !== '' && Number.isFinite(Number(c)))) {
+      points.push(...cells.map(Number));
+      lines.push(`#${cells.length}`);
+    } else {
+      lines.push(line);
+    }
+  }
+  return { lines, points };
 }
 
 function expectClose(mine: number[], theirs: number[], tolerance = 1e-9): void {
@@ -81,7 +91,7 @@ function expectFile(bytes: Uint8Array, cliText: string, points: number): void {
   const mine = vtkParts(new TextDecoder().decode(bytes));
   const theirs = vtkParts(cliText);
   expect(mine.lines).toEqual(theirs.lines);
-  expect(mine.points).toHaveLength(3 * points);
+  expect(mine.lines).toContain(`POINTS ${points} double`);
   expectClose(mine.points, theirs.points);
 }
 
@@ -117,7 +127,7 @@ describe('the hexahedral LV wall in wasm, against heartmesh myocardium --hex-mes
       'POINTS 4612 double',
     ]);
     expect(lines).toContain('CELL_TYPES 3456');
-    for (const a of ['SCALARS transmural double 1', 'SCALARS longitudinal double 1', 'SCALARS circumferential_deg double 1', 'SCALARS aha_segment int 1']) expect(lines).toContain(a);
+    for (const a of ['SCALARS transmural double 1', 'SCALARS longitudinal double 1', 'SCALARS circumferential_deg double 1', 'VECTORS fibre double', 'VECTORS sheet double', 'SCALARS aha_segment int 1']) expect(lines).toContain(a);
   });
 
   it('--hex-layout 10x16 --layers 2: the same figures and file', () => {

@@ -33,7 +33,7 @@ const info: ExportInfo = {
 /** `heartmesh myocardium patient1-ED.csv --hex-mesh hex.vtk` (the report's hex_mesh, without its file). */
 const SUMMARY: HexSummary = {
   rings: 24, points_per_ring: 48, layers: 3, points: 4612, hexahedra: 3312, wedges: 144,
-  volume_ml: 99.16339918223251, layouts_volume_ml: 99.1689934391463, min_scaled_jacobian: 0.05879491141396876, inverted_cells: 0,
+  volume_ml: 99.16339918223251, layouts_volume_ml: 99.1689934391463, min_scaled_jacobian: 0.05879491141396876, inverted_cells: 0, helix_deg: [60, -60],
 };
 const NO_SEPTUM = 'the hexahedral wall: its cells are laid out from the septum: the file has no RV_INSERT landmarks and no RV contours';
 

@@ -26,4 +26,6 @@ export interface HexSummary {
   min_scaled_jacobian: number;
   /** Cells with a corner at or below 0: a solver would refuse them. */
   inverted_cells: number;
+  /** The rule-based fibres' helix angle at the endocardium and at the epicardium (degrees; +60, -60). */
+  helix_deg: [number, number];
 }

@@ -28,7 +28,7 @@ pub const USAGE: &str =
     "heartmesh myocardium CONTOURS [VIEWS...] -o WALL.vtk [--report REPORT.json]
     [--endo LV_ENDO] [--epi LV_EPI] [--biventricular [--rv-endo RV_ENDO]]
     [--min-thickness 1|off] [--frame N|LABEL] [--bullseye SEGMENTS.svg]
-    [--hex-mesh HEX.vtk [--hex-layout 24x48] [--layers 3]]
+    [--hex-mesh HEX.vtk [--hex-layout 24x48] [--layers 3] [--helix-angles 60,-60]]
     [reconstruct's parameter options: --iterations ... --end-caps ... --align-slices ...]
     [--ascii] [--quiet]
   The LV myocardium as one closed solid (volume meshing with gmsh or TetGen, simulation, 3D
@@ -64,7 +64,10 @@ pub const USAGE: &str =
   reconstruct --anatomical-mesh), both laid out on the wall's base plane from one septum: a VTK
   unstructured grid with point data transmural (0 endocardium - 1 epicardium), longitudinal
   (0 apex - 1 base), circumferential_deg (from the septum towards anterior) and cell data
-  aha_segment (1-17); --hex-layout RINGSxPOINTS (default 24x48), --layers 1-20 (default 3);
+  aha_segment (1-17), and the unit vectors fibre (rule-based: the helix angle turns from
+  +60 degrees at the endocardium to -60 at the epicardium, linear through the wall, positive a
+  right-handed helix; --helix-angles ENDO,EPI sets them) and sheet (transmural);
+  --hex-layout RINGSxPOINTS (default 24x48), --layers 1-20 (default 3);
   the cells are built from the surfaces as reconstructed (before --min-thickness), and a
   warning counts any inverted cell; the report's hex_mesh gives the counts, volume and the
   smallest scaled Jacobian. Refused before any run with --biventricular or for a file without
@@ -84,6 +87,7 @@ const VALUE_FLAGS: &[&str] = &[
     "hex-mesh",
     "hex-layout",
     "layers",
+    "helix-angles",
 ];
 
 /// The default of --min-thickness (mm): a wall this thin is under any reconstruction's error,

@@ -1,11 +1,12 @@
-//! `myocardium --hex-mesh HEX.vtk [--hex-layout 24x48] [--layers 3]`: the LV wall as layers of
+//! `myocardium --hex-mesh HEX.vtk [--hex-layout 24x48] [--layers 3] [--helix-angles 60,-60]`:
+//! the LV wall as layers of
 //! hexahedra between the anatomical layouts of its two surfaces (core `mesh::hex_wall`), written
 //! beside the wall solid, its figures in the report.
 //!
 //! Checked before any run: the option's values, that the wall is the LV's (a biventricular wall
 //! has no single layout), and that the file says where the septum is.
 
-use heartmesh_core::mesh::hex_wall::{self, HexWall, DEFAULT_LAYERS, LAYERS};
+use heartmesh_core::mesh::hex_wall::{self, HexWall, DEFAULT_HELIX_DEG, DEFAULT_LAYERS, LAYERS};
 use heartmesh_core::metrics::anatomical::{self, Layout};
 use heartmesh_core::metrics::septum;
 use heartmesh_core::pipeline::Reconstruction;
@@ -22,15 +23,21 @@ pub struct Request {
     pub path: String,
     pub layout: Layout,
     pub layers: usize,
+    /// The fibres' helix angles, endocardium and epicardium (degrees).
+    pub helix: (f64, f64),
 }
 
 /// The request, or None without `--hex-mesh`; `--hex-layout` or `--layers` alone are usage
 /// errors (they would silently do nothing).
 pub fn request_from(p: &Parsed, biventricular: bool) -> Result<Option<Request>, CliError> {
     let Some(path) = p.value("hex-mesh") else {
-        if p.value("hex-layout").is_some() || p.value("layers").is_some() {
+        if ["hex-layout", "layers", "helix-angles"]
+            .iter()
+            .any(|o| p.value(o).is_some())
+        {
             return Err(CliError::usage(
-                "--hex-layout and --layers shape the cells of --hex-mesh; add --hex-mesh FILE.vtk",
+                "--hex-layout, --layers and --helix-angles shape the cells of --hex-mesh; add \
+                 --hex-mesh FILE.vtk",
             ));
         }
         return Ok(None);
@@ -62,11 +69,32 @@ pub fn request_from(p: &Parsed, biventricular: bool) -> Result<Option<Request>, 
                 ))
             })?,
     };
+    let helix = match p.value("helix-angles") {
+        None => DEFAULT_HELIX_DEG,
+        Some(v) => helix_angles(v).ok_or_else(|| {
+            CliError::usage(format!(
+                "--helix-angles {v}: give ENDO,EPI in degrees, each from -90 to 90 (e.g. 60,-60)"
+            ))
+        })?,
+    };
     Ok(Some(Request {
         path: path.to_string(),
         layout,
         layers,
+        helix,
     }))
+}
+
+/// `ENDO,EPI` degrees, each within +-90.
+fn helix_angles(text: &str) -> Option<(f64, f64)> {
+    let (a, b) = text.split_once(',')?;
+    let angle = |s: &str| {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|d| d.is_finite() && d.abs() <= 90.0)
+    };
+    Some((angle(a)?, angle(b)?))
 }
 
 /// Before any run: a file that does not say where the septum is has no layout (status 2).
@@ -100,7 +128,8 @@ pub fn build(
     };
     let inner = lay(endo, "endocardium")?;
     let outer = lay(epi, "epicardium")?;
-    hex_wall::build(&inner, &outer, r.layout, base, r.layers).map_err(|e| anatomical::reason(&e))
+    hex_wall::build_with_helix(&inner, &outer, r.layout, base, r.layers, r.helix)
+        .map_err(|e| anatomical::reason(&e))
 }
 
 /// The report's `hex_mesh` (the file and the figures) or null and `hex_mesh_note`.

@@ -18,6 +18,7 @@ struct Grid {
     cells: Vec<Vec<usize>>,
     types: Vec<u8>,
     arrays: Vec<(String, Vec<f64>)>,
+    vectors: Vec<(String, Vec<[f64; 3]>)>,
 }
 
 fn read_grid(path: &Path) -> Grid {
@@ -28,6 +29,7 @@ fn read_grid(path: &Path) -> Grid {
         cells: Vec::new(),
         types: Vec::new(),
         arrays: Vec::new(),
+        vectors: Vec::new(),
     };
     assert_eq!(lines.next(), Some("# vtk DataFile Version 3.0"));
     let count_of = |line: &str, key: &str| -> Option<usize> {
@@ -59,6 +61,17 @@ fn read_grid(path: &Path) -> Grid {
             block = n;
         } else if let Some(n) = count_of(line, "CELL_DATA ") {
             block = n;
+        } else if let Some(rest) = line.strip_prefix("VECTORS ") {
+            let name = rest.split_whitespace().next().unwrap().to_string();
+            let values = lines
+                .by_ref()
+                .take(block)
+                .map(|v| {
+                    let x: Vec<f64> = v.split_whitespace().map(|c| c.parse().unwrap()).collect();
+                    [x[0], x[1], x[2]]
+                })
+                .collect();
+            grid.vectors.push((name, values));
         } else if let Some(rest) = line.strip_prefix("SCALARS ") {
             let name = rest.split_whitespace().next().unwrap().to_string();
             assert_eq!(lines.next(), Some("LOOKUP_TABLE default"));
@@ -137,12 +150,53 @@ fn patient1s_wall_as_hexahedra() {
         out.contains("hex.vtk: 3312 hexahedra + 144 wedges in 3 layers"),
         "{out}"
     );
+    // Fibres: unit vectors in the wall (across the sheet), turning through it from a
+    // right-handed helix at the endocardium to a left-handed one at the epicardium.
+    let vectors = |name: &str| &g.vectors.iter().find(|(n, _)| n == name).unwrap().1;
+    let (fibre, sheet) = (vectors("fibre"), vectors("sheet"));
+    assert_eq!((fibre.len(), sheet.len()), (g.points, g.points));
+    let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    for (f, s) in fibre.iter().zip(sheet) {
+        assert!((dot(f, f) - 1.0).abs() < 1e-9 && (dot(s, s) - 1.0).abs() < 1e-9);
+        assert!(dot(f, s).abs() < 1e-9);
+    }
+    assert_eq!(h["helix_deg"], serde_json::json!([60.0, -60.0]));
+    // The fibre's component along the long axis: up at the endocardium, down at the
+    // epicardium, on a mid-ventricular ring (ring 16), every vertex round it.
+    let n: Vec<f64> = rep["base_plane"]["normal"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let n = [n[0], n[1], n[2]];
+    let per_layer = 24 * 48 + 1;
+    for j in 0..48 {
+        let v = 1 + 15 * 48 + j;
+        let (endo, epi) = (dot(&fibre[v], &n), dot(&fibre[3 * per_layer + v], &n));
+        assert!(endo > 0.5 && epi < -0.5, "vertex {j}: {endo:.2} / {epi:.2}");
+    }
 }
 
 #[test]
 fn the_layout_and_the_layers_shape_the_cells() {
     let dir = scratch("hex-layers");
-    let (rep, g, _) = myocardium(&dir, &["--hex-layout", "8x16", "--layers", "1", "--quiet"]);
+    let (rep, g, _) = myocardium(
+        &dir,
+        &[
+            "--hex-layout",
+            "8x16",
+            "--layers",
+            "1",
+            "--helix-angles",
+            "50,-70",
+            "--quiet",
+        ],
+    );
+    assert_eq!(
+        rep["hex_mesh"]["helix_deg"],
+        serde_json::json!([50.0, -70.0])
+    );
     assert_eq!(g.points, 2 * (8 * 16 + 1));
     assert_eq!(g.cells.len(), 8 * 16);
     assert_eq!(rep["hex_mesh"]["layers"], 1);
@@ -188,6 +242,17 @@ fn what_has_no_cells_is_refused_before_the_run() {
         "8-720 points",
     );
     refused(&p1, &["--hex-mesh", s(&dir.join("h.vtu"))], "(.vtk)");
+    refused(
+        &p1,
+        &["--hex-mesh", s(&hex), "--helix-angles", "60"],
+        "ENDO,EPI in degrees",
+    );
+    refused(
+        &p1,
+        &["--hex-mesh", s(&hex), "--helix-angles", "100,-60"],
+        "from -90 to 90",
+    );
+    refused(&p1, &["--helix-angles", "60,-60"], "add --hex-mesh");
     // A file with LV contours only says nothing of where the septum is.
     let lv_only = dir.join("lv-only.csv");
     let text = std::fs::read_to_string(&p1).unwrap();

@@ -30,7 +30,7 @@ export interface HexLayout extends AnatomicalLayout {
 export const HEX_PROBE: HexLayout = { rings: 2, points: 8, layers: 1 };
 
 /** What the row says under its title: what the mesh is for, in one line. */
-export const HEX_HINT = 'layers of hexahedra for finite-element simulation (transmural, longitudinal, circumferential coordinates; AHA segment per cell)';
+export const HEX_HINT = 'layers of hexahedra for finite-element simulation (transmural, longitudinal, circumferential coordinates; rule-based fibres, +60° to −60°; AHA segment per cell)';
 
 /** What the row is, in its tooltips. */
 export const HEX_WHAT = 'The LV wall as layers of hexahedra (wedges round the apex) between the LV_ENDO and LV_EPI meshes, a VTK unstructured grid';

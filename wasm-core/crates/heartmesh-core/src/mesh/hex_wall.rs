@@ -20,7 +20,9 @@
 //!
 //! Per point: `transmural` (0 on the endocardium, 1 on the epicardium), `longitudinal` (0 at
 //! the apex, 1 at the base: the ring's index over the rings), `circumferential_deg` (the
-//! layout's angle from the septum's middle towards anterior; 0 at the apex). Per cell: its AHA
+//! layout's angle from the septum's middle towards anterior; 0 at the apex), and unit vectors
+//! `fibre` (rule-based, a helix angle from +60 degrees at the endocardium to -60 at the
+//! epicardium by default) and `sheet` (transmural). Per cell: its AHA
 //! segment (1-17, [`crate::metrics::segments::segment_of`] at the cell's centre, the cavity's
 //! depth the endocardial layout's length).
 
@@ -33,6 +35,9 @@ use serde::Serialize;
 
 /// Allowed transmural layers (inclusive).
 pub const LAYERS: (usize, usize) = (1, 20);
+/// Streeter's helix angles (degrees): +60 at the endocardium, -60 at the epicardium.
+pub const DEFAULT_HELIX_DEG: (f64, f64) = (60.0, -60.0);
+
 /// The default: three layers, the fewest that give a sub-endocardial, a mid-wall and a
 /// sub-epicardial cell through the wall.
 pub const DEFAULT_LAYERS: usize = 3;
@@ -79,6 +84,8 @@ pub struct Summary {
     /// 0 for a flat one, negative for an inverted one) and the cells with a corner at or below 0.
     pub min_scaled_jacobian: f64,
     pub inverted_cells: usize,
+    /// The fibres' helix angle at the endocardium and at the epicardium (degrees).
+    pub helix_deg: [f64; 2],
 }
 
 /// A built mesh.
@@ -89,6 +96,10 @@ pub struct HexWall {
     pub transmural: Vec<f64>,
     pub longitudinal: Vec<f64>,
     pub circumferential_deg: Vec<f64>,
+    /// Per point, unit vectors: the rule-based fibre direction and the transmural (sheet)
+    /// direction ([`fibres`]).
+    pub fibre: Vec<Vec3>,
+    pub sheet: Vec<Vec3>,
     /// One AHA segment (1-17) per cell.
     pub aha_segment: Vec<u32>,
     pub summary: Summary,
@@ -130,7 +141,7 @@ const HEX_TETS: [[usize; 4]; 6] = [
 const WEDGE_TETS: [[usize; 4]; 3] = [[0, 1, 2, 3], [1, 2, 3, 4], [2, 3, 4, 5]];
 
 /// The mesh between `endo` and `epi`, two layouts of one `layout` built on `base` from one
-/// septum, `layers` cells through the wall.
+/// septum, `layers` cells through the wall, fibres at [`DEFAULT_HELIX_DEG`].
 pub fn build(
     endo: &Anatomical,
     epi: &Anatomical,
@@ -138,6 +149,26 @@ pub fn build(
     base: &Plane,
     layers: usize,
 ) -> Result<HexWall> {
+    build_with_helix(endo, epi, layout, base, layers, DEFAULT_HELIX_DEG)
+}
+
+/// [`build`] with the fibres' helix angle `helix_deg` (at the endocardium, at the epicardium;
+/// each within +-90 degrees), linear through the wall.
+pub fn build_with_helix(
+    endo: &Anatomical,
+    epi: &Anatomical,
+    layout: Layout,
+    base: &Plane,
+    layers: usize,
+    helix_deg: (f64, f64),
+) -> Result<HexWall> {
+    let (h_endo, h_epi) = helix_deg;
+    if !(h_endo.abs() <= 90.0 && h_epi.abs() <= 90.0) {
+        return Err(CoreError::ParamInvalid {
+            name: "helix angles".into(),
+            message: format!("each within -90 to 90 degrees (got {h_endo}, {h_epi})"),
+        });
+    }
     if !(LAYERS.0..=LAYERS.1).contains(&layers) {
         return Err(CoreError::ParamInvalid {
             name: "layers".into(),
@@ -178,6 +209,7 @@ pub fn build(
             circumferential_deg.push(360.0 * j as f64 / layout.points as f64);
         }
     }
+    let (fibre, sheet) = fibres(&points, per_layer, layers, layout, &base.normal, helix_deg);
     let at = |l: usize, v: usize| (l * per_layer + v) as u32;
     let grid = |ring: usize, j: usize| layout.index(ring, j);
     let mut cells = Vec::with_capacity(layers * layout.points * layout.rings);
@@ -267,6 +299,7 @@ pub fn build(
         layouts_volume_ml: epi.summary.volume_ml - endo.summary.volume_ml,
         min_scaled_jacobian: worst,
         inverted_cells: inverted,
+        helix_deg: [helix_deg.0, helix_deg.1],
     };
     Ok(HexWall {
         points,
@@ -274,9 +307,69 @@ pub fn build(
         transmural,
         longitudinal,
         circumferential_deg,
+        fibre,
+        sheet,
         aha_segment,
         summary,
     })
+}
+
+/// A unit vector perpendicular to `v` (x, else y, crossed with it).
+fn across(v: &Vec3) -> Vec3 {
+    v.cross(&Vec3::x())
+        .try_normalize(1e-9)
+        .or_else(|| v.cross(&Vec3::y()).try_normalize(1e-9))
+        .unwrap_or_else(Vec3::z)
+}
+
+/// Rule-based fibre directions (Streeter et al., Circ Res 1969; the linear rule of Bayer et al.,
+/// Ann Biomed Eng 2012) at every point: the local frame is the transmural direction (the
+/// point's line from the endocardial to the epicardial layout: the `sheet`), the circumferential
+/// one (along its ring, towards anterior: counterclockwise seen from the base) and the
+/// longitudinal one (their cross product, towards the base); the fibre turns from the
+/// circumferential towards the longitudinal direction by the helix angle, `helix_deg.0` on the
+/// endocardium to `helix_deg.1` on the epicardium, linear in the transmural coordinate. A
+/// positive angle makes a right-handed helix (Streeter's endocardium, +60 degrees), a negative
+/// one a left-handed helix (his epicardium, -60). The apex, where no ring runs round, takes the
+/// frame of ring 1's first vertex.
+fn fibres(
+    points: &[Vec3],
+    per_layer: usize,
+    layers: usize,
+    layout: Layout,
+    axis: &Vec3,
+    helix_deg: (f64, f64),
+) -> (Vec<Vec3>, Vec<Vec3>) {
+    let mut fibre = Vec::with_capacity(points.len());
+    let mut sheet = Vec::with_capacity(points.len());
+    for l in 0..=layers {
+        let at = |v: usize| points[l * per_layer + v];
+        let t = l as f64 / layers as f64;
+        let helix = (helix_deg.0 + (helix_deg.1 - helix_deg.0) * t).to_radians();
+        for v in 0..per_layer {
+            // The apex borrows ring 1's first vertex's frame.
+            let (ring, j) = if v == 0 {
+                (1, 0)
+            } else {
+                ((v - 1) / layout.points + 1, (v - 1) % layout.points)
+            };
+            let w = layout.index(ring, j);
+            let outward = points[layers * per_layer + w] - points[w];
+            // Where the two layouts meet (no wall: never on a valid wall), any direction across
+            // the axis keeps the vectors finite.
+            let transmural = outward.try_normalize(1e-12).unwrap_or_else(|| across(axis));
+            let k = layout.points;
+            let round = at(layout.index(ring, j + 1)) - at(layout.index(ring, j + k - 1));
+            let circumferential = (round - transmural * round.dot(&transmural))
+                .try_normalize(1e-12)
+                .or_else(|| axis.cross(&transmural).try_normalize(1e-12))
+                .unwrap_or_else(|| across(&transmural));
+            let longitudinal = transmural.cross(&circumferential);
+            fibre.push(circumferential * helix.cos() + longitudinal * helix.sin());
+            sheet.push(transmural);
+        }
+    }
+    (fibre, sheet)
 }
 
 /// The file's header: what the cells and arrays are (the command line's and the app's files
@@ -287,15 +380,15 @@ pub fn comment(h: &HexWall, file_name: &str, endo: &str, epi: &str) -> String {
     format!(
         "LV myocardium hexahedra {}x{}x{} of {name} ({endo} + {epi}); units mm, the contour \
          file's coordinates; points transmural 0-1, longitudinal 0-1, circumferential_deg from \
-         the septum; cells aha_segment 1-17",
+         the septum, fibre, sheet; cells aha_segment 1-17",
         s.rings, s.points_per_ring, s.layers
     )
 }
 
 impl HexWall {
     /// The mesh as a VTK legacy unstructured grid (ParaView, meshio, and through meshio most
-    /// simulation codes): point data `transmural`, `longitudinal`, `circumferential_deg`, cell
-    /// data `aha_segment`.
+    /// simulation codes): point data `transmural`, `longitudinal`, `circumferential_deg` and the
+    /// vectors `fibre` and `sheet`, cell data `aha_segment`.
     pub fn to_vtk(&self, header_comment: &str) -> Vec<u8> {
         let cells: Vec<(u8, &[u32])> = self
             .cells
@@ -310,6 +403,7 @@ impl HexWall {
                 ("longitudinal", &self.longitudinal),
                 ("circumferential_deg", &self.circumferential_deg),
             ],
+            &[("fibre", &self.fibre), ("sheet", &self.sheet)],
             &[("aha_segment", &self.aha_segment)],
             header_comment,
         )

@@ -176,13 +176,15 @@ fn push_region_cells(out: &mut String, regions: &Regions, n: usize) {
 }
 
 /// A volume mesh as VTK legacy 3.0 ASCII UNSTRUCTURED_GRID: `cells` as (VTK cell type, point
-/// indices), then per-point double arrays and per-cell int arrays, each a SCALARS block (the
+/// indices), then per-point double arrays (SCALARS) and vectors (VECTORS), and per-cell int
+/// arrays (SCALARS) (the
 /// hexahedral myocardium, `mesh::hex_wall`, for ParaView, meshio and the simulation codes that
 /// read VTK).
 pub fn write_unstructured(
     points: &[Vec3],
     cells: &[(u8, &[u32])],
     point_data: &[(&str, &[f64])],
+    point_vectors: &[(&str, &[Vec3])],
     cell_data: &[(&str, &[u32])],
     header_comment: &str,
 ) -> Vec<u8> {
@@ -206,7 +208,7 @@ pub fn write_unstructured(
     for (ty, _) in cells {
         out.push_str(&format!("{ty}\n"));
     }
-    if !point_data.is_empty() {
+    if !point_data.is_empty() || !point_vectors.is_empty() {
         out.push_str(&format!("POINT_DATA {}\n", points.len()));
         for (name, values) in point_data {
             out.push_str(&format!(
@@ -214,6 +216,10 @@ pub fn write_unstructured(
                 array_name(name)
             ));
             push_number_lines(&mut out, values);
+        }
+        for (name, vectors) in point_vectors {
+            out.push_str(&format!("VECTORS {} double\n", array_name(name)));
+            push_point_lines(&mut out, vectors);
         }
     }
     if !cell_data.is_empty() {

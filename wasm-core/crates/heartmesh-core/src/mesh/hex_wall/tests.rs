@@ -76,6 +76,58 @@ fn an_ellipsoidal_shell_gives_valid_cells_of_its_volume() {
 }
 
 #[test]
+fn fibres_turn_from_plus_to_minus_sixty_degrees_through_the_wall() {
+    let layout = Layout::DEFAULT;
+    let w = shell(layout, 2);
+    let per_layer = 24 * 48 + 1;
+    // Ring 16 of 24 lies near the ellipsoids' equator (8 cap rings, then 16 up to z = 12):
+    // the wall runs straight up there, so the longitudinal direction is +z.
+    let mut equator = None;
+    for ring in 9..=24 {
+        let v = layout.index(ring, 12);
+        if w.points[v].z.abs() < 2.5 {
+            equator = Some(v);
+        }
+    }
+    let v = equator.expect("a ring near z = 0");
+    for (layer, helix) in [(0, 60.0f64), (1, 0.0), (2, -60.0)] {
+        let k = layer * per_layer + v;
+        let (f, s) = (w.fibre[k], w.sheet[k]);
+        assert!((f.norm() - 1.0).abs() < 1e-12 && (s.norm() - 1.0).abs() < 1e-12);
+        assert!(f.dot(&s).abs() < 1e-12, "the fibre lies in the wall");
+        // Vertex 12 of 48 is a quarter turn from +x: +y, where counterclockwise seen from the
+        // base (+z) is -x; the sheet points out (+y), tilted down a little towards the
+        // epicardium's own ring (its apex lies lower); the longitudinal direction is then the
+        // sheet crossed with -x, mostly up.
+        assert!(s.y > 0.95, "{s:?}");
+        let round = v3(-1.0, 0.0, 0.0);
+        let up = s.cross(&round);
+        assert!(up.z > 0.95, "{up:?}");
+        let angle = f.dot(&up).atan2(f.dot(&round)).to_degrees();
+        assert!(
+            (angle - helix).abs() < 3.0,
+            "layer {layer}: {angle} degrees, not {helix}"
+        );
+    }
+    // The endocardium's fibres climb counterclockwise (seen from the base): a right-handed helix.
+    let f = w.fibre[v];
+    assert!(f.z > 0.8 && -f.x > 0.4, "{f:?}");
+    // Other angles through the wall, and their range.
+    let base = Plane::new(v3(0.0, 0.0, BASE_Z), v3(0.0, 0.0, 1.0)).unwrap();
+    let o = Orientation {
+        septum: v3(1.0, 0.0, 0.0),
+        source: "test",
+        points: 1,
+    };
+    let endo = layout_of(&ellipsoid(25.0, 20.0, 40.0), &base, &o, layout).unwrap();
+    let epi = layout_of(&ellipsoid(33.0, 28.0, 47.0), &base, &o, layout).unwrap();
+    let flat = build_with_helix(&endo, &epi, layout, &base, 2, (0.0, 0.0)).unwrap();
+    assert!(flat.fibre[v].z.abs() < 0.05, "{:?}", flat.fibre[v]);
+    let e = build_with_helix(&endo, &epi, layout, &base, 2, (95.0, -60.0)).unwrap_err();
+    assert!(e.to_string().contains("-90 to 90"), "{e}");
+}
+
+#[test]
 fn layers_are_held_to_their_range() {
     let layout = Layout::new(4, 8).unwrap();
     let base = Plane::new(v3(0.0, 0.0, BASE_Z), v3(0.0, 0.0, 1.0)).unwrap();
