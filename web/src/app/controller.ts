@@ -1015,22 +1015,34 @@ export class Controller {
    * (full precision where the core gave it), written as `format`; null when it cannot be built now.
    */
   wallFile(format: WallFormat): Promise<{ summary: WallSummary; bytes: Uint8Array }> | null {
+    const src = this.wallSources();
+    if (!src || !this.client) return null;
+    return this.client.wallFile(src.settings, {
+      endo: src.endo,
+      epi: src.epi,
+      minThicknessMm: WALL_MIN_THICKNESS_MM,
+      format,
+      header: wallHeaderLines(src.now, src.endo.surface, src.epi.surface, WALL_MIN_THICKNESS_MM),
+    });
+  }
+
+  /**
+   * What a file built of the LV wall's two surfaces needs (the wall, its hexahedra): the kept
+   * LV_ENDO and LV_EPI meshes (full precision where the core gave it), the run settings with the
+   * file and frame's leave-out list, and the export info for the header; null when the LV wall
+   * cannot be built now.
+   */
+  private wallSources() {
     const w = this.wallReadiness();
     const settings = this.runSettings();
     const info = this.exportInfo();
-    if (!w.ready || !settings || !info || !this.client) return null;
+    if (!w.ready || !settings || !info) return null;
     const mesh = (m: KeptMesh) => ({ surface: m.surface, positions: m.positions64 ?? Float64Array.from(m.positions), indices: m.indices });
     // Both meshes were run with the file and frame's list (readiness checks it): the base plane
     // is cut of the contours they follow.
     const leaveOut = this.leaveOutNow();
     const now = { ...info, params: schemaOrdered(this.params, this.schema), lids: this.lids, options: this.options, leaveOut };
-    return this.client.wallFile({ ...settings, leaveOut }, {
-      endo: mesh(w.endo as KeptMesh),
-      epi: mesh(w.epi as KeptMesh),
-      minThicknessMm: WALL_MIN_THICKNESS_MM,
-      format,
-      header: wallHeaderLines(now, w.endo.surface, w.epi.surface, WALL_MIN_THICKNESS_MM),
-    });
+    return { settings: { ...settings, leaveOut }, endo: mesh(w.endo as KeptMesh), epi: mesh(w.epi as KeptMesh), now };
   }
 
   /**
@@ -1040,22 +1052,15 @@ export class Controller {
    * The core refuses a file that does not say where the septum is, saying why.
    */
   hexFile(layout: HexLayout, header: boolean): Promise<BuiltHex> | null {
-    const w = this.wallReadiness();
-    const settings = this.runSettings();
-    const info = this.exportInfo();
-    if (!w.ready || !settings || !info || !this.client) return null;
-    const mesh = (m: KeptMesh) => ({ surface: m.surface, positions: m.positions64 ?? Float64Array.from(m.positions), indices: m.indices });
-    // Both meshes were run with the file and frame's list (readiness checks it): the base plane
-    // is cut of the contours they follow.
-    const leaveOut = this.leaveOutNow();
-    const now = { ...info, params: schemaOrdered(this.params, this.schema), lids: this.lids, options: this.options, leaveOut };
-    return this.client.hexFile({ ...settings, leaveOut }, {
-      endo: mesh(w.endo as KeptMesh),
-      epi: mesh(w.epi as KeptMesh),
+    const src = this.wallSources();
+    if (!src || !this.client) return null;
+    return this.client.hexFile(src.settings, {
+      endo: src.endo,
+      epi: src.epi,
       rings: layout.rings,
       points: layout.points,
       layers: layout.layers,
-      header: header ? hexHeaderLines(now, w.endo.surface, w.epi.surface) : [],
+      header: header ? hexHeaderLines(src.now, src.endo.surface, src.epi.surface) : [],
     });
   }
 

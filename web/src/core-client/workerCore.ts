@@ -432,6 +432,26 @@ export class WorkerCore {
   }
 
   /**
+   * Whether a derived-file request (the anatomical mesh, the hexahedra) may go to wasm: the core
+   * has the call (`available`) and the request the shapes the binding takes (`malformed` says
+   * what is wrong, or null). Otherwise its error is sent, `unavailable` or a protocol error
+   * starting with `what`, and the worker goes on: what wasm-bindgen would throw on (not the
+   * core's typed error) would take the worker down with it.
+   */
+  private admitted(msg: { reqId: number; fileName: string }, available: boolean, unavailable: string, what: string, malformed: () => string | null): boolean {
+    if (!available) {
+      this.send({ type: 'error', reqId: msg.reqId, error: { code: unavailable, message: `this core cannot build ${what}`, file: msg.fileName } });
+      return false;
+    }
+    const bad = malformed();
+    if (bad) {
+      this.send({ type: 'error', reqId: msg.reqId, error: { code: ErrorCodes.protocol, message: `${what}: ${bad}`, file: msg.fileName } });
+      return false;
+    }
+    return true;
+  }
+
+  /**
    * Resamples a loaded file's finished LV mesh onto the anatomical layout (beside a run in
    * progress, which it leaves alone) and sends its figures and file. A surface or file that can
    * have none (an RV surface, no RV landmarks or contours to place the septum by) is the core's
@@ -439,16 +459,7 @@ export class WorkerCore {
    */
   private anatomical(msg: AnatomicalExportRequest): void {
     const build = this.session.anatomical_mesh;
-    if (!build) {
-      this.send({ type: 'error', reqId: msg.reqId, error: { code: 'anatomical_unavailable', message: 'this core cannot build the anatomical mesh', file: msg.fileName } });
-      return;
-    }
-    // What wasm-bindgen would throw on (not the core's typed error) would take the worker down with it.
-    const bad = malformedAnatomical(msg);
-    if (bad) {
-      this.send({ type: 'error', reqId: msg.reqId, error: { code: ErrorCodes.protocol, message: `the anatomical mesh: ${bad}`, file: msg.fileName } });
-      return;
-    }
+    if (!this.admitted(msg, build !== undefined, 'anatomical_unavailable', 'the anatomical mesh', () => malformedAnatomical(msg)) || !build) return;
     const out = build.call(
       this.session,
       msg.fileName,
@@ -474,16 +485,7 @@ export class WorkerCore {
    */
   private hex(msg: HexExportRequest): void {
     const build = this.session.hex_wall;
-    if (!build) {
-      this.send({ type: 'error', reqId: msg.reqId, error: { code: 'hex_unavailable', message: 'this core cannot build the hexahedral wall', file: msg.fileName } });
-      return;
-    }
-    // What wasm-bindgen would throw on (not the core's typed error) would take the worker down with it.
-    const bad = malformedHex(msg);
-    if (bad) {
-      this.send({ type: 'error', reqId: msg.reqId, error: { code: ErrorCodes.protocol, message: `the hexahedral wall: ${bad}`, file: msg.fileName } });
-      return;
-    }
+    if (!this.admitted(msg, build !== undefined, 'hex_unavailable', 'the hexahedral wall', () => malformedHex(msg)) || !build) return;
     const out = build.call(
       this.session,
       msg.fileName,

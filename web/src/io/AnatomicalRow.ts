@@ -11,6 +11,7 @@
  */
 import { ANATOMICAL_FORMATS, toCoreErrorData, type AnatomicalFormat, type AnatomicalSummary } from '../core-client/protocol';
 import { h } from '../ui/dom';
+import { probed, showMessage, type Availability } from './derivedRow';
 import { download } from './download';
 import {
   ANATOMICAL_DEFAULT, ANATOMICAL_HINT, ANATOMICAL_POINTS, ANATOMICAL_RINGS, PROBE_LAYOUT, anatomicalErrorText, anatomicalFigures, anatomicalFiguresTitle,
@@ -47,7 +48,6 @@ const MIME: Record<AnatomicalFormat, string> = { stl: 'model/stl', obj: 'model/o
 const WHAT = 'The finished LV_ENDO or LV_EPI surface resampled onto a fixed grid: vertex 0 the apex, then rings from the apex to the base plane, each starting at the septum, last the base lid\'s centre';
 
 /** What the row knows of the core's answer for the run on screen. */
-type Availability = { state: 'none' } | { state: 'checking' } | { state: 'ready' } | { state: 'refused'; reason: string };
 
 export class AnatomicalRow {
   readonly element: HTMLElement;
@@ -137,14 +137,7 @@ export class AnatomicalRow {
       this.render();
       return;
     }
-    let next: Availability = { state: 'ready' };
-    try {
-      await pending;
-    } catch (e) {
-      const error = toCoreErrorData(e);
-      // Only the core's refusal greys the row: a worker restarted meanwhile leaves Save to try.
-      if (isRefusal(error)) next = { state: 'refused', reason: anatomicalReason(error.message) };
-    }
+    const next = await probed(pending, isRefusal, anatomicalReason);
     if (key !== this.key) return;
     this.availability = next;
     this.render();
@@ -182,23 +175,7 @@ export class AnatomicalRow {
   /** Fills the figures line: a built mesh's figures, a message (busy or error), or nothing. */
   private showFigures(content: { summary: AnatomicalSummary } | { state: 'busy' | 'error'; text: string } | null): void {
     const el = this.figures;
-    el.classList.toggle('warn', false);
-    for (const k of ['vertices', 'volumeMl', 'meanMm', 'maxMm']) delete el.dataset[k];
-    if (content === null) {
-      el.hidden = true;
-      el.textContent = '';
-      el.title = '';
-      delete el.dataset.state;
-      return;
-    }
-    el.hidden = false;
-    if ('state' in content) {
-      el.dataset.state = content.state;
-      el.textContent = content.text;
-      el.title = '';
-      el.classList.toggle('warn', content.state === 'error');
-      return;
-    }
+    if (showMessage(el, ['vertices', 'volumeMl', 'meanMm', 'maxMm'], content) || content === null || 'state' in content) return;
     const s = content.summary;
     el.dataset.state = 'done';
     Object.assign(el.dataset, { vertices: String(s.vertices), volumeMl: String(s.volume_ml), meanMm: String(s.to_surface_mean_mm), maxMm: String(s.to_surface_max_mm) });

@@ -12,6 +12,7 @@
  */
 import { toCoreErrorData, type HexSummary } from '../core-client/protocol';
 import { h } from '../ui/dom';
+import { probed, showMessage, type Availability } from './derivedRow';
 import { download } from './download';
 import { ANATOMICAL_DEFAULT, ANATOMICAL_POINTS, ANATOMICAL_RINGS } from './export/anatomical';
 import {
@@ -39,7 +40,6 @@ export interface HexRowSource {
 }
 
 /** What the row knows of the core's answer for the meshes it would be built of. */
-type Availability = { state: 'none' } | { state: 'checking' } | { state: 'ready' } | { state: 'refused'; reason: string };
 
 export class HexRow {
   readonly element: HTMLElement;
@@ -135,14 +135,7 @@ export class HexRow {
       this.render();
       return;
     }
-    let next: Availability = { state: 'ready' };
-    try {
-      await pending;
-    } catch (e) {
-      const error = toCoreErrorData(e);
-      // Only the core's refusal greys the row: a worker restarted meanwhile leaves Save to try.
-      if (isHexRefusal(error)) next = { state: 'refused', reason: hexReason(error.message) };
-    }
+    const next = await probed(pending, isHexRefusal, hexReason);
     if (key !== this.key) return;
     this.availability = next;
     this.render();
@@ -174,23 +167,7 @@ export class HexRow {
   /** Fills the figures line: a built mesh's figures, a message (busy or error), or nothing. */
   private showFigures(content: { summary: HexSummary } | { state: 'busy' | 'error'; text: string } | null): void {
     const el = this.figures;
-    el.classList.toggle('warn', false);
-    for (const k of ['hexahedra', 'wedges', 'points', 'volumeMl', 'minJacobian', 'inverted']) delete el.dataset[k];
-    if (content === null) {
-      el.hidden = true;
-      el.textContent = '';
-      el.title = '';
-      delete el.dataset.state;
-      return;
-    }
-    el.hidden = false;
-    if ('state' in content) {
-      el.dataset.state = content.state;
-      el.textContent = content.text;
-      el.title = '';
-      el.classList.toggle('warn', content.state === 'error');
-      return;
-    }
+    if (showMessage(el, ['hexahedra', 'wedges', 'points', 'volumeMl', 'minJacobian', 'inverted'], content) || content === null || 'state' in content) return;
     const s = content.summary;
     el.dataset.state = 'done';
     Object.assign(el.dataset, {

@@ -8,7 +8,7 @@ use heartmesh_core::io::{write_mesh_with, Regions};
 use heartmesh_core::metrics::anatomical::{self, Layout, REGION_NAMES};
 use heartmesh_core::metrics::compare::clip_plane_from_contours;
 use heartmesh_core::{ContourSet, CoreError, Params};
-use serde_json::{json, Value};
+use serde_json::json;
 use wasm_bindgen::prelude::*;
 
 use crate::wall::{append_lines, export_object, mesh_format, mesh_of, SurfaceMesh, WallExport};
@@ -47,24 +47,11 @@ impl Session {
         let set = self.file(file_name)?;
         let params = convert::params_from_json(params_json, lids, Some(surface.to_string()))
             .map_err(|e| errors::to_js(&e))?;
-        let mesh = SurfaceMesh {
-            name: surface,
-            positions,
-            indices,
-        };
+        let mesh = SurfaceMesh::new(surface, positions, indices);
         let built = build(set, file_name, &params, mesh, rings, points, format, header)
-            .map_err(|e| JsValue::from_str(&error_json(&e).to_string()))?;
+            .map_err(|e| JsValue::from_str(&errors::refusal_json(&e, WHAT).to_string()))?;
         export_object(&built)
     }
-}
-
-/// A failure as the app shows it: the core's code, the message after "the anatomical mesh: ".
-/// A refusal (the layout's own sentence, carried as `Degenerate`) reads as the command line
-/// words it, without "degenerate input: ".
-pub fn error_json(e: &CoreError) -> Value {
-    let mut v = errors::error_json(e);
-    v["message"] = json!(format!("{WHAT}: {}", anatomical::reason(e)));
-    v
 }
 
 /// The work of [`Session::anatomical_mesh`] (native, so tests reach it).

@@ -21,6 +21,18 @@ pub fn error_json(e: &CoreError) -> Value {
     obj
 }
 
+/// A derived file's failure as the app shows it: the core's code, the message after `what`
+/// ("the anatomical mesh: ...") in the core's own words (a layout's refusals carry no
+/// "degenerate input: ").
+pub fn refusal_json(e: &CoreError, what: &str) -> Value {
+    let mut v = error_json(e);
+    v["message"] = json!(format!(
+        "{what}: {}",
+        heartmesh_core::metrics::anatomical::reason(e)
+    ));
+    v
+}
+
 /// `e` as the value thrown to JavaScript.
 pub fn to_js(e: &CoreError) -> JsValue {
     JsValue::from_str(&error_json(e).to_string())

@@ -8,7 +8,7 @@ use heartmesh_core::mesh::hex_wall;
 use heartmesh_core::metrics::anatomical::{self, Layout};
 use heartmesh_core::metrics::compare::common_basal_plane_of;
 use heartmesh_core::{ContourSet, CoreError, Params};
-use serde_json::{json, Value};
+use serde_json::json;
 use wasm_bindgen::prelude::*;
 
 use crate::wall::{append_lines, export_object, mesh_of, SurfaceMesh, WallExport};
@@ -49,30 +49,14 @@ impl Session {
         let set = self.file(file_name)?;
         let params =
             convert::params_from_json(params_json, lids, None).map_err(|e| errors::to_js(&e))?;
-        let endo = SurfaceMesh {
-            name: endo_surface,
-            positions: endo_positions,
-            indices: endo_indices,
-        };
-        let epi = SurfaceMesh {
-            name: epi_surface,
-            positions: epi_positions,
-            indices: epi_indices,
-        };
+        let endo = SurfaceMesh::new(endo_surface, endo_positions, endo_indices);
+        let epi = SurfaceMesh::new(epi_surface, epi_positions, epi_indices);
         let built = build(
             set, file_name, &params, endo, epi, rings, points, layers, header,
         )
-        .map_err(|e| JsValue::from_str(&error_json(&e).to_string()))?;
+        .map_err(|e| JsValue::from_str(&errors::refusal_json(&e, WHAT).to_string()))?;
         export_object(&built)
     }
-}
-
-/// A failure as the app shows it: the message after "the hexahedral wall: " (a refusal in its
-/// own words, without "degenerate input: ").
-pub fn error_json(e: &CoreError) -> Value {
-    let mut v = errors::error_json(e);
-    v["message"] = json!(format!("{WHAT}: {}", anatomical::reason(e)));
-    v
 }
 
 /// The work of [`Session::hex_wall`] (native, so tests reach it).

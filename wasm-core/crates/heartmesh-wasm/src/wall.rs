@@ -37,6 +37,16 @@ pub struct SurfaceMesh<'a> {
     pub indices: &'a [u32],
 }
 
+impl<'a> SurfaceMesh<'a> {
+    pub fn new(name: &'a str, positions: &'a [f64], indices: &'a [u32]) -> Self {
+        SurfaceMesh {
+            name,
+            positions,
+            indices,
+        }
+    }
+}
+
 /// A built wall: the summary the app shows and the file in the format asked for.
 #[derive(Debug, Clone)]
 pub struct WallExport {
@@ -77,16 +87,8 @@ impl Session {
         let set = self.file(file_name)?;
         let params =
             convert::params_from_json(params_json, lids, None).map_err(|e| errors::to_js(&e))?;
-        let endo = SurfaceMesh {
-            name: endo_surface,
-            positions: endo_positions,
-            indices: endo_indices,
-        };
-        let epi = SurfaceMesh {
-            name: epi_surface,
-            positions: epi_positions,
-            indices: epi_indices,
-        };
+        let endo = SurfaceMesh::new(endo_surface, endo_positions, endo_indices);
+        let epi = SurfaceMesh::new(epi_surface, epi_positions, epi_indices);
         let format = mesh_format(format).map_err(|e| errors::to_js(&e))?;
         let built = build(
             set,
@@ -136,21 +138,9 @@ impl Session {
         let set = self.file(file_name)?;
         let params = convert::params_from_json(params_json, lids, None).map_err(|e| fail(&e))?;
         let meshes = Biventricular {
-            lv_endo: SurfaceMesh {
-                name: lv_endo_surface,
-                positions: lv_endo_positions,
-                indices: lv_endo_indices,
-            },
-            rv_endo: SurfaceMesh {
-                name: rv_endo_surface,
-                positions: rv_endo_positions,
-                indices: rv_endo_indices,
-            },
-            biv_epi: SurfaceMesh {
-                name: biv_epi_surface,
-                positions: biv_epi_positions,
-                indices: biv_epi_indices,
-            },
+            lv_endo: SurfaceMesh::new(lv_endo_surface, lv_endo_positions, lv_endo_indices),
+            rv_endo: SurfaceMesh::new(rv_endo_surface, rv_endo_positions, rv_endo_indices),
+            biv_epi: SurfaceMesh::new(biv_epi_surface, biv_epi_positions, biv_epi_indices),
         };
         let format = mesh_format(format).map_err(|e| fail(&e))?;
         let built = build_biventricular(
