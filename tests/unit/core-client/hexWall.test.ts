@@ -14,7 +14,7 @@ import { WorkerCore, malformedHex, type SessionApi, type WasmApi } from '../../.
 import { FakeWorker, ManualScheduler } from './fakes';
 
 const summary: HexSummary = {
-  rings: 10, points_per_ring: 16, layers: 2, points: 483, hexahedra: 288, wedges: 32, volume_ml: 98.7, layouts_volume_ml: 98.8, min_scaled_jacobian: 0.07, inverted_cells: 0, helix_deg: [60, -60],
+  rings: 10, points_per_ring: 16, layers: 2, points: 483, hexahedra: 288, wedges: 32, volume_ml: 98.7, layouts_volume_ml: 98.8, min_scaled_jacobian: 0.07, inverted_cells: 0, helix_deg: [60, -60], endocardium_moved: 0,
 };
 const REFUSED = 'the hexahedral wall: its cells are laid out from the septum: the file has no RV_INSERT landmarks and no RV contours';
 const VTK = new TextEncoder().encode('# vtk DataFile Version 3.0\n');

@@ -28,4 +28,6 @@ export interface HexSummary {
   inverted_cells: number;
   /** The rule-based fibres' helix angle at the endocardium and at the epicardium (degrees; +60, -60). */
   helix_deg: [number, number];
+  /** Endocardial vertices moved in along their rays to keep the wall 1 mm thick. */
+  endocardium_moved: number;
 }

@@ -68,8 +68,10 @@ pub const USAGE: &str =
   +60 degrees at the endocardium to -60 at the epicardium, linear through the wall, positive a
   right-handed helix; --helix-angles ENDO,EPI sets them) and sheet (transmural);
   --hex-layout RINGSxPOINTS (default 24x48), --layers 1-20 (default 3);
-  the cells are built from the surfaces as reconstructed (before --min-thickness), and a
-  warning counts any inverted cell; the report's hex_mesh gives the counts, volume and the
+  both surfaces are laid out on the endocardium's rays, so each column of cells runs straight
+  through the wall; where the epicardium lies less than --min-thickness outside the endocardium
+  along a ray, the endocardial vertex moves in to keep that thickness (as the solid's does; the
+  report's hex_mesh.endocardium_moved), and a warning counts any cell still inverted; the report's hex_mesh gives the counts, volume and the
   smallest scaled Jacobian. Refused before any run with --biventricular or for a file without
   RV landmarks or contours.
   --bullseye: those segments drawn as the AHA bullseye (SVG), anterior up, septum left.";
@@ -246,9 +248,16 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
     .map_err(|e| CliError::Failed(format!("{input}: the myocardium wall: {e}")))?;
     let regional = (!biventricular).then(|| aha::of_file(&set, &wall));
-    let hexes = hex
-        .as_ref()
-        .map(|r| hex_out::build(&set, &surfaces[0].rec, &surfaces[1].rec, &base, r));
+    let hexes = hex.as_ref().map(|r| {
+        hex_out::build(
+            &set,
+            &surfaces[0].rec,
+            &surfaces[1].rec,
+            &base,
+            r,
+            min_thickness,
+        )
+    });
     let seconds = started.elapsed().as_secs_f64();
 
     let labels: Vec<String> = wall

@@ -113,23 +113,30 @@ pub fn check(input: &str, set: &ContourSet) -> Result<(), CliError> {
 }
 
 /// The mesh between the finished endo- and epicardium, both laid out on the wall's `base` from
-/// one septum (seen from the endocardium's centre), or why there is none.
+/// one septum (seen from the endocardium's centre) and on the endocardium's rays
+/// ([`anatomical::build_pair`]), or why there is none.
 pub fn build(
     set: &ContourSet,
     endo: &Reconstruction,
     epi: &Reconstruction,
     base: &Plane,
     r: &Request,
+    min_thickness_mm: Option<f64>,
 ) -> Result<HexWall, String> {
     let orientation = anatomical::orientation_of(set, endo.mesh(), base)?;
-    let lay = |rec: &Reconstruction, what: &str| {
-        anatomical::build(rec.mesh(), base, &orientation, r.layout)
-            .map_err(|e| format!("the {what}: {}", anatomical::reason(&e)))
-    };
-    let inner = lay(endo, "endocardium")?;
-    let outer = lay(epi, "epicardium")?;
-    hex_wall::build_with_helix(&inner, &outer, r.layout, base, r.layers, r.helix)
-        .map_err(|e| anatomical::reason(&e))
+    let (inner, outer) =
+        anatomical::build_pair(endo.mesh(), epi.mesh(), base, &orientation, r.layout)
+            .map_err(|e| anatomical::reason(&e))?;
+    hex_wall::build_with_helix(
+        &inner,
+        &outer,
+        r.layout,
+        base,
+        r.layers,
+        r.helix,
+        min_thickness_mm,
+    )
+    .map_err(|e| anatomical::reason(&e))
 }
 
 /// The report's `hex_mesh` (the file and the figures) or null and `hex_mesh_note`.

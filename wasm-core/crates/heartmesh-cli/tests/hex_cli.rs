@@ -126,6 +126,8 @@ fn patient1s_wall_as_hexahedra() {
     }
     assert_eq!(h["hexahedra"], 3 * 23 * 48);
     assert_eq!(h["inverted_cells"], 0, "{h}");
+    // Patient 1's wall is thicker than 1 mm along every ray: no endocardial vertex moved.
+    assert_eq!(h["endocardium_moved"], 0, "{h}");
     assert!(h["min_scaled_jacobian"].as_f64().unwrap() > 0.0, "{h}");
     // The cells fill the wall: their volume within 1 % of the solid's (cut at the same base).
     let (v, wall) = (

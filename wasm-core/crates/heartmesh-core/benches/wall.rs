@@ -70,10 +70,15 @@ fn bench(c: &mut Criterion) {
     let orientation = anatomical::orientation_of(&set, endo.mesh(), &base).expect("septum");
     g.bench_function("patient1-ED-hex-24x48x3", |b| {
         b.iter(|| {
-            let lay = |r: &Reconstruction| {
-                anatomical::build(r.mesh(), &base, &orientation, Layout::DEFAULT).expect("layout")
-            };
-            hex_wall::build(&lay(&endo), &lay(&epi), Layout::DEFAULT, &base, 3).expect("cells")
+            let (inner, outer) = anatomical::build_pair(
+                endo.mesh(),
+                epi.mesh(),
+                &base,
+                &orientation,
+                Layout::DEFAULT,
+            )
+            .expect("layouts");
+            hex_wall::build(&inner, &outer, Layout::DEFAULT, &base, 3).expect("cells")
         })
     });
     let (rv, biv) = (run("RV_ENDO"), run("BIV_EPI"));

@@ -87,9 +87,19 @@ pub fn build(
     let base = common_basal_plane_of(set, params, endo.name, epi.name)?;
     let orientation =
         anatomical::orientation_of(set, &endo_mesh, &base).map_err(CoreError::Degenerate)?;
-    let inner = anatomical::build(&endo_mesh, &base, &orientation, layout)?;
-    let outer = anatomical::build(&epi_mesh, &base, &orientation, layout)?;
-    let hex = hex_wall::build(&inner, &outer, layout, &base, layers)?;
+    let (inner, outer) =
+        anatomical::build_pair(&endo_mesh, &epi_mesh, &base, &orientation, layout)?;
+    // The LV wall row's solid keeps its wall 1 mm thick (the command line's default
+    // --min-thickness); its cells do the same.
+    let hex = hex_wall::build_with_helix(
+        &inner,
+        &outer,
+        layout,
+        &base,
+        layers,
+        hex_wall::DEFAULT_HELIX_DEG,
+        Some(crate::wall::DEFAULT_MIN_THICKNESS_MM),
+    )?;
     let mut comment = hex_wall::comment(&hex, file_name, endo.name, epi.name);
     append_lines(&mut comment, header);
     Ok(WallExport {

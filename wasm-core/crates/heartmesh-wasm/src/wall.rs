@@ -27,6 +27,9 @@ use crate::{convert, errors, Session};
 
 /// The largest minimum wall thickness accepted (mm), as the command line's `--min-thickness`.
 pub const MAX_MIN_THICKNESS_MM: f64 = 10.0;
+/// The minimum wall thickness the app's walls use (its `WALL_MIN_THICKNESS_MM`, the command
+/// line's default `--min-thickness 1`): the hexahedra keep their wall as thick.
+pub const DEFAULT_MIN_THICKNESS_MM: f64 = 1.0;
 
 /// One surface's finished mesh as the app holds it: xyz per vertex (mm) and three vertex indices
 /// per triangle, outward.

@@ -86,6 +86,8 @@ pub struct Summary {
     pub inverted_cells: usize,
     /// The fibres' helix angle at the endocardium and at the epicardium (degrees).
     pub helix_deg: [f64; 2],
+    /// Endocardial vertices moved in along their rays to keep the wall the minimum thickness.
+    pub endocardium_moved: usize,
 }
 
 /// A built mesh.
@@ -149,11 +151,12 @@ pub fn build(
     base: &Plane,
     layers: usize,
 ) -> Result<HexWall> {
-    build_with_helix(endo, epi, layout, base, layers, DEFAULT_HELIX_DEG)
+    build_with_helix(endo, epi, layout, base, layers, DEFAULT_HELIX_DEG, None)
 }
 
 /// [`build`] with the fibres' helix angle `helix_deg` (at the endocardium, at the epicardium;
-/// each within +-90 degrees), linear through the wall.
+/// each within +-90 degrees), linear through the wall, and, with `min_thickness_mm`, the wall
+/// kept at least that thick along each vertex's ray ([`keep_apart`]).
 pub fn build_with_helix(
     endo: &Anatomical,
     epi: &Anatomical,
@@ -161,6 +164,7 @@ pub fn build_with_helix(
     base: &Plane,
     layers: usize,
     helix_deg: (f64, f64),
+    min_thickness_mm: Option<f64>,
 ) -> Result<HexWall> {
     let (h_endo, h_epi) = helix_deg;
     if !(h_endo.abs() <= 90.0 && h_epi.abs() <= 90.0) {
@@ -190,14 +194,14 @@ pub fn build_with_helix(
             )));
         }
     }
+    let (inner, moved) = keep_apart(endo, epi, per_layer, min_thickness_mm);
     let mut points = Vec::with_capacity(per_layer * (layers + 1));
     let mut transmural = Vec::with_capacity(points.capacity());
     let mut longitudinal = Vec::with_capacity(points.capacity());
     let mut circumferential_deg = Vec::with_capacity(points.capacity());
     for l in 0..=layers {
         let t = l as f64 / layers as f64;
-        for v in 0..per_layer {
-            let (a, b) = (endo.mesh.positions[v], epi.mesh.positions[v]);
+        for (v, (&a, &b)) in inner.iter().zip(&epi.mesh.positions).enumerate() {
             points.push(a + (b - a) * t);
             transmural.push(t);
             let (ring, j) = if v == 0 {
@@ -300,6 +304,7 @@ pub fn build_with_helix(
         min_scaled_jacobian: worst,
         inverted_cells: inverted,
         helix_deg: [helix_deg.0, helix_deg.1],
+        endocardium_moved: moved,
     };
     Ok(HexWall {
         points,
@@ -312,6 +317,39 @@ pub fn build_with_helix(
         aha_segment,
         summary,
     })
+}
+
+/// The endocardial layout's vertices, each moved in along its ray where the epicardium's vertex
+/// on the same ray lies less than `min_thickness_mm` outside it (a thinned apex, a groove of the
+/// epicardium, images from different breath-holds: the two surfaces touch or cross there and
+/// the cells between them would be flat or inverted), and how many moved. The wall solid's
+/// `--min-thickness` does the same to its endocardium. Layouts of one frame ([`build_pair`])
+/// share their rays; layouts of two frames are left as they are.
+///
+/// [`build_pair`]: crate::metrics::anatomical::build_pair
+fn keep_apart(
+    endo: &Anatomical,
+    epi: &Anatomical,
+    per_layer: usize,
+    min_thickness_mm: Option<f64>,
+) -> (Vec<Vec3>, usize) {
+    let mut inner: Vec<Vec3> = endo.mesh.positions[..per_layer].to_vec();
+    let Some(min) = min_thickness_mm.filter(|m| *m > 0.0) else {
+        return (inner, 0);
+    };
+    let mut moved = 0;
+    for (v, p) in inner.iter_mut().enumerate() {
+        let (ray, other) = (endo.rays[v], epi.rays[v]);
+        if ray.norm() < 0.5 || (ray - other).norm() > 1e-9 {
+            continue;
+        }
+        let outer = epi.mesh.positions[v];
+        if (outer - *p).dot(&ray) < min {
+            *p = outer - ray * min;
+            moved += 1;
+        }
+    }
+    (inner, moved)
 }
 
 /// A unit vector perpendicular to `v` (x, else y, crossed with it).

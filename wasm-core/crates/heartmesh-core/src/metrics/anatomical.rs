@@ -153,6 +153,10 @@ pub struct Anatomical {
     pub mesh: TriMesh,
     pub regions: Vec<u32>,
     pub summary: Summary,
+    /// Per vertex, the unit direction of the ray it was found along (the apex's straight down,
+    /// the lid's centre zero): two layouts of one frame ([`build_pair`]) share them, and the
+    /// wall between them is measured along them.
+    pub rays: Vec<Vec3>,
 }
 
 /// Why a surface of `set` can have no layout (checked before any run): an RV or biventricular
@@ -250,16 +254,107 @@ pub fn build(
     orientation: &Orientation,
     layout: Layout,
 ) -> Result<Anatomical> {
-    let degenerate = |why: String| CoreError::Degenerate(why);
-    // The fields are public: a layout made without `Layout::new` is checked here.
-    Layout::new(layout.rings, layout.points).map_err(|message| CoreError::ParamInvalid {
-        name: "layout".into(),
-        message,
-    })?;
-    let n = base
-        .normal
+    let frame = Frame::of(surface, base, layout)?;
+    build_in(surface, base, orientation, layout, &frame)
+}
+
+/// The layouts of a wall's two surfaces, both laid out from the inner one's frame (its length,
+/// its cap's centre and its rings' section centres): vertex k of the outer surface then lies on
+/// the same ray as vertex k of the inner one, at the same height on the rings, so the line
+/// between them crosses the wall instead of running along it. Each surface laid out on its own
+/// frame would put the epicardium's rings lower (its apex is lower) and slant those lines by up
+/// to 45 degrees, and a groove of the epicardium then folds the cells between them.
+pub fn build_pair(
+    inner: &TriMesh,
+    outer: &TriMesh,
+    base: &ClipPlane,
+    orientation: &Orientation,
+    layout: Layout,
+) -> Result<(Anatomical, Anatomical)> {
+    let frame = Frame::of(inner, base, layout)?;
+    Ok((
+        build_in(inner, base, orientation, layout, &frame)?,
+        build_in(outer, base, orientation, layout, &frame)?,
+    ))
+}
+
+/// Where a layout's rays start and at which heights: the length from the base plane to the
+/// reference surface's lowest point (only its depth: where on a flat apex it lies is left to the
+/// rays), the centre of the section the apical cap stands on, and each wall ring's depth and
+/// section centre.
+struct Frame {
+    cap_centre: Vec3,
+    rings: Vec<(f64, Vec3)>,
+}
+
+impl Frame {
+    fn of(surface: &TriMesh, base: &ClipPlane, layout: Layout) -> Result<Frame> {
+        Layout::new(layout.rings, layout.points).map_err(|message| CoreError::ParamInvalid {
+            name: "layout".into(),
+            message,
+        })?;
+        let n = normal_of(base)?;
+        let length = surface
+            .positions
+            .iter()
+            .filter(|p| p.iter().all(|x| x.is_finite()))
+            .map(|p| -base.signed_distance(p))
+            .fold(f64::NEG_INFINITY, f64::max);
+        if length.is_nan() || length <= 0.0 {
+            return Err(CoreError::Degenerate(
+                "the surface has no part below its base plane".into(),
+            ));
+        }
+        let centre_at = |below_base: f64| -> Result<Vec3> {
+            let (loop_, _) = ring_section(surface, base, &n, below_base)?;
+            Ok(polygon_centre(&loop_.points, &n))
+        };
+        let cap_centre = centre_at(length * (1.0 - CAP_HEIGHT))?;
+        let wall_rings = layout.rings - cap_rings(layout.rings);
+        let rings = (1..=wall_rings)
+            .map(|k| {
+                let below_base = length * (1.0 - CAP_HEIGHT) * (1.0 - k as f64 / wall_rings as f64);
+                centre_at(below_base).map(|c| (below_base, c))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Frame { cap_centre, rings })
+    }
+}
+
+/// The base plane's unit normal (the long axis, towards the base).
+fn normal_of(base: &ClipPlane) -> Result<Vec3> {
+    base.normal
         .try_normalize(1e-12)
-        .ok_or_else(|| degenerate("the base plane has no normal".into()))?;
+        .ok_or_else(|| CoreError::Degenerate("the base plane has no normal".into()))
+}
+
+/// The section of `surface` `below_base` mm below the base plane (its largest closed loop).
+fn ring_section(
+    surface: &TriMesh,
+    base: &ClipPlane,
+    n: &Vec3,
+    below_base: f64,
+) -> Result<(Polyline, Plane)> {
+    let plane = Plane::new(base.origin - n * below_base, *n)
+        .ok_or_else(|| CoreError::Degenerate("a ring's plane is not finite".into()))?;
+    let loop_ = section(surface, &plane).ok_or_else(|| {
+        CoreError::Degenerate(format!(
+            "the surface has no closed section {below_base:.1} mm below its base plane"
+        ))
+    })?;
+    Ok((loop_, plane))
+}
+
+/// `surface` sampled on `frame`'s rays.
+fn build_in(
+    surface: &TriMesh,
+    base: &ClipPlane,
+    orientation: &Orientation,
+    layout: Layout,
+    frame: &Frame,
+) -> Result<Anatomical> {
+    let degenerate = |why: String| CoreError::Degenerate(why);
+    let n = normal_of(base)?;
     let septum = (orientation.septum - n * orientation.septum.dot(&n))
         .try_normalize(1e-9)
         .ok_or_else(|| degenerate("the septum's direction lies along the long axis".into()))?;
@@ -268,38 +363,16 @@ pub fn build(
         let angle = std::f64::consts::TAU * j as f64 / layout.points as f64;
         septum * angle.cos() + anterior * angle.sin()
     };
-    // The lowest point's depth only: where on a flat apex it lies is left to the rays.
-    let length = surface
-        .positions
-        .iter()
-        .filter(|p| p.iter().all(|x| x.is_finite()))
-        .map(|p| -base.signed_distance(p))
-        .fold(f64::NEG_INFINITY, f64::max);
-    if length.is_nan() || length <= 0.0 {
-        return Err(degenerate(
-            "the surface has no part below its base plane".into(),
-        ));
-    }
-    let ring_section = |below_base: f64| -> Result<(Polyline, Vec3)> {
-        let plane = Plane::new(base.origin - n * below_base, n)
-            .ok_or_else(|| degenerate("a ring's plane is not finite".into()))?;
-        let loop_ = section(surface, &plane).ok_or_else(|| {
-            degenerate(format!(
-                "the surface has no closed section {below_base:.1} mm below its base plane"
-            ))
-        })?;
-        let centre = polygon_centre(&loop_.points, &n);
-        Ok((loop_, centre))
-    };
     let not_star = |what: &str| {
         degenerate(format!(
             "a ray from {what} leaves no edge of the surface's section (not star-shaped around it)"
         ))
     };
     let cap_rings = cap_rings(layout.rings);
-    // The cap's rays start at the centre of the section the cap stands on.
-    let (_, cap_centre) = ring_section(length * (1.0 - CAP_HEIGHT))?;
+    let cap_centre = frame.cap_centre;
     let mut positions = vec![Vec3::zeros(); layout.vertices()];
+    let mut rays = vec![Vec3::zeros(); layout.vertices()];
+    rays[0] = -n;
     let mut apex = None;
     for j in 0..layout.points {
         let out = around(j);
@@ -329,23 +402,24 @@ pub fn build(
         for ring in 1..=cap_rings {
             let polar = std::f64::consts::FRAC_PI_2 * ring as f64 / cap_rings as f64;
             positions[layout.index(ring, j)] = hit(polar)?;
+            rays[layout.index(ring, j)] = out * polar.sin() - n * polar.cos();
         }
     }
     let apex = apex.ok_or_else(|| degenerate("the layout has no points per ring".into()))?;
     positions[0] = apex;
     let mut top = cap_centre;
-    let wall_rings = layout.rings - cap_rings;
-    for k in 1..=wall_rings {
-        let below_base = length * (1.0 - CAP_HEIGHT) * (1.0 - k as f64 / wall_rings as f64);
-        let (loop_, centre) = ring_section(below_base)?;
-        for j in 0..layout.points {
-            positions[layout.index(cap_rings + k, j)] =
-                farthest_hit(&loop_, &centre, &around(j), &n)
-                    .ok_or_else(|| not_star("a section's centre"))?;
+    for (k, &(below_base, centre)) in frame.rings.iter().enumerate() {
+        let (loop_, _) = ring_section(surface, base, &n, below_base)?;
+        let ring = ring_points(&loop_, &centre, &septum, &n, layout.points)
+            .ok_or_else(|| not_star("a section's centre"))?;
+        for (j, p) in ring.into_iter().enumerate() {
+            let v = layout.index(cap_rings + k + 1, j);
+            positions[v] = p;
+            rays[v] = around(j);
         }
-        top = centre;
+        // The base ring's centre (this surface's own) closes the lid.
+        top = polygon_centre(&loop_.points, &n);
     }
-    // Ring `rings` lies in the base plane itself: its centre closes the lid.
     let last = positions.len() - 1;
     positions[last] = top;
     let (triangles, regions) = grid_triangles(layout);
@@ -364,6 +438,7 @@ pub fn build(
         mesh,
         regions,
         summary,
+        rays,
     })
 }
 
@@ -388,6 +463,90 @@ fn profile(surface: &TriMesh, plane: &Plane) -> Vec<Polyline> {
         .into_iter()
         .filter(|p| p.points.len() >= 2)
         .collect()
+}
+
+/// `count` points round a closed section (normal `n`), point j where the section first reaches
+/// the angle 360 j / count degrees from `septum` round `centre` (counter-clockwise about `n`),
+/// walking the loop onwards from where the septum's ray leaves it last.
+///
+/// On a section that is star-shaped around its centre this is the ray's one crossing. Where a
+/// section dents inwards (the epicardium at the interventricular grooves, a bumpy surface), a
+/// ray can cross it three times and the outermost crossing of neighbouring rays can lie on
+/// different sides of the dent: the grid then folds over itself (inverted cells in the
+/// hexahedra made of it). Walking the loop keeps the points in the loop's own order, so a ring
+/// never folds; the dent is bridged from the first point that reaches past it.
+fn ring_points(
+    section: &Polyline,
+    centre: &Vec3,
+    septum: &Vec3,
+    n: &Vec3,
+    count: usize,
+) -> Option<Vec<Vec3>> {
+    let mut pts = section.points.clone();
+    if signed_area(&pts, n) < 0.0 {
+        pts.reverse();
+    }
+    let start_point = farthest_hit(section, centre, septum, n)?;
+    // The edge the septum's ray leaves through: the walk starts on it.
+    let anterior = n.cross(septum);
+    let angle_of = |p: &Vec3| {
+        let d = p - centre;
+        d.dot(&anterior).atan2(d.dot(septum))
+    };
+    let m = pts.len();
+    let start = (0..m).min_by(|&a, &b| {
+        let on = |k: usize| {
+            let (p, q) = (pts[k], pts[(k + 1) % m]);
+            crate::spatial::triangle::closest_point_on_segment(&start_point, &p, &q)
+                .metric_distance(&start_point)
+        };
+        on(a).total_cmp(&on(b))
+    })?;
+    // The loop from the start point round to it again, with each vertex's unwrapped angle from
+    // the septum (0 at the start, about 2 pi back at it).
+    let mut walk: Vec<(Vec3, f64)> = vec![(start_point, 0.0)];
+    let mut previous = 0.0;
+    for step in 1..=m {
+        let p = pts[(start + step) % m];
+        let raw = angle_of(&p);
+        let mut a = raw;
+        while a - previous > std::f64::consts::PI {
+            a -= std::f64::consts::TAU;
+        }
+        while a - previous < -std::f64::consts::PI {
+            a += std::f64::consts::TAU;
+        }
+        walk.push((p, a));
+        previous = a;
+    }
+    walk.push((start_point, std::f64::consts::TAU));
+    let mut out = Vec::with_capacity(count);
+    out.push(start_point);
+    let mut reached = 0.0;
+    let mut k = 0;
+    for j in 1..count {
+        let target = std::f64::consts::TAU * j as f64 / count as f64;
+        // The first edge of the walk whose far end reaches the target angle beyond any
+        // angle reached before it.
+        while k + 1 < walk.len() && walk[k + 1].1.max(reached) < target {
+            reached = reached.max(walk[k + 1].1);
+            k += 1;
+        }
+        let (p, _) = walk[k];
+        let (q, _) = *walk.get(k + 1)?;
+        // Where the ray at the target angle crosses that edge (the edge's end when the ray
+        // passes it by a rounding).
+        let d = septum * target.cos() + anterior * target.sin();
+        let edge = q - p;
+        let denom = d.cross(&edge).dot(n);
+        let t = if denom.abs() > 1e-15 {
+            ((p - centre).cross(&d).dot(n) / denom).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        out.push(p + edge * t);
+    }
+    Some(out)
 }
 
 /// [`farthest_hit`] over several pieces of one section: the outermost crossing of any.

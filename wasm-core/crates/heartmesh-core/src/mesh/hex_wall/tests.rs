@@ -1,7 +1,7 @@
 use super::*;
 use crate::geometry::v3;
 use crate::mesh::TriMesh;
-use crate::metrics::anatomical::build as layout_of;
+use crate::metrics::anatomical::build_pair;
 use crate::metrics::segments::Orientation;
 use crate::sim::shapes::uv_sphere;
 use std::f64::consts::PI;
@@ -30,8 +30,14 @@ fn shell(layout: Layout, layers: usize) -> HexWall {
         source: "test",
         points: 1,
     };
-    let endo = layout_of(&ellipsoid(25.0, 20.0, 40.0), &base, &o, layout).unwrap();
-    let epi = layout_of(&ellipsoid(33.0, 28.0, 47.0), &base, &o, layout).unwrap();
+    let (endo, epi) = build_pair(
+        &ellipsoid(25.0, 20.0, 40.0),
+        &ellipsoid(33.0, 28.0, 47.0),
+        &base,
+        &o,
+        layout,
+    )
+    .unwrap();
     build(&endo, &epi, layout, &base, layers).unwrap()
 }
 
@@ -119,12 +125,53 @@ fn fibres_turn_from_plus_to_minus_sixty_degrees_through_the_wall() {
         source: "test",
         points: 1,
     };
-    let endo = layout_of(&ellipsoid(25.0, 20.0, 40.0), &base, &o, layout).unwrap();
-    let epi = layout_of(&ellipsoid(33.0, 28.0, 47.0), &base, &o, layout).unwrap();
-    let flat = build_with_helix(&endo, &epi, layout, &base, 2, (0.0, 0.0)).unwrap();
+    let (endo, epi) = build_pair(
+        &ellipsoid(25.0, 20.0, 40.0),
+        &ellipsoid(33.0, 28.0, 47.0),
+        &base,
+        &o,
+        layout,
+    )
+    .unwrap();
+    let flat = build_with_helix(&endo, &epi, layout, &base, 2, (0.0, 0.0), None).unwrap();
     assert!(flat.fibre[v].z.abs() < 0.05, "{:?}", flat.fibre[v]);
-    let e = build_with_helix(&endo, &epi, layout, &base, 2, (95.0, -60.0)).unwrap_err();
+    let e = build_with_helix(&endo, &epi, layout, &base, 2, (95.0, -60.0), None).unwrap_err();
     assert!(e.to_string().contains("-90 to 90"), "{e}");
+}
+
+#[test]
+fn a_wall_thinner_than_the_minimum_is_kept_that_thick_along_its_rays() {
+    let layout = Layout::new(12, 24).unwrap();
+    let base = Plane::new(v3(0.0, 0.0, BASE_Z), v3(0.0, 0.0, 1.0)).unwrap();
+    let o = Orientation {
+        septum: v3(1.0, 0.0, 0.0),
+        source: "test",
+        points: 1,
+    };
+    // An epicardium 0.6 mm outside the endocardium towards +x only, 8 mm elsewhere: the +x
+    // side is a wall thinner than 1 mm.
+    let (endo, epi) = build_pair(
+        &ellipsoid(25.0, 20.0, 40.0),
+        &ellipsoid(25.6, 28.0, 47.0),
+        &base,
+        &o,
+        layout,
+    )
+    .unwrap();
+    let thin = build_with_helix(&endo, &epi, layout, &base, 2, DEFAULT_HELIX_DEG, None).unwrap();
+    let kept =
+        build_with_helix(&endo, &epi, layout, &base, 2, DEFAULT_HELIX_DEG, Some(1.0)).unwrap();
+    assert_eq!(thin.summary.endocardium_moved, 0);
+    assert!(kept.summary.endocardium_moved > 0);
+    let per_layer = 12 * 24 + 1;
+    let mut thinnest = f64::INFINITY;
+    for v in 0..per_layer {
+        let along = (kept.points[2 * per_layer + v] - kept.points[v]).dot(&endo.rays[v]);
+        thinnest = thinnest.min(along);
+    }
+    assert!(thinnest >= 1.0 - 1e-9, "{thinnest} mm");
+    assert!(kept.summary.min_scaled_jacobian >= thin.summary.min_scaled_jacobian);
+    assert_eq!(kept.summary.inverted_cells, 0);
 }
 
 #[test]
@@ -136,8 +183,14 @@ fn layers_are_held_to_their_range() {
         source: "test",
         points: 1,
     };
-    let endo = layout_of(&ellipsoid(25.0, 20.0, 40.0), &base, &o, layout).unwrap();
-    let epi = layout_of(&ellipsoid(33.0, 28.0, 47.0), &base, &o, layout).unwrap();
+    let (endo, epi) = build_pair(
+        &ellipsoid(25.0, 20.0, 40.0),
+        &ellipsoid(33.0, 28.0, 47.0),
+        &base,
+        &o,
+        layout,
+    )
+    .unwrap();
     for bad in [0, 21] {
         let e = build(&endo, &epi, layout, &base, bad).unwrap_err();
         assert!(e.to_string().contains("1-20 layers"), "{e}");
