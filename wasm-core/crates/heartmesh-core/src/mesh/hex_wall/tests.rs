@@ -1,7 +1,7 @@
 use super::*;
 use crate::geometry::v3;
 use crate::mesh::TriMesh;
-use crate::metrics::anatomical::build_pair;
+use crate::metrics::anatomical::{build_pair, Anatomical};
 use crate::metrics::segments::Orientation;
 use crate::sim::shapes::uv_sphere;
 use std::f64::consts::PI;
@@ -23,22 +23,34 @@ fn clipped_ml(a: f64, b: f64, c: f64) -> f64 {
     PI * a * b * ((h + c) - (h.powi(3) + c.powi(3)) / (3.0 * c * c)) / 1000.0
 }
 
-fn shell(layout: Layout, layers: usize) -> HexWall {
-    let base = Plane::new(v3(0.0, 0.0, BASE_Z), v3(0.0, 0.0, 1.0)).unwrap();
+/// The base plane z = BASE_Z.
+fn base() -> Plane {
+    Plane::new(v3(0.0, 0.0, BASE_Z), v3(0.0, 0.0, 1.0)).unwrap()
+}
+
+/// The layouts of two ellipsoids (semi-axes `inner`, `outer`) on the inner one's frame, the
+/// septum towards +x.
+fn pair(inner: [f64; 3], outer: [f64; 3], layout: Layout) -> (Anatomical, Anatomical) {
     let o = Orientation {
         septum: v3(1.0, 0.0, 0.0),
         source: "test",
         points: 1,
     };
-    let (endo, epi) = build_pair(
-        &ellipsoid(25.0, 20.0, 40.0),
-        &ellipsoid(33.0, 28.0, 47.0),
-        &base,
+    let [a, b, c] = inner;
+    let [d, e, f] = outer;
+    build_pair(
+        &ellipsoid(a, b, c),
+        &ellipsoid(d, e, f),
+        &base(),
         &o,
         layout,
     )
-    .unwrap();
-    build(&endo, &epi, layout, &base, layers).unwrap()
+    .unwrap()
+}
+
+fn shell(layout: Layout, layers: usize) -> HexWall {
+    let (endo, epi) = pair([25.0, 20.0, 40.0], [33.0, 28.0, 47.0], layout);
+    build(&endo, &epi, layout, &base(), layers).unwrap()
 }
 
 #[test]
@@ -119,20 +131,8 @@ fn fibres_turn_from_plus_to_minus_sixty_degrees_through_the_wall() {
     let f = w.fibre[v];
     assert!(f.z > 0.8 && -f.x > 0.4, "{f:?}");
     // Other angles through the wall, and their range.
-    let base = Plane::new(v3(0.0, 0.0, BASE_Z), v3(0.0, 0.0, 1.0)).unwrap();
-    let o = Orientation {
-        septum: v3(1.0, 0.0, 0.0),
-        source: "test",
-        points: 1,
-    };
-    let (endo, epi) = build_pair(
-        &ellipsoid(25.0, 20.0, 40.0),
-        &ellipsoid(33.0, 28.0, 47.0),
-        &base,
-        &o,
-        layout,
-    )
-    .unwrap();
+    let base = base();
+    let (endo, epi) = pair([25.0, 20.0, 40.0], [33.0, 28.0, 47.0], layout);
     let flat = build_with_helix(&endo, &epi, layout, &base, 2, (0.0, 0.0), None).unwrap();
     assert!(flat.fibre[v].z.abs() < 0.05, "{:?}", flat.fibre[v]);
     let e = build_with_helix(&endo, &epi, layout, &base, 2, (95.0, -60.0), None).unwrap_err();
@@ -142,22 +142,10 @@ fn fibres_turn_from_plus_to_minus_sixty_degrees_through_the_wall() {
 #[test]
 fn a_wall_thinner_than_the_minimum_is_kept_that_thick_along_its_rays() {
     let layout = Layout::new(12, 24).unwrap();
-    let base = Plane::new(v3(0.0, 0.0, BASE_Z), v3(0.0, 0.0, 1.0)).unwrap();
-    let o = Orientation {
-        septum: v3(1.0, 0.0, 0.0),
-        source: "test",
-        points: 1,
-    };
+    let base = base();
     // An epicardium 0.6 mm outside the endocardium towards +x only, 8 mm elsewhere: the +x
     // side is a wall thinner than 1 mm.
-    let (endo, epi) = build_pair(
-        &ellipsoid(25.0, 20.0, 40.0),
-        &ellipsoid(25.6, 28.0, 47.0),
-        &base,
-        &o,
-        layout,
-    )
-    .unwrap();
+    let (endo, epi) = pair([25.0, 20.0, 40.0], [25.6, 28.0, 47.0], layout);
     let thin = build_with_helix(&endo, &epi, layout, &base, 2, DEFAULT_HELIX_DEG, None).unwrap();
     let kept =
         build_with_helix(&endo, &epi, layout, &base, 2, DEFAULT_HELIX_DEG, Some(1.0)).unwrap();
@@ -177,20 +165,8 @@ fn a_wall_thinner_than_the_minimum_is_kept_that_thick_along_its_rays() {
 #[test]
 fn layers_are_held_to_their_range() {
     let layout = Layout::new(4, 8).unwrap();
-    let base = Plane::new(v3(0.0, 0.0, BASE_Z), v3(0.0, 0.0, 1.0)).unwrap();
-    let o = Orientation {
-        septum: v3(1.0, 0.0, 0.0),
-        source: "test",
-        points: 1,
-    };
-    let (endo, epi) = build_pair(
-        &ellipsoid(25.0, 20.0, 40.0),
-        &ellipsoid(33.0, 28.0, 47.0),
-        &base,
-        &o,
-        layout,
-    )
-    .unwrap();
+    let base = base();
+    let (endo, epi) = pair([25.0, 20.0, 40.0], [33.0, 28.0, 47.0], layout);
     for bad in [0, 21] {
         let e = build(&endo, &epi, layout, &base, bad).unwrap_err();
         assert!(e.to_string().contains("1-20 layers"), "{e}");
