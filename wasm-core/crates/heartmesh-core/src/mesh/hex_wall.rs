@@ -182,6 +182,11 @@ pub fn build_with_helix(
             ),
         });
     }
+    // The fields are public: a layout made without `Layout::new` is checked here.
+    Layout::new(layout.rings, layout.points).map_err(|message| CoreError::ParamInvalid {
+        name: "layout".into(),
+        message,
+    })?;
     let per_layer = layout.vertices() - 1; // the lid's centre is not part of the wall
     for (grid, what) in [(endo, "endocardial"), (epi, "epicardial")] {
         if grid.mesh.positions.len() != layout.vertices() {
@@ -339,7 +344,10 @@ fn keep_apart(
     };
     let mut moved = 0;
     for (v, p) in inner.iter_mut().enumerate() {
-        let (ray, other) = (endo.rays[v], epi.rays[v]);
+        // Layouts assembled by hand may carry no rays: nothing to measure along.
+        let (Some(&ray), Some(&other)) = (endo.rays.get(v), epi.rays.get(v)) else {
+            continue;
+        };
         if ray.norm() < 0.5 || (ray - other).norm() > 1e-9 {
             continue;
         }

@@ -174,6 +174,13 @@ fn layers_are_held_to_their_range() {
     let other = Layout::new(5, 8).unwrap();
     let e = build(&endo, &epi, other, &base, 2).unwrap_err();
     assert!(e.to_string().contains("5x8"), "{e}");
+    // A layout made without its checks is refused, not a panic.
+    let bad = Layout {
+        rings: 0,
+        points: 8,
+    };
+    let e = build(&endo, &epi, bad, &base, 2).unwrap_err();
+    assert!(e.to_string().contains("2-200 rings"), "{e}");
     // Inside out (the epicardium inside the endocardium): every cell inverted, and said.
     let w = build(&epi, &endo, layout, &base, 2).unwrap();
     assert_eq!(w.summary.inverted_cells, w.cells.len());
