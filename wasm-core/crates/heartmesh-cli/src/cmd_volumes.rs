@@ -9,7 +9,9 @@ use std::time::Instant;
 
 use heartmesh_core::io::{self, FrameChoice, MeshFormat};
 use heartmesh_core::mesh::TriMesh;
-use heartmesh_core::metrics::function::{self, Function, Measured, Outcome, UNLABELLED};
+use heartmesh_core::metrics::anatomical_study::PhaseSurface;
+use heartmesh_core::metrics::compare::{basal_plane, ClipPlane};
+use heartmesh_core::metrics::function::{self, file_stem, Function, Measured, Outcome, UNLABELLED};
 use heartmesh_core::metrics::segments::SegmentThickening;
 use heartmesh_core::metrics::thickening::{self as wall_thickening, PhaseLv, Thickening};
 use heartmesh_core::metrics::{bullseye, septum};
@@ -17,6 +19,7 @@ use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::{Contour, ContourSet, CoreError, Params};
 use serde_json::{json, Value};
 
+use crate::anatomical_study_out;
 use crate::cmd_convert::file_name;
 use crate::cmd_reconstruct::{apex_lid, classify, params_from, parse_with_inputs};
 use crate::contours;
@@ -27,6 +30,7 @@ use crate::files;
 pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_EPI,...]
     [--frames all|F,F,...] [--csv VOLUMES.csv] [--json VOLUMES.json] [--plot CURVE.svg]
     [--meshes DIR] [--thickening-plot BULLSEYE.svg]
+    [--anatomical-meshes DIR [--anatomical-layout 24x48] [--anatomical-format vtk]]
     [reconstruct's parameter options: --iterations ... --end-caps ... --align-slices ...] [--quiet]
   Cardiac function: every surface reconstructed in every phase at the same parameters; prints
   the volumes (ml, of the closed meshes: the lids at the base included), each cavity's
@@ -43,6 +47,13 @@ pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_E
   failed); --json: the volumes, each cavity's function and the mass per phase; --plot: each
   cavity's volume over the phases as an SVG chart (a gap where a phase has no volume);
   --meshes DIR: each mesh as DIR/PHASE-SURFACE.obj.
+  --anatomical-meshes DIR: each phase's LV surfaces (LV_ENDO, LV_EPI) on the anatomical layout
+  (see reconstruct --anatomical-mesh: the same vertices and triangles in every file), as
+  DIR/PHASE-SURFACE.vtk (--anatomical-format vtk|vtp|ply|obj|stl); every phase turned by ONE
+  septum direction, the LV end-diastole's (else the first phase whose file places it: RV_INSERT
+  landmarks or RV contours), taken across each phase's own long axis, so that no phase's
+  drawing of the RV turns its grid; point data displacement_mm: each vertex's distance from the
+  same vertex at that phase; the JSON's anatomical_meshes lists the files and their figures.
   With LV_ENDO and LV_EPI: the LV wall's systolic thickening in each of the 17 AHA segments,
   100 x (ES - ED) / ED of the segment's mean thickness, the walls built as myocardium builds
   them at the LV's end-diastole and end-systole, their segments placed in each phase from the
@@ -52,7 +63,17 @@ pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_E
   failure).";
 
 /// Options of this command only that take a value.
-const VALUE_FLAGS: &[&str] = &["frames", "csv", "json", "plot", "meshes", "thickening-plot"];
+const VALUE_FLAGS: &[&str] = &[
+    "frames",
+    "csv",
+    "json",
+    "plot",
+    "meshes",
+    "thickening-plot",
+    "anatomical-meshes",
+    "anatomical-layout",
+    "anatomical-format",
+];
 
 /// Switches of this command only.
 const SWITCHES: &[&str] = &["quiet"];
@@ -69,6 +90,8 @@ struct Phase {
 struct Cell {
     out: Outcome,
     seconds: f64,
+    /// The run's most basal short-axis plane (the anatomical layouts stop there).
+    base: Option<ClipPlane>,
 }
 
 impl Cell {
@@ -76,6 +99,7 @@ impl Cell {
         Cell {
             out: Outcome::none(missing),
             seconds: 0.0,
+            base: None,
         }
     }
 }
@@ -91,6 +115,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     )?;
     // A usage error should not wait for the files.
     params_from(&p, Params::default())?;
+    let layouts = anatomical_study_out::request(&p)?;
     // The outputs before any work: a mistyped directory should not cost every phase's runs.
     for option in ["csv", "json", "plot", "thickening-plot"] {
         if let Some(path) = p.value(option) {
@@ -120,8 +145,14 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     if p.value("thickening-plot").is_some() {
         check_thickening(&phases, &surfaces)?;
     }
+    if layouts.is_some() {
+        anatomical_study_out::check(phases.iter().map(|ph| &ph.set), &surfaces)?;
+    }
     let meshes = p.value("meshes");
-    if let Some(dir) = meshes {
+    for dir in meshes
+        .into_iter()
+        .chain(layouts.as_ref().map(|r| r.dir.as_str()))
+    {
         files::create_dir(dir)?;
     }
     let quiet = p.switch("quiet");
@@ -181,6 +212,12 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
 
     let summary = summarise(&phases, &surfaces, &cells);
     let thickening = thickening(&phases, &surfaces, &cells, &summary, &params);
+    let written = match &layouts {
+        Some(req) => Some(anatomical_layouts(
+            req, &phases, &surfaces, &cells, &summary,
+        )?),
+        None => None,
+    };
     if !quiet {
         for line in summary_lines(&summary) {
             outln!("{line}");
@@ -190,6 +227,12 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             Some(Err(why)) => eprintln!("heartmesh: note: no LV wall thickening: {why}"),
             None => {}
         }
+        for line in written.iter().flat_map(|w| &w.lines) {
+            outln!("{line}");
+        }
+    }
+    for note in written.iter().flat_map(|w| &w.notes) {
+        eprintln!("{note}");
     }
     if let Some(path) = p.value("csv") {
         files::write(path, csv(&phases, &surfaces, &cells).as_bytes())?;
@@ -208,6 +251,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             if !note.is_null() {
                 map.insert("wall_thickening_note".into(), note);
             }
+        }
+        if let (Some(w), Value::Object(map)) = (&written, &mut doc) {
+            map.insert("anatomical_meshes".into(), w.json.clone());
         }
         let text = serde_json::to_string_pretty(&doc)
             .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
@@ -410,6 +456,7 @@ fn reconstruct(
     Ok(Cell {
         out: Outcome::of(&rec),
         seconds: started.elapsed().as_secs_f64(),
+        base: basal_plane(&rec).ok(),
     })
 }
 
@@ -547,22 +594,10 @@ fn write_mesh(
     surface: Option<&str>,
     mesh: &TriMesh,
 ) -> Result<(), CliError> {
-    let safe = |s: &str| -> String {
-        s.chars()
-            .map(|c| {
-                if c.is_alphanumeric() || "-_.".contains(c) {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect()
-    };
     let path = format!(
-        "{}/{}-{}.obj",
+        "{}/{}.obj",
         dir.trim_end_matches(['/', '\\']),
-        safe(&phase.name),
-        safe(surface.unwrap_or(UNLABELLED))
+        file_stem(&phase.name, surface.unwrap_or(UNLABELLED))
     );
     let comment = format!(
         "heartmesh {} volumes: {} of phase {} ({})",
@@ -574,6 +609,50 @@ fn write_mesh(
     let bytes = io::write_mesh(mesh, MeshFormat::Obj, None, &comment)
         .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
     files::write(&path, &bytes)
+}
+
+/// `--anatomical-meshes`: the LV surfaces of every phase laid out on one septum, the LV's
+/// end-diastole the reference (its septum, and the displacements from it).
+fn anatomical_layouts(
+    req: &anatomical_study_out::Request,
+    phases: &[Phase],
+    surfaces: &[Option<String>],
+    cells: &[Vec<Cell>],
+    summary: &Function,
+) -> Result<anatomical_study_out::Written, CliError> {
+    let mut items = Vec::new();
+    for (phase, row) in phases.iter().zip(cells) {
+        for (surface, cell) in surfaces.iter().zip(row) {
+            let s = match surface.as_deref() {
+                None => UNLABELLED,
+                Some(s) if anatomical_study_out::is_lv(s) => s,
+                Some(_) => continue,
+            };
+            if surface.is_some() && !phase.set.surfaces().iter().any(|k| k == s) {
+                continue;
+            }
+            let closed = cell.out.mesh.as_ref().filter(|_| cell.out.watertight);
+            items.push(PhaseSurface {
+                phase: &phase.name,
+                surface: s,
+                set: &phase.set,
+                mesh: closed.zip(cell.base.as_ref()),
+            });
+        }
+    }
+    let preferred = summary
+        .ventricles
+        .iter()
+        .find(|v| v.surface == "LV_ENDO")
+        .map(|v| v.ed_phase.as_str());
+    let input = |name: &str| {
+        phases
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| p.input.clone())
+            .unwrap_or_default()
+    };
+    anatomical_study_out::write_all(req, &items, preferred, &input, &file_stem)
 }
 
 /// The stdout table: a row per phase, a column per surface.

@@ -8,6 +8,7 @@
 #[macro_use]
 mod stdout;
 mod anatomical_out;
+mod anatomical_study_out;
 mod args;
 mod cmd_align;
 mod cmd_compare;

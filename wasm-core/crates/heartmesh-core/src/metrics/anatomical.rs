@@ -162,19 +162,28 @@ pub struct Anatomical {
 /// Why a surface of `set` can have no layout (checked before any run): an RV or biventricular
 /// surface, or a file that does not say where the septum is.
 pub fn refusal(set: &ContourSet, surface: Option<&str>) -> Option<String> {
-    let named = surface.map(str::to_ascii_uppercase).or_else(|| {
+    let named = surface.map(str::to_string).or_else(|| {
         let all = set.surfaces();
-        (all.len() == 1).then(|| all[0].to_ascii_uppercase())
+        (all.len() == 1).then(|| all[0].clone())
     });
-    if let Some(s) = named.filter(|s| s.starts_with("RV") || s.starts_with("BIV")) {
-        return Some(format!(
-            "the anatomical layout is the LV's (LV_ENDO, LV_EPI); {s} has no centre for its rays"
-        ));
+    if let Some(why) = named.as_deref().and_then(surface_refusal) {
+        return Some(why);
     }
     (!septum::said(set)).then(|| {
         "the anatomical layout starts at the septum, and the file has no RV_INSERT landmarks \
          and no RV contours to place it by"
             .to_string()
+    })
+}
+
+/// Why a surface named `surface` can have no layout whatever its file says: an RV or
+/// biventricular surface (the crescent has no centre a ray leaves once).
+pub fn surface_refusal(surface: &str) -> Option<String> {
+    let s = surface.to_ascii_uppercase();
+    (s.starts_with("RV") || s.starts_with("BIV")).then(|| {
+        format!(
+            "the anatomical layout is the LV's (LV_ENDO, LV_EPI); {s} has no centre for its rays"
+        )
     })
 }
 

@@ -112,6 +112,24 @@ pub fn surfaces_of<'a>(sets: impl IntoIterator<Item = &'a ContourSet>) -> Vec<Op
     }
 }
 
+/// The name (without extension) of a phase's surface's file when a study's meshes are saved
+/// (`volumes --meshes`, `--anatomical-meshes`, the app's archive): PHASE-SURFACE, characters a
+/// file name cannot hold replaced by `_`.
+pub fn file_stem(phase: &str, surface: &str) -> String {
+    let safe = |s: &str| -> String {
+        s.chars()
+            .map(|c| {
+                if c.is_alphanumeric() || "-_.".contains(c) {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect()
+    };
+    format!("{}-{}", safe(phase), safe(surface))
+}
+
 /// What one phase's surface came to in the function table.
 #[derive(Debug, Clone, Default)]
 pub struct Outcome {

@@ -2,6 +2,7 @@
 //! contours), the distance field on the mesh, and (compare.rs) mesh-to-mesh comparison.
 
 pub mod anatomical;
+pub mod anatomical_study;
 pub mod bullseye;
 pub mod compare;
 pub mod extent;
