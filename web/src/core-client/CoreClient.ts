@@ -51,6 +51,8 @@ import {
   type RunResult,
   type ToWorker,
   type ViewFile,
+  type AnatomicalFormat,
+  type AnatomicalStudy,
   type AnatomicalSummary,
   type HexSummary,
   type WallSummary,
@@ -549,6 +551,18 @@ export class CoreClient {
     return this.lab.phases(job, onProgress);
   }
 
+  /**
+   * The anatomical meshes of the last finished phases batch (`measurePhases`), as the command
+   * line's `volumes --anatomical-meshes` writes them: every phase's LV surfaces on `layout` (rings
+   * x points), one septum for the study, each file with its vertices' displacement from the LV's
+   * end-diastole. Rejects with the core's error, its message saying why ("the anatomical meshes:
+   * ..."; no finished phases batch, no LV surface, no phase saying where the septum is); the worker
+   * goes on.
+   */
+  phasesAnatomical(layout: { rings: number; points: number }, format: AnatomicalFormat): Promise<AnatomicalStudy> {
+    return this.lab.phasesAnatomical(layout, format);
+  }
+
   /** Terminates the worker and rejects everything pending with `{ code: 'disposed' }`. */
   dispose(): void {
     if (this.disposed) return;
@@ -765,6 +779,9 @@ export class CoreClient {
         break;
       case 'lab-compared':
         this.settleRequest(msg.reqId, true, msg.comparison);
+        break;
+      case 'lab-phases-anatomical':
+        this.settleRequest(msg.reqId, true, msg.study);
         break;
       case 'session-json':
         this.settleRequest(msg.reqId, true, msg.bytes);

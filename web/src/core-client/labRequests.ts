@@ -10,6 +10,8 @@
 import {
   ErrorCodes,
   type AcquisitionSpec,
+  type AnatomicalFormat,
+  type AnatomicalStudy,
   type CoreErrorData,
   type LabAcquisition,
   type LabBatchInfo,
@@ -144,6 +146,14 @@ export class LabRequests {
       return { ...copy, sequence: { bytes: bytes.slice(0), views } };
     };
     return this.start(files, make, onProgress);
+  }
+
+  /**
+   * The anatomical meshes of the worker's last finished phases batch on `layout`, as `format`
+   * (a worker recreated since holds none: the core's error says so).
+   */
+  phasesAnatomical(layout: { rings: number; points: number }, format: AnatomicalFormat): Promise<AnatomicalStudy> {
+    return this.host.request<AnatomicalStudy>((reqId) => ({ type: 'lab-phases-anatomical', reqId, rings: layout.rings, points: layout.points, format }));
   }
 
   /** Posts a batch that needs `files` loaded in the worker (re-sent to a recreated one first). */

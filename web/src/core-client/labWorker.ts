@@ -10,6 +10,7 @@
  * Errors are thrown to WorkerCore, which tells core errors (sent as data) from crashes.
  */
 import {
+  ErrorCodes,
   assertNever,
   paramsJson,
   type ContourInfo,
@@ -22,6 +23,9 @@ import {
   type LabTruth,
   type LabTruthSummary,
   type PhasesBatchJob,
+  type AnatomicalStudy,
+  type AnatomicalStudyReport,
+  type LabPhasesAnatomicalRequest,
 } from './protocol';
 
 /** The part of the wasm `Lab` (heartmesh-wasm/src/lab.rs) the worker uses. */
@@ -59,6 +63,14 @@ export interface LabApi {
   batch_step(): string;
   stop_batch(): void;
   batch_points(): Float32Array;
+  /**
+   * The anatomical meshes of the last finished phases batch on `layout` ("24x48") as `format`:
+   * the report's JSON with `files: [{name, index}]` (absent from older cores: 'lab-phases-anatomical'
+   * then fails with `anatomical_unavailable`).
+   */
+  phases_anatomical?(layout: string, format: string): string;
+  /** The bytes of file `index` of the last `phases_anatomical`, handed over once. */
+  phases_anatomical_file?(index: number): Uint8Array;
 }
 
 export interface LabWorkerOptions {
@@ -134,9 +146,42 @@ export class LabWorker {
       case 'lab-batch':
         this.startBatch(msg);
         break;
+      case 'lab-phases-anatomical':
+        this.phasesAnatomical(msg);
+        break;
       default:
         assertNever(msg);
     }
+  }
+
+  /**
+   * The anatomical meshes of the last finished phases batch: the report and each file's bytes
+   * (transferred). A request in shapes the binding does not take is refused as data before wasm
+   * sees it; the core's refusals (no finished batch, no LV surface, no septum) are its typed
+   * errors, thrown to WorkerCore: the request fails, the worker goes on.
+   */
+  private phasesAnatomical(msg: LabPhasesAnatomicalRequest): void {
+    const build = this.lab.phases_anatomical;
+    const take = this.lab.phases_anatomical_file;
+    if (!build || !take) {
+      this.send({ type: 'error', reqId: msg.reqId, error: { code: 'anatomical_unavailable', message: 'this core cannot build the anatomical meshes of a study' } });
+      return;
+    }
+    const whole = (v: unknown) => typeof v === 'number' && Number.isInteger(v) && v >= 0 && v <= 0xffff_ffff;
+    if (!whole(msg.rings) || !whole(msg.points) || typeof msg.format !== 'string') {
+      const got = `${String(msg.rings)}x${String(msg.points)}, ${String(msg.format)}`;
+      this.send({ type: 'error', reqId: msg.reqId, error: { code: ErrorCodes.protocol, message: `the anatomical meshes: the layout must be two whole numbers and the format a name (got ${got})` } });
+      return;
+    }
+    const report = JSON.parse(build.call(this.lab, `${msg.rings}x${msg.points}`, msg.format)) as AnatomicalStudyReport;
+    const files = report.files.map(({ name, index }) => {
+      const bytes = take.call(this.lab, index);
+      // The binding's copy is this array's own buffer: transferred as it is.
+      const buffer = bytes.buffer.byteLength === bytes.byteLength ? (bytes.buffer as ArrayBuffer) : bytes.slice().buffer;
+      return { name, bytes: buffer };
+    });
+    const study: AnatomicalStudy = { report, files };
+    this.send({ type: 'lab-phases-anatomical', reqId: msg.reqId, study });
   }
 
   /** True when `runId` was this worker's batch (then it is stopped). */

@@ -77,6 +77,9 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
     case 'lab-batch-started':
       add(msg.info.points);
       break;
+    case 'lab-phases-anatomical':
+      if ('study' in msg) for (const f of msg.study.files) add(f.bytes);
+      break;
     case 'lab-batch':
       if (msg.job.kind === 'phases' && msg.job.sequence) {
         add(msg.job.sequence.bytes);
@@ -150,6 +153,7 @@ export function runIdOf(msg: FromWorker): number | undefined {
     case 'lab-truths':
     case 'lab-simulated':
     case 'lab-compared':
+    case 'lab-phases-anatomical':
     case 'session-json':
     case 'wall-file':
     case 'anatomical-file':
@@ -180,6 +184,7 @@ export function isFromWorker(v: unknown): v is FromWorker {
     case 'lab-batch-started':
     case 'lab-progress':
     case 'lab-batch-done':
+    case 'lab-phases-anatomical':
     case 'session-json':
     case 'wall-file':
     case 'anatomical-file':
@@ -205,6 +210,7 @@ export function isToWorker(v: unknown): v is ToWorker {
     case 'lab-simulate':
     case 'lab-compare':
     case 'lab-batch':
+    case 'lab-phases-anatomical':
     case 'session-export':
     case 'wall-export':
     case 'biv-wall-export':

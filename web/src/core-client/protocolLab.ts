@@ -5,6 +5,7 @@
  * Field names of reports follow the Rust structs.
  */
 
+import type { AnatomicalFormat, AnatomicalSummary } from './protocolAnatomical';
 import type { ContourInfo, ContourKindName, Stats, ViewFile } from './protocolResults';
 import type { LidsMode, ParamValues, ReconOptions } from './protocolOptions';
 
@@ -292,4 +293,51 @@ export interface LabProgress {
   item?: LooItem | SweepItem | PhaseItem;
   /** The phases batch's function, with its last progress. */
   summary?: FunctionSummary;
+}
+
+/**
+ * One layout of the study's anatomical meshes (core `PhaseLayout::entry`): its file and figures,
+ * or (`file` null) the core's `note` saying why there is none.
+ */
+export interface StudyLayoutEntry {
+  phase: string;
+  surface: string;
+  /** `PHASE-SURFACE.ext`, as `heartmesh volumes --anatomical-meshes` names it; null: none written. */
+  file: string | null;
+  summary?: AnatomicalSummary;
+  /** How far the septum this phase's own file gives lies from the study's (degrees); null: the file gives none. */
+  septum_turn_deg?: number | null;
+  /** Mean and largest distance of its vertices from the same vertex of the reference phase (mm). */
+  displacement_mean_mm?: number | null;
+  displacement_max_mm?: number | null;
+  note?: string;
+}
+
+/** The septum every layout of the study is turned by (core `StudySeptum`). */
+export interface StudySeptum {
+  phase: string;
+  surface: string;
+  direction: [number, number, number];
+  /** What it was found from, e.g. "the RV contours' centre (123) of phase patient1-ED". */
+  source: string;
+}
+
+/**
+ * The study's anatomical meshes as the JSON of `heartmesh volumes --anatomical-meshes`
+ * (`anatomical_meshes`, core `Study::report`), plus each file written and its index.
+ */
+export interface AnatomicalStudyReport {
+  format: AnatomicalFormat;
+  layout: { rings: number; points: number };
+  septum: StudySeptum;
+  /** The phase the displacements are measured from (the LV's end-diastole). */
+  displacement_from_phase: string;
+  layouts: StudyLayoutEntry[];
+  files: { name: string; index: number }[];
+}
+
+/** The anatomical meshes of a finished phases batch: the report and every file (bytes transferred). */
+export interface AnatomicalStudy {
+  report: AnatomicalStudyReport;
+  files: { name: string; bytes: ArrayBuffer }[];
 }

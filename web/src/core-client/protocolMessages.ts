@@ -6,7 +6,7 @@
 
 import type { CoreErrorData } from './protocolErrors';
 import type {
-  AcquisitionSpec, LabAcquisition, LabBatchInfo, LabComparison, LabProgress, LabTruth, LabTruthEdit, LabTruthSource, LabTruthSummary, WorkerBatchJob,
+  AcquisitionSpec, AnatomicalStudy, LabAcquisition, LabBatchInfo, LabComparison, LabProgress, LabTruth, LabTruthEdit, LabTruthSource, LabTruthSummary, WorkerBatchJob,
 } from './protocolLab';
 import type { LidsMode, ParamSpec, ParamValues, ReconOptions } from './protocolOptions';
 import type { Frame, LabelMapGrid, LoadedFile, RunResult, ViewFile, WallFormat, WallSummary, WallSurfaceMesh } from './protocolResults';
@@ -207,7 +207,19 @@ export interface LabBatchRequest {
   job: WorkerBatchJob;
 }
 
-export type LabRequest = LabTruthRequest | LabTruthEditRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest;
+/**
+ * The anatomical meshes of the worker's last finished phases batch (the command line's `volumes
+ * --anatomical-meshes`): every phase's LV surfaces on `rings` x `points`, one septum for all;
+ * answered with 'lab-phases-anatomical', or an error saying why there are none.
+ */
+export interface LabPhasesAnatomicalRequest {
+  type: 'lab-phases-anatomical';
+  reqId: number;
+  rings: number;
+  points: number;
+  format: AnatomicalFormat;
+}
+export type LabRequest = LabTruthRequest | LabTruthEditRequest | LabSimulateRequest | LabCompareRequest | LabBatchRequest | LabPhasesAnatomicalRequest;
 
 export type ToWorker = LoadRequest | GridRequest | RunRequest | AckRequest | CancelRequest | SchemaRequest | SessionExportRequest | WallExportRequest | BivWallExportRequest | AnatomicalExportRequest | HexExportRequest | LabRequest;
 
@@ -323,7 +335,15 @@ export interface LabBatchDoneMessage {
   runId: number;
 }
 
+/** The anatomical meshes of the last finished phases batch: the report and the files. */
+export interface LabPhasesAnatomicalMessage {
+  type: 'lab-phases-anatomical';
+  reqId: number;
+  study: AnatomicalStudy;
+}
+
 export type LabMessage =
+  | LabPhasesAnatomicalMessage
   | LabTruthMessage
   | LabTruthsMessage
   | LabSimulatedMessage

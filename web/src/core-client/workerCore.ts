@@ -337,6 +337,7 @@ export class WorkerCore {
       case 'lab-simulate':
       case 'lab-compare':
       case 'lab-batch':
+      case 'lab-phases-anatomical':
         if (!this.lab) {
           this.send({ type: 'error', ...idsOf(msg), error: { code: 'lab_unavailable', message: 'this core has no validation lab' } });
           break;
@@ -696,6 +697,7 @@ function idsOf(msg: ToWorker): { reqId?: number; runId?: number } {
     case 'lab-truth-edit':
     case 'lab-simulate':
     case 'lab-compare':
+    case 'lab-phases-anatomical':
     case 'session-export':
     case 'wall-export':
     case 'biv-wall-export':

@@ -9,14 +9,15 @@
  * core for the smallest layout and, refused, shows the core's reason greyed, with no Save. The row
  * checks only what would make a call pointless: a finished run, and whole numbers in range.
  */
-import { ANATOMICAL_FORMATS, toCoreErrorData, type AnatomicalFormat, type AnatomicalSummary } from '../core-client/protocol';
+import { toCoreErrorData, type AnatomicalFormat, type AnatomicalSummary } from '../core-client/protocol';
 import { h } from '../ui/dom';
 import { probed, showMessage, type Availability } from './derivedRow';
 import { download } from './download';
 import {
-  ANATOMICAL_DEFAULT, ANATOMICAL_HINT, ANATOMICAL_POINTS, ANATOMICAL_RINGS, PROBE_LAYOUT, anatomicalErrorText, anatomicalFigures, anatomicalFiguresTitle,
-  anatomicalFileName, anatomicalFormatTitle, anatomicalReason, checkLayout, isRefusal, layoutVertices, type AnatomicalLayout,
+  ANATOMICAL_HINT, PROBE_LAYOUT, anatomicalErrorText, anatomicalFigures, anatomicalFiguresTitle, anatomicalFileName, anatomicalFormatTitle, anatomicalReason, isRefusal, layoutVertices,
+  type AnatomicalLayout,
 } from './export/anatomical';
+import { LayoutFields, formatOf, formatSelect } from './layoutFields';
 import type { ExportInfo } from './export/header';
 
 /** A mesh built in the worker: its figures and its file. */
@@ -51,8 +52,7 @@ const WHAT = 'The finished LV_ENDO or LV_EPI surface resampled onto a fixed grid
 
 export class AnatomicalRow {
   readonly element: HTMLElement;
-  private readonly rings: HTMLInputElement;
-  private readonly points: HTMLInputElement;
+  private readonly fields: LayoutFields;
   private readonly format: HTMLSelectElement;
   private readonly save: HTMLButtonElement;
   private readonly viewButton: HTMLButtonElement;
@@ -71,19 +71,8 @@ export class AnatomicalRow {
   private viewToken = 0;
 
   constructor(private readonly source: AnatomicalRowSource) {
-    const number = (testid: string, label: string, value: number, range: { min: number; max: number }) => {
-      const input = h('input', { type: 'number', class: 'anatomical-number', 'data-testid': testid, min: range.min, max: range.max, step: 1, value, 'aria-label': label, title: `${label}: ${range.min}-${range.max}` });
-      // Set as a property too: what the row reads back (`value`) is the property, not the attribute.
-      input.value = String(value);
-      input.addEventListener('input', () => this.layoutChanged());
-      return input;
-    };
-    this.rings = number('anatomical-rings', 'Rings from the apex to the base', ANATOMICAL_DEFAULT.rings, ANATOMICAL_RINGS);
-    this.points = number('anatomical-points', 'Points per ring', ANATOMICAL_DEFAULT.points, ANATOMICAL_POINTS);
-    this.format = h('select', { class: 'small', 'data-testid': 'anatomical-format', 'aria-label': 'Anatomical mesh format' });
-    for (const f of ANATOMICAL_FORMATS) this.format.append(h('option', { value: f, title: anatomicalFormatTitle(f) }, f.toUpperCase()));
-    this.format.value = ANATOMICAL_FORMATS[0];
-    this.format.addEventListener('change', () => this.render());
+    this.fields = new LayoutFields({ rings: 'anatomical-rings', points: 'anatomical-points' }, () => this.layoutChanged());
+    this.format = formatSelect('anatomical-format', 'Anatomical mesh format', () => this.render());
     this.save = h('button', { type: 'button', class: 'small', 'data-testid': 'export-anatomical', 'aria-label': 'Save the anatomical mesh' }, 'Save');
     this.save.addEventListener('click', () => void this.export());
     this.viewButton = h('button', { type: 'button', class: 'small wall-view', 'data-testid': 'view-anatomical', 'aria-pressed': 'false', 'aria-label': 'View the anatomical mesh' }, 'View');
@@ -94,7 +83,7 @@ export class AnatomicalRow {
     this.form = h(
       'div',
       { class: 'anatomical-form' },
-      h('span', { class: 'anatomical-layout' }, this.rings, h('span', { class: 'anatomical-times', 'aria-hidden': 'true' }, '×'), this.points),
+      this.fields.element,
       this.format,
       this.save,
     );
@@ -126,7 +115,7 @@ export class AnatomicalRow {
 
   /** The layout typed, when it is one the core takes. */
   private layout(): AnatomicalLayout | null {
-    const c = checkLayout(this.rings.value, this.points.value);
+    const c = this.fields.check();
     return c.ok ? c.layout : null;
   }
 
@@ -152,7 +141,7 @@ export class AnatomicalRow {
 
   private render(): void {
     const a = this.availability;
-    const check = checkLayout(this.rings.value, this.points.value);
+    const check = this.fields.check();
     const ready = a.state === 'ready';
     this.element.dataset.state = a.state;
     this.form.hidden = a.state === 'refused';
@@ -160,12 +149,12 @@ export class AnatomicalRow {
     this.reason.textContent = a.state === 'refused' ? a.reason : '';
     this.layoutError.hidden = check.ok || a.state === 'refused';
     this.layoutError.textContent = check.ok ? '' : check.message;
-    this.rings.disabled = this.points.disabled = this.format.disabled = !ready;
+    this.fields.disabled = this.format.disabled = !ready;
     this.save.disabled = !ready || !check.ok || this.busy;
     this.viewButton.disabled = !ready || !check.ok || (this.busy && !this.viewing);
     this.viewButton.hidden = a.state === 'refused';
     this.viewButton.setAttribute('aria-pressed', this.viewing ? 'true' : 'false');
-    const format = this.format.value as AnatomicalFormat;
+    const format = formatOf(this.format);
     const why = a.state === 'none' ? `${WHAT}: once a surface's run has finished` : a.state === 'checking' ? `${WHAT}: asking the core…` : a.state === 'refused' ? a.reason : WHAT;
     this.element.title = why;
     this.save.title = !ready ? why : check.ok ? `Save ${layoutVertices(check.layout)} vertices as ${format.toUpperCase()}: ${anatomicalFormatTitle(format)}` : check.message;
@@ -221,7 +210,7 @@ export class AnatomicalRow {
   /** Save: builds the layout typed in the format chosen and downloads it. */
   private async export(): Promise<void> {
     const info = this.source.info();
-    const format = this.format.value as AnatomicalFormat;
+    const format = formatOf(this.format);
     if (!info) return;
     const done = await this.build(format);
     if (done) download(done.built.bytes.slice(), anatomicalFileName(info, done.layout, format), MIME[format]);

@@ -5,7 +5,9 @@
  * shows the volumes (ml) in a phases x surfaces table, each cavity's EDV/ESV/SV/EF, the LV mass and
  * a CSV of the cells (the CLI's `heartmesh volumes`); with three phases or more, a curve of each
  * cavity's volume over them (VolumeChart) above the table; with LV_ENDO and LV_EPI, the LV wall's
- * systolic thickening by AHA segment under it all (ThickeningView). A table measured with other
+ * systolic thickening by AHA segment under it all (ThickeningView); with LV_ENDO or LV_EPI, the
+ * "Anatomical meshes" row (AnatomicalStudyRow: every phase's LV surfaces on one anatomical layout,
+ * saved as a zip, the CLI's `volumes --anatomical-meshes`). A table measured with other
  * settings or other files than those now open is marked stale rather than shown as if it were
  * current, the curve and the thickening with it.
  *
@@ -14,7 +16,7 @@
  * `data-surface`, `data-ef`, `data-edv-ml`, `data-esv-ml`, the mass line `data-ed-g`, `data-es-g`.
  */
 import type { LabBatchHandle } from '../core-client/coreClientTypes';
-import type { CoreErrorData, FunctionSummary, LabProgress, LidsMode, ParamValues, PhaseItem, PhasesJob, ReconOptions } from '../core-client/protocol';
+import type { AnatomicalFormat, AnatomicalStudy, CoreErrorData, FunctionSummary, LabProgress, LidsMode, ParamValues, PhaseItem, PhasesJob, ReconOptions } from '../core-client/protocol';
 import { download } from '../io/download';
 import { surfaceOrder } from '../io/FileBar';
 import { phasesBaseName, type ThickeningProvenance } from '../io/export/thickening';
@@ -24,6 +26,7 @@ import { h } from './dom';
 import { cellText, edEsText, massText, singleTexts, ventricleText, volumesCsv } from './functionText';
 import { volumeChart } from './VolumeChart';
 import { ThickeningView } from './ThickeningView';
+import { AnatomicalStudyRow } from './AnatomicalStudyRow';
 import { cavities, cavitySeries, curveLayout } from './volumeCurve';
 
 /** What a measurement depends on, as the controller sees it now. */
@@ -53,7 +56,12 @@ export interface FunctionHost {
    * The core client once it is up; its `schema` (CoreClient's, cached) gives the core's version
    * for the Thickening CSV's header.
    */
-  client(): { measurePhases(job: PhasesJob, onProgress: (p: LabProgress) => void): LabBatchHandle; schema?(): Promise<{ version: string }> } | null;
+  client(): {
+    measurePhases(job: PhasesJob, onProgress: (p: LabProgress) => void): LabBatchHandle;
+    schema?(): Promise<{ version: string }>;
+    /** The anatomical meshes of the last finished measurement (CoreClient.phasesAnatomical). */
+    phasesAnatomical?(layout: { rings: number; points: number }, format: AnatomicalFormat): Promise<AnatomicalStudy>;
+  } | null;
 }
 
 type State = 'measuring' | 'done' | 'stopped' | 'error';
@@ -96,6 +104,7 @@ export class FunctionPanel {
   private readonly table: HTMLTableElement;
   private readonly summary: HTMLElement;
   private readonly thickening: ThickeningView;
+  private readonly anatomical: AnatomicalStudyRow;
   private readonly error: HTMLElement;
   private m: Measurement | null = null;
 
@@ -118,6 +127,12 @@ export class FunctionPanel {
     this.table = h('table', { class: 'function-table', 'data-testid': 'function-table', hidden: true });
     this.summary = h('ul', { class: 'function-summary', 'data-testid': 'function-summary' });
     this.thickening = new ThickeningView(() => this.provenance());
+    this.anatomical = new AnatomicalStudyRow({
+      build: (layout, format) => {
+        const client = this.host.client();
+        return client?.phasesAnatomical ? client.phasesAnatomical(layout, format) : null;
+      },
+    });
     this.error = h('p', { class: 'function-error', 'data-testid': 'function-error', hidden: true });
     this.element = h(
       'section',
@@ -132,6 +147,7 @@ export class FunctionPanel {
       this.table,
       this.summary,
       this.thickening.element,
+      this.anatomical.element,
       this.error,
     );
     host.onContextChange(() => this.render());
@@ -250,6 +266,9 @@ export class FunctionPanel {
     this.renderSummary(m);
     // Of the same summary as the lines above: replaced and greyed (styles.css, bullseye.css) with them.
     this.thickening.show(m?.summary ?? null);
+    // The worker holds the finished batch's meshes: the layouts are of the table shown, current only.
+    const lv = m?.items.some((it) => it && (it.surface === 'LV_ENDO' || it.surface === 'LV_EPI') && it.volume_ml !== null) ?? false;
+    this.anatomical.setMeasurement(m && m.state === 'done' && staleWhy === null && lv ? m : null, m ? phasesBaseName(m.plan) : 'phases');
   }
 
   private renderTable(m: Measurement | null): void {

@@ -32,7 +32,10 @@ pub const USAGE: &str = "heartmesh info CONTOURS [VIEWS...] [--frame N|LABEL] [-
   closed / manifold / oriented, volume (closed meshes) and area, range, edge lengths, triangle
   quality, folded edges, self-intersections, its point data and its triangles' region labels
   (name, triangles, area each: `myocardium` writes epicardium / endocardium / base), under the
-  keys of reconstruct's report. --json prints the same as JSON.";
+  keys of reconstruct's report. A volume mesh (a VTK unstructured grid: myocardium --hex-mesh,
+  gmsh, TetGen): points, cells by type, volume, the smallest scaled Jacobian and inverted cells
+  (tetrahedra, hexahedra, wedges, pyramids), and its point and cell data arrays (name,
+  components, range). --json prints the same as JSON.";
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
     let p = parse(
@@ -84,8 +87,8 @@ fn describe_files(
     frame: Option<FrameChoice>,
 ) -> Result<(Value, Words), CliError> {
     if let [one] = files {
-        if let Some(mesh) = mesh_file(one)? {
-            return Ok((mesh, mesh_text));
+        if let Some(described) = mesh_file(one)? {
+            return Ok(described);
         }
     }
     let (input, loaded) = contours::load_all(files, frame)?;
@@ -116,13 +119,20 @@ fn print(info: &Value, json: bool, words: Words) -> Result<(), CliError> {
 }
 
 /// A surface file's facts (`mesh_facts`, as a reconstruction's report gives them, plus its range
-/// and point data), or None when `path` holds contours: .vtk and .vtp hold either.
-fn mesh_file(path: &str) -> Result<Option<Value>, CliError> {
+/// and point data), a volume mesh's (`info_volume`), or None when `path` holds contours: .vtk
+/// and .vtp hold either.
+fn mesh_file(path: &str) -> Result<Option<(Value, Words)>, CliError> {
     let ext = io::extension(path);
     if !matches!(ext.as_str(), "obj" | "stl" | "ply" | "vtk" | "vtp") {
         return Ok(None);
     }
     let bytes = files::read(path)?;
+    if ext == "vtk" && io::vtk::is_unstructured_grid(&bytes) {
+        return Ok(Some((
+            crate::info_volume::facts(path, &bytes)?,
+            crate::info_volume::text,
+        )));
+    }
     let data = match io::read_mesh(path, &bytes) {
         Ok(data) => data,
         Err(_) if matches!(ext.as_str(), "vtk" | "vtp") => return Ok(None),
@@ -139,7 +149,7 @@ fn mesh_file(path: &str) -> Result<Option<Value>, CliError> {
     });
     facts.insert("point_data".into(), json!(point_data));
     facts.insert("regions".into(), regions_json(&data));
-    Ok(Some(Value::Object(facts)))
+    Ok(Some((Value::Object(facts), mesh_text)))
 }
 
 /// The triangle labels the file carried (a wall's epicardium / endocardium / base): each
@@ -515,12 +525,12 @@ fn surface_text(s: &Value, crossing: Option<String>) -> String {
     out
 }
 
-fn plural(n: u64, word: &str) -> String {
+pub(crate) fn plural(n: u64, word: &str) -> String {
     format!("{n} {word}{}", if n == 1 { "" } else { "s" })
 }
 
 /// The smallest box around `points` (mm, the file's own frame), or null for none.
-fn bounds<'a>(points: impl Iterator<Item = &'a Vec3>) -> Value {
+pub(crate) fn bounds<'a>(points: impl Iterator<Item = &'a Vec3>) -> Value {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
     for p in points {
         for k in 0..3 {
@@ -536,7 +546,7 @@ fn bounds<'a>(points: impl Iterator<Item = &'a Vec3>) -> Value {
 }
 
 /// The `coordinates (mm)` line of a `bounds_mm`, or nothing.
-fn range_text(info: &Value) -> String {
+pub(crate) fn range_text(info: &Value) -> String {
     let (Some(lo), Some(hi)) = (
         info.pointer("/bounds_mm/min").and_then(Value::as_array),
         info.pointer("/bounds_mm/max").and_then(Value::as_array),

@@ -27,6 +27,7 @@ mod each_surface;
 mod error;
 mod files;
 mod hex_out;
+mod info_volume;
 mod report;
 mod svg;
 mod svg_plot;

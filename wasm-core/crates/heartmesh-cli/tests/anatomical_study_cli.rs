@@ -257,3 +257,134 @@ fn what_has_no_layout_is_refused_before_the_runs() {
         "one of vtk, vtp, ply, obj, stl",
     );
 }
+
+/// `input` with every point moved: LV points by `lv`, the others (RV) by `rv`.
+fn moved_csv(input: &Path, out: &Path, lv: impl Fn(Vec3) -> Vec3, rv: impl Fn(Vec3) -> Vec3) {
+    let text = std::fs::read_to_string(input).unwrap();
+    let mut lines = Vec::new();
+    for line in text.lines() {
+        let cells: Vec<&str> = line.split(',').collect();
+        let xyz: Option<Vec<f64>> = cells
+            .get(1..4)
+            .and_then(|c| c.iter().map(|v| v.parse::<f64>().ok()).collect());
+        match xyz {
+            Some(p) => {
+                let p = v3(p[0], p[1], p[2]);
+                let q = if line.contains(",LV_") { lv(p) } else { rv(p) };
+                let mut c: Vec<String> = cells.iter().map(|c| c.to_string()).collect();
+                c[1] = format!("{:.9}", q.x);
+                c[2] = format!("{:.9}", q.y);
+                c[3] = format!("{:.9}", q.z);
+                lines.push(c.join(","));
+            }
+            None => lines.push(line.to_string()),
+        }
+    }
+    std::fs::write(out, lines.join("\n") + "\n").unwrap();
+}
+
+/// The motion the layouts are for, against a known one: ED's contours contracted by a
+/// systole-like map, and the RV of that "ES" drawn 4 degrees round the axis (the drawing noise
+/// between frames). Laid out on the study's septum, each ES grid vertex lies where the map takes
+/// the ED grid vertex; laid out on its own file's septum (reconstruct alone), the grid turns
+/// with the RV's drawing and every vertex lands off.
+#[test]
+fn a_known_contraction_is_recovered_vertex_by_vertex_despite_the_rvs_drawing() {
+    let dir = scratch("study-known-motion");
+    let ed_report = dir.join("ed.json");
+    let ed_grid = dir.join("ed-grid.vtk");
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        s(&patient1("ED")),
+        "--surface",
+        "LV_ENDO",
+        "-o",
+        s(&dir.join("ed.obj")),
+        "--report",
+        s(&ed_report),
+        "--anatomical-mesh",
+        s(&ed_grid),
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let rep: Value = serde_json::from_slice(&std::fs::read(&ed_report).unwrap()).unwrap();
+    let n = vector(&rep["anatomical_mesh"]["axis"]);
+    let ed = read(&ed_grid).mesh;
+    let centre = ed.positions[ed.positions.len() - 1];
+    let contract = move |p: Vec3| {
+        let d = p - centre;
+        let h = d.dot(&n);
+        centre + n * (0.9 * h) + (d - n * h) * 0.8
+    };
+    // 4 degrees about the axis through the base's centre (Rodrigues).
+    let (sin, cos) = 4f64.to_radians().sin_cos();
+    let turned = move |p: Vec3| {
+        let v = contract(p) - centre;
+        centre + v * cos + n.cross(&v) * sin + n * (n.dot(&v) * (1.0 - cos))
+    };
+    let es = dir.join("systole.csv");
+    moved_csv(&patient1("ED"), &es, contract, turned);
+
+    let (a, _) = volumes(&[&patient1("ED"), &es], &dir, &[]);
+    let e = entry(&a, "systole", "LV_ENDO");
+    let said = e["septum_turn_deg"].as_f64().unwrap();
+    assert!(
+        (said - 4.0).abs() < 0.5,
+        "its own septum {said} degrees round"
+    );
+    let study = read(&dir.join("lay/systole-LV_ENDO.vtk")).mesh;
+    let own_grid = dir.join("own-grid.vtk");
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        s(&es),
+        "--surface",
+        "LV_ENDO",
+        "-o",
+        s(&dir.join("own.obj")),
+        "--anatomical-mesh",
+        s(&own_grid),
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let own = read(&own_grid).mesh;
+    let error = |grid: &heartmesh_core::TriMesh| {
+        let d: Vec<f64> = (1..ed.positions.len() - 1)
+            .map(|v| (grid.positions[v] - contract(ed.positions[v])).norm())
+            .collect();
+        d.iter().sum::<f64>() / d.len() as f64
+    };
+    let (on_study, on_own) = (error(&study), error(&own));
+    println!(
+        "known contraction, RV drawn 4 degrees round: grid vertex vs contracted ED grid, mean \
+         {on_study:.3} mm on the study's septum, {on_own:.3} mm on the file's own"
+    );
+    assert!(on_study < 0.5, "{on_study} mm");
+    assert!(on_own > 2.0 * on_study, "{on_own} vs {on_study} mm");
+}
+
+#[test]
+fn the_readme_study_example_prints_as_shown() {
+    let dir = scratch("study-readme");
+    let folder = data("contours/bivme-example-patient1");
+    let (ed, es) = (folder.join("GPFile_000.txt"), folder.join("GPFile_009.txt"));
+    let (code, out, err) = run(bin().current_dir(&dir).args([
+        "volumes",
+        s(&ed),
+        s(&es),
+        "--surface",
+        "LV_ENDO,LV_EPI",
+        "--anatomical-meshes",
+        "grids",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../README.md"))
+            .unwrap();
+    let shown = readme
+        .split("--surface LV_ENDO,LV_EPI --anatomical-meshes grids\n...\n")
+        .nth(1)
+        .and_then(|rest| rest.split("```").next())
+        .expect("the README's study example");
+    assert!(out.ends_with(shown), "{out}\nvs the README:\n{shown}");
+    assert_eq!(std::fs::read_dir(dir.join("grids")).unwrap().count(), 4);
+}

@@ -266,3 +266,72 @@ fn what_has_no_cells_is_refused_before_the_run() {
         "no RV_INSERT landmarks and no RV contours",
     );
 }
+
+/// `info hex.vtk` describes the volume mesh (it refused the unstructured grid before): the
+/// counts, the volume and cell quality the report gave, the arrays and their ranges.
+#[test]
+fn info_describes_the_hexahedra() {
+    let dir = scratch("hex-info");
+    let (rep, _, _) = myocardium(&dir, &[]);
+    let h = &rep["hex_mesh"];
+    let hex = dir.join("hex.vtk");
+    let (code, out, err) = run(bin().args(["info", s(&hex), "--json"]));
+    assert_eq!(code, 0, "{err}");
+    let info: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(info["format"], "VTK unstructured grid");
+    assert_eq!(info["points"], h["points"]);
+    assert_eq!(info["cells"], 3456);
+    assert_eq!(info["measured_cells"], 3456);
+    assert_eq!(info["inverted_cells"], 0);
+    let close = |a: &Value, b: &Value| (a.as_f64().unwrap() - b.as_f64().unwrap()).abs();
+    assert!(close(&info["volume_ml"], &h["volume_ml"]) < 1e-9, "{info}");
+    assert!(close(&info["min_scaled_jacobian"], &h["min_scaled_jacobian"]) < 1e-9);
+    let names: Vec<&str> = info["point_data"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "transmural",
+            "longitudinal",
+            "circumferential_deg",
+            "fibre",
+            "sheet"
+        ]
+    );
+    let segments = &info["cell_data"][0];
+    assert_eq!(segments["name"], "aha_segment");
+    assert_eq!(
+        (segments["min"].as_f64(), segments["max"].as_f64()),
+        (Some(1.0), Some(17.0))
+    );
+    let fibre = &info["point_data"][3];
+    assert_eq!(fibre["components"], 3);
+    assert!(
+        close(&fibre["min"], &serde_json::json!(1.0)) < 1e-9,
+        "unit fibres"
+    );
+    let (code, text, err) = run(bin().args(["info", s(&hex)]));
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        text.contains("3456 cells: 144 wedges, 3312 hexahedra")
+            && text.contains("no inverted cell")
+            && text.contains("cell data: aha_segment 1.000 to 17.000"),
+        "{text}"
+    );
+    // A broken grid: one line naming the file and the problem, status 2.
+    let bytes = std::fs::read_to_string(&hex).unwrap();
+    let broken = dir.join("broken.vtk");
+    std::fs::write(
+        &broken,
+        bytes.replacen("CELL_TYPES 3456", "CELL_TYPES 3455", 1),
+    )
+    .unwrap();
+    let (code, _, err) = run(bin().args(["info", s(&broken)]));
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("broken.vtk"), "{err}");
+}

@@ -15,6 +15,7 @@ use heartmesh_core::contours::ContourSet;
 use heartmesh_core::error::CoreError;
 use heartmesh_core::io;
 use heartmesh_core::mesh::topology;
+use heartmesh_core::metrics::anatomical::Layout;
 use heartmesh_core::metrics::compare::{compare, vertex_distances, ClipPlane};
 use heartmesh_core::sim::planes::simulate_surfaces;
 use heartmesh_core::sim::repair::{orient_consistently, weld};
@@ -23,7 +24,7 @@ use heartmesh_core::TriMesh;
 use serde_json::json;
 use wasm_bindgen::prelude::*;
 
-use crate::{convert, errors, Session};
+use crate::{convert, errors, wall, Session};
 use batch::Batch;
 use truths::{usage, Truths};
 pub use truths::{LabError, Truth};
@@ -49,7 +50,16 @@ pub struct Lab {
     last_distances: Vec<f64>,
     batch: Option<Batch>,
     batch_points: Vec<f32>,
+    /// The last phases batch once finished (its meshes, contours and base planes), for the
+    /// study's anatomical layouts; dropped when another phases batch starts.
+    finished_phases: Option<phases::Phases>,
+    /// The files of the last [`Lab::phases_anatomical`], each taken once by
+    /// [`Lab::phases_anatomical_file`].
+    anatomical_files: Vec<Option<Vec<u8>>>,
 }
+
+/// How the study's anatomical layouts' failures begin in the app.
+pub const ANATOMICAL_STUDY: &str = "the anatomical meshes";
 
 impl Default for Lab {
     fn default() -> Self {
@@ -76,6 +86,8 @@ impl Lab {
             last_distances: Vec::new(),
             batch: None,
             batch_points: Vec::new(),
+            finished_phases: None,
+            anatomical_files: Vec::new(),
         }
     }
 
@@ -258,9 +270,38 @@ impl Lab {
             out["summary"] = summary;
         }
         if done {
-            self.batch = None;
+            // A finished phases batch stays for its anatomical layouts.
+            self.finished_phases = self.batch.take().and_then(Batch::into_phases);
         }
         Ok(out.to_string())
+    }
+
+    /// The anatomical layouts of the last finished phases batch, as `heartmesh volumes
+    /// --anatomical-meshes` writes them: every phase's LV surfaces (LV_ENDO, LV_EPI) resampled on
+    /// `layout` (`RINGSxPOINTS`, e.g. "24x48": the same vertices and triangles in every file),
+    /// all turned by the septum of the LV's end-diastole, each with point data `displacement_mm`
+    /// from the same vertex at that phase, written as `format` (vtk, vtp, ply, obj, stl). Returns
+    /// the command line report's `anatomical_meshes` (`{format, layout, septum,
+    /// displacement_from_phase, layouts: [{phase, surface, file, summary, septum_turn_deg,
+    /// displacement_mean_mm, displacement_max_mm} | {phase, surface, file: null, note}]}`) plus
+    /// `files: [{name, index}]`, each file's bytes then taken with
+    /// [`Lab::phases_anatomical_file`]. Without a finished phases batch, an LV surface among those
+    /// measured or a phase saying where the septum is, an error whose message says why, starting
+    /// "the anatomical meshes: ".
+    pub fn phases_anatomical(&mut self, layout: &str, format: &str) -> Result<String, JsValue> {
+        self.phases_anatomical_with(layout, format)
+            .map_err(|e| JsValue::from_str(&e.to_string()))
+    }
+
+    /// The bytes of file `index` of the last [`Lab::phases_anatomical`], handed over once (the
+    /// Lab keeps no copy afterwards).
+    pub fn phases_anatomical_file(&mut self, index: usize) -> Result<Vec<u8>, JsValue> {
+        self.phases_anatomical_file_with(index).ok_or_else(|| {
+            errors::usage(
+                "no_file",
+                format!("{ANATOMICAL_STUDY}: no file {index} to hand over"),
+            )
+        })
     }
 
     /// Drops the batch in progress (cancel).
@@ -286,6 +327,9 @@ impl Lab {
         views: &[(&str, &[u8])],
     ) -> heartmesh_core::error::Result<String> {
         self.batch_points.clear();
+        // The layouts of a former study would be taken for this one's.
+        self.finished_phases = None;
+        self.anatomical_files.clear();
         let params = self.new_batch_params(params_json, lids, None)?;
         let requests = phase_requests(phases_json)?;
         // The frames are read one by one as the batch reaches them (`phases::Source::Frame`).
@@ -308,6 +352,7 @@ impl Lab {
             .into_iter()
             .map(|r| phases::PhaseInput {
                 name: r.name,
+                file: r.file.clone(),
                 leave_out: r.leave_out,
                 source: match r.frame {
                     Some(frame) => phases::Source::Frame(frame),
@@ -325,6 +370,45 @@ impl Lab {
         info["total"] = json!(batch.total());
         self.batch = Some(batch);
         Ok(info.to_string())
+    }
+
+    /// [`Lab::phases_anatomical_file`], natively (None: no such file, or handed over already).
+    pub fn phases_anatomical_file_with(&mut self, index: usize) -> Option<Vec<u8>> {
+        self.anatomical_files.get_mut(index).and_then(Option::take)
+    }
+
+    /// [`Lab::phases_anatomical`], natively: the JSON, or the error's JSON (`{code, message}`).
+    pub fn phases_anatomical_with(
+        &mut self,
+        layout: &str,
+        format: &str,
+    ) -> Result<String, serde_json::Value> {
+        self.anatomical_files.clear();
+        let Some(phases) = self.finished_phases.as_ref() else {
+            return Err(json!({
+                "code": "no_phases",
+                "message": format!(
+                    "{ANATOMICAL_STUDY}: no finished phases batch: measure all phases first"
+                ),
+            }));
+        };
+        let refusal = |e: CoreError| errors::refusal_json(&e, ANATOMICAL_STUDY);
+        let invalid = |name: &str, message: String| CoreError::ParamInvalid {
+            name: name.into(),
+            message,
+        };
+        let layout = Layout::parse(layout).map_err(|m| refusal(invalid("layout", m)))?;
+        let format = wall::mesh_format(format).map_err(refusal)?;
+        let made = phases.anatomical(layout, format).map_err(refusal)?;
+        let mut out = made.report;
+        out["files"] = json!(made
+            .files
+            .iter()
+            .enumerate()
+            .map(|(index, (name, _))| json!({ "name": name, "index": index }))
+            .collect::<Vec<_>>());
+        self.anatomical_files = made.files.into_iter().map(|(_, b)| Some(b)).collect();
+        Ok(out.to_string())
     }
 
     /// The parameters of a new batch, the one in progress dropped first: a start that fails
@@ -951,6 +1035,226 @@ mod tests {
         assert!(lab
             .start_phases_with(&session, r#"[{"name": 1}, {}]"#, "{}", "auto", &[], &[])
             .is_err());
+    }
+
+    /// A legacy VTK file's POINTS (xyz).
+    fn vtk_points(bytes: &[u8]) -> Vec<f64> {
+        let text = String::from_utf8_lossy(bytes);
+        let mut lines = text.lines().skip_while(|l| !l.starts_with("POINTS "));
+        let n: usize = lines
+            .next()
+            .and_then(|l| l.split_whitespace().nth(1))
+            .and_then(|v| v.parse().ok())
+            .unwrap();
+        let mut out = Vec::with_capacity(3 * n);
+        for line in lines {
+            if out.len() >= 3 * n {
+                break;
+            }
+            out.extend(line.split_whitespace().map(|v| v.parse::<f64>().unwrap()));
+        }
+        assert_eq!(out.len(), 3 * n);
+        out
+    }
+
+    /// After a finished phases batch of patient 1's ED and ES files, the study's anatomical
+    /// layouts are the core's for the same runs (`anatomical_study::of_study` on the core's own
+    /// reconstructions, each with its `basal_plane`, the LV's end-diastole preferred, as `heartmesh
+    /// volumes --anatomical-meshes` does): four layouts (LV_EPI and LV_ENDO of both phases), the
+    /// ED LV_ENDO file's vertices and every displacement mean to 1e-9, the ES layouts' septum
+    /// turns numbers; each file handed over once.
+    #[test]
+    fn phases_anatomical_are_the_cores_study_layouts() {
+        use heartmesh_core::io::MeshFormat;
+        use heartmesh_core::metrics::anatomical_study::{of_study, PhaseSurface};
+        use heartmesh_core::metrics::compare::basal_plane;
+        let (ed, es) = (patient1("ED"), patient1("ES"));
+        let mut session = Session::new();
+        session.load("patient1-ED.csv", &ed, None).unwrap();
+        session.load("patient1-ES.csv", &es, None).unwrap();
+        let mut lab = Lab::new();
+        // Nothing measured yet: refused, saying why.
+        let e = lab.phases_anatomical_with("24x48", "vtk").unwrap_err();
+        assert_eq!(e["code"], "no_phases");
+        assert!(e["message"]
+            .as_str()
+            .unwrap()
+            .starts_with("the anatomical meshes: no finished phases batch"));
+        let phases = r#"[{"name": "patient1-ED", "file": "patient1-ED.csv"},
+                         {"name": "patient1-ES", "file": "patient1-ES.csv"}]"#;
+        lab.start_phases_with(&session, phases, "{}", "auto", &[], &[])
+            .unwrap();
+        drain(&mut lab);
+        let out: serde_json::Value =
+            serde_json::from_str(&lab.phases_anatomical_with("24x48", "vtk").unwrap()).unwrap();
+
+        // The core's study of the same runs.
+        let sets: Vec<ContourSet> = [&ed, &es]
+            .iter()
+            .map(|b| heartmesh_core::io::read_contours("p.csv", b).unwrap())
+            .collect();
+        let names = ["patient1-ED", "patient1-ES"];
+        let surfaces = ["LV_EPI", "LV_ENDO"];
+        let mut runs = Vec::new();
+        for set in &sets {
+            for s in surfaces {
+                let params = heartmesh_core::Params {
+                    surface: Some(s.to_string()),
+                    ..heartmesh_core::Params::default()
+                };
+                let mut rec = heartmesh_core::pipeline::Reconstruction::new(set, params).unwrap();
+                rec.run().unwrap();
+                runs.push((rec.mesh().clone(), basal_plane(&rec).unwrap()));
+            }
+        }
+        let items: Vec<PhaseSurface> = runs
+            .iter()
+            .enumerate()
+            .map(|(i, (mesh, base))| PhaseSurface {
+                phase: names[i / 2],
+                surface: surfaces[i % 2],
+                set: &sets[i / 2],
+                mesh: Some((mesh, base)),
+            })
+            .collect();
+        let layout = Layout::parse("24x48").unwrap();
+        let study = of_study(&items, Some("patient1-ED"), layout).unwrap();
+        assert_eq!(study.septum.phase, "patient1-ED");
+
+        assert_eq!(out["format"], "vtk");
+        assert_eq!(out["layout"], json!({"rings": 24, "points": 48}));
+        assert_eq!(out["septum"]["phase"], "patient1-ED");
+        assert_eq!(out["septum"]["surface"], "LV_ENDO");
+        assert_eq!(out["septum"]["source"], json!(study.septum.source));
+        assert_eq!(out["displacement_from_phase"], "patient1-ED");
+        let layouts = out["layouts"].as_array().unwrap();
+        assert_eq!(layouts.len(), 4, "{out}");
+        let files = out["files"].as_array().unwrap();
+        assert_eq!(files.len(), 4);
+        for (i, (entry, core)) in layouts.iter().zip(&study.layouts).enumerate() {
+            assert_eq!(entry["phase"], json!(core.phase));
+            assert_eq!(entry["surface"], json!(core.surface));
+            let name = format!("{}-{}.vtk", core.phase, core.surface);
+            assert_eq!(entry["file"], json!(name));
+            assert_eq!(files[i], json!({"name": name, "index": i}));
+            assert_eq!(entry["summary"]["vertices"], 1154);
+            let (mean, max) = core.displacement_stats().unwrap();
+            let got = entry["displacement_mean_mm"].as_f64().unwrap();
+            println!(
+                "{} {}: displacement mean {got:.4} mm, max {:.4} mm, septum turn {}",
+                core.phase, core.surface, entry["displacement_max_mm"], entry["septum_turn_deg"]
+            );
+            assert!((got - mean).abs() <= 1e-9, "{got} vs {mean}");
+            assert!((entry["displacement_max_mm"].as_f64().unwrap() - max).abs() <= 1e-9);
+            if core.phase == "patient1-ED" {
+                assert_eq!(got, 0.0);
+            } else {
+                // The LV contracts: millimetres of motion, and the septum its own file gives
+                // within a few degrees of ED's.
+                assert!(got > 1.0 && got < 15.0, "{got}");
+                let turn = entry["septum_turn_deg"].as_f64().unwrap();
+                assert!(turn.is_finite() && (0.0..10.0).contains(&turn), "{turn}");
+            }
+        }
+        // The ED LV_ENDO file: the core's vertices (1e-9) and the core's very bytes.
+        let k = study
+            .layouts
+            .iter()
+            .position(|l| l.phase == "patient1-ED" && l.surface == "LV_ENDO")
+            .unwrap();
+        let bytes = lab.phases_anatomical_file_with(k).unwrap();
+        let want = study.layouts[k]
+            .file(&study, MeshFormat::Vtk, "patient1-ED.csv")
+            .unwrap()
+            .unwrap();
+        let (mine, theirs) = (vtk_points(&bytes), vtk_points(&want));
+        assert_eq!(mine.len(), 3 * 1154);
+        let built = study.layouts[k].built.as_ref().unwrap();
+        for (i, p) in built.mesh.positions.iter().enumerate() {
+            for (c, v) in [p.x, p.y, p.z].into_iter().enumerate() {
+                assert!((mine[3 * i + c] - v).abs() <= 1e-9 * v.abs().max(1.0));
+            }
+        }
+        assert_eq!(mine, theirs);
+        assert_eq!(bytes, want);
+        let text = String::from_utf8_lossy(&bytes);
+        assert!(text.contains("displacement_mm"), "no point data");
+        // Handed over once; an index past the files is an error too.
+        assert!(lab.phases_anatomical_file_with(k).is_none());
+        assert!(lab.phases_anatomical_file_with(4).is_none());
+        // A layout out of range or an unknown format: the core's reason.
+        let e = lab.phases_anatomical_with("1x48", "vtk").unwrap_err();
+        let m = e["message"].as_str().unwrap();
+        assert!(
+            m.starts_with("the anatomical meshes: ") && m.contains("2-200 rings"),
+            "{m}"
+        );
+        let e = lab.phases_anatomical_with("24x48", "gif").unwrap_err();
+        assert!(
+            e["message"].as_str().unwrap().contains("no mesh format"),
+            "{e}"
+        );
+        // Another format, the same layouts.
+        let ply: serde_json::Value =
+            serde_json::from_str(&lab.phases_anatomical_with("12x24", "ply").unwrap()).unwrap();
+        assert_eq!(ply["files"][0]["name"], "patient1-ED-LV_EPI.ply");
+        assert_eq!(ply["layouts"][0]["summary"]["vertices"], 12 * 24 + 2);
+        assert!(!lab.phases_anatomical_file_with(3).unwrap().is_empty());
+        // A new phases batch drops the finished one.
+        lab.start_phases_with(&session, phases, "{}", "auto", &[], &[])
+            .unwrap();
+        assert_eq!(
+            lab.phases_anatomical_with("24x48", "vtk").unwrap_err()["code"],
+            "no_phases"
+        );
+    }
+
+    /// Two phases of a file without RV contours or landmarks (the SurFCo example, twice): no
+    /// layouts, and the reason names the septum; the Lab goes on.
+    #[test]
+    fn phases_anatomical_refuses_a_study_without_a_septum() {
+        let bytes = std::fs::read(data("contours/surfco-example.csv")).unwrap();
+        let mut session = Session::new();
+        session.load("a.csv", &bytes, None).unwrap();
+        session.load("b.csv", &bytes, None).unwrap();
+        let mut lab = Lab::new();
+        let phases = r#"[{"name": "a", "file": "a.csv"}, {"name": "b", "file": "b.csv"}]"#;
+        lab.start_phases_with(&session, phases, "{}", "auto", &[], &[])
+            .unwrap();
+        drain(&mut lab);
+        let e = lab.phases_anatomical_with("24x48", "vtk").unwrap_err();
+        assert_eq!(e["code"], "degenerate");
+        let m = e["message"].as_str().unwrap();
+        assert_eq!(
+            m,
+            "the anatomical meshes: every layout starts at the septum, and no phase's file has \
+             RV_INSERT landmarks or RV contours to place it by"
+        );
+        assert!(lab.phases_anatomical_file_with(0).is_none());
+        // Only RV surfaces measured: refused for the surfaces.
+        let rv_only = heartmesh_core::io::read_contours("p.csv", &patient1("ED")).unwrap();
+        let mut csv_rv = heartmesh_core::ContourSet {
+            contours: rv_only
+                .contours
+                .iter()
+                .filter(|c| c.surface.as_deref() == Some("RV_ENDO"))
+                .cloned()
+                .collect(),
+            ..rv_only.clone()
+        };
+        csv_rv.landmarks.clear();
+        let text = heartmesh_core::io::csv::write_csv(&csv_rv, None).unwrap();
+        session.load("rv.csv", &text, None).unwrap();
+        let rv = r#"[{"name": "a", "file": "rv.csv"}, {"name": "b", "file": "rv.csv"}]"#;
+        lab.start_phases_with(&session, rv, r#"{"iterations": 20}"#, "auto", &[], &[])
+            .unwrap();
+        drain(&mut lab);
+        let e = lab.phases_anatomical_with("24x48", "vtk").unwrap_err();
+        let m = e["message"].as_str().unwrap();
+        assert!(
+            m.contains("LV's surfaces") && m.contains("none is among"),
+            "{m}"
+        );
     }
 
     #[test]

@@ -113,11 +113,11 @@ export function anatomicalFiguresTitle(s: AnatomicalSummary): string {
 
 /**
  * The core's reason as a sentence ("the anatomical mesh: the anatomical layout is the LV's ..."
- * -> "The anatomical layout is the LV's ..."): its words, without the prefix that says which
- * export it is (the row says that already).
+ * -> "The anatomical layout is the LV's ..."; the study's "the anatomical meshes: ..." alike): its
+ * words, without the prefix that says which export it is (the row says that already).
  */
 export function anatomicalReason(message: string): string {
-  const text = message.replace(/^the anatomical mesh:\s*/i, '').trim();
+  const text = message.replace(/^the anatomical mesh(?:es)?:\s*/i, '').trim();
   return text.charAt(0).toUpperCase() + text.slice(1);
 }
 

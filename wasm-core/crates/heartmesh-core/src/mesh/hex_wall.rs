@@ -26,6 +26,7 @@
 //! segment (1-17, [`crate::metrics::segments::segment_of`] at the cell's centre, the cavity's
 //! depth the endocardial layout's length).
 
+use super::cells;
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::metrics::anatomical::{Anatomical, Layout};
@@ -53,8 +54,8 @@ impl Cell {
     /// VTK's cell type number (12 hexahedron, 13 wedge).
     pub fn vtk_type(&self) -> u8 {
         match self {
-            Cell::Hexahedron(_) => 12,
-            Cell::Wedge(_) => 13,
+            Cell::Hexahedron(_) => cells::HEXAHEDRON,
+            Cell::Wedge(_) => cells::WEDGE,
         }
     }
 
@@ -106,41 +107,6 @@ pub struct HexWall {
     pub aha_segment: Vec<u32>,
     pub summary: Summary,
 }
-
-/// Corner edges of a hexahedron in VTK's order: at corner k, the three neighbours whose edges
-/// form a right-handed frame in a valid cell.
-const HEX_CORNERS: [[usize; 4]; 8] = [
-    [0, 1, 3, 4],
-    [1, 2, 0, 5],
-    [2, 3, 1, 6],
-    [3, 0, 2, 7],
-    [4, 7, 5, 0],
-    [5, 4, 6, 1],
-    [6, 5, 7, 2],
-    [7, 6, 4, 3],
-];
-
-/// The same for a wedge.
-const WEDGE_CORNERS: [[usize; 4]; 6] = [
-    [0, 1, 2, 3],
-    [1, 2, 0, 4],
-    [2, 0, 1, 5],
-    [3, 5, 4, 0],
-    [4, 3, 5, 1],
-    [5, 4, 3, 2],
-];
-
-/// Tetrahedra that fill a hexahedron (around its diagonal 0-6) and a wedge, positively
-/// oriented in a valid cell: the cells' volumes.
-const HEX_TETS: [[usize; 4]; 6] = [
-    [0, 1, 2, 6],
-    [0, 2, 3, 6],
-    [0, 3, 7, 6],
-    [0, 7, 4, 6],
-    [0, 4, 5, 6],
-    [0, 5, 1, 6],
-];
-const WEDGE_TETS: [[usize; 4]; 3] = [[0, 1, 2, 3], [1, 2, 3, 4], [2, 3, 4, 5]];
 
 /// The mesh between `endo` and `epi`, two layouts of one `layout` built on `base` from one
 /// septum, `layers` cells through the wall, fibres at [`DEFAULT_HELIX_DEG`].
@@ -269,33 +235,7 @@ pub fn build_with_helix(
             segment_of(depth, cavity_depth, angle) as u32 + 1
         })
         .collect();
-    let (mut volume, mut worst, mut inverted) = (0.0, f64::INFINITY, 0);
-    for c in &cells {
-        let p = |k: usize| points[c.points()[k] as usize];
-        let (corners, tets): (&[[usize; 4]], &[[usize; 4]]) = match c {
-            Cell::Hexahedron(_) => (&HEX_CORNERS, &HEX_TETS),
-            Cell::Wedge(_) => (&WEDGE_CORNERS, &WEDGE_TETS),
-        };
-        let mut cell_worst = f64::INFINITY;
-        for &[o, a, b, z] in corners {
-            let (ea, eb, ez) = (p(a) - p(o), p(b) - p(o), p(z) - p(o));
-            let scale = ea.norm() * eb.norm() * ez.norm();
-            let scaled = if scale > 0.0 {
-                ea.cross(&eb).dot(&ez) / scale
-            } else {
-                0.0
-            };
-            cell_worst = cell_worst.min(scaled);
-        }
-        worst = f64::min(worst, cell_worst);
-        if cell_worst <= 0.0 {
-            inverted += 1;
-        }
-        volume += tets
-            .iter()
-            .map(|&[a, b, c2, d]| (p(b) - p(a)).cross(&(p(c2) - p(a))).dot(&(p(d) - p(a))) / 6.0)
-            .sum::<f64>();
-    }
+    let q = cells::quality(&points, cells.iter().map(|c| (c.vtk_type(), c.points())));
     let wedges = cells.iter().filter(|c| matches!(c, Cell::Wedge(_))).count();
     let summary = Summary {
         rings: layout.rings,
@@ -304,10 +244,10 @@ pub fn build_with_helix(
         points: points.len(),
         hexahedra: cells.len() - wedges,
         wedges,
-        volume_ml: volume / 1000.0,
+        volume_ml: q.volume / 1000.0,
         layouts_volume_ml: epi.summary.volume_ml - endo.summary.volume_ml,
-        min_scaled_jacobian: worst,
-        inverted_cells: inverted,
+        min_scaled_jacobian: q.min_scaled_jacobian,
+        inverted_cells: q.inverted,
         helix_deg: [helix_deg.0, helix_deg.1],
         endocardium_moved: moved,
     };

@@ -1,5 +1,6 @@
 //! Indexed triangle meshes: the one mesh type of the core, plus measures and validity checks.
 
+pub mod cells;
 pub mod clip;
 pub mod hex_wall;
 pub mod inset;

@@ -187,6 +187,15 @@ impl Batch {
         }
     }
 
+    /// The phases batch's plan and results (None for the other batches), for what is made of a
+    /// finished one (the study's anatomical layouts).
+    pub fn into_phases(self) -> Option<Phases> {
+        match self.kind {
+            Kind::Phases(p) => Some(p),
+            _ => None,
+        }
+    }
+
     pub fn total(&self) -> usize {
         self.jobs.len()
     }

@@ -5,13 +5,22 @@
 //! fails are cells of the table like the others: one bad phase must not cost the rest.
 //!
 //! The finished meshes stay here until the batch is done: the LV mass's biventricular check reads
-//! the epicardium and the RV cavity together.
+//! the epicardium and the RV cavity together. The Lab keeps a finished batch (its meshes, contours
+//! and base planes) for the study's anatomical layouts ([`Phases::anatomical`], the CLI's
+//! `volumes --anatomical-meshes`).
 
 use heartmesh_core::clock::Clock;
 use heartmesh_core::contours::ContourSet;
 use heartmesh_core::error::{CoreError, Result};
+use heartmesh_core::io::MeshFormat;
+use heartmesh_core::metrics::anatomical::{self, Layout};
+use heartmesh_core::metrics::anatomical_study::{self, PhaseSurface};
 use heartmesh_core::metrics::bullseye;
-use heartmesh_core::metrics::function::{summarise, Function, Measured, Outcome, UNLABELLED};
+use heartmesh_core::metrics::compare::{basal_plane, ClipPlane};
+use heartmesh_core::metrics::function::{
+    file_stem, summarise, Function, Measured, Outcome, UNLABELLED,
+};
+use heartmesh_core::metrics::septum;
 use heartmesh_core::metrics::thickening::{self, PhaseLv, Thickening};
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::Params;
@@ -30,6 +39,8 @@ pub enum Source {
 /// One phase as the page names it.
 pub struct PhaseInput {
     pub name: String,
+    /// The file it is read from (a sequence's, for a frame): named in the anatomical files' header.
+    pub file: String,
     pub source: Source,
     /// Contours the user left out of this phase (`Params::leave_out`; empty: the batch's list):
     /// its volumes must be those of the runs on screen.
@@ -52,11 +63,15 @@ struct Cell {
     out: Outcome,
     seconds: f64,
     error: Option<String>,
+    /// The run's most basal short-axis plane (the anatomical layouts stop there).
+    base: Option<ClipPlane>,
 }
 
 /// The plan and the results of a phases batch; jobs run phase by phase, surfaces in order.
 pub struct Phases {
     names: Vec<String>,
+    /// Each phase's file name (the anatomical files' header names it).
+    files: Vec<String>,
     surfaces: Vec<Option<String>>,
     /// Per phase: its contours, or the frame still to read.
     sources: Vec<Source>,
@@ -86,10 +101,12 @@ pub fn plan(
         });
     }
     let mut leave_out: Vec<Vec<String>> = Vec::with_capacity(inputs.len());
+    let mut files: Vec<String> = Vec::with_capacity(inputs.len());
     let (names, mut sources): (Vec<String>, Vec<Source>) = inputs
         .into_iter()
         .map(|i| {
             leave_out.push(i.leave_out);
+            files.push(i.file);
             (i.name, i.source)
         })
         .unzip();
@@ -102,6 +119,7 @@ pub fn plan(
     let known: Vec<String> = sequence.iter().flat_map(|q| q.surfaces.clone()).collect();
     let mut phases = Phases {
         names,
+        files,
         surfaces: Vec::new(),
         sources: Vec::new(),
         sequence,
@@ -157,6 +175,25 @@ pub fn plan(
     Ok((phases, jobs))
 }
 
+/// A finished phases batch's anatomical layouts ([`Phases::anatomical`]).
+pub struct StudyFiles {
+    /// `Study::report`: the layout, the septum and each layout's entry (its `file` or `note`).
+    pub report: Value,
+    /// The files written, in the report's order: name and bytes.
+    pub files: Vec<(String, Vec<u8>)>,
+}
+
+/// Whether a surface label is one of the LV's (the layout's surfaces): the command line's
+/// `anatomical_study_out::is_lv`.
+pub fn is_lv(surface: &str) -> bool {
+    surface.to_ascii_uppercase().starts_with("LV") && anatomical::surface_refusal(surface).is_none()
+}
+
+/// A file name without its folders (the command line names its input files so).
+fn base_name(path: &str) -> &str {
+    path.rsplit(['/', '\\']).next().unwrap_or(path)
+}
+
 fn holds(set: &ContourSet, surface: Option<&str>) -> bool {
     surface.is_none_or(|s| set.surfaces().iter().any(|k| k == s))
 }
@@ -193,6 +230,7 @@ impl Phases {
             out: Outcome::none(why.0),
             seconds: 0.0,
             error: why.1,
+            base: None,
         };
         Err(self.item(index))
     }
@@ -229,6 +267,7 @@ impl Phases {
                 out: Outcome::of(rec),
                 seconds,
                 error: None,
+                base: basal_plane(rec).ok(),
             },
             (_, outcome) => Cell {
                 out: Outcome::none("failed"),
@@ -238,6 +277,7 @@ impl Phases {
                         .err()
                         .map_or("no mesh".to_string(), |e| e.to_string()),
                 ),
+                base: None,
             },
         };
         self.item(index)
@@ -259,8 +299,8 @@ impl Phases {
         })
     }
 
-    /// The core's `function::summarise` of the cells (`{ventricles, single, lv_mass}`).
-    pub fn summary(&self) -> Value {
+    /// The core's `function::summarise` of the cells.
+    fn function(&self) -> Function {
         let labels: Vec<String> = self.surfaces.iter().map(|s| label(s).to_string()).collect();
         let n = labels.len().max(1);
         let measured: Vec<Vec<Measured>> = self
@@ -268,7 +308,12 @@ impl Phases {
             .chunks(n)
             .map(|row| row.iter().map(|c| c.out.measured()).collect())
             .collect();
-        let function = summarise(&self.names, &labels, &measured);
+        summarise(&self.names, &labels, &measured)
+    }
+
+    /// The core's `function::summarise` of the cells (`{ventricles, single, lv_mass}`).
+    pub fn summary(&self) -> Value {
+        let function = self.function();
         let mut value = serde_json::to_value(&function).unwrap_or(Value::Null);
         if let (Some(t), Value::Object(map)) = (self.thickening(&function), &mut value) {
             // The LV wall's thickening by AHA segment, as `heartmesh volumes` gives it.
@@ -285,6 +330,96 @@ impl Phases {
             }
         }
         value
+    }
+
+    /// The study's anatomical layouts, as `heartmesh volumes --anatomical-meshes` writes them
+    /// (core `metrics::anatomical_study`): every phase's LV surfaces (LV_ENDO, LV_EPI, or the
+    /// unlabelled column) on `layout`, all turned by the septum of the LV's end-diastole, each
+    /// closed mesh with its run's base plane. Returns the report (`Study::report`) and the files,
+    /// named `PHASE-SURFACE.ext` as the command line names them; or why there can be none, in the
+    /// command line's words (no LV surface measured, no phase saying where the septum is, or the
+    /// core's reason).
+    pub fn anatomical(&self, layout: Layout, format: MeshFormat) -> Result<StudyFiles> {
+        let refuse = |why: &str| Err(CoreError::Degenerate(why.to_string()));
+        // What the command line checks before its runs (`anatomical_study_out::check`).
+        if !self.surfaces.iter().any(|s| s.as_deref().is_none_or(is_lv)) {
+            return refuse(
+                "the layouts are of the LV's surfaces (LV_ENDO, LV_EPI), and none is among the \
+                 surfaces measured",
+            );
+        }
+        let sets: Vec<Option<&ContourSet>> = self
+            .sources
+            .iter()
+            .map(|s| match s {
+                Source::Read(Ok(set)) => Some(set),
+                _ => None,
+            })
+            .collect();
+        if !sets.iter().flatten().any(|set| septum::said(set)) {
+            return refuse(
+                "every layout starts at the septum, and no phase's file has RV_INSERT landmarks \
+                 or RV contours to place it by",
+            );
+        }
+        // The items as the command line's `anatomical_layouts` gathers them.
+        let n = self.surfaces.len().max(1);
+        let mut items = Vec::new();
+        for (k, (name, set)) in self.names.iter().zip(&sets).enumerate() {
+            let Some(set) = set else { continue };
+            for (j, surface) in self.surfaces.iter().enumerate() {
+                let s = match surface.as_deref() {
+                    None => UNLABELLED,
+                    Some(s) if is_lv(s) => s,
+                    Some(_) => continue,
+                };
+                if surface.is_some() && !holds(set, Some(s)) {
+                    continue;
+                }
+                let Some(cell) = self.cells.get(k * n + j) else {
+                    continue;
+                };
+                let closed = cell.out.mesh.as_ref().filter(|_| cell.out.watertight);
+                items.push(PhaseSurface {
+                    phase: name,
+                    surface: s,
+                    set,
+                    mesh: closed.zip(cell.base.as_ref()),
+                });
+            }
+        }
+        let function = self.function();
+        let preferred = function
+            .ventricles
+            .iter()
+            .find(|v| v.surface == "LV_ENDO")
+            .map(|v| v.ed_phase.as_str());
+        let study =
+            anatomical_study::of_study(&items, preferred, layout).map_err(CoreError::Degenerate)?;
+        let mut names = Vec::with_capacity(study.layouts.len());
+        let mut files = Vec::new();
+        for l in &study.layouts {
+            let input = self
+                .names
+                .iter()
+                .position(|p| *p == l.phase)
+                .and_then(|k| self.files.get(k))
+                .map(|f| base_name(f))
+                .unwrap_or_default();
+            match l.file(&study, format, input) {
+                Some(bytes) => {
+                    let name =
+                        format!("{}.{}", file_stem(&l.phase, &l.surface), format.extension());
+                    files.push((name.clone(), bytes?));
+                    names.push(Some(name));
+                }
+                None => names.push(None),
+            }
+        }
+        Ok(StudyFiles {
+            report: study.report(format, &names),
+            files,
+        })
     }
 
     /// [`thickening::of_study`] of the finished cells; None without an LV epicardium.
@@ -360,6 +495,7 @@ mod tests {
             .iter()
             .map(|f| PhaseInput {
                 name: f.to_string(),
+                file: "cine.csv".into(),
                 source: Source::Frame(f.to_string()),
                 leave_out: Vec::new(),
             })

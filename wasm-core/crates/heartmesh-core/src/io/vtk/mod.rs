@@ -18,7 +18,10 @@ pub use write::{write_unstructured, write_vtk};
 
 #[cfg(test)]
 mod tests;
+mod unstructured;
 mod write;
+
+pub use unstructured::{is_unstructured_grid, read_unstructured, DataArray, UnstructuredGrid};
 
 /// The parts of a POLYDATA file heartmesh uses.
 #[derive(Debug, Default)]
