@@ -5,7 +5,7 @@
 //! correspondence the layout is for); and the refusals, before any run.
 
 mod common;
-use common::{bin, data, run, scratch};
+use common::{bin, data, moved_csv, run, scratch, with_grid};
 use heartmesh_core::geometry::{v3, Vec3};
 use heartmesh_core::io::read_mesh;
 use heartmesh_core::metrics::points_to_mesh;
@@ -21,30 +21,6 @@ fn mesh(path: &Path) -> TriMesh {
     read_mesh(s(path), &std::fs::read(path).unwrap())
         .unwrap()
         .mesh
-}
-
-/// `reconstruct INPUT --surface LV_ENDO` with a grid: (report, mesh, grid).
-fn with_grid(input: &Path, dir: &Path, name: &str, extra: &[&str]) -> (Value, TriMesh, TriMesh) {
-    let [out, report, grid] =
-        [".obj", ".json", "-grid.vtk"].map(|e| dir.join(format!("{name}{e}")));
-    let mut args = vec![
-        "reconstruct",
-        s(input),
-        "--surface",
-        "LV_ENDO",
-        "-o",
-        s(&out),
-        "--report",
-        s(&report),
-        "--anatomical-mesh",
-        s(&grid),
-        "--quiet",
-    ];
-    args.extend_from_slice(extra);
-    let (code, _, err) = run(bin().args(&args));
-    assert_eq!(code, 0, "{err}");
-    let rep: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
-    (rep, mesh(&out), mesh(&grid))
 }
 
 fn vector(v: &Value) -> Vec3 {
@@ -104,30 +80,6 @@ fn both_phases_of_a_patient_share_one_layout_on_their_surfaces() {
     assert!(len(&es_rep) < 0.8 * len(&ed_rep));
 }
 
-/// The contour file with every point moved by `f` (canonical CSV: contour,x,y,z,surface).
-fn moved_csv(input: &Path, out: &Path, f: impl Fn(Vec3) -> Vec3) {
-    let text = std::fs::read_to_string(input).unwrap();
-    let mut lines = Vec::new();
-    for line in text.lines() {
-        let cells: Vec<&str> = line.split(',').collect();
-        let xyz: Option<Vec<f64>> = cells
-            .get(1..4)
-            .and_then(|c| c.iter().map(|v| v.parse::<f64>().ok()).collect());
-        match xyz {
-            Some(p) => {
-                let q = f(v3(p[0], p[1], p[2]));
-                let mut c: Vec<String> = cells.iter().map(|c| c.to_string()).collect();
-                c[1] = format!("{:.9}", q.x);
-                c[2] = format!("{:.9}", q.y);
-                c[3] = format!("{:.9}", q.z);
-                lines.push(c.join(","));
-            }
-            None => lines.push(line.to_string()),
-        }
-    }
-    std::fs::write(out, lines.join("\n") + "\n").unwrap();
-}
-
 #[test]
 fn a_contracted_heart_moves_each_grid_vertex_with_it() {
     let dir = scratch("anatomical-contracted");
@@ -141,7 +93,7 @@ fn a_contracted_heart_moves_each_grid_vertex_with_it() {
         centre + n * (0.9 * h) + (d - n * h) * 0.8
     };
     let input = dir.join("contracted.csv");
-    moved_csv(&patient1("ED"), &input, contract);
+    moved_csv(&patient1("ED"), &input, contract, contract);
     let (_, _, es) = with_grid(&input, &dir, "contracted", &[]);
     assert_eq!(es.triangles, ed.triangles);
     let k = 48;

@@ -7,7 +7,7 @@
 //! the refusals, before any run.
 
 mod common;
-use common::{bin, data, run, scratch};
+use common::{bin, data, moved_csv, run, scratch, with_grid};
 use heartmesh_core::geometry::{v3, Vec3};
 use heartmesh_core::io::{read_mesh, MeshData};
 use serde_json::Value;
@@ -90,23 +90,7 @@ fn every_phase_is_laid_out_on_the_end_diastolic_septum() {
     }
 
     // The reference phase's endocardium is exactly reconstruct's layout of that file.
-    let single = dir.join("ed-grid.vtk");
-    let report = dir.join("ed.json");
-    let (code, _, err) = run(bin().args([
-        "reconstruct",
-        s(&patient1("ED")),
-        "--surface",
-        "LV_ENDO",
-        "-o",
-        s(&dir.join("ed.obj")),
-        "--report",
-        s(&report),
-        "--anatomical-mesh",
-        s(&single),
-        "--quiet",
-    ]));
-    assert_eq!(code, 0, "{err}");
-    let single = read(&single).mesh;
+    let (_, _, single) = with_grid(&patient1("ED"), &dir, "ed", &[]);
     let worst = single
         .positions
         .iter()
@@ -130,22 +114,7 @@ fn every_phase_is_laid_out_on_the_end_diastolic_septum() {
         top0.dot(&used) > 0.9999,
         "the top ring starts at the septum"
     );
-    let es_report = dir.join("es.json");
-    let (code, _, err) = run(bin().args([
-        "reconstruct",
-        s(&patient1("ES")),
-        "--surface",
-        "LV_ENDO",
-        "-o",
-        s(&dir.join("es.obj")),
-        "--report",
-        s(&es_report),
-        "--anatomical-mesh",
-        s(&dir.join("es-grid.vtk")),
-        "--quiet",
-    ]));
-    assert_eq!(code, 0, "{err}");
-    let own: Value = serde_json::from_slice(&std::fs::read(&es_report).unwrap()).unwrap();
+    let (own, _, _) = with_grid(&patient1("ES"), &dir, "es", &[]);
     let own = vector(&own["anatomical_mesh"]["septum_direction"]);
     let turn = own.dot(&used).clamp(-1.0, 1.0).acos().to_degrees();
     let said = es["septum_turn_deg"].as_f64().unwrap();
@@ -258,31 +227,6 @@ fn what_has_no_layout_is_refused_before_the_runs() {
     );
 }
 
-/// `input` with every point moved: LV points by `lv`, the others (RV) by `rv`.
-fn moved_csv(input: &Path, out: &Path, lv: impl Fn(Vec3) -> Vec3, rv: impl Fn(Vec3) -> Vec3) {
-    let text = std::fs::read_to_string(input).unwrap();
-    let mut lines = Vec::new();
-    for line in text.lines() {
-        let cells: Vec<&str> = line.split(',').collect();
-        let xyz: Option<Vec<f64>> = cells
-            .get(1..4)
-            .and_then(|c| c.iter().map(|v| v.parse::<f64>().ok()).collect());
-        match xyz {
-            Some(p) => {
-                let p = v3(p[0], p[1], p[2]);
-                let q = if line.contains(",LV_") { lv(p) } else { rv(p) };
-                let mut c: Vec<String> = cells.iter().map(|c| c.to_string()).collect();
-                c[1] = format!("{:.9}", q.x);
-                c[2] = format!("{:.9}", q.y);
-                c[3] = format!("{:.9}", q.z);
-                lines.push(c.join(","));
-            }
-            None => lines.push(line.to_string()),
-        }
-    }
-    std::fs::write(out, lines.join("\n") + "\n").unwrap();
-}
-
 /// The motion the layouts are for, against a known one: ED's contours contracted by a
 /// systole-like map, and the RV of that "ES" drawn 4 degrees round the axis (the drawing noise
 /// between frames). Laid out on the study's septum, each ES grid vertex lies where the map takes
@@ -291,25 +235,8 @@ fn moved_csv(input: &Path, out: &Path, lv: impl Fn(Vec3) -> Vec3, rv: impl Fn(Ve
 #[test]
 fn a_known_contraction_is_recovered_vertex_by_vertex_despite_the_rvs_drawing() {
     let dir = scratch("study-known-motion");
-    let ed_report = dir.join("ed.json");
-    let ed_grid = dir.join("ed-grid.vtk");
-    let (code, _, err) = run(bin().args([
-        "reconstruct",
-        s(&patient1("ED")),
-        "--surface",
-        "LV_ENDO",
-        "-o",
-        s(&dir.join("ed.obj")),
-        "--report",
-        s(&ed_report),
-        "--anatomical-mesh",
-        s(&ed_grid),
-        "--quiet",
-    ]));
-    assert_eq!(code, 0, "{err}");
-    let rep: Value = serde_json::from_slice(&std::fs::read(&ed_report).unwrap()).unwrap();
+    let (rep, _, ed) = with_grid(&patient1("ED"), &dir, "ed", &[]);
     let n = vector(&rep["anatomical_mesh"]["axis"]);
-    let ed = read(&ed_grid).mesh;
     let centre = ed.positions[ed.positions.len() - 1];
     let contract = move |p: Vec3| {
         let d = p - centre;
@@ -333,20 +260,7 @@ fn a_known_contraction_is_recovered_vertex_by_vertex_despite_the_rvs_drawing() {
         "its own septum {said} degrees round"
     );
     let study = read(&dir.join("lay/systole-LV_ENDO.vtk")).mesh;
-    let own_grid = dir.join("own-grid.vtk");
-    let (code, _, err) = run(bin().args([
-        "reconstruct",
-        s(&es),
-        "--surface",
-        "LV_ENDO",
-        "-o",
-        s(&dir.join("own.obj")),
-        "--anatomical-mesh",
-        s(&own_grid),
-        "--quiet",
-    ]));
-    assert_eq!(code, 0, "{err}");
-    let own = read(&own_grid).mesh;
+    let (_, _, own) = with_grid(&es, &dir, "own", &[]);
     let error = |grid: &heartmesh_core::TriMesh| {
         let d: Vec<f64> = (1..ed.positions.len() - 1)
             .map(|v| (grid.positions[v] - contract(ed.positions[v])).norm())

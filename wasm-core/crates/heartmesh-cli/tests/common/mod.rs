@@ -92,3 +92,81 @@ pub fn mesh_lines(path: &Path) -> Vec<String> {
         .map(str::to_string)
         .collect()
 }
+
+/// The canonical CSV `input` (contour,x,y,z[,surface]) with every point moved: LV points (a
+/// `surface` starting with LV_) by `lv`, the others by `other`.
+pub fn moved_csv(
+    input: &Path,
+    out: &Path,
+    lv: impl Fn(heartmesh_core::geometry::Vec3) -> heartmesh_core::geometry::Vec3,
+    other: impl Fn(heartmesh_core::geometry::Vec3) -> heartmesh_core::geometry::Vec3,
+) {
+    let text = std::fs::read_to_string(input).unwrap();
+    let mut lines = Vec::new();
+    for line in text.lines() {
+        let cells: Vec<&str> = line.split(',').collect();
+        let xyz: Option<Vec<f64>> = cells
+            .get(1..4)
+            .and_then(|c| c.iter().map(|v| v.parse::<f64>().ok()).collect());
+        match xyz {
+            Some(p) => {
+                let p = heartmesh_core::geometry::v3(p[0], p[1], p[2]);
+                let q = if line.contains(",LV_") {
+                    lv(p)
+                } else {
+                    other(p)
+                };
+                let mut c: Vec<String> = cells.iter().map(|c| c.to_string()).collect();
+                c[1] = format!("{:.9}", q.x);
+                c[2] = format!("{:.9}", q.y);
+                c[3] = format!("{:.9}", q.z);
+                lines.push(c.join(","));
+            }
+            None => lines.push(line.to_string()),
+        }
+    }
+    std::fs::write(out, lines.join("\n") + "\n").unwrap();
+}
+
+/// A mesh file read back.
+pub fn read_mesh_file(path: &Path) -> heartmesh_core::TriMesh {
+    let name = path.to_str().unwrap();
+    heartmesh_core::io::read_mesh(name, &std::fs::read(path).unwrap())
+        .unwrap()
+        .mesh
+}
+
+/// `reconstruct INPUT --surface LV_ENDO --anatomical-mesh` (its own septum) into `dir` as
+/// NAME.obj, NAME.json, NAME-grid.vtk: (report, mesh, grid).
+pub fn with_grid(
+    input: &Path,
+    dir: &Path,
+    name: &str,
+    extra: &[&str],
+) -> (
+    serde_json::Value,
+    heartmesh_core::TriMesh,
+    heartmesh_core::TriMesh,
+) {
+    let [out, report, grid] =
+        [".obj", ".json", "-grid.vtk"].map(|e| dir.join(format!("{name}{e}")));
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let mut args: Vec<String> = vec![
+        "reconstruct".into(),
+        s(input),
+        "--surface".into(),
+        "LV_ENDO".into(),
+        "-o".into(),
+        s(&out),
+        "--report".into(),
+        s(&report),
+        "--anatomical-mesh".into(),
+        s(&grid),
+        "--quiet".into(),
+    ];
+    args.extend(extra.iter().map(|a| a.to_string()));
+    let (code, _, err) = run(bin().args(&args));
+    assert_eq!(code, 0, "{err}");
+    let rep = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    (rep, read_mesh_file(&out), read_mesh_file(&grid))
+}

@@ -296,8 +296,10 @@ impl Cursor<'_> {
     }
 }
 
-/// Parses a legacy POLYDATA file.
-pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
+/// The header of a legacy file up to its dataset type: a cursor just after `DATASET KIND` and
+/// whether the data are binary; an error saying `wanted` and what was found when the dataset is
+/// not `kind`.
+fn open_dataset<'a>(bytes: &'a [u8], kind: &str, wanted: &str) -> Result<(Cursor<'a>, bool)> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     if !bytes.starts_with(b"# vtk DataFile") {
         return Err(CoreError::parse(
@@ -319,31 +321,39 @@ pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
         other => return Err(c.err(format!("expected ASCII or BINARY, found {}", quote(other)))),
     };
     let kw = c.need_word("DATASET")?.to_ascii_uppercase();
-    let kind = c.need_word("a dataset type")?.to_ascii_uppercase();
-    if kw != "DATASET" || kind != "POLYDATA" {
-        return Err(c.err(format!(
-            "only DATASET POLYDATA is supported, found {kw} {kind}"
-        )));
+    let found = c.need_word("a dataset type")?.to_ascii_uppercase();
+    if kw != "DATASET" || found != kind {
+        return Err(c.err(format!("{wanted}, found {kw} {found}")));
     }
+    Ok((c, binary))
+}
+
+/// The coordinates after `POINTS` (the keyword read): every one finite.
+fn read_points(c: &mut Cursor, binary: bool) -> Result<Vec<Vec3>> {
+    let n = c.count("point count")?;
+    let ty = c.need_word("point data type")?.to_ascii_lowercase();
+    c.end_line();
+    c.binary = binary;
+    let mut points = Vec::with_capacity(n.min(c.bytes.len() / 3));
+    for _ in 0..n {
+        let p = v3(c.number(&ty)?, c.number(&ty)?, c.number(&ty)?);
+        if !p.iter().all(|x| x.is_finite()) {
+            return Err(c.err("point with a non-finite coordinate"));
+        }
+        points.push(p);
+    }
+    c.binary = false;
+    Ok(points)
+}
+
+/// Parses a legacy POLYDATA file.
+pub fn read_polydata(bytes: &[u8]) -> Result<PolyData> {
+    let (mut c, binary) = open_dataset(bytes, "POLYDATA", "only DATASET POLYDATA is supported")?;
     let mut pd = PolyData::default();
     while let Some(w) = c.word() {
         let w = w.to_ascii_uppercase();
         match w.as_str() {
-            "POINTS" => {
-                let n = c.count("point count")?;
-                let ty = c.need_word("point data type")?.to_ascii_lowercase();
-                c.end_line();
-                c.binary = binary;
-                pd.points = Vec::with_capacity(n.min(bytes.len() / 3));
-                for _ in 0..n {
-                    let p = v3(c.number(&ty)?, c.number(&ty)?, c.number(&ty)?);
-                    if !p.iter().all(|x| x.is_finite()) {
-                        return Err(c.err("point with a non-finite coordinate"));
-                    }
-                    pd.points.push(p);
-                }
-                c.binary = false;
-            }
+            "POINTS" => pd.points = read_points(&mut c, binary)?,
             "LINES" | "POLYGONS" | "TRIANGLE_STRIPS" | "VERTICES" => {
                 let at = c.line();
                 let cells = read_cells(&mut c, binary, pd.points.len())?;
@@ -723,23 +733,7 @@ fn read_point_scalars(
     if w != "SCALARS" {
         return Ok(None);
     }
-    let name = c.need_word("scalar name")?;
-    let ty = c.need_word("scalar type")?.to_ascii_lowercase();
-    // Optional component count, then an optional LOOKUP_TABLE line.
-    let save = c.pos;
-    let mut comps = 1usize;
-    if let Some(x) = c.word() {
-        match x.parse::<usize>() {
-            Ok(k) if (1..=4).contains(&k) => comps = k,
-            _ => c.pos = save,
-        }
-    }
-    let save = c.pos;
-    if c.word().map(str::to_ascii_uppercase).as_deref() == Some("LOOKUP_TABLE") {
-        c.need_word("lookup table name")?;
-    } else {
-        c.pos = save;
-    }
+    let (name, ty, comps) = scalars_header(c)?;
     c.end_line();
     c.binary = binary;
     let mut v = Vec::with_capacity(n.min(c.bytes.len()));
@@ -751,6 +745,26 @@ fn read_point_scalars(
     }
     c.binary = false;
     Ok(Some((name, v)))
+}
+
+/// The rest of a `SCALARS name type [components]` line (the keyword read) and the optional
+/// `LOOKUP_TABLE name` after it: (name, type, components).
+fn scalars_header(c: &mut Cursor) -> Result<(String, String, usize)> {
+    let name = c.need_word("scalar name")?;
+    let ty = c.need_word("scalar type")?.to_ascii_lowercase();
+    let save = c.pos;
+    let mut comps = 1usize;
+    match c.word().map(|w| w.parse::<usize>()) {
+        Some(Ok(k)) if (1..=4).contains(&k) => comps = k,
+        _ => c.pos = save,
+    }
+    let save = c.pos;
+    if c.word().map(str::to_ascii_uppercase).as_deref() == Some("LOOKUP_TABLE") {
+        c.need_word("lookup table name")?;
+    } else {
+        c.pos = save;
+    }
+    Ok((name, ty, comps))
 }
 
 /// Reads the polygons of a POLYDATA file as a triangle mesh (fan-triangulated).

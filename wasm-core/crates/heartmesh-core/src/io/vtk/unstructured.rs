@@ -3,10 +3,10 @@
 //! arrays the points and cells carry (name, components, range). Enough for `heartmesh info` to
 //! describe a volume mesh instead of refusing it; nothing here builds a surface from one.
 
-use super::{find_keyword, read_cells, skip_array_metadata, skip_dataset_field, skip_metadata};
-use super::{Cursor, FieldArray};
+use super::{find_keyword, open_dataset, read_cells, read_points, scalars_header};
+use super::{skip_array_metadata, skip_dataset_field, skip_metadata, Cursor, FieldArray};
 use crate::error::{CoreError, Result};
-use crate::geometry::{v3, Vec3};
+use crate::geometry::Vec3;
 use crate::io::text::quote;
 use serde::Serialize;
 
@@ -43,36 +43,11 @@ pub fn is_unstructured_grid(bytes: &[u8]) -> bool {
 
 /// Parses a legacy UNSTRUCTURED_GRID file (ASCII or BINARY, classic or 5.1 cell layout).
 pub fn read_unstructured(bytes: &[u8]) -> Result<UnstructuredGrid> {
-    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    if !bytes.starts_with(b"# vtk DataFile") {
-        return Err(CoreError::parse(
-            1,
-            "not a VTK legacy file (no \"# vtk DataFile\")",
-        ));
-    }
-    let mut c = Cursor {
+    let (mut c, binary) = open_dataset(
         bytes,
-        pos: 0,
-        binary: false,
-    };
-    c.end_line();
-    c.end_line();
-    let binary = match c
-        .need_word("ASCII or BINARY")?
-        .to_ascii_uppercase()
-        .as_str()
-    {
-        "ASCII" => false,
-        "BINARY" => true,
-        other => return Err(c.err(format!("expected ASCII or BINARY, found {}", quote(other)))),
-    };
-    let kw = c.need_word("DATASET")?.to_ascii_uppercase();
-    let kind = c.need_word("a dataset type")?.to_ascii_uppercase();
-    if kw != "DATASET" || kind != "UNSTRUCTURED_GRID" {
-        return Err(c.err(format!(
-            "expected DATASET UNSTRUCTURED_GRID, found {kw} {kind}"
-        )));
-    }
+        "UNSTRUCTURED_GRID",
+        "expected DATASET UNSTRUCTURED_GRID",
+    )?;
     let mut g = UnstructuredGrid::default();
     // Which attribute arrays now follow: none yet, the points' (n) or the cells' (n).
     let mut target: Option<(bool, usize)> = None;
@@ -80,19 +55,7 @@ pub fn read_unstructured(bytes: &[u8]) -> Result<UnstructuredGrid> {
         let w = w.to_ascii_uppercase();
         match w.as_str() {
             "POINTS" => {
-                let n = c.count("point count")?;
-                let ty = c.need_word("point data type")?.to_ascii_lowercase();
-                c.end_line();
-                c.binary = binary;
-                g.points = Vec::with_capacity(n.min(bytes.len() / 3));
-                for _ in 0..n {
-                    let p = v3(c.number(&ty)?, c.number(&ty)?, c.number(&ty)?);
-                    if !p.iter().all(|x| x.is_finite()) {
-                        return Err(c.err("point with a non-finite coordinate"));
-                    }
-                    g.points.push(p);
-                }
-                c.binary = false;
+                g.points = read_points(&mut c, binary)?;
                 skip_array_metadata(&mut c);
             }
             "CELLS" => {
@@ -172,23 +135,7 @@ fn check(g: &UnstructuredGrid) -> Result<()> {
 /// One attribute array (or a FIELD block's arrays) of `n` tuples, after its keyword.
 fn read_arrays(c: &mut Cursor, keyword: &str, n: usize, binary: bool) -> Result<Vec<DataArray>> {
     let (name, ty, components) = match keyword {
-        "SCALARS" => {
-            let name = c.need_word("array name")?;
-            let ty = c.need_word("array type")?.to_ascii_lowercase();
-            let save = c.pos;
-            let mut comps = 1;
-            match c.word().map(|w| w.parse::<usize>()) {
-                Some(Ok(k)) if (1..=4).contains(&k) => comps = k,
-                _ => c.pos = save,
-            }
-            let save = c.pos;
-            if c.word().map(str::to_ascii_uppercase).as_deref() == Some("LOOKUP_TABLE") {
-                c.need_word("lookup table name")?;
-            } else {
-                c.pos = save;
-            }
-            (name, ty, comps)
-        }
+        "SCALARS" => scalars_header(c)?,
         "VECTORS" | "NORMALS" => {
             let name = c.need_word("array name")?;
             (name, c.need_word("array type")?.to_ascii_lowercase(), 3)
@@ -304,6 +251,7 @@ fn values(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::v3;
     use crate::io::vtk::write_unstructured;
 
     /// Two unit cubes side by side (x 0-2) and a wedge on top of the first.

@@ -60,6 +60,21 @@ fn file(rv_deg: Option<f64>) -> ContourSet {
     set
 }
 
+/// One phase's surface of the study.
+fn item<'a>(
+    phase: &'a str,
+    surface: &'a str,
+    set: &'a ContourSet,
+    mesh: Option<(&'a TriMesh, &'a ClipPlane)>,
+) -> PhaseSurface<'a> {
+    PhaseSurface {
+        phase,
+        surface,
+        set,
+        mesh,
+    }
+}
+
 fn layout() -> Layout {
     Layout::new(6, 16).unwrap()
 }
@@ -69,18 +84,8 @@ fn every_phase_is_turned_by_the_reference_phases_septum() {
     let (ed_set, es_set) = (file(Some(0.0)), file(Some(5.0)));
     let (ed, es, plane) = (cavity(1.0), cavity(0.9), base());
     let items = [
-        PhaseSurface {
-            phase: "ED",
-            surface: "LV_ENDO",
-            set: &ed_set,
-            mesh: Some((&ed, &plane)),
-        },
-        PhaseSurface {
-            phase: "ES",
-            surface: "LV_ENDO",
-            set: &es_set,
-            mesh: Some((&es, &plane)),
-        },
+        item("ED", "LV_ENDO", &ed_set, Some((&ed, &plane))),
+        item("ES", "LV_ENDO", &es_set, Some((&es, &plane))),
     ];
     let study = of_study(&items, Some("ED"), layout()).unwrap();
     assert_eq!(study.septum.phase, "ED");
@@ -126,18 +131,8 @@ fn a_phase_without_a_septum_is_laid_out_on_another_phases() {
     let (ed_set, es_set) = (file(Some(0.0)), file(None));
     let (ed, es, plane) = (cavity(1.0), cavity(0.9), base());
     let items = [
-        PhaseSurface {
-            phase: "ED",
-            surface: "LV_ENDO",
-            set: &ed_set,
-            mesh: Some((&ed, &plane)),
-        },
-        PhaseSurface {
-            phase: "ES",
-            surface: "LV_ENDO",
-            set: &es_set,
-            mesh: Some((&es, &plane)),
-        },
+        item("ED", "LV_ENDO", &ed_set, Some((&ed, &plane))),
+        item("ES", "LV_ENDO", &es_set, Some((&es, &plane))),
     ];
     // ES preferred (as if it were the larger), but its file cannot say: ED's septum for both.
     let study = of_study(&items, Some("ES"), layout()).unwrap();
@@ -153,12 +148,7 @@ fn a_phase_without_a_septum_is_laid_out_on_another_phases() {
 fn what_cannot_be_laid_out_says_why() {
     let (lv_only, with_rv) = (file(None), file(Some(0.0)));
     let (ed, plane) = (cavity(1.0), base());
-    let lv_only_item = PhaseSurface {
-        phase: "ED",
-        surface: "LV_ENDO",
-        set: &lv_only,
-        mesh: Some((&ed, &plane)),
-    };
+    let lv_only_item = item("ED", "LV_ENDO", &lv_only, Some((&ed, &plane)));
     let e = of_study(&[lv_only_item], None, layout()).unwrap_err();
     assert!(
         e.contains("no RV_INSERT landmarks and no RV contours"),
@@ -175,24 +165,9 @@ fn what_cannot_be_laid_out_says_why() {
         .contains("2-200 rings"));
     // An RV surface and a failed run get their reasons; the LV its layout.
     let items = [
-        PhaseSurface {
-            phase: "ED",
-            surface: "RV_ENDO",
-            set: &with_rv,
-            mesh: Some((&ed, &plane)),
-        },
-        PhaseSurface {
-            phase: "ED",
-            surface: "LV_EPI",
-            set: &with_rv,
-            mesh: None,
-        },
-        PhaseSurface {
-            phase: "ED",
-            surface: "LV_ENDO",
-            set: &with_rv,
-            mesh: Some((&ed, &plane)),
-        },
+        item("ED", "RV_ENDO", &with_rv, Some((&ed, &plane))),
+        item("ED", "LV_EPI", &with_rv, None),
+        item("ED", "LV_ENDO", &with_rv, Some((&ed, &plane))),
     ];
     let study = of_study(&items, Some("ED"), layout()).unwrap();
     assert!(study.layouts[0]
@@ -222,18 +197,8 @@ fn the_septum_is_taken_across_each_phases_own_axis() {
     es.positions.iter_mut().for_each(|p| *p = rot * *p);
     let plane = base();
     let items = [
-        PhaseSurface {
-            phase: "ED",
-            surface: "LV_ENDO",
-            set: &with_rv,
-            mesh: Some((&ed, &plane)),
-        },
-        PhaseSurface {
-            phase: "ES",
-            surface: "LV_ENDO",
-            set: &with_rv,
-            mesh: Some((&es, &tilted)),
-        },
+        item("ED", "LV_ENDO", &with_rv, Some((&ed, &plane))),
+        item("ES", "LV_ENDO", &with_rv, Some((&es, &tilted))),
     ];
     let study = of_study(&items, Some("ED"), layout()).unwrap();
     let s = &study.layouts[1].built.as_ref().unwrap().summary;
