@@ -10,7 +10,7 @@ use std::time::Instant;
 use heartmesh_core::io::{self, FrameChoice, MeshFormat};
 use heartmesh_core::mesh::TriMesh;
 use heartmesh_core::metrics::anatomical_study::PhaseSurface;
-use heartmesh_core::metrics::compare::{basal_plane, ClipPlane};
+use heartmesh_core::metrics::compare::{basal_plane, common_basal_plane_of, ClipPlane};
 use heartmesh_core::metrics::function::{self, file_stem, Function, Measured, Outcome, UNLABELLED};
 use heartmesh_core::metrics::segments::SegmentThickening;
 use heartmesh_core::metrics::thickening::{self as wall_thickening, PhaseLv, Thickening};
@@ -26,11 +26,13 @@ use crate::contours;
 use crate::each_surface;
 use crate::error::CliError;
 use crate::files;
+use crate::hex_study_out;
 
 pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_EPI,...]
     [--frames all|F,F,...] [--csv VOLUMES.csv] [--json VOLUMES.json] [--plot CURVE.svg]
     [--meshes DIR] [--thickening-plot BULLSEYE.svg]
     [--anatomical-meshes DIR [--anatomical-layout 24x48] [--anatomical-format vtk]]
+    [--hex-meshes DIR [--hex-layout 24x48] [--layers 3] [--helix-angles 60,-60]]
     [reconstruct's parameter options: --iterations ... --end-caps ... --align-slices ...] [--quiet]
   Cardiac function: every surface reconstructed in every phase at the same parameters; prints
   the volumes (ml, of the closed meshes: the lids at the base included), each cavity's
@@ -54,6 +56,12 @@ pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_E
   landmarks or RV contours), taken across each phase's own long axis, so that no phase's
   drawing of the RV turns its grid; point data displacement_mm: each vertex's distance from the
   same vertex at that phase; the JSON's anatomical_meshes lists the files and their figures.
+  --hex-meshes DIR: each phase's LV wall as myocardium --hex-mesh writes it (hexahedra and
+  apex wedges between the two layouts, fibres, AHA segments), DIR/PHASE-LV_WALL.vtk, every
+  phase with the same points and cells, turned by that one septum; point vectors displacement:
+  each point's displacement from the same point at that phase (a motion sequence for
+  simulation); needs LV_ENDO and LV_EPI; the JSON's hex_meshes gives each file's counts,
+  volume, cell quality and displacement.
   With LV_ENDO and LV_EPI: the LV wall's systolic thickening in each of the 17 AHA segments,
   100 x (ES - ED) / ED of the segment's mean thickness, the walls built as myocardium builds
   them at the LV's end-diastole and end-systole, their segments placed in each phase from the
@@ -73,6 +81,10 @@ const VALUE_FLAGS: &[&str] = &[
     "anatomical-meshes",
     "anatomical-layout",
     "anatomical-format",
+    "hex-meshes",
+    "hex-layout",
+    "layers",
+    "helix-angles",
 ];
 
 /// Switches of this command only.
@@ -116,6 +128,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     // A usage error should not wait for the files.
     params_from(&p, Params::default())?;
     let layouts = anatomical_study_out::request(&p)?;
+    let hexes = hex_study_out::request(&p)?;
     // The outputs before any work: a mistyped directory should not cost every phase's runs.
     for option in ["csv", "json", "plot", "thickening-plot"] {
         if let Some(path) = p.value(option) {
@@ -148,11 +161,15 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     if layouts.is_some() {
         anatomical_study_out::check(phases.iter().map(|ph| &ph.set), &surfaces)?;
     }
+    if hexes.is_some() {
+        hex_study_out::check(phases.iter().map(|ph| &ph.set), &surfaces)?;
+    }
     let meshes = p.value("meshes");
-    for dir in meshes
+    let dirs = meshes
         .into_iter()
         .chain(layouts.as_ref().map(|r| r.dir.as_str()))
-    {
+        .chain(hexes.as_ref().map(|r| r.dir.as_str()));
+    for dir in dirs {
         files::create_dir(dir)?;
     }
     let quiet = p.switch("quiet");
@@ -212,12 +229,15 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
 
     let summary = summarise(&phases, &surfaces, &cells);
     let thickening = thickening(&phases, &surfaces, &cells, &summary, &params);
-    let written = match &layouts {
-        Some(req) => Some(anatomical_layouts(
-            req, &phases, &surfaces, &cells, &summary,
-        )?),
-        None => None,
-    };
+    let mut written = Vec::new();
+    if let Some(req) = &layouts {
+        let w = anatomical_layouts(req, &phases, &surfaces, &cells, &summary)?;
+        written.push(("anatomical_meshes", w.json, w.lines, w.notes));
+    }
+    if let Some(req) = &hexes {
+        let w = hex_walls(req, &phases, &surfaces, &cells, &summary, &params)?;
+        written.push(("hex_meshes", w.json, w.lines, w.notes));
+    }
     if !quiet {
         for line in summary_lines(&summary) {
             outln!("{line}");
@@ -227,11 +247,11 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             Some(Err(why)) => eprintln!("heartmesh: note: no LV wall thickening: {why}"),
             None => {}
         }
-        for line in written.iter().flat_map(|w| &w.lines) {
+        for line in written.iter().flat_map(|w| &w.2) {
             outln!("{line}");
         }
     }
-    for note in written.iter().flat_map(|w| &w.notes) {
+    for note in written.iter().flat_map(|w| &w.3) {
         eprintln!("{note}");
     }
     if let Some(path) = p.value("csv") {
@@ -252,8 +272,10 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
                 map.insert("wall_thickening_note".into(), note);
             }
         }
-        if let (Some(w), Value::Object(map)) = (&written, &mut doc) {
-            map.insert("anatomical_meshes".into(), w.json.clone());
+        if let Value::Object(map) = &mut doc {
+            for (key, json, _, _) in &written {
+                map.insert((*key).into(), json.clone());
+            }
         }
         let text = serde_json::to_string_pretty(&doc)
             .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
@@ -653,6 +675,54 @@ fn anatomical_layouts(
             .unwrap_or_default()
     };
     anatomical_study_out::write_all(req, &items, preferred, &input, &file_stem)
+}
+
+/// `--hex-meshes`: every phase's LV wall as hexahedra on the study's septum, the LV's
+/// end-diastole the reference.
+fn hex_walls(
+    req: &hex_study_out::Request,
+    phases: &[Phase],
+    surfaces: &[Option<String>],
+    cells: &[Vec<Cell>],
+    summary: &Function,
+    params: &Params,
+) -> Result<hex_study_out::Written, CliError> {
+    let column = |name: &str| surfaces.iter().position(|s| s.as_deref() == Some(name));
+    let (Some(endo), Some(epi)) = (column("LV_ENDO"), column("LV_EPI")) else {
+        return Err(CliError::usage(
+            "--hex-meshes fills the LV wall between LV_ENDO and LV_EPI: measure both",
+        ));
+    };
+    fn closed(c: &Cell) -> Option<&TriMesh> {
+        c.out.mesh.as_ref().filter(|_| c.out.watertight)
+    }
+    let walls: Vec<hex_study_out::PhaseWall> = phases
+        .iter()
+        .zip(cells)
+        .map(|(ph, row)| {
+            let wall_params = Params {
+                leave_out: leave_out_of(&params.leave_out, &ph.set),
+                ..params.clone()
+            };
+            hex_study_out::PhaseWall {
+                phase: &ph.name,
+                input: file_name(&ph.input).to_string(),
+                set: &ph.set,
+                surfaces: closed(&row[endo]).zip(closed(&row[epi])),
+                endo_base: row[endo].base.as_ref(),
+                wall_base: common_basal_plane_of(&ph.set, &wall_params, "LV_ENDO", "LV_EPI")
+                    .map_err(|e| format!("no base plane: {e}")),
+            }
+        })
+        .collect();
+    let preferred = summary
+        .ventricles
+        .iter()
+        .find(|v| v.surface == "LV_ENDO")
+        .map(|v| v.ed_phase.as_str());
+    hex_study_out::write_all(req, &walls, preferred, &|phase: &str| {
+        file_stem(phase, "LV_WALL")
+    })
 }
 
 /// The stdout table: a row per phase, a column per surface.

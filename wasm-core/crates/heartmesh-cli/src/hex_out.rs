@@ -8,9 +8,11 @@
 
 use heartmesh_core::mesh::hex_wall::{self, HexWall, DEFAULT_HELIX_DEG, DEFAULT_LAYERS, LAYERS};
 use heartmesh_core::metrics::anatomical::{self, Layout};
+use heartmesh_core::metrics::segments::Orientation;
 use heartmesh_core::metrics::septum;
 use heartmesh_core::pipeline::Reconstruction;
 use heartmesh_core::sim::slice::Plane;
+use heartmesh_core::TriMesh;
 use heartmesh_core::{ContourSet, CoreError};
 use serde_json::{json, Value};
 
@@ -21,20 +23,67 @@ use crate::error::CliError;
 /// What `--hex-mesh` asked for.
 pub struct Request {
     pub path: String,
+    pub shape: Shape,
+}
+
+/// The cells asked for: the layout of each surface, the cells through the wall, the fibres.
+#[derive(Debug, Clone, Copy)]
+pub struct Shape {
     pub layout: Layout,
     pub layers: usize,
     /// The fibres' helix angles, endocardium and epicardium (degrees).
     pub helix: (f64, f64),
 }
 
+impl Shape {
+    /// `--hex-layout`, `--layers` and `--helix-angles` (their defaults where absent).
+    pub fn from(p: &Parsed) -> Result<Shape, CliError> {
+        let layout = p
+            .value("hex-layout")
+            .map_or(Ok(Layout::DEFAULT), Layout::parse)
+            .map_err(|e| CliError::usage(format!("--hex-layout: {e}")))?;
+        let layers = match p.value("layers") {
+            None => DEFAULT_LAYERS,
+            Some(v) => v
+                .parse::<usize>()
+                .ok()
+                .filter(|n| (LAYERS.0..=LAYERS.1).contains(n))
+                .ok_or_else(|| {
+                    CliError::usage(format!(
+                        "--layers {v}: give {}-{} cells through the wall",
+                        LAYERS.0, LAYERS.1
+                    ))
+                })?,
+        };
+        let helix = match p.value("helix-angles") {
+            None => DEFAULT_HELIX_DEG,
+            Some(v) => helix_angles(v).ok_or_else(|| {
+                CliError::usage(format!(
+                    "--helix-angles {v}: give ENDO,EPI in degrees, each from -90 to 90 (e.g. \
+                     60,-60)"
+                ))
+            })?,
+        };
+        Ok(Shape {
+            layout,
+            layers,
+            helix,
+        })
+    }
+
+    /// Whether any of the shape's options was given (alone they would do nothing).
+    pub fn asked(p: &Parsed) -> bool {
+        ["hex-layout", "layers", "helix-angles"]
+            .iter()
+            .any(|o| p.value(o).is_some())
+    }
+}
+
 /// The request, or None without `--hex-mesh`; `--hex-layout` or `--layers` alone are usage
 /// errors (they would silently do nothing).
 pub fn request_from(p: &Parsed, biventricular: bool) -> Result<Option<Request>, CliError> {
     let Some(path) = p.value("hex-mesh") else {
-        if ["hex-layout", "layers", "helix-angles"]
-            .iter()
-            .any(|o| p.value(o).is_some())
-        {
+        if Shape::asked(p) {
             return Err(CliError::usage(
                 "--hex-layout, --layers and --helix-angles shape the cells of --hex-mesh; add \
                  --hex-mesh FILE.vtk",
@@ -52,36 +101,9 @@ pub fn request_from(p: &Parsed, biventricular: bool) -> Result<Option<Request>, 
             "--hex-mesh {path}: the hexahedral mesh is written as a VTK unstructured grid (.vtk)"
         )));
     }
-    let layout = p
-        .value("hex-layout")
-        .map_or(Ok(Layout::DEFAULT), Layout::parse)
-        .map_err(|e| CliError::usage(format!("--hex-layout: {e}")))?;
-    let layers = match p.value("layers") {
-        None => DEFAULT_LAYERS,
-        Some(v) => v
-            .parse::<usize>()
-            .ok()
-            .filter(|n| (LAYERS.0..=LAYERS.1).contains(n))
-            .ok_or_else(|| {
-                CliError::usage(format!(
-                    "--layers {v}: give {}-{} cells through the wall",
-                    LAYERS.0, LAYERS.1
-                ))
-            })?,
-    };
-    let helix = match p.value("helix-angles") {
-        None => DEFAULT_HELIX_DEG,
-        Some(v) => helix_angles(v).ok_or_else(|| {
-            CliError::usage(format!(
-                "--helix-angles {v}: give ENDO,EPI in degrees, each from -90 to 90 (e.g. 60,-60)"
-            ))
-        })?,
-    };
     Ok(Some(Request {
         path: path.to_string(),
-        layout,
-        layers,
-        helix,
+        shape: Shape::from(p)?,
     }))
 }
 
@@ -124,16 +146,34 @@ pub fn build(
     min_thickness_mm: Option<f64>,
 ) -> Result<HexWall, String> {
     let orientation = anatomical::orientation_of(set, endo.mesh(), base)?;
-    let (inner, outer) =
-        anatomical::build_pair(endo.mesh(), epi.mesh(), base, &orientation, r.layout)
-            .map_err(|e| anatomical::reason(&e))?;
+    build_on(
+        endo.mesh(),
+        epi.mesh(),
+        base,
+        &orientation,
+        r.shape,
+        min_thickness_mm,
+    )
+}
+
+/// The mesh between `endo` and `epi` on `base`, turned by `orientation`.
+pub fn build_on(
+    endo: &TriMesh,
+    epi: &TriMesh,
+    base: &Plane,
+    orientation: &Orientation,
+    shape: Shape,
+    min_thickness_mm: Option<f64>,
+) -> Result<HexWall, String> {
+    let (inner, outer) = anatomical::build_pair(endo, epi, base, orientation, shape.layout)
+        .map_err(|e| anatomical::reason(&e))?;
     hex_wall::build_with_helix(
         &inner,
         &outer,
-        r.layout,
+        shape.layout,
         base,
-        r.layers,
-        r.helix,
+        shape.layers,
+        shape.helix,
         min_thickness_mm,
     )
     .map_err(|e| anatomical::reason(&e))

@@ -27,6 +27,7 @@ mod each_surface;
 mod error;
 mod files;
 mod hex_out;
+mod hex_study_out;
 mod info_volume;
 mod report;
 mod svg;

@@ -15,10 +15,20 @@ fn s(p: &Path) -> &str {
 /// The legacy file's blocks: (points, cells as point lists, cell types, named arrays).
 struct Grid {
     points: usize,
+    coords: Vec<[f64; 3]>,
     cells: Vec<Vec<usize>>,
     types: Vec<u8>,
     arrays: Vec<(String, Vec<f64>)>,
     vectors: Vec<(String, Vec<[f64; 3]>)>,
+}
+
+/// Three numbers of one line.
+fn triple(line: &str) -> [f64; 3] {
+    let x: Vec<f64> = line
+        .split_whitespace()
+        .map(|c| c.parse().unwrap())
+        .collect();
+    [x[0], x[1], x[2]]
 }
 
 fn read_grid(path: &Path) -> Grid {
@@ -26,6 +36,7 @@ fn read_grid(path: &Path) -> Grid {
     let mut lines = text.lines();
     let mut grid = Grid {
         points: 0,
+        coords: Vec::new(),
         cells: Vec::new(),
         types: Vec::new(),
         arrays: Vec::new(),
@@ -43,7 +54,7 @@ fn read_grid(path: &Path) -> Grid {
     while let Some(line) = lines.next() {
         if let Some(n) = count_of(line, "POINTS ") {
             grid.points = n;
-            lines.by_ref().take(n).for_each(drop);
+            grid.coords = lines.by_ref().take(n).map(triple).collect();
         } else if let Some(n) = count_of(line, "CELLS ") {
             for _ in 0..n {
                 let ids: Vec<usize> = lines
@@ -63,14 +74,7 @@ fn read_grid(path: &Path) -> Grid {
             block = n;
         } else if let Some(rest) = line.strip_prefix("VECTORS ") {
             let name = rest.split_whitespace().next().unwrap().to_string();
-            let values = lines
-                .by_ref()
-                .take(block)
-                .map(|v| {
-                    let x: Vec<f64> = v.split_whitespace().map(|c| c.parse().unwrap()).collect();
-                    [x[0], x[1], x[2]]
-                })
-                .collect();
+            let values = lines.by_ref().take(block).map(triple).collect();
             grid.vectors.push((name, values));
         } else if let Some(rest) = line.strip_prefix("SCALARS ") {
             let name = rest.split_whitespace().next().unwrap().to_string();
@@ -334,4 +338,110 @@ fn info_describes_the_hexahedra() {
     assert_eq!(code, 2, "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("broken.vtk"), "{err}");
+}
+
+/// `volumes --hex-meshes`: every phase's wall with the same points and cells, on ED's septum,
+/// each point's displacement from ED; the ED wall is `myocardium --hex-mesh`'s of that phase.
+#[test]
+fn every_phase_of_a_study_as_hexahedra_with_its_displacement() {
+    let dir = scratch("hex-study");
+    let folder = data("contours/bivme-example-patient1");
+    let (ed, es) = (folder.join("GPFile_000.txt"), folder.join("GPFile_009.txt"));
+    let [hx, json] = ["hx", "v.json"].map(|f| dir.join(f));
+    let (code, out, err) = run(bin().args([
+        "volumes",
+        s(&es),
+        s(&ed),
+        "--surface",
+        "LV_ENDO,LV_EPI",
+        "--hex-meshes",
+        s(&hx),
+        "--layers",
+        "2",
+        "--json",
+        s(&json),
+    ]));
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("hexahedral walls 24x48x2"), "{out}");
+    assert!(out.contains("2 of 2 phases"), "{out}");
+    let doc: Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let h = &doc["hex_meshes"];
+    assert_eq!(h["septum"]["phase"], "GPFile_000", "ED, not the first file");
+    assert_eq!(h["layers"], 2);
+    let [g_ed, g_es] =
+        ["GPFile_000", "GPFile_009"].map(|p| read_grid(&hx.join(format!("{p}-LV_WALL.vtk"))));
+    assert_eq!(g_ed.points, 3 * (24 * 48 + 1));
+    assert_eq!(
+        (g_ed.points, &g_ed.cells, &g_ed.types),
+        (g_es.points, &g_es.cells, &g_es.types)
+    );
+    let vectors = |g: &Grid| {
+        g.vectors
+            .iter()
+            .find(|(n, _)| n == "displacement")
+            .unwrap()
+            .1
+            .clone()
+    };
+    assert!(vectors(&g_ed).iter().all(|d| *d == [0.0; 3]));
+    let shift = vectors(&g_es);
+    let mut sum = 0.0;
+    for ((d, p), q) in shift.iter().zip(&g_es.coords).zip(&g_ed.coords) {
+        for k in 0..3 {
+            assert!((d[k] - (p[k] - q[k])).abs() < 1e-9);
+        }
+        sum += (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    }
+    let mean = sum / shift.len() as f64;
+    let entry = h["meshes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["phase"] == "GPFile_009")
+        .unwrap();
+    assert!((entry["displacement_mean_mm"].as_f64().unwrap() - mean).abs() < 1e-9);
+    assert!(mean > 3.0, "the wall moves in systole: {mean} mm");
+    assert_eq!(entry["summary"]["inverted_cells"], 0, "{entry}");
+    // The ED wall is myocardium's of that file (its septum from the same landmarks).
+    let single = dir.join("ed-hex.vtk");
+    let (code, _, err) = run(bin().args([
+        "myocardium",
+        s(&ed),
+        "-o",
+        s(&dir.join("ed-wall.vtk")),
+        "--hex-mesh",
+        s(&single),
+        "--layers",
+        "2",
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let single = read_grid(&single);
+    let worst = single
+        .coords
+        .iter()
+        .zip(&g_ed.coords)
+        .map(|(a, b)| (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max))
+        .fold(0.0, f64::max);
+    println!(
+        "hex study: ED wall vs myocardium's: {worst:.2e} mm; ES mean displacement {mean:.2} mm"
+    );
+    assert!(worst < 1e-9, "{worst} mm");
+    // Refusals before any run.
+    let refused = |extra: &[&str], says: &str| {
+        let mut args = vec!["volumes", s(&ed), s(&es)];
+        args.extend_from_slice(extra);
+        let (code, _, err) = run(bin().args(&args));
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(says), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    };
+    let other = dir.join("other");
+    refused(&["--layers", "2"], "add --hex-meshes DIR");
+    refused(
+        &["--surface", "LV_ENDO", "--hex-meshes", s(&other)],
+        "measure both",
+    );
+    refused(&["--hex-meshes", s(&other), "--layers", "0"], "--layers 0");
+    assert!(!other.exists());
 }

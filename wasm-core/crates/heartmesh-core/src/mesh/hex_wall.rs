@@ -376,6 +376,15 @@ impl HexWall {
     /// simulation codes): point data `transmural`, `longitudinal`, `circumferential_deg` and the
     /// vectors `fibre` and `sheet`, cell data `aha_segment`.
     pub fn to_vtk(&self, header_comment: &str) -> Vec<u8> {
+        self.to_vtk_with(header_comment, None)
+    }
+
+    /// [`HexWall::to_vtk`] with one more per-point vector array (`volumes --hex-meshes`: each
+    /// point's displacement from end-diastole).
+    pub fn to_vtk_with(&self, header_comment: &str, extra: Option<(&str, &[Vec3])>) -> Vec<u8> {
+        let mut vectors: Vec<(&str, &[Vec3])> =
+            vec![("fibre", &self.fibre), ("sheet", &self.sheet)];
+        vectors.extend(extra);
         let cells: Vec<(u8, &[u32])> = self
             .cells
             .iter()
@@ -389,7 +398,7 @@ impl HexWall {
                 ("longitudinal", &self.longitudinal),
                 ("circumferential_deg", &self.circumferential_deg),
             ],
-            &[("fibre", &self.fibre), ("sheet", &self.sheet)],
+            &vectors,
             &[("aha_segment", &self.aha_segment)],
             header_comment,
         )

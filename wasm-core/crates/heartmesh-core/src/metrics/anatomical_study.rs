@@ -174,7 +174,7 @@ pub fn of_study(
     layout: Layout,
 ) -> Result<Study, String> {
     Layout::new(layout.rings, layout.points)?;
-    let septum = reference_septum(items, preferred)?;
+    let septum = study_septum(items, preferred)?;
     let direction = Vec3::from(septum.direction);
     let mut layouts: Vec<PhaseLayout> = items
         .iter()
@@ -213,8 +213,10 @@ pub fn of_study(
 }
 
 /// The septum of the first item that can give one, the `preferred` phase's first (its LV_ENDO
-/// before its LV_EPI: the cavity's centre is the one the septum is seen from elsewhere).
-fn reference_septum(
+/// before its LV_EPI: the cavity's centre is the one the septum is seen from elsewhere): the one
+/// direction every layout (and every hexahedral wall, `volumes --hex-meshes`) of a study is
+/// turned by.
+pub fn study_septum(
     items: &[PhaseSurface],
     preferred: Option<&str>,
 ) -> Result<StudySeptum, String> {
@@ -268,18 +270,14 @@ fn layout_of(item: &PhaseSurface, direction: &Vec3, source: &str, layout: Layout
             if let Some(why) = anatomical::surface_refusal(item.surface) {
                 Err(why)
             } else {
-                let across = across_axis(direction, &base.normal);
-                out.septum_turn_deg = across.and_then(|d| own_turn_deg(item, mesh, base, &d));
+                let across = orientation_across(direction, &base.normal);
+                out.septum_turn_deg =
+                    across.and_then(|o| own_turn_deg(item, mesh, base, &o.septum));
                 across
                     .ok_or_else(|| {
                         "the study's septum lies along this phase's long axis".to_string()
                     })
-                    .and_then(|septum| {
-                        let orientation = Orientation {
-                            septum,
-                            source: "the study's septum",
-                            points: 0,
-                        };
+                    .and_then(|orientation| {
                         anatomical::build(mesh, base, &orientation, layout)
                             .map_err(|e| anatomical::reason(&e))
                     })
@@ -293,10 +291,16 @@ fn layout_of(item: &PhaseSurface, direction: &Vec3, source: &str, layout: Layout
     out
 }
 
-/// `direction` with its part along `axis` removed, as a unit vector (None when it is the axis).
-fn across_axis(direction: &Vec3, axis: &Vec3) -> Option<Vec3> {
+/// The study's septum `direction` taken across one phase's `axis` (its part along the axis
+/// removed): the orientation that phase is laid out by; None when the direction is the axis.
+pub fn orientation_across(direction: &Vec3, axis: &Vec3) -> Option<Orientation> {
     let n = axis.try_normalize(1e-12)?;
-    (direction - n * direction.dot(&n)).try_normalize(1e-6)
+    let septum = (direction - n * direction.dot(&n)).try_normalize(1e-6)?;
+    Some(Orientation {
+        septum,
+        source: "the study's septum",
+        points: 0,
+    })
 }
 
 /// The angle between the study's septum and the one this phase's own file gives (degrees).
