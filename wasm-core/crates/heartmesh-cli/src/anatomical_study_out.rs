@@ -76,17 +76,26 @@ pub fn check<'a>(
              among the surfaces measured",
         ));
     }
-    if !sets.into_iter().any(septum::said) {
-        return Err(CliError::usage(
-            "--anatomical-meshes starts every layout at the septum, and no phase's file has \
-             RV_INSERT landmarks or RV contours to place it by",
-        ));
-    }
-    Ok(())
+    require_septum("--anatomical-meshes starts every layout", sets)
 }
 
-/// What the layouts came to: the JSON's `anatomical_meshes`, the lines for stdout and the notes
-/// for stderr.
+/// Before any run of a study's layouts (`--anatomical-meshes`, `--hex-meshes`): some phase's
+/// file must say where the septum is (status 2), `what` naming the option.
+pub fn require_septum<'a>(
+    what: &str,
+    sets: impl IntoIterator<Item = &'a ContourSet>,
+) -> Result<(), CliError> {
+    if sets.into_iter().any(septum::said) {
+        return Ok(());
+    }
+    Err(CliError::usage(format!(
+        "{what} at the septum, and no phase's file has RV_INSERT landmarks or RV contours to \
+         place it by"
+    )))
+}
+
+/// What a study's files came to (`--anatomical-meshes`, `--hex-meshes`): the JSON's entry, the
+/// lines for stdout and the notes for stderr.
 pub struct Written {
     pub json: Value,
     pub lines: Vec<String>,

@@ -686,7 +686,7 @@ fn hex_walls(
     cells: &[Vec<Cell>],
     summary: &Function,
     params: &Params,
-) -> Result<hex_study_out::Written, CliError> {
+) -> Result<anatomical_study_out::Written, CliError> {
     let column = |name: &str| surfaces.iter().position(|s| s.as_deref() == Some(name));
     let (Some(endo), Some(epi)) = (column("LV_ENDO"), column("LV_EPI")) else {
         return Err(CliError::usage(

@@ -12,11 +12,11 @@
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::hex_wall::{self, HexWall};
 use heartmesh_core::metrics::anatomical_study::{self, PhaseSurface, StudySeptum};
-use heartmesh_core::metrics::septum;
 use heartmesh_core::sim::slice::Plane;
 use heartmesh_core::{ContourSet, TriMesh};
 use serde_json::{json, Value};
 
+use crate::anatomical_study_out::{require_septum, Written};
 use crate::args::Parsed;
 use crate::error::CliError;
 use crate::files;
@@ -58,13 +58,7 @@ pub fn check<'a>(
             "--hex-meshes fills the LV wall between LV_ENDO and LV_EPI: measure both",
         ));
     }
-    if !sets.into_iter().any(septum::said) {
-        return Err(CliError::usage(
-            "--hex-meshes lays its cells out from the septum, and no phase's file has RV_INSERT \
-             landmarks or RV contours to place it by",
-        ));
-    }
-    Ok(())
+    require_septum("--hex-meshes starts its cells", sets)
 }
 
 /// One phase's wall as the study holds it: its surfaces (closed), the LV_ENDO run's base plane
@@ -77,13 +71,6 @@ pub struct PhaseWall<'a> {
     pub surfaces: Option<(&'a TriMesh, &'a TriMesh)>,
     pub endo_base: Option<&'a Plane>,
     pub wall_base: Result<Plane, String>,
-}
-
-/// What was written: the JSON's `hex_meshes`, stdout lines and stderr notes.
-pub struct Written {
-    pub json: Value,
-    pub lines: Vec<String>,
-    pub notes: Vec<String>,
 }
 
 /// Builds every phase's wall on the study's septum (the `preferred` phase's, the LV's
