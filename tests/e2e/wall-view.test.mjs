@@ -164,11 +164,14 @@ describe('viewing the myocardium wall', () => {
     assert.equal(regions.colours, 3);
     assert.equal(await page.getAttribute('[data-testid=legend-wall-regions]', 'data-regions'), 'epicardium,endocardium,base');
     assert.equal(await page.isVisible('[data-testid=legend-wall-thickness]'), false);
+    // The link carries the colouring (and drops it again at the default).
+    assert.equal(await page.evaluate(() => new URLSearchParams(location.search).get('wall_colour')), 'region');
 
     // Clip and opacity reach the wall: unclipped, the closed solid shows no cut face (but for a
     // stray pixel on its outline, where a face turning away can cover a pixel's centre first);
     // clipped, the section shows.
     await page.selectOption('[data-testid=wall-colour]', 'thickness');
+    assert.equal(await page.evaluate(() => new URLSearchParams(location.search).get('wall_colour')), null);
     const uncut = await sectionPixels();
     assert.ok(uncut <= 10, `${uncut} pixels of cut faces on the uncut solid`);
     await setField(page, 'view-clip', 55);

@@ -38,14 +38,23 @@ describe('URL state', () => {
     s.lids = 'none';
     s.surface = 'LV_EPI';
     s.sample = 'patient1-ED';
-    s.view = { wireframe: true, attractors: false, landmarks: false, asGiven: false, others: true, opacity: 0.5, clip: 0.4 };
+    s.view = { wireframe: true, attractors: false, landmarks: false, asGiven: false, others: true, opacity: 0.5, clip: 0.4, wallColour: 'region' };
     const q = serializeUrlState(s, schema);
     expect(q).toContain('lambda=1e3');
     expect(q).toContain('landmarks_shown=0');
     expect(q).toContain('as_given_shown=0');
     expect(q).toContain('others_shown=1');
+    expect(q).toContain('wall_colour=region');
     expect(q).not.toContain('smoothing_factor');
     expect(parseUrlState(q, schema)).toEqual(s);
+  });
+  it('writes the wall colour only when by region and reads anything else as thickness', () => {
+    const s = parseUrlState('', schema);
+    expect(s.view.wallColour).toBe('thickness');
+    expect(serializeUrlState(s, schema)).toBe('');
+    expect(serializeUrlState({ ...s, view: { ...s.view, wallColour: 'region' } }, schema)).toBe('?wall_colour=region');
+    expect(parseUrlState('?wall_colour=region', schema).view.wallColour).toBe('region');
+    for (const other of ['thickness', 'REGION', 'x', '']) expect(parseUrlState(`?wall_colour=${other}`, schema).view.wallColour, other).toBe('thickness');
   });
   it('round-trips the time frame asked for by its label, numbers and text alike, and drops a blank or overlong one', () => {
     const s = parseUrlState('', schema);

@@ -131,7 +131,6 @@ export class Controller {
   /** Per open file, how many times it was read anew (dropped again, views added): the Function table's contours. */
   private readonly readings = new Map<string, number>();
   /** What colours a wall shown in the view (the view panel's Wall colour): kept from one wall to the next. */
-  private wallColouring: WallColouring = 'thickness';
   /** The contours the user left out, one list per file and frame, every surface's (the Contours panel; never in the URL). */
   private readonly leftOut = new LeaveOutLists();
   private readonly leaveOutListeners: (() => void)[] = [];
@@ -1107,20 +1106,21 @@ export class Controller {
   showWall(id: string, wall: BuiltWall): void {
     const viewer = this.parts.viewer;
     if (!viewer) throw new Error('there is no 3D view (WebGL is disabled in this browser)');
-    viewer.showWall(wallSolidFromPly(wall.bytes), this.wallColouring, id);
-    this.parts.view.setWallShown(true, this.wallColouring);
+    viewer.showWall(wallSolidFromPly(wall.bytes), this.view.wallColour, id);
+    this.parts.view.setWallShown(true, this.view.wallColour);
   }
 
   /** Takes the wall out of the 3D view: the reconstruction is drawn again. */
   hideWall(): void {
     this.parts.viewer?.hideWall();
-    this.parts.view.setWallShown(false, this.wallColouring);
+    this.parts.view.setWallShown(false, this.view.wallColour);
   }
 
-  /** The view panel's Wall colour: by thickness or by region (the wall shown, and the next one). */
+  /** The view panel's Wall colour: by thickness or by region (the wall shown, and the next one; in the link). */
   setWallColouring(colouring: WallColouring): void {
-    this.wallColouring = colouring;
+    this.view = { ...this.view, wallColour: colouring };
     this.parts.viewer?.setWallColouring(colouring);
+    this.updateUrl();
   }
 
   // ---- timeline -------------------------------------------------------------------------------

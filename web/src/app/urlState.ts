@@ -11,6 +11,7 @@
  */
 import { DEFAULT_OPTIONS, END_CAPS_MODES, SMOOTHING_METHODS, type LidsMode, type ParamSpec, type ParamValues, type ReconOptions } from '../core-client/protocol';
 import { frameChoice } from './timeFrames';
+import type { WallColouring } from '../viewer/wallColours';
 
 export interface ViewSettings {
   wireframe: boolean;
@@ -24,6 +25,8 @@ export interface ViewSettings {
   opacity: number;
   /** Clipping plane position in [0, 1] of the model's extent along the view axis; 1 = off. */
   clip: number;
+  /** How a wall shown in place of the surface is coloured (`wall_colour=region`). */
+  wallColour: WallColouring;
 }
 
 export interface UrlState {
@@ -39,7 +42,7 @@ export interface UrlState {
   view: ViewSettings;
 }
 
-export const DEFAULT_VIEW: ViewSettings = { wireframe: false, attractors: true, landmarks: true, asGiven: true, others: false, opacity: 1, clip: 1 };
+export const DEFAULT_VIEW: ViewSettings = { wireframe: false, attractors: true, landmarks: true, asGiven: true, others: false, opacity: 1, clip: 1, wallColour: 'thickness' };
 
 export function defaultParams(schema: readonly ParamSpec[]): ParamValues {
   const out: ParamValues = {};
@@ -104,6 +107,7 @@ export function parseUrlState(query: string, schema: readonly ParamSpec[]): UrlS
       others: parseBool(q.get('others_shown'), DEFAULT_VIEW.others),
       opacity: opacity === null ? DEFAULT_VIEW.opacity : Math.min(1, Math.max(0.05, opacity)),
       clip: clip === null ? DEFAULT_VIEW.clip : Math.min(1, Math.max(0, clip)),
+      wallColour: q.get('wall_colour') === 'region' ? 'region' : DEFAULT_VIEW.wallColour,
     },
   };
 }
@@ -134,6 +138,7 @@ export function serializeUrlState(state: UrlState, schema: readonly ParamSpec[])
   if (view.others !== DEFAULT_VIEW.others) q.set('others_shown', view.others ? '1' : '0');
   if (view.opacity !== DEFAULT_VIEW.opacity) q.set('opacity', formatParam(view.opacity));
   if (view.clip !== DEFAULT_VIEW.clip) q.set('clip', formatParam(view.clip));
+  if (view.wallColour !== DEFAULT_VIEW.wallColour) q.set('wall_colour', view.wallColour);
   const text = q.toString();
   return text ? `?${text}` : '';
 }

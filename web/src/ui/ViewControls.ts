@@ -110,6 +110,7 @@ export class ViewControls {
       others: this.others.checked,
       opacity: Number(this.opacity.value) / 100,
       clip: Number(this.clip.value) / 100,
+      wallColour: this.wallColour.value === 'region' ? 'region' : 'thickness',
     };
   }
 
@@ -143,6 +144,7 @@ export class ViewControls {
     this.others.checked = v.others;
     this.opacity.value = String(Math.round(v.opacity * 100));
     this.clip.value = String(Math.round(v.clip * 100));
+    this.wallColour.value = v.wallColour;
     this.opacityOut.textContent = `${Math.round(v.opacity * 100)} %`;
     this.clipOut.textContent = v.clip >= 1 ? 'off' : `${Math.round(v.clip * 100)} %`;
   }
