@@ -158,6 +158,18 @@ export interface SessionApi {
   ): { summary: string; bytes: Uint8Array };
 }
 
+type RunSettings = Parameters<typeof paramsJson>;
+
+/** What every derived-file binding takes first: the file, its run's parameters and mesh ends. */
+function runArgs(msg: { fileName: string; params: RunSettings[0]; options?: RunSettings[1]; leaveOut?: RunSettings[2]; lids: string }): [fileName: string, paramsJson: string, lids: string] {
+  return [msg.fileName, paramsJson(msg.params, msg.options, msg.leaveOut), msg.lids];
+}
+
+/** A finished mesh as the bindings take it: its surface, positions (mm) and triangle indices. */
+function meshArgs(m: { surface: string; positions: Float64Array; indices: Uint32Array }): [surface: string, positions: Float64Array, indices: Uint32Array] {
+  return [m.surface, m.positions, m.indices];
+}
+
 export interface WasmApi {
   createSession(): SessionApi;
   schemaJson(): string;
@@ -382,15 +394,9 @@ export class WorkerCore {
     }
     const out = build.call(
       this.session,
-      msg.fileName,
-      paramsJson(msg.params, msg.options, msg.leaveOut),
-      msg.lids,
-      msg.endo.surface,
-      msg.endo.positions,
-      msg.endo.indices,
-      msg.epi.surface,
-      msg.epi.positions,
-      msg.epi.indices,
+      ...runArgs(msg),
+      ...meshArgs(msg.endo),
+      ...meshArgs(msg.epi),
       msg.minThicknessMm ?? undefined,
       msg.format,
       msg.header.join('\n'),
@@ -412,18 +418,10 @@ export class WorkerCore {
     }
     const out = build.call(
       this.session,
-      msg.fileName,
-      paramsJson(msg.params, msg.options, msg.leaveOut),
-      msg.lids,
-      msg.lvEndo.surface,
-      msg.lvEndo.positions,
-      msg.lvEndo.indices,
-      msg.rvEndo.surface,
-      msg.rvEndo.positions,
-      msg.rvEndo.indices,
-      msg.bivEpi.surface,
-      msg.bivEpi.positions,
-      msg.bivEpi.indices,
+      ...runArgs(msg),
+      ...meshArgs(msg.lvEndo),
+      ...meshArgs(msg.rvEndo),
+      ...meshArgs(msg.bivEpi),
       msg.minThicknessMm ?? undefined,
       msg.format,
       msg.header.join('\n'),
@@ -463,12 +461,8 @@ export class WorkerCore {
     if (!this.admitted(msg, build !== undefined, 'anatomical_unavailable', 'the anatomical mesh', () => malformedAnatomical(msg)) || !build) return;
     const out = build.call(
       this.session,
-      msg.fileName,
-      paramsJson(msg.params, msg.options, msg.leaveOut),
-      msg.lids,
-      msg.mesh.surface,
-      msg.mesh.positions,
-      msg.mesh.indices,
+      ...runArgs(msg),
+      ...meshArgs(msg.mesh),
       msg.rings,
       msg.points,
       msg.format,
@@ -489,15 +483,9 @@ export class WorkerCore {
     if (!this.admitted(msg, build !== undefined, 'hex_unavailable', 'the hexahedral wall', () => malformedHex(msg)) || !build) return;
     const out = build.call(
       this.session,
-      msg.fileName,
-      paramsJson(msg.params, msg.options, msg.leaveOut),
-      msg.lids,
-      msg.endo.surface,
-      msg.endo.positions,
-      msg.endo.indices,
-      msg.epi.surface,
-      msg.epi.positions,
-      msg.epi.indices,
+      ...runArgs(msg),
+      ...meshArgs(msg.endo),
+      ...meshArgs(msg.epi),
       msg.rings,
       msg.points,
       msg.layers,
