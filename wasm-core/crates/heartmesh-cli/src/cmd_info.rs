@@ -102,7 +102,7 @@ fn is_study(path: &str) -> bool {
     files::read(path).is_ok_and(|bytes| {
         matches!(
             io::detect_contour_format(path, &bytes),
-            ContourFormat::Nifti | ContourFormat::Nrrd
+            ContourFormat::Nifti | ContourFormat::Nrrd | ContourFormat::Cvi42
         )
     })
 }

@@ -30,7 +30,10 @@ pub const USAGE: &str =
     [--anatomical-mesh GRID.vtk [--anatomical-layout 24x48]] [--ascii] [--quiet]
   CONTOURS may be a NIfTI short-axis label map followed by its long-axis views (single-slice
   label maps, any order of the files: reconstruct SEG.nii.gz LA_2CH.nii.gz LA_4CH.nii.gz -o ...),
-  their labels matched to the stack's by position;
+  their labels matched to the stack's by position; or a cvi42 workspace followed by the DICOM
+  images it was drawn on, files or folders (reconstruct Contours.cvi42wsx DICOM/ -o ...): each
+  contour placed by its image's position, orientation and pixel spacing, the frame of a cine
+  slice by trigger time from 0 (--frame 9), other files set aside with a warning;
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data `distance`;
   --smoothing-method taubin: lambda/mu smoothing (lambda = smoothing factor, at most 0.6)

@@ -41,8 +41,9 @@ pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_E
   end-systole (none where LV_EPI encloses the RV cavity: a biventricular epicardium).
   PHASES: one contour file per phase (GPFile_000.txt GPFile_009.txt, patient1-ED.csv
   patient1-ES.csv, ACDC's frame01 and frame12 label maps), named by file; or one file holding a
-  sequence (a cine GPFile, a CSV with a frame or phase column, a 4D label map), each time frame
-  a phase named as the file writes it; --frames F,F,... takes only those frames.
+  sequence (a cine GPFile, a CSV with a frame or phase column, a 4D label map, a cvi42
+  workspace with its DICOM images or their folder), each time frame a phase named as the file
+  writes it; --frames F,F,... takes only those frames.
   --surface: the surfaces to reconstruct (default all of the files'); epicardia and unknown
   labels (LABEL_n) get volumes but no ejection fraction.
   --csv: one row per phase and surface (volume_ml empty where the mesh is open or the run
@@ -324,8 +325,19 @@ fn load_phases(paths: &[String], frames: Option<&[FrameChoice]>) -> Result<Vec<P
             session_params: l.session_params,
         })
     };
-    if let [only] = paths {
-        let first = phase(only, stem(file_name(only)).to_string(), None)?;
+    // One input holding a sequence: a file, or a cvi42 workspace with its images.
+    if paths.len() == 1 || contours::is_workspace_study(paths) {
+        let read = |name: Option<String>, frame: Option<FrameChoice>| {
+            contours::load_all(paths, frame).map(|(input, l)| Phase {
+                name: name.unwrap_or_else(|| stem(file_name(input)).to_string()),
+                input: input.to_string(),
+                set: l.set,
+                session_params: l.session_params,
+            })
+        };
+        let first = read(None, None)?;
+        let only = first.input.clone();
+        let only = only.as_str();
         let listed = first
             .set
             .time_frames
@@ -356,7 +368,7 @@ fn load_phases(paths: &[String], frames: Option<&[FrameChoice]>) -> Result<Vec<P
         };
         return chosen
             .into_iter()
-            .map(|f| phase(only, f.clone(), FrameChoice::new(&f)))
+            .map(|f| read(Some(f.clone()), FrameChoice::new(&f)))
             .collect();
     }
     if frames.is_some() {

@@ -49,16 +49,28 @@ pub fn load(path: &str, frame: Option<FrameChoice>) -> Result<Loaded, CliError> 
     })
 }
 
-/// Contours of one file, or of a segmented study given as several: a NIfTI short-axis label map
-/// and its long-axis views (single-slice label maps), in any order. Returns the path of the file
+/// Contours of one file, or of a study given as several: a NIfTI short-axis label map and its
+/// long-axis views (single-slice label maps), in any order; or a cvi42 workspace with the DICOM
+/// images it was drawn on (files or folders). Returns the path of the file
 /// the contours are named after (the stack's), for messages and the report.
 pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, Loaded), CliError> {
+    let paths_given = paths;
     let [first, rest @ ..] = paths else {
         return Err(CliError::usage("no contour file given"));
     };
     if rest.is_empty() {
         return load(first, frame).map(|l| (first.as_str(), l));
     }
+    // A folder among the files (a cvi42 workspace's DICOM images) stands for what it holds.
+    let mut expanded = Vec::with_capacity(paths.len());
+    for p in paths {
+        if Path::new(p).is_dir() {
+            expanded.extend(files::files_under(p)?);
+        } else {
+            expanded.push(p.clone());
+        }
+    }
+    let paths = expanded.as_slice();
     let contents = paths
         .iter()
         .map(|p| files::read(p))
@@ -74,14 +86,34 @@ pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, L
     };
     // Each error names the file it is about itself.
     let (stack, set) = io::read_study(&named, &options).map_err(CliError::param)?;
+    let format = io::detect_contour_format(&paths[stack], &contents[stack]);
+    let input = first_named(paths_given, &paths[stack]);
     Ok((
-        paths[stack].as_str(),
+        input,
         Loaded {
             set,
-            format: ContourFormat::Nifti,
+            format,
             session_params: None,
         },
     ))
+}
+
+/// Whether several inputs are a cvi42 workspace with its images (files or folders): one study,
+/// which may hold a sequence, rather than one file per phase.
+pub fn is_workspace_study(paths: &[String]) -> bool {
+    paths.len() > 1
+        && paths.iter().any(|p| {
+            !Path::new(p).is_dir() && files::read(p).is_ok_and(|b| io::cvi42::is_cvi42(&b))
+        })
+}
+
+/// The path given on the command line that is `stack` (the returned name must outlive the
+/// expanded list; a stack is always given by name, never found inside a folder).
+fn first_named<'a>(given: &'a [String], stack: &str) -> &'a str {
+    given
+        .iter()
+        .find(|g| g.as_str() == stack)
+        .map_or(given[0].as_str(), String::as_str)
 }
 
 /// A reader's warning as the commands print it: the label-map reader's account of what it read

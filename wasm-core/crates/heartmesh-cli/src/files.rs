@@ -35,6 +35,33 @@ pub fn read(path: &str) -> Result<Vec<u8>, CliError> {
     std::fs::read(path).map_err(|e| fail(describe(&e)))
 }
 
+/// The files a directory holds, at any depth, in name order (hidden entries left out): a DICOM
+/// study is a folder of images, often in subfolders per series.
+pub fn files_under(dir: &str) -> Result<Vec<String>, CliError> {
+    let mut out = Vec::new();
+    let mut pending = vec![PathBuf::from(dir)];
+    while let Some(d) = pending.pop() {
+        let entries = std::fs::read_dir(&d).map_err(|e| CliError::Read {
+            file: d.display().to_string(),
+            message: describe(&e),
+        })?;
+        for entry in entries.flatten() {
+            let path = entry.path();
+            let hidden = entry.file_name().to_string_lossy().starts_with('.');
+            if hidden {
+                continue;
+            }
+            if path.is_dir() {
+                pending.push(path);
+            } else {
+                out.push(path.display().to_string());
+            }
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
 /// Writes through a temporary file in the same directory and renames it, so that a failed run
 /// never leaves a half-written mesh behind (or destroys the previous one).
 pub fn write(path: &str, bytes: &[u8]) -> Result<(), CliError> {

@@ -8,6 +8,8 @@ mod buffers;
 mod builder;
 pub mod csv;
 mod csv_columns;
+pub mod cvi42;
+pub mod dicom_image;
 mod dicom_read;
 mod frame_choice;
 mod frames;
@@ -75,6 +77,8 @@ pub enum ContourFormat {
     Nifti,
     /// NRRD label map (3D Slicer `.nrrd` / `.seg.nrrd` segmentation), read as a NIfTI is.
     Nrrd,
+    /// Circle cvi42 workspace (`.cvi42wsx`), read with the DICOM images it was drawn on.
+    Cvi42,
 }
 
 impl ContourFormat {
@@ -90,6 +94,7 @@ impl ContourFormat {
             ContourFormat::Rtstruct => "DICOM RTSTRUCT",
             ContourFormat::Nifti => "NIfTI label map",
             ContourFormat::Nrrd => "NRRD label map",
+            ContourFormat::Cvi42 => "cvi42 workspace",
         }
     }
 }
@@ -104,7 +109,8 @@ pub struct ContourOptions<'a> {
     /// decoded as the contour files are (UTF-16, Windows-1252, any line ends).
     pub slice_info: Option<&'a [u8]>,
     /// Long-axis label maps (`(file name, bytes)`) read with a NIfTI short-axis stack
-    /// ([`nifti::read_nifti_study`]); refused beside any other format.
+    /// ([`nifti::read_nifti_study`]), or the DICOM images a cvi42 workspace was drawn on
+    /// ([`cvi42::read_cvi42`]; headers are enough); refused beside any other format.
     pub views: &'a [(&'a str, &'a [u8])],
 }
 
@@ -171,6 +177,9 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     if rtstruct::is_dicom(bytes) {
         return ContourFormat::Rtstruct;
     }
+    if cvi42::is_cvi42(head) {
+        return ContourFormat::Cvi42;
+    }
     if starts(b"# vtk DataFile") {
         return ContourFormat::VtkLines;
     }
@@ -197,6 +206,7 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
         "dcm" | "dicom" => ContourFormat::Rtstruct,
         "nii" | "gz" => ContourFormat::Nifti,
         "nrrd" | "nhdr" => ContourFormat::Nrrd,
+        "cvi42wsx" => ContourFormat::Cvi42,
         // CSV also reports the clearest errors for unknown text (header missing, ...).
         _ => ContourFormat::Csv,
     }
@@ -241,7 +251,7 @@ pub fn read_contours_with(
         return read_contours_with(name, &inner, options);
     }
     let format = detect_contour_format(file_name, bytes);
-    if format != ContourFormat::Nifti && !options.views.is_empty() {
+    if !matches!(format, ContourFormat::Nifti | ContourFormat::Cvi42) && !options.views.is_empty() {
         return Err(CoreError::parse(
             0,
             "long-axis label maps are read with a NIfTI short-axis label map, not with contours \
@@ -283,6 +293,7 @@ pub fn read_contours_with(
             nifti::read_nifti_study(bytes, options.views, options.frame.as_ref())
         }
         ContourFormat::Nrrd => nifti::read_nrrd(bytes, options.frame.as_ref()),
+        ContourFormat::Cvi42 => cvi42::read_cvi42(bytes, options.views, options.frame.as_ref()),
     }
 }
 
@@ -298,6 +309,39 @@ pub fn read_study(
         [] => return Err(refuse("no file given".into())),
         [(name, bytes)] => return read_contours_with(name, bytes, options).map(|s| (0, s)),
         _ => {}
+    }
+    let workspaces: Vec<usize> = (0..files.len())
+        .filter(|&n| cvi42::is_cvi42(files[n].1))
+        .collect();
+    match workspaces[..] {
+        [] => {}
+        [one] => {
+            let images: Vec<(&str, &[u8])> = files
+                .iter()
+                .enumerate()
+                .filter(|(n, _)| *n != one)
+                .map(|(_, f)| *f)
+                .collect();
+            let (name, bytes) = files[one];
+            let options = ContourOptions {
+                views: &images,
+                ..options.clone()
+            };
+            return read_contours_with(name, bytes, &options)
+                .map(|s| (one, s))
+                .map_err(|e| match e {
+                    CoreError::Parse { line, message } => {
+                        CoreError::parse(line, format!("{name}: {message}"))
+                    }
+                    other => other,
+                });
+        }
+        [a, b, ..] => {
+            return Err(refuse(format!(
+                "{} and {} are both cvi42 workspaces: open one at a time, with its images",
+                files[a].0, files[b].0
+            )))
+        }
     }
     let mut stacks = Vec::new();
     for (n, (name, bytes)) in files.iter().enumerate() {

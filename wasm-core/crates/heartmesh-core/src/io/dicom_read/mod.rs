@@ -121,10 +121,28 @@ fn tag_name(t: Tag) -> String {
 /// bytes do not say which elements are sequences: the `sequences` listed are read as such (undefined-
 /// length elements always are), every other defined-length value stays raw bytes.
 pub fn read_file<'a>(bytes: &'a [u8], sequences: &[Tag]) -> Result<DataSet<'a>> {
+    read(bytes, sequences, None)
+}
+
+/// The elements before the pixel data, from a whole file or from its first bytes only: reading
+/// stops at the first top-level element of group 7FE0 (pixel data), and a top-level element cut
+/// by the end of `bytes` (or unreadable) ends the set instead of failing it. Why: a cine study is
+/// hundreds of images of which only the headers matter (position, orientation, spacing), so a
+/// browser reads a slice of each file, never the pixels.
+pub fn read_header<'a>(bytes: &'a [u8], sequences: &[Tag]) -> Result<DataSet<'a>> {
+    read(bytes, sequences, Some(PIXEL_GROUP))
+}
+
+/// Group of the pixel data and its companions, which follow every header element (PS3.5 7.1:
+/// elements come in ascending tag order).
+const PIXEL_GROUP: u16 = 0x7FE0;
+
+fn read<'a>(bytes: &'a [u8], sequences: &[Tag], header_only: Option<u16>) -> Result<DataSet<'a>> {
     let mut r = Reader {
         data: bytes,
         pos: 0,
         sequences,
+        stop_group: header_only,
     };
     let end = bytes.len();
     if bytes.get(128..132) == Some(b"DICM") {
@@ -163,6 +181,8 @@ struct Reader<'a, 's> {
     data: &'a [u8],
     pos: usize,
     sequences: &'s [Tag],
+    /// Header-only reading ([`read_header`]): the top-level group to stop at.
+    stop_group: Option<u16>,
 }
 
 impl<'a> Reader<'a, '_> {
@@ -262,6 +282,20 @@ impl<'a> Reader<'a, '_> {
                     return Ok(set);
                 }
                 self.pos = at;
+            }
+            if depth == 0 {
+                if let Some(stop) = self.stop_group {
+                    let at = self.pos;
+                    match self.tag(end, enc) {
+                        Ok((group, _)) if group < stop => self.pos = at,
+                        _ => return Ok(set),
+                    }
+                    match self.element(end, enc, depth) {
+                        Ok(e) => set.elements.push(e),
+                        Err(_) => return Ok(set),
+                    }
+                    continue;
+                }
             }
             set.elements.push(self.element(end, enc, depth)?);
         }

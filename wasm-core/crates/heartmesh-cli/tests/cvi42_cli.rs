@@ -1,0 +1,173 @@
+//! A cvi42 workspace on the command line: `reconstruct Contours.cvi42wsx DICOM_DIR/ ...` (a folder
+//! stands for the images under it), `info`, `--frame`, and the refusals a user meets first (the
+//! workspace alone, images of another study). The fixture is biv-me's patient 1 in pixels
+//! (scripts/cvi42_fixture.py; heartmesh-core/tests/cvi42.rs checks its points).
+
+mod common;
+use common::{bin, run, scratch};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+fn fixture(sub: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../heartmesh-core/tests/data/cvi42-patient1")
+        .join(sub)
+        .display()
+        .to_string()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn report(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn a_workspace_and_its_image_folder_reconstruct_each_frame() {
+    let dir = scratch("cvi42_reconstruct");
+    let (mesh, json) = (dir.join("lv.vtk"), dir.join("lv.json"));
+    let mut contours_seen = Vec::new();
+    for frame in [None, Some("9")] {
+        let mut cmd = bin();
+        cmd.args([
+            "reconstruct",
+            &fixture("Contours.cvi42wsx"),
+            &fixture("dicom"),
+        ])
+        .args(["--surface", "LV_ENDO", "-o", s(&mesh), "--report", s(&json)]);
+        if let Some(f) = frame {
+            cmd.args(["--frame", f]);
+        }
+        let (code, _, err) = run(&mut cmd);
+        assert_eq!(code, 0, "{err}");
+        let r = report(&json);
+        let mean = r["contour_to_mesh"]["mean"].as_f64().unwrap();
+        let ml = r["volume_ml"].as_f64().unwrap();
+        eprintln!("CVI42 CLI frame {frame:?}: contour-to-mesh mean {mean:.3} mm, {ml:.1} ml");
+        assert_eq!(r["watertight"], true);
+        assert!(mean <= 1.0, "{mean}");
+        contours_seen.push((r["per_contour"].as_array().unwrap().len(), ml));
+        if frame.is_none() {
+            // The reader's account on stderr: the other frame, the two types it skipped.
+            assert!(err.contains("frame 0 read"), "{err}");
+            assert!(err.contains("saPapMuscContour skipped"), "{err}");
+        }
+    }
+    // End-diastole: 8 curves, end-systole 7 (no ES contour on the most basal slice), and the
+    // cavity is smaller at end-systole.
+    assert_eq!(contours_seen[0].0, 8);
+    assert_eq!(contours_seen[1].0, 7);
+    assert!(
+        contours_seen[1].1 < 0.6 * contours_seen[0].1,
+        "{contours_seen:?}"
+    );
+}
+
+#[test]
+fn info_names_the_format_the_frames_and_the_surfaces() {
+    let (code, out, err) = run(bin().args([
+        "info",
+        &fixture("Contours.cvi42wsx"),
+        &fixture("dicom"),
+        "--json",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["format"], "cvi42 workspace");
+    let text = out.to_string();
+    for (surface, points) in [
+        ("LV_ENDO", 441),
+        ("LV_EPI", 416),
+        ("RV_ENDO", 472),
+        ("RV_EPI", 460),
+    ] {
+        assert!(text.contains(surface), "{surface}");
+        let s = v["surfaces"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|s| s["surface"] == surface)
+            .unwrap_or_else(|| panic!("{surface}: {v}"));
+        assert_eq!(s["points"], points, "{surface}");
+    }
+}
+
+#[test]
+fn the_workspace_alone_or_with_other_images_is_refused_in_one_line() {
+    let dir = scratch("cvi42_refused");
+    let out = dir.join("m.obj");
+    let (code, _, err) =
+        run(bin().args(["reconstruct", &fixture("Contours.cvi42wsx"), "-o", s(&out)]));
+    assert_eq!(code, 2);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("together with the DICOM images"), "{err}");
+
+    // Images of another acquisition (two of the fixture's, their UIDs changed) and a note.
+    let other = dir.join("other");
+    std::fs::create_dir_all(&other).unwrap();
+    for name in ["IM_02_00.dcm", "IM_03_00.dcm"] {
+        let mut bytes = std::fs::read(fixture(&format!("dicom/{name}"))).unwrap();
+        // Same length: every UID of the file (SOP instance, and in the meta group) moved.
+        for at in 0..bytes.len() - 9 {
+            if &bytes[at..at + 9] == b"1.2.826.0" {
+                bytes[at..at + 9].copy_from_slice(b"1.2.999.0");
+            }
+        }
+        std::fs::write(other.join(name), bytes).unwrap();
+    }
+    std::fs::write(other.join("README.txt"), "exported from cvi42").unwrap();
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        &fixture("Contours.cvi42wsx"),
+        s(&other),
+        "-o",
+        s(&out),
+    ]));
+    assert_eq!(code, 2);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("none of the 17 images its ventricular contours were drawn on is among the 2 DICOM images given"),
+        "{err}"
+    );
+}
+
+/// LV ejection fraction (%) of `volumes INPUTS... --surface LV_ENDO --json`.
+fn lv_ef(inputs: &[String], dir: &Path) -> (f64, Vec<String>) {
+    let json = dir.join("v.json");
+    let (code, _, err) = run(bin().arg("volumes").args(inputs).args([
+        "--surface",
+        "LV_ENDO",
+        "--json",
+        s(&json),
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let v = report(&json);
+    let phases = v["phases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            p.as_str()
+                .map_or_else(|| p["name"].to_string(), str::to_string)
+        })
+        .collect();
+    (v["function"][0]["ef_percent"].as_f64().unwrap(), phases)
+}
+
+#[test]
+fn volumes_reads_the_workspaces_frames_as_the_phases() {
+    let dir = scratch("cvi42_volumes");
+    let (ef, phases) = lv_ef(&[fixture("Contours.cvi42wsx"), fixture("dicom")], &dir);
+    assert_eq!(phases.len(), 2, "{phases:?}");
+    let gp = |f: &str| {
+        common::data(&format!("contours/bivme-example-patient1/{f}"))
+            .display()
+            .to_string()
+    };
+    let (theirs, _) = lv_ef(&[gp("GPFile_000.txt"), gp("GPFile_009.txt")], &dir);
+    eprintln!("CVI42 volumes: LV EF {ef:.2} % (the GPFiles' {theirs:.2} %)");
+    assert!((ef - theirs).abs() < 1.0, "{ef} vs {theirs}");
+}

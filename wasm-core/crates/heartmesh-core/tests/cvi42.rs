@@ -1,0 +1,157 @@
+//! A cvi42 workspace read with its DICOM images lands every contour where the millimetre file it
+//! was made from has it. The fixture (tests/data/cvi42-patient1, written by
+//! scripts/cvi42_fixture.py) is biv-me's patient 1 in pixels of its own image planes
+//! (SliceInfoFile.txt) at subpixel resolution 8, with one header-only DICOM image per slice and
+//! frame: reading it back must give the GPFile's points, each moved onto its image plane and
+//! rounded to an eighth of a pixel, and a mesh as close to the GPFile's as that.
+
+mod common;
+
+use common::*;
+use heartmesh_core::contours::plane::fit_plane;
+use heartmesh_core::contours::ContourSet;
+use heartmesh_core::geometry::Vec3;
+use heartmesh_core::io::{self, ContourOptions, FrameChoice};
+use heartmesh_core::metrics::compare::compare;
+use heartmesh_core::Params;
+use std::path::PathBuf;
+
+fn fixture() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/cvi42-patient1")
+}
+
+fn read_cvi42(frame: Option<&str>) -> ContourSet {
+    let dir = fixture().join("dicom");
+    let mut names: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    names.sort();
+    let images: Vec<(String, Vec<u8>)> = names
+        .iter()
+        .map(|p| (p.display().to_string(), std::fs::read(p).unwrap()))
+        .collect();
+    assert_eq!(images.len(), 110);
+    let wsx = std::fs::read(fixture().join("Contours.cvi42wsx")).unwrap();
+    let mut files: Vec<(&str, &[u8])> = vec![("Contours.cvi42wsx", &wsx)];
+    files.extend(images.iter().map(|(n, b)| (n.as_str(), b.as_slice())));
+    let options = ContourOptions {
+        frame: frame.and_then(FrameChoice::new),
+        ..ContourOptions::default()
+    };
+    let (stack, set) = io::read_study(&files, &options).unwrap();
+    assert_eq!(stack, 0);
+    set
+}
+
+fn read_gpfile(name: &str) -> ContourSet {
+    load_contours(&format!("bivme-example-patient1/{name}"))
+}
+
+/// For every point of `surface` in the workspace: its distance from the nearest point of the
+/// GPFile's same surface, measured in the workspace contour's image plane (the fixture moved
+/// each point onto its plane), and the most any GPFile point lay off its plane.
+fn in_plane_gaps(cvi: &ContourSet, gp: &ContourSet, surface: &str) -> (Vec<f64>, usize) {
+    let theirs: Vec<Vec3> = gp
+        .contours
+        .iter()
+        .filter(|c| c.surface.as_deref() == Some(surface))
+        .flat_map(|c| c.points().copied().collect::<Vec<_>>())
+        .collect();
+    let mut gaps = Vec::new();
+    let mut contours = 0;
+    for c in cvi
+        .contours
+        .iter()
+        .filter(|c| c.surface.as_deref() == Some(surface))
+    {
+        contours += 1;
+        let plane = fit_plane(c.points()).unwrap();
+        assert!(plane.max_residual < 1e-6, "{}: off its image plane", c.id);
+        let n = plane.normal;
+        for p in c.points() {
+            let in_plane = |q: &Vec3| {
+                let d = q - p;
+                (d - n * d.dot(&n)).norm() + if d.dot(&n).abs() > 3.0 { 1e9 } else { 0.0 }
+            };
+            let gap = theirs.iter().map(in_plane).fold(f64::INFINITY, f64::min);
+            gaps.push(gap);
+        }
+    }
+    (gaps, contours)
+}
+
+/// An eighth of a pixel (1.40625 mm) in both directions: the rounding's largest offset.
+const ROUNDING_MM: f64 = 0.5 / 8.0 * 1.40625 * std::f64::consts::SQRT_2;
+
+#[test]
+fn the_workspace_gives_the_gpfiles_points_on_their_image_planes() {
+    for (frame, gp) in [(None, "GPFile_000.txt"), (Some("9"), "GPFile_009.txt")] {
+        let cvi = read_cvi42(frame);
+        let gp = read_gpfile(gp);
+        // The curves the fixture copied one for one (the RV endocardium was joined from pieces).
+        for surface in ["LV_ENDO", "LV_EPI", "RV_EPI"] {
+            let (gaps, n) = in_plane_gaps(&cvi, &gp, surface);
+            let theirs = gp
+                .contours
+                .iter()
+                .filter(|c| c.surface.as_deref() == Some(surface))
+                .count();
+            eprintln!(
+                "CVI42 frame {frame:?} {surface}: {n} contours ({theirs} in the GPFile), {} \
+                 points, in-plane gap mean {:.4} max {:.4} mm",
+                gaps.len(),
+                mean(&gaps),
+                max(&gaps)
+            );
+            assert_eq!(n, theirs, "{surface}");
+            assert!(
+                max(&gaps) <= ROUNDING_MM + 1e-9,
+                "{surface}: {}",
+                max(&gaps)
+            );
+        }
+    }
+}
+
+#[test]
+fn the_workspaces_meshes_match_the_gpfiles_where_the_contours_do() {
+    let cvi = read_cvi42(None);
+    let gp = read_gpfile("GPFile_000.txt");
+    let tf = cvi.time_frames.as_ref().unwrap();
+    assert_eq!(tf.frames, ["0", "9"]);
+    assert_eq!(tf.read, ["0"]);
+    for surface in ["LV_ENDO", "RV_ENDO"] {
+        let params = Params {
+            surface: Some(surface.into()),
+            ..Params::default()
+        };
+        let (a, _) = reconstruct(&cvi, params.clone());
+        let (b, _) = reconstruct(&gp, params);
+        check_closed_manifold_outward(&a).unwrap();
+        let ours: Vec<_> = cvi
+            .contours
+            .iter()
+            .filter(|c| c.surface.as_deref() == Some(surface))
+            .cloned()
+            .collect();
+        let c2m = contour_to_mesh_of(&ours, &a);
+        let r = compare(&b, &a, None).unwrap();
+        eprintln!(
+            "CVI42 {surface}: contour-to-mesh mean {:.3} max {:.3} mm; vs the GPFile's mesh \
+             mean {:.3} / {:.3} mm, volumes {:.1} / {:.1} ml",
+            mean(&c2m),
+            max(&c2m),
+            r.mesh_to_truth.mean,
+            r.truth_to_mesh.mean,
+            a.volume_ml(),
+            b.volume_ml()
+        );
+        assert!(mean(&c2m) <= 1.0, "{surface}");
+        if surface == "LV_ENDO" {
+            // The same curves, moved by under 2 mm onto their planes: the same cavity.
+            assert!(r.mesh_to_truth.mean <= 0.3 && r.truth_to_mesh.mean <= 0.3);
+            assert!((a.volume_ml() / b.volume_ml() - 1.0).abs() < 0.02);
+        }
+    }
+}
