@@ -386,3 +386,55 @@ fn mutated_workspaces_and_images_never_panic() {
     // Some mutations leave the files readable (a digit changed), most do not: both happen.
     assert!(read_ok > 0 && read_ok < 400, "{read_ok}");
 }
+
+/// One implicit VR little endian element (tag, 32-bit length, value).
+fn implicit(tag: (u16, u16), value: &[u8]) -> Vec<u8> {
+    let mut v = value.to_vec();
+    if v.len() % 2 == 1 {
+        v.push(b' ');
+    }
+    let mut out = Vec::new();
+    out.extend_from_slice(&tag.0.to_le_bytes());
+    out.extend_from_slice(&tag.1.to_le_bytes());
+    out.extend_from_slice(&(v.len() as u32).to_le_bytes());
+    out.extend_from_slice(&v);
+    out
+}
+
+#[test]
+fn implicit_vr_images_with_a_private_sequence_are_read() {
+    // A bare implicit VR data set (no preamble), as older exporters write, with a private
+    // sequence of undefined length (a vendor's header) between the plane's elements and the pixels.
+    let mut seq = Vec::new();
+    seq.extend_from_slice(&0x0029u16.to_le_bytes());
+    seq.extend_from_slice(&0x1010u16.to_le_bytes());
+    seq.extend_from_slice(&u32::MAX.to_le_bytes());
+    seq.extend_from_slice(&[0xFE, 0xFF, 0x00, 0xE0]);
+    seq.extend_from_slice(&u32::MAX.to_le_bytes());
+    seq.extend(implicit((0x0029, 0x0010), b"SIEMENS CSA"));
+    seq.extend_from_slice(&[0xFE, 0xFF, 0x0D, 0xE0, 0, 0, 0, 0]);
+    seq.extend_from_slice(&[0xFE, 0xFF, 0xDD, 0xE0, 0, 0, 0, 0]);
+    let mut bytes = b"DICM".to_vec();
+    bytes.extend(element((2, 0x10), b"UI", b"1.2.840.10008.1.2"));
+    bytes.extend(implicit((8, 0x18), b"1.2.3.1"));
+    bytes.extend(implicit((0x20, 0x32), b"10\\-20\\30"));
+    bytes.extend(implicit((0x20, 0x37), &ds(&[S2, S2, 0.0, 0.0, 0.0, 1.0])));
+    bytes.extend(implicit((0x28, 0x30), b"0.8\\1.25"));
+    bytes.extend(seq);
+    bytes.extend(implicit((0x7FE0, 0x10), &[0u8; 64]));
+    let g = image_geometry(&bytes).unwrap();
+    assert_eq!(
+        g,
+        image_geometry(&dicom(&oblique("1.2.3.1", 0.0)))
+            .map(|o| ImageGeometry {
+                series: None,
+                trigger_ms: None,
+                ..o
+            })
+            .unwrap()
+    );
+    let wsx = workspace(&[("1.2.3.1", &[("saendocardialContour", &square())])], "4");
+    let set = read(&wsx, &[("old.dcm", bytes)], None).unwrap();
+    let want = v3(10.0, -20.0, 30.0) + v3(S2, S2, 0.0) * 12.5 + v3(0.0, 0.0, 1.0) * 8.0;
+    assert!((set.contours[0].pieces[0].points[0] - want).norm() < 1e-9);
+}
