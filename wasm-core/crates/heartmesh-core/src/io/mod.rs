@@ -298,8 +298,9 @@ pub fn read_contours_with(
 }
 
 /// Several files read as one study: a NIfTI short-axis label map and its long-axis views
-/// (single-slice label maps), in any order. Returns which file is the stack, and the contours of
-/// all. One file is read as [`read_contours_with`] reads it.
+/// (single-slice label maps), or a cvi42 workspace and the DICOM images it was drawn on, in any
+/// order. Returns which file is the stack (the workspace), and the contours of all. One file is
+/// read as [`read_contours_with`] reads it.
 pub fn read_study(
     files: &[(&str, &[u8])],
     options: &ContourOptions,
@@ -315,27 +316,7 @@ pub fn read_study(
         .collect();
     match workspaces[..] {
         [] => {}
-        [one] => {
-            let images: Vec<(&str, &[u8])> = files
-                .iter()
-                .enumerate()
-                .filter(|(n, _)| *n != one)
-                .map(|(_, f)| *f)
-                .collect();
-            let (name, bytes) = files[one];
-            let options = ContourOptions {
-                views: &images,
-                ..options.clone()
-            };
-            return read_contours_with(name, bytes, &options)
-                .map(|s| (one, s))
-                .map_err(|e| match e {
-                    CoreError::Parse { line, message } => {
-                        CoreError::parse(line, format!("{name}: {message}"))
-                    }
-                    other => other,
-                });
-        }
+        [one] => return read_with_companions(files, one, options),
         [a, b, ..] => {
             return Err(refuse(format!(
                 "{} and {} are both cvi42 workspaces: open one at a time, with its images",
@@ -348,7 +329,8 @@ pub fn read_study(
         let grid = nifti::label_map_grid(bytes).ok_or_else(|| {
             refuse(format!(
                 "{name} is not a NIfTI-1 label map: several files are read together only as one \
-                 segmented study (a short-axis label map and its long-axis views)"
+                 segmented study (a short-axis label map and its long-axis views) or as a cvi42 \
+                 workspace with its DICOM images"
             ))
         })?;
         if grid.0.iter().all(|&d| d > 1) {
@@ -370,20 +352,30 @@ pub fn read_study(
             )))
         }
     };
+    read_with_companions(files, stack, options)
+}
+
+/// Reads `files[main]` with every other file as its companions ([`ContourOptions::views`]: a
+/// label map's long-axis views, a workspace's images). An error that does not name a file
+/// already gets the main file's name.
+fn read_with_companions(
+    files: &[(&str, &[u8])],
+    main: usize,
+    options: &ContourOptions,
+) -> Result<(usize, ContourSet)> {
     let views: Vec<(&str, &[u8])> = files
         .iter()
         .enumerate()
-        .filter(|(n, _)| *n != stack)
+        .filter(|(n, _)| *n != main)
         .map(|(_, f)| *f)
         .collect();
     let options = ContourOptions {
         views: &views,
         ..options.clone()
     };
-    let (name, bytes) = files[stack];
-    // Errors about a view name it; those about the stack get its name too.
+    let (name, bytes) = files[main];
     read_contours_with(name, bytes, &options)
-        .map(|s| (stack, s))
+        .map(|s| (main, s))
         .map_err(|e| match e {
             CoreError::Parse { line, message }
                 if !files.iter().any(|(f, _)| message.starts_with(f)) =>
