@@ -24,11 +24,14 @@ async function fresh(viewport = { width: 1280, height: 720 }) {
 }
 
 describe('a first use of the app', () => {
-  it('keyboard only: Open… is the first Tab stop, Space presses an example reached with Tab, and stays play/pause after a click', async () => {
+  it('keyboard only: Open… is the first Tab stop, its folder button the next, Space presses an example reached with Tab, and stays play/pause after a click', async () => {
     await fresh();
     await page.keyboard.press('Tab');
     // Not the hidden file input (a focus nobody sees), but its visible label.
     assert.equal(await focused(), 'Open…');
+    // Then its folder button (a cvi42 study's folder, a biv-me patient's), then the examples.
+    await page.keyboard.press('Tab');
+    assert.equal(await focused(), 'open-folder');
     await page.keyboard.press('Tab');
     await page.keyboard.press('Tab');
     assert.equal(await focused(), 'sample-patient1-ES');

@@ -30,3 +30,6 @@ export function cliAnatomical(input: string, args: string[], label: string, ext?
 export function cliHexWall(input: string, args: string[], label: string): { report: Record<string, any>; vtk: Uint8Array };
 export function cliSegment(args: string[], name: string): string;
 export function cliSimulate(truth: string, args: string[], name: string): string;
+// eslint-disable-next-line @typescript-eslint/no-explicit-any
+export function cliInfo(inputs: string[], args?: string[]): Record<string, any>;
+export function filesIn(dir: string): string[];

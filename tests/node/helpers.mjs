@@ -2,7 +2,7 @@
 // the wasm benchmark: load the module synchronously, find the shared test data, run a
 // reconstruction to the end through the Session, read OBJ files.
 import { execFileSync } from 'node:child_process';
-import { existsSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
+import { existsSync, mkdtempSync, readdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -181,4 +181,15 @@ export function cliSimulate(truth, args, name) {
   const out = writeScratch(name, '');
   execFileSync(CLI, ['simulate', truth, '-o', out, '--quiet', ...args]);
   return out;
+}
+
+/** The native CLI's `info` of `inputs` (files, or a folder of them) with `args`, as `--json` prints it. */
+export function cliInfo(inputs, args = []) {
+  if (!existsSync(CLI)) throw new Error(`${CLI} missing: cd wasm-core && cargo build --release`);
+  return JSON.parse(execFileSync(CLI, ['info', ...inputs, '--json', ...args], { encoding: 'utf8' }));
+}
+
+/** The names of the files in folder `dir`, in name order. */
+export function filesIn(dir) {
+  return readdirSync(dir).sort();
 }

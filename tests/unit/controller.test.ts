@@ -56,6 +56,13 @@ class FakeClient {
     this.views.set(fileName, views.map((v) => v.name));
     const cut = views.find((v) => v.name.startsWith('cut'));
     if (cut) return Promise.reject({ code: 'parse', message: `${cut.name}: the gzip data is damaged`, file: fileName });
+    // A cvi42 workspace (heartmesh-core io::cvi42): refused alone, and with no image (IM_*) among the files.
+    if (fileName.endsWith('.cvi42wsx') && views.length === 0) {
+      return Promise.reject({ code: 'parse', message: 'cvi42 workspace: a cvi42 workspace holds its contours in the pixels of its images: open it together with the DICOM images it was drawn on (the study\'s folder)' });
+    }
+    if (fileName.endsWith('.cvi42wsx') && !views.some((v) => v.name.startsWith('IM_'))) {
+      return Promise.reject({ code: 'parse', message: `cvi42 workspace: none of the ${views.length} files given with it is a DICOM image with an image plane` });
+    }
     this.behind(whenBehindLongStep);
     if (new TextDecoder().decode(bytes).includes('bad')) return Promise.reject({ code: 'parse', message: 'line 2: bad number', line: 2 });
     // The core's refusal of a biv-me SliceInfoFile read as contours (io::read_contours_with).
@@ -428,6 +435,43 @@ describe('controller', () => {
     await controller.openFiles([file('bad.csv', 'bad'), file('worse.csv', 'bad')]);
     expect(lastStatus()).toBe('error: worse.csv, line 2: bad number');
     expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' None of the 2 files opened: bad.csv, line 2: bad number; worse.csv, line 2: bad number.');
+  });
+
+  it('a cvi42 workspace opened with other files takes them all as its images; DICOM files without one open as before', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('IM_2', 'DICM'), file('Contours.cvi42wsx', '<xml/>'), file('IM_1', 'DICM'), file('notes.txt')]);
+    expect(client.studyLoads).toEqual([['Contours.cvi42wsx', ['IM_2', 'IM_1', 'notes.txt']]]);
+    expect(client.runs.map((r) => r.opts.fileName)).toEqual(['Contours.cvi42wsx']);
+    expect(parts.files.calls.setFiles?.at(-1)).toEqual([['Contours.cvi42wsx'], 'Contours.cvi42wsx']);
+    expect(parts.banner.calls.showWarning).toBeUndefined();
+    // An RTSTRUCT (a contour file of its own) without a workspace: read alone, as before.
+    await controller.openFiles([file('rt.dcm')]);
+    expect(client.studyLoads.at(-1)).toEqual(['rt.dcm', []]);
+  });
+
+  it('a workspace alone is refused with what to do; the images opened next are read with it', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('Contours.cvi42wsx', '<xml/>')]);
+    expect(lastStatus()).toMatch(/^error: Contours\.cvi42wsx: cvi42 workspace: .*open it together with the DICOM images it was drawn on/);
+    expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' Not opened. Open its images next (drop them, or the folder that holds them): they are read with it.');
+    expect(controller.waitsForImages).toBe(true);
+    await controller.openFiles([file('IM_1', 'DICM'), file('IM_2', 'DICM')]);
+    expect(client.studyLoads.at(-1)).toEqual(['Contours.cvi42wsx', ['IM_1', 'IM_2']]);
+    expect(client.runs.map((r) => r.opts.fileName)).toEqual(['Contours.cvi42wsx']);
+    expect(controller.waitsForImages).toBe(false);
+  });
+
+  it('files opened after a refused workspace that are not its images open as they are, once', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    await controller.openFiles([file('Contours.cvi42wsx', '<xml/>')]);
+    await controller.openFiles([file('rt.dcm')]);
+    // Tried as the workspace's images, refused; then read as the contour file it is.
+    expect(client.studyLoads.slice(-2)).toEqual([['Contours.cvi42wsx', ['rt.dcm']], ['rt.dcm', []]]);
+    expect(client.runs.map((r) => r.opts.fileName)).toEqual(['rt.dcm']);
+    expect(parts.files.calls.setFiles?.at(-1)).toEqual([['rt.dcm'], 'rt.dcm']);
+    expect(controller.waitsForImages).toBe(false);
+    await controller.openFiles([file('IM_1', 'DICM')]);
+    expect(client.studyLoads.at(-1)).toEqual(['IM_1', []]);
   });
 
   it('a SliceInfoFile dropped with its GPFile is set aside with a note, not listed as a file not opened', async () => {

@@ -66,6 +66,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
     banner: new ErrorBanner(),
     files: new FileBar({
       openFiles: (f) => void c().openFiles(f),
+      openFolder: (f) => void c().openFolder(f),
       trySample: (s) => void c().trySample(s),
       chooseFile: (n) => c().chooseFile(n),
       chooseSurface: (s) => c().chooseSurface(s),
@@ -129,7 +130,7 @@ export function bootstrap(createClient: () => Promise<CoreClient>): Controller {
   const lab = new LabPanel({ controller, viewer, legendSlot: slot('slot-legend') });
   lab.mount(slot('slot-left'), parts.params.element);
 
-  installDropZone(document.body, slot('drop-overlay'), (files, skipped) => lab.claimDrop(files) || void controller.openFiles(files, skipped));
+  installDropZone(document.body, slot('drop-overlay'), (files, skipped) => lab.claimDrop(files) || void controller.openFiles(files, skipped), () => controller.waitsForImages);
   installKeyboard(document, {
     togglePlay: () => controller.togglePlay(),
     step: (d) => controller.step(d),

@@ -13,9 +13,12 @@ import { DEFAULT_OPTIONS, withDefaultOptions } from '../core-client/protocol';
 import type { ExportInfo } from '../io/export/header';
 import { findSample, fetchSample, type Sample } from '../io/samples';
 import type { HoverReadout } from '../ui/HoverReadout';
-import { distinctName, fileIdentity, renamedText, skippedText } from './fileNames';
+import { distinctName, fileIdentity, lostText, renamedText, skippedText } from './fileNames';
 import { asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
 import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
+import { cvi42Study, NEEDS_IMAGES, type Cvi42Study } from '../io/cvi42Study';
+import { imageHeaders } from '../io/dicomHeaders';
+import { filesOfPickedFolder, pathInFolder } from '../io/folderDrop';
 import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { keptSpecksNote, secondLoopsNote } from '../ui/runText';
@@ -119,6 +122,8 @@ export class Controller {
   private readonly runView: RunDisplay;
   /** A run that failed while a file was being read: reported with the file's outcome. */
   private pendingRunFailure: CoreErrorData | null = null;
+  /** A cvi42 workspace refused for want of its images: the next files opened are tried as them. */
+  private waitingWorkspace: File | null = null;
   /** Why the last file read was refused (openFiles names every refused file of a drop). */
   private lastRefusal: CoreErrorData | null = null;
   private restartTimer: ReturnType<typeof setTimeout> | null = null;
@@ -201,6 +206,13 @@ export class Controller {
     // (unless the file would wait behind a step of seconds: see loadBytes).
     this.dispatch({ type: 'load', fileName: files[0].name });
     if (!(await this.ready)) return;
+    // A cvi42 workspace among them: every other file is one of its images (io/cvi42Study.ts).
+    const study = cvi42Study(files);
+    if (study) return void (await this.openStudy(study, skipped));
+    // A workspace just refused for want of its images: these files may be them (else, as usual).
+    const waiting = this.waitingWorkspace;
+    this.waitingWorkspace = null;
+    if (waiting && (await this.openStudy({ workspaces: [waiting], images: files }, skipped, true))) return;
     const onScreen = this.currentFile()?.fileName ?? null;
     let first: string | null = null;
     const refused: CoreErrorData[] = [];
@@ -275,6 +287,59 @@ export class Controller {
     }
   }
 
+  /** Opens the files under a picked folder, as a dropped folder's (io/folderDrop.ts chooses which). */
+  openFolder(picked: File[]): Promise<void> {
+    const { kept, skipped } = filesOfPickedFolder(picked, undefined, this.waitsForImages);
+    return this.openFiles(kept, skipped);
+  }
+
+  /**
+   * Opens cvi42 workspaces with the other files opened with them as their images: only a header
+   * slice of each image is read (io/dicomHeaders.ts), kept by the core client for frame reloads.
+   * The notes line says how many images placed contours, the warning line what was set aside.
+   */
+  private async openStudy(study: Cvi42Study<File>, skipped: number, tried = false): Promise<boolean> {
+    const { images, unreadable: lost } = await imageHeaders(study.images, pathInFolder);
+    let first: string | null = null;
+    const refused: CoreErrorData[] = [];
+    const previous = this.currentFile()?.fileName ?? null;
+    for (const workspace of study.workspaces) {
+      const bytes = await this.bytesOf(workspace, refused);
+      if (bytes === null) continue;
+      const identity = fileIdentity(workspace);
+      const name = distinctName(workspace.name, identity, this.identities);
+      if (await this.loadBytes(name, bytes, identity, images)) first ??= name;
+      else if (this.lastRefusal) refused.push(this.lastRefusal);
+    }
+    // Tried as the images of a workspace refused before: not them, they open as any files do.
+    if (tried && first === null) return false;
+    // A workspace alone: the core asks for its images, and the next files opened are tried as them.
+    const alone = study.workspaces.length === 1 && images.length === 0 && refused.length === 1;
+    if (alone && refused[0].message.includes(NEEDS_IMAGES)) {
+      this.waitingWorkspace = study.workspaces[0];
+      this.fail(refused[0], undefined, `${keptText(previous)} Open its images next (drop them, or the folder that holds them): they are read with it.`);
+    }
+    const notes = [skippedText(skipped, true), lostText(lost)].filter(Boolean).join(' ');
+    if (first !== null) {
+      this.sampleId = null;
+      this.selectFile(first, this.surface);
+      this.runOrReadFrame(first);
+    }
+    if (refused.length > 0 && study.workspaces.length > 1) {
+      const list = refused.map((e) => describeError(e)).join('; ');
+      if (first === null) this.fail(refused[refused.length - 1], undefined, ` None of the ${study.workspaces.length} workspaces opened: ${list}.`);
+      else this.parts.banner.showWarning(`${refused.length} of ${study.workspaces.length} workspaces not opened: ${list}.${notes ? ` ${notes}` : ''} Showing ${first}.`);
+    } else if (first !== null && notes) {
+      this.parts.banner.showInfo(notes);
+    }
+    return first !== null;
+  }
+
+  /** Whether the next files opened are tried first as the images of a workspace refused without them. */
+  get waitsForImages(): boolean {
+    return this.waitingWorkspace !== null;
+  }
+
   /**
    * Each file with, for a NIfTI label map, its grid (a stack, or a single slice: a long-axis view)
    * and its bytes, in the order given. Other files are told apart by their first bytes and read
@@ -324,6 +389,7 @@ export class Controller {
 
   async trySample(sample: Sample, surface: string | null = null): Promise<void> {
     this.cancelRun();
+    this.waitingWorkspace = null; // an example opened instead of the workspace's images
     this.dispatch({ type: 'load', fileName: sample.file });
     if (!(await this.ready)) return;
     let bytes: ArrayBuffer;

@@ -7,7 +7,7 @@
  * own entry, as a bundled example clicked again does.
  */
 import { splitExtension } from '../io/fileExtension';
-import { FOLDER_FILE_LIMIT } from '../io/folderDrop';
+import { FOLDER_FILE_LIMIT, STUDY_FILE_LIMIT } from '../io/folderDrop';
 
 /** What tells two files of one name apart: a File's size and modification time, or a tag. */
 export function fileIdentity(f: { size: number; lastModified: number }): string {
@@ -37,10 +37,24 @@ export function renamedText(renamed: readonly { given: string; as: string }[]): 
     : `Files with names already open are listed under new names in the File picker: ${list}.`;
 }
 
-/** The banner's note on files of dropped folders that were not read (see `io/folderDrop.ts`). */
-export function skippedText(skipped: number): string {
+/**
+ * The banner's note on files of dropped folders that were not read (see `io/folderDrop.ts`); of a
+ * cvi42 study's folder (`study`), every file is read but hidden ones and those past the limit.
+ */
+export function skippedText(skipped: number, study = false): string {
   if (skipped <= 0) return '';
+  if (study) {
+    const what = skipped === 1 ? '1 other file in the dropped folder was' : `${skipped} other files in the dropped folder were`;
+    return `${what} not read (hidden, or past the first ${STUDY_FILE_LIMIT} files).`;
+  }
   return skipped === 1
     ? `1 other file in the dropped folder was not read (not a contour file, or past the first ${FOLDER_FILE_LIMIT} files).`
     : `${skipped} other files in the dropped folder were not read (not contour files, or past the first ${FOLDER_FILE_LIMIT} files).`;
+}
+
+/** The banner's note on images of a cvi42 study that could not be read (moved since the drop). */
+export function lostText(names: readonly string[]): string {
+  if (names.length === 0) return '';
+  const shown = names.slice(0, 3).join(', ') + (names.length > 3 ? ', ...' : '');
+  return `${names.length === 1 ? '1 file' : `${names.length} files`} could not be read (${shown}): moved, or without permission.`;
 }

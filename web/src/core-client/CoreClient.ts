@@ -142,7 +142,10 @@ export class CoreClient {
   private readonly runs: RunFrames;
   /** Bytes of every successfully loaded file, kept to re-send them to a recreated worker. */
   private readonly files = new Map<string, ArrayBuffer>();
-  /** The long-axis views each NIfTI stack is read with (its study), kept for frame reloads and re-sends. */
+  /**
+   * The companion files each file is read with, kept for frame reloads and re-sends: the long-axis
+   * views of a NIfTI stack, the DICOM image headers of a cvi42 workspace (io/dicomHeaders.ts).
+   */
   private readonly views = new Map<string, ViewFile[]>();
   /** The time frame each file is read with, by label (absent: each contour's first), for those re-sends. */
   private readonly frames = new Map<string, string>();

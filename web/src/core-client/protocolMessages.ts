@@ -21,8 +21,9 @@ export interface LoadRequest {
   /** The time frame to read of a file that holds several, by its label (`9`, `ES`; absent: each contour's first). */
   frame?: string;
   /**
-   * Long-axis views read with this short-axis label map (the core's `load_study`; absent or empty:
-   * the file alone). A view the core cannot read refuses the load, its file named in the message.
+   * Long-axis views read with this short-axis label map, or the DICOM images (headers) of this cvi42
+   * workspace (the core's `load_study`; absent or empty: the file alone). A view the core cannot
+   * read refuses the load, its file named in the message; images it cannot place are set aside.
    */
   views?: ViewFile[];
 }

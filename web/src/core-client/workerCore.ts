@@ -51,7 +51,7 @@ import { LabWorker, type LabApi } from './labWorker';
 export interface SessionApi {
   /** `frame`: the time frame to read, by its label (undefined: each contour's first). */
   load(fileName: string, bytes: Uint8Array, frame?: string): string;
-  /** `load` of a NIfTI short-axis stack with its long-axis views (single-slice label maps; `views` a JS Array of Uint8Arrays). */
+  /** `load` with companion files: a NIfTI short-axis stack's long-axis views (single-slice label maps), a cvi42 workspace's DICOM images (`views` a JS Array of Uint8Arrays). */
   load_study?(fileName: string, bytes: Uint8Array, viewNames: string[], views: Uint8Array[], frame?: string): string;
   file_points(fileName: string): Float32Array;
   start(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string): void;

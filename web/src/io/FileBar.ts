@@ -1,23 +1,28 @@
 /**
  * Getting data in: the Open button (a real `<input type="file">` accepting the canonical CSV, the
- * other contour formats and NIfTI label maps), "Try an example" buttons, the picker of loaded files, the surface
+ * other contour formats and NIfTI label maps) and its folder button (`webkitdirectory`: a cvi42
+ * study's folder, a biv-me patient's), "Try an example" buttons, the picker of loaded files, the surface
  * picker for files holding several surfaces and the frame picker for files holding a sequence of
  * time frames (app/timeFrames.ts decides its options).
  */
 import type { FramePicker } from '../app/timeFrames';
 import { h } from '../ui/dom';
+import { icon } from '../ui/icons';
 import { SAMPLES, type Sample } from './samples';
 
 /**
  * The contour formats the core reads (canonical CSV first; see README "Files"), and NIfTI label
  * maps (segmentations, `.nii` or `.nii.gz`; 3D Slicer's `.nrrd` / `.seg.nrrd`). A bare `.gz` too: the core reads any of these
  * formats gzip-compressed (`contours.csv.gz`), not every file dialog filters on a two-part
- * extension, and the core names what it cannot read in a compressed file the user chose.
+ * extension, and the core names what it cannot read in a compressed file the user chose. A Circle
+ * cvi42 workspace (`.cvi42wsx`), opened with the DICOM images it was drawn on (io/cvi42Study.ts).
  */
-export const ACCEPT = '.csv,.txt,.tsv,.dat,.xyz,.vtk,.vtp,.mat,.json,.dcm,.nii,.nii.gz,.nrrd,.gz,text/csv,text/plain,application/dicom';
+export const ACCEPT = '.csv,.txt,.tsv,.dat,.xyz,.vtk,.vtp,.mat,.json,.dcm,.nii,.nii.gz,.nrrd,.gz,.cvi42wsx,text/csv,text/plain,application/dicom';
 
 export interface FileBarHandlers {
   openFiles(files: File[]): void;
+  /** Every file under a picked folder (`webkitRelativePath` set); the controller chooses which open. */
+  openFolder(files: File[]): void;
   trySample(sample: Sample): void;
   chooseFile(fileName: string): void;
   chooseSurface(surface: string): void;
@@ -30,6 +35,8 @@ export interface FileBarHandlers {
 export class FileBar {
   readonly element: HTMLElement;
   readonly input: HTMLInputElement;
+  /** The folder picker (`webkitdirectory`): a study's folder holds images without extensions the Open dialog hides. */
+  readonly folderInput: HTMLInputElement;
   private readonly files: HTMLSelectElement;
   private readonly surfaces: HTMLSelectElement;
   private readonly frames: HTMLSelectElement;
@@ -53,6 +60,24 @@ export class FileBar {
       if (e.key === 'Enter' || e.key === ' ') {
         e.preventDefault();
         this.input.click();
+      }
+    });
+    this.folderInput = h('input', { type: 'file', webkitdirectory: true, id: 'folder-input', 'data-testid': 'folder-input', class: 'visually-hidden', tabindex: -1 });
+    this.folderInput.addEventListener('change', () => {
+      const files = Array.from(this.folderInput.files ?? []);
+      this.folderInput.value = '';
+      if (files.length) handlers.openFolder(files);
+    });
+    const folder = h(
+      'label',
+      { for: 'folder-input', class: 'button primary folder-open', role: 'button', tabindex: 0, 'aria-label': 'Open a folder', 'data-testid': 'open-folder', title: 'Open a folder: a cvi42 study (its .cvi42wsx workspace and the DICOM images it was drawn on), a biv-me patient, a segmented study (or drop the folder anywhere)' },
+      icon('folder'),
+    );
+    folder.addEventListener('keydown', (e) => {
+      if (e.key === ' ' && e.defaultPrevented) return;
+      if (e.key === 'Enter' || e.key === ' ') {
+        e.preventDefault();
+        this.folderInput.click();
       }
     });
     const samples = h('div', { class: 'samples' }, h('span', { class: 'muted samples-label' }, 'Try an example:'));
@@ -86,7 +111,7 @@ export class FileBar {
     all.addEventListener('click', () => handlers.runAllSurfaces());
     this.surfacesWrap = h('span', { class: 'picker', hidden: true }, this.surfaces, all);
     this.framesWrap = h('span', { class: 'picker', hidden: true }, this.frames);
-    this.element = h('div', { class: 'filebar' }, this.input, open, samples, this.filesWrap, this.surfacesWrap, this.framesWrap);
+    this.element = h('div', { class: 'filebar' }, this.input, this.folderInput, h('span', { class: 'open-group' }, open, folder), samples, this.filesWrap, this.surfacesWrap, this.framesWrap);
   }
 
   setFiles(names: string[], current: string | null): void {

@@ -2,9 +2,16 @@ import { filesOfEntries, folderEntries } from './folderDrop';
 
 /**
  * Drag and drop anywhere on the page. A full-window overlay appears while files are dragged over;
- * the dropped files (and those of dropped folders) are handed over in one batch.
+ * the dropped files (and those of dropped folders) are handed over in one batch. `wantsImages`:
+ * whether the app waits for the DICOM images of a cvi42 workspace (a dropped folder's files are
+ * then all handed over, whatever their names: see io/folderDrop.ts).
  */
-export function installDropZone(target: HTMLElement, overlay: HTMLElement, onFiles: (files: File[], skipped: number) => void): () => void {
+export function installDropZone(
+  target: HTMLElement,
+  overlay: HTMLElement,
+  onFiles: (files: File[], skipped: number) => void,
+  wantsImages: () => boolean = () => false,
+): () => void {
   let depth = 0;
   const hasFiles = (e: DragEvent) => !!e.dataTransfer && Array.from(e.dataTransfer.types).includes('Files');
   const enter = (e: DragEvent) => {
@@ -31,7 +38,7 @@ export function installDropZone(target: HTMLElement, overlay: HTMLElement, onFil
     // A folder (a biv-me patient's) is walked for its files; plain files are handed over as they are.
     const entries = folderEntries(e.dataTransfer);
     if (entries) {
-      void filesOfEntries(entries).then(({ files, skipped }) => {
+      void filesOfEntries(entries, undefined, wantsImages()).then(({ files, skipped }) => {
         if (files.length) onFiles(files, skipped);
       });
       return;

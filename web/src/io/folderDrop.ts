@@ -4,8 +4,11 @@
  * or M&Ms subject folder too: its `.nii.gz` label maps open, its images are refused by name). The
  * browser hands a dropped folder over as an entry of the File and Directory Entries API
  * (`DataTransferItem.webkitGetAsEntry`); its files are read here and opened like a multi-file drop.
+ * A cvi42 study's folder (a `.cvi42wsx` workspace with the DICOM images it was drawn on) is read
+ * whole instead: its images are what the workspace needs, whatever their names.
  */
 import { ACCEPT } from './FileBar';
+import { isWorkspaceName } from './cvi42Study';
 
 /** The parts of a `FileSystemEntry` the walk uses (an interface, so tests can hand in their own). */
 export interface EntryLike {
@@ -23,6 +26,17 @@ export interface EntryLike {
 export const FOLDER_FILE_LIMIT = 200;
 /** Folders inside folders are followed this deep (a patient folder inside a study folder). */
 const MAX_DEPTH = 3;
+/**
+ * A cvi42 study's folder: every file in it is one of the workspace's images (io/cvi42Study.ts),
+ * whatever its name (DICOM files often have none), as deep as a PACS export nests its series
+ * (study / patient / date / series / image), at most this many; the app reads only their headers.
+ */
+export const STUDY_FILE_LIMIT = 4000;
+const STUDY_DEPTH = 6;
+/** Files looked at in the dropped folders at most (a home folder dropped by mistake ends here). */
+const ENTRY_LIMIT = 20000;
+/** Files handed over by the browser at once. */
+const FILE_BATCH = 32;
 
 /**
  * The Open dialog's extensions, but a bare `.gz`: in a folder, a compressed file is read only as
@@ -39,32 +53,103 @@ export function readableInFolder(name: string): boolean {
   return EXTENSIONS.some((ext) => lower.endsWith(ext) || held.endsWith(ext));
 }
 
+/** A file found in what was dropped or picked: `depth` 0 beside the folders, 1 in one, ... */
+export interface FoundFile<T> {
+  item: T;
+  /** Its path from the dropped or picked folder, that folder's name first (`patient1/GPFile_000.txt`). */
+  path: string;
+  depth: number;
+}
+
+/** Which of the files found are opened, how many are not (`skipped`), and whether they are a cvi42 study. */
+export interface FolderSelection<T> {
+  kept: T[];
+  skipped: number;
+  study: boolean;
+}
+
 /**
- * The files of `entries` (files as they are, folders walked in name order, keeping only the
- * readable kinds), at most `limit` from folders; `skipped` counts what a folder held beyond that
- * or of other kinds.
+ * The files of folders that are opened. Files given beside the folders always are. With a cvi42
+ * workspace among them, or when the app waits for the images of one refused without them
+ * (`images`), every file in the folders (not hidden, nor in a hidden folder) is one of its
+ * images, up to `STUDY_FILE_LIMIT`; else those of the readable kinds (`readableInFolder`) up to
+ * `limit`, the others within `MAX_DEPTH` counted as skipped.
  */
-export async function filesOfEntries(entries: readonly EntryLike[], limit = FOLDER_FILE_LIMIT): Promise<{ files: File[]; skipped: number }> {
-  const files: File[] = [];
+export function selectFolderFiles<T>(found: readonly FoundFile<T>[], limit = FOLDER_FILE_LIMIT, images = false): FolderSelection<T> {
+  const name = (f: FoundFile<T>) => f.path.slice(f.path.lastIndexOf('/') + 1);
+  const study = images || found.some((f) => isWorkspaceName(name(f)));
+  const kept: T[] = [];
   let fromFolders = 0;
   let skipped = 0;
-  const walk = async (entry: EntryLike, depth: number): Promise<void> => {
-    if (entry.isFile && entry.file) {
-      if (depth > 0 && (!readableInFolder(entry.name) || fromFolders >= limit)) {
-        skipped++;
-        return;
-      }
-      const file = await new Promise<File | null>((ok) => entry.file?.(ok, () => ok(null)));
-      if (file) {
-        files.push(file);
-        if (depth > 0) fromFolders++;
-      }
-    } else if (entry.isDirectory && entry.createReader && depth < MAX_DEPTH) {
-      for (const child of await readAll(entry)) await walk(child, depth + 1);
+  for (const f of found) {
+    if (f.depth === 0) {
+      kept.push(f.item);
+      continue;
+    }
+    if (f.depth > (study ? STUDY_DEPTH : MAX_DEPTH)) continue;
+    const wanted = study ? !f.path.split('/').some((part) => part.startsWith('.')) : readableInFolder(name(f));
+    if (!wanted || fromFolders >= (study ? STUDY_FILE_LIMIT : limit)) {
+      skipped++;
+    } else {
+      kept.push(f.item);
+      fromFolders++;
+    }
+  }
+  return { kept, skipped, study };
+}
+
+/** Paths of the files of dropped folders (a dropped file has none), for telling apart files of one name. */
+const paths = new WeakMap<File, string>();
+
+/** The path in its dropped or picked folder of a file (null: given as it is). */
+export function pathInFolder(file: File): string | null {
+  return paths.get(file) ?? (file.webkitRelativePath || null);
+}
+
+/**
+ * The files of `entries` (files as they are, folders walked in name order), as
+ * `selectFolderFiles` keeps them (`images`: the app waits for a workspace's images); `skipped`
+ * counts what a folder held beyond that or of other kinds, `study` says they were read as a
+ * cvi42 study's.
+ */
+export async function filesOfEntries(entries: readonly EntryLike[], limit = FOLDER_FILE_LIMIT, images = false): Promise<{ files: File[]; skipped: number; study: boolean }> {
+  const found: FoundFile<EntryLike>[] = [];
+  const walk = async (entry: EntryLike, path: string, depth: number): Promise<void> => {
+    if (found.length >= ENTRY_LIMIT) return;
+    if (entry.isFile && entry.file) found.push({ item: entry, path, depth });
+    else if (entry.isDirectory && entry.createReader && depth < STUDY_DEPTH) {
+      for (const child of await readAll(entry)) await walk(child, `${path}/${child.name}`, depth + 1);
     }
   };
-  for (const entry of entries) await walk(entry, 0);
-  return { files, skipped };
+  for (const entry of entries) await walk(entry, entry.name, 0);
+  const { kept, skipped, study } = selectFolderFiles(found, limit, images);
+  const pathOf = new Map(found.map((f) => [f.item, f.path]));
+  const files: File[] = [];
+  for (let start = 0; start < kept.length; start += FILE_BATCH) {
+    const part = kept.slice(start, start + FILE_BATCH);
+    const got = await Promise.all(part.map((e) => new Promise<File | null>((ok) => e.file?.(ok, () => ok(null)))));
+    got.forEach((file, k) => {
+      if (!file) return;
+      const path = pathOf.get(part[k]);
+      if (path?.includes('/')) paths.set(file, path);
+      files.push(file);
+    });
+  }
+  return { files, skipped, study };
+}
+
+/**
+ * The files of a picked folder (`<input type="file" webkitdirectory>`: every file under it, each
+ * with its `webkitRelativePath`), in path order, as `selectFolderFiles` keeps them.
+ */
+export function filesOfPickedFolder(picked: readonly File[], limit = FOLDER_FILE_LIMIT, images = false): FolderSelection<File> {
+  const found = picked
+    .map((f) => {
+      const path = f.webkitRelativePath || f.name;
+      return { item: f, path, depth: path.split('/').length - 1 };
+    })
+    .sort((a, b) => a.path.localeCompare(b.path, undefined, { numeric: true }));
+  return selectFolderFiles(found, limit, images);
 }
 
 /** Every entry of a folder, in name order (`readEntries` hands them over in batches until empty). */

@@ -12,6 +12,7 @@ const PATHS = {
   lock: 'M5 7V5a3 3 0 016 0v2h1v7H4V7zm2 0h2V5a1 1 0 00-2 0z',
   stop: 'M4 4h8v8H4z',
   restart: 'M8 3a5 5 0 11-4.6 3H1.5L4.5 2l3 4H5.6A3 3 0 108 5z',
+  folder: 'M1 3.5A1.5 1.5 0 012.5 2h3.4l1.5 1.5h6.1A1.5 1.5 0 0115 5v7.5a1.5 1.5 0 01-1.5 1.5h-11A1.5 1.5 0 011 12.5z',
 } as const;
 
 export type IconName = keyof typeof PATHS;

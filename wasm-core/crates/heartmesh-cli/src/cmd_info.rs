@@ -412,7 +412,13 @@ fn text(info: &Value) -> String {
         out += &format!("\n  landmarks: {}", list.join(", "));
     }
     for w in info["warnings"].as_array().into_iter().flatten() {
-        out += &format!("\n  warning: {}", w.as_str().unwrap_or(""));
+        let w = w.as_str().unwrap_or("");
+        let kind = if io::is_reading_note(w) {
+            "note"
+        } else {
+            "warning"
+        };
+        out += &format!("\n  {kind}: {w}");
     }
     // The images' crossing gap is the file's (every surface's curves are aligned together): said
     // once when every surface gives the same.

@@ -119,7 +119,7 @@ fn first_named<'a>(given: &'a [String], stack: &str) -> &'a str {
 /// A reader's warning as the commands print it: the label-map reader's account of what it read
 /// is a note, the rest warnings.
 pub fn warning_line(input: &str, w: &str) -> String {
-    let kind = if io::nifti::is_reading_note(w) {
+    let kind = if io::is_reading_note(w) {
         "note"
     } else {
         "warning"

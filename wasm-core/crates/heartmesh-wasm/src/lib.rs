@@ -10,6 +10,8 @@
 mod anatomical;
 mod clock;
 mod convert;
+#[cfg(test)]
+mod cvi42;
 mod errors;
 mod frames;
 mod hex;
@@ -110,7 +112,9 @@ impl Session {
     /// label maps named `view_names`, their bytes the `Uint8Array`s of `views` in the same order
     /// (the core matches their labels to the stack's by position and adds one curve per surface
     /// each shows; `warnings` says what each view was read as). Loading the stack again, for
-    /// another frame, needs its views again.
+    /// another frame, needs its views again. Of a cvi42 workspace, `views` are the DICOM images
+    /// it was drawn on (their headers are enough; the core's note, first in `notes`, says how
+    /// many placed its contours).
     pub fn load_study(
         &mut self,
         file_name: &str,
@@ -153,7 +157,7 @@ impl Session {
             .warnings
             .iter()
             .map(|w| frames::in_app_words(w))
-            .partition(|w| io::nifti::is_reading_note(w));
+            .partition(|w| io::is_reading_note(w));
         let mut warnings = warnings;
         // Those about one surface's contours only, so the app shows each surface its own.
         let surface_warnings: Vec<_> = set

@@ -159,6 +159,13 @@ pub fn extension(path: &str) -> String {
     }
 }
 
+/// Whether a reader warning is its account of what it read (a label map's "label map read as
+/// ...", a workspace's "workspace read with ..."): information, which the app shows apart from
+/// the warnings and the command line prints as a note.
+pub fn is_reading_note(warning: &str) -> bool {
+    nifti::is_reading_note(warning) || warning.starts_with(cvi42::NOTE)
+}
+
 /// Guesses the contour format from the content, then from the extension.
 pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     let ext = extension(file_name);

@@ -40,6 +40,9 @@ pub fn is_cvi42(bytes: &[u8]) -> bool {
         && head.contains(NAMESPACE)
 }
 
+/// How the reader's account of what it read begins (a note, not a warning: [`super::is_reading_note`]).
+pub const NOTE: &str = "workspace read with ";
+
 /// The refusal of a workspace opened without its images.
 pub const NEEDS_IMAGES: &str = "a cvi42 workspace holds its contours in the pixels of its \
     images: open it together with the DICOM images it was drawn on (the study's folder)";
@@ -240,6 +243,11 @@ struct SetAside {
     no_plane: Vec<String>,
 }
 
+/// "1 image", "2 images".
+fn count(n: usize, what: &str) -> String {
+    format!("{n} {what}{}", if n == 1 { "" } else { "s" })
+}
+
 fn listed(names: &[String]) -> String {
     let shown: Vec<&str> = names.iter().take(3).map(String::as_str).collect();
     let more = if names.len() > 3 { ", ..." } else { "" };
@@ -322,8 +330,36 @@ pub fn read_cvi42(
         return Err(err(why));
     }
     placed.sort_by_key(|&(slice, f, _)| (slice, f));
+    let drawn_on = {
+        let mut uids: Vec<&str> = placed
+            .iter()
+            .map(|(_, _, c)| c.image_uid.as_str())
+            .collect();
+        uids.sort_unstable();
+        uids.dedup();
+        uids.len()
+    };
+    let drawn_slices = {
+        let mut slices: Vec<usize> = placed.iter().map(|&(slice, _, _)| slice).collect();
+        slices.dedup();
+        slices.len()
+    };
 
     let mut b = ContourBuilder::new();
+    let set_aside = aside.not_dicom.len() + aside.no_plane.len();
+    let others = if set_aside > 0 {
+        format!(
+            "; {} given with it set aside",
+            count(set_aside, "other file")
+        )
+    } else {
+        String::new()
+    };
+    b.warn(format!(
+        "{NOTE}{}: contours on {drawn_on} of them, in {}{others}",
+        count(images.len(), "DICOM image"),
+        count(drawn_slices, "cine slice")
+    ));
     let mut frames = FrameFilter::new(frame);
     for (slice, f, c) in placed {
         let surface = surface_of(&c.kind).ok();
@@ -354,13 +390,14 @@ pub fn read_cvi42(
     }
     if repeats > 0 {
         b.warn(format!(
-            "{repeats} contours stored again under another study map of the workspace read once"
+            "{} stored again under another study map of the workspace read once",
+            count(repeats, "contour")
         ));
     }
     if !missing.is_empty() {
         b.warn(format!(
-            "contours on {} images skipped: their DICOM files were not given (first UID {})",
-            missing.len(),
+            "contours on {} skipped: their DICOM files were not given (first UID {})",
+            count(missing.len(), "image"),
             missing[0]
         ));
     }
@@ -372,15 +409,15 @@ pub fn read_cvi42(
     }
     if !aside.not_dicom.is_empty() {
         b.warn(format!(
-            "{} files set aside: not DICOM ({})",
-            aside.not_dicom.len(),
+            "{} set aside: not DICOM ({})",
+            count(aside.not_dicom.len(), "file"),
             listed(&aside.not_dicom)
         ));
     }
     if !aside.no_plane.is_empty() {
         b.warn(format!(
-            "{} DICOM files set aside: no image plane ({})",
-            aside.no_plane.len(),
+            "{} set aside: no image plane ({})",
+            count(aside.no_plane.len(), "DICOM file"),
             listed(&aside.no_plane)
         ));
     }

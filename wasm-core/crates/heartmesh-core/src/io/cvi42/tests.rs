@@ -192,7 +192,7 @@ fn an_image_kept_under_two_study_maps_is_read_once() {
     assert!(
         set.warnings
             .iter()
-            .any(|w| w.starts_with("1 contours stored again")),
+            .any(|w| w.starts_with("1 contour stored again")),
         "{:?}",
         set.warnings
     );
@@ -280,14 +280,22 @@ fn images_missing_or_unusable_are_said_and_a_workspace_alone_is_refused() {
     let set = read(&wsx, &images, None).unwrap();
     assert_eq!(set.contours.len(), 1);
     let all = set.warnings.join("\n");
-    assert!(all.contains("contours on 1 images skipped"), "{all}");
+    assert!(all.contains("contours on 1 image skipped"), "{all}");
     assert!(all.contains("first UID 9.9.9"), "{all}");
     assert!(
-        all.contains("1 files set aside: not DICOM (notes.txt)"),
+        all.contains(
+            "workspace read with 1 DICOM image: contours on 1 of them, in 1 cine slice; 2 other \
+             files given with it set aside"
+        ),
+        "{all}"
+    );
+    assert!(crate::io::is_reading_note(&set.warnings[0]), "{all}");
+    assert!(
+        all.contains("1 file set aside: not DICOM (notes.txt)"),
         "{all}"
     );
     assert!(
-        all.contains("1 DICOM files set aside: no image plane (b.dcm"),
+        all.contains("1 DICOM file set aside: no image plane (b.dcm"),
         "{all}"
     );
 

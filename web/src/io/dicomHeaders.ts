@@ -1,0 +1,109 @@
+/**
+ * The headers of the DICOM images opened with a cvi42 workspace. The core needs only each image's
+ * header (its plane, its place in the cine) and stops at the pixel data, so the app reads a slice
+ * of each file, never the pixels: a study's folder holds hundreds of cine images of 100-500 KB,
+ * and every byte handed over is copied into the worker and into wasm memory. A header is usually
+ * 2-10 KB, Siemens' private groups make it 20-60 KB: the first slice is 64 KiB, and a DICOM file
+ * whose pixel data does not begin inside it is read further (1 MiB, then 4 MiB). Each slice ends
+ * where the pixel data begins, so what is kept is the header alone.
+ */
+import type { ViewFile } from '../core-client/protocol';
+
+/** The first slice read of each file. */
+export const FIRST_SLICE = 64 * 1024;
+/** Read further when the pixel data has not begun yet (an enhanced header, a big private group). */
+const LONGER_SLICES = [1024 * 1024, 4 * 1024 * 1024];
+/** Files read at once: enough to keep the disk busy, few enough not to hold hundreds of reads. */
+export const HEADER_BATCH = 32;
+
+/** DICOM's magic at 128 (after the preamble) or at 0 (no preamble), as the core tells DICOM. */
+export function looksDicom(bytes: Uint8Array): boolean {
+  return dicomStart(bytes) >= 0;
+}
+
+/** Where a DICOM file's elements begin (after the magic), or -1 when the bytes are not DICOM. */
+function dicomStart(bytes: Uint8Array): number {
+  const at = (o: number) => bytes.length >= o + 4 && bytes[o] === 0x44 && bytes[o + 1] === 0x49 && bytes[o + 2] === 0x43 && bytes[o + 3] === 0x4d;
+  return at(128) ? 132 : at(0) ? 4 : -1;
+}
+
+/** The value representations the pixel data element is written with (explicit VR). */
+const PIXEL_VRS = new Set(['OB', 'OW', 'OF', 'OD', 'OL', 'OV', 'UN']);
+
+/**
+ * Where the pixel data element (7FE0,0010) begins in `bytes`, or -1 if not in them. A match of
+ * its four tag bytes counts only if an explicit VR of pixel data follows, or an implicit length
+ * that is undefined or fits in the file (`fileSize`): four bytes of a private binary value that
+ * happen to look like the tag do not cut a header short.
+ */
+export function pixelDataOffset(bytes: Uint8Array, fileSize: number): number {
+  const start = dicomStart(bytes);
+  if (start < 0) return -1;
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  for (let i = start; i + 8 <= bytes.length; i++) {
+    const little = bytes[i] === 0xe0 && bytes[i + 1] === 0x7f && bytes[i + 2] === 0x10 && bytes[i + 3] === 0x00;
+    const big = bytes[i] === 0x7f && bytes[i + 1] === 0xe0 && bytes[i + 2] === 0x00 && bytes[i + 3] === 0x10;
+    if (!little && !big) continue;
+    if (PIXEL_VRS.has(String.fromCharCode(bytes[i + 4], bytes[i + 5]))) return i;
+    const length = view.getUint32(i + 4, little);
+    if (length === 0xffffffff || i + 8 + length <= fileSize) return i;
+  }
+  return -1;
+}
+
+/**
+ * The header of one file: its first bytes up to where the pixel data begins. A file that is not
+ * DICOM gives its first slice (the core sets it aside, naming it); a DICOM file whose pixel data
+ * is not within 4 MiB gives those 4 MiB (the core reads what header they hold).
+ */
+export async function headerSlice(file: Blob): Promise<ArrayBuffer> {
+  for (const size of [FIRST_SLICE, ...LONGER_SLICES]) {
+    const bytes = new Uint8Array(await file.slice(0, size).arrayBuffer());
+    const at = pixelDataOffset(bytes, file.size);
+    if (at >= 0) return bytes.slice(0, at).buffer;
+    if (bytes.length >= file.size || !looksDicom(bytes) || size === LONGER_SLICES[LONGER_SLICES.length - 1]) return bytes.buffer;
+  }
+  throw new Error('unreachable');
+}
+
+/**
+ * The names the images go by: each file's name, or where two share one (`IM_0001` in every series
+ * folder), its path in the dropped folder (`pathOf`), else the name numbered (`IM_0001 (2)`).
+ * The core names set-aside files by them.
+ */
+export function imageNames(files: readonly { name: string }[], pathOf: (i: number) => string | null): string[] {
+  const count = new Map<string, number>();
+  for (const f of files) count.set(f.name, (count.get(f.name) ?? 0) + 1);
+  const used = new Set<string>();
+  return files.map((f, i) => {
+    let name = f.name;
+    if ((count.get(name) ?? 0) > 1) name = pathOf(i) ?? name;
+    for (let k = 2; used.has(name); k++) name = `${f.name} (${k})`;
+    used.add(name);
+    return name;
+  });
+}
+
+/**
+ * The headers of `files` (`headerSlice`), read `HEADER_BATCH` at a time, named by `imageNames`;
+ * `unreadable`: the names of files that could not be read (moved or without permission since the
+ * drop), left out.
+ */
+export async function imageHeaders(
+  files: readonly File[],
+  pathOf: (f: File) => string | null = () => null,
+  batch = HEADER_BATCH,
+): Promise<{ images: ViewFile[]; unreadable: string[] }> {
+  const names = imageNames(files, (i) => pathOf(files[i]));
+  const images: ViewFile[] = [];
+  const unreadable: string[] = [];
+  for (let start = 0; start < files.length; start += batch) {
+    const part = files.slice(start, start + batch);
+    const read = await Promise.all(part.map((f) => headerSlice(f).then((bytes) => bytes, () => null)));
+    read.forEach((bytes, k) => {
+      if (bytes) images.push({ name: names[start + k], bytes });
+      else unreadable.push(names[start + k]);
+    });
+  }
+  return { images, unreadable };
+}
