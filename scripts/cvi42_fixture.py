@@ -9,13 +9,15 @@ OUT_DIR/Contours.cvi42wsx holds every curve in pixel coordinates (SubpixelResolu
 the SOP Instance UID of its image, nested as UK Biobank's workspaces are (StudyMapStates / List:item
 / ImageStates / UID / Contours / TYPE / Points / List:item / Point:x, Point:y); OUT_DIR/dicom/ holds one header-only MR image per slice and time
 frame (10 frames per slice, trigger time 40 ms apart, short-axis slices in one series, each
-long-axis view in its own). Curves of the RV endocardium (free wall + septum in the GPFile) are
+long-axis view in its own); OUT_DIR/zipped/ holds the same as two ZIP archives, the workspace in
+one and the images in the other, as UK Biobank hands them out. Curves of the RV endocardium (free wall + septum in the GPFile) are
 joined into one curve, as cvi42 draws them (a ring in the short-axis images, the gaps bridged); two types the reader must skip (a reference point and
 a papillary muscle) are added. The output is committed (tests read it); rerun only to change it.
 """
 import os
 import struct
 import sys
+import zipfile
 
 
 SUB = 8
@@ -243,6 +245,14 @@ def main(src, out):
             name = os.path.join(out, "dicom", f"IM_{sid:02d}_{frame:02d}.dcm")
             with open(name, "wb") as f:
                 f.write(dicom(uid_of(s, frame), s, series, description, instance, 40.0 * frame))
+    # As UK Biobank hands them out: the workspace in one archive, the images in another.
+    zips = os.path.join(out, "zipped")
+    os.makedirs(zips, exist_ok=True)
+    with zipfile.ZipFile(os.path.join(zips, "1000001_cvi42.zip"), "w", zipfile.ZIP_DEFLATED) as z:
+        z.write(os.path.join(out, "Contours.cvi42wsx"), "1000001_cvi42.cvi42wsx")
+    with zipfile.ZipFile(os.path.join(zips, "1000001_images.zip"), "w", zipfile.ZIP_DEFLATED) as z:
+        for name in sorted(os.listdir(os.path.join(out, "dicom"))):
+            z.write(os.path.join(out, "dicom", name), "dicom/" + name)
 
 
 if __name__ == "__main__":

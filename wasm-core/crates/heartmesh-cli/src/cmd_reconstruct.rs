@@ -31,7 +31,9 @@ pub const USAGE: &str =
   CONTOURS may be a NIfTI short-axis label map followed by its long-axis views (single-slice
   label maps, any order of the files: reconstruct SEG.nii.gz LA_2CH.nii.gz LA_4CH.nii.gz -o ...),
   their labels matched to the stack's by position; or a cvi42 workspace followed by the DICOM
-  images it was drawn on, files or folders (reconstruct Contours.cvi42wsx DICOM/ -o ...): each
+  images it was drawn on, files, folders or ZIP archives (reconstruct Contours.cvi42wsx DICOM/
+  -o ..., reconstruct 1234_cvi42.zip 1234_images.zip -o ...; a ZIP archive alone is read for
+  the contour file in it): each
   contour placed by its image's position, orientation and pixel spacing, the frame of a cine
   slice by trigger time from 0 (--frame 9), other files set aside with a warning;
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and

@@ -51,34 +51,22 @@ pub fn load(path: &str, frame: Option<FrameChoice>) -> Result<Loaded, CliError> 
 
 /// Contours of one file, or of a study given as several: a NIfTI short-axis label map and its
 /// long-axis views (single-slice label maps), in any order; or a cvi42 workspace with the DICOM
-/// images it was drawn on (files or folders). Returns the path of the file
-/// the contours are named after (the stack's), for messages and the report.
+/// images it was drawn on (files, folders or ZIP archives, or one folder or archive holding
+/// both). Returns the path given of the file the contours are named after (the stack's, or the
+/// folder or archive holding it), for messages and the report.
 pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, Loaded), CliError> {
-    let paths_given = paths;
     let [first, rest @ ..] = paths else {
         return Err(CliError::usage("no contour file given"));
     };
-    if rest.is_empty() {
+    // One file is read as it is; one archive (or a folder holding a workspace) for its files.
+    let archive = |p: &String| files::read(p).is_ok_and(|b| io::zip::is_zip(&b));
+    if rest.is_empty() && !archive(first) && !is_workspace_study(paths) {
         return load(first, frame).map(|l| (first.as_str(), l));
     }
-    // A folder among the files (a cvi42 workspace's DICOM images) stands for what it holds.
-    let mut expanded = Vec::with_capacity(paths.len());
-    for p in paths {
-        if Path::new(p).is_dir() {
-            expanded.extend(files::files_under(p)?);
-        } else {
-            expanded.push(p.clone());
-        }
-    }
-    let paths = expanded.as_slice();
-    let contents = paths
+    let entries = expand(paths)?;
+    let named: Vec<(&str, &[u8])> = entries
         .iter()
-        .map(|p| files::read(p))
-        .collect::<Result<Vec<_>, _>>()?;
-    let named: Vec<(&str, &[u8])> = paths
-        .iter()
-        .map(String::as_str)
-        .zip(contents.iter().map(Vec::as_slice))
+        .map(|e| (e.name.as_str(), e.bytes.as_slice()))
         .collect();
     let options = ContourOptions {
         frame,
@@ -86,34 +74,66 @@ pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, L
     };
     // Each error names the file it is about itself.
     let (stack, set) = io::read_study(&named, &options).map_err(CliError::param)?;
-    let format = io::detect_contour_format(&paths[stack], &contents[stack]);
-    let input = first_named(paths_given, &paths[stack]);
+    let e = &entries[stack];
     Ok((
-        input,
+        paths[e.origin].as_str(),
         Loaded {
             set,
-            format,
+            format: io::detect_contour_format(&e.name, &e.bytes),
             session_params: None,
         },
     ))
 }
 
-/// Whether several inputs are a cvi42 workspace with its images (files or folders): one study,
-/// which may hold a sequence, rather than one file per phase.
-pub fn is_workspace_study(paths: &[String]) -> bool {
-    paths.len() > 1
-        && paths.iter().any(|p| {
-            !Path::new(p).is_dir() && files::read(p).is_ok_and(|b| io::cvi42::is_cvi42(&b))
-        })
+/// One file of the inputs: `origin` is the index of the path given that holds it (itself, a
+/// folder, an archive).
+struct Entry {
+    origin: usize,
+    name: String,
+    bytes: Vec<u8>,
 }
 
-/// The path given on the command line that is `stack` (the returned name must outlive the
-/// expanded list; a stack is always given by name, never found inside a folder).
-fn first_named<'a>(given: &'a [String], stack: &str) -> &'a str {
-    given
-        .iter()
-        .find(|g| g.as_str() == stack)
-        .map_or(given[0].as_str(), String::as_str)
+/// The files the paths stand for: a folder for the files under it, a ZIP archive for the files
+/// in it (UK Biobank hands out each subject's workspace and each DICOM series as one).
+fn expand(paths: &[String]) -> Result<Vec<Entry>, CliError> {
+    let mut out = Vec::new();
+    for (origin, p) in paths.iter().enumerate() {
+        let names = if Path::new(p).is_dir() {
+            files::files_under(p)?
+        } else {
+            vec![p.clone()]
+        };
+        for name in names {
+            let bytes = files::read(&name)?;
+            if io::zip::is_zip(&bytes) {
+                let members = io::zip::members(&bytes).map_err(|e| CliError::input(&name, e))?;
+                out.extend(members.into_iter().map(|m| Entry {
+                    origin,
+                    name: format!("{name}/{}", m.name),
+                    bytes: m.bytes,
+                }));
+            } else {
+                out.push(Entry {
+                    origin,
+                    name,
+                    bytes,
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Whether the inputs are a cvi42 workspace with its images (files, folders, archives; or one
+/// folder or archive holding both): one study, which may hold a sequence, rather than one file
+/// per phase.
+pub fn is_workspace_study(paths: &[String]) -> bool {
+    let bundle =
+        |p: &String| Path::new(p).is_dir() || files::read(p).is_ok_and(|b| io::zip::is_zip(&b));
+    if paths.len() == 1 && !bundle(&paths[0]) {
+        return false;
+    }
+    expand(paths).is_ok_and(|entries| entries.iter().any(|e| io::cvi42::is_cvi42(&e.bytes)))
 }
 
 /// A reader's warning as the commands print it: the label-map reader's account of what it read

@@ -171,3 +171,57 @@ fn volumes_reads_the_workspaces_frames_as_the_phases() {
     eprintln!("CVI42 volumes: LV EF {ef:.2} % (the GPFiles' {theirs:.2} %)");
     assert!((ef - theirs).abs() < 1.0, "{ef} vs {theirs}");
 }
+
+/// The report of `reconstruct INPUTS... --surface LV_ENDO`: (status, stderr, report).
+fn lv_report(inputs: &[String], dir: &Path) -> (i32, String, Option<Value>) {
+    let (mesh, json) = (dir.join("lv.obj"), dir.join("lv.json"));
+    let _ = std::fs::remove_file(&json);
+    let (code, _, err) = run(bin().arg("reconstruct").args(inputs).args([
+        "--surface",
+        "LV_ENDO",
+        "-o",
+        s(&mesh),
+        "--report",
+        s(&json),
+    ]));
+    (code, err, json.exists().then(|| report(&json)))
+}
+
+#[test]
+fn zip_archives_as_uk_biobank_hands_them_out_give_the_same_mesh() {
+    let dir = scratch("cvi42_zipped");
+    let (_, _, plain) = lv_report(&[fixture("Contours.cvi42wsx"), fixture("dicom")], &dir);
+    let plain = plain.unwrap();
+    let zips = [
+        fixture("zipped/1000001_cvi42.zip"),
+        fixture("zipped/1000001_images.zip"),
+    ];
+    // The two archives, or the one folder holding both.
+    for inputs in [zips.to_vec(), vec![fixture("zipped")]] {
+        let (code, err, r) = lv_report(&inputs, &dir);
+        assert_eq!(code, 0, "{err}");
+        let r = r.unwrap();
+        for key in ["vertices", "triangles", "volume_ml"] {
+            assert_eq!(r[key], plain[key], "{key} of {inputs:?}");
+        }
+        assert_eq!(
+            r["contour_to_mesh"]["mean"],
+            plain["contour_to_mesh"]["mean"]
+        );
+        assert!(
+            err.contains("workspace read with 110 DICOM images"),
+            "{err}"
+        );
+    }
+    // A damaged archive: one line naming it, status 2.
+    let bytes = std::fs::read(&zips[1]).unwrap();
+    let cut = dir.join("cut.zip");
+    std::fs::write(&cut, &bytes[..bytes.len() - 40]).unwrap();
+    let (code, err, _) = lv_report(&[zips[0].clone(), s(&cut).to_string()], &dir);
+    assert_eq!(code, 2);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("cut.zip") && err.contains("ZIP archive: no end of central directory"),
+        "{err}"
+    );
+}

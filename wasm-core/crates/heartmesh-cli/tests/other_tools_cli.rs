@@ -356,3 +356,18 @@ fn a_vtp_saved_by_vtk_with_default_settings_converts() {
     assert_eq!(counts(&vtp, "b.csv"), csv);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A contour file handed out in a ZIP archive (with a macOS resource fork beside it): read from
+/// inside it, the mesh of the file itself.
+#[test]
+fn a_zipped_contour_file_gives_the_files_mesh() {
+    let dir = scratch("other_tools_zip");
+    let zip = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/patient1-ED.zip");
+    let csv = data("contours/bivme-example-patient1/patient1-ED.csv");
+    let args = ["--surface", "LV_ENDO", "--iterations", "40"];
+    let (code, err, zipped) = reconstruct(&dir, &zip, &args);
+    assert_eq!(code, 0, "{err}");
+    let (_, _, plain) = reconstruct(&dir, &csv, &args);
+    assert!(zipped.len() > 1000, "{}", zipped.len());
+    assert_eq!(zipped, plain);
+}

@@ -29,6 +29,7 @@ mod text;
 pub mod vtk;
 pub mod vtp;
 pub mod xyz;
+pub mod zip;
 
 pub use buffers::mesh_from_buffers;
 pub use builder::{polyline_from_run, MAX_POINTS};
