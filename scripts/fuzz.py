@@ -18,7 +18,11 @@ passes through itself: expected on strongly contradictory edits, warned to the u
 (contour-to-mesh mean above 3 mm). Inputs that go wrong are kept in OUT_DIR; the others are
 deleted. Standard library only, seeded.
 
-Usage: scripts/fuzz.py bytes|edits [OUT_DIR] [--seed S] [--count N]
+  cvi42  mutations of the cvi42 fixture (heartmesh-core/tests/data/cvi42-patient1): its workspace
+         with the images intact, or some or all of its DICOM images with the workspace intact,
+         each study run as `reconstruct WORKSPACE IMAGES/ --surface LV_ENDO`.
+
+Usage: scripts/fuzz.py bytes|edits|cvi42 [OUT_DIR] [--seed S] [--count N]
 """
 
 import csv
@@ -149,6 +153,52 @@ def run_bytes(out, rng, count):
 
 
 # ---------------------------------------------------------------------------------------------
+# cvi42
+
+
+CVI42 = os.path.join(H.ROOT, "wasm-core/crates/heartmesh-core/tests/data/cvi42-patient1")
+
+
+def run_cvi42(out, rng, count):
+    """The fixture's workspace mutated with its images intact, or one, two or all images mutated
+    with the workspace intact; each study through `reconstruct WORKSPACE IMAGES_DIR`."""
+    import shutil
+
+    with open(os.path.join(CVI42, "Contours.cvi42wsx"), "rb") as f:
+        wsx = f.read()
+    names = sorted(os.listdir(os.path.join(CVI42, "dicom")))
+    bad = 0
+    for t in range(count):
+        case = os.path.join(out, f"{t:04d}")
+        images = os.path.join(case, "dicom")
+        shutil.copytree(os.path.join(CVI42, "dicom"), images)
+        target = "workspace" if rng.random() < 0.5 else "images"
+        kinds = []
+        data = wsx
+        if target == "workspace":
+            data, kind = mutate(wsx, rng)
+            kinds.append(kind)
+        else:
+            chosen = names if rng.random() < 0.1 else rng.sample(names, rng.randint(1, 2))
+            for n in chosen:
+                with open(os.path.join(images, n), "rb") as f:
+                    img, kind = mutate(f.read(), rng)
+                with open(os.path.join(images, n), "wb") as f:
+                    f.write(img)
+                kinds.append(kind)
+        path = os.path.join(case, f"{target}-{kinds[0]}.cvi42wsx")
+        with open(path, "wb") as f:
+            f.write(data)
+        args = ["reconstruct", path, images, "-o", path + ".obj", "--iterations", "30", "--surface", "LV_ENDO"]
+        status, err = cli(args, 60)
+        flagged = report(verdict(status, err), path, err)
+        bad += flagged
+        if not flagged:
+            shutil.rmtree(case)
+    return bad
+
+
+# ---------------------------------------------------------------------------------------------
 # edits
 
 
@@ -272,7 +322,7 @@ def report(flag, path, err):
 
 def main():
     args = sys.argv[1:]
-    if not args or args[0] not in ("bytes", "edits"):
+    if not args or args[0] not in ("bytes", "edits", "cvi42"):
         sys.exit(__doc__)
     mode, rest = args[0], args[1:]
     opts = {"--seed": "1", "--count": "300"}
@@ -287,7 +337,8 @@ def main():
     os.makedirs(out, exist_ok=True)
     rng = random.Random(int(opts["--seed"]))
     count = int(opts["--count"])
-    bad = (run_bytes if mode == "bytes" else run_edits)(out, rng, count)
+    run = {"bytes": run_bytes, "edits": run_edits, "cvi42": run_cvi42}[mode]
+    bad = run(out, rng, count)
     print(f"{bad} of {count} flagged")
 
 
