@@ -446,3 +446,18 @@ fn implicit_vr_images_with_a_private_sequence_are_read() {
     let want = v3(10.0, -20.0, 30.0) + v3(S2, S2, 0.0) * 12.5 + v3(0.0, 0.0, 1.0) * 8.0;
     assert!((set.contours[0].pieces[0].points[0] - want).norm() < 1e-9);
 }
+
+#[test]
+fn an_image_opened_alone_is_refused_as_an_image() {
+    let e = crate::io::read_contours("IM_1.dcm", &dicom(&oblique("1.2.3.1", 0.0)))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("this is a DICOM image (modality missing), not contours"),
+        "{e}"
+    );
+    assert!(
+        e.contains("a cvi42 workspace together with its images"),
+        "{e}"
+    );
+}

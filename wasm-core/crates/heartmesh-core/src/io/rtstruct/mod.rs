@@ -113,6 +113,13 @@ pub fn read_rtstruct(bytes: &[u8]) -> Result<ContourSet> {
     let roi_contours = obj.items(tag::ROI_CONTOUR_SEQUENCE);
     let is_rt = modality.as_deref() == Some("RTSTRUCT")
         || sop_class.as_deref() == Some(uids::RT_STRUCTURE_SET_STORAGE);
+    if !is_rt && roi_contours.is_empty() && super::dicom_image::image_geometry(bytes).is_ok() {
+        return Err(err(format!(
+            "this is a DICOM image (modality {}), not contours: open the contours drawn on it \
+             (an RT structure set, or a cvi42 workspace together with its images)",
+            modality.as_deref().unwrap_or("missing"),
+        )));
+    }
     if !is_rt && roi_contours.is_empty() {
         return Err(err(format!(
             "this DICOM file is not an RT structure set (modality {}, SOP class {}); \
