@@ -56,11 +56,16 @@ async function assertReadWithImages(label) {
   return warnings;
 }
 
-/** A copy of the study folder with a hidden file and a notes file, as a real export may hold. */
+/**
+ * A copy of the study folder (the workspace and its dicom/ folder; not the fixture's zipped/ copy
+ * of them, opened in zip.test.mjs) with a hidden file and a notes file, as a real export may hold.
+ */
 function studyFolder() {
   const root = mkdtempSync(join(tmpdir(), 'heartmesh-cvi42-'));
   const dir = join(root, 'patient1');
-  cpSync(FIXTURE, dir, { recursive: true });
+  mkdirSync(dir);
+  cpSync(WSX, join(dir, 'Contours.cvi42wsx'));
+  cpSync(join(FIXTURE, 'dicom'), join(dir, 'dicom'), { recursive: true });
   writeFileSync(join(dir, '.DS_Store'), '');
   writeFileSync(join(dir, 'README.txt'), 'exported from cvi42');
   return { root, dir };

@@ -7,6 +7,7 @@ import type { Frame, LidsMode, LoadedFile, ParamValues, ReconOptions, RunResult,
 import { rustSchema } from './rustSchema';
 import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
 import { DEFAULT_VIEW } from '../../web/src/app/urlState';
+import { zipSync } from 'fflate';
 
 interface FakeRun {
   runId: number;
@@ -214,6 +215,9 @@ const nifti = (name: string, kind: 'STACK' | 'VIEW') => {
   return { name, size: bytes.length, lastModified: 1, ...readable(bytes) } as unknown as File;
 };
 const lastStatus = () => parts.status.calls.setStatus?.at(-1)?.[0];
+/** A ZIP archive (a real File: io/zipArchive.ts reads it in slices) of text members. */
+const zip = (name: string, members: Record<string, string>) =>
+  new File([zipSync(Object.fromEntries(Object.entries(members).map(([n, t]) => [n, new TextEncoder().encode(t)])))], name, { lastModified: 2 });
 
 describe('controller', () => {
   it('label maps opened together: each long-axis view read with the stack of the closest name, none listed on its own', async () => {
@@ -472,6 +476,58 @@ describe('controller', () => {
     expect(controller.waitsForImages).toBe(false);
     await controller.openFiles([file('IM_1', 'DICM')]);
     expect(client.studyLoads.at(-1)).toEqual(['IM_1', []]);
+  });
+
+  it('ZIP archives open as their files: a zipped workspace with its zipped images, a zipped contour file', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    const workspace = zip('1234_cvi42.zip', { '1234_cvi42.cvi42wsx': '<xml/>' });
+    const images = zip('1234_20209_2_0.zip', { 'dicom/IM_1.dcm': 'DICM', 'dicom/IM_2.dcm': 'DICM', 'manifest.cvs': 'x', '__MACOSX/dicom/._IM_1.dcm': 'fork' });
+    await controller.openFiles([workspace, images]);
+    expect(client.studyLoads).toEqual([['1234_cvi42.cvi42wsx', ['IM_1.dcm', 'IM_2.dcm', 'manifest.cvs']]]);
+    expect(client.runs.map((r) => r.opts.fileName)).toEqual(['1234_cvi42.cvi42wsx']);
+    expect(parts.files.calls.setFiles?.at(-1)).toEqual([['1234_cvi42.cvi42wsx'], '1234_cvi42.cvi42wsx']);
+    expect(parts.banner.calls.showWarning).toBeUndefined();
+    // A contour file zipped with a resource fork (macOS' Compress): the file alone.
+    await controller.openFiles([zip('patient1-ED.zip', { 'export/patient1-ED.csv': 'contour,x,y,z', '__MACOSX/export/._patient1-ED.csv': 'fork' })]);
+    expect(client.studyLoads.at(-1)).toEqual(['patient1-ED.csv', []]);
+    expect(parts.files.calls.setFiles?.at(-1)?.[1]).toBe('patient1-ED.csv');
+  });
+
+  it('an archive that cannot be read is named: alone an error, beside files that open a warning, beside a workspace with it', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    const whole = zipSync({ 'a.csv': new TextEncoder().encode('contour,x,y,z') });
+    const cut = () => new File([whole.slice(0, 20)], 'cut.zip', { lastModified: 1 });
+    const why = 'cut.zip: ZIP archive: no end of central directory: truncated or not an archive';
+    await controller.openFiles([cut()]);
+    expect(lastStatus()).toBe(`error: ${why}`);
+    expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' Not opened.');
+    expect(client.loads).toEqual([]);
+    // Two, both cut: the first is the error, the second named after it.
+    await controller.openFiles([cut(), new File([whole.slice(0, 30)], 'cut2.zip')]);
+    expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(' Not opened. 1 archive not opened: cut2.zip: ZIP archive: no end of central directory: truncated or not an archive.');
+    // Beside a file that opens: one of two files not opened.
+    await controller.openFiles([cut(), file('good.csv')]);
+    expect(client.runs.map((r) => r.opts.fileName)).toEqual(['good.csv']);
+    expect(parts.banner.calls.showWarning?.at(-1)).toEqual([`1 of 2 files not opened: ${why}. Showing good.csv.`]);
+    // A workspace whose images' archive is cut: refused for want of them, the archive named.
+    await controller.openFiles([zip('1234_cvi42.zip', { '1234_cvi42.cvi42wsx': '<xml/>' }), cut()]);
+    expect(lastStatus()).toMatch(/^error: 1234_cvi42\.cvi42wsx: cvi42 workspace: .*open it together with the DICOM images/);
+    expect(parts.banner.calls.showError?.at(-1)?.[1]).toBe(
+      ` Not opened; still showing good.csv. Open its images next (drop them, or the folder that holds them): they are read with it. 1 archive not opened: ${why}.`,
+    );
+    expect(controller.waitsForImages).toBe(true);
+    // ... and the images' archive opened next is read with it.
+    await controller.openFiles([zip('1234_20209_2_0.zip', { 'dicom/IM_1.dcm': 'DICM' })]);
+    expect(client.studyLoads.at(-1)).toEqual(['1234_cvi42.cvi42wsx', ['IM_1.dcm']]);
+    expect(client.runs.at(-1)?.opts.fileName).toBe('1234_cvi42.cvi42wsx');
+  });
+
+  it('a workspace that opens with its images while another archive is cut: a warning names the archive', async () => {
+    await controller.start(() => Promise.resolve(client as unknown as CoreClient));
+    const cut = new File([zipSync({ 'a.dcm': new Uint8Array(4) }).slice(0, 25)], 'lax.zip');
+    await controller.openFiles([zip('1234_cvi42.zip', { '1234_cvi42.cvi42wsx': '<xml/>' }), zip('sax.zip', { 'IM_1.dcm': 'DICM' }), cut]);
+    expect(client.runs.map((r) => r.opts.fileName)).toEqual(['1234_cvi42.cvi42wsx']);
+    expect(parts.banner.calls.showWarning?.at(-1)).toEqual(['1 archive not opened: lax.zip: ZIP archive: no end of central directory: truncated or not an archive.']);
   });
 
   it('a SliceInfoFile dropped with its GPFile is set aside with a note, not listed as a file not opened', async () => {

@@ -19,7 +19,7 @@ describe('surface picker order', () => {
 describe('the Open dialog', () => {
   it('offers NIfTI label maps, compressed or not, beside the contour formats', () => {
     const kinds = ACCEPT.split(',');
-    for (const k of ['.csv', '.txt', '.mat', '.dcm', '.nii', '.nii.gz', '.nrrd', '.gz', '.cvi42wsx']) expect(kinds).toContain(k);
+    for (const k of ['.csv', '.txt', '.mat', '.dcm', '.nii', '.nii.gz', '.nrrd', '.gz', '.cvi42wsx', '.zip']) expect(kinds).toContain(k);
     expect(kinds.every((k) => k.startsWith('.') || /^[a-z]+\/[a-z-]+$/.test(k))).toBe(true);
   });
 });

@@ -53,7 +53,7 @@ describe('folders dropped on the page', () => {
   });
 
   it('read the kinds the Open dialog offers, label maps (NIfTI) included', () => {
-    for (const ok of ['a.csv', 'GPFile_000.TXT', 'x.vtp', 'rt.dcm', 'ex.mat', 's.json', 'p.xyz', 't.tsv', 'seg.nii.gz', 'x.nii', 'patient001_frame01_gt.NII.GZ', 'Segmentation.seg.nrrd', 'label.NRRD']) {
+    for (const ok of ['a.csv', 'GPFile_000.TXT', 'x.vtp', 'rt.dcm', 'ex.mat', 's.json', 'p.xyz', 't.tsv', 'seg.nii.gz', 'x.nii', 'patient001_frame01_gt.NII.GZ', 'Segmentation.seg.nrrd', 'label.NRRD', '1234_cvi42.zip', '1234_20209_2_0.ZIP']) {
       expect(readableInFolder(ok)).toBe(true);
     }
     // Compressed contour files (the core reads what they hold).

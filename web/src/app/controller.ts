@@ -14,11 +14,12 @@ import type { ExportInfo } from '../io/export/header';
 import { findSample, fetchSample, type Sample } from '../io/samples';
 import type { HoverReadout } from '../ui/HoverReadout';
 import { distinctName, fileIdentity, lostText, renamedText, skippedText } from './fileNames';
-import { asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
+import { archivesText, asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
 import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
 import { cvi42Study, NEEDS_IMAGES, type Cvi42Study } from '../io/cvi42Study';
 import { imageHeaders } from '../io/dicomHeaders';
 import { filesOfPickedFolder, pathInFolder } from '../io/folderDrop';
+import { expandArchives } from '../io/zipArchive';
 import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { keptSpecksNote, secondLoopsNote } from '../ui/runText';
@@ -198,24 +199,38 @@ export class Controller {
    * NIfTI label maps of a single slice among them are long-axis views: each is read with the
    * short-axis stack of the same files whose name it resembles most (io/studyGroups.ts), not on
    * its own; with no stack among the files, they are added to the stack on screen, if it is one.
+   * ZIP archives among them (UK Biobank's) are replaced by their files first (io/zipArchive.ts).
    */
-  async openFiles(files: File[], skipped = 0): Promise<void> {
-    if (files.length === 0) return;
+  async openFiles(given: File[], skipped = 0): Promise<void> {
+    if (given.length === 0) return;
     // Say "loading" at once, before the bytes are read (and before the core is up, if it is not).
     // A run in progress goes on until a file has been read: a refused file leaves the work as it was
     // (unless the file would wait behind a step of seconds: see loadBytes).
-    this.dispatch({ type: 'load', fileName: files[0].name });
+    this.dispatch({ type: 'load', fileName: given[0].name });
     if (!(await this.ready)) return;
+    // The files of ZIP archives instead of the archives (DICOM images as their headers); an
+    // archive that cannot be read (damaged, encrypted, too big unpacked) is named, not opened.
+    const unpacked = await expandArchives(given);
+    const files = unpacked.files;
+    const archivesRefused = unpacked.refused;
+    if (files.length === 0) {
+      // Nothing but archives, none read: the first refused, the others named after it.
+      const [one, ...others] = archivesRefused;
+      if (one) this.refuse(one.file ?? given[0].name, one, others.length > 0 ? ` ${archivesText(others)}` : '');
+      return;
+    }
     // A cvi42 workspace among them: every other file is one of its images (io/cvi42Study.ts).
     const study = cvi42Study(files);
-    if (study) return void (await this.openStudy(study, skipped));
+    if (study) return void (await this.openStudy(study, skipped, false, archivesRefused));
     // A workspace just refused for want of its images: these files may be them (else, as usual).
     const waiting = this.waitingWorkspace;
     this.waitingWorkspace = null;
-    if (waiting && (await this.openStudy({ workspaces: [waiting], images: files }, skipped, true))) return;
+    if (waiting && (await this.openStudy({ workspaces: [waiting], images: files }, skipped, true, archivesRefused))) return;
     const onScreen = this.currentFile()?.fileName ?? null;
     let first: string | null = null;
-    const refused: CoreErrorData[] = [];
+    // The archives not read count among the files not opened, as any file refused.
+    const refused: CoreErrorData[] = [...archivesRefused];
+    const count = files.length + archivesRefused.length;
     /** How many of the files each refusal stands for (a stack refused with its views: all of them). */
     const refusedFiles = new Map<CoreErrorData, number>();
     /** The stacks refused because of a view read with them (the refusal names the view). */
@@ -271,17 +286,17 @@ export class Controller {
     }
     // Several files at once: each refusal would replace the one before in the banner (and a file
     // that opens would hide them all), so the banner names every file not opened, once, at the end.
-    if (refused.length > 0 && files.length > 1) {
+    if (refused.length > 0 && count > 1) {
       // A biv-me folder's SliceInfoFile beside the GPFile that opened is no refusal.
       const aside = first !== null ? refused.filter(isSliceInfoRefusal) : [];
       const notOpened = refused.filter((e) => !aside.includes(e));
-      const count = notOpened.reduce((n, e) => n + (refusedFiles.get(e) ?? 1), 0);
+      const notCount = notOpened.reduce((n, e) => n + (refusedFiles.get(e) ?? 1), 0);
       const note = first !== null && aside.length > 0 ? setAsideText(aside.map((e) => e.file ?? 'SliceInfoFile.txt'), first) : '';
       const list = notOpened.map((e) => describeError(e) + (refusedStacks.has(e) ? ` (its stack ${refusedStacks.get(e)} is not opened either)` : '')).join('; ');
       const notes = [note, renamedNote].filter(Boolean).join(' ');
-      if (first === null) this.fail(refused[refused.length - 1], undefined, ` None of the ${files.length} files opened: ${list}.`);
+      if (first === null) this.fail(refused[refused.length - 1], undefined, ` None of the ${count} files opened: ${list}.`);
       else if (notOpened.length === 0) this.parts.banner.showInfo(notes);
-      else this.parts.banner.showWarning(`${count} of ${files.length - aside.length} files not opened: ${list}.${notes ? ` ${notes}` : ''} Showing ${first}.`);
+      else this.parts.banner.showWarning(`${notCount} of ${count - aside.length} files not opened: ${list}.${notes ? ` ${notes}` : ''} Showing ${first}.`);
     } else if (renamedNote) {
       this.parts.banner.showInfo(renamedNote);
     }
@@ -296,9 +311,10 @@ export class Controller {
   /**
    * Opens cvi42 workspaces with the other files opened with them as their images: only a header
    * slice of each image is read (io/dicomHeaders.ts), kept by the core client for frame reloads.
-   * The notes line says how many images placed contours, the warning line what was set aside.
+   * The notes line says how many images placed contours, the warning line what was set aside;
+   * `archives`: ZIP archives given with them that could not be read (named in the banner).
    */
-  private async openStudy(study: Cvi42Study<File>, skipped: number, tried = false): Promise<boolean> {
+  private async openStudy(study: Cvi42Study<File>, skipped: number, tried = false, archives: readonly CoreErrorData[] = []): Promise<boolean> {
     const { images, unreadable: lost } = await imageHeaders(study.images, pathInFolder);
     let first: string | null = null;
     const refused: CoreErrorData[] = [];
@@ -317,9 +333,10 @@ export class Controller {
     const alone = study.workspaces.length === 1 && images.length === 0 && refused.length === 1;
     if (alone && refused[0].message.includes(NEEDS_IMAGES)) {
       this.waitingWorkspace = study.workspaces[0];
-      this.fail(refused[0], undefined, `${keptText(previous)} Open its images next (drop them, or the folder that holds them): they are read with it.`);
+      const unread = archives.length > 0 ? ` ${archivesText(archives)}` : '';
+      this.fail(refused[0], undefined, `${keptText(previous)} Open its images next (drop them, or the folder that holds them): they are read with it.${unread}`);
     }
-    const notes = [skippedText(skipped, true), lostText(lost)].filter(Boolean).join(' ');
+    const notes = [archivesText(archives), skippedText(skipped, true), lostText(lost)].filter(Boolean).join(' ');
     if (first !== null) {
       this.sampleId = null;
       this.selectFile(first, this.surface);
@@ -327,8 +344,10 @@ export class Controller {
     }
     if (refused.length > 0 && study.workspaces.length > 1) {
       const list = refused.map((e) => describeError(e)).join('; ');
-      if (first === null) this.fail(refused[refused.length - 1], undefined, ` None of the ${study.workspaces.length} workspaces opened: ${list}.`);
+      if (first === null) this.fail(refused[refused.length - 1], undefined, ` None of the ${study.workspaces.length} workspaces opened: ${list}.${notes ? ` ${notes}` : ''}`);
       else this.parts.banner.showWarning(`${refused.length} of ${study.workspaces.length} workspaces not opened: ${list}.${notes ? ` ${notes}` : ''} Showing ${first}.`);
+    } else if (first !== null && archives.length > 0) {
+      this.parts.banner.showWarning(notes);
     } else if (first !== null && notes) {
       this.parts.banner.showInfo(notes);
     }

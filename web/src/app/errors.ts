@@ -3,6 +3,7 @@
  * file, parameters in schema order for export headers, listeners that may throw.
  */
 import type { CoreErrorData, ParamSpec, ParamValues } from '../core-client/protocol';
+import { describeError } from './state';
 
 /** What the banner adds when a file is refused at load: which file the view still shows. */
 export function keptText(previous: string | null): string {
@@ -72,4 +73,11 @@ export function callSafely(f: () => void, what: string): void {
   } catch (e) {
     console.error(what, e);
   }
+}
+
+/** The banner's note on ZIP archives that could not be read (io/zipArchive.ts), each with why. */
+export function archivesText(refused: readonly CoreErrorData[]): string {
+  if (refused.length === 0) return '';
+  const list = refused.map((e) => describeError(e)).join('; ');
+  return `${refused.length === 1 ? '1 archive' : `${refused.length} archives`} not opened: ${list}.`;
 }

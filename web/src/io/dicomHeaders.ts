@@ -34,13 +34,14 @@ const PIXEL_VRS = new Set(['OB', 'OW', 'OF', 'OD', 'OL', 'OV', 'UN']);
  * Where the pixel data element (7FE0,0010) begins in `bytes`, or -1 if not in them. A match of
  * its four tag bytes counts only if an explicit VR of pixel data follows, or an implicit length
  * that is undefined or fits in the file (`fileSize`): four bytes of a private binary value that
- * happen to look like the tag do not cut a header short.
+ * happen to look like the tag do not cut a header short. `from`: where to begin looking (bytes before
+ * it were looked at already, as a ZIP member's header is inflated piece by piece: io/zipArchive.ts).
  */
-export function pixelDataOffset(bytes: Uint8Array, fileSize: number): number {
+export function pixelDataOffset(bytes: Uint8Array, fileSize: number, from = 0): number {
   const start = dicomStart(bytes);
   if (start < 0) return -1;
   const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
-  for (let i = start; i + 8 <= bytes.length; i++) {
+  for (let i = Math.max(start, from); i + 8 <= bytes.length; i++) {
     const little = bytes[i] === 0xe0 && bytes[i + 1] === 0x7f && bytes[i + 2] === 0x10 && bytes[i + 3] === 0x00;
     const big = bytes[i] === 0x7f && bytes[i + 1] === 0xe0 && bytes[i + 2] === 0x00 && bytes[i + 3] === 0x10;
     if (!little && !big) continue;

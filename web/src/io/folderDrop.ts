@@ -41,7 +41,9 @@ const FILE_BATCH = 32;
 /**
  * The Open dialog's extensions, but a bare `.gz`: in a folder, a compressed file is read only as
  * one of the kinds the core reads compressed (`seg.nii.gz`, `contours.csv.gz`); any other (an
- * archive, a compressed image series) is clutter, left out and counted rather than read and refused.
+ * tarball, a compressed image series) is clutter, left out and counted rather than read and refused.
+ * A `.zip` is read: UK Biobank's subject folders hold their workspace and images zipped
+ * (io/zipArchive.ts unpacks them).
  */
 const EXTENSIONS = ACCEPT.split(',').filter((a) => a.startsWith('.') && a !== '.gz');
 
@@ -104,6 +106,11 @@ const paths = new WeakMap<File, string>();
 /** The path in its dropped or picked folder of a file (null: given as it is). */
 export function pathInFolder(file: File): string | null {
   return paths.get(file) ?? (file.webkitRelativePath || null);
+}
+
+/** Records where a file came from: a ZIP archive's member is `1234_images.zip/dicom/IM_01_00.dcm` (io/zipArchive.ts). */
+export function setPathInFolder(file: File, path: string): void {
+  paths.set(file, path);
 }
 
 /**
