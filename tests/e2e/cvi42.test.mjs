@@ -12,7 +12,8 @@ import assert from 'node:assert/strict';
 import { cpSync, mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { gotoEmpty, readResult, ROOT, runAndWait, SHOTS, waitForError } from './lib.mjs';
+import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf, waitForError } from './lib.mjs';
+import { pickFrameNine } from './cvi42Frames.mjs';
 import { appForFile } from './perFile.mjs';
 
 let server;
@@ -25,12 +26,8 @@ const WSX = join(FIXTURE, 'Contours.cvi42wsx');
 const IMAGES = readdirSync(join(FIXTURE, 'dicom')).sort().map((n) => join(FIXTURE, 'dicom', n));
 const PICKER = '[data-testid=frame-picker]';
 
-/** The run on screen: its mesh and contour points as the page holds them. */
-const current = () => page.evaluate(() => {
-  const r = window.heartmesh.currentResult();
-  return { vertices: r.positions.length / 3, contourPoints: r.contourPoints.length / 3, watertight: r.watertight, volumeMl: r.volumeMl, contours: r.contours.length };
-});
-const text = async (sel) => ((await page.textContent(sel)) ?? '').trim();
+const current = () => meshOnScreen(page);
+const text = (selector) => textOf(page, selector);
 
 /** The result panel's figures of a closed LV endocardium near its contours, as the command line's. */
 async function assertLvEndo(label) {
@@ -130,13 +127,7 @@ describe('a cvi42 study', () => {
     console.log(`# Contours.cvi42wsx + 110 images, LV_ENDO frame 0: ${zero.vertices} vertices, mean ${zero.meanMm} mm, ${zero.volumeMl.toFixed(1)} ml (opened and run in ${seconds.toFixed(1)} s)`);
 
     // The frames of the workspace: 0 read, 9 picked reads the images again and runs.
-    assert.deepEqual(await page.$$eval(`${PICKER} option`, (os) => os.map((o) => o.value)), ['0', '9']);
-    assert.equal(await page.inputValue(PICKER), '0');
-    await runAndWait(page, () => page.selectOption(PICKER, '9'));
-    const nine = await current();
-    assert.equal(nine.contourPoints, 269, 'frame 9: LV_ENDO as `heartmesh info --frame 9` counts it');
-    assert.equal(nine.watertight, true);
-    assert.ok(nine.volumeMl < zero.volumeMl, `frame 9 is systole: ${nine.volumeMl.toFixed(1)} < ${zero.volumeMl.toFixed(1)} ml`);
+    const nine = await pickFrameNine(page, zero);
     const r9 = await readResult(page);
     assert.ok(r9.meanMm > 0 && r9.meanMm <= 1, `frame 9 contour-to-mesh mean ${r9.meanMm} mm`);
     assert.match(page.url(), /[?&]frame=9(&|$)/);
@@ -154,11 +145,7 @@ describe('a cvi42 study', () => {
     await gotoEmpty(page, server.url);
     const { root, dir } = studyFolder();
     try {
-      const cdp = await page.context().newCDPSession(page);
-      const data = { items: [], files: [dir], dragOperationsMask: 1 };
-      await runAndWait(page, async () => {
-        for (const type of ['dragEnter', 'dragOver', 'drop']) await cdp.send('Input.dispatchDragEvent', { type, x: 640, y: 360, data });
-      }, 120000);
+      await dropPaths(page, [dir]);
       assert.equal(await page.inputValue('[data-testid=file-picker]'), 'Contours.cvi42wsx');
       await assertLvEndo('dropped folder');
       assert.match(await text('[data-testid=notes-first]'), /^workspace read with 110 DICOM images: .*; 1 other file given with it set aside/);
@@ -180,11 +167,7 @@ describe('a cvi42 study', () => {
     await page.setInputFiles('[data-testid=file-input]', WSX);
     await waitForError(page, 'Contours.cvi42wsx');
     assert.match(await text('[data-testid=error-banner]'), /Not opened\. Open its images next \(drop them, or the folder that holds them\): they are read with it\./);
-    const cdp = await page.context().newCDPSession(page);
-    const data = { items: [], files: [join(FIXTURE, 'dicom')], dragOperationsMask: 1 };
-    await runAndWait(page, async () => {
-      for (const type of ['dragEnter', 'dragOver', 'drop']) await cdp.send('Input.dispatchDragEvent', { type, x: 640, y: 360, data });
-    }, 120000);
+    await dropPaths(page, [join(FIXTURE, 'dicom')]);
     await assertLvEndo('images dropped after the workspace');
     await assertReadWithImages('images dropped after the workspace');
     assert.deepEqual(pageErrors, []);

@@ -8,7 +8,7 @@ import assert from 'node:assert/strict';
 import { copyFileSync, mkdirSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { gotoEmpty, readResult, runAndWait, sharedDir, SHOTS } from './lib.mjs';
+import { dropPaths, gotoEmpty, readResult, sharedDir, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 
 let app;
@@ -34,11 +34,7 @@ describe('a folder dropped on the page', () => {
     await gotoEmpty(page, app.server.url);
     const { root, dir } = patientFolder();
     try {
-      const cdp = await page.context().newCDPSession(page);
-      const data = { items: [], files: [dir], dragOperationsMask: 1 };
-      await runAndWait(page, async () => {
-        for (const type of ['dragEnter', 'dragOver', 'drop']) await cdp.send('Input.dispatchDragEvent', { type, x: 640, y: 360, data });
-      }, 120000);
+      await dropPaths(page, [dir]);
       const names = await page.$$eval('[data-testid=file-picker] option', (os) => os.map((o) => o.value));
       assert.deepEqual(names, ['GPFile_000.txt', 'GPFile_009.txt']);
       assert.equal(await page.inputValue('[data-testid=file-picker]'), 'GPFile_000.txt');

@@ -11,7 +11,7 @@
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { gotoEmpty, runAndWait, waitForError, SHOTS } from './lib.mjs';
+import { dropPaths, gotoEmpty, runAndWait, SHOTS, waitForError } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 import { cineName, cineOf, makeStudy, STACK, VIEW_CURVES, VIEWS } from './laxViews.mjs';
 import { cliReport } from '../node/helpers.mjs';
@@ -180,11 +180,7 @@ describe('NIfTI long-axis views with their stack', () => {
   });
 
   it('the study\'s folder dropped on the page: the stack opens with its views (not onto the cine on screen)', async () => {
-    const cdp = await page.context().newCDPSession(page);
-    const data = { items: [], files: [study.dir], dragOperationsMask: 1 };
-    await runAndWait(page, async () => {
-      for (const type of ['dragEnter', 'dragOver', 'drop']) await cdp.send('Input.dispatchDragEvent', { type, x: 640, y: 360, data });
-    }, 120000);
+    await dropPaths(page, [study.dir]);
     // The same seg.nii.gz as opened with Open… (same size and date): its entry, read with its views.
     assert.deepEqual(await listed(), [cineName(STACK), STACK]);
     const { file, lax } = await laxCurves();

@@ -345,3 +345,30 @@ export async function setField(page, testid, value) {
     el.dispatchEvent(new Event('change', { bubbles: true }));
   }, value);
 }
+
+/**
+ * Drops the folders or files at `paths` on the page as a user drags them from the desktop
+ * (Chromium's DevTools protocol: the browser builds the File and Directory Entries the page walks),
+ * and waits for the run they start.
+ */
+export async function dropPaths(page, paths, timeout = 120000) {
+  const cdp = await page.context().newCDPSession(page);
+  const data = { items: [], files: paths, dragOperationsMask: 1 };
+  await runAndWait(page, async () => {
+    for (const type of ['dragEnter', 'dragOver', 'drop']) await cdp.send('Input.dispatchDragEvent', { type, x: 640, y: 360, data });
+  }, timeout);
+}
+
+/** The run on screen as the page holds it: its mesh, contour points and contours. */
+export function meshOnScreen(page) {
+  return page.evaluate(() => {
+    const r = window.heartmesh.currentResult();
+    return { vertices: r.positions.length / 3, contourPoints: r.contourPoints.length / 3, watertight: r.watertight, volumeMl: r.volumeMl, contours: r.contours.length };
+  });
+}
+
+/** An element's text, trimmed ('' when it has none). */
+export async function textOf(page, selector) {
+  return ((await page.textContent(selector)) ?? '').trim();
+}
+

@@ -11,7 +11,8 @@ import assert from 'node:assert/strict';
 import { copyFileSync, mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { gotoEmpty, readResult, ROOT, runAndWait, waitForError } from './lib.mjs';
+import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, textOf, waitForError } from './lib.mjs';
+import { pickFrameNine } from './cvi42Frames.mjs';
 import { appForFile } from './perFile.mjs';
 
 let server;
@@ -27,12 +28,8 @@ const CONTOURS = join(ROOT, 'public', 'samples', 'patient1-ED.csv'); // the same
 const PICKER = '[data-testid=frame-picker]';
 const CUT = 'no end of central directory: truncated or not an archive';
 
-/** The run on screen: its mesh and contours as the page holds them. */
-const current = () => page.evaluate(() => {
-  const r = window.heartmesh.currentResult();
-  return { vertices: r.positions.length / 3, contourPoints: r.contourPoints.length / 3, watertight: r.watertight, volumeMl: r.volumeMl, contours: r.contours.length };
-});
-const text = async (sel) => ((await page.textContent(sel)) ?? '').trim();
+const current = () => meshOnScreen(page);
+const text = (selector) => textOf(page, selector);
 
 /** The zipped study on screen: the unzipped study's LV_ENDO at frame 0, read with its 110 images. */
 async function assertStudy(label) {
@@ -63,13 +60,7 @@ describe('ZIP archives', () => {
     assert.equal(await page.isVisible('[data-testid=error-banner]'), false, 'nothing to warn of');
     console.log(`# 1000001_cvi42.zip + 1000001_images.zip, LV_ENDO frame 0: ${zero.vertices} vertices, mean ${zero.meanMm} mm, ${zero.volumeMl.toFixed(1)} ml (opened and run in ${seconds.toFixed(1)} s)`);
 
-    assert.deepEqual(await page.$$eval(`${PICKER} option`, (os) => os.map((o) => o.value)), ['0', '9']);
-    assert.equal(await page.inputValue(PICKER), '0');
-    await runAndWait(page, () => page.selectOption(PICKER, '9'));
-    const nine = await current();
-    assert.equal(nine.contourPoints, 269, 'frame 9: LV_ENDO as `heartmesh info --frame 9` counts it');
-    assert.equal(nine.watertight, true);
-    assert.ok(nine.volumeMl < zero.volumeMl, `frame 9 is systole: ${nine.volumeMl.toFixed(1)} < ${zero.volumeMl.toFixed(1)} ml`);
+    const nine = await pickFrameNine(page, zero);
     await runAndWait(page, () => page.selectOption(PICKER, '0'));
     assert.equal((await current()).volumeMl, zero.volumeMl);
     assert.deepEqual(pageErrors, []);
@@ -83,11 +74,7 @@ describe('ZIP archives', () => {
       mkdirSync(dir);
       copyFileSync(WORKSPACE_ZIP, join(dir, '1000001_cvi42.zip'));
       copyFileSync(IMAGES_ZIP, join(dir, '1000001_20209_2_0.zip'));
-      const cdp = await page.context().newCDPSession(page);
-      const data = { items: [], files: [dir], dragOperationsMask: 1 };
-      await runAndWait(page, async () => {
-        for (const type of ['dragEnter', 'dragOver', 'drop']) await cdp.send('Input.dispatchDragEvent', { type, x: 640, y: 360, data });
-      }, 120000);
+      await dropPaths(page, [dir]);
       await assertStudy('dropped folder of archives');
       assert.deepEqual(pageErrors, []);
     } finally {

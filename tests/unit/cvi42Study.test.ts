@@ -5,6 +5,7 @@ import { describe, expect, it } from 'vitest';
 import { cvi42Study, isWorkspaceName } from '../../web/src/io/cvi42Study';
 import { FIRST_SLICE, headerSlice, imageHeaders, imageNames, looksDicom, pixelDataOffset } from '../../web/src/io/dicomHeaders';
 import { filesOfEntries, filesOfPickedFolder, pathInFolder, selectFolderFiles, STUDY_FILE_LIMIT, type EntryLike } from '../../web/src/io/folderDrop';
+import { fileEntry, folderEntry } from './fakeEntries';
 import { lostText, skippedText } from '../../web/src/app/fileNames';
 
 const named = (...names: string[]) => names.map((name) => ({ name }));
@@ -36,23 +37,9 @@ describe('a cvi42 workspace and its images', () => {
   });
 });
 
-/** A file entry as the File and Directory Entries API gives it. */
-const file = (name: string): EntryLike => ({ isFile: true, isDirectory: false, name, file: (ok) => ok(new File(['x'], name)) });
-const folder = (name: string, children: EntryLike[]): EntryLike => ({
-  isFile: false,
-  isDirectory: true,
-  name,
-  createReader: () => {
-    let at = 0;
-    return {
-      readEntries: (ok) => {
-        const batch = children.slice(at, at + 3);
-        at += batch.length;
-        ok(batch);
-      },
-    };
-  },
-});
+/** Folders whose readers hand their entries over three at a time. */
+const file = fileEntry;
+const folder = (name: string, children: EntryLike[]): EntryLike => folderEntry(name, children, 3);
 
 describe('a cvi42 study folder', () => {
   it('opens every file of a dropped study folder, however deep and whatever the name, hidden ones left', async () => {

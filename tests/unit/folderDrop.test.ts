@@ -1,31 +1,10 @@
 import { describe, expect, it } from 'vitest';
-import { filesOfEntries, readableInFolder, type EntryLike } from '../../web/src/io/folderDrop';
+import { filesOfEntries, readableInFolder } from '../../web/src/io/folderDrop';
+import { fileEntry, folderEntry } from './fakeEntries';
 import { skippedText } from '../../web/src/app/fileNames';
 
-/** A file entry as the File and Directory Entries API gives it. */
-const file = (name: string): EntryLike => ({
-  isFile: true,
-  isDirectory: false,
-  name,
-  file: (ok) => ok(new File(['x'], name)),
-});
-
-/** A folder whose reader hands its entries over in batches of two, then an empty batch. */
-const folder = (name: string, children: EntryLike[]): EntryLike => ({
-  isFile: false,
-  isDirectory: true,
-  name,
-  createReader: () => {
-    let at = 0;
-    return {
-      readEntries: (ok) => {
-        const batch = children.slice(at, at + 2);
-        at += batch.length;
-        ok(batch);
-      },
-    };
-  },
-});
+const file = fileEntry;
+const folder = folderEntry;
 
 describe('folders dropped on the page', () => {
   it('open a biv-me patient folder: its contour files in name order, images and hidden files left', async () => {
