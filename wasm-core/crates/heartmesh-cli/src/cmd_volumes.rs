@@ -645,6 +645,21 @@ fn write_mesh(
     files::write(&path, &bytes)
 }
 
+/// A cell's mesh when it is closed (a layout or a wall needs a closed surface).
+fn closed(c: &Cell) -> Option<&TriMesh> {
+    c.out.mesh.as_ref().filter(|_| c.out.watertight)
+}
+
+/// The LV endocardium's end-diastolic phase: the reference of a study's layouts and walls (their
+/// septum, and the displacements from it).
+fn lv_end_diastole(summary: &Function) -> Option<&str> {
+    summary
+        .ventricles
+        .iter()
+        .find(|v| v.surface == "LV_ENDO")
+        .map(|v| v.ed_phase.as_str())
+}
+
 /// `--anatomical-meshes`: the LV surfaces of every phase laid out on one septum, the LV's
 /// end-diastole the reference (its septum, and the displacements from it).
 fn anatomical_layouts(
@@ -665,20 +680,15 @@ fn anatomical_layouts(
             if surface.is_some() && !phase.set.surfaces().iter().any(|k| k == s) {
                 continue;
             }
-            let closed = cell.out.mesh.as_ref().filter(|_| cell.out.watertight);
             items.push(PhaseSurface {
                 phase: &phase.name,
                 surface: s,
                 set: &phase.set,
-                mesh: closed.zip(cell.base.as_ref()),
+                mesh: closed(cell).zip(cell.base.as_ref()),
             });
         }
     }
-    let preferred = summary
-        .ventricles
-        .iter()
-        .find(|v| v.surface == "LV_ENDO")
-        .map(|v| v.ed_phase.as_str());
+    let preferred = lv_end_diastole(summary);
     let input = |name: &str| {
         phases
             .iter()
@@ -705,9 +715,6 @@ fn hex_walls(
             "--hex-meshes fills the LV wall between LV_ENDO and LV_EPI: measure both",
         ));
     };
-    fn closed(c: &Cell) -> Option<&TriMesh> {
-        c.out.mesh.as_ref().filter(|_| c.out.watertight)
-    }
     let walls: Vec<hex_study_out::PhaseWall> = phases
         .iter()
         .zip(cells)
@@ -727,11 +734,7 @@ fn hex_walls(
             }
         })
         .collect();
-    let preferred = summary
-        .ventricles
-        .iter()
-        .find(|v| v.surface == "LV_ENDO")
-        .map(|v| v.ed_phase.as_str());
+    let preferred = lv_end_diastole(summary);
     hex_study_out::write_all(req, &walls, preferred, &|phase: &str| {
         file_stem(phase, "LV_WALL")
     })
