@@ -11,8 +11,10 @@ the SOP Instance UID of its image, nested as UK Biobank's workspaces are (StudyM
 frame (10 frames per slice, trigger time 40 ms apart, short-axis slices in one series, each
 long-axis view in its own); OUT_DIR/zipped/ holds the same as two ZIP archives, the workspace in
 one and the images in the other, as UK Biobank hands them out. Curves of the RV endocardium (free wall + septum in the GPFile) are
-joined into one curve, as cvi42 draws them (a ring in the short-axis images, the gaps bridged); two types the reader must skip (a reference point and
-a papillary muscle) are added. The output is committed (tests read it); rerun only to change it.
+joined into one curve, as cvi42 draws them (a ring in the short-axis images, the gaps bridged); the
+RV insertion landmarks become cvi42's SAX reference points (superior = the more anterior one,
+inferior) and the mitral hinges and apex of a long-axis view its LV extent points; a type the reader
+must skip (a papillary muscle) is added. The output is committed (tests read it); rerun only to change it.
 """
 import os
 import struct
@@ -127,6 +129,21 @@ def cvi42_curves(gp):
     return out
 
 
+def cvi42_points(gp):
+    """cvi42's point types from the GPFile's landmarks, by slice: of a slice's two RV insertions
+    the more anterior (lower y, LPS) is the superior reference point, the other the inferior one;
+    a long-axis view's mitral hinges and apex are its LV extent points."""
+    out = {}
+    for (sid, kind), pts in gp.items():
+        if kind == "RV_INSERT" and len(pts) == 2:
+            a, i = sorted(pts, key=lambda p: p[1])
+            out.setdefault(sid, []).extend([("sacardialRefPoint", [a]), ("sacardialInferiorRefPoint", [i])])
+    for sid in sorted({s for s, k in gp if k in ("MITRAL_VALVE", "APEX_POINT")}):
+        extent = gp.get((sid, "MITRAL_VALVE"), []) + gp.get((sid, "APEX_POINT"), [])
+        out.setdefault(sid, []).append(("laxLvExtentPoints", extent))
+    return out
+
+
 def pixels(points, s):
     out = []
     for p in points:
@@ -222,15 +239,16 @@ def dicom(uid, s, series, description, instance, trigger):
 
 def main(src, out):
     slices = read_slices(os.path.join(src, "SliceInfoFile.txt"))
-    frames = {0: cvi42_curves(read_gp(os.path.join(src, "GPFile_000.txt"))),
-              9: cvi42_curves(read_gp(os.path.join(src, "GPFile_009.txt")))}
+    gps = {0: read_gp(os.path.join(src, "GPFile_000.txt")), 9: read_gp(os.path.join(src, "GPFile_009.txt"))}
+    frames = {f: cvi42_curves(gp) for f, gp in gps.items()}
+    marks = {f: cvi42_points(gp) for f, gp in gps.items()}
     lax = {sid for f in frames.values() for sid, kind in f if kind.startswith("la")}
     images = []
     for frame, curves in frames.items():
         for sid in sorted(slices):
             mine = [(k, pixels(p, slices[sid])) for (s, k), p in sorted(curves.items()) if s == sid]
+            mine += [(k, pixels(p, slices[sid])) for k, p in marks[frame].get(sid, [])]
             if frame == 0 and sid == 3:
-                mine.append(("sacardialRefPoint", pixels(curves[(3, "saendocardialContour")][:1], slices[sid])))
                 mine.append(("saPapMuscContour", pixels(curves[(3, "saendocardialContour")][::6], slices[sid])))
             if mine:
                 images.append((uid_of(slices[sid], frame), mine))

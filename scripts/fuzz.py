@@ -75,7 +75,7 @@ def verdict(status, err):
 
 
 def byte_seeds(out):
-    """The real files, and the SurFCo contours in every other format, under OUT/seeds."""
+    """The real files, the SurFCo contours in every other format and a DICOM SEG, under OUT/seeds."""
     d = os.path.join(out, "seeds")
     os.makedirs(d, exist_ok=True)
     surfco = os.path.join(CONTOURS, "surfco-example.csv")
@@ -86,6 +86,11 @@ def byte_seeds(out):
             g.write(f.read())
     for ext in ["vtk", "vtp", "json", "dcm"]:
         cli(["convert", surfco, os.path.join(d, f"s.{ext}"), "--quiet"], 60)
+    # A DICOM SEG (the core's fixture: the app's example label map, scripts/seg_fixture.py).
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    seg = os.path.join(repo, "wasm-core/crates/heartmesh-core/tests/data/spasm-seg.dcm")
+    with open(seg, "rb") as f, open(os.path.join(d, "spasm-seg.dcm"), "wb") as g:
+        g.write(f.read())
     blocks = H.read_csv(surfco)
     with open(os.path.join(d, "s.xyz.txt"), "w") as g:
         g.write("\n\n".join("\n".join(f"{x} {y} {z}" for x, y, z in pts) for _, _, pts in blocks))

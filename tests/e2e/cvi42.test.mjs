@@ -12,7 +12,7 @@ import assert from 'node:assert/strict';
 import { cpSync, mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf, waitForError } from './lib.mjs';
+import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf, waitForDone, waitForError } from './lib.mjs';
 import { pickFrameNine } from './cvi42Frames.mjs';
 import { appForFile } from './perFile.mjs';
 
@@ -49,7 +49,8 @@ async function assertReadWithImages(label) {
   const warnings = await text('#slot-warnings');
   assert.match(warnings, /the file holds 2 time frames \(0, 9\): frame 0 read, 1204 points of other frames left out; choose another with the Frame picker/, label);
   assert.match(warnings, /contours of type saPapMuscContour skipped/, label);
-  assert.match(warnings, /contours of type sacardialRefPoint skipped/, label);
+  // The reference points are read (the RV insertions), not skipped.
+  assert.doesNotMatch(warnings, /RefPoint/, label);
   return warnings;
 }
 
@@ -202,6 +203,25 @@ describe('a cvi42 study', () => {
     } finally {
       rmSync(root, { recursive: true, force: true });
     }
+  });
+
+  it('places the LV wall\'s AHA segments from the workspace\'s reference points (the RV insertions)', async () => {
+    await page.setViewportSize({ width: 1280, height: 900 });
+    await gotoEmpty(page, server.url);
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', [WSX, ...IMAGES]));
+    await page.click('[data-testid=run-all-surfaces]');
+    await page.waitForFunction(() => document.querySelector('[data-testid=view-others-count]')?.textContent === ' (3)', null, { timeout: 120000 });
+    await waitForDone(page, 120000);
+    await page.click('[data-testid=view-wall]');
+    await page.waitForSelector('[data-testid=wall-figures][data-state=done]', { timeout: 60000 });
+    await page.waitForSelector('[data-testid=wall-segments][data-state=segments]');
+    // cvi42's superior and inferior SAX reference points, 5 slices of 2 at frame 0: the septum's
+    // source, as the command line's `myocardium --bullseye` reports it.
+    assert.equal(await text('[data-testid=wall-bullseye-caption]'), 'Septum placed from anterior and inferior RV insertion points (10 points)');
+    const paths = await page.$$eval('[data-testid=wall-bullseye-svg] svg path', (ps) => ps.length);
+    assert.equal(paths, 17);
+    assert.deepEqual(pageErrors, []);
+    if (SHOTS) await page.screenshot({ path: join(SHOTS, 'cvi42-bullseye.png') });
   });
 
   it('opens the study folder picked with the folder button', async () => {

@@ -9,17 +9,20 @@
 // cine (built from the example, labelMaps.mjs) gets the Frame picker, its systolic frame a smaller
 // LV cavity. Offline, the example comes from the service worker's precache. The same map as 3D
 // Slicer saves it (`.seg.nrrd`, written by the CLI to a scratch folder) gives the same LV_EPI,
-// its segments named on the notes line. No file is written under tests/e2e: the variants go in
-// as buffers.
+// its segments named on the notes line; so does the same map as a DICOM SEG (the core's fixture).
+// No file is written under tests/e2e: the variants go in as buffers.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { download, gotoEmpty, runAndWait, waitForError, SHOTS } from './lib.mjs';
+import { download, gotoEmpty, ROOT, runAndWait, waitForError, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 import { makeSlicerSegmentation } from './laxViews.mjs';
 import {
   CINE_NAME, cineCounts, cineLabelMap, damagedSample, imageLikeSample, SAMPLE_NAME, SAMPLE_PATH, SAMPLE_READING, sampleBytes,
 } from './labelMaps.mjs';
+
+/** The core's DICOM SEG fixture: the example written as a SEG (scripts/seg_fixture.py). */
+const DICOM_SEG = join(ROOT, 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'spasm-seg.dcm');
 
 let app;
 let page;
@@ -190,5 +193,22 @@ describe('NIfTI label maps', () => {
     assert.ok(Math.abs(r.volumeMl - runs.LV_EPI.volumeMl) < 0.2, `${r.volumeMl} vs ${runs.LV_EPI.volumeMl}`);
     assert.ok(Math.abs(r.meanMm - runs.LV_EPI.meanMm) < 0.01, `${r.meanMm} vs ${runs.LV_EPI.meanMm}`);
     assert.equal((await download(page, 'export-stl')).name, 'seg-LV_EPI.stl');
+  });
+
+  it('the same segmentation as a DICOM SEG (the core\'s fixture, LPS): the same surfaces and LV_EPI, read from the frames\' positions', async () => {
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', DICOM_SEG), 120000);
+    assert.equal(await page.inputValue('[data-testid=file-picker]'), 'spasm-seg.dcm');
+    assert.deepEqual(await surfaces(), ['LV_ENDO', 'LV_EPI', 'RV_ENDO']);
+    const notes = await page.$$eval('[data-testid=notes-list] .note', (ps) => ps.map((p) => p.textContent));
+    assert.match(notes[0] ?? '', /coordinates from the header's frame positions \(DICOM SEG, LPS\); segments 1 label 1, 2 label 2, 3 label 3$/);
+    const r = await current();
+    console.log(`# DICOM SEG LV_EPI: ${r.volumeMl.toFixed(2)} ml (the NIfTI example ${runs.LV_EPI.volumeMl.toFixed(2)} ml), mean ${r.meanMm.toFixed(3)} mm`);
+    assert.equal(r.surface, 'LV_EPI');
+    assert.equal(r.watertight, true);
+    // As on the command line (label_maps_cli.rs): the NIfTI's mesh turned to LPS, to the spread
+    // of two samplings of pixel-traced curves.
+    assert.ok(Math.abs(r.volumeMl - runs.LV_EPI.volumeMl) < 0.01 * runs.LV_EPI.volumeMl, `${r.volumeMl} vs ${runs.LV_EPI.volumeMl}`);
+    assert.ok(Math.abs(r.meanMm - runs.LV_EPI.meanMm) < 0.02, `${r.meanMm} vs ${runs.LV_EPI.meanMm}`);
+    assert.deepEqual(pageErrors, []);
   });
 });

@@ -156,7 +156,10 @@ describe('a cvi42 workspace opened with its DICOM images', () => {
     expect(first.timeFrames?.frames).toEqual(['0', '9']);
     expect(first.warnings.join('\n')).toMatch(/frame 0 read, 1204 points of other frames left out; choose another with the Frame picker/);
     expect(first.warnings.join('\n')).toMatch(/saPapMuscContour skipped/);
-    expect(first.warnings.join('\n')).toMatch(/sacardialRefPoint skipped/);
+    // cvi42's SAX reference points are the RV insertions, its long-axis extent points landmarks.
+    expect(first.warnings.join('\n')).not.toMatch(/RefPoint/);
+    const names = first.landmarks.map((l) => l.name);
+    expect([names.filter((n) => n === 'RV_INSERT_ANTERIOR').length, names.filter((n) => n === 'RV_INSERT_INFERIOR').length, names.filter((n) => n === 'LAX_LV_EXTENT').length]).toEqual([5, 5, 7]);
     // The run's contour points are those `info` counts per surface (after cleaning): 441 of LV_ENDO.
     const r = await run(ask, 'LV_ENDO');
     const lv = read.surfaces.find((s) => s.surface === 'LV_ENDO');

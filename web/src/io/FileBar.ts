@@ -12,7 +12,7 @@ import { SAMPLES, type Sample } from './samples';
 
 /**
  * The contour formats the core reads (canonical CSV first; see README "Files"), and NIfTI label
- * maps (segmentations, `.nii` or `.nii.gz`; 3D Slicer's `.nrrd` / `.seg.nrrd`). A bare `.gz` too: the core reads any of these
+ * maps (segmentations, `.nii` or `.nii.gz`; 3D Slicer's `.nrrd` / `.seg.nrrd`; DICOM SEG `.dcm`). A bare `.gz` too: the core reads any of these
  * formats gzip-compressed (`contours.csv.gz`), not every file dialog filters on a two-part
  * extension, and the core names what it cannot read in a compressed file the user chose. A Circle
  * cvi42 workspace (`.cvi42wsx`), opened with the DICOM images it was drawn on (io/cvi42Study.ts).

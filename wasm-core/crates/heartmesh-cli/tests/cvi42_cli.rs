@@ -4,7 +4,7 @@
 //! (scripts/cvi42_fixture.py; heartmesh-core/tests/cvi42.rs checks its points).
 
 mod common;
-use common::{bin, run, scratch};
+use common::{bin, data, run, scratch};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -224,4 +224,61 @@ fn zip_archives_as_uk_biobank_hands_them_out_give_the_same_mesh() {
         err.contains("cut.zip") && err.contains("ZIP archive: no end of central directory"),
         "{err}"
     );
+}
+
+/// `myocardium WORKSPACE DICOM/ --bullseye`: the septum direction and its source.
+fn septum(inputs: &[&str], frame: Option<&str>, dir: &Path, name: &str) -> (String, [f64; 3]) {
+    let [out, json, svg] = ["vtk", "json", "svg"].map(|e| dir.join(format!("{name}.{e}")));
+    let mut cmd = bin();
+    cmd.arg("myocardium").args(inputs).args([
+        "-o",
+        s(&out),
+        "--report",
+        s(&json),
+        "--bullseye",
+        s(&svg),
+        "--quiet",
+    ]);
+    if let Some(f) = frame {
+        cmd.args(["--frame", f]);
+    }
+    let (code, _, err) = run(&mut cmd);
+    assert_eq!(code, 0, "{err}");
+    let seg = &report(&json)["segments"];
+    let d: Vec<f64> = seg["septum_direction"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    (
+        seg["septum_from"].as_str().unwrap().to_string(),
+        [d[0], d[1], d[2]],
+    )
+}
+
+#[test]
+fn the_reference_points_place_the_segments() {
+    // cvi42's superior and inferior SAX reference points are the RV insertions: the bullseye is
+    // placed from them, within 10 degrees of the GPFile's (its grouping by the RV's centre puts
+    // one apical insertion on the other side: see segments_cli.rs).
+    let dir = scratch("cvi42_segments");
+    let (wsx, images) = (fixture("Contours.cvi42wsx"), fixture("dicom"));
+    let gp = data("contours/bivme-example-patient1/GPFile_000.txt");
+    let (gp_from, gp_septum) = septum(&[s(&gp)], None, &dir, "gp");
+    assert_eq!(gp_from, "RV_INSERT landmarks (10)");
+    for (frame, points) in [(None, 10), (Some("9"), 8)] {
+        let (from, d) = septum(&[&wsx, &images], frame, &dir, "cvi42");
+        assert_eq!(
+            from,
+            format!("anterior and inferior RV insertion points ({points})")
+        );
+        let off = (0..3)
+            .map(|i| d[i] * gp_septum[i])
+            .sum::<f64>()
+            .acos()
+            .to_degrees();
+        eprintln!("CVI42 segments frame {frame:?}: septum {off:.1} degrees from the GPFile's ED");
+        assert!(off < 15.0, "{off}");
+    }
 }

@@ -126,6 +126,97 @@ fn real_patients_have_their_septum_on_the_right_and_thickest() {
     }
 }
 
+/// The patient's RV insertion landmarks (the GPFile's first frame) named by side as cvi42 marks
+/// them: of each slice's two, the more anterior (lower y: LPS) is the anterior (cvi42's
+/// superior) one.
+fn insertions_by_side(gpfile: &Path) -> Vec<(&'static str, [f64; 3])> {
+    let text = std::fs::read_to_string(gpfile).unwrap();
+    let mut by_slice: std::collections::BTreeMap<String, Vec<[f64; 3]>> = Default::default();
+    let mut frame = None;
+    for f in text.lines().map(|l| l.split('\t').collect::<Vec<_>>()) {
+        if f.len() > 6 && f[3] == "RV_INSERT" && *frame.get_or_insert(f[6]) == f[6] {
+            let p = [0, 1, 2].map(|i| f[i].parse::<f64>().unwrap());
+            by_slice.entry(f[4].to_string()).or_default().push(p);
+        }
+    }
+    let mut out = Vec::new();
+    for mut pair in by_slice.into_values() {
+        assert_eq!(pair.len(), 2);
+        pair.sort_by(|a, b| a[1].total_cmp(&b[1]));
+        out.push(("RV_INSERT_ANTERIOR", pair[0]));
+        out.push(("RV_INSERT_INFERIOR", pair[1]));
+    }
+    out
+}
+
+fn degrees(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3)
+        .map(|i| a[i] * b[i])
+        .sum::<f64>()
+        .clamp(-1.0, 1.0)
+        .acos()
+        .to_degrees()
+}
+
+#[test]
+fn insertions_named_by_side_place_the_septum_of_an_lv_only_file() {
+    // An LV-only analysis with cvi42's reference points (the common clinical case): the segments
+    // come from the insertions alone, both or either. Both sides: within 10 degrees of the GPFile's
+    // grouping by the RV's centre (patient 1: 8.5, its apical anterior insertion lies on the
+    // inferior side of that centre and is grouped there; patient 2: 0.0). One side: the standard's
+    // 60 degrees on, exact for insertions 120 degrees apart; patient 1's are about 80 apart, so
+    // 29.3 (anterior) and 12.2 (inferior), patient 2's about 110, 4.6 each.
+    let dir = scratch("segments-named-insertions");
+    for (folder, csv) in [
+        ("bivme-example-patient1", "patient1-ED.csv"),
+        ("bivme-test-patient2", "patient2-ED.csv"),
+    ] {
+        let gp = data(&format!("contours/{folder}/GPFile_000.txt"));
+        let (from_gp, _) = with_bullseye(&gp, &dir, &format!("{folder}-gp"));
+        let reference = vector(&from_gp["segments"]["septum_direction"]);
+        let full = std::fs::read_to_string(data(&format!("contours/{folder}/{csv}"))).unwrap();
+        let lv_only: String = full
+            .lines()
+            .filter(|l| !l.ends_with(",RV_ENDO") && !l.ends_with(",RV_EPI"))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let inserts = insertions_by_side(&gp);
+        assert_eq!(inserts.len(), 10, "{folder}");
+        for (keep, source, points, within) in [
+            ("", "anterior and inferior RV insertion points", 10, 10.0),
+            (
+                "RV_INSERT_ANTERIOR",
+                "RV insertion points of one side, the septum 60 degrees on",
+                5,
+                35.0,
+            ),
+            (
+                "RV_INSERT_INFERIOR",
+                "RV insertion points of one side, the septum 60 degrees on",
+                5,
+                35.0,
+            ),
+        ] {
+            let mut text = lv_only.clone();
+            for (name, [x, y, z]) in inserts.iter().filter(|i| keep.is_empty() || i.0 == keep) {
+                text += &format!("# landmark {name} {x} {y} {z}\n");
+            }
+            let name = format!("{folder}-{}", if keep.is_empty() { "both" } else { keep });
+            let input = dir.join(format!("{name}.csv"));
+            std::fs::write(&input, text).unwrap();
+            let (rep, svg) = with_bullseye(&input, &dir, &name);
+            let s = &rep["segments"];
+            assert_eq!(s["septum_from"], format!("{source} ({points})"), "{name}");
+            let off = degrees(vector(&s["septum_direction"]), reference);
+            eprintln!("NAMED INSERTIONS {name}: septum {off:.1} degrees from the GPFile's");
+            assert!(off < within, "{name}: {off:.1} degrees");
+            assert_eq!(svg.matches("<path ").count(), 17, "{name}");
+            // Anterior is the patient's front (LPS -y), whichever side placed it.
+            assert!(vector(&s["anterior_direction"])[1] < -0.3, "{name}");
+        }
+    }
+}
+
 #[test]
 fn a_file_without_the_rv_has_no_segments_and_no_bullseye() {
     let dir = scratch("segments-lv-only");

@@ -155,3 +155,55 @@ fn the_workspaces_meshes_match_the_gpfiles_where_the_contours_do() {
         }
     }
 }
+
+#[test]
+fn the_reference_points_are_the_gpfiles_insertions_and_extents() {
+    for (frame, gp) in [(None, "GPFile_000.txt"), (Some("9"), "GPFile_009.txt")] {
+        let cvi = read_cvi42(frame);
+        let gp = read_gpfile(gp);
+        let named = |set: &ContourSet, names: &[&str]| -> Vec<Vec3> {
+            set.landmarks
+                .iter()
+                .filter(|(n, _)| names.contains(&n.as_str()))
+                .map(|(_, p)| *p)
+                .collect()
+        };
+        let inserts = named(&gp, &["RV_INSERT"]);
+        let extents = named(&gp, &["MITRAL_VALVE", "APEX_POINT"]);
+        let anterior = named(&cvi, &["RV_INSERT_ANTERIOR"]);
+        let inferior = named(&cvi, &["RV_INSERT_INFERIOR"]);
+        let lax = named(&cvi, &["LAX_LV_EXTENT"]);
+        eprintln!(
+            "CVI42 frame {frame:?} landmarks: {} anterior + {} inferior insertions ({} in the \
+             GPFile), {} LV extent points ({})",
+            anterior.len(),
+            inferior.len(),
+            inserts.len(),
+            lax.len(),
+            extents.len()
+        );
+        assert_eq!(anterior.len() + inferior.len(), inserts.len());
+        assert_eq!(anterior.len(), inferior.len());
+        assert_eq!(lax.len(), extents.len());
+        // Each within the pixel rounding of its GPFile point (the fixture put them on their
+        // planes: the GPFile's lie up to 0.1 mm off).
+        for (mine, theirs) in [
+            (&anterior, &inserts),
+            (&inferior, &inserts),
+            (&lax, &extents),
+        ] {
+            for p in mine.iter() {
+                let gap = theirs
+                    .iter()
+                    .map(|q| (q - p).norm())
+                    .fold(f64::INFINITY, f64::min);
+                assert!(gap <= ROUNDING_MM + 0.15, "{p:?}: {gap}");
+            }
+        }
+        // The superior reference point is the more anterior of its slice's two (LPS: lower y;
+        // frame 9's apical pair ties in y to 1e-5 mm).
+        for (a, i) in anterior.iter().zip(&inferior) {
+            assert!(a.y < i.y + 0.01, "{a:?} {i:?}");
+        }
+    }
+}

@@ -71,13 +71,6 @@ pub enum NoGeometry {
     Invalid { uid: String, why: String },
 }
 
-fn numbers(set: &DataSet, t: Tag) -> Option<Vec<f64>> {
-    let text = set.text(t)?;
-    text.split('\\')
-        .map(|v| v.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
-        .collect()
-}
-
 fn int(set: &DataSet, t: Tag) -> Option<i64> {
     set.text(t)?.trim().parse().ok()
 }
@@ -103,12 +96,15 @@ pub fn image_geometry(bytes: &[u8]) -> std::result::Result<ImageGeometry, NoGeom
         uid: id.clone(),
         why: why.to_string(),
     };
-    let position = numbers(&set, tag::IMAGE_POSITION)
+    let position = set
+        .numbers(tag::IMAGE_POSITION)
         .ok_or_else(|| missing("ImagePositionPatient (0020,0032)"))?;
-    let orientation = numbers(&set, tag::IMAGE_ORIENTATION)
+    let orientation = set
+        .numbers(tag::IMAGE_ORIENTATION)
         .ok_or_else(|| missing("ImageOrientationPatient (0020,0037)"))?;
-    let spacing =
-        numbers(&set, tag::PIXEL_SPACING).ok_or_else(|| missing("PixelSpacing (0028,0030)"))?;
+    let spacing = set
+        .numbers(tag::PIXEL_SPACING)
+        .ok_or_else(|| missing("PixelSpacing (0028,0030)"))?;
     let [x, y, z]: [f64; 3] = position[..]
         .try_into()
         .map_err(|_| invalid("ImagePositionPatient needs 3 numbers"))?;
@@ -139,6 +135,8 @@ pub fn image_geometry(bytes: &[u8]) -> std::result::Result<ImageGeometry, NoGeom
         series: int(&set, tag::SERIES_NUMBER),
         series_description: set.text(tag::SERIES_DESCRIPTION),
         instance: int(&set, tag::INSTANCE_NUMBER),
-        trigger_ms: numbers(&set, tag::TRIGGER_TIME).and_then(|v| v.first().copied()),
+        trigger_ms: set
+            .numbers(tag::TRIGGER_TIME)
+            .and_then(|v| v.first().copied()),
     })
 }

@@ -80,6 +80,8 @@ pub enum ContourFormat {
     Nrrd,
     /// Circle cvi42 workspace (`.cvi42wsx`), read with the DICOM images it was drawn on.
     Cvi42,
+    /// DICOM Segmentation object (SEG), read as a label map is.
+    DicomSeg,
 }
 
 impl ContourFormat {
@@ -96,6 +98,7 @@ impl ContourFormat {
             ContourFormat::Nifti => "NIfTI label map",
             ContourFormat::Nrrd => "NRRD label map",
             ContourFormat::Cvi42 => "cvi42 workspace",
+            ContourFormat::DicomSeg => "DICOM SEG",
         }
     }
 }
@@ -181,6 +184,9 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     }
     if mat::is_mat(bytes) {
         return ContourFormat::Mat;
+    }
+    if nifti::is_dicom_seg(bytes) {
+        return ContourFormat::DicomSeg;
     }
     if rtstruct::is_dicom(bytes) {
         return ContourFormat::Rtstruct;
@@ -301,6 +307,7 @@ pub fn read_contours_with(
             nifti::read_nifti_study(bytes, options.views, options.frame.as_ref())
         }
         ContourFormat::Nrrd => nifti::read_nrrd(bytes, options.frame.as_ref()),
+        ContourFormat::DicomSeg => nifti::read_dicom_seg(bytes, options.frame.as_ref()),
         ContourFormat::Cvi42 => cvi42::read_cvi42(bytes, options.views, options.frame.as_ref()),
     }
 }

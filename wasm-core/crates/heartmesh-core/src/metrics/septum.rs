@@ -6,6 +6,8 @@
 //! middle is the bisector of the two groups' mean directions. Grouping them by side of the RV's
 //! centre (or of their own mean) keeps a slice with one insertion point from tipping the
 //! bisector; points on one side only (one insertion line marked) defer to the RV's centre.
+//! Insertions that name their side (cvi42's reference points) need no grouping, and one side is
+//! enough: the septum's middle is 60 degrees on from either, as the standard's segments run.
 //! Without them the RV contours' centre gives the direction (the septum faces the RV; on the
 //! biv-me patients the two agree within 11 degrees). Without either, nothing does: an LV-only
 //! file cannot say which side is septal.
@@ -20,6 +22,69 @@ use crate::mesh::wall::Wall;
 fn is_insertion(name: &str) -> bool {
     let n = name.to_ascii_uppercase();
     n.contains("RV") && n.contains("INSERT")
+}
+
+/// Which insertion a landmark names, where its file tells them apart (cvi42's superior and
+/// inferior SAX reference points, read as `RV_INSERT_ANTERIOR` and `RV_INSERT_INFERIOR`);
+/// biv-me's `RV_INSERT` does not.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Side {
+    Anterior,
+    Inferior,
+}
+
+fn side(name: &str) -> Option<Side> {
+    let n = name.to_ascii_uppercase();
+    if n.contains("ANTERIOR") || n.contains("SUPERIOR") {
+        Some(Side::Anterior)
+    } else if n.contains("INFERIOR") {
+        Some(Side::Inferior)
+    } else {
+        None
+    }
+}
+
+/// Degrees from an RV insertion to the middle of the septum: the standard's basal and mid
+/// segments are 60 degrees each, and the anteroseptal one (2, 8) runs from the anterior insertion
+/// to the septum's middle. cvi42 and Segment place the segments from one reference point so.
+const INSERTION_TO_SEPTUM_DEG: f64 = 60.0;
+
+/// `v` (across `n`) turned by `deg` degrees about `n`, right-handed.
+fn turned(v: &Vec3, n: &Vec3, deg: f64) -> Vec3 {
+    let (s, c) = deg.to_radians().sin_cos();
+    v * c + n.cross(v) * s
+}
+
+/// The septum's middle from insertion points that say their side (`n` from the apex to the
+/// base). Anterior lies a positive turn about `n` from the septum ([`super::segments`]), so the
+/// septum is a negative turn on from the anterior insertion and a positive one from the
+/// inferior. With both sides: the middle of the arc from the anterior group's mean direction to
+/// the inferior's, taken the way the anatomy runs (through the septum, not the lateral wall).
+fn from_sides(sided: &[(Side, Vec3)], n: &Vec3) -> Option<Vec3> {
+    let mean = |want: Side| {
+        sided
+            .iter()
+            .filter(|(s, _)| *s == want)
+            .map(|(_, d)| d)
+            .sum::<Vec3>()
+            .try_normalize(1e-9)
+    };
+    match (mean(Side::Anterior), mean(Side::Inferior)) {
+        (Some(a), Some(i)) => {
+            let arc = a.cross(&i).dot(n);
+            let middle = (a + i).try_normalize(1e-9);
+            match middle {
+                // The inferior insertion lies a negative turn (under half a turn) from the
+                // anterior: the arc between them through the septum is the short one.
+                Some(m) if arc < 0.0 => Some(m),
+                Some(m) => Some(-m),
+                None => Some(turned(&a, n, -90.0)),
+            }
+        }
+        (Some(a), None) => Some(turned(&a, n, -INSERTION_TO_SEPTUM_DEG)),
+        (None, Some(i)) => Some(turned(&i, n, INSERTION_TO_SEPTUM_DEG)),
+        (None, None) => None,
+    }
 }
 
 /// A surface name read as the RV's (RV_ENDO, RV_EPI, RV_FREEWALL, ...).
@@ -100,6 +165,27 @@ pub fn orientation_around(set: &ContourSet, centre: &Vec3, axis: &Vec3) -> Optio
     let rv_direction = (!rv.is_empty())
         .then(|| across(&(rv.iter().sum::<Vec3>() / rv.len() as f64)))
         .flatten();
+    let sided: Vec<(Side, Vec3)> = set
+        .landmarks
+        .iter()
+        .filter(|(name, _)| is_insertion(name))
+        .filter_map(|(name, p)| Some((side(name)?, across(p)?)))
+        .collect();
+    // Insertions that say their side are the reference the user set for the segments: one side
+    // is enough, and it outranks the RV's centre.
+    if let Some(septum) = from_sides(&sided, &n) {
+        let both = sided.iter().any(|s| s.0 == Side::Anterior)
+            && sided.iter().any(|s| s.0 == Side::Inferior);
+        return Some(Orientation {
+            septum,
+            source: if both {
+                "anterior and inferior RV insertion points"
+            } else {
+                "RV insertion points of one side, the septum 60 degrees on"
+            },
+            points: sided.len(),
+        });
+    }
     let inserts: Vec<Vec3> = set
         .landmarks
         .iter()

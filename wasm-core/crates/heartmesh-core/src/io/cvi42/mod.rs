@@ -186,6 +186,20 @@ pub fn surface_of(kind: &str) -> std::result::Result<&'static str, &'static str>
     }
 }
 
+/// The landmark name a cvi42 point type is read as, for the types heartmesh uses: the two SAX
+/// reference points are the RV insertions (cvi42's "superior" one is the anterior insertion the
+/// AHA segments start from, [`crate::metrics::septum`]); the long-axis LV/RV extent points
+/// (valve hinges and apex) are kept as biv-me's GPFiles keep theirs, shown and never fitted.
+pub fn landmark_of(kind: &str) -> Option<&'static str> {
+    match kind.to_ascii_lowercase().as_str() {
+        "sacardialrefpoint" => Some("RV_INSERT_ANTERIOR"),
+        "sacardialinferiorrefpoint" => Some("RV_INSERT_INFERIOR"),
+        "laxlvextentpoints" => Some("LAX_LV_EXTENT"),
+        "laxrvextentpoints" => Some("LAX_RV_EXTENT"),
+        _ => None,
+    }
+}
+
 /// Images of one cine slice: same series, same plane (position and orientation to 0.01 mm).
 fn slice_key(g: &ImageGeometry) -> (Option<i64>, [i64; 9]) {
     let q = |v: f64| (v * 100.0).round() as i64;
@@ -254,6 +268,27 @@ fn listed(names: &[String]) -> String {
     format!("{}{more}", shown.join(", "))
 }
 
+/// The landmarks of the frames the curves were read from: a reference point of another frame
+/// (cvi42 keeps one per image) would place the septum of another phase, and one on a slice no
+/// curve was read from has no frame to belong to.
+fn landmarks(
+    b: &mut ContourBuilder,
+    marks: &[(usize, usize, &PixelContour, &'static str)],
+    read_frame: &HashMap<usize, usize>,
+    by_uid: &HashMap<&str, &ImageGeometry>,
+) -> Result<()> {
+    for &(slice, f, c, name) in marks {
+        if read_frame.get(&slice) != Some(&f) {
+            continue;
+        }
+        let g = by_uid[c.image_uid.as_str()];
+        for &[x, y] in &c.points {
+            b.landmark(name, g.to_patient(x, y), 0)?;
+        }
+    }
+    Ok(())
+}
+
 /// Reads a cvi42 workspace with the DICOM images (`(file name, bytes)`, headers are enough) its
 /// contours were drawn on. Files that are not DICOM images (a DICOMDIR, notes) are set aside with
 /// a warning; contours on images not given are skipped with one.
@@ -284,10 +319,19 @@ pub fn read_cvi42(
 
     // Contours in slice, then frame order: each slice's first frame is then its earliest.
     let mut placed: Vec<(usize, usize, &PixelContour)> = Vec::new();
+    let mut marks: Vec<(usize, usize, &PixelContour, &'static str)> = Vec::new();
     let mut missing: Vec<&str> = Vec::new();
     let mut skipped: BTreeMap<&'static str, Vec<&str>> = BTreeMap::new();
     for c in &contours {
-        match (places.get(c.image_uid.as_str()), surface_of(&c.kind)) {
+        let place = places.get(c.image_uid.as_str());
+        if let Some(name) = landmark_of(&c.kind) {
+            // A landmark on an image not given is no reason to ask for it: only curves are.
+            if let Some(&(slice, f)) = place {
+                marks.push((slice, f, c, name));
+            }
+            continue;
+        }
+        match (place, surface_of(&c.kind)) {
             (_, Err(what)) => {
                 let kinds = skipped.entry(what).or_default();
                 if !kinds.contains(&c.kind.as_str()) {
@@ -361,6 +405,8 @@ pub fn read_cvi42(
         count(drawn_slices, "cine slice")
     ));
     let mut frames = FrameFilter::new(frame);
+    // The frame each slice's curves were read from: its landmarks are read from that frame only.
+    let mut read_frame: HashMap<usize, usize> = HashMap::new();
     for (slice, f, c) in placed {
         let surface = surface_of(&c.kind).ok();
         let (slice_id, label) = (format!("s{slice:02}"), f.to_string());
@@ -372,6 +418,7 @@ pub fn read_cvi42(
         if !keep {
             continue;
         }
+        read_frame.insert(slice, f);
         let g = by_uid[c.image_uid.as_str()];
         let points: Vec<Vec3> = c.points.iter().map(|&[x, y]| g.to_patient(x, y)).collect();
         // Closed types say nothing of their ends: the end-point rule decides, as for CSV.
@@ -385,6 +432,7 @@ pub fn read_cvi42(
     if let Some(e) = frames.nothing_in_wanted() {
         return Err(e);
     }
+    landmarks(&mut b, &marks, &read_frame, &by_uid)?;
     for w in frames.warnings("slice") {
         b.warn(w);
     }

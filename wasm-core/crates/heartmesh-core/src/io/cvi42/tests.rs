@@ -151,9 +151,11 @@ fn cvi42_types_map_to_the_four_surfaces_and_the_rest_is_named() {
         Err("papillary muscles or trabeculae")
     );
     assert_eq!(
-        surface_of("sacardialRefPoint"),
+        surface_of("saReferencePoint"),
         Err("reference points and landmarks")
     );
+    assert_eq!(landmark_of("sacardialRefPoint"), Some("RV_INSERT_ANTERIOR"));
+    assert_eq!(landmark_of("saendocardialContour"), None);
     assert_eq!(surface_of("lalaContour"), Err("atria"));
 }
 
@@ -178,6 +180,75 @@ fn pixels_become_patient_millimetres_on_the_image_plane() {
     // Pixel (18, 18) is 8 columns and 8 rows further.
     let far = want + v3(S2, S2, 0.0) * 10.0 + v3(0.0, 0.0, 1.0) * 6.4;
     assert!((ring.points[8] - far).norm() < 1e-9);
+}
+
+#[test]
+fn reference_points_are_the_insertions_of_the_frame_read() {
+    let sq = square();
+    let (ant, inf, other) = ([[40, 40]], [[72, 72]], [[8, 8]]);
+    // Frame 0 (trigger 0) with its curve and both reference points; frame 1 with a curve and a
+    // reference point of its own; an image of another slice with a reference point and no curve.
+    let wsx = workspace(
+        &[
+            (
+                "1.2.3.1",
+                &[
+                    ("saendocardialContour", &sq[..]),
+                    ("sacardialRefPoint", &ant[..]),
+                    ("sacardialInferiorRefPoint", &inf[..]),
+                    ("laxLvExtentPoints", &other[..]),
+                ],
+            ),
+            (
+                "1.2.3.2",
+                &[
+                    ("saendocardialContour", &sq[..]),
+                    ("sacardialRefPoint", &other[..]),
+                ],
+            ),
+            ("1.2.3.9", &[("sacardialRefPoint", &ant[..])]),
+        ],
+        "4",
+    );
+    let mut elsewhere = oblique("1.2.3.9", 0.0);
+    elsewhere.position = [10.0, -20.0, 60.0];
+    elsewhere.series = 6;
+    let images = [
+        ("f0.dcm", dicom(&oblique("1.2.3.1", 0.0))),
+        ("f1.dcm", dicom(&oblique("1.2.3.2", 40.0))),
+        ("s2.dcm", dicom(&elsewhere)),
+    ];
+    let set = read(&wsx, &images, None).unwrap();
+    let names: Vec<&str> = set.landmarks.iter().map(|l| l.0.as_str()).collect();
+    assert_eq!(
+        names,
+        ["RV_INSERT_ANTERIOR", "RV_INSERT_INFERIOR", "LAX_LV_EXTENT"]
+    );
+    // Pixel (10, 10) of the oblique plane, as the curve's first point.
+    let want = v3(10.0, -20.0, 30.0) + v3(S2, S2, 0.0) * 12.5 + v3(0.0, 0.0, 1.0) * 8.0;
+    assert!((set.landmarks[0].1 - want).norm() < 1e-9);
+    assert!(
+        !set.warnings.iter().any(|w| w.contains("RefPoint")),
+        "{:?}",
+        set.warnings
+    );
+    // Curves only count in the note: two frames of one slice (not the third image's point).
+    assert!(
+        set.warnings
+            .iter()
+            .any(|w| w.contains("contours on 2 of them, in 1 cine slice")),
+        "{:?}",
+        set.warnings
+    );
+    // Frame 1: its own reference point only.
+    let one = read(&wsx, &images, Some("1")).unwrap();
+    assert_eq!(one.landmarks.len(), 1);
+    let p = v3(10.0, -20.0, 30.0) + v3(S2, S2, 0.0) * 2.5 + v3(0.0, 0.0, 1.0) * 1.6;
+    assert!((one.landmarks[0].1 - p).norm() < 1e-9);
+    // Reference points alone make no surface.
+    let bare = workspace(&[("1.2.3.1", &[("sacardialRefPoint", &ant[..])])], "4");
+    let e = read(&bare, &images, None).unwrap_err().to_string();
+    assert!(e.contains("no contour of a ventricular surface"), "{e}");
 }
 
 #[test]

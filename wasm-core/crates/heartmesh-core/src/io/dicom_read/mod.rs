@@ -78,6 +78,15 @@ impl<'a> DataSet<'a> {
         (!s.is_empty()).then(|| s.to_string())
     }
 
+    /// A multi-valued decimal or integer string (DS, IS: `1.5\-2\3`) as numbers; None when
+    /// missing, or when any value is not a finite number.
+    pub fn numbers(&self, tag: Tag) -> Option<Vec<f64>> {
+        self.text(tag)?
+            .split('\\')
+            .map(|v| v.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+            .collect()
+    }
+
     /// The items of a sequence (none when missing or not a sequence).
     pub fn items(&self, tag: Tag) -> &[DataSet<'a>] {
         match self.get(tag) {

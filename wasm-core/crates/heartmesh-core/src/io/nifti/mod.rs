@@ -15,6 +15,7 @@
 
 mod nrrd;
 mod roles;
+mod seg;
 mod trace;
 mod views;
 mod volume;
@@ -87,6 +88,24 @@ pub fn read_nifti_study(
 pub fn read_nrrd(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSet> {
     let (volume, names) = nrrd::read_nrrd_volume(bytes, frame)?;
     read_volume_study(volume, &names, &[], frame)
+}
+
+/// Whether `bytes` is a DICOM Segmentation object ([`seg`]).
+pub fn is_dicom_seg(bytes: &[u8]) -> bool {
+    seg::is_seg(bytes)
+}
+
+/// Reads the contours of a DICOM Segmentation object ([`seg`]: OHIF's, 3D Slicer's DICOM export,
+/// highdicom's), as [`read_nifti`] reads a NIfTI; its segment labels are listed in its note.
+pub fn read_dicom_seg(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSet> {
+    let (volume, names, overlaps) = seg::read_seg_volume(bytes, frame)?;
+    let mut set = read_volume_study(volume, &names, &[], frame)?;
+    if overlaps > 0 {
+        set.warnings.push(format!(
+            "{overlaps} pixels belong to two segments: each kept in the first one's"
+        ));
+    }
+    Ok(set)
 }
 
 /// The contours of a label map's volume (frame already chosen) with its long-axis views; `names`:

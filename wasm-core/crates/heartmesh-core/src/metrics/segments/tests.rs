@@ -188,6 +188,54 @@ fn the_septum_comes_from_the_insertion_points_else_the_rv() {
 }
 
 #[test]
+fn insertions_that_name_their_side_place_the_septum_alone() {
+    let wall = shifted_shell();
+    let dir = |deg: f64| v3(deg.to_radians().cos(), deg.to_radians().sin(), 0.0);
+    // The RV towards -y, anterior towards +x (a positive turn about +z, apex to base, from the
+    // septum), and the user's reference points 10 degrees off that: they win.
+    let mut set = ContourSet::default();
+    set.contours
+        .push(ring("rv", "RV_ENDO", v3(0.0, -40.0, -5.0), 15.0));
+    let at = |deg: f64, z: f64| dir(deg) * 22.0 + v3(0.0, 0.0, z);
+    for z in [-5.0, -10.0] {
+        set.landmarks
+            .push(("RV_INSERT_ANTERIOR".into(), at(-20.0, z)));
+        set.landmarks
+            .push(("RV_INSERT_INFERIOR".into(), at(-140.0, z)));
+    }
+    let o = orientation(&set, &wall).unwrap();
+    assert_eq!(o.source, "anterior and inferior RV insertion points");
+    assert_eq!(o.points, 4);
+    assert!((o.septum - dir(-80.0)).norm() < 1e-6, "{:?}", o.septum);
+    // Either side alone: the septum's middle 60 degrees on, towards the other.
+    let only = |keep: &str| {
+        let mut one = set.clone();
+        one.landmarks.retain(|(n, _)| n == keep);
+        orientation(&one, &wall).unwrap()
+    };
+    let a = only("RV_INSERT_ANTERIOR");
+    assert_eq!(
+        a.source,
+        "RV insertion points of one side, the septum 60 degrees on"
+    );
+    assert!((a.septum - dir(-80.0)).norm() < 1e-6, "{:?}", a.septum);
+    assert!((only("RV_INSERT_INFERIOR").septum - dir(-80.0)).norm() < 1e-6);
+    // Insertions more than half a turn apart the short way round through the lateral wall: the
+    // middle is still taken through the septum (the arc from anterior to inferior runs negative).
+    let mut wide = ContourSet::default();
+    wide.landmarks
+        .push(("RV_INSERT_ANTERIOR".into(), at(40.0, -5.0)));
+    wide.landmarks
+        .push(("RV_INSERT_INFERIOR".into(), at(160.0, -5.0)));
+    let w = orientation(&wide, &wall).unwrap();
+    assert!((w.septum - dir(-80.0)).norm() < 1e-6, "{:?}", w.septum);
+    // Without the RV contours, the sides alone still say where the septum is.
+    let mut lv_only = set.clone();
+    lv_only.contours.clear();
+    assert!((orientation(&lv_only, &wall).unwrap().septum - dir(-80.0)).norm() < 1e-6);
+}
+
+#[test]
 fn points_that_are_not_finite_are_passed_over() {
     let wall = shifted_shell();
     let mut set = ContourSet::default();
