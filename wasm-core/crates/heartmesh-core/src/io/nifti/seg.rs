@@ -344,8 +344,8 @@ pub fn read_seg_volume(
 
 /// The grid's third axis: each frame's plane index (from the lowest plane along the normal, gaps
 /// included), the origin (voxel (0, 0, 0) of the lowest plane) and the step from one plane to the
-/// next. The planes' spacing is SpacingBetweenSlices when given, else the smallest gap between
-/// distinct planes; the step is fitted to the frames' positions (a stack may be sheared: its
+/// next. The planes' spacing is SpacingBetweenSlices when every plane lies on it, else the
+/// smallest gap between distinct planes; the step is fitted to the frames' positions (a stack may be sheared: its
 /// planes offset in plane from one to the next), and every frame must lie on it to a tenth of a
 /// pixel.
 fn stack(
@@ -374,17 +374,33 @@ fn stack(
         .windows(2)
         .map(|w| w[1] - w[0])
         .fold(f64::INFINITY, f64::min);
-    let spacing = given.unwrap_or(if smallest.is_finite() { smallest } else { 1.0 });
+    let measured = if smallest.is_finite() { smallest } else { 1.0 };
+    // SpacingBetweenSlices is often written wrong (the slice thickness, say): it is taken only
+    // when every plane lies a whole number of it from the lowest; the planes' own smallest gap
+    // otherwise.
+    let on_grid = |spacing: f64| {
+        distinct.iter().all(|h| {
+            let k = (h - lowest) / spacing;
+            (k - k.round()).abs() <= 0.1
+        })
+    };
+    let spacing = given.filter(|&g| on_grid(g)).unwrap_or(measured);
+    if !on_grid(spacing) {
+        let off = distinct
+            .iter()
+            .find(|h| {
+                let k = (*h - lowest) / spacing;
+                (k - k.round()).abs() > 0.1
+            })
+            .map_or(0.0, |h| h - lowest);
+        return Err(err(format!(
+            "the DICOM SEG's planes are not evenly spaced ({off:.2} mm from the lowest, the \
+             smallest gap being {spacing:.2} mm)"
+        )));
+    }
     let mut index = Vec::with_capacity(frames.len());
     for h in &heights {
         let k = (h - lowest) / spacing;
-        if (k - k.round()).abs() > 0.1 {
-            return Err(err(format!(
-                "the DICOM SEG's planes are not evenly spaced ({:.2} mm from the lowest, the \
-                 spacing being {spacing:.2} mm)",
-                h - lowest
-            )));
-        }
         if k.round() >= MAX_PLANES as f64 {
             return Err(err(format!(
                 "the DICOM SEG's planes span over {MAX_PLANES} slices of {spacing:.2} mm"

@@ -61,11 +61,14 @@ struct Spec {
     /// 1 (binary) or 8 (fractional, 255 = inside).
     bits: u16,
     transfer_syntax: &'static str,
+    /// SpacingBetweenSlices written (None: left out, as many writers do).
+    spacing_between: Option<f64>,
 }
 
 const BINARY: Spec = Spec {
     bits: 1,
     transfer_syntax: "1.2.840.10008.1.2.1",
+    spacing_between: None,
 };
 
 /// A SEG of label maps on one grid, one per time frame (TemporalPositionIndex 1, 2, ...): a
@@ -171,10 +174,18 @@ fn write_seg(times: &[&LabelVolume], spec: &Spec) -> Vec<u8> {
                 seq(
                     0x0028,
                     0x9110,
-                    vec![item(vec![
-                        el(0x0028, 0x0030, VR::DS, ds(&spacing)),
-                        el(0x0018, 0x0050, VR::DS, ds(&[v.axes[2].norm()])),
-                    ])],
+                    vec![item(
+                        [
+                            el(0x0028, 0x0030, VR::DS, ds(&spacing)),
+                            el(0x0018, 0x0050, VR::DS, ds(&[v.axes[2].norm()])),
+                        ]
+                        .into_iter()
+                        .chain(
+                            spec.spacing_between
+                                .map(|d| el(0x0018, 0x0088, VR::DS, ds(&[d]))),
+                        )
+                        .collect(),
+                    )],
                 ),
             ])],
         ),
@@ -246,10 +257,19 @@ fn a_seg_reads_as_the_label_map_it_was_written_from() {
         Spec {
             bits: 8,
             transfer_syntax: "1.2.840.10008.1.2.1",
+            spacing_between: Some(10.0),
         },
         Spec {
             bits: 1,
             transfer_syntax: "1.2.840.10008.1.2",
+            spacing_between: None,
+        },
+        // The slice thickness written where the spacing belongs (8 mm; the planes are 10 apart):
+        // the planes' own gaps win.
+        Spec {
+            bits: 1,
+            transfer_syntax: "1.2.840.10008.1.2.1",
+            spacing_between: Some(8.0),
         },
     ] {
         let bytes = write_seg(&[&v], &spec);
@@ -307,6 +327,7 @@ fn segs_that_are_no_stack_or_are_cut_are_refused_with_the_reason() {
         &Spec {
             bits: 1,
             transfer_syntax: "1.2.840.10008.1.2.5",
+            spacing_between: None,
         },
     );
     assert!(
