@@ -282,3 +282,47 @@ fn the_reference_points_place_the_segments() {
         assert!(off < 15.0, "{off}");
     }
 }
+
+#[test]
+fn an_lv_only_analysis_gets_its_segments_from_the_reference_points() {
+    // The clinical routine: LV endo- and epicardium drawn, the RV insertion reference points set,
+    // no RV contours. The fixture's workspace without its RV types (the script writes each
+    // contour as an item opened and closed at four spaces of indent).
+    let dir = scratch("cvi42_lv_only");
+    let full = std::fs::read_to_string(fixture("Contours.cvi42wsx")).unwrap();
+    let mut kept = String::new();
+    let mut skipping = false;
+    for line in full.lines() {
+        if line.starts_with("    <Hash:item Hash:key=\"sarv")
+            || line.starts_with("    <Hash:item Hash:key=\"larv")
+        {
+            skipping = true;
+        }
+        if !skipping {
+            kept.push_str(line);
+            kept.push('\n');
+        }
+        if skipping && line == "    </Hash:item>" {
+            skipping = false;
+        }
+    }
+    assert!(!kept.contains("rvendocardial") && !kept.contains("rvepicardial"));
+    assert!(kept.contains("sacardialRefPoint") && kept.contains("saendocardialContour"));
+    let wsx = dir.join("lv-only.cvi42wsx");
+    std::fs::write(&wsx, kept).unwrap();
+    let (from, d) = septum(&[s(&wsx), &fixture("dicom")], None, &dir, "lv-only");
+    assert_eq!(from, "anterior and inferior RV insertion points (10)");
+    let (_, with_rv) = septum(
+        &[&fixture("Contours.cvi42wsx"), &fixture("dicom")],
+        None,
+        &dir,
+        "full",
+    );
+    let off = (0..3)
+        .map(|i| d[i] * with_rv[i])
+        .sum::<f64>()
+        .clamp(-1.0, 1.0)
+        .acos()
+        .to_degrees();
+    assert!(off < 1.0, "{off} degrees from the full study's");
+}

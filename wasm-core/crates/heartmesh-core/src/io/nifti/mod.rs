@@ -98,11 +98,23 @@ pub fn is_dicom_seg(bytes: &[u8]) -> bool {
 /// Reads the contours of a DICOM Segmentation object ([`seg`]: OHIF's, 3D Slicer's DICOM export,
 /// highdicom's), as [`read_nifti`] reads a NIfTI; its segment labels are listed in its note.
 pub fn read_dicom_seg(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSet> {
-    let (volume, names, overlaps) = seg::read_seg_volume(bytes, frame)?;
-    let mut set = read_volume_study(volume, &names, &[], frame)?;
-    if overlaps > 0 {
+    let read = seg::read_seg_volume(bytes, frame)?;
+    let mut set = read_volume_study(read.volume, &read.names, &[], frame)?;
+    if read.aside > 0 {
         set.warnings.push(format!(
-            "{overlaps} pixels belong to two segments: each kept in the first one's"
+            "{} of the DICOM SEG in another orientation or pixel spacing than the stack (a \
+             long-axis view?) set aside: the stack is the orientation most frames share",
+            if read.aside == 1 {
+                "1 frame".to_string()
+            } else {
+                format!("{} frames", read.aside)
+            }
+        ));
+    }
+    if read.overlaps > 0 {
+        set.warnings.push(format!(
+            "{} pixels belong to two segments: each kept in the first one's",
+            read.overlaps
         ));
     }
     Ok(set)

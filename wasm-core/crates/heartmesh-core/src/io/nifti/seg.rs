@@ -110,6 +110,8 @@ fn group<'s, 'a>(
 
 /// One frame's place: which plane, which segment, which time.
 struct Frame {
+    /// Its number in the file (from 0): where its pixels are.
+    number: usize,
     position: Vec3,
     segment: u16,
     time: u32,
@@ -174,13 +176,21 @@ fn pixel_set(data: &[u8], bits: u16, threshold: u16, index: usize) -> bool {
     }
 }
 
+/// What a SEG holds as a label map.
+pub struct SegRead {
+    pub volume: LabelVolume,
+    /// Segment names by number (= label).
+    pub names: SegmentNames,
+    /// Pixels two segments claimed: each keeps the first frame's segment (a label map holds one
+    /// label per voxel).
+    pub overlaps: usize,
+    /// Frames in another orientation or pixel spacing than the stack's, not read.
+    pub aside: usize,
+}
+
 /// The label map of a SEG (time frame `want`: index from 0 in TemporalPositionIndex order; none:
-/// the first), its segments' names by number, and how many pixels two segments claimed (each
-/// keeps the first frame's segment: a label map holds one label per voxel).
-pub fn read_seg_volume(
-    bytes: &[u8],
-    want: Option<&FrameChoice>,
-) -> Result<(LabelVolume, SegmentNames, usize)> {
+/// the first).
+pub fn read_seg_volume(bytes: &[u8], want: Option<&FrameChoice>) -> Result<SegRead> {
     let set = dicom_read::read_file(bytes, &tag::SEQUENCES)
         .map_err(|e| err(format!("DICOM SEG: {e}")))?;
     if let Some(ts) = set.text(tag::TRANSFER_SYNTAX) {
@@ -249,15 +259,34 @@ pub fn read_seg_volume(
             per_frame.len()
         )));
     }
-    let plane = plane_of(per_frame.first(), shared, 1)?;
+    // The stack is the orientation most frames share; frames of another (a long-axis view
+    // segmented in the same object) are set aside, and said.
+    let planes = per_frame
+        .iter()
+        .enumerate()
+        .map(|(n, item)| plane_of(Some(item), shared, n + 1))
+        .collect::<Result<Vec<Plane>>>()?;
+    let mut kinds: Vec<(Plane, usize)> = Vec::new();
+    for p in &planes {
+        match kinds.iter_mut().find(|(q, _)| same_plane(p, q)) {
+            Some((_, n)) => *n += 1,
+            None => kinds.push((*p, 1)),
+        }
+    }
+    let plane = kinds
+        .iter()
+        .fold(None::<(Plane, usize)>, |best, &(p, n)| match best {
+            Some((_, m)) if m >= n => best,
+            _ => Some((p, n)),
+        })
+        .map(|(p, _)| p)
+        .ok_or_else(|| err("DICOM SEG without frames"))?;
     let mut frames = Vec::with_capacity(count);
+    let mut aside = 0usize;
     for (n, item) in per_frame.iter().enumerate() {
-        if !same_plane(&plane_of(Some(item), shared, n + 1)?, &plane) {
-            return Err(err(format!(
-                "frame {} of the DICOM SEG lies in another orientation or pixel spacing than \
-                 frame 1: a stack of parallel planes is read",
-                n + 1
-            )));
+        if !same_plane(&planes[n], &plane) {
+            aside += 1;
+            continue;
         }
         let position = group(Some(item), shared, tag::PLANE_POSITION)
             .and_then(|g| g.numbers(tag::IMAGE_POSITION))
@@ -271,6 +300,7 @@ pub fn read_seg_volume(
             .and_then(|g| ul(g, tag::TEMPORAL_POSITION_INDEX))
             .unwrap_or(1);
         frames.push(Frame {
+            number: n,
             position: v3(position[0], position[1], position[2]),
             segment,
             time,
@@ -310,7 +340,7 @@ pub fn read_seg_volume(
     for (n, f) in frames.iter().enumerate() {
         let t = times.binary_search(&f.time).unwrap_or(0);
         let k = index[n];
-        let first = n * pixels;
+        let first = f.number * pixels;
         for p in 0..pixels {
             if !pixel_set(data, bits, threshold, first + p) {
                 continue;
@@ -339,7 +369,12 @@ pub fn read_seg_volume(
         times.len(),
         (chosen, labels, labelled),
     );
-    Ok((volume, names, overlaps))
+    Ok(SegRead {
+        volume,
+        names,
+        overlaps,
+        aside,
+    })
 }
 
 /// The grid's third axis: each frame's plane index (from the lowest plane along the normal, gaps

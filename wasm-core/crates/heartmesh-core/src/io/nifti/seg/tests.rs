@@ -63,12 +63,16 @@ struct Spec {
     transfer_syntax: &'static str,
     /// SpacingBetweenSlices written (None: left out, as many writers do).
     spacing_between: Option<f64>,
+    /// The first frame written lies in another orientation (its own PlaneOrientationSequence): a
+    /// long-axis view segmented in the same object.
+    tilt_first: bool,
 }
 
 const BINARY: Spec = Spec {
     bits: 1,
     transfer_syntax: "1.2.840.10008.1.2.1",
     spacing_between: None,
+    tilt_first: false,
 };
 
 /// A SEG of label maps on one grid, one per time frame (TemporalPositionIndex 1, 2, ...): a
@@ -112,6 +116,19 @@ fn write_seg(times: &[&LabelVolume], spec: &Spec) -> Vec<u8> {
                 bits.extend(slice.iter().map(|&l| l == label));
             }
         }
+    }
+    if spec.tilt_first {
+        let n = row.cross(&col);
+        per_frame[0].put(seq(
+            0x0020,
+            0x9116,
+            vec![item(vec![el(
+                0x0020,
+                0x0037,
+                VR::DS,
+                ds(&[n.x, n.y, n.z, col.x, col.y, col.z]),
+            )])],
+        ));
     }
     let pixels: Vec<u8> = if spec.bits == 1 {
         let mut packed = vec![0u8; bits.len().div_ceil(8)];
@@ -258,11 +275,13 @@ fn a_seg_reads_as_the_label_map_it_was_written_from() {
             bits: 8,
             transfer_syntax: "1.2.840.10008.1.2.1",
             spacing_between: Some(10.0),
+            tilt_first: false,
         },
         Spec {
             bits: 1,
             transfer_syntax: "1.2.840.10008.1.2",
             spacing_between: None,
+            tilt_first: false,
         },
         // The slice thickness written where the spacing belongs (8 mm; the planes are 10 apart):
         // the planes' own gaps win.
@@ -270,6 +289,7 @@ fn a_seg_reads_as_the_label_map_it_was_written_from() {
             bits: 1,
             transfer_syntax: "1.2.840.10008.1.2.1",
             spacing_between: Some(8.0),
+            tilt_first: false,
         },
     ] {
         let bytes = write_seg(&[&v], &spec);
@@ -328,6 +348,7 @@ fn segs_that_are_no_stack_or_are_cut_are_refused_with_the_reason() {
             bits: 1,
             transfer_syntax: "1.2.840.10008.1.2.5",
             spacing_between: None,
+            tilt_first: false,
         },
     );
     assert!(
@@ -398,4 +419,50 @@ fn mutated_segs_never_panic() {
         let _ = read_dicom_seg(&b, None);
         let _ = read_dicom_seg(&b, FrameChoice::new("1").as_ref());
     }
+}
+
+#[test]
+fn frames_of_another_orientation_are_set_aside_and_said() {
+    let v = crop(&sample(), 0, 90, 0, 90);
+    let bytes = write_seg(
+        &[&v],
+        &Spec {
+            tilt_first: true,
+            ..BINARY
+        },
+    );
+    let set = read_dicom_seg(&bytes, None).unwrap();
+    assert!(
+        set.warnings.iter().any(|w| w.starts_with(
+            "1 frame of the DICOM SEG in another orientation or pixel spacing than the stack"
+        )),
+        "{:?}",
+        set.warnings
+    );
+    // The frame set aside is the first written: the top slice's lowest label. Without it, the
+    // rest is the label map with that slice's label cleared.
+    let [ni, nj, nk] = v.dims;
+    let top = (0..nk)
+        .rev()
+        .find(|&k| {
+            v.labels[ni * nj * k..ni * nj * (k + 1)]
+                .iter()
+                .any(|&l| l != 0)
+        })
+        .unwrap();
+    let slice = ni * nj * top..ni * nj * (top + 1);
+    let lowest = v.labels[slice.clone()]
+        .iter()
+        .copied()
+        .filter(|&l| l != 0)
+        .min()
+        .unwrap();
+    let mut without = v.clone();
+    for l in without.labels[slice].iter_mut().filter(|l| **l == lowest) {
+        *l = 0;
+    }
+    assert_same_points(
+        &set,
+        &read_nifti(&write_nifti(&without, false), None).unwrap(),
+    );
 }
