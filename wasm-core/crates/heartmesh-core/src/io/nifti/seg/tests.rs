@@ -225,6 +225,11 @@ fn write_seg(times: &[&LabelVolume], spec: &Spec) -> Vec<u8> {
     out
 }
 
+/// The contours of `v` read as a NIfTI: what a SEG of the same map must give.
+fn as_nifti(v: &LabelVolume) -> ContourSet {
+    read_nifti(&write_nifti(v, false), None).unwrap()
+}
+
 /// Each surface's points: two readings of one label map agree point for point, to the 1e-6 of
 /// the DS strings the test writes.
 fn points_by_surface(set: &ContourSet) -> Vec<(String, Vec<Vec3>)> {
@@ -268,7 +273,7 @@ fn assert_same_points(a: &ContourSet, b: &ContourSet) {
 fn a_seg_reads_as_the_label_map_it_was_written_from() {
     // 91 x 87 pixels: frames of 7917 bits, so each starts inside a byte.
     let v = crop(&sample(), 5, 91, 3, 87);
-    let nifti = read_nifti(&write_nifti(&v, false), None).unwrap();
+    let nifti = as_nifti(&v);
     for spec in [
         BINARY,
         Spec {
@@ -319,11 +324,8 @@ fn time_frames_are_read_one_at_a_time() {
     let tf = first.time_frames.as_ref().unwrap();
     assert_eq!(tf.count, 2);
     let second = read_dicom_seg(&bytes, FrameChoice::new("1").as_ref()).unwrap();
-    assert_same_points(&first, &read_nifti(&write_nifti(&v, false), None).unwrap());
-    assert_same_points(
-        &second,
-        &read_nifti(&write_nifti(&grown, false), None).unwrap(),
-    );
+    assert_same_points(&first, &as_nifti(&v));
+    assert_same_points(&second, &as_nifti(&grown));
     let e = read_dicom_seg(&bytes, FrameChoice::new("5").as_ref())
         .unwrap_err()
         .to_string();
@@ -461,8 +463,5 @@ fn frames_of_another_orientation_are_set_aside_and_said() {
     for l in without.labels[slice].iter_mut().filter(|l| **l == lowest) {
         *l = 0;
     }
-    assert_same_points(
-        &set,
-        &read_nifti(&write_nifti(&without, false), None).unwrap(),
-    );
+    assert_same_points(&set, &as_nifti(&without));
 }
