@@ -10,7 +10,11 @@
 // study's folder dropped on the page opens the stack with its views.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { join } from 'node:path';
+import { mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { zipSync } from 'fflate';
 import { dropPaths, gotoEmpty, runAndWait, SHOTS, waitForError } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 import { cineName, cineOf, makeStudy, STACK, VIEW_CURVES, VIEWS } from './laxViews.mjs';
@@ -21,6 +25,8 @@ let page;
 const pageErrors = [];
 appForFile({ onPageError: (m) => pageErrors.push(m) }, (a) => ({ page } = app = a));
 const study = makeStudy();
+/** The core's DICOM SEG fixture: the same stack as seg.nii.gz, in DICOM's LPS (scripts/seg_fixture.py). */
+const DICOM_SEG = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..', 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'spasm-seg.dcm');
 
 /** The run on screen: surface, closed or not, contour-to-mesh mean and max, volume, mesh size, LAX curves' means. */
 const current = () => page.evaluate(() => {
@@ -190,6 +196,40 @@ describe('NIfTI long-axis views with their stack', () => {
     const r = await current();
     console.log(`# folder drop: ${r.surface} ${r.volumeMl.toFixed(1)} ml, ${r.lax.length} LAX curves, mean ${r.meanMm.toFixed(3)} mm`);
     assert.ok(r.watertight && r.lax.length === VIEW_CURVES[r.surface], JSON.stringify(r));
+    assert.deepEqual(pageErrors, []);
+  });
+
+  it('the stack as a DICOM SEG (LPS) with the NIfTI views (RAS), chosen together and zipped: the views turned into the stack\'s coordinates, LV_EPI as the NIfTI study\'s', async () => {
+    const seg = 'spasm-seg.dcm';
+    const check = async (name) => {
+      const { file, lax } = await laxCurves();
+      assert.equal(file, name);
+      assert.deepEqual(lax, VIEW_CURVES);
+      const said = await notes();
+      assert.equal(said.length, 4);
+      assert.match(said[0], /frame positions \(DICOM SEG, LPS\)/);
+      for (const [i, v] of VIEWS.entries()) assert.match(said[i + 1], new RegExp(`^long-axis view ${v.replace(/\./g, '\\.')} read as .*; [23] curves added`));
+      if ((await page.inputValue('[data-testid=surface-picker]')) !== 'LV_EPI') await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_EPI'), 120000);
+      return current();
+    };
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', [DICOM_SEG, ...VIEWS.map((n) => study.paths[n])]), 120000);
+    const r = await check(seg);
+    console.log(`# DICOM SEG stack + 3 NIfTI views LV_EPI: ${r.volumeMl.toFixed(2)} ml (NIfTI study ${epiWithViews.volumeMl.toFixed(2)} ml), mean ${r.meanMm.toFixed(3)} mm`);
+    assert.ok(r.watertight && r.lax.length === VIEW_CURVES.LV_EPI, JSON.stringify(r));
+    // As on the command line (label_maps_cli.rs): the NIfTI study's mesh to the spread of two
+    // samplings of pixel-traced curves.
+    assert.ok(relative(r.volumeMl, epiWithViews.volumeMl) < 0.01, `${r.volumeMl} vs ${epiWithViews.volumeMl}`);
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SHOTS, 'seg-with-nifti-views.png') });
+    // The same files in a ZIP archive: the SEG kept whole (its pixels are its label map), the same mesh.
+    const members = { [`study/${seg}`]: new Uint8Array(readFileSync(DICOM_SEG)) };
+    for (const v of VIEWS) members[`study/${v}`] = study.bytes[v];
+    const zipPath = join(mkdtempSync(join(tmpdir(), 'heartmesh-segzip-')), 'study.zip');
+    writeFileSync(zipPath, zipSync(members));
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', zipPath), 120000);
+    // Another file of the name on screen (from the archive): kept beside it, numbered.
+    const z = await check('spasm-seg (2).dcm');
+    assert.equal(z.volumeMl, r.volumeMl);
     assert.deepEqual(pageErrors, []);
   });
 });

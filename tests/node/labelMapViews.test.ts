@@ -12,7 +12,14 @@ import { DEFAULT_OPTIONS, type LoadedFile, type RunResult, type ViewFile } from 
 import { framePicker } from '../../web/src/app/timeFrames';
 import { cliReport, loadWasm } from './helpers.mjs';
 import { askingCore, type Ask } from './askCore';
-import { cineName, cineOf, makeStudy, STACK, VIEW_CURVES, VIEWS } from '../e2e/laxViews.mjs';
+import { cineName, cineOf, makeSlicerSegmentation, makeStudy, STACK, VIEW_CURVES, VIEWS } from '../e2e/laxViews.mjs';
+import { readFileSync } from 'node:fs';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { pixelDataOffset } from '../../web/src/io/dicomHeaders';
+
+/** The core's DICOM SEG fixture: the example stack (seg.nii.gz's) in DICOM's LPS. */
+const DICOM_SEG = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'spasm-seg.dcm');
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
 let wasm: Wasm;
@@ -95,6 +102,16 @@ describe('long-axis views with their stack through the worker', () => {
     expect(await grid(new TextEncoder().encode('contour,x,y,z\nc,1,2,3\n'))).toBeNull();
     // The free function as the worker calls it.
     expect(wasm.label_map_grid(study.bytes[VIEWS[0]])).toMatch(/^\{"dims":\[\d+,\d+,1\],"frames":1\}$/);
+    // A DICOM SEG of the same stack (the core's fixture), from the whole file and from its header
+    // alone (the bytes before its pixel data: what the app reads of a DICOM file first): the 8
+    // labelled slices (a SEG has no frames for the empty end slices); a NRRD's from its header.
+    const seg = new Uint8Array(readFileSync(DICOM_SEG));
+    expect(await grid(seg)).toEqual({ dims: [100, 108, 8], frames: 1 });
+    expect(await grid(seg.slice(0, pixelDataOffset(seg, seg.length)))).toEqual({ dims: [100, 108, 8], frames: 1 });
+    const nrrd = makeSlicerSegmentation().bytes;
+    const headerEnd = Buffer.from(nrrd).indexOf('\n\n') + 2;
+    expect(headerEnd).toBeGreaterThan(100);
+    expect(await grid(nrrd.slice(0, headerEnd))).toEqual({ dims: [100, 108, 10], frames: 1 });
   });
 
   it('the stack with its 3 views: one LAX curve per surface per view, the reading in notes, LV_ENDO closed and the CLI\'s', async () => {

@@ -12,6 +12,11 @@ describe('study groups', () => {
     expect([...nameTokens('Patient 7 - SAX.NII.GZ')]).toEqual(['patient', '7', 'sax']);
     expect(sharedTokens('001_LA_ED_gt.nii.gz', '001_SA_ED_gt.nii.gz')).toBe(3);
     expect(sharedTokens('001_LA_ED_gt.nii.gz', '001_SA_ES_gt.nii.gz')).toBe(2);
+    // NRRD and DICOM SEG files alike (3D Slicer's .seg.nrrd, a PACS's .dcm).
+    expect([...nameTokens('seg_lax1.seg.nrrd')]).toEqual(['seg', 'lax1']);
+    expect([...nameTokens('sa_ED.nrrd')]).toEqual(['sa', 'ed']);
+    expect([...nameTokens('LA_2CH_seg.dcm')]).toEqual(['la', '2ch', 'seg']);
+    expect(sharedTokens('p7_LA_ED.dcm', 'p7_SA_ED.nii.gz')).toBe(2);
   });
 
   it('M&Ms-2: the ED view with the ED stack, the ES view with the ES stack, whatever the order', () => {

@@ -5,7 +5,7 @@ import { describe, expect, it } from 'vitest';
 import { Zip, ZipDeflate, zipSync, type Zippable } from 'fflate';
 import { expandArchives, isClutter, looksZip, MAX_MEMBER, memberPath, zipMembers, crc32 } from '../../web/src/io/zipArchive';
 import { pathInFolder, setPathInFolder } from '../../web/src/io/folderDrop';
-import { pixelDataOffset } from '../../web/src/io/dicomHeaders';
+import { isSegmentationHeader, pixelDataOffset } from '../../web/src/io/dicomHeaders';
 
 const ascii = (s: string) => new TextEncoder().encode(s);
 const concat = (...parts: Uint8Array[]) => {
@@ -183,6 +183,28 @@ describe('expandArchives', () => {
     expect(await bytesOf(files[0])).toEqual(rt.file);
     expect(await bytesOf(files[1])).toEqual(long.header);
     expect(pixelDataOffset(long.file, long.file.length)).toBe(long.header.length);
+  });
+
+  it('keeps a DICOM segmentation whole, pixels and all (its pixels are its label map); an image beside it as its header', async () => {
+    // A SEG's header names its SOP class (Segmentation Storage) before the pixel data.
+    const segClass = (uid: string) => short(0x0008, 0x0016, 'UI', ascii(uid.length % 2 ? `${uid}\0` : uid));
+    const seg = (uid: string) => {
+      const header = concat(new Uint8Array(128), ascii('DICM'), segClass(uid), short(0x0008, 0x0018, 'UI', ascii('1.2.77\0')));
+      return { header, file: concat(header, long(0x7fe0, 0x0010, 'OB', new Uint8Array(5000).fill(0x0f))) };
+    };
+    const binary = seg('1.2.840.10008.5.1.4.1.1.66.4');
+    const labelMap = seg('1.2.840.10008.5.1.4.1.1.66.7');
+    const surface = seg('1.2.840.10008.5.1.4.1.1.66.5'); // Surface Segmentation: no label map
+    const longer = seg('1.2.840.10008.5.1.4.1.1.66.41'); // begins alike, another UID
+    const archive = zipSync({ 'seg.dcm': binary.file, 'labels.dcm': labelMap.file, 'surface.dcm': surface.file, 'other.dcm': longer.file, 'IM_01.dcm': IMAGE_1.file }, { level: 6 });
+    const { files } = await expandArchives([zipFile('study.zip', archive)]);
+    expect(files.map((f) => f.name)).toEqual(['seg.dcm', 'labels.dcm', 'surface.dcm', 'other.dcm', 'IM_01.dcm']);
+    expect(await bytesOf(files[0])).toEqual(binary.file);
+    expect(await bytesOf(files[1])).toEqual(labelMap.file);
+    expect(await bytesOf(files[2])).toEqual(surface.header);
+    expect(await bytesOf(files[3])).toEqual(longer.header);
+    expect(await bytesOf(files[4])).toEqual(IMAGE_1.header);
+    expect([binary, labelMap, surface, longer].map((d) => isSegmentationHeader(d.header))).toEqual([true, true, false, false]);
   });
 
   it('reads the archive in slices: of 40 images with 1 MB of pixels each, little more than their headers', async () => {

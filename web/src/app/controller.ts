@@ -17,7 +17,7 @@ import { distinctName, fileIdentity, lostText, renamedText, skippedText } from '
 import { archivesText, asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
 import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
 import { cvi42Study, NEEDS_IMAGES, type Cvi42Study } from '../io/cvi42Study';
-import { imageHeaders } from '../io/dicomHeaders';
+import { headerSlice, imageHeaders, isSegmentationHeader, looksDicom } from '../io/dicomHeaders';
 import { filesOfPickedFolder, pathInFolder } from '../io/folderDrop';
 import { expandArchives } from '../io/zipArchive';
 import type { Parts } from './parts';
@@ -48,14 +48,21 @@ import { leftOutNote } from '../ui/functionText';
 
 export type { Parts } from './parts';
 
+/** Bytes that tell whether a file may be a label map (DICOM's magic is at 128). */
+const LABEL_MAP_HEAD = 132;
+
 /**
- * Whether bytes (the first 4 are enough) may be a NIfTI-1 label map: gzip's magic, or the header
- * size 348 in either byte order. Anything else is no label map and costs the core no question.
+ * Whether bytes (the first `LABEL_MAP_HEAD` are enough) may be a label map: a NIfTI-1 (gzip's
+ * magic, or the header size 348 in either byte order), a NRRD (its magic), or a DICOM file (a
+ * segmentation is one; an image is not, which the core says). Anything else is no label map and
+ * costs the core no question.
  */
 function mayBeLabelMap(bytes: ArrayBuffer): boolean {
   if (bytes.byteLength < 4) return false;
   const head = new DataView(bytes, 0, 4);
-  return (head.getUint8(0) === 0x1f && head.getUint8(1) === 0x8b) || head.getInt32(0, true) === 348 || head.getInt32(0, false) === 348;
+  const nrrd = String.fromCharCode(...new Uint8Array(bytes, 0, 4)) === 'NRRD';
+  const nifti = (head.getUint8(0) === 0x1f && head.getUint8(1) === 0x8b) || head.getInt32(0, true) === 348 || head.getInt32(0, false) === 348;
+  return nifti || nrrd || looksDicom(new Uint8Array(bytes, 0, Math.min(bytes.byteLength, LABEL_MAP_HEAD)));
 }
 
 /** Whether two readings are of the same frame (null: a file's only reading, or each contour's first). */
@@ -77,7 +84,7 @@ interface ActiveRun {
   settings: string;
 }
 
-/** A file of those opened together: its grid if a NIfTI label map, its bytes if kept meanwhile. */
+/** A file of those opened together: its grid if a label map, its bytes if kept meanwhile. */
 interface Opened {
   file: File;
   grid: LabelMapGrid | null;
@@ -94,7 +101,7 @@ export class Controller {
   private readonly files = new Map<string, LoadedFile>();
   /** What each open name stands for (fileNames.ts): a different file of that name gets another. */
   private readonly identities = new Map<string, string>();
-  /** The open files that are NIfTI short-axis stacks: long-axis views opened alone are added to one on screen. */
+  /** The open files that are short-axis label-map stacks: long-axis views opened alone are added to one on screen. */
   private readonly stacks = new Set<string>();
   private params: ParamValues = {};
   private lids: LidsMode = 'auto';
@@ -196,7 +203,7 @@ export class Controller {
   /**
    * Opens dropped or chosen files; `skipped`: files of dropped folders not handed over (not of a
    * kind the app reads, or past the folder limit), said in the banner so nothing goes unmentioned.
-   * NIfTI label maps of a single slice among them are long-axis views: each is read with the
+   * Label maps (NIfTI, NRRD, DICOM SEG) of a single slice among them are long-axis views: each is read with the
    * short-axis stack of the same files whose name it resembles most (io/studyGroups.ts), not on
    * its own; with no stack among the files, they are added to the stack on screen, if it is one.
    * ZIP archives among them (UK Biobank's) are replaced by their files first (io/zipArchive.ts).
@@ -360,7 +367,7 @@ export class Controller {
   }
 
   /**
-   * Each file with, for a NIfTI label map, its grid (a stack, or a single slice: a long-axis view)
+   * Each file with, for a label map, its grid (a stack, or a single slice: a long-axis view)
    * and its bytes, in the order given. Other files are told apart by their first bytes and read
    * when they are loaded (a folder's 200 contour files are not all held at once); a lone file is
    * read here. `unreadable`: why a file could not be read.
@@ -369,7 +376,7 @@ export class Controller {
     const out: Opened[] = [];
     for (const file of files) {
       try {
-        if (files.length > 1 && !mayBeLabelMap(await file.slice(0, 4).arrayBuffer())) {
+        if (files.length > 1 && !(await this.mayBeLabelMapFile(file))) {
           out.push({ file, grid: null, bytes: null });
           continue;
         }
@@ -380,6 +387,17 @@ export class Controller {
       }
     }
     return out;
+  }
+
+  /**
+   * Whether a file among several may be a label map, told from its first bytes; of DICOM files,
+   * only segmentations (their header's SOP class): an image's pixels are never read for this.
+   */
+  private async mayBeLabelMapFile(file: File): Promise<boolean> {
+    const head = await file.slice(0, LABEL_MAP_HEAD).arrayBuffer();
+    if (!mayBeLabelMap(head)) return false;
+    if (!looksDicom(new Uint8Array(head))) return true;
+    return isSegmentationHeader(new Uint8Array(await headerSlice(file)));
   }
 
   /** A file's bytes read when it is loaded (null: refused, it could no longer be read). */
@@ -393,7 +411,7 @@ export class Controller {
   }
 
   /**
-   * The grid of a NIfTI-1 label map (plain or gzip), read from its header by the core; null for
+   * The grid of a label map (NIfTI-1 plain or gzip, NRRD, DICOM SEG), read from its header by the core; null for
    * any other file (told apart by its first bytes, without asking the core) or if the core fails.
    */
   private async gridOf(bytes: ArrayBuffer): Promise<LabelMapGrid | null> {
@@ -428,7 +446,7 @@ export class Controller {
   }
 
   /**
-   * Parses a file in the worker (a NIfTI stack with the long-axis `views` opened with it; `grid`:
+   * Parses a file in the worker (a label-map stack with the long-axis `views` opened with it; `grid`:
    * its label-map grid, null if it is none); returns whether it worked (errors are shown).
    */
   private async loadBytes(fileName: string, bytes: ArrayBuffer, identity: string, views: ViewFile[] = [], grid: LabelMapGrid | null = null): Promise<boolean> {
@@ -468,7 +486,7 @@ export class Controller {
   }
 
   /**
-   * Reads the NIfTI stack `stack` (loaded) again with long-axis views added to its own (a view of
+   * Reads the label-map stack `stack` (loaded) again with long-axis views added to its own (a view of
    * the same name replaces the older one), as the frame it is read as; returns whether it worked.
    * A view the core cannot read leaves the stack as it was, named in the banner.
    */

@@ -144,7 +144,7 @@ export class CoreClient {
   private readonly files = new Map<string, ArrayBuffer>();
   /**
    * The companion files each file is read with, kept for frame reloads and re-sends: the long-axis
-   * views of a NIfTI stack, the DICOM image headers of a cvi42 workspace (io/dicomHeaders.ts).
+   * views of a label-map stack, the DICOM image headers of a cvi42 workspace (io/dicomHeaders.ts).
    */
   private readonly views = new Map<string, ViewFile[]>();
   /** The time frame each file is read with, by label (absent: each contour's first), for those re-sends. */
@@ -274,7 +274,7 @@ export class CoreClient {
   }
 
   /**
-   * Reads a loaded NIfTI stack again with long-axis views added to those it has (a view of the
+   * Reads a loaded label-map stack again with long-axis views added to those it has (a view of the
    * same name replaces the older), as the time frame it is read as now. Rejects with CoreErrorData
    * (a view the core cannot read is named in the message); the file then stays as it was read.
    * `whenBehindLongStep`: as for `load`.
@@ -308,8 +308,9 @@ export class CoreClient {
   }
 
   /**
-   * The voxel grid of a NIfTI label map from its header, read by the core (null: not a NIfTI-1
-   * file). A single slice (a dimension of 1) is a long-axis view, to be read with its stack.
+   * The voxel grid of a label map (NIfTI-1, NRRD, DICOM SEG) from its header, read by the core
+   * (null: not a label map). A single slice (a dimension of 1) is a long-axis view, to be read
+   * with its stack.
    */
   labelMapGrid(bytes: ArrayBuffer): Promise<LabelMapGrid | null> {
     return this.request<LabelMapGrid | null>((reqId) => ({ type: 'grid', reqId, bytes: bytes.slice(0) }));

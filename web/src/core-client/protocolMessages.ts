@@ -27,7 +27,7 @@ export interface LoadRequest {
    */
   views?: ViewFile[];
 }
-/** The voxel grid of a NIfTI label map, from its header (answered with 'grid'; null: not one). */
+/** The voxel grid of a label map (NIfTI, NRRD, DICOM SEG), from its header (answered with 'grid'; null: not one). */
 export interface GridRequest {
   type: 'grid';
   reqId: number;

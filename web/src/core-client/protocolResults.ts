@@ -25,7 +25,7 @@ export interface Landmark {
 }
 
 /**
- * A NIfTI-1 label map's voxel grid, read from its header alone (the core's `label_map_grid`): a
+ * A label map's voxel grid (NIfTI-1, NRRD, DICOM SEG: its stack's), read from its header alone (the core's `label_map_grid`): a
  * single slice (a dimension of 1) is a long-axis view, read with the short-axis stack it belongs to.
  */
 export interface LabelMapGrid {

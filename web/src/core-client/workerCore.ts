@@ -51,7 +51,7 @@ import { LabWorker, type LabApi } from './labWorker';
 export interface SessionApi {
   /** `frame`: the time frame to read, by its label (undefined: each contour's first). */
   load(fileName: string, bytes: Uint8Array, frame?: string): string;
-  /** `load` with companion files: a NIfTI short-axis stack's long-axis views (single-slice label maps), a cvi42 workspace's DICOM images (`views` a JS Array of Uint8Arrays). */
+  /** `load` with companion files: a label-map short-axis stack's long-axis views (single-slice label maps), a cvi42 workspace's DICOM images (`views` a JS Array of Uint8Arrays). */
   load_study?(fileName: string, bytes: Uint8Array, viewNames: string[], views: Uint8Array[], frame?: string): string;
   file_points(fileName: string): Float32Array;
   start(fileName: string, surface: string | null | undefined, paramsJson: string, lids: string): void;
@@ -174,7 +174,7 @@ export interface WasmApi {
   createSession(): SessionApi;
   schemaJson(): string;
   version(): string;
-  /** `{"dims":[i,j,k],"frames":t}` of a NIfTI-1 label map from its header; undefined: not one (absent: no such core). */
+  /** `{"dims":[i,j,k],"frames":t}` of a label map (NIfTI-1, NRRD, DICOM SEG) from its header; undefined: not one (absent: no such core). */
   labelMapGrid?(bytes: Uint8Array): string | undefined;
   /** The message of the Rust panic that caused a trap, if any. */
   takePanicMessage(): string | undefined;
@@ -495,7 +495,7 @@ export class WorkerCore {
     this.send({ type: 'hex-file', reqId: msg.reqId, summary, bytes: out.bytes });
   }
 
-  /** The label map's grid from its header (null: not a NIfTI-1 file, or a core without the call). */
+  /** The label map's grid from its header (null: not a label map, or a core without the call). */
   private grid(bytes: ArrayBuffer): LabelMapGrid | null {
     const json = this.wasm.labelMapGrid?.(new Uint8Array(bytes));
     if (typeof json !== 'string') return null;

@@ -27,6 +27,28 @@ function dicomStart(bytes: Uint8Array): number {
   return at(128) ? 132 : at(0) ? 4 : -1;
 }
 
+/** SOP classes of DICOM segmentations (Segmentation, Label Map Segmentation): label maps. */
+const SEGMENTATION_CLASSES = ['1.2.840.10008.5.1.4.1.1.66.4', '1.2.840.10008.5.1.4.1.1.66.7'].map((uid) => new TextEncoder().encode(uid));
+
+/**
+ * Whether a DICOM header names a segmentation's SOP class (in its file meta or its SOP Class
+ * UID): such a file is a label map, read whole, pixels and all, unlike an image whose header
+ * alone is needed. The UID must end there (no digit or dot follows), so a longer UID that begins
+ * alike is no match.
+ */
+export function isSegmentationHeader(header: Uint8Array): boolean {
+  return SEGMENTATION_CLASSES.some((uid) => {
+    for (let i = header.indexOf(uid[0]); i >= 0 && i + uid.length <= header.length; i = header.indexOf(uid[0], i + 1)) {
+      let same = true;
+      for (let k = 1; k < uid.length && same; k++) same = header[i + k] === uid[k];
+      const next = header[i + uid.length];
+      const continues = next !== undefined && (next === 0x2e || (next >= 0x30 && next <= 0x39));
+      if (same && !continues) return true;
+    }
+    return false;
+  });
+}
+
 /** The value representations the pixel data element is written with (explicit VR). */
 const PIXEL_VRS = new Set(['OB', 'OW', 'OF', 'OD', 'OL', 'OV', 'UN']);
 

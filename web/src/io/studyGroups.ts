@@ -1,15 +1,16 @@
 /**
  * Which short-axis stack each long-axis view opened with it belongs to. A segmented study comes as
  * one label map per acquisition: the short-axis stack (`seg_sa.nii.gz`, `001_SA_ED_gt.nii.gz`) and
- * single-slice long-axis views (`seg4_la_4ch.nii.gz`, `001_LA_ED_gt.nii.gz`). Opened together, each
+ * single-slice long-axis views (`seg4_la_4ch.nii.gz`, `001_LA_ED_gt.nii.gz`), in NIfTI, NRRD or
+ * DICOM SEG files (formats may be mixed: the core turns each view into its stack's coordinates). Opened together, each
  * view goes to the stack whose name shares the most name tokens with its own (`001_LA_ED_gt` with
  * `001_SA_ED_gt`, not `001_SA_ES_gt`), the first stack on a tie (UK Biobank's `seg4_la_2ch` and
  * `seg_sa` share none: the only stack takes it). The core then reads each stack with its views.
  */
 import type { LabelMapGrid } from '../core-client/protocol';
 
-/** The extensions a label map's name ends with, left out of its tokens (common to all files). */
-const EXTENSION = /(\.nii)?(\.gz)?$/i;
+/** The extensions a label map's name ends with (NIfTI, NRRD, DICOM), left out of its tokens. */
+const EXTENSION = /(\.nii(\.gz)?|\.gz|\.seg\.nrrd|\.nrrd|\.dcm)$/i;
 
 /** The name's tokens: its parts between non-alphanumerics, lower case, without the extension. */
 export function nameTokens(name: string): Set<string> {

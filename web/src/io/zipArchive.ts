@@ -19,7 +19,7 @@
  */
 import { Inflate } from 'fflate';
 import type { CoreErrorData } from '../core-client/protocol';
-import { looksDicom, pixelDataOffset } from './dicomHeaders';
+import { isSegmentationHeader, looksDicom, pixelDataOffset } from './dicomHeaders';
 import { STUDY_FILE_LIMIT, pathInFolder, setPathInFolder } from './folderDrop';
 
 /** Most bytes inflated for one opening, over all its archives (the core's cap for one archive). */
@@ -212,8 +212,8 @@ export function crc32(bytes: Uint8Array): number {
 }
 
 /**
- * One member's bytes: a DICOM file's up to where its pixel data begins (the rest is not inflated),
- * any other whole (its size and CRC checked).
+ * One member's bytes: a DICOM image's up to where its pixel data begins (the rest is not
+ * inflated), any other whole (its size and CRC checked), a DICOM segmentation included.
  */
 async function unpackMember(reader: BlobReader, e: Entry, budget: Budget): Promise<Uint8Array<ArrayBuffer>> {
   const head = await reader.read(e.local, 30, `${e.path}'s local header`);
@@ -252,7 +252,11 @@ async function unpackMember(reader: BlobReader, e: Entry, budget: Budget): Promi
     }
     if (dicom) {
       const pixels = pixelDataOffset(out.view(), e.size, scanned);
-      if (pixels >= 0) return out.take(pixels);
+      // A segmentation's pixels are its label map: read it whole, as any other file.
+      if (pixels >= 0 && isSegmentationHeader(out.view().subarray(0, pixels))) {
+        dicom = false;
+        if (e.size > MAX_MEMBER) throw new ZipError(`${e.path} unpacks to ${mib(e.size)}, more than the ${mib(MAX_MEMBER)} read of one file`);
+      } else if (pixels >= 0) return out.take(pixels);
       scanned = Math.max(0, out.length - 8);
       if (out.length > MAX_MEMBER) throw new ZipError(`${e.path}: no pixel data in its first ${mib(MAX_MEMBER)}`);
     }

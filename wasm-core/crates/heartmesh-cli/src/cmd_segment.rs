@@ -29,8 +29,8 @@ pub const USAGE: &str = "heartmesh segment --lv-endo LV_ENDO.obj [--lv-epi LV_EP
   only (open, as CardioMesh models are) and closes it against --lv-epi's septum (pieces joined
   across 6 mm unless --join-gap says otherwise). --lax N (1-3) also writes N long-axis views
   through the apex, each a single-slice label map (same numbering, 1.25 mm pixels, 8 mm thick)
-  beside SEG: SEG_lax1.nii.gz ... (read them with the stack: heartmesh reconstruct SEG.nii.gz
-  SEG_lax1.nii.gz ...).";
+  beside SEG in its format: SEG_lax1.nii.gz ... (read them with the stack: heartmesh reconstruct
+  SEG.nii.gz SEG_lax1.nii.gz ...).";
 
 /// Thickness of a written long-axis view (mm): a typical cine long-axis slice.
 const VIEW_THICKNESS_MM: f64 = 8.0;
@@ -83,11 +83,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         .iter()
         .filter_map(|o| p.value(o))
         .collect();
-    let lax_views = if nrrd {
-        0
-    } else {
-        p.whole("lax")?.unwrap_or(0).min(3)
-    };
+    let lax_views = p.whole("lax")?.unwrap_or(0).min(3);
     let views_named: Vec<String> = (1..=lax_views as usize)
         .map(|n| view_path(output, n))
         .collect();
@@ -155,11 +151,6 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     }
     let volume = segment(&structures, &axis, &spec).map_err(CliError::param)?;
     let lax = p.whole("lax")?.unwrap_or(0) as usize;
-    if nrrd && lax > 0 {
-        return Err(CliError::usage(
-            "--lax writes NIfTI views, read with a NIfTI stack: use -o SEG.nii.gz",
-        ));
-    }
     if lax > PAPER_LAX_ANGLES_DEG.len() {
         return Err(CliError::usage(format!(
             "--lax {lax}: at most {} long-axis views",
@@ -194,20 +185,24 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             views.push((view_path(output, n + 1), view));
         }
     }
-    let bytes = if nrrd {
-        // 3D Slicer's segment names; its world is LPS, which the coordinates are taken to be.
-        let names: Vec<(u16, String)> = [(3, "LV"), (2, "Myocardium"), (1, "RV")]
-            .into_iter()
-            .filter(|(l, _)| volume.labels.contains(l))
-            .map(|(l, n)| (l, n.to_string()))
-            .collect();
-        nifti::write_nrrd(&volume, true, "left-posterior-superior", &names)
-    } else {
-        nifti::write_nifti(&volume, gzip)
+    // The views in the stack's format: a NRRD's world is LPS and a NIfTI's RAS, and the same
+    // coordinates are written to both, so a view must say what its stack says.
+    let encode = |map: &nifti::LabelVolume| {
+        if nrrd {
+            // 3D Slicer's segment names; its world is LPS, which the coordinates are taken to be.
+            let names: Vec<(u16, String)> = [(3, "LV"), (2, "Myocardium"), (1, "RV")]
+                .into_iter()
+                .filter(|(l, _)| map.labels.contains(l))
+                .map(|(l, n)| (l, n.to_string()))
+                .collect();
+            nifti::write_nrrd(map, true, "left-posterior-superior", &names)
+        } else {
+            nifti::write_nifti(map, gzip)
+        }
     };
-    files::write(output, &bytes)?;
+    files::write(output, &encode(&volume))?;
     for (path, view) in &views {
-        files::write(path, &nifti::write_nifti(view, gzip))?;
+        files::write(path, &encode(view))?;
     }
     if !p.switch("quiet") {
         let count = |l: u16| volume.labels.iter().filter(|&&x| x == l).count();
@@ -238,10 +233,13 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     Ok(())
 }
 
-/// `SEG.nii.gz` -> `SEG_lax1.nii.gz` (`.nii` likewise).
+/// `SEG.nii.gz` -> `SEG_lax1.nii.gz` (`.nii`, `.seg.nrrd`, `.nrrd` likewise).
 fn view_path(output: &str, n: usize) -> String {
     let lower = output.to_ascii_lowercase();
-    let cut = if lower.ends_with(".nii.gz") { 7 } else { 4 };
+    let cut = [".nii.gz", ".seg.nrrd", ".nrrd", ".nii"]
+        .into_iter()
+        .find(|e| lower.ends_with(e))
+        .map_or(0, str::len);
     let (stem, ext) = output.split_at(output.len() - cut);
     format!("{stem}_lax{n}{ext}")
 }

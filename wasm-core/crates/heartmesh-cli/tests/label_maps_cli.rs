@@ -201,7 +201,7 @@ fn a_stack_with_long_axis_views() {
         ),
         (
             vec![seg.to_string(), csv.to_str().unwrap().to_string()],
-            "c.csv is not a NIfTI-1 label map",
+            "c.csv is not a label map (NIfTI-1, NRRD or DICOM SEG)",
         ),
     ] {
         let mut args = vec!["reconstruct".to_string()];
@@ -218,7 +218,8 @@ fn a_stack_with_long_axis_views() {
 /// 3D Slicer's segmentation format (session 22): `segment -o X.seg.nrrd` writes a gzip-encoded
 /// NRRD in LPS with named segments; `reconstruct` reads it as the NIfTI of the same map (same
 /// volume to 0.1 ml), its note naming the space and segments; a detached-data header is refused in
-/// one line; `--lax` with a NRRD output is a usage error.
+/// one line; with `--lax` the views are NRRDs too, and the study reads as the NIfTI one (session
+/// 38).
 #[test]
 fn a_slicer_segmentation() {
     let dir = scratch("label-map-nrrd");
@@ -281,11 +282,47 @@ fn a_slicer_segmentation() {
         err.contains("d.nrrd") && err.contains("in another file (d.raw)"),
         "{err}"
     );
-    let mut lax = args("v.nrrd");
-    lax.extend(["--lax".to_string(), "2".to_string()]);
-    let (code, _, err) = run(bin().args(lax));
-    assert_eq!(code, 2, "{err}");
-    assert!(err.contains("use -o SEG.nii.gz"), "{err}");
+    // With long-axis views: written in the stack's format (a NRRD's LPS), read with it, the
+    // same study as the NIfTI one.
+    let mut lax_volumes = Vec::new();
+    for out in ["v.seg.nrrd", "v.nii.gz"] {
+        let mut with = args(out);
+        with.extend(["--lax".to_string(), "2".to_string()]);
+        let (code, stdout, err) = run(bin().args(with));
+        assert_eq!(code, 0, "{err}");
+        assert_eq!(stdout.matches("long-axis view").count(), 2, "{stdout}");
+        let ext = out.split_once('.').map(|(_, e)| e).unwrap();
+        let report = dir.join(format!("lax-{ext}.json"));
+        let (code, _, err) = run(bin().args([
+            "reconstruct",
+            dir.join(format!("v_lax2.{ext}")).to_str().unwrap(),
+            dir.join(out).to_str().unwrap(),
+            dir.join(format!("v_lax1.{ext}")).to_str().unwrap(),
+            "--surface",
+            "LV_EPI",
+            "-o",
+            dir.join(format!("lax-{ext}.obj")).to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+        ]));
+        assert_eq!(code, 0, "{err}");
+        assert_eq!(err.matches(": long-axis view v_lax").count(), 2, "{err}");
+        let r: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+        let lax = r["per_contour"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|c| c["kind"] == "LAX")
+            .count();
+        assert_eq!(lax, 2, "{r}");
+        lax_volumes.push(r["volume_ml"].as_f64().unwrap());
+    }
+    eprintln!("NRRD and NIfTI studies with 2 views: {lax_volumes:?} ml");
+    assert!(
+        (lax_volumes[0] - lax_volumes[1]).abs() < 0.1,
+        "{lax_volumes:?}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -356,5 +393,61 @@ fn a_dicom_seg_gives_the_mesh_of_the_label_map_it_holds() {
         err.contains("cut.dcm") && err.contains("truncated"),
         "{err}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Views and stacks of different formats (session 38): the DICOM SEG fixture (the example in
+/// LPS) with the NIfTI long-axis views `segment --lax 3` writes of the same heart (RAS): each
+/// view turned into the stack's LPS, matched and traced, the mesh the NIfTI study's to the spread
+/// of two samplings of pixel-traced curves (as above).
+#[test]
+fn a_dicom_seg_stack_with_nifti_views() {
+    let dir = scratch("label-map-seg-views");
+    let seg = dir.join("seg.nii.gz");
+    let (code, _, err) = segment_spasm(seg.to_str().unwrap(), &["--lax", "3"]);
+    assert_eq!(code, 0, "{err}");
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../..");
+    let dicom = root.join("wasm-core/crates/heartmesh-core/tests/data/spasm-seg.dcm");
+    let views: Vec<String> = (1..=3)
+        .map(|n| {
+            dir.join(format!("seg_lax{n}.nii.gz"))
+                .to_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    let mut figures = Vec::new();
+    for (name, stack) in [("dicom", dicom.as_path()), ("nifti", seg.as_path())] {
+        let report = dir.join(format!("{name}.json"));
+        let (code, _, err) = run(bin()
+            .arg("reconstruct")
+            .arg(stack)
+            .args(&views)
+            .args(["--surface", "LV_EPI", "-o"])
+            .arg(dir.join(format!("{name}.obj")))
+            .arg("--report")
+            .arg(&report));
+        assert_eq!(code, 0, "{err}");
+        assert_eq!(err.matches(": long-axis view seg_lax").count(), 3, "{err}");
+        assert!(!err.contains("none of its labels"), "{err}");
+        let r: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+        let lax: Vec<&serde_json::Value> = r["per_contour"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|c| c["kind"] == "LAX")
+            .collect();
+        assert_eq!(lax.len(), 3, "{r}");
+        assert_eq!(r["watertight"], true);
+        figures.push((
+            r["volume_ml"].as_f64().unwrap(),
+            r["contour_to_mesh"]["mean"].as_f64().unwrap(),
+        ));
+    }
+    eprintln!("LV_EPI with 3 NIfTI views: DICOM SEG stack, NIfTI stack {figures:?}");
+    let ((ml1, c1), (ml2, c2)) = (figures[0], figures[1]);
+    assert!((ml1 - ml2).abs() < 1e-2 * ml2, "{ml1} vs {ml2} ml");
+    assert!((c1 - c2).abs() < 0.05, "{c1} vs {c2} mm");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -52,7 +52,7 @@ pub fn version() -> String {
     heartmesh_core::VERSION.to_string()
 }
 
-/// `{"dims": [i, j, k], "frames": t}` of a NIfTI-1 label map (plain or gzip) from its header
+/// `{"dims": [i, j, k], "frames": t}` of a label map (NIfTI-1 plain or gzip, NRRD, DICOM SEG) from its header
 /// alone, or undefined when the bytes are not one: the app tells a short-axis stack from the
 /// single-slice long-axis views opened with it (a dimension of 1) before loading them together.
 #[wasm_bindgen]
@@ -108,7 +108,7 @@ impl Session {
         self.load_with_views(file_name, bytes, &[], frame)
     }
 
-    /// [`Session::load`] of a NIfTI short-axis label map with its long-axis views: single-slice
+    /// [`Session::load`] of a short-axis label map (NIfTI, NRRD, DICOM SEG) with its long-axis views: single-slice
     /// label maps named `view_names`, their bytes the `Uint8Array`s of `views` in the same order
     /// (the core matches their labels to the stack's by position and adds one curve per surface
     /// each shows; `warnings` says what each view was read as). Loading the stack again, for

@@ -265,11 +265,15 @@ pub fn read_contours_with(
         return read_contours_with(name, &inner, options);
     }
     let format = detect_contour_format(file_name, bytes);
-    if !matches!(format, ContourFormat::Nifti | ContourFormat::Cvi42) && !options.views.is_empty() {
+    let takes_views = matches!(
+        format,
+        ContourFormat::Nifti | ContourFormat::Nrrd | ContourFormat::DicomSeg | ContourFormat::Cvi42
+    );
+    if !takes_views && !options.views.is_empty() {
         return Err(CoreError::parse(
             0,
-            "long-axis label maps are read with a NIfTI short-axis label map, not with contours \
-             of another format",
+            "long-axis label maps are read with a short-axis label map (NIfTI, NRRD or DICOM \
+             SEG), not with contours of another format",
         ));
     }
     match format {
@@ -306,14 +310,18 @@ pub fn read_contours_with(
         ContourFormat::Nifti => {
             nifti::read_nifti_study(bytes, options.views, options.frame.as_ref())
         }
-        ContourFormat::Nrrd => nifti::read_nrrd(bytes, options.frame.as_ref()),
-        ContourFormat::DicomSeg => nifti::read_dicom_seg(bytes, options.frame.as_ref()),
+        ContourFormat::Nrrd => {
+            nifti::read_nrrd_study(bytes, options.views, options.frame.as_ref())
+        }
+        ContourFormat::DicomSeg => {
+            nifti::read_dicom_seg_study(bytes, options.views, options.frame.as_ref())
+        }
         ContourFormat::Cvi42 => cvi42::read_cvi42(bytes, options.views, options.frame.as_ref()),
     }
 }
 
-/// Several files read as one study: a NIfTI short-axis label map and its long-axis views
-/// (single-slice label maps), or a cvi42 workspace and the DICOM images it was drawn on, in any
+/// Several files read as one study: a short-axis label map (NIfTI, NRRD or DICOM SEG) and its
+/// long-axis views (single-slice label maps of any of those formats), or a cvi42 workspace and the DICOM images it was drawn on, in any
 /// order. Returns which file is the stack (the workspace), and the contours of all. One file is
 /// read as [`read_contours_with`] reads it.
 pub fn read_study(
@@ -343,9 +351,9 @@ pub fn read_study(
     for (n, (name, bytes)) in files.iter().enumerate() {
         let grid = nifti::label_map_grid(bytes).ok_or_else(|| {
             refuse(format!(
-                "{name} is not a NIfTI-1 label map: several files are read together only as one \
-                 segmented study (a short-axis label map and its long-axis views) or as a cvi42 \
-                 workspace with its DICOM images"
+                "{name} is not a label map (NIfTI-1, NRRD or DICOM SEG): several files are read \
+                 together only as one segmented study (a short-axis label map and its long-axis \
+                 views) or as a cvi42 workspace with its DICOM images"
             ))
         })?;
         if grid.0.iter().all(|&d| d > 1) {

@@ -54,13 +54,30 @@ pub fn is_reading_note(warning: &str) -> bool {
 const NOTE_STACK: &str = "label map read as ";
 const NOTE_VIEW: &str = "long-axis view ";
 
-/// Voxels along i, j, k and time frames of a NIfTI-1 label map (plain or gzip), from its header
-/// alone; None when it is not one.
+/// Voxels along i, j, k and time frames of a label map of any format read (NIfTI-1 plain or gzip,
+/// NRRD, DICOM SEG: its stack's) from its header alone; None when it is none. A study's files are
+/// told apart by it: the short-axis stack, and the single-slice long-axis views read with it.
 pub fn label_map_grid(bytes: &[u8]) -> Option<([usize; 3], usize)> {
     if is_gzip(bytes) {
         volume::grid(&inflate_head(bytes, 348))
+    } else if is_nrrd(bytes) {
+        nrrd::grid(bytes)
+    } else if is_dicom_seg(bytes) {
+        seg::grid(bytes)
     } else {
         volume::grid(bytes)
+    }
+}
+
+/// The label map of a file of any format read, at time frame `want`, in its own world
+/// coordinates (a SEG's: its stack's).
+fn read_label_map(bytes: &[u8], want: Option<&FrameChoice>) -> Result<LabelVolume> {
+    if is_nrrd(bytes) {
+        nrrd::read_nrrd_volume(bytes, want).map(|(v, _)| v)
+    } else if is_dicom_seg(bytes) {
+        seg::read_seg_volume(bytes, want).map(|r| r.volume)
+    } else {
+        read_label_frame(&inflate(bytes)?, want)
     }
 }
 
@@ -80,14 +97,31 @@ pub fn read_nifti_study(
 ) -> Result<ContourSet> {
     let data = inflate(bytes)?;
     let volume = read_label_frame(&data, frame)?;
-    read_volume_study(volume, &[], views, frame)
+    read_volume_study(volume, &[], files_as_views(views), frame)
+}
+
+/// Long-axis view files, to read with a stack.
+fn files_as_views<'a>(views: &[(&'a str, &'a [u8])]) -> Vec<View<'a>> {
+    views
+        .iter()
+        .map(|&(name, bytes)| View::File(name, bytes))
+        .collect()
 }
 
 /// Reads the contours of a NRRD label map (3D Slicer's `.nrrd` / `.seg.nrrd`, [`nrrd`]), as
 /// [`read_nifti`] reads a NIfTI; a `.seg.nrrd`'s segment names are listed in its note.
 pub fn read_nrrd(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSet> {
+    read_nrrd_study(bytes, &[], frame)
+}
+
+/// [`read_nrrd`] of a short-axis stack with its long-axis views, as [`read_nifti_study`].
+pub fn read_nrrd_study(
+    bytes: &[u8],
+    views: &[(&str, &[u8])],
+    frame: Option<&FrameChoice>,
+) -> Result<ContourSet> {
     let (volume, names) = nrrd::read_nrrd_volume(bytes, frame)?;
-    read_volume_study(volume, &names, &[], frame)
+    read_volume_study(volume, &names, files_as_views(views), frame)
 }
 
 /// Whether `bytes` is a DICOM Segmentation object ([`seg`]).
@@ -98,12 +132,29 @@ pub fn is_dicom_seg(bytes: &[u8]) -> bool {
 /// Reads the contours of a DICOM Segmentation object ([`seg`]: OHIF's, 3D Slicer's DICOM export,
 /// highdicom's), as [`read_nifti`] reads a NIfTI; its segment labels are listed in its note.
 pub fn read_dicom_seg(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<ContourSet> {
+    read_dicom_seg_study(bytes, &[], frame)
+}
+
+/// [`read_dicom_seg`] of a short-axis stack with its long-axis views, as [`read_nifti_study`]:
+/// views in other files, and single planes of another orientation in the SEG itself.
+pub fn read_dicom_seg_study(
+    bytes: &[u8],
+    views: &[(&str, &[u8])],
+    frame: Option<&FrameChoice>,
+) -> Result<ContourSet> {
     let read = seg::read_seg_volume(bytes, frame)?;
-    let mut set = read_volume_study(read.volume, &read.names, &[], frame)?;
+    let planes = read
+        .views
+        .into_iter()
+        .enumerate()
+        .map(|(n, v)| View::Plane(n + 1, Box::new(v)));
+    let views: Vec<View> = planes.chain(files_as_views(views)).collect();
+    let mut set = read_volume_study(read.volume, &read.names, views, frame)?;
     if read.aside > 0 {
         set.warnings.push(format!(
-            "{} of the DICOM SEG in another orientation or pixel spacing than the stack (a \
-             long-axis view?) set aside: the stack is the orientation most frames share",
+            "{} of the DICOM SEG in another orientation or pixel spacing than the stack, and on \
+             no single plane of their own, set aside: the stack is the orientation most frames \
+             share",
             if read.aside == 1 {
                 "1 frame".to_string()
             } else {
@@ -125,7 +176,7 @@ pub fn read_dicom_seg(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<Conto
 fn read_volume_study(
     volume: LabelVolume,
     names: &[(u16, String)],
-    views: &[(&str, &[u8])],
+    views: Vec<View>,
     frame: Option<&FrameChoice>,
 ) -> Result<ContourSet> {
     let labelled = &volume.labelled;
@@ -161,21 +212,34 @@ fn read_volume_study(
     }
     b.warn(reading);
     let mut view_notes = Vec::new();
-    // In name order (file names, not folders): the same files give the same contours, and so
-    // the same mesh, however they were listed.
-    let base = |name: &str| name.rsplit(['/', '\\']).next().unwrap_or(name).to_string();
-    let mut order: Vec<usize> = (0..views.len()).collect();
-    order.sort_by_key(|&n| (base(views[n].0), n));
-    for (n, (name, view_bytes)) in order.into_iter().map(|n| (n, views[n])) {
-        let id = view_id(name, n, views);
-        let (notes, left) = add_view(&mut b, &volume, &roles, &surfaces, name, &id, view_bytes)?;
+    let empty = views.is_empty();
+    let files: Vec<&str> = views
+        .iter()
+        .filter_map(|v| match v {
+            View::File(name, _) => Some(*name),
+            View::Plane(..) => None,
+        })
+        .collect();
+    for (n, view) in in_reading_order(views) {
+        let (shown, id, map) = match view {
+            View::Plane(k, map) => (format!("{k} of the DICOM SEG"), format!("view {k}"), *map),
+            View::File(name, bytes) => {
+                let shown = name.rsplit(['/', '\\']).next().unwrap_or(name).to_string();
+                (
+                    shown,
+                    view_id(name, n, &files),
+                    view_file(&volume, name, bytes)?,
+                )
+            }
+        };
+        let (notes, left) = add_view(&mut b, &volume, &roles, &surfaces, &shown, &id, map)?;
         specks += left;
         view_notes.extend(notes);
     }
     for note in view_notes {
         b.warn(note);
     }
-    if views.is_empty() && volume.dims[plan.axis] == 1 {
+    if empty && volume.dims[plan.axis] == 1 {
         b.warn(
             "the label map is a single slice (a long-axis view?): a surface needs a short-axis \
              stack; open the view together with its stack",
@@ -244,13 +308,62 @@ fn push_loops(
     Ok(())
 }
 
-/// A view's contour name: its file name without `.nii`/`.nii.gz` (and folders), numbered when
-/// two views share one.
-fn view_id(name: &str, n: usize, views: &[(&str, &[u8])]) -> String {
+/// A long-axis view to read with a stack.
+enum View<'a> {
+    /// A file: a single-slice label map of any format read ([`read_label_map`]), `(name, bytes)`.
+    File(&'a str, &'a [u8]),
+    /// Plane `n` (from 1) of another orientation in the stack's own DICOM SEG, already read.
+    Plane(usize, Box<LabelVolume>),
+}
+
+/// Views in the order they are read, each file with its index among the files: a SEG's own
+/// planes in the file's order, then the files in name order (file names, not folders), so that
+/// the same files give the same contours, and the same mesh, however they were listed.
+fn in_reading_order(views: Vec<View>) -> Vec<(usize, View)> {
+    let base = |name: &str| name.rsplit(['/', '\\']).next().unwrap_or(name).to_string();
+    let mut files = 0;
+    let mut out: Vec<(usize, View)> = views
+        .into_iter()
+        .map(|v| match v {
+            View::File(..) => {
+                files += 1;
+                (files - 1, v)
+            }
+            plane => (0, plane),
+        })
+        .collect();
+    out.sort_by_key(|(n, v)| match v {
+        View::Plane(k, _) => (0, String::new(), *k),
+        View::File(name, _) => (1, base(name), *n),
+    });
+    out
+}
+
+/// A long-axis view file's label map at the stack's time frame (a view of one frame goes with
+/// any frame of the stack), in the stack's world convention; errors name the file.
+fn view_file(stack: &LabelVolume, name: &str, bytes: &[u8]) -> Result<LabelVolume> {
+    let named = |e: crate::error::CoreError| match e {
+        crate::error::CoreError::Parse { line, message } => {
+            crate::error::CoreError::parse(line, format!("{name}: {message}"))
+        }
+        other => other,
+    };
+    let want = match label_map_grid(bytes) {
+        Some((_, frames)) if frames > 1 => FrameChoice::new(&stack.frame.to_string()),
+        _ => None,
+    };
+    let view = read_label_map(bytes, want.as_ref()).map_err(named)?;
+    views::single_slice_axis(&view, name)?;
+    Ok(view.turned_into(stack.space))
+}
+
+/// A view's contour name: its file name without `.nii`/`.nii.gz`/`.nrrd`/`.dcm` (and folders),
+/// numbered when two views share one.
+fn view_id(name: &str, n: usize, files: &[&str]) -> String {
     let stem = |name: &str| {
         let base = name.rsplit(['/', '\\']).next().unwrap_or(name);
         let lower = base.to_ascii_lowercase();
-        let cut = [".nii.gz", ".nii", ".gz"]
+        let cut = [".nii.gz", ".nii", ".gz", ".seg.nrrd", ".nrrd", ".dcm"]
             .into_iter()
             .find(|e| lower.ends_with(e))
             .map_or(0, str::len);
@@ -262,7 +375,7 @@ fn view_id(name: &str, n: usize, views: &[(&str, &[u8])]) -> String {
         }
     };
     let own = stem(name);
-    let same = views.iter().filter(|(v, _)| stem(v) == own).count();
+    let same = files.iter().filter(|v| stem(v) == own).count();
     if same > 1 {
         format!("{own} #{}", n + 1)
     } else {
@@ -279,26 +392,11 @@ fn add_view(
     stack: &LabelVolume,
     roles: &Roles,
     surfaces: &[(String, Vec<u16>)],
-    name: &str,
+    shown: &str,
     id: &str,
-    bytes: &[u8],
+    view: LabelVolume,
 ) -> Result<(Vec<String>, usize)> {
-    let shown = name.rsplit(['/', '\\']).next().unwrap_or(name);
-    let named = |e: crate::error::CoreError| match e {
-        crate::error::CoreError::Parse { line, message } => {
-            crate::error::CoreError::parse(line, format!("{name}: {message}"))
-        }
-        other => other,
-    };
-    let data = inflate(bytes).map_err(named)?;
-    let grid = volume::grid(&data);
-    // The stack's frame of a cine view; a view of one frame goes with any frame of the stack.
-    let want = match grid {
-        Some((_, frames)) if frames > 1 => FrameChoice::new(&stack.frame.to_string()),
-        _ => None,
-    };
-    let view = read_label_frame(&data, want.as_ref()).map_err(named)?;
-    let axis = views::single_slice_axis(&view, name)?;
+    let axis = views::single_slice_axis(&view, shown)?;
     if !view.labelled.contains(&view.frame) {
         return Ok((
             vec![format!(
@@ -705,7 +803,7 @@ mod tests {
             .contains("sa.nii and b.nii are both stacks"));
         assert!(text(&[("la.nii", &v), ("lb.nii", &v)]).contains("every file is a single slice"));
         assert!(text(&[("sa.nii", &stack), ("c.csv", b"contour,x,y,z\n")])
-            .contains("c.csv is not a NIfTI-1 label map"));
+            .contains("c.csv is not a label map (NIfTI-1, NRRD or DICOM SEG)"));
         // A stack's own damage is named too.
         let e = text(&[("sa.nii", &stack[..1000]), ("la.nii", &v)]);
         assert!(e.contains("sa.nii: the file is truncated"), "{e}");
@@ -719,7 +817,7 @@ mod tests {
             crate::io::read_contours_with("c.csv", b"contour,x,y,z\n1,0,0,0\n", &with).unwrap_err();
         assert!(
             e.to_string()
-                .contains("long-axis label maps are read with a NIfTI"),
+                .contains("long-axis label maps are read with a short-axis label map"),
             "{e}"
         );
     }

@@ -10,7 +10,7 @@
 
 use nifti::{Endianness, NiftiType};
 
-use super::volume::{err, only_frame, pick_frame, read_labels, value_width, LabelVolume};
+use super::volume::{err, only_frame, pick_frame, read_labels, value_width, LabelVolume, Space};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::io::gzip;
@@ -49,31 +49,7 @@ pub fn read_nrrd_volume(
     let kind = h.kind()?;
     let width = value_width(kind)?;
     let sizes = &h.sizes;
-    // Spatial axes: those with a space direction (all of them without `space directions`).
-    let spatial: Vec<usize> = (0..sizes.len())
-        .filter(|&a| h.directions.as_ref().is_none_or(|d| d[a].is_some()))
-        .collect();
-    if spatial.len() != 3 {
-        return Err(err(format!(
-            "the NRRD volume has {} spatial axes (sizes {}): a label map needs 3",
-            spatial.len(),
-            join(sizes)
-        )));
-    }
-    let extra: Vec<usize> = (0..sizes.len()).filter(|a| !spatial.contains(a)).collect();
-    let (layers, frames) = match extra[..] {
-        [] => (1, 1),
-        [0] => (sizes[0], 1),
-        [3] => (1, sizes[3]),
-        _ => {
-            return Err(err(format!(
-                "the NRRD volume's non-spatial axes ({:?} of sizes {}) are neither segment layers \
-                 (first axis) nor time frames (last axis)",
-                extra,
-                join(sizes)
-            )))
-        }
-    };
+    let (spatial, layers, frames) = h.shape()?;
     let grid = [sizes[spatial[0]], sizes[spatial[1]], sizes[spatial[2]]];
     let count = sizes
         .iter()
@@ -115,7 +91,21 @@ pub fn read_nrrd_volume(
         (picked, names)
     };
     let placed = h.placement(&spatial)?;
-    Ok((LabelVolume::of_frame(grid, placed, frames, picked), names))
+    let volume = LabelVolume::of_frame(grid, placed, frames, picked);
+    let volume = match h.space_convention() {
+        Some(space) => volume.in_space(space),
+        None => volume,
+    };
+    Ok((volume, names))
+}
+
+/// Voxels along the three spatial axes and the number of time frames of a NRRD label map, from
+/// its header alone (None: not a readable NRRD header).
+pub fn grid(bytes: &[u8]) -> Option<([usize; 3], usize)> {
+    let end = find_header_end(bytes).ok()?;
+    let h = Header::parse(std::str::from_utf8(&bytes[..end.0]).ok()?).ok()?;
+    let (spatial, _, frames) = h.shape().ok()?;
+    Some((spatial.map(|a| h.sizes[a]), frames))
 }
 
 /// Where the header's text ends and the data begin (the first empty line).
@@ -412,6 +402,48 @@ impl Header {
             })
             .take(1000)
             .collect()
+    }
+
+    /// The spatial axes (those with a space direction; all of them without `space directions`),
+    /// the segment layers (a first non-spatial axis) and the time frames (a last one).
+    fn shape(&self) -> Result<([usize; 3], usize, usize)> {
+        let sizes = &self.sizes;
+        let spatial: Vec<usize> = (0..sizes.len())
+            .filter(|&a| self.directions.as_ref().is_none_or(|d| d[a].is_some()))
+            .collect();
+        if spatial.len() != 3 {
+            return Err(err(format!(
+                "the NRRD volume has {} spatial axes (sizes {}): a label map needs 3",
+                spatial.len(),
+                join(sizes)
+            )));
+        }
+        let extra: Vec<usize> = (0..sizes.len()).filter(|a| !spatial.contains(a)).collect();
+        let (layers, frames) = match extra[..] {
+            [] => (1, 1),
+            [0] => (sizes[0], 1),
+            [3] => (1, sizes[3]),
+            _ => {
+                return Err(err(format!(
+                "the NRRD volume's non-spatial axes ({:?} of sizes {}) are neither segment layers \
+                     (first axis) nor time frames (last axis)",
+                extra,
+                join(sizes)
+            )))
+            }
+        };
+
+        Ok(([spatial[0], spatial[1], spatial[2]], layers, frames))
+    }
+
+    /// The convention of `space` (None: not one of the patient spaces).
+    fn space_convention(&self) -> Option<Space> {
+        match self.space.as_str() {
+            "left-posterior-superior" | "lps" => Some(Space::LPS),
+            "right-anterior-superior" | "ras" => Some(Space::RAS),
+            "left-anterior-superior" | "las" => Some(Space::LAS),
+            _ => None,
+        }
     }
 
     /// Origin and per-voxel axes (mm) of the spatial axes, and how they were given.

@@ -12,7 +12,7 @@
 //! rows + r row spacings along the columns, as for any DICOM image.
 
 use super::nrrd::SegmentNames;
-use super::volume::{err, LabelVolume};
+use super::volume::{err, LabelVolume, Space};
 use crate::error::Result;
 use crate::geometry::{v3, Vec3};
 use crate::io::dicom_read::{self, DataSet, Tag, Value};
@@ -42,6 +42,8 @@ mod tag {
     pub const SEGMENT_IDENTIFICATION: Tag = (0x0062, 0x000A);
     pub const REFERENCED_SEGMENT_NUMBER: Tag = (0x0062, 0x000B);
     pub const MAX_FRACTIONAL_VALUE: Tag = (0x0062, 0x000E);
+    pub const SEGMENTATION_TYPE: Tag = (0x0062, 0x0001);
+    pub const PIXEL_PADDING_VALUE: Tag = (0x0028, 0x0120);
     pub const SHARED_GROUPS: Tag = (0x5200, 0x9229);
     pub const PER_FRAME_GROUPS: Tag = (0x5200, 0x9230);
     pub const PIXEL_DATA: Tag = (0x7FE0, 0x0010);
@@ -60,6 +62,9 @@ mod tag {
 
 /// Segmentation Storage (PS3.4 B.5).
 pub const SEGMENTATION_STORAGE: &str = "1.2.840.10008.5.1.4.1.1.66.4";
+
+/// Label Map Segmentation Storage (DICOM 2024c, Supplement 243).
+pub const LABEL_MAP_SEGMENTATION_STORAGE: &str = "1.2.840.10008.5.1.4.1.1.66.7";
 
 /// Transfer syntaxes whose pixel data are raw little-endian bytes (implicit, explicit VR).
 const NATIVE_LITTLE: [&str; 2] = ["1.2.840.10008.1.2", "1.2.840.10008.1.2.1"];
@@ -83,7 +88,10 @@ pub fn is_seg(bytes: &[u8]) -> bool {
         return false;
     };
     set.text(tag::MODALITY).as_deref() == Some("SEG")
-        || set.text(tag::SOP_CLASS_UID).as_deref() == Some(SEGMENTATION_STORAGE)
+        || matches!(
+            set.text(tag::SOP_CLASS_UID).as_deref(),
+            Some(SEGMENTATION_STORAGE | LABEL_MAP_SEGMENTATION_STORAGE)
+        )
 }
 
 fn us(set: &DataSet, t: Tag) -> Option<u16> {
@@ -165,14 +173,45 @@ fn same_plane(a: &Plane, b: &Plane) -> bool {
         && (a.spacing[1] - b.spacing[1]).abs() < 1e-4 * a.spacing[1]
 }
 
-/// Whether pixel `p` of frame `f` is in its segment: one bit per pixel (bit 0 of each byte
-/// first, frames packed end to end with no padding: PS3.5 8.1.1), or a byte per pixel over half
-/// the maximum fractional value.
-fn pixel_set(data: &[u8], bits: u16, threshold: u16, index: usize) -> bool {
-    if bits == 1 {
-        data[index / 8] >> (index % 8) & 1 == 1
-    } else {
-        u16::from(data[index]) > threshold
+/// How the frames' pixels say which segment a pixel is in.
+#[derive(Clone, Copy)]
+enum Coding {
+    /// One bit per pixel (bit 0 of each byte first, frames packed end to end with no padding:
+    /// PS3.5 8.1.1), the frame's segment where set.
+    Binary,
+    /// A byte per pixel, the frame's segment over half the maximum fractional value.
+    Fractional { threshold: u16 },
+    /// LABELMAP (DICOM 2024c): a frame holds every segment of its plane, each pixel the number
+    /// of its segment (8 or 16 bits), 0 and the pixel padding value being background.
+    LabelMap { wide: bool, padding: Option<u16> },
+}
+
+impl Coding {
+    /// The segment pixel `index` (counted over all frames) is in, if any; `segment`: the frame's.
+    fn segment_at(self, data: &[u8], index: usize, segment: u16) -> Option<u16> {
+        let value = match self {
+            Coding::Binary => return (data[index / 8] >> (index % 8) & 1 == 1).then_some(segment),
+            Coding::Fractional { threshold } => {
+                return (u16::from(data[index]) > threshold).then_some(segment)
+            }
+            Coding::LabelMap { wide: false, .. } => u16::from(data[index]),
+            Coding::LabelMap { wide: true, .. } => {
+                u16::from_le_bytes([data[2 * index], data[2 * index + 1]])
+            }
+        };
+        match self {
+            Coding::LabelMap { padding, .. } if value != 0 && Some(value) != padding => Some(value),
+            _ => None,
+        }
+    }
+
+    /// Bytes of pixel data `pixels` pixels take.
+    fn bytes_for(self, pixels: usize) -> Option<usize> {
+        match self {
+            Coding::Binary => Some(pixels.div_ceil(8)),
+            Coding::Fractional { .. } | Coding::LabelMap { wide: false, .. } => Some(pixels),
+            Coding::LabelMap { wide: true, .. } => pixels.checked_mul(2),
+        }
     }
 }
 
@@ -184,8 +223,44 @@ pub struct SegRead {
     /// Pixels two segments claimed: each keeps the first frame's segment (a label map holds one
     /// label per voxel).
     pub overlaps: usize,
-    /// Frames in another orientation or pixel spacing than the stack's, not read.
+    /// Single planes in another orientation than the stack's (long-axis views segmented in the
+    /// same object), each a one-slice label map of the same time frame, in the file's order.
+    pub views: Vec<LabelVolume>,
+    /// Frames neither on the stack nor on a single plane of their own, not read.
     pub aside: usize,
+}
+
+/// Frames of one orientation laid on one grid.
+struct Group {
+    plane: Plane,
+    frames: Vec<Frame>,
+    /// Each frame's plane on the grid.
+    index: Vec<usize>,
+    origin: Vec3,
+    step: Vec3,
+    depth: usize,
+}
+
+/// Where every frame of a SEG goes, read from its header alone.
+struct Layout {
+    rows: usize,
+    cols: usize,
+    count: usize,
+    coding: Coding,
+    names: SegmentNames,
+    stack: Group,
+    views: Vec<Group>,
+    aside: usize,
+    /// TemporalPositionIndex values present, ascending: frame t of the file is `times[t]`.
+    times: Vec<u32>,
+}
+
+/// Voxels along i, j, k of a SEG's stack and its number of time frames, from its header alone
+/// (the bytes may stop where the pixel data begins); None when it is not a SEG that reads.
+pub fn grid(bytes: &[u8]) -> Option<([usize; 3], usize)> {
+    let set = dicom_read::read_header(bytes, &tag::SEQUENCES).ok()?;
+    let l = layout(&set).ok()?;
+    Some(([l.cols, l.rows, l.stack.depth], l.times.len()))
 }
 
 /// The label map of a SEG (time frame `want`: index from 0 in TemporalPositionIndex order; none:
@@ -193,34 +268,7 @@ pub struct SegRead {
 pub fn read_seg_volume(bytes: &[u8], want: Option<&FrameChoice>) -> Result<SegRead> {
     let set = dicom_read::read_file(bytes, &tag::SEQUENCES)
         .map_err(|e| err(format!("DICOM SEG: {e}")))?;
-    if let Some(ts) = set.text(tag::TRANSFER_SYNTAX) {
-        if !NATIVE_LITTLE.contains(&ts.as_str()) {
-            return Err(err(format!(
-                "DICOM SEG in transfer syntax {ts} (compressed or big endian): export it \
-                 uncompressed (explicit VR little endian)"
-            )));
-        }
-    }
-    let rows = us(&set, tag::ROWS).ok_or_else(|| err("DICOM SEG without Rows (0028,0010)"))?;
-    let cols =
-        us(&set, tag::COLUMNS).ok_or_else(|| err("DICOM SEG without Columns (0028,0011)"))?;
-    let (rows, cols) = (usize::from(rows), usize::from(cols));
-    let count = set
-        .text(tag::NUMBER_OF_FRAMES)
-        .and_then(|t| t.trim().parse::<usize>().ok())
-        .ok_or_else(|| err("DICOM SEG without NumberOfFrames (0028,0008)"))?;
-    let bits = us(&set, tag::BITS_ALLOCATED).unwrap_or(1);
-    if bits != 1 && bits != 8 {
-        return Err(err(format!(
-            "DICOM SEG with {bits} bits per pixel: a binary (1) or fractional (8) one is read"
-        )));
-    }
-    let threshold = us(&set, tag::MAX_FRACTIONAL_VALUE).unwrap_or(255) / 2;
-    if rows == 0 || cols == 0 || count == 0 {
-        return Err(err(format!(
-            "DICOM SEG of {count} frames of {cols} x {rows} pixels: nothing to read"
-        )));
-    }
+    let l = layout(&set)?;
     let data = match set.get(tag::PIXEL_DATA) {
         Some(Value::Bytes(b)) => *b,
         Some(_) => {
@@ -230,10 +278,10 @@ pub fn read_seg_volume(bytes: &[u8], want: Option<&FrameChoice>) -> Result<SegRe
         }
         None => return Err(err("DICOM SEG without pixel data (7FE0,0010)")),
     };
-    let pixels = rows * cols;
-    let needed = pixels
+    let (rows, cols, count) = (l.rows, l.cols, l.count);
+    let needed = (rows * cols)
         .checked_mul(count)
-        .map(|n| if bits == 1 { n.div_ceil(8) } else { n })
+        .and_then(|n| l.coding.bytes_for(n))
         .ok_or_else(|| err("DICOM SEG frames too large"))?;
     if data.len() < needed {
         return Err(err(format!(
@@ -242,7 +290,77 @@ pub fn read_seg_volume(bytes: &[u8], want: Option<&FrameChoice>) -> Result<SegRe
             data.len()
         )));
     }
+    let chosen = match want {
+        Some(w) => (0..l.times.len())
+            .find(|&t| w.matches(&t.to_string()))
+            .ok_or_else(|| {
+                err(format!(
+                    "no frame {} in the DICOM SEG (its time frames: 0 to {})",
+                    w.label(),
+                    l.times.len() - 1
+                ))
+            })?,
+        None => 0,
+    };
+    let paint = |g: &Group| paint(g, &l, chosen, data);
+    let (volume, overlaps) = paint(&l.stack);
+    let views = l.views.iter().map(|g| paint(g).0).collect();
+    Ok(SegRead {
+        volume,
+        names: l.names,
+        overlaps,
+        views,
+        aside: l.aside,
+    })
+}
 
+/// Where the SEG's frames go: the stack is the orientation most frames share; another
+/// orientation whose frames lie on one plane is a long-axis view; frames of any other are set
+/// aside.
+fn layout(set: &DataSet) -> Result<Layout> {
+    if let Some(ts) = set.text(tag::TRANSFER_SYNTAX) {
+        if !NATIVE_LITTLE.contains(&ts.as_str()) {
+            return Err(err(format!(
+                "DICOM SEG in transfer syntax {ts} (compressed or big endian): export it \
+                 uncompressed (explicit VR little endian)"
+            )));
+        }
+    }
+    let rows = us(set, tag::ROWS).ok_or_else(|| err("DICOM SEG without Rows (0028,0010)"))?;
+    let cols = us(set, tag::COLUMNS).ok_or_else(|| err("DICOM SEG without Columns (0028,0011)"))?;
+    let (rows, cols) = (usize::from(rows), usize::from(cols));
+    let count = set
+        .text(tag::NUMBER_OF_FRAMES)
+        .and_then(|t| t.trim().parse::<usize>().ok())
+        .ok_or_else(|| err("DICOM SEG without NumberOfFrames (0028,0008)"))?;
+    let bits = us(set, tag::BITS_ALLOCATED).unwrap_or(1);
+    let label_map = set.text(tag::SEGMENTATION_TYPE).as_deref() == Some("LABELMAP")
+        || set.text(tag::SOP_CLASS_UID).as_deref() == Some(LABEL_MAP_SEGMENTATION_STORAGE);
+    let coding = match (label_map, bits) {
+        (false, 1) => Coding::Binary,
+        (false, 8) => Coding::Fractional {
+            threshold: us(set, tag::MAX_FRACTIONAL_VALUE).unwrap_or(255) / 2,
+        },
+        (true, 8 | 16) => Coding::LabelMap {
+            wide: bits == 16,
+            padding: us(set, tag::PIXEL_PADDING_VALUE),
+        },
+        (false, _) => {
+            return Err(err(format!(
+                "DICOM SEG with {bits} bits per pixel: a binary (1) or fractional (8) one is read"
+            )))
+        }
+        (true, _) => {
+            return Err(err(format!(
+                "DICOM label map SEG with {bits} bits per pixel: 8 or 16 are read"
+            )))
+        }
+    };
+    if rows == 0 || cols == 0 || count == 0 {
+        return Err(err(format!(
+            "DICOM SEG of {count} frames of {cols} x {rows} pixels: nothing to read"
+        )));
+    }
     let names: SegmentNames = set
         .items(tag::SEGMENT_SEQUENCE)
         .iter()
@@ -259,122 +377,145 @@ pub fn read_seg_volume(bytes: &[u8], want: Option<&FrameChoice>) -> Result<SegRe
             per_frame.len()
         )));
     }
-    // The stack is the orientation most frames share; frames of another (a long-axis view
-    // segmented in the same object) are set aside, and said.
     let planes = per_frame
         .iter()
         .enumerate()
         .map(|(n, item)| plane_of(Some(item), shared, n + 1))
         .collect::<Result<Vec<Plane>>>()?;
-    let mut kinds: Vec<(Plane, usize)> = Vec::new();
-    for p in &planes {
+    // Frame numbers by orientation, the most shared first (the first met among equals).
+    let mut kinds: Vec<(Plane, Vec<usize>)> = Vec::new();
+    for (n, p) in planes.iter().enumerate() {
         match kinds.iter_mut().find(|(q, _)| same_plane(p, q)) {
-            Some((_, n)) => *n += 1,
-            None => kinds.push((*p, 1)),
+            Some((_, members)) => members.push(n),
+            None => kinds.push((*p, vec![n])),
         }
     }
-    let plane = kinds
-        .iter()
-        .fold(None::<(Plane, usize)>, |best, &(p, n)| match best {
-            Some((_, m)) if m >= n => best,
-            _ => Some((p, n)),
-        })
-        .map(|(p, _)| p)
+    kinds.sort_by_key(|(_, members)| std::cmp::Reverse(members.len()));
+    let mut kinds = kinds.into_iter();
+    let (plane, members) = kinds
+        .next()
         .ok_or_else(|| err("DICOM SEG without frames"))?;
-    let mut frames = Vec::with_capacity(count);
-    let mut aside = 0usize;
-    for (n, item) in per_frame.iter().enumerate() {
-        if !same_plane(&planes[n], &plane) {
-            aside += 1;
-            continue;
-        }
-        let position = group(Some(item), shared, tag::PLANE_POSITION)
-            .and_then(|g| g.numbers(tag::IMAGE_POSITION))
-            .and_then(|p| <[f64; 3]>::try_from(&p[..]).ok())
-            .ok_or_else(|| err(format!("frame {} has no ImagePositionPatient", n + 1)))?;
-        let segment = group(Some(item), shared, tag::SEGMENT_IDENTIFICATION)
-            .and_then(|g| us(g, tag::REFERENCED_SEGMENT_NUMBER))
-            .filter(|&s| s > 0)
-            .ok_or_else(|| err(format!("frame {} names no segment", n + 1)))?;
-        let time = group(Some(item), None, tag::FRAME_CONTENT)
-            .and_then(|g| ul(g, tag::TEMPORAL_POSITION_INDEX))
-            .unwrap_or(1);
-        frames.push(Frame {
-            number: n,
-            position: v3(position[0], position[1], position[2]),
-            segment,
-            time,
-        });
-    }
-
-    let normal = plane.row.cross(&plane.col).normalize();
-    let (index, origin, step) = stack(&frames, &normal, &plane, &set)?;
-    let depth = index.iter().max().map_or(1, |k| k + 1);
-    if depth > MAX_PLANES || pixels.saturating_mul(depth) > MAX_VOXELS {
+    let frames_of = |members: &[usize]| {
+        members
+            .iter()
+            .map(|&n| frame_of(n, &per_frame[n], shared, coding))
+            .collect::<Result<Vec<Frame>>>()
+    };
+    let stack = lay(plane, frames_of(&members)?, set)?;
+    let pixels = rows * cols;
+    if stack.depth > MAX_PLANES || pixels.saturating_mul(stack.depth) > MAX_VOXELS {
         return Err(err(format!(
-            "the DICOM SEG's planes span {depth} slices of {cols} x {rows} pixels: too large a \
-             label map"
+            "the DICOM SEG's planes span {} slices of {cols} x {rows} pixels: too large a label map",
+            stack.depth
         )));
     }
-    let times: Vec<u32> = {
-        let mut t: Vec<u32> = frames.iter().map(|f| f.time).collect();
-        t.sort_unstable();
-        t.dedup();
-        t
+    let mut views = Vec::new();
+    let mut aside = 0;
+    for (plane, members) in kinds {
+        match frames_of(&members).and_then(|f| lay(plane, f, set)) {
+            Ok(view) if view.depth == 1 => views.push(view),
+            _ => aside += members.len(),
+        }
+    }
+    let mut times: Vec<u32> = std::iter::once(&stack)
+        .chain(&views)
+        .flat_map(|g| g.frames.iter().map(|f| f.time))
+        .collect();
+    times.sort_unstable();
+    times.dedup();
+    Ok(Layout {
+        rows,
+        cols,
+        count,
+        coding,
+        names,
+        stack,
+        views,
+        aside,
+        times,
+    })
+}
+
+/// Frame `n`'s place (its per-frame functional groups `item`).
+fn frame_of(n: usize, item: &DataSet, shared: Option<&DataSet>, coding: Coding) -> Result<Frame> {
+    let position = group(Some(item), shared, tag::PLANE_POSITION)
+        .and_then(|g| g.numbers(tag::IMAGE_POSITION))
+        .and_then(|p| <[f64; 3]>::try_from(&p[..]).ok())
+        .ok_or_else(|| err(format!("frame {} has no ImagePositionPatient", n + 1)))?;
+    let segment = match coding {
+        // A label map's frame holds its plane's every segment.
+        Coding::LabelMap { .. } => 0,
+        _ => group(Some(item), shared, tag::SEGMENT_IDENTIFICATION)
+            .and_then(|g| us(g, tag::REFERENCED_SEGMENT_NUMBER))
+            .filter(|&s| s > 0)
+            .ok_or_else(|| err(format!("frame {} names no segment", n + 1)))?,
     };
-    let chosen = match want {
-        Some(w) => (0..times.len())
-            .find(|&t| w.matches(&t.to_string()))
-            .ok_or_else(|| {
-                err(format!(
-                    "no frame {} in the DICOM SEG (its time frames: 0 to {})",
-                    w.label(),
-                    times.len() - 1
-                ))
-            })?,
-        None => 0,
-    };
-    let mut labels = vec![0u16; pixels * depth];
-    let mut labelled = vec![false; times.len()];
+    let time = group(Some(item), None, tag::FRAME_CONTENT)
+        .and_then(|g| ul(g, tag::TEMPORAL_POSITION_INDEX))
+        .unwrap_or(1);
+    Ok(Frame {
+        number: n,
+        position: v3(position[0], position[1], position[2]),
+        segment,
+        time,
+    })
+}
+
+/// `frames` of one orientation laid on a grid ([`stack`]).
+fn lay(plane: Plane, frames: Vec<Frame>, set: &DataSet) -> Result<Group> {
+    let normal = plane.row.cross(&plane.col).normalize();
+    let (index, origin, step) = stack(&frames, &normal, &plane, set)?;
+    let depth = index.iter().max().map_or(1, |k| k + 1);
+    Ok(Group {
+        plane,
+        frames,
+        index,
+        origin,
+        step,
+        depth,
+    })
+}
+
+/// The label map of group `g` at time frame `chosen` (an index into `l.times`), and the pixels
+/// two segments claimed.
+fn paint(g: &Group, l: &Layout, chosen: usize, data: &[u8]) -> (LabelVolume, usize) {
+    let pixels = l.rows * l.cols;
+    let mut labels = vec![0u16; pixels * g.depth];
+    let mut labelled = vec![false; l.times.len()];
     let mut overlaps = 0usize;
-    for (n, f) in frames.iter().enumerate() {
-        let t = times.binary_search(&f.time).unwrap_or(0);
-        let k = index[n];
+    for (f, &k) in g.frames.iter().zip(&g.index) {
+        let t = l.times.binary_search(&f.time).unwrap_or(0);
         let first = f.number * pixels;
         for p in 0..pixels {
-            if !pixel_set(data, bits, threshold, first + p) {
+            let Some(segment) = l.coding.segment_at(data, first + p, f.segment) else {
                 continue;
-            }
+            };
             labelled[t] = true;
             if t != chosen {
                 continue;
             }
             let v = &mut labels[k * pixels + p];
             if *v == 0 {
-                *v = f.segment;
-            } else if *v != f.segment {
+                *v = segment;
+            } else if *v != segment {
                 overlaps += 1;
             }
         }
     }
-    let labelled: Vec<usize> = (0..times.len()).filter(|&t| labelled[t]).collect();
+    let labelled: Vec<usize> = (0..l.times.len()).filter(|&t| labelled[t]).collect();
     let axes = [
-        plane.row * plane.spacing[1],
-        plane.col * plane.spacing[0],
-        step,
+        g.plane.row * g.plane.spacing[1],
+        g.plane.col * g.plane.spacing[0],
+        g.step,
     ];
     let volume = LabelVolume::of_frame(
-        [cols, rows, depth],
-        (origin, axes, "frame positions (DICOM SEG, LPS)"),
-        times.len(),
+        [l.cols, l.rows, g.depth],
+        (g.origin, axes, "frame positions (DICOM SEG, LPS)"),
+        l.times.len(),
         (chosen, labels, labelled),
-    );
-    Ok(SegRead {
-        volume,
-        names,
-        overlaps,
-        aside,
-    })
+    )
+    .in_space(Space::LPS);
+    (volume, overlaps)
 }
 
 /// The grid's third axis: each frame's plane index (from the lowest plane along the normal, gaps

@@ -53,6 +53,31 @@ pub fn magic(bytes: &[u8]) -> Option<Magic> {
     }
 }
 
+/// Which way a label map's world axes point, as the signs that turn its coordinates into DICOM's
+/// LPS+ (+x towards the patient's left, +y posterior, +z superior). A study's files may come in
+/// different conventions (a NIfTI stack is RAS+, a DICOM SEG view of it LPS+): a view is turned
+/// into its stack's before their pixels are compared.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Space(pub [f64; 3]);
+
+impl Space {
+    /// DICOM's patient coordinates (SEG, RTSTRUCT), 3D Slicer's NRRD.
+    pub const LPS: Space = Space([1.0, 1.0, 1.0]);
+    /// NIfTI's world coordinates.
+    pub const RAS: Space = Space([-1.0, -1.0, 1.0]);
+    /// Some NRRD writers'.
+    pub const LAS: Space = Space([1.0, -1.0, 1.0]);
+
+    /// Signs that turn a point of `self` into one of `to` (each axis flipped or kept).
+    fn to(self, to: Space) -> Vec3 {
+        Vec3::new(
+            self.0[0] * to.0[0],
+            self.0[1] * to.0[1],
+            self.0[2] * to.0[2],
+        )
+    }
+}
+
 /// A label map: the grid, its placement and the labels of one time frame (a cine's other frames
 /// are only listed: holding every frame would multiply the memory a browser worker needs).
 #[derive(Debug, Clone)]
@@ -73,6 +98,8 @@ pub struct LabelVolume {
     pub labelled: Vec<usize>,
     /// The frame `labels` holds.
     pub frame: usize,
+    /// The convention of its world coordinates (None: the file does not say).
+    pub space: Option<Space>,
 }
 
 impl LabelVolume {
@@ -102,7 +129,30 @@ impl LabelVolume {
             frames,
             labelled,
             frame,
+            space: None,
         }
+    }
+
+    /// The same map said to be in `space`.
+    pub(super) fn in_space(self, space: Space) -> Self {
+        LabelVolume {
+            space: Some(space),
+            ..self
+        }
+    }
+
+    /// The same map with its world coordinates turned into `to`'s convention (unchanged when
+    /// either convention is unknown: the files are then taken to share one).
+    pub(super) fn turned_into(mut self, to: Option<Space>) -> Self {
+        if let (Some(from), Some(to)) = (self.space, to) {
+            let signs = from.to(to);
+            self.origin.component_mul_assign(&signs);
+            for axis in &mut self.axes {
+                axis.component_mul_assign(&signs);
+            }
+            self.space = Some(to);
+        }
+        self
     }
 
     /// World position (mm) of a point in voxel-index coordinates (centres at whole numbers).
@@ -217,7 +267,7 @@ pub fn read_label_frame(bytes: &[u8], want: Option<&FrameChoice>) -> Result<Labe
         |data| read_labels(data, kind, header.endianness, scale),
         want,
     )?;
-    Ok(LabelVolume::of_frame(grid, placed, frames, picked))
+    Ok(LabelVolume::of_frame(grid, placed, frames, picked).in_space(Space::RAS))
 }
 
 /// The only frame of a map holding one, as [`pick_frame`] would give it (frame 0, its labels,

@@ -57,46 +57,72 @@ fn ds(values: &[f64]) -> String {
 }
 
 /// How a test SEG is written.
-struct Spec {
-    /// 1 (binary) or 8 (fractional, 255 = inside).
+struct Spec<'a> {
+    /// 1 (binary), 8 (fractional, 255 = inside; a label map's bytes), 16 (a label map's).
     bits: u16,
     transfer_syntax: &'static str,
     /// SpacingBetweenSlices written (None: left out, as many writers do).
     spacing_between: Option<f64>,
-    /// The first frame written lies in another orientation (its own PlaneOrientationSequence): a
-    /// long-axis view segmented in the same object.
-    tilt_first: bool,
+    /// The first frames written lie in another orientation (their own PlaneOrientationSequence),
+    /// upright through the stack's rows: how many.
+    tilt_first: usize,
+    /// LABELMAP (DICOM 2024c): one frame per slice holding every label, pixel = label.
+    label_map: bool,
+    /// A single-slice map on another plane (same pixel grid size and spacing), its frames added
+    /// with their own PlaneOrientationSequence: a long-axis view segmented in the same object.
+    plane: Option<&'a LabelVolume>,
 }
 
-const BINARY: Spec = Spec {
+const BINARY: Spec<'static> = Spec {
     bits: 1,
     transfer_syntax: "1.2.840.10008.1.2.1",
     spacing_between: None,
-    tilt_first: false,
+    tilt_first: 0,
+    label_map: false,
+    plane: None,
 };
+
+/// Row and column directions of a map's planes, as ImageOrientationPatient.
+fn orientation(v: &LabelVolume) -> DataElement<InMemDicomObject> {
+    let (row, col) = (v.axes[0].normalize(), v.axes[1].normalize());
+    el(
+        0x0020,
+        0x0037,
+        VR::DS,
+        ds(&[row.x, row.y, row.z, col.x, col.y, col.z]),
+    )
+}
 
 /// A SEG of label maps on one grid, one per time frame (TemporalPositionIndex 1, 2, ...): a
 /// frame per slice and label present, none for empty ones, listed last slice first (the reader
-/// must not rely on their order).
+/// must not rely on their order); a label map's frames hold every label of their slice.
 fn write_seg(times: &[&LabelVolume], spec: &Spec) -> Vec<u8> {
     let v = times[0];
-    let [ni, nj, nk] = v.dims;
-    let row = v.axes[0].normalize();
-    let col = v.axes[1].normalize();
+    let [ni, nj, _] = v.dims;
     let spacing = [v.axes[1].norm(), v.axes[0].norm()];
     let mut per_frame = Vec::new();
-    let mut bits: Vec<bool> = Vec::new();
+    let mut values: Vec<u16> = Vec::new();
     let mut labels_seen = std::collections::BTreeSet::new();
-    for (t, vol) in times.iter().enumerate() {
-        for k in (0..nk).rev() {
+    let sources = times
+        .iter()
+        .enumerate()
+        .map(|(t, vol)| (t, *vol, false))
+        .chain(spec.plane.map(|p| (0, p, true)));
+    for (t, vol, own_plane) in sources {
+        for k in (0..vol.dims[2]).rev() {
             let slice = &vol.labels[ni * nj * k..ni * nj * (k + 1)];
             let mut present: Vec<u16> = slice.iter().copied().filter(|&l| l != 0).collect();
             present.sort_unstable();
             present.dedup();
-            for label in present {
-                labels_seen.insert(label);
-                let p = v.origin + v.axes[2] * k as f64;
-                per_frame.push(item(vec![
+            labels_seen.extend(present.iter().copied());
+            let frames: Vec<Option<u16>> = match (spec.label_map, present.is_empty()) {
+                (_, true) => Vec::new(),
+                (true, false) => vec![None],
+                (false, false) => present.into_iter().map(Some).collect(),
+            };
+            for label in frames {
+                let p = vol.origin + vol.axes[2] * k as f64;
+                let mut groups = vec![
                     seq(
                         0x0020,
                         0x9111,
@@ -107,19 +133,29 @@ fn write_seg(times: &[&LabelVolume], spec: &Spec) -> Vec<u8> {
                         0x9113,
                         vec![item(vec![el(0x0020, 0x0032, VR::DS, ds(&[p.x, p.y, p.z]))])],
                     ),
-                    seq(
+                ];
+                if let Some(label) = label {
+                    groups.push(seq(
                         0x0062,
                         0x000A,
                         vec![item(vec![el(0x0062, 0x000B, VR::US, label)])],
-                    ),
-                ]));
-                bits.extend(slice.iter().map(|&l| l == label));
+                    ));
+                }
+                if own_plane {
+                    groups.push(seq(0x0020, 0x9116, vec![item(vec![orientation(vol)])]));
+                }
+                per_frame.push(item(groups));
+                values.extend(slice.iter().map(|&l| match label {
+                    None => l,
+                    Some(label) => u16::from(l == label),
+                }));
             }
         }
     }
-    if spec.tilt_first {
+    for frame in per_frame.iter_mut().take(spec.tilt_first) {
+        let (row, col) = (v.axes[0].normalize(), v.axes[1].normalize());
         let n = row.cross(&col);
-        per_frame[0].put(seq(
+        frame.put(seq(
             0x0020,
             0x9116,
             vec![item(vec![el(
@@ -130,18 +166,25 @@ fn write_seg(times: &[&LabelVolume], spec: &Spec) -> Vec<u8> {
             )])],
         ));
     }
-    let pixels: Vec<u8> = if spec.bits == 1 {
-        let mut packed = vec![0u8; bits.len().div_ceil(8)];
-        for (n, _) in bits.iter().enumerate().filter(|(_, &b)| b) {
-            packed[n / 8] |= 1 << (n % 8);
+    let pixels: Vec<u8> = match spec.bits {
+        1 => {
+            let mut packed = vec![0u8; values.len().div_ceil(8)];
+            for (n, _) in values.iter().enumerate().filter(|(_, &b)| b != 0) {
+                packed[n / 8] |= 1 << (n % 8);
+            }
+            packed
         }
-        if packed.len() % 2 == 1 {
-            packed.push(0);
-        }
-        packed
-    } else {
-        bits.iter().map(|&b| if b { 255 } else { 0 }).collect()
+        8 if spec.label_map => values.iter().map(|&l| l as u8).collect(),
+        8 => values
+            .iter()
+            .map(|&b| if b != 0 { 255 } else { 0 })
+            .collect(),
+        _ => values.iter().flat_map(|l| l.to_le_bytes()).collect(),
     };
+    let mut pixels = pixels;
+    if pixels.len() % 2 == 1 {
+        pixels.push(0);
+    }
     let segments: Vec<InMemDicomObject> = labels_seen
         .iter()
         .map(|&l| {
@@ -151,8 +194,13 @@ fn write_seg(times: &[&LabelVolume], spec: &Spec) -> Vec<u8> {
             ])
         })
         .collect();
+    let (sop_class, kind) = match (spec.label_map, spec.bits) {
+        (true, _) => (LABEL_MAP_SEGMENTATION_STORAGE, "LABELMAP"),
+        (false, 1) => (SEGMENTATION_STORAGE, "BINARY"),
+        (false, _) => (SEGMENTATION_STORAGE, "FRACTIONAL"),
+    };
     let mut obj = InMemDicomObject::from_element_iter([
-        el(0x0008, 0x0016, VR::UI, SEGMENTATION_STORAGE),
+        el(0x0008, 0x0016, VR::UI, sop_class),
         el(0x0008, 0x0018, VR::UI, "1.2.826.0.1.3680043.10.1234.1"),
         el(0x0008, 0x0060, VR::CS, "SEG"),
         el(0x0028, 0x0002, VR::US, 1u16),
@@ -163,31 +211,13 @@ fn write_seg(times: &[&LabelVolume], spec: &Spec) -> Vec<u8> {
         el(0x0028, 0x0100, VR::US, spec.bits),
         el(0x0028, 0x0101, VR::US, spec.bits),
         el(0x0028, 0x0102, VR::US, spec.bits - 1),
-        el(
-            0x0062,
-            0x0001,
-            VR::CS,
-            if spec.bits == 1 {
-                "BINARY"
-            } else {
-                "FRACTIONAL"
-            },
-        ),
+        el(0x0062, 0x0001, VR::CS, kind),
         seq(0x0062, 0x0002, segments),
         seq(
             0x5200,
             0x9229,
             vec![item(vec![
-                seq(
-                    0x0020,
-                    0x9116,
-                    vec![item(vec![el(
-                        0x0020,
-                        0x0037,
-                        VR::DS,
-                        ds(&[row.x, row.y, row.z, col.x, col.y, col.z]),
-                    )])],
-                ),
+                seq(0x0020, 0x9116, vec![item(vec![orientation(v)])]),
                 seq(
                     0x0028,
                     0x9110,
@@ -209,14 +239,14 @@ fn write_seg(times: &[&LabelVolume], spec: &Spec) -> Vec<u8> {
         seq(0x5200, 0x9230, per_frame),
         el(0x7FE0, 0x0010, VR::OB, PrimitiveValue::U8(pixels.into())),
     ]);
-    if spec.bits == 8 {
+    if spec.bits == 8 && !spec.label_map {
         obj.put(el(0x0062, 0x000E, VR::US, 255u16));
     }
     let file = obj
         .with_meta(
             FileMetaTableBuilder::new()
                 .transfer_syntax(spec.transfer_syntax)
-                .media_storage_sop_class_uid(SEGMENTATION_STORAGE)
+                .media_storage_sop_class_uid(sop_class)
                 .media_storage_sop_instance_uid("1.2.826.0.1.3680043.10.1234.1"),
         )
         .unwrap();
@@ -280,13 +310,15 @@ fn a_seg_reads_as_the_label_map_it_was_written_from() {
             bits: 8,
             transfer_syntax: "1.2.840.10008.1.2.1",
             spacing_between: Some(10.0),
-            tilt_first: false,
+            tilt_first: 0,
+            ..BINARY
         },
         Spec {
             bits: 1,
             transfer_syntax: "1.2.840.10008.1.2",
             spacing_between: None,
-            tilt_first: false,
+            tilt_first: 0,
+            ..BINARY
         },
         // The slice thickness written where the spacing belongs (8 mm; the planes are 10 apart):
         // the planes' own gaps win.
@@ -294,7 +326,8 @@ fn a_seg_reads_as_the_label_map_it_was_written_from() {
             bits: 1,
             transfer_syntax: "1.2.840.10008.1.2.1",
             spacing_between: Some(8.0),
-            tilt_first: false,
+            tilt_first: 0,
+            ..BINARY
         },
     ] {
         let bytes = write_seg(&[&v], &spec);
@@ -350,7 +383,8 @@ fn segs_that_are_no_stack_or_are_cut_are_refused_with_the_reason() {
             bits: 1,
             transfer_syntax: "1.2.840.10008.1.2.5",
             spacing_between: None,
-            tilt_first: false,
+            tilt_first: 0,
+            ..BINARY
         },
     );
     assert!(
@@ -394,7 +428,26 @@ fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
 #[test]
 fn mutated_segs_never_panic() {
     let v = crop(&sample(), 10, 37, 10, 29);
-    let good = write_seg(&[&v], &BINARY);
+    // Binary, a 16-bit label map, and one with a plane of another orientation (a view).
+    let view = upright_view(&v, 14, 10.0);
+    let seeds = [
+        write_seg(&[&v], &BINARY),
+        write_seg(
+            &[&v],
+            &Spec {
+                bits: 16,
+                label_map: true,
+                ..BINARY
+            },
+        ),
+        write_seg(
+            &[&v],
+            &Spec {
+                plane: Some(&view),
+                ..BINARY
+            },
+        ),
+    ];
     let mut rng = 0x2545_f491_4f6c_dd1du64;
     let mut next = || {
         rng ^= rng << 13;
@@ -402,9 +455,9 @@ fn mutated_segs_never_panic() {
         rng ^= rng << 17;
         rng
     };
-    for n in 0..400 {
-        let mut b = good.clone();
-        match n % 3 {
+    for n in 0..600 {
+        let mut b = seeds[n % seeds.len()].clone();
+        match (n / seeds.len()) % 3 {
             0 => {
                 for _ in 0..4 {
                     let at = (next() as usize) % b.len();
@@ -420,29 +473,63 @@ fn mutated_segs_never_panic() {
         }
         let _ = read_dicom_seg(&b, None);
         let _ = read_dicom_seg(&b, FrameChoice::new("1").as_ref());
+        let _ = super::grid(&b);
     }
 }
 
 #[test]
-fn frames_of_another_orientation_are_set_aside_and_said() {
+fn a_lone_plane_of_another_orientation_is_a_view_frames_on_no_one_plane_are_set_aside() {
     let v = crop(&sample(), 0, 90, 0, 90);
-    let bytes = write_seg(
-        &[&v],
-        &Spec {
-            tilt_first: true,
-            ..BINARY
-        },
-    );
-    let set = read_dicom_seg(&bytes, None).unwrap();
+    let tilted = |n: usize| {
+        write_seg(
+            &[&v],
+            &Spec {
+                tilt_first: n,
+                ..BINARY
+            },
+        )
+    };
+    // The first frame written (the top slice's lowest label) turned upright: a plane of its own.
+    let read = read_seg_volume(&tilted(1), None).unwrap();
+    assert_eq!((read.views.len(), read.aside), (1, 0));
+    assert_eq!(read.views[0].dims, [90, 90, 1]);
+    assert_eq!(read.views[0].space, Some(Space::LPS));
+    // The first 4 (the top slice's labels and the next slice's): upright planes through two
+    // slices' positions, which lie in one upright plane, offset in it: no grid, set aside.
+    let read = read_seg_volume(&tilted(4), None).unwrap();
+    assert_eq!((read.views.len(), read.aside), (0, 4));
+    let set = read_dicom_seg(&tilted(4), None).unwrap();
     assert!(
         set.warnings.iter().any(|w| w.starts_with(
-            "1 frame of the DICOM SEG in another orientation or pixel spacing than the stack"
+            "4 frames of the DICOM SEG in another orientation or pixel spacing than the stack, \
+             and on no single plane of their own, set aside"
         )),
         "{:?}",
         set.warnings
     );
-    // The frame set aside is the first written: the top slice's lowest label. Without it, the
-    // rest is the label map with that slice's label cleared.
+}
+
+#[test]
+fn the_stack_is_read_without_the_frames_of_another_orientation() {
+    let v = crop(&sample(), 0, 90, 0, 90);
+    let bytes = write_seg(
+        &[&v],
+        &Spec {
+            tilt_first: 1,
+            ..BINARY
+        },
+    );
+    let mut set = read_dicom_seg(&bytes, None).unwrap();
+    assert!(
+        set.warnings
+            .iter()
+            .any(|w| w.starts_with("long-axis view 1 of the DICOM SEG")),
+        "{:?}",
+        set.warnings
+    );
+    set.contours.retain(|c| !c.id.starts_with("view"));
+    // The frame read as a view is the first written: the top slice's lowest label. Without it,
+    // the stack is the label map with that slice's label cleared.
     let [ni, nj, nk] = v.dims;
     let top = (0..nk)
         .rev()
@@ -464,4 +551,218 @@ fn frames_of_another_orientation_are_set_aside_and_said() {
         *l = 0;
     }
     assert_same_points(&set, &as_nifti(&without));
+}
+
+#[test]
+fn label_map_segs_read_as_the_map_they_hold() {
+    // DICOM 2024c's LABELMAP: one frame per slice, each pixel its segment's number.
+    let v = crop(&sample(), 5, 91, 3, 87);
+    let nifti = as_nifti(&v);
+    for bits in [8, 16] {
+        let bytes = write_seg(
+            &[&v],
+            &Spec {
+                bits,
+                label_map: true,
+                ..BINARY
+            },
+        );
+        assert!(is_seg(&bytes));
+        let seg = read_dicom_seg(&bytes, None).unwrap();
+        assert_same_points(&seg, &nifti);
+        assert!(
+            seg.warnings[0].contains("segments 1 structure 1"),
+            "{:?}",
+            seg.warnings
+        );
+    }
+    // The pixel padding value is background: label 2 written as padding reads as absent.
+    let mut bytes = write_seg(
+        &[&v],
+        &Spec {
+            bits: 8,
+            label_map: true,
+            ..BINARY
+        },
+    );
+    // (0028,0120) US 2, after (0028,0102) HighBit.
+    let at = find(&bytes, b"\x28\x00\x02\x01US").unwrap() + 10;
+    let padding = [0x28, 0x00, 0x20, 0x01, b'U', b'S', 2, 0, 2, 0];
+    bytes.splice(at..at, padding);
+    let mut without = v.clone();
+    for l in without.labels.iter_mut().filter(|l| **l == 2) {
+        *l = 0;
+    }
+    let seg = read_seg_volume(&bytes, None).unwrap();
+    let differ: Vec<(u16, u16)> = seg
+        .volume
+        .labels
+        .iter()
+        .zip(&without.labels)
+        .filter(|(a, b)| a != b)
+        .map(|(a, b)| (*a, *b))
+        .take(5)
+        .collect();
+    assert!(differ.is_empty(), "{differ:?}");
+    assert!(without.labels.contains(&3));
+    // Other depths are refused with the reason.
+    let mut wide = write_seg(
+        &[&v],
+        &Spec {
+            bits: 16,
+            label_map: true,
+            ..BINARY
+        },
+    );
+    let at = find(&wide, b"\x28\x00\x00\x01US").unwrap();
+    wide[at + 8] = 32;
+    let e = read_dicom_seg(&wide, None).unwrap_err().to_string();
+    assert!(e.contains("label map SEG with 32 bits per pixel"), "{e}");
+}
+
+/// A single-slice map on the upright plane through `v`'s row `j` (the stack's rows and its
+/// long axis, the same pixel spacing, starting `below` mm under the lowest slice): each pixel
+/// the label of the stack voxel it lies in, as a long-axis view segmented on the same heart.
+fn upright_view(v: &LabelVolume, j: usize, below: f64) -> LabelVolume {
+    let [ni, nj, nk] = v.dims;
+    let up = v.axes[2].normalize();
+    let axes = [v.axes[0], up * v.axes[1].norm(), -v.axes[1].normalize()];
+    let origin = v.origin + v.axes[1] * j as f64 - up * below;
+    let inverse = nalgebra::Matrix3::from_columns(&v.axes)
+        .try_inverse()
+        .unwrap();
+    let mut labels = vec![0u16; ni * nj];
+    for r in 0..nj {
+        for c in 0..ni {
+            let p = origin + axes[0] * c as f64 + axes[1] * r as f64;
+            let ijk = inverse * (p - v.origin);
+            let at = ijk.map(f64::round);
+            if (0..3).all(|a| at[a] >= 0.0 && at[a] < [ni, nj, nk][a] as f64) {
+                let (i, j, k) = (at[0] as usize, at[1] as usize, at[2] as usize);
+                labels[c + ni * r] = v.labels[i + ni * (j + nj * k)];
+            }
+        }
+    }
+    LabelVolume::new([ni, nj, 1], origin, axes, labels)
+}
+
+/// The sample cropped, and the row through the most LV cavity (3).
+fn stack_and_row() -> (LabelVolume, usize) {
+    let v = crop(&sample(), 0, 90, 0, 90);
+    let [ni, nj, _] = v.dims;
+    let row = (0..nj)
+        .max_by_key(|&j| {
+            v.labels
+                .iter()
+                .enumerate()
+                .filter(|(n, &l)| l == 3 && (n / ni) % nj == j)
+                .count()
+        })
+        .unwrap();
+    (v, row)
+}
+
+/// `v` said to be NIfTI's RAS and turned into DICOM's LPS (x and y negated).
+fn as_lps(v: &LabelVolume) -> LabelVolume {
+    v.clone().in_space(Space::RAS).turned_into(Some(Space::LPS))
+}
+
+#[test]
+fn a_plane_of_another_orientation_in_the_seg_is_read_as_a_long_axis_view() {
+    let (v, row) = stack_and_row();
+    let view = upright_view(&v, row, 10.0);
+    let bytes = write_seg(
+        &[&v],
+        &Spec {
+            plane: Some(&view),
+            ..BINARY
+        },
+    );
+    let mut set = read_dicom_seg(&bytes, None).unwrap();
+    let note = set
+        .warnings
+        .iter()
+        .find(|w| w.starts_with("long-axis view 1 of the DICOM SEG read as "))
+        .unwrap_or_else(|| panic!("{:?}", set.warnings));
+    // The view's labels lie on the stack's own: each matched to itself, 2 curves at least (LV
+    // cavity, and cavity with myocardium).
+    assert!(
+        note.contains("3 LV cavity (") && note.contains("2 myocardium ("),
+        "{note}"
+    );
+    let normal = view.axes[2].normalize();
+    let on_view: Vec<_> = set
+        .contours
+        .iter()
+        .filter(|c| c.id.starts_with("view 1"))
+        .collect();
+    let ids: Vec<&str> = set.contours.iter().map(|c| c.id.as_str()).collect();
+    assert!(on_view.len() >= 2, "{note} {ids:?}");
+    for c in &on_view {
+        for p in c.points() {
+            assert!((p - view.origin).dot(&normal).abs() < 1e-3, "{}", c.id);
+        }
+    }
+    // Without them, the stack is the map's own.
+    set.contours.retain(|c| !c.id.starts_with("view 1"));
+    assert_same_points(&set, &as_nifti(&v));
+}
+
+#[test]
+fn views_and_stacks_of_different_formats_meet_in_the_stack_s_coordinates() {
+    use crate::io::{read_study, ContourOptions};
+    let (v, row) = stack_and_row();
+    let view = upright_view(&v, row, 10.0);
+    // NIfTI (RAS) files of both, and DICOM SEGs (LPS) of both: the same anatomy.
+    let nifti_stack = write_nifti(&v, false);
+    let nifti_view = write_nifti(&view, true);
+    let seg_stack = write_seg(&[&as_lps(&v)], &BINARY);
+    let seg_view = write_seg(&[&as_lps(&view)], &BINARY);
+    let study = |files: &[(&str, &[u8])]| {
+        let (stack, set) = read_study(files, &ContourOptions::default()).unwrap();
+        assert!(files[stack].0.starts_with("sa"));
+        set
+    };
+    let all_nifti = study(&[("la.nii.gz", &nifti_view), ("sa.nii", &nifti_stack)]);
+    let views = |s: &ContourSet| {
+        s.contours
+            .iter()
+            .filter(|c| c.id.starts_with("la "))
+            .count()
+    };
+    let ids: Vec<&str> = all_nifti.contours.iter().map(|c| c.id.as_str()).collect();
+    assert!(views(&all_nifti) >= 2, "{ids:?}");
+    // In LPS: the NIfTI study's points with x and y negated.
+    let mut in_lps = all_nifti.clone();
+    for p in in_lps
+        .contours
+        .iter_mut()
+        .flat_map(|c| &mut c.pieces)
+        .flat_map(|p| &mut p.points)
+    {
+        *p = Vec3::new(-p.x, -p.y, p.z);
+    }
+    for (files, lps) in [
+        (
+            vec![("sa.dcm", &seg_stack[..]), ("la.dcm", &seg_view[..])],
+            true,
+        ),
+        (
+            vec![("la.nii.gz", &nifti_view[..]), ("sa.dcm", &seg_stack[..])],
+            true,
+        ),
+        (
+            vec![("sa.nii", &nifti_stack[..]), ("la.dcm", &seg_view[..])],
+            false,
+        ),
+    ] {
+        let set = study(&files);
+        assert_eq!(
+            views(&set),
+            views(&all_nifti),
+            "{files:?}: {:?}",
+            set.warnings
+        );
+        assert_same_points(&set, if lps { &in_lps } else { &all_nifti });
+    }
 }
