@@ -69,15 +69,16 @@ pub fn label_map_grid(bytes: &[u8]) -> Option<([usize; 3], usize)> {
     }
 }
 
-/// The label map of a file of any format read, at time frame `want`, in its own world
-/// coordinates (a SEG's: its stack's).
-fn read_label_map(bytes: &[u8], want: Option<&FrameChoice>) -> Result<LabelVolume> {
+/// The label maps of a file of any format read, at time frame `want`, in its own world
+/// coordinates: one, or a SEG's stack and its planes of other orientations.
+fn read_label_maps(bytes: &[u8], want: Option<&FrameChoice>) -> Result<Vec<LabelVolume>> {
     if is_nrrd(bytes) {
-        nrrd::read_nrrd_volume(bytes, want).map(|(v, _)| v)
+        nrrd::read_nrrd_volume(bytes, want).map(|(v, _)| vec![v])
     } else if is_dicom_seg(bytes) {
-        seg::read_seg_volume(bytes, want).map(|r| r.volume)
+        seg::read_seg_volume(bytes, want)
+            .map(|r| std::iter::once(r.volume).chain(r.views).collect())
     } else {
-        read_label_frame(&inflate(bytes)?, want)
+        read_label_frame(&inflate(bytes)?, want).map(|v| vec![v])
     }
 }
 
@@ -221,20 +222,33 @@ fn read_volume_study(
         })
         .collect();
     for (n, view) in in_reading_order(views) {
-        let (shown, id, map) = match view {
-            View::Plane(k, map) => (format!("{k} of the DICOM SEG"), format!("view {k}"), *map),
+        let maps = match view {
+            View::Plane(k, map) => {
+                vec![(format!("{k} of the DICOM SEG"), format!("view {k}"), *map)]
+            }
             View::File(name, bytes) => {
                 let shown = name.rsplit(['/', '\\']).next().unwrap_or(name).to_string();
-                (
-                    shown,
-                    view_id(name, n, &files),
-                    view_file(&volume, name, bytes)?,
-                )
+                let id = view_id(name, n, &files);
+                let maps = view_file(&volume, name, bytes)?;
+                // A SEG of several long-axis planes (a view per orientation): each a view.
+                let many = maps.len() > 1;
+                (maps.into_iter().enumerate())
+                    .map(|(k, map)| match many {
+                        true => (
+                            format!("{shown} plane {}", k + 1),
+                            format!("{id} plane {}", k + 1),
+                            map,
+                        ),
+                        false => (shown.clone(), id.clone(), map),
+                    })
+                    .collect()
             }
         };
-        let (notes, left) = add_view(&mut b, &volume, &roles, &surfaces, &shown, &id, map)?;
-        specks += left;
-        view_notes.extend(notes);
+        for (shown, id, map) in maps {
+            let (notes, left) = add_view(&mut b, &volume, &roles, &surfaces, &shown, &id, map)?;
+            specks += left;
+            view_notes.extend(notes);
+        }
     }
     for note in view_notes {
         b.warn(note);
@@ -310,7 +324,7 @@ fn push_loops(
 
 /// A long-axis view to read with a stack.
 enum View<'a> {
-    /// A file: a single-slice label map of any format read ([`read_label_map`]), `(name, bytes)`.
+    /// A file: a single-slice label map of any format read ([`read_label_maps`]), `(name, bytes)`.
     File(&'a str, &'a [u8]),
     /// Plane `n` (from 1) of another orientation in the stack's own DICOM SEG, already read.
     Plane(usize, Box<LabelVolume>),
@@ -339,9 +353,10 @@ fn in_reading_order(views: Vec<View>) -> Vec<(usize, View)> {
     out
 }
 
-/// A long-axis view file's label map at the stack's time frame (a view of one frame goes with
-/// any frame of the stack), in the stack's world convention; errors name the file.
-fn view_file(stack: &LabelVolume, name: &str, bytes: &[u8]) -> Result<LabelVolume> {
+/// A long-axis view file's label maps (one; a SEG's: one per plane) at the stack's time frame (a
+/// view of one frame goes with any frame of the stack), in the stack's world convention; errors
+/// name the file.
+fn view_file(stack: &LabelVolume, name: &str, bytes: &[u8]) -> Result<Vec<LabelVolume>> {
     let named = |e: crate::error::CoreError| match e {
         crate::error::CoreError::Parse { line, message } => {
             crate::error::CoreError::parse(line, format!("{name}: {message}"))
@@ -352,9 +367,13 @@ fn view_file(stack: &LabelVolume, name: &str, bytes: &[u8]) -> Result<LabelVolum
         Some((_, frames)) if frames > 1 => FrameChoice::new(&stack.frame.to_string()),
         _ => None,
     };
-    let view = read_label_map(bytes, want.as_ref()).map_err(named)?;
-    views::single_slice_axis(&view, name)?;
-    Ok(view.turned_into(stack.space))
+    let maps = read_label_maps(bytes, want.as_ref()).map_err(named)?;
+    maps.into_iter()
+        .map(|view| {
+            views::single_slice_axis(&view, name)?;
+            Ok(view.turned_into(stack.space))
+        })
+        .collect()
 }
 
 /// A view's contour name: its file name without `.nii`/`.nii.gz`/`.nrrd`/`.dcm` (and folders),

@@ -624,10 +624,21 @@ fn label_map_segs_read_as_the_map_they_hold() {
 /// long axis, the same pixel spacing, starting `below` mm under the lowest slice): each pixel
 /// the label of the stack voxel it lies in, as a long-axis view segmented on the same heart.
 fn upright_view(v: &LabelVolume, j: usize, below: f64) -> LabelVolume {
+    upright_view_along(v, 0, j, below)
+}
+
+/// [`upright_view`] along the stack's rows (`along` 0) or columns (1), through row or column
+/// `at` of the other; the stack must be square in plane.
+fn upright_view_along(v: &LabelVolume, along: usize, at: usize, below: f64) -> LabelVolume {
     let [ni, nj, nk] = v.dims;
+    let across = 1 - along;
     let up = v.axes[2].normalize();
-    let axes = [v.axes[0], up * v.axes[1].norm(), -v.axes[1].normalize()];
-    let origin = v.origin + v.axes[1] * j as f64 - up * below;
+    let axes = [
+        v.axes[along],
+        up * v.axes[across].norm(),
+        -v.axes[across].normalize(),
+    ];
+    let origin = v.origin + v.axes[across] * at as f64 - up * below;
     let inverse = nalgebra::Matrix3::from_columns(&v.axes)
         .try_inverse()
         .unwrap();
@@ -766,3 +777,55 @@ fn views_and_stacks_of_different_formats_meet_in_the_stack_s_coordinates() {
         assert_same_points(&set, if lps { &in_lps } else { &all_nifti });
     }
 }
+
+#[test]
+fn a_seg_of_long_axis_planes_only_gives_a_view_per_plane() {
+    use crate::io::{read_study, ContourOptions};
+    let (v, row) = stack_and_row();
+    // The column through the most LV cavity too.
+    let [ni, _, _] = v.dims;
+    let column = (0..ni)
+        .max_by_key(|&i| {
+            (v.labels.iter().enumerate())
+                .filter(|(n, &l)| l == 3 && n % ni == i)
+                .count()
+        })
+        .unwrap();
+    let (a, b) = (
+        upright_view_along(&v, 0, row, 10.0),
+        upright_view_along(&v, 1, column, 10.0),
+    );
+    // One SEG holding both planes, no short-axis frame (as a service segmenting the long-axis
+    // series writes them), against the two as NIfTI views.
+    let views_seg = write_seg(
+        &[&as_lps(&a)],
+        &Spec {
+            plane: Some(&as_lps(&b)),
+            ..BINARY
+        },
+    );
+    assert_eq!(super::grid(&views_seg).map(|g| g.0[2]), Some(1));
+    let stack = write_nifti(&v, false);
+    let (na, nb) = (write_nifti(&a, false), write_nifti(&b, false));
+    let read = |files: &[(&str, &[u8])]| read_study(files, &ContourOptions::default()).unwrap().1;
+    let from_seg = read(&[("la.dcm", &views_seg), ("sa.nii", &stack)]);
+    let from_nifti = read(&[("sa.nii", &stack), ("a.nii", &na), ("b.nii", &nb)]);
+    for plane in ["la plane 1", "la plane 2"] {
+        let curves = from_seg
+            .contours
+            .iter()
+            .filter(|c| c.id.starts_with(plane))
+            .count();
+        assert!(curves >= 2, "{plane}: {:?}", from_seg.warnings);
+    }
+    assert!(
+        from_seg
+            .warnings
+            .iter()
+            .any(|w| w.starts_with("long-axis view la.dcm plane 2 read as ")),
+        "{:?}",
+        from_seg.warnings
+    );
+    assert_same_points(&from_seg, &from_nifti);
+}
+
