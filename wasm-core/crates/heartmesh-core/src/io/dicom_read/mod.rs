@@ -13,6 +13,8 @@
 //! when it fits in what is left of its enclosing item, sequence or file, at every nesting level,
 //! so memory stays proportional to the input whatever the bytes say.
 
+pub mod rle;
+
 use crate::error::{CoreError, Result};
 
 /// (group, element).
@@ -45,8 +47,9 @@ pub enum Value<'a> {
     Bytes(&'a [u8]),
     /// A sequence of items, each a data set.
     Items(Vec<DataSet<'a>>),
-    /// Skipped content of undefined length that is not a data set (encapsulated pixel data).
-    Fragments,
+    /// Content of undefined length that is not a data set: encapsulated pixel data, its items'
+    /// bytes in order (the first the basic offset table, possibly empty; then the fragments).
+    Fragments(Vec<&'a [u8]>),
 }
 
 /// The elements of one data set, in file order.
@@ -345,10 +348,7 @@ impl<'a> Reader<'a, '_> {
                 (b"UN", true) => {
                     Value::Items(self.items(end, None, Encoding::ImplicitLittle, depth + 1)?)
                 }
-                _ => {
-                    self.fragments(end, enc)?;
-                    Value::Fragments
-                }
+                _ => Value::Fragments(self.fragments(end, enc)?),
             };
             return Ok((tag, value));
         }
@@ -412,8 +412,9 @@ impl<'a> Reader<'a, '_> {
         }
     }
 
-    /// Skips encapsulated pixel data: items of raw fragments up to the sequence delimiter.
-    fn fragments(&mut self, end: usize, enc: Encoding) -> Result<()> {
+    /// Encapsulated pixel data: items of raw fragments up to the sequence delimiter.
+    fn fragments(&mut self, end: usize, enc: Encoding) -> Result<Vec<&'a [u8]>> {
+        let mut items = Vec::new();
         loop {
             let at = self.pos;
             let tag = self.tag(end, enc)?;
@@ -421,9 +422,9 @@ impl<'a> Reader<'a, '_> {
             match tag {
                 ITEM if len != UNDEFINED => {
                     let len = self.fits(tag, len, end)?;
-                    self.pos += len;
+                    items.push(self.take(len, end)?);
                 }
-                SEQUENCE_END if len == 0 => return Ok(()),
+                SEQUENCE_END if len == 0 => return Ok(items),
                 _ => {
                     return Err(fail(
                         at,

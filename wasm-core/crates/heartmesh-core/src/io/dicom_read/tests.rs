@@ -110,7 +110,10 @@ fn nested_sequences_fragments_and_un_are_read() {
     assert!(contours[1].elements.is_empty());
     let un = set.items((0x0009, 0x1010));
     assert_eq!(un[0].text((0x0010, 0x0010)).as_deref(), Some("Doe"));
-    assert_eq!(set.get((0x7FE0, 0x0010)), Some(&Value::Fragments));
+    assert_eq!(
+        set.get((0x7FE0, 0x0010)),
+        Some(&Value::Fragments(vec![&[][..], &[0xAA; 6][..]]))
+    );
     // The element after the pixel data is found: every byte was accounted for.
     assert_eq!(set.text((0x0020, 0x0013)).as_deref(), Some("42"));
     // Without the preamble, and as a bare data set starting at "DICM".

@@ -15,8 +15,9 @@ use super::nrrd::SegmentNames;
 use super::volume::{err, LabelVolume, Space};
 use crate::error::Result;
 use crate::geometry::{v3, Vec3};
-use crate::io::dicom_read::{self, DataSet, Tag, Value};
+use crate::io::dicom_read::{self, rle, DataSet, Tag, Value};
 use crate::io::FrameChoice;
+use std::borrow::Cow;
 
 mod tag {
     use super::Tag;
@@ -269,15 +270,18 @@ pub fn read_seg_volume(bytes: &[u8], want: Option<&FrameChoice>) -> Result<SegRe
     let set = dicom_read::read_file(bytes, &tag::SEQUENCES)
         .map_err(|e| err(format!("DICOM SEG: {e}")))?;
     let l = layout(&set)?;
-    let data = match set.get(tag::PIXEL_DATA) {
-        Some(Value::Bytes(b)) => *b,
+    let rle = set.text(tag::TRANSFER_SYNTAX).as_deref() == Some(rle::RLE_LOSSLESS);
+    let data: Cow<[u8]> = match set.get(tag::PIXEL_DATA) {
+        Some(Value::Bytes(b)) if !rle => Cow::Borrowed(*b),
+        Some(Value::Fragments(items)) if rle => Cow::Owned(decode_rle(items, &l)?),
         Some(_) => {
             return Err(err(
-                "DICOM SEG with compressed pixel data: export it uncompressed",
+                "DICOM SEG with compressed pixel data other than RLE: export it uncompressed",
             ))
         }
         None => return Err(err("DICOM SEG without pixel data (7FE0,0010)")),
     };
+    let data = &data[..];
     let (rows, cols, count) = (l.rows, l.cols, l.count);
     let needed = (rows * cols)
         .checked_mul(count)
@@ -314,15 +318,57 @@ pub fn read_seg_volume(bytes: &[u8], want: Option<&FrameChoice>) -> Result<SegRe
     })
 }
 
+/// The frames of an RLE SEG (`items`: the basic offset table, then one fragment per frame, as
+/// PS3.5 A.4.2 has it) as native pixel data: a binary SEG's frames packed end to end, bit after
+/// bit, as an uncompressed one stores them (each RLE frame starts on a byte of its own).
+fn decode_rle(items: &[&[u8]], l: &Layout) -> Result<Vec<u8>> {
+    let frames = items.get(1..).unwrap_or_default();
+    if frames.len() != l.count {
+        return Err(err(format!(
+            "the RLE DICOM SEG holds {} pixel data fragments for {} frames (one each expected)",
+            frames.len(),
+            l.count
+        )));
+    }
+    let pixels = l.rows * l.cols;
+    let (segments, length) = match l.coding {
+        Coding::Binary => (1, pixels.div_ceil(8)),
+        Coding::Fractional { .. } | Coding::LabelMap { wide: false, .. } => (1, pixels),
+        Coding::LabelMap { wide: true, .. } => (2, pixels),
+    };
+    let total = (pixels.checked_mul(l.count))
+        .and_then(|n| l.coding.bytes_for(n))
+        .filter(|&n| n <= MAX_VOXELS.saturating_mul(2))
+        .ok_or_else(|| err("DICOM SEG frames too large"))?;
+    let mut out = vec![0u8; total];
+    for (f, fragment) in frames.iter().enumerate() {
+        let frame = rle::decode_frame(fragment, segments, length)
+            .map_err(|e| err(format!("frame {} of the DICOM SEG: {e}", f + 1)))?;
+        match l.coding {
+            Coding::Binary => {
+                for p in (0..pixels).filter(|p| frame[p / 8] >> (p % 8) & 1 == 1) {
+                    let bit = f * pixels + p;
+                    out[bit / 8] |= 1 << (bit % 8);
+                }
+            }
+            _ => {
+                let size = frame.len();
+                out[f * size..(f + 1) * size].copy_from_slice(&frame);
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// Where the SEG's frames go: the stack is the orientation most frames share; another
 /// orientation whose frames lie on one plane is a long-axis view; frames of any other are set
 /// aside.
 fn layout(set: &DataSet) -> Result<Layout> {
     if let Some(ts) = set.text(tag::TRANSFER_SYNTAX) {
-        if !NATIVE_LITTLE.contains(&ts.as_str()) {
+        if !NATIVE_LITTLE.contains(&ts.as_str()) && ts != rle::RLE_LOSSLESS {
             return Err(err(format!(
-                "DICOM SEG in transfer syntax {ts} (compressed or big endian): export it \
-                 uncompressed (explicit VR little endian)"
+                "DICOM SEG in transfer syntax {ts} (compressed other than RLE, or big endian): \
+                 export it uncompressed (explicit VR little endian)"
             )));
         }
     }

@@ -2,8 +2,9 @@ use super::super::volume::read_label_frame;
 use super::super::{read_dicom_seg, read_nifti, write::write_nifti};
 use super::*;
 use crate::contours::ContourSet;
+use crate::io::dicom_read::rle::{self, tests::frame as rle_frame, tests::pack as rle_pack};
 use crate::io::gzip::inflate;
-use dicom_core::value::DataSetSequence;
+use dicom_core::value::{DataSetSequence, PixelFragmentSequence, Value as DValue};
 use dicom_core::{DataElement, PrimitiveValue, Tag as DTag, VR};
 use dicom_object::{FileMetaTableBuilder, InMemDicomObject};
 
@@ -166,25 +167,53 @@ fn write_seg(times: &[&LabelVolume], spec: &Spec) -> Vec<u8> {
             )])],
         ));
     }
-    let pixels: Vec<u8> = match spec.bits {
-        1 => {
-            let mut packed = vec![0u8; values.len().div_ceil(8)];
-            for (n, _) in values.iter().enumerate().filter(|(_, &b)| b != 0) {
-                packed[n / 8] |= 1 << (n % 8);
+    // Native pixel data of `values`, bit after bit for a binary SEG.
+    let native = |values: &[u16]| -> Vec<u8> {
+        match spec.bits {
+            1 => {
+                let mut packed = vec![0u8; values.len().div_ceil(8)];
+                for (n, _) in values.iter().enumerate().filter(|(_, &b)| b != 0) {
+                    packed[n / 8] |= 1 << (n % 8);
+                }
+                packed
             }
-            packed
+            8 if spec.label_map => values.iter().map(|&l| l as u8).collect(),
+            8 => values
+                .iter()
+                .map(|&b| if b != 0 { 255 } else { 0 })
+                .collect(),
+            _ => values.iter().flat_map(|l| l.to_le_bytes()).collect(),
         }
-        8 if spec.label_map => values.iter().map(|&l| l as u8).collect(),
-        8 => values
-            .iter()
-            .map(|&b| if b != 0 { 255 } else { 0 })
-            .collect(),
-        _ => values.iter().flat_map(|l| l.to_le_bytes()).collect(),
     };
-    let mut pixels = pixels;
-    if pixels.len() % 2 == 1 {
-        pixels.push(0);
-    }
+    let pixel_data = if spec.transfer_syntax == rle::RLE_LOSSLESS {
+        // One fragment per frame, each its own bytes (a binary frame starts on a byte).
+        let fragments: Vec<Vec<u8>> = values
+            .chunks(ni * nj)
+            .map(|frame| {
+                let bytes = native(frame);
+                let segments = match spec.bits {
+                    16 => vec![
+                        rle_pack(&bytes.iter().skip(1).step_by(2).copied().collect::<Vec<_>>()),
+                        rle_pack(&bytes.iter().step_by(2).copied().collect::<Vec<_>>()),
+                    ],
+                    _ => vec![rle_pack(&bytes)],
+                };
+                let mut f = rle_frame(&segments);
+                if f.len() % 2 == 1 {
+                    f.push(0);
+                }
+                f
+            })
+            .collect();
+        let sequence = PixelFragmentSequence::new(Vec::<u32>::new(), fragments);
+        DataElement::new(DTag(0x7FE0, 0x0010), VR::OB, DValue::from(sequence))
+    } else {
+        let mut pixels = native(&values);
+        if pixels.len() % 2 == 1 {
+            pixels.push(0);
+        }
+        el(0x7FE0, 0x0010, VR::OB, PrimitiveValue::U8(pixels.into()))
+    };
     let segments: Vec<InMemDicomObject> = labels_seen
         .iter()
         .map(|&l| {
@@ -237,7 +266,7 @@ fn write_seg(times: &[&LabelVolume], spec: &Spec) -> Vec<u8> {
             ])],
         ),
         seq(0x5200, 0x9230, per_frame),
-        el(0x7FE0, 0x0010, VR::OB, PrimitiveValue::U8(pixels.into())),
+        pixel_data,
     ]);
     if spec.bits == 8 && !spec.label_map {
         obj.put(el(0x0062, 0x000E, VR::US, 255u16));
@@ -376,12 +405,12 @@ fn segs_that_are_no_stack_or_are_cut_are_refused_with_the_reason() {
     // Cut inside the pixel data.
     let e = reason(&good[..good.len() - 200]);
     assert!(e.contains("truncated") || e.contains("DICOM"), "{e}");
-    // A compressed transfer syntax (the header says so; the reader does not decode JPEG or RLE).
+    // A compressed transfer syntax other than RLE (the header says so; JPEG is not decoded).
     let rle = write_seg(
         &[&v],
         &Spec {
             bits: 1,
-            transfer_syntax: "1.2.840.10008.1.2.5",
+            transfer_syntax: "1.2.840.10008.1.2.4.50",
             spacing_between: None,
             tilt_first: 0,
             ..BINARY
@@ -428,10 +457,20 @@ fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
 #[test]
 fn mutated_segs_never_panic() {
     let v = crop(&sample(), 10, 37, 10, 29);
-    // Binary, a 16-bit label map, and one with a plane of another orientation (a view).
+    // Binary, a 16-bit label map, one with a plane of another orientation (a view), and an RLE
+    // label map.
     let view = upright_view(&v, 14, 10.0);
     let seeds = [
         write_seg(&[&v], &BINARY),
+        write_seg(
+            &[&v],
+            &Spec {
+                bits: 16,
+                label_map: true,
+                transfer_syntax: rle::RLE_LOSSLESS,
+                ..BINARY
+            },
+        ),
         write_seg(
             &[&v],
             &Spec {
@@ -455,7 +494,7 @@ fn mutated_segs_never_panic() {
         rng ^= rng << 17;
         rng
     };
-    for n in 0..600 {
+    for n in 0..800 {
         let mut b = seeds[n % seeds.len()].clone();
         match (n / seeds.len()) % 3 {
             0 => {
@@ -829,3 +868,49 @@ fn a_seg_of_long_axis_planes_only_gives_a_view_per_plane() {
     assert_same_points(&from_seg, &from_nifti);
 }
 
+#[test]
+fn rle_segs_read_as_the_map_they_hold() {
+    // RLE Lossless, as dcmjs (OHIF) writes every SEG by default: binary frames each starting on
+    // a byte of their own (91 x 87 pixels: not a whole number of bytes), fractional ones, and
+    // label maps of 8 and 16 bits (two byte segments per frame).
+    let v = crop(&sample(), 5, 91, 3, 87);
+    let nifti = as_nifti(&v);
+    for (bits, label_map) in [(1, false), (8, false), (8, true), (16, true)] {
+        let bytes = write_seg(
+            &[&v],
+            &Spec {
+                bits,
+                label_map,
+                transfer_syntax: rle::RLE_LOSSLESS,
+                ..BINARY
+            },
+        );
+        let seg = read_dicom_seg(&bytes, None).unwrap_or_else(|e| panic!("{bits} bits: {e}"));
+        assert_same_points(&seg, &nifti);
+        // The header alone gives the grid, as for an uncompressed SEG.
+        assert_eq!(super::grid(&bytes).map(|g| g.0), Some([91, 87, 8]));
+    }
+    // A frame whose fragment is cut: refused, naming the frame.
+    let bytes = write_seg(
+        &[&v],
+        &Spec {
+            transfer_syntax: rle::RLE_LOSSLESS,
+            ..BINARY
+        },
+    );
+    let set = crate::io::dicom_read::read_file(&bytes, &[]).unwrap();
+    let Some(Value::Fragments(items)) = set.get(tag::PIXEL_DATA) else {
+        panic!("no fragments")
+    };
+    assert_eq!(items.len(), 1 + 21);
+    let first = items[1];
+    let at = find(&bytes, first).unwrap();
+    let mut cut = bytes.clone();
+    // Its first segment's offset pointed past the fragment's end.
+    cut[at + 4..at + 8].copy_from_slice(&60_000u32.to_le_bytes());
+    let e = read_dicom_seg(&cut, None).unwrap_err().to_string();
+    assert!(
+        e.contains("frame 1 of the DICOM SEG: RLE segment 1 lies at"),
+        "{e}"
+    );
+}
