@@ -10,14 +10,13 @@
 // study's folder dropped on the page opens the stack with its views.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { dirname, join, resolve } from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { join } from 'node:path';
 import { zipSync } from 'fflate';
 import { dropPaths, gotoEmpty, runAndWait, SHOTS, waitForError } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
-import { cineName, cineOf, makeStudy, STACK, VIEW_CURVES, VIEWS } from './laxViews.mjs';
+import { cineName, cineOf, DICOM_SEG, dicomSegBytes, makeStudy, STACK, VIEW_CURVES, VIEWS } from './laxViews.mjs';
 import { cliReport } from '../node/helpers.mjs';
 
 let app;
@@ -25,8 +24,6 @@ let page;
 const pageErrors = [];
 appForFile({ onPageError: (m) => pageErrors.push(m) }, (a) => ({ page } = app = a));
 const study = makeStudy();
-/** The core's DICOM SEG fixture: the same stack as seg.nii.gz, in DICOM's LPS (scripts/seg_fixture.py). */
-const DICOM_SEG = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..', 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'spasm-seg.dcm');
 
 /** The run on screen: surface, closed or not, contour-to-mesh mean and max, volume, mesh size, LAX curves' means. */
 const current = () => page.evaluate(() => {
@@ -222,7 +219,7 @@ describe('NIfTI long-axis views with their stack', () => {
     await page.mouse.move(0, 0);
     await page.screenshot({ path: join(SHOTS, 'seg-with-nifti-views.png') });
     // The same files in a ZIP archive: the SEG kept whole (its pixels are its label map), the same mesh.
-    const members = { [`study/${seg}`]: new Uint8Array(readFileSync(DICOM_SEG)) };
+    const members = { [`study/${seg}`]: dicomSegBytes() };
     for (const v of VIEWS) members[`study/${v}`] = study.bytes[v];
     const zipPath = join(mkdtempSync(join(tmpdir(), 'heartmesh-segzip-')), 'study.zip');
     writeFileSync(zipPath, zipSync(members));

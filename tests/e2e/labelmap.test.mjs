@@ -14,15 +14,12 @@
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { download, gotoEmpty, ROOT, runAndWait, waitForError, SHOTS } from './lib.mjs';
+import { download, gotoEmpty, runAndWait, waitForError, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
-import { makeSlicerSegmentation } from './laxViews.mjs';
+import { DICOM_SEG, makeSlicerSegmentation } from './laxViews.mjs';
 import {
   CINE_NAME, cineCounts, cineLabelMap, damagedSample, imageLikeSample, SAMPLE_NAME, SAMPLE_PATH, SAMPLE_READING, sampleBytes,
 } from './labelMaps.mjs';
-
-/** The core's DICOM SEG fixture: the example written as a SEG (scripts/seg_fixture.py). */
-const DICOM_SEG = join(ROOT, 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'spasm-seg.dcm');
 
 let app;
 let page;

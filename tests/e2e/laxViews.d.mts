@@ -1,5 +1,7 @@
 // Types of laxViews.mjs for the TypeScript tests.
 export const STACK: string;
+export const DICOM_SEG: string;
+export function dicomSegBytes(): Uint8Array;
 export const VIEWS: string[];
 export const VIEW_CURVES: Record<string, number>;
 export function makeStudy(): { dir: string; paths: Record<string, string>; bytes: Record<string, Uint8Array> };

@@ -17,6 +17,10 @@ const ROOT = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const CLI = join(ROOT, 'wasm-core', 'target', 'release', 'heartmesh');
 
 export const STACK = 'seg.nii.gz';
+/** The core's DICOM SEG fixture: this study's stack (the app's example) in DICOM's LPS (scripts/seg_fixture.py). */
+export const DICOM_SEG = join(ROOT, 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'spasm-seg.dcm');
+/** The DICOM SEG fixture's bytes. */
+export const dicomSegBytes = () => new Uint8Array(readFileSync(DICOM_SEG));
 export const VIEWS = ['seg_lax1.nii.gz', 'seg_lax2.nii.gz', 'seg_lax3.nii.gz'];
 /** Long-axis curves each surface gets from the three views (seg_lax1, a 2-chamber view, has no RV). */
 export const VIEW_CURVES = { LV_ENDO: 3, LV_EPI: 3, RV_ENDO: 2 };

@@ -12,14 +12,8 @@ import { DEFAULT_OPTIONS, type LoadedFile, type RunResult, type ViewFile } from 
 import { framePicker } from '../../web/src/app/timeFrames';
 import { cliReport, loadWasm } from './helpers.mjs';
 import { askingCore, type Ask } from './askCore';
-import { cineName, cineOf, makeSlicerSegmentation, makeStudy, STACK, VIEW_CURVES, VIEWS } from '../e2e/laxViews.mjs';
-import { readFileSync } from 'node:fs';
-import { dirname, join } from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { cineName, cineOf, dicomSegBytes, makeSlicerSegmentation, makeStudy, STACK, VIEW_CURVES, VIEWS } from '../e2e/laxViews.mjs';
 import { pixelDataOffset } from '../../web/src/io/dicomHeaders';
-
-/** The core's DICOM SEG fixture: the example stack (seg.nii.gz's) in DICOM's LPS. */
-const DICOM_SEG = join(dirname(fileURLToPath(import.meta.url)), '..', '..', 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'spasm-seg.dcm');
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
 let wasm: Wasm;
@@ -105,11 +99,11 @@ describe('long-axis views with their stack through the worker', () => {
     // A DICOM SEG of the same stack (the core's fixture), from the whole file and from its header
     // alone (the bytes before its pixel data: what the app reads of a DICOM file first): the 8
     // labelled slices (a SEG has no frames for the empty end slices); a NRRD's from its header.
-    const seg = new Uint8Array(readFileSync(DICOM_SEG));
+    const seg = dicomSegBytes();
     expect(await grid(seg)).toEqual({ dims: [100, 108, 8], frames: 1 });
     expect(await grid(seg.slice(0, pixelDataOffset(seg, seg.length)))).toEqual({ dims: [100, 108, 8], frames: 1 });
     const nrrd = makeSlicerSegmentation().bytes;
-    const headerEnd = Buffer.from(nrrd).indexOf('\n\n') + 2;
+    const headerEnd = nrrd.findIndex((b, i) => b === 0x0a && nrrd[i + 1] === 0x0a) + 2;
     expect(headerEnd).toBeGreaterThan(100);
     expect(await grid(nrrd.slice(0, headerEnd))).toEqual({ dims: [100, 108, 10], frames: 1 });
   });
