@@ -10,14 +10,17 @@
 // study's folder dropped on the page opens the stack with its views.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdtempSync, writeFileSync } from 'node:fs';
+import { copyFileSync, mkdirSync, mkdtempSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { zipSync } from 'fflate';
-import { dropPaths, gotoEmpty, runAndWait, SHOTS, waitForError } from './lib.mjs';
+import { dropPaths, gotoEmpty, ROOT, runAndWait, SHOTS, waitForError } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 import { cineName, cineOf, DICOM_SEG, dicomSegBytes, makeStudy, STACK, VIEW_CURVES, VIEWS } from './laxViews.mjs';
 import { cliReport } from '../node/helpers.mjs';
+
+/** An MR cine image (the cvi42 fixture's). */
+const IMAGE = join(ROOT, 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'cvi42-patient1', 'dicom', 'IM_01_00.dcm');
 
 let app;
 let page;
@@ -229,4 +232,27 @@ describe('NIfTI long-axis views with their stack', () => {
     assert.equal(z.volumeMl, r.volumeMl);
     assert.deepEqual(pageErrors, []);
   });
+
+  it('a PACS export\'s folder dropped: its segmentation named by a UID opens with the views beside it, its images are not read', async () => {
+    // A folder as a PACS hands studies out: files named by their SOP Instance UID or IM00000n,
+    // without extensions: the SEG, an MR image, and the NIfTI views.
+    const dir = join(mkdtempSync(join(tmpdir(), 'heartmesh-pacs-')), 'export');
+    mkdirSync(dir);
+    const uid = '1.2.826.0.1.3680043.8.498.10492';
+    writeFileSync(join(dir, uid), dicomSegBytes());
+    copyFileSync(IMAGE, join(dir, 'IM000001'));
+    for (const v of VIEWS) writeFileSync(join(dir, v), study.bytes[v]);
+    await dropPaths(page, [dir]);
+    const { file, lax } = await laxCurves();
+    assert.equal(file, uid);
+    assert.deepEqual(lax, VIEW_CURVES);
+    // The image was looked into, not opened: counted (no refusal of it), the study read as chosen.
+    assert.equal(await banner(), '1 other file in the dropped folder was not read (not a contour file, or past the first 200 files).');
+    assert.equal((await notes()).length, 4);
+    const r = await current();
+    console.log(`# PACS folder: ${r.surface} ${r.volumeMl.toFixed(1)} ml, ${r.lax.length} LAX curves`);
+    assert.ok(r.watertight && r.lax.length === VIEW_CURVES[r.surface], JSON.stringify(r));
+    assert.deepEqual(pageErrors, []);
+  });
 });
+

@@ -4,7 +4,7 @@
 import { describe, expect, it } from 'vitest';
 import { cvi42Study, isWorkspaceName } from '../../web/src/io/cvi42Study';
 import { FIRST_SLICE, headerSlice, imageHeaders, imageNames, looksDicom, pixelDataOffset } from '../../web/src/io/dicomHeaders';
-import { filesOfEntries, filesOfPickedFolder, pathInFolder, selectFolderFiles, STUDY_FILE_LIMIT, type EntryLike } from '../../web/src/io/folderDrop';
+import { filesOfEntries, filesOfPickedFolder, nameless, pathInFolder, selectFolderFiles, STUDY_FILE_LIMIT, type EntryLike } from '../../web/src/io/folderDrop';
 import { fileEntry, folderEntry } from './fakeEntries';
 import { lostText, skippedText } from '../../web/src/app/fileNames';
 
@@ -106,7 +106,39 @@ describe('a cvi42 study folder', () => {
     const biv = filesOfPickedFolder([inFolder('p/GPFile_000.txt'), inFolder('p/IM_1'), inFolder('p/SliceInfoFile.txt')]);
     expect(biv.study).toBe(false);
     expect(biv.kept.map((f) => f.name)).toEqual(['GPFile_000.txt', 'SliceInfoFile.txt']);
-    expect(biv.skipped).toBe(1);
+    // IM_1's name says nothing: looked into before it is opened or counted.
+    expect(biv.unnamed.map((f) => f.name)).toEqual(['IM_1']);
+    expect(biv.skipped).toBe(0);
+  });
+
+  it('opens the DICOM segmentations among a folder\'s nameless files (a PACS export), not its images', async () => {
+    const ascii = (t: string) => new TextEncoder().encode(t);
+    /** A DICOM file: preamble, magic, its SOP Class UID (even length), then 4 bytes of pixel data. */
+    const dicom = (sopClass: string) => {
+      const uid = ascii(sopClass.length % 2 ? `${sopClass}\0` : sopClass);
+      const element = new Uint8Array(8 + uid.length);
+      element.set([0x08, 0x00, 0x16, 0x00, 0x55, 0x49, uid.length, 0]);
+      element.set(uid, 8);
+      const pixels = new Uint8Array([0xe0, 0x7f, 0x10, 0x00, 0x4f, 0x42, 0, 0, 4, 0, 0, 0, 1, 2, 3, 4]);
+      const out = new Uint8Array(132 + element.length + pixels.length);
+      out.set(ascii('DICM'), 128);
+      out.set(element, 132);
+      out.set(pixels, 132 + element.length);
+      return out;
+    };
+    const withBytes = (name: string, bytes: Uint8Array): EntryLike => ({ isFile: true, isDirectory: false, name, file: (ok) => ok(new File([bytes.slice()], name)) });
+    const exported = folder('export', [
+      withBytes('1.2.826.0.1.3680043.8.498.1', dicom('1.2.840.10008.5.1.4.1.1.66.4')), // a SEG named by its UID
+      withBytes('IM000001', dicom('1.2.840.10008.5.1.4.1.1.4')), // an MR image
+      withBytes('SEG2', dicom('1.2.840.10008.5.1.4.1.1.66.7')), // a label map SEG
+      file('notes'), // not DICOM
+      file('report.pdf'), // a kind not read
+    ]);
+    const { files, skipped, study } = await filesOfEntries([exported]);
+    expect(study).toBe(false);
+    expect(files.map((f) => f.name)).toEqual(['1.2.826.0.1.3680043.8.498.1', 'SEG2']);
+    expect(skipped).toBe(3);
+    expect(nameless('IM000001') && nameless('1.2.3.44') && !nameless('a.pdf') && !nameless('x.dcm')).toBe(true);
   });
 });
 

@@ -17,8 +17,8 @@ import { distinctName, fileIdentity, lostText, renamedText, skippedText } from '
 import { archivesText, asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
 import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
 import { cvi42Study, NEEDS_IMAGES, type Cvi42Study } from '../io/cvi42Study';
-import { headerSlice, imageHeaders, isSegmentationHeader, looksDicom } from '../io/dicomHeaders';
-import { filesOfPickedFolder, pathInFolder } from '../io/folderDrop';
+import { imageHeaders, isSegmentationFile, looksDicom } from '../io/dicomHeaders';
+import { filesOfPickedFolder, pathInFolder, withSegmentations } from '../io/folderDrop';
 import { expandArchives } from '../io/zipArchive';
 import type { Parts } from './parts';
 import type { Speed } from './playback';
@@ -310,8 +310,8 @@ export class Controller {
   }
 
   /** Opens the files under a picked folder, as a dropped folder's (io/folderDrop.ts chooses which). */
-  openFolder(picked: File[]): Promise<void> {
-    const { kept, skipped } = filesOfPickedFolder(picked, undefined, this.waitsForImages);
+  async openFolder(picked: File[]): Promise<void> {
+    const { kept, skipped } = await withSegmentations(filesOfPickedFolder(picked, undefined, this.waitsForImages), async (f) => f);
     return this.openFiles(kept, skipped);
   }
 
@@ -396,8 +396,7 @@ export class Controller {
   private async mayBeLabelMapFile(file: File): Promise<boolean> {
     const head = await file.slice(0, LABEL_MAP_HEAD).arrayBuffer();
     if (!mayBeLabelMap(head)) return false;
-    if (!looksDicom(new Uint8Array(head))) return true;
-    return isSegmentationHeader(new Uint8Array(await headerSlice(file)));
+    return !looksDicom(new Uint8Array(head)) || isSegmentationFile(file);
   }
 
   /** A file's bytes read when it is loaded (null: refused, it could no longer be read). */

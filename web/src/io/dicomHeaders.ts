@@ -49,6 +49,15 @@ export function isSegmentationHeader(header: Uint8Array): boolean {
   });
 }
 
+/**
+ * Whether a file is a DICOM segmentation (a label map), told from its first bytes and, for a
+ * DICOM file, its header: an image's pixels are never read for this.
+ */
+export async function isSegmentationFile(file: Blob): Promise<boolean> {
+  const head = new Uint8Array(await file.slice(0, 132).arrayBuffer());
+  return looksDicom(head) && isSegmentationHeader(new Uint8Array(await headerSlice(file)));
+}
+
 /** The value representations the pixel data element is written with (explicit VR). */
 const PIXEL_VRS = new Set(['OB', 'OW', 'OF', 'OD', 'OL', 'OV', 'UN']);
 

@@ -9,6 +9,7 @@
  */
 import { ACCEPT } from './FileBar';
 import { isWorkspaceName } from './cvi42Study';
+import { isSegmentationFile } from './dicomHeaders';
 
 /** The parts of a `FileSystemEntry` the walk uses (an interface, so tests can hand in their own). */
 export interface EntryLike {
@@ -33,6 +34,12 @@ const MAX_DEPTH = 3;
  */
 export const STUDY_FILE_LIMIT = 4000;
 const STUDY_DEPTH = 6;
+/**
+ * Files of a folder whose names say nothing (a PACS export's `IM000001`, or a SOP Instance UID)
+ * looked into at most: each may be a DICOM segmentation, which is read (its header tells; an
+ * image's pixels are not read). Past this many they are counted as not read.
+ */
+export const MAX_LOOKED_INTO = 1000;
 /** Files looked at in the dropped folders at most (a home folder dropped by mistake ends here). */
 const ENTRY_LIMIT = 20000;
 /** Files handed over by the browser at once. */
@@ -68,6 +75,31 @@ export interface FolderSelection<T> {
   kept: T[];
   skipped: number;
   study: boolean;
+  /**
+   * Files of no readable kind by name whose names say nothing (`nameless`): opened if their
+   * header says they are DICOM segmentations (`withSegmentations`), else counted as skipped.
+   */
+  unnamed: T[];
+}
+
+/** A name that says nothing of a file's kind: no extension, or a DICOM UID (digits and dots). */
+export function nameless(name: string): boolean {
+  return !name.includes('.') || /^[0-9.]+$/.test(name);
+}
+
+/**
+ * `selection` with its `unnamed` files that are DICOM segmentations added to the files kept
+ * (the others counted as skipped); `fileOf` gives each one's File.
+ */
+export async function withSegmentations<T>(selection: FolderSelection<T>, fileOf: (item: T) => Promise<File | null>): Promise<FolderSelection<T>> {
+  const kept = [...selection.kept];
+  let skipped = selection.skipped;
+  for (const item of selection.unnamed) {
+    const file = await fileOf(item);
+    if (file && (await isSegmentationFile(file).catch(() => false))) kept.push(item);
+    else skipped++;
+  }
+  return { ...selection, kept, skipped, unnamed: [] };
 }
 
 /**
@@ -75,12 +107,14 @@ export interface FolderSelection<T> {
  * workspace among them, or when the app waits for the images of one refused without them
  * (`images`), every file in the folders (not hidden, nor in a hidden folder) is one of its
  * images, up to `STUDY_FILE_LIMIT`; else those of the readable kinds (`readableInFolder`) up to
- * `limit`, the others within `MAX_DEPTH` counted as skipped.
+ * `limit`, those whose names say nothing set apart to be looked into (`unnamed`: a PACS export's
+ * segmentations), the others within `MAX_DEPTH` counted as skipped.
  */
 export function selectFolderFiles<T>(found: readonly FoundFile<T>[], limit = FOLDER_FILE_LIMIT, images = false): FolderSelection<T> {
   const name = (f: FoundFile<T>) => f.path.slice(f.path.lastIndexOf('/') + 1);
   const study = images || found.some((f) => isWorkspaceName(name(f)));
   const kept: T[] = [];
+  const unnamed: T[] = [];
   let fromFolders = 0;
   let skipped = 0;
   for (const f of found) {
@@ -89,15 +123,19 @@ export function selectFolderFiles<T>(found: readonly FoundFile<T>[], limit = FOL
       continue;
     }
     if (f.depth > (study ? STUDY_DEPTH : MAX_DEPTH)) continue;
-    const wanted = study ? !f.path.split('/').some((part) => part.startsWith('.')) : readableInFolder(name(f));
-    if (!wanted || fromFolders >= (study ? STUDY_FILE_LIMIT : limit)) {
+    const hidden = f.path.split('/').some((part) => part.startsWith('.'));
+    const wanted = study ? !hidden : readableInFolder(name(f));
+    const full = fromFolders >= (study ? STUDY_FILE_LIMIT : limit);
+    if (!study && !wanted && !hidden && !full && nameless(name(f)) && unnamed.length < MAX_LOOKED_INTO) {
+      unnamed.push(f.item);
+    } else if (!wanted || full) {
       skipped++;
     } else {
       kept.push(f.item);
       fromFolders++;
     }
   }
-  return { kept, skipped, study };
+  return { kept, skipped, study, unnamed };
 }
 
 /** Paths of the files of dropped folders (a dropped file has none), for telling apart files of one name. */
@@ -129,12 +167,14 @@ export async function filesOfEntries(entries: readonly EntryLike[], limit = FOLD
     }
   };
   for (const entry of entries) await walk(entry, entry.name, 0);
-  const { kept, skipped, study } = selectFolderFiles(found, limit, images);
+  const fileOf = (e: EntryLike) => new Promise<File | null>((ok) => (e.file ? e.file(ok, () => ok(null)) : ok(null)));
+  // Of a folder's nameless files, the DICOM segmentations (a PACS export's) are opened too.
+  const { kept, skipped, study } = await withSegmentations(selectFolderFiles(found, limit, images), fileOf);
   const pathOf = new Map(found.map((f) => [f.item, f.path]));
   const files: File[] = [];
   for (let start = 0; start < kept.length; start += FILE_BATCH) {
     const part = kept.slice(start, start + FILE_BATCH);
-    const got = await Promise.all(part.map((e) => new Promise<File | null>((ok) => e.file?.(ok, () => ok(null)))));
+    const got = await Promise.all(part.map(fileOf));
     got.forEach((file, k) => {
       if (!file) return;
       const path = pathOf.get(part[k]);

@@ -31,6 +31,37 @@ fn segment_spasm(seg: &str, extra: &[&str]) -> (i32, String, String) {
         .args(extra))
 }
 
+/// `heartmesh reconstruct FILES --surface SURFACE` with the mesh and report `dir/NAME.*`: the
+/// report and stderr (the notes), the run required to succeed.
+fn reconstruct(
+    dir: &std::path::Path,
+    files: &[std::path::PathBuf],
+    surface: &str,
+    name: &str,
+) -> (serde_json::Value, String) {
+    let report = dir.join(format!("{name}.json"));
+    let (code, _, err) = run(bin()
+        .arg("reconstruct")
+        .args(files)
+        .args(["--surface", surface, "-o"])
+        .arg(dir.join(format!("{name}.obj")))
+        .arg("--report")
+        .arg(&report));
+    assert_eq!(code, 0, "{err}");
+    let r = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    (r, err)
+}
+
+/// How many of a report's contours are long-axis ones.
+fn lax_count(r: &serde_json::Value) -> usize {
+    r["per_contour"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| c["kind"] == "LAX")
+        .count()
+}
+
 #[test]
 fn a_painted_segmentation_reconstructs_every_structure() {
     let dir = scratch("label-maps");
@@ -240,26 +271,13 @@ fn a_slicer_segmentation() {
     }
     let mut volumes = Vec::new();
     for input in ["s.seg.nrrd", "s.nii.gz"] {
-        let report = dir.join(format!("{input}.json"));
-        let (code, _, err) = run(bin().args([
-            "reconstruct",
-            dir.join(input).to_str().unwrap(),
-            "--surface",
-            "LV_EPI",
-            "-o",
-            dir.join(format!("{input}.obj")).to_str().unwrap(),
-            "--report",
-            report.to_str().unwrap(),
-        ]));
-        assert_eq!(code, 0, "{err}");
+        let (r, err) = reconstruct(&dir, &[dir.join(input)], "LV_EPI", input);
         if input.ends_with("nrrd") {
             assert!(
                 err.contains("(LPS, as 3D Slicer saves); segments 3 LV, 2 Myocardium"),
                 "{err}"
             );
         }
-        let r: serde_json::Value =
-            serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
         assert_eq!(r["watertight"], true);
         volumes.push(r["volume_ml"].as_f64().unwrap());
     }
@@ -292,30 +310,15 @@ fn a_slicer_segmentation() {
         assert_eq!(code, 0, "{err}");
         assert_eq!(stdout.matches("long-axis view").count(), 2, "{stdout}");
         let ext = out.split_once('.').map(|(_, e)| e).unwrap();
-        let report = dir.join(format!("lax-{ext}.json"));
-        let (code, _, err) = run(bin().args([
-            "reconstruct",
-            dir.join(format!("v_lax2.{ext}")).to_str().unwrap(),
-            dir.join(out).to_str().unwrap(),
-            dir.join(format!("v_lax1.{ext}")).to_str().unwrap(),
-            "--surface",
-            "LV_EPI",
-            "-o",
-            dir.join(format!("lax-{ext}.obj")).to_str().unwrap(),
-            "--report",
-            report.to_str().unwrap(),
-        ]));
-        assert_eq!(code, 0, "{err}");
+        let files = [
+            format!("v_lax2.{ext}"),
+            out.to_string(),
+            format!("v_lax1.{ext}"),
+        ];
+        let files: Vec<_> = files.iter().map(|f| dir.join(f)).collect();
+        let (r, err) = reconstruct(&dir, &files, "LV_EPI", &format!("lax-{ext}"));
         assert_eq!(err.matches(": long-axis view v_lax").count(), 2, "{err}");
-        let r: serde_json::Value =
-            serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
-        let lax = r["per_contour"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .filter(|c| c["kind"] == "LAX")
-            .count();
-        assert_eq!(lax, 2, "{r}");
+        assert_eq!(lax_count(&r), 2, "{r}");
         lax_volumes.push(r["volume_ml"].as_f64().unwrap());
     }
     eprintln!("NRRD and NIfTI studies with 2 views: {lax_volumes:?} ml");
@@ -342,26 +345,18 @@ fn a_dicom_seg_gives_the_mesh_of_the_label_map_it_holds() {
     for surface in ["LV_ENDO", "LV_EPI", "RV_ENDO"] {
         let mut figures = Vec::new();
         for (input, name) in [(&seg, "seg"), (&nifti, "nifti")] {
-            let report = dir.join(format!("{name}-{surface}.json"));
-            let (code, _, err) = run(bin().args([
-                "reconstruct",
-                input.to_str().unwrap(),
-                "--surface",
+            let (r, err) = reconstruct(
+                &dir,
+                std::slice::from_ref(input),
                 surface,
-                "-o",
-                dir.join(format!("{name}-{surface}.obj")).to_str().unwrap(),
-                "--report",
-                report.to_str().unwrap(),
-            ]));
-            assert_eq!(code, 0, "{err}");
+                &format!("{name}-{surface}"),
+            );
             if name == "seg" {
                 assert!(
                     err.contains("frame positions (DICOM SEG, LPS); segments 1 label 1"),
                     "{err}"
                 );
             }
-            let r: serde_json::Value =
-                serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
             assert_eq!(r["watertight"], true);
             figures.push((
                 r["vertices"].as_u64().unwrap(),
@@ -408,37 +403,14 @@ fn a_dicom_seg_stack_with_nifti_views() {
     assert_eq!(code, 0, "{err}");
     let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../..");
     let dicom = root.join("wasm-core/crates/heartmesh-core/tests/data/spasm-seg.dcm");
-    let views: Vec<String> = (1..=3)
-        .map(|n| {
-            dir.join(format!("seg_lax{n}.nii.gz"))
-                .to_str()
-                .unwrap()
-                .to_string()
-        })
-        .collect();
+    let views = (1..=3).map(|n| dir.join(format!("seg_lax{n}.nii.gz")));
     let mut figures = Vec::new();
-    for (name, stack) in [("dicom", dicom.as_path()), ("nifti", seg.as_path())] {
-        let report = dir.join(format!("{name}.json"));
-        let (code, _, err) = run(bin()
-            .arg("reconstruct")
-            .arg(stack)
-            .args(&views)
-            .args(["--surface", "LV_EPI", "-o"])
-            .arg(dir.join(format!("{name}.obj")))
-            .arg("--report")
-            .arg(&report));
-        assert_eq!(code, 0, "{err}");
+    for (name, stack) in [("dicom", dicom), ("nifti", seg.clone())] {
+        let files: Vec<_> = std::iter::once(stack).chain(views.clone()).collect();
+        let (r, err) = reconstruct(&dir, &files, "LV_EPI", name);
         assert_eq!(err.matches(": long-axis view seg_lax").count(), 3, "{err}");
         assert!(!err.contains("none of its labels"), "{err}");
-        let r: serde_json::Value =
-            serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
-        let lax: Vec<&serde_json::Value> = r["per_contour"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .filter(|c| c["kind"] == "LAX")
-            .collect();
-        assert_eq!(lax.len(), 3, "{r}");
+        assert_eq!(lax_count(&r), 3, "{r}");
         assert_eq!(r["watertight"], true);
         figures.push((
             r["volume_ml"].as_f64().unwrap(),
