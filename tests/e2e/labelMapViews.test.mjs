@@ -235,20 +235,24 @@ describe('NIfTI long-axis views with their stack', () => {
 
   it('a PACS export\'s folder dropped: its segmentation named by a UID opens with the views beside it, its images are not read', async () => {
     // A folder as a PACS hands studies out: files named by their SOP Instance UID or IM00000n,
-    // without extensions: the SEG, an MR image, and the NIfTI views.
+    // without extensions or as .dcm: the SEG, two MR images, and the NIfTI views.
     const dir = join(mkdtempSync(join(tmpdir(), 'heartmesh-pacs-')), 'export');
     mkdirSync(dir);
     const uid = '1.2.826.0.1.3680043.8.498.10492';
     writeFileSync(join(dir, uid), dicomSegBytes());
     copyFileSync(IMAGE, join(dir, 'IM000001'));
+    copyFileSync(IMAGE, join(dir, 'IM000002.dcm'));
     for (const v of VIEWS) writeFileSync(join(dir, v), study.bytes[v]);
     await dropPaths(page, [dir]);
     const { file, lax } = await laxCurves();
     assert.equal(file, uid);
     assert.deepEqual(lax, VIEW_CURVES);
-    // The image was looked into, not opened: counted (no refusal of it), the study read as chosen.
-    assert.equal(await banner(), '1 other file in the dropped folder was not read (not a contour file, or past the first 200 files).');
+    // The nameless image was looked into, not opened: counted; the one named .dcm was read and
+    // set aside as an image (no refusal listed); the study read as chosen.
+    assert.equal(await banner(), `1 DICOM image set aside: images, not contours (the contours come from ${uid}). 1 other file in the dropped folder was not read (not a contour file, or past the first 200 files).`);
     assert.equal((await notes()).length, 4);
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SHOTS, 'pacs-folder.png') });
     const r = await current();
     console.log(`# PACS folder: ${r.surface} ${r.volumeMl.toFixed(1)} ml, ${r.lax.length} LAX curves`);
     assert.ok(r.watertight && r.lax.length === VIEW_CURVES[r.surface], JSON.stringify(r));

@@ -1,7 +1,7 @@
 // The banner's note on the SliceInfoFiles set aside in a drop: two biv-me patient folders dropped
 // together gave "SliceInfoFile.txt, SliceInfoFile.txt set aside: ...".
 import { describe, expect, it } from 'vitest';
-import { setAsideText } from '../../web/src/app/errors';
+import { imagesAsideText, isImageRefusal, setAsideText } from '../../web/src/app/errors';
 
 describe('setAsideText', () => {
   it('names one file, and counts files of one name instead of repeating it', () => {
@@ -10,5 +10,14 @@ describe('setAsideText', () => {
     );
     expect(setAsideText(['SliceInfoFile.txt', 'SliceInfoFile.txt'], 'GPFile_000.txt')).toMatch(/^2 files named SliceInfoFile\.txt set aside: image planes/);
     expect(setAsideText(['SliceInfoFile.txt', 'SliceInfo_ES.txt', 'SliceInfoFile.txt'], 'a.txt')).toMatch(/^2 files named SliceInfoFile\.txt, SliceInfo_ES\.txt set aside/);
+  });
+
+  it('counts DICOM images opened with a segmentation as set aside, told by the core\'s message', () => {
+    const image = { code: 'parse', file: 'IM_0001.dcm', message: 'this is a DICOM image (modality MR), not contours: open the contours drawn on it (an RT structure set, or a cvi42 workspace together with its images)' } as const;
+    expect(isImageRefusal(image)).toBe(true);
+    expect(isImageRefusal({ ...image, message: 'this DICOM file is not an RT structure set (modality SR, SOP class 1.2)' })).toBe(false);
+    expect(isImageRefusal({ ...image, code: 'app' })).toBe(false);
+    expect(imagesAsideText(1, 'seg.dcm')).toBe('1 DICOM image set aside: images, not contours (the contours come from seg.dcm).');
+    expect(imagesAsideText(240, 'seg.dcm')).toMatch(/^240 DICOM images set aside/);
   });
 });

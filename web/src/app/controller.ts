@@ -14,7 +14,7 @@ import type { ExportInfo } from '../io/export/header';
 import { findSample, fetchSample, type Sample } from '../io/samples';
 import type { HoverReadout } from '../ui/HoverReadout';
 import { distinctName, fileIdentity, lostText, renamedText, skippedText } from './fileNames';
-import { archivesText, asCoreError, callSafely, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
+import { archivesText, asCoreError, callSafely, imagesAsideText, isImageRefusal, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
 import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
 import { cvi42Study, NEEDS_IMAGES, type Cvi42Study } from '../io/cvi42Study';
 import { imageHeaders, isSegmentationFile, looksDicom } from '../io/dicomHeaders';
@@ -294,11 +294,17 @@ export class Controller {
     // Several files at once: each refusal would replace the one before in the banner (and a file
     // that opens would hide them all), so the banner names every file not opened, once, at the end.
     if (refused.length > 0 && count > 1) {
-      // A biv-me folder's SliceInfoFile beside the GPFile that opened is no refusal.
-      const aside = first !== null ? refused.filter(isSliceInfoRefusal) : [];
+      // A biv-me folder's SliceInfoFile beside the GPFile that opened is no refusal; nor are the
+      // DICOM images beside a segmentation or structure set of theirs (a PACS export's folder).
+      const sliceInfo = first !== null ? refused.filter(isSliceInfoRefusal) : [];
+      const images = first !== null ? refused.filter(isImageRefusal) : [];
+      const aside = [...sliceInfo, ...images];
       const notOpened = refused.filter((e) => !aside.includes(e));
       const notCount = notOpened.reduce((n, e) => n + (refusedFiles.get(e) ?? 1), 0);
-      const note = first !== null && aside.length > 0 ? setAsideText(aside.map((e) => e.file ?? 'SliceInfoFile.txt'), first) : '';
+      const note = first === null ? '' : [
+        sliceInfo.length > 0 ? setAsideText(sliceInfo.map((e) => e.file ?? 'SliceInfoFile.txt'), first) : '',
+        images.length > 0 ? imagesAsideText(images.length, first) : '',
+      ].filter(Boolean).join(' ');
       const list = notOpened.map((e) => describeError(e) + (refusedStacks.has(e) ? ` (its stack ${refusedStacks.get(e)} is not opened either)` : '')).join('; ');
       const notes = [note, renamedNote].filter(Boolean).join(' ');
       if (first === null) this.fail(refused[refused.length - 1], undefined, ` None of the ${count} files opened: ${list}.`);

@@ -28,6 +28,20 @@ export function setAsideText(names: readonly string[], shown: string): string {
 }
 
 /**
+ * A DICOM image refused as contours (the core's message for one). Opened with a file that opened
+ * (a segmentation or structure set of its series, in a PACS export's folder), it is the image the
+ * contours were drawn on: set aside and counted, not listed as a refusal each.
+ */
+export function isImageRefusal(e: CoreErrorData): boolean {
+  return e.code === 'parse' && /this is a DICOM image \(modality [^)]*\), not contours/.test(e.message);
+}
+
+/** The banner's note on `count` DICOM images opened with the file `shown`. */
+export function imagesAsideText(count: number, shown: string): string {
+  return `${count === 1 ? '1 DICOM image' : `${count} DICOM images`} set aside: images, not contours (the contours come from ${shown}).`;
+}
+
+/**
  * A dropped file whose bytes could not be read: moved or without permission since the drop, or a
  * folder (a browser hands a dropped folder over as a file without type that fails to read; a
  * biv-me patient folder is the usual one).
