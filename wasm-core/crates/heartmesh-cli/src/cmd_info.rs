@@ -102,7 +102,10 @@ fn is_study(path: &str) -> bool {
     files::read(path).is_ok_and(|bytes| {
         matches!(
             io::detect_contour_format(path, &bytes),
-            ContourFormat::Nifti | ContourFormat::Nrrd | ContourFormat::Cvi42
+            ContourFormat::Nifti
+                | ContourFormat::Nrrd
+                | ContourFormat::DicomSeg
+                | ContourFormat::Cvi42
         )
     })
 }

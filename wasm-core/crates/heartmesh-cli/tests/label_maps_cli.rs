@@ -405,7 +405,7 @@ fn a_dicom_seg_stack_with_nifti_views() {
     let dicom = root.join("wasm-core/crates/heartmesh-core/tests/data/spasm-seg.dcm");
     let views = (1..=3).map(|n| dir.join(format!("seg_lax{n}.nii.gz")));
     let mut figures = Vec::new();
-    for (name, stack) in [("dicom", dicom), ("nifti", seg.clone())] {
+    for (name, stack) in [("dicom", dicom.clone()), ("nifti", seg.clone())] {
         let files: Vec<_> = std::iter::once(stack).chain(views.clone()).collect();
         let (r, err) = reconstruct(&dir, &files, "LV_EPI", name);
         assert_eq!(err.matches(": long-axis view seg_lax").count(), 3, "{err}");
@@ -416,6 +416,16 @@ fn a_dicom_seg_stack_with_nifti_views() {
             r["volume_ml"].as_f64().unwrap(),
             r["contour_to_mesh"]["mean"].as_f64().unwrap(),
         ));
+    }
+    // `info` reads them as one study too (a SEG first on the command line).
+    let (code, out, err) = run(bin().arg("info").arg(&dicom).args(views.clone()));
+    assert_eq!(code, 0, "{err}");
+    for line in [
+        "LV_ENDO: 9 contours (6 short-axis, 3 long-axis)",
+        "LV_EPI: 11 contours (8 short-axis, 3 long-axis)",
+        "RV_ENDO: 9 contours (7 short-axis, 2 long-axis)",
+    ] {
+        assert!(out.contains(line), "{out}");
     }
     eprintln!("LV_EPI with 3 NIfTI views: DICOM SEG stack, NIfTI stack {figures:?}");
     let ((ml1, c1), (ml2, c2)) = (figures[0], figures[1]);
