@@ -2,7 +2,7 @@
 // workspace is among them), which files of a dropped or picked folder are opened, and the header
 // slices the app reads of each image (io/dicomHeaders.ts).
 import { describe, expect, it } from 'vitest';
-import { cvi42Study, isWorkspaceName } from '../../web/src/io/cvi42Study';
+import { asksForImages, cvi42Study, isSunnybrookName, isWorkspaceName } from '../../web/src/io/cvi42Study';
 import { FIRST_SLICE, headerSlice, imageHeaders, imageNames, looksDicom, pixelDataOffset } from '../../web/src/io/dicomHeaders';
 import { filesOfEntries, filesOfPickedFolder, nameless, pathInFolder, selectFolderFiles, STUDY_FILE_LIMIT, type EntryLike } from '../../web/src/io/folderDrop';
 import { fileEntry, folderEntry } from './fakeEntries';
@@ -34,6 +34,43 @@ describe('a cvi42 workspace and its images', () => {
     const study = cvi42Study(named('reader1.cvi42wsx', 'IM_1', 'reader2.cvi42wsx', 'IM_2'));
     expect(study?.workspaces.map((f) => f.name)).toEqual(['reader1.cvi42wsx', 'reader2.cvi42wsx']);
     expect(study?.images.map((f) => f.name)).toEqual(['IM_1', 'IM_2']);
+  });
+});
+
+describe('a Sunnybrook case: contour files and the images they were drawn on', () => {
+  it('tells a contour file by its name, as the core does', () => {
+    for (const yes of ['IM-0001-0048-icontour-manual.txt', 'IM-0001-0220-ocontour-manual.txt', 'im-0001-0007-p1contour-auto.TXT', 'IM-0001-0060-icontour.txt']) {
+      expect(isSunnybrookName(yes)).toBe(true);
+    }
+    for (const no of ['IM-0001-0048.dcm', 'IM-0001-0048-icontour-manual.csv', 'contours.txt', 'IM-0001-0048-i-manual.txt', 'IM-0001--icontour-manual.txt', 'IM-0001-0048-contour-manual.txt', 'GPFile_000.txt']) {
+      expect(isSunnybrookName(no)).toBe(false);
+    }
+  });
+
+  it('reads the first contour file by name, with the other contour files and the images as its images', () => {
+    const study = cvi42Study(named('IM-0003-0001.dcm', 'IM-0001-0020-icontour-manual.txt', 'IM-0001-0001-ocontour-manual.txt', 'IM-0003-0002.dcm', 'IM-0001-0001-icontour-manual.txt'));
+    expect(study?.workspaces.map((f) => f.name)).toEqual(['IM-0001-0001-icontour-manual.txt']);
+    expect(study?.images.map((f) => f.name)).toEqual(['IM-0003-0001.dcm', 'IM-0001-0020-icontour-manual.txt', 'IM-0001-0001-ocontour-manual.txt', 'IM-0003-0002.dcm']);
+    // A workspace among them takes every other file, as before.
+    expect(cvi42Study(named('IM-0001-0001-icontour-manual.txt', 'C.cvi42wsx'))?.workspaces.map((f) => f.name)).toEqual(['C.cvi42wsx']);
+  });
+
+  it("hears the core ask for the images of either kind", () => {
+    expect(asksForImages('cvi42 workspace: a cvi42 workspace holds its contours in the pixels of its images: open it together with the DICOM images it was drawn on (the study\'s folder)')).toBe(true);
+    expect(asksForImages('Sunnybrook contours: Sunnybrook contours are in the pixels of their images: open the contour files together with the DICOM images they were drawn on (the case\'s contours folder and its short-axis cine series, both at once)')).toBe(true);
+    expect(asksForImages('line 2: x: "a" is not a number')).toBe(false);
+  });
+
+  it('reads a folder holding contour files whole, as a workspace study\'s', () => {
+    const found = [
+      ...Array.from({ length: 300 }, (_, i) => ({ item: `i${i}`, path: `case/CINESAX_300/IM-0003-${String(i + 1).padStart(4, '0')}.dcm`, depth: 2 })),
+      { item: 'c1', path: 'case/contours-manual/IRCCI-expert/IM-0001-0001-icontour-manual.txt', depth: 3 },
+      { item: 'u1', path: 'case/CINESAX_300/DICOMDIR', depth: 2 },
+    ];
+    const picked = selectFolderFiles(found);
+    expect(picked.study).toBe(true);
+    expect(picked.kept.length).toBe(302);
+    expect(picked.skipped).toBe(0);
   });
 });
 

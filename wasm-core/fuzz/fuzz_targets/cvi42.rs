@@ -17,6 +17,10 @@ fuzz_target!(|data: &[u8]| {
     let _ = read_cvi42(data, &images, None);
     let _ = read_cvi42(data, &images, FrameChoice::new("1").as_ref());
     let _ = read_cvi42(WORKSPACE, &[images[0], ("x.dcm", data)], None);
-    let files = [("w.cvi42wsx", data), images[0], ("Contours.cvi42wsx", WORKSPACE)];
+    let files = [
+        ("w.cvi42wsx", data),
+        images[0],
+        ("Contours.cvi42wsx", WORKSPACE),
+    ];
     let _ = io::read_study(&files, &ContourOptions::default());
 });

@@ -16,7 +16,7 @@ import type { HoverReadout } from '../ui/HoverReadout';
 import { distinctName, fileIdentity, lostText, renamedText, skippedText } from './fileNames';
 import { archivesText, asCoreError, callSafely, imagesAsideText, isImageRefusal, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
 import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
-import { cvi42Study, NEEDS_IMAGES, type Cvi42Study } from '../io/cvi42Study';
+import { asksForImages, cvi42Study, type Cvi42Study } from '../io/cvi42Study';
 import { imageHeaders, isSegmentationFile, looksDicom } from '../io/dicomHeaders';
 import { filesOfPickedFolder, pathInFolder, withSegmentations } from '../io/folderDrop';
 import { expandArchives } from '../io/zipArchive';
@@ -130,8 +130,11 @@ export class Controller {
   private readonly runView: RunDisplay;
   /** A run that failed while a file was being read: reported with the file's outcome. */
   private pendingRunFailure: CoreErrorData | null = null;
-  /** A cvi42 workspace refused for want of its images: the next files opened are tried as them. */
-  private waitingWorkspace: File | null = null;
+  /**
+   * Contours refused for want of their images (a cvi42 workspace, a Sunnybrook contours folder):
+   * the next files opened are tried as them.
+   */
+  private waitingStudy: Cvi42Study<File> | null = null;
   /** Why the last file read was refused (openFiles names every refused file of a drop). */
   private lastRefusal: CoreErrorData | null = null;
   private restartTimer: ReturnType<typeof setTimeout> | null = null;
@@ -226,13 +229,13 @@ export class Controller {
       if (one) this.refuse(one.file ?? given[0].name, one, others.length > 0 ? ` ${archivesText(others)}` : '');
       return;
     }
-    // A cvi42 workspace among them: every other file is one of its images (io/cvi42Study.ts).
+    // A cvi42 workspace (Sunnybrook contour files) among them: every other file is one of its images (io/cvi42Study.ts).
     const study = cvi42Study(files);
     if (study) return void (await this.openStudy(study, skipped, false, archivesRefused));
-    // A workspace just refused for want of its images: these files may be them (else, as usual).
-    const waiting = this.waitingWorkspace;
-    this.waitingWorkspace = null;
-    if (waiting && (await this.openStudy({ workspaces: [waiting], images: files }, skipped, true, archivesRefused))) return;
+    // Contours just refused for want of their images: these files may be them (else, as usual).
+    const waiting = this.waitingStudy;
+    this.waitingStudy = null;
+    if (waiting && (await this.openStudy({ workspaces: waiting.workspaces, images: [...waiting.images, ...files] }, skipped, true, archivesRefused))) return;
     const onScreen = this.currentFile()?.fileName ?? null;
     let first: string | null = null;
     // The archives not read count among the files not opened, as any file refused.
@@ -342,10 +345,11 @@ export class Controller {
     }
     // Tried as the images of a workspace refused before: not them, they open as any files do.
     if (tried && first === null) return false;
-    // A workspace alone: the core asks for its images, and the next files opened are tried as them.
-    const alone = study.workspaces.length === 1 && images.length === 0 && refused.length === 1;
-    if (alone && refused[0].message.includes(NEEDS_IMAGES)) {
-      this.waitingWorkspace = study.workspaces[0];
+    // Contours alone (a workspace, a Sunnybrook contours folder): the core asks for their images,
+    // and the next files opened are tried as them.
+    const alone = study.workspaces.length === 1 && refused.length === 1;
+    if (alone && asksForImages(refused[0].message)) {
+      this.waitingStudy = study;
       const unread = archives.length > 0 ? ` ${archivesText(archives)}` : '';
       this.fail(refused[0], undefined, `${keptText(previous)} Open its images next (drop them, or the folder that holds them): they are read with it.${unread}`);
     }
@@ -369,7 +373,7 @@ export class Controller {
 
   /** Whether the next files opened are tried first as the images of a workspace refused without them. */
   get waitsForImages(): boolean {
-    return this.waitingWorkspace !== null;
+    return this.waitingStudy !== null;
   }
 
   /**
@@ -431,7 +435,7 @@ export class Controller {
 
   async trySample(sample: Sample, surface: string | null = null): Promise<void> {
     this.cancelRun();
-    this.waitingWorkspace = null; // an example opened instead of the workspace's images
+    this.waitingStudy = null; // an example opened instead of the workspace's images
     this.dispatch({ type: 'load', fileName: sample.file });
     if (!(await this.ready)) return;
     let bytes: ArrayBuffer;

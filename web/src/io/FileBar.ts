@@ -71,7 +71,7 @@ export class FileBar {
     });
     const folder = h(
       'label',
-      { for: 'folder-input', class: 'button primary folder-open', role: 'button', tabindex: 0, 'aria-label': 'Open a folder', 'data-testid': 'open-folder', title: 'Open a folder: a cvi42 study (its .cvi42wsx workspace and the DICOM images it was drawn on), a biv-me patient, a segmented study (or drop the folder anywhere)' },
+      { for: 'folder-input', class: 'button primary folder-open', role: 'button', tabindex: 0, 'aria-label': 'Open a folder', 'data-testid': 'open-folder', title: 'Open a folder: a cvi42 study (its .cvi42wsx workspace and the DICOM images it was drawn on), a Sunnybrook case (its contour files and image series), a biv-me patient, a segmented study (or drop the folders anywhere)' },
       icon('folder'),
     );
     folder.addEventListener('keydown', (e) => {

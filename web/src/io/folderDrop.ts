@@ -4,11 +4,12 @@
  * or M&Ms subject folder too: its `.nii.gz` label maps open, its images are refused by name). The
  * browser hands a dropped folder over as an entry of the File and Directory Entries API
  * (`DataTransferItem.webkitGetAsEntry`); its files are read here and opened like a multi-file drop.
- * A cvi42 study's folder (a `.cvi42wsx` workspace with the DICOM images it was drawn on) is read
- * whole instead: its images are what the workspace needs, whatever their names.
+ * A cvi42 study's folder (a `.cvi42wsx` workspace with the DICOM images it was drawn on), or a
+ * Sunnybrook case's (its contour files and image series), is read whole instead: its images are
+ * what the contours need, whatever their names.
  */
 import { ACCEPT } from './FileBar';
-import { isWorkspaceName } from './cvi42Study';
+import { isPixelContourName } from './cvi42Study';
 import { isSegmentationFile } from './dicomHeaders';
 
 /** The parts of a `FileSystemEntry` the walk uses (an interface, so tests can hand in their own). */
@@ -112,7 +113,7 @@ export async function withSegmentations<T>(selection: FolderSelection<T>, fileOf
  */
 export function selectFolderFiles<T>(found: readonly FoundFile<T>[], limit = FOLDER_FILE_LIMIT, images = false): FolderSelection<T> {
   const name = (f: FoundFile<T>) => f.path.slice(f.path.lastIndexOf('/') + 1);
-  const study = images || found.some((f) => isWorkspaceName(name(f)));
+  const study = images || found.some((f) => isPixelContourName(name(f)));
   const kept: T[] = [];
   const unnamed: T[] = [];
   let fromFolders = 0;

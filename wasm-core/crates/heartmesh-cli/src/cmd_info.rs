@@ -52,7 +52,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let frame = contours::frame_flag(p.value("frame"))?;
     let json = p.switch("json");
     let files = p.positional.as_slice();
-    if files.len() == 1 || is_study(&files[0]) {
+    if files.len() == 1 || is_study(&files[0]) || contours::is_workspace_study(files) {
         let (info, words) = describe_files(files, frame)?;
         return print(&info, json, words);
     }
@@ -106,6 +106,7 @@ fn is_study(path: &str) -> bool {
                 | ContourFormat::Nrrd
                 | ContourFormat::DicomSeg
                 | ContourFormat::Cvi42
+                | ContourFormat::Sunnybrook
         )
     })
 }

@@ -33,7 +33,10 @@ pub const USAGE: &str =
   their labels matched to the stack's by position; or a cvi42 workspace followed by the DICOM
   images it was drawn on, files, folders or ZIP archives (reconstruct Contours.cvi42wsx DICOM/
   -o ..., reconstruct 1234_cvi42.zip 1234_images.zip -o ...; a ZIP archive alone is read for
-  the contour file in it): each
+  the contour file in it); or a Sunnybrook Cardiac Data case, its contour files
+  (IM-0001-0048-icontour-manual.txt, ...) with the cine short-axis series they were drawn on
+  (reconstruct SC-HF-I-01/contours-manual/IRCCI-expert/ SCD0000101/CINESAX_300/ -o ...; image
+  0048 of the series, by file name or Instance Number; icontour LV_ENDO, ocontour LV_EPI): each
   contour placed by its image's position, orientation and pixel spacing, the frame of a cine
   slice by trigger time from 0 (--frame 9), other files set aside with a warning;
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and

@@ -42,7 +42,8 @@ pub const USAGE: &str = "heartmesh volumes PHASES... [--surface all|LV_ENDO,LV_E
   PHASES: one contour file per phase (GPFile_000.txt GPFile_009.txt, patient1-ED.csv
   patient1-ES.csv, ACDC's frame01 and frame12 label maps), named by file; or one file holding a
   sequence (a cine GPFile, a CSV with a frame or phase column, a 4D label map, a cvi42
-  workspace with its DICOM images or their folder), each time frame a phase named as the file
+  workspace with its DICOM images or their folder, a Sunnybrook case's contours with its
+  series), each time frame a phase named as the file
   writes it; --frames F,F,... takes only those frames.
   --surface: the surfaces to reconstruct (default all of the files'); epicardia and unknown
   labels (LABEL_n) get volumes but no ejection fraction.
@@ -325,7 +326,7 @@ fn load_phases(paths: &[String], frames: Option<&[FrameChoice]>) -> Result<Vec<P
             session_params: l.session_params,
         })
     };
-    // One input holding a sequence: a file, or a cvi42 workspace with its images.
+    // One input holding a sequence: a file, or contours with the images they were drawn on.
     if paths.len() == 1 || contours::is_workspace_study(paths) {
         let read = |name: Option<String>, frame: Option<FrameChoice>| {
             contours::load_all(paths, frame).map(|(input, l)| Phase {

@@ -124,16 +124,20 @@ fn expand(paths: &[String]) -> Result<Vec<Entry>, CliError> {
     Ok(out)
 }
 
-/// Whether the inputs are a cvi42 workspace with its images (files, folders, archives; or one
-/// folder or archive holding both): one study, which may hold a sequence, rather than one file
-/// per phase.
+/// Whether the inputs are contours drawn on images given with them (a cvi42 workspace, Sunnybrook
+/// contour files; files, folders, archives; or one folder or archive holding both): one study,
+/// which may hold a sequence, rather than one file per phase.
 pub fn is_workspace_study(paths: &[String]) -> bool {
     let bundle =
         |p: &String| Path::new(p).is_dir() || files::read(p).is_ok_and(|b| io::zip::is_zip(&b));
     if paths.len() == 1 && !bundle(&paths[0]) {
         return false;
     }
-    expand(paths).is_ok_and(|entries| entries.iter().any(|e| io::cvi42::is_cvi42(&e.bytes)))
+    expand(paths).is_ok_and(|entries| {
+        entries.iter().any(|e| {
+            io::cvi42::is_cvi42(&e.bytes) || io::sunnybrook::is_contour_file(&e.name, &e.bytes)
+        })
+    })
 }
 
 /// A reader's warning as the commands print it: the label-map reader's account of what it read

@@ -8,7 +8,6 @@
 mod common;
 
 use common::*;
-use heartmesh_core::contours::plane::fit_plane;
 use heartmesh_core::contours::ContourSet;
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::io::{self, ContourOptions, FrameChoice};
@@ -46,39 +45,6 @@ fn read_cvi42(frame: Option<&str>) -> ContourSet {
 
 fn read_gpfile(name: &str) -> ContourSet {
     load_contours(&format!("bivme-example-patient1/{name}"))
-}
-
-/// For every point of `surface` in the workspace: its distance from the nearest point of the
-/// GPFile's same surface, measured in the workspace contour's image plane (the fixture moved
-/// each point onto its plane), and the most any GPFile point lay off its plane.
-fn in_plane_gaps(cvi: &ContourSet, gp: &ContourSet, surface: &str) -> (Vec<f64>, usize) {
-    let theirs: Vec<Vec3> = gp
-        .contours
-        .iter()
-        .filter(|c| c.surface.as_deref() == Some(surface))
-        .flat_map(|c| c.points().copied().collect::<Vec<_>>())
-        .collect();
-    let mut gaps = Vec::new();
-    let mut contours = 0;
-    for c in cvi
-        .contours
-        .iter()
-        .filter(|c| c.surface.as_deref() == Some(surface))
-    {
-        contours += 1;
-        let plane = fit_plane(c.points()).unwrap();
-        assert!(plane.max_residual < 1e-6, "{}: off its image plane", c.id);
-        let n = plane.normal;
-        for p in c.points() {
-            let in_plane = |q: &Vec3| {
-                let d = q - p;
-                (d - n * d.dot(&n)).norm() + if d.dot(&n).abs() > 3.0 { 1e9 } else { 0.0 }
-            };
-            let gap = theirs.iter().map(in_plane).fold(f64::INFINITY, f64::min);
-            gaps.push(gap);
-        }
-    }
-    (gaps, contours)
 }
 
 /// An eighth of a pixel (1.40625 mm) in both directions: the rounding's largest offset.

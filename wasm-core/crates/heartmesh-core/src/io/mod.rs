@@ -18,6 +18,7 @@ pub mod gzip;
 pub mod mat;
 pub mod nifti;
 pub mod obj;
+mod pixel_contours;
 pub mod ply;
 mod read_regions;
 pub mod rtstruct;
@@ -25,6 +26,9 @@ pub mod session;
 #[cfg(test)]
 mod smoke;
 pub mod stl;
+pub mod sunnybrook;
+#[cfg(test)]
+mod test_images;
 mod text;
 pub mod vtk;
 pub mod vtp;
@@ -82,6 +86,9 @@ pub enum ContourFormat {
     Cvi42,
     /// DICOM Segmentation object (SEG), read as a label map is.
     DicomSeg,
+    /// Sunnybrook Cardiac Data contour files (`IM-0001-0048-icontour-manual.txt`), read with the
+    /// DICOM images they were drawn on.
+    Sunnybrook,
 }
 
 impl ContourFormat {
@@ -99,6 +106,7 @@ impl ContourFormat {
             ContourFormat::Nrrd => "NRRD label map",
             ContourFormat::Cvi42 => "cvi42 workspace",
             ContourFormat::DicomSeg => "DICOM SEG",
+            ContourFormat::Sunnybrook => "Sunnybrook contours",
         }
     }
 }
@@ -167,7 +175,9 @@ pub fn extension(path: &str) -> String {
 /// ...", a workspace's "workspace read with ..."): information, which the app shows apart from
 /// the warnings and the command line prints as a note.
 pub fn is_reading_note(warning: &str) -> bool {
-    nifti::is_reading_note(warning) || warning.starts_with(cvi42::NOTE)
+    nifti::is_reading_note(warning)
+        || warning.starts_with(cvi42::NOTE)
+        || warning.starts_with(sunnybrook::NOTE)
 }
 
 /// Guesses the contour format from the content, then from the extension.
@@ -202,6 +212,10 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     }
     if session::looks_like_session(head) || (starts(b"{") && ext == "json") {
         return ContourFormat::Session;
+    }
+    // Sunnybrook's `x y` files say what they are by their names only.
+    if sunnybrook::is_contour_file(file_name, bytes) {
+        return ContourFormat::Sunnybrook;
     }
     // Text formats: judge by the first lines, decoded as the readers will (UTF-16 too).
     let text = text::head(bytes, 4096);
@@ -267,7 +281,11 @@ pub fn read_contours_with(
     let format = detect_contour_format(file_name, bytes);
     let takes_views = matches!(
         format,
-        ContourFormat::Nifti | ContourFormat::Nrrd | ContourFormat::DicomSeg | ContourFormat::Cvi42
+        ContourFormat::Nifti
+            | ContourFormat::Nrrd
+            | ContourFormat::DicomSeg
+            | ContourFormat::Cvi42
+            | ContourFormat::Sunnybrook
     );
     if !takes_views && !options.views.is_empty() {
         return Err(CoreError::parse(
@@ -317,6 +335,12 @@ pub fn read_contours_with(
             nifti::read_dicom_seg_study(bytes, options.views, options.frame.as_ref())
         }
         ContourFormat::Cvi42 => cvi42::read_cvi42(bytes, options.views, options.frame.as_ref()),
+        ContourFormat::Sunnybrook => sunnybrook::read_sunnybrook(
+            file_name,
+            bytes,
+            options.views,
+            options.frame.as_ref(),
+        ),
     }
 }
 
@@ -337,9 +361,17 @@ pub fn read_study(
     let workspaces: Vec<usize> = (0..files.len())
         .filter(|&n| cvi42::is_cvi42(files[n].1))
         .collect();
+    // Sunnybrook contour files: the first by name reads the others and the images.
+    let sunnybrook = (0..files.len())
+        .filter(|&n| sunnybrook::is_contour_file(files[n].0, files[n].1))
+        .min_by_key(|&n| files[n].0);
+    match (&workspaces[..], sunnybrook) {
+        ([], Some(first)) => return read_with_companions(files, first, options),
+        ([one], _) => return read_with_companions(files, *one, options),
+        _ => {}
+    }
     match workspaces[..] {
-        [] => {}
-        [one] => return read_with_companions(files, one, options),
+        [] | [_] => {}
         [a, b, ..] => {
             return Err(refuse(format!(
                 "{} and {} are both cvi42 workspaces: open one at a time, with its images",

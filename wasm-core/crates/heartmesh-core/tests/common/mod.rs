@@ -2,6 +2,7 @@
 //! reconstruction at the defaults, contour-to-mesh distances and mesh validity checks.
 #![allow(dead_code)] // each test binary uses a subset
 
+use heartmesh_core::contours::plane::fit_plane;
 use heartmesh_core::contours::{Contour, ContourSet};
 use heartmesh_core::geometry::Vec3;
 use heartmesh_core::mesh::TriMesh;
@@ -150,4 +151,37 @@ pub fn check_closed_manifold_outward(mesh: &TriMesh) -> Result<(), String> {
 /// Height of a point as a fraction of the shape's extent along an axis (0 = apex, 1 = base).
 pub fn height_fraction(p: &Vec3, lo: f64, hi: f64, centre: &Vec3, dir: &Vec3) -> f64 {
     (dir.dot(&(p - centre)) - lo) / (hi - lo)
+}
+
+/// For every point of `surface` in `cvi` (contours read from pixels: a cvi42 workspace, Sunnybrook
+/// files): its distance from the nearest point of the GPFile's same surface, measured in the
+/// contour's image plane (the fixtures moved each point onto its plane), and how many contours.
+pub fn in_plane_gaps(cvi: &ContourSet, gp: &ContourSet, surface: &str) -> (Vec<f64>, usize) {
+    let theirs: Vec<Vec3> = gp
+        .contours
+        .iter()
+        .filter(|c| c.surface.as_deref() == Some(surface))
+        .flat_map(|c| c.points().copied().collect::<Vec<_>>())
+        .collect();
+    let mut gaps = Vec::new();
+    let mut contours = 0;
+    for c in cvi
+        .contours
+        .iter()
+        .filter(|c| c.surface.as_deref() == Some(surface))
+    {
+        contours += 1;
+        let plane = fit_plane(c.points()).unwrap();
+        assert!(plane.max_residual < 1e-6, "{}: off its image plane", c.id);
+        let n = plane.normal;
+        for p in c.points() {
+            let in_plane = |q: &Vec3| {
+                let d = q - p;
+                (d - n * d.dot(&n)).norm() + if d.dot(&n).abs() > 3.0 { 1e9 } else { 0.0 }
+            };
+            let gap = theirs.iter().map(in_plane).fold(f64::INFINITY, f64::min);
+            gaps.push(gap);
+        }
+    }
+    (gaps, contours)
 }

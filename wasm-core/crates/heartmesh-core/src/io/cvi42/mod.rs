@@ -15,17 +15,13 @@
 //! that order from 0 (frame 0 is usually end-diastole). Without `--frame`, each slice keeps its
 //! first contoured frame, as GPFiles do ([`super::frames`]).
 
-use std::collections::{BTreeMap, HashMap};
-
 use roxmltree::{Document, Node};
 
-use super::builder::ContourBuilder;
-use super::dicom_image::{image_geometry, ImageGeometry, NoGeometry};
 use super::frame_choice::FrameChoice;
-use super::frames::FrameFilter;
+pub use super::pixel_contours::PixelContour;
+use super::pixel_contours::{count, place, Images, Source};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
-use crate::geometry::Vec3;
 
 /// The namespace every cvi42 workspace declares, which tells it from other XML.
 const NAMESPACE: &str = "circlecvi.com/cvi42/Workspace";
@@ -47,18 +43,8 @@ pub const NOTE: &str = "workspace read with ";
 pub const NEEDS_IMAGES: &str = "a cvi42 workspace holds its contours in the pixels of its \
     images: open it together with the DICOM images it was drawn on (the study's folder)";
 
-/// One contour of one image, as the workspace stores it: pixel coordinates.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PixelContour {
-    pub image_uid: String,
-    /// The contour's type (`saendocardialContour`, ...).
-    pub kind: String,
-    /// (column, row) in pixels.
-    pub points: Vec<[f64; 2]>,
-}
-
 fn err(message: impl Into<String>) -> CoreError {
-    CoreError::parse(0, format!("cvi42 workspace: {}", message.into()))
+    SOURCE.error(message)
 }
 
 /// The `Hash:key` of an element (any prefix bound to the hash namespace, or none).
@@ -200,94 +186,13 @@ pub fn landmark_of(kind: &str) -> Option<&'static str> {
     }
 }
 
-/// Images of one cine slice: same series, same plane (position and orientation to 0.01 mm).
-fn slice_key(g: &ImageGeometry) -> (Option<i64>, [i64; 9]) {
-    let q = |v: f64| (v * 100.0).round() as i64;
-    let (p, r, c) = (g.position, g.row_dir, g.col_dir);
-    (
-        g.series,
-        [
-            q(p.x),
-            q(p.y),
-            q(p.z),
-            q(r.x),
-            q(r.y),
-            q(r.z),
-            q(c.x),
-            q(c.y),
-            q(c.z),
-        ],
-    )
-}
-
-/// Each image's slice number (from 1: by series, then along the plane's normal) and frame (from 0:
-/// by trigger time, then instance number, within its slice).
-fn slices_and_frames(images: &[ImageGeometry]) -> HashMap<&str, (usize, usize)> {
-    let mut slices: BTreeMap<(Option<i64>, [i64; 9]), Vec<&ImageGeometry>> = BTreeMap::new();
-    for g in images {
-        slices.entry(slice_key(g)).or_default().push(g);
-    }
-    let mut order: Vec<(Option<i64>, f64, Vec<&ImageGeometry>)> = slices
-        .into_values()
-        .map(|mut frames| {
-            frames.sort_by(|a, b| {
-                let t = |g: &ImageGeometry| g.trigger_ms.unwrap_or(f64::NAN);
-                t(a).total_cmp(&t(b))
-                    .then(a.instance.cmp(&b.instance))
-                    .then(a.uid.cmp(&b.uid))
-            });
-            let g = frames[0];
-            (g.series, g.position.dot(&g.normal()), frames)
-        })
-        .collect();
-    order.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    let mut out = HashMap::new();
-    for (n, (_, _, frames)) in order.iter().enumerate() {
-        for (f, g) in frames.iter().enumerate() {
-            out.entry(g.uid.as_str()).or_insert((n + 1, f));
-        }
-    }
-    out
-}
-
-/// Files given with a workspace that placed no image, by reason, for one warning line.
-#[derive(Default)]
-struct SetAside {
-    not_dicom: Vec<String>,
-    no_plane: Vec<String>,
-}
-
-/// "1 image", "2 images".
-fn count(n: usize, what: &str) -> String {
-    format!("{n} {what}{}", if n == 1 { "" } else { "s" })
-}
-
-fn listed(names: &[String]) -> String {
-    let shown: Vec<&str> = names.iter().take(3).map(String::as_str).collect();
-    let more = if names.len() > 3 { ", ..." } else { "" };
-    format!("{}{more}", shown.join(", "))
-}
-
-/// The landmarks of the frames the curves were read from: a reference point of another frame
-/// (cvi42 keeps one per image) would place the septum of another phase, and one on a slice no
-/// curve was read from has no frame to belong to.
-fn landmarks(
-    b: &mut ContourBuilder,
-    marks: &[(usize, usize, &PixelContour, &'static str)],
-    read_frame: &HashMap<usize, usize>,
-    by_uid: &HashMap<&str, &ImageGeometry>,
-) -> Result<()> {
-    for &(slice, f, c, name) in marks {
-        if read_frame.get(&slice) != Some(&f) {
-            continue;
-        }
-        let g = by_uid[c.image_uid.as_str()];
-        for &[x, y] in &c.points {
-            b.landmark(name, g.to_patient(x, y), 0)?;
-        }
-    }
-    Ok(())
-}
+/// The cvi42 workspace's contour types, for the placement on the images.
+const SOURCE: Source = Source {
+    what: "cvi42 workspace",
+    note: NOTE,
+    surface_of,
+    landmark_of,
+};
 
 /// Reads a cvi42 workspace with the DICOM images (`(file name, bytes)`, headers are enough) its
 /// contours were drawn on. Files that are not DICOM images (a DICOMDIR, notes) are set aside with
@@ -301,177 +206,14 @@ pub fn read_cvi42(
     if files.is_empty() {
         return Err(err(NEEDS_IMAGES));
     }
-    let mut images = Vec::new();
-    let mut aside = SetAside::default();
-    for (name, data) in files {
-        match image_geometry(data) {
-            Ok(g) => images.push(g),
-            Err(NoGeometry::NotDicom) => aside.not_dicom.push(name.to_string()),
-            Err(NoGeometry::Missing { .. }) => aside.no_plane.push(name.to_string()),
-            Err(NoGeometry::Invalid { why, .. }) => {
-                aside.no_plane.push(format!("{name} ({why})"));
-            }
-        }
-    }
-    let places = slices_and_frames(&images);
-    let by_uid: HashMap<&str, &ImageGeometry> =
-        images.iter().map(|g| (g.uid.as_str(), g)).collect();
-
-    // Contours in slice, then frame order: each slice's first frame is then its earliest.
-    let mut placed: Vec<(usize, usize, &PixelContour)> = Vec::new();
-    let mut marks: Vec<(usize, usize, &PixelContour, &'static str)> = Vec::new();
-    let mut missing: Vec<&str> = Vec::new();
-    let mut skipped: BTreeMap<&'static str, Vec<&str>> = BTreeMap::new();
-    for c in &contours {
-        let place = places.get(c.image_uid.as_str());
-        if let Some(name) = landmark_of(&c.kind) {
-            // A landmark on an image not given is no reason to ask for it: only curves are.
-            if let Some(&(slice, f)) = place {
-                marks.push((slice, f, c, name));
-            }
-            continue;
-        }
-        match (place, surface_of(&c.kind)) {
-            (_, Err(what)) => {
-                let kinds = skipped.entry(what).or_default();
-                if !kinds.contains(&c.kind.as_str()) {
-                    kinds.push(&c.kind);
-                }
-            }
-            (None, Ok(_)) => {
-                if !missing.contains(&c.image_uid.as_str()) {
-                    missing.push(&c.image_uid);
-                }
-            }
-            (Some(&(slice, f)), Ok(_)) => placed.push((slice, f, c)),
-        }
-    }
-    if placed.is_empty() {
-        let aside_names: Vec<String> = aside
-            .not_dicom
-            .iter()
-            .chain(&aside.no_plane)
-            .cloned()
-            .collect();
-        let why = if missing.is_empty() {
-            "no contour of a ventricular surface (LV or RV endo- or epicardium)".to_string()
-        } else if images.is_empty() {
-            format!(
-                "none of the {} files given with it is a DICOM image with an image plane ({}); \
-                 give the images its contours were drawn on",
-                files.len(),
-                listed(&aside_names)
-            )
-        } else {
-            format!(
-                "none of the {} images its ventricular contours were drawn on is among the {} \
-                 DICOM images given (first: {}); give the study's images",
-                missing.len(),
-                images.len(),
-                missing[0]
-            )
-        };
-        return Err(err(why));
-    }
-    placed.sort_by_key(|&(slice, f, _)| (slice, f));
-    let drawn_on = {
-        let mut uids: Vec<&str> = placed
-            .iter()
-            .map(|(_, _, c)| c.image_uid.as_str())
-            .collect();
-        uids.sort_unstable();
-        uids.dedup();
-        uids.len()
-    };
-    let drawn_slices = {
-        let mut slices: Vec<usize> = placed.iter().map(|&(slice, _, _)| slice).collect();
-        slices.dedup();
-        slices.len()
-    };
-
-    let mut b = ContourBuilder::new();
-    let set_aside = aside.not_dicom.len() + aside.no_plane.len();
-    let others = if set_aside > 0 {
+    let images = Images::read(files);
+    let repeated = (repeats > 0).then(|| {
         format!(
-            "; {} given with it set aside",
-            count(set_aside, "other file")
-        )
-    } else {
-        String::new()
-    };
-    b.warn(format!(
-        "{NOTE}{}: contours on {drawn_on} of them, in {}{others}",
-        count(images.len(), "DICOM image"),
-        count(drawn_slices, "cine slice")
-    ));
-    let mut frames = FrameFilter::new(frame);
-    // The frame each slice's curves were read from: its landmarks are read from that frame only.
-    let mut read_frame: HashMap<usize, usize> = HashMap::new();
-    for (slice, f, c) in placed {
-        let surface = surface_of(&c.kind).ok();
-        let (slice_id, label) = (format!("s{slice:02}"), f.to_string());
-        // FrameFilter counts points (its warnings say how many were left out): ask per point.
-        let mut keep = false;
-        for _ in &c.points {
-            keep = frames.keep(&slice_id, &label);
-        }
-        if !keep {
-            continue;
-        }
-        read_frame.insert(slice, f);
-        let g = by_uid[c.image_uid.as_str()];
-        let points: Vec<Vec3> = c.points.iter().map(|&[x, y]| g.to_patient(x, y)).collect();
-        // Closed types say nothing of their ends: the end-point rule decides, as for CSV.
-        let ring = c
-            .kind
-            .to_ascii_lowercase()
-            .contains("open")
-            .then_some(false);
-        b.push_piece(&format!("{slice_id}_{}", c.kind), surface, points, ring, 0)?;
-    }
-    if let Some(e) = frames.nothing_in_wanted() {
-        return Err(e);
-    }
-    landmarks(&mut b, &marks, &read_frame, &by_uid)?;
-    for w in frames.warnings("slice") {
-        b.warn(w);
-    }
-    if repeats > 0 {
-        b.warn(format!(
             "{} stored again under another study map of the workspace read once",
             count(repeats, "contour")
-        ));
-    }
-    if !missing.is_empty() {
-        b.warn(format!(
-            "contours on {} skipped: their DICOM files were not given (first UID {})",
-            count(missing.len(), "image"),
-            missing[0]
-        ));
-    }
-    for (what, kinds) in &skipped {
-        b.warn(format!(
-            "contours of type {} skipped: {what}",
-            kinds.join(", ")
-        ));
-    }
-    if !aside.not_dicom.is_empty() {
-        b.warn(format!(
-            "{} set aside: not DICOM ({})",
-            count(aside.not_dicom.len(), "file"),
-            listed(&aside.not_dicom)
-        ));
-    }
-    if !aside.no_plane.is_empty() {
-        b.warn(format!(
-            "{} set aside: no image plane ({})",
-            count(aside.no_plane.len(), "DICOM file"),
-            listed(&aside.no_plane)
-        ));
-    }
-    let mut set = b.finish()?;
-    set.time_frames = frames.time_frames();
-    Ok(set)
+        )
+    });
+    place(&SOURCE, &contours, &images, repeated.as_slice(), frame)
 }
 
 #[cfg(test)]

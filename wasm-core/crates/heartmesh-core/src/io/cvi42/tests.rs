@@ -1,63 +1,8 @@
 use super::*;
 use crate::geometry::v3;
+use crate::io::dicom_image::{image_geometry, ImageGeometry, NoGeometry};
+use crate::io::test_images::*;
 use crate::io::{read_contours_with, read_study, ContourOptions};
-
-/// One explicit VR little endian element.
-fn element(tag: (u16, u16), vr: &[u8; 2], value: &[u8]) -> Vec<u8> {
-    let mut v = value.to_vec();
-    if v.len() % 2 == 1 {
-        v.push(if vr == b"UI" { 0 } else { b' ' });
-    }
-    let mut out = Vec::new();
-    out.extend_from_slice(&tag.0.to_le_bytes());
-    out.extend_from_slice(&tag.1.to_le_bytes());
-    out.extend_from_slice(vr);
-    if matches!(vr, b"OB" | b"OW") {
-        out.extend_from_slice(&[0, 0]);
-        out.extend_from_slice(&(v.len() as u32).to_le_bytes());
-    } else {
-        out.extend_from_slice(&(v.len() as u16).to_le_bytes());
-    }
-    out.extend_from_slice(&v);
-    out
-}
-
-fn ds(values: &[f64]) -> Vec<u8> {
-    values
-        .iter()
-        .map(|v| format!("{v}"))
-        .collect::<Vec<_>>()
-        .join("\\")
-        .into_bytes()
-}
-
-struct Image {
-    uid: &'static str,
-    position: [f64; 3],
-    orientation: [f64; 6],
-    spacing: [f64; 2],
-    series: i64,
-    trigger: f64,
-}
-
-/// A header-only MR image (with a few pixels, as a real file has).
-fn dicom(im: &Image) -> Vec<u8> {
-    let mut out = vec![0u8; 128];
-    out.extend_from_slice(b"DICM");
-    out.extend(element((2, 0x10), b"UI", b"1.2.840.10008.1.2.1"));
-    out.extend(element((8, 0x18), b"UI", im.uid.as_bytes()));
-    out.extend(element((0x18, 0x1060), b"DS", &ds(&[im.trigger])));
-    out.extend(element(
-        (0x20, 0x11),
-        b"IS",
-        im.series.to_string().as_bytes(),
-    ));
-    out.extend(element((0x20, 0x32), b"DS", &ds(&im.position)));
-    out.extend(element((0x20, 0x37), b"DS", &ds(&im.orientation)));
-    out.extend(element((0x28, 0x30), b"DS", &ds(&im.spacing)));
-    out.extend(element((0x7FE0, 0x10), b"OW", &[7u8; 4096]));
-    out
-}
 
 /// An image's contours: (type, points in subpixels).
 type Drawn<'a> = [(&'a str, &'a [[i64; 2]])];
@@ -86,19 +31,6 @@ fn workspace(images: &[(&str, &Drawn)], sub: &str) -> String {
         x += "</Hash:item></Hash:item>";
     }
     x + "</Hash:item></Hash:root>"
-}
-
-/// An oblique plane: rows along (1,1,0)/sqrt2, columns along z, 0.8 mm rows and 1.25 mm columns.
-const S2: f64 = std::f64::consts::FRAC_1_SQRT_2;
-fn oblique(uid: &'static str, trigger: f64) -> Image {
-    Image {
-        uid,
-        position: [10.0, -20.0, 30.0],
-        orientation: [S2, S2, 0.0, 0.0, 0.0, 1.0],
-        spacing: [0.8, 1.25],
-        series: 5,
-        trigger,
-    }
 }
 
 /// A square of 16 points, 8 pixels a side, at subpixel resolution 4.
