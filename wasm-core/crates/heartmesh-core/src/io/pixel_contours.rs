@@ -6,8 +6,8 @@
 //! The contour files do not say which slice or cine frame an image is; the images do. Images
 //! sharing a series and a plane are a cine slice, ordered by Trigger Time (then Instance Number),
 //! and an image's frame is its place in that order from 0 (frame 0 is usually end-diastole).
-//! Without `--frame`, each slice keeps its first contoured frame, as GPFiles do
-//! ([`super::frames`]). Each format only reads its own files into [`PixelContour`]s and names
+//! Without `--frame`, each slice keeps one contoured frame, as GPFiles do ([`super::frames`]):
+//! the frame in which the most surfaces are drawn where the slice has it, else its earliest. Each format only reads its own files into [`PixelContour`]s and names
 //! its contour types ([`Source`]); the rest is here, once.
 
 use std::collections::{BTreeMap, HashMap};
@@ -184,7 +184,6 @@ pub fn place(
     let places = slices_and_frames(geometries());
     let by_uid: HashMap<&str, &ImageGeometry> = geometries().map(|g| (g.uid.as_str(), g)).collect();
 
-    // Contours in slice, then frame order: each slice's first frame is then its earliest.
     let mut placed: Vec<(usize, usize, &PixelContour)> = Vec::new();
     let mut marks: Vec<(usize, usize, &PixelContour, &'static str)> = Vec::new();
     let mut missing: Vec<&str> = Vec::new();
@@ -240,7 +239,26 @@ pub fn place(
         };
         return Err(source.error(why));
     }
-    placed.sort_by_key(|&(slice, f, _)| (slice, f));
+    // Without a frame asked for, each slice reads its first frame in this order: the frame in
+    // which the most surfaces are drawn first (end-diastole, where readers draw the epicardium
+    // too: Sunnybrook's experts drew it at end-diastole only, on some cases' last frame), then by
+    // time; the earliest of those that tie (frame 0 is usually end-diastole).
+    let preferred = {
+        let mut per_frame: BTreeMap<usize, Vec<&str>> = BTreeMap::new();
+        for &(_, f, c) in &placed {
+            let surfaces = per_frame.entry(f).or_default();
+            if let Ok(s) = (source.surface_of)(&c.kind) {
+                if !surfaces.contains(&s) {
+                    surfaces.push(s);
+                }
+            }
+        }
+        per_frame
+            .iter()
+            .max_by(|a, b| a.1.len().cmp(&b.1.len()).then(b.0.cmp(a.0)))
+            .map_or(0, |(&f, _)| f)
+    };
+    placed.sort_by_key(|&(slice, f, _)| (slice, f != preferred, f));
     let drawn_on = {
         let mut uids: Vec<&str> = placed
             .iter()
@@ -334,6 +352,11 @@ pub fn place(
         ));
     }
     let mut set = b.finish()?;
-    set.time_frames = frames.time_frames();
+    set.time_frames = frames.time_frames().map(|mut tf| {
+        // In time order for the frame picker, whichever was read first.
+        tf.frames
+            .sort_by_key(|f| f.parse::<usize>().unwrap_or(usize::MAX));
+        tf
+    });
     Ok(set)
 }

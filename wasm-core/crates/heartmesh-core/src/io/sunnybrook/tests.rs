@@ -323,3 +323,67 @@ fn mutated_contour_files_and_images_never_panic() {
     }
     assert!(read_ok > 0 && read_ok < 400, "{read_ok}");
 }
+
+#[test]
+fn the_frame_read_by_default_is_the_one_in_which_the_most_surfaces_are_drawn() {
+    // End-diastole last in the cycle (a case's frame 3 of 4, as some of the data's are): both
+    // surfaces there, the endocardium alone at frame 1 (end-systole). Frame 3 is read, not 1.
+    let mut files = Vec::new();
+    for k in 0..3 {
+        let n = k * 4 + 1;
+        files.push((
+            format!("IM-0001-{:04}-icontour-manual.txt", n + 1),
+            circle(11.0),
+        ));
+        files.push((
+            format!("IM-0001-{:04}-icontour-manual.txt", n + 3),
+            circle(16.0),
+        ));
+        files.push((
+            format!("IM-0001-{:04}-ocontour-manual.txt", n + 3),
+            circle(22.0),
+        ));
+        files.extend((0..4).map(|f| stack_image(k, f)));
+    }
+    let set = read(&files, None).unwrap();
+    assert_eq!(
+        (
+            surface(&set, "LV_ENDO").len(),
+            surface(&set, "LV_EPI").len()
+        ),
+        (3, 3)
+    );
+    let frames = set.time_frames.as_ref().unwrap();
+    assert_eq!(frames.read, vec!["3".to_string()]);
+    assert_eq!(frames.frames, vec!["1".to_string(), "3".to_string()]);
+    let centre = v3(-50.0 + 40.0 * 1.25, -60.0 + 48.0 * 1.25, 0.0);
+    for c in surface(&set, "LV_ENDO") {
+        let d = (c.points().next().unwrap().xy() - centre.xy()).norm();
+        assert!(
+            (d - 16.0 * 1.25).abs() < 0.01,
+            "radius {d} mm: frame 1's ring read"
+        );
+    }
+    // Asked for, frame 1 is read as before.
+    let es = read(&files, Some("1")).unwrap();
+    assert_eq!(
+        (surface(&es, "LV_ENDO").len(), surface(&es, "LV_EPI").len()),
+        (3, 0)
+    );
+    // Frames of as many surfaces tie, whatever their curve counts: the earliest, frame 1, where
+    // a slice has it (two of three here), else the slice's own.
+    let endo: Vec<(String, Vec<u8>)> = files
+        .into_iter()
+        .filter(|(n, _)| !n.contains("ocontour") && n != "IM-0001-0010-icontour-manual.txt")
+        .collect();
+    let set = read(&endo, None).unwrap();
+    let radii: Vec<f64> = surface(&set, "LV_ENDO")
+        .iter()
+        .map(|c| (c.points().next().unwrap().xy() - centre.xy()).norm() / 1.25)
+        .collect();
+    assert!(
+        (radii[0] - 11.0).abs() < 0.01 && (radii[1] - 11.0).abs() < 0.01,
+        "{radii:?}"
+    );
+    assert!((radii[2] - 16.0).abs() < 0.01, "{radii:?}");
+}
