@@ -95,15 +95,7 @@ fn info_and_volumes_read_the_case() {
     assert_eq!(code, 0, "{err}");
     let v: Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["format"], "Sunnybrook contours");
-    for (surface, points) in [("LV_ENDO", 233), ("LV_EPI", 216)] {
-        let s = v["surfaces"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|s| s["surface"] == surface)
-            .unwrap_or_else(|| panic!("{surface}: {v}"));
-        assert_eq!(s["points"], points, "{surface}");
-    }
+    common::assert_surface_points(&v, &[("LV_ENDO", 233), ("LV_EPI", 216)]);
     let dir = scratch("sunnybrook_volumes");
     let json = dir.join("v.json");
     let (code, _, err) = run(bin().args(["volumes", &fixture("")]).args([

@@ -57,24 +57,12 @@ fn the_workspace_gives_the_gpfiles_points_on_their_image_planes() {
         let gp = read_gpfile(gp);
         // The curves the fixture copied one for one (the RV endocardium was joined from pieces).
         for surface in ["LV_ENDO", "LV_EPI", "RV_EPI"] {
-            let (gaps, n) = in_plane_gaps(&cvi, &gp, surface);
-            let theirs = gp
-                .contours
-                .iter()
-                .filter(|c| c.surface.as_deref() == Some(surface))
-                .count();
-            eprintln!(
-                "CVI42 frame {frame:?} {surface}: {n} contours ({theirs} in the GPFile), {} \
-                 points, in-plane gap mean {:.4} max {:.4} mm",
-                gaps.len(),
-                mean(&gaps),
-                max(&gaps)
-            );
-            assert_eq!(n, theirs, "{surface}");
-            assert!(
-                max(&gaps) <= ROUNDING_MM + 1e-9,
-                "{surface}: {}",
-                max(&gaps)
+            assert_on_gpfile_points(
+                &format!("CVI42 frame {frame:?}"),
+                &cvi,
+                &gp,
+                surface,
+                ROUNDING_MM,
             );
         }
     }

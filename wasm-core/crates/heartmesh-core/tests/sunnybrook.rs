@@ -72,24 +72,12 @@ fn the_files_give_the_gpfiles_points_on_their_image_planes() {
         let sb = read_sunnybrook(frame);
         let gp = gpfile_sax(gp);
         for surface in surfaces {
-            let (gaps, n) = in_plane_gaps(&sb, &gp, surface);
-            let theirs = gp
-                .contours
-                .iter()
-                .filter(|c| c.surface.as_deref() == Some(*surface))
-                .count();
-            eprintln!(
-                "SUNNYBROOK frame {frame:?} {surface}: {n} contours ({theirs} in the GPFile), {} \
-                 points, in-plane gap mean {:.4} max {:.4} mm",
-                gaps.len(),
-                mean(&gaps),
-                max(&gaps)
-            );
-            assert_eq!(n, theirs, "{surface}");
-            assert!(
-                max(&gaps) <= ROUNDING_MM + 1e-9,
-                "{surface}: {}",
-                max(&gaps)
+            assert_on_gpfile_points(
+                &format!("SUNNYBROOK frame {frame:?}"),
+                &sb,
+                &gp,
+                *surface,
+                ROUNDING_MM,
             );
         }
         // The experts drew the epicardium at end-diastole only; the papillary muscle is no surface.

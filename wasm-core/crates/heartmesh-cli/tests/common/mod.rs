@@ -170,3 +170,16 @@ pub fn with_grid(
     let rep = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
     (rep, read_mesh_file(&out), read_mesh_file(&grid))
 }
+
+/// Asserts that `info --json`'s `surfaces` entry for each surface holds that many points.
+pub fn assert_surface_points(info: &serde_json::Value, expected: &[(&str, u64)]) {
+    for &(surface, points) in expected {
+        let s = info["surfaces"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|s| s["surface"] == surface)
+            .unwrap_or_else(|| panic!("{surface}: {info}"));
+        assert_eq!(s["points"], points, "{surface}");
+    }
+}

@@ -185,3 +185,30 @@ pub fn in_plane_gaps(cvi: &ContourSet, gp: &ContourSet, surface: &str) -> (Vec<f
     }
     (gaps, contours)
 }
+
+/// Asserts that `ours` (contours read from pixels) holds as many `surface` contours as the GPFile
+/// `gp` and that each point lies within `rounding` mm of a GPFile point in its image plane;
+/// prints the figures under `tag` (e.g. "CVI42 frame None").
+pub fn assert_on_gpfile_points(
+    tag: &str,
+    ours: &ContourSet,
+    gp: &ContourSet,
+    surface: &str,
+    rounding: f64,
+) {
+    let (gaps, n) = in_plane_gaps(ours, gp, surface);
+    let theirs = gp
+        .contours
+        .iter()
+        .filter(|c| c.surface.as_deref() == Some(surface))
+        .count();
+    eprintln!(
+        "{tag} {surface}: {n} contours ({theirs} in the GPFile), {} points, in-plane gap mean \
+         {:.4} max {:.4} mm",
+        gaps.len(),
+        mean(&gaps),
+        max(&gaps)
+    );
+    assert_eq!(n, theirs, "{surface}");
+    assert!(max(&gaps) <= rounding + 1e-9, "{surface}: {}", max(&gaps));
+}
