@@ -76,7 +76,7 @@ fn the_files_give_the_gpfiles_points_on_their_image_planes() {
                 &format!("SUNNYBROOK frame {frame:?}"),
                 &sb,
                 &gp,
-                *surface,
+                surface,
                 ROUNDING_MM,
             );
         }
