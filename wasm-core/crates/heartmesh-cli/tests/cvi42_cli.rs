@@ -254,8 +254,8 @@ fn septum(inputs: &[&str], frame: Option<&str>, dir: &Path, name: &str) -> (Stri
 #[test]
 fn the_reference_points_place_the_segments() {
     // cvi42's superior and inferior SAX reference points are the RV insertions: the bullseye is
-    // placed from them, within 10 degrees of the GPFile's (its grouping by the RV's centre puts
-    // one apical insertion on the other side: see segments_cli.rs).
+    // placed from them, as from the GPFile's unnamed pairs at frame 0 (paired by slice: 0.1
+    // degrees apart) and within 5 degrees of it at frame 9 (the septum moves in systole).
     let dir = scratch("cvi42_segments");
     let (wsx, images) = (fixture("Contours.cvi42wsx"), fixture("dicom"));
     let gp = data("contours/bivme-example-patient1/GPFile_000.txt");
@@ -273,7 +273,7 @@ fn the_reference_points_place_the_segments() {
             .acos()
             .to_degrees();
         eprintln!("CVI42 segments frame {frame:?}: septum {off:.1} degrees from the GPFile's ED");
-        assert!(off < 15.0, "{off}");
+        assert!(off < if frame.is_none() { 0.5 } else { 5.0 }, "{off}");
     }
 }
 

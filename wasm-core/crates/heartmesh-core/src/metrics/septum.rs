@@ -3,9 +3,12 @@
 //!
 //! The RV insertion points (biv-me's `RV_INSERT` landmarks, two per short-axis slice) are the
 //! standard's own reference: the septum runs between the anterior and the inferior ones, so its
-//! middle is the bisector of the two groups' mean directions. Grouping them by side of the RV's
-//! centre (or of their own mean) keeps a slice with one insertion point from tipping the
-//! bisector; points on one side only (one insertion line marked) defer to the RV's centre.
+//! middle is the bisector of the two groups' mean directions. A slice's two insertions go one to
+//! each group (the one a positive turn ahead of the other is the anterior), whichever side of the
+//! RV's centre they lie on (near the apex both may lie on one); other points are grouped by side
+//! of the RV's centre (or of their own mean), which keeps a slice with one insertion point from
+//! tipping the bisector; points on one side only (one insertion line marked) defer to the RV's
+//! centre.
 //! Insertions that name their side (cvi42's reference points) need no grouping, and one side is
 //! enough: the septum's middle is 60 degrees on from either, as the standard's segments run.
 //! Without them the RV contours' centre gives the direction (the septum faces the RV; on the
@@ -14,6 +17,7 @@
 
 use super::function::winding_number;
 use super::segments::{Cavity, Orientation};
+use crate::contours::plane::fit_plane;
 use crate::contours::ContourSet;
 use crate::geometry::Vec3;
 use crate::mesh::wall::Wall;
@@ -186,14 +190,17 @@ pub fn orientation_around(set: &ContourSet, centre: &Vec3, axis: &Vec3) -> Optio
             points: sided.len(),
         });
     }
-    let inserts: Vec<Vec3> = set
+    let points: Vec<Vec3> = set
         .landmarks
         .iter()
         .filter(|(name, _)| is_insertion(name))
-        .filter_map(|(_, p)| across(p))
+        .filter(|(_, p)| across(p).is_some())
+        .map(|(_, p)| *p)
         .collect();
+    let inserts: Vec<Vec3> = points.iter().filter_map(across).collect();
     if inserts.len() >= 2 {
-        if let Some(septum) = bisector(&inserts, rv_direction, &n) {
+        let slices = same_slice_pairs(set, &points, &n);
+        if let Some(septum) = bisector(&inserts, &slices, rv_direction, &n) {
             return Some(Orientation {
                 septum,
                 source: "RV_INSERT landmarks",
@@ -208,18 +215,82 @@ pub fn orientation_around(set: &ContourSet, centre: &Vec3, axis: &Vec3) -> Optio
     })
 }
 
+/// How far (mm) an insertion point may lie from a short-axis contour's plane and still be of its
+/// slice: biv-me marks the insertions on the slice's image, so they lie on its plane (0.1 mm off
+/// on patient 1); the next slice is 8-10 mm away.
+const ON_PLANE_MM: f64 = 1.5;
+
+/// Short-axis contours are those whose plane lies across `n` within this angle (degrees).
+const SAX_TILT_DEG: f64 = 30.0;
+
+/// Pairs (indices into `points`) of insertion points that lie on one short-axis slice and are
+/// its only two: biv-me's `RV_INSERT` marks both insertions on each slice without saying which
+/// is which, and within a slice the anterior one is always the one a positive turn about the
+/// axis ahead of the other. A slice's plane is that of its short-axis contours.
+fn same_slice_pairs(set: &ContourSet, points: &[Vec3], n: &Vec3) -> Vec<(usize, usize)> {
+    let cos_tilt = SAX_TILT_DEG.to_radians().cos();
+    let planes: Vec<(Vec3, Vec3)> = set
+        .contours
+        .iter()
+        .filter_map(|c| fit_plane(c.points()))
+        .filter(|f| f.normal.dot(n).abs() >= cos_tilt && f.max_residual < ON_PLANE_MM)
+        .map(|f| (f.centroid, f.normal))
+        .collect();
+    // Each point's slice: the first plane it lies on (planes of one slice lie within rounding).
+    let slice_of = |p: &Vec3| {
+        planes
+            .iter()
+            .position(|(c, m)| (p - c).dot(m).abs() < ON_PLANE_MM)
+    };
+    let slices: Vec<Option<usize>> = points.iter().map(slice_of).collect();
+    // Planes of one slice (the LV and RV curves of one image) are one slice.
+    let same = |a: usize, b: usize| {
+        let ((ca, ma), (cb, _)) = (planes[a], planes[b]);
+        (cb - ca).dot(&ma).abs() < ON_PLANE_MM
+    };
+    let mut pairs = Vec::new();
+    for i in 0..points.len() {
+        let Some(si) = slices[i] else { continue };
+        let mates: Vec<usize> = (0..points.len())
+            .filter(|&j| j != i && slices[j].is_some_and(|sj| same(si, sj)))
+            .collect();
+        if let [j] = mates[..] {
+            if i < j {
+                pairs.push((i, j));
+            }
+        }
+    }
+    pairs
+}
+
 /// The middle of the septum from insertion directions: the two sides of `reference` (the RV's
-/// direction, else the points' own mean) averaged apart, then halved. None when every point
-/// lies on one side of the RV's direction (one insertion line marked: its mean would be 60
-/// degrees off the septum's middle, where the RV's centre is not).
-fn bisector(directions: &[Vec3], reference: Option<Vec3>, n: &Vec3) -> Option<Vec3> {
+/// direction, else the points' own mean) averaged apart, then halved. A slice's two insertions
+/// (`pairs`) go one to each side, the one a positive turn ahead of the other to the first, even
+/// where both lie on one side of the reference (near the apex, where the RV's crescent is not
+/// where its centre is). None when every point lies on one side of the RV's direction (one
+/// insertion line marked: its mean would be 60 degrees off the septum's middle, where the RV's
+/// centre is not).
+fn bisector(
+    directions: &[Vec3],
+    pairs: &[(usize, usize)],
+    reference: Option<Vec3>,
+    n: &Vec3,
+) -> Option<Vec3> {
     let mean = directions.iter().sum::<Vec3>();
     let rv_given = reference.is_some();
     let reference = reference.or_else(|| mean.try_normalize(1e-9))?;
     let side = n.cross(&reference);
+    // Turn about n from the reference, in (-pi, pi].
+    let turn = |d: &Vec3| d.dot(&side).atan2(d.dot(&reference));
+    let mut first = vec![None; directions.len()];
+    for &(i, j) in pairs {
+        let ahead = turn(&directions[i]) >= turn(&directions[j]);
+        first[i] = Some(ahead);
+        first[j] = Some(!ahead);
+    }
     let (mut a, mut b) = (Vec3::zeros(), Vec3::zeros());
-    for d in directions {
-        if d.dot(&side) >= 0.0 {
+    for (d, paired) in directions.iter().zip(first) {
+        if paired.unwrap_or(d.dot(&side) >= 0.0) {
             a += d;
         } else {
             b += d;

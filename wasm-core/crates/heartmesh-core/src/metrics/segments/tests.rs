@@ -188,6 +188,64 @@ fn the_septum_comes_from_the_insertion_points_else_the_rv() {
 }
 
 #[test]
+fn a_slices_two_insertions_go_one_to_each_side_of_the_septum() {
+    let wall = shifted_shell();
+    let dir = |deg: f64| v3(deg.to_radians().cos(), deg.to_radians().sin(), 0.0);
+    // The RV towards -y (its rings on three slices); each slice's two insertions unnamed, as
+    // biv-me marks them: -30 and -150 degrees on two slices, and on the apical one -40 and -80,
+    // both on the anterior side of the RV's centre (where patient 1's apical pair lies).
+    let mut set = ContourSet::default();
+    for (k, z) in [-4.0, -10.0, -16.0].into_iter().enumerate() {
+        set.contours
+            .push(ring(&format!("rv{k}"), "RV_ENDO", v3(0.0, -40.0, z), 15.0));
+    }
+    for (deg, z) in [
+        (-30.0, -4.0),
+        (-150.0, -4.0),
+        (-30.0, -10.0),
+        (-150.0, -10.0),
+        (-40.0, -16.0),
+        (-80.0, -16.0),
+    ] {
+        set.landmarks
+            .push(("RV_INSERT".into(), dir(deg) * 22.0 + v3(0.0, 0.0, z)));
+    }
+    let middle = |a: Vec3, b: Vec3| (a.normalize() + b.normalize()).normalize();
+    // Paired by slice: -80 is the apical slice's inferior insertion.
+    let paired = middle(
+        dir(-30.0) * 2.0 + dir(-40.0),
+        dir(-150.0) * 2.0 + dir(-80.0),
+    );
+    // Grouped by side of the RV's centre it would join the anterior ones, 12 degrees off.
+    let sided = middle(
+        dir(-30.0) * 2.0 + dir(-40.0) + dir(-80.0),
+        dir(-150.0) * 2.0,
+    );
+    let o = orientation(&set, &wall).unwrap();
+    assert_eq!((o.source, o.points), ("RV_INSERT landmarks", 6));
+    assert!(
+        (o.septum - paired).norm() < 1e-9,
+        "{:?} vs {paired:?}",
+        o.septum
+    );
+    let apart = paired.dot(&sided).acos().to_degrees();
+    assert!(apart > 10.0, "{apart}");
+    // A slice holding three points (or one) is grouped by side, as before.
+    set.landmarks
+        .push(("RV_INSERT".into(), dir(-60.0) * 22.0 + v3(0.0, 0.0, -16.0)));
+    let o = orientation(&set, &wall).unwrap();
+    let three = middle(
+        dir(-30.0) * 2.0 + dir(-40.0) + dir(-60.0) + dir(-80.0),
+        dir(-150.0) * 2.0,
+    );
+    assert!(
+        (o.septum - three).norm() < 1e-9,
+        "{:?} vs {three:?}",
+        o.septum
+    );
+}
+
+#[test]
 fn insertions_that_name_their_side_place_the_septum_alone() {
     let wall = shifted_shell();
     let dir = |deg: f64| v3(deg.to_radians().cos(), deg.to_radians().sin(), 0.0);
