@@ -5,7 +5,8 @@
 // dropped together open as one study: the notes line says how many images placed the contours,
 // the warning line names the papillary muscle skipped, LV_ENDO reconstructs closed as the command
 // line's mesh (868 vertices, 158.5 ml); frame 9 picked reads the images again (4 rings, 111
-// points). The contours folder picked alone is refused with the core's words, and the series
+// points), and Function measures both frames as the phases (the command line's LV EF, 69.12 %).
+// The contours folder picked alone is refused with the core's words, and the series
 // folder dropped next is read with it.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
@@ -62,6 +63,15 @@ describe('a Sunnybrook case', () => {
     await page.click('[data-testid=notes] summary');
     await page.mouse.move(0, 0);
     if (SHOTS) await page.screenshot({ path: join(SHOTS, 'sunnybrook.png') });
+
+    // Function: the two frames are the phases, read with the images again; the command line's EF.
+    const FN = '[data-testid=function]';
+    assert.equal(await text(`${FN} .function-source`), '2 phases: the 2 frames of IM-0001-0001-icontour-manual.txt');
+    await page.click('[data-testid=function-measure]');
+    await page.waitForFunction((sel) => document.querySelector(sel)?.getAttribute('data-state') !== 'measuring', FN, { timeout: 240000, polling: 100 });
+    assert.equal(await page.getAttribute(FN, 'data-state'), 'done', await text(FN));
+    const ef = Number(await page.getAttribute('[data-testid=function-ventricle][data-surface=LV_ENDO]', 'data-ef'));
+    assert.ok(Math.abs(ef - 69.12) < 0.1, `LV EF ${ef} % (heartmesh volumes: 69.12 %)`);
     assert.deepEqual(pageErrors, []);
   });
 
