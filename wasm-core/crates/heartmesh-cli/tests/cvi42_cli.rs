@@ -127,41 +127,17 @@ fn the_workspace_alone_or_with_other_images_is_refused_in_one_line() {
     );
 }
 
-/// LV ejection fraction (%) of `volumes INPUTS... --surface LV_ENDO --json`.
-fn lv_ef(inputs: &[String], dir: &Path) -> (f64, Vec<String>) {
-    let json = dir.join("v.json");
-    let (code, _, err) = run(bin().arg("volumes").args(inputs).args([
-        "--surface",
-        "LV_ENDO",
-        "--json",
-        s(&json),
-        "--quiet",
-    ]));
-    assert_eq!(code, 0, "{err}");
-    let v = report(&json);
-    let phases = v["phases"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|p| {
-            p.as_str()
-                .map_or_else(|| p["name"].to_string(), str::to_string)
-        })
-        .collect();
-    (v["function"][0]["ef_percent"].as_f64().unwrap(), phases)
-}
-
 #[test]
 fn volumes_reads_the_workspaces_frames_as_the_phases() {
     let dir = scratch("cvi42_volumes");
-    let (ef, phases) = lv_ef(&[fixture("Contours.cvi42wsx"), fixture("dicom")], &dir);
+    let (ef, phases) = common::lv_ef(&[fixture("Contours.cvi42wsx"), fixture("dicom")], &dir);
     assert_eq!(phases.len(), 2, "{phases:?}");
     let gp = |f: &str| {
         common::data(&format!("contours/bivme-example-patient1/{f}"))
             .display()
             .to_string()
     };
-    let (theirs, _) = lv_ef(&[gp("GPFile_000.txt"), gp("GPFile_009.txt")], &dir);
+    let (theirs, _) = common::lv_ef(&[gp("GPFile_000.txt"), gp("GPFile_009.txt")], &dir);
     eprintln!("CVI42 volumes: LV EF {ef:.2} % (the GPFiles' {theirs:.2} %)");
     assert!((ef - theirs).abs() < 1.0, "{ef} vs {theirs}");
 }

@@ -183,3 +183,28 @@ pub fn assert_surface_points(info: &serde_json::Value, expected: &[(&str, u64)])
         assert_eq!(s["points"], points, "{surface}");
     }
 }
+
+/// LV ejection fraction (%) of `volumes INPUTS... --surface LV_ENDO --json`, and the phases' names.
+pub fn lv_ef(inputs: &[String], dir: &Path) -> (f64, Vec<String>) {
+    let json = dir.join("v.json");
+    let (code, _, err) = run(bin().arg("volumes").args(inputs).args([
+        "--surface",
+        "LV_ENDO",
+        "--json",
+        json.to_str().unwrap(),
+        "--quiet",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let phases = v["phases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            p.as_str()
+                .map_or_else(|| p["name"].to_string(), str::to_string)
+        })
+        .collect();
+    (v["function"][0]["ef_percent"].as_f64().unwrap(), phases)
+}
