@@ -6,14 +6,10 @@
 mod common;
 use common::{bin, data, run, scratch};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 fn fixture(sub: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../heartmesh-core/tests/data/cvi42-patient1")
-        .join(sub)
-        .display()
-        .to_string()
+    common::core_data(&format!("cvi42-patient1/{sub}"))
 }
 
 fn s(p: &Path) -> &str {

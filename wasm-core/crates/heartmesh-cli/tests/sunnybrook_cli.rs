@@ -7,14 +7,10 @@
 mod common;
 use common::{bin, run, scratch};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 fn fixture(sub: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../heartmesh-core/tests/data/sunnybrook-patient1")
-        .join(sub)
-        .display()
-        .to_string()
+    common::core_data(&format!("sunnybrook-patient1/{sub}"))
 }
 
 const CONTOURS: &str = "contours-manual/IRCCI-expert";

@@ -208,3 +208,12 @@ pub fn lv_ef(inputs: &[String], dir: &Path) -> (f64, Vec<String>) {
         .collect();
     (v["function"][0]["ef_percent"].as_f64().unwrap(), phases)
 }
+
+/// A file or folder of the core's test data (`heartmesh-core/tests/data/<rel>`), as a path string.
+pub fn core_data(rel: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../heartmesh-core/tests/data")
+        .join(rel)
+        .display()
+        .to_string()
+}
