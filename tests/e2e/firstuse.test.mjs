@@ -100,7 +100,7 @@ describe('a first use of the app', () => {
       await page.setInputFiles('[data-testid=file-input]', png);
       await waitForError(page, 'slice.png');
       assert.equal(await page.textContent('[data-testid=error-text]'),
-        'slice.png, line 1: binary data at byte 0: this is a PNG picture, not contours. Instead, open the contours drawn on the images (CSV, biv-me GPFile, SurFCo .mat, DICOM RT structure set) or their segmentation (a NIfTI label map). Not opened; still showing patient1-ED.csv.');
+        'slice.png, line 1: binary data at byte 0: this is a PNG picture, not contours. Instead, open the contours drawn on the images (CSV, biv-me GPFile, a Segment or SurFCo .mat, DICOM RT structure set) or their segmentation (a NIfTI label map). Not opened; still showing patient1-ED.csv.');
       assert.equal((await readResult(page)).vertices, 1041);
     } finally {
       rmSync(dir, { recursive: true, force: true });

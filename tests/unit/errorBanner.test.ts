@@ -18,14 +18,14 @@ describe('error banner hints', () => {
 describe('a picture opened by mistake', () => {
   it('says it is a picture and what to open instead', () => {
     const hint = wrongFileHint({ code: 'parse', message: 'image.png, line 1: binary data at byte 0: not a UTF-8 text file' });
-    expect(hint).toBe(' This is a picture (PNG), not contours: open the contours drawn on the images (CSV, biv-me GPFile, SurFCo .mat, DICOM RT structure set) or their segmentation (a NIfTI label map).');
+    expect(hint).toBe(' This is a picture (PNG), not contours: open the contours drawn on the images (CSV, biv-me GPFile, a Segment or SurFCo .mat, DICOM RT structure set) or their segmentation (a NIfTI label map).');
     expect(wrongFileHint({ code: 'parse', message: 'slice 3.JPG, line 1: binary data at byte 0: not a UTF-8 text file' })).toContain('a picture (JPEG)');
     expect(wrongFileHint({ code: 'parse', message: 'scan.tif, line 1: binary data at byte 2: not a UTF-8 text file' })).toContain('a picture (TIFF)');
     // The worker's errors name the file apart from the message.
     expect(wrongFileHint({ code: 'parse', file: 'shot.png', line: 1, message: 'binary data at byte 0: not a UTF-8 text file' })).toContain('a picture (PNG)');
     // The core names the pictures it knows by their signature: only what to open is added.
     expect(wrongFileHint({ code: 'parse', message: 'shot.dat, line 1: binary data at byte 0: this is a JPEG picture, not contours' })).toBe(
-      ' Instead, open the contours drawn on the images (CSV, biv-me GPFile, SurFCo .mat, DICOM RT structure set) or their segmentation (a NIfTI label map).');
+      ' Instead, open the contours drawn on the images (CSV, biv-me GPFile, a Segment or SurFCo .mat, DICOM RT structure set) or their segmentation (a NIfTI label map).');
     // Other binary files, and a PNG refused for another reason, get no such hint.
     expect(wrongFileHint({ code: 'parse', message: 'junk.bin, line 1: binary data at byte 1: not a UTF-8 text file' })).toBe('');
     expect(wrongFileHint({ code: 'parse', message: 'a.png: empty file' })).toBe('');

@@ -70,7 +70,7 @@ export function wrongFileHint(e: CoreErrorData): string {
   }
   // A picture (a screenshot of the images, an exported slice): the core names the kinds it knows
   // by their signature; the others read as binary data, and the file name tells.
-  const whatInstead = 'open the contours drawn on the images (CSV, biv-me GPFile, SurFCo .mat, DICOM RT structure set) or their segmentation (a NIfTI label map).';
+  const whatInstead = 'open the contours drawn on the images (CSV, biv-me GPFile, a Segment or SurFCo .mat, DICOM RT structure set) or their segmentation (a NIfTI label map).';
   if (/this is an? \w+ picture, not contours/.test(e.message)) return ` Instead, ${whatInstead}`;
   const picture = /\.(png|jpe?g|gif|bmp|tiff?|webp)$/i.exec(e.file ?? e.message.split(/[,:]/)[0]);
   if (picture && /binary data at byte \d+/.test(e.message)) {

@@ -22,6 +22,7 @@ mod pixel_contours;
 pub mod ply;
 mod read_regions;
 pub mod rtstruct;
+pub mod segment;
 pub mod session;
 #[cfg(test)]
 mod smoke;
@@ -74,6 +75,8 @@ pub enum ContourFormat {
     VtpLines,
     /// MATLAB v5 MAT-file with a cell array of Nx3 matrices (SurFCo).
     Mat,
+    /// Segment (Medviso) study: a MAT-file with a `setstruct` of image stacks.
+    Segment,
     /// heartmesh session JSON.
     Session,
     /// DICOM RT Structure Set (ROI names as surfaces).
@@ -100,6 +103,7 @@ impl ContourFormat {
             ContourFormat::VtkLines => "VTK legacy lines",
             ContourFormat::VtpLines => "VTP lines",
             ContourFormat::Mat => "MATLAB MAT-file",
+            ContourFormat::Segment => "Segment study",
             ContourFormat::Session => "heartmesh session",
             ContourFormat::Rtstruct => "DICOM RTSTRUCT",
             ContourFormat::Nifti => "NIfTI label map",
@@ -178,6 +182,8 @@ pub fn is_reading_note(warning: &str) -> bool {
     nifti::is_reading_note(warning)
         || warning.starts_with(cvi42::NOTE)
         || warning.starts_with(sunnybrook::NOTE)
+        || warning.starts_with(segment::NOTE)
+        || warning.starts_with(segment::PHASES)
 }
 
 /// Guesses the contour format from the content, then from the extension.
@@ -193,6 +199,9 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
         return ContourFormat::Nrrd;
     }
     if mat::is_mat(bytes) {
+        if mat::has_variable(bytes, "setstruct") {
+            return ContourFormat::Segment;
+        }
         return ContourFormat::Mat;
     }
     if nifti::is_dicom_seg(bytes) {
@@ -322,7 +331,9 @@ pub fn read_contours_with(
         ContourFormat::Xyz => xyz::read_xyz(bytes),
         ContourFormat::VtkLines => vtk::read_vtk_contours(bytes),
         ContourFormat::VtpLines => vtp::read_vtp_contours(bytes),
-        ContourFormat::Mat => mat::read_mat(bytes),
+        ContourFormat::Mat | ContourFormat::Segment => {
+            mat::read_mat_frame(bytes, options.frame.as_ref())
+        }
         ContourFormat::Session => session::read_session(bytes).map(|s| s.contours),
         ContourFormat::Rtstruct => rtstruct::read_rtstruct(bytes),
         ContourFormat::Nifti => {

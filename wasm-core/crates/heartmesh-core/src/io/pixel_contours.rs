@@ -40,6 +40,11 @@ pub struct Source {
     pub surface_of: fn(&str) -> std::result::Result<&'static str, &'static str>,
     /// The landmark a point type is read as (None: a curve, or a type not used).
     pub landmark_of: fn(&str) -> Option<&'static str>,
+    /// What the note calls an image ("DICOM image").
+    pub image: &'static str,
+    /// The label of a slice's first frame: 0 where frames are counted in the images' time
+    /// order, 1 where the format numbers them from 1 as its software shows them (Segment).
+    pub first_frame: usize,
 }
 
 impl Source {
@@ -60,6 +65,15 @@ pub struct Images<'a> {
 }
 
 impl<'a> Images<'a> {
+    /// Images whose planes the contour file itself gives (a Segment study's stacks).
+    pub fn from_planes(placed: Vec<(&'a str, ImageGeometry)>) -> Self {
+        Images {
+            given: placed.len(),
+            placed,
+            ..Images::default()
+        }
+    }
+
     /// Reads the plane of every file (headers are enough); files that are not DICOM images (a
     /// DICOMDIR, notes) are kept aside by reason, for the warnings.
     pub fn read(files: &[(&'a str, &[u8])]) -> Self {
@@ -180,6 +194,19 @@ pub fn place(
     warnings: &[String],
     frame: Option<&FrameChoice>,
 ) -> Result<ContourSet> {
+    place_preferring(source, contours, images, warnings, frame, None)
+}
+
+/// [`place`], each slice read at frame `preferred` (from 0, in time order) where it has
+/// contours there and no frame is asked for: the end-diastole a format records (Segment's EDT).
+pub fn place_preferring(
+    source: &Source,
+    contours: &[PixelContour],
+    images: &Images,
+    warnings: &[String],
+    frame: Option<&FrameChoice>,
+    preferred: Option<usize>,
+) -> Result<ContourSet> {
     let geometries = || images.placed.iter().map(|(_, g)| g);
     let places = slices_and_frames(geometries());
     let by_uid: HashMap<&str, &ImageGeometry> = geometries().map(|g| (g.uid.as_str(), g)).collect();
@@ -243,7 +270,8 @@ pub fn place(
     // which the most surfaces are drawn first (end-diastole, where readers draw the epicardium
     // too: Sunnybrook's experts drew it at end-diastole only, on some cases' last frame), then by
     // time; the earliest of those that tie (frame 0 is usually end-diastole).
-    let preferred = {
+    let drawn_at = |f: usize| placed.iter().any(|&(_, g, _)| g == f);
+    let preferred = preferred.filter(|&f| drawn_at(f)).unwrap_or_else(|| {
         let mut per_frame: BTreeMap<usize, Vec<&str>> = BTreeMap::new();
         for &(_, f, c) in &placed {
             let surfaces = per_frame.entry(f).or_default();
@@ -257,7 +285,7 @@ pub fn place(
             .iter()
             .max_by(|a, b| a.1.len().cmp(&b.1.len()).then(b.0.cmp(a.0)))
             .map_or(0, |(&f, _)| f)
-    };
+    });
     placed.sort_by_key(|&(slice, f, _)| (slice, f != preferred, f));
     let drawn_on = {
         let mut uids: Vec<&str> = placed
@@ -286,7 +314,7 @@ pub fn place(
     b.warn(format!(
         "{}{}: contours on {drawn_on} of them, in {}{others}",
         source.note,
-        count(images.placed.len(), "DICOM image"),
+        count(images.placed.len(), source.image),
         count(drawn_slices, "cine slice")
     ));
     let mut frames = FrameFilter::new(frame);
@@ -294,7 +322,7 @@ pub fn place(
     let mut read_frame: HashMap<usize, usize> = HashMap::new();
     for (slice, f, c) in placed {
         let surface = (source.surface_of)(&c.kind).ok();
-        let (slice_id, label) = (format!("s{slice:02}"), f.to_string());
+        let (slice_id, label) = (format!("s{slice:02}"), (f + source.first_frame).to_string());
         // FrameFilter counts points (its warnings say how many were left out): ask per point.
         let mut keep = false;
         for _ in &c.points {

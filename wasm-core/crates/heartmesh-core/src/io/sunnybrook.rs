@@ -34,6 +34,8 @@ const SOURCE: Source = Source {
     note: NOTE,
     surface_of,
     landmark_of,
+    image: "DICOM image",
+    first_frame: 0,
 };
 
 /// The surface a Sunnybrook contour type delineates, or what it is when it is none.

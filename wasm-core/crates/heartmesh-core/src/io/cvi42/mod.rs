@@ -192,6 +192,8 @@ const SOURCE: Source = Source {
     note: NOTE,
     surface_of,
     landmark_of,
+    image: "DICOM image",
+    first_frame: 0,
 };
 
 /// Reads a cvi42 workspace with the DICOM images (`(file name, bytes)`, headers are enough) its
