@@ -14,7 +14,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { unzipSync, strFromU8 } from 'fflate';
-import { download, gotoEmpty, runAndWait, setField, sharedDir, SHOTS } from './lib.mjs';
+import { download, gotoEmpty, runAndWait, setField, sharedDir, SHOTS, functionMeasured, measurePhases } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 
 let server;
@@ -26,14 +26,8 @@ const FN = '[data-testid=function]';
 const ROW = '[data-testid=function-anatomical]';
 const LINE = '[data-testid=function-anatomical-line]';
 
-async function waitMeasured(timeout = 240000) {
-  await page.waitForFunction((sel) => document.querySelector(sel)?.getAttribute('data-state') !== 'measuring', FN, { timeout, polling: 100 });
-  assert.equal(await page.getAttribute(FN, 'data-state'), 'done', (await page.textContent(FN)) ?? '');
-}
-async function measure() {
-  await page.click('[data-testid=function-measure]');
-  await waitMeasured();
-}
+const waitMeasured = (timeout) => functionMeasured(page, timeout);
+const measure = () => measurePhases(page);
 /** Waits until the row has settled after a Save (done or refused). */
 async function settled() {
   await page.waitForFunction((sel) => ['done', 'refused'].includes(document.querySelector(sel)?.getAttribute('data-state') ?? ''), ROW, { timeout: 60000, polling: 100 });

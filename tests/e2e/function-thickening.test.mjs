@@ -13,7 +13,7 @@ import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { download, gotoEmpty, runAndWait, sharedDir, SHOTS } from './lib.mjs';
+import { download, gotoEmpty, runAndWait, sharedDir, SHOTS, functionMeasured, measurePhases } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 
 let server;
@@ -26,15 +26,9 @@ const BOX = '[data-testid=function-thickening]';
 const DRAWING = '[data-testid=function-thickening-svg]';
 
 const fnState = () => page.getAttribute(FN, 'data-state');
-async function waitMeasured(timeout = 240000) {
-  await page.waitForFunction((sel) => document.querySelector(sel)?.getAttribute('data-state') !== 'measuring', FN, { timeout, polling: 100 });
-  assert.equal(await fnState(), 'done', (await page.textContent(FN)) ?? '');
-}
+const waitMeasured = (timeout) => functionMeasured(page, timeout);
 /** Measure all phases, to the end. */
-async function measure() {
-  await page.click('[data-testid=function-measure]');
-  await waitMeasured();
-}
+const measure = () => measurePhases(page);
 const opacity = (sel) => page.$eval(sel, (e) => getComputedStyle(e).opacity);
 
 /** The Thickening CSV's rows by segment id (`#` lines apart), its header lines and its columns. */

@@ -13,7 +13,7 @@ import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { download, gotoEmpty, ROOT, runAndWait, sharedDir, SHOTS, statusNow } from './lib.mjs';
+import { download, gotoEmpty, ROOT, runAndWait, sharedDir, SHOTS, statusNow, functionMeasured } from './lib.mjs';
 import { CYCLE_FRAMES, CYCLE_NAME, cycleCsv } from './cycleFrames.mjs';
 import { appForFile } from './perFile.mjs';
 import { PHASES_NAME, phasesCsv } from './twoFrames.mjs';
@@ -32,10 +32,7 @@ const VOLUMES = {
 };
 
 const fnState = () => page.getAttribute(FN, 'data-state');
-async function waitMeasured(timeout = 240000) {
-  await page.waitForFunction((sel) => document.querySelector(sel)?.getAttribute('data-state') !== 'measuring', FN, { timeout, polling: 100 });
-  assert.equal(await fnState(), 'done', (await page.textContent(FN)) ?? '');
-}
+const waitMeasured = (timeout) => functionMeasured(page, timeout);
 const ventricle = (surface) => page.locator(`[data-testid=function-ventricle][data-surface=${surface}]`);
 const num = async (loc, attr) => Number(await loc.getAttribute(attr));
 const near = (got, want, tol, what) => assert.ok(Math.abs(got - want) <= tol, `${what}: ${got}, expected ${want} ± ${tol}`);

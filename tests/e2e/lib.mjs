@@ -1,5 +1,6 @@
 // Shared helpers of the browser end-to-end tests: serve the built dist/ with `vite preview` and
 // drive Debian's chromium with playwright-core (never a downloaded browser).
+import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import { existsSync, mkdirSync, mkdtempSync, readFileSync, readdirSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -372,3 +373,17 @@ export async function textOf(page, selector) {
   return ((await page.textContent(selector)) ?? '').trim();
 }
 
+
+const FUNCTION = '[data-testid=function]';
+
+/** Waits until Function has stopped measuring, and asserts it finished (its text is the message). */
+export async function functionMeasured(page, timeout = 240000) {
+  await page.waitForFunction((sel) => document.querySelector(sel)?.getAttribute('data-state') !== 'measuring', FUNCTION, { timeout, polling: 100 });
+  assert.equal(await page.getAttribute(FUNCTION, 'data-state'), 'done', (await page.textContent(FUNCTION)) ?? '');
+}
+
+/** Function's Measure all phases, to the end. */
+export async function measurePhases(page, timeout = 240000) {
+  await page.click('[data-testid=function-measure]');
+  await functionMeasured(page, timeout);
+}

@@ -12,7 +12,7 @@ import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync, mkdtempSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf, waitForError } from './lib.mjs';
+import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf, waitForError, measurePhases } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 
 let server;
@@ -58,9 +58,7 @@ describe('a Segment study file', () => {
 
     const FN = '[data-testid=function]';
     assert.equal(await text(`${FN} .function-source`), '2 phases: the 2 frames of patient1.mat');
-    await page.click('[data-testid=function-measure]');
-    await page.waitForFunction((sel) => document.querySelector(sel)?.getAttribute('data-state') !== 'measuring', FN, { timeout: 240000, polling: 100 });
-    assert.equal(await page.getAttribute(FN, 'data-state'), 'done', await text(FN));
+    await measurePhases(page);
     const ef = Number(await page.getAttribute('[data-testid=function-ventricle][data-surface=LV_ENDO]', 'data-ef'));
     assert.ok(Math.abs(ef - 63.32) < 0.1, `LV EF ${ef} % (heartmesh volumes: 63.32 %)`);
     assert.deepEqual(pageErrors, []);

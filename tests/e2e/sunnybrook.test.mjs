@@ -11,7 +11,7 @@
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf, waitForError } from './lib.mjs';
+import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf, waitForError, measurePhases } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 
 let server;
@@ -67,9 +67,7 @@ describe('a Sunnybrook case', () => {
     // Function: the two frames are the phases, read with the images again; the command line's EF.
     const FN = '[data-testid=function]';
     assert.equal(await text(`${FN} .function-source`), '2 phases: the 2 frames of IM-0001-0001-icontour-manual.txt');
-    await page.click('[data-testid=function-measure]');
-    await page.waitForFunction((sel) => document.querySelector(sel)?.getAttribute('data-state') !== 'measuring', FN, { timeout: 240000, polling: 100 });
-    assert.equal(await page.getAttribute(FN, 'data-state'), 'done', await text(FN));
+    await measurePhases(page);
     const ef = Number(await page.getAttribute('[data-testid=function-ventricle][data-surface=LV_ENDO]', 'data-ef'));
     assert.ok(Math.abs(ef - 69.12) < 0.1, `LV EF ${ef} % (heartmesh volumes: 69.12 %)`);
     assert.deepEqual(pageErrors, []);

@@ -15,21 +15,11 @@ fn study() -> String {
 /// `reconstruct FILE --surface S [--frame F]`: (status, stderr, report).
 fn reconstruct(input: &str, surface: &str, frame: Option<&str>) -> (i32, String, Option<Value>) {
     let dir = scratch(&format!("segment_{surface}_{}", frame.unwrap_or("ed")));
-    let (mesh, json) = (dir.join("m.obj"), dir.join("r.json"));
-    let _ = std::fs::remove_file(&json);
-    let mut cmd = bin();
-    cmd.args(["reconstruct", input, "--surface", surface, "-o"])
-        .arg(&mesh)
-        .arg("--report")
-        .arg(&json);
+    let mut extra = vec!["--surface", surface];
     if let Some(f) = frame {
-        cmd.args(["--frame", f]);
+        extra.extend(["--frame", f]);
     }
-    let (code, _, err) = run(&mut cmd);
-    let report = json
-        .exists()
-        .then(|| serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap());
-    (code, err, report)
+    common::reconstruct_report(&[input.to_string()], &extra, &dir)
 }
 
 #[test]

@@ -15,31 +15,13 @@ fn fixture(sub: &str) -> String {
 
 const CONTOURS: &str = "contours-manual/IRCCI-expert";
 
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
 /// `reconstruct INPUTS... --surface LV_ENDO [--frame F]`: (status, stderr, report).
 fn lv(inputs: &[String], frame: Option<&str>, dir: &Path) -> (i32, String, Option<Value>) {
-    let (mesh, json) = (dir.join("lv.obj"), dir.join("lv.json"));
-    let _ = std::fs::remove_file(&json);
-    let mut cmd = bin();
-    cmd.arg("reconstruct").args(inputs).args([
-        "--surface",
-        "LV_ENDO",
-        "-o",
-        s(&mesh),
-        "--report",
-        s(&json),
-    ]);
+    let mut extra = vec!["--surface", "LV_ENDO"];
     if let Some(f) = frame {
-        cmd.args(["--frame", f]);
+        extra.extend(["--frame", f]);
     }
-    let (code, _, err) = run(&mut cmd);
-    let report = json
-        .exists()
-        .then(|| serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap());
-    (code, err, report)
+    common::reconstruct_report(inputs, &extra, dir)
 }
 
 #[test]

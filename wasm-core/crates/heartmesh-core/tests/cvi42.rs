@@ -83,13 +83,7 @@ fn the_workspaces_meshes_match_the_gpfiles_where_the_contours_do() {
         let (a, _) = reconstruct(&cvi, params.clone());
         let (b, _) = reconstruct(&gp, params);
         check_closed_manifold_outward(&a).unwrap();
-        let ours: Vec<_> = cvi
-            .contours
-            .iter()
-            .filter(|c| c.surface.as_deref() == Some(surface))
-            .cloned()
-            .collect();
-        let c2m = contour_to_mesh_of(&ours, &a);
+        let c2m = surface_to_mesh(&cvi, surface, &a);
         let r = compare(&b, &a, None).unwrap();
         eprintln!(
             "CVI42 {surface}: contour-to-mesh mean {:.3} max {:.3} mm; vs the GPFile's mesh \

@@ -77,12 +77,7 @@ fn top_of_used(set: &ContourSet, axis: &LongAxis) -> f64 {
 
 fn only(set: &ContourSet, surface: &str) -> ContourSet {
     ContourSet {
-        contours: set
-            .contours
-            .iter()
-            .filter(|c| c.surface.as_deref() == Some(surface))
-            .cloned()
-            .collect(),
+        contours: surface_contours(set, surface),
         ..ContourSet::default()
     }
 }

@@ -66,12 +66,7 @@ fn every_curve_lands_where_segments_conversion_puts_it() {
         assert_eq!((n, m), (points, points));
         assert!(there < 1e-6 && back < 1e-6, "{there} {back}");
         for s in ["LV_ENDO", "RV_ENDO"] {
-            let count = |set: &ContourSet| {
-                set.contours
-                    .iter()
-                    .filter(|c| c.surface.as_deref() == Some(s))
-                    .count()
-            };
+            let count = |set: &ContourSet| surface_contours(set, s).len();
             assert_eq!(count(&seg), count(&want), "{s}");
         }
     }
@@ -121,13 +116,7 @@ fn the_meshes_match_those_of_the_same_curves_in_millimetres() {
             let (a, _) = reconstruct(&seg, params.clone());
             let (b, _) = reconstruct(&want, params);
             check_closed_manifold_outward(&a).unwrap();
-            let curves: Vec<_> = seg
-                .contours
-                .iter()
-                .filter(|c| c.surface.as_deref() == Some(surface))
-                .cloned()
-                .collect();
-            let c2m = contour_to_mesh_of(&curves, &a);
+            let c2m = surface_to_mesh(&seg, surface, &a);
             eprintln!(
                 "SEGMENT {file} {surface}: {:.2} ml (millimetre file {:.2} ml), contour-to-mesh \
                  mean {:.3} max {:.3} mm",

@@ -117,13 +117,7 @@ fn the_meshes_match_the_gpfiles_short_axis_meshes() {
         let (a, _) = reconstruct(&set, params.clone());
         let (b, _) = reconstruct(&gpfile_sax(gp), params.clone());
         check_closed_manifold_outward(&a).unwrap();
-        let endo: Vec<_> = set
-            .contours
-            .iter()
-            .filter(|c| c.surface.as_deref() == Some("LV_ENDO"))
-            .cloned()
-            .collect();
-        let c2m = contour_to_mesh_of(&endo, &a);
+        let c2m = surface_to_mesh(&set, "LV_ENDO", &a);
         let r = compare(&b, &a, None).unwrap();
         eprintln!(
             "SUNNYBROOK {gp} LV_ENDO: contour-to-mesh mean {:.3} max {:.3} mm; vs the GPFile's \

@@ -217,3 +217,27 @@ pub fn core_data(rel: &str) -> String {
         .display()
         .to_string()
 }
+
+/// `reconstruct INPUTS... -o DIR/m.obj --report DIR/r.json EXTRA...`: (status, stderr, the
+/// report when one was written).
+pub fn reconstruct_report(
+    inputs: &[String],
+    extra: &[&str],
+    dir: &Path,
+) -> (i32, String, Option<serde_json::Value>) {
+    let (mesh, json) = (dir.join("m.obj"), dir.join("r.json"));
+    let _ = std::fs::remove_file(&json);
+    let mut cmd = bin();
+    cmd.arg("reconstruct")
+        .args(inputs)
+        .arg("-o")
+        .arg(&mesh)
+        .arg("--report")
+        .arg(&json)
+        .args(extra);
+    let (code, _, err) = run(&mut cmd);
+    let report = json
+        .exists()
+        .then(|| serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap());
+    (code, err, report)
+}

@@ -74,6 +74,20 @@ pub fn reconstruct(set: &ContourSet, params: Params) -> (TriMesh, f64) {
     (rec.mesh().clone(), t0.elapsed().as_secs_f64())
 }
 
+/// The contours of `set` that delineate `surface`.
+pub fn surface_contours(set: &ContourSet, surface: &str) -> Vec<Contour> {
+    set.contours
+        .iter()
+        .filter(|c| c.surface.as_deref() == Some(surface))
+        .cloned()
+        .collect()
+}
+
+/// Distance in mm from every point of `set`'s `surface` contours to `mesh`.
+pub fn surface_to_mesh(set: &ContourSet, surface: &str, mesh: &TriMesh) -> Vec<f64> {
+    contour_to_mesh_of(&surface_contours(set, surface), mesh)
+}
+
 /// Distance in mm from every contour point of `set` to the surface of `mesh`.
 pub fn contour_to_mesh(set: &ContourSet, mesh: &TriMesh) -> Vec<f64> {
     contour_to_mesh_of(&set.contours, mesh)
