@@ -91,6 +91,19 @@ struct Plane {
     slice_step: f64,
 }
 
+impl Plane {
+    /// Unit normal of the image planes.
+    fn normal(&self) -> Vec3 {
+        self.row_dir.cross(&self.col_dir).normalize()
+    }
+
+    /// Where slice `z` (from 0) has its first pixel: Segment steps along minus the (unnormalised)
+    /// cross product of the orientation's two directions.
+    fn slice_origin(&self, z: usize) -> Vec3 {
+        self.position - self.row_dir.cross(&self.col_dir) * (z as f64 * self.slice_step)
+    }
+}
+
 /// A stack's name in messages: its number from 1 and its view (`stack 2 (4CH)`).
 fn stack_name(set: &Value, e: usize) -> String {
     let view = ["ImageViewPlane", "SeriesDescription"]
@@ -284,10 +297,8 @@ pub fn read_segment(variables: &[Variable], frame: Option<&FrameChoice>) -> Resu
         .map(|v| &v.value)
         .ok_or_else(|| SOURCE.error("no setstruct variable"))?;
     let stacks = set.len();
-    let mut contours = Vec::new();
-    let mut planes: Vec<(String, ImageGeometry)> = Vec::new();
     let mut warnings = Vec::new();
-    let mut main: Option<(usize, usize)> = None; // (curves, stack) of the most drawn stack
+    let mut drawn: Vec<Drawn> = Vec::new();
     for e in 0..stacks {
         let name = stack_name(set, e);
         let found = curves(set, e).map_err(|why| SOURCE.error(format!("{name}: {why}")))?;
@@ -307,45 +318,54 @@ pub fn read_segment(variables: &[Variable], frame: Option<&FrameChoice>) -> Resu
             ));
             continue;
         }
-        let p = plane(set, e).map_err(|why| SOURCE.error(format!("{name}: {why}")))?;
-        if found.slices > 1 && p.slice_step <= 0.0 {
+        let plane = plane(set, e).map_err(|why| SOURCE.error(format!("{name}: {why}")))?;
+        if found.slices > 1 && plane.slice_step <= 0.0 {
             return Err(SOURCE.error(format!(
                 "{name}: {} slices but SliceThickness + SliceGap is {} mm",
-                found.slices, p.slice_step
+                found.slices, plane.slice_step
             )));
         }
-        let normal = p.row_dir.cross(&p.col_dir);
-        let description = stack_name(set, e);
-        for z in 0..found.slices {
-            for t in 0..found.frames {
+        drawn.push(Drawn {
+            stack: e,
+            name,
+            plane,
+            found,
+        });
+    }
+    let read = one_per_plane(&mut drawn, &mut warnings);
+    let Some(main) = read.first().map(|d| d.stack) else {
+        return Err(SOURCE.error(format!(
+            "none of its {} has an LV or RV contour (EndoX, EpiX, RVEndoX, RVEpiX)",
+            count(stacks, "image stack")
+        )));
+    };
+    let mut contours = Vec::new();
+    let mut planes: Vec<(String, ImageGeometry)> = Vec::new();
+    let mut in_order: Vec<&Drawn> = read.clone();
+    in_order.sort_by_key(|d| d.stack);
+    for d in in_order {
+        let (p, e) = (&d.plane, d.stack);
+        for z in 0..d.found.slices {
+            for t in 0..d.found.frames {
                 planes.push((
                     image_uid(e, z, t),
                     ImageGeometry {
                         uid: image_uid(e, z, t),
-                        position: p.position - normal * (z as f64 * p.slice_step),
+                        position: p.slice_origin(z),
                         row_dir: p.row_dir,
                         col_dir: p.col_dir,
                         pixel_spacing: p.spacing,
                         series: Some(e as i64),
-                        series_description: Some(description.clone()),
+                        series_description: Some(d.name.clone()),
                         instance: Some(t as i64),
                         trigger_ms: Some(t as f64),
                     },
                 ));
             }
         }
-        if main.is_none_or(|(n, _)| found.contours.len() > n) {
-            main = Some((found.contours.len(), e));
-        }
-        contours.extend(found.contours);
-        contours.extend(points(set, e, found.frames));
+        contours.extend(d.found.contours.iter().cloned());
+        contours.extend(points(set, e, d.found.frames));
     }
-    let Some((_, main)) = main else {
-        return Err(SOURCE.error(format!(
-            "none of its {} has an LV or RV contour (EndoX, EpiX, RVEndoX, RVEpiX)",
-            count(stacks, "image stack")
-        )));
-    };
     let ed = frame_index(set, main, "EDT");
     let es = frame_index(set, main, "EST");
     let images = Images::from_planes(
@@ -367,6 +387,54 @@ pub fn read_segment(variables: &[Variable], frame: Option<&FrameChoice>) -> Resu
         );
     }
     Ok(set_out)
+}
+
+/// A stack with curves, placed.
+struct Drawn {
+    stack: usize,
+    name: String,
+    plane: Plane,
+    found: StackCurves,
+}
+
+/// Stacks whose planes repeat a more drawn stack's (normals within this angle)...
+const PARALLEL_DEG: f64 = 10.0;
+/// ...with a slice this close to one of its slices, or half its slice step if that is more.
+const SAME_SLICE_MM: f64 = 2.0;
+
+/// The stacks to read, the most drawn first: a stack whose slices repeat those of a more drawn
+/// one (a study keeps the late-enhancement short axis, drawn for its scar, beside the cine one,
+/// on the same planes) would interleave another acquisition's, another phase's, curves with
+/// the main stack's, so it is left out with a warning; stacks that add planes (long-axis views,
+/// short-axis slices acquired as a stack of their own) are read.
+fn one_per_plane<'d>(drawn: &'d mut [Drawn], warnings: &mut Vec<String>) -> Vec<&'d Drawn> {
+    drawn.sort_by_key(|d| std::cmp::Reverse(d.found.contours.len()));
+    let cos = PARALLEL_DEG.to_radians().cos();
+    let mut read: Vec<&Drawn> = Vec::new();
+    for d in drawn.iter() {
+        let n = d.plane.normal();
+        let repeats = read.iter().find(|r| {
+            let m = r.plane.normal();
+            let near = SAME_SLICE_MM.max(r.plane.slice_step / 2.0);
+            n.dot(&m).abs() >= cos
+                && (0..d.found.slices).any(|z| {
+                    let h = d.plane.slice_origin(z).dot(&m);
+                    (0..r.found.slices).any(|w| (r.plane.slice_origin(w).dot(&m) - h).abs() < near)
+                })
+        });
+        match repeats {
+            Some(r) => warnings.push(format!(
+                "{}: its {} not read: its slices repeat those of {}, which has more (another \
+                 acquisition of the same planes, such as late enhancement); remove either stack \
+                 in Segment to read the other",
+                d.name,
+                count(d.found.contours.len(), "curve"),
+                r.name
+            )),
+            None => read.push(d),
+        }
+    }
+    read
 }
 
 #[cfg(test)]

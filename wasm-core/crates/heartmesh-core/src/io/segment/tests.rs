@@ -381,3 +381,46 @@ fn the_image_is_skipped_and_any_damage_is_an_error_not_a_panic() {
         let _ = read(&bytes[..cut], None);
     }
 }
+
+#[test]
+fn a_second_stack_on_the_same_planes_is_left_out_and_one_adding_planes_is_read() {
+    // Late enhancement: one frame, the cine stack's planes shifted 1 mm, its own curves.
+    let mut stacks = two_stacks();
+    let mut lge = Stack {
+        position: [10.0, 20.0, 29.0],
+        frames: 1,
+        view: "Short-axis",
+        ..Stack::default()
+    };
+    for z in 0..3 {
+        lge.endo.push((0, z, circle(40.0, 40.0, 7.0)));
+    }
+    stacks.push(lge);
+    let set = read(&study(&stacks), Some("1")).unwrap();
+    assert_eq!(
+        surface_count(&set, "LV_ENDO"),
+        4,
+        "the cine stack's 3 rings and the 4CH view's curve"
+    );
+    let w = set
+        .warnings
+        .iter()
+        .find(|w| w.contains("not read"))
+        .unwrap();
+    assert!(
+        w.starts_with("stack 3 (Short-axis): its 3 curves not read: its slices repeat those of stack 1 (Short-axis)"),
+        "{w}"
+    );
+    // Basal slices acquired as a stack of their own (30 mm further along the stack): read.
+    stacks[2].position = [10.0, 20.0, 30.0 - 30.0];
+    let set = read(&study(&stacks), Some("1")).unwrap();
+    assert_eq!(surface_count(&set, "LV_ENDO"), 7);
+    assert!(!set.warnings.iter().any(|w| w.contains("not read")));
+}
+
+fn surface_count(set: &ContourSet, surface: &str) -> usize {
+    set.contours
+        .iter()
+        .filter(|c| c.surface.as_deref() == Some(surface))
+        .count()
+}
