@@ -9,6 +9,7 @@ import { after, before, describe, it } from 'node:test';
 import {
   CLI,
   PATIENT1_ED,
+  ROOT,
   SURFCO,
   loadWasm,
   maxRelativeDifference,
@@ -158,6 +159,15 @@ describe('wasm Session', () => {
     console.log(`patient1 RV_ENDO: ${run.reports.length} steps in ${run.ms.toFixed(0)} ms, mean ${result.overall.mean.toFixed(3)} mm, ` +
       `max ${result.overall.max.toFixed(3)} mm, ${result.volumeMl.toFixed(2)} ml`);
     compareWithCli(run, result, PATIENT1_ED(), ['--surface', 'RV_ENDO'], 'patient1-rv');
+  });
+
+  it('reconstructs a Segment study (a compressed MAT-file holding its image) at its end-diastole, identical to the native CLI', () => {
+    const study = join(ROOT, 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'segment-patient1', 'patient1.mat');
+    const run = reconstruct(wasm, study, { surface: 'RV_ENDO' });
+    const result = checkFinished(run, 'segment RV_ENDO');
+    console.log(`segment RV_ENDO: ${run.reports.length} steps in ${run.ms.toFixed(0)} ms, ${result.volumeMl.toFixed(2)} ml`);
+    assert.ok(Math.abs(result.volumeMl - 193.83) < 0.01, `${result.volumeMl} ml (heartmesh-core tests/segment.rs: 193.83)`);
+    compareWithCli(run, result, study, ['--surface', 'RV_ENDO'], 'segment-rv');
   });
 
   it('applies parameters and lids (an open mesh is not watertight)', () => {

@@ -72,12 +72,10 @@ fn landmark_of(label: &str) -> Option<&'static str> {
     }
 }
 
-/// Whether the variables are a Segment study: a `setstruct` struct with image stack fields.
+/// Whether the variables are a Segment study: Segment names its stacks `setstruct` (the format
+/// detection looks for that name alone, so an empty or damaged study is refused as a study).
 pub fn is_segment(variables: &[Variable]) -> bool {
-    variables.iter().any(|v| {
-        v.name == "setstruct"
-            && (v.value.field(0, "ImagePosition").is_some() || v.value.field(0, "EndoX").is_some())
-    })
+    variables.iter().any(|v| v.name == "setstruct")
 }
 
 /// One stack's plane: where its first pixel of slice 1 is and how rows, columns and slices run.
