@@ -337,6 +337,14 @@ def other_readers(out_dir, rng):
     cases.append(Case("gpfile-newer-bivme-types", ("\n".join(newer) + "\n").encode(), "txt",
                       args=["--surface", "LV_ENDO", "--lids", "apex"], expect="ok", c2m=1.0))
     cases += corruptions("mat", mat, "mat", rng, 5)
+    # Segment studies (session 40): the core's fixture as saved (compressed, with its image), and
+    # the fuzz seed stored uncompressed, so that corruptions reach the struct of stacks too.
+    with open(os.path.join(ROOT, "wasm-core/crates/heartmesh-core/tests/data/segment-patient1/patient1.mat"), "rb") as f:
+        seg = f.read()
+    with open(os.path.join(ROOT, "wasm-core/fuzz/corpus/mat/segment-plain.mat"), "rb") as f:
+        seg_plain = f.read()
+    cases += corruptions("segment", seg, "mat", rng, 4, args=["--surface", "LV_ENDO"])
+    cases += corruptions("segment-plain", seg_plain, "mat", rng, 12, args=["--surface", "LV_ENDO"])
     cases += label_maps(rng)
     cases += label_map_views(out_dir, rng)
     cases += nrrd_maps(out_dir, rng)
