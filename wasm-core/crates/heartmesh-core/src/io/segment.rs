@@ -80,6 +80,8 @@ pub fn is_segment(variables: &[Variable]) -> bool {
 
 /// One stack's plane: where its first pixel of slice 1 is and how rows, columns and slices run.
 struct Plane {
+    /// The fields the file lacked, placed at Segment's defaults.
+    defaulted: Vec<&'static str>,
     position: Vec3,
     row_dir: Vec3,
     col_dir: Vec3,
@@ -119,16 +121,28 @@ fn numbers<'v>(set: &'v Value, e: usize, field: &str) -> Option<&'v [f64]> {
     set.field(e, field)?.numbers().map(|(_, d)| d)
 }
 
+/// Where a stack without a plane lies: Segment's defaults when it loads such a file (its first
+/// pixel at the origin, rows along x, columns along y).
+const DEFAULT_POSITION: [f64; 3] = [0.0, 0.0, 0.0];
+const DEFAULT_ORIENTATION: [f64; 6] = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+
 fn plane(set: &Value, e: usize) -> std::result::Result<Plane, String> {
-    let vector = |field: &str, n: usize| -> std::result::Result<Vec<f64>, String> {
+    let mut defaulted = Vec::new();
+    let mut vector = |field: &'static str,
+                      fallback: &[f64]|
+     -> std::result::Result<Vec<f64>, String> {
+        let n = fallback.len();
         match numbers(set, e, field) {
             Some(d) if d.len() >= n && d[..n].iter().all(|v| v.is_finite()) => Ok(d[..n].to_vec()),
-            Some(_) => Err(format!("{field} is not {n} finite numbers")),
-            None => Err(format!("has no {field}")),
+            Some(d) if !d.is_empty() => Err(format!("{field} is not {n} finite numbers")),
+            _ => {
+                defaulted.push(field);
+                Ok(fallback.to_vec())
+            }
         }
     };
-    let position = vector("ImagePosition", 3)?;
-    let o = vector("ImageOrientation", 6)?;
+    let position = vector("ImagePosition", &DEFAULT_POSITION)?;
+    let o = vector("ImageOrientation", &DEFAULT_ORIENTATION)?;
     let (row, col) = (v3(o[0], o[1], o[2]), v3(o[3], o[4], o[5]));
     let unit = |v: Vec3| (v.norm() - 1.0).abs() < 0.01;
     if !unit(row) || !unit(col) || row.dot(&col).abs() > 0.01 {
@@ -146,6 +160,7 @@ fn plane(set: &Value, e: usize) -> std::result::Result<Plane, String> {
     let gap = numbers(set, e, "SliceGap").and_then(|d| d.first().copied());
     let slice_step = thickness.unwrap_or(0.0) + gap.unwrap_or(0.0);
     Ok(Plane {
+        defaulted,
         position: v3(position[0], position[1], position[2]),
         // As given, not normalised: Segment's conversion uses them so.
         row_dir: row,
@@ -322,6 +337,14 @@ pub fn read_segment(variables: &[Variable], frame: Option<&FrameChoice>) -> Resu
                 "{name}: {} slices but SliceThickness + SliceGap is {} mm",
                 found.slices, plane.slice_step
             )));
+        }
+        if !plane.defaulted.is_empty() {
+            warnings.push(format!(
+                "{name}: no {}: placed as Segment places such a stack (its first pixel at the \
+                 origin, rows along x, columns along y), so other stacks' curves may not line up \
+                 with its own",
+                plane.defaulted.join(" or ")
+            ));
         }
         drawn.push(Drawn {
             stack: e,

@@ -424,3 +424,35 @@ fn surface_count(set: &ContourSet, surface: &str) -> usize {
         .filter(|c| c.surface.as_deref() == Some(surface))
         .count()
 }
+
+#[test]
+fn a_stack_without_a_plane_is_placed_as_segment_places_it_with_a_warning() {
+    let stacks = two_stacks();
+    let mut sax = element(&stacks[0]);
+    (sax[1], sax[2]) = (empty(), empty());
+    let bytes = file(&[("setstruct", structs(&FIELDS, &[sax]))], true);
+    let set = read(&bytes, Some("1")).unwrap();
+    let w = set
+        .warnings
+        .iter()
+        .find(|w| w.contains("no ImagePosition"))
+        .unwrap();
+    assert!(
+        w.starts_with("stack 1 (Short-axis): no ImagePosition or ImageOrientation: placed as Segment places such a stack"),
+        "{w}"
+    );
+    // Row x = 40 + 14 (each epicardium's first point) lies 53 rows of 1.5 mm along y, column 40
+    // 39 columns of 2 mm along x; slices 1-3 at z = 0, -10, -20 (8 + 2 mm apart, along -z).
+    let mut firsts: Vec<Vec3> = set
+        .contours
+        .iter()
+        .filter(|c| c.surface.as_deref() == Some("LV_EPI"))
+        .map(|c| c.pieces[0].points[0])
+        .collect();
+    firsts.sort_by(|a, b| b.z.total_cmp(&a.z));
+    let want = [0.0, -10.0, -20.0].map(|z| v3(78.0, 79.5, z));
+    assert_eq!(firsts.len(), 3);
+    for (p, q) in firsts.iter().zip(&want) {
+        assert!((p - q).norm() < 1e-9, "{p:?} vs {q:?}");
+    }
+}
