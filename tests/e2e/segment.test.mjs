@@ -42,7 +42,7 @@ describe('a Segment study file', () => {
     assert.match(await text('[data-testid=notes-first]'), /^Segment study read with 180 images: contours on 17 of them, in 9 cine slices/);
     assert.match(await text('[data-testid=notes]'), /end-diastole is frame 1, its end-systole frame 10 \(stack 1 \(Short-axis\)\)/);
     assert.match(await text('#slot-warnings'), /stack 7 \(2CH\): a rotated \(radial\) stack/);
-    assert.deepEqual(await page.$$eval(`${PICKER} option`, (os) => os.map((o) => o.value)), ['1', '10']);
+    assert.deepEqual(await page.$$eval(`${PICKER} option`, (os) => os.map((o) => [o.value, o.textContent])), [['1', 'frame 1 · ED'], ['10', 'frame 10 · ES']]);
     assert.equal(await page.inputValue(PICKER), '1');
 
     await runAndWait(page, () => page.selectOption(PICKER, '10'));

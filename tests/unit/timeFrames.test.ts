@@ -17,6 +17,16 @@ describe('Frame picker', () => {
     expect(framePicker(file({ read: ['9'], chosen: true }))?.value).toBe('9');
   });
 
+  it('names the frames the file says are end-diastole and end-systole (a Segment study)', () => {
+    const p = framePicker(file({ frames: ['1', '10', '20'], count: 3, read: ['1'], firsts: ['1'], endDiastole: '1', endSystole: '10' }));
+    expect(p?.options.map((o) => [o.label, o.title])).toEqual([
+      ['frame 1 · ED', "the file's end-diastole"],
+      ['frame 10 · ES', "the file's end-systole"],
+      ['frame 20', undefined],
+    ]);
+    expect(framePicker(file({ endDiastole: null, endSystole: null }))?.options.map((o) => o.label)).toEqual(['frame 0', 'frame 9']);
+  });
+
   it('is not shown for a file of one frame, one without a frame column, or one whose slices each carry their own frame', () => {
     expect(framePicker(file(null))).toBeNull();
     expect(framePicker({ ...file(null), timeFrames: undefined })).toBeNull();

@@ -69,7 +69,15 @@ function list(frames: readonly string[]): string {
 export function framePicker(file: LoadedFile | null): FramePicker | null {
   const t = framesOf(file);
   if (!t || !t.sequence || t.frames.length < 2) return null;
-  const options: FrameOption[] = t.frames.map((f) => ({ value: f, label: `frame ${f}`, disabled: false }));
+  // The phases the file names (a Segment study's EDT and EST) beside their frames, short as the
+  // top bar's picker is narrow; the option's tooltip spells them out.
+  const phase = (f: string) => (f === t.endDiastole ? ['ED', 'end-diastole'] : f === t.endSystole ? ['ES', 'end-systole'] : null);
+  const options: FrameOption[] = t.frames.map((f) => {
+    const p = phase(f);
+    return p
+      ? { value: f, label: `frame ${f} · ${p[0]}`, disabled: false, title: `the file's ${p[1]}` }
+      : { value: f, label: `frame ${f}`, disabled: false };
+  });
   // Contours that start in different frames: the file's own reading is no one frame, and only
   // this option brings it back once a frame was chosen.
   const mixed = t.firsts.length > 1;

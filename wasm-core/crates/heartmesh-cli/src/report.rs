@@ -333,6 +333,7 @@ mod tests {
             chosen: true,
             left_out: 1204,
             sequence: true,
+            ..TimeFrames::default()
         };
         assert_eq!(frame_read(Some(&t)), json!("ES"));
         t.read = vec!["0".into(), "1".into()];

@@ -78,6 +78,10 @@ fn the_study_reads_its_end_diastole_and_lists_its_phases() {
     let tf = seg.time_frames.as_ref().unwrap();
     assert_eq!(tf.frames, ["1", "10"]);
     assert_eq!(tf.read, ["1"]);
+    assert_eq!(
+        (tf.end_diastole.as_deref(), tf.end_systole.as_deref()),
+        (Some("1"), Some("10"))
+    );
     let notes: Vec<&String> = seg
         .warnings
         .iter()

@@ -9,7 +9,8 @@ use serde_json::{json, Value};
 /// What the app says instead of the command line's advice.
 pub const APP_FRAME_ADVICE: &str = "choose another with the Frame picker";
 
-/// `{frames, count, read, firsts, chosen, leftOut, sequence}`, or null for a file without a frame column.
+/// `{frames, count, read, firsts, chosen, leftOut, sequence, endDiastole, endSystole}`, or null
+/// for a file without a frame column.
 pub fn time_frames_json(frames: Option<&TimeFrames>) -> Value {
     match frames {
         None => Value::Null,
@@ -21,6 +22,8 @@ pub fn time_frames_json(frames: Option<&TimeFrames>) -> Value {
             "chosen": t.chosen,
             "leftOut": t.left_out,
             "sequence": t.sequence,
+            "endDiastole": t.end_diastole,
+            "endSystole": t.end_systole,
         }),
     }
 }

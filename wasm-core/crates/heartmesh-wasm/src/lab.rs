@@ -359,7 +359,7 @@ impl Lab {
                     None => phases::Source::Read(
                         session
                             .loaded(&r.file)
-                            .cloned()
+                            .map(|set| Box::new(set.clone()))
                             .ok_or_else(|| format!("{} has not been loaded", r.file)),
                     ),
                 },

@@ -29,6 +29,10 @@ pub struct TimeFrames {
     /// one heart, and another frame gives another surface. A file whose slices each carry their
     /// own frame number (biv-me's example labels one slice 1.0 in a frame-0 file) is no sequence.
     pub sequence: bool,
+    /// The frames the file itself names as end-diastole and end-systole (a Segment study's `EDT`
+    /// and `EST`), when it does and they are among `frames`: the picker says which is which.
+    pub end_diastole: Option<String>,
+    pub end_systole: Option<String>,
 }
 
 impl TimeFrames {
@@ -60,6 +64,8 @@ impl TimeFrames {
             chosen: true,
             left_out: 0,
             sequence: false,
+            end_diastole: None,
+            end_systole: None,
         }
     }
 }

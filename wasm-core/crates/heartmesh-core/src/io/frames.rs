@@ -121,6 +121,8 @@ impl FrameFilter {
             chosen: self.wanted.is_some(),
             left_out: self.skipped,
             sequence: self.sequence,
+            end_diastole: None,
+            end_systole: None,
         })
     }
 

@@ -396,6 +396,13 @@ pub fn read_segment(variables: &[Variable], frame: Option<&FrameChoice>) -> Resu
             .collect(),
     );
     let mut set_out = place_preferring(&SOURCE, &contours, &images, &warnings, frame, ed)?;
+    if let Some(tf) = set_out.time_frames.as_mut() {
+        let listed = |f: Option<usize>| {
+            let label = (f? + SOURCE.first_frame).to_string();
+            tf.frames.contains(&label).then_some(label)
+        };
+        (tf.end_diastole, tf.end_systole) = (listed(ed), listed(es));
+    }
     if let (Some(ed), Some(es)) = (ed, es) {
         set_out.warnings.insert(
             1.min(set_out.warnings.len()),

@@ -28,8 +28,9 @@ use serde_json::{json, Value};
 
 /// Where a phase's contours come from.
 pub enum Source {
-    /// Read already (a file the session holds), or why not.
-    Read(std::result::Result<ContourSet, String>),
+    /// Read already (a file the session holds), or why not (boxed: a contour set is large beside
+    /// a frame's label).
+    Read(std::result::Result<Box<ContourSet>, String>),
     /// A time frame of the [`Sequence`], read when its first cell runs: reading every frame of a
     /// long cine up front would hold the worker for seconds before the first progress, with no
     /// way to stop it.
@@ -221,7 +222,9 @@ impl Phases {
         }
         let surface = self.surfaces.get(index % n).cloned().flatten();
         let why = match self.sources.get(phase) {
-            Some(Source::Read(Ok(set))) if holds(set, surface.as_deref()) => return Ok(set.clone()),
+            Some(Source::Read(Ok(set))) if holds(set, surface.as_deref()) => {
+                return Ok(set.as_ref().clone())
+            }
             Some(Source::Read(Ok(_))) => ("absent", None),
             Some(Source::Read(Err(e))) => ("failed", Some(e.clone())),
             _ => ("failed", Some("no contours".to_string())),
@@ -242,6 +245,7 @@ impl Phases {
                 let views = crate::convert::view_pairs(&q.views);
                 Source::Read(
                     crate::read_contours(&q.file, &q.bytes, &views, Some(frame))
+                        .map(Box::new)
                         .map_err(|e| e.to_string()),
                 )
             }
@@ -352,7 +356,7 @@ impl Phases {
             .sources
             .iter()
             .map(|s| match s {
-                Source::Read(Ok(set)) => Some(set),
+                Source::Read(Ok(set)) => Some(set.as_ref()),
                 _ => None,
             })
             .collect();

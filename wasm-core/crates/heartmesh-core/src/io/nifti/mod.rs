@@ -291,6 +291,8 @@ fn read_volume_study(
             chosen: frame.is_some(),
             left_out: 0,
             sequence: labelled.len() > 1,
+            end_diastole: None,
+            end_systole: None,
         });
     }
     Ok(set)
