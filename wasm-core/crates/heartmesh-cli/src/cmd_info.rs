@@ -287,6 +287,8 @@ fn describe(input: &str, format: &str, set: &ContourSet, base: &Params) -> Value
             "read": report::frame_read(Some(t)),
             "sequence": t.sequence,
             "chosen": t.chosen,
+            "end_diastole": t.end_diastole,
+            "end_systole": t.end_systole,
         })
     });
     json!({
@@ -409,6 +411,9 @@ fn text(info: &Value) -> String {
             words(&t["listed"]),
             words(&t["read"])
         );
+        if let (Some(ed), Some(es)) = (t["end_diastole"].as_str(), t["end_systole"].as_str()) {
+            out += &format!("; the file's end-diastole {ed}, end-systole {es}");
+        }
     }
     out += &range_text(info);
     if let Some(marks) = info["landmarks"].as_object().filter(|m| !m.is_empty()) {

@@ -61,6 +61,18 @@ fn info_and_volumes_read_the_study() {
     assert_eq!(code, 0, "{err}");
     let v: Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["format"], "Segment study");
+    assert_eq!(
+        (
+            &v["time_frames"]["end_diastole"],
+            &v["time_frames"]["end_systole"]
+        ),
+        (&Value::from("1"), &Value::from("10"))
+    );
+    let (_, text, _) = run(bin().args(["info", &study()]));
+    assert!(
+        text.contains("time frames: 2 (1, 10); read: 1 (--frame picks one); the file's end-diastole 1, end-systole 10"),
+        "{text}"
+    );
     common::assert_surface_points(&v, &[("LV_ENDO", 632), ("LV_EPI", 395), ("RV_ENDO", 632)]);
     let dir = scratch("segment_volumes");
     let (ef, phases) = common::lv_ef(&[study()], &dir);
