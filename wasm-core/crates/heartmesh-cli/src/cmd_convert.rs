@@ -9,8 +9,8 @@ use crate::error::CliError;
 use crate::files;
 
 pub const USAGE: &str = "heartmesh convert IN [VIEWS...] OUT [--frame N|LABEL] [--ascii] [--quiet]
-    contours (csv, GPFile txt, xyz txt, vtk/vtp lines, SurFCo .mat, session json, DICOM RTSTRUCT,
-      NIfTI label maps: a short-axis stack, with its long-axis views if any)
+    contours (csv, GPFile txt, xyz txt, vtk/vtp lines, SurFCo or Segment .mat, session json,
+      DICOM RTSTRUCT, NIfTI label maps: a short-axis stack, with its long-axis views if any)
       -> OUT.csv (canonical CSV), OUT.json (heartmesh session), OUT.vtk|.vtp (polylines),
          OUT.dcm (DICOM RT structure set, one ROI per surface)
     meshes (obj, stl, ply, vtk, vtp) -> OUT.obj|.stl|.ply|.vtk|.vtp  (--ascii: ASCII STL)";

@@ -108,7 +108,7 @@ pub const USAGE: &str =
   read together, plane by plane; LV points inside the RV's region left out); not part of all.
   CONTOURS: csv (UTF-8, UTF-16 or Windows-1252; units in the header applied; without a header
   the rows read name,x,y,z[,surface] or x,y,z), biv-me GPFile (SliceInfoFile.txt beside it is
-  used), xyz text, vtk/vtp lines, SurFCo .mat, heartmesh
+  used), xyz text, vtk/vtp lines, SurFCo .mat, a Segment study .mat (frames from 1), heartmesh
   session .json (its parameters are the starting point; flags override them); --frame reads one
   time frame of a GPFile or of a CSV with a frame or phase column, named as the file writes it:
   a number (--frame 9; 9.0 is the same frame) or a label (--frame ES; text in any case); default:

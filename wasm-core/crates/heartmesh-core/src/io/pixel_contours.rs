@@ -270,7 +270,7 @@ pub fn place_preferring(
     // which the most surfaces are drawn first (end-diastole, where readers draw the epicardium
     // too: Sunnybrook's experts drew it at end-diastole only, on some cases' last frame), then by
     // time; the earliest of those that tie (frame 0 is usually end-diastole).
-    let drawn_at = |f: usize| placed.iter().any(|&(_, g, _)| g == f);
+    let drawn_at = |f: usize| placed.iter().any(|&(_, at, _)| at == f);
     let preferred = preferred.filter(|&f| drawn_at(f)).unwrap_or_else(|| {
         let mut per_frame: BTreeMap<usize, Vec<&str>> = BTreeMap::new();
         for &(_, f, c) in &placed {
