@@ -206,18 +206,13 @@ fn each_slice_reads_the_end_diastole_and_frames_are_counted_from_1() {
     assert_eq!(tf.frames, ["1", "2", "3", "4"]);
     // EDT 2: the SAX endocardium there, no epicardium; the 4CH view, drawn at frame 1 only,
     // keeps that frame (each slice reads one frame, as for cvi42).
-    let endo: Vec<_> = set
-        .contours
-        .iter()
-        .filter(|c| c.surface.as_deref() == Some("LV_ENDO"))
-        .collect();
-    assert_eq!(endo.len(), 4);
-    let epi = set
-        .contours
-        .iter()
-        .filter(|c| c.surface.as_deref() == Some("LV_EPI"))
-        .count();
-    assert_eq!(epi, 0);
+    assert_eq!(
+        (
+            surface_count(&set, "LV_ENDO"),
+            surface_count(&set, "LV_EPI")
+        ),
+        (4, 0)
+    );
     let phases = set.warnings.iter().find(|w| w.starts_with(PHASES)).unwrap();
     assert!(
         phases.contains("frame 2, its end-systole frame 3"),
@@ -227,12 +222,7 @@ fn each_slice_reads_the_end_diastole_and_frames_are_counted_from_1() {
 
     // Frame 1 asked for: both stacks, endo- and epicardium; frame 4: the SAX endocardium only.
     let first = read(&bytes, Some("1")).unwrap();
-    let surfaces = |set: &ContourSet, s: &str| {
-        set.contours
-            .iter()
-            .filter(|c| c.surface.as_deref() == Some(s))
-            .count()
-    };
+    let surfaces = surface_count;
     assert_eq!(
         (surfaces(&first, "LV_ENDO"), surfaces(&first, "LV_EPI")),
         (4, 3)
@@ -255,13 +245,7 @@ fn without_an_end_diastole_each_slice_reads_its_most_drawn_frame() {
     let mut stacks = two_stacks();
     stacks[0].edt = 0.0; // not a frame
     let set = read(&study(&stacks), None).unwrap();
-    assert_eq!(
-        set.contours
-            .iter()
-            .filter(|c| c.surface.as_deref() == Some("LV_EPI"))
-            .count(),
-        3
-    );
+    assert_eq!(surface_count(&set, "LV_EPI"), 3);
     assert!(!set.warnings.iter().any(|w| w.starts_with(PHASES)));
 }
 
@@ -296,7 +280,7 @@ fn rotated_stacks_and_stacks_without_curves_are_left_out() {
     });
     let set = read(&study(&stacks), Some("1")).unwrap();
     assert_eq!(set.contours.len(), 6);
-    let w = set.warnings.iter().find(|w| w.contains("rotated")).unwrap();
+    let w = warning(&set, "rotated");
     assert!(
         w.starts_with("stack 2 (4CH): a rotated (radial) stack"),
         "{w}"
@@ -402,11 +386,7 @@ fn a_second_stack_on_the_same_planes_is_left_out_and_one_adding_planes_is_read()
         4,
         "the cine stack's 3 rings and the 4CH view's curve"
     );
-    let w = set
-        .warnings
-        .iter()
-        .find(|w| w.contains("not read"))
-        .unwrap();
+    let w = warning(&set, "not read");
     assert!(
         w.starts_with("stack 3 (Short-axis): its 3 curves not read: its slices repeat those of stack 1 (Short-axis)"),
         "{w}"
@@ -416,6 +396,14 @@ fn a_second_stack_on_the_same_planes_is_left_out_and_one_adding_planes_is_read()
     let set = read(&study(&stacks), Some("1")).unwrap();
     assert_eq!(surface_count(&set, "LV_ENDO"), 7);
     assert!(!set.warnings.iter().any(|w| w.contains("not read")));
+}
+
+/// The reader's warning that holds `part`.
+fn warning<'s>(set: &'s ContourSet, part: &str) -> &'s str {
+    set.warnings
+        .iter()
+        .find(|w| w.contains(part))
+        .unwrap_or_else(|| panic!("no warning with {part:?}: {:?}", set.warnings))
 }
 
 fn surface_count(set: &ContourSet, surface: &str) -> usize {
@@ -432,11 +420,7 @@ fn a_stack_without_a_plane_is_placed_as_segment_places_it_with_a_warning() {
     (sax[1], sax[2]) = (empty(), empty());
     let bytes = file(&[("setstruct", structs(&FIELDS, &[sax]))], true);
     let set = read(&bytes, Some("1")).unwrap();
-    let w = set
-        .warnings
-        .iter()
-        .find(|w| w.contains("no ImagePosition"))
-        .unwrap();
+    let w = warning(&set, "no ImagePosition");
     assert!(
         w.starts_with("stack 1 (Short-axis): no ImagePosition or ImageOrientation: placed as Segment places such a stack"),
         "{w}"
