@@ -83,9 +83,9 @@ export interface TimeFrames {
   leftOut: number;
   /** Some contour has points in several frames: another frame is another phase of the heart. */
   sequence: boolean;
-  /** The frames the file names as end-diastole and end-systole (a Segment study's EDT, EST); null when it does not. */
-  endDiastole?: string | null;
-  endSystole?: string | null;
+  /** The frames the file names as end-diastole and end-systole (a Segment study's EDT, EST); absent when it does not. */
+  endDiastole?: string;
+  endSystole?: string;
 }
 
 export type Phase = 'initial_tube' | 'deform' | 'remesh' | 'done';

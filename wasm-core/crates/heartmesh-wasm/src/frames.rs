@@ -9,22 +9,32 @@ use serde_json::{json, Value};
 /// What the app says instead of the command line's advice.
 pub const APP_FRAME_ADVICE: &str = "choose another with the Frame picker";
 
-/// `{frames, count, read, firsts, chosen, leftOut, sequence, endDiastole, endSystole}`, or null
-/// for a file without a frame column.
+/// `{frames, count, read, firsts, chosen, leftOut, sequence}` (with `endDiastole` and `endSystole`
+/// when the file names them), or null for a file without a frame column.
 pub fn time_frames_json(frames: Option<&TimeFrames>) -> Value {
     match frames {
         None => Value::Null,
-        Some(t) => json!({
-            "frames": t.frames,
-            "count": t.count,
-            "read": t.read,
-            "firsts": t.firsts,
-            "chosen": t.chosen,
-            "leftOut": t.left_out,
-            "sequence": t.sequence,
-            "endDiastole": t.end_diastole,
-            "endSystole": t.end_systole,
-        }),
+        Some(t) => {
+            let mut v = json!({
+                "frames": t.frames,
+                "count": t.count,
+                "read": t.read,
+                "firsts": t.firsts,
+                "chosen": t.chosen,
+                "leftOut": t.left_out,
+                "sequence": t.sequence,
+            });
+            // Only files that name their phases (a Segment study) carry them.
+            for (key, frame) in [
+                ("endDiastole", &t.end_diastole),
+                ("endSystole", &t.end_systole),
+            ] {
+                if let Some(f) = frame {
+                    v[key] = json!(f);
+                }
+            }
+            v
+        }
     }
 }
 
