@@ -184,6 +184,7 @@ pub fn is_reading_note(warning: &str) -> bool {
         || warning.starts_with(sunnybrook::NOTE)
         || warning.starts_with(segment::NOTE)
         || warning.starts_with(segment::PHASES)
+        || warning.starts_with(segment::MATCHED)
 }
 
 /// Guesses the contour format from the content, then from the extension.

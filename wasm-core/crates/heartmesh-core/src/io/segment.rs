@@ -13,7 +13,9 @@
 //! Each stack's slices and frames become images for [`super::pixel_contours`], which places the
 //! curves and reads one frame per slice as for cvi42 and Sunnybrook; frames are labelled from 1
 //! as Segment shows them, and without a frame asked for each slice reads the study's
-//! end-diastole (`EDT`) where it is drawn there.
+//! end-diastole (`EDT`) where it is drawn there. Frames are the most drawn stack's: another
+//! cine stack's frames are matched to them by cardiac phase ([`phases`]), so a long-axis view
+//! of another length or with its end-diastole on another frame is read in the same phase.
 
 use super::dicom_image::ImageGeometry;
 use super::frame_choice::FrameChoice;
@@ -23,12 +25,16 @@ use super::pixel_contours::{count, place_preferring, Images, PixelContour, Sourc
 use crate::contours::ContourSet;
 use crate::error::Result;
 use crate::geometry::{v3, Vec3};
+use phases::{match_frames, Cycle};
 
 /// How the reader's account of what it read begins (a note: [`super::is_reading_note`]).
 pub const NOTE: &str = "Segment study read with ";
 
 /// How the reader's line naming the study's phases begins (a note too).
 pub const PHASES: &str = "Segment study's end-diastole";
+
+/// How the reader's line on a stack whose frames were matched by phase begins (a note too).
+pub const MATCHED: &str = "Segment study's frames matched by cardiac phase: ";
 
 /// The curve fields of a stack: (x field, y field, contour type).
 const CURVES: [(&str, &str, &str); 4] = [
@@ -176,9 +182,19 @@ fn shape(dims: &[usize]) -> (usize, usize, usize) {
     (d(0), d(1), dims.iter().skip(2).product())
 }
 
-/// One stack's curves as pixel contours, with the images (slice, frame) they lie on.
+/// A curve or landmark as its stack keeps it, in pixels.
+#[derive(Clone)]
+struct Drawing {
+    /// Slice and frame from 0; no frame: a landmark placed in every frame.
+    slice: usize,
+    frame: Option<usize>,
+    kind: String,
+    points: Vec<[f64; 2]>,
+}
+
+/// One stack's curves, with the images (slice, frame) they lie on.
 struct StackCurves {
-    contours: Vec<PixelContour>,
+    contours: Vec<Drawing>,
     /// Frames and slices of the stack's curve arrays (the largest of them).
     frames: usize,
     slices: usize,
@@ -225,8 +241,9 @@ fn curves(set: &Value, e: usize) -> std::result::Result<StackCurves, String> {
                     .map(|k| [y[k] - 1.0, x[k] - 1.0])
                     .collect();
                 if points.len() >= 3 {
-                    out.contours.push(PixelContour {
-                        image_uid: image_uid(e, z, t),
+                    out.contours.push(Drawing {
+                        slice: z,
+                        frame: Some(t),
                         kind: kind.to_string(),
                         points,
                     });
@@ -237,10 +254,10 @@ fn curves(set: &Value, e: usize) -> std::result::Result<StackCurves, String> {
     Ok(out)
 }
 
-/// A stack's annotation points that are landmarks, one pixel contour each; a point placed in
-/// all frames (T NaN) on each of the stack's frames, so it is read with whichever frame its
-/// slice is.
-fn points(set: &Value, e: usize, frames: usize) -> Vec<PixelContour> {
+/// A stack's annotation points that are landmarks, one drawing each; a point placed in all
+/// frames (T NaN) is on each of the stack's frames, so it is read with whichever frame its slice
+/// is.
+fn points(set: &Value, e: usize) -> Vec<Drawing> {
     let Some(point) = set.field(e, "Point") else {
         return Vec::new();
     };
@@ -269,20 +286,38 @@ fn points(set: &Value, e: usize, frames: usize) -> Vec<PixelContour> {
         ) else {
             continue;
         };
-        let on = match index(t) {
-            Some(t) => t..t + 1,
-            None if t.is_nan() => 0..frames,
+        let frame = match index(t) {
+            Some(t) => Some(t),
+            None if t.is_nan() => None,
             None => continue,
         };
-        for t in on {
-            out.push(PixelContour {
-                image_uid: image_uid(e, z, t),
-                kind: label.trim().to_string(),
-                points: vec![[y - 1.0, x - 1.0]],
-            });
-        }
+        out.push(Drawing {
+            slice: z,
+            frame,
+            kind: label.trim().to_string(),
+            points: vec![[y - 1.0, x - 1.0]],
+        });
     }
     out
+}
+
+/// The frames (the main stack's, from 0) a drawing is read in: its own where the stack's frames
+/// are the main stack's, else those matched to its frame; every one for a landmark of all frames.
+fn frames_of(drawing: &Drawing, matched: Option<&[usize]>, frames: usize) -> Vec<usize> {
+    match (drawing.frame, matched) {
+        (None, _) => (0..frames).collect(),
+        (Some(t), None) => vec![t],
+        (Some(t), Some(m)) => (0..m.len()).filter(|&k| m[k] == t).collect(),
+    }
+}
+
+/// A stack's frames and phases, for matching its frames to the main stack's.
+fn cycle(set: &Value, d: &Drawn) -> Cycle {
+    Cycle {
+        frames: d.found.frames,
+        end_diastole: frame_index(set, d.stack, "EDT"),
+        end_systole: frame_index(set, d.stack, "EST"),
+    }
 }
 
 fn image_uid(stack: usize, slice: usize, frame: usize) -> String {
@@ -360,14 +395,27 @@ pub fn read_segment(variables: &[Variable], frame: Option<&FrameChoice>) -> Resu
             count(stacks, "image stack")
         )));
     };
+    let main_cycle = cycle(set, read[0]);
     let mut contours = Vec::new();
     let mut planes: Vec<(String, ImageGeometry)> = Vec::new();
     let mut in_order: Vec<&Drawn> = read.clone();
     in_order.sort_by_key(|d| d.stack);
     for d in in_order {
         let (p, e) = (&d.plane, d.stack);
+        let own = cycle(set, d);
+        let matched = (e != main).then(|| match_frames(main_cycle, own)).flatten();
+        if let Some(m) = &matched {
+            warnings.push(matched_note(&d.name, &read[0].name, main_cycle, own, m));
+        }
+        let frames = matched.as_ref().map_or(d.found.frames, Vec::len);
+        if frames.saturating_mul(d.found.slices) > MAX_IMAGES {
+            return Err(SOURCE.error(format!(
+                "{}: {} slices in each of {} frames",
+                d.name, d.found.slices, frames
+            )));
+        }
         for z in 0..d.found.slices {
-            for t in 0..d.found.frames {
+            for t in 0..frames {
                 planes.push((
                     image_uid(e, z, t),
                     ImageGeometry {
@@ -384,8 +432,16 @@ pub fn read_segment(variables: &[Variable], frame: Option<&FrameChoice>) -> Resu
                 ));
             }
         }
-        contours.extend(d.found.contours.iter().cloned());
-        contours.extend(points(set, e, d.found.frames));
+        let drawings = d.found.contours.iter().cloned().chain(points(set, e));
+        for drawing in drawings {
+            for t in frames_of(&drawing, matched.as_deref(), frames) {
+                contours.push(PixelContour {
+                    image_uid: image_uid(e, drawing.slice, t),
+                    kind: drawing.kind.clone(),
+                    points: drawing.points.clone(),
+                });
+            }
+        }
     }
     let ed = frame_index(set, main, "EDT");
     let es = frame_index(set, main, "EST");
@@ -415,6 +471,31 @@ pub fn read_segment(variables: &[Variable], frame: Option<&FrameChoice>) -> Resu
         );
     }
     Ok(set_out)
+}
+
+/// The note on a stack whose frames were matched to the main stack's, frames named from 1.
+fn matched_note(name: &str, main_name: &str, main: Cycle, own: Cycle, m: &[usize]) -> String {
+    let phase = |what: &str, at: Option<usize>| {
+        at.filter(|&f| f < m.len())
+            .map(|f| format!("{what}: its frame {} = frame {}", m[f] + 1, f + 1))
+    };
+    let phases: Vec<String> = [
+        phase("end-diastole", main.end_diastole),
+        phase("end-systole", main.end_systole),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    format!(
+        "{MATCHED}{name}'s {} to {main_name}'s {} ({})",
+        count(own.frames, "frame"),
+        main.frames,
+        if phases.is_empty() {
+            "in proportion".to_string()
+        } else {
+            phases.join("; ")
+        }
+    )
 }
 
 /// A stack with curves, placed.
@@ -464,6 +545,8 @@ fn one_per_plane<'d>(drawn: &'d mut [Drawn], warnings: &mut Vec<String>) -> Vec<
     }
     read
 }
+
+mod phases;
 
 #[cfg(test)]
 mod tests;

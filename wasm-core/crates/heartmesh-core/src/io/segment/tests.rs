@@ -199,7 +199,8 @@ fn a_point_lands_where_segments_conversion_puts_it() {
 #[test]
 fn each_slice_reads_the_end_diastole_and_frames_are_counted_from_1() {
     let mut stacks = two_stacks();
-    stacks[0].edt = 2.0;
+    // Both stacks' end-diastole at frame 2, so their frames are the same phases.
+    (stacks[0].edt, stacks[1].edt) = (2.0, 2.0);
     let bytes = study(&stacks);
     let set = read(&bytes, None).unwrap();
     let tf = set.time_frames.as_ref().unwrap();
@@ -238,6 +239,59 @@ fn each_slice_reads_the_end_diastole_and_frames_are_counted_from_1() {
         "{note}"
     );
     assert!(read(&bytes, Some("5")).is_err());
+}
+
+#[test]
+fn a_view_of_another_length_is_read_in_the_same_phase() {
+    // The short-axis stack: 4 frames, ED 1, ES 3. The 4CH view: 8 frames, ED 2, ES 6, its
+    // endocardium drawn at those two (12 and 9 pixels round) and an insertion point at ES.
+    let mut stacks = two_stacks();
+    let lax = &mut stacks[1];
+    (lax.frames, lax.edt, lax.est) = (8, 2.0, 6.0);
+    lax.endo = vec![
+        (1, 0, circle(30.0, 40.0, 12.0)),
+        (5, 0, circle(30.0, 40.0, 9.0)),
+    ];
+    lax.points = vec![(30.0, 40.0, 1.0, 6.0, "RV insertion")];
+    let bytes = study(&stacks);
+    // The view's curve: the one across the short-axis planes; its height 2 r x 1.5 mm rows.
+    let view_height = |set: &ContourSet| {
+        let heights: Vec<f64> = set
+            .contours
+            .iter()
+            .map(|c| {
+                let z = c.pieces[0].points.iter().map(|p| p.z);
+                z.clone().fold(f64::MIN, f64::max) - z.fold(f64::MAX, f64::min)
+            })
+            .filter(|&h| h > 1.0)
+            .collect();
+        assert!(heights.len() <= 1, "{heights:?}");
+        heights.first().copied()
+    };
+    let ed = read(&bytes, None).unwrap();
+    let h = view_height(&ed).unwrap();
+    assert!((h - 36.0).abs() < 0.1, "{h}");
+    assert!(ed.landmarks.is_empty());
+    let note = warning(&ed, MATCHED);
+    assert_eq!(
+        note,
+        "Segment study's frames matched by cardiac phase: stack 2 (4CH)'s 8 frames to stack 1 \
+         (Short-axis)'s 4 (end-diastole: its frame 2 = frame 1; end-systole: its frame 6 = frame 3)"
+    );
+    assert!(crate::io::is_reading_note(note));
+    // Frame 3, the short axis's end-systole: the view's frame 6 and its point.
+    let es = read(&bytes, Some("3")).unwrap();
+    let h = view_height(&es).unwrap();
+    assert!((h - 27.0).abs() < 0.1, "{h}");
+    assert_eq!(es.landmarks.len(), 1);
+    // Frame 2 is the view's frame 4, not drawn: the short axis alone.
+    let two = read(&bytes, Some("2")).unwrap();
+    assert_eq!(view_height(&two), None);
+    assert_eq!(surface_count(&two, "LV_ENDO"), 3);
+    assert_eq!(
+        ed.time_frames.as_ref().unwrap().frames,
+        ["1", "2", "3", "4"]
+    );
 }
 
 #[test]
