@@ -187,6 +187,76 @@ fn real_cases_give_closed_walls() {
     }
 }
 
+/// Patient 1 at ED with its contours listed in another order (one a shuffle gave): the surfaces
+/// differ from the file order's in their last bits, and the reconstructions part (session 41);
+/// with this order the RV endocardium's triangles came out through an inward crease of the
+/// epicardium near the RV apex, 52-58 mm below the base, every corner at the 1 mm depth under
+/// its own nearest face, and the wall kept 4 crossing pairs until the crossings themselves were
+/// cleared (`inset::clear_crossings`).
+#[test]
+fn a_biventricular_wall_clears_crossings_its_vertex_pushes_leave() {
+    let file = "bivme-example-patient1/patient1-ED.csv";
+    let set = load_contours(file);
+    let order = [
+        "s09_LAX_LV_EPICARDIAL",
+        "s02_SAX_LV_ENDOCARDIAL",
+        "s11_LAX_RV_EPICARDIAL",
+        "s08_LAX_RV_FREEWALL",
+        "s07_LAX_RV_SEPTUM",
+        "s05_SAX_RV_FREEWALL",
+        "s08_LAX_RV_SEPTUM",
+        "s03_SAX_LV_ENDOCARDIAL",
+        "s07_LAX_LV_EPICARDIAL",
+        "s08_LAX_LV_ENDOCARDIAL",
+        "s08_LAX_LV_EPICARDIAL",
+        "s09_LAX_LV_ENDOCARDIAL",
+        "s03_SAX_RV_EPICARDIAL",
+        "s08_LAX_RV_EPICARDIAL",
+        "s03_SAX_RV_SEPTUM",
+        "s06_SAX_RV_SEPTUM",
+        "s02_SAX_RV_FREEWALL",
+        "s02_SAX_RV_EPICARDIAL",
+        "s03_SAX_LV_EPICARDIAL",
+        "s06_SAX_LV_ENDOCARDIAL",
+        "s04_SAX_LV_ENDOCARDIAL",
+        "s05_SAX_RV_SEPTUM",
+        "s04_SAX_RV_EPICARDIAL",
+        "s07_LAX_RV_EPICARDIAL",
+        "s07_LAX_LV_ENDOCARDIAL",
+        "s04_SAX_RV_SEPTUM",
+        "s06_SAX_RV_FREEWALL",
+        "s07_LAX_RV_FREEWALL",
+        "s11_LAX_RV_FREEWALL",
+        "s06_SAX_RV_EPICARDIAL",
+        "s05_SAX_LV_EPICARDIAL",
+        "s02_SAX_RV_SEPTUM",
+        "s04_SAX_LV_EPICARDIAL",
+        "s05_SAX_RV_EPICARDIAL",
+        "s05_SAX_LV_ENDOCARDIAL",
+        "s04_SAX_RV_FREEWALL",
+        "s06_SAX_LV_EPICARDIAL",
+        "s11_LAX_RV_SEPTUM",
+        "s03_SAX_RV_FREEWALL",
+        "s02_SAX_LV_EPICARDIAL",
+    ];
+    let mut shuffled = set.clone();
+    shuffled.contours = order
+        .iter()
+        .map(|id| set.contours.iter().find(|c| c.id == *id).unwrap().clone())
+        .collect();
+    assert_eq!(shuffled.contours.len(), set.contours.len());
+    let [lv, rv, biv] =
+        ["LV_ENDO", "RV_ENDO", "BIV_EPI"].map(|s| reconstruct_surface(&shuffled, s));
+    let base = common_basal_plane_all(&[&lv, &biv, &rv]).unwrap();
+    let wall = build_biventricular(lv.mesh(), rv.mesh(), biv.mesh(), &base, Some(1.0)).unwrap();
+    assert!(validity(&wall.mesh).is_closed_manifold());
+    assert_eq!(wall.self_intersections, 0, "{:?}", wall.crossings);
+    // The clearing moves little: no endocardial vertex further than the file order's run does
+    // plus a step or two (1.45 mm there).
+    eprintln!("BIV {file} shuffled: endocardium moved {:?}", wall.pushed);
+    assert!(wall.pushed.max_mm < 3.0, "{:?}", wall.pushed);
+}
+
 /// The biventricular myocardium of the real biv-me patient (the only one with RV epicardial
 /// curves): closed, no crossings, the LV cavity the LV wall's at the same base, and more
 /// myocardium than the LV wall by the RV free wall.

@@ -103,6 +103,70 @@ pub fn push(
     pushed
 }
 
+/// Moves the vertices of `inner`'s triangles that still pass through `outer` to `depth_mm`
+/// under the face they pass through, and returns what moved. [`push`] measures each vertex
+/// against its nearest face of `outer`, so where `outer` folds inwards between an inner
+/// triangle's corners (a crease sharper than the triangle is small) every corner can stand at
+/// the depth under its own nearest face while the triangle's middle comes out through another:
+/// only the crossing itself says which face that is. A corner above `depth_mm` under that
+/// face's plane moves along the face's normal towards that depth by at most `step_mm` (the
+/// deepest move where several faces ask): the plane runs on past the face, and a corner far
+/// along it would go deep for a crossing a small move clears, so callers step and look again.
+/// `fixed` vertices (an outline in a base plane) stay. `outer` faces outwards.
+pub fn clear_crossings(
+    inner: &mut TriMesh,
+    outer: &TriMesh,
+    fixed: &[bool],
+    depth_mm: f64,
+    step_mm: f64,
+) -> Pushed {
+    let mut pushed = Pushed::default();
+    if !(depth_mm.is_finite() && depth_mm >= 0.0) || outer.triangles.is_empty() {
+        return pushed;
+    }
+    // Both surfaces as one mesh: the crossing pairs between them are those joining a triangle
+    // of `outer` (listed first) with one of `inner`.
+    let n_outer = outer.triangles.len();
+    let offset = outer.positions.len() as u32;
+    let mut positions = outer.positions.clone();
+    positions.extend_from_slice(&inner.positions);
+    let mut triangles = outer.triangles.clone();
+    triangles.extend(inner.triangles.iter().map(|t| t.map(|v| v + offset)));
+    let both = TriMesh::new(positions, triangles);
+    let mut target: Vec<Option<Vec3>> = vec![None; inner.positions.len()];
+    for (a, b) in super::intersect::crossing_pairs(&both) {
+        if a >= n_outer || b < n_outer {
+            continue;
+        }
+        let Some(n) = outward_normal(outer, a) else {
+            continue;
+        };
+        let on_face = outer.corners(a)[0];
+        for &v in &inner.triangles[b - n_outer] {
+            let v = v as usize;
+            if fixed.get(v).copied().unwrap_or(false) {
+                continue;
+            }
+            let at = inner.positions[v];
+            let above = ((at - on_face).dot(&n) + depth_mm).min(step_mm);
+            if above > MOVE_TOLERANCE_MM {
+                let to = at - n * above;
+                // Where several crossed faces ask, the longest move.
+                if target[v].is_none_or(|t| (t - at).norm() < above) {
+                    target[v] = Some(to);
+                }
+            }
+        }
+    }
+    for (p, t) in inner.positions.iter_mut().zip(target) {
+        let Some(t) = t else { continue };
+        pushed.vertices += 1;
+        pushed.max_mm = pushed.max_mm.max((t - *p).norm());
+        *p = t;
+    }
+    pushed
+}
+
 /// Unit outward normal of triangle `t` (None when degenerate).
 fn outward_normal(mesh: &TriMesh, t: usize) -> Option<Vec3> {
     let [a, b, c] = mesh.corners(t);
@@ -146,5 +210,70 @@ mod tests {
         assert!((first.max_mm - 2.0).abs() < 1e-9, "{}", first.max_mm);
         let again = push(&mut inner, &outer, &outer, depth, Keep::Inside, None);
         assert_eq!(again, Pushed::default());
+    }
+
+    /// An outer surface folded inwards along a crease (a V valley, z = |x| / 2, facing +z) and
+    /// a flat inner quad 2 mm under its flanks at x = +-8 (1.79 mm under their planes): every
+    /// corner is at the depth under its nearest face, so [`push`] moves nothing, yet the quad's
+    /// middle stands 2 mm out through the crease. Stepping clears it, moving the corners by
+    /// little more than that.
+    #[test]
+    fn a_triangle_through_an_inward_crease_is_moved_under_it() {
+        let outer = TriMesh::new(
+            vec![
+                Vec3::new(-10.0, -10.0, 5.0),
+                Vec3::new(-10.0, 10.0, 5.0),
+                Vec3::new(0.0, -10.0, 0.0),
+                Vec3::new(0.0, 10.0, 0.0),
+                Vec3::new(10.0, -10.0, 5.0),
+                Vec3::new(10.0, 10.0, 5.0),
+            ],
+            vec![[0, 2, 3], [0, 3, 1], [2, 4, 5], [2, 5, 3]],
+        );
+        let quad = |z: f64| {
+            TriMesh::new(
+                vec![
+                    Vec3::new(-8.0, -3.0, z),
+                    Vec3::new(8.0, -3.0, z),
+                    Vec3::new(8.0, 3.0, z),
+                    Vec3::new(-8.0, 3.0, z),
+                ],
+                vec![[0, 2, 1], [0, 3, 2]],
+            )
+        };
+        let mut inner = quad(2.0);
+        let depth = 1.0;
+        assert_eq!(
+            push(&mut inner, &outer, &outer, depth, Keep::Inside, None),
+            Pushed::default()
+        );
+        let crossings = |inner: &TriMesh| {
+            let mut positions = outer.positions.clone();
+            positions.extend_from_slice(&inner.positions);
+            let mut triangles = outer.triangles.clone();
+            triangles.extend(inner.triangles.iter().map(|t| t.map(|v| v + 6)));
+            super::super::intersect::crossing_pairs(&TriMesh::new(positions, triangles)).len()
+        };
+        assert!(crossings(&inner) > 0);
+        let mut passes = 0;
+        while clear_crossings(&mut inner, &outer, &[], depth, 0.5).vertices > 0 {
+            passes += 1;
+            assert!(passes < 20, "never cleared");
+        }
+        assert_eq!(crossings(&inner), 0);
+        // The corners went down and in, 0.5 mm along a flank's normal (0.45, 0, 0.89) per pass,
+        // until the quad passed under the crease: 5 passes, 2.5 mm.
+        let moved: Vec<f64> = inner
+            .positions
+            .iter()
+            .zip(&quad(2.0).positions)
+            .map(|(p, q)| (p - q).norm())
+            .collect();
+        assert_eq!(passes, 5, "{moved:?}");
+        assert!(moved.iter().all(|&m| (m - 2.5).abs() < 1e-9), "{moved:?}");
+        // A fixed corner stays.
+        let mut inner = quad(2.0);
+        clear_crossings(&mut inner, &outer, &[true, false, false, false], depth, 0.5);
+        assert_eq!(inner.positions[0], quad(2.0).positions[0]);
     }
 }

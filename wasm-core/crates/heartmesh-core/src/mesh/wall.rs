@@ -13,7 +13,7 @@
 //! and the solid is closed by construction.
 
 use super::clip::{clip_below, keep_piece_of, mean_edge_length, Clipped};
-use super::inset::{push, Keep, Pushed};
+use super::inset::{clear_crossings, push, Keep, Pushed};
 use super::intersect::crossing_pairs;
 use super::outline::{inside, plane_basis, separate_outlines};
 use super::quality::folded_edges_within;
@@ -464,11 +464,19 @@ impl Wall {
 /// Rounds of [`separate`]: a wall needing more is not a wall the contours describe.
 const SEPARATION_ROUNDS: usize = 6;
 
+/// Passes of [`clear_crossings`] at most: each moves a crossing triangle's corners by a step
+/// of half the depth (at least 0.25 mm), so 24 passes reach 6 mm, twice the thickness of a
+/// right-ventricular free wall.
+const CROSSING_PASSES: usize = 24;
+
 /// Moves each endocardium under the epicardium by `depth` mm ([`push`]) and out of the other
 /// cavities by as much (the septum between two), then the epicardium out over the endocardia
 /// where their triangles still span across it (a coarse endocardial triangle over a finer
-/// epicardial bump), until nothing moves or after [`SEPARATION_ROUNDS`]. Outline vertices stay
-/// in the base plane. Returns the endocardia's moves (together) and the epicardium's.
+/// epicardial bump), until nothing moves or after [`SEPARATION_ROUNDS`]; then, where an
+/// endocardial triangle still passes through the epicardium with its corners at the depth
+/// under their nearest faces (an inward crease of the epicardium between them), its corners
+/// go under the face crossed ([`clear_crossings`]) and the rounds run again. Outline vertices
+/// stay in the base plane. Returns the endocardia's moves (together) and the epicardium's.
 fn separate(
     cavities: &mut [Clipped],
     epi: &mut Clipped,
@@ -486,55 +494,31 @@ fn separate(
     let epi_mask = mask(epi);
     let before: Vec<Vec<Vec3>> = cavities.iter().map(|c| c.mesh.positions.clone()).collect();
     let epi_before = epi.mesh.positions.clone();
-    for _ in 0..SEPARATION_ROUNDS {
-        let mut moved = 0;
-        for k in 0..cavities.len() {
-            let epi_closed = capped(epi, base);
-            let p = &mut cavities[k].mesh;
-            moved += push(
-                p,
-                &epi.mesh,
-                &epi_closed,
-                depth,
-                Keep::Inside,
-                Some((base, &masks[k])),
-            )
-            .vertices;
-            for j in (0..cavities.len()).filter(|&j| j != k) {
-                let other = cavities[j].mesh.clone();
-                let other_closed = capped(&cavities[j], base);
-                let p = &mut cavities[k].mesh;
-                moved += push(
-                    p,
-                    &other,
-                    &other_closed,
-                    depth,
-                    Keep::Outside,
-                    Some((base, &masks[k])),
-                )
-                .vertices;
+    let rounds = |cavities: &mut [Clipped], epi: &mut Clipped| {
+        for _ in 0..SEPARATION_ROUNDS {
+            if separation_round(cavities, epi, base, depth, &masks, &epi_mask) == 0 {
+                break;
             }
         }
-        for c in cavities.iter() {
-            moved += push(
-                &mut epi.mesh,
-                &c.mesh,
-                &capped(c, base),
-                depth,
-                Keep::Outside,
-                Some((base, &epi_mask)),
-            )
-            .vertices;
+        for (c, m) in cavities.iter_mut().zip(&masks) {
+            untangle(&mut c.mesh, m);
         }
-        // Last in the round: the pushes above may have moved outline vertices (projected into
-        // the plane) too little or too far, and the ring needs the outlines clear of each other.
-        moved += separate_outlines(cavities, epi, base, depth).vertices;
+    };
+    rounds(cavities, epi);
+    let step = 0.5 * depth.max(0.5);
+    let mut cleared = false;
+    for _ in 0..CROSSING_PASSES {
+        let mut moved = 0;
+        for (c, m) in cavities.iter_mut().zip(&masks) {
+            moved += clear_crossings(&mut c.mesh, &epi.mesh, m, depth, step).vertices;
+        }
         if moved == 0 {
             break;
         }
+        cleared = true;
     }
-    for (c, m) in cavities.iter_mut().zip(&masks) {
-        untangle(&mut c.mesh, m);
+    if cleared {
+        rounds(cavities, epi);
     }
     let cavity_moves = before
         .iter()
@@ -545,6 +529,59 @@ fn separate(
             max_mm: acc.max_mm.max(p.max_mm),
         });
     (cavity_moves, net_moves(&epi_before, &epi.mesh.positions))
+}
+
+/// One round of [`separate`]'s pushes; returns how many vertices moved.
+fn separation_round(
+    cavities: &mut [Clipped],
+    epi: &mut Clipped,
+    base: &Plane,
+    depth: f64,
+    masks: &[Vec<bool>],
+    epi_mask: &[bool],
+) -> usize {
+    let mut moved = 0;
+    for k in 0..cavities.len() {
+        let epi_closed = capped(epi, base);
+        let p = &mut cavities[k].mesh;
+        moved += push(
+            p,
+            &epi.mesh,
+            &epi_closed,
+            depth,
+            Keep::Inside,
+            Some((base, &masks[k])),
+        )
+        .vertices;
+        for j in (0..cavities.len()).filter(|&j| j != k) {
+            let other = cavities[j].mesh.clone();
+            let other_closed = capped(&cavities[j], base);
+            let p = &mut cavities[k].mesh;
+            moved += push(
+                p,
+                &other,
+                &other_closed,
+                depth,
+                Keep::Outside,
+                Some((base, &masks[k])),
+            )
+            .vertices;
+        }
+    }
+    for c in cavities.iter() {
+        moved += push(
+            &mut epi.mesh,
+            &c.mesh,
+            &capped(c, base),
+            depth,
+            Keep::Outside,
+            Some((base, epi_mask)),
+        )
+        .vertices;
+    }
+    // Last in the round: the pushes above may have moved outline vertices (projected into
+    // the plane) too little or too far, and the ring needs the outlines clear of each other.
+    moved + separate_outlines(cavities, epi, base, depth).vertices
 }
 
 /// Passes of [`untangle`]: each relaxes the crossing triangles' corners and their neighbours.
