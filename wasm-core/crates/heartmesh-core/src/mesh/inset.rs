@@ -103,7 +103,7 @@ pub fn push(
     pushed
 }
 
-/// Moves the vertices of `inner`'s triangles that still pass through `outer` to `depth_mm`
+/// Moves the vertices of `inner`'s triangles that still pass through `outer` towards `depth_mm`
 /// under the face they pass through, and returns what moved. [`push`] measures each vertex
 /// against its nearest face of `outer`, so where `outer` folds inwards between an inner
 /// triangle's corners (a crease sharper than the triangle is small) every corner can stand at
@@ -124,25 +124,13 @@ pub fn clear_crossings(
     if !(depth_mm.is_finite() && depth_mm >= 0.0) || outer.triangles.is_empty() {
         return pushed;
     }
-    // Both surfaces as one mesh: the crossing pairs between them are those joining a triangle
-    // of `outer` (listed first) with one of `inner`.
-    let n_outer = outer.triangles.len();
-    let offset = outer.positions.len() as u32;
-    let mut positions = outer.positions.clone();
-    positions.extend_from_slice(&inner.positions);
-    let mut triangles = outer.triangles.clone();
-    triangles.extend(inner.triangles.iter().map(|t| t.map(|v| v + offset)));
-    let both = TriMesh::new(positions, triangles);
     let mut target: Vec<Option<Vec3>> = vec![None; inner.positions.len()];
-    for (a, b) in super::intersect::crossing_pairs(&both) {
-        if a >= n_outer || b < n_outer {
-            continue;
-        }
+    for (a, b) in crossings_between(outer, inner) {
         let Some(n) = outward_normal(outer, a) else {
             continue;
         };
         let on_face = outer.corners(a)[0];
-        for &v in &inner.triangles[b - n_outer] {
+        for &v in &inner.triangles[b] {
             let v = v as usize;
             if fixed.get(v).copied().unwrap_or(false) {
                 continue;
@@ -165,6 +153,22 @@ pub fn clear_crossings(
         *p = t;
     }
     pushed
+}
+
+/// The pairs (triangle of `a`, triangle of `b`) that pass through each other: the two surfaces
+/// as one mesh, `a` listed first, and its crossing pairs that join them.
+fn crossings_between(a: &TriMesh, b: &TriMesh) -> Vec<(usize, usize)> {
+    let n_a = a.triangles.len();
+    let offset = a.positions.len() as u32;
+    let mut positions = a.positions.clone();
+    positions.extend_from_slice(&b.positions);
+    let mut triangles = a.triangles.clone();
+    triangles.extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
+    super::intersect::crossing_pairs(&TriMesh::new(positions, triangles))
+        .into_iter()
+        .filter(|&(s, t)| s < n_a && t >= n_a)
+        .map(|(s, t)| (s, t - n_a))
+        .collect()
 }
 
 /// Unit outward normal of triangle `t` (None when degenerate).
@@ -247,13 +251,7 @@ mod tests {
             push(&mut inner, &outer, &outer, depth, Keep::Inside, None),
             Pushed::default()
         );
-        let crossings = |inner: &TriMesh| {
-            let mut positions = outer.positions.clone();
-            positions.extend_from_slice(&inner.positions);
-            let mut triangles = outer.triangles.clone();
-            triangles.extend(inner.triangles.iter().map(|t| t.map(|v| v + 6)));
-            super::super::intersect::crossing_pairs(&TriMesh::new(positions, triangles)).len()
-        };
+        let crossings = |inner: &TriMesh| crossings_between(&outer, inner).len();
         assert!(crossings(&inner) > 0);
         let mut passes = 0;
         while clear_crossings(&mut inner, &outer, &[], depth, 0.5).vertices > 0 {
