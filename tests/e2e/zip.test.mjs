@@ -3,7 +3,7 @@
 // the DICOM images in `1000001_images.zip` (the core's fixture, biv-me patient 1 drawn in the
 // pixels of 110 header-only cine images). Opened together (the Open dialog) or as the subject's
 // folder dropped, they give the unzipped study's LV_ENDO mesh (tests/e2e/cvi42.test.mjs: 1041
-// vertices, mean 0.366 mm, 173.2 ml) and its frame picker (0, 9). A zipped contour file
+// vertices, mean 0.380 mm, 173.2 ml) and its frame picker (0, 9). A zipped contour file
 // (patient1-ED.zip: export/patient1-ED.csv and a macOS resource fork) gives the file's own mesh.
 // A cut archive is refused with a banner naming it, and the page goes on.
 import { describe, it } from 'node:test';
@@ -39,7 +39,7 @@ async function assertStudy(label) {
   const r = await readResult(page);
   const m = await current();
   assert.equal(r.vertices, 1041, `${label}: the unzipped study's mesh`);
-  assert.equal(r.meanMm.toFixed(3), '0.366', `${label}: contour-to-mesh mean ${r.meanMm} mm`);
+  assert.equal(r.meanMm.toFixed(3), '0.380', `${label}: contour-to-mesh mean ${r.meanMm} mm`);
   assert.equal(m.volumeMl.toFixed(1), '173.2', `${label}: ${m.volumeMl} ml`);
   assert.equal(m.contourPoints, 441, label);
   assert.equal(m.watertight, true, label);

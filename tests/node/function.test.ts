@@ -78,7 +78,7 @@ describe('the phases of a heart, against heartmesh volumes', () => {
     const rv = summary.ventricles.find((v) => v.surface === 'RV_ENDO');
     // The figures the CLI prints (and the app shows to one decimal).
     expect(lv?.ef_percent).toBeCloseTo(62.1, 1);
-    expect(rv?.ef_percent).toBeCloseTo(60.3, 1);
+    expect(rv?.ef_percent).toBeCloseTo(60.9, 1);
     const mass = summary.lv_mass;
     expect(relative(mass?.ed_g as number, cli.lv_mass.ed_g)).toBeLessThan(1e-9);
     expect(relative(mass?.es_g as number, cli.lv_mass.es_g)).toBeLessThan(1e-9);

@@ -127,7 +127,7 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         "surface": surface,
         "frame": frame_read(f.time_frames),
         "iterations": rec.iteration(),
-        // The method's stop rule can end a run before --iterations (SurFCo: 240 of 250): said
+        // The method's stop rule can end a run before --iterations (SurFCo: 244 of 250): said
         // here, as the app's result panel says "converged", so a short count is not a mystery.
         "converged": rec.iteration() < rec.total_iterations(),
         "seconds": f.seconds,

@@ -189,7 +189,7 @@ fn decimal_commas_pixels_and_centimetres_in_the_header_are_told() {
     let rep: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("cm.json")).unwrap()).unwrap();
     let c2m = rep["contour_to_mesh"]["mean"].as_f64().unwrap();
-    assert!((c2m - 0.062).abs() < 0.001, "{c2m} mm, as in mm");
+    assert!((c2m - 0.060).abs() < 0.001, "{c2m} mm, as in mm");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

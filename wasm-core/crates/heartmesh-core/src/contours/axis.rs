@@ -8,7 +8,7 @@ use super::clean::cleaned_contour;
 use super::plane::{axis_angle_deg, fit_plane, PlaneFit};
 use super::{Contour, ContourKind, ContourSet};
 use crate::error::{CoreError, Result};
-use crate::geometry::Vec3;
+use crate::geometry::{order_free_sum, order_free_vec_sum, Vec3};
 
 /// Contours whose normal is within this angle of the central direction are short-axis.
 pub const SAX_MAX_ANGLE_DEG: f64 = 20.0;
@@ -92,10 +92,11 @@ fn split(contours: &[Contour], planes: &[Option<PlaneFit>]) -> Result<Split> {
     }
     // Central direction: the normal minimising sum_j log(180 + angle) (ties: the first listed).
     let cost = |n: &Vec3| -> f64 {
-        normals
-            .iter()
-            .map(|(_, m)| (180.0 + axis_angle_deg(n, m)).ln())
-            .sum()
+        order_free_sum(
+            normals
+                .iter()
+                .map(|(_, m)| (180.0 + axis_angle_deg(n, m)).ln()),
+        )
     };
     let mut candidates: Vec<(f64, Vec3)> = normals.iter().map(|(_, n)| (cost(n), *n)).collect();
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -144,16 +145,18 @@ fn split_about(
     let medoid = sax_normals
         .iter()
         .map(|n| {
-            let s: f64 = sax_normals.iter().map(|m| axis_angle_deg(n, m)).sum();
+            let s = order_free_sum(sax_normals.iter().map(|m| axis_angle_deg(n, m)));
             (s, *n)
         })
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, n)| n)
         .unwrap_or(central);
-    let mut sum = Vec3::zeros();
-    for n in &sax_normals {
-        sum += if n.dot(&medoid) < 0.0 { -n } else { *n };
-    }
+    let sum =
+        order_free_vec_sum(
+            sax_normals
+                .iter()
+                .map(|n| if n.dot(&medoid) < 0.0 { -n } else { *n }),
+        );
     let axis = if sum.norm() > 0.0 {
         sum.normalize()
     } else {
@@ -235,14 +238,12 @@ fn group_slices(
         }
     }
     for s in &mut slices {
-        let (sum, n) = s.contours.iter().fold((0.0, 0usize), |(sum, n), &j| {
-            let c = &contours[j];
-            (
-                sum + c.points().map(|p| p.dot(axis)).sum::<f64>(),
-                n + c.point_count(),
-            )
-        });
-        s.height = sum / n.max(1) as f64;
+        let heights = s
+            .contours
+            .iter()
+            .flat_map(|&j| contours[j].points().map(|p| p.dot(axis)));
+        let n: usize = s.contours.iter().map(|&j| contours[j].point_count()).sum();
+        s.height = order_free_sum(heights) / n.max(1) as f64;
     }
     slices
 }
@@ -288,15 +289,11 @@ fn apex_is_low(contours: &[Contour], slices: &[Slice], axis: &Vec3) -> bool {
                 .flat_map(|&j| contours[j].points())
                 .collect();
             let n = pts.len().max(1) as f64;
-            let c = pts.iter().fold(Vec3::zeros(), |acc, p| acc + *p) / n;
-            let r2 = pts
-                .iter()
-                .map(|p| {
-                    let d = *p - c;
-                    (d - axis * d.dot(axis)).norm_squared()
-                })
-                .sum::<f64>()
-                / n;
+            let c = order_free_vec_sum(pts.iter().map(|p| **p)) / n;
+            let r2 = order_free_sum(pts.iter().map(|p| {
+                let d = *p - c;
+                (d - axis * d.dot(axis)).norm_squared()
+            })) / n;
             (s.height, r2.sqrt())
         })
         .collect();

@@ -190,7 +190,7 @@ pub fn tip_plane(
         axis.cross(&Vec3::new(0.0, 1.0, 0.0)).normalize()
     };
     let v = axis.cross(&u);
-    let tips: Vec<Tip> = contours
+    let mut tips: Vec<Tip> = contours
         .iter()
         .zip(kinds)
         .filter(|(_, k)| **k == ContourKind::Lax)
@@ -208,6 +208,12 @@ pub fn tip_plane(
             }
         })
         .collect();
+    // In an order of their own, so the fit's sums do not depend on the file's order of curves.
+    tips.sort_by(|a, b| {
+        a.h.total_cmp(&b.h)
+            .then(a.x.total_cmp(&b.x))
+            .then(a.y.total_cmp(&b.y))
+    });
     let plane = valve_plane(
         &tips,
         short,

@@ -3,7 +3,7 @@
 
 use crate::contours::axis::Layout;
 use crate::contours::{Contour, ContourKind};
-use crate::geometry::{centroid, Vec3};
+use crate::geometry::{centroid, order_free_centroid, Vec3};
 use crate::mesh::TriMesh;
 use crate::params::LidMode;
 
@@ -52,7 +52,8 @@ pub fn lids(mode: &LidMode, rings: &[Vec<Vec3>], contours: &[Contour], layout: &
         let c = if lowest.is_empty() {
             ring_centre
         } else {
-            centroid(&lowest)
+            // One point per curve, in the file's order of curves: summed in an order of their own.
+            order_free_centroid(&lowest)
         };
         c + z * (lo.min(ring_height) - c.dot(&z))
     };

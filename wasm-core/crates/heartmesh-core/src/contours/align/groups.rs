@@ -7,7 +7,7 @@ use crate::contours::axis::analyse;
 use crate::contours::clean::cleaned_contour;
 use crate::contours::plane::{axis_angle_deg, fit_plane, PlaneFit};
 use crate::contours::{Contour, ContourKind, ContourSet};
-use crate::geometry::Vec3;
+use crate::geometry::{lexicographic, Vec3};
 
 /// More contours than any acquisition: the SAX/LAX analysis is quadratic in the count, so such a
 /// file is left as it is (the reconstruction refuses it anyway, `pipeline::prepare`).
@@ -131,9 +131,17 @@ pub(super) fn group(set: &ContourSet) -> Result<Grouping, String> {
     }
     let scale_mm = ring_scale(&groups, &layout.axis);
 
-    // Long-axis views: each curve joins the first view whose plane it lies in.
+    // Long-axis views: each curve joins the first view whose plane it lies in, the curves taken
+    // longest first (the best planes seed the views) and in an order of their own, not the
+    // file's: a view's members, its plane and the order of its pieces then do not depend on
+    // where the file lists its curves (a short RV septum seeding a view could leave the LV's
+    // curves of the same image out of it).
+    let mut lax: Vec<usize> = (0..cleaned.len())
+        .filter(|&k| layout.kinds[k] == ContourKind::Lax)
+        .collect();
+    lax.sort_by(|&a, &b| content_order(&cleaned[a], &cleaned[b]));
     let mut views: Vec<(PlaneFit, Vec<usize>)> = Vec::new();
-    for k in (0..cleaned.len()).filter(|&k| layout.kinds[k] == ContourKind::Lax) {
+    for k in lax {
         let own = layout.planes[k].filter(|p| p.flatness_ratio >= MIN_FLATNESS);
         let joins = views.iter().position(|(plane, _)| {
             rms_offset(&cleaned[k], plane) <= SAME_VIEW_MM + 3.0 * plane.rms_residual
@@ -149,11 +157,14 @@ pub(super) fn group(set: &ContourSet) -> Result<Grouping, String> {
     for (seed, members) in views {
         let pieces: Vec<Piece> = members.iter().flat_map(|&k| pieces_of(k)).collect();
         let plane = fit_plane(pieces.iter().flat_map(|p| p.points.iter())).unwrap_or(seed);
-        let ids: Vec<&str> = members.iter().map(|&k| cleaned[k].id.as_str()).collect();
+        // Named and listed in the file's order.
+        let mut listed = members.clone();
+        listed.sort_unstable();
+        let ids: Vec<&str> = listed.iter().map(|&k| cleaned[k].id.as_str()).collect();
         groups.push(Group {
             kind: ContourKind::Lax,
             label: ids.join(", "),
-            members: members.iter().map(|&k| index[k]).collect(),
+            members: listed.iter().map(|&k| index[k]).collect(),
             centroid: plane.centroid,
             normal: plane.normal,
             pieces,
@@ -163,6 +174,17 @@ pub(super) fn group(set: &ContourSet) -> Result<Grouping, String> {
         groups,
         scale_mm,
         axis: layout.axis,
+    })
+}
+
+/// An order of contours by their content alone: more points first, then point by point.
+fn content_order(a: &Contour, b: &Contour) -> std::cmp::Ordering {
+    b.point_count().cmp(&a.point_count()).then_with(|| {
+        a.points()
+            .zip(b.points())
+            .map(|(p, q)| lexicographic(p, q))
+            .find(|o| o.is_ne())
+            .unwrap_or(std::cmp::Ordering::Equal)
     })
 }
 
