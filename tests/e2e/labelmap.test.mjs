@@ -102,7 +102,10 @@ describe('NIfTI label maps', () => {
 
   it('the same file chosen with Open… (gzip as stored): the same meshes; listed and downloaded under names that keep .nii.gz whole', async () => {
     const STL = 'cardiomesh-spasm-seg-LV_EPI.stl';
-    assert.equal((await download(page, 'export-stl')).name, STL);
+    const first = await download(page, 'export-stl');
+    assert.equal(first.name, STL);
+    // NIfTI's RAS said where 3D Slicer reads it (else it takes LPS and mirrors the mesh).
+    assert.match(first.bytes.subarray(0, 80).toString('latin1'), /^heartmesh \S+ mm SPACE=RAS LV_EPI /);
     // Not the example's entry (a file of the user's, of the same name): kept beside it, numbered
     // before the whole extension.
     const SECOND = 'cardiomesh-spasm-seg (2).nii.gz';
@@ -189,7 +192,11 @@ describe('NIfTI label maps', () => {
     assert.equal(r.watertight, true);
     assert.ok(Math.abs(r.volumeMl - runs.LV_EPI.volumeMl) < 0.2, `${r.volumeMl} vs ${runs.LV_EPI.volumeMl}`);
     assert.ok(Math.abs(r.meanMm - runs.LV_EPI.meanMm) < 0.01, `${r.meanMm} vs ${runs.LV_EPI.meanMm}`);
-    assert.equal((await download(page, 'export-stl')).name, 'seg-LV_EPI.stl');
+    const stl = await download(page, 'export-stl');
+    assert.equal(stl.name, 'seg-LV_EPI.stl');
+    assert.match(stl.bytes.subarray(0, 80).toString('latin1'), /^heartmesh \S+ mm SPACE=LPS LV_EPI /);
+    const obj = await download(page, 'export-obj');
+    assert.deepEqual(obj.bytes.toString('utf8').split('\n').slice(1, 3), ['# SPACE=LPS', '# input: seg.seg.nrrd surface: LV_EPI']);
   });
 
   it('the same segmentation as a DICOM SEG (the core\'s fixture, LPS): the same surfaces and LV_EPI, read from the frames\' positions', async () => {

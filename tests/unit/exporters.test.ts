@@ -229,6 +229,23 @@ describe('exporters parse back', () => {
     expect(exportBaseName({ ...info, fileName: 'sub-01_seg.nii', surface: 'RV_ENDO', frame: '12' })).toBe('sub-01_seg-RV_ENDO-frame12');
   });
 
+  it('says the patient frame where 3D Slicer reads it, when the input fixes it, and only then', () => {
+    const ras = { ...info, fileName: 'seg.nii.gz', coordinateSystem: 'RAS' as const };
+    // STL: within the 80 bytes, right after the version; OBJ and PLY: a comment line of its own.
+    expect(stlHeader(ras)).toMatch(/^heartmesh 0\.1\.0 mm SPACE=RAS LV_ENDO seg\.nii\.gz /);
+    expect(writeObj(mesh, ras).split('\n').slice(0, 3)).toEqual(['# heartmesh 0.1.0 (core 0.1.0-core), units: mm', '# SPACE=RAS', '# input: seg.nii.gz surface: LV_ENDO']);
+    expect(new TextDecoder().decode(writePly(mesh, { ...ras, coordinateSystem: 'LPS' }))).toContain('\ncomment SPACE=LPS\n');
+    // VTK: in the title line (the header Slicer reads), early enough to survive its cut.
+    expect(writeVtk(mesh, ras).split('\n')[1]).toMatch(/^heartmesh 0\.1\.0 \(core 0\.1\.0-core\), units: mm \| SPACE=RAS \| input: seg\.nii\.gz/);
+    expect(JSON.parse(writeParamsJson(ras, null))).toMatchObject({ coordinate_system: 'RAS' });
+    // Unknown (a CSV): nothing said, as before.
+    for (const unknown of [info, { ...info, coordinateSystem: null }]) {
+      expect(stlHeader(unknown)).not.toContain('SPACE');
+      expect(writeObj(mesh, unknown)).not.toContain('SPACE');
+      expect(JSON.parse(writeParamsJson(unknown, null))).not.toHaveProperty('coordinate_system');
+    }
+  });
+
   it('records the time frame of a file that holds several beside the file and surface, and only then', () => {
     const nine = { ...info, fileName: 'cine.txt', frame: '9' };
     expect(exportBaseName(nine)).toBe('cine-LV_ENDO-frame9');

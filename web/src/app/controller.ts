@@ -1320,6 +1320,7 @@ export class Controller {
       params: schemaOrdered(r ? r.params : this.params, this.schema),
       // What the run on screen left out at the user's request (before its result: what the next run will).
       leaveOut: r?.leave_out ?? this.leaveOutNow(),
+      coordinateSystem: file.coordinateSystem ?? null,
     };
   }
 

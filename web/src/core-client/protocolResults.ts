@@ -62,7 +62,16 @@ export interface LoadedFile {
   session?: SessionSettings | null;
   /** The file's time frames and those read (null or absent: the file has no time-frame column). */
   timeFrames?: TimeFrames | null;
+  /**
+   * The patient frame of the coordinates when the format fixes it (DICOM's LPS: GPFiles, cvi42,
+   * Segment, Sunnybrook, RTSTRUCT, DICOM SEG; NIfTI's RAS; an NRRD's own); null or absent: unknown
+   * (CSV and other plain formats).
+   */
+  coordinateSystem?: CoordinateSystem | null;
 }
+
+/** DICOM's LPS or NIfTI's RAS, both in mm. */
+export type CoordinateSystem = 'LPS' | 'RAS';
 
 /**
  * The time frames of a file with a time-frame column (a GPFile's `time frame`, a CSV's `frame`),

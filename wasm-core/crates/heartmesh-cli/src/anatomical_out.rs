@@ -6,6 +6,7 @@
 //! where the septum is): a refusal after a minute's reconstruction would waste it. Under
 //! `--surface all` the LV surfaces get their layouts and the others are named in a note.
 
+use heartmesh_core::contours::CoordinateSystem;
 use heartmesh_core::io::{self, MeshFormat, Regions};
 use heartmesh_core::metrics::anatomical::{self, Anatomical, Layout, REGION_NAMES};
 use heartmesh_core::metrics::compare::basal_plane;
@@ -86,10 +87,19 @@ pub fn add_to_report(rep: &mut Value, path: &str, built: &Result<Anatomical, Str
 }
 
 /// The layout's file: regions `wall` and `base`, the layout spelled out in the header.
-pub fn write(path: &str, a: &Anatomical, input: &str, surface: &str) -> Result<(), CliError> {
+pub fn write(
+    path: &str,
+    a: &Anatomical,
+    input: &str,
+    surface: &str,
+    system: Option<CoordinateSystem>,
+) -> Result<(), CliError> {
     let format = MeshFormat::from_path(path)
         .ok_or_else(|| CliError::Failed(format!("{path}: unknown mesh extension")))?;
-    let comment = anatomical::header_comment(&a.summary, surface, input);
+    let comment = io::tagged_comment(
+        system,
+        &anatomical::header_comment(&a.summary, surface, input),
+    );
     let regions = Regions {
         array: "region",
         ids: &a.regions,

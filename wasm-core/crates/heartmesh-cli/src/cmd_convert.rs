@@ -86,7 +86,11 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             io::session::write_session(&set, &params, heartmesh_core::VERSION)
         }
         "dcm" => io::rtstruct::write_rtstruct(&set, stem(input)),
-        ext => Ok(io::write_contour_lines(&set, ext == "vtp", &comment)),
+        ext => Ok(io::write_contour_lines(
+            &set,
+            ext == "vtp",
+            &io::tagged_comment(set.coordinate_system, &comment),
+        )),
     }
     .map_err(|e| CliError::Failed(format!("{output}: {e}")))?;
     files::write(output, &out)?;

@@ -5,6 +5,8 @@
 use std::time::Instant;
 
 use heartmesh_core::contours::biv_epi::{self, BIV_EPI};
+use heartmesh_core::contours::CoordinateSystem;
+use heartmesh_core::io;
 use heartmesh_core::mesh::hex_wall;
 use heartmesh_core::mesh::wall::{self, Wall};
 use heartmesh_core::metrics::compare::common_basal_plane_all;
@@ -266,12 +268,15 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         .enumerate()
         .map(|(k, n)| format!("{} {n}", k + 1))
         .collect();
-    let comment = format!(
-        "{} of {} ({}); units mm, the contour file's coordinates; region {}",
-        kind(&wall),
-        file_name(input),
-        needed.join(" + "),
-        labels.join(", ")
+    let comment = io::tagged_comment(
+        set.coordinate_system,
+        &format!(
+            "{} of {} ({}); units mm, the contour file's coordinates; region {}",
+            kind(&wall),
+            file_name(input),
+            needed.join(" + "),
+            labels.join(", ")
+        ),
     );
     let bytes = wall
         .write(format, &comment)
@@ -285,6 +290,7 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             params: &params,
             min_thickness,
             seconds,
+            coordinate_system: set.coordinate_system,
         },
         &wall,
         &surfaces,
@@ -314,7 +320,10 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     if let (Some(r), Some(built)) = (&hex, &hexes) {
         match built {
             Ok(h) => {
-                let comment = hex_wall::comment(h, input, endo_name, epi_name);
+                let comment = io::tagged_comment(
+                    set.coordinate_system,
+                    &hex_wall::comment(h, input, endo_name, epi_name),
+                );
                 files::write(&r.path, &h.to_vtk(&comment))?;
             }
             Err(why) => {
@@ -442,6 +451,7 @@ struct Context<'a> {
     params: &'a Params,
     min_thickness: Option<f64>,
     seconds: f64,
+    coordinate_system: Option<CoordinateSystem>,
 }
 
 fn build_report(
@@ -475,6 +485,7 @@ fn build_report(
             seconds: s.seconds,
             warnings: &s.warnings,
             time_frames: None,
+            coordinate_system: c.coordinate_system,
         };
         per_surface.insert(s.name.clone(), report::build(&s.rec, &facts));
     }
@@ -482,6 +493,10 @@ fn build_report(
         ("version", json!(heartmesh_core::VERSION)),
         ("input", json!(file_name(input))),
         ("input_format", json!(input_format)),
+        (
+            "coordinate_system",
+            json!(c.coordinate_system.map(CoordinateSystem::name)),
+        ),
         ("output", json!(file_name(output))),
         ("seconds", json!(c.seconds)),
         ("parameters", report::parameters(params)),

@@ -405,6 +405,7 @@ impl Run<'_> {
             seconds,
             warnings: &warnings,
             time_frames: set.time_frames.as_ref(),
+            coordinate_system: set.coordinate_system,
         };
         let mut rep = report::build(&rec, &facts);
         let anatomical = self.anatomical_of(&rec, &params, out, &mut rep);
@@ -433,7 +434,7 @@ impl Run<'_> {
         if let (Some(path), Some(built)) = (out.anatomical.as_deref(), &anatomical) {
             let surface = rep["surface"].as_str().unwrap_or("the surface");
             match built {
-                Ok(a) => anatomical_out::write(path, a, input, surface)?,
+                Ok(a) => anatomical_out::write(path, a, input, surface, set.coordinate_system)?,
                 Err(why) => {
                     return Err(CliError::Failed(format!(
                         "{path}: no anatomical layout: {why}"

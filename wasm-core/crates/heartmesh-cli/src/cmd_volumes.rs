@@ -641,6 +641,7 @@ fn write_mesh(
         phase.name,
         file_name(&phase.input)
     );
+    let comment = io::tagged_comment(phase.set.coordinate_system, &comment);
     let bytes = io::write_mesh(mesh, MeshFormat::Obj, None, &comment)
         .map_err(|e| CliError::Failed(format!("{path}: {e}")))?;
     files::write(&path, &bytes)

@@ -1,6 +1,7 @@
 //! The JSON report of `heartmesh reconstruct` (scripts rely on its keys) and the one-line summary.
 
-use heartmesh_core::contours::TimeFrames;
+use heartmesh_core::contours::{CoordinateSystem, TimeFrames};
+use heartmesh_core::io;
 use heartmesh_core::mesh::quality::quality;
 use heartmesh_core::mesh::topology::validity;
 use heartmesh_core::mesh::TriMesh;
@@ -18,6 +19,8 @@ pub struct Facts<'a> {
     pub warnings: &'a [String],
     /// The input's time frames and which were read (None: no time-frame column).
     pub time_frames: Option<&'a TimeFrames>,
+    /// The patient frame of the input's coordinates, when its format fixes it.
+    pub coordinate_system: Option<CoordinateSystem>,
 }
 
 /// Every parameter by its schema name, plus the modes, as the mesh file's header writes them; the
@@ -126,6 +129,8 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         "output": f.output,
         "surface": surface,
         "frame": frame_read(f.time_frames),
+        // The mesh is in the input's coordinates: DICOM's LPS, NIfTI's RAS, or null (unknown).
+        "coordinate_system": f.coordinate_system.map(CoordinateSystem::name),
         "iterations": rec.iteration(),
         // The method's stop rule can end a run before --iterations (SurFCo: 244 of 250): said
         // here, as the app's result panel says "converged", so a short count is not a mystery.
@@ -244,10 +249,11 @@ pub fn header_comment(f: &Facts) -> String {
         .and_then(|t| t.named())
         .map(|n| format!(" (frame {n})"))
         .unwrap_or_default();
-    format!(
+    let comment = format!(
         "reconstructed from {}{frame}; parameters {p}{aligned}",
         f.input
-    )
+    );
+    io::tagged_comment(f.coordinate_system, &comment)
 }
 
 /// When the report says the alignment is worth a try (`Reconstruction::alignment_suggested`): a

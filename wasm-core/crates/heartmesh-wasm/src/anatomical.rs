@@ -4,7 +4,7 @@
 //! header, when given, follows the command line's comment). Everything is checked before the core
 //! sees it, so a bad call is an error thrown as JSON, never a panic: the worker goes on.
 
-use heartmesh_core::io::{write_mesh_with, Regions};
+use heartmesh_core::io::{tagged_comment, write_mesh_with, Regions};
 use heartmesh_core::metrics::anatomical::{self, Layout, REGION_NAMES};
 use heartmesh_core::metrics::compare::clip_plane_from_contours;
 use heartmesh_core::{ContourSet, CoreError, Params};
@@ -86,6 +86,7 @@ pub fn build(
         ids: &built.regions,
         names: &REGION_NAMES,
     };
+    let comment = tagged_comment(set.coordinate_system, &comment);
     let bytes = write_mesh_with(&built.mesh, format, None, Some(&regions), &comment)?;
     Ok(WallExport {
         summary: json!(built.summary),

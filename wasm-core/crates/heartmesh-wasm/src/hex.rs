@@ -104,6 +104,9 @@ pub fn build(
     append_lines(&mut comment, header);
     Ok(WallExport {
         summary: json!(hex.summary),
-        bytes: hex.to_vtk(&comment),
+        bytes: hex.to_vtk(&heartmesh_core::io::tagged_comment(
+            set.coordinate_system,
+            &comment,
+        )),
     })
 }

@@ -187,6 +187,9 @@ impl Session {
             "surfaceWarnings": surface_warnings,
             "session": settings,
             "timeFrames": frames::time_frames_json(set.time_frames.as_ref()),
+            // The patient frame the format fixes (LPS, RAS; null: unknown): the app's mesh
+            // exports say it where 3D Slicer reads it.
+            "coordinateSystem": set.coordinate_system.map(|c| c.name()),
         });
         self.files.insert(file_name.to_string(), set);
         Ok(info.to_string())

@@ -13,7 +13,7 @@
 //! JSON (`errors.rs`), never a panic: the worker goes on.
 
 use heartmesh_core::geometry::Vec3;
-use heartmesh_core::io::MeshFormat;
+use heartmesh_core::io::{tagged_comment, MeshFormat};
 use heartmesh_core::mesh::wall::{self, Wall, BIV_REGION_NAMES, REGION_NAMES};
 use heartmesh_core::metrics::compare::{common_basal_plane_all, common_basal_plane_of, ClipPlane};
 use heartmesh_core::metrics::function::MYOCARDIAL_DENSITY_G_PER_ML;
@@ -224,7 +224,7 @@ pub fn build(
     let base = common_basal_plane_of(set, params, endo.name, epi.name)?;
     let wall = wall::build_wall(&endo_mesh, &epi_mesh, &base, min_thickness_mm)?;
     let comment = header_comment(file_name, endo.name, epi.name, header);
-    let bytes = wall.write(format, &comment)?;
+    let bytes = wall.write(format, &tagged_comment(set.coordinate_system, &comment))?;
     let surfaces = json!({ "endo": endo.name, "epi": epi.name });
     let mut summary = summary(&wall, surfaces, min_thickness_mm, format, LV_WALL)?;
     if let Value::Object(map) = &mut summary {
@@ -281,7 +281,7 @@ pub fn build_biventricular(
         &BIV_REGION_NAMES,
         header,
     );
-    let bytes = wall.write(format, &comment)?;
+    let bytes = wall.write(format, &tagged_comment(set.coordinate_system, &comment))?;
     let surfaces = json!({ "endo": lv_endo.name, "epi": biv_epi.name, "rv_endo": rv_endo.name });
     Ok(WallExport {
         summary: summary(&wall, surfaces, min_thickness_mm, format, BIV_WALL)?,

@@ -2,7 +2,7 @@
  * What every export records about how it was made: app and core version, input file, surface,
  * lids mode, the options (smoothing, softening, breath-hold alignment) and every parameter value. One place, so that all formats say the same thing.
  */
-import { withDefaultOptions, type LidsMode, type ParamValues, type ReconOptions } from '../../core-client/protocol';
+import { withDefaultOptions, type CoordinateSystem, type LidsMode, type ParamValues, type ReconOptions } from '../../core-client/protocol';
 import { splitExtension } from '../fileExtension';
 
 export interface ExportInfo {
@@ -21,6 +21,11 @@ export interface ExportInfo {
    * an option: the ids belong to this file.
    */
   leaveOut?: readonly string[];
+  /**
+   * The input's patient frame (LPS, RAS) when known: written as `SPACE=...`, where 3D Slicer
+   * reads it to place the mesh (it takes LPS otherwise, mirroring a NIfTI's RAS mesh).
+   */
+  coordinateSystem?: CoordinateSystem | null;
 }
 
 export interface MeshData {
@@ -59,6 +64,7 @@ export function headerLines(info: ExportInfo): string[] {
   const clean = (s: string) => s.replace(/[\r\n]+/g, ' ');
   return [
     `heartmesh ${clean(info.appVersion)} (core ${clean(info.coreVersion)}), units: mm`,
+    ...(info.coordinateSystem ? [`SPACE=${info.coordinateSystem}`] : []),
     `input: ${clean(info.fileName)}${info.surface ? ` surface: ${clean(info.surface)}` : ''}${info.frame != null ? ` frame: ${clean(info.frame)}` : ''}`,
     `lids: ${info.lids} ${paramText(info.params)}${optionText(info.options)}${clean(leaveOutText(info.leaveOut))}`,
   ];
@@ -73,6 +79,8 @@ export function headerLines(info: ExportInfo): string[] {
 export function stlHeader(info: ExportInfo): string {
   const clean = (s: string) => s.replace(/[^\x20-\x7e]/g, '?');
   let text = `heartmesh ${clean(info.appVersion)} mm`;
+  // First, so that the 80 bytes always hold it: 3D Slicer reads the patient frame from here.
+  if (info.coordinateSystem) text += ` SPACE=${info.coordinateSystem}`;
   if (info.surface) text += ` ${clean(info.surface)}`;
   if (info.frame != null) text += ` frame ${clean(info.frame)}`;
   const room = 80 - text.length - 1;

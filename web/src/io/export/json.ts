@@ -51,6 +51,8 @@ export function writeParamsJson(info: ExportInfo, summary: RunSummary | null): s
     surface: info.surface,
     // Only for a file that holds several time frames (as the header line).
     ...(info.frame != null ? { frame: info.frame } : {}),
+    // The patient frame of the coordinates, when the input's format fixes it (as the CLI report).
+    ...(info.coordinateSystem ? { coordinate_system: info.coordinateSystem } : {}),
     lids: info.lids,
     smoothing_method: options.smoothing_method,
     soften_conflicts: options.soften_conflicts,

@@ -78,6 +78,33 @@ pub struct ContourSet {
     pub surface_warnings: Vec<(String, String)>,
     /// The file's time frames and which were read (None: the file has no time-frame column).
     pub time_frames: Option<TimeFrames>,
+    /// The patient frame the coordinates are in, when the format fixes it (None: a CSV or any
+    /// format that does not say). Written into mesh files ([`CoordinateSystem::tag`]).
+    pub coordinate_system: Option<CoordinateSystem>,
+}
+
+/// The two patient frames medical files use, both in mm: DICOM's LPS (+x towards the patient's
+/// left, +y posterior, +z superior) and NIfTI's RAS (x and y the other way).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CoordinateSystem {
+    Lps,
+    Ras,
+}
+
+impl CoordinateSystem {
+    pub fn name(self) -> &'static str {
+        match self {
+            CoordinateSystem::Lps => "LPS",
+            CoordinateSystem::Ras => "RAS",
+        }
+    }
+
+    /// `SPACE=LPS` / `SPACE=RAS`: 3D Slicer reads this from a mesh file's header (VTK title, STL
+    /// header, PLY and OBJ comments; VTP field data `SPACE`) and places the mesh accordingly;
+    /// without it Slicer takes LPS, which mirrors a mesh made from a NIfTI in x and y.
+    pub fn tag(self) -> String {
+        format!("SPACE={}", self.name())
+    }
 }
 
 impl ContourSet {

@@ -42,7 +42,7 @@ pub use frame_choice::FrameChoice;
 pub use frames::COMMAND_LINE_FRAME_ADVICE;
 pub use read_regions::{MeshRegions, RegionFacts};
 
-use crate::contours::ContourSet;
+use crate::contours::{ContourSet, CoordinateSystem};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::mesh::TriMesh;
@@ -95,6 +95,22 @@ pub enum ContourFormat {
 }
 
 impl ContourFormat {
+    /// The patient frame every file of the format is in (None: the file's own, or unknown).
+    /// DICOM's objects and what is drawn on DICOM images are in DICOM's LPS; biv-me's GPFiles
+    /// are the Cardiac Atlas Project's DICOM patient coordinates. Label maps say it per file
+    /// (their readers set it); CSV, XYZ, VTK lines, MAT-files and sessions do not say.
+    pub fn coordinate_system(self) -> Option<CoordinateSystem> {
+        match self {
+            ContourFormat::GpFile
+            | ContourFormat::Segment
+            | ContourFormat::Rtstruct
+            | ContourFormat::Cvi42
+            | ContourFormat::DicomSeg
+            | ContourFormat::Sunnybrook => Some(CoordinateSystem::Lps),
+            _ => None,
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             ContourFormat::Csv => "CSV",
@@ -304,7 +320,7 @@ pub fn read_contours_with(
              SEG), not with contours of another format",
         ));
     }
-    match format {
+    let mut set = match format {
         ContourFormat::Csv if looks_like_slice_info(bytes) => Err(CoreError::parse(
             1,
             "this is a biv-me SliceInfoFile (image planes), not contours; read the GPFile_*.txt beside it",
@@ -353,7 +369,11 @@ pub fn read_contours_with(
             options.views,
             options.frame.as_ref(),
         ),
+    }?;
+    if set.coordinate_system.is_none() {
+        set.coordinate_system = format.coordinate_system();
     }
+    Ok(set)
 }
 
 /// Several files read as one study: a short-axis label map (NIfTI, NRRD or DICOM SEG) and its
@@ -695,6 +715,24 @@ fn check_token(what: &str, name: &str) -> Result<()> {
 
 /// The header every writer puts first: `heartmesh <version>` and the caller's comment, one
 /// entry per line of the comment (empty lines dropped).
+/// A header comment that starts with the patient frame's `SPACE=` line when it is known: every
+/// writer puts its first lines where 3D Slicer reads the frame (the VTK title, the STL header,
+/// PLY and OBJ comments; VTP field data, [`space_of_line`]).
+pub fn tagged_comment(system: Option<CoordinateSystem>, comment: &str) -> String {
+    match system {
+        Some(s) => format!("{}\n{comment}", s.tag()),
+        None => comment.to_string(),
+    }
+}
+
+/// `LPS` or `RAS` of a header line that is a [`tagged_comment`]'s `SPACE=` line.
+pub(crate) fn space_of_line(line: &str) -> Option<&'static str> {
+    [CoordinateSystem::Lps, CoordinateSystem::Ras]
+        .into_iter()
+        .find(|s| line.trim() == s.tag())
+        .map(CoordinateSystem::name)
+}
+
 pub(crate) fn header_lines(comment: &str) -> Vec<String> {
     let mut out = vec![format!("heartmesh {}", crate::VERSION)];
     out.extend(

@@ -32,7 +32,7 @@ use crate::io::gzip::{inflate, inflate_head, is_gzip};
 use crate::io::FrameChoice;
 use roles::{find_roles, Roles};
 use trace::{plan, trace, SlicePlan};
-use volume::{err, magic, read_label_frame, Magic};
+use volume::{err, magic, read_label_frame, Magic, Space};
 
 /// Whether `bytes` is a NIfTI file (plain or gzip), of any version (the reader names what it
 /// cannot read rather than the file falling through to the CSV reader).
@@ -295,6 +295,7 @@ fn read_volume_study(
             end_systole: None,
         });
     }
+    set.coordinate_system = volume.space.and_then(Space::coordinate_system);
     Ok(set)
 }
 

@@ -9,6 +9,7 @@
 use nalgebra::{Matrix3, Vector3};
 use nifti::{NiftiHeader, NiftiType};
 
+use crate::contours::CoordinateSystem;
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 use crate::io::FrameChoice;
@@ -67,6 +68,17 @@ impl Space {
     pub const RAS: Space = Space([-1.0, -1.0, 1.0]);
     /// Some NRRD writers'.
     pub const LAS: Space = Space([1.0, -1.0, 1.0]);
+
+    /// The patient frame of mesh files this space is (LAS and others have none).
+    pub fn coordinate_system(self) -> Option<CoordinateSystem> {
+        if self == Space::LPS {
+            Some(CoordinateSystem::Lps)
+        } else if self == Space::RAS {
+            Some(CoordinateSystem::Ras)
+        } else {
+            None
+        }
+    }
 
     /// Signs that turn a point of `self` into one of `to` (each axis flipped or kept).
     fn to(self, to: Space) -> Vec3 {

@@ -193,12 +193,15 @@ pub fn read_rtstruct(bytes: &[u8]) -> Result<ContourSet> {
             b.push_piece(&id, Some(&name), points, ring, 0)?;
         }
     }
-    b.finish().map_err(|e| match e {
+    let mut set = b.finish().map_err(|e| match e {
         CoreError::Parse { line: 0, message } if message == "no contour points found" => {
             err("RT structure set without contour points (only empty ROIs or POINT contours)")
         }
         other => other,
-    })
+    })?;
+    // DICOM's patient coordinates, whichever way the file is read.
+    set.coordinate_system = Some(crate::contours::CoordinateSystem::Lps);
+    Ok(set)
 }
 
 /// ContourData as points, refusing what cannot be a contour.

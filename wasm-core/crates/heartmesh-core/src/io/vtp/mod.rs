@@ -583,12 +583,23 @@ fn prologue(
     lines: usize,
     polys: usize,
 ) -> String {
-    let comment = header_lines(header_comment)
-        .join(" | ")
-        .replace("--", "- -");
+    let header = header_lines(header_comment);
+    let comment = header.join(" | ").replace("--", "- -");
+    // 3D Slicer looks for the patient frame of a VTP in a field data string array `SPACE`.
+    let space = header
+        .iter()
+        .find_map(|l| super::space_of_line(l))
+        .map(|s| {
+            let codes: Vec<String> = s.bytes().map(|b| b.to_string()).collect();
+            format!(
+                "<FieldData>\n<Array type=\"String\" Name=\"SPACE\" NumberOfTuples=\"1\" format=\"ascii\">\n{} 0\n</Array>\n</FieldData>\n",
+                codes.join(" ")
+            )
+        })
+        .unwrap_or_default();
     format!(
         "<?xml version=\"1.0\"?>\n<!-- {comment} -->\n\
-         <VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">\n<PolyData>\n\
+         <VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\">\n<PolyData>\n{space}\
          <Piece NumberOfPoints=\"{points}\" NumberOfVerts=\"{verts}\" NumberOfLines=\"{lines}\" NumberOfStrips=\"0\" NumberOfPolys=\"{polys}\">\n"
     )
 }
