@@ -30,7 +30,11 @@ fn reconstruct(input: &str, out: &Path) -> serde_json::Value {
         "--quiet",
     ]));
     assert_eq!(code, 0, "{input}: {err}");
-    serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap()
+    json(&report)
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
 fn text(path: &Path) -> String {
@@ -130,8 +134,7 @@ fn label_maps_say_their_own_frame_and_a_csv_none() {
         "--quiet",
     ]));
     assert_eq!(code, 0, "{err}");
-    let rep: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("surfco.json")).unwrap()).unwrap();
+    let rep = json(&dir.join("surfco.json"));
     assert!(rep["coordinate_system"].is_null(), "{rep}");
     assert!(!text(&out).contains("SPACE="));
     let _ = std::fs::remove_dir_all(&dir);
@@ -154,8 +157,7 @@ fn walls_say_it_too() {
     ]));
     assert_eq!(code, 0, "{err}");
     assert!(text(&out).contains("\ncomment SPACE=LPS\n"));
-    let rep: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let rep = json(&report);
     assert_eq!(rep["coordinate_system"], "LPS");
     assert_eq!(rep["surfaces"]["LV_EPI"]["coordinate_system"], "LPS");
     let _ = std::fs::remove_dir_all(&dir);
