@@ -298,6 +298,8 @@ fn describe(input: &str, format: &str, set: &ContourSet, base: &Params) -> Value
         "points": set.point_count(),
         "landmarks": landmarks,
         "bounds_mm": bounds(set.contours.iter().flat_map(|c| c.points())),
+        // The patient frame the format fixes (LPS, RAS), null when it does not say.
+        "coordinate_system": set.coordinate_system.map(|c| c.name()),
         "time_frames": frames,
         // The file's own warnings; those about one surface's contours go with that surface.
         "warnings": set
@@ -560,7 +562,7 @@ pub(crate) fn bounds<'a>(points: impl Iterator<Item = &'a Vec3>) -> Value {
     }
 }
 
-/// The `coordinates (mm)` line of a `bounds_mm`, or nothing.
+/// The `coordinates (mm)` line of a `bounds_mm` (`(mm, LPS)` when the frame is known), or nothing.
 pub(crate) fn range_text(info: &Value) -> String {
     let (Some(lo), Some(hi)) = (
         info.pointer("/bounds_mm/min").and_then(Value::as_array),
@@ -576,5 +578,10 @@ pub(crate) fn range_text(info: &Value) -> String {
             format!("{a} {l:.1} to {h:.1}")
         })
         .collect();
-    format!("\n  coordinates (mm): {}", axes.join(", "))
+    let frame = info
+        .get("coordinate_system")
+        .and_then(Value::as_str)
+        .map(|s| format!(", {s}"))
+        .unwrap_or_default();
+    format!("\n  coordinates (mm{frame}): {}", axes.join(", "))
 }

@@ -110,6 +110,16 @@ fn label_maps_say_their_own_frame_and_a_csv_none() {
         let out = dir.join(format!("{name}.vtk"));
         let rep = reconstruct(s(&seg), &out);
         assert_eq!(rep["coordinate_system"], want, "{name}");
+        // `info` says it too, in its JSON and on its coordinates line.
+        let (code, info, err) = run(bin().args(["info", s(&seg), "--json"]));
+        assert_eq!(code, 0, "{err}");
+        let info: serde_json::Value = serde_json::from_str(&info).unwrap();
+        assert_eq!(info["coordinate_system"], want, "{name}");
+        let (_, lines, _) = run(bin().args(["info", s(&seg)]));
+        assert!(
+            lines.contains(&format!("\n  coordinates (mm, {want}): x ")),
+            "{lines}"
+        );
         let title = text(&out).lines().nth(1).unwrap().to_string();
         assert!(
             title.starts_with(&format!("{VERSION} | SPACE={want} | ")),
