@@ -17,6 +17,9 @@
 //! `frame` (written only for a file that holds several time frames, or one chosen) names the time
 //! frame the contours were read from: a session holds one frame, and reads back knowing which.
 //!
+//! `coordinate_system` (`"LPS"` or `"RAS"`, written only when the file read fixed it) keeps the
+//! patient frame of the coordinates, so meshes made from the session say it as the file's did.
+//!
 //! Sessions written before `smoothing_method`, `soften_conflicts`, `align_slices`,
 //! `drop_second_loops` and `keep_specks` were stored lack them and read back with their defaults;
 //! one without `end_caps` reads back with `off` and one without `apex_floor` with `false`, as
@@ -29,7 +32,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use super::builder::ContourBuilder;
-use crate::contours::{ContourSet, TimeFrames};
+use crate::contours::{ContourSet, CoordinateSystem, TimeFrames};
 use crate::error::{CoreError, Result};
 use crate::geometry::v3;
 use crate::params::{EndCapMode, LidMode, Params};
@@ -49,6 +52,8 @@ struct SessionFile {
     parameters: Map<String, Value>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     frame: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    coordinate_system: Option<String>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]
@@ -198,6 +203,10 @@ pub fn read_session(bytes: &[u8]) -> Result<Session> {
         }
     }
     set.time_frames = file.frame.as_deref().map(TimeFrames::saved);
+    // Anything but the two names is not a frame heartmesh can vouch for: left unsaid.
+    set.coordinate_system = [CoordinateSystem::Lps, CoordinateSystem::Ras]
+        .into_iter()
+        .find(|c| file.coordinate_system.as_deref() == Some(c.name()));
     Ok(Session {
         contours: set,
         parameters: file.parameters,
@@ -310,6 +319,7 @@ pub fn write_session(set: &ContourSet, params: &Params, app_version: &str) -> Re
             .as_ref()
             .and_then(|t| t.named())
             .map(str::to_string),
+        coordinate_system: set.coordinate_system.map(|c| c.name().to_string()),
     };
     let mut out = serde_json::to_vec(&file).map_err(|e| CoreError::Io(e.to_string()))?;
     out.push(b'\n');
@@ -393,6 +403,26 @@ mod tests {
         let bytes = write_session(&one, &Params::default(), "t").unwrap();
         assert!(!String::from_utf8_lossy(&bytes).contains("frame"));
         assert_eq!(read_session(&bytes).unwrap().contours.time_frames, None);
+    }
+
+    /// The patient frame of the file read is saved and read back; a CSV's (unknown) is not written.
+    #[test]
+    fn round_trip_with_the_coordinate_system() {
+        let mut set = read_csv(b"contour,x,y,z\na,0,0,0\na,9,0,0\na,9,9,0\n").unwrap();
+        let bytes = write_session(&set, &Params::default(), "t").unwrap();
+        assert!(!String::from_utf8_lossy(&bytes).contains("coordinate_system"));
+        assert_eq!(
+            read_session(&bytes).unwrap().contours.coordinate_system,
+            None
+        );
+        set.coordinate_system = Some(CoordinateSystem::Ras);
+        let bytes = write_session(&set, &Params::default(), "t").unwrap();
+        assert!(String::from_utf8_lossy(&bytes).contains(r#""coordinate_system":"RAS""#));
+        let back = read_session(&bytes).unwrap().contours;
+        assert_eq!(back.coordinate_system, Some(CoordinateSystem::Ras));
+        let odd = String::from_utf8_lossy(&bytes).replace("\"RAS\"", "\"LAS\"");
+        let odd = read_session(odd.as_bytes()).unwrap().contours;
+        assert_eq!(odd.coordinate_system, None);
     }
 
     /// A frame written as text (`ES`, chosen as `es`) is saved as the file writes it and reads
