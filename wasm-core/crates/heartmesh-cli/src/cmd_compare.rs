@@ -1,11 +1,12 @@
 //! `heartmesh compare TRUTH MESH [--clip-contours CONTOURS] [--json]`: surface distances both ways,
 //! Hausdorff and volumes, clipped at the most basal SAX plane of the contours (as the paper does).
 
+use heartmesh_core::contours::CoordinateSystem;
 use heartmesh_core::metrics::compare::{clip_plane_from_contours, compare, CompareReport};
 use heartmesh_core::Params;
 
 use crate::args::{parse, Spec};
-use crate::cmd_simulate::read_surface;
+use crate::cmd_simulate::read_surface_and_frame;
 use crate::contours;
 use crate::error::CliError;
 
@@ -14,7 +15,8 @@ pub const USAGE: &str = "heartmesh compare TRUTH.obj MESH.obj [--clip-contours C
   Distances in mm from the mesh to the truth and from the truth to the mesh (area-weighted mean,
   median, p95; max over samples and vertices), Hausdorff, volumes in ml. With --clip-contours,
   both surfaces are clipped at the most basal SAX plane of those contours (volumes of the parts
-  below it, capped flat). --json prints {mesh_to_truth, truth_to_mesh, hausdorff,
+  below it, capped flat). When the files state their patient frames (SPACE=LPS / SPACE=RAS)
+  and these differ, MESH and the contours are taken into TRUTH's frame. --json prints {mesh_to_truth, truth_to_mesh, hausdorff,
   volume_truth_ml, volume_mesh_ml, clipped}.";
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
@@ -33,11 +35,27 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             if n == 1 { "" } else { "s" }
         )));
     };
-    let truth = read_surface(truth_path)?;
-    let mesh = read_surface(mesh_path)?;
+    let (truth, truth_frame) = read_surface_and_frame(truth_path)?;
+    let (mut mesh, mesh_frame) = read_surface_and_frame(mesh_path)?;
+    // Files that state mirrored frames (a NIfTI-made RAS mesh against a DICOM-made LPS one) are
+    // compared in the truth's frame, never as they stand: their distances would be nonsense.
+    if let (Some(from), Some(to)) = (mesh_frame, truth_frame) {
+        if from != to {
+            for v in &mut mesh.positions {
+                *v = from.convert(to, v);
+            }
+            frame_note(mesh_path, from, truth_path, to);
+        }
+    }
     let clip = match p.value("clip-contours") {
         Some(path) => {
-            let loaded = contours::load(path, None)?;
+            let mut loaded = contours::load(path, None)?;
+            let stated = loaded.set.coordinate_system;
+            if let (Some(from), Some(to)) = (stated, truth_frame) {
+                if loaded.set.express_in(to) {
+                    frame_note(path, from, truth_path, to);
+                }
+            }
             let params = Params {
                 surface: p.value("surface").map(str::to_string),
                 ..Params::default()
@@ -59,6 +77,17 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
         out!("{}", human(&report));
     }
     Ok(())
+}
+
+/// Says on stderr that `path`'s points were taken from its frame into the truth's.
+fn frame_note(path: &str, from: CoordinateSystem, truth_path: &str, to: CoordinateSystem) {
+    eprintln!(
+        "heartmesh: note: {path} is in {} and {truth_path} in {}: its points are taken into {} \
+         (x and y negated)",
+        from.name(),
+        to.name(),
+        to.name()
+    );
 }
 
 fn human(r: &CompareReport) -> String {

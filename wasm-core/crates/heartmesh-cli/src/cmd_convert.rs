@@ -58,6 +58,8 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
                 if p.switch("ascii") && format == MeshFormat::StlBinary {
                     format = MeshFormat::StlAscii;
                 }
+                // The frame the input states goes on, where the output format has room for it.
+                let comment = io::tagged_comment(data.coordinate_system, &comment);
                 return write_mesh(&data, format, output, &comment, p.switch("quiet"));
             }
             // A .vtk/.vtp of polylines is contours, not a mesh: fall through.

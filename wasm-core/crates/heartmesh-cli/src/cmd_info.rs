@@ -146,6 +146,11 @@ fn mesh_file(path: &str) -> Result<Option<(Value, Words)>, CliError> {
     facts.insert("input".into(), json!(file_name(path)));
     facts.insert("format".into(), json!(ext.to_ascii_uppercase()));
     facts.insert("bounds_mm".into(), bounds(data.mesh.positions.iter()));
+    // The patient frame the file states (SPACE=LPS / SPACE=RAS), null when it states none.
+    facts.insert(
+        "coordinate_system".into(),
+        json!(data.coordinate_system.map(|c| c.name())),
+    );
     let point_data = data.point_data.as_ref().map(|(name, v)| {
         let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);

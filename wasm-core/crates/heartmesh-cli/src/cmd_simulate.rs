@@ -2,6 +2,7 @@
 //! (SAX stack, radial LAX, breath-hold misalignment, noise) to get contours with a known truth;
 //! `LABEL=TRUTH ...`: several surfaces of one heart on one acquisition (a multi-surface file).
 
+use heartmesh_core::contours::CoordinateSystem;
 use heartmesh_core::io;
 use heartmesh_core::sim::planes::anatomical_axis;
 use heartmesh_core::sim::planes::simulate_surfaces;
@@ -223,9 +224,17 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
 /// A reference surface, welded (unwelded poles read as holes) and consistently oriented (mixed
 /// orientations spoil volumes).
 pub fn read_surface(path: &str) -> Result<heartmesh_core::TriMesh, CliError> {
+    Ok(read_surface_and_frame(path)?.0)
+}
+
+/// [`read_surface`] and the patient frame the file states (`SPACE=`), if any.
+pub fn read_surface_and_frame(
+    path: &str,
+) -> Result<(heartmesh_core::TriMesh, Option<CoordinateSystem>), CliError> {
     let bytes = files::read(path)?;
     let data = io::read_mesh(path, &bytes).map_err(|e| CliError::input(path, e))?;
-    Ok(orient_consistently(&weld(&data.mesh, 1e-6).0).0)
+    let mesh = orient_consistently(&weld(&data.mesh, 1e-6).0).0;
+    Ok((mesh, data.coordinate_system))
 }
 
 fn spec_from(p: &Parsed) -> Result<AcquisitionSpec, CliError> {

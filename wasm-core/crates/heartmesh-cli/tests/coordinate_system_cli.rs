@@ -172,3 +172,92 @@ fn walls_say_it_too() {
     assert_eq!(rep["surfaces"]["LV_EPI"]["coordinate_system"], "LPS");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `path`'s text with every OBJ vertex mirrored into the other frame (x and y negated) and its
+/// `SPACE=` line replaced by `space` (dropped when None).
+fn mirrored_obj(path: &Path, space: Option<&str>) -> String {
+    let mut out = String::new();
+    for line in text(path).lines() {
+        if let Some(rest) = line.strip_prefix("v ") {
+            let v: Vec<f64> = rest
+                .split_whitespace()
+                .map(|t| t.parse().unwrap())
+                .collect();
+            out += &format!("v {} {} {}\n", -v[0], -v[1], v[2]);
+        } else if line.starts_with("# SPACE=") {
+            if let Some(s) = space {
+                out += &format!("# SPACE={s}\n");
+            }
+        } else {
+            out += line;
+            out.push('\n');
+        }
+    }
+    out
+}
+
+/// `compare TRUTH MESH [ARGS] --json`: the report and stderr.
+fn compare(truth: &Path, mesh: &Path, more: &[&str]) -> (serde_json::Value, String) {
+    let (code, out, err) = run(bin()
+        .args(["compare", s(truth), s(mesh), "--json"])
+        .args(more));
+    assert_eq!(code, 0, "{err}");
+    (serde_json::from_str(&out).unwrap(), err)
+}
+
+/// A mesh file's frame survives `convert` into every other mesh format (the readers take the tag
+/// back), `info` states it, and `compare` takes a mesh in the mirrored frame into the truth's
+/// before measuring: mirrored in x and y, the two copies of one mesh are otherwise centimetres
+/// apart.
+#[test]
+fn convert_keeps_the_frame_and_compare_measures_in_one() {
+    let dir = scratch("coordinate-system-convert");
+    let gpfile = data("contours/bivme-example-patient1/GPFile_000.txt");
+    let gp = gpfile.to_str().unwrap();
+    let stl = dir.join("gp.stl");
+    reconstruct(gp, &stl);
+    for ext in ["obj", "ply", "vtk", "vtp", "stl"] {
+        let out = dir.join(format!("converted.{ext}"));
+        let (code, _, err) = run(bin().args(["convert", s(&stl), s(&out), "--quiet"]));
+        assert_eq!(code, 0, "{ext}: {err}");
+        let (code, info, err) = run(bin().args(["info", s(&out), "--json"]));
+        assert_eq!(code, 0, "{ext}: {err}");
+        let info: serde_json::Value = serde_json::from_str(&info).unwrap();
+        assert_eq!(info["coordinate_system"], "LPS", "{ext}");
+        let (_, lines, _) = run(bin().args(["info", s(&out)]));
+        assert!(lines.contains("\n  coordinates (mm, LPS): x "), "{lines}");
+    }
+    let lps = dir.join("converted.obj");
+    let ras = dir.join("ras.obj");
+    std::fs::write(&ras, mirrored_obj(&lps, Some("RAS"))).unwrap();
+    let untagged = dir.join("untagged.obj");
+    std::fs::write(&untagged, mirrored_obj(&lps, None)).unwrap();
+
+    let (same, err) = compare(&stl, &ras, &[]);
+    assert!(
+        err.contains("ras.obj is in RAS and") && err.contains("taken into LPS"),
+        "{err}"
+    );
+    let d = same["mesh_to_truth"]["mean"].as_f64().unwrap();
+    let h = same["hausdorff"].as_f64().unwrap();
+    assert!(d < 1e-4 && h < 1e-3, "mean {d} mm, Hausdorff {h} mm");
+    // Untagged, the mirrored copy is measured as it stands: far apart.
+    let (apart, err) = compare(&stl, &untagged, &[]);
+    assert!(!err.contains("taken into"), "{err}");
+    let far = apart["mesh_to_truth"]["mean"].as_f64().unwrap();
+    assert!(far > 10.0, "mirrored copy only {far} mm away");
+
+    // Clipping contours in LPS against a truth in RAS are taken into RAS too: the clipped
+    // volumes match those of the LPS pair.
+    let (lps_pair, _) = compare(&stl, &lps, &["--clip-contours", gp, "--surface", "LV_ENDO"]);
+    let (ras_pair, err) = compare(&ras, &stl, &["--clip-contours", gp, "--surface", "LV_ENDO"]);
+    assert!(err.contains("GPFile_000.txt is in LPS"), "{err}");
+    for key in ["volume_truth_ml", "volume_mesh_ml"] {
+        let (a, b) = (
+            lps_pair[key].as_f64().unwrap(),
+            ras_pair[key].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() < 1e-3 * a, "{key}: {a} vs {b} ml");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

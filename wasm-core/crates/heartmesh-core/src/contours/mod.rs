@@ -105,9 +105,37 @@ impl CoordinateSystem {
     pub fn tag(self) -> String {
         format!("SPACE={}", self.name())
     }
+
+    /// `p`, in this frame, expressed in `to`: LPS and RAS differ by the signs of x and y (a half
+    /// turn about z, so a mesh keeps its orientation and volume).
+    pub fn convert(self, to: CoordinateSystem, p: &Vec3) -> Vec3 {
+        if self == to {
+            *p
+        } else {
+            Vec3::new(-p.x, -p.y, p.z)
+        }
+    }
 }
 
 impl ContourSet {
+    /// Takes every point (contours and landmarks) into the frame `to` when the set states
+    /// another ([`CoordinateSystem::convert`]); true when anything moved.
+    pub fn express_in(&mut self, to: CoordinateSystem) -> bool {
+        let Some(from) = self.coordinate_system.filter(|f| *f != to) else {
+            return false;
+        };
+        let points = self.contours.iter_mut().flat_map(|c| {
+            c.pieces
+                .iter_mut()
+                .flat_map(|piece| piece.points.iter_mut())
+        });
+        for p in points.chain(self.landmarks.iter_mut().map(|(_, p)| p)) {
+            *p = from.convert(to, p);
+        }
+        self.coordinate_system = Some(to);
+        true
+    }
+
     /// Distinct surface labels in order of first appearance.
     pub fn surfaces(&self) -> Vec<String> {
         let mut out: Vec<String> = Vec::new();

@@ -6,6 +6,7 @@
 
 use std::collections::HashMap;
 
+use crate::contours::clean::JUMP_FACTOR;
 use crate::contours::{checks, set_aside, slice_loops, Contour, ContourSet, Polyline};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
@@ -362,8 +363,11 @@ fn duplicate_warnings(set: &ContourSet) -> Vec<String> {
 /// Decides whether a run of points is a ring.
 ///
 /// Files rarely say so: a ring is recognised when its ends are within twice the median spacing of
-/// consecutive points; a repeated first point at the end is dropped. U-shaped long-axis curves
-/// (open at the valves) have ends far apart and stay open.
+/// consecutive points, or no farther apart than its widest step short of a jump (a ring traced
+/// with uneven steps, SurFCo's 0.01-1.6 mm, must not turn open because the file happens to start
+/// after a long one; a curve stored in two pieces has a jump wider than any gap, which says
+/// nothing about its ends); a repeated first point at the end is dropped. U-shaped long-axis
+/// curves (open at the valves) have ends far apart and stay open.
 pub fn polyline_from_run(mut points: Vec<Vec3>) -> Polyline {
     if points.len() < 3 {
         return Polyline {
@@ -374,6 +378,8 @@ pub fn polyline_from_run(mut points: Vec<Vec3>) -> Polyline {
     let mut gaps: Vec<f64> = points.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
     gaps.sort_by(f64::total_cmp);
     let median = gaps[gaps.len() / 2];
+    // Equal steps of a ring differ in their last bits: a closing step as wide as the widest is one.
+    let widest = gaps[gaps.len() - 1] * (1.0 + 1e-9);
     let first = points[0];
     let last = points[points.len() - 1];
     let ends = (last - first).norm();
@@ -390,7 +396,8 @@ pub fn polyline_from_run(mut points: Vec<Vec3>) -> Polyline {
     // within two spacings too; a ring's path runs well beyond the gap that closes it.
     let path: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
     Polyline {
-        closed: ends <= 2.0 * median && path > 1.5 * ends,
+        closed: (ends <= 2.0 * median || (ends <= widest && ends <= JUMP_FACTOR * median))
+            && path > 1.5 * ends,
         points,
     }
 }
@@ -503,6 +510,42 @@ mod tests {
         assert!(!polyline_from_run(line).closed);
         let triangle = vec![v3(0.0, 0.0, 0.0), v3(2.0, 0.0, 0.0), v3(1.0, 1.7, 0.0)];
         assert!(polyline_from_run(triangle).closed);
+    }
+
+    /// A ring traced with uneven steps (SurFCo's run from 0.01 to 1.6 mm, median 0.43) is a ring
+    /// whichever point the file starts it at, even right after its widest step; it used to turn
+    /// open when the step that closed it was more than twice the median.
+    #[test]
+    fn a_ring_with_uneven_steps_is_closed_from_any_start() {
+        // Equal steps, every tenth 2.6 times as long: a start after a long step leaves a closing
+        // gap of more than twice the median step.
+        let steps: Vec<f64> = (0..60)
+            .map(|i| if i % 10 == 4 { 2.6 } else { 1.0 })
+            .collect();
+        let total: f64 = steps.iter().sum();
+        let pts: Vec<Vec3> = steps
+            .iter()
+            .scan(0.0, |a, s| {
+                let t = *a / total * std::f64::consts::TAU;
+                *a += s;
+                Some(v3(20.0 * t.cos(), 20.0 * t.sin(), 0.0))
+            })
+            .collect();
+        for start in 0..pts.len() {
+            let mut rolled = pts.clone();
+            rolled.rotate_left(start);
+            assert!(polyline_from_run(rolled).closed, "start {start}");
+        }
+        // A U stored in two pieces (biv-me's s08 LAX curves): its ends, 25 mm apart, are nearer
+        // than the jump between the pieces, yet far beyond any step: open.
+        let u: Vec<Vec3> = ring(40, 20.0, false).into_iter().take(32).collect();
+        let (a, b) = u.split_at(14);
+        let two_pieces: Vec<Vec3> = a
+            .iter()
+            .copied()
+            .chain(b.iter().skip(10).copied())
+            .collect();
+        assert!(!polyline_from_run(two_pieces).closed);
     }
 
     #[test]

@@ -26,6 +26,7 @@ pub mod segment;
 pub mod session;
 #[cfg(test)]
 mod smoke;
+mod space_tag;
 pub mod stl;
 pub mod sunnybrook;
 #[cfg(test)]
@@ -58,6 +59,9 @@ pub struct MeshData {
     pub point_data: Option<(String, Vec<f64>)>,
     /// A label per triangle when the file carried one (see [`MeshRegions`]; never from STL).
     pub regions: Option<MeshRegions>,
+    /// The patient frame the file states (`SPACE=LPS` / `SPACE=RAS`, see [`tagged_comment`]);
+    /// None when it states none.
+    pub coordinate_system: Option<CoordinateSystem>,
 }
 
 /// Contour file formats the core reads.
@@ -484,6 +488,14 @@ fn strip_gz(name: &str) -> &str {
 
 /// Reads a triangle mesh (format from the content, then the extension).
 pub fn read_mesh(file_name: &str, bytes: &[u8]) -> Result<MeshData> {
+    Ok(MeshData {
+        coordinate_system: space_tag::of_mesh_file(bytes),
+        ..read_mesh_data(file_name, bytes)?
+    })
+}
+
+/// [`read_mesh`] without the frame.
+fn read_mesh_data(file_name: &str, bytes: &[u8]) -> Result<MeshData> {
     let head = &bytes[..bytes.len().min(256)];
     let starts = |magic: &[u8]| head.trim_ascii_start().starts_with(magic);
     if head.starts_with(b"ply") {
@@ -713,8 +725,6 @@ fn check_token(what: &str, name: &str) -> Result<()> {
     Ok(())
 }
 
-/// The header every writer puts first: `heartmesh <version>` and the caller's comment, one
-/// entry per line of the comment (empty lines dropped).
 /// A header comment that starts with the patient frame's `SPACE=` line when it is known: every
 /// writer puts its first lines where 3D Slicer reads the frame (the VTK title, the STL header,
 /// PLY and OBJ comments; VTP field data, [`space_of_line`]).
@@ -733,6 +743,8 @@ pub(crate) fn space_of_line(line: &str) -> Option<&'static str> {
         .map(CoordinateSystem::name)
 }
 
+/// The header every writer puts first: `heartmesh <version>` and the caller's comment, one
+/// entry per line of the comment (empty lines dropped).
 pub(crate) fn header_lines(comment: &str) -> Vec<String> {
     let mut out = vec![format!("heartmesh {}", crate::VERSION)];
     out.extend(

@@ -64,6 +64,7 @@ pub fn read_obj(bytes: &[u8]) -> Result<MeshData> {
         mesh,
         point_data: None,
         regions: groups.finish(),
+        coordinate_system: None,
     })
 }
 

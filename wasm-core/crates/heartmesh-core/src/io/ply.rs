@@ -361,6 +361,7 @@ pub fn read_ply(bytes: &[u8]) -> Result<MeshData> {
         mesh,
         point_data: data,
         regions,
+        coordinate_system: None,
     })
 }
 

@@ -79,6 +79,7 @@ impl Welder {
             mesh: self.mesh,
             point_data: None,
             regions: None,
+            coordinate_system: None,
         })
     }
 }

@@ -799,6 +799,7 @@ pub(crate) fn mesh_from_cells(
         mesh: TriMesh::new(points, triangles),
         point_data,
         regions: None,
+        coordinate_system: None,
     })
 }
 
