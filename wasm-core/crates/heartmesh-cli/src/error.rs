@@ -65,7 +65,17 @@ impl CliError {
     /// The single stderr line (without the `heartmesh: ` prefix): `FILE:LINE: problem` for parse
     /// errors with a line, `FILE: problem` otherwise.
     pub fn message(&self) -> String {
-        let one_line = |s: String| s.replace(['\n', '\r'], " ");
+        // One line whatever a file put in the message: line breaks become spaces, and other
+        // control characters (a vertical tab quoted from a damaged header) are shown escaped.
+        let one_line = |s: String| -> String {
+            s.chars()
+                .map(|c| match c {
+                    '\n' | '\r' => " ".to_string(),
+                    c if c.is_control() => c.escape_default().to_string(),
+                    c => c.to_string(),
+                })
+                .collect()
+        };
         one_line(match self {
             CliError::Usage(m) => format!("{m} (see heartmesh --help)"),
             CliError::Read { file, message } | CliError::Unwritable { file, message } => {

@@ -662,3 +662,32 @@ fn points_of_two_slices_under_one_name_are_named() {
     assert!(valid_mesh_c2m(&rep.unwrap(), "quarter") < 1.0);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A damaged mesh header quoted in the error keeps the error on one line: control characters
+/// from the file (here a vertical tab, which terminals and Python's `splitlines` break on) are
+/// shown escaped, for `info`, `convert` and `compare` alike.
+#[test]
+fn control_characters_quoted_from_a_file_are_escaped() {
+    let dir = scratch("hostile-control-chars");
+    let f = dir.join("tab.vtk");
+    std::fs::write(
+        &f,
+        "# vtk DataFile Version 3.0\nmesh\nASCII\nDATAS\x0bT POLYDATA\nPOINTS 0 float\n",
+    )
+    .unwrap();
+    let truth = data("meshes/cardiomesh-spasm-LV_endo.obj");
+    let out = dir.join("out.ply");
+    for args in [
+        vec!["info", s(&f)],
+        vec!["convert", s(&f), s(&out)],
+        vec!["compare", truth.to_str().unwrap(), s(&f)],
+    ] {
+        let (code, _, err) = run(bin().args(&args));
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.ends_with('\n'), "{err:?}");
+        let body = &err[..err.len() - 1];
+        assert!(!body.chars().any(char::is_control), "{args:?}: {err:?}");
+        assert!(body.contains("DATAS\\u{b}T POLYDATA"), "{err:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
