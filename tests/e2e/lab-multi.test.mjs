@@ -3,8 +3,11 @@
 // labelled from their names, one acquisition slices both (the CSV's surface column), and each
 // surface's reconstruction is compared with its own truth: LV mean < 0.3 mm, RV mean < 0.6 mm,
 // each measured on the truth of its label (the RV's numbers are not the LV truth's). A label
-// another truth has is refused with a message and the truths stay. The screenshot
-// lab-two-surfaces.png goes to the screenshot folder (tests/e2e/lib.mjs SHOTS).
+// another truth has is refused with a message and the truths stay. The same two surfaces saved by
+// tools in different patient frames (the LV stating LPS, the RV mirrored into RAS and stating it)
+// are sliced in one frame: the RV taken into the LV's, said on the truth line, the acquisition the
+// same as the untagged pair's. The screenshots lab-two-surfaces.png and lab-frames.png go to the
+// screenshot folder (tests/e2e/lib.mjs SHOTS).
 import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
@@ -16,6 +19,21 @@ const MESHES = ['bivme-patient1-ED-LV_ENDO-closed.obj', 'bivme-patient1-ED-RV_EN
 let app;
 let page;
 const pageErrors = [];
+/** The acquisition rows of the untagged pair (the first test), for the pair in two frames. */
+let untaggedRows;
+
+/** `text` (an OBJ) stating `space` first; `mirror`: every vertex taken to the other frame. */
+function inFrame(text, space, mirror) {
+  const body = text
+    .split('\n')
+    .map((line) => {
+      if (!mirror || !line.startsWith('v ')) return line;
+      const [x, y, z] = line.slice(2).trim().split(/\s+/).map(Number);
+      return `v ${-x} ${-y} ${z}`;
+    })
+    .join('\n');
+  return `# SPACE=${space}\n${body}`;
+}
 
 before(async () => {
   app = await openApp({ viewport: { width: 1440, height: 900 }, onPageError: (m) => pageErrors.push(m) });
@@ -80,6 +98,7 @@ describe('the Lab with two truths', () => {
     );
     console.log(`# lab two truths: ${(await page.textContent('[data-testid=lab-acq-info]')) ?? ''}; ${JSON.stringify(rows)}`);
     assert.deepEqual(rows.map((r) => r.label), ['LV_ENDO', 'RV_ENDO']);
+    untaggedRows = rows;
     for (const r of rows) assert.ok(r.sax >= 5 && r.lax === 2 && r.points > 100, JSON.stringify(r));
     // The app lists the file's surfaces, as for any multi-surface file.
     const surfaces = await page.locator('[data-testid=surface-picker] option').evaluateAll((els) => els.map((e) => e.value));
@@ -155,6 +174,47 @@ describe('the Lab with two truths', () => {
     assert.equal(await page.getAttribute('[data-testid=lab-truth-info]', 'data-count'), '2');
     const kept = await page.locator('[data-testid=lab-truth-label]').evaluateAll((els) => els.map((e) => e.value));
     assert.deepEqual(kept, ['LV_ENDO', 'RV_ENDO']);
+    assert.deepEqual(pageErrors, []);
+  });
+  it('an RV saved in RAS beside an LV in LPS is sliced in the LV\'s frame, and the line says so', async () => {
+    await page.locator('[data-testid=lab-truth]').scrollIntoViewIfNeeded();
+    // Dropped beside truths from files, meshes join them: remove those first.
+    while ((await page.locator('[data-testid=lab-truth-remove]').count()) > 0) {
+      const n = await page.locator('[data-testid=lab-truth-remove]').count();
+      await page.locator('[data-testid=lab-truth-remove]').first().click();
+      await page.waitForFunction((k) => document.querySelectorAll('[data-testid=lab-truth-remove]').length === k - 1, n, { timeout: 10000 });
+    }
+    const texts = MESHES.map((name) => readFileSync(join(sharedDir(), 'data', 'meshes', name), 'utf8'));
+    const bodies = [inFrame(texts[0], 'LPS', false), inFrame(texts[1], 'RAS', true)];
+    const names = ['heart-LV_ENDO-lps.obj', 'heart-RV_ENDO-ras.obj'];
+    await page.evaluate(
+      ([ns, bs]) => {
+        const dt = new DataTransfer();
+        ns.forEach((n, i) => dt.items.add(new File([bs[i]], n, { type: 'model/obj' })));
+        document.body.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+      },
+      [names, bodies],
+    );
+    await page.waitForFunction(() => (document.querySelector('[data-testid=lab-truth-info]')?.textContent ?? '').includes('taken into'), null, { timeout: 30000 });
+    const info = (await page.textContent('[data-testid=lab-truth-info]')) ?? '';
+    assert.equal(
+      info,
+      "2 surfaces of one heart (LV_ENDO, RV_ENDO), sliced on one acquisition planned on the first; RV_ENDO's file is in RAS: taken into LPS, the first's frame (x and y negated)",
+    );
+    const converted = await page.locator('[data-testid=lab-truth-row]').evaluateAll((els) => els.map((e) => e.getAttribute('data-converted-from')));
+    assert.deepEqual(converted, [null, 'RAS']);
+    await setValue('lab-sax', 8);
+    await setValue('lab-lax', 2);
+    await page.click('[data-testid=lab-simulate]');
+    await page.waitForFunction(() => document.querySelectorAll('[data-testid=lab-acq-surface]').length === 2, null, { timeout: 30000 });
+    const rows = await page.locator('[data-testid=lab-acq-surface]').evaluateAll((els) =>
+      els.map((e) => ({ label: e.getAttribute('data-label'), sax: Number(e.getAttribute('data-sax')), lax: Number(e.getAttribute('data-lax')), points: Number(e.getAttribute('data-points')) })),
+    );
+    console.log(`# lab in two frames: ${JSON.stringify(rows)} (untagged pair ${JSON.stringify(untaggedRows)})`);
+    // The RV lies where the untagged pair's does: the same slices hit it with the same points.
+    assert.deepEqual(rows, untaggedRows);
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SHOTS, 'lab-frames.png') });
     assert.deepEqual(pageErrors, []);
   });
 });

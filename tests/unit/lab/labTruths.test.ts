@@ -27,7 +27,10 @@ function makePanel() {
       const name = source.kind === 'file' ? source.fileName : 'parametric LV';
       if (name.startsWith('broken')) throw { code: 'parse', message: 'not a mesh' };
       held = opts.add ? held + 1 : 1;
-      return { name, label: opts.label ?? null, index: held - 1, vertices: 10, triangles: 16, volumeMl: 1, closed: true, positions: new Float32Array(30), indices: new Uint32Array(48) };
+      // Files named *-lps.* state LPS; *-ras.* state RAS, which the core takes into a first LPS truth's.
+      const frame = name.includes('-lps.') ? 'LPS' : name.includes('-ras.') ? (opts.add ? 'LPS' : 'RAS') : null;
+      const convertedFrom = name.includes('-ras.') && opts.add ? 'RAS' : null;
+      return { name, label: opts.label ?? null, index: held - 1, vertices: 10, triangles: 16, volumeMl: 1, closed: true, frame, convertedFrom, positions: new Float32Array(30), indices: new Uint32Array(48) };
     }),
     labEditTruth: vi.fn(async (edit: LabTruthEdit) => {
       edits.push(edit);
@@ -108,6 +111,21 @@ describe('the Lab panel with several truths', () => {
     await settle();
     expect(p.client.labSimulate).not.toHaveBeenCalled();
     expect(p.message().text).toBe('give each truth a surface label (LV_ENDO, RV_ENDO, …): other-lv_endo.stl has none');
+  });
+
+  it('says the frame each file states, and a truth taken into the first one\'s frame', async () => {
+    const p = makePanel();
+    p.panel.claimDrop([mesh('heart-LV_ENDO-lps.vtk')]);
+    await settle();
+    expect(p.byId('lab-truth-info').textContent).toBe('heart-LV_ENDO-lps.vtk: 10 vertices, 16 triangles, 1.0 ml, LPS');
+    p.panel.claimDrop([mesh('heart-RV_ENDO-ras.ply')]);
+    await settle();
+    expect(p.labels()).toEqual(['LV_ENDO', 'RV_ENDO']);
+    expect(p.byId('lab-truth-info').textContent).toBe(
+      "2 surfaces of one heart (LV_ENDO, RV_ENDO), sliced on one acquisition planned on the first; RV_ENDO's file is in RAS: taken into LPS, the first's frame (x and y negated)",
+    );
+    const rows = p.all('lab-truth-row');
+    expect(rows.map((r) => r.dataset.convertedFrom ?? null)).toEqual([null, 'RAS']);
   });
 
   it('checks labels before the worker hears of them, and removes truths', async () => {

@@ -6,7 +6,7 @@
  */
 
 import type { AnatomicalFormat, AnatomicalSummary } from './protocolAnatomical';
-import type { ContourInfo, ContourKindName, Stats, ViewFile } from './protocolResults';
+import type { ContourInfo, ContourKindName, CoordinateSystem, Stats, ViewFile } from './protocolResults';
 import type { LidsMode, ParamValues, ReconOptions } from './protocolOptions';
 
 /** The built-in parametric LV (truncated prolate spheroid), mm and degrees; missing = defaults. */
@@ -47,6 +47,10 @@ export interface LabTruth {
   triangles: number;
   volumeMl: number;
   closed: boolean;
+  /** The patient frame its file states (`SPACE=`), after any conversion; null/absent: none. */
+  frame?: CoordinateSystem | null;
+  /** The frame its file stated when the core took it into the first truth's (x, y negated). */
+  convertedFrom?: CoordinateSystem | null;
   positions: Float32Array;
   indices: Uint32Array;
 }

@@ -29,7 +29,7 @@ import { SweepPlot } from './SweepPlot';
 import { parseValueList, sweepCsv } from './sweepCsv';
 import { labelProblem, labelsForNew, simulateProblem, truthForSurface } from './truthLabels';
 import { TruthLayer } from './TruthLayer';
-import { TruthList } from './TruthList';
+import { TruthList, frameText } from './TruthList';
 
 /** Reference shapes shipped in public/lab/ (licences in public/lab/NOTICE.md). */
 export const REFERENCE_SHAPES = [
@@ -420,10 +420,11 @@ export class LabPanel {
       delete this.truthInfo.dataset.vertices;
     } else if (ts.length === 1) {
       const t = ts[0];
-      this.truthInfo.textContent = `${t.name}: ${t.vertices} vertices, ${t.triangles} triangles, ${t.volumeMl.toFixed(1)} ml${t.closed ? '' : ' (open)'}`;
+      this.truthInfo.textContent = `${t.name}: ${t.vertices} vertices, ${t.triangles} triangles, ${t.volumeMl.toFixed(1)} ml${t.closed ? '' : ' (open)'}${frameText(t)}`;
       this.truthInfo.dataset.vertices = String(vertices);
     } else {
-      this.truthInfo.textContent = `${ts.length} surfaces of one heart (${ts.map((t) => t.label ?? '?').join(', ')}), sliced on one acquisition planned on the first`;
+      const converted = ts.filter((t) => t.convertedFrom && t.frame).map((t) => `${t.label ?? t.name}'s file is in ${t.convertedFrom}: taken into ${t.frame}, the first's frame (x and y negated)`);
+      this.truthInfo.textContent = `${ts.length} surfaces of one heart (${ts.map((t) => t.label ?? '?').join(', ')}), sliced on one acquisition planned on the first${converted.map((c) => `; ${c}`).join('')}`;
       this.truthInfo.dataset.vertices = String(vertices);
     }
     this.truthInfo.dataset.count = String(ts.length);

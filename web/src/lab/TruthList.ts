@@ -14,6 +14,18 @@ export interface TruthRow {
   vertices: number;
   volumeMl: number;
   closed: boolean;
+  frame?: string | null;
+  convertedFrom?: string | null;
+}
+
+/**
+ * The patient frame a truth's file states, and the conversion the core made when it stated the
+ * other frame than the first truth's (surfaces of one heart are sliced in one frame): '' when the
+ * file states none.
+ */
+export function frameText(r: Pick<TruthRow, 'frame' | 'convertedFrom'>): string {
+  if (!r.frame) return '';
+  return r.convertedFrom ? `, ${r.frame} (its file in ${r.convertedFrom}: x and y negated)` : `, ${r.frame}`;
 }
 
 export interface TruthListEvents {
@@ -59,10 +71,10 @@ export class TruthList {
     input.addEventListener('change', () => this.events.label(index, input.value));
     const remove = h('button', { type: 'button', class: 'lab-truth-remove', title: `Remove ${r.name}`, 'aria-label': `remove ${r.name}`, 'data-testid': 'lab-truth-remove' }, '×');
     remove.addEventListener('click', () => this.events.remove(index));
-    const meta = `${r.vertices} vertices, ${r.volumeMl.toFixed(1)} ml${r.closed ? '' : ' (open)'}`;
+    const meta = `${r.vertices} vertices, ${r.volumeMl.toFixed(1)} ml${r.closed ? '' : ' (open)'}${frameText(r)}`;
     return h(
       'li',
-      { class: 'lab-truth', 'data-testid': 'lab-truth-row', 'data-label': r.label ?? '' },
+      { class: 'lab-truth', 'data-testid': 'lab-truth-row', 'data-label': r.label ?? '', ...(r.convertedFrom ? { 'data-converted-from': r.convertedFrom } : {}) },
       swatch,
       h('span', { class: 'lab-truth-name', title: `${r.name}: ${meta}` }, shortName(r.name)),
       input,

@@ -11,7 +11,7 @@ mod phases;
 mod spec;
 mod truths;
 
-use heartmesh_core::contours::ContourSet;
+use heartmesh_core::contours::{ContourSet, CoordinateSystem};
 use heartmesh_core::error::CoreError;
 use heartmesh_core::io;
 use heartmesh_core::mesh::topology;
@@ -427,11 +427,8 @@ impl Lab {
     pub fn make_parametric_with(&mut self, lv_json: &str) -> Result<String, LabError> {
         let lv = spec::parametric_lv(lv_json)?;
         let mesh = lv.mesh(LV_AROUND, LV_ALONG)?;
-        self.truths.replace(Truth {
-            name: "parametric LV".into(),
-            label: None,
-            mesh,
-        })?;
+        self.truths
+            .replace(Truth::new("parametric LV".into(), None, mesh))?;
         Ok(self.changed(0))
     }
 
@@ -578,6 +575,8 @@ impl Lab {
                 "triangles": t.mesh.triangles.len(),
                 "volumeMl": t.mesh.volume_ml(),
                 "closed": topology::validity(&t.mesh).is_closed_manifold(),
+                "frame": t.frame.map(|f| f.name()),
+                "convertedFrom": t.converted_from.map(|f| f.name()),
             })
             .to_string(),
             Err(_) => "{}".into(),
@@ -603,16 +602,19 @@ fn dropped_truth(
     label: Option<String>,
     bytes: &[u8],
 ) -> heartmesh_core::error::Result<Truth> {
+    let (mesh, frame) = read_truth(file_name, bytes)?;
     Ok(Truth {
-        name: file_name.to_string(),
-        label,
-        mesh: read_truth(file_name, bytes)?,
+        frame,
+        ..Truth::new(file_name.to_string(), label, mesh)
     })
 }
 
 /// A dropped mesh as a truth: welded and consistently oriented, outward; refuses what is no
-/// usable surface.
-fn read_truth(file_name: &str, bytes: &[u8]) -> heartmesh_core::error::Result<TriMesh> {
+/// usable surface. With the patient frame its file states, if any.
+fn read_truth(
+    file_name: &str,
+    bytes: &[u8],
+) -> heartmesh_core::error::Result<(TriMesh, Option<CoordinateSystem>)> {
     let data = io::read_mesh(file_name, bytes)?;
     let (welded, _) = weld(&data.mesh, WELD_MM);
     let (mut mesh, _) = orient_consistently(&welded);
@@ -627,7 +629,7 @@ fn read_truth(file_name: &str, bytes: &[u8]) -> heartmesh_core::error::Result<Tr
         // Inward-facing closed surfaces would measure negative volumes.
         mesh.flip_orientation();
     }
-    Ok(mesh)
+    Ok((mesh, data.coordinate_system))
 }
 
 /// SAX and LAX contours and points of each surface of an acquisition (the simulator's ids

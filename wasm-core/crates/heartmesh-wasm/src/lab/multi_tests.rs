@@ -105,8 +105,8 @@ fn several_truths_are_one_acquisition_as_simulate_surfaces() {
     let csv = lab.simulated_csv_with().unwrap();
     let spec = spec::acquisition(ACQ).unwrap();
     let (lv, rv) = (
-        read_truth(LV, &bytes(LV)).unwrap(),
-        read_truth(RV, &bytes(RV)).unwrap(),
+        read_truth(LV, &bytes(LV)).unwrap().0,
+        read_truth(RV, &bytes(RV)).unwrap().0,
     );
     let want = simulate_surfaces(&[("LV_ENDO", &lv), ("RV_ENDO", &rv)], &spec).unwrap();
     assert_eq!(csv, io::csv::write_csv(&want.contours, None).unwrap());
@@ -207,7 +207,7 @@ fn a_single_truth_is_simulated_exactly_as_before() {
         let mut lab = Lab::new();
         lab.load_truth_with(LV, label, &bytes(LV)).unwrap();
         let info = json(&lab.simulate_with(ACQ).unwrap());
-        let mesh = read_truth(LV, &bytes(LV)).unwrap();
+        let mesh = read_truth(LV, &bytes(LV)).unwrap().0;
         let want = simulate(&mesh, &spec).unwrap();
         let csv = lab.simulated_csv_with().unwrap();
         assert_eq!(csv, io::csv::write_csv(&want.contours, None).unwrap());
@@ -246,4 +246,90 @@ fn a_single_truth_is_simulated_exactly_as_before() {
         lab.simulated_csv_with().is_err(),
         "the acquisition was of the other truths"
     );
+}
+
+/// `text` (an OBJ) with its patient frame stated first and, when `mirror`, every vertex taken to
+/// the other frame (x and y negated): the same surface as a tool working in that frame saves it.
+fn obj_in_frame(text: &[u8], space: &str, mirror: bool) -> Vec<u8> {
+    let mut out = format!("# SPACE={space}\n");
+    for line in String::from_utf8_lossy(text).lines() {
+        match line.strip_prefix("v ") {
+            Some(rest) if mirror => {
+                let v: Vec<f64> = rest
+                    .split_whitespace()
+                    .map(|t| t.parse().unwrap())
+                    .collect();
+                out += &format!("v {} {} {}\n", -v[0], -v[1], v[2]);
+            }
+            _ => {
+                out += line;
+                out.push('\n');
+            }
+        }
+    }
+    out.into_bytes()
+}
+
+/// Surfaces of one heart from tools in different frames: an RV saved in RAS beside an LV in LPS
+/// is taken into LPS on adding (said as `convertedFrom`), so it lies where the LPS file of the
+/// same RV would, and the acquisition is that of the two files in one frame.
+#[test]
+fn a_truth_stating_the_other_frame_is_taken_into_the_first_truths() {
+    let mut lab = Lab::new();
+    let lv = json(
+        &lab.load_truth_with(
+            LV,
+            Some("LV_ENDO".into()),
+            &obj_in_frame(&bytes(LV), "LPS", false),
+        )
+        .unwrap(),
+    );
+    assert_eq!(lv["frame"], "LPS");
+    assert!(lv["convertedFrom"].is_null());
+    let rv = json(
+        &lab.add_truth_with(
+            RV,
+            Some("RV_ENDO".into()),
+            &obj_in_frame(&bytes(RV), "RAS", true),
+        )
+        .unwrap(),
+    );
+    assert_eq!(
+        (rv["frame"].as_str(), rv["convertedFrom"].as_str()),
+        (Some("LPS"), Some("RAS"))
+    );
+    let want = read_truth(RV, &bytes(RV)).unwrap().0;
+    let got = &lab.truths.get(1).unwrap().mesh;
+    assert_eq!(got.triangles, want.triangles);
+    let worst = got
+        .positions
+        .iter()
+        .zip(&want.positions)
+        .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9, "{worst} mm from the LPS file's RV");
+    // The same RV untagged is taken as it stands: mirrored, far from the LV.
+    let mut plain = Lab::new();
+    plain
+        .load_truth_with(
+            LV,
+            Some("LV_ENDO".into()),
+            &obj_in_frame(&bytes(LV), "LPS", false),
+        )
+        .unwrap();
+    let untagged: Vec<u8> = obj_in_frame(&bytes(RV), "RAS", true)
+        .into_iter()
+        .skip("# SPACE=RAS\n".len())
+        .collect();
+    let rv = json(
+        &plain
+            .add_truth_with(RV, Some("RV_ENDO".into()), &untagged)
+            .unwrap(),
+    );
+    assert!(
+        rv["frame"].is_null() && rv["convertedFrom"].is_null(),
+        "{rv}"
+    );
+    let far = plain.truths.get(1).unwrap().mesh.positions[0] - want.positions[0];
+    assert!(far.norm() > 10.0, "{}", far.norm());
 }

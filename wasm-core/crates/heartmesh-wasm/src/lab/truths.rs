@@ -7,6 +7,7 @@
 //! A single truth needs no label (its acquisition is exactly `sim::simulate`'s, no surface
 //! column, as before several truths existed); with several, each needs its own.
 
+use heartmesh_core::contours::CoordinateSystem;
 use heartmesh_core::error::CoreError;
 use heartmesh_core::TriMesh;
 
@@ -17,6 +18,23 @@ pub struct Truth {
     /// Its surface label; None until given (only a lone truth may go without).
     pub label: Option<String>,
     pub mesh: TriMesh,
+    /// The patient frame its file states (`SPACE=`), after any conversion on adding.
+    pub frame: Option<CoordinateSystem>,
+    /// The frame its file stated when [`Truths::add`] took it into the first truth's.
+    pub converted_from: Option<CoordinateSystem>,
+}
+
+impl Truth {
+    /// A truth whose file states no frame (the parametric LV, most meshes).
+    pub fn new(name: String, label: Option<String>, mesh: TriMesh) -> Self {
+        Truth {
+            name,
+            label,
+            mesh,
+            frame: None,
+            converted_from: None,
+        }
+    }
 }
 
 /// A Lab failure: a core error (keeps its code and line) or a usage error of the Lab itself.
@@ -92,9 +110,24 @@ impl Truths {
 
     /// Adds `truth` beside the others; a label that is no label or is taken is refused and the
     /// truths stay as they were. Returns its index.
-    pub fn add(&mut self, truth: Truth) -> Result<usize, LabError> {
+    ///
+    /// Surfaces of one heart must share a frame: one whose file states the other frame than the
+    /// first truth's (a NIfTI-made RAS mesh beside a DICOM-made LPS one) is taken into the first's,
+    /// as `heartmesh compare` does, and says so (`converted_from`); sliced as they stood, the two
+    /// would lie mirrored on opposite sides of the acquisition.
+    pub fn add(&mut self, mut truth: Truth) -> Result<usize, LabError> {
         if let Some(label) = &truth.label {
             self.check_free(label, None, &truth.name)?;
+        }
+        let first = self.list.first().and_then(|t| t.frame);
+        if let (Some(from), Some(to)) = (truth.frame, first) {
+            if from != to {
+                for p in &mut truth.mesh.positions {
+                    *p = from.convert(to, p);
+                }
+                truth.frame = Some(to);
+                truth.converted_from = Some(from);
+            }
         }
         self.list.push(truth);
         Ok(self.list.len() - 1)
