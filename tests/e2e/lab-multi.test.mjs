@@ -47,6 +47,29 @@ after(async () => {
 /** Sets a Lab form field (see `setField`). */
 const setValue = (testid, value) => setField(page, testid, value);
 
+/** Drops files `names` holding `bodies` (OBJ text) on the page, as a user drags meshes in. */
+async function dropMeshes(names, bodies) {
+  await page.evaluate(
+    ([ns, bs]) => {
+      const dt = new DataTransfer();
+      ns.forEach((n, i) => dt.items.add(new File([bs[i]], n, { type: 'model/obj' })));
+      document.body.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+    },
+    [names, bodies],
+  );
+}
+
+/** Simulates 8 SAX + 2 LAX images of the truths held; each surface's row of the acquisition. */
+async function simulateEightAndTwo() {
+  await setValue('lab-sax', 8);
+  await setValue('lab-lax', 2);
+  await page.click('[data-testid=lab-simulate]');
+  await page.waitForFunction(() => document.querySelectorAll('[data-testid=lab-acq-surface]').length === 2, null, { timeout: 30000 });
+  return page.locator('[data-testid=lab-acq-surface]').evaluateAll((els) =>
+    els.map((e) => ({ label: e.getAttribute('data-label'), sax: Number(e.getAttribute('data-sax')), lax: Number(e.getAttribute('data-lax')), points: Number(e.getAttribute('data-points')) })),
+  );
+}
+
 /** The metrics of the comparison of `surface` once they are in (after a run of it). */
 async function metricsOf(surface) {
   await page.waitForFunction(
@@ -76,26 +99,13 @@ describe('the Lab with two truths', () => {
     await page.click('[data-testid=tab-lab]');
     await page.waitForSelector('[data-testid=lab-truth-info][data-vertices]', { timeout: 30000 });
     const texts = MESHES.map((name) => readFileSync(join(sharedDir(), 'data', 'meshes', name), 'utf8'));
-    await page.evaluate(
-      ([names, bodies]) => {
-        const dt = new DataTransfer();
-        names.forEach((n, i) => dt.items.add(new File([bodies[i]], n, { type: 'model/obj' })));
-        document.body.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
-      },
-      [MESHES, texts],
-    );
+    await dropMeshes(MESHES, texts);
     await page.waitForSelector('[data-testid=lab-truth-info][data-count="2"]', { timeout: 30000 });
     const labels = await page.locator('[data-testid=lab-truth-label]').evaluateAll((els) => els.map((e) => e.value));
     assert.deepEqual(labels, ['LV_ENDO', 'RV_ENDO'], 'labels guessed from the file names');
     assert.equal((await page.textContent('[data-testid=lab-message]')) ?? '', '');
 
-    await setValue('lab-sax', 8);
-    await setValue('lab-lax', 2);
-    await page.click('[data-testid=lab-simulate]');
-    await page.waitForFunction(() => document.querySelectorAll('[data-testid=lab-acq-surface]').length === 2, null, { timeout: 30000 });
-    const rows = await page.locator('[data-testid=lab-acq-surface]').evaluateAll((els) =>
-      els.map((e) => ({ label: e.getAttribute('data-label'), sax: Number(e.getAttribute('data-sax')), lax: Number(e.getAttribute('data-lax')), points: Number(e.getAttribute('data-points')) })),
-    );
+    const rows = await simulateEightAndTwo();
     console.log(`# lab two truths: ${(await page.textContent('[data-testid=lab-acq-info]')) ?? ''}; ${JSON.stringify(rows)}`);
     assert.deepEqual(rows.map((r) => r.label), ['LV_ENDO', 'RV_ENDO']);
     untaggedRows = rows;
@@ -187,14 +197,7 @@ describe('the Lab with two truths', () => {
     const texts = MESHES.map((name) => readFileSync(join(sharedDir(), 'data', 'meshes', name), 'utf8'));
     const bodies = [inFrame(texts[0], 'LPS', false), inFrame(texts[1], 'RAS', true)];
     const names = ['heart-LV_ENDO-lps.obj', 'heart-RV_ENDO-ras.obj'];
-    await page.evaluate(
-      ([ns, bs]) => {
-        const dt = new DataTransfer();
-        ns.forEach((n, i) => dt.items.add(new File([bs[i]], n, { type: 'model/obj' })));
-        document.body.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
-      },
-      [names, bodies],
-    );
+    await dropMeshes(names, bodies);
     await page.waitForFunction(() => (document.querySelector('[data-testid=lab-truth-info]')?.textContent ?? '').includes('taken into'), null, { timeout: 30000 });
     const info = (await page.textContent('[data-testid=lab-truth-info]')) ?? '';
     assert.equal(
@@ -203,13 +206,7 @@ describe('the Lab with two truths', () => {
     );
     const converted = await page.locator('[data-testid=lab-truth-row]').evaluateAll((els) => els.map((e) => e.getAttribute('data-converted-from')));
     assert.deepEqual(converted, [null, 'RAS']);
-    await setValue('lab-sax', 8);
-    await setValue('lab-lax', 2);
-    await page.click('[data-testid=lab-simulate]');
-    await page.waitForFunction(() => document.querySelectorAll('[data-testid=lab-acq-surface]').length === 2, null, { timeout: 30000 });
-    const rows = await page.locator('[data-testid=lab-acq-surface]').evaluateAll((els) =>
-      els.map((e) => ({ label: e.getAttribute('data-label'), sax: Number(e.getAttribute('data-sax')), lax: Number(e.getAttribute('data-lax')), points: Number(e.getAttribute('data-points')) })),
-    );
+    const rows = await simulateEightAndTwo();
     console.log(`# lab in two frames: ${JSON.stringify(rows)} (untagged pair ${JSON.stringify(untaggedRows)})`);
     // The RV lies where the untagged pair's does: the same slices hit it with the same points.
     assert.deepEqual(rows, untaggedRows);
