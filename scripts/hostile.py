@@ -868,8 +868,68 @@ def main():
     for c in cases:
         c.args = merge_args(c.args, extra)
     bad = run_cases(cases, out_dir, timeout, only)
+    if only is None or "mesh-in" in only:
+        bad += mesh_inputs(out_dir, rng, timeout)
     print(f"{bad} case(s) with problems")
     return 1 if bad else 0
+
+
+def mesh_inputs(out_dir, rng, timeout, per_format=20):
+    """Damaged mesh files (session 43: the readers now also look for a `SPACE=` frame in each
+    header) given to `info`, `convert` and `compare`: truncated, bytes changed in the header or
+    anywhere, frame tags dropped in at random places. One row per file, flagged as `judge` flags
+    reconstructions (PANIC, HANG, EXIT, VAGUE; VAGUE also when a control character from the file
+    reaches the message). Returns the number of bad files."""
+    src = os.path.join(CONTOURS, "bivme-example-patient1", "GPFile_000.txt")
+    bases = []
+    for ext in ["obj", "ply", "vtk", "vtp", "stl"]:
+        path = os.path.join(out_dir, f"mesh-in-base.{ext}")
+        run([BIN, "reconstruct", src, "--surface", "LV_ENDO", "-o", path, "--quiet"], timeout)
+        with open(path, "rb") as f:
+            bases.append((ext, f.read()))
+    tags = [b"SPACE=RAS", b"SPACE=", b"SPACE=\xff\xfe", b'Name="SPACE"><', b"\n# SPACE=LPS\n",
+            b"comment SPACE=ras\n", b"\x0b\x00\x1b"]
+    truth = os.path.join(out_dir, "mesh-in-base.obj")
+    bad = 0
+    for ext, data in bases:
+        for k in range(per_format):
+            d = bytearray(data)
+            how = rng.randrange(4)
+            if how == 0:
+                d = d[:rng.randrange(len(d))]
+            elif how == 1:
+                for _ in range(rng.randrange(1, 20)):
+                    d[rng.randrange(min(len(d), 400))] = rng.randrange(256)
+            elif how == 2:
+                i = rng.randrange(min(len(d), 300))
+                d[i:i] = rng.choice(tags)
+            else:
+                for _ in range(5):
+                    d[rng.randrange(len(d))] = rng.randrange(256)
+            path = os.path.join(out_dir, f"mesh-in-{ext}-{k}.{ext}")
+            with open(path, "wb") as f:
+                f.write(d)
+            problems, t0 = [], time.time()
+            for cmd in (["info", path], ["convert", path, path + ".ply", "--quiet"],
+                        ["compare", truth, path]):
+                try:
+                    r = run([BIN] + cmd, timeout)
+                except subprocess.TimeoutExpired:
+                    problems.append("HANG")
+                    continue
+                err = r.stderr.decode(errors="replace")
+                if r.returncode == 101 or "panicked" in err:
+                    problems.append("PANIC")
+                elif r.returncode not in (0, 2):
+                    problems.append("EXIT")
+                elif r.returncode == 2 and (err.count("\n") != 1 or not err.endswith("\n")
+                                            or any(ord(c) < 32 for c in err[:-1])):
+                    problems.append("VAGUE")
+            bad += bool(problems)
+            flag = ",".join(sorted(set(problems))) if problems else "ok"
+            name = f"mesh-in-{ext}-{k}-{['cut', 'header', 'tag', 'bytes'][how]}"
+            print(f"{flag:12} {name:34} {time.time() - t0:6.1f}s", flush=True)
+    return bad
 
 
 def merge_args(args, extra):
