@@ -16,8 +16,9 @@ pub const USAGE: &str = "heartmesh compare TRUTH.obj MESH.obj [--clip-contours C
   median, p95; max over samples and vertices), Hausdorff, volumes in ml. With --clip-contours,
   both surfaces are clipped at the most basal SAX plane of those contours (volumes of the parts
   below it, capped flat). When the files state their patient frames (SPACE=LPS / SPACE=RAS)
-  and these differ, MESH and the contours are taken into TRUTH's frame. --json prints {mesh_to_truth, truth_to_mesh, hausdorff,
-  volume_truth_ml, volume_mesh_ml, clipped}.";
+  and these differ, MESH and the contours are taken into TRUTH's frame. --json prints
+  {mesh_to_truth, truth_to_mesh, hausdorff, volume_truth_ml, volume_mesh_ml, clipped,
+  coordinate_system (TRUTH's, or null), mesh_converted_from (null unless MESH was taken into it)}.";
 
 pub fn run(args: &[String]) -> Result<(), CliError> {
     let p = parse(
@@ -70,8 +71,18 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
     let report = compare(&truth, &mesh, clip.as_ref())
         .map_err(|e| CliError::Failed(format!("{mesh_path}: {e}")))?;
     if p.switch("json") {
+        let mut value =
+            serde_json::to_value(&report).map_err(|e| CliError::Failed(e.to_string()))?;
+        if let serde_json::Value::Object(map) = &mut value {
+            // The frame the distances are in (the truth's, when its file states one) and the
+            // frame MESH's file stated when it was taken into it.
+            let name = |f: Option<CoordinateSystem>| f.map(CoordinateSystem::name);
+            let converted = mesh_frame.filter(|m| truth_frame.is_some_and(|t| t != *m));
+            map.insert("coordinate_system".into(), name(truth_frame).into());
+            map.insert("mesh_converted_from".into(), name(converted).into());
+        }
         let text =
-            serde_json::to_string_pretty(&report).map_err(|e| CliError::Failed(e.to_string()))?;
+            serde_json::to_string_pretty(&value).map_err(|e| CliError::Failed(e.to_string()))?;
         outln!("{text}");
     } else {
         out!("{}", human(&report));

@@ -238,12 +238,16 @@ fn convert_keeps_the_frame_and_compare_measures_in_one() {
         err.contains("ras.obj is in RAS and") && err.contains("taken into LPS"),
         "{err}"
     );
+    assert_eq!(same["coordinate_system"], "LPS");
+    assert_eq!(same["mesh_converted_from"], "RAS");
     let d = same["mesh_to_truth"]["mean"].as_f64().unwrap();
     let h = same["hausdorff"].as_f64().unwrap();
     assert!(d < 1e-4 && h < 1e-3, "mean {d} mm, Hausdorff {h} mm");
     // Untagged, the mirrored copy is measured as it stands: far apart.
     let (apart, err) = compare(&stl, &untagged, &[]);
     assert!(!err.contains("taken into"), "{err}");
+    assert_eq!(apart["coordinate_system"], "LPS");
+    assert!(apart["mesh_converted_from"].is_null());
     let far = apart["mesh_to_truth"]["mean"].as_f64().unwrap();
     assert!(far > 10.0, "mirrored copy only {far} mm away");
 
