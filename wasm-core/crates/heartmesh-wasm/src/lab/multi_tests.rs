@@ -270,20 +270,25 @@ fn obj_in_frame(text: &[u8], space: &str, mirror: bool) -> Vec<u8> {
     out.into_bytes()
 }
 
+/// A Lab holding patient 1's LV as a file stating LPS, and what loading it returned.
+fn lab_with_lps_lv() -> (Lab, serde_json::Value) {
+    let mut lab = Lab::new();
+    let info = lab
+        .load_truth_with(
+            LV,
+            Some("LV_ENDO".into()),
+            &obj_in_frame(&bytes(LV), "LPS", false),
+        )
+        .unwrap();
+    (lab, json(&info))
+}
+
 /// Surfaces of one heart from tools in different frames: an RV saved in RAS beside an LV in LPS
 /// is taken into LPS on adding (said as `convertedFrom`), so it lies where the LPS file of the
 /// same RV would, and the acquisition is that of the two files in one frame.
 #[test]
 fn a_truth_stating_the_other_frame_is_taken_into_the_first_truths() {
-    let mut lab = Lab::new();
-    let lv = json(
-        &lab.load_truth_with(
-            LV,
-            Some("LV_ENDO".into()),
-            &obj_in_frame(&bytes(LV), "LPS", false),
-        )
-        .unwrap(),
-    );
+    let (mut lab, lv) = lab_with_lps_lv();
     assert_eq!(lv["frame"], "LPS");
     assert!(lv["convertedFrom"].is_null());
     let rv = json(
@@ -309,14 +314,7 @@ fn a_truth_stating_the_other_frame_is_taken_into_the_first_truths() {
         .fold(0.0, f64::max);
     assert!(worst < 1e-9, "{worst} mm from the LPS file's RV");
     // The same RV untagged is taken as it stands: mirrored, far from the LV.
-    let mut plain = Lab::new();
-    plain
-        .load_truth_with(
-            LV,
-            Some("LV_ENDO".into()),
-            &obj_in_frame(&bytes(LV), "LPS", false),
-        )
-        .unwrap();
+    let (mut plain, _) = lab_with_lps_lv();
     let untagged: Vec<u8> = obj_in_frame(&bytes(RV), "RAS", true)
         .into_iter()
         .skip("# SPACE=RAS\n".len())
