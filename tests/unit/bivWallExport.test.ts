@@ -5,29 +5,23 @@
 // header, the figures line (patient 1 ED's figures from the CLI's report), and the export panel's
 // second wall row on the fake DOM (building, saving, figures, a failure shown and survived, the LV
 // row left alone).
-import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
+import { beforeEach, describe, expect, it, vi } from 'vitest';
 import type { WallFormat, WallSummary } from '../../web/src/core-client/protocol';
 import { DEFAULT_OPTIONS } from '../../web/src/core-client/protocol';
 import { settingsKey } from '../../web/src/app/keptSurfaces';
 import {
   bivWallErrorText, bivWallFiguresText, bivWallFiguresTitle, bivWallFileName, bivWallFormatTitle, bivWallHeaderLines, bivWallReadiness,
 } from '../../web/src/io/export/bivWall';
-import { WALL_MIN_THICKNESS_MM, wallReadiness, type WallMesh } from '../../web/src/io/export/wall';
-import type { ExportInfo } from '../../web/src/io/export/header';
-import { fakeDocument, type FakeElement } from './fakeDom';
-import { exportSource } from './panelHarness';
+import { WALL_MIN_THICKNESS_MM, wallReadiness } from '../../web/src/io/export/wall';
+import type { FakeElement } from './fakeDom';
+import { exportSource, useFakeDocument } from './panelHarness';
+import { KEY, formatButtons, keptOf, mesh, patient1Info } from './wallFixtures';
 
 const saved: { data: unknown; name: string; type: string }[] = [];
 vi.mock('../../web/src/io/download', () => ({
   download: (data: unknown, name: string, type: string) => saved.push({ data, name, type }),
 }));
 const { ExportPanel } = await import('../../web/src/io/ExportPanel');
-
-const KEY = settingsKey({ iterations: 250, beta: 0.1 }, 'auto', DEFAULT_OPTIONS);
-
-function mesh(surface: string, settings = KEY, n = 4): WallMesh {
-  return { surface, positions: new Float32Array(3 * n).fill(1.5), indices: new Uint32Array([0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2]), settings };
-}
 
 /** `heartmesh myocardium patient1-ED.csv --biventricular --report` (the summary the binding gives). */
 const summary: WallSummary = {
@@ -58,14 +52,10 @@ const summary: WallSummary = {
   base_plane: { origin: [6.64, -8.57, -8.62], normal: [-0.48, 0.62, 0.62] },
 };
 
-const info: ExportInfo = {
-  appVersion: '0.1.0', coreVersion: '0.1.0', fileName: 'patient1-ED.csv', surface: 'BIV_EPI', frame: null,
-  lids: 'auto', options: { ...DEFAULT_OPTIONS }, params: { iterations: 250, beta: 0.1 },
-};
+const info = patient1Info('BIV_EPI');
 
 /** Patient 1's surfaces as the core lists them: BIV_EPI joined from LV_EPI and RV_EPI. */
 const SURFACES = ['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI', 'BIV_EPI'];
-const keptOf = (...meshes: WallMesh[]) => (s: string) => meshes.find((m) => m.surface === s);
 const WHAT = 'The biventricular wall: the BIV_EPI mesh less the LV_ENDO and RV_ENDO cavities, cut at the base into one closed solid';
 
 describe('bivWallReadiness', () => {
@@ -202,11 +192,10 @@ describe('the biventricular figures line', () => {
 });
 
 describe('the export panel\'s biventricular wall', () => {
+  useFakeDocument();
   beforeEach(() => {
-    vi.stubGlobal('document', fakeDocument);
     saved.length = 0;
   });
-  afterEach(() => vi.unstubAllGlobals());
 
   type Build = (f: WallFormat) => Promise<{ summary: WallSummary; bytes: Uint8Array }> | null;
   function panel(bivWallFile: Build) {
@@ -222,9 +211,7 @@ describe('the export panel\'s biventricular wall', () => {
       }),
     );
     const root = p.element as unknown as FakeElement;
-    const buttons = (['stl', 'obj', 'ply', 'vtk'] as const).map((f) => root.byTestId(`export-biv-wall-${f}`)! as FakeElement & { disabled: boolean });
-    const lvButtons = (['stl', 'obj', 'ply', 'vtk'] as const).map((f) => root.byTestId(`export-wall-${f}`)! as FakeElement & { disabled: boolean });
-    return { p, root, buttons, lvButtons, failed, asked, figures: root.byTestId('biv-wall-figures')! };
+    return { p, root, buttons: formatButtons(root, 'biv-wall'), lvButtons: formatButtons(root, 'wall'), failed, asked, figures: root.byTestId('biv-wall-figures')! };
   }
   const all = (s: string) => mesh(s);
   const ready = () => bivWallReadiness(SURFACES, all, KEY);

@@ -2,28 +2,22 @@
 // (both LV surfaces run with the settings in the panel; a mesh of other parameters is never used),
 // what the buttons say otherwise, the file name and header, the figures line, and the export
 // panel's wall group on the fake DOM (building, saving, figures, a failure shown and survived).
-import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
+import { beforeEach, describe, expect, it, vi } from 'vitest';
 import type { WallFormat, WallSummary } from '../../web/src/core-client/protocol';
 import { DEFAULT_OPTIONS } from '../../web/src/core-client/protocol';
 import { KeptSurfaces, settingsKey } from '../../web/src/app/keptSurfaces';
 import {
-  WALL_MIN_THICKNESS_MM, wallErrorText, wallFiguresText, wallFiguresTitle, wallFileName, wallFormatTitle, wallHeaderLines, wallReadiness, type WallMesh,
+  WALL_MIN_THICKNESS_MM, wallErrorText, wallFiguresText, wallFiguresTitle, wallFileName, wallFormatTitle, wallHeaderLines, wallReadiness,
 } from '../../web/src/io/export/wall';
-import type { ExportInfo } from '../../web/src/io/export/header';
-import { fakeDocument, type FakeElement } from './fakeDom';
-import { exportSource } from './panelHarness';
+import type { FakeElement } from './fakeDom';
+import { exportSource, useFakeDocument } from './panelHarness';
+import { KEY, formatButtons, keptOf, mesh, patient1Info } from './wallFixtures';
 
 const saved: { data: unknown; name: string; type: string }[] = [];
 vi.mock('../../web/src/io/download', () => ({
   download: (data: unknown, name: string, type: string) => saved.push({ data, name, type }),
 }));
 const { ExportPanel } = await import('../../web/src/io/ExportPanel');
-
-const KEY = settingsKey({ iterations: 250, beta: 0.1 }, 'auto', DEFAULT_OPTIONS);
-
-function mesh(surface: string, settings = KEY, n = 4): WallMesh {
-  return { surface, positions: new Float32Array(3 * n).fill(1.5), indices: new Uint32Array([0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2]), settings };
-}
 
 const summary: WallSummary = {
   surfaces: { endo: 'LV_ENDO', epi: 'LV_EPI' },
@@ -47,10 +41,7 @@ const summary: WallSummary = {
   base_plane: { origin: [6.6, -8.6, -8.6], normal: [-0.48, 0.62, 0.62] },
 };
 
-const info: ExportInfo = {
-  appVersion: '0.1.0', coreVersion: '0.1.0', fileName: 'patient1-ED.csv', surface: 'RV_ENDO', frame: null,
-  lids: 'auto', options: { ...DEFAULT_OPTIONS }, params: { iterations: 250, beta: 0.1 },
-};
+const info = patient1Info('RV_ENDO');
 
 describe('settingsKey', () => {
   it('is the same whatever order the parameters and options were set in, and differs with any value', () => {
@@ -88,7 +79,6 @@ describe('KeptSurfaces', () => {
 
 describe('wallReadiness', () => {
   const surfaces = ['LV_ENDO', 'LV_EPI', 'RV_ENDO'];
-  const keptOf = (...meshes: WallMesh[]) => (s: string) => meshes.find((m) => m.surface === s);
 
   it('is ready once both LV surfaces were run with the settings in the panel', () => {
     const endo = mesh('LV_ENDO');
@@ -182,11 +172,10 @@ describe('the figures line', () => {
 });
 
 describe('the export panel\'s LV wall', () => {
+  useFakeDocument();
   beforeEach(() => {
-    vi.stubGlobal('document', fakeDocument);
     saved.length = 0;
   });
-  afterEach(() => vi.unstubAllGlobals());
 
   function panel(wallFile: (f: WallFormat) => Promise<{ summary: WallSummary; bytes: Uint8Array }> | null) {
     const failed: unknown[] = [];
@@ -201,8 +190,7 @@ describe('the export panel\'s LV wall', () => {
       }),
     );
     const root = p.element as unknown as FakeElement;
-    const buttons = (['stl', 'obj', 'ply', 'vtk'] as const).map((f) => root.byTestId(`export-wall-${f}`)! as FakeElement & { disabled: boolean });
-    return { p, root, buttons, failed, asked, figures: root.byTestId('wall-figures')! };
+    return { p, root, buttons: formatButtons(root, 'wall'), failed, asked, figures: root.byTestId('wall-figures')! };
   }
   const ready = () => wallReadiness(['LV_ENDO', 'LV_EPI'], (s) => mesh(s), KEY);
   const settle = () => new Promise((r) => setTimeout(r, 0));

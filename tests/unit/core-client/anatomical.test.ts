@@ -5,53 +5,19 @@
 // for a crash), a core without the call; and the client's side (a copy of the mesh transferred,
 // no run surface sent, resolved with the figures and the file, rejected with the core's error).
 import { beforeEach, describe, expect, it } from 'vitest';
-import { CoreClient } from '../../../web/src/core-client/CoreClient';
 import {
   DEFAULT_OPTIONS, isFromWorker, isToWorker, runIdOf, transferablesOf, type AnatomicalExportRequest, type AnatomicalSummary, type FromWorker,
 } from '../../../web/src/core-client/protocol';
-import { WorkerCore, malformedAnatomical, type SessionApi, type WasmApi } from '../../../web/src/core-client/workerCore';
-import { FakeWorker, ManualScheduler } from './fakes';
+import { malformedAnatomical } from '../../../web/src/core-client/workerCore';
+import { FakeWorker, loadedClient, recordedCall, stubSession, workerFor } from './fakes';
 
 const summary = { rings: 10, points: 16, vertices: 162, triangles: 320, septum_from: 'the RV contours\' centre (934)', volume_ml: 130.1 } as unknown as AnatomicalSummary;
 const REFUSED = 'the anatomical mesh: degenerate input: the anatomical layout is the LV\'s (LV_ENDO, LV_EPI); RV_ENDO has no centre for its rays';
 
 /** Just enough of a session: `anatomical_mesh` records its arguments and answers, or throws what it is told to. */
 function fakeSession(throws: unknown = null, withCall = true) {
-  const calls: unknown[][] = [];
-  const session = {
-    load: () => '{}',
-    file_points: () => new Float32Array(0),
-    start: () => undefined,
-    step: () => '{}',
-    growth_note: () => undefined,
-    attractors_changed: () => false,
-    positions: () => new Float32Array(0),
-    indices: () => new Uint32Array(0),
-    attractors: () => new Float32Array(0),
-    contour_points: () => new Float32Array(0),
-    point_distances: () => new Float32Array(0),
-    vertex_distances: () => new Float32Array(0),
-    set_aside_points: () => new Float32Array(0),
-    result_json: () => '{}',
-    session_json: () => new Uint8Array(0),
-    ...(withCall
-      ? {
-          anatomical_mesh: (...args: unknown[]) => {
-            calls.push(args);
-            if (throws !== null) throw throws;
-            return { summary: JSON.stringify(summary), bytes: new TextEncoder().encode('# vtk DataFile Version 3.0\n') };
-          },
-        }
-      : {}),
-  } as SessionApi;
-  return { session, calls };
-}
-
-function worker(session: SessionApi) {
-  const out: FromWorker[] = [];
-  const wasm: WasmApi = { createSession: () => session, schemaJson: () => '[]', version: () => '9.9.9', takePanicMessage: () => undefined };
-  const core = new WorkerCore(wasm, (m) => out.push(m), { yieldToEventLoop: () => undefined, now: () => 0 });
-  return { core, out };
+  const { call, calls } = recordedCall(() => ({ summary: JSON.stringify(summary), bytes: new TextEncoder().encode('# vtk DataFile Version 3.0\n') }), throws);
+  return { session: stubSession(withCall ? { anatomical_mesh: call } : {}), calls };
 }
 
 function request(reqId = 7, over: Partial<AnatomicalExportRequest> = {}): AnatomicalExportRequest {
@@ -85,7 +51,7 @@ describe('the anatomical-export request', () => {
 
   it('hands the binding the settings as the params JSON, the surface, its mesh, the layout, the format and the header', () => {
     const { session, calls } = fakeSession();
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     const r = request();
     core.handle(r);
     expect(calls).toHaveLength(1);
@@ -99,7 +65,7 @@ describe('the anatomical-export request', () => {
 
   it('the core\'s refusal is its typed error, naming the file; the worker goes on', () => {
     const { session } = fakeSession(JSON.stringify({ code: 'degenerate', message: REFUSED }));
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     core.handle(request(3));
     expect(out).toEqual([{ type: 'error', reqId: 3, error: { code: 'degenerate', message: REFUSED, file: 'p1.csv' } }]);
     core.handle({ type: 'schema', reqId: 4 });
@@ -108,7 +74,7 @@ describe('the anatomical-export request', () => {
 
   it('a malformed request is refused before the binding sees it; the worker goes on', () => {
     const { session, calls } = fakeSession();
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     const bad: [Partial<AnatomicalExportRequest>, string][] = [
       [{ rings: 2.5 }, 'the layout must be two whole numbers (got 2.5x16)'],
       [{ points: -8 }, 'the layout must be two whole numbers (got 10x-8)'],
@@ -130,7 +96,7 @@ describe('the anatomical-export request', () => {
 
   it('a core without the call says so instead of crashing', () => {
     const { session } = fakeSession(null, false);
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     core.handle(request(5));
     expect(out).toEqual([{ type: 'error', reqId: 5, error: { code: 'anatomical_unavailable', message: 'this core cannot build the anatomical mesh', file: 'p1.csv' } }]);
   });
@@ -141,16 +107,7 @@ describe('CoreClient.anatomicalFile', () => {
     FakeWorker.instances = [];
   });
 
-  async function loaded() {
-    const created = CoreClient.create({ createWorker: () => new FakeWorker(), schedule: new ManualScheduler().schedule });
-    const w = FakeWorker.instances.at(-1)!;
-    w.emit({ type: 'ready' });
-    const client = await created;
-    const p = client.load('p1.csv', new TextEncoder().encode('contour,x,y,z\n').buffer as ArrayBuffer);
-    w.emit({ type: 'loaded', reqId: w.of('load')[0].reqId, file: { fileName: 'p1.csv', surfaces: ['LV_ENDO', 'LV_EPI'], contours: [], points: new Float32Array(0), landmarks: [], warnings: [] } });
-    await p;
-    return { client, w };
-  }
+  const loaded = () => loadedClient('p1.csv', ['LV_ENDO', 'LV_EPI']);
   const opts = { fileName: 'p1.csv', surface: 'LV_ENDO', params: { beta: 0.2 }, lids: 'auto' as const, options: { ...DEFAULT_OPTIONS }, leaveOut: ['s07'] };
   const layout = () => ({
     mesh: { surface: 'LV_ENDO', positions: new Float64Array([1, 2, 3]), indices: new Uint32Array([0, 1, 2]) },

@@ -4,55 +4,16 @@
 // typed error that leaves the worker working, a core without it, and the client's side (copies
 // transferred, resolved with the figures and the file, rejected with the core's error).
 import { beforeEach, describe, expect, it } from 'vitest';
-import { CoreClient } from '../../../web/src/core-client/CoreClient';
-import { DEFAULT_OPTIONS, isToWorker, transferablesOf, type BivWallExportRequest, type FromWorker, type WallSummary } from '../../../web/src/core-client/protocol';
-import { WorkerCore, type SessionApi, type WasmApi } from '../../../web/src/core-client/workerCore';
-import { FakeWorker, ManualScheduler } from './fakes';
+import { DEFAULT_OPTIONS, isToWorker, transferablesOf, type BivWallExportRequest, type WallSummary } from '../../../web/src/core-client/protocol';
+import { FakeWorker, loadedClient, recordedCall, stubSession, workerFor } from './fakes';
 
 const summary = { surfaces: { endo: 'LV_ENDO', epi: 'BIV_EPI', rv_endo: 'RV_ENDO' }, format: 'obj', vertices: 2140, triangles: 4276, wall_volume_ml: 132.5 } as unknown as WallSummary;
 
 /** Just enough of a session: `biventricular_wall` echoes its arguments, or throws what it is told to; `wall` must not be called. */
 function fakeSession(throws: unknown = null, withBiv = true) {
-  const calls: unknown[][] = [];
-  const lvCalls: unknown[][] = [];
-  const session = {
-    load: () => '{}',
-    file_points: () => new Float32Array(0),
-    start: () => undefined,
-    step: () => '{}',
-    growth_note: () => undefined,
-    attractors_changed: () => false,
-    positions: () => new Float32Array(0),
-    indices: () => new Uint32Array(0),
-    attractors: () => new Float32Array(0),
-    contour_points: () => new Float32Array(0),
-    point_distances: () => new Float32Array(0),
-    vertex_distances: () => new Float32Array(0),
-    set_aside_points: () => new Float32Array(0),
-    result_json: () => '{}',
-    session_json: () => new Uint8Array(0),
-    wall: (...args: unknown[]) => {
-      lvCalls.push(args);
-      return { summary: '{}', bytes: new Uint8Array(0) };
-    },
-    ...(withBiv
-      ? {
-          biventricular_wall: (...args: unknown[]) => {
-            calls.push(args);
-            if (throws !== null) throw throws;
-            return { summary: JSON.stringify(summary), bytes: new TextEncoder().encode('# heartmesh\n') };
-          },
-        }
-      : {}),
-  } as SessionApi;
-  return { session, calls, lvCalls };
-}
-
-function worker(session: SessionApi) {
-  const out: FromWorker[] = [];
-  const wasm: WasmApi = { createSession: () => session, schemaJson: () => '[]', version: () => '9.9.9', takePanicMessage: () => undefined };
-  const core = new WorkerCore(wasm, (m) => out.push(m), { yieldToEventLoop: () => undefined, now: () => 0 });
-  return { core, out };
+  const lv = recordedCall(() => ({ summary: '{}', bytes: new Uint8Array(0) }));
+  const { call, calls } = recordedCall(() => ({ summary: JSON.stringify(summary), bytes: new TextEncoder().encode('# heartmesh\n') }), throws);
+  return { session: stubSession({ wall: lv.call, ...(withBiv ? { biventricular_wall: call } : {}) }), calls, lvCalls: lv.calls };
 }
 
 const m = (surface: string, x: number) => ({ surface, positions: new Float64Array([x, x + 1, x + 2]), indices: new Uint32Array([0, 0, 0]) });
@@ -83,7 +44,7 @@ describe('the biv-wall-export request', () => {
 
   it('hands the binding the settings as the params JSON, the three meshes, the thickness and the header; answers with the wall file', () => {
     const { session, calls, lvCalls } = fakeSession();
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     const r = request();
     core.handle(r);
     expect(lvCalls).toHaveLength(0);
@@ -101,7 +62,7 @@ describe('the biv-wall-export request', () => {
   it('a wall the core cannot build is its typed error, naming the file; the worker goes on', () => {
     const message = 'the biventricular wall: degenerate input: the base plane does not cut the epicardium';
     const { session } = fakeSession(JSON.stringify({ code: 'degenerate', message }));
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     core.handle(request(3));
     expect(out).toEqual([{ type: 'error', reqId: 3, error: { code: 'degenerate', message, file: 'p1.csv' } }]);
     core.handle({ type: 'schema', reqId: 4 });
@@ -112,7 +73,7 @@ describe('the biv-wall-export request', () => {
 
   it('a core without the biventricular wall says so instead of crashing', () => {
     const { session } = fakeSession(null, false);
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     core.handle(request(5));
     expect(out).toEqual([{ type: 'error', reqId: 5, error: { code: 'wall_unavailable', message: 'this core cannot build the biventricular wall', file: 'p1.csv' } }]);
   });
@@ -123,16 +84,7 @@ describe('CoreClient.bivWallFile', () => {
     FakeWorker.instances = [];
   });
 
-  async function loaded() {
-    const created = CoreClient.create({ createWorker: () => new FakeWorker(), schedule: new ManualScheduler().schedule });
-    const w = FakeWorker.instances.at(-1)!;
-    w.emit({ type: 'ready' });
-    const client = await created;
-    const p = client.load('p1.csv', new TextEncoder().encode('contour,x,y,z\n').buffer as ArrayBuffer);
-    w.emit({ type: 'loaded', reqId: w.of('load')[0].reqId, file: { fileName: 'p1.csv', surfaces: ['LV_ENDO', 'RV_ENDO', 'LV_EPI', 'RV_EPI', 'BIV_EPI'], contours: [], points: new Float32Array(0), landmarks: [], warnings: [] } });
-    await p;
-    return { client, w };
-  }
+  const loaded = () => loadedClient('p1.csv', ['LV_ENDO', 'RV_ENDO', 'LV_EPI', 'RV_EPI', 'BIV_EPI']);
   const opts = { fileName: 'p1.csv', surface: 'BIV_EPI', params: { beta: 0.2 }, lids: 'auto' as const, options: { ...DEFAULT_OPTIONS } };
   const wall = () => ({ lvEndo: m('LV_ENDO', 1), rvEndo: m('RV_ENDO', 4), bivEpi: m('BIV_EPI', 7), minThicknessMm: 1, format: 'obj' as const, header: ['a', 'b'] });
 

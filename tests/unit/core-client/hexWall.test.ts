@@ -6,12 +6,11 @@
 // transferred, no run surface sent, resolved with the figures and the file, rejected with the
 // core's error).
 import { beforeEach, describe, expect, it } from 'vitest';
-import { CoreClient } from '../../../web/src/core-client/CoreClient';
 import {
   DEFAULT_OPTIONS, isFromWorker, isToWorker, runIdOf, transferablesOf, type FromWorker, type HexExportRequest, type HexSummary,
 } from '../../../web/src/core-client/protocol';
-import { WorkerCore, malformedHex, type SessionApi, type WasmApi } from '../../../web/src/core-client/workerCore';
-import { FakeWorker, ManualScheduler } from './fakes';
+import { malformedHex } from '../../../web/src/core-client/workerCore';
+import { FakeWorker, loadedClient, recordedCall, stubSession, workerFor } from './fakes';
 
 const summary: HexSummary = {
   rings: 10, points_per_ring: 16, layers: 2, points: 483, hexahedra: 288, wedges: 32, volume_ml: 98.7, layouts_volume_ml: 98.8, min_scaled_jacobian: 0.07, inverted_cells: 0, helix_deg: [60, -60], endocardium_moved: 0,
@@ -21,41 +20,8 @@ const VTK = new TextEncoder().encode('# vtk DataFile Version 3.0\n');
 
 /** Just enough of a session: `hex_wall` records its arguments and answers, or throws what it is told to. */
 function fakeSession(throws: unknown = null, withCall = true) {
-  const calls: unknown[][] = [];
-  const session = {
-    load: () => '{}',
-    file_points: () => new Float32Array(0),
-    start: () => undefined,
-    step: () => '{}',
-    growth_note: () => undefined,
-    attractors_changed: () => false,
-    positions: () => new Float32Array(0),
-    indices: () => new Uint32Array(0),
-    attractors: () => new Float32Array(0),
-    contour_points: () => new Float32Array(0),
-    point_distances: () => new Float32Array(0),
-    vertex_distances: () => new Float32Array(0),
-    set_aside_points: () => new Float32Array(0),
-    result_json: () => '{}',
-    session_json: () => new Uint8Array(0),
-    ...(withCall
-      ? {
-          hex_wall: (...args: unknown[]) => {
-            calls.push(args);
-            if (throws !== null) throw throws;
-            return { summary: JSON.stringify(summary), bytes: VTK };
-          },
-        }
-      : {}),
-  } as SessionApi;
-  return { session, calls };
-}
-
-function worker(session: SessionApi) {
-  const out: FromWorker[] = [];
-  const wasm: WasmApi = { createSession: () => session, schemaJson: () => '[]', version: () => '9.9.9', takePanicMessage: () => undefined };
-  const core = new WorkerCore(wasm, (m) => out.push(m), { yieldToEventLoop: () => undefined, now: () => 0 });
-  return { core, out };
+  const { call, calls } = recordedCall(() => ({ summary: JSON.stringify(summary), bytes: VTK }), throws);
+  return { session: stubSession(withCall ? { hex_wall: call } : {}), calls };
 }
 
 function request(reqId = 7, over: Partial<HexExportRequest> = {}): HexExportRequest {
@@ -90,7 +56,7 @@ describe('the hex-export request', () => {
 
   it('hands the binding the settings as the params JSON, both surfaces and meshes, the layout, the layers and the header', () => {
     const { session, calls } = fakeSession();
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     const r = request();
     core.handle(r);
     expect(calls).toHaveLength(1);
@@ -104,7 +70,7 @@ describe('the hex-export request', () => {
 
   it('the core\'s refusal is its typed error, naming the file; the worker goes on', () => {
     const { session } = fakeSession(JSON.stringify({ code: 'degenerate', message: REFUSED }));
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     core.handle(request(3));
     expect(out).toEqual([{ type: 'error', reqId: 3, error: { code: 'degenerate', message: REFUSED, file: 'p1.csv' } }]);
     core.handle({ type: 'schema', reqId: 4 });
@@ -113,7 +79,7 @@ describe('the hex-export request', () => {
 
   it('a malformed request is refused before the binding sees it; the worker goes on', () => {
     const { session, calls } = fakeSession();
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     const bad: [Partial<HexExportRequest>, string][] = [
       [{ layers: 2.5 }, 'the layout and layers must be whole numbers (got 10x16x2.5)'],
       [{ layers: undefined as unknown as number }, 'the layout and layers must be whole numbers (got 10x16xundefined)'],
@@ -138,7 +104,7 @@ describe('the hex-export request', () => {
 
   it('a core without the call says so instead of crashing', () => {
     const { session } = fakeSession(null, false);
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     core.handle(request(5));
     expect(out).toEqual([{ type: 'error', reqId: 5, error: { code: 'hex_unavailable', message: 'this core cannot build the hexahedral wall', file: 'p1.csv' } }]);
   });
@@ -149,16 +115,7 @@ describe('CoreClient.hexFile', () => {
     FakeWorker.instances = [];
   });
 
-  async function loaded() {
-    const created = CoreClient.create({ createWorker: () => new FakeWorker(), schedule: new ManualScheduler().schedule });
-    const w = FakeWorker.instances.at(-1)!;
-    w.emit({ type: 'ready' });
-    const client = await created;
-    const p = client.load('p1.csv', new TextEncoder().encode('contour,x,y,z\n').buffer as ArrayBuffer);
-    w.emit({ type: 'loaded', reqId: w.of('load')[0].reqId, file: { fileName: 'p1.csv', surfaces: ['LV_ENDO', 'LV_EPI'], contours: [], points: new Float32Array(0), landmarks: [], warnings: [] } });
-    await p;
-    return { client, w };
-  }
+  const loaded = () => loadedClient('p1.csv', ['LV_ENDO', 'LV_EPI']);
   const opts = { fileName: 'p1.csv', surface: 'LV_ENDO', params: { beta: 0.2 }, lids: 'auto' as const, options: { ...DEFAULT_OPTIONS }, leaveOut: ['s07'] };
   const hex = () => ({
     endo: { surface: 'LV_ENDO', positions: new Float64Array([1, 2, 3]), indices: new Uint32Array([0, 1, 2]) },

@@ -3,52 +3,17 @@
 // core cannot build as a typed error that leaves the worker working, and the client's side
 // (copies transferred, resolved with the figures and the file, rejected with the core's error).
 import { beforeEach, describe, expect, it } from 'vitest';
-import { CoreClient } from '../../../web/src/core-client/CoreClient';
 import {
   DEFAULT_OPTIONS, isFromWorker, isToWorker, runIdOf, transferablesOf, type FromWorker, type WallExportRequest, type WallSummary,
 } from '../../../web/src/core-client/protocol';
-import { WorkerCore, type SessionApi, type WasmApi } from '../../../web/src/core-client/workerCore';
-import { FakeWorker, ManualScheduler } from './fakes';
+import { FakeWorker, loadedClient, recordedCall, stubSession, workerFor } from './fakes';
 
 const summary = { surfaces: { endo: 'LV_ENDO', epi: 'LV_EPI' }, format: 'obj', vertices: 8, triangles: 12, wall_volume_ml: 99.5 } as unknown as WallSummary;
 
 /** Just enough of a session for the wall: `wall` echoes its arguments, or throws what it is told to. */
 function fakeSession(throws: unknown = null, withWall = true) {
-  const calls: unknown[][] = [];
-  const session = {
-    load: () => '{}',
-    file_points: () => new Float32Array(0),
-    start: () => undefined,
-    step: () => '{}',
-    growth_note: () => undefined,
-    attractors_changed: () => false,
-    positions: () => new Float32Array(0),
-    indices: () => new Uint32Array(0),
-    attractors: () => new Float32Array(0),
-    contour_points: () => new Float32Array(0),
-    point_distances: () => new Float32Array(0),
-    vertex_distances: () => new Float32Array(0),
-    set_aside_points: () => new Float32Array(0),
-    result_json: () => '{}',
-    session_json: () => new Uint8Array(0),
-    ...(withWall
-      ? {
-          wall: (...args: unknown[]) => {
-            calls.push(args);
-            if (throws !== null) throw throws;
-            return { summary: JSON.stringify(summary), bytes: new TextEncoder().encode('# heartmesh\n') };
-          },
-        }
-      : {}),
-  } as SessionApi;
-  return { session, calls };
-}
-
-function worker(session: SessionApi) {
-  const out: FromWorker[] = [];
-  const wasm: WasmApi = { createSession: () => session, schemaJson: () => '[]', version: () => '9.9.9', takePanicMessage: () => undefined };
-  const core = new WorkerCore(wasm, (m) => out.push(m), { yieldToEventLoop: () => undefined, now: () => 0 });
-  return { core, out };
+  const { call, calls } = recordedCall(() => ({ summary: JSON.stringify(summary), bytes: new TextEncoder().encode('# heartmesh\n') }), throws);
+  return { session: stubSession(withWall ? { wall: call } : {}), calls };
 }
 
 function request(reqId = 7): WallExportRequest {
@@ -80,7 +45,7 @@ describe('the wall-export request', () => {
 
   it('hands the binding the settings as the params JSON, both meshes, the thickness and the header', () => {
     const { session, calls } = fakeSession();
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     const r = request();
     core.handle(r);
     expect(calls).toHaveLength(1);
@@ -97,7 +62,7 @@ describe('the wall-export request', () => {
 
   it('a wall the core cannot build is its typed error, naming the file; the worker goes on', () => {
     const { session } = fakeSession(JSON.stringify({ code: 'degenerate', message: 'the LV wall: degenerate input: the base plane cuts the epicardium in 2 outlines, not one' }));
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     core.handle(request(3));
     expect(out).toEqual([{ type: 'error', reqId: 3, error: { code: 'degenerate', message: 'the LV wall: degenerate input: the base plane cuts the epicardium in 2 outlines, not one', file: 'p1.csv' } }]);
     core.handle({ type: 'schema', reqId: 4 });
@@ -106,7 +71,7 @@ describe('the wall-export request', () => {
 
   it('a core without the wall says so instead of crashing', () => {
     const { session } = fakeSession(null, false);
-    const { core, out } = worker(session);
+    const { core, out } = workerFor(session);
     core.handle(request(5));
     expect(out).toEqual([{ type: 'error', reqId: 5, error: { code: 'wall_unavailable', message: 'this core cannot build the LV wall', file: 'p1.csv' } }]);
   });
@@ -117,16 +82,7 @@ describe('CoreClient.wallFile', () => {
     FakeWorker.instances = [];
   });
 
-  async function loaded() {
-    const created = CoreClient.create({ createWorker: () => new FakeWorker(), schedule: new ManualScheduler().schedule });
-    const w = FakeWorker.instances.at(-1)!;
-    w.emit({ type: 'ready' });
-    const client = await created;
-    const p = client.load('p1.csv', new TextEncoder().encode('contour,x,y,z\n').buffer as ArrayBuffer);
-    w.emit({ type: 'loaded', reqId: w.of('load')[0].reqId, file: { fileName: 'p1.csv', surfaces: ['LV_ENDO', 'LV_EPI'], contours: [], points: new Float32Array(0), landmarks: [], warnings: [] } });
-    await p;
-    return { client, w };
-  }
+  const loaded = () => loadedClient('p1.csv', ['LV_ENDO', 'LV_EPI']);
   const opts = { fileName: 'p1.csv', surface: 'RV_ENDO', params: { beta: 0.2 }, lids: 'auto' as const, options: { ...DEFAULT_OPTIONS } };
   const wall = () => ({
     endo: { surface: 'LV_ENDO', positions: new Float64Array([1, 2, 3]), indices: new Uint32Array([0, 1, 2]) },
