@@ -5,7 +5,8 @@
 // images (the Open dialog), the notes line says it was read with 110 DICOM images, the warning line
 // names the contour types skipped, and LV_ENDO reconstructs closed within 1 mm of its contours, as
 // the command line's mesh (1041 vertices); frame 9 picked reads the images again (7 contours, 269
-// points). The study's folder, dropped (a native drag through the DevTools protocol) or picked with
+// points). A workspace saved as Contours.xml opens with its images the same way (found by its
+// content). The study's folder, dropped (a native drag through the DevTools protocol) or picked with
 // the folder button, opens the same way, its hidden file counted and its notes file set aside.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
@@ -172,6 +173,22 @@ describe('a cvi42 study', () => {
     await assertLvEndo('images dropped after the workspace');
     await assertReadWithImages('images dropped after the workspace');
     assert.deepEqual(pageErrors, []);
+  });
+
+  it('opens a workspace saved under another name with its images, told by its content', async () => {
+    await gotoEmpty(page, server.url);
+    const root = mkdtempSync(join(tmpdir(), 'heartmesh-cvi42-renamed-'));
+    try {
+      const renamed = join(root, 'Contours.xml');
+      cpSync(WSX, renamed);
+      await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', [...IMAGES.slice(0, 3), renamed, ...IMAGES.slice(3)]));
+      await assertLvEndo('workspace renamed Contours.xml');
+      await assertReadWithImages('workspace renamed Contours.xml');
+      assert.equal(await page.isVisible('[data-testid=error-banner]'), false, 'no file refused');
+      assert.deepEqual(pageErrors, []);
+    } finally {
+      rmSync(root, { recursive: true, force: true });
+    }
   });
 
   it('reads 400 images of 128 KiB without freezing the page: headers only, the same mesh', async () => {

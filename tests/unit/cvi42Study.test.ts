@@ -2,13 +2,21 @@
 // workspace is among them), which files of a dropped or picked folder are opened, and the header
 // slices the app reads of each image (io/dicomHeaders.ts).
 import { describe, expect, it } from 'vitest';
-import { asksForImages, cvi42Study, isSunnybrookName, isWorkspaceName } from '../../web/src/io/cvi42Study';
+import workspaceXml from '../../wasm-core/crates/heartmesh-core/tests/data/cvi42-patient1/Contours.cvi42wsx?raw';
+import { asksForImages, cvi42Study, isSunnybrookName, isWorkspaceHead, isWorkspaceName, workspaceTest, WORKSPACE_HEAD_BYTES } from '../../web/src/io/cvi42Study';
 import { FIRST_SLICE, headerSlice, imageHeaders, imageNames, looksDicom, pixelDataOffset } from '../../web/src/io/dicomHeaders';
 import { filesOfEntries, filesOfPickedFolder, nameless, pathInFolder, selectFolderFiles, STUDY_FILE_LIMIT, type EntryLike } from '../../web/src/io/folderDrop';
 import { fileEntry, folderEntry } from './fakeEntries';
 import { lostText, skippedText } from '../../web/src/app/fileNames';
 
 const named = (...names: string[]) => names.map((name) => ({ name }));
+
+/** How a DICOM file starts: a 128-byte preamble, `DICM`, then its elements. */
+function dicomStart(): Uint8Array<ArrayBuffer> {
+  const bytes = new Uint8Array(4096);
+  bytes.set(new TextEncoder().encode('DICM'), 128);
+  return bytes;
+}
 
 describe('a cvi42 workspace and its images', () => {
   it('tells a workspace by its extension, in any case', () => {
@@ -28,6 +36,39 @@ describe('a cvi42 workspace and its images', () => {
     expect(cvi42Study(named('rtstruct.dcm'))).toBeNull();
     expect(cvi42Study(named('IM_0001.dcm', 'IM_0002.dcm', 'GPFile_000.txt'))).toBeNull();
     expect(cvi42Study([])).toBeNull();
+  });
+
+  it('tells a workspace by its first bytes, as the core does: XML declaring cvi42\'s namespace', () => {
+    const wsx = new TextEncoder().encode(workspaceXml);
+    const image = dicomStart();
+    const enc = (s: string) => new TextEncoder().encode(s);
+    expect(isWorkspaceHead(wsx)).toBe(true);
+    expect(isWorkspaceHead(new Uint8Array([0xef, 0xbb, 0xbf, ...enc('\n  '), ...wsx]))).toBe(true);
+    expect(isWorkspaceHead(image)).toBe(false);
+    expect(isWorkspaceHead(enc('<?xml version="1.0"?>\n<VTKFile type="PolyData">'))).toBe(false);
+    // The namespace quoted in a text file is no workspace; nor is one past the first 4 KiB.
+    expect(isWorkspaceHead(enc('notes: http://www.circlecvi.com/cvi42/Workspace/'))).toBe(false);
+    expect(isWorkspaceHead(enc(`<?xml version="1.0"?>${' '.repeat(WORKSPACE_HEAD_BYTES)}<a xmlns="http://www.circlecvi.com/cvi42/Workspace/"/>`))).toBe(false);
+  });
+
+  it('finds a workspace saved under another name among files opened together, and takes the others for its images', async () => {
+    const wsx = new TextEncoder().encode(workspaceXml);
+    const image = dicomStart();
+    const renamed = new File([wsx], 'Contours.xml');
+    const images = [new File([image], 'IM_0001'), new File([image], 'IM_0002.dcm'), new File(['exported'], 'notes.txt')];
+    const files = [images[0], renamed, images[1], images[2]];
+    const study = cvi42Study(files, await workspaceTest(files));
+    expect(study?.workspaces).toEqual([renamed]);
+    expect(study?.images).toEqual([images[0], images[1], images[2]]);
+    // Without one, by content or by name, the files open as before.
+    expect(cvi42Study(images, await workspaceTest(images))).toBeNull();
+    // Alone, it is left to the core (whose refusal asks for the images).
+    expect(cvi42Study([renamed], await workspaceTest([renamed]))).toBeNull();
+    // A workspace named as such decides by name: the others are not read for theirs.
+    const named = new File(['not read'], 'C.cvi42wsx');
+    const byName = cvi42Study([renamed, named], await workspaceTest([renamed, named]));
+    expect(byName?.workspaces).toEqual([named]);
+    expect(byName?.images).toEqual([renamed]);
   });
 
   it('gives two workspaces the same images (each places the contours of its own by UID)', () => {

@@ -16,7 +16,7 @@ import type { HoverReadout } from '../ui/HoverReadout';
 import { distinctName, fileIdentity, lostText, renamedText, skippedText } from './fileNames';
 import { archivesText, asCoreError, callSafely, imagesAsideText, isImageRefusal, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
 import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
-import { asksForImages, cvi42Study, type Cvi42Study } from '../io/cvi42Study';
+import { asksForImages, cvi42Study, workspaceTest, type Cvi42Study } from '../io/cvi42Study';
 import { imageHeaders, isSegmentationFile, looksDicom } from '../io/dicomHeaders';
 import { filesOfPickedFolder, pathInFolder, withSegmentations } from '../io/folderDrop';
 import { expandArchives } from '../io/zipArchive';
@@ -230,7 +230,7 @@ export class Controller {
       return;
     }
     // A cvi42 workspace (Sunnybrook contour files) among them: every other file is one of its images (io/cvi42Study.ts).
-    const study = cvi42Study(files);
+    const study = cvi42Study(files, await workspaceTest(files));
     if (study) return void (await this.openStudy(study, skipped, false, archivesRefused));
     // Contours just refused for want of their images: these files may be them (else, as usual).
     const waiting = this.waitingStudy;

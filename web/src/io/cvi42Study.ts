@@ -36,6 +36,48 @@ export function isWorkspaceName(name: string): boolean {
   return WORKSPACE.test(name);
 }
 
+/** The namespace every cvi42 workspace declares (heartmesh-core `io::cvi42::NAMESPACE`). */
+const NAMESPACE = 'circlecvi.com/cvi42/Workspace';
+
+/** How much of a file's start the core looks into for that namespace (`io::cvi42::is_cvi42`). */
+export const WORKSPACE_HEAD_BYTES = 4096;
+
+/** Files whose starts are read at once when looking for a workspace by its content. */
+const SNIFF_BATCH = 32;
+
+/** Whether a file's first bytes are a cvi42 workspace's: XML declaring cvi42's namespace, as the core tells one. */
+export function isWorkspaceHead(head: Uint8Array): boolean {
+  const text = new TextDecoder().decode(head.subarray(0, WORKSPACE_HEAD_BYTES)).replace(/^\uFEFF/, '').trimStart();
+  return text.startsWith('<') && text.includes(NAMESPACE);
+}
+
+async function headIsWorkspace(file: Blob): Promise<boolean> {
+  try {
+    return isWorkspaceHead(new Uint8Array(await file.slice(0, WORKSPACE_HEAD_BYTES).arrayBuffer()));
+  } catch {
+    return false; // gone or unreadable: opened (and refused, named) as any other file
+  }
+}
+
+/**
+ * How to tell the workspaces among files opened together: by name, or, when none is named
+ * `.cvi42wsx` and there are other files to be its images, by content. A workspace saved or mailed
+ * under another name (`Contours.xml`) is still one to the core, which would refuse it alone and
+ * every image beside it as a contour file; found by content, the others are its images. A file
+ * alone is left to the core: its refusal asks for the images, which the app then awaits.
+ */
+export async function workspaceTest<T extends Blob & { name: string }>(files: readonly T[]): Promise<(file: T) => boolean> {
+  const byName = (f: T) => isWorkspaceName(f.name);
+  if (files.length < 2 || files.some(byName)) return byName;
+  const found = new Set<T>();
+  for (let start = 0; start < files.length; start += SNIFF_BATCH) {
+    const batch = files.slice(start, start + SNIFF_BATCH);
+    const heads = await Promise.all(batch.map(headIsWorkspace));
+    batch.forEach((f, i) => heads[i] && found.add(f));
+  }
+  return (f) => found.has(f);
+}
+
 /** Whether a file name is a Sunnybrook contour file's (the `contours-manual` folders of the data). */
 export function isSunnybrookName(name: string): boolean {
   return SUNNYBROOK.test(name);
@@ -57,15 +99,19 @@ export interface Cvi42Study<T> {
 }
 
 /**
- * The workspaces among `files` and the files that are their images; null when there is no
+ * The workspaces among `files` (by name, or as `isWorkspace` tells: `workspaceTest`) and the
+ * files that are their images; null when there is no
  * workspace and no Sunnybrook contour file (the files open as before). Two workspaces share the
  * images: each takes the ones its contours were drawn on by UID, so two readers' contours of one
  * study both open. Sunnybrook contour files are read as one: the first by name, with the others
  * among its images (the core tells them apart by name).
  */
-export function cvi42Study<T extends { name: string }>(files: readonly T[]): Cvi42Study<T> | null {
-  const workspaces = files.filter((f) => isWorkspaceName(f.name));
-  if (workspaces.length > 0) return { workspaces, images: files.filter((f) => !isWorkspaceName(f.name)) };
+export function cvi42Study<T extends { name: string }>(
+  files: readonly T[],
+  isWorkspace: (file: T) => boolean = (f) => isWorkspaceName(f.name),
+): Cvi42Study<T> | null {
+  const workspaces = files.filter(isWorkspace);
+  if (workspaces.length > 0) return { workspaces, images: files.filter((f) => !isWorkspace(f)) };
   const contours = files.filter((f) => isSunnybrookName(f.name));
   if (contours.length === 0) return null;
   const first = contours.reduce((a, b) => (b.name < a.name ? b : a));
