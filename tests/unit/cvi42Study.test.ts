@@ -64,6 +64,9 @@ describe('a cvi42 workspace and its images', () => {
     expect(cvi42Study(images, await workspaceTest(images))).toBeNull();
     // Alone, it is left to the core (whose refusal asks for the images).
     expect(cvi42Study([renamed], await workspaceTest([renamed]))).toBeNull();
+    // Files named as another kind are not read for it (a PACS folder's .dcm images).
+    const asDicom = new File([wsx], 'Contours.dcm');
+    expect(cvi42Study([asDicom, images[0]], await workspaceTest([asDicom, images[0]]))).toBeNull();
     // A workspace named as such decides by name: the others are not read for theirs.
     const named = new File(['not read'], 'C.cvi42wsx');
     const byName = cvi42Study([renamed, named], await workspaceTest([renamed, named]));

@@ -45,6 +45,13 @@ export const WORKSPACE_HEAD_BYTES = 4096;
 /** Files whose starts are read at once when looking for a workspace by its content. */
 const SNIFF_BATCH = 32;
 
+/**
+ * Names that say a file is of another kind (DICOM, label maps, archives, other contour formats):
+ * not read when looking for a renamed workspace, so a PACS folder of 4000 `.dcm` images costs
+ * nothing. A workspace saved under another name is XML, text or nameless.
+ */
+const OTHER_KIND = /\.(dcm|dicom|ima|nii|gz|nrrd|nhdr|zip|csv|tsv|vtk|vtp|mat|json|png|jpe?g)$/i;
+
 /** Whether a file's first bytes are a cvi42 workspace's: XML declaring cvi42's namespace, as the core tells one. */
 export function isWorkspaceHead(head: Uint8Array): boolean {
   const text = new TextDecoder().decode(head.subarray(0, WORKSPACE_HEAD_BYTES)).replace(/^\uFEFF/, '').trimStart();
@@ -70,8 +77,9 @@ export async function workspaceTest<T extends Blob & { name: string }>(files: re
   const byName = (f: T) => isWorkspaceName(f.name);
   if (files.length < 2 || files.some(byName)) return byName;
   const found = new Set<T>();
-  for (let start = 0; start < files.length; start += SNIFF_BATCH) {
-    const batch = files.slice(start, start + SNIFF_BATCH);
+  const candidates = files.filter((f) => !OTHER_KIND.test(f.name));
+  for (let start = 0; start < candidates.length; start += SNIFF_BATCH) {
+    const batch = candidates.slice(start, start + SNIFF_BATCH);
     const heads = await Promise.all(batch.map(headIsWorkspace));
     batch.forEach((f, i) => heads[i] && found.add(f));
   }
