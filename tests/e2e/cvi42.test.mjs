@@ -184,6 +184,7 @@ describe('a cvi42 study', () => {
       await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', [...IMAGES.slice(0, 3), renamed, ...IMAGES.slice(3)]));
       await assertLvEndo('workspace renamed Contours.xml');
       await assertReadWithImages('workspace renamed Contours.xml');
+      if (SHOTS) await page.screenshot({ path: join(SHOTS, 'cvi42-renamed-workspace.png') });
       assert.equal(await page.isVisible('[data-testid=error-banner]'), false, 'no file refused');
       assert.deepEqual(pageErrors, []);
     } finally {
