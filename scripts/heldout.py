@@ -620,6 +620,11 @@ def families():
     F["lax-one-side"] = lambda a, r: setattr(a, "lax_half", True)
     F["lax-closed-valve"] = lambda a, r: setattr(a, "lax_closed", True)
 
+    def closed_breath_hold(a, r):
+        lax_shift(a, r)
+        a.lax_closed = True
+    F["lax-closed-breath-hold"] = closed_breath_hold
+
     for sp in (0.2, 3.0, 6.0):
         F[f"points{sp:g}mm"] = lambda a, r, sp=sp: setattr(a, "spacing", sp)
 
