@@ -8,7 +8,7 @@ differ: stacks tilted off the axis, other spacings and counts, a slice missing, 
 the apex or past the base, a second loop beside the basal ring, a speck (a 3-point loop past the
 base or between slices, session 14), LAX planes off the apex, one or
 two LAX views, LAX from another breath-hold, LAX drawn only in part or closed across the valve
-(as a traced mask gives the cavity), point spacing 0.2-6 mm,
+(as a traced mask gives the cavity; also with each view from its own breath-hold), point spacing 0.2-6 mm,
 curves traced from a pixel mask (1.4 and 2 mm pixels, as segmentation networks give them),
 winding, order, duplicates, far coordinates and hand-drawing noise. Each case runs through the
 release CLI at defaults (`reconstruct --report`, then `compare` against the truth clipped at the
