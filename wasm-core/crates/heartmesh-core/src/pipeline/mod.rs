@@ -35,6 +35,7 @@ use crate::contours::axis::Layout;
 use crate::contours::biv_epi;
 use crate::contours::clean::resample_spacing;
 use crate::contours::set_aside::{self, SetAside};
+use crate::contours::valve_chord::open_valve_chords;
 use crate::contours::{Contour, ContourKind, ContourSet};
 use crate::deform::attractors::{conflict_weights, Budget};
 use crate::deform::tps::TpsSolver;
@@ -185,6 +186,11 @@ impl Normalisation {
 pub struct Reconstruction {
     params: Params,
     contours: Vec<Contour>,
+    /// What the mesh is fitted to: `contours` with long-axis curves closed across the valve opened
+    /// there (`valve_chord`); measured distances stay those to `contours`, as drawn.
+    fitted: Vec<Contour>,
+    /// The ids of the long-axis curves opened at their valve chord.
+    valve_chords: Vec<String>,
     /// The selected surface's contours left out of the run: the user's (`Params::leave_out`),
     /// then the rules' (strays, specks: `set_aside`).
     set_aside: Vec<SetAside>,
@@ -323,10 +329,13 @@ impl Reconstruction {
         let contours_as_given = contours_as_given
             .map(|g| without_set_aside(g, &set_aside))
             .filter(|g| same_structure(g, &contours));
+        let basal_height = layout.slices.last().map_or(f64::INFINITY, |s| s.height);
+        let (fitted, valve_chords) =
+            open_valve_chords(&contours, &layout.kinds, &layout.axis, basal_height);
 
         let mut candidates_mm: Vec<Vec3> = Vec::new();
         let mut candidate_owner: Vec<u32> = Vec::new();
-        for (k, c) in contours.iter().enumerate() {
+        for (k, c) in fitted.iter().enumerate() {
             for p in &c.pieces {
                 let r = resample_spacing(&p.points, p.closed, CANDIDATE_SPACING_MM);
                 // Short- and long-axis curves are compared for conflicts, never two curves of one
@@ -347,7 +356,7 @@ impl Reconstruction {
         let candidates: Vec<Vec3> = candidates_mm.iter().map(|p| norm.to_unit(p)).collect();
         let attractor_budget = match params.attractors {
             AttractorMode::Auto => Budget::Count(budget::auto_attractors(
-                &contours,
+                &fitted,
                 &layout,
                 MAX_AUTO_ATTRACTORS,
             )),
@@ -364,6 +373,8 @@ impl Reconstruction {
         Ok(Reconstruction {
             params,
             contours,
+            fitted,
+            valve_chords,
             set_aside,
             set_aside_contours,
             alignment,
@@ -588,6 +599,13 @@ impl Reconstruction {
     /// [`Reconstruction::set_aside`]).
     pub fn contours(&self) -> &[Contour] {
         &self.contours
+    }
+
+    /// The ids of the long-axis curves closed across the valve that the mesh was fitted to opened
+    /// there (`contours::valve_chord`): their straight run across the top is the valve plane,
+    /// where the lid goes, not wall. Their distances are still measured as drawn.
+    pub fn valve_chords(&self) -> &[String] {
+        &self.valve_chords
     }
 
     /// The selected surface's contours left out of the run and why: those the user named
