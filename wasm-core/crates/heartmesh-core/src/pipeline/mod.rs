@@ -329,9 +329,7 @@ impl Reconstruction {
         let contours_as_given = contours_as_given
             .map(|g| without_set_aside(g, &set_aside))
             .filter(|g| same_structure(g, &contours));
-        let basal_height = layout.slices.last().map_or(f64::INFINITY, |s| s.height);
-        let (fitted, valve_chords) =
-            open_valve_chords(&contours, &layout.kinds, &layout.axis, basal_height);
+        let (fitted, valve_chords) = fitted_contours(&contours, &layout);
 
         let mut candidates_mm: Vec<Vec3> = Vec::new();
         let mut candidate_owner: Vec<u32> = Vec::new();
@@ -608,6 +606,28 @@ impl Reconstruction {
         &self.valve_chords
     }
 
+    /// What the CLI and the app say when long-axis curves were opened at their valve chord
+    /// ([`Reconstruction::valve_chords`]); None when none was.
+    pub fn valve_chord_note(&self) -> Option<String> {
+        let ids = &self.valve_chords;
+        let (they, their) = if ids.len() == 1 {
+            ("it", "its")
+        } else {
+            ("them", "their")
+        };
+        (!ids.is_empty()).then(|| {
+            format!(
+                "{} closed across the valve: the mesh is fitted to {they} opened there and the \
+                 base's lid, through {their} ends, carries the valve plane (distances are to the \
+                 curves as drawn)",
+                ids.iter()
+                    .map(|id| format!("{id:?}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })
+    }
+
     /// The selected surface's contours left out of the run and why: those the user named
     /// (`Params::leave_out`), then strays and specks (`contours::set_aside`; none with
     /// `Params::keep_specks`).
@@ -774,6 +794,32 @@ impl Reconstruction {
 
 /// Same contours, pieces and point counts (cleaning shifted and unshifted copies of a contour
 /// gives the same structure unless a spacing sits exactly on a cleaning threshold).
+/// The contours the mesh is fitted to and the ids of the long-axis curves opened at their valve
+/// chord (`contours::valve_chord`). A chord is opened to hand the valve to the lid through the
+/// opened curves' tips; where other curves still close the base (an RV outflow curve over the
+/// top) no lid goes there, an opened chord would leave the top to run free (9 mm past a chord on
+/// the Segment fixture's ES RV), and the chords stay.
+fn fitted_contours(contours: &[Contour], layout: &Layout) -> (Vec<Contour>, Vec<String>) {
+    let Some(basal) = layout.slices.last() else {
+        return (contours.to_vec(), Vec::new());
+    };
+    let (fitted, opened) = open_valve_chords(contours, &layout.kinds, &layout.axis, basal.height);
+    if opened.is_empty() {
+        return (fitted, opened);
+    }
+    let ring: Vec<Vec3> = basal
+        .contours
+        .iter()
+        .filter_map(|&j| contours.get(j))
+        .flat_map(|c| c.points().copied())
+        .collect();
+    if ends::closed_by_data(&ring, &fitted, &layout.kinds, &layout.axis, 1.0) {
+        (contours.to_vec(), Vec::new())
+    } else {
+        (fitted, opened)
+    }
+}
+
 fn same_structure(a: &[Contour], b: &[Contour]) -> bool {
     a.len() == b.len()
         && a.iter().zip(b).all(|(x, y)| {
