@@ -799,8 +799,21 @@ impl Reconstruction {
 /// opened curves' tips; where other curves still close the base (an RV outflow curve over the
 /// top) no lid goes there, an opened chord would leave the top to run free (9 mm past a chord on
 /// the Segment fixture's ES RV), and the chords stay.
+///
+/// An RV's base holds two valves, tricuspid and pulmonary, 10-20 mm apart in height, each view's
+/// line at its own; one lid plane through all their ends carries neither (a label map's spasm RV:
+/// its lines 7.6 mm off the mesh opened, 1.4 mm as wall), so RV and biventricular surfaces (named
+/// `RV...` or `BIV...`, as the alignment tells them) keep their lines as wall.
 fn fitted_contours(contours: &[Contour], layout: &Layout) -> (Vec<Contour>, Vec<String>) {
-    let Some(basal) = layout.slices.last() else {
+    let two_valves = |s: &str| {
+        let s = s.trim().to_ascii_uppercase();
+        s.starts_with("RV") || s.starts_with("BIV")
+    };
+    let basal = layout.slices.last();
+    let rv = contours
+        .iter()
+        .any(|c| c.surface.as_deref().is_some_and(two_valves));
+    let Some(basal) = basal.filter(|_| !rv) else {
         return (contours.to_vec(), Vec::new());
     };
     let (fitted, opened) = open_valve_chords(contours, &layout.kinds, &layout.axis, basal.height);
