@@ -12,7 +12,7 @@ import {
 import { parseUrlState, serializeUrlState } from '../../web/src/app/urlState';
 import { headerLines, type ExportInfo } from '../../web/src/io/export/header';
 import { writeParamsJson } from '../../web/src/io/export/json';
-import { endCapsText, pastDataText } from '../../web/src/ui/runText';
+import { endCapsText, pastDataText, valveChordsText } from '../../web/src/ui/runText';
 import { ResultPanel } from '../../web/src/ui/ResultPanel';
 import { type FakeElement, dlRows } from './fakeDom';
 import { useFakeDocument, optionsPanel } from './panelHarness';
@@ -171,5 +171,33 @@ describe('end caps in the panels', () => {
       title: 'apex closed (1 lid point): no contour closes that end, so down-weighted lid points keep the mesh from running on past the data',
     });
     expect(endCapsText({ mode: 'off', base: true, apex: true, points: 10 })).toBeNull();
+  });
+});
+
+describe('valve chords in the result panel', () => {
+  useFakeDocument();
+
+  const rows = dlRows;
+
+  it('counts the curves opened and keeps the core sentence for the tooltip; no row without any', () => {
+    expect(valveChordsText(undefined, undefined)).toBeNull();
+    expect(valveChordsText([], null)).toBeNull();
+    const note = '"2CH", "4CH" closed across the valve: the mesh is fitted to them opened there';
+    expect(valveChordsText(['2CH', '4CH'], note)).toEqual({ text: '2 opened', title: note });
+    // A result without the sentence (an older worker) still names the curves.
+    expect(valveChordsText(['s06_Endo'], null)?.title).toMatch(/^s06_Endo closed across the valve/);
+  });
+
+  it('the result panel has a Valve chords row only when curves were opened, nothing stale after', () => {
+    const panel = new ResultPanel();
+    const el = panel.element as unknown as FakeElement;
+    const note = '"s06_Endo", "s07_Endo", "s08_Endo" closed across the valve: the mesh is fitted to them opened there';
+    panel.show(result({ valve_chords: ['s06_Endo', 's07_Endo', 's08_Endo'], valveChordNote: note }));
+    expect(rows(el)['Valve chords']).toBe('3 opened');
+    expect(el.byTestId('result-valve-chords')?.title).toBe(note);
+    expect(el.dataset.valveChords).toBe('3');
+    panel.show(result({ valve_chords: [], valveChordNote: null }));
+    expect(rows(el)['Valve chords']).toBeUndefined();
+    expect(el.dataset.valveChords).toBeUndefined();
   });
 });

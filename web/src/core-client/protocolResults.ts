@@ -343,6 +343,13 @@ export interface RunResult {
   pastData?: PastData | null;
   /** Which open ends the core closed with lid points (absent from results of older cores). */
   end_caps?: EndCaps | null;
+  /**
+   * Ids of the long-axis curves closed across the valve that the mesh was fitted to opened there
+   * (their chord is the valve plane, carried by the base's lid), and the core's sentence about
+   * them (null when none; both absent from results of older cores).
+   */
+  valve_chords?: string[];
+  valveChordNote?: string | null;
   /** Folds and self-intersections of the final mesh (absent from results of older cores). */
   quality?: MeshQuality | null;
   /**

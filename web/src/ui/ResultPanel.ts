@@ -12,13 +12,13 @@
  */
 import type { Alignment, RunResult } from '../core-client/protocol';
 import { h, mm } from './dom';
-import { alignmentRows, endCapsText, iterationsDoneText, meshCheckText, pastDataText, residualText, leftOutText } from './runText';
+import { alignmentRows, endCapsText, iterationsDoneText, meshCheckText, pastDataText, residualText, leftOutText, valveChordsText } from './runText';
 
 const ATTRIBUTES = [
   'data-vertices', 'data-triangles', 'data-mean-mm', 'data-max-mm', 'data-iterations', 'data-converged',
   'data-residual-before-mm', 'data-residual-after-mm', 'data-given-mean-mm', 'data-past-base-mm', 'data-past-apex-mm',
   'data-end-caps-base', 'data-end-caps-apex', 'data-end-caps-apex-floor', 'data-end-caps-points', 'data-crossing-residual-mm', 'data-suggest-alignment',
-  'data-set-aside',
+  'data-set-aside', 'data-valve-chords',
 ];
 
 const SHIFTED_HELP = 'with breath-hold alignment: from the shifted contours, which the mesh follows, to the mesh';
@@ -136,6 +136,11 @@ export class ResultPanel {
       d.endCapsBaseCeiling = r.end_caps.base_ceiling ? '1' : '0';
       d.endCapsPoints = String(r.end_caps.points);
       rows.push(...row('Closed ends', caps.text, 'result-end-caps', caps.title));
+    }
+    const chords = valveChordsText(r.valve_chords, r.valveChordNote);
+    if (chords) {
+      d.valveChords = String(r.valve_chords?.length ?? 0);
+      rows.push(...row('Valve chords', chords.text, 'result-valve-chords', chords.title));
     }
     rows.push(
       ...row('Area', `${(r.areaMm2 / 100).toFixed(1)} cm²`),

@@ -172,6 +172,19 @@ export function endCapsText(e: EndCaps): { text: string; title: string } | null 
 }
 
 /**
+ * The result panel's "Valve chords" figure: how many long-axis curves closed across the valve the
+ * core fitted opened there ("3 opened"), with the core's sentence naming them for the tooltip.
+ * Null when none was (no row).
+ */
+export function valveChordsText(ids: readonly string[] | undefined, note: string | null | undefined): { text: string; title: string } | null {
+  if (!ids || ids.length === 0) return null;
+  return {
+    text: `${ids.length} opened`,
+    title: note ?? `${ids.join(', ')} closed across the valve: fitted opened there, the base's lid carrying the valve plane`,
+  };
+}
+
+/**
  * The result panel's mesh checks, short for the narrow value column: what a volume mesher or a
  * 3D-printing slicer would trip over. Self-intersections are the blocking fault (warn); folded
  * edges are creases the data asked for on the RV's tips more often than artefacts

@@ -473,6 +473,9 @@ impl Run<'_> {
             if let Some(note) = report::alignment_note(&rep) {
                 self.say(format!("heartmesh: note: {input}: {note}"));
             }
+            if let Some(note) = rec.valve_chord_note() {
+                self.say(format!("heartmesh: note: {input}: {note}"));
+            }
             if let Some(w) = report::self_intersection_warning(&rep) {
                 self.say(format!("heartmesh: warning: {output}: {w}"));
             }

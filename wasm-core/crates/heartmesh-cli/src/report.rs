@@ -140,6 +140,8 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         "past_data": rec.past_data(),
         // Which ends no curve closes got synthetic lid points (not data: in no distance).
         "end_caps": rec.end_caps(),
+        // Long-axis curves closed across the valve, fitted opened there (`valve_chord_note`).
+        "valve_chords": rec.valve_chords(),
         "contours": rec.contours().len(),
         "contour_to_mesh": {
             "mean": o.mean,

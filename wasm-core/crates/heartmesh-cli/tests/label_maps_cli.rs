@@ -201,9 +201,18 @@ fn a_stack_with_long_axis_views() {
         3,
         "{err}"
     );
-    assert_eq!(err.matches("heartmesh: note: ").count(), 4, "{err}");
+    // The header's note, the three views' and the valve chords': a mask's long-axis section is
+    // closed along its top edge, which the fit opens (contours::valve_chord).
+    assert_eq!(err.matches("heartmesh: note: ").count(), 5, "{err}");
+    assert!(
+        err.contains(
+            "\"seg_lax1 LV_EPI\", \"seg_lax2 LV_EPI\", \"seg_lax3 LV_EPI\" closed across the valve"
+        ),
+        "{err}"
+    );
     let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
     assert_eq!(r["watertight"], true, "{r}");
+    assert_eq!(r["valve_chords"].as_array().map(Vec::len), Some(3), "{r}");
     let lax: Vec<&serde_json::Value> = r["per_contour"]
         .as_array()
         .unwrap()

@@ -185,6 +185,10 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         "pastData": rec.past_data(),
         // Which ends no curve closes got synthetic lid points (per resampling; not data).
         "end_caps": rec.end_caps(),
+        // Long-axis curves closed across the valve that the mesh was fitted to opened there,
+        // and the core's sentence about them (null when none).
+        "valve_chords": rec.valve_chords(),
+        "valveChordNote": rec.valve_chord_note(),
         "areaMm2": mesh.area(),
         "watertight": topology::validity(mesh).is_closed_manifold(),
         // What a volume mesher or a 3D-printing slicer would trip over: creased neighbours

@@ -14,6 +14,7 @@ pub mod slice_loops;
 pub mod specks;
 pub mod strays;
 pub mod time_frames;
+pub mod valve_chord;
 
 use crate::geometry::Vec3;
 pub use time_frames::TimeFrames;

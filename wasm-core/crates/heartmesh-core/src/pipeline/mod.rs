@@ -35,6 +35,7 @@ use crate::contours::axis::Layout;
 use crate::contours::biv_epi;
 use crate::contours::clean::resample_spacing;
 use crate::contours::set_aside::{self, SetAside};
+use crate::contours::valve_chord::open_valve_chords;
 use crate::contours::{Contour, ContourKind, ContourSet};
 use crate::deform::attractors::{conflict_weights, Budget};
 use crate::deform::tps::TpsSolver;
@@ -185,6 +186,11 @@ impl Normalisation {
 pub struct Reconstruction {
     params: Params,
     contours: Vec<Contour>,
+    /// What the mesh is fitted to: `contours` with long-axis curves closed across the valve opened
+    /// there (`valve_chord`); measured distances stay those to `contours`, as drawn.
+    fitted: Vec<Contour>,
+    /// The ids of the long-axis curves opened at their valve chord.
+    valve_chords: Vec<String>,
     /// The selected surface's contours left out of the run: the user's (`Params::leave_out`),
     /// then the rules' (strays, specks: `set_aside`).
     set_aside: Vec<SetAside>,
@@ -323,10 +329,11 @@ impl Reconstruction {
         let contours_as_given = contours_as_given
             .map(|g| without_set_aside(g, &set_aside))
             .filter(|g| same_structure(g, &contours));
+        let (fitted, valve_chords) = fitted_contours(&contours, &layout);
 
         let mut candidates_mm: Vec<Vec3> = Vec::new();
         let mut candidate_owner: Vec<u32> = Vec::new();
-        for (k, c) in contours.iter().enumerate() {
+        for (k, c) in fitted.iter().enumerate() {
             for p in &c.pieces {
                 let r = resample_spacing(&p.points, p.closed, CANDIDATE_SPACING_MM);
                 // Short- and long-axis curves are compared for conflicts, never two curves of one
@@ -347,7 +354,7 @@ impl Reconstruction {
         let candidates: Vec<Vec3> = candidates_mm.iter().map(|p| norm.to_unit(p)).collect();
         let attractor_budget = match params.attractors {
             AttractorMode::Auto => Budget::Count(budget::auto_attractors(
-                &contours,
+                &fitted,
                 &layout,
                 MAX_AUTO_ATTRACTORS,
             )),
@@ -364,6 +371,8 @@ impl Reconstruction {
         Ok(Reconstruction {
             params,
             contours,
+            fitted,
+            valve_chords,
             set_aside,
             set_aside_contours,
             alignment,
@@ -590,6 +599,35 @@ impl Reconstruction {
         &self.contours
     }
 
+    /// The ids of the long-axis curves closed across the valve that the mesh was fitted to opened
+    /// there (`contours::valve_chord`): their straight run across the top is the valve plane,
+    /// where the lid goes, not wall. Their distances are still measured as drawn.
+    pub fn valve_chords(&self) -> &[String] {
+        &self.valve_chords
+    }
+
+    /// What the CLI and the app say when long-axis curves were opened at their valve chord
+    /// ([`Reconstruction::valve_chords`]); None when none was.
+    pub fn valve_chord_note(&self) -> Option<String> {
+        let ids = &self.valve_chords;
+        let (they, their) = if ids.len() == 1 {
+            ("it", "its")
+        } else {
+            ("them", "their")
+        };
+        (!ids.is_empty()).then(|| {
+            format!(
+                "{} closed across the valve: the mesh is fitted to {they} opened there and the \
+                 base's lid, through {their} ends, carries the valve plane (distances are to the \
+                 curves as drawn)",
+                ids.iter()
+                    .map(|id| format!("{id:?}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })
+    }
+
     /// The selected surface's contours left out of the run and why: those the user named
     /// (`Params::leave_out`), then strays and specks (`contours::set_aside`; none with
     /// `Params::keep_specks`).
@@ -756,6 +794,45 @@ impl Reconstruction {
 
 /// Same contours, pieces and point counts (cleaning shifted and unshifted copies of a contour
 /// gives the same structure unless a spacing sits exactly on a cleaning threshold).
+/// The contours the mesh is fitted to and the ids of the long-axis curves opened at their valve
+/// chord (`contours::valve_chord`). A chord is opened to hand the valve to the lid through the
+/// opened curves' tips; where other curves still close the base (an RV outflow curve over the
+/// top) no lid goes there, an opened chord would leave the top to run free (9 mm past a chord on
+/// the Segment fixture's ES RV), and the chords stay.
+///
+/// An RV's base holds two valves, tricuspid and pulmonary, 10-20 mm apart in height, each view's
+/// line at its own; one lid plane through all their ends carries neither (a label map's spasm RV:
+/// its lines 7.6 mm off the mesh opened, 1.4 mm as wall), so RV and biventricular surfaces (named
+/// `RV...` or `BIV...`, as the alignment tells them) keep their lines as wall.
+fn fitted_contours(contours: &[Contour], layout: &Layout) -> (Vec<Contour>, Vec<String>) {
+    let two_valves = |s: &str| {
+        let s = s.trim().to_ascii_uppercase();
+        s.starts_with("RV") || s.starts_with("BIV")
+    };
+    let basal = layout.slices.last();
+    let rv = contours
+        .iter()
+        .any(|c| c.surface.as_deref().is_some_and(two_valves));
+    let Some(basal) = basal.filter(|_| !rv) else {
+        return (contours.to_vec(), Vec::new());
+    };
+    let (fitted, opened) = open_valve_chords(contours, &layout.kinds, &layout.axis, basal.height);
+    if opened.is_empty() {
+        return (fitted, opened);
+    }
+    let ring: Vec<Vec3> = basal
+        .contours
+        .iter()
+        .filter_map(|&j| contours.get(j))
+        .flat_map(|c| c.points().copied())
+        .collect();
+    if ends::closed_by_data(&ring, &fitted, &layout.kinds, &layout.axis, 1.0) {
+        (contours.to_vec(), Vec::new())
+    } else {
+        (fitted, opened)
+    }
+}
+
 fn same_structure(a: &[Contour], b: &[Contour]) -> bool {
     a.len() == b.len()
         && a.iter().zip(b).all(|(x, y)| {

@@ -37,7 +37,7 @@ impl Reconstruction {
                 rings.len()
             )));
         }
-        let lids = tube::lids(&self.params.lids, &rings, &self.contours, &self.layout);
+        let lids = tube::lids(&self.params.lids, &rings, &self.fitted, &self.layout);
         self.place_end_caps(&rings, &lids);
         let mut rings = rings;
         tube::extend_to_base(&mut rings, &lids, &self.layout.axis);
@@ -99,7 +99,7 @@ impl Reconstruction {
             self.params.apex_floor,
             rings,
             lids,
-            &self.contours,
+            &self.fitted,
             &self.layout.kinds,
             &self.layout.axis,
             spacing_mm,
