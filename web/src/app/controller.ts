@@ -20,6 +20,7 @@ import { asksForImages, cvi42Study, workspaceTest, type Cvi42Study } from '../io
 import { imageHeaders, isSegmentationFile, looksDicom } from '../io/dicomHeaders';
 import { filesOfPickedFolder, pathInFolder, withSegmentations } from '../io/folderDrop';
 import { expandArchives } from '../io/zipArchive';
+import { joinMarkups, joinedText } from '../io/markupsStudy';
 import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { keptSpecksNote, secondLoopsNote } from '../ui/runText';
@@ -221,7 +222,7 @@ export class Controller {
     // The files of ZIP archives instead of the archives (DICOM images as their headers); an
     // archive that cannot be read (damaged, encrypted, too big unpacked) is named, not opened.
     const unpacked = await expandArchives(given);
-    const files = unpacked.files;
+    let files: File[] = unpacked.files;
     const archivesRefused = unpacked.refused;
     if (files.length === 0) {
       // Nothing but archives, none read: the first refused, the others named after it.
@@ -236,6 +237,9 @@ export class Controller {
     const waiting = this.waitingStudy;
     this.waitingStudy = null;
     if (waiting && (await this.openStudy({ workspaces: waiting.workspaces, images: [...waiting.images, ...files] }, skipped, true, archivesRefused))) return;
+    // Slicer markups, a file per curve: joined into one set (io/markupsStudy.ts).
+    const markups = await joinMarkups(files);
+    files = markups.files;
     const onScreen = this.currentFile()?.fileName ?? null;
     let first: string | null = null;
     // The archives not read count among the files not opened, as any file refused.
@@ -287,7 +291,8 @@ export class Controller {
         refusedFiles.set(this.lastRefusal, loose.length);
       }
     }
-    const renamedNote = [renamedText(renamed), skippedText(skipped), added].filter(Boolean).join(' ');
+    const joinedNote = markups.name !== null && first !== null ? joinedText(markups.joined, markups.name) : '';
+    const renamedNote = [joinedNote, renamedText(renamed), skippedText(skipped), added].filter(Boolean).join(' ');
     if (first !== null) {
       this.sampleId = null;
       // A session's own surface first, else the one asked for (the link's, or the one last chosen).

@@ -38,7 +38,10 @@ pub const USAGE: &str =
   (reconstruct SC-HF-I-01/contours-manual/IRCCI-expert/ SCD0000101/CINESAX_300/ -o ...; image
   0048 of the series, by file name or Instance Number; icontour LV_ENDO, ocontour LV_EPI): each
   contour placed by its image's position, orientation and pixel spacing, the frame of a cine
-  slice by trigger time from 0 (--frame 9), other files set aside with a warning;
+  slice by trigger time from 0 (--frame 9), other files set aside with a warning; or 3D Slicer
+  markups (.mrk.json, one file per curve as Slicer saves them: the files or their folder,
+  reconstruct patient1-markups/ -o ...), read as one set, closed curves and curves through their
+  control points, each curve's surface from its name (LV endo 3: LV_ENDO);
   MESH format from its extension: .obj .stl .ply .vtk .vtp (--ascii: ASCII STL); PLY, VTK and
   VTP carry each vertex's distance to the nearest contour point (mm) as point data `distance`;
   --smoothing-method taubin: lambda/mu smoothing (lambda = smoothing factor, at most 0.6)

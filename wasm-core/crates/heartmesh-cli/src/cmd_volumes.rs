@@ -318,8 +318,9 @@ fn frames_flag(value: Option<&str>) -> Result<Option<Vec<FrameChoice>>, CliError
 
 /// The phases: each file one, or each (asked-for) time frame of a single file holding a sequence.
 fn load_phases(paths: &[String], frames: Option<&[FrameChoice]>) -> Result<Vec<Phase>, CliError> {
+    // A phase may be a folder (of Slicer markups, one file per curve).
     let phase = |path: &str, name: String, frame: Option<FrameChoice>| {
-        contours::load(path, frame).map(|l| Phase {
+        contours::load_all(&[path.to_string()], frame).map(|(_, l)| Phase {
             name,
             input: path.to_string(),
             set: l.set,

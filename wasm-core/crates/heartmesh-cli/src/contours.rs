@@ -52,15 +52,16 @@ pub fn load(path: &str, frame: Option<FrameChoice>) -> Result<Loaded, CliError> 
 /// Contours of one file, or of a study given as several: a NIfTI short-axis label map and its
 /// long-axis views (single-slice label maps), in any order; or a cvi42 workspace with the DICOM
 /// images it was drawn on (files, folders or ZIP archives, or one folder or archive holding
-/// both). Returns the path given of the file the contours are named after (the stack's, or the
+/// both); or Slicer markups files (several, or a folder of them). Returns the path given of the file the contours are named after (the stack's, or the
 /// folder or archive holding it), for messages and the report.
 pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, Loaded), CliError> {
     let [first, rest @ ..] = paths else {
         return Err(CliError::usage("no contour file given"));
     };
-    // One file is read as it is; one archive (or a folder holding a workspace) for its files.
+    // One file is read as it is; one archive or folder (a workspace with its images, a folder
+    // of Slicer markups) for its files.
     let archive = |p: &String| files::read(p).is_ok_and(|b| io::zip::is_zip(&b));
-    if rest.is_empty() && !archive(first) && !is_workspace_study(paths) {
+    if rest.is_empty() && !archive(first) && !Path::new(first).is_dir() {
         return load(first, frame).map(|l| (first.as_str(), l));
     }
     let entries = expand(paths)?;

@@ -15,6 +15,7 @@ mod frame_choice;
 mod frames;
 pub mod gpfile;
 pub mod gzip;
+pub mod markups;
 pub mod mat;
 pub mod nifti;
 pub mod obj;
@@ -96,6 +97,8 @@ pub enum ContourFormat {
     /// Sunnybrook Cardiac Data contour files (`IM-0001-0048-icontour-manual.txt`), read with the
     /// DICOM images they were drawn on.
     Sunnybrook,
+    /// 3D Slicer markups (`.mrk.json`): closed curves and curves, one file or a folder of them.
+    SlicerMarkups,
 }
 
 impl ContourFormat {
@@ -131,6 +134,7 @@ impl ContourFormat {
             ContourFormat::Cvi42 => "cvi42 workspace",
             ContourFormat::DicomSeg => "DICOM SEG",
             ContourFormat::Sunnybrook => "Sunnybrook contours",
+            ContourFormat::SlicerMarkups => "Slicer markups",
         }
     }
 }
@@ -240,6 +244,9 @@ pub fn detect_contour_format(file_name: &str, bytes: &[u8]) -> ContourFormat {
     if starts(b"<?xml") || starts(b"<VTKFile") {
         return ContourFormat::VtpLines;
     }
+    if markups::is_markups(head) {
+        return ContourFormat::SlicerMarkups;
+    }
     if session::looks_like_session(head) || (starts(b"{") && ext == "json") {
         return ContourFormat::Session;
     }
@@ -316,6 +323,7 @@ pub fn read_contours_with(
             | ContourFormat::DicomSeg
             | ContourFormat::Cvi42
             | ContourFormat::Sunnybrook
+            | ContourFormat::SlicerMarkups
     );
     if !takes_views && !options.views.is_empty() {
         return Err(CoreError::parse(
@@ -373,6 +381,7 @@ pub fn read_contours_with(
             options.views,
             options.frame.as_ref(),
         ),
+        ContourFormat::SlicerMarkups => markups::read_markups(file_name, bytes, options.views),
     }?;
     if set.coordinate_system.is_none() {
         set.coordinate_system = format.coordinate_system();
@@ -406,6 +415,13 @@ pub fn read_study(
         ([one], _) => return read_with_companions(files, *one, options),
         _ => {}
     }
+    // A folder of Slicer markups (one node per file, as Slicer saves them): one set.
+    if files
+        .iter()
+        .all(|(_, bytes)| markups::is_markups(&bytes[..bytes.len().min(4096)]))
+    {
+        return read_with_companions(files, 0, options);
+    }
     match workspaces[..] {
         [] | [_] => {}
         [a, b, ..] => {
@@ -421,7 +437,7 @@ pub fn read_study(
             refuse(format!(
                 "{name} is not a label map (NIfTI-1, NRRD or DICOM SEG): several files are read \
                  together only as one segmented study (a short-axis label map and its long-axis \
-                 views) or as a cvi42 workspace with its DICOM images"
+                 views), as a cvi42 workspace with its DICOM images or as Slicer markups files"
             ))
         })?;
         if grid.0.iter().all(|&d| d > 1) {

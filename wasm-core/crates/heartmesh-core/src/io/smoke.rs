@@ -232,11 +232,22 @@ fn contour_readers_survive_mutations() {
     run("nifti", &nii, |b| {
         let _ = nifti::read_nifti(b, None);
     });
+    // Slicer markups: one curve as Slicer saves it, alone and read with a copy of itself.
+    let markups_seed = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/slicer-markups-patient1/s06_SAX_RV_SEPTUM.mrk.json"
+    ))
+    .unwrap();
+    run("markups", std::slice::from_ref(&markups_seed), |b| {
+        let _ = markups::read_markups("m.mrk.json", b, &[]);
+        let _ = markups::read_markups("a.mrk.json", b, &[("b.mrk.json", b)]);
+    });
     // And the detecting entry point over all of them.
     let mut all: Vec<Vec<u8>> = csv.into_iter().chain(gp).chain(xyz).chain(vtk).collect();
     all.extend(session);
     all.extend(rt);
     all.extend(nii);
+    all.push(markups_seed);
     run("detect", &all, |b| {
         let _ = read_contours("x.txt", b);
     });

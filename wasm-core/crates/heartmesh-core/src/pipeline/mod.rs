@@ -792,8 +792,6 @@ impl Reconstruction {
     }
 }
 
-/// Same contours, pieces and point counts (cleaning shifted and unshifted copies of a contour
-/// gives the same structure unless a spacing sits exactly on a cleaning threshold).
 /// The contours the mesh is fitted to and the ids of the long-axis curves opened at their valve
 /// chord (`contours::valve_chord`). A chord is opened to hand the valve to the lid through the
 /// opened curves' tips; where other curves still close the base (an RV outflow curve over the
@@ -805,15 +803,13 @@ impl Reconstruction {
 /// its lines 7.6 mm off the mesh opened, 1.4 mm as wall), so RV and biventricular surfaces (named
 /// `RV...` or `BIV...`, as the alignment tells them) keep their lines as wall.
 fn fitted_contours(contours: &[Contour], layout: &Layout) -> (Vec<Contour>, Vec<String>) {
-    let two_valves = |s: &str| {
-        let s = s.trim().to_ascii_uppercase();
-        s.starts_with("RV") || s.starts_with("BIV")
-    };
-    let basal = layout.slices.last();
-    let rv = contours
-        .iter()
-        .any(|c| c.surface.as_deref().is_some_and(two_valves));
-    let Some(basal) = basal.filter(|_| !rv) else {
+    let two_valves = contours.iter().any(|c| {
+        c.surface.as_deref().is_some_and(|s| {
+            let s = s.trim().to_ascii_uppercase();
+            s.starts_with("RV") || s.starts_with("BIV")
+        })
+    });
+    let Some(basal) = layout.slices.last().filter(|_| !two_valves) else {
         return (contours.to_vec(), Vec::new());
     };
     let (fitted, opened) = open_valve_chords(contours, &layout.kinds, &layout.axis, basal.height);
@@ -833,6 +829,8 @@ fn fitted_contours(contours: &[Contour], layout: &Layout) -> (Vec<Contour>, Vec<
     }
 }
 
+/// Same contours, pieces and point counts (cleaning shifted and unshifted copies of a contour
+/// gives the same structure unless a spacing sits exactly on a cleaning threshold).
 fn same_structure(a: &[Contour], b: &[Contour]) -> bool {
     a.len() == b.len()
         && a.iter().zip(b).all(|(x, y)| {

@@ -1,0 +1,59 @@
+// Browser end-to-end test (dist/, Debian's chromium) of 3D Slicer markups: the core's fixture
+// (biv-me patient 1's ED curves as a Slicer user leaves them, one `.mrk.json` per curve with a
+// control point every 8 mm, and the RV insertions as a point list; scripts/markups_fixture.py)
+// dropped as a folder with one damaged file beside them. The 41 markups files open as one entry,
+// the banner says so and names the damaged file with the core's words; every surface is there,
+// and LV_ENDO reconstructs closed as the command line's mesh of the same folder (1041 vertices,
+// 174.41 ml: `heartmesh reconstruct slicer-markups-patient1 --surface LV_ENDO`).
+import { describe, it } from 'node:test';
+import assert from 'node:assert/strict';
+import { cpSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf } from './lib.mjs';
+import { appForFile } from './perFile.mjs';
+
+let server;
+let page;
+const pageErrors = [];
+appForFile({ goto: false, onPageError: (m) => pageErrors.push(m) }, (app) => ({ server, page } = app));
+
+const FIXTURE = join(ROOT, 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'slicer-markups-patient1');
+const JOINED = 'Slicer markups (41 files).mrk.json';
+
+describe('3D Slicer markups', () => {
+  it('opens a folder of .mrk.json curves as one contour set and reconstructs it as the command line does', async () => {
+    await page.setViewportSize({ width: 1280, height: 720 });
+    await gotoEmpty(page, server.url);
+    const root = mkdtempSync(join(tmpdir(), 'heartmesh-markups-'));
+    const dir = join(root, 'patient1-ED');
+    cpSync(FIXTURE, dir, { recursive: true });
+    writeFileSync(join(dir, 'damaged.mrk.json'), '{"@schema": "markups-schema-v1.0.3", "markups": [\n{"type": "ClosedCurve",\n');
+    try {
+      await dropPaths(page, [dir]);
+      assert.deepEqual(await page.$$eval('[data-testid=file-picker] option', (os) => os.map((o) => o.value)), [JOINED]);
+      const banner = await textOf(page, '[data-testid=error-banner]');
+      assert.match(banner, /^1 of 2 files not opened: damaged\.mrk\.json, line 3: not valid JSON/, banner);
+      assert.match(banner, /41 Slicer markups files were read as one contour set: Slicer markups \(41 files\)\.mrk\.json\./, banner);
+      const surfaces = await page.$$eval('[data-testid=surface-picker] option', (os) => os.map((o) => o.value));
+      for (const s of ['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']) assert.ok(surfaces.includes(s), `${s} in ${surfaces}`);
+      if ((await page.inputValue('[data-testid=surface-picker]')) !== 'LV_ENDO') {
+        await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_ENDO'));
+      }
+      const m = await meshOnScreen(page);
+      const r = await readResult(page);
+      assert.equal(m.watertight, true);
+      assert.equal(m.contours, 8, 'LV_ENDO: 5 short-axis rings and 3 long-axis curves');
+      assert.equal(m.contourPoints, 1419, 'the splines through the control points (heartmesh info: 1419 points)');
+      assert.equal(r.vertices, 1041, 'the command line mesh of the folder');
+      assert.ok(Math.abs(m.volumeMl - 174.41) < 0.01, `${m.volumeMl} ml (command line: 174.41 ml)`);
+      assert.ok(r.meanMm > 0 && r.meanMm <= 0.5, `contour-to-mesh mean ${r.meanMm} mm`);
+      console.log(`# Slicer markups fixture: LV_ENDO ${m.volumeMl.toFixed(2)} ml, contour-to-mesh mean ${r.meanMm.toFixed(3)} mm`);
+      await page.mouse.move(0, 0);
+      if (SHOTS) await page.screenshot({ path: join(SHOTS, 'slicer-markups.png') });
+      assert.deepEqual(pageErrors, []);
+    } finally {
+      rmSync(root, { recursive: true, force: true });
+    }
+  });
+});

@@ -1,0 +1,65 @@
+// Slicer markups opened together (io/markupsStudy.ts): a folder of `.mrk.json` files, one curve
+// each, joined into one markups file in name order; other files and broken markups left as given.
+import { describe, expect, it } from 'vitest';
+import lvEndo2 from '../../wasm-core/crates/heartmesh-core/tests/data/slicer-markups-patient1/s02_SAX_LV_ENDOCARDIAL.mrk.json?raw';
+import { isMarkupsHead, joinedName, joinedText, joinMarkups, markupsStem } from '../../web/src/io/markupsStudy';
+
+const bytes = (s: string) => new TextEncoder().encode(s);
+const file = (name: string, text: string, lastModified = 1000) => new File([text], name, { lastModified });
+const schema = 'https://raw.githubusercontent.com/slicer/slicer/master/Modules/Loadable/Markups/Resources/Schema/markups-schema-v1.0.3.json#';
+const curve = (name: string | null, z: number) =>
+  JSON.stringify({
+    '@schema': schema,
+    markups: [{ type: 'ClosedCurve', ...(name ? { name } : {}), controlPoints: [0, 1, 2].map((k) => ({ position: [Math.cos(k), Math.sin(k), z] })) }],
+  });
+
+describe('Slicer markups files', () => {
+  it('tells a markups file by its content, as the core does', () => {
+    expect(isMarkupsHead(bytes(lvEndo2))).toBe(true);
+    expect(isMarkupsHead(bytes('\uFEFF  {"markups": [{"type": "Curve", "controlPoints": []}]}'))).toBe(true);
+    expect(isMarkupsHead(bytes('{"heartmesh_session": 1, "contours": []}'))).toBe(false);
+    expect(isMarkupsHead(bytes('[{"markups-schema": 1}]'))).toBe(false);
+    expect(markupsStem('LV_ENDO_3.mrk.json')).toBe('LV_ENDO_3');
+    expect(markupsStem('C.JSON')).toBe('C');
+    expect(markupsStem('notes.txt')).toBe('notes.txt');
+  });
+
+  it('joins two or more in name order, naming the unnamed by their files, and leaves the rest', async () => {
+    const given = [
+      file('s10.mrk.json', curve('LV_ENDO_10', 10), 3000),
+      file('GPFile_000.txt', 'not markups'),
+      file('s09.mrk.json', curve(null, 9), 2000),
+      file('broken.mrk.json', `{"@schema": "${schema}", "markups": [`),
+    ];
+    const { files, joined, name } = await joinMarkups(given);
+    expect(joined).toBe(2);
+    expect(name).toBe(joinedName(2));
+    expect(files.map((f) => f.name)).toEqual(['Slicer markups (2 files).mrk.json', 'GPFile_000.txt', 'broken.mrk.json']);
+    const doc = JSON.parse(await files[0].text());
+    expect(doc['@schema']).toBe(schema);
+    // Code-unit order, as the core orders a folder's files: s09 before s10.
+    expect(doc.markups.map((m: { name: string }) => m.name)).toEqual(['s09', 'LV_ENDO_10']);
+    expect(doc.markups[1].controlPoints[2].position[2]).toBe(10);
+    // Dropped again, the same file to the app (its size and date).
+    expect(files[0].lastModified).toBe(3000);
+    const again = await joinMarkups(given);
+    expect(again.files[0].size).toBe(files[0].size);
+    expect(joinedText(2, name ?? '')).toBe('2 Slicer markups files were read as one contour set: Slicer markups (2 files).mrk.json.');
+  });
+
+  it('joins nothing when fewer than two files are markups', async () => {
+    const one = [file('a.mrk.json', curve('A', 0)), file('b.csv', 'contour,x,y,z')];
+    const out = await joinMarkups(one);
+    expect(out.joined).toBe(0);
+    expect(out.files).toEqual(one);
+    const session = [file('a.json', '{"heartmesh_session": 1}'), file('b.json', '{"heartmesh_session": 1}')];
+    expect((await joinMarkups(session)).joined).toBe(0);
+  });
+
+  it('names the markups of a file holding several by file and number', async () => {
+    const two = JSON.stringify({ '@schema': schema, markups: [JSON.parse(curve(null, 0)).markups[0], JSON.parse(curve(null, 5)).markups[0]] });
+    const { files } = await joinMarkups([file('rings.mrk.json', two), file('z.mrk.json', curve('Z', 9))]);
+    const doc = JSON.parse(await files[0].text());
+    expect(doc.markups.map((m: { name: string }) => m.name)).toEqual(['rings-1', 'rings-2', 'Z']);
+  });
+});

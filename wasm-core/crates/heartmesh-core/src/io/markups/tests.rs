@@ -1,0 +1,311 @@
+use super::*;
+use crate::io::{detect_contour_format, read_contours, read_study, ContourFormat, ContourOptions};
+
+const SCHEMA: &str = "https://raw.githubusercontent.com/slicer/slicer/master/Modules/Loadable/Markups/Resources/Schema/markups-schema-v1.0.3.json#";
+
+/// One markup's JSON: `points` as control points (each `[x, y, z]`, or `None` for a point not
+/// placed yet), with `extra` fields spliced in.
+fn markup(kind: &str, name: Option<&str>, points: &[Option<[f64; 3]>], extra: &str) -> String {
+    let cps: Vec<String> = points
+        .iter()
+        .enumerate()
+        .map(|(k, p)| match p {
+            Some([x, y, z]) => format!(
+                r#"{{"id":"{k}","label":"P-{k}","position":[{x},{y},{z}],"positionStatus":"defined"}}"#
+            ),
+            None => format!(r#"{{"id":"{k}","label":"P-{k}","position":[0,0,0],"positionStatus":"undefined"}}"#),
+        })
+        .collect();
+    let name = name.map_or(String::new(), |n| format!(r#""name":"{n}","#));
+    format!(
+        r#"{{"type":"{kind}",{name}"coordinateSystem":"LPS","coordinateUnits":"mm"{extra},"controlPoints":[{}],"display":{{"visibility":true}}}}"#,
+        cps.join(",")
+    )
+}
+
+fn file(markups: &[String]) -> Vec<u8> {
+    format!(
+        r#"{{"@schema":"{SCHEMA}","markups":[{}]}}"#,
+        markups.join(",")
+    )
+    .into_bytes()
+}
+
+/// `n` control points round a circle of radius `r` at height `z`.
+fn ring(n: usize, r: f64, z: f64) -> Vec<Option<[f64; 3]>> {
+    (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            Some([r * a.cos(), r * a.sin(), z])
+        })
+        .collect()
+}
+
+#[test]
+fn a_closed_curve_follows_the_circle_through_its_control_points() {
+    // 12 points round a 25 mm circle: the polygon's chords fall 0.85 mm inside at their middles.
+    let bytes = file(&[markup(
+        "ClosedCurve",
+        Some("LV_ENDO_3"),
+        &ring(12, 25.0, 40.0),
+        "",
+    )]);
+    assert_eq!(
+        detect_contour_format("c.mrk.json", &bytes),
+        ContourFormat::SlicerMarkups
+    );
+    let set = read_contours("c.mrk.json", &bytes).unwrap();
+    assert_eq!(set.contours.len(), 1);
+    let c = &set.contours[0];
+    assert_eq!(
+        (c.id.as_str(), c.surface.as_deref()),
+        ("LV_ENDO_3", Some("LV_ENDO"))
+    );
+    assert_eq!(c.pieces.len(), 1);
+    assert!(c.pieces[0].closed);
+    let pts = &c.pieces[0].points;
+    // 12 segments of 12.9 mm, each in 13 steps of under 1 mm.
+    assert_eq!(pts.len(), 12 * 13);
+    let worst = pts
+        .iter()
+        .map(|p| ((p.x * p.x + p.y * p.y).sqrt() - 25.0).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 0.1, "spline {worst} mm off the circle");
+    assert!(pts.iter().all(|p| (p.z - 40.0).abs() < 1e-12));
+    let step = pts
+        .iter()
+        .zip(pts.iter().cycle().skip(1))
+        .map(|(a, b)| (b - a).norm())
+        .fold(0.0, f64::max);
+    // Steps cut the chord in millimetres; the arc over it is a little longer.
+    assert!(step <= 1.05, "step {step} mm");
+    assert_eq!(set.coordinate_system, Some(CoordinateSystem::Lps));
+}
+
+#[test]
+fn an_open_curve_keeps_its_ends_and_undefined_points_are_skipped() {
+    let mut pts = vec![
+        Some([0.0, 0.0, 0.0]),
+        Some([10.0, 5.0, 0.0]),
+        None,
+        Some([20.0, 0.0, 0.0]),
+    ];
+    pts.push(Some([30.0, -5.0, 0.0]));
+    let bytes = file(&[markup("Curve", Some("LV endo 4CH"), &pts, "")]);
+    let set = read_contours("x.json", &bytes).unwrap();
+    let c = &set.contours[0];
+    assert_eq!(c.surface.as_deref(), Some("LV_ENDO"));
+    let p = &c.pieces[0];
+    assert!(!p.closed);
+    assert_eq!(p.points[0], v3(0.0, 0.0, 0.0));
+    assert_eq!(*p.points.last().unwrap(), v3(30.0, -5.0, 0.0));
+    // The undefined point at (0, 0, 0) is not between (10, 5) and (20, 0).
+    assert!(p.points.iter().skip(1).all(|q| q.x > 0.5));
+}
+
+#[test]
+fn names_give_surfaces_without_their_slice_tags() {
+    for (name, surface) in [
+        ("LV_ENDO_3", Some("LV_ENDO")),
+        ("lv endo sax3", Some("LV_ENDO")),
+        ("sax3-LV-endo", Some("LV_ENDO")),
+        ("RV_ENDO_4CH", Some("RV_ENDO")),
+        ("LV_EPI slice 12", Some("LV_EPI")),
+        ("LV_EPI_LAX_2", Some("LV_EPI")),
+        ("s02_SAX_LV_ENDOCARDIAL", Some("LV_ENDO")),
+        ("s02_SAX_RV_FREEWALL", Some("RV_ENDO")),
+        ("s02_SAX_RV_SEPTUM", Some("RV_ENDO")),
+        ("RV free wall 5", Some("RV_ENDO")),
+        ("LVEpi_4ch", Some("LV_EPI")),
+        ("left ventricle endocardium", Some("LV_ENDO")),
+        ("rv epi 2", Some("RV_EPI")),
+        ("curve lv endo", Some("LV_ENDO")),
+        ("myo_3", Some("MYO")),
+        ("LV septum 3", Some("LV_SEPTUM")),
+        ("CC_1", Some("CC")),
+        ("CC", Some("CC")),
+        ("3", None),
+        ("SA 4", None),
+    ] {
+        assert_eq!(surface_of(name).as_deref(), surface, "{name}");
+    }
+}
+
+#[test]
+fn a_folder_of_files_is_one_set_in_name_order_whatever_the_order_given() {
+    let a = file(&[markup(
+        "ClosedCurve",
+        Some("LV_ENDO_1"),
+        &ring(10, 20.0, 0.0),
+        "",
+    )]);
+    let b = file(&[markup(
+        "ClosedCurve",
+        Some("LV_ENDO_2"),
+        &ring(10, 22.0, 10.0),
+        "",
+    )]);
+    // No name: the file's name is the id (Slicer names the node after the file it reads).
+    let c = file(&[markup(
+        "Curve",
+        None,
+        &[
+            Some([0.0, -30.0, -20.0]),
+            Some([0.0, 0.0, -30.0]),
+            Some([0.0, 30.0, -20.0]),
+        ],
+        "",
+    )]);
+    let files: [(&str, &[u8]); 3] = [
+        ("dir/LV_ENDO_2.mrk.json", &b),
+        ("dir/LV_ENDO_4CH.mrk.json", &c),
+        ("dir/LV_ENDO_1.mrk.json", &a),
+    ];
+    let (_, set) = read_study(&files, &ContourOptions::default()).unwrap();
+    let ids: Vec<&str> = set.contours.iter().map(|c| c.id.as_str()).collect();
+    assert_eq!(ids, ["LV_ENDO_1", "LV_ENDO_2", "LV_ENDO_4CH"]);
+    assert!(set
+        .contours
+        .iter()
+        .all(|c| c.surface.as_deref() == Some("LV_ENDO")));
+    let reversed: Vec<(&str, &[u8])> = files.iter().rev().copied().collect();
+    let (_, again) = read_study(&reversed, &ContourOptions::default()).unwrap();
+    assert_eq!(again.contours, set.contours);
+}
+
+#[test]
+fn one_name_is_one_contour_in_pieces_and_other_markups_are_named_as_skipped() {
+    let line = markup(
+        "Line",
+        Some("L"),
+        &[Some([0.0, 0.0, 0.0]), Some([1.0, 0.0, 0.0])],
+        "",
+    );
+    let fiducials = r#"{"type":"Fiducial","name":"F","controlPoints":[{"label":"RV_INSERT_ANTERIOR","position":[1,2,3]},{"label":"APEX_POINT","position":[4,5,6],"positionStatus":"preview"}]}"#;
+    let bytes = file(&[
+        markup("ClosedCurve", Some("CC"), &ring(8, 20.0, 0.0), ""),
+        markup("ClosedCurve", Some("CC"), &ring(8, 20.0, 10.0), ""),
+        line,
+        fiducials.to_string(),
+    ]);
+    let set = read_contours("m.mrk.json", &bytes).unwrap();
+    let ids: Vec<&str> = set.contours.iter().map(|c| c.id.as_str()).collect();
+    assert_eq!(ids, ["CC"]);
+    assert_eq!(set.contours[0].pieces.len(), 2);
+    assert_eq!(
+        set.landmarks,
+        vec![("RV_INSERT_ANTERIOR".to_string(), v3(1.0, 2.0, 3.0))]
+    );
+    assert!(
+        set.warnings.iter().any(|w| w.contains("skipped: L (Line)")),
+        "{:?}",
+        set.warnings
+    );
+}
+
+#[test]
+fn frames_and_units_come_to_the_first_markups_frame_in_millimetres() {
+    let ras = markup("ClosedCurve", Some("B"), &ring(8, 20.0, 10.0), "")
+        .replace(r#""coordinateSystem":"LPS""#, r#""coordinateSystem":"RAS""#);
+    let um = markup("ClosedCurve", Some("C"), &ring(8, 20_000.0, 20_000.0), "").replace(
+        r#""coordinateUnits":"mm""#,
+        r#""coordinateUnits":["um","UCUM","micrometer"]"#,
+    );
+    let bytes = file(&[
+        markup("ClosedCurve", Some("A"), &ring(8, 20.0, 0.0), ""),
+        ras,
+        um,
+    ]);
+    let set = read_contours("m.mrk.json", &bytes).unwrap();
+    assert_eq!(set.coordinate_system, Some(CoordinateSystem::Lps));
+    let first = |k: usize| set.contours[k].pieces[0].points[0];
+    // B's first point (20, 0, 10) in RAS is (-20, 0, 10) in LPS.
+    assert!(
+        (first(1) - v3(-20.0, 0.0, 10.0)).norm() < 1e-9,
+        "{:?}",
+        first(1)
+    );
+    assert!(
+        (first(2) - v3(20.0, 0.0, 20.0)).norm() < 1e-9,
+        "{:?}",
+        first(2)
+    );
+    assert!(set
+        .warnings
+        .iter()
+        .any(|w| w.starts_with("B taken from the other patient frame into LPS")));
+    // A file of RAS markups says RAS.
+    let ras_only =
+        file(&[markup("ClosedCurve", Some("A"), &ring(8, 20.0, 0.0), "").replace("LPS", "RAS")]);
+    assert_eq!(
+        read_contours("r.mrk.json", &ras_only)
+            .unwrap()
+            .coordinate_system,
+        Some(CoordinateSystem::Ras)
+    );
+}
+
+#[test]
+fn bad_files_are_refused_with_what_is_wrong() {
+    let err = |name: &str, bytes: &[u8]| read_contours(name, bytes).unwrap_err().to_string();
+    let broken = format!("{{\"@schema\":\"{SCHEMA}\",\n\"markups\":[{{\"type\":\"ClosedCurve\",\n\"controlPoints\":[1,]}}]}}");
+    let e = err("b.mrk.json", broken.as_bytes());
+    assert!(e.contains("line 3") && e.contains("not valid JSON"), "{e}");
+    let e = err(
+        "n.mrk.json",
+        format!(r#"{{"@schema":"{SCHEMA}"}}"#).as_bytes(),
+    );
+    assert!(e.contains("no \"markups\" list"), "{e}");
+    let nopos = file(&[r#"{"type":"ClosedCurve","name":"S1","controlPoints":[{"position":[1,2]},{"position":[1,2,3]},{"position":[3,2,1]}]}"#.to_string()]);
+    let e = err("p.mrk.json", &nopos);
+    assert!(e.contains("S1: control point 1 has no position"), "{e}");
+    let feet = file(&[
+        markup("ClosedCurve", Some("A"), &ring(8, 20.0, 0.0), "").replace(r#""mm""#, r#""ft""#)
+    ]);
+    assert!(err("f.mrk.json", &feet).contains("coordinate units \"ft\""));
+    let points_only = file(&[markup(
+        "Line",
+        Some("L"),
+        &[Some([0.0, 0.0, 0.0]), Some([1.0, 0.0, 0.0])],
+        "",
+    )]);
+    assert!(err("l.mrk.json", &points_only).contains("no curve or closed curve"));
+    // A hostile segment 10 km long costs 64 points, not ten thousand.
+    let far = file(&[markup(
+        "Curve",
+        Some("F"),
+        &[Some([0.0, 0.0, 0.0]), Some([1e7, 0.0, 0.0])],
+        "",
+    )]);
+    let set = read_contours("far.mrk.json", &far).unwrap();
+    assert!(set.contours[0].point_count() <= MAX_SEGMENT_STEPS + 1);
+    // Control points whose splines would pass the points limit are refused before any is made.
+    let many: Vec<Option<[f64; 3]>> = (0..40_000)
+        .map(|k| Some([k as f64 * 100.0, 0.0, 0.0]))
+        .collect();
+    let e = err(
+        "many.mrk.json",
+        &file(&[markup("Curve", Some("M"), &many, "")]),
+    );
+    assert!(e.contains("too many points"), "{e}");
+    // In a folder, the error names its file.
+    let good = file(&[markup("ClosedCurve", Some("A"), &ring(8, 20.0, 0.0), "")]);
+    let files: [(&str, &[u8]); 2] = [("a.mrk.json", &good), ("p.mrk.json", &nopos)];
+    let e = read_study(&files, &ContourOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("p.mrk.json: S1: control point 1"), "{e}");
+}
+
+#[test]
+fn a_heartmesh_session_is_not_taken_for_markups() {
+    let session = br#"{"heartmesh_session": 1, "contours": [{"id": "c1", "points": [[0,0,0],[1,0,0],[0,1,0]]}]}"#;
+    assert_eq!(
+        detect_contour_format("s.json", session),
+        ContourFormat::Session
+    );
+    assert!(!is_markups(b"[1, 2, 3]"));
+    assert!(is_markups(
+        br#"{"markups": [{"type": "Curve", "controlPoints": []}]}"#
+    ));
+}
