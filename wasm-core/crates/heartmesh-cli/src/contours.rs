@@ -58,13 +58,22 @@ pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, L
     let [first, rest @ ..] = paths else {
         return Err(CliError::usage("no contour file given"));
     };
-    // One file is read as it is; one archive or folder (a workspace with its images, a folder
-    // of Slicer markups) for its files.
+    // One file is read as it is; one archive (or a folder holding a workspace, or Slicer markups)
+    // for its files; any other folder is refused saying which files it holds.
     let archive = |p: &String| files::read(p).is_ok_and(|b| io::zip::is_zip(&b));
-    if rest.is_empty() && !archive(first) && !Path::new(first).is_dir() {
+    let markups_folder = rest.is_empty() && holds_markups(first);
+    if rest.is_empty() && !archive(first) && !is_workspace_study(paths) && !markups_folder {
         return load(first, frame).map(|l| (first.as_str(), l));
     }
-    let entries = expand(paths)?;
+    let mut entries = expand(paths)?;
+    // A Slicer scene's folder holds its scene file and images beside the markups: set aside.
+    let mut aside = Vec::new();
+    if markups_folder {
+        let (markups, others): (Vec<Entry>, Vec<Entry>) =
+            entries.into_iter().partition(|e| is_markups(&e.bytes));
+        entries = markups;
+        aside = others.into_iter().map(|e| e.name).collect();
+    }
     let named: Vec<(&str, &[u8])> = entries
         .iter()
         .map(|e| (e.name.as_str(), e.bytes.as_slice()))
@@ -74,7 +83,14 @@ pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, L
         ..ContourOptions::default()
     };
     // Each error names the file it is about itself.
-    let (stack, set) = io::read_study(&named, &options).map_err(CliError::param)?;
+    let (stack, mut set) = io::read_study(&named, &options).map_err(CliError::param)?;
+    if !aside.is_empty() {
+        set.warnings.push(format!(
+            "{} other file(s) of the folder set aside (not Slicer markups): {}",
+            aside.len(),
+            aside.join(", ")
+        ));
+    }
     let e = &entries[stack];
     Ok((
         paths[e.origin].as_str(),
@@ -84,6 +100,19 @@ pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, L
             session_params: None,
         },
     ))
+}
+
+/// Whether a file's start is a Slicer markups file's.
+fn is_markups(bytes: &[u8]) -> bool {
+    io::markups::is_markups(&bytes[..bytes.len().min(4096)])
+}
+
+/// Whether `path` is a folder holding Slicer markups files (read together, as Slicer saves one
+/// curve per file).
+fn holds_markups(path: &str) -> bool {
+    Path::new(path).is_dir()
+        && expand(std::slice::from_ref(&path.to_string()))
+            .is_ok_and(|entries| entries.iter().any(|e| is_markups(&e.bytes)))
 }
 
 /// One file of the inputs: `origin` is the index of the path given that holds it (itself, a

@@ -265,3 +265,32 @@ fn convert_keeps_the_frame_and_compare_measures_in_one() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_csv_made_of_framed_contours_says_the_frame_and_is_read_back_in_it() {
+    let dir = scratch("coordinate-system-csv");
+    let gpfile = data("contours/bivme-example-patient1/GPFile_000.txt");
+    let csv = dir.join("patient1.csv");
+    let (code, _, err) = run(bin().args(["convert", s(&gpfile), s(&csv)]));
+    assert_eq!(code, 0, "{err}");
+    let body = text(&csv);
+    assert!(
+        body.starts_with("# SPACE=LPS\ncontour,x,y,z,surface\n"),
+        "{}",
+        &body[..60]
+    );
+    // Read back: the mesh and the report say LPS, as the GPFile's do, and the same mesh.
+    let from_csv = reconstruct(s(&csv), &dir.join("from-csv.obj"));
+    let from_gp = reconstruct(s(&gpfile), &dir.join("from-gp.obj"));
+    assert_eq!(from_csv["coordinate_system"], "LPS");
+    assert!(text(&dir.join("from-csv.obj")).contains("\n# SPACE=LPS\n"));
+    let (a, b) = (
+        from_csv["volume_ml"].as_f64().unwrap(),
+        from_gp["volume_ml"].as_f64().unwrap(),
+    );
+    assert!((a - b).abs() < 1e-6 * b, "{a} vs {b} ml");
+    // `info` says it on its coordinates line.
+    let (_, lines, _) = run(bin().args(["info", s(&csv)]));
+    assert!(lines.contains("\n  coordinates (mm, LPS): x "), "{lines}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

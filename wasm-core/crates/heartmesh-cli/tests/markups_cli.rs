@@ -182,6 +182,26 @@ fn the_files_order_does_not_matter_and_a_bad_file_is_named() {
     assert!(reverse == forward, "the files' order changed the mesh");
     let whole = mesh_of(&[s(&folder)], "folder.obj");
     assert!(whole == forward, "the folder differs from its files");
+    // Saved as a Slicer scene, the folder holds the scene file and the images too: set aside.
+    std::fs::write(
+        folder.join("Scene.mrml"),
+        "<MRML version=\"Slicer5.6\"></MRML>\n",
+    )
+    .unwrap();
+    std::fs::write(folder.join("cine.nrrd"), "NRRD0004\ntype: short\n").unwrap();
+    let path = dir.join("scene.obj");
+    let (code, _, err) = run(bin().arg("reconstruct").arg(&folder).arg("-o").arg(&path));
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("2 other file(s) of the folder set aside (not Slicer markups): ")
+            && err.contains("Scene.mrml")
+            && err.contains("cine.nrrd"),
+        "{err}"
+    );
+    assert!(
+        mesh_of(&[s(&folder)], "scene2.obj") == forward,
+        "the scene's folder differs"
+    );
     // A damaged file among them: exit 2 and one line naming it.
     std::fs::write(folder.join("s05_SAX_LV_ENDOCARDIAL.mrk.json"), format!("{{\"@schema\": \"{SCHEMA}\", \"markups\": [{{\"type\": \"ClosedCurve\", \"controlPoints\": [")).unwrap();
     let (code, _, err) = run(bin()

@@ -11,6 +11,7 @@ use super::builder::ContourBuilder;
 use super::csv_columns::{parse_header, Columns, IdSource};
 use super::frame_choice::FrameChoice;
 use super::frames::FrameFilter;
+use super::space_tag;
 use super::text::{decode, lines, parse_coord};
 use crate::contours::ContourSet;
 use crate::error::{CoreError, Result};
@@ -27,9 +28,13 @@ pub fn read_csv_frame(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<Conto
     let text = decode(bytes)?;
     let mut rows = lines(&text);
     let mut header = None;
+    // The patient frame a comment states (heartmesh's `# SPACE=LPS`, before the header or after).
+    let mut space = None;
     for (line, row) in rows.by_ref() {
         let t = row.trim_start();
-        if !t.is_empty() && !t.starts_with('#') {
+        if let Some(c) = t.strip_prefix('#') {
+            space = space.or_else(|| space_tag::of_comment(c));
+        } else if !t.is_empty() {
             header = Some((line, row));
             break;
         }
@@ -77,6 +82,7 @@ pub fn read_csv_frame(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<Conto
             continue;
         }
         if let Some(c) = t.strip_prefix('#') {
+            space = space.or_else(|| space_tag::of_comment(c));
             read_comment(c.trim(), &mut b, line)?;
             continue;
         }
@@ -139,6 +145,7 @@ pub fn read_csv_frame(bytes: &[u8], frame: Option<&FrameChoice>) -> Result<Conto
     }
     let mut set = b.finish()?;
     set.time_frames = frames.time_frames();
+    set.coordinate_system = space;
     Ok(set)
 }
 
@@ -306,7 +313,8 @@ fn unquote(field: &str) -> &str {
 /// Writes contours as canonical CSV (`contour,x,y,z[,surface][,distance]`); every piece after the
 /// first is preceded by a comment so that pieces stay apart when read back (an id that reappears
 /// after another id is a new piece, so consecutive pieces are separated by a `# piece` marker and a
-/// repeated id is not enough on its own); landmarks become `# landmark` comments.
+/// repeated id is not enough on its own); landmarks become `# landmark` comments, and the patient
+/// frame, when the set has one, a first `# SPACE=LPS` (or `RAS`) line that the reader takes back.
 ///
 /// `distances` holds one value per point in contour, piece, point order (as
 /// `Reconstruction::contour_distances().per_point`).
@@ -322,7 +330,11 @@ pub fn write_csv(set: &ContourSet, distances: Option<&[f64]>) -> Result<Vec<u8>>
         }
     }
     let with_surface = set.contours.iter().any(|c| c.surface.is_some());
-    let mut out = String::from("contour,x,y,z");
+    // The patient frame, where the reader (and 3D Slicer's exports) put it: a comment first.
+    let mut out = set
+        .coordinate_system
+        .map_or(String::new(), |s| format!("# SPACE={}\n", s.name()));
+    out.push_str("contour,x,y,z");
     if with_surface {
         out.push_str(",surface");
     }
@@ -610,6 +622,53 @@ mod tests {
         let text = String::from_utf8(out).unwrap();
         assert!(text.starts_with("contour,x,y,z,surface,distance\n"));
         assert!(write_csv(&set, Some(&d[1..])).is_err());
+    }
+
+    #[test]
+    fn the_patient_frame_goes_round_in_a_comment() {
+        use crate::contours::CoordinateSystem::{Lps, Ras};
+        let bytes = super::super::sample("contours/bivme-example-patient1/patient1-ED.csv");
+        let mut set = read_csv(&bytes).unwrap();
+        assert_eq!(
+            set.coordinate_system, None,
+            "a CSV without the comment says nothing"
+        );
+        assert!(!String::from_utf8(write_csv(&set, None).unwrap())
+            .unwrap()
+            .contains("SPACE"));
+        set.coordinate_system = Some(Lps);
+        let out = write_csv(&set, None).unwrap();
+        assert!(String::from_utf8_lossy(&out).starts_with("# SPACE=LPS\ncontour,x,y,z,surface\n"));
+        let back = read_csv(&out).unwrap();
+        assert_eq!(back.coordinate_system, Some(Lps));
+        // The same contours (a line further down the file).
+        assert_eq!(back.contours.len(), set.contours.len());
+        for (a, b) in back.contours.iter().zip(&set.contours) {
+            assert!(a.id == b.id && a.pieces == b.pieces, "{} differs", a.id);
+        }
+        // The app's distances CSV (comments before the header), after it, and Slicer's wording.
+        for (text, frame) in [
+            (
+                "# heartmesh 0.1.0 | x.csv\n# SPACE=RAS\ncontour,x,y,z\nc,0,0,0\nc,1,0,0\n",
+                Some(Ras),
+            ),
+            ("contour,x,y,z\n# SPACE=lps\nc,0,0,0\nc,1,0,0\n", Some(Lps)),
+            (
+                "# CoordinateSystem = RAS\ncontour,x,y,z\nc,0,0,0\nc,1,0,0\n",
+                Some(Ras),
+            ),
+            (
+                "# CoordinateSystem = 0\ncontour,x,y,z\nc,0,0,0\nc,1,0,0\n",
+                None,
+            ),
+            ("# SPACE=XYZ\ncontour,x,y,z\nc,0,0,0\nc,1,0,0\n", None),
+        ] {
+            assert_eq!(
+                read_csv(text.as_bytes()).unwrap().coordinate_system,
+                frame,
+                "{text}"
+            );
+        }
     }
 
     #[test]

@@ -23,6 +23,23 @@ fn in_text(text: &str) -> Option<CoordinateSystem> {
         .find_map(of_token)
 }
 
+/// The frame a text file's comment states (the comment's text without its `#`): a `SPACE=LPS`
+/// token, as heartmesh's exports write it, or 3D Slicer's `CoordinateSystem = LPS` (its point
+/// list CSV, `.fcsv`); None for any other comment.
+pub fn of_comment(comment: &str) -> Option<CoordinateSystem> {
+    if let Some(frame) = in_text(comment) {
+        return Some(frame);
+    }
+    let compact: String = comment.chars().filter(|c| !c.is_whitespace()).collect();
+    let value = compact
+        .get(..17)
+        .filter(|k| k.eq_ignore_ascii_case("CoordinateSystem="))
+        .map(|k| &compact[k.len()..])?;
+    [CoordinateSystem::Lps, CoordinateSystem::Ras]
+        .into_iter()
+        .find(|s| value.eq_ignore_ascii_case(s.name()))
+}
+
 /// The frame a mesh file's bytes state, None when they state none (or a value other than LPS and
 /// RAS, which no reader here could honour).
 pub fn of_mesh_file(bytes: &[u8]) -> Option<CoordinateSystem> {
