@@ -10,7 +10,7 @@ import assert from 'node:assert/strict';
 import { cpSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf } from './lib.mjs';
+import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf, waitForError } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 
 let server;
@@ -55,5 +55,15 @@ describe('3D Slicer markups', () => {
     } finally {
       rmSync(root, { recursive: true, force: true });
     }
+  });
+
+  it('says what to open when one curve file of the folder is opened alone', async () => {
+    await gotoEmpty(page, server.url);
+    await page.setInputFiles('[data-testid=file-input]', join(FIXTURE, 's03_SAX_LV_ENDOCARDIAL.mrk.json'));
+    const status = await waitForError(page, 's03_SAX_LV_ENDOCARDIAL.mrk.json');
+    assert.match(status, /too few contours/, status);
+    const shown = `${await textOf(page, '[data-testid=error-banner]')} ${await textOf(page, '#slot-warnings')}`;
+    assert.match(shown, /3D Slicer saves each curve in a file of its own; open the folder, or all its \.mrk\.json files together/, shown);
+    assert.deepEqual(pageErrors, []);
   });
 });

@@ -242,6 +242,18 @@ impl Reader {
             other => other,
         })?;
         set.coordinate_system = frame;
+        // One curve cannot be reconstructed, and one file of a Slicer folder holds one: the
+        // reason travels first with the set, so the refusal that follows says what to do.
+        if let [only] = set.contours.as_slice() {
+            set.warnings.insert(
+                0,
+                format!(
+                    "one curve ({}): 3D Slicer saves each curve in a file of its own; open the \
+                     folder, or all its .mrk.json files together, to read the study",
+                    only.id
+                ),
+            );
+        }
         Ok(set)
     }
 }

@@ -80,6 +80,12 @@ fn a_closed_curve_follows_the_circle_through_its_control_points() {
     // Steps cut the chord in millimetres; the arc over it is a little longer.
     assert!(step <= 1.05, "step {step} mm");
     assert_eq!(set.coordinate_system, Some(CoordinateSystem::Lps));
+    // One curve alone: the first warning says why a run will fail and what to open.
+    assert!(
+        set.warnings[0].starts_with("one curve (LV_ENDO_3): 3D Slicer saves each curve in a file"),
+        "{:?}",
+        set.warnings
+    );
 }
 
 #[test]
