@@ -75,7 +75,8 @@ def verdict(status, err):
 
 
 def byte_seeds(out):
-    """The real files, the SurFCo contours in every other format and a DICOM SEG, under OUT/seeds."""
+    """The real files, the SurFCo contours in every other format, a DICOM SEG and a Slicer markups
+    file, under OUT/seeds."""
     d = os.path.join(out, "seeds")
     os.makedirs(d, exist_ok=True)
     surfco = os.path.join(CONTOURS, "surfco-example.csv")
@@ -90,6 +91,11 @@ def byte_seeds(out):
     repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     seg = os.path.join(repo, "wasm-core/crates/heartmesh-core/tests/data/spasm-seg.dcm")
     with open(seg, "rb") as f, open(os.path.join(d, "spasm-seg.dcm"), "wb") as g:
+        g.write(f.read())
+    # A 3D Slicer markups file (the core's fixture, scripts/markups_fixture.py): one closed curve.
+    mrk = os.path.join(repo, "wasm-core/crates/heartmesh-core/tests/data/slicer-markups-patient1",
+                       "s03_SAX_LV_ENDOCARDIAL.mrk.json")
+    with open(mrk, "rb") as f, open(os.path.join(d, "s03.mrk.json"), "wb") as g:
         g.write(f.read())
     blocks = H.read_csv(surfco)
     with open(os.path.join(d, "s.xyz.txt"), "w") as g:
