@@ -1,7 +1,7 @@
 // The banner's note on the SliceInfoFiles set aside in a drop: two biv-me patient folders dropped
 // together gave "SliceInfoFile.txt, SliceInfoFile.txt set aside: ...".
 import { describe, expect, it } from 'vitest';
-import { imagesAsideText, isImageRefusal, setAsideText } from '../../web/src/app/errors';
+import { imagesAsideText, isDicomImageRefusal, isImageRefusal, setAsideText } from '../../web/src/app/errors';
 
 describe('setAsideText', () => {
   it('names one file, and counts files of one name instead of repeating it', () => {
@@ -19,5 +19,15 @@ describe('setAsideText', () => {
     expect(isImageRefusal({ ...image, code: 'app' })).toBe(false);
     expect(imagesAsideText(1, 'seg.dcm')).toBe('1 DICOM image set aside: images, not contours (the contours come from seg.dcm).');
     expect(imagesAsideText(240, 'seg.dcm')).toMatch(/^240 DICOM images set aside/);
+  });
+
+  it('counts scans of a label-map format (a Slicer scene\'s) as images set aside, told by the core\'s message', () => {
+    const scan = { code: 'parse', file: 'cine.nrrd', message: 'this NRRD is an image, not a label map (segmentation): it holds more than 64 values; open the segmentation (background 0, one whole number per structure)' } as const;
+    expect(isImageRefusal(scan)).toBe(true);
+    expect(isDicomImageRefusal(scan)).toBe(false);
+    expect(isImageRefusal({ ...scan, message: scan.message.replace('NRRD', 'NIfTI') })).toBe(true);
+    expect(isImageRefusal({ ...scan, message: 'the NRRD sizes 1 x 2 are too large' })).toBe(false);
+    expect(imagesAsideText(1, 'seg.seg.nrrd', 'image')).toBe('1 image set aside: images, not contours (the contours come from seg.seg.nrrd).');
+    expect(imagesAsideText(2, 'seg.seg.nrrd', 'image')).toMatch(/^2 images set aside/);
   });
 });

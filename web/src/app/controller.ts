@@ -14,13 +14,14 @@ import type { ExportInfo } from '../io/export/header';
 import { findSample, fetchSample, type Sample } from '../io/samples';
 import type { HoverReadout } from '../ui/HoverReadout';
 import { distinctName, fileIdentity, lostText, renamedText, skippedText } from './fileNames';
-import { archivesText, asCoreError, callSafely, imagesAsideText, isImageRefusal, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
+import { archivesText, asCoreError, callSafely, imagesAsideText, isDicomImageRefusal, isImageRefusal, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
 import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
 import { asksForImages, cvi42Study, workspaceTest, type Cvi42Study } from '../io/cvi42Study';
 import { imageHeaders, isSegmentationFile, looksDicom } from '../io/dicomHeaders';
 import { filesOfPickedFolder, pathInFolder, withSegmentations } from '../io/folderDrop';
 import { expandArchives } from '../io/zipArchive';
 import { joinMarkups, joinedText } from '../io/markupsStudy';
+import { sceneAsideText, sceneOf } from '../io/slicerScene';
 import type { Parts } from './parts';
 import type { Speed } from './playback';
 import { keptSpecksNote, secondLoopsNote } from '../ui/runText';
@@ -237,6 +238,10 @@ export class Controller {
     const waiting = this.waitingStudy;
     this.waitingStudy = null;
     if (waiting && (await this.openStudy({ workspaces: waiting.workspaces, images: [...waiting.images, ...files] }, skipped, true, archivesRefused))) return;
+    // A Slicer scene (its folder or .mrb bundle): its curves, else its segmentations; the scene
+    // file and the rest set aside, named (io/slicerScene.ts).
+    const scene = await sceneOf(files);
+    if (scene) files = scene.files;
     // Slicer markups, a file per curve: joined into one set (io/markupsStudy.ts).
     const markups = await joinMarkups(files);
     files = markups.files;
@@ -292,7 +297,8 @@ export class Controller {
       }
     }
     const joinedNote = markups.name !== null && first !== null ? joinedText(markups.joined, markups.name) : '';
-    const renamedNote = [joinedNote, renamedText(renamed), skippedText(skipped), added].filter(Boolean).join(' ');
+    const sceneNote = scene && scene.aside.length > 0 && first !== null ? sceneAsideText(scene.aside, scene.source) : '';
+    const renamedNote = [joinedNote, sceneNote, renamedText(renamed), skippedText(skipped), added].filter(Boolean).join(' ');
     if (first !== null) {
       this.sampleId = null;
       // A session's own surface first, else the one asked for (the link's, or the one last chosen).
@@ -311,7 +317,7 @@ export class Controller {
       const notCount = notOpened.reduce((n, e) => n + (refusedFiles.get(e) ?? 1), 0);
       const note = first === null ? '' : [
         sliceInfo.length > 0 ? setAsideText(sliceInfo.map((e) => e.file ?? 'SliceInfoFile.txt'), first) : '',
-        images.length > 0 ? imagesAsideText(images.length, first) : '',
+        images.length > 0 ? imagesAsideText(images.length, first, images.every(isDicomImageRefusal) ? 'DICOM image' : 'image') : '',
       ].filter(Boolean).join(' ');
       const list = notOpened.map((e) => describeError(e) + (refusedStacks.has(e) ? ` (its stack ${refusedStacks.get(e)} is not opened either)` : '')).join('; ');
       const notes = [note, renamedNote].filter(Boolean).join(' ');

@@ -33,12 +33,17 @@ export function setAsideText(names: readonly string[], shown: string): string {
  * contours were drawn on: set aside and counted, not listed as a refusal each.
  */
 export function isImageRefusal(e: CoreErrorData): boolean {
+  return isDicomImageRefusal(e) || (e.code === 'parse' && /this (NIfTI|NRRD|DICOM SEG) is an image, not a label map/.test(e.message));
+}
+
+/** A DICOM image refused as contours (the rest of [isImageRefusal]'s: scans in label-map formats, a Slicer scene's). */
+export function isDicomImageRefusal(e: CoreErrorData): boolean {
   return e.code === 'parse' && /this is a DICOM image \(modality [^)]*\), not contours/.test(e.message);
 }
 
-/** The banner's note on `count` DICOM images opened with the file `shown`. */
-export function imagesAsideText(count: number, shown: string): string {
-  return `${count === 1 ? '1 DICOM image' : `${count} DICOM images`} set aside: images, not contours (the contours come from ${shown}).`;
+/** The banner's note on `count` images (DICOM ones, or scans of other formats) opened with the file `shown`. */
+export function imagesAsideText(count: number, shown: string, kind: 'DICOM image' | 'image' = 'DICOM image'): string {
+  return `${count === 1 ? `1 ${kind}` : `${count} ${kind}s`} set aside: images, not contours (the contours come from ${shown}).`;
 }
 
 /**

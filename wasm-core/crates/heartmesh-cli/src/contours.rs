@@ -52,28 +52,23 @@ pub fn load(path: &str, frame: Option<FrameChoice>) -> Result<Loaded, CliError> 
 /// Contours of one file, or of a study given as several: a NIfTI short-axis label map and its
 /// long-axis views (single-slice label maps), in any order; or a cvi42 workspace with the DICOM
 /// images it was drawn on (files, folders or ZIP archives, or one folder or archive holding
-/// both); or Slicer markups files (several, or a folder of them). Returns the path given of the file the contours are named after (the stack's, or the
-/// folder or archive holding it), for messages and the report.
+/// both); or Slicer markups files (several, or a folder of them); or a 3D Slicer scene (its
+/// folder, or its `.mrb` bundle: its markups curves, else its segmentation). Returns the path
+/// given of the file the contours are named after (the stack's, or the folder or archive holding
+/// it), for messages and the report.
 pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, Loaded), CliError> {
     let [first, rest @ ..] = paths else {
         return Err(CliError::usage("no contour file given"));
     };
-    // One file is read as it is; one archive (or a folder holding a workspace, or Slicer markups)
+    // One file is read as it is; one archive (or a folder holding a workspace, or a Slicer scene)
     // for its files; any other folder is refused saying which files it holds.
     let archive = |p: &String| files::read(p).is_ok_and(|b| io::zip::is_zip(&b));
-    let markups_folder = rest.is_empty() && holds_markups(first);
-    if rest.is_empty() && !archive(first) && !is_workspace_study(paths) && !markups_folder {
+    let slicer_folder = rest.is_empty() && holds_slicer_scene(first);
+    if rest.is_empty() && !archive(first) && !is_workspace_study(paths) && !slicer_folder {
         return load(first, frame).map(|l| (first.as_str(), l));
     }
-    let mut entries = expand(paths)?;
-    // A Slicer scene's folder holds its scene file and images beside the markups: set aside.
-    let mut aside = Vec::new();
-    if markups_folder {
-        let (markups, others): (Vec<Entry>, Vec<Entry>) =
-            entries.into_iter().partition(|e| is_markups(&e.bytes));
-        entries = markups;
-        aside = others.into_iter().map(|e| e.name).collect();
-    }
+    // A Slicer scene's other files (scene file, images) are set aside by the core, named.
+    let entries = expand(paths)?;
     let named: Vec<(&str, &[u8])> = entries
         .iter()
         .map(|e| (e.name.as_str(), e.bytes.as_slice()))
@@ -83,14 +78,7 @@ pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, L
         ..ContourOptions::default()
     };
     // Each error names the file it is about itself.
-    let (stack, mut set) = io::read_study(&named, &options).map_err(CliError::param)?;
-    if !aside.is_empty() {
-        set.warnings.push(format!(
-            "{} other file(s) of the folder set aside (not Slicer markups): {}",
-            aside.len(),
-            aside.join(", ")
-        ));
-    }
+    let (stack, set) = io::read_study(&named, &options).map_err(CliError::param)?;
     let e = &entries[stack];
     Ok((
         paths[e.origin].as_str(),
@@ -102,17 +90,14 @@ pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, L
     ))
 }
 
-/// Whether a file's start is a Slicer markups file's.
-fn is_markups(bytes: &[u8]) -> bool {
-    io::markups::is_markups(&bytes[..bytes.len().min(4096)])
-}
-
-/// Whether `path` is a folder holding Slicer markups files (read together, as Slicer saves one
-/// curve per file).
-fn holds_markups(path: &str) -> bool {
+/// Whether `path` is a folder holding a 3D Slicer scene file or markups files (read together, as
+/// Slicer saves one curve per file; `io::slicer_scene` picks what to read).
+fn holds_slicer_scene(path: &str) -> bool {
+    let slicer =
+        |b: &[u8]| io::markups::is_markups(&b[..b.len().min(4096)]) || io::slicer_scene::is_mrml(b);
     Path::new(path).is_dir()
         && expand(std::slice::from_ref(&path.to_string()))
-            .is_ok_and(|entries| entries.iter().any(|e| is_markups(&e.bytes)))
+            .is_ok_and(|entries| entries.iter().any(|e| slicer(&e.bytes)))
 }
 
 /// One file of the inputs: `origin` is the index of the path given that holds it (itself, a

@@ -193,7 +193,7 @@ fn the_files_order_does_not_matter_and_a_bad_file_is_named() {
     let (code, _, err) = run(bin().arg("reconstruct").arg(&folder).arg("-o").arg(&path));
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains("2 other file(s) of the folder set aside (not Slicer markups): ")
+        err.contains("2 other file(s) of the Slicer scene set aside (the contours come from the Slicer markups): ")
             && err.contains("Scene.mrml")
             && err.contains("cine.nrrd"),
         "{err}"

@@ -241,3 +241,60 @@ pub fn reconstruct_report(
         .then(|| serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap());
     (code, err, report)
 }
+
+/// A ZIP archive of `files` (name, contents), stored uncompressed, as a packer may write one (a
+/// Slicer `.mrb` bundle, a UK Biobank download): the reader's input in the archive tests.
+pub fn stored_zip(files: &[(String, Vec<u8>)]) -> Vec<u8> {
+    let (mut out, mut dir) = (Vec::new(), Vec::new());
+    let le16 = |v: usize| (v as u16).to_le_bytes();
+    let le32 = |v: usize| (v as u32).to_le_bytes();
+    for (name, data) in files {
+        let at = out.len();
+        out.extend_from_slice(b"PK\x03\x04\x14\0\0\0\0\0\0\0\0\0\0\0\0\0");
+        out.extend_from_slice(&le32(data.len()));
+        out.extend_from_slice(&le32(data.len()));
+        out.extend_from_slice(&le16(name.len()));
+        out.extend_from_slice(&[0, 0]);
+        out.extend_from_slice(name.as_bytes());
+        out.extend_from_slice(data);
+        dir.extend_from_slice(b"PK\x01\x02\x14\0\x14\0\0\0\0\0\0\0\0\0\0\0\0\0");
+        dir.extend_from_slice(&le32(data.len()));
+        dir.extend_from_slice(&le32(data.len()));
+        dir.extend_from_slice(&le16(name.len()));
+        dir.extend_from_slice(&[0; 12]);
+        dir.extend_from_slice(&le32(at));
+        dir.extend_from_slice(name.as_bytes());
+    }
+    let dir_at = out.len();
+    out.extend_from_slice(&dir);
+    out.extend_from_slice(b"PK\x05\x06\0\0\0\0");
+    out.extend_from_slice(&le16(files.len()));
+    out.extend_from_slice(&le16(files.len()));
+    out.extend_from_slice(&le32(dir.len()));
+    out.extend_from_slice(&le32(dir_at));
+    out.extend_from_slice(&[0, 0]);
+    out
+}
+
+/// Every file under `root` (path relative to it with `/`, contents), in name order.
+pub fn files_under(root: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut todo = vec![root.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                todo.push(p);
+            } else {
+                let rel = p
+                    .strip_prefix(root)
+                    .unwrap()
+                    .to_string_lossy()
+                    .replace('\\', "/");
+                out.push((rel, std::fs::read(&p).unwrap()));
+            }
+        }
+    }
+    out.sort();
+    out
+}

@@ -61,6 +61,28 @@ pub fn is_markups(head: &[u8]) -> bool {
     has(b"markups-schema") || (has(b"\"markups\"") && has(b"\"controlPoints\""))
 }
 
+/// Whether a markups file holds a curve or a closed curve (not only point lists, lines, planes):
+/// a Slicer scene's contours come from its curves when it has any.
+pub fn holds_curves(bytes: &[u8]) -> bool {
+    let Ok(text) = super::text::decode(bytes) else {
+        return false;
+    };
+    let Ok(root) = serde_json::from_str::<Value>(&text) else {
+        // A damaged markups file is still markups: read with them, it is named in the refusal.
+        return true;
+    };
+    root.get("markups")
+        .and_then(Value::as_array)
+        .is_some_and(|list| {
+            list.iter().any(|m| {
+                matches!(
+                    m.get("type").and_then(Value::as_str),
+                    Some("ClosedCurve" | "Curve")
+                )
+            })
+        })
+}
+
 /// Reads `name` and its `companions` (other markups files of the same study) into one set.
 pub fn read_markups(name: &str, bytes: &[u8], companions: &[(&str, &[u8])]) -> Result<ContourSet> {
     let mut files: Vec<(&str, &[u8])> = vec![(name, bytes)];

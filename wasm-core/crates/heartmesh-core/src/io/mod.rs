@@ -25,6 +25,7 @@ mod read_regions;
 pub mod rtstruct;
 pub mod segment;
 pub mod session;
+pub mod slicer_scene;
 #[cfg(test)]
 mod smoke;
 mod space_tag;
@@ -303,6 +304,9 @@ pub fn read_contours_with(
     bytes: &[u8],
     options: &ContourOptions,
 ) -> Result<ContourSet> {
+    if slicer_scene::is_mrml(bytes) {
+        return Err(slicer_scene::scene_file_alone());
+    }
     if gzip::is_gzip(bytes) && !nifti::is_nifti(bytes) {
         // A compressed contour file (`contours.csv.gz`): read what it holds, once.
         let inner = gzip::inflate(bytes)?;
@@ -414,6 +418,14 @@ pub fn read_study(
         ([], Some(first)) => return read_with_companions(files, first, options),
         ([one], _) => return read_with_companions(files, *one, options),
         _ => {}
+    }
+    // A Slicer scene (its folder or .mrb bundle), or markups among other files: its markups or its
+    // segmentations, the rest set aside and named.
+    if let Some(scene) = slicer_scene::select(files)? {
+        let chosen: Vec<(&str, &[u8])> = scene.read.iter().map(|&n| files[n]).collect();
+        let (main, mut set) = read_study(&chosen, options)?;
+        set.warnings.extend(scene.warning(files));
+        return Ok((scene.read[main], set));
     }
     // A folder of Slicer markups (one node per file, as Slicer saves them): one set.
     if files

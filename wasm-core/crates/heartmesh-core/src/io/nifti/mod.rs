@@ -69,6 +69,12 @@ pub fn label_map_grid(bytes: &[u8]) -> Option<([usize; 3], usize)> {
     }
 }
 
+/// Whether a file with a label map's header holds an image's intensities instead (a Slicer
+/// scene keeps its scans beside its segmentations, in the same formats): told by reading it.
+pub fn is_image(bytes: &[u8]) -> bool {
+    read_label_maps(bytes, None).is_err_and(|e| e.to_string().contains(volume::IMAGE_NOT_LABELS))
+}
+
 /// The label maps of a file of any format read, at time frame `want`, in its own world
 /// coordinates: one, or a SEG's stack and its planes of other orientations.
 fn read_label_maps(bytes: &[u8], want: Option<&FrameChoice>) -> Result<Vec<LabelVolume>> {

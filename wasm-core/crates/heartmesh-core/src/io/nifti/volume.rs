@@ -486,10 +486,13 @@ pub(super) fn read_labels(
     Ok(out)
 }
 
+/// What the refusal of an image says, whatever the format (the NRRD and SEG readers retitle it).
+pub(super) const IMAGE_NOT_LABELS: &str = "is an image, not a label map";
+
 fn not_labels(why: String) -> CoreError {
     err(format!(
-        "this NIfTI is an image, not a label map (segmentation): {why}; open the segmentation \
-         (background 0, one whole number per structure)"
+        "this NIfTI {IMAGE_NOT_LABELS} (segmentation): {why}; open the segmentation (background \
+         0, one whole number per structure)"
     ))
 }
 
