@@ -7,7 +7,7 @@
 // 174.41 ml: `heartmesh reconstruct slicer-markups-patient1 --surface LV_ENDO`).
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { cpSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { cpSync, mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf, waitForError } from './lib.mjs';
@@ -65,5 +65,50 @@ describe('3D Slicer markups', () => {
     const shown = `${await textOf(page, '[data-testid=error-banner]')} ${await textOf(page, '#slot-warnings')}`;
     assert.match(shown, /3D Slicer saves each curve in a file of its own; open the folder, or all its \.mrk\.json files together/, shown);
     assert.deepEqual(pageErrors, []);
+  });
+
+  it('opens a patient folder of ED/ and ES/ markups folders as two entries, one per phase', async () => {
+    await gotoEmpty(page, server.url);
+    const root = mkdtempSync(join(tmpdir(), 'heartmesh-markups-'));
+    const patient = join(root, 'patient1');
+    cpSync(FIXTURE, join(patient, 'ED'), { recursive: true });
+    // End-systole: the same curves drawn 10 % closer to each curve's centre (a smaller cavity).
+    mkdirSync(join(patient, 'ES'));
+    for (const name of readdirSync(FIXTURE)) {
+      const doc = JSON.parse(readFileSync(join(FIXTURE, name), 'utf8'));
+      for (const m of doc.markups) {
+        const ps = m.controlPoints.map((p) => p.position);
+        const c = [0, 1, 2].map((i) => ps.reduce((a, p) => a + p[i], 0) / ps.length);
+        if (m.type !== 'Fiducial') for (const p of m.controlPoints) p.position = p.position.map((v, i) => c[i] + 0.9 * (v - c[i]));
+      }
+      writeFileSync(join(patient, 'ES', name), JSON.stringify(doc));
+    }
+    try {
+      await dropPaths(page, [patient]);
+      const entries = await page.$$eval('[data-testid=file-picker] option', (os) => os.map((o) => o.value));
+      assert.deepEqual(entries, ['Slicer markups ED (41 files).mrk.json', 'Slicer markups ES (41 files).mrk.json']);
+      const banner = (await textOf(page, '[data-testid=error-banner]')).replace(/✕$/, '');
+      assert.equal(banner, `82 Slicer markups files were read as 2 contour sets, one per folder (the folders' curves share names: a phase or a patient each): ${entries.join(', ')}.`);
+      const volumes = {};
+      for (const entry of entries) {
+        if ((await page.inputValue('[data-testid=file-picker]')) !== entry) await runAndWait(page, () => page.selectOption('[data-testid=file-picker]', entry));
+        if ((await page.inputValue('[data-testid=surface-picker]')) !== 'LV_ENDO') {
+          await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_ENDO'));
+        }
+        const m = await meshOnScreen(page);
+        assert.equal(m.watertight, true);
+        assert.equal(m.contourPoints > 1000, true, `${m.contourPoints} points`);
+        volumes[entry] = m.volumeMl;
+      }
+      const [ed, es] = entries.map((e) => volumes[e]);
+      console.log(`# Slicer markups ED/ES folders: LV_ENDO ${ed.toFixed(2)} / ${es.toFixed(2)} ml`);
+      assert.ok(Math.abs(ed - 174.41) < 0.01, `ED ${ed} ml (command line: 174.41 ml)`);
+      // Each curve 0.9 x about its own centre: the rings' areas 0.81 x and the long-axis curves
+      // 0.9 x as long, about 0.73 x the volume (measured 131.33 / 174.41 = 0.753).
+      assert.ok(es / ed > 0.7 && es / ed < 0.8, `ES/ED ${es / ed}`);
+      assert.deepEqual(pageErrors, []);
+    } finally {
+      rmSync(root, { recursive: true, force: true });
+    }
   });
 });

@@ -31,9 +31,9 @@ describe('Slicer markups files', () => {
       file('s09.mrk.json', curve(null, 9), 2000),
       file('broken.mrk.json', `{"@schema": "${schema}", "markups": [`),
     ];
-    const { files, joined, name } = await joinMarkups(given);
+    const { files, joined, names } = await joinMarkups(given);
     expect(joined).toBe(2);
-    expect(name).toBe(joinedName(2));
+    expect(names).toEqual([joinedName(2)]);
     expect(files.map((f) => f.name)).toEqual(['Slicer markups (2 files).mrk.json', 'GPFile_000.txt', 'broken.mrk.json']);
     const doc = JSON.parse(await files[0].text());
     expect(doc['@schema']).toBe(schema);
@@ -44,7 +44,7 @@ describe('Slicer markups files', () => {
     expect(files[0].lastModified).toBe(3000);
     const again = await joinMarkups(given);
     expect(again.files[0].size).toBe(files[0].size);
-    expect(joinedText(2, name ?? '')).toBe('2 Slicer markups files were read as one contour set: Slicer markups (2 files).mrk.json.');
+    expect(joinedText(2, names)).toBe('2 Slicer markups files were read as one contour set: Slicer markups (2 files).mrk.json.');
   });
 
   it('joins nothing when fewer than two files are markups', async () => {
@@ -61,5 +61,32 @@ describe('Slicer markups files', () => {
     const { files } = await joinMarkups([file('rings.mrk.json', two), file('z.mrk.json', curve('Z', 9))]);
     const doc = JSON.parse(await files[0].text());
     expect(doc.markups.map((m: { name: string }) => m.name)).toEqual(['rings-1', 'rings-2', 'Z']);
+  });
+
+  it('joins folders whose curves share names apart (a phase or a patient each), and others together', async () => {
+    const inFolder = new Map<File, string>();
+    const at = (folder: string, f: File) => (inFolder.set(f, folder), f);
+    const folderOf = (f: File) => inFolder.get(f) ?? '';
+    const phases = [
+      at('p1/ED', file('LV_ENDO_1.mrk.json', curve(null, 0), 1000)),
+      at('p1/ES', file('LV_ENDO_1.mrk.json', curve(null, 0), 2000)),
+      at('p1/ED', file('LV_ENDO_2.mrk.json', curve('LV_ENDO_2', 10), 1000)),
+      at('p1/ES', file('LV_ENDO_2.mrk.json', curve('LV_ENDO_2', 10), 2000)),
+      at('p1/ES', file('notes.txt', 'x')),
+    ];
+    const split = await joinMarkups(phases, folderOf);
+    expect(split.joined).toBe(4);
+    expect(split.names).toEqual(['Slicer markups ED (2 files).mrk.json', 'Slicer markups ES (2 files).mrk.json']);
+    expect(split.files.map((f) => f.name)).toEqual([...split.names, 'notes.txt']);
+    for (const f of split.files.slice(0, 2)) {
+      expect(JSON.parse(await f.text()).markups.map((m: { name: string }) => m.name)).toEqual(['LV_ENDO_1', 'LV_ENDO_2']);
+    }
+    expect(split.files[1].lastModified).toBe(2000);
+    expect(joinedText(4, split.names)).toBe(
+      '4 Slicer markups files were read as 2 contour sets, one per folder (the folders\' curves share names: a phase or a patient each): Slicer markups ED (2 files).mrk.json, Slicer markups ES (2 files).mrk.json.',
+    );
+    // The LV's curves beside the RV's: one set.
+    const sides = [at('p1/LV', file('LV_ENDO_1.mrk.json', curve(null, 0))), at('p1/RV', file('RV_ENDO_1.mrk.json', curve(null, 0)))];
+    expect((await joinMarkups(sides, folderOf)).names).toEqual(['Slicer markups (2 files).mrk.json']);
   });
 });

@@ -18,7 +18,7 @@ import { archivesText, asCoreError, callSafely, imagesAsideText, isDicomImageRef
 import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
 import { asksForImages, cvi42Study, workspaceTest, type Cvi42Study } from '../io/cvi42Study';
 import { imageHeaders, isSegmentationFile, looksDicom } from '../io/dicomHeaders';
-import { filesOfPickedFolder, pathInFolder, withSegmentations } from '../io/folderDrop';
+import { filesOfPickedFolder, folderOfFile, pathInFolder, withSegmentations } from '../io/folderDrop';
 import { expandArchives } from '../io/zipArchive';
 import { joinMarkups, joinedText } from '../io/markupsStudy';
 import { sceneAsideText, sceneOf } from '../io/slicerScene';
@@ -243,7 +243,7 @@ export class Controller {
     const scene = await sceneOf(files);
     if (scene) files = scene.files;
     // Slicer markups, a file per curve: joined into one set (io/markupsStudy.ts).
-    const markups = await joinMarkups(files);
+    const markups = await joinMarkups(files, folderOfFile);
     files = markups.files;
     const onScreen = this.currentFile()?.fileName ?? null;
     let first: string | null = null;
@@ -296,7 +296,7 @@ export class Controller {
         refusedFiles.set(this.lastRefusal, loose.length);
       }
     }
-    const joinedNote = markups.name !== null && first !== null ? joinedText(markups.joined, markups.name) : '';
+    const joinedNote = markups.names.length > 0 && first !== null ? joinedText(markups.joined, markups.names) : '';
     const sceneNote = scene && scene.aside.length > 0 && first !== null ? sceneAsideText(scene.aside, scene.source) : '';
     const renamedNote = [joinedNote, sceneNote, renamedText(renamed), skippedText(skipped), added].filter(Boolean).join(' ');
     if (first !== null) {

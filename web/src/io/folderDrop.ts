@@ -147,6 +147,13 @@ export function pathInFolder(file: File): string | null {
   return paths.get(file) ?? (file.webkitRelativePath || null);
 }
 
+/** The folder a file came from (its path without its name; '' for a file given alone). */
+export function folderOfFile(file: File): string {
+  const path = pathInFolder(file) ?? '';
+  const at = path.lastIndexOf('/');
+  return at < 0 ? '' : path.slice(0, at);
+}
+
 /** Records where a file came from: a ZIP archive's member is `1234_images.zip/dicom/IM_01_00.dcm` (io/zipArchive.ts). */
 export function setPathInFolder(file: File, path: string): void {
   paths.set(file, path);

@@ -265,4 +265,27 @@ fn volumes_takes_a_folder_of_markups_per_phase() {
         (lv["edv_ml"].as_f64().unwrap() - lv["esv_ml"].as_f64().unwrap()).abs() > 0.1,
         "{lv}"
     );
+    // The two phases' folders given as one (their parent): refused in one line naming them, not
+    // joined into rings of both phases.
+    let patient = dir.join("patient");
+    for (from, phase) in [(&fixture, "ED"), (&other, "ES")] {
+        std::fs::create_dir_all(patient.join(phase)).unwrap();
+        for e in std::fs::read_dir(from).unwrap() {
+            let path = e.unwrap().path();
+            std::fs::copy(&path, patient.join(phase).join(path.file_name().unwrap())).unwrap();
+        }
+    }
+    let (code, _, err) = run(bin()
+        .arg("reconstruct")
+        .arg(&patient)
+        .arg("-o")
+        .arg(dir.join("both.obj")));
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("Slicer markups from 2 folders (")
+            && err.contains("hold curves of the same names (s02_SAX_LV_ENDOCARDIAL")
+            && err.contains("open one folder at a time"),
+        "{err}"
+    );
 }

@@ -89,11 +89,73 @@ pub fn read_markups(name: &str, bytes: &[u8], companions: &[(&str, &[u8])]) -> R
     files.extend_from_slice(companions);
     // Name order: the same files give the same contours in the same order however picked.
     files.sort_by(|a, b| a.0.cmp(b.0));
+    refuse_studies_in_folders(&files)?;
+    read_sorted(&files)
+}
+
+fn read_sorted(files: &[(&str, &[u8])]) -> Result<ContourSet> {
     let mut reader = Reader::default();
-    for (file, bytes) in &files {
+    for (file, bytes) in files {
         reader.file(file, bytes, files.len() > 1)?;
     }
     reader.finish()
+}
+
+/// The folder part of a file's path ("" for none).
+fn folder_of(file: &str) -> &str {
+    file.rfind(['/', '\\']).map_or("", |at| &file[..at])
+}
+
+/// Markups of several folders whose curves share names are several studies (a patient's `ED/`
+/// and `ES/` folders, two patients), not pieces of one: joined, each curve would be one phase's
+/// ring plus the other's, a surface between the two that looks plausible. Refused naming the
+/// folders; folders whose names do not meet (`LV/` beside `RV/`) are one set.
+fn refuse_studies_in_folders(files: &[(&str, &[u8])]) -> Result<()> {
+    let mut folders: Vec<&str> = files.iter().map(|(f, _)| folder_of(f)).collect();
+    folders.sort_unstable();
+    folders.dedup();
+    if folders.len() < 2 {
+        return Ok(());
+    }
+    let mut owner: std::collections::BTreeMap<String, &str> = Default::default();
+    let mut shared: Vec<String> = Vec::new();
+    for folder in &folders {
+        let group: Vec<(&str, &[u8])> = files
+            .iter()
+            .copied()
+            .filter(|(f, _)| folder_of(f) == *folder)
+            .collect();
+        for c in read_sorted(&group)?.contours {
+            match owner.get(&c.id) {
+                Some(first) if first != folder => shared.push(c.id),
+                Some(_) => {}
+                None => {
+                    owner.insert(c.id, folder);
+                }
+            }
+        }
+    }
+    if shared.is_empty() {
+        return Ok(());
+    }
+    shared.dedup();
+    let shown: Vec<&str> = shared.iter().take(4).map(String::as_str).collect();
+    Err(CoreError::parse(
+        0,
+        format!(
+            "Slicer markups from {} folders ({}) hold curves of the same names ({}{}): each \
+             folder is a study of its own (a phase, a patient); open one folder at a time (two \
+             phases: heartmesh volumes ED_FOLDER ES_FOLDER)",
+            folders.len(),
+            folders.join(", "),
+            shown.join(", "),
+            if shared.len() > shown.len() {
+                ", ..."
+            } else {
+                ""
+            }
+        ),
+    ))
 }
 
 #[derive(Default)]

@@ -44,8 +44,13 @@ impl Scene {
                 }
             })
             .collect();
+        let whose = if files.iter().any(|(_, b)| is_mrml(b)) {
+            " of the Slicer scene"
+        } else {
+            ""
+        };
         Some(format!(
-            "{} other file(s) of the Slicer scene set aside (the contours come from {}): {}",
+            "{} other file(s){whose} set aside (the contours come from {}): {}",
             names.len(),
             self.source,
             names.join(", ")

@@ -138,6 +138,56 @@ fn names_give_surfaces_without_their_slice_tags() {
 }
 
 #[test]
+fn folders_whose_curves_share_names_are_studies_of_their_own() {
+    let ring_file = |name: Option<&str>, r: f64, z: f64| {
+        file(&[markup("ClosedCurve", name, &ring(10, r, z), "")])
+    };
+    let (ed1, ed2) = (
+        ring_file(Some("LV_ENDO_1"), 20.0, 0.0),
+        ring_file(Some("LV_ENDO_2"), 22.0, 10.0),
+    );
+    let (es1, es2) = (
+        ring_file(Some("LV_ENDO_1"), 15.0, 0.0),
+        ring_file(Some("LV_ENDO_2"), 17.0, 10.0),
+    );
+    // A patient's end-diastolic and end-systolic folders given together.
+    let phases: [(&str, &[u8]); 4] = [
+        ("p1/ED/LV_ENDO_1.mrk.json", &ed1),
+        ("p1/ES/LV_ENDO_2.mrk.json", &es2),
+        ("p1/ED/LV_ENDO_2.mrk.json", &ed2),
+        ("p1/ES/LV_ENDO_1.mrk.json", &es1),
+    ];
+    let e = read_study(&phases, &ContourOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("Slicer markups from 2 folders (p1/ED, p1/ES) hold curves of the same names (LV_ENDO_1, LV_ENDO_2)")
+            && e.contains("open one folder at a time"),
+        "{e}"
+    );
+    // Unnamed markups are named by their files: the same file names in two folders meet too.
+    let (u1, u2) = (ring_file(None, 20.0, 0.0), ring_file(None, 15.0, 0.0));
+    let unnamed: [(&str, &[u8]); 2] = [
+        ("ED/LV_ENDO_1.mrk.json", &u1),
+        ("ES\\LV_ENDO_1.mrk.json", &u2),
+    ];
+    let e = read_study(&unnamed, &ContourOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("from 2 folders (ED, ES)"), "{e}");
+    // Folders whose names do not meet are one set (the LV's curves beside the RV's).
+    let rv = ring_file(Some("RV_ENDO_1"), 30.0, 0.0);
+    let split: [(&str, &[u8]); 3] = [
+        ("p1/LV/LV_ENDO_1.mrk.json", &ed1),
+        ("p1/LV/LV_ENDO_2.mrk.json", &ed2),
+        ("p1/RV/RV_ENDO_1.mrk.json", &rv),
+    ];
+    let (_, set) = read_study(&split, &ContourOptions::default()).unwrap();
+    let ids: Vec<&str> = set.contours.iter().map(|c| c.id.as_str()).collect();
+    assert_eq!(ids, ["LV_ENDO_1", "LV_ENDO_2", "RV_ENDO_1"]);
+}
+
+#[test]
 fn a_folder_of_files_is_one_set_in_name_order_whatever_the_order_given() {
     let a = file(&[markup(
         "ClosedCurve",

@@ -162,7 +162,14 @@ fn markups_among_other_files_are_a_scene_without_its_scene_file() {
     let (a, img) = (markups("LV endo 1", true, 0.0), image());
     let files: Vec<(&str, &[u8])> = vec![("a.mrk.json", &a), ("cine.nrrd", &img)];
     let scene = select(&files).unwrap().unwrap();
-    assert_eq!((scene.read, scene.aside), (vec![0], vec![1]));
+    assert_eq!(
+        (scene.read.clone(), scene.aside.clone()),
+        (vec![0], vec![1])
+    );
+    assert_eq!(
+        scene.warning(&files).unwrap(),
+        "1 other file(s) set aside (the contours come from the Slicer markups): cine.nrrd"
+    );
     // Neither a scene file nor markups: another kind of study.
     let seg = segmentation();
     assert_eq!(select(&[("a.nrrd", &seg), ("b.nrrd", &img)]).unwrap(), None);
