@@ -86,7 +86,7 @@ describe('3D Slicer markups', () => {
     try {
       await dropPaths(page, [patient]);
       const entries = await page.$$eval('[data-testid=file-picker] option', (os) => os.map((o) => o.value));
-      assert.deepEqual(entries, ['Slicer markups ED (41 files).mrk.json', 'Slicer markups ES (41 files).mrk.json']);
+      assert.deepEqual(entries, ['ED (41 Slicer markups).mrk.json', 'ES (41 Slicer markups).mrk.json']);
       const banner = (await textOf(page, '[data-testid=error-banner]')).replace(/✕$/, '');
       assert.equal(banner, `82 Slicer markups files were read as 2 contour sets, one per folder (the folders' curves share names: a phase or a patient each): ${entries.join(', ')}.`);
       const volumes = {};
@@ -106,6 +106,8 @@ describe('3D Slicer markups', () => {
       // Each curve 0.9 x about its own centre: the rings' areas 0.81 x and the long-axis curves
       // 0.9 x as long, about 0.73 x the volume (measured 131.33 / 174.41 = 0.753).
       assert.ok(es / ed > 0.7 && es / ed < 0.8, `ES/ED ${es / ed}`);
+      await page.mouse.move(0, 0);
+      if (SHOTS) await page.screenshot({ path: join(SHOTS, 'slicer-markups-phases.png') });
       assert.deepEqual(pageErrors, []);
     } finally {
       rmSync(root, { recursive: true, force: true });

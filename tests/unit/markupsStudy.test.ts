@@ -76,14 +76,14 @@ describe('Slicer markups files', () => {
     ];
     const split = await joinMarkups(phases, folderOf);
     expect(split.joined).toBe(4);
-    expect(split.names).toEqual(['Slicer markups ED (2 files).mrk.json', 'Slicer markups ES (2 files).mrk.json']);
+    expect(split.names).toEqual(['ED (2 Slicer markups).mrk.json', 'ES (2 Slicer markups).mrk.json']);
     expect(split.files.map((f) => f.name)).toEqual([...split.names, 'notes.txt']);
     for (const f of split.files.slice(0, 2)) {
       expect(JSON.parse(await f.text()).markups.map((m: { name: string }) => m.name)).toEqual(['LV_ENDO_1', 'LV_ENDO_2']);
     }
     expect(split.files[1].lastModified).toBe(2000);
     expect(joinedText(4, split.names)).toBe(
-      '4 Slicer markups files were read as 2 contour sets, one per folder (the folders\' curves share names: a phase or a patient each): Slicer markups ED (2 files).mrk.json, Slicer markups ES (2 files).mrk.json.',
+      '4 Slicer markups files were read as 2 contour sets, one per folder (the folders\' curves share names: a phase or a patient each): ED (2 Slicer markups).mrk.json, ES (2 Slicer markups).mrk.json.',
     );
     // The LV's curves beside the RV's: one set.
     const sides = [at('p1/LV', file('LV_ENDO_1.mrk.json', curve(null, 0))), at('p1/RV', file('RV_ENDO_1.mrk.json', curve(null, 0)))];

@@ -30,7 +30,8 @@ export function markupsStem(name: string): string {
 
 /** The joined file's name (`folder`: the folder it was joined from, when there are several). */
 export function joinedName(count: number, folder = ''): string {
-  return folder ? `Slicer markups ${folder} (${count} files).mrk.json` : `Slicer markups (${count} files).mrk.json`;
+  // The folder first: a narrow file picker still tells the phases apart.
+  return folder ? `${folder} (${count} Slicer markups).mrk.json` : `Slicer markups (${count} files).mrk.json`;
 }
 
 /** The banner's note on the files joined (`names`: one joined file per folder whose curves share names with another's). */

@@ -242,6 +242,21 @@ fn contour_readers_survive_mutations() {
         let _ = markups::read_markups("m.mrk.json", b, &[]);
         let _ = markups::read_markups("a.mrk.json", b, &[("b.mrk.json", b)]);
     });
+    // A Slicer scene: its scene file, the curve and a label map read together, any one mutated
+    // (`read_study` picks what to read by their contents).
+    let scene_file = b"<?xml version=\"1.0\"?>\n<MRML version=\"Slicer4.4.0\">\n</MRML>\n".to_vec();
+    let scene = [scene_file, markups_seed.clone(), nii[0].clone()];
+    run("scene", &scene, |b| {
+        for k in 0..scene.len() {
+            let mut files: Vec<(&str, &[u8])> = vec![
+                ("s.mrml", &scene[0]),
+                ("m.mrk.json", &scene[1]),
+                ("l.nii", &scene[2]),
+            ];
+            files[k].1 = b;
+            let _ = super::read_study(&files, &super::ContourOptions::default());
+        }
+    });
     // And the detecting entry point over all of them.
     let mut all: Vec<Vec<u8>> = csv.into_iter().chain(gp).chain(xyz).chain(vtk).collect();
     all.extend(session);
