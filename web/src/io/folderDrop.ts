@@ -1,7 +1,7 @@
 /**
  * Folders dropped on the page: a biv-me patient is a folder (`GPFile_000.txt` ... one per time
  * frame, and its `SliceInfoFile.txt`), and dragging the folder is what a user tries first (an ACDC
- * or M&Ms subject folder too: its `.nii.gz` label maps open, its images are refused by name). The
+ * or M&Ms subject folder too: its `.nii.gz` label maps open, its images are set aside). The
  * browser hands a dropped folder over as an entry of the File and Directory Entries API
  * (`DataTransferItem.webkitGetAsEntry`); its files are read here and opened like a multi-file drop.
  * A cvi42 study's folder (a `.cvi42wsx` workspace with the DICOM images it was drawn on), or a
