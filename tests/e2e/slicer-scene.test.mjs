@@ -5,14 +5,16 @@
 // entry, LV_ENDO 1041 vertices, 174.41 ml: `heartmesh reconstruct Patient1.mrb --surface
 // LV_ENDO`), the other files named as set aside; a scene of a segmentation (`heartmesh segment -o
 // seg.seg.nrrd`, with a scan, a point list and the scene file) opens the segmentation alone, the
-// scan set aside as an image and the rest named.
+// scan set aside as an image and the rest named, dropped as the scene's folder (its screenshot
+// counted as not read) or picked as its `.mrb`, the same mesh either way.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdtempSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { dirname } from 'node:path';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { zipSync } from 'fflate';
-import { gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf } from './lib.mjs';
+import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf } from './lib.mjs';
 import { makeSlicerSegmentation } from './laxViews.mjs';
 import { appForFile } from './perFile.mjs';
 
@@ -75,13 +77,27 @@ describe('3D Slicer scenes', () => {
     }
   });
 
-  it('opens a .mrb of a segmentation as the segmentation, its scan set aside as an image', async () => {
+  it('opens a .mrb of a segmentation, or its folder dropped, as the segmentation, its scan set aside as an image', async () => {
     await gotoEmpty(page, server.url);
     const seg = makeSlicerSegmentation();
     const points = readFileSync(join(FIXTURE, 'RV insertions.mrk.json'));
     const files = { 'Scene.mrml': text(SCENE), 'Data/cine.nrrd': scan(), 'Data/Segmentation.seg.nrrd': seg.bytes, 'Data/F.mrk.json': new Uint8Array(points) };
     const { dir, path } = bundle('Scene', files);
+    // The same scene as Slicer leaves it on disk, with its screenshot (not a kind the app reads).
+    const folder = join(dir, 'Scene');
+    for (const [p, b] of Object.entries({ ...files, 'Scene.png': new Uint8Array([0x89, 0x50, 0x4e, 0x47]) })) {
+      mkdirSync(dirname(join(folder, p)), { recursive: true });
+      writeFileSync(join(folder, p), b);
+    }
     try {
+      await dropPaths(page, [folder]);
+      assert.deepEqual(await page.$$eval('[data-testid=file-picker] option', (os) => os.map((o) => o.value)), ['Segmentation.seg.nrrd']);
+      assert.equal(
+        (await textOf(page, '[data-testid=error-banner]')).replace(/✕$/, ''),
+        '1 image set aside: images, not contours (the contours come from Segmentation.seg.nrrd). 2 other files of the Slicer scene set aside (the contours come from its segmentations): F.mrk.json, Scene.mrml. 1 other file in the dropped folder was not read (not a contour file, or past the first 200 files).',
+      );
+      const dropped = await readResult(page);
+      await gotoEmpty(page, server.url);
       await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', path), 120000);
       assert.deepEqual(await page.$$eval('[data-testid=file-picker] option', (os) => os.map((o) => o.value)), ['Segmentation.seg.nrrd']);
       const banner = (await textOf(page, '[data-testid=error-banner]')).replace(/✕$/, '');
@@ -93,6 +109,7 @@ describe('3D Slicer scenes', () => {
       const m = await meshOnScreen(page);
       assert.equal(m.watertight, true);
       assert.ok(r.vertices > 500, `${r.vertices} vertices`);
+      assert.deepEqual(r, dropped, 'the folder dropped gives the mesh of its bundle');
       console.log(`# Slicer scene (.mrb) of a segmentation: ${await page.inputValue('[data-testid=surface-picker]')} ${m.volumeMl.toFixed(2)} ml, ${r.vertices} vertices`);
       assert.deepEqual(pageErrors, []);
     } finally {
