@@ -77,8 +77,16 @@ pub fn load_all(paths: &[String], frame: Option<FrameChoice>) -> Result<(&str, L
         frame,
         ..ContourOptions::default()
     };
-    // Each error names the file it is about itself.
-    let (stack, set) = io::read_study(&named, &options).map_err(CliError::param)?;
+    // Each error names the file it is about itself; one about the set as a whole (its folders,
+    // no curve in any file) is said of the paths given.
+    let (stack, set) = io::read_study(&named, &options).map_err(|e| {
+        let text = e.to_string();
+        if entries.iter().any(|x| text.contains(x.name.as_str())) || text.contains(first.as_str()) {
+            CliError::param(e)
+        } else {
+            CliError::input(&paths.join(" "), e)
+        }
+    })?;
     let e = &entries[stack];
     Ok((
         paths[e.origin].as_str(),

@@ -283,7 +283,7 @@ fn volumes_takes_a_folder_of_markups_per_phase() {
     assert_eq!(code, 2, "{err}");
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(
-        err.contains("Slicer markups from 2 folders (")
+        err.starts_with("heartmesh: Slicer markups from 2 folders (")
             && err.contains("hold curves of the same names (s02_SAX_LV_ENDOCARDIAL")
             && err.contains("open one folder at a time"),
         "{err}"

@@ -427,12 +427,14 @@ pub fn read_study(
         set.warnings.extend(scene.warning(files));
         return Ok((scene.read[main], set));
     }
-    // A folder of Slicer markups (one node per file, as Slicer saves them): one set.
+    // A folder of Slicer markups (one node per file, as Slicer saves them): one set. An error
+    // names its file itself, or is about the set (its folders), so none is put before it.
     if files
         .iter()
         .all(|(_, bytes)| markups::is_markups(&bytes[..bytes.len().min(4096)]))
     {
-        return read_with_companions(files, 0, options);
+        let (first, rest) = (files[0], &files[1..]);
+        return markups::read_markups(first.0, first.1, rest).map(|set| (0, set));
     }
     match workspaces[..] {
         [] | [_] => {}
