@@ -206,6 +206,33 @@ pub fn non_planar_warnings(set: &ContourSet) -> Vec<String> {
     )
 }
 
+/// Contours with a point (or two) far outside any heart, apart from the rest of the curve
+/// ([`super::clean::stray_pieces`]): left out of the fit, named so the damaged value is found.
+pub fn stray_point_warnings(set: &ContourSet) -> Vec<String> {
+    let mut flagged: Vec<String> = Vec::new();
+    for c in &set.contours {
+        let pieces: Vec<_> = c
+            .pieces
+            .iter()
+            .flat_map(super::clean::clean_and_split)
+            .collect();
+        let strays = super::clean::stray_pieces(&pieces);
+        if let Some(far) = strays.iter().map(|s| s.1).reduce(f64::max) {
+            let n: usize = strays.iter().map(|(k, _)| pieces[*k].points.len()).sum();
+            let points = if n == 1 { "1 point" } else { "points" };
+            flagged.push(named(
+                c,
+                &format!("{points} {far:.0} mm from the rest of the curve"),
+            ));
+        }
+    }
+    one_line(
+        flagged,
+        "is fitted without them: no heart reaches that far (a damaged value?)",
+        "are fitted without them: no heart reaches that far (damaged values?)",
+    )
+}
+
 /// A contour as the warnings name it: its identifier, its first line in the file and what is
 /// wrong with it (`"sax3" (line 62, only 1 point)`).
 fn named(c: &Contour, detail: &str) -> String {

@@ -44,10 +44,58 @@ pub fn median_spacing(points: &[Vec3]) -> f64 {
     d[d.len() / 2]
 }
 
-/// The contour with every piece cleaned and split ([`clean_and_split`]); None when nothing is
-/// left. The axis search and the alignment both look at contours this way before fitting planes.
+/// Farther than this (mm) from every other point of its contour, a piece of one or two points lies
+/// outside any heart: a damaged coordinate, not a lone point of the curve. Real files carry lone
+/// points up to ~50 mm before the rest of a curve (biv-me's long-axis curves), which stay.
+pub const STRAY_POINT_MM: f64 = 100.0;
+
+/// The pieces (of at most two points) of a contour's cleaned and split pieces that lie farther
+/// than [`STRAY_POINT_MM`], and than twice the extent of the rest, from every point of the rest of
+/// the contour, with that distance (mm). A corrupted value throws a point hundreds of millimetres
+/// out; kept, it would pull the surface into a spike through everything.
+pub fn stray_pieces(pieces: &[Polyline]) -> Vec<(usize, f64)> {
+    let small = |p: &Polyline| p.points.len() <= 2;
+    let mut out = Vec::new();
+    for (k, piece) in pieces.iter().enumerate().filter(|(_, p)| small(p)) {
+        let rest: Vec<&Vec3> = pieces
+            .iter()
+            .enumerate()
+            .filter(|(j, p)| *j != k && !small(p))
+            .flat_map(|(_, p)| p.points.iter())
+            .collect();
+        if rest.len() < 3 {
+            continue;
+        }
+        let (mut lo, mut hi) = (*rest[0], *rest[0]);
+        for p in &rest {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        let limit = STRAY_POINT_MM.max(2.0 * (hi - lo).norm());
+        let gap = piece
+            .points
+            .iter()
+            .map(|p| {
+                rest.iter()
+                    .map(|q| (p - *q).norm())
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(f64::INFINITY, f64::min);
+        if gap > limit {
+            out.push((k, gap));
+        }
+    }
+    out
+}
+
+/// The contour with every piece cleaned and split ([`clean_and_split`]), stray points
+/// ([`stray_pieces`]) left out; None when nothing is left. The axis search and the alignment
+/// both look at contours this way before fitting planes.
 pub fn cleaned_contour(c: &Contour) -> Option<Contour> {
-    let pieces: Vec<_> = c.pieces.iter().flat_map(clean_and_split).collect();
+    let mut pieces: Vec<_> = c.pieces.iter().flat_map(clean_and_split).collect();
+    for (k, _) in stray_pieces(&pieces).into_iter().rev() {
+        pieces.remove(k);
+    }
     (!pieces.is_empty()).then(|| Contour {
         id: c.id.clone(),
         surface: c.surface.clone(),
@@ -177,6 +225,67 @@ pub fn resample_spacing(points: &[Vec3], closed: bool, spacing: f64) -> Vec<Vec3
 mod tests {
     use super::*;
     use crate::geometry::v3;
+
+    #[test]
+    fn a_point_thrown_out_of_any_heart_is_a_stray_and_a_lone_point_near_its_curve_is_not() {
+        let ring = |n: usize, r: f64| -> Vec<Vec3> {
+            (0..n)
+                .map(|i| {
+                    let t = std::f64::consts::TAU * i as f64 / n as f64;
+                    v3(r * t.cos(), r * t.sin(), 0.0)
+                })
+                .collect()
+        };
+        // A ring with its 10th point's x damaged to 830 mm: split at both jumps, the point alone.
+        let mut damaged = ring(60, 12.0);
+        damaged[10].x = 830.0;
+        let piece = Polyline {
+            points: damaged,
+            closed: true,
+        };
+        let pieces = clean_and_split(&piece);
+        assert_eq!(
+            pieces.iter().map(|p| p.points.len()).collect::<Vec<_>>(),
+            [1, 59]
+        );
+        let strays = stray_pieces(&pieces);
+        assert_eq!(strays.len(), 1);
+        assert_eq!(strays[0].0, 0);
+        assert!((strays[0].1 - 818.2).abs() < 1.0, "{strays:?}");
+        let c = Contour {
+            id: "s02".into(),
+            surface: None,
+            pieces: vec![piece],
+            first_line: 2,
+        };
+        let kept = cleaned_contour(&c).unwrap();
+        assert_eq!(kept.pieces.len(), 1);
+        assert!(kept.pieces[0].points.iter().all(|p| p.x < 13.0));
+        // biv-me's long-axis curves carry a lone first point ~50 mm before the rest: it stays.
+        let mut lax: Vec<Vec3> = (0..=100).map(|i| v3(0.0, 0.0, -(i as f64))).collect();
+        lax.insert(0, v3(48.0, 0.0, 10.0));
+        let pieces = clean_and_split(&Polyline {
+            points: lax,
+            closed: false,
+        });
+        assert_eq!(pieces.len(), 2);
+        assert!(stray_pieces(&pieces).is_empty());
+        // Two points 150 mm out beside a 20 mm ring: within twice nothing, beyond 100 mm: strays.
+        let mut two = ring(40, 10.0);
+        two.extend([v3(160.0, 0.0, 0.0), v3(161.0, 0.0, 0.0)]);
+        let pieces = clean_and_split(&Polyline {
+            points: two,
+            closed: false,
+        });
+        let strays = stray_pieces(&pieces);
+        assert_eq!(
+            strays
+                .iter()
+                .map(|s| pieces[s.0].points.len())
+                .sum::<usize>(),
+            2
+        );
+    }
 
     #[test]
     fn resampling_a_curve_of_overflowing_length_is_capped() {

@@ -171,7 +171,8 @@ impl ContourBuilder {
         // Across surfaces: a ring copied into another surface is a mistake about both.
         let dups = duplicate_warnings(&set);
         set.warnings.extend(dups);
-        let checks: [fn(&ContourSet) -> Vec<String>; 6] = [
+        let checks: [fn(&ContourSet) -> Vec<String>; 7] = [
+            checks::stray_point_warnings,
             checks::non_planar_warnings,
             order_warnings,
             set_aside::set_aside_warnings,
