@@ -12,7 +12,7 @@ import {
 import { parseUrlState, serializeUrlState } from '../../web/src/app/urlState';
 import { headerLines, type ExportInfo } from '../../web/src/io/export/header';
 import { writeParamsJson } from '../../web/src/io/export/json';
-import { endCapsText, pastDataText, valveChordsText } from '../../web/src/ui/runText';
+import { endCapsText, pastDataText, skippedRemeshesText, valveChordsText } from '../../web/src/ui/runText';
 import { ResultPanel } from '../../web/src/ui/ResultPanel';
 import { type FakeElement, dlRows } from './fakeDom';
 import { useFakeDocument, optionsPanel } from './panelHarness';
@@ -199,5 +199,28 @@ describe('valve chords in the result panel', () => {
     panel.show(result({ valve_chords: [], valveChordNote: null }));
     expect(rows(el)['Valve chords']).toBeUndefined();
     expect(el.dataset.valveChords).toBeUndefined();
+  });
+
+  it('says which remeshes the core skipped, short in the panel, the whole sentence as the tooltip', () => {
+    expect(skippedRemeshesText(undefined, undefined)).toBeNull();
+    expect(skippedRemeshesText([], null)).toBeNull();
+    const one = [{ iteration: 140, reason: 'it would have changed the enclosed volume from 264.3 ml to 3.8 ml' }];
+    const note = 'the remesh at iteration 140 was skipped: it would have changed the enclosed volume from 264.3 ml to 3.8 ml; ...';
+    expect(skippedRemeshesText(one, note)).toEqual({ text: 'skipped at 140', title: note });
+    const many = [0, 20, 40, 60].map((iteration) => ({ iteration, reason: 'r' }));
+    expect(skippedRemeshesText(many, null)).toEqual({ text: '4 skipped', title: 'remeshes skipped at iterations 0, 20, 40, 60: r' });
+  });
+
+  it('the result panel has a warning Remeshes row only when some were skipped, nothing stale after', () => {
+    const panel = new ResultPanel();
+    const el = panel.element as unknown as FakeElement;
+    const note = 'the remesh at iteration 140 was skipped: it would have changed ...';
+    panel.show(result({ skipped_remeshes: [{ iteration: 140, reason: 'it would have changed ...' }], skippedRemeshNote: note }));
+    expect(rows(el)['Remeshes']).toBe('skipped at 140');
+    expect(el.byTestId('result-skipped-remeshes')?.title).toBe(note);
+    expect(el.dataset.skippedRemeshes).toBe('1');
+    panel.show(result({ skipped_remeshes: [], skippedRemeshNote: null }));
+    expect(rows(el)['Remeshes']).toBeUndefined();
+    expect(el.dataset.skippedRemeshes).toBeUndefined();
   });
 });

@@ -259,6 +259,9 @@ export interface MeshQuality {
  * One contour the run left out of the reconstruction (the core's `SetAsideDistance`, the entries
  * of the CLI report's `set_aside`): `line` is the file line of its first point (0: not from a file).
  */
+/** A remesh the core skipped (`remesh_guard`): at which iteration, and what it would have done. */
+export type SkippedRemesh = { iteration: number; reason: string };
+
 export type SetAsideEntry = {
   id: string;
   line: number;
@@ -350,6 +353,13 @@ export interface RunResult {
    */
   valve_chords?: string[];
   valveChordNote?: string | null;
+  /**
+   * Remeshes the core skipped because each would have wrecked the surface (a collapse, a
+   * flattening, a stalled decimation: contour points far off their curve), and its sentence about
+   * them (empty / null on sound data; both absent from results of older cores).
+   */
+  skipped_remeshes?: SkippedRemesh[];
+  skippedRemeshNote?: string | null;
   /** Folds and self-intersections of the final mesh (absent from results of older cores). */
   quality?: MeshQuality | null;
   /**

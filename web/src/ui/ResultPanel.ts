@@ -12,13 +12,13 @@
  */
 import type { Alignment, RunResult } from '../core-client/protocol';
 import { h, mm } from './dom';
-import { alignmentRows, endCapsText, iterationsDoneText, meshCheckText, pastDataText, residualText, leftOutText, valveChordsText } from './runText';
+import { alignmentRows, endCapsText, iterationsDoneText, meshCheckText, pastDataText, residualText, leftOutText, skippedRemeshesText, valveChordsText } from './runText';
 
 const ATTRIBUTES = [
   'data-vertices', 'data-triangles', 'data-mean-mm', 'data-max-mm', 'data-iterations', 'data-converged',
   'data-residual-before-mm', 'data-residual-after-mm', 'data-given-mean-mm', 'data-past-base-mm', 'data-past-apex-mm',
   'data-end-caps-base', 'data-end-caps-apex', 'data-end-caps-apex-floor', 'data-end-caps-points', 'data-crossing-residual-mm', 'data-suggest-alignment',
-  'data-set-aside', 'data-valve-chords',
+  'data-set-aside', 'data-valve-chords', 'data-skipped-remeshes',
 ];
 
 const SHIFTED_HELP = 'with breath-hold alignment: from the shifted contours, which the mesh follows, to the mesh';
@@ -141,6 +141,11 @@ export class ResultPanel {
     if (chords) {
       d.valveChords = String(r.valve_chords?.length ?? 0);
       rows.push(...row('Valve chords', chords.text, 'result-valve-chords', chords.title));
+    }
+    const skipped = skippedRemeshesText(r.skipped_remeshes, r.skippedRemeshNote);
+    if (skipped) {
+      d.skippedRemeshes = String(r.skipped_remeshes?.length ?? 0);
+      rows.push(...row('Remeshes', skipped.text, 'result-skipped-remeshes', skipped.title, true));
     }
     rows.push(
       ...row('Area', `${(r.areaMm2 / 100).toFixed(1)} cm²`),

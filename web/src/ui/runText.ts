@@ -2,7 +2,7 @@
  * The words the status line and the result panel use for a run's progress and for its breath-hold
  * alignment. Pure (no DOM), so the wording and the numbers are unit-tested.
  */
-import type { Alignment, AlignmentGroup, EndCaps, MeshQuality, PastData, SetAsideEntry, SetAsideReason, StepReport } from '../core-client/protocol';
+import type { Alignment, AlignmentGroup, EndCaps, MeshQuality, PastData, SetAsideEntry, SetAsideReason, SkippedRemesh, StepReport } from '../core-client/protocol';
 import { mm } from './dom';
 
 /** "+1.4 mm" / "−0.3 mm": a signed length with one decimal ("0.0 mm" when it rounds to zero, not "−0.0"). */
@@ -181,6 +181,21 @@ export function valveChordsText(ids: readonly string[] | undefined, note: string
   return {
     text: `${ids.length} opened`,
     title: note ?? `${ids.join(', ')} closed across the valve: fitted opened there, the base's lid carrying the valve plane`,
+  };
+}
+
+/**
+ * The result panel's "Remeshes" figure when the core skipped some because each would have wrecked
+ * the surface ("skipped at 140", "11 skipped": short, the value column is narrow), with the core's
+ * sentence, which names every iteration, for the tooltip. Null when none was (no row): sound data
+ * never skips.
+ */
+export function skippedRemeshesText(skipped: readonly SkippedRemesh[] | undefined, note: string | null | undefined): { text: string; title: string } | null {
+  if (!skipped || skipped.length === 0) return null;
+  const at = skipped.map((s) => s.iteration);
+  return {
+    text: skipped.length === 1 ? `skipped at ${at[0]}` : `${skipped.length} skipped`,
+    title: note ?? `remeshes skipped at iterations ${at.join(', ')}: ${skipped[0].reason}`,
   };
 }
 

@@ -348,6 +348,9 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             if let Some(note) = asked_note(&s.rec.set_aside_distances()) {
                 eprintln!("heartmesh: note: {input}: {}: {note}", s.name);
             }
+            if let Some(note) = s.rec.skipped_remesh_note() {
+                eprintln!("heartmesh: warning: {input}: {}: {note}", s.name);
+            }
         }
         for (moved, what, how) in [
             (

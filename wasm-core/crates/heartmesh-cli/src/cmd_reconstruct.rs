@@ -481,6 +481,9 @@ impl Run<'_> {
             if let Some(note) = rec.valve_chord_note() {
                 self.say(format!("heartmesh: note: {input}: {note}"));
             }
+            if let Some(w) = rec.skipped_remesh_note() {
+                self.say(format!("heartmesh: warning: {input}: {w}"));
+            }
             if let Some(w) = report::self_intersection_warning(&rep) {
                 self.say(format!("heartmesh: warning: {output}: {w}"));
             }

@@ -106,6 +106,9 @@ struct Cell {
     seconds: f64,
     /// The run's most basal short-axis plane (the anatomical layouts stop there).
     base: Option<ClipPlane>,
+    /// The core's sentence about remeshes it skipped (`Reconstruction::skipped_remesh_note`):
+    /// a volume measured on such a mesh needs the user's eye.
+    skipped_remeshes: Option<String>,
 }
 
 impl Cell {
@@ -114,6 +117,7 @@ impl Cell {
             out: Outcome::none(missing),
             seconds: 0.0,
             base: None,
+            skipped_remeshes: None,
         }
     }
 }
@@ -222,6 +226,12 @@ pub fn run(args: &[String]) -> Result<(), CliError> {
             for surface in &surfaces {
                 for w in phase.set.warnings_for(surface.as_deref()) {
                     say(contours::warning_line(&phase.input, &w));
+                }
+            }
+            for (surface, cell) in surfaces.iter().zip(&row) {
+                if let Some(note) = &cell.skipped_remeshes {
+                    let s = surface.as_deref().unwrap_or(UNLABELLED);
+                    say(format!("heartmesh: warning: {}: {s}: {note}", phase.input));
                 }
             }
             outln!("{}", table.row(phase, &row));
@@ -493,6 +503,7 @@ fn reconstruct(
         out: Outcome::of(&rec),
         seconds: started.elapsed().as_secs_f64(),
         base: basal_plane(&rec).ok(),
+        skipped_remeshes: rec.skipped_remesh_note(),
     })
 }
 

@@ -142,6 +142,8 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         "end_caps": rec.end_caps(),
         // Long-axis curves closed across the valve, fitted opened there (`valve_chord_note`).
         "valve_chords": rec.valve_chords(),
+        // Remeshes skipped because each would have wrecked the surface (empty on sound data).
+        "skipped_remeshes": rec.skipped_remeshes(),
         "contours": rec.contours().len(),
         "contour_to_mesh": {
             "mean": o.mean,

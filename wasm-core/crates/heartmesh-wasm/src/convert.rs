@@ -189,6 +189,10 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         // and the core's sentence about them (null when none).
         "valve_chords": rec.valve_chords(),
         "valveChordNote": rec.valve_chord_note(),
+        // Remeshes skipped because each would have wrecked the surface, and the core's sentence
+        // about them (empty / null on sound data).
+        "skipped_remeshes": rec.skipped_remeshes(),
+        "skippedRemeshNote": rec.skipped_remesh_note(),
         "areaMm2": mesh.area(),
         "watertight": topology::validity(mesh).is_closed_manifold(),
         // What a volume mesher or a 3D-printing slicer would trip over: creased neighbours

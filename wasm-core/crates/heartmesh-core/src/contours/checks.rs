@@ -219,17 +219,17 @@ pub fn stray_point_warnings(set: &ContourSet) -> Vec<String> {
         let strays = super::clean::stray_pieces(&pieces);
         if let Some(far) = strays.iter().map(|s| s.1).reduce(f64::max) {
             let n: usize = strays.iter().map(|(k, _)| pieces[*k].points.len()).sum();
-            let points = if n == 1 { "1 point" } else { "points" };
+            let points = if n == 1 { "point" } else { "points" };
             flagged.push(named(
                 c,
-                &format!("{points} {far:.0} mm from the rest of the curve"),
+                &format!("{n} {points} {far:.0} mm from the rest of the curve"),
             ));
         }
     }
     one_line(
         flagged,
-        "is fitted without them: no heart reaches that far (a damaged value?)",
-        "are fitted without them: no heart reaches that far (damaged values?)",
+        "is fitted without them: no heart reaches that far (a damaged file?)",
+        "are fitted without them: no heart reaches that far (a damaged file?)",
     )
 }
 

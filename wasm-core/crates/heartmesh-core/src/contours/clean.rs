@@ -44,17 +44,25 @@ pub fn median_spacing(points: &[Vec3]) -> f64 {
     d[d.len() / 2]
 }
 
-/// Farther than this (mm) from every other point of its contour, a piece of one or two points lies
-/// outside any heart: a damaged coordinate, not a lone point of the curve. Real files carry lone
-/// points up to ~50 mm before the rest of a curve (biv-me's long-axis curves), which stay.
+/// Farther than this (mm) from every other point of its contour, a small piece lies outside any
+/// heart: damaged coordinates, not a lone point of the curve. Real files carry lone points up to
+/// ~50 mm before the rest of a curve (biv-me's long-axis curves), which stay.
 pub const STRAY_POINT_MM: f64 = 100.0;
 
-/// The pieces (of at most two points) of a contour's cleaned and split pieces that lie farther
-/// than [`STRAY_POINT_MM`], and than twice the extent of the rest, from every point of the rest of
-/// the contour, with that distance (mm). A corrupted value throws a point hundreds of millimetres
-/// out; kept, it would pull the surface into a spike through everything.
+/// A piece of at most this share of its contour's points (or two points) is small enough to be
+/// the stray part; a bigger one might be the curve itself.
+pub const STRAY_SHARE: f64 = 0.25;
+
+/// The small pieces (at most two points, or [`STRAY_SHARE`] of the contour's points) of a
+/// contour's cleaned and split pieces that lie farther than [`STRAY_POINT_MM`], and than twice
+/// the extent of the rest, from every point of the rest of the contour, with that distance (mm).
+/// A corrupted value throws a point hundreds of millimetres out, a damaged run of rows a few;
+/// kept, they pull the surface into a spike through everything, which the remesh then flattens
+/// (three points 300 mm out on the SurFCo example: 264 ml to 3.8 ml at iteration 140).
 pub fn stray_pieces(pieces: &[Polyline]) -> Vec<(usize, f64)> {
-    let small = |p: &Polyline| p.points.len() <= 2;
+    let total: usize = pieces.iter().map(|p| p.points.len()).sum();
+    let most = 2.max((STRAY_SHARE * total as f64) as usize);
+    let small = |p: &Polyline| p.points.len() <= most;
     let mut out = Vec::new();
     for (k, piece) in pieces.iter().enumerate().filter(|(_, p)| small(p)) {
         let rest: Vec<&Vec3> = pieces
@@ -285,6 +293,37 @@ mod tests {
                 .sum::<usize>(),
             2
         );
+    }
+
+    #[test]
+    fn a_run_of_rows_thrown_out_is_a_stray_while_half_a_curve_is_not() {
+        let arc = |n: usize, x0: f64| -> Vec<Vec3> {
+            (0..n)
+                .map(|i| {
+                    let t = std::f64::consts::PI * i as f64 / n as f64;
+                    v3(x0 + 20.0 * t.cos(), 20.0 * t.sin(), 0.0)
+                })
+                .collect()
+        };
+        let split = |points: Vec<Vec3>| {
+            clean_and_split(&Polyline {
+                points,
+                closed: false,
+            })
+        };
+        // Six damaged rows (of 46) 300 mm out, in the middle of the curve: a quarter at most.
+        let mut points = arc(20, 0.0);
+        points.extend((0..6).map(|i| v3(300.0 + i as f64, 0.0, 0.0)));
+        points.extend(arc(20, 0.0).into_iter().map(|p| v3(p.x, -p.y, 0.0)));
+        let pieces = split(points);
+        let strays = stray_pieces(&pieces);
+        assert_eq!(strays.len(), 1, "{strays:?}");
+        assert_eq!(pieces[strays[0].0].points.len(), 6);
+        assert!((strays[0].1 - 280.0).abs() < 1.0, "{strays:?}");
+        // Two halves 300 mm apart: neither is the curve more than the other, both stay.
+        let mut points = arc(20, 0.0);
+        points.extend(arc(20, 300.0));
+        assert!(stray_pieces(&split(points)).is_empty());
     }
 
     #[test]

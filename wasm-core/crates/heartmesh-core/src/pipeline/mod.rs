@@ -21,6 +21,7 @@ mod phases;
 #[cfg(test)]
 mod precision;
 mod prepare;
+mod remesh_guard;
 #[cfg(test)]
 mod reuse;
 pub mod solve_cost;
@@ -50,6 +51,7 @@ use crate::parallel;
 use crate::params::{AttractorMode, Params};
 use crate::spatial::{Bvh, ClosestHit};
 use diameter::diameter;
+pub use remesh_guard::SkippedRemesh;
 use serde::Serialize;
 
 /// Spacing (mm) of the contour resampling that feeds attractor selection.
@@ -232,6 +234,8 @@ pub struct Reconstruction {
     weighted: bool,
     /// Fewest triangles a remesh may leave: the initial tube's ([`capped_reduction`]).
     min_triangles: usize,
+    /// Both ends of the tube are lidded: the mesh is closed and encloses a volume.
+    lidded: bool,
     /// Working mesh in normalised units, and its copy in mm handed to callers.
     mesh_unit: TriMesh,
     mesh_mm: TriMesh,
@@ -252,6 +256,8 @@ pub struct Reconstruction {
     iteration: usize,
     /// Iteration of the last remesh (0: the initial tube).
     last_remesh: usize,
+    /// The remeshes skipped because they would have wrecked the surface (`remesh_guard`).
+    skipped_remeshes: Vec<SkippedRemesh>,
     /// First iteration at which the method's stop rule held ([`Reconstruction::step`]).
     converged_at: Option<usize>,
     started: bool,
@@ -394,6 +400,7 @@ impl Reconstruction {
             weights: Vec::new(),
             weighted: false,
             min_triangles: 0,
+            lidded: false,
             mesh_unit: TriMesh::default(),
             mesh_mm: TriMesh::default(),
             bvh: None,
@@ -406,6 +413,7 @@ impl Reconstruction {
             fps_last: None,
             iteration: 0,
             last_remesh: 0,
+            skipped_remeshes: Vec::new(),
             converged_at: None,
             started: false,
             done: false,
@@ -536,10 +544,11 @@ impl Reconstruction {
             && it + settle <= self.params.iterations
         {
             let t = self.clock.now_ms();
-            self.remesh()?;
-            self.last_remesh = it;
+            if self.remesh(it)? {
+                self.last_remesh = it;
+                phase = Phase::Remesh;
+            }
             timings.remesh_ms = self.clock.now_ms() - t;
-            phase = Phase::Remesh;
         }
         if let Some(bvh) = self.bvh.as_mut() {
             if phase != Phase::Remesh {
@@ -768,6 +777,17 @@ impl Reconstruction {
             (Some(a), Some(b)) => Some(format!("{a}; and {b}")),
             (a, b) => a.or(b),
         }
+    }
+
+    /// The remeshes this run skipped because each would have wrecked the surface
+    /// (`remesh_guard`: a collapse, a flattening, a stalled decimation); empty on sound data.
+    pub fn skipped_remeshes(&self) -> &[SkippedRemesh] {
+        &self.skipped_remeshes
+    }
+
+    /// The one-line note for a run that skipped remeshes ([`remesh_guard::note`]), or None.
+    pub fn skipped_remesh_note(&self) -> Option<String> {
+        remesh_guard::note(&self.skipped_remeshes)
     }
 
     pub fn iteration(&self) -> usize {

@@ -1,6 +1,7 @@
 //! The phases of a reconstruction step: the initial tube, attractor sampling, closest points,
 //! the remesh, and the step report.
 
+use super::remesh_guard::{self, SkippedRemesh};
 use super::tube;
 use super::{
     capped_reduction, ends, Phase, PhaseTimings, Reconstruction, StepReport, CANDIDATE_SPACING_MM,
@@ -63,12 +64,21 @@ impl Reconstruction {
             )));
         }
         let closed = lids.apex.is_some() && lids.base.is_some();
+        self.lidded = closed;
         if closed && mesh.signed_volume() < 0.0 {
             mesh.flip_orientation();
         }
         let t = self.clock.now_ms();
         self.min_triangles = mesh.triangles.len();
-        self.mesh_unit = self.remeshed(&mesh)?;
+        // A smoothing that collapses the tube (a long run of a method without shrink correction)
+        // leaves the tube itself to deform.
+        self.mesh_unit = match self.checked_remesh(&mesh, 0)? {
+            Ok(remeshed) => remeshed,
+            Err(skipped) => {
+                self.skipped_remeshes.push(skipped);
+                mesh
+            }
+        };
         timings.remesh_ms = self.clock.now_ms() - t;
         self.bvh = Some(Bvh::build(&self.mesh_unit));
         let t = self.clock.now_ms();
@@ -246,12 +256,47 @@ impl Reconstruction {
         )
     }
 
-    pub(super) fn remesh(&mut self) -> Result<()> {
-        self.mesh_unit = self.remeshed(&self.mesh_unit)?;
+    /// The remesh at `iteration`, unless it would wreck the surface (`remesh_guard`): then the
+    /// mesh stays as it is and the skip is recorded. True when the mesh was remeshed.
+    pub(super) fn remesh(&mut self, iteration: usize) -> Result<bool> {
+        match self.checked_remesh(&self.mesh_unit, iteration)? {
+            Ok(next) => self.mesh_unit = next,
+            Err(skipped) => {
+                self.skipped_remeshes.push(skipped);
+                return Ok(false);
+            }
+        }
         self.bvh = Some(Bvh::build(&self.mesh_unit));
         // New triangles: the old indices would still give the same answers, only slower.
         self.hints.fill(u32::MAX);
-        Ok(())
+        Ok(true)
+    }
+
+    /// `mesh` remeshed, or the skip to record when the result would wreck the surface.
+    fn checked_remesh(
+        &self,
+        mesh: &TriMesh,
+        iteration: usize,
+    ) -> Result<std::result::Result<TriMesh, SkippedRemesh>> {
+        let reduction = capped_reduction(
+            self.params.target_reduction,
+            mesh.triangles.len(),
+            self.min_triangles,
+        );
+        let asked = ((1.0 - reduction) * (4 * mesh.triangles.len()) as f64).round() as usize;
+        let reason = match self.remeshed(mesh) {
+            Ok(next) => {
+                match remesh_guard::refusal(mesh, &next, asked, self.lidded, self.norm.scale) {
+                    None => return Ok(Ok(next)),
+                    Some(why) => why,
+                }
+            }
+            // Mid-run only the remesh's own check fails this way (the deformation keeps the
+            // topology), and the mesh before it is still sound; the tube's is a real error.
+            Err(CoreError::InvalidMesh(why)) if iteration > 0 => why,
+            Err(e) => return Err(e),
+        };
+        Ok(Err(SkippedRemesh { iteration, reason }))
     }
 
     pub(super) fn update_mesh_mm(&mut self) {
