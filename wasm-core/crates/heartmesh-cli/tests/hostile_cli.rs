@@ -775,7 +775,7 @@ fn remeshes_that_would_collapse_the_surface_are_skipped_and_named() {
     assert!(
         err.contains("warning: ")
             && err.contains("11 remeshes (iterations 0 (the initial tube), 20, 40,")
-            && err.contains("check the contours and the smoothing settings"),
+            && err.contains("check the contours and the settings"),
         "{err}"
     );
     assert!(valid_mesh_c2m(&rep, "collapsing smoothing") < 0.5);
