@@ -780,7 +780,8 @@ impl Reconstruction {
     }
 
     /// The remeshes this run skipped because each would have wrecked the surface
-    /// (`remesh_guard`: a collapse, a flattening, a stalled decimation); empty on sound data.
+    /// (`remesh_guard`: the enclosed volume changed over twofold, or a stalled decimation); empty on
+    /// sound data.
     pub fn skipped_remeshes(&self) -> &[SkippedRemesh] {
         &self.skipped_remeshes
     }

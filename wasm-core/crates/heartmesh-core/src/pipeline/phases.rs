@@ -243,19 +243,6 @@ impl Reconstruction {
         Ok((max_d, sum_d / real.max(1) as f64))
     }
 
-    /// Subdivide + smooth + decimate, keeping the closed/open state of the mesh.
-    pub(super) fn remeshed(&self, mesh: &TriMesh) -> Result<TriMesh> {
-        let p = &self.params;
-        // `remesh` checks that its result is manifold, oriented and as closed as its input.
-        remesh_with(
-            mesh,
-            p.smoothing,
-            p.smoothing_iterations,
-            p.smoothing_factor,
-            capped_reduction(p.target_reduction, mesh.triangles.len(), self.min_triangles),
-        )
-    }
-
     /// The remesh at `iteration`, unless it would wreck the surface (`remesh_guard`): then the
     /// mesh stays as it is and the skip is recorded. True when the mesh was remeshed.
     pub(super) fn remesh(&mut self, iteration: usize) -> Result<bool> {
@@ -272,19 +259,27 @@ impl Reconstruction {
         Ok(true)
     }
 
-    /// `mesh` remeshed, or the skip to record when the result would wreck the surface.
+    /// `mesh` subdivided, smoothed and decimated (closed or open as it was), or the skip to
+    /// record when the result would wreck the surface.
     fn checked_remesh(
         &self,
         mesh: &TriMesh,
         iteration: usize,
     ) -> Result<std::result::Result<TriMesh, SkippedRemesh>> {
-        let reduction = capped_reduction(
-            self.params.target_reduction,
-            mesh.triangles.len(),
-            self.min_triangles,
-        );
+        let p = &self.params;
+        let reduction =
+            capped_reduction(p.target_reduction, mesh.triangles.len(), self.min_triangles);
+        // Subdivision quadruples the triangles; the decimation keeps (1 - reduction) of them.
         let asked = ((1.0 - reduction) * (4 * mesh.triangles.len()) as f64).round() as usize;
-        let reason = match self.remeshed(mesh) {
+        // `remesh_with` checks that its result is manifold, oriented and as closed as its input.
+        let remeshed = remesh_with(
+            mesh,
+            p.smoothing,
+            p.smoothing_iterations,
+            p.smoothing_factor,
+            reduction,
+        );
+        let reason = match remeshed {
             Ok(next) => {
                 match remesh_guard::refusal(mesh, &next, asked, self.lidded, self.norm.scale) {
                     None => return Ok(Ok(next)),
