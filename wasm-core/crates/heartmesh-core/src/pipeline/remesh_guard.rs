@@ -96,10 +96,9 @@ pub fn note(skipped: &[SkippedRemesh]) -> Option<String> {
     };
     Some(format!(
         "{which} {}; the run went on without {it}, so the triangles may be uneven. Contour \
-         points far off their curve (a damaged file), a smoothing that shrinks the surface away \
-         (many sweeps of a method without the affine correction) or a very fine initial tube \
-         (ring points far above 50 on a crescent-shaped RV) do this: check the contours and the \
-         settings",
+         points far off their curve (a damaged file) or a smoothing that shrinks the surface \
+         away (many sweeps of a method without the affine correction) do this: check the \
+         contours and the settings",
         first.reason
     ))
 }

@@ -82,16 +82,28 @@ impl Decimator {
         // Geometry: no flipped or degenerate triangle around the moved vertex.
         let mut fan = std::mem::take(&mut self.fan);
         fan.clear();
-        let ok = self.fan_is_sound(a, b, p, &mut fan)
+        // Inside a knot (`KNOT_EDGE`) only degenerate triangles are refused; the repair rounds
+        // keep every test, since they collapse folds, not knots.
+        let (pa, pb) = (self.positions[a as usize], self.positions[b as usize]);
+        let knot = !self.guard_folds && (pb - pa).norm_squared() < self.knot_edge2;
+        let ok = self.fan_is_sound(a, b, p, knot, &mut fan)
             && (!self.guard_folds || self.fan_is_unfolded(a, b, &fan));
         self.fan = fan;
         ok
     }
 
     /// Every triangle of the merged fan keeps its orientation (turns by less than ~80 degrees)
-    /// and does not become (nearly) degenerate; in the repair rounds (`guard_folds`) collects the
-    /// fan's triangles (b renamed a) and their new normals into `fan`.
-    fn fan_is_sound(&self, a: u32, b: u32, p: Vec3, fan: &mut Vec<([u32; 3], Vec3)>) -> bool {
+    /// and does not become (nearly) degenerate, or, for a `knot` edge, keeps an area; in the
+    /// repair rounds (`guard_folds`) collects the fan's triangles (b renamed a) and their new
+    /// normals into `fan`.
+    fn fan_is_sound(
+        &self,
+        a: u32,
+        b: u32,
+        p: Vec3,
+        knot: bool,
+        fan: &mut Vec<([u32; 3], Vec3)>,
+    ) -> bool {
         for (v, other) in [(a, b), (b, a)] {
             for i in self.list(v) {
                 let t = self.refs[i] as usize;
@@ -113,10 +125,13 @@ impl Decimator {
                 let n_old = (old[1] - old[0]).cross(&(old[2] - old[0]));
                 let n_new = (new[1] - new[0]).cross(&(new[2] - new[0]));
                 let (l_old, l_new) = (n_old.norm(), n_new.norm());
-                if l_new.is_nan()
-                    || l_new <= 0.0
-                    || n_old.dot(&n_new) < MIN_NORMAL_COS * l_old * l_new
-                {
+                if l_new.is_nan() || l_new <= 0.0 {
+                    return false;
+                }
+                if knot {
+                    continue;
+                }
+                if n_old.dot(&n_new) < MIN_NORMAL_COS * l_old * l_new {
                     return false;
                 }
                 let q_new = quality(&new, l_new);

@@ -51,6 +51,18 @@ const MIN_QUALITY: f64 = 0.02;
 /// 0.01 and 0.03 all lower every LV and RV mean; 0.1 and 1 start to cost accuracy on the RV.
 const LENGTH_PENALTY: f64 = 0.01;
 
+/// Edges shorter than this share of the mesh's typical edge (that of an equilateral triangle of
+/// the mean area) collapse without the turn and quality tests: at that scale a collapse moves the
+/// surface by a tenth of an edge at most. Two kinds of mesh need it (docs/VALIDATION.md, session
+/// 49). A knot: a patch the deformation squeezed into a ball of tiny triangles facing every way,
+/// where any collapse turns one of them over, so none runs; each remesh's subdivision then
+/// quadruples it (vertices within 1 mm: 2, 4, 15, 48, 177 in five remeshes) until the stalled
+/// decimation eats the rest of the surface. And needles: rings of hundreds of points 10 mm
+/// apart (`--ring-points` 500 on a small ring), whose shortest edges cannot go without turning a
+/// neighbour, so the decimation stalls. On sound meshes no edge is this short: the method's
+/// meshes of the real cases at the defaults are unchanged to the byte; 0.05 left the needles.
+const KNOT_EDGE: f64 = 0.1;
+
 /// Re-seeding the queue from all remaining edges catches collapses that were illegal when first
 /// popped but became legal later; a few passes are enough in practice.
 const MAX_PASSES: usize = 8;
@@ -79,6 +91,8 @@ struct Decimator {
     guard_folds: bool,
     /// Cost per mm^2 of squared collapsed-edge length (see [`LENGTH_PENALTY`]).
     length_weight: f64,
+    /// Squared length below which an edge belongs to a knot (see [`KNOT_EDGE`]).
+    knot_edge2: f64,
     /// The CPU has AVX: checked once per decimation instead of once per cost evaluation.
     #[cfg(target_arch = "x86_64")]
     avx: bool,
@@ -188,6 +202,9 @@ impl Decimator {
             fan: Vec::new(),
             guard_folds: false,
             length_weight: LENGTH_PENALTY * area / mesh.triangles.len().max(1) as f64,
+            // An equilateral triangle of area A has edges of squared length 4 A / sqrt(3).
+            knot_edge2: KNOT_EDGE * KNOT_EDGE * 4.0 / 3f64.sqrt() * area
+                / mesh.triangles.len().max(1) as f64,
             #[cfg(target_arch = "x86_64")]
             avx: std::arch::is_x86_feature_detected!("avx"),
         })
