@@ -76,7 +76,7 @@ def verdict(status, err):
 
 def byte_seeds(out):
     """The real files, the SurFCo contours in every other format, a DICOM SEG and a Slicer markups
-    file, under OUT/seeds."""
+    file (JSON and legacy .fcsv), under OUT/seeds."""
     d = os.path.join(out, "seeds")
     os.makedirs(d, exist_ok=True)
     surfco = os.path.join(CONTOURS, "surfco-example.csv")
@@ -97,6 +97,15 @@ def byte_seeds(out):
                        "s03_SAX_LV_ENDOCARDIAL.mrk.json")
     with open(mrk, "rb") as f, open(os.path.join(d, "s03.mrk.json"), "wb") as g:
         g.write(f.read())
+    # The same curve as Slicer 4's point list file (.fcsv, Slicer 5's rows with two extra fields).
+    with open(mrk) as f:
+        markup = json.load(f)["markups"][0]
+    with open(os.path.join(d, "s03.fcsv"), "w") as g:
+        g.write("# Markups fiducial file version = 5.6\n# CoordinateSystem = LPS\n"
+                "# columns = id,x,y,z,ow,ox,oy,oz,vis,sel,lock,label,desc,associatedNodeID\n")
+        for k, p in enumerate(markup["controlPoints"]):
+            x, y, z = p["position"]
+            g.write(f'{k + 1},{x},{y},{z},0,0,0,1,1,1,0,{p["label"]},"a, note",,2,0\n')
     blocks = H.read_csv(surfco)
     with open(os.path.join(d, "s.xyz.txt"), "w") as g:
         g.write("\n\n".join("\n".join(f"{x} {y} {z}" for x, y, z in pts) for _, _, pts in blocks))

@@ -20,6 +20,8 @@ appForFile({ goto: false, onPageError: (m) => pageErrors.push(m) }, (app) => ({ 
 
 const FIXTURE = join(ROOT, 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'slicer-markups-patient1');
 const JOINED = 'Slicer markups (41 files).mrk.json';
+/** `heartmesh reconstruct` of the same .fcsv files, LV_ENDO (ml). */
+const FCSV_LV_ENDO_ML = 171.61;
 
 describe('3D Slicer markups', () => {
   it('opens a folder of .mrk.json curves as one contour set and reconstructs it as the command line does', async () => {
@@ -57,13 +59,60 @@ describe('3D Slicer markups', () => {
     }
   });
 
+  it('opens a folder of Slicer 4 point list files (.fcsv) as the curves they were clicked along', async () => {
+    await gotoEmpty(page, server.url);
+    // Each markup of the fixture as the legacy file Slicer writes for it (its first stretch: a point
+    // list holds one), RAS for half of them (the core takes each into the first file's frame).
+    const root = mkdtempSync(join(tmpdir(), 'heartmesh-fcsv-'));
+    const dir = join(root, 'patient1-ED');
+    mkdirSync(dir);
+    for (const [k, name] of readdirSync(FIXTURE).sort().entries()) {
+      const m = JSON.parse(readFileSync(join(FIXTURE, name), 'utf8')).markups[0];
+      const ras = k % 2 === 1;
+      const rows = m.controlPoints
+        .filter((p) => (p.positionStatus ?? 'defined') === 'defined')
+        .map((p, i) => {
+          const [x, y, z] = p.position;
+          return `${i + 1},${ras ? -x : x},${ras ? -y : y},${z},0,0,0,1,1,1,0,${p.label},,vtkMRMLScalarVolumeNode1,2,0`;
+        });
+      const header = `# Markups fiducial file version = 5.6\n# CoordinateSystem = ${ras ? 'RAS' : 'LPS'}\n# columns = id,x,y,z,ow,ox,oy,oz,vis,sel,lock,label,desc,associatedNodeID\n`;
+      writeFileSync(join(dir, name.replace(/\.mrk\.json$/, '.fcsv')), header + rows.join('\n') + '\n');
+    }
+    try {
+      await dropPaths(page, [dir]);
+      assert.deepEqual(await page.$$eval('[data-testid=file-picker] option', (os) => os.map((o) => o.value)), [JOINED]);
+      const banner = await textOf(page, '[data-testid=error-banner]');
+      assert.match(banner, /41 Slicer markups files were read as one contour set/, banner);
+      const notes = await textOf(page, '#slot-notes');
+      assert.match(notes, /Slicer point lists read as contours \(drawn point by point: no point is named as a landmark\): s02_SAX_LV_ENDOCARDIAL, .*\(40 in all\)/, notes);
+      const surfaces = await page.$$eval('[data-testid=surface-picker] option', (os) => os.map((o) => o.value));
+      for (const s of ['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']) assert.ok(surfaces.includes(s), `${s} in ${surfaces}`);
+      if ((await page.inputValue('[data-testid=surface-picker]')) !== 'LV_ENDO') {
+        await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_ENDO'));
+      }
+      const m = await meshOnScreen(page);
+      const r = await readResult(page);
+      assert.equal(m.watertight, true);
+      assert.equal(m.contours, 8, 'LV_ENDO: 5 short-axis rings and 3 long-axis curves');
+      assert.equal(r.vertices, 1041, 'the command line mesh of the same files');
+      assert.ok(Math.abs(m.volumeMl - FCSV_LV_ENDO_ML) < 0.01, `${m.volumeMl} ml (command line: ${FCSV_LV_ENDO_ML} ml)`);
+      assert.ok(r.meanMm > 0 && r.meanMm <= 0.5, `contour-to-mesh mean ${r.meanMm} mm`);
+      console.log(`# Slicer .fcsv folder: LV_ENDO ${m.volumeMl.toFixed(2)} ml, contour-to-mesh mean ${r.meanMm.toFixed(3)} mm`);
+      await page.mouse.move(0, 0);
+      if (SHOTS) await page.screenshot({ path: join(SHOTS, 'slicer-fcsv.png') });
+      assert.deepEqual(pageErrors, []);
+    } finally {
+      rmSync(root, { recursive: true, force: true });
+    }
+  });
+
   it('says what to open when one curve file of the folder is opened alone', async () => {
     await gotoEmpty(page, server.url);
     await page.setInputFiles('[data-testid=file-input]', join(FIXTURE, 's03_SAX_LV_ENDOCARDIAL.mrk.json'));
     const status = await waitForError(page, 's03_SAX_LV_ENDOCARDIAL.mrk.json');
     assert.match(status, /too few contours/, status);
     const shown = `${await textOf(page, '[data-testid=error-banner]')} ${await textOf(page, '#slot-warnings')}`;
-    assert.match(shown, /3D Slicer saves each curve in a file of its own; open the folder, or all its \.mrk\.json files together/, shown);
+    assert.match(shown, /3D Slicer saves each curve in a file of its own; open the folder, or all its \.mrk\.json \(\.fcsv\) files together/, shown);
     assert.deepEqual(pageErrors, []);
   });
 

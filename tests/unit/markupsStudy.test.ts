@@ -2,7 +2,8 @@
 // each, joined into one markups file in name order; other files and broken markups left as given.
 import { describe, expect, it } from 'vitest';
 import lvEndo2 from '../../wasm-core/crates/heartmesh-core/tests/data/slicer-markups-patient1/s02_SAX_LV_ENDOCARDIAL.mrk.json?raw';
-import { isMarkupsHead, joinedName, joinedText, joinMarkups, markupsStem } from '../../web/src/io/markupsStudy';
+import { fcsvMarkup, isFcsvText, isMarkupsHead, joinedName, joinedText, joinMarkups, markupsStem } from '../../web/src/io/markupsStudy';
+import { holdsCurves } from '../../web/src/io/slicerScene';
 
 const bytes = (s: string) => new TextEncoder().encode(s);
 const file = (name: string, text: string, lastModified = 1000) => new File([text], name, { lastModified });
@@ -88,5 +89,59 @@ describe('Slicer markups files', () => {
     // The LV's curves beside the RV's: one set.
     const sides = [at('p1/LV', file('LV_ENDO_1.mrk.json', curve(null, 0))), at('p1/RV', file('RV_ENDO_1.mrk.json', curve(null, 0)))];
     expect((await joinMarkups(sides, folderOf)).names).toEqual(['Slicer markups (2 files).mrk.json']);
+  });
+
+  describe('legacy point list files (.fcsv)', () => {
+    const header = '# Markups fiducial file version = 5.6\n# CoordinateSystem = LPS\n# columns = id,x,y,z,ow,ox,oy,oz,vis,sel,lock,label,desc,associatedNodeID\n';
+    const ring = (z: number, label = 'F') =>
+      header + [0, 1, 2, 3, 4, 5].map((k) => `${k + 1},${10 * Math.cos(k)},${10 * Math.sin(k)},${z},0,0,0,1,1,1,0,${label}-${k + 1},"a, note",,2,0`).join('\n') + '\n';
+
+    it('tells one by its header and reads it as the point list Slicer makes of it', () => {
+      expect(isFcsvText(ring(0))).toBe(true);
+      expect(isMarkupsHead(bytes(ring(0)))).toBe(true);
+      expect(isFcsvText('# columns = id,label,z,y,x\n1,A,3,2,1\n')).toBe(true);
+      expect(isFcsvText('contour,x,y,z\nc1,1,2,3\n')).toBe(false);
+      expect(isFcsvText('1 2 3\n4 5 6\n')).toBe(false);
+      expect(markupsStem('LV_ENDO_3.fcsv')).toBe('LV_ENDO_3');
+      const m = fcsvMarkup('LV_ENDO_3', ring(7)) as { type: string; coordinateSystem: string; controlPoints: { label: string; position: number[] }[] };
+      expect(m.type).toBe('Fiducial');
+      expect(m.coordinateSystem).toBe('LPS');
+      expect(m.controlPoints).toHaveLength(6);
+      // The quoted description's comma shifts nothing.
+      expect(m.controlPoints[1]).toEqual({ label: 'F-2', position: [10 * Math.cos(1), 10 * Math.sin(1), 7] });
+      // Slicer before 4.11: the frame by number (0 RAS, 1 LPS), or none (RAS); columns by name.
+      const old = fcsvMarkup('F', '# CoordinateSystem = 1\nvtkMRMLMarkupsFiducialNode_0,1,2,3,0,0,0,1,1,1,0,,,\n') as { coordinateSystem: string; controlPoints: { label: string }[] };
+      expect(old.coordinateSystem).toBe('LPS');
+      expect(old.controlPoints[0].label).toBe('F-1');
+      expect((fcsvMarkup('F', '# Markups fiducial file version = 4.4\n1,4,5,6\n') as { coordinateSystem: string }).coordinateSystem).toBe('RAS');
+      const moved = fcsvMarkup('F', '# columns = id,label,z,y,x\n1,A,3,2,1\n') as { controlPoints: { position: number[] }[] };
+      expect(moved.controlPoints[0].position).toEqual([1, 2, 3]);
+      // A row the core would refuse: not converted (opened alone, the core names the line).
+      expect(fcsvMarkup('F', header + '1,1,zero,3\n')).toBeNull();
+      expect(fcsvMarkup('F', '# CoordinateSystem = IJK\n1,1,2,3\n')).toBeNull();
+    });
+
+    it('joins a folder of them (and .mrk.json beside them) into one markups file; a damaged one opens alone', async () => {
+      const given = [
+        file('LV_ENDO_2.fcsv', ring(10), 2000),
+        file('LV_ENDO_1.fcsv', ring(0), 1000),
+        file('LV_ENDO_3.mrk.json', curve('LV_ENDO_3', 20), 500),
+        file('LV_ENDO_4.fcsv', header + '1,1,2\n'),
+      ];
+      const { files, joined } = await joinMarkups(given);
+      expect(joined).toBe(3);
+      expect(files.map((f) => f.name)).toEqual(['Slicer markups (3 files).mrk.json', 'LV_ENDO_4.fcsv']);
+      const doc = JSON.parse(await files[0].text());
+      expect(doc.markups.map((m: { name: string; type: string }) => `${m.name} ${m.type}`)).toEqual(['LV_ENDO_1 Fiducial', 'LV_ENDO_2 Fiducial', 'LV_ENDO_3 ClosedCurve']);
+      expect(doc.markups[1].controlPoints[0].position[2]).toBe(10);
+      expect(files[0].lastModified).toBe(2000);
+    });
+
+    it('counts as a scene\'s curves when drawn along a contour, not when it holds landmarks', () => {
+      expect(holdsCurves(ring(0), 'F')).toBe(true);
+      expect(holdsCurves(ring(0, 'RV_INSERT'), 'F')).toBe(false);
+      expect(holdsCurves(ring(0), 'Apex points')).toBe(false);
+      expect(holdsCurves(header + '1,1,2,3,0,0,0,1,1,1,0,F-1,,\n', 'F')).toBe(false);
+    });
   });
 });

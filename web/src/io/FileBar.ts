@@ -18,7 +18,7 @@ import { SAMPLES, type Sample } from './samples';
  * cvi42 workspace (`.cvi42wsx`), opened with the DICOM images it was drawn on (io/cvi42Study.ts).
  * ZIP archives (`.zip`, UK Biobank's): unpacked in the page, their files opened (io/zipArchive.ts).
  */
-export const ACCEPT = '.csv,.txt,.tsv,.dat,.xyz,.vtk,.vtp,.mat,.json,.dcm,.nii,.nii.gz,.nrrd,.gz,.cvi42wsx,.zip,.mrb,.mrml,text/csv,text/plain,application/dicom';
+export const ACCEPT = '.csv,.txt,.tsv,.dat,.xyz,.vtk,.vtp,.mat,.json,.dcm,.nii,.nii.gz,.nrrd,.gz,.cvi42wsx,.zip,.mrb,.mrml,.fcsv,text/csv,text/plain,application/dicom';
 
 export interface FileBarHandlers {
   openFiles(files: File[]): void;

@@ -6,6 +6,10 @@
  * (`Slicer markups (32 files).mrk.json`), which the core reads as one set (heartmesh-core
  * `io::markups`, as the command line reads a folder of them). A file that is no valid markups JSON
  * is left out of the join and opened on its own, so the core's refusal names it and its line.
+ *
+ * Slicer's legacy point list files (`.fcsv`, one contour clicked point by point per file before
+ * Slicer had curves) join as the point list Slicer itself makes of one when it loads it and saves
+ * it as `.mrk.json`; the core then tells landmarks from contours (`point_list_is_contour`).
  */
 
 /** What the core looks for in a file's start (heartmesh-core `io::markups::is_markups`). */
@@ -14,17 +18,96 @@ const SCHEMA_MARK = 'markups-schema';
 /** How much of a file's start is looked into for it. */
 const HEAD_BYTES = 4096;
 
-/** Whether a file's first bytes are a Slicer markups file's, as the core tells one. */
+/** How many of a point list file's first lines are looked into for its header (as the core). */
+const FCSV_HEADER_LINES = 8;
+
+/** A header comment's value when its key (compared without spaces and case) is `key`. */
+function valueOf(comment: string, key: string): string | null {
+  const at = comment.indexOf('=');
+  if (at < 0) return null;
+  return comment.slice(0, at).replace(/\s+/g, '').toLowerCase() === key.toLowerCase() ? comment.slice(at + 1).trim() : null;
+}
+
+function columnsOf(value: string): string[] {
+  return value.split(',').map((c) => c.trim().toLowerCase());
+}
+
+/** Whether a text's start is a Slicer point list file's (`.fcsv`), as the core tells one (`io::markups::fcsv::is_fcsv`). */
+export function isFcsvText(text: string): boolean {
+  return text
+    .replace(/^\uFEFF/, '')
+    .split(/\r?\n|\r/)
+    .slice(0, FCSV_HEADER_LINES)
+    .map((l) => l.trimStart())
+    .filter((l) => l.startsWith('#'))
+    .some((l) => {
+      const c = l.slice(1);
+      if (c.toLowerCase().includes('markups fiducial file')) return true;
+      const v = valueOf(c, 'columns');
+      const names = v === null ? [] : columnsOf(v);
+      return names[0] === 'id' && ['x', 'y', 'z'].every((w) => names.includes(w));
+    });
+}
+
+/** Splits a row at commas outside double quotes (Slicer quotes a description holding commas). */
+function fields(row: string): string[] {
+  const out: string[] = [];
+  let start = 0;
+  let quoted = false;
+  for (let i = 0; i < row.length; i++) {
+    if (row[i] === '"') quoted = !quoted;
+    else if (row[i] === ',' && !quoted) {
+      out.push(row.slice(start, i));
+      start = i + 1;
+    }
+  }
+  out.push(row.slice(start));
+  return out.map((f) => f.trim().replace(/^"(.*)"$/, '$1').trim());
+}
+
+/**
+ * A point list file as the markups JSON point list Slicer makes of it (named `name`), or null when
+ * a row cannot be read: such a file is opened alone, so the core's refusal names its line.
+ */
+export function fcsvMarkup(name: string, text: string): Record<string, unknown> | null {
+  let frame = 'RAS'; // what the versions that stated no frame used
+  let columns = ['id', 'x', 'y', 'z', 'ow', 'ox', 'oy', 'oz', 'vis', 'sel', 'lock', 'label', 'desc', 'associatednodeid'];
+  const controlPoints: { label: string; position: number[] }[] = [];
+  for (const raw of text.replace(/^\uFEFF/, '').split(/\r?\n|\r/)) {
+    const row = raw.trim();
+    if (row.startsWith('#')) {
+      const system = valueOf(row.slice(1), 'CoordinateSystem');
+      const cols = valueOf(row.slice(1), 'columns');
+      if (system !== null) {
+        const s = system.toUpperCase();
+        if (s === 'RAS' || s === '0') frame = 'RAS';
+        else if (s === 'LPS' || s === '1') frame = 'LPS';
+        else return null;
+      } else if (cols !== null) columns = columnsOf(cols);
+      continue;
+    }
+    if (row === '') continue;
+    const f = fields(row);
+    const at = (c: string) => columns.indexOf(c);
+    const position = [at('x'), at('y'), at('z')].map((k) => (k < 0 || k >= f.length || f[k] === '' ? NaN : Number(f[k].replace(/\u2212/g, '-'))));
+    if (!position.every(Number.isFinite)) return null;
+    const label = at('label') >= 0 ? (f[at('label')] ?? '') : '';
+    controlPoints.push({ label: label || `${name}-${controlPoints.length + 1}`, position });
+  }
+  return { type: 'Fiducial', name, coordinateSystem: frame, controlPoints };
+}
+
+/** Whether a file's first bytes are a Slicer markups file's (JSON, or a legacy `.fcsv`), as the core tells one. */
 export function isMarkupsHead(head: Uint8Array): boolean {
   const text = new TextDecoder().decode(head.subarray(0, HEAD_BYTES)).replace(/^\uFEFF/, '').trimStart();
-  if (!text.startsWith('{')) return false;
+  if (!text.startsWith('{')) return isFcsvText(text);
   const lower = text.toLowerCase();
   return lower.includes(SCHEMA_MARK) || (text.includes('"markups"') && text.includes('"controlPoints"'));
 }
 
-/** A file's name without `.mrk.json` / `.json`: the node's name in Slicer when it states none. */
+/** A file's name without `.mrk.json` / `.json` / `.fcsv`: the node's name in Slicer when it states none. */
 export function markupsStem(name: string): string {
-  const m = /^(.+?)(\.mrk)?\.json$/i.exec(name);
+  const m = /^(.+?)((\.mrk)?\.json|\.fcsv)$/i.exec(name);
   return m ? m[1] : name;
 }
 
@@ -111,17 +194,24 @@ export async function joinMarkups<T extends Named>(
   folderOf: (f: T) => string = () => '',
 ): Promise<{ files: (T | File)[]; joined: number; names: string[] }> {
   const unchanged = { files: [...files], joined: 0, names: [] };
-  const candidates = files.filter((f) => /\.json$/i.test(f.name));
+  const candidates = files.filter((f) => /\.(json|fcsv)$/i.test(f.name));
   if (candidates.length < 2) return unchanged;
   const found: Found<T>[] = [];
   for (const file of candidates) {
     const head = await headOf(file);
     if (!head || !isMarkupsHead(head)) continue;
     try {
-      const doc = JSON.parse(await file.text());
+      const text = await file.text();
+      if (!text.trimStart().startsWith('{')) {
+        // A legacy point list file: the point list Slicer makes of it.
+        const markup = fcsvMarkup(markupsStem(file.name), text);
+        if (markup) found.push({ file, doc: { markups: [markup] } });
+        continue;
+      }
+      const doc = JSON.parse(text);
       if (doc && Array.isArray(doc.markups)) found.push({ file, doc });
     } catch {
-      // Not valid JSON: opened alone, the core says where it breaks.
+      // Not valid JSON (or not readable): opened alone, the core says where it breaks.
     }
   }
   if (found.length < 2) return unchanged;

@@ -8,7 +8,7 @@
  * (a scan among them is told by the core and set aside as an image). The core reads a scene the
  * same way on the command line (heartmesh-core `io::slicer_scene`).
  */
-import { isMarkupsHead } from './markupsStudy';
+import { fcsvMarkup, isFcsvText, isMarkupsHead, markupsStem } from './markupsStudy';
 
 /** How much of a file's start is looked into. */
 const HEAD_BYTES = 4096;
@@ -28,8 +28,25 @@ export function isMrmlHead(head: Uint8Array): boolean {
   return /^<mrml[\s>/]/i.test(rest);
 }
 
-/** Whether a markups file's text holds a curve or a closed curve (not only point lists, lines, planes). */
-export function holdsCurves(text: string): boolean {
+/** Words that make a point's or a list's name a landmark's (as the core's `LANDMARK_WORDS`). */
+const LANDMARK_WORDS = new Set(['apex', 'valve', 'insert', 'insertion', 'insertions', 'mitral', 'tricuspid', 'aorta', 'aortic', 'pulmonary', 'pulmonic', 'landmark', 'landmarks', 'phantom', 'extent']);
+
+function namesLandmark(name: string): boolean {
+  return name.split(/[^A-Za-z0-9]+/).some((w) => LANDMARK_WORDS.has(w.toLowerCase()));
+}
+
+/**
+ * Whether a markups file's text holds a curve or a closed curve (not only point lists, lines,
+ * planes); a legacy point list file (`.fcsv`) does when it is a contour clicked point by point:
+ * four points or more, none named as a landmark (the core also asks them to lie in one plane).
+ */
+export function holdsCurves(text: string, name = ''): boolean {
+  if (isFcsvText(text)) {
+    const m = fcsvMarkup(name, text) as { name: string; controlPoints: { label: string }[] } | null;
+    // A damaged point list file is still markups: opened with them, the core names it.
+    if (m === null) return true;
+    return m.controlPoints.length >= 4 && !namesLandmark(name) && !m.controlPoints.some((p) => namesLandmark(p.label));
+  }
   return /"type"\s*:\s*"(Closed)?Curve"/.test(text);
 }
 
@@ -72,7 +89,7 @@ export async function sceneOf<T extends Named>(files: readonly T[]): Promise<Sce
   for (const m of markups) {
     const text = await textOf(m);
     // A damaged markups file is still markups: opened with them, the core names it.
-    if (text === null || holdsCurves(text) || !isJson(text)) curves = true;
+    if (text === null || holdsCurves(text, markupsStem(m.name)) || (!isFcsvText(text) && !isJson(text))) curves = true;
     if (curves) break;
   }
   let opened = curves ? markups : files.filter((f) => !scenes.includes(f) && !markups.includes(f));

@@ -175,7 +175,7 @@ pub fn reused_id_warnings(set: &ContourSet) -> Vec<String> {
 /// points stray further than this (mm) from their best-fit plane is not one slice's curve: half
 /// the thinnest slice spacing of a cardiac MR stack (5 mm), so points of two slices under one name
 /// always exceed it.
-const NON_PLANAR_MM: f64 = 2.5;
+pub(crate) const NON_PLANAR_MM: f64 = 2.5;
 
 /// Contour pieces whose points do not lie in one plane (points of several slices read as one
 /// curve: columns shifted, an export that lost its slice breaks). The tube and the short-/long-axis

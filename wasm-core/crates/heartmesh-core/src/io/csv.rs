@@ -286,7 +286,7 @@ fn parse_number(field: &str, sep: char, line: usize, column: &str) -> Result<f64
 }
 
 /// Splits a row; double-quoted fields may contain the separator (`""` is a literal quote).
-fn split_fields<'a>(row: &'a str, sep: char, out: &mut Vec<&'a str>) {
+pub(crate) fn split_fields<'a>(row: &'a str, sep: char, out: &mut Vec<&'a str>) {
     out.clear();
     let mut start = 0;
     let mut in_quotes = false;
@@ -302,7 +302,7 @@ fn split_fields<'a>(row: &'a str, sep: char, out: &mut Vec<&'a str>) {
 }
 
 /// Trims spaces and surrounding quotes.
-fn unquote(field: &str) -> &str {
+pub(crate) fn unquote(field: &str) -> &str {
     let f = field.trim();
     f.strip_prefix('"')
         .and_then(|s| s.strip_suffix('"'))

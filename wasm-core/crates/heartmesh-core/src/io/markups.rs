@@ -13,7 +13,12 @@
 //!   Catmull-Rom spline (points about 1 mm apart), which follows the points' curve as Slicer's does;
 //!   points already under a millimetre apart are left as they are by it.
 //! - `Fiducial` (a point list): each defined point is a landmark named by its label
-//!   (`RV_INSERT_ANTERIOR`, `APEX_POINT`, ...), as a CSV's `# landmark` lines are.
+//!   (`RV_INSERT_ANTERIOR`, `APEX_POINT`, ...), as a CSV's `# landmark` lines are; unless the
+//!   list is a contour clicked point by point, as Slicer users drew them before curves existed
+//!   ([`point_list_is_contour`]: four or more points in one plane, none of them, nor the list,
+//!   named as a landmark), read as a curve that closes where its ends meet as a CSV's does.
+//! - Slicer's legacy point list files (`.fcsv`, [`fcsv`]) are read as the point list Slicer makes
+//!   of one, so a folder of them (one contour per file) is a study as a folder of `.mrk.json` is.
 //! - `Line`, `Angle`, `Plane` and `ROI` hold no contour: skipped, with one warning naming them.
 //! - A curve of one placed point is that point, kept as a CSV keeps a one-point piece (biv-me's
 //!   curves carry some); a closed curve of fewer than three points is open.
@@ -31,12 +36,21 @@
 //! `RV_ENDO`, joined per slice as biv-me's are); any other name is its surface without its slice
 //! tags (`myo_3` is `MYO`; Slicer's default names `CC`, `CC_1`, ... are all one surface, `CC`).
 
+pub mod fcsv;
+
 use serde_json::Value;
 
-use super::builder::{ContourBuilder, MAX_POINTS};
+use super::builder::{polyline_from_run, ContourBuilder, MAX_POINTS};
+use crate::contours::checks::NON_PLANAR_MM;
+use crate::contours::clean::clean_and_split;
+use crate::contours::plane::fit_plane;
 use crate::contours::{ContourSet, CoordinateSystem};
 use crate::error::{CoreError, Result};
 use crate::geometry::{v3, Vec3};
+
+/// How the note on point lists read as contours starts (a reading note: how the files were
+/// understood, not a fault in them).
+pub const POINT_CONTOURS: &str = "Slicer point lists read as contours";
 
 /// What the reader calls a file in its messages.
 const WHAT: &str = "Slicer markups file";
@@ -52,7 +66,7 @@ const MAX_SEGMENT_STEPS: usize = 64;
 pub fn is_markups(head: &[u8]) -> bool {
     let head = head.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(head);
     if !head.trim_ascii_start().starts_with(b"{") {
-        return false;
+        return fcsv::is_fcsv(head);
     }
     let has = |needle: &[u8]| {
         head.windows(needle.len())
@@ -64,6 +78,10 @@ pub fn is_markups(head: &[u8]) -> bool {
 /// Whether a markups file holds a curve or a closed curve (not only point lists, lines, planes):
 /// a Slicer scene's contours come from its curves when it has any.
 pub fn holds_curves(bytes: &[u8]) -> bool {
+    if fcsv::is_fcsv(bytes) {
+        // A damaged point list file is still markups, as a damaged JSON one is.
+        return fcsv::to_markup("", bytes).map_or(true, |m| Reader::default().reads_as_contour(&m));
+    }
     let Ok(text) = super::text::decode(bytes) else {
         return false;
     };
@@ -78,7 +96,7 @@ pub fn holds_curves(bytes: &[u8]) -> bool {
                 matches!(
                     m.get("type").and_then(Value::as_str),
                     Some("ClosedCurve" | "Curve")
-                )
+                ) || Reader::default().reads_as_contour(m)
             })
         })
 }
@@ -164,6 +182,8 @@ struct Reader {
     frame: Option<CoordinateSystem>,
     skipped: Vec<String>,
     converted: Vec<String>,
+    /// Point lists read as contours ([`point_list_is_contour`]), said in a warning.
+    point_contours: Vec<String>,
 }
 
 impl Reader {
@@ -175,6 +195,11 @@ impl Reader {
             }
             other => other,
         };
+        let stem = stem_of(file);
+        if fcsv::is_fcsv(bytes) {
+            let markup = fcsv::to_markup(stem, bytes).map_err(named)?;
+            return self.markup(&markup, stem).map_err(named);
+        }
         let text = super::text::decode(bytes).map_err(named)?;
         let root: Value = serde_json::from_str(&text).map_err(|e| {
             let msg = e.to_string();
@@ -190,7 +215,6 @@ impl Reader {
                     format!("not a {WHAT}: no \"markups\" list (3D Slicer's .mrk.json)"),
                 ))
             })?;
-        let stem = stem_of(file);
         for (k, markup) in markups.iter().enumerate() {
             let fallback = if markups.len() > 1 {
                 format!("{stem}-{}", k + 1)
@@ -214,7 +238,7 @@ impl Reader {
         let closed = match kind {
             "ClosedCurve" => true,
             "Curve" => false,
-            "Fiducial" => return self.landmarks(markup, &name),
+            "Fiducial" => return self.point_list(markup, &name),
             _ => {
                 self.skipped.push(format!(
                     "{name} ({})",
@@ -235,24 +259,100 @@ impl Reader {
             .push_piece(&name, surface.as_deref(), curve, Some(closed), 0)
     }
 
-    fn landmarks(&mut self, markup: &Value, name: &str) -> Result<()> {
-        let labels: Vec<String> = defined(markup)
-            .map(|p| {
-                p.get("label")
-                    .and_then(Value::as_str)
-                    .map(str::trim)
-                    .filter(|s| !s.is_empty())
-                    .unwrap_or(name)
-                    .to_string()
-            })
-            .collect();
+    /// A point list: landmarks, or a contour clicked point by point ([`point_list_is_contour`]).
+    fn point_list(&mut self, markup: &Value, name: &str) -> Result<()> {
+        let labels = labels(markup, name);
         let points = self.control_points(markup, name)?;
-        for (label, p) in labels.iter().zip(points) {
-            self.builder.landmark(label, p, 0)?;
+        if !point_list_is_contour(name, &labels, &points) {
+            for (label, p) in labels.iter().zip(points) {
+                self.builder.landmark(label, p, 0)?;
+            }
+            return Ok(());
+        }
+        self.point_contours.push(name.to_string());
+        // Closed where its ends meet, and in pieces where it jumps, as a CSV's curve is: a spline
+        // drawn across a jump would bridge the gap the file left.
+        let surface = surface_of(name);
+        for piece in clean_and_split(&polyline_from_run(points)) {
+            let curve = catmull_rom(&piece.points, piece.closed)?;
+            self.builder
+                .push_piece(name, surface.as_deref(), curve, Some(piece.closed), 0)?;
         }
         Ok(())
     }
 
+    /// Whether a markup is a point list read as a contour (for telling a scene's curves).
+    fn reads_as_contour(&mut self, markup: &Value) -> bool {
+        let name = markup.get("name").and_then(Value::as_str).unwrap_or("");
+        markup.get("type").and_then(Value::as_str) == Some("Fiducial")
+            && self
+                .control_points(markup, name)
+                .is_ok_and(|points| point_list_is_contour(name, &labels(markup, name), &points))
+    }
+}
+
+/// The labels of a point list's defined points (the list's name for a point without one).
+fn labels(markup: &Value, name: &str) -> Vec<String> {
+    defined(markup)
+        .map(|p| {
+            p.get("label")
+                .and_then(Value::as_str)
+                .map(str::trim)
+                .filter(|s| !s.is_empty())
+                .unwrap_or(name)
+                .to_string()
+        })
+        .collect()
+}
+
+/// Fewest points of a point list read as a contour: three points are a triangle, not a curve.
+const MIN_CONTOUR_POINTS: usize = 4;
+
+/// Words that make a name a landmark's (biv-me's `APEX_POINT`, `RV_INSERT`, `MITRAL_VALVE`,
+/// `*_PHANTOM`, `LAX_*_EXTENT`; Segment's "RV insertion anterior"), compared word by word.
+const LANDMARK_WORDS: &[&str] = &[
+    "apex",
+    "valve",
+    "insert",
+    "insertion",
+    "insertions",
+    "mitral",
+    "tricuspid",
+    "aorta",
+    "aortic",
+    "pulmonary",
+    "pulmonic",
+    "landmark",
+    "landmarks",
+    "phantom",
+    "extent",
+];
+
+fn names_landmark(name: &str) -> bool {
+    name.split(|c: char| !c.is_ascii_alphanumeric())
+        .any(|w| LANDMARK_WORDS.iter().any(|l| w.eq_ignore_ascii_case(l)))
+}
+
+/// Whether a point list is a contour clicked point by point rather than landmarks. Neither the
+/// list nor any point may be named as a landmark; then a list named after a ventricle's wall
+/// (`s06_SAX_RV_SEPTUM`, `LV endo 3`: [`named_wall`]) is a contour however few its points (a
+/// short septum arc takes three clicks; one point is kept as a curve's one placed point is), and
+/// any other one needs [`MIN_CONTOUR_POINTS`] points lying in one plane, as a curve drawn on one
+/// image does (within the contours' own [`NON_PLANAR_MM`]).
+/// Landmarks are few, named, and spread over several images; a list of the apex, valve points
+/// and insertions fails every test.
+pub fn point_list_is_contour(name: &str, labels: &[String], points: &[Vec3]) -> bool {
+    if names_landmark(name) || labels.iter().any(|l| names_landmark(l)) {
+        return false;
+    }
+    if named_wall(&tokens_of(name)).is_some() {
+        return !points.is_empty();
+    }
+    points.len() >= MIN_CONTOUR_POINTS
+        && fit_plane(points.iter()).is_some_and(|f| f.max_residual <= NON_PLANAR_MM)
+}
+
+impl Reader {
     /// The defined control points in millimetres, in the set's frame.
     fn control_points(&mut self, markup: &Value, name: &str) -> Result<Vec<Vec3>> {
         let scale = units_scale(markup.get("coordinateUnits")).map_err(|u| {
@@ -311,8 +411,14 @@ impl Reader {
         if let Some(frame) = self.frame.filter(|_| !self.converted.is_empty()) {
             self.builder.warn(format!(
                 "{} taken from the other patient frame into {} (the first markup's)",
-                self.converted.join(", "),
+                some_of(&self.converted),
                 frame.name()
+            ));
+        }
+        if !self.point_contours.is_empty() {
+            self.builder.warn(format!(
+                "{POINT_CONTOURS} (drawn point by point: no point is named as a landmark): {}",
+                some_of(&self.point_contours)
             ));
         }
         let frame = self.frame;
@@ -333,7 +439,7 @@ impl Reader {
                 0,
                 format!(
                     "one curve ({}): 3D Slicer saves each curve in a file of its own; open the \
-                     folder, or all its .mrk.json files together, to read the study",
+                     folder, or all its .mrk.json (.fcsv) files together, to read the study",
                     only.id
                 ),
             );
@@ -341,6 +447,20 @@ impl Reader {
         Ok(set)
     }
 }
+
+/// Names for a message: the first [`NAMES_SHOWN`], then how many in all (a folder of forty curves
+/// would otherwise fill the page).
+fn some_of(names: &[String]) -> String {
+    let shown: Vec<&str> = names.iter().take(NAMES_SHOWN).map(String::as_str).collect();
+    if names.len() > shown.len() {
+        format!("{}, ... ({} in all)", shown.join(", "), names.len())
+    } else {
+        shown.join(", ")
+    }
+}
+
+/// How many names a message lists before it counts the rest.
+const NAMES_SHOWN: usize = 6;
 
 /// The control points Slicer counts as placed (no `positionStatus` means placed).
 fn defined(markup: &Value) -> impl Iterator<Item = &Value> {
@@ -374,16 +494,23 @@ fn units_scale(units: Option<&Value>) -> std::result::Result<f64, String> {
     }
 }
 
-/// A file's name without its folder and `.mrk.json` / `.json`.
+/// A file's name without its folder and `.mrk.json` / `.json` / `.fcsv`.
 fn stem_of(file: &str) -> &str {
     let base = file.rsplit(['/', '\\']).next().unwrap_or(file);
     let lower = base.to_ascii_lowercase();
-    for ext in [".mrk.json", ".json"] {
+    for ext in [".mrk.json", ".json", ".fcsv"] {
         if lower.ends_with(ext) && base.len() > ext.len() {
             return &base[..base.len() - ext.len()];
         }
     }
     base
+}
+
+/// A name's words: its runs of letters and digits.
+fn tokens_of(name: &str) -> Vec<&str> {
+    name.split(|c: char| !c.is_ascii_alphanumeric())
+        .filter(|t| !t.is_empty())
+        .collect()
 }
 
 /// Whether a name's token says which slice or view a curve is on, not what it delineates.
@@ -411,10 +538,7 @@ fn is_slice_tag(token: &str) -> bool {
 /// its tokens but the slice tags at either end, joined by `_` in capitals; None when nothing
 /// else is left (a name that is only `3`).
 pub fn surface_of(name: &str) -> Option<String> {
-    let tokens: Vec<&str> = name
-        .split(|c: char| !c.is_ascii_alphanumeric())
-        .filter(|t| !t.is_empty())
-        .collect();
+    let tokens = tokens_of(name);
     if let Some(wall) = named_wall(&tokens) {
         return Some(wall.to_string());
     }

@@ -210,6 +210,7 @@ pub fn is_reading_note(warning: &str) -> bool {
         || warning.starts_with(segment::NOTE)
         || warning.starts_with(segment::PHASES)
         || warning.starts_with(segment::MATCHED)
+        || warning.starts_with(markups::POINT_CONTOURS)
 }
 
 /// Guesses the contour format from the content, then from the extension.

@@ -2,7 +2,8 @@
 //! Medical Reality Bundle (`.mrb`), which is how Slicer users keep and share their work.
 //!
 //! The scene file (`.mrml`) only names the data files beside it, so the contours come from
-//! those: the markups curves (`.mrk.json`, one file per curve) when there are any, else the
+//! those: the markups curves (`.mrk.json`, one file per curve; Slicer 4's point list files
+//! `.fcsv` drawn along contours, [`markups::point_list_is_contour`]) when there are any, else the
 //! segmentations (`.seg.nrrd`, a NIfTI label map: the label-map study reader's files). The scene
 //! file, the images (intensity volumes, which a scene always holds beside its segmentations),
 //! models, screenshots and the rest are set aside, named in a warning, so nothing is dropped
@@ -150,7 +151,7 @@ pub fn select(files: &[(&str, &[u8])]) -> Result<Option<Scene>> {
     Err(CoreError::parse(
         0,
         format!(
-            "the 3D Slicer scene holds no contours: no markups curve (.mrk.json) and no \
+            "the 3D Slicer scene holds no contours: no markups curve (.mrk.json, .fcsv) and no \
              segmentation (.seg.nrrd or a label map) among its {} file(s): {}",
             files.len(),
             shortened(&names)

@@ -365,3 +365,190 @@ fn a_heartmesh_session_is_not_taken_for_markups() {
         br#"{"markups": [{"type": "Curve", "controlPoints": []}]}"#
     ));
 }
+
+/// A markup as Slicer's legacy point list file (`.fcsv`, Slicer 5's rows with their two trailing
+/// fields): what Slicer writes when a markup is saved in that format.
+fn as_fcsv(markup: &Value) -> String {
+    let mut out = format!(
+        "# Markups fiducial file version = 5.6\n# CoordinateSystem = {}\n\
+         # columns = id,x,y,z,ow,ox,oy,oz,vis,sel,lock,label,desc,associatedNodeID\n",
+        markup["coordinateSystem"].as_str().unwrap_or("LPS")
+    );
+    for (k, p) in defined(markup).enumerate() {
+        let xyz: Vec<String> = p["position"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .map(|v| v.to_string())
+            .collect();
+        let label = p["label"].as_str().unwrap_or("");
+        out.push_str(&format!(
+            "{},{},0,0,0,1,1,1,0,{label},,,2,0\n",
+            k + 1,
+            xyz.join(",")
+        ));
+    }
+    out
+}
+
+#[test]
+fn point_lists_are_landmarks_unless_drawn_along_a_curve() {
+    let named = |label: &str, points: &[[f64; 3]]| -> String {
+        let cps: Vec<String> = points
+            .iter()
+            .enumerate()
+            .map(|(k, [x, y, z])| format!(r#"{{"label":"{label}{k}","position":[{x},{y},{z}]}}"#))
+            .collect();
+        cps.join(",")
+    };
+    let ring12: Vec<[f64; 3]> = ring(12, 25.0, 40.0).into_iter().flatten().collect();
+    let spread = [
+        [0.0, 0.0, 0.0],
+        [30.0, 0.0, 40.0],
+        [0.0, 30.0, 80.0],
+        [-30.0, 0.0, 20.0],
+        [0.0, -30.0, 60.0],
+    ];
+    let septum = [[0.0, 0.0, 40.0], [3.0, 1.0, 40.0], [6.0, 3.0, 40.0]];
+    let list = |name: &str, cps: String| {
+        format!(
+            r#"{{"type":"Fiducial","name":"{name}","coordinateSystem":"LPS","controlPoints":[{cps}]}}"#
+        )
+    };
+    let bytes = file(&[
+        // Twelve clicks round a ring, in its plane: a closed contour, splined as a curve is.
+        list("F", named("F-", &ring12)),
+        // The same clicks named as landmarks, or a list named so: landmarks.
+        list("G", named("MITRAL_VALVE_", &ring12[..4])),
+        list("Apex points", named("p", &ring12[..4])),
+        // Five points over several images: landmarks.
+        list("H", named("H-", &spread)),
+        // Three clicks of a septum arc named after its wall: an open contour.
+        list("s06_SAX_RV_SEPTUM", named("s-", &septum)),
+    ]);
+    let set = read_contours("m.mrk.json", &bytes).unwrap();
+    let ids: Vec<&str> = set.contours.iter().map(|c| c.id.as_str()).collect();
+    assert_eq!(ids, ["F", "s06_SAX_RV_SEPTUM"]);
+    let f = &set.contours[0].pieces;
+    assert!(
+        f.len() == 1 && f[0].closed && f[0].points.len() > 100,
+        "{f:?}"
+    );
+    let off = f[0]
+        .points
+        .iter()
+        .map(|p| ((p.x * p.x + p.y * p.y).sqrt() - 25.0).abs())
+        .fold(0.0, f64::max);
+    assert!(off < 0.1, "the spline strays {off} mm off the ring");
+    let s = &set.contours[1];
+    assert_eq!(s.surface.as_deref(), Some("RV_ENDO"));
+    assert!(!s.pieces[0].closed);
+    assert_eq!(set.landmarks.len(), 4 + 4 + 5);
+    assert!(
+        set.warnings
+            .iter()
+            .any(|w| w.starts_with(POINT_CONTOURS) && w.ends_with("F, s06_SAX_RV_SEPTUM")),
+        "{:?}",
+        set.warnings
+    );
+    assert!(crate::io::is_reading_note(&format!(
+        "{POINT_CONTOURS} (...)"
+    )));
+}
+
+#[test]
+fn a_folder_of_point_list_files_reads_as_its_markups_do() {
+    let dir = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/slicer-markups-patient1"
+    );
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.ends_with(".mrk.json"))
+        .collect();
+    names.sort();
+    let json: Vec<(String, Vec<u8>)> = names
+        .iter()
+        .map(|n| {
+            (
+                format!("p1/{n}"),
+                std::fs::read(format!("{dir}/{n}")).unwrap(),
+            )
+        })
+        .collect();
+    // Each markup as the file Slicer saves it in; a curve kept in several markups of one name
+    // (a stretch each) is its first stretch only, as a point list holds one.
+    let mut fcsv: Vec<(String, Vec<u8>)> = Vec::new();
+    for (name, bytes) in &json {
+        let root: Value = serde_json::from_slice(bytes).unwrap();
+        let first = &root["markups"][0];
+        let stem = name.trim_end_matches(".mrk.json");
+        fcsv.push((format!("{stem}.fcsv"), as_fcsv(first).into_bytes()));
+    }
+    let study = |files: &[(String, Vec<u8>)]| {
+        let refs: Vec<(&str, &[u8])> = files
+            .iter()
+            .map(|(n, b)| (n.as_str(), b.as_slice()))
+            .collect();
+        read_study(&refs, &ContourOptions::default()).unwrap().1
+    };
+    let (from_json, from_fcsv) = (study(&json), study(&fcsv));
+    assert_eq!(
+        detect_contour_format(&fcsv[0].0, &fcsv[0].1),
+        ContourFormat::SlicerMarkups
+    );
+    assert_eq!(from_fcsv.coordinate_system, Some(CoordinateSystem::Lps));
+    // The RV insertions stay landmarks; every curve is there, under its name and surface.
+    assert_eq!(from_fcsv.landmarks, from_json.landmarks);
+    assert_eq!(from_fcsv.landmarks.len(), 2);
+    assert_eq!(from_fcsv.contours.len(), from_json.contours.len());
+    let mut same = 0;
+    for (a, b) in from_fcsv.contours.iter().zip(&from_json.contours) {
+        assert_eq!((&a.id, &a.surface), (&b.id, &b.surface));
+        // Closed where Slicer's curve is closed, point for point where it is one stretch.
+        assert_eq!(a.pieces[0].closed, b.pieces[0].closed, "{}", a.id);
+        if b.pieces.len() == 1 {
+            assert_eq!(a.pieces, b.pieces, "{}", a.id);
+            same += 1;
+        }
+    }
+    assert_eq!(same, 35);
+    assert!(from_fcsv
+        .warnings
+        .iter()
+        .any(|w| w.starts_with(POINT_CONTOURS) && w.contains("(40 in all)")));
+}
+
+#[test]
+fn a_point_list_file_alone_says_to_open_its_folder() {
+    let list = "# Markups fiducial file version = 4.10\n# CoordinateSystem = 0\n\
+                # columns = id,x,y,z,ow,ox,oy,oz,vis,sel,lock,label,desc,associatedNodeID\n\
+                1,10,0,5,0,0,0,1,1,1,0,F-1,,\n2,0,10,5,0,0,0,1,1,1,0,F-2,,\n\
+                3,-10,0,5,0,0,0,1,1,1,0,F-3,,\n4,0,-10,5,0,0,0,1,1,1,0,F-4,,\n";
+    // Numbered rows are no three-number point text: read as a point list, not as x y z.
+    assert_eq!(
+        detect_contour_format("LV_ENDO_3.fcsv", list.as_bytes()),
+        ContourFormat::SlicerMarkups
+    );
+    let set = read_contours("LV_ENDO_3.fcsv", list.as_bytes()).unwrap();
+    assert_eq!(set.coordinate_system, Some(CoordinateSystem::Ras));
+    assert_eq!(set.contours.len(), 1);
+    assert_eq!(set.contours[0].id, "LV_ENDO_3");
+    assert!(set.contours[0].pieces[0].closed);
+    assert!(
+        set.warnings[0].contains(".fcsv) files together"),
+        "{:?}",
+        set.warnings
+    );
+    // A damaged row is refused with its file and line when read in a folder.
+    let bad = list.replace("3,-10,0,5", "3,-10,zero,5");
+    let files: [(&str, &[u8]); 2] = [("d/a.fcsv", list.as_bytes()), ("d/b.fcsv", bad.as_bytes())];
+    match read_study(&files, &ContourOptions::default()) {
+        Err(CoreError::Parse { line, message }) => {
+            assert_eq!(line, 6, "{message}");
+            assert!(message.starts_with("d/b.fcsv: y"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+}

@@ -47,12 +47,14 @@ fn image() -> Vec<u8> {
     })
 }
 
-/// A markups file holding one closed curve named `name`, or a point list (`curve` false).
+/// A markups file holding one closed curve named `name`, or a point list of landmarks (`curve`
+/// false: points on several images, not one contour clicked point by point).
 fn markups(name: &str, curve: bool, z: f64) -> Vec<u8> {
     let kind = if curve { "ClosedCurve" } else { "Fiducial" };
     let points: Vec<String> = (0..8)
         .map(|k| {
             let a = std::f64::consts::TAU * k as f64 / 8.0;
+            let z = if curve { z } else { z + 10.0 * k as f64 };
             format!(
                 r#"{{"label":"P-{k}","position":[{},{},{z}],"positionStatus":"defined"}}"#,
                 12.0 * a.cos(),
@@ -198,4 +200,46 @@ fn a_scene_without_contours_is_refused_naming_its_files() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("no curve or closed curve"), "{e}");
+}
+
+#[test]
+fn a_scene_of_slicer_4_reads_its_point_list_files_as_contours() {
+    // Slicer 4.10 saved a scene's point lists as .fcsv (RAS, the frame by number); contours were
+    // point lists clicked along each curve, one per slice.
+    let fcsv = |z: f64| {
+        let mut text = String::from(
+            "# Markups fiducial file version = 4.10\n# CoordinateSystem = 0\n\
+             # columns = id,x,y,z,ow,ox,oy,oz,vis,sel,lock,label,desc,associatedNodeID\n",
+        );
+        for k in 0..10 {
+            let a = std::f64::consts::TAU * k as f64 / 10.0;
+            text.push_str(&format!(
+                "vtkMRMLMarkupsFiducialNode_{k},{},{},{z},0,0,0,1,1,1,0,F-{},,vtkMRMLScalarVolumeNode1\n",
+                15.0 * a.cos(),
+                15.0 * a.sin(),
+                k + 1
+            ));
+        }
+        text.into_bytes()
+    };
+    let (a, b, seg) = (fcsv(0.0), fcsv(10.0), segmentation());
+    let files: Vec<(&str, &[u8])> = vec![
+        ("Scene/Scene.mrml", SCENE),
+        ("Scene/Data/LV_ENDO_2.fcsv", &b),
+        ("Scene/Data/LV_ENDO_1.fcsv", &a),
+        ("Scene/Data/Segment.nrrd", &seg),
+    ];
+    let scene = select(&files).unwrap().unwrap();
+    assert_eq!(
+        (scene.read.clone(), scene.aside.clone()),
+        (vec![1, 2], vec![0, 3])
+    );
+    let (_, set) = read_study(&files, &ContourOptions::default()).unwrap();
+    let ids: Vec<&str> = set.contours.iter().map(|c| c.id.as_str()).collect();
+    assert_eq!(ids, ["LV_ENDO_1", "LV_ENDO_2"]);
+    assert_eq!(
+        set.coordinate_system,
+        Some(crate::contours::CoordinateSystem::Ras)
+    );
+    assert!(set.contours.iter().all(|c| c.pieces[0].closed));
 }
