@@ -143,7 +143,12 @@ fn refuse_studies_in_folders(files: &[(&str, &[u8])]) -> Result<()> {
             .copied()
             .filter(|(f, _)| folder_of(f) == *folder)
             .collect();
-        for c in read_sorted(&group)?.contours {
+        // A folder that cannot be read alone (only landmarks, a damaged file) shares no curve
+        // name; the whole set's reading says what is wrong with it.
+        let Ok(set) = read_sorted(&group) else {
+            continue;
+        };
+        for c in set.contours {
             match owner.get(&c.id) {
                 Some(first) if first != folder => shared.push(c.id),
                 Some(_) => {}
@@ -184,6 +189,8 @@ struct Reader {
     converted: Vec<String>,
     /// Point lists read as contours ([`point_list_is_contour`]), said in a warning.
     point_contours: Vec<String>,
+    /// Point lists read as landmarks, with why: said when the set then holds no contour.
+    landmark_lists: Vec<String>,
 }
 
 impl Reader {
@@ -263,7 +270,8 @@ impl Reader {
     fn point_list(&mut self, markup: &Value, name: &str) -> Result<()> {
         let labels = labels(markup, name);
         let points = self.control_points(markup, name)?;
-        if !point_list_is_contour(name, &labels, &points) {
+        if let Some(why) = landmarks_because(name, &labels, &points) {
+            self.landmark_lists.push(format!("{name} ({why})"));
             for (label, p) in labels.iter().zip(points) {
                 self.builder.landmark(label, p, 0)?;
             }
@@ -342,14 +350,32 @@ fn names_landmark(name: &str) -> bool {
 /// Landmarks are few, named, and spread over several images; a list of the apex, valve points
 /// and insertions fails every test.
 pub fn point_list_is_contour(name: &str, labels: &[String], points: &[Vec3]) -> bool {
+    landmarks_because(name, labels, points).is_none()
+}
+
+/// Why a point list is landmarks, in words for a message; None when it is a contour
+/// ([`point_list_is_contour`]).
+fn landmarks_because(name: &str, labels: &[String], points: &[Vec3]) -> Option<String> {
     if names_landmark(name) || labels.iter().any(|l| names_landmark(l)) {
-        return false;
+        return Some("named as landmarks".into());
     }
     if named_wall(&tokens_of(name)).is_some() {
-        return !points.is_empty();
+        return points.is_empty().then(|| "no placed point".into());
     }
-    points.len() >= MIN_CONTOUR_POINTS
-        && fit_plane(points.iter()).is_some_and(|f| f.max_residual <= NON_PLANAR_MM)
+    if points.len() < MIN_CONTOUR_POINTS {
+        return Some(format!(
+            "{} point(s), and its name says no wall",
+            points.len()
+        ));
+    }
+    match fit_plane(points.iter()) {
+        None => Some("its points lie on a line".into()),
+        Some(f) if f.max_residual > NON_PLANAR_MM => Some(format!(
+            "points up to {:.1} mm off one plane",
+            f.max_residual
+        )),
+        Some(_) => None,
+    }
 }
 
 impl Reader {
@@ -422,11 +448,22 @@ impl Reader {
             ));
         }
         let frame = self.frame;
+        let lists = if self.landmark_lists.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; point lists read as landmarks: {} (a contour clicked point by point has four \
+                 points or more in one plane, or a name saying its wall: LV_ENDO_3)",
+                some_of(&self.landmark_lists)
+            )
+        };
         let mut set = self.builder.finish().map_err(|e| match e {
             CoreError::Parse { line, message } if message == "no contour points found" => {
                 CoreError::parse(
                     line,
-                    "no curve or closed curve with control points found (Slicer markups)",
+                    format!(
+                        "no curve or closed curve with control points found (Slicer markups){lists}"
+                    ),
                 )
             }
             other => other,

@@ -552,3 +552,54 @@ fn a_point_list_file_alone_says_to_open_its_folder() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn lists_taken_for_landmarks_are_named_when_no_contour_is_left() {
+    let rows = |pts: &[[f64; 3]]| -> String {
+        let mut t =
+            String::from("# Markups fiducial file version = 4.10\n# CoordinateSystem = 1\n");
+        for (k, [x, y, z]) in pts.iter().enumerate() {
+            t.push_str(&format!("{k},{x},{y},{z},0,0,0,1,1,1,0,F-{},,\n", k + 1));
+        }
+        t
+    };
+    let three = rows(&[[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 10.0, 0.0]]);
+    let bent = rows(&[
+        [0.0, 0.0, 0.0],
+        [10.0, 0.0, 5.0],
+        [0.0, 10.0, 30.0],
+        [5.0, 5.0, -20.0],
+    ]);
+    let files: [(&str, &[u8]); 2] = [
+        ("d/F.fcsv", three.as_bytes()),
+        ("d/G.fcsv", bent.as_bytes()),
+    ];
+    let e = read_study(&files, &ContourOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(
+            "point lists read as landmarks: F (3 point(s), and its name says no wall), G (points \
+             up to 5.1 mm off one plane)"
+        ),
+        "{e}"
+    );
+    // Landmarks in a folder of their own beside a folder of contours: one set, read whole.
+    let ring = |z: f64| {
+        rows(
+            &ring(10, 20.0, z)
+                .into_iter()
+                .flatten()
+                .collect::<Vec<[f64; 3]>>(),
+        )
+    };
+    let (a, b) = (ring(0.0), ring(10.0));
+    let files: [(&str, &[u8]); 3] = [
+        ("landmarks/G.fcsv", bent.as_bytes()),
+        ("curves/LV_ENDO_1.fcsv", a.as_bytes()),
+        ("curves/LV_ENDO_2.fcsv", b.as_bytes()),
+    ];
+    let (_, set) = read_study(&files, &ContourOptions::default()).unwrap();
+    assert_eq!(set.contours.len(), 2);
+    assert_eq!(set.landmarks.len(), 4);
+}
