@@ -142,6 +142,13 @@ describe('Slicer markups files', () => {
       expect(holdsCurves(ring(0, 'RV_INSERT'), 'F')).toBe(false);
       expect(holdsCurves(ring(0), 'Apex points')).toBe(false);
       expect(holdsCurves(header + '1,1,2,3,0,0,0,1,1,1,0,F-1,,\n', 'F')).toBe(false);
+      // Points over several images: landmarks, as the core reads them.
+      const spread = header + [0, 1, 2, 3, 4].map((k) => `${k + 1},${10 * Math.cos(k)},${10 * Math.sin(k)},${12 * k},0,0,0,1,1,1,0,F-${k + 1},,`).join('\n');
+      expect(holdsCurves(spread, 'F')).toBe(false);
+      // A markups JSON point list clicked round a ring counts too; one of named landmarks does not.
+      const list = (label: string) => JSON.stringify({ markups: [{ type: 'Fiducial', name: 'F', controlPoints: [0, 1, 2, 3, 4, 5].map((k) => ({ label: `${label}-${k}`, position: [10 * Math.cos(k), 10 * Math.sin(k), 3] })) }] });
+      expect(holdsCurves(list('F'), 'F')).toBe(true);
+      expect(holdsCurves(list('APEX'), 'F')).toBe(false);
     });
   });
 });

@@ -35,19 +35,66 @@ function namesLandmark(name: string): boolean {
   return name.split(/[^A-Za-z0-9]+/).some((w) => LANDMARK_WORDS.has(w.toLowerCase()));
 }
 
+/** How far (mm) a contour's points may stray from their plane (the core's `NON_PLANAR_MM`). */
+const NON_PLANAR_MM = 2.5;
+
+/** Whether points lie in one plane: Newell's normal of their polygon, then each point's distance to the plane through their centroid. */
+function inOnePlane(points: number[][]): boolean {
+  const n = [0, 0, 0];
+  points.forEach((p, k) => {
+    const q = points[(k + 1) % points.length];
+    n[0] += (p[1] - q[1]) * (p[2] + q[2]);
+    n[1] += (p[2] - q[2]) * (p[0] + q[0]);
+    n[2] += (p[0] - q[0]) * (p[1] + q[1]);
+  });
+  const length = Math.hypot(...n);
+  if (!(length > 0)) return false;
+  const c = [0, 1, 2].map((i) => points.reduce((a, p) => a + p[i], 0) / points.length);
+  return points.every((p) => Math.abs(p.reduce((a, v, i) => a + (v - c[i]) * n[i], 0) / length) <= NON_PLANAR_MM);
+}
+
+interface PointList {
+  type?: unknown;
+  name?: unknown;
+  controlPoints?: { label?: unknown; position?: unknown; positionStatus?: unknown }[];
+}
+
+/**
+ * Whether a point list is a contour clicked point by point, as the core reads one
+ * (`point_list_is_contour`): four placed points or more in one plane, neither the list nor a
+ * point named as a landmark. (The core also takes a list named after a wall whatever its size.)
+ */
+function clickedContour(m: PointList, name: string): boolean {
+  const placed = (m.controlPoints ?? []).filter((p) => (p.positionStatus ?? 'defined') === 'defined');
+  const points = placed.map((p) => p.position).filter((p): p is number[] => Array.isArray(p) && p.length === 3 && p.every(Number.isFinite));
+  const listName = typeof m.name === 'string' && m.name.trim() !== '' ? m.name : name;
+  return (
+    points.length >= 4 &&
+    points.length === placed.length &&
+    !namesLandmark(listName) &&
+    !placed.some((p) => typeof p.label === 'string' && namesLandmark(p.label)) &&
+    inOnePlane(points)
+  );
+}
+
 /**
  * Whether a markups file's text holds a curve or a closed curve (not only point lists, lines,
- * planes); a legacy point list file (`.fcsv`) does when it is a contour clicked point by point:
- * four points or more, none named as a landmark (the core also asks them to lie in one plane).
+ * planes), or a point list clicked along a contour (`.mrk.json` or a legacy `.fcsv`): what the
+ * core reads a scene's contours from. `name` is the file's name without its extension.
  */
 export function holdsCurves(text: string, name = ''): boolean {
   if (isFcsvText(text)) {
-    const m = fcsvMarkup(name, text) as { name: string; controlPoints: { label: string }[] } | null;
+    const m = fcsvMarkup(name, text) as PointList | null;
     // A damaged point list file is still markups: opened with them, the core names it.
-    if (m === null) return true;
-    return m.controlPoints.length >= 4 && !namesLandmark(name) && !m.controlPoints.some((p) => namesLandmark(p.label));
+    return m === null || clickedContour(m, name);
   }
-  return /"type"\s*:\s*"(Closed)?Curve"/.test(text);
+  if (/"type"\s*:\s*"(Closed)?Curve"/.test(text)) return true;
+  try {
+    const doc = JSON.parse(text) as { markups?: PointList[] };
+    return (doc.markups ?? []).some((m) => m?.type === 'Fiducial' && clickedContour(m, name));
+  } catch {
+    return false;
+  }
 }
 
 /** The files of a scene to open, and those set aside. */
