@@ -23,6 +23,20 @@ const JOINED = 'Slicer markups (41 files).mrk.json';
 /** `heartmesh reconstruct` of the same .fcsv files, LV_ENDO (ml). */
 const FCSV_LV_ENDO_ML = 171.61;
 
+/** Every surface of the patient offered; LV_ENDO chosen, reconstructed closed from its 8 curves. */
+async function lvEndoOfTheSet() {
+  const surfaces = await page.$$eval('[data-testid=surface-picker] option', (os) => os.map((o) => o.value));
+  for (const s of ['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']) assert.ok(surfaces.includes(s), `${s} in ${surfaces}`);
+  if ((await page.inputValue('[data-testid=surface-picker]')) !== 'LV_ENDO') {
+    await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_ENDO'));
+  }
+  const m = await meshOnScreen(page);
+  const r = await readResult(page);
+  assert.equal(m.watertight, true);
+  assert.equal(m.contours, 8, 'LV_ENDO: 5 short-axis rings and 3 long-axis curves');
+  return { m, r };
+}
+
 describe('3D Slicer markups', () => {
   it('opens a folder of .mrk.json curves as one contour set and reconstructs it as the command line does', async () => {
     await page.setViewportSize({ width: 1280, height: 720 });
@@ -37,15 +51,7 @@ describe('3D Slicer markups', () => {
       const banner = await textOf(page, '[data-testid=error-banner]');
       assert.match(banner, /^1 of 2 files not opened: damaged\.mrk\.json, line 3: not valid JSON/, banner);
       assert.match(banner, /41 Slicer markups files were read as one contour set: Slicer markups \(41 files\)\.mrk\.json\./, banner);
-      const surfaces = await page.$$eval('[data-testid=surface-picker] option', (os) => os.map((o) => o.value));
-      for (const s of ['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']) assert.ok(surfaces.includes(s), `${s} in ${surfaces}`);
-      if ((await page.inputValue('[data-testid=surface-picker]')) !== 'LV_ENDO') {
-        await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_ENDO'));
-      }
-      const m = await meshOnScreen(page);
-      const r = await readResult(page);
-      assert.equal(m.watertight, true);
-      assert.equal(m.contours, 8, 'LV_ENDO: 5 short-axis rings and 3 long-axis curves');
+      const { m, r } = await lvEndoOfTheSet();
       assert.equal(m.contourPoints, 1419, 'the splines through the control points (heartmesh info: 1419 points)');
       assert.equal(r.vertices, 1041, 'the command line mesh of the folder');
       assert.ok(Math.abs(m.volumeMl - 174.41) < 0.01, `${m.volumeMl} ml (command line: 174.41 ml)`);
@@ -85,15 +91,7 @@ describe('3D Slicer markups', () => {
       assert.match(banner, /41 Slicer markups files were read as one contour set/, banner);
       const notes = await textOf(page, '#slot-notes');
       assert.match(notes, /Slicer point lists read as contours \(drawn point by point: no point is named as a landmark\): s02_SAX_LV_ENDOCARDIAL, .*\(40 in all\)/, notes);
-      const surfaces = await page.$$eval('[data-testid=surface-picker] option', (os) => os.map((o) => o.value));
-      for (const s of ['LV_ENDO', 'LV_EPI', 'RV_ENDO', 'RV_EPI']) assert.ok(surfaces.includes(s), `${s} in ${surfaces}`);
-      if ((await page.inputValue('[data-testid=surface-picker]')) !== 'LV_ENDO') {
-        await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_ENDO'));
-      }
-      const m = await meshOnScreen(page);
-      const r = await readResult(page);
-      assert.equal(m.watertight, true);
-      assert.equal(m.contours, 8, 'LV_ENDO: 5 short-axis rings and 3 long-axis curves');
+      const { m, r } = await lvEndoOfTheSet();
       assert.equal(r.vertices, 1041, 'the command line mesh of the same files');
       assert.ok(Math.abs(m.volumeMl - FCSV_LV_ENDO_ML) < 0.01, `${m.volumeMl} ml (command line: ${FCSV_LV_ENDO_ML} ml)`);
       assert.ok(r.meanMm > 0 && r.meanMm <= 0.5, `contour-to-mesh mean ${r.meanMm} mm`);

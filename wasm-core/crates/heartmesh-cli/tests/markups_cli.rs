@@ -125,57 +125,16 @@ fn s(p: &Path) -> String {
     p.display().to_string()
 }
 
-#[test]
-fn a_folder_of_slicer_curves_reconstructs_each_surface_as_its_csv_does() {
-    let dir = scratch("markups-patient1");
+/// Biv-me patient 1 (ED) redrawn by `write` as a Slicer user leaves it (a point every 8 mm along
+/// each curve), each surface reconstructed from that folder: closed, in LPS, within 1 mm (mean) of
+/// the file's own dense curves (not the splines through their points) and within 2 % of the
+/// volume the CSV itself gives.
+fn redrawn_surfaces_match_the_csv(name: &str, write: fn(&ContourSet, &Path, f64)) {
+    let dir = scratch(name);
     let csv = data("contours/bivme-example-patient1/patient1-ED.csv");
     let set = read_contours("patient1-ED.csv", &std::fs::read(&csv).unwrap()).unwrap();
-    let folder = dir.join("patient1-ED-markups");
-    write_folder(&set, &folder, 8.0);
-    for surface in ["LV_ENDO", "LV_EPI", "RV_ENDO"] {
-        let (code, err, report) =
-            reconstruct_report(&[s(&folder)], &["--surface", surface, "--quiet"], &dir);
-        assert_eq!(code, 0, "{surface}: {err}");
-        let report = report.unwrap();
-        assert_eq!(report["watertight"], true, "{surface}");
-        assert_eq!(report["coordinate_system"], "LPS", "{surface}");
-        let markups_mesh = read_mesh_file(&dir.join("m.obj"));
-        let markups_volume = report["volume_ml"].as_f64().unwrap();
-        // The same surface from the CSV itself.
-        let (code, err, from_csv) =
-            reconstruct_report(&[s(&csv)], &["--surface", surface, "--quiet"], &dir);
-        assert_eq!(code, 0, "{surface} csv: {err}");
-        let csv_volume = from_csv.unwrap()["volume_ml"].as_f64().unwrap();
-        // Measured against the file's dense curves, not the splines through their 8 mm points.
-        let drawn: Vec<_> = set
-            .contours
-            .iter()
-            .filter(|c| c.surface.as_deref() == Some(surface))
-            .cloned()
-            .collect();
-        // The splines through 8 mm points follow the curves: the surface stays as near to them as
-        // the issue asks of real cases (<= 1 mm), its volume within 2 % of the CSV's (measured:
-        // +0.4, +0.4, +0.5 %; the control points' polygon alone gives LV_ENDO -1.8 %).
-        let d = contour_to_mesh(&drawn, &[], &markups_mesh).overall;
-        let change = (markups_volume / csv_volume - 1.0) * 100.0;
-        eprintln!(
-            "{surface}: {} curves; to the file's curves mean {:.3} max {:.2} mm; volume {markups_volume:.1} ml (csv {csv_volume:.1}, {change:+.1} %)",
-            drawn.len(),
-            d.mean,
-            d.max
-        );
-        assert!(d.mean <= 1.0, "{surface}: mean {} mm", d.mean);
-        assert!(change.abs() <= 2.0, "{surface}: volume {change:+.1} %");
-    }
-}
-
-#[test]
-fn a_folder_of_slicer_4_point_lists_reconstructs_each_surface_as_its_csv_does() {
-    let dir = scratch("fcsv-patient1");
-    let csv = data("contours/bivme-example-patient1/patient1-ED.csv");
-    let set = read_contours("patient1-ED.csv", &std::fs::read(&csv).unwrap()).unwrap();
-    let folder = dir.join("patient1-ED-fcsv");
-    write_fcsv_folder(&set, &folder, 8.0);
+    let folder = dir.join("patient1-ED");
+    write(&set, &folder, 8.0);
     for surface in ["LV_ENDO", "LV_EPI", "RV_ENDO"] {
         let (code, err, report) =
             reconstruct_report(&[s(&folder)], &["--surface", surface, "--quiet"], &dir);
@@ -195,19 +154,33 @@ fn a_folder_of_slicer_4_point_lists_reconstructs_each_surface_as_its_csv_does() 
             .filter(|c| c.surface.as_deref() == Some(surface))
             .cloned()
             .collect();
-        // Every list is read as the curve it was clicked along (closed rings closed, splined as
-        // Slicer draws a curve): measured, RV_ENDO is the .mrk.json folder's mesh to the figure
-        // and the LVs' volumes are within 1.2 % of the CSV's. A stretch of two points in a list
-        // of its own is a speck, left out (LV_ENDO's max 6.6 mm, at that stretch).
         let d = contour_to_mesh(&drawn, &[], &mesh).overall;
         let change = (volume / csv_volume - 1.0) * 100.0;
         eprintln!(
-            "{surface} from .fcsv: to the file's curves mean {:.3} max {:.2} mm; volume {volume:.1} ml (csv {csv_volume:.1}, {change:+.1} %)",
-            d.mean, d.max
+            "{name} {surface}: {} curves; to the file's curves mean {:.3} max {:.2} mm; volume {volume:.1} ml (csv {csv_volume:.1}, {change:+.1} %)",
+            drawn.len(),
+            d.mean,
+            d.max
         );
         assert!(d.mean <= 1.0, "{surface}: mean {} mm", d.mean);
         assert!(change.abs() <= 2.0, "{surface}: volume {change:+.1} %");
     }
+}
+
+#[test]
+fn a_folder_of_slicer_curves_reconstructs_each_surface_as_its_csv_does() {
+    // The splines through 8 mm points follow the curves (measured: volumes +0.4, +0.4, +0.5 %;
+    // the control points' polygon alone gives LV_ENDO -1.8 %).
+    redrawn_surfaces_match_the_csv("markups-patient1", write_folder);
+}
+
+#[test]
+fn a_folder_of_slicer_4_point_lists_reconstructs_each_surface_as_its_csv_does() {
+    // Every list is read as the curve it was clicked along (closed rings closed, splined as Slicer
+    // draws a curve): measured, RV_ENDO is the .mrk.json folder's mesh to the figure and the LVs'
+    // volumes are within 1.2 % of the CSV's. A stretch of two points in a list of its own is a
+    // speck, left out (LV_ENDO's max 6.6 mm, at that stretch).
+    redrawn_surfaces_match_the_csv("fcsv-patient1", write_fcsv_folder);
 }
 
 #[test]
