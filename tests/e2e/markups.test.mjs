@@ -4,7 +4,9 @@
 // dropped as a folder with one damaged file beside them. The 41 markups files open as one entry,
 // the banner says so and names the damaged file with the core's words; every surface is there,
 // and LV_ENDO reconstructs closed as the command line's mesh of the same folder (1041 vertices,
-// 174.41 ml: `heartmesh reconstruct slicer-markups-patient1 --surface LV_ENDO`).
+// 174.41 ml: `heartmesh reconstruct slicer-markups-patient1 --surface LV_ENDO`). The same
+// study as Slicer 4's point list files (`.fcsv`, half of them RAS) opens the same way, as the
+// command line reads those files.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { cpSync, mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
@@ -12,6 +14,7 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf, waitForError } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
+import { FCSV_LV_ENDO_ML, fcsvFiles } from './fcsvFixture.mjs';
 
 let server;
 let page;
@@ -20,8 +23,6 @@ appForFile({ goto: false, onPageError: (m) => pageErrors.push(m) }, (app) => ({ 
 
 const FIXTURE = join(ROOT, 'wasm-core', 'crates', 'heartmesh-core', 'tests', 'data', 'slicer-markups-patient1');
 const JOINED = 'Slicer markups (41 files).mrk.json';
-/** `heartmesh reconstruct` of the same .fcsv files, LV_ENDO (ml). */
-const FCSV_LV_ENDO_ML = 171.61;
 
 /** Every surface of the patient offered; LV_ENDO chosen, reconstructed closed from its 8 curves. */
 async function lvEndoOfTheSet() {
@@ -67,23 +68,10 @@ describe('3D Slicer markups', () => {
 
   it('opens a folder of Slicer 4 point list files (.fcsv) as the curves they were clicked along', async () => {
     await gotoEmpty(page, server.url);
-    // Each markup of the fixture as the legacy file Slicer writes for it (its first stretch: a point
-    // list holds one), RAS for half of them (the core takes each into the first file's frame).
     const root = mkdtempSync(join(tmpdir(), 'heartmesh-fcsv-'));
     const dir = join(root, 'patient1-ED');
     mkdirSync(dir);
-    for (const [k, name] of readdirSync(FIXTURE).sort().entries()) {
-      const m = JSON.parse(readFileSync(join(FIXTURE, name), 'utf8')).markups[0];
-      const ras = k % 2 === 1;
-      const rows = m.controlPoints
-        .filter((p) => (p.positionStatus ?? 'defined') === 'defined')
-        .map((p, i) => {
-          const [x, y, z] = p.position;
-          return `${i + 1},${ras ? -x : x},${ras ? -y : y},${z},0,0,0,1,1,1,0,${p.label},,vtkMRMLScalarVolumeNode1,2,0`;
-        });
-      const header = `# Markups fiducial file version = 5.6\n# CoordinateSystem = ${ras ? 'RAS' : 'LPS'}\n# columns = id,x,y,z,ow,ox,oy,oz,vis,sel,lock,label,desc,associatedNodeID\n`;
-      writeFileSync(join(dir, name.replace(/\.mrk\.json$/, '.fcsv')), header + rows.join('\n') + '\n');
-    }
+    for (const [name, text] of Object.entries(fcsvFiles({ ras: true }))) writeFileSync(join(dir, name), text);
     try {
       await dropPaths(page, [dir]);
       assert.deepEqual(await page.$$eval('[data-testid=file-picker] option', (os) => os.map((o) => o.value)), [JOINED]);

@@ -6,7 +6,9 @@
 // LV_ENDO`), the other files named as set aside; a scene of a segmentation (`heartmesh segment -o
 // seg.seg.nrrd`, with a scan, a point list and the scene file) opens the segmentation alone, the
 // scan set aside as an image and the rest named, dropped as the scene's folder (its screenshot
-// counted as not read) or picked as its `.mrb`, the same mesh either way.
+// counted as not read) or picked as its `.mrb`, the same mesh either way. A Slicer 4 scene's
+// folder (its point lists as `.fcsv` files, one per curve, tests/e2e/fcsvFixture.mjs) opens as
+// those lists, read as the curves they were clicked along.
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
@@ -17,6 +19,7 @@ import { zipSync } from 'fflate';
 import { dropPaths, gotoEmpty, meshOnScreen, readResult, ROOT, runAndWait, SHOTS, textOf } from './lib.mjs';
 import { makeSlicerSegmentation } from './laxViews.mjs';
 import { appForFile } from './perFile.mjs';
+import { FCSV_LV_ENDO_ML, fcsvFiles } from './fcsvFixture.mjs';
 
 let server;
 let page;
@@ -74,6 +77,34 @@ describe('3D Slicer scenes', () => {
       assert.deepEqual(pageErrors, []);
     } finally {
       rmSync(dir, { recursive: true, force: true });
+    }
+  });
+
+  it('opens the folder of a Slicer 4 scene as its point list files (.fcsv), clicked along each curve', async () => {
+    await gotoEmpty(page, server.url);
+    const root = mkdtempSync(join(tmpdir(), 'heartmesh-scene4-'));
+    const dir = join(root, 'Patient1');
+    mkdirSync(join(dir, 'Data'), { recursive: true });
+    writeFileSync(join(dir, 'Patient1.mrml'), SCENE);
+    writeFileSync(join(dir, 'Data', 'cine.nrrd'), scan());
+    for (const [name, body] of Object.entries(fcsvFiles())) writeFileSync(join(dir, 'Data', name), body);
+    try {
+      await dropPaths(page, [dir]);
+      assert.deepEqual(await page.$$eval('[data-testid=file-picker] option', (os) => os.map((o) => o.value)), ['Slicer markups (41 files).mrk.json']);
+      const banner = (await textOf(page, '[data-testid=error-banner]')).replace(/✕$/, '');
+      // The files set aside in the order the folder gave them.
+      const [joined, aside] = banner.split(' 2 other files of the Slicer scene set aside (the contours come from the Slicer markups): ');
+      assert.equal(joined, '41 Slicer markups files were read as one contour set: Slicer markups (41 files).mrk.json.', banner);
+      assert.deepEqual(aside.replace(/\.$/, '').split(', ').sort(), ['Patient1.mrml', 'cine.nrrd'], banner);
+      if ((await page.inputValue('[data-testid=surface-picker]')) !== 'LV_ENDO') {
+        await runAndWait(page, () => page.selectOption('[data-testid=surface-picker]', 'LV_ENDO'));
+      }
+      const m = await meshOnScreen(page);
+      assert.equal(m.watertight, true);
+      assert.ok(Math.abs(m.volumeMl - FCSV_LV_ENDO_ML) < 0.01, `${m.volumeMl} ml (command line: ${FCSV_LV_ENDO_ML} ml)`);
+      assert.deepEqual(pageErrors, []);
+    } finally {
+      rmSync(root, { recursive: true, force: true });
     }
   });
 
