@@ -2,7 +2,7 @@
 // each, joined into one markups file in name order; other files and broken markups left as given.
 import { describe, expect, it } from 'vitest';
 import lvEndo2 from '../../wasm-core/crates/heartmesh-core/tests/data/slicer-markups-patient1/s02_SAX_LV_ENDOCARDIAL.mrk.json?raw';
-import { fcsvMarkup, isFcsvText, isMarkupsHead, joinedName, joinedText, joinMarkups, markupsStem } from '../../web/src/io/markupsStudy';
+import { fcsvMarkup, isFcsvText, isMarkupsHead, isPointsTableText, joinedName, joinedText, joinMarkups, markupsStem, tableMarkup } from '../../web/src/io/markupsStudy';
 import { holdsCurves } from '../../web/src/io/slicerScene';
 
 const bytes = (s: string) => new TextEncoder().encode(s);
@@ -149,6 +149,27 @@ describe('Slicer markups files', () => {
       const list = (label: string) => JSON.stringify({ markups: [{ type: 'Fiducial', name: 'F', controlPoints: [0, 1, 2, 3, 4, 5].map((k) => ({ label: `${label}-${k}`, position: [10 * Math.cos(k), 10 * Math.sin(k), 3] })) }] });
       expect(holdsCurves(list('F'), 'F')).toBe(true);
       expect(holdsCurves(list('APEX'), 'F')).toBe(false);
+    });
+
+    it('reads a control points table (Slicer\'s export to CSV) the same way, in the frame its columns say', async () => {
+      const table = 'label,l,p,s,defined,selected,visible,locked,description\nA-1,1.5,2,3,1,1,1,0,"a, note"\nA-2,4,5,6,0,1,1,0,\n,7,8,9,true,1,1,0,\n';
+      expect(isPointsTableText(table)).toBe(true);
+      expect(isMarkupsHead(bytes(table))).toBe(true);
+      expect(isPointsTableText('contour,x,y,z\nc,1,2,3\n')).toBe(false);
+      expect(isPointsTableText('label,x,y,z\nc,1,2,3\n')).toBe(false);
+      expect(markupsStem('LV_ENDO_3.csv')).toBe('LV_ENDO_3');
+      const m = tableMarkup('LV_ENDO_3', table) as { coordinateSystem: string; controlPoints: { label: string; position: number[] }[] };
+      expect(m.coordinateSystem).toBe('LPS');
+      // The point not placed (defined 0) is left out; the unlabelled one is numbered.
+      expect(m.controlPoints).toEqual([
+        { label: 'A-1', position: [1.5, 2, 3] },
+        { label: 'LV_ENDO_3-2', position: [7, 8, 9] },
+      ]);
+      expect((tableMarkup('B', 'label,r,a,s\nB,1,2,3\n') as { coordinateSystem: string }).coordinateSystem).toBe('RAS');
+      expect(tableMarkup('B', 'label,r,a,s\nB,1,x,3\n')).toBeNull();
+      const { files, joined } = await joinMarkups([file('LV_ENDO_1.csv', table), file('LV_ENDO_2.fcsv', '# Markups fiducial file version = 4.10\n1,1,2,3\n'), file('other.csv', 'contour,x,y,z\n')]);
+      expect(joined).toBe(2);
+      expect(files.map((f) => f.name)).toEqual(['Slicer markups (2 files).mrk.json', 'other.csv']);
     });
   });
 });

@@ -8,8 +8,9 @@
  * is left out of the join and opened on its own, so the core's refusal names it and its line.
  *
  * Slicer's legacy point list files (`.fcsv`, one contour clicked point by point per file before
- * Slicer had curves) join as the point list Slicer itself makes of one when it loads it and saves
- * it as `.mrk.json`; the core then tells landmarks from contours (`point_list_is_contour`).
+ * Slicer had curves) and its control points tables (`label,l,p,s,defined,...` CSV) join as the
+ * point list Slicer itself makes of one when it loads it and saves it as `.mrk.json`; the core
+ * then tells landmarks from contours (`point_list_is_contour`).
  */
 
 /** What the core looks for in a file's start (heartmesh-core `io::markups::is_markups`). */
@@ -97,17 +98,69 @@ export function fcsvMarkup(name: string, text: string): Record<string, unknown> 
   return { type: 'Fiducial', name, coordinateSystem: frame, controlPoints };
 }
 
-/** Whether a file's first bytes are a Slicer markups file's (JSON, or a legacy `.fcsv`), as the core tells one. */
+/** A control points table's header (Slicer's "export to table" saved as CSV): its columns, frame and coordinate columns; null for any other first line. */
+function tableHeader(line: string): { columns: string[]; frame: string; xyz: number[] } | null {
+  const columns = fields(line).map((c) => c.toLowerCase());
+  if (columns[0] !== 'label') return null;
+  for (const [frame, axes] of [['LPS', ['l', 'p', 's']], ['RAS', ['r', 'a', 's']]] as const) {
+    const xyz = axes.map((a) => columns.indexOf(a));
+    if (xyz.every((k) => k >= 0)) return { columns, frame, xyz };
+  }
+  return null;
+}
+
+/** The data lines of a text: not blank, not `#` comments. */
+function dataLines(text: string): string[] {
+  return text
+    .replace(/^\uFEFF/, '')
+    .split(/\r?\n|\r/)
+    .filter((l) => l.trim() !== '' && !l.trimStart().startsWith('#'));
+}
+
+/** Whether a text is a Slicer control points table (`label,l,p,s,defined,...`), as the core tells one (`io::markups::points_table`). */
+export function isPointsTableText(text: string): boolean {
+  const first = dataLines(text.slice(0, HEAD_BYTES))[0];
+  return first !== undefined && tableHeader(first) !== null;
+}
+
+/** A control points table as the markups JSON point list Slicer imports from it (points whose `defined` is 0 or false skipped), or null when a row cannot be read. */
+export function tableMarkup(name: string, text: string): Record<string, unknown> | null {
+  const [head, ...rows] = dataLines(text);
+  const header = head === undefined ? null : tableHeader(head);
+  if (header === null) return null;
+  const at = (c: string) => header.columns.indexOf(c);
+  const controlPoints: { label: string; position: number[] }[] = [];
+  for (const row of rows) {
+    const f = fields(row);
+    if (at('defined') >= 0 && ['0', 'false', 'no'].includes((f[at('defined')] ?? '').toLowerCase())) continue;
+    const position = header.xyz.map((k) => (k >= f.length || f[k] === '' ? NaN : Number(f[k].replace(/\u2212/g, '-'))));
+    if (!position.every(Number.isFinite)) return null;
+    controlPoints.push({ label: f[at('label')] || `${name}-${controlPoints.length + 1}`, position });
+  }
+  return { type: 'Fiducial', name, coordinateSystem: header.frame, controlPoints };
+}
+
+/** Whether a text is a point list file that is no JSON (a legacy `.fcsv` or a control points table). */
+export function isPointListText(text: string): boolean {
+  return isFcsvText(text) || isPointsTableText(text);
+}
+
+/** A point list file that is no JSON as the markup Slicer makes of it (null: damaged; the core names the line). */
+export function pointListMarkup(name: string, text: string): Record<string, unknown> | null {
+  return isFcsvText(text) ? fcsvMarkup(name, text) : tableMarkup(name, text);
+}
+
+/** Whether a file's first bytes are a Slicer markups file's (JSON, a legacy `.fcsv` or a control points table), as the core tells one. */
 export function isMarkupsHead(head: Uint8Array): boolean {
   const text = new TextDecoder().decode(head.subarray(0, HEAD_BYTES)).replace(/^\uFEFF/, '').trimStart();
-  if (!text.startsWith('{')) return isFcsvText(text);
+  if (!text.startsWith('{')) return isPointListText(text);
   const lower = text.toLowerCase();
   return lower.includes(SCHEMA_MARK) || (text.includes('"markups"') && text.includes('"controlPoints"'));
 }
 
-/** A file's name without `.mrk.json` / `.json` / `.fcsv`: the node's name in Slicer when it states none. */
+/** A file's name without `.mrk.json` / `.json` / `.fcsv` / `.csv`: the node's name in Slicer when it states none. */
 export function markupsStem(name: string): string {
-  const m = /^(.+?)((\.mrk)?\.json|\.fcsv)$/i.exec(name);
+  const m = /^(.+?)((\.mrk)?\.json|\.fcsv|\.csv)$/i.exec(name);
   return m ? m[1] : name;
 }
 
@@ -194,7 +247,7 @@ export async function joinMarkups<T extends Named>(
   folderOf: (f: T) => string = () => '',
 ): Promise<{ files: (T | File)[]; joined: number; names: string[] }> {
   const unchanged = { files: [...files], joined: 0, names: [] };
-  const candidates = files.filter((f) => /\.(json|fcsv)$/i.test(f.name));
+  const candidates = files.filter((f) => /\.(json|fcsv|csv)$/i.test(f.name));
   if (candidates.length < 2) return unchanged;
   const found: Found<T>[] = [];
   for (const file of candidates) {
@@ -203,8 +256,8 @@ export async function joinMarkups<T extends Named>(
     try {
       const text = await file.text();
       if (!text.trimStart().startsWith('{')) {
-        // A legacy point list file: the point list Slicer makes of it.
-        const markup = fcsvMarkup(markupsStem(file.name), text);
+        // A legacy point list file or a control points table: the point list Slicer makes of it.
+        const markup = pointListMarkup(markupsStem(file.name), text);
         if (markup) found.push({ file, doc: { markups: [markup] } });
         continue;
       }

@@ -8,7 +8,7 @@
  * (a scan among them is told by the core and set aside as an image). The core reads a scene the
  * same way on the command line (heartmesh-core `io::slicer_scene`).
  */
-import { fcsvMarkup, isFcsvText, isMarkupsHead, markupsStem } from './markupsStudy';
+import { isMarkupsHead, isPointListText, markupsStem, pointListMarkup } from './markupsStudy';
 
 /** How much of a file's start is looked into. */
 const HEAD_BYTES = 4096;
@@ -79,12 +79,13 @@ function clickedContour(m: PointList, name: string): boolean {
 
 /**
  * Whether a markups file's text holds a curve or a closed curve (not only point lists, lines,
- * planes), or a point list clicked along a contour (`.mrk.json` or a legacy `.fcsv`): what the
- * core reads a scene's contours from. `name` is the file's name without its extension.
+ * planes), or a point list clicked along a contour (`.mrk.json`, a legacy `.fcsv` or a control
+ * points table): what the core reads a scene's contours from. `name` is the file's name
+ * without its extension.
  */
 export function holdsCurves(text: string, name = ''): boolean {
-  if (isFcsvText(text)) {
-    const m = fcsvMarkup(name, text) as PointList | null;
+  if (isPointListText(text)) {
+    const m = pointListMarkup(name, text) as PointList | null;
     // A damaged point list file is still markups: opened with them, the core names it.
     return m === null || clickedContour(m, name);
   }
@@ -136,7 +137,7 @@ export async function sceneOf<T extends Named>(files: readonly T[]): Promise<Sce
   for (const m of markups) {
     const text = await textOf(m);
     // A damaged markups file is still markups: opened with them, the core names it.
-    if (text === null || holdsCurves(text, markupsStem(m.name)) || (!isFcsvText(text) && !isJson(text))) curves = true;
+    if (text === null || holdsCurves(text, markupsStem(m.name)) || (!isPointListText(text) && !isJson(text))) curves = true;
     if (curves) break;
   }
   let opened = curves ? markups : files.filter((f) => !scenes.includes(f) && !markups.includes(f));

@@ -40,7 +40,8 @@ pub const USAGE: &str =
   contour placed by its image's position, orientation and pixel spacing, the frame of a cine
   slice by trigger time from 0 (--frame 9), other files set aside with a warning; or 3D Slicer
   markups (.mrk.json, one file per curve as Slicer saves them: the files or their folder,
-  reconstruct patient1-markups/ -o ...; Slicer 4's point list files .fcsv the same way), read as
+  reconstruct patient1-markups/ -o ...; Slicer 4's point list files .fcsv and Slicer's control
+  points tables .csv, label,l,p,s,..., the same way), read as
   one set, closed curves and curves through their control points (point lists clicked along a
   contour too), each curve's surface from its name (LV endo 3: LV_ENDO); or a 3D Slicer
   scene, its .mrb bundle or its folder (reconstruct Patient1.mrb -o ...): its markups curves,

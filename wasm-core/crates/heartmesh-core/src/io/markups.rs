@@ -17,8 +17,9 @@
 //!   list is a contour clicked point by point, as Slicer users drew them before curves existed
 //!   ([`point_list_is_contour`]: four or more points in one plane, none of them, nor the list,
 //!   named as a landmark), read as a curve that closes where its ends meet as a CSV's does.
-//! - Slicer's legacy point list files (`.fcsv`, [`fcsv`]) are read as the point list Slicer makes
-//!   of one, so a folder of them (one contour per file) is a study as a folder of `.mrk.json` is.
+//! - Slicer's legacy point list files (`.fcsv`, [`fcsv`]) and its control points tables (a CSV of
+//!   `label,l,p,s,defined,...`, [`points_table`]) are read as the point list Slicer makes of one,
+//!   so a folder of them (one contour per file) is a study as a folder of `.mrk.json` is.
 //! - `Line`, `Angle`, `Plane` and `ROI` hold no contour: skipped, with one warning naming them.
 //! - A curve of one placed point is that point, kept as a CSV keeps a one-point piece (biv-me's
 //!   curves carry some); a closed curve of fewer than three points is open.
@@ -37,6 +38,7 @@
 //! tags (`myo_3` is `MYO`; Slicer's default names `CC`, `CC_1`, ... are all one surface, `CC`).
 
 pub mod fcsv;
+pub mod points_table;
 
 use serde_json::Value;
 
@@ -66,7 +68,7 @@ const MAX_SEGMENT_STEPS: usize = 64;
 pub fn is_markups(head: &[u8]) -> bool {
     let head = head.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(head);
     if !head.trim_ascii_start().starts_with(b"{") {
-        return fcsv::is_fcsv(head);
+        return fcsv::is_fcsv(head) || points_table::is_points_table(head);
     }
     let has = |needle: &[u8]| {
         head.windows(needle.len())
@@ -78,9 +80,9 @@ pub fn is_markups(head: &[u8]) -> bool {
 /// Whether a markups file holds a curve or a closed curve (not only point lists, lines, planes):
 /// a Slicer scene's contours come from its curves when it has any.
 pub fn holds_curves(bytes: &[u8]) -> bool {
-    if fcsv::is_fcsv(bytes) {
+    if let Some(markup) = point_list_file("", bytes) {
         // A damaged point list file is still markups, as a damaged JSON one is.
-        return fcsv::to_markup("", bytes).map_or(true, |m| Reader::default().reads_as_contour(&m));
+        return markup.map_or(true, |m| Reader::default().reads_as_contour(&m));
     }
     let Ok(text) = super::text::decode(bytes) else {
         return false;
@@ -99,6 +101,61 @@ pub fn holds_curves(bytes: &[u8]) -> bool {
                 ) || Reader::default().reads_as_contour(m)
             })
         })
+}
+
+/// The point list a file that is no JSON makes, row by row ([`fcsv`], [`points_table`]).
+struct PointListRows {
+    name: String,
+    points: Vec<Value>,
+}
+
+impl PointListRows {
+    fn new(name: &str) -> Self {
+        Self {
+            name: name.to_string(),
+            points: Vec::new(),
+        }
+    }
+
+    /// Adds the point of file line `line`: its label (numbered after the list when the cell is
+    /// empty or missing, as Slicer numbers it) and position.
+    fn push(&mut self, label: Option<&str>, position: [f64; 3], line: usize) -> Result<()> {
+        let label = label.map(str::trim).filter(|l| !l.is_empty()).map_or_else(
+            || format!("{}-{}", self.name, self.points.len() + 1),
+            str::to_string,
+        );
+        self.points
+            .push(serde_json::json!({ "label": label, "position": position }));
+        if self.points.len() > MAX_POINTS {
+            return Err(CoreError::parse(
+                line,
+                format!("too many points: the limit is {MAX_POINTS} points per file"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The markups JSON point list, in `frame` (`LPS` or `RAS`).
+    fn finish(self, frame: &str) -> Value {
+        serde_json::json!({
+            "type": "Fiducial",
+            "name": self.name,
+            "coordinateSystem": frame,
+            "controlPoints": self.points,
+        })
+    }
+}
+
+/// A point list file that is no JSON (Slicer's legacy `.fcsv`, or its control points table CSV)
+/// as the markup Slicer makes of it, named `stem`; None for any other file.
+fn point_list_file(stem: &str, bytes: &[u8]) -> Option<Result<Value>> {
+    if fcsv::is_fcsv(bytes) {
+        Some(fcsv::to_markup(stem, bytes))
+    } else if points_table::is_points_table(bytes) {
+        Some(points_table::to_markup(stem, bytes))
+    } else {
+        None
+    }
 }
 
 /// Reads `name` and its `companions` (other markups files of the same study) into one set.
@@ -203,9 +260,8 @@ impl Reader {
             other => other,
         };
         let stem = stem_of(file);
-        if fcsv::is_fcsv(bytes) {
-            let markup = fcsv::to_markup(stem, bytes).map_err(named)?;
-            return self.markup(&markup, stem).map_err(named);
+        if let Some(markup) = point_list_file(stem, bytes) {
+            return self.markup(&markup.map_err(named)?, stem).map_err(named);
         }
         let text = super::text::decode(bytes).map_err(named)?;
         let root: Value = serde_json::from_str(&text).map_err(|e| {
@@ -531,11 +587,11 @@ fn units_scale(units: Option<&Value>) -> std::result::Result<f64, String> {
     }
 }
 
-/// A file's name without its folder and `.mrk.json` / `.json` / `.fcsv`.
+/// A file's name without its folder and `.mrk.json` / `.json` / `.fcsv` / `.csv`.
 fn stem_of(file: &str) -> &str {
     let base = file.rsplit(['/', '\\']).next().unwrap_or(file);
     let lower = base.to_ascii_lowercase();
-    for ext in [".mrk.json", ".json", ".fcsv"] {
+    for ext in [".mrk.json", ".json", ".fcsv", ".csv"] {
         if lower.ends_with(ext) && base.len() > ext.len() {
             return &base[..base.len() - ext.len()];
         }

@@ -20,7 +20,7 @@
 //! each row, passed over. A file without a `CoordinateSystem` line is RAS, the only frame the
 //! versions that wrote none used.
 
-use serde_json::{json, Value};
+use serde_json::Value;
 
 use crate::error::{CoreError, Result};
 use crate::io::csv::{split_fields, unquote};
@@ -96,7 +96,7 @@ pub fn to_markup(name: &str, bytes: &[u8]) -> Result<Value> {
     let text = decode(bytes)?;
     let mut frame = "RAS";
     let mut columns: Vec<String> = DEFAULT_COLUMNS.iter().map(|c| c.to_string()).collect();
-    let mut points = Vec::new();
+    let mut rows = super::PointListRows::new(name);
     let mut fields = Vec::new();
     for (line, row) in lines(&text) {
         let t = row.trim();
@@ -144,28 +144,10 @@ pub fn to_markup(name: &str, bytes: &[u8]) -> Result<Value> {
             parse_coord(fields[y], line, "y")?,
             parse_coord(fields[z], line, "z")?,
         ];
-        let label = at("label")
-            .and_then(|k| fields.get(k))
-            .map(|f| unquote(f))
-            .filter(|l| !l.is_empty())
-            .map_or_else(|| format!("{name}-{}", points.len() + 1), str::to_string);
-        points.push(json!({ "label": label, "position": position }));
-        if points.len() > super::MAX_POINTS {
-            return Err(CoreError::parse(
-                line,
-                format!(
-                    "too many points: the limit is {} points per file",
-                    super::MAX_POINTS
-                ),
-            ));
-        }
+        let label = at("label").and_then(|k| fields.get(k)).map(|f| unquote(f));
+        rows.push(label, position, line)?;
     }
-    Ok(json!({
-        "type": "Fiducial",
-        "name": name,
-        "coordinateSystem": frame,
-        "controlPoints": points,
-    }))
+    Ok(rows.finish(frame))
 }
 
 #[cfg(test)]

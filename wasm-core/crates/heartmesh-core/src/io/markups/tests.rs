@@ -494,6 +494,51 @@ fn a_folder_of_point_list_files_reads_as_its_markups_do() {
         read_study(&refs, &ContourOptions::default()).unwrap().1
     };
     let (from_json, from_fcsv) = (study(&json), study(&fcsv));
+    // The same markups as control points tables (Slicer's "export to table", saved as CSV; RAS
+    // here, every point with its `defined` flag): the same contours as the point list files.
+    let tables: Vec<(String, Vec<u8>)> = json
+        .iter()
+        .map(|(name, bytes)| {
+            let root: Value = serde_json::from_slice(bytes).unwrap();
+            let mut text =
+                String::from("label,r,a,s,defined,selected,visible,locked,description\n");
+            for p in root["markups"][0]["controlPoints"].as_array().unwrap() {
+                let xyz: Vec<f64> = p["position"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .filter_map(Value::as_f64)
+                    .collect();
+                let placed = p["positionStatus"].as_str().is_none_or(|s| s == "defined");
+                text.push_str(&format!(
+                    "{},{},{},{},{},1,1,0,\n",
+                    p["label"].as_str().unwrap_or(""),
+                    -xyz[0],
+                    -xyz[1],
+                    xyz[2],
+                    u8::from(placed)
+                ));
+            }
+            let stem = name.trim_end_matches(".mrk.json");
+            (format!("{stem}.csv"), text.into_bytes())
+        })
+        .collect();
+    let from_tables = study(&tables);
+    assert_eq!(from_tables.coordinate_system, Some(CoordinateSystem::Ras));
+    assert_eq!(from_tables.contours.len(), from_fcsv.contours.len());
+    for (a, b) in from_tables.contours.iter().zip(&from_fcsv.contours) {
+        assert_eq!((&a.id, a.pieces.len()), (&b.id, b.pieces.len()));
+        for (pa, pb) in a.pieces.iter().zip(&b.pieces) {
+            assert_eq!(pa.closed, pb.closed, "{}", a.id);
+            let off = pa
+                .points
+                .iter()
+                .zip(&pb.points)
+                .map(|(p, q)| (p - v3(-q.x, -q.y, q.z)).norm())
+                .fold(0.0, f64::max);
+            assert!(off < 1e-9, "{}: {off} mm", a.id);
+        }
+    }
     assert_eq!(
         detect_contour_format(&fcsv[0].0, &fcsv[0].1),
         ContourFormat::SlicerMarkups
