@@ -15,8 +15,9 @@
 //! - `Fiducial` (a point list): each defined point is a landmark named by its label
 //!   (`RV_INSERT_ANTERIOR`, `APEX_POINT`, ...), as a CSV's `# landmark` lines are; unless the
 //!   list is a contour clicked point by point, as Slicer users drew them before curves existed
-//!   ([`point_list_is_contour`]: four or more points in one plane, none of them, nor the list,
-//!   named as a landmark), read as a curve that closes where its ends meet as a CSV's does.
+//!   ([`point_list_is_contour`]: neither the list nor a point named as a landmark, and the list
+//!   named after a wall or holding four or more points in one plane), read as a curve that
+//!   closes where its ends meet as a CSV's does.
 //! - Slicer's legacy point list files (`.fcsv`, [`fcsv`]) and its control points tables (a CSV of
 //!   `label,l,p,s,defined,...`, [`points_table`]) are read as the point list Slicer makes of one,
 //!   so a folder of them (one contour per file) is a study as a folder of `.mrk.json` is.
