@@ -400,10 +400,10 @@ fn names_landmark(name: &str) -> bool {
 
 /// Whether a point list is a contour clicked point by point rather than landmarks. Neither the
 /// list nor any point may be named as a landmark; then a list named after a ventricle's wall
-/// (`s06_SAX_RV_SEPTUM`, `LV endo 3`: [`named_wall`]) is a contour however few its points (a
+/// (`s06_SAX_RV_SEPTUM`, `LV endo 3`: `named_wall`) is a contour however few its points (a
 /// short septum arc takes three clicks; one point is kept as a curve's one placed point is), and
-/// any other one needs [`MIN_CONTOUR_POINTS`] points lying in one plane, as a curve drawn on one
-/// image does (within the contours' own [`NON_PLANAR_MM`]).
+/// any other one needs `MIN_CONTOUR_POINTS` points lying in one plane, as a curve drawn on one
+/// image does (within the contours' own `NON_PLANAR_MM` (2.5 mm)).
 /// Landmarks are few, named, and spread over several images; a list of the apex, valve points
 /// and insertions fails every test.
 pub fn point_list_is_contour(name: &str, labels: &[String], points: &[Vec3]) -> bool {
