@@ -3,7 +3,7 @@
 import { describe, expect, it } from 'vitest';
 import lvEndo2 from '../../wasm-core/crates/heartmesh-core/tests/data/slicer-markups-patient1/s02_SAX_LV_ENDOCARDIAL.mrk.json?raw';
 import { fcsvMarkup, isFcsvText, isMarkupsHead, isPointsTableText, joinedName, joinedText, joinMarkups, markupsStem, tableMarkup } from '../../web/src/io/markupsStudy';
-import { holdsCurves } from '../../web/src/io/slicerScene';
+import { holdsCurves, namesWall } from '../../web/src/io/slicerScene';
 
 const bytes = (s: string) => new TextEncoder().encode(s);
 const file = (name: string, text: string, lastModified = 1000) => new File([text], name, { lastModified });
@@ -149,6 +149,21 @@ describe('Slicer markups files', () => {
       const list = (label: string) => JSON.stringify({ markups: [{ type: 'Fiducial', name: 'F', controlPoints: [0, 1, 2, 3, 4, 5].map((k) => ({ label: `${label}-${k}`, position: [10 * Math.cos(k), 10 * Math.sin(k), 3] })) }] });
       expect(holdsCurves(list('F'), 'F')).toBe(true);
       expect(holdsCurves(list('APEX'), 'F')).toBe(false);
+    });
+
+    it('counts a list named after a wall as a contour whatever its size, as the core does', () => {
+      const three = header + [0, 1, 2].map((k) => `${k + 1},${10 * Math.cos(k)},${10 * Math.sin(k)},${12 * k},0,0,0,1,1,1,0,,,`).join('\n');
+      // Three points, 24 mm apart in z: landmarks unless the name says which wall they trace.
+      expect(holdsCurves(three, 'F')).toBe(false);
+      for (const wall of ['LV_ENDO_s3', 'lvendo 4', 'RV free wall', 'rv-septum', 'Left epicardium'])
+        expect([wall, holdsCurves(three, wall)]).toEqual([wall, true]);
+      // An LV with an RV part, a side with no wall, a wall with no side, a landmark word: not.
+      for (const other of ['LV septum', 'LV 3', 'endocardium', 'LV endo apex'])
+        expect([other, holdsCurves(three, other)]).toEqual([other, false]);
+      expect(namesWall('RVfreewall')).toBe(true);
+      expect(namesWall('lvepi')).toBe(true);
+      expect(namesWall('lvx')).toBe(false);
+      expect(holdsCurves(header, 'LV_ENDO')).toBe(false);
     });
 
     it('reads a control points table (Slicer\'s export to CSV) the same way, in the frame its columns say', async () => {

@@ -53,6 +53,29 @@ function inOnePlane(points: number[][]): boolean {
   return points.every((p) => Math.abs(p.reduce((a, v, i) => a + (v - c[i]) * n[i], 0) / length) <= NON_PLANAR_MM);
 }
 
+/**
+ * The wall a list's name says it traces (the core's `named_wall`): a side (LV/left, RV/right, or
+ * glued as in `lvendo`) and a wall (endo..., epi..., or an RV free wall or septum). A list so
+ * named is a contour whatever its number of points, as the core reads it.
+ */
+export function namesWall(name: string): boolean {
+  const wallOf = (t: string): 'endo' | 'epi' | 'rvpart' | null =>
+    t.startsWith('endo') ? 'endo' : t.startsWith('epi') ? 'epi' : t === 'free' || t.startsWith('freewall') || t === 'fw' || t.startsWith('sept') ? 'rvpart' : null;
+  let lv: boolean | null = null;
+  let wall: 'endo' | 'epi' | 'rvpart' | null = null;
+  for (const t of name.split(/[^A-Za-z0-9]+/).filter((w) => w !== '').map((w) => w.toLowerCase())) {
+    let side: boolean | null = t === 'lv' || t === 'left' ? true : t === 'rv' || t === 'right' ? false : null;
+    let rest: string | null = side === null ? t : null;
+    if (side === null && (t.startsWith('lv') || t.startsWith('rv')) && wallOf(t.slice(2)) !== null) {
+      side = t.startsWith('lv');
+      rest = t.slice(2);
+    }
+    lv ??= side;
+    wall ??= rest === null ? null : wallOf(rest);
+  }
+  return lv !== null && wall !== null && !(lv && wall === 'rvpart');
+}
+
 interface PointList {
   type?: unknown;
   name?: unknown;
@@ -62,19 +85,15 @@ interface PointList {
 /**
  * Whether a point list is a contour clicked point by point, as the core reads one
  * (`point_list_is_contour`): four placed points or more in one plane, neither the list nor a
- * point named as a landmark. (The core also takes a list named after a wall whatever its size.)
+ * point named as a landmark; or named after a wall ([`namesWall`]) with any placed point.
  */
 function clickedContour(m: PointList, name: string): boolean {
   const placed = (m.controlPoints ?? []).filter((p) => (p.positionStatus ?? 'defined') === 'defined');
   const points = placed.map((p) => p.position).filter((p): p is number[] => Array.isArray(p) && p.length === 3 && p.every(Number.isFinite));
   const listName = typeof m.name === 'string' && m.name.trim() !== '' ? m.name : name;
-  return (
-    points.length >= 4 &&
-    points.length === placed.length &&
-    !namesLandmark(listName) &&
-    !placed.some((p) => typeof p.label === 'string' && namesLandmark(p.label)) &&
-    inOnePlane(points)
-  );
+  if (points.length !== placed.length || namesLandmark(listName) || placed.some((p) => typeof p.label === 'string' && namesLandmark(p.label))) return false;
+  if (namesWall(listName)) return points.length > 0;
+  return points.length >= 4 && inOnePlane(points);
 }
 
 /**

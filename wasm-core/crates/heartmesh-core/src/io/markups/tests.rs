@@ -648,3 +648,32 @@ fn lists_taken_for_landmarks_are_named_when_no_contour_is_left() {
     assert_eq!(set.contours.len(), 2);
     assert_eq!(set.landmarks.len(), 4);
 }
+
+/// The app's scene rule (`web/src/io/slicerScene.ts`, `namesWall`) names the same lists as
+/// contours: these names and points are its vitest case's.
+#[test]
+fn a_list_named_after_a_wall_is_a_contour_whatever_its_size() {
+    let three: Vec<Vec3> = (0..3)
+        .map(|k| {
+            let k = f64::from(k);
+            Vec3::new(10.0 * k.cos(), 10.0 * k.sin(), 12.0 * k)
+        })
+        .collect();
+    let is = |name: &str| point_list_is_contour(name, &[], &three);
+    assert!(!is("F"));
+    for wall in [
+        "LV_ENDO_s3",
+        "lvendo 4",
+        "RV free wall",
+        "rv-septum",
+        "Left epicardium",
+        "RVfreewall",
+        "lvepi",
+    ] {
+        assert!(is(wall), "{wall}");
+    }
+    for other in ["LV septum", "LV 3", "endocardium", "LV endo apex", "lvx"] {
+        assert!(!is(other), "{other}");
+    }
+    assert!(!point_list_is_contour("LV_ENDO", &[], &[]));
+}
