@@ -1,7 +1,7 @@
 // Browser end-to-end test (dist/, Debian's chromium) of session 20's folder drop: a biv-me patient
 // folder dragged onto the page from the file manager (a native drag, sent through the DevTools
-// protocol: a page script cannot make a folder entry) opens its contour files in name order, sets
-// its SliceInfoFile aside, and counts in the banner the files it did not read (an image, a hidden
+// protocol: a page script cannot make a folder entry) opens its contour files in name order, reads
+// each GPFile with its SliceInfoFile, and counts in the banner the files it did not read (an image, a hidden
 // file, a file in a sub-folder of images).
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
@@ -29,7 +29,7 @@ function patientFolder() {
 }
 
 describe('a folder dropped on the page', () => {
-  it('opens a biv-me patient folder: its GPFiles in name order, SliceInfoFile set aside, the rest counted', async () => {
+  it('opens a biv-me patient folder: its GPFiles in name order, each read with the SliceInfoFile, the rest counted', async () => {
     await page.setViewportSize({ width: 1280, height: 720 });
     await gotoEmpty(page, app.server.url);
     const { root, dir } = patientFolder();
@@ -39,7 +39,7 @@ describe('a folder dropped on the page', () => {
       assert.deepEqual(names, ['GPFile_000.txt', 'GPFile_009.txt']);
       assert.equal(await page.inputValue('[data-testid=file-picker]'), 'GPFile_000.txt');
       const banner = (await page.textContent('[data-testid=error-banner]')) ?? '';
-      assert.match(banner, /SliceInfoFile\.txt set aside/);
+      assert.match(banner, /SliceInfoFile\.txt read with GPFile_000\.txt, GPFile_009\.txt: each contour checked against its image plane\./);
       assert.match(banner, /3 other files in the dropped folder were not read/);
       const r = await readResult(page);
       assert.ok(r.vertices > 500 && r.meanMm < 1, JSON.stringify(r));

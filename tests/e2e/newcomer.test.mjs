@@ -8,7 +8,7 @@ import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { download, gotoEmpty, nextFrames, readResult, runAndWait, sharedDir, statusRunId, waitForError, waitForNewRun, SHOTS } from './lib.mjs';
+import { download, gotoEmpty, textOf, nextFrames, readResult, runAndWait, sharedDir, statusRunId, waitForError, waitForNewRun, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 
 let app;
@@ -36,16 +36,18 @@ async function fresh(query = '', viewport = { width: 1280, height: 720 }) {
 }
 
 describe('the app for a newcomer (session 14)', () => {
-  it('a biv-me GPFile dropped with its SliceInfoFile runs; the SliceInfoFile is set aside with a note, not refused', async () => {
+  it('a biv-me GPFile dropped with its SliceInfoFile is read with it (planes checked); another acquisition\'s is warned of', async () => {
     await fresh();
-    // The SliceInfoFile, read first, is refused in passing before the GPFile opens and runs.
-    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', [contours('bivme-example-patient1', 'SliceInfoFile.txt'), contours('bivme-example-patient1', 'GPFile_000.txt')]), 90000, { refusalsInPassing: true });
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', [contours('bivme-example-patient1', 'SliceInfoFile.txt'), contours('bivme-example-patient1', 'GPFile_000.txt')]));
     const r = await readResult(page);
     assert.ok(r.vertices > 500 && r.meanMm > 0 && r.meanMm < 1, `result ${JSON.stringify(r)}`);
     assert.equal(await page.isVisible('[data-testid=error-banner]'), true);
     assert.equal(await page.getAttribute('[data-testid=error-banner]', 'data-kind'), 'info');
-    assert.equal(await page.textContent('[data-testid=error-text]'),
-      'SliceInfoFile.txt set aside: image planes, not contours (the contours come from GPFile_000.txt; only the command line reads the planes, to check that each contour lies in its own).');
+    assert.equal(await page.textContent('[data-testid=error-text]'), 'SliceInfoFile.txt read with GPFile_000.txt: each contour checked against its image plane.');
+    assert.doesNotMatch(await textOf(page, '#slot-warnings'), /image plane/);
+    // Patient 2's SliceInfoFile with patient 1's GPFile: the core's check names the mismatch.
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', [contours('bivme-test-patient2', 'SliceInfoFile.txt'), contours('bivme-example-patient1', 'GPFile_000.txt')]));
+    assert.match(await textOf(page, '#slot-warnings'), /37 contours lie off the image planes of their slices, up to 91\.4 mm .*is the slice info file from another acquisition\?/);
     // Alone, it is still refused, with what to open instead.
     await page.setInputFiles('[data-testid=file-input]', contours('bivme-example-patient1', 'SliceInfoFile.txt'));
     await waitForError(page, 'SliceInfoFile.txt');

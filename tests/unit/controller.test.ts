@@ -530,21 +530,28 @@ describe('controller', () => {
     expect(parts.banner.calls.showWarning?.at(-1)).toEqual(['1 archive not opened: lax.zip: ZIP archive: no end of central directory: truncated or not an archive.']);
   });
 
-  it('a SliceInfoFile dropped with its GPFile is set aside with a note, not listed as a file not opened', async () => {
+  it('a SliceInfoFile dropped with its GPFile is read with it, not opened as contours; set aside beside other files', async () => {
     await controller.start(() => Promise.resolve(client as unknown as CoreClient));
-    const info = file('SliceInfoFile.txt', 'IMG01.dcm  sliceID: 2  ImagePositionPatient -41.2 20.3 -13.4');
-    await controller.openFiles([info, file('GPFile_000.txt')]);
+    const info = file('SliceInfoFile.txt', 'IMG01.dcm  sliceID: 2  ImagePositionPatient -41.2 20.3 -13.4 ImageOrientationPatient 1 0 0 0 1 0 PixelSpacing 1.4 1.4');
+    const gp = (name: string) => file(name, 'x\ty\tz\tcontour type\tframeID\n1\t2\t3\tSAX_LV_ENDOCARDIAL\t2');
+    await controller.openFiles([info, gp('GPFile_000.txt'), gp('GPFile_009.txt')]);
+    // Each GPFile goes to the core with the SliceInfoFile as its companion; the SliceInfoFile is not opened alone.
+    expect(client.studyLoads).toEqual([['GPFile_000.txt', ['SliceInfoFile.txt']], ['GPFile_009.txt', ['SliceInfoFile.txt']]]);
     expect(client.runs.map((r) => r.opts.fileName)).toEqual(['GPFile_000.txt']);
-    expect(lastStatus()).toBe('running');
     expect(parts.banner.calls.showWarning).toBeUndefined();
-    expect(parts.banner.calls.showInfo?.at(-1)).toEqual([
-      'SliceInfoFile.txt set aside: image planes, not contours (the contours come from GPFile_000.txt; only the command line reads the planes, to check that each contour lies in its own).',
-    ]);
+    expect(parts.banner.calls.showInfo?.at(-1)).toEqual(['SliceInfoFile.txt read with GPFile_000.txt, GPFile_009.txt: each contour checked against its image plane.']);
     // With a file that really was not opened, both are said, and only that one is counted.
-    await controller.openFiles([file('GPFile_000.txt'), info, file('bad.csv', 'bad')]);
+    await controller.openFiles([gp('GPFile_000.txt'), info, file('bad.csv', 'bad')]);
     expect(parts.banner.calls.showWarning?.at(-1)?.[0]).toBe(
-      '1 of 2 files not opened: bad.csv, line 2: bad number. SliceInfoFile.txt set aside: image planes, not contours (the contours come from GPFile_000.txt; only the command line reads the planes, to check that each contour lies in its own). Showing GPFile_000.txt.',
+      '1 of 2 files not opened: bad.csv, line 2: bad number. SliceInfoFile.txt read with GPFile_000.txt: each contour checked against its image plane. Showing GPFile_000.txt.',
     );
+    // Beside contours of another format (no GPFile to read it with): set aside, with a note.
+    client.studyLoads.length = 0;
+    await controller.openFiles([info, file('patient1-ED.csv')]);
+    expect(client.studyLoads).toEqual([['SliceInfoFile.txt', []], ['patient1-ED.csv', []]]);
+    expect(parts.banner.calls.showInfo?.at(-1)).toEqual([
+      'SliceInfoFile.txt set aside: image planes, not contours (the contours come from patient1-ED.csv; a SliceInfoFile is read with the GPFile of its folder, to check that each contour lies in its own plane).',
+    ]);
     // Alone (or with nothing that opens) it is refused as before, with what to open instead.
     await controller.openFiles([info]);
     expect(lastStatus()).toMatch(/^error: SliceInfoFile.txt, line 1: this is a biv-me SliceInfoFile .* read the GPFile_\*.txt beside it$/);

@@ -6,7 +6,7 @@ import { imagesAsideText, isDicomImageRefusal, isImageRefusal, setAsideText } fr
 describe('setAsideText', () => {
   it('names one file, and counts files of one name instead of repeating it', () => {
     expect(setAsideText(['SliceInfoFile.txt'], 'GPFile_000.txt')).toBe(
-      'SliceInfoFile.txt set aside: image planes, not contours (the contours come from GPFile_000.txt; only the command line reads the planes, to check that each contour lies in its own).',
+      'SliceInfoFile.txt set aside: image planes, not contours (the contours come from GPFile_000.txt; a SliceInfoFile is read with the GPFile of its folder, to check that each contour lies in its own plane).',
     );
     expect(setAsideText(['SliceInfoFile.txt', 'SliceInfoFile.txt'], 'GPFile_000.txt')).toMatch(/^2 files named SliceInfoFile\.txt set aside: image planes/);
     expect(setAsideText(['SliceInfoFile.txt', 'SliceInfo_ES.txt', 'SliceInfoFile.txt'], 'a.txt')).toMatch(/^2 files named SliceInfoFile\.txt, SliceInfo_ES\.txt set aside/);

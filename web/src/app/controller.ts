@@ -17,6 +17,7 @@ import { distinctName, fileIdentity, lostText, renamedText, skippedText } from '
 import { archivesText, asCoreError, callSafely, imagesAsideText, isDicomImageRefusal, isImageRefusal, isSliceInfoRefusal, keptText, schemaOrdered, setAsideText, unreadable, viewRefusal } from './errors';
 import { addedViewsText, assignViews, byName, isSingleSlice, isStack } from '../io/studyGroups';
 import { asksForImages, cvi42Study, workspaceTest, type Cvi42Study } from '../io/cvi42Study';
+import { pairSliceInfo, sliceInfoReadText } from '../io/gpStudy';
 import { imageHeaders, isSegmentationFile, looksDicom } from '../io/dicomHeaders';
 import { filesOfPickedFolder, folderOfFile, pathInFolder, withSegmentations } from '../io/folderDrop';
 import { expandArchives } from '../io/zipArchive';
@@ -245,6 +246,10 @@ export class Controller {
     // Slicer markups, a file per curve: joined into one set (io/markupsStudy.ts).
     const markups = await joinMarkups(files, folderOfFile);
     files = markups.files;
+    // biv-me folders: each GPFile read with the SliceInfoFile beside it (io/gpStudy.ts).
+    const gp = await pairSliceInfo(files, folderOfFile);
+    files = gp.files;
+    const sliceInfoRead: { gp: string; info: string }[] = [];
     const onScreen = this.currentFile()?.fileName ?? null;
     let first: string | null = null;
     // The archives not read count among the files not opened, as any file refused.
@@ -275,13 +280,14 @@ export class Controller {
       // Another patient's GPFile_000.txt (or two of them in one drop) is kept beside the first.
       const identity = fileIdentity(o.file);
       const name = distinctName(o.file.name, identity, this.identities);
-      const withViews = isStack(o.grid) ? viewsOf(o) : [];
+      const withViews = isStack(o.grid) ? viewsOf(o) : await this.sliceInfoOf(gp.sliceInfo.get(o.file), refused);
       if (await this.loadBytes(name, bytes, identity, withViews, o.grid)) {
         first ??= name;
+        if (!isStack(o.grid)) sliceInfoRead.push(...withViews.map((v) => ({ gp: name, info: v.name })));
         if (name !== o.file.name) renamed.push({ given: o.file.name, as: name });
       } else if (this.lastRefusal) {
         refused.push(this.lastRefusal);
-        refusedFiles.set(this.lastRefusal, 1 + withViews.length);
+        refusedFiles.set(this.lastRefusal, 1 + (isStack(o.grid) ? withViews.length : 0));
         if (withViews.some((v) => v.name === this.lastRefusal?.file)) refusedStacks.set(this.lastRefusal, name);
       }
     }
@@ -298,7 +304,7 @@ export class Controller {
     }
     const joinedNote = markups.names.length > 0 && first !== null ? joinedText(markups.joined, markups.names) : '';
     const sceneNote = scene && scene.aside.length > 0 && first !== null ? sceneAsideText(scene.aside, scene.source) : '';
-    const renamedNote = [joinedNote, sceneNote, renamedText(renamed), skippedText(skipped), added].filter(Boolean).join(' ');
+    const renamedNote = [joinedNote, sceneNote, sliceInfoReadText(sliceInfoRead), renamedText(renamed), skippedText(skipped), added].filter(Boolean).join(' ');
     if (first !== null) {
       this.sampleId = null;
       // A session's own surface first, else the one asked for (the link's, or the one last chosen).
@@ -418,6 +424,13 @@ export class Controller {
     const head = await file.slice(0, LABEL_MAP_HEAD).arrayBuffer();
     if (!mayBeLabelMap(head)) return false;
     return !looksDicom(new Uint8Array(head)) || isSegmentationFile(file);
+  }
+
+  /** A GPFile's SliceInfoFile as the companion it is sent with (none: no file, or it could no longer be read, said). */
+  private async sliceInfoOf(info: File | undefined, refused: CoreErrorData[]): Promise<ViewFile[]> {
+    if (!info) return [];
+    const bytes = await this.bytesOf(info, refused);
+    return bytes === null ? [] : [{ name: info.name, bytes }];
   }
 
   /** A file's bytes read when it is loaded (null: refused, it could no longer be read). */

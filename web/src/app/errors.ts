@@ -24,7 +24,7 @@ export function setAsideText(names: readonly string[], shown: string): string {
   const counts = new Map<string, number>();
   for (const n of names) counts.set(n, (counts.get(n) ?? 0) + 1);
   const them = [...counts].map(([n, k]) => (k > 1 ? `${k} files named ${n}` : n)).join(', ');
-  return `${them} set aside: image planes, not contours (the contours come from ${shown}; only the command line reads the planes, to check that each contour lies in its own).`;
+  return `${them} set aside: image planes, not contours (the contours come from ${shown}; a SliceInfoFile is read with the GPFile of its folder, to check that each contour lies in its own plane).`;
 }
 
 /**

@@ -282,6 +282,26 @@ fn gpfiles_saved_with_commas_spaces_or_cr_and_another_slice_info() {
     assert_eq!(warnings.len(), 2, "{err}");
     assert!(warnings[0].ends_with("is the slice info file from another acquisition?"));
     assert!(warnings[1].ends_with("slice 11 (3 contours) is not in the slice info file"));
+    // A damaged one is only a check not made: the GPFile reconstructs as without it, said once.
+    std::fs::write(
+        dir.join("SliceInfoFile.txt"),
+        "x sliceID: 1 ImagePositionPatient 1 2\n",
+    )
+    .unwrap();
+    let (code, _, err) = run(bin()
+        .args(["reconstruct", s(&f), "-o", s(&dir.join("out.obj"))])
+        .args(lv));
+    assert_eq!(code, 0, "{err}");
+    let warnings: Vec<&str> = err.lines().filter(|l| l.contains("warning")).collect();
+    assert_eq!(warnings.len(), 1, "{err}");
+    assert!(
+        warnings[0].ends_with(
+            "slice info file not read (line 1: ImagePositionPatient needs 3 numbers): the \
+             contours are not checked against their image planes"
+        ),
+        "{err}"
+    );
+    assert!(mesh_lines(&dir.join("out.obj")) == want, "another mesh");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

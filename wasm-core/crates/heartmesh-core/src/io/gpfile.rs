@@ -519,6 +519,56 @@ mod tests {
         );
     }
 
+    /// The app sends a folder's SliceInfoFile with each GPFile as the label maps' views are sent:
+    /// read as the command line reads the file beside it, and never a reason to refuse the GPFile.
+    #[test]
+    fn a_slice_info_file_sent_with_the_gpfile_checks_its_planes() {
+        use crate::io::{read_contours_with, ContourOptions};
+        let gp = sample("contours/bivme-example-patient1/GPFile_000.txt");
+        let own = sample("contours/bivme-example-patient1/SliceInfoFile.txt");
+        let other = sample("contours/bivme-test-patient2/SliceInfoFile.txt");
+        let read = |views: &[(&str, &[u8])]| {
+            let options = ContourOptions {
+                views,
+                ..ContourOptions::default()
+            };
+            read_contours_with("GPFile_000.txt", &gp, &options)
+        };
+        let alone = read(&[]).unwrap();
+        let with_own = read(&[("SliceInfoFile.txt", &own)]).unwrap();
+        assert!(with_own.contours == alone.contours);
+        assert_eq!(with_own.warnings, alone.warnings);
+        let with_other = read(&[("SliceInfoFile.txt", &other)]).unwrap();
+        let added = &with_other.warnings[alone.warnings.len()..];
+        assert_eq!(added.len(), 2, "{added:?}");
+        assert!(added[0].starts_with("37 contours lie off the image planes"));
+        // A damaged one is said, by name and line; the contours are read as without it.
+        let damaged = String::from_utf8(own.clone()).unwrap().replacen(
+            "ImagePositionPatient",
+            "ImagePositionPatient x",
+            1,
+        );
+        let got = read(&[("SliceInfoFile.txt", damaged.as_bytes())]).unwrap();
+        assert!(got.contours == alone.contours);
+        assert_eq!(
+            got.warnings[alone.warnings.len()..],
+            ["SliceInfoFile.txt not read (line 1: ImagePositionPatient: \"x\" is not a number): \
+              the contours are not checked against their image planes"
+                .to_string()]
+        );
+        // Anything else, or two of them: refused as views of a contour file are.
+        for views in [
+            vec![
+                ("SliceInfoFile.txt", own.as_slice()),
+                ("b.txt", other.as_slice()),
+            ],
+            vec![("GPFile_009.txt", gp.as_slice())],
+        ] {
+            let e = read(&views).unwrap_err().to_string();
+            assert!(e.contains("one SliceInfoFile"), "{e}");
+        }
+    }
+
     #[test]
     fn comma_space_and_cr_separated_files_and_several_frames() {
         let gp = text("contours/bivme-example-patient1/GPFile_000.txt");

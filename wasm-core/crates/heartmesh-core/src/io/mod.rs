@@ -330,7 +330,19 @@ pub fn read_contours_with(
             | ContourFormat::Sunnybrook
             | ContourFormat::SlicerMarkups
     );
-    if !takes_views && !options.views.is_empty() {
+    // A GPFile's companion is its SliceInfoFile (the app sends it as the views are sent).
+    let slice_info_view = match (format, options.views) {
+        (ContourFormat::GpFile, []) => None,
+        (ContourFormat::GpFile, [view]) if looks_like_slice_info(view.1) => Some(*view),
+        (ContourFormat::GpFile, _) => {
+            return Err(CoreError::parse(
+                0,
+                "a GPFile is read with one SliceInfoFile (its image planes) and no other file",
+            ))
+        }
+        _ => None,
+    };
+    if !takes_views && slice_info_view.is_none() && !options.views.is_empty() {
         return Err(CoreError::parse(
             0,
             "long-axis label maps are read with a short-axis label map (NIfTI, NRRD or DICOM \
@@ -349,16 +361,21 @@ pub fn read_contours_with(
         ContourFormat::Csv => csv::read_csv_frame(bytes, options.frame.as_ref()),
         ContourFormat::GpFile => {
             let mut set = gpfile::read_gpfile(&text::decode(bytes)?, options.frame.as_ref())?;
-            if let Some(info) = options.slice_info {
-                let slices = text::decode(info)
-                    .and_then(|t| gpfile::read_slice_info(&t))
-                    .map_err(|e| match e {
-                    CoreError::Parse { line, message } => {
-                        CoreError::parse(0, format!("slice info file, line {line}: {message}"))
-                    }
-                    other => other,
-                })?;
-                gpfile::check_slices(&mut set, &slices);
+            let info = match (options.slice_info, slice_info_view) {
+                (Some(info), _) => Some(("slice info file", info)),
+                (None, view) => view,
+            };
+            if let Some((name, info)) = info {
+                // Only a check of the contours (they carry their own coordinates): a damaged
+                // companion is said, and the GPFile read without it.
+                match text::decode(info).and_then(|t| gpfile::read_slice_info(&t)) {
+                    Ok(slices) => gpfile::check_slices(&mut set, &slices),
+                    Err(e) => set.warnings.push(format!(
+                        "{name} not read ({}): the contours are not checked against their \
+                         image planes",
+                        e.to_string().trim_end_matches('.')
+                    )),
+                }
             }
             Ok(set)
         }
