@@ -239,7 +239,7 @@ fn odd_contours_warn_and_still_reconstruct() {
     let text = surfco();
     let first_ring: Vec<&str> = text.lines().filter(|l| l.starts_with("c1,")).collect();
     let mut extra = String::new();
-    // A lone point, a copy of ring c1 200 mm away, and ring c1's name reused for another ring.
+    // A lone point, a copy of ring c1 200 mm away, and ring c1's name reused for ring c3.
     extra.push_str("lone,-30,-25,35\n");
     for l in &first_ring {
         let cols: Vec<&str> = l.split(',').collect();
@@ -267,7 +267,9 @@ fn odd_contours_warn_and_still_reconstruct() {
         "only 1 point) is not a curve",
         "\"stray\" (line",
         "lies far from the rest",
-        "\"c1\" (line 2, pieces 30.0 mm apart) is named again later",
+        // c3's ring under c1's name: read as a contour of its own, then found to repeat c3.
+        "\"c1\" (line 2, 2 image planes, read as \"c1\", \"c1 (2)\") holds the curves of several slices",
+        "\"c3\" (line 877) repeats the points of contour \"c1 (2)\"",
     ] {
         assert!(
             warnings.iter().any(|w| w.contains(needle)),
@@ -468,23 +470,54 @@ fn a_stray_ring_is_left_out_and_kept_it_makes_the_mesh_pass_through_itself() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Points exported without blank lines between contours read as one curve; the one-line error
-/// says so instead of only "too few contours" (found using the app, session 13).
+/// Points exported without blank lines between contours read as one run of points (session 13:
+/// refused then, saying why). Each run between jumps lies in one image plane, so the run is cut
+/// there into the file's eight curves (`contours::plane_split`, session 51): the mesh is the
+/// CSV's, and a warning names the contours made.
 #[test]
-fn xyz_without_blank_lines_says_why_it_is_one_contour() {
+fn xyz_without_blank_lines_is_cut_into_its_slices() {
     let dir = scratch("xyz-one-block");
     let xyz: String = surfco()
         .lines()
         .filter(|l| !l.starts_with('#') && !l.starts_with("contour,"))
         .map(|l| l.split(',').skip(1).take(3).collect::<Vec<_>>().join(" ") + "\n")
         .collect();
+    let csv = dir.join("surfco.csv");
+    std::fs::write(&csv, surfco()).unwrap();
+    let (code, err, want) = reconstruct(&dir, &csv, &[]);
+    assert_eq!((code, err.as_str()), (0, ""));
+    let want_body = mesh_body(&dir);
     let f = dir.join("points.xyz");
     std::fs::write(&f, xyz).unwrap();
+    let (code, err, got) = reconstruct(&dir, &f, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("contour \"c1\" (line 1, 8 image planes, read as \"c1\", \"c1 (2)\", "),
+        "{err}"
+    );
+    let (want, got) = (want.unwrap(), got.unwrap());
+    assert_eq!(got["contours"], want["contours"]);
+    assert!(mesh_body(&dir) == want_body, "another mesh than the CSV's");
+    // Where the parts are not each one plane's (a run that winds out of its plane), the run
+    // stays one contour and the error says why.
+    let helix: String = (0..400)
+        .map(|i| {
+            let a = f64::from(i) * 0.05;
+            format!(
+                "{} {} {}\n",
+                25.0 * a.cos(),
+                25.0 * a.sin(),
+                0.2 * f64::from(i)
+            )
+        })
+        .collect();
+    std::fs::write(&f, helix).unwrap();
     let (code, err, _) = reconstruct(&dir, &f, &[]);
     assert_one_line_error(code, &err, &f, "xyz");
     assert!(err.contains("too few contours: 1 usable"), "{err}");
     assert!(
-        err.contains("no blank line separates contours, so all 3014 points were read as one"),
+        err.contains("no blank line separates contours, so all 400 points were read as one"),
         "{err}"
     );
     let _ = std::fs::remove_dir_all(&dir);
@@ -619,7 +652,8 @@ fn a_long_spline_solve_is_announced_before_the_run() {
 
 /// Points of two slices under one name (a fuzzed VTP file whose point ids shifted: session 18).
 /// A quarter of the ellipsoidal LV's ring at z = -32 read as part of the ring at z = -40: the
-/// load warns that the contour does not lie in one plane, naming it, and the run goes ahead.
+/// load cuts the run where it leaves its plane and reads each slice's part as a contour, named
+/// in a warning (session 51; before, a warning that the contour does not lie in one plane).
 /// (Where such rings share a point the tube cannot be built: `pipeline::tube::zero_area_between`
 /// then stops the run with exit 2 naming both contours.)
 #[test]
@@ -656,7 +690,7 @@ fn points_of_two_slices_under_one_name_are_named() {
     let (code, err, rep) = reconstruct(&dir, &file, &[]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains("contour \"sax1\" (line 62, points up to 4.2 mm from its plane) does not lie in one plane"),
+        err.contains("contour \"sax1\" (line 62, 2 image planes, read as \"sax1\", \"sax1 (2)\") holds the curves of several slices"),
         "{err}"
     );
     assert!(valid_mesh_c2m(&rep.unwrap(), "quarter") < 1.0);

@@ -8,6 +8,7 @@ pub mod checks;
 pub mod clean;
 pub mod lax_specks;
 pub mod plane;
+pub mod plane_split;
 pub mod rings;
 pub mod set_aside;
 pub mod slice_loops;

@@ -7,7 +7,7 @@
 use std::collections::HashMap;
 
 use crate::contours::clean::JUMP_FACTOR;
-use crate::contours::{checks, set_aside, slice_loops, Contour, ContourSet, Polyline};
+use crate::contours::{checks, plane_split, set_aside, slice_loops, Contour, ContourSet, Polyline};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
 
@@ -24,6 +24,10 @@ pub struct ContourBuilder {
     /// Contour receiving the current run.
     current: Option<usize>,
     run: Vec<Vec3>,
+    /// The file line of each point of `run`.
+    run_lines: Vec<usize>,
+    /// Per contour, the file line of each piece's first point (for contours split by plane).
+    piece_lines: Vec<Vec<usize>>,
     total: usize,
     landmarks: Vec<(String, Vec3)>,
     warnings: Vec<String>,
@@ -57,6 +61,7 @@ impl ContourBuilder {
                         pieces: Vec::new(),
                         first_line: line,
                     });
+                    self.piece_lines.push(Vec::new());
                     self.index.insert(key, self.contours.len() - 1);
                     self.contours.len() - 1
                 }
@@ -65,6 +70,7 @@ impl ContourBuilder {
         }
         self.count(line)?;
         self.run.push(p);
+        self.run_lines.push(line);
         Ok(())
     }
 
@@ -85,6 +91,7 @@ impl ContourBuilder {
             self.push(id, surface, p, line)?;
         }
         let run = std::mem::take(&mut self.run);
+        self.run_lines.clear();
         if run.is_empty() {
             return Ok(());
         }
@@ -96,8 +103,9 @@ impl ContourBuilder {
             }
             piece.closed = ring && piece.points.len() >= 3;
         }
-        if let Some(c) = self.current.and_then(|i| self.contours.get_mut(i)) {
-            c.pieces.push(piece);
+        if let Some(i) = self.current.filter(|&i| i < self.contours.len()) {
+            self.contours[i].pieces.push(piece);
+            self.piece_lines[i].push(line);
         }
         self.current = None;
         Ok(())
@@ -141,8 +149,17 @@ impl ContourBuilder {
             return;
         }
         let run = std::mem::take(&mut self.run);
-        if let Some(c) = self.current.and_then(|i| self.contours.get_mut(i)) {
-            c.pieces.push(polyline_from_run(run));
+        let lines = std::mem::take(&mut self.run_lines);
+        let Some(i) = self.current.filter(|&i| i < self.contours.len()) else {
+            return;
+        };
+        // The curves of several slices read as one run: one piece each (plane_split).
+        let mut start = 0;
+        for part in plane_split::split_run(run) {
+            let line = lines.get(start).copied().unwrap_or(0);
+            start += part.len();
+            self.contours[i].pieces.push(polyline_from_run(part));
+            self.piece_lines[i].push(line);
         }
     }
 
@@ -151,6 +168,7 @@ impl ContourBuilder {
     /// a reconstruction), [`slice_loops`] (second loops) and of this module.
     pub fn finish(mut self) -> Result<ContourSet> {
         self.flush();
+        let split = plane_split::split_by_plane(&mut self.contours, &self.piece_lines);
         self.contours.retain(|c| c.point_count() > 0);
         if self.contours.is_empty() {
             return Err(CoreError::parse(0, "no contour points found"));
@@ -163,6 +181,7 @@ impl ContourBuilder {
             ..ContourSet::default()
         };
         let parts = surface_parts(&set);
+        split_warnings(&mut set, !parts.is_empty(), split);
         // Contours that are not curves first: on failure the first warning is the hint.
         scoped(&mut set, &parts, checks::few_point_warnings);
         if let Some(w) = checks::unit_warning(&set) {
@@ -205,6 +224,30 @@ fn surface_parts(set: &ContourSet) -> Vec<(Option<String>, ContourSet)> {
             (label, part)
         })
         .collect()
+}
+
+/// Adds the warning on contours split by image plane ([`plane_split`]): one line per surface,
+/// recorded as about that surface when the file has several (as [`scoped`] does).
+fn split_warnings(set: &mut ContourSet, by_surface: bool, split: Vec<(Option<String>, String)>) {
+    let mut surfaces: Vec<Option<String>> = Vec::new();
+    for (surface, _) in &split {
+        if !surfaces.contains(surface) {
+            surfaces.push(surface.clone());
+        }
+    }
+    for surface in surfaces {
+        let cited: Vec<String> = split
+            .iter()
+            .filter(|(s, _)| *s == surface)
+            .map(|(_, c)| c.clone())
+            .collect();
+        for w in plane_split::split_warnings(cited) {
+            if let (true, Some(label)) = (by_surface, &surface) {
+                set.surface_warnings.push((label.clone(), w.clone()));
+            }
+            set.warnings.push(w);
+        }
+    }
 }
 
 /// Adds the warnings of `check`: over the whole set, or part by part (see [`surface_parts`]),
@@ -611,7 +654,8 @@ mod tests {
         .enumerate()
         {
             for i in 0..3 {
-                let p = v3(10.0 * i as f64, 5.0 * k as f64, 7.0 * (i * i) as f64);
+                // All in one plane (z = 0): a name met again on another plane would be split.
+                let p = v3(10.0 * i as f64 + 40.0 * k as f64, 7.0 * (i * i) as f64, 0.0);
                 b.push(id, Some(s), p, 3 * k + i + 2).unwrap();
             }
         }

@@ -230,7 +230,7 @@ fn a_folder_of_files_is_one_set_in_name_order_whatever_the_order_given() {
 }
 
 #[test]
-fn one_name_is_one_contour_in_pieces_and_other_markups_are_named_as_skipped() {
+fn one_name_on_two_slices_is_two_contours_and_other_markups_are_named_as_skipped() {
     let line = markup(
         "Line",
         Some("L"),
@@ -246,8 +246,16 @@ fn one_name_is_one_contour_in_pieces_and_other_markups_are_named_as_skipped() {
     ]);
     let set = read_contours("m.mrk.json", &bytes).unwrap();
     let ids: Vec<&str> = set.contours.iter().map(|c| c.id.as_str()).collect();
-    assert_eq!(ids, ["CC"]);
-    assert_eq!(set.contours[0].pieces.len(), 2);
+    // Two closed curves of one name 10 mm apart: each slice's curve is a contour (plane_split).
+    assert_eq!(ids, ["CC", "CC (2)"]);
+    assert!(set.contours.iter().all(|c| c.pieces.len() == 1));
+    assert!(
+        set.warnings
+            .iter()
+            .any(|w| w.starts_with("contour \"CC\" (2 image planes, read as \"CC\", \"CC (2)\")")),
+        "{:?}",
+        set.warnings
+    );
     assert_eq!(
         set.landmarks,
         vec![("RV_INSERT_ANTERIOR".to_string(), v3(1.0, 2.0, 3.0))]

@@ -1,0 +1,327 @@
+//! Contours that hold the curves of several image planes under one name, split into one contour
+//! per plane at load.
+//!
+//! A contour is a section in one image plane, and every later step (the short-/long-axis split,
+//! the slice order, the tube's rings) takes it for one. Files break that in two ways: one name
+//! for several slices (a `contour` column that holds the surface, `sax` for every short-axis
+//! ring, an exporter that numbers the contours of each view from 1), read as one run of points
+//! that jumps from slice to slice; or a name that comes back later in the file on another slice,
+//! read as a second piece. Either way the tube built on such a "ring" folds through itself and
+//! every remesh is refused (the fuzzer's merged contours: 700-1400 crossing triangle pairs). Where
+//! the points fall cleanly into planar curves (each run between jumps lies in its plane), each
+//! plane's curves become a contour of their own, named after the first (`sax`, `sax (2)`, ...),
+//! and a warning says so. Anything less clean is left as read, with the non-planar warning.
+
+use super::checks::{one_line, NON_PLANAR_MM};
+use super::plane::{fit_plane, PlaneFit};
+use super::{Contour, Polyline};
+use crate::geometry::Vec3;
+
+/// Whether points lie within [`NON_PLANAR_MM`] of one plane (collinear points and fewer than
+/// three do: they fix no plane of their own).
+fn planar(points: &[Vec3]) -> bool {
+    fit_plane(points.iter()).is_none_or(|f| f.max_residual <= NON_PLANAR_MM)
+}
+
+/// A step between slices is at least this many times the run's median step to be cut there: a
+/// jump from one slice's curve to the next is the slice gap (6-10 mm) against points 0.3-5 mm
+/// apart; a curve whose steps are all alike (a helix, a noisy tilted curve) offers no cut.
+const CUT_STEP_FACTOR: f64 = 2.0;
+
+/// One run of consecutive points of one name, cut where it leaves its plane: when the whole run
+/// is not planar, at its longest steps (each at least [`CUT_STEP_FACTOR`] x the median step), the
+/// longest first, until every part between cuts is planar with at least three points (the curves
+/// of several slices read one after another). Otherwise, or when no such cuts exist, the run as
+/// it is.
+pub fn split_run(run: Vec<Vec3>) -> Vec<Vec<Vec3>> {
+    if run.len() < 6 || planar(&run) {
+        return vec![run];
+    }
+    let steps: Vec<f64> = run.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
+    let mut sorted = steps.clone();
+    sorted.sort_by(f64::total_cmp);
+    let floor = CUT_STEP_FACTOR * sorted[sorted.len() / 2];
+    let mut candidates: Vec<usize> = (0..steps.len()).filter(|&k| steps[k] > floor).collect();
+    candidates.sort_by(|&a, &b| steps[b].total_cmp(&steps[a]));
+    // Cut k splits between points k and k + 1.
+    let mut cuts: Vec<usize> = Vec::new();
+    let parts_of = |cuts: &[usize]| -> Vec<std::ops::Range<usize>> {
+        let mut bounds: Vec<usize> = cuts.iter().map(|&k| k + 1).collect();
+        bounds.sort_unstable();
+        let mut start = 0;
+        let mut parts = Vec::with_capacity(bounds.len() + 1);
+        for b in bounds.into_iter().chain(std::iter::once(run.len())) {
+            parts.push(start..b);
+            start = b;
+        }
+        parts
+    };
+    for k in candidates {
+        cuts.push(k);
+        let parts = parts_of(&cuts);
+        if parts.iter().any(|r| r.len() < 3) {
+            return vec![run];
+        }
+        if parts.iter().all(|r| planar(&run[r.clone()])) {
+            return parts.into_iter().map(|r| run[r].to_vec()).collect();
+        }
+    }
+    vec![run]
+}
+
+/// Largest distance (mm) of `points` from the plane of `fit`.
+fn off_plane(points: &[Vec3], fit: &PlaneFit) -> f64 {
+    points
+        .iter()
+        .map(|p| (p - fit.centroid).dot(&fit.normal).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The pieces of one contour grouped by image plane (indices into `pieces`, each group in file
+/// order, the groups in the order of their first piece); None when the contour is one plane's
+/// or its pieces do not fall cleanly into planes (a piece that is not planar itself).
+fn plane_groups(pieces: &[Polyline]) -> Option<Vec<Vec<usize>>> {
+    if pieces.len() < 2 || pieces.iter().any(|p| !planar(&p.points)) {
+        return None;
+    }
+    // Seeded by the largest pieces: a short arc fixes its plane less well than a ring.
+    let mut order: Vec<usize> = (0..pieces.len()).collect();
+    order.sort_by_key(|&k| std::cmp::Reverse(pieces[k].points.len()));
+    let mut groups: Vec<(Option<PlaneFit>, Vec<usize>)> = Vec::new();
+    for k in order {
+        let points = &pieces[k].points;
+        let home = groups
+            .iter()
+            .enumerate()
+            .filter_map(|(g, (fit, _))| fit.as_ref().map(|f| (g, off_plane(points, f))))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        match (home, fit_plane(points.iter())) {
+            (Some((g, off)), _) if off <= NON_PLANAR_MM => groups[g].1.push(k),
+            (_, Some(fit)) => groups.push((Some(fit), vec![k])),
+            // A point or two, or a straight run, far from every plane: with the nearest.
+            (Some((g, _)), None) => groups[g].1.push(k),
+            (None, None) => match groups.first_mut() {
+                Some(first) => first.1.push(k),
+                None => groups.push((None, vec![k])),
+            },
+        }
+    }
+    if groups.len() < 2 {
+        return None;
+    }
+    let mut groups: Vec<Vec<usize>> = groups
+        .into_iter()
+        .map(|(_, mut g)| {
+            g.sort_unstable();
+            g
+        })
+        .collect();
+    groups.sort_by_key(|g| g[0]);
+    Some(groups)
+}
+
+/// Splits every contour whose pieces lie in several image planes into one contour per plane
+/// (`piece_lines[c][k]`: the file line of contour `c`'s piece `k`, 0 when unknown), and returns
+/// each split contour's surface and citation for [`split_warnings`]. A new name never takes one
+/// the file already uses.
+pub fn split_by_plane(
+    contours: &mut Vec<Contour>,
+    piece_lines: &[Vec<usize>],
+) -> Vec<(Option<String>, String)> {
+    let mut taken: std::collections::HashSet<(String, Option<String>)> = contours
+        .iter()
+        .map(|c| (c.id.clone(), c.surface.clone()))
+        .collect();
+    let mut out: Vec<Contour> = Vec::with_capacity(contours.len());
+    let mut flagged: Vec<(Option<String>, String)> = Vec::new();
+    for (c, contour) in std::mem::take(contours).into_iter().enumerate() {
+        let Some(groups) = plane_groups(&contour.pieces) else {
+            out.push(contour);
+            continue;
+        };
+        let lines = piece_lines.get(c);
+        let mut names: Vec<String> = Vec::new();
+        for (g, group) in groups.iter().enumerate() {
+            let id = if g == 0 {
+                contour.id.clone()
+            } else {
+                let mut n = g + 1;
+                loop {
+                    let id = format!("{} ({n})", contour.id);
+                    if taken.insert((id.clone(), contour.surface.clone())) {
+                        break id;
+                    }
+                    n += 1;
+                }
+            };
+            names.push(format!("{id:?}"));
+            out.push(Contour {
+                id,
+                surface: contour.surface.clone(),
+                pieces: group.iter().map(|&k| contour.pieces[k].clone()).collect(),
+                first_line: lines
+                    .and_then(|l| l.get(group[0]).copied())
+                    .filter(|&l| l > 0)
+                    .unwrap_or(contour.first_line),
+            });
+        }
+        let cited = contour.cite(&format!(
+            "{} image planes, read as {}",
+            groups.len(),
+            names.join(", ")
+        ));
+        flagged.push((contour.surface, cited));
+    }
+    *contours = out;
+    flagged
+}
+
+/// The warning line for contours split by [`split_by_plane`] (their citations).
+pub fn split_warnings(flagged: Vec<String>) -> Vec<String> {
+    one_line(
+        flagged,
+        "holds the curves of several slices under one name; each slice's is read as a contour",
+        "hold the curves of several slices under one name; each slice's is read as a contour",
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::v3;
+
+    fn ring(z: f64, r: f64, n: usize) -> Vec<Vec3> {
+        (0..n)
+            .map(|i| {
+                let a = i as f64 / n as f64 * std::f64::consts::TAU;
+                v3(r * a.cos(), r * a.sin(), z)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_run_through_several_slices_is_cut_at_its_jumps() {
+        let run: Vec<Vec3> = [0.0, 10.0, 20.0]
+            .iter()
+            .flat_map(|&z| ring(z, 20.0, 40))
+            .collect();
+        let parts = split_run(run.clone());
+        assert_eq!(parts.len(), 3);
+        assert!(parts.iter().all(|p| p.len() == 40));
+        assert!((parts[2][0].z - 20.0).abs() < 1e-12);
+        // One slice's ring, or a run that wanders out of plane without a jump: as it is.
+        assert_eq!(split_run(ring(0.0, 20.0, 40)).len(), 1);
+        let helix: Vec<Vec3> = (0..80)
+            .map(|i| {
+                let a = i as f64 * 0.2;
+                v3(20.0 * a.cos(), 20.0 * a.sin(), i as f64 * 0.5)
+            })
+            .collect();
+        assert_eq!(split_run(helix).len(), 1);
+        // Small rings 6 mm apart, 0.3 mm steps: cut, each part a slice's; 3 mm apart they lie
+        // within the tolerance of one plane and stay one run.
+        let close =
+            |dz: f64| -> Vec<Vec3> { [0.0, dz].iter().flat_map(|&z| ring(z, 5.0, 100)).collect() };
+        assert_eq!(split_run(close(6.0)).len(), 2);
+        assert_eq!(split_run(close(3.0)).len(), 1);
+    }
+
+    #[test]
+    fn pieces_of_several_planes_become_one_contour_each() {
+        let piece = |points: Vec<Vec3>, closed| Polyline { points, closed };
+        // "c5": its ring at z 40, then (the name again, later) a quarter arc at z 50 and the rest
+        // of its ring; "lax": a curve in two pieces in one plane; "c9" is taken.
+        let arc: Vec<Vec3> = ring(50.0, 20.0, 40)[..10].to_vec();
+        let mut contours = vec![
+            Contour {
+                id: "c5".into(),
+                surface: None,
+                pieces: vec![
+                    piece(ring(40.0, 20.0, 40)[..30].to_vec(), false),
+                    piece(arc, false),
+                    piece(ring(40.0, 20.0, 40)[30..].to_vec(), false),
+                ],
+                first_line: 2,
+            },
+            Contour {
+                id: "lax".into(),
+                surface: None,
+                pieces: vec![
+                    piece(
+                        vec![v3(0.0, 0.0, 0.0), v3(0.0, 5.0, 30.0), v3(0.0, 9.0, 60.0)],
+                        false,
+                    ),
+                    piece(
+                        vec![v3(0.0, 20.0, 60.0), v3(0.0, 25.0, 30.0), v3(0.0, 29.0, 0.0)],
+                        false,
+                    ),
+                ],
+                first_line: 90,
+            },
+        ];
+        let flagged = split_by_plane(&mut contours, &[vec![2, 41, 51], vec![90, 93]]);
+        let w = split_warnings(flagged.into_iter().map(|f| f.1).collect());
+        let ids: Vec<&str> = contours.iter().map(|c| c.id.as_str()).collect();
+        assert_eq!(ids, ["c5", "c5 (2)", "lax"]);
+        assert_eq!(contours[0].pieces.len(), 2);
+        assert_eq!(contours[1].pieces.len(), 1);
+        assert_eq!(contours[1].first_line, 41);
+        assert!(contours[1].pieces[0].points.iter().all(|p| p.z == 50.0));
+        assert_eq!(
+            w,
+            [
+                "contour \"c5\" (line 2, 2 image planes, read as \"c5\", \"c5 (2)\") holds the \
+                 curves of several slices under one name; each slice's is read as a contour"
+            ]
+        );
+        // A name already in the file is not reused.
+        let mut taken = vec![
+            Contour {
+                id: "s".into(),
+                surface: None,
+                pieces: vec![
+                    piece(ring(0.0, 9.0, 12), true),
+                    piece(ring(9.0, 9.0, 12), true),
+                ],
+                first_line: 0,
+            },
+            Contour {
+                id: "s (2)".into(),
+                surface: None,
+                pieces: vec![piece(ring(20.0, 9.0, 12), true)],
+                first_line: 0,
+            },
+        ];
+        split_by_plane(&mut taken, &[]);
+        let ids: Vec<&str> = taken.iter().map(|c| c.id.as_str()).collect();
+        assert_eq!(ids, ["s", "s (3)", "s (2)"]);
+    }
+
+    #[test]
+    fn a_piece_that_is_not_planar_leaves_the_contour_as_read() {
+        let twisted: Vec<Vec3> = (0..30)
+            .map(|i| {
+                let a = i as f64 * 0.2;
+                v3(20.0 * a.cos(), 20.0 * a.sin(), i as f64)
+            })
+            .collect();
+        let mut contours = vec![Contour {
+            id: "t".into(),
+            surface: None,
+            pieces: vec![
+                Polyline {
+                    points: twisted,
+                    closed: false,
+                },
+                Polyline {
+                    points: ring(60.0, 20.0, 30),
+                    closed: true,
+                },
+            ],
+            first_line: 1,
+        }];
+        assert!(split_by_plane(&mut contours, &[]).is_empty());
+        assert_eq!(contours.len(), 1);
+        assert_eq!(contours[0].pieces.len(), 2);
+    }
+}
