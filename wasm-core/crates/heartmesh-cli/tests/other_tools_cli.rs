@@ -240,6 +240,46 @@ fn a_csv_with_several_time_frames_reads_one_and_says_so() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A `contour` column that names only the surface (`one` for every curve of it, short- and
+/// long-axis alike, as some exports do): each slice's curve is read as a contour of its own
+/// (`contours::plane_split`), and the mesh is the file's own to the byte. Biv-me patient 1 ED's
+/// LV endocardium and epicardium and its RV epicardium; the RV endocardium's free wall and septum
+/// of one slice share a plane, so under one name they read as one curve of that slice, as any
+/// file naming both alike does (not asserted here).
+#[test]
+fn one_name_for_every_slice_of_a_surface_gives_the_files_mesh() {
+    let dir = scratch("other-tools-one-name");
+    let src = data("contours/bivme-example-patient1/patient1-ED.csv");
+    let text = std::fs::read_to_string(&src).unwrap();
+    for surface in ["LV_ENDO", "LV_EPI", "RV_EPI"] {
+        let (code, err, want) = reconstruct(&dir, &src, &["--surface", surface]);
+        assert_eq!(code, 0, "{err}");
+        let mut one = String::from("contour,x,y,z,surface\n");
+        let mut rows = 0;
+        for l in text.lines().skip(1).map(str::trim_end) {
+            if let Some((_, rest)) = l.split_once(',').filter(|_| l.ends_with(surface)) {
+                one.push_str(&format!("one,{rest}\n"));
+                rows += 1;
+            }
+        }
+        assert!(rows > 300, "{surface}: {rows} rows");
+        let f = dir.join(format!("{surface}.csv"));
+        std::fs::write(&f, one).unwrap();
+        let out = dir.join("out.obj");
+        let (code, _, err) = run(bin().args(["reconstruct", s(&f), "-o", s(&out)]));
+        assert_eq!(code, 0, "{surface}: {err}");
+        assert!(
+            err.contains("contour \"one\" (line 2, 8 image planes, read as \"one\", \"one (2)\""),
+            "{surface}: {err}"
+        );
+        assert!(
+            mesh_lines(&out) == want,
+            "{surface}: another mesh than the file's"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn gpfiles_saved_with_commas_spaces_or_cr_and_another_slice_info() {
     let dir = scratch("other-tools-gp");

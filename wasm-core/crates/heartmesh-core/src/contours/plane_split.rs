@@ -30,9 +30,9 @@ const CUT_STEP_FACTOR: f64 = 2.0;
 
 /// One run of consecutive points of one name, cut where it leaves its plane: when the whole run
 /// is not planar, at its longest steps (each at least [`CUT_STEP_FACTOR`] x the median step), the
-/// longest first, until every part between cuts is planar with at least three points (the curves
-/// of several slices read one after another). Otherwise, or when no such cuts exist, the run as
-/// it is.
+/// longest first, until every part between cuts is planar (the curves of several slices read one
+/// after another); then the cuts no plane needs are dropped, and parts of one or two points may
+/// be no more than the others. Otherwise, or when no such cuts exist, the run as it is.
 pub fn split_run(run: Vec<Vec3>) -> Vec<Vec<Vec3>> {
     if run.len() < 6 || planar(&run) {
         return vec![run];
@@ -58,13 +58,31 @@ pub fn split_run(run: Vec<Vec3>) -> Vec<Vec<Vec3>> {
     };
     for k in candidates {
         cuts.push(k);
+        if !parts_of(&cuts).iter().all(|r| planar(&run[r.clone()])) {
+            continue;
+        }
+        // Cuts between parts of one plane go again (a jump within one slice's curve: a
+        // long-axis curve stored from mid-way, its valve gap), so that the run of each slice is
+        // read as a file's run of one name always is.
         let parts = parts_of(&cuts);
-        if parts.iter().any(|r| r.len() < 3) {
-            return vec![run];
-        }
-        if parts.iter().all(|r| planar(&run[r.clone()])) {
-            return parts.into_iter().map(|r| run[r].to_vec()).collect();
-        }
+        let slices: Vec<&[Vec3]> = parts.iter().map(|r| &run[r.clone()]).collect();
+        let label = group_by_plane(&slices);
+        let needed: Vec<usize> = cuts
+            .iter()
+            .copied()
+            .filter(|&k| {
+                let after = parts.iter().position(|r| r.start == k + 1).unwrap_or(0);
+                after == 0 || label[after] != label[after - 1]
+            })
+            .collect();
+        let parts = parts_of(&needed);
+        // A run cut mostly into bits of a point or two is a wandering curve, not slices.
+        let bits = parts.iter().filter(|r| r.len() < 3).count();
+        return if bits <= parts.len() - bits {
+            parts.into_iter().map(|r| run[r].to_vec()).collect()
+        } else {
+            vec![run]
+        };
     }
     vec![run]
 }
@@ -77,6 +95,55 @@ fn off_plane(points: &[Vec3], fit: &PlaneFit) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Each planar run of points's plane group (numbered in the order of the runs' first appearance):
+/// seeded by the largest runs (a short arc fixes its plane less well than a ring), each run
+/// with the plane it lies nearest when within [`NON_PLANAR_MM`] of it, else a plane of its own
+/// (a straight run far from every plane, a group of its own); a point or two goes with the
+/// nearest plane. Nearest, not first: a long-axis curve's points near the axis lie close to
+/// every long-axis plane.
+fn group_by_plane(runs: &[&[Vec3]]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..runs.len()).collect();
+    order.sort_by_key(|&k| std::cmp::Reverse(runs[k].len()));
+    let mut fits: Vec<Option<PlaneFit>> = Vec::new();
+    let mut label = vec![0usize; runs.len()];
+    for k in order {
+        let home = fits
+            .iter()
+            .enumerate()
+            .filter_map(|(g, fit)| fit.as_ref().map(|f| (g, off_plane(runs[k], f))))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        label[k] = match (home, fit_plane(runs[k].iter())) {
+            (Some((g, off)), _) if off <= NON_PLANAR_MM => g,
+            (_, Some(fit)) => {
+                fits.push(Some(fit));
+                fits.len() - 1
+            }
+            // A straight run of its own far from every plane: a group of its own.
+            (Some(_), None) if runs[k].len() >= 3 => {
+                fits.push(None);
+                fits.len() - 1
+            }
+            (Some((g, _)), None) => g,
+            (None, None) if fits.is_empty() => {
+                fits.push(None);
+                0
+            }
+            (None, None) => 0,
+        };
+    }
+    // Renumbered in the order the runs come.
+    let mut seen: Vec<usize> = Vec::new();
+    for &l in &label {
+        if !seen.contains(&l) {
+            seen.push(l);
+        }
+    }
+    label
+        .iter()
+        .map(|l| seen.iter().position(|s| s == l).unwrap_or(0))
+        .collect()
+}
+
 /// The pieces of one contour grouped by image plane (indices into `pieces`, each group in file
 /// order, the groups in the order of their first piece); None when the contour is one plane's
 /// or its pieces do not fall cleanly into planes (a piece that is not planar itself).
@@ -84,40 +151,17 @@ fn plane_groups(pieces: &[Polyline]) -> Option<Vec<Vec<usize>>> {
     if pieces.len() < 2 || pieces.iter().any(|p| !planar(&p.points)) {
         return None;
     }
-    // Seeded by the largest pieces: a short arc fixes its plane less well than a ring.
-    let mut order: Vec<usize> = (0..pieces.len()).collect();
-    order.sort_by_key(|&k| std::cmp::Reverse(pieces[k].points.len()));
-    let mut groups: Vec<(Option<PlaneFit>, Vec<usize>)> = Vec::new();
-    for k in order {
-        let points = &pieces[k].points;
-        let home = groups
-            .iter()
-            .enumerate()
-            .filter_map(|(g, (fit, _))| fit.as_ref().map(|f| (g, off_plane(points, f))))
-            .min_by(|a, b| a.1.total_cmp(&b.1));
-        match (home, fit_plane(points.iter())) {
-            (Some((g, off)), _) if off <= NON_PLANAR_MM => groups[g].1.push(k),
-            (_, Some(fit)) => groups.push((Some(fit), vec![k])),
-            // A point or two, or a straight run, far from every plane: with the nearest.
-            (Some((g, _)), None) => groups[g].1.push(k),
-            (None, None) => match groups.first_mut() {
-                Some(first) => first.1.push(k),
-                None => groups.push((None, vec![k])),
-            },
-        }
-    }
-    if groups.len() < 2 {
+    let runs: Vec<&[Vec3]> = pieces.iter().map(|p| p.points.as_slice()).collect();
+    let label = group_by_plane(&runs);
+    let count = label.iter().max().map_or(0, |m| m + 1);
+    if count < 2 {
         return None;
     }
-    let mut groups: Vec<Vec<usize>> = groups
-        .into_iter()
-        .map(|(_, mut g)| {
-            g.sort_unstable();
-            g
-        })
-        .collect();
-    groups.sort_by_key(|g| g[0]);
-    Some(groups)
+    Some(
+        (0..count)
+            .map(|g| (0..pieces.len()).filter(|&k| label[k] == g).collect())
+            .collect(),
+    )
 }
 
 /// Splits every contour whose pieces lie in several image planes into one contour per plane
@@ -224,6 +268,20 @@ mod tests {
             |dz: f64| -> Vec<Vec3> { [0.0, dz].iter().flat_map(|&z| ring(z, 5.0, 100)).collect() };
         assert_eq!(split_run(close(6.0)).len(), 2);
         assert_eq!(split_run(close(3.0)).len(), 1);
+        // A ring, then an open curve with its last two points across a 40 mm gap (biv-me's long-
+        // axis curves): cut between the slices only, the gap left to the curve's run.
+        let mut run = ring(0.0, 20.0, 40);
+        let lax: Vec<Vec3> = (0..30)
+            .map(|i| {
+                let t = i as f64 / 29.0 * std::f64::consts::PI;
+                v3(0.0, 20.0 * t.cos(), -40.0 * t.sin())
+            })
+            .collect();
+        run.extend(&lax);
+        run.extend([v3(0.0, 20.0, 45.0), v3(0.0, 22.0, 44.0)]);
+        let parts = split_run(run);
+        let sizes: Vec<usize> = parts.iter().map(Vec::len).collect();
+        assert_eq!(sizes, [40, 32]);
     }
 
     #[test]
