@@ -351,6 +351,33 @@ fn a_hundred_thousand_tiny_contours_are_refused_quickly() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Three hundred thousand points under one name, jumping 20-30 mm every third point over a
+/// 50 mm tall helix (no slice's curve in it): a jump per three points. Reading it took 42 s (a
+/// lookup of every point among the jumps, and the stray check gathering the contour once per
+/// bit); now it is refused in one line at once, the run kept whole (no planes to cut it into).
+#[test]
+fn one_name_jumping_every_third_point_is_refused_at_once() {
+    let dir = scratch("zigzag");
+    let mut text = String::from("contour,x,y,z\n");
+    for i in 0..300_000 {
+        let (g, k) = (i / 3, f64::from(i % 3));
+        let t = f64::from(g) * 0.7;
+        let (x, y, z) = (
+            40.0 * t.cos() + 0.3 * k,
+            40.0 * t.sin() + 0.2 * k * k,
+            f64::from(g % 50) + 0.1 * k,
+        );
+        text.push_str(&format!("a,{x:.3},{y:.3},{z:.3}\n"));
+    }
+    let f = dir.join("zigzag.csv");
+    std::fs::write(&f, text).unwrap();
+    let (code, err, _) = reconstruct(&dir, &f, &[]);
+    assert_one_line_error(code, &err, &f, "zigzag");
+    assert!(err.contains("too few contours: 1 usable"), "{err}");
+    assert!(err.contains("contour \"a\" (line 2, points up to"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Finite coordinates near 1e308: their distances overflow to infinity. This panicked (capacity
 /// overflow in the 1 mm resampling); now a typed refusal.
 #[test]

@@ -63,23 +63,31 @@ pub fn stray_pieces(pieces: &[Polyline]) -> Vec<(usize, f64)> {
     let total: usize = pieces.iter().map(|p| p.points.len()).sum();
     let most = 2.max((STRAY_SHARE * total as f64) as usize);
     let small = |p: &Polyline| p.points.len() <= most;
+    // The rest is the same for every small piece (the big pieces): gathered once, so that a
+    // contour split into a hundred thousand bits is not gathered a hundred thousand times.
+    let rest: Vec<&Vec3> = pieces
+        .iter()
+        .filter(|p| !small(p))
+        .flat_map(|p| p.points.iter())
+        .collect();
+    if rest.len() < 3 {
+        return Vec::new();
+    }
+    let (mut lo, mut hi) = (*rest[0], *rest[0]);
+    for p in &rest {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    let extent = (hi - lo).norm();
+    let limit = STRAY_POINT_MM.max(2.0 * extent);
+    // A point this near the rest's box is within `limit` of a point of the rest (the box's
+    // diagonal is `extent`): no stray, and no scan of the rest.
+    let near_box = |p: &Vec3| (p.sup(&lo).inf(&hi) - p).norm() <= limit - extent;
     let mut out = Vec::new();
     for (k, piece) in pieces.iter().enumerate().filter(|(_, p)| small(p)) {
-        let rest: Vec<&Vec3> = pieces
-            .iter()
-            .enumerate()
-            .filter(|(j, p)| *j != k && !small(p))
-            .flat_map(|(_, p)| p.points.iter())
-            .collect();
-        if rest.len() < 3 {
+        if piece.points.iter().any(near_box) {
             continue;
         }
-        let (mut lo, mut hi) = (*rest[0], *rest[0]);
-        for p in &rest {
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
-        let limit = STRAY_POINT_MM.max(2.0 * (hi - lo).norm());
         let gap = piece
             .points
             .iter()
@@ -135,6 +143,11 @@ pub fn clean_and_split(piece: &Polyline) -> Vec<Polyline> {
     let median = lens[lens.len() / 2];
     let limit = JUMP_FACTOR * median;
     let jumps: Vec<usize> = (0..segs).filter(|&i| seg_len(i) > limit).collect();
+    // Looked up per point: a hostile run with a jump every few points has a hundred thousand.
+    let mut is_jump = vec![false; n];
+    for &i in &jumps {
+        is_jump[i] = true;
+    }
     if jumps.is_empty() {
         return vec![Polyline {
             points: pts,
@@ -149,7 +162,7 @@ pub fn clean_and_split(piece: &Polyline) -> Vec<Polyline> {
         let i = (start + k) % n;
         current.push(pts[i]);
         let is_last = k + 1 == n;
-        if (is_last || jumps.contains(&i)) && !current.is_empty() {
+        if (is_last || is_jump[i]) && !current.is_empty() {
             pieces.push(Polyline {
                 points: std::mem::take(&mut current),
                 closed: false,
@@ -388,6 +401,43 @@ mod tests {
         assert_eq!(pieces.len(), 2);
         assert_eq!(pieces[0].points.len(), 10);
         assert_eq!(pieces[1].points.len(), 10);
+    }
+
+    /// A curve in many bits (a jump every third point) splits into every bit; a bit 300 mm out
+    /// is still the stray, beside thousands of bits near the curve.
+    #[test]
+    fn many_jumps_split_into_every_bit_and_a_far_bit_is_the_stray() {
+        let pts: Vec<Vec3> = (0..30_000)
+            .map(|i| v3(f64::from(i / 3) * 20.0 + f64::from(i % 3) * 0.5, 0.0, 0.0))
+            .collect();
+        let pieces = clean_and_split(&Polyline {
+            points: pts,
+            closed: false,
+        });
+        assert_eq!(pieces.len(), 10_000);
+        assert!(pieces.iter().all(|p| p.points.len() == 3));
+        // Two thousand bits beside a long curve (within 5 mm of it), and one 300 mm out.
+        let mut with_big: Vec<Polyline> = (0..2000)
+            .map(|b| Polyline {
+                points: (0..3)
+                    .map(|k| v3(f64::from(b % 90) + 0.2 * f64::from(k), 0.0, 0.0))
+                    .collect(),
+                closed: false,
+            })
+            .collect();
+        with_big.push(Polyline {
+            points: (0..9000)
+                .map(|i| v3(f64::from(i) * 0.01, 5.0, 0.0))
+                .collect(),
+            closed: false,
+        });
+        with_big.push(Polyline {
+            points: vec![v3(0.0, 300.0, 0.0)],
+            closed: false,
+        });
+        let strays = stray_pieces(&with_big);
+        assert_eq!(strays.len(), 1, "{strays:?}");
+        assert_eq!(strays[0].0, 2001);
     }
 
     #[test]

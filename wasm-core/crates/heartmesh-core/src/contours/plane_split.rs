@@ -28,11 +28,17 @@ fn planar(points: &[Vec3]) -> bool {
 /// apart; a curve whose steps are all alike (a helix, a noisy tilted curve) offers no cut.
 const CUT_STEP_FACTOR: f64 = 2.0;
 
+/// Most image planes one name is split into, and most cuts tried in one run: far above any
+/// acquisition (20 short-axis slices and 6 long-axis views), low enough that a hostile file of a
+/// million points jumping about is given up on in a bounded time instead of tried cut by cut.
+const MAX_PLANES: usize = 256;
+
 /// One run of consecutive points of one name, cut where it leaves its plane: when the whole run
-/// is not planar, at its longest steps (each at least [`CUT_STEP_FACTOR`] x the median step), the
-/// longest first, until every part between cuts is planar (the curves of several slices read one
-/// after another); then the cuts no plane needs are dropped, and parts of one or two points may
-/// be no more than the others. Otherwise, or when no such cuts exist, the run as it is.
+/// is not planar, at its longest steps (each at least [`CUT_STEP_FACTOR`] x the median step; at
+/// most [`MAX_PLANES`] of them), the longest first, until every part between cuts is planar (the
+/// curves of several slices read one after another); then the cuts no plane needs are dropped,
+/// and parts of one or two points may be no more than the others. Otherwise, or when no such
+/// cuts exist, the run as it is.
 pub fn split_run(run: Vec<Vec3>) -> Vec<Vec<Vec3>> {
     if run.len() < 6 || planar(&run) {
         return vec![run];
@@ -43,43 +49,50 @@ pub fn split_run(run: Vec<Vec3>) -> Vec<Vec<Vec3>> {
     let floor = CUT_STEP_FACTOR * sorted[sorted.len() / 2];
     let mut candidates: Vec<usize> = (0..steps.len()).filter(|&k| steps[k] > floor).collect();
     candidates.sort_by(|&a, &b| steps[b].total_cmp(&steps[a]));
-    // Cut k splits between points k and k + 1.
-    let mut cuts: Vec<usize> = Vec::new();
-    let parts_of = |cuts: &[usize]| -> Vec<std::ops::Range<usize>> {
-        let mut bounds: Vec<usize> = cuts.iter().map(|&k| k + 1).collect();
-        bounds.sort_unstable();
-        let mut start = 0;
-        let mut parts = Vec::with_capacity(bounds.len() + 1);
-        for b in bounds.into_iter().chain(std::iter::once(run.len())) {
-            parts.push(start..b);
-            start = b;
-        }
+    candidates.truncate(MAX_PLANES);
+    // Part starts (cut k starts a part at point k + 1), each with whether it is planar; a cut
+    // re-checks only the part it splits.
+    let mut parts: std::collections::BTreeMap<usize, bool> = std::iter::once((0, false)).collect();
+    let mut bent = 1usize;
+    let end_of = |parts: &std::collections::BTreeMap<usize, bool>, start: usize| {
         parts
+            .range(start + 1..)
+            .next()
+            .map_or(run.len(), |(&s, _)| s)
     };
     for k in candidates {
-        cuts.push(k);
-        if !parts_of(&cuts).iter().all(|r| planar(&run[r.clone()])) {
+        let at = k + 1;
+        let Some((&start, &was)) = parts.range(..at).next_back() else {
+            continue;
+        };
+        let end = end_of(&parts, start);
+        let (left, right) = (planar(&run[start..at]), planar(&run[at..end]));
+        bent = bent + usize::from(!left) + usize::from(!right) - usize::from(!was);
+        parts.insert(start, left);
+        parts.insert(at, right);
+        if bent > 0 {
             continue;
         }
+        let ranges: Vec<std::ops::Range<usize>> =
+            parts.keys().map(|&s| s..end_of(&parts, s)).collect();
         // Cuts between parts of one plane go again (a jump within one slice's curve: a
         // long-axis curve stored from mid-way, its valve gap), so that the run of each slice is
         // read as a file's run of one name always is.
-        let parts = parts_of(&cuts);
-        let slices: Vec<&[Vec3]> = parts.iter().map(|r| &run[r.clone()]).collect();
-        let label = group_by_plane(&slices);
-        let needed: Vec<usize> = cuts
-            .iter()
-            .copied()
-            .filter(|&k| {
-                let after = parts.iter().position(|r| r.start == k + 1).unwrap_or(0);
-                after == 0 || label[after] != label[after - 1]
-            })
-            .collect();
-        let parts = parts_of(&needed);
+        let slices: Vec<&[Vec3]> = ranges.iter().map(|r| &run[r.clone()]).collect();
+        let Some(label) = group_by_plane(&slices) else {
+            break;
+        };
+        let mut kept: Vec<std::ops::Range<usize>> = Vec::new();
+        for (i, r) in ranges.into_iter().enumerate() {
+            match kept.last_mut() {
+                Some(last) if label[i] == label[i - 1] => last.end = r.end,
+                _ => kept.push(r),
+            }
+        }
         // A run cut mostly into bits of a point or two is a wandering curve, not slices.
-        let bits = parts.iter().filter(|r| r.len() < 3).count();
-        return if bits <= parts.len() - bits {
-            parts.into_iter().map(|r| run[r].to_vec()).collect()
+        let bits = kept.iter().filter(|r| r.len() < 3).count();
+        return if bits <= kept.len() - bits {
+            kept.into_iter().map(|r| run[r].to_vec()).collect()
         } else {
             vec![run]
         };
@@ -95,18 +108,22 @@ fn off_plane(points: &[Vec3], fit: &PlaneFit) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Each planar run of points's plane group (numbered in the order of the runs' first appearance):
+/// Each planar run of points's plane group (numbered in the order of the runs' first appearance;
+/// None past [`MAX_PLANES`] planes):
 /// seeded by the largest runs (a short arc fixes its plane less well than a ring), each run
 /// with the plane it lies nearest when within [`NON_PLANAR_MM`] of it, else a plane of its own
 /// (a straight run far from every plane, a group of its own); a point or two goes with the
 /// nearest plane. Nearest, not first: a long-axis curve's points near the axis lie close to
 /// every long-axis plane.
-fn group_by_plane(runs: &[&[Vec3]]) -> Vec<usize> {
+fn group_by_plane(runs: &[&[Vec3]]) -> Option<Vec<usize>> {
     let mut order: Vec<usize> = (0..runs.len()).collect();
     order.sort_by_key(|&k| std::cmp::Reverse(runs[k].len()));
     let mut fits: Vec<Option<PlaneFit>> = Vec::new();
     let mut label = vec![0usize; runs.len()];
     for k in order {
+        if fits.len() > MAX_PLANES {
+            return None;
+        }
         let home = fits
             .iter()
             .enumerate()
@@ -138,10 +155,12 @@ fn group_by_plane(runs: &[&[Vec3]]) -> Vec<usize> {
             seen.push(l);
         }
     }
-    label
-        .iter()
-        .map(|l| seen.iter().position(|s| s == l).unwrap_or(0))
-        .collect()
+    Some(
+        label
+            .iter()
+            .map(|l| seen.iter().position(|s| s == l).unwrap_or(0))
+            .collect(),
+    )
 }
 
 /// The pieces of one contour grouped by image plane (indices into `pieces`, each group in file
@@ -152,7 +171,7 @@ fn plane_groups(pieces: &[Polyline]) -> Option<Vec<Vec<usize>>> {
         return None;
     }
     let runs: Vec<&[Vec3]> = pieces.iter().map(|p| p.points.as_slice()).collect();
-    let label = group_by_plane(&runs);
+    let label = group_by_plane(&runs)?;
     let count = label.iter().max().map_or(0, |m| m + 1);
     if count < 2 {
         return None;
@@ -209,11 +228,13 @@ pub fn split_by_plane(
                     .unwrap_or(contour.first_line),
             });
         }
-        let cited = contour.cite(&format!(
-            "{} image planes, read as {}",
-            groups.len(),
+        // A long list of names would bury the line: six, then the count.
+        let shown = if names.len() > 6 {
+            format!("{}, ...", names[..6].join(", "))
+        } else {
             names.join(", ")
-        ));
+        };
+        let cited = contour.cite(&format!("{} image planes, read as {shown}", groups.len()));
         flagged.push((contour.surface, cited));
     }
     *contours = out;
