@@ -30,6 +30,7 @@ describe('close open ends in the browser', () => {
     assert.equal(await page.locator('[data-testid=result-end-caps]').count(), 0, 'no "Closed ends" row with the option off');
     const offCount = await count();
     assert.ok(offCount > 0);
+    await page.screenshot({ path: join(SHOTS, 'past-data-rv.png') });
 
     await runAndWait(page, () => page.check('[data-testid=param-end-caps]'), 120000);
     // Ticked is the app's default (auto): the link no longer needs to say it.
