@@ -32,7 +32,8 @@ as_root() {
   fi
 }
 
-section() { printf '\n== %s\n' "$*"; }
+# Each section says when it starts (minutes into the script), so a slow CI shows where time went.
+section() { printf '\n== %s (at %dm%02ds)\n' "$*" $((SECONDS / 60)) $((SECONDS % 60)); }
 
 # Runs a test command with a wall-clock bound: a hung browser or server then fails this step with a
 # clear line instead of holding CI until its 90-minute limit (where nothing at all is reported).

@@ -42,6 +42,18 @@ pub fn order_free_centroid(points: &[Vec3]) -> Vec3 {
     order_free_vec_sum(points.iter().copied()) / points.len().max(1) as f64
 }
 
+/// `n` points of an axis-aligned ellipse with semi-axes `a` (x) and `b` (y) at height `z`, from
+/// the +x axis: the ring (or crescent-like outline) that many tests slice a ventricle into.
+#[cfg(test)]
+pub(crate) fn ellipse(a: f64, b: f64, z: f64, n: usize) -> Vec<Vec3> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64 / n as f64 * std::f64::consts::TAU;
+            v3(a * t.cos(), b * t.sin(), z)
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

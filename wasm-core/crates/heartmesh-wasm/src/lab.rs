@@ -853,15 +853,11 @@ mod tests {
         panic!("the batch does not finish");
     }
 
-    /// The same volume to the last bits: the items come back through `serde_json::from_str`,
-    /// whose float parsing (without the crate's `float_roundtrip` feature) may land one ulp off
-    /// the double the core wrote (patient 1's ED RV: 185.78433895672734 read as ...737). A mesh
-    /// that differed would differ far more: a 250-step run amplifies any change.
+    /// The same volume to the last bit: the items come back through `serde_json::from_str`, which
+    /// (with the workspace's `float_roundtrip` feature) reads back the very double the core wrote.
+    /// A mesh that differed would differ far more: a 250-step run amplifies any change.
     fn assert_same_ml(got: f64, want: f64, item: &serde_json::Value) {
-        assert!(
-            (got - want).abs() <= 4.0 * f64::EPSILON * want.abs(),
-            "{got} vs {want}: {item}"
-        );
+        assert_eq!(got.to_bits(), want.to_bits(), "{got} vs {want}: {item}");
     }
 
     /// The volume of `surface` reconstructed directly by the core, as `heartmesh volumes` does.

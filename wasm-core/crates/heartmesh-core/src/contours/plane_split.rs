@@ -256,12 +256,7 @@ mod tests {
     use crate::geometry::v3;
 
     fn ring(z: f64, r: f64, n: usize) -> Vec<Vec3> {
-        (0..n)
-            .map(|i| {
-                let a = i as f64 / n as f64 * std::f64::consts::TAU;
-                v3(r * a.cos(), r * a.sin(), z)
-            })
-            .collect()
+        crate::geometry::ellipse(r, r, z, n)
     }
 
     #[test]

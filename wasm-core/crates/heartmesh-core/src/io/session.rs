@@ -352,6 +352,43 @@ mod tests {
         }
     }
 
+    /// Coordinates made from pixel positions, .mat files or a slice alignment use every bit of a
+    /// double; a session must give back the very same doubles, or its mesh would differ from the
+    /// one saved (250 spline steps turn a last-bit change into visible differences).
+    #[test]
+    fn round_trip_keeps_every_bit_of_the_coordinates() {
+        let mut set = read_csv(&sample("contours/surfco-example.csv")).unwrap();
+        for c in &mut set.contours {
+            for p in &mut c.pieces {
+                for q in &mut p.points {
+                    *q = *q * (1.0 / 3.0) + v3(0.1, -0.7, 1.0 / 7.0) * 1e-3;
+                }
+            }
+        }
+        let bytes = write_session(&set, &Params::default(), "9.9.9").unwrap();
+        let s = read_session(&bytes).unwrap();
+        let (mut n, mut same) = (0, 0);
+        for (a, b) in s.contours.contours.iter().zip(&set.contours) {
+            for (pa, pb) in a.pieces.iter().zip(&b.pieces) {
+                for (qa, qb) in pa.points.iter().zip(&pb.points) {
+                    n += 1;
+                    same += usize::from(
+                        qa.iter()
+                            .zip(qb.iter())
+                            .all(|(x, y)| x.to_bits() == y.to_bits()),
+                    );
+                }
+            }
+        }
+        assert!(n > 1000, "{n} points");
+        assert_eq!(
+            same,
+            n,
+            "{} of {n} points read back with other bits",
+            n - same
+        );
+    }
+
     #[test]
     fn round_trip_with_smoothing_options() {
         let set = read_csv(&sample("contours/bivme-example-patient1/patient1-ED.csv")).unwrap();

@@ -93,7 +93,7 @@ pub fn shallower_tip(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::v3;
+    use crate::geometry::{ellipse, v3};
     use crate::pipeline::apex_floor::apical_sections;
     use crate::pipeline::end_data::fixtures::Z;
 
@@ -106,16 +106,6 @@ mod tests {
             .flat_map(|k| {
                 let (p, q) = (corners[k], corners[(k + 1) % 4]);
                 (0..per_side).map(move |i| p + (q - p) * (i as f64 / per_side as f64))
-            })
-            .collect()
-    }
-
-    /// An ellipse with semi-axes `a`, `b` at height `z`.
-    fn ellipse(a: f64, b: f64, z: f64, n: usize) -> Vec<Vec3> {
-        (0..n)
-            .map(|i| {
-                let t = i as f64 / n as f64 * std::f64::consts::TAU;
-                v3(a * t.cos(), b * t.sin(), z)
             })
             .collect()
     }
