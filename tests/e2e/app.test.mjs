@@ -5,7 +5,9 @@
 // visit, and no request ever leaves the origin. Screenshots go to a scratch folder (docs/screenshots/ with `npm run screenshots`).
 import { after, before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { mkdirSync, writeFileSync } from 'node:fs';
+import { execFileSync } from 'node:child_process';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import {
   ROOT, download as downloadFrom, gotoEmpty, nextFrames, openApp, readResult, runAndWait, sharedDir, startStatic, statusRunId, waitForDone, waitForNewRun,
@@ -45,6 +47,39 @@ function parseBinaryStl(buf) {
 
 const download = (testid) => downloadFrom(page, testid);
 
+const CLI = join(ROOT, 'wasm-core', 'target', 'release', 'heartmesh');
+
+/**
+ * The app's mesh files of the last sample against the command line's of the same file and surface
+ * at the defaults: the same vertices and faces spelled the same (OBJ, VTK) and the same STL body
+ * (normals and float32 corners), byte for byte. Only the headers differ (the app says more).
+ */
+function sameAsCli(surface, app) {
+  assert.ok(existsSync(CLI), `${CLI} missing: cd wasm-core && cargo build --release -p heartmesh-cli`);
+  const dir = mkdtempSync(join(tmpdir(), 'heartmesh-export-'));
+  try {
+    const cli = {};
+    for (const ext of ['obj', 'vtk', 'stl']) {
+      const out = join(dir, `mesh.${ext}`);
+      execFileSync(CLI, ['reconstruct', join(ROOT, 'public', 'samples', `${SAMPLES.at(-1)}.csv`), '--surface', surface, '-o', out, '--quiet']);
+      cli[ext] = readFileSync(out);
+    }
+    const body = (text, keep) => text.split('\n').filter(keep);
+    const objLines = (l) => l.startsWith('v ') || l.startsWith('f ');
+    const appObj = body(app.obj, objLines);
+    assert.ok(appObj.length > 1000, `${appObj.length} OBJ v/f lines`);
+    assert.deepEqual(appObj, body(cli.obj.toString('utf8'), objLines), 'OBJ vertices and faces as the CLI writes them');
+    // VTK: from POINTS up to the point data (the CLI's distances are doubles, the app's float32).
+    const points = (text) => text.slice(text.indexOf('\nPOINTS '), text.indexOf('\nPOINT_DATA'));
+    assert.ok(points(app.vtk).length > 10000);
+    assert.equal(points(app.vtk), points(cli.vtk.toString('utf8')), 'VTK points and polygons as the CLI writes them');
+    assert.equal(app.stl.length, cli.stl.length);
+    assert.ok(app.stl.subarray(80).equals(cli.stl.subarray(80)), 'STL facets byte for byte the CLI\'s');
+  } finally {
+    rmSync(dir, { recursive: true, force: true });
+  }
+}
+
 describe('heartmesh in the browser', () => {
   for (const id of SAMPLES) {
     it(`sample ${id}: reaches done with contour-to-mesh mean <= 1 mm`, async () => {
@@ -78,7 +113,7 @@ describe('heartmesh in the browser', () => {
     assert.match(plyHead, new RegExp(`element vertex ${r.vertices}\\n`));
     assert.match(plyHead, new RegExp(`element face ${r.triangles}\\n`));
     const vtk = (await download('export-vtk')).bytes.toString('utf8');
-    assert.match(vtk, new RegExp(`POINTS ${r.vertices} float`));
+    assert.match(vtk, new RegExp(`POINTS ${r.vertices} double`));
     assert.match(vtk, new RegExp(`POLYGONS ${r.triangles} ${r.triangles * 4}`));
     const csv = (await download('export-csv')).bytes.toString('utf8');
     const rows = csv.split('\n').filter((l) => l && !l.startsWith('#'));
@@ -88,6 +123,7 @@ describe('heartmesh in the browser', () => {
     assert.ok(Math.abs(mean - r.meanMm) < 1e-3, `CSV mean ${mean} vs shown ${r.meanMm} mm`);
     const json = JSON.parse((await download('export-json')).bytes.toString('utf8'));
     assert.equal(json.params.lambda, 100000);
+    sameAsCli(json.surface, { obj, vtk, stl: (await download('export-stl')).bytes });
     assert.equal(json.result.vertices, r.vertices);
     const png = (await download('export-png')).bytes;
     assert.equal(png.subarray(1, 4).toString('latin1'), 'PNG');

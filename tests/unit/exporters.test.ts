@@ -7,6 +7,7 @@ import { writeVtk } from '../../web/src/io/export/vtk';
 import { writeDistancesCsv } from '../../web/src/io/export/csv';
 import { writeParamsJson } from '../../web/src/io/export/json';
 import { f32 } from '../../web/src/io/export/float32';
+import { f64 } from '../../web/src/io/export/float64';
 import { exportBaseName, stlHeader, type ExportInfo, type MeshData } from '../../web/src/io/export/header';
 import type { ContourInfo } from '../../web/src/core-client/protocol';
 import { DEFAULT_END_CAPS } from '../../web/src/core-client/protocol';
@@ -181,6 +182,49 @@ describe('exporters parse back', () => {
     const csv = writeDistancesCsv([{ id: 'c1', surface: null, kind: 'SAX', pieces: [{ closed: true, start: 0, count: 1 }] }], new Float32Array([-32.83557, -27.42256, 35]), new Float32Array([0.0024]), info);
     expect(csv).toContain('\nc1,-32.83557,-27.42256,35,,SAX,0.0024\n');
     expect(writeVtk(mesh, info).split('\n')).toContain('0.45'); // a distance scalar, not 0.44999998807907104
+  });
+
+  it('full-precision coordinates are spelled as the command line spells them (Rust\'s shortest, its exponent range and ties)', () => {
+    // Expected texts printed by the core's fmt_num (Rust `{}` between 1e-5 and 1e15, `{:e}` outside).
+    const cases: [number, string][] = [
+      [0, '0'], [-0, '-0'], [35, '35'], [-32.8355712890625, '-32.8355712890625'], [0.1 + 0.2, '0.30000000000000004'],
+      [1e-5, '0.00001'], [9.99e-6, '9.99e-6'], [-1.5e-7, '-1.5e-7'], [5e-324, '5e-324'], [123456.789, '123456.789'],
+      [9.999999999999999e14, '999999999999999.9'], [1e15, '1e15'], [2.5e20, '2.5e20'], [1.7976931348623157e308, '1.7976931348623157e308'],
+      // Exactly halfway between two shortest spellings: Rust rounds away from zero, JavaScript to even.
+      [-693287890264804.25, '-693287890264804.3'], [145813204409221.625, '145813204409221.63'], [1878070117635333.25, '1.8780701176353333e15'],
+    ];
+    for (const [v, text] of cases) expect(f64(v)).toBe(text);
+    let seed = 11;
+    for (let i = 0; i < 5000; i++) {
+      seed = (seed * 1103515245 + 12345) % 2147483648;
+      const v = ((seed / 2147483648) - 0.5) * 10 ** ((i % 40) - 20);
+      expect(Number(f64(v))).toBe(v); // lossless
+      expect(f64(v)).not.toMatch(/e\+|^-?0\d/);
+    }
+  });
+
+  it('with the full-precision vertices, OBJ and VTK write doubles and STL takes its normals from them', () => {
+    const exact = new Float64Array([0.1 + 0.2, 0, 0, 10.000000000000002, 0, 0, 0, 10, 0, 0, 0, 10]);
+    const full: MeshData = { ...mesh, positions: Float32Array.from(exact), positions64: exact };
+    const obj = writeObj(full, info).split('\n');
+    expect(obj.filter((l) => l.startsWith('v '))).toEqual(['v 0.30000000000000004 0 0', 'v 10.000000000000002 0 0', 'v 0 10 0', 'v 0 0 10']);
+    const vtk = writeVtk(full, info).split('\n');
+    const pi = vtk.indexOf('POINTS 4 double');
+    expect(vtk.slice(pi + 1, pi + 3)).toEqual(['0.30000000000000004 0 0', '10.000000000000002 0 0']);
+    // Without them (or with a stale array of another length): float32, as before.
+    expect(writeVtk({ ...full, positions64: new Float64Array(3) }, info).split('\n')).toContain('POINTS 4 float');
+    expect(writeObj({ ...mesh }, info)).toContain('\nv 10 0 0\n');
+    // Triangle 3 = (1,2,3): its normal from the doubles, rounded once to float32.
+    const dv = new DataView(writeStl(full, info));
+    const [ax, bx, cy, dz] = [exact[3], 0, 10, 10];
+    const u = [bx - ax, cy, 0];
+    const w = [bx - ax, 0, dz];
+    const n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
+    const len = Math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const o = 84 + 3 * 50;
+    expect([dv.getFloat32(o, true), dv.getFloat32(o + 4, true), dv.getFloat32(o + 8, true)]).toEqual(n.map((x) => Math.fround(x / len)));
+    // The coordinates stay float32 (STL has no other), the same as from the float32 vertices.
+    expect(dv.getFloat32(o + 12, true)).toBe(Math.fround(exact[3]));
   });
 
   it('distance CSV: canonical columns + distance, readable again', () => {

@@ -40,7 +40,7 @@ export interface ExportSource {
   /** The current file and settings as a heartmesh session file (null without a file). */
   session(): Promise<Uint8Array> | null;
   /** The finished meshes of the file's other surfaces (their last runs), for the all-surfaces OBJ. */
-  others(): { surface: string; positions: Float32Array; indices: Uint32Array; leaveOut?: readonly string[] }[];
+  others(): { surface: string; positions: Float32Array; positions64?: Float64Array; indices: Uint32Array; leaveOut?: readonly string[] }[];
   /**
    * The LV wall built in the worker and written as `format`, with its figures (null: it cannot be
    * built now). Rejects with the core's error.
@@ -252,7 +252,7 @@ export class ExportPanel {
     const info = this.source.info();
     const r = this.source.result();
     if (!info || !r) return;
-    const mesh = { positions: r.positions, indices: r.indices, vertexDistances: r.vertexDistances };
+    const mesh = { positions: r.positions, positions64: r.positionsF64, indices: r.indices, vertexDistances: r.vertexDistances };
     const base = exportBaseName(info);
     switch (fmt) {
       case 'stl':
@@ -281,7 +281,7 @@ export class ExportPanel {
     const others = this.source.others();
     const current = info.surface ?? 'surface';
     const parts = [
-      { name: current, mesh: { positions: r.positions, indices: r.indices } },
+      { name: current, mesh: { positions: r.positions, positions64: r.positionsF64, indices: r.indices } },
       ...others.map((m) => ({ name: m.surface, mesh: m })),
     ];
     // What each surface's last run left out (the header's leave_out is this run's; an older run may predate a change to the list).

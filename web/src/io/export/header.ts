@@ -31,6 +31,12 @@ export interface ExportInfo {
 export interface MeshData {
   /** xyz per vertex, mm. */
   positions: Float32Array;
+  /**
+   * The same vertices in full precision, when the core gave them: the text formats (OBJ, VTK)
+   * write these and STL's facet normals come from them, so the app's file is the command line's.
+   * Binary STL and PLY store float32 coordinates either way.
+   */
+  positions64?: Float64Array;
   /** three vertex indices per triangle, counter-clockwise seen from outside. */
   indices: Uint32Array;
   /** per-vertex contour distance in mm (optional in PLY/VTK). */

@@ -1,6 +1,6 @@
 /** Wavefront OBJ writer (text; `#` comment header; 1-based face indices). */
-import { f32 } from './float32';
 import { headerLines, type ExportInfo, type MeshData } from './header';
+import { vertexSource } from './vertices';
 
 /**
  * Several surfaces in one OBJ, each its own object (`o LV_ENDO`) with its vertices and faces (face
@@ -30,8 +30,8 @@ export function writeObj(mesh: MeshData, info: ExportInfo): string {
 
 /** Appends `v` and `f` lines, faces numbered from `base` (1-based); returns the next base. */
 function pushMesh(lines: string[], mesh: MeshData, base: number): number {
-  const p = mesh.positions;
-  for (let i = 0; i < p.length; i += 3) lines.push(`v ${f32(p[i])} ${f32(p[i + 1])} ${f32(p[i + 2])}`);
+  const { values: p, text } = vertexSource(mesh);
+  for (let i = 0; i < p.length; i += 3) lines.push(`v ${text(p[i])} ${text(p[i + 1])} ${text(p[i + 2])}`);
   const f = mesh.indices;
   for (let i = 0; i < f.length; i += 3) lines.push(`f ${f[i] + base} ${f[i + 1] + base} ${f[i + 2] + base}`);
   return base + p.length / 3;

@@ -4,6 +4,7 @@
  * (STL has no other place for metadata); facet normals are computed from the CCW winding.
  */
 import { stlHeader, type ExportInfo, type MeshData } from './header';
+import { vertexSource } from './vertices';
 
 export function writeStl(mesh: MeshData, info: ExportInfo): ArrayBuffer {
   const triangles = mesh.indices.length / 3;
@@ -15,7 +16,9 @@ export function writeStl(mesh: MeshData, info: ExportInfo): ArrayBuffer {
     view.setUint8(i, c < 128 ? c : 63); // ASCII only; '?' for anything else
   }
   view.setUint32(80, triangles, true);
-  const p = mesh.positions;
+  // Normals from the full-precision vertices when known, computed as the core does (no hypot:
+  // the root of the summed squares), so the file is byte for byte the command line's.
+  const { values: p } = vertexSource(mesh);
   let o = 84;
   for (let t = 0; t < triangles; t++) {
     const a = mesh.indices[t * 3] * 3;
@@ -24,7 +27,7 @@ export function writeStl(mesh: MeshData, info: ExportInfo): ArrayBuffer {
     const ux = p[b] - p[a], uy = p[b + 1] - p[a + 1], uz = p[b + 2] - p[a + 2];
     const vx = p[c] - p[a], vy = p[c + 1] - p[a + 1], vz = p[c + 2] - p[a + 2];
     let nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-    const len = Math.hypot(nx, ny, nz) || 1;
+    const len = Math.sqrt(nx * nx + ny * ny + nz * nz) || 1;
     nx /= len; ny /= len; nz /= len;
     for (const v of [nx, ny, nz, p[a], p[a + 1], p[a + 2], p[b], p[b + 1], p[b + 2], p[c], p[c + 1], p[c + 2]]) {
       view.setFloat32(o, v, true);

@@ -9,6 +9,7 @@
  */
 import { f32 } from './float32';
 import { headerLines, type ExportInfo, type MeshData } from './header';
+import { vertexSource } from './vertices';
 
 export function writeVtk(mesh: MeshData, info: ExportInfo): string {
   const nv = mesh.positions.length / 3;
@@ -19,9 +20,9 @@ export function writeVtk(mesh: MeshData, info: ExportInfo): string {
   const names = Object.keys(info.params);
   if (names.length > 0) lines.push(`FIELD heartmesh_params ${names.length}`);
   for (const n of names) lines.push(`${n} 1 1 double`, String(info.params[n]));
-  lines.push(`POINTS ${nv} float`);
-  const p = mesh.positions;
-  for (let i = 0; i < p.length; i += 3) lines.push(`${f32(p[i])} ${f32(p[i + 1])} ${f32(p[i + 2])}`);
+  const { values: p, text, double } = vertexSource(mesh);
+  lines.push(`POINTS ${nv} ${double ? 'double' : 'float'}`);
+  for (let i = 0; i < p.length; i += 3) lines.push(`${text(p[i])} ${text(p[i + 1])} ${text(p[i + 2])}`);
   lines.push(`POLYGONS ${nf} ${nf * 4}`);
   const f = mesh.indices;
   for (let i = 0; i < f.length; i += 3) lines.push(`3 ${f[i]} ${f[i + 1]} ${f[i + 2]}`);
