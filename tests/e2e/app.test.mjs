@@ -51,15 +51,16 @@ const CLI = join(ROOT, 'wasm-core', 'target', 'release', 'heartmesh');
 
 /**
  * The app's mesh files of the last sample against the command line's of the same file and surface
- * at the defaults: the same vertices and faces spelled the same (OBJ, VTK) and the same STL body
- * (normals and float32 corners), byte for byte. Only the headers differ (the app says more).
+ * at the defaults: the same vertices and faces spelled the same (OBJ, VTK) and the same STL and PLY
+ * bodies (normals, float32 corners and distances), byte for byte. Only the headers differ (the app
+ * says more).
  */
 function sameAsCli(surface, app) {
   assert.ok(existsSync(CLI), `${CLI} missing: cd wasm-core && cargo build --release -p heartmesh-cli`);
   const dir = mkdtempSync(join(tmpdir(), 'heartmesh-export-'));
   try {
     const cli = {};
-    for (const ext of ['obj', 'vtk', 'stl']) {
+    for (const ext of ['obj', 'vtk', 'stl', 'ply']) {
       const out = join(dir, `mesh.${ext}`);
       execFileSync(CLI, ['reconstruct', join(ROOT, 'public', 'samples', `${SAMPLES.at(-1)}.csv`), '--surface', surface, '-o', out, '--quiet']);
       cli[ext] = readFileSync(out);
@@ -75,6 +76,10 @@ function sameAsCli(surface, app) {
     assert.equal(points(app.vtk), points(cli.vtk.toString('utf8')), 'VTK points and polygons as the CLI writes them');
     assert.equal(app.stl.length, cli.stl.length);
     assert.ok(app.stl.subarray(80).equals(cli.stl.subarray(80)), 'STL facets byte for byte the CLI\'s');
+    // PLY: the vertices (float32 xyz and distance) and faces after the header, byte for byte.
+    const plyBody = (b) => b.subarray(b.indexOf('end_header\n') + 'end_header\n'.length);
+    assert.ok(plyBody(app.ply).length > 20000);
+    assert.ok(plyBody(app.ply).equals(plyBody(cli.ply)), 'PLY vertices, distances and faces byte for byte the CLI\'s');
   } finally {
     rmSync(dir, { recursive: true, force: true });
   }
@@ -123,7 +128,7 @@ describe('heartmesh in the browser', () => {
     assert.ok(Math.abs(mean - r.meanMm) < 1e-3, `CSV mean ${mean} vs shown ${r.meanMm} mm`);
     const json = JSON.parse((await download('export-json')).bytes.toString('utf8'));
     assert.equal(json.params.lambda, 100000);
-    sameAsCli(json.surface, { obj, vtk, stl: (await download('export-stl')).bytes });
+    sameAsCli(json.surface, { obj, vtk, stl: (await download('export-stl')).bytes, ply });
     assert.equal(json.result.vertices, r.vertices);
     const png = (await download('export-png')).bytes;
     assert.equal(png.subarray(1, 4).toString('latin1'), 'PNG');
