@@ -252,9 +252,22 @@ fn a_biventricular_wall_clears_crossings_its_vertex_pushes_leave() {
     assert!(validity(&wall.mesh).is_closed_manifold());
     assert_eq!(wall.self_intersections, 0, "{:?}", wall.crossings);
     // The clearing moves little: no endocardial vertex further than the file order's run does
-    // plus a step or two (1.45 mm there).
-    eprintln!("BIV {file} shuffled: endocardium moved {:?}", wall.pushed);
-    assert!(wall.pushed.max_mm < 3.0, "{:?}", wall.pushed);
+    // plus a step or two. (Not a fixed figure: on this real patient the push of the file order
+    // itself ranges 1.2-5.9 mm over attractor counts of 150-300, chaos of misregistered slices.)
+    let [lv0, rv0, biv0] = ["LV_ENDO", "RV_ENDO", "BIV_EPI"].map(|s| reconstruct_surface(&set, s));
+    let base0 = common_basal_plane_all(&[&lv0, &biv0, &rv0]).unwrap();
+    let in_order =
+        build_biventricular(lv0.mesh(), rv0.mesh(), biv0.mesh(), &base0, Some(1.0)).unwrap();
+    eprintln!(
+        "BIV {file} shuffled: endocardium moved {:?} (file order {:?})",
+        wall.pushed, in_order.pushed
+    );
+    assert!(
+        wall.pushed.max_mm < in_order.pushed.max_mm + 1.5,
+        "{:?} against the file order's {:?}",
+        wall.pushed,
+        in_order.pushed
+    );
 }
 
 /// The biventricular myocardium of the real biv-me patient (the only one with RV epicardial

@@ -10,9 +10,10 @@
 //! axis at the tube's lid, or through the tips of the long-axis curves that stop beyond the ring
 //! (the valve plane, [`TipPlane`]). They are sampled at about the real attractors' spacing, kept
 //! two spacings in from the rim (the rim is the wall data's, and the wall needs room to turn into
-//! the lid: [`RIM_INSET_PER_SPACING`]), and pull with a weight below 1 so that real contours win
-//! where they disagree, and only from outside: a lid point pulls while the mesh runs on past its
-//! plane, never into it (`lid_pull`, the one-sided lid; the disc's grid is `lid_disc`). They are
+//! the lid: [`RIM_INSET_PER_SPACING`]), on a finer grid where a narrow outline would hold fewer
+//! than [`MIN_LID_POINTS`] (`covering_disc`), and pull with a weight below 1 so that real
+//! contours win where they disagree, and only from outside: a lid point pulls while the mesh runs
+//! on past its plane, never into it (`lid_pull`, the one-sided lid; the disc's grid is `lid_disc`). They are
 //! never data: contour distances, per-contour tables, colour maps and the step report ignore them.
 //!
 //! Per end, from what the long-axis data say ([`end_lid`], session 12): where curves reach the end
@@ -97,6 +98,64 @@ pub const RIM_INSET_PER_SPACING: f64 = 2.0;
 /// At most this share of the real attractor count per end (a large explicit count asks for ~1 mm
 /// spacing: a dense disc would double the spline's size for no gain).
 const MAX_POINTS_PER_REAL: f64 = 0.25;
+
+/// A lid of fewer points than this cannot hold its outline: one point, or a short row, holds a
+/// spot or a line, and the spline bulges the rest of the lid out past the data. Seven spread
+/// both ways across the outline (a grid point with neighbours on every side); it is also the
+/// fewest any LV lid of the real files gets at the defaults (7-12), which this leaves as they
+/// were. RV bases, crescents too narrow for two pitches of inset on each side, got 1-4 points at
+/// the defaults and none below ~150 attractors, so their volumes depended on the attractor count
+/// by up to a fifth (docs/VALIDATION.md, "Session 54: lids that hold a crescent").
+const MIN_LID_POINTS: usize = 7;
+
+/// Each retry of a lid too sparse for its outline takes this share of the last pitch, and of the
+/// inset with it ([`RIM_INSET_PER_SPACING`] pitches) down to two of the attractors' spacings, the
+/// rim room the wall's shoulder needs (session 11: at one spacing the lid held the shoulder down
+/// and pushed the wall out below the basal ring).
+const LID_PITCH_SHRINK: f64 = 0.8;
+
+/// The finest a lid's pitch gets, in the real attractors' spacings: lid points closer together
+/// than the wall's attractors would outweigh the data beside them, and an outline too small for
+/// a lid at this pitch (the apex ring of a tapering stack, a few mm across) is closed well enough
+/// by its wall's own points.
+const LID_PITCH_FLOOR_PER_SPACING: f64 = 0.5;
+
+/// Retries at most (0.8^24 is a 200th of the first pitch): a bound for a spacing of 0.
+const LID_PITCH_TRIES: usize = 24;
+
+/// The lid's points at `pitch` (inset [`RIM_INSET_PER_SPACING`] pitches from the rim); where the
+/// outline is too narrow for that to give [`MIN_LID_POINTS`] (an RV crescent, whose pitch the
+/// area cap of `most` has stretched past the attractors' `spacing`), at the coarsest finer pitch
+/// that does (or `most`, the end's share of the attractors, if that is fewer), the inset never
+/// under [`RIM_INSET_PER_SPACING`] spacings and the pitch never under
+/// [`LID_PITCH_FLOOR_PER_SPACING`] of one. Lids that hold enough points at the first pitch are as
+/// before; an outline without room inside two spacings of rim (a few dozen attractors in all:
+/// spacings of 15 mm and more) still gets none.
+fn covering_disc(
+    ring: &[Vec3],
+    lid: &Vec3,
+    axis: &Vec3,
+    pitch: f64,
+    spacing: f64,
+    most: f64,
+) -> Vec<Vec3> {
+    let wanted = (MIN_LID_POINTS as f64).min(most.floor()).max(1.0) as usize;
+    let floor = LID_PITCH_FLOOR_PER_SPACING * spacing;
+    let mut p = pitch;
+    let mut disc = disc_points(ring, lid, axis, p, RIM_INSET_PER_SPACING * p);
+    for _ in 0..LID_PITCH_TRIES {
+        if disc.len() >= wanted || p * LID_PITCH_SHRINK < floor {
+            break;
+        }
+        p *= LID_PITCH_SHRINK;
+        let inset = RIM_INSET_PER_SPACING * p.max(spacing);
+        let finer = disc_points(ring, lid, axis, p, inset);
+        if finer.len() >= disc.len() {
+            disc = finer;
+        }
+    }
+    disc
+}
 
 /// The plane of the tips of the long-axis curves that stop at an end (the valve plane, often tilted
 /// against the short-axis planes): heights along the axis as a linear function of the in-plane
@@ -390,7 +449,7 @@ pub fn end_cap_points(
                 c + axis * (outward * out)
             }
         };
-        let mut disc = disc_points(ring, &lid, axis, pitch, RIM_INSET_PER_SPACING * pitch);
+        let mut disc = covering_disc(ring, &lid, axis, pitch, spacing, most);
         // Without a second ring there is no spacing to read a gap against: least squares.
         let short = match end_rings(rings, outward).map(|(r, next)| slice_gap(r, next, axis)) {
             Some(gap) if gap > 0.0 => SHORT_TIP_PER_SLICE_GAP * gap,
@@ -452,6 +511,51 @@ mod tests {
         // Nothing for a bad spacing or too few ring points.
         assert!(disc_points(&ring, &lid, &Z, 0.0, 0.0).is_empty());
         assert!(disc_points(&ring[..2], &lid, &Z, 1.0, 0.0).is_empty());
+    }
+
+    /// A crescent (annular sector, radii 20 and 40 mm, 200 degrees: 10 mm deep) with its pitch
+    /// stretched to 8 by the count cap, the attractors 4 mm apart: two pitches of inset (16 mm)
+    /// leave nothing, so the pitch shrinks (6.4, 5.12: still none) to 4.096, a band of points
+    /// along the middle of the crescent, all at least two of those pitches from its edges.
+    #[test]
+    fn a_crescent_lid_is_made_fine_enough_to_hold_it() {
+        let arc = |r: f64, from: f64, to: f64| {
+            (0..=40).map(move |k| {
+                let a = (from + (to - from) * k as f64 / 40.0).to_radians();
+                v3(r * a.cos(), r * a.sin(), 0.0)
+            })
+        };
+        let ring: Vec<Vec3> = arc(40.0, -100.0, 100.0)
+            .chain(arc(20.0, 100.0, -100.0))
+            .collect();
+        let lid = v3(0.0, 0.0, 3.0);
+        assert!(disc_points(&ring, &lid, &Z, 8.0, 16.0).is_empty());
+        let pts = covering_disc(&ring, &lid, &Z, 8.0, 4.0, 50.0);
+        assert!(pts.len() >= MIN_LID_POINTS, "{} points", pts.len());
+        let p = 8.0 * LID_PITCH_SHRINK * LID_PITCH_SHRINK * LID_PITCH_SHRINK; // 4.096
+        assert_eq!(pts, disc_points(&ring, &lid, &Z, p, 2.0 * p));
+        for q in &pts {
+            let r = q.x.hypot(q.y);
+            assert!(
+                (r - 30.0).abs() <= 10.0 - 2.0 * p + 1e-9,
+                "{q:?} at radius {r}"
+            );
+            assert!((q.z - 3.0).abs() < 1e-12);
+        }
+        // A round outline with room for its lid keeps it as it was.
+        let round = circle(30.0, 0.0, 60);
+        let as_was = disc_points(&round, &lid, &Z, 4.0, 8.0);
+        assert!(as_was.len() > 50);
+        assert_eq!(covering_disc(&round, &lid, &Z, 4.0, 4.0, 50.0), as_was);
+        // Never under two spacings of rim: with the attractors 8 mm apart the crescent gets none,
+        // nor does an apex ring 3 mm in radius with them 2 mm apart.
+        assert!(covering_disc(&ring, &lid, &Z, 8.0, 8.0, 50.0).is_empty());
+        assert!(covering_disc(&circle(3.0, 0.0, 20), &lid, &Z, 5.0, 2.0, 50.0).is_empty());
+        // Fewer than seven wanted when the end's share of the attractors is smaller.
+        let few = covering_disc(&ring, &lid, &Z, 8.0, 4.0, 2.0);
+        assert!(!few.is_empty() && few.len() < 100);
+        // A spacing of 0 ends too (the tries are bounded), here on a ring of one repeated point.
+        assert!(covering_disc(&[v3(1.0, 1.0, 0.0); 5], &lid, &Z, 5.0, 0.0, 50.0).is_empty());
     }
 
     /// Two curves stopping at the base ring (z = 20): one with ends at 22 (x = 8) and 18 (x = -8),
@@ -595,10 +699,14 @@ mod tests {
         assert!(sides.iter().all(|s| s.weight == END_CAP_WEIGHT));
         // Few real attractors: the pitch grows so one end holds at most a quarter of them
         // (100 x 0.25 = 25 points over pi x 100 mm^2: pitch 3.54, inset 7.09): only the centre
-        // is 7.09 mm from the rim (its 4 neighbours, 3.54 out, are 6.4 mm from it).
+        // is 7.09 mm from the rim (its 4 neighbours, 3.54 out, are 6.4 mm from it). One point
+        // holds a spot, not the lid (session 54): the pitch shrinks to 2.84 (inset 5.67), where
+        // the centre's 3 x 3 block fits (its corners 4.0 mm out, 5.95 mm from the rim).
         let (few, _, _) = caps(EndCapMode::Auto, 100);
-        assert_eq!(few.len(), 1);
-        assert!(few[0].x.hypot(few[0].y) < 1e-9, "{:?}", few[0]);
+        assert_eq!(few.len(), 9);
+        let far = few.iter().map(|p| p.x.hypot(p.y)).fold(0.0, f64::max);
+        let pitch = 0.8 * (std::f64::consts::PI * 100.0 / 25.0).sqrt();
+        assert!((far - pitch * 2f64.sqrt()).abs() < 0.05, "{far}");
         let (none, _, off) = caps(EndCapMode::Off, 400);
         assert!(none.is_empty());
         assert_eq!(off, EndCapsReport::none(EndCapMode::Off));
