@@ -52,8 +52,8 @@ const CLI = join(ROOT, 'wasm-core', 'target', 'release', 'heartmesh');
 /**
  * The app's mesh files of the last sample against the command line's of the same file and surface
  * at the defaults: the same vertices and faces spelled the same (OBJ, VTK) and the same STL and PLY
- * bodies (normals, float32 corners and distances), byte for byte. Only the headers differ (the app
- * says more).
+ * bodies (normals, float32 corners and distances), byte for byte. Only the headers' comments and titles
+ * differ (the app says more).
  */
 function sameAsCli(surface, app) {
   assert.ok(existsSync(CLI), `${CLI} missing: cd wasm-core && cargo build --release -p heartmesh-cli`);
@@ -70,16 +70,20 @@ function sameAsCli(surface, app) {
     const appObj = body(app.obj, objLines);
     assert.ok(appObj.length > 1000, `${appObj.length} OBJ v/f lines`);
     assert.deepEqual(appObj, body(cli.obj.toString('utf8'), objLines), 'OBJ vertices and faces as the CLI writes them');
-    // VTK: from POINTS up to the point data (the CLI's distances are doubles, the app's float32).
-    const points = (text) => text.slice(text.indexOf('\nPOINTS '), text.indexOf('\nPOINT_DATA'));
+    // VTK: from POINTS to the end (points, polygons and the distances, doubles named `distance`).
+    const points = (text) => text.slice(text.indexOf('\nPOINTS '));
     assert.ok(points(app.vtk).length > 10000);
-    assert.equal(points(app.vtk), points(cli.vtk.toString('utf8')), 'VTK points and polygons as the CLI writes them');
+    assert.match(app.vtk, /\nSCALARS distance double 1\n/);
+    assert.equal(points(app.vtk), points(cli.vtk.toString('utf8')), 'VTK points, polygons and distances as the CLI writes them');
     assert.equal(app.stl.length, cli.stl.length);
     assert.ok(app.stl.subarray(80).equals(cli.stl.subarray(80)), 'STL facets byte for byte the CLI\'s');
     // PLY: the vertices (float32 xyz and distance) and faces after the header, byte for byte.
     const plyBody = (b) => b.subarray(b.indexOf('end_header\n') + 'end_header\n'.length);
     assert.ok(plyBody(app.ply).length > 20000);
     assert.ok(plyBody(app.ply).equals(plyBody(cli.ply)), 'PLY vertices, distances and faces byte for byte the CLI\'s');
+    // ... under the same elements and properties (the comments aside).
+    const plyDeclared = (b) => b.subarray(0, b.indexOf('end_header\n')).toString('latin1').split('\n').filter((l) => /^(element|property) /.test(l));
+    assert.deepEqual(plyDeclared(app.ply), plyDeclared(cli.ply));
   } finally {
     rmSync(dir, { recursive: true, force: true });
   }

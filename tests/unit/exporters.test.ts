@@ -111,7 +111,8 @@ describe('exporters parse back', () => {
     expect(header).toContain('format binary_little_endian 1.0');
     expect(header).toContain('comment heartmesh 0.1.0');
     expect(header).toContain('element vertex 4');
-    expect(header).toContain('property float distance_mm');
+    expect(header).toContain('property float distance'); // the command line's name
+    expect(header).not.toContain('distance_mm');
     expect(header).toContain('element face 4');
     const dv = new DataView(buf, end);
     const xyz: number[] = [];
@@ -143,7 +144,7 @@ describe('exporters parse back', () => {
     const polys = lines.slice(fi + 1, fi + 5).map((l) => l.split(' ').map(Number));
     expect(polys.every((p) => p[0] === 3)).toBe(true);
     expect(polys.flatMap((p) => p.slice(1))).toEqual(Array.from(mesh.indices));
-    const si = lines.indexOf('SCALARS distance_mm float 1');
+    const si = lines.indexOf('SCALARS distance float 1');
     // Written as the shortest decimal of each float32: it reads back as the same float32.
     expect(lines.slice(si + 2, si + 6).map((l) => Math.fround(Number(l)))).toEqual(Array.from(mesh.vertexDistances ?? []));
     const field = lines.indexOf('FIELD heartmesh_params 3');
@@ -153,7 +154,7 @@ describe('exporters parse back', () => {
 
   it('VTK legacy: the parameters are the dataset\'s field data (before POINTS), not point arrays', () => {
     // In a legacy file a FIELD block after POINT_DATA belongs to the point data: VTK 9.7 read the
-    // parameters there as 1-value point arrays beside the 4-value distance_mm (a broken dataset).
+    // parameters there as 1-value point arrays beside the 4-value distance (a broken dataset).
     const lines = writeVtk(mesh, info).split('\n');
     const dataset = lines.indexOf('DATASET POLYDATA');
     const field = lines.indexOf('FIELD heartmesh_params 3');
@@ -162,7 +163,7 @@ describe('exporters parse back', () => {
     expect([field, points]).toEqual([dataset + 1, dataset + 8]);
     expect(lines.slice(field + 1, points)).toEqual(['iterations 1 1 double', '250', 'lambda 1 1 double', '100000', 'beta 1 1 double', '0.1']);
     // After POINT_DATA: one scalar array of 4 values, then the end of the file.
-    expect(lines.slice(pointData + 1)).toEqual(['SCALARS distance_mm float 1', 'LOOKUP_TABLE default', '0.1', '0.2', '0.3', '0.45', '']);
+    expect(lines.slice(pointData + 1)).toEqual(['SCALARS distance float 1', 'LOOKUP_TABLE default', '0.1', '0.2', '0.3', '0.45', '']);
     expect(lines.filter((l) => l.startsWith('FIELD'))).toHaveLength(1);
   });
 
@@ -213,6 +214,14 @@ describe('exporters parse back', () => {
     expect(vtk.slice(pi + 1, pi + 3)).toEqual(['0.30000000000000004 0 0', '10.000000000000002 0 0']);
     // Without them (or with a stale array of another length): float32, as before.
     expect(writeVtk({ ...full, positions64: new Float64Array(3) }, info).split('\n')).toContain('POINTS 4 float');
+    // The distances likewise: doubles as the command line writes them, float32 without them.
+    const d64 = new Float64Array([0.1 + 0.2, 1e-7, 2.5, 1 / 3]);
+    const withD = writeVtk({ ...full, vertexDistances: Float32Array.from(d64), vertexDistances64: d64 }, info).split('\n');
+    expect(withD.slice(withD.indexOf('POINT_DATA 4'))).toEqual([
+      'POINT_DATA 4', 'SCALARS distance double 1', 'LOOKUP_TABLE default', '0.30000000000000004', '1e-7', '2.5', '0.3333333333333333', '',
+    ]);
+    const staleD = writeVtk({ ...full, vertexDistances: Float32Array.from(d64), vertexDistances64: new Float64Array(2) }, info).split('\n');
+    expect(staleD.slice(staleD.indexOf('POINT_DATA 4'), -1)).toEqual(['POINT_DATA 4', 'SCALARS distance float 1', 'LOOKUP_TABLE default', '0.3', '1e-7', '2.5', '0.33333334']);
     expect(writeObj({ ...mesh }, info)).toContain('\nv 10 0 0\n');
     // Triangle 3 = (1,2,3): its normal from the doubles, rounded once to float32.
     const dv = new DataView(writeStl(full, info));

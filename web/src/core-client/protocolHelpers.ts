@@ -52,6 +52,7 @@ export function transferablesOf(msg: ToWorker | FromWorker): ArrayBuffer[] {
       add(r.indices);
       add(r.pointDistances);
       add(r.vertexDistances);
+      add(r.vertexDistancesF64);
       add(r.setAsidePoints);
       add(r.setAsidePointDistances);
       break;

@@ -314,6 +314,8 @@ export interface RunResult {
   pointDistances: Float32Array;
   /** Per mesh vertex, mm. */
   vertexDistances: Float32Array;
+  /** The same in full precision (the mesh files' point data, as the command line writes it); absent as `positionsF64` is. */
+  vertexDistancesF64?: Float64Array;
   perContour: ContourStats[];
   overall: Stats;
   volumeMl: number;

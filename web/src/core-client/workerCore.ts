@@ -67,6 +67,8 @@ export interface SessionApi {
   contour_points(): Float32Array;
   point_distances(): Float32Array;
   vertex_distances(): Float32Array;
+  /** The same distances in full precision (absent: a test double; the result then has no `vertexDistancesF64`). */
+  vertex_distances_f64?(): Float64Array;
   /** xyz of the contours the run left out (`result_json().set_aside_contours` index them). */
   set_aside_points(): Float32Array;
   /** Distance of each of those points to the finished mesh, mm (absent: a test double or an older core). */
@@ -243,6 +245,7 @@ type ResultJson = Omit<
   | 'contourPoints'
   | 'positions'
   | 'positionsF64'
+  | 'vertexDistancesF64'
   | 'indices'
   | 'pointDistances'
   | 'vertexDistances'
@@ -736,10 +739,14 @@ export function malformedHex(msg: HexExportRequest): string | null {
   return null;
 }
 
-/** The finished mesh's vertices in full precision, where the core gives them. */
-function fullPrecision(session: SessionApi): { positionsF64?: Float64Array } {
+/** The finished mesh's vertices and their distances in full precision, where the core gives them. */
+function fullPrecision(session: SessionApi): { positionsF64?: Float64Array; vertexDistancesF64?: Float64Array } {
   const p = session.positions_f64?.();
-  return p instanceof Float64Array ? { positionsF64: p } : {};
+  const d = session.vertex_distances_f64?.();
+  return {
+    ...(p instanceof Float64Array ? { positionsF64: p } : {}),
+    ...(d instanceof Float64Array ? { vertexDistancesF64: d } : {}),
+  };
 }
 
 /** How far the finished mesh passes each point left out, where the core says (an older one does not). */

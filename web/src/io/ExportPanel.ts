@@ -252,7 +252,7 @@ export class ExportPanel {
     const info = this.source.info();
     const r = this.source.result();
     if (!info || !r) return;
-    const mesh = { positions: r.positions, positions64: r.positionsF64, indices: r.indices, vertexDistances: r.vertexDistances };
+    const mesh = { positions: r.positions, positions64: r.positionsF64, indices: r.indices, vertexDistances: r.vertexDistances, vertexDistances64: r.vertexDistancesF64 };
     const base = exportBaseName(info);
     switch (fmt) {
       case 'stl':

@@ -337,9 +337,15 @@ impl Session {
         Ok(convert::to_f32(&self.point_distances_f64()?))
     }
 
-    /// Distance (mm) from each mesh vertex to the nearest contour point.
+    /// Distance (mm) from each mesh vertex to the nearest contour point, in f64 (the mesh
+    /// files' point data, written as the command line writes them) ...
+    pub fn vertex_distances_f64(&self) -> Result<Vec<f64>, JsValue> {
+        Ok(self.run_ref()?.rec.vertex_distances())
+    }
+
+    /// ... and in f32 (display).
     pub fn vertex_distances(&self) -> Result<Vec<f32>, JsValue> {
-        Ok(convert::to_f32(&self.run_ref()?.rec.vertex_distances()))
+        Ok(convert::to_f32(&self.vertex_distances_f64()?))
     }
 
     /// xyz (mm) of the contours the run leaves out (the user's, strays and specks: the core's

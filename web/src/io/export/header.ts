@@ -28,6 +28,12 @@ export interface ExportInfo {
   coordinateSystem?: CoordinateSystem | null;
 }
 
+/**
+ * The per-vertex distance's name in PLY and VTK files: the command line's, so a script reading
+ * either's file finds the same array (mm, as every length in heartmesh's files).
+ */
+export const DISTANCE_NAME = 'distance';
+
 export interface MeshData {
   /** xyz per vertex, mm. */
   positions: Float32Array;
@@ -41,6 +47,8 @@ export interface MeshData {
   indices: Uint32Array;
   /** per-vertex contour distance in mm (optional in PLY/VTK). */
   vertexDistances?: Float32Array;
+  /** The same in full precision, when the core gave them: VTK writes these as the command line does. */
+  vertexDistances64?: Float64Array;
 }
 
 /** Parameters as `name=value` pairs in schema order. */

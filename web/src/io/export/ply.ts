@@ -1,8 +1,9 @@
 /**
  * PLY writer (binary little endian, the common choice of mesh tools); the header carries the
- * metadata as `comment` lines and, when known, a per-vertex `distance_mm` property.
+ * metadata as `comment` lines and, when known, a per-vertex `distance` property (mm), named as the
+ * command line names it.
  */
-import { headerLines, type ExportInfo, type MeshData } from './header';
+import { DISTANCE_NAME, headerLines, type ExportInfo, type MeshData } from './header';
 
 export function writePly(mesh: MeshData, info: ExportInfo): ArrayBuffer {
   const nv = mesh.positions.length / 3;
@@ -16,9 +17,10 @@ export function writePly(mesh: MeshData, info: ExportInfo): ArrayBuffer {
     'property float x',
     'property float y',
     'property float z',
-    ...(withDistance ? ['property float distance_mm'] : []),
+    ...(withDistance ? [`property float ${DISTANCE_NAME}`] : []),
     `element face ${nf}`,
-    'property list uchar uint vertex_indices',
+    // `int` as the command line (and VTK's PLY writer) declares it: one header for both files.
+    'property list uchar int vertex_indices',
     'end_header',
     '',
   ].join('\n');
@@ -37,9 +39,9 @@ export function writePly(mesh: MeshData, info: ExportInfo): ArrayBuffer {
   }
   for (let t = 0; t < nf; t++) {
     view.setUint8(o, 3);
-    view.setUint32(o + 1, mesh.indices[t * 3], true);
-    view.setUint32(o + 5, mesh.indices[t * 3 + 1], true);
-    view.setUint32(o + 9, mesh.indices[t * 3 + 2], true);
+    view.setInt32(o + 1, mesh.indices[t * 3], true);
+    view.setInt32(o + 5, mesh.indices[t * 3 + 1], true);
+    view.setInt32(o + 9, mesh.indices[t * 3 + 2], true);
     o += 13;
   }
   return buffer;

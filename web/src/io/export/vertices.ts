@@ -8,11 +8,11 @@ import { f64 } from './float64';
 import type { MeshData } from './header';
 
 export interface VertexSource {
-  /** xyz per vertex, mm. */
+  /** The numbers, mm: xyz per vertex (or, from `distanceSource`, one distance per vertex). */
   values: ArrayLike<number>;
   /** The spelling of one coordinate in a text format. */
   text: (v: number) => string;
-  /** Whether `values` are doubles (VTK then says `double` for the points). */
+  /** Whether `values` are doubles (VTK then says `double` for them). */
   double: boolean;
 }
 
@@ -20,4 +20,16 @@ export function vertexSource(mesh: MeshData): VertexSource {
   const full = mesh.positions64;
   if (full && full.length === mesh.positions.length) return { values: full, text: f64, double: true };
   return { values: mesh.positions, text: f32, double: false };
+}
+
+/**
+ * Which per-vertex distances a VTK file is written from: the full-precision ones when the core
+ * gave them for this mesh (the command line writes doubles), otherwise the float32 ones the view
+ * colours by; none when the mesh has none (or they belong to another vertex count).
+ */
+export function distanceSource(mesh: MeshData, nv: number): VertexSource | null {
+  const full = mesh.vertexDistances64;
+  if (full && full.length === nv) return { values: full, text: f64, double: true };
+  const d = mesh.vertexDistances;
+  return d && d.length === nv ? { values: d, text: f32, double: false } : null;
 }

@@ -5,11 +5,10 @@
  *
  * The FIELD block goes right after `DATASET POLYDATA`, where VTK's own writer puts the dataset's
  * field data: after POINT_DATA a FIELD block belongs to the point data, so VTK read each
- * parameter as a one-value point array beside the N-value `distance_mm`.
+ * parameter as a one-value point array beside the N-value `distance`.
  */
-import { f32 } from './float32';
-import { headerLines, type ExportInfo, type MeshData } from './header';
-import { vertexSource } from './vertices';
+import { DISTANCE_NAME, headerLines, type ExportInfo, type MeshData } from './header';
+import { distanceSource, vertexSource } from './vertices';
 
 export function writeVtk(mesh: MeshData, info: ExportInfo): string {
   const nv = mesh.positions.length / 3;
@@ -26,9 +25,10 @@ export function writeVtk(mesh: MeshData, info: ExportInfo): string {
   lines.push(`POLYGONS ${nf} ${nf * 4}`);
   const f = mesh.indices;
   for (let i = 0; i < f.length; i += 3) lines.push(`3 ${f[i]} ${f[i + 1]} ${f[i + 2]}`);
-  if (mesh.vertexDistances && mesh.vertexDistances.length === nv) {
-    lines.push(`POINT_DATA ${nv}`, 'SCALARS distance_mm float 1', 'LOOKUP_TABLE default');
-    for (let i = 0; i < nv; i++) lines.push(f32(mesh.vertexDistances[i]));
+  const d = distanceSource(mesh, nv);
+  if (d) {
+    lines.push(`POINT_DATA ${nv}`, `SCALARS ${DISTANCE_NAME} ${d.double ? 'double' : 'float'} 1`, 'LOOKUP_TABLE default');
+    for (let i = 0; i < nv; i++) lines.push(d.text(d.values[i]));
   }
   lines.push('');
   return lines.join('\n');
