@@ -72,4 +72,33 @@ describe('close open ends in the browser', () => {
     await runAndWait(page, () => page.uncheck('[data-testid=param-end-caps]'), 120000);
     assert.match(page.url(), /end_caps=off/);
   });
+
+  it('patient 1 ED RV at 100 attractors: a base with no room for a lid is said to be open, not "none needed"', async () => {
+    const csv = join(sharedDir(), 'data', 'contours', 'bivme-example-patient1', 'patient1-ED.csv');
+    await gotoEmpty(page, `${server.url}?surface=RV_ENDO&attractors=100`);
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', csv), 120000);
+    assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'RV_ENDO');
+    const few = await dataset();
+    const volume = () => page.evaluate(() => window.heartmesh.currentResult().volumeMl);
+    const fewMl = await volume();
+    assert.equal(few.endCapsBaseTooNarrow, '1');
+    assert.equal(few.endCapsPoints, '0');
+    assert.equal(await page.textContent('[data-testid=result-end-caps]'), 'base open');
+    assert.equal(await page.getAttribute('[data-testid=result-end-caps]', 'class'), 'warn');
+    const title = (await page.getAttribute('[data-testid=result-end-caps]', 'title')) ?? '';
+    assert.match(title, /^base left open: no contour closes the base, and at this attractor spacing \(\d+\.\d mm\) its outline has no room for lid points/);
+    await page.mouse.move(0, 0);
+    await page.screenshot({ path: join(SHOTS, 'base-open.png') });
+    // At the default count the base gets its lid, and the volume drops by the overrun.
+    await gotoEmpty(page, `${server.url}?surface=RV_ENDO`);
+    await runAndWait(page, () => page.setInputFiles('[data-testid=file-input]', csv), 120000);
+    const lidded = await dataset();
+    const liddedMl = await volume();
+    console.log(`# patient1-ED RV: base past the data ${Number(few.pastBaseMm).toFixed(1)} mm open (100 attractors), ` +
+      `${Number(lidded.pastBaseMm).toFixed(1)} mm lidded (${lidded.endCapsPoints} points); ${fewMl.toFixed(1)} -> ${liddedMl.toFixed(1)} ml`);
+    assert.equal(lidded.endCapsBaseTooNarrow, '0');
+    assert.match((await page.textContent('[data-testid=result-end-caps]')) ?? '', /^base · \d+ pts$/);
+    assert.ok(Number(few.pastBaseMm) > Number(lidded.pastBaseMm) + 3, `${few.pastBaseMm} vs ${lidded.pastBaseMm}`);
+    assert.ok(fewMl > liddedMl * 1.1, `${fewMl} vs ${liddedMl} ml`);
+  });
 });

@@ -4,7 +4,7 @@
 // the option. The figures are the core's; only their direction and consistency are asserted here.
 import { beforeAll, describe, expect, it } from 'vitest';
 import { DEFAULT_OPTIONS, type EndCapsMode, type LoadedFile, type RunResult } from '../../web/src/core-client/protocol';
-import { PATIENT2_ES, loadWasm, readBytes } from './helpers.mjs';
+import { PATIENT2_ES, SURFCO, loadWasm, readBytes } from './helpers.mjs';
 import { askingCore } from './askCore';
 
 type Wasm = typeof import('../../web/pkg/heartmesh_wasm.js');
@@ -57,6 +57,26 @@ describe('close open ends through the worker', () => {
     // The lid points are not data: the contour-to-mesh figures count the file's points only.
     expect(on.overall.count).toBe(off.overall.count);
     expect(on.contourPoints.length).toBe(off.contourPoints.length);
+  });
+
+  it('SurFCo at 100 attractors: a base with no room for a lid is reported open, with the core\'s note', async () => {
+    const ask = makeCore();
+    const name = 'surfco-example.csv';
+    await load(ask, name, readBytes(SURFCO()));
+    const runWith = async (runId: number, params: Record<string, number>): Promise<RunResult> => {
+      const m = await ask({ type: 'run', runId, fileName: name, surface: null, params, lids: 'auto', options: DEFAULT_OPTIONS }, 'done', 'error');
+      if (m.type === 'error') throw new Error(m.error.message);
+      return m.result;
+    };
+    const lidded = await runWith(4, {});
+    const few = await runWith(5, { attractors: 100 });
+    expect(lidded.end_caps?.base).toBe(true);
+    expect(lidded.end_caps?.base_too_narrow).toBeUndefined();
+    expect(lidded.endCapNote).toBeNull();
+    expect(few.end_caps).toEqual({ mode: 'auto', base: false, apex: false, points: 0, base_too_narrow: true });
+    expect(few.endCapNote).toMatch(/^no contour closes the base, and at this attractor spacing \(\d+\.\d mm\) its outline has no room for lid points/);
+    console.log(`# SurFCo base: past the data ${lidded.pastData?.base_mm.toFixed(1)} mm lidded, ${few.pastData?.base_mm.toFixed(1)} mm open at 100 attractors`);
+    expect(few.pastData?.base_mm ?? 0).toBeGreaterThan((lidded.pastData?.base_mm ?? 0) + 1);
   });
 
   it('a session keeps end_caps and brings it back on load', async () => {

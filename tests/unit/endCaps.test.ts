@@ -172,6 +172,26 @@ describe('end caps in the panels', () => {
     });
     expect(endCapsText({ mode: 'off', base: true, apex: true, points: 10 })).toBeNull();
   });
+
+  it('a base left open for want of room is said, amber, with the core\'s sentence; never "none needed"', () => {
+    const open = { mode: 'auto' as const, base: false, apex: false, points: 0, base_too_narrow: true };
+    const note = 'no contour closes the base, and at this attractor spacing (14.5 mm) its outline has no room for lid points';
+    expect(endCapsText(open, note)).toEqual({ text: 'base open', title: `base left open: ${note}` });
+    // Without the sentence (an older result): the app's own.
+    expect(endCapsText(open)?.title).toMatch(/^base left open: no contour closes the base, .* more attractors \(or a smaller attractor spacing\) lay the lid$/);
+    // With an apex lid beside it: both said.
+    expect(endCapsText({ ...open, apex: true, points: 9 }, note)?.text).toBe('base open · apex · 9 pts');
+    const panel = new ResultPanel();
+    const el = panel.element as unknown as FakeElement;
+    panel.show(result({ pastData: { base_mm: 5.7, apex_mm: 0.6 }, end_caps: open, endCapNote: note }));
+    expect(rows(el)['Closed ends']).toBe('base open');
+    expect(el.byTestId('result-end-caps')?.getAttribute('class')).toBe('warn');
+    expect(el.byTestId('result-end-caps')?.title).toContain('(14.5 mm)');
+    expect((panel.element as unknown as FakeElement).dataset.endCapsBaseTooNarrow).toBe('1');
+    panel.show(result({ end_caps: { mode: 'auto', base: true, apex: false, points: 11 } }));
+    expect(rows(el)['Closed ends']).toBe('base · 11 pts');
+    expect(el.byTestId('result-end-caps')?.getAttribute('class')).toBeNull();
+  });
 });
 
 describe('valve chords in the result panel', () => {

@@ -245,6 +245,12 @@ export interface EndCaps {
    * (the core writes it only when true).
    */
   base_ceiling?: boolean;
+  /**
+   * No contour closes the base and its outline had no room for lid points two attractor spacings
+   * in from its rim (a crescent RV base at a few dozen attractors): nothing holds it, and the
+   * surface runs on past the data there. Absent when not (the core writes it only when true).
+   */
+  base_too_narrow?: boolean;
 }
 
 /** The mesh checks of a finished run (`result_json().quality`). */
@@ -355,6 +361,8 @@ export interface RunResult {
    */
   valve_chords?: string[];
   valveChordNote?: string | null;
+  /** The core's sentence for a base too narrow for a lid (`end_caps.base_too_narrow`); null otherwise. */
+  endCapNote?: string | null;
   /**
    * Remeshes the core skipped because each would have wrecked the surface (a collapse, a
    * flattening, a stalled decimation: contour points far off their curve), and its sentence about

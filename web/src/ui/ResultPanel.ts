@@ -128,14 +128,15 @@ export class ResultPanel {
         (past.ceiling ? PAST_CEILING_NOTE : '') + (past.modelled ? PAST_FLOOR_NOTE : '');
       rows.push(...row('Past the data', past.text, 'result-past-data', help, past.extrapolated));
     }
-    const caps = r.end_caps ? endCapsText(r.end_caps) : null;
+    const caps = r.end_caps ? endCapsText(r.end_caps, r.endCapNote) : null;
     if (r.end_caps && caps) {
       d.endCapsBase = r.end_caps.base ? '1' : '0';
       d.endCapsApex = r.end_caps.apex ? '1' : '0';
       d.endCapsApexFloor = r.end_caps.apex_floor ? '1' : '0';
       d.endCapsBaseCeiling = r.end_caps.base_ceiling ? '1' : '0';
       d.endCapsPoints = String(r.end_caps.points);
-      rows.push(...row('Closed ends', caps.text, 'result-end-caps', caps.title));
+      d.endCapsBaseTooNarrow = r.end_caps.base_too_narrow ? '1' : '0';
+      rows.push(...row('Closed ends', caps.text, 'result-end-caps', caps.title, r.end_caps.base_too_narrow === true));
     }
     const chords = valveChordsText(r.valve_chords, r.valveChordNote);
     if (chords) {

@@ -141,11 +141,21 @@ export function pastDataText(
  * The result panel's "Closed ends" figure for the close-open-ends option: which ends the core
  * closed with lid points, short for the narrow value column ("base · 64 pts", "both · 130 pts",
  * "base · apex floor · 13 pts" when a short-axis-only apex got the apex floor's one point), with
- * the long form for the tooltip ("base closed (64 lid points)"). Null when the option was off
- * (nothing to say beyond "Past the data").
+ * the long form for the tooltip ("base closed (64 lid points)"); "base open" when the base wanted
+ * a lid and its outline had no room for one (`note`: the core's sentence). Null when the option
+ * was off (nothing to say beyond "Past the data").
  */
-export function endCapsText(e: EndCaps): { text: string; title: string } | null {
+export function endCapsText(e: EndCaps, note?: string | null): { text: string; title: string } | null {
   if (e.mode !== 'auto') return null;
+  if (e.base_too_narrow) {
+    // Not "none needed": the base wanted a lid and got none, which the volume feels.
+    const open = {
+      text: 'base open',
+      title: `base left open: ${note ?? 'no contour closes the base, and at this attractor spacing its outline has no room for lid points, which stay two spacings in from its rim: no lid holds it, so the surface runs on past the data there; more attractors (or a smaller attractor spacing) lay the lid'}`,
+    };
+    const rest = endCapsText({ ...e, base_too_narrow: false });
+    return rest && e.points > 0 ? { text: `${open.text} · ${rest.text}`, title: `${open.title}; ${rest.title}` } : open;
+  }
   const floor = e.apex_floor === true;
   // The floor is one point at the apex, not a lid across it: named apart from the lids.
   const lids = [e.base ? 'base' : '', e.apex && !floor ? 'apex' : ''].filter(Boolean);

@@ -524,6 +524,10 @@ fn surface_text(s: &Value, crossing: Option<String>) -> String {
         } else {
             "base"
         });
+    } else if on("base_too_narrow") {
+        ends.push(
+            "the base left open (its outline has no room for them at this attractor spacing)",
+        );
     }
     if on("apex") {
         ends.push(if on("apex_floor") {
@@ -589,4 +593,32 @@ pub(crate) fn range_text(info: &Value) -> String {
         .map(|s| format!(", {s}"))
         .unwrap_or_default();
     format!("\n  coordinates (mm{frame}): {}", axes.join(", "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lid line names a base left open for want of room (not silence, which reads as "no
+    /// lid needed"), and a lidded base as before.
+    #[test]
+    fn a_base_too_narrow_for_a_lid_is_named() {
+        let surface = |caps: Value| json!({"surface": "RV_ENDO", "contours": 3, "end_caps": caps});
+        let open = surface_text(
+            &surface(
+                json!({"mode": "auto", "base": false, "apex": false, "points": 0,
+                            "base_too_narrow": true}),
+            ),
+            None,
+        );
+        assert!(
+            open.contains("(--end-caps off: none): the base left open (its outline has no room"),
+            "{open}"
+        );
+        let lidded = surface_text(
+            &surface(json!({"mode": "auto", "base": true, "apex": false, "points": 11})),
+            None,
+        );
+        assert!(lidded.ends_with("(--end-caps off: none): base"), "{lidded}");
+    }
 }

@@ -544,6 +544,40 @@ fn end_caps_flag_and_report() {
         num(&off, &["past_data", "base_mm"]),
     );
     assert!(base_on < 1.5 && base_off > 2.0, "{base_on} / {base_off}");
+    assert!(on["end_caps"].get("base_too_narrow").is_none());
+    // A hundred attractors (about 8 mm apart) keep lid points 16 mm in from the rim: the SurFCo
+    // base has no room for one. The report and a note say the base was left open (rather than
+    // reporting no lid needed), and the mesh runs on past the data as without caps.
+    let few = dir.join("few.json");
+    let (code, _, err) = run(bin().args([
+        "reconstruct",
+        s(&data("contours/surfco-example.csv")),
+        "-o",
+        s(&dir.join("few.obj")),
+        "--report",
+        s(&few),
+        "--attractors",
+        "100",
+    ]));
+    assert_eq!(code, 0, "{err}");
+    let few: serde_json::Value = serde_json::from_slice(&std::fs::read(&few).unwrap()).unwrap();
+    assert_eq!(
+        few["end_caps"],
+        serde_json::json!({"mode": "auto", "base": false, "apex": false, "points": 0,
+                           "base_too_narrow": true})
+    );
+    let base_few = num(&few, &["past_data", "base_mm"]);
+    assert!(base_few > 2.0, "{base_few}");
+    let note = err
+        .lines()
+        .find(|l| l.contains("no room for lid points"))
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!(
+        note.starts_with("heartmesh: note: ")
+            && note.contains("surfco-example.csv")
+            && note.contains("more attractors"),
+        "{note}"
+    );
     let (code, _, err) = run(bin().args([
         "reconstruct",
         s(&data("contours/surfco-example.csv")),

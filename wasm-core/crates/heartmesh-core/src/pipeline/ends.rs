@@ -46,7 +46,7 @@ use serde::Serialize;
 
 /// Which ends got synthetic lid points, and how many (per attractor resampling: the points are the
 /// same at every resampling). All false / 0 when end caps are off.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct EndCapsReport {
     pub mode: &'static str,
     pub base: bool,
@@ -65,6 +65,17 @@ pub struct EndCapsReport {
     /// overrun. Left out of the JSON when false, like `apex_floor`.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub base_ceiling: bool,
+    /// Whether the base needed a lid (no contour closes it) but its outline has no room for lid
+    /// points two attractor spacings in from its rim (a crescent RV base at a few dozen
+    /// attractors), so nothing holds it and the spline carries the surface on past the data
+    /// there. Said, rather than reported as "no lid needed", because the volume then depends on
+    /// the attractor count (biv-me patient 1 ED RV: 218 ml at 100 attractors, 183 ml at 200).
+    /// Left out of the JSON when false.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub base_too_narrow: bool,
+    /// The attractor spacing (mm) the lids were laid at: for the note of a base too narrow.
+    #[serde(skip)]
+    pub spacing_mm: f64,
 }
 
 impl EndCapsReport {
@@ -76,7 +87,23 @@ impl EndCapsReport {
             points: 0,
             apex_floor: false,
             base_ceiling: false,
+            base_too_narrow: false,
+            spacing_mm: 0.0,
         }
+    }
+
+    /// A sentence for a base left without a lid for want of room ([`Self::base_too_narrow`]),
+    /// saying what lays one.
+    pub fn note(&self) -> Option<String> {
+        self.base_too_narrow.then(|| {
+            format!(
+                "no contour closes the base, and at this attractor spacing ({:.1} mm) its outline \
+                 has no room for lid points, which stay two spacings in from its rim: no lid holds \
+                 it, so the surface runs on past the data there (past_data.base_mm); more \
+                 attractors (or a smaller attractor spacing) lay the lid",
+                self.spacing_mm
+            )
+        })
     }
 }
 
@@ -415,6 +442,7 @@ pub fn end_cap_points(
     if mode == EndCapMode::Off {
         return (points, sides, report);
     }
+    report.spacing_mm = spacing;
     let ends = [
         (rings.first(), lids.apex, -1.0),
         (rings.last(), lids.base, 1.0),
@@ -472,6 +500,8 @@ pub fn end_cap_points(
             });
         }
         if disc.is_empty() {
+            // An apex ring too small for a lid is closed by its own wall points; a base is not.
+            report.base_too_narrow |= outward > 0.0;
             continue;
         }
         if outward > 0.0 {
@@ -711,6 +741,60 @@ mod tests {
         assert!(none.is_empty());
         assert_eq!(off, EndCapsReport::none(EndCapMode::Off));
         assert_eq!(off.mode, "off");
+        // A lid laid: nothing to say.
+        assert!(!report.base_too_narrow && report.note().is_none());
+        assert!(!serde_json::to_string(&report)
+            .unwrap()
+            .contains("too_narrow"));
+    }
+
+    /// Attractors 6 mm apart keep lid points 12 mm in from the rim: a radius-10 base has no room
+    /// for any, and the report says so (not "no lid needed"), naming the spacing; the apex, which
+    /// its long-axis curve reaches, is closed by its wall's points and is not flagged.
+    #[test]
+    fn a_base_without_room_for_a_lid_is_reported_open() {
+        let rings = vec![circle(10.0, 0.0, 40), circle(10.0, 20.0, 40)];
+        let lids = Lids {
+            apex: Some(v3(0.0, 0.0, -8.0)),
+            base: Some(v3(0.0, 0.0, 20.0)),
+        };
+        let u: Vec<Vec3> = (0..=20)
+            .map(|i| {
+                v3(
+                    -10.0 + i as f64,
+                    0.0,
+                    20.0 * ((i as f64 - 10.0) / 10.0).powi(2),
+                )
+            })
+            .collect();
+        let (contours, kinds) = ([lax(u)], [ContourKind::Lax]);
+        let caps = |spacing| {
+            end_cap_points(
+                EndCapMode::Auto,
+                false,
+                &rings,
+                &lids,
+                &contours,
+                &kinds,
+                &Z,
+                spacing,
+                100,
+            )
+        };
+        let (pts, _, report) = caps(6.0);
+        assert!(pts.is_empty());
+        assert!(!report.base && !report.apex && report.base_too_narrow);
+        let note = report.note().unwrap();
+        assert!(
+            note.contains("(6.0 mm)") && note.contains("more attractors"),
+            "{note}"
+        );
+        let json = serde_json::to_value(report).unwrap();
+        assert_eq!(json["base_too_narrow"], true);
+        assert!(json.get("spacing_mm").is_none());
+        // At 2 mm the same base gets its lid.
+        let (pts, _, report) = caps(2.0);
+        assert!(report.base && !pts.is_empty() && !report.base_too_narrow);
     }
 
     /// Short-axis rings only (radius 10 at z = 0 and z = 20, no long-axis curve): the apex gets no
