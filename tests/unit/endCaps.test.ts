@@ -173,12 +173,12 @@ describe('end caps in the panels', () => {
     expect(endCapsText({ mode: 'off', base: true, apex: true, points: 10 })).toBeNull();
   });
 
-  it('a base left open for want of room is said, amber, with the core\'s sentence; never "none needed"', () => {
+  it('a base left open for want of room is said (amber with the core\'s sentence when it runs on); never "none needed"', () => {
     const open = { mode: 'auto' as const, base: false, apex: false, points: 0, base_too_narrow: true };
-    const note = 'no contour closes the base, and at this attractor spacing (14.5 mm) its outline has no room for lid points';
+    const note = 'no contour closes the base, and at this attractor spacing (14.5 mm) its outline has no room for lid points, which stay two spacings in from its rim: nothing holds the base and it runs on 5.7 mm past the data';
     expect(endCapsText(open, note)).toEqual({ text: 'base open', title: `base left open: ${note}` });
     // Without the sentence (an older result): the app's own.
-    expect(endCapsText(open)?.title).toMatch(/^base left open: no contour closes the base, .* more attractors \(or a smaller attractor spacing\) lay the lid$/);
+    expect(endCapsText(open)?.title).toMatch(/^base left open: no contour closes the base, .* the spline carries the base, as with Close open ends off \(Past the data says how far it runs on\); more attractors \(or a smaller attractor spacing\) lay a lid$/);
     // With an apex lid beside it: both said.
     expect(endCapsText({ ...open, apex: true, points: 9 }, note)?.text).toBe('base open · apex · 9 pts');
     const panel = new ResultPanel();
@@ -188,6 +188,11 @@ describe('end caps in the panels', () => {
     expect(el.byTestId('result-end-caps')?.getAttribute('class')).toBe('warn');
     expect(el.byTestId('result-end-caps')?.title).toContain('(14.5 mm)');
     expect((panel.element as unknown as FakeElement).dataset.endCapsBaseTooNarrow).toBe('1');
+    // Open but stopping near the data (no note from the core): said, not amber.
+    panel.show(result({ pastData: { base_mm: 0.5, apex_mm: 0.6 }, end_caps: open, endCapNote: null }));
+    expect(rows(el)['Closed ends']).toBe('base open');
+    expect(el.byTestId('result-end-caps')?.getAttribute('class')).toBeNull();
+    expect(el.byTestId('result-end-caps')?.title).toMatch(/Past the data says how far it runs on/);
     panel.show(result({ end_caps: { mode: 'auto', base: true, apex: false, points: 11 } }));
     expect(rows(el)['Closed ends']).toBe('base · 11 pts');
     expect(el.byTestId('result-end-caps')?.getAttribute('class')).toBeNull();

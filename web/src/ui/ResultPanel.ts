@@ -136,7 +136,8 @@ export class ResultPanel {
       d.endCapsBaseCeiling = r.end_caps.base_ceiling ? '1' : '0';
       d.endCapsPoints = String(r.end_caps.points);
       d.endCapsBaseTooNarrow = r.end_caps.base_too_narrow ? '1' : '0';
-      rows.push(...row('Closed ends', caps.text, 'result-end-caps', caps.title, r.end_caps.base_too_narrow === true));
+      // Amber only for an open base the core says runs on past the data.
+      rows.push(...row('Closed ends', caps.text, 'result-end-caps', caps.title, r.end_caps.base_too_narrow === true && !!r.endCapNote));
     }
     const chords = valveChordsText(r.valve_chords, r.valveChordNote);
     if (chords) {

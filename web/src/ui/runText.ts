@@ -142,16 +142,18 @@ export function pastDataText(
  * closed with lid points, short for the narrow value column ("base · 64 pts", "both · 130 pts",
  * "base · apex floor · 13 pts" when a short-axis-only apex got the apex floor's one point), with
  * the long form for the tooltip ("base closed (64 lid points)"); "base open" when the base wanted
- * a lid and its outline had no room for one (`note`: the core's sentence). Null when the option
+ * a lid and its outline had no room for one (`note`: the core's sentence, given when that base
+ * runs on past the data). Null when the option
  * was off (nothing to say beyond "Past the data").
  */
 export function endCapsText(e: EndCaps, note?: string | null): { text: string; title: string } | null {
   if (e.mode !== 'auto') return null;
   if (e.base_too_narrow) {
-    // Not "none needed": the base wanted a lid and got none, which the volume feels.
+    // Not "none needed": the base wanted a lid and got none. The core's sentence comes only
+    // with a base that then runs on past the data.
     const open = {
       text: 'base open',
-      title: `base left open: ${note ?? 'no contour closes the base, and at this attractor spacing its outline has no room for lid points, which stay two spacings in from its rim: no lid holds it, so the surface runs on past the data there; more attractors (or a smaller attractor spacing) lay the lid'}`,
+      title: `base left open: ${note ?? 'no contour closes the base, and at this attractor spacing its outline has no room for lid points, which stay two spacings in from its rim: the spline carries the base, as with Close open ends off (Past the data says how far it runs on); more attractors (or a smaller attractor spacing) lay a lid'}`,
     };
     const rest = endCapsText({ ...e, base_too_narrow: false });
     return rest && e.points > 0 ? { text: `${open.text} · ${rest.text}`, title: `${open.title}; ${rest.title}` } : open;

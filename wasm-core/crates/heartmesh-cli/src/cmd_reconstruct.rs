@@ -67,9 +67,10 @@ pub const USAGE: &str =
   tips; where none does (short-axis only), at the apex the apex floor below (none with
   --no-apex-floor: extrapolated) and at the base a ceiling one slice spacing beyond the basal
   slice; they are not data (never in the distances); the report's
-  end_caps says which ends got them and how many (end_caps.base_too_narrow and a note: the base
-  wanted a lid but its outline has no room for points two attractor spacings in from its rim,
-  as an RV crescent at a few dozen attractors; more attractors lay it); --end-caps off leaves such ends to
+  end_caps says which ends got them and how many (end_caps.base_too_narrow: the base wanted a
+  lid but its outline has no room for points two attractor spacings in from its rim, as an RV
+  crescent may at a few dozen attractors; a note when it then runs on over 5 mm past the data);
+  --end-caps off leaves such ends to
   extrapolation (the paper's method);
   with end caps on, an apex no long-axis curve reaches (short-axis-only files) gets by default
   one lid point at the tip the most apical slices' taper predicts (the apex floor: slice area
@@ -485,7 +486,7 @@ impl Run<'_> {
             if let Some(note) = rec.valve_chord_note() {
                 self.say(format!("heartmesh: note: {input}: {note}"));
             }
-            if let Some(note) = rec.end_caps().note() {
+            if let Some(note) = rec.end_cap_note() {
                 self.say(format!("heartmesh: note: {input}: {note}"));
             }
             if let Some(w) = rec.skipped_remesh_note() {

@@ -545,36 +545,49 @@ fn end_caps_flag_and_report() {
     );
     assert!(base_on < 1.5 && base_off > 2.0, "{base_on} / {base_off}");
     assert!(on["end_caps"].get("base_too_narrow").is_none());
-    // A hundred attractors (about 8 mm apart) keep lid points 16 mm in from the rim: the SurFCo
-    // base has no room for one. The report and a note say the base was left open (rather than
-    // reporting no lid needed), and the mesh runs on past the data as without caps.
-    let few = dir.join("few.json");
-    let (code, _, err) = run(bin().args([
-        "reconstruct",
-        s(&data("contours/surfco-example.csv")),
-        "-o",
-        s(&dir.join("few.obj")),
-        "--report",
-        s(&few),
-        "--attractors",
-        "100",
-    ]));
-    assert_eq!(code, 0, "{err}");
-    let few: serde_json::Value = serde_json::from_slice(&std::fs::read(&few).unwrap()).unwrap();
-    assert_eq!(
-        few["end_caps"],
-        serde_json::json!({"mode": "auto", "base": false, "apex": false, "points": 0,
-                           "base_too_narrow": true})
+    // A hundred attractors (about 8 mm apart) keep lid points 16 mm in from the rim: neither the
+    // SurFCo base nor patient 1's RV crescent has room for one. The report says the base was left
+    // open (rather than reporting no lid needed); a note says so where the base then runs on over
+    // 5 mm past the data (the RV), not where it stops near it (SurFCo, 2.7 mm).
+    let few = |input: &str, surface: &[&str], name: &str| {
+        let rep = dir.join(format!("{name}.json"));
+        let mut cmd = bin();
+        cmd.args(["reconstruct", s(&data(input))])
+            .args(surface)
+            .args([
+                "-o",
+                s(&dir.join(format!("{name}.obj"))),
+                "--report",
+                s(&rep),
+            ])
+            .args(["--attractors", "100"]);
+        let (code, _, err) = run(&mut cmd);
+        assert_eq!(code, 0, "{err}");
+        let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&rep).unwrap()).unwrap();
+        let open = serde_json::json!({"mode": "auto", "base": false, "apex": false, "points": 0,
+                                      "base_too_narrow": true});
+        assert_eq!(r["end_caps"], open, "{name}");
+        let note = err
+            .lines()
+            .find(|l| l.contains("no room for lid points"))
+            .map(str::to_owned);
+        (num(&r, &["past_data", "base_mm"]), note)
+    };
+    let (surfco_past, surfco_note) = few("contours/surfco-example.csv", &[], "surfco-few");
+    assert!(surfco_past > 2.0 && surfco_past < 5.0, "{surfco_past}");
+    assert_eq!(surfco_note, None);
+    let rv = ["--surface", "RV_ENDO"];
+    let (rv_past, rv_note) = few(
+        "contours/bivme-example-patient1/patient1-ED.csv",
+        &rv,
+        "rv-few",
     );
-    let base_few = num(&few, &["past_data", "base_mm"]);
-    assert!(base_few > 2.0, "{base_few}");
-    let note = err
-        .lines()
-        .find(|l| l.contains("no room for lid points"))
-        .unwrap_or_else(|| panic!("{err}"));
+    assert!(rv_past > 5.0, "{rv_past}");
+    let note = rv_note.expect("a note for the RV base that runs on");
     assert!(
         note.starts_with("heartmesh: note: ")
-            && note.contains("surfco-example.csv")
+            && note.contains("patient1-ED.csv")
+            && note.contains(&format!("runs on {rv_past:.1} mm past the data"))
             && note.contains("more attractors"),
         "{note}"
     );

@@ -184,9 +184,10 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         "volumeMl": mesh.volume_ml(),
         "pastData": rec.past_data(),
         // Which ends no curve closes got synthetic lid points (per resampling; not data), and
-        // the core's sentence for a base too narrow for any (null otherwise).
+        // the core's sentence for a base too narrow for any that runs on past the data (null
+        // otherwise).
         "end_caps": rec.end_caps(),
-        "endCapNote": rec.end_caps().note(),
+        "endCapNote": rec.end_cap_note(),
         // Long-axis curves closed across the valve that the mesh was fitted to opened there,
         // and the core's sentence about them (null when none).
         "valve_chords": rec.valve_chords(),

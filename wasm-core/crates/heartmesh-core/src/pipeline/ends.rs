@@ -66,11 +66,12 @@ pub struct EndCapsReport {
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub base_ceiling: bool,
     /// Whether the base needed a lid (no contour closes it) but its outline has no room for lid
-    /// points two attractor spacings in from its rim (a crescent RV base at a few dozen
-    /// attractors), so nothing holds it and the spline carries the surface on past the data
-    /// there. Said, rather than reported as "no lid needed", because the volume then depends on
-    /// the attractor count (biv-me patient 1 ED RV: 218 ml at 100 attractors, 183 ml at 200).
-    /// Left out of the JSON when false.
+    /// points two attractor spacings in from its rim (an RV crescent, or any outline at a few
+    /// dozen attractors), so the spline carries the base as with end caps off. Reported, rather
+    /// than as "no lid needed", because such a base may run on past the data and the volume with
+    /// it (biv-me patient 1 ED RV: 218 ml at 100 attractors, 183 ml at 200), or not (the RV
+    /// phantom sliced from the same patient's model: 0-2 mm at the defaults, its long-axis curve
+    /// holding it); [`Self::note`] speaks only of an overrun. Left out of the JSON when false.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub base_too_narrow: bool,
     /// The attractor spacing (mm) the lids were laid at: for the note of a base too narrow.
@@ -92,20 +93,27 @@ impl EndCapsReport {
         }
     }
 
-    /// A sentence for a base left without a lid for want of room ([`Self::base_too_narrow`]),
-    /// saying what lays one.
-    pub fn note(&self) -> Option<String> {
-        self.base_too_narrow.then(|| {
+    /// A sentence for a base left without a lid for want of room ([`Self::base_too_narrow`])
+    /// that runs on more than [`OPEN_BASE_NOTE_MM`] past the data (`past_base_mm`, the run's
+    /// `past_data.base_mm`), saying what lays one. None for a base that stops near its data.
+    pub fn note(&self, past_base_mm: f64) -> Option<String> {
+        (self.base_too_narrow && past_base_mm > OPEN_BASE_NOTE_MM).then(|| {
             format!(
                 "no contour closes the base, and at this attractor spacing ({:.1} mm) its outline \
-                 has no room for lid points, which stay two spacings in from its rim: no lid holds \
-                 it, so the surface runs on past the data there (past_data.base_mm); more \
-                 attractors (or a smaller attractor spacing) lay the lid",
-                self.spacing_mm
+                 has no room for lid points, which stay two spacings in from its rim: nothing \
+                 holds the base and it runs on {:.1} mm past the data; more attractors (or a \
+                 smaller attractor spacing) lay a lid",
+                self.spacing_mm, past_base_mm
             )
         })
     }
 }
+
+/// How far past the data a base left without a lid ([`EndCapsReport::base_too_narrow`]) must
+/// run for the run to say so: the app's "Past the data" turns amber at the same 5 mm
+/// (`PAST_DATA_NOTE_MM` in web/src/ui/runText.ts), where the end's share of the volume is
+/// extrapolated rather than a rim's rounding.
+pub const OPEN_BASE_NOTE_MM: f64 = 5.0;
 
 /// Data weight of a lid point (contour points have 1, before conflict softening): enough to hold
 /// an end no curve closes, low enough that real contours win where they disagree. Swept on the
@@ -742,15 +750,16 @@ mod tests {
         assert_eq!(off, EndCapsReport::none(EndCapMode::Off));
         assert_eq!(off.mode, "off");
         // A lid laid: nothing to say.
-        assert!(!report.base_too_narrow && report.note().is_none());
+        assert!(!report.base_too_narrow && report.note(20.0).is_none());
         assert!(!serde_json::to_string(&report)
             .unwrap()
             .contains("too_narrow"));
     }
 
     /// Attractors 6 mm apart keep lid points 12 mm in from the rim: a radius-10 base has no room
-    /// for any, and the report says so (not "no lid needed"), naming the spacing; the apex, which
-    /// its long-axis curve reaches, is closed by its wall's points and is not flagged.
+    /// for any, and the report says so (not "no lid needed"); the note, only for a base that then
+    /// runs on past the data, names the spacing. The apex, which its long-axis curve reaches, is
+    /// closed by its wall's points and is not flagged.
     #[test]
     fn a_base_without_room_for_a_lid_is_reported_open() {
         let rings = vec![circle(10.0, 0.0, 40), circle(10.0, 20.0, 40)];
@@ -784,11 +793,15 @@ mod tests {
         let (pts, _, report) = caps(6.0);
         assert!(pts.is_empty());
         assert!(!report.base && !report.apex && report.base_too_narrow);
-        let note = report.note().unwrap();
+        // Said when the base runs on past the data (past 5 mm), with the spacing and the overrun.
+        let note = report.note(7.25).unwrap();
         assert!(
-            note.contains("(6.0 mm)") && note.contains("more attractors"),
+            note.contains("(6.0 mm)")
+                && note.contains("runs on 7.2 mm past")
+                && note.contains("more attractors"),
             "{note}"
         );
+        assert!(report.note(OPEN_BASE_NOTE_MM).is_none());
         let json = serde_json::to_value(report).unwrap();
         assert_eq!(json["base_too_narrow"], true);
         assert!(json.get("spacing_mm").is_none());

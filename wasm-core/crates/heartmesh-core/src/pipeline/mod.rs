@@ -602,6 +602,13 @@ impl Reconstruction {
         self.end_caps
     }
 
+    /// The sentence for a base its outline left without a lid that runs on past the data
+    /// ([`ends::EndCapsReport::note`]); None otherwise.
+    pub fn end_cap_note(&self) -> Option<String> {
+        let past = self.past_data()?;
+        self.end_caps.note(past.base_mm)
+    }
+
     /// The selected surface's contours after cleaning, in mm (without those left out:
     /// [`Reconstruction::set_aside`]).
     pub fn contours(&self) -> &[Contour] {
