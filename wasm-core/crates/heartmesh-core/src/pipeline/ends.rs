@@ -699,13 +699,20 @@ mod tests {
         assert!((plane.height_at(&v3(-10.0, 0.0, 0.0), &Z) - 20.0).abs() < 1e-9);
     }
 
-    #[test]
-    fn caps_only_where_no_curve_closes() {
+    /// Two radius-10 rings 20 mm apart, the apex lid 8 mm below the lower, the base lid at the
+    /// upper.
+    fn two_rings() -> (Vec<Vec<Vec3>>, Lids) {
         let rings = vec![circle(10.0, 0.0, 40), circle(10.0, 20.0, 40)];
         let lids = Lids {
             apex: Some(v3(0.0, 0.0, -8.0)),
             base: Some(v3(0.0, 0.0, 20.0)),
         };
+        (rings, lids)
+    }
+
+    #[test]
+    fn caps_only_where_no_curve_closes() {
+        let (rings, lids) = two_rings();
         let u: Vec<Vec3> = (0..=20)
             .map(|i| {
                 let x = -10.0 + i as f64;
@@ -762,11 +769,7 @@ mod tests {
     /// closed by its wall's points and is not flagged.
     #[test]
     fn a_base_without_room_for_a_lid_is_reported_open() {
-        let rings = vec![circle(10.0, 0.0, 40), circle(10.0, 20.0, 40)];
-        let lids = Lids {
-            apex: Some(v3(0.0, 0.0, -8.0)),
-            base: Some(v3(0.0, 0.0, 20.0)),
-        };
+        let (rings, lids) = two_rings();
         let u: Vec<Vec3> = (0..=20)
             .map(|i| {
                 v3(
