@@ -247,8 +247,9 @@ export interface EndCaps {
   base_ceiling?: boolean;
   /**
    * No contour closes the base and its outline had no room for lid points two attractor spacings
-   * in from its rim (a crescent RV base at a few dozen attractors): nothing holds it, and the
-   * surface runs on past the data there. Absent when not (the core writes it only when true).
+   * in from its rim (an RV crescent, or any outline at a few dozen attractors): the spline
+   * carries the base, which may run on past the data (`endCapNote` says so beyond 5 mm) or not
+   * (a long-axis curve holding it). Absent when not (the core writes it only when true).
    */
   base_too_narrow?: boolean;
 }
@@ -361,7 +362,7 @@ export interface RunResult {
    */
   valve_chords?: string[];
   valveChordNote?: string | null;
-  /** The core's sentence for a base too narrow for a lid (`end_caps.base_too_narrow`); null otherwise. */
+  /** The core's sentence for a base too narrow for a lid (`end_caps.base_too_narrow`) that runs on more than 5 mm past the data; null otherwise. */
   endCapNote?: string | null;
   /**
    * Remeshes the core skipped because each would have wrecked the surface (a collapse, a
