@@ -197,6 +197,24 @@ describe('end caps in the panels', () => {
     expect(rows(el)['Closed ends']).toBe('base · 11 pts');
     expect(el.byTestId('result-end-caps')?.getAttribute('class')).toBeNull();
   });
+
+  it('a base that got its lid nearer the rim mid-run says so and when, not amber', () => {
+    const late = { mode: 'auto' as const, base: true, apex: false, points: 11, base_too_narrow: true, base_rim_lid_at: 176 };
+    const t = endCapsText(late, null);
+    expect(t?.text).toBe('rim lid · 11 pts');
+    expect(t?.title).toMatch(/^base closed \(11 lid points\): .*; base rim lid: .* at step 176 its lid was laid nearer the rim$/);
+    // With an apex lid too, and a ceiling (no long-axis curve reaches the base).
+    expect(endCapsText({ ...late, apex: true, points: 20, base_ceiling: true })?.text).toBe('both, rim · 20 pts');
+    expect(endCapsText({ ...late, apex: true, points: 20, base_ceiling: true })?.title).toContain('a ceiling one slice spacing beyond');
+    const panel = new ResultPanel();
+    const el = panel.element as unknown as FakeElement;
+    panel.show(result({ pastData: { base_mm: 0.1, apex_mm: 0.6 }, end_caps: late, endCapNote: null }));
+    expect(rows(el)['Closed ends']).toBe('rim lid · 11 pts');
+    expect(el.byTestId('result-end-caps')?.getAttribute('class')).toBeNull();
+    expect(el.dataset.endCapsBaseRimLidAt).toBe('176');
+    panel.show(result({ end_caps: { mode: 'auto', base: true, apex: false, points: 11 } }));
+    expect(el.dataset.endCapsBaseRimLidAt).toBe('');
+  });
 });
 
 describe('valve chords in the result panel', () => {

@@ -252,6 +252,12 @@ export interface EndCaps {
    * (a long-axis curve holding it). Absent when not (the core writes it only when true).
    */
   base_too_narrow?: boolean;
+  /**
+   * The step at which such a base, seen running on more than 5 mm past the data, got its lid
+   * nearer the rim (the core's late rim lid; `base` and `points` then count it). Absent when none
+   * was laid.
+   */
+  base_rim_lid_at?: number;
 }
 
 /** The mesh checks of a finished run (`result_json().quality`). */

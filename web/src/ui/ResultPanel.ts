@@ -136,6 +136,7 @@ export class ResultPanel {
       d.endCapsBaseCeiling = r.end_caps.base_ceiling ? '1' : '0';
       d.endCapsPoints = String(r.end_caps.points);
       d.endCapsBaseTooNarrow = r.end_caps.base_too_narrow ? '1' : '0';
+      d.endCapsBaseRimLidAt = String(r.end_caps.base_rim_lid_at ?? '');
       // Amber only for an open base the core says runs on past the data.
       rows.push(...row('Closed ends', caps.text, 'result-end-caps', caps.title, r.end_caps.base_too_narrow === true && !!r.endCapNote));
     }

@@ -143,11 +143,20 @@ export function pastDataText(
  * "base · apex floor · 13 pts" when a short-axis-only apex got the apex floor's one point), with
  * the long form for the tooltip ("base closed (64 lid points)"); "base open" when the base wanted
  * a lid and its outline had no room for one (`note`: the core's sentence, given when that base
- * runs on past the data). Null when the option
- * was off (nothing to say beyond "Past the data").
+ * runs on past the data); "rim lid" ("both, rim" with an apex lid) when such a base, seen running on past the data, got
+ * its lid nearer the rim mid-run (`base_rim_lid_at`, the step). Null when the option was off
+ * (nothing to say beyond "Past the data").
  */
 export function endCapsText(e: EndCaps, note?: string | null): { text: string; title: string } | null {
   if (e.mode !== 'auto') return null;
+  const lateAt = e.base_rim_lid_at;
+  if (e.base_too_narrow && lateAt != null && e.base) {
+    const lids = endCapsText({ ...e, base_too_narrow: false, base_rim_lid_at: undefined });
+    const late =
+      `base rim lid: no contour closes the base and its outline had no room for lid points two attractor spacings in from its rim; it ran on more than 5 mm past the data, so at step ${lateAt} its lid was laid nearer the rim`;
+    const text = lids?.text.replace(/^base/, 'rim lid').replace(/^both/, 'both, rim');
+    return lids && text ? { text, title: `${lids.title}; ${late}` } : null;
+  }
   if (e.base_too_narrow) {
     // Not "none needed": the base wanted a lid and got none. The core's sentence comes only
     // with a base that then runs on past the data.

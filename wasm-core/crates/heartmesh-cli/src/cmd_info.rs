@@ -526,7 +526,8 @@ fn surface_text(s: &Value, crossing: Option<String>) -> String {
         });
     } else if on("base_too_narrow") {
         ends.push(
-            "the base left open (its outline has no room for them at this attractor spacing)",
+            "the base left open (its outline has no room for them at this attractor spacing; \
+             should it run on over 5 mm past the data, the run lays them nearer its rim)",
         );
     }
     if on("apex") {

@@ -69,7 +69,9 @@ pub const USAGE: &str =
   slice; they are not data (never in the distances); the report's
   end_caps says which ends got them and how many (end_caps.base_too_narrow: the base wanted a
   lid but its outline has no room for points two attractor spacings in from its rim, as an RV
-  crescent may at a few dozen attractors; a note when it then runs on over 5 mm past the data);
+  crescent may at a hundred attractors or fewer; if such a base runs on over 5 mm past the data,
+  at an attractor resampling from iteration 51 on its lid is laid nearer the rim,
+  end_caps.base_rim_lid_at the iteration; a note when none fits even there);
   --end-caps off leaves such ends to
   extrapolation (the paper's method);
   with end caps on, an apex no long-axis curve reaches (short-axis-only files) gets by default

@@ -547,9 +547,11 @@ fn end_caps_flag_and_report() {
     assert!(on["end_caps"].get("base_too_narrow").is_none());
     // A hundred attractors (about 8 mm apart) keep lid points 16 mm in from the rim: neither the
     // SurFCo base nor patient 1's RV crescent has room for one. The report says the base was left
-    // open (rather than reporting no lid needed); a note says so where the base then runs on over
-    // 5 mm past the data (the RV), not where it stops near it (SurFCo, 2.7 mm).
-    let few = |input: &str, surface: &[&str], name: &str| {
+    // open (rather than reporting no lid needed). SurFCo's base stops near the data (2.7 mm) and
+    // stays so; the RV's runs on, so mid-run it gets its lid nearer the rim (`rim_lid`) and ends
+    // near the data, its volume near the defaults' (183 ml; 218 ml without that lid). At 20
+    // attractors even the rim has no room: a note says the base runs on.
+    let run_at = |input: &str, surface: &[&str], attractors: &str, name: &str| {
         let rep = dir.join(format!("{name}.json"));
         let mut cmd = bin();
         cmd.args(["reconstruct", s(&data(input))])
@@ -560,33 +562,53 @@ fn end_caps_flag_and_report() {
                 "--report",
                 s(&rep),
             ])
-            .args(["--attractors", "100"]);
+            .args(["--attractors", attractors]);
         let (code, _, err) = run(&mut cmd);
         assert_eq!(code, 0, "{err}");
         let r: serde_json::Value = serde_json::from_slice(&std::fs::read(&rep).unwrap()).unwrap();
-        let open = serde_json::json!({"mode": "auto", "base": false, "apex": false, "points": 0,
-                                      "base_too_narrow": true});
-        assert_eq!(r["end_caps"], open, "{name}");
         let note = err
             .lines()
             .find(|l| l.contains("no room for lid points"))
             .map(str::to_owned);
-        (num(&r, &["past_data", "base_mm"]), note)
+        (r, note)
     };
-    let (surfco_past, surfco_note) = few("contours/surfco-example.csv", &[], "surfco-few");
+    let open = serde_json::json!({"mode": "auto", "base": false, "apex": false, "points": 0,
+                                  "base_too_narrow": true});
+    let (surfco, surfco_note) = run_at("contours/surfco-example.csv", &[], "100", "surfco-few");
+    assert_eq!(surfco["end_caps"], open);
+    let surfco_past = num(&surfco, &["past_data", "base_mm"]);
     assert!(surfco_past > 2.0 && surfco_past < 5.0, "{surfco_past}");
     assert_eq!(surfco_note, None);
-    let rv = ["--surface", "RV_ENDO"];
-    let (rv_past, rv_note) = few(
+    let (rv, p1) = (
+        ["--surface", "RV_ENDO"],
         "contours/bivme-example-patient1/patient1-ED.csv",
-        &rv,
-        "rv-few",
     );
+    let (rv_default, _) = run_at(p1, &rv, "0", "rv-default");
+    assert!(rv_default["end_caps"].get("base_too_narrow").is_none());
+    let (rv100, rv100_note) = run_at(p1, &rv, "100", "rv-100");
+    let caps = &rv100["end_caps"];
+    assert_eq!(caps["base_too_narrow"], true);
+    assert_eq!(caps["base"], true);
+    let at = num(&rv100, &["end_caps", "base_rim_lid_at"]) as usize;
+    // At an attractor resampling (every 25 iterations), from the second on.
+    assert!(at > 50 && (at - 1).is_multiple_of(25), "{at}");
+    assert!(num(&rv100, &["end_caps", "points"]) >= 1.0);
+    assert!(num(&rv100, &["past_data", "base_mm"]) < 2.0);
+    let (v100, v) = (
+        num(&rv100, &["volume_ml"]),
+        num(&rv_default, &["volume_ml"]),
+    );
+    assert!((v100 - v).abs() < 0.05 * v, "{v100} ml vs {v} ml");
+    assert_eq!(rv100_note, None);
+    let (rv20, rv20_note) = run_at(p1, &rv, "20", "rv-20");
+    assert_eq!(rv20["end_caps"], open);
+    let rv_past = num(&rv20, &["past_data", "base_mm"]);
     assert!(rv_past > 5.0, "{rv_past}");
-    let note = rv_note.expect("a note for the RV base that runs on");
+    let note = rv20_note.expect("a note for the RV base that runs on");
     assert!(
         note.starts_with("heartmesh: note: ")
             && note.contains("patient1-ED.csv")
+            && note.contains("even near its rim")
             && note.contains(&format!("runs on {rv_past:.1} mm past the data"))
             && note.contains("more attractors"),
         "{note}"

@@ -74,6 +74,11 @@ pub struct EndCapsReport {
     /// holding it); [`Self::note`] speaks only of an overrun. Left out of the JSON when false.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub base_too_narrow: bool,
+    /// The iteration at which such a base got its late rim lid ([`super::rim_lid`]: laid nearer
+    /// the rim once the base ran on past the data); `base` and `points` then count it. Left out of
+    /// the JSON when none was laid.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub base_rim_lid_at: Option<usize>,
     /// The attractor spacing (mm) the lids were laid at: for the note of a base too narrow.
     #[serde(skip)]
     pub spacing_mm: f64,
@@ -89,6 +94,7 @@ impl EndCapsReport {
             apex_floor: false,
             base_ceiling: false,
             base_too_narrow: false,
+            base_rim_lid_at: None,
             spacing_mm: 0.0,
         }
     }
@@ -97,12 +103,13 @@ impl EndCapsReport {
     /// that runs on more than [`OPEN_BASE_NOTE_MM`] past the data (`past_base_mm`, the run's
     /// `past_data.base_mm`), saying what lays one. None for a base that stops near its data.
     pub fn note(&self, past_base_mm: f64) -> Option<String> {
-        (self.base_too_narrow && past_base_mm > OPEN_BASE_NOTE_MM).then(|| {
+        let open = self.base_too_narrow && self.base_rim_lid_at.is_none();
+        (open && past_base_mm > OPEN_BASE_NOTE_MM).then(|| {
             format!(
                 "no contour closes the base, and at this attractor spacing ({:.1} mm) its outline \
-                 has no room for lid points, which stay two spacings in from its rim: nothing \
-                 holds the base and it runs on {:.1} mm past the data; more attractors (or a \
-                 smaller attractor spacing) lay a lid",
+                 has no room for lid points, even near its rim: nothing holds the base and it \
+                 runs on {:.1} mm past the data; more attractors (or a smaller attractor \
+                 spacing) lay a lid",
                 self.spacing_mm, past_base_mm
             )
         })
@@ -425,6 +432,125 @@ fn slice_gap(ring: &[Vec3], next: Option<&[Vec3]>, axis: &Vec3) -> f64 {
     }
 }
 
+/// How far in from its rim a lid's points stay.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RimRoom {
+    /// [`RIM_INSET_PER_SPACING`] attractor spacings: the wall's shoulder turns freely into the lid
+    /// (`covering_disc`). Every lid laid at the run's start.
+    TwoSpacings,
+    /// The late rim lid of a base left open ([`super::rim_lid`]): half a spacing's pitch, the
+    /// first of [`RELAXED_INSETS_PER_SPACING`] that holds [`MIN_LID_POINTS`] (`relaxed_disc`).
+    Relaxed,
+}
+
+/// The insets (attractor spacings, widest first) a late rim lid tries: the two spacings' room
+/// of [`RIM_INSET_PER_SPACING`] is what an outline without a lid lacked, so the lid gives some
+/// of the shoulder's room back for a base that would otherwise run on unheld.
+pub const RELAXED_INSETS_PER_SPACING: [f64; 3] = [1.5, 1.0, 0.5];
+
+/// The late rim lid's points: at [`LID_PITCH_FLOOR_PER_SPACING`] of the attractors' `spacing`,
+/// at the widest of [`RELAXED_INSETS_PER_SPACING`] that gives `wanted` points (else the
+/// narrowest's, which gives the most).
+fn relaxed_disc(ring: &[Vec3], lid: &Vec3, axis: &Vec3, spacing: f64, wanted: usize) -> Vec<Vec3> {
+    let pitch = LID_PITCH_FLOOR_PER_SPACING * spacing;
+    let mut disc = Vec::new();
+    for inset in RELAXED_INSETS_PER_SPACING {
+        disc = disc_points(ring, lid, axis, pitch, inset * spacing);
+        if disc.len() >= wanted {
+            break;
+        }
+    }
+    disc
+}
+
+/// One end's lid points and their sides, and what kind of lid it is.
+struct EndPoints {
+    points: Vec<Vec3>,
+    sides: Vec<LidSide>,
+    /// The base lid is the ceiling of a base no long-axis curve reaches ([`EndLid::OpenBase`]).
+    ceiling: bool,
+    /// The apex got its floor point instead of a lid.
+    floor: bool,
+}
+
+/// What the lid of the end `ring` (`outward` as in [`end_lid`]) holds, laid `room` in from its
+/// rim; None where the end needs none (data close it, or an open apex without a floor). Empty
+/// points where the outline has no room for any.
+#[allow(clippy::too_many_arguments)]
+fn end_points(
+    room: RimRoom,
+    apex_floor: bool,
+    (ring, lid, outward): (&[Vec3], Vec3, f64),
+    rings: &[Vec<Vec3>],
+    contours: &[Contour],
+    kinds: &[ContourKind],
+    axis: &Vec3,
+    spacing: f64,
+    real_attractors: usize,
+) -> Option<EndPoints> {
+    // Enough spacing that one end holds at most a share of the real attractors.
+    let c = centroid(ring);
+    let radius = ring.iter().map(|p| (p - c).norm()).sum::<f64>() / ring.len().max(1) as f64;
+    let area = std::f64::consts::PI * radius * radius;
+    let most = (MAX_POINTS_PER_REAL * real_attractors as f64).max(1.0);
+    let pitch = spacing.max((area / most).sqrt());
+    let tolerance = ONE_SIDED_TOLERANCE_PER_SPACING * pitch;
+    let mut ceiling = false;
+    let lid = match end_lid(rings, contours, kinds, axis, outward, tolerance)? {
+        EndLid::OpenApex if apex_floor => {
+            let (q, side) = floor_point(rings, axis, tolerance, END_CAP_WEIGHT)?;
+            return Some(EndPoints {
+                points: vec![q],
+                sides: vec![side],
+                ceiling: false,
+                floor: true,
+            });
+        }
+        EndLid::OpenApex => return None,
+        EndLid::Reached => lid,
+        // The tube's lid of an end no curve reaches lies at the ring's centroid.
+        EndLid::OpenBase(out) => {
+            ceiling = true;
+            c + axis * (outward * out)
+        }
+    };
+    let mut disc = match room {
+        RimRoom::TwoSpacings => covering_disc(ring, &lid, axis, pitch, spacing, most),
+        RimRoom::Relaxed => {
+            let wanted = (MIN_LID_POINTS as f64).min(most.floor()).max(1.0) as usize;
+            relaxed_disc(ring, &lid, axis, spacing, wanted)
+        }
+    };
+    // Without a second ring there is no spacing to read a gap against: least squares.
+    let short = match end_rings(rings, outward).map(|(r, next)| slice_gap(r, next, axis)) {
+        Some(gap) if gap > 0.0 => SHORT_TIP_PER_SLICE_GAP * gap,
+        _ => f64::INFINITY,
+    };
+    // Two tolerances out, as an open base's lid: the mesh a lid holds (within one tolerance of
+    // it) then stays outside the ring's plane.
+    let plane = tip_plane(ring, contours, kinds, axis, outward, short, 2.0 * tolerance);
+    let mut sides = Vec::with_capacity(disc.len());
+    for p in &mut disc {
+        let mut normal = axis * outward;
+        if let Some(plane) = &plane {
+            let (h, n) = plane.lid_at(p, axis);
+            normal = n;
+            *p += axis * (h - p.dot(axis));
+        }
+        sides.push(LidSide {
+            normal,
+            tolerance,
+            weight: END_CAP_WEIGHT,
+        });
+    }
+    Some(EndPoints {
+        points: disc,
+        sides,
+        ceiling,
+        floor: false,
+    })
+}
+
 /// The lid points of every end that no curve closes (mm), and what was done. `rings` are the
 /// tube's short-axis rings, apex to base (before the basal extension); `spacing` is the real
 /// attractors' spacing (mm) and `real_attractors` their count. Per end ([`end_lid`]): where
@@ -459,69 +585,71 @@ pub fn end_cap_points(
         let (Some(ring), Some(lid)) = (ring, lid) else {
             continue;
         };
-        // Enough spacing that one end holds at most a share of the real attractors.
-        let c = centroid(ring);
-        let radius = ring.iter().map(|p| (p - c).norm()).sum::<f64>() / ring.len().max(1) as f64;
-        let area = std::f64::consts::PI * radius * radius;
-        let most = (MAX_POINTS_PER_REAL * real_attractors as f64).max(1.0);
-        let pitch = spacing.max((area / most).sqrt());
-        let tolerance = ONE_SIDED_TOLERANCE_PER_SPACING * pitch;
-        let mut ceiling = false;
-        let lid = match end_lid(rings, contours, kinds, axis, outward, tolerance) {
-            Some(EndLid::OpenApex) if apex_floor => {
-                if let Some((q, side)) = floor_point(rings, axis, tolerance, END_CAP_WEIGHT) {
-                    points.push(q);
-                    sides.push(side);
-                    report.apex = true;
-                    report.apex_floor = true;
-                }
-                continue;
-            }
-            None | Some(EndLid::OpenApex) => continue,
-            Some(EndLid::Reached) => lid,
-            // The tube's lid of an end no curve reaches lies at the ring's centroid.
-            Some(EndLid::OpenBase(out)) => {
-                ceiling = true;
-                c + axis * (outward * out)
-            }
+        let Some(end) = end_points(
+            RimRoom::TwoSpacings,
+            apex_floor,
+            (ring, lid, outward),
+            rings,
+            contours,
+            kinds,
+            axis,
+            spacing,
+            real_attractors,
+        ) else {
+            continue;
         };
-        let mut disc = covering_disc(ring, &lid, axis, pitch, spacing, most);
-        // Without a second ring there is no spacing to read a gap against: least squares.
-        let short = match end_rings(rings, outward).map(|(r, next)| slice_gap(r, next, axis)) {
-            Some(gap) if gap > 0.0 => SHORT_TIP_PER_SLICE_GAP * gap,
-            _ => f64::INFINITY,
-        };
-        // Two tolerances out, as an open base's lid: the mesh a lid holds (within one tolerance
-        // of it) then stays outside the ring's plane.
-        let plane = tip_plane(ring, contours, kinds, axis, outward, short, 2.0 * tolerance);
-        for p in &mut disc {
-            let mut normal = axis * outward;
-            if let Some(plane) = &plane {
-                let (h, n) = plane.lid_at(p, axis);
-                normal = n;
-                *p += axis * (h - p.dot(axis));
-            }
-            sides.push(LidSide {
-                normal,
-                tolerance,
-                weight: END_CAP_WEIGHT,
-            });
-        }
-        if disc.is_empty() {
+        if end.points.is_empty() {
             // An apex ring too small for a lid is closed by its own wall points; a base is not.
             report.base_too_narrow |= outward > 0.0;
             continue;
         }
-        if outward > 0.0 {
+        if end.floor {
+            report.apex = true;
+            report.apex_floor = true;
+        } else if outward > 0.0 {
             report.base = true;
-            report.base_ceiling = ceiling;
+            report.base_ceiling = end.ceiling;
         } else {
             report.apex = true;
         }
-        points.extend(disc);
+        points.extend(end.points);
+        sides.extend(end.sides);
     }
     report.points = points.len();
     (points, sides, report)
+}
+
+/// The base's lid laid [`RimRoom::Relaxed`] in from its rim (same arguments as
+/// [`end_cap_points`]): the late rim lid of a base whose outline had no room for one two spacings
+/// in ([`super::rim_lid`]). Empty where even that leaves none, or the base needs no lid; the flag
+/// says whether the lid is a ceiling ([`EndCapsReport::base_ceiling`]).
+#[allow(clippy::too_many_arguments)]
+pub fn relaxed_base_points(
+    rings: &[Vec<Vec3>],
+    lids: &Lids,
+    contours: &[Contour],
+    kinds: &[ContourKind],
+    axis: &Vec3,
+    spacing: f64,
+    real_attractors: usize,
+) -> (Vec<Vec3>, Vec<LidSide>, bool) {
+    let (Some(ring), Some(lid)) = (rings.last(), lids.base) else {
+        return (Vec::new(), Vec::new(), false);
+    };
+    match end_points(
+        RimRoom::Relaxed,
+        false,
+        (ring, lid, 1.0),
+        rings,
+        contours,
+        kinds,
+        axis,
+        spacing,
+        real_attractors,
+    ) {
+        Some(end) => (end.points, end.sides, end.ceiling),
+        None => (Vec::new(), Vec::new(), false),
+    }
 }
 
 #[cfg(test)]
@@ -594,6 +722,36 @@ mod tests {
         assert!(!few.is_empty() && few.len() < 100);
         // A spacing of 0 ends too (the tries are bounded), here on a ring of one repeated point.
         assert!(covering_disc(&[v3(1.0, 1.0, 0.0); 5], &lid, &Z, 5.0, 0.0, 50.0).is_empty());
+    }
+
+    /// The late rim lid's disc on the crescent above (10 mm from its middle to each edge) with
+    /// the attractors 8 mm apart: two spacings of inset leave nothing, nor does 1.5 (12 mm); one
+    /// spacing (8 mm) leaves a band 4 mm wide along the middle, filled at half a spacing's pitch.
+    #[test]
+    fn a_rim_lid_gives_a_narrow_outline_the_room_two_spacings_left_none() {
+        let arc = |r: f64, from: f64, to: f64| {
+            (0..=40).map(move |k| {
+                let a = (from + (to - from) * k as f64 / 40.0).to_radians();
+                v3(r * a.cos(), r * a.sin(), 0.0)
+            })
+        };
+        let ring: Vec<Vec3> = arc(40.0, -100.0, 100.0)
+            .chain(arc(20.0, 100.0, -100.0))
+            .collect();
+        let lid = v3(0.0, 0.0, 3.0);
+        assert!(covering_disc(&ring, &lid, &Z, 8.0, 8.0, 50.0).is_empty());
+        let pts = relaxed_disc(&ring, &lid, &Z, 8.0, MIN_LID_POINTS);
+        assert!(pts.len() >= MIN_LID_POINTS, "{} points", pts.len());
+        assert_eq!(pts, disc_points(&ring, &lid, &Z, 4.0, 8.0));
+        for q in &pts {
+            assert!((q.x.hypot(q.y) - 30.0).abs() <= 2.0 + 1e-9, "{q:?}");
+        }
+        // Wanting more than the narrowest inset gives: that one, the most there is.
+        let most = relaxed_disc(&ring, &lid, &Z, 8.0, 10_000);
+        assert_eq!(most, disc_points(&ring, &lid, &Z, 4.0, 4.0));
+        assert!(most.len() > pts.len());
+        // An outline with no room even half a spacing in: none.
+        assert!(relaxed_disc(&circle(3.0, 0.0, 20), &lid, &Z, 8.0, 7).is_empty());
     }
 
     /// Two curves stopping at the base ring (z = 20): one with ends at 22 (x = 8) and 18 (x = -8),
@@ -808,6 +966,21 @@ mod tests {
         let json = serde_json::to_value(report).unwrap();
         assert_eq!(json["base_too_narrow"], true);
         assert!(json.get("spacing_mm").is_none());
+        assert!(json.get("base_rim_lid_at").is_none());
+        // Nearer the rim there is room (the late rim lid's points), each facing out of the base
+        // at the lid's weight; once laid, no note.
+        let (late, sides, _) = relaxed_base_points(&rings, &lids, &contours, &kinds, &Z, 6.0, 100);
+        assert!(late.len() >= MIN_LID_POINTS, "{}", late.len());
+        assert_eq!(sides.len(), late.len());
+        assert!(sides
+            .iter()
+            .all(|s| s.normal.z > 0.99 && s.weight == END_CAP_WEIGHT));
+        let laid = EndCapsReport {
+            base_rim_lid_at: Some(76),
+            ..report
+        };
+        assert!(laid.note(7.25).is_none());
+        assert_eq!(serde_json::to_value(laid).unwrap()["base_rim_lid_at"], 76);
         // At 2 mm the same base gets its lid.
         let (pts, _, report) = caps(2.0);
         assert!(report.base && !pts.is_empty() && !report.base_too_narrow);

@@ -24,6 +24,7 @@ mod prepare;
 mod remesh_guard;
 #[cfg(test)]
 mod reuse;
+mod rim_lid;
 pub mod solve_cost;
 pub mod tube;
 
@@ -227,6 +228,9 @@ pub struct Reconstruction {
     /// The lid points' weights of the last step (`lid_pull::decide`: which pulled).
     cap_weights: Vec<f64>,
     end_caps: ends::EndCapsReport,
+    /// A base left without a lid for want of room (`end_caps.base_too_narrow`), until its late
+    /// rim lid is laid or tried (`rim_lid`).
+    open_base: Option<rim_lid::OpenBase>,
     attractor_owner: Vec<u32>,
     /// Per-attractor data weights of the current step (conflict softening).
     weights: Vec<f64>,
@@ -396,6 +400,7 @@ impl Reconstruction {
             cap_sides: Vec::new(),
             cap_weights: Vec::new(),
             end_caps,
+            open_base: None,
             attractor_owner: Vec::new(),
             weights: Vec::new(),
             weighted: false,
@@ -451,6 +456,7 @@ impl Reconstruction {
         let resample = (it - 1).is_multiple_of(self.params.resample_attractors_every) && it > 1;
         if resample {
             let t = self.clock.now_ms();
+            self.lay_rim_lid(it);
             self.resample_attractors()?;
             // New centres: the last factor says nothing about their system.
             self.tps.invalidate_factor();

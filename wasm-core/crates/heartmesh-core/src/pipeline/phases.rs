@@ -124,6 +124,12 @@ impl Reconstruction {
                 ..*s
             })
             .collect();
+        self.open_base = report.base_too_narrow.then(|| super::rim_lid::OpenBase {
+            rings: rings.to_vec(),
+            lids: *lids,
+            spacing_mm,
+            attractors: count,
+        });
         self.end_caps = report;
     }
 
