@@ -247,9 +247,11 @@ export interface EndCaps {
   base_ceiling?: boolean;
   /**
    * No contour closes the base and its outline had no room for lid points two attractor spacings
-   * in from its rim (an RV crescent, or any outline at a few dozen attractors): the spline
-   * carries the base, which may run on past the data (`endCapNote` says so beyond 5 mm) or not
-   * (a long-axis curve holding it). Absent when not (the core writes it only when true).
+   * in from its rim (an RV crescent, or any outline at a hundred attractors or fewer): the
+   * spline carries the base while it stops near the data (a long-axis curve holding it); one
+   * that runs on more than 5 mm past it gets its lid nearer the rim mid-run (`base_rim_lid_at`),
+   * or, with no room even there, `endCapNote`. Absent when not (the core writes it only when
+   * true).
    */
   base_too_narrow?: boolean;
   /**
@@ -368,7 +370,7 @@ export interface RunResult {
    */
   valve_chords?: string[];
   valveChordNote?: string | null;
-  /** The core's sentence for a base too narrow for a lid (`end_caps.base_too_narrow`) that runs on more than 5 mm past the data; null otherwise. */
+  /** The core's sentence for a base too narrow for a lid even near its rim (`end_caps.base_too_narrow`, no `base_rim_lid_at`) that runs on more than 5 mm past the data; null otherwise. */
   endCapNote?: string | null;
   /**
    * Remeshes the core skipped because each would have wrecked the surface (a collapse, a

@@ -590,7 +590,7 @@ fn end_caps_flag_and_report() {
     assert_eq!(caps["base_too_narrow"], true);
     assert_eq!(caps["base"], true);
     let at = num(&rv100, &["end_caps", "base_rim_lid_at"]) as usize;
-    // At an attractor resampling (every 25 iterations), from the second on.
+    // At an attractor resampling (every 25 iterations) after iteration 50.
     assert!(at > 50 && (at - 1).is_multiple_of(25), "{at}");
     assert!(num(&rv100, &["end_caps", "points"]) >= 1.0);
     assert!(num(&rv100, &["past_data", "base_mm"]) < 2.0);

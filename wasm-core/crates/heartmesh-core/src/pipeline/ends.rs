@@ -66,12 +66,13 @@ pub struct EndCapsReport {
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub base_ceiling: bool,
     /// Whether the base needed a lid (no contour closes it) but its outline has no room for lid
-    /// points two attractor spacings in from its rim (an RV crescent, or any outline at a few
-    /// dozen attractors), so the spline carries the base as with end caps off. Reported, rather
-    /// than as "no lid needed", because such a base may run on past the data and the volume with
-    /// it (biv-me patient 1 ED RV: 218 ml at 100 attractors, 183 ml at 200), or not (the RV
-    /// phantom sliced from the same patient's model: 0-2 mm at the defaults, its long-axis curve
-    /// holding it); [`Self::note`] speaks only of an overrun. Left out of the JSON when false.
+    /// points two attractor spacings in from its rim (an RV crescent, or any outline at a hundred
+    /// attractors or fewer), so the spline carries the base as with end caps off. Reported,
+    /// rather than as "no lid needed", because such a base may run on past the data and the
+    /// volume with it (biv-me patient 1 ED RV: 218 ml at 100 attractors, 183 ml at the defaults)
+    /// until its late rim lid stops it ([`Self::base_rim_lid_at`]), or not (the RV phantom sliced
+    /// from the same patient's model: 0-2 mm at the defaults, its long-axis curve holding it);
+    /// [`Self::note`] speaks only of an overrun with no rim lid. Left out of the JSON when false.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub base_too_narrow: bool,
     /// The iteration at which such a base got its late rim lid ([`super::rim_lid`]: laid nearer
@@ -432,6 +433,20 @@ fn slice_gap(ring: &[Vec3], next: Option<&[Vec3]>, axis: &Vec3) -> f64 {
     }
 }
 
+/// What the lids of a run are laid from: the tube's short-axis `rings` (mm, apex to base, before
+/// the basal extension) and `lids`, the curves the mesh is fitted to with their `kinds`, the long
+/// `axis` (apex to base), and the real attractors' `spacing` (mm) and count (`real_attractors`).
+#[derive(Debug, Clone, Copy)]
+pub struct LidInput<'a> {
+    pub rings: &'a [Vec<Vec3>],
+    pub lids: &'a Lids,
+    pub contours: &'a [Contour],
+    pub kinds: &'a [ContourKind],
+    pub axis: &'a Vec3,
+    pub spacing: f64,
+    pub real_attractors: usize,
+}
+
 /// How far in from its rim a lid's points stay.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RimRoom {
@@ -476,18 +491,21 @@ struct EndPoints {
 /// What the lid of the end `ring` (`outward` as in [`end_lid`]) holds, laid `room` in from its
 /// rim; None where the end needs none (data close it, or an open apex without a floor). Empty
 /// points where the outline has no room for any.
-#[allow(clippy::too_many_arguments)]
 fn end_points(
     room: RimRoom,
     apex_floor: bool,
     (ring, lid, outward): (&[Vec3], Vec3, f64),
-    rings: &[Vec<Vec3>],
-    contours: &[Contour],
-    kinds: &[ContourKind],
-    axis: &Vec3,
-    spacing: f64,
-    real_attractors: usize,
+    input: &LidInput,
 ) -> Option<EndPoints> {
+    let LidInput {
+        rings,
+        contours,
+        kinds,
+        axis,
+        spacing,
+        real_attractors,
+        ..
+    } = *input;
     // Enough spacing that one end holds at most a share of the real attractors.
     let c = centroid(ring);
     let radius = ring.iter().map(|p| (p - c).norm()).sum::<f64>() / ring.len().max(1) as f64;
@@ -551,32 +569,24 @@ fn end_points(
     })
 }
 
-/// The lid points of every end that no curve closes (mm), and what was done. `rings` are the
-/// tube's short-axis rings, apex to base (before the basal extension); `spacing` is the real
-/// attractors' spacing (mm) and `real_attractors` their count. Per end ([`end_lid`]): where
+/// The lid points of every end that no curve closes (mm), and what was done. Per end ([`end_lid`]): where
 /// long-axis curves reach it, the lid lies where they stop; a short-axis-only apex gets none; a
 /// short-axis-only base a flat lid one slice spacing out (the next slice position). With
 /// `apex_floor`, a short-axis-only apex gets one floor point at the slices' taper tip
 /// ([`super::apex_floor`]).
-#[allow(clippy::too_many_arguments)]
 pub fn end_cap_points(
     mode: EndCapMode,
     apex_floor: bool,
-    rings: &[Vec<Vec3>],
-    lids: &Lids,
-    contours: &[Contour],
-    kinds: &[ContourKind],
-    axis: &Vec3,
-    spacing: f64,
-    real_attractors: usize,
+    input: &LidInput,
 ) -> (Vec<Vec3>, Vec<LidSide>, EndCapsReport) {
+    let LidInput { rings, lids, .. } = *input;
     let mut report = EndCapsReport::none(mode);
     let mut points = Vec::new();
     let mut sides = Vec::new();
     if mode == EndCapMode::Off {
         return (points, sides, report);
     }
-    report.spacing_mm = spacing;
+    report.spacing_mm = input.spacing;
     let ends = [
         (rings.first(), lids.apex, -1.0),
         (rings.last(), lids.base, 1.0),
@@ -589,12 +599,7 @@ pub fn end_cap_points(
             RimRoom::TwoSpacings,
             apex_floor,
             (ring, lid, outward),
-            rings,
-            contours,
-            kinds,
-            axis,
-            spacing,
-            real_attractors,
+            input,
         ) else {
             continue;
         };
@@ -619,34 +624,14 @@ pub fn end_cap_points(
     (points, sides, report)
 }
 
-/// The base's lid laid [`RimRoom::Relaxed`] in from its rim (same arguments as
-/// [`end_cap_points`]): the late rim lid of a base whose outline had no room for one two spacings
+/// The base's lid laid [`RimRoom::Relaxed`] in from its rim: the late rim lid of a base whose outline had no room for one two spacings
 /// in ([`super::rim_lid`]). Empty where even that leaves none, or the base needs no lid; the flag
 /// says whether the lid is a ceiling ([`EndCapsReport::base_ceiling`]).
-#[allow(clippy::too_many_arguments)]
-pub fn relaxed_base_points(
-    rings: &[Vec<Vec3>],
-    lids: &Lids,
-    contours: &[Contour],
-    kinds: &[ContourKind],
-    axis: &Vec3,
-    spacing: f64,
-    real_attractors: usize,
-) -> (Vec<Vec3>, Vec<LidSide>, bool) {
-    let (Some(ring), Some(lid)) = (rings.last(), lids.base) else {
+pub fn relaxed_base_points(input: &LidInput) -> (Vec<Vec3>, Vec<LidSide>, bool) {
+    let (Some(ring), Some(lid)) = (input.rings.last(), input.lids.base) else {
         return (Vec::new(), Vec::new(), false);
     };
-    match end_points(
-        RimRoom::Relaxed,
-        false,
-        (ring, lid, 1.0),
-        rings,
-        contours,
-        kinds,
-        axis,
-        spacing,
-        real_attractors,
-    ) {
+    match end_points(RimRoom::Relaxed, false, (ring, lid, 1.0), input) {
         Some(end) => (end.points, end.sides, end.ceiling),
         None => (Vec::new(), Vec::new(), false),
     }
@@ -679,21 +664,47 @@ mod tests {
         assert!(disc_points(&ring[..2], &lid, &Z, 1.0, 0.0).is_empty());
     }
 
-    /// A crescent (annular sector, radii 20 and 40 mm, 200 degrees: 10 mm deep) with its pitch
-    /// stretched to 8 by the count cap, the attractors 4 mm apart: two pitches of inset (16 mm)
-    /// leave nothing, so the pitch shrinks (6.4, 5.12: still none) to 4.096, a band of points
-    /// along the middle of the crescent, all at least two of those pitches from its edges.
-    #[test]
-    fn a_crescent_lid_is_made_fine_enough_to_hold_it() {
+    /// The lid input of a test: the axis is z.
+    fn input<'a>(
+        rings: &'a [Vec<Vec3>],
+        lids: &'a Lids,
+        contours: &'a [Contour],
+        kinds: &'a [ContourKind],
+        spacing: f64,
+        real_attractors: usize,
+    ) -> LidInput<'a> {
+        LidInput {
+            rings,
+            lids,
+            contours,
+            kinds,
+            axis: &Z,
+            spacing,
+            real_attractors,
+        }
+    }
+
+    /// An annular sector in z = 0, radii 20 and 40 mm, 200 degrees: 10 mm from its middle to
+    /// each edge, an RV base's shape.
+    fn crescent() -> Vec<Vec3> {
         let arc = |r: f64, from: f64, to: f64| {
             (0..=40).map(move |k| {
                 let a = (from + (to - from) * k as f64 / 40.0).to_radians();
                 v3(r * a.cos(), r * a.sin(), 0.0)
             })
         };
-        let ring: Vec<Vec3> = arc(40.0, -100.0, 100.0)
+        arc(40.0, -100.0, 100.0)
             .chain(arc(20.0, 100.0, -100.0))
-            .collect();
+            .collect()
+    }
+
+    /// A crescent (annular sector, radii 20 and 40 mm, 200 degrees: 10 mm deep) with its pitch
+    /// stretched to 8 by the count cap, the attractors 4 mm apart: two pitches of inset (16 mm)
+    /// leave nothing, so the pitch shrinks (6.4, 5.12: still none) to 4.096, a band of points
+    /// along the middle of the crescent, all at least two of those pitches from its edges.
+    #[test]
+    fn a_crescent_lid_is_made_fine_enough_to_hold_it() {
+        let ring = crescent();
         let lid = v3(0.0, 0.0, 3.0);
         assert!(disc_points(&ring, &lid, &Z, 8.0, 16.0).is_empty());
         let pts = covering_disc(&ring, &lid, &Z, 8.0, 4.0, 50.0);
@@ -729,15 +740,7 @@ mod tests {
     /// spacing (8 mm) leaves a band 4 mm wide along the middle, filled at half a spacing's pitch.
     #[test]
     fn a_rim_lid_gives_a_narrow_outline_the_room_two_spacings_left_none() {
-        let arc = |r: f64, from: f64, to: f64| {
-            (0..=40).map(move |k| {
-                let a = (from + (to - from) * k as f64 / 40.0).to_radians();
-                v3(r * a.cos(), r * a.sin(), 0.0)
-            })
-        };
-        let ring: Vec<Vec3> = arc(40.0, -100.0, 100.0)
-            .chain(arc(20.0, 100.0, -100.0))
-            .collect();
+        let ring = crescent();
         let lid = v3(0.0, 0.0, 3.0);
         assert!(covering_disc(&ring, &lid, &Z, 8.0, 8.0, 50.0).is_empty());
         let pts = relaxed_disc(&ring, &lid, &Z, 8.0, MIN_LID_POINTS);
@@ -884,7 +887,11 @@ mod tests {
         let contours = [lax(u)];
         let kinds = [ContourKind::Lax];
         let caps = |mode, real| {
-            end_cap_points(mode, false, &rings, &lids, &contours, &kinds, &Z, 2.0, real)
+            end_cap_points(
+                mode,
+                false,
+                &input(&rings, &lids, &contours, &kinds, 2.0, real),
+            )
         };
         let (pts, sides, report) = caps(EndCapMode::Auto, 400);
         assert!(report.base && !report.apex);
@@ -942,13 +949,7 @@ mod tests {
             end_cap_points(
                 EndCapMode::Auto,
                 false,
-                &rings,
-                &lids,
-                &contours,
-                &kinds,
-                &Z,
-                spacing,
-                100,
+                &input(&rings, &lids, &contours, &kinds, spacing, 100),
             )
         };
         let (pts, _, report) = caps(6.0);
@@ -969,7 +970,8 @@ mod tests {
         assert!(json.get("base_rim_lid_at").is_none());
         // Nearer the rim there is room (the late rim lid's points), each facing out of the base
         // at the lid's weight; once laid, no note.
-        let (late, sides, _) = relaxed_base_points(&rings, &lids, &contours, &kinds, &Z, 6.0, 100);
+        let (late, sides, _) =
+            relaxed_base_points(&input(&rings, &lids, &contours, &kinds, 6.0, 100));
         assert!(late.len() >= MIN_LID_POINTS, "{}", late.len());
         assert_eq!(sides.len(), late.len());
         assert!(sides
@@ -1006,13 +1008,7 @@ mod tests {
         let (pts, sides, report) = end_cap_points(
             EndCapMode::Auto,
             false,
-            &rings,
-            &lids,
-            &[],
-            &[],
-            &Z,
-            2.0,
-            400,
+            &input(&rings, &lids, &[], &[], 2.0, 400),
         );
         assert!(report.base && !report.apex);
         // A ceiling, which the report names (the app does not flag its overrun).
@@ -1061,13 +1057,7 @@ mod tests {
         let (pts, sides, report) = end_cap_points(
             EndCapMode::Auto,
             false,
-            &rings,
-            &lids,
-            &low,
-            &kinds,
-            &Z,
-            2.0,
-            400,
+            &input(&rings, &lids, &low, &kinds, 2.0, 400),
         );
         assert!(report.apex && report.base && report.base_ceiling);
         let apex: Vec<&Vec3> = pts.iter().filter(|p| p.z < 10.0).collect();

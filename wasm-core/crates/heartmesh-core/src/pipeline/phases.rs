@@ -107,13 +107,15 @@ impl Reconstruction {
         let (points, sides, report) = ends::end_cap_points(
             self.params.end_caps,
             self.params.apex_floor,
-            rings,
-            lids,
-            &self.fitted,
-            &self.layout.kinds,
-            &self.layout.axis,
-            spacing_mm,
-            count,
+            &ends::LidInput {
+                rings,
+                lids,
+                contours: &self.fitted,
+                kinds: &self.layout.kinds,
+                axis: &self.layout.axis,
+                spacing: spacing_mm,
+                real_attractors: count,
+            },
         );
         self.cap_points = points.iter().map(|p| self.norm.to_unit(p)).collect();
         let scale = self.norm.scale;
