@@ -117,15 +117,9 @@ impl Reconstruction {
                 real_attractors: count,
             },
         );
-        self.cap_points = points.iter().map(|p| self.norm.to_unit(p)).collect();
-        let scale = self.norm.scale;
-        self.cap_sides = sides
-            .iter()
-            .map(|s| super::lid_pull::LidSide {
-                tolerance: s.tolerance / scale,
-                ..*s
-            })
-            .collect();
+        self.cap_points.clear();
+        self.cap_sides.clear();
+        self.add_cap_points(&points, &sides);
         self.open_base = report.base_too_narrow.then(|| super::rim_lid::OpenBase {
             rings: rings.to_vec(),
             lids: *lids,
@@ -133,6 +127,18 @@ impl Reconstruction {
             attractors: count,
         });
         self.end_caps = report;
+    }
+
+    /// Appends lid points and their sides given in mm to the run's, in its normalised units.
+    pub(super) fn add_cap_points(&mut self, points: &[Vec3], sides: &[super::lid_pull::LidSide]) {
+        let norm = self.norm;
+        self.cap_points
+            .extend(points.iter().map(|p| norm.to_unit(p)));
+        self.cap_sides
+            .extend(sides.iter().map(|s| super::lid_pull::LidSide {
+                tolerance: s.tolerance / norm.scale,
+                ..*s
+            }));
     }
 
     /// The one-sided lid (`lid_pull`): which lid points pull in this step, from its closest points

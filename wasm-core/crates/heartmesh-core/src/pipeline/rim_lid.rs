@@ -72,14 +72,7 @@ impl Reconstruction {
         if points.is_empty() {
             return;
         }
-        let scale = self.norm.scale;
-        self.cap_points
-            .extend(points.iter().map(|p| self.norm.to_unit(p)));
-        self.cap_sides
-            .extend(sides.iter().map(|s| super::lid_pull::LidSide {
-                tolerance: s.tolerance / scale,
-                ..*s
-            }));
+        self.add_cap_points(&points, &sides);
         let report = &mut self.end_caps;
         report.base = true;
         report.base_ceiling = ceiling;
