@@ -246,7 +246,8 @@ def centroid(pts):
 
 def edit(contours, surface, rng):
     ids = [k for k, v in contours.items() if surface is None or v[0].get("surface") == surface]
-    kind = rng.choice(["drop", "move", "scale", "twin", "reverse", "cut", "subsample", "swap", "tilt", "merge"])
+    kind = rng.choice(["drop", "move", "scale", "twin", "reverse", "cut", "subsample", "swap", "tilt", "merge",
+                       "spike"])
     if len(ids) < 2:
         return kind
     c = rng.choice(ids)
@@ -292,6 +293,12 @@ def edit(contours, surface, rng):
             q[i], q[j] = o[i] + x * math.cos(t) - y * math.sin(t), o[j] + x * math.sin(t) + y * math.cos(t)
             tilted.append(q)
         put(contours[c], tilted)
+    elif kind == "spike" and len(pts) > 10:
+        # A damaged value: one to three rows thrown 10-150 mm out, the next row back on the curve.
+        a, n = rng.randrange(1, len(pts) - 4), rng.randint(1, 3)
+        d = [rng.gauss(0, 1) for _ in range(3)]
+        s = rng.uniform(10, 150) / math.sqrt(sum(v * v for v in d))
+        put(contours[c], [[p[i] + d[i] * s for i in range(3)] if a <= k < a + n else p for k, p in enumerate(pts)])
     elif kind == "merge":
         for r in contours[other]:
             r["contour"] = c

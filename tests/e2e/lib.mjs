@@ -259,6 +259,14 @@ export async function readResult(page) {
   }));
 }
 
+/** The result panel's Volume row, ml. */
+export function resultVolume(page) {
+  return page.$eval('[data-testid=result] dl', (dl) => {
+    const dt = [...dl.querySelectorAll('dt')].find((t) => t.textContent === 'Volume');
+    return Number.parseFloat(dt?.nextElementSibling?.textContent ?? 'NaN');
+  });
+}
+
 const MIME = {
   '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.mjs': 'text/javascript', '.css': 'text/css',
   '.wasm': 'application/wasm', '.svg': 'image/svg+xml', '.json': 'application/json', '.webmanifest': 'application/manifest+json',

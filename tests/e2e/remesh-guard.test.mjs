@@ -9,7 +9,7 @@
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
-import { gotoEmpty, readResult, runAndWait, SHOTS } from './lib.mjs';
+import { gotoEmpty, readResult, resultVolume, runAndWait, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 
 let server;
@@ -34,10 +34,7 @@ describe('remeshes that would wreck the surface', () => {
     // The unremeshed tube, deformed: no remesh ever refined it.
     assert.equal(skipped.vertices, 302);
     assert.ok(skipped.meanMm < 0.5, `mean ${skipped.meanMm} mm`);
-    const volume = await page.$eval('[data-testid=result] dl', (dl) => {
-      const dt = [...dl.querySelectorAll('dt')].find((t) => t.textContent === 'Volume');
-      return Number.parseFloat(dt?.nextElementSibling?.textContent ?? 'NaN');
-    });
+    const volume = await resultVolume(page);
     assert.ok(Math.abs(volume - 198.4) < 1, `volume ${volume} ml`);
     await page.mouse.move(0, 0);
     await page.screenshot({ path: join(SHOTS, 'remeshes-skipped.png') });

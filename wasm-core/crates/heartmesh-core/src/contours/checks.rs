@@ -184,10 +184,12 @@ pub(crate) const NON_PLANAR_MM: f64 = 2.5;
 pub fn non_planar_warnings(set: &ContourSet) -> Vec<String> {
     let mut flagged: Vec<String> = Vec::new();
     for c in &set.contours {
+        // Without its spikes, which `spike_warnings` names (a point thrown out of the plane is a
+        // damaged value, not a second slice).
         let worst = c
             .pieces
             .iter()
-            .filter_map(|p| fit_plane(p.points.iter()))
+            .filter_map(|p| fit_plane(super::clean::despike(p).0.iter()))
             .map(|f| f.max_residual)
             .fold(0.0, f64::max);
         if worst > NON_PLANAR_MM {
@@ -230,6 +232,32 @@ pub fn stray_point_warnings(set: &ContourSet) -> Vec<String> {
         flagged,
         "is fitted without them: no heart reaches that far (a damaged file?)",
         "are fitted without them: no heart reaches that far (a damaged file?)",
+    )
+}
+
+/// Contours with a point (or a few) thrown out of the curve and straight back
+/// ([`super::clean::despike`]): left out of the fit, named so the damaged value is found.
+pub fn spike_warnings(set: &ContourSet) -> Vec<String> {
+    let mut flagged: Vec<String> = Vec::new();
+    for c in &set.contours {
+        let spikes: Vec<_> = c
+            .pieces
+            .iter()
+            .flat_map(|p| super::clean::despike(p).1)
+            .collect();
+        if let Some(far) = spikes.iter().map(|s| s.offset).reduce(f64::max) {
+            let n: usize = spikes.iter().map(|s| s.len).sum();
+            let points = if n == 1 { "point" } else { "points" };
+            flagged.push(named(
+                c,
+                &format!("{n} {points} up to {far:.1} mm out of the curve and straight back"),
+            ));
+        }
+    }
+    one_line(
+        flagged,
+        "is fitted without the spike: a curve does not turn back like that (a damaged value?)",
+        "are fitted without their spikes: a curve does not turn back like that (damaged values?)",
     )
 }
 
@@ -374,6 +402,45 @@ mod tests {
         assert!(
             w[0].starts_with("contour \"s0\" (line 2, pieces 30.0 mm apart) is named again"),
             "{w:?}"
+        );
+    }
+
+    #[test]
+    fn spikes_are_named_with_their_count_and_reach() {
+        let mut set = stack(1.0);
+        assert!(spike_warnings(&set).is_empty());
+        set.contours[1].pieces[0].points[5].x = 95.0;
+        let w = spike_warnings(&set);
+        assert_eq!(w.len(), 1);
+        assert!(
+            w[0].starts_with("contour \"s1\" (line 2, 1 point up to 8")
+                && w[0]
+                    .contains("mm out of the curve and straight back) is fitted without the spike"),
+            "{w:?}"
+        );
+        set.contours[3].pieces[0].points[7].y = -60.0;
+        set.contours[3].pieces[0].points[8].y = -61.0;
+        let w = spike_warnings(&set);
+        assert_eq!(w.len(), 1);
+        assert!(
+            w[0].starts_with("2 contours") && w[0].contains("\"s3\" (line 2, 2 points up to"),
+            "{w:?}"
+        );
+        // Left out of the fit, the spike leaves nothing for the stray check to name, nor, thrown
+        // out of its ring's plane, for the plane check.
+        assert!(stray_point_warnings(&set).is_empty());
+        set.contours[2].pieces[0].points[3].z += 40.0;
+        assert!(spike_warnings(&set)[0].starts_with("3 contours"));
+        assert!(non_planar_warnings(&set).is_empty());
+        set.contours[2].pieces[0].points[3].z -= 30.0;
+        set.contours[2].pieces[0].points[4].z += 10.0;
+        set.contours[2].pieces[0].points[5].z += 10.0;
+        set.contours[2].pieces[0].points[6].z += 10.0;
+        assert!(spike_warnings(&set)[0].starts_with("2 contours"));
+        assert_eq!(
+            non_planar_warnings(&set).len(),
+            1,
+            "a bent ring is still named"
         );
     }
 

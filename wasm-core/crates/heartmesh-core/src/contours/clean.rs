@@ -120,12 +120,136 @@ pub fn cleaned_contour(c: &Contour) -> Option<Contour> {
     })
 }
 
-/// Cleans a polyline and splits it where consecutive points jump by more than
-/// [`JUMP_FACTOR`] x its median spacing. A closed curve with a jump is no longer closed: it is
-/// rotated to start after the first jump so that the wrap-around joins its two ends into one piece.
+/// Longest run of points [`spikes`] takes for damaged values: one corrupted coordinate moves one
+/// point, a damaged row or two a couple; a longer excursion may be drawn.
+pub const SPIKE_POINTS: usize = 3;
+
+/// A spike reaches at least this many times as far out as the points either side of it lie
+/// apart (an apex under ~28 degrees). A damaged value lands anywhere, mostly far; a hand-clicked
+/// outline whose one click at a crescent's tip is far from its neighbours is wider than that, and
+/// keeps its tip.
+pub const SPIKE_SHARPNESS: f64 = 2.0;
+
+/// A run of points that leaves its curve by a jump and comes straight back by another.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spike {
+    /// Index of the run's first point in the cleaned points.
+    pub start: usize,
+    /// Points in the run (at most [`SPIKE_POINTS`]).
+    pub len: usize,
+    /// How far the run goes out: its farthest point's distance from the nearer of the two points
+    /// either side (mm).
+    pub offset: f64,
+}
+
+/// The jump limit of a cleaned curve: [`JUMP_FACTOR`] x its median segment length (closing
+/// segment included when closed); None under two points.
+fn jump_limit(pts: &[Vec3], closed: bool) -> Option<f64> {
+    let n = pts.len();
+    if n < 2 {
+        return None;
+    }
+    let segs = if closed { n } else { n - 1 };
+    let mut lens: Vec<f64> = (0..segs)
+        .map(|i| (pts[(i + 1) % n] - pts[i]).norm())
+        .collect();
+    lens.sort_by(f64::total_cmp);
+    Some(JUMP_FACTOR * lens[lens.len() / 2])
+}
+
+/// Runs of at most [`SPIKE_POINTS`] points entered and left by a jump (longer than `limit`)
+/// whose neighbours either side are no jump apart, and sharp ([`SPIKE_SHARPNESS`]). A damaged
+/// value throws a point out of its curve and the next row comes straight back: split at both
+/// jumps (a curve in pieces), the point would stay a piece of its own, and one 90 mm out pulls
+/// the surface into a spike through everything (a corrupt Segment file: 144 crossing triangle
+/// pairs, `scripts/hostile.py`). A curve really stored in pieces does not come back to where it
+/// left off, so it is still split.
+fn spikes(pts: &[Vec3], closed: bool, limit: f64) -> Vec<Spike> {
+    let n = pts.len();
+    let segs = if closed { n } else { n.saturating_sub(1) };
+    let jumps: Vec<usize> = (0..segs)
+        .filter(|&i| (pts[(i + 1) % n] - pts[i]).norm() > limit)
+        .collect();
+    let mut out: Vec<Spike> = Vec::new();
+    for (k, &leave) in jumps.iter().enumerate() {
+        // The next jump along the curve (round the loop when closed) ends the run.
+        let back = match jumps.get(k + 1) {
+            Some(&b) => b,
+            None if closed && jumps.len() > 1 => jumps[0] + n,
+            None => continue,
+        };
+        let len = back - leave;
+        let before = leave;
+        let after = back + 1;
+        // An open curve's run must have a point on each side; at least three points stay.
+        if len > SPIKE_POINTS || n < len + 3 || (!closed && after >= n) {
+            continue;
+        }
+        let (a, b) = (pts[before % n], pts[after % n]);
+        let chord = (b - a).norm();
+        if chord > limit {
+            continue;
+        }
+        let start = (leave + 1) % n;
+        let offset = (0..len)
+            .map(|j| {
+                let p = pts[(start + j) % n];
+                (p - a).norm().min((p - b).norm())
+            })
+            .fold(0.0, f64::max);
+        if offset >= SPIKE_SHARPNESS * chord {
+            out.push(Spike { start, len, offset });
+        }
+    }
+    out
+}
+
+/// The points without their spikes ([`spikes`]), and the spikes left out. The points either
+/// side of a spike may coincide (out and back to the same place): cleaned again. A handful of
+/// points in two clumps are each other's spikes: then neither is one, and nothing is left out.
+fn without_spikes(pts: Vec<Vec3>, closed: bool, limit: f64) -> (Vec<Vec3>, Vec<Spike>) {
+    let found = spikes(&pts, closed, limit);
+    if found.is_empty() {
+        return (pts, found);
+    }
+    let n = pts.len();
+    let mut keep = vec![true; n];
+    for s in &found {
+        for j in 0..s.len {
+            keep[(s.start + j) % n] = false;
+        }
+    }
+    let kept: Vec<Vec3> = pts
+        .iter()
+        .zip(&keep)
+        .filter(|(_, k)| **k)
+        .map(|(p, _)| *p)
+        .collect();
+    let kept = clean_points(&kept, closed);
+    if kept.len() < 3 {
+        return (pts, Vec::new());
+    }
+    (kept, found)
+}
+
+/// A polyline's cleaned points ([`clean_points`]) without the spikes [`clean_and_split`] leaves
+/// out of it, and those spikes (indices into the cleaned points). Checks that look at a curve's
+/// shape (its plane) look at it this way, so that a damaged value is named once, as a spike.
+pub fn despike(piece: &Polyline) -> (Vec<Vec3>, Vec<Spike>) {
+    let pts = clean_points(&piece.points, piece.closed);
+    match jump_limit(&pts, piece.closed) {
+        Some(limit) => without_spikes(pts, piece.closed, limit),
+        None => (pts, Vec::new()),
+    }
+}
+
+/// Cleans a polyline, leaves out its spikes ([`spikes`]) and splits it where consecutive points
+/// jump by more than [`JUMP_FACTOR`] x its median spacing. A closed curve with a jump is no longer
+/// closed: it is rotated to start after the first jump so that the wrap-around joins its two ends
+/// into one piece.
 pub fn clean_and_split(piece: &Polyline) -> Vec<Polyline> {
     let pts = clean_points(&piece.points, piece.closed);
-    if pts.len() < 2 {
+    let Some(limit) = jump_limit(&pts, piece.closed) else {
         return if pts.is_empty() {
             Vec::new()
         } else {
@@ -134,14 +258,12 @@ pub fn clean_and_split(piece: &Polyline) -> Vec<Polyline> {
                 closed: false,
             }]
         };
-    }
+    };
+    let pts = without_spikes(pts, piece.closed, limit).0;
     let n = pts.len();
-    let segs = if piece.closed { n } else { n - 1 };
+    let segs = if piece.closed { n } else { n.saturating_sub(1) };
     let seg_len = |i: usize| (pts[(i + 1) % n] - pts[i]).norm();
-    let mut lens: Vec<f64> = (0..segs).map(seg_len).collect();
-    lens.sort_by(f64::total_cmp);
-    let median = lens[lens.len() / 2];
-    let limit = JUMP_FACTOR * median;
+    // The limit of the curve as given: the spikes' own segments barely move a median.
     let jumps: Vec<usize> = (0..segs).filter(|&i| seg_len(i) > limit).collect();
     // Looked up per point: a hostile run with a jump every few points has a hundred thousand.
     let mut is_jump = vec![false; n];
@@ -257,18 +379,21 @@ mod tests {
                 })
                 .collect()
         };
-        // A ring with its 10th point's x damaged to 830 mm: split at both jumps, the point alone.
+        // A ring with its 10th point's x damaged to 830 mm, stored as a curve in two pieces: the
+        // point alone is the stray. (Within one closed curve it is a spike, `spikes`.)
         let mut damaged = ring(60, 12.0);
-        damaged[10].x = 830.0;
-        let piece = Polyline {
-            points: damaged,
-            closed: true,
-        };
-        let pieces = clean_and_split(&piece);
-        assert_eq!(
-            pieces.iter().map(|p| p.points.len()).collect::<Vec<_>>(),
-            [1, 59]
-        );
+        let far = v3(830.0, damaged[10].y, 0.0);
+        damaged.remove(10);
+        let pieces = vec![
+            Polyline {
+                points: vec![far],
+                closed: false,
+            },
+            Polyline {
+                points: damaged,
+                closed: false,
+            },
+        ];
         let strays = stray_pieces(&pieces);
         assert_eq!(strays.len(), 1);
         assert_eq!(strays[0].0, 0);
@@ -276,7 +401,7 @@ mod tests {
         let c = Contour {
             id: "s02".into(),
             surface: None,
-            pieces: vec![piece],
+            pieces,
             first_line: 2,
         };
         let kept = cleaned_contour(&c).unwrap();
@@ -305,6 +430,97 @@ mod tests {
                 .map(|s| pieces[s.0].points.len())
                 .sum::<usize>(),
             2
+        );
+    }
+
+    /// A damaged value throws a point (or a few rows) out of a closed ring and the next row
+    /// comes straight back: the ring stays one closed curve without them, however near the heart
+    /// the point lands (90 mm: within reach of a heart, so no stray). Round the loop's start too.
+    #[test]
+    fn a_point_out_of_its_curve_and_straight_back_is_a_spike_left_out() {
+        let ring = circle(60, 12.0);
+        for (at, run, to) in [(10, 1, 90.0), (10, 3, 300.0), (0, 1, 830.0), (58, 2, 40.0)] {
+            let mut damaged = ring.clone();
+            for j in 0..run {
+                damaged[(at + j) % 60].x = to + j as f64;
+            }
+            let piece = Polyline {
+                points: damaged,
+                closed: true,
+            };
+            let spikes = despike(&piece).1;
+            assert_eq!(spikes.len(), 1, "{at} {run} {spikes:?}");
+            assert_eq!((spikes[0].start, spikes[0].len), (at, run));
+            assert!(spikes[0].offset > to - 13.0, "{spikes:?}");
+            let pieces = clean_and_split(&piece);
+            assert_eq!(pieces.len(), 1, "{at} {run}");
+            assert!(pieces[0].closed);
+            assert_eq!(pieces[0].points.len(), 60 - run);
+            assert!(pieces[0].points.iter().all(|p| p.x < 12.1));
+        }
+        // A run of four is longer than a damaged row or two: split as a curve in pieces.
+        let mut four = ring.clone();
+        for p in &mut four[10..14] {
+            p.x = 90.0;
+        }
+        let four = Polyline {
+            points: four,
+            closed: true,
+        };
+        assert!(despike(&four).1.is_empty());
+        assert_eq!(clean_and_split(&four).len(), 2);
+    }
+
+    /// What is not a spike: a curve that leaves off and goes on elsewhere (a gap), a lone point
+    /// at an open curve's end (biv-me's long-axis curves), and two clumps of points, each the
+    /// other's excursion.
+    #[test]
+    fn a_gap_an_end_point_and_two_clumps_are_no_spikes() {
+        let mut gap = circle(40, 20.0);
+        gap.drain(5..15);
+        let gap = Polyline {
+            points: gap,
+            closed: true,
+        };
+        assert!(despike(&gap).1.is_empty());
+        let mut lax: Vec<Vec3> = (0..=100).map(|i| v3(0.0, 0.0, -(i as f64))).collect();
+        lax.insert(0, v3(48.0, 0.0, 10.0));
+        lax.push(v3(48.0, 0.0, -90.0));
+        assert!(despike(&Polyline {
+            points: lax,
+            closed: false
+        })
+        .1
+        .is_empty());
+        let clumps: Vec<Vec3> = [0.0, 0.5, 1.0, 50.0, 50.5, 51.0]
+            .iter()
+            .map(|&x| v3(x, 0.0, 0.0))
+            .collect();
+        let clumps = Polyline {
+            points: clumps,
+            closed: true,
+        };
+        assert!(despike(&clumps).1.is_empty());
+        // A hand-clicked crescent: clicks 2 mm apart along its walls, one at its tip 15.5 mm
+        // from its neighbours, which lie 8 mm apart (a 30-degree tip): an outline, every point
+        // kept (split at its jumps as before).
+        let mut tip: Vec<Vec3> = (0..=20).map(|i| v3(f64::from(i) * 2.0, 0.0, 0.0)).collect();
+        tip.push(v3(55.0, 4.0, 0.0));
+        tip.extend((0..=20).rev().map(|i| v3(f64::from(i) * 2.0, 8.0, 0.0)));
+        tip.extend([3.0, 2.0, 1.0].map(|k| v3(0.0, 2.0 * k, 0.0)));
+        let tip = Polyline {
+            points: tip,
+            closed: true,
+        };
+        assert!(despike(&tip).1.is_empty());
+        let kept = clean_and_split(&tip);
+        assert_eq!(kept.iter().map(|p| p.points.len()).sum::<usize>(), 46);
+        assert_eq!(
+            clean_and_split(&clumps)
+                .iter()
+                .map(|p| p.points.len())
+                .sum::<usize>(),
+            6
         );
     }
 

@@ -190,7 +190,8 @@ impl ContourBuilder {
         // Across surfaces: a ring copied into another surface is a mistake about both.
         let dups = duplicate_warnings(&set);
         set.warnings.extend(dups);
-        let checks: [fn(&ContourSet) -> Vec<String>; 7] = [
+        let checks: [fn(&ContourSet) -> Vec<String>; 8] = [
+            checks::spike_warnings,
             checks::stray_point_warnings,
             checks::non_planar_warnings,
             order_warnings,
