@@ -3,7 +3,8 @@
 // out of its ring, the next row straight back on the curve. The load-time warning names the
 // contour, its line and how far the spike reaches; the run leaves the point out, so the mesh is
 // the undamaged file's (the same vertices and volume; kept, the point pulled a finger out of the
-// surface: 173.7 -> 178.7 ml, 2126 mm2 more area, without a word).
+// surface: 173.7 -> 178.7 ml, 2126 mm2 more area, without a word); the Contours panel's row of
+// the contour says "1 point left out: spike".
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
@@ -59,8 +60,18 @@ describe('a damaged value in a contour', () => {
     assert.equal(spiked.vertices, clean.vertices);
     assert.ok(Math.abs(spiked.ml - clean.ml) < 0.1, `${spiked.ml} vs ${clean.ml} ml`);
     assert.ok(Math.abs(spiked.meanMm - clean.meanMm) < 0.01, `${spiked.meanMm} vs ${clean.meanMm} mm`);
+    // The Contours panel's row of the contour: used, ticked, the note under its id in amber, the
+    // core's words in its tooltip; no other row has one.
+    const row = page.locator(`[data-testid=contour-row][data-id="${id}"]`);
+    assert.equal(await row.getAttribute('data-state'), 'used');
+    assert.equal(await row.getAttribute('data-spikes'), '1');
+    assert.equal(await row.locator('[data-testid=contour-spikes]').textContent(), '1 point left out: spike');
+    assert.equal(await row.locator('[data-testid=contour-use]').isChecked(), true);
+    assert.match((await row.locator('td.contour-id').getAttribute('title')) ?? '', new RegExp(`^"${id}": 1 point up to 5\\d\\.\\d mm out of the curve and straight back, left out of the fit`));
+    assert.equal(await page.locator('[data-testid=contour-row][data-spikes]').count(), 1);
     await page.mouse.move(0, 0);
     await page.screenshot({ path: join(SHOTS, 'spike-left-out.png') });
+    await page.locator('section.contours').screenshot({ path: join(SHOTS, 'spike-contour-row.png') });
     assert.deepEqual(pageErrors, []);
   });
 });

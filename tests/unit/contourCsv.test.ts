@@ -14,7 +14,7 @@ const INFO: ExportInfo = {
 
 /** A row with what the CSV reads (the panel's words are not in it). */
 const row = (id: string, state: ContourRow['state'], kind: ContourRow['kind'], count: number, line: number | null, mean: number | null, median: number | null, max: number | null): ContourRow => ({
-  id, kind, state, count, line, meanMm: mean, medianMm: median, maxMm: max, reason: null, detail: null,
+  id, kind, state, count, line, meanMm: mean, medianMm: median, maxMm: max, reason: null, note: null, spikes: 0, detail: null,
 });
 
 describe('the Contours CSV', () => {

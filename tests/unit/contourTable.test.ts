@@ -113,7 +113,7 @@ describe('the rows of the Contours panel', () => {
 
 describe('the sort of the Contours panel\'s rows', () => {
   /** A row with only what the sorts read. */
-  const r = (id: string, kind: 'SAX' | 'LAX' | null, count: number, meanMm: number | null, maxMm: number | null): ContourRow => ({ id, kind, state: 'used', count, meanMm, medianMm: meanMm, maxMm, line: null, reason: null, detail: null });
+  const r = (id: string, kind: 'SAX' | 'LAX' | null, count: number, meanMm: number | null, maxMm: number | null): ContourRow => ({ id, kind, state: 'used', count, meanMm, medianMm: meanMm, maxMm, line: null, reason: null, note: null, spikes: 0, detail: null });
   // Not in any column's order: ids with numbers of one and two digits, a kind unknown, figures missing.
   const ROWS = [r('s10', 'SAX', 30, 0.5, 3), r('s9', 'LAX', 50, null, null), r('s2', null, 10, 2.25, 9), r('a1', 'SAX', 40, 0.1, 1), r('s3', 'LAX', 20, 1, null)];
   const order = (column: SortColumn, descending: boolean) => sortRows(ROWS, { column, descending }).map((x) => x.id);
@@ -200,6 +200,35 @@ describe('the Contours panel', () => {
     expect([box('sax10').checked, box('sax10').disabled]).toEqual([false, true]);
     expect(box('sax10').getAttribute('title')).toMatch(/Keep specks and strays/);
     expect(row('sax10').findAll((e) => e.tagName === 'td')[1].title).toMatch(/^"sax10" \(line 1505\): a speck/);
+  });
+
+  it('a contour with points left out as spikes (damaged values): used, ticked, the note under its id and the core\'s words in its tooltip', () => {
+    const { t, row, box, cells } = table([]);
+    const spiked = run({
+      perContour: [
+        { id: 's02_SAX_LV_ENDOCARDIAL', kind: 'SAX', stats: stats(0.4149, 1.2351, 52, 0.3812), spikes: { points: 1, reach_mm: 58.9953 } },
+        { id: 's06_SAX', kind: 'SAX', stats: stats(0.2, 0.8399, 48), spikes: { points: 3, reach_mm: 300 } },
+        { id: 's07_LAX', kind: 'LAX', stats: stats(0.55, 2.004, 61) },
+      ],
+      set_aside: [],
+      set_aside_contours: [],
+      leave_out: [],
+    });
+    const rows = contourRows(spiked, FILE);
+    expect(rows.map((r) => [r.id, r.state, r.note, r.spikes])).toEqual([
+      ['s02_SAX_LV_ENDOCARDIAL', 'used', '1 point left out: spike', 1],
+      ['s06_SAX', 'used', '3 points left out: spikes', 3],
+      ['s07_LAX', 'used', null, 0],
+    ]);
+    expect(rows[0].reason).toBeNull();
+    expect(rows[0].detail).toBe('"s02_SAX_LV_ENDOCARDIAL": 1 point up to 59.0 mm out of the curve and straight back, left out of the fit (a damaged value?)');
+    t.show(spiked);
+    expect(cells('s02_SAX_LV_ENDOCARDIAL')).toEqual(['', 's02_SAX_LV_ENDOCARDIAL · 1 point left out: spike', 'SAX', '52', '0.41', '1.24']);
+    expect([row('s06_SAX').dataset.spikes, row('s07_LAX').dataset.spikes]).toEqual(['3', undefined]);
+    expect([box('s06_SAX').checked, box('s06_SAX').disabled]).toEqual([true, false]);
+    expect(hasClass(row('s06_SAX'), 'core-left-out')).toBe(false);
+    expect(row('s06_SAX').findAll((e) => e.tagName === 'td')[1].title).toMatch(/^"s06_SAX": 3 points up to 300\.0 mm out of the curve/);
+    expect(row('s07_LAX').findAll((e) => e.tagName === 'td')[1].title).toBe('s07_LAX');
   });
 
   it('unticking or ticking a box asks the app; "Use all" shows while any is left out', () => {

@@ -186,6 +186,17 @@ export interface ContourStats {
   id: string;
   kind: ContourKindName;
   stats: Stats;
+  /**
+   * Points the core left out of this contour as spikes (a point or a few rows thrown out of the
+   * curve and straight back: damaged values) and how far the farthest reached, mm; absent when none.
+   */
+  spikes?: ContourSpikes;
+}
+
+/** The core's `ContourSpikes` summary of one contour. */
+export interface ContourSpikes {
+  points: number;
+  reach_mm: number;
 }
 
 /** One short-axis slice or long-axis view moved by the breath-hold alignment (the core's `GroupShift`). */

@@ -262,6 +262,7 @@ export class ContourTable {
       { class: 'contour-id', title: row.detail ?? row.id },
       h('span', { class: 'contour-name' }, row.id),
       row.reason === null ? null : h('span', { class: 'contour-reason' }, row.reason),
+      row.note === null ? null : h('span', { class: 'contour-reason contour-spikes', 'data-testid': 'contour-spikes' }, row.note),
     );
     id.addEventListener('click', () => this.pin(row.id));
     const tr = h(
@@ -273,6 +274,7 @@ export class ContourTable {
         'data-kind': row.kind ?? '',
         'data-state': row.state,
         'data-count': row.count,
+        'data-spikes': row.spikes > 0 ? row.spikes : undefined,
         'data-mean-mm': row.meanMm ?? undefined,
         'data-max-mm': row.maxMm ?? undefined,
       },

@@ -8,7 +8,7 @@
  */
 import type { ContourInfo, ContourKindName, RunResult, SetAsideReason } from '../core-client/protocol';
 import { robustMax } from '../viewer/colormap';
-import { isFigure, LEFT_OUT_BY_USER, leftOutDetail, leftOutLabel } from './runText';
+import { isFigure, LEFT_OUT_BY_USER, leftOutDetail, leftOutLabel, spikeDetail, spikeNote } from './runText';
 
 /** `used`: in the reconstruction; otherwise why it is not (the core's reasons, `by_user` the user's). */
 export type ContourRowState = 'used' | SetAsideReason;
@@ -31,7 +31,11 @@ export interface ContourRow {
   line: number | null;
   /** "left out: speck", "left out by you" (null: used). */
   reason: string | null;
-  /** Tooltip of a row left out: its line and why (leftOutDetail). */
+  /** A used contour's points left out as damaged values: "1 point left out: spike" (null: none). */
+  note: string | null;
+  /** Points left out as spikes (0: none). */
+  spikes: number;
+  /** Tooltip: of a row left out, its line and why (leftOutDetail); of a row with spikes, them (spikeDetail). */
   detail: string | null;
 }
 
@@ -62,7 +66,9 @@ export function contourRows(r: RunResult, file: readonly FileContour[] = []): Co
     maxMm: c.stats.max,
     line: null,
     reason: null,
-    detail: null,
+    note: c.spikes ? spikeNote(c.spikes) : null,
+    spikes: c.spikes?.points ?? 0,
+    detail: c.spikes ? spikeDetail(c.id, c.spikes) : null,
   }));
   const asideContours = r.set_aside_contours ?? [];
   const taken = new Set<number>();
@@ -83,6 +89,8 @@ export function contourRows(r: RunResult, file: readonly FileContour[] = []): Co
       maxMm: figure(e.max),
       line: e.line > 0 ? e.line : null,
       reason: leftOutLabel(e.reason),
+      note: null,
+      spikes: 0,
       detail: leftOutDetail(e),
     };
   });

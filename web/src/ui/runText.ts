@@ -2,7 +2,7 @@
  * The words the status line and the result panel use for a run's progress and for its breath-hold
  * alignment. Pure (no DOM), so the wording and the numbers are unit-tested.
  */
-import type { Alignment, AlignmentGroup, EndCaps, MeshQuality, PastData, SetAsideEntry, SetAsideReason, SkippedRemesh, StepReport } from '../core-client/protocol';
+import type { Alignment, AlignmentGroup, ContourSpikes, EndCaps, MeshQuality, PastData, SetAsideEntry, SetAsideReason, SkippedRemesh, StepReport } from '../core-client/protocol';
 import { mm } from './dom';
 
 /** "+1.4 mm" / "−0.3 mm": a signed length with one decimal ("0.0 mm" when it rounds to zero, not "−0.0"). */
@@ -246,6 +246,20 @@ export function meshCheckText(q: MeshQuality): {
       title: `edges where neighbouring triangles turn more than 90° against each other (a crease)${f > 0 ? ': on an RV usually a sharp corner of the contours' : ''}`,
     },
   };
+}
+
+/** "1 point left out: spike" / "2 points left out: spikes": a used contour's row note in the Contours panel. */
+export function spikeNote(s: ContourSpikes): string {
+  return s.points === 1 ? '1 point left out: spike' : `${s.points} points left out: spikes`;
+}
+
+/**
+ * Its tooltip, in the core's words for the warning line: `"s05" : 1 point up to 59.0 mm out of the
+ * curve and straight back, left out of the fit (a damaged value?)`.
+ */
+export function spikeDetail(id: string, s: ContourSpikes): string {
+  const points = s.points === 1 ? '1 point' : `${s.points} points`;
+  return `"${id}": ${points} up to ${s.reach_mm.toFixed(1)} mm out of the curve and straight back, left out of the fit (a damaged value?)`;
 }
 
 /** What a contour the user left out (unticked in the Contours panel) is called everywhere. */

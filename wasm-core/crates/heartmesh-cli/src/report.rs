@@ -103,7 +103,7 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
         .per_contour
         .iter()
         .map(|c| {
-            json!({
+            let mut row = json!({
                 "id": c.id,
                 "kind": c.kind,
                 "mean": c.stats.mean,
@@ -111,7 +111,12 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
                 "p95": c.stats.p95,
                 "max": c.stats.max,
                 "points": c.stats.count,
-            })
+            });
+            // Points left out of it as damaged values (only when there are any).
+            if let Some(s) = rec.spikes_of(&c.id) {
+                row["spikes"] = json!(s);
+            }
+            row
         })
         .collect();
     let o = d.overall;

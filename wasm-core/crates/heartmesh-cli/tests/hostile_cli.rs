@@ -770,6 +770,20 @@ fn a_point_thrown_out_of_any_heart_is_left_out_and_named() {
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("(line 62, 1 point up to 5"), "{err}");
     let rep = rep.unwrap();
+    // The report's row of the contour says it too; no other row has spikes.
+    let rows = rep["per_contour"].as_array().unwrap();
+    let spiked: Vec<&serde_json::Value> =
+        rows.iter().filter(|r| r.get("spikes").is_some()).collect();
+    assert_eq!(spiked.len(), 1, "{rows:?}");
+    assert_eq!(spiked[0]["id"], "sax1");
+    assert_eq!(spiked[0]["spikes"]["points"], 1);
+    let reach = spiked[0]["spikes"]["reach_mm"].as_f64().unwrap();
+    assert!(reach > 50.0 && reach <= 60.0, "{reach}");
+    assert!(clean["per_contour"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|r| r.get("spikes").is_none()));
     assert!(valid_mesh_c2m(&rep, "spike") < 0.2);
     let (v, a0) = (
         rep["volume_ml"].as_f64().unwrap(),

@@ -174,7 +174,11 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
     let per_contour: Vec<_> = distances
         .per_contour
         .iter()
-        .map(|c| json!({ "id": c.id, "kind": c.kind, "stats": c.stats }))
+        .map(|c| match rec.spikes_of(&c.id) {
+            // Points left out of it as damaged values: the Contours panel says so in its row.
+            Some(s) => json!({ "id": c.id, "kind": c.kind, "stats": c.stats, "spikes": s }),
+            None => json!({ "id": c.id, "kind": c.kind, "stats": c.stats }),
+        })
         .collect();
     json!({
         "surface": rec.params().surface,

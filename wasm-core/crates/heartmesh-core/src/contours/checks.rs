@@ -236,21 +236,18 @@ pub fn stray_point_warnings(set: &ContourSet) -> Vec<String> {
 }
 
 /// Contours with a point (or a few) thrown out of the curve and straight back
-/// ([`super::clean::despike`]): left out of the fit, named so the damaged value is found.
+/// ([`super::clean::contour_spikes`]): left out of the fit, named so the damaged value is found.
 pub fn spike_warnings(set: &ContourSet) -> Vec<String> {
     let mut flagged: Vec<String> = Vec::new();
     for c in &set.contours {
-        let spikes: Vec<_> = c
-            .pieces
-            .iter()
-            .flat_map(|p| super::clean::despike(p).1)
-            .collect();
-        if let Some(far) = spikes.iter().map(|s| s.offset).reduce(f64::max) {
-            let n: usize = spikes.iter().map(|s| s.len).sum();
-            let points = if n == 1 { "point" } else { "points" };
+        if let Some(s) = super::clean::contour_spikes(c) {
+            let points = if s.points == 1 { "point" } else { "points" };
             flagged.push(named(
                 c,
-                &format!("{n} {points} up to {far:.1} mm out of the curve and straight back"),
+                &format!(
+                    "{} {points} up to {:.1} mm out of the curve and straight back",
+                    s.points, s.reach_mm
+                ),
             ));
         }
     }

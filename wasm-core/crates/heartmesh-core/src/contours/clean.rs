@@ -6,6 +6,7 @@
 
 use super::{Contour, Polyline};
 use crate::geometry::Vec3;
+use serde::Serialize;
 
 /// A jump longer than this many times the median spacing splits a curve into pieces.
 pub const JUMP_FACTOR: f64 = 5.0;
@@ -241,6 +242,29 @@ pub fn despike(piece: &Polyline) -> (Vec<Vec3>, Vec<Spike>) {
         Some(limit) => without_spikes(pts, piece.closed, limit),
         None => (pts, Vec::new()),
     }
+}
+
+/// What [`clean_and_split`] leaves out of one contour as spikes: how many points, and how far
+/// the farthest reaches (mm). The warning line, the report's `per_contour` and the app's
+/// Contours panel say it from this.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ContourSpikes {
+    /// The contour's id (not serialised: the row the summary sits in names it).
+    #[serde(skip_serializing)]
+    pub id: String,
+    pub points: usize,
+    pub reach_mm: f64,
+}
+
+/// The spikes of a contour's pieces ([`despike`]); None without any.
+pub fn contour_spikes(c: &Contour) -> Option<ContourSpikes> {
+    let spikes: Vec<Spike> = c.pieces.iter().flat_map(|p| despike(p).1).collect();
+    let reach_mm = spikes.iter().map(|s| s.offset).reduce(f64::max)?;
+    Some(ContourSpikes {
+        id: c.id.clone(),
+        points: spikes.iter().map(|s| s.len).sum(),
+        reach_mm,
+    })
 }
 
 /// Cleans a polyline, leaves out its spikes ([`spikes`]) and splits it where consecutive points

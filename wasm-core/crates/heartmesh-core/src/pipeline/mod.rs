@@ -35,7 +35,7 @@ use crate::contours::align::{
 };
 use crate::contours::axis::Layout;
 use crate::contours::biv_epi;
-use crate::contours::clean::resample_spacing;
+use crate::contours::clean::{contour_spikes, resample_spacing, ContourSpikes};
 use crate::contours::set_aside::{self, SetAside};
 use crate::contours::valve_chord::open_valve_chords;
 use crate::contours::{Contour, ContourKind, ContourSet};
@@ -189,6 +189,9 @@ impl Normalisation {
 pub struct Reconstruction {
     params: Params,
     contours: Vec<Contour>,
+    /// The selected surface's contours with points left out as spikes (damaged values,
+    /// `contours::clean::spikes`), in the file's order.
+    spikes: Vec<ContourSpikes>,
     /// What the mesh is fitted to: `contours` with long-axis curves closed across the valve opened
     /// there (`valve_chord`); measured distances stay those to `contours`, as drawn.
     fitted: Vec<Contour>,
@@ -305,6 +308,8 @@ impl Reconstruction {
         let derived = biv_epi::with_derived(source, params.surface.as_deref());
         let source = derived.as_ref().unwrap_or(source);
         let selected = prepare::select_surface(source, params.surface.as_deref())?;
+        let spikes: Vec<ContourSpikes> =
+            selected.iter().filter_map(|c| contour_spikes(c)).collect();
         let contours = prepare::clean_contours(&selected);
         let contours_as_given = match aligned {
             Some(_) => {
@@ -381,6 +386,7 @@ impl Reconstruction {
         Ok(Reconstruction {
             params,
             contours,
+            spikes,
             fitted,
             valve_chords,
             set_aside,
@@ -619,6 +625,17 @@ impl Reconstruction {
     /// [`Reconstruction::set_aside`]).
     pub fn contours(&self) -> &[Contour] {
         &self.contours
+    }
+
+    /// The points cleaning left out of the selected surface's contours as spikes, per contour
+    /// (only those with any): the report's and the app's per-contour rows say so.
+    pub fn spikes(&self) -> &[ContourSpikes] {
+        &self.spikes
+    }
+
+    /// The spikes left out of the contour `id` (None: none).
+    pub fn spikes_of(&self, id: &str) -> Option<&ContourSpikes> {
+        self.spikes.iter().find(|s| s.id == id)
     }
 
     /// The ids of the long-axis curves closed across the valve that the mesh was fitted to opened
