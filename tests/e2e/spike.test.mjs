@@ -9,7 +9,7 @@ import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { gotoEmpty, readResult, resultVolume, ROOT, runAndWait, SHOTS } from './lib.mjs';
+import { download, gotoEmpty, readResult, resultVolume, ROOT, runAndWait, SHOTS } from './lib.mjs';
 import { appForFile } from './perFile.mjs';
 
 let server;
@@ -69,6 +69,14 @@ describe('a damaged value in a contour', () => {
     assert.equal(await row.locator('[data-testid=contour-use]').isChecked(), true);
     assert.match((await row.locator('td.contour-id').getAttribute('title')) ?? '', new RegExp(`^"${id}": 1 point up to 5\\d\\.\\d mm out of the curve and straight back, left out of the fit`));
     assert.equal(await page.locator('[data-testid=contour-row][data-spikes]').count(), 1);
+    // The panel's CSV counts it in its last column.
+    const { bytes } = await download(page, 'contour-csv');
+    const [columns, ...data] = bytes.toString('utf8').trimEnd().split('\n').filter((l) => !l.startsWith('#'));
+    assert.equal(columns.split(',').at(-1), 'spike_points');
+    assert.deepEqual(
+      data.map((l) => l.split(',')).filter((f) => f.at(-1) !== '0').map((f) => [f[0], f.at(-1)]),
+      [[id, '1']],
+    );
     await page.mouse.move(0, 0);
     await page.screenshot({ path: join(SHOTS, 'spike-left-out.png') });
     await page.locator('section.contours').screenshot({ path: join(SHOTS, 'spike-contour-row.png') });

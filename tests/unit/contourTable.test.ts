@@ -422,12 +422,12 @@ describe('the Contours panel', () => {
       '# heartmesh 0.1.0 (core 0.1.0), units: mm',
       '# input: patient1-ED.csv surface: LV_ENDO',
       '# lids: auto iterations=250 leave_out=s08_LAX',
-      'contour,kind,state,line,points,mean_mm,median_mm,max_mm',
-      's08_LAX,LAX,by_user,700,40,1.8312,1.1430,7.6649',
-      's07_LAX,LAX,used,,61,0.5500,0.5500,2.0040',
-      's02_SAX_LV_ENDOCARDIAL,SAX,used,,52,0.4149,0.3812,1.2351',
-      's06_SAX,SAX,used,,48,0.2000,0.2000,0.8399',
-      'sax10,SAX,speck,1505,3,,,',
+      'contour,kind,state,line,points,mean_mm,median_mm,max_mm,spike_points',
+      's08_LAX,LAX,by_user,700,40,1.8312,1.1430,7.6649,0',
+      's07_LAX,LAX,used,,61,0.5500,0.5500,2.0040,0',
+      's02_SAX_LV_ENDOCARDIAL,SAX,used,,52,0.4149,0.3812,1.2351,0',
+      's06_SAX,SAX,used,,48,0.2000,0.2000,0.8399,0',
+      'sax10,SAX,speck,1505,3,,,,0',
       '',
     ]);
     // No rows (a run without contours), no header known, or another surface's clear: nothing to save.

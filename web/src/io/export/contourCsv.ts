@@ -9,8 +9,12 @@ import type { ContourRow } from '../../ui/contourRows';
 import { csvField } from './csvField';
 import { exportBaseName, headerLines, type ExportInfo } from './header';
 
-/** The columns, named as the CLI report's figures are (mm in the name: the file has no other place for units). */
-export const CONTOUR_CSV_COLUMNS = 'contour,kind,state,line,points,mean_mm,median_mm,max_mm';
+/**
+ * The columns, named as the CLI report's figures are (mm in the name: the file has no other place
+ * for units); `spike_points`, last, counts the points the core left out of a contour used as
+ * damaged values (the report's `per_contour` `spikes.points`; 0 for none).
+ */
+export const CONTOUR_CSV_COLUMNS = 'contour,kind,state,line,points,mean_mm,median_mm,max_mm,spike_points';
 
 /**
  * A distance to 4 decimals (as the Distances CSV); empty when there is no figure (a spreadsheet
@@ -21,7 +25,7 @@ export function mm4(v: number | null): string {
 }
 
 function contourLine(row: ContourRow): string {
-  return [csvField(row.id), row.kind ?? '', row.state, row.line ?? '', row.count, mm4(row.meanMm), mm4(row.medianMm), mm4(row.maxMm)].join(',');
+  return [csvField(row.id), row.kind ?? '', row.state, row.line ?? '', row.count, mm4(row.meanMm), mm4(row.medianMm), mm4(row.maxMm), row.spikes].join(',');
 }
 
 /** The CSV of `rows`, in their order, under the header lines of the run they come from (`info`). */
