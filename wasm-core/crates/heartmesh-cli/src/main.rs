@@ -5,6 +5,11 @@
 //! problem`; outputs that cannot be written, or would overwrite an input, are refused so before
 //! any work), 1 the reconstruction or writing failed.
 
+// No unwrap/expect outside tests: a panic on user data would kill the CLI run or the app's
+// worker, so every fallible step returns a typed error (`clippy -D warnings` in CI enforces this;
+// tests may unwrap).
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
+
 #[macro_use]
 mod stdout;
 mod anatomical_out;

@@ -9,6 +9,11 @@
 //! WebAssembly binding all run the same code. Everything is computed in f64, in millimetres, in the
 //! coordinate system of the input (usually DICOM patient coordinates, LPS).
 
+// No unwrap/expect outside tests: a panic on user data would kill the CLI run or the app's
+// worker, so every fallible step returns a typed error (`clippy -D warnings` in CI enforces this;
+// tests may unwrap).
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
+
 pub mod clock;
 pub mod contours;
 pub mod deform;

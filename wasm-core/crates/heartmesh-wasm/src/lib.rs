@@ -7,6 +7,11 @@
 //! errors are thrown as JSON strings `{code, message, line?, available?}`. The reconstruction
 //! itself (Villard, Grau & Zacur, J. Imaging 2018) lives entirely in heartmesh-core.
 
+// No unwrap/expect outside tests: a panic on user data would kill the CLI run or the app's
+// worker, so every fallible step returns a typed error (`clippy -D warnings` in CI enforces this;
+// tests may unwrap).
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
+
 mod anatomical;
 mod clock;
 mod convert;
