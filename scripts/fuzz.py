@@ -9,8 +9,9 @@ through `heartmesh reconstruct`, one row per input that goes wrong.
          steps are what is under test).
   edits  valid contour CSVs (SurFCo; biv-me patients 1 and 2, ED and ES, each surface) with 1-4
          random edits: contours dropped, moved up to 20 mm, scaled 0.2-2.5 times, rotated out of
-         their plane, duplicated, reversed, cut open, subsampled, swapped or merged under one name.
-         Run at the defaults.
+         their plane, duplicated, reversed, cut open, subsampled, swapped or merged under one name,
+         or damaged values: 1-3 rows thrown 10-150 mm out inside a curve (spike) or at its first
+         or last rows (endrow). Run at the defaults.
 
 Flags: EXIT (status other than 0 or 2), PANIC, HANG (60 s / 120 s), VAGUE (exit 2 but not one
 stderr line); for `edits` also MESH (exit 0 but not closed, manifold and outward), SELFX (the mesh
@@ -247,7 +248,7 @@ def centroid(pts):
 def edit(contours, surface, rng):
     ids = [k for k, v in contours.items() if surface is None or v[0].get("surface") == surface]
     kind = rng.choice(["drop", "move", "scale", "twin", "reverse", "cut", "subsample", "swap", "tilt", "merge",
-                       "spike"])
+                       "spike", "endrow"])
     if len(ids) < 2:
         return kind
     c = rng.choice(ids)
@@ -299,6 +300,14 @@ def edit(contours, surface, rng):
         d = [rng.gauss(0, 1) for _ in range(3)]
         s = rng.uniform(10, 150) / math.sqrt(sum(v * v for v in d))
         put(contours[c], [[p[i] + d[i] * s for i in range(3)] if a <= k < a + n else p for k, p in enumerate(pts)])
+    elif kind == "endrow" and len(pts) > 10:
+        # A damaged value at a curve's first or last rows (1-3), 10-150 mm out: an open curve
+        # cannot come back to itself there.
+        n = rng.randint(1, 3)
+        ends = range(n) if rng.random() < 0.5 else range(len(pts) - n, len(pts))
+        d = [rng.gauss(0, 1) for _ in range(3)]
+        s = rng.uniform(10, 150) / math.sqrt(sum(v * v for v in d))
+        put(contours[c], [[p[i] + d[i] * s for i in range(3)] if k in ends else p for k, p in enumerate(pts)])
     elif kind == "merge":
         for r in contours[other]:
             r["contour"] = c

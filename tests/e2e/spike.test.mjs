@@ -4,7 +4,11 @@
 // contour, its line and how far the spike reaches; the run leaves the point out, so the mesh is
 // the undamaged file's (the same vertices and volume; kept, the point pulled a finger out of the
 // surface: 173.7 -> 178.7 ml, 2126 mm2 more area, without a word); the Contours panel's row of
-// the contour says "1 point left out: spike".
+// the contour says "1 point left out: spike". And one at an open curve's end (session 58,
+// `contours::far_pieces`): a row added after the last of patient 1 ED's long-axis LV endocardium
+// s07 (an open curve), 60 mm further out from the surface's centre, cannot come back to the curve;
+// judged against the whole surface it is left out and named (kept, it pulled a finger: 173.7 ->
+// 206.0 ml, without a word).
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
@@ -36,6 +40,25 @@ const drop = () =>
     buffer: Buffer.from(`${damaged.join('\n')}\n`),
   });
 const volume = () => resultVolume(page);
+
+// The far row: after s07's last LV endocardium row, 60 mm beyond it away from the surface's centre.
+const lvRows = rows.map((i) => lines[i].split(',').slice(1, 4).map(Number));
+const centre = [0, 1, 2].map((k) => lvRows.reduce((s, p) => s + p[k], 0) / lvRows.length);
+const lax = 's07_LAX_LV_ENDOCARDIAL';
+const laxLast = lines.findLastIndex((l) => l.startsWith(`${lax},`));
+const laxFirst = lines.findIndex((l) => l.startsWith(`${lax},`)) + 1;
+const end = lines[laxLast].split(',');
+const out = [1, 2, 3].map((k) => Number(end[k]) - centre[k - 1]);
+const norm = Math.hypot(...out);
+const farRow = [lax, ...[1, 2, 3].map((k) => (Number(end[k]) + (60 * out[k - 1]) / norm).toFixed(4)), ...end.slice(4)].join(',');
+const withFarRow = [...lines.slice(0, laxLast + 1), farRow, ...lines.slice(laxLast + 1)];
+
+/** The Contours panel's CSV as [columns, rows of fields]. */
+async function contourCsv() {
+  const { bytes } = await download(page, 'contour-csv');
+  const [columns, ...data] = bytes.toString('utf8').trimEnd().split('\n').filter((l) => !l.startsWith('#'));
+  return [columns.split(','), data.map((l) => l.split(','))];
+}
 
 describe('a damaged value in a contour', () => {
   it('is named in the warning line and left out: the mesh is the undamaged file\'s', async () => {
@@ -69,17 +92,60 @@ describe('a damaged value in a contour', () => {
     assert.equal(await row.locator('[data-testid=contour-use]').isChecked(), true);
     assert.match((await row.locator('td.contour-id').getAttribute('title')) ?? '', new RegExp(`^"${id}": 1 point up to 5\\d\\.\\d mm out of the curve and straight back, left out of the fit`));
     assert.equal(await page.locator('[data-testid=contour-row][data-spikes]').count(), 1);
-    // The panel's CSV counts it in its last column.
-    const { bytes } = await download(page, 'contour-csv');
-    const [columns, ...data] = bytes.toString('utf8').trimEnd().split('\n').filter((l) => !l.startsWith('#'));
-    assert.equal(columns.split(',').at(-1), 'spike_points');
+    // The panel's CSV counts it in its spike_points column.
+    const [columns, data] = await contourCsv();
+    const k = columns.indexOf('spike_points');
+    assert.deepEqual(columns.slice(-2), ['spike_points', 'far_points']);
     assert.deepEqual(
-      data.map((l) => l.split(',')).filter((f) => f.at(-1) !== '0').map((f) => [f[0], f.at(-1)]),
-      [[id, '1']],
+      data.filter((f) => f[k] !== '0' || f.at(-1) !== '0').map((f) => [f[0], f[k], f.at(-1)]),
+      [[id, '1', '0']],
     );
     await page.mouse.move(0, 0);
     await page.screenshot({ path: join(SHOTS, 'spike-left-out.png') });
     await page.locator('section.contours').screenshot({ path: join(SHOTS, 'spike-contour-row.png') });
+    assert.deepEqual(pageErrors, []);
+  });
+
+  it('at an open curve\'s end, far from the rest of the surface, is named and left out too', async () => {
+    await runAndWait(page, () => page.click('[data-testid=sample-patient1-ED]'), 120000);
+    const clean = { ...(await readResult(page)), ml: await volume() };
+    await runAndWait(
+      page,
+      () =>
+        page.setInputFiles('[data-testid=file-input]', {
+          name: 'patient1-ED-far-row.csv',
+          mimeType: 'text/csv',
+          buffer: Buffer.from(`${withFarRow.join('\n')}\n`),
+        }),
+      120000,
+    );
+    assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'LV_ENDO');
+    const warning = (await page.textContent('#slot-warnings')) ?? '';
+    const said = new RegExp(
+      `contour "${lax}" \\(line ${laxFirst}, 1 point (\\d+\\.\\d) mm from every other point of its surface, which spans (\\d+) mm\\) is fitted without that piece`,
+    );
+    const [, gap, span] = said.exec(warning) ?? [];
+    assert.ok(Number(gap) > 55 && Number(gap) <= 60 && Number(span) > 70, `${gap} of ${span} mm in: ${warning}`);
+    assert.ok(!warning.includes('does not lie in one plane'), warning);
+    // The mesh: the undamaged file's.
+    const far = { ...(await readResult(page)), ml: await volume() };
+    assert.equal(far.vertices, clean.vertices);
+    assert.ok(Math.abs(far.ml - clean.ml) < 0.1, `${far.ml} vs ${clean.ml} ml (kept: 206.0)`);
+    const row = page.locator(`[data-testid=contour-row][data-id="${lax}"]`);
+    assert.equal(await row.getAttribute('data-state'), 'used');
+    assert.equal(await row.getAttribute('data-far'), '1');
+    assert.equal(await row.locator('[data-testid=contour-spikes]').textContent(), '1 point left out: far off');
+    assert.match((await row.locator('td.contour-id').getAttribute('title')) ?? '', new RegExp(`^"${lax}": 1 point ${gap} mm from every other point of its surface, which spans ${span} mm, left out of the fit`));
+    assert.equal(await page.locator('[data-testid=contour-row][data-far]').count(), 1);
+    assert.equal(await page.locator('[data-testid=contour-row][data-spikes]').count(), 0);
+    const [columns, data] = await contourCsv();
+    const k = columns.indexOf('far_points');
+    assert.deepEqual(
+      data.filter((f) => f[k] !== '0').map((f) => [f[0], f[k]]),
+      [[lax, '1']],
+    );
+    await page.mouse.move(0, 0);
+    await page.locator('section.contours').screenshot({ path: join(SHOTS, 'far-row-contour-row.png') });
     assert.deepEqual(pageErrors, []);
   });
 });

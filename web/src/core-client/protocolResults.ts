@@ -191,12 +191,25 @@ export interface ContourStats {
    * curve and straight back: damaged values) and how far the farthest reached, mm; absent when none.
    */
   spikes?: ContourSpikes;
+  /**
+   * Points the core left out of this contour as far from the rest of its surface (a damaged first
+   * or last row of an open curve: further from every other point than half the surface's span),
+   * the nearest one's gap and the surface's span, mm; absent when none.
+   */
+  far?: ContourFar;
 }
 
 /** The core's `ContourSpikes` summary of one contour. */
 export interface ContourSpikes {
   points: number;
   reach_mm: number;
+}
+
+/** The core's `ContourFar` summary of one contour. */
+export interface ContourFar {
+  points: number;
+  gap_mm: number;
+  span_mm: number;
 }
 
 /** One short-axis slice or long-axis view moved by the breath-hold alignment (the core's `GroupShift`). */

@@ -275,6 +275,7 @@ export class ContourTable {
         'data-state': row.state,
         'data-count': row.count,
         'data-spikes': row.spikes > 0 ? row.spikes : undefined,
+        'data-far': row.far > 0 ? row.far : undefined,
         'data-mean-mm': row.meanMm ?? undefined,
         'data-max-mm': row.maxMm ?? undefined,
       },

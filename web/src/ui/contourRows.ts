@@ -8,7 +8,7 @@
  */
 import type { ContourInfo, ContourKindName, RunResult, SetAsideReason } from '../core-client/protocol';
 import { robustMax } from '../viewer/colormap';
-import { isFigure, LEFT_OUT_BY_USER, leftOutDetail, leftOutLabel, spikeDetail, spikeNote } from './runText';
+import { farDetail, farNote, isFigure, LEFT_OUT_BY_USER, leftOutDetail, leftOutLabel, spikeDetail, spikeNote } from './runText';
 
 /** `used`: in the reconstruction; otherwise why it is not (the core's reasons, `by_user` the user's). */
 export type ContourRowState = 'used' | SetAsideReason;
@@ -31,12 +31,20 @@ export interface ContourRow {
   line: number | null;
   /** "left out: speck", "left out by you" (null: used). */
   reason: string | null;
-  /** A used contour's points left out as damaged values: "1 point left out: spike" (null: none). */
+  /** A used contour's points left out as damaged values: "1 point left out: spike", "... far off" (null: none). */
   note: string | null;
   /** Points left out as spikes (0: none). */
   spikes: number;
-  /** Tooltip: of a row left out, its line and why (leftOutDetail); of a row with spikes, them (spikeDetail). */
+  /** Points left out as far from the rest of the surface (0: none). */
+  far: number;
+  /** Tooltip: of a row left out, its line and why (leftOutDetail); of a row with damaged values, them (spikeDetail, farDetail). */
   detail: string | null;
+}
+
+/** The texts present, joined by `sep`; null when none is (a row without a note). */
+function joined(texts: readonly (string | undefined)[], sep: string): string | null {
+  const present = texts.filter((t): t is string => typeof t === 'string');
+  return present.length > 0 ? present.join(sep) : null;
 }
 
 /** Points of a contour as its pieces index them. */
@@ -66,9 +74,10 @@ export function contourRows(r: RunResult, file: readonly FileContour[] = []): Co
     maxMm: c.stats.max,
     line: null,
     reason: null,
-    note: c.spikes ? spikeNote(c.spikes) : null,
+    note: joined([c.spikes && spikeNote(c.spikes), c.far && farNote(c.far)], ' · '),
     spikes: c.spikes?.points ?? 0,
-    detail: c.spikes ? spikeDetail(c.id, c.spikes) : null,
+    far: c.far?.points ?? 0,
+    detail: joined([c.spikes && spikeDetail(c.id, c.spikes), c.far && farDetail(c.id, c.far)], '\n'),
   }));
   const asideContours = r.set_aside_contours ?? [];
   const taken = new Set<number>();
@@ -91,6 +100,7 @@ export function contourRows(r: RunResult, file: readonly FileContour[] = []): Co
       reason: leftOutLabel(e.reason),
       note: null,
       spikes: 0,
+      far: 0,
       detail: leftOutDetail(e),
     };
   });

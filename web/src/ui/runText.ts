@@ -2,7 +2,7 @@
  * The words the status line and the result panel use for a run's progress and for its breath-hold
  * alignment. Pure (no DOM), so the wording and the numbers are unit-tested.
  */
-import type { Alignment, AlignmentGroup, ContourSpikes, EndCaps, MeshQuality, PastData, SetAsideEntry, SetAsideReason, SkippedRemesh, StepReport } from '../core-client/protocol';
+import type { Alignment, AlignmentGroup, ContourFar, ContourSpikes, EndCaps, MeshQuality, PastData, SetAsideEntry, SetAsideReason, SkippedRemesh, StepReport } from '../core-client/protocol';
 import { mm } from './dom';
 
 /** "+1.4 mm" / "−0.3 mm": a signed length with one decimal ("0.0 mm" when it rounds to zero, not "−0.0"). */
@@ -254,12 +254,26 @@ export function spikeNote(s: ContourSpikes): string {
 }
 
 /**
- * Its tooltip, in the core's words for the warning line: `"s05" : 1 point up to 59.0 mm out of the
+ * Its tooltip, in the core's words for the warning line: `"s05": 1 point up to 59.0 mm out of the
  * curve and straight back, left out of the fit (a damaged value?)`.
  */
 export function spikeDetail(id: string, s: ContourSpikes): string {
   const points = s.points === 1 ? '1 point' : `${s.points} points`;
   return `"${id}": ${points} up to ${s.reach_mm.toFixed(1)} mm out of the curve and straight back, left out of the fit (a damaged value?)`;
+}
+
+/** "1 point left out: far off" / "2 points left out: far off": the row note of a contour with far pieces. */
+export function farNote(f: ContourFar): string {
+  return f.points === 1 ? '1 point left out: far off' : `${f.points} points left out: far off`;
+}
+
+/**
+ * Its tooltip, in the core's words for the warning line: `"s07_LAX_LV_ENDOCARDIAL": 1 point 60.0 mm
+ * from every other point of its surface, which spans 84 mm, left out of the fit (a damaged value?)`.
+ */
+export function farDetail(id: string, f: ContourFar): string {
+  const points = f.points === 1 ? '1 point' : `${f.points} points`;
+  return `"${id}": ${points} ${f.gap_mm.toFixed(1)} mm from every other point of its surface, which spans ${f.span_mm.toFixed(0)} mm, left out of the fit (a damaged value?)`;
 }
 
 /** What a contour the user left out (unticked in the Contours panel) is called everywhere. */

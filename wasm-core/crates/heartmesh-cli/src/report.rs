@@ -116,6 +116,9 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
             if let Some(s) = rec.spikes_of(&c.id) {
                 row["spikes"] = json!(s);
             }
+            if let Some(f) = rec.far_of(&c.id) {
+                row["far"] = json!(f);
+            }
             row
         })
         .collect();

@@ -736,11 +736,7 @@ fn points_of_two_slices_under_one_name_are_named() {
 fn a_point_thrown_out_of_any_heart_is_left_out_and_named() {
     let dir = scratch("hostile-stray-point");
     let csv = common::ellipsoid_lv_csv(true);
-    let plain = dir.join("plain.csv");
-    std::fs::write(&plain, &csv).unwrap();
-    let (code, err, rep) = reconstruct(&dir, &plain, &[]);
-    assert_eq!((code, err.as_str()), (0, ""));
-    let clean = rep.unwrap();
+    let clean = undamaged(&dir, &csv);
     // Line 72: the 11th point of sax1 (60 points per ring after the header).
     let file = dir.join("damaged.csv");
     std::fs::write(&file, damage(&csv, 71..=71, |_, _| 830.0)).unwrap();
@@ -810,6 +806,93 @@ fn a_point_thrown_out_of_any_heart_is_left_out_and_named() {
         assert_eq!(rep["skipped_remeshes"], serde_json::json!([]));
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A damaged value at an open curve's last row cannot come back to the curve (no spike) and,
+/// 60 mm out, is no stray of the curve alone (100 mm): judged against the whole surface, it is
+/// left out and named; kept, it pulled a finger out of the apex.
+#[test]
+fn a_damaged_last_row_far_from_its_surface_is_left_out_and_named() {
+    let dir = scratch("hostile-far-end-row");
+    // lax1 cut short to an open curve (its first 51 rows: from the apex over the valve and 10
+    // rows down the other side); whole, it runs back to the apex and is a ring with a gap.
+    let whole = common::ellipsoid_lv_csv(true);
+    let lines: Vec<&str> = whole.lines().collect();
+    let csv = lines[..1 + 420 + 61 + 51].join("\n") + "\n";
+    let clean = undamaged(&dir, &csv);
+    // Line 532 (0-based): lax1's last row, at (4.0, -11.8, -52), thrown 60 mm along x.
+    let file = dir.join("damaged.csv");
+    std::fs::write(&file, damage(&csv, 532..=532, |_, x| x + 60.0)).unwrap();
+    let (code, err, rep) = reconstruct(&dir, &file, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("contour \"lax1\" (line 483, 1 point ")
+            && err.contains(
+                "from every other point of its surface, which spans 60 mm) is fitted without that \
+                 piece"
+            )
+            && !err.contains("one plane"),
+        "{err}"
+    );
+    let rep = rep.unwrap();
+    assert!(valid_mesh_c2m(&rep, "damaged") < 0.2);
+    assert_eq!(rep["quality"]["self_intersections"], 0);
+    // The report's row of the contour says it too; no other row has far pieces.
+    let rows = rep["per_contour"].as_array().unwrap();
+    let far: Vec<&serde_json::Value> = rows.iter().filter(|r| r.get("far").is_some()).collect();
+    assert_eq!(far.len(), 1, "{rows:?}");
+    assert_eq!(far[0]["id"], "lax1");
+    assert_eq!(far[0]["far"]["points"], 1);
+    let gap = far[0]["far"]["gap_mm"].as_f64().unwrap();
+    assert!(gap > 30.0 && gap < 60.0, "{gap}");
+    assert_eq!(
+        far[0]["far"]["span_mm"].as_f64().map(f64::round),
+        Some(60.0)
+    );
+    assert!(rows.iter().all(|r| r.get("spikes").is_none()));
+    let (v, v0) = (
+        rep["volume_ml"].as_f64().unwrap(),
+        clean["volume_ml"].as_f64().unwrap(),
+    );
+    assert!((v - v0).abs() / v0 < 0.005, "{v} vs {v0} ml");
+    let (a, a0) = (
+        rep["area_mm2"].as_f64().unwrap(),
+        clean["area_mm2"].as_f64().unwrap(),
+    );
+    assert!((a - a0).abs() / a0 < 0.005, "{a} vs {a0} mm2");
+    // A ring's damaged last row (sax1's, line 121) comes straight back to the ring's start: the
+    // ring is still read as one and the row is a spike (read open, it was a lone end point).
+    std::fs::write(&file, damage(&csv, 120..=120, |_, x| x + 40.0)).unwrap();
+    let (code, err, rep) = reconstruct(&dir, &file, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("contour \"sax1\" (line 62, 1 point up to 39.9 mm out of the curve")
+            && err.contains("straight back) is fitted without the spike")
+            && !err.contains("every other point"),
+        "{err}"
+    );
+    let rep = rep.unwrap();
+    let v = rep["volume_ml"].as_f64().unwrap();
+    assert!((v - v0).abs() / v0 < 0.005, "{v} vs {v0} ml");
+    // 20 mm out (within half the surface's span of the rest), the row stays data (named only
+    // as out of the curve's plane, which it is: here read as a slice of its own).
+    std::fs::write(&file, damage(&csv, 532..=532, |_, x| x + 20.0)).unwrap();
+    let (code, err, _) = reconstruct(&dir, &file, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        !err.contains("fitted without") && err.contains("image planes"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The report of `csv` reconstructed as it is (written to `dir`), which must give no word.
+fn undamaged(dir: &Path, csv: &str) -> serde_json::Value {
+    let plain = dir.join("plain.csv");
+    std::fs::write(&plain, csv).unwrap();
+    let (code, err, rep) = reconstruct(dir, &plain, &[]);
+    assert_eq!((code, err.as_str()), (0, ""));
+    rep.unwrap()
 }
 
 /// The CSV with the x of some lines (0-based) replaced by `x(line, old x)`.

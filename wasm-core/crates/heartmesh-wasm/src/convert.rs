@@ -174,10 +174,16 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
     let per_contour: Vec<_> = distances
         .per_contour
         .iter()
-        .map(|c| match rec.spikes_of(&c.id) {
+        .map(|c| {
+            let mut row = json!({ "id": c.id, "kind": c.kind, "stats": c.stats });
             // Points left out of it as damaged values: the Contours panel says so in its row.
-            Some(s) => json!({ "id": c.id, "kind": c.kind, "stats": c.stats, "spikes": s }),
-            None => json!({ "id": c.id, "kind": c.kind, "stats": c.stats }),
+            if let Some(s) = rec.spikes_of(&c.id) {
+                row["spikes"] = json!(s);
+            }
+            if let Some(f) = rec.far_of(&c.id) {
+                row["far"] = json!(f);
+            }
+            row
         })
         .collect();
     json!({

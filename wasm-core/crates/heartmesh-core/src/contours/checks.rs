@@ -7,6 +7,7 @@
 //! tolerance) would then either merge every slice (metres) or multiply the work a thousandfold
 //! (micrometres) and the user would get a misleading error or a run that seems to hang.
 
+use crate::contours::far_pieces::{contour_far, left_out};
 use crate::contours::plane::fit_plane;
 use crate::contours::{Contour, ContourSet};
 use crate::error::{CoreError, Result};
@@ -123,19 +124,10 @@ pub fn few_point_warnings(set: &ContourSet) -> Vec<String> {
 
 /// Contours grouped by surface label (None is a group of its own).
 pub fn surface_groups(set: &ContourSet) -> Vec<Vec<&Contour>> {
-    let mut labels: Vec<Option<&str>> = Vec::new();
-    let mut groups: Vec<Vec<&Contour>> = Vec::new();
-    for c in &set.contours {
-        let label = c.surface.as_deref();
-        match labels.iter().position(|l| *l == label) {
-            Some(k) => groups[k].push(c),
-            None => {
-                labels.push(label);
-                groups.push(vec![c]);
-            }
-        }
-    }
-    groups
+    super::surface_indices(&set.contours)
+        .into_iter()
+        .map(|g| g.into_iter().map(|i| &set.contours[i]).collect())
+        .collect()
 }
 
 /// Contours whose later pieces (the identifier reappearing after other contours) lie in another
@@ -183,13 +175,17 @@ pub(crate) const NON_PLANAR_MM: f64 = 2.5;
 /// itself or stop the run; the warning names it before that happens.
 pub fn non_planar_warnings(set: &ContourSet) -> Vec<String> {
     let mut flagged: Vec<String> = Vec::new();
-    for c in &set.contours {
-        // Without its spikes, which `spike_warnings` names (a point thrown out of the plane is a
-        // damaged value, not a second slice).
+    let all: Vec<&Contour> = set.contours.iter().collect();
+    for (c, far) in set.contours.iter().zip(left_out(&all)) {
+        // Without its spikes and far pieces, which `spike_warnings` and `far_piece_warnings`
+        // name (a point thrown out of the plane is a damaged value, not a second slice).
+        let far: std::collections::HashSet<[u64; 3]> =
+            far.iter().flat_map(|f| f.points.iter().map(bits)).collect();
+        let kept = |p: &&Vec3| far.is_empty() || !far.contains(&bits(p));
         let worst = c
             .pieces
             .iter()
-            .filter_map(|p| fit_plane(super::clean::despike(p).0.iter()))
+            .filter_map(|p| fit_plane(super::clean::despike(p).0.iter().filter(kept)))
             .map(|f| f.max_residual)
             .fold(0.0, f64::max);
         if worst > NON_PLANAR_MM {
@@ -235,6 +231,32 @@ pub fn stray_point_warnings(set: &ContourSet) -> Vec<String> {
     )
 }
 
+/// Contours with a small piece cut off by a jump and lying apart from the rest of its surface
+/// ([`super::far_pieces`]): left out of the fit, named so the damaged value is found.
+pub fn far_piece_warnings(set: &ContourSet) -> Vec<String> {
+    let mut flagged: Vec<String> = Vec::new();
+    let all: Vec<&Contour> = set.contours.iter().collect();
+    for (c, far) in set.contours.iter().zip(left_out(&all)) {
+        let Some(f) = contour_far(c, &far) else {
+            continue;
+        };
+        let (n, gap, span) = (f.points, f.gap_mm, f.span_mm);
+        let points = if n == 1 { "point" } else { "points" };
+        flagged.push(named(
+            c,
+            &format!(
+                "{n} {points} {gap:.1} mm from every other point of its surface, which spans \
+                 {span:.0} mm"
+            ),
+        ));
+    }
+    one_line(
+        flagged,
+        "is fitted without that piece: a surface's curves lie closer together (a damaged value?)",
+        "are fitted without those pieces: a surface's curves lie closer together (damaged values?)",
+    )
+}
+
 /// Contours with a point (or a few) thrown out of the curve and straight back
 /// ([`super::clean::contour_spikes`]): left out of the fit, named so the damaged value is found.
 pub fn spike_warnings(set: &ContourSet) -> Vec<String> {
@@ -256,6 +278,11 @@ pub fn spike_warnings(set: &ContourSet) -> Vec<String> {
         "is fitted without the spike: a curve does not turn back like that (a damaged value?)",
         "are fitted without their spikes: a curve does not turn back like that (damaged values?)",
     )
+}
+
+/// A point's exact coordinates as a key (the far pieces' points are copies of the file's).
+fn bits(p: &Vec3) -> [u64; 3] {
+    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
 }
 
 /// A contour as the warnings name it: its identifier, its first line in the file and what is
@@ -439,6 +466,40 @@ mod tests {
             1,
             "a bent ring is still named"
         );
+    }
+
+    #[test]
+    fn a_piece_far_from_its_surface_is_named_with_its_gap_and_the_span() {
+        // An open curve up the side of the stack (2 mm steps), then a damaged last row 60 mm
+        // past its end: the rest spans 50 mm, so anything over 25 mm from all of it is far.
+        let mut set = stack(1.0);
+        let mut points: Vec<Vec3> = (0..=20).map(|j| v3(-25.0, 0.0, 2.0 * j as f64)).collect();
+        set.contours.push(Contour {
+            id: "lax".into(),
+            surface: None,
+            pieces: vec![Polyline {
+                points: points.clone(),
+                closed: false,
+            }],
+            first_line: 30,
+        });
+        assert!(far_piece_warnings(&set).is_empty());
+        points.push(v3(-25.0, 0.0, 100.0));
+        set.contours[5].pieces[0].points = points;
+        let w = far_piece_warnings(&set);
+        assert_eq!(
+            w,
+            [
+                "contour \"lax\" (line 30, 1 point 60.0 mm from every other point of its surface, \
+              which spans 50 mm) is fitted without that piece: a surface's curves lie closer \
+              together (a damaged value?)"
+            ],
+        );
+        // Under 100 mm from its curve, it is no stray of the curve alone.
+        assert!(stray_point_warnings(&set).is_empty());
+        // Within half the span of the rest (20 mm past the curve's end), it stays unnamed.
+        set.contours[5].pieces[0].points[21].z = 60.0;
+        assert!(far_piece_warnings(&set).is_empty());
     }
 
     #[test]

@@ -6,6 +6,7 @@ pub mod axis;
 pub mod biv_epi;
 pub mod checks;
 pub mod clean;
+pub mod far_pieces;
 pub mod lax_specks;
 pub mod plane;
 pub mod plane_split;
@@ -49,6 +50,24 @@ pub fn cite(id: &str, line: usize, detail: &str) -> String {
         (_, true) => format!("{id:?} (line {line})"),
         (_, false) => format!("{id:?} (line {line}, {detail})"),
     }
+}
+
+/// The indices of `contours` grouped by surface label (None a group of its own), groups in order
+/// of first appearance: each surface is one reconstruction, judged on its own.
+pub fn surface_indices(contours: &[Contour]) -> Vec<Vec<usize>> {
+    let mut labels: Vec<Option<&str>> = Vec::new();
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (i, c) in contours.iter().enumerate() {
+        let label = c.surface.as_deref();
+        match labels.iter().position(|l| *l == label) {
+            Some(k) => groups[k].push(i),
+            None => {
+                labels.push(label);
+                groups.push(vec![i]);
+            }
+        }
+    }
+    groups
 }
 
 impl Contour {

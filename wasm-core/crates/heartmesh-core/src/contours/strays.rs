@@ -28,7 +28,7 @@ const MAX_CONTOURS: usize = 2000;
 
 /// A group stands apart when its gap to the rest exceeds this share of the rest's span (half:
 /// further than the heart's own half-length from any of its curves) ...
-const SPAN_SHARE: f64 = 0.5;
+pub(crate) const SPAN_SHARE: f64 = 0.5;
 
 /// ... and this many times the rest's own spacing, the median gap of its spanning tree (a slice
 /// spacing; about zero where long-axis curves cross the rings; a median, so that strays further

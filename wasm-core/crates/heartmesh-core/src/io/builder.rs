@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use crate::contours::clean::JUMP_FACTOR;
+use crate::contours::clean::{JUMP_FACTOR, SPIKE_POINTS};
 use crate::contours::{checks, plane_split, set_aside, slice_loops, Contour, ContourSet, Polyline};
 use crate::error::{CoreError, Result};
 use crate::geometry::Vec3;
@@ -190,9 +190,10 @@ impl ContourBuilder {
         // Across surfaces: a ring copied into another surface is a mistake about both.
         let dups = duplicate_warnings(&set);
         set.warnings.extend(dups);
-        let checks: [fn(&ContourSet) -> Vec<String>; 8] = [
+        let checks: [fn(&ContourSet) -> Vec<String>; 9] = [
             checks::spike_warnings,
             checks::stray_point_warnings,
+            checks::far_piece_warnings,
             checks::non_planar_warnings,
             order_warnings,
             set_aside::set_aside_warnings,
@@ -412,7 +413,12 @@ fn duplicate_warnings(set: &ContourSet) -> Vec<String> {
 /// with uneven steps, SurFCo's 0.01-1.6 mm, must not turn open because the file happens to start
 /// after a long one; a curve stored in two pieces has a jump wider than any gap, which says
 /// nothing about its ends); a repeated first point at the end is dropped. U-shaped long-axis
-/// curves (open at the valves) have ends far apart and stay open.
+/// curves (open at the valves) have ends far apart and stay open. A ring whose first or last
+/// rows (up to [`SPIKE_POINTS`]) are damaged values, entered by a jump, is still a ring: judged
+/// open, its damaged rows could not be told from a curve's lone end points, and the surface grew
+/// a finger to reach them (one row of biv-me patient 1 ED's LV epicardium ring s05 105 mm out:
+/// 301.3 -> 418.2 ml); closed, they come straight back to its start and are left out as spikes
+/// (`contours::clean::spikes`).
 pub fn polyline_from_run(mut points: Vec<Vec3>) -> Polyline {
     if points.len() < 3 {
         return Polyline {
@@ -423,8 +429,6 @@ pub fn polyline_from_run(mut points: Vec<Vec3>) -> Polyline {
     let mut gaps: Vec<f64> = points.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
     gaps.sort_by(f64::total_cmp);
     let median = gaps[gaps.len() / 2];
-    // Equal steps of a ring differ in their last bits: a closing step as wide as the widest is one.
-    let widest = gaps[gaps.len() - 1] * (1.0 + 1e-9);
     let first = points[0];
     let last = points[points.len() - 1];
     let ends = (last - first).norm();
@@ -437,14 +441,42 @@ pub fn polyline_from_run(mut points: Vec<Vec3>) -> Polyline {
             points,
         };
     }
+    let closed = closes(&points, median, 0) || closes_past_damaged_ends(&points, median);
+    Polyline { closed, points }
+}
+
+/// Whether `points` close into a ring (the rules of [`polyline_from_run`]) for a curve of
+/// median spacing `median` that is `missing` rows short at its closing gap (each widens it by a
+/// step).
+fn closes(points: &[Vec3], median: f64, missing: usize) -> bool {
+    let (Some(first), Some(last)) = (points.first(), points.last()) else {
+        return false;
+    };
+    let ends = (last - first).norm();
+    // Equal steps of a ring differ in their last bits: a closing step as wide as the widest is one.
+    let widest = points
+        .windows(2)
+        .map(|w| (w[1] - w[0]).norm())
+        .fold(0.0, f64::max)
+        * (1.0 + 1e-9);
     // Three or four points in a line (a septum piece of a thin basal crescent) have their ends
     // within two spacings too; a ring's path runs well beyond the gap that closes it.
     let path: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-    Polyline {
-        closed: (ends <= 2.0 * median || (ends <= widest && ends <= JUMP_FACTOR * median))
-            && path > 1.5 * ends,
-        points,
-    }
+    let near = (2 + missing) as f64 * median;
+    (ends <= near || (ends <= widest && ends <= JUMP_FACTOR * median)) && path > 1.5 * ends
+}
+
+/// Whether `points` close into a ring once up to [`SPIKE_POINTS`] first or last rows, entered
+/// by a jump (over [`JUMP_FACTOR`] x `median`), are set aside: a ring with damaged end rows.
+fn closes_past_damaged_ends(points: &[Vec3], median: f64) -> bool {
+    let n = points.len();
+    let jump = |a: usize| (points[a + 1] - points[a]).norm() > JUMP_FACTOR * median;
+    (1..=SPIKE_POINTS)
+        .filter(|&k| n >= k + 3 + SPIKE_POINTS)
+        .any(|k| {
+            (jump(n - k - 1) && closes(&points[..n - k], median, k))
+                || (jump(k - 1) && closes(&points[k..], median, k))
+        })
 }
 
 #[cfg(test)]
@@ -591,6 +623,47 @@ mod tests {
             .chain(b.iter().skip(10).copied())
             .collect();
         assert!(!polyline_from_run(two_pieces).closed);
+    }
+
+    /// A ring whose first or last rows (1-3) are damaged values is still a ring, so that they
+    /// come straight back to its start and are spikes; a U with a damaged last row, or with a
+    /// lone point past a jump, stays open.
+    #[test]
+    fn a_ring_with_damaged_end_rows_is_still_a_ring() {
+        for k in 1..=3 {
+            let mut last = ring(40, 20.0, false);
+            let n = last.len();
+            for p in &mut last[n - k..] {
+                *p += v3(60.0, 0.0, 0.0);
+            }
+            let p = polyline_from_run(last);
+            assert!(p.closed, "last {k} rows out");
+            assert_eq!(p.points.len(), 40);
+            let spikes = crate::contours::clean::despike(&p).1;
+            assert_eq!(spikes.iter().map(|s| s.len).sum::<usize>(), k, "{spikes:?}");
+            let mut first = ring(40, 20.0, false);
+            for p in &mut first[..k] {
+                *p += v3(0.0, 0.0, 45.0);
+            }
+            let p = polyline_from_run(first);
+            assert!(p.closed, "first {k} rows out");
+            let spikes = crate::contours::clean::despike(&p).1;
+            assert_eq!(spikes.iter().map(|s| s.len).sum::<usize>(), k, "{spikes:?}");
+        }
+        // Four rows out: more than damaged values; the curve stays open, as before.
+        let mut four = ring(40, 20.0, false);
+        for p in &mut four[36..] {
+            *p += v3(60.0, 0.0, 0.0);
+        }
+        assert!(!polyline_from_run(four).closed);
+        // A U with a damaged last row: without it the ends are still 28 mm apart.
+        let mut u: Vec<Vec3> = ring(40, 20.0, false).into_iter().take(30).collect();
+        u.push(v3(80.0, 0.0, 0.0));
+        assert!(!polyline_from_run(u).closed);
+        // A last row near the ring's own start but not entered by a jump is the ring's own.
+        let mut near = ring(40, 20.0, false);
+        near.push(v3(22.0, 1.0, 0.0));
+        assert!(polyline_from_run(near).closed);
     }
 
     #[test]

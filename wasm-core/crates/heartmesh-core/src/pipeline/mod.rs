@@ -36,6 +36,7 @@ use crate::contours::align::{
 use crate::contours::axis::Layout;
 use crate::contours::biv_epi;
 use crate::contours::clean::{contour_spikes, resample_spacing, ContourSpikes};
+use crate::contours::far_pieces::{contour_far, left_out, ContourFar};
 use crate::contours::set_aside::{self, SetAside};
 use crate::contours::valve_chord::open_valve_chords;
 use crate::contours::{Contour, ContourKind, ContourSet};
@@ -192,6 +193,8 @@ pub struct Reconstruction {
     /// The selected surface's contours with points left out as spikes (damaged values,
     /// `contours::clean::spikes`), in the file's order.
     spikes: Vec<ContourSpikes>,
+    /// What the cleaning left out of each contour as far from its surface (`far_pieces`).
+    far: Vec<ContourFar>,
     /// What the mesh is fitted to: `contours` with long-axis curves closed across the valve opened
     /// there (`valve_chord`); measured distances stay those to `contours`, as drawn.
     fitted: Vec<Contour>,
@@ -310,6 +313,11 @@ impl Reconstruction {
         let selected = prepare::select_surface(source, params.surface.as_deref())?;
         let spikes: Vec<ContourSpikes> =
             selected.iter().filter_map(|c| contour_spikes(c)).collect();
+        let far: Vec<ContourFar> = selected
+            .iter()
+            .zip(left_out(&selected))
+            .filter_map(|(c, found)| contour_far(c, &found))
+            .collect();
         let contours = prepare::clean_contours(&selected);
         let contours_as_given = match aligned {
             Some(_) => {
@@ -387,6 +395,7 @@ impl Reconstruction {
             params,
             contours,
             spikes,
+            far,
             fitted,
             valve_chords,
             set_aside,
@@ -636,6 +645,12 @@ impl Reconstruction {
     /// The spikes left out of the contour `id` (None: none).
     pub fn spikes_of(&self, id: &str) -> Option<&ContourSpikes> {
         self.spikes.iter().find(|s| s.id == id)
+    }
+
+    /// The points cleaning left out of the contour `id` as far from the rest of its surface
+    /// (`contours::far_pieces`; None: none): the report's and the app's per-contour rows say so.
+    pub fn far_of(&self, id: &str) -> Option<&ContourFar> {
+        self.far.iter().find(|s| s.id == id)
     }
 
     /// The ids of the long-axis curves closed across the valve that the mesh was fitted to opened

@@ -4,6 +4,7 @@
 use crate::contours::axis::{analyse, Layout};
 use crate::contours::checks::check_units;
 use crate::contours::clean::cleaned_contour;
+use crate::contours::far_pieces::drop_far_pieces;
 use crate::contours::set_aside::{SetAside, Why};
 use crate::contours::slice_loops::without_second_loops;
 use crate::contours::{biv_epi, Contour, ContourSet};
@@ -41,9 +42,12 @@ pub fn select_surface<'a>(
     }
 }
 
-/// Cleans every piece (non-finite points, duplicates, jumps) and drops contours left empty.
+/// Cleans every piece (non-finite points, duplicates, jumps), drops contours left empty and
+/// leaves out the pieces far from the rest of their surface (`contours::far_pieces`).
 pub fn clean_contours(contours: &[&Contour]) -> Vec<Contour> {
-    contours.iter().filter_map(|c| cleaned_contour(c)).collect()
+    let mut cleaned: Vec<Contour> = contours.iter().filter_map(|c| cleaned_contour(c)).collect();
+    drop_far_pieces(&mut cleaned);
+    cleaned
 }
 
 /// Most contours of one surface a reconstruction takes: real acquisitions have tens; the SAX/LAX

@@ -1,0 +1,290 @@
+//! Far pieces: a point or a few of a curve, cut off from it by a jump, lying apart from
+//! everything else of their surface (a damaged value at an open curve's end).
+//!
+//! A damaged value inside a curve comes straight back and is a spike ([`super::clean::spikes`]);
+//! at an open curve's first or last row it cannot come back, so it only splits the curve, and
+//! the per-contour stray rule ([`super::clean::stray_pieces`]) takes it only beyond 100 mm (and
+//! twice the curve's extent), since real long-axis curves keep lone end points ~26 mm from the
+//! rest of the curve. Under that it stayed data and grew a finger with no warning: one row put
+//! 60 mm past the end of biv-me patient 1 ED's long-axis LV endocardium s07 took the mesh from
+//! 173.7 to 206.0 ml and 16,775 to 20,573 mm2.
+//!
+//! Judged against the whole surface rather than the curve alone, such a piece is told apart the
+//! way the stray rule for whole contours tells a stray group ([`super::strays`]): further than
+//! [`SPAN_SHARE`] of the span of the rest of its surface from every point of it. A surface's
+//! curves cover it within a slice gap or two; the real lone pieces lie at most 26 mm from their
+//! curve and 30 mm from every other curve of their surface, which spans ~100 mm (biv-me patients
+//! 1 and 2, ED and ES, every surface), and stay.
+
+use super::clean::{cleaned_contour, STRAY_SHARE};
+use super::strays::SPAN_SHARE;
+use super::{surface_indices, Contour};
+use crate::geometry::Vec3;
+use crate::spatial::SegmentTree;
+use serde::Serialize;
+
+/// A piece of a contour left out as far from its surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FarPiece {
+    /// Index of the contour in the list judged.
+    pub contour: usize,
+    /// Index of the piece in that contour.
+    pub piece: usize,
+    /// Its points.
+    pub points: usize,
+    /// Distance from its nearest point to the nearest point of the rest of the surface (mm).
+    pub gap_mm: f64,
+    /// Largest side of the box of the rest of the surface (mm).
+    pub span_mm: f64,
+}
+
+/// Which pieces of `c` are candidates: small enough to be a damaged part of it (at most two
+/// points or [`STRAY_SHARE`] of the contour's, as for [`super::clean::stray_pieces`]) while the
+/// contour keeps a bigger piece (a contour in one piece is its own curve, and one all in
+/// scattered bits is the whole-contour rules' business). One pass: a hostile contour has a
+/// hundred thousand pieces.
+fn candidates(c: &Contour) -> Vec<bool> {
+    let most = 2.max((STRAY_SHARE * c.point_count() as f64) as usize);
+    let small: Vec<bool> = c.pieces.iter().map(|p| p.points.len() <= most).collect();
+    let has_big = small.iter().any(|s| !s);
+    small.into_iter().map(|s| s && has_big).collect()
+}
+
+/// The far pieces of one surface's cleaned `contours`: the [`candidates`] further than
+/// [`SPAN_SHARE`] of the span of the rest (every other piece) from all of it. Nothing is judged
+/// against fewer than two contours' worth of rest.
+pub fn far_pieces(contours: &[Contour]) -> Vec<FarPiece> {
+    let flags: Vec<Vec<bool>> = contours.iter().map(candidates).collect();
+    let mut rest: Vec<Vec3> = Vec::new();
+    let mut rest_contours = 0;
+    for (c, flags) in contours.iter().zip(&flags) {
+        let before = rest.len();
+        for (p, _) in c.pieces.iter().zip(flags).filter(|(_, f)| !**f) {
+            rest.extend(p.points.iter().copied());
+        }
+        rest_contours += usize::from(rest.len() > before);
+    }
+    if rest_contours < 2 || rest.len() < 3 {
+        return Vec::new();
+    }
+    let (lo, hi) = rest
+        .iter()
+        .fold((rest[0], rest[0]), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+    let span_mm = (hi - lo).amax();
+    let limit = SPAN_SHARE * span_mm;
+    if limit <= 0.0 {
+        return Vec::new();
+    }
+    let tree = SegmentTree::new(rest.into_iter().map(|p| (p, p)).collect());
+    let mut out = Vec::new();
+    for (i, (c, flags)) in contours.iter().zip(&flags).enumerate() {
+        for (k, (p, _)) in c
+            .pieces
+            .iter()
+            .zip(flags)
+            .enumerate()
+            .filter(|(_, (_, f))| **f)
+        {
+            let gap_mm = p
+                .points
+                .iter()
+                .map(|q| tree.distance(q))
+                .fold(f64::INFINITY, f64::min);
+            if gap_mm > limit {
+                out.push(FarPiece {
+                    contour: i,
+                    piece: k,
+                    points: p.points.len(),
+                    gap_mm,
+                    span_mm,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The far pieces of cleaned `contours` of any surfaces, each surface judged on its own, with
+/// contour indices into `contours`.
+pub fn far_pieces_by_surface(contours: &[Contour]) -> Vec<FarPiece> {
+    let mut out = Vec::new();
+    for group in surface_indices(contours) {
+        let members: Vec<Contour> = group.iter().map(|&i| contours[i].clone()).collect();
+        out.extend(far_pieces(&members).into_iter().map(|mut f| {
+            f.contour = group[f.contour];
+            f
+        }));
+    }
+    out.sort_by_key(|f| (f.contour, f.piece));
+    out
+}
+
+/// Leaves the far pieces out of cleaned `contours` (each surface judged on its own). A contour
+/// keeps its bigger pieces, so none is emptied and indices stay as they were.
+pub fn drop_far_pieces(contours: &mut [Contour]) {
+    let mut out: Vec<Vec<bool>> = contours
+        .iter()
+        .map(|c| vec![false; c.pieces.len()])
+        .collect();
+    let found = far_pieces_by_surface(contours);
+    if found.is_empty() {
+        return;
+    }
+    for f in found {
+        if let Some(flag) = out.get_mut(f.contour).and_then(|o| o.get_mut(f.piece)) {
+            *flag = true;
+        }
+    }
+    // One pass per contour (not a removal per piece: a hostile contour has a hundred thousand).
+    for (c, out) in contours.iter_mut().zip(out) {
+        let mut k = 0;
+        c.pieces.retain(|_| {
+            k += 1;
+            !out[k - 1]
+        });
+    }
+}
+
+/// A far piece as the warnings and the per-contour summaries see it: its points (as cleaned),
+/// its gap and its surface's span (mm).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LeftOut {
+    pub points: Vec<Vec3>,
+    pub gap_mm: f64,
+    pub span_mm: f64,
+}
+
+/// The far pieces a run leaves out of each of `contours` (as given, any surfaces; cleaned as a
+/// run cleans them), indexed like `contours`.
+pub fn left_out(contours: &[&Contour]) -> Vec<Vec<LeftOut>> {
+    let mut index = Vec::new();
+    let mut cleaned = Vec::new();
+    for (i, c) in contours.iter().enumerate() {
+        if let Some(c) = cleaned_contour(c) {
+            index.push(i);
+            cleaned.push(c);
+        }
+    }
+    let mut out = vec![Vec::new(); contours.len()];
+    for f in far_pieces_by_surface(&cleaned) {
+        out[index[f.contour]].push(LeftOut {
+            points: cleaned[f.contour].pieces[f.piece].points.clone(),
+            gap_mm: f.gap_mm,
+            span_mm: f.span_mm,
+        });
+    }
+    out
+}
+
+/// What a run leaves out of one contour as far pieces: how many points, the nearest's gap to
+/// the rest of the surface and that surface's span (mm). The warning line, the report's
+/// `per_contour` and the app's Contours panel say it from this.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ContourFar {
+    /// The contour's id (not serialised: the row the summary sits in names it).
+    #[serde(skip_serializing)]
+    pub id: String,
+    pub points: usize,
+    pub gap_mm: f64,
+    pub span_mm: f64,
+}
+
+/// The summary of contour `c`'s far pieces `found` ([`left_out`]); None without any.
+pub fn contour_far(c: &Contour, found: &[LeftOut]) -> Option<ContourFar> {
+    let gap_mm = found.iter().map(|f| f.gap_mm).reduce(f64::min)?;
+    Some(ContourFar {
+        id: c.id.clone(),
+        points: found.iter().map(|f| f.points.len()).sum(),
+        gap_mm,
+        span_mm: found[0].span_mm,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contours::specks::fixtures::{contour, ring};
+
+    /// Three rings of radius 20 mm 10 mm apart and a long-axis curve through them (x = 0 plane)
+    /// from the apex up past the base.
+    fn heart() -> Vec<Contour> {
+        let mut c: Vec<Contour> = (0..3)
+            .map(|k| {
+                ring(
+                    &format!("sax{k}"),
+                    20.0,
+                    10.0 * k as f64,
+                    0.0,
+                    40,
+                    10 + 40 * k,
+                )
+            })
+            .collect();
+        let lax: Vec<Vec3> = (0..=60)
+            .map(|j| {
+                let t = std::f64::consts::PI * j as f64 / 60.0;
+                Vec3::new(0.0, 20.0 * t.cos(), 20.0 - 40.0 * t.sin().max(0.0) + 5.0)
+            })
+            .collect();
+        c.push(contour("lax", lax, false, 200));
+        c
+    }
+
+    fn with_end_row(mut c: Vec<Contour>, at: Vec3) -> Vec<Contour> {
+        if let Some(last) = c.last_mut() {
+            last.pieces[0].points.push(at);
+        }
+        c.iter().filter_map(cleaned_contour).collect()
+    }
+
+    #[test]
+    fn a_damaged_last_row_far_from_the_surface_is_left_out_and_a_near_one_stays() {
+        // The curve ends at (0, -20, 25); the surface spans 40 mm (rings and curve 40 mm across
+        // and along the axis), so the limit is 20 mm from everything.
+        let far = with_end_row(heart(), Vec3::new(0.0, -20.0, 85.0));
+        let found = far_pieces(&far);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!((found[0].contour, found[0].points), (3, 1));
+        assert!((found[0].gap_mm - 60.0).abs() < 0.5, "{found:?}");
+        assert!((found[0].span_mm - 40.0).abs() < 0.5, "{found:?}");
+        let mut dropped = far.clone();
+        drop_far_pieces(&mut dropped);
+        assert_eq!(dropped[3].point_count(), 61);
+        // 15 mm past the curve's end, 20 mm above the top ring: a lone end point as real files
+        // have them (a valve point), kept.
+        let near = with_end_row(heart(), Vec3::new(0.0, -20.0, 40.0));
+        assert_eq!(near[3].pieces.len(), 2, "the row is split off as a piece");
+        assert!(far_pieces(&near).is_empty());
+    }
+
+    #[test]
+    fn big_pieces_lone_contours_and_other_surfaces_are_not_judged() {
+        // A second half of a curve far away is not small: both halves stay.
+        let mut c = heart();
+        let mut half: Vec<Vec3> = c[3].pieces[0].points[..30].to_vec();
+        half.extend((0..30).map(|j| Vec3::new(0.0, 200.0 + j as f64, 0.0)));
+        c[3].pieces[0].points = half;
+        let c: Vec<Contour> = c.iter().filter_map(cleaned_contour).collect();
+        assert_eq!(c[3].pieces.len(), 2);
+        assert!(far_pieces(&c).is_empty());
+        // A lone point contour far out is a whole contour (the strays' business), not a piece.
+        let mut c = heart();
+        c.push(contour(
+            "landmark",
+            vec![Vec3::new(0.0, 0.0, 300.0)],
+            false,
+            400,
+        ));
+        assert!(far_pieces(&c).is_empty());
+        // Each surface is judged on its own: the same far row in a surface of its own curve and
+        // one ring is judged against that ring.
+        let mut c = with_end_row(heart(), Vec3::new(0.0, -20.0, 85.0));
+        for (k, x) in c.iter_mut().enumerate() {
+            x.surface = Some(if k == 0 || k == 3 { "A" } else { "B" }.into());
+        }
+        let found = far_pieces_by_surface(&c);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].contour, 3);
+        assert!((found[0].span_mm - 40.0).abs() < 0.5, "{found:?}");
+    }
+}
