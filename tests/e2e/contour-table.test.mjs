@@ -187,7 +187,7 @@ describe('the Contours panel', () => {
     assert.equal(await page.isEnabled('[data-testid=contour-table] summary [data-testid=contour-csv]'), true);
     const csv = await contourCsv();
     assert.equal(csv.name, 'patient1-ED-LV_ENDO-contours.csv');
-    assert.equal(csv.columns, 'contour,kind,state,line,points,mean_mm,median_mm,max_mm,spike_points,far_points');
+    assert.equal(csv.columns, 'contour,kind,state,line,points,mean_mm,median_mm,max_mm,spike_points,far_points,off_plane_points');
     assert.match(csv.comments.join('\n'), new RegExp(`^# lids: auto .* leave_out=${target}$`, 'm'));
     assert.equal(csv.rows.length, 8);
     assert.deepEqual(csv.rows.map((r) => r.contour), left.rows.map((r) => r.id));
@@ -209,7 +209,7 @@ describe('the Contours panel', () => {
     assert.equal(heldOut.state, 'by_user');
     assert.ok(Number(heldOut.line) > 1, `the file line of ${target}: ${heldOut.line}`);
     assert.ok(csv.rows.every((r) => r.contour === target || (r.state === 'used' && r.line === '')), 'used rows have no line');
-    assert.ok(csv.rows.every((r) => r.spike_points === '0' && r.far_points === '0'), 'no damaged values in the sample');
+    assert.ok(csv.rows.every((r) => r.spike_points === '0' && r.far_points === '0' && r.off_plane_points === '0'), 'no damaged values in the sample');
     console.log(`# contours CSV: ${target} line ${heldOut.line}, mean ${heldOut.mean_mm} median ${heldOut.median_mm} max ${heldOut.max_mm} mm`);
 
     // Hovered in the view, the contour left out says so, with how far the mesh built without it

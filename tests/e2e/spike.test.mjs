@@ -8,7 +8,10 @@
 // `contours::far_pieces`): a row added after the last of patient 1 ED's long-axis LV endocardium
 // s07 (an open curve), 60 mm further out from the surface's centre, cannot come back to the curve;
 // judged against the whole surface it is left out and named (kept, it pulled a finger: 173.7 ->
-// 206.0 ml, without a word).
+// 206.0 ml, without a word). And one off its curve's image plane (session 59,
+// `contours::off_plane`): the same added row 30 mm along s07's plane normal instead, too near the
+// surface to be far; every point of a contour lies in its image's plane, so it is left out and
+// named (kept, with a warning that the contour held several slices: 176.9 ml, 645 mm2 more area).
 import { describe, it } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
@@ -53,11 +56,37 @@ const norm = Math.hypot(...out);
 const farRow = [lax, ...[1, 2, 3].map((k) => (Number(end[k]) + (60 * out[k - 1]) / norm).toFixed(4)), ...end.slice(4)].join(',');
 const withFarRow = [...lines.slice(0, laxLast + 1), farRow, ...lines.slice(laxLast + 1)];
 
+// The off-plane row: after s07's last row, 30 mm along the normal of the plane through its first,
+// middle and last rows.
+const laxRows = lines.flatMap((l) => (l.startsWith(`${lax},`) ? [l.split(',').slice(1, 4).map(Number)] : []));
+const [a, b, c] = [laxRows[0], laxRows[laxRows.length >> 1], laxRows.at(-1)];
+const [u, v] = [b, c].map((q) => q.map((x, k) => x - a[k]));
+const cross = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+const unit = cross.map((x) => x / Math.hypot(...cross));
+const offRow = [lax, ...[1, 2, 3].map((k) => (Number(end[k]) + 30 * unit[k - 1]).toFixed(4)), ...end.slice(4)].join(',');
+const withOffRow = [...lines.slice(0, laxLast + 1), offRow, ...lines.slice(laxLast + 1)];
+
 /** The Contours panel's CSV as [columns, rows of fields]. */
 async function contourCsv() {
   const { bytes } = await download(page, 'contour-csv');
   const [columns, ...data] = bytes.toString('utf8').trimEnd().split('\n').filter((l) => !l.startsWith('#'));
   return [columns.split(','), data.map((l) => l.split(','))];
+}
+
+/**
+ * The bundled patient 1 ED, then `name` (its `rows`) dropped: the sample's result and volume, and
+ * the dropped file's warning line.
+ */
+async function sampleThen(name, rows) {
+  await runAndWait(page, () => page.click('[data-testid=sample-patient1-ED]'), 120000);
+  const clean = { ...(await readResult(page)), ml: await volume() };
+  await runAndWait(
+    page,
+    () => page.setInputFiles('[data-testid=file-input]', { name, mimeType: 'text/csv', buffer: Buffer.from(`${rows.join('\n')}\n`) }),
+    120000,
+  );
+  assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'LV_ENDO');
+  return { clean, warning: (await page.textContent('#slot-warnings')) ?? '' };
 }
 
 describe('a damaged value in a contour', () => {
@@ -95,10 +124,10 @@ describe('a damaged value in a contour', () => {
     // The panel's CSV counts it in its spike_points column.
     const [columns, data] = await contourCsv();
     const k = columns.indexOf('spike_points');
-    assert.deepEqual(columns.slice(-2), ['spike_points', 'far_points']);
+    assert.deepEqual(columns.slice(-3), ['spike_points', 'far_points', 'off_plane_points']);
     assert.deepEqual(
-      data.filter((f) => f[k] !== '0' || f.at(-1) !== '0').map((f) => [f[0], f[k], f.at(-1)]),
-      [[id, '1', '0']],
+      data.filter((f) => f.slice(-3).some((n) => n !== '0')).map((f) => [f[0], ...f.slice(-3)]),
+      [[id, '1', '0', '0']],
     );
     await page.mouse.move(0, 0);
     await page.screenshot({ path: join(SHOTS, 'spike-left-out.png') });
@@ -107,20 +136,7 @@ describe('a damaged value in a contour', () => {
   });
 
   it('at an open curve\'s end, far from the rest of the surface, is named and left out too', async () => {
-    await runAndWait(page, () => page.click('[data-testid=sample-patient1-ED]'), 120000);
-    const clean = { ...(await readResult(page)), ml: await volume() };
-    await runAndWait(
-      page,
-      () =>
-        page.setInputFiles('[data-testid=file-input]', {
-          name: 'patient1-ED-far-row.csv',
-          mimeType: 'text/csv',
-          buffer: Buffer.from(`${withFarRow.join('\n')}\n`),
-        }),
-      120000,
-    );
-    assert.equal(await page.inputValue('[data-testid=surface-picker]'), 'LV_ENDO');
-    const warning = (await page.textContent('#slot-warnings')) ?? '';
+    const { clean, warning } = await sampleThen('patient1-ED-far-row.csv', withFarRow);
     const said = new RegExp(
       `contour "${lax}" \\(line ${laxFirst}, 1 point (\\d+\\.\\d) mm from every other point of its surface, which spans (\\d+) mm\\) is fitted without that piece`,
     );
@@ -146,6 +162,35 @@ describe('a damaged value in a contour', () => {
     );
     await page.mouse.move(0, 0);
     await page.locator('section.contours').screenshot({ path: join(SHOTS, 'far-row-contour-row.png') });
+    assert.deepEqual(pageErrors, []);
+  });
+  it('off its curve\'s image plane, near the surface, is named and left out too', async () => {
+    const { clean, warning } = await sampleThen('patient1-ED-off-plane-row.csv', withOffRow);
+    const said = new RegExp(
+      `contour "${lax}" \\(line ${laxFirst}, 1 point up to (\\d+\\.\\d) mm off the plane of the rest of the curve\\) is fitted without that piece`,
+    );
+    const off = Number(said.exec(warning)?.[1]);
+    assert.ok(off > 29 && off <= 30.5, `${off} mm in: ${warning}`);
+    // Named once: not also as a contour out of its plane, nor as far.
+    assert.ok(!warning.includes('does not lie in one plane') && !warning.includes('every other point'), warning);
+    const kept = { ...(await readResult(page)), ml: await volume() };
+    assert.equal(kept.vertices, clean.vertices);
+    assert.ok(Math.abs(kept.ml - clean.ml) < 0.1, `${kept.ml} vs ${clean.ml} ml (kept: 176.9)`);
+    const row = page.locator(`[data-testid=contour-row][data-id="${lax}"]`);
+    assert.equal(await row.getAttribute('data-state'), 'used');
+    assert.equal(await row.getAttribute('data-off-plane'), '1');
+    assert.equal(await row.locator('[data-testid=contour-spikes]').textContent(), '1 point left out: off its plane');
+    assert.match((await row.locator('td.contour-id').getAttribute('title')) ?? '', new RegExp(`^"${lax}": 1 point up to ${off.toFixed(1)} mm off the plane of the rest of the curve, left out of the fit`));
+    assert.equal(await page.locator('[data-testid=contour-row][data-off-plane]').count(), 1);
+    assert.equal(await page.locator('[data-testid=contour-row][data-far]').count(), 0);
+    const [columns, data] = await contourCsv();
+    const k = columns.indexOf('off_plane_points');
+    assert.deepEqual(
+      data.filter((f) => f.slice(-3).some((n) => n !== '0')).map((f) => [f[0], f[k]]),
+      [[lax, '1']],
+    );
+    await page.mouse.move(0, 0);
+    await page.locator('section.contours').screenshot({ path: join(SHOTS, 'off-plane-contour-row.png') });
     assert.deepEqual(pageErrors, []);
   });
 });

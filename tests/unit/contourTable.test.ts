@@ -113,7 +113,7 @@ describe('the rows of the Contours panel', () => {
 
 describe('the sort of the Contours panel\'s rows', () => {
   /** A row with only what the sorts read. */
-  const r = (id: string, kind: 'SAX' | 'LAX' | null, count: number, meanMm: number | null, maxMm: number | null): ContourRow => ({ id, kind, state: 'used', count, meanMm, medianMm: meanMm, maxMm, line: null, reason: null, note: null, spikes: 0, far: 0, detail: null });
+  const r = (id: string, kind: 'SAX' | 'LAX' | null, count: number, meanMm: number | null, maxMm: number | null): ContourRow => ({ id, kind, state: 'used', count, meanMm, medianMm: meanMm, maxMm, line: null, reason: null, note: null, spikes: 0, far: 0, offPlane: 0, detail: null });
   // Not in any column's order: ids with numbers of one and two digits, a kind unknown, figures missing.
   const ROWS = [r('s10', 'SAX', 30, 0.5, 3), r('s9', 'LAX', 50, null, null), r('s2', null, 10, 2.25, 9), r('a1', 'SAX', 40, 0.1, 1), r('s3', 'LAX', 20, 1, null)];
   const order = (column: SortColumn, descending: boolean) => sortRows(ROWS, { column, descending }).map((x) => x.id);
@@ -257,6 +257,34 @@ describe('the Contours panel', () => {
     t.show(damaged);
     expect(cells('s07_LAX')).toEqual(['', 's07_LAX · 1 point left out: far off', 'LAX', '61', '0.55', '2.00']);
     expect([row('s07_LAX').dataset.far, row('s06_SAX').dataset.far, row('s06_SAX').dataset.spikes, row('s02_SAX_LV_ENDOCARDIAL').dataset.far]).toEqual(['1', '2', '1', undefined]);
+  });
+
+  it('a contour with a piece left out as off its plane: the note under its id, after the others, and the core\'s words', () => {
+    const { t, row, cells } = table([]);
+    const damaged = run({
+      perContour: [
+        { id: 's02_SAX_LV_ENDOCARDIAL', kind: 'SAX', stats: stats(0.4149, 1.2351, 52, 0.3812) },
+        { id: 's06_SAX', kind: 'SAX', stats: stats(0.2, 0.8399, 48), far: { points: 1, gap_mm: 51.04, span_mm: 96.2 }, off_plane: { points: 2, off_mm: 12.34 } },
+        { id: 's07_LAX', kind: 'LAX', stats: stats(0.55, 2.004, 61), off_plane: { points: 1, off_mm: 26.44 } },
+      ],
+      set_aside: [],
+      set_aside_contours: [],
+      leave_out: [],
+    });
+    const rows = contourRows(damaged, FILE);
+    expect(rows.map((r) => [r.id, r.note, r.far, r.offPlane])).toEqual([
+      ['s02_SAX_LV_ENDOCARDIAL', null, 0, 0],
+      ['s06_SAX', '1 point left out: far off · 2 points left out: off its plane', 1, 2],
+      ['s07_LAX', '1 point left out: off its plane', 0, 1],
+    ]);
+    expect(rows[2].detail).toBe('"s07_LAX": 1 point up to 26.4 mm off the plane of the rest of the curve, left out of the fit (a damaged value?)');
+    expect(rows[1].detail).toBe(
+      '"s06_SAX": 1 point 51.0 mm from every other point of its surface, which spans 96 mm, left out of the fit (a damaged value?)\n' +
+        '"s06_SAX": 2 points up to 12.3 mm off the plane of the rest of the curve, left out of the fit (a damaged value?)',
+    );
+    t.show(damaged);
+    expect(cells('s07_LAX')).toEqual(['', 's07_LAX · 1 point left out: off its plane', 'LAX', '61', '0.55', '2.00']);
+    expect([row('s07_LAX').dataset.offPlane, row('s06_SAX').dataset.offPlane, row('s06_SAX').dataset.far, row('s02_SAX_LV_ENDOCARDIAL').dataset.offPlane]).toEqual(['1', '2', '1', undefined]);
   });
 
   it('unticking or ticking a box asks the app; "Use all" shows while any is left out', () => {
@@ -450,12 +478,12 @@ describe('the Contours panel', () => {
       '# heartmesh 0.1.0 (core 0.1.0), units: mm',
       '# input: patient1-ED.csv surface: LV_ENDO',
       '# lids: auto iterations=250 leave_out=s08_LAX',
-      'contour,kind,state,line,points,mean_mm,median_mm,max_mm,spike_points,far_points',
-      's08_LAX,LAX,by_user,700,40,1.8312,1.1430,7.6649,0,0',
-      's07_LAX,LAX,used,,61,0.5500,0.5500,2.0040,0,0',
-      's02_SAX_LV_ENDOCARDIAL,SAX,used,,52,0.4149,0.3812,1.2351,0,0',
-      's06_SAX,SAX,used,,48,0.2000,0.2000,0.8399,0,0',
-      'sax10,SAX,speck,1505,3,,,,0,0',
+      'contour,kind,state,line,points,mean_mm,median_mm,max_mm,spike_points,far_points,off_plane_points',
+      's08_LAX,LAX,by_user,700,40,1.8312,1.1430,7.6649,0,0,0',
+      's07_LAX,LAX,used,,61,0.5500,0.5500,2.0040,0,0,0',
+      's02_SAX_LV_ENDOCARDIAL,SAX,used,,52,0.4149,0.3812,1.2351,0,0,0',
+      's06_SAX,SAX,used,,48,0.2000,0.2000,0.8399,0,0,0',
+      'sax10,SAX,speck,1505,3,,,,0,0,0',
       '',
     ]);
     // No rows (a run without contours), no header known, or another surface's clear: nothing to save.

@@ -197,6 +197,12 @@ export interface ContourStats {
    * the nearest one's gap and the surface's span, mm; absent when none.
    */
   far?: ContourFar;
+  /**
+   * Points the core left out of this contour as off the plane of the rest of it (a damaged row cut
+   * off by a jump, out of the image plane every point of a contour lies in) and the farthest one's
+   * distance from that plane, mm; absent when none.
+   */
+  off_plane?: ContourOffPlane;
 }
 
 /** The core's `ContourSpikes` summary of one contour. */
@@ -210,6 +216,12 @@ export interface ContourFar {
   points: number;
   gap_mm: number;
   span_mm: number;
+}
+
+/** The core's `ContourOffPlane` summary of one contour. */
+export interface ContourOffPlane {
+  points: number;
+  off_mm: number;
 }
 
 /** One short-axis slice or long-axis view moved by the breath-hold alignment (the core's `GroupShift`). */

@@ -276,6 +276,7 @@ export class ContourTable {
         'data-count': row.count,
         'data-spikes': row.spikes > 0 ? row.spikes : undefined,
         'data-far': row.far > 0 ? row.far : undefined,
+        'data-off-plane': row.offPlane > 0 ? row.offPlane : undefined,
         'data-mean-mm': row.meanMm ?? undefined,
         'data-max-mm': row.maxMm ?? undefined,
       },

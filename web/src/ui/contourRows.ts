@@ -8,7 +8,7 @@
  */
 import type { ContourInfo, ContourKindName, RunResult, SetAsideReason } from '../core-client/protocol';
 import { robustMax } from '../viewer/colormap';
-import { farDetail, farNote, isFigure, LEFT_OUT_BY_USER, leftOutDetail, leftOutLabel, spikeDetail, spikeNote } from './runText';
+import { farDetail, farNote, isFigure, LEFT_OUT_BY_USER, leftOutDetail, leftOutLabel, offPlaneDetail, offPlaneNote, spikeDetail, spikeNote } from './runText';
 
 /** `used`: in the reconstruction; otherwise why it is not (the core's reasons, `by_user` the user's). */
 export type ContourRowState = 'used' | SetAsideReason;
@@ -31,13 +31,15 @@ export interface ContourRow {
   line: number | null;
   /** "left out: speck", "left out by you" (null: used). */
   reason: string | null;
-  /** A used contour's points left out as damaged values: "1 point left out: spike", "... far off" (null: none). */
+  /** A used contour's points left out as damaged values: "1 point left out: spike", "... far off", "... off its plane" (null: none). */
   note: string | null;
   /** Points left out as spikes (0: none). */
   spikes: number;
   /** Points left out as far from the rest of the surface (0: none). */
   far: number;
-  /** Tooltip: of a row left out, its line and why (leftOutDetail); of a row with damaged values, them (spikeDetail, farDetail). */
+  /** Points left out as off the plane of the rest of the contour (0: none). */
+  offPlane: number;
+  /** Tooltip: of a row left out, its line and why (leftOutDetail); of a row with damaged values, them (spikeDetail, farDetail, offPlaneDetail). */
   detail: string | null;
 }
 
@@ -74,10 +76,14 @@ export function contourRows(r: RunResult, file: readonly FileContour[] = []): Co
     maxMm: c.stats.max,
     line: null,
     reason: null,
-    note: joined([c.spikes && spikeNote(c.spikes), c.far && farNote(c.far)], ' · '),
+    note: joined([c.spikes && spikeNote(c.spikes), c.far && farNote(c.far), c.off_plane && offPlaneNote(c.off_plane)], ' · '),
     spikes: c.spikes?.points ?? 0,
     far: c.far?.points ?? 0,
-    detail: joined([c.spikes && spikeDetail(c.id, c.spikes), c.far && farDetail(c.id, c.far)], '\n'),
+    offPlane: c.off_plane?.points ?? 0,
+    detail: joined(
+      [c.spikes && spikeDetail(c.id, c.spikes), c.far && farDetail(c.id, c.far), c.off_plane && offPlaneDetail(c.id, c.off_plane)],
+      '\n',
+    ),
   }));
   const asideContours = r.set_aside_contours ?? [];
   const taken = new Set<number>();
@@ -101,6 +107,7 @@ export function contourRows(r: RunResult, file: readonly FileContour[] = []): Co
       note: null,
       spikes: 0,
       far: 0,
+      offPlane: 0,
       detail: leftOutDetail(e),
     };
   });

@@ -2,7 +2,7 @@
  * The words the status line and the result panel use for a run's progress and for its breath-hold
  * alignment. Pure (no DOM), so the wording and the numbers are unit-tested.
  */
-import type { Alignment, AlignmentGroup, ContourFar, ContourSpikes, EndCaps, MeshQuality, PastData, SetAsideEntry, SetAsideReason, SkippedRemesh, StepReport } from '../core-client/protocol';
+import type { Alignment, AlignmentGroup, ContourFar, ContourOffPlane, ContourSpikes, EndCaps, MeshQuality, PastData, SetAsideEntry, SetAsideReason, SkippedRemesh, StepReport } from '../core-client/protocol';
 import { mm } from './dom';
 
 /** "+1.4 mm" / "−0.3 mm": a signed length with one decimal ("0.0 mm" when it rounds to zero, not "−0.0"). */
@@ -274,6 +274,20 @@ export function farNote(f: ContourFar): string {
 export function farDetail(id: string, f: ContourFar): string {
   const points = f.points === 1 ? '1 point' : `${f.points} points`;
   return `"${id}": ${points} ${f.gap_mm.toFixed(1)} mm from every other point of its surface, which spans ${f.span_mm.toFixed(0)} mm, left out of the fit (a damaged value?)`;
+}
+
+/** "1 point left out: off its plane" / "3 points left out: off its plane": the row note of a contour with off-plane pieces. */
+export function offPlaneNote(o: ContourOffPlane): string {
+  return o.points === 1 ? '1 point left out: off its plane' : `${o.points} points left out: off its plane`;
+}
+
+/**
+ * Its tooltip, in the core's words for the warning line: `"s03_SAX_RV_FREEWALL": 3 points up to 26.4 mm
+ * off the plane of the rest of the curve, left out of the fit (a damaged value?)`.
+ */
+export function offPlaneDetail(id: string, o: ContourOffPlane): string {
+  const points = o.points === 1 ? '1 point' : `${o.points} points`;
+  return `"${id}": ${points} up to ${o.off_mm.toFixed(1)} mm off the plane of the rest of the curve, left out of the fit (a damaged value?)`;
 }
 
 /** What a contour the user left out (unticked in the Contours panel) is called everywhere. */

@@ -810,7 +810,8 @@ fn a_point_thrown_out_of_any_heart_is_left_out_and_named() {
 
 /// A damaged value at an open curve's last row cannot come back to the curve (no spike) and,
 /// 60 mm out, is no stray of the curve alone (100 mm): judged against the whole surface, it is
-/// left out and named; kept, it pulled a finger out of the apex.
+/// left out and named; kept, it pulled a finger out of the apex. 20 mm out it is off the curve's
+/// image plane, and left out and named as that.
 #[test]
 fn a_damaged_last_row_far_from_its_surface_is_left_out_and_named() {
     let dir = scratch("hostile-far-end-row");
@@ -874,15 +875,35 @@ fn a_damaged_last_row_far_from_its_surface_is_left_out_and_named() {
     let rep = rep.unwrap();
     let v = rep["volume_ml"].as_f64().unwrap();
     assert!((v - v0).abs() / v0 < 0.005, "{v} vs {v0} ml");
-    // 20 mm out (within half the surface's span of the rest), the row stays data (named only
-    // as out of the curve's plane, which it is: here read as a slice of its own).
+    // 20 mm out (within half the surface's span of the rest) the row is not far, but it lies
+    // 18.9 mm off lax1's plane (x is 19 degrees from it): left out as off its plane (until
+    // session 59 it stayed data, read as a slice of its own: "2 image planes").
     std::fs::write(&file, damage(&csv, 532..=532, |_, x| x + 20.0)).unwrap();
-    let (code, err, _) = reconstruct(&dir, &file, &[]);
+    let (code, err, rep) = reconstruct(&dir, &file, &[]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        !err.contains("fitted without") && err.contains("image planes"),
+        err.contains(
+            "contour \"lax1\" (line 483, 1 point up to 18.9 mm off the plane of the rest of the \
+             curve) is fitted without that piece: a contour lies in its image's plane"
+        ) && !err.contains("image planes")
+            && !err.contains("one plane")
+            && !err.contains("every other point"),
         "{err}"
     );
+    let rep = rep.unwrap();
+    let rows = rep["per_contour"].as_array().unwrap();
+    let off: Vec<&serde_json::Value> = rows
+        .iter()
+        .filter(|r| r.get("off_plane").is_some())
+        .collect();
+    assert_eq!(off.len(), 1, "{rows:?}");
+    assert_eq!(off[0]["id"], "lax1");
+    assert_eq!(off[0]["off_plane"]["points"], 1);
+    let mm = off[0]["off_plane"]["off_mm"].as_f64().unwrap();
+    assert!((mm - 20.0 * 1.9f64.sin()).abs() < 0.05, "{mm}");
+    assert!(rows.iter().all(|r| r.get("far").is_none()));
+    let v = rep["volume_ml"].as_f64().unwrap();
+    assert!((v - v0).abs() / v0 < 0.005, "{v} vs {v0} ml");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

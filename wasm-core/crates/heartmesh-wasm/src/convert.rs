@@ -183,6 +183,9 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
             if let Some(f) = rec.far_of(&c.id) {
                 row["far"] = json!(f);
             }
+            if let Some(o) = rec.off_plane_of(&c.id) {
+                row["off_plane"] = json!(o);
+            }
             row
         })
         .collect();

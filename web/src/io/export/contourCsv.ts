@@ -11,11 +11,12 @@ import { exportBaseName, headerLines, type ExportInfo } from './header';
 
 /**
  * The columns, named as the CLI report's figures are (mm in the name: the file has no other place
- * for units); `spike_points`, second to last, counts the points the core left out of a contour used as
- * damaged values out of the curve and straight back (the report's `per_contour` `spikes.points`;
- * 0 for none) and `far_points` those left out as far from the rest of the surface (`far.points`).
+ * for units); the last three count the points the core left out of a contour used as damaged values
+ * (0 for none): `spike_points` out of the curve and straight back (the report's `per_contour`
+ * `spikes.points`), `far_points` far from the rest of the surface (`far.points`) and
+ * `off_plane_points` off the plane of the rest of the contour (`off_plane.points`).
  */
-export const CONTOUR_CSV_COLUMNS = 'contour,kind,state,line,points,mean_mm,median_mm,max_mm,spike_points,far_points';
+export const CONTOUR_CSV_COLUMNS = 'contour,kind,state,line,points,mean_mm,median_mm,max_mm,spike_points,far_points,off_plane_points';
 
 /**
  * A distance to 4 decimals (as the Distances CSV); empty when there is no figure (a spreadsheet
@@ -26,7 +27,7 @@ export function mm4(v: number | null): string {
 }
 
 function contourLine(row: ContourRow): string {
-  return [csvField(row.id), row.kind ?? '', row.state, row.line ?? '', row.count, mm4(row.meanMm), mm4(row.medianMm), mm4(row.maxMm), row.spikes, row.far].join(',');
+  return [csvField(row.id), row.kind ?? '', row.state, row.line ?? '', row.count, mm4(row.meanMm), mm4(row.medianMm), mm4(row.maxMm), row.spikes, row.far, row.offPlane].join(',');
 }
 
 /** The CSV of `rows`, in their order, under the header lines of the run they come from (`info`). */

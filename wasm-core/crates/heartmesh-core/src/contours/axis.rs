@@ -5,7 +5,7 @@
 //! normals: a robust location that a few long-axis views cannot pull away from the short-axis stack.
 
 use super::clean::cleaned_contour;
-use super::far_pieces::drop_far_pieces;
+use super::drop_damaged_pieces;
 use super::plane::{axis_angle_deg, fit_plane, PlaneFit};
 use super::{Contour, ContourKind, ContourSet};
 use crate::error::{CoreError, Result};
@@ -341,7 +341,7 @@ pub fn classify_kinds(set: &ContourSet) -> Vec<Option<ContourKind>> {
                 cleaned.push(c);
             }
         }
-        drop_far_pieces(&mut cleaned);
+        drop_damaged_pieces(&mut cleaned);
         let planes: Vec<Option<PlaneFit>> = cleaned.iter().map(|c| fit_plane(c.points())).collect();
         let Ok(split) = split(&cleaned, &planes) else {
             continue;

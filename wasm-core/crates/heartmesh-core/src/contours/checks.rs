@@ -176,11 +176,16 @@ pub(crate) const NON_PLANAR_MM: f64 = 2.5;
 pub fn non_planar_warnings(set: &ContourSet) -> Vec<String> {
     let mut flagged: Vec<String> = Vec::new();
     let all: Vec<&Contour> = set.contours.iter().collect();
-    for (c, far) in set.contours.iter().zip(left_out(&all)) {
-        // Without its spikes and far pieces, which `spike_warnings` and `far_piece_warnings`
-        // name (a point thrown out of the plane is a damaged value, not a second slice).
-        let far: std::collections::HashSet<[u64; 3]> =
-            far.iter().flat_map(|f| f.points.iter().map(bits)).collect();
+    let off = super::off_plane::left_out(&all);
+    for ((c, far), off) in set.contours.iter().zip(left_out(&all)).zip(off) {
+        // Without its spikes, far and off-plane pieces, which `spike_warnings`,
+        // `far_piece_warnings` and `off_plane_warnings` name (a point thrown out of the plane is
+        // a damaged value, not a second slice).
+        let far: std::collections::HashSet<[u64; 3]> = far
+            .iter()
+            .flat_map(|f| f.points.iter().map(bits))
+            .chain(off.iter().flat_map(|f| f.points.iter().map(bits)))
+            .collect();
         let kept = |p: &&Vec3| far.is_empty() || !far.contains(&bits(p));
         let worst = c
             .pieces
@@ -254,6 +259,33 @@ pub fn far_piece_warnings(set: &ContourSet) -> Vec<String> {
         flagged,
         "is fitted without that piece: a surface's curves lie closer together (a damaged value?)",
         "are fitted without those pieces: a surface's curves lie closer together (damaged values?)",
+    )
+}
+
+/// Contours with a small piece cut off by a jump and lying off the plane of the rest of the
+/// contour ([`super::off_plane`]): left out of the fit, named so the damaged value is found.
+pub fn off_plane_warnings(set: &ContourSet) -> Vec<String> {
+    let all: Vec<&Contour> = set.contours.iter().collect();
+    let flagged: Vec<String> = set
+        .contours
+        .iter()
+        .zip(super::off_plane::left_out(&all))
+        .filter_map(|(c, found)| {
+            let f = super::off_plane::contour_off_plane(c, &found)?;
+            let points = if f.points == 1 { "point" } else { "points" };
+            Some(named(
+                c,
+                &format!(
+                    "{} {points} up to {:.1} mm off the plane of the rest of the curve",
+                    f.points, f.off_mm
+                ),
+            ))
+        })
+        .collect();
+    one_line(
+        flagged,
+        "is fitted without that piece: a contour lies in its image's plane (a damaged value?)",
+        "are fitted without those pieces: a contour lies in its image's plane (damaged values?)",
     )
 }
 

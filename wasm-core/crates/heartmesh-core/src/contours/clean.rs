@@ -123,6 +123,16 @@ pub fn cleaned_contour(c: &Contour) -> Option<Contour> {
     })
 }
 
+/// The [`cleaned_contour`]s of `contours` with, for each, its index in `contours` (those left
+/// empty are dropped): the per-contour summaries of what a run leaves out index back by it.
+pub fn cleaned_contours(contours: &[&Contour]) -> (Vec<usize>, Vec<Contour>) {
+    contours
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| cleaned_contour(c).map(|c| (i, c)))
+        .unzip()
+}
+
 /// Longest run of points [`spikes`] takes for damaged values: one corrupted coordinate moves one
 /// point, a damaged row or two a couple; a longer excursion may be drawn.
 pub const SPIKE_POINTS: usize = 3;

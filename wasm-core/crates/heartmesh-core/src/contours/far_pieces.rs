@@ -16,9 +16,9 @@
 //! curve and 30 mm from every other curve of their surface, which spans ~100 mm (biv-me patients
 //! 1 and 2, ED and ES, every surface), and stay.
 
-use super::clean::{cleaned_contour, STRAY_SHARE};
+use super::clean::{cleaned_contours, STRAY_SHARE};
 use super::strays::SPAN_SHARE;
-use super::{surface_indices, Contour};
+use super::{surface_indices, Contour, Polyline};
 use crate::geometry::Vec3;
 use crate::spatial::SegmentTree;
 use serde::Serialize;
@@ -38,23 +38,24 @@ pub struct FarPiece {
     pub span_mm: f64,
 }
 
-/// Which pieces of `c` are candidates: small enough to be a damaged part of it (at most two
-/// points or [`STRAY_SHARE`] of the contour's, as for [`super::clean::stray_pieces`]) while the
-/// contour keeps a bigger piece (a contour in one piece is its own curve, and one all in
-/// scattered bits is the whole-contour rules' business). One pass: a hostile contour has a
-/// hundred thousand pieces.
-fn candidates(c: &Contour) -> Vec<bool> {
-    let most = 2.max((STRAY_SHARE * c.point_count() as f64) as usize);
-    let small: Vec<bool> = c.pieces.iter().map(|p| p.points.len() <= most).collect();
+/// Which of a contour's `pieces` are candidates for damage: small enough to be a damaged part of
+/// it (at most two points or [`STRAY_SHARE`] of the contour's, as for
+/// [`super::clean::stray_pieces`]) while the contour keeps a bigger piece (a contour in one piece
+/// is its own curve, and one all in scattered bits is the whole-contour rules' business). One
+/// pass: a hostile contour has a hundred thousand pieces.
+pub(crate) fn small_pieces(pieces: &[Polyline]) -> Vec<bool> {
+    let total: usize = pieces.iter().map(|p| p.points.len()).sum();
+    let most = 2.max((STRAY_SHARE * total as f64) as usize);
+    let small: Vec<bool> = pieces.iter().map(|p| p.points.len() <= most).collect();
     let has_big = small.iter().any(|s| !s);
     small.into_iter().map(|s| s && has_big).collect()
 }
 
-/// The far pieces of one surface's cleaned `contours`: the [`candidates`] further than
+/// The far pieces of one surface's cleaned `contours`: the [`small_pieces`] further than
 /// [`SPAN_SHARE`] of the span of the rest (every other piece) from all of it. Nothing is judged
 /// against fewer than two contours' worth of rest.
 pub fn far_pieces(contours: &[Contour]) -> Vec<FarPiece> {
-    let flags: Vec<Vec<bool>> = contours.iter().map(candidates).collect();
+    let flags: Vec<Vec<bool>> = contours.iter().map(|c| small_pieces(&c.pieces)).collect();
     let mut rest: Vec<Vec3> = Vec::new();
     let mut rest_contours = 0;
     for (c, flags) in contours.iter().zip(&flags) {
@@ -157,14 +158,7 @@ pub struct LeftOut {
 /// The far pieces a run leaves out of each of `contours` (as given, any surfaces; cleaned as a
 /// run cleans them), indexed like `contours`.
 pub fn left_out(contours: &[&Contour]) -> Vec<Vec<LeftOut>> {
-    let mut index = Vec::new();
-    let mut cleaned = Vec::new();
-    for (i, c) in contours.iter().enumerate() {
-        if let Some(c) = cleaned_contour(c) {
-            index.push(i);
-            cleaned.push(c);
-        }
-    }
+    let (index, cleaned) = cleaned_contours(contours);
     let mut out = vec![Vec::new(); contours.len()];
     for f in far_pieces_by_surface(&cleaned) {
         out[index[f.contour]].push(LeftOut {
@@ -234,7 +228,9 @@ mod tests {
         if let Some(last) = c.last_mut() {
             last.pieces[0].points.push(at);
         }
-        c.iter().filter_map(cleaned_contour).collect()
+        c.iter()
+            .filter_map(crate::contours::clean::cleaned_contour)
+            .collect()
     }
 
     #[test]
@@ -264,7 +260,10 @@ mod tests {
         let mut half: Vec<Vec3> = c[3].pieces[0].points[..30].to_vec();
         half.extend((0..30).map(|j| Vec3::new(0.0, 200.0 + j as f64, 0.0)));
         c[3].pieces[0].points = half;
-        let c: Vec<Contour> = c.iter().filter_map(cleaned_contour).collect();
+        let c: Vec<Contour> = c
+            .iter()
+            .filter_map(crate::contours::clean::cleaned_contour)
+            .collect();
         assert_eq!(c[3].pieces.len(), 2);
         assert!(far_pieces(&c).is_empty());
         // A lone point contour far out is a whole contour (the strays' business), not a piece.

@@ -8,6 +8,7 @@ pub mod checks;
 pub mod clean;
 pub mod far_pieces;
 pub mod lax_specks;
+pub mod off_plane;
 pub mod plane;
 pub mod plane_split;
 pub mod rings;
@@ -68,6 +69,16 @@ pub fn surface_indices(contours: &[Contour]) -> Vec<Vec<usize>> {
         }
     }
     groups
+}
+
+/// Leaves the damaged pieces out of cleaned `contours` (any surfaces): first those far from the
+/// rest of their surface ([`far_pieces`]), then those off their contour's plane
+/// ([`off_plane`]), the order in which the warnings name them. Every look at a surface's
+/// contours before fitting (the run, the axis search, the alignment, the set-aside rules) sees
+/// them this way.
+pub fn drop_damaged_pieces(contours: &mut [Contour]) {
+    far_pieces::drop_far_pieces(contours);
+    off_plane::drop_off_plane_pieces(contours);
 }
 
 impl Contour {

@@ -13,6 +13,7 @@
 //! and a warning says so. Anything less clean is left as read, with the non-planar warning.
 
 use super::checks::{one_line, NON_PLANAR_MM};
+use super::clean::SPIKE_POINTS;
 use super::plane::{fit_plane, PlaneFit};
 use super::{Contour, Polyline};
 use crate::geometry::Vec3;
@@ -100,20 +101,34 @@ pub fn split_run(run: Vec<Vec3>) -> Vec<Vec<Vec3>> {
     vec![run]
 }
 
-/// Largest distance (mm) of `points` from the plane of `fit`.
+/// Largest distance (mm) of `points` from the plane of `fit`, but for up to [`SPIKE_POINTS`] of
+/// them at the run's ends when it is longer than twice that (the smallest such largest
+/// distance). A damaged first or last row thrown out of the image plane, on a curve so straight
+/// that the two still fit a plane of their own, would otherwise make the run another slice's
+/// (biv-me patient 1 ES's RV free wall s03, its last three rows 32 mm out: a contour
+/// `s03_SAX_RV_FREEWALL (2)` of 14 points taken for a slice); within the plane but for those rows,
+/// it is this plane's, and its contour leaves them out (`super::off_plane`).
 fn off_plane(points: &[Vec3], fit: &PlaneFit) -> f64 {
-    points
+    let d: Vec<f64> = points
         .iter()
         .map(|p| (p - fit.centroid).dot(&fit.normal).abs())
-        .fold(0.0, f64::max)
+        .collect();
+    let most = |r: &[f64]| r.iter().copied().fold(0.0, f64::max);
+    if d.len() <= 2 * SPIKE_POINTS {
+        return most(&d);
+    }
+    (0..=SPIKE_POINTS)
+        .flat_map(|a| (0..=SPIKE_POINTS - a).map(move |b| (a, b)))
+        .map(|(a, b)| most(&d[a..d.len() - b]))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Each planar run of points's plane group (numbered in the order of the runs' first appearance;
 /// None past [`MAX_PLANES`] planes):
 /// seeded by the largest runs (a short arc fixes its plane less well than a ring), each run
 /// with the plane it lies nearest when within [`NON_PLANAR_MM`] of it, else a plane of its own
-/// (a straight run far from every plane, a group of its own); a point or two goes with the
-/// nearest plane. Nearest, not first: a long-axis curve's points near the axis lie close to
+/// (a straight run far from every plane, a group of its own); a run of at most [`SPIKE_POINTS`]
+/// points (a damaged row or three) goes with the nearest plane. Nearest, not first: a long-axis curve's points near the axis lie close to
 /// every long-axis plane.
 fn group_by_plane(runs: &[&[Vec3]]) -> Option<Vec<usize>> {
     let mut order: Vec<usize> = (0..runs.len()).collect();
@@ -131,6 +146,10 @@ fn group_by_plane(runs: &[&[Vec3]]) -> Option<Vec<usize>> {
             .min_by(|a, b| a.1.total_cmp(&b.1));
         label[k] = match (home, fit_plane(runs[k].iter())) {
             (Some((g, off)), _) if off <= NON_PLANAR_MM => g,
+            // A run of a few points is no slice's curve: with the plane it lies nearest, whose
+            // contour then leaves it out if damaged (`super::off_plane`), rather than a contour of
+            // its own that the tube takes for a slice.
+            (Some((g, _)), _) if runs[k].len() <= SPIKE_POINTS => g,
             (_, Some(fit)) => {
                 fits.push(Some(fit));
                 fits.len() - 1
@@ -257,6 +276,45 @@ mod tests {
 
     fn ring(z: f64, r: f64, n: usize) -> Vec<Vec3> {
         crate::geometry::ellipse(r, r, z, n)
+    }
+
+    #[test]
+    fn damaged_end_rows_off_the_plane_are_no_slice_of_their_own() {
+        // A curve stored in two runs (three quarters of a ring, then a straight stretch across
+        // the open side), its last three rows thrown 25 mm out of the plane: the straight
+        // stretch and those rows fit a plane of their own, yet they are this slice's.
+        let mut run: Vec<Vec3> = (0..27)
+            .map(|i| {
+                let a = i as f64 / 27.0 * 1.5 * std::f64::consts::PI;
+                v3(20.0 * a.cos(), 20.0 * a.sin(), 0.0)
+            })
+            .collect();
+        run.extend((0..11).map(|i| v3(-5.0 + 3.0 * i as f64, -25.0, 0.0)));
+        let whole = run.clone();
+        run.extend((0..3).map(|i| v3(28.0 + 3.0 * i as f64, -25.0, 25.0)));
+        let parts = split_run(run.clone());
+        assert_eq!(
+            parts.len(),
+            1,
+            "{:?}",
+            parts.iter().map(Vec::len).collect::<Vec<_>>()
+        );
+        // Four rows out are more than a damaged row or three: a slice of their own.
+        let mut four = whole.clone();
+        four.extend((0..4).map(|i| v3(28.0 + 3.0 * i as f64, -25.0, 25.0)));
+        assert_eq!(split_run(four).len(), 2);
+        // Two runs of one name (a piece each), the second with those rows: one plane.
+        let pieces = vec![
+            Polyline {
+                points: whole[..27].to_vec(),
+                closed: false,
+            },
+            Polyline {
+                points: run[27..].to_vec(),
+                closed: false,
+            },
+        ];
+        assert!(plane_groups(&pieces).is_none());
     }
 
     #[test]

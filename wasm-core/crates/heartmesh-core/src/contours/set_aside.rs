@@ -23,7 +23,7 @@
 use super::axis::analyse;
 use super::checks::{one_line, surface_groups};
 use super::clean::{cleaned_contour, contour_length};
-use super::far_pieces::drop_far_pieces;
+use super::drop_damaged_pieces;
 use super::lax_specks::lax_specks;
 use super::specks::{specks, SPECK_RATIO};
 use super::strays::strays;
@@ -202,7 +202,7 @@ pub fn found_in(set: &ContourSet) -> Vec<SetAside> {
         .filter(|g| g.len() <= MAX_CONTOURS)
         .flat_map(|g| {
             let mut cleaned: Vec<Contour> = g.iter().filter_map(|c| cleaned_contour(c)).collect();
-            drop_far_pieces(&mut cleaned);
+            drop_damaged_pieces(&mut cleaned);
             set_aside(cleaned).1
         })
         .collect()

@@ -190,10 +190,11 @@ impl ContourBuilder {
         // Across surfaces: a ring copied into another surface is a mistake about both.
         let dups = duplicate_warnings(&set);
         set.warnings.extend(dups);
-        let checks: [fn(&ContourSet) -> Vec<String>; 9] = [
+        let checks: [fn(&ContourSet) -> Vec<String>; 10] = [
             checks::spike_warnings,
             checks::stray_point_warnings,
             checks::far_piece_warnings,
+            checks::off_plane_warnings,
             checks::non_planar_warnings,
             order_warnings,
             set_aside::set_aside_warnings,

@@ -37,6 +37,7 @@ use crate::contours::axis::Layout;
 use crate::contours::biv_epi;
 use crate::contours::clean::{contour_spikes, resample_spacing, ContourSpikes};
 use crate::contours::far_pieces::{contour_far, left_out, ContourFar};
+use crate::contours::off_plane::{self, ContourOffPlane};
 use crate::contours::set_aside::{self, SetAside};
 use crate::contours::valve_chord::open_valve_chords;
 use crate::contours::{Contour, ContourKind, ContourSet};
@@ -195,6 +196,8 @@ pub struct Reconstruction {
     spikes: Vec<ContourSpikes>,
     /// What the cleaning left out of each contour as far from its surface (`far_pieces`).
     far: Vec<ContourFar>,
+    /// What the cleaning left out of each contour as off its plane (`off_plane`).
+    off_plane: Vec<ContourOffPlane>,
     /// What the mesh is fitted to: `contours` with long-axis curves closed across the valve opened
     /// there (`valve_chord`); measured distances stay those to `contours`, as drawn.
     fitted: Vec<Contour>,
@@ -318,6 +321,11 @@ impl Reconstruction {
             .zip(left_out(&selected))
             .filter_map(|(c, found)| contour_far(c, &found))
             .collect();
+        let off_plane: Vec<ContourOffPlane> = selected
+            .iter()
+            .zip(off_plane::left_out(&selected))
+            .filter_map(|(c, found)| off_plane::contour_off_plane(c, &found))
+            .collect();
         let contours = prepare::clean_contours(&selected);
         let contours_as_given = match aligned {
             Some(_) => {
@@ -396,6 +404,7 @@ impl Reconstruction {
             contours,
             spikes,
             far,
+            off_plane,
             fitted,
             valve_chords,
             set_aside,
@@ -651,6 +660,12 @@ impl Reconstruction {
     /// (`contours::far_pieces`; None: none): the report's and the app's per-contour rows say so.
     pub fn far_of(&self, id: &str) -> Option<&ContourFar> {
         self.far.iter().find(|s| s.id == id)
+    }
+
+    /// The points cleaning left out of the contour `id` as off the plane of the rest of it
+    /// (`contours::off_plane`; None: none): the report's and the app's per-contour rows say so.
+    pub fn off_plane_of(&self, id: &str) -> Option<&ContourOffPlane> {
+        self.off_plane.iter().find(|s| s.id == id)
     }
 
     /// The ids of the long-axis curves closed across the valve that the mesh was fitted to opened

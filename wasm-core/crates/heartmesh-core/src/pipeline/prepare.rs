@@ -4,7 +4,7 @@
 use crate::contours::axis::{analyse, Layout};
 use crate::contours::checks::check_units;
 use crate::contours::clean::cleaned_contour;
-use crate::contours::far_pieces::drop_far_pieces;
+use crate::contours::drop_damaged_pieces;
 use crate::contours::set_aside::{SetAside, Why};
 use crate::contours::slice_loops::without_second_loops;
 use crate::contours::{biv_epi, Contour, ContourSet};
@@ -43,10 +43,11 @@ pub fn select_surface<'a>(
 }
 
 /// Cleans every piece (non-finite points, duplicates, jumps), drops contours left empty and
-/// leaves out the pieces far from the rest of their surface (`contours::far_pieces`).
+/// leaves out the damaged pieces: far from the rest of their surface (`contours::far_pieces`) or
+/// off their contour's plane (`contours::off_plane`).
 pub fn clean_contours(contours: &[&Contour]) -> Vec<Contour> {
     let mut cleaned: Vec<Contour> = contours.iter().filter_map(|c| cleaned_contour(c)).collect();
-    drop_far_pieces(&mut cleaned);
+    drop_damaged_pieces(&mut cleaned);
     cleaned
 }
 

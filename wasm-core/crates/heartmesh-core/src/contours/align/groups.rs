@@ -5,7 +5,7 @@
 
 use crate::contours::axis::analyse;
 use crate::contours::clean::cleaned_contour;
-use crate::contours::far_pieces::drop_far_pieces;
+use crate::contours::drop_damaged_pieces;
 use crate::contours::plane::{axis_angle_deg, fit_plane, PlaneFit};
 use crate::contours::{Contour, ContourKind, ContourSet};
 use crate::geometry::{lexicographic, Vec3};
@@ -104,7 +104,7 @@ pub(super) fn group(set: &ContourSet) -> Result<Grouping, String> {
             cleaned.push(c);
         }
     }
-    drop_far_pieces(&mut cleaned);
+    drop_damaged_pieces(&mut cleaned);
     let layout = analyse(&cleaned).map_err(|e| format!("no short-axis stack to align ({e})"))?;
     let surfaces = surface_ids(&cleaned);
     let pieces_of = |k: usize| -> Vec<Piece> {
