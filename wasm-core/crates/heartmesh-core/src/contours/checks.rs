@@ -176,8 +176,8 @@ pub(crate) const NON_PLANAR_MM: f64 = 2.5;
 pub fn non_planar_warnings(set: &ContourSet) -> Vec<String> {
     let mut flagged: Vec<String> = Vec::new();
     let all: Vec<&Contour> = set.contours.iter().collect();
-    let off = super::off_plane::left_out(&all);
-    for ((c, far), off) in set.contours.iter().zip(left_out(&all)).zip(off) {
+    let (far, off) = super::off_plane::left_out_with_far(&all);
+    for ((c, far), off) in set.contours.iter().zip(far).zip(off) {
         // Without its spikes, far and off-plane pieces, which `spike_warnings`,
         // `far_piece_warnings` and `off_plane_warnings` name (a point thrown out of the plane is
         // a damaged value, not a second slice).

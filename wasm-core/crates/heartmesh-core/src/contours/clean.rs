@@ -112,9 +112,8 @@ pub fn stray_pieces(pieces: &[Polyline]) -> Vec<(usize, f64)> {
 /// both look at contours this way before fitting planes.
 pub fn cleaned_contour(c: &Contour) -> Option<Contour> {
     let mut pieces: Vec<_> = c.pieces.iter().flat_map(clean_and_split).collect();
-    for (k, _) in stray_pieces(&pieces).into_iter().rev() {
-        pieces.remove(k);
-    }
+    let strays: Vec<usize> = stray_pieces(&pieces).into_iter().map(|(k, _)| k).collect();
+    super::remove_pieces(&mut pieces, strays);
     (!pieces.is_empty()).then(|| Contour {
         id: c.id.clone(),
         surface: c.surface.clone(),

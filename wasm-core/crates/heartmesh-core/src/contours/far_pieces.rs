@@ -18,7 +18,7 @@
 
 use super::clean::{cleaned_contours, STRAY_SHARE};
 use super::strays::SPAN_SHARE;
-use super::{surface_indices, Contour, Polyline};
+use super::{remove_pieces, surface_indices, Contour, Polyline};
 use crate::geometry::Vec3;
 use crate::spatial::SegmentTree;
 use serde::Serialize;
@@ -120,30 +120,33 @@ pub fn far_pieces_by_surface(contours: &[Contour]) -> Vec<FarPiece> {
     out
 }
 
-/// Leaves the far pieces out of cleaned `contours` (each surface judged on its own). A contour
-/// keeps its bigger pieces, so none is emptied and indices stay as they were.
+/// Leaves the far pieces out of cleaned `contours` (each surface judged on its own).
 pub fn drop_far_pieces(contours: &mut [Contour]) {
-    let mut out: Vec<Vec<bool>> = contours
-        .iter()
-        .map(|c| vec![false; c.pieces.len()])
-        .collect();
-    let found = far_pieces_by_surface(contours);
-    if found.is_empty() {
-        return;
-    }
-    for f in found {
-        if let Some(flag) = out.get_mut(f.contour).and_then(|o| o.get_mut(f.piece)) {
-            *flag = true;
+    take_far_pieces(contours);
+}
+
+/// Leaves the far pieces out of cleaned `contours` (each surface judged on its own) and returns
+/// them, per contour. A contour keeps its bigger pieces, so none is emptied and indices stay as
+/// they were.
+pub fn take_far_pieces(contours: &mut [Contour]) -> Vec<Vec<LeftOut>> {
+    let mut taken = vec![Vec::new(); contours.len()];
+    let mut out: Vec<Vec<usize>> = vec![Vec::new(); contours.len()];
+    for f in far_pieces_by_surface(contours) {
+        if let Some(p) = contours.get(f.contour).and_then(|c| c.pieces.get(f.piece)) {
+            taken[f.contour].push(LeftOut {
+                points: p.points.clone(),
+                gap_mm: f.gap_mm,
+                span_mm: f.span_mm,
+            });
+            out[f.contour].push(f.piece);
         }
     }
-    // One pass per contour (not a removal per piece: a hostile contour has a hundred thousand).
     for (c, out) in contours.iter_mut().zip(out) {
-        let mut k = 0;
-        c.pieces.retain(|_| {
-            k += 1;
-            !out[k - 1]
-        });
+        if !out.is_empty() {
+            remove_pieces(&mut c.pieces, out);
+        }
     }
+    taken
 }
 
 /// A far piece as the warnings and the per-contour summaries see it: its points (as cleaned),
@@ -158,14 +161,10 @@ pub struct LeftOut {
 /// The far pieces a run leaves out of each of `contours` (as given, any surfaces; cleaned as a
 /// run cleans them), indexed like `contours`.
 pub fn left_out(contours: &[&Contour]) -> Vec<Vec<LeftOut>> {
-    let (index, cleaned) = cleaned_contours(contours);
+    let (index, mut cleaned) = cleaned_contours(contours);
     let mut out = vec![Vec::new(); contours.len()];
-    for f in far_pieces_by_surface(&cleaned) {
-        out[index[f.contour]].push(LeftOut {
-            points: cleaned[f.contour].pieces[f.piece].points.clone(),
-            gap_mm: f.gap_mm,
-            span_mm: f.span_mm,
-        });
+    for (i, taken) in index.into_iter().zip(take_far_pieces(&mut cleaned)) {
+        out[i] = taken;
     }
     out
 }

@@ -71,6 +71,22 @@ pub fn surface_indices(contours: &[Contour]) -> Vec<Vec<usize>> {
     groups
 }
 
+/// `pieces` without those whose index `out` lists, in one pass: a removal per piece moves the
+/// rest each time, and a hostile contour has a hundred thousand pieces to leave out.
+pub(crate) fn remove_pieces(pieces: &mut Vec<Polyline>, out: impl IntoIterator<Item = usize>) {
+    let mut gone = vec![false; pieces.len()];
+    for k in out {
+        if let Some(g) = gone.get_mut(k) {
+            *g = true;
+        }
+    }
+    let mut k = 0;
+    pieces.retain(|_| {
+        k += 1;
+        !gone[k - 1]
+    });
+}
+
 /// Leaves the damaged pieces out of cleaned `contours` (any surfaces): first those far from the
 /// rest of their surface ([`far_pieces`]), then those off their contour's plane
 /// ([`off_plane`]), the order in which the warnings name them. Every look at a surface's

@@ -9,6 +9,11 @@ use super::clean::{length, resample_count};
 use super::{Contour, Polyline};
 use crate::geometry::Vec3;
 
+/// Most open pieces [`join_pieces`] chains end to nearest end: the search is quadratic in their
+/// count, and a slice of a real file has a handful (a hostile contour cleaned into a hundred
+/// thousand bits spent half a minute here); past it they are chained in the order given.
+const MAX_CHAINED: usize = 4096;
+
 /// Chains the pieces of one slice into one closed loop of points (not resampled).
 pub fn join_pieces(pieces: &[&Polyline]) -> Vec<Vec3> {
     let mut usable: Vec<&Polyline> = pieces
@@ -26,6 +31,12 @@ pub fn join_pieces(pieces: &[&Polyline]) -> Vec<Vec3> {
         .max_by(|a, b| length(&a.points, true).total_cmp(&length(&b.points, true)))
     {
         return closed.points.clone();
+    }
+    if usable.len() > MAX_CHAINED {
+        return usable
+            .iter()
+            .flat_map(|p| p.points.iter().copied())
+            .collect();
     }
     // Start from the longest open piece and keep appending the piece whose nearer end is closest
     // to the current tail.
@@ -172,6 +183,19 @@ mod tests {
                 .collect(),
             closed: false,
         }
+    }
+
+    #[test]
+    fn past_the_most_pieces_chained_they_are_joined_in_the_order_given() {
+        // A hostile contour cleaned into bits: every point kept, in the order given, at once.
+        let bits: Vec<Polyline> = (0..MAX_CHAINED + 1)
+            .map(|i| arc(20.0, i as f64, 0.0, 1.0, 2))
+            .collect();
+        let refs: Vec<&Polyline> = bits.iter().collect();
+        let joined = join_pieces(&refs);
+        assert_eq!(joined.len(), 2 * (MAX_CHAINED + 1));
+        assert_eq!(joined[2].z, 1.0);
+        assert_eq!(joined.last().map(|p| p.z), Some(MAX_CHAINED as f64));
     }
 
     #[test]

@@ -36,7 +36,7 @@ use crate::contours::align::{
 use crate::contours::axis::Layout;
 use crate::contours::biv_epi;
 use crate::contours::clean::{contour_spikes, resample_spacing, ContourSpikes};
-use crate::contours::far_pieces::{contour_far, left_out, ContourFar};
+use crate::contours::far_pieces::{contour_far, ContourFar};
 use crate::contours::off_plane::{self, ContourOffPlane};
 use crate::contours::set_aside::{self, SetAside};
 use crate::contours::valve_chord::open_valve_chords;
@@ -316,14 +316,15 @@ impl Reconstruction {
         let selected = prepare::select_surface(source, params.surface.as_deref())?;
         let spikes: Vec<ContourSpikes> =
             selected.iter().filter_map(|c| contour_spikes(c)).collect();
+        let (far, off_plane) = off_plane::left_out_with_far(&selected);
         let far: Vec<ContourFar> = selected
             .iter()
-            .zip(left_out(&selected))
+            .zip(far)
             .filter_map(|(c, found)| contour_far(c, &found))
             .collect();
         let off_plane: Vec<ContourOffPlane> = selected
             .iter()
-            .zip(off_plane::left_out(&selected))
+            .zip(off_plane)
             .filter_map(|(c, found)| off_plane::contour_off_plane(c, &found))
             .collect();
         let contours = prepare::clean_contours(&selected);
