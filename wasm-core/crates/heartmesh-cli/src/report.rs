@@ -113,14 +113,8 @@ pub fn build(rec: &Reconstruction, f: &Facts) -> Value {
                 "points": c.stats.count,
             });
             // Points left out of it as damaged values (only when there are any).
-            if let Some(s) = rec.spikes_of(&c.id) {
-                row["spikes"] = json!(s);
-            }
-            if let Some(f) = rec.far_of(&c.id) {
-                row["far"] = json!(f);
-            }
-            if let Some(o) = rec.off_plane_of(&c.id) {
-                row["off_plane"] = json!(o);
+            if let Some(fields) = row.as_object_mut() {
+                fields.extend(rec.damage_of(&c.id));
             }
             row
         })

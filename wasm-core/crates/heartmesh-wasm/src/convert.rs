@@ -177,14 +177,8 @@ pub fn result_value(rec: &Reconstruction, lids: &str) -> Value {
         .map(|c| {
             let mut row = json!({ "id": c.id, "kind": c.kind, "stats": c.stats });
             // Points left out of it as damaged values: the Contours panel says so in its row.
-            if let Some(s) = rec.spikes_of(&c.id) {
-                row["spikes"] = json!(s);
-            }
-            if let Some(f) = rec.far_of(&c.id) {
-                row["far"] = json!(f);
-            }
-            if let Some(o) = rec.off_plane_of(&c.id) {
-                row["off_plane"] = json!(o);
+            if let Some(fields) = row.as_object_mut() {
+                fields.extend(rec.damage_of(&c.id));
             }
             row
         })

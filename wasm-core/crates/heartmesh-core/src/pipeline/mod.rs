@@ -663,6 +663,33 @@ impl Reconstruction {
         self.far.iter().find(|s| s.id == id)
     }
 
+    /// What cleaning left out of the contour `id` as damaged values, as the report's and the
+    /// app's per-contour rows carry it: `spikes`, `far` and `off_plane`, each only when there are
+    /// any (empty: none).
+    pub fn damage_of(&self, id: &str) -> serde_json::Map<String, serde_json::Value> {
+        let mut out = serde_json::Map::new();
+        let mut put = |key: &str, value: Option<serde_json::Value>| {
+            if let Some(v) = value {
+                out.insert(key.to_string(), v);
+            }
+        };
+        put(
+            "spikes",
+            self.spikes_of(id)
+                .and_then(|s| serde_json::to_value(s).ok()),
+        );
+        put(
+            "far",
+            self.far_of(id).and_then(|f| serde_json::to_value(f).ok()),
+        );
+        put(
+            "off_plane",
+            self.off_plane_of(id)
+                .and_then(|o| serde_json::to_value(o).ok()),
+        );
+        out
+    }
+
     /// The points cleaning left out of the contour `id` as off the plane of the rest of it
     /// (`contours::off_plane`; None: none): the report's and the app's per-contour rows say so.
     pub fn off_plane_of(&self, id: &str) -> Option<&ContourOffPlane> {
