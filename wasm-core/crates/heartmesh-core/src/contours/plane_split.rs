@@ -128,8 +128,8 @@ fn off_plane(points: &[Vec3], fit: &PlaneFit) -> f64 {
 /// seeded by the largest runs (a short arc fixes its plane less well than a ring), each run
 /// with the plane it lies nearest when within [`NON_PLANAR_MM`] of it, else a plane of its own
 /// (a straight run far from every plane, a group of its own); a run of at most [`SPIKE_POINTS`]
-/// points (a damaged row or three) goes with the nearest plane. Nearest, not first: a long-axis curve's points near the axis lie close to
-/// every long-axis plane.
+/// points (a damaged row or three) goes with the nearest plane. Nearest, not first: a long-axis
+/// curve's points near the axis lie close to every long-axis plane.
 fn group_by_plane(runs: &[&[Vec3]]) -> Option<Vec<usize>> {
     let mut order: Vec<usize> = (0..runs.len()).collect();
     order.sort_by_key(|&k| std::cmp::Reverse(runs[k].len()));
