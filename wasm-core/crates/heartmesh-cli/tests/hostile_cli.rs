@@ -907,6 +907,107 @@ fn a_damaged_last_row_far_from_its_surface_is_left_out_and_named() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Damaged rows of a real file's RV (biv-me patient 1 ES) go with their jumps: the mesh is the one
+/// of the file without those rows. The last two rows of the long-axis free wall s08, stored from
+/// mid-curve and closing back on its first row, thrown 13 mm off its plane, left the curve cut in
+/// two at the wrap (74.2 ml against 71.3 without the rows); the first three of the nine-point
+/// septum s05 thrown 82 mm, a third of their curve, stayed data (83.9 against 71.6 ml intact).
+#[test]
+fn damaged_rows_of_a_real_rv_are_left_out_as_if_never_in_the_file() {
+    let dir = scratch("hostile-damaged-rv-rows");
+    let csv =
+        std::fs::read_to_string(data("contours/bivme-example-patient1/patient1-ES.csv")).unwrap();
+    let rows_of = |id: &str| -> Vec<usize> {
+        csv.lines()
+            .enumerate()
+            .filter(|(_, l)| l.split(',').next() == Some(id))
+            .map(|(i, _)| i)
+            .collect()
+    };
+    let rv = ["--surface", "RV_ENDO"];
+    let file = dir.join("damaged.csv");
+    let wall = rows_of("s08_LAX_RV_FREEWALL");
+    assert_eq!(wall.len(), 26);
+    let last_two = wall[24]..=wall[25];
+    std::fs::write(
+        &file,
+        shift(&csv, last_two.clone(), [1.3775, 5.8474, 11.9380]),
+    )
+    .unwrap();
+    let (code, err, rep) = reconstruct(&dir, &file, &rv);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(
+            "contour \"s08_LAX_RV_FREEWALL\" (line 667, 2 points up to 6.9 mm off the plane"
+        ),
+        "{err}"
+    );
+    let damaged_mesh = mesh_body(&dir);
+    let v = rep.unwrap()["volume_ml"].as_f64().unwrap();
+    let without: String = csv
+        .lines()
+        .enumerate()
+        .filter(|(i, _)| !last_two.contains(i))
+        .map(|(_, l)| format!("{l}\n"))
+        .collect();
+    std::fs::write(&file, without).unwrap();
+    let (code, err, rep) = reconstruct(&dir, &file, &rv);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        mesh_body(&dir),
+        damaged_mesh,
+        "the mesh of the file without the rows"
+    );
+    let v0 = rep.unwrap()["volume_ml"].as_f64().unwrap();
+    assert!((v - 71.3).abs() < 0.1 && v == v0, "{v} vs {v0} ml");
+    // The septum: three of nine rows 82 mm out, 55 mm from all else of a surface 98 mm across.
+    let septum = rows_of("s05_SAX_RV_SEPTUM");
+    assert_eq!(septum.len(), 9);
+    let first_three = septum[0]..=septum[2];
+    std::fs::write(
+        &file,
+        shift(&csv, first_three, [-54.074, 51.7697, -33.3336]),
+    )
+    .unwrap();
+    let (code, err, rep) = reconstruct(&dir, &file, &rv);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("contour \"s05_SAX_RV_SEPTUM\" (line 424, 3 points 54.7 mm from every other point of its surface, which spans 98 mm) is fitted without that piece"),
+        "{err}"
+    );
+    let rep = rep.unwrap();
+    let plain = dir.join("plain.csv");
+    std::fs::write(&plain, &csv).unwrap();
+    let (code, err, intact) = reconstruct(&dir, &plain, &rv);
+    assert_eq!(code, 0, "{err}");
+    let intact = intact.unwrap();
+    let (v, v0) = (
+        rep["volume_ml"].as_f64().unwrap(),
+        intact["volume_ml"].as_f64().unwrap(),
+    );
+    assert!((v - v0).abs() / v0 < 0.005, "{v} vs {v0} ml");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The CSV with the points of some lines (0-based) moved by `by` (mm).
+fn shift(csv: &str, lines: std::ops::RangeInclusive<usize>, by: [f64; 3]) -> String {
+    let out: Vec<String> = csv
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let f: Vec<&str> = l.split(',').collect();
+            if !lines.contains(&i) {
+                return l.to_string();
+            }
+            let moved: Vec<String> = (0..3)
+                .map(|k| format!("{:.4}", f[k + 1].parse::<f64>().unwrap() + by[k]))
+                .collect();
+            format!("{},{},{}", f[0], moved.join(","), f[4..].join(","))
+        })
+        .collect();
+    out.join("\n") + "\n"
+}
+
 /// The report of `csv` reconstructed as it is (written to `dir`), which must give no word.
 fn undamaged(dir: &Path, csv: &str) -> serde_json::Value {
     let plain = dir.join("plain.csv");

@@ -4,9 +4,8 @@
 //! The central direction is the contour normal with the smallest sum of log(180 + angle) to all other
 //! normals: a robust location that a few long-axis views cannot pull away from the short-axis stack.
 
-use super::clean::cleaned_contour;
-use super::drop_damaged_pieces;
 use super::plane::{axis_angle_deg, fit_plane, PlaneFit};
+use super::undamaged::cleaned_undamaged;
 use super::{Contour, ContourKind, ContourSet};
 use crate::error::{CoreError, Result};
 use crate::geometry::{order_free_sum, order_free_vec_sum, Vec3};
@@ -333,15 +332,9 @@ pub fn classify_kinds(set: &ContourSet) -> Vec<Option<ContourKind>> {
     }
     for (group, decides_all) in groups {
         // Cleaned as a run cleans them (non-finite points and jumps would tilt the planes).
-        let mut index = Vec::new();
-        let mut cleaned = Vec::new();
-        for &i in &group {
-            if let Some(c) = cleaned_contour(&set.contours[i]) {
-                index.push(i);
-                cleaned.push(c);
-            }
-        }
-        drop_damaged_pieces(&mut cleaned);
+        let members: Vec<&Contour> = group.iter().map(|&i| &set.contours[i]).collect();
+        let (kept, cleaned) = cleaned_undamaged(&members);
+        let index: Vec<usize> = kept.into_iter().map(|k| group[k]).collect();
         let planes: Vec<Option<PlaneFit>> = cleaned.iter().map(|c| fit_plane(c.points())).collect();
         let Ok(split) = split(&cleaned, &planes) else {
             continue;

@@ -17,6 +17,7 @@ pub mod slice_loops;
 pub mod specks;
 pub mod strays;
 pub mod time_frames;
+pub mod undamaged;
 pub mod valve_chord;
 
 use crate::geometry::Vec3;
@@ -85,16 +86,6 @@ pub(crate) fn remove_pieces(pieces: &mut Vec<Polyline>, out: impl IntoIterator<I
         k += 1;
         !gone[k - 1]
     });
-}
-
-/// Leaves the damaged pieces out of cleaned `contours` (any surfaces): first those far from the
-/// rest of their surface ([`far_pieces`]), then those off their contour's plane
-/// ([`off_plane`]), the order in which the warnings name them. Every look at a surface's
-/// contours before fitting (the run, the axis search, the alignment, the set-aside rules) sees
-/// them this way.
-pub fn drop_damaged_pieces(contours: &mut [Contour]) {
-    far_pieces::drop_far_pieces(contours);
-    off_plane::drop_off_plane_pieces(contours);
 }
 
 impl Contour {

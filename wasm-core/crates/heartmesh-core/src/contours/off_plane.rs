@@ -14,7 +14,8 @@
 
 use super::checks::NON_PLANAR_MM;
 use super::clean::cleaned_contours;
-use super::far_pieces::{self, small_pieces, take_far_pieces};
+use super::clean::STRAY_SHARE;
+use super::far_pieces::{self, take_far_pieces};
 use super::plane::fit_plane;
 use super::{remove_pieces, Contour, Polyline};
 use crate::geometry::Vec3;
@@ -24,6 +25,19 @@ use serde::Serialize;
 /// rest of a contour is too near a straight line for its fitted plane to say which way is off it
 /// (the flattest real curve measured, a 9 mm septum arc, spreads 0.06).
 const MIN_SPREAD: f64 = 0.02;
+
+/// Which of a contour's `pieces` are candidates for damage: small enough to be a damaged part of
+/// it (at most two points or [`STRAY_SHARE`] of the contour's, as for
+/// [`super::clean::stray_pieces`]) while the contour keeps a bigger piece (a contour in one piece
+/// is its own curve, and one all in scattered bits is the whole-contour rules' business). One
+/// pass: a hostile contour has a hundred thousand pieces.
+fn small_pieces(pieces: &[Polyline]) -> Vec<bool> {
+    let total: usize = pieces.iter().map(|p| p.points.len()).sum();
+    let most = 2.max((STRAY_SHARE * total as f64) as usize);
+    let small: Vec<bool> = pieces.iter().map(|p| p.points.len() <= most).collect();
+    let has_big = small.iter().any(|s| !s);
+    small.into_iter().map(|s| s && has_big).collect()
+}
 
 /// The small pieces ([`small_pieces`]) of a contour's cleaned and split `pieces` whose every
 /// point lies off the plane of the rest (its bigger pieces) by more than [`NON_PLANAR_MM`] and
@@ -65,14 +79,26 @@ pub fn off_plane_pieces(pieces: &[Polyline]) -> Vec<(usize, f64)> {
         .collect()
 }
 
-/// Leaves the off-plane pieces out of cleaned `contours`. A contour keeps its bigger pieces.
-pub fn drop_off_plane_pieces(contours: &mut [Contour]) {
-    for c in contours.iter_mut() {
-        let found = off_plane_pieces(&c.pieces);
-        if !found.is_empty() {
-            remove_pieces(&mut c.pieces, found.into_iter().map(|(k, _)| k));
-        }
-    }
+/// Leaves the off-plane pieces out of cleaned `contours` and returns them, per contour. A
+/// contour keeps its bigger pieces.
+pub fn take_off_plane_pieces(contours: &mut [Contour]) -> Vec<Vec<LeftOut>> {
+    contours
+        .iter_mut()
+        .map(|c| {
+            let found = off_plane_pieces(&c.pieces);
+            let taken: Vec<LeftOut> = found
+                .iter()
+                .map(|&(k, off_mm)| LeftOut {
+                    points: c.pieces[k].points.clone(),
+                    off_mm,
+                })
+                .collect();
+            if !found.is_empty() {
+                remove_pieces(&mut c.pieces, found.into_iter().map(|(k, _)| k));
+            }
+            taken
+        })
+        .collect()
 }
 
 /// What a run leaves out of one contour as off its plane: how many points and how far the
@@ -109,17 +135,12 @@ pub fn left_out_with_far(
 ) -> (Vec<Vec<far_pieces::LeftOut>>, Vec<Vec<LeftOut>>) {
     let (index, mut cleaned) = cleaned_contours(contours);
     let far = take_far_pieces(&mut cleaned);
+    let off = take_off_plane_pieces(&mut cleaned);
     let mut far_out = vec![Vec::new(); contours.len()];
     let mut off_out = vec![Vec::new(); contours.len()];
-    for ((i, c), taken) in index.into_iter().zip(&cleaned).zip(far) {
-        far_out[i] = taken;
-        off_out[i] = off_plane_pieces(&c.pieces)
-            .into_iter()
-            .map(|(k, off_mm)| LeftOut {
-                points: c.pieces[k].points.clone(),
-                off_mm,
-            })
-            .collect();
+    for ((i, far), off) in index.into_iter().zip(far).zip(off) {
+        far_out[i] = far;
+        off_out[i] = off;
     }
     (far_out, off_out)
 }
@@ -204,7 +225,7 @@ mod tests {
         assert_eq!(summary.points, 1);
         assert!((summary.off_mm - 8.0).abs() < 1e-9, "{}", summary.off_mm);
         let mut cleaned = vec![crate::contours::clean::cleaned_contour(&c).expect("points")];
-        drop_off_plane_pieces(&mut cleaned);
+        take_off_plane_pieces(&mut cleaned);
         assert_eq!(cleaned[0].point_count(), 60);
     }
 }

@@ -22,11 +22,11 @@
 
 use super::axis::analyse;
 use super::checks::{one_line, surface_groups};
-use super::clean::{cleaned_contour, contour_length};
-use super::drop_damaged_pieces;
+use super::clean::contour_length;
 use super::lax_specks::lax_specks;
 use super::specks::{specks, SPECK_RATIO};
 use super::strays::strays;
+use super::undamaged::cleaned_undamaged;
 use super::{Contour, ContourSet};
 use serde::Serialize;
 
@@ -200,11 +200,7 @@ pub fn found_in(set: &ContourSet) -> Vec<SetAside> {
     surface_groups(set)
         .into_iter()
         .filter(|g| g.len() <= MAX_CONTOURS)
-        .flat_map(|g| {
-            let mut cleaned: Vec<Contour> = g.iter().filter_map(|c| cleaned_contour(c)).collect();
-            drop_damaged_pieces(&mut cleaned);
-            set_aside(cleaned).1
-        })
+        .flat_map(|g| set_aside(cleaned_undamaged(&g).1).1)
         .collect()
 }
 

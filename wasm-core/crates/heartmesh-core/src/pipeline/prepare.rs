@@ -3,10 +3,9 @@
 
 use crate::contours::axis::{analyse, Layout};
 use crate::contours::checks::check_units;
-use crate::contours::clean::cleaned_contour;
-use crate::contours::drop_damaged_pieces;
 use crate::contours::set_aside::{SetAside, Why};
 use crate::contours::slice_loops::without_second_loops;
+use crate::contours::undamaged::cleaned_undamaged;
 use crate::contours::{biv_epi, Contour, ContourSet};
 use crate::error::{CoreError, Result};
 use crate::params::Params;
@@ -46,9 +45,7 @@ pub fn select_surface<'a>(
 /// leaves out the damaged pieces: far from the rest of their surface (`contours::far_pieces`) or
 /// off their contour's plane (`contours::off_plane`).
 pub fn clean_contours(contours: &[&Contour]) -> Vec<Contour> {
-    let mut cleaned: Vec<Contour> = contours.iter().filter_map(|c| cleaned_contour(c)).collect();
-    drop_damaged_pieces(&mut cleaned);
-    cleaned
+    cleaned_undamaged(contours).1
 }
 
 /// Most contours of one surface a reconstruction takes: real acquisitions have tens; the SAX/LAX

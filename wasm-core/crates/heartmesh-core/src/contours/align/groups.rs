@@ -4,9 +4,8 @@
 //! the shift far better than the RV's open crescent could on its own.
 
 use crate::contours::axis::analyse;
-use crate::contours::clean::cleaned_contour;
-use crate::contours::drop_damaged_pieces;
 use crate::contours::plane::{axis_angle_deg, fit_plane, PlaneFit};
+use crate::contours::undamaged::cleaned_undamaged;
 use crate::contours::{Contour, ContourKind, ContourSet};
 use crate::geometry::{lexicographic, Vec3};
 
@@ -96,15 +95,8 @@ pub(super) fn group(set: &ContourSet) -> Result<Grouping, String> {
             set.point_count()
         ));
     }
-    let mut index = Vec::new();
-    let mut cleaned = Vec::new();
-    for (i, c) in set.contours.iter().enumerate() {
-        if let Some(c) = cleaned_contour(c) {
-            index.push(i);
-            cleaned.push(c);
-        }
-    }
-    drop_damaged_pieces(&mut cleaned);
+    let all: Vec<&Contour> = set.contours.iter().collect();
+    let (index, cleaned) = cleaned_undamaged(&all);
     let layout = analyse(&cleaned).map_err(|e| format!("no short-axis stack to align ({e})"))?;
     let surfaces = surface_ids(&cleaned);
     let pieces_of = |k: usize| -> Vec<Piece> {
