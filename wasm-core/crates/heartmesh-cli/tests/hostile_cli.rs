@@ -911,7 +911,8 @@ fn a_damaged_last_row_far_from_its_surface_is_left_out_and_named() {
 /// of the file without those rows. The last two rows of the long-axis free wall s08, stored from
 /// mid-curve and closing back on its first row, thrown 13 mm off its plane, left the curve cut in
 /// two at the wrap (74.2 ml against 71.3 without the rows); the first three of the nine-point
-/// septum s05 thrown 82 mm, a third of their curve, stayed data (83.9 against 71.6 ml intact).
+/// septum s05 thrown 82 mm, a third of their curve, stayed data (83.9 against 71.6 ml intact);
+/// one value of the two-point septum s06 times ten stayed data too (78.3 ml).
 #[test]
 fn damaged_rows_of_a_real_rv_are_left_out_as_if_never_in_the_file() {
     let dir = scratch("hostile-damaged-rv-rows");
@@ -985,6 +986,27 @@ fn damaged_rows_of_a_real_rv_are_left_out_as_if_never_in_the_file() {
         rep["volume_ml"].as_f64().unwrap(),
         intact["volume_ml"].as_f64().unwrap(),
     );
+    assert!((v - v0).abs() / v0 < 0.005, "{v} vs {v0} ml");
+    // The two-point septum s06 at the apex, the y of its second row times ten (-20.6 -> -205.7):
+    // no spacing splits a two-point curve, so its points are judged one by one.
+    let row = rows_of("s06_SAX_RV_SEPTUM")[1];
+    let times_ten: String = csv
+        .lines()
+        .enumerate()
+        .map(|(i, l)| match i == row {
+            true => format!("{}\n", l.replace("-20.5687", "-205.6870")),
+            false => format!("{l}\n"),
+        })
+        .collect();
+    assert_ne!(times_ten, csv);
+    std::fs::write(&file, times_ten).unwrap();
+    let (code, err, rep) = reconstruct(&dir, &file, &rv);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("contour \"s06_SAX_RV_SEPTUM\" (line 511, 1 point 180.6 mm from every other point of its surface"),
+        "{err}"
+    );
+    let v = rep.unwrap()["volume_ml"].as_f64().unwrap();
     assert!((v - v0).abs() / v0 < 0.005, "{v} vs {v0} ml");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -48,11 +48,43 @@ fn lesser_pieces(pieces: &[Polyline]) -> Vec<bool> {
     pieces.iter().map(|p| p.points.len() < most).collect()
 }
 
+/// Most points of a contour whose spacing cannot tell a jump: two points have one segment, its
+/// own median, and of three the median of two is the longer. Nothing splits a damaged row off
+/// such a contour (a two-point septum at the apex, one of its values times ten, 185 mm out, took
+/// biv-me patient 1 ES's RV from 71.6 to 78.3 ml), so [`far_pieces`] judges its points one by one.
+const TINY_POINTS: usize = 3;
+
+fn is_tiny(c: &Contour) -> bool {
+    c.point_count() <= TINY_POINTS
+}
+
+/// `c` with each of its points a piece of its own: a tiny contour as [`far_pieces_by_surface`]
+/// judges it.
+fn one_piece_per_point(c: &Contour) -> Contour {
+    Contour {
+        pieces: c
+            .points()
+            .map(|p| Polyline {
+                points: vec![*p],
+                closed: false,
+            })
+            .collect(),
+        ..c.clone()
+    }
+}
+
 /// The far pieces of one surface's cleaned `contours`: the [`lesser_pieces`] further than
-/// [`SPAN_SHARE`] of the span of the rest (every contour's biggest pieces) from all of it.
-/// Nothing is judged against fewer than two contours' worth of rest.
+/// [`SPAN_SHARE`] of the span of the rest (every contour's biggest pieces) from all of it, and
+/// the pieces of a tiny contour ([`TINY_POINTS`], no part of the rest) so far, as long as one is
+/// not. Nothing is judged against fewer than two contours' worth of rest.
 pub fn far_pieces(contours: &[Contour]) -> Vec<FarPiece> {
-    let flags: Vec<Vec<bool>> = contours.iter().map(|c| lesser_pieces(&c.pieces)).collect();
+    let flags: Vec<Vec<bool>> = contours
+        .iter()
+        .map(|c| match is_tiny(c) {
+            true => vec![true; c.pieces.len()],
+            false => lesser_pieces(&c.pieces),
+        })
+        .collect();
     let mut rest: Vec<Vec3> = Vec::new();
     let mut rest_contours = 0;
     for (c, flags) in contours.iter().zip(&flags) {
@@ -76,6 +108,7 @@ pub fn far_pieces(contours: &[Contour]) -> Vec<FarPiece> {
     let tree = SegmentTree::new(rest.into_iter().map(|p| (p, p)).collect());
     let mut out = Vec::new();
     for (i, (c, flags)) in contours.iter().zip(&flags).enumerate() {
+        let mut found: Vec<FarPiece> = Vec::new();
         for (k, (p, _)) in c
             .pieces
             .iter()
@@ -89,7 +122,7 @@ pub fn far_pieces(contours: &[Contour]) -> Vec<FarPiece> {
                 .map(|q| tree.distance(q))
                 .fold(f64::INFINITY, f64::min);
             if gap_mm > limit {
-                out.push(FarPiece {
+                found.push(FarPiece {
                     contour: i,
                     piece: k,
                     points: p.points.len(),
@@ -97,6 +130,10 @@ pub fn far_pieces(contours: &[Contour]) -> Vec<FarPiece> {
                     span_mm,
                 });
             }
+        }
+        // A tiny contour far all of it is a stray, the whole-contour rules' business.
+        if found.len() < c.pieces.len() {
+            out.extend(found);
         }
     }
     out
@@ -107,7 +144,13 @@ pub fn far_pieces(contours: &[Contour]) -> Vec<FarPiece> {
 pub fn far_pieces_by_surface(contours: &[Contour]) -> Vec<FarPiece> {
     let mut out = Vec::new();
     for group in surface_indices(contours) {
-        let members: Vec<Contour> = group.iter().map(|&i| contours[i].clone()).collect();
+        let members: Vec<Contour> = group
+            .iter()
+            .map(|&i| match is_tiny(&contours[i]) {
+                true => one_piece_per_point(&contours[i]),
+                false => contours[i].clone(),
+            })
+            .collect();
         out.extend(far_pieces(&members).into_iter().map(|mut f| {
             f.contour = group[f.contour];
             f
@@ -118,15 +161,23 @@ pub fn far_pieces_by_surface(contours: &[Contour]) -> Vec<FarPiece> {
 }
 
 /// Leaves the far pieces out of cleaned `contours` (each surface judged on its own) and returns
-/// them, per contour. A contour keeps its bigger pieces, so none is emptied and indices stay as
-/// they were.
+/// them, per contour. A contour keeps its bigger pieces (a tiny one some of its points), so none
+/// is emptied and indices stay as they were.
 pub fn take_far_pieces(contours: &mut [Contour]) -> Vec<Vec<LeftOut>> {
     let mut taken = vec![Vec::new(); contours.len()];
     let mut out: Vec<Vec<usize>> = vec![Vec::new(); contours.len()];
     for f in far_pieces_by_surface(contours) {
-        if let Some(p) = contours.get(f.contour).and_then(|c| c.pieces.get(f.piece)) {
+        let Some(c) = contours.get(f.contour) else {
+            continue;
+        };
+        // A tiny contour's pieces were judged one point each.
+        let points: Option<Vec<Vec3>> = match is_tiny(c) {
+            true => c.points().nth(f.piece).map(|p| vec![*p]),
+            false => c.pieces.get(f.piece).map(|p| p.points.clone()),
+        };
+        if let Some(points) = points {
             taken[f.contour].push(LeftOut {
-                points: p.points.clone(),
+                points,
                 gap_mm: f.gap_mm,
                 span_mm: f.span_mm,
             });
@@ -134,7 +185,19 @@ pub fn take_far_pieces(contours: &mut [Contour]) -> Vec<Vec<LeftOut>> {
         }
     }
     for (c, out) in contours.iter_mut().zip(out) {
-        if !out.is_empty() {
+        if out.is_empty() {
+            continue;
+        }
+        if is_tiny(c) {
+            let mut j = 0;
+            for p in &mut c.pieces {
+                p.points.retain(|_| {
+                    j += 1;
+                    !out.contains(&(j - 1))
+                });
+            }
+            c.pieces.retain(|p| !p.points.is_empty());
+        } else {
             remove_pieces(&mut c.pieces, out);
         }
     }
@@ -266,6 +329,38 @@ mod tests {
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!((found[0].contour, found[0].points), (4, 3));
         assert!(found[0].gap_mm > 55.0, "{found:?}");
+    }
+
+    #[test]
+    fn a_far_point_of_a_tiny_contour_is_left_out_and_a_tiny_stray_is_not() {
+        // A two-point curve beside the top ring, its second row 80 mm above the heart: one
+        // segment, its own median, so no jump splits it; judged point by point.
+        let mut c = heart();
+        let pair = vec![Vec3::new(0.0, 15.0, 20.0), Vec3::new(2.0, 15.0, 100.0)];
+        c.push(contour("septum", pair, false, 300));
+        let cleaned: Vec<Contour> = c
+            .iter()
+            .filter_map(crate::contours::clean::cleaned_contour)
+            .collect();
+        assert_eq!(cleaned[4].pieces.len(), 1);
+        let mut taken = cleaned.clone();
+        let left = take_far_pieces(&mut taken);
+        assert_eq!(left[4].len(), 1, "{left:?}");
+        assert_eq!(left[4][0].points, vec![Vec3::new(2.0, 15.0, 100.0)]);
+        assert!(left[4][0].gap_mm > 70.0, "{left:?}");
+        assert_eq!(taken[4].point_count(), 1);
+        assert_eq!(taken[4].pieces[0].points[0], Vec3::new(0.0, 15.0, 20.0));
+        assert!(left.iter().take(4).all(Vec::is_empty));
+        // Both points far: the whole contour is a stray, left to the whole-contour rules.
+        let mut c = heart();
+        let pair = vec![Vec3::new(0.0, 15.0, 100.0), Vec3::new(2.0, 15.0, 101.0)];
+        c.push(contour("stray", pair, false, 300));
+        let mut cleaned: Vec<Contour> = c
+            .iter()
+            .filter_map(crate::contours::clean::cleaned_contour)
+            .collect();
+        assert!(take_far_pieces(&mut cleaned).iter().all(Vec::is_empty));
+        assert_eq!(cleaned[4].point_count(), 2);
     }
 
     #[test]

@@ -6,7 +6,7 @@
 //! Read again rather than merely without the piece: the damaged rows took the jumps with them,
 //! so the curve reads as if they had never been in the file. Left out as a piece, a damaged row
 //! at the wrap of a curve stored from its middle (biv-me's long-axis free walls start mid-curve
-//! and close back on their first row) kept the curve cut in two there: the last three rows of
+//! and close back on their first row) kept the curve cut in two there: the last two rows of
 //! biv-me patient 1 ES's `s08_LAX_RV_FREEWALL` moved 13 mm left an 8 mm gap between its two
 //! halves that the rows' own spacing would have bridged, and the RV came out 74.2 ml against
 //! 71.3 with those two rows deleted (71.6 intact). A damaged stretch of a closed ring likewise
